@@ -1,0 +1,90 @@
+"""Which papers a run relied on.
+
+Modules call :func:`register` when they use a model or a number from a paper;
+:func:`citations` lists what has been registered in this process, as BibTeX.
+"""
+
+from __future__ import annotations
+
+__all__ = ["register", "citations", "BIBTEX", "reset"]
+
+#: BibTeX entries of the works mudrft implements or compares with. Where the full
+#: record could not be verified offline the entry says so in its ``note``.
+BIBTEX: dict[str, str] = {
+    "chen2026mud": """@article{chen2026mud,
+  author = {Chen, Xunjie and Wang, Liuyin and Huang, Xinyan and Shan, Jerry and Shen, Yantao and Yi, Jingang},
+  title = {A Foot Resistive Force Model for Legged Locomotion on Muddy Terrains},
+  year = {2026},
+  note = {Preprint with supplementary materials; the model implemented by mudrft}
+}""",
+    "li2013terradynamics": """@article{li2013terradynamics,
+  author = {Li, Chen and Zhang, Tingnan and Goldman, Daniel I.},
+  title = {A Terradynamics of Legged Locomotion on Granular Media},
+  journal = {Science},
+  volume = {339},
+  number = {6126},
+  pages = {1408--1412},
+  year = {2013},
+  doi = {10.1126/science.1229163}
+}""",
+    "godon2022ral": """@article{godon2022ral,
+  author = {Godon, Simon and Ristolainen, Asko and Kruusmaa, Maarja},
+  title = {An Insight on Mud Behavior Upon Stepping},
+  journal = {IEEE Robotics and Automation Letters},
+  year = {2022},
+  note = {Linear stiffness mud model, cited as [GodonRAL2022] by Chen et al. 2026}
+}""",
+    "liu2023ral": """@article{liu2023ral,
+  author = {Liu, Shipeng and Huang, Boyuan and Qian, Feifei},
+  title = {Adaptation of Flipper-Mud Interactions Enables Effective Terrestrial Locomotion on Muddy Substrates},
+  journal = {IEEE Robotics and Automation Letters},
+  year = {2023},
+  note = {Cited as [liuRAL2023adaptation] by Chen et al. 2026}
+}""",
+    "chen2024aim": """@inproceedings{chen2024aim,
+  author = {Chen, Xunjie and others},
+  booktitle = {IEEE/ASME International Conference on Advanced Intelligent Mechatronics (AIM)},
+  year = {2024},
+  note = {Maxwell-type foot-mud model, cited as [ChenAIM24] by Chen et al. 2026; title and pages not verified offline}
+}""",
+    "todorov2012mujoco": """@inproceedings{todorov2012mujoco,
+  author = {Todorov, Emanuel and Erez, Tom and Tassa, Yuval},
+  title = {MuJoCo: A Physics Engine for Model-Based Control},
+  booktitle = {IEEE/RSJ International Conference on Intelligent Robots and Systems (IROS)},
+  pages = {5026--5033},
+  year = {2012}
+}""",
+}
+
+_used: dict[str, None] = {}
+
+
+def register(key: str) -> None:
+    """Record that the current run used the work ``key`` (a key of :data:`BIBTEX`)."""
+    if key not in BIBTEX:
+        raise KeyError(f"unknown citation key {key!r}; known: {sorted(BIBTEX)}")
+    _used.setdefault(key, None)
+
+
+def reset() -> None:
+    """Forget what has been registered (useful between independent runs)."""
+    _used.clear()
+
+
+def citations(*, bibtex: bool = True) -> list[str]:
+    """The works the current process relied on, in the order first used.
+
+    Parameters
+    ----------
+    bibtex : bool, keyword-only
+        Return full BibTeX entries (default) or just the keys.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> _ = mudrft.paper_parameters(0.25)
+    >>> "chen2026mud" in mudrft.citations(bibtex=False)
+    True
+    """
+    keys = list(_used)
+    return [BIBTEX[k] for k in keys] if bibtex else keys

@@ -1,0 +1,250 @@
+r"""Pure, vectorized stress laws of the mud model (Chen et al. 2026, eqs. 1-5, 7).
+
+Every function takes arrays (or floats) and broadcasts. The ``xp`` keyword selects
+the array namespace (``numpy`` by default, ``jax.numpy`` for the JAX backend).
+Dimensionless displacement :math:`\gamma=q/L_c` and rate :math:`\dot\gamma=\dot q/L_c`
+where :math:`q` [m] is the intrusion displacement and :math:`L_c` [m] the
+characteristic length.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "elastic_stress",
+    "switch",
+    "sealing_printed",
+    "sealing",
+    "bed_contact",
+    "xi_steady",
+    "tau_xi",
+    "thixotropic_steady",
+    "yield_stress",
+    "suction_rate",
+    "suction_steady",
+    "f_n",
+    "f_t",
+    "f_n_extended",
+    "f_t_extended",
+]
+
+
+def elastic_stress(gamma: Any, alpha: Any, n: Any, *, xp: Any = np) -> Any:
+    r"""Immediate (nonlinear elastic) resistance, eq. (2): :math:`\sigma_b=\alpha\gamma^n`.
+
+    Extended as an odd function, :math:`\alpha|\gamma|^n\operatorname{sgn}\gamma`, so the
+    same law serves horizontal channels whose displacement may be negative.
+
+    Parameters
+    ----------
+    gamma : array_like
+        Dimensionless displacement [-].
+    alpha : array_like
+        Stiffness [Pa].
+    n : array_like
+        Exponent in (0, 1] [-].
+
+    Returns
+    -------
+    array
+        Stress [Pa].
+
+    Examples
+    --------
+    >>> float(elastic_stress(0.25, 24e3, 0.5))
+    12000.0
+    """
+    g = xp.abs(gamma)
+    # safe power: 0**n = 0 with a finite gradient under JAX
+    safe = xp.where(g > 0, g, 1.0)
+    return xp.where(g > 0, alpha * safe**n, 0.0) * xp.sign(gamma)
+
+
+def switch(gamma_dot: Any, nu: Any, *, xp: Any = np) -> Any:
+    r"""Intrusion/retraction index of eq. (1): :math:`H_\nu=\tfrac12(1-\tanh(\dot\gamma/\nu))`.
+
+    About 0 while intruding (:math:`\dot\gamma\gg\nu`), about 1 while retracting.
+
+    Parameters
+    ----------
+    gamma_dot : array_like
+        Dimensionless rate along the intrusion direction [1/s].
+    nu : array_like
+        Switch width [1/s].
+
+    Examples
+    --------
+    >>> round(float(switch(-1.0, 0.01)), 6), float(switch(0.0, 0.01))
+    (1.0, 0.5)
+    """
+    return 0.5 * (1.0 - xp.tanh(gamma_dot / nu))
+
+
+def sealing_printed(gamma: Any, gamma0: Any, epsilon: Any, *, xp: Any = np) -> Any:
+    r"""The sealing function exactly as printed below eq. (5).
+
+    :math:`\phi_\varepsilon(\gamma)=\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))`.
+    Kept for reference and tests; the model uses :func:`sealing` (decision D4 in
+    docs/model.md explains why the printed form cannot be used as it stands).
+
+    Parameters
+    ----------
+    gamma, gamma0 : array_like
+        Dimensionless displacement and its value at the start of retraction [-].
+    epsilon : array_like
+        Width [-].
+    """
+    return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
+
+
+def sealing(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
+    r"""Sealing state of the cavity used by the model (decision D4).
+
+    :math:`\phi=\tanh(\max(r,0)/\varepsilon)` where :math:`r=|\gamma_w|-|\gamma|` is the
+    dimensionless retraction since the deepest point :math:`\gamma_w`. It is 0 while the
+    foot intrudes or rests on the bed (no cavity: pure leak), rises to 1 within a few
+    :math:`\varepsilon` of retraction (sealed cavity: suction builds toward
+    :math:`-\sigma_Y`) and falls back as the foot re-intrudes. It equals
+    :math:`2\phi_\varepsilon-1` of the printed form with :math:`\gamma_0=\gamma_w` and the
+    displacement counted along the retraction.
+
+    Parameters
+    ----------
+    retraction : array_like
+        Dimensionless retraction :math:`r` [-].
+    epsilon : array_like
+        Width [-].
+
+    Examples
+    --------
+    >>> float(sealing(0.0, 0.02)), round(float(sealing(0.1, 0.02)), 4)
+    (0.0, 0.9999)
+    """
+    return xp.tanh(xp.maximum(retraction, 0.0) / epsilon)
+
+
+def bed_contact(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
+    r"""Fraction of the immediate resistance kept during retraction (decision D2).
+
+    :math:`1-\phi`: the foot leaves the compacted bed within a few :math:`\varepsilon` of
+    retraction, so :math:`\sigma_b` vanishes, as in the paper's own retraction
+    approximation (supplementary Sec. III-A) where :math:`\sigma_b` is absent.
+
+    Parameters
+    ----------
+    retraction : array_like
+        Dimensionless retraction :math:`r` [-].
+    epsilon : array_like
+        Width [-].
+    """
+    return 1.0 - sealing(retraction, epsilon, xp=xp)
+
+
+def xi_steady(gamma_dot: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
+    r"""Steady structure parameter :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` [-].
+
+    Parameters
+    ----------
+    gamma_dot : array_like
+        Rate [1/s].
+    gamma_dot_c : array_like
+        Critical rate [1/s].
+
+    Examples
+    --------
+    >>> float(xi_steady(0.14, 0.14))
+    0.5
+    """
+    return gamma_dot_c / (gamma_dot_c + xp.abs(gamma_dot))
+
+
+def tau_xi(gamma_dot: Any, k_a: Any, k_r: Any, *, xp: Any = np) -> Any:
+    r"""Time constant of the structure ODE, :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
+
+    Parameters
+    ----------
+    gamma_dot : array_like
+        Rate [1/s].
+    k_a : array_like
+        Aging rate [1/s].
+    k_r : array_like
+        Rejuvenation coefficient [-].
+    """
+    return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
+
+
+def thixotropic_steady(gamma_dot: Any, eta_inf: Any, eta_m: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
+    r"""Steady thixotropic stress, eq. (4): :math:`(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma` [Pa].
+
+    Parameters
+    ----------
+    gamma_dot : array_like
+        Rate [1/s].
+    eta_inf, eta_m : array_like
+        Viscosities [Pa s].
+    gamma_dot_c : array_like
+        Critical rate [1/s].
+    """
+    return (eta_inf + xi_steady(gamma_dot, gamma_dot_c, xp=xp) * eta_m) * gamma_dot
+
+
+def yield_stress(eta_m: Any, eta_inf: Any, gamma_dot_c: Any) -> Any:
+    r"""Yield stress from eq. (4): :math:`\sigma_Y=(\eta_m-\eta_\infty)\dot\gamma_c` [Pa].
+
+    Examples
+    --------
+    >>> round(float(yield_stress(0.27e6, 0.0031e6, 0.042)), 1)
+    11209.8
+    """
+    return (eta_m - eta_inf) * gamma_dot_c
+
+
+def suction_rate(phi: Any, tau_build: Any, tau_leak: Any) -> Any:
+    r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s]."""
+    return phi / tau_build + (1.0 - phi) / tau_leak
+
+
+def suction_steady(phi: Any, tau_build: Any, tau_leak: Any, sigma_y: Any) -> Any:
+    r"""Steady suction, eq. (11): :math:`\sigma_{s,ss}=-\phi\sigma_Y/(a\tau_{build})` [Pa].
+
+    Examples
+    --------
+    >>> float(suction_steady(1.0, 0.32, 0.17, 7100.0))
+    -7100.0
+    >>> float(suction_steady(0.0, 0.32, 0.17, 7100.0))
+    -0.0
+    """
+    a = suction_rate(phi, tau_build, tau_leak)
+    return -phi * sigma_y / (a * tau_build)
+
+
+def f_n(psi: Any, *, xp: Any = np) -> Any:
+    r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-]."""
+    return 0.5 * (1.0 + xp.cos(2.0 * psi))
+
+
+def f_t(psi: Any, *, xp: Any = np) -> Any:
+    r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-]."""
+    return 0.5 * (1.0 - xp.cos(2.0 * psi))
+
+
+def f_n_extended(psi: Any, *, xp: Any = np) -> Any:
+    r"""Normal factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
+
+    Equal to :math:`\cos\psi|\cos\psi|`: positive on faces that lead the motion,
+    negative on trailing faces.
+    """
+    c = xp.cos(psi)
+    return c * xp.abs(c)
+
+
+def f_t_extended(psi: Any, *, xp: Any = np) -> Any:
+    r"""Tangential factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
+
+    Equal to :math:`\sin\psi|\sin\psi|` (odd in :math:`\psi`).
+    """
+    s = xp.sin(psi)
+    return s * xp.abs(s)

@@ -1,0 +1,87 @@
+"""Explicit, immutable state of one stress channel (or a batch of channels).
+
+A channel is one direction of motion of a plate or foot (x, y or z). Its state is
+a ``NamedTuple`` of arrays, so it is a JAX pytree without registration and can be
+carried through ``lax.scan``, stored per foot in a batch, or checkpointed.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import check_in_range
+
+__all__ = ["ChannelState", "ChannelStress", "initial_state"]
+
+
+class ChannelState(NamedTuple):
+    """State of a stress channel after a step.
+
+    Attributes
+    ----------
+    gamma : array
+        Dimensionless displacement at the end of the last step [-].
+    gamma_w : array
+        Deepest displacement of the current intrusion (retraction starts from it) [-].
+    xi : array
+        Structure parameter in [0, 1] [-].
+    s_th : array
+        Lagged part of the thixotropic stress [Pa]. With the acceleration term kept,
+        :math:`\\sigma_{th}=\\eta_\\infty\\dot\\gamma+s_{th}` (decision D6); without it,
+        :math:`\\sigma_{th}=s_{th}`.
+    sigma_s : array
+        Suction state of eq. (5) [Pa] (<= 0 for a downward intrusion).
+    """
+
+    gamma: Any
+    gamma_w: Any
+    xi: Any
+    s_th: Any
+    sigma_s: Any
+
+
+class ChannelStress(NamedTuple):
+    """Stresses of a channel at the end of a step, all in Pa.
+
+    Attributes
+    ----------
+    total : array
+        :math:`\\sigma_{tot}` of eq. (1).
+    elastic : array
+        Immediate resistance :math:`\\sigma_b` times the bed-contact factor.
+    thixotropic : array
+        :math:`\\sigma_{th}`.
+    suction : array
+        :math:`H_\\nu\\sigma_s`, the suction as it enters eq. (1).
+    """
+
+    total: Any
+    elastic: Any
+    thixotropic: Any
+    suction: Any
+
+
+def initial_state(shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0) -> ChannelState:
+    """State of freshly prepared mud: no stress, structure ``xi0``.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Batch shape of the state arrays.
+    xi0 : float, keyword-only
+        Initial structure parameter in [0, 1] [-]. Default 0, as in the paper's closed
+        forms and its protocol, which blends the mud before every trial (decision D3).
+    gamma : float or array, keyword-only
+        Initial dimensionless displacement [-].
+
+    Examples
+    --------
+    >>> initial_state().xi
+    array(0.)
+    """
+    check_in_range("xi0", xi0, 0.0, 1.0)
+    z = np.zeros(shape)
+    g = np.broadcast_to(np.asarray(gamma, dtype=float), shape).copy()
+    return ChannelState(gamma=g, gamma_w=g.copy(), xi=z + xi0, s_th=z.copy(), sigma_s=z.copy())

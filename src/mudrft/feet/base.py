@@ -1,0 +1,188 @@
+r"""The foot interface shared by closed-form feet, mesh feet and the morphing foot.
+
+Conventions (DESIGN.md): world frame right-handed, z up, mud surface at z = 0.
+A foot's own frame has its origin at the foot's lowest point (the *tip*) and z up;
+``depth`` is the depth of the tip below the surface [m], >= 0.
+
+Stress channels: the mud model gives three signed channel stresses
+:math:`(\sigma_x,\sigma_y,\sigma_z)` [Pa]; :math:`\sigma_z>0` resists downward motion
+(support), :math:`\sigma_z<0` is suction; :math:`\sigma_x>0` resists motion toward +x.
+Forces are the force of the mud on the foot in the world frame [N].
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError, check_finite, check_nonnegative
+
+__all__ = ["Foot", "SurfaceElements", "first_quadrant"]
+
+
+@dataclass(frozen=True, eq=False)
+class SurfaceElements:
+    """Surface elements of a foot: centroid, outward unit normal and area of each facet.
+
+    Attributes
+    ----------
+    centroids : ndarray, shape (m, 3)
+        Facet centroids in the foot frame [m].
+    normals : ndarray, shape (m, 3)
+        Outward unit normals [-].
+    areas : ndarray, shape (m,)
+        Facet areas [m^2].
+    """
+
+    centroids: np.ndarray
+    normals: np.ndarray
+    areas: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.areas.shape[0])
+
+
+def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
+
+    Returns ``(stress_q, phi, signs)``: channel stresses measured along the motion
+    (positive when they resist it), the heading folded into [0, pi/2], and the signs
+    (sx, sy) that map first-quadrant forces back to the world. Forces are odd in the
+    horizontal motion (decision D9 in docs/model.md).
+    """
+    s = np.asarray(stress, dtype=float)
+    h = np.asarray(heading, dtype=float)
+    c, sn = np.cos(h), np.sin(h)
+    sx = np.where(c < 0, -1.0, 1.0)
+    sy = np.where(sn < 0, -1.0, 1.0)
+    phi = np.arctan2(np.abs(sn), np.abs(c))
+    sq = np.stack([s[..., 0] * sx, s[..., 1] * sy, s[..., 2]], axis=-1)
+    return sq, phi, np.stack([sx, sy], axis=-1)
+
+
+class Foot(ABC):
+    """Abstract foot. Subclasses implement :meth:`resultant` (and usually :meth:`elements`).
+
+    Attributes expected of every foot:
+
+    ``name`` : str
+        Short name used in reports (``"flat"``, ``"semi-cylinder"``, ...).
+    ``characteristic_length`` : float
+        :math:`L_c` [m] that turns displacements into the dimensionless :math:`\\gamma`.
+    ``height`` : float
+        Height of the foot above its tip [m]; deeper than this the foot is buried.
+    """
+
+    name: str = "foot"
+
+    @property
+    @abstractmethod
+    def characteristic_length(self) -> float:
+        """Characteristic length :math:`L_c` [m]."""
+
+    @property
+    @abstractmethod
+    def height(self) -> float:
+        """Height of the foot above its tip [m]."""
+
+    @abstractmethod
+    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Paper-style resultant force magnitudes (Fx, Fy, Fz) [N].
+
+        Parameters
+        ----------
+        depth : float or array
+            Tip depth [m], >= 0.
+        stress : array_like, shape (..., 3)
+            Uniform channel stresses (sx, sy, sz) [Pa], positive when resisting the motion.
+        heading : float or array
+            Horizontal heading of the motion from the x axis [rad], in [0, pi/2].
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            (Fx, Fy, Fz) [N]: magnitudes that resist the motion for positive stresses.
+        """
+
+    def projected_areas(self, depth: Any) -> np.ndarray:
+        """Areas of the submerged part projected along x, y and z [m^2], shape (..., 3).
+
+        Used to normalise forces into stresses (paper Figs. 10-12). The default
+        integrates :meth:`elements`; closed-form feet override it.
+        """
+        d = check_nonnegative("depth", depth, unit="m")
+        el = self.elements()
+        z = el.centroids[:, 2]
+        sub = z[None, :] <= np.atleast_1d(d)[:, None]
+        a = el.areas[None, :] * sub
+        out = np.stack([
+            0.5 * (a * np.abs(el.normals[:, 0])).sum(-1),
+            0.5 * (a * np.abs(el.normals[:, 1])).sum(-1),
+            (a * np.clip(-el.normals[:, 2], 0, None)).sum(-1),
+        ], axis=-1)
+        return out.reshape(np.shape(d) + (3,))
+
+    def elements(self) -> SurfaceElements:
+        """Surface elements of the whole foot in its own frame (tip at the origin)."""
+        raise MudrftError(f"{type(self).__name__} does not provide surface elements")
+
+    def force(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """World-frame force of the mud on the foot [N], for a heading in any quadrant.
+
+        Parameters
+        ----------
+        depth : float or array
+            Tip depth [m], >= 0 (0 means out of the mud: zero force).
+        stress : array_like, shape (..., 3)
+            Signed channel stresses (sx, sy, sz) [Pa] (see module docstring).
+        heading : float or array
+            World heading of the horizontal motion [rad], any value.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            (Fx, Fy, Fz) [N]: horizontal components oppose the motion when the
+            stresses resist it; Fz > 0 is support, Fz < 0 suction.
+        """
+        d = check_nonnegative("depth", depth, unit="m")
+        s = check_finite("stress", stress)
+        if s.shape[-1:] != (3,):
+            raise MudrftError(f"stress must have shape (..., 3), got shape {s.shape}")
+        h = check_finite("heading", heading)
+        sq, phi, signs = first_quadrant(s, h)
+        m = self.resultant(d, sq, phi)
+        return np.stack([-signs[..., 0] * m[..., 0], -signs[..., 1] * m[..., 1], m[..., 2]], axis=-1)
+
+    # -- hooks for feet with internal state (the morphing foot overrides them) --------------
+    def initial_foot_state(self) -> Any:
+        """Internal state of the foot mechanism (``None`` for rigid feet)."""
+        return None
+
+    def seal_factor(self, foot_state: Any) -> Any:
+        """Factor in [0, 1] multiplying the cavity sealing state (1 for rigid feet) [-]."""
+        return 1.0
+
+    def contact_force(
+        self, foot_state: Any, depth: Any, stress: Any, heading: Any, dt: float
+    ) -> tuple[Any, np.ndarray]:
+        """Advance the foot's internal state and return ``(foot_state, force)`` [N].
+
+        Rigid feet return :meth:`force` unchanged; the morphing foot solves its spring
+        balance here.
+        """
+        return foot_state, self.force(depth, stress, heading)
+
+    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Point of application of the mud force in the foot frame [m], shape (..., 3).
+
+        Default: on the foot axis, half-way up the submerged height.
+        """
+        d = np.minimum(np.asarray(depth, dtype=float), self.height)
+        return np.stack([np.zeros_like(d), np.zeros_like(d), 0.5 * d], axis=-1)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(name={self.name!r})"
+

@@ -1,0 +1,227 @@
+"""Typed, frozen parameter sets of the mud model (SI units).
+
+A :class:`MudParameters` holds the constants of the constitutive model of
+Chen et al. (2026), eqs. (1)-(5), for one loading direction. A :class:`Mud`
+pairs the vertical and the horizontal sets of one mud.
+
+Fields may be floats or numpy arrays of a common broadcastable shape; arrays
+describe a batch of muds (one set per foot in a batched simulation).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError, check_finite
+
+__all__ = ["MudParameters", "Mud", "PARAMETER_UNITS", "POSITIVE_FIELDS"]
+
+#: SI unit of every field of :class:`MudParameters`.
+PARAMETER_UNITS: dict[str, str] = {
+    "alpha": "Pa",
+    "n": "-",
+    "lam": "s",
+    "eta_m": "Pa s",
+    "eta_inf": "Pa s",
+    "gamma_dot_c": "1/s",
+    "tau_build": "s",
+    "tau_leak": "s",
+    "epsilon": "-",
+    "sigma_y": "Pa",
+    "nu": "1/s",
+    "k_a": "1/s",
+}
+
+#: Fields that must be strictly positive.
+POSITIVE_FIELDS = (
+    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
+    "sigma_y", "nu", "k_a",
+)
+
+
+@dataclass(frozen=True, eq=False)
+class MudParameters:
+    r"""Constants of the mud constitutive model for one direction, in SI units.
+
+    Parameters
+    ----------
+    alpha : float
+        Stiffness of the immediate resistance :math:`\sigma_b=\alpha\gamma^n` [Pa].
+    n : float
+        Exponent of the immediate resistance, in (0, 1] [-].
+    lam : float
+        Relaxation time :math:`\lambda=\eta_m/G_m` of the thixotropic stress [s].
+    eta_m : float
+        Structural viscosity :math:`\eta_m` [Pa s].
+    eta_inf : float
+        Shear (infinite-rate) viscosity :math:`\eta_\infty` [Pa s].
+    gamma_dot_c : float
+        Critical rate :math:`\dot\gamma_c=k_a/k_r` at which the mud fluidizes [1/s].
+    tau_build : float
+        Time scale of suction build-up while the cavity is sealed [s].
+    tau_leak : float
+        Time scale of suction leak while the cavity is open [s].
+    epsilon : float
+        Width of the sealing function :math:`\phi_\varepsilon` in dimensionless displacement [-].
+    sigma_y : float
+        Yield stress :math:`\sigma_Y`, the limit of suction [Pa].
+    nu : float, optional
+        Width of the intrusion/retraction switch :math:`H_\nu` in dimensionless rate [1/s].
+        The paper calls it "a small constant" without a value; default 0.01 1/s
+        (docs/model.md, decision D5).
+    k_a : float or None, optional
+        Aging rate of the structure parameter [1/s]. The paper gives only
+        :math:`\dot\gamma_c=k_a/k_r` and states :math:`\tau_\xi\approx\lambda`; ``None``
+        (default) means :math:`k_a = 1/\lambda` (decision D3).
+    source : str, optional
+        Where the numbers come from (paper, table and row, or "fit").
+    water_content : float or None, optional
+        Volumetric water content the set describes [-], if known.
+    direction : str, optional
+        ``"vertical"`` or ``"horizontal"`` (or ``""`` if not tied to a direction).
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> p = mudrft.paper_parameters(water_content=0.25, direction="vertical")
+    >>> p.alpha, p.eta_m
+    (24000.0, 67000.0)
+    """
+
+    alpha: Any
+    n: Any
+    lam: Any
+    eta_m: Any
+    eta_inf: Any
+    gamma_dot_c: Any
+    tau_build: Any
+    tau_leak: Any
+    epsilon: Any
+    sigma_y: Any
+    nu: Any = 0.01
+    k_a: Any = None
+    source: str = field(default="", compare=False)
+    water_content: float | None = field(default=None, compare=False)
+    direction: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        if self.k_a is None:
+            lam = check_finite("lam", self.lam)
+            object.__setattr__(self, "k_a", 1.0 / lam if lam.ndim else 1.0 / float(lam))
+        for name in POSITIVE_FIELDS:
+            raw = getattr(self, name)
+            arr = check_finite(name, raw)
+            if not np.all(arr > 0):
+                raise MudrftError(
+                    f"{name} must be > 0 {PARAMETER_UNITS[name]}, got {float(np.min(arr))!r}"
+                )
+            object.__setattr__(self, name, float(arr) if arr.ndim == 0 else arr)
+        if np.any(np.asarray(self.n) > 1.0):
+            raise MudrftError(f"n must lie in (0, 1], got {float(np.max(self.n))!r}")
+        if self.direction not in ("", "vertical", "horizontal"):
+            raise MudrftError(
+                f"direction must be 'vertical', 'horizontal' or '', got {self.direction!r}"
+            )
+
+    # -- derived quantities -------------------------------------------------------------
+    @property
+    def k_r(self) -> Any:
+        """Rejuvenation coefficient :math:`k_r = k_a/\\dot\\gamma_c` [-]."""
+        return self.k_a / self.gamma_dot_c
+
+    @property
+    def G_m(self) -> Any:
+        """Elastic modulus :math:`G_m=\\eta_m/\\lambda` [Pa]."""
+        return self.eta_m / self.lam
+
+    @property
+    def sigma_y_relation(self) -> Any:
+        """Yield stress from the paper's relation (4): :math:`(\\eta_m-\\eta_\\infty)\\dot\\gamma_c` [Pa]."""
+        return (self.eta_m - self.eta_inf) * self.gamma_dot_c
+
+    def replace(self, **changes: Any) -> MudParameters:
+        """Return a copy with some fields changed (validated again)."""
+        if "lam" in changes and "k_a" not in changes and self._k_a_is_default():
+            changes["k_a"] = None
+        return dataclasses.replace(self, **changes)
+
+    def _k_a_is_default(self) -> bool:
+        return bool(np.all(np.isclose(np.asarray(self.k_a), 1.0 / np.asarray(self.lam))))
+
+    def as_dict(self) -> dict[str, Any]:
+        """The numeric fields as a dict of floats or lists (SI), for JSON."""
+        out: dict[str, Any] = {}
+        for name in PARAMETER_UNITS:
+            v = getattr(self, name)
+            out[name] = np.asarray(v).tolist()
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], **meta: Any) -> MudParameters:
+        """Build a set from a dict with the field names of :data:`PARAMETER_UNITS` (SI)."""
+        missing = [k for k in PARAMETER_UNITS if k not in data and k not in ("nu", "k_a")]
+        if missing:
+            raise MudrftError(f"parameter dict is missing the fields {missing}")
+        unknown = [k for k in data if k not in PARAMETER_UNITS]
+        if unknown:
+            raise MudrftError(
+                f"parameter dict has unknown fields {unknown}; expected {list(PARAMETER_UNITS)}"
+            )
+        return cls(**{k: data[k] for k in data}, **meta)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Broadcast shape of the fields (``()`` for a single set)."""
+        return np.broadcast_shapes(*(np.shape(getattr(self, k)) for k in PARAMETER_UNITS))
+
+    @classmethod
+    def stack(cls, sets: list[MudParameters]) -> MudParameters:
+        """Stack several sets into one batched set with fields of shape ``(len(sets),)``."""
+        if not sets:
+            raise MudrftError("sets must contain at least one MudParameters, got an empty list")
+        fields = {k: np.array([np.asarray(getattr(s, k), dtype=float) for s in sets]) for k in PARAMETER_UNITS}
+        return cls(**fields, source="stack")
+
+    def __repr__(self) -> str:
+        body = ", ".join(f"{k}={np.asarray(getattr(self, k)).tolist()!r}" for k in PARAMETER_UNITS)
+        tag = f", source={self.source!r}" if self.source else ""
+        return f"MudParameters({body}{tag})"
+
+
+@dataclass(frozen=True, eq=False)
+class Mud:
+    """One mud: the vertical and horizontal parameter sets (SI).
+
+    The vertical set drives the z stress channel, the horizontal set the x and y
+    channels (paper Sec. II-C). A ``Mud`` can be passed to :func:`mudrft.simulate`
+    wherever a terrain is expected.
+
+    Parameters
+    ----------
+    vertical, horizontal : MudParameters
+        Parameter sets for vertical and horizontal intrusion.
+    water_content : float or None
+        Volumetric water content [-], if known.
+    name : str
+        Label used in reports.
+    """
+
+    vertical: MudParameters
+    horizontal: MudParameters
+    water_content: float | None = None
+    name: str = "mud"
+
+    def __post_init__(self) -> None:
+        for attr in ("vertical", "horizontal"):
+            if not isinstance(getattr(self, attr), MudParameters):
+                raise MudrftError(
+                    f"{attr} must be a MudParameters, got {type(getattr(self, attr)).__name__}"
+                )
+
+    def __repr__(self) -> str:
+        w = "" if self.water_content is None else f", water_content={self.water_content:g}"
+        return f"Mud(name={self.name!r}{w})"

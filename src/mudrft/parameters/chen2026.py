@@ -1,0 +1,60 @@
+"""Parameter tables of Chen et al. (2026), supplementary Tables S1 and S2.
+
+The numbers are transcribed exactly as printed, in the printed units, so that a
+reader can compare them with the paper line by line. They are converted to SI
+only when a :class:`~mudrft.parameters.base.MudParameters` is built.
+
+Units as printed: alpha, eta_m, eta_inf and sigma_Y in MPa (the viscosities are
+printed "MPa/s", which is dimensionally impossible for sigma = eta * gamma_dot;
+we read MPa s, erratum E1 in docs/model.md), lambda without a unit (read as s),
+gamma_dot_c in 1/s, tau_build and tau_leak in s, n and epsilon dimensionless.
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from ..units import MPA
+
+__all__ = ["COLUMNS", "PRINTED_UNITS", "VERTICAL", "HORIZONTAL", "CITATION_KEY", "TABLE_NAME"]
+
+CITATION_KEY: Final = "chen2026mud"
+
+#: Column names of the tables, in the order printed.
+COLUMNS: Final = (
+    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
+    "sigma_y",
+)
+
+#: Unit of each column as printed, and the factor to SI.
+PRINTED_UNITS: Final = {
+    "alpha": ("MPa", MPA),
+    "n": ("-", 1.0),
+    "lam": ("(none; read s)", 1.0),
+    "eta_m": ("MPa/s (read MPa s)", MPA),
+    "eta_inf": ("MPa/s (read MPa s)", MPA),
+    "gamma_dot_c": ("1/s", 1.0),
+    "tau_build": ("s", 1.0),
+    "tau_leak": ("s", 1.0),
+    "epsilon": ("-", 1.0),
+    "sigma_y": ("MPa", MPA),
+}
+
+TABLE_NAME: Final = {
+    "vertical": "supplementary Table S1 (vertical intrusion)",
+    "horizontal": "supplementary Table S2 (horizontal intrusion)",
+}
+
+# water content -> row, as printed (alpha, n, lambda, eta_m, eta_inf, gamma_dot_c,
+# tau_build, tau_leak, epsilon, sigma_Y)
+VERTICAL: Final[dict[float, tuple[float, ...]]] = {
+    0.25: (0.024, 0.53, 1.9, 0.067, 0.014, 0.14, 0.32, 0.17, 0.016, 0.0071),
+    0.35: (0.013, 0.20, 3.2, 0.27, 0.0031, 0.042, 0.49, 0.089, 0.054, 0.011),
+    0.45: (0.010, 0.18, 2.6, 0.31, 0.0026, 0.027, 0.58, 0.052, 0.040, 0.0086),
+}
+
+HORIZONTAL: Final[dict[float, tuple[float, ...]]] = {
+    0.25: (0.018, 0.12, 1.8, 0.46, 0.010, 0.31, 0.63, 0.99, 0.027, 0.013),
+    0.35: (0.011, 0.32, 17.0, 0.41, 0.021, 0.019, 0.25, 0.67, 0.14, 0.0094),
+    0.45: (0.0078, 0.95, 8.7, 0.63, 0.065, 0.028, 0.21, 0.022, 0.12, 0.0061),
+}

@@ -1,0 +1,209 @@
+"""Access to the built-in parameter sets, with interpolation between table rows.
+
+Between the tabulated water contents (25, 35 and 45 %) every strictly positive
+constant is interpolated linearly in its logarithm (the constants span orders of
+magnitude and clay rheology varies roughly exponentially with water content);
+the exponent ``n``, which is bounded in (0, 1], is interpolated linearly. Both
+keep every interpolated set valid. Outside the tabulated range a
+:class:`~mudrft._validation.MudrftError` is raised unless ``extrapolate=True``,
+which extends the end segments the same way, with a warning, down to 15 % and
+up to 50 % (decision D7 in docs/model.md).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from .._validation import MudrftError, check_choice
+from ..citations import register
+from . import chen2026
+from .base import Mud, MudParameters
+
+__all__ = [
+    "paper_parameters",
+    "paper_mud",
+    "table_rows",
+    "sigma_y_consistency",
+    "DIRECTIONS",
+    "WATER_CONTENT_RANGE",
+    "EXTRAPOLATION_RANGE",
+]
+
+DIRECTIONS = ("vertical", "horizontal")
+WATER_CONTENT_RANGE = (0.25, 0.45)
+EXTRAPOLATION_RANGE = (0.15, 0.50)
+_LINEAR_FIELDS = ("n",)
+
+
+def _table(direction: str) -> dict[float, tuple[float, ...]]:
+    check_choice("direction", direction, DIRECTIONS)
+    return chen2026.VERTICAL if direction == "vertical" else chen2026.HORIZONTAL
+
+
+def table_rows(direction: str) -> dict[float, dict[str, float]]:
+    """The printed rows of one table, in SI, keyed by water content [-]."""
+    out = {}
+    for w, row in _table(direction).items():
+        out[w] = {c: v * chen2026.PRINTED_UNITS[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)}
+    return out
+
+
+def _check_water_content(water_content: object, extrapolate: bool) -> float:
+    if isinstance(water_content, bool) or not isinstance(water_content, (int, float, np.floating, np.integer)):
+        raise MudrftError(
+            f"water_content must be a number (volume fraction, e.g. 0.25), got {water_content!r}"
+        )
+    w = float(water_content)
+    if not math.isfinite(w):
+        raise MudrftError(f"water_content must be finite, got {w!r}")
+    if w < 0 or w > 1:
+        hint = " (give a fraction: 25 % is 0.25)" if 1 < w <= 100 else ""
+        raise MudrftError(f"water_content must be a volume fraction in [0, 1], got {w!r}{hint}")
+    lo, hi = WATER_CONTENT_RANGE
+    if lo - 1e-12 <= w <= hi + 1e-12:
+        return min(max(w, lo), hi)
+    elo, ehi = EXTRAPOLATION_RANGE
+    if not extrapolate:
+        raise MudrftError(
+            f"water_content must lie in the tabulated range [{lo}, {hi}], got {w!r}; "
+            f"pass extrapolate=True to extend the table to [{elo}, {ehi}] (with a warning)"
+        )
+    if not (elo <= w <= ehi):
+        raise MudrftError(
+            f"water_content must lie in [{elo}, {ehi}] even with extrapolate=True, got {w!r}"
+        )
+    warnings.warn(
+        f"water_content={w} lies outside the tabulated rows [{lo}, {hi}]; the parameters are "
+        "extrapolated from the nearest table segment and are not measured values",
+        UserWarning,
+        stacklevel=3,
+    )
+    return w
+
+
+def _interpolate(direction: str, w: float) -> dict[str, float]:
+    rows = table_rows(direction)
+    ws = sorted(rows)
+    if w in rows:
+        return dict(rows[w])
+    # segment containing w (or the nearest end segment, for extrapolation)
+    i = int(np.clip(np.searchsorted(ws, w) - 1, 0, len(ws) - 2))
+    w0, w1 = ws[i], ws[i + 1]
+    t = (w - w0) / (w1 - w0)
+    out = {}
+    for c in chen2026.COLUMNS:
+        a, b = rows[w0][c], rows[w1][c]
+        if c in _LINEAR_FIELDS:
+            v = a + t * (b - a)
+            v = min(max(v, 0.02), 1.0)  # keep the exponent valid when extrapolating
+        else:
+            v = math.exp(math.log(a) + t * (math.log(b) - math.log(a)))
+        out[c] = v
+    return out
+
+
+def paper_parameters(
+    water_content: float = 0.25, direction: str = "vertical", *, extrapolate: bool = False
+) -> MudParameters:
+    """One parameter set of Chen et al. (2026), converted to SI.
+
+    Parameters
+    ----------
+    water_content : float
+        Volumetric water content as a fraction [-]; the tables hold 0.25, 0.35 and 0.45.
+        Values in between are interpolated (log-linear, see module docstring).
+    direction : {"vertical", "horizontal"}
+        Which table: vertical (S1) or horizontal (S2) intrusion.
+    extrapolate : bool, keyword-only
+        Allow water contents in [0.15, 0.50] outside the tabulated rows (warns).
+
+    Returns
+    -------
+    MudParameters
+        Frozen set in SI units with ``source`` naming table and row.
+
+    Examples
+    --------
+    >>> p = paper_parameters(0.35, "horizontal")
+    >>> round(p.lam, 3), p.sigma_y
+    (17.0, 9400.0)
+    """
+    check_choice("direction", direction, DIRECTIONS)
+    w = _check_water_content(water_content, extrapolate)
+    values = _interpolate(direction, w)
+    table = chen2026.TABLE_NAME[direction]
+    if w in _table(direction):
+        source = f"Chen et al. 2026, {table}, row W = {w * 100:g} %"
+    else:
+        source = f"Chen et al. 2026, {table}, interpolated at W = {w * 100:g} %"
+    register(chen2026.CITATION_KEY)
+    return MudParameters(**values, source=source, water_content=w, direction=direction)
+
+
+def paper_mud(water_content: float = 0.25, *, extrapolate: bool = False) -> Mud:
+    """The paper's mud at one water content: vertical and horizontal sets (SI).
+
+    Parameters
+    ----------
+    water_content : float
+        Volumetric water content as a fraction [-], in [0.25, 0.45].
+    extrapolate : bool, keyword-only
+        Allow [0.15, 0.50] with a warning.
+
+    Examples
+    --------
+    >>> mud = paper_mud(0.25)
+    >>> mud.vertical.alpha > mud.horizontal.alpha
+    True
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        v = paper_parameters(water_content, "vertical", extrapolate=extrapolate)
+        h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate)
+    if caught:
+        warnings.warn(str(caught[0].message), UserWarning, stacklevel=2)
+    return Mud(vertical=v, horizontal=h, water_content=v.water_content,
+               name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %")
+
+
+def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:
+    """Check every printed row against the paper's relation sigma_Y = (eta_m - eta_inf) gamma_dot_c.
+
+    The printed numbers have two significant figures, so each is known only to
+    +/- half a unit in its last digit. A row is *consistent* when the interval of
+    the right-hand side, evaluated over those rounding intervals, contains the
+    interval of the printed sigma_Y.
+
+    Returns
+    -------
+    list of dict
+        One entry per row: water_content, sigma_y_printed [Pa], sigma_y_relation [Pa],
+        ratio printed/relation, relation_low/high [Pa] and ``consistent``.
+    """
+    out: list[dict[str, float | bool]] = []
+    for w, row in _table(direction).items():
+        r = dict(zip(chen2026.COLUMNS, row, strict=True))
+
+        def half_ulp(x: float) -> float:
+            s = f"{x:g}"
+            decimals = len(s.split(".")[1]) if "." in s else 0
+            return 0.5 * 10.0 ** (-decimals)
+
+        em, ei, gc, sy = r["eta_m"], r["eta_inf"], r["gamma_dot_c"], r["sigma_y"]
+        lo = (em - half_ulp(em) - (ei + half_ulp(ei))) * (gc - half_ulp(gc))
+        hi = (em + half_ulp(em) - (ei - half_ulp(ei))) * (gc + half_ulp(gc))
+        rel = (em - ei) * gc
+        sy_lo, sy_hi = sy - half_ulp(sy), sy + half_ulp(sy)
+        out.append({
+            "water_content": w,
+            "sigma_y_printed": sy * 1e6,
+            "sigma_y_relation": rel * 1e6,
+            "ratio": sy / rel,
+            "relation_low": lo * 1e6,
+            "relation_high": hi * 1e6,
+            "consistent": bool(sy_hi >= lo and sy_lo <= hi),
+        })
+    return out

@@ -1,0 +1,109 @@
+"""Run the constitutive model along a plate test (paper experiments E1-E4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import MudrftError, check_positive
+from .constitutive import laws
+from .constitutive.dynamics import run
+from .parameters.base import Mud, MudParameters
+from .trajectories import Trajectory
+
+__all__ = ["PlateResult", "plate_response", "DEFAULT_PLATE_LENGTH"]
+
+#: Characteristic length of the paper's plates [m]. The paper does not give the plate
+#: size; 50 mm fits its 28 x 23 cm container (decision D1 in docs/model.md).
+DEFAULT_PLATE_LENGTH = 0.05
+
+
+@dataclass(frozen=True, eq=False)
+class PlateResult:
+    """Stress on a plate along a plate test.
+
+    Attributes
+    ----------
+    time : ndarray (n,)
+        Times [s].
+    displacement : ndarray (n,)
+        Intrusion displacement of the plate [m].
+    stress : ndarray (n,)
+        Total stress sigma_tot along the motion [Pa] (eq. 1).
+    normal, tangential : ndarray (n,)
+        Normal and tangential stress on the tilted plate, f_n(angle)*sigma and
+        f_t(angle)*sigma [Pa] (eq. 7).
+    elastic, thixotropic, suction : ndarray (n,)
+        The three terms of eq. (1) [Pa].
+    xi : ndarray (n,)
+        Structure parameter [-].
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    stress: np.ndarray
+    normal: np.ndarray
+    tangential: np.ndarray
+    elastic: np.ndarray
+    thixotropic: np.ndarray
+    suction: np.ndarray
+    xi: np.ndarray
+
+    def plot(self, ax: object = None) -> object:
+        """Stress against time and displacement (needs matplotlib)."""
+        from .plotting import plot_plate
+
+        return plot_plate(self, ax=ax)
+
+
+def plate_response(
+    trajectory: Trajectory,
+    params: MudParameters | Mud,
+    *,
+    characteristic_length: float = DEFAULT_PLATE_LENGTH,
+    acceleration: bool = True,
+    xi0: float = 0.0,
+) -> PlateResult:
+    """Stress on a plate driven along ``trajectory`` (from :func:`mudrft.plate_intrusion`).
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        A plate test; its ``meta["displacement"]`` (or the tip depth) is the intrusion [m].
+    params : MudParameters or Mud
+        A parameter set, or a Mud from which the set matching the test direction is taken.
+    characteristic_length : float, keyword-only
+        Plate characteristic length L_c [m].
+    acceleration : bool, keyword-only
+        Keep the acceleration term of f_xi (decision D6).
+    xi0 : float, keyword-only
+        Initial structure parameter [-].
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> res = mudrft.plate_response(mudrft.plate_intrusion(), mudrft.paper_mud(0.25))
+    >>> bool(res.stress.max() > 0 > res.stress.min())
+    True
+    """
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(f"trajectory must be a Trajectory (see mudrft.plate_intrusion), got {type(trajectory).__name__}")
+    L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+    direction = trajectory.meta.get("direction", "vertical")
+    if isinstance(params, Mud):
+        p = params.vertical if direction == "vertical" else params.horizontal
+    elif isinstance(params, MudParameters):
+        p = params
+    else:
+        raise MudrftError(f"params must be a MudParameters or a Mud, got {type(params).__name__}")
+    q = trajectory.meta.get("displacement")
+    if q is None:
+        q = trajectory.depth if direction == "vertical" else trajectory.position[:, 0]
+    h = run(p, trajectory.time, np.asarray(q) / L, acceleration=acceleration, xi0=xi0)
+    angle = float(trajectory.meta.get("angle", 0.0))
+    return PlateResult(
+        time=trajectory.time, displacement=np.asarray(q, dtype=float), stress=h.total,
+        normal=laws.f_n(angle) * h.total, tangential=laws.f_t(angle) * h.total,
+        elastic=h.elastic, thixotropic=h.thixotropic, suction=h.suction, xi=h.xi,
+    )

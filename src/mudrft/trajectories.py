@@ -1,0 +1,230 @@
+r"""Prescribed motions: the paper's plate tests E1-E4 and a stepping gait cycle.
+
+A :class:`Trajectory` is the path of a foot's tip (its lowest point) in the world
+frame: sample times [s], positions [m] and velocities [m/s]. The mud surface is
+z = 0, so the tip depth is ``max(-z, 0)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validation import (
+    MudrftError,
+    check_choice,
+    check_finite,
+    check_in_range,
+    check_increasing,
+    check_nonnegative,
+    check_positive,
+)
+
+__all__ = ["Trajectory", "plate_intrusion", "gait", "GAIT_SPEEDS", "STRIDE_LENGTH"]
+
+#: The paper's gait speeds [m/s] (Sec. IV-A).
+GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
+#: Stride length of :func:`gait` [m]: one cycle lasts STRIDE_LENGTH / speed (decision D10).
+STRIDE_LENGTH = 0.13
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """Path of the foot tip in the world frame.
+
+    Attributes
+    ----------
+    time : ndarray, shape (n,)
+        Strictly increasing times [s].
+    position : ndarray, shape (n, 3)
+        Tip position [m]; z < 0 is below the mud surface.
+    velocity : ndarray, shape (n, 3)
+        Tip velocity [m/s].
+    name : str
+        Label for reports.
+    meta : dict
+        Protocol parameters (e.g. plate angle [rad], direction).
+    """
+
+    time: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    name: str = "trajectory"
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        t = check_increasing("time", self.time)
+        p = check_finite("position", self.position)
+        v = check_finite("velocity", self.velocity)
+        if t.size < 2:
+            raise MudrftError(f"time must have at least 2 samples, got {t.size}")
+        for name, a in (("position", p), ("velocity", v)):
+            if a.shape != (t.size, 3):
+                raise MudrftError(f"{name} must have shape ({t.size}, 3) to match time, got {a.shape}")
+        object.__setattr__(self, "time", t)
+        object.__setattr__(self, "position", p)
+        object.__setattr__(self, "velocity", v)
+
+    @classmethod
+    def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
+        """Build a trajectory from sampled positions; velocities by finite differences [m/s]."""
+        t = check_increasing("time", time)
+        p = check_finite("position", position)
+        if p.shape != (t.size, 3):
+            raise MudrftError(f"position must have shape ({t.size}, 3), got {p.shape}")
+        v = np.gradient(p, t, axis=0) if t.size > 2 else np.repeat(np.diff(p, axis=0) / np.diff(t)[:, None], 2, 0)
+        return cls(time=t, position=p, velocity=v, **kw)  # type: ignore[arg-type]
+
+    @property
+    def depth(self) -> np.ndarray:
+        """Tip depth below the mud surface [m], >= 0."""
+        return np.maximum(-self.position[:, 2], 0.0)
+
+    @property
+    def duration(self) -> float:
+        """Duration [s]."""
+        return float(self.time[-1] - self.time[0])
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+
+def plate_intrusion(
+    depth: float = 0.03,
+    speed: float = 0.02,
+    hold: float = 1.0,
+    angle: float = 0.0,
+    direction: str = "vertical",
+    *,
+    dt: float = 1e-3,
+    rest: float = 0.5,
+) -> Trajectory:
+    """The paper's plate test (E1-E4): intrude at constant speed, hold, retract at the same speed.
+
+    Parameters
+    ----------
+    depth : float
+        Intrusion displacement [m] (vertical: depth below the surface; horizontal:
+        travel through the mud).
+    speed : float
+        Intrusion and retraction speed [m/s].
+    hold : float
+        Time at rest between intrusion and retraction [s].
+    angle : float
+        Penetration angle of the plate [rad], 0 to pi/2 (the paper uses 0, 22.5, 45,
+        67.5 and 90 deg): the angle between plate normal and motion, psi_1 or psi_2.
+    direction : {"vertical", "horizontal"}
+        Vertical (VI, along -z) or horizontal (HI, along +x) intrusion.
+    dt : float, keyword-only
+        Sample spacing [s].
+    rest : float, keyword-only
+        Time at rest after the retraction [s].
+
+    Returns
+    -------
+    Trajectory
+        With ``meta = {"angle", "direction", "depth", "speed", "hold", "t_retract"}``
+        and the intrusion displacement in ``meta["displacement"]`` [m].
+
+    Examples
+    --------
+    >>> tr = plate_intrusion(depth=0.03, speed=0.02, hold=1.0)
+    >>> round(float(tr.depth.max()), 4), round(tr.duration, 3)
+    (0.03, 4.5)
+    """
+    check_positive("depth", depth, unit="m")
+    check_positive("speed", speed, unit="m/s")
+    check_nonnegative("hold", hold, unit="s")
+    check_nonnegative("rest", rest, unit="s")
+    check_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")
+    check_choice("direction", direction, ("vertical", "horizontal"))
+    check_positive("dt", dt, unit="s")
+    t_in = depth / speed
+    t_total = 2 * t_in + hold + rest
+    if t_total / dt > 5e6:
+        raise MudrftError(f"dt={dt!r} s gives more than 5e6 samples for a {t_total:.3g} s test; use a larger dt")
+    n = int(np.ceil(t_total / dt)) + 1
+    t = np.linspace(0.0, t_total, n)
+    # include the corners exactly so the piecewise-linear input is exact
+    t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
+    q = np.where(t < t_in, speed * t, np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)))
+    qd = np.where(t < t_in, speed, np.where(t < t_in + hold, 0.0, np.where(t < 2 * t_in + hold, -speed, 0.0)))
+    pos = np.zeros((t.size, 3))
+    vel = np.zeros((t.size, 3))
+    if direction == "vertical":
+        pos[:, 2], vel[:, 2] = -q, -qd
+    else:
+        pos[:, 0], vel[:, 0] = q, qd
+    meta = {"angle": float(angle), "direction": direction, "depth": float(depth), "speed": float(speed),
+            "hold": float(hold), "t_retract": float(t_in + hold), "displacement": q}
+    return Trajectory(time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta)
+
+
+def gait(
+    speed: float = 0.2,
+    *,
+    depth: float = 0.03,
+    stride: float = STRIDE_LENGTH,
+    slip: float = 0.3,
+    sway: float = 0.15,
+    lift: float = 0.02,
+    dt: float = 1e-3,
+) -> Trajectory:
+    r"""One stepping cycle of the foot tip at a gait speed (half stance, half swing).
+
+    The paper gives the gait speeds (slow 0.13, medium 0.2, fast 0.26 m/s) but not
+    the foot path, so this one is documented here (decision D10). The cycle lasts
+    :math:`T=\text{stride}/\text{speed}`; with phase :math:`s=t/T`:
+
+    * stance, :math:`s\in[0,\tfrac12]`: the tip sinks from the surface to ``depth`` along
+      :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)`;
+    * swing, :math:`s\in[\tfrac12,1]`: it is pulled out and lifted to ``lift`` above
+      the surface along :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))`;
+    * horizontally it slips forward by ``slip * stride`` (:math:`x=\rho S(1-\cos\pi s)/2`) and
+      sways sideways and back by ``sway * stride`` (:math:`y=\rho_y S\sin(\pi s)/2`), so both
+      horizontal channels see intrusion and retraction.
+
+    Parameters
+    ----------
+    speed : float
+        Gait speed [m/s].
+    depth : float, keyword-only
+        Deepest tip depth [m].
+    stride : float, keyword-only
+        Stride length [m].
+    slip, sway : float, keyword-only
+        Forward slip and lateral sway in mud as fractions of the stride [-].
+    lift : float, keyword-only
+        Height of the tip above the surface at the end of the swing [m].
+    dt : float, keyword-only
+        Sample spacing [s].
+
+    Examples
+    --------
+    >>> tr = gait(speed=0.2)
+    >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
+    (0.65, 0.03)
+    """
+    check_positive("speed", speed, unit="m/s")
+    for name, val, unit in (("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")):
+        check_positive(name, val, unit=unit)
+    for name, val in (("slip", slip), ("sway", sway)):
+        check_in_range(name, val, 0.0, 1.0)
+    check_nonnegative("lift", lift, unit="m")
+    T = stride / speed
+    n = max(int(np.ceil(T / dt)) + 1, 3)
+    t = np.linspace(0.0, T, n)
+    s = t / T
+    w = 2 * np.pi / T
+    z = np.where(s <= 0.5, -0.5 * depth * (1 - np.cos(2 * np.pi * s)),
+                 -depth + 0.5 * (depth + lift) * (1 - np.cos(2 * np.pi * (s - 0.5))))
+    vz = np.where(s <= 0.5, -0.5 * depth * w * np.sin(2 * np.pi * s),
+                  0.5 * (depth + lift) * w * np.sin(2 * np.pi * (s - 0.5)))
+    x = 0.5 * slip * stride * (1 - np.cos(np.pi * s))
+    vx = 0.5 * slip * stride * (np.pi / T) * np.sin(np.pi * s)
+    y = 0.5 * sway * stride * np.sin(np.pi * s)
+    vy = 0.5 * sway * stride * (np.pi / T) * np.cos(np.pi * s)
+    meta = {"speed": float(speed), "period": T, "depth": float(depth), "stride": float(stride)}
+    return Trajectory(time=t, position=np.stack([x, y, z], 1), velocity=np.stack([vx, vy, vz], 1),
+                      name=f"gait {speed:g} m/s", meta=meta)

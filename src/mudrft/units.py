@@ -1,0 +1,64 @@
+"""Unit conversion at the edges of the library.
+
+mudrft computes in SI units (m, s, N, Pa, Pa s). The paper's tables are in MPa and
+its plots in mm and kPa; data files often log ms, mm, kPa or MPa. Everything is
+converted here, once, on the way in or out.
+"""
+
+from __future__ import annotations
+
+from ._validation import MudrftError
+
+__all__ = ["MPA", "KPA", "MM", "MS", "SCALE", "to_si", "parse_unit"]
+
+MPA = 1.0e6  #: 1 MPa in Pa
+KPA = 1.0e3  #: 1 kPa in Pa
+MM = 1.0e-3  #: 1 mm in m
+MS = 1.0e-3  #: 1 ms in s
+
+#: Factor that converts a value in the given unit to SI, grouped by quantity.
+SCALE: dict[str, dict[str, float]] = {
+    "time": {"s": 1.0, "ms": 1.0e-3, "us": 1.0e-6, "min": 60.0},
+    "length": {"m": 1.0, "cm": 1.0e-2, "mm": 1.0e-3, "um": 1.0e-6},
+    "force": {"N": 1.0, "kN": 1.0e3, "mN": 1.0e-3},
+    "stress": {"Pa": 1.0, "kPa": 1.0e3, "MPa": 1.0e6, "N/m^2": 1.0, "N/m2": 1.0},
+    "area": {"m^2": 1.0, "m2": 1.0, "cm^2": 1.0e-4, "cm2": 1.0e-4, "mm^2": 1.0e-6, "mm2": 1.0e-6},
+    "velocity": {"m/s": 1.0, "mm/s": 1.0e-3, "cm/s": 1.0e-2},
+    "angle": {"rad": 1.0, "deg": 3.141592653589793 / 180.0},
+    "dimensionless": {"-": 1.0, "": 1.0, "1": 1.0},
+}
+
+
+def parse_unit(quantity: str, unit: str) -> float:
+    """Return the factor that converts ``unit`` of ``quantity`` to SI.
+
+    Parameters
+    ----------
+    quantity : str
+        One of the keys of :data:`SCALE` (``"time"``, ``"length"``, ...).
+    unit : str
+        The unit as written in a file header, e.g. ``"mm"`` or ``"kPa"``.
+
+    Examples
+    --------
+    >>> parse_unit("length", "mm")
+    0.001
+    """
+    table = SCALE.get(quantity)
+    if table is None:
+        raise MudrftError(f"quantity must be one of {sorted(SCALE)}, got {quantity!r}")
+    u = unit.strip()
+    if u not in table:
+        raise MudrftError(f"unit for {quantity} must be one of {sorted(table)}, got {unit!r}")
+    return table[u]
+
+
+def to_si(value: float, quantity: str, unit: str) -> float:
+    """Convert ``value`` given in ``unit`` to SI.
+
+    Examples
+    --------
+    >>> to_si(0.024, "stress", "MPa")
+    24000.0
+    """
+    return value * parse_unit(quantity, unit)
