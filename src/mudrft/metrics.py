@@ -1,0 +1,153 @@
+r"""The paper's metrics on force histories (Sec. IV-B, Table II, Figs. 10-13).
+
+All functions take sampled histories (time [s], force [N], position or depth [m])
+and integrate with the trapezoidal rule, which is exact for the piecewise-linear
+signals the simulator produces between samples.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._validation import MudrftError, check_finite, check_increasing
+
+__all__ = [
+    "relative_rmse",
+    "impulse",
+    "max_suction",
+    "peak_support",
+    "energy",
+    "sinking_depth",
+    "normalized_stress",
+]
+
+
+def _trapz(y: np.ndarray, x: np.ndarray) -> Any:
+    return np.trapezoid(y, x, axis=0)
+
+
+def relative_rmse(predicted: Any, measured: Any) -> float:
+    r"""Relative root-mean-square error [-] (Table II reports it in %).
+
+    .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
+
+    The paper does not define its normalisation; we divide by the peak-to-peak range
+    of the measured signal, which is defined for signals that cross zero (suction)
+    (decision D12).
+
+    Parameters
+    ----------
+    predicted, measured : array_like, shape (n,)
+        Histories on the same samples [any unit].
+
+    Examples
+    --------
+    >>> round(relative_rmse([0.0, 1.0, 2.0], [0.0, 1.0, 3.0]), 6)
+    0.19245
+    """
+    p = check_finite("predicted", predicted)
+    m = check_finite("measured", measured)
+    if p.shape != m.shape or p.ndim != 1 or p.size < 2:
+        raise MudrftError(
+            f"predicted and measured must be 1-D with the same length >= 2, got shapes {p.shape} and {m.shape}"
+        )
+    span = float(m.max() - m.min())
+    if span <= 0:
+        raise MudrftError("measured must not be constant: its range normalises the error")
+    return float(np.sqrt(np.mean((p - m) ** 2)) / span)
+
+
+def impulse(time: Any, force: Any) -> np.ndarray:
+    r"""Impulse per axis :math:`\int F\,dt` [N s].
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Increasing times [s].
+    force : array_like, shape (n,) or (n, 3)
+        Force history [N].
+
+    Examples
+    --------
+    >>> impulse([0.0, 1.0, 2.0], [[0, 0, 0], [1, 2, 3], [0, 0, 0]])
+    array([1., 2., 3.])
+    """
+    t = check_increasing("time", time)
+    f = check_finite("force", force)
+    if f.shape[0] != t.size:
+        raise MudrftError(f"force must have {t.size} samples to match time, got shape {f.shape}")
+    return np.asarray(_trapz(f, t))
+
+
+def max_suction(force_z: Any) -> float:
+    """Maximum suction: magnitude (>= 0) of the most negative vertical force [N].
+
+    Examples
+    --------
+    >>> max_suction([1.0, -3.0, 2.0]), max_suction([1.0, 2.0])
+    (3.0, 0.0)
+    """
+    f = check_finite("force_z", force_z)
+    return float(max(0.0, -float(np.min(f))))
+
+
+def peak_support(force_z: Any) -> float:
+    """Largest upward vertical force [N] (0 if never positive)."""
+    f = check_finite("force_z", force_z)
+    return float(max(0.0, float(np.max(f))))
+
+
+def energy(time: Any, force: Any, velocity: Any) -> float:
+    r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
+
+    ``force`` is the force of the mud on the foot and ``velocity`` the foot velocity. For
+    a closed intrusion-retraction cycle this is the area of the force-displacement
+    hysteresis loop, >= 0 for a dissipative terrain.
+
+    Examples
+    --------
+    >>> # a constant 10 N resisting a 1 m/s motion for 2 s costs 20 J
+    >>> energy([0.0, 2.0], [[-10, 0, 0], [-10, 0, 0]], [[1, 0, 0], [1, 0, 0]])
+    20.0
+    """
+    t = check_increasing("time", time)
+    f = check_finite("force", force)
+    v = check_finite("velocity", velocity)
+    if f.shape != v.shape or f.shape[0] != t.size:
+        raise MudrftError(
+            f"force and velocity must have the same shape with {t.size} samples, got {f.shape} and {v.shape}"
+        )
+    power = -(f * v).sum(axis=-1) if f.ndim == 2 else -(f * v)
+    return float(_trapz(power, t))
+
+
+def sinking_depth(depth: Any, *, final: bool = False) -> float:
+    """Sinking depth [m]: the deepest tip depth, or the last one with ``final=True``.
+
+    Under load control the last depth is the equilibrium sinking (paper Fig. 12).
+    """
+    d = check_finite("depth", depth)
+    return float(d[-1] if final else d.max())
+
+
+def normalized_stress(force: Any, areas: Any) -> np.ndarray:
+    r"""Force divided by the matching cross-section area, as in Figs. 10-12 [Pa].
+
+    :math:`\bar\sigma_i=F_i/A_i`, with :math:`A_x, A_y` the submerged areas projected along
+    x and y and :math:`A_z` the footprint. Zero where the area is zero.
+
+    Parameters
+    ----------
+    force : array_like, shape (n, 3)
+        Forces [N].
+    areas : array_like, shape (n, 3)
+        Areas [m^2].
+    """
+    f = check_finite("force", force)
+    a = check_finite("areas", areas)
+    if f.shape != a.shape:
+        raise MudrftError(f"force and areas must have the same shape, got {f.shape} and {a.shape}")
+    safe = np.where(a > 0, a, 1.0)
+    return np.where(a > 0, f / safe, 0.0)

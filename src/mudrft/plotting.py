@@ -1,0 +1,67 @@
+"""Matplotlib figures (optional extra ``plot``; matplotlib is imported lazily)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["plot_plate", "plot_result", "require_matplotlib"]
+
+
+def require_matplotlib() -> Any:
+    """Import matplotlib.pyplot with the Agg backend when no display is set."""
+    try:
+        import matplotlib
+
+        if not matplotlib.get_backend().lower().startswith(("qt", "tk", "gtk", "wx", "macosx")):
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("plotting needs matplotlib: pip install 'mudrft[plot]'") from exc
+    return plt
+
+
+def plot_plate(result: Any, ax: Any = None) -> Any:
+    """Stress against time and against displacement for a plate test (kPa, mm)."""
+    plt = require_matplotlib()
+    if ax is None:
+        fig, ax = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
+    else:
+        fig = np.ravel(ax)[0].figure
+    a0, a1 = np.ravel(ax)[:2]
+    a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
+    a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
+    a0.plot(result.time, result.thixotropic / 1e3, "--", lw=1, label=r"$\sigma_{th}$")
+    a0.plot(result.time, result.suction / 1e3, "--", lw=1, label=r"$H_\nu\sigma_s$")
+    a0.axhline(0, color="0.7", lw=0.6)
+    a0.set_xlabel("time [s]")
+    a0.set_ylabel("stress [kPa]")
+    a0.legend(fontsize=8, ncol=2)
+    a1.plot(result.displacement * 1e3, result.stress / 1e3, "k", lw=1.4)
+    a1.axhline(0, color="0.7", lw=0.6)
+    a1.set_xlabel("intrusion displacement [mm]")
+    a1.set_ylabel("stress [kPa]")
+    return fig
+
+
+def plot_result(result: Any, axes: Any = None) -> Any:
+    """Forces against time, and vertical force against depth, for a :class:`~mudrft.Result`."""
+    plt = require_matplotlib()
+    if axes is None:
+        fig, axes = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
+    else:
+        fig = np.ravel(axes)[0].figure
+    a0, a1 = np.ravel(axes)[:2]
+    for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
+        a0.plot(result.time, result.force[:, i], lw=1.3, label=lab)
+    a0.axhline(0, color="0.7", lw=0.6)
+    a0.set_xlabel("time [s]")
+    a0.set_ylabel("force [N]")
+    a0.legend(fontsize=8)
+    a0.set_title(f"{result.foot} in {result.terrain}", fontsize=9)
+    a1.plot(result.depth * 1e3, result.force[:, 2], "k", lw=1.3)
+    a1.axhline(0, color="0.7", lw=0.6)
+    a1.set_xlabel("tip depth [mm]")
+    a1.set_ylabel("$F_z$ [N]")
+    return fig

@@ -1,0 +1,373 @@
+r"""Run a foot through mud (or any terrain): prescribed motion or prescribed load.
+
+>>> import mudrft
+>>> from mudrft.simulate import simulate
+>>> foot = mudrft.feet.Flat()
+>>> result = simulate(foot, mudrft.paper_mud(0.25), mudrft.gait(speed=0.2))
+>>> m = result.metrics()
+>>> m["peak_support"] > 0 and m["energy"] > 0
+True
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import metrics as _m
+from ._validation import MudrftError, check_nonnegative, check_positive
+from .feet.base import Foot
+from .terrain import as_terrain
+from .trajectories import Trajectory
+
+__all__ = ["simulate", "Result", "LoadControl", "CSV_COLUMNS", "static_sinking"]
+
+#: Columns of ``run.csv`` (DESIGN.md).
+CSV_COLUMNS = ("time [s]", "x [m]", "y [m]", "z [m]", "Fx [N]", "Fy [N]", "Fz [N]")
+G = 9.80665  # standard gravity [m/s^2]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadControl:
+    r"""A foot driven by a load instead of a prescribed motion.
+
+    A body of mass ``mass`` carrying ``weight`` rests on the foot. Without a leg spring
+    the foot is rigidly attached: :math:`m\ddot z = F_z - W`. With ``leg_stiffness`` the
+    body sits on a spring-damper leg above a light foot (``foot_mass``), and both masses
+    are integrated. The foot starts with its tip at the surface, at rest, and settles to
+    an equilibrium sinking depth. Horizontal motion is not driven (x = y = 0).
+
+    Parameters
+    ----------
+    weight : float
+        Load pressing the foot into the mud [N].
+    mass : float or None, keyword-only
+        Mass of the loaded body [kg]; default ``weight / g``.
+    leg_stiffness : float or None, keyword-only
+        Stiffness of a spring leg between body and foot [N/m]; None for a rigid leg.
+    leg_damping : float, keyword-only
+        Damping of the spring leg [N s/m].
+    foot_mass : float, keyword-only
+        Mass of the foot when a spring leg is used [kg]. The mud's viscous term acts on
+        it like a damper :math:`c\approx\eta_\infty A/L_c`; the explicit coupling needs
+        ``dt < 2 foot_mass / c`` (about 1e-3 s for the paper's feet with 0.5 kg).
+    duration : float, keyword-only
+        Simulated time [s].
+    dt : float, keyword-only
+        Time step [s].
+    """
+
+    weight: float
+    mass: float | None = None
+    leg_stiffness: float | None = None
+    leg_damping: float = 0.0
+    foot_mass: float = 0.5
+    duration: float = 10.0
+    dt: float = 1e-3
+
+    def __post_init__(self) -> None:
+        check_positive("weight", self.weight, unit="N")
+        if self.mass is not None:
+            check_positive("mass", self.mass, unit="kg")
+        if self.leg_stiffness is not None:
+            check_positive("leg_stiffness", self.leg_stiffness, unit="N/m")
+        check_nonnegative("leg_damping", self.leg_damping, unit="N s/m")
+        check_positive("foot_mass", self.foot_mass, unit="kg")
+        check_positive("duration", self.duration, unit="s")
+        check_positive("dt", self.dt, unit="s")
+        if self.duration / self.dt > 2e7:
+            raise MudrftError(f"duration/dt = {self.duration / self.dt:.3g} steps is too many; use a larger dt")
+
+    @property
+    def body_mass(self) -> float:
+        """Mass of the loaded body [kg]."""
+        return float(self.mass if self.mass is not None else self.weight / G)
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """Outcome of :func:`simulate`.
+
+    Attributes
+    ----------
+    time : ndarray (n,)
+        Times [s].
+    position, velocity : ndarray (n, 3)
+        Tip position [m] and velocity [m/s] in the world frame.
+    force : ndarray (n, 3)
+        Force of the terrain on the foot [N].
+    stress : ndarray (n, 3)
+        Channel stresses (sx, sy, sz) [Pa] (zeros for terrains without channels).
+    depth : ndarray (n,)
+        Tip depth [m].
+    foot : str
+        Foot name.
+    terrain : str
+        Terrain name.
+    areas : ndarray (n, 3)
+        Submerged areas projected along x, y and z [m^2] (for normalised stresses).
+    meta : dict
+        Run settings (load control, trajectory name, ...).
+    """
+
+    time: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    force: np.ndarray
+    stress: np.ndarray
+    depth: np.ndarray
+    foot: str = ""
+    terrain: str = ""
+    areas: np.ndarray | None = None
+    meta: dict = field(default_factory=dict)
+
+    def metrics(self) -> dict[str, float]:
+        """The paper's metrics of this run.
+
+        Returns
+        -------
+        dict
+            ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
+            ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
+            ``sinking`` [m] (deepest depth; the final depth under load control),
+            ``suction_ratio`` [-] (max suction / peak support).
+        """
+        imp = _m.impulse(self.time, self.force)
+        peak = _m.peak_support(self.force[:, 2])
+        suction = _m.max_suction(self.force[:, 2])
+        return {
+            "peak_support": peak,
+            "max_suction": suction,
+            "impulse_x": float(imp[0]),
+            "impulse_y": float(imp[1]),
+            "impulse_z": float(imp[2]),
+            "energy": _m.energy(self.time, self.force, self.velocity),
+            "sinking": _m.sinking_depth(self.depth, final=bool(self.meta.get("load_control"))),
+            "suction_ratio": suction / peak if peak > 0 else 0.0,
+        }
+
+    def normalized_stress(self) -> np.ndarray:
+        """Force divided by the submerged cross-section areas (Figs. 10-12) [Pa], shape (n, 3)."""
+        if self.areas is None:
+            raise MudrftError("this result has no areas; run simulate with a foot that provides them")
+        return _m.normalized_stress(self.force, self.areas)
+
+    def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
+        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``.
+
+        Refuses to replace an existing file unless ``overwrite=True``.
+        """
+        p = Path(path)
+        if p.exists() and not overwrite:
+            raise MudrftError(f"path {str(p)!r} exists; pass overwrite=True (CLI: --force) to replace it")
+        if not p.parent.exists():
+            raise MudrftError(f"path {str(p)!r}: directory {str(p.parent)!r} does not exist")
+        data = np.column_stack([self.time, self.position, self.force])
+        try:
+            np.savetxt(p, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g")
+        except OSError as exc:
+            raise MudrftError(f"cannot write {str(p)!r}: {exc.strerror or exc}") from exc
+        return p
+
+    def to_pandas(self) -> Any:
+        """The run as a ``pandas.DataFrame`` with the CSV columns plus stresses and depth."""
+        try:
+            import pandas as pd
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("to_pandas needs pandas: pip install 'mudrft[pandas]'") from exc
+        cols = dict(zip(CSV_COLUMNS, np.column_stack([self.time, self.position, self.force]).T, strict=True))
+        cols.update({"sx [Pa]": self.stress[:, 0], "sy [Pa]": self.stress[:, 1], "sz [Pa]": self.stress[:, 2],
+                     "depth [m]": self.depth})
+        return pd.DataFrame(cols)
+
+    def plot(self, *, axes: Any = None) -> Any:
+        """Forces against time and Fz against depth (needs matplotlib)."""
+        from .plotting import plot_result
+
+        return plot_result(self, axes=axes)
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+
+def _resample(traj: Trajectory, dt: float) -> Trajectory:
+    n = int(np.floor((traj.time[-1] - traj.time[0]) / dt + 1e-9)) + 1
+    t = traj.time[0] + dt * np.arange(n)
+    if t[-1] < traj.time[-1] - 1e-12:
+        t = np.append(t, traj.time[-1])
+    pos = np.stack([np.interp(t, traj.time, traj.position[:, i]) for i in range(3)], 1)
+    vel = np.stack([np.interp(t, traj.time, traj.velocity[:, i]) for i in range(3)], 1)
+    return Trajectory(time=t, position=pos, velocity=vel, name=traj.name, meta=traj.meta)
+
+
+def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
+    try:
+        return np.asarray(foot.projected_areas(depth), dtype=float).reshape(depth.shape + (3,))
+    except (MudrftError, NotImplementedError, AttributeError):
+        return None
+
+
+def _progress_printer(label: str) -> Callable[[float], None]:
+    state = {"last": -1}
+
+    def report(frac: float) -> None:
+        pct = int(frac * 10) * 10
+        if pct != state["last"]:
+            state["last"] = pct
+            print(f"  {label}: {pct:3d} %", file=sys.stderr, flush=True)
+
+    return report
+
+
+def simulate(
+    foot: Foot,
+    mud: Any,
+    trajectory: Trajectory | LoadControl,
+    *,
+    dt: float | None = None,
+    progress: bool | Callable[[float], None] = False,
+) -> Result:
+    """Run a foot through a terrain along a prescribed motion or under a prescribed load.
+
+    Parameters
+    ----------
+    foot : Foot
+        Any foot of :mod:`mudrft.feet`.
+    mud : Mud or Terrain
+        The paper's mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain` with
+        options, or any terrain of :mod:`mudrft.terrains`.
+    trajectory : Trajectory or LoadControl
+        Tip motion (:func:`mudrft.gait`, :func:`mudrft.plate_intrusion`, ...) or a load.
+    dt : float or None, keyword-only
+        Resample a trajectory at this step [s] (default: its own samples). Ignored for
+        load control, which has its own ``dt``.
+    progress : bool or callable, keyword-only
+        Print progress to stderr, or call ``progress(fraction)``.
+
+    Returns
+    -------
+    Result
+    """
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}")
+    terrain = as_terrain(mud)
+    report = _progress_printer(f"{foot.name} in {getattr(terrain, 'name', 'terrain')}") if progress is True else (
+        progress if callable(progress) else None)
+    if isinstance(trajectory, LoadControl):
+        return _simulate_load(foot, terrain, trajectory, report)
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(
+            f"trajectory must be a Trajectory (mudrft.gait, mudrft.plate_intrusion) or a LoadControl, "
+            f"got {type(trajectory).__name__}"
+        )
+    tr = _resample(trajectory, float(check_positive("dt", dt, unit="s"))) if dt is not None else trajectory
+    n = len(tr)
+    force = np.zeros((n, 3))
+    stress = np.zeros((n, 3))
+    state = terrain.initial_state(foot, tr.position[0])
+    every = max(n // 20, 1)
+    for k in range(1, n):
+        state, out = terrain.step(foot, state, tr.position[k], tr.velocity[k], tr.time[k] - tr.time[k - 1])
+        force[k] = out.force
+        stress[k] = out.stress
+        if report is not None and k % every == 0:
+            report(k / (n - 1))
+    if not np.all(np.isfinite(force)):
+        raise MudrftError("the simulation produced non-finite forces; check the terrain parameters and dt")
+    depth = tr.depth
+    return Result(time=tr.time, position=tr.position, velocity=tr.velocity, force=force, stress=stress,
+                  depth=depth, foot=foot.name, terrain=getattr(terrain, "name", ""), areas=_areas(foot, depth),
+                  meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}})
+
+
+def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> Result:
+    dt = load.dt
+    n = int(np.ceil(load.duration / dt)) + 1
+    t = dt * np.arange(n)
+    m = load.body_mass
+    W = load.weight
+    zf = np.zeros(n)  # foot tip height
+    vf = np.zeros(n)
+    force = np.zeros((n, 3))
+    stress = np.zeros((n, 3))
+    spring = load.leg_stiffness is not None
+    zb, vb = 0.0, 0.0  # body displacement from its rest position over an unloaded leg
+    z, v = 0.0, 0.0
+    state = terrain.initial_state(foot, np.array([0.0, 0.0, 0.0]))
+    every = max(n // 20, 1)
+    f_prev = 0.0
+    for k in range(1, n):
+        # semi-implicit Euler with the terrain force of the previous step (explicit coupling)
+        if not spring:
+            a = (f_prev - W) / m
+            v = v + a * dt
+            z = z + v * dt
+        else:
+            # leg extension e = zb - z (0 at rest); the spring-damper pulls body and foot together
+            k_leg = float(load.leg_stiffness)  # type: ignore[arg-type]
+            f_leg = k_leg * (zb - z) + load.leg_damping * (vb - v)
+            vb = vb + (-W - f_leg) / m * dt
+            v = v + (f_prev + f_leg) / load.foot_mass * dt
+            zb, z = zb + vb * dt, z + v * dt
+        state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
+        f_prev = float(out.force[2])
+        force[k] = out.force
+        stress[k] = out.stress
+        zf[k], vf[k] = z, v
+        if not np.isfinite(z):
+            raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")
+        if report is not None and k % every == 0:
+            report(k / (n - 1))
+    pos = np.zeros((n, 3))
+    pos[:, 2] = zf
+    vel = np.zeros((n, 3))
+    vel[:, 2] = vf
+    depth = np.maximum(-zf, 0.0)
+    return Result(time=t, position=pos, velocity=vel, force=force, stress=stress, depth=depth,
+                  foot=foot.name, terrain=getattr(terrain, "name", ""), areas=_areas(foot, depth),
+                  meta={"load_control": True, "weight": W, "mass": m})
+
+
+def static_sinking(foot: Foot, mud: Any, weight: float, *, characteristic_length: float | None = None) -> float:
+    r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
+
+    At rest the thixotropic stress relaxes to zero and no suction acts, so the
+    balance is :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`.
+    Solved by bracketing (support is increasing in depth). Raises if even the fully
+    buried foot cannot carry the weight.
+
+    Parameters
+    ----------
+    foot : Foot
+        A foot.
+    mud : Mud
+        The mud (its vertical set is used).
+    weight : float
+        Load [N].
+    characteristic_length : float or None, keyword-only
+        :math:`L_c` [m]; default the foot's.
+    """
+    from scipy.optimize import brentq
+
+    from .constitutive import laws
+    from .parameters.base import Mud
+
+    if not isinstance(mud, Mud):
+        raise MudrftError(f"mud must be a Mud, got {type(mud).__name__}")
+    W = float(check_positive("weight", weight, unit="N"))
+    lc = float(characteristic_length or foot.characteristic_length)
+    p = mud.vertical
+
+    def support(d: float) -> float:
+        s = float(laws.elastic_stress(d / lc, p.alpha, p.n))
+        return float(foot.resultant(d, np.array([0.0, 0.0, s]), 0.0)[2]) - W
+
+    hi = foot.height * 4.0
+    if support(hi) < 0:
+        raise MudrftError(f"weight={W!r} N exceeds the static support of {foot.name} at depth {hi:.3g} m")
+    return float(brentq(support, 1e-9, hi, xtol=1e-12))
