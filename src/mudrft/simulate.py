@@ -60,6 +60,16 @@ class LoadControl:
         Simulated time [s].
     dt : float, keyword-only
         Time step [s].
+    ramp : float, keyword-only
+        Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at
+        once (the foot then overshoots and compacts the mud below the static depth).
+
+    Notes
+    -----
+    The coupling is explicit: the terrain force of the previous step drives the masses.
+    The mud's viscous term acts like a damper :math:`c\approx\eta_\infty A_z/L_c`, so the
+    moving mass must satisfy ``dt < 2 m / c``; :func:`simulate` checks this for the
+    paper's mud and raises with a suggested ``dt`` when it does not hold.
     """
 
     weight: float
@@ -69,6 +79,7 @@ class LoadControl:
     foot_mass: float = 0.5
     duration: float = 10.0
     dt: float = 1e-3
+    ramp: float = 0.0
 
     def __post_init__(self) -> None:
         check_positive("weight", self.weight, unit="N")
@@ -80,6 +91,7 @@ class LoadControl:
         check_positive("foot_mass", self.foot_mass, unit="kg")
         check_positive("duration", self.duration, unit="s")
         check_positive("dt", self.dt, unit="s")
+        check_nonnegative("ramp", self.ramp, unit="s")
         if self.duration / self.dt > 2e7:
             raise MudrftError(f"duration/dt = {self.duration / self.dt:.3g} steps is too many; use a larger dt")
 
@@ -285,12 +297,32 @@ def simulate(
                   meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}})
 
 
+def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> None:
+    mud = getattr(terrain, "mud", None)
+    if mud is None or not hasattr(mud, "vertical"):
+        return
+    lc = float(getattr(terrain, "characteristic_length", None) or foot.characteristic_length)
+    try:
+        area = float(np.asarray(foot.projected_areas(foot.height))[..., 2].max())
+    except Exception:  # noqa: BLE001 - feet without areas: no estimate, no check
+        return
+    c = float(np.max(mud.vertical.eta_inf)) * area / lc
+    m = load.foot_mass if load.leg_stiffness is not None else load.body_mass
+    limit = 2.0 * m / c
+    if load.dt > 0.8 * limit:
+        raise MudrftError(
+            f"LoadControl.dt={load.dt!r} s is too large for an explicit coupling: the mud damps the "
+            f"{m:g} kg mass like a {c:.3g} N s/m damper, stable only for dt < {limit:.3g} s; "
+            f"use dt <= {0.5 * limit:.2g} s or a heavier foot_mass"
+        )
+
+
 def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> Result:
+    _check_explicit_stability(foot, terrain, load)
     dt = load.dt
     n = int(np.ceil(load.duration / dt)) + 1
     t = dt * np.arange(n)
     m = load.body_mass
-    W = load.weight
     zf = np.zeros(n)  # foot tip height
     vf = np.zeros(n)
     force = np.zeros((n, 3))
@@ -302,6 +334,7 @@ def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> 
     every = max(n // 20, 1)
     f_prev = 0.0
     for k in range(1, n):
+        W = load.weight * (min(t[k] / load.ramp, 1.0) if load.ramp > 0 else 1.0)
         # semi-implicit Euler with the terrain force of the previous step (explicit coupling)
         if not spring:
             a = (f_prev - W) / m
@@ -330,7 +363,7 @@ def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> 
     depth = np.maximum(-zf, 0.0)
     return Result(time=t, position=pos, velocity=vel, force=force, stress=stress, depth=depth,
                   foot=foot.name, terrain=getattr(terrain, "name", ""), areas=_areas(foot, depth),
-                  meta={"load_control": True, "weight": W, "mass": m})
+                  meta={"load_control": True, "weight": load.weight, "mass": m})
 
 
 def static_sinking(foot: Foot, mud: Any, weight: float, *, characteristic_length: float | None = None) -> float:

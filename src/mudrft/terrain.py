@@ -167,7 +167,11 @@ class MudTerrain:
                         in_mud=depth > 0, foot=foot.initial_foot_state())
 
     def step(self, foot: Any, state: MudState, position: Any, velocity: Any, dt: float) -> tuple[MudState, TerrainOutput]:
-        """Advance the mud under the foot by ``dt`` [s]; see :class:`Terrain`."""
+        """Advance the mud under the foot by ``dt`` [s]; see :class:`Terrain`.
+
+        Inputs are not validated here (this is the inner loop); :func:`mudrft.simulate`
+        validates trajectories once.
+        """
         pos = np.asarray(position, dtype=float)
         vel = np.asarray(velocity, dtype=float)
         lc = self._lc(foot)
@@ -182,16 +186,25 @@ class MudTerrain:
                 base = initial_state(ch.xi.shape, xi0=self.xi0)
                 ch = ChannelState(*(np.where(f3, b, c) for b, c in zip(base, ch, strict=True)))
                 entry = np.where(fresh[..., None], pos[..., :2] - vel[..., :2] * dt, entry)
-        gamma = np.stack([(pos[..., 0] - entry[..., 0]) / lc, (pos[..., 1] - entry[..., 1]) / lc, depth / lc], axis=-1)
-        gdot = np.stack([vel[..., 0] / lc, vel[..., 1] / lc, np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc], axis=-1)
+        gamma = np.empty(pos.shape)
+        gamma[..., :2] = (pos[..., :2] - entry) / lc
+        gamma[..., 2] = depth / lc
+        gdot = np.empty(pos.shape)
+        gdot[..., :2] = vel[..., :2] / lc
+        gdot[..., 2] = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         hs = np.hypot(vel[..., 0], vel[..., 1])
         heading = np.where(hs > self.heading_speed, np.arctan2(vel[..., 1], vel[..., 0]), state.heading)
-        seal = np.asarray(foot.seal_factor(state.foot), dtype=float)
-        seal3 = np.stack(np.broadcast_arrays(np.ones_like(seal), np.ones_like(seal), seal), axis=-1)
-        ch, out = channel_step(self.params, ch, gamma, gdot, dt, seal=seal3, acceleration=self.acceleration)
-        stress = np.where(in_mud[..., None], out.total, 0.0)
+        seal = foot.seal_factor(state.foot)
+        if isinstance(seal, float) and seal == 1.0:
+            seal3: Any = 1.0
+        else:
+            seal3 = np.ones(np.shape(seal) + (3,)) if np.ndim(seal) else np.ones(3)
+            seal3[..., 2] = seal
+        ch, out = channel_step(self.params, ch, gamma, gdot, dt, seal=seal3, acceleration=self.acceleration,
+                               validate=False)
+        stress = out.total * in_mud[..., None]
         foot_state, force = foot.contact_force(state.foot, depth, stress, heading, dt)
-        force = np.where(in_mud[..., None], force, 0.0)
+        force = force * in_mud[..., None]
         new = MudState(channels=ch, entry=entry, heading=heading, in_mud=in_mud, foot=foot_state)
         return new, TerrainOutput(force=force, stress=stress, depth=depth)
 

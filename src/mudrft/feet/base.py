@@ -56,11 +56,14 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     s = np.asarray(stress, dtype=float)
     h = np.asarray(heading, dtype=float)
     c, sn = np.cos(h), np.sin(h)
-    sx = np.where(c < 0, -1.0, 1.0)
-    sy = np.where(sn < 0, -1.0, 1.0)
+    signs = np.empty(np.shape(h) + (2,))
+    signs[..., 0] = np.where(c < 0, -1.0, 1.0)
+    signs[..., 1] = np.where(sn < 0, -1.0, 1.0)
     phi = np.arctan2(np.abs(sn), np.abs(c))
-    sq = np.stack([s[..., 0] * sx, s[..., 1] * sy, s[..., 2]], axis=-1)
-    return sq, phi, np.stack([sx, sy], axis=-1)
+    sq = s.copy()
+    sq[..., 0] *= signs[..., 0]
+    sq[..., 1] *= signs[..., 1]
+    return sq, phi, signs
 
 
 class Foot(ABC):
@@ -152,9 +155,20 @@ class Foot(ABC):
         if s.shape[-1:] != (3,):
             raise MudrftError(f"stress must have shape (..., 3), got shape {s.shape}")
         h = check_finite("heading", heading)
-        sq, phi, signs = first_quadrant(s, h)
-        m = self.resultant(d, sq, phi)
-        return np.stack([-signs[..., 0] * m[..., 0], -signs[..., 1] * m[..., 1], m[..., 2]], axis=-1)
+        return self.force_unchecked(d, s, h)
+
+    def force_unchecked(self, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray) -> np.ndarray:
+        """:meth:`force` without input validation, for inner loops (arrays already checked).
+
+        Subclasses that compute world forces directly (mesh feet) override this method.
+        """
+        sq, phi, signs = first_quadrant(stress, heading)
+        m = self.resultant(depth, sq, phi)
+        out = np.empty(np.shape(m))
+        out[..., 0] = -signs[..., 0] * m[..., 0]
+        out[..., 1] = -signs[..., 1] * m[..., 1]
+        out[..., 2] = m[..., 2]
+        return out
 
     # -- hooks for feet with internal state (the morphing foot overrides them) --------------
     def initial_foot_state(self) -> Any:
@@ -173,7 +187,7 @@ class Foot(ABC):
         Rigid feet return :meth:`force` unchanged; the morphing foot solves its spring
         balance here.
         """
-        return foot_state, self.force(depth, stress, heading)
+        return foot_state, self.force_unchecked(depth, stress, heading)
 
     def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """Point of application of the mud force in the foot frame [m], shape (..., 3).

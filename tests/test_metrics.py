@@ -1,0 +1,55 @@
+"""Metrics on simple signals whose values are computed by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mudrft import metrics
+from mudrft._validation import MudrftError
+
+
+def test_impulse_of_a_triangle_and_a_constant():
+    t = np.linspace(0, 2, 201)
+    f = np.zeros((201, 3))
+    f[:, 0] = np.where(t <= 1, t, 2 - t) * 10.0  # triangle of height 10 N over 2 s: 10 N s
+    f[:, 2] = -3.0  # constant -3 N for 2 s: -6 N s
+    np.testing.assert_allclose(metrics.impulse(t, f), [10.0, 0.0, -6.0], rtol=1e-12)
+
+
+def test_energy_of_a_spring_loop_is_zero_and_of_a_damper_is_positive():
+    t = np.linspace(0, 1, 20001)
+    z = 0.01 * np.sin(2 * np.pi * t)
+    v = np.gradient(z, t)
+    k, c = 1e4, 50.0
+    spring = np.zeros((t.size, 3))
+    spring[:, 2] = -k * z
+    assert metrics.energy(t, spring, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(0.0, abs=1e-6)
+    damper = np.zeros((t.size, 3))
+    damper[:, 2] = -c * v
+    # work against a damper over one period: c * (2 pi A)^2 / 2 * T = c * 2 pi^2 A^2 / T
+    expected = c * 2 * np.pi**2 * 0.01**2
+    assert metrics.energy(t, damper, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(expected, rel=1e-6)
+
+
+def test_max_suction_peak_support_sinking_rmse():
+    fz = np.array([0.0, 5.0, 2.0, -4.0, -1.0])
+    assert metrics.max_suction(fz) == 4.0
+    assert metrics.peak_support(fz) == 5.0
+    assert metrics.max_suction(np.abs(fz)) == 0.0
+    assert metrics.sinking_depth([0.0, 0.02, 0.01]) == 0.02
+    assert metrics.sinking_depth([0.0, 0.02, 0.01], final=True) == 0.01
+    m = np.array([0.0, 1.0, 2.0, 1.0])
+    assert metrics.relative_rmse(m, m) == 0.0
+    assert metrics.relative_rmse(m + 0.2, m) == pytest.approx(0.1)
+
+
+def test_metric_errors_name_the_argument():
+    with pytest.raises(MudrftError, match="measured"):
+        metrics.relative_rmse([1.0, 2.0], [1.0, 1.0])
+    with pytest.raises(MudrftError, match="time"):
+        metrics.impulse([0.0, 0.0], [1.0, 2.0])
+    with pytest.raises(MudrftError, match="force"):
+        metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.zeros((3, 3)))
+    with pytest.raises(MudrftError, match="force_z"):
+        metrics.max_suction([np.nan])
