@@ -80,6 +80,10 @@ def plate_response(
     xi0 : float, keyword-only
         Initial structure parameter [-].
 
+    Notes
+    -----
+    A vertical plate whose displacement is back to 0 has left the mud; its stress is 0.
+
     Examples
     --------
     >>> import mudrft
@@ -101,9 +105,12 @@ def plate_response(
     if q is None:
         q = trajectory.depth if direction == "vertical" else trajectory.position[:, 0]
     h = run(p, trajectory.time, np.asarray(q) / L, acceleration=acceleration, xi0=xi0)
+    # a vertical plate back at the surface has left the mud: no stress (as MudTerrain does for feet)
+    inside = np.asarray(q) > 0 if direction == "vertical" else np.ones(np.shape(q), dtype=bool)
+    total, el, th, su = (np.where(inside, a, 0.0) for a in (h.total, h.elastic, h.thixotropic, h.suction))
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
-        time=trajectory.time, displacement=np.asarray(q, dtype=float), stress=h.total,
-        normal=laws.f_n(angle) * h.total, tangential=laws.f_t(angle) * h.total,
-        elastic=h.elastic, thixotropic=h.thixotropic, suction=h.suction, xi=h.xi,
+        time=trajectory.time, displacement=np.asarray(q, dtype=float), stress=total,
+        normal=laws.f_n(angle) * total, tangential=laws.f_t(angle) * total,
+        elastic=el, thixotropic=th, suction=su, xi=h.xi,
     )

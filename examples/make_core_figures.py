@@ -1,0 +1,58 @@
+"""Figures of the constitutive model for docs/: the plate test E1/E2 at W = 25 %.
+
+Run: python examples/make_core_figures.py  (writes docs/figures/core_*.png)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import mudrft  # noqa: E402
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
+
+
+def plate_figure() -> Path:
+    mud = mudrft.paper_mud(0.25)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 6.4), constrained_layout=True)
+    for row, direction in enumerate(("vertical", "horizontal")):
+        tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0, direction=direction)
+        res = mudrft.plate_response(tr, mud)
+        res.plot(ax=axes[row])
+        axes[row, 0].set_title(f"{direction} plate test, W = 25 %, 20 mm/s, hold 1 s (L_c = 50 mm)", fontsize=9)
+        t_r = tr.meta["t_retract"]
+        axes[row, 0].axvspan(t_r - tr.meta["hold"], t_r, color="0.92", zorder=0)
+    p = OUT / "core_plate_test.png"
+    fig.savefig(p, dpi=120)
+    plt.close(fig)
+    return p
+
+
+def water_content_figure() -> Path:
+    fig, ax = plt.subplots(figsize=(5.5, 3.6), constrained_layout=True)
+    tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0)
+    for w in (0.25, 0.30, 0.35, 0.40, 0.45):
+        res = mudrft.plate_response(tr, mudrft.paper_parameters(w, "vertical"))
+        ax.plot(res.time, res.stress / 1e3, label=f"W = {w * 100:g} %" + ("" if w in (0.25, 0.35, 0.45) else " (interp.)"))
+    ax.axhline(0, color="0.7", lw=0.6)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("vertical stress [kPa]")
+    ax.legend(fontsize=8)
+    ax.set_title("Vertical plate test across water contents", fontsize=9)
+    p = OUT / "core_water_content.png"
+    fig.savefig(p, dpi=120)
+    plt.close(fig)
+    return p
+
+
+if __name__ == "__main__":
+    OUT.mkdir(parents=True, exist_ok=True)
+    for path in (plate_figure(), water_content_figure()):
+        print("wrote", path)
+    _ = np
