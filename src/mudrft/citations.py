@@ -41,11 +41,22 @@ BIBTEX: dict[str, str] = {
   year = {2023},
   note = {Cited as [liuRAL2023adaptation] by Chen et al. 2026}
 }""",
-    "chen2024aim": """@inproceedings{chen2024aim,
-  author = {Chen, Xunjie and others},
-  booktitle = {IEEE/ASME International Conference on Advanced Intelligent Mechatronics (AIM)},
+    "chen2024aim": """@misc{chen2024aim,
+  author = {Chen, Xunjie and Yi, Jingang and Shan, Jerry},
+  title = {A Reduced-Order Resistive Force Model for Robotic Foot-Mud Interactions},
   year = {2024},
-  note = {Maxwell-type foot-mud model, cited as [ChenAIM24] by Chen et al. 2026; title and pages not verified offline}
+  note = {arXiv:2403.02617; IEEE/ASME AIM 2024; identified as [ChenAIM24] of Chen et al. 2026 by title,
+          authors and topic. mudrft's MaxwellMud is a reconstruction from its abstract and the 2026 paper}
+}""",
+    "treers2021granular": """@article{treers2021granular,
+  author = {Treers, Laura K. and Cao, Cyndia and Stuart, Hannah S.},
+  title = {Granular Resistive Force Theory Implementation for Three-Dimensional Trajectories},
+  journal = {IEEE Robotics and Automation Letters},
+  volume = {6},
+  number = {2},
+  pages = {1887--1894},
+  year = {2021},
+  doi = {10.1109/LRA.2021.3057052}
 }""",
     "todorov2012mujoco": """@inproceedings{todorov2012mujoco,
   author = {Todorov, Emanuel and Erez, Tom and Tassa, Yuval},

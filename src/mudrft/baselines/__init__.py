@@ -1,0 +1,69 @@
+"""Baseline terrain models to compare the mud model with (supplementary Sec. III-D).
+
+Every model implements :class:`mudrft.terrain.Terrain`, so :func:`mudrft.simulate`, the
+MuJoCo coupling and :func:`compare` take any of them:
+
+* :class:`GranularRFT` -- granular resistive force theory (Li et al. 2013) in 3D
+  (Treers et al. 2021), for any foot with surface elements;
+* :class:`LinearStiffness` -- the linear mud stiffness of Godon et al. (2022) and
+  Liu et al. (2023), 1D vertical;
+* :class:`MaxwellMud` -- a documented *reconstruction* of the Maxwell-type mud model of
+  Chen et al. (AIM 2024), 1D vertical;
+* :class:`RigidGround` -- penalty contact with regularised Coulomb friction.
+
+>>> import mudrft
+>>> from mudrft.baselines import compare
+>>> out = compare(mudrft.feet.Flat(), mudrft.gait(speed=0.26))
+>>> sorted(out)
+['granular-rft', 'linear', 'maxwell', 'mud', 'rigid']
+"""
+
+from .compare import (
+    CSV_COLUMNS,
+    History,
+    compare,
+    default_terrains,
+    normalized_loop,
+    run_terrain,
+    summarize,
+    write_csv,
+)
+from .granular_rft import (
+    DEFAULT_ZETA,
+    GRANULAR_MEDIA,
+    LI2013_GENERIC,
+    FourierCoefficients,
+    GranularRFT,
+    li2013_alpha,
+    rft_forces,
+    treers_weights,
+)
+from .linear import DEFAULT_STIFFNESS, LinearStiffness, fit_stiffness
+from .maxwell import MaxwellFit, MaxwellMud, fit_maxwell
+from .rigid import RigidGround
+
+__all__ = [
+    "CSV_COLUMNS",
+    "DEFAULT_STIFFNESS",
+    "DEFAULT_ZETA",
+    "GRANULAR_MEDIA",
+    "LI2013_GENERIC",
+    "FourierCoefficients",
+    "GranularRFT",
+    "History",
+    "LinearStiffness",
+    "MaxwellFit",
+    "MaxwellMud",
+    "RigidGround",
+    "compare",
+    "default_terrains",
+    "fit_maxwell",
+    "fit_stiffness",
+    "li2013_alpha",
+    "normalized_loop",
+    "rft_forces",
+    "run_terrain",
+    "summarize",
+    "treers_weights",
+    "write_csv",
+]

@@ -1,0 +1,111 @@
+"""Figures of the baseline comparison (docs/figures/baselines_*.png) and the fitted defaults.
+
+Run from the repository root::
+
+    python examples/make_baseline_figures.py
+
+Writes
+
+* ``baselines_s6.png``: Fig. S6-style plate test -- (a) normalised force against
+  normalised depth for mud and sand (granular RFT), (b) stress against time and (c)
+  against depth for the mud model, the Maxwell-type reconstruction and the linear model;
+* ``baselines_gait.png``: Fig. S5-style forces over one gait cycle (flat foot, 0.2 m/s);
+* ``baselines_rft_alpha.png``: Li et al.'s generic alpha_z, alpha_x maps;
+
+and prints the re-derivation of the default linear stiffness and Maxwell constants.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+import mudrft
+from mudrft.baselines import (
+    GranularRFT,
+    LinearStiffness,
+    MaxwellMud,
+    compare,
+    fit_maxwell,
+    fit_stiffness,
+    summarize,
+)
+from mudrft.baselines.plots import plot_gait, plot_rft_alpha, plot_s6
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
+
+
+def log(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
+def main() -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+
+    log("1/4 re-deriving the defaults from the W = 25 % plate test")
+    tr = mudrft.plate_intrusion()
+    ref = mudrft.plate_response(tr, mudrft.paper_mud(0.25))
+    load = tr.velocity[:, 2] < 0
+    k = fit_stiffness(ref.displacement[load], ref.stress[load])
+    log(f"    linear stiffness k = {k:.4g} N/m^3")
+    fit = fit_maxwell(tr, ref.stress)
+    m = fit.model
+    log(
+        f"    Maxwell: G = {m.modulus:.4g} Pa, lambda_M = {m.relaxation:.4g} s, "
+        f"sigma_Y = {m.sigma_y:.4g} Pa, omega_s = {m.omega:.4g} rad/s, r_b = {m.release:.4g}; "
+        f"rmse {fit.rmse:.4g} Pa ({fit.message})"
+    )
+
+    log("2/4 Fig. S6-style plate test (50 x 50 mm plate, L_c = 50 mm, 40 mm high)")
+    plate = mudrft.feet.Flat(length=0.05, width=0.05, height=0.04)
+    runs = compare(
+        plate,
+        tr,
+        {
+            "mud": mudrft.terrains.Mud(0.25),
+            "granular-rft": GranularRFT(),
+            "maxwell": MaxwellMud(),
+            "linear": LinearStiffness(),
+        },
+    )
+    fig = plot_s6(runs)
+    fig.savefig(OUT / "baselines_s6.png", dpi=110)
+    plt.close(fig)
+    for r in summarize(runs):
+        log(
+            "    "
+            + ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else str(v) for k, v in r.items())
+        )
+
+    log("3/4 Fig. S5-style gait cycle (flat foot, 0.2 m/s)")
+    foot = mudrft.feet.Flat()
+    g = compare(
+        foot,
+        mudrft.gait(0.2),
+        {
+            "mud": mudrft.terrains.Mud(0.25),
+            "granular-rft": GranularRFT(),
+            "maxwell": MaxwellMud(),
+            "linear": LinearStiffness(),
+        },
+    )
+    fig = plot_gait(
+        g, title="flat foot (80 x 65 mm), one gait cycle at 0.2 m/s (prescribed motion)"
+    )
+    fig.savefig(OUT / "baselines_gait.png", dpi=110)
+    plt.close(fig)
+
+    log("4/4 generic RFT coefficients")
+    fig = plot_rft_alpha()
+    fig.savefig(OUT / "baselines_rft_alpha.png", dpi=110)
+    plt.close(fig)
+    log(f"wrote {OUT}/baselines_s6.png, baselines_gait.png, baselines_rft_alpha.png")
+
+
+if __name__ == "__main__":
+    main()

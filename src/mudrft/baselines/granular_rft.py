@@ -1,0 +1,463 @@
+r"""Granular resistive force theory (RFT): Li, Zhang & Goldman (Science 2013), in 3D.
+
+Each submerged *leading* surface element of the foot (outward normal :math:`\hat n`
+with :math:`\hat n\cdot\hat v>0`) at depth :math:`|z|` carries the force
+
+.. math::
+
+    d\mathbf F = \zeta\,|z|\,dA\,\big[-f_1\,\alpha_y\,\operatorname{sgn}(v_1)\,\hat e_1
+    - f_{23}\,\alpha_x(\beta,\gamma)\,\hat e_2 + f_{23}\,\alpha_z(\beta,\gamma)\,\hat z\big],
+
+where :math:`\alpha_{x,z}` is Li et al.'s generic first-order Fourier fit over the attack
+angle :math:`\beta` and the intrusion angle :math:`\gamma` (:func:`li2013_alpha`),
+:math:`\zeta` [N/m^3] the medium's scale, and the 3D decomposition (unit vectors
+:math:`\hat e_2` along the normal's horizontal direction, :math:`\hat e_1=\hat e_2\times\hat z`,
+the velocity split into :math:`v_1` along :math:`\hat e_1` and :math:`v_{23}` in the
+:math:`(\hat e_2,\hat z)` plane, the sigmoid weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)`
+and :math:`\alpha_y=\alpha_x(0,0)`) is that of Treers, Cao & Stuart (RA-L 2021).
+Trailing elements carry nothing, so a foot pulled out of sand feels no suction
+(decisions D50-D53 in ``docs/fragments/baselines.md``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import MudrftError, check_choice, check_finite, check_positive
+from ..citations import register
+from ..feet.base import SurfaceElements
+from ..terrain import TerrainOutput
+from ._common import kinematics, mean_stress, projected, tip_depth
+
+__all__ = [
+    "DEFAULT_ZETA",
+    "GRANULAR_MEDIA",
+    "LI2013_GENERIC",
+    "FourierCoefficients",
+    "GranularRFT",
+    "RFTState",
+    "li2013_alpha",
+    "rft_forces",
+    "treers_weights",
+]
+
+
+@dataclass(frozen=True)
+class FourierCoefficients:
+    r"""Coefficients of Li et al.'s (2013) first-order Fourier fit of :math:`\alpha_{z,x}`.
+
+    .. math::
+
+        \alpha_z &= A_{00} + A_{10}\cos 2\beta + B_{01}\sin\gamma + B_{11}\sin(2\beta+\gamma)
+                    + B_{-11}\sin(-2\beta+\gamma),\\
+        \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
+                    + D_{10}\sin 2\beta,
+
+    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle of the element (0: horizontal),
+    :math:`\gamma\in[-\pi/2,\pi/2]` the intrusion angle of its velocity below the
+    horizontal (:math:`\pi/2`: straight down). The units are those of the fit (the
+    generic fit is dimensionless, normalised to :math:`\alpha_z(0,\pi/2)=1`).
+    """
+
+    A00: float
+    A10: float
+    B01: float
+    B11: float
+    Bm11: float
+    C01: float
+    C11: float
+    Cm11: float
+    D10: float
+
+    def alpha(self, beta: Any, gamma: Any) -> tuple[np.ndarray, np.ndarray]:
+        """``(alpha_x, alpha_z)`` at attack angle ``beta`` and intrusion angle ``gamma`` [rad]."""
+        b2 = 2.0 * np.asarray(beta, dtype=float)
+        g = np.asarray(gamma, dtype=float)
+        az = (
+            self.A00
+            + self.A10 * np.cos(b2)
+            + self.B01 * np.sin(g)
+            + self.B11 * np.sin(b2 + g)
+            + self.Bm11 * np.sin(-b2 + g)
+        )
+        ax = (
+            self.C01 * np.cos(g)
+            + self.C11 * np.cos(b2 + g)
+            + self.Cm11 * np.cos(-b2 + g)
+            + self.D10 * np.sin(b2)
+        )
+        return ax, az
+
+
+#: Li, Zhang & Goldman (2013), generic coefficients (dimensionless; alpha_z(0, pi/2) = 1).
+LI2013_GENERIC = FourierCoefficients(
+    A00=0.206,
+    A10=0.169,
+    B01=0.358,
+    B11=0.212,
+    Bm11=0.055,
+    C01=0.253,
+    C11=-0.124,
+    Cm11=0.007,
+    D10=0.088,
+)
+
+#: Scale zeta [N/m^3] of named granular media: alpha_z(0, pi/2) of Li et al.'s (2013)
+#: per-medium Fourier fits for loosely (LP) and closely (CP) packed poppy seeds,
+#: 0.254 and 0.464 N/cm^3 (decision D50).
+GRANULAR_MEDIA: dict[str, float] = {"poppy-lp": 0.254e6, "poppy-cp": 0.464e6}
+
+#: Default scale: loosely packed poppy seeds [N/m^3].
+DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
+
+# Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|
+# (tanh) and f23 over |v23| (atanh), normalised here to 0 at 0 and 1 at 1.
+_TREERS_F1 = (3.62263982880971, 1.60910808139526)
+_TREERS_F23 = (1.61146827229181, 0.973746396532650)
+# a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance)
+_HORIZONTAL_TOL = 1e-3
+
+
+def li2013_alpha(
+    beta: Any, gamma: Any, *, coefficients: FourierCoefficients = LI2013_GENERIC
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
+
+    Parameters
+    ----------
+    beta : array_like
+        Attack angle of the surface element [rad] (0: horizontal plate; the fit is
+        :math:`\pi`-periodic in ``beta``).
+    gamma : array_like
+        Intrusion angle of the velocity below the horizontal [rad], in
+        :math:`[-\pi/2, \pi/2]` (:math:`\pi/2`: straight down, :math:`-\pi/2`: straight up).
+    coefficients : FourierCoefficients, keyword-only
+        The fit (default: the generic one, dimensionless).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        :math:`\alpha_x` (positive: resists motion along the element's horizontal
+        direction) and :math:`\alpha_z` (positive: lift), in the units of the fit.
+
+    Examples
+    --------
+    >>> ax, az = li2013_alpha(0.0, np.pi / 2)     # horizontal plate pushed straight down
+    >>> round(float(ax), 12), round(float(az), 3)
+    (0.0, 1.0)
+    """
+    b = check_finite("beta", beta)
+    g = check_finite("gamma", gamma)
+    return coefficients.alpha(b, g)
+
+
+def treers_weights(v1: Any, v23: Any) -> tuple[np.ndarray, np.ndarray]:
+    r"""Treers et al.'s (2021) weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)` [-].
+
+    :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
+    :math:`f_{23}(u)=\frac{\operatorname{atanh}(c u-d)+\operatorname{atanh} d}
+    {\operatorname{atanh}(c-d)+\operatorname{atanh} d}`, for the magnitudes of the
+    unit velocity's components along the plate's horizontal edge (:math:`v_1`) and in
+    its normal plane (:math:`v_{23}`); both are 0 at 0 and 1 at 1 (decision D51).
+
+    Examples
+    --------
+    >>> f1, f23 = treers_weights([0.0, 1.0], [0.0, 1.0])
+    >>> f1.round(12).tolist(), f23.round(12).tolist()
+    ([0.0, 1.0], [0.0, 1.0])
+    """
+    u1 = np.clip(np.abs(np.asarray(v1, dtype=float)), 0.0, 1.0)
+    u23 = np.clip(np.abs(np.asarray(v23, dtype=float)), 0.0, 1.0)
+    a, b = _TREERS_F1
+    c, d = _TREERS_F23
+    f1 = (np.tanh(a * u1 - b) + np.tanh(b)) / (np.tanh(a - b) + np.tanh(b))
+    f23 = (np.arctanh(c * u23 - d) + np.arctanh(d)) / (np.arctanh(c - d) + np.arctanh(d))
+    return f1, f23
+
+
+def _unit_horizontal(vec: np.ndarray, fallback: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Horizontal direction of ``vec`` (..., 3) and whether it was defined."""
+    h = vec.copy()
+    h[..., 2] = 0.0
+    norm = np.linalg.norm(h, axis=-1, keepdims=True)
+    ok = norm[..., 0] > 1e-9
+    return np.where(ok[..., None], h / np.where(norm > 0, norm, 1.0), fallback), ok
+
+
+def _unit_forces(
+    normals: np.ndarray, direction: np.ndarray, coefficients: FourierCoefficients, extension: str
+) -> np.ndarray:
+    """Force per unit (depth x area), divided by zeta, on elements of unit ``normals`` (k, 3).
+
+    ``direction`` (..., 3) is a unit vector; returns (..., k, 3), zero on trailing elements.
+    """
+    vb = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
+    nb = np.broadcast_to(normals, vb.shape)
+    x_hat = np.array([1.0, 0.0, 0.0])
+    z_hat = np.array([0.0, 0.0, 1.0])
+    vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
+    nh_dir, _ = _unit_horizontal(nb, x_hat)
+    if extension == "treers2021":
+        horizontal_facet = np.abs(nb[..., 2]) >= 1.0 - _HORIZONTAL_TOL
+        e2 = np.where(horizontal_facet[..., None], vh_dir, nh_dir)
+    else:
+        e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
+    e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
+    v1c = (vb * e1).sum(-1)
+    v23 = vb - v1c[..., None] * e1
+    s = (v23 * e2).sum(-1)
+    e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
+    beta = np.arctan2(nb[..., 2], (nb * e2m).sum(-1)) + np.pi / 2
+    gamma = -np.arctan2(v23[..., 2], np.abs(s))
+    ax, az = coefficients.alpha(beta, gamma)
+    if extension == "treers2021":
+        ay = coefficients.alpha(0.0, 0.0)[0]
+        f1, f23 = treers_weights(v1c, np.linalg.norm(v23, axis=-1))
+        f = (
+            -(f1 * ay * np.sign(v1c))[..., None] * e1
+            - (f23 * ax)[..., None] * e2m
+            + (f23 * az)[..., None] * z_hat
+        )
+    else:
+        f = -ax[..., None] * e2m + az[..., None] * z_hat
+    leading = (nb * vb).sum(-1) > 0.0
+    return np.where(leading[..., None], f, 0.0)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+
+
+def rft_forces(
+    normals: Any,
+    depths: Any,
+    areas: Any,
+    direction: Any,
+    *,
+    zeta: float = DEFAULT_ZETA,
+    coefficients: FourierCoefficients = LI2013_GENERIC,
+    extension: str = "treers2021",
+    per_element: bool = False,
+) -> np.ndarray:
+    r"""Granular RFT force on a set of surface elements moving in one direction.
+
+    Parameters
+    ----------
+    normals : array_like, shape (m, 3)
+        Outward unit normals of the elements [-].
+    depths : array_like, shape (..., m)
+        Depth of each element's centroid below the surface [m]; elements with depth
+        <= 0 are out of the medium.
+    areas : array_like, shape (m,)
+        Element areas [m^2].
+    direction : array_like, shape (..., 3)
+        Direction of motion [-] (normalised here; RFT is rate-independent).
+    zeta : float, keyword-only
+        Scale of the medium [N/m^3] (the generic fit is dimensionless).
+    coefficients : FourierCoefficients, keyword-only
+        2D fit of :math:`\alpha_{x,z}`.
+    extension : {"treers2021", "planar"}, keyword-only
+        3D extension: Treers et al. (2021) (default) or the plain 2D RFT applied in
+        the vertical plane of the velocity (decision D51).
+    per_element : bool, keyword-only
+        Return the force of every element (..., m, 3) instead of the sum.
+
+    Returns
+    -------
+    ndarray, shape (..., 3) or (..., m, 3)
+        Force of the medium on the elements, world frame [N].
+
+    Examples
+    --------
+    A 1 cm^2 horizontal plate, 2 cm deep, pushed straight down into loose poppy seeds
+    (:math:`F_z=\zeta\,|z|\,A`):
+
+    >>> f = rft_forces([[0, 0, -1]], [0.02], [1e-4], [0, 0, -1], zeta=0.254e6)
+    >>> [round(float(v), 6) + 0.0 for v in f]
+    [0.0, 0.0, 0.508]
+    """
+    check_choice("extension", extension, ("treers2021", "planar"))
+    n = check_finite("normals", normals)
+    a = check_finite("areas", areas)
+    d = check_finite("depths", depths)
+    v = check_finite("direction", direction)
+    if n.ndim != 2 or n.shape[1] != 3 or a.shape != (n.shape[0],) or d.shape[-1:] != (n.shape[0],):
+        raise MudrftError(
+            "normals (m, 3), areas (m,) and depths (..., m) must agree, "
+            f"got shapes {n.shape}, {a.shape}, {d.shape}"
+        )
+    if v.shape[-1:] != (3,) or not np.all(np.linalg.norm(v, axis=-1) > 0):
+        raise MudrftError(f"direction must be nonzero with shape (..., 3), got shape {v.shape}")
+    f = _unit_forces(_unit(n), _unit(v), coefficients, extension)
+    w = zeta * np.maximum(d, 0.0) * a
+    forces = w[..., None] * f
+    return forces if per_element else forces.sum(axis=-2)
+
+
+class _Prepared(NamedTuple):
+    r"""Surface elements grouped by normal and sorted by height, for fast integration.
+
+    The depth weight of group k, :math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` for a tip
+    depth :math:`D`, comes from prefix sums in O(log m): direction-independent.
+    """
+
+    normals: np.ndarray  # (k, 3) distinct unit normals
+    keys: np.ndarray  # (m,) group + normalised height, sorted
+    cum_a: np.ndarray  # (m + 1,) prefix sums of areas [m^2]
+    cum_ah: np.ndarray  # (m + 1,) prefix sums of area x height [m^3]
+    start: np.ndarray  # (k,) first sorted index of each group
+    h0: float  # lowest centroid height [m]
+    span: float  # normalisation of heights [m]
+
+
+def _prepare(el: SurfaceElements) -> _Prepared:
+    n = _unit(np.asarray(el.normals, dtype=float))
+    h = np.asarray(el.centroids, dtype=float)[:, 2]
+    a = np.asarray(el.areas, dtype=float)
+    uniq, inverse = np.unique(np.round(n, 9), axis=0, return_inverse=True)
+    inverse = np.asarray(inverse).ravel()
+    h0 = float(h.min())
+    span = float(h.max() - h0) + 1.0
+    keys = inverse + (h - h0) / span
+    order = np.argsort(keys, kind="stable")
+    keys, a_s, h_s = keys[order], a[order], h[order]
+    cum_a = np.concatenate([[0.0], np.cumsum(a_s)])
+    cum_ah = np.concatenate([[0.0], np.cumsum(a_s * h_s)])
+    start = np.searchsorted(keys, np.arange(uniq.shape[0], dtype=float), side="left")
+    return _Prepared(_unit(uniq), keys, cum_a, cum_ah, start, h0, span)
+
+
+def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
+    """Depth weights W_k (..., k) [m^3] for signed tip depths ``depth`` (...) [m]."""
+    k = pr.normals.shape[0]
+    frac = np.clip((depth[..., None] - pr.h0) / pr.span, 0.0, 1.0 - 1e-12)
+    query = np.arange(k) + frac  # (..., k)
+    j = np.searchsorted(pr.keys, query.ravel(), side="left").reshape(query.shape)
+    area = pr.cum_a[j] - pr.cum_a[pr.start]
+    moment = pr.cum_ah[j] - pr.cum_ah[pr.start]
+    return np.maximum(depth[..., None] * area - moment, 0.0)
+
+
+class RFTState(NamedTuple):
+    """State of granular RFT under a foot.
+
+    Attributes
+    ----------
+    direction : ndarray (..., 3)
+        Last unit direction of motion, kept while the foot is at rest (decision D52).
+    elements : SurfaceElements
+        The foot's surface elements (foot frame, tip at the origin).
+    """
+
+    direction: np.ndarray
+    elements: SurfaceElements
+    prepared: Any = None
+    cache: Any = None
+
+
+@dataclass(frozen=True, eq=False)
+class GranularRFT:
+    r"""Granular resistive force theory (Li et al. 2013) as a terrain, for any foot.
+
+    Integrates :func:`rft_forces` over the foot's surface elements (``foot.elements()``)
+    whose centroids lie below the surface z = 0, each at its own depth.
+
+    Parameters
+    ----------
+    zeta : float
+        Scale of the medium [N/m^3]; default: loosely packed poppy seeds,
+        0.254 N/cm^3 (:data:`GRANULAR_MEDIA`, decision D50).
+    coefficients : FourierCoefficients
+        2D fit; default Li et al.'s generic one.
+    extension : {"treers2021", "planar"}
+        3D extension (decision D51).
+    rest_speed : float
+        Below this speed [m/s] the last direction of motion is kept, so sand at rest
+        keeps carrying a standing foot (decision D52).
+    name : str
+        Label in reports.
+
+    Examples
+    --------
+    >>> rft = GranularRFT()
+    >>> rft.zeta
+    254000.0
+    """
+
+    zeta: float = DEFAULT_ZETA
+    coefficients: FourierCoefficients = LI2013_GENERIC
+    extension: str = "treers2021"
+    rest_speed: float = 1e-6
+    name: str = "granular-rft"
+
+    def __post_init__(self) -> None:
+        check_positive("zeta", self.zeta, unit="N/m^3")
+        check_positive("rest_speed", self.rest_speed, unit="m/s")
+        check_choice("extension", self.extension, ("treers2021", "planar"))
+        if not isinstance(self.coefficients, FourierCoefficients):
+            raise MudrftError(
+                "coefficients must be a FourierCoefficients, "
+                f"got {type(self.coefficients).__name__}"
+            )
+        register("li2013terradynamics")
+        if self.extension == "treers2021":
+            _try_register("treers2021granular")
+
+    @classmethod
+    def medium(cls, name: str, **kw: Any) -> GranularRFT:
+        """RFT for a named medium of :data:`GRANULAR_MEDIA` (``"poppy-lp"``, ``"poppy-cp"``)."""
+        check_choice("name", name, tuple(GRANULAR_MEDIA))
+        return cls(zeta=GRANULAR_MEDIA[name], **kw)
+
+    def initial_state(self, foot: Any, position: Any) -> RFTState:
+        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = check_finite("position", position)
+        if pos.shape[-1:] != (3,):
+            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        el = foot.elements()
+        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
+        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
+
+    def step(
+        self, foot: Any, state: RFTState, position: Any, velocity: Any, dt: float
+    ) -> tuple[RFTState, TerrainOutput]:
+        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
+
+        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface.
+        """
+        check_positive("dt", dt, unit="s")
+        pos, vel = kinematics(position, velocity)
+        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
+        moving = speed > self.rest_speed
+        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
+        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
+        cache = state.cache
+        if (
+            cache is not None
+            and cache[0].shape == direction.shape
+            and np.array_equal(cache[0], direction)
+        ):
+            unit = cache[1]
+        else:
+            unit = _unit_forces(
+                pr.normals, direction, self.coefficients, self.extension
+            )  # (..., k, 3)
+        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
+        force = self.zeta * np.einsum("...k,...kc->...c", w, unit)
+        depth = tip_depth(pos)
+        stress = mean_stress(force, projected(foot, depth))
+        new = RFTState(
+            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
+        )
+        return new, TerrainOutput(force=force, stress=stress, depth=depth)
+
+
+def _try_register(key: str) -> None:
+    """Register a citation key if :mod:`mudrft.citations` knows it."""
+    try:
+        register(key)
+    except KeyError:
+        pass

@@ -1,0 +1,128 @@
+r"""Linear-stiffness mud: the "conventional linear model" of Godon et al. 2022, Liu et al. 2023.
+
+The vertical stress under the foot grows linearly with the tip depth :math:`d`,
+
+.. math:: \sigma_z = k\,d, \qquad F_z = \sigma_z\,A_z(d),
+
+with :math:`A_z(d)` the horizontal projected area of the submerged foot, so :math:`k`
+[Pa/m = N/m^3] is a stiffness per unit area (decision D54). The model is vertical
+only (1D, :math:`F_x=F_y=0`), elastic (the same force on loading and unloading at the
+same depth: no hysteresis, no relaxation, no suction) and rate-independent.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import MudrftError, check_choice, check_finite, check_positive
+from ..citations import register
+from ..terrain import TerrainOutput
+from ._common import area_z, kinematics, tip_depth
+
+__all__ = ["DEFAULT_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"]
+
+#: Default stiffness per unit area [N/m^3]: the least-squares fit (through the origin)
+#: of sigma = k d to the mudrft W = 25 % vertical plate stress over the intrusion of
+#: the reference plate test (30 mm at 20 mm/s, L_c = 50 mm); decision D54. The sources'
+#: own values could not be retrieved. :func:`fit_stiffness` re-derives it.
+DEFAULT_STIFFNESS = 1.090e6
+
+
+class LinearState(NamedTuple):
+    """State of the linear model (only whether the tip was in the mud) [-]."""
+
+    in_mud: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class LinearStiffness:
+    r"""Linear-stiffness mud (Godon et al. 2022; Liu et al. 2023) as a terrain.
+
+    Parameters
+    ----------
+    stiffness : float
+        :math:`k` [N/m^3]: vertical stress per unit tip depth (decision D54).
+    unloading : {"elastic", "zero"}
+        ``"elastic"`` (default): the force follows :math:`k d` both ways (no
+        hysteresis); ``"zero"``: no force while the foot moves up (the sources' own
+        choice could not be checked; decision D54).
+    name : str
+        Label in reports.
+
+    Examples
+    --------
+    >>> LinearStiffness().stiffness
+    1090000.0
+    """
+
+    stiffness: float = DEFAULT_STIFFNESS
+    unloading: str = "elastic"
+    name: str = "linear"
+
+    def __post_init__(self) -> None:
+        check_positive("stiffness", self.stiffness, unit="N/m^3")
+        check_choice("unloading", self.unloading, ("elastic", "zero"))
+        register("godon2022ral")
+        register("liu2023ral")
+
+    def stress(self, depth: Any) -> np.ndarray:
+        """Vertical stress at tip depth ``depth`` [m], in Pa.
+
+        Examples
+        --------
+        >>> float(LinearStiffness(stiffness=1e6).stress(0.02))
+        20000.0
+        """
+        d = check_finite("depth", depth)
+        return self.stiffness * np.maximum(d, 0.0)
+
+    def initial_state(self, foot: Any, position: Any) -> LinearState:
+        """State for a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = check_finite("position", position)
+        if pos.shape[-1:] != (3,):
+            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        return LinearState(in_mud=tip_depth(pos) > 0)
+
+    def step(
+        self, foot: Any, state: LinearState, position: Any, velocity: Any, dt: float
+    ) -> tuple[LinearState, TerrainOutput]:
+        """Force at tip ``position`` [m] moving at ``velocity`` [m/s]; ``dt`` [s] unused."""
+        check_positive("dt", dt, unit="s")
+        pos, vel = kinematics(position, velocity)
+        depth = tip_depth(pos)
+        sz = self.stress(depth)
+        if self.unloading == "zero":
+            sz = np.where(vel[..., 2] > 0, 0.0, sz)
+        fz = sz * area_z(foot, depth)
+        zeros = np.zeros_like(fz)
+        force = np.stack([zeros, zeros, fz], axis=-1)
+        stress = np.stack([zeros, zeros, np.where(depth > 0, sz, 0.0)], axis=-1)
+        return LinearState(in_mud=depth > 0), TerrainOutput(force=force, stress=stress, depth=depth)
+
+
+def fit_stiffness(depth: Any, stress: Any) -> float:
+    r"""Least-squares :math:`k` [N/m^3] of :math:`\sigma=k d` through the origin.
+
+    Parameters
+    ----------
+    depth : array_like
+        Tip depths [m].
+    stress : array_like
+        Vertical stresses [Pa] at those depths.
+
+    Examples
+    --------
+    >>> fit_stiffness([0.01, 0.02], [1e4, 2e4])
+    1000000.0
+    """
+    d = check_finite("depth", depth).ravel()
+    s = check_finite("stress", stress).ravel()
+    if d.shape != s.shape or not np.any(d != 0):
+        raise MudrftError(
+            "depth and stress must have the same length and a nonzero depth, "
+            f"got {d.shape}, {s.shape}"
+        )
+    return float(np.dot(d, s) / np.dot(d, d))

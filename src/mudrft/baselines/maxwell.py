@@ -1,0 +1,416 @@
+r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
+
+**This is a reconstruction, not a transcription.** The model of Chen et al. (AIM 2024,
+cited as [ChenAIM24] by Chen et al. 2026; very probably arXiv:2403.02617, "A
+Reduced-Order Resistive Force Model for Robotic Foot-Mud Interactions") could not be
+read offline. What the 2026 paper says of it fixes the structure used here (decision
+D55 in ``docs/fragments/baselines.md``):
+
+* a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n` (the 2026 paper takes its
+  :math:`\sigma_b` from [ChenAIM24]);
+* a Maxwell element (spring :math:`G` and dashpot :math:`\eta_M=G\lambda_M` in series)
+  for the viscous stress and its relaxation at rest:
+  :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`;
+* suction as the output of an "artificial" second-order low-pass filter,
+  :math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, whose
+  input is the a-priori yield suction :math:`u=-\sigma_Y e^{-r/r_b}` while the foot
+  retracts (:math:`r=\gamma_{max}-\gamma`: retraction since the deepest point; the
+  suction lets go, "yields", over :math:`r_b`) and 0 otherwise;
+* 1D: only :math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)`, with :math:`\gamma=d/L_c`.
+
+:math:`\alpha` and :math:`n` are the paper's Table S1 (W = 25 %, vertical); the other
+constants were fitted by least squares (:func:`fit_maxwell`) to the mudrft W = 25 %
+vertical plate test (:func:`mudrft.plate_intrusion` defaults), since the source's
+values are unavailable.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+import sys
+from dataclasses import dataclass, replace
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import (
+    MudrftError,
+    check_finite,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+)
+from ..citations import register
+from ..terrain import TerrainOutput
+from ..trajectories import Trajectory
+from ._common import area_z, kinematics, tip_depth
+
+__all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
+
+# α, n: Table S1, W = 25 %, vertical. The rest: fit_maxwell() on the reference plate test
+# (decision D55); re-derived by tests/baselines/test_maxwell.py.
+_DEFAULTS = {
+    "alpha": 24e3,
+    "n": 0.53,
+    "modulus": 9.245e4,
+    "relaxation": 0.2027,
+    "sigma_y": 2.247e4,
+    "omega": 60.02,
+    "damping": 1.0 / np.sqrt(2.0),
+    "release": 1.468,
+}
+
+
+class MaxwellState(NamedTuple):
+    """State of the Maxwell-type mud under a foot (arrays of the batch shape).
+
+    Attributes
+    ----------
+    sigma_m : ndarray
+        Maxwell-element stress [Pa].
+    suction : ndarray
+        Filtered suction stress :math:`\\sigma_s` [Pa] (<= 0 in use).
+    suction_rate : ndarray
+        Its time derivative [Pa/s].
+    gamma_max : ndarray
+        Deepest dimensionless depth reached since entering the mud [-].
+    in_mud : ndarray of bool
+        Whether the tip was below the surface after the last step.
+    """
+
+    sigma_m: np.ndarray
+    suction: np.ndarray
+    suction_rate: np.ndarray
+    gamma_max: np.ndarray
+    in_mud: np.ndarray
+
+
+def _zoh(
+    dt: float, omega: float, damping: float
+) -> tuple[float, float, float, float, float, float]:
+    r"""Exact zero-order-hold discretisation of the second-order filter over ``dt`` [s].
+
+    For :math:`A=\begin{pmatrix}0&1\\-\omega^2&-2\zeta\omega\end{pmatrix}`,
+    :math:`\Phi=e^{A\,dt}=e^{-\zeta\omega dt}[(\cosh q\,dt+\zeta\omega\,\mathrm{sh})I
+    +\mathrm{sh}\,A]`
+    with :math:`q^2=\omega^2(\zeta^2-1)`, :math:`\mathrm{sh}=\sinh(q\,dt)/q`, and
+    :math:`\Gamma=A^{-1}(\Phi-I)B`. Returns ``(p00, p01, p10, p11, g0, g1)``.
+    """
+    a = damping * omega
+    q = cmath.sqrt(omega * omega * (damping * damping - 1.0))
+    qt = q * dt
+    ch = cmath.cosh(qt).real
+    sh = (cmath.sinh(qt) / q).real if abs(qt) > 1e-8 else dt * (1.0 + (qt * qt).real / 6.0)
+    e = math.exp(-a * dt)
+    p00 = e * (ch + a * sh)
+    p01 = e * sh
+    p10 = -e * omega * omega * sh
+    p11 = e * (ch - a * sh)
+    g0 = -2.0 * a * p01 - (p11 - 1.0)
+    g1 = omega * omega * p01
+    return p00, p01, p10, p11, g0, g1
+
+
+@dataclass(frozen=True, eq=False)
+class MaxwellMud:
+    r"""Maxwell-type mud, a documented reconstruction of Chen et al. (AIM 2024); 1D vertical.
+
+    Parameters
+    ----------
+    alpha : float
+        Stiffness of the nonlinear spring [Pa].
+    n : float
+        Its exponent, in (0, 1] [-].
+    modulus : float
+        Spring :math:`G` of the Maxwell element [Pa].
+    relaxation : float
+        Relaxation time :math:`\lambda_M=\eta_M/G` [s].
+    sigma_y : float
+        Yield suction :math:`\sigma_Y` fed to the filter [Pa].
+    omega : float
+        Natural frequency :math:`\omega_s` of the suction filter [rad/s].
+    damping : float
+        Damping ratio :math:`\zeta_s` of the suction filter [-] (default
+        :math:`1/\sqrt2`, not fitted).
+    release : float
+        Retraction :math:`r_b` over which the suction input lets go [-] (in units of
+        :math:`L_c`).
+    characteristic_length : float or None
+        :math:`L_c` [m]; ``None`` uses the foot's.
+    name : str
+        Label in reports.
+
+    Examples
+    --------
+    >>> m = MaxwellMud()
+    >>> m.alpha, m.n
+    (24000.0, 0.53)
+    """
+
+    alpha: float = _DEFAULTS["alpha"]
+    n: float = _DEFAULTS["n"]
+    modulus: float = _DEFAULTS["modulus"]
+    relaxation: float = _DEFAULTS["relaxation"]
+    sigma_y: float = _DEFAULTS["sigma_y"]
+    omega: float = _DEFAULTS["omega"]
+    damping: float = _DEFAULTS["damping"]
+    release: float = _DEFAULTS["release"]
+    characteristic_length: float | None = None
+    name: str = "maxwell"
+
+    def __post_init__(self) -> None:
+        for f in ("alpha", "modulus", "relaxation", "omega", "damping", "release"):
+            check_positive(f, getattr(self, f))
+        check_nonnegative("sigma_y", self.sigma_y, unit="Pa")
+        check_in_range("n", self.n, 1e-6, 1.0)
+        if self.characteristic_length is not None:
+            check_positive("characteristic_length", self.characteristic_length, unit="m")
+        register("chen2024aim")
+
+    @property
+    def viscosity(self) -> float:
+        """Dashpot viscosity :math:`\\eta_M=G\\lambda_M` [Pa s]."""
+        return self.modulus * self.relaxation
+
+    def replace(self, **kw: Any) -> MaxwellMud:
+        """A copy with some fields changed."""
+        return replace(self, **kw)
+
+    def _lc(self, foot: Any) -> float:
+        return float(self.characteristic_length or foot.characteristic_length)
+
+    def initial_state(self, foot: Any, position: Any) -> MaxwellState:
+        """Undisturbed mud under a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = check_finite("position", position)
+        if pos.shape[-1:] != (3,):
+            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        depth = tip_depth(pos)
+        z = np.zeros(depth.shape)
+        return MaxwellState(z, z.copy(), z.copy(), depth / self._lc(foot), depth > 0)
+
+    def advance(
+        self, state: MaxwellState, gamma: Any, gamma_dot: Any, dt: float
+    ) -> tuple[MaxwellState, np.ndarray]:
+        """Advance the stresses over ``dt`` [s] at constant rate; return (state, stress [Pa]).
+
+        ``gamma`` [-] is the dimensionless depth at the end of the step, ``gamma_dot``
+        [1/s] the rate over it (positive downward). Out of the mud (gamma <= 0) the
+        state resets to undisturbed mud and the stress is 0 (as decision D11).
+        """
+        check_positive("dt", dt, unit="s")
+        g = np.asarray(gamma, dtype=float)
+        gd = np.asarray(gamma_dot, dtype=float)
+        in_mud = g > 0
+        decay = np.exp(-dt / self.relaxation)
+        sigma_m = state.sigma_m * decay + self.modulus * self.relaxation * gd * (1.0 - decay)
+        gmax = np.maximum(state.gamma_max, g)
+        r = gmax - g
+        u = np.where(gd < 0, -self.sigma_y * np.exp(-r / self.release), 0.0)
+        p00, p01, p10, p11, g0, g1 = _zoh(float(dt), float(self.omega), float(self.damping))
+        s = p00 * state.suction + p01 * state.suction_rate + g0 * u
+        sd = p10 * state.suction + p11 * state.suction_rate + g1 * u
+        stress = np.where(in_mud, self.alpha * np.maximum(g, 0.0) ** self.n + sigma_m + s, 0.0)
+        zero = np.zeros(np.shape(stress))
+        new = MaxwellState(
+            sigma_m=np.where(in_mud, sigma_m, zero),
+            suction=np.where(in_mud, s, zero),
+            suction_rate=np.where(in_mud, sd, zero),
+            gamma_max=np.where(in_mud, gmax, zero),
+            in_mud=in_mud,
+        )
+        return new, stress
+
+    def step(
+        self, foot: Any, state: MaxwellState, position: Any, velocity: Any, dt: float
+    ) -> tuple[MaxwellState, TerrainOutput]:
+        """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
+        pos, vel = kinematics(position, velocity)
+        lc = self._lc(foot)
+        depth = tip_depth(pos)
+        in_mud = depth > 0
+        gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
+        new, sz = self.advance(state, depth / lc, gd, dt)
+        fz = sz * area_z(foot, depth)
+        zeros = np.zeros_like(fz)
+        return new, TerrainOutput(
+            force=np.stack([zeros, zeros, fz], -1),
+            stress=np.stack([zeros, zeros, sz], -1),
+            depth=depth,
+        )
+
+    def response(
+        self, trajectory: Trajectory, *, characteristic_length: float = 0.05
+    ) -> np.ndarray:
+        r"""Vertical stress [Pa] on a plate along a vertical trajectory (no foot needed).
+
+        Parameters
+        ----------
+        trajectory : Trajectory
+            Tip motion; its depth [m] and vertical velocity [m/s] are used.
+        characteristic_length : float, keyword-only
+            Plate :math:`L_c` [m].
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            :math:`\sigma_e+\sigma_M+\sigma_s` at the samples [Pa] (0 out of the mud).
+
+        Examples
+        --------
+        >>> import mudrft
+        >>> s = MaxwellMud().response(mudrft.plate_intrusion())
+        >>> bool(s.max() > 0 > s.min())
+        True
+        """
+        if not isinstance(trajectory, Trajectory):
+            raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+        lc = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+        return _stress_history(
+            self, trajectory.time, trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
+        )
+
+
+def _stress_history(
+    model: MaxwellMud, time: np.ndarray, gamma: np.ndarray, gamma_dot: np.ndarray
+) -> np.ndarray:
+    """Scalar fast path of :meth:`MaxwellMud.advance` along a history (plain floats).
+
+    Same arithmetic as ``advance``; tests check that both agree.
+    """
+    alpha, n, G, lam = (
+        float(model.alpha),
+        float(model.n),
+        float(model.modulus),
+        float(model.relaxation),
+    )
+    sy, om, zt, rb = (
+        float(model.sigma_y),
+        float(model.omega),
+        float(model.damping),
+        float(model.release),
+    )
+    t = [float(v) for v in time]
+    gam = [float(v) for v in gamma]
+    gdot = [float(v) for v in gamma_dot]
+    out = np.zeros(len(t))
+    sm = s = sd = gmax = 0.0
+    was_in = gam[0] > 0
+    cache: dict[float, tuple[float, ...]] = {}
+    for i in range(len(t)):
+        dt = t[i] - t[i - 1] if i > 0 else t[1] - t[0]
+        key = round(dt, 12)
+        c = cache.get(key)
+        if c is None:
+            c = cache[key] = (math.exp(-dt / lam), *_zoh(dt, om, zt))
+        decay, p00, p01, p10, p11, g0, g1 = c
+        g = gam[i]
+        gd = gdot[i] if (g > 0 or was_in) else 0.0
+        sm = sm * decay + G * lam * gd * (1.0 - decay)
+        gmax = max(gmax, g)
+        u = -sy * math.exp(-(gmax - g) / rb) if gd < 0 else 0.0
+        s, sd = p00 * s + p01 * sd + g0 * u, p10 * s + p11 * sd + g1 * u
+        if g > 0:
+            out[i] = alpha * g**n + sm + s
+            was_in = True
+        else:
+            sm = s = sd = gmax = 0.0
+            was_in = False
+    return out
+
+
+@dataclass(frozen=True)
+class MaxwellFit:
+    """Result of :func:`fit_maxwell`.
+
+    Attributes
+    ----------
+    model : MaxwellMud
+        The fitted model.
+    rmse : float
+        Root-mean-square stress residual [Pa].
+    success : bool
+        Whether the optimiser reported convergence.
+    message : str
+        The optimiser's message.
+    nfev : int
+        Number of model evaluations.
+    """
+
+    model: MaxwellMud
+    rmse: float
+    success: bool
+    message: str
+    nfev: int
+
+
+_FIT_FIELDS = ("modulus", "relaxation", "sigma_y", "omega", "release")
+
+
+def fit_maxwell(
+    trajectory: Trajectory,
+    stress: Any,
+    *,
+    characteristic_length: float = 0.05,
+    initial: MaxwellMud | None = None,
+    progress: bool = False,
+) -> MaxwellFit:
+    r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
+
+    :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``. Least squares
+    over the samples in the mud (depth > 0) on the log of the (positive) constants,
+    trust-region reflective.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        Vertical plate motion (tip depth and velocity used).
+    stress : array_like, shape (n,)
+        Measured (or modelled) vertical stress [Pa] at the trajectory's samples.
+    characteristic_length : float, keyword-only
+        Plate :math:`L_c` [m].
+    initial : MaxwellMud or None, keyword-only
+        Starting point (default: :class:`MaxwellMud` defaults).
+    progress : bool, keyword-only
+        Print one line per 20 evaluations to stderr.
+
+    Returns
+    -------
+    MaxwellFit
+    """
+    from scipy.optimize import least_squares
+
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+    s = check_finite("stress", stress)
+    if s.shape != trajectory.time.shape:
+        raise MudrftError(
+            f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
+        )
+    lc = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+    m0 = initial or MaxwellMud()
+    g = trajectory.depth / lc
+    gd = -trajectory.velocity[:, 2] / lc
+    inside = g > 0  # out of the mud both models give 0 as terrains (decision D11)
+    if not np.any(inside):
+        raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")
+    x0 = np.log([getattr(m0, f) for f in _FIT_FIELDS])
+    count = [0]
+
+    def resid(x: np.ndarray) -> np.ndarray:
+        count[0] += 1
+        if progress and count[0] % 20 == 0:
+            print(f"fit_maxwell: evaluation {count[0]}", file=sys.stderr)
+        m = m0.replace(**dict(zip(_FIT_FIELDS, np.exp(x), strict=True)))
+        return (_stress_history(m, trajectory.time, g, gd) - s)[inside]
+
+    sol = least_squares(resid, x0, method="trf", x_scale=1.0, diff_step=1e-4)
+    model = m0.replace(**dict(zip(_FIT_FIELDS, np.exp(sol.x), strict=True)))
+    rmse = float(np.sqrt(np.mean(sol.fun**2)))
+    return MaxwellFit(
+        model=model,
+        rmse=rmse,
+        success=bool(sol.success),
+        message=str(sol.message),
+        nfev=int(sol.nfev),
+    )

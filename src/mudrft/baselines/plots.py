@@ -1,0 +1,141 @@
+"""Figures of the terrain comparisons (supplementary Figs. S5, S6); needs matplotlib."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from .compare import History, normalized_loop
+
+__all__ = ["plot_gait", "plot_rft_alpha", "plot_s6"]
+
+_STYLE = {
+    "mud": {"color": "C0", "lw": 2.0},
+    "granular-rft": {"color": "C1", "lw": 1.6},
+    "maxwell": {"color": "C2", "lw": 1.6, "ls": "--"},
+    "linear": {"color": "C3", "lw": 1.6, "ls": "-."},
+    "rigid": {"color": "C7", "lw": 1.4, "ls": ":"},
+}
+
+
+def _plt() -> Any:
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as exc:  # pragma: no cover
+        raise MudrftError("plotting needs matplotlib: pip install 'mudrft[plot]'") from exc
+    return plt
+
+
+def _need(h: Mapping[str, History], *names: str) -> None:
+    missing = [n for n in names if n not in h]
+    if missing:
+        raise MudrftError(f"histories must include {list(names)}, missing {missing}")
+
+
+def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
+    """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
+
+    (a) normalised force against normalised depth, mud against sand (granular RFT);
+    (b) vertical stress :math:`F_z/A_z` against time and (c) against depth, for the
+    mud model, the Maxwell-type model and the linear model.
+
+    Parameters
+    ----------
+    plate : mapping name -> History
+        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`; must
+        hold ``mud`` and ``sand``; (b, c) show whichever of ``mud``, ``maxwell``,
+        ``linear`` are present.
+    sand : str, keyword-only
+        Name of the granular history.
+    """
+    _need(plate, "mud", sand)
+    plt = _plt()
+    fig, ax = plt.subplots(1, 3, figsize=(13.5, 4.0), constrained_layout=True)
+    for name, label in (("mud", "mud (this model, W = 25 %)"), (sand, "sand (granular RFT)")):
+        x, y = normalized_loop(plate[name])
+        ax[0].plot(x, y, label=label, **_STYLE.get(name, {}))
+    ax[0].axhline(0, color="k", lw=0.5)
+    ax[0].set(
+        xlabel="normalised depth d / d_max [-]",
+        ylabel="normalised force F_z / max|F_z| [-]",
+        title="(a) intrusion-hold-retraction: mud vs sand",
+    )
+    ax[0].legend(loc="lower right", fontsize=8)
+    labels = {
+        "mud": "this model (Chen 2026)",
+        "maxwell": "Maxwell-type (AIM24, reconstructed)",
+        "linear": "linear stiffness (Godon 2022)",
+    }
+    for name in ("mud", "maxwell", "linear"):
+        if name in plate:
+            h = plate[name]
+            ax[1].plot(h.time, h.sigma_z / 1e3, label=labels[name], **_STYLE[name])
+            inside = h.depth > 0
+            ax[2].plot(
+                np.where(inside, h.depth * 1e3, np.nan),
+                np.where(inside, h.sigma_z / 1e3, np.nan),
+                label=labels[name],
+                **_STYLE[name],
+            )
+    for a in ax[1:]:
+        a.axhline(0, color="k", lw=0.5)
+    ax[1].set(xlabel="time [s]", ylabel="stress F_z / A_z [kPa]", title="(b) time history")
+    ax[2].set(xlabel="depth [mm]", ylabel="stress F_z / A_z [kPa]", title="(c) stress-depth")
+    ax[1].legend(fontsize=8)
+    return fig
+
+
+def plot_gait(
+    gait: Mapping[str, History], *, title: str = "", exclude: tuple[str, ...] = ("rigid",)
+) -> Any:
+    """Fig. S5-style figure: Fx, Fy, Fz over one gait cycle for the terrains given.
+
+    ``exclude`` drops terrains by name: by default rigid ground, whose force on a
+    prescribed path that goes 30 mm "into" it is only the penalty spring's (rigid
+    ground needs a load-controlled foot, :class:`mudrft.LoadControl`).
+    """
+    shown = {k: v for k, v in gait.items() if k not in exclude}
+    if not shown:
+        raise MudrftError("gait must hold at least one History that is not excluded")
+    plt = _plt()
+    fig, ax = plt.subplots(1, 3, figsize=(13.5, 3.8), constrained_layout=True)
+    for name, h in shown.items():
+        phase = (h.time - h.time[0]) / (h.time[-1] - h.time[0]) * 100
+        for k in range(3):
+            ax[k].plot(phase, h.force[:, k], label=name, **_STYLE.get(name, {}))
+    for k, comp in enumerate(("F_x", "F_y", "F_z")):
+        ax[k].axhline(0, color="k", lw=0.5)
+        ax[k].axvline(50, color="k", lw=0.5, ls=":")
+        ax[k].set(xlabel="gait cycle [%] (stance | swing)", ylabel=f"{comp} [N]")
+    ax[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def plot_rft_alpha(*, resolution: int = 121) -> Any:
+    """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
+    from .granular_rft import li2013_alpha
+
+    plt = _plt()
+    b = np.linspace(-np.pi / 2, np.pi / 2, resolution)
+    g = np.linspace(-np.pi / 2, np.pi / 2, resolution)
+    B, G = np.meshgrid(b, g, indexing="xy")
+    ax_, az = li2013_alpha(B, G)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    lim = float(max(np.abs(az).max(), np.abs(ax_).max()))
+    for a, val, name in ((ax[0], az, "alpha_z (lift)"), (ax[1], ax_, "alpha_x (drag)")):
+        im = a.pcolormesh(
+            np.degrees(B), np.degrees(G), val, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto"
+        )
+        a.contour(np.degrees(B), np.degrees(G), val, levels=[0.0], colors="k", linewidths=0.8)
+        a.set(
+            xlabel="attack angle beta [deg]",
+            ylabel="intrusion angle gamma [deg] (90 = down)",
+            title=f"generic {name} [-] (Li et al. 2013)",
+        )
+        fig.colorbar(im, ax=a)
+    return fig

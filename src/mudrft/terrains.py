@@ -1,0 +1,59 @@
+"""All terrain models behind one interface (:class:`Terrain`): the mud model and the baselines.
+
+Each is constructible with no arguments (documented defaults) and can be passed to
+:func:`mudrft.simulate` in place of the mud::
+
+    mudrft.terrains.Mud()            # the mud model of Chen et al. 2026, W = 25 %
+    mudrft.terrains.GranularRFT()    # granular RFT, loosely packed poppy seeds
+    mudrft.terrains.LinearStiffness()
+    mudrft.terrains.MaxwellMud()     # reconstruction of Chen et al. (AIM 2024)
+    mudrft.terrains.RigidGround()
+
+>>> from mudrft import terrains
+>>> [t.name for t in (terrains.Mud(), terrains.GranularRFT(), terrains.RigidGround())]
+['mud', 'granular-rft', 'rigid']
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .baselines.granular_rft import GranularRFT
+from .baselines.linear import LinearStiffness
+from .baselines.maxwell import MaxwellMud
+from .baselines.rigid import RigidGround
+from .terrain import MudTerrain, Terrain, TerrainOutput, as_terrain
+
+__all__ = [
+    "GranularRFT",
+    "LinearStiffness",
+    "MaxwellMud",
+    "Mud",
+    "MudTerrain",
+    "RigidGround",
+    "Terrain",
+    "TerrainOutput",
+    "as_terrain",
+]
+
+
+def Mud(water_content: Any = 0.25, **kw: Any) -> MudTerrain:
+    """The mud model as a terrain: ``MudTerrain(paper_mud(water_content), **kw)``.
+
+    Parameters
+    ----------
+    water_content : float or mudrft.Mud
+        Water content [-] of the paper's mud (0.25-0.45), or a parameter set.
+    **kw
+        Keyword options of :class:`MudTerrain` (``characteristic_length`` [m], ...).
+
+    Examples
+    --------
+    >>> Mud(0.35).mud.water_content
+    0.35
+    """
+    from .parameters import Mud as MudParams
+    from .parameters import paper_mud
+
+    mud = water_content if isinstance(water_content, MudParams) else paper_mud(water_content)
+    return MudTerrain(mud, **kw)

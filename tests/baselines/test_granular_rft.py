@@ -1,0 +1,248 @@
+"""Granular RFT (Li et al. 2013; 3D extension of Treers et al. 2021)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+from mudrft import MudrftError
+from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
+from mudrft.baselines.granular_rft import GRANULAR_MEDIA
+
+# Li, Zhang & Goldman (Science 2013), generic first-order Fourier coefficients, typed
+# here from the publication (not imported from mudrft) so the hand computation below
+# is independent of the implementation.
+LI = {
+    "A00": 0.206,
+    "A10": 0.169,
+    "B11": 0.212,
+    "B01": 0.358,
+    "Bm11": 0.055,
+    "C11": -0.124,
+    "C01": 0.253,
+    "Cm11": 0.007,
+    "D10": 0.088,
+}
+
+
+def alpha_by_hand(beta: float, gamma: float) -> tuple[float, float]:
+    """Li et al.'s Fourier series sum_{m=-1..1, n=0..1} written out term by term."""
+    az = (
+        LI["A00"]
+        + LI["A10"] * math.cos(2 * beta)
+        + LI["B01"] * math.sin(gamma)
+        + LI["B11"] * math.sin(2 * beta + gamma)
+        + LI["Bm11"] * math.sin(-2 * beta + gamma)
+    )
+    ax = (
+        LI["C01"] * math.cos(gamma)
+        + LI["C11"] * math.cos(2 * beta + gamma)
+        + LI["Cm11"] * math.cos(-2 * beta + gamma)
+        + LI["D10"] * math.sin(2 * beta)
+    )
+    return ax, az
+
+
+# (beta, gamma) points: horizontal plate pushed down, 45 deg plate and motion, a steep plate
+# pulled up and forward, a vertical plate dragged horizontally, a plate moving down-back
+ANGLES = [
+    (0.0, math.pi / 2),
+    (math.pi / 4, math.pi / 4),
+    (-math.pi / 4, math.pi / 3),
+    (math.pi / 3, -math.pi / 6),
+    (math.pi / 2 - 1e-9, 0.0),
+    (math.pi / 6, math.pi / 2),
+]
+
+
+@pytest.mark.parametrize(("beta", "gamma"), ANGLES)
+def test_generic_alpha_matches_the_published_fourier_series(beta, gamma):
+    ax, az = li2013_alpha(beta, gamma)
+    ax0, az0 = alpha_by_hand(beta, gamma)
+    # same series, different code: agreement to rounding (1e-12 absolute on O(1) values)
+    assert float(ax) == pytest.approx(ax0, abs=1e-12)
+    assert float(az) == pytest.approx(az0, abs=1e-12)
+
+
+def test_published_landmarks_of_the_generic_fit():
+    # vertical penetration of a horizontal plate: the generic fit is normalised to 1 there,
+    # and by left-right symmetry it has no horizontal component
+    ax, az = li2013_alpha(0.0, math.pi / 2)
+    assert float(az) == pytest.approx(1.000, abs=1e-12)
+    assert float(ax) == pytest.approx(0.0, abs=1e-12)
+    # vertical plate dragged horizontally: drag C01 - C11 - Cm11, lift A00 - A10 (by hand)
+    ax, az = li2013_alpha(math.pi / 2, 0.0)
+    assert float(ax) == pytest.approx(0.253 + 0.124 - 0.007, abs=1e-12)
+    assert float(az) == pytest.approx(0.206 - 0.169, abs=1e-12)
+    # pulling a horizontal plate straight up: alpha_z = A00 + A10 - B01 - B11 - Bm11 < 0
+    assert float(li2013_alpha(0.0, -math.pi / 2)[1]) == pytest.approx(-0.25, abs=1e-12)
+
+
+def _plate(
+    beta: float,
+    gamma: float,
+    extension: str,
+    zeta: float = 2e5,
+    depth: float = 0.02,
+    area: float = 1e-3,
+):
+    """One plate element with attack angle beta moving at intrusion angle gamma in the x-z plane."""
+    n = np.array([[math.sin(beta), 0.0, -math.cos(beta)]])
+    v = np.array([math.cos(gamma), 0.0, -math.sin(gamma)])
+    return rft_forces(n, [depth], [area], v, zeta=zeta, extension=extension)
+
+
+@pytest.mark.parametrize("extension", ["treers2021", "planar"])
+@pytest.mark.parametrize(("beta", "gamma"), ANGLES)
+def test_plate_force_is_zeta_alpha_depth_area(beta, gamma, extension):
+    zeta, depth, area = 2e5, 0.02, 1e-3
+    f = _plate(beta, gamma, extension, zeta, depth, area)
+    ax, az = alpha_by_hand(beta, gamma)
+    leading = math.sin(beta + gamma) > 0  # n . v for this plate and velocity
+    expected = np.array([-ax, 0.0, az]) * zeta * depth * area if leading else np.zeros(3)
+    # in-plane motion: both extensions reduce to 2D RFT (f1 = 0, f23 = 1); rounding only
+    np.testing.assert_allclose(f, expected, rtol=1e-10, atol=1e-12)
+
+
+def test_trailing_plate_carries_nothing():
+    # plate facing down, moving up and back: trailing, so no force at all (no suction)
+    assert np.all(_plate(0.3, -1.0, "treers2021") == 0.0)
+
+
+def test_treers_weights_limits_and_monotonic():
+    u = np.linspace(0.0, 1.0, 101)
+    f1, f23 = treers_weights(u, u)
+    assert f1[0] == pytest.approx(0.0, abs=1e-15) and f1[-1] == pytest.approx(1.0, abs=1e-15)
+    assert f23[0] == pytest.approx(0.0, abs=1e-15) and f23[-1] == pytest.approx(1.0, abs=1e-15)
+    assert np.all(np.diff(f1) > 0) and np.all(np.diff(f23) > 0)
+
+
+unit3 = st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 3).filter(
+    lambda v: 0.2 < np.linalg.norm(v)
+)
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=unit3, v=unit3, yaw=st.floats(-math.pi, math.pi))
+def test_rft_is_invariant_under_rotation_about_the_vertical(n, v, yaw):
+    n = np.array(n) / np.linalg.norm(n)
+    v = np.array(v) / np.linalg.norm(v)
+    if abs(abs(n[2]) - (1 - 1e-3)) < 1e-4:  # avoid the horizontal-facet tolerance edge
+        return
+    c, s = math.cos(yaw), math.sin(yaw)
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    f = rft_forces([n], [0.01], [1e-3], v, zeta=1e5)
+    fr = rft_forces([R @ n], [0.01], [1e-3], R @ v, zeta=1e5)
+    # rotating foot and motion about z rotates the force; rounding only
+    np.testing.assert_allclose(fr, R @ f, atol=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=unit3, v=unit3)
+def test_only_leading_submerged_elements_carry_force(n, v):
+    n = np.array(n) / np.linalg.norm(n)
+    v = np.array(v) / np.linalg.norm(v)
+    f = rft_forces([n, n], [0.01, -0.01], [1e-3, 1e-3], v, per_element=True)
+    assert np.all(f[1] == 0.0)  # above the surface
+    if n @ v <= 0:
+        assert np.all(f[0] == 0.0)  # trailing
+
+
+def plate_force_by_hand(trajectory, zeta, area):
+    """Horizontal plate pushed down: F_z = zeta * depth * area, as alpha_z(0, pi/2) = 1."""
+    down = trajectory.velocity[:, 2] < 0
+    hold = trajectory.velocity[:, 2] == 0
+    return np.where(down | hold, zeta * trajectory.depth * area, 0.0)
+
+
+def test_vertical_plate_test_matches_hand_formula_and_has_no_suction(box):
+    tr = mudrft.plate_intrusion(depth=0.02, dt=2e-3)  # 20 mm: the 50 mm box is never buried
+    h = run_terrain(GranularRFT(), box, tr)
+    expected = plate_force_by_hand(tr, GranularRFT().zeta, box.length * box.width)
+    # sides are edge-on (not leading) and the top stays above the surface: exact to rounding
+    np.testing.assert_allclose(h.force[:, 2], expected, rtol=1e-10, atol=1e-9)
+    # alpha_x(0, pi/2) = 0 by symmetry; cos(pi/2) leaves ~1e-17 of rounding
+    np.testing.assert_allclose(h.force[:, :2], 0.0, atol=1e-12)
+    assert np.all(h.force[:, 2] >= 0.0)  # no suction
+    retract = tr.velocity[:, 2] > 0
+    assert np.all(h.force[retract, 2] == 0.0)  # "dropped to zero immediately" (Fig. S6a)
+
+
+def test_at_rest_the_last_direction_is_kept(box):
+    tr = mudrft.plate_intrusion(depth=0.02, hold=0.5, dt=2e-3)
+    h = run_terrain(GranularRFT(), box, tr)
+    hold = tr.velocity[:, 2] == 0
+    hold &= tr.depth > 0
+    # a standing foot stays supported at the full intrusion force (decision D52)
+    np.testing.assert_allclose(
+        h.force[hold, 2], GranularRFT().zeta * 0.02 * box.length * box.width, rtol=1e-12
+    )
+
+
+@pytest.mark.parametrize("speed", [0.13, 0.2, 0.26])
+def test_bottom_never_pulls_on_the_gait(box, speed):
+    tr = mudrft.gait(speed)
+    el = box.elements()
+    bottom = el.normals[:, 2] < -0.5
+    for i in range(0, len(tr), 7):
+        d = -(tr.position[i, 2] + el.centroids[:, 2])
+        v = tr.velocity[i]
+        if np.linalg.norm(v) == 0:
+            continue
+        f = rft_forces(el.normals, d, el.areas, v, per_element=True)
+        assert np.all(f[bottom, 2] >= 0.0)
+        if v[2] > 0:  # pulling out: the bottom is trailing and carries nothing
+            assert np.all(f[bottom] == 0.0)
+
+
+def test_fast_integration_matches_element_sum(box):
+    tr = mudrft.gait(0.2)
+    rft = GranularRFT()
+    h = run_terrain(rft, box, tr)
+    el = box.elements()
+    for i in range(1, len(tr), 37):
+        d = -(tr.position[i, 2] + el.centroids[:, 2])
+        ref = rft_forces(el.normals, d, el.areas, tr.velocity[i], zeta=rft.zeta)
+        # prefix-sum integration vs direct sum: rounding on forces of O(10) N
+        np.testing.assert_allclose(h.force[i], ref, atol=1e-9)
+
+
+def test_batch_equals_single_steps(box):
+    rft = GranularRFT()
+    pos = np.array([[0.0, 0.0, -0.01], [0.01, 0.0, -0.02], [0.0, 0.0, 0.01]])
+    vel = np.array([[0.1, 0.05, -0.1], [0.0, 0.0, 0.1], [0.0, 0.0, -0.1]])
+    s = rft.initial_state(box, pos)
+    _, out = rft.step(box, s, pos, vel, 1e-3)
+    for k in range(3):
+        _, o = rft.step(box, rft.initial_state(box, pos[k]), pos[k], vel[k], 1e-3)
+        np.testing.assert_allclose(out.force[k], o.force, atol=1e-12)
+
+
+def test_named_media_and_errors(box):
+    assert GranularRFT.medium("poppy-cp").zeta == GRANULAR_MEDIA["poppy-cp"]
+    with pytest.raises(MudrftError, match="zeta"):
+        GranularRFT(zeta=-1.0)
+    with pytest.raises(MudrftError, match="extension"):
+        GranularRFT(extension="4d")
+    with pytest.raises(MudrftError, match="normals"):
+        rft_forces([[0, 0, -1]], [0.01, 0.02], [1e-3], [0, 0, -1])
+    with pytest.raises(MudrftError, match="velocity"):
+        GranularRFT().step(
+            box, GranularRFT().initial_state(box, np.zeros(3)), np.zeros(3), np.zeros(2), 1e-3
+        )
+
+
+def test_on_the_library_flat_foot():
+    feet = pytest.importorskip("mudrft.feet")
+    foot = feet.Flat()
+    tr = mudrft.plate_intrusion(depth=0.02, dt=2e-3)  # shallower than the foot's 26 mm height
+    h = run_terrain(GranularRFT(), foot, tr)
+    area = foot.projected_areas(0.01)[2]
+    expected = plate_force_by_hand(tr, GranularRFT().zeta, area)
+    # the mesh's bottom facets sum to the footprint; rounding only
+    np.testing.assert_allclose(h.force[:, 2], expected, rtol=1e-9, atol=1e-9)
