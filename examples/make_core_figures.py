@@ -10,10 +10,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import mudrft  # noqa: E402
+import mudrft
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 
@@ -25,7 +25,9 @@ def plate_figure() -> Path:
         tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0, direction=direction)
         res = mudrft.plate_response(tr, mud)
         res.plot(ax=axes[row])
-        axes[row, 0].set_title(f"{direction} plate test, W = 25 %, 20 mm/s, hold 1 s (L_c = 50 mm)", fontsize=9)
+        axes[row, 0].set_title(
+            f"{direction} plate test, W = 25 %, 20 mm/s, hold 1 s (L_c = 50 mm)", fontsize=9
+        )
         t_r = tr.meta["t_retract"]
         axes[row, 0].axvspan(t_r - tr.meta["hold"], t_r, color="0.92", zorder=0)
     p = OUT / "core_plate_test.png"
@@ -39,7 +41,11 @@ def water_content_figure() -> Path:
     tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0)
     for w in (0.25, 0.30, 0.35, 0.40, 0.45):
         res = mudrft.plate_response(tr, mudrft.paper_parameters(w, "vertical"))
-        ax.plot(res.time, res.stress / 1e3, label=f"W = {w * 100:g} %" + ("" if w in (0.25, 0.35, 0.45) else " (interp.)"))
+        ax.plot(
+            res.time,
+            res.stress / 1e3,
+            label=f"W = {w * 100:g} %" + ("" if w in (0.25, 0.35, 0.45) else " (interp.)"),
+        )
     ax.axhline(0, color="0.7", lw=0.6)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("vertical stress [kPa]")

@@ -31,8 +31,18 @@ def test_help_lists_the_stable_commands(capsys):
 
 def test_simulate_writes_run_csv_and_refuses_to_overwrite(tmp_path, capsys):
     out = tmp_path / "run.csv"
-    code, stdout, _ = run(capsys, "simulate", "--foot", "flat", "--water-content", "0.25", "--speed", "0.2",
-                          "--out", str(out))
+    code, _stdout, _ = run(
+        capsys,
+        "simulate",
+        "--foot",
+        "flat",
+        "--water-content",
+        "0.25",
+        "--speed",
+        "0.2",
+        "--out",
+        str(out),
+    )
     assert code == 0 and out.exists()
     assert out.read_text().splitlines()[0] == "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]"
     data = np.loadtxt(out, delimiter=",", skiprows=1)
@@ -43,12 +53,18 @@ def test_simulate_writes_run_csv_and_refuses_to_overwrite(tmp_path, capsys):
     assert out.read_bytes() == before
 
 
-@pytest.mark.parametrize(("args", "needle"), [
-    (["simulate", "--foot", "banana", "--out", "x.csv"], "foot"),
-    (["simulate", "--foot", "flat", "--speed", "0", "--out", "x.csv"], "speed"),
-    (["simulate", "--foot", "flat", "--speed", "-1", "--out", "x.csv"], "speed"),
-    (["simulate", "--foot", "flat", "--water-content", "0.9", "--out", "x.csv"], "water_content"),
-])
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["simulate", "--foot", "banana", "--out", "x.csv"], "foot"),
+        (["simulate", "--foot", "flat", "--speed", "0", "--out", "x.csv"], "speed"),
+        (["simulate", "--foot", "flat", "--speed", "-1", "--out", "x.csv"], "speed"),
+        (
+            ["simulate", "--foot", "flat", "--water-content", "0.9", "--out", "x.csv"],
+            "water_content",
+        ),
+    ],
+)
 def test_simulate_bad_input_is_one_line(tmp_path, capsys, monkeypatch, args, needle):
     monkeypatch.chdir(tmp_path)
     code, _, err = run(capsys, *args)

@@ -24,12 +24,16 @@ def test_energy_of_a_spring_loop_is_zero_and_of_a_damper_is_positive():
     k, c = 1e4, 50.0
     spring = np.zeros((t.size, 3))
     spring[:, 2] = -k * z
-    assert metrics.energy(t, spring, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(0.0, abs=1e-6)
+    assert metrics.energy(t, spring, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(
+        0.0, abs=1e-6
+    )
     damper = np.zeros((t.size, 3))
     damper[:, 2] = -c * v
     # work against a damper over one period: c * (2 pi A)^2 / 2 * T = c * 2 pi^2 A^2 / T
     expected = c * 2 * np.pi**2 * 0.01**2
-    assert metrics.energy(t, damper, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(expected, rel=1e-6)
+    assert metrics.energy(t, damper, np.column_stack([0 * t, 0 * t, v])) == pytest.approx(
+        expected, rel=1e-6
+    )
 
 
 def test_max_suction_peak_support_sinking_rmse():

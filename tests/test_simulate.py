@@ -6,6 +6,8 @@ simulation layer alone; the feet have their own tests.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -85,15 +87,24 @@ def test_load_controlled_sinking_matches_static_balance():
 
 def test_spring_leg_settles_to_the_same_depth():
     mud = mudrft.paper_mud(0.25)
-    load = LoadControl(weight=40.0, leg_stiffness=2e4, leg_damping=200.0, foot_mass=2.0, duration=35.0,
-                       dt=2e-3, ramp=2.0)
+    load = LoadControl(
+        weight=40.0,
+        leg_stiffness=2e4,
+        leg_damping=200.0,
+        foot_mass=2.0,
+        duration=35.0,
+        dt=2e-3,
+        ramp=2.0,
+    )
     res = simulate(FOOT, mud, load)
     assert res.depth[-1] == pytest.approx(static_sinking(FOOT, mud, 40.0), rel=1e-3)
 
 
 def test_unstable_explicit_coupling_is_refused():
     with pytest.raises(MudrftError, match="dt"):
-        simulate(FOOT, mudrft.paper_mud(0.25), LoadControl(weight=40.0, leg_stiffness=2e4, foot_mass=0.1))
+        simulate(
+            FOOT, mudrft.paper_mud(0.25), LoadControl(weight=40.0, leg_stiffness=2e4, foot_mass=0.1)
+        )
 
 
 def test_results_converge_as_dt_is_halved():
@@ -107,7 +118,7 @@ def test_results_converge_as_dt_is_halved():
     for dt in (4e-3, 2e-3, 1e-3, 5e-4):
         m = simulate(FOOT, mud, tr, dt=dt).metrics()
         errs.append(max(abs(m[k] - ref[k]) / abs(ref[k]) for k in keys))
-    assert all(a > b for a, b in zip(errs, errs[1:], strict=False)), errs
+    assert all(a > b for a, b in itertools.pairwise(errs)), errs
     assert errs[-1] < 0.01
 
 
@@ -115,7 +126,9 @@ def test_forces_oppose_motion_in_every_quadrant():
     mud = mudrft.paper_mud(0.25)
     for ang in np.deg2rad([0, 60, 135, 200, 300]):
         t = np.linspace(0, 0.5, 501)
-        pos = np.column_stack([0.05 * t * np.cos(ang), 0.05 * t * np.sin(ang), -0.02 * np.ones_like(t)])
+        pos = np.column_stack(
+            [0.05 * t * np.cos(ang), 0.05 * t * np.sin(ang), -0.02 * np.ones_like(t)]
+        )
         pos[:, 2][t < 0.1] = -0.2 * t[t < 0.1]
         res = simulate(FOOT, mud, mudrft.Trajectory.from_positions(t, pos))
         late = res.time > 0.2

@@ -17,11 +17,11 @@ __all__ = [
     "as_array",
     "check_choice",
     "check_finite",
-    "check_increasing",
-    "check_positive",
-    "check_nonnegative",
-    "check_shape",
     "check_in_range",
+    "check_increasing",
+    "check_nonnegative",
+    "check_positive",
+    "check_shape",
 ]
 
 
@@ -39,7 +39,9 @@ def _describe(value: Any) -> str:
 def as_array(name: str, value: Any, *, dtype: Any = float) -> np.ndarray:
     """Convert ``value`` to a float array, or raise naming ``name``."""
     if isinstance(value, str):
-        raise MudrftError(f"{name} must be a number or an array of numbers, got the string {value!r}")
+        raise MudrftError(
+            f"{name} must be a number or an array of numbers, got the string {value!r}"
+        )
     try:
         arr = np.asarray(value, dtype=dtype)
     except (TypeError, ValueError) as exc:
@@ -54,7 +56,9 @@ def check_finite(name: str, value: Any) -> np.ndarray:
     arr = as_array(name, value)
     if not np.all(np.isfinite(arr)):
         bad = arr[~np.isfinite(arr)] if arr.ndim else arr
-        raise MudrftError(f"{name} must be finite, got {_describe(value)} containing {bad.ravel()[0]}")
+        raise MudrftError(
+            f"{name} must be finite, got {_describe(value)} containing {bad.ravel()[0]}"
+        )
     return arr
 
 
@@ -72,7 +76,9 @@ def check_nonnegative(name: str, value: Any, *, unit: str = "") -> np.ndarray:
     arr = check_finite(name, value)
     if not np.all(arr >= 0):
         worst = arr.min() if arr.ndim else arr
-        raise MudrftError(f"{name} must be >= 0{(' ' + unit) if unit else ''}, got {float(worst)!r}")
+        raise MudrftError(
+            f"{name} must be >= 0{(' ' + unit) if unit else ''}, got {float(worst)!r}"
+        )
     return arr
 
 
@@ -99,9 +105,16 @@ def check_choice(name: str, value: Any, choices: Iterable[str]) -> str:
 def check_shape(name: str, value: Any, shape: tuple[int | None, ...]) -> np.ndarray:
     """Return ``value`` as a finite float array of the given shape (``None`` = any length)."""
     arr = check_finite(name, value)
-    ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape, strict=False))
+    ok = arr.ndim == len(shape) and all(
+        s is None or s == a for s, a in zip(shape, arr.shape, strict=False)
+    )
     if not ok:
-        want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+        want = (
+            "("
+            + ", ".join("n" if s is None else str(s) for s in shape)
+            + ("," if len(shape) == 1 else "")
+            + ")"
+        )
         raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
     return arr
 

@@ -6,7 +6,7 @@ Modules call :func:`register` when they use a model or a number from a paper;
 
 from __future__ import annotations
 
-__all__ = ["register", "citations", "BIBTEX", "reset"]
+__all__ = ["BIBTEX", "citations", "register", "reset"]
 
 #: BibTeX entries of the works mudrft implements or compares with. Where the full
 #: record could not be verified offline the entry says so in its ``note``.

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ._validation import MudrftError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["build_parser", "main"]
 
 # subcommands that live next to the code they drive: (module, description)
 _HOOKS = {
@@ -37,8 +37,13 @@ def _cmd_params(args: argparse.Namespace) -> int:
         checks = {c["water_content"]: c for c in sigma_y_consistency(d)}
         for w, row in table_rows(d).items():
             vals = [f"{w * 100:>13g}%"] + [f"{row[n]:>14.6g}" for n in names]
-            flag = "" if checks[w]["consistent"] else (
-                f"   (sigma_y violates (eta_m-eta_inf)*gamma_dot_c = {checks[w]['sigma_y_relation']:.4g} Pa)")
+            flag = (
+                ""
+                if checks[w]["consistent"]
+                else (
+                    f"   (sigma_y violates (eta_m-eta_inf)*gamma_dot_c = {checks[w]['sigma_y_relation']:.4g} Pa)"
+                )
+            )
             print("  " + "  ".join(vals) + flag)
         print()
     print("Between rows the sets are interpolated (log-linear); see docs/model.md, decision D7.")
@@ -59,7 +64,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     mud = paper_mud(args.water_content, extrapolate=args.extrapolate)
     if args.speed <= 0:
         raise MudrftError(f"--speed must be > 0 m/s, got {args.speed!r}")
-    print(f"simulating {foot.name} foot, W = {args.water_content * 100:g} %, {args.speed:g} m/s", file=sys.stderr)
+    print(
+        f"simulating {foot.name} foot, W = {args.water_content * 100:g} %, {args.speed:g} m/s",
+        file=sys.stderr,
+    )
     res = simulate(foot, mud, gait(args.speed, depth=args.depth, dt=args.dt), progress=True)
     res.to_csv(out, overwrite=args.force)
     m = res.metrics()
@@ -85,7 +93,9 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``mudrft`` command."""
     from . import __version__
 
-    p = argparse.ArgumentParser(prog="mudrft", description="Forces of mud on robot feet (Chen et al. 2026 model).")
+    p = argparse.ArgumentParser(
+        prog="mudrft", description="Forces of mud on robot feet (Chen et al. 2026 model)."
+    )
     p.add_argument("--version", action="version", version=f"mudrft {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
@@ -93,25 +103,44 @@ def build_parser() -> argparse.ArgumentParser:
     sp.set_defaults(func=_cmd_params)
 
     sp = sub.add_parser("simulate", help="one stepping cycle of a foot in mud -> run.csv")
-    sp.add_argument("--foot", required=True, help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)")
-    sp.add_argument("--water-content", type=float, default=0.25, help="volume fraction, 0.25-0.45 (default 0.25)")
+    sp.add_argument(
+        "--foot",
+        required=True,
+        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
+    )
+    sp.add_argument(
+        "--water-content",
+        type=float,
+        default=0.25,
+        help="volume fraction, 0.25-0.45 (default 0.25)",
+    )
     sp.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s] (default 0.2)")
-    sp.add_argument("--depth", type=float, default=0.03, help="deepest tip depth [m] (default 0.03)")
+    sp.add_argument(
+        "--depth", type=float, default=0.03, help="deepest tip depth [m] (default 0.03)"
+    )
     sp.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 1e-3)")
-    sp.add_argument("--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])")
+    sp.add_argument(
+        "--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])"
+    )
     sp.add_argument("--plot", help="also write a PNG figure here")
-    sp.add_argument("--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)")
+    sp.add_argument(
+        "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
+    )
     sp.add_argument("--force", action="store_true", help="overwrite --out if it exists")
     sp.set_defaults(func=_cmd_simulate)
 
-    sp = sub.add_parser("reproduce", help="the paper's comparisons: summary.csv, figures, report.md")
-    sp.add_argument("--out", default="mudrft-results", help="output directory (default ./mudrft-results)")
+    sp = sub.add_parser(
+        "reproduce", help="the paper's comparisons: summary.csv, figures, report.md"
+    )
+    sp.add_argument(
+        "--out", default="mudrft-results", help="output directory (default ./mudrft-results)"
+    )
     sp.add_argument("--force", action="store_true", help="overwrite existing results")
     sp.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     sp.add_argument("--quiet", action="store_true", help="no progress output")
     sp.set_defaults(func=_cmd_reproduce)
 
-    for name, modname in _HOOKS.items():
+    for _name, modname in _HOOKS.items():
         try:
             mod = importlib.import_module(modname)
         except ImportError:

@@ -14,13 +14,13 @@ import numpy as np
 from ._validation import MudrftError, check_finite, check_increasing
 
 __all__ = [
-    "relative_rmse",
+    "energy",
     "impulse",
     "max_suction",
-    "peak_support",
-    "energy",
-    "sinking_depth",
     "normalized_stress",
+    "peak_support",
+    "relative_rmse",
+    "sinking_depth",
 ]
 
 

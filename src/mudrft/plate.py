@@ -12,7 +12,7 @@ from .constitutive.dynamics import run
 from .parameters.base import Mud, MudParameters
 from .trajectories import Trajectory
 
-__all__ = ["PlateResult", "plate_response", "DEFAULT_PLATE_LENGTH"]
+__all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response"]
 
 #: Characteristic length of the paper's plates [m]. The paper does not give the plate
 #: size; 50 mm fits its 28 x 23 cm container (decision D1 in docs/model.md).
@@ -92,7 +92,9 @@ def plate_response(
     True
     """
     if not isinstance(trajectory, Trajectory):
-        raise MudrftError(f"trajectory must be a Trajectory (see mudrft.plate_intrusion), got {type(trajectory).__name__}")
+        raise MudrftError(
+            f"trajectory must be a Trajectory (see mudrft.plate_intrusion), got {type(trajectory).__name__}"
+        )
     L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
     direction = trajectory.meta.get("direction", "vertical")
     if isinstance(params, Mud):
@@ -107,10 +109,18 @@ def plate_response(
     h = run(p, trajectory.time, np.asarray(q) / L, acceleration=acceleration, xi0=xi0)
     # a vertical plate back at the surface has left the mud: no stress (as MudTerrain does for feet)
     inside = np.asarray(q) > 0 if direction == "vertical" else np.ones(np.shape(q), dtype=bool)
-    total, el, th, su = (np.where(inside, a, 0.0) for a in (h.total, h.elastic, h.thixotropic, h.suction))
+    total, el, th, su = (
+        np.where(inside, a, 0.0) for a in (h.total, h.elastic, h.thixotropic, h.suction)
+    )
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
-        time=trajectory.time, displacement=np.asarray(q, dtype=float), stress=total,
-        normal=laws.f_n(angle) * total, tangential=laws.f_t(angle) * total,
-        elastic=el, thixotropic=th, suction=su, xi=h.xi,
+        time=trajectory.time,
+        displacement=np.asarray(q, dtype=float),
+        stress=total,
+        normal=laws.f_n(angle) * total,
+        tangential=laws.f_t(angle) * total,
+        elastic=el,
+        thixotropic=th,
+        suction=su,
+        xi=h.xi,
     )

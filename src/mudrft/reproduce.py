@@ -25,7 +25,7 @@ from .parameters import paper_mud
 from .simulate import LoadControl, Result, simulate
 from .trajectories import GAIT_SPEEDS, gait
 
-__all__ = ["reproduce", "SUMMARY_COLUMNS", "FEET", "LOAD"]
+__all__ = ["FEET", "LOAD", "SUMMARY_COLUMNS", "reproduce"]
 
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
@@ -33,9 +33,19 @@ WATER_CONTENTS = (0.25, 0.35, 0.45)
 LOAD = 49.0
 
 SUMMARY_COLUMNS = (
-    "foot", "speed [m/s]", "water_content", "peak_support [N]", "max_suction [N]", "impulse_x [N s]",
-    "impulse_y [N s]", "impulse_z [N s]", "energy [J]", "sinking [m]", "suction_ratio",
-    "peak_normalized_sz [Pa]", "min_normalized_sz [Pa]",
+    "foot",
+    "speed [m/s]",
+    "water_content",
+    "peak_support [N]",
+    "max_suction [N]",
+    "impulse_x [N s]",
+    "impulse_y [N s]",
+    "impulse_z [N s]",
+    "energy [J]",
+    "sinking [m]",
+    "suction_ratio",
+    "peak_normalized_sz [Pa]",
+    "min_normalized_sz [Pa]",
 )
 
 
@@ -126,15 +136,23 @@ def reproduce(
                 runs[(name, float(v), float(w))] = res
                 m = res.metrics()
                 ns = res.normalized_stress() if res.areas is not None else np.zeros_like(res.force)
-                rows.append({
-                    "foot": name, "speed [m/s]": float(v), "water_content": float(w),
-                    "peak_support [N]": m["peak_support"], "max_suction [N]": m["max_suction"],
-                    "impulse_x [N s]": m["impulse_x"], "impulse_y [N s]": m["impulse_y"],
-                    "impulse_z [N s]": m["impulse_z"], "energy [J]": m["energy"], "sinking [m]": sinking,
-                    "suction_ratio": m["suction_ratio"],
-                    "peak_normalized_sz [Pa]": float(ns[:, 2].max()),
-                    "min_normalized_sz [Pa]": float(ns[:, 2].min()),
-                })
+                rows.append(
+                    {
+                        "foot": name,
+                        "speed [m/s]": float(v),
+                        "water_content": float(w),
+                        "peak_support [N]": m["peak_support"],
+                        "max_suction [N]": m["max_suction"],
+                        "impulse_x [N s]": m["impulse_x"],
+                        "impulse_y [N s]": m["impulse_y"],
+                        "impulse_z [N s]": m["impulse_z"],
+                        "energy [J]": m["energy"],
+                        "sinking [m]": sinking,
+                        "suction_ratio": m["suction_ratio"],
+                        "peak_normalized_sz [Pa]": float(ns[:, 2].max()),
+                        "min_normalized_sz [Pa]": float(ns[:, 2].min()),
+                    }
+                )
     with open(outp / "summary.csv", "w", newline="") as fh:
         wr = csv.DictWriter(fh, fieldnames=list(SUMMARY_COLUMNS))
         wr.writeheader()
@@ -144,13 +162,24 @@ def reproduce(
     if figures:
         from .reproduce_figures import make_figures
 
-        for path in make_figures(outp, runs, rows, feet=list(feet), speeds=list(speeds),
-                                 water_contents=list(water_contents)):
+        for path in make_figures(
+            outp,
+            runs,
+            rows,
+            feet=list(feet),
+            speeds=list(speeds),
+            water_contents=list(water_contents),
+        ):
             _say(f"wrote {path}", quiet)
     from .reproduce_report import write_report
 
-    rep = write_report(outp / "report.md", rows, feet=list(feet), speeds=list(speeds),
-                       water_contents=list(water_contents))
+    rep = write_report(
+        outp / "report.md",
+        rows,
+        feet=list(feet),
+        speeds=list(speeds),
+        water_contents=list(water_contents),
+    )
     _say(f"wrote {rep}", quiet)
     _say(f"done in {_time.perf_counter() - t0:.1f} s", quiet)
     return rows

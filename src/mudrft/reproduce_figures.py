@@ -11,15 +11,27 @@ from .plotting import require_matplotlib
 
 __all__ = ["make_figures"]
 
-COLORS = {"flat": "tab:blue", "semi-cylinder": "tab:orange", "semi-sphere": "tab:green", "morphing": "tab:red"}
+COLORS = {
+    "flat": "tab:blue",
+    "semi-cylinder": "tab:orange",
+    "semi-sphere": "tab:green",
+    "morphing": "tab:red",
+}
 
 
 def _near(values: list[float], target: float) -> float:
     return min(values, key=lambda v: abs(v - target))
 
 
-def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: list[dict[str, Any]], *,
-                 feet: list[str], speeds: list[float], water_contents: list[float]) -> list[Path]:
+def make_figures(
+    out: Path,
+    runs: dict[tuple[str, float, float], Any],
+    rows: list[dict[str, Any]],
+    *,
+    feet: list[str],
+    speeds: list[float],
+    water_contents: list[float],
+) -> list[Path]:
     """Write the PNG figures to ``out``; return their paths."""
     plt = require_matplotlib()
     v, w = _near(speeds, 0.2), _near(water_contents, 0.25)
@@ -27,8 +39,13 @@ def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: lis
 
     # Fig. 9: forces against time for the fixed feet at medium speed, W = 25 %
     fixed = [f for f in feet if f != "morphing"]
-    fig, axes = plt.subplots(max(len(fixed), 1), 3, figsize=(10, 2.4 * max(len(fixed), 1)),
-                             squeeze=False, constrained_layout=True)
+    fig, axes = plt.subplots(
+        max(len(fixed), 1),
+        3,
+        figsize=(10, 2.4 * max(len(fixed), 1)),
+        squeeze=False,
+        constrained_layout=True,
+    )
     for i, f in enumerate(fixed):
         r = runs[(f, v, w)]
         for j, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
@@ -41,7 +58,10 @@ def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: lis
             if i == len(fixed) - 1:
                 ax.set_xlabel("time [s]")
         axes[i, 0].annotate(f, (0.02, 0.85), xycoords="axes fraction", fontsize=9)
-    fig.suptitle(f"Forces over one stepping cycle, {v:g} m/s, W = {w * 100:g} % (cf. paper Fig. 9)", fontsize=10)
+    fig.suptitle(
+        f"Forces over one stepping cycle, {v:g} m/s, W = {w * 100:g} % (cf. paper Fig. 9)",
+        fontsize=10,
+    )
     paths.append(out / "fig09_forces.png")
     fig.savefig(paths[-1], dpi=120)
     plt.close(fig)
@@ -50,7 +70,9 @@ def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: lis
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.3), constrained_layout=True)
     for f in fixed:
         r = runs[(f, v, w)]
-        axes[0].plot(r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, color=COLORS.get(f), label=f)
+        axes[0].plot(
+            r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, color=COLORS.get(f), label=f
+        )
     axes[0].set_title("(a) foot shape")
     ref = "flat" if "flat" in feet else feet[0]
     for s in speeds:
@@ -59,7 +81,9 @@ def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: lis
     axes[1].set_title(f"(b) speed ({ref})")
     for wc in water_contents:
         r = runs[(ref, v, wc)]
-        axes[2].plot(r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, label=f"W = {wc * 100:g} %")
+        axes[2].plot(
+            r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, label=f"W = {wc * 100:g} %"
+        )
     axes[2].set_title(f"(c) water content ({ref})")
     for ax in axes:
         ax.axhline(0, color="0.75", lw=0.6)
@@ -85,20 +109,35 @@ def make_figures(out: Path, runs: dict[tuple[str, float, float], Any], rows: lis
     plt.close(fig)
 
     # Fig. 13: suction and energy bars, and a spider chart
-    sel = {r["foot"]: r for r in rows if abs(r["speed [m/s]"] - v) < 1e-9 and abs(r["water_content"] - w) < 1e-9}
+    sel = {
+        r["foot"]: r
+        for r in rows
+        if abs(r["speed [m/s]"] - v) < 1e-9 and abs(r["water_content"] - w) < 1e-9
+    }
     names = [f for f in feet if f in sel]
     fig = plt.figure(figsize=(10, 3.8), constrained_layout=True)
     ax1 = fig.add_subplot(1, 2, 1)
     x = np.arange(len(names))
-    ax1.bar(x - 0.2, [sel[f]["max_suction [N]"] for f in names], 0.4, label="max suction [N]",
-            color=[COLORS.get(f, "k") for f in names])
+    ax1.bar(
+        x - 0.2,
+        [sel[f]["max_suction [N]"] for f in names],
+        0.4,
+        label="max suction [N]",
+        color=[COLORS.get(f, "k") for f in names],
+    )
     ax2 = ax1.twinx()
     ax2.bar(x + 0.2, [sel[f]["energy [J]"] for f in names], 0.4, label="energy [J]", color="0.6")
     ax1.set_xticks(x, names, fontsize=8)
     ax1.set_ylabel("max suction [N] (colour)")
     ax2.set_ylabel("energy [J] (grey)")
     ax1.set_title("(a) suction and energy (cf. Fig. 13a)", fontsize=10)
-    keys = ["impulse_x [N s]", "impulse_y [N s]", "impulse_z [N s]", "max_suction [N]", "energy [J]"]
+    keys = [
+        "impulse_x [N s]",
+        "impulse_y [N s]",
+        "impulse_z [N s]",
+        "max_suction [N]",
+        "energy [J]",
+    ]
     labels = ["|I_x|", "|I_y|", "|I_z|", "suction", "energy"]
     ang = np.linspace(0, 2 * np.pi, len(keys), endpoint=False)
     ax3 = fig.add_subplot(1, 2, 2, projection="polar")

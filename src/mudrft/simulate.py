@@ -25,7 +25,7 @@ from .feet.base import Foot
 from .terrain import as_terrain
 from .trajectories import Trajectory
 
-__all__ = ["simulate", "Result", "LoadControl", "CSV_COLUMNS", "static_sinking"]
+__all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
 
 #: Columns of ``run.csv`` (DESIGN.md).
 CSV_COLUMNS = ("time [s]", "x [m]", "y [m]", "z [m]", "Fx [N]", "Fy [N]", "Fz [N]")
@@ -93,7 +93,9 @@ class LoadControl:
         check_positive("dt", self.dt, unit="s")
         check_nonnegative("ramp", self.ramp, unit="s")
         if self.duration / self.dt > 2e7:
-            raise MudrftError(f"duration/dt = {self.duration / self.dt:.3g} steps is too many; use a larger dt")
+            raise MudrftError(
+                f"duration/dt = {self.duration / self.dt:.3g} steps is too many; use a larger dt"
+            )
 
     @property
     def body_mass(self) -> float:
@@ -166,7 +168,9 @@ class Result:
     def normalized_stress(self) -> np.ndarray:
         """Force divided by the submerged cross-section areas (Figs. 10-12) [Pa], shape (n, 3)."""
         if self.areas is None:
-            raise MudrftError("this result has no areas; run simulate with a foot that provides them")
+            raise MudrftError(
+                "this result has no areas; run simulate with a foot that provides them"
+            )
         return _m.normalized_stress(self.force, self.areas)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
@@ -176,12 +180,16 @@ class Result:
         """
         p = Path(path)
         if p.exists() and not overwrite:
-            raise MudrftError(f"path {str(p)!r} exists; pass overwrite=True (CLI: --force) to replace it")
+            raise MudrftError(
+                f"path {str(p)!r} exists; pass overwrite=True (CLI: --force) to replace it"
+            )
         if not p.parent.exists():
             raise MudrftError(f"path {str(p)!r}: directory {str(p.parent)!r} does not exist")
         data = np.column_stack([self.time, self.position, self.force])
         try:
-            np.savetxt(p, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g")
+            np.savetxt(
+                p, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g"
+            )
         except OSError as exc:
             raise MudrftError(f"cannot write {str(p)!r}: {exc.strerror or exc}") from exc
         return p
@@ -192,9 +200,17 @@ class Result:
             import pandas as pd
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_pandas needs pandas: pip install 'mudrft[pandas]'") from exc
-        cols = dict(zip(CSV_COLUMNS, np.column_stack([self.time, self.position, self.force]).T, strict=True))
-        cols.update({"sx [Pa]": self.stress[:, 0], "sy [Pa]": self.stress[:, 1], "sz [Pa]": self.stress[:, 2],
-                     "depth [m]": self.depth})
+        cols = dict(
+            zip(CSV_COLUMNS, np.column_stack([self.time, self.position, self.force]).T, strict=True)
+        )
+        cols.update(
+            {
+                "sx [Pa]": self.stress[:, 0],
+                "sy [Pa]": self.stress[:, 1],
+                "sz [Pa]": self.stress[:, 2],
+                "depth [m]": self.depth,
+            }
+        )
         return pd.DataFrame(cols)
 
     def plot(self, *, axes: Any = None) -> Any:
@@ -219,7 +235,7 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
 
 def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
     try:
-        return np.asarray(foot.projected_areas(depth), dtype=float).reshape(depth.shape + (3,))
+        return np.asarray(foot.projected_areas(depth), dtype=float).reshape((*depth.shape, 3))
     except (MudrftError, NotImplementedError, AttributeError):
         return None
 
@@ -266,10 +282,15 @@ def simulate(
     Result
     """
     if not isinstance(foot, Foot):
-        raise MudrftError(f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}")
+        raise MudrftError(
+            f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
+        )
     terrain = as_terrain(mud)
-    report = _progress_printer(f"{foot.name} in {getattr(terrain, 'name', 'terrain')}") if progress is True else (
-        progress if callable(progress) else None)
+    report = (
+        _progress_printer(f"{foot.name} in {getattr(terrain, 'name', 'terrain')}")
+        if progress is True
+        else (progress if callable(progress) else None)
+    )
     if isinstance(trajectory, LoadControl):
         return _simulate_load(foot, terrain, trajectory, report)
     if not isinstance(trajectory, Trajectory):
@@ -277,24 +298,41 @@ def simulate(
             f"trajectory must be a Trajectory (mudrft.gait, mudrft.plate_intrusion) or a LoadControl, "
             f"got {type(trajectory).__name__}"
         )
-    tr = _resample(trajectory, float(check_positive("dt", dt, unit="s"))) if dt is not None else trajectory
+    tr = (
+        _resample(trajectory, float(check_positive("dt", dt, unit="s")))
+        if dt is not None
+        else trajectory
+    )
     n = len(tr)
     force = np.zeros((n, 3))
     stress = np.zeros((n, 3))
     state = terrain.initial_state(foot, tr.position[0])
     every = max(n // 20, 1)
     for k in range(1, n):
-        state, out = terrain.step(foot, state, tr.position[k], tr.velocity[k], tr.time[k] - tr.time[k - 1])
+        state, out = terrain.step(
+            foot, state, tr.position[k], tr.velocity[k], tr.time[k] - tr.time[k - 1]
+        )
         force[k] = out.force
         stress[k] = out.stress
         if report is not None and k % every == 0:
             report(k / (n - 1))
     if not np.all(np.isfinite(force)):
-        raise MudrftError("the simulation produced non-finite forces; check the terrain parameters and dt")
+        raise MudrftError(
+            "the simulation produced non-finite forces; check the terrain parameters and dt"
+        )
     depth = tr.depth
-    return Result(time=tr.time, position=tr.position, velocity=tr.velocity, force=force, stress=stress,
-                  depth=depth, foot=foot.name, terrain=getattr(terrain, "name", ""), areas=_areas(foot, depth),
-                  meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}})
+    return Result(
+        time=tr.time,
+        position=tr.position,
+        velocity=tr.velocity,
+        force=force,
+        stress=stress,
+        depth=depth,
+        foot=foot.name,
+        terrain=getattr(terrain, "name", ""),
+        areas=_areas(foot, depth),
+        meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}},
+    )
 
 
 def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> None:
@@ -304,7 +342,7 @@ def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> No
     lc = float(getattr(terrain, "characteristic_length", None) or foot.characteristic_length)
     try:
         area = float(np.asarray(foot.projected_areas(foot.height))[..., 2].max())
-    except Exception:  # noqa: BLE001 - feet without areas: no estimate, no check
+    except Exception:
         return
     c = float(np.max(mud.vertical.eta_inf)) * area / lc
     m = load.foot_mass if load.leg_stiffness is not None else load.body_mass
@@ -361,12 +399,23 @@ def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> 
     vel = np.zeros((n, 3))
     vel[:, 2] = vf
     depth = np.maximum(-zf, 0.0)
-    return Result(time=t, position=pos, velocity=vel, force=force, stress=stress, depth=depth,
-                  foot=foot.name, terrain=getattr(terrain, "name", ""), areas=_areas(foot, depth),
-                  meta={"load_control": True, "weight": load.weight, "mass": m})
+    return Result(
+        time=t,
+        position=pos,
+        velocity=vel,
+        force=force,
+        stress=stress,
+        depth=depth,
+        foot=foot.name,
+        terrain=getattr(terrain, "name", ""),
+        areas=_areas(foot, depth),
+        meta={"load_control": True, "weight": load.weight, "mass": m},
+    )
 
 
-def static_sinking(foot: Foot, mud: Any, weight: float, *, characteristic_length: float | None = None) -> float:
+def static_sinking(
+    foot: Foot, mud: Any, weight: float, *, characteristic_length: float | None = None
+) -> float:
     r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
 
     At rest the thixotropic stress relaxes to zero and no suction acts, so the
@@ -402,5 +451,7 @@ def static_sinking(foot: Foot, mud: Any, weight: float, *, characteristic_length
 
     hi = foot.height * 4.0
     if support(hi) < 0:
-        raise MudrftError(f"weight={W!r} N exceeds the static support of {foot.name} at depth {hi:.3g} m")
+        raise MudrftError(
+            f"weight={W!r} N exceeds the static support of {foot.name} at depth {hi:.3g} m"
+        )
     return float(brentq(support, 1e-9, hi, xtol=1e-12))

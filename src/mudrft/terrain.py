@@ -25,7 +25,7 @@ from .constitutive.dynamics import step as channel_step
 from .constitutive.state import ChannelState, initial_state
 from .parameters.base import PARAMETER_UNITS, Mud, MudParameters
 
-__all__ = ["Terrain", "TerrainOutput", "MudTerrain", "MudState", "as_terrain", "channel_parameters"]
+__all__ = ["MudState", "MudTerrain", "Terrain", "TerrainOutput", "as_terrain", "channel_parameters"]
 
 
 class TerrainOutput(NamedTuple):
@@ -56,7 +56,9 @@ class Terrain(Protocol):
         """State before the first step, for a foot whose tip is at ``position`` [m]."""
         ...
 
-    def step(self, foot: Any, state: Any, position: Any, velocity: Any, dt: float) -> tuple[Any, TerrainOutput]:
+    def step(
+        self, foot: Any, state: Any, position: Any, velocity: Any, dt: float
+    ) -> tuple[Any, TerrainOutput]:
         """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
         ...
 
@@ -138,7 +140,9 @@ class MudTerrain:
 
     def __post_init__(self) -> None:
         if not isinstance(self.mud, Mud):
-            raise MudrftError(f"mud must be a Mud (see mudrft.paper_mud), got {type(self.mud).__name__}")
+            raise MudrftError(
+                f"mud must be a Mud (see mudrft.paper_mud), got {type(self.mud).__name__}"
+            )
         if self.characteristic_length is not None:
             check_positive("characteristic_length", self.characteristic_length, unit="m")
         object.__setattr__(self, "_params", channel_parameters(self.mud))
@@ -160,13 +164,20 @@ class MudTerrain:
         batch = pos.shape[:-1]
         lc = self._lc(foot)
         depth = np.maximum(-pos[..., 2], 0.0)
-        g = np.zeros(batch + (3,))
+        g = np.zeros((*batch, 3))
         g[..., 2] = depth / lc
-        ch = initial_state(batch + (3,), xi0=self.xi0, gamma=g)
-        return MudState(channels=ch, entry=pos[..., :2].copy(), heading=np.zeros(batch),
-                        in_mud=depth > 0, foot=foot.initial_foot_state())
+        ch = initial_state((*batch, 3), xi0=self.xi0, gamma=g)
+        return MudState(
+            channels=ch,
+            entry=pos[..., :2].copy(),
+            heading=np.zeros(batch),
+            in_mud=depth > 0,
+            foot=foot.initial_foot_state(),
+        )
 
-    def step(self, foot: Any, state: MudState, position: Any, velocity: Any, dt: float) -> tuple[MudState, TerrainOutput]:
+    def step(
+        self, foot: Any, state: MudState, position: Any, velocity: Any, dt: float
+    ) -> tuple[MudState, TerrainOutput]:
         """Advance the mud under the foot by ``dt`` [s]; see :class:`Terrain`.
 
         Inputs are not validated here (this is the inner loop); :func:`mudrft.simulate`
@@ -193,15 +204,25 @@ class MudTerrain:
         gdot[..., :2] = vel[..., :2] / lc
         gdot[..., 2] = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         hs = np.hypot(vel[..., 0], vel[..., 1])
-        heading = np.where(hs > self.heading_speed, np.arctan2(vel[..., 1], vel[..., 0]), state.heading)
+        heading = np.where(
+            hs > self.heading_speed, np.arctan2(vel[..., 1], vel[..., 0]), state.heading
+        )
         seal = foot.seal_factor(state.foot)
         if isinstance(seal, float) and seal == 1.0:
             seal3: Any = 1.0
         else:
-            seal3 = np.ones(np.shape(seal) + (3,)) if np.ndim(seal) else np.ones(3)
+            seal3 = np.ones((*np.shape(seal), 3)) if np.ndim(seal) else np.ones(3)
             seal3[..., 2] = seal
-        ch, out = channel_step(self.params, ch, gamma, gdot, dt, seal=seal3, acceleration=self.acceleration,
-                               validate=False)
+        ch, out = channel_step(
+            self.params,
+            ch,
+            gamma,
+            gdot,
+            dt,
+            seal=seal3,
+            acceleration=self.acceleration,
+            validate=False,
+        )
         stress = out.total * in_mud[..., None]
         foot_state, force = foot.contact_force(state.foot, depth, stress, heading, dt)
         force = force * in_mud[..., None]

@@ -21,7 +21,7 @@ from ._validation import (
     check_positive,
 )
 
-__all__ = ["Trajectory", "plate_intrusion", "gait", "GAIT_SPEEDS", "STRIDE_LENGTH"]
+__all__ = ["GAIT_SPEEDS", "STRIDE_LENGTH", "Trajectory", "gait", "plate_intrusion"]
 
 #: The paper's gait speeds [m/s] (Sec. IV-A).
 GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
@@ -61,7 +61,9 @@ class Trajectory:
             raise MudrftError(f"time must have at least 2 samples, got {t.size}")
         for name, a in (("position", p), ("velocity", v)):
             if a.shape != (t.size, 3):
-                raise MudrftError(f"{name} must have shape ({t.size}, 3) to match time, got {a.shape}")
+                raise MudrftError(
+                    f"{name} must have shape ({t.size}, 3) to match time, got {a.shape}"
+                )
         object.__setattr__(self, "time", t)
         object.__setattr__(self, "position", p)
         object.__setattr__(self, "velocity", v)
@@ -73,7 +75,11 @@ class Trajectory:
         p = check_finite("position", position)
         if p.shape != (t.size, 3):
             raise MudrftError(f"position must have shape ({t.size}, 3), got {p.shape}")
-        v = np.gradient(p, t, axis=0) if t.size > 2 else np.repeat(np.diff(p, axis=0) / np.diff(t)[:, None], 2, 0)
+        v = (
+            np.gradient(p, t, axis=0)
+            if t.size > 2
+            else np.repeat(np.diff(p, axis=0) / np.diff(t)[:, None], 2, 0)
+        )
         return cls(time=t, position=p, velocity=v, **kw)  # type: ignore[arg-type]
 
     @property
@@ -143,22 +149,39 @@ def plate_intrusion(
     t_in = depth / speed
     t_total = 2 * t_in + hold + rest
     if t_total / dt > 5e6:
-        raise MudrftError(f"dt={dt!r} s gives more than 5e6 samples for a {t_total:.3g} s test; use a larger dt")
+        raise MudrftError(
+            f"dt={dt!r} s gives more than 5e6 samples for a {t_total:.3g} s test; use a larger dt"
+        )
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
     # include the corners exactly so the piecewise-linear input is exact
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
-    q = np.where(t < t_in, speed * t, np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)))
-    qd = np.where(t < t_in, speed, np.where(t < t_in + hold, 0.0, np.where(t < 2 * t_in + hold, -speed, 0.0)))
+    q = np.where(
+        t < t_in,
+        speed * t,
+        np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
+    )
+    qd = np.where(
+        t < t_in, speed, np.where(t < t_in + hold, 0.0, np.where(t < 2 * t_in + hold, -speed, 0.0))
+    )
     pos = np.zeros((t.size, 3))
     vel = np.zeros((t.size, 3))
     if direction == "vertical":
         pos[:, 2], vel[:, 2] = -q, -qd
     else:
         pos[:, 0], vel[:, 0] = q, qd
-    meta = {"angle": float(angle), "direction": direction, "depth": float(depth), "speed": float(speed),
-            "hold": float(hold), "t_retract": float(t_in + hold), "displacement": q}
-    return Trajectory(time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta)
+    meta = {
+        "angle": float(angle),
+        "direction": direction,
+        "depth": float(depth),
+        "speed": float(speed),
+        "hold": float(hold),
+        "t_retract": float(t_in + hold),
+        "displacement": q,
+    }
+    return Trajectory(
+        time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta
+    )
 
 
 def gait(
@@ -217,14 +240,25 @@ def gait(
     t = np.linspace(0.0, T, n)
     s = t / T
     w = 2 * np.pi / T
-    z = np.where(s <= 0.5, -0.5 * depth * (1 - np.cos(2 * np.pi * s)),
-                 -depth + 0.5 * (depth + lift) * (1 - np.cos(2 * np.pi * (s - 0.5))))
-    vz = np.where(s <= 0.5, -0.5 * depth * w * np.sin(2 * np.pi * s),
-                  0.5 * (depth + lift) * w * np.sin(2 * np.pi * (s - 0.5)))
+    z = np.where(
+        s <= 0.5,
+        -0.5 * depth * (1 - np.cos(2 * np.pi * s)),
+        -depth + 0.5 * (depth + lift) * (1 - np.cos(2 * np.pi * (s - 0.5))),
+    )
+    vz = np.where(
+        s <= 0.5,
+        -0.5 * depth * w * np.sin(2 * np.pi * s),
+        0.5 * (depth + lift) * w * np.sin(2 * np.pi * (s - 0.5)),
+    )
     x = 0.5 * slip * stride * (1 - np.cos(np.pi * s))
     vx = 0.5 * slip * stride * (np.pi / T) * np.sin(np.pi * s)
     y = 0.5 * sway * stride * np.sin(np.pi * s)
     vy = 0.5 * sway * stride * (np.pi / T) * np.cos(np.pi * s)
     meta = {"speed": float(speed), "period": T, "depth": float(depth), "stride": float(stride)}
-    return Trajectory(time=t, position=np.stack([x, y, z], 1), velocity=np.stack([vx, vy, vz], 1),
-                      name=f"gait {speed:g} m/s", meta=meta)
+    return Trajectory(
+        time=t,
+        position=np.stack([x, y, z], 1),
+        velocity=np.stack([vx, vy, vz], 1),
+        name=f"gait {speed:g} m/s",
+        meta=meta,
+    )

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ._validation import MudrftError
 
-__all__ = ["MPA", "KPA", "MM", "MS", "SCALE", "to_si", "parse_unit"]
+__all__ = ["KPA", "MM", "MPA", "MS", "SCALE", "parse_unit", "to_si"]
 
 MPA = 1.0e6  #: 1 MPa in Pa
 KPA = 1.0e3  #: 1 kPa in Pa

@@ -11,7 +11,13 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mudrft
-from mudrft.constitutive import laws, suction_closed_form, thixotropic_approx, thixotropic_exact, xi_exact
+from mudrft.constitutive import (
+    laws,
+    suction_closed_form,
+    thixotropic_approx,
+    thixotropic_exact,
+    xi_exact,
+)
 
 P25V = mudrft.paper_parameters(0.25, "vertical")
 P35H = mudrft.paper_parameters(0.35, "horizontal")
@@ -38,7 +44,9 @@ def test_xi_and_thixotropic_exact_match_ode(p, rate, xi0):
     xi_ref, s_ref = _ivp(rhs, [xi0, 0.0], t[-1], t)
     np.testing.assert_allclose(xi_exact(t, rate, p, xi0=xi0), xi_ref, rtol=1e-7, atol=1e-10)
     scale = (p.eta_inf + p.eta_m) * rate
-    np.testing.assert_allclose(thixotropic_exact(t, rate, p, xi0=xi0), s_ref, rtol=0, atol=1e-7 * scale)
+    np.testing.assert_allclose(
+        thixotropic_exact(t, rate, p, xi0=xi0), s_ref, rtol=0, atol=1e-7 * scale
+    )
 
 
 def test_thixotropic_exact_with_tau_equal_lambda_is_the_limit():
@@ -52,7 +60,10 @@ def test_thixotropic_exact_with_tau_equal_lambda_is_the_limit():
 
     def rhs(_t, y):
         xi, s = y
-        return [q.k_a * (1 - xi) - q.k_r * rate * xi, ((q.eta_inf + xi * q.eta_m) * rate - s) / q.lam]
+        return [
+            q.k_a * (1 - xi) - q.k_r * rate * xi,
+            ((q.eta_inf + xi * q.eta_m) * rate - s) / q.lam,
+        ]
 
     _, s_ref = _ivp(rhs, [0.0, 0.0], t[-1], t)
     np.testing.assert_allclose(thixotropic_exact(t, rate, q), s_ref, atol=1e-7 * q.eta_m * rate)
@@ -71,7 +82,9 @@ def test_erratum_E5_second_term_does_not_vanish_when_tau_equals_lambda():
     expected_max = xi_ss * q.eta_m * rate / np.e
     # the grid resolves the maximum of (t/lam) e^{-t/lam} at t = lam to 1e-5 relative
     assert np.max(np.abs(err)) == pytest.approx(expected_max, rel=1e-4)
-    assert np.max(np.abs(err)) > 0.05 * laws.thixotropic_steady(rate, q.eta_inf, q.eta_m, q.gamma_dot_c)
+    assert np.max(np.abs(err)) > 0.05 * laws.thixotropic_steady(
+        rate, q.eta_inf, q.eta_m, q.gamma_dot_c
+    )
 
 
 def test_paper_approximation_holds_when_structure_starts_at_steady_state():
@@ -79,8 +92,12 @@ def test_paper_approximation_holds_when_structure_starts_at_steady_state():
     rate = 1.0
     xi_ss = float(laws.xi_steady(rate, P25V.gamma_dot_c))
     t = np.linspace(0, 8, 50)
-    np.testing.assert_allclose(thixotropic_exact(t, rate, P25V, xi0=xi_ss), thixotropic_approx(t, rate, P25V),
-                               rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(
+        thixotropic_exact(t, rate, P25V, xi0=xi_ss),
+        thixotropic_approx(t, rate, P25V),
+        rtol=1e-12,
+        atol=1e-9,
+    )
 
 
 @pytest.mark.parametrize("phi", [0.0, 0.3, 0.8, 1.0])
@@ -93,7 +110,9 @@ def test_suction_closed_form_matches_ode(phi):
 
     for s0 in (0.0, -0.5 * p.sigma_y):
         (ref,) = _ivp(rhs, [s0], t[-1], t)
-        np.testing.assert_allclose(suction_closed_form(t, phi, p, sigma_s0=s0), ref, atol=1e-8 * p.sigma_y)
+        np.testing.assert_allclose(
+            suction_closed_form(t, phi, p, sigma_s0=s0), ref, atol=1e-8 * p.sigma_y
+        )
 
 
 def test_suction_steady_states():
@@ -102,7 +121,9 @@ def test_suction_steady_states():
     assert laws.suction_steady(0.0, p.tau_build, p.tau_leak, p.sigma_y) == 0.0
     # the closed form reaches them: after 20 time constants the transient is e^-20
     assert suction_closed_form(20 * p.tau_build, 1.0, p) == pytest.approx(-p.sigma_y, rel=1e-8)
-    assert suction_closed_form(20 * p.tau_leak, 0.0, p, sigma_s0=-p.sigma_y) == pytest.approx(0, abs=1e-8 * p.sigma_y)
+    assert suction_closed_form(20 * p.tau_leak, 0.0, p, sigma_s0=-p.sigma_y) == pytest.approx(
+        0, abs=1e-8 * p.sigma_y
+    )
 
 
 def test_steady_structure_and_thixotropic_stress_eq4():

@@ -10,7 +10,7 @@ from scipy.integrate import solve_ivp
 
 import mudrft
 from mudrft._validation import MudrftError
-from mudrft.constitutive import initial_state, laws, run, step, thixotropic_exact
+from mudrft.constitutive import initial_state, run, step, thixotropic_exact
 
 P25V = mudrft.paper_parameters(0.25, "vertical")
 
@@ -39,14 +39,22 @@ def _reference(p, t_eval):
         return [dxi, dsth, dss]
 
     # sigma_th(0) = eta_inf * gamma_dot(0) = 0 because the cycle starts at rest
-    sol = solve_ivp(rhs, (0, t_eval[-1]), [0.0, 0.0, 0.0], t_eval=t_eval, rtol=1e-11, atol=1e-12,
-                    method="Radau", max_step=T / 400)
+    sol = solve_ivp(
+        rhs,
+        (0, t_eval[-1]),
+        [0.0, 0.0, 0.0],
+        t_eval=t_eval,
+        rtol=1e-11,
+        atol=1e-12,
+        method="Radau",
+        max_step=T / 400,
+    )
     assert sol.success
     return sol.y
 
 
 def _stepper_states(p, n):
-    g, gd, gdd, gw, T = _smooth_cycle()
+    g, gd, _gdd, _gw, T = _smooth_cycle()
     t = np.linspace(0, T, n + 1)
     s = initial_state()
     xs, sths, sss = [0.0], [0.0], [0.0]
@@ -54,7 +62,9 @@ def _stepper_states(p, n):
         dt = t[k] - t[k - 1]
         s, out = step(p, s, g(t[k]), (g(t[k]) - g(t[k - 1])) / dt, dt)
         xs.append(float(s.xi))
-        sths.append(float(out.thixotropic - p.eta_inf * (g(t[k]) - g(t[k - 1])) / dt + p.eta_inf * gd(t[k])))
+        sths.append(
+            float(out.thixotropic - p.eta_inf * (g(t[k]) - g(t[k - 1])) / dt + p.eta_inf * gd(t[k]))
+        )
         sss.append(float(s.sigma_s))
     return t, np.array(xs), np.array(sths), np.array(sss)
 
@@ -67,9 +77,11 @@ def test_stepper_matches_original_ode_and_converges_with_order_two():
     for n in (100, 200, 400):
         t, xi, sth, ss = _stepper_states(p, n)
         xi_r, sth_r, ss_r = _reference(p, t)
-        e = max(np.max(np.abs(xi - xi_r)),
-                np.max(np.abs(sth - sth_r)) / p.eta_m,
-                np.max(np.abs(ss - ss_r)) / p.sigma_y)
+        e = max(
+            np.max(np.abs(xi - xi_r)),
+            np.max(np.abs(sth - sth_r)) / p.eta_m,
+            np.max(np.abs(ss - ss_r)) / p.sigma_y,
+        )
         errs.append(e)
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     # second order expected; 1.7 leaves room for the kink of the sealing at the turning point
@@ -81,7 +93,7 @@ def test_stepper_is_exact_for_constant_rate_at_any_step():
     p = P25V
     rate = 0.8
     for dt in (1e-4, 1e-3, 1e-2, 0.5):
-        n = int(round(2.0 / dt))
+        n = round(2.0 / dt)
         s = initial_state()
         for k in range(1, n + 1):
             s, out = step(p, s, rate * k * dt, rate, dt, acceleration=False)
@@ -145,16 +157,20 @@ def test_suction_tends_to_minus_sigma_y_when_sealed_and_zero_when_leaking():
     # intrude, then retract slowly for a long time with the cavity sealed
     s, _ = step(p, s, 0.5, 0.5, 1.0)
     for _ in range(1000):  # 10 s = 31 tau_build: the transient is e^-31
-        s, out = step(p, s, float(s.gamma) - 4e-4, -4e-2, 0.01)  # retract 0.4 >> epsilon
+        s, _out = step(p, s, float(s.gamma) - 4e-4, -4e-2, 0.01)  # retract 0.4 >> epsilon
     assert float(s.sigma_s) == pytest.approx(-p.sigma_y, rel=1e-6)
     # seal broken by the foot (seal factor 0): suction leaks away
     for _ in range(400):  # 4 s = 23 tau_leak
-        s, out = step(p, s, float(s.gamma) - 1e-5, -1e-3, 0.01, seal=0.0)
+        s, _out = step(p, s, float(s.gamma) - 1e-5, -1e-3, 0.01, seal=0.0)
     assert abs(float(s.sigma_s)) < 1e-6 * p.sigma_y
 
 
 def test_scalar_and_array_inputs_agree():
-    sets = [mudrft.paper_parameters(w, d) for w in (0.25, 0.35, 0.45) for d in ("vertical", "horizontal")]
+    sets = [
+        mudrft.paper_parameters(w, d)
+        for w in (0.25, 0.35, 0.45)
+        for d in ("vertical", "horizontal")
+    ]
     batch = mudrft.MudParameters.stack(sets)
     t = np.linspace(0, 3, 301)
     g = 0.5 * np.sin(np.pi * t / 3)
@@ -185,15 +201,21 @@ def test_bad_input_is_rejected_with_the_argument_name():
 
 
 params_strategy = st.builds(
-    lambda w, d, scale: mudrft.paper_parameters(w, d).replace(alpha=mudrft.paper_parameters(w, d).alpha * scale),
-    st.floats(0.25, 0.45), st.sampled_from(["vertical", "horizontal"]), st.floats(0.1, 10.0),
+    lambda w, d, scale: mudrft.paper_parameters(w, d).replace(
+        alpha=mudrft.paper_parameters(w, d).alpha * scale
+    ),
+    st.floats(0.25, 0.45),
+    st.sampled_from(["vertical", "horizontal"]),
+    st.floats(0.1, 10.0),
 )
 
 
 @settings(max_examples=40, deadline=None)
-@given(p=params_strategy,
-       amps=st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=12),
-       dt=st.sampled_from([1e-4, 1e-3, 1e-2]))
+@given(
+    p=params_strategy,
+    amps=st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=12),
+    dt=st.sampled_from([1e-4, 1e-3, 1e-2]),
+)
 def test_no_nan_or_inf_for_any_valid_input(p, amps, dt):
     t = np.arange(0, len(amps)) * 0.05
     tt = np.arange(0, t[-1] + dt / 2, dt)

@@ -14,7 +14,7 @@ from mudrft.parameters import chen2026, sigma_y_consistency, table_rows
 
 
 def _tex_rows(tex: str, label: str) -> dict[float, list[float]]:
-    block = tex[tex.index(f"\\label{{{label}}}"):]
+    block = tex[tex.index(f"\\label{{{label}}}") :]
     block = block[: block.index("\\end{tabular}")]
     rows = {}
     for m in re.finditer(r"\$W=(\d+)\\%\$\s*&(.*?)\\\\", block):
@@ -22,7 +22,10 @@ def _tex_rows(tex: str, label: str) -> dict[float, list[float]]:
     return rows
 
 
-@pytest.mark.parametrize(("label", "table"), [("tab:mdlPara_Z", chen2026.VERTICAL), ("tab:mdlPara_XY", chen2026.HORIZONTAL)])
+@pytest.mark.parametrize(
+    ("label", "table"),
+    [("tab:mdlPara_Z", chen2026.VERTICAL), ("tab:mdlPara_XY", chen2026.HORIZONTAL)],
+)
 def test_tables_are_transcribed_exactly_as_printed(paper_tex, label, table):
     rows = _tex_rows(paper_tex, label)
     assert set(rows) == set(table) == {0.25, 0.35, 0.45}
@@ -32,7 +35,9 @@ def test_tables_are_transcribed_exactly_as_printed(paper_tex, label, table):
 
 def test_si_conversion():
     p = mudrft.paper_parameters(0.25, "vertical")
-    assert p.alpha == 0.024e6 and p.eta_m == 0.067e6 and p.eta_inf == 0.014e6 and p.sigma_y == 0.0071e6
+    assert (
+        p.alpha == 0.024e6 and p.eta_m == 0.067e6 and p.eta_inf == 0.014e6 and p.sigma_y == 0.0071e6
+    )
     assert p.lam == 1.9 and p.gamma_dot_c == 0.14 and p.tau_build == 0.32 and p.epsilon == 0.016
     assert "Table S1" in p.source and "25" in p.source
     mud = mudrft.paper_mud(0.35)

@@ -22,13 +22,13 @@ from . import laws
 from .state import ChannelState, ChannelStress, initial_state
 
 __all__ = [
-    "step",
-    "run",
     "ChannelHistory",
-    "xi_exact",
-    "thixotropic_exact",
-    "thixotropic_approx",
+    "run",
+    "step",
     "suction_closed_form",
+    "thixotropic_approx",
+    "thixotropic_exact",
+    "xi_exact",
 ]
 
 
@@ -108,7 +108,9 @@ def step(
     flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
     deeper = xp.abs(gamma) >= xp.abs(gw_old)
     gw_new = xp.where(deeper | flipped, gamma, gw_old)
-    direction = xp.where(gw_new != 0, xp.sign(gw_new), xp.where(gamma_dot != 0, xp.sign(gamma_dot), 1.0))
+    direction = xp.where(
+        gw_new != 0, xp.sign(gw_new), xp.where(gamma_dot != 0, xp.sign(gamma_dot), 1.0)
+    )
     r_start = xp.where(flipped, 0.0, xp.maximum(xp.abs(gw_old) - xp.abs(g_old), 0.0))
     r_end = xp.maximum(xp.abs(gw_new) - xp.abs(gamma), 0.0)
     r_mid = 0.5 * (r_start + r_end)
@@ -135,14 +137,18 @@ def step(
     sig_s_new = target + (state.sigma_s - target) * xp.exp(-a * dt)
 
     # stresses at the end of the step, eq. (1)
-    sigma_b = laws.elastic_stress(gamma, p.alpha, p.n, xp=xp) * laws.bed_contact(r_end, p.epsilon, xp=xp)
+    sigma_b = laws.elastic_stress(gamma, p.alpha, p.n, xp=xp) * laws.bed_contact(
+        r_end, p.epsilon, xp=xp
+    )
     sigma_th = s_new + kappa * p.eta_inf * gamma_dot
     H = laws.switch(direction * gamma_dot, p.nu, xp=xp)
     suction = H * sig_s_new
     total = sigma_b + sigma_th + suction
 
     new_state = ChannelState(gamma=gamma, gamma_w=gw_new, xi=xi_new, s_th=s_new, sigma_s=sig_s_new)
-    return new_state, ChannelStress(total=total, elastic=sigma_b, thixotropic=sigma_th, suction=suction)
+    return new_state, ChannelStress(
+        total=total, elastic=sigma_b, thixotropic=sigma_th, suction=suction
+    )
 
 
 class ChannelHistory(NamedTuple):
@@ -292,7 +298,11 @@ def thixotropic_exact(
     e_lam = np.exp(-t / lam)
     x = t * (1.0 / lam - 1.0 / tau)
     conv = e_lam * (t / lam) * _expm1_over_x(x, np)
-    return (A + B * xi_ss) * (1.0 - e_lam) + B * (xi0 - xi_ss) * conv + kappa * params.eta_inf * gamma_dot
+    return (
+        (A + B * xi_ss) * (1.0 - e_lam)
+        + B * (xi0 - xi_ss) * conv
+        + kappa * params.eta_inf * gamma_dot
+    )
 
 
 def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:

@@ -14,21 +14,21 @@ from typing import Any
 import numpy as np
 
 __all__ = [
-    "elastic_stress",
-    "switch",
-    "sealing_printed",
-    "sealing",
     "bed_contact",
-    "xi_steady",
-    "tau_xi",
-    "thixotropic_steady",
-    "yield_stress",
+    "elastic_stress",
+    "f_n",
+    "f_n_extended",
+    "f_t",
+    "f_t_extended",
+    "sealing",
+    "sealing_printed",
     "suction_rate",
     "suction_steady",
-    "f_n",
-    "f_t",
-    "f_n_extended",
-    "f_t_extended",
+    "switch",
+    "tau_xi",
+    "thixotropic_steady",
+    "xi_steady",
+    "yield_stress",
 ]
 
 
@@ -176,7 +176,9 @@ def tau_xi(gamma_dot: Any, k_a: Any, k_r: Any, *, xp: Any = np) -> Any:
     return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
 
 
-def thixotropic_steady(gamma_dot: Any, eta_inf: Any, eta_m: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
+def thixotropic_steady(
+    gamma_dot: Any, eta_inf: Any, eta_m: Any, gamma_dot_c: Any, *, xp: Any = np
+) -> Any:
     r"""Steady thixotropic stress, eq. (4): :math:`(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma` [Pa].
 
     Parameters

@@ -63,7 +63,9 @@ class ChannelStress(NamedTuple):
     suction: Any
 
 
-def initial_state(shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0) -> ChannelState:
+def initial_state(
+    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0
+) -> ChannelState:
     """State of freshly prepared mud: no stress, structure ``xi0``.
 
     Parameters

@@ -56,7 +56,7 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     s = np.asarray(stress, dtype=float)
     h = np.asarray(heading, dtype=float)
     c, sn = np.cos(h), np.sin(h)
-    signs = np.empty(np.shape(h) + (2,))
+    signs = np.empty((*np.shape(h), 2))
     signs[..., 0] = np.where(c < 0, -1.0, 1.0)
     signs[..., 1] = np.where(sn < 0, -1.0, 1.0)
     phi = np.arctan2(np.abs(sn), np.abs(c))
@@ -121,12 +121,15 @@ class Foot(ABC):
         z = el.centroids[:, 2]
         sub = z[None, :] <= np.atleast_1d(d)[:, None]
         a = el.areas[None, :] * sub
-        out = np.stack([
-            0.5 * (a * np.abs(el.normals[:, 0])).sum(-1),
-            0.5 * (a * np.abs(el.normals[:, 1])).sum(-1),
-            (a * np.clip(-el.normals[:, 2], 0, None)).sum(-1),
-        ], axis=-1)
-        return out.reshape(np.shape(d) + (3,))
+        out = np.stack(
+            [
+                0.5 * (a * np.abs(el.normals[:, 0])).sum(-1),
+                0.5 * (a * np.abs(el.normals[:, 1])).sum(-1),
+                (a * np.clip(-el.normals[:, 2], 0, None)).sum(-1),
+            ],
+            axis=-1,
+        )
+        return out.reshape((*np.shape(d), 3))
 
     def elements(self) -> SurfaceElements:
         """Surface elements of the whole foot in its own frame (tip at the origin)."""
@@ -157,7 +160,9 @@ class Foot(ABC):
         h = check_finite("heading", heading)
         return self.force_unchecked(d, s, h)
 
-    def force_unchecked(self, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray) -> np.ndarray:
+    def force_unchecked(
+        self, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray
+    ) -> np.ndarray:
         """:meth:`force` without input validation, for inner loops (arrays already checked).
 
         Subclasses that compute world forces directly (mesh feet) override this method.
@@ -199,4 +204,3 @@ class Foot(ABC):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(name={self.name!r})"
-

@@ -18,7 +18,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite
 
-__all__ = ["MudParameters", "Mud", "PARAMETER_UNITS", "POSITIVE_FIELDS"]
+__all__ = ["PARAMETER_UNITS", "POSITIVE_FIELDS", "Mud", "MudParameters"]
 
 #: SI unit of every field of :class:`MudParameters`.
 PARAMETER_UNITS: dict[str, str] = {
@@ -38,8 +38,18 @@ PARAMETER_UNITS: dict[str, str] = {
 
 #: Fields that must be strictly positive.
 POSITIVE_FIELDS = (
-    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
-    "sigma_y", "nu", "k_a",
+    "alpha",
+    "n",
+    "lam",
+    "eta_m",
+    "eta_inf",
+    "gamma_dot_c",
+    "tau_build",
+    "tau_leak",
+    "epsilon",
+    "sigma_y",
+    "nu",
+    "k_a",
 )
 
 
@@ -183,7 +193,10 @@ class MudParameters:
         """Stack several sets into one batched set with fields of shape ``(len(sets),)``."""
         if not sets:
             raise MudrftError("sets must contain at least one MudParameters, got an empty list")
-        fields = {k: np.array([np.asarray(getattr(s, k), dtype=float) for s in sets]) for k in PARAMETER_UNITS}
+        fields = {
+            k: np.array([np.asarray(getattr(s, k), dtype=float) for s in sets])
+            for k in PARAMETER_UNITS
+        }
         return cls(**fields, source="stack")
 
     def __repr__(self) -> str:

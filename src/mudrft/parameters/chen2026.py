@@ -16,13 +16,21 @@ from typing import Final
 
 from ..units import MPA
 
-__all__ = ["COLUMNS", "PRINTED_UNITS", "VERTICAL", "HORIZONTAL", "CITATION_KEY", "TABLE_NAME"]
+__all__ = ["CITATION_KEY", "COLUMNS", "HORIZONTAL", "PRINTED_UNITS", "TABLE_NAME", "VERTICAL"]
 
 CITATION_KEY: Final = "chen2026mud"
 
 #: Column names of the tables, in the order printed.
 COLUMNS: Final = (
-    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
+    "alpha",
+    "n",
+    "lam",
+    "eta_m",
+    "eta_inf",
+    "gamma_dot_c",
+    "tau_build",
+    "tau_leak",
+    "epsilon",
     "sigma_y",
 )
 

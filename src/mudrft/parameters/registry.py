@@ -23,13 +23,13 @@ from . import chen2026
 from .base import Mud, MudParameters
 
 __all__ = [
-    "paper_parameters",
-    "paper_mud",
-    "table_rows",
-    "sigma_y_consistency",
     "DIRECTIONS",
-    "WATER_CONTENT_RANGE",
     "EXTRAPOLATION_RANGE",
+    "WATER_CONTENT_RANGE",
+    "paper_mud",
+    "paper_parameters",
+    "sigma_y_consistency",
+    "table_rows",
 ]
 
 DIRECTIONS = ("vertical", "horizontal")
@@ -47,12 +47,16 @@ def table_rows(direction: str) -> dict[float, dict[str, float]]:
     """The printed rows of one table, in SI, keyed by water content [-]."""
     out = {}
     for w, row in _table(direction).items():
-        out[w] = {c: v * chen2026.PRINTED_UNITS[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)}
+        out[w] = {
+            c: v * chen2026.PRINTED_UNITS[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)
+        }
     return out
 
 
 def _check_water_content(water_content: object, extrapolate: bool) -> float:
-    if isinstance(water_content, bool) or not isinstance(water_content, (int, float, np.floating, np.integer)):
+    if isinstance(water_content, bool) or not isinstance(
+        water_content, (int, float, np.floating, np.integer)
+    ):
         raise MudrftError(
             f"water_content must be a number (volume fraction, e.g. 0.25), got {water_content!r}"
         )
@@ -165,8 +169,12 @@ def paper_mud(water_content: float = 0.25, *, extrapolate: bool = False) -> Mud:
         h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate)
     if caught:
         warnings.warn(str(caught[0].message), UserWarning, stacklevel=2)
-    return Mud(vertical=v, horizontal=h, water_content=v.water_content,
-               name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %")
+    return Mud(
+        vertical=v,
+        horizontal=h,
+        water_content=v.water_content,
+        name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %",
+    )
 
 
 def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:
@@ -197,13 +205,15 @@ def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:
         hi = (em + half_ulp(em) - (ei - half_ulp(ei))) * (gc + half_ulp(gc))
         rel = (em - ei) * gc
         sy_lo, sy_hi = sy - half_ulp(sy), sy + half_ulp(sy)
-        out.append({
-            "water_content": w,
-            "sigma_y_printed": sy * 1e6,
-            "sigma_y_relation": rel * 1e6,
-            "ratio": sy / rel,
-            "relation_low": lo * 1e6,
-            "relation_high": hi * 1e6,
-            "consistent": bool(sy_hi >= lo and sy_lo <= hi),
-        })
+        out.append(
+            {
+                "water_content": w,
+                "sigma_y_printed": sy * 1e6,
+                "sigma_y_relation": rel * 1e6,
+                "ratio": sy / rel,
+                "relation_low": lo * 1e6,
+                "relation_high": hi * 1e6,
+                "consistent": bool(sy_hi >= lo and sy_lo <= hi),
+            }
+        )
     return out
