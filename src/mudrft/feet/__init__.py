@@ -1,0 +1,68 @@
+"""Feet: closed-form feet of the paper, mesh feet of any shape, and the morphing foot.
+
+>>> from mudrft.feet import Flat, SemiCylinder, SemiSphere
+>>> [f.name for f in (Flat(), SemiCylinder(), SemiSphere())]
+['flat', 'semi-cylinder', 'semi-sphere']
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from typing import Any
+
+from .._validation import MudrftError
+from .base import Foot, SurfaceElements, first_quadrant
+from .closed_form import Flat, SemiCylinder, SemiSphere
+from .mesh import MeshFoot, MeshWarning
+
+__all__ = [
+    "Flat",
+    "Foot",
+    "MeshFoot",
+    "MeshWarning",
+    "MorphingFoot",
+    "SemiCylinder",
+    "SemiSphere",
+    "SurfaceElements",
+    "by_name",
+    "first_quadrant",
+]
+
+#: Names accepted by :func:`by_name` (besides mesh file paths).
+NAMES = ("flat", "semi-cylinder", "semi-sphere", "morphing")
+
+
+def __getattr__(name: str) -> Any:
+    # the morphing foot loads on first use
+    if name == "MorphingFoot":
+        return importlib.import_module(".morphing", __name__).MorphingFoot
+    raise AttributeError(f"module 'mudrft.feet' has no attribute {name!r}")
+
+
+def by_name(name: str | os.PathLike[str]) -> Foot:
+    """The foot called ``name`` with the paper's dimensions, or a mesh foot read from a file.
+
+    Parameters
+    ----------
+    name : str or path-like
+        ``"flat"``, ``"semi-cylinder"``, ``"semi-sphere"``, ``"morphing"``, or a path ending
+        in ``.stl``, ``.obj`` or ``.ply`` (coordinates in metres).
+
+    Examples
+    --------
+    >>> by_name("semi-sphere")
+    SemiSphere(radius=0.045, height=0.026)
+    """
+    is_path = isinstance(name, str) and name.lower().endswith((".stl", ".obj", ".ply"))
+    if isinstance(name, os.PathLike) or is_path:
+        return MeshFoot.from_file(name)
+    if name == "flat":
+        return Flat()
+    if name == "semi-cylinder":
+        return SemiCylinder()
+    if name == "semi-sphere":
+        return SemiSphere()
+    if name == "morphing":
+        return __getattr__("MorphingFoot")()  # type: ignore[no-any-return]
+    raise MudrftError(f"foot must be one of {list(NAMES)} or a .stl/.obj/.ply file, got {name!r}")

@@ -1,0 +1,443 @@
+r"""A foot of any shape, given as a triangle mesh: forces by surface-element integration.
+
+:class:`MeshFoot` validates a mesh, puts it in the foot frame (lowest point at the origin)
+and integrates the element rule of :mod:`mudrft.feet.surface` over it, with each facet
+clipped exactly by the mud surface. Mesh files: STL (ASCII or binary, read without extra
+dependencies by :mod:`mudrft.feet.stl`), OBJ and PLY (through the optional ``trimesh``).
+
+Mesh checks (decision D25 in ``docs/fragments/feet.md``):
+
+* NaN or infinite vertices, faces not of shape (m, 3), non-integer or out-of-range indices,
+  an empty or all-degenerate mesh: :class:`~mudrft.MudrftError`;
+* zero-area facets (area <= 1e-14 of the squared bounding-box diagonal, including
+  facets with a repeated vertex): dropped, with a :class:`MeshWarning`;
+* closed (every edge shared by exactly two facets) and consistently wound: the winding is
+  flipped if the enclosed volume is negative (inward normals), recorded in ``flipped``;
+* inconsistently wound (an edge traversed twice in the same direction): error;
+* open or non-manifold: allowed with a :class:`MeshWarning` (only the outward normals of
+  the surface in contact matter; the winding is taken as given).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
+from ..units import parse_unit
+from .base import Foot, SurfaceElements
+from .surface import (
+    PreparedTriangles,
+    integrate_prepared,
+    integrate_wrench,
+    prepare_triangles,
+)
+
+__all__ = ["MeshFoot", "MeshWarning", "as_rotation_matrix"]
+
+#: Facet evaluations per vectorized chunk when a batch is integrated (keeps the
+#: temporaries in cache; see benchmarks/bench_feet.py).
+CHUNK = 1 << 16
+
+#: File formats :meth:`MeshFoot.from_file` reads.
+FORMATS = (".stl", ".obj", ".ply")
+
+
+class MeshWarning(UserWarning):
+    """A mesh was accepted with a change or a caveat (dropped facets, open surface)."""
+
+
+def as_rotation_matrix(rotation: Any) -> np.ndarray:
+    """A proper rotation matrix (3, 3) from a matrix or a ``scipy.spatial.transform.Rotation``.
+
+    Parameters
+    ----------
+    rotation : array_like (3, 3) or Rotation
+        Orthonormal matrix with determinant +1 (tolerance 1e-6), or a scipy Rotation.
+
+    Examples
+    --------
+    >>> as_rotation_matrix(np.eye(3)).tolist()[0]
+    [1.0, 0.0, 0.0]
+    """
+    if hasattr(rotation, "as_matrix") and callable(rotation.as_matrix):
+        m = np.asarray(rotation.as_matrix(), dtype=float)
+        if m.shape != (3, 3):
+            raise MudrftError(f"rotation must be a single rotation, got a stack of shape {m.shape}")
+        return m
+    m = check_finite("rotation", rotation)
+    if m.shape != (3, 3):
+        raise MudrftError(f"rotation must be a 3x3 matrix or a scipy Rotation, got shape {m.shape}")
+    err = float(np.abs(m @ m.T - np.eye(3)).max())
+    if err > 1e-6 or np.linalg.det(m) < 0:
+        raise MudrftError(
+            "rotation must be a proper rotation (orthonormal, determinant +1), got a matrix with "
+            f"|R R^T - I| = {err:.2g} and determinant {np.linalg.det(m):.3g}"
+        )
+    return m
+
+
+def _check_faces(faces: Any, n_vertices: int) -> np.ndarray:
+    if isinstance(faces, str):
+        raise MudrftError(
+            f"faces must be an integer array of shape (m, 3), got the string {faces!r}"
+        )
+    try:
+        f = np.asarray(faces)
+    except (TypeError, ValueError) as exc:
+        raise MudrftError(
+            f"faces must be an integer array of shape (m, 3), got {type(faces).__name__}"
+        ) from exc
+    if f.ndim != 2 or f.shape[1] != 3:
+        hint = " (quads or polygons: triangulate them first)" if f.ndim == 2 else ""
+        raise MudrftError(f"faces must have shape (m, 3){hint}, got shape {f.shape}")
+    if f.shape[0] == 0:
+        raise MudrftError("faces must contain at least one triangle, got an empty array")
+    if not np.issubdtype(f.dtype, np.integer):
+        if (
+            not np.issubdtype(f.dtype, np.floating)
+            or not np.all(np.isfinite(f))
+            or np.any(f != np.round(f))
+        ):
+            raise MudrftError(f"faces must hold integer vertex indices, got dtype {f.dtype}")
+        f = f.astype(np.int64)
+    bad = (f < 0) | (f >= n_vertices)
+    if np.any(bad):
+        i = int(np.argmax(bad.any(axis=1)))
+        raise MudrftError(
+            f"faces must index vertices in [0, {n_vertices - 1}], but face {i} is {f[i].tolist()}"
+        )
+    return f.astype(np.int64)
+
+
+def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int]:
+    """``(closed, n_inconsistent)``: closed 2-manifold test and count of mis-wound edges.
+
+    Vertices with identical coordinates are treated as one (STL files repeat them).
+    """
+    _, weld = np.unique(vertices, axis=0, return_inverse=True)
+    f = weld.reshape(-1)[faces]
+    # facets with a repeated vertex are no surface (dropped later); leave them out here
+    f = f[(f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])]
+    directed = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    _, dcount = np.unique(directed, axis=0, return_counts=True)
+    undirected = np.sort(directed, axis=1)
+    _, ucount = np.unique(undirected, axis=0, return_counts=True)
+    closed = bool(ucount.size > 0 and np.all(ucount == 2))
+    return closed, int(np.sum(dcount > 1))
+
+
+class MeshFoot(Foot):
+    r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+        Vertex coordinates [m] (z up). The mesh is translated so that its lowest point is the
+        tip at the origin (see ``shift``).
+    faces : array_like, shape (m, 3)
+        Vertex indices of each triangle; the winding (right-hand rule) gives the outward
+        normal (fixed automatically for closed meshes).
+    trailing : bool, optional
+        Let facets that trail the horizontal motion resist too (the supplementary's
+        full-range factors, as in the sphere's derivation). Default ``False``: only leading
+        facets resist, as in the flat and semi-cylindrical feet's closed forms (D23).
+    name : str, optional
+        Name used in reports.
+
+    Attributes
+    ----------
+    vertices : ndarray (n, 3)
+        Vertices in the foot frame [m].
+    faces : ndarray (m, 3)
+        Faces after dropping zero-area facets (and flipping the winding if it was inward).
+    shift : ndarray (3,)
+        Translation added to the given vertices to put the tip at the origin [m]: the tip is
+        the lowest vertex; its x, y are the mean of all vertices within 1e-9 of the
+        bounding-box diagonal of the lowest height.
+    closed : bool
+        Whether the mesh is a closed 2-manifold.
+    flipped : bool
+        Whether the winding was reversed because the normals pointed inward.
+    dropped : int
+        Number of zero-area facets dropped.
+
+    Examples
+    --------
+    A downward-facing unit square (an open mesh: a warning says so):
+
+    >>> import warnings
+    >>> v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     plate = MeshFoot(v, [[0, 2, 1], [0, 3, 2]])
+    >>> plate.resultant(0.01, [0.0, 0.0, 2.0], 0.0).tolist()
+    [0.0, 0.0, 2.0]
+    """
+
+    def __init__(
+        self, vertices: Any, faces: Any, *, trailing: bool = False, name: str = "mesh"
+    ) -> None:
+        v = check_finite("vertices", vertices)
+        if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] < 3:
+            raise MudrftError(f"vertices must have shape (n, 3) with n >= 3, got shape {v.shape}")
+        f = _check_faces(faces, v.shape[0])
+        if not isinstance(trailing, bool | np.bool_):
+            raise MudrftError(f"trailing must be True or False, got {trailing!r}")
+        self.name = str(name)
+        self.trailing = bool(trailing)
+        used = np.unique(f)
+        vu = v[used]
+        diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
+        if diag == 0.0:
+            raise MudrftError("vertices must not all coincide: the mesh is degenerate (zero size)")
+        closed, wrong = _topology(v, f)
+        if wrong:
+            raise MudrftError(
+                f"faces must be consistently wound, but {wrong} edge(s) are traversed twice in the "
+                "same direction; fix the mesh (e.g. trimesh.repair.fix_normals) and retry"
+            )
+        tri = v[f]
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        zero = area <= 1e-14 * diag**2
+        if np.all(zero):
+            raise MudrftError("the mesh is degenerate: every facet has zero area")
+        self.dropped = int(zero.sum())
+        if self.dropped:
+            warnings.warn(
+                f"MeshFoot: dropped {self.dropped} zero-area facet(s)", MeshWarning, stacklevel=2
+            )
+            f = f[~zero]
+        self.closed = closed
+        self.flipped = False
+        if closed:
+            tri = v[f]
+            volume = float(np.sum(tri[:, 0] * np.cross(tri[:, 1], tri[:, 2]))) / 6.0
+            if volume < 0:
+                f = f[:, ::-1].copy()
+                self.flipped = True
+        else:
+            warnings.warn(
+                "MeshFoot: the mesh is open (or non-manifold); its winding is taken as given, so "
+                "make sure the normals of the surface in contact point outward",
+                MeshWarning,
+                stacklevel=2,
+            )
+        self._set_geometry(v, f)
+
+    def _set_geometry(self, v: np.ndarray, f: np.ndarray) -> None:
+        used = np.unique(f)
+        vu = v[used]
+        diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
+        zmin = float(vu[:, 2].min())
+        low = vu[vu[:, 2] <= zmin + 1e-9 * diag]
+        tip = np.array([low[:, 0].mean(), low[:, 1].mean(), zmin])
+        self.shift = -tip
+        self.vertices = v + self.shift
+        self.faces = f
+        self._triangles = self.vertices[f]
+        self._prep: PreparedTriangles = prepare_triangles(self._triangles)
+        self._height = float(self.vertices[used, 2].max())
+        n, a = self._prep.normal, self._prep.area
+        self._plan_area = float(np.sum(a * np.clip(-n[:, 2], 0.0, None)))
+
+    # -- construction -----------------------------------------------------------------------
+    @classmethod
+    def from_file(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        unit: str = "m",
+        trailing: bool = False,
+        name: str | None = None,
+    ) -> MeshFoot:
+        """Read a mesh file: STL (ASCII or binary; no extra dependency), OBJ or PLY (trimesh).
+
+        Parameters
+        ----------
+        path : str or path-like
+            File to read (never modified).
+        unit : str, optional
+            Length unit of the file's coordinates (``"m"``, ``"cm"``, ``"mm"``, ``"um"``).
+        trailing : bool, optional
+            See :class:`MeshFoot`.
+        name : str, optional
+            Name (default: the file name without extension).
+        """
+        scale = parse_unit("length", unit)
+        p = os.fspath(path)
+        ext = os.path.splitext(p)[1].lower()
+        if ext not in FORMATS:
+            raise MudrftError(f"path must end in one of {list(FORMATS)}, got {p!r}")
+        if not os.path.isfile(p):
+            raise MudrftError(f"path must be an existing mesh file, got {p!r} (no such file)")
+        if ext == ".stl":
+            from .stl import read_stl
+
+            tri = read_stl(p)
+            v, f = _index_triangles(tri)
+        else:
+            v, f = _read_with_trimesh(p, ext)
+        nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
+        return cls(v * scale, f, trailing=trailing, name=nm)
+
+    def posed(self, rotation: Any) -> MeshFoot:
+        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), re-tipped.
+
+        The rotation acts on the foot-frame vertices; the copy's tip is again its lowest point.
+
+        Examples
+        --------
+        >>> from mudrft.feet import Flat
+        >>> tilted = Flat().to_mesh(resolution=2).posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+        >>> round(tilted.height, 3)  # the 80 mm length now stands vertical
+        0.08
+        """
+        r = as_rotation_matrix(rotation)
+        new = object.__new__(type(self))
+        new.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
+        new._set_geometry(self.vertices @ r.T, self.faces)
+        return new
+
+    # -- Foot interface ---------------------------------------------------------------------
+    @property
+    def height(self) -> float:
+        """Height of the mesh above its tip [m]."""
+        return self._height
+
+    @property
+    def characteristic_length(self) -> float:
+        """:math:`L_c=\\sqrt{A_z}` with :math:`A_z` the downward-facing area projected on
+        the horizontal plane (the largest cross-section of a convex foot) [m] (D27)."""
+        return math.sqrt(self._plan_area)
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """Triangles in the foot frame, shape (m, 3, 3) [m]."""
+        return self._triangles
+
+    def __len__(self) -> int:
+        return int(self.faces.shape[0])
+
+    def elements(self) -> SurfaceElements:
+        """Centroid, outward unit normal and area of every facet in the foot frame."""
+        t = self._triangles
+        return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
+
+    def _inputs(self, depth: Any, stress: Any) -> tuple[np.ndarray, np.ndarray]:
+        d = check_nonnegative("depth", depth, unit="m")
+        s = check_finite("stress", stress)
+        if s.shape[-1:] != (3,):
+            raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
+        return d, s
+
+    def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
+        """Integrate in batch chunks of about :data:`CHUNK` facet evaluations (cache-sized
+        temporaries); each chunk is one vectorized call over all facets."""
+        shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
+        n = math.prod(shape)
+        rows = max(1, CHUNK // len(self))
+        if n <= rows:
+            return np.asarray(integrate_prepared(self._prep, d, s, h, trailing=self.trailing))
+        d = np.broadcast_to(d, shape).reshape(-1)
+        h = np.broadcast_to(h, shape).reshape(-1)
+        s = np.broadcast_to(s, (*shape, 3)).reshape(-1, 3)
+        out = np.empty((n, 3))
+        for i in range(0, n, rows):  # over batch rows, never over facets
+            j = slice(i, i + rows)
+            out[j] = integrate_prepared(self._prep, d[j], s[j], h[j], trailing=self.trailing)
+        return out.reshape((*shape, 3))
+
+    def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """World-frame force [N] for a heading in any quadrant, by the vector rule directly.
+
+        Called by :meth:`Foot.force` after validation. No first-quadrant folding, so
+        asymmetric meshes are handled exactly.
+        """
+        return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
+
+    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2], by integration.
+
+        ``(-Fx, -Fy, Fz)`` of the integrated force: positive when the force resists the
+        motion (an asymmetric foot may give a negative side component).
+        """
+        d, s = self._inputs(depth, stress)
+        h = check_in_range("heading", heading, 0.0, 0.5 * math.pi, unit="rad")
+        f = self._integrate(d, s, h)
+        return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
+
+    def wrench(self, depth: Any, stress: Any, heading: Any, *, point: Any = None) -> Any:
+        """Force [N], moment about ``point`` [N m] and center of pressure [m] (foot frame).
+
+        See :func:`mudrft.feet.surface.integrate_wrench`; ``point`` defaults to the tip.
+        """
+        d, s = self._inputs(depth, stress)
+        h = check_finite("heading", heading)
+        pt = None if point is None else check_finite("point", point)
+        return integrate_wrench(
+            None, d, s, h, point=pt, trailing=self.trailing, prepared=self._prep
+        )
+
+    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Center of pressure in the foot frame [m], shape (..., 3) (decision D24).
+
+        Any heading; the stresses are signed channel stresses as in :meth:`force`.
+        """
+        return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
+
+    def projected_areas(self, depth: Any) -> np.ndarray:
+        r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping.
+
+        :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a
+        closed convex foot; the horizontal cut adds no x or y area) and
+        :math:`A_z=\sum\max(-n_z,0)dS` over the submerged parts of the facets.
+        """
+        from .surface import clip_below
+
+        d = check_nonnegative("depth", depth, unit="m")
+        a, _ = clip_below(self._prep, d)
+        n = self._prep.normal
+        return np.stack(
+            [
+                0.5 * a @ np.abs(n[:, 0]),
+                0.5 * a @ np.abs(n[:, 1]),
+                a @ np.clip(-n[:, 2], 0.0, None),
+            ],
+            axis=-1,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"MeshFoot(name={self.name!r}, facets={len(self)}, height={self.height:.4g} m, "
+            f"closed={self.closed}, trailing={self.trailing})"
+        )
+
+
+def _index_triangles(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shared vertices and faces from a triangle soup (exact coordinate matches merged)."""
+    v, inv = np.unique(tri.reshape(-1, 3), axis=0, return_inverse=True)
+    return v, inv.reshape(-1, 3)
+
+
+def _read_with_trimesh(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        import trimesh
+    except ImportError as exc:
+        raise MudrftError(
+            f"reading {ext} files needs the optional dependency trimesh; install it with "
+            "`pip install 'mudrft[mesh]'` (or convert the mesh to STL, which needs nothing extra)"
+        ) from exc
+    try:
+        mesh: Any = trimesh.load(path, force="mesh", process=False)
+        v = np.asarray(mesh.vertices, dtype=np.float64)
+        f = np.asarray(mesh.faces)
+    except Exception as exc:  # trimesh raises many exception types on bad files
+        raise MudrftError(f"could not read the mesh file {path!r}: {exc}") from exc
+    if v.ndim != 2 or v.shape[0] == 0 or f.ndim != 2 or f.shape[0] == 0:
+        raise MudrftError(f"the mesh file {path!r} contains no triangles")
+    return v, f

@@ -1,0 +1,225 @@
+r"""Closed triangle meshes of the paper's three feet, generated in code.
+
+Each function returns ``(vertices (n, 3) [m], faces (m, 3) int)``: a closed, consistently
+wound mesh with outward normals (right-hand rule), in the foot frame of the matching
+closed-form foot (tip at the origin, z up):
+
+* :func:`box_mesh`: the flat foot, x in [-W/2, W/2], y in [-L/2, L/2], z in [0, H];
+* :func:`semicylinder_mesh`: axis along x, cross-section the circular segment
+  :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)`, :math:`|\theta|\le\theta_H`, cut at z = H;
+* :func:`semisphere_mesh`: spherical cap of radius R and height H, flat top.
+
+Curved surfaces are inscribed polyhedra (vertices on the exact surface); the force
+integrated on them converges to the closed forms at second order in the element size
+(test ``test_mesh_converges_to_closed_form``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._validation import MudrftError, check_positive
+
+__all__ = ["box_mesh", "semicylinder_mesh", "semisphere_mesh"]
+
+
+def _resolution(resolution: int) -> int:
+    if (
+        isinstance(resolution, bool)
+        or not isinstance(resolution, int | np.integer)
+        or resolution < 1
+    ):
+        raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
+    return int(resolution)
+
+
+def _grid_faces(ids: np.ndarray) -> np.ndarray:
+    """Triangles of a structured grid of vertex ids (nu+1, nv+1); normal along du x dv."""
+    a = ids[:-1, :-1].ravel()
+    b = ids[1:, :-1].ravel()
+    c = ids[1:, 1:].ravel()
+    d = ids[:-1, 1:].ravel()
+    return np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)])
+
+
+def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop unreferenced vertices and renumber."""
+    used, inv = np.unique(faces, return_inverse=True)
+    return vertices[used], inv.reshape(faces.shape)
+
+
+def box_mesh(
+    length: float, width: float, height: float, *, resolution: int = 1
+) -> tuple[np.ndarray, np.ndarray]:
+    """Closed box mesh of the flat foot.
+
+    Parameters
+    ----------
+    length : float
+        :math:`L` along y [m].
+    width : float
+        :math:`W` along x [m].
+    height : float
+        Height along z [m].
+    resolution : int, optional
+        Grid divisions per edge (each face gets ``2 resolution^2`` triangles).
+
+    Returns
+    -------
+    vertices : ndarray (n, 3) [m]
+    faces : ndarray (m, 3) int
+
+    Examples
+    --------
+    >>> v, f = box_mesh(0.08, 0.065, 0.026, resolution=2)
+    >>> v.shape, f.shape
+    ((26, 3), (48, 3))
+    """
+    length, width, height = (
+        float(check_positive(k, v, unit="m"))
+        for k, v in (("length", length), ("width", width), ("height", height))
+    )
+    n = _resolution(resolution)
+    xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
+    ys = np.linspace(-0.5 * length, 0.5 * length, n + 1)
+    zs = np.linspace(0.0, height, n + 1)
+    lattice = np.arange((n + 1) ** 3).reshape(n + 1, n + 1, n + 1)  # (i, j, k) -> id
+    gx, gy, gz = np.meshgrid(xs, ys, zs, indexing="ij")
+    allv = np.stack([gx.ravel(), gy.ravel(), gz.ravel()], -1)
+    L = lattice
+    # each face as ids[u, v] with du x dv pointing outward
+    grids = [
+        L[:, :, 0].T,  # bottom: du = +y, dv = +x  -> -z
+        L[:, :, n],  # top: du = +x, dv = +y -> +z
+        L[n, :, :],  # +x: du = +y, dv = +z -> +x
+        L[0, :, :].T,  # -x: du = +z, dv = +y -> -x
+        L[:, n, :].T,  # +y: du = +z, dv = +x -> +y
+        L[:, 0, :],  # -y: du = +x, dv = +z -> -y
+    ]
+    faces = np.concatenate([_grid_faces(g) for g in grids])
+    return _compact(allv, faces)
+
+
+def semicylinder_mesh(
+    radius: float, width: float, height: float, *, resolution: int = 16
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Closed mesh of the semi-cylindrical foot (axis along x).
+
+    Parameters
+    ----------
+    radius : float
+        :math:`R` [m].
+    width : float
+        Axis length :math:`W` along x [m].
+    height : float
+        Height [m], <= ``radius``.
+    resolution : int, optional
+        Arc segments from the tip (:math:`\theta=0`) to the rim (:math:`\theta_H`); the
+        curved surface has ``2 resolution`` segments across and about square elements.
+
+    Returns
+    -------
+    vertices : ndarray (n, 3) [m]
+    faces : ndarray (m, 3) int
+
+    Examples
+    --------
+    >>> v, f = semicylinder_mesh(0.045, 0.065, 0.026, resolution=4)
+    >>> bool(v[:, 2].min() == 0.0), round(float(v[:, 2].max()), 6)
+    (True, 0.026)
+    """
+    radius, width, height = (
+        float(check_positive(k, v, unit="m"))
+        for k, v in (("radius", radius), ("width", width), ("height", height))
+    )
+    if height > radius:
+        raise MudrftError(f"height must be <= radius = {radius!r} m, got {height!r} m")
+    n = _resolution(resolution)
+    tm = math.acos(1.0 - height / radius)
+    th = np.linspace(-tm, tm, 2 * n + 1)
+    ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
+    za[[0, -1]] = height  # the rim lies exactly on the top plane
+    nx = max(1, round(width / (radius * tm / n)))
+    xs = np.linspace(-0.5 * width, 0.5 * width, nx + 1)
+    na = th.size
+    # curved surface: grid (theta, x); d(theta) x dx points away from the axis
+    gx, gt = np.meshgrid(xs, np.arange(na), indexing="ij")
+    curved = np.stack([gx.ravel(), ya[gt.ravel()], za[gt.ravel()]], -1)
+    ids = np.arange(curved.shape[0]).reshape(nx + 1, na)  # ids[i_x, j_theta]
+    faces = [_grid_faces(ids.T)]
+    verts = [curved]
+    base = curved.shape[0]
+    # end caps: fan from an interior point; arc order is counterclockwise in (y, z)
+    for sign, i_x in ((1.0, nx), (-1.0, 0)):
+        centre = np.array([[sign * 0.5 * width, 0.0, 0.5 * height]])
+        ring = ids[i_x]
+        nxt = np.roll(ring, -1)
+        c = np.full(na, base)
+        tri = np.stack([c, ring, nxt], -1) if sign > 0 else np.stack([c, nxt, ring], -1)
+        faces.append(tri)
+        verts.append(centre)
+        base += 1
+    # top: strip between the two rims, du = +x, dv = +y
+    faces.append(_grid_faces(np.stack([ids[:, 0], ids[:, -1]], -1)))
+    return _compact(np.concatenate(verts), np.concatenate(faces))
+
+
+def semisphere_mesh(
+    radius: float, height: float, *, resolution: int = 16
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Closed mesh of the semi-spherical foot (spherical cap, flat top).
+
+    Parameters
+    ----------
+    radius : float
+        :math:`R` [m].
+    height : float
+        Cap height [m], <= ``radius``.
+    resolution : int, optional
+        Rings from the tip to the rim; each ring has ``4 resolution`` azimuthal segments
+        (a multiple of 4, so the mesh keeps the x and y mirror symmetries).
+
+    Returns
+    -------
+    vertices : ndarray (n, 3) [m]
+    faces : ndarray (m, 3) int
+
+    Examples
+    --------
+    >>> v, f = semisphere_mesh(0.045, 0.026, resolution=4)
+    >>> f.shape
+    (128, 3)
+    """
+    radius, height = (
+        float(check_positive(k, v, unit="m")) for k, v in (("radius", radius), ("height", height))
+    )
+    if height > radius:
+        raise MudrftError(f"height must be <= radius = {radius!r} m, got {height!r} m")
+    n = _resolution(resolution)
+    na = 4 * n
+    tm = math.acos(1.0 - height / radius)
+    th = np.linspace(0.0, tm, n + 1)[1:]
+    ph = 2.0 * math.pi * np.arange(na) / na
+    r = radius * np.sin(th)
+    z = radius * (1.0 - np.cos(th))
+    z[-1] = height
+    rings = np.stack(
+        [(r[:, None] * np.cos(ph)).ravel(), (r[:, None] * np.sin(ph)).ravel(), np.repeat(z, na)], -1
+    )
+    ids = 1 + np.arange(n * na).reshape(n, na)  # 0 is the pole
+    top = 1 + n * na
+    verts = np.concatenate([[[0.0, 0.0, 0.0]], rings, [[0.0, 0.0, height]]])
+    k1 = np.roll(np.arange(na), -1)
+    pole = np.stack([np.zeros(na, int), ids[0, k1], ids[0]], -1)
+    a, b = ids[:-1], ids[1:]  # ring j and j+1
+    ak, bk = a[:, k1], b[:, k1]
+    quads = np.concatenate(
+        [
+            np.stack([a.ravel(), bk.ravel(), b.ravel()], -1),
+            np.stack([a.ravel(), ak.ravel(), bk.ravel()], -1),
+        ]
+    )
+    cap = np.stack([np.full(na, top), ids[-1], ids[-1, k1]], -1)
+    return verts, np.concatenate([pole, quads, cap])

@@ -1,0 +1,604 @@
+r"""Surface-element integration of the 3D force law (Chen et al. 2026, eqs. 6-7) on triangles.
+
+This module is the general rule behind every foot: the surface is a set of triangles in the
+foot frame (tip at :math:`z=0`, :math:`z` up), the mud surface is the plane :math:`z=d`
+(``depth`` of the tip), and each triangle is **clipped** exactly by that plane (0, 1, 2 or 3
+vertices submerged) so that only its submerged polygon counts, with its exact area and
+centroid.
+
+Element rule (decisions D21-D23, erratum E24 in ``docs/fragments/feet.md``). For a facet with
+outward unit normal :math:`\mathbf n=(n_x,n_y,n_z)`, submerged area :math:`dS`, horizontal normal
+:math:`\mathbf n_h=(n_x,n_y)`, :math:`\hat{\mathbf n}_h=\mathbf n_h/|\mathbf n_h|`,
+:math:`\hat{\mathbf t}=\mathbf e_z\times\hat{\mathbf n}_h` and motion direction
+:math:`\hat{\mathbf u}=(\cos h,\sin h)`:
+
+* local frame of eq. (6): :math:`\mathbf e_3=\mathbf e_z`,
+  :math:`\mathbf e_1=\mathbf n\times\mathbf e_3/\|\cdot\|=-\hat{\mathbf t}`,
+  :math:`\mathbf e_2=\mathbf e_3\times\mathbf e_1=\hat{\mathbf n}_h`; :math:`\varphi` is the
+  azimuth of :math:`\hat{\mathbf n}_h`, :math:`\psi_1` the angle between :math:`\mathbf n`
+  and :math:`-\mathbf e_z`, :math:`\psi_2` the signed angle from :math:`\mathbf e_2` to
+  :math:`\hat{\mathbf u}`, so :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}`,
+  :math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}`;
+* vertical, on facets that face down (:math:`n_z<0`):
+  :math:`dF_z=[f_n(\psi_1)\cos\psi_1+f_t(\psi_1)\sin\psi_1]\,\sigma_z\,dS
+  =(\cos^3\psi_1+\sin^3\psi_1)\,\sigma_z\,dS`;
+* horizontal, per projected area :math:`|\mathbf n_h|dS`, with the element stress
+  :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2`:
+  :math:`d\mathbf F_h=-\sigma_e\,[\tilde f_n(\psi_2)\hat{\mathbf n}_h
+  +\tilde f_t(\psi_2)\hat{\mathbf t}]\,|\mathbf n_h|\,dS`, where
+  :math:`\tilde f_n=\cos\psi_2|\cos\psi_2|`, :math:`\tilde f_t=\sin\psi_2|\sin\psi_2|` are the
+  supplementary's full-range factors (equal to :math:`f_n`, :math:`\operatorname{sgn}
+  (\sin\psi_2)f_t` on leading facets). With ``trailing=False`` only leading facets
+  (:math:`\psi_2\in(-\pi/2,\pi/2]`) count; with ``trailing=True`` all do.
+
+Since :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)=\cos^2\psi` and
+:math:`f_t(\psi)=\sin^2\psi`, the rule needs no trigonometric function: only dot products.
+
+Every function here is pure and takes an ``xp`` array namespace (``numpy`` by default; it runs
+unchanged under ``jax.numpy``): no boolean-mask indexing, no loop over facets, only
+``xp.where``. Shapes: ``triangles`` (..., m, 3, 3) [m]; ``depth`` (...) [m];
+``stress`` (..., 3) [Pa]; ``heading`` (...) [rad]; leading batch dimensions broadcast.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+__all__ = [
+    "ClippedElements",
+    "LocalFrame",
+    "PreparedTriangles",
+    "Wrench",
+    "clip_below",
+    "clip_elements",
+    "element_forces",
+    "integrate_prepared",
+    "integrate_triangles",
+    "integrate_wrench",
+    "local_frame",
+    "prepare_triangles",
+]
+
+#: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
+#: wall (no vertical force, decision D21); :math:`|\cos\psi_2|\le` this is parallel to the
+#: motion (tie rule of decision D22).
+TOL = 1e-9
+
+
+class PreparedTriangles(NamedTuple):
+    r"""Depth-independent per-facet data, computed once by :func:`prepare_triangles`.
+
+    Shapes with ``m`` facets (leading batch dimensions allowed).
+
+    Attributes
+    ----------
+    lo, mid, hi : array (..., m, 3)
+        Vertices sorted by height [m].
+    normal : array (..., m, 3)
+        Outward unit normal from the winding (right-hand rule) [-] (zero for zero-area facets).
+    area : array (..., m)
+        Facet area [m^2].
+    k_low, k_high : array (..., m)
+        Clipping constants [-]: the submerged area is ``k_low (d - z_lo)^2`` with only the
+        lowest vertex submerged and ``area - k_high (z_hi - d)^2`` with two.
+    nh : array (..., m)
+        :math:`|\mathbf n_h|=\sin\psi_1` [-].
+    hx, hy : array (..., m)
+        Unit horizontal normal :math:`\mathbf e_2` [-] (zero for horizontal facets).
+    wz : array (..., m)
+        Vertical weight :math:`\cos^3\psi_1+\sin^3\psi_1` on facets facing down, else 0 [-].
+    za, zb, zc : array (..., m)
+        Sorted vertex heights [m] (contiguous copies for speed).
+    flat_area : array (..., m)
+        Area of facets with no height span (horizontal), else 0 [m^2].
+    """
+
+    lo: Any
+    mid: Any
+    hi: Any
+    normal: Any
+    area: Any
+    k_low: Any
+    k_high: Any
+    nh: Any
+    hx: Any
+    hy: Any
+    wz: Any
+    za: Any
+    zb: Any
+    zc: Any
+    flat_area: Any
+
+
+class ClippedElements(NamedTuple):
+    """Submerged parts of the facets at one depth.
+
+    Attributes
+    ----------
+    centroids : array (..., m, 3)
+        Centroid of each submerged polygon [m] (the facet centroid when nothing is submerged).
+    normals : array (..., m, 3)
+        Outward unit normals [-].
+    areas : array (..., m)
+        Submerged areas [m^2] (0 for facets above the surface).
+    depths : array (..., m)
+        Depth of each centroid below the mud surface [m] (negative above it).
+    """
+
+    centroids: Any
+    normals: Any
+    areas: Any
+    depths: Any
+
+
+class LocalFrame(NamedTuple):
+    """Local plate frame and angles of eq. (6) for each facet and heading.
+
+    Attributes
+    ----------
+    e1, e2, e3 : array (..., m, 3)
+        Unit vectors: :math:`\\mathbf e_1=\\mathbf n\\times\\mathbf e_3/\\|\\cdot\\|`,
+        :math:`\\mathbf e_2=\\mathbf e_3\\times\\mathbf e_1` (the horizontal normal) and
+        :math:`\\mathbf e_3=\\mathbf e_z`; zero e1, e2 for horizontal facets.
+    psi1 : array (..., m)
+        Angle between the normal and the downward vertical :math:`-\\mathbf e_z` [rad], in [0, pi].
+    psi2 : array (..., m)
+        Signed angle from :math:`\\mathbf e_2` to the motion direction [rad], in (-pi, pi].
+    varphi : array (..., m)
+        Azimuth of :math:`\\mathbf e_2` from the x axis [rad], in (-pi, pi].
+    """
+
+    e1: Any
+    e2: Any
+    e3: Any
+    psi1: Any
+    psi2: Any
+    varphi: Any
+
+
+class Wrench(NamedTuple):
+    """Resultant of the element forces.
+
+    Attributes
+    ----------
+    force : array (..., 3)
+        Force of the mud on the foot [N].
+    moment : array (..., 3)
+        Moment of the element forces about ``point`` [N m].
+    center_of_pressure : array (..., 3)
+        Point of the wrench's central axis nearest to the force-weighted centroid of the
+        submerged surface [m] (decision D24); ``point`` when no force acts.
+    """
+
+    force: Any
+    moment: Any
+    center_of_pressure: Any
+
+
+def _cross(a: Any, b: Any, xp: Any) -> Any:
+    return xp.stack(
+        [
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ],
+        axis=-1,
+    )
+
+
+def _safe_div(num: Any, den: Any, xp: Any) -> Any:
+    """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
+    ok = den > 0
+    return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
+
+
+def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
+    """Per-facet data that do not depend on depth, stress or heading.
+
+    Parameters
+    ----------
+    triangles : array_like, shape (..., m, 3, 3)
+        Vertex coordinates of each triangle in the foot frame [m]; the winding (right-hand
+        rule) gives the outward normal.
+    xp : module, optional
+        Array namespace (``numpy`` or ``jax.numpy``).
+
+    Returns
+    -------
+    PreparedTriangles
+
+    Examples
+    --------
+    >>> tri = np.array([[[0, 0, 0], [0, 1, 0], [1, 0, 0]]], dtype=float)  # faces down
+    >>> p = prepare_triangles(tri)
+    >>> p.normal[0].tolist(), float(p.area[0])
+    ([0.0, 0.0, -1.0], 0.5)
+    """
+    tri = xp.asarray(triangles)
+    v0, v1, v2 = tri[..., 0, :], tri[..., 1, :], tri[..., 2, :]
+    raw = _cross(v1 - v0, v2 - v0, xp)
+    norm = xp.sqrt(xp.sum(raw * raw, axis=-1))
+    normal = _safe_div(raw, norm[..., None], xp)
+    area = 0.5 * norm
+    order = xp.argsort(tri[..., 2], axis=-1)
+    srt = xp.take_along_axis(tri, order[..., :, None], axis=-2)
+    za, zb, zc = srt[..., 0, 2], srt[..., 1, 2], srt[..., 2, 2]
+    # spans below 1e-100 m count as flat (their clip is a step; avoids overflow to inf)
+    # spans below 1e-100 m count as flat (avoids overflow of the clipping constants)
+    span1 = (zb - za) * (zc - za)
+    span2 = (zc - za) * (zc - zb)
+    k_low = _safe_div(area, xp.where(span1 > 1e-200, span1, 0.0), xp)
+    k_high = _safe_div(area, xp.where(span2 > 1e-200, span2, 0.0), xp)
+    flat_area = xp.where((span1 > 1e-200) | (span2 > 1e-200), 0.0, area)
+    nh = xp.sqrt(normal[..., 0] ** 2 + normal[..., 1] ** 2)  # sin(psi1)
+    hx, hy = _safe_div(normal[..., 0], nh, xp), _safe_div(normal[..., 1], nh, xp)
+    c1 = -normal[..., 2]  # cos(psi1)
+    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
+    wz = xp.where(c1 > TOL, c1**3 + nh**3, 0.0)
+    return PreparedTriangles(
+        srt[..., 0, :],
+        srt[..., 1, :],
+        srt[..., 2, :],
+        normal,
+        area,
+        k_low,
+        k_high,
+        nh,
+        hx,
+        hy,
+        wz,
+        xp.asarray(za, copy=True),
+        xp.asarray(zb, copy=True),
+        xp.asarray(zc, copy=True),
+        flat_area,
+    )
+
+
+def _submerged_area(p: PreparedTriangles, depth: Any, xp: Any) -> Any:
+    r"""Exact submerged area of each facet [m^2], shape (..., m).
+
+    Piecewise quadratic in the depth, written with clamps rather than branches:
+    :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
+    plus the whole area of a horizontal facet once the surface is above it (strictly).
+    """
+    d = xp.asarray(depth)[..., None]
+    lo = xp.minimum(xp.maximum(d - p.za, 0.0), p.zb - p.za)
+    hi = xp.minimum(xp.maximum(p.zc - d, 0.0), p.zc - p.zb)
+    d2 = p.zc - p.zb
+    flat = xp.where(d > p.za, p.flat_area, 0.0)
+    return p.k_low * lo * lo + p.k_high * (d2 * d2 - hi * hi) + flat
+
+
+def _fractions(p: PreparedTriangles, depth: Any, xp: Any) -> tuple[Any, ...]:
+    """Clipping parameters of each facet, shape (..., m)."""
+    d = xp.asarray(depth)[..., None]
+    za, zb, zc = p.lo[..., 2], p.mid[..., 2], p.hi[..., 2]
+    one_low = (d > za) & (d <= zb)  # only the lowest vertex submerged: a small triangle
+    two_low = (d > zb) & (d < zc)  # two submerged: the facet minus a top triangle
+    t_ab = _safe_div(d - za, zb - za, xp)
+    t_ac = _safe_div(d - za, zc - za, xp)
+    s_ca = _safe_div(zc - d, zc - za, xp)
+    s_cb = _safe_div(zc - d, zc - zb, xp)
+    return one_low, two_low, t_ab, t_ac, s_ca, s_cb
+
+
+def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tuple[Any, Any]:
+    """Exact area and centroid of the part of each facet below the plane ``z = depth``.
+
+    Parameters
+    ----------
+    prepared : PreparedTriangles
+        From :func:`prepare_triangles`.
+    depth : array_like, shape (...)
+        Height of the mud surface in the foot frame = tip depth [m].
+    xp : module, optional
+        Array namespace.
+
+    Returns
+    -------
+    area : array (..., m)
+        Submerged area [m^2].
+    centroid : array (..., m, 3)
+        Centroid of the submerged polygon [m]; the facet centroid where nothing is submerged.
+
+    Examples
+    --------
+    >>> tri = np.array([[[0, 0, 0], [1, 0, 1], [-1, 0, 1]]], dtype=float)  # vertical, 1 m tall
+    >>> a, c = clip_below(prepare_triangles(tri), 0.5)
+    >>> float(a[0]), c[0].round(4).tolist()
+    (0.25, [0.0, 0.0, 0.3333])
+    """
+    one_low, two_low, t_ab, t_ac, s_ca, s_cb = _fractions(prepared, depth, xp)
+    a, b, c = prepared.lo, prepared.mid, prepared.hi
+    full_c = (a + b + c) / 3.0
+    # one vertex below: triangle (A, A + t_ab (B-A), A + t_ac (C-A))
+    c1 = a + (t_ab[..., None] * (b - a) + t_ac[..., None] * (c - a)) / 3.0
+    # two below: whole facet minus the top triangle (C, C + s_ca (A-C), C + s_cb (B-C))
+    top_frac = (s_ca * s_cb)[..., None]
+    c_top = c + (s_ca[..., None] * (a - c) + s_cb[..., None] * (b - c)) / 3.0
+    rest = 1.0 - top_frac
+    c2 = _safe_div(full_c - top_frac * c_top, rest, xp)
+    cen = xp.where(one_low[..., None], c1, xp.where(two_low[..., None], c2, full_c))
+    return _submerged_area(prepared, depth, xp), cen
+
+
+def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElements:
+    """Submerged surface elements (centroid, normal, area, depth) at a tip depth.
+
+    Parameters
+    ----------
+    triangles : array_like, shape (..., m, 3, 3)
+        Triangles in the foot frame [m].
+    depth : array_like, shape (...)
+        Tip depth [m].
+    xp : module, optional
+        Array namespace.
+
+    Returns
+    -------
+    ClippedElements
+
+    Examples
+    --------
+    >>> tri = np.array([[[0, 0, 0], [0, 1, 0], [1, 0, 0]]], dtype=float)
+    >>> float(clip_elements(tri, 0.1).areas[0])
+    0.5
+    """
+    p = prepare_triangles(triangles, xp=xp)
+    area, cen = clip_below(p, depth, xp=xp)
+    normals = xp.broadcast_to(p.normal, cen.shape)
+    return ClippedElements(cen, normals, area, xp.asarray(depth)[..., None] - cen[..., 2])
+
+
+def local_frame(normals: Any, heading: Any, *, xp: Any = np) -> LocalFrame:
+    """The local frame (e1, e2, e3) and angles psi1, psi2, varphi of eq. (6).
+
+    Parameters
+    ----------
+    normals : array_like, shape (..., m, 3)
+        Outward unit normals [-].
+    heading : array_like, shape (...)
+        Direction of the horizontal motion from the x axis [rad].
+    xp : module, optional
+        Array namespace.
+
+    Returns
+    -------
+    LocalFrame
+
+    Examples
+    --------
+    >>> f = local_frame(np.array([[1.0, 0.0, 0.0]]), np.pi / 4)
+    >>> f.e2[0].tolist(), round(float(f.psi2[0]), 6), round(float(f.psi1[0]), 6)
+    ([1.0, 0.0, 0.0], 0.785398, 1.570796)
+    """
+    n = xp.asarray(normals)
+    h = xp.asarray(heading)[..., None]
+    r = xp.sqrt(n[..., 0] ** 2 + n[..., 1] ** 2)
+    nx, ny = _safe_div(n[..., 0], r, xp), _safe_div(n[..., 1], r, xp)
+    zero = xp.zeros_like(r)
+    e2 = xp.stack([nx, ny, zero], axis=-1)
+    e1 = xp.stack([ny, -nx, zero], axis=-1)
+    e3 = xp.stack([zero, zero, zero + 1.0], axis=-1)
+    ux, uy = xp.cos(h), xp.sin(h)
+    psi1 = xp.arctan2(r, -n[..., 2])
+    psi2 = xp.arctan2(nx * uy - ny * ux, nx * ux + ny * uy)
+    varphi = xp.arctan2(ny, nx)
+    return LocalFrame(e1, e2, e3, psi1, psi2, varphi)
+
+
+def _heading_factors(
+    p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any
+) -> tuple[Any, ...]:
+    """Folded stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
+    s = xp.asarray(stress)
+    h = xp.asarray(heading)
+    ux, uy = xp.cos(h), xp.sin(h)
+    # channel stresses measured along the motion (positive when resisting it), as in
+    # base.first_quadrant: the sign of cos/sin of the heading folds each channel
+    sqx = (s[..., 0] * xp.where(ux < 0, -1.0, 1.0))[..., None]
+    sqy = (s[..., 1] * xp.where(uy < 0, -1.0, 1.0))[..., None]
+    sz = s[..., 2][..., None]
+    ux, uy = ux[..., None], uy[..., None]
+    cos2 = p.hx * ux + p.hy * uy  # cos(psi2)
+    sin2 = p.hx * uy - p.hy * ux  # sin(psi2) = t . u with t = e_z x e2
+    if trailing:
+        fn = cos2 * xp.abs(cos2)  # f_n extended to the full range: cos|cos|
+        ft = sin2 * xp.abs(sin2)  # f_t extended: sin|sin|
+    else:
+        lead = (cos2 > TOL) | ((xp.abs(cos2) <= TOL) & (sin2 > 0))
+        fn = xp.where(lead, cos2 * cos2, 0.0)
+        ft = xp.where(lead, sin2 * xp.abs(sin2), 0.0)
+    return sqx, sqy, sz, fn, ft
+
+
+def _force_density(p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any) -> Any:
+    """Force per unit submerged area of each facet [Pa], shape (..., m, 3)."""
+    sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
+    w = -(sqx * p.hx * p.hx + sqy * p.hy * p.hy) * p.nh  # -sigma_e |n_h|
+    fx = w * (fn * p.hx - ft * p.hy)  # t = (-hy, hx)
+    fy = w * (fn * p.hy + ft * p.hx)
+    fz = p.wz * sz
+    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+
+
+def element_forces(
+    prepared: PreparedTriangles,
+    depth: Any,
+    stress: Any,
+    heading: Any,
+    *,
+    trailing: bool = False,
+    xp: Any = np,
+) -> tuple[Any, Any]:
+    """Force on each submerged facet and its point of application.
+
+    Parameters
+    ----------
+    prepared : PreparedTriangles
+        From :func:`prepare_triangles`.
+    depth : array_like, shape (...)
+        Tip depth [m].
+    stress : array_like, shape (..., 3)
+        Signed channel stresses (sx, sy, sz) [Pa] (see :mod:`mudrft.feet.base`).
+    heading : array_like, shape (...)
+        World heading of the horizontal motion [rad], any value.
+    trailing : bool, optional
+        Let facets that trail the horizontal motion resist too (full-range factors).
+    xp : module, optional
+        Array namespace.
+
+    Returns
+    -------
+    force : array (..., m, 3)
+        Force of the mud on each facet [N].
+    centroid : array (..., m, 3)
+        Centroid of each submerged polygon [m].
+    """
+    area, cen = clip_below(prepared, depth, xp=xp)
+    dens = _force_density(prepared, stress, heading, trailing, xp)
+    return dens * area[..., None], cen
+
+
+def integrate_prepared(
+    prepared: PreparedTriangles,
+    depth: Any,
+    stress: Any,
+    heading: Any,
+    *,
+    trailing: bool = False,
+    xp: Any = np,
+) -> Any:
+    """Resultant force of :func:`integrate_triangles` on prepared facets (no centroids).
+
+    Parameters are those of :func:`integrate_triangles` with ``prepared`` from
+    :func:`prepare_triangles` in place of the triangles.
+    """
+    p = prepared
+    area = _submerged_area(p, depth, xp)
+    sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
+    # sigma_e = sx hx^2 + sy hy^2 is linear in the stresses: sum the facets once per channel
+    a = area * p.nh
+    qx = a * (fn * p.hx - ft * p.hy)
+    qy = a * (fn * p.hy + ft * p.hx)
+    hx2, hy2 = p.hx * p.hx, p.hy * p.hy
+
+    def dot(u: Any, w: Any) -> Any:
+        # reduction over the facets; einsum, not BLAS: no thread start-up per call
+        return xp.einsum("...i,...i->...", u, w)
+
+    fx = -(sqx[..., 0] * dot(qx, hx2) + sqy[..., 0] * dot(qx, hy2))
+    fy = -(sqx[..., 0] * dot(qy, hx2) + sqy[..., 0] * dot(qy, hy2))
+    fz = sz[..., 0] * dot(area, p.wz)
+    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1) + 0.0  # -0.0 -> 0.0
+
+
+def integrate_triangles(
+    triangles: Any,
+    depth: Any,
+    stress: Any,
+    heading: Any,
+    *,
+    trailing: bool = False,
+    xp: Any = np,
+) -> Any:
+    r"""Force of the mud on a triangulated foot: the element rule integrated and summed.
+
+    Parameters
+    ----------
+    triangles : array_like, shape (..., m, 3, 3)
+        Triangles in the foot frame, tip at :math:`z=0` [m]; outward winding.
+    depth : array_like, shape (...)
+        Tip depth [m]: the mud surface is the plane :math:`z=` ``depth``.
+    stress : array_like, shape (..., 3)
+        Signed channel stresses (sx, sy, sz) [Pa]; sx > 0 resists motion toward +x.
+    heading : array_like, shape (...)
+        Heading of the horizontal motion from the x axis [rad]; any angle (a heading in
+        [0, pi/2] with positive stresses gives the paper's first-quadrant case).
+    trailing : bool, optional
+        Count facets that trail the motion with the supplementary's full-range factors
+        (``True`` reproduces the sphere's derivation; ``False``, the default, the flat and
+        semi-cylindrical feet's).
+    xp : module, optional
+        Array namespace (``numpy``, ``jax.numpy``).
+
+    Returns
+    -------
+    array, shape (..., 3)
+        (Fx, Fy, Fz) [N] in the foot frame: horizontal components oppose the motion for
+        resisting stresses; Fz > 0 is support.
+
+    Examples
+    --------
+    A 1 m x 1 m downward-facing square at any positive depth carries sz x 1 m^2:
+
+    >>> sq = np.array([[[0, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [1, 0, 0]]], float)
+    >>> integrate_triangles(sq, 0.01, [0.0, 0.0, 5.0], 0.0).tolist()
+    [0.0, 0.0, 5.0]
+    """
+    return integrate_prepared(
+        prepare_triangles(triangles, xp=xp), depth, stress, heading, trailing=trailing, xp=xp
+    )
+
+
+def integrate_wrench(
+    triangles: Any,
+    depth: Any,
+    stress: Any,
+    heading: Any,
+    *,
+    point: Any = None,
+    trailing: bool = False,
+    xp: Any = np,
+    prepared: PreparedTriangles | None = None,
+) -> Wrench:
+    r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
+
+    Each facet's force acts at the centroid of its submerged polygon (uniform stress on the
+    facet). The center of pressure (decision D24) is the point of the wrench's central axis
+    :math:`\mathbf r_0+t\hat{\mathbf F}`, :math:`\mathbf r_0=\mathbf p+\mathbf F\times
+    \mathbf M_p/|\mathbf F|^2`, nearest to the :math:`|d\mathbf F|`-weighted centroid of the
+    submerged surface; applying :math:`\mathbf F` there leaves only a couple parallel to
+    :math:`\mathbf F` (zero when the element forces are coplanar or parallel).
+
+    Parameters
+    ----------
+    triangles : array_like, shape (..., m, 3, 3)
+        Triangles in the foot frame [m] (ignored when ``prepared`` is given).
+    depth, stress, heading, trailing, xp
+        As in :func:`integrate_triangles`.
+    point : array_like, shape (..., 3), optional
+        Reference point for the moment, in the foot frame [m]; default the tip (origin).
+    prepared : PreparedTriangles, optional
+        Pre-computed facet data (saves the preparation on repeated calls).
+
+    Returns
+    -------
+    Wrench
+
+    Examples
+    --------
+    >>> sq = np.array([[[0, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [1, 0, 0]]], float)
+    >>> w = integrate_wrench(sq, 0.01, [0.0, 0.0, 5.0], 0.0)
+    >>> w.moment.tolist(), w.center_of_pressure.tolist()
+    ([2.5, -2.5, 0.0], [0.5, 0.5, 0.0])
+    """
+    p = prepare_triangles(triangles, xp=xp) if prepared is None else prepared
+    df, cen = element_forces(p, depth, stress, heading, trailing=trailing, xp=xp)
+    force = xp.sum(df, axis=-2)
+    pt = xp.zeros(3) if point is None else xp.asarray(point)
+    pt = pt + 0.0 * force  # broadcast to the batch shape
+    moment = xp.sum(_cross(cen - pt[..., None, :], df, xp), axis=-2)
+    w = xp.sqrt(xp.sum(df * df, axis=-1))
+    wsum = xp.sum(w, axis=-1)
+    cbar = _safe_div(xp.sum(w[..., None] * cen, axis=-2), wsum[..., None], xp)
+    cbar = xp.where(wsum[..., None] > 0, cbar, pt)
+    f2 = xp.sum(force * force, axis=-1)
+    has_f = f2 > (1e-24 * wsum * wsum)  # the element forces do not cancel out
+    f2_safe = xp.where(has_f, f2, 1.0)[..., None]
+    r0 = pt + _cross(force, moment, xp) / f2_safe
+    along = xp.sum((cbar - r0) * force, axis=-1)[..., None] / f2_safe
+    cop = xp.where(has_f[..., None], r0 + along * force, cbar)
+    return Wrench(force, moment, cop)
