@@ -171,11 +171,14 @@ def reproduce(
             water_contents=list(water_contents),
         ):
             _say(f"wrote {path}", quiet)
+    # sensitivity to decision D6: the same fixed feet without the acceleration term
+    sens = _acceleration_sensitivity(feet_objs, speeds, quiet=quiet, dt=dt)
     from .reproduce_report import write_report
 
     rep = write_report(
         outp / "report.md",
         rows,
+        sensitivity=sens,
         feet=list(feet),
         speeds=list(speeds),
         water_contents=list(water_contents),
@@ -183,6 +186,31 @@ def reproduce(
     _say(f"wrote {rep}", quiet)
     _say(f"done in {_time.perf_counter() - t0:.1f} s", quiet)
     return rows
+
+
+def _acceleration_sensitivity(
+    feet_objs: dict[str, Any], speeds: Sequence[float], *, quiet: bool, dt: float
+) -> dict[str, dict[str, float]]:
+    """Speed spread of the normalized resistance and suction ratio without the gamma-ddot term."""
+    from .terrain import MudTerrain
+
+    terrain = MudTerrain(paper_mud(0.25), acceleration=False)
+    out: dict[str, dict[str, float]] = {}
+    for name, foot in feet_objs.items():
+        if name == "morphing":
+            continue
+        _say(f"       {name:13s} sensitivity run without the acceleration term (D6)", quiet)
+        peaks, ratios = [], []
+        for v in speeds:
+            res = simulate(foot, terrain, gait(v, dt=dt))
+            peaks.append(float(res.normalized_stress()[:, 2].max()))
+            ratios.append(res.metrics()["suction_ratio"])
+        pk = np.array(peaks)
+        out[name] = {
+            "speed_spread_pct": float((pk.max() - pk.min()) / pk.mean() * 100),
+            "suction_ratio_pct": float(np.mean(ratios) * 100),
+        }
+    return out
 
 
 def read_summary(path: str | Path) -> list[dict[str, Any]]:

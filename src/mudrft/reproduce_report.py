@@ -153,6 +153,7 @@ def write_report(
     path: Path,
     rows: list[dict[str, Any]],
     *,
+    sensitivity: dict[str, dict[str, float]] | None = None,
     feet: list[str],
     speeds: list[float],
     water_contents: list[float],
@@ -177,6 +178,27 @@ def write_report(
     ]
     for c in claims:
         lines.append(f"| {c['claim']} | {c['result']} | {c['verdict']} |")
+    if sensitivity:
+        lines += [
+            "",
+            "## Why speed and suction cannot both agree (decision D6)",
+            "",
+            "The paper's eq. (3) keeps an acceleration term; mudrft keeps it by default, which adds an",
+            "instantaneous viscous stress eta_inf * gamma_dot. That stress carries most of the suction over",
+            "a fast retraction, and it grows with speed. Without the term (as the paper's closed form (9)",
+            "assumes) the resistance no longer depends on speed, but suction must then come from eq. (5)",
+            "alone, whose build-up time (tau_build = 0.32 s at W = 25 %) exceeds the time the foot spends",
+            "retracting. Same runs at W = 25 % with `MudTerrain(mud, acceleration=False)`:",
+            "",
+            "| foot | speed spread of peak Fz/A_z | mean suction / support |",
+            "|---|---|---|",
+        ]
+        for f, v in sensitivity.items():
+            lines.append(f"| {f} | {v['speed_spread_pct']:.0f} % | {v['suction_ratio_pct']:.0f} % |")
+        lines += [
+            "",
+            "With the tables as printed no choice satisfies both claims; we keep the published equation.",
+        ]
     lines += [
         "",
         "Figures: `fig09_forces.png`, `fig10_normalized.png`, `fig12_hysteresis.png`,",

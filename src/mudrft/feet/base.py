@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite, check_nonnegative
 
-__all__ = ["Foot", "SurfaceElements", "first_quadrant"]
+__all__ = ["Foot", "SurfaceElements", "first_quadrant", "unfold_forces"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +64,57 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     sq[..., 0] *= signs[..., 0]
     sq[..., 1] *= signs[..., 1]
     return sq, phi, signs
+
+
+def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:
+    r"""World forces from paper-style first-quadrant closed forms, for any heading (D9).
+
+    Every closed form is linear in the horizontal stresses,
+    :math:`F_x=a_x(\varphi)\sigma_x+b_x(\varphi)\sigma_y`, :math:`F_y=b_y(\varphi)\sigma_x+a_y(\varphi)\sigma_y`,
+    where the ``a`` terms are normal stress on faces that face the axis of their own stress and
+    the ``b`` terms tangential (shear) stress on the other faces. The normal terms keep the
+    sign of their channel stress; the shear terms oppose the sliding along their axis:
+
+    .. math:: F_x=-\bigl(a_x\sigma_x+b_x|\sigma_y|\operatorname{sgn}u_x\bigr),\quad
+              F_y=-\bigl(a_y\sigma_y+b_y|\sigma_x|\operatorname{sgn}u_y\bigr)
+
+    with :math:`\varphi` the heading folded into :math:`[0,\pi/2]`. Because the shear weight
+    vanishes when its sliding component does, the force stays continuous when the motion
+    reverses along one axis (folding the stresses themselves would flip the shear term).
+
+    Parameters
+    ----------
+    magnitudes : callable
+        ``magnitudes(stress_units, phi)`` returning paper-style (Fx, Fy, Fz) [N] for stresses of
+        shape (..., 2, 3) and folded headings of shape (..., 1); it is called once with the
+        rows (1, 0, sz) and (0, 1, sz).
+    stress : ndarray (..., 3)
+        Signed channel stresses [Pa].
+    heading : ndarray (...)
+        World heading of the horizontal motion [rad].
+
+    Returns
+    -------
+    ndarray (..., 3)
+        World-frame force [N].
+    """
+    s = np.asarray(stress, dtype=float)
+    h = np.asarray(heading, dtype=float)
+    c, sn = np.cos(h), np.sin(h)
+    phi = np.arctan2(np.abs(sn), np.abs(c))
+    shape = np.broadcast_shapes(s.shape[:-1], h.shape)
+    units = np.zeros((*shape, 2, 3))
+    units[..., 0, 0] = 1.0
+    units[..., 1, 1] = 1.0
+    units[..., :, 2] = np.broadcast_to(s[..., 2], shape)[..., None]
+    m = np.asarray(magnitudes(units, np.broadcast_to(phi, shape)[..., None]), dtype=float)
+    sx = np.broadcast_to(s[..., 0], shape)
+    sy = np.broadcast_to(s[..., 1], shape)
+    out = np.empty((*shape, 3))
+    out[..., 0] = -(m[..., 0, 0] * sx + m[..., 1, 0] * np.abs(sy) * np.sign(c))
+    out[..., 1] = -(m[..., 1, 1] * sy + m[..., 0, 1] * np.abs(sx) * np.sign(sn))
+    out[..., 2] = m[..., 0, 2]
+    return out
 
 
 class Foot(ABC):
@@ -167,13 +218,8 @@ class Foot(ABC):
 
         Subclasses that compute world forces directly (mesh feet) override this method.
         """
-        sq, phi, signs = first_quadrant(stress, heading)
-        m = self.resultant(depth, sq, phi)
-        out = np.empty(np.shape(m))
-        out[..., 0] = -signs[..., 0] * m[..., 0]
-        out[..., 1] = -signs[..., 1] * m[..., 1]
-        out[..., 2] = m[..., 2]
-        return out
+        d = np.asarray(depth, dtype=float)
+        return unfold_forces(lambda su, ph: self.resultant(d[..., None], su, ph), stress, heading)
 
     # -- hooks for feet with internal state (the morphing foot overrides them) --------------
     def initial_foot_state(self) -> Any:

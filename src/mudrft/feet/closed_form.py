@@ -40,7 +40,7 @@ from .._validation import (
     check_positive,
 )
 from ..constitutive.laws import f_n, f_t
-from .base import Foot, SurfaceElements, first_quadrant
+from .base import Foot, SurfaceElements, unfold_forces
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
 
@@ -274,12 +274,9 @@ class _ClosedFormFoot(Foot):
         return self._forces(*_check_inputs(depth, stress, heading))
 
     def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        """:meth:`Foot.force` without validation: fold, closed form, unfold [N]."""
-        sq, phi, signs = first_quadrant(stress, heading)
-        m = self._forces(np.asarray(depth, dtype=float), sq, phi)
-        m[..., 0] *= -signs[..., 0]
-        m[..., 1] *= -signs[..., 1]
-        return m
+        """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
+        d = np.asarray(depth, dtype=float)
+        return unfold_forces(lambda su, ph: self._forces(d[..., None], su, ph), stress, heading)
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.

@@ -55,7 +55,7 @@ from .._validation import (
     check_positive,
 )
 from ..constitutive.laws import f_n, f_t
-from .base import Foot, SurfaceElements, first_quadrant
+from .base import Foot, SurfaceElements, unfold_forces
 
 __all__ = [
     "MODES",
@@ -834,13 +834,10 @@ class MorphingFoot(Foot):
             foot_state = self.initial_foot_state()
         d = np.asarray(depth, dtype=float)
         s = np.asarray(stress, dtype=float)
-        sq, phi, signs = first_quadrant(s, heading)
-        delta = self._deflection(d, sq[..., 2], foot_state.deflection)
+        delta = self._deflection(d, s[..., 2], foot_state.deflection)
         th = self._theta(delta)
-        m = self._forces(d, sq, phi, th)
-        force = np.stack(
-            [-signs[..., 0] * m[..., 0], -signs[..., 1] * m[..., 1], m[..., 2]], axis=-1
-        )
+        th_e = np.asarray(th)[..., None]
+        force = unfold_forces(lambda su, ph: self._forces(d[..., None], su, ph, th_e), s, heading)
         th_b = np.broadcast_to(th, d.shape) if np.ndim(th) < d.ndim else th
         most = np.where(d > 0, np.minimum(foot_state.most_spread, th_b), th_b)
         return MorphingState(
