@@ -1,0 +1,583 @@
+r"""A small planar biped walking in mud, and the ``mudrft walk`` command.
+
+The biped (``assets/biped.xml``, 10 kg) has a torso on a planarizing boom (slide x,
+slide z, pitch hinge with a soft spring standing for the boom's pitch stiffness) and two
+legs with hip, knee and ankle pitch joints driven by torque-limited PD servos. Its feet are the
+paper's foot size; :func:`biped_model` swaps the foot geom for the shape of the simulated
+foot (visual and rigid bed only: the mud force comes from the mudrft foot).
+
+The controller (:class:`GaitController`, decision D69) is joint PD tracking (MuJoCo
+position servos, damping implicit in ``implicitfast``) of a
+periodic gait: each leg's ankle follows, relative to the hip, a stance line (the foot
+moves back by one step length at constant height) or a swing arc (first lifted out of
+the mud, then brought forward, then set down); the ankle keeps the foot level. With the
+torso pitch held by the boom, a stance leg in mud is a fully actuated two-link chain, so
+the biped cannot tip over; it falls only if its legs fold (torso height below half its
+start) or the torso pitches past 1 rad.
+
+``mudrft walk --foot F --water-content W --seconds T --out DIR`` writes ``DIR/walk.csv``
+(one row per physics step), ``DIR/steps.csv`` (one row per gait step),
+``DIR/summary.json`` and ``DIR/walk.png``, and, when offscreen rendering works,
+``DIR/frames.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time as _time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError, check_nonnegative, check_positive
+
+__all__ = [
+    "BIPED_FEET",
+    "GaitController",
+    "WalkResult",
+    "add_parser",
+    "biped_model",
+    "biped_path",
+    "main",
+    "walk",
+]
+
+#: Names of the biped's foot bodies (and of their geoms).
+BIPED_FEET = ("left_foot", "right_foot")
+#: Leg segment lengths of the biped: thigh, shank [m]; ankle height above the sole [m].
+THIGH, SHANK, ANKLE = 0.2, 0.2, 0.04
+_JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
+
+WALK_COLUMNS = (
+    "time [s]", "x [m]", "z [m]", "pitch [rad]",
+    "left_depth [m]", "right_depth [m]",
+    "left_Fx [N]", "left_Fz [N]", "right_Fx [N]", "right_Fz [N]",
+    "joint_power [W]", "joint_energy [J]", "step",
+)
+STEP_COLUMNS = ("step", "t_start [s]", "stance", "energy [J]", "sinking [m]", "max_suction [N]", "advance [m]")
+
+
+def biped_path() -> Path:
+    """Path of the biped's MJCF file."""
+    return Path(str(resources.files("mudrft.integrations") / "assets" / "biped.xml"))
+
+
+def _mujoco() -> Any:
+    from .mujoco import _mujoco as imp
+
+    return imp()
+
+
+def biped_model(foot: Any = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3) -> Any:
+    """The biped as a ``mujoco.MjModel``, with feet shaped like ``foot``.
+
+    Parameters
+    ----------
+    foot : Foot or None
+        A mudrft foot; when it has a surface mesh (``to_mesh()`` or ``vertices`` and
+        ``faces``), the foot geoms become that mesh, tip at the sole. Otherwise the box
+        feet stay.
+    bottom : float, keyword-only
+        Depth of the rigid bed (plane) below the mud surface [m].
+    surface : float, keyword-only
+        Height of the mud surface [m].
+    timestep : float, keyword-only
+        Physics time step [s].
+
+    Returns
+    -------
+    mujoco.MjModel
+    """
+    mj = _mujoco()
+    check_positive("bottom", bottom, unit="m")
+    check_positive("timestep", timestep, unit="s")
+    spec = mj.MjSpec.from_file(str(biped_path()))
+    spec.option.timestep = float(timestep)
+    for g in spec.geoms:
+        if g.name == "bottom":
+            g.pos = [0.0, 0.0, float(surface) - float(bottom)]
+        elif g.name == "mud_surface":
+            g.pos = [0.0, 0.0, float(surface)]
+    mesh = _foot_mesh(foot)
+    if mesh is not None:
+        verts, faces = mesh
+        m = spec.add_mesh()
+        m.name = "foot_mesh"
+        m.uservert = np.asarray(verts, dtype=float).ravel().tolist()
+        m.userface = np.asarray(faces, dtype=int).ravel().tolist()
+        for g in spec.geoms:
+            if g.name in BIPED_FEET:
+                g.type = mj.mjtGeom.mjGEOM_MESH
+                g.meshname = "foot_mesh"
+                g.pos = [0.0, 0.0, -ANKLE]
+    return spec.compile()
+
+
+def _foot_mesh(foot: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    if foot is None:
+        return None
+    try:
+        mf = foot.to_mesh(resolution=8) if hasattr(foot, "to_mesh") else foot
+        v, f = np.asarray(mf.vertices, dtype=float), np.asarray(mf.faces, dtype=int)
+    except (AttributeError, TypeError, MudrftError):
+        return None
+    if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or len(f) < 4:
+        return None
+    return v, f
+
+
+def _leg_ik(x: float, z: float) -> tuple[float, float]:
+    """Hip and knee angles that put the ankle at (x, z) relative to the hip [rad].
+
+    Hinges turn about +y, so a positive hip angle swings the leg backward (-x); the
+    knee bends with positive angles (ankle behind the knee).
+    """
+    r2 = x * x + z * z
+    c2 = (r2 - THIGH**2 - SHANK**2) / (2 * THIGH * SHANK)
+    q2 = math.acos(min(max(c2, -1.0), 1.0))
+    phi = math.atan2(-x, -z)
+    q1 = phi - math.atan2(SHANK * math.sin(q2), THIGH + SHANK * math.cos(q2))
+    return q1, q2
+
+
+def _smooth(s: float) -> float:
+    s = min(max(s, 0.0), 1.0)
+    return s * s * (3 - 2 * s)
+
+
+@dataclass
+class GaitController:
+    """Joint PD tracking of a periodic stepping gait (decision D69).
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The biped (:func:`biped_model`).
+    speed : float
+        Walking speed command [m/s]: step length = ``speed * step_time``.
+    step_time : float
+        Duration of one step (one leg's swing) [s].
+    hip_height : float
+        Height of the hip above the ankle of a foot standing on the mud surface [m].
+    lift : float
+        Height of the swing foot's sole above the mud surface at the top of the swing [m].
+    surface : float
+        Height of the mud surface [m].
+    ramp_steps : int
+        Steps over which the step length ramps up from 0.
+    """
+
+    model: Any
+    speed: float = 0.1
+    step_time: float = 1.0
+    hip_height: float = 0.33
+    lift: float = 0.06
+    surface: float = 0.0
+    ramp_steps: int = 2
+    phases: tuple[float, float, float, float, float] = (0.1, 0.4, 0.6, 0.85, 0.95)
+    _qadr: np.ndarray = field(init=False, repr=False)
+    _dadr: np.ndarray = field(init=False, repr=False)
+    _pitch: int = field(init=False, repr=False)
+    _start: list[float] = field(init=False, repr=False)
+    _z0: list[float] = field(init=False, repr=False)
+    _step: int = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        check_nonnegative("speed", self.speed, unit="m/s")
+        check_positive("step_time", self.step_time, unit="s")
+        check_positive("hip_height", self.hip_height, unit="m")
+        check_nonnegative("lift", self.lift, unit="m")
+        if self.hip_height >= THIGH + SHANK:
+            raise MudrftError(f"hip_height must be < {THIGH + SHANK} m (leg length), got {self.hip_height!r}")
+        mj = _mujoco()
+        m = self.model
+        ids = [mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, n) for n in _JOINTS]
+        self._qadr = np.array([m.jnt_qposadr[i] for i in ids])
+        self._dadr = np.array([m.jnt_dofadr[i] for i in ids])
+        self._pitch = int(m.jnt_qposadr[mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, "rooty")])
+        self._hip_body = int(m.body("left_thigh").id)
+        self._foot_bodies = (int(m.body("left_foot").id), int(m.body("right_foot").id))
+        self._lo, self._hi = m.actuator_ctrlrange[:, 0].copy(), m.actuator_ctrlrange[:, 1].copy()
+        self.reset()
+
+    def reset(self) -> None:
+        """Start standing, both ankles under the hip."""
+        self._start = [0.0, 0.0]
+        self._z0 = [0.0, 0.0]
+        self._step = -1
+
+    def step_length(self, k: int) -> float:
+        """Length of step ``k`` [m] (ramped up over ``ramp_steps``)."""
+        full = self.speed * self.step_time
+        return full * min(1.0, (k + 1) / (self.ramp_steps + 1)) if self.ramp_steps > 0 else full
+
+    def targets(self, t: float, pitch: float, hip_z: float, ankle_z: tuple[float, float]) -> tuple[np.ndarray, int, int]:
+        """Joint targets [rad] at time ``t`` [s], the gait step index and the stance leg (0 left).
+
+        ``pitch`` is the torso pitch [rad], ``hip_z`` the hip height [m] and ``ankle_z``
+        the ankle heights [m] (world), so heights are held relative to the mud surface:
+        the stance leg extends as its foot sinks, keeping the hip ``hip_height + ankle
+        height`` above the surface, and the swing foot rises from where it is to ``lift``
+        above the surface and lands on the surface.
+        """
+        k = int(t // self.step_time)
+        s = t / self.step_time - k
+        stance = k % 2  # step 0: right leg swings, left leg stands
+        if k != self._step:  # new step: remember where each ankle starts
+            if self._step >= 0:
+                self._start = [self._x_end(leg, self._step) for leg in (0, 1)]
+            self._z0 = list(ankle_z)
+            self._step = k
+        half = 0.5 * self.step_length(k)
+        top = self.surface + ANKLE + self.lift
+        land = self.surface + ANKLE
+        q = np.empty(6)
+        for leg in (0, 1):
+            x0 = self._start[leg]
+            if leg == stance:
+                x = x0 + (-half - x0) * s
+                hip_world = self.surface + ANKLE + self.hip_height
+                z = ankle_z[leg] - hip_world
+            else:
+                # weight shift, slow pull-out, forward swing, set-down (fractions of the step)
+                x = x0 + (half - x0) * _smooth((s - self.phases[1]) / (self.phases[3] - self.phases[1]))
+                zw = (self._z0[leg] + (top - self._z0[leg]) * _smooth((s - self.phases[0]) / (self.phases[2] - self.phases[0]))
+                      if s < self.phases[2]
+                      else top + (land - top) * _smooth((s - self.phases[2]) / (self.phases[4] - self.phases[2])))
+                z = zw - hip_z
+            r = math.hypot(x, z)
+            if r > 0.99 * (THIGH + SHANK):  # keep the knee bent
+                x, z = x * 0.99 * (THIGH + SHANK) / r, z * 0.99 * (THIGH + SHANK) / r
+            q1, q2 = _leg_ik(x, z)
+            q[3 * leg:3 * leg + 3] = (q1, q2, -(q1 + q2) - pitch)
+        return q, k, stance
+
+    def _x_end(self, leg: int, k: int) -> float:
+        half = 0.5 * self.step_length(k)
+        return -half if leg == k % 2 else half
+
+    def __call__(self, data: Any) -> tuple[int, int]:
+        """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
+        pitch = float(data.qpos[self._pitch])
+        hip_z = float(data.xpos[self._hip_body, 2])
+        ankle = (float(data.xpos[self._foot_bodies[0], 2]), float(data.xpos[self._foot_bodies[1], 2]))
+        q_des, k, stance = self.targets(float(data.time), pitch, hip_z, ankle)
+        data.ctrl[:] = np.clip(q_des, self._lo, self._hi)
+        return k, stance
+
+    def initial_pose(self, data: Any, *, surface: float = 0.0, clearance: float = 0.001) -> None:
+        """Set a standing pose with both soles ``clearance`` above the mud surface [m]."""
+        mj = _mujoco()
+        q1, q2 = _leg_ik(0.0, -self.hip_height)
+        data.qpos[:] = 0.0
+        data.qvel[:] = 0.0
+        data.qpos[self._qadr] = [q1, q2, -(q1 + q2)] * 2
+        z0 = float(self.model.body("torso").pos[2])
+        data.qpos[int(self.model.jnt_qposadr[self.model.joint("rootz").id])] = (
+            surface + clearance + self.hip_height + ANKLE - z0)
+        mj.mj_forward(self.model, data)
+
+
+@dataclass(frozen=True, eq=False)
+class WalkResult:
+    """Outcome of :func:`walk`.
+
+    Attributes
+    ----------
+    table : dict of str -> ndarray
+        Per physics step, keys :data:`WALK_COLUMNS`.
+    steps : dict of str -> ndarray
+        Per gait step, keys :data:`STEP_COLUMNS` (complete steps only).
+    summary : dict
+        ``fell`` (bool), ``distance [m]``, ``energy_per_step [J]``, ``mean_sinking [m]``,
+        ``max_suction [N]`` and the run settings.
+    frames : list of ndarray
+        Offscreen-rendered RGB images (empty unless asked for and rendering works).
+    """
+
+    table: dict[str, np.ndarray]
+    steps: dict[str, np.ndarray]
+    summary: dict[str, Any]
+    frames: list = field(default_factory=list)
+
+
+def walk(
+    foot: Any,
+    mud: Any,
+    *,
+    seconds: float = 10.0,
+    dt: float = 1e-3,
+    speed: float = 0.1,
+    step_time: float = 1.0,
+    bottom: float = 0.15,
+    implicit: bool = True,
+    frames: int = 0,
+    progress: Callable[[float], None] | None = None,
+) -> WalkResult:
+    """Walk the biped in mud for ``seconds`` and measure energy, sinking and suction.
+
+    Parameters
+    ----------
+    foot : Foot
+        The foot on both legs (any mudrft foot, including ``MorphingFoot``).
+    mud : Mud or Terrain
+        The mud.
+    seconds : float, keyword-only
+        Simulated time [s].
+    dt : float, keyword-only
+        Physics time step [s].
+    speed : float, keyword-only
+        Walking speed command [m/s].
+    step_time : float, keyword-only
+        Duration of a step [s].
+    bottom : float, keyword-only
+        Depth of the rigid bed under the mud [m].
+    implicit : bool, keyword-only
+        Stabilised coupling (default); see :class:`mudrft.integrations.mujoco.MudBatch`.
+    frames : int, keyword-only
+        Number of offscreen images to render along the walk (needs a working OpenGL, e.g.
+        ``MUJOCO_GL=egl``; silently none when rendering fails).
+    progress : callable or None, keyword-only
+        Called with the fraction done, about 20 times.
+
+    Returns
+    -------
+    WalkResult
+    """
+    from .mujoco import attach
+
+    mj = _mujoco()
+    check_positive("seconds", seconds, unit="s")
+    check_positive("dt", dt, unit="s")
+    if dt > 0.01:
+        raise MudrftError(f"dt must be <= 0.01 s for the biped, got {dt!r}")
+    n = round(seconds / dt)
+    if n > 5_000_000:
+        raise MudrftError(f"seconds/dt = {n} steps is too many; use a larger dt or fewer seconds")
+    model = biped_model(foot, bottom=bottom, timestep=dt)
+    data = mj.MjData(model)
+    ctrl = GaitController(model, speed=speed, step_time=step_time)
+    ctrl.initial_pose(data)
+    coupling = attach(model, list(BIPED_FEET), mud, feet=foot, implicit=implicit)
+    coupling.reset(data)
+    qx = int(model.jnt_qposadr[model.joint("rootx").id])
+    qz = int(model.jnt_qposadr[model.joint("rootz").id])
+    qp = int(model.jnt_qposadr[model.joint("rooty").id])
+    torso = model.body("torso").id
+    z_start = float(data.xpos[torso, 2])
+    x_start = float(data.xpos[torso, 0])
+    dadr = ctrl._dadr
+    rows = np.zeros((n, len(WALK_COLUMNS)))
+    renderer = _renderer(model) if frames > 0 else None
+    marks = set(np.linspace(0, n - 1, frames).astype(int).tolist()) if renderer is not None else set()
+    images: list[np.ndarray] = []
+    energy = 0.0
+    fell = False
+    every = max(n // 20, 1)
+    k = 0
+    for k in range(n):
+        step, _stance = ctrl(data)
+        out = coupling.step(data)
+        power = float(np.dot(data.actuator_force, data.qvel[dadr]))
+        energy += max(power, 0.0) * dt
+        x, z, pitch = float(data.xpos[torso, 0]), float(data.xpos[torso, 2]), float(data.qpos[qp])
+        rows[k] = (data.time, x, z, pitch, out.depth[0], out.depth[1], out.force[0, 0], out.force[0, 2],
+                   out.force[1, 0], out.force[1, 2], power, energy, step)
+        if k in marks and renderer is not None:
+            renderer.update_scene(data, camera="side")
+            images.append(renderer.render().copy())
+        if not (math.isfinite(z) and math.isfinite(x)) or z < 0.5 * z_start or abs(pitch) > 1.0:
+            fell = True
+            break
+        if progress is not None and k % every == 0:
+            progress(k / n)
+    _ = qx, qz
+    rows = rows[: k + 1]
+    table = {c: rows[:, i] for i, c in enumerate(WALK_COLUMNS)}
+    steps = _per_step(table, step_time)
+    n_steps = len(steps["step"])
+    summary = {
+        "fell": bool(fell),
+        "distance [m]": float(table["x [m]"][-1] - x_start) if math.isfinite(table["x [m]"][-1]) else float("nan"),
+        "energy_per_step [J]": float(np.mean(steps["energy [J]"])) if n_steps else float("nan"),
+        "mean_sinking [m]": float(np.mean(steps["sinking [m]"])) if n_steps else float("nan"),
+        "max_suction [N]": float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min()))),
+        "steps": n_steps,
+        "seconds": float(table["time [s]"][-1]),
+        "dt [s]": float(dt),
+        "speed_command [m/s]": float(speed),
+        "step_time [s]": float(step_time),
+        "mean_speed [m/s]": float((table["x [m]"][-1] - x_start) / max(table["time [s]"][-1], 1e-12)),
+        "min_torso_height [m]": float(table["z [m]"].min()),
+        "foot": getattr(foot, "name", type(foot).__name__),
+        "bottom [m]": float(bottom),
+        "implicit": bool(implicit),
+    }
+    if renderer is not None:
+        renderer.close()
+    return WalkResult(table=table, steps=steps, summary=summary, frames=images)
+
+
+def _renderer(model: Any) -> Any:
+    """An offscreen renderer, or None where OpenGL is not available."""
+    try:
+        return _mujoco().Renderer(model, 240, 320)
+    except Exception:  # any GL failure only means "no images"
+        return None
+
+
+def _per_step(table: dict[str, np.ndarray], step_time: float) -> dict[str, np.ndarray]:
+    """Energy, stance-foot sinking, suction and advance of every complete gait step."""
+    t = table["time [s]"]
+    step = table["step"].astype(int)
+    out: dict[str, list[float]] = {c: [] for c in STEP_COLUMNS}
+    last = int(step[-1])
+    for k in range(0, last):  # the last step may be cut short
+        sel = step == k
+        if not np.any(sel):
+            continue
+        stance = k % 2
+        side = "left" if stance == 0 else "right"
+        e = table["joint_energy [J]"][sel]
+        e0 = table["joint_energy [J]"][np.argmax(sel) - 1] if np.argmax(sel) > 0 else 0.0
+        fz = np.minimum(table["left_Fz [N]"][sel], table["right_Fz [N]"][sel])
+        out["step"].append(k)
+        out["t_start [s]"].append(float(t[sel][0]))
+        out["stance"].append(stance)
+        out["energy [J]"].append(float(e[-1] - e0))
+        out["sinking [m]"].append(float(table[f"{side}_depth [m]"][sel].max()))
+        out["max_suction [N]"].append(float(max(0.0, -fz.min())))
+        out["advance [m]"].append(float(table["x [m]"][sel][-1] - table["x [m]"][sel][0]))
+    return {c: np.asarray(v, dtype=float) for c, v in out.items()}
+
+
+def _write_csv(path: Path, table: dict[str, np.ndarray], columns: tuple[str, ...]) -> None:
+    data = np.column_stack([table[c] for c in columns]) if len(table[columns[0]]) else np.zeros((0, len(columns)))
+    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.9g")
+
+
+def plot_walk(result: WalkResult, path: Path) -> Path:
+    """Torso motion, foot sinking, vertical mud forces and joint energy against time (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tb = result.table
+    t = tb["time [s]"]
+    fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    ax[0].plot(t, tb["x [m]"], label="torso x")
+    ax[0].plot(t, tb["z [m]"], label="torso z")
+    ax[0].set_ylabel("[m]")
+    ax[0].legend(loc="upper left")
+    for side, c in (("left", "C0"), ("right", "C1")):
+        ax[1].plot(t, 1e3 * tb[f"{side}_depth [m]"], c, label=f"{side} foot")
+        ax[2].plot(t, tb[f"{side}_Fz [N]"], c, label=f"{side} foot")
+    ax[1].set_ylabel("sinking [mm]")
+    ax[1].invert_yaxis()
+    ax[1].legend(loc="lower left")
+    ax[2].axhline(0.0, color="k", lw=0.5)
+    ax[2].set_ylabel("mud $F_z$ [N]\n(< 0: suction)")
+    ax[3].plot(t, tb["joint_energy [J]"], "k")
+    ax[3].set_ylabel("joint work [J]")
+    ax[3].set_xlabel("time [s]")
+    s = result.summary
+    fig.suptitle(f"biped in mud, {s['foot']} feet: {s['distance [m]']:.2f} m, "
+                 f"{s['energy_per_step [J]']:.2f} J/step, sinking {1e3 * s['mean_sinking [m]']:.1f} mm, "
+                 f"max suction {s['max_suction [N]']:.1f} N" + (" (fell)" if s["fell"] else ""), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def save_strip(frames: list, path: Path) -> Path | None:
+    """Save rendered frames side by side as one PNG; None when there are none."""
+    if not frames:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.imsave(path, np.concatenate(frames, axis=1))
+    return path
+
+
+# ---------------------------------------------------------------------------------------
+# Command line
+# ---------------------------------------------------------------------------------------
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft walk`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "walk", help="a planar biped walking in mud (MuJoCo): walk.csv, summary.json, walk.png",
+        description="Walk a 10 kg planar biped in mud with the chosen foot and write DIR/walk.csv "
+                    "(per physics step), DIR/steps.csv (per gait step), DIR/summary.json and DIR/walk.png.")
+    p.add_argument("--foot", default="flat",
+                   help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply) in metres")
+    p.add_argument("--water-content", type=float, default=0.25, help="water content W [-] (0.25 to 0.45)")
+    p.add_argument("--seconds", type=float, default=10.0, help="simulated time [s]")
+    p.add_argument("--out", required=True, help="output directory DIR")
+    p.add_argument("--dt", type=float, default=1e-3, help="physics time step [s] (default 0.001)")
+    p.add_argument("--speed", type=float, default=0.1, help="walking speed command [m/s] (default 0.1)")
+    p.add_argument("--step-time", type=float, default=1.0, help="duration of a step [s] (default 1.0)")
+    p.add_argument("--bottom", type=float, default=0.15, help="depth of the rigid bed under the mud [m]")
+    p.add_argument("--explicit", action="store_true", help="explicit coupling (no stabilisation; for study)")
+    p.add_argument("--extrapolate", action="store_true", help="allow water contents outside 0.25-0.45")
+    p.add_argument("--no-render", action="store_true", help="skip the rendered image strip")
+    p.add_argument("--force", action="store_true", help="overwrite an existing DIR/walk.csv")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=main)
+    return p
+
+
+def main(args: argparse.Namespace) -> int:
+    """Run ``mudrft walk``; returns the exit status (raises MudrftError on bad input)."""
+    os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
+    from ..feet import by_name
+    from ..parameters import paper_mud
+
+    out = Path(args.out)
+    if (out / "walk.csv").exists() and not args.force:
+        raise MudrftError(f"{str(out / 'walk.csv')!r} exists; pass --force to overwrite it")
+    if out.exists() and not out.is_dir():
+        raise MudrftError(f"--out {str(out)!r} is a file, expected a directory")
+    check_positive("--seconds", args.seconds, unit="s")
+    foot = by_name(args.foot)
+    mud = paper_mud(args.water_content, extrapolate=args.extrapolate)
+    out.mkdir(parents=True, exist_ok=True)
+    say = (lambda msg: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
+    say(f"mudrft walk: {foot.name} feet, W = {args.water_content:g}, {args.seconds:g} s at dt = {args.dt:g} s")
+    last = [-1]
+
+    def progress(frac: float) -> None:
+        pct = int(frac * 10) * 10
+        if pct != last[0]:
+            last[0] = pct
+            say(f"  walking: {pct:3d} %")
+
+    t0 = _time.perf_counter()
+    res = walk(foot, mud, seconds=args.seconds, dt=args.dt, speed=args.speed, step_time=args.step_time,
+               bottom=args.bottom, implicit=not args.explicit, frames=0 if args.no_render else 6,
+               progress=None if args.quiet else progress)
+    res.summary["water_content"] = float(args.water_content)
+    res.summary["wall_time [s]"] = round(_time.perf_counter() - t0, 3)
+    _write_csv(out / "walk.csv", res.table, WALK_COLUMNS)
+    _write_csv(out / "steps.csv", res.steps, STEP_COLUMNS)
+    plot_walk(res, out / "walk.png")
+    strip = save_strip(res.frames, out / "frames.png")
+    res.summary["frames"] = strip.name if strip is not None else None
+    (out / "summary.json").write_text(json.dumps(res.summary, indent=2) + "\n")
+    s = res.summary
+    say(f"  {'FELL' if s['fell'] else 'walked'} {s['distance [m]']:.3f} m in {s['seconds']:.2f} s; "
+        f"{s['energy_per_step [J]']:.3f} J/step; sinking {1e3 * s['mean_sinking [m]']:.1f} mm; "
+        f"max suction {s['max_suction [N]']:.2f} N -> {out}")
+    return 0

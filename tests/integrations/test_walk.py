@@ -1,0 +1,122 @@
+"""The biped walking in mud, and ``mudrft walk``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+
+pytest.importorskip("mujoco")
+from mudrft.integrations import walk as W
+
+from .conftest import mujoco
+
+MUD = mudrft.paper_mud(0.25)
+
+
+@pytest.fixture(scope="module")
+def flat_runs() -> dict[float, W.WalkResult]:
+    """Ten seconds of walking with flat feet at dt = 1 ms and 2 ms."""
+    return {dt: W.walk(mudrft.feet.Flat(), MUD, seconds=10.0, dt=dt) for dt in (1e-3, 2e-3)}
+
+
+@pytest.mark.parametrize("dt", [1e-3, 2e-3])
+def test_biped_walks_ten_seconds(flat_runs, dt):
+    res = flat_runs[dt]
+    s = res.summary
+    assert not s["fell"]
+    assert s["seconds"] == pytest.approx(10.0, abs=dt)
+    for col, values in res.table.items():
+        assert np.all(np.isfinite(values)), col
+    # torso hip starts 0.37 m above the mud; it sinks with the feet but never below 0.25 m
+    assert s["min_torso_height [m]"] > 0.25
+    assert np.abs(res.table["pitch [rad]"]).max() < 0.3  # the boom's pitch spring holds the torso
+    # it walks: at least half of the commanded 1 m (the feet slip backward in the mud)
+    assert s["distance [m]"] > 0.5
+    assert s["steps"] >= 8
+    assert s["max_suction [N]"] > 0 and s["mean_sinking [m]"] > 0.02
+
+
+def test_walk_converges_in_the_time_step(flat_runs):
+    """Halving the step changes the gait metrics little (O(dt) coupling; measured <= 1.1 %)."""
+    a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
+    for key in ("distance [m]", "energy_per_step [J]", "mean_sinking [m]", "max_suction [N]"):
+        assert b[key] == pytest.approx(a[key], rel=0.05), key
+
+
+def test_morphing_foot_walks_with_less_suction(flat_runs):
+    """Any foot walks, including the morphing foot, and it meets less suction (paper Sec. IV)."""
+    res = W.walk(mudrft.feet.MorphingFoot(), MUD, seconds=3.0, dt=2e-3)
+    assert not res.summary["fell"]
+    flat = flat_runs[2e-3].table
+    early = flat["time [s]"] <= 3.0
+    flat_suction = -min(flat["left_Fz [N]"][early].min(), flat["right_Fz [N]"][early].min())
+    assert res.summary["max_suction [N]"] < 0.5 * flat_suction
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(-0.15, 0.15), st.floats(-0.36, -0.2))  # reachable: |(x, z)| < 0.4 m
+def test_leg_inverse_kinematics_round_trip(x, z):
+    q1, q2 = W._leg_ik(x, z)
+    # forward kinematics of the hinge convention (rotation about +y)
+    fx = -W.THIGH * math.sin(q1) - W.SHANK * math.sin(q1 + q2)
+    fz = -W.THIGH * math.cos(q1) - W.SHANK * math.cos(q1 + q2)
+    assert (fx, fz) == pytest.approx((x, z), abs=1e-12)
+    assert q2 >= 0  # the knee bends forward
+
+
+def test_ik_agrees_with_mujoco():
+    """The controller's leg model matches the MJCF: the ankle lands where the IK says."""
+    model = W.biped_model()
+    data = mujoco.MjData(model)
+    q1, q2 = W._leg_ik(0.07, -0.33)
+    data.qpos[model.joint("left_hip").qposadr[0]] = q1
+    data.qpos[model.joint("left_knee").qposadr[0]] = q2
+    mujoco.mj_forward(model, data)
+    rel = data.xpos[model.body("left_foot").id] - data.xpos[model.body("left_thigh").id]
+    np.testing.assert_allclose(rel[[0, 2]], [0.07, -0.33], atol=1e-12)
+    assert model.body_subtreemass[model.body("torso").id] == pytest.approx(10.0, rel=1e-12)
+
+
+def _args(tmp_path, **kw):
+    base = {"foot": "semi-sphere", "water_content": 0.3, "seconds": 1.2, "out": str(tmp_path / "run"),
+            "dt": 2e-3, "speed": 0.1, "step_time": 0.5, "bottom": 0.15, "explicit": False,
+            "extrapolate": False, "no_render": True, "force": False, "quiet": True}
+    base.update(kw)
+    return argparse.Namespace(**base)
+
+
+def test_cli_writes_outputs_and_refuses_to_overwrite(tmp_path):
+    parser = argparse.ArgumentParser()
+    sub = parser.add_subparsers(dest="command")
+    W.add_parser(sub)
+    ns = parser.parse_args(["walk", "--foot", "flat", "--out", str(tmp_path / "x"), "--seconds", "2"])
+    assert ns.func is W.main and ns.water_content == 0.25 and ns.seconds == 2.0
+    assert W.main(_args(tmp_path)) == 0
+    out = tmp_path / "run"
+    summary = json.loads((out / "summary.json").read_text())
+    for key in ("fell", "distance [m]", "energy_per_step [J]", "mean_sinking [m]", "max_suction [N]"):
+        assert key in summary
+    assert isinstance(summary["fell"], bool) and summary["foot"] == "semi-sphere"
+    table = np.genfromtxt(out / "walk.csv", delimiter=",", names=True)
+    assert len(table) == 600 and (out / "steps.csv").exists() and (out / "walk.png").stat().st_size > 1000
+    with pytest.raises(mudrft.MudrftError, match="exists; pass --force"):
+        W.main(_args(tmp_path))
+    assert W.main(_args(tmp_path, force=True, seconds=0.6)) == 0
+    assert len(np.genfromtxt(out / "walk.csv", delimiter=",", names=True)) == 300
+
+
+def test_cli_rejects_bad_input(tmp_path):
+    with pytest.raises(mudrft.MudrftError, match="seconds"):
+        W.main(_args(tmp_path, seconds=-1.0))
+    with pytest.raises(mudrft.MudrftError):
+        W.main(_args(tmp_path, foot="paddle"))
+    with pytest.raises(mudrft.MudrftError, match="dt"):
+        W.walk(mudrft.feet.Flat(), MUD, seconds=1.0, dt=0.05)
