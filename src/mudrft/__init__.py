@@ -34,6 +34,7 @@ _LAZY = {
     "integrations": "mudrft.integrations",
     "backends": "mudrft.backends",
     "metrics": "mudrft.metrics",
+    "io": "mudrft.io",
     "plotting": "mudrft.plotting",
 }
 _LAZY_ATTRS = {
@@ -41,6 +42,8 @@ _LAZY_ATTRS = {
     "Result": ("mudrft.simulate", "Result"),
     "LoadControl": ("mudrft.simulate", "LoadControl"),
     "calibrate": ("mudrft.calibration", "calibrate"),
+    "load_parameters": ("mudrft.calibration", "load_parameters"),
+    "static_sinking": ("mudrft.simulate", "static_sinking"),
 }
 
 __all__ = [

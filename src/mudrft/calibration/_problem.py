@@ -1,0 +1,206 @@
+"""Packed, batched evaluation of the mud model on the trials of a dataset (internal).
+
+All trials are simulated together: arrays of shape ``(n_max, T)`` for ``T`` trials,
+padded at the end (a padded step repeats the last sample, never read back). A
+batch of ``B`` parameter sets (a Jacobian, a grid of starting points) is run in
+the same pass, so one call of :func:`mudrft.constitutive.step` per time step
+advances ``B x T`` channels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from ..constitutive import initial_state, step
+from ..io import IntrusionDataset, Trial
+from ..parameters.base import MudParameters
+
+__all__ = [
+    "FIT_PARAMETERS",
+    "LINEAR_PARAMETERS",
+    "PHASES",
+    "Packed",
+    "segment",
+]
+
+#: Parameters a fit can free (nu and k_a are never fitted: decision D41).
+FIT_PARAMETERS = (
+    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
+    "sigma_y",
+)
+#: Parameters the model is exactly linear in (each term of eq. 1 is proportional to one).
+LINEAR_PARAMETERS = ("alpha", "eta_inf", "eta_m", "sigma_y")
+#: Phase codes of :func:`segment`.
+PHASES = {"intrusion": 0, "hold": 1, "retraction": 2, "out": 3}
+
+#: Fraction of the deepest displacement within which the plate counts as at the bottom
+#: (hold) or back at the surface (out), decision D42.
+SEGMENT_TOLERANCE = 0.01
+
+
+def _fused_step() -> tuple[Any, Any] | None:
+    """The fused numpy kernel of :mod:`mudrft.backends.kernels` (same update as
+    :func:`mudrft.constitutive.step`, tested against it there and in
+    tests/calibration), or None if it is not available."""
+    try:
+        from ..backends.kernels import channel_constants, fused_step
+    except ImportError:  # pragma: no cover
+        return None
+    return fused_step, channel_constants
+
+
+def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
+    """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud.
+
+    The deepest point is ``q_max = max |q|``. Intrusion runs until the displacement
+    first comes within ``tolerance * q_max`` of it, the hold until it last leaves
+    that band, the retraction until the displacement is back within the band around
+    the surface; later samples are "out" (decision D42).
+    """
+    q = np.asarray(trial.depth, dtype=float)
+    i_peak = int(np.argmax(np.abs(q)))
+    sign = 1.0 if q[i_peak] >= 0 else -1.0
+    q = q * sign
+    qmax = float(q[i_peak])
+    phase = np.full(q.size, 2, dtype=np.int8)
+    if qmax <= 0:
+        return np.zeros(q.size, dtype=np.int8)
+    band = tolerance * qmax
+    at_bottom = q >= qmax - band
+    i_reach = int(np.argmax(at_bottom))
+    i_leave = int(q.size - 1 - np.argmax(at_bottom[::-1]))
+    phase[: i_reach + 1] = 0
+    phase[i_reach + 1: i_leave + 1] = 1
+    after = np.nonzero(q[i_leave + 1:] <= band)[0]
+    if after.size:
+        phase[i_leave + 1 + after[0]:] = 3
+    return phase
+
+
+@dataclass
+class Packed:
+    """Trials padded into ``(n_max, T)`` arrays, with phase codes and trial weights."""
+
+    time: np.ndarray
+    gamma: np.ndarray
+    rate: np.ndarray
+    dt: np.ndarray
+    data: np.ndarray
+    valid: np.ndarray
+    phase: np.ndarray
+    weight: np.ndarray
+    lengths: np.ndarray
+    names: tuple[str, ...]
+    nu: float
+    k_a: float | None
+    acceleration: bool
+    xi0: float
+    simulations: int = 0
+
+    @classmethod
+    def from_dataset(
+        cls,
+        dataset: IntrusionDataset,
+        *,
+        nu: float,
+        k_a: float | None,
+        acceleration: bool,
+        xi0: float,
+    ) -> Packed:
+        trials = dataset.trials
+        T = len(trials)
+        n_max = max(len(t) for t in trials)
+        time = np.zeros((n_max, T))
+        gamma = np.zeros((n_max, T))
+        data = np.zeros((n_max, T))
+        valid = np.zeros((n_max, T), dtype=bool)
+        phase = np.full((n_max, T), -1, dtype=np.int8)
+        weight = np.zeros(T)
+        lengths = np.zeros(T, dtype=int)
+        for j, tr in enumerate(trials):
+            n = len(tr)
+            ph = segment(tr)
+            t = tr.time - tr.time[0]
+            dt_last = t[-1] - t[-2]
+            time[:n, j] = t
+            time[n:, j] = t[-1] + dt_last * np.arange(1, n_max - n + 1)
+            gamma[:n, j] = tr.gamma
+            gamma[n:, j] = tr.gamma[-1]
+            data[:n, j] = tr.stress
+            phase[:n, j] = ph
+            valid[:n, j] = ph != PHASES["out"]
+            if not np.any(ph == PHASES["intrusion"]) or float(np.max(np.abs(tr.depth))) <= 0:
+                raise MudrftError(f"trial {tr.name!r} has no intrusion (depth never increases); "
+                                  "a calibration trial must intrude into the mud")
+            span = float(np.ptp(tr.stress[valid[:n, j]]))
+            if not span > 0:
+                raise MudrftError(f"trial {tr.name!r}: the stress is constant; nothing to fit")
+            weight[j] = 1.0 / span
+            lengths[j] = n
+        dt = np.diff(time, axis=0)
+        rate = np.diff(gamma, axis=0) / dt
+        return cls(time=time, gamma=gamma, rate=rate, dt=dt, data=data, valid=valid, phase=phase,
+                   weight=weight, lengths=lengths, names=tuple(t.name for t in trials), nu=nu,
+                   k_a=k_a, acceleration=acceleration, xi0=xi0)
+
+    @property
+    def n_trials(self) -> int:
+        return int(self.data.shape[1])
+
+    def mask(self, phases: tuple[int, ...]) -> np.ndarray:
+        """Samples (n_max, T) of the given phases (and valid)."""
+        return self.valid & np.isin(self.phase, phases)
+
+    def parameters(self, values: dict[str, Any]) -> MudParameters:
+        """A (batched) MudParameters from a dict of arrays of shape (B,)."""
+        fields: dict[str, Any] = {k: np.asarray(values[k], dtype=float).reshape(-1, 1)
+                                  for k in FIT_PARAMETERS}
+        return MudParameters(**fields, nu=self.nu, k_a=self.k_a)
+
+    def simulate(self, values: dict[str, Any], upto: int | None = None) -> np.ndarray:
+        """Total stress, shape (upto, B, T) [Pa], for a batch of parameter values.
+
+        Non-finite results (only possible at absurd parameter values) are returned as
+        +inf so that the caller can reject the point.
+        """
+        n = self.data.shape[0] if upto is None else int(upto)
+        p = self.parameters(values)
+        B = int(np.asarray(values["alpha"]).size)
+        T = self.n_trials
+        out = np.zeros((n, B, T))
+        self.simulations += 1
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+            st = initial_state((B, T), xi0=self.xi0, gamma=self.gamma[0])
+            fused = _fused_step()
+            if fused is not None:
+                # the same update as constitutive.step without per-step validation (the
+                # inputs were validated once when the dataset was packed)
+                consts = fused[1](p)
+                kappa = 1.0 if self.acceleration else 0.0
+                for k in range(1, n):
+                    st, out[k] = fused[0](consts, st, self.gamma[k], self.rate[k - 1],
+                                          self.dt[k - 1], 1.0, kappa)
+            else:  # pragma: no cover - only without the optional kernels module
+                for k in range(1, n):
+                    st, s = step(p, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1],
+                                 acceleration=self.acceleration)
+                    out[k] = s.total
+        bad = ~np.isfinite(out)
+        if np.any(bad):
+            out[bad] = np.inf
+        return out
+
+    def residuals(self, sim: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        """Weighted residuals (model - data)/span over the masked samples, shape (m, B)."""
+        n = sim.shape[0]
+        m = mask[:n]
+        diff = (sim - self.data[:n, None, :]) * self.weight[None, None, :]
+        return diff.transpose(0, 2, 1)[m]  # (m, B)
+
+    def upto(self, mask: np.ndarray) -> int:
+        rows = np.nonzero(mask.any(axis=1))[0]
+        return int(rows[-1]) + 1 if rows.size else 1

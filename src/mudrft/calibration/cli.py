@@ -1,0 +1,119 @@
+"""``mudrft calibrate``: fit the model to intrusion logs from the command line.
+
+::
+
+    mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
+                     [--area A] [--length L] [--groups b th s] [--starts K]
+                     --out fit.json [--overwrite] [--plot fit.png] [--quiet]
+
+Progress goes to stderr, one line per stage; the parameter table to stdout. The
+JSON (see :meth:`mudrft.calibration.FitResult.to_json`) loads back with
+``mudrft.calibration.load_parameters(path)``. An existing output file is never
+replaced without ``--overwrite``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from .._validation import MudrftError
+
+__all__ = ["add_parser", "build_parser", "main"]
+
+_DESCRIPTION = (
+    "Fit the mud model (Chen et al. 2026) to plate-intrusion logs: bounded least squares, "
+    "phase by phase (intrusion, relaxation, retraction) then jointly; prints parameters "
+    "with standard errors, confidence intervals and an identifiability verdict, and writes "
+    "them as JSON. CSV columns: 'time [s]', 'depth [m]' and 'stress [Pa]' or 'Fz [N]' "
+    "(units such as ms, mm, kPa, MPa are converted), optional 'trial' column."
+)
+
+
+def _configure(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    p.add_argument("data", nargs="+", help="intrusion log(s): CSV, or HDF5 (.h5/.hdf5)")
+    p.add_argument("--direction", choices=["vertical", "horizontal"], default=None,
+                   help="loading direction of the tests (default: the file's, else vertical)")
+    p.add_argument("--area", type=float, default=None,
+                   help="plate area [m^2], needed when the log has a force column")
+    p.add_argument("--length", type=float, default=None,
+                   help="plate characteristic length L_c [m] (default: the file's, else 0.05)")
+    p.add_argument("--groups", nargs="+", default=["all"],
+                   help="what to fit: all (default), b, th, s, or parameter names")
+    p.add_argument("--starts", type=int, default=1,
+                   help="multi-start: grid points refined per phase stage (default 1)")
+    p.add_argument("--decimate", type=int, default=1,
+                   help="keep every K-th sample of each trial (for logs at kHz rates)")
+    p.add_argument("--confidence", type=float, default=0.95,
+                   help="level of the confidence intervals (default 0.95)")
+    p.add_argument("--out", default=None, help="write the fit to this JSON file")
+    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    p.add_argument("--plot", default=None, help="save a PNG of the fit against the data")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    return p
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add the ``calibrate`` subcommand to an argparse subparsers object."""
+    p = subparsers.add_parser("calibrate", help="fit the model to your own intrusion logs",
+                              description=_DESCRIPTION)
+    _configure(p)
+    p.set_defaults(func=main)
+    return p
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """A stand-alone parser (``python -m mudrft.calibration.cli``)."""
+    return _configure(argparse.ArgumentParser(prog="mudrft calibrate", description=_DESCRIPTION))
+
+
+def main(args: argparse.Namespace | Sequence[str] | None = None) -> int:
+    """Run ``mudrft calibrate``; returns the exit status (0 ok, 2 bad input)."""
+    if args is None or not isinstance(args, argparse.Namespace):
+        args = build_parser().parse_args(None if args is None else list(args))
+    try:
+        return _run(args)
+    except MudrftError as exc:
+        print(f"mudrft calibrate: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def _run(args: argparse.Namespace) -> int:
+    from ..io import load_dataset
+    from .fit import calibrate
+
+    for name in ("out", "plot"):
+        target = getattr(args, name)
+        if target and Path(target).exists() and not args.overwrite:
+            raise MudrftError(f"{target}: file exists; pass --overwrite to replace it")
+    if args.out and any(Path(args.out).resolve() == Path(d).resolve() for d in args.data):
+        raise MudrftError(f"{args.out}: --out names an input file; choose another name")
+    opts = {"area": args.area, "characteristic_length": args.length}
+    if args.direction:
+        opts["direction"] = args.direction
+    ds = load_dataset(args.data if len(args.data) > 1 else args.data[0], **opts)
+    progress = None if args.quiet else (lambda s: print(s, file=sys.stderr, flush=True))
+    fit = calibrate(ds, args.direction, groups=args.groups, starts=args.starts,
+                    confidence_level=args.confidence, progress=progress,
+                    decimate=args.decimate)
+    print(fit.summary())
+    if ds.synthetic:
+        print("note: the data say they are synthetic (generated by a model, not measured)")
+    if args.out:
+        path = fit.to_json(args.out, overwrite=args.overwrite)
+        print(f"wrote {path}")
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        fig = fit.plot()
+        fig.savefig(args.plot, dpi=120)
+        print(f"wrote {args.plot}")
+    return 0 if fit.success else 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

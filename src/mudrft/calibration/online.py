@@ -1,0 +1,718 @@
+r"""Online estimation: recursive least squares and stream classification, O(1) per sample.
+
+The supplementary (Sec. III-A) notes that two simplifications make the model linear
+in its most important parameters, so that they can be identified online:
+
+* intrusion, with :math:`\dot\gamma\gg\dot\gamma_c` (:math:`\xi_{ss}\approx0`):
+  :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`;
+* retraction, with a sealed cavity (:math:`\phi=1`) and the bed left behind:
+  :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`
+  (suction negative in mudrft's convention), :math:`\Delta t` the time since the
+  retraction began.
+
+:class:`OnlineEstimator` runs one recursive least-squares (RLS) filter with
+exponential forgetting on the intrusion samples for :math:`(\alpha,\eta_\infty)`
+(``n`` fixed) and a bank of two-parameter RLS filters on the retraction samples for
+:math:`(\sigma_Y,\eta_\infty)`, one per value of :math:`\tau_{build}` on a log grid;
+the bank member with the smallest discounted prediction error gives
+:math:`\tau_{build}` (refined by a parabola through its neighbours in
+:math:`\ln\tau`), decision D46. Each sample costs a fixed number of small numpy
+operations; nothing is refitted.
+
+Because the simplifications drop the lagged thixotropic stress, the estimates are
+*apparent* values: on data from the full model (or real mud) they differ from the
+model constants by the thixotropic share of the stress (documented in
+docs/fragments/calibration.md). :class:`StreamClassifier` avoids that bias by
+running the full model for each candidate parameter set and comparing residuals over
+a sliding (exponentially weighted) window, decision D47.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import MudrftError, check_choice, check_in_range, check_positive
+from ..constitutive import initial_state
+from ..io import IntrusionDataset
+from ..parameters.base import MudParameters
+from ..parameters.registry import paper_parameters
+from ..plate import DEFAULT_PLATE_LENGTH
+from ._problem import FIT_PARAMETERS, PHASES, Packed, _fused_step
+
+__all__ = [
+    "Classification",
+    "OnlineEstimate",
+    "OnlineEstimator",
+    "StreamClassifier",
+    "classify",
+]
+
+
+class OnlineEstimate(NamedTuple):
+    """Current estimates of :class:`OnlineEstimator` (SI; ``None`` until informed).
+
+    Attributes
+    ----------
+    alpha : float or None
+        Stiffness :math:`\\alpha` [Pa].
+    eta_inf : float or None
+        Viscosity :math:`\\eta_\\infty` [Pa s].
+    eta_m : float or None
+        Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
+    sigma_y : float or None
+        Yield stress :math:`\\sigma_Y` [Pa].
+    tau_build : float or None
+        Suction build-up time [s].
+    n : float
+        Exponent used (fixed) [-].
+    updates : int
+        Samples used so far.
+    phase : str
+        Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
+    """
+
+    alpha: float | None
+    eta_inf: float | None
+    eta_m: float | None
+    sigma_y: float | None
+    tau_build: float | None
+    n: float
+    updates: int
+    phase: str
+
+
+def _rls_update(theta: np.ndarray, P: np.ndarray, phi: np.ndarray, y: Any, lam: float,
+                p_max: float) -> tuple[np.ndarray, np.ndarray, Any]:
+    r"""One RLS step with exponential forgetting, for a bank of filters.
+
+    theta (..., p), P (..., p, p), phi (..., p), y (...). The trace of P is capped at
+    ``p_max`` so that directions the data do not excite cannot wind up (decision D46).
+    Returns the new theta, P and the increment of the weighted least-squares cost,
+    :math:`\lambda e^2/(\lambda+\phi^TP\phi)` with :math:`e` the a-priori error (so
+    that :math:`V_k=\lambda V_{k-1}+\text{increment}` is the minimised cost).
+    """
+    Pphi = np.einsum("...ij,...j->...i", P, phi)
+    denom = lam + np.einsum("...i,...i->...", phi, Pphi)
+    K = Pphi / denom[..., None]
+    err = y - np.einsum("...i,...i->...", phi, theta)
+    theta = theta + K * err[..., None]
+    P = (P - K[..., :, None] * Pphi[..., None, :]) / lam
+    P = 0.5 * (P + np.swapaxes(P, -1, -2))  # keep symmetric against round-off
+    tr = np.trace(P, axis1=-2, axis2=-1)
+    over = tr > p_max
+    if np.any(over):
+        P = P * np.where(over, p_max / tr, 1.0)[..., None, None]
+    return theta, P, lam * err * err / denom
+
+
+_EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
+
+
+class OnlineEstimator:
+    r"""Recursive least squares with forgetting of the linear constants and tau_build.
+
+    Feed samples one at a time with :meth:`update` (at controller rate: a fixed number
+    of small numpy operations per sample, no refit) and read :attr:`estimate`.
+
+    Two regressor models (decision D46):
+
+    ``model="exact"`` (default)
+        The full model is *exactly* linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`
+        once the other constants are fixed (every term of eq. 1 is proportional to
+        one of them). The estimator runs the model's step alongside the stream to
+        compute these four regressors, with :math:`n,\lambda,\dot\gamma_c,\varepsilon,
+        \tau_{leak}` from ``prior`` and one filter per :math:`\tau_{build}` on a grid.
+        Unbiased when the prior's nonlinear constants are right.
+    ``model="paper"``
+        The supplementary's approximations (Sec. III-A): intrusion
+        :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`, retraction
+        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`.
+        Needs only ``n``, but gives *apparent* values (the lagged thixotropic stress is
+        absorbed into them).
+
+    In both, the filter of the :math:`\tau_{build}` grid with the smallest discounted
+    a-priori prediction error is selected and refined by a parabola in
+    :math:`\ln\tau_{build}`.
+
+    Parameters
+    ----------
+    prior : MudParameters, optional
+        Starting values and fixed constants; default the paper's row W = 35 % of
+        ``direction``.
+    model : {"exact", "paper"}, keyword-only
+        Regressor model (see above).
+    direction : {"vertical", "horizontal"}, keyword-only
+        Direction of the default prior.
+    characteristic_length : float, keyword-only
+        Plate length :math:`L_c` [m] (decision D1).
+    n : float, optional, keyword-only
+        Exponent :math:`n` [-], held fixed; default ``prior.n``.
+    forgetting : float, keyword-only
+        Forgetting factor :math:`\lambda_f\in[0.5,1]`; memory about
+        :math:`1/(1-\lambda_f)` updates (default 0.995: 200).
+    tau_build_grid : array_like, optional, keyword-only
+        Candidate build-up times [s]; default 25 values from 0.02 to 5 s (log-spaced).
+    rate_threshold : float, keyword-only
+        |rate| below which a sample counts as hold [1/s] (``"paper"`` skips hold samples).
+    retraction_skip : float, optional, keyword-only
+        ``"paper"`` only: dimensionless retraction skipped at the start of each retraction,
+        while the bed contact fades [-]; default ``3 * prior.epsilon``.
+    initial_scale : float, keyword-only
+        Initial standard deviation of each estimate relative to its prior value [-].
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> true = mudrft.paper_parameters(0.25).replace(alpha=30e3, sigma_y=9e3)
+    >>> tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=0.01)
+    >>> res = mudrft.plate_response(tr, true)
+    >>> est = OnlineEstimator(mudrft.paper_parameters(0.25))
+    >>> for t, q, s in zip(tr.time, res.displacement, res.stress):
+    ...     e = est.update(t, q, s)
+    >>> abs(e.alpha / 30e3 - 1) < 0.01, abs(e.sigma_y / 9e3 - 1) < 0.01
+    (True, True)
+    """
+
+    def __init__(
+        self,
+        prior: MudParameters | None = None,
+        *,
+        model: str = "exact",
+        direction: str = "vertical",
+        characteristic_length: float = DEFAULT_PLATE_LENGTH,
+        n: float | None = None,
+        forgetting: float = 0.995,
+        tau_build_grid: Any = None,
+        rate_threshold: float = 0.02,
+        retraction_skip: float | None = None,
+        initial_scale: float = 100.0,
+    ) -> None:
+        self.model = check_choice("model", model, ("exact", "paper"))
+        check_choice("direction", direction, ("vertical", "horizontal"))
+        if prior is None:
+            prior = paper_parameters(0.35, direction)
+        if not isinstance(prior, MudParameters) or prior.shape != ():
+            raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
+        self.L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+        self.n = float(check_in_range("n", prior.n if n is None else n, 1e-3, 1.0))
+        self.prior = prior.replace(n=self.n) if n is not None else prior
+        self.forgetting = float(check_in_range("forgetting", forgetting, 0.5, 1.0))
+        grid = np.geomspace(0.02, 5.0, 25) if tau_build_grid is None else tau_build_grid
+        g = check_positive("tau_build_grid", grid, unit="s")
+        if g.ndim != 1 or g.size < 3:
+            raise MudrftError(f"tau_build_grid must hold at least 3 times [s], got {grid!r}")
+        self.tau_grid = np.sort(g)
+        self.rate_threshold = float(check_positive("rate_threshold", rate_threshold, unit="1/s"))
+        if retraction_skip is None:
+            retraction_skip = 3.0 * float(self.prior.epsilon)
+        self.retraction_skip = float(check_in_range("retraction_skip", retraction_skip, 0.0, 10.0))
+        self.initial_scale = float(check_positive("initial_scale", initial_scale))
+        self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
+        self._build_basis()
+        self.reset()
+
+    def _build_basis(self) -> None:
+        if self.model != "exact":
+            return
+        G = self.tau_grid.size
+        vals: dict[str, Any] = {k: np.repeat(float(getattr(self.prior, k)), G * 5)
+                                for k in FIT_PARAMETERS}
+        vals["tau_build"] = np.repeat(self.tau_grid, 5)
+        for j, k in enumerate(_EXACT):
+            col = np.ones((G, 5))
+            col[:, 1 + j] = 2.0
+            vals[k] = col.ravel()
+        tied = bool(np.isclose(float(self.prior.k_a), 1.0 / float(self.prior.lam)))
+        self._basis_params = MudParameters(**vals, nu=float(self.prior.nu),
+                                           k_a=None if tied else float(self.prior.k_a))
+        fused = _fused_step()
+        self._fused = fused
+        self._consts = fused[1](self._basis_params) if fused is not None else None
+
+    def rebase(self, prior: MudParameters) -> None:
+        """Start again around another prior (e.g. the best candidate of a
+        :class:`StreamClassifier` after the mud changed): new fixed constants, new
+        starting values, memory cleared."""
+        if not isinstance(prior, MudParameters) or prior.shape != ():
+            raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
+        self.prior = prior
+        self.n = float(prior.n)
+        self._build_basis()
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every sample (back to the prior)."""
+        G = self.tau_grid.size
+        p = self.prior
+        # the filters run on normalised quantities (parameters / prior value, stress / S):
+        # every entry is O(1), which keeps the covariance update accurate in float64
+        self._scale = np.array([float(getattr(p, k)) for k in self._names])
+        self._S = float(max(p.alpha, p.sigma_y))
+        var0 = np.full(self._scale.size, self.initial_scale**2)
+        self._p_max = float(var0.sum())
+        self._theta = np.ones((G, self._scale.size))
+        self._P = np.tile(np.diag(var0), (G, 1, 1))
+        self._err = np.zeros(G)
+        self._updates = 0
+        self._last: tuple[float, float] | None = None
+        self._gamma_w = 0.0
+        self._t_w: float | None = None
+        self._phase = "out"
+        if self.model == "paper":
+            self._scale_i = np.array([float(p.alpha), float(p.eta_inf)])
+            self._th_i = np.ones(2)
+            self._P_i = np.diag(np.full(2, self.initial_scale**2))
+            self._pi_max = float(np.trace(self._P_i))
+            self._n_i = 0
+        else:
+            self._state = initial_state((G * 5,))
+
+    # ------------------------------------------------------------------------------------
+    def update(self, time: float, depth: float, stress: float) -> OnlineEstimate:
+        """Add one sample and return the current estimates.
+
+        Parameters
+        ----------
+        time : float
+            Sample time [s], strictly increasing.
+        depth : float
+            Intrusion displacement [m].
+        stress : float
+            Measured stress resisting the intrusion [Pa] (force / plate area).
+
+        Returns
+        -------
+        OnlineEstimate
+        """
+        t, q, s = float(time), float(depth), float(stress)
+        if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
+            raise MudrftError(f"update needs finite time, depth and stress, got {time!r}, "
+                              f"{depth!r}, {stress!r}")
+        g = q / self.L
+        if self._last is None:
+            self._last = (t, g)
+            self._phase = "out" if g <= 0 else "hold"
+            if self.model == "exact":
+                self._state = initial_state((self.tau_grid.size * 5,), gamma=g)
+            return self.estimate
+        t0, g0 = self._last
+        if not t > t0:
+            raise MudrftError(f"time must increase between updates, got {t!r} after {t0!r}")
+        dt = t - t0
+        gd = (g - g0) / dt
+        self._last = (t, g)
+        thr = self.rate_threshold
+        was_in = self._phase != "out"
+        if g <= 0.0:
+            self._phase = "out"  # at or above the surface: no mud stress (as plate_response)
+        elif gd > thr:
+            self._phase = "intrusion"
+        elif gd < -thr:
+            self._phase = "retraction"
+        else:
+            self._phase = "hold"
+        if self._phase == "intrusion" and g >= self._gamma_w:
+            self._gamma_w, self._t_w = g, None
+        if self._phase == "retraction" and self._t_w is None:
+            self._t_w = t0  # retraction began at the previous sample
+        if self._phase == "out":
+            self._gamma_w, self._t_w = 0.0, None
+        if self.model == "exact":
+            self._update_exact(g, gd, dt, s, entering=not was_in)
+        else:
+            self._update_paper(t, g, gd, s)
+        return self.estimate
+
+    def _update_exact(self, g: float, gd: float, dt: float, s: float, *, entering: bool) -> None:
+        G = self.tau_grid.size
+        if self._phase == "out":
+            # out of the mud: no stress to learn from; the next intrusion starts afresh (D11)
+            self._state = initial_state((G * 5,), gamma=g)
+            return
+        gv = np.full(G * 5, g)
+        gdv = np.full(G * 5, gd)
+        if self._fused is not None:
+            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
+        else:  # pragma: no cover - only without the optional kernels module
+            from ..constitutive import step
+
+            self._state, out = step(self._basis_params, self._state, gv, gdv, dt)
+            total = out.total
+        tot = np.asarray(total).reshape(G, 5)
+        phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
+        if not np.any(np.abs(phi) > 0):
+            return
+        self._theta, self._P, dv = _rls_update(self._theta, self._P, phi * (self._scale / self._S),
+                                               np.full(G, s / self._S), self.forgetting,
+                                               self._p_max)
+        self._err = self.forgetting * self._err + dv
+        self._updates += 1
+
+    def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
+        if self._phase == "intrusion":
+            phi = np.array([g**self.n, gd])
+            self._th_i, self._P_i, _ = _rls_update(self._th_i, self._P_i,
+                                                   phi * (self._scale_i / self._S), s / self._S,
+                                                   self.forgetting, self._pi_max)
+            self._n_i += 1
+            self._updates += 1
+        elif self._phase == "retraction" and self._gamma_w - g >= self.retraction_skip:
+            assert self._t_w is not None
+            G = self.tau_grid.size
+            phi = np.stack([-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)),
+                            np.full(G, gd)], axis=-1)
+            self._theta, self._P, dv = _rls_update(self._theta, self._P,
+                                                   phi * (self._scale / self._S),
+                                                   np.full(G, s / self._S), self.forgetting,
+                                                   self._p_max)
+            self._err = self.forgetting * self._err + dv
+            self._updates += 1
+
+    def update_many(self, time: Any, depth: Any, stress: Any) -> list[OnlineEstimate]:
+        """Feed arrays of samples (time [s], depth [m], stress [Pa]) in order; return the
+        estimate after each."""
+        t = np.asarray(time, dtype=float).ravel()
+        q = np.asarray(depth, dtype=float).ravel()
+        s = np.asarray(stress, dtype=float).ravel()
+        if not (t.size == q.size == s.size):
+            raise MudrftError(f"time, depth and stress must have the same length, got "
+                              f"{t.size}, {q.size}, {s.size}")
+        return [self.update(a, b, c) for a, b, c in zip(t, q, s, strict=True)]
+
+    # ------------------------------------------------------------------------------------
+    def _tau_index(self) -> float:
+        e = self._err
+        i = int(np.argmin(e))
+        if 0 < i < e.size - 1:
+            # parabola through the three errors in ln(tau): vertex offset in grid steps
+            den = e[i - 1] - 2 * e[i] + e[i + 1]
+            if den > 0:
+                return i + float(np.clip(0.5 * (e[i - 1] - e[i + 1]) / den, -0.5, 0.5))
+        return float(i)
+
+    @property
+    def estimate(self) -> OnlineEstimate:
+        """The current estimates (``None`` for what no sample has informed yet)."""
+        est: dict[str, float | None] = dict.fromkeys(("alpha", "eta_inf", "eta_m", "sigma_y",
+                                                      "tau_build"))
+        have_bank = np.any(self._err > 0)
+        if have_bank:
+            x = self._tau_index()
+            lg = np.log(self.tau_grid)
+            est["tau_build"] = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
+            i0 = min(int(np.floor(x)), lg.size - 2)
+            w = x - i0
+            th = (1.0 - w) * self._theta[i0] + w * self._theta[i0 + 1]  # linear in ln(tau)
+            th = th * self._scale
+            for k, v in zip(self._names, th, strict=True):
+                est[k] = float(v)
+        if self.model == "paper":
+            est["eta_inf"] = None
+            if self._n_i >= 2:
+                a, e = self._th_i * self._scale_i
+                est["alpha"], est["eta_inf"] = float(a), float(e)
+        return OnlineEstimate(alpha=est["alpha"], eta_inf=est["eta_inf"], eta_m=est["eta_m"],
+                              sigma_y=est["sigma_y"], tau_build=est["tau_build"], n=self.n,
+                              updates=self._updates, phase=self._phase)
+
+    def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
+        """``base`` (default the prior) with the estimated fields replaced.
+
+        Estimates not yet available, or not positive, keep the base value.
+        """
+        b = base if base is not None else self.prior
+        if not isinstance(b, MudParameters):
+            raise MudrftError(f"base must be a MudParameters, got {type(b).__name__}")
+        est = self.estimate
+        changes: dict[str, float] = {"n": self.n}
+        for k in ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build"):
+            v = getattr(est, k)
+            if v is not None and v > 0:
+                changes[k] = v
+        return b.replace(**changes, source=f"online estimate ({self.model})")
+
+    def __repr__(self) -> str:
+        e = self.estimate
+
+        def f(v: float | None) -> str:
+            return "None" if v is None else f"{v:.4g}"
+
+        return (f"OnlineEstimator(model={self.model!r}, alpha={f(e.alpha)}, "
+                f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
+                f"tau_build={f(e.tau_build)}, updates={e.updates})")
+
+
+# ---------------------------------------------------------------------------------------
+# classification
+# ---------------------------------------------------------------------------------------
+def _candidates(candidates: Any, labels: Any, water_contents: Any, direction: str
+                ) -> tuple[list[MudParameters], list[Any]]:
+    if candidates is None:
+        ws = [0.25, 0.35, 0.45] if water_contents is None else list(np.atleast_1d(water_contents))
+        cands = [paper_parameters(float(w), direction) for w in ws]
+        labs = [float(w) for w in ws] if labels is None else list(labels)
+    else:
+        if water_contents is not None:
+            raise MudrftError("give either candidates or water_contents, not both")
+        if isinstance(candidates, MudParameters):
+            candidates = [candidates]
+        cands = list(candidates)
+        for i, c in enumerate(cands):
+            if not isinstance(c, MudParameters) or c.shape != ():
+                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
+        labs = list(labels) if labels is not None else [c.source or f"set {i}"
+                                                        for i, c in enumerate(cands)]
+    if len(labs) != len(cands):
+        raise MudrftError(f"labels must have one entry per candidate ({len(cands)}), got "
+                          f"{len(labs)}")
+    if len(cands) < 1:
+        raise MudrftError("candidates must hold at least one MudParameters")
+    return cands, labs
+
+
+def _softmax_loglik(sse: np.ndarray, count: float, noise_var: float | None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors)."""
+    if noise_var is None:
+        noise_var = max(float(np.min(sse)) / max(count, 1.0), 1e-300)
+    ll = -0.5 * sse / noise_var
+    p = np.exp(ll - ll.max())
+    return ll, p / p.sum()
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Which candidate parameter set a dataset most resembles.
+
+    Attributes
+    ----------
+    labels : tuple
+        Candidate labels (water contents for the paper's rows).
+    relative_rmse : ndarray
+        Relative RMSE of each candidate over all fitted samples [-] (decision D12).
+    log_likelihood : ndarray
+        Gaussian log-likelihood of each candidate's residuals [-] (noise variance:
+        ``noise`` if given, else the best candidate's mean squared residual).
+    probabilities : ndarray
+        Posterior probabilities with equal priors [-].
+    best : object
+        Label of the most likely candidate.
+    """
+
+    labels: tuple
+    relative_rmse: np.ndarray
+    log_likelihood: np.ndarray
+    probabilities: np.ndarray
+    best: Any
+
+
+def classify(
+    dataset: IntrusionDataset,
+    candidates: Sequence[MudParameters] | None = None,
+    *,
+    labels: Sequence[Any] | None = None,
+    water_contents: Any = None,
+    direction: str | None = None,
+    noise: float | None = None,
+) -> Classification:
+    """Which known parameter set (paper row or user list) an offline dataset resembles.
+
+    Every candidate runs the full model on every trial (one batched simulation); the
+    residuals (each trial divided by its stress range) give a Gaussian likelihood.
+
+    Parameters
+    ----------
+    dataset : IntrusionDataset
+        The data.
+    candidates : sequence of MudParameters, optional
+        Candidate sets; default the paper's rows (W = 25, 35, 45 %) of the direction.
+    labels : sequence, optional, keyword-only
+        Label of each candidate (default: the water contents, or the sources).
+    water_contents : array_like, optional, keyword-only
+        Paper sets interpolated at these water contents [-] as candidates.
+    direction : {"vertical", "horizontal"}, optional, keyword-only
+        Default the dataset's.
+    noise : float, optional, keyword-only
+        Standard deviation of the residuals relative to each trial's range [-];
+        default estimated from the best candidate.
+
+    Returns
+    -------
+    Classification
+
+    Examples
+    --------
+    >>> from mudrft.calibration import example_dataset
+    >>> classify(example_dataset("vertical")).best
+    0.25
+    """
+    if not isinstance(dataset, IntrusionDataset):
+        raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
+    d = check_choice("direction", direction or dataset.direction, ("vertical", "horizontal"))
+    cands, labs = _candidates(candidates, labels, water_contents, d)
+    p0 = cands[0]
+    packed = Packed.from_dataset(dataset, nu=float(p0.nu), k_a=None, acceleration=True, xi0=0.0)
+    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
+    if not tied or len({float(c.nu) for c in cands}) > 1:
+        # candidates with their own k_a or nu: simulate them one by one
+        sims = []
+        for c in cands:
+            pk = Packed.from_dataset(dataset, nu=float(c.nu),
+                                     k_a=None if np.isclose(float(c.k_a), 1 / float(c.lam))
+                                     else float(c.k_a), acceleration=True, xi0=0.0)
+            sims.append(pk.simulate({k: np.array([float(getattr(c, k))]) for k in FIT_PARAMETERS}))
+        sim = np.concatenate(sims, axis=1)
+    else:
+        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
+        sim = packed.simulate(vals)
+    mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
+    R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
+    sse = np.sum(R**2, axis=0)
+    m = R.shape[0]
+    nv = None if noise is None else float(check_positive("noise", noise)) ** 2
+    ll, prob = _softmax_loglik(sse, m, nv)
+    rrmse = np.sqrt(sse / m)
+    return Classification(labels=tuple(labs), relative_rmse=rrmse, log_likelihood=ll,
+                          probabilities=prob, best=labs[int(np.argmax(ll))])
+
+
+class StreamClassifier:
+    """Which known parameter set a stream of samples most resembles, updated per sample.
+
+    Each candidate's full model runs alongside the stream (one batched constitutive
+    step per sample for all candidates); squared residuals are discounted with a
+    forgetting factor ``1 - 1/window`` (a sliding window of about ``window``
+    samples) and turned into Gaussian log-likelihoods (decision D47). When the plate
+    leaves the mud the candidates' states are reset (decision D11).
+
+    Parameters
+    ----------
+    candidates : sequence of MudParameters, optional
+        Candidate sets; default the paper's rows (or ``water_contents``) of ``direction``.
+    labels : sequence, optional, keyword-only
+        Labels of the candidates.
+    water_contents : array_like, optional, keyword-only
+        Paper sets interpolated at these water contents [-].
+    direction : {"vertical", "horizontal"}, keyword-only
+        Direction of the paper rows.
+    characteristic_length : float, keyword-only
+        Plate length [m].
+    window : float, keyword-only
+        Effective window length [samples] (> 1).
+    noise : float, optional, keyword-only
+        Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=0.01)
+    >>> res = mudrft.plate_response(tr, mudrft.paper_parameters(0.35))
+    >>> clf = StreamClassifier()
+    >>> for t, q, s in zip(tr.time, res.displacement, res.stress):
+    ...     _ = clf.update(t, q, s)
+    >>> clf.best
+    0.35
+    """
+
+    def __init__(
+        self,
+        candidates: Sequence[MudParameters] | None = None,
+        *,
+        labels: Sequence[Any] | None = None,
+        water_contents: Any = None,
+        direction: str = "vertical",
+        characteristic_length: float = DEFAULT_PLATE_LENGTH,
+        window: float = 200.0,
+        noise: float | None = None,
+    ) -> None:
+        check_choice("direction", direction, ("vertical", "horizontal"))
+        self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
+        self.L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+        w = float(check_positive("window", window))
+        if w <= 1.0:
+            raise MudrftError(f"window must exceed 1 sample, got {window!r}")
+        self.decay = 1.0 - 1.0 / w
+        self.noise = None if noise is None else float(check_positive("noise", noise, unit="Pa"))
+        self.params = MudParameters.stack(self.candidates)
+        fused = _fused_step()
+        self._fused = fused
+        self._consts = fused[1](self.params) if fused is not None else None
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the stream."""
+        K = len(self.candidates)
+        self._state = initial_state((K,))
+        self._sse = np.zeros(K)
+        self._count = 0.0
+        self._last: tuple[float, float] | None = None
+        self._inside = False
+
+    def update(self, time: float, depth: float, stress: float) -> Any:
+        """Add one sample (time [s], depth [m], stress [Pa]); return the current best label."""
+        t, q, s = float(time), float(depth), float(stress)
+        if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
+            raise MudrftError(f"update needs finite time, depth and stress, got {time!r}, "
+                              f"{depth!r}, {stress!r}")
+        g = q / self.L
+        if self._last is None:
+            self._last = (t, g)
+            self._state = initial_state((len(self.candidates),), gamma=g)
+            return self.best
+        t0, g0 = self._last
+        if not t > t0:
+            raise MudrftError(f"time must increase between updates, got {t!r} after {t0!r}")
+        dt = t - t0
+        gd = (g - g0) / dt
+        self._last = (t, g)
+        if g <= 0.0:
+            # at or above the surface: no mud stress (as plate_response) and nothing to
+            # compare; the next intrusion starts afresh (D11)
+            if self._inside:
+                self._state = initial_state((len(self.candidates),), gamma=g)
+                self._inside = False
+            return self.best
+        self._inside = True
+        gv = np.full(len(self.candidates), g)
+        gdv = np.full(len(self.candidates), gd)
+        if self._fused is not None:
+            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
+        else:  # pragma: no cover
+            from ..constitutive import step
+
+            self._state, out = step(self.params, self._state, gv, gdv, dt)
+            total = out.total
+        r = s - np.asarray(total)
+        self._sse = self.decay * self._sse + r * r
+        self._count = self.decay * self._count + 1.0
+        return self.best
+
+    @property
+    def log_likelihood(self) -> np.ndarray:
+        """Gaussian log-likelihood of each candidate over the window [-]."""
+        nv = None if self.noise is None else self.noise**2
+        return _softmax_loglik(self._sse, self._count, nv)[0]
+
+    @property
+    def probabilities(self) -> np.ndarray:
+        """Posterior probability of each candidate (equal priors) [-]."""
+        nv = None if self.noise is None else self.noise**2
+        return _softmax_loglik(self._sse, self._count, nv)[1]
+
+    @property
+    def rmse(self) -> np.ndarray:
+        """Windowed RMS residual of each candidate [Pa]."""
+        return np.sqrt(self._sse / max(self._count, 1e-300))
+
+    @property
+    def best(self) -> Any:
+        """Label of the most likely candidate (the first one before any sample)."""
+        return self.labels[int(np.argmin(self._sse))]
+
+    def __repr__(self) -> str:
+        return f"StreamClassifier(labels={self.labels!r}, best={self.best!r})"

@@ -1,0 +1,109 @@
+"""The ``mudrft calibrate`` command and the shipped synthetic example files."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from importlib import resources
+
+import numpy as np
+import pytest
+
+import mudrft
+from mudrft.calibration import EXAMPLE_FILES, example_dataset, load_parameters, synthetic_dataset
+from mudrft.calibration.cli import add_parser, main
+from mudrft.calibration.synthetic import EXAMPLE_SETTINGS
+
+
+def _example_path(direction="vertical", w=0.25):
+    return str(resources.files("mudrft") / "data" / EXAMPLE_FILES[(direction, w)])
+
+
+def test_cli_fits_writes_json_and_reports_progress(tmp_path, capsys):
+    out = tmp_path / "fit.json"
+    rc = main([_example_path(), "--direction", "vertical", "--groups", "b", "th",
+               "--out", str(out)])
+    assert rc == 0
+    cap = capsys.readouterr()
+    stages = [ln for ln in cap.err.splitlines() if ln.startswith("calibrate: stage")]
+    # one progress line per stage: intrusion, relaxation (the groups have no suction
+    # parameter, so no retraction stage), joint
+    assert [ln.split()[2] for ln in stages] == ["intrusion", "relaxation", "joint"]
+    assert "synthetic" in cap.out and "alpha" in cap.out
+    data = json.loads(out.read_text())
+    assert data["free"] == ["alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c"]
+    assert isinstance(load_parameters(out), mudrft.MudParameters)
+
+
+def test_cli_refuses_to_overwrite_and_reports_bad_files(tmp_path, capsys):
+    out = tmp_path / "fit.json"
+    out.write_text("{}")
+    assert main([_example_path(), "--out", str(out), "--quiet"]) == 2
+    assert "exists" in capsys.readouterr().err
+    assert out.read_text() == "{}"
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time [s],depth [furlong],stress [Pa]\n0,0,0\n")
+    assert main([str(bad), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "line 1, column 2" in err and "Traceback" not in err
+    # the output may not name an input file
+    assert main([str(bad), "--out", str(bad), "--overwrite", "--quiet"]) == 2
+
+
+def test_cli_force_log_with_area(tmp_path, capsys):
+    ds = example_dataset("vertical")
+    area = 0.0025
+    lines = ["trial,time [s],depth [mm],Fz [N]"]
+    for tr in ds:
+        lines += [f"{tr.name},{float(t)!r},{float(1e3 * q)!r},{float(s * area)!r}"
+                  for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)]
+    p = tmp_path / "force.csv"
+    p.write_text("\n".join(lines) + "\n")
+    assert main([str(p), "--groups", "alpha", "--quiet"]) == 2  # no area: error
+    assert "area" in capsys.readouterr().err
+    out = tmp_path / "f.json"
+    assert main([str(p), "--area", str(area), "--groups", "alpha", "--quiet", "--out",
+                 str(out)]) == 0
+
+
+def test_add_parser_wires_into_a_parent_parser():
+    parent = argparse.ArgumentParser(prog="mudrft")
+    sub = parent.add_subparsers(dest="command")
+    add_parser(sub)
+    args = parent.parse_args(["calibrate", "a.csv", "--direction", "horizontal", "--area",
+                              "0.01", "--length", "0.04", "--groups", "b", "s"])
+    assert args.func is main and args.data == ["a.csv"] and args.area == 0.01
+    assert args.groups == ["b", "s"] and args.length == 0.04
+
+
+# --------------------------------------------------------------------------------------
+# example files
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("key", sorted(EXAMPLE_FILES))
+def test_example_files_are_labelled_synthetic_and_regenerable(key):
+    direction, w = key
+    ds = example_dataset(direction, water_content=w)
+    assert ds.synthetic and ds.direction == direction
+    text = open(_example_path(direction, w), encoding="utf-8").read()
+    assert text.startswith("# synthetic:")
+    assert 300 <= text.count("\n") <= 700  # "a few hundred rows"
+    s = EXAMPLE_SETTINGS
+    ref = synthetic_dataset(mudrft.paper_parameters(w, direction), speeds=s["speeds"],
+                            noise=s["noise"], seed=s["seed"], depth=s["depth"], hold=s["hold"],
+                            dt=s["dt"], direction=direction)
+    for a, b in zip(ds, ref, strict=True):
+        # the files keep 6 significant digits
+        np.testing.assert_allclose(a.time, b.time, rtol=1e-5, atol=1e-9)
+        np.testing.assert_allclose(a.stress, b.stress, rtol=1e-5, atol=1e-3)
+
+
+def test_synthetic_dataset_noise_level_and_seed():
+    p = mudrft.paper_parameters(0.25)
+    a = synthetic_dataset(p, speeds=(0.02,), noise=0.02, seed=1, dt=0.01)
+    b = synthetic_dataset(p, speeds=(0.02,), noise=0.02, seed=1, dt=0.01)
+    clean = synthetic_dataset(p, speeds=(0.02,), noise=0.0, dt=0.01)
+    np.testing.assert_array_equal(a[0].stress, b[0].stress)  # same seed, same data
+    r = a[0].stress - clean[0].stress
+    # Gaussian noise of 2 % of the range: the sample std of 450 draws is within 15 %
+    # of it (about 4.5 standard errors of a standard deviation)
+    assert np.std(r) == pytest.approx(0.02 * np.ptp(clean[0].stress), rel=0.15)
