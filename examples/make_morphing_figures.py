@@ -31,7 +31,7 @@ import numpy as np
 import mudrft
 from mudrft.feet import Flat, MorphingFoot, SemiCylinder, SemiSphere
 from mudrft.plotting import require_matplotlib
-from mudrft.simulate import LoadControl, simulate, static_sinking
+from mudrft.simulation import LoadControl, simulate, static_sinking
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "docs" / "figures"

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 import mudrft
 from mudrft._validation import MudrftError
 from mudrft.feet.base import Foot
-from mudrft.simulate import CSV_COLUMNS, LoadControl, simulate, static_sinking
+from mudrft.simulation import CSV_COLUMNS, LoadControl, simulate, static_sinking
 
 
 class PlateFoot(Foot):

@@ -21,6 +21,7 @@ from ._validation import MudrftError
 from .citations import citations
 from .parameters import Mud, MudParameters, paper_mud, paper_parameters
 from .plate import PlateResult, plate_response
+from .simulation import LoadControl, Result, simulate, static_sinking
 from .terrain import MudTerrain, Terrain, TerrainOutput
 from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
 
@@ -38,12 +39,10 @@ _LAZY = {
     "plotting": "mudrft.plotting",
 }
 _LAZY_ATTRS = {
-    "simulate": ("mudrft.simulate", "simulate"),
-    "Result": ("mudrft.simulate", "Result"),
-    "LoadControl": ("mudrft.simulate", "LoadControl"),
     "calibrate": ("mudrft.calibration", "calibrate"),
     "load_parameters": ("mudrft.calibration", "load_parameters"),
-    "static_sinking": ("mudrft.simulate", "static_sinking"),
+    "BatchedMud": ("mudrft.backends", "BatchedMud"),
+    "FastMudFoot": ("mudrft.backends", "FastMudFoot"),
 }
 
 __all__ = [
@@ -52,7 +51,9 @@ __all__ = [
     "MudParameters",
     "MudTerrain",
     "MudrftError",
+    "LoadControl",
     "PlateResult",
+    "Result",
     "Terrain",
     "TerrainOutput",
     "Trajectory",
@@ -65,6 +66,8 @@ __all__ = [
     "parameters",
     "plate_intrusion",
     "plate_response",
+    "simulate",
+    "static_sinking",
     "units",
     *sorted(_LAZY),
     *sorted(_LAZY_ATTRS),

@@ -54,7 +54,7 @@ def _cmd_params(args: argparse.Namespace) -> int:
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from .feet import by_name
     from .parameters import paper_mud
-    from .simulate import simulate
+    from .simulation import simulate
     from .trajectories import gait
 
     out = Path(args.out)

@@ -22,7 +22,7 @@ import numpy as np
 
 from ._validation import MudrftError
 from .parameters import paper_mud
-from .simulate import LoadControl, Result, simulate
+from .simulation import LoadControl, Result, simulate
 from .trajectories import GAIT_SPEEDS, gait
 
 __all__ = ["FEET", "LOAD", "SUMMARY_COLUMNS", "reproduce"]

@@ -13,7 +13,7 @@ import pytest
 
 import mudrft
 from mudrft.feet import Flat, MorphingFoot, SemiCylinder, SemiSphere
-from mudrft.simulate import LoadControl, simulate
+from mudrft.simulation import LoadControl, simulate
 from mudrft.terrain import MudTerrain
 
 BALANCE_TOL = 1e-8  # [N], see module docstring

@@ -9,7 +9,7 @@ import mudrft
 
 pytest.importorskip("mujoco")
 from mudrft.integrations.mujoco import MudBatch, attach, attach_batch, body_foot, stability_limits
-from mudrft.simulate import LoadControl, simulate, static_sinking
+from mudrft.simulation import LoadControl, simulate, static_sinking
 
 from .conftest import G, box_foot_model, kinematic_foot_model, mechanical_energy, mujoco
 

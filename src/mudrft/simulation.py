@@ -1,7 +1,7 @@
 r"""Run a foot through mud (or any terrain): prescribed motion or prescribed load.
 
 >>> import mudrft
->>> from mudrft.simulate import simulate
+>>> from mudrft.simulation import simulate
 >>> foot = mudrft.feet.Flat()
 >>> result = simulate(foot, mudrft.paper_mud(0.25), mudrft.gait(speed=0.2))
 >>> m = result.metrics()
