@@ -202,7 +202,9 @@ def _unit_forces(
     nh_dir, _ = _unit_horizontal(nb, x_hat)
     if extension == "treers2021":
         horizontal_facet = np.abs(nb[..., 2]) >= 1.0 - _HORIZONTAL_TOL
-        e2 = np.where(horizontal_facet[..., None], vh_dir, nh_dir)
+        # with no horizontal motion, take the facet's own horizontal direction (not a world
+        # axis), so the force rotates with foot and motion about z
+        e2 = np.where((horizontal_facet & vh_ok)[..., None], vh_dir, nh_dir)
     else:
         e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
     e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
