@@ -1,4 +1,4 @@
-"""Figures and tables of the morphing foot: docs/figures/morphing_*.png, docs/fragments/morphing.md.
+"""Figures and tables of the morphing foot: docs/figures/morphing_*.png, docs/model.md.
 
 Run from the repository root::
 
@@ -16,7 +16,7 @@ Writes
   its pad angle and seal factor;
 
 and replaces the generated tables (sensitivity, paper claims) between the markers in
-``docs/fragments/morphing.md``. Progress goes to stderr.
+``docs/model.md``. Progress goes to stderr.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from mudrft.simulation import LoadControl, simulate, static_sinking
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "docs" / "figures"
-FRAGMENT = ROOT / "docs" / "fragments" / "morphing.md"
+FRAGMENT = ROOT / "docs" / "model.md"
 MUD = mudrft.paper_mud(0.25)
 GAIT = mudrft.gait(0.2)
 PLUNGE = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0, dt=1e-3)

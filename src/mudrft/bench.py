@@ -59,7 +59,7 @@ __all__ = [
     "run_benchmarks",
 ]
 
-#: Work per unit of the three kernels (see docs/fragments/perf_backends.md for the count).
+#: Work per unit of the three kernels (see docs/performance.md for the count).
 #: ``bytes``: minimal DRAM traffic of a one-pass kernel (state read and written, inputs and
 #: outputs, per-foot parameters not cached); ``flops``: arithmetic operations, with every
 #: transcendental function (exp, expm1, tanh, pow, acos, atan2, sqrt, sin, cos) counted as
@@ -502,7 +502,7 @@ def _bench_fast(quick: bool, budget: float, progress: Any) -> dict[str, Any]:
 def _mujoco_benchmark() -> tuple[Callable[..., Any] | None, str]:
     """Find a MuJoCo overhead benchmark: the integration's own, or the checkout's script."""
     names = ("mujoco_overhead_ratio", "overhead_ratio", "benchmark_overhead")
-    for modname in ("mudrft.integrations.mujoco", "mudrft.integrations.walk"):
+    for modname in ("mudrft.integrations.benchmark", "mudrft.integrations.mujoco"):
         try:
             mod = importlib.import_module(modname)
         except ImportError:

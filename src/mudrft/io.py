@@ -32,7 +32,7 @@ column                      quantity            units understood
 Other columns are ignored (their names are kept in ``IntrusionDataset.meta``). The
 force is the force of the mud on the plate *resisting the intrusion* (positive
 while intruding, negative under suction); for a vertical test that is the world
-``Fz`` of mudrft's convention (decision D40 in docs/fragments/calibration.md).
+``Fz`` of mudrft's convention (decision D40 in docs/model.md).
 
 Every problem in a file raises :class:`~mudrft._validation.MudrftError` naming the
 file, the line and the column. Files are only read, never written, by the loaders;

@@ -20,8 +20,8 @@ from typing import Any, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from ._validation import MudrftError, check_finite, check_positive
+from .backends.kernels import fused_step
 from .citations import register
-from .constitutive.dynamics import step as channel_step
 from .constitutive.state import ChannelState, initial_state
 from .parameters.base import PARAMETER_UNITS, Mud, MudParameters
 
@@ -146,6 +146,10 @@ class MudTerrain:
         if self.characteristic_length is not None:
             check_positive("characteristic_length", self.characteristic_length, unit="m")
         object.__setattr__(self, "_params", channel_parameters(self.mud))
+        # constants of the fused kernel (same update as constitutive.step, tested equal)
+        from .backends.kernels import channel_constants
+
+        object.__setattr__(self, "_consts", channel_constants(self._params))  # type: ignore[attr-defined]
         register("chen2026mud")
 
     @property
@@ -213,17 +217,11 @@ class MudTerrain:
         else:
             seal3 = np.ones((*np.shape(seal), 3)) if np.ndim(seal) else np.ones(3)
             seal3[..., 2] = seal
-        ch, out = channel_step(
-            self.params,
-            ch,
-            gamma,
-            gdot,
-            dt,
-            seal=seal3,
-            acceleration=self.acceleration,
-            validate=False,
+        ch, total = fused_step(
+            self._consts,  # type: ignore[attr-defined]
+            ch, gamma, gdot, dt, seal=seal3, kappa=1.0 if self.acceleration else 0.0,
         )
-        stress = out.total * in_mud[..., None]
+        stress = total * in_mud[..., None]
         foot_state, force = foot.contact_force(state.foot, depth, stress, heading, dt)
         force = force * in_mud[..., None]
         new = MudState(channels=ch, entry=entry, heading=heading, in_mud=in_mud, foot=foot_state)

@@ -9,7 +9,7 @@
 * :mod:`mudrft.backends.kernels`: the fused numpy and scalar kernels;
   :mod:`mudrft.backends.numba_kernels`: the same compiled with numba (optional extra).
 
-Heavy optional dependencies load on first use. See docs/fragments/backends.md.
+Heavy optional dependencies load on first use. See docs/model.md.
 
 >>> import mudrft.backends as mb
 >>> mb.available()[0]

@@ -7,7 +7,7 @@ step at a time on Python floats: the constitutive step of the three channels
 installed, else run as plain Python with the ``math`` module. A step costs about a
 microsecond with numba and about 15 microseconds without, instead of the hundreds of
 microseconds that the array code spends on small-array overhead (``mudrft bench`` measures
-it; docs/fragments/perf_backends.md). The tests check that it gives the same forces as
+it; docs/performance.md). The tests check that it gives the same forces as
 ``MudTerrain`` + the foot (decision D73).
 
 Supported feet: :class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,

@@ -16,7 +16,7 @@ the velocity split into :math:`v_1` along :math:`\hat e_1` and :math:`v_{23}` in
 :math:`(\hat e_2,\hat z)` plane, the sigmoid weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)`
 and :math:`\alpha_y=\alpha_x(0,0)`) is that of Treers, Cao & Stuart (RA-L 2021).
 Trailing elements carry nothing, so a foot pulled out of sand feels no suction
-(decisions D50-D53 in ``docs/fragments/baselines.md``).
+(decisions D50-D53 in ``docs/model.md``).
 """
 
 from __future__ import annotations

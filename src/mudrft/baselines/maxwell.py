@@ -4,7 +4,7 @@ r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction
 cited as [ChenAIM24] by Chen et al. 2026; very probably arXiv:2403.02617, "A
 Reduced-Order Resistive Force Model for Robotic Foot-Mud Interactions") could not be
 read offline. What the 2026 paper says of it fixes the structure used here (decision
-D55 in ``docs/fragments/baselines.md``):
+D55 in ``docs/model.md``):
 
 * a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n` (the 2026 paper takes its
   :math:`\sigma_b` from [ChenAIM24]);

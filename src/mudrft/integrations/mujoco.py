@@ -22,7 +22,7 @@ the step and held over it, and MuJoCo's own integrator does the rest::
     for _ in range(1000):
         coupling.step(data)            # mj_step1, mud, mj_step2
 
-Stability (docs/fragments/mujoco.md, decisions D61-D64). The mud force has a part that
+Stability (docs/model.md, decisions D61-D64). The mud force has a part that
 acts like a damper, :math:`c\approx\eta_\infty A/L_c` (1-2 kN s/m for the paper's feet),
 and the suction switch :math:`H_\nu` makes the force jump by :math:`\sigma_s A` within a
 velocity band :math:`\nu L_c` of a millimetre per second. An explicit step of a damper is

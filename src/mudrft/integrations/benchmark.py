@@ -1,0 +1,159 @@
+"""Cost of the mud coupling in MuJoCo: the biped with and without mud, in one run.
+
+``python -m mudrft.integrations.benchmark [--seconds S] [--json FILE]`` (or
+``benchmarks/bench_mujoco.py``) prints steps per second of
+the biped (``mudrft.integrations.walk``) walking
+
+* on rigid ground (a floor at the mud surface, plain ``mj_step``): the physics step;
+* in mud (``MudCoupling.step``: ``mj_step1``, the mud, ``mj_step2``);
+
+and the same for batches of robots (:class:`~mudrft.integrations.mujoco.MudBatch`: one
+vectorized terrain call per step for all robots). :func:`mujoco_overhead_ratio` is what
+``mudrft bench`` calls. Results and discussion: docs/performance.md.
+Timings are the best of three repeats, so other load on the machine inflates them less.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+import mudrft
+
+
+def _best_time(fn: Any, repeats: int = 3) -> float:
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return float(best)
+
+
+def _robots(n: int, *, mud: bool, dt: float) -> tuple[Any, list[Any], Any, Any]:
+    import mujoco
+
+    from mudrft.integrations.mujoco import attach, attach_batch
+    from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
+
+    foot = mudrft.feet.Flat()
+    # without mud the biped walks on a rigid floor 1 mm under the mud surface
+    model = biped_model(foot, bottom=0.15 if mud else 1e-3, timestep=dt)
+    datas = [mujoco.MjData(model) for _ in range(n)]
+    ctrl = GaitController(model)
+    for d in datas:
+        ctrl.initial_pose(d)
+    coupling = None
+    if mud:
+        kw = {"feet": foot}
+        coupling = (attach(model, list(BIPED_FEET), mudrft.paper_mud(0.25), **kw) if n == 1
+                    else attach_batch(model, list(BIPED_FEET), mudrft.paper_mud(0.25), n=n, **kw))
+        coupling.reset(datas[0] if n == 1 else datas)
+    return model, datas, ctrl, coupling
+
+
+def _time_per_step(n: int, *, mud: bool, steps: int, dt: float) -> float:
+    """Best wall time per physics step of ``n`` robots (controller included) [s]."""
+    import mujoco
+
+    model, datas, ctrl, coupling = _robots(n, mud=mud, dt=dt)
+
+    def run() -> None:
+        for _ in range(steps):
+            for d in datas:
+                ctrl(d)
+            if coupling is None:
+                for d in datas:
+                    mujoco.mj_step(model, d)
+            else:
+                coupling.step(datas[0] if n == 1 else datas)
+
+    run()  # warm up (and walk into the gait)
+    return _best_time(run) / steps
+
+
+def mujoco_overhead_ratio(seconds: float = 2.0, *, batch: tuple[int, ...] = (64,), dt: float = 1e-3) -> dict:
+    """Steps per second of the biped with and without mud, and their ratio.
+
+    Parameters
+    ----------
+    seconds : float
+        Simulated time per measurement [s] (each is repeated three times).
+    batch : tuple of int, keyword-only
+        Robot counts for the batched measurement (:class:`MudBatch`); empty to skip.
+    dt : float, keyword-only
+        Physics time step [s].
+
+    Returns
+    -------
+    dict
+        ``ratio`` (= ``mujoco_overhead_ratio``): wall time per step with mud / without;
+        ``mud_cost_over_physics``: (with - without) / without, the cost of the mud
+        relative to the physics step (the aim is < 1); ``steps_per_second_physics``,
+        ``steps_per_second_mud``; ``batch``: per robot count the same numbers per robot;
+        ``machine``: CPU count and platform.
+    """
+    steps = max(round(seconds / dt), 10)
+    t_phys = _time_per_step(1, mud=False, steps=steps, dt=dt)
+    t_mud = _time_per_step(1, mud=True, steps=steps, dt=dt)
+    out: dict[str, Any] = {
+        "seconds": float(seconds),
+        "dt [s]": dt,
+        "steps_per_second_physics": 1.0 / t_phys,
+        "steps_per_second_mud": 1.0 / t_mud,
+        "ratio": t_mud / t_phys,
+        "mujoco_overhead_ratio": t_mud / t_phys,
+        "mud_cost_over_physics": (t_mud - t_phys) / t_phys,
+        "batch": {},
+        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
+                    "python": platform.python_version()},
+    }
+    for n in batch:
+        bsteps = max(steps // 10, 10)
+        tp = _time_per_step(n, mud=False, steps=bsteps, dt=dt)
+        tm = _time_per_step(n, mud=True, steps=bsteps, dt=dt)
+        out["batch"][str(n)] = {
+            "robots": n,
+            "robot_steps_per_second_physics": n / tp,
+            "robot_steps_per_second_mud": n / tm,
+            "ratio": tm / tp,
+            "mud_cost_over_physics": (tm - tp) / tp,
+        }
+    return out
+
+
+def _table(res: dict) -> str:
+    rows = ["| robots | physics [robot-steps/s] | with mud [robot-steps/s] | with / without | mud cost / physics |",
+            "|---:|---:|---:|---:|---:|",
+            f"| 1 | {res['steps_per_second_physics']:,.0f} | {res['steps_per_second_mud']:,.0f} | "
+            f"{res['ratio']:.1f} | {res['mud_cost_over_physics']:.1f} |"]
+    for b in res["batch"].values():
+        rows.append(f"| {b['robots']} | {b['robot_steps_per_second_physics']:,.0f} | "
+                    f"{b['robot_steps_per_second_mud']:,.0f} | {b['ratio']:.1f} | {b['mud_cost_over_physics']:.1f} |")
+    return "\n".join(rows)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per measurement")
+    parser.add_argument("--batch", type=int, nargs="*", default=[16, 64, 256], help="robot counts")
+    parser.add_argument("--json", help="also write the results to this JSON file")
+    args = parser.parse_args(argv)
+    res = mujoco_overhead_ratio(args.seconds, batch=tuple(args.batch))
+    print(_table(res))
+    print(f"\n{res['machine']['cpus']} CPUs, {res['machine']['platform']}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(res, fh, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
