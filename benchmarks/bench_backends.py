@@ -2,7 +2,7 @@
 
 Run ``python benchmarks/bench_backends.py [--quick] [--json FILE]``. The implementations
 live in the installed package (``src/mudrft/bench.py``) so that ``mudrft bench`` works
-from any installation; results and their discussion are in docs/fragments/perf_backends.md.
+from any installation; results and their discussion are in docs/performance.md.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@ cost of the online estimators.
 
 Run ``python benchmarks/bench_calibration.py [--quick] [--json FILE]``. Timings are the
 best of several repeats (robust to other load on the machine). Results and their
-discussion are in docs/fragments/perf_calibration.md.
+discussion are in docs/performance.md.
 """
 
 from __future__ import annotations

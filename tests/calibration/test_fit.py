@@ -68,7 +68,7 @@ def test_round_trip_truth_within_confidence_intervals(vertical_fit, true_vertica
 
     Checked at 99.9 % (not 95 %): with ten parameters, a 95 % interval misses at least
     one of them in about 40 % of noise draws even when every interval is exact. The
-    offline coverage study in docs/fragments/calibration.md (20 seeds) finds the 95 %
+    offline coverage study in docs/model.md (20 seeds) finds the 95 %
     intervals cover 85-100 % per parameter, as they should.
     """
     fit = vertical_fit
@@ -92,7 +92,7 @@ def test_round_trip_identified_parameters_within_a_few_percent(vertical_fit, tru
     for k in ("alpha", "n", "eta_inf", "sigma_y", "epsilon"):
         rel = getattr(fit.parameters, k) / getattr(true_vertical, k) - 1
         # within 5 %: their SEs are 0.5-2 %, and over 20 noise seeds of this setting the
-        # largest error was 3.4 % (coverage study, docs/fragments/calibration.md)
+        # largest error was 3.4 % (coverage study, docs/model.md)
         assert abs(rel) <= 0.05, (k, rel)
     # the fit is at the noise level: relative RMSE ~ noise (1 % of the range per trial)
     assert 0.008 < fit.relative_rmse < 0.012

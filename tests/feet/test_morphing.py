@@ -33,7 +33,7 @@ def pad_area_independent(length: float) -> float:
 # -- kinematics ---------------------------------------------------------------------------------
 def test_defaults_are_the_documented_reconstruction():
     # D30: 8 pads, ~96 mm across when spread, full spread under about a quarter of a
-    # 10 kg biped's weight; these numbers are stated in docs/fragments/morphing.md
+    # 10 kg biped's weight; these numbers are stated in docs/model.md
     assert G.n_pads == 8
     spread_diameter = 2 * (G.base_radius + G.pad_length * math.cos(G.expanded_angle))
     assert 0.080 <= spread_diameter <= 0.100

@@ -22,7 +22,7 @@ operations; nothing is refitted.
 Because the simplifications drop the lagged thixotropic stress, the estimates are
 *apparent* values: on data from the full model (or real mud) they differ from the
 model constants by the thixotropic share of the stress (documented in
-docs/fragments/calibration.md). :class:`StreamClassifier` avoids that bias by
+docs/model.md). :class:`StreamClassifier` avoids that bias by
 running the full model for each candidate parameter set and comparing residuals over
 a sliding (exponentially weighted) window, decision D47.
 """

@@ -2,7 +2,7 @@ r"""The paper's three feet in closed form: flat, semi-cylindrical, semi-spherica
 
 Each closed form is the paper's own integral of eqs. (6)-(7) over the foot (supplementary
 Sec. II), corrected where the printed final expression differs from that integral
-(errata E20-E23 in ``docs/fragments/feet.md``). With :math:`z` the tip depth capped at the
+(errata E20-E23 in ``docs/model.md``). With :math:`z` the tip depth capped at the
 foot height :math:`H` (decision D26: deeper, the foot is buried), :math:`\varphi` the
 first-quadrant heading, :math:`\varphi_c=\pi/2-\varphi`,
 :math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`:

@@ -5,7 +5,7 @@ and integrates the element rule of :mod:`mudrft.feet.surface` over it, with each
 clipped exactly by the mud surface. Mesh files: STL (ASCII or binary, read without extra
 dependencies by :mod:`mudrft.feet.stl`), OBJ and PLY (through the optional ``trimesh``).
 
-Mesh checks (decision D25 in ``docs/fragments/feet.md``):
+Mesh checks (decision D25 in ``docs/model.md``):
 
 * NaN or infinite vertices, faces not of shape (m, 3), non-integer or out-of-range indices,
   an empty or all-degenerate mesh: :class:`~mudrft.MudrftError`;

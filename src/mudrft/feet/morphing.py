@@ -6,7 +6,7 @@ two-link linkages**. Compressing the column (deflection :math:`\delta`) pushes t
 upper poles down; the couplers rotate the lower links and the pads spread from curled
 up (pointing almost upward) to a nearly flat disk. The paper gives no dimensions; the
 defaults here are a documented reconstruction (decision D30 in
-``docs/fragments/morphing.md``) of the same scale as the paper's fixed feet.
+``docs/model.md``) of the same scale as the paper's fixed feet.
 
 Frame: the foot frame has its origin at the tip (the bottom of the central base
 pad), z up, pads at azimuths :math:`2\pi k/N`. Pad angle :math:`\theta` is measured from

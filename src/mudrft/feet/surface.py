@@ -6,7 +6,7 @@ foot frame (tip at :math:`z=0`, :math:`z` up), the mud surface is the plane :mat
 vertices submerged) so that only its submerged polygon counts, with its exact area and
 centroid.
 
-Element rule (decisions D21-D23, erratum E24 in ``docs/fragments/feet.md``). For a facet with
+Element rule (decisions D21-D23, erratum E24 in ``docs/model.md``). For a facet with
 outward unit normal :math:`\mathbf n=(n_x,n_y,n_z)`, submerged area :math:`dS`, horizontal normal
 :math:`\mathbf n_h=(n_x,n_y)`, :math:`\hat{\mathbf n}_h=\mathbf n_h/|\mathbf n_h|`,
 :math:`\hat{\mathbf t}=\mathbf e_z\times\hat{\mathbf n}_h` and motion direction
