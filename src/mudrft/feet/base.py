@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_nonnegative
+from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
 
-__all__ = ["Foot", "SurfaceElements", "first_quadrant", "unfold_forces"]
+__all__ = ["Foot", "SurfaceElements", "check_resultant_inputs", "first_quadrant", "unfold_forces"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +64,19 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     sq[..., 0] *= signs[..., 0]
     sq[..., 1] *= signs[..., 1]
     return sq, phi, signs
+
+
+def check_resultant_inputs(
+    depth: Any, stress: Any, heading: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Validate the arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa],
+    first-quadrant heading [rad]) and return them as float arrays."""
+    d = check_nonnegative("depth", depth, unit="m")
+    s = check_finite("stress", stress)
+    if s.shape[-1:] != (3,):
+        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
+    h = check_in_range("heading", heading, 0.0, 0.5 * np.pi, unit="rad")
+    return d, s, h
 
 
 def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:

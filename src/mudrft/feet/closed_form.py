@@ -34,13 +34,12 @@ import numpy as np
 
 from .._validation import (
     MudrftError,
-    check_finite,
-    check_in_range,
     check_nonnegative,
     check_positive,
 )
 from ..constitutive.laws import f_n, f_t
 from .base import Foot, SurfaceElements, unfold_forces
+from .base import check_resultant_inputs as _check_inputs
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
 
@@ -245,15 +244,6 @@ def printed_semisphere_fxy(depth: Any, sx: Any, sy: Any, heading: Any, *, radius
     return np.stack([k * np.cos(heading) * sx, k * np.sin(heading) * sy], axis=-1)
 
 
-def _check_inputs(
-    depth: Any, stress: Any, heading: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    d = check_nonnegative("depth", depth, unit="m")
-    s = check_finite("stress", stress)
-    if s.shape[-1:] != (3,):
-        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
-    h = check_in_range("heading", heading, 0.0, 0.5 * math.pi, unit="rad")
-    return d, s, h
 
 
 class _ClosedFormFoot(Foot):

@@ -56,6 +56,7 @@ from .._validation import (
 )
 from ..constitutive.laws import f_n, f_t
 from .base import Foot, SurfaceElements, unfold_forces
+from .base import check_resultant_inputs as _check_inputs
 
 __all__ = [
     "MODES",
@@ -948,12 +949,3 @@ class MorphingFoot(Foot):
         )
 
 
-def _check_inputs(
-    depth: Any, stress: Any, heading: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    d = check_nonnegative("depth", depth, unit="m")
-    s = check_finite("stress", stress)
-    if s.shape[-1:] != (3,):
-        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
-    h = check_in_range("heading", heading, 0.0, 0.5 * math.pi, unit="rad")
-    return d, s, h
