@@ -80,8 +80,8 @@ def initial_state(
 
     Examples
     --------
-    >>> initial_state().xi
-    array(0.)
+    >>> float(initial_state().xi), initial_state((2, 3)).sigma_s.shape
+    (0.0, (2, 3))
     """
     check_in_range("xi0", xi0, 0.0, 1.0)
     z = np.zeros(shape)
