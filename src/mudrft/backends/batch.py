@@ -36,11 +36,12 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_finite, check_in_range, check_positive
+from .._validation import MudrftError, check_choice, check_finite, check_positive
 from ..constitutive.state import ChannelState
 from ..parameters.base import Mud, MudParameters
-from ..terrain import MudTerrain, channel_parameters
+from ..terrain import channel_parameters
 from . import kernels
+from ._options import terrain_options
 
 __all__ = ["BACKENDS", "BatchedMud", "batched_channel_parameters"]
 
@@ -164,24 +165,18 @@ class BatchedMud:
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
             )
         self.backend = check_choice("backend", backend, BACKENDS)
-        if isinstance(mud, MudTerrain):
-            characteristic_length = mud.characteristic_length
-            acceleration, reset_on_exit = mud.acceleration, mud.reset_on_exit
-            xi0, heading_speed = mud.xi0, mud.heading_speed
-            mud = mud.mud
+        mud, opts = terrain_options(
+            mud, foot, characteristic_length=characteristic_length, acceleration=acceleration,
+            reset_on_exit=reset_on_exit, xi0=xi0, heading_speed=heading_speed,
+        )
         self.n = int(n)
         self.foot = foot
         self.params = batched_channel_parameters(mud, self.n)
-        lc = (
-            characteristic_length
-            if characteristic_length is not None
-            else foot.characteristic_length
-        )
-        self.characteristic_length = float(check_positive("characteristic_length", lc, unit="m"))
-        self.acceleration = bool(acceleration)
-        self.reset_on_exit = bool(reset_on_exit)
-        self.xi0 = float(check_in_range("xi0", xi0, 0.0, 1.0))
-        self.heading_speed = float(check_positive("heading_speed", heading_speed, unit="m/s"))
+        self.characteristic_length = opts.characteristic_length
+        self.acceleration = opts.acceleration
+        self.reset_on_exit = opts.reset_on_exit
+        self.xi0 = opts.xi0
+        self.heading_speed = opts.heading_speed
         self._consts = kernels.channel_constants(self.params)
         self._kappa = 1.0 if self.acceleration else 0.0
         self._setup_backend()

@@ -21,10 +21,11 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_finite, check_in_range, check_positive
+from .._validation import MudrftError, check_choice, check_finite
 from ..parameters.base import Mud
 from ..terrain import MudTerrain, channel_parameters
 from . import kernels
+from ._options import terrain_options
 
 __all__ = ["FastMudFoot", "foot_geometry"]
 
@@ -121,11 +122,10 @@ class FastMudFoot:
     ) -> None:
         check_choice("backend", backend, ("auto", "numba", "python"))
         kind, geom = foot_geometry(foot)
-        if isinstance(mud, MudTerrain):
-            characteristic_length = mud.characteristic_length
-            acceleration, reset_on_exit = mud.acceleration, mud.reset_on_exit
-            xi0, heading_speed = mud.xi0, mud.heading_speed
-            mud = mud.mud
+        mud, opts = terrain_options(
+            mud, foot, characteristic_length=characteristic_length, acceleration=acceleration,
+            reset_on_exit=reset_on_exit, xi0=xi0, heading_speed=heading_speed,
+        )
         if not isinstance(mud, Mud):
             raise MudrftError(f"mud must be a Mud or a MudTerrain, got {type(mud).__name__}")
         params = channel_parameters(mud)
@@ -136,16 +136,11 @@ class FastMudFoot:
             )
         self.foot = foot
         self.mud = mud
-        lc = (
-            characteristic_length
-            if characteristic_length is not None
-            else foot.characteristic_length
-        )
-        self.characteristic_length = float(check_positive("characteristic_length", lc, unit="m"))
-        self.acceleration = bool(acceleration)
-        self.reset_on_exit = bool(reset_on_exit)
-        self.xi0 = float(check_in_range("xi0", xi0, 0.0, 1.0))
-        self.heading_speed = float(check_positive("heading_speed", heading_speed, unit="m/s"))
+        self.characteristic_length = opts.characteristic_length
+        self.acceleration = opts.acceleration
+        self.reset_on_exit = opts.reset_on_exit
+        self.xi0 = opts.xi0
+        self.heading_speed = opts.heading_speed
         if backend == "auto":
             backend = "numba" if _numba_available() else "python"
         self.backend = backend
