@@ -8,15 +8,21 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite
 
-__all__ = ["area_z", "kinematics", "mean_stress", "tip_depth"]
+__all__ = ["area_z", "kinematics", "mean_stress", "tip_depth", "tip_position"]
+
+
+def tip_position(position: Any) -> np.ndarray:
+    """Validate a tip position [m]: finite, shape (3,) or (..., 3)."""
+    pos = check_finite("position", position)
+    if pos.shape[-1:] != (3,):
+        raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+    return pos
 
 
 def kinematics(position: Any, velocity: Any) -> tuple[np.ndarray, np.ndarray]:
     """Validate tip position [m] and velocity [m/s]: finite, shape (..., 3), same shape."""
-    pos = check_finite("position", position)
+    pos = tip_position(position)
     vel = check_finite("velocity", velocity)
-    if pos.shape[-1:] != (3,):
-        raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
     if vel.shape != pos.shape:
         raise MudrftError(
             f"velocity must have the shape of position {pos.shape}, got shape {vel.shape}"

@@ -30,7 +30,7 @@ from .._validation import MudrftError, check_choice, check_finite, check_positiv
 from ..citations import register
 from ..feet.base import SurfaceElements
 from ..terrain import TerrainOutput
-from ._common import kinematics, mean_stress, projected, tip_depth
+from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 
 __all__ = [
     "DEFAULT_ZETA",
@@ -416,9 +416,7 @@ class GranularRFT:
 
     def initial_state(self, foot: Any, position: Any) -> RFTState:
         """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        pos = tip_position(position)
         el = foot.elements()
         direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
         return RFTState(direction=direction, elements=el, prepared=_prepare(el))

@@ -20,7 +20,7 @@ import numpy as np
 from .._validation import MudrftError, check_choice, check_finite, check_positive
 from ..citations import register
 from ..terrain import TerrainOutput
-from ._common import area_z, kinematics, tip_depth
+from ._common import area_z, kinematics, tip_depth, tip_position
 
 __all__ = ["DEFAULT_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"]
 
@@ -81,9 +81,7 @@ class LinearStiffness:
 
     def initial_state(self, foot: Any, position: Any) -> LinearState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        pos = tip_position(position)
         return LinearState(in_mud=tip_depth(pos) > 0)
 
     def step(

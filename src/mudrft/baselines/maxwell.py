@@ -44,7 +44,7 @@ from .._validation import (
 from ..citations import register
 from ..terrain import TerrainOutput
 from ..trajectories import Trajectory
-from ._common import area_z, kinematics, tip_depth
+from ._common import area_z, kinematics, tip_depth, tip_position
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
@@ -182,9 +182,7 @@ class MaxwellMud:
 
     def initial_state(self, foot: Any, position: Any) -> MaxwellState:
         """Undisturbed mud under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        pos = tip_position(position)
         depth = tip_depth(pos)
         z = np.zeros(depth.shape)
         return MaxwellState(z, z.copy(), z.copy(), depth / self._lc(foot), depth > 0)

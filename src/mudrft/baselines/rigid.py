@@ -23,9 +23,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_nonnegative, check_positive
+from .._validation import check_nonnegative, check_positive
 from ..terrain import TerrainOutput
-from ._common import kinematics, mean_stress, projected, tip_depth
+from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 
 __all__ = ["RigidGround", "RigidState"]
 
@@ -77,9 +77,7 @@ class RigidGround:
 
     def initial_state(self, foot: Any, position: Any) -> RigidState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (3,) or (..., 3), got shape {pos.shape}")
+        pos = tip_position(position)
         return RigidState(in_contact=tip_depth(pos) > 0)
 
     def step(
