@@ -1,0 +1,107 @@
+"""Logging and progress: the one mechanism every long job (simulate, reproduce, calibration,
+sweeps, benchmarks) reports through.
+
+mudrft logs to ``logging.getLogger("mudrft")`` and its children and never prints from the
+library. A library user sees nothing unless they configure logging (or pass
+``progress=True`` to a long job, which attaches a stderr handler if none is there); the
+command line attaches one at start (:func:`enable_stderr_logging`).
+
+>>> p = Progress("demo", enabled=False)
+>>> p(0.5); p.last
+50
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+from collections.abc import Callable
+
+__all__ = ["Progress", "enable_stderr_logging", "logger", "make_progress"]
+
+logger = logging.getLogger("mudrft")
+logger.addHandler(logging.NullHandler())
+
+_HANDLER_FLAG = "_mudrft_stderr"
+
+
+def enable_stderr_logging(level: int = logging.INFO) -> logging.Handler:
+    """Attach (once) a plain stderr handler to the ``mudrft`` logger and set its level.
+
+    Parameters
+    ----------
+    level : int
+        Logging level, e.g. ``logging.INFO`` (progress and notes) or ``logging.WARNING``.
+
+    Returns
+    -------
+    logging.Handler
+        The handler (the existing one when called again).
+    """
+    for h in logger.handlers:
+        if getattr(h, _HANDLER_FLAG, False):
+            logger.setLevel(level)
+            return h
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    setattr(handler, _HANDLER_FLAG, True)
+    logger.addHandler(handler)
+    logger.setLevel(level)
+    return handler
+
+
+class Progress:
+    """Report the progress of a long job as whole percentages, at most every ``step`` %.
+
+    Call the object with the fraction done in [0, 1]; a line ``"label: 40 %"`` goes to the
+    ``mudrft.progress`` logger at INFO level when ``enabled``.
+
+    Parameters
+    ----------
+    label : str
+        What is running.
+    enabled : bool, keyword-only
+        Report at all (a disabled reporter only tracks ``last``).
+    step : int, keyword-only
+        Smallest change in percent worth a line [%].
+    """
+
+    def __init__(self, label: str, *, enabled: bool = True, step: int = 10) -> None:
+        self.label = label
+        self.enabled = enabled
+        self.step = int(step)
+        self.last = -self.step
+        self._log = logging.getLogger("mudrft.progress")
+
+    def __call__(self, fraction: float) -> None:
+        pct = int(100 * min(max(float(fraction), 0.0), 1.0))
+        if pct >= self.last + self.step or (pct == 100 and self.last < 100):
+            self.last = pct
+            if self.enabled:
+                self._log.info("  %s: %3d %%", self.label, pct)
+
+    def note(self, message: str) -> None:
+        """A one-line note about the job (a stage that starts, a file written)."""
+        if self.enabled:
+            self._log.info("%s", message)
+
+
+def make_progress(
+    progress: bool | Callable[[float], None] | None, label: str
+) -> Callable[[float], None] | None:
+    """Turn a user's ``progress=`` argument into a reporter, or None.
+
+    ``True`` gives a :class:`Progress` (and a stderr handler if logging is not configured),
+    a callable is used as it is (called with the fraction done), ``False``/``None`` gives None.
+    """
+    if progress is True:
+        if not any(not isinstance(h, logging.NullHandler) for h in logger.handlers) and not (
+            logging.getLogger().handlers
+        ):
+            enable_stderr_logging()
+        elif logger.level == logging.NOTSET or logger.level > logging.INFO:
+            logger.setLevel(logging.INFO)
+        return Progress(label)
+    if callable(progress):
+        return progress
+    return None
