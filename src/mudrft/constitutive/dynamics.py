@@ -1,10 +1,7 @@
-r"""Time stepping of the mud constitutive model and the paper's closed-form solutions.
+r"""Time stepping of the mud constitutive model, validated: :func:`step` and :func:`run`.
 
-The ODEs (3) and (5) are linear in the state when the rate is held constant over a
-step, so :func:`step` advances them with their exact exponential solution: it is
-unconditionally stable for every time constant in the tables at any step size,
-and exact for inputs that are piecewise linear in time. The only approximation is
-the sealing function, evaluated at the middle of the step (second order).
+:func:`step` checks its inputs and calls :func:`mudrft.constitutive.kernel.channel_update`,
+the one definition of the update (exact exponential solution of eqs. 3 and 5 over a step).
 
 ``state, stress = step(params, state, gamma, gamma_dot, dt)`` serves a time loop,
 a MuJoCo loop, a batch (arrays everywhere) and, with ``xp=jax.numpy``, a JAX scan.
@@ -18,25 +15,10 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite, check_increasing, check_positive
 from ..parameters.base import MudParameters
-from . import laws
+from .kernel import channel_constants, channel_update
 from .state import ChannelState, ChannelStress, initial_state
 
-__all__ = [
-    "ChannelHistory",
-    "run",
-    "step",
-    "suction_closed_form",
-    "thixotropic_approx",
-    "thixotropic_exact",
-    "xi_exact",
-]
-
-
-def _expm1_over_x(x: Any, xp: Any) -> Any:
-    """(exp(x) - 1) / x, accurate near 0 and safe under JAX autodiff."""
-    small = xp.abs(x) < 1e-6
-    xs = xp.where(small, 1.0, x)
-    return xp.where(small, 1.0 + 0.5 * x + x * x / 6.0, xp.expm1(xs) / xs)
+__all__ = ["ChannelHistory", "run", "step"]
 
 
 def step(
@@ -99,55 +81,9 @@ def step(
         check_positive("dt", dt, unit="s")
         check_finite("gamma", gamma)
         check_finite("gamma_dot", gamma_dot)
-    p = params
     kappa = 1.0 if acceleration else 0.0
-
-    # deepest point of the current intrusion, and the retraction from it
-    g_old = state.gamma
-    gw_old = state.gamma_w
-    flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
-    deeper = xp.abs(gamma) >= xp.abs(gw_old)
-    gw_new = xp.where(deeper | flipped, gamma, gw_old)
-    direction = xp.where(
-        gw_new != 0, xp.sign(gw_new), xp.where(gamma_dot != 0, xp.sign(gamma_dot), 1.0)
-    )
-    r_start = xp.where(flipped, 0.0, xp.maximum(xp.abs(gw_old) - xp.abs(g_old), 0.0))
-    r_end = xp.maximum(xp.abs(gw_new) - xp.abs(gamma), 0.0)
-    r_mid = 0.5 * (r_start + r_end)
-
-    # structure parameter: exact exponential update
-    tau = laws.tau_xi(gamma_dot, p.k_a, p.k_r, xp=xp)
-    xi_ss = p.k_a * tau
-    e_xi = xp.exp(-dt / tau)
-    xi_new = xi_ss + (state.xi - xi_ss) * e_xi
-
-    # lagged thixotropic stress, driven by A + B*xi(t): exact solution (supplementary eq. S2
-    # generalised to any xi(0) and to tau_xi == lambda)
-    A = (1.0 - kappa) * p.eta_inf * gamma_dot
-    B = p.eta_m * gamma_dot
-    e_lam = xp.exp(-dt / p.lam)
-    x = dt * (1.0 / p.lam - 1.0 / tau)
-    conv = e_lam * (dt / p.lam) * _expm1_over_x(x, xp)
-    s_new = state.s_th * e_lam + (A + B * xi_ss) * (1.0 - e_lam) + B * (state.xi - xi_ss) * conv
-
-    # suction: exact exponential with the sealing state at mid-step
-    phi = seal * laws.sealing(r_mid, p.epsilon, xp=xp)
-    a = laws.suction_rate(phi, p.tau_build, p.tau_leak)
-    target = -direction * phi * p.sigma_y / (a * p.tau_build)
-    sig_s_new = target + (state.sigma_s - target) * xp.exp(-a * dt)
-
-    # stresses at the end of the step, eq. (1)
-    sigma_b = laws.elastic_stress(gamma, p.alpha, p.n, xp=xp) * laws.bed_contact(
-        r_end, p.epsilon, xp=xp
-    )
-    sigma_th = s_new + kappa * p.eta_inf * gamma_dot
-    H = laws.switch(direction * gamma_dot, p.nu, xp=xp)
-    suction = H * sig_s_new
-    total = sigma_b + sigma_th + suction
-
-    new_state = ChannelState(gamma=gamma, gamma_w=gw_new, xi=xi_new, s_th=s_new, sigma_s=sig_s_new)
-    return new_state, ChannelStress(
-        total=total, elastic=sigma_b, thixotropic=sigma_th, suction=suction
+    return channel_update(
+        channel_constants(params), state, gamma, gamma_dot, dt, seal, kappa, xp=xp
     )
 
 
@@ -226,116 +162,3 @@ def run(
         out["suction"][k] = s.suction
         out["xi"][k] = st.xi
     return ChannelHistory(time=t, gamma=g, **out)
-
-
-# ---------------------------------------------------------------------------------------
-# Closed-form solutions (paper eqs. 9-11 and supplementary Sec. I), for tests and users
-# ---------------------------------------------------------------------------------------
-def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0) -> Any:
-    r"""Structure parameter at constant rate: :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}`.
-
-    The supplementary prints :math:`\xi(t)=(1-e^{t/\tau_\xi})\xi_{ss}` for
-    :math:`\xi_0=0`, whose exponent has a sign slip (erratum E4); this is the correct form.
-
-    Parameters
-    ----------
-    t : array_like
-        Time since the start of the constant-rate motion [s].
-    gamma_dot : float
-        Rate [1/s].
-    params : MudParameters
-        Model constants.
-    xi0 : float, keyword-only
-        Structure at t = 0 [-] (the paper uses 0).
-    """
-    tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
-    xi_ss = params.k_a * tau
-    return xi_ss + (xi0 - xi_ss) * np.exp(-np.asarray(t) / tau)
-
-
-def thixotropic_exact(
-    t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0, acceleration: bool = False
-) -> Any:
-    r"""Thixotropic stress at constant rate from rest, supplementary eq. (S2), exact.
-
-    For :math:`\xi(0)=0` and :math:`\ddot\gamma=0`:
-
-    .. math:: \sigma_{th}=(1-e^{-t/\lambda})(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma
-              +(e^{-t/\lambda}-e^{-t/\tau_\xi})\frac{\tau_\xi}{\tau_\xi-\lambda}\xi_{ss}\eta_m\dot\gamma .
-
-    This is what the supplementary prints (checked against ``solve_ivp`` in the tests).
-    Its claim that the second term vanishes for :math:`\tau_\xi\approx\lambda` is wrong
-    (erratum E5): the term tends to :math:`-(t/\lambda)e^{-t/\lambda}\xi_{ss}\eta_m\dot\gamma`.
-    Written here for any :math:`\xi_0`, any :math:`\tau_\xi` (including
-    :math:`\tau_\xi=\lambda`) and, with ``acceleration=True``, for a rate that jumps from
-    0 at t = 0 (the :math:`\ddot\gamma` impulse adds :math:`\eta_\infty\dot\gamma` at once).
-
-    Parameters
-    ----------
-    t : array_like
-        Time since the start of motion [s].
-    gamma_dot : float
-        Constant rate [1/s].
-    params : MudParameters
-        Model constants.
-    xi0 : float, keyword-only
-        Initial structure [-].
-    acceleration : bool, keyword-only
-        Include the acceleration term.
-
-    Returns
-    -------
-    array
-        :math:`\sigma_{th}(t)` [Pa].
-    """
-    t = np.asarray(t, dtype=float)
-    tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
-    xi_ss = params.k_a * tau
-    lam = params.lam
-    kappa = 1.0 if acceleration else 0.0
-    A = (1.0 - kappa) * params.eta_inf * gamma_dot
-    B = params.eta_m * gamma_dot
-    e_lam = np.exp(-t / lam)
-    x = t * (1.0 / lam - 1.0 / tau)
-    conv = e_lam * (t / lam) * _expm1_over_x(x, np)
-    return (
-        (A + B * xi_ss) * (1.0 - e_lam)
-        + B * (xi0 - xi_ss) * conv
-        + kappa * params.eta_inf * gamma_dot
-    )
-
-
-def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:
-    r"""The paper's approximation, eq. (9): :math:`(1-e^{-t/\lambda})\sigma_{th,ss}` [Pa].
-
-    Exact only when :math:`\xi` starts at its steady value; the supplementary
-    justifies it by :math:`\tau_\xi\approx\lambda`, which does not remove the second
-    term of eq. (S2) (see docs/model.md, erratum E5, and the tests that measure the error).
-    """
-    t = np.asarray(t, dtype=float)
-    return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
-        gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c
-    )
-
-
-def suction_closed_form(dt: Any, phi: Any, params: MudParameters, *, sigma_s0: float = 0.0) -> Any:
-    r"""Suction at constant sealing state, eqs. (10)-(11).
-
-    .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t},\quad
-              \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
-              a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}}
-
-    Parameters
-    ----------
-    dt : array_like
-        Time since retraction began, :math:`\Delta t=t-t_w` [s].
-    phi : float
-        Constant sealing state in [0, 1] [-].
-    params : MudParameters
-        Model constants.
-    sigma_s0 : float, keyword-only
-        Suction at :math:`t_w` [Pa]; the paper uses 0.
-    """
-    a = laws.suction_rate(phi, params.tau_build, params.tau_leak)
-    ss = laws.suction_steady(phi, params.tau_build, params.tau_leak, params.sigma_y)
-    return ss + (sigma_s0 - ss) * np.exp(-a * np.asarray(dt, dtype=float))

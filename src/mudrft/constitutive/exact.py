@@ -1,0 +1,128 @@
+r"""The paper's closed-form solutions of eqs. (3) and (5) (eqs. 9-11, supplementary Sec. I).
+
+They serve the tests (each is checked against a numerical ODE solution), the paper's own
+quasi-static evaluation, and users who want the formulas. The time stepping is in
+:mod:`mudrft.constitutive.kernel`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..parameters.base import MudParameters
+from . import laws
+from .kernel import expm1_over_x
+
+__all__ = ["suction_closed_form", "thixotropic_approx", "thixotropic_exact", "xi_exact"]
+
+
+def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0) -> Any:
+    r"""Structure parameter at constant rate: :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}`.
+
+    The supplementary prints :math:`\xi(t)=(1-e^{t/\tau_\xi})\xi_{ss}` for
+    :math:`\xi_0=0`, whose exponent has a sign slip (erratum E4); this is the correct form.
+
+    Parameters
+    ----------
+    t : array_like
+        Time since the start of the constant-rate motion [s].
+    gamma_dot : float
+        Rate [1/s].
+    params : MudParameters
+        Model constants.
+    xi0 : float, keyword-only
+        Structure at t = 0 [-] (the paper uses 0).
+    """
+    tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
+    xi_ss = params.k_a * tau
+    return xi_ss + (xi0 - xi_ss) * np.exp(-np.asarray(t) / tau)
+
+
+def thixotropic_exact(
+    t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0, acceleration: bool = False
+) -> Any:
+    r"""Thixotropic stress at constant rate from rest, supplementary eq. (S2), exact.
+
+    For :math:`\xi(0)=0` and :math:`\ddot\gamma=0`:
+
+    .. math:: \sigma_{th}=(1-e^{-t/\lambda})(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma
+              +(e^{-t/\lambda}-e^{-t/\tau_\xi})\frac{\tau_\xi}{\tau_\xi-\lambda}\xi_{ss}\eta_m\dot\gamma .
+
+    This is what the supplementary prints (checked against ``solve_ivp`` in the tests).
+    Its claim that the second term vanishes for :math:`\tau_\xi\approx\lambda` is wrong
+    (erratum E5): the term tends to :math:`-(t/\lambda)e^{-t/\lambda}\xi_{ss}\eta_m\dot\gamma`.
+    Written here for any :math:`\xi_0`, any :math:`\tau_\xi` (including
+    :math:`\tau_\xi=\lambda`) and, with ``acceleration=True``, for a rate that jumps from
+    0 at t = 0 (the :math:`\ddot\gamma` impulse adds :math:`\eta_\infty\dot\gamma` at once).
+
+    Parameters
+    ----------
+    t : array_like
+        Time since the start of motion [s].
+    gamma_dot : float
+        Constant rate [1/s].
+    params : MudParameters
+        Model constants.
+    xi0 : float, keyword-only
+        Initial structure [-].
+    acceleration : bool, keyword-only
+        Include the acceleration term.
+
+    Returns
+    -------
+    array
+        :math:`\sigma_{th}(t)` [Pa].
+    """
+    t = np.asarray(t, dtype=float)
+    tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
+    xi_ss = params.k_a * tau
+    lam = params.lam
+    kappa = 1.0 if acceleration else 0.0
+    A = (1.0 - kappa) * params.eta_inf * gamma_dot
+    B = params.eta_m * gamma_dot
+    e_lam = np.exp(-t / lam)
+    x = t * (1.0 / lam - 1.0 / tau)
+    conv = e_lam * (t / lam) * expm1_over_x(x, xp=np)
+    return (
+        (A + B * xi_ss) * (1.0 - e_lam)
+        + B * (xi0 - xi_ss) * conv
+        + kappa * params.eta_inf * gamma_dot
+    )
+
+
+def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:
+    r"""The paper's approximation, eq. (9): :math:`(1-e^{-t/\lambda})\sigma_{th,ss}` [Pa].
+
+    Exact only when :math:`\xi` starts at its steady value; the supplementary
+    justifies it by :math:`\tau_\xi\approx\lambda`, which does not remove the second
+    term of eq. (S2) (see docs/model.md, erratum E5, and the tests that measure the error).
+    """
+    t = np.asarray(t, dtype=float)
+    return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
+        gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c
+    )
+
+
+def suction_closed_form(dt: Any, phi: Any, params: MudParameters, *, sigma_s0: float = 0.0) -> Any:
+    r"""Suction at constant sealing state, eqs. (10)-(11).
+
+    .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t},\quad
+              \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
+              a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}}
+
+    Parameters
+    ----------
+    dt : array_like
+        Time since retraction began, :math:`\Delta t=t-t_w` [s].
+    phi : float
+        Constant sealing state in [0, 1] [-].
+    params : MudParameters
+        Model constants.
+    sigma_s0 : float, keyword-only
+        Suction at :math:`t_w` [Pa]; the paper uses 0.
+    """
+    a = laws.suction_rate(phi, params.tau_build, params.tau_leak)
+    ss = laws.suction_steady(phi, params.tau_build, params.tau_leak, params.sigma_y)
+    return ss + (sigma_s0 - ss) * np.exp(-a * np.asarray(dt, dtype=float))
