@@ -22,7 +22,7 @@ from .citations import citations
 from .parameters import Mud, MudParameters, paper_mud, paper_parameters
 from .plate import PlateResult, plate_response
 from .simulation import LoadControl, Result, simulate, static_sinking
-from .terrain import MudTerrain, Terrain, TerrainOutput
+from .terrains import MudTerrain, Terrain, TerrainOutput
 from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
 
 __version__ = "0.1.0"

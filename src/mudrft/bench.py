@@ -452,7 +452,7 @@ def _single_foot_loop_time(k: int, budget: float) -> float:
     """Seconds per foot of a Python loop over k single-foot MudTerrain.step calls."""
     from .feet import Flat
     from .parameters import paper_mud
-    from .terrain import MudTerrain
+    from .terrains import MudTerrain
 
     foot = Flat()
     terrain = MudTerrain(paper_mud(0.3))
@@ -482,7 +482,7 @@ def _bench_fast(quick: bool, budget: float, progress: Any) -> dict[str, Any]:
     from .backends.fast import FastMudFoot
     from .feet import Flat
     from .parameters import paper_mud
-    from .terrain import MudTerrain
+    from .terrains import MudTerrain
 
     foot, mud = Flat(), paper_mud(0.3)
     terrain = MudTerrain(mud)

@@ -192,7 +192,7 @@ def _acceleration_sensitivity(
     feet_objs: dict[str, Any], speeds: Sequence[float], *, quiet: bool, dt: float
 ) -> dict[str, dict[str, float]]:
     """Speed spread of the normalized resistance and suction ratio without the gamma-ddot term."""
-    from .terrain import MudTerrain
+    from .terrains import MudTerrain
 
     terrain = MudTerrain(paper_mud(0.25), acceleration=False)
     out: dict[str, dict[str, float]] = {}

@@ -143,7 +143,7 @@ def test_batched_mud_rejects_bad_input():
 def test_numba_multithreaded_loop_equals_numpy_backend():
     """Batches from PARALLEL_MIN feet on run the threaded numba loop; compare with numpy."""
     pytest.importorskip("numba")
-    from mudrft.backends.numba_kernels import PARALLEL_MIN
+    from mudrft.backends.numba import PARALLEL_MIN
 
     n = PARALLEL_MIN
     rng = np.random.default_rng(4)

@@ -46,7 +46,7 @@ def test_jax_step_matches_numpy_step(p, inputs):
 def test_vmapped_step_gives_each_member_its_own_parameters():
     muds = [mudrft.paper_mud(w) for w in (0.25, 0.3, 0.4)]
     rng = np.random.default_rng(2)
-    from mudrft.terrain import channel_parameters
+    from mudrft.terrains import channel_parameters
 
     ps = [channel_parameters(m) for m in muds]
     jp = mjax.JaxParams(

@@ -21,7 +21,7 @@ from mudrft.baselines import (
     summarize,
     write_csv,
 )
-from mudrft.terrain import Terrain
+from mudrft.terrains import Terrain
 
 REFERENCE = {
     "plate": lambda: mudrft.plate_intrusion(hold=0.3),

@@ -14,7 +14,7 @@ import pytest
 import mudrft
 from mudrft.feet import Flat, MorphingFoot, SemiCylinder, SemiSphere
 from mudrft.simulation import LoadControl, simulate
-from mudrft.terrain import MudTerrain
+from mudrft.terrains import MudTerrain
 
 BALANCE_TOL = 1e-8  # [N], see module docstring
 MUD = mudrft.paper_mud(0.25)

@@ -6,8 +6,12 @@
   floats (numba or plain Python), microseconds per step, for per-step coupling;
 * :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan over a
   trajectory and surface integration (optional extra ``jax``);
-* :mod:`mudrft.backends.kernels`: the fused numpy and scalar kernels;
-  :mod:`mudrft.backends.numba_kernels`: the same compiled with numba (optional extra).
+* :mod:`mudrft.backends.numba`: the one physics compiled on floats with numba (optional
+  extra), and the compiled loop over feet.
+
+The backends hold no physics: each equation is written once, element-wise over an array
+namespace, in the core (decision D80 in docs/model.md); a backend runs it on its arrays
+or compiles it.
 
 Heavy optional dependencies load on first use. See docs/model.md.
 
@@ -28,16 +32,16 @@ __all__ = [
     "available",
     "batch",
     "fast",
+    "forces",
     "jax",
-    "kernels",
-    "numba_kernels",
+    "numba",
 ]
 
 _ATTRS = {
     "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
     "FastMudFoot": ("mudrft.backends.fast", "FastMudFoot"),
 }
-_MODULES = {"batch", "fast", "jax", "kernels", "numba_kernels", "forces"}
+_MODULES = {"batch", "fast", "forces", "jax", "numba"}
 
 
 def available() -> list[str]:

@@ -6,22 +6,22 @@ pose and velocity, and advances them together::
     sim = BatchedMud(mud, mudrft.feet.Flat(), n=10_000)
     forces = sim.step(position, velocity, dt)        # (N, 3) in, (N, 3) [N] out
 
-It computes what :class:`mudrft.MudTerrain` computes for a batch (same channels, entry
-points, reset on exit, heading; the tests compare them), arranged for speed (decision D71):
-the parameters are validated and turned into per-channel constants once, the state lives
-in preallocated arrays, the inputs are checked once per call, the foot's vectorized force
-rule is called without re-validation, and no Python loop runs over feet or facets.
+It runs the one terrain step (:func:`mudrft.terrains.mud.mud_step`) of
+:class:`mudrft.MudTerrain` on the whole batch (decision D71): the parameters are validated
+once (by the MudTerrain), the inputs are checked once per call, the foot's vectorized
+force rule is called without re-validation, and no Python loop runs over feet or facets.
 
 Backends:
 
 ``"numpy"`` (default)
-    Fused numpy (:func:`mudrft.backends.kernels.fused_step`); any foot.
+    :meth:`mudrft.MudTerrain.step_unchecked` on arrays; any foot.
 ``"numba"``
-    The scalar kernels compiled by numba, with a loop over feet in compiled code
-    (multi-threaded from :data:`~mudrft.backends.numba_kernels.PARALLEL_MIN` feet on);
-    closed-form feet (flat, semi-cylinder, semi-sphere).
+    The same step compiled on floats (:mod:`mudrft.backends.numba`), with a loop over feet
+    in compiled code (multi-threaded from :data:`~mudrft.backends.numba.PARALLEL_MIN` feet
+    on); closed-form feet (flat, semi-cylinder, semi-sphere).
 ``"jax"``
-    :func:`mudrft.backends.jax.terrain_step` compiled with :func:`jax.jit`; closed-form and
+    :func:`mudrft.backends.jax.terrain_step` (the same step with ``xp=jax.numpy``) compiled
+    with :func:`jax.jit`; closed-form and
     mesh feet; the state stays on the JAX device (GPU if JAX has one).
 
 Per-foot parameters: give a :class:`~mudrft.parameters.base.Mud` whose parameter fields are
@@ -32,18 +32,17 @@ arrays of shape (N,), or a list of N muds (stacked with
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_choice, check_finite, check_positive
-from ..constitutive.state import ChannelState
 from ..parameters.base import Mud, MudParameters
-from ..terrain import channel_parameters
-from . import kernels
-from ._options import terrain_options
+from ..terrains import MudTerrain, channel_parameters
 
-__all__ = ["BACKENDS", "BatchedMud", "batched_channel_parameters"]
+__all__ = ["BACKENDS", "BatchedMud", "as_mud_terrain", "batched_channel_parameters", "batched_mud"]
 
 #: Backends of :class:`BatchedMud`.
 BACKENDS = ("numpy", "numba", "jax")
@@ -71,8 +70,21 @@ def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameter
     >>> batched_channel_parameters(muds, 3).alpha.shape
     (3, 3)
     """
+    return channel_parameters(batched_mud(mud, n))
+
+
+def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
+    """One Mud for N feet: fields scalars (shared) or arrays of shape (N,) (one set per foot).
+
+    Parameters
+    ----------
+    mud : Mud or sequence of Mud
+        One mud for all feet (its fields scalars or arrays of shape (N,)), or N muds.
+    n : int
+        Number of feet.
+    """
     if isinstance(mud, Mud):
-        p = channel_parameters(mud)
+        out = mud
     elif (
         isinstance(mud, Sequence)
         and not isinstance(mud, str)
@@ -84,18 +96,29 @@ def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameter
             )
         vert = MudParameters.stack([m.vertical for m in mud])
         hor = MudParameters.stack([m.horizontal for m in mud])
-        p = channel_parameters(Mud(vert, hor, name=f"{n} muds"))
+        out = Mud(vert, hor, name=f"{n} muds")
     else:
         raise MudrftError(
             f"mud must be a Mud (mudrft.paper_mud) or a list of Mud, got {type(mud).__name__}"
         )
-    shape = p.shape
-    if shape not in ((3,), (n, 3)):
+    shapes = {out.vertical.shape, out.horizontal.shape}
+    if not shapes <= {(), (n,)}:
         raise MudrftError(
             f"mud parameters must be scalars or arrays of shape ({n},) for n = {n} feet, got "
-            f"channel parameters of shape {shape}"
+            f"fields of shape {sorted(shapes)}"
         )
-    return p
+    return out
+
+
+def as_mud_terrain(mud: Any, **options: Any) -> MudTerrain:
+    """A :class:`~mudrft.MudTerrain` (returned as is) or a Mud wrapped with ``options``.
+
+    The options (``characteristic_length``, ``acceleration``, ...) are validated by
+    MudTerrain; they are ignored when ``mud`` already is one.
+    """
+    if isinstance(mud, MudTerrain):
+        return mud
+    return MudTerrain(mud, **options)
 
 
 class BatchedMud:
@@ -112,12 +135,12 @@ class BatchedMud:
         Number of feet N.
     position : array_like, shape (N, 3) or (3,), keyword-only
         Initial tip positions [m]; default (0, 0, 0) (on the surface).
-    characteristic_length : float or None, keyword-only
-        :math:`L_c` [m]; default the foot's.
-    acceleration, reset_on_exit, xi0, heading_speed : keyword-only
-        As :class:`mudrft.MudTerrain` (ignored when ``mud`` is a MudTerrain).
     backend : {"numpy", "numba", "jax"}, keyword-only
         Kernel (see module docstring). Default "numpy".
+    **options
+        Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m],
+        ``acceleration``, ``reset_on_exit``, ``xi0``, ``heading_speed``); ignored when
+        ``mud`` is a MudTerrain.
 
     Attributes
     ----------
@@ -125,6 +148,8 @@ class BatchedMud:
         Number of feet.
     params : MudParameters
         Channel parameters, fields of shape (3,) or (N, 3).
+    terrain : MudTerrain
+        The mud of the batch (fields scalars or of shape (N,)) with its validated options.
     force, stress : ndarray (N, 3)
         Force [N] and channel stresses [Pa] of the last step.
     depth : ndarray (N,)
@@ -148,13 +173,9 @@ class BatchedMud:
         foot: Any,
         n: int,
         *,
-        position: Any = None,
-        characteristic_length: float | None = None,
-        acceleration: bool = True,
-        reset_on_exit: bool = True,
-        xi0: float = 0.0,
-        heading_speed: float = 1e-6,
+        position: ArrayLike | None = None,
         backend: str = "numpy",
+        **options: Any,
     ) -> None:
         from ..feet.base import Foot
 
@@ -165,50 +186,32 @@ class BatchedMud:
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
             )
         self.backend = check_choice("backend", backend, BACKENDS)
-        mud, opts = terrain_options(
-            mud, foot, characteristic_length=characteristic_length, acceleration=acceleration,
-            reset_on_exit=reset_on_exit, xi0=xi0, heading_speed=heading_speed,
-        )
         self.n = int(n)
         self.foot = foot
-        self.params = batched_channel_parameters(mud, self.n)
-        self.characteristic_length = opts.characteristic_length
-        self.acceleration = opts.acceleration
-        self.reset_on_exit = opts.reset_on_exit
-        self.xi0 = opts.xi0
-        self.heading_speed = opts.heading_speed
-        self._consts = kernels.channel_constants(self.params)
-        self._kappa = 1.0 if self.acceleration else 0.0
+        base = as_mud_terrain(mud if isinstance(mud, MudTerrain | Mud) else batched_mud(mud, self.n), **options)
+        self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
+        self.params = channel_parameters(self.terrain.mud)
+        self.characteristic_length = self.terrain.length(foot)
         self._setup_backend()
         self.reset(np.zeros(3) if position is None else position)
 
     # -- set-up ---------------------------------------------------------------------------
     def _setup_backend(self) -> None:
-        from .forces import force_function
-
-        if self.backend == "numpy":
-            self._force_fn = force_function(self.foot)
-        elif self.backend == "numba":
+        if self.backend == "numba":
             from .fast import foot_geometry
-            from .numba_kernels import PARALLEL_MIN, compiled
+            from .numba import N_CONST, PARALLEL_MIN, compiled_feet, constant_row
 
             kind, geom = foot_geometry(self.foot)
-            self._geom = np.asarray(geom, dtype=float)
+            t = self.terrain
+            self._geom = np.array([kind, *geom], dtype=float)
             self._cfg = np.array(
-                [
-                    kind,
-                    self.characteristic_length,
-                    self._kappa,
-                    self.xi0,
-                    1.0 if self.reset_on_exit else 0.0,
-                    self.heading_speed,
-                ]
+                [self.characteristic_length, t.kappa, t.xi0, float(t.reset_on_exit), t.heading_speed]
             )
-            self._c = np.ascontiguousarray(kernels.constant_rows(self._consts).ravel())
-            name = "batch_step" if self.n >= PARALLEL_MIN else "batch_step_serial"
-            self._nb_step = compiled()[name]
-        else:
+            self._c = constant_row(*t.constants).reshape(-1, N_CONST)
+            self._nb_step = compiled_feet(self.n >= PARALLEL_MIN)
+        elif self.backend == "jax":
             from . import jax as mjax
+            from .forces import force_function
 
             fn = force_function(self.foot, xp=mjax.safe_namespace())
             if fn is None:
@@ -221,13 +224,14 @@ class BatchedMud:
     def _jax_setup(self, mjax: Any, fn: Any) -> None:
         jax = mjax.enable_x64()
         jp = mjax.to_jax(self.params)
+        t = self.terrain
         opts = {
             "force_fn": fn,
             "characteristic_length": self.characteristic_length,
-            "acceleration": self.acceleration,
-            "reset_on_exit": self.reset_on_exit,
-            "xi0": self.xi0,
-            "heading_speed": self.heading_speed,
+            "acceleration": t.acceleration,
+            "reset_on_exit": t.reset_on_exit,
+            "xi0": t.xi0,
+            "heading_speed": t.heading_speed,
         }
 
         def one(st: Any, pos: Any, vel: Any, dt: Any) -> Any:
@@ -237,7 +241,7 @@ class BatchedMud:
         self._mjax = mjax
 
     # -- state ----------------------------------------------------------------------------
-    def _inputs(self, name: str, value: Any) -> np.ndarray:
+    def _inputs(self, name: str, value: Any) -> NDArray[np.float64]:
         a = check_finite(name, value)
         if a.shape == (3,):
             a = np.broadcast_to(a, (self.n, 3))
@@ -245,41 +249,27 @@ class BatchedMud:
             raise MudrftError(f"{name} must have shape ({self.n}, 3) or (3,), got shape {a.shape}")
         return a
 
-    def reset(self, position: Any) -> None:
+    def reset(self, position: ArrayLike) -> None:
         """Put every foot above undisturbed mud with its tip at ``position`` (N, 3) or (3,) [m]."""
-        pos = self._inputs("position", position)
-        n, lc = self.n, self.characteristic_length
-        depth = np.maximum(-pos[:, 2], 0.0)
+        pos = np.array(self._inputs("position", position))
+        n = self.n
         self.force = np.zeros((n, 3))
         self.stress = np.zeros((n, 3))
-        self.depth = depth.copy()
-        if self.backend == "numba":
-            st = np.zeros((n, kernels.N_STATE))
-            st[:, 2:15:5] = self.xi0
-            st[:, 10] = depth / lc
-            st[:, 11] = depth / lc
-            st[:, 15:17] = pos[:, :2]
-            st[:, 18] = depth > 0
-            self._st = st.ravel()
-            self._out = np.zeros(n * kernels.N_OUT)
-            return
-        g = np.zeros((n, 3))
-        g[:, 2] = depth / lc
-        z = np.zeros((n, 3))
-        ch = ChannelState(
-            gamma=g, gamma_w=g.copy(), xi=z + self.xi0, s_th=z.copy(), sigma_s=z.copy()
-        )
+        self.depth = np.maximum(-pos[:, 2], 0.0)
         if self.backend == "jax":
-            self._jst = self._mjax.initial_terrain_state(pos, lc, xi0=self.xi0)
+            self._jst = self._mjax.initial_terrain_state(
+                pos, self.characteristic_length, xi0=self.terrain.xi0
+            )
             return
-        self._ch = ch
-        self._entry = pos[:, :2].copy()
-        self._heading = np.zeros(n)
-        self._in_mud = depth > 0
-        self._foot_state = self.foot.initial_foot_state()
+        self._state = self.terrain.initial_state(self.foot, pos)
+        if self.backend == "numba":
+            from .numba import N_OUT, state_rows
+
+            self._st = state_rows(self._state.channels)
+            self._out = np.zeros((n, N_OUT))
 
     # -- stepping -------------------------------------------------------------------------
-    def step(self, position: Any, velocity: Any, dt: float) -> np.ndarray:
+    def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` and return the forces of the mud on them.
 
         Parameters
@@ -301,76 +291,23 @@ class BatchedMud:
         dt = float(check_positive("dt", dt, unit="s"))
         if self.backend == "numba":
             self._nb_step(
-                self._c,
-                self._st,
-                self._out,
-                self._geom,
-                self._cfg,
-                np.ascontiguousarray(pos),
-                np.ascontiguousarray(vel),
-                dt,
-            )
-            out = self._out.reshape(self.n, kernels.N_OUT)
-            self.force = out[:, 0:3].copy()
-            self.stress = out[:, 3:6].copy()
-            self.depth = out[:, 6].copy()
+                self._c, self._st, self._out, np.ascontiguousarray(pos),
+                np.ascontiguousarray(vel), dt, self._cfg, self._geom,
+            )  # fmt: skip
+            self.force = self._out[:, 0:3].copy()
+            self.stress = self._out[:, 3:6].copy()
+            self.depth = self._out[:, 6].copy()
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
         else:
-            self._step_numpy(pos, vel, dt)
+            self._state, out = self.terrain.step_unchecked(self.foot, self._state, pos, vel, dt)
+            self.force, self.stress, self.depth = out.force, out.stress, out.depth
         if not np.all(np.isfinite(self.force)):
             raise MudrftError(
                 "the batched step produced non-finite forces; check the parameters and dt"
             )
         return self.force
-
-    def _step_numpy(self, pos: np.ndarray, vel: np.ndarray, dt: float) -> None:
-        lc = self.characteristic_length
-        depth = np.maximum(-pos[:, 2], 0.0)
-        in_mud = depth > 0
-        ch = self._ch
-        entry = self._entry
-        if self.reset_on_exit:
-            fresh = ~self._in_mud
-            if fresh.any():
-                f3 = fresh[:, None]
-                ch = ChannelState(
-                    gamma=np.where(f3, 0.0, ch.gamma),
-                    gamma_w=np.where(f3, 0.0, ch.gamma_w),
-                    xi=np.where(f3, self.xi0, ch.xi),
-                    s_th=np.where(f3, 0.0, ch.s_th),
-                    sigma_s=np.where(f3, 0.0, ch.sigma_s),
-                )
-                entry = np.where(f3, pos[:, :2] - vel[:, :2] * dt, entry)
-        gamma = np.empty((self.n, 3))
-        np.subtract(pos[:, :2], entry, out=gamma[:, :2])
-        gamma[:, :2] /= lc
-        np.divide(depth, lc, out=gamma[:, 2])
-        gdot = np.empty((self.n, 3))
-        np.divide(vel[:, :2], lc, out=gdot[:, :2])
-        np.divide(np.where(in_mud | self._in_mud, -vel[:, 2], 0.0), lc, out=gdot[:, 2])
-        hs = np.hypot(vel[:, 0], vel[:, 1])
-        heading = np.where(hs > self.heading_speed, np.arctan2(vel[:, 1], vel[:, 0]), self._heading)
-        seal3: Any
-        if self._force_fn is None:
-            seal = np.asarray(self.foot.seal_factor(self._foot_state), dtype=float)
-            seal3 = np.ones((self.n, 3))
-            seal3[:, 2] = seal
-        else:
-            seal3 = 1.0
-        ch, total = kernels.fused_step(self._consts, ch, gamma, gdot, dt, seal3, self._kappa)
-        stress = np.where(in_mud[:, None], total, 0.0)
-        if self._force_fn is None:
-            self._foot_state, force = self.foot.contact_force(
-                self._foot_state, depth, stress, heading, dt
-            )
-        else:
-            force = self._force_fn(depth, stress, heading)
-        self.force = np.where(in_mud[:, None], force, 0.0)
-        self.stress = stress
-        self.depth = depth
-        self._ch, self._entry, self._heading, self._in_mud = ch, entry, heading, in_mud
 
     def __repr__(self) -> str:
         return f"BatchedMud(n={self.n}, foot={self.foot!r}, backend={self.backend!r})"

@@ -1,14 +1,11 @@
 r"""A fast single-foot path for per-step coupling (MuJoCo, a controller loop).
 
 :class:`FastMudFoot` is :class:`mudrft.MudTerrain` with one closed-form foot, advanced one
-step at a time on Python floats: the constitutive step of the three channels
-(:func:`mudrft.backends.kernels.scalar_channel_step`) and the foot's closed form
-(:func:`mudrft.backends.kernels.scalar_foot_force`), compiled with numba when it is
-installed, else run as plain Python with the ``math`` module. A step costs about a
-microsecond with numba and about 15 microseconds without, instead of the hundreds of
-microseconds that the array code spends on small-array overhead (``mudrft bench`` measures
-it; docs/performance.md). The tests check that it gives the same forces as
-``MudTerrain`` + the foot (decision D73).
+step at a time: the one terrain step (:func:`mudrft.terrains.mud.mud_step`) and the foot's
+closed form (:func:`mudrft.feet.closed_form.closed_form_force`), compiled on floats by the
+numba backend when numba is installed (about 1-2 microseconds a step), else run on Python
+floats (:data:`mudrft._xp.pyfloat`, about 15-30 microseconds). The tests check that it
+gives the same forces as ``MudTerrain`` + the foot (decision D73).
 
 Supported feet: :class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
 :class:`~mudrft.feet.SemiSphere` (rigid, axis-aligned). Other feet raise
@@ -17,58 +14,37 @@ Supported feet: :class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_choice, check_finite
 from ..parameters.base import Mud
-from ..terrain import MudTerrain, channel_parameters
-from . import kernels
-from ._options import terrain_options
+from ..terrains import MudTerrain
+from .batch import as_mud_terrain
 
 __all__ = ["FastMudFoot", "foot_geometry"]
 
 
 def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
-    """Kind code and dimensions of a closed-form foot for the scalar kernels.
+    """``(kind, (g0, g1, g2))`` of a closed-form foot for the compiled paths [m].
 
-    Parameters
-    ----------
-    foot : Flat, SemiCylinder or SemiSphere
-        The foot.
-
-    Returns
-    -------
-    kind : int
-        0 flat, 1 semi-cylinder, 2 semi-sphere.
-    geom : tuple of 3 float
-        (L, W, H), (R, W, H) or (R, H, 0) [m].
-
-    Examples
-    --------
-    >>> import mudrft
-    >>> foot_geometry(mudrft.feet.Flat())
-    (0, (0.08, 0.065, 0.026))
+    Raises
+    ------
+    MudrftError
+        For a foot without a closed form (mesh feet, the morphing foot).
     """
     from ..feet.closed_form import Flat, SemiCylinder, SemiSphere
 
-    if type(foot) is Flat:
-        return 0, (foot.length, foot.width, foot.height)
-    if type(foot) is SemiCylinder:
-        return 1, (foot.radius, foot.width, foot.height)
-    if type(foot) is SemiSphere:
-        return 2, (foot.radius, foot.height, 0.0)
-    raise MudrftError(
-        "foot must be a closed-form foot (mudrft.feet.Flat, SemiCylinder or SemiSphere) for the "
-        f"fast path, got {type(foot).__name__}; use mudrft.MudTerrain for other feet"
-    )
-
-
-def _numba_available() -> bool:
-    from .numba_kernels import available
-
-    return available()
+    if type(foot) not in (Flat, SemiCylinder, SemiSphere):
+        raise MudrftError(
+            "foot must be a closed-form foot (mudrft.feet.Flat, SemiCylinder or SemiSphere), "
+            f"got {type(foot).__name__}; use mudrft.MudTerrain for other feet"
+        )
+    kind, g0, g1, g2 = foot.kernel_geometry
+    return kind, (g0, g1, g2)
 
 
 class FastMudFoot:
@@ -92,7 +68,7 @@ class FastMudFoot:
     Attributes
     ----------
     backend : str
-        The kernel in use: ``"numba"`` or ``"python"``.
+        The path in use: ``"numba"`` or ``"python"``.
     stress : ndarray (3,)
         Channel stresses of the last step [Pa].
     depth : float
@@ -112,84 +88,51 @@ class FastMudFoot:
         foot: Any,
         mud: Mud | MudTerrain,
         *,
-        position: Any = (0.0, 0.0, 0.0),
-        characteristic_length: float | None = None,
-        acceleration: bool = True,
-        reset_on_exit: bool = True,
-        xi0: float = 0.0,
-        heading_speed: float = 1e-6,
+        position: ArrayLike = (0.0, 0.0, 0.0),
         backend: str = "auto",
+        **options: Any,
     ) -> None:
         check_choice("backend", backend, ("auto", "numba", "python"))
         kind, geom = foot_geometry(foot)
-        mud, opts = terrain_options(
-            mud, foot, characteristic_length=characteristic_length, acceleration=acceleration,
-            reset_on_exit=reset_on_exit, xi0=xi0, heading_speed=heading_speed,
-        )
-        if not isinstance(mud, Mud):
-            raise MudrftError(f"mud must be a Mud or a MudTerrain, got {type(mud).__name__}")
-        params = channel_parameters(mud)
-        if params.shape != (3,):
+        terrain = as_mud_terrain(mud, **options)
+        if any(np.ndim(v) for v in terrain.constants[0] + terrain.constants[1]):
             raise MudrftError(
-                f"mud must hold one parameter set per direction (scalar fields) for a single foot, "
-                f"got channel parameters of shape {params.shape}; use BatchedMud for batches"
+                "mud must hold one parameter set per direction (scalar fields) for a single "
+                "foot, got array fields; use BatchedMud for batches"
             )
-        self.foot = foot
-        self.mud = mud
-        self.characteristic_length = opts.characteristic_length
-        self.acceleration = opts.acceleration
-        self.reset_on_exit = opts.reset_on_exit
-        self.xi0 = opts.xi0
-        self.heading_speed = opts.heading_speed
+        self.foot, self.terrain, self.mud = foot, terrain, terrain.mud
         if backend == "auto":
-            backend = "numba" if _numba_available() else "python"
-        self.backend = backend
-        consts = kernels.constant_rows(kernels.channel_constants(params)).ravel()
-        work = [0.0] * kernels.N_WORK
-        work[kernels.W_GEOM : kernels.W_GEOM + 3] = geom
-        work[kernels.W_CFG : kernels.W_STATE] = (
-            float(kind),
-            self.characteristic_length,
-            1.0 if self.acceleration else 0.0,
-            self.xi0,
-            1.0 if self.reset_on_exit else 0.0,
-            self.heading_speed,
-        )
-        if backend == "numba":
-            from .numba_kernels import compiled
+            from .numba import available
 
-            self._kernel = compiled()["fast_foot_step"]
-            self._c: Any = np.ascontiguousarray(consts, dtype=float)
-            self._w: Any = np.array(work, dtype=float)
-            self._fview = self._w[kernels.W_OUT : kernels.W_OUT + 3]
-        else:
-            self._kernel = kernels.fast_foot_step
-            self._c = [float(v) for v in consts]
-            self._w = work
+            backend = "numba" if available() else "python"
+        self.backend = backend
+        if backend == "numba":
+            from .numba import N_OUT, compiled_feet, constant_row
+
+            self._loop = compiled_feet(False)
+            self._c = constant_row(*terrain.constants).reshape(1, -1)
+            self._cfg = np.array(
+                [terrain.length(foot), terrain.kappa, terrain.xi0, float(terrain.reset_on_exit),
+                 terrain.heading_speed]
+            )  # fmt: skip
+            self._geom = np.array([kind, *geom], dtype=float)
+            self._out = np.zeros((1, N_OUT))
         self.reset(position)
 
-    def reset(self, position: Any) -> None:
+    def reset(self, position: ArrayLike) -> None:
         """Put the foot above undisturbed mud with its tip at ``position`` (3,) [m]."""
         pos = check_finite("position", position)
         if pos.shape != (3,):
-            raise MudrftError(f"position must have shape (3,), got shape {pos.shape}")
-        depth = max(-float(pos[2]), 0.0)
-        g = depth / self.characteristic_length
-        st = [0.0] * kernels.N_STATE
-        for k in range(3):
-            st[5 * k + 2] = self.xi0
-        st[10] = g
-        st[11] = g
-        st[15], st[16] = float(pos[0]), float(pos[1])
-        st[18] = 1.0 if depth > 0 else 0.0
-        w = self._w
-        for k in range(kernels.N_STATE):
-            w[kernels.W_STATE + k] = st[k]
-        for k in range(kernels.N_OUT):
-            w[kernels.W_OUT + k] = 0.0
-        w[kernels.W_OUT + 6] = depth
+            raise MudrftError(f"position must have shape (3,) [m], got shape {pos.shape}")
+        self._state = self.terrain.initial_state(self.foot, pos)
+        self._stress = np.zeros(3)
+        self._depth = max(-float(pos[2]), 0.0)
+        if self.backend == "numba":
+            from .numba import state_rows
 
-    def step(self, position: Any, velocity: Any, dt: float) -> np.ndarray:
+            self._st = state_rows(self._state.channels)
+
+    def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance by ``dt`` to a tip at ``position`` moving at ``velocity``; return the force.
 
         Parameters
@@ -206,44 +149,39 @@ class FastMudFoot:
         ndarray, shape (3,)
             Force of the mud on the foot, world frame [N].
         """
-        numba = self.backend == "numba"
-        pos: Any
-        vel: Any
-        if numba and type(position) is np.ndarray and type(velocity) is np.ndarray:
-            pos, vel = position, velocity
-            ok = pos.shape == (3,) and vel.shape == (3,)
+        pos = np.asarray(position, dtype=float)
+        vel = np.asarray(velocity, dtype=float)
+        if pos.shape != (3,) or vel.shape != (3,):
+            raise MudrftError(
+                f"position and velocity must have 3 components, got shapes {pos.shape} and "
+                f"{vel.shape}"
+            )
+        step = float(dt)
+        if not (step > 0.0 and math.isfinite(step) and math.isfinite(float(pos.sum() + vel.sum()))):
+            raise MudrftError(
+                f"position and velocity must be finite and dt > 0 s, got position {pos.tolist()}, "
+                f"velocity {vel.tolist()}, dt {dt!r}"
+            )
+        if self.backend == "numba":
+            self._loop(self._c, self._st, self._out, pos[None], vel[None], step, self._cfg, self._geom)
+            out = self._out[0]
+            force, self._stress, self._depth = out[:3].copy(), out[3:6].copy(), float(out[6])
         else:
-            pos = tuple(map(float, position))
-            vel = tuple(map(float, velocity))
-            ok = len(pos) == 3 and len(vel) == 3
-        if not ok:
-            raise MudrftError(
-                f"position and velocity must have 3 components, got {np.shape(position)} and "
-                f"{np.shape(velocity)}"
-            )
-        code = self._kernel(self._c, self._w, pos, vel, float(dt))
-        if code == 1:
-            raise MudrftError(
-                f"position and velocity must be finite and dt > 0 s, got position {list(pos)!r}, "
-                f"velocity {list(vel)!r}, dt {dt!r}"
-            )
-        if code == 2:
+            self._state, o = self.terrain.step_unchecked(self.foot, self._state, pos, vel, step)
+            force, self._stress, self._depth = o.force, o.stress, float(o.depth)
+        if not np.all(np.isfinite(force)):
             raise MudrftError("the step produced a non-finite force; check the parameters and dt")
-        if numba:
-            return self._fview.copy()  # type: ignore[no-any-return]
-        w, o = self._w, kernels.W_OUT
-        return np.array((w[o], w[o + 1], w[o + 2]))
+        return force
 
     @property
-    def stress(self) -> np.ndarray:
+    def stress(self) -> NDArray[np.float64]:
         """Channel stresses (sx, sy, sz) of the last step [Pa]."""
-        o = kernels.W_OUT
-        return np.array(self._w[o + 3 : o + 6], dtype=float)
+        return np.array(self._stress, dtype=float)
 
     @property
     def depth(self) -> float:
         """Tip depth after the last step [m]."""
-        return float(self._w[kernels.W_OUT + 6])
+        return self._depth
 
     def __repr__(self) -> str:
         return f"FastMudFoot(foot={self.foot!r}, mud={self.mud!r}, backend={self.backend!r})"

@@ -44,7 +44,9 @@ from .._validation import MudrftError, check_finite, check_in_range, check_incre
 from ..constitutive import dynamics
 from ..constitutive.dynamics import ChannelHistory
 from ..constitutive.state import ChannelState
+from ..constitutive.kernel import channel_constants
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
+from ..terrains.mud import MudChannels, initial_channels, mud_step
 
 __all__ = [
     "JaxParams",
@@ -132,7 +134,7 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     params : MudParameters or Mud
         One set (fields keep their shape), or a Mud: its (horizontal, horizontal,
         vertical) sets for the x, y, z channels of a foot (trailing axis of 3, as
-        :func:`mudrft.terrain.channel_parameters`).
+        :func:`mudrft.terrains.channel_parameters`).
 
     Returns
     -------
@@ -146,7 +148,7 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     >>> p.alpha.shape
     (3,)
     """
-    from ..terrain import channel_parameters
+    from ..terrains import channel_parameters
 
     jnp = _jnp()
     if isinstance(params, Mud):
@@ -493,33 +495,14 @@ def safe_namespace() -> Any:
     return _SafeNamespace(_jnp())
 
 
-class TerrainState(NamedTuple):
-    """State of :func:`terrain_step` (a JAX pytree), like :class:`mudrft.terrain.MudState`.
-
-    Attributes
-    ----------
-    channels : ChannelState
-        Channel states with a trailing axis (x, y, z).
-    entry : array (..., 2)
-        Horizontal entry point of the tip [m].
-    heading : array (...)
-        Last heading [rad].
-    in_mud : array (...) of bool
-        Whether the tip was in the mud after the last step.
-    """
-
-    channels: ChannelState
-    entry: Any
-    heading: Any
-    in_mud: Any
+#: State of :func:`terrain_step`: the mud under the feet (a JAX pytree).
+TerrainState = MudChannels
 
 
 def initial_terrain_state(
-    position: Any, characteristic_length: float, *, xi0: float = 0.0
-) -> TerrainState:
-    """Undisturbed mud under feet whose tips are at ``position`` (..., 3) [m].
-
-    Same as :meth:`mudrft.MudTerrain.initial_state` for a rigid foot.
+    position: Any, characteristic_length: Any, *, xi0: float = 0.0
+) -> MudChannels:
+    """Undisturbed mud under tips at ``position`` (..., 3) [m], as JAX arrays.
 
     Parameters
     ----------
@@ -533,16 +516,12 @@ def initial_terrain_state(
     jnp = _jnp()
     pos = jnp.asarray(position, dtype=float)
     depth = jnp.maximum(-pos[..., 2], 0.0)
-    batch = pos.shape[:-1]
-    g = jnp.zeros((*batch, 3)).at[..., 2].set(depth / characteristic_length)
-    z = jnp.zeros((*batch, 3))
-    ch = ChannelState(gamma=g, gamma_w=g, xi=z + xi0, s_th=z, sigma_s=z)
-    return TerrainState(channels=ch, entry=pos[..., :2], heading=jnp.zeros(batch), in_mud=depth > 0)
+    return initial_channels(pos[..., 0], pos[..., 1], depth, characteristic_length, xi0, xp=jnp)
 
 
 def terrain_step(
     params: JaxParams,
-    state: TerrainState,
+    state: MudChannels,
     position: Any,
     velocity: Any,
     dt: Any,
@@ -553,14 +532,17 @@ def terrain_step(
     reset_on_exit: bool = True,
     xi0: float = 0.0,
     heading_speed: float = 1e-6,
-) -> tuple[TerrainState, tuple[Any, Any, Any]]:
+) -> tuple[MudChannels, tuple[Any, Any, Any]]:
     """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX.
+
+    It is :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy`` (the one terrain step),
+    followed by the foot's force function.
 
     Parameters
     ----------
     params : JaxParams
         Channel parameters with a trailing axis of 3 (``to_jax(mud)``).
-    state : TerrainState
+    state : MudChannels
         From :func:`initial_terrain_state` or a previous step.
     position, velocity : array_like, shape (..., 3)
         Tip position [m] and velocity [m/s] at the end of the step.
@@ -576,42 +558,24 @@ def terrain_step(
 
     Returns
     -------
-    state : TerrainState
+    state : MudChannels
     (force, stress, depth) : tuple of arrays
         Force [N] (..., 3), channel stresses [Pa] (..., 3), depth [m] (...).
     """
+    jax = enable_x64()
     jnp = _jnp()
     pos = jnp.asarray(position, dtype=float)
     vel = jnp.asarray(velocity, dtype=float)
-    lc = characteristic_length
-    depth = jnp.maximum(-pos[..., 2], 0.0)
-    in_mud = depth > 0
-    ch = state.channels
-    entry = state.entry
-    if reset_on_exit:
-        fresh = ~state.in_mud
-        f3 = fresh[..., None]
-        base = (0.0, 0.0, xi0, 0.0, 0.0)
-        ch = ChannelState(*(jnp.where(f3, b, c) for b, c in zip(base, ch, strict=True)))
-        entry = jnp.where(f3, pos[..., :2] - vel[..., :2] * dt, entry)
-    gamma = jnp.stack(
-        [(pos[..., 0] - entry[..., 0]) / lc, (pos[..., 1] - entry[..., 1]) / lc, depth / lc],
-        axis=-1,
-    )
-    vz = jnp.where(in_mud | state.in_mud, -vel[..., 2], 0.0)
-    gdot = jnp.stack([vel[..., 0] / lc, vel[..., 1] / lc, vz / lc], axis=-1)
-    # heading; the comparison is done on the squared speed and arctan2 on safe values so
-    # that gradients stay finite when the foot does not move horizontally
-    hs2 = vel[..., 0] ** 2 + vel[..., 1] ** 2
-    moving = hs2 > heading_speed**2
-    vx = jnp.where(moving, vel[..., 0], 1.0)
-    vy = jnp.where(moving, vel[..., 1], 0.0)
-    heading = jnp.where(moving, jnp.arctan2(vy, vx), state.heading)
-    ch, out = dynamics.step(params, ch, gamma, gdot, dt, acceleration=acceleration, xp=jnp)  # type: ignore[arg-type]
-    stress = jnp.where(in_mud[..., None], out.total, 0.0)
-    force = jnp.where(in_mud[..., None], force_fn(depth, stress, heading), 0.0)
-    new = TerrainState(channels=ch, entry=entry, heading=heading, in_mud=in_mud)
-    return new, (force, stress, depth)
+    hor = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 0], params))
+    ver = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 2], params))
+    ch, sx, sy, sz, depth = mud_step(
+        (hor, ver), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
+        vel[..., 2], dt, characteristic_length, 1.0 if acceleration else 0.0, xi0,
+        reset_on_exit, heading_speed, 1.0, xp=jnp,
+    )  # fmt: skip
+    stress = jnp.stack([sx, sy, sz], axis=-1)
+    force = force_fn(depth, stress, ch.heading) * ch.in_mud[..., None]
+    return ch, (force, stress, depth)
 
 
 def simulate(
@@ -657,7 +621,7 @@ def simulate(
     vel = jnp.asarray(velocity, dtype=float)
     st0 = initial_terrain_state(pos[0], characteristic_length, xi0=xi0)
 
-    def body(st: TerrainState, inp: tuple[Any, ...]) -> tuple[TerrainState, tuple[Any, Any, Any]]:
+    def body(st: MudChannels, inp: tuple[Any, ...]) -> tuple[MudChannels, tuple[Any, Any, Any]]:
         p, v, dt = inp
         return terrain_step(
             params,

@@ -28,7 +28,7 @@ from .compare import (
     summarize,
     write_csv,
 )
-from .granular_rft import (
+from ..terrains.granular_rft import (
     DEFAULT_ZETA,
     GRANULAR_MEDIA,
     LI2013_GENERIC,
@@ -38,9 +38,9 @@ from .granular_rft import (
     rft_forces,
     treers_weights,
 )
-from .linear import DEFAULT_STIFFNESS, LinearStiffness, fit_stiffness
-from .maxwell import MaxwellFit, MaxwellMud, fit_maxwell
-from .rigid import RigidGround
+from ..terrains.linear import DEFAULT_STIFFNESS, LinearStiffness, fit_stiffness
+from ..terrains.maxwell import MaxwellFit, MaxwellMud, fit_maxwell
+from ..terrains.rigid import RigidGround
 
 __all__ = [
     "CSV_COLUMNS",

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_in_range
 from ..trajectories import Trajectory
-from ._common import projected
+from ..terrains._common import projected
 
 __all__ = [
     "CSV_COLUMNS",
@@ -106,7 +106,7 @@ def run_terrain(
     ----------
     terrain : Terrain
         Any object with ``initial_state(foot, position)`` and
-        ``step(foot, state, position, velocity, dt)`` (:class:`mudrft.terrain.Terrain`).
+        ``step(foot, state, position, velocity, dt)`` (:class:`mudrft.terrains.Terrain`).
     foot : Foot
         The foot.
     trajectory : Trajectory
@@ -174,11 +174,11 @@ def default_terrains(water_content: float = 0.25) -> dict[str, Any]:
     chosen for) the W = 25 % mud and do not change with it (decision D59).
     """
     from ..parameters import paper_mud
-    from ..terrain import MudTerrain
-    from .granular_rft import GranularRFT
-    from .linear import LinearStiffness
-    from .maxwell import MaxwellMud
-    from .rigid import RigidGround
+    from ..terrains import MudTerrain
+    from ..terrains.granular_rft import GranularRFT
+    from ..terrains.linear import LinearStiffness
+    from ..terrains.maxwell import MaxwellMud
+    from ..terrains.rigid import RigidGround
 
     check_in_range("water_content", water_content, 0.15, 0.5)
     mud = MudTerrain(paper_mud(water_content, extrapolate=not 0.25 <= water_content <= 0.45))

@@ -118,7 +118,7 @@ def plot_gait(
 
 def plot_rft_alpha(*, resolution: int = 121) -> Any:
     """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
-    from .granular_rft import li2013_alpha
+    from ..terrains.granular_rft import li2013_alpha
 
     plt = _plt()
     b = np.linspace(-np.pi / 2, np.pi / 2, resolution)

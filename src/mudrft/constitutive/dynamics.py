@@ -15,7 +15,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite, check_increasing, check_positive
 from ..parameters.base import MudParameters
-from .kernel import channel_constants, channel_update
+from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
 
 __all__ = ["ChannelHistory", "run", "step"]
@@ -82,8 +82,8 @@ def step(
         check_finite("gamma", gamma)
         check_finite("gamma_dot", gamma_dot)
     kappa = 1.0 if acceleration else 0.0
-    return channel_update(
-        channel_constants(params), state, gamma, gamma_dot, dt, seal, kappa, xp=xp
+    return kernel.channel_update(
+        kernel.channel_constants(params), state, gamma, gamma_dot, dt, seal, kappa, xp=xp
     )
 
 

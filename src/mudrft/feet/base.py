@@ -20,7 +20,15 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
 
-__all__ = ["Foot", "SurfaceElements", "check_resultant_inputs", "first_quadrant", "unfold_forces"]
+__all__ = [
+    "Foot",
+    "SurfaceElements",
+    "check_resultant_inputs",
+    "first_quadrant",
+    "fold_heading",
+    "unfold_forces",
+    "world_force",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,21 +87,63 @@ def check_resultant_inputs(
     return d, s, h
 
 
-def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:
-    r"""World forces from paper-style first-quadrant closed forms, for any heading (D9).
+def fold_heading(heading: Any, *, xp: Any = np) -> Any:
+    """The world heading folded into the first quadrant, :math:`[0,\\pi/2]` [rad] (D9)."""
+    return xp.arctan2(xp.abs(xp.sin(heading)), xp.abs(xp.cos(heading)))
 
-    Every closed form is linear in the horizontal stresses,
-    :math:`F_x=a_x(\varphi)\sigma_x+b_x(\varphi)\sigma_y`, :math:`F_y=b_y(\varphi)\sigma_x+a_y(\varphi)\sigma_y`,
-    where the ``a`` terms are normal stress on faces that face the axis of their own stress and
-    the ``b`` terms tangential (shear) stress on the other faces. The normal terms keep the
-    sign of their channel stress; the shear terms oppose the sliding along their axis:
+
+def world_force(
+    coefficients: tuple[Any, Any, Any, Any, Any],
+    sx: Any,
+    sy: Any,
+    sz: Any,
+    heading: Any,
+    *,
+    xp: Any = np,
+) -> tuple[Any, Any, Any]:
+    r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
+
+    Every closed form is linear in the stresses, :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
+    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`, with coefficients taken
+    at the heading folded into :math:`[0,\pi/2]` (:func:`fold_heading`). The ``a`` terms
+    (normal stress on faces that face the axis of their own stress) keep the sign of their
+    channel stress; the ``b`` terms (shear on the other faces) oppose the sliding along
+    their axis:
 
     .. math:: F_x=-\bigl(a_x\sigma_x+b_x|\sigma_y|\operatorname{sgn}u_x\bigr),\quad
               F_y=-\bigl(a_y\sigma_y+b_y|\sigma_x|\operatorname{sgn}u_y\bigr)
 
-    with :math:`\varphi` the heading folded into :math:`[0,\pi/2]`. Because the shear weight
-    vanishes when its sliding component does, the force stays continuous when the motion
-    reverses along one axis (folding the stresses themselves would flip the shear term).
+    Because the shear weight vanishes when its sliding component does, the force stays
+    continuous when the motion reverses along one axis. Written once, element-wise, for
+    every path (numpy, Python floats, JAX, numba).
+
+    Parameters
+    ----------
+    coefficients : tuple
+        ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] at the folded heading.
+    sx, sy, sz : array_like
+        Signed channel stresses [Pa].
+    heading : array_like
+        World heading of the horizontal motion [rad].
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
+
+    Returns
+    -------
+    tuple
+        ``(F_x, F_y, F_z)`` [N], world frame.
+    """
+    ax, bx, by, ay, az = coefficients
+    fx = -(ax * sx + bx * xp.abs(sy) * xp.sign(xp.cos(heading)))
+    fy = -(ay * sy + by * xp.abs(sx) * xp.sign(xp.sin(heading)))
+    return fx, fy, az * sz
+
+
+def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:
+    r"""World forces, for any heading, from a foot that only gives first-quadrant magnitudes.
+
+    Reads the coefficients of the linear form off ``magnitudes`` with unit stresses and
+    applies :func:`world_force` (the heading rule, decision D9).
 
     Parameters
     ----------
@@ -113,21 +163,16 @@ def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:
     """
     s = np.asarray(stress, dtype=float)
     h = np.asarray(heading, dtype=float)
-    c, sn = np.cos(h), np.sin(h)
-    phi = np.arctan2(np.abs(sn), np.abs(c))
     shape = np.broadcast_shapes(s.shape[:-1], h.shape)
     units = np.zeros((*shape, 2, 3))
     units[..., 0, 0] = 1.0
     units[..., 1, 1] = 1.0
     units[..., :, 2] = np.broadcast_to(s[..., 2], shape)[..., None]
-    m = np.asarray(magnitudes(units, np.broadcast_to(phi, shape)[..., None]), dtype=float)
-    sx = np.broadcast_to(s[..., 0], shape)
-    sy = np.broadcast_to(s[..., 1], shape)
-    out = np.empty((*shape, 3))
-    out[..., 0] = -(m[..., 0, 0] * sx + m[..., 1, 0] * np.abs(sy) * np.sign(c))
-    out[..., 1] = -(m[..., 1, 1] * sy + m[..., 0, 1] * np.abs(sx) * np.sign(sn))
-    out[..., 2] = m[..., 0, 2]
-    return out
+    phi = np.broadcast_to(fold_heading(h), shape)[..., None]
+    m = np.asarray(magnitudes(units, phi), dtype=float)
+    coeffs = (m[..., 0, 0], m[..., 1, 0], m[..., 0, 1], m[..., 1, 1], 1.0)
+    fx, fy, _ = world_force(coeffs, s[..., 0], s[..., 1], 0.0, h)
+    return np.stack(np.broadcast_arrays(fx, fy, m[..., 0, 2]), axis=-1)
 
 
 class Foot(ABC):
@@ -144,6 +189,9 @@ class Foot(ABC):
     """
 
     name: str = "foot"
+    #: whether :meth:`force_components` gives the world force element-wise on any ``xp``
+    #: (closed-form feet): then the mud runs a single foot on Python floats
+    elementwise: bool = False
 
     @property
     @abstractmethod
@@ -233,6 +281,15 @@ class Foot(ABC):
         """
         d = np.asarray(depth, dtype=float)
         return unfold_forces(lambda su, ph: self.resultant(d[..., None], su, ph), stress, heading)
+
+    def force_components(
+        self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
+    ) -> tuple[Any, Any, Any]:
+        """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``.
+
+        Parameters are as :meth:`force`, with the stresses split into channels [Pa].
+        """
+        raise MudrftError(f"{type(self).__name__} has no element-wise force rule")
 
     # -- hooks for feet with internal state (the morphing foot overrides them) --------------
     def initial_foot_state(self) -> Any:

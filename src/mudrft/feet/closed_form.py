@@ -38,7 +38,7 @@ from .._validation import (
     check_positive,
 )
 from ..constitutive.laws import f_n, f_t
-from .base import Foot, SurfaceElements, unfold_forces
+from .base import Foot, SurfaceElements, fold_heading, world_force
 from .base import check_resultant_inputs as _check_inputs
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
@@ -47,11 +47,17 @@ __all__ = [
     "Flat",
     "SemiCylinder",
     "SemiSphere",
+    "FOOT_KINDS",
+    "closed_form_coefficients",
+    "closed_form_force",
+    "flat_coefficients",
     "flat_forces",
     "printed_semicylinder_fz",
     "printed_semisphere_fxy",
     "printed_semisphere_fz",
+    "semicylinder_coefficients",
     "semicylinder_forces",
+    "semisphere_coefficients",
     "semisphere_forces",
 ]
 
@@ -60,13 +66,162 @@ __all__ = [
 DEFAULT_RESOLUTION = 48
 
 
-def _split(stress: Any, xp: Any) -> tuple[Any, Any, Any]:
-    s = xp.asarray(stress)
-    return s[..., 0], s[..., 1], s[..., 2]
-
-
-def _theta(z: Any, radius: float, xp: Any) -> Any:
+def _theta(z: Any, radius: float, *, xp: Any = np) -> Any:
     return xp.arccos(xp.clip(1.0 - z / radius, -1.0, 1.0))
+
+
+def flat_coefficients(
+    depth: Any, phi: Any, length: float, width: float, height: float, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any]:
+    r"""Flat foot, eq. (12), as the coefficients of its linear form [m^2].
+
+    Every closed form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
+    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z` (first-quadrant heading);
+    ``a`` terms are normal stress on faces facing their own axis, ``b`` terms shear.
+    Here :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`, :math:`b_y=zLf_t(\varphi)`,
+    :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` (0 out of the mud), :math:`z` capped at H.
+
+    Parameters
+    ----------
+    depth : array_like
+        Tip depth [m].
+    phi : array_like
+        Heading :math:`\varphi` in [0, pi/2] [rad].
+    length, width, height : float
+        :math:`L` (along y), :math:`W` (along x) and height [m].
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
+
+    Returns
+    -------
+    tuple
+        ``(a_x, b_x, b_y, a_y, a_z)`` [m^2].
+    """
+    z = xp.minimum(depth, height)
+    phic = 0.5 * math.pi - phi
+    ax = z * length * f_n(phi, xp=xp)
+    by = z * length * f_t(phi, xp=xp)
+    bx = z * width * f_t(phic, xp=xp)
+    ay = z * width * f_n(phic, xp=xp)
+    az = xp.where(depth > 0, length * width, 0.0)
+    return ax, bx, by, ay, az
+
+
+def semicylinder_coefficients(
+    depth: Any, phi: Any, radius: float, width: float, height: float, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any]:
+    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20), as coefficients [m^2].
+
+    :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
+    :math:`b_x=WR(1-c)f_t(\varphi_c)`, :math:`a_y=WR(1-c)f_n(\varphi_c)`,
+    :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`; see :func:`flat_coefficients` for the form.
+
+    Parameters
+    ----------
+    depth : array_like
+        Tip depth [m] (capped at ``height``).
+    phi : array_like
+        Heading from the cylinder axis (x), in [0, pi/2] [rad].
+    radius, width, height : float
+        :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
+    xp : module, keyword-only
+        Element-wise namespace.
+    """
+    z = xp.minimum(depth, height)
+    th = _theta(z, radius, xp=xp)
+    s = xp.sin(th)
+    c = xp.cos(th)
+    phic = 0.5 * math.pi - phi
+    seg = radius * radius * (th - s * c)  # end-cap segment area (x projection)
+    side = width * radius * (1.0 - c)  # = W z (y projection)
+    # 2/3 - c + c^3/3 = (1 - c)^2 (2 + c)/3 with 1 - c = z/R: no cancellation near z = 0
+    u = z / radius
+    az = 2.0 * width * radius * (s - s * s * s / 3.0 + u * u * (2.0 + c) / 3.0)
+    return seg * f_n(phi, xp=xp), side * f_t(phic, xp=xp), seg * f_t(phi, xp=xp), side * f_n(
+        phic, xp=xp
+    ), az
+
+
+def semisphere_coefficients(
+    depth: Any, phi: Any, radius: float, height: float, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any]:
+    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23), as coefficients [m^2].
+
+    :math:`a_x=\tfrac83R^2(\theta_c-sc)\cos\varphi`, :math:`a_y=\tfrac83R^2(\theta_c-sc)
+    \sin\varphi`, no shear terms, :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)`.
+
+    Parameters
+    ----------
+    depth : array_like
+        Tip depth [m] (capped at ``height``).
+    phi : array_like
+        Heading in [0, pi/2] [rad].
+    radius, height : float
+        :math:`R` and cap height (<= R) [m].
+    xp : module, keyword-only
+        Element-wise namespace.
+    """
+    z = xp.minimum(depth, height)
+    th = _theta(z, radius, xp=xp)
+    s = xp.sin(th)
+    c = xp.cos(th)
+    side = 8.0 / 3.0 * radius * radius * (th - s * c)
+    u = z / radius  # = 1 - c, exact
+    # int_0^tc (cos^3 sin + sin^4); 1 - c^4 = (1 - c)(1 + c)(1 + c^2)
+    ring = u * (1.0 + c) * (1.0 + c * c) / 4.0 + 3.0 * th / 8.0 - xp.sin(2.0 * th) / 4.0
+    ring = ring + xp.sin(4.0 * th) / 32.0
+    az = 2.0 * math.pi * radius * radius * ring
+    return side * xp.cos(phi), 0.0 * side, 0.0 * side, side * xp.sin(phi), az
+
+
+#: Foot kinds of :func:`closed_form_coefficients` and the geometry each takes (all in m).
+FOOT_KINDS = {"flat": 0, "semi-cylinder": 1, "semi-sphere": 2}
+
+
+def closed_form_coefficients(
+    kind: int, g0: float, g1: float, g2: float, depth: Any, phi: Any, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any]:
+    """The coefficients of a closed-form foot chosen by ``kind`` (:data:`FOOT_KINDS`) [m^2].
+
+    For compiled paths that cannot hold a foot object: 0 flat ``(L, W, H)``, 1 semi-cylinder
+    ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``; lengths [m], depth [m], phi [rad].
+    """
+    if kind == 0:
+        return flat_coefficients(depth, phi, g0, g1, g2, xp=xp)
+    if kind == 1:
+        return semicylinder_coefficients(depth, phi, g0, g1, g2, xp=xp)
+    return semisphere_coefficients(depth, phi, g0, g1, xp=xp)
+
+
+def closed_form_force(
+    kind: int,
+    g0: float,
+    g1: float,
+    g2: float,
+    depth: Any,
+    sx: Any,
+    sy: Any,
+    sz: Any,
+    heading: Any,
+    *,
+    xp: Any = np,
+) -> tuple[Any, Any, Any]:
+    """World force ``(F_x, F_y, F_z)`` [N] of a closed-form foot chosen by ``kind``.
+
+    :func:`closed_form_coefficients` at the folded heading, then the heading rule
+    (:func:`~mudrft.feet.base.world_force`, decision D9). Depth [m], stresses [Pa],
+    world heading [rad]; geometry as :func:`closed_form_coefficients` [m].
+    """
+    co = closed_form_coefficients(kind, g0, g1, g2, depth, fold_heading(heading, xp=xp), xp=xp)
+    return world_force(co, sx, sy, sz, heading, xp=xp)
+
+
+def _magnitudes(coeffs: tuple[Any, ...], stress: Any, xp: Any) -> Any:
+    """Paper-style first-quadrant magnitudes (Fx, Fy, Fz) [N] from coefficients and stresses."""
+    ax, bx, by, ay, az = coeffs
+    s = xp.asarray(stress)
+    sx, sy, sz = s[..., 0], s[..., 1], s[..., 2]
+    return xp.stack(xp.broadcast_arrays(ax * sx + bx * sy, by * sx + ay * sy, az * sz), axis=-1)
 
 
 def flat_forces(
@@ -105,15 +260,8 @@ def flat_forces(
     >>> f.round(4).tolist()
     [0.8, 0.0, 5.2]
     """
-    d = xp.asarray(depth)
-    sx, sy, sz = _split(stress, xp)
-    z = xp.minimum(d, height)
-    phi = xp.asarray(heading)
-    phic = 0.5 * math.pi - phi
-    fx = z * (length * f_n(phi, xp=xp) * sx + width * f_t(phic, xp=xp) * sy)
-    fy = z * (length * f_t(phi, xp=xp) * sx + width * f_n(phic, xp=xp) * sy)
-    fz = xp.where(d > 0, length * width, 0.0) * sz
-    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+    co = flat_coefficients(xp.asarray(depth), xp.asarray(heading), length, width, height, xp=xp)
+    return _magnitudes(co, stress, xp)
 
 
 def semicylinder_forces(
@@ -153,21 +301,10 @@ def semicylinder_forces(
     >>> round(float(f[2]) / (2 * 0.045 * 0.065), 6)  # half-cylinder: 2WR[1 - 1/3 + 2/3]
     1.333333
     """
-    d = xp.asarray(depth)
-    sx, sy, sz = _split(stress, xp)
-    z = xp.minimum(d, height)
-    th = _theta(z, radius, xp)
-    s, c = xp.sin(th), xp.cos(th)
-    phi = xp.asarray(heading)
-    phic = 0.5 * math.pi - phi
-    seg = radius**2 * (th - s * c)  # end-cap segment area (x projection)
-    side = width * radius * (1.0 - c)  # = W z (y projection)
-    fx = seg * f_n(phi, xp=xp) * sx + side * f_t(phic, xp=xp) * sy
-    fy = seg * f_t(phi, xp=xp) * sx + side * f_n(phic, xp=xp) * sy
-    # 2/3 - c + c^3/3 = (1 - c)^2 (2 + c)/3 with 1 - c = z/R: no cancellation near z = 0
-    u = z / radius
-    fz = 2.0 * width * radius * (s - s**3 / 3.0 + u * u * (2.0 + c) / 3.0) * sz
-    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+    co = semicylinder_coefficients(
+        xp.asarray(depth), xp.asarray(heading), radius, width, height, xp=xp
+    )
+    return _magnitudes(co, stress, xp)
 
 
 def semisphere_forces(
@@ -199,33 +336,20 @@ def semisphere_forces(
     >>> round(float(f[0]) / 0.045**2, 6), round(float(f[2]) / (np.pi * 0.045**2), 6)
     (4.18879, 1.678097)
     """
-    d = xp.asarray(depth)
-    sx, sy, sz = _split(stress, xp)
-    z = xp.minimum(d, height)
-    th = _theta(z, radius, xp)
-    s, c = xp.sin(th), xp.cos(th)
-    phi = xp.asarray(heading)
-    side = 8.0 / 3.0 * radius**2 * (th - s * c)
-    fx = side * xp.cos(phi) * sx
-    fy = side * xp.sin(phi) * sy
-    u = z / radius  # = 1 - c, exact
-    # int_0^tc (cos^3 sin + sin^4); 1 - c^4 = (1 - c)(1 + c)(1 + c^2)
-    ring = u * (1 + c) * (1 + c * c) / 4.0 + 3.0 * th / 8.0 - xp.sin(2 * th) / 4.0
-    ring = ring + xp.sin(4 * th) / 32.0
-    fz = 2.0 * math.pi * radius**2 * ring * sz
-    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+    co = semisphere_coefficients(xp.asarray(depth), xp.asarray(heading), radius, height, xp=xp)
+    return _magnitudes(co, stress, xp)
 
 
 def printed_semicylinder_fz(depth: Any, sz: Any, *, radius: float, width: float) -> Any:
     r"""Printed eq. (13c): :math:`F_z=\tfrac13S_e(2+c^2)\sigma_z` [N] (see erratum E20)."""
-    th = _theta(np.asarray(depth, dtype=float), radius, np)
+    th = _theta(np.asarray(depth, dtype=float), radius)
     se = 2 * radius * width * np.sin(th)
     return se / 3.0 * (2.0 + np.cos(th) ** 2) * sz
 
 
 def printed_semisphere_fz(depth: Any, sz: Any, *, radius: float) -> Any:
     r"""Printed eq. (14b) final, with "2 + c^2" [N] (see erratum E21); needs depth > 0."""
-    th = _theta(np.asarray(depth, dtype=float), radius, np)
+    th = _theta(np.asarray(depth, dtype=float), radius)
     s, c = np.sin(th), np.cos(th)
     se = math.pi * radius**2 * s**2
     return se / 4.0 * (2 + c**2 + 2 * c**3 / s - 5 * c / s + 3 * th / s**2) * sz
@@ -237,7 +361,7 @@ def printed_semisphere_fxy(depth: Any, sx: Any, sy: Any, heading: Any, *, radius
     Returns ``(Fx, Fy)`` stacked on the last axis; equal to :math:`\tfrac13R^2(8\theta_c
     -4\sin\theta_c)(\cos\varphi\,\sigma_x,\sin\varphi\,\sigma_y)`.
     """
-    th = _theta(np.asarray(depth, dtype=float), radius, np)
+    th = _theta(np.asarray(depth, dtype=float), radius)
     s = np.sin(th)
     se = math.pi * radius**2 * s**2
     k = 4 * se / (3 * math.pi * s) * (2 * th / s - 1)
@@ -255,18 +379,42 @@ class _ClosedFormFoot(Foot):
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        """The closed form without validation (first-quadrant heading)."""
+    elementwise: ClassVar[bool] = True
+
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths [m]."""
         raise NotImplementedError
+
+    def coefficients(self, depth: Any, phi: Any, *, xp: Any = np) -> tuple[Any, ...]:
+        """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
+        [m] and first-quadrant heading [rad] (see :func:`flat_coefficients`)."""
+        kind, g0, g1, g2 = self.kernel_geometry
+        return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
+
+    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """The closed form without validation (first-quadrant heading) [N]."""
+        return _magnitudes(self.coefficients(depth, heading), stress, np)
 
     def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
         return self._forces(*_check_inputs(depth, stress, heading))
 
+    def force_components(
+        self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
+    ) -> tuple[Any, Any, Any]:
+        """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
+        kind, g0, g1, g2 = self.kernel_geometry
+        return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
+
     def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
-        d = np.asarray(depth, dtype=float)
-        return unfold_forces(lambda su, ph: self._forces(d[..., None], su, ph), stress, heading)
+        s = np.asarray(stress, dtype=float)
+        f = self.force_components(
+            np.asarray(depth, dtype=float), s[..., 0], s[..., 1], s[..., 2],
+            np.asarray(heading, dtype=float),
+        )
+        return np.stack(np.broadcast_arrays(*f), axis=-1)
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.
@@ -342,11 +490,10 @@ class Flat(_ClosedFormFoot):
         """:math:`L_c=\\sqrt{LW}` [m] (decision D27)."""
         return math.sqrt(self.length * self.width)
 
-    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        """Eq. (12): force magnitudes (Fx, Fy, Fz) [N]."""
-        return flat_forces(
-            depth, stress, heading, length=self.length, width=self.width, height=self.height
-        )
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(0, L, W, H)`` [m], see :func:`closed_form_coefficients`."""
+        return 0, self.length, self.width, self.height
 
     def projected_areas(self, depth: Any) -> np.ndarray:
         """Submerged areas projected along x, y, z [m^2]: (L z, W z, L W), shape (..., 3)."""
@@ -405,17 +552,16 @@ class SemiCylinder(_ClosedFormFoot):
         """:math:`L_c=\\sqrt{2R\\sin\\theta_H\\,W}` [m], the top cross-section (D27)."""
         return math.sqrt(2 * self.radius * math.sin(self._theta_max) * self.width)
 
-    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        """Eq. (13), F_z corrected (E20): magnitudes (Fx, Fy, Fz) [N]."""
-        return semicylinder_forces(
-            depth, stress, heading, radius=self.radius, width=self.width, height=self.height
-        )
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(1, R, W, H)`` [m], see :func:`closed_form_coefficients`."""
+        return 1, self.radius, self.width, self.height
 
     def projected_areas(self, depth: Any) -> np.ndarray:
         """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
         d = check_nonnegative("depth", depth, unit="m")
         z = np.minimum(d, self.height)
-        th = _theta(z, self.radius, np)
+        th = _theta(z, self.radius)
         seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
         return np.stack([seg, self.width * z, 2 * self.radius * self.width * np.sin(th)], axis=-1)
 
@@ -463,15 +609,16 @@ class SemiSphere(_ClosedFormFoot):
         th = math.acos(1.0 - self.height / self.radius)
         return math.sqrt(math.pi) * self.radius * math.sin(th)
 
-    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        """Eq. (14) corrected (E21-E23): magnitudes (Fx, Fy, Fz) [N]."""
-        return semisphere_forces(depth, stress, heading, radius=self.radius, height=self.height)
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(2, R, H, 0)`` [m], see :func:`closed_form_coefficients`."""
+        return 2, self.radius, self.height, 0.0
 
     def projected_areas(self, depth: Any) -> np.ndarray:
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
         d = check_nonnegative("depth", depth, unit="m")
         z = np.minimum(d, self.height)
-        th = _theta(z, self.radius, np)
+        th = _theta(z, self.radius)
         seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
         return np.stack([seg, seg, math.pi * (self.radius * np.sin(th)) ** 2], axis=-1)
 

@@ -51,7 +51,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_finite, check_nonnegative, check_positive
 from ..citations import register
-from ..terrain import as_terrain
+from ..terrains import as_terrain
 
 __all__ = [
     "MudBatch",

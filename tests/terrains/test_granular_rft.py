@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 import mudrft
 from mudrft import MudrftError
 from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
-from mudrft.baselines.granular_rft import GRANULAR_MEDIA
+from mudrft.terrains.granular_rft import GRANULAR_MEDIA
 
 # Li, Zhang & Goldman (Science 2013), generic first-order Fourier coefficients, typed
 # here from the publication (not imported from mudrft) so the hand computation below

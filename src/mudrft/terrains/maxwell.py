@@ -42,7 +42,7 @@ from .._validation import (
     check_positive,
 )
 from ..citations import register
-from ..terrain import TerrainOutput
+from .base import TerrainOutput
 from ..trajectories import Trajectory
 from ._common import area_z, kinematics, tip_depth, tip_position
 

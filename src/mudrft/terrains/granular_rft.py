@@ -29,7 +29,7 @@ import numpy as np
 from .._validation import MudrftError, check_choice, check_finite, check_positive
 from ..citations import register
 from ..feet.base import SurfaceElements
-from ..terrain import TerrainOutput
+from .base import TerrainOutput
 from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 
 __all__ = [

@@ -11,7 +11,7 @@ from scipy.linalg import expm
 import mudrft
 from mudrft import MudrftError
 from mudrft.baselines import MaxwellMud, fit_maxwell, run_terrain
-from mudrft.baselines.maxwell import MaxwellState, _zoh
+from mudrft.terrains.maxwell import MaxwellState, _zoh
 
 FIELDS = ("modulus", "relaxation", "sigma_y", "omega", "release")
 

@@ -24,7 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validation import check_nonnegative, check_positive
-from ..terrain import TerrainOutput
+from .base import TerrainOutput
 from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 
 __all__ = ["RigidGround", "RigidState"]

@@ -9,6 +9,11 @@ Each is constructible with no arguments (documented defaults) and can be passed 
     mudrft.terrains.MaxwellMud()     # reconstruction of Chen et al. (AIM 2024)
     mudrft.terrains.RigidGround()
 
+Modules: :mod:`~mudrft.terrains.base` (the protocol and shared input checks),
+:mod:`~mudrft.terrains.mud` (the mud, :func:`~mudrft.terrains.mud.mud_step`),
+:mod:`~mudrft.terrains.granular_rft`, :mod:`~mudrft.terrains.linear`,
+:mod:`~mudrft.terrains.maxwell`, :mod:`~mudrft.terrains.rigid`.
+
 >>> from mudrft import terrains
 >>> [t.name for t in (terrains.Mud(), terrains.GranularRFT(), terrains.RigidGround())]
 ['mud', 'granular-rft', 'rigid']
@@ -18,22 +23,29 @@ from __future__ import annotations
 
 from typing import Any
 
-from .baselines.granular_rft import GranularRFT
-from .baselines.linear import LinearStiffness
-from .baselines.maxwell import MaxwellMud
-from .baselines.rigid import RigidGround
-from .terrain import MudTerrain, Terrain, TerrainOutput, as_terrain
+from ..parameters.base import Mud as MudParameterSets
+from ..parameters.registry import paper_mud
+from .base import Terrain, TerrainOutput, as_terrain, check_motion
+from .granular_rft import GranularRFT
+from .linear import LinearStiffness
+from .maxwell import MaxwellMud
+from .mud import MudState, MudTerrain, channel_parameters, mud_step
+from .rigid import RigidGround
 
 __all__ = [
     "GranularRFT",
     "LinearStiffness",
     "MaxwellMud",
     "Mud",
+    "MudState",
     "MudTerrain",
     "RigidGround",
     "Terrain",
     "TerrainOutput",
     "as_terrain",
+    "channel_parameters",
+    "check_motion",
+    "mud_step",
 ]
 
 
@@ -52,8 +64,5 @@ def Mud(water_content: Any = 0.25, **kw: Any) -> MudTerrain:
     >>> Mud(0.35).mud.water_content
     0.35
     """
-    from .parameters import Mud as MudParams
-    from .parameters import paper_mud
-
-    mud = water_content if isinstance(water_content, MudParams) else paper_mud(water_content)
+    mud = water_content if isinstance(water_content, MudParameterSets) else paper_mud(water_content)
     return MudTerrain(mud, **kw)

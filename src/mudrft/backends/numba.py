@@ -1,0 +1,251 @@
+r"""numba backend: the one physics compiled on floats (optional extra ``numba``).
+
+The model's equations are written once as element-wise functions of an array namespace
+``xp`` (:mod:`mudrft._xp`). numba cannot take a module as an argument, so
+:func:`compile_scalar` *specializes* such a function: it reads the function's own source,
+drops its ``xp`` keyword (and the ``xp=`` of the calls it makes), binds ``xp`` to a
+namespace of compiled scalar functions, specializes every mudrft function it calls the same
+way, and compiles the result with :func:`numba.njit`. The source lines, names and line
+numbers are the original ones (tracebacks point into the physics modules); nothing is
+copied by hand (decision D80).
+
+On top, two drivers hold state in flat float arrays so that a call from Python costs
+about a microsecond: :func:`compiled_feet` steps N closed-form feet (a ``prange`` loop for
+large N) and serves :class:`~mudrft.backends.batch.BatchedMud` and
+:class:`~mudrft.backends.fast.FastMudFoot`.
+
+Layout of a foot's state row (``N_STATE`` floats): the x, y, z channels (5 each:
+gamma, gamma_w, xi, s_th, sigma_s), entry x, entry y, heading, in_mud. Output row
+(``N_OUT``): force (3) [N], stress (3) [Pa], depth [m]. A constants row (``N_CONST``):
+the horizontal then the vertical :class:`~mudrft.constitutive.kernel.ChannelConstants`.
+"""
+
+from __future__ import annotations
+
+import ast
+import functools
+import inspect
+import math
+import textwrap
+import types
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..constitutive.kernel import ChannelConstants
+from ..constitutive.state import ChannelState
+from ..feet.closed_form import closed_form_force
+from ..terrains.mud import MudChannels, mud_step
+
+__all__ = [
+    "N_CONST",
+    "N_OUT",
+    "N_STATE",
+    "PARALLEL_MIN",
+    "available",
+    "compile_scalar",
+    "compiled_feet",
+    "constant_row",
+    "state_rows",
+]
+
+#: Batches at least this large use the multi-threaded loop (smaller ones: one thread).
+PARALLEL_MIN = 4096
+#: Floats in a foot's state row, output row and constants row.
+N_STATE = 19
+N_OUT = 7
+N_CONST = 2 * len(ChannelConstants._fields)
+
+
+def available() -> bool:
+    """Whether numba can be imported."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _numba() -> Any:
+    try:
+        import numba
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("the numba backend needs numba: pip install 'mudrft[numba]'") from exc
+    return numba
+
+
+@functools.cache
+def scalar_namespace() -> types.ModuleType:
+    """The element-wise namespace of :mod:`mudrft._xp` as compiled scalar functions."""
+    numba = _numba()
+    jit = numba.njit(inline="always")
+    ns = types.ModuleType("mudrft_scalar_xp")
+
+    def where(c: bool, a: float, b: float) -> float:
+        return a if c else b
+
+    def sign(x: float) -> float:
+        return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
+
+    def maximum(a: float, b: float) -> float:
+        return a if a >= b else b
+
+    def minimum(a: float, b: float) -> float:
+        return a if a <= b else b
+
+    def clip(x: float, lo: float, hi: float) -> float:
+        return lo if x < lo else (hi if x > hi else x)
+
+    for f in (where, sign, maximum, minimum, clip):
+        setattr(ns, f.__name__, jit(f))
+    ns.abs = abs  # type: ignore[attr-defined]
+    for name, f in (
+        ("exp", math.exp), ("expm1", math.expm1), ("tanh", math.tanh), ("cos", math.cos),
+        ("sin", math.sin), ("arccos", math.acos), ("arctan2", math.atan2),
+        ("hypot", math.hypot), ("sqrt", math.sqrt),
+    ):  # fmt: skip
+        setattr(ns, name, f)
+    return ns
+
+
+class _Specializer(ast.NodeTransformer):
+    """Drop ``xp=`` keywords and point calls of mudrft functions at their compiled forms."""
+
+    def __init__(self, env: dict[str, Any]) -> None:
+        self.env = env
+
+    def _resolve(self, node: ast.expr) -> Any:
+        if isinstance(node, ast.Name):
+            return self.env.get(node.id)
+        if isinstance(node, ast.Attribute):
+            base = self._resolve(node.value)
+            return getattr(base, node.attr, None) if isinstance(base, types.ModuleType) else None
+        return None
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        node.keywords = [k for k in node.keywords if k.arg != "xp"]
+        target = self._resolve(node.func)
+        if isinstance(target, types.FunctionType) and target.__module__.startswith("mudrft."):
+            name = f"_k_{target.__module__.replace('.', '_')}_{target.__name__}"
+            self.env[name] = compile_scalar(target)
+            node.func = ast.Name(id=name, ctx=ast.Load())
+        return node
+
+
+@functools.cache
+def compile_scalar(fn: types.FunctionType) -> Any:
+    """Compile an element-wise mudrft function on floats with numba (see module docstring).
+
+    Parameters
+    ----------
+    fn : function
+        A function of the physics whose namespace is a keyword-only ``xp`` argument.
+
+    Returns
+    -------
+    numba dispatcher
+        The same function without ``xp``, compiled lazily for the argument types.
+    """
+    numba = _numba()
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    fdef = tree.body[0]
+    assert isinstance(fdef, ast.FunctionDef)
+    fdef.decorator_list = []
+    args = fdef.args
+    keep = [(a, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True) if a.arg != "xp"]
+    if keep:  # numba takes no keyword-only arguments: make the others positional
+        args.args += [a for a, _ in keep]
+        args.defaults += [d for _, d in keep]  # type: ignore[misc]
+    args.kwonlyargs, args.kw_defaults = [], []
+    for a in args.args:
+        a.annotation = None
+    fdef.returns = None
+    env = dict(fn.__globals__)
+    env["xp"] = scalar_namespace()
+    tree = _Specializer(env).visit(tree)
+    ast.fix_missing_locations(tree)
+    ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
+    local: dict[str, Any] = {}
+    exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)  # noqa: S102
+    return numba.njit(error_model="numpy")(local[fdef.name])
+
+
+def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> NDArray[np.float64]:
+    """Horizontal and vertical constants as rows of ``N_CONST`` floats, shape batch + (N_CONST,)."""
+    fields = [np.asarray(v, dtype=float) for v in (*hor, *ver)]
+    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*fields), axis=-1))
+
+
+def state_rows(ch: MudChannels) -> NDArray[np.float64]:
+    """A :class:`~mudrft.terrains.mud.MudChannels` (floats or arrays (N,)) as rows (N, N_STATE)."""
+    fields = [*ch.x, *ch.y, *ch.z, ch.entry_x, ch.entry_y, ch.heading, ch.in_mud]
+    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1)).reshape(
+        -1, N_STATE
+    )
+
+
+def _feet_loop(
+    c: Any, st: Any, out: Any, pos: Any, vel: Any, dt: float, cfg: Any, geom: Any
+) -> None:
+    """N closed-form feet (compiled; ``prange`` is bound to numba's or to ``range``)."""
+    n = pos.shape[0]
+    stride = 0 if c.shape[0] == 1 else 1  # one mud for all feet, or one per foot
+    lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
+    kind = int(geom[0])
+    for i in prange(n):  # noqa: F821 - bound when compiled
+        r = i * stride
+        hor = _constants(c, r, 0)  # noqa: F821
+        ver = _constants(c, r, 12)  # noqa: F821
+        s = st[i]
+        ch = MudChannels(
+            ChannelState(s[0], s[1], s[2], s[3], s[4]),
+            ChannelState(s[5], s[6], s[7], s[8], s[9]),
+            ChannelState(s[10], s[11], s[12], s[13], s[14]),
+            s[15], s[16], s[17], s[18],
+        )  # fmt: skip
+        new, sx, sy, sz, depth = _step(  # noqa: F821
+            (hor, ver), ch, pos[i, 0], pos[i, 1], pos[i, 2], vel[i, 0], vel[i, 1], vel[i, 2],
+            dt, lc, kappa, xi0, reset, hs, 1.0,
+        )  # fmt: skip
+        fx, fy, fz = _force(kind, geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)  # noqa: F821
+        k = 0
+        for chan in (new.x, new.y, new.z):
+            for v in chan:
+                s[k] = v
+                k += 1
+        s[15], s[16], s[17], s[18] = new.entry_x, new.entry_y, new.heading, new.in_mud
+        o = out[i]
+        o[0], o[1], o[2] = fx * new.in_mud, fy * new.in_mud, fz * new.in_mud
+        o[3], o[4], o[5], o[6] = sx, sy, sz, depth
+
+
+def _constants(c: Any, r: int, o: int) -> ChannelConstants:
+    """One channel's constants from row ``r`` of ``c`` at offset ``o``."""
+    x = c[r]
+    return ChannelConstants(
+        x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5], x[o + 6], x[o + 7], x[o + 8],
+        x[o + 9], x[o + 10], x[o + 11],
+    )  # fmt: skip
+
+
+@functools.cache
+def compiled_feet(parallel: bool = False) -> Any:
+    """The compiled loop over N closed-form feet (see :func:`_feet_loop`).
+
+    Signature ``loop(c, st, out, pos, vel, dt, cfg, geom)``: ``c`` (1 or N, N_CONST),
+    ``st`` (N, N_STATE) and ``out`` (N, N_OUT) updated in place, ``pos``/``vel`` (N, 3)
+    [m], [m/s], ``dt`` [s], ``cfg = (L_c [m], kappa, xi0, reset 0/1, heading_speed [m/s])``,
+    ``geom = (kind, g0, g1, g2)`` of :func:`~mudrft.feet.closed_form.closed_form_coefficients`.
+    """
+    numba = _numba()
+    env = dict(_feet_loop.__globals__)
+    env.update(
+        prange=numba.prange if parallel else range,
+        _step=compile_scalar(mud_step),
+        _force=compile_scalar(closed_form_force),
+        _constants=numba.njit(inline="always")(_constants),
+    )
+    loop = types.FunctionType(_feet_loop.__code__, env, "_feet_loop")
+    return numba.njit(error_model="numpy", parallel=parallel)(loop)

@@ -1,0 +1,364 @@
+r"""The mud model of Chen et al. (2026) as a terrain: the one terrain step, and its options.
+
+:func:`mud_step` is the only definition of how the mud under a foot advances: the tip's
+motion turned into the three channels' displacements and rates, the reset when the tip
+re-enters fresh mud, the heading, and the three constitutive steps
+(:func:`~mudrft.constitutive.kernel.channel_update`). It is element-wise over any ``xp``
+(:mod:`mudrft._xp`), so :class:`MudTerrain` runs it on Python floats for one foot and on
+numpy arrays for a batch, the JAX backend with ``jax.numpy`` and the numba backend compiled
+on floats (decision D80). The foot then turns the channel stresses into a force.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._validation import MudrftError, check_finite, check_in_range, check_positive
+from .._xp import pyfloat
+from ..citations import register
+from ..constitutive import kernel
+from ..constitutive.kernel import ChannelConstants, channel_constants
+from ..constitutive.state import ChannelState
+from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
+from .base import TerrainOutput, check_motion
+
+__all__ = [
+    "MudChannels",
+    "MudState",
+    "MudTerrain",
+    "channel_parameters",
+    "initial_channels",
+    "mud_step",
+]
+
+
+def channel_parameters(mud: Mud) -> MudParameters:
+    """Stack (horizontal, horizontal, vertical) into one set for the x, y, z channels.
+
+    Each field gets a trailing axis of length 3 (x, y, z), as the JAX backend and the
+    calibration carry a foot's three channels.
+    """
+    h, v = mud.horizontal, mud.vertical
+    fields = {}
+    for k in PARAMETER_UNITS:
+        a, b = np.asarray(getattr(h, k), dtype=float), np.asarray(getattr(v, k), dtype=float)
+        a, b = np.broadcast_arrays(a, b)
+        fields[k] = np.stack([a, a, b], axis=-1)
+    return MudParameters(**fields, source=f"channels of {mud.name}")
+
+
+class MudChannels(NamedTuple):
+    """State of the mud under one foot (floats) or a batch (arrays of one shape).
+
+    Attributes
+    ----------
+    x, y, z : ChannelState
+        The three stress channels (x and y horizontal, z vertical).
+    entry_x, entry_y : float or array
+        Horizontal tip position where the foot entered the mud [m].
+    heading : float or array
+        Last horizontal heading of the motion [rad].
+    in_mud : float or array
+        1.0 when the tip was below the surface after the last step, else 0.0.
+    """
+
+    x: ChannelState
+    y: ChannelState
+    z: ChannelState
+    entry_x: Any
+    entry_y: Any
+    heading: Any
+    in_mud: Any
+
+
+class MudState(NamedTuple):
+    """State of :class:`MudTerrain`: the channels and the foot mechanism's own state.
+
+    Attributes
+    ----------
+    channels : MudChannels
+        The mud under the foot (or under a batch of feet).
+    foot : Any
+        Internal state of the foot mechanism (the morphing foot), else None.
+    """
+
+    channels: MudChannels
+    foot: Any
+
+
+def _fresh(ch: ChannelState, fresh: Any, xi0: Any, *, xp: Any = np) -> ChannelState:
+    """Channels reset to undisturbed mud where ``fresh`` (decision D11)."""
+    return ChannelState(
+        gamma=xp.where(fresh, 0.0, ch.gamma),
+        gamma_w=xp.where(fresh, 0.0, ch.gamma_w),
+        xi=xp.where(fresh, xi0, ch.xi),
+        s_th=xp.where(fresh, 0.0, ch.s_th),
+        sigma_s=xp.where(fresh, 0.0, ch.sigma_s),
+    )
+
+
+def mud_step(
+    ch: ConstantsPair,
+    st: MudChannels,
+    px: Any,
+    py: Any,
+    pz: Any,
+    vx: Any,
+    vy: Any,
+    vz: Any,
+    dt: Any,
+    lc: Any,
+    kappa: Any,
+    xi0: Any,
+    reset: bool,
+    heading_speed: Any,
+    seal: Any,
+    *,
+    xp: Any = np,
+) -> tuple[MudChannels, Any, Any, Any, Any]:
+    r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
+
+    Displacements :math:`\gamma_x=(x-x_e)/L_c`, :math:`\gamma_y=(y-y_e)/L_c` from the entry
+    point :math:`(x_e,y_e)` and :math:`\gamma_z=d/L_c` with the tip depth :math:`d=\max(-z,0)`;
+    rates :math:`\dot x/L_c`, :math:`\dot y/L_c` and :math:`-\dot z/L_c` (0 out of the mud).
+    When the tip was out of the mud before the step and ``reset``, the channels start from
+    undisturbed mud and the entry point is where the tip crossed (decision D11).
+
+    Parameters
+    ----------
+    ch : ConstantsPair
+        ``(horizontal, vertical)`` :class:`~mudrft.constitutive.kernel.ChannelConstants`.
+    st : MudChannels
+        State at the start of the step.
+    px, py, pz : array_like
+        Tip position at the end of the step [m].
+    vx, vy, vz : array_like
+        Tip velocity over the step [m/s].
+    dt : float
+        Step [s].
+    lc : float
+        Characteristic length :math:`L_c` [m].
+    kappa : float
+        1.0 keeps the acceleration term (decision D6) [-].
+    xi0 : float
+        Structure of undisturbed mud [-].
+    reset : bool
+        Reset the channels on re-entry (decision D11).
+    heading_speed : float
+        Below this horizontal speed the last heading is kept [m/s].
+    seal : array_like
+        Sealing factor of the vertical channel in [0, 1] [-] (the morphing foot).
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
+
+    Returns
+    -------
+    state : MudChannels
+    sx, sy, sz : array_like
+        Channel stresses [Pa] (0 out of the mud).
+    depth : array_like
+        Tip depth [m].
+    """
+    depth = xp.maximum(-pz, 0.0)
+    in_mud = depth > 0.0
+    was_in = st.in_mud > 0.5
+    cx, cy, cz = st.x, st.y, st.z
+    ex, ey = st.entry_x, st.entry_y
+    if reset:
+        fresh = st.in_mud < 0.5
+        cx = _fresh(cx, fresh, xi0, xp=xp)
+        cy = _fresh(cy, fresh, xi0, xp=xp)
+        cz = _fresh(cz, fresh, xi0, xp=xp)
+        ex = xp.where(fresh, px - vx * dt, ex)
+        ey = xp.where(fresh, py - vy * dt, ey)
+    gdz = xp.where(in_mud | was_in, -vz, 0.0) / lc
+    # heading: compared on the squared speed, arctan2 on safe values, so that JAX gradients
+    # stay finite when the foot does not move horizontally
+    moving = vx * vx + vy * vy > heading_speed * heading_speed
+    heading = xp.where(
+        moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), st.heading
+    )
+    hor, ver = ch
+    cx, sx = kernel.channel_update(hor, cx, (px - ex) / lc, vx / lc, dt, 1.0, kappa, xp=xp)
+    cy, sy = kernel.channel_update(hor, cy, (py - ey) / lc, vy / lc, dt, 1.0, kappa, xp=xp)
+    cz, sz = kernel.channel_update(ver, cz, depth / lc, gdz, dt, seal, kappa, xp=xp)
+    inside = xp.where(in_mud, 1.0, 0.0)
+    new = MudChannels(cx, cy, cz, ex, ey, heading, inside)
+    return new, sx.total * inside, sy.total * inside, sz.total * inside, depth
+
+
+ConstantsPair = tuple[ChannelConstants, ChannelConstants]
+
+
+def initial_channels(
+    px: Any, py: Any, depth: Any, lc: float, xi0: float, *, xp: Any = np
+) -> MudChannels:
+    """Undisturbed mud under a tip at horizontal ``(px, py)`` [m] and ``depth`` [m] >= 0."""
+    zero = 0.0 * depth
+
+    def fresh(g: Any) -> ChannelState:
+        return ChannelState(gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero)
+
+    return MudChannels(
+        x=fresh(zero),
+        y=fresh(zero),
+        z=fresh(depth / lc),
+        entry_x=px + zero,
+        entry_y=py + zero,
+        heading=zero,
+        in_mud=xp.where(depth > 0.0, 1.0, 0.0),
+    )
+
+
+def _as_bool(name: str, value: Any) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise MudrftError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+@dataclass(frozen=True, eq=False)
+class MudTerrain:
+    r"""The mud model of Chen et al. (2026) as a terrain.
+
+    Three stress channels run the constitutive model: x and y with the horizontal
+    parameter set, z with the vertical one (:func:`mud_step`). The foot turns the stresses
+    into a force (closed forms or surface integration). Options are validated here, once.
+
+    Parameters
+    ----------
+    mud : Mud
+        Vertical and horizontal parameter sets.
+    characteristic_length : float or None
+        :math:`L_c` [m]; ``None`` uses the foot's own.
+    acceleration : bool
+        Keep the acceleration term (decision D6).
+    reset_on_exit : bool
+        When the tip leaves the mud, reset the channels to undisturbed mud, so the next
+        step lands in fresh mud (decision D11). Default True.
+    xi0 : float
+        Structure of undisturbed mud, in [0, 1] [-].
+    heading_speed : float
+        Below this horizontal speed [m/s] the last heading is kept; > 0.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> MudTerrain(mudrft.paper_mud(0.25), xi0=5.0)
+    Traceback (most recent call last):
+    ...
+    mudrft._validation.MudrftError: xi0 must lie in [0.0, 1.0], got 5.0
+    """
+
+    mud: Mud
+    characteristic_length: float | None = None
+    acceleration: bool = True
+    reset_on_exit: bool = True
+    xi0: float = 0.0
+    heading_speed: float = 1e-6
+    name: str = "mud"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.mud, Mud):
+            raise MudrftError(
+                f"mud must be a Mud (see mudrft.paper_mud), got {type(self.mud).__name__}"
+            )
+        if self.characteristic_length is not None:
+            lc = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
+            check_finite("characteristic_length", lc)
+            object.__setattr__(self, "characteristic_length", lc)
+        object.__setattr__(self, "acceleration", _as_bool("acceleration", self.acceleration))
+        object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
+        object.__setattr__(self, "xi0", float(check_in_range("xi0", self.xi0, 0.0, 1.0)))
+        hs = float(check_positive("heading_speed", self.heading_speed, unit="m/s"))
+        check_finite("heading_speed", hs)
+        object.__setattr__(self, "heading_speed", hs)
+        if not isinstance(self.name, str):
+            raise MudrftError(f"name must be a string, got {self.name!r}")
+        pair = (channel_constants(self.mud.horizontal), channel_constants(self.mud.vertical))
+        object.__setattr__(self, "_constants", pair)
+        register("chen2026mud")
+
+    @property
+    def params(self) -> MudParameters:
+        """The stacked (x, y, z) channel parameters (trailing axis of 3)."""
+        return channel_parameters(self.mud)
+
+    @property
+    def constants(self) -> ConstantsPair:
+        """``(horizontal, vertical)`` channel constants of :func:`mud_step`."""
+        return self._constants  # type: ignore[attr-defined,no-any-return]
+
+    @property
+    def kappa(self) -> float:
+        """1.0 with the acceleration term (decision D6), else 0.0."""
+        return 1.0 if self.acceleration else 0.0
+
+    def length(self, foot: Any) -> float:
+        """:math:`L_c` [m]: the terrain's own, else the foot's."""
+        return float(self.characteristic_length or foot.characteristic_length)
+
+    def initial_state(self, foot: Any, position: ArrayLike) -> MudState:
+        """Undisturbed mud under a foot whose tip is at ``position`` (3,) or (..., 3) [m]."""
+        pos = check_finite("position", position)
+        if pos.shape[-1:] != (3,):
+            raise MudrftError(f"position must have shape (..., 3) [m], got shape {pos.shape}")
+        lc = self.length(foot)
+        if pos.shape == (3,):
+            x, y, z = (float(v) for v in pos)
+            ch = initial_channels(x, y, max(-z, 0.0), lc, self.xi0, xp=pyfloat)
+        else:
+            depth = np.maximum(-pos[..., 2], 0.0)
+            ch = initial_channels(pos[..., 0], pos[..., 1], depth, lc, self.xi0)
+        return MudState(channels=ch, foot=foot.initial_foot_state())
+
+    def step(
+        self, foot: Any, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
+    ) -> tuple[MudState, TerrainOutput]:
+        """Advance the mud under the foot by ``dt`` [s]; see :class:`~mudrft.terrains.Terrain`.
+
+        Inputs are validated (:func:`~mudrft.terrains.base.check_motion`);
+        :meth:`step_unchecked` is the same without, for loops that validated once.
+        """
+        pos, vel, step = check_motion(position, velocity, dt)
+        return self.step_unchecked(foot, state, pos, vel, step)
+
+    def step_unchecked(
+        self, foot: Any, state: MudState, position: Any, velocity: Any, dt: float
+    ) -> tuple[MudState, TerrainOutput]:
+        """:meth:`step` without validation (finite (..., 3) inputs and dt > 0 assumed)."""
+        pos = np.asarray(position, dtype=float)
+        vel = np.asarray(velocity, dtype=float)
+        seal = foot.seal_factor(state.foot)
+        common = (self.length(foot), self.kappa, self.xi0, self.reset_on_exit, self.heading_speed)
+        if pos.shape == (3,) and np.ndim(seal) == 0:
+            # one foot: the same step on Python floats (no numpy call overhead)
+            x, y, z = pos.tolist()
+            u, v, w = vel.tolist()
+            ch, sx, sy, sz, depth = mud_step(
+                self.constants, state.channels, x, y, z, u, v, w, float(dt), *common,
+                float(seal), xp=pyfloat,
+            )
+            if foot.elementwise and state.foot is None:
+                f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
+                out = TerrainOutput(
+                    force=np.array(f) * ch.in_mud, stress=np.array([sx, sy, sz]),
+                    depth=np.float64(depth),
+                )
+                return MudState(channels=ch, foot=None), out
+            stress = np.array([sx, sy, sz])
+            heading, depth_a, inside = ch.heading, np.float64(depth), ch.in_mud
+        else:
+            ch, sx, sy, sz, depth_a = mud_step(
+                self.constants, state.channels, pos[..., 0], pos[..., 1], pos[..., 2],
+                vel[..., 0], vel[..., 1], vel[..., 2], dt, *common, seal,
+            )
+            stress = np.stack([sx, sy, sz], axis=-1)
+            heading, inside = ch.heading, ch.in_mud
+        foot_state, force = foot.contact_force(state.foot, depth_a, stress, heading, dt)
+        force = force * np.asarray(inside)[..., None]
+        out = TerrainOutput(force=force, stress=stress, depth=depth_a)
+        return MudState(channels=ch, foot=foot_state), out

@@ -1,0 +1,203 @@
+"""Each equation lives in one place: every path runs the same functions (decision D80).
+
+Two kinds of test: (1) patching the one constitutive step changes every path that claims to
+use it (the numpy reference, the single-foot float path of MudTerrain, batches, BatchedMud,
+JAX); (2) the compiled and float specializations of the one source equal the numpy
+reference to rounding, so the equivalence tests test compilation, not drift.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _backend_support import channel_inputs, parameter_sets, wandering_path
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+from mudrft._xp import pyfloat
+from mudrft.backends.batch import BatchedMud
+from mudrft.constitutive import channel_constants, initial_state, kernel, step
+from mudrft.constitutive.state import ChannelState
+
+SENTINEL = 12345.0  # [Pa], added to the total stress by the patched step
+
+
+@pytest.fixture
+def patched(monkeypatch):
+    """Replace kernel.channel_update by a wrapper that counts calls and shifts the stress."""
+    calls = {"n": 0}
+    original = kernel.channel_update
+
+    def shifted(c, state, gamma, gamma_dot, dt, seal=1.0, kappa=1.0, *, xp=np):
+        calls["n"] += 1
+        new, s = original(c, state, gamma, gamma_dot, dt, seal, kappa, xp=xp)
+        return new, s._replace(total=s.total + SENTINEL)
+
+    monkeypatch.setattr(kernel, "channel_update", shifted)
+    return calls
+
+
+def _mud_path_outputs():
+    foot = mudrft.feet.Flat()
+    mud = mudrft.paper_mud(0.25)
+    terrain = mudrft.MudTerrain(mud)
+    pos = np.array([0.0, 0.0, -0.01])
+    vel = np.array([0.05, 0.0, -0.02])
+    out = {}
+    p = mudrft.paper_parameters(0.25)
+    out["reference step"] = step(p, initial_state(), 0.1, 1.0, 0.01)[1].total
+    st = terrain.initial_state(foot, np.zeros(3))
+    out["MudTerrain, one foot"] = terrain.step(foot, st, pos, vel, 1e-3)[1].stress
+    stb = terrain.initial_state(foot, np.zeros((2, 3)))
+    out["MudTerrain, batch"] = terrain.step(foot, stb, np.tile(pos, (2, 1)), np.tile(vel, (2, 1)), 1e-3)[1].stress
+    sim = BatchedMud(mud, foot, 3)
+    sim.step(np.tile(pos, (3, 1)), np.tile(vel, (3, 1)), 1e-3)
+    out["BatchedMud numpy"] = sim.stress
+    return out
+
+
+def test_patching_the_constitutive_step_changes_every_numpy_path(monkeypatch):
+    before = _mud_path_outputs()
+    calls = {"n": 0}
+    original = kernel.channel_update
+
+    def shifted(c, state, gamma, gamma_dot, dt, seal=1.0, kappa=1.0, *, xp=np):
+        calls["n"] += 1
+        new, s = original(c, state, gamma, gamma_dot, dt, seal, kappa, xp=xp)
+        return new, s._replace(total=s.total + SENTINEL)
+
+    monkeypatch.setattr(kernel, "channel_update", shifted)
+    after = _mud_path_outputs()
+    assert calls["n"] == 1 + 3 * 3  # the reference step, and three channels per terrain path
+    for name in before:
+        # every channel in the mud moved by the sentinel: the path ran the patched step
+        np.testing.assert_allclose(
+            np.asarray(after[name]) - np.asarray(before[name]), SENTINEL, rtol=1e-9, err_msg=name
+        )
+
+
+def test_patching_the_constitutive_step_changes_the_jax_path(patched):
+    pytest.importorskip("jax")
+    from mudrft.backends import jax as mjax
+
+    mjax.enable_x64()
+    p = mjax.to_jax(mudrft.paper_parameters(0.25))
+    # the un-jitted functions trace the module attribute at call time
+    from mudrft.constitutive import dynamics
+
+    import jax.numpy as jnp
+
+    _, s = dynamics.step(p, mjax.initial_state(), 0.1, 1.0, 0.01, xp=jnp, validate=False)
+    assert float(s.total) > SENTINEL - 1e4
+    foot = mudrft.feet.Flat()
+    fn = mudrft.backends.forces.force_function(foot, xp=jnp)
+    jp = mjax.to_jax(mudrft.paper_mud(0.25))
+    st0 = mjax.initial_terrain_state(jnp.zeros(3), foot.characteristic_length)
+    n_before = patched["n"]
+    _, (f, stress, d) = mjax.terrain_step(
+        jp, st0, jnp.array([0.0, 0.0, -0.01]), jnp.array([0.0, 0.0, -0.02]), 1e-3,
+        force_fn=fn, characteristic_length=foot.characteristic_length,
+    )  # fmt: skip
+    assert patched["n"] - n_before == 3
+    assert float(stress[2]) > SENTINEL - 1e4
+
+
+# Tolerance of the specializations against the numpy reference. The float path runs the
+# same operations in the same order on IEEE doubles, but libm's exp/tanh may differ from
+# numpy's SIMD versions by an ulp; about 40 operations, and the total is a sum of terms
+# that may cancel, so the error is bounded relative to the sum of the terms' magnitudes:
+# 1e-13 of that scale is ~10^3 ulp, far above rounding, far below any modelling slip.
+RTOL_SCALE = 1e-13
+
+
+def _close(a, b, scale):
+    assert np.all(np.abs(np.asarray(a, float) - np.asarray(b, float)) <= RTOL_SCALE * scale)
+
+
+def _specialized_outputs(fn, p, inputs, acceleration):
+    state, gamma, gdot, dt, seal = inputs
+    c = tuple(float(v) for v in channel_constants(p))
+    kappa = 1.0 if acceleration else 0.0
+    totals, xis = [], []
+    for i in range(gamma.shape[0]):
+        st_i = ChannelState(*(float(f[i]) for f in state))
+        new, s = fn(type(channel_constants(p))(*c), st_i, float(gamma[i]), float(gdot[i]), dt, float(seal[i]), kappa)
+        totals.append(s.total)
+        xis.append(new.xi)
+    return np.array(totals), np.array(xis)
+
+
+@settings(max_examples=30, deadline=None)
+@given(parameter_sets(), channel_inputs(shape=(6,)), st.booleans())
+def test_float_path_equals_numpy_reference(p, inputs, acceleration):
+    state, gamma, gdot, dt, seal = inputs
+    ref_state, ref = step(p, state, gamma, gdot, dt, seal=seal, acceleration=acceleration)
+
+    def on_floats(c, st_i, g, gd, dt_, sl, kappa):
+        return kernel.channel_update(c, st_i, g, gd, dt_, sl, kappa, xp=pyfloat)
+
+    total, xi = _specialized_outputs(on_floats, p, inputs, acceleration)
+    scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
+    _close(total, ref.total, scale)
+    _close(xi, ref_state.xi, 1.0)
+
+
+@settings(max_examples=30, deadline=None)
+@given(parameter_sets(), channel_inputs(shape=(6,)), st.booleans())
+def test_numba_compilation_of_the_one_step_equals_numpy_reference(p, inputs, acceleration):
+    pytest.importorskip("numba")
+    from mudrft.backends.numba import compile_scalar
+
+    compiled = compile_scalar(kernel.channel_update)
+    state, gamma, gdot, dt, seal = inputs
+    ref_state, ref = step(p, state, gamma, gdot, dt, seal=seal, acceleration=acceleration)
+    total, xi = _specialized_outputs(compiled, p, inputs, acceleration)
+    scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
+    _close(total, ref.total, scale)
+    _close(xi, ref_state.xi, 1.0)
+
+
+def test_sign_flip_and_rest_on_every_specialization():
+    """Edge cases the random inputs rarely hit: gamma crossing zero, and a channel at rest."""
+    p = mudrft.paper_parameters(0.25, "horizontal")
+    c = channel_constants(p)
+    cases = [
+        (ChannelState(0.05, 0.08, 0.3, 100.0, -50.0), -0.01, -3.0),  # flips sign
+        (ChannelState(0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0),  # rest at the surface
+        (ChannelState(0.02, 0.04, 0.5, 0.0, -10.0), 0.02, 0.0),  # held while retracted
+    ]
+    fns = [lambda *a: kernel.channel_update(*a, xp=pyfloat)]
+    try:
+        from mudrft.backends.numba import compile_scalar
+
+        fns.append(compile_scalar(kernel.channel_update))
+    except ImportError:
+        pass
+    for state, g, gd in cases:
+        ref_state, ref = kernel.channel_update(c, ChannelState(*map(np.float64, state)), np.float64(g), np.float64(gd), 1e-3, 1.0, 1.0)
+        for fn in fns:
+            new, s = fn(c, state, g, gd, 1e-3, 1.0, 1.0)
+            assert np.isclose(s.total, ref.total, rtol=1e-13, atol=1e-9)
+            assert np.allclose(tuple(new), tuple(ref_state), rtol=1e-13, atol=1e-12)
+
+
+def test_compiled_feet_loop_equals_mud_terrain_on_a_wandering_path():
+    pytest.importorskip("numba")
+    from mudrft.backends.numba import N_OUT, compiled_feet, constant_row, state_rows
+
+    foot = mudrft.feet.SemiSphere()
+    terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35))
+    pos, vel = wandering_path(200, 1e-3, seed=3)
+    st = terrain.initial_state(foot, pos[0])
+    rows = state_rows(st.channels)
+    c = constant_row(*terrain.constants).reshape(1, -1)
+    out = np.zeros((1, N_OUT))
+    cfg = np.array([foot.characteristic_length, 1.0, 0.0, 1.0, 1e-6])
+    geom = np.array(foot.kernel_geometry, dtype=float)
+    loop = compiled_feet(False)
+    for k in range(1, len(pos)):
+        st, ref = terrain.step(foot, st, pos[k], vel[k], 1e-3)
+        loop(c, rows, out, pos[k : k + 1], vel[k : k + 1], 1e-3, cfg, geom)
+        scale = np.abs(ref.force).max() + 1e-9
+        assert np.all(np.abs(out[0, :3] - ref.force) <= 1e-12 * scale), k
