@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -61,7 +65,7 @@ def test_simulate_writes_run_csv_and_refuses_to_overwrite(tmp_path, capsys):
         (["simulate", "--foot", "flat", "--speed", "-1", "--out", "x.csv"], "speed"),
         (
             ["simulate", "--foot", "flat", "--water-content", "0.9", "--out", "x.csv"],
-            "water_content",
+            "--water-content",
         ),
     ],
 )
@@ -81,3 +85,139 @@ def test_reproduce_refuses_existing_results_and_unwritable_dirs(tmp_path, capsys
     blocker.write_text("")
     code, _, err = run(capsys, "reproduce", "--out", str(blocker))
     assert code == 2 and "not a directory" in err
+
+
+# --------------------------------------------------------------------------------------
+# help, extras, logging, messages
+# --------------------------------------------------------------------------------------
+def help_of(capsys, *command):
+    with pytest.raises(SystemExit) as exc:
+        main([*command, "--help"])
+    assert exc.value.code == 0
+    return capsys.readouterr().out
+
+
+def test_help_lists_every_subcommand(capsys):
+    out = help_of(capsys)
+    for cmd in ("params", "simulate", "reproduce", "calibrate", "compare", "walk", "bench"):
+        assert f"\n    {cmd}" in out
+
+
+@pytest.mark.parametrize("command", ["params", "simulate", "reproduce"])
+def test_subcommands_have_a_description(capsys, command):
+    out = help_of(capsys, command)
+    _, _, rest = out.partition("\n\n")
+    description = rest.split("\n\n")[0]
+    assert not description.startswith(("options:", "positional")) and len(description) > 80
+
+
+@pytest.mark.parametrize(
+    ("command", "needle"),
+    [
+        ("walk", "(default: 0.25)"),
+        ("walk", "(default: 10.0)"),
+        ("simulate", "(default: 0.2)"),
+        ("compare", "(default: mudrft-compare)"),
+        ("bench", "--force"),
+        ("calibrate", "(default: 0.95)"),
+    ],
+)
+def test_help_shows_defaults(capsys, command, needle):
+    assert needle in " ".join(help_of(capsys, command).split())
+
+
+def test_compare_help_is_plain_text(capsys):
+    out = help_of(capsys, "compare")
+    for rest in (":func:", ":data:", ":mod:", "``"):
+        assert rest not in out
+
+
+def test_calibrate_help_hides_the_deprecated_overwrite(capsys):
+    out = help_of(capsys, "calibrate")
+    assert "--force" in out and "--overwrite" not in out
+
+
+def test_walk_without_mujoco_is_listed_and_fails_in_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco -> ImportError
+    assert "walk" in help_of(capsys)
+    out = tmp_path / "w"
+    code, _, err = run(capsys, "walk", "--out", str(out), "--seconds", "0.1")
+    assert code == 2 and "pip install 'mudrft[mujoco]'" in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_plot_without_matplotlib_fails_before_simulating(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    out = tmp_path / "run.csv"
+    code, _, err = run(
+        capsys, "simulate", "--foot", "flat", "--out", str(out), "--plot", str(tmp_path / "f.png")
+    )
+    assert code == 2 and "mudrft[plot]" in err and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_errors_show_plain_numbers_not_numpy_reprs(tmp_path, capsys, monkeypatch):
+    import mudrft.feet
+
+    def bad_foot(name):
+        raise mudrft.MudrftError(f"foot size must be > 0 m, got {np.float64(-1.5)!r}")
+
+    monkeypatch.setattr(mudrft.feet, "by_name", bad_foot)
+    code, _, err = run(capsys, "simulate", "--foot", "x", "--out", str(tmp_path / "r.csv"))
+    assert code == 2 and "got -1.5" in err and "np." not in err
+
+
+def test_option_errors_name_the_option(tmp_path, capsys):
+    for args, needle in [
+        (
+            ["simulate", "--foot", "flat", "--dt", "nan"],
+            "--dt must be a finite number [s], got nan",
+        ),
+        (["simulate", "--foot", "flat", "--depth", "-1"], "--depth must be > 0 m, got -1"),
+        (["simulate", "--foot", "flat", "--water-content", "0.9"], "pass --extrapolate"),
+        (["compare", "--speed", "inf", "--no-figures"], "--speed must be a finite number"),
+    ]:
+        code, _, err = run(capsys, *args, "--out", str(tmp_path / "o"))
+        assert code == 2 and needle in err and err.count("\n") == 1, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_notes_and_progress_go_to_stderr_and_quiet_silences_them(tmp_path, capsys):
+    code, out, err = run(
+        capsys, "simulate", "--foot", "flat", "--dt", "0.004", "--out", str(tmp_path / "a.csv")
+    )
+    assert code == 0 and "simulating flat foot" in err and "%" in err
+    assert out.startswith("wrote ") and "peak_support" in out and "simulating" not in out
+    code, out, err = run(
+        capsys,
+        *("simulate", "--foot", "flat", "--dt", "0.004", "--quiet"),
+        *("--out", str(tmp_path / "b.csv")),
+    )
+    assert code == 0 and err == "" and "peak_support" in out
+
+
+def test_the_command_leaves_logging_as_it_found_it(tmp_path, capsys):
+    import logging
+
+    log = logging.getLogger("mudrft")
+    before = (list(log.handlers), log.level)
+    run(capsys, "simulate", "--foot", "flat", "--dt", "0.004", "--out", str(tmp_path / "a.csv"))
+    assert (list(log.handlers), log.level) == before
+
+
+def test_entry_point_and_python_dash_m(tmp_path):
+    from importlib.metadata import entry_points
+
+    (ep,) = entry_points(group="console_scripts", name="mudrft")
+    assert ep.value == "mudrft.cli:main" and ep.load() is main
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    proc = subprocess.run(
+        [sys.executable, "-m", "mudrft", "params"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert proc.returncode == 0 and "Table S1" in proc.stdout

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import logging
 
 import pytest
 
@@ -68,11 +69,13 @@ def test_refuses_to_overwrite_without_force(full_run):
     assert (out / "summary.csv").read_bytes() == before
 
 
-def test_subset_and_force(tmp_path, capsys):
-    rows = reproduce(tmp_path, feet=("flat",), speeds=(0.2,), water_contents=(0.25,), figures=False)
+def test_subset_and_force(tmp_path, caplog):
+    with caplog.at_level(logging.INFO, logger="mudrft"):
+        rows = reproduce(
+            tmp_path, feet=("flat",), speeds=(0.2,), water_contents=(0.25,), figures=False
+        )
     assert len(rows) == 1
-    err = capsys.readouterr().err
-    assert "[ 1/1]" in err  # progress is shown
+    assert "[ 1/1]" in caplog.text  # progress is shown, through the mudrft logger
     rows = reproduce(
         tmp_path,
         force=True,

@@ -31,14 +31,11 @@ True
 
 from __future__ import annotations
 
-import argparse
 import datetime as _dt
 import importlib
 import importlib.util
-import json
 import os
 import platform
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -49,9 +46,7 @@ import numpy as np
 __all__ = [
     "FUNCTION_CALLS",
     "ROOFLINE",
-    "add_parser",
     "machine_info",
-    "main",
     "measure_bandwidth",
     "measure_functions",
     "measure_peak_flops",
@@ -724,37 +719,3 @@ def summary_lines(res: dict[str, Any]) -> list[str]:
         )
     lines.append(f"total {res['seconds']:.1f} s")
     return lines
-
-
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Add ``mudrft bench`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
-        "bench",
-        help="speed benchmarks (constitutive step, mesh, batches, fast path, MuJoCo)",
-        description="Run the speed benchmarks and print a summary; --json writes every number.",
-    )
-    p.add_argument("--quick", action="store_true", help="short run (well under a minute)")
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
-    p.set_defaults(func=main)
-    return p
-
-
-def main(args: argparse.Namespace) -> int:
-    """Run ``mudrft bench``; returns the exit status."""
-    from ._validation import MudrftError
-
-    out = getattr(args, "json", None)
-    if out is not None:
-        parent = Path(out).resolve().parent
-        if not parent.is_dir():
-            raise MudrftError(f"--json {out!r}: the directory {str(parent)!r} does not exist")
-    quiet = getattr(args, "quiet", False)
-    progress = None if quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    res = run_benchmarks(quick=bool(getattr(args, "quick", False)), progress=progress)
-    for line in summary_lines(res):
-        print(line)
-    if out is not None:
-        Path(out).write_text(json.dumps(res, indent=2, default=float) + "\n")
-        print(f"wrote {out}")
-    return 0

@@ -12,7 +12,6 @@ contents, plus a load-controlled settle for the sinking depth, and writes
 from __future__ import annotations
 
 import csv
-import sys
 import time as _time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -20,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ._progress import logger, make_progress
 from ._validation import MudrftError
 from .parameters import paper_mud
 from .simulation import LoadControl, Result, simulate
@@ -50,8 +50,10 @@ SUMMARY_COLUMNS = (
 
 
 def _say(msg: str, quiet: bool) -> None:
+    """A progress note on the ``mudrft`` logger, shown as ``progress=True`` shows progress."""
     if not quiet:
-        print(msg, file=sys.stderr, flush=True)
+        make_progress(True, "reproduce")  # a stderr handler if logging is not configured
+        logger.info("%s", msg)
 
 
 def _prepare_out(out: Path, force: bool) -> None:

@@ -11,7 +11,6 @@ True
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import metrics as _m
+from ._progress import make_progress
 from ._validation import MudrftError, check_nonnegative, check_positive
 from .feet.base import Foot
 from .terrains import as_terrain
@@ -240,18 +240,6 @@ def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
         return None
 
 
-def _progress_printer(label: str) -> Callable[[float], None]:
-    state = {"last": -1}
-
-    def report(frac: float) -> None:
-        pct = int(frac * 10) * 10
-        if pct != state["last"]:
-            state["last"] = pct
-            print(f"  {label}: {pct:3d} %", file=sys.stderr, flush=True)
-
-    return report
-
-
 def simulate(
     foot: Foot,
     mud: Any,
@@ -275,7 +263,9 @@ def simulate(
         Resample a trajectory at this step [s] (default: its own samples). Ignored for
         load control, which has its own ``dt``.
     progress : bool or callable, keyword-only
-        Print progress to stderr, or call ``progress(fraction)``.
+        ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
+        is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
+        ``progress(fraction)`` with the fraction done.
 
     Returns
     -------
@@ -286,11 +276,7 @@ def simulate(
             f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
         )
     terrain = as_terrain(mud)
-    report = (
-        _progress_printer(f"{foot.name} in {getattr(terrain, 'name', 'terrain')}")
-        if progress is True
-        else (progress if callable(progress) else None)
-    )
+    report = make_progress(progress, f"{foot.name} in {getattr(terrain, 'name', 'terrain')}")
     if isinstance(trajectory, LoadControl):
         return _simulate_load(foot, terrain, trajectory, report)
     if not isinstance(trajectory, Trajectory):

@@ -37,17 +37,23 @@ def test_roofline_limit_is_the_slower_of_memory_and_compute():
 
 
 def test_bench_refuses_a_json_path_in_a_missing_directory(tmp_path):
-    args = argparse.Namespace(quick=True, json=str(tmp_path / "nope" / "out.json"), quiet=True)
+    from mudrft.cli import bench as bench_cli
+
+    args = argparse.Namespace(
+        quick=True, json=str(tmp_path / "nope" / "out.json"), quiet=True, force=False
+    )
     with pytest.raises(MudrftError, match="does not exist"):
-        bench.main(args)
+        bench_cli.run(args)
 
 
 def test_bench_parser_has_quick_and_json():
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers()
-    bench.add_parser(sub)
-    ns = parser.parse_args(["bench", "--quick", "--json", "x.json"])
-    assert ns.quick and ns.json == "x.json" and ns.func is bench.main
+    from mudrft.cli import bench as bench_cli
+
+    bench_cli.add_parser(sub)
+    ns = parser.parse_args(["bench", "--quick", "--json", "x.json", "--force"])
+    assert ns.quick and ns.json == "x.json" and ns.force and ns.func is bench_cli.run
 
 
 def test_jax_gradient_calibration_example_recovers_alpha_and_eta_inf(capsys):

@@ -127,9 +127,9 @@ def test_csv_round_trip(box, tmp_path):
 
 
 def test_command_writes_csv_summary_and_figures(box, tmp_path):
-    from mudrft.baselines.cli import run
+    from mudrft.cli.compare import write_comparison
 
-    paths = run(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True)
+    paths = write_comparison(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True)
     for p in paths.values():
         assert p.exists() and p.stat().st_size > 0
     with paths["summary"].open() as fh:
@@ -140,7 +140,7 @@ def test_command_writes_csv_summary_and_figures(box, tmp_path):
         for n in ("mud", "granular-rft", "linear", "maxwell", "rigid")
     }
     with pytest.raises(MudrftError, match="exists"):
-        run(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True, figures=False)
+        write_comparison(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True, figures=False)
 
 
 def test_command_line_rejects_bad_input(tmp_path, capsys):

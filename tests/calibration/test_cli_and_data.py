@@ -11,8 +11,14 @@ import pytest
 
 import mudrft
 from mudrft.calibration import EXAMPLE_FILES, example_dataset, load_parameters, synthetic_dataset
-from mudrft.calibration.cli import add_parser, main
 from mudrft.calibration.synthetic import EXAMPLE_SETTINGS
+from mudrft.cli import main as mudrft_main
+from mudrft.cli.calibrate import add_parser, run
+
+
+def main(argv):
+    """``mudrft calibrate ARGV...``."""
+    return mudrft_main(["calibrate", *argv])
 
 
 def _example_path(direction="vertical", w=0.25):
@@ -47,7 +53,8 @@ def test_cli_refuses_to_overwrite_and_reports_bad_files(tmp_path, capsys):
     err = capsys.readouterr().err
     assert str(bad) in err and "line 1, column 2" in err and "Traceback" not in err
     # the output may not name an input file
-    assert main([str(bad), "--out", str(bad), "--overwrite", "--quiet"]) == 2
+    assert main([str(bad), "--out", str(bad), "--force", "--quiet"]) == 2
+    assert "input file" in capsys.readouterr().err
 
 
 def test_cli_force_log_with_area(tmp_path, capsys):
@@ -72,7 +79,7 @@ def test_add_parser_wires_into_a_parent_parser():
     add_parser(sub)
     args = parent.parse_args(["calibrate", "a.csv", "--direction", "horizontal", "--area",
                               "0.01", "--length", "0.04", "--groups", "b", "s"])
-    assert args.func is main and args.data == ["a.csv"] and args.area == 0.01
+    assert args.func is run and args.data == ["a.csv"] and args.area == 0.01
     assert args.groups == ["b", "s"] and args.length == 0.04
 
 

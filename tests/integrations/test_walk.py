@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 import mudrft
 
 pytest.importorskip("mujoco")
+from mudrft.cli import walk as walk_cli
 from mudrft.integrations import walk as W
 
 from .conftest import mujoco
@@ -96,10 +97,10 @@ def _args(tmp_path, **kw):
 def test_cli_writes_outputs_and_refuses_to_overwrite(tmp_path):
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers(dest="command")
-    W.add_parser(sub)
+    walk_cli.add_parser(sub)
     ns = parser.parse_args(["walk", "--foot", "flat", "--out", str(tmp_path / "x"), "--seconds", "2"])
-    assert ns.func is W.main and ns.water_content == 0.25 and ns.seconds == 2.0
-    assert W.main(_args(tmp_path)) == 0
+    assert ns.func is walk_cli.run and ns.water_content == 0.25 and ns.seconds == 2.0
+    assert walk_cli.run(_args(tmp_path)) == 0
     out = tmp_path / "run"
     summary = json.loads((out / "summary.json").read_text())
     for key in ("fell", "distance [m]", "energy_per_step [J]", "mean_sinking [m]", "max_suction [N]"):
@@ -108,15 +109,15 @@ def test_cli_writes_outputs_and_refuses_to_overwrite(tmp_path):
     table = np.genfromtxt(out / "walk.csv", delimiter=",", names=True)
     assert len(table) == 600 and (out / "steps.csv").exists() and (out / "walk.png").stat().st_size > 1000
     with pytest.raises(mudrft.MudrftError, match="exists; pass --force"):
-        W.main(_args(tmp_path))
-    assert W.main(_args(tmp_path, force=True, seconds=0.6)) == 0
+        walk_cli.run(_args(tmp_path))
+    assert walk_cli.run(_args(tmp_path, force=True, seconds=0.6)) == 0
     assert len(np.genfromtxt(out / "walk.csv", delimiter=",", names=True)) == 300
 
 
 def test_cli_rejects_bad_input(tmp_path):
     with pytest.raises(mudrft.MudrftError, match="seconds"):
-        W.main(_args(tmp_path, seconds=-1.0))
+        walk_cli.run(_args(tmp_path, seconds=-1.0))
     with pytest.raises(mudrft.MudrftError):
-        W.main(_args(tmp_path, foot="paddle"))
+        walk_cli.run(_args(tmp_path, foot="paddle"))
     with pytest.raises(mudrft.MudrftError, match="dt"):
         W.walk(mudrft.feet.Flat(), MUD, seconds=1.0, dt=0.05)

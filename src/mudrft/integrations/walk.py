@@ -23,12 +23,7 @@ start) or the torso pitches past 1 rad.
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-import os
-import sys
-import time as _time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
@@ -43,10 +38,8 @@ __all__ = [
     "BIPED_FEET",
     "GaitController",
     "WalkResult",
-    "add_parser",
     "biped_model",
     "biped_path",
-    "main",
     "walk",
 ]
 
@@ -510,74 +503,3 @@ def save_strip(frames: list, path: Path) -> Path | None:
 
     plt.imsave(path, np.concatenate(frames, axis=1))
     return path
-
-
-# ---------------------------------------------------------------------------------------
-# Command line
-# ---------------------------------------------------------------------------------------
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Add ``mudrft walk`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
-        "walk", help="a planar biped walking in mud (MuJoCo): walk.csv, summary.json, walk.png",
-        description="Walk a 10 kg planar biped in mud with the chosen foot and write DIR/walk.csv "
-                    "(per physics step), DIR/steps.csv (per gait step), DIR/summary.json and DIR/walk.png.")
-    p.add_argument("--foot", default="flat",
-                   help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply) in metres")
-    p.add_argument("--water-content", type=float, default=0.25, help="water content W [-] (0.25 to 0.45)")
-    p.add_argument("--seconds", type=float, default=10.0, help="simulated time [s]")
-    p.add_argument("--out", required=True, help="output directory DIR")
-    p.add_argument("--dt", type=float, default=1e-3, help="physics time step [s] (default 0.001)")
-    p.add_argument("--speed", type=float, default=0.1, help="walking speed command [m/s] (default 0.1)")
-    p.add_argument("--step-time", type=float, default=1.0, help="duration of a step [s] (default 1.0)")
-    p.add_argument("--bottom", type=float, default=0.15, help="depth of the rigid bed under the mud [m]")
-    p.add_argument("--explicit", action="store_true", help="explicit coupling (no stabilisation; for study)")
-    p.add_argument("--extrapolate", action="store_true", help="allow water contents outside 0.25-0.45")
-    p.add_argument("--no-render", action="store_true", help="skip the rendered image strip")
-    p.add_argument("--force", action="store_true", help="overwrite an existing DIR/walk.csv")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
-    p.set_defaults(func=main)
-    return p
-
-
-def main(args: argparse.Namespace) -> int:
-    """Run ``mudrft walk``; returns the exit status (raises MudrftError on bad input)."""
-    os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
-    from ..feet import by_name
-    from ..parameters import paper_mud
-
-    out = Path(args.out)
-    if (out / "walk.csv").exists() and not args.force:
-        raise MudrftError(f"{str(out / 'walk.csv')!r} exists; pass --force to overwrite it")
-    if out.exists() and not out.is_dir():
-        raise MudrftError(f"--out {str(out)!r} is a file, expected a directory")
-    check_positive("--seconds", args.seconds, unit="s")
-    foot = by_name(args.foot)
-    mud = paper_mud(args.water_content, extrapolate=args.extrapolate)
-    out.mkdir(parents=True, exist_ok=True)
-    say = (lambda msg: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    say(f"mudrft walk: {foot.name} feet, W = {args.water_content:g}, {args.seconds:g} s at dt = {args.dt:g} s")
-    last = [-1]
-
-    def progress(frac: float) -> None:
-        pct = int(frac * 10) * 10
-        if pct != last[0]:
-            last[0] = pct
-            say(f"  walking: {pct:3d} %")
-
-    t0 = _time.perf_counter()
-    res = walk(foot, mud, seconds=args.seconds, dt=args.dt, speed=args.speed, step_time=args.step_time,
-               bottom=args.bottom, implicit=not args.explicit, frames=0 if args.no_render else 6,
-               progress=None if args.quiet else progress)
-    res.summary["water_content"] = float(args.water_content)
-    res.summary["wall_time [s]"] = round(_time.perf_counter() - t0, 3)
-    _write_csv(out / "walk.csv", res.table, WALK_COLUMNS)
-    _write_csv(out / "steps.csv", res.steps, STEP_COLUMNS)
-    plot_walk(res, out / "walk.png")
-    strip = save_strip(res.frames, out / "frames.png")
-    res.summary["frames"] = strip.name if strip is not None else None
-    (out / "summary.json").write_text(json.dumps(res.summary, indent=2) + "\n")
-    s = res.summary
-    say(f"  {'FELL' if s['fell'] else 'walked'} {s['distance [m]']:.3f} m in {s['seconds']:.2f} s; "
-        f"{s['energy_per_step [J]']:.3f} J/step; sinking {1e3 * s['mean_sinking [m]']:.1f} mm; "
-        f"max suction {s['max_suction [N]']:.2f} N -> {out}")
-    return 0

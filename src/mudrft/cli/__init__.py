@@ -1,0 +1,139 @@
+"""The ``mudrft`` command: one module per subcommand, each thin over the library.
+
+``mudrft --help`` lists the subcommands. Each module (:mod:`.params`, :mod:`.simulate`,
+:mod:`.reproduce`, :mod:`.calibrate`, :mod:`.compare`, :mod:`.walk`, :mod:`.bench`) has
+``add_parser(subparsers)`` and ``run(args) -> int``; none imports a heavy optional
+package before it runs, so every subcommand shows in the help even when its extra is
+missing, and then fails with one line naming the extra to install.
+
+Every error that comes from a user mistake is printed as one line
+(``mudrft COMMAND: error: ...``) with exit status 2, no traceback. Notes and progress go
+to stderr through :mod:`logging` (logger ``"mudrft"``; ``--quiet`` keeps only warnings);
+a command's results (tables, metrics, ``wrote FILE``) go to stdout. Files are written
+all-or-nothing and never replaced without ``--force``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import re
+import sys
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from types import ModuleType
+
+from .._progress import enable_stderr_logging, logger
+from .._validation import MudrftError
+from . import bench, calibrate, compare, params, reproduce, simulate, walk
+from ._common import EXTRAS, HelpFormatter
+
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+#: The subcommands, in the order ``mudrft --help`` lists them.
+COMMANDS: dict[str, ModuleType] = {
+    "params": params,
+    "simulate": simulate,
+    "reproduce": reproduce,
+    "calibrate": calibrate,
+    "compare": compare,
+    "walk": walk,
+    "bench": bench,
+}
+
+_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)_?\d*\(([^()]*)\)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``mudrft`` command, with every subcommand.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Parsed arguments carry ``command`` (the subcommand's name) and ``func`` (its
+        ``run``).
+    """
+    from .. import __version__
+
+    p = argparse.ArgumentParser(
+        prog="mudrft",
+        description="Forces of mud on robot feet (Chen et al. 2026 model).",
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("--version", action="version", version=f"mudrft {__version__}")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    for module in COMMANDS.values():
+        module.add_parser(sub)
+    return p
+
+
+def _plain(message: str) -> str:
+    """One line, without numpy scalar reprs (``np.float64(1.0)`` reads ``1.0``)."""
+    return " ".join(_NUMPY_REPR.sub(r"\1", message).split())
+
+
+@contextmanager
+def _logging(quiet: bool) -> Iterator[None]:
+    """Notes and progress to the current stderr for one command; restore logging after."""
+    had = any(getattr(h, "_mudrft_stderr", False) for h in logger.handlers)
+    level = logger.level
+    handler = enable_stderr_logging(logging.WARNING if quiet else logging.INFO)
+    old_stream = None
+    if isinstance(handler, logging.StreamHandler):
+        old_stream = handler.setStream(sys.stderr)  # None if it already writes there
+    try:
+        yield
+    finally:
+        handler.flush()
+        if not had:
+            logger.removeHandler(handler)
+        elif old_stream is not None and isinstance(handler, logging.StreamHandler):
+            handler.setStream(old_stream)
+        logger.setLevel(level)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``mudrft`` command.
+
+    Parameters
+    ----------
+    argv : sequence of str or None
+        The arguments after ``mudrft`` (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 success, 1 a fit that did not converge, 2 a user error,
+        130 interrupted.
+    """
+    parser = build_parser()
+    args = parser.parse_args(None if argv is None else list(argv))
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 0
+    prog = f"mudrft {args.command}"
+    with _logging(bool(getattr(args, "quiet", False))):
+        for note in getattr(args, "deprecations", ()):
+            logger.warning("%s: warning: %s", prog, note)
+        try:
+            return int(args.func(args) or 0)
+        except MudrftError as exc:
+            _error(prog, str(exc))
+        except ModuleNotFoundError as exc:
+            top = (exc.name or "").split(".")[0]
+            if top not in EXTRAS:
+                raise
+            _error(prog, f"needs the optional package {top}: pip install 'mudrft[{EXTRAS[top]}]'")
+        except FileNotFoundError as exc:
+            _error(prog, f"{exc.filename or exc}: no such file or directory")
+        except OSError as exc:
+            where = f"{exc.filename}: " if exc.filename else ""
+            _error(prog, f"{where}{exc.strerror or exc}")
+        except KeyboardInterrupt:  # pragma: no cover - interactive
+            print(f"{prog}: interrupted", file=sys.stderr)
+            return 130
+    return 2
+
+
+def _error(prog: str, message: str) -> None:
+    print(f"{prog}: error: {_plain(message)}", file=sys.stderr)

@@ -1,0 +1,346 @@
+"""What the subcommands share: help layout, option checks, optional extras, safe outputs.
+
+Outputs are all-or-nothing. A command registers every file (or directory) it will write
+*before* it starts working, so that an existing output without ``--force``, a directory
+that is a file, or a missing parent directory is reported at once. The command writes to
+temporary names in the target's own directory; :meth:`Outputs.commit` then moves every
+file to its final name with :func:`os.replace`. When anything fails, the temporary files
+and the directories the command created are removed, so a failed command leaves nothing
+behind.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from .._progress import logger
+from .._validation import MudrftError
+
+__all__ = [
+    "EXTRAS",
+    "HelpFormatter",
+    "Outputs",
+    "add_force",
+    "check_finite_option",
+    "check_positive_option",
+    "logger",
+    "paper_mud_option",
+    "require_extra",
+    "same_file",
+]
+
+#: Optional packages and the extra of ``pip install 'mudrft[EXTRA]'`` that provides them.
+EXTRAS = {
+    "matplotlib": "plot",
+    "mujoco": "mujoco",
+    "trimesh": "mesh",
+    "jax": "jax",
+    "numba": "numba",
+    "pandas": "pandas",
+    "h5py": "hdf5",
+}
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """Help that shows each option's default, except for flags and options without one."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        default = action.default
+        if (
+            "%(default)" in text
+            or default in (None, False, argparse.SUPPRESS)
+            or not action.option_strings
+        ):
+            return text
+        if isinstance(default, list):
+            return f"{text} (default: {' '.join(map(str, default))})"
+        return f"{text} (default: %(default)s)"
+
+
+def add_force(parser: argparse.ArgumentParser, what: str = "existing output files") -> None:
+    """Add the one overwrite flag, ``--force``, to a subcommand's parser."""
+    parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
+
+
+def require_extra(module: str, *, needed_for: str) -> Any:
+    """Import an optional package, or fail with one line naming the extra to install.
+
+    Parameters
+    ----------
+    module : str
+        The package, a key of :data:`EXTRAS`.
+    needed_for : str
+        What needs it, for the message (``"mudrft walk"``, ``"--plot"``).
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise MudrftError(
+            f"{needed_for} needs the optional package {module}, which is not installed: "
+            f"pip install 'mudrft[{EXTRAS.get(module, module)}]'"
+        ) from exc
+
+
+def _number(value: float) -> str:
+    return f"{float(value):g}"
+
+
+def check_finite_option(option: str, value: float, *, unit: str = "") -> float:
+    """Return ``value`` as a float; raise naming ``option`` if it is NaN or infinite."""
+    if not math.isfinite(value):
+        where = f" [{unit}]" if unit else ""
+        raise MudrftError(f"{option} must be a finite number{where}, got {_number(value)}")
+    return float(value)
+
+
+def check_positive_option(option: str, value: float, *, unit: str = "") -> float:
+    """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0."""
+    check_finite_option(option, value, unit=unit)
+    if not value > 0:
+        raise MudrftError(f"{option} must be > 0{_unit(unit)}, got {_number(value)}")
+    return float(value)
+
+
+def _unit(unit: str) -> str:
+    return f" {unit}" if unit else ""
+
+
+def paper_mud_option(water_content: float, *, extrapolate: bool) -> Any:
+    """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
+    from ..parameters import paper_mud
+
+    check_finite_option("--water-content", water_content)
+    try:
+        return paper_mud(water_content, extrapolate=extrapolate)
+    except MudrftError as exc:
+        text = str(exc).replace("pass extrapolate=True", "pass --extrapolate")
+        if text.startswith("water_content "):
+            text = "--water-content " + text[len("water_content ") :]
+        raise MudrftError(text) from None
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether two paths name the same file (after resolving links and ``..``)."""
+    try:
+        return Path(a).resolve() == Path(b).resolve()
+    except OSError:  # pragma: no cover - unresolvable paths are different
+        return False
+
+
+class _RenameFilter(logging.Filter):
+    """Show final names, not temporary ones, in the log lines written during a command."""
+
+    def __init__(self, names: dict[str, str]) -> None:
+        super().__init__()
+        self.names = names
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        text = original = record.getMessage()
+        for tmp, final in self.names.items():
+            text = text.replace(tmp, final)
+        if text != original:
+            record.msg, record.args = text, ()
+        return True
+
+
+class Outputs:
+    """The files one command writes, written all-or-nothing.
+
+    Use it as a context manager: on leaving the block normally every registered output is
+    moved to its final name; on an exception nothing of the command's stays behind.
+
+    Parameters
+    ----------
+    force : bool, keyword-only
+        Replace existing outputs (the ``--force`` flag).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> with Outputs(force=False) as out:
+    ...     out.file("--out", d / "a.txt").write_text("hello")
+    5
+    >>> sorted(p.name for p in d.iterdir())
+    ['a.txt']
+    >>> import shutil; shutil.rmtree(d)
+    """
+
+    def __init__(self, *, force: bool) -> None:
+        self.force = bool(force)
+        self._files: list[tuple[Path, Path, str]] = []  # (temporary, final, option)
+        self._stages: list[tuple[Path, Path, str]] = []  # (staging dir, final dir, option)
+        self._made: list[Path] = []  # directories this command created, outermost first
+        self._filter = _RenameFilter({})
+        #: The final paths, once :meth:`commit` has moved the outputs there.
+        self.written: list[Path] = []
+
+    # -- registration -------------------------------------------------------------------
+    def file(self, option: str, path: str | Path) -> Path:
+        """Register the output file ``path`` of ``option``; return the name to write to.
+
+        The directory of ``path`` must exist. The returned temporary name is in that
+        directory and keeps the suffix of ``path`` (so writers that look at it, such as
+        matplotlib's ``savefig``, choose the right format).
+        """
+        final = Path(path)
+        self._check_parents(option, final)
+        if not final.parent.is_dir():
+            raise MudrftError(
+                f"{option} {str(final)!r}: the directory {str(final.parent)!r} does not exist"
+            )
+        if final.is_dir():
+            raise MudrftError(f"{option} {str(final)!r} is a directory, expected a file name")
+        self._check_free(option, final)
+        for _, other, other_option in self._files:
+            if same_file(other, final):
+                raise MudrftError(f"{option} and {other_option} name the same file {str(final)!r}")
+        fd, name = self._mkstemp(option, final)
+        os.close(fd)
+        tmp = Path(name)
+        self._files.append((tmp, final, option))
+        self._filter.names[str(tmp)] = str(final)
+        return tmp
+
+    def directory(self, option: str, path: str | Path, names: Iterable[str]) -> Path:
+        """Register the output directory ``path``; return a staging directory to write in.
+
+        ``names`` are the files the command may write there; those that exist are an
+        error without ``--force``. ``path`` and its missing parents are created (and
+        removed again if the command fails).
+        """
+        final = Path(path)
+        self._check_parents(option, final)
+        if final.exists() and not final.is_dir():
+            raise MudrftError(f"{option} {str(final)!r} exists and is not a directory")
+        for name in names:
+            self._check_free(option, final / name)
+        self._mkdirs(option, final)
+        try:
+            stage = Path(tempfile.mkdtemp(prefix=".mudrft-", suffix=".tmp", dir=final))
+        except OSError as exc:
+            raise MudrftError(
+                f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
+            ) from exc
+        self._stages.append((stage, final, option))
+        self._filter.names[str(stage)] = str(final)
+        return stage
+
+    # -- checks -------------------------------------------------------------------------
+    def _check_free(self, option: str, path: Path) -> None:
+        if path.exists() and not self.force:
+            raise MudrftError(f"{option}: {str(path)!r} exists; pass --force to overwrite it")
+
+    @staticmethod
+    def _check_parents(option: str, path: Path) -> None:
+        for parent in path.parents:
+            if parent.exists():
+                if not parent.is_dir():
+                    raise MudrftError(
+                        f"{option} {str(path)!r}: {str(parent)!r} is a file, not a directory"
+                    )
+                return
+
+    def _mkdirs(self, option: str, path: Path) -> None:
+        missing = [p for p in (path, *path.parents) if not p.exists()]
+        for p in reversed(missing):
+            try:
+                p.mkdir()
+            except FileExistsError:
+                continue
+            except OSError as exc:
+                raise MudrftError(
+                    f"{option} {str(path)!r}: cannot create {str(p)!r}: {exc.strerror or exc}"
+                ) from exc
+            self._made.append(p)
+
+    @staticmethod
+    def _mkstemp(option: str, final: Path) -> tuple[int, str]:
+        try:
+            return tempfile.mkstemp(
+                prefix=f".{final.stem}.", suffix=f".tmp{final.suffix}", dir=final.parent
+            )
+        except OSError as exc:
+            raise MudrftError(
+                f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
+            ) from exc
+
+    # -- the end ------------------------------------------------------------------------
+    def commit(self) -> list[Path]:
+        """Move every output to its final name; return the final paths (also ``written``)."""
+        moves: list[tuple[Path, Path, str]] = list(self._files)
+        for stage, final, option in self._stages:
+            moves += [(item, final / item.name, option) for item in sorted(stage.iterdir())]
+        for _, final, option in moves:  # also an output that was not announced
+            self._check_free(option, final)
+        for tmp, final, option in moves:
+            try:
+                os.replace(tmp, final)
+            except OSError as exc:
+                raise MudrftError(
+                    f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
+                ) from exc
+            self.written.append(final)
+        for stage, _, _ in self._stages:
+            shutil.rmtree(stage, ignore_errors=True)
+        self._files, self._stages, self._made = [], [], []
+        return self.written
+
+    def discard(self) -> None:
+        """Remove the temporary files and the directories this command created."""
+        for tmp, _, _ in self._files:
+            tmp.unlink(missing_ok=True)
+        for stage, _, _ in self._stages:
+            shutil.rmtree(stage, ignore_errors=True)
+        for d in reversed(self._made):
+            try:
+                d.rmdir()
+            except OSError:  # not empty: something else wrote there meanwhile
+                break
+        self._files, self._stages, self._made = [], [], []
+
+    @contextmanager
+    def _renaming_logs(self) -> Iterator[None]:
+        handlers = [h for h in logger.handlers if not isinstance(h, logging.NullHandler)]
+        for h in handlers:
+            h.addFilter(self._filter)
+        try:
+            yield
+        finally:
+            for h in handlers:
+                h.removeFilter(self._filter)
+
+    def __enter__(self) -> Outputs:
+        self._logs = self._renaming_logs()
+        self._logs.__enter__()
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        try:
+            if exc_type is None:
+                try:
+                    self.commit()
+                except BaseException:
+                    self.discard()
+                    raise
+            else:
+                self.discard()
+        finally:
+            self._logs.__exit__(None, None, None)

@@ -1,0 +1,154 @@
+"""``mudrft calibrate``: fit the model to intrusion logs from the command line.
+
+::
+
+    mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
+                     [--area A] [--length L] [--groups b th s] [--starts K]
+                     --out fit.json [--force] [--plot fit.png] [--quiet]
+
+Progress goes to stderr, one line per stage; the parameter table to stdout. The JSON
+(:meth:`mudrft.calibration.FitResult.to_json`) loads back with
+``mudrft.calibration.load_parameters(path)``. An existing output file is never replaced
+without ``--force`` (``--overwrite`` is its deprecated old name).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from typing import Any
+
+from .._validation import MudrftError
+from ._common import HelpFormatter, Outputs, add_force, logger, require_extra, same_file
+
+__all__ = ["add_parser", "run"]
+
+DESCRIPTION = (
+    "Fit the mud model (Chen et al. 2026) to plate-intrusion logs: bounded least squares, "
+    "phase by phase (intrusion, relaxation, retraction) then jointly; prints parameters "
+    "with standard errors, confidence intervals and an identifiability verdict, and writes "
+    "them as JSON. CSV columns: 'time [s]', 'depth [m]' and 'stress [Pa]' or 'Fz [N]' "
+    "(units such as ms, mm, kPa, MPa are converted), optional 'trial' column."
+)
+
+
+class _DeprecatedForce(argparse.Action):
+    """An old name of ``--force``: sets it and leaves a deprecation note for ``main``."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, nargs=0, **kwargs)
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        namespace.force = True
+        notes = [*getattr(namespace, "deprecations", ())]
+        notes.append(f"{option_string} is deprecated and will be removed; use --force")
+        namespace.deprecations = notes
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft calibrate`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "calibrate",
+        help="fit the model to your own intrusion logs",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("data", nargs="+", help="intrusion log(s): CSV, or HDF5 (.h5/.hdf5)")
+    p.add_argument(
+        "--direction",
+        choices=["vertical", "horizontal"],
+        default=None,
+        help="loading direction of the tests (default: the file's, else vertical)",
+    )
+    p.add_argument(
+        "--area",
+        type=float,
+        default=None,
+        help="plate area [m^2], needed when the log has a force column",
+    )
+    p.add_argument(
+        "--length",
+        type=float,
+        default=None,
+        help="plate characteristic length L_c [m] (default: the file's, else 0.05)",
+    )
+    p.add_argument(
+        "--groups",
+        nargs="+",
+        default=["all"],
+        help="what to fit: all, b, th, s, or parameter names",
+    )
+    p.add_argument(
+        "--starts", type=int, default=1, help="multi-start: grid points refined per phase stage"
+    )
+    p.add_argument(
+        "--decimate",
+        type=int,
+        default=1,
+        help="keep every K-th sample of each trial (for kHz logs)",
+    )
+    p.add_argument(
+        "--confidence", type=float, default=0.95, help="level of the confidence intervals"
+    )
+    p.add_argument("--out", default=None, help="write the fit to this JSON file")
+    add_force(p, "--out and --plot if they exist")
+    p.add_argument(
+        "--overwrite", action=_DeprecatedForce, default=argparse.SUPPRESS, help=argparse.SUPPRESS
+    )
+    p.add_argument(
+        "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Fit, print the table, write ``--out``/``--plot``; returns 0, or 1 if the fit failed."""
+    from ..calibration.fit import calibrate
+    from ..io import load_dataset
+
+    for option in ("out", "plot"):
+        target = getattr(args, option)
+        if target and any(same_file(target, d) for d in args.data):
+            raise MudrftError(f"--{option} {target!r} names an input file; choose another name")
+    if args.plot:
+        require_extra("matplotlib", needed_for="--plot")
+    opts: dict[str, Any] = {"area": args.area, "characteristic_length": args.length}
+    if args.direction:
+        opts["direction"] = args.direction
+    with Outputs(force=args.force) as outputs:
+        json_tmp = outputs.file("--out", args.out) if args.out else None
+        plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
+        ds = load_dataset(args.data if len(args.data) > 1 else args.data[0], **opts)
+        fit = calibrate(
+            ds,
+            args.direction,
+            groups=args.groups,
+            starts=args.starts,
+            confidence_level=args.confidence,
+            progress=None if args.quiet else logger.info,
+            decimate=args.decimate,
+        )
+        print(fit.summary())
+        if ds.synthetic:
+            print("note: the data say they are synthetic (generated by a model, not measured)")
+        if json_tmp is not None:
+            fit.to_json(json_tmp, overwrite=True)
+        if plot_tmp is not None:
+            fig = fit.plot()
+            import matplotlib.pyplot as plt
+
+            try:
+                fig.savefig(plot_tmp, dpi=120)
+            finally:
+                plt.close(fig)
+    for path in outputs.written:
+        print(f"wrote {path}")
+    return 0 if fit.success else 1

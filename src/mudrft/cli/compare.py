@@ -1,0 +1,178 @@
+"""``mudrft compare``: the mud model against the baseline terrains (Figs. S5, S6).
+
+Runs the vertical plate test (``mudrft.plate_intrusion``) and one gait cycle
+(``mudrft.gait``) through the mud model and every baseline of :mod:`mudrft.baselines`,
+and writes ``DIR/compare.csv`` (long format, ``mudrft.baselines.CSV_COLUMNS``),
+``DIR/compare_summary.csv`` (peak support, suction, impulses, energy per run) and the
+figures ``DIR/compare_s6.png`` and ``DIR/compare_gait.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+from typing import Any
+
+from ._common import (
+    HelpFormatter,
+    Outputs,
+    add_force,
+    check_finite_option,
+    check_positive_option,
+    require_extra,
+)
+
+__all__ = ["FILES", "add_parser", "run", "write_comparison"]
+
+DESCRIPTION = (
+    "Run the vertical plate test and one gait cycle through the mud model and the baseline "
+    "terrains (granular RFT, linear stiffness, Maxwell-type mud, rigid ground), and write "
+    "DIR/compare.csv (every sample, long format), DIR/compare_summary.csv (peak support, "
+    "suction, impulses and energy per run) and the figures DIR/compare_s6.png and "
+    "DIR/compare_gait.png (as in the paper's Figs. S5 and S6)."
+)
+
+#: The files ``mudrft compare`` writes in its directory: key -> (name, is a figure).
+FILES = {
+    "csv": ("compare.csv", False),
+    "summary": ("compare_summary.csv", False),
+    "s6": ("compare_s6.png", True),
+    "gait": ("compare_gait.png", True),
+}
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft compare`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "compare",
+        help="mud model vs granular RFT, linear, Maxwell-type and rigid ground -> DIR/compare.csv",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument(
+        "--foot",
+        default="flat",
+        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
+    )
+    p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
+    p.add_argument("--water-content", type=float, default=0.25, help="mud water content W [-]")
+    p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
+    p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
+    p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    add_force(p, "existing results in DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=run)
+    return p
+
+
+def write_comparison(
+    foot: Any,
+    out: str | Path,
+    *,
+    water_content: float = 0.25,
+    speed: float = 0.2,
+    depth: float = 0.03,
+    hold: float = 1.0,
+    figures: bool = True,
+    force: bool = False,
+    quiet: bool = False,
+) -> dict[str, Path]:
+    """Run and write what ``mudrft compare`` writes; all files or none.
+
+    Parameters
+    ----------
+    foot : Foot
+        The foot.
+    out : str or Path
+        Output directory (created, with its parents, if missing).
+    water_content : float, keyword-only
+        Mud water content [-].
+    speed : float, keyword-only
+        Gait speed [m/s].
+    depth : float, keyword-only
+        Plate intrusion depth and deepest gait depth [m].
+    hold : float, keyword-only
+        Hold time of the plate test [s].
+    figures : bool, keyword-only
+        Write the PNG figures (needs matplotlib).
+    force : bool, keyword-only
+        Overwrite existing files.
+    quiet : bool, keyword-only
+        No progress lines on stderr.
+
+    Returns
+    -------
+    dict of str to Path
+        The paths written, by key of :data:`FILES`.
+    """
+    from ..baselines.compare import compare, summarize, write_csv
+    from ..trajectories import gait, plate_intrusion
+
+    keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
+    with Outputs(force=force) as outputs:
+        stage = outputs.directory("--out", out, [FILES[k][0] for k in keys])
+        runs = {
+            "plate": compare(
+                foot,
+                plate_intrusion(depth=depth, hold=hold),
+                water_content=water_content,
+                progress=not quiet,
+            ),
+            "gait": compare(
+                foot, gait(speed, depth=depth), water_content=water_content, progress=not quiet
+            ),
+        }
+        write_csv(runs, stage / FILES["csv"][0], overwrite=True)
+        rows = [{"trajectory": k, **r} for k, h in runs.items() for r in summarize(h)]
+        with (stage / FILES["summary"][0]).open("w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            for r in rows:
+                w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+        if figures:
+            from ..baselines.plots import plot_gait, plot_s6
+            from ..plotting import require_matplotlib
+
+            plt = require_matplotlib()
+            title = f"{foot.name} foot, one gait cycle at {speed:g} m/s"
+            makers = {
+                "s6": lambda: plot_s6(runs["plate"]),
+                "gait": lambda: plot_gait(runs["gait"], title=title),
+            }
+            for key, make in makers.items():
+                fig = make()
+                try:
+                    fig.savefig(stage / FILES[key][0], dpi=120)
+                finally:
+                    plt.close(fig)
+    return {k: Path(out) / FILES[k][0] for k in keys}
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``mudrft compare`` with parsed arguments; returns the exit status (0)."""
+    from ..feet import by_name
+
+    speed = check_positive_option("--speed", args.speed, unit="m/s")
+    depth = check_positive_option("--depth", args.depth, unit="m")
+    hold = check_finite_option("--hold", args.hold, unit="s")
+    water_content = check_finite_option("--water-content", args.water_content)
+    figures = not args.no_figures
+    if figures:
+        require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
+    foot = by_name(args.foot)
+    paths = write_comparison(
+        foot,
+        args.out,
+        water_content=water_content,
+        speed=speed,
+        depth=depth,
+        hold=hold,
+        figures=figures,
+        force=args.force,
+        quiet=args.quiet,
+    )
+    for p in paths.values():
+        print(f"wrote {p}")
+    return 0

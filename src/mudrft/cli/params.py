@@ -1,0 +1,57 @@
+"""``mudrft params``: the built-in parameter sets, as a table in SI units."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from ._common import HelpFormatter
+
+__all__ = ["add_parser", "run"]
+
+DESCRIPTION = (
+    "List the parameter sets of Chen et al. (2026), Tables S1 (vertical) and S2 "
+    "(horizontal), converted to SI units, one row per tabulated water content. Rows whose "
+    "yield stress sigma_y does not satisfy the paper's own relation "
+    "sigma_y = (eta_m - eta_inf) * gamma_dot_c are flagged."
+)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft params`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "params",
+        help="list the built-in parameter sets",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the parameter tables to stdout; returns the exit status (0)."""
+    from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
+    from ..parameters.chen2026 import TABLE_NAME
+
+    names = list(PARAMETER_UNITS)[:10]
+    for d in DIRECTIONS:
+        print(f"Chen et al. 2026, {TABLE_NAME[d]} -- SI units")
+        head = ["W"] + [f"{n} [{PARAMETER_UNITS[n]}]" for n in names]
+        print("  " + "  ".join(f"{h:>14s}" for h in head))
+        checks = {c["water_content"]: c for c in sigma_y_consistency(d)}
+        for w, row in table_rows(d).items():
+            vals = [f"{w * 100:>13g}%"] + [f"{row[n]:>14.6g}" for n in names]
+            flag = (
+                ""
+                if checks[w]["consistent"]
+                else (
+                    "   (sigma_y violates (eta_m-eta_inf)*gamma_dot_c = "
+                    f"{checks[w]['sigma_y_relation']:.4g} Pa)"
+                )
+            )
+            print("  " + "  ".join(vals) + flag)
+        print()
+    print("Between rows the sets are interpolated (log-linear); see docs/model.md, decision D7.")
+    print("nu = 0.01 1/s and k_a = 1/lam are model choices (decisions D5, D8), not table values.")
+    return 0

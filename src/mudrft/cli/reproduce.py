@@ -1,0 +1,60 @@
+"""``mudrft reproduce``: the paper's comparisons, written to one directory."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from ._common import HelpFormatter, Outputs, add_force, require_extra
+
+__all__ = ["add_parser", "run"]
+
+DESCRIPTION = (
+    "Run every foot (flat, semi-cylinder, semi-sphere, morphing) through one stepping cycle "
+    "at the paper's three gait speeds and tabulated water contents, plus a load-controlled "
+    "settle for the sinking depth, and write DIR/summary.csv (one row per foot, speed and "
+    "water content), DIR/report.md (each result beside the paper's claim, with a verdict) "
+    "and figures like the paper's Figs. 9, 10, 12 and 13 (PNG)."
+)
+
+#: What ``mudrft reproduce`` writes in its directory.
+TABLES = ("summary.csv", "report.md")
+FIGURES = (
+    "fig09_forces.png",
+    "fig10_normalized.png",
+    "fig12_hysteresis.png",
+    "fig13_suction_energy.png",
+)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft reproduce`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "reproduce",
+        help="the paper's comparisons: summary.csv, figures, report.md",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("--out", default="mudrft-results", help="output directory DIR")
+    add_force(p, "existing results in DIR")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run :func:`mudrft.reproduce.reproduce` into ``--out``; returns the exit status (0)."""
+    from ..reproduce import reproduce
+
+    figures = not args.no_figures
+    if figures:
+        require_extra("matplotlib", needed_for="the figures of mudrft reproduce (or --no-figures)")
+    names = TABLES + (FIGURES if figures else ())
+    with Outputs(force=args.force) as outputs:
+        stage = outputs.directory("--out", args.out, names)
+        reproduce(stage, force=True, figures=figures, quiet=args.quiet)
+    written = ", ".join(p.name for p in outputs.written)
+    print(f"results in {Path(args.out)}: {written}")
+    return 0

@@ -1,0 +1,100 @@
+"""``mudrft simulate``: one stepping cycle of a foot in the paper's mud, to a CSV file."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from .._validation import MudrftError
+from ._common import (
+    HelpFormatter,
+    Outputs,
+    add_force,
+    check_positive_option,
+    logger,
+    paper_mud_option,
+    require_extra,
+    same_file,
+)
+
+__all__ = ["add_parser", "run"]
+
+DESCRIPTION = (
+    "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait) of a foot through "
+    "the paper's mud at the given water content and speed, and write the tip position and "
+    "the force of the mud on the foot to a CSV file with the columns "
+    "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints the cycle's metrics (peak "
+    "support, suction, impulses, energy)."
+)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft simulate`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "simulate",
+        help="one stepping cycle of a foot in mud -> run.csv",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument(
+        "--foot",
+        required=True,
+        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
+    )
+    p.add_argument(
+        "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
+    )
+    p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
+    p.add_argument("--depth", type=float, default=0.03, help="deepest tip depth [m]")
+    p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
+    p.add_argument(
+        "--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])"
+    )
+    p.add_argument("--plot", help="also write a PNG figure here (needs mudrft[plot])")
+    p.add_argument(
+        "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
+    )
+    add_force(p, "--out and --plot if they exist")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
+    from ..feet import by_name
+    from ..simulation import simulate
+    from ..trajectories import gait
+
+    speed = check_positive_option("--speed", args.speed, unit="m/s")
+    depth = check_positive_option("--depth", args.depth, unit="m")
+    dt = check_positive_option("--dt", args.dt, unit="s")
+    for option, path in (("--out", args.out), ("--plot", args.plot)):
+        if path and same_file(path, args.foot):
+            raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")
+    if args.plot:
+        require_extra("matplotlib", needed_for="--plot")
+    foot = by_name(args.foot)
+    mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
+    with Outputs(force=args.force) as outputs:
+        csv_tmp = outputs.file("--out", args.out)
+        plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
+        logger.info(
+            "simulating %s foot, W = %g %%, %g m/s", foot.name, args.water_content * 100, speed
+        )
+        res = simulate(foot, mud, gait(speed, depth=depth, dt=dt), progress=not args.quiet)
+        res.to_csv(csv_tmp, overwrite=True)
+        if plot_tmp is not None:
+            fig = res.plot()
+            import matplotlib.pyplot as plt
+
+            try:
+                fig.savefig(plot_tmp, dpi=120)
+            finally:
+                plt.close(fig)
+    print(f"wrote {args.out}")
+    for k, v in res.metrics().items():
+        print(f"  {k:14s} {v: .6g}")
+    if args.plot:
+        print(f"wrote {args.plot}")
+    return 0

@@ -1,0 +1,127 @@
+"""``mudrft walk``: a planar biped walking in mud (MuJoCo), written to one directory."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from typing import Any
+
+from ._common import (
+    HelpFormatter,
+    Outputs,
+    add_force,
+    check_finite_option,
+    check_positive_option,
+    logger,
+    paper_mud_option,
+    require_extra,
+)
+
+__all__ = ["FILES", "add_parser", "run"]
+
+DESCRIPTION = (
+    "Walk a 10 kg planar biped in mud with the chosen foot and write DIR/walk.csv (per "
+    "physics step), DIR/steps.csv (per gait step), DIR/summary.json (fell, distance, energy "
+    "per step, mean sinking, max suction, ...), DIR/walk.png and, when offscreen rendering "
+    "works, DIR/frames.png. Needs MuJoCo: pip install 'mudrft[mujoco]'."
+)
+
+#: The files ``mudrft walk`` may write in its directory.
+FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft walk`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "walk",
+        help="a planar biped walking in mud (MuJoCo): walk.csv, summary.json, walk.png",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument(
+        "--foot",
+        default="flat",
+        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply) in metres",
+    )
+    p.add_argument(
+        "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
+    )
+    p.add_argument("--seconds", type=float, default=10.0, help="simulated time [s]")
+    p.add_argument("--out", required=True, help="output directory DIR")
+    p.add_argument("--dt", type=float, default=1e-3, help="physics time step [s]")
+    p.add_argument("--speed", type=float, default=0.1, help="walking speed command [m/s]")
+    p.add_argument("--step-time", type=float, default=1.0, help="duration of a step [s]")
+    p.add_argument(
+        "--bottom", type=float, default=0.15, help="depth of the rigid bed under the mud [m]"
+    )
+    p.add_argument(
+        "--explicit", action="store_true", help="explicit coupling (no stabilisation; for study)"
+    )
+    p.add_argument(
+        "--extrapolate", action="store_true", help="allow water contents outside 0.25-0.45"
+    )
+    p.add_argument("--no-render", action="store_true", help="skip the rendered image strip")
+    add_force(p, "existing results in DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Walk the biped and write ``DIR``; returns the exit status (0)."""
+    os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
+    from .._progress import Progress
+    from ..feet import by_name
+
+    seconds = check_positive_option("--seconds", args.seconds, unit="s")
+    dt = check_positive_option("--dt", args.dt, unit="s")
+    step_time = check_positive_option("--step-time", args.step_time, unit="s")
+    bottom = check_positive_option("--bottom", args.bottom, unit="m")
+    speed = check_finite_option("--speed", args.speed, unit="m/s")
+    require_extra("mujoco", needed_for="mudrft walk")
+    require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
+    from ..integrations import walk as W
+
+    foot = by_name(args.foot)
+    mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
+    with Outputs(force=args.force) as outputs:
+        stage = outputs.directory("--out", args.out, FILES)
+        logger.info(
+            "mudrft walk: %s feet, W = %g, %g s at dt = %g s",
+            foot.name,
+            args.water_content,
+            seconds,
+            dt,
+        )
+        t0 = time.perf_counter()
+        res = W.walk(
+            foot,
+            mud,
+            seconds=seconds,
+            dt=dt,
+            speed=speed,
+            step_time=step_time,
+            bottom=bottom,
+            implicit=not args.explicit,
+            frames=0 if args.no_render else 6,
+            progress=None if args.quiet else Progress("walking"),
+        )
+        s = res.summary
+        s["water_content"] = float(args.water_content)
+        s["wall_time [s]"] = round(time.perf_counter() - t0, 3)
+        W._write_csv(stage / "walk.csv", res.table, W.WALK_COLUMNS)
+        W._write_csv(stage / "steps.csv", res.steps, W.STEP_COLUMNS)
+        W.plot_walk(res, stage / "walk.png")
+        strip = W.save_strip(res.frames, stage / "frames.png")
+        s["frames"] = strip.name if strip is not None else None
+        (stage / "summary.json").write_text(json.dumps(s, indent=2) + "\n")
+    print(
+        f"{'FELL' if s['fell'] else 'walked'} {s['distance [m]']:.3f} m in {s['seconds']:.2f} s; "
+        f"{s['energy_per_step [J]']:.3f} J/step; sinking {1e3 * s['mean_sinking [m]']:.1f} mm; "
+        f"max suction {s['max_suction [N]']:.2f} N"
+    )
+    for path in outputs.written:
+        print(f"wrote {path}")
+    return 0

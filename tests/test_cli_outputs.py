@@ -1,0 +1,258 @@
+"""Files written by the mudrft command: never replaced without --force, all or nothing.
+
+Every test goes through ``mudrft.cli.main`` only, so that each can be run against an
+older command line as well.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+from pathlib import Path
+
+import pytest
+
+import mudrft
+from mudrft.cli import main
+
+FAST = ("--dt", "0.004", "--quiet")  # a coarse, quiet gait cycle: the command is tested
+
+
+def run(capsys, *args):
+    code = main([str(a) for a in args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def listing(path):
+    """Every file and directory under ``path``, hidden ones included."""
+    return sorted(str(p.relative_to(path)) for p in path.rglob("*"))
+
+
+def one_line_error(code, err, *needles):
+    assert code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    for needle in needles:
+        assert needle in err, err
+
+
+@pytest.fixture
+def plot_fails(monkeypatch):
+    def broken(self, **kw):
+        raise mudrft.MudrftError("the figure could not be drawn")
+
+    monkeypatch.setattr(mudrft.simulation.Result, "plot", broken)
+
+
+# --------------------------------------------------------------------------------------
+# --force
+# --------------------------------------------------------------------------------------
+def test_simulate_refuses_to_overwrite_an_existing_plot(tmp_path, capsys):
+    fig = tmp_path / "fig.png"
+    fig.write_bytes(b"my figure")
+    code, _, err = run(
+        capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv", "--plot", fig
+    )
+    one_line_error(code, err, "--plot", "--force")
+    assert fig.read_bytes() == b"my figure"
+    assert listing(tmp_path) == ["fig.png"]  # and no run.csv either
+
+
+def test_simulate_force_replaces_both_outputs(tmp_path, capsys):
+    out, fig = tmp_path / "run.csv", tmp_path / "fig.png"
+    out.write_text("old")
+    fig.write_bytes(b"old")
+    code, stdout, _ = run(
+        capsys, "simulate", "--foot", "flat", *FAST, "--out", out, "--plot", fig, "--force"
+    )
+    assert code == 0 and f"wrote {out}" in stdout and f"wrote {fig}" in stdout
+    assert out.read_text().startswith("time [s]") and fig.read_bytes()[:4] == b"\x89PNG"
+    assert listing(tmp_path) == ["fig.png", "run.csv"]
+
+
+def test_bench_refuses_to_overwrite_an_existing_json(tmp_path, capsys, monkeypatch):
+    import mudrft.bench
+
+    monkeypatch.setattr(mudrft.bench, "run_benchmarks", lambda **kw: {"speed": 1.0})
+    monkeypatch.setattr(mudrft.bench, "summary_lines", lambda res: ["fast"])
+    target = tmp_path / "bench.json"
+    target.write_text("keep me")
+    code, _, err = run(capsys, "bench", "--quick", "--json", target)
+    one_line_error(code, err, "--json", "--force")
+    assert target.read_text() == "keep me"
+    code, out, _ = run(capsys, "bench", "--quick", "--json", target, "--force", "--quiet")
+    assert code == 0 and "fast" in out
+    assert json.loads(target.read_text()) == {"speed": 1.0}
+    assert listing(tmp_path) == ["bench.json"]
+
+
+def test_calibrate_takes_force_and_still_accepts_overwrite_with_a_warning(tmp_path, capsys):
+    data = tmp_path / "log.csv"
+    mudrft.calibration.save_intrusion_csv(mudrft.calibration.example_dataset("vertical"), data)
+    out = tmp_path / "fit.json"
+    out.write_text("{}")
+    common = ("calibrate", data, "--groups", "alpha", "--quiet", "--out", out)
+    code, _, err = run(capsys, *common)
+    one_line_error(code, err, "--force")
+    assert out.read_text() == "{}"
+    assert run(capsys, *common, "--force")[0] == 0
+    assert json.loads(out.read_text())["free"] == ["alpha"]
+    out.write_text("{}")
+    code, _, err = run(capsys, *common, "--overwrite")
+    assert code == 0 and "--overwrite is deprecated" in err and "--force" in err
+    assert json.loads(out.read_text())["free"] == ["alpha"]
+
+
+# --------------------------------------------------------------------------------------
+# all or nothing
+# --------------------------------------------------------------------------------------
+def test_simulate_whose_plot_fails_leaves_no_csv(tmp_path, capsys, plot_fails):
+    code, _, err = run(
+        capsys,
+        *("simulate", "--foot", "flat", *FAST),
+        *("--out", tmp_path / "run.csv", "--plot", tmp_path / "fig.png"),
+    )
+    one_line_error(code, err, "could not be drawn")
+    assert listing(tmp_path) == []
+
+
+def test_simulate_whose_plot_fails_keeps_the_old_csv_under_force(tmp_path, capsys, plot_fails):
+    out = tmp_path / "run.csv"
+    out.write_text("the previous run")
+    code, _, _ = run(
+        capsys,
+        *("simulate", "--foot", "flat", *FAST, "--force"),
+        *("--out", out, "--plot", tmp_path / "fig.png"),
+    )
+    assert code == 2 and out.read_text() == "the previous run"
+    assert listing(tmp_path) == ["run.csv"]
+
+
+def test_calibrate_whose_plot_fails_leaves_no_json(tmp_path, capsys, monkeypatch):
+    def broken(self, **kw):
+        raise mudrft.MudrftError("the figure could not be drawn")
+
+    monkeypatch.setattr(mudrft.calibration.FitResult, "plot", broken)
+    data = tmp_path / "in" / "log.csv"
+    data.parent.mkdir()
+    mudrft.calibration.save_intrusion_csv(mudrft.calibration.example_dataset("vertical"), data)
+    outdir = tmp_path / "out"
+    outdir.mkdir()
+    code, _, err = run(
+        capsys,
+        *("calibrate", data, "--groups", "alpha", "--quiet"),
+        *("--out", outdir / "fit.json", "--plot", outdir / "fit.png"),
+    )
+    one_line_error(code, err, "could not be drawn")
+    assert listing(outdir) == []
+
+
+def test_failed_walk_leaves_no_directory(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("mujoco")
+    import mudrft.integrations.walk as W
+
+    def broken(*args, **kw):
+        raise mudrft.MudrftError("the biped could not be built")
+
+    monkeypatch.setattr(W, "walk", broken)
+    out = tmp_path / "runs" / "walk1"
+    code, _, err = run(capsys, "walk", "--out", out, "--seconds", "0.1", "--quiet")
+    one_line_error(code, err, "could not be built")
+    assert listing(tmp_path) == []
+
+
+def test_failed_compare_leaves_no_directory(tmp_path, capsys, monkeypatch):
+    C = importlib.import_module("mudrft.baselines.compare")
+
+    real = C.compare
+    calls = []
+
+    def fails_second_time(*args, **kw):
+        calls.append(1)
+        if len(calls) > 1:
+            raise mudrft.MudrftError("the gait run failed")
+        return real(*args, **kw)
+
+    monkeypatch.setattr(C, "compare", fails_second_time)
+    out = tmp_path / "cmp"
+    code, _, err = run(
+        capsys, "compare", "--out", out, "--depth", "0.01", "--hold", "0.05", "--quiet"
+    )
+    one_line_error(code, err, "gait run failed")
+    assert listing(tmp_path) == []
+
+
+def test_failed_compare_keeps_an_existing_directory_and_its_files(tmp_path, capsys, monkeypatch):
+    C = importlib.import_module("mudrft.baselines.compare")
+
+    def broken(*args, **kw):
+        raise mudrft.MudrftError("the plate run failed")
+
+    monkeypatch.setattr(C, "compare", broken)
+    (tmp_path / "notes.txt").write_text("mine")
+    (tmp_path / "compare.csv").write_text("old results")
+    code, _, _ = run(capsys, "compare", "--out", tmp_path, "--force", "--quiet")
+    assert code == 2
+    assert listing(tmp_path) == ["compare.csv", "notes.txt"]
+    assert (tmp_path / "compare.csv").read_text() == "old results"
+
+
+def test_failed_reproduce_leaves_nothing(tmp_path, capsys, monkeypatch):
+    import mudrft.reproduce as R
+
+    def half_done(out, **kw):
+        Path(out).mkdir(parents=True, exist_ok=True)
+        (Path(out) / "summary.csv").write_text("foot\n")
+        raise mudrft.MudrftError("a run failed")
+
+    monkeypatch.setattr(R, "reproduce", half_done)
+    out = tmp_path / "results"
+    code, _, err = run(capsys, "reproduce", "--out", out, "--no-figures", "--quiet")
+    one_line_error(code, err, "a run failed")
+    assert listing(tmp_path) == []
+
+
+def test_compare_out_under_a_file_is_a_one_line_error(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    code, _, err = run(capsys, "compare", "--out", tmp_path / "file" / "x", "--no-figures")
+    one_line_error(code, err, "is a file, not a directory")
+    code, _, err = run(capsys, "walk", "--out", tmp_path / "file" / "x", "--seconds", "0.1")
+    one_line_error(code, err)
+    assert listing(tmp_path) == ["file"]
+
+
+def test_outputs_under_a_file_or_in_a_missing_directory(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    for out, needle in [
+        (tmp_path / "file" / "r.csv", "not a directory"),
+        (tmp_path / "no" / "r.csv", "does not exist"),
+    ]:
+        code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", out)
+        one_line_error(code, err, "--out", needle)
+    assert listing(tmp_path) == ["file"]
+
+
+def test_simulate_never_writes_over_its_input_mesh(tmp_path, capsys):
+    stl = tmp_path / "foot.stl"
+    stl.write_text("solid my_foot\nendsolid my_foot\n")
+    before = stl.read_bytes()
+    code, _, err = run(capsys, "simulate", "--foot", stl, "--out", stl, "--force")
+    one_line_error(code, err, "--foot")
+    assert stl.read_bytes() == before
+
+
+def test_successful_commands_leave_no_temporary_files(tmp_path, capsys):
+    code, _, _ = run(
+        capsys,
+        "compare",
+        "--out",
+        tmp_path / "a" / "b",
+        "--depth",
+        "0.01",
+        "--hold",
+        "0.05",
+        "--quiet",
+        "--no-figures",
+    )
+    assert code == 0
+    assert listing(tmp_path) == ["a", "a/b", "a/b/compare.csv", "a/b/compare_summary.csv"]
