@@ -50,7 +50,9 @@ def _mud_path_outputs():
     st = terrain.initial_state(foot, np.zeros(3))
     out["MudTerrain, one foot"] = terrain.step(foot, st, pos, vel, 1e-3)[1].stress
     stb = terrain.initial_state(foot, np.zeros((2, 3)))
-    out["MudTerrain, batch"] = terrain.step(foot, stb, np.tile(pos, (2, 1)), np.tile(vel, (2, 1)), 1e-3)[1].stress
+    out["MudTerrain, batch"] = terrain.step(
+        foot, stb, np.tile(pos, (2, 1)), np.tile(vel, (2, 1)), 1e-3
+    )[1].stress
     sim = BatchedMud(mud, foot, 3)
     sim.step(np.tile(pos, (3, 1)), np.tile(vel, (3, 1)), 1e-3)
     out["BatchedMud numpy"] = sim.stress
@@ -84,9 +86,9 @@ def test_patching_the_constitutive_step_changes_the_jax_path(patched):
     mjax.enable_x64()
     p = mjax.to_jax(mudrft.paper_parameters(0.25))
     # the un-jitted functions trace the module attribute at call time
-    from mudrft.constitutive import dynamics
-
     import jax.numpy as jnp
+
+    from mudrft.constitutive import dynamics
 
     _, s = dynamics.step(p, mjax.initial_state(), 0.1, 1.0, 0.01, xp=jnp, validate=False)
     assert float(s.total) > SENTINEL - 1e4
@@ -95,7 +97,7 @@ def test_patching_the_constitutive_step_changes_the_jax_path(patched):
     jp = mjax.to_jax(mudrft.paper_mud(0.25))
     st0 = mjax.initial_terrain_state(jnp.zeros(3), foot.characteristic_length)
     n_before = patched["n"]
-    _, (f, stress, d) = mjax.terrain_step(
+    _, (_f, stress, _d) = mjax.terrain_step(
         jp, st0, jnp.array([0.0, 0.0, -0.01]), jnp.array([0.0, 0.0, -0.02]), 1e-3,
         force_fn=fn, characteristic_length=foot.characteristic_length,
     )  # fmt: skip
@@ -122,7 +124,15 @@ def _specialized_outputs(fn, p, inputs, acceleration):
     totals, xis = [], []
     for i in range(gamma.shape[0]):
         st_i = ChannelState(*(float(f[i]) for f in state))
-        new, s = fn(type(channel_constants(p))(*c), st_i, float(gamma[i]), float(gdot[i]), dt, float(seal[i]), kappa)
+        new, s = fn(
+            type(channel_constants(p))(*c),
+            st_i,
+            float(gamma[i]),
+            float(gdot[i]),
+            dt,
+            float(seal[i]),
+            kappa,
+        )
         totals.append(s.total)
         xis.append(new.xi)
     return np.array(totals), np.array(xis)
@@ -175,7 +185,9 @@ def test_sign_flip_and_rest_on_every_specialization():
     except ImportError:
         pass
     for state, g, gd in cases:
-        ref_state, ref = kernel.channel_update(c, ChannelState(*map(np.float64, state)), np.float64(g), np.float64(gd), 1e-3, 1.0, 1.0)
+        ref_state, ref = kernel.channel_update(
+            c, ChannelState(*map(np.float64, state)), np.float64(g), np.float64(gd), 1e-3, 1.0, 1.0
+        )
         for fn in fns:
             new, s = fn(c, state, g, gd, 1e-3, 1.0, 1.0)
             assert np.isclose(s.total, ref.total, rtol=1e-13, atol=1e-9)

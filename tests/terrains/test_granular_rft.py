@@ -246,3 +246,32 @@ def test_on_the_library_flat_foot():
     expected = plate_force_by_hand(tr, GranularRFT().zeta, area)
     # the mesh's bottom facets sum to the footprint; rounding only
     np.testing.assert_allclose(h.force[:, 2], expected, rtol=1e-9, atol=1e-9)
+
+
+def test_a_facet_tangent_to_the_motion_moves_the_force_continuously():
+    """A wall tilted by 1e-9 rad so that it leads changes the force by a tiny amount (D53);
+    the sharp rule (leading_width=0) keeps the old all-or-nothing switch for reference."""
+    n_flat = np.array([[0.0, 0.0, -1.0]])
+    n_tilt = np.array([[math.sin(1e-9), 0.0, -math.cos(1e-9)]])
+    v = np.array([1.0, 0.0, 0.0])
+    f0 = rft_forces(n_flat, [0.02], [5e-3], v)
+    f1 = rft_forces(n_tilt, [0.02], [5e-3], v)
+    full = np.abs(rft_forces(np.array([[1.0, 0.0, 0.0]]), [0.02], [5e-3], v)).max()
+    # n.v = 1e-9 -> weight 1e-6 of a fully leading facet's force (the ramp is 1e-3 wide)
+    assert np.all(np.abs(f1 - f0) <= 2e-6 * full)
+    sharp0 = rft_forces(n_flat, [0.02], [5e-3], v, leading_width=0.0)
+    sharp1 = rft_forces(n_tilt, [0.02], [5e-3], v, leading_width=0.0)
+    assert np.abs(sharp1 - sharp0).max() > 0.1 * full  # the switch the ramp removes
+
+
+@settings(max_examples=40, deadline=None)
+@given(tilt=st.floats(-0.01, 0.01), eps=st.floats(-1e-9, 1e-9))
+def test_rft_force_is_lipschitz_in_the_facet_tilt(tilt, eps):
+    """|dF| <= |f| * |d(n.v)| / width: the ramp bounds how fast a facet switches on."""
+    def force(a):
+        n = np.array([[math.sin(a), 0.0, -math.cos(a)]])
+        return rft_forces(n, [0.02], [5e-3], [1.0, 0.0, 0.0])
+
+    full = np.abs(rft_forces(np.array([[1.0, 0.0, 0.0]]), [0.02], [5e-3], [1.0, 0.0, 0.0])).max()
+    bound = 10 * full * abs(eps) / 1e-3 + 1e-9 * full
+    assert np.abs(force(tilt + eps) - force(tilt)).max() <= bound

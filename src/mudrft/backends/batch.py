@@ -188,7 +188,9 @@ class BatchedMud:
         self.backend = check_choice("backend", backend, BACKENDS)
         self.n = int(n)
         self.foot = foot
-        base = as_mud_terrain(mud if isinstance(mud, MudTerrain | Mud) else batched_mud(mud, self.n), **options)
+        base = as_mud_terrain(
+            mud if isinstance(mud, MudTerrain | Mud) else batched_mud(mud, self.n), **options
+        )
         self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
         self.characteristic_length = self.terrain.length(foot)
@@ -205,7 +207,13 @@ class BatchedMud:
             t = self.terrain
             self._geom = np.array([kind, *geom], dtype=float)
             self._cfg = np.array(
-                [self.characteristic_length, t.kappa, t.xi0, float(t.reset_on_exit), t.heading_speed]
+                [
+                    self.characteristic_length,
+                    t.kappa,
+                    t.xi0,
+                    float(t.reset_on_exit),
+                    t.heading_speed,
+                ]
             )
             self._c = constant_row(*t.constants).reshape(-1, N_CONST)
             self._nb_step = compiled_feet(self.n >= PARALLEL_MIN)

@@ -163,7 +163,9 @@ class FastMudFoot:
                 f"velocity {vel.tolist()}, dt {dt!r}"
             )
         if self.backend == "numba":
-            self._loop(self._c, self._st, self._out, pos[None], vel[None], step, self._cfg, self._geom)
+            self._loop(
+                self._c, self._st, self._out, pos[None], vel[None], step, self._cfg, self._geom
+            )
             out = self._out[0]
             force, self._stress, self._depth = out[:3].copy(), out[3:6].copy(), float(out[6])
         else:

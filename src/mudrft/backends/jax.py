@@ -35,8 +35,7 @@ True
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
@@ -44,9 +43,16 @@ from .._validation import MudrftError, check_finite, check_in_range, check_incre
 from ..constitutive import dynamics
 from ..constitutive.dynamics import ChannelHistory
 from ..constitutive.state import ChannelState
-from ..constitutive.kernel import channel_constants
-from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
-from ..terrains.mud import MudChannels, initial_channels, mud_step
+from ._jax_base import (
+    JaxParams,
+    _jnp,
+    enable_x64,
+    from_jax,
+    initial_state,
+    safe_namespace,
+    to_jax,
+)
+from .jax_terrain import TerrainState, initial_terrain_state, simulate, terrain_step
 
 __all__ = [
     "JaxParams",
@@ -64,137 +70,6 @@ __all__ = [
     "terrain_step",
     "to_jax",
 ]
-
-
-def enable_x64() -> Any:
-    """Import jax, switch it to 64-bit floats (decision D70) and return the module.
-
-    Raises
-    ------
-    ImportError
-        If jax is not installed, with the command that installs it.
-    """
-    try:
-        import jax
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError("the JAX backend needs jax: pip install 'mudrft[jax]'") from exc
-    if not getattr(jax.config, "jax_enable_x64", False):
-        jax.config.update("jax_enable_x64", True)
-    return jax
-
-
-def _jnp() -> Any:
-    enable_x64()
-    import jax.numpy as jnp
-
-    return jnp
-
-
-class JaxParams(NamedTuple):
-    """Parameters of the mud model as a JAX pytree (same names and units as MudParameters).
-
-    Every field is a float64 array: ``alpha`` [Pa], ``n`` [-], ``lam`` [s], ``eta_m``,
-    ``eta_inf`` [Pa s], ``gamma_dot_c`` [1/s], ``tau_build``, ``tau_leak`` [s],
-    ``epsilon`` [-], ``sigma_y`` [Pa], ``nu`` [1/s], ``k_a`` [1/s]. Fields may carry a batch
-    (leading axes) and, for the three channels of a foot, a trailing axis of 3 (x, y, z).
-
-    ``k_a`` is a field of its own: differentiating with respect to ``lam`` does not move
-    ``k_a``; use :meth:`with_default_k_a` to tie it to ``1/lam`` (decision D8) inside a
-    differentiated function (decision D72).
-    """
-
-    alpha: Any
-    n: Any
-    lam: Any
-    eta_m: Any
-    eta_inf: Any
-    gamma_dot_c: Any
-    tau_build: Any
-    tau_leak: Any
-    epsilon: Any
-    sigma_y: Any
-    nu: Any
-    k_a: Any
-
-    @property
-    def k_r(self) -> Any:
-        """Rejuvenation coefficient :math:`k_r=k_a/\\dot\\gamma_c` [-]."""
-        return self.k_a / self.gamma_dot_c
-
-    def with_default_k_a(self) -> JaxParams:
-        """Copy with ``k_a = 1/lam`` (decision D8), traceable."""
-        return self._replace(k_a=1.0 / self.lam)
-
-
-def to_jax(params: MudParameters | Mud) -> JaxParams:
-    """Convert a parameter set, or a mud's three channel sets, into a :class:`JaxParams`.
-
-    Parameters
-    ----------
-    params : MudParameters or Mud
-        One set (fields keep their shape), or a Mud: its (horizontal, horizontal,
-        vertical) sets for the x, y, z channels of a foot (trailing axis of 3, as
-        :func:`mudrft.terrains.channel_parameters`).
-
-    Returns
-    -------
-    JaxParams
-        float64 JAX arrays.
-
-    Examples
-    --------
-    >>> import mudrft
-    >>> p = to_jax(mudrft.paper_mud(0.25))
-    >>> p.alpha.shape
-    (3,)
-    """
-    from ..terrains import channel_parameters
-
-    jnp = _jnp()
-    if isinstance(params, Mud):
-        params = channel_parameters(params)
-    if not isinstance(params, MudParameters):
-        raise MudrftError(f"params must be a MudParameters or a Mud, got {type(params).__name__}")
-    return JaxParams(
-        **{k: jnp.asarray(np.asarray(getattr(params, k), dtype=float)) for k in PARAMETER_UNITS}
-    )
-
-
-def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
-    """Convert a :class:`JaxParams` back into a validated :class:`MudParameters`.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Concrete (not traced) parameters.
-    **meta
-        ``source``, ``water_content``, ``direction`` passed on to MudParameters.
-    """
-    fields: dict[str, Any] = {}
-    for k in PARAMETER_UNITS:
-        a = np.asarray(getattr(params, k), dtype=float)
-        fields[k] = float(a) if a.ndim == 0 else a
-    return MudParameters(**fields, **meta)  # type: ignore[arg-type]
-
-
-def initial_state(
-    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0
-) -> ChannelState:
-    """Undisturbed channel state as JAX arrays (see :func:`mudrft.constitutive.initial_state`).
-
-    Parameters
-    ----------
-    shape : tuple of int
-        Batch shape.
-    xi0 : float, keyword-only
-        Initial structure in [0, 1] [-].
-    gamma : float or array, keyword-only
-        Initial displacement [-].
-    """
-    from ..constitutive.state import initial_state as np_initial
-
-    jnp = _jnp()
-    return ChannelState(*(jnp.asarray(a) for a in np_initial(shape, xi0=xi0, gamma=gamma)))
 
 
 @functools.cache
@@ -454,193 +329,4 @@ def mesh_force(
     jnp = _jnp()
     return _compiled()["mesh_force"](
         jnp.asarray(vertices, dtype=float), jnp.asarray(faces), depth, stress, heading, trailing
-    )
-
-
-class _SafeNamespace:
-    """``jax.numpy`` with a square root whose derivative at 0 is 0 instead of infinite.
-
-    The surface rule takes square roots of sums of squares (facet area, horizontal part of a
-    normal) that are exactly 0 for horizontal facets; ``jnp.sqrt`` has an infinite derivative
-    there, and 0 x inf poisons every gradient with NaN even when the facet carries no load.
-    The value is unchanged; the derivative at 0 becomes 0, a valid one-sided choice for the
-    norms involved (decision D74). Likewise ``arccos`` (the curved feet's
-    :math:`\theta_c=\\cos^{-1}(1-z/R)`) gets a zero derivative at +-1, where it is infinite:
-    at the surface (z = 0) and at the rim.
-    """
-
-    def __init__(self, jnp: Any) -> None:
-        self._jnp = jnp
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._jnp, name)
-
-    def sqrt(self, x: Any) -> Any:
-        jnp = self._jnp
-        pos = x > 0
-        return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
-
-    def arccos(self, x: Any) -> Any:
-        import jax
-
-        jnp = self._jnp
-        inside = jnp.abs(x) < 1.0
-        edge = jax.lax.stop_gradient(jnp.arccos(jnp.clip(x, -1.0, 1.0)))
-        return jnp.where(inside, jnp.arccos(jnp.where(inside, x, 0.0)), edge)
-
-
-@functools.cache
-def safe_namespace() -> Any:
-    """The array namespace the JAX backend gives the feet's rules (see ``_SafeNamespace``)."""
-    return _SafeNamespace(_jnp())
-
-
-#: State of :func:`terrain_step`: the mud under the feet (a JAX pytree).
-TerrainState = MudChannels
-
-
-def initial_terrain_state(
-    position: Any, characteristic_length: Any, *, xi0: float = 0.0
-) -> MudChannels:
-    """Undisturbed mud under tips at ``position`` (..., 3) [m], as JAX arrays.
-
-    Parameters
-    ----------
-    position : array_like, shape (..., 3)
-        Tip positions [m].
-    characteristic_length : float
-        :math:`L_c` [m].
-    xi0 : float, keyword-only
-        Structure of undisturbed mud [-].
-    """
-    jnp = _jnp()
-    pos = jnp.asarray(position, dtype=float)
-    depth = jnp.maximum(-pos[..., 2], 0.0)
-    return initial_channels(pos[..., 0], pos[..., 1], depth, characteristic_length, xi0, xp=jnp)
-
-
-def terrain_step(
-    params: JaxParams,
-    state: MudChannels,
-    position: Any,
-    velocity: Any,
-    dt: Any,
-    *,
-    force_fn: Callable[[Any, Any, Any], Any],
-    characteristic_length: Any,
-    acceleration: bool = True,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-) -> tuple[MudChannels, tuple[Any, Any, Any]]:
-    """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX.
-
-    It is :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy`` (the one terrain step),
-    followed by the foot's force function.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Channel parameters with a trailing axis of 3 (``to_jax(mud)``).
-    state : MudChannels
-        From :func:`initial_terrain_state` or a previous step.
-    position, velocity : array_like, shape (..., 3)
-        Tip position [m] and velocity [m/s] at the end of the step.
-    dt : float
-        Step [s].
-    force_fn : callable, keyword-only
-        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] in JAX, e.g.
-        ``functools.partial(mesh_force, vertices, faces)``.
-    characteristic_length : float, keyword-only
-        :math:`L_c` [m].
-    acceleration, reset_on_exit, xi0, heading_speed : keyword-only
-        As :class:`mudrft.MudTerrain`.
-
-    Returns
-    -------
-    state : MudChannels
-    (force, stress, depth) : tuple of arrays
-        Force [N] (..., 3), channel stresses [Pa] (..., 3), depth [m] (...).
-    """
-    jax = enable_x64()
-    jnp = _jnp()
-    pos = jnp.asarray(position, dtype=float)
-    vel = jnp.asarray(velocity, dtype=float)
-    hor = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 0], params))
-    ver = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 2], params))
-    ch, sx, sy, sz, depth = mud_step(
-        (hor, ver), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
-        vel[..., 2], dt, characteristic_length, 1.0 if acceleration else 0.0, xi0,
-        reset_on_exit, heading_speed, 1.0, xp=jnp,
-    )  # fmt: skip
-    stress = jnp.stack([sx, sy, sz], axis=-1)
-    force = force_fn(depth, stress, ch.heading) * ch.in_mud[..., None]
-    return ch, (force, stress, depth)
-
-
-def simulate(
-    params: JaxParams,
-    time: Any,
-    position: Any,
-    velocity: Any,
-    *,
-    force_fn: Callable[[Any, Any, Any], Any],
-    characteristic_length: Any,
-    acceleration: bool = True,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-) -> tuple[Any, Any, Any]:
-    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`.
-
-    Same sampling as :func:`mudrft.simulate`: the state starts at ``position[0]`` and step
-    ``k`` ends at sample ``k`` with ``dt = time[k] - time[k-1]``. Traceable: wrap it in
-    :func:`jax.jit` (``force_fn`` closed over) and differentiate it with respect to
-    ``params``, the foot geometry in ``force_fn`` or the trajectory.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Channel parameters (``to_jax(mud)``).
-    time : array_like, shape (n,)
-        Increasing times [s].
-    position, velocity : array_like, shape (n, ..., 3)
-        Tip position [m] and velocity [m/s] at the samples.
-    force_fn, characteristic_length, acceleration, reset_on_exit, xi0, heading_speed :
-        As :func:`terrain_step`.
-
-    Returns
-    -------
-    force, stress, depth : arrays of shape (n, ..., 3), (n, ..., 3), (n, ...)
-        The first sample is the initial state (zero force).
-    """
-    jax = enable_x64()
-    jnp = _jnp()
-    t = jnp.asarray(time, dtype=float)
-    pos = jnp.asarray(position, dtype=float)
-    vel = jnp.asarray(velocity, dtype=float)
-    st0 = initial_terrain_state(pos[0], characteristic_length, xi0=xi0)
-
-    def body(st: MudChannels, inp: tuple[Any, ...]) -> tuple[MudChannels, tuple[Any, Any, Any]]:
-        p, v, dt = inp
-        return terrain_step(
-            params,
-            st,
-            p,
-            v,
-            dt,
-            force_fn=force_fn,
-            characteristic_length=characteristic_length,
-            acceleration=acceleration,
-            reset_on_exit=reset_on_exit,
-            xi0=xi0,
-            heading_speed=heading_speed,
-        )
-
-    _, (f, s, d) = jax.lax.scan(body, st0, (pos[1:], vel[1:], t[1:] - t[:-1]))
-    zf = jnp.zeros((1, *f.shape[1:]))
-    return (
-        jnp.concatenate([zf, f]),
-        jnp.concatenate([zf, s]),
-        jnp.concatenate([jnp.maximum(-pos[:1, ..., 2], 0.0), d]),
     )

@@ -168,7 +168,7 @@ def compile_scalar(fn: types.FunctionType) -> Any:
     ast.fix_missing_locations(tree)
     ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
     local: dict[str, Any] = {}
-    exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)  # noqa: S102
+    exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
     return numba.njit(error_model="numpy")(local[fdef.name])
 
 
@@ -181,9 +181,9 @@ def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> NDArray[np.flo
 def state_rows(ch: MudChannels) -> NDArray[np.float64]:
     """A :class:`~mudrft.terrains.mud.MudChannels` (floats or arrays (N,)) as rows (N, N_STATE)."""
     fields = [*ch.x, *ch.y, *ch.z, ch.entry_x, ch.entry_y, ch.heading, ch.in_mud]
-    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1)).reshape(
-        -1, N_STATE
-    )
+    return np.ascontiguousarray(
+        np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1)
+    ).reshape(-1, N_STATE)
 
 
 def _feet_loop(
@@ -196,8 +196,8 @@ def _feet_loop(
     kind = int(geom[0])
     for i in prange(n):  # noqa: F821 - bound when compiled
         r = i * stride
-        hor = _constants(c, r, 0)  # noqa: F821
-        ver = _constants(c, r, 12)  # noqa: F821
+        hor = _constants(c, r, 0)
+        ver = _constants(c, r, 12)
         s = st[i]
         ch = MudChannels(
             ChannelState(s[0], s[1], s[2], s[3], s[4]),

@@ -158,7 +158,9 @@ def channel_update(
     b_drive = c.eta_m * gamma_dot
     e_lam = xp.exp(-dt / c.lam)
     conv = e_lam * (dt / c.lam) * expm1_over_x(dt * (1.0 / c.lam - 1.0 / tau), xp=xp)
-    s_new = s_th * e_lam + (a_drive + b_drive * xi_ss) * (1.0 - e_lam) + b_drive * (xi - xi_ss) * conv
+    s_new = (
+        s_th * e_lam + (a_drive + b_drive * xi_ss) * (1.0 - e_lam) + b_drive * (xi - xi_ss) * conv
+    )
 
     # suction, eq. (5): exact exponential with the sealing state at mid-step (decision D4)
     phi = seal * laws.sealing(0.5 * (r_start + r_end), c.epsilon, xp=xp)

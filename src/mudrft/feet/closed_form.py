@@ -44,10 +44,10 @@ from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
 
 __all__ = [
+    "FOOT_KINDS",
     "Flat",
     "SemiCylinder",
     "SemiSphere",
-    "FOOT_KINDS",
     "closed_form_coefficients",
     "closed_form_force",
     "flat_coefficients",
@@ -137,9 +137,13 @@ def semicylinder_coefficients(
     # 2/3 - c + c^3/3 = (1 - c)^2 (2 + c)/3 with 1 - c = z/R: no cancellation near z = 0
     u = z / radius
     az = 2.0 * width * radius * (s - s * s * s / 3.0 + u * u * (2.0 + c) / 3.0)
-    return seg * f_n(phi, xp=xp), side * f_t(phic, xp=xp), seg * f_t(phi, xp=xp), side * f_n(
-        phic, xp=xp
-    ), az
+    return (
+        seg * f_n(phi, xp=xp),
+        side * f_t(phic, xp=xp),
+        seg * f_t(phi, xp=xp),
+        side * f_n(phic, xp=xp),
+        az,
+    )
 
 
 def semisphere_coefficients(
@@ -368,8 +372,6 @@ def printed_semisphere_fxy(depth: Any, sx: Any, sy: Any, heading: Any, *, radius
     return np.stack([k * np.cos(heading) * sx, k * np.sin(heading) * sy], axis=-1)
 
 
-
-
 class _ClosedFormFoot(Foot):
     """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
 
@@ -411,7 +413,10 @@ class _ClosedFormFoot(Foot):
         """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
         s = np.asarray(stress, dtype=float)
         f = self.force_components(
-            np.asarray(depth, dtype=float), s[..., 0], s[..., 1], s[..., 2],
+            np.asarray(depth, dtype=float),
+            s[..., 0],
+            s[..., 1],
+            s[..., 2],
             np.asarray(heading, dtype=float),
         )
         return np.stack(np.broadcast_arrays(*f), axis=-1)

@@ -82,9 +82,7 @@ def check_motion(
     """
     pos = check_finite("position", position)
     if pos.shape[-1:] != (3,):
-        raise MudrftError(
-            f"position must have shape (3,) or (..., 3) [m], got shape {pos.shape}"
-        )
+        raise MudrftError(f"position must have shape (3,) or (..., 3) [m], got shape {pos.shape}")
     vel = check_finite("velocity", velocity)
     if vel.shape != pos.shape:
         raise MudrftError(

@@ -19,8 +19,8 @@ import numpy as np
 
 from .._validation import MudrftError, check_choice, check_finite, check_positive
 from ..citations import register
-from .base import TerrainOutput
 from ._common import area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput
 
 __all__ = ["DEFAULT_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"]
 

@@ -42,9 +42,9 @@ from .._validation import (
     check_positive,
 )
 from ..citations import register
-from .base import TerrainOutput
 from ..trajectories import Trajectory
 from ._common import area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 

@@ -267,7 +267,9 @@ class MudTerrain:
                 f"mud must be a Mud (see mudrft.paper_mud), got {type(self.mud).__name__}"
             )
         if self.characteristic_length is not None:
-            lc = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
+            lc = float(
+                check_positive("characteristic_length", self.characteristic_length, unit="m")
+            )
             check_finite("characteristic_length", lc)
             object.__setattr__(self, "characteristic_length", lc)
         object.__setattr__(self, "acceleration", _as_bool("acceleration", self.acceleration))
@@ -339,13 +341,24 @@ class MudTerrain:
             x, y, z = pos.tolist()
             u, v, w = vel.tolist()
             ch, sx, sy, sz, depth = mud_step(
-                self.constants, state.channels, x, y, z, u, v, w, float(dt), *common,
-                float(seal), xp=pyfloat,
+                self.constants,
+                state.channels,
+                x,
+                y,
+                z,
+                u,
+                v,
+                w,
+                float(dt),
+                *common,
+                float(seal),
+                xp=pyfloat,
             )
             if foot.elementwise and state.foot is None:
                 f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
                 out = TerrainOutput(
-                    force=np.array(f) * ch.in_mud, stress=np.array([sx, sy, sz]),
+                    force=np.array(f) * ch.in_mud,
+                    stress=np.array([sx, sy, sz]),
                     depth=np.float64(depth),
                 )
                 return MudState(channels=ch, foot=None), out
@@ -353,8 +366,17 @@ class MudTerrain:
             heading, depth_a, inside = ch.heading, np.float64(depth), ch.in_mud
         else:
             ch, sx, sy, sz, depth_a = mud_step(
-                self.constants, state.channels, pos[..., 0], pos[..., 1], pos[..., 2],
-                vel[..., 0], vel[..., 1], vel[..., 2], dt, *common, seal,
+                self.constants,
+                state.channels,
+                pos[..., 0],
+                pos[..., 1],
+                pos[..., 2],
+                vel[..., 0],
+                vel[..., 1],
+                vel[..., 2],
+                dt,
+                *common,
+                seal,
             )
             stress = np.stack([sx, sy, sz], axis=-1)
             heading, inside = ch.heading, ch.in_mud

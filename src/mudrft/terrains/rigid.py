@@ -24,8 +24,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validation import check_nonnegative, check_positive
-from .base import TerrainOutput
 from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
+from .base import TerrainOutput
 
 __all__ = ["RigidGround", "RigidState"]
 

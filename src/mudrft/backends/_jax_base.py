@@ -1,0 +1,194 @@
+"""Shared pieces of the JAX backend: float64 set-up, parameters as a pytree, safe namespace.
+
+See :mod:`mudrft.backends.jax` (the public module); this module is its foundation, so that
+:mod:`mudrft.backends.jax_terrain` can build on it without an import cycle.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._validation import MudrftError
+from ..constitutive.state import ChannelState
+from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
+
+__all__ = [
+    "JaxParams",
+    "enable_x64",
+    "from_jax",
+    "initial_state",
+    "safe_namespace",
+    "to_jax",
+]
+
+
+def enable_x64() -> Any:
+    """Import jax, switch it to 64-bit floats (decision D70) and return the module.
+
+    Raises
+    ------
+    ImportError
+        If jax is not installed, with the command that installs it.
+    """
+    try:
+        import jax
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("the JAX backend needs jax: pip install 'mudrft[jax]'") from exc
+    if not getattr(jax.config, "jax_enable_x64", False):
+        jax.config.update("jax_enable_x64", True)
+    return jax
+
+
+def _jnp() -> Any:
+    enable_x64()
+    import jax.numpy as jnp
+
+    return jnp
+
+
+class JaxParams(NamedTuple):
+    """Parameters of the mud model as a JAX pytree (same names and units as MudParameters).
+
+    Every field is a float64 array: ``alpha`` [Pa], ``n`` [-], ``lam`` [s], ``eta_m``,
+    ``eta_inf`` [Pa s], ``gamma_dot_c`` [1/s], ``tau_build``, ``tau_leak`` [s],
+    ``epsilon`` [-], ``sigma_y`` [Pa], ``nu`` [1/s], ``k_a`` [1/s]. Fields may carry a batch
+    (leading axes) and, for the three channels of a foot, a trailing axis of 3 (x, y, z).
+
+    ``k_a`` is a field of its own: differentiating with respect to ``lam`` does not move
+    ``k_a``; use :meth:`with_default_k_a` to tie it to ``1/lam`` (decision D8) inside a
+    differentiated function (decision D72).
+    """
+
+    alpha: Any
+    n: Any
+    lam: Any
+    eta_m: Any
+    eta_inf: Any
+    gamma_dot_c: Any
+    tau_build: Any
+    tau_leak: Any
+    epsilon: Any
+    sigma_y: Any
+    nu: Any
+    k_a: Any
+
+    @property
+    def k_r(self) -> Any:
+        """Rejuvenation coefficient :math:`k_r=k_a/\\dot\\gamma_c` [-]."""
+        return self.k_a / self.gamma_dot_c
+
+    def with_default_k_a(self) -> JaxParams:
+        """Copy with ``k_a = 1/lam`` (decision D8), traceable."""
+        return self._replace(k_a=1.0 / self.lam)
+
+
+def to_jax(params: MudParameters | Mud) -> JaxParams:
+    """Convert a parameter set, or a mud's three channel sets, into a :class:`JaxParams`.
+
+    Parameters
+    ----------
+    params : MudParameters or Mud
+        One set (fields keep their shape), or a Mud: its (horizontal, horizontal,
+        vertical) sets for the x, y, z channels of a foot (trailing axis of 3, as
+        :func:`mudrft.terrains.channel_parameters`).
+
+    Returns
+    -------
+    JaxParams
+        float64 JAX arrays.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> p = to_jax(mudrft.paper_mud(0.25))
+    >>> p.alpha.shape
+    (3,)
+    """
+    from ..terrains import channel_parameters
+
+    jnp = _jnp()
+    if isinstance(params, Mud):
+        params = channel_parameters(params)
+    if not isinstance(params, MudParameters):
+        raise MudrftError(f"params must be a MudParameters or a Mud, got {type(params).__name__}")
+    return JaxParams(
+        **{k: jnp.asarray(np.asarray(getattr(params, k), dtype=float)) for k in PARAMETER_UNITS}
+    )
+
+
+def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
+    """Convert a :class:`JaxParams` back into a validated :class:`MudParameters`.
+
+    Parameters
+    ----------
+    params : JaxParams
+        Concrete (not traced) parameters.
+    **meta
+        ``source``, ``water_content``, ``direction`` passed on to MudParameters.
+    """
+    fields: dict[str, Any] = {}
+    for k in PARAMETER_UNITS:
+        a = np.asarray(getattr(params, k), dtype=float)
+        fields[k] = float(a) if a.ndim == 0 else a
+    return MudParameters(**fields, **meta)  # type: ignore[arg-type]
+
+
+def initial_state(
+    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0
+) -> ChannelState:
+    """Undisturbed channel state as JAX arrays (see :func:`mudrft.constitutive.initial_state`).
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Batch shape.
+    xi0 : float, keyword-only
+        Initial structure in [0, 1] [-].
+    gamma : float or array, keyword-only
+        Initial displacement [-].
+    """
+    from ..constitutive.state import initial_state as np_initial
+
+    jnp = _jnp()
+    return ChannelState(*(jnp.asarray(a) for a in np_initial(shape, xi0=xi0, gamma=gamma)))
+
+
+class _SafeNamespace:
+    """``jax.numpy`` with a square root whose derivative at 0 is 0 instead of infinite.
+
+    The surface rule takes square roots of sums of squares (facet area, horizontal part of a
+    normal) that are exactly 0 for horizontal facets; ``jnp.sqrt`` has an infinite derivative
+    there, and 0 x inf poisons every gradient with NaN even when the facet carries no load.
+    The value is unchanged; the derivative at 0 becomes 0, a valid one-sided choice for the
+    norms involved (decision D74). Likewise ``arccos`` (the curved feet's
+    :math:`\theta_c=\\cos^{-1}(1-z/R)`) gets a zero derivative at +-1, where it is infinite:
+    at the surface (z = 0) and at the rim.
+    """
+
+    def __init__(self, jnp: Any) -> None:
+        self._jnp = jnp
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._jnp, name)
+
+    def sqrt(self, x: Any) -> Any:
+        jnp = self._jnp
+        pos = x > 0
+        return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
+
+    def arccos(self, x: Any) -> Any:
+        import jax
+
+        jnp = self._jnp
+        inside = jnp.abs(x) < 1.0
+        edge = jax.lax.stop_gradient(jnp.arccos(jnp.clip(x, -1.0, 1.0)))
+        return jnp.where(inside, jnp.arccos(jnp.where(inside, x, 0.0)), edge)
+
+
+@functools.cache
+def safe_namespace() -> Any:
+    """The array namespace the JAX backend gives the feet's rules (see ``_SafeNamespace``)."""
+    return _SafeNamespace(_jnp())
