@@ -1,15 +1,59 @@
-"""Shared test fixtures."""
+"""Shared test fixtures and the hypothesis profiles.
+
+Hypothesis profiles
+-------------------
+``dev`` (the default)
+    Random search with hypothesis' defaults and its example database, so repeated local
+    runs explore new inputs and replay the failures they found.
+``ci``
+    Derandomized (the examples depend only on the test, not on the run), no example
+    database and no deadline (shared CI machines have noisy timing), at most 50 examples
+    a test, so a CI run is reproducible; a failure prints its ``@reproduce_failure``
+    blob. Tests that set ``max_examples`` themselves keep their own count.
+
+``HYPOTHESIS_PROFILE=<name>`` picks a profile explicitly; otherwise ``ci`` is loaded
+when the environment variable ``CI`` is set (as CI services do, e.g. ``CI=true``;
+empty, ``0``, ``false`` or ``no`` count as unset), and ``dev`` when it is not.
+"""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-import matplotlib
 import pytest
+from hypothesis import settings
 
-matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+try:  # matplotlib is an optional extra; where it is installed, it draws off screen
+    import matplotlib
+except ImportError:
+    pass
+else:
+    matplotlib.use("Agg")
+
+# hypothesis' built-in profiles: "default" (random) and "ci", which hypothesis itself loads
+# whenever CI is set; both are extended here so that the choice below is explicit.
+settings.register_profile("dev", parent=settings.get_profile("default"))
+settings.register_profile(
+    "ci",
+    parent=settings.get_profile("ci"),
+    derandomize=True,
+    database=None,
+    deadline=None,
+    max_examples=50,
+)
+
+
+def _profile() -> str:
+    """The profile named by HYPOTHESIS_PROFILE, else ``ci`` under CI, else ``dev``."""
+    if os.environ.get("HYPOTHESIS_PROFILE"):
+        return os.environ["HYPOTHESIS_PROFILE"]
+    ci = os.environ.get("CI", "").strip().lower()
+    return "ci" if ci not in ("", "0", "false", "no") else "dev"
+
+
+settings.load_profile(_profile())
 
 REPO = Path(__file__).resolve().parents[1]
 PAPER = REPO.parent / "shared" / "paper" / "foot-mud-resistive-force-model.tex"

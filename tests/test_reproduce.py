@@ -26,6 +26,7 @@ PINNED = [
 
 @pytest.fixture(scope="module")
 def full_run(tmp_path_factory):
+    pytest.importorskip("matplotlib")  # the full run draws the figures
     out = tmp_path_factory.mktemp("reproduce")
     rows = reproduce(out, quiet=True)
     return out, rows

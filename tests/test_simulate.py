@@ -150,6 +150,7 @@ def test_csv_round_trip_and_no_overwrite(tmp_path):
     assert p.read_bytes() == before
     with pytest.raises(MudrftError, match="directory"):
         res.to_csv(tmp_path / "missing" / "run.csv")
+    pytest.importorskip("pandas")
     df = res.to_pandas()
     assert list(df.columns[:7]) == list(CSV_COLUMNS) and len(df) == len(res)
 

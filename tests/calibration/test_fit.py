@@ -245,6 +245,7 @@ def test_load_parameters_plain_and_broken_json(tmp_path):
 
 
 def test_plot_has_one_panel_per_trial(vertical_fit):
+    pytest.importorskip("matplotlib")
     fig = vertical_fit.plot()
     assert len(fig.axes) == len(vertical_fit.dataset)
     pred = vertical_fit.predict()

@@ -127,6 +127,7 @@ def test_csv_round_trip(box, tmp_path):
 
 
 def test_command_writes_csv_summary_and_figures(box, tmp_path):
+    pytest.importorskip("matplotlib")
     from mudrft.cli.compare import write_comparison
 
     paths = write_comparison(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True)

@@ -1,0 +1,69 @@
+"""Mud under named bodies of one MuJoCo model: :func:`attach` and :class:`MudCoupling`.
+
+:class:`MudCoupling` is :class:`~mudrft.integrations.mujoco.MudBatch` for one ``MjData``,
+with outputs of shape ``(nbody, ...)``; :func:`attach_batch` makes a batch of ``n``
+robots.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from ..._validation import MudrftError
+from .batch import MudBatch, MudContact
+
+__all__ = ["MudCoupling", "attach", "attach_batch"]
+
+
+class MudCoupling(MudBatch):
+    """Mud under named bodies of one MuJoCo model and one MjData (see :class:`MudBatch`).
+
+    Outputs in :attr:`last` have shape ``(nbody, ...)``.
+    """
+
+    def __init__(self, model: Any, bodies: Sequence[str], mud: Any, **kw: Any) -> None:
+        if "n" in kw:
+            raise MudrftError("MudCoupling couples one MjData; use MudBatch(n=...) for many")
+        super().__init__(model, bodies, mud, n=1, **kw)
+
+    def reset(self, data: Any) -> None:  # type: ignore[override]
+        """Start with undisturbed mud under the feet in their current pose."""
+        super().reset([data])
+
+    def apply(self, data: Any) -> MudContact:  # type: ignore[override]
+        """Advance the mud once and write ``data.xfrc_applied`` (after ``mj_step1``)."""
+        self.last = MudContact(*(a[0] for a in self._apply(self._check(data))))
+        return self.last
+
+    def step(self, data: Any, nstep: int = 1) -> MudContact:  # type: ignore[override]
+        """``nstep`` physics steps, the mud advanced once per step."""
+        self.last = MudContact(*(a[0] for a in self._step(self._check(data), nstep)))
+        return self.last
+
+
+def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MudCoupling:
+    """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
+
+    Examples
+    --------
+    >>> import mujoco, mudrft
+    >>> from mudrft.integrations.mujoco import attach
+    >>> xml = '''<mujoco><worldbody><body name="foot" pos="0 0 0.01">
+    ...   <freejoint/><geom type="box" size="0.0325 0.04 0.013" mass="1"/></body></worldbody></mujoco>'''
+    >>> model = mujoco.MjModel.from_xml_string(xml)
+    >>> data = mujoco.MjData(model)
+    >>> coupling = attach(model, "foot", mudrft.paper_mud(0.25))
+    >>> coupling.reset(data)
+    >>> out = coupling.step(data, 500)
+    >>> bool(out.depth[0] > 0 and out.force[0, 2] > 0)
+    True
+    """
+    return MudCoupling(model, [bodies] if isinstance(bodies, str) else bodies, mud, **kw)
+
+
+def attach_batch(
+    model: Any, bodies: Sequence[str] | str, mud: Any, *, n: int, **kw: Any
+) -> MudBatch:
+    """Attach mud to named bodies of ``n`` robots of one model; see :class:`MudBatch`."""
+    return MudBatch(model, [bodies] if isinstance(bodies, str) else bodies, mud, n=n, **kw)

@@ -1,0 +1,160 @@
+r"""Feet from MuJoCo geoms: the lowest point of a geom, and the mudrft foot it stands for.
+
+A body's foot is derived from its geom that reaches lowest in the model's reference pose
+(:func:`_lowest_geom`):
+
+============================  ==========================================================
+geom                          mudrft foot
+============================  ==========================================================
+box                           ``Flat`` (its horizontal side closest to the world x axis
+                              is the foot's width)
+horizontal capsule, cylinder  ``SemiCylinder`` along the geom axis (capsule caps neglected)
+sphere                        ``SemiSphere``
+mesh                          ``MeshFoot`` of the mesh, its lowest point at the tip
+============================  ==========================================================
+
+:func:`_support` gives the lowest point of a geom in any pose, the depth the coupling
+reads every step (:func:`mudrft.integrations.mujoco.placement.lowest_points` is its
+batched form).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..._validation import MudrftError
+from ._lazy import _mujoco
+
+
+def _feet_module() -> Any:
+    try:
+        from ... import feet
+    except ImportError as exc:  # pragma: no cover - while the feet are being written
+        raise MudrftError(
+            "deriving a foot from geoms needs mudrft.feet; pass the foot explicitly"
+        ) from exc
+    return feet
+
+
+def _lowest_geom(model: Any, ref: Any, geoms: list[int]) -> int:
+    """The geom reaching lowest in the reference pose (mesh/box/sphere/capsule/cylinder)."""
+    mj = _mujoco()
+    best, zbest = -1, math.inf
+    for g in geoms:
+        t = int(model.geom_type[g])
+        if t not in _SUPPORTED_GEOMS(mj):
+            continue
+        z = float(ref.geom_xpos[g, 2]) - float(model.geom_rbound[g])
+        if t != int(mj.mjtGeom.mjGEOM_MESH):
+            z = _support(model, ref, g)[2]
+        if z < zbest:
+            best, zbest = g, z
+    return best
+
+
+def _SUPPORTED_GEOMS(mj: Any) -> tuple[int, ...]:
+    G = mj.mjtGeom
+    return tuple(
+        int(t)
+        for t in (G.mjGEOM_BOX, G.mjGEOM_SPHERE, G.mjGEOM_CAPSULE, G.mjGEOM_CYLINDER, G.mjGEOM_MESH)
+    )
+
+
+def _support(model: Any, d: Any, g: int) -> NDArray[np.float64]:
+    """Lowest point (world) of geom ``g`` in pose ``d`` (ties resolved to the center)."""
+    mj = _mujoco()
+    c = np.array(d.geom_xpos[g])
+    R = np.array(d.geom_xmat[g]).reshape(3, 3)
+    s = np.array(model.geom_size[g])
+    t = int(model.geom_type[g])
+    u = R[2]  # z component of each geom axis
+    if t == int(mj.mjtGeom.mjGEOM_BOX):
+        sg = -np.where(np.abs(u) > 1e-9, np.sign(u), 0.0)
+        return c + R @ (sg * s)
+    if t == int(mj.mjtGeom.mjGEOM_SPHERE):
+        return c - np.array([0.0, 0.0, s[0]])
+    if t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
+        a = R[:, 2]
+        end = c - (s[1] * np.sign(a[2]) if abs(a[2]) > 1e-9 else 0.0) * a
+        if t == int(mj.mjtGeom.mjGEOM_CAPSULE):
+            return end - np.array([0.0, 0.0, s[0]])
+        perp = np.array([0.0, 0.0, 1.0]) - a[2] * a
+        nrm = np.linalg.norm(perp)
+        return end - (s[0] * perp / nrm if nrm > 1e-9 else 0.0)
+    if t == int(mj.mjtGeom.mjGEOM_MESH):
+        v = _mesh_vertices(model, g)
+        w = c + v @ R.T
+        zmin = w[:, 2].min()
+        low = w[w[:, 2] <= zmin + 1e-6 * max(float(model.geom_rbound[g]), 1e-9)]
+        return np.array(
+            [
+                0.5 * (low[:, 0].min() + low[:, 0].max()),
+                0.5 * (low[:, 1].min() + low[:, 1].max()),
+                zmin,
+            ]
+        )
+    raise MudrftError(
+        f"geom {g} has type {mj.mjtGeom(t).name}, which mudrft cannot turn into a foot; "
+        "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
+    )
+
+
+def _mesh_vertices(model: Any, g: int) -> NDArray[np.float64]:
+    m = int(model.geom_dataid[g])
+    adr, num = int(model.mesh_vertadr[m]), int(model.mesh_vertnum[m])
+    return np.array(model.mesh_vert[adr : adr + num], dtype=float)
+
+
+def _mesh_faces(model: Any, g: int) -> NDArray[np.int_]:
+    m = int(model.geom_dataid[g])
+    adr, num = int(model.mesh_faceadr[m]), int(model.mesh_facenum[m])
+    return np.array(model.mesh_face[adr : adr + num], dtype=int)
+
+
+def _derived_foot(
+    model: Any, ref: Any, g: int, fwd_w: NDArray[np.float64]
+) -> tuple[Any, NDArray[np.float64]]:
+    """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose)."""
+    mj = _mujoco()
+    feet = _feet_module()
+    t = int(model.geom_type[g])
+    R = np.array(ref.geom_xmat[g]).reshape(3, 3)
+    s = np.array(model.geom_size[g], dtype=float)
+    if t == int(mj.mjtGeom.mjGEOM_BOX):
+        up = int(np.argmax(np.abs(R[2])))
+        hor = [i for i in range(3) if i != up]
+        ix = max(hor, key=lambda i: abs(float(R[:, i] @ fwd_w)))
+        iy = hor[0] if hor[1] == ix else hor[1]
+        ax = R[:, ix] * (1.0 if R[:, ix] @ fwd_w >= 0 else -1.0)
+        # Flat: width W along x, length L along y (decision D20 of the feet)
+        foot = feet.Flat(length=2 * s[iy], width=2 * s[ix], height=2 * s[up])
+        return foot, ax
+    if t == int(mj.mjtGeom.mjGEOM_SPHERE):
+        return feet.SemiSphere(radius=s[0], height=s[0]), fwd_w
+    if t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
+        a = R[:, 2]
+        if abs(a[2]) > 0.5:
+            raise MudrftError(
+                f"geom {g} is a {mj.mjtGeom(t).name[7:].lower()} whose axis is not horizontal; "
+                "mudrft derives a SemiCylinder from horizontal cylinders and capsules only, "
+                "pass the foot explicitly (feet=...)"
+            )
+        a = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
+        a = a if a @ fwd_w >= 0 else -a
+        # SemiCylinder: axis along x; capsule caps are neglected (documented)
+        return feet.SemiCylinder(radius=s[0], width=2 * s[1], height=s[0]), a
+    if t == int(mj.mjtGeom.mjGEOM_MESH):
+        v = _mesh_vertices(model, g) @ R.T
+        low = _support(model, ref, g) - np.array(ref.geom_xpos[g])
+        ex = fwd_w
+        ey = np.cross([0.0, 0.0, 1.0], ex)
+        frame = np.stack([ex, ey, [0.0, 0.0, 1.0]])  # rows: foot axes in the world
+        return feet.MeshFoot((v - low) @ frame.T, _mesh_faces(model, g)), fwd_w
+    raise MudrftError(
+        f"geom {g} has type {mj.mjtGeom(t).name}, which mudrft cannot turn into a foot; "
+        "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
+    )

@@ -1,0 +1,228 @@
+"""A mudrft foot placed on a body of a MuJoCo model: which foot, where its tip is.
+
+:func:`body_foot` finds a body, derives its foot from the lowest geom when none is
+given (:mod:`mudrft.integrations.mujoco.geoms`), and stores in a :class:`BodyFoot` what
+the coupling needs every step: the tip and the forward axis in the body frame, and the
+geom data from which :func:`lowest_points` finds the lowest point of the foot in its
+current pose.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..._validation import MudrftError, check_finite
+from ._lazy import _mujoco
+from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support
+
+__all__ = ["BodyFoot", "body_foot", "lowest_points"]
+
+
+@dataclass(frozen=True, eq=False)
+class BodyFoot:
+    """A foot placed on a body.
+
+    Attributes
+    ----------
+    body : str
+        Body name.
+    body_id : int
+        MuJoCo body id.
+    foot : Foot
+        The mudrft foot.
+    tip : ndarray (3,)
+        Tip (lowest point of the foot in the reference pose) in the body frame [m].
+    forward : ndarray (3,)
+        The foot's x axis in the body frame [-] (horizontal in the reference pose).
+    kind : str
+        How the lowest point is found in the current pose: ``"box"``, ``"sphere"``,
+        ``"capsule"``, ``"cylinder"``, ``"points"`` (mesh vertices) or ``"tip"``.
+    center : ndarray (3,)
+        Geom center in the body frame [m].
+    axes : ndarray (3, 3)
+        Geom axes (columns) in the body frame [-].
+    size : ndarray (3,)
+        Geom size as MuJoCo defines it [m].
+    points : ndarray (k, 3)
+        Mesh vertices in the body frame [m] (``kind == "points"``).
+    """
+
+    body: str
+    body_id: int
+    foot: Any
+    tip: NDArray[np.float64]
+    forward: NDArray[np.float64]
+    kind: str
+    center: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    size: NDArray[np.float64]
+    points: NDArray[np.float64]
+
+
+def _reference_pose(model: Any) -> Any:
+    mj = _mujoco()
+    d = mj.MjData(model)
+    mj.mj_kinematics(model, d)
+    return d
+
+
+def _body_geoms(model: Any, body_id: int) -> list[int]:
+    adr, num = int(model.body_geomadr[body_id]), int(model.body_geomnum[body_id])
+    return list(range(adr, adr + num)) if adr >= 0 else []
+
+
+def body_foot(
+    model: Any, body: str | int, foot: Any = None, *, tip: ArrayLike | None = None
+) -> BodyFoot:
+    """Place a mudrft foot on a body of a MuJoCo model.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model.
+    body : str or int
+        Body name or id.
+    foot : Foot or None
+        The foot; ``None`` derives it from the body's lowest geom: box -> ``Flat``,
+        horizontal cylinder or capsule -> ``SemiCylinder`` (capsule caps neglected),
+        sphere -> ``SemiSphere``, mesh -> ``MeshFoot``.
+    tip : array_like (3,) or None, keyword-only
+        Tip in the body frame [m]; default the lowest point of that geom in the
+        reference pose (the body origin when the body has no geom).
+
+    Returns
+    -------
+    BodyFoot
+    """
+    mj = _mujoco()
+    if isinstance(body, str):
+        bid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body))
+        if bid < 0:
+            names = [model.body(i).name for i in range(model.nbody)]
+            raise MudrftError(f"body {body!r} is not in the model; bodies are {names}")
+    else:
+        bid = int(body)
+        if not 0 < bid < model.nbody:
+            raise MudrftError(f"body id must be in [1, {model.nbody - 1}], got {bid}")
+    name = model.body(bid).name
+    ref = _reference_pose(model)
+    Rb = np.array(ref.xmat[bid]).reshape(3, 3)
+    xb = np.array(ref.xpos[bid])
+    fwd_w = np.array([1.0, 0.0, 0.0])
+    g = _lowest_geom(model, ref, _body_geoms(model, bid))
+    if g < 0:
+        if foot is None:
+            raise MudrftError(
+                f"body {name!r} has no geom to derive a foot from; pass the foot explicitly"
+            )
+        kind, center, axes, size, pts = "tip", np.zeros(3), np.eye(3), np.zeros(3), np.zeros((0, 3))
+        low_w = xb if tip is None else xb + Rb @ check_finite("tip", tip)
+    else:
+        if foot is None:
+            foot, fwd_w = _derived_foot(model, ref, g, fwd_w)
+        elif int(model.geom_type[g]) in (
+            int(mj.mjtGeom.mjGEOM_CAPSULE),
+            int(mj.mjtGeom.mjGEOM_CYLINDER),
+        ):
+            a = np.array(ref.geom_xmat[g]).reshape(3, 3)[:, 2]
+            if math.hypot(a[0], a[1]) > 0.5:
+                fwd_w = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
+                fwd_w = fwd_w if fwd_w[0] >= 0 else -fwd_w
+        low_w = _support(model, ref, g)
+        t = int(model.geom_type[g])
+        Rg = np.array(ref.geom_xmat[g]).reshape(3, 3)
+        center = Rb.T @ (np.array(ref.geom_xpos[g]) - xb)
+        axes = Rb.T @ Rg
+        size = np.array(model.geom_size[g], dtype=float)
+        kinds = {
+            int(mj.mjtGeom.mjGEOM_BOX): "box",
+            int(mj.mjtGeom.mjGEOM_SPHERE): "sphere",
+            int(mj.mjtGeom.mjGEOM_CAPSULE): "capsule",
+            int(mj.mjtGeom.mjGEOM_CYLINDER): "cylinder",
+            int(mj.mjtGeom.mjGEOM_MESH): "points",
+        }
+        kind = kinds[t]
+        pts = center + _mesh_vertices(model, g) @ axes.T if kind == "points" else np.zeros((0, 3))
+        if tip is not None:
+            low_w = xb + Rb @ check_finite("tip", tip)
+    if not hasattr(foot, "contact_force") or not hasattr(foot, "characteristic_length"):
+        raise MudrftError(
+            f"foot for body {name!r} must be a mudrft foot (mudrft.feet), got {type(foot).__name__}"
+        )
+    tip_b = Rb.T @ (low_w - xb)
+    return BodyFoot(
+        body=name,
+        body_id=bid,
+        foot=foot,
+        tip=tip_b,
+        forward=Rb.T @ fwd_w,
+        kind=kind,
+        center=center,
+        axes=axes,
+        size=size,
+        points=pts,
+    )
+
+
+def lowest_points(
+    bodies: Sequence[BodyFoot],
+    X: NDArray[np.float64],
+    R: NDArray[np.float64],
+    tip: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Lowest point of each foot geom in its current pose, for many robots at once.
+
+    The batched form of :func:`~mudrft.integrations.mujoco.geoms._support`, from the
+    geom data that :func:`body_foot` stored in each :class:`BodyFoot`.
+
+    Parameters
+    ----------
+    bodies : sequence of BodyFoot
+        The ``nb`` placed feet.
+    X : ndarray (N, nb, 3)
+        Body origins in the world [m].
+    R : ndarray (N, nb, 3, 3)
+        Body orientations (body to world) [-].
+    tip : ndarray (N, nb, 3)
+        Tips in the world [m]; the answer for bodies of kind ``"tip"``.
+
+    Returns
+    -------
+    ndarray (N, nb, 3)
+        Lowest points in the world [m].
+    """
+    low = tip.copy()
+    for j, b in enumerate(bodies):
+        if b.kind == "tip":
+            continue
+        Rj = R[:, j]
+        c = X[:, j] + Rj @ b.center
+        G = Rj @ b.axes  # geom axes in the world, (N, 3, 3)
+        s = b.size
+        if b.kind == "box":
+            u = G[:, 2, :]
+            sg = -np.where(np.abs(u) > 1e-9, np.sign(u), 0.0)
+            low[:, j] = c + (G @ (sg * s)[..., None])[..., 0]
+        elif b.kind == "sphere":
+            low[:, j] = c - [0.0, 0.0, s[0]]
+        elif b.kind in ("capsule", "cylinder"):
+            a = G[:, :, 2]
+            az = a[:, 2:3]
+            end = c - np.where(np.abs(az) > 1e-9, np.sign(az), 0.0) * s[1] * a
+            if b.kind == "capsule":
+                low[:, j] = end - [0.0, 0.0, s[0]]
+            else:
+                perp = np.array([0.0, 0.0, 1.0]) - az * a
+                nrm = np.linalg.norm(perp, axis=-1, keepdims=True)
+                low[:, j] = end - s[0] * perp / np.maximum(nrm, 1e-12) * (nrm > 1e-9)
+        else:
+            pts = X[:, j, None, :] + b.points @ np.swapaxes(Rj, -1, -2)
+            i = np.argmin(pts[..., 2], axis=1)
+            low[:, j] = pts[np.arange(len(i)), i]
+    return low

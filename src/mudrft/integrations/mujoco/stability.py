@@ -1,0 +1,68 @@
+r"""How large a time step an explicit coupling of a foot with mud can take.
+
+The mud force on a foot linearised about a depth is a damper (the viscous part), a
+spring (the elastic part) and a second damper where the suction switch turns on;
+:func:`stability_limits` gives the explicit time-step limit of each. They explain why
+:class:`~mudrft.integrations.mujoco.MudBatch` treats the velocity-dependent part
+semi-implicitly (docs/model.md, decisions D61-D64).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..._validation import check_positive
+
+__all__ = ["stability_limits"]
+
+
+def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[str, float]:
+    r"""Largest explicit time steps of a foot of effective mass ``mass`` in mud.
+
+    Linearising the vertical mud force about a tip at ``depth``:
+
+    * viscous part, a damper :math:`c=\eta_\infty A_z/L_c`: explicit Euler is stable for
+      :math:`\Delta t<2m/c` (``dt_viscous``);
+    * elastic part, a spring :math:`k=\alpha n\gamma^{n-1}A_z/L_c` (infinite at
+      :math:`\gamma\to0` for :math:`n<1`): symplectic Euler is stable for
+      :math:`\Delta t<2\sqrt{m/k}` (``dt_elastic``);
+    * suction switch, a damper :math:`c_s=\sigma_Y A_z/(2\nu L_c)` at full suction
+      (``dt_suction`` = :math:`2m/c_s`).
+
+    Parameters
+    ----------
+    foot : Foot
+        The foot (its ``projected_areas`` and ``characteristic_length``).
+    mud : Mud
+        The mud (vertical set).
+    mass : float
+        Effective mass of the foot [kg].
+    depth : float
+        Tip depth [m], > 0.
+
+    Returns
+    -------
+    dict
+        ``dt_viscous``, ``dt_elastic``, ``dt_suction`` [s] and the coefficients
+        ``damping`` [N s/m], ``stiffness`` [N/m], ``suction_damping`` [N s/m].
+    """
+    m = float(check_positive("mass", mass, unit="kg"))
+    d = float(check_positive("depth", depth, unit="m"))
+    p = mud.vertical
+    lc = float(foot.characteristic_length)
+    az = float(np.asarray(foot.projected_areas(d))[..., 2])
+    g = d / lc
+    c = float(p.eta_inf) * az / lc
+    k = float(p.alpha) * float(p.n) * g ** (float(p.n) - 1.0) * az / lc
+    cs = float(p.sigma_y) * az / (2.0 * float(p.nu) * lc)
+    return {
+        "dt_viscous": 2 * m / c,
+        "dt_elastic": 2 * math.sqrt(m / k),
+        "dt_suction": 2 * m / cs,
+        "damping": c,
+        "stiffness": k,
+        "suction_damping": cs,
+    }

@@ -1,0 +1,171 @@
+"""What a biped walk writes: its tables, the CSV files, the plot and the image strip.
+
+:func:`mudrft.integrations.walk.walk` fills a table with one row per physics step
+(:data:`WALK_COLUMNS`), from which :func:`_per_step` makes one row per gait step
+(:data:`STEP_COLUMNS`); ``mudrft walk`` writes both as CSV (:func:`_write_csv`), draws them
+(:func:`plot_walk`, needs matplotlib) and saves offscreen-rendered frames side by side
+(:func:`save_strip`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .mujoco._lazy import _mujoco
+
+if TYPE_CHECKING:
+    from .walk import WalkResult
+
+__all__ = ["STEP_COLUMNS", "WALK_COLUMNS", "plot_walk", "save_strip"]
+
+#: Columns of the per-physics-step table (``walk.csv``), with units.
+WALK_COLUMNS = (
+    "time [s]",
+    "x [m]",
+    "z [m]",
+    "pitch [rad]",
+    "left_depth [m]",
+    "right_depth [m]",
+    "left_Fx [N]",
+    "left_Fz [N]",
+    "right_Fx [N]",
+    "right_Fz [N]",
+    "joint_power [W]",
+    "joint_energy [J]",
+    "step",
+)
+#: Columns of the per-gait-step table (``steps.csv``), with units.
+STEP_COLUMNS = (
+    "step",
+    "t_start [s]",
+    "stance",
+    "energy [J]",
+    "sinking [m]",
+    "max_suction [N]",
+    "advance [m]",
+)
+
+
+def _renderer(model: Any) -> Any:
+    """An offscreen renderer, or None where OpenGL is not available."""
+    try:
+        return _mujoco().Renderer(model, 240, 320)
+    except Exception:  # any GL failure only means "no images"
+        return None
+
+
+def _per_step(
+    table: dict[str, NDArray[np.float64]], step_time: float
+) -> dict[str, NDArray[np.float64]]:
+    """Energy, stance-foot sinking, suction and advance of every complete gait step.
+
+    Parameters
+    ----------
+    table : dict of str -> ndarray (n,)
+        Per physics step, keys :data:`WALK_COLUMNS` (``step`` numbers the gait steps;
+        even steps stand on the left foot).
+    step_time : float
+        Duration of a gait step [s] (unused: the ``step`` column marks the steps).
+
+    Returns
+    -------
+    dict of str -> ndarray (m,)
+        Keys :data:`STEP_COLUMNS`: ``energy [J]`` joint work, ``sinking [m]`` deepest
+        stance-foot depth, ``max_suction [N]`` largest downward mud force on either foot,
+        ``advance [m]`` torso advance, for each complete step (the last one, maybe cut
+        short, is left out).
+    """
+    t = table["time [s]"]
+    step = table["step"].astype(int)
+    out: dict[str, list[float]] = {c: [] for c in STEP_COLUMNS}
+    last = int(step[-1])
+    for k in range(0, last):  # the last step may be cut short
+        sel = step == k
+        if not np.any(sel):
+            continue
+        stance = k % 2
+        side = "left" if stance == 0 else "right"
+        e = table["joint_energy [J]"][sel]
+        e0 = table["joint_energy [J]"][np.argmax(sel) - 1] if np.argmax(sel) > 0 else 0.0
+        fz = np.minimum(table["left_Fz [N]"][sel], table["right_Fz [N]"][sel])
+        out["step"].append(k)
+        out["t_start [s]"].append(float(t[sel][0]))
+        out["stance"].append(stance)
+        out["energy [J]"].append(float(e[-1] - e0))
+        out["sinking [m]"].append(float(table[f"{side}_depth [m]"][sel].max()))
+        out["max_suction [N]"].append(float(max(0.0, -fz.min())))
+        out["advance [m]"].append(float(table["x [m]"][sel][-1] - table["x [m]"][sel][0]))
+    return {c: np.asarray(v, dtype=float) for c, v in out.items()}
+
+
+def _write_csv(path: Path, table: dict[str, NDArray[np.float64]], columns: tuple[str, ...]) -> None:
+    """Write ``table`` as CSV: a header of ``columns`` (units in brackets), one row each."""
+    data = (
+        np.column_stack([table[c] for c in columns])
+        if len(table[columns[0]])
+        else np.zeros((0, len(columns)))
+    )
+    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.9g")
+
+
+def plot_walk(result: WalkResult, path: Path) -> Path:
+    """Plot a walk against time: torso motion, foot sinking, mud forces, joint work (PNG).
+
+    Panels: torso x and z [m], foot sinking [mm], vertical mud force on each foot [N]
+    (< 0: suction) and joint work [J], against time [s]. Needs matplotlib; returns
+    ``path``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tb = result.table
+    t = tb["time [s]"]
+    fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    ax[0].plot(t, tb["x [m]"], label="torso x")
+    ax[0].plot(t, tb["z [m]"], label="torso z")
+    ax[0].set_ylabel("[m]")
+    ax[0].legend(loc="upper left")
+    for side, c in (("left", "C0"), ("right", "C1")):
+        ax[1].plot(t, 1e3 * tb[f"{side}_depth [m]"], c, label=f"{side} foot")
+        ax[2].plot(t, tb[f"{side}_Fz [N]"], c, label=f"{side} foot")
+    ax[1].set_ylabel("sinking [mm]")
+    ax[1].invert_yaxis()
+    ax[1].legend(loc="lower left")
+    ax[2].axhline(0.0, color="k", lw=0.5)
+    ax[2].set_ylabel("mud $F_z$ [N]\n(< 0: suction)")
+    ax[3].plot(t, tb["joint_energy [J]"], "k")
+    ax[3].set_ylabel("joint work [J]")
+    ax[3].set_xlabel("time [s]")
+    s = result.summary
+    fig.suptitle(
+        f"biped in mud, {s['foot']} feet: {s['distance [m]']:.2f} m, "
+        f"{s['energy_per_step [J]']:.2f} J/step, sinking {1e3 * s['mean_sinking [m]']:.1f} mm, "
+        f"max suction {s['max_suction [N]']:.1f} N" + (" (fell)" if s["fell"] else ""),
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def save_strip(frames: list[NDArray[np.uint8]], path: Path) -> Path | None:
+    """Save rendered RGB frames (each ``(height, width, 3)``) side by side as one PNG.
+
+    Returns the path, or None when there are no frames (needs matplotlib otherwise).
+    """
+    if not frames:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.imsave(path, np.concatenate(frames, axis=1))
+    return path
