@@ -3,7 +3,7 @@
 All trials are simulated together: arrays of shape ``(n_max, T)`` for ``T`` trials,
 padded at the end (a padded step repeats the last sample, never read back). A
 batch of ``B`` parameter sets (a Jacobian, a grid of starting points) is run in
-the same pass, so one call of :func:`mudrft.constitutive.step` per time step
+the same pass, so one call of :func:`mudrft.constitutive.channel_update` per time step
 advances ``B x T`` channels.
 """
 
@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
-from ..constitutive import initial_state, step
+from ..constitutive import channel_constants, channel_update, initial_state
 from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
 
@@ -40,17 +40,6 @@ PHASES = {"intrusion": 0, "hold": 1, "retraction": 2, "out": 3}
 #: Fraction of the deepest displacement within which the plate counts as at the bottom
 #: (hold) or back at the surface (out), decision D42.
 SEGMENT_TOLERANCE = 0.01
-
-
-def _fused_step() -> tuple[Any, Any] | None:
-    """The fused numpy kernel of :mod:`mudrft.backends.kernels` (same update as
-    :func:`mudrft.constitutive.step`, tested against it there and in
-    tests/calibration), or None if it is not available."""
-    try:
-        from ..backends.kernels import channel_constants, fused_step
-    except ImportError:  # pragma: no cover
-        return None
-    return fused_step, channel_constants
 
 
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
@@ -175,20 +164,15 @@ class Packed:
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
             st = initial_state((B, T), xi0=self.xi0, gamma=self.gamma[0])
-            fused = _fused_step()
-            if fused is not None:
-                # the same update as constitutive.step without per-step validation (the
-                # inputs were validated once when the dataset was packed)
-                consts = fused[1](p)
-                kappa = 1.0 if self.acceleration else 0.0
-                for k in range(1, n):
-                    st, out[k] = fused[0](consts, st, self.gamma[k], self.rate[k - 1],
-                                          self.dt[k - 1], 1.0, kappa)
-            else:  # pragma: no cover - only without the optional kernels module
-                for k in range(1, n):
-                    st, s = step(p, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1],
-                                 acceleration=self.acceleration)
-                    out[k] = s.total
+            # the one constitutive step (mudrft.constitutive.channel_update) without
+            # per-step validation: the inputs were validated once when the data were packed
+            consts = channel_constants(p)
+            kappa = 1.0 if self.acceleration else 0.0
+            for k in range(1, n):
+                st, stress = channel_update(
+                    consts, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1], 1.0, kappa
+                )
+                out[k] = stress.total
         bad = ~np.isfinite(out)
         if np.any(bad):
             out[bad] = np.inf

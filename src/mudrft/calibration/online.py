@@ -37,12 +37,12 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validation import MudrftError, check_choice, check_in_range, check_positive
-from ..constitutive import initial_state
+from ..constitutive import channel_constants, channel_update, initial_state
 from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, _fused_step
+from ._problem import FIT_PARAMETERS, PHASES, Packed
 
 __all__ = [
     "Classification",
@@ -230,9 +230,7 @@ class OnlineEstimator:
         tied = bool(np.isclose(float(self.prior.k_a), 1.0 / float(self.prior.lam)))
         self._basis_params = MudParameters(**vals, nu=float(self.prior.nu),
                                            k_a=None if tied else float(self.prior.k_a))
-        fused = _fused_step()
-        self._fused = fused
-        self._consts = fused[1](self._basis_params) if fused is not None else None
+        self._consts = channel_constants(self._basis_params)
 
     def rebase(self, prior: MudParameters) -> None:
         """Start again around another prior (e.g. the best candidate of a
@@ -336,14 +334,8 @@ class OnlineEstimator:
             return
         gv = np.full(G * 5, g)
         gdv = np.full(G * 5, gd)
-        if self._fused is not None:
-            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
-        else:  # pragma: no cover - only without the optional kernels module
-            from ..constitutive import step
-
-            self._state, out = step(self._basis_params, self._state, gv, gdv, dt)
-            total = out.total
-        tot = np.asarray(total).reshape(G, 5)
+        self._state, stress = channel_update(self._consts, self._state, gv, gdv, dt)
+        tot = np.asarray(stress.total).reshape(G, 5)
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
         if not np.any(np.abs(phi) > 0):
             return
@@ -639,9 +631,7 @@ class StreamClassifier:
         self.decay = 1.0 - 1.0 / w
         self.noise = None if noise is None else float(check_positive("noise", noise, unit="Pa"))
         self.params = MudParameters.stack(self.candidates)
-        fused = _fused_step()
-        self._fused = fused
-        self._consts = fused[1](self.params) if fused is not None else None
+        self._consts = channel_constants(self.params)
         self.reset()
 
     def reset(self) -> None:
@@ -680,14 +670,8 @@ class StreamClassifier:
         self._inside = True
         gv = np.full(len(self.candidates), g)
         gdv = np.full(len(self.candidates), gd)
-        if self._fused is not None:
-            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
-        else:  # pragma: no cover
-            from ..constitutive import step
-
-            self._state, out = step(self.params, self._state, gv, gdv, dt)
-            total = out.total
-        r = s - np.asarray(total)
+        self._state, stress = channel_update(self._consts, self._state, gv, gdv, dt)
+        r = s - np.asarray(stress.total)
         self._sse = self.decay * self._sse + r * r
         self._count = self.decay * self._count + 1.0
         return self.best
