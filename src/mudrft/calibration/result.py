@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..io import IntrusionDataset
+from ..io import IntrusionDataset, atomic_write
 from ..parameters.base import PARAMETER_UNITS, MudParameters
 from ._options import as_dataset
 from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
@@ -302,28 +302,25 @@ class FitResult:
             },
         }
 
-    def to_json(self, path: str | os.PathLike, *, overwrite: bool = False) -> Path:
-        """Save to JSON; never replaces an existing file unless ``overwrite=True``.
+    def to_json(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Save to JSON, atomically; never replaces an existing file unless ``overwrite=True``.
 
         Parameters
         ----------
         path : str or path-like
-            Output file.
+            Output file (written through :func:`mudrft.io.atomic_write`).
         overwrite : bool, keyword-only
             Replace an existing file.
+
+        Returns
+        -------
+        Path
+            The file written.
         """
-        p = Path(os.fspath(path))
         text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
-        try:
-            with open(p, "w" if overwrite else "x", encoding="utf-8") as fh:
-                fh.write(text + "\n")
-        except FileExistsError as exc:
-            raise MudrftError(
-                f"{p}: file exists; pass overwrite=True (CLI: --overwrite) to replace it"
-            ) from exc
-        except OSError as exc:
-            raise MudrftError(f"{p}: cannot be written ({exc.strerror or exc})") from exc
-        return p
+        return atomic_write(
+            path, text + "\n", overwrite=overwrite, option="overwrite=True (CLI: --overwrite)"
+        )
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], *, where: str = "fit") -> FitResult:
