@@ -10,6 +10,19 @@ confidence intervals, correlation, identifiability verdicts, RMSE, status, trace
 Online: :class:`OnlineEstimator` (recursive least squares with forgetting of the
 paper's linear-in-parameter combinations) and :class:`StreamClassifier` (which
 known parameter set a stream resembles). Data: :mod:`mudrft.io`.
+
+Modules, one concept each:
+
+* :mod:`.fit`: :func:`calibrate`, the driver: checked inputs, stages, the result;
+* :mod:`.stages`: start, phase-by-phase and joint stages, uncertainty at the optimum;
+* :mod:`._engine`: bounded least squares in log-parameters with variable projection;
+* :mod:`._problem`: trials packed for batched simulation, phases of a trial;
+* :mod:`._options`: parameter groups, bounds, accepted datasets, decimation;
+* :mod:`.uncertainty`: covariance, intervals, identifiability verdicts (D44);
+* :mod:`.result`, :mod:`.persistence`: :class:`FitResult`, JSON files;
+* :mod:`.online`, :mod:`._rls`: the recursive estimator (D46);
+* :mod:`.classification`: which known mud the data resemble (D47);
+* :mod:`.synthetic`: the synthetic example data.
 """
 
 from ..io import (
@@ -21,8 +34,12 @@ from ..io import (
     save_intrusion_csv,
     save_intrusion_hdf5,
 )
-from .fit import DEFAULT_BOUNDS, GROUPS, FitResult, StageReport, calibrate, load_parameters
-from .online import Classification, OnlineEstimate, OnlineEstimator, StreamClassifier, classify
+from ._options import DEFAULT_BOUNDS, GROUPS
+from .classification import Classification, StreamClassifier, classify
+from .fit import calibrate
+from .online import OnlineEstimate, OnlineEstimator
+from .persistence import load_parameters
+from .result import FitResult, StageReport
 from .synthetic import EXAMPLE_FILES, example_dataset, synthetic_dataset
 
 RecursiveEstimator = OnlineEstimator

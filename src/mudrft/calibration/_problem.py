@@ -3,7 +3,7 @@
 All trials are simulated together: arrays of shape ``(n_max, T)`` for ``T`` trials,
 padded at the end (a padded step repeats the last sample, never read back). A
 batch of ``B`` parameter sets (a Jacobian, a grid of starting points) is run in
-the same pass, so one call of :func:`mudrft.constitutive.step` per time step
+the same pass, so one call of :func:`mudrft.constitutive.channel_update` per time step
 advances ``B x T`` channels.
 """
 
@@ -13,9 +13,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..constitutive import initial_state, step
+from ..constitutive import channel_constants, channel_update, initial_state
 from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
 
@@ -24,12 +25,22 @@ __all__ = [
     "LINEAR_PARAMETERS",
     "PHASES",
     "Packed",
+    "pack",
     "segment",
+    "values_of",
 ]
 
 #: Parameters a fit can free (nu and k_a are never fitted: decision D41).
 FIT_PARAMETERS = (
-    "alpha", "n", "lam", "eta_m", "eta_inf", "gamma_dot_c", "tau_build", "tau_leak", "epsilon",
+    "alpha",
+    "n",
+    "lam",
+    "eta_m",
+    "eta_inf",
+    "gamma_dot_c",
+    "tau_build",
+    "tau_leak",
+    "epsilon",
     "sigma_y",
 )
 #: Parameters the model is exactly linear in (each term of eq. 1 is proportional to one).
@@ -40,17 +51,6 @@ PHASES = {"intrusion": 0, "hold": 1, "retraction": 2, "out": 3}
 #: Fraction of the deepest displacement within which the plate counts as at the bottom
 #: (hold) or back at the surface (out), decision D42.
 SEGMENT_TOLERANCE = 0.01
-
-
-def _fused_step() -> tuple[Any, Any] | None:
-    """The fused numpy kernel of :mod:`mudrft.backends.kernels` (same update as
-    :func:`mudrft.constitutive.step`, tested against it there and in
-    tests/calibration), or None if it is not available."""
-    try:
-        from ..backends.kernels import channel_constants, fused_step
-    except ImportError:  # pragma: no cover
-        return None
-    return fused_step, channel_constants
 
 
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
@@ -74,10 +74,10 @@ def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray
     i_reach = int(np.argmax(at_bottom))
     i_leave = int(q.size - 1 - np.argmax(at_bottom[::-1]))
     phase[: i_reach + 1] = 0
-    phase[i_reach + 1: i_leave + 1] = 1
-    after = np.nonzero(q[i_leave + 1:] <= band)[0]
+    phase[i_reach + 1 : i_leave + 1] = 1
+    after = np.nonzero(q[i_leave + 1 :] <= band)[0]
     if after.size:
-        phase[i_leave + 1 + after[0]:] = 3
+        phase[i_leave + 1 + after[0] :] = 3
     return phase
 
 
@@ -134,8 +134,10 @@ class Packed:
             phase[:n, j] = ph
             valid[:n, j] = ph != PHASES["out"]
             if not np.any(ph == PHASES["intrusion"]) or float(np.max(np.abs(tr.depth))) <= 0:
-                raise MudrftError(f"trial {tr.name!r} has no intrusion (depth never increases); "
-                                  "a calibration trial must intrude into the mud")
+                raise MudrftError(
+                    f"trial {tr.name!r} has no intrusion (depth never increases); "
+                    "a calibration trial must intrude into the mud"
+                )
             span = float(np.ptp(tr.stress[valid[:n, j]]))
             if not span > 0:
                 raise MudrftError(f"trial {tr.name!r}: the stress is constant; nothing to fit")
@@ -143,9 +145,22 @@ class Packed:
             lengths[j] = n
         dt = np.diff(time, axis=0)
         rate = np.diff(gamma, axis=0) / dt
-        return cls(time=time, gamma=gamma, rate=rate, dt=dt, data=data, valid=valid, phase=phase,
-                   weight=weight, lengths=lengths, names=tuple(t.name for t in trials), nu=nu,
-                   k_a=k_a, acceleration=acceleration, xi0=xi0)
+        return cls(
+            time=time,
+            gamma=gamma,
+            rate=rate,
+            dt=dt,
+            data=data,
+            valid=valid,
+            phase=phase,
+            weight=weight,
+            lengths=lengths,
+            names=tuple(t.name for t in trials),
+            nu=nu,
+            k_a=k_a,
+            acceleration=acceleration,
+            xi0=xi0,
+        )
 
     @property
     def n_trials(self) -> int:
@@ -157,8 +172,9 @@ class Packed:
 
     def parameters(self, values: dict[str, Any]) -> MudParameters:
         """A (batched) MudParameters from a dict of arrays of shape (B,)."""
-        fields: dict[str, Any] = {k: np.asarray(values[k], dtype=float).reshape(-1, 1)
-                                  for k in FIT_PARAMETERS}
+        fields: dict[str, Any] = {
+            k: np.asarray(values[k], dtype=float).reshape(-1, 1) for k in FIT_PARAMETERS
+        }
         return MudParameters(**fields, nu=self.nu, k_a=self.k_a)
 
     def simulate(self, values: dict[str, Any], upto: int | None = None) -> np.ndarray:
@@ -175,20 +191,15 @@ class Packed:
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
             st = initial_state((B, T), xi0=self.xi0, gamma=self.gamma[0])
-            fused = _fused_step()
-            if fused is not None:
-                # the same update as constitutive.step without per-step validation (the
-                # inputs were validated once when the dataset was packed)
-                consts = fused[1](p)
-                kappa = 1.0 if self.acceleration else 0.0
-                for k in range(1, n):
-                    st, out[k] = fused[0](consts, st, self.gamma[k], self.rate[k - 1],
-                                          self.dt[k - 1], 1.0, kappa)
-            else:  # pragma: no cover - only without the optional kernels module
-                for k in range(1, n):
-                    st, s = step(p, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1],
-                                 acceleration=self.acceleration)
-                    out[k] = s.total
+            # the one constitutive step (mudrft.constitutive.channel_update) without
+            # per-step validation: the inputs were validated once when the data were packed
+            consts = channel_constants(p)
+            kappa = 1.0 if self.acceleration else 0.0
+            for k in range(1, n):
+                st, stress = channel_update(
+                    consts, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1], 1.0, kappa
+                )
+                out[k] = stress.total
         bad = ~np.isfinite(out)
         if np.any(bad):
             out[bad] = np.inf
@@ -204,3 +215,29 @@ class Packed:
     def upto(self, mask: np.ndarray) -> int:
         rows = np.nonzero(mask.any(axis=1))[0]
         return int(rows[-1]) + 1 if rows.size else 1
+
+
+def pack(ds: IntrusionDataset, p: MudParameters, *, acceleration: bool, xi0: float) -> Packed:
+    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
+
+    Parameters
+    ----------
+    ds : IntrusionDataset
+        The data.
+    p : MudParameters
+        A single set; its ``nu`` [1/s] is kept, its ``k_a`` [1/s] too unless it is the
+        default ``1/lam`` (then it follows each fitted ``lam``, decision D8).
+    acceleration : bool, keyword-only
+        Keep the acceleration term (decision D6).
+    xi0 : float, keyword-only
+        Initial structure of every trial [-].
+    """
+    tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
+    return Packed.from_dataset(
+        ds, nu=float(p.nu), k_a=None if tied else float(p.k_a), acceleration=acceleration, xi0=xi0
+    )
+
+
+def values_of(p: MudParameters, *, batch: int) -> dict[str, NDArray[np.float64]]:
+    """The fitted fields of a single set ``p`` [SI], each repeated ``batch`` times."""
+    return {k: np.full(batch, float(getattr(p, k))) for k in FIT_PARAMETERS}

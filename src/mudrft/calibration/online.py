@@ -24,25 +24,25 @@ Because the simplifications drop the lagged thixotropic stress, the estimates ar
 model constants by the thixotropic share of the stress (documented in
 docs/model.md). :class:`StreamClassifier` avoids that bias by
 running the full model for each candidate parameter set and comparing residuals over
-a sliding (exponentially weighted) window, decision D47.
+a sliding (exponentially weighted) window, decision D47 (:mod:`.classification`; its
+names are importable from here as well).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import MudrftError, check_choice, check_in_range, check_positive
-from ..constitutive import initial_state
-from ..io import IntrusionDataset
+from ..constitutive import channel_constants, channel_update, initial_state
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, _fused_step
+from ._problem import FIT_PARAMETERS
+from ._rls import Sample, SampleStream, refined_argmin, rls_update
+from .classification import Classification, StreamClassifier, classify
 
 __all__ = [
     "Classification",
@@ -84,30 +84,6 @@ class OnlineEstimate(NamedTuple):
     n: float
     updates: int
     phase: str
-
-
-def _rls_update(theta: np.ndarray, P: np.ndarray, phi: np.ndarray, y: Any, lam: float,
-                p_max: float) -> tuple[np.ndarray, np.ndarray, Any]:
-    r"""One RLS step with exponential forgetting, for a bank of filters.
-
-    theta (..., p), P (..., p, p), phi (..., p), y (...). The trace of P is capped at
-    ``p_max`` so that directions the data do not excite cannot wind up (decision D46).
-    Returns the new theta, P and the increment of the weighted least-squares cost,
-    :math:`\lambda e^2/(\lambda+\phi^TP\phi)` with :math:`e` the a-priori error (so
-    that :math:`V_k=\lambda V_{k-1}+\text{increment}` is the minimised cost).
-    """
-    Pphi = np.einsum("...ij,...j->...i", P, phi)
-    denom = lam + np.einsum("...i,...i->...", phi, Pphi)
-    K = Pphi / denom[..., None]
-    err = y - np.einsum("...i,...i->...", phi, theta)
-    theta = theta + K * err[..., None]
-    P = (P - K[..., :, None] * Pphi[..., None, :]) / lam
-    P = 0.5 * (P + np.swapaxes(P, -1, -2))  # keep symmetric against round-off
-    tr = np.trace(P, axis1=-2, axis2=-1)
-    over = tr > p_max
-    if np.any(over):
-        P = P * np.where(over, p_max / tr, 1.0)[..., None, None]
-    return theta, P, lam * err * err / denom
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
@@ -187,7 +163,7 @@ class OnlineEstimator:
         characteristic_length: float = DEFAULT_PLATE_LENGTH,
         n: float | None = None,
         forgetting: float = 0.995,
-        tau_build_grid: Any = None,
+        tau_build_grid: ArrayLike | None = None,
         rate_threshold: float = 0.02,
         retraction_skip: float | None = None,
         initial_scale: float = 100.0,
@@ -213,6 +189,7 @@ class OnlineEstimator:
         self.retraction_skip = float(check_in_range("retraction_skip", retraction_skip, 0.0, 10.0))
         self.initial_scale = float(check_positive("initial_scale", initial_scale))
         self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
+        self._stream = SampleStream(self.L)
         self._build_basis()
         self.reset()
 
@@ -220,19 +197,19 @@ class OnlineEstimator:
         if self.model != "exact":
             return
         G = self.tau_grid.size
-        vals: dict[str, Any] = {k: np.repeat(float(getattr(self.prior, k)), G * 5)
-                                for k in FIT_PARAMETERS}
+        vals: dict[str, Any] = {  # keyword arguments of MudParameters
+            k: np.repeat(float(getattr(self.prior, k)), G * 5) for k in FIT_PARAMETERS
+        }
         vals["tau_build"] = np.repeat(self.tau_grid, 5)
         for j, k in enumerate(_EXACT):
             col = np.ones((G, 5))
             col[:, 1 + j] = 2.0
             vals[k] = col.ravel()
         tied = bool(np.isclose(float(self.prior.k_a), 1.0 / float(self.prior.lam)))
-        self._basis_params = MudParameters(**vals, nu=float(self.prior.nu),
-                                           k_a=None if tied else float(self.prior.k_a))
-        fused = _fused_step()
-        self._fused = fused
-        self._consts = fused[1](self._basis_params) if fused is not None else None
+        self._basis_params = MudParameters(
+            **vals, nu=float(self.prior.nu), k_a=None if tied else float(self.prior.k_a)
+        )
+        self._consts = channel_constants(self._basis_params)
 
     def rebase(self, prior: MudParameters) -> None:
         """Start again around another prior (e.g. the best candidate of a
@@ -259,7 +236,7 @@ class OnlineEstimator:
         self._P = np.tile(np.diag(var0), (G, 1, 1))
         self._err = np.zeros(G)
         self._updates = 0
-        self._last: tuple[float, float] | None = None
+        self._stream.reset()
         self._gamma_w = 0.0
         self._t_w: float | None = None
         self._phase = "out"
@@ -289,46 +266,38 @@ class OnlineEstimator:
         -------
         OnlineEstimate
         """
-        t, q, s = float(time), float(depth), float(stress)
-        if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
-            raise MudrftError(f"update needs finite time, depth and stress, got {time!r}, "
-                              f"{depth!r}, {stress!r}")
-        g = q / self.L
-        if self._last is None:
-            self._last = (t, g)
-            self._phase = "out" if g <= 0 else "hold"
+        x = self._stream.push(time, depth, stress)
+        if x.dt is None or x.rate is None:  # the first sample: a starting point only
+            self._phase = "out" if x.gamma <= 0 else "hold"
             if self.model == "exact":
-                self._state = initial_state((self.tau_grid.size * 5,), gamma=g)
+                self._state = initial_state((self.tau_grid.size * 5,), gamma=x.gamma)
             return self.estimate
-        t0, g0 = self._last
-        if not t > t0:
-            raise MudrftError(f"time must increase between updates, got {t!r} after {t0!r}")
-        dt = t - t0
-        gd = (g - g0) / dt
-        self._last = (t, g)
-        thr = self.rate_threshold
-        was_in = self._phase != "out"
-        if g <= 0.0:
-            self._phase = "out"  # at or above the surface: no mud stress (as plate_response)
-        elif gd > thr:
-            self._phase = "intrusion"
-        elif gd < -thr:
-            self._phase = "retraction"
-        else:
-            self._phase = "hold"
-        if self._phase == "intrusion" and g >= self._gamma_w:
-            self._gamma_w, self._t_w = g, None
-        if self._phase == "retraction" and self._t_w is None:
-            self._t_w = t0  # retraction began at the previous sample
-        if self._phase == "out":
-            self._gamma_w, self._t_w = 0.0, None
+        self._phase = self._phase_of(x.gamma, x.rate)
+        self._track_intrusion(x)
         if self.model == "exact":
-            self._update_exact(g, gd, dt, s, entering=not was_in)
+            self._update_exact(x.gamma, x.rate, x.dt, x.stress)
         else:
-            self._update_paper(t, g, gd, s)
+            self._update_paper(x.time, x.gamma, x.rate, x.stress)
         return self.estimate
 
-    def _update_exact(self, g: float, gd: float, dt: float, s: float, *, entering: bool) -> None:
+    def _phase_of(self, g: float, gd: float) -> str:
+        """Phase of a sample from its displacement [-] and rate [1/s]."""
+        if g <= 0.0:
+            return "out"  # at or above the surface: no mud stress (as plate_response)
+        if gd > self.rate_threshold:
+            return "intrusion"
+        return "retraction" if gd < -self.rate_threshold else "hold"
+
+    def _track_intrusion(self, x: Sample) -> None:
+        """Deepest point of the current intrusion and the time its retraction began."""
+        if self._phase == "intrusion" and x.gamma >= self._gamma_w:
+            self._gamma_w, self._t_w = x.gamma, None
+        if self._phase == "retraction" and self._t_w is None:
+            self._t_w = x.previous_time  # retraction began at the previous sample
+        if self._phase == "out":
+            self._gamma_w, self._t_w = 0.0, None
+
+    def _update_exact(self, g: float, gd: float, dt: float, s: float) -> None:
         G = self.tau_grid.size
         if self._phase == "out":
             # out of the mud: no stress to learn from; the next intrusion starts afresh (D11)
@@ -336,73 +305,77 @@ class OnlineEstimator:
             return
         gv = np.full(G * 5, g)
         gdv = np.full(G * 5, gd)
-        if self._fused is not None:
-            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
-        else:  # pragma: no cover - only without the optional kernels module
-            from ..constitutive import step
-
-            self._state, out = step(self._basis_params, self._state, gv, gdv, dt)
-            total = out.total
-        tot = np.asarray(total).reshape(G, 5)
+        self._state, stress = channel_update(self._consts, self._state, gv, gdv, dt)
+        tot = np.asarray(stress.total).reshape(G, 5)
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
         if not np.any(np.abs(phi) > 0):
             return
-        self._theta, self._P, dv = _rls_update(self._theta, self._P, phi * (self._scale / self._S),
-                                               np.full(G, s / self._S), self.forgetting,
-                                               self._p_max)
+        self._theta, self._P, dv = rls_update(
+            self._theta,
+            self._P,
+            phi * (self._scale / self._S),
+            np.full(G, s / self._S),
+            self.forgetting,
+            self._p_max,
+        )
         self._err = self.forgetting * self._err + dv
         self._updates += 1
 
     def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
         if self._phase == "intrusion":
             phi = np.array([g**self.n, gd])
-            self._th_i, self._P_i, _ = _rls_update(self._th_i, self._P_i,
-                                                   phi * (self._scale_i / self._S), s / self._S,
-                                                   self.forgetting, self._pi_max)
+            self._th_i, self._P_i, _ = rls_update(
+                self._th_i,
+                self._P_i,
+                phi * (self._scale_i / self._S),
+                s / self._S,
+                self.forgetting,
+                self._pi_max,
+            )
             self._n_i += 1
             self._updates += 1
         elif self._phase == "retraction" and self._gamma_w - g >= self.retraction_skip:
             assert self._t_w is not None
             G = self.tau_grid.size
-            phi = np.stack([-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)),
-                            np.full(G, gd)], axis=-1)
-            self._theta, self._P, dv = _rls_update(self._theta, self._P,
-                                                   phi * (self._scale / self._S),
-                                                   np.full(G, s / self._S), self.forgetting,
-                                                   self._p_max)
+            phi = np.stack(
+                [-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)), np.full(G, gd)], axis=-1
+            )
+            self._theta, self._P, dv = rls_update(
+                self._theta,
+                self._P,
+                phi * (self._scale / self._S),
+                np.full(G, s / self._S),
+                self.forgetting,
+                self._p_max,
+            )
             self._err = self.forgetting * self._err + dv
             self._updates += 1
 
-    def update_many(self, time: Any, depth: Any, stress: Any) -> list[OnlineEstimate]:
+    def update_many(
+        self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
+    ) -> list[OnlineEstimate]:
         """Feed arrays of samples (time [s], depth [m], stress [Pa]) in order; return the
         estimate after each."""
         t = np.asarray(time, dtype=float).ravel()
         q = np.asarray(depth, dtype=float).ravel()
         s = np.asarray(stress, dtype=float).ravel()
         if not (t.size == q.size == s.size):
-            raise MudrftError(f"time, depth and stress must have the same length, got "
-                              f"{t.size}, {q.size}, {s.size}")
+            raise MudrftError(
+                f"time, depth and stress must have the same length, got "
+                f"{t.size}, {q.size}, {s.size}"
+            )
         return [self.update(a, b, c) for a, b, c in zip(t, q, s, strict=True)]
 
     # ------------------------------------------------------------------------------------
-    def _tau_index(self) -> float:
-        e = self._err
-        i = int(np.argmin(e))
-        if 0 < i < e.size - 1:
-            # parabola through the three errors in ln(tau): vertex offset in grid steps
-            den = e[i - 1] - 2 * e[i] + e[i + 1]
-            if den > 0:
-                return i + float(np.clip(0.5 * (e[i - 1] - e[i + 1]) / den, -0.5, 0.5))
-        return float(i)
-
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
-        est: dict[str, float | None] = dict.fromkeys(("alpha", "eta_inf", "eta_m", "sigma_y",
-                                                      "tau_build"))
+        est: dict[str, float | None] = dict.fromkeys(
+            ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
+        )
         have_bank = np.any(self._err > 0)
         if have_bank:
-            x = self._tau_index()
+            x = refined_argmin(self._err)
             lg = np.log(self.tau_grid)
             est["tau_build"] = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
             i0 = min(int(np.floor(x)), lg.size - 2)
@@ -416,9 +389,16 @@ class OnlineEstimator:
             if self._n_i >= 2:
                 a, e = self._th_i * self._scale_i
                 est["alpha"], est["eta_inf"] = float(a), float(e)
-        return OnlineEstimate(alpha=est["alpha"], eta_inf=est["eta_inf"], eta_m=est["eta_m"],
-                              sigma_y=est["sigma_y"], tau_build=est["tau_build"], n=self.n,
-                              updates=self._updates, phase=self._phase)
+        return OnlineEstimate(
+            alpha=est["alpha"],
+            eta_inf=est["eta_inf"],
+            eta_m=est["eta_m"],
+            sigma_y=est["sigma_y"],
+            tau_build=est["tau_build"],
+            n=self.n,
+            updates=self._updates,
+            phase=self._phase,
+        )
 
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
         """``base`` (default the prior) with the estimated fields replaced.
@@ -442,277 +422,8 @@ class OnlineEstimator:
         def f(v: float | None) -> str:
             return "None" if v is None else f"{v:.4g}"
 
-        return (f"OnlineEstimator(model={self.model!r}, alpha={f(e.alpha)}, "
-                f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
-                f"tau_build={f(e.tau_build)}, updates={e.updates})")
-
-
-# ---------------------------------------------------------------------------------------
-# classification
-# ---------------------------------------------------------------------------------------
-def _candidates(candidates: Any, labels: Any, water_contents: Any, direction: str
-                ) -> tuple[list[MudParameters], list[Any]]:
-    if candidates is None:
-        ws = [0.25, 0.35, 0.45] if water_contents is None else list(np.atleast_1d(water_contents))
-        cands = [paper_parameters(float(w), direction) for w in ws]
-        labs = [float(w) for w in ws] if labels is None else list(labels)
-    else:
-        if water_contents is not None:
-            raise MudrftError("give either candidates or water_contents, not both")
-        if isinstance(candidates, MudParameters):
-            candidates = [candidates]
-        cands = list(candidates)
-        for i, c in enumerate(cands):
-            if not isinstance(c, MudParameters) or c.shape != ():
-                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
-        labs = list(labels) if labels is not None else [c.source or f"set {i}"
-                                                        for i, c in enumerate(cands)]
-    if len(labs) != len(cands):
-        raise MudrftError(f"labels must have one entry per candidate ({len(cands)}), got "
-                          f"{len(labs)}")
-    if len(cands) < 1:
-        raise MudrftError("candidates must hold at least one MudParameters")
-    return cands, labs
-
-
-def _softmax_loglik(sse: np.ndarray, count: float, noise_var: float | None
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors)."""
-    if noise_var is None:
-        noise_var = max(float(np.min(sse)) / max(count, 1.0), 1e-300)
-    ll = -0.5 * sse / noise_var
-    p = np.exp(ll - ll.max())
-    return ll, p / p.sum()
-
-
-@dataclass(frozen=True)
-class Classification:
-    """Which candidate parameter set a dataset most resembles.
-
-    Attributes
-    ----------
-    labels : tuple
-        Candidate labels (water contents for the paper's rows).
-    relative_rmse : ndarray
-        Relative RMSE of each candidate over all fitted samples [-] (decision D12).
-    log_likelihood : ndarray
-        Gaussian log-likelihood of each candidate's residuals [-] (noise variance:
-        ``noise`` if given, else the best candidate's mean squared residual).
-    probabilities : ndarray
-        Posterior probabilities with equal priors [-].
-    best : object
-        Label of the most likely candidate.
-    """
-
-    labels: tuple
-    relative_rmse: np.ndarray
-    log_likelihood: np.ndarray
-    probabilities: np.ndarray
-    best: Any
-
-
-def classify(
-    dataset: IntrusionDataset,
-    candidates: Sequence[MudParameters] | None = None,
-    *,
-    labels: Sequence[Any] | None = None,
-    water_contents: Any = None,
-    direction: str | None = None,
-    noise: float | None = None,
-) -> Classification:
-    """Which known parameter set (paper row or user list) an offline dataset resembles.
-
-    Every candidate runs the full model on every trial (one batched simulation); the
-    residuals (each trial divided by its stress range) give a Gaussian likelihood.
-
-    Parameters
-    ----------
-    dataset : IntrusionDataset
-        The data.
-    candidates : sequence of MudParameters, optional
-        Candidate sets; default the paper's rows (W = 25, 35, 45 %) of the direction.
-    labels : sequence, optional, keyword-only
-        Label of each candidate (default: the water contents, or the sources).
-    water_contents : array_like, optional, keyword-only
-        Paper sets interpolated at these water contents [-] as candidates.
-    direction : {"vertical", "horizontal"}, optional, keyword-only
-        Default the dataset's.
-    noise : float, optional, keyword-only
-        Standard deviation of the residuals relative to each trial's range [-];
-        default estimated from the best candidate.
-
-    Returns
-    -------
-    Classification
-
-    Examples
-    --------
-    >>> from mudrft.calibration import example_dataset
-    >>> classify(example_dataset("vertical")).best
-    0.25
-    """
-    if not isinstance(dataset, IntrusionDataset):
-        raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
-    d = check_choice("direction", direction or dataset.direction, ("vertical", "horizontal"))
-    cands, labs = _candidates(candidates, labels, water_contents, d)
-    p0 = cands[0]
-    packed = Packed.from_dataset(dataset, nu=float(p0.nu), k_a=None, acceleration=True, xi0=0.0)
-    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
-    if not tied or len({float(c.nu) for c in cands}) > 1:
-        # candidates with their own k_a or nu: simulate them one by one
-        sims = []
-        for c in cands:
-            pk = Packed.from_dataset(dataset, nu=float(c.nu),
-                                     k_a=None if np.isclose(float(c.k_a), 1 / float(c.lam))
-                                     else float(c.k_a), acceleration=True, xi0=0.0)
-            sims.append(pk.simulate({k: np.array([float(getattr(c, k))]) for k in FIT_PARAMETERS}))
-        sim = np.concatenate(sims, axis=1)
-    else:
-        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
-        sim = packed.simulate(vals)
-    mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
-    R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
-    sse = np.sum(R**2, axis=0)
-    m = R.shape[0]
-    nv = None if noise is None else float(check_positive("noise", noise)) ** 2
-    ll, prob = _softmax_loglik(sse, m, nv)
-    rrmse = np.sqrt(sse / m)
-    return Classification(labels=tuple(labs), relative_rmse=rrmse, log_likelihood=ll,
-                          probabilities=prob, best=labs[int(np.argmax(ll))])
-
-
-class StreamClassifier:
-    """Which known parameter set a stream of samples most resembles, updated per sample.
-
-    Each candidate's full model runs alongside the stream (one batched constitutive
-    step per sample for all candidates); squared residuals are discounted with a
-    forgetting factor ``1 - 1/window`` (a sliding window of about ``window``
-    samples) and turned into Gaussian log-likelihoods (decision D47). When the plate
-    leaves the mud the candidates' states are reset (decision D11).
-
-    Parameters
-    ----------
-    candidates : sequence of MudParameters, optional
-        Candidate sets; default the paper's rows (or ``water_contents``) of ``direction``.
-    labels : sequence, optional, keyword-only
-        Labels of the candidates.
-    water_contents : array_like, optional, keyword-only
-        Paper sets interpolated at these water contents [-].
-    direction : {"vertical", "horizontal"}, keyword-only
-        Direction of the paper rows.
-    characteristic_length : float, keyword-only
-        Plate length [m].
-    window : float, keyword-only
-        Effective window length [samples] (> 1).
-    noise : float, optional, keyword-only
-        Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
-
-    Examples
-    --------
-    >>> import mudrft
-    >>> tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=0.01)
-    >>> res = mudrft.plate_response(tr, mudrft.paper_parameters(0.35))
-    >>> clf = StreamClassifier()
-    >>> for t, q, s in zip(tr.time, res.displacement, res.stress):
-    ...     _ = clf.update(t, q, s)
-    >>> clf.best
-    0.35
-    """
-
-    def __init__(
-        self,
-        candidates: Sequence[MudParameters] | None = None,
-        *,
-        labels: Sequence[Any] | None = None,
-        water_contents: Any = None,
-        direction: str = "vertical",
-        characteristic_length: float = DEFAULT_PLATE_LENGTH,
-        window: float = 200.0,
-        noise: float | None = None,
-    ) -> None:
-        check_choice("direction", direction, ("vertical", "horizontal"))
-        self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
-        self.L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
-        w = float(check_positive("window", window))
-        if w <= 1.0:
-            raise MudrftError(f"window must exceed 1 sample, got {window!r}")
-        self.decay = 1.0 - 1.0 / w
-        self.noise = None if noise is None else float(check_positive("noise", noise, unit="Pa"))
-        self.params = MudParameters.stack(self.candidates)
-        fused = _fused_step()
-        self._fused = fused
-        self._consts = fused[1](self.params) if fused is not None else None
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the stream."""
-        K = len(self.candidates)
-        self._state = initial_state((K,))
-        self._sse = np.zeros(K)
-        self._count = 0.0
-        self._last: tuple[float, float] | None = None
-        self._inside = False
-
-    def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample (time [s], depth [m], stress [Pa]); return the current best label."""
-        t, q, s = float(time), float(depth), float(stress)
-        if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
-            raise MudrftError(f"update needs finite time, depth and stress, got {time!r}, "
-                              f"{depth!r}, {stress!r}")
-        g = q / self.L
-        if self._last is None:
-            self._last = (t, g)
-            self._state = initial_state((len(self.candidates),), gamma=g)
-            return self.best
-        t0, g0 = self._last
-        if not t > t0:
-            raise MudrftError(f"time must increase between updates, got {t!r} after {t0!r}")
-        dt = t - t0
-        gd = (g - g0) / dt
-        self._last = (t, g)
-        if g <= 0.0:
-            # at or above the surface: no mud stress (as plate_response) and nothing to
-            # compare; the next intrusion starts afresh (D11)
-            if self._inside:
-                self._state = initial_state((len(self.candidates),), gamma=g)
-                self._inside = False
-            return self.best
-        self._inside = True
-        gv = np.full(len(self.candidates), g)
-        gdv = np.full(len(self.candidates), gd)
-        if self._fused is not None:
-            self._state, total = self._fused[0](self._consts, self._state, gv, gdv, dt, 1.0, 1.0)
-        else:  # pragma: no cover
-            from ..constitutive import step
-
-            self._state, out = step(self.params, self._state, gv, gdv, dt)
-            total = out.total
-        r = s - np.asarray(total)
-        self._sse = self.decay * self._sse + r * r
-        self._count = self.decay * self._count + 1.0
-        return self.best
-
-    @property
-    def log_likelihood(self) -> np.ndarray:
-        """Gaussian log-likelihood of each candidate over the window [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[0]
-
-    @property
-    def probabilities(self) -> np.ndarray:
-        """Posterior probability of each candidate (equal priors) [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[1]
-
-    @property
-    def rmse(self) -> np.ndarray:
-        """Windowed RMS residual of each candidate [Pa]."""
-        return np.sqrt(self._sse / max(self._count, 1e-300))
-
-    @property
-    def best(self) -> Any:
-        """Label of the most likely candidate (the first one before any sample)."""
-        return self.labels[int(np.argmin(self._sse))]
-
-    def __repr__(self) -> str:
-        return f"StreamClassifier(labels={self.labels!r}, best={self.best!r})"
+        return (
+            f"OnlineEstimator(model={self.model!r}, alpha={f(e.alpha)}, "
+            f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
+            f"tau_build={f(e.tau_build)}, updates={e.updates})"
+        )

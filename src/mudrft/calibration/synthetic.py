@@ -118,13 +118,21 @@ def synthetic_dataset(
     trials = []
     for v in sp:
         tr = plate_intrusion(depth=depth, speed=float(v), hold=hold, direction=d, dt=dt, rest=rest)
-        res = plate_response(tr, params, characteristic_length=characteristic_length,
-                             acceleration=acceleration)
+        res = plate_response(
+            tr, params, characteristic_length=characteristic_length, acceleration=acceleration
+        )
         span = float(np.ptp(res.stress))
         stress = res.stress + rng.normal(0.0, float(noise) * span, res.stress.size)
-        trials.append(Trial(tr.time, res.displacement, stress, name=f"v{1e3 * v:g}mm_s",
-                            characteristic_length=characteristic_length,
-                            meta={"speed": float(v), "noise": float(noise) * span}))
+        trials.append(
+            Trial(
+                tr.time,
+                res.displacement,
+                stress,
+                name=f"v{1e3 * v:g}mm_s",
+                characteristic_length=characteristic_length,
+                meta={"speed": float(v), "noise": float(noise) * span},
+            )
+        )
     w = params.water_content
     label = params.source or "given parameters"
     notes = (
@@ -161,8 +169,10 @@ def example_dataset(
     check_choice("direction", direction, ("vertical", "horizontal"))
     key = (direction, float(water_content))
     if key not in EXAMPLE_FILES:
-        raise MudrftError(f"no example file for direction={direction!r}, water_content="
-                          f"{water_content!r}; available: {sorted(EXAMPLE_FILES)}")
+        raise MudrftError(
+            f"no example file for direction={direction!r}, water_content="
+            f"{water_content!r}; available: {sorted(EXAMPLE_FILES)}"
+        )
     ref = resources.files("mudrft") / "data" / EXAMPLE_FILES[key]
     with resources.as_file(ref) as path:
         return load_intrusion_csv(path)
@@ -192,8 +202,15 @@ def write_example_files(directory: str | os.PathLike, *, overwrite: bool = False
     folder = Path(os.fspath(directory))
     for (direction, w), name in EXAMPLE_FILES.items():
         s = EXAMPLE_SETTINGS
-        ds = synthetic_dataset(example_parameters(direction, w), speeds=s["speeds"],
-                               noise=s["noise"], seed=s["seed"], depth=s["depth"],
-                               hold=s["hold"], dt=s["dt"], direction=direction)
+        ds = synthetic_dataset(
+            example_parameters(direction, w),
+            speeds=s["speeds"],
+            noise=s["noise"],
+            seed=s["seed"],
+            depth=s["depth"],
+            hold=s["hold"],
+            dt=s["dt"],
+            direction=direction,
+        )
         out.append(save_intrusion_csv(ds, folder / name, overwrite=overwrite))
     return out

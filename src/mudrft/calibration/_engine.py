@@ -1,0 +1,338 @@
+r"""The solver of a calibration: bounded least squares in log-parameters with variable
+projection (internal).
+
+:class:`Engine` holds the current parameter values of one fit, its bounds, trace and
+evaluation count, and offers the three operations the stages of
+:func:`~mudrft.calibration.calibrate` are made of:
+
+* :meth:`Engine.grid_start`: score a grid of candidate points in one batched simulation,
+  the parameters the model is linear in (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`)
+  solved exactly at each by non-negative least squares;
+* :meth:`Engine.fit`: bounded nonlinear least squares (trust-region reflective) in
+  log-parameters, optionally with the linear parameters projected out;
+* :meth:`Engine.jacobian`: residuals and central-difference Jacobian at the optimum, for
+  the uncertainty.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed
+
+__all__ = ["Engine"]
+
+_FD_STEP = 1e-6  # forward-difference step in log-parameters
+
+Values = dict[str, NDArray[np.float64]]
+
+
+class Engine:
+    """Bookkeeping of one calibration: current values, bounds, trace, evaluation count.
+
+    Parameters
+    ----------
+    packed : Packed
+        The data, packed for batched simulation.
+    values : dict
+        Starting value of every parameter of ``FIT_PARAMETERS`` [SI].
+    bounds : dict
+        ``{name: (low, high)}`` [SI] of every parameter.
+    trace_limit : int
+        Most evaluations kept in :attr:`trace`.
+    """
+
+    def __init__(
+        self,
+        packed: Packed,
+        values: dict[str, float],
+        bounds: dict[str, tuple[float, float]],
+        trace_limit: int,
+    ) -> None:
+        self.packed = packed
+        self.values = dict(values)
+        self.bounds = bounds
+        self.trace: list[dict[str, Any]] = []
+        self.trace_limit = trace_limit
+        self.evaluations = 0
+
+    def batch(self, overrides: dict[str, NDArray[np.float64]], size: int) -> Values:
+        """A batch of ``size`` parameter sets: the current values, with per-column overrides."""
+        out = {k: np.full(size, v) for k, v in self.values.items()}
+        for k, arr in overrides.items():
+            out[k] = np.broadcast_to(np.asarray(arr, dtype=float), (size,)).copy()
+        return out
+
+    def clip(self, name: str, v: float) -> float:
+        """``v`` [SI] clipped to the bounds of ``name``."""
+        lo, hi = self.bounds[name]
+        return float(min(max(v, lo), hi))
+
+    def record(self, stage: str, cost: float, values: dict[str, float]) -> None:
+        """Count one evaluation and keep it in the trace (up to ``trace_limit``)."""
+        self.evaluations += 1
+        if len(self.trace) < self.trace_limit:
+            self.trace.append(
+                {
+                    "stage": stage,
+                    "evaluation": self.evaluations,
+                    "cost": float(cost),
+                    "parameters": {k: float(v) for k, v in values.items()},
+                }
+            )
+
+    # ---- variable projection ----------------------------------------------------------
+    def project(
+        self, R: NDArray[np.float64], lin: list[str]
+    ) -> tuple[NDArray[np.float64], list[float]]:
+        """Solve the linear parameters exactly from a basis simulation.
+
+        ``R`` (m, 1 + nl) holds the weighted residuals with every parameter of ``lin`` set
+        to 1 (column 0) and with parameter j set to 2 (column 1 + j). The model is linear
+        in each of them, so column differences are their basis functions. Returns the
+        residuals at the non-negative least-squares solution (clipped to the bounds) and
+        the solution.
+        """
+        from scipy.optimize import nnls
+
+        if not lin:
+            return R[:, 0], []
+        E = R[:, 1:] - R[:, :1]  # weighted basis of each linear parameter
+        rest = R[:, 0] - E.sum(axis=1)  # weighted (everything else - data)
+        scale = np.linalg.norm(E, axis=0)
+        scale[~(scale > 0)] = 1.0
+        try:
+            coef, _ = nnls(E / scale, -rest, maxiter=50 * E.shape[1])
+        except RuntimeError:  # pragma: no cover - nnls iteration limit
+            coef = np.zeros(E.shape[1])
+        c = [self.clip(k, float(v)) for k, v in zip(lin, coef / scale, strict=True)]
+        return rest + E @ np.asarray(c), c
+
+    def basis(self, vals: Values, lin: list[str]) -> Values:
+        """Expand each column of ``vals`` into 1 + len(lin) columns for :meth:`project`."""
+        nl = len(lin)
+        if not nl:
+            return vals
+        P = int(np.asarray(vals["alpha"]).size)
+        out = {k: np.repeat(np.asarray(v, dtype=float), 1 + nl) for k, v in vals.items()}
+        for j, k in enumerate(lin):
+            v = np.ones((P, 1 + nl))
+            v[:, 1 + j] = 2.0
+            out[k] = v.ravel()
+        return out
+
+    def grid_start(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        candidates: list[dict[str, float]],
+        starts: int,
+    ) -> list[tuple[float, dict[str, float]]]:
+        """Score candidate points, the linear free parameters of each solved exactly.
+
+        Every candidate fixes some parameters (the others keep their current values);
+        the free parameters the model is linear in are then set by non-negative least
+        squares (variable projection). All candidates run in one batched simulation.
+        Returns the ``starts`` best ``(cost, point)`` pairs.
+        """
+        lin = [k for k in free if k in LINEAR_PARAMETERS]
+        cands = candidates or [{}]
+        G, nl = len(cands), len(lin)
+        over = {
+            k: np.array([c.get(k, self.values[k]) for c in cands])
+            for k in {k for c in cands for k in c}
+        }
+        upto = self.packed.upto(mask)
+        sim = self.packed.simulate(self.basis(self.batch(over, G), lin), upto)
+        res = self.packed.residuals(sim, mask).reshape(-1, G, 1 + nl)  # (m, G, 1+nl)
+        scored = []
+        for g in range(G):
+            if not np.all(np.isfinite(res[:, g, :])):
+                continue
+            point = {k: float(v) for k, v in cands[g].items()}
+            r, coef = self.project(res[:, g, :], lin)
+            point.update(zip(lin, coef, strict=True))
+            cost = 0.5 * float(r @ r)
+            scored.append((cost, point))
+            self.record(stage + " grid", cost, {**self.values, **point})
+        if not scored:
+            return [(math.inf, {})]
+        scored.sort(key=lambda t: t[0])
+        return scored[: max(1, starts)]
+
+    # ---- least squares in log-parameters --------------------------------------------
+    def fit(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        max_nfev: int,
+        start: dict[str, float] | None = None,
+        project: tuple[str, ...] = (),
+    ) -> tuple[float, Any]:
+        """Bounded least squares over ``free`` in log-parameters (trust-region reflective).
+
+        With ``project``, those linear parameters are not solver variables: each
+        evaluation solves them exactly (variable projection), which removes the
+        valleys along which a linear and a nonlinear parameter trade off. Returns the
+        cost and the :func:`scipy.optimize.least_squares` solution (None when only
+        linear parameters were free: one projection solved them).
+        """
+        from scipy.optimize import least_squares
+
+        base = {**self.values, **(start or {})}
+        lin = [k for k in project if k in LINEAR_PARAMETERS]
+        names = [k for k in free if k not in lin]
+        if not names:
+            return self._solve_linear(stage, mask, lin, base), None
+        lo = np.log([self.bounds[k][0] for k in names])
+        hi = np.log([self.bounds[k][1] for k in names])
+        x0 = np.clip(np.log([base[k] for k in names]), lo, hi)
+        x0 = np.minimum(np.maximum(x0, lo + 1e-12), hi - 1e-12)
+        objective = _LogObjective(self, stage, mask, names, lin, base, hi)
+        sol = least_squares(
+            objective.residuals,
+            x0,
+            jac=objective.jacobian,
+            bounds=(lo, hi),
+            method="trf",
+            x_scale=1.0,
+            max_nfev=max_nfev,
+            xtol=1e-10,
+            ftol=1e-10,
+            gtol=1e-10,
+        )
+        self.values.update(base)
+        for i, k in enumerate(names):
+            self.values[k] = float(np.exp(sol.x[i]))
+        if lin:
+            self.values.update(zip(lin, objective.linear_solution(sol.x), strict=True))
+        return float(sol.cost), sol
+
+    def _solve_linear(
+        self, stage: str, mask: NDArray[np.bool_], lin: list[str], base: dict[str, float]
+    ) -> float:
+        """Only linear parameters free: one projection solves them; returns the cost."""
+        self.values.update(base)
+        sim = self.packed.simulate(self.basis(self.batch({}, 1), lin), self.packed.upto(mask))
+        R = self.packed.residuals(sim, mask).reshape(-1, 1, 1 + len(lin))
+        r, c = self.project(R[:, 0, :], lin)
+        self.values.update(zip(lin, c, strict=True))
+        self.record(stage, 0.5 * float(r @ r), self.values)
+        return 0.5 * float(r @ r)
+
+    def cost(self, mask: NDArray[np.bool_]) -> float:
+        """Half the sum of squared weighted residuals at the current values [-]."""
+        sim = self.packed.simulate(self.batch({}, 1), self.packed.upto(mask))
+        r = self.packed.residuals(sim, mask)[:, 0]
+        return 0.5 * float(r @ r)
+
+    def jacobian(
+        self, mask: NDArray[np.bool_], free: tuple[str, ...]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Residuals and Jacobian in log-parameters at the current values: central
+        differences, shifted inside the bounds for a parameter that sits on one."""
+        names = list(free)
+        k = len(names)
+        h = 1e-4
+        over = {}
+        lo_s, hi_s = np.zeros(k), np.zeros(k)
+        for i, name in enumerate(names):
+            x = math.log(self.values[name])
+            lo_b, hi_b = (math.log(b) for b in self.bounds[name])
+            a, b = x - h, x + h
+            if b > hi_b:
+                a, b = hi_b - 2 * h, hi_b
+            elif a < lo_b:
+                a, b = lo_b, lo_b + 2 * h
+            lo_s[i], hi_s[i] = a, b
+            col = np.full(1 + 2 * k, self.values[name])
+            col[1 + 2 * i] = math.exp(b)
+            col[2 + 2 * i] = math.exp(a)
+            over[name] = col
+        sim = self.packed.simulate(self.batch(over, 1 + 2 * k))
+        R = self.packed.residuals(sim, mask)
+        J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
+        return R[:, 0], J
+
+
+class _LogObjective:
+    """Residuals and forward-difference Jacobian of one solve, in log-parameters.
+
+    Both come from one batched simulation of the point and its ``k`` neighbours (a
+    batch of ``1 + k`` parameter sets costs about as much as one: the time loop
+    dominates), cached for the solver's following Jacobian call.
+    """
+
+    def __init__(
+        self,
+        engine: Engine,
+        stage: str,
+        mask: NDArray[np.bool_],
+        names: list[str],
+        lin: list[str],
+        base: dict[str, float],
+        hi: NDArray[np.float64],
+    ) -> None:
+        self.engine = engine
+        self.stage = stage
+        self.mask = mask
+        self.names = names
+        self.lin = lin
+        self.base = base
+        self.hi = hi
+        self.upto = engine.packed.upto(mask)
+        self._cache: tuple[bytes, NDArray[np.float64], NDArray[np.float64]] | None = None
+        self._linear_at: dict[bytes, list[float]] = {}
+
+    def values_at(self, X: NDArray[np.float64]) -> Values:
+        """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
+        B = X.shape[0]
+        out = {k: np.full(B, self.base[k]) for k in FIT_PARAMETERS}
+        for i, k in enumerate(self.names):
+            out[k] = np.exp(X[:, i])
+        return out
+
+    def evaluate(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Residuals (m,) and Jacobian (m, k) at the log-point ``x``."""
+        key = x.tobytes()
+        if self._cache is not None and self._cache[0] == key:
+            return self._cache[1], self._cache[2]
+        eng, lin, n_free = self.engine, self.lin, len(self.names)
+        X = np.repeat(x[None, :], 1 + n_free, axis=0)
+        h = np.where(x + _FD_STEP > self.hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
+        X[1 + np.arange(n_free), np.arange(n_free)] += h
+        sim = eng.packed.simulate(eng.basis(self.values_at(X), lin), self.upto)
+        R = eng.packed.residuals(sim, self.mask).reshape(-1, 1 + n_free, 1 + len(lin))
+        cols = [eng.project(R[:, i, :], lin) for i in range(1 + n_free)]
+        r = cols[0][0]
+        if not np.all(np.isfinite(r)):
+            r = np.full_like(r, 1e6)
+        J = np.stack([c[0] for c in cols[1:]], axis=1)
+        J = (J - r[:, None]) / h[None, :]
+        J[~np.isfinite(J)] = 0.0
+        self._cache = (key, r, J)
+        self._linear_at[key] = cols[0][1]
+        point = {k: float(v[0]) for k, v in self.values_at(x[None, :]).items()}
+        point.update(zip(lin, cols[0][1], strict=True))
+        eng.record(self.stage, 0.5 * float(r @ r), point)
+        return r, J
+
+    def residuals(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Weighted residuals at ``x`` (the solver's ``fun``)."""
+        return self.evaluate(x)[0]
+
+    def jacobian(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Jacobian at ``x`` (the solver's ``jac``)."""
+        return self.evaluate(x)[1]
+
+    def linear_solution(self, x: NDArray[np.float64]) -> list[float]:
+        """The projected linear parameters at ``x`` [SI]."""
+        if x.tobytes() not in self._linear_at:
+            self.evaluate(x)
+        return self._linear_at[x.tobytes()]

@@ -1,0 +1,205 @@
+"""What a fit may free, within which bounds, and on which data (internal).
+
+The first stage of :func:`~mudrft.calibration.calibrate`: parameter groups and their
+aliases, default bounds, the dataset a fit accepts (a dataset, a trial, a path or a list
+of them) and its thinning (``decimate``), and the checks of the count options. Every
+check raises a :class:`~mudrft._validation.MudrftError` naming the argument, what was
+expected and what was given.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from ..io import IntrusionDataset, Trial, load_dataset
+from ._problem import FIT_PARAMETERS
+
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "GROUPS",
+    "as_dataset",
+    "check_count",
+    "resolve_bounds",
+    "resolve_fixed",
+    "resolve_groups",
+    "thin_trials",
+]
+
+#: Parameter groups of the supplementary Sec. III-A, as fitted here (decision D41):
+#: sigma_Y, which the paper derives from Pi_th, is fitted with the suction group because
+#: the model uses the printed sigma_Y (erratum E2) and it sets the suction plateau.
+GROUPS: dict[str, tuple[str, ...]] = {
+    "b": ("alpha", "n"),
+    "th": ("lam", "eta_m", "eta_inf", "gamma_dot_c"),
+    "s": ("tau_build", "tau_leak", "epsilon", "sigma_y"),
+}
+_GROUP_ALIASES = {
+    **dict.fromkeys(("b", "pi_b", "intrusion", "elastic"), "b"),
+    **dict.fromkeys(("th", "pi_th", "relaxation", "thixotropic"), "th"),
+    **dict.fromkeys(("s", "pi_s", "retraction", "suction"), "s"),
+}
+
+#: Default bounds of the fitted parameters, SI (wide: two to four decades around the
+#: paper's tables); ``n`` is bounded by the model's (0, 1].
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "alpha": (1.0, 1.0e8),
+    "n": (0.02, 1.0),
+    "lam": (0.01, 1.0e3),
+    "eta_m": (1.0, 1.0e9),
+    "eta_inf": (1.0e-2, 1.0e9),
+    "gamma_dot_c": (1.0e-4, 1.0e2),
+    "tau_build": (1.0e-3, 1.0e2),
+    "tau_leak": (1.0e-3, 1.0e2),
+    "epsilon": (1.0e-4, 1.0),
+    "sigma_y": (1.0e-2, 1.0e8),
+}
+
+
+def check_count(name: str, value: object) -> int:
+    """``value`` as an int, or an error if it is not an integer >= 1 [-]."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise MudrftError(f"{name} must be an integer >= 1, got {value!r}")
+    return int(value)
+
+
+def _group_members(name: object) -> tuple[str, ...]:
+    if not isinstance(name, str):
+        raise MudrftError(f"groups must be names, got {name!r}")
+    key = name.strip().lower()
+    if key == "all":
+        return FIT_PARAMETERS
+    if key in _GROUP_ALIASES:
+        return GROUPS[_GROUP_ALIASES[key]]
+    if key in FIT_PARAMETERS:
+        return (key,)
+    raise MudrftError(
+        f"groups must name parameter groups ('b', 'th', 's', 'all') or parameters "
+        f"{list(FIT_PARAMETERS)}, got {name!r}"
+    )
+
+
+def resolve_groups(groups: str | Iterable[str] | None) -> tuple[str, ...]:
+    """The parameters named by ``groups`` (group names, aliases or parameter names).
+
+    Parameters
+    ----------
+    groups : str, sequence of str or None
+        ``"all"``/None, a space- or comma-separated string, or a sequence of names.
+
+    Returns
+    -------
+    tuple of str
+        The selected parameters, in the order of ``FIT_PARAMETERS``.
+    """
+    if groups is None or groups == "all":
+        names: Iterable[object] = ("b", "th", "s")
+    elif isinstance(groups, str):
+        names = [g for g in groups.replace(",", " ").split() if g]
+    else:
+        names = list(groups)
+    free = {k for g in names for k in _group_members(g)}
+    if not free:
+        raise MudrftError("groups selects no parameter to fit")
+    return tuple(k for k in FIT_PARAMETERS if k in free)
+
+
+def _check_name(option: str, name: str) -> None:
+    if name not in FIT_PARAMETERS:
+        raise MudrftError(
+            f"{option} has an unknown parameter {name!r}; expected {list(FIT_PARAMETERS)}"
+        )
+
+
+def resolve_bounds(
+    bounds: dict[str, tuple[float, float]] | None,
+) -> dict[str, tuple[float, float]]:
+    """:data:`DEFAULT_BOUNDS` with the user's ``{name: (low, high)}`` [SI] applied."""
+    out = dict(DEFAULT_BOUNDS)
+    for k, v in (bounds or {}).items():
+        _check_name("bounds", k)
+        try:
+            lo, hi = (float(v[0]), float(v[1]))
+        except (TypeError, ValueError, IndexError):
+            raise MudrftError(f"bounds[{k!r}] must be a pair (low, high), got {v!r}") from None
+        if not (0 < lo < hi < math.inf):
+            raise MudrftError(f"bounds[{k!r}] must satisfy 0 < low < high < inf, got {v!r}")
+        if k == "n" and hi > 1.0:
+            raise MudrftError(f"bounds['n'] must not exceed 1 (the model needs n <= 1), got {v!r}")
+        out[k] = (lo, hi)
+    return out
+
+
+def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
+    """The user's ``{name: value}`` [SI] of parameters held fixed, names checked."""
+    out = dict(fixed or {})
+    for k in out:
+        _check_name("fixed", k)
+    return out
+
+
+def as_dataset(
+    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[Any],
+    **load_options: Any,
+) -> IntrusionDataset:
+    """The data of a fit as one :class:`~mudrft.io.IntrusionDataset`.
+
+    Parameters
+    ----------
+    data : IntrusionDataset, Trial, path, or a list of one kind of them
+        Datasets are merged, trials joined, paths loaded with
+        :func:`mudrft.io.load_dataset`.
+    **load_options
+        ``area`` [m^2], ``characteristic_length`` [m], ... for the loader.
+    """
+    if isinstance(data, IntrusionDataset):
+        return data
+    if isinstance(data, Trial):
+        return IntrusionDataset((data,))
+    if isinstance(data, (str, os.PathLike)):
+        return load_dataset(data, **load_options)
+    items = list(data) if isinstance(data, Sequence) else []
+    if items and all(isinstance(d, IntrusionDataset) for d in items):
+        return items[0].merge(*items[1:])
+    if items and all(isinstance(d, Trial) for d in items):
+        return IntrusionDataset(tuple(items))
+    if items and all(isinstance(d, (str, os.PathLike)) for d in items):
+        return load_dataset(items, **load_options)
+    raise MudrftError(
+        "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
+        f"got {type(data).__name__}"
+    )
+
+
+def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:
+    """Every ``k``-th sample of each trial, plus its deepest and last samples.
+
+    Parameters
+    ----------
+    ds : IntrusionDataset
+        The data.
+    k : int
+        Keep one sample in ``k`` [-], >= 1.
+    """
+    trials = []
+    for tr in ds.trials:
+        n = len(tr)
+        keep = np.unique(np.r_[np.arange(0, n, k), int(np.argmax(np.abs(tr.depth))), n - 1])
+        trials.append(
+            Trial(
+                tr.time[keep],
+                tr.depth[keep],
+                tr.stress[keep],
+                name=tr.name,
+                characteristic_length=tr.characteristic_length,
+                meta={**tr.meta, "decimated": k},
+            )
+        )
+    return IntrusionDataset(
+        tuple(trials), direction=ds.direction, source=ds.source, notes=ds.notes, meta=dict(ds.meta)
+    )

@@ -1,0 +1,298 @@
+r"""Which known mud a log or a stream resembles: offline and per-sample classification.
+
+Every candidate parameter set (the paper's rows, sets interpolated at given water
+contents, or the user's own) runs the full model on the data; the residuals give a
+Gaussian likelihood of each candidate and, with equal priors, its probability.
+:func:`classify` does this for an offline dataset in one batched simulation;
+:class:`StreamClassifier` for a stream, one batched constitutive step per sample, over a
+sliding (exponentially weighted) window (decision D47).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._validation import MudrftError, check_choice, check_positive
+from ..constitutive import channel_constants, channel_update, initial_state
+from ..io import IntrusionDataset
+from ..parameters.base import MudParameters
+from ..parameters.registry import paper_parameters
+from ..plate import DEFAULT_PLATE_LENGTH
+from ._problem import FIT_PARAMETERS, PHASES, Packed
+from ._rls import SampleStream
+
+__all__ = ["Classification", "StreamClassifier", "classify"]
+
+
+def _candidates(
+    candidates: MudParameters | Sequence[MudParameters] | None,
+    labels: Sequence[Any] | None,
+    water_contents: ArrayLike | None,
+    direction: str,
+) -> tuple[list[MudParameters], list[Any]]:
+    """The candidate sets and their labels, checked."""
+    if candidates is None:
+        ws = [0.25, 0.35, 0.45] if water_contents is None else list(np.atleast_1d(water_contents))
+        cands = [paper_parameters(float(w), direction) for w in ws]
+        labs = [float(w) for w in ws] if labels is None else list(labels)
+    else:
+        if water_contents is not None:
+            raise MudrftError("give either candidates or water_contents, not both")
+        if isinstance(candidates, MudParameters):
+            candidates = [candidates]
+        cands = list(candidates)
+        for i, c in enumerate(cands):
+            if not isinstance(c, MudParameters) or c.shape != ():
+                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
+        labs = (
+            list(labels)
+            if labels is not None
+            else [c.source or f"set {i}" for i, c in enumerate(cands)]
+        )
+    if len(labs) != len(cands):
+        raise MudrftError(
+            f"labels must have one entry per candidate ({len(cands)}), got {len(labs)}"
+        )
+    if len(cands) < 1:
+        raise MudrftError("candidates must hold at least one MudParameters")
+    return cands, labs
+
+
+def _softmax_loglik(
+    sse: NDArray[np.float64], count: float, noise_var: float | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors)."""
+    if noise_var is None:
+        noise_var = max(float(np.min(sse)) / max(count, 1.0), 1e-300)
+    ll = -0.5 * sse / noise_var
+    p = np.exp(ll - ll.max())
+    return ll, p / p.sum()
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Which candidate parameter set a dataset most resembles.
+
+    Attributes
+    ----------
+    labels : tuple
+        Candidate labels (water contents for the paper's rows).
+    relative_rmse : ndarray
+        Relative RMSE of each candidate over all fitted samples [-] (decision D12).
+    log_likelihood : ndarray
+        Gaussian log-likelihood of each candidate's residuals [-] (noise variance:
+        ``noise`` if given, else the best candidate's mean squared residual).
+    probabilities : ndarray
+        Posterior probabilities with equal priors [-].
+    best : object
+        Label of the most likely candidate.
+    """
+
+    labels: tuple
+    relative_rmse: NDArray[np.float64]
+    log_likelihood: NDArray[np.float64]
+    probabilities: NDArray[np.float64]
+    best: Any
+
+
+def classify(
+    dataset: IntrusionDataset,
+    candidates: Sequence[MudParameters] | None = None,
+    *,
+    labels: Sequence[Any] | None = None,
+    water_contents: ArrayLike | None = None,
+    direction: str | None = None,
+    noise: float | None = None,
+) -> Classification:
+    """Which known parameter set (paper row or user list) an offline dataset resembles.
+
+    Every candidate runs the full model on every trial (one batched simulation); the
+    residuals (each trial divided by its stress range) give a Gaussian likelihood.
+
+    Parameters
+    ----------
+    dataset : IntrusionDataset
+        The data.
+    candidates : sequence of MudParameters, optional
+        Candidate sets; default the paper's rows (W = 25, 35, 45 %) of the direction.
+    labels : sequence, optional, keyword-only
+        Label of each candidate (default: the water contents, or the sources).
+    water_contents : array_like, optional, keyword-only
+        Paper sets interpolated at these water contents [-] as candidates.
+    direction : {"vertical", "horizontal"}, optional, keyword-only
+        Default the dataset's.
+    noise : float, optional, keyword-only
+        Standard deviation of the residuals relative to each trial's range [-];
+        default estimated from the best candidate.
+
+    Returns
+    -------
+    Classification
+
+    Examples
+    --------
+    >>> from mudrft.calibration import example_dataset
+    >>> classify(example_dataset("vertical")).best
+    0.25
+    """
+    if not isinstance(dataset, IntrusionDataset):
+        raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
+    d = check_choice("direction", direction or dataset.direction, ("vertical", "horizontal"))
+    cands, labs = _candidates(candidates, labels, water_contents, d)
+    p0 = cands[0]
+    packed = Packed.from_dataset(dataset, nu=float(p0.nu), k_a=None, acceleration=True, xi0=0.0)
+    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
+    if not tied or len({float(c.nu) for c in cands}) > 1:
+        # candidates with their own k_a or nu: simulate them one by one
+        sims = []
+        for c in cands:
+            pk = Packed.from_dataset(
+                dataset,
+                nu=float(c.nu),
+                k_a=None if np.isclose(float(c.k_a), 1 / float(c.lam)) else float(c.k_a),
+                acceleration=True,
+                xi0=0.0,
+            )
+            sims.append(pk.simulate({k: np.array([float(getattr(c, k))]) for k in FIT_PARAMETERS}))
+        sim = np.concatenate(sims, axis=1)
+    else:
+        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
+        sim = packed.simulate(vals)
+    mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
+    R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
+    sse = np.sum(R**2, axis=0)
+    m = R.shape[0]
+    nv = None if noise is None else float(check_positive("noise", noise)) ** 2
+    ll, prob = _softmax_loglik(sse, m, nv)
+    rrmse = np.sqrt(sse / m)
+    return Classification(
+        labels=tuple(labs),
+        relative_rmse=rrmse,
+        log_likelihood=ll,
+        probabilities=prob,
+        best=labs[int(np.argmax(ll))],
+    )
+
+
+class StreamClassifier:
+    """Which known parameter set a stream of samples most resembles, updated per sample.
+
+    Each candidate's full model runs alongside the stream (one batched constitutive
+    step per sample for all candidates); squared residuals are discounted with a
+    forgetting factor ``1 - 1/window`` (a sliding window of about ``window``
+    samples) and turned into Gaussian log-likelihoods (decision D47). When the plate
+    leaves the mud the candidates' states are reset (decision D11).
+
+    Parameters
+    ----------
+    candidates : sequence of MudParameters, optional
+        Candidate sets; default the paper's rows (or ``water_contents``) of ``direction``.
+    labels : sequence, optional, keyword-only
+        Labels of the candidates.
+    water_contents : array_like, optional, keyword-only
+        Paper sets interpolated at these water contents [-].
+    direction : {"vertical", "horizontal"}, keyword-only
+        Direction of the paper rows.
+    characteristic_length : float, keyword-only
+        Plate length [m].
+    window : float, keyword-only
+        Effective window length [samples] (> 1).
+    noise : float, optional, keyword-only
+        Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=0.01)
+    >>> res = mudrft.plate_response(tr, mudrft.paper_parameters(0.35))
+    >>> clf = StreamClassifier()
+    >>> for t, q, s in zip(tr.time, res.displacement, res.stress):
+    ...     _ = clf.update(t, q, s)
+    >>> clf.best
+    0.35
+    """
+
+    def __init__(
+        self,
+        candidates: Sequence[MudParameters] | None = None,
+        *,
+        labels: Sequence[Any] | None = None,
+        water_contents: ArrayLike | None = None,
+        direction: str = "vertical",
+        characteristic_length: float = DEFAULT_PLATE_LENGTH,
+        window: float = 200.0,
+        noise: float | None = None,
+    ) -> None:
+        check_choice("direction", direction, ("vertical", "horizontal"))
+        self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
+        self.L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+        w = float(check_positive("window", window))
+        if w <= 1.0:
+            raise MudrftError(f"window must exceed 1 sample, got {window!r}")
+        self.decay = 1.0 - 1.0 / w
+        self.noise = None if noise is None else float(check_positive("noise", noise, unit="Pa"))
+        self.params = MudParameters.stack(self.candidates)
+        self._consts = channel_constants(self.params)
+        self._stream = SampleStream(self.L)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the stream."""
+        K = len(self.candidates)
+        self._state = initial_state((K,))
+        self._sse = np.zeros(K)
+        self._count = 0.0
+        self._stream.reset()
+        self._inside = False
+
+    def update(self, time: float, depth: float, stress: float) -> Any:
+        """Add one sample (time [s], depth [m], stress [Pa]); return the current best label."""
+        x = self._stream.push(time, depth, stress)
+        K = len(self.candidates)
+        if x.dt is None or x.rate is None:  # the first sample: a starting point only
+            self._state = initial_state((K,), gamma=x.gamma)
+            return self.best
+        if x.gamma <= 0.0:
+            # at or above the surface: no mud stress (as plate_response) and nothing to
+            # compare; the next intrusion starts afresh (D11)
+            if self._inside:
+                self._state = initial_state((K,), gamma=x.gamma)
+                self._inside = False
+            return self.best
+        self._inside = True
+        gv, gdv = np.full(K, x.gamma), np.full(K, x.rate)
+        self._state, model = channel_update(self._consts, self._state, gv, gdv, x.dt)
+        r = x.stress - np.asarray(model.total)
+        self._sse = self.decay * self._sse + r * r
+        self._count = self.decay * self._count + 1.0
+        return self.best
+
+    @property
+    def log_likelihood(self) -> NDArray[np.float64]:
+        """Gaussian log-likelihood of each candidate over the window [-]."""
+        nv = None if self.noise is None else self.noise**2
+        return _softmax_loglik(self._sse, self._count, nv)[0]
+
+    @property
+    def probabilities(self) -> NDArray[np.float64]:
+        """Posterior probability of each candidate (equal priors) [-]."""
+        nv = None if self.noise is None else self.noise**2
+        return _softmax_loglik(self._sse, self._count, nv)[1]
+
+    @property
+    def rmse(self) -> NDArray[np.float64]:
+        """Windowed RMS residual of each candidate [Pa]."""
+        return np.sqrt(self._sse / max(self._count, 1e-300))
+
+    @property
+    def best(self) -> Any:
+        """Label of the most likely candidate (the first one before any sample)."""
+        return self.labels[int(np.argmin(self._sse))]
+
+    def __repr__(self) -> str:
+        return f"StreamClassifier(labels={self.labels!r}, best={self.best!r})"

@@ -1,0 +1,389 @@
+r"""The outcome of a calibration: :class:`FitResult` and its :class:`StageReport` entries.
+
+A :class:`FitResult` holds the fitted :class:`~mudrft.MudParameters`, their standard
+errors, confidence intervals, correlation and identifiability verdicts, the fit quality
+(relative RMSE, noise), the solver status and a trace of every evaluation. It predicts
+and plots the fitted data, and saves to / loads from JSON.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._validation import MudrftError
+from ..io import IntrusionDataset, atomic_write
+from ..parameters.base import PARAMETER_UNITS, MudParameters
+from ._options import as_dataset
+from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
+from .persistence import parameters_from_json, read_json
+from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE
+
+__all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult", "StageReport"]
+
+#: Relative RMSE above which a fit is flagged as not describing the data [-].
+POOR_FIT_RMSE = 0.25
+#: The line that flags such a fit (in :meth:`FitResult.summary` and the fit's notes).
+POOR_FIT_HINT = (
+    "warning: the model does not describe these data (relative RMSE above "
+    f"{100 * POOR_FIT_RMSE:g} %); check the units (stress [Pa], depth [m]), the "
+    "plate area, the characteristic length and the direction"
+)
+
+
+@dataclass(frozen=True)
+class StageReport:
+    """Summary of one stage of a fit.
+
+    Attributes
+    ----------
+    name : str
+        ``"start"``, ``"intrusion"``, ``"relaxation"``, ``"retraction"`` or ``"joint"``.
+    free : tuple of str
+        Parameters freed in the stage.
+    simulations : int
+        Batched simulations of all trials run in the stage (a batch holds a grid of
+        starting points, or a point and its finite-difference neighbours).
+    cost : float
+        Half the sum of squared weighted residuals of the stage's samples [-].
+    seconds : float
+        Wall time of the stage [s].
+    message : str
+        Outcome of the solver.
+    """
+
+    name: str
+    free: tuple[str, ...]
+    simulations: int
+    cost: float
+    seconds: float
+    message: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    r"""Outcome of :func:`calibrate`: parameters, uncertainty, diagnostics, trace.
+
+    Attributes
+    ----------
+    parameters : MudParameters
+        The fitted set (SI), usable anywhere in the library.
+    free : tuple of str
+        Fitted parameters; the others were held fixed.
+    standard_error : dict
+        Absolute standard error of each parameter [its SI unit] (``inf`` where the
+        data do not constrain it, ``0`` for fixed ones), from the delta method
+        :math:`\mathrm{se}(p)=p\,\mathrm{se}(\ln p)`.
+    relative_standard_error : dict
+        :math:`\mathrm{se}(\ln p)` [-], the relative error for small values.
+    confidence_interval : dict
+        ``(low, high)`` [SI] at ``confidence_level``:
+        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds.
+    confidence_level : float
+        Two-sided level of the intervals [-].
+    correlation : ndarray, shape (k, k)
+        Correlation matrix of the log-parameters, in the order of ``free``.
+    identifiability : dict
+        Verdict per parameter: ``"identified"``, ``"weak"``, ``"not identified"``
+        or ``"fixed"`` (rule D44, see :func:`calibrate`).
+    relative_rmse : float
+        Mean over trials of the relative RMSE (RMSE / peak-to-peak, decision D12) [-].
+    trial_relative_rmse : tuple of float
+        Relative RMSE of each trial [-].
+    noise : float
+        Estimated standard deviation of the residuals relative to each trial's range [-].
+    status : str
+        ``"converged"``, ``"max_evaluations"`` or ``"failed"``.
+    message : str
+        Solver message of the joint stage.
+    stages : tuple of StageReport
+        One entry per stage.
+    trace : tuple of dict
+        Every model evaluation: ``{"stage", "evaluation", "cost", "parameters"}``
+        (like ``mujoco.minimize``'s trace).
+    direction : str
+        Loading direction of the data.
+    bounds : dict
+        Bounds used [SI].
+    condition_number : float
+        Condition number of the Jacobian in log-parameters [-].
+    acceleration : bool
+        Whether the model kept the acceleration term (decision D6).
+    xi0 : float
+        Initial structure of every trial [-].
+    dataset : IntrusionDataset or None
+        The data that were fitted (not saved to JSON).
+    """
+
+    parameters: MudParameters
+    free: tuple[str, ...]
+    standard_error: dict[str, float]
+    relative_standard_error: dict[str, float]
+    confidence_interval: dict[str, tuple[float, float]]
+    confidence_level: float
+    correlation: NDArray[np.float64]
+    identifiability: dict[str, str]
+    relative_rmse: float
+    trial_relative_rmse: tuple[float, ...]
+    noise: float
+    status: str
+    message: str
+    stages: tuple[StageReport, ...] = ()
+    trace: tuple[dict, ...] = ()
+    direction: str = "vertical"
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    condition_number: float = float("nan")
+    acceleration: bool = True
+    xi0: float = 0.0
+    dataset: IntrusionDataset | None = None
+
+    @property
+    def success(self) -> bool:
+        """True if the joint stage converged."""
+        return self.status == "converged"
+
+    def to_parameters(self) -> MudParameters:
+        """The fitted :class:`~mudrft.MudParameters` (same as ``fit.parameters``)."""
+        return self.parameters
+
+    def identified(self) -> tuple[str, ...]:
+        """Names of the parameters the data identify (verdict ``"identified"``)."""
+        return tuple(k for k, v in self.identifiability.items() if v == "identified")
+
+    def summary(self) -> str:
+        """A table of the parameters with standard errors, intervals and verdicts."""
+        lines = [
+            f"mudrft fit ({self.direction}): status {self.status}, relative RMSE "
+            f"{100 * self.relative_rmse:.2f} %, noise {100 * self.noise:.2f} %"
+        ]
+        if self.relative_rmse > POOR_FIT_RMSE:
+            lines.append(POOR_FIT_HINT)
+        pct = round(100 * self.confidence_level)
+        lines.append(
+            f"{'parameter':<12}{'value':>12}{'unit':>6}  {'rel. SE':>9}  "
+            f"{f'{pct} % interval':>25}  verdict"
+        )
+        for k in FIT_PARAMETERS:
+            v = float(getattr(self.parameters, k))
+            rse = self.relative_standard_error[k]
+            lo, hi = self.confidence_interval[k]
+            rs = "-" if k not in self.free else ("inf" if not math.isfinite(rse) else f"{rse:.3g}")
+            ci = "-" if k not in self.free else f"[{lo:.4g}, {hi:.4g}]"
+            lines.append(
+                f"{k:<12}{v:>12.4g}{PARAMETER_UNITS[k]:>6}  {rs:>9}  {ci:>25}  "
+                f"{self.identifiability[k]}"
+            )
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return (
+            f"FitResult(status={self.status!r}, relative_rmse={self.relative_rmse:.4g}, "
+            f"identified={list(self.identified())})"
+        )
+
+    # -- prediction and plots ---------------------------------------------------------
+    def predict(self, dataset: IntrusionDataset | None = None) -> list[NDArray[np.float64]]:
+        """Model stress [Pa] at the samples of each trial (default: the fitted data)."""
+        ds = self.dataset if dataset is None else as_dataset(dataset)
+        if ds is None:
+            raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
+        packed = pack(ds, self.parameters, acceleration=self.acceleration, xi0=self.xi0)
+        sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
+        return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
+
+    def plot(self, dataset: IntrusionDataset | None = None, *, axes: Any = None) -> Any:
+        """Fit against data: stress against time, one panel per trial (needs matplotlib).
+
+        Returns the matplotlib Figure.
+        """
+        from ..plotting import require_matplotlib
+
+        plt = require_matplotlib()
+        ds = self.dataset if dataset is None else as_dataset(dataset)
+        if ds is None:
+            raise MudrftError("plot needs a dataset: pass the data this fit was made from")
+        pred = self.predict(ds)
+        n = len(ds)
+        if axes is None:
+            fig, axes = plt.subplots(
+                1, n, figsize=(3.6 * n + 0.6, 3.2), squeeze=False, constrained_layout=True
+            )
+        else:
+            fig = np.ravel(axes)[0].figure
+        axs = np.ravel(axes)
+        for j, (tr, yp) in enumerate(zip(ds.trials, pred, strict=True)):
+            ax = axs[j]
+            used = segment(tr) != PHASES["out"]
+            ax.plot(tr.time[used], tr.stress[used] / 1e3, ".", ms=2.5, color="0.55", label="data")
+            if not used.all():
+                ax.plot(
+                    tr.time[~used],
+                    tr.stress[~used] / 1e3,
+                    "x",
+                    ms=4,
+                    color="0.55",
+                    label="not fitted (out of the mud)",
+                )
+            ax.plot(tr.time[used], yp[used] / 1e3, "C3", lw=1.5, label="fit")
+            ax.axhline(0.0, color="0.8", lw=0.6)
+            ax.set_title(f"{tr.name}: {1e3 * tr.speed:.3g} mm/s", fontsize=9)
+            ax.set_xlabel("time [s]")
+            if j == 0:
+                ax.set_ylabel("stress [kPa]")
+                ax.legend(fontsize=8, loc="lower left")
+        fig.suptitle(
+            f"calibration ({self.direction}); relative RMSE {100 * self.relative_rmse:.2f} %",
+            fontsize=10,
+        )
+        return fig
+
+    # -- persistence --------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict (SI values with the field names of :class:`~mudrft.MudParameters`)."""
+
+        def num(x: float) -> float | None:
+            return float(x) if math.isfinite(float(x)) else None
+
+        corr = [[num(c) for c in row] for row in np.asarray(self.correlation, dtype=float)]
+        return {
+            "format": "mudrft-fit",
+            "version": 1,
+            "direction": self.direction,
+            "parameters": self.parameters.as_dict(),
+            "units": dict(PARAMETER_UNITS),
+            "free": list(self.free),
+            "standard_error": {k: num(v) for k, v in self.standard_error.items()},
+            "relative_standard_error": {k: num(v) for k, v in self.relative_standard_error.items()},
+            "confidence_interval": {
+                k: [num(a), num(b)] for k, (a, b) in self.confidence_interval.items()
+            },
+            "confidence_level": self.confidence_level,
+            "correlation": {"parameters": list(self.free), "matrix": corr},
+            "identifiability": dict(self.identifiability),
+            "identifiability_rule": (
+                f"identified: relative SE <= {IDENTIFIED_SE}; weak: <= "
+                f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
+                "(Jacobian rank-deficient) or at a bound"
+            ),
+            "relative_rmse": self.relative_rmse,
+            "trial_relative_rmse": list(self.trial_relative_rmse),
+            "noise": self.noise,
+            "status": self.status,
+            "message": self.message,
+            "condition_number": num(self.condition_number),
+            "acceleration": self.acceleration,
+            "xi0": self.xi0,
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
+            "stages": [
+                {
+                    "name": s.name,
+                    "free": list(s.free),
+                    "simulations": s.simulations,
+                    "cost": s.cost,
+                    "seconds": s.seconds,
+                    "message": s.message,
+                }
+                for s in self.stages
+            ],
+            "trace": [dict(t) for t in self.trace],
+            "data": None
+            if self.dataset is None
+            else {
+                "source": self.dataset.source,
+                "trials": [t.name for t in self.dataset.trials],
+                "synthetic": self.dataset.synthetic,
+            },
+        }
+
+    def to_json(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Save to JSON, atomically; never replaces an existing file unless ``overwrite=True``.
+
+        Parameters
+        ----------
+        path : str or path-like
+            Output file (written through :func:`mudrft.io.atomic_write`).
+        overwrite : bool, keyword-only
+            Replace an existing file.
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
+        text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
+        return atomic_write(
+            path, text + "\n", overwrite=overwrite, option="overwrite=True (CLI: --overwrite)"
+        )
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], *, where: str = "fit") -> FitResult:
+        """Rebuild a result from :meth:`to_dict` output (without the dataset)."""
+        try:
+            params = parameters_from_json(data, where=where)
+            free = tuple(data["free"])
+
+            def f(x: Any) -> float:
+                return float("inf") if x is None else float(x)
+
+            se = {k: f(v) for k, v in data["standard_error"].items()}
+            rse = {k: f(v) for k, v in data["relative_standard_error"].items()}
+            ci = {k: (f(a), f(b)) for k, (a, b) in data["confidence_interval"].items()}
+            corr = np.array(
+                [
+                    [np.nan if c is None else c for c in row]
+                    for row in data["correlation"]["matrix"]
+                ],
+                dtype=float,
+            )
+            stages = tuple(
+                StageReport(
+                    name=s["name"],
+                    free=tuple(s["free"]),
+                    simulations=int(s["simulations"]),
+                    cost=float(s["cost"]),
+                    seconds=float(s["seconds"]),
+                    message=s.get("message", ""),
+                )
+                for s in data.get("stages", [])
+            )
+            return cls(
+                parameters=params,
+                free=free,
+                standard_error=se,
+                relative_standard_error=rse,
+                confidence_interval=ci,
+                confidence_level=float(data["confidence_level"]),
+                correlation=corr.reshape(len(free), len(free)),
+                identifiability=dict(data["identifiability"]),
+                relative_rmse=float(data["relative_rmse"]),
+                trial_relative_rmse=tuple(float(x) for x in data["trial_relative_rmse"]),
+                noise=float(data["noise"]),
+                status=str(data["status"]),
+                message=str(data.get("message", "")),
+                stages=stages,
+                trace=tuple(data.get("trace", [])),
+                direction=str(data["direction"]),
+                bounds={k: (float(a), float(b)) for k, (a, b) in data.get("bounds", {}).items()},
+                condition_number=f(data.get("condition_number")),
+                acceleration=bool(data.get("acceleration", True)),
+                xi0=float(data.get("xi0", 0.0)),
+            )
+        except MudrftError:
+            raise
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise MudrftError(
+                f"{where}: not a mudrft fit file ({type(exc).__name__}: {exc})"
+            ) from None
+
+    @classmethod
+    def from_json(cls, path: str | os.PathLike) -> FitResult:
+        """Load a result saved by :meth:`to_json`."""
+        p = Path(os.fspath(path))
+        return cls.from_dict(read_json(p), where=str(p))

@@ -1,0 +1,266 @@
+r"""The stages of a calibration: start, phase by phase, joint, uncertainty at the optimum.
+
+Each stage works on one :class:`~mudrft.calibration._engine.Engine` (the current values,
+bounds and trace) and returns a :class:`~mudrft.calibration.StageReport`:
+
+1. **start** (:func:`start_engine`): the paper row of the data's direction that fits
+   best after its linear parameters are rescaled (decision D43), or the user's set;
+2. **intrusion**, **relaxation**, **retraction** (:func:`phase_stage`): each group on
+   the samples of its phase, from the best points of a small grid (:data:`STAGES`);
+3. **joint** (:func:`joint_stage`): every free parameter on every sample;
+4. the residuals and Jacobian at the optimum give the uncertainty
+   (:func:`uncertainty_at_optimum`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._validation import MudrftError
+from ..io import IntrusionDataset
+from ..parameters.base import MudParameters
+from ..parameters.registry import table_rows
+from ._engine import Engine
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, pack
+from ._report import Reporter
+from .result import StageReport
+from .uncertainty import Uncertainty, at_bound, uncertainty
+
+__all__ = [
+    "ALL_PHASES",
+    "STAGES",
+    "Stage",
+    "joint_stage",
+    "phase_stage",
+    "start_engine",
+    "uncertainty_at_optimum",
+]
+
+
+class Stage(NamedTuple):
+    """One phase stage: the samples it fits and the parameters it frees.
+
+    Attributes
+    ----------
+    name : str
+        Stage name.
+    phases : tuple of int
+        Phase codes (:data:`~mudrft.calibration._problem.PHASES`) of the fitted samples.
+    own : tuple of str
+        The group's parameters; the stage runs if any of them is free.
+    linear : tuple of str
+        Linear parameters its samples also depend on (re-solved exactly in the stage).
+    grid : dict
+        Starting values [SI] of some nonlinear parameters, combined as a grid.
+    """
+
+    name: str
+    phases: tuple[int, ...]
+    own: tuple[str, ...]
+    linear: tuple[str, ...]
+    grid: dict[str, NDArray[np.float64]]
+
+
+#: The phase stages, in order (decision D41).
+STAGES: tuple[Stage, ...] = (
+    Stage(
+        "intrusion",
+        (PHASES["intrusion"],),
+        ("alpha", "n", "eta_inf"),
+        ("eta_m",),
+        {"n": np.linspace(0.1, 1.0, 10)},
+    ),
+    Stage(
+        "relaxation",
+        (PHASES["intrusion"], PHASES["hold"]),
+        ("lam", "eta_m", "eta_inf", "gamma_dot_c"),
+        ("alpha",),
+        {"lam": np.geomspace(0.1, 30.0, 8), "gamma_dot_c": np.geomspace(0.01, 1.0, 5)},
+    ),
+    Stage(
+        "retraction",
+        (PHASES["retraction"],),
+        ("tau_build", "tau_leak", "epsilon", "sigma_y"),
+        ("alpha", "eta_inf", "eta_m"),
+        {"tau_build": np.geomspace(0.03, 3.0, 7), "epsilon": np.geomspace(0.003, 0.3, 5)},
+    ),
+)
+#: Phases whose samples the joint stage fits (all but "out").
+ALL_PHASES = (PHASES["intrusion"], PHASES["hold"], PHASES["retraction"])
+
+
+def stage_note(report: StageReport, suffix: str = "") -> str:
+    """The progress line of a finished stage."""
+    return (
+        f"calibrate: stage {report.name:<10} free {list(report.free)}: cost {report.cost:.4g}, "
+        f"{report.simulations} simulations, {report.seconds:.2f} s{suffix}"
+    )
+
+
+def _paper_start(engine: Engine, direction: str, reporter: Reporter) -> dict[str, float]:
+    """The paper row (of the data's direction) that fits best after its linear parameters
+    are rescaled by non-negative least squares; all rows in one batched simulation
+    (decision D43)."""
+    rows = table_rows(direction)
+    ws = sorted(rows)
+    cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
+    mask = engine.packed.mask(ALL_PHASES)
+    cost, point = engine.grid_start("start", mask, LINEAR_PARAMETERS, cands, len(cands))[0]
+    nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
+    w = next(w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear))
+    reporter.note(
+        f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
+        f"(linear parameters rescaled), cost {cost:.4g}"
+    )
+    return point
+
+
+def start_engine(
+    ds: IntrusionDataset,
+    base: MudParameters,
+    *,
+    from_paper: bool,
+    direction: str,
+    free: tuple[str, ...],
+    fixed: dict[str, float],
+    bounds: dict[str, tuple[float, float]],
+    acceleration: bool,
+    xi0: float,
+    trace_limit: int,
+    reporter: Reporter,
+) -> tuple[Engine, StageReport]:
+    """Pack the data and set the starting point: the "start" stage.
+
+    Parameters
+    ----------
+    ds : IntrusionDataset
+        The data (checked when packed).
+    base : MudParameters
+        Starting values and values of the parameters not fitted [SI].
+    from_paper : bool, keyword-only
+        Start from the best rescaled paper row instead of ``base``'s fitted fields.
+    direction : str, keyword-only
+        Direction of the paper rows.
+    free, fixed, bounds : keyword-only
+        Free parameters, held values [SI], bounds [SI].
+    acceleration, xi0, trace_limit : keyword-only
+        As for :func:`~mudrft.calibration.calibrate`.
+    reporter : Reporter, keyword-only
+        Where notes go.
+    """
+    t0 = time.perf_counter()
+    try:
+        packed = pack(ds, base, acceleration=acceleration, xi0=xi0)
+    except MudrftError as exc:
+        raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
+    engine = Engine(
+        packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
+    )
+    if from_paper:
+        engine.values.update(_paper_start(engine, direction, reporter))
+    engine.values.update({k: float(v) for k, v in fixed.items()})
+    for k in free:
+        engine.values[k] = engine.clip(k, engine.values[k])
+    try:  # validate the starting set (with the fixed values) once
+        packed.parameters({k: np.array([v]) for k, v in engine.values.items()})
+    except MudrftError as exc:
+        raise MudrftError(f"invalid starting or fixed parameter values: {exc}") from None
+    sims = packed.simulations  # those of the start point; the cost below is not counted
+    cost = engine.cost(packed.mask(ALL_PHASES))
+    message = "paper row" if from_paper else "initial"
+    return engine, StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
+
+
+def _grid(engine: Engine, stage: Stage, free: tuple[str, ...]) -> list[dict[str, float]]:
+    """The stage's grid of starting points (with the current values added), in bounds."""
+    axes = {
+        k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
+        for k, v in stage.grid.items()
+        if k in free
+    }
+    return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
+
+
+def _message(sol: Any) -> str:
+    return "linear parameters solved exactly" if sol is None else str(sol.message)
+
+
+def phase_stage(
+    engine: Engine, stage: Stage, free: tuple[str, ...], *, starts: int, max_nfev: int
+) -> StageReport | None:
+    """Fit one group on the samples of its phase; None if the stage has nothing to do.
+
+    The ``starts`` best points of the stage's grid (linear parameters solved exactly
+    at each) are refined by bounded least squares; the best result is kept.
+    """
+    if not any(k in free for k in stage.own):
+        return None  # none of the stage's own group is fitted
+    stage_free = tuple(
+        k for k in FIT_PARAMETERS if k in free and (k in stage.own or k in stage.linear)
+    )
+    mask = engine.packed.mask(stage.phases)
+    if not mask.any():
+        return None
+    t0, n0 = time.perf_counter(), engine.packed.simulations
+    saved = dict(engine.values)
+    best: tuple[float, dict[str, float], Any] | None = None
+    starting = engine.grid_start(
+        stage.name, mask, stage_free, _grid(engine, stage, stage_free), starts
+    )
+    for _, point in starting:
+        engine.values = dict(saved)
+        c, sol = engine.fit(stage.name, mask, stage_free, max_nfev, start=point, project=stage_free)
+        if best is None or c < best[0]:
+            best = (c, dict(engine.values), sol)
+    assert best is not None
+    engine.values = best[1]
+    sims = engine.packed.simulations - n0
+    return StageReport(
+        stage.name, stage_free, sims, best[0], time.perf_counter() - t0, _message(best[2])
+    )
+
+
+def status(sol: Any) -> str:
+    """``"converged"``, ``"max_evaluations"`` or ``"failed"`` from a solver result."""
+    if sol is None or sol.status > 0:
+        return "converged"
+    return "max_evaluations" if sol.status == 0 else "failed"
+
+
+def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tuple[StageReport, str]:
+    """Every free parameter on every sample; returns the report and the solver status.
+
+    The linear parameters are first projected out, then the result is polished with
+    every free parameter a solver variable (same optimum; it checks that the projected
+    solution is a stationary point of the full problem).
+    """
+    t0, n0 = time.perf_counter(), engine.packed.simulations
+    mask = engine.packed.mask(ALL_PHASES)
+    cost, sol = engine.fit("joint", mask, free, max_nfev, project=free)
+    cost, sol_full = engine.fit("joint", mask, free, max_nfev)
+    sol = sol_full if sol_full is not None else sol
+    sims = engine.packed.simulations - n0
+    report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, sol.message)
+    return report, status(sol)
+
+
+def uncertainty_at_optimum(engine: Engine, free: tuple[str, ...], level: float) -> Uncertainty:
+    """Standard errors, intervals and verdicts at the engine's current values.
+
+    Parameters
+    ----------
+    engine : Engine
+        At the optimum.
+    free : tuple of str
+        The fitted parameters.
+    level : float
+        Confidence level of the intervals, in (0, 1) [-].
+    """
+    r, J = engine.jacobian(engine.packed.mask(ALL_PHASES), free)
+    bound = at_bound(engine.values, free, engine.bounds)
+    return uncertainty(r, J, free, bound, level, engine.values, engine.bounds)

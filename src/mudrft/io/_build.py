@@ -1,0 +1,161 @@
+"""From columns in SI to trials: the plate, the direction, one trial per label (internal).
+
+Shared by the CSV and HDF5 loaders once :mod:`.columns` has resolved and converted the
+columns: :func:`resolve_direction` and :func:`resolve_plate` combine the caller's
+arguments with the file's metadata; :func:`build_trials` splits the samples into
+:class:`~mudrft.io.Trial` objects and turns a force into a stress.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._validation import MudrftError, check_choice, check_positive
+from ..plate import DEFAULT_PLATE_LENGTH
+from .columns import fail
+from .dataset import Trial
+
+__all__ = ["DIRECTIONS", "build_trials", "resolve_direction", "resolve_plate"]
+
+#: Loading directions of a test.
+DIRECTIONS = ("vertical", "horizontal")
+
+
+def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
+    """The loading direction: the caller's, else the file's (checked even when given),
+    else vertical.
+
+    Parameters
+    ----------
+    path : str
+        The file, for errors.
+    given : str or None
+        The ``direction`` argument.
+    from_file : str or None
+        The file's metadata value.
+    where : str
+        Where the file states it (``"line 2"``, ``"attribute 'direction'"``).
+    """
+    file_direction = None
+    if from_file is not None:
+        file_direction = from_file.strip().lower()
+        if file_direction not in DIRECTIONS:
+            raise fail(
+                path,
+                where,
+                f"metadata 'direction' must be 'vertical' or 'horizontal', got {from_file!r}",
+            )
+    if given:
+        return check_choice("direction", given, DIRECTIONS)
+    return file_direction or "vertical"
+
+
+def resolve_plate(
+    path: str,
+    *,
+    meta_len: float | None,
+    meta_area: float | None,
+    characteristic_length: float | None,
+    area: float | None,
+    need_area: bool,
+) -> tuple[float, float | None, str]:
+    """Plate length [m] and area [m^2] (None if unknown and not needed), and where the
+    length came from: the caller's argument, else the file's metadata, else the default
+    (decision D1)."""
+    try:
+        if characteristic_length is not None:
+            L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+            src = "argument"
+        elif meta_len is not None:
+            L, src = meta_len, "file header"
+        else:
+            L, src = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
+        A = float(check_positive("area", area, unit="m^2")) if area is not None else meta_area
+    except MudrftError as exc:
+        raise MudrftError(f"{path}: {exc}") from None
+    if need_area and A is None:
+        raise MudrftError(
+            f"{path}: the file logs a force but no plate area is known; pass area=... [m^2] "
+            "(CLI: --area) or add a header line '# area [m^2]: ...'"
+        )
+    return L, A, src
+
+
+def _groups(labels: Sequence[str] | None, n: int) -> dict[str, NDArray[np.intp]]:
+    """Sample indices of each trial label, in order of first appearance."""
+    if labels is None:
+        return {"trial": np.arange(n)}
+    members: dict[str, list[int]] = {}
+    for i, lab in enumerate(labels):
+        members.setdefault(lab, []).append(i)
+    return {k: np.asarray(v) for k, v in members.items()}
+
+
+def build_trials(
+    path: str,
+    columns: dict[str, NDArray[np.float64]],
+    labels: Sequence[str] | None,
+    lines: NDArray[np.int_],
+    *,
+    L: float,
+    A: float | None,
+) -> tuple[Trial, ...]:
+    """One :class:`Trial` per label (or one for all samples when there are no labels).
+
+    Parameters
+    ----------
+    path : str
+        The file, for errors.
+    columns : dict
+        ``time`` [s], ``depth`` [m] and ``stress`` [Pa] or ``force`` [N], in SI.
+    labels : sequence of str or None
+        Trial label of each sample.
+    lines : ndarray of int
+        Place of each sample in the file (line or row), for errors.
+    L : float, keyword-only
+        Plate characteristic length [m].
+    A : float or None, keyword-only
+        Plate area [m^2], needed if there is no stress column.
+    """
+    time = columns["time"]
+    depth = columns["depth"]
+    stress = columns["stress"] if "stress" in columns else columns["force"] / float(A)  # type: ignore[arg-type]
+    trials = []
+    for name, idx in _groups(labels, time.size).items():
+        t = time[idx]
+        if idx.size < 2:
+            raise fail(
+                path,
+                f"line {int(lines[idx[0]])}",
+                f"trial {name!r} has {idx.size} sample; a trial needs at least 2",
+            )
+        d = np.diff(t)
+        if not np.all(d > 0):
+            k = int(np.argmax(d <= 0)) + 1
+            hint = (
+                ""
+                if labels is not None
+                else "; to log several trials in one file add a 'trial' column"
+            )
+            raise fail(
+                path,
+                f"line {int(lines[idx[k]])}, column 'time'",
+                f"time must increase strictly within trial {name!r}, but {t[k]!r} s "
+                f"follows {t[k - 1]!r} s{hint}",
+            )
+        meta: dict[str, Any] = {"first_line": int(lines[idx[0]])}
+        if A is not None:
+            meta["area"] = A
+        try:
+            trials.append(
+                Trial(
+                    t, depth[idx], stress[idx], name=str(name), characteristic_length=L, meta=meta
+                )
+            )
+        except MudrftError as exc:
+            raise fail(path, f"line {int(lines[idx[0]])}", str(exc)) from None
+    return tuple(trials)

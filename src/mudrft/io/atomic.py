@@ -1,0 +1,137 @@
+"""Atomic, overwrite-safe writing of files: the one way mudrft writes a file it produces.
+
+:func:`atomic_write` writes to a temporary file in the target's directory, then moves it
+into place in one step. A reader never sees a half-written file, a failure leaves
+nothing behind (no temporary file, no truncated target), and an existing file is never
+replaced unless the caller passes ``overwrite=True``, even if it appears while the data
+are being written.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import uuid
+from collections.abc import Callable
+from pathlib import Path
+
+from .._validation import MudrftError
+
+__all__ = ["atomic_write"]
+
+Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
+
+
+def _exists_error(p: Path, option: str) -> MudrftError:
+    return MudrftError(f"{p}: file exists; pass {option} to replace it")
+
+
+def _temporary(p: Path) -> tuple[Path, int]:
+    """A new empty file next to ``p`` (same directory, so the final move is atomic), opened
+    for writing; created with the default permissions (the umask applies)."""
+    for _ in range(100):
+        tmp = p.with_name(f".{p.name}.{uuid.uuid4().hex[:12]}.tmp")
+        try:
+            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:  # pragma: no cover - a 48-bit random name collided
+            continue
+    raise FileExistsError(f"no free temporary name next to {p}")  # pragma: no cover
+
+
+def _fill(tmp: Path, fd: int, content: Content) -> None:
+    """Write ``content`` to the temporary file (flushed to disk for bytes and text)."""
+    if callable(content):
+        os.close(fd)
+        content(tmp)
+        return
+    data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(data)
+        fh.flush()
+        os.fsync(fh.fileno())
+
+
+def _move_into_place(tmp: Path, p: Path, *, overwrite: bool, option: str) -> None:
+    """Move the finished temporary file to ``p``; without ``overwrite`` only if ``p`` does
+    not exist at that moment (a hard link fails on an existing name, atomically)."""
+    if overwrite:
+        os.replace(tmp, p)
+        return
+    try:
+        os.link(tmp, p)
+    except FileExistsError:
+        raise _exists_error(p, option) from None
+    except OSError:  # hard links not supported here: check, then move
+        if os.path.lexists(p):
+            raise _exists_error(p, option) from None
+        os.replace(tmp, p)
+
+
+def atomic_write(
+    path: str | os.PathLike[str],
+    content: Content,
+    *,
+    overwrite: bool = False,
+    option: str = "overwrite=True",
+) -> Path:
+    """Write a file atomically; never replace an existing file unless ``overwrite=True``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to write.
+    content : bytes, str or callable
+        The data (a str is written as UTF-8), or a function that writes the file whose
+        path it is given (e.g. with h5py); it must write that path, not another.
+    overwrite : bool, keyword-only
+        Replace ``path`` if it exists (default: refuse).
+    option : str, keyword-only
+        How the caller's API spells the permission to replace, named in the error
+        (``"overwrite=True"``, ``"--force"``, ...).
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    MudrftError
+        If ``path`` exists and ``overwrite`` is false, names a directory, or cannot be
+        written. Nothing is left behind: neither a temporary file nor a partial target.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = atomic_write(os.path.join(d, "a.txt"), "first\\n")
+    ...     try:
+    ...         atomic_write(p, "second\\n")
+    ...     except MudrftError as exc:
+    ...         print("refused:", "file exists" in str(exc))
+    ...     print(p.read_text().strip(), sorted(os.listdir(d)))
+    refused: True
+    first ['a.txt']
+    """
+    p = Path(os.fspath(path))
+    if not (callable(content) or isinstance(content, (bytes, bytearray, memoryview, str))):
+        raise MudrftError(
+            f"content must be bytes, str or a callable that writes a path, got "
+            f"{type(content).__name__}"
+        )
+    if p.is_dir():
+        raise MudrftError(f"{p}: is a directory, expected a file name")
+    if not overwrite and os.path.lexists(p):
+        raise _exists_error(p, option)  # early, before any work
+    tmp: Path | None = None
+    try:
+        tmp, fd = _temporary(p)
+        _fill(tmp, fd, content)
+        _move_into_place(tmp, p, overwrite=overwrite, option=option)
+    except OSError as exc:
+        raise MudrftError(f"{p}: cannot be written ({exc.strerror or exc})") from exc
+    finally:
+        if tmp is not None:
+            with contextlib.suppress(OSError):  # gone already once moved into place
+                os.unlink(tmp)
+    return p

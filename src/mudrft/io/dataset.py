@@ -1,0 +1,263 @@
+"""Intrusion data in memory: :class:`Trial` (one test) and :class:`IntrusionDataset`.
+
+Both hold SI values only (time [s], depth [m], stress [Pa]); they are checked where
+they are made. A dataset writes itself as CSV (:meth:`IntrusionDataset.to_csv`, the
+format :func:`~mudrft.io.load_intrusion_csv` reads).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._validation import MudrftError, check_choice, check_increasing, check_positive
+from ..plate import DEFAULT_PLATE_LENGTH
+from .atomic import atomic_write
+
+__all__ = ["OVERWRITE_OPTION", "IntrusionDataset", "Trial", "csv_text"]
+
+#: How the writers of this package name the permission to replace a file, in errors.
+OVERWRITE_OPTION = "overwrite=True (CLI: --overwrite)"
+
+
+@dataclass(frozen=True, eq=False)
+class Trial:
+    """One intrusion test: displacement and stress sampled in time (SI).
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Strictly increasing sample times [s].
+    depth : array_like, shape (n,)
+        Intrusion displacement of the plate [m] (vertical: depth below the surface;
+        horizontal: travel through the mud).
+    stress : array_like, shape (n,)
+        Stress resisting the intrusion [Pa] (negative under suction).
+    name : str
+        Label of the trial.
+    characteristic_length : float
+        Plate characteristic length :math:`L_c` [m] (decision D1: 50 mm by default).
+    meta : dict
+        Anything else known about the trial (area [m^2], source line numbers, ...).
+
+    Examples
+    --------
+    >>> tr = Trial([0.0, 0.5, 1.0], [0.0, 0.01, 0.02], [0.0, 900.0, 1500.0])
+    >>> tr.gamma.round(6).tolist(), round(tr.speed, 6)
+    ([0.0, 0.2, 0.4], 0.02)
+    """
+
+    time: Any
+    depth: Any
+    stress: Any
+    name: str = "trial"
+    characteristic_length: float = DEFAULT_PLATE_LENGTH
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        t = check_increasing("time", self.time)
+        if t.size < 2:
+            raise MudrftError(
+                f"trial {self.name!r}: time must have at least 2 samples, got {t.size}"
+            )
+        for attr in ("depth", "stress"):
+            a = np.asarray(self.depth if attr == "depth" else self.stress)
+            try:
+                a = np.asarray(a, dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise MudrftError(f"trial {self.name!r}: {attr} must be numeric") from exc
+            if a.shape != t.shape:
+                raise MudrftError(
+                    f"trial {self.name!r}: {attr} must have shape {t.shape} to match time, "
+                    f"got {a.shape}"
+                )
+            if not np.all(np.isfinite(a)):
+                raise MudrftError(f"trial {self.name!r}: {attr} must be finite, got NaN or inf")
+            object.__setattr__(self, attr, a)
+        object.__setattr__(self, "time", t)
+        L = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
+        object.__setattr__(self, "characteristic_length", L)
+
+    @property
+    def gamma(self) -> NDArray[np.float64]:
+        """Dimensionless displacement :math:`\\gamma = q/L_c` [-]."""
+        return self.depth / self.characteristic_length
+
+    @property
+    def speed(self) -> float:
+        """Median intrusion speed over the samples where the plate moves forward [m/s]."""
+        v = np.diff(self.depth) / np.diff(self.time)
+        peak = np.max(np.abs(v)) if v.size else 0.0
+        fwd = v[v > 0.2 * peak] if peak > 0 else v[:0]
+        return float(np.median(fwd)) if fwd.size else 0.0
+
+    @property
+    def duration(self) -> float:
+        """Duration [s]."""
+        return float(self.time[-1] - self.time[0])
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+    def __repr__(self) -> str:
+        return (
+            f"Trial(name={self.name!r}, samples={len(self)}, duration={self.duration:.3g} s, "
+            f"speed={self.speed:.3g} m/s, depth_max={float(np.max(np.abs(self.depth))):.3g} m)"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class IntrusionDataset:
+    """Several trials of one mud in one loading direction, fitted jointly.
+
+    Parameters
+    ----------
+    trials : sequence of Trial
+        The trials (several speeds, repetitions).
+    direction : {"vertical", "horizontal"}
+        Loading direction of the tests.
+    source : str
+        Where the data come from (file path).
+    notes : tuple of str
+        Free-text notes (the comment lines of a CSV file), e.g. that the data are synthetic.
+    meta : dict
+        Metadata read from the file header.
+
+    Examples
+    --------
+    >>> tr = Trial([0.0, 0.5, 1.0], [0.0, 0.01, 0.02], [0.0, 900.0, 1500.0])
+    >>> ds = IntrusionDataset([tr])
+    >>> len(ds), ds.direction
+    (1, 'vertical')
+    """
+
+    trials: Any
+    direction: str = "vertical"
+    source: str = ""
+    notes: tuple[str, ...] = ()
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        trials = (self.trials,) if isinstance(self.trials, Trial) else tuple(self.trials)
+        if not trials:
+            raise MudrftError("trials must hold at least one Trial, got none")
+        for i, tr in enumerate(trials):
+            if not isinstance(tr, Trial):
+                raise MudrftError(f"trials[{i}] must be a Trial, got {type(tr).__name__}")
+        object.__setattr__(self, "trials", trials)
+        check_choice("direction", self.direction, ("vertical", "horizontal"))
+        object.__setattr__(self, "notes", tuple(str(n) for n in self.notes))
+
+    @classmethod
+    def from_arrays(
+        cls,
+        time: ArrayLike,
+        depth: ArrayLike,
+        stress: ArrayLike,
+        *,
+        characteristic_length: float = DEFAULT_PLATE_LENGTH,
+        direction: str = "vertical",
+        name: str = "trial",
+    ) -> IntrusionDataset:
+        """A one-trial dataset from arrays in SI units (time [s], depth [m], stress [Pa])."""
+        tr = Trial(time, depth, stress, name=name, characteristic_length=characteristic_length)
+        return cls((tr,), direction=direction)
+
+    @property
+    def synthetic(self) -> bool:
+        """True if the file says its data are synthetic (generated by a model)."""
+        return bool(self.meta.get("synthetic")) or any("synthetic" in n.lower() for n in self.notes)
+
+    @property
+    def speeds(self) -> list[float]:
+        """Intrusion speed of each trial [m/s]."""
+        return [tr.speed for tr in self.trials]
+
+    def merge(self, *others: IntrusionDataset) -> IntrusionDataset:
+        """Join the trials of several datasets of the same direction into one."""
+        trials = list(self.trials)
+        for o in others:
+            if not isinstance(o, IntrusionDataset):
+                raise MudrftError(f"merge expects IntrusionDataset objects, got {type(o).__name__}")
+            if o.direction != self.direction:
+                raise MudrftError(
+                    f"cannot merge a {o.direction} dataset into a {self.direction} one"
+                )
+            trials.extend(o.trials)
+        notes = tuple(dict.fromkeys(self.notes + tuple(n for o in others for n in o.notes)))
+        src = "; ".join(s for s in [self.source, *(o.source for o in others)] if s)
+        return IntrusionDataset(
+            tuple(trials), direction=self.direction, source=src, notes=notes, meta=dict(self.meta)
+        )
+
+    def to_csv(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Write the dataset as CSV in SI units, with its notes and metadata as ``#`` comments.
+
+        The file is written atomically and never replaces an existing file unless
+        ``overwrite=True`` (:func:`~mudrft.io.atomic_write`); it loads back with
+        :func:`~mudrft.io.load_intrusion_csv`.
+
+        Parameters
+        ----------
+        path : str or path-like
+            Output file.
+        overwrite : bool, keyword-only
+            Replace an existing file (default: refuse, so a user's data are never lost).
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
+        return atomic_write(path, csv_text(self), overwrite=overwrite, option=OVERWRITE_OPTION)
+
+    def __len__(self) -> int:
+        return len(self.trials)
+
+    def __iter__(self) -> Iterator[Trial]:
+        return iter(self.trials)
+
+    def __getitem__(self, i: int) -> Trial:
+        return self.trials[i]
+
+    def __repr__(self) -> str:
+        tag = ", synthetic" if self.synthetic else ""
+        return (
+            f"IntrusionDataset({len(self)} trials, direction={self.direction!r}, "
+            f"samples={sum(len(t) for t in self.trials)}{tag})"
+        )
+
+
+def csv_text(dataset: IntrusionDataset) -> str:
+    """The CSV text of a dataset in SI units, its notes and metadata as ``#`` comments.
+
+    Raises
+    ------
+    MudrftError
+        If the trials have different characteristic lengths (a file holds one).
+    """
+    lengths = {tr.characteristic_length for tr in dataset.trials}
+    if len(lengths) != 1:
+        raise MudrftError(
+            "a CSV file holds one characteristic length for all trials; got "
+            f"{sorted(lengths)}; save the trials in separate files"
+        )
+    buf = io.StringIO()
+    for note in dataset.notes:
+        if not note.lower().startswith(("direction:", "characteristic_length")):
+            buf.write(f"# {note}\n")
+    buf.write(f"# direction: {dataset.direction}\n")
+    buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
+    buf.write("trial,time [s],depth [m],stress [Pa]\n")
+    for tr in dataset.trials:
+        label = tr.name.replace(",", " ").replace("\n", " ")
+        for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True):
+            buf.write(f"{label},{t:.6g},{q:.6g},{s:.6g}\n")
+    return buf.getvalue()

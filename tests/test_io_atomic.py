@@ -1,0 +1,180 @@
+"""Writing files: every writer is atomic (a failure leaves nothing behind) and never
+replaces an existing file without the caller's permission."""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mudrft._validation import MudrftError
+from mudrft.io import IntrusionDataset, Trial, atomic_write, save_intrusion_csv
+from mudrft.io import atomic as atomic_module
+
+
+def _dataset(n: int = 5) -> IntrusionDataset:
+    t = np.linspace(0.0, 1.0, n)
+    return IntrusionDataset((Trial(t, 0.02 * t, 1e3 * t, name="a"),))
+
+
+def _fit_to_json(ds: IntrusionDataset, p: Path, **kw: bool) -> Path:
+    """A FitResult (made from a minimal dict, no fit needed) saved as JSON."""
+    import mudrft
+    from mudrft.calibration import FitResult
+
+    data = {
+        "parameters": mudrft.paper_parameters(0.25).as_dict(),
+        "free": [],
+        "standard_error": {},
+        "relative_standard_error": {},
+        "confidence_interval": {},
+        "confidence_level": 0.95,
+        "correlation": {"parameters": [], "matrix": []},
+        "identifiability": {},
+        "relative_rmse": 0.0,
+        "trial_relative_rmse": [],
+        "noise": 0.0,
+        "status": "converged",
+        "direction": "vertical",
+    }
+    return FitResult.from_dict(data).to_json(p, **kw)
+
+
+def _hdf5(ds: IntrusionDataset, p: Path, **kw: bool) -> Path:
+    pytest.importorskip("h5py")
+    from mudrft.io import save_intrusion_hdf5
+
+    return save_intrusion_hdf5(ds, p, **kw)
+
+
+#: Every writer of mudrft.io and of the calibration, as (dataset, path, **options) -> Path.
+WRITERS = {
+    "save_intrusion_csv": lambda ds, p, **kw: save_intrusion_csv(ds, p, **kw),
+    "IntrusionDataset.to_csv": lambda ds, p, **kw: ds.to_csv(p, **kw),
+    "save_intrusion_hdf5": _hdf5,
+    "FitResult.to_json": _fit_to_json,
+}
+
+
+def _listing(d: Path) -> list[str]:
+    return sorted(os.listdir(d))
+
+
+@pytest.mark.parametrize("writer", sorted(WRITERS))
+def test_existing_file_is_never_overwritten_without_the_flag(tmp_path, writer):
+    write = WRITERS[writer]
+    p = tmp_path / "out.dat"
+    p.write_bytes(b"precious user data\n")
+    before = (p.read_bytes(), os.stat(p).st_mtime_ns)
+    with pytest.raises(MudrftError, match=r"exists.*overwrite=True"):
+        write(_dataset(), p)
+    assert (p.read_bytes(), os.stat(p).st_mtime_ns) == before
+    assert _listing(tmp_path) == ["out.dat"]  # no temporary file left
+    assert write(_dataset(), p, overwrite=True) == p
+    assert p.read_bytes() != b"precious user data\n"
+    assert _listing(tmp_path) == ["out.dat"]
+
+
+@pytest.mark.parametrize("writer", sorted(WRITERS))
+def test_new_file_is_written_with_nothing_else(tmp_path, writer):
+    p = WRITERS[writer](_dataset(), tmp_path / "new.dat")
+    assert p.stat().st_size > 0
+    assert _listing(tmp_path) == ["new.dat"]
+
+
+def test_failed_write_leaves_no_file(tmp_path):
+    def half_then_fail(tmp: Path) -> None:
+        tmp.write_bytes(b"half a file")
+        raise RuntimeError("disk on fire")
+
+    with pytest.raises(RuntimeError, match="disk on fire"):
+        atomic_write(tmp_path / "x.csv", half_then_fail)
+    assert _listing(tmp_path) == []
+
+
+def test_failed_overwrite_keeps_the_old_file(tmp_path):
+    p = tmp_path / "x.csv"
+    p.write_text("old\n")
+
+    def fail(tmp: Path) -> None:
+        tmp.write_text("new but broken")
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(MudrftError, match=r"x\.csv: cannot be written \(No space left"):
+        atomic_write(p, fail, overwrite=True)
+    assert p.read_text() == "old\n"
+    assert _listing(tmp_path) == ["x.csv"]
+
+
+def test_failed_move_into_place_leaves_nothing(tmp_path, monkeypatch):
+    def no_replace(src: object, dst: object) -> None:
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(atomic_module.os, "replace", no_replace)
+    p = tmp_path / "x.csv"
+    p.write_text("old\n")
+    with pytest.raises(MudrftError, match="cannot be written"):
+        save_intrusion_csv(_dataset(), p, overwrite=True)
+    assert p.read_text() == "old\n"
+    assert _listing(tmp_path) == ["x.csv"]
+
+
+def test_write_into_a_missing_directory_fails_cleanly(tmp_path):
+    with pytest.raises(MudrftError, match="cannot be written"):
+        save_intrusion_csv(_dataset(), tmp_path / "no" / "such" / "dir.csv")
+    assert _listing(tmp_path) == []
+
+
+def test_data_that_cannot_be_written_leave_no_file(tmp_path):
+    t = np.linspace(0.0, 1.0, 4)
+    mixed = IntrusionDataset(
+        (
+            Trial(t, 0.01 * t, t, name="a", characteristic_length=0.05),
+            Trial(t, 0.01 * t, t, name="b", characteristic_length=0.04),
+        )
+    )
+    with pytest.raises(MudrftError, match="one characteristic length"):
+        save_intrusion_csv(mixed, tmp_path / "m.csv")
+    assert _listing(tmp_path) == []
+
+
+def test_file_that_appears_during_the_write_is_not_overwritten(tmp_path):
+    """Another program creates the target while mudrft writes: its file wins, mudrft
+    refuses (the final move cannot replace a file without the flag)."""
+    p = tmp_path / "race.csv"
+
+    def write_while_someone_else_does(tmp: Path) -> None:
+        tmp.write_text("ours\n")
+        p.write_text("theirs\n")
+
+    with pytest.raises(MudrftError, match="exists"):
+        atomic_write(p, write_while_someone_else_does)
+    assert p.read_text() == "theirs\n"
+    assert _listing(tmp_path) == ["race.csv"]
+
+
+def test_directory_and_bad_content_are_refused(tmp_path):
+    with pytest.raises(MudrftError, match="is a directory"):
+        atomic_write(tmp_path, b"x", overwrite=True)
+    with pytest.raises(MudrftError, match="content must be bytes, str or a callable"):
+        atomic_write(tmp_path / "a", 3)  # type: ignore[arg-type]
+    assert _listing(tmp_path) == []
+
+
+def test_written_file_has_the_usual_permissions(tmp_path):
+    """The temporary file is created like open() would create the target (umask applies),
+    not with a temporary file's private mode."""
+    ref = tmp_path / "ref"
+    ref.write_text("x")
+    p = atomic_write(tmp_path / "a.txt", "x")
+    assert stat.S_IMODE(p.stat().st_mode) == stat.S_IMODE(ref.stat().st_mode)
+
+
+def test_text_is_utf8_and_option_is_named(tmp_path):
+    p = atomic_write(tmp_path / "u.txt", "σ [Pa]\n")
+    assert p.read_bytes() == "σ [Pa]\n".encode()
+    with pytest.raises(MudrftError, match="pass --force to replace it"):
+        atomic_write(p, "again", option="--force")
