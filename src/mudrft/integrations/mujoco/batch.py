@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
 from ...citations import register
-from ...terrain import as_terrain
+from ...terrains import as_terrain
 from ._lazy import _mujoco
 from .implicit import force_and_derivative, implicit_force, secant_steps
 from .kinematics import _cross, body_frames, body_mobility, chain_mobility
