@@ -40,7 +40,7 @@ def evaluate_claims(
     """Compare the summary rows with the paper's claims; one dict per claim."""
     v = _nearest(speeds, 0.2)
     w = _nearest(water_contents, 0.25)
-    fixed = [f for f in ("flat", "semi-cylinder", "semi-sphere") if f in feet]
+    fixed: list[str] = [f for f in ("flat", "semi-cylinder", "semi-sphere") if f in feet]
     out: list[dict[str, str]] = []
 
     def get(f: str, key: str, speed: float = v, wc: float = w) -> float:
@@ -88,8 +88,8 @@ def evaluate_claims(
     if len(water_contents) > 1:
         mono = []
         for f in feet:
-            vals = [get(f, "peak_support [N]", v, wc) for wc in sorted(water_contents)]
-            mono.append((f, all(a > b for a, b in itertools.pairwise(vals)), vals))
+            supports = [get(f, "peak_support [N]", v, wc) for wc in sorted(water_contents)]
+            mono.append((f, all(a > b for a, b in itertools.pairwise(supports)), supports))
         ok = all(m for _, m, _ in mono)
         out.append(
             {
@@ -194,7 +194,9 @@ def write_report(
             "|---|---|---|",
         ]
         for f, v in sensitivity.items():
-            lines.append(f"| {f} | {v['speed_spread_pct']:.0f} % | {v['suction_ratio_pct']:.0f} % |")
+            lines.append(
+                f"| {f} | {v['speed_spread_pct']:.0f} % | {v['suction_ratio_pct']:.0f} % |"
+            )
         lines += [
             "",
             "With the tables as printed no choice satisfies both claims; we keep the published equation.",

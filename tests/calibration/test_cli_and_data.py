@@ -27,8 +27,9 @@ def _example_path(direction="vertical", w=0.25):
 
 def test_cli_fits_writes_json_and_reports_progress(tmp_path, capsys):
     out = tmp_path / "fit.json"
-    rc = main([_example_path(), "--direction", "vertical", "--groups", "b", "th",
-               "--out", str(out)])
+    rc = main(
+        [_example_path(), "--direction", "vertical", "--groups", "b", "th", "--out", str(out)]
+    )
     assert rc == 0
     cap = capsys.readouterr()
     stages = [ln for ln in cap.err.splitlines() if ln.startswith("calibrate: stage")]
@@ -62,23 +63,39 @@ def test_cli_force_log_with_area(tmp_path, capsys):
     area = 0.0025
     lines = ["trial,time [s],depth [mm],Fz [N]"]
     for tr in ds:
-        lines += [f"{tr.name},{float(t)!r},{float(1e3 * q)!r},{float(s * area)!r}"
-                  for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)]
+        lines += [
+            f"{tr.name},{float(t)!r},{float(1e3 * q)!r},{float(s * area)!r}"
+            for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)
+        ]
     p = tmp_path / "force.csv"
     p.write_text("\n".join(lines) + "\n")
     assert main([str(p), "--groups", "alpha", "--quiet"]) == 2  # no area: error
     assert "area" in capsys.readouterr().err
     out = tmp_path / "f.json"
-    assert main([str(p), "--area", str(area), "--groups", "alpha", "--quiet", "--out",
-                 str(out)]) == 0
+    assert (
+        main([str(p), "--area", str(area), "--groups", "alpha", "--quiet", "--out", str(out)]) == 0
+    )
 
 
 def test_add_parser_wires_into_a_parent_parser():
     parent = argparse.ArgumentParser(prog="mudrft")
     sub = parent.add_subparsers(dest="command")
     add_parser(sub)
-    args = parent.parse_args(["calibrate", "a.csv", "--direction", "horizontal", "--area",
-                              "0.01", "--length", "0.04", "--groups", "b", "s"])
+    args = parent.parse_args(
+        [
+            "calibrate",
+            "a.csv",
+            "--direction",
+            "horizontal",
+            "--area",
+            "0.01",
+            "--length",
+            "0.04",
+            "--groups",
+            "b",
+            "s",
+        ]
+    )
     assert args.func is run and args.data == ["a.csv"] and args.area == 0.01
     assert args.groups == ["b", "s"] and args.length == 0.04
 
@@ -95,9 +112,16 @@ def test_example_files_are_labelled_synthetic_and_regenerable(key):
     assert text.startswith("# synthetic:")
     assert 300 <= text.count("\n") <= 700  # "a few hundred rows"
     s = EXAMPLE_SETTINGS
-    ref = synthetic_dataset(mudrft.paper_parameters(w, direction), speeds=s["speeds"],
-                            noise=s["noise"], seed=s["seed"], depth=s["depth"], hold=s["hold"],
-                            dt=s["dt"], direction=direction)
+    ref = synthetic_dataset(
+        mudrft.paper_parameters(w, direction),
+        speeds=s["speeds"],
+        noise=s["noise"],
+        seed=s["seed"],
+        depth=s["depth"],
+        hold=s["hold"],
+        dt=s["dt"],
+        direction=direction,
+    )
     for a, b in zip(ds, ref, strict=True):
         # the files keep 6 significant digits
         np.testing.assert_allclose(a.time, b.time, rtol=1e-5, atol=1e-9)

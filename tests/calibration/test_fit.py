@@ -40,8 +40,7 @@ def test_packed_simulation_equals_constitutive_run(true_vertical):
         for j, tr in enumerate(ds):
             ref = run(p, tr.time, tr.gamma).total
             # same arithmetic up to the order of operations: 1e-9 relative to the range
-            np.testing.assert_allclose(sim[: len(tr), b, j], ref, rtol=0,
-                                       atol=1e-9 * np.ptp(ref))
+            np.testing.assert_allclose(sim[: len(tr), b, j], ref, rtol=0, atol=1e-9 * np.ptp(ref))
 
 
 def test_segment_finds_the_protocol_corners():
@@ -153,8 +152,9 @@ def test_groups_fit_only_their_parameters(vertical_data, true_vertical):
 
 
 def test_fixed_and_bounds_are_respected(vertical_data):
-    fit = calibrate(vertical_data, groups="s", fixed={"tau_leak": 0.5},
-                    bounds={"sigma_y": (100.0, 5000.0)})
+    fit = calibrate(
+        vertical_data, groups="s", fixed={"tau_leak": 0.5}, bounds={"sigma_y": (100.0, 5000.0)}
+    )
     assert fit.parameters.tau_leak == 0.5 and "tau_leak" not in fit.free
     # the true sigma_Y (7100 Pa) is outside the bounds: the fit stops at the bound and
     # says so
@@ -166,8 +166,10 @@ def test_force_log_gives_the_same_fit_as_stress(tmp_path, vertical_data, true_ve
     area = 0.0025
     lines = ["trial,time [ms],depth [mm],Fz [N]"]
     for tr in vertical_data:
-        lines += [f"{tr.name},{float(1e3 * t)!r},{float(1e3 * q)!r},{float(s * area)!r}"
-                  for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)]
+        lines += [
+            f"{tr.name},{float(1e3 * t)!r},{float(1e3 * q)!r},{float(s * area)!r}"
+            for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)
+        ]
     p = tmp_path / "force.csv"
     p.write_text("\n".join(lines) + "\n")
     a = calibrate(vertical_data, groups="b", initial=true_vertical)
@@ -177,16 +179,19 @@ def test_force_log_gives_the_same_fit_as_stress(tmp_path, vertical_data, true_ve
         assert getattr(b.parameters, k) == pytest.approx(getattr(a.parameters, k), rel=1e-6)
 
 
-@pytest.mark.parametrize("kw, match", [
-    ({"groups": "nonsense"}, "groups"),
-    ({"bounds": {"alpha": (5.0, 1.0)}}, "bounds"),
-    ({"bounds": {"n": (0.1, 2.0)}}, "n"),
-    ({"fixed": {"zeta": 1.0}}, "fixed"),
-    ({"starts": 0}, "starts"),
-    ({"confidence_level": 1.5}, "confidence_level"),
-    ({"direction": "diagonal"}, "direction"),
-    ({"fixed": dict.fromkeys(FIT_PARAMETERS, 1.0)}, "nothing to fit"),
-])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"groups": "nonsense"}, "groups"),
+        ({"bounds": {"alpha": (5.0, 1.0)}}, "bounds"),
+        ({"bounds": {"n": (0.1, 2.0)}}, "n"),
+        ({"fixed": {"zeta": 1.0}}, "fixed"),
+        ({"starts": 0}, "starts"),
+        ({"confidence_level": 1.5}, "confidence_level"),
+        ({"direction": "diagonal"}, "direction"),
+        ({"fixed": dict.fromkeys(FIT_PARAMETERS, 1.0)}, "nothing to fit"),
+    ],
+)
 def test_bad_arguments_raise(vertical_data, kw, match):
     with pytest.raises(MudrftError, match=match):
         calibrate(vertical_data, **kw)
@@ -252,8 +257,7 @@ def test_plot_has_one_panel_per_trial(vertical_fit):
     assert [len(y) for y in pred] == [len(t) for t in vertical_fit.dataset]
 
 
-def test_decimate_thins_trials_but_keeps_the_deepest_and_last_samples(vertical_data,
-                                                                        true_vertical):
+def test_decimate_thins_trials_but_keeps_the_deepest_and_last_samples(vertical_data, true_vertical):
     fit = calibrate(vertical_data, groups="b", initial=true_vertical, decimate=4)
     for full, thin in zip(vertical_data, fit.dataset, strict=True):
         assert len(thin) <= len(full) // 4 + 3

@@ -41,9 +41,9 @@ def _fingerprint(p: Path) -> tuple[bytes, int]:
 # well-formed files
 # --------------------------------------------------------------------------------------
 def test_units_are_converted_to_si(tmp_path):
-    text = ("# direction: vertical\n"
-            "time [ms],depth [mm],stress [kPa]\n"
-            "0,0,0\n250,5,1.5\n500,10,2.25\n")
+    text = (
+        "# direction: vertical\ntime [ms],depth [mm],stress [kPa]\n0,0,0\n250,5,1.5\n500,10,2.25\n"
+    )
     ds = load_intrusion_csv(_write(tmp_path, text))
     tr = ds[0]
     # exact conversions by powers of ten (compare to 1e-12 relative: float rounding only)
@@ -54,7 +54,9 @@ def test_units_are_converted_to_si(tmp_path):
 
 
 def test_mpa_and_seconds(tmp_path):
-    ds = load_intrusion_csv(_write(tmp_path, "t [s],displacement [m],sigma [MPa]\n0,0,0\n1,0.01,0.02\n"))
+    ds = load_intrusion_csv(
+        _write(tmp_path, "t [s],displacement [m],sigma [MPa]\n0,0,0\n1,0.01,0.02\n")
+    )
     np.testing.assert_allclose(ds[0].stress, [0.0, 2.0e4], rtol=1e-12)
 
 
@@ -65,8 +67,9 @@ def test_force_needs_an_area_and_is_divided_by_it(tmp_path):
     ds = load_intrusion_csv(p, area=0.0025)
     np.testing.assert_allclose(ds[0].stress, [0.0, 2000.0, 3000.0], rtol=1e-12)
     # the area can also come from the header (in cm^2)
-    p2 = _write(tmp_path, "# area [cm^2]: 25\ntime [s],depth [m],force [kN]\n0,0,0\n1,0.01,0.005\n",
-                "h.csv")
+    p2 = _write(
+        tmp_path, "# area [cm^2]: 25\ntime [s],depth [m],force [kN]\n0,0,0\n1,0.01,0.005\n", "h.csv"
+    )
     np.testing.assert_allclose(load_intrusion_csv(p2)[0].stress, [0.0, 2000.0], rtol=1e-12)
 
 
@@ -79,8 +82,10 @@ def test_characteristic_length_sets_gamma(tmp_path):
 
 
 def test_trial_column_splits_trials_in_order_of_appearance(tmp_path):
-    text = ("trial,time [s],depth [m],stress [Pa]\n"
-            "slow,0,0,0\nslow,1,0.01,10\nfast,0,0,0\nfast,0.5,0.01,20\nslow,2,0.02,15\n")
+    text = (
+        "trial,time [s],depth [m],stress [Pa]\n"
+        "slow,0,0,0\nslow,1,0.01,10\nfast,0,0,0\nfast,0.5,0.01,20\nslow,2,0.02,15\n"
+    )
     ds = load_intrusion_csv(_write(tmp_path, text))
     assert [t.name for t in ds] == ["slow", "fast"]
     np.testing.assert_allclose(ds[0].time, [0.0, 1.0, 2.0])
@@ -157,28 +162,50 @@ MALFORMED = {
     "empty": ("", "no header"),
     "comments only": ("# nothing here\n", "no header"),
     "header only": (GOOD_HEADER, "no data rows"),
-    "unknown unit": ("time [fortnight],depth [m],stress [Pa]\n0,0,0\n", "line 1, column 1.*fortnight"),
+    "unknown unit": (
+        "time [fortnight],depth [m],stress [Pa]\n0,0,0\n",
+        "line 1, column 1.*fortnight",
+    ),
     "missing unit": ("time,depth [m],stress [Pa]\n0,0,0\n", "line 1, column 1.*no unit"),
     "no depth": ("time [s],stress [Pa]\n0,0\n", "line 1.*no depth column"),
     "no stress": ("time [s],depth [m]\n0,0\n", "stress.*or a force column"),
-    "text in cell": (GOOD_HEADER + "0,0,0\n1,abc,2\n", r"line 3, column 2 \('depth \[m\]'\).*'abc'"),
+    "text in cell": (
+        GOOD_HEADER + "0,0,0\n1,abc,2\n",
+        r"line 3, column 2 \('depth \[m\]'\).*'abc'",
+    ),
     "empty cell": (GOOD_HEADER + "0,0,0\n1,,2\n", "line 3, column 2.*empty cell"),
     "nan": (GOOD_HEADER + "0,0,0\n1,0.01,nan\n", "line 3, column 3.*not finite"),
     "inf": (GOOD_HEADER + "0,0,0\n1,0.01,-inf\n", "line 3, column 3.*not finite"),
-    "overflow": ("time [s],depth [m],stress [MPa]\n0,0,0\n1,0.01,1e305\n", "line 3, column 3.*overflow"),
+    "overflow": (
+        "time [s],depth [m],stress [MPa]\n0,0,0\n1,0.01,1e305\n",
+        "line 3, column 3.*overflow",
+    ),
     "too few fields": (GOOD_HEADER + "0,0,0\n1,0.01\n", "line 3: expected 3"),
     "too many fields": (GOOD_HEADER + "0,0,0,9\n", "line 2: expected 3"),
-    "time backwards": (GOOD_HEADER + "0,0,0\n1,0.01,5\n0.5,0.02,6\n", r"line 4, column 'time'.*increase"),
+    "time backwards": (
+        GOOD_HEADER + "0,0,0\n1,0.01,5\n0.5,0.02,6\n",
+        r"line 4, column 'time'.*increase",
+    ),
     "repeated time": (GOOD_HEADER + "0,0,0\n0,0.01,5\n", "line 3.*increase"),
     "one sample": (GOOD_HEADER + "0,0,0\n", "line 2.*at least 2"),
-    "duplicate column": ("time [s],depth [m],depth [mm],stress [Pa]\n0,0,0,0\n", "column 3.*two columns"),
+    "duplicate column": (
+        "time [s],depth [m],depth [mm],stress [Pa]\n0,0,0,0\n",
+        "column 3.*two columns",
+    ),
     "bad quote": ('time [s],depth [m],stress [Pa]\n0,"0,0\n', "line 2.*malformed CSV"),
     "bad direction": ("# direction: sideways\n" + GOOD_HEADER + "0,0,0\n", "line 1.*direction"),
-    "negative length": ("# characteristic_length [m]: -1\n" + GOOD_HEADER + "0,0,0\n",
-                        "line 1.*characteristic_length"),
-    "Fz horizontal": ("# direction: horizontal\ntime [s],depth [m],Fz [N]\n0,0,0\n1,0.1,1\n",
-                      "line 2.*'Fz'"),
-    "empty trial": ("trial,time [s],depth [m],stress [Pa]\na,0,0,0\n,1,0.01,1\n", "line 3.*empty trial"),
+    "negative length": (
+        "# characteristic_length [m]: -1\n" + GOOD_HEADER + "0,0,0\n",
+        "line 1.*characteristic_length",
+    ),
+    "Fz horizontal": (
+        "# direction: horizontal\ntime [s],depth [m],Fz [N]\n0,0,0\n1,0.1,1\n",
+        "line 2.*'Fz'",
+    ),
+    "empty trial": (
+        "trial,time [s],depth [m],stress [Pa]\na,0,0,0\n,1,0.01,1\n",
+        "line 3.*empty trial",
+    ),
     "NUL byte": (b"time [s],depth [m],stress [Pa]\n0,0\x00,0\n", "line 2.*NUL"),
     "latin-1": ("time [s],depth [m],stress [Pa]\n# caf\xe9\n".encode("latin-1"), "line 2.*UTF-8"),
 }
@@ -204,8 +231,21 @@ def test_missing_file_and_directory(tmp_path):
         load_intrusion_csv(tmp_path)
 
 
-_CSV_CHARS = st.sampled_from([*"0123456789.,-+e#[]\n \"'", "nan", "inf", "time [s]",
-                              "depth [mm]", "stress [kPa]", "Fz [N]", "trial", ",", "\n", "ms"])
+_CSV_CHARS = st.sampled_from(
+    [
+        *"0123456789.,-+e#[]\n \"'",
+        "nan",
+        "inf",
+        "time [s]",
+        "depth [mm]",
+        "stress [kPa]",
+        "Fz [N]",
+        "trial",
+        ",",
+        "\n",
+        "ms",
+    ]
+)
 
 
 def _check_file(content: bytes) -> None:
@@ -238,6 +278,6 @@ def test_fuzzed_bytes_never_traceback(data):
 @settings(max_examples=30, deadline=None)
 @given(st.integers(min_value=0, max_value=200), st.text(max_size=5))
 def test_corrupted_valid_file_never_tracebacks(pos, junk):
-    good = (GOOD_HEADER + "".join(f"{0.1 * k:.2f},{0.001 * k:.4f},{100 * k}\n" for k in range(12)))
+    good = GOOD_HEADER + "".join(f"{0.1 * k:.2f},{0.001 * k:.4f},{100 * k}\n" for k in range(12))
     pos = min(pos, len(good))
-    _check_file((good[:pos] + junk + good[pos + len(junk):]).encode("utf-8"))
+    _check_file((good[:pos] + junk + good[pos + len(junk) :]).encode("utf-8"))

@@ -44,14 +44,19 @@ def rel_errors(est, true):
 P25 = mudrft.paper_parameters(0.25)
 P35 = mudrft.paper_parameters(0.35)
 # a mud whose linear constants and build-up time differ from the prior's
-SHIFTED = P25.replace(alpha=1.3 * P25.alpha, eta_inf=0.8 * P25.eta_inf, eta_m=1.2 * P25.eta_m,
-                      sigma_y=1.25 * P25.sigma_y, tau_build=0.45)
+SHIFTED = P25.replace(
+    alpha=1.3 * P25.alpha,
+    eta_inf=0.8 * P25.eta_inf,
+    eta_m=1.2 * P25.eta_m,
+    sigma_y=1.25 * P25.sigma_y,
+    tau_build=0.45,
+)
 
 
 def test_exact_estimator_converges_within_one_cycle_noise_free():
     t, q, s, nc = cycles([SHIFTED], 2, noise=0.0)
     hist = OnlineEstimator(P25).update_many(t, q, s)
-    for e in hist[nc - 1:]:  # from the end of the first cycle on, and it stays there
+    for e in hist[nc - 1 :]:  # from the end of the first cycle on, and it stays there
         err = rel_errors(e, SHIFTED)
         # the regressors are exact; what is left is the interpolation of tau_build between
         # grid members (a 26 % grid step), which shifts the linear constants by < 1 %
@@ -104,8 +109,13 @@ def test_paper_mode_recovers_the_papers_linear_model():
     s[intr] = alpha * g[intr] ** n + eta * gd[intr]
     retr = gd < 0
     s[retr] = -(1 - np.exp(-(t[retr] - t_w) / tb)) * sy + eta * gd[retr]
-    est = OnlineEstimator(model="paper", n=n, tau_build_grid=np.geomspace(0.1, 1.6, 13),
-                          retraction_skip=0.0, initial_scale=1e3)
+    est = OnlineEstimator(
+        model="paper",
+        n=n,
+        tau_build_grid=np.geomspace(0.1, 1.6, 13),
+        retraction_skip=0.0,
+        initial_scale=1e3,
+    )
     e = est.update_many(t, q, s)[-1]
     # exact data, 0.4 s is a grid member, and a vague prior (1e3 x its value): only the
     # prior's weight (1e-6 of a normalised sample, a bias of order 1e-6) and round-off
@@ -134,8 +144,8 @@ def test_step_change_of_water_content_is_followed():
             est.rebase(mudrft.paper_parameters(clf.best))
     # the classifier says 25 % before the step and 35 % from the end of the first cycle
     # after it on
-    assert all(lab == 0.25 for lab in labels[nc // 2: 3 * nc])
-    assert all(lab == 0.35 for lab in labels[4 * nc - 1:])
+    assert all(lab == 0.25 for lab in labels[nc // 2 : 3 * nc])
+    assert all(lab == 0.35 for lab in labels[4 * nc - 1 :])
     assert clf.probabilities[1] > 0.99
     # the estimator, rebased, converges to the 35 % constants. 1 % noise, two cycles
     # after the rebase: over seeds 0-5 the largest errors were 2.6 % (alpha), 5.1 %
@@ -153,9 +163,11 @@ def test_paper_mode_tracks_a_step_with_forgetting():
     t, q, s, nc = cycles([P25, P35], 3, noise=0.0)
     tracked = OnlineEstimator(P25, model="paper", forgetting=0.99).update_many(t, q, s)[-1]
     fresh = OnlineEstimator(P25, model="paper", forgetting=0.99).update_many(
-        t[3 * nc:], q[3 * nc:], s[3 * nc:])[-1]
+        t[3 * nc :], q[3 * nc :], s[3 * nc :]
+    )[-1]
     before = OnlineEstimator(P25, model="paper", forgetting=0.99).update_many(
-        t[: 3 * nc], q[: 3 * nc], s[: 3 * nc])[-1]
+        t[: 3 * nc], q[: 3 * nc], s[: 3 * nc]
+    )[-1]
     for k in ("alpha", "eta_inf", "sigma_y"):
         gap = abs(getattr(before, k) / getattr(fresh, k) - 1)
         # forgetting 0.99 over the ~450 updates of three new cycles leaves the old mud a

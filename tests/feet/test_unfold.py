@@ -8,7 +8,12 @@ import pytest
 import mudrft
 from mudrft.feet.base import unfold_forces
 
-FEET = [mudrft.feet.Flat(), mudrft.feet.SemiCylinder(), mudrft.feet.SemiSphere(), mudrft.feet.MorphingFoot()]
+FEET = [
+    mudrft.feet.Flat(),
+    mudrft.feet.SemiCylinder(),
+    mudrft.feet.SemiSphere(),
+    mudrft.feet.MorphingFoot(),
+]
 
 
 @pytest.mark.parametrize("foot", FEET, ids=lambda f: f.name)
@@ -26,7 +31,9 @@ def test_force_is_continuous_when_one_motion_component_reverses(foot):
 def test_forces_resist_the_motion_in_every_quadrant(foot):
     for heading in np.deg2rad([10, 80, 100, 170, 190, 260, 280, 350]):
         u = np.array([np.cos(heading), np.sin(heading)])
-        stress = np.array([5e3 * u[0], 5e3 * u[1], 0.0])  # channel stresses resisting each component
+        stress = np.array(
+            [5e3 * u[0], 5e3 * u[1], 0.0]
+        )  # channel stresses resisting each component
         f = foot.force(0.02, stress, heading)
         assert f[:2] @ u < 0
         assert f[0] * u[0] <= 1e-12 and f[1] * u[1] <= 1e-12

@@ -12,8 +12,13 @@ except ImportError:  # pragma: no cover - depends on the environment
 G = 9.81  # MuJoCo's default gravity [m/s^2]
 
 
-def box_foot_model(*, mass: float = 1.5, half: tuple[float, float, float] = (0.0325, 0.04, 0.013),
-                   dt: float = 1e-3, height: float = 0.0) -> object:
+def box_foot_model(
+    *,
+    mass: float = 1.5,
+    half: tuple[float, float, float] = (0.0325, 0.04, 0.013),
+    dt: float = 1e-3,
+    height: float = 0.0,
+) -> object:
     """A free box foot (65 x 80 x 26 mm by default) whose sole is ``height`` above z = 0."""
     hx, hy, hz = half
     xml = f"""<mujoco><option timestep="{dt}"/><worldbody>

@@ -33,7 +33,9 @@ def test_forces_equal_mudterrain_along_gait(yaw):
     c, s = np.cos(yaw), np.sin(yaw)
     rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     coupling = attach(model, "foot", MUD, implicit=False)
-    assert coupling.bodies[0].foot == mudrft.feet.Flat()  # 65 x 80 x 26 mm box -> the paper's flat foot
+    assert (
+        coupling.bodies[0].foot == mudrft.feet.Flat()
+    )  # 65 x 80 x 26 mm box -> the paper's flat foot
     terrain = mudrft.MudTerrain(MUD)
     foot = mudrft.feet.Flat()
     state = terrain.initial_state(foot, tr.position[0])
@@ -72,7 +74,9 @@ def test_explicit_force_reported_when_stabilised():
         state, out = terrain.step(foot, state, tr.position[k], tr.velocity[k], dt)
         np.testing.assert_allclose(out_c.explicit_force[0], out.force, rtol=1e-9, atol=1e-9)
         diff = max(diff, float(np.abs(out_c.force[0] - out.force).max()))
-    assert diff > 1.0  # the applied force differs: the body has mass, so the damper is treated implicitly
+    assert (
+        diff > 1.0
+    )  # the applied force differs: the body has mass, so the damper is treated implicitly
 
 
 def test_mud_advances_once_per_step():
@@ -113,7 +117,9 @@ def test_torque_is_moment_about_center_of_mass():
     coupling.step(data, 20)
     mujoco.mj_forward(model, data)
     out = coupling.apply(data)
-    assert out.depth[0] > 0 and np.linalg.norm(out.force[0, :2]) > 0.1  # horizontal force -> a lever arm
+    assert (
+        out.depth[0] > 0 and np.linalg.norm(out.force[0, :2]) > 0.1
+    )  # horizontal force -> a lever arm
     assert abs(out.point[0, 2] - out.tip[0, 2]) > 1e-5  # force applied above the tip (axis CoP)
     mujoco.mj_forward(model, data)
     qacc_xfrc = data.qacc.copy()
@@ -321,7 +327,9 @@ def test_feet_derived_from_geoms():
     np.testing.assert_allclose(sph.tip, [0, 0, -0.03], atol=1e-12)
     cap = body_foot(model, "cap_x")
     assert cap.foot == feet.SemiCylinder(radius=0.015, width=0.04, height=0.015)
-    np.testing.assert_allclose(abs(cap.forward[0]), 1.0, atol=1e-12)  # the axis is the foot's x (D20)
+    np.testing.assert_allclose(
+        abs(cap.forward[0]), 1.0, atol=1e-12
+    )  # the axis is the foot's x (D20)
     np.testing.assert_allclose(cap.tip, [0, 0, -0.015], atol=1e-12)
     cyl = body_foot(model, "cyl_y")
     assert cyl.foot == feet.SemiCylinder(radius=0.02, width=0.05, height=0.02)

@@ -87,9 +87,21 @@ def test_ik_agrees_with_mujoco():
 
 
 def _args(tmp_path, **kw):
-    base = {"foot": "semi-sphere", "water_content": 0.3, "seconds": 1.2, "out": str(tmp_path / "run"),
-            "dt": 2e-3, "speed": 0.1, "step_time": 0.5, "bottom": 0.15, "explicit": False,
-            "extrapolate": False, "no_render": True, "force": False, "quiet": True}
+    base = {
+        "foot": "semi-sphere",
+        "water_content": 0.3,
+        "seconds": 1.2,
+        "out": str(tmp_path / "run"),
+        "dt": 2e-3,
+        "speed": 0.1,
+        "step_time": 0.5,
+        "bottom": 0.15,
+        "explicit": False,
+        "extrapolate": False,
+        "no_render": True,
+        "force": False,
+        "quiet": True,
+    }
     base.update(kw)
     return argparse.Namespace(**base)
 
@@ -98,16 +110,28 @@ def test_cli_writes_outputs_and_refuses_to_overwrite(tmp_path):
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers(dest="command")
     walk_cli.add_parser(sub)
-    ns = parser.parse_args(["walk", "--foot", "flat", "--out", str(tmp_path / "x"), "--seconds", "2"])
+    ns = parser.parse_args(
+        ["walk", "--foot", "flat", "--out", str(tmp_path / "x"), "--seconds", "2"]
+    )
     assert ns.func is walk_cli.run and ns.water_content == 0.25 and ns.seconds == 2.0
     assert walk_cli.run(_args(tmp_path)) == 0
     out = tmp_path / "run"
     summary = json.loads((out / "summary.json").read_text())
-    for key in ("fell", "distance [m]", "energy_per_step [J]", "mean_sinking [m]", "max_suction [N]"):
+    for key in (
+        "fell",
+        "distance [m]",
+        "energy_per_step [J]",
+        "mean_sinking [m]",
+        "max_suction [N]",
+    ):
         assert key in summary
     assert isinstance(summary["fell"], bool) and summary["foot"] == "semi-sphere"
     table = np.genfromtxt(out / "walk.csv", delimiter=",", names=True)
-    assert len(table) == 600 and (out / "steps.csv").exists() and (out / "walk.png").stat().st_size > 1000
+    assert (
+        len(table) == 600
+        and (out / "steps.csv").exists()
+        and (out / "walk.png").stat().st_size > 1000
+    )
     with pytest.raises(mudrft.MudrftError, match="exists; pass --force"):
         walk_cli.run(_args(tmp_path))
     assert walk_cli.run(_args(tmp_path, force=True, seconds=0.6)) == 0

@@ -268,6 +268,7 @@ def test_a_facet_tangent_to_the_motion_moves_the_force_continuously():
 @given(tilt=st.floats(-0.01, 0.01), eps=st.floats(-1e-9, 1e-9))
 def test_rft_force_is_lipschitz_in_the_facet_tilt(tilt, eps):
     """|dF| <= |f| * |d(n.v)| / width: the ramp bounds how fast a facet switches on."""
+
     def force(a):
         n = np.array([[math.sin(a), 0.0, -math.cos(a)]])
         return rft_forces(n, [0.02], [5e-3], [1.0, 0.0, 0.0])

@@ -97,14 +97,15 @@ def scalar_namespace() -> types.ModuleType:
     def clip(x: float, lo: float, hi: float) -> float:
         return lo if x < lo else (hi if x > hi else x)
 
-    for f in (where, sign, maximum, minimum, clip):
-        setattr(ns, f.__name__, jit(f))
+    for g in (where, sign, maximum, minimum, clip):
+        setattr(ns, g.__name__, jit(g))
     ns.abs = abs  # type: ignore[attr-defined]
-    for name, f in (
+    funcs: tuple[tuple[str, Any], ...] = (
         ("exp", math.exp), ("expm1", math.expm1), ("tanh", math.tanh), ("cos", math.cos),
         ("sin", math.sin), ("arccos", math.acos), ("arctan2", math.atan2),
         ("hypot", math.hypot), ("sqrt", math.sqrt),
-    ):  # fmt: skip
+    )  # fmt: skip
+    for name, f in funcs:
         setattr(ns, name, f)
     return ns
 
@@ -186,6 +187,11 @@ def state_rows(ch: MudChannels) -> NDArray[np.float64]:
     ).reshape(-1, N_STATE)
 
 
+# names the compiled loop binds to numba's prange and to the compiled physics (the plain
+# Python versions here make the loop runnable, slowly, without numba)
+prange = range
+
+
 def _feet_loop(
     c: Any, st: Any, out: Any, pos: Any, vel: Any, dt: float, cfg: Any, geom: Any
 ) -> None:
@@ -194,7 +200,7 @@ def _feet_loop(
     stride = 0 if c.shape[0] == 1 else 1  # one mud for all feet, or one per foot
     lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
     kind = int(geom[0])
-    for i in prange(n):  # noqa: F821 - bound when compiled
+    for i in prange(n):
         r = i * stride
         hor = _constants(c, r, 0)
         ver = _constants(c, r, 12)
@@ -205,11 +211,11 @@ def _feet_loop(
             ChannelState(s[10], s[11], s[12], s[13], s[14]),
             s[15], s[16], s[17], s[18],
         )  # fmt: skip
-        new, sx, sy, sz, depth = _step(  # noqa: F821
+        new, sx, sy, sz, depth = _step(
             (hor, ver), ch, pos[i, 0], pos[i, 1], pos[i, 2], vel[i, 0], vel[i, 1], vel[i, 2],
             dt, lc, kappa, xi0, reset, hs, 1.0,
         )  # fmt: skip
-        fx, fy, fz = _force(kind, geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)  # noqa: F821
+        fx, fy, fz = _force(kind, geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)
         k = 0
         for chan in (new.x, new.y, new.z):
             for v in chan:
@@ -228,6 +234,10 @@ def _constants(c: Any, r: int, o: int) -> ChannelConstants:
         x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5], x[o + 6], x[o + 7], x[o + 8],
         x[o + 9], x[o + 10], x[o + 11],
     )  # fmt: skip
+
+
+_step = mud_step
+_force = closed_form_force
 
 
 @functools.cache

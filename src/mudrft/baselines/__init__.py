@@ -18,16 +18,6 @@ MuJoCo coupling and :func:`compare` take any of them:
 ['granular-rft', 'linear', 'maxwell', 'mud', 'rigid']
 """
 
-from .compare import (
-    CSV_COLUMNS,
-    History,
-    compare,
-    default_terrains,
-    normalized_loop,
-    run_terrain,
-    summarize,
-    write_csv,
-)
 from ..terrains.granular_rft import (
     DEFAULT_ZETA,
     GRANULAR_MEDIA,
@@ -41,6 +31,16 @@ from ..terrains.granular_rft import (
 from ..terrains.linear import DEFAULT_STIFFNESS, LinearStiffness, fit_stiffness
 from ..terrains.maxwell import MaxwellFit, MaxwellMud, fit_maxwell
 from ..terrains.rigid import RigidGround
+from .compare import (
+    CSV_COLUMNS,
+    History,
+    compare,
+    default_terrains,
+    normalized_loop,
+    run_terrain,
+    summarize,
+    write_csv,
+)
 
 __all__ = [
     "CSV_COLUMNS",

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError, check_in_range
-from ..trajectories import Trajectory
 from ..terrains._common import projected
+from ..trajectories import Trajectory
 
 __all__ = [
     "CSV_COLUMNS",

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -191,7 +191,7 @@ class Foot(ABC):
     name: str = "foot"
     #: whether :meth:`force_components` gives the world force element-wise on any ``xp``
     #: (closed-form feet): then the mud runs a single foot on Python floats
-    elementwise: bool = False
+    elementwise: ClassVar[bool] = False
 
     @property
     @abstractmethod

@@ -947,5 +947,3 @@ class MorphingFoot(Foot):
         return SurfaceElements(
             centroids=np.concatenate(cen), normals=np.concatenate(nor), areas=np.concatenate(ar)
         )
-
-

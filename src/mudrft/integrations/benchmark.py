@@ -53,8 +53,11 @@ def _robots(n: int, *, mud: bool, dt: float) -> tuple[Any, list[Any], Any, Any]:
     coupling = None
     if mud:
         kw = {"feet": foot}
-        coupling = (attach(model, list(BIPED_FEET), mudrft.paper_mud(0.25), **kw) if n == 1
-                    else attach_batch(model, list(BIPED_FEET), mudrft.paper_mud(0.25), n=n, **kw))
+        coupling = (
+            attach(model, list(BIPED_FEET), mudrft.paper_mud(0.25), **kw)
+            if n == 1
+            else attach_batch(model, list(BIPED_FEET), mudrft.paper_mud(0.25), n=n, **kw)
+        )
         coupling.reset(datas[0] if n == 1 else datas)
     return model, datas, ctrl, coupling
 
@@ -79,7 +82,9 @@ def _time_per_step(n: int, *, mud: bool, steps: int, dt: float) -> float:
     return _best_time(run) / steps
 
 
-def mujoco_overhead_ratio(seconds: float = 2.0, *, batch: tuple[int, ...] = (64,), dt: float = 1e-3) -> dict:
+def mujoco_overhead_ratio(
+    seconds: float = 2.0, *, batch: tuple[int, ...] = (64,), dt: float = 1e-3
+) -> dict:
     """Steps per second of the biped with and without mud, and their ratio.
 
     Parameters
@@ -112,8 +117,11 @@ def mujoco_overhead_ratio(seconds: float = 2.0, *, batch: tuple[int, ...] = (64,
         "mujoco_overhead_ratio": t_mud / t_phys,
         "mud_cost_over_physics": (t_mud - t_phys) / t_phys,
         "batch": {},
-        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
-                    "python": platform.python_version()},
+        "machine": {
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+        },
     }
     for n in batch:
         bsteps = max(steps // 10, 10)
@@ -130,19 +138,25 @@ def mujoco_overhead_ratio(seconds: float = 2.0, *, batch: tuple[int, ...] = (64,
 
 
 def _table(res: dict) -> str:
-    rows = ["| robots | physics [robot-steps/s] | with mud [robot-steps/s] | with / without | mud cost / physics |",
-            "|---:|---:|---:|---:|---:|",
-            f"| 1 | {res['steps_per_second_physics']:,.0f} | {res['steps_per_second_mud']:,.0f} | "
-            f"{res['ratio']:.1f} | {res['mud_cost_over_physics']:.1f} |"]
+    rows = [
+        "| robots | physics [robot-steps/s] | with mud [robot-steps/s] | with / without | mud cost / physics |",
+        "|---:|---:|---:|---:|---:|",
+        f"| 1 | {res['steps_per_second_physics']:,.0f} | {res['steps_per_second_mud']:,.0f} | "
+        f"{res['ratio']:.1f} | {res['mud_cost_over_physics']:.1f} |",
+    ]
     for b in res["batch"].values():
-        rows.append(f"| {b['robots']} | {b['robot_steps_per_second_physics']:,.0f} | "
-                    f"{b['robot_steps_per_second_mud']:,.0f} | {b['ratio']:.1f} | {b['mud_cost_over_physics']:.1f} |")
+        rows.append(
+            f"| {b['robots']} | {b['robot_steps_per_second_physics']:,.0f} | "
+            f"{b['robot_steps_per_second_mud']:,.0f} | {b['ratio']:.1f} | {b['mud_cost_over_physics']:.1f} |"
+        )
     return "\n".join(rows)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per measurement")
+    parser.add_argument(
+        "--seconds", type=float, default=2.0, help="simulated seconds per measurement"
+    )
     parser.add_argument("--batch", type=int, nargs="*", default=[16, 64, 256], help="robot counts")
     parser.add_argument("--json", help="also write the results to this JSON file")
     args = parser.parse_args(argv)

@@ -34,13 +34,9 @@ import numpy as np
 
 from .._validation import MudrftError, check_nonnegative, check_positive
 from .walk_output import (
-    STEP_COLUMNS,
     WALK_COLUMNS,
     _per_step,
     _renderer,
-    _write_csv,
-    plot_walk,
-    save_strip,
 )
 
 __all__ = [
@@ -70,7 +66,9 @@ def _mujoco() -> Any:
     return imp()
 
 
-def biped_model(foot: Any = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3) -> Any:
+def biped_model(
+    foot: Any = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3
+) -> Any:
     """The biped as a ``mujoco.MjModel``, with feet shaped like ``foot``.
 
     Parameters
@@ -190,7 +188,9 @@ class GaitController:
         check_positive("hip_height", self.hip_height, unit="m")
         check_nonnegative("lift", self.lift, unit="m")
         if self.hip_height >= THIGH + SHANK:
-            raise MudrftError(f"hip_height must be < {THIGH + SHANK} m (leg length), got {self.hip_height!r}")
+            raise MudrftError(
+                f"hip_height must be < {THIGH + SHANK} m (leg length), got {self.hip_height!r}"
+            )
         mj = _mujoco()
         m = self.model
         ids = [mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, n) for n in _JOINTS]
@@ -213,7 +213,9 @@ class GaitController:
         full = self.speed * self.step_time
         return full * min(1.0, (k + 1) / (self.ramp_steps + 1)) if self.ramp_steps > 0 else full
 
-    def targets(self, t: float, pitch: float, hip_z: float, ankle_z: tuple[float, float]) -> tuple[np.ndarray, int, int]:
+    def targets(
+        self, t: float, pitch: float, hip_z: float, ankle_z: tuple[float, float]
+    ) -> tuple[np.ndarray, int, int]:
         """Joint targets [rad] at time ``t`` [s], the gait step index and the stance leg (0 left).
 
         ``pitch`` is the torso pitch [rad], ``hip_z`` the hip height [m] and ``ankle_z``
@@ -242,16 +244,24 @@ class GaitController:
                 z = ankle_z[leg] - hip_world
             else:
                 # weight shift, slow pull-out, forward swing, set-down (fractions of the step)
-                x = x0 + (half - x0) * _smooth((s - self.phases[1]) / (self.phases[3] - self.phases[1]))
-                zw = (self._z0[leg] + (top - self._z0[leg]) * _smooth((s - self.phases[0]) / (self.phases[2] - self.phases[0]))
-                      if s < self.phases[2]
-                      else top + (land - top) * _smooth((s - self.phases[2]) / (self.phases[4] - self.phases[2])))
+                x = x0 + (half - x0) * _smooth(
+                    (s - self.phases[1]) / (self.phases[3] - self.phases[1])
+                )
+                zw = (
+                    self._z0[leg]
+                    + (top - self._z0[leg])
+                    * _smooth((s - self.phases[0]) / (self.phases[2] - self.phases[0]))
+                    if s < self.phases[2]
+                    else top
+                    + (land - top)
+                    * _smooth((s - self.phases[2]) / (self.phases[4] - self.phases[2]))
+                )
                 z = zw - hip_z
             r = math.hypot(x, z)
             if r > 0.99 * (THIGH + SHANK):  # keep the knee bent
                 x, z = x * 0.99 * (THIGH + SHANK) / r, z * 0.99 * (THIGH + SHANK) / r
             q1, q2 = _leg_ik(x, z)
-            q[3 * leg:3 * leg + 3] = (q1, q2, -(q1 + q2) - pitch)
+            q[3 * leg : 3 * leg + 3] = (q1, q2, -(q1 + q2) - pitch)
         return q, k, stance
 
     def _x_end(self, leg: int, k: int) -> float:
@@ -262,7 +272,10 @@ class GaitController:
         """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
         pitch = float(data.qpos[self._pitch])
         hip_z = float(data.xpos[self._hip_body, 2])
-        ankle = (float(data.xpos[self._foot_bodies[0], 2]), float(data.xpos[self._foot_bodies[1], 2]))
+        ankle = (
+            float(data.xpos[self._foot_bodies[0], 2]),
+            float(data.xpos[self._foot_bodies[1], 2]),
+        )
         q_des, k, stance = self.targets(float(data.time), pitch, hip_z, ankle)
         data.ctrl[:] = np.clip(q_des, self._lo, self._hi)
         return k, stance
@@ -276,7 +289,8 @@ class GaitController:
         data.qpos[self._qadr] = [q1, q2, -(q1 + q2)] * 2
         z0 = float(self.model.body("torso").pos[2])
         data.qpos[int(self.model.jnt_qposadr[self.model.joint("rootz").id])] = (
-            surface + clearance + self.hip_height + ANKLE - z0)
+            surface + clearance + self.hip_height + ANKLE - z0
+        )
         mj.mj_forward(self.model, data)
 
 
@@ -371,7 +385,9 @@ def walk(
     dadr = ctrl._dadr
     rows = np.zeros((n, len(WALK_COLUMNS)))
     renderer = _renderer(model) if frames > 0 else None
-    marks = set(np.linspace(0, n - 1, frames).astype(int).tolist()) if renderer is not None else set()
+    marks = (
+        set(np.linspace(0, n - 1, frames).astype(int).tolist()) if renderer is not None else set()
+    )
     images: list[np.ndarray] = []
     energy = 0.0
     fell = False
@@ -383,8 +399,21 @@ def walk(
         power = float(np.dot(data.actuator_force, data.qvel[dadr]))
         energy += max(power, 0.0) * dt
         x, z, pitch = float(data.xpos[torso, 0]), float(data.xpos[torso, 2]), float(data.qpos[qp])
-        rows[k] = (data.time, x, z, pitch, out.depth[0], out.depth[1], out.force[0, 0], out.force[0, 2],
-                   out.force[1, 0], out.force[1, 2], power, energy, step)
+        rows[k] = (
+            data.time,
+            x,
+            z,
+            pitch,
+            out.depth[0],
+            out.depth[1],
+            out.force[0, 0],
+            out.force[0, 2],
+            out.force[1, 0],
+            out.force[1, 2],
+            power,
+            energy,
+            step,
+        )
         if k in marks and renderer is not None:
             renderer.update_scene(data, camera="side")
             images.append(renderer.render().copy())
@@ -400,16 +429,22 @@ def walk(
     n_steps = len(steps["step"])
     summary = {
         "fell": bool(fell),
-        "distance [m]": float(table["x [m]"][-1] - x_start) if math.isfinite(table["x [m]"][-1]) else float("nan"),
+        "distance [m]": float(table["x [m]"][-1] - x_start)
+        if math.isfinite(table["x [m]"][-1])
+        else float("nan"),
         "energy_per_step [J]": float(np.mean(steps["energy [J]"])) if n_steps else float("nan"),
         "mean_sinking [m]": float(np.mean(steps["sinking [m]"])) if n_steps else float("nan"),
-        "max_suction [N]": float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min()))),
+        "max_suction [N]": float(
+            max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min()))
+        ),
         "steps": n_steps,
         "seconds": float(table["time [s]"][-1]),
         "dt [s]": float(dt),
         "speed_command [m/s]": float(speed),
         "step_time [s]": float(step_time),
-        "mean_speed [m/s]": float((table["x [m]"][-1] - x_start) / max(table["time [s]"][-1], 1e-12)),
+        "mean_speed [m/s]": float(
+            (table["x [m]"][-1] - x_start) / max(table["time [s]"][-1], 1e-12)
+        ),
         "min_torso_height [m]": float(table["z [m]"].min()),
         "foot": getattr(foot, "name", type(foot).__name__),
         "bottom [m]": float(bottom),

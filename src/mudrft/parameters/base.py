@@ -193,7 +193,7 @@ class MudParameters:
         """Stack several sets into one batched set with fields of shape ``(len(sets),)``."""
         if not sets:
             raise MudrftError("sets must contain at least one MudParameters, got an empty list")
-        fields = {
+        fields: dict[str, Any] = {
             k: np.array([np.asarray(getattr(s, k), dtype=float) for s in sets])
             for k in PARAMETER_UNITS
         }

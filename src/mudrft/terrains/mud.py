@@ -43,7 +43,7 @@ def channel_parameters(mud: Mud) -> MudParameters:
     calibration carry a foot's three channels.
     """
     h, v = mud.horizontal, mud.vertical
-    fields = {}
+    fields: dict[str, Any] = {}
     for k in PARAMETER_UNITS:
         a, b = np.asarray(getattr(h, k), dtype=float), np.asarray(getattr(v, k), dtype=float)
         a, b = np.broadcast_arrays(a, b)
@@ -359,11 +359,11 @@ class MudTerrain:
                 out = TerrainOutput(
                     force=np.array(f) * ch.in_mud,
                     stress=np.array([sx, sy, sz]),
-                    depth=np.float64(depth),
+                    depth=np.asarray(depth, dtype=float),
                 )
                 return MudState(channels=ch, foot=None), out
             stress = np.array([sx, sy, sz])
-            heading, depth_a, inside = ch.heading, np.float64(depth), ch.in_mud
+            heading, depth_a, inside = ch.heading, np.asarray(depth, dtype=float), ch.in_mud
         else:
             ch, sx, sy, sz, depth_a = mud_step(
                 self.constants,
