@@ -1,8 +1,8 @@
-"""Benchmarks of the backends: a thin script over :mod:`mudrft.bench` (same as ``mudrft bench``).
+"""Benchmarks of the backends: the same run as ``mudrft bench``, from the checkout.
 
-Run ``python benchmarks/bench_backends.py [--quick] [--json FILE]``. The implementations
-live in the installed package (``src/mudrft/bench.py``) so that ``mudrft bench`` works
-from any installation; results and their discussion are in docs/performance.md.
+Run ``python benchmarks/bench_backends.py [--quick] [--json FILE] [--force] [--quiet]``.
+The benchmarks are in ``benchmarks/harness`` (loaded by :mod:`mudrft.cli.bench`); results
+and their discussion are in docs/performance.md.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from mudrft import bench
+from mudrft.cli import bench
 
 
 def _parse(argv: list[str]) -> argparse.Namespace:
@@ -21,4 +21,4 @@ def _parse(argv: list[str]) -> argparse.Namespace:
 
 
 if __name__ == "__main__":
-    sys.exit(bench.main(_parse(sys.argv[1:])))
+    sys.exit(bench.run(_parse(sys.argv[1:])))

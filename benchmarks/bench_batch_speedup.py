@@ -10,9 +10,10 @@ from __future__ import annotations
 import json
 import sys
 
-from mudrft.bench import _bench_speedup
+from mudrft.cli.bench import load_harness
 
 if __name__ == "__main__":
     quick = "--quick" in sys.argv[1:]
-    res = _bench_speedup(quick, 0.05 if quick else 0.4, lambda m: print(m, file=sys.stderr))
+    harness = load_harness()
+    res = harness.bench_speedup(quick, 0.05 if quick else 0.4, lambda m: print(m, file=sys.stderr))
     print(json.dumps(res, indent=2))

@@ -1,27 +1,88 @@
-"""``mudrft bench``: the speed benchmarks of :mod:`mudrft.bench`, summarised on stdout."""
+"""``mudrft bench``: the speed benchmarks of a source checkout, summarised on stdout.
+
+The benchmarks are not part of the installed library: they live in the checkout's
+``benchmarks/harness`` package (beside ``src/``), which :func:`load_harness` imports by
+path. From an installation without the checkout (a wheel), the command says so in one line.
+"""
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
+import sys
+from pathlib import Path
+from types import ModuleType
 from typing import Any
 
+from .._validation import MudrftError
 from ._common import HelpFormatter, Outputs, add_force, logger
 
-__all__ = ["add_parser", "run"]
+__all__ = ["HARNESS_MODULE", "add_parser", "harness_path", "load_harness", "run"]
+
+#: Name under which the harness package is registered in ``sys.modules``.
+HARNESS_MODULE = "mudrft_benchmarks_harness"
 
 DESCRIPTION = (
     "Run the speed benchmarks (the machine's bandwidth and peak, the constitutive step, "
-    "mesh feet, batches of feet on every backend, the single-foot fast path, the MuJoCo "
-    "overhead and a roofline estimate) and print a summary; --json writes every number."
+    "mesh feet, batches of feet on every backend, one foot per step, simulate, the MuJoCo "
+    "overhead and a roofline estimate) and print a summary; --json writes every number. "
+    "Needs a source checkout: the benchmarks live in its benchmarks/ directory."
 )
+
+
+def harness_path() -> Path:
+    """Where the harness package of the source checkout is: ``<checkout>/benchmarks/harness``."""
+    import mudrft
+
+    return Path(mudrft.__file__).resolve().parents[2] / "benchmarks" / "harness"
+
+
+def load_harness() -> ModuleType:
+    """Import the benchmark harness of the source checkout by path (once per process).
+
+    Returns
+    -------
+    module
+        The ``benchmarks/harness`` package (``run_benchmarks``, ``summary_lines``, ...).
+
+    Raises
+    ------
+    MudrftError
+        When this mudrft was not imported from a source checkout (installed from a wheel),
+        so that ``benchmarks/harness`` is not beside its ``src/`` directory.
+    """
+    loaded = sys.modules.get(HARNESS_MODULE)
+    if loaded is not None:
+        return loaded
+    where = harness_path()
+    init = where / "__init__.py"
+    if not init.is_file():
+        raise MudrftError(
+            f"mudrft bench needs the benchmarks/ directory of a source checkout, and {where} "
+            "does not exist (this mudrft was installed without it, e.g. from a wheel): clone "
+            "the mudrft repository and run 'pip install -e .' there, then 'mudrft bench'"
+        )
+    spec = importlib.util.spec_from_file_location(
+        HARNESS_MODULE, init, submodule_search_locations=[str(where)]
+    )
+    if spec is None or spec.loader is None:  # pragma: no cover - a readable __init__.py loads
+        raise MudrftError(f"mudrft bench could not load the benchmark harness from {init}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[HARNESS_MODULE] = module  # the harness's relative imports look it up here
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[HARNESS_MODULE]
+        raise
+    return module
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     """Add ``mudrft bench`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "bench",
-        help="speed benchmarks (constitutive step, mesh, batches, fast path, MuJoCo)",
+        help="speed benchmarks (constitutive step, mesh, batches, one foot, MuJoCo)",
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
@@ -35,13 +96,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run the benchmarks, print the summary, write ``--json``; returns the exit status (0)."""
-    from .. import bench
-
+    harness = load_harness()
     with Outputs(force=args.force) as outputs:
         json_tmp = outputs.file("--json", args.json) if args.json is not None else None
         progress = None if args.quiet else logger.info
-        res = bench.run_benchmarks(quick=bool(args.quick), progress=progress)
-        for line in bench.summary_lines(res):
+        res = harness.run_benchmarks(quick=bool(args.quick), progress=progress)
+        for line in harness.summary_lines(res):
             print(line)
         if json_tmp is not None:
             json_tmp.write_text(json.dumps(res, indent=2, default=float) + "\n")
