@@ -330,3 +330,23 @@ def test_drawing_helpers_are_consistent():
     np.testing.assert_allclose(np.linalg.norm(el.normals, axis=1), 1.0, rtol=1e-12)
     cop = FOOT.center_of_pressure(0.03, [0.0, 0.0, 1e4], 0.0)
     assert cop[0] == 0.0 and cop[1] == 0.0 and 0.0 <= cop[2] <= 0.03
+
+
+# -- the package ------------------------------------------------------------------------------
+def test_package_keeps_the_names_of_the_former_module():
+    import mudrft.feet
+    import mudrft.feet.morphing as pkg
+
+    former = (
+        "MODES",
+        "MorphingFoot",
+        "MorphingFootGeometry",
+        "MorphingState",
+        "RigidGroundResponse",
+        "TwoStageSpring",
+    )
+    assert set(former) <= set(pkg.__all__)
+    assert mudrft.feet.MorphingFoot is pkg.MorphingFoot
+    assert pkg.MODES == ("morphing", "expanded", "retracted")
+    assert isinstance(FOOT.initial_foot_state(), pkg.MorphingState)
+    assert isinstance(FOOT.rigid_ground(0.0), pkg.RigidGroundResponse)
