@@ -21,8 +21,13 @@ they rest on, stay; the others evaluate :math:`R` on 33 nodes over the stroke an
 first sign change beyond the previous deflection, in the direction of motion, as a bracket.
 The scan, not the solver, selects the branch: the bracket holds the root to select and no
 other, unless three roots fall within one node spacing (0.37 mm for the defaults), which the
-grid does not resolve. Each bracket is then refined by Illinois false position to
-:math:`|R|\le10^{-10}` N (about 10 evaluations).
+grid does not resolve. Each bracket is then refined by SciPy's bracketing solver
+:func:`scipy.optimize.elementwise.find_root` (Chandrupatla's method) to
+:math:`|R|\le10^{-10}` N or a bracket of :math:`10^{-15}` m. It was chosen over
+:func:`scipy.optimize.brentq` because it is vectorized, so the feet of a batched terrain
+step (thousands at once) are refined in one call, and elementwise, so a batch gives bit for
+bit the deflections of single calls. With SciPy older than 1.15, which lacks it,
+:func:`scipy.optimize.brentq` refines each bracket to :math:`10^{-15}` m instead.
 
 *Sealing* (D35). Curling pads break the seal of the cavity under the foot: the seal factor
 is :math:`1-\tanh(g/g_s)` with :math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad
@@ -35,16 +40,24 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import brentq
 
+from ..._validation import MudrftError
 from .linkage import Linkage
 from .pads import vertical_area
 from .springs import TwoStageSpring
 
+try:  # SciPy >= 1.15
+    from scipy.optimize.elementwise import find_root
+except ImportError:  # pragma: no cover - exercised by the tests through monkeypatching
+    find_root = None
+
 __all__ = ["MorphingState", "balanced_deflection", "residual", "seal_factor", "track_most_spread"]
 
 _GRID = 33  # nodes of the coarse bracketing grid over the stroke (D34)
-_MAXIT = 80  # Illinois iterations at most (converges in ~10)
 _FTOL = 1e-10  # force balance tolerance [N]
+_XTOL = 1e-15  # bracket width at which the refinement stops [m]
+_RTOL = 4.0 * np.finfo(float).eps  # relative bracket width for brentq, its smallest allowed [-]
 
 
 class MorphingState(NamedTuple):
@@ -203,35 +216,36 @@ def _refine(
     linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:
-    """Bracketed root (Illinois false position) of R on [lo, hi], R(lo) <= 0 <= R(hi)."""
-    x = np.where(fhi == 0, hi, lo)
-    done = (fhi == 0) | (flo == 0)
-    side = np.zeros(lo.size)
-    for _ in range(_MAXIT):
-        if np.all(done):
-            break
-        denom = fhi - flo
-        xn = np.where(
-            denom > 0, (lo * fhi - hi * flo) / np.where(denom > 0, denom, 1.0), 0.5 * (lo + hi)
+    """Root of R in each bracket [lo, hi] with R(lo) <= 0 <= R(hi), lo < hi (SciPy)."""
+    x = np.where(fhi == 0, hi, lo)  # an end of the bracket that balances already
+    open_ = (flo != 0) & (fhi != 0)
+    if not np.any(open_):
+        return x
+
+    def f(
+        xx: NDArray[np.float64], dd: NDArray[np.float64], ss: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        return residual(xx, dd, ss, linkage=linkage, spring=spring)
+
+    a, b, dd, ss = lo[open_], hi[open_], d[open_], s[open_]
+    if find_root is not None:
+        tol = {"xatol": _XTOL, "xrtol": 0.0, "fatol": _FTOL, "frtol": 0.0}
+        res = find_root(f, (a, b), args=(dd, ss), tolerances=tol)
+        if not np.all(res.success):
+            bad = int(np.flatnonzero(~res.success)[0])
+            raise MudrftError(
+                "the column balance did not converge: expected a root of R in "
+                f"[{a[bad]!r}, {b[bad]!r}] m at depth {dd[bad]!r} m and sz {ss[bad]!r} Pa, "
+                f"got scipy status {int(res.status[bad])}"
+            )
+        x[open_] = res.x
+        return x
+    x[open_] = [
+        brentq(
+            lambda t, i=i: float(f(np.asarray(t), dd[i], ss[i])), a[i], b[i], xtol=_XTOL, rtol=_RTOL
         )
-        xn = np.clip(xn, lo, hi)
-        fx = residual(xn, d, s, linkage=linkage, spring=spring)
-        x = np.where(done, x, xn)
-        conv = (np.abs(fx) <= _FTOL) | (hi - lo <= 1e-15)
-        neg = fx < 0
-        # root in [xn, hi]
-        m1 = ~done & neg
-        fhi = np.where(m1 & (side == -1), 0.5 * fhi, fhi)
-        lo = np.where(m1, xn, lo)
-        flo = np.where(m1, fx, flo)
-        side = np.where(m1, -1.0, side)
-        # root in [lo, xn]
-        m2 = ~done & ~neg
-        flo = np.where(m2 & (side == 1), 0.5 * flo, flo)
-        hi = np.where(m2, xn, hi)
-        fhi = np.where(m2, fx, fhi)
-        side = np.where(m2, 1.0, side)
-        done = done | conv
+        for i in range(a.size)
+    ]
     return x
 
 
