@@ -330,3 +330,48 @@ def test_drawing_helpers_are_consistent():
     np.testing.assert_allclose(np.linalg.norm(el.normals, axis=1), 1.0, rtol=1e-12)
     cop = FOOT.center_of_pressure(0.03, [0.0, 0.0, 1e4], 0.0)
     assert cop[0] == 0.0 and cop[1] == 0.0 and 0.0 <= cop[2] <= 0.03
+
+
+# -- the package and its root finder ------------------------------------------------------------
+def test_package_keeps_the_names_of_the_former_module():
+    import mudrft.feet
+    import mudrft.feet.morphing as pkg
+
+    former = (
+        "MODES",
+        "MorphingFoot",
+        "MorphingFootGeometry",
+        "MorphingState",
+        "RigidGroundResponse",
+        "TwoStageSpring",
+    )
+    assert set(former) <= set(pkg.__all__)
+    assert mudrft.feet.MorphingFoot is pkg.MorphingFoot
+    assert pkg.MODES == ("morphing", "expanded", "retracted")
+    assert isinstance(FOOT.initial_foot_state(), pkg.MorphingState)
+    assert isinstance(FOOT.rigid_ground(0.0), pkg.RigidGroundResponse)
+
+
+def test_brentq_fallback_keeps_balance_and_branches(monkeypatch):
+    # SciPy < 1.15 has no scipy.optimize.elementwise.find_root; the balance then refines each
+    # bracket with scipy.optimize.brentq. Same brackets, so the same roots: find_root stops at
+    # |R| <= 1e-10 N and |dR/d(delta)| >= 600 N/m at these roots, so they agree to 1e-12 m
+    from mudrft.feet.morphing import equilibrium
+
+    rng = np.random.default_rng(3)
+    depth = rng.uniform(0.0, 0.05, 64)
+    sz = rng.uniform(-2e4, 4e4, 64)
+    prev = rng.uniform(0.0, FOOT.stroke, 64)
+    vectorized = FOOT.equilibrium(depth, sz, previous=prev)
+    monkeypatch.setattr(equilibrium, "find_root", None)
+    fallback = FOOT.equilibrium(depth, sz, previous=prev)
+    np.testing.assert_allclose(fallback, vectorized, rtol=0, atol=1e-12)
+    for a, b, c in zip(depth, sz, fallback, strict=True):
+        assert balance_ok(FOOT, a, b, c)
+    # the snap-through keeps its hysteresis: loading stays below the middle root, unloading above
+    grid = np.linspace(0.0, FOOT.stroke, 4001)
+    crossings = np.flatnonzero(np.diff(np.sign(FOOT.residual(grid, 0.010, 4200.0))) != 0)
+    low = float(FOOT.equilibrium(0.010, 4200.0, previous=0.0))
+    high = float(FOOT.equilibrium(0.010, 4200.0, previous=FOOT.stroke))
+    assert low < grid[crossings[1]] < high
+    assert balance_ok(FOOT, 0.010, 4200.0, low) and balance_ok(FOOT, 0.010, 4200.0, high)

@@ -42,9 +42,9 @@ from .base import Foot, SurfaceElements, fold_heading, world_force
 from .base import check_resultant_inputs as _check_inputs
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
+from .printed import printed_semicylinder_fz, printed_semisphere_fxy, printed_semisphere_fz
 
 __all__ = [
-    "FOOT_KINDS",
     "Flat",
     "SemiCylinder",
     "SemiSphere",
@@ -178,17 +178,14 @@ def semisphere_coefficients(
     return side * xp.cos(phi), 0.0 * side, 0.0 * side, side * xp.sin(phi), az
 
 
-#: Foot kinds of :func:`closed_form_coefficients` and the geometry each takes (all in m).
-FOOT_KINDS = {"flat": 0, "semi-cylinder": 1, "semi-sphere": 2}
-
-
 def closed_form_coefficients(
     kind: int, g0: float, g1: float, g2: float, depth: Any, phi: Any, *, xp: Any = np
 ) -> tuple[Any, Any, Any, Any, Any]:
     """The coefficients of a closed-form foot chosen by ``kind`` (:data:`FOOT_KINDS`) [m^2].
 
-    For compiled paths that cannot hold a foot object: 0 flat ``(L, W, H)``, 1 semi-cylinder
-    ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``; lengths [m], depth [m], phi [rad].
+    For compiled paths that cannot hold a foot object (each foot's ``kernel_geometry``): 0 flat
+    ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``; lengths
+    [m], depth [m], phi [rad].
     """
     if kind == 0:
         return flat_coefficients(depth, phi, g0, g1, g2, xp=xp)
@@ -342,34 +339,6 @@ def semisphere_forces(
     """
     co = semisphere_coefficients(xp.asarray(depth), xp.asarray(heading), radius, height, xp=xp)
     return _magnitudes(co, stress, xp)
-
-
-def printed_semicylinder_fz(depth: Any, sz: Any, *, radius: float, width: float) -> Any:
-    r"""Printed eq. (13c): :math:`F_z=\tfrac13S_e(2+c^2)\sigma_z` [N] (see erratum E20)."""
-    th = _theta(np.asarray(depth, dtype=float), radius)
-    se = 2 * radius * width * np.sin(th)
-    return se / 3.0 * (2.0 + np.cos(th) ** 2) * sz
-
-
-def printed_semisphere_fz(depth: Any, sz: Any, *, radius: float) -> Any:
-    r"""Printed eq. (14b) final, with "2 + c^2" [N] (see erratum E21); needs depth > 0."""
-    th = _theta(np.asarray(depth, dtype=float), radius)
-    s, c = np.sin(th), np.cos(th)
-    se = math.pi * radius**2 * s**2
-    return se / 4.0 * (2 + c**2 + 2 * c**3 / s - 5 * c / s + 3 * th / s**2) * sz
-
-
-def printed_semisphere_fxy(depth: Any, sx: Any, sy: Any, heading: Any, *, radius: float) -> Any:
-    r"""Printed eq. (14a): :math:`\tfrac{4S_e}{3\pi s}(\tfrac{2\theta_c}{s}-1)` (E22, E23) [N].
-
-    Returns ``(Fx, Fy)`` stacked on the last axis; equal to :math:`\tfrac13R^2(8\theta_c
-    -4\sin\theta_c)(\cos\varphi\,\sigma_x,\sin\varphi\,\sigma_y)`.
-    """
-    th = _theta(np.asarray(depth, dtype=float), radius)
-    s = np.sin(th)
-    se = math.pi * radius**2 * s**2
-    k = 4 * se / (3 * math.pi * s) * (2 * th / s - 1)
-    return np.stack([k * np.cos(heading) * sx, k * np.sin(heading) * sy], axis=-1)
 
 
 class _ClosedFormFoot(Foot):

@@ -1,0 +1,300 @@
+r"""Dimensions and kinematics of the morphing foot's pad linkages (decision D30).
+
+Each of the :math:`N` pads is the lower link of a slider-crank: the pad pivots at
+:math:`A=(r_A, h_A)` on the rim of the base; its crank arm of length :math:`a`, at angle
+:math:`\theta+\beta` from the horizontal, carries the coupler joint :math:`C`; the coupler of
+length :math:`b` joins :math:`C` to the upper pole :math:`B=(r_B, z_{B0}-\delta)`, which the
+column carries down by its deflection :math:`\delta`. The pad angle :math:`\theta(\delta)`
+(0: spread flat, :math:`\pi/2`: pointing up) is the intersection of the circle of radius
+:math:`a` about :math:`A` with the circle of radius :math:`b` about :math:`B`:
+
+.. math:: \theta(\delta) = \operatorname{atan2}(\Delta z, \Delta r)
+          \pm \arccos\frac{a^2 + |AB|^2 - b^2}{2a|AB|} - \beta,
+          \qquad \Delta r = r_B - r_A,\ \Delta z = z_{B0} - \delta - h_A,
+
+with the sign (branch) that reproduces the design angles at both ends of the stroke. It is
+nearly linear in :math:`\delta` (paper Fig. S3a), within about 1.4 deg for the defaults.
+Frame: the foot frame of :mod:`mudrft.feet.base`, origin at the tip, z up; lengths in
+metres, angles in radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..._validation import MudrftError, check_in_range, check_nonnegative, check_positive
+
+__all__ = ["Linkage", "MorphingFootGeometry"]
+
+_DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
+
+
+@dataclass(frozen=True)
+class MorphingFootGeometry:
+    r"""Dimensions of the morphing foot's base, pads and linkage (SI, decision D30).
+
+    All lengths in metres, angles in radians. Defaults reconstruct a foot of the scale
+    of the paper's fixed feet (80 x 65 mm flat foot, R = 45 mm curved feet): about 96 mm
+    across when spread.
+
+    Attributes
+    ----------
+    n_pads : int
+        Number of pads and linkages [-] (paper: eight).
+    base_radius : float
+        Radius of the central base pad (bottom of the column) [m]; the pad pivots sit on
+        its rim, :math:`r_A`.
+    pivot_height : float
+        Height of the pad pivots above the tip, :math:`h_A` [m] (base pad thickness).
+    column_radius : float
+        Radius of the column above the base [m] (horizontal drag only).
+    height : float
+        Height of the foot, tip to ankle [m].
+    pad_length : float
+        Pad length from its pivot to its rim, :math:`\ell` [m].
+    pad_inner_width, pad_outer_width : float
+        Widths of the trapezoidal pad at its pivot and at its rim [m].
+    crank_length : float
+        Distance from the pad pivot to the coupler joint on the lower link, :math:`a` [m].
+    crank_offset : float
+        Angle of the crank arm relative to the pad, :math:`\beta` [rad].
+    coupler_length : float
+        Length of the upper link (coupler), :math:`b` [m].
+    pole_radius : float
+        Radius of the upper poles on the upper column, :math:`r_B` [m].
+    retracted_angle : float
+        Pad angle with the column unloaded (curled up), :math:`\theta_r` [rad].
+    expanded_angle : float
+        Pad angle with the column fully compressed (spread), :math:`\theta_e` [rad].
+
+    Raises
+    ------
+    MudrftError
+        If a length is not positive, an angle is out of its range, the pads would not
+        curl (``retracted_angle <= expanded_angle``), the column is wider than the base or
+        not taller than the pivots.
+    """
+
+    n_pads: int = 8
+    base_radius: float = 0.014
+    pivot_height: float = 0.004
+    column_radius: float = 0.010
+    height: float = 0.070
+    pad_length: float = 0.034
+    pad_inner_width: float = 0.010
+    pad_outer_width: float = 0.030
+    crank_length: float = 0.0085
+    crank_offset: float = math.radians(-10.0)
+    coupler_length: float = 0.0245
+    pole_radius: float = 0.006
+    retracted_angle: float = math.radians(75.0)
+    expanded_angle: float = math.radians(5.0)
+
+    def __post_init__(self) -> None:
+        if (
+            not isinstance(self.n_pads, (int, np.integer))
+            or isinstance(self.n_pads, bool)
+            or self.n_pads < 1
+        ):
+            raise MudrftError(f"n_pads must be an integer >= 1, got {self.n_pads!r}")
+        for k in (
+            "base_radius",
+            "pivot_height",
+            "column_radius",
+            "height",
+            "pad_length",
+            "pad_inner_width",
+            "pad_outer_width",
+            "crank_length",
+            "coupler_length",
+        ):
+            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit="m")))
+        object.__setattr__(
+            self, "pole_radius", float(check_nonnegative("pole_radius", self.pole_radius, unit="m"))
+        )
+        object.__setattr__(
+            self,
+            "crank_offset",
+            float(check_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad")),
+        )
+        th_e = float(
+            check_in_range("expanded_angle", self.expanded_angle, 0.0, 0.5 * math.pi, unit="rad")
+        )
+        th_r = float(
+            check_in_range("retracted_angle", self.retracted_angle, 0.0, 0.5 * math.pi, unit="rad")
+        )
+        if not th_r > th_e:
+            raise MudrftError(
+                f"retracted_angle must exceed expanded_angle = {th_e!r} rad, got {th_r!r} rad"
+            )
+        object.__setattr__(self, "expanded_angle", th_e)
+        object.__setattr__(self, "retracted_angle", th_r)
+        if self.column_radius > self.base_radius:
+            raise MudrftError(
+                f"column_radius must be <= base_radius = {self.base_radius!r} m, "
+                f"got {self.column_radius!r} m"
+            )
+        if self.height <= self.pivot_height:
+            raise MudrftError(
+                f"height must exceed pivot_height = {self.pivot_height!r} m, got {self.height!r} m"
+            )
+
+    @property
+    def azimuths(self) -> NDArray[np.float64]:
+        """Azimuths of the pads around the foot axis, :math:`2\\pi k/N` [rad], shape (N,)."""
+        return 2.0 * np.pi * np.arange(self.n_pads) / self.n_pads
+
+
+def _pole_height(g: MorphingFootGeometry, theta: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Height of the upper pole [m] that holds the pads at angle ``theta`` [rad]."""
+    phi = theta + g.crank_offset
+    rc = g.base_radius + g.crank_length * np.cos(phi)
+    zc = g.pivot_height + g.crank_length * np.sin(phi)
+    return np.asarray(zc + np.sqrt(g.coupler_length**2 - (rc - g.pole_radius) ** 2))
+
+
+@dataclass(frozen=True)
+class Linkage:
+    r"""The resolved slider-crank of one pad: its stroke and its branch (decision D30).
+
+    Make it with :meth:`from_geometry`, which checks that the coupler reaches the pole over
+    the whole pad travel and that the pole rises monotonically as the pads curl.
+
+    Attributes
+    ----------
+    geometry : MorphingFootGeometry
+        The dimensions it was built from.
+    pole_top : float
+        Height of the upper pole with the column unloaded, :math:`z_{B0}` [m].
+    stroke : float
+        Column deflection from curled up to fully spread [m].
+    branch : float
+        Sign (+1 or -1) of the circle intersection that gives the design angles [-].
+
+    Examples
+    --------
+    >>> link = Linkage.from_geometry(MorphingFootGeometry())
+    >>> round(link.stroke * 1e3, 2), round(math.degrees(float(link.angle(link.stroke))), 1)
+    (11.89, 5.0)
+    """
+
+    geometry: MorphingFootGeometry
+    pole_top: float
+    stroke: float
+    branch: float
+
+    @classmethod
+    def from_geometry(cls, geometry: MorphingFootGeometry) -> Linkage:
+        """Resolve the linkage of ``geometry``.
+
+        Parameters
+        ----------
+        geometry : MorphingFootGeometry
+            Base, pad and linkage dimensions [m, rad].
+
+        Returns
+        -------
+        Linkage
+
+        Raises
+        ------
+        MudrftError
+            If the coupler is too short to reach the pole, or the pole does not rise
+            monotonically as the pads curl up.
+        """
+        g = geometry
+        th = np.linspace(g.expanded_angle, g.retracted_angle, _DESIGN_SAMPLES)
+        phi = th + g.crank_offset
+        rc = g.base_radius + g.crank_length * np.cos(phi)
+        if np.any(g.coupler_length**2 - (rc - g.pole_radius) ** 2 <= 0):
+            raise MudrftError(
+                f"coupler_length = {g.coupler_length!r} m is too short to reach the upper pole "
+                "over the pad travel; lengthen it or move pole_radius toward the pivots"
+            )
+        zb = _pole_height(g, th)
+        if np.any(np.diff(zb) <= 0):
+            raise MudrftError(
+                "the linkage is not monotone over the pad travel (the pole must rise as the pads "
+                "curl up): change crank_offset, crank_length or coupler_length"
+            )
+        top, stroke = float(zb[-1]), float(zb[-1] - zb[0])
+        ends = np.array([0.0, stroke])
+        for sign in (1.0, -1.0):
+            link = cls(geometry=g, pole_top=top, stroke=stroke, branch=sign)
+            t = link.raw_angle(ends)
+            if abs(t[0] - g.retracted_angle) < 1e-9 and abs(t[1] - g.expanded_angle) < 1e-9:
+                return link
+        raise MudrftError(  # pragma: no cover - excluded by the monotonicity check above
+            "could not resolve the linkage branch"
+        )
+
+    def raw_angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Pad angle [rad] of the circle intersection at a deflection [m], not clipped."""
+        g = self.geometry
+        dr = g.pole_radius - g.base_radius
+        dz = self.pole_top - np.asarray(deflection, dtype=float) - g.pivot_height
+        dist = np.hypot(dr, dz)
+        c = (g.crank_length**2 + dist**2 - g.coupler_length**2) / (2.0 * g.crank_length * dist)
+        return np.asarray(
+            np.arctan2(dz, dr) + self.branch * np.arccos(np.clip(c, -1.0, 1.0)) - g.crank_offset
+        )
+
+    def angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (unchecked).
+
+        Parameters
+        ----------
+        deflection : float or array_like
+            Column deflection [m], in [0, stroke] (not checked: an inner-loop path).
+
+        Returns
+        -------
+        ndarray
+            Pad angle [rad], from ``retracted_angle`` (0) to ``expanded_angle`` (stroke).
+        """
+        g = self.geometry
+        return np.clip(self.raw_angle(deflection), g.expanded_angle, g.retracted_angle)
+
+    def deflection_at(self, pad_angle: ArrayLike) -> NDArray[np.float64]:
+        """Inverse kinematics: column deflection [m] that gives a pad angle [rad] (unchecked).
+
+        Parameters
+        ----------
+        pad_angle : float or array_like
+            Pad angle [rad], in [expanded_angle, retracted_angle].
+
+        Returns
+        -------
+        ndarray
+            Deflection [m], in [0, stroke].
+        """
+        zb = _pole_height(self.geometry, np.asarray(pad_angle, dtype=float))
+        return np.clip(self.pole_top - zb, 0.0, self.stroke)
+
+    def points(self, deflection: float) -> dict[str, NDArray[np.float64]]:
+        """Joint positions of one linkage in its (r, z) plane [m] at a deflection [m].
+
+        Parameters
+        ----------
+        deflection : float
+            Column deflection [m], in [0, stroke] (not checked).
+
+        Returns
+        -------
+        dict
+            ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
+            rim), each an ``(r, z)`` array [m].
+        """
+        g = self.geometry
+        th = float(self.angle(deflection))
+        a = np.array([g.base_radius, g.pivot_height])
+        c = a + g.crank_length * np.array(
+            [math.cos(th + g.crank_offset), math.sin(th + g.crank_offset)]
+        )
+        b = np.array([g.pole_radius, self.pole_top - deflection])
+        p = a + g.pad_length * np.array([math.cos(th), math.sin(th)])
+        return {"A": a, "C": c, "B": b, "P": p}

@@ -1,0 +1,170 @@
+r"""The morphing foot's two-stage spring column (decision D31, paper Fig. S3b).
+
+The column telescopes in two stages with a soft spring :math:`k_s` and a hard spring
+:math:`k_h` in series. Both compress together, with the series stiffness
+:math:`k_sk_h/(k_s+k_h)`, until the soft spring has compressed by :math:`s_s` and its stage
+bottoms out at the *knee*; beyond it only the hard spring compresses:
+
+.. math:: F_s(\delta) = \begin{cases}
+          \dfrac{k_sk_h}{k_s+k_h}\,\delta, & \delta \le \delta_1 = s_s(1 + k_s/k_h),\\[1ex]
+          k_ss_s + k_h(\delta - \delta_1), & \delta > \delta_1.
+          \end{cases}
+
+The end stops at :math:`\delta=0` and at the stroke belong to the linkage
+(:mod:`.linkage`); the balance with the mud (:mod:`.equilibrium`) treats them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..._validation import MudrftError, check_positive
+
+__all__ = ["RigidGroundResponse", "TwoStageSpring"]
+
+
+@dataclass(frozen=True)
+class TwoStageSpring:
+    """Two springs in series in a two-stage telescoping column (decision D31).
+
+    Both springs compress together (series stiffness :math:`k_sk_h/(k_s+k_h)`) until the
+    soft spring has compressed by ``soft_travel`` and its stage bottoms out; beyond, only
+    the hard spring compresses, up to the end stop of the linkage (the stroke).
+
+    Attributes
+    ----------
+    soft_stiffness : float
+        :math:`k_s` [N/m].
+    hard_stiffness : float
+        :math:`k_h` [N/m], >= ``soft_stiffness``.
+    soft_travel : float
+        Compression of the soft spring when its stage bottoms out, :math:`s_s` [m].
+
+    Raises
+    ------
+    MudrftError
+        If a field is not positive or the hard spring is softer than the soft one.
+
+    Examples
+    --------
+    >>> s = TwoStageSpring()
+    >>> round(s.series_stiffness, 1), round(s.knee_deflection * 1e3, 2), s.knee_force
+    (705.9, 8.5, 6.0)
+    >>> s.force([0.0, s.knee_deflection]).round(6).tolist()
+    [0.0, 6.0]
+    """
+
+    soft_stiffness: float = 800.0
+    hard_stiffness: float = 6000.0
+    soft_travel: float = 0.0075
+
+    def __post_init__(self) -> None:
+        for k, u in (("soft_stiffness", "N/m"), ("hard_stiffness", "N/m"), ("soft_travel", "m")):
+            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit=u)))
+        if self.hard_stiffness < self.soft_stiffness:
+            raise MudrftError(
+                f"hard_stiffness must be >= soft_stiffness = {self.soft_stiffness!r} N/m, "
+                f"got {self.hard_stiffness!r} N/m"
+            )
+
+    @property
+    def series_stiffness(self) -> float:
+        """Stiffness of the first stage, :math:`k_sk_h/(k_s+k_h)` [N/m]."""
+        return (
+            self.soft_stiffness * self.hard_stiffness / (self.soft_stiffness + self.hard_stiffness)
+        )
+
+    @property
+    def knee_deflection(self) -> float:
+        """Column deflection where the soft stage bottoms out, :math:`s_s(1+k_s/k_h)` [m]."""
+        return self.soft_travel * (1.0 + self.soft_stiffness / self.hard_stiffness)
+
+    @property
+    def knee_force(self) -> float:
+        """Force at which the soft stage bottoms out, :math:`k_ss_s` [N]."""
+        return self.soft_stiffness * self.soft_travel
+
+    def force(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Spring force [N] at a column deflection [m] (no end stops: see the linkage).
+
+        Parameters
+        ----------
+        deflection : float or array_like
+            Column deflection [m], >= 0.
+
+        Returns
+        -------
+        ndarray
+            :math:`F_s(\\delta)` [N].
+        """
+        d = np.asarray(deflection, dtype=float)
+        d1 = self.knee_deflection
+        return np.where(
+            d <= d1, self.series_stiffness * d, self.knee_force + self.hard_stiffness * (d - d1)
+        )
+
+    def deflection(self, force: ArrayLike) -> NDArray[np.float64]:
+        """Inverse of :meth:`force`: deflection [m] under a force [N].
+
+        Parameters
+        ----------
+        force : float or array_like
+            Spring force [N], >= 0.
+
+        Returns
+        -------
+        ndarray
+            Deflection [m].
+        """
+        f = np.asarray(force, dtype=float)
+        f1 = self.knee_force
+        return np.where(
+            f <= f1,
+            f / self.series_stiffness,
+            self.knee_deflection + (f - f1) / self.hard_stiffness,
+        )
+
+    def stiffness(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Tangent stiffness :math:`dF_s/d\\delta` [N/m] at a deflection [m].
+
+        The series stiffness below the knee, the hard spring's from the knee on.
+
+        Parameters
+        ----------
+        deflection : float or array_like
+            Column deflection [m], >= 0.
+
+        Returns
+        -------
+        ndarray
+            Stiffness [N/m].
+        """
+        d = np.asarray(deflection, dtype=float)
+        k = np.where(d < self.knee_deflection, self.series_stiffness, self.hard_stiffness)
+        return np.asarray(k, dtype=float)
+
+
+class RigidGroundResponse(NamedTuple):
+    """Foot pressed on rigid ground (paper Fig. S3): all the load goes through the tip.
+
+    Attributes
+    ----------
+    deflection : ndarray
+        Column deflection [m].
+    force : ndarray
+        Vertical force [N] (spring law with its end stops).
+    pad_angle : ndarray
+        Pad angle [rad].
+    stiffness : ndarray
+        Tangent stiffness dF/d(deflection) [N/m]: the series stiffness below the knee,
+        the hard spring's above it.
+    """
+
+    deflection: NDArray[np.float64]
+    force: NDArray[np.float64]
+    pad_angle: NDArray[np.float64]
+    stiffness: NDArray[np.float64]
