@@ -50,10 +50,11 @@ class Reporter:
         self._done = 0
 
     def note(self, message: str, *, level: int = logging.INFO) -> None:
-        """Log one line (and pass it to the line callable)."""
-        logger.log(level, "%s", message)
+        """Pass one line to the line callable, or log it when there is none (never both)."""
         if self._lines is not None:
             self._lines(message)
+        else:
+            logger.log(level, "%s", message)
 
     def step(self) -> None:
         """One more step of the job is done."""
