@@ -251,7 +251,17 @@ class StreamClassifier:
         self._inside = False
 
     def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample (time [s], depth [m], stress [Pa]); return the current best label."""
+        """Add one sample; return the label of the most likely candidate.
+
+        Parameters
+        ----------
+        time : float
+            Sample time [s], strictly increasing.
+        depth : float
+            Intrusion displacement [m].
+        stress : float
+            Measured stress resisting the intrusion [Pa].
+        """
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)
         if x.dt is None or x.rate is None:  # the first sample: a starting point only
