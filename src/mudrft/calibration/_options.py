@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -182,7 +182,8 @@ def as_dataset(
         return load_dataset(data if kind else items, **load_options)  # type: ignore[arg-type]
     if kinds == {"trial"}:
         return IntrusionDataset(tuple(items))
-    return items[0].merge(*items[1:])
+    datasets = cast(list[IntrusionDataset], items)
+    return datasets[0].merge(*datasets[1:])
 
 
 def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:
