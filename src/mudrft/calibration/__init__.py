@@ -19,7 +19,7 @@ Modules, one concept each:
 * :mod:`._problem`: trials packed for batched simulation, phases of a trial;
 * :mod:`._options`: parameter groups, bounds, accepted datasets, decimation;
 * :mod:`.uncertainty`: covariance, intervals, identifiability verdicts (D44);
-* :mod:`.result`, :mod:`.persistence`: :class:`FitResult`, JSON files;
+* :mod:`.result`, :mod:`.persistence`, :mod:`._plot`: :class:`FitResult`, JSON files, figure;
 * :mod:`.online`, :mod:`._rls`: the recursive estimator (D46);
 * :mod:`.classification`: which known mud the data resemble (D47);
 * :mod:`.synthetic`: the synthetic example data.

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -143,6 +143,17 @@ def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
     return out
 
 
+_KINDS: tuple[tuple[type | tuple[type, ...], str], ...] = (
+    (IntrusionDataset, "dataset"),
+    (Trial, "trial"),
+    ((str, os.PathLike), "path"),
+)
+
+
+def _kind(x: object) -> str | None:
+    return next((kind for cls, kind in _KINDS if isinstance(x, cls)), None)
+
+
 def as_dataset(
     data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[Any],
     **load_options: Any,
@@ -157,23 +168,22 @@ def as_dataset(
     **load_options
         ``area`` [m^2], ``characteristic_length`` [m], ... for the loader.
     """
-    if isinstance(data, IntrusionDataset):
-        return data
-    if isinstance(data, Trial):
-        return IntrusionDataset((data,))
-    if isinstance(data, (str, os.PathLike)):
-        return load_dataset(data, **load_options)
-    items = list(data) if isinstance(data, Sequence) else []
-    if items and all(isinstance(d, IntrusionDataset) for d in items):
-        return items[0].merge(*items[1:])
-    if items and all(isinstance(d, Trial) for d in items):
+    kind = _kind(data)
+    items = [data] if kind is not None or not isinstance(data, Sequence) else list(data)
+    kinds = {_kind(d) for d in items}
+    if not items or len(kinds) != 1 or None in kinds:
+        raise MudrftError(
+            "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
+            f"got {type(data).__name__}"
+        )
+    if kind == "dataset":
+        return data  # type: ignore[return-value]
+    if kinds == {"path"}:
+        return load_dataset(data if kind else items, **load_options)  # type: ignore[arg-type]
+    if kinds == {"trial"}:
         return IntrusionDataset(tuple(items))
-    if items and all(isinstance(d, (str, os.PathLike)) for d in items):
-        return load_dataset(items, **load_options)
-    raise MudrftError(
-        "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
-        f"got {type(data).__name__}"
-    )
+    datasets = cast(list[IntrusionDataset], items)
+    return datasets[0].merge(*datasets[1:])
 
 
 def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:

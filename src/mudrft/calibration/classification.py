@@ -23,10 +23,19 @@ from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed
+from ._problem import FIT_PARAMETERS, PHASES, Packed, pack, values_of
 from ._rls import SampleStream
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
+
+
+def _user_sets(candidates: MudParameters | Sequence[MudParameters]) -> list[MudParameters]:
+    """The user's candidate sets, each checked to be a single parameter set."""
+    cands = [candidates] if isinstance(candidates, MudParameters) else list(candidates)
+    for i, c in enumerate(cands):
+        if not isinstance(c, MudParameters) or c.shape != ():
+            raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
+    return cands
 
 
 def _candidates(
@@ -35,25 +44,17 @@ def _candidates(
     water_contents: ArrayLike | None,
     direction: str,
 ) -> tuple[list[MudParameters], list[Any]]:
-    """The candidate sets and their labels, checked."""
+    """The candidate sets and their labels (default: water contents [-] or sources), checked."""
+    if candidates is not None and water_contents is not None:
+        raise MudrftError("give either candidates or water_contents, not both")
     if candidates is None:
         ws = [0.25, 0.35, 0.45] if water_contents is None else list(np.atleast_1d(water_contents))
         cands = [paper_parameters(float(w), direction) for w in ws]
-        labs = [float(w) for w in ws] if labels is None else list(labels)
+        default: list[Any] = [float(w) for w in ws]
     else:
-        if water_contents is not None:
-            raise MudrftError("give either candidates or water_contents, not both")
-        if isinstance(candidates, MudParameters):
-            candidates = [candidates]
-        cands = list(candidates)
-        for i, c in enumerate(cands):
-            if not isinstance(c, MudParameters) or c.shape != ():
-                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
-        labs = (
-            list(labels)
-            if labels is not None
-            else [c.source or f"set {i}" for i, c in enumerate(cands)]
-        )
+        cands = _user_sets(candidates)
+        default = [c.source or f"set {i}" for i, c in enumerate(cands)]
+    labs = default if labels is None else list(labels)
     if len(labs) != len(cands):
         raise MudrftError(
             f"labels must have one entry per candidate ({len(cands)}), got {len(labs)}"
@@ -100,6 +101,22 @@ class Classification:
     best: Any
 
 
+def _simulate(
+    dataset: IntrusionDataset, cands: list[MudParameters]
+) -> tuple[Packed, NDArray[np.float64]]:
+    """Total stress [Pa] of every candidate on every trial, shape (n, K, T): one batched
+    simulation, or one per candidate when they differ in ``nu`` or ``k_a``."""
+    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
+    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
+    if tied and len({float(c.nu) for c in cands}) == 1:
+        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
+        return packed, packed.simulate(vals)
+    sims = [
+        pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1)) for c in cands
+    ]
+    return packed, np.concatenate(sims, axis=1)
+
+
 def classify(
     dataset: IntrusionDataset,
     candidates: Sequence[MudParameters] | None = None,
@@ -144,25 +161,7 @@ def classify(
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     d = check_choice("direction", direction or dataset.direction, ("vertical", "horizontal"))
     cands, labs = _candidates(candidates, labels, water_contents, d)
-    p0 = cands[0]
-    packed = Packed.from_dataset(dataset, nu=float(p0.nu), k_a=None, acceleration=True, xi0=0.0)
-    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
-    if not tied or len({float(c.nu) for c in cands}) > 1:
-        # candidates with their own k_a or nu: simulate them one by one
-        sims = []
-        for c in cands:
-            pk = Packed.from_dataset(
-                dataset,
-                nu=float(c.nu),
-                k_a=None if np.isclose(float(c.k_a), 1 / float(c.lam)) else float(c.k_a),
-                acceleration=True,
-                xi0=0.0,
-            )
-            sims.append(pk.simulate({k: np.array([float(getattr(c, k))]) for k in FIT_PARAMETERS}))
-        sim = np.concatenate(sims, axis=1)
-    else:
-        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
-        sim = packed.simulate(vals)
+    packed, sim = _simulate(dataset, cands)
     mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
     R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
     sse = np.sum(R**2, axis=0)
@@ -251,7 +250,17 @@ class StreamClassifier:
         self._inside = False
 
     def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample (time [s], depth [m], stress [Pa]); return the current best label."""
+        """Add one sample; return the label of the most likely candidate.
+
+        Parameters
+        ----------
+        time : float
+            Sample time [s], strictly increasing.
+        depth : float
+            Intrusion displacement [m].
+        stress : float
+            Measured stress resisting the intrusion [Pa].
+        """
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)
         if x.dt is None or x.rate is None:  # the first sample: a starting point only

@@ -21,11 +21,9 @@ operations; nothing is refitted.
 
 Because the simplifications drop the lagged thixotropic stress, the estimates are
 *apparent* values: on data from the full model (or real mud) they differ from the
-model constants by the thixotropic share of the stress (documented in
-docs/model.md). :class:`StreamClassifier` avoids that bias by
-running the full model for each candidate parameter set and comparing residuals over
-a sliding (exponentially weighted) window, decision D47 (:mod:`.classification`; its
-names are importable from here as well).
+model constants by the thixotropic share of the stress (documented in docs/model.md).
+:class:`StreamClassifier` (:mod:`.classification`, importable from here too) avoids that
+bias by comparing whole candidate models.
 """
 
 from __future__ import annotations
@@ -212,9 +210,15 @@ class OnlineEstimator:
         self._consts = channel_constants(self._basis_params)
 
     def rebase(self, prior: MudParameters) -> None:
-        """Start again around another prior (e.g. the best candidate of a
-        :class:`StreamClassifier` after the mud changed): new fixed constants, new
-        starting values, memory cleared."""
+        """Start again around another prior: new fixed constants, new starting values,
+        memory cleared.
+
+        Parameters
+        ----------
+        prior : MudParameters
+            A single set [SI], e.g. the best candidate of a :class:`StreamClassifier`
+            after the mud changed.
+        """
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.prior = prior
@@ -354,8 +358,21 @@ class OnlineEstimator:
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
     ) -> list[OnlineEstimate]:
-        """Feed arrays of samples (time [s], depth [m], stress [Pa]) in order; return the
-        estimate after each."""
+        """Feed arrays of samples in order; return the estimate after each.
+
+        Parameters
+        ----------
+        time : array_like, shape (n,)
+            Sample times [s], strictly increasing.
+        depth : array_like, shape (n,)
+            Intrusion displacements [m].
+        stress : array_like, shape (n,)
+            Measured stresses [Pa].
+
+        Returns
+        -------
+        list of OnlineEstimate
+        """
         t = np.asarray(time, dtype=float).ravel()
         q = np.asarray(depth, dtype=float).ravel()
         s = np.asarray(stress, dtype=float).ravel()
@@ -404,6 +421,11 @@ class OnlineEstimator:
         """``base`` (default the prior) with the estimated fields replaced.
 
         Estimates not yet available, or not positive, keep the base value.
+
+        Parameters
+        ----------
+        base : MudParameters, optional
+            The set whose fields are replaced [SI].
         """
         b = base if base is not None else self.prior
         if not isinstance(b, MudParameters):

@@ -22,7 +22,8 @@ from .._validation import MudrftError
 from ..io import IntrusionDataset, atomic_write
 from ..parameters.base import PARAMETER_UNITS, MudParameters
 from ._options import as_dataset
-from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
+from ._plot import plot_fit
+from ._problem import FIT_PARAMETERS, pack, values_of
 from .persistence import parameters_from_json, read_json
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE
 
@@ -190,7 +191,18 @@ class FitResult:
 
     # -- prediction and plots ---------------------------------------------------------
     def predict(self, dataset: IntrusionDataset | None = None) -> list[NDArray[np.float64]]:
-        """Model stress [Pa] at the samples of each trial (default: the fitted data)."""
+        """Model stress [Pa] at the samples of each trial.
+
+        Parameters
+        ----------
+        dataset : IntrusionDataset, optional
+            Trials to predict (SI); default the fitted data.
+
+        Returns
+        -------
+        list of ndarray
+            One array of stresses [Pa] per trial, at its samples.
+        """
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
@@ -201,48 +213,22 @@ class FitResult:
     def plot(self, dataset: IntrusionDataset | None = None, *, axes: Any = None) -> Any:
         """Fit against data: stress against time, one panel per trial (needs matplotlib).
 
-        Returns the matplotlib Figure.
-        """
-        from ..plotting import require_matplotlib
+        Parameters
+        ----------
+        dataset : IntrusionDataset, optional
+            Data to plot (SI); default the fitted data.
+        axes : array of matplotlib Axes, optional, keyword-only
+            One per trial; default a new figure.
 
-        plt = require_matplotlib()
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("plot needs a dataset: pass the data this fit was made from")
-        pred = self.predict(ds)
-        n = len(ds)
-        if axes is None:
-            fig, axes = plt.subplots(
-                1, n, figsize=(3.6 * n + 0.6, 3.2), squeeze=False, constrained_layout=True
-            )
-        else:
-            fig = np.ravel(axes)[0].figure
-        axs = np.ravel(axes)
-        for j, (tr, yp) in enumerate(zip(ds.trials, pred, strict=True)):
-            ax = axs[j]
-            used = segment(tr) != PHASES["out"]
-            ax.plot(tr.time[used], tr.stress[used] / 1e3, ".", ms=2.5, color="0.55", label="data")
-            if not used.all():
-                ax.plot(
-                    tr.time[~used],
-                    tr.stress[~used] / 1e3,
-                    "x",
-                    ms=4,
-                    color="0.55",
-                    label="not fitted (out of the mud)",
-                )
-            ax.plot(tr.time[used], yp[used] / 1e3, "C3", lw=1.5, label="fit")
-            ax.axhline(0.0, color="0.8", lw=0.6)
-            ax.set_title(f"{tr.name}: {1e3 * tr.speed:.3g} mm/s", fontsize=9)
-            ax.set_xlabel("time [s]")
-            if j == 0:
-                ax.set_ylabel("stress [kPa]")
-                ax.legend(fontsize=8, loc="lower left")
-        fig.suptitle(
-            f"calibration ({self.direction}); relative RMSE {100 * self.relative_rmse:.2f} %",
-            fontsize=10,
-        )
-        return fig
+        title = f"calibration ({self.direction}); relative RMSE {100 * self.relative_rmse:.2f} %"
+        return plot_fit(ds, self.predict(ds), title=title, axes=axes)
 
     # -- persistence --------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -324,7 +310,15 @@ class FitResult:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], *, where: str = "fit") -> FitResult:
-        """Rebuild a result from :meth:`to_dict` output (without the dataset)."""
+        """Rebuild a result from :meth:`to_dict` output (without the dataset).
+
+        Parameters
+        ----------
+        data : dict
+            Output of :meth:`to_dict` (SI values).
+        where : str, keyword-only
+            Where the data come from (a path), named in errors.
+        """
         try:
             params = parameters_from_json(data, where=where)
             free = tuple(data["free"])
@@ -383,7 +377,13 @@ class FitResult:
             ) from None
 
     @classmethod
-    def from_json(cls, path: str | os.PathLike) -> FitResult:
-        """Load a result saved by :meth:`to_json`."""
+    def from_json(cls, path: str | os.PathLike[str]) -> FitResult:
+        """Load a result saved by :meth:`to_json`.
+
+        Parameters
+        ----------
+        path : str or path-like
+            The JSON file.
+        """
         p = Path(os.fspath(path))
         return cls.from_dict(read_json(p), where=str(p))
