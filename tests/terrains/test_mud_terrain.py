@@ -1,0 +1,71 @@
+"""MudTerrain validates its options where it is made, and its step's inputs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudrft
+from mudrft import MudrftError
+from mudrft.terrains import MudTerrain
+
+MUD = mudrft.paper_mud(0.25)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"heading_speed": -1.0}, "heading_speed"),
+        ({"heading_speed": float("nan")}, "heading_speed"),
+        ({"xi0": 5.0}, "xi0"),
+        ({"xi0": -0.1}, "xi0"),
+        ({"characteristic_length": 0.0}, "characteristic_length"),
+        ({"characteristic_length": float("inf")}, "characteristic_length"),
+        ({"acceleration": "yes"}, "acceleration"),
+        ({"reset_on_exit": 1}, "reset_on_exit"),
+        ({"name": 3}, "name"),
+    ],
+)
+def test_an_invalid_option_is_refused_at_construction(options, message):
+    with pytest.raises(MudrftError, match=message):
+        MudTerrain(MUD, **options)
+
+
+def test_a_parameter_set_that_is_not_a_mud_is_refused():
+    with pytest.raises(MudrftError, match="mud must be a Mud"):
+        MudTerrain(mudrft.paper_parameters(0.25))
+
+
+@pytest.mark.parametrize(
+    ("position", "velocity", "dt", "message"),
+    [
+        ([0.0, np.nan, -0.01], [0.0, 0.0, 0.0], 1e-3, "position"),
+        ([0.0, 0.0, -0.01], [0.0, np.inf, 0.0], 1e-3, "velocity"),
+        ([0.0, 0.0, -0.01], [0.0, 0.0, 0.0], -1.0, "dt"),
+        ([0.0, 0.0, -0.01], [0.0, 0.0, 0.0], 0.0, "dt"),
+        ([0.0, 0.0], [0.0, 0.0, 0.0], 1e-3, "position"),
+        ([0.0, 0.0, -0.01], [0.0, 0.0], 1e-3, "velocity"),
+    ],
+)
+def test_the_step_refuses_bad_motion(position, velocity, dt, message):
+    foot = mudrft.feet.Flat()
+    terrain = MudTerrain(MUD)
+    state = terrain.initial_state(foot, np.zeros(3))
+    with pytest.raises(MudrftError, match=message):
+        terrain.step(foot, state, position, velocity, dt)
+
+
+def test_one_foot_on_floats_equals_a_batch_of_one_on_arrays():
+    """The single-foot path (Python floats) and the batch path (numpy) run the same step."""
+    foot = mudrft.feet.SemiCylinder()
+    terrain = MudTerrain(MUD)
+    tr = mudrft.gait(0.2)
+    s1 = terrain.initial_state(foot, tr.position[0])
+    sb = terrain.initial_state(foot, tr.position[:1])
+    for k in range(1, len(tr)):
+        dt = float(tr.time[k] - tr.time[k - 1])
+        s1, o1 = terrain.step(foot, s1, tr.position[k], tr.velocity[k], dt)
+        sb, ob = terrain.step(foot, sb, tr.position[k : k + 1], tr.velocity[k : k + 1], dt)
+        scale = np.abs(ob.force).max() + 1e-9
+        # libm and numpy's vectorized exp/tanh may differ by an ulp; 1e-12 of the peak
+        assert np.all(np.abs(o1.force - ob.force[0]) <= 1e-12 * scale), k
