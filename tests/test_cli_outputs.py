@@ -71,10 +71,11 @@ def test_simulate_force_replaces_both_outputs(tmp_path, capsys):
 
 
 def test_bench_refuses_to_overwrite_an_existing_json(tmp_path, capsys, monkeypatch):
-    import mudrft.bench
+    from mudrft.cli.bench import load_harness
 
-    monkeypatch.setattr(mudrft.bench, "run_benchmarks", lambda **kw: {"speed": 1.0})
-    monkeypatch.setattr(mudrft.bench, "summary_lines", lambda res: ["fast"])
+    harness = load_harness()  # the checkout's benchmarks/harness, as `mudrft bench` loads it
+    monkeypatch.setattr(harness, "run_benchmarks", lambda **kw: {"speed": 1.0})
+    monkeypatch.setattr(harness, "summary_lines", lambda res: ["fast"])
     target = tmp_path / "bench.json"
     target.write_text("keep me")
     code, _, err = run(capsys, "bench", "--quick", "--json", target)

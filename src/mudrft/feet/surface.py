@@ -2,9 +2,8 @@ r"""Surface-element integration of the 3D force law (Chen et al. 2026, eqs. 6-7)
 
 This module is the general rule behind every foot: the surface is a set of triangles in the
 foot frame (tip at :math:`z=0`, :math:`z` up), the mud surface is the plane :math:`z=d`
-(``depth`` of the tip), and each triangle is **clipped** exactly by that plane (0, 1, 2 or 3
-vertices submerged) so that only its submerged polygon counts, with its exact area and
-centroid.
+(``depth`` of the tip), and each triangle is **clipped** exactly by that plane so that only
+its submerged polygon counts, with its exact area and centroid.
 
 Element rule (decisions D21-D23, erratum E24 in ``docs/model.md``). For a facet with
 outward unit normal :math:`\mathbf n=(n_x,n_y,n_z)`, submerged area :math:`dS`, horizontal normal
@@ -61,9 +60,8 @@ __all__ = [
     "prepare_triangles",
 ]
 
-#: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
-#: wall (no vertical force, decision D21); :math:`|\cos\psi_2|\le` this is parallel to the
-#: motion (tie rule of decision D22).
+#: Tolerance on unit-vector components [-]: :math:`|n_z|\le` TOL is a vertical wall (D21),
+#: :math:`|\cos\psi_2|\le` TOL is parallel to the motion (tie rule of D22).
 TOL = 1e-9
 
 
@@ -588,8 +586,7 @@ def integrate_wrench(
     p = prepare_triangles(triangles, xp=xp) if prepared is None else prepared
     df, cen = element_forces(p, depth, stress, heading, trailing=trailing, xp=xp)
     force = xp.sum(df, axis=-2)
-    pt = xp.zeros(3) if point is None else xp.asarray(point)
-    pt = pt + 0.0 * force  # broadcast to the batch shape
+    pt = (xp.zeros(3) if point is None else xp.asarray(point)) + 0.0 * force  # batch shape
     moment = xp.sum(_cross(cen - pt[..., None, :], df, xp), axis=-2)
     w = xp.sqrt(xp.sum(df * df, axis=-1))
     wsum = xp.sum(w, axis=-1)
@@ -600,5 +597,4 @@ def integrate_wrench(
     f2_safe = xp.where(has_f, f2, 1.0)[..., None]
     r0 = pt + _cross(force, moment, xp) / f2_safe
     along = xp.sum((cbar - r0) * force, axis=-1)[..., None] / f2_safe
-    cop = xp.where(has_f[..., None], r0 + along * force, cbar)
-    return Wrench(force, moment, cop)
+    return Wrench(force, moment, xp.where(has_f[..., None], r0 + along * force, cbar))

@@ -34,17 +34,27 @@ import numpy as np
 
 from .._validation import MudrftError, check_nonnegative, check_positive
 from .walk_output import (
+    STEP_COLUMNS,
     WALK_COLUMNS,
     _per_step,
     _renderer,
+    plot_walk,
+    save_strip,
+)
+from .walk_output import (
+    _write_csv as _write_csv,  # re-exported for mudrft.cli.walk
 )
 
 __all__ = [
     "BIPED_FEET",
+    "STEP_COLUMNS",
+    "WALK_COLUMNS",
     "GaitController",
     "WalkResult",
     "biped_model",
     "biped_path",
+    "plot_walk",
+    "save_strip",
     "walk",
 ]
 
