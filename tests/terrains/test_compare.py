@@ -34,7 +34,14 @@ REFERENCE = {
 def test_every_terrain_implements_the_protocol_with_no_arguments():
     import mudrft.terrains as T
 
-    for cls in (T.GranularRFT, T.LinearStiffness, T.MaxwellMud, T.RigidGround, T.Mud):
+    for cls in (
+        T.GranularRFT,
+        T.GranularRFT3D,
+        T.LinearStiffness,
+        T.MaxwellMud,
+        T.RigidGround,
+        T.Mud,
+    ):
         t = cls()
         assert isinstance(t, Terrain) and isinstance(t.name, str)
 
@@ -144,7 +151,7 @@ def test_command_writes_csv_summary_and_figures(box, tmp_path):
     assert {(r["trajectory"], r["terrain"]) for r in rows} == {
         (t, n)
         for t in ("plate", "gait")
-        for n in ("mud", "granular-rft", "linear", "maxwell", "rigid")
+        for n in ("mud", "granular-rft", "granular-rft3d", "linear", "maxwell", "rigid")
     }
     with pytest.raises(MudrftError, match="exists"):
         write_comparison(box, tmp_path / "cmp", depth=0.01, hold=0.1, quiet=True, figures=False)
