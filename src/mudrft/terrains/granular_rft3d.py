@@ -186,10 +186,6 @@ def agarwal_generic_alpha(
     return f1 * sb * cp + f2 * cg, f1 * sb * sp, -f1 * cb - f2 * sg - f3
 
 
-def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
-
-
 def _generic_for(
     n_down: NDArray[np.float64], v: NDArray[np.float64], coefficients: PolynomialCoefficients
 ) -> NDArray[np.float64]:
@@ -210,16 +206,21 @@ def _generic(
     downward normal is ``n`` below the horizontal and ``-n`` above it, blended linearly
     over ``|n_z| < wall_width`` (D93).
     """
-    v = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
-    n = np.broadcast_to(normals, v.shape)
-    below = _generic_for(n, v, coefficients)
-    above = _generic_for(-n, v, coefficients)
-    nz = n[..., 2:]
+    nz = normals[:, 2]
     if wall_width > 0.0:
-        w = np.clip(0.5 - nz / (2.0 * wall_width), 0.0, 1.0)
+        w = np.clip(0.5 - nz / (2.0 * wall_width), 0.0, 1.0)  # weight of n_d = n
     else:
         w = (nz < 0.0).astype(float)
-    return w * below + (1.0 - w) * above
+    v = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
+    n_down = np.broadcast_to(np.where((w >= 0.5)[:, None], normals, -normals), v.shape)
+    alpha = _generic_for(n_down, v, coefficients)
+    band = (w > 0.0) & (w < 1.0)  # walls within wall_width of vertical: blend both readings
+    if np.any(band):
+        vb, wb = v[..., band, :], w[band][:, None]
+        nb = np.broadcast_to(normals[band], vb.shape)
+        below, above = _generic_for(nb, vb, coefficients), _generic_for(-nb, vb, coefficients)
+        alpha[..., band, :] = wb * below + (1.0 - wb) * above
+    return alpha
 
 
 def _cap(
@@ -242,7 +243,7 @@ def _check_unit_vectors(name: str, value: Any, ndim: int | None = None) -> NDArr
         raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
     if not np.all(np.linalg.norm(arr, axis=-1) > 0):
         raise MudrftError(f"{name} must be nonzero vectors, got a zero vector")
-    return _unit(arr)
+    return arr / np.linalg.norm(arr, axis=-1, keepdims=True)
 
 
 def rft3d_alpha(
