@@ -197,7 +197,7 @@ def test_flat_plate_pushed_down_is_the_plate_constant_times_area_times_depth(box
     ("n", "v", "mu", "active"),
     [
         ([0, 0, -1], [0, 0, -1], 0.0, False),  # no tangential part on a plate pushed down
-        ([S45, 0, -S45], [0, 0, -1], 0.4, True),  # |a_t| / |a_n| = 0.633 by hand
+        ([S45, 0, -S45], [0, 0, -1], 0.4, True),  # |a_t| / |a_n| = 0.632
         ([S45, 0, -S45], [0, 0, -1], 0.7, False),
         ([1, 0, 0], [1, 0, 0], 0.3, True),  # face-on wall: |a_t| / |a_n| = 0.388
         ([1, 0, 0], [1, 0, 0], 0.4, False),
