@@ -58,6 +58,17 @@ BIBTEX: dict[str, str] = {
   year = {2021},
   doi = {10.1109/LRA.2021.3057052}
 }""",
+    "agarwal2023rft3d": """@article{agarwal2023rft3d,
+  author = {Agarwal, Shashank and Goldman, Daniel I. and Kamrin, Ken},
+  title = {Mechanistic framework for reduced-order models in soft materials: Application to three-dimensional granular intrusion},
+  journal = {Proceedings of the National Academy of Sciences},
+  volume = {120},
+  pages = {e2214017120},
+  year = {2023},
+  doi = {10.1073/pnas.2214017120},
+  note = {3D-RFT; arXiv:2205.14920. mudrft's GranularRFT3D; its fit coefficients were read from public
+          implementations, not from the supplementary table (see docs/model.md, D91)}
+}""",
     "todorov2012mujoco": """@inproceedings{todorov2012mujoco,
   author = {Todorov, Emanuel and Erez, Tom and Tassa, Yuval},
   title = {MuJoCo: A Physics Engine for Model-Based Control},

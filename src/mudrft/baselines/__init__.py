@@ -5,6 +5,8 @@ MuJoCo coupling and :func:`compare` take any of them:
 
 * :class:`GranularRFT` -- granular resistive force theory (Li et al. 2013) in 3D
   (Treers et al. 2021), for any foot with surface elements;
+* :class:`~mudrft.terrains.GranularRFT3D` -- the 3D resistive force theory of Agarwal
+  et al. (2023), for any foot with surface elements;
 * :class:`LinearStiffness` -- the linear mud stiffness of Godon et al. (2022) and
   Liu et al. (2023), 1D vertical;
 * :class:`MaxwellMud` -- a documented *reconstruction* of the Maxwell-type mud model of
@@ -15,7 +17,7 @@ MuJoCo coupling and :func:`compare` take any of them:
 >>> from mudrft.baselines import compare
 >>> out = compare(mudrft.feet.Flat(), mudrft.gait(speed=0.26))
 >>> sorted(out)
-['granular-rft', 'linear', 'maxwell', 'mud', 'rigid']
+['granular-rft', 'granular-rft3d', 'linear', 'maxwell', 'mud', 'rigid']
 """
 
 from ..terrains.granular_rft import (

@@ -168,21 +168,31 @@ def run_terrain(
 
 
 def default_terrains(water_content: float = 0.25) -> dict[str, Any]:
-    """The mud model and the four baselines with their documented defaults.
+    """The mud model and the five baselines with their documented defaults.
 
+    ``mud``, ``granular-rft``, ``granular-rft3d``, ``linear``, ``maxwell``, ``rigid``.
     ``water_content`` [-] selects the mud; the baselines' defaults were fitted to (or
-    chosen for) the W = 25 % mud and do not change with it (decision D59).
+    chosen for) the W = 25 % mud, or name a granular medium, and do not change with it
+    (decision D59).
     """
     from ..parameters import paper_mud
     from ..terrains import MudTerrain
     from ..terrains.granular_rft import GranularRFT
+    from ..terrains.granular_rft3d import GranularRFT3D
     from ..terrains.linear import LinearStiffness
     from ..terrains.maxwell import MaxwellMud
     from ..terrains.rigid import RigidGround
 
     check_in_range("water_content", water_content, 0.15, 0.5)
     mud = MudTerrain(paper_mud(water_content, extrapolate=not 0.25 <= water_content <= 0.45))
-    terrains: list[Any] = [mud, GranularRFT(), LinearStiffness(), MaxwellMud(), RigidGround()]
+    terrains: list[Any] = [
+        mud,
+        GranularRFT(),
+        GranularRFT3D(),
+        LinearStiffness(),
+        MaxwellMud(),
+        RigidGround(),
+    ]
     return {t.name: t for t in terrains}
 
 
@@ -203,8 +213,8 @@ def compare(
     trajectory : Trajectory
         Prescribed tip motion, e.g. :func:`mudrft.plate_intrusion` or :func:`mudrft.gait`.
     terrains : mapping name -> terrain, iterable of terrains, or None, optional
-        Default :func:`default_terrains` (``mud``, ``granular-rft``, ``linear``,
-        ``maxwell``, ``rigid``).
+        Default :func:`default_terrains` (``mud``, ``granular-rft``, ``granular-rft3d``,
+        ``linear``, ``maxwell``, ``rigid``).
     water_content : float, keyword-only
         Mud water content [-] for the default terrains.
     progress : bool, keyword-only

@@ -5,13 +5,15 @@ Each is constructible with no arguments (documented defaults) and can be passed 
 
     mudrft.terrains.Mud()            # the mud model of Chen et al. 2026, W = 25 %
     mudrft.terrains.GranularRFT()    # granular RFT, loosely packed poppy seeds
+    mudrft.terrains.GranularRFT3D()  # 3D-RFT of Agarwal et al. 2023
     mudrft.terrains.LinearStiffness()
     mudrft.terrains.MaxwellMud()     # reconstruction of Chen et al. (AIM 2024)
     mudrft.terrains.RigidGround()
 
 Modules: :mod:`~mudrft.terrains.base` (the protocol and shared input checks),
 :mod:`~mudrft.terrains.mud` (the mud, :func:`~mudrft.terrains.mud.mud_step`),
-:mod:`~mudrft.terrains.granular_rft`, :mod:`~mudrft.terrains.linear`,
+:mod:`~mudrft.terrains.granular_rft`, :mod:`~mudrft.terrains.granular_rft3d`,
+:mod:`~mudrft.terrains.linear`,
 :mod:`~mudrft.terrains.maxwell`, :mod:`~mudrft.terrains.rigid`.
 
 >>> from mudrft import terrains
@@ -27,6 +29,7 @@ from ..parameters.base import Mud as MudParameterSets
 from ..parameters.registry import paper_mud
 from .base import Terrain, TerrainOutput, as_terrain, check_motion
 from .granular_rft import GranularRFT
+from .granular_rft3d import GranularRFT3D
 from .linear import LinearStiffness
 from .maxwell import MaxwellMud
 from .mud import MudState, MudTerrain, channel_parameters, mud_step
@@ -34,6 +37,7 @@ from .rigid import RigidGround
 
 __all__ = [
     "GranularRFT",
+    "GranularRFT3D",
     "LinearStiffness",
     "MaxwellMud",
     "Mud",

@@ -1,0 +1,498 @@
+r"""3D resistive force theory of Agarwal, Goldman & Kamrin (PNAS 2023) as a terrain.
+
+Unlike :mod:`~mudrft.terrains.granular_rft` (Li et al.'s 2D fit carried to 3D by Treers
+et al.'s weights), 3D-RFT is fitted in 3D. A submerged surface element of outward unit
+normal :math:`\hat n` moving along the unit direction :math:`\hat v` at depth :math:`|z|`
+carries the force :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
+
+.. math::
+
+    \boldsymbol\alpha = \xi_n\big[\boldsymbol\alpha^{gen}_n
+        + \min\big(\mu_{surf}\,|\boldsymbol\alpha^{gen}_n| / |\boldsymbol\alpha^{gen}_t|,\,1\big)
+        \,\boldsymbol\alpha^{gen}_t\big],\qquad
+    \xi_n = \rho_c\,g\,(894\mu_{int}^3 - 386\mu_{int}^2 + 89\mu_{int}),
+
+:math:`\boldsymbol\alpha^{gen}` the generic (dimensionless) response of the paper's
+cubic fit (:func:`agarwal_generic_alpha`), :math:`\boldsymbol\alpha^{gen}_{n,t}` its parts
+normal and tangent to the element, :math:`\mu_{surf}` the intruder-surface friction (the
+friction cap), :math:`\rho_c` [kg/m^3] and :math:`\mu_{int}` [-] the medium's density and
+internal friction. Only submerged leading elements carry force, weighted by the same
+continuous ramp as granular RFT (:func:`~mudrft.terrains.granular_rft.leading_weight`).
+Sources, coefficient provenance and decisions D90-D95: ``docs/model.md`` section 8.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._validation import MudrftError, check_finite, check_in_range, check_positive
+from ..citations import register
+from ._common import mean_stress, projected, tip_depth, tip_position
+from .base import TerrainOutput, check_motion
+from .granular_rft import LEADING_WIDTH, RFTState, _group_weights, _prepare, leading_weight
+
+__all__ = [
+    "AGARWAL2023",
+    "GRAVITY",
+    "WALL_WIDTH",
+    "GranularRFT3D",
+    "PolynomialCoefficients",
+    "agarwal_generic_alpha",
+    "agarwal_xi",
+    "rft3d_alpha",
+    "rft3d_forces",
+]
+
+#: Standard gravity used by the material constant [m/s^2] (the value the sources use).
+GRAVITY = 9.81
+
+#: Width in :math:`n_z` of the blend across vertical walls [-] (decision D93).
+WALL_WIDTH = 1e-3
+
+
+@dataclass(frozen=True)
+class PolynomialCoefficients:
+    r"""Coefficients :math:`c_i^k` of 3D-RFT's cubic fits :math:`f_i=\sum_k c_i^k T_k` [-].
+
+    The 20 terms :math:`T_k` are, in order, :math:`1, x_1, x_2, x_3, x_1^2, x_2^2, x_3^2,
+    x_1x_2, x_2x_3, x_3x_1, x_1^3, x_2^3, x_3^3, x_1x_2^2, x_2x_1^2, x_2x_3^2, x_3x_2^2,
+    x_3x_1^2, x_1x_3^2, x_1x_2x_3` with :math:`x_1=\sin\gamma`, :math:`x_2=\cos\beta`,
+    :math:`x_3=\cos\psi\cos\gamma\sin\beta+\sin\gamma\cos\beta`.
+    """
+
+    c1: tuple[float, ...]
+    c2: tuple[float, ...]
+    c3: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        for name in ("c1", "c2", "c3"):
+            c = check_finite(name, getattr(self, name))
+            if c.shape != (20,):
+                raise MudrftError(f"{name} must hold 20 coefficients, got shape {c.shape}")
+
+    def table(self) -> NDArray[np.float64]:
+        """The coefficients as a (20, 3) array, columns :math:`c_1, c_2, c_3` [-]."""
+        return np.array([self.c1, self.c2, self.c3], dtype=float).T
+
+    def f(self, x1: Any, x2: Any, x3: Any) -> NDArray[np.float64]:
+        """``(f1, f2, f3)`` stacked on a last axis of 3, for arrays of ``x1, x2, x3`` [-]."""
+        x1, x2, x3 = (np.asarray(x, dtype=float) for x in (x1, x2, x3))
+        terms = np.stack(
+            np.broadcast_arrays(
+                np.ones_like(x1), x1, x2, x3, x1**2, x2**2, x3**2, x1 * x2, x2 * x3, x3 * x1,
+                x1**3, x2**3, x3**3, x1 * x2**2, x2 * x1**2, x2 * x3**2, x3 * x2**2,
+                x3 * x1**2, x1 * x3**2, x1 * x2 * x3,
+            ),
+            axis=-1,
+        )  # fmt: skip
+        return terms @ self.table()
+
+
+#: Agarwal, Goldman & Kamrin (2023), supplementary coefficients as read from public
+#: implementations (decision D91: the four sources disagree on six entries; this is the
+#: reading two independent ones share).
+AGARWAL2023 = PolynomialCoefficients(
+    c1=(
+        0.00212, -0.02320, -0.20890, -0.43083, -0.00259, 0.48872, -0.00415, 0.07204,
+        -0.02750, -0.08772, 0.01992, -0.45961, 0.40799, -0.10107, -0.06576, 0.05664,
+        -0.09269, 0.01892, 0.01033, 0.15120,
+    ),
+    c2=(
+        -0.06796, -0.10941, 0.04725, -0.06914, -0.05835, -0.65880, -0.11985, -0.25739,
+        -0.26834, 0.02692, -0.00736, 0.63758, 0.08997, 0.21069, 0.04748, 0.20406,
+        0.18519, 0.04934, 0.13527, -0.33207,
+    ),
+    c3=(
+        -0.02634, -0.03436, 0.45256, 0.00835, 0.02553, -1.31290, -0.05532, 0.06790,
+        -0.16404, 0.02287, 0.02927, 0.95406, -0.00131, -0.11028, 0.01487, -0.02730,
+        0.10911, -0.04097, 0.07881, -0.27519,
+    ),
+)  # fmt: skip
+
+_Z = np.array([0.0, 0.0, 1.0])
+
+
+def agarwal_xi(rho_c: Any, mu_int: Any, *, gravity: float = GRAVITY) -> NDArray[np.float64]:
+    r"""Material constant of 3D-RFT, :math:`\xi_n=\rho_c g(894\mu^3-386\mu^2+89\mu)` [N/m^3].
+
+    Parameters
+    ----------
+    rho_c : array_like
+        Density of the medium [kg/m^3], > 0.
+    mu_int : array_like
+        Internal friction coefficient of the medium [-] (tangent of the friction angle), > 0.
+    gravity : float, keyword-only
+        Gravitational acceleration [m/s^2].
+
+    Returns
+    -------
+    ndarray
+        :math:`\xi_n` [N/m^3], the scale of the generic response (decision D92).
+
+    Examples
+    --------
+    >>> round(float(agarwal_xi(1310.0, 0.21)), 1)      # 1310 * 9.81 * 9.946734
+    127826.5
+    """
+    rho = check_positive("rho_c", rho_c, unit="kg/m^3")
+    mu = check_positive("mu_int", mu_int)
+    g = float(check_positive("gravity", gravity, unit="m/s^2"))
+    return np.asarray(rho * g * (894.0 * mu**3 - 386.0 * mu**2 + 89.0 * mu), dtype=float)
+
+
+def agarwal_generic_alpha(
+    beta: Any, gamma: Any, psi: Any, *, coefficients: PolynomialCoefficients = AGARWAL2023
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-].
+
+    .. math::
+
+        \alpha_r^{gen} &= f_1\sin\beta\cos\psi + f_2\cos\gamma,\qquad
+        \alpha_\theta^{gen} = f_1\sin\beta\sin\psi,\\
+        \alpha_z^{gen} &= -f_1\cos\beta - f_2\sin\gamma - f_3,
+
+    in the frame :math:`\hat r` (horizontal direction of motion), :math:`\hat\theta=\hat z\times
+    \hat r`, :math:`\hat z` (up); positive components push the element along them.
+
+    Parameters
+    ----------
+    beta : array_like
+        Tilt of the element [rad], :math:`[-\pi/2, \pi/2]`; its downward normal is
+        :math:`(\sin\beta\cos\psi, \sin\beta\sin\psi, -\cos\beta)` (0: horizontal).
+    gamma : array_like
+        Angle of the motion below the horizontal [rad], :math:`[-\pi/2, \pi/2]`.
+    psi : array_like
+        Angle of the element's horizontal normal from :math:`\hat r` [rad], :math:`[-\pi/2, \pi/2]`.
+    coefficients : PolynomialCoefficients, keyword-only
+        The fit (default :data:`AGARWAL2023`).
+
+    Examples
+    --------
+    A horizontal plate pushed straight down: :math:`-\sum_k(c_1^k+c_2^k+c_3^k)`, not 1 (D92):
+
+    >>> [round(float(a), 5) + 0.0 for a in agarwal_generic_alpha(0.0, np.pi / 2, 0.0)]
+    [0.0, 0.0, 0.87574]
+    """
+    b = check_finite("beta", beta)
+    g = check_finite("gamma", gamma)
+    p = check_finite("psi", psi)
+    sb, cb, sg, cg, sp, cp = np.sin(b), np.cos(b), np.sin(g), np.cos(g), np.sin(p), np.cos(p)
+    f = coefficients.f(sg, cb, cp * cg * sb + sg * cb)
+    f1, f2, f3 = f[..., 0], f[..., 1], f[..., 2]
+    return f1 * sb * cp + f2 * cg, f1 * sb * sp, -f1 * cb - f2 * sg - f3
+
+
+def _generic_for(
+    n_down: NDArray[np.float64], v: NDArray[np.float64], coefficients: PolynomialCoefficients
+) -> NDArray[np.float64]:
+    """f1 n_d + f2 v - f3 z for downward normals ``n_down`` and directions ``v`` (..., 3)."""
+    f = coefficients.f(-v[..., 2], -n_down[..., 2], (n_down * v).sum(-1))
+    return f[..., :1] * n_down + f[..., 1:2] * v - f[..., 2:] * _Z
+
+
+def _generic(
+    normals: NDArray[np.float64],
+    direction: NDArray[np.float64],
+    coefficients: PolynomialCoefficients,
+    wall_width: float,
+) -> NDArray[np.float64]:
+    """Generic response (..., k, 3) of unit ``normals`` (k, 3) moving along unit ``direction``.
+
+    The frame-free form of :func:`agarwal_generic_alpha` (decision D90): the element's
+    downward normal is ``n`` below the horizontal and ``-n`` above it, blended linearly
+    over ``|n_z| < wall_width`` (D93).
+    """
+    nz = normals[:, 2]
+    if wall_width > 0.0:
+        w = np.clip(0.5 - nz / (2.0 * wall_width), 0.0, 1.0)  # weight of n_d = n
+    else:
+        w = (nz < 0.0).astype(float)
+    v = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
+    n_down = np.broadcast_to(np.where((w >= 0.5)[:, None], normals, -normals), v.shape)
+    alpha = _generic_for(n_down, v, coefficients)
+    band = (w > 0.0) & (w < 1.0)  # walls within wall_width of vertical: blend both readings
+    if np.any(band):
+        vb, wb = v[..., band, :], w[band][:, None]
+        nb = np.broadcast_to(normals[band], vb.shape)
+        below, above = _generic_for(nb, vb, coefficients), _generic_for(-nb, vb, coefficients)
+        alpha[..., band, :] = wb * below + (1.0 - wb) * above
+    return alpha
+
+
+def _cap(
+    alpha: NDArray[np.float64], normals: NDArray[np.float64], mu_surf: float
+) -> NDArray[np.float64]:
+    """Friction cap (D94): tangential part scaled to at most ``mu_surf`` times the normal part."""
+    n = np.broadcast_to(normals, alpha.shape)
+    a_n = (alpha * n).sum(-1, keepdims=True) * n
+    a_t = alpha - a_n
+    limit = mu_surf * np.linalg.norm(a_n, axis=-1, keepdims=True)
+    t = np.linalg.norm(a_t, axis=-1, keepdims=True)
+    scale = np.where(t > limit, limit / np.where(t > limit, t, 1.0), 1.0)
+    return a_n + scale * a_t
+
+
+def _check_unit_vectors(name: str, value: Any, ndim: int | None = None) -> NDArray[np.float64]:
+    arr = check_finite(name, value)
+    if arr.shape[-1:] != (3,) or (ndim is not None and arr.ndim != ndim):
+        want = "(m, 3)" if ndim == 2 else "(..., 3)"
+        raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
+    if not np.all(np.linalg.norm(arr, axis=-1) > 0):
+        raise MudrftError(f"{name} must be nonzero vectors, got a zero vector")
+    return arr / np.linalg.norm(arr, axis=-1, keepdims=True)
+
+
+def rft3d_alpha(
+    normals: ArrayLike,
+    direction: ArrayLike,
+    *,
+    mu_surf: float | None = None,
+    coefficients: PolynomialCoefficients = AGARWAL2023,
+    wall_width: float = WALL_WIDTH,
+) -> NDArray[np.float64]:
+    r"""Generic 3D-RFT response of elements, world frame, optionally friction-capped [-].
+
+    .. math::
+
+        \boldsymbol\alpha^{gen} = f_1\,\hat n_d + f_2\,\hat v - f_3\,\hat z,\qquad
+        x_1 = -v_z,\ x_2 = |n_z|,\ x_3 = \hat n_d\cdot\hat v,
+
+    with :math:`\hat n_d` the element's downward normal (:math:`\hat n` if :math:`n_z<0`,
+    :math:`-\hat n` if :math:`n_z>0`), which equals :func:`agarwal_generic_alpha` rotated to
+    the world frame (decision D90). Leading or not is not checked here.
+
+    Parameters
+    ----------
+    normals : array_like, shape (m, 3)
+        Outward normals of the elements [-] (normalised here).
+    direction : array_like, shape (..., 3)
+        Direction of motion [-] (normalised here; 3D-RFT is rate-independent).
+    mu_surf : float or None, keyword-only
+        Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
+    coefficients : PolynomialCoefficients, keyword-only
+        The fit (default :data:`AGARWAL2023`).
+    wall_width : float, keyword-only
+        Blend width across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+
+    Returns
+    -------
+    ndarray, shape (..., m, 3)
+        Force per unit :math:`\xi_n`, depth and area on each element, world frame [-].
+
+    Examples
+    --------
+    >>> rft3d_alpha([[0, 0, -1]], [0, 0, -1]).round(5) + 0.0     # flat plate pushed down
+    array([[0.     , 0.     , 0.87574]])
+    """
+    n = _check_unit_vectors("normals", normals, ndim=2)
+    v = _check_unit_vectors("direction", direction)
+    check_in_range("wall_width", wall_width, 0.0, 1.0)
+    alpha = _generic(n, v, coefficients, wall_width)
+    if mu_surf is None:
+        return alpha
+    return _cap(alpha, n, float(check_in_range("mu_surf", mu_surf, 0.0, 1e3)))
+
+
+def _unit_forces(
+    normals: NDArray[np.float64],
+    direction: NDArray[np.float64],
+    coefficients: PolynomialCoefficients,
+    mu_surf: float,
+    leading_width: float,
+    wall_width: float,
+) -> NDArray[np.float64]:
+    """Capped response (..., k, 3) of unit ``normals`` weighted by how much each leads."""
+    alpha = _cap(_generic(normals, direction, coefficients, wall_width), normals, mu_surf)
+    lead = leading_weight((normals * direction[..., None, :]).sum(-1), leading_width)
+    return lead[..., None] * alpha
+
+
+def rft3d_forces(
+    normals: ArrayLike,
+    depths: ArrayLike,
+    areas: ArrayLike,
+    direction: ArrayLike,
+    *,
+    xi_n: float,
+    mu_surf: float,
+    coefficients: PolynomialCoefficients = AGARWAL2023,
+    per_element: bool = False,
+    leading_width: float = LEADING_WIDTH,
+    wall_width: float = WALL_WIDTH,
+) -> NDArray[np.float64]:
+    r"""3D-RFT force on surface elements moving in one direction [N].
+
+    :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on each element with centroid depth
+    :math:`|z|>0`, :math:`w` its leading weight (0 on trailing elements).
+
+    Parameters
+    ----------
+    normals : array_like, shape (m, 3)
+        Outward normals [-].
+    depths : array_like, shape (..., m)
+        Depth of each centroid below the surface [m]; <= 0: out of the medium.
+    areas : array_like, shape (m,)
+        Element areas [m^2].
+    direction : array_like, shape (..., 3)
+        Direction of motion [-].
+    xi_n : float, keyword-only
+        Material constant [N/m^3] (:func:`agarwal_xi`).
+    mu_surf : float, keyword-only
+        Intruder-surface friction coefficient of the cap [-].
+    coefficients : PolynomialCoefficients, keyword-only
+        The fit.
+    per_element : bool, keyword-only
+        Return every element's force (..., m, 3) instead of the sum (..., 3).
+    leading_width, wall_width : float, keyword-only
+        Ramp widths [-] of :func:`~mudrft.terrains.granular_rft.leading_weight` (D53) and of
+        the wall blend (D93).
+
+    Returns
+    -------
+    ndarray, shape (..., 3) or (..., m, 3)
+        Force of the medium on the elements, world frame [N].
+
+    Examples
+    --------
+    A 10 cm^2 plate 2 cm deep pushed straight down: :math:`0.87574\,\xi_n|z|A`:
+
+    >>> f = rft3d_forces([[0, 0, -1]], [0.02], [1e-3], [0, 0, -1], xi_n=1e5, mu_surf=0.4)
+    >>> [round(float(c), 6) + 0.0 for c in f]
+    [0.0, 0.0, 1.75148]
+    """
+    n = _check_unit_vectors("normals", normals, ndim=2)
+    v = _check_unit_vectors("direction", direction)
+    a = check_finite("areas", areas)
+    d = check_finite("depths", depths)
+    if a.shape != (n.shape[0],) or d.shape[-1:] != (n.shape[0],):
+        raise MudrftError(
+            "normals (m, 3), areas (m,) and depths (..., m) must agree, "
+            f"got shapes {n.shape}, {a.shape}, {d.shape}"
+        )
+    xi = float(check_positive("xi_n", xi_n, unit="N/m^3"))
+    mu = float(check_in_range("mu_surf", mu_surf, 0.0, 1e3))
+    check_in_range("leading_width", leading_width, 0.0, 1.0)
+    check_in_range("wall_width", wall_width, 0.0, 1.0)
+    unit = _unit_forces(n, v, coefficients, mu, leading_width, wall_width)
+    forces = (xi * np.maximum(d, 0.0) * a)[..., None] * unit
+    return forces if per_element else forces.sum(axis=-2)
+
+
+@dataclass(frozen=True, eq=False)
+class GranularRFT3D:
+    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain, for any foot with elements.
+
+    Integrates :func:`rft3d_forces` over the foot's surface elements (``foot.elements()``)
+    whose centroids lie below z = 0, each at its own depth.
+
+    Parameters
+    ----------
+    rho_c : float
+        Density of the medium [kg/m^3] (default 1310, D95).
+    mu_int : float
+        Internal friction coefficient of the medium [-] (default 0.21, D95).
+    mu_surf : float
+        Intruder-surface friction coefficient of the cap [-] (default 0.4, D95).
+    gravity : float
+        Gravitational acceleration [m/s^2] in :math:`\xi_n`.
+    coefficients : PolynomialCoefficients
+        The cubic fits (default :data:`AGARWAL2023`, D91).
+    rest_speed : float
+        Below this speed [m/s] the last direction of motion is kept (as D52).
+    leading_width : float
+        Width of the leading-facet ramp [-] (D53); 0: the sharp rule.
+    wall_width : float
+        Width of the blend across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+    name : str
+        Label in reports.
+
+    Examples
+    --------
+    >>> t = GranularRFT3D()
+    >>> round(t.xi_n), round(t.plate_constant)    # [N/m^3]; plate: 0.87574 xi_n
+    (127826, 111943)
+    """
+
+    rho_c: float = 1310.0
+    mu_int: float = 0.21
+    mu_surf: float = 0.4
+    gravity: float = GRAVITY
+    coefficients: PolynomialCoefficients = AGARWAL2023
+    rest_speed: float = 1e-6
+    leading_width: float = LEADING_WIDTH
+    wall_width: float = WALL_WIDTH
+    name: str = "granular-rft3d"
+
+    def __post_init__(self) -> None:
+        check_positive("rho_c", self.rho_c, unit="kg/m^3")
+        check_in_range("mu_int", self.mu_int, 1e-6, 2.0)
+        check_in_range("mu_surf", self.mu_surf, 0.0, 1e3)
+        check_positive("gravity", self.gravity, unit="m/s^2")
+        check_positive("rest_speed", self.rest_speed, unit="m/s")
+        check_in_range("leading_width", self.leading_width, 0.0, 1.0)
+        check_in_range("wall_width", self.wall_width, 0.0, 1.0)
+        if not isinstance(self.coefficients, PolynomialCoefficients):
+            raise MudrftError(
+                "coefficients must be a PolynomialCoefficients, "
+                f"got {type(self.coefficients).__name__}"
+            )
+        if not isinstance(self.name, str) or not self.name:
+            raise MudrftError(f"name must be a non-empty string, got {self.name!r}")
+        register("agarwal2023rft3d")
+
+    @property
+    def xi_n(self) -> float:
+        """Material constant :math:`\\xi_n` [N/m^3] (:func:`agarwal_xi`)."""
+        return float(agarwal_xi(self.rho_c, self.mu_int, gravity=self.gravity))
+
+    @property
+    def plate_constant(self) -> float:
+        """Vertical stress per depth of a horizontal plate pushed down [N/m^3] (D92)."""
+        down = np.array([0.0, 0.0, -1.0])
+        a = _generic(down[None, :], down, self.coefficients, self.wall_width)
+        return float(a[0, 2]) * self.xi_n
+
+    def _unit_forces(
+        self, normals: NDArray[np.float64], direction: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Capped, leading-weighted response (..., k, 3) of this terrain's options [-]."""
+        c, mu, lw, ww = self.coefficients, float(self.mu_surf), self.leading_width, self.wall_width
+        return _unit_forces(normals, direction, c, mu, lw, ww)
+
+    def initial_state(self, foot: Any, position: ArrayLike) -> RFTState:
+        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = tip_position(position)
+        el = foot.elements()
+        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
+        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
+
+    def step(
+        self, foot: Any, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
+    ) -> tuple[RFTState, TerrainOutput]:
+        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
+
+        ``dt`` [s] is not used (3D-RFT is rate-independent) but checked for the interface.
+        """
+        pos, vel, _ = check_motion(position, velocity, dt)
+        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
+        moving = speed > self.rest_speed
+        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
+        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
+        cache = state.cache
+        if cache is not None and cache[0].shape == direction.shape:
+            same = np.array_equal(cache[0], direction)
+        else:
+            same = False
+        unit = cache[1] if same else self._unit_forces(pr.normals, direction)  # (..., k, 3)
+        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
+        force = self.xi_n * np.einsum("...k,...kc->...c", w, unit)
+        depth = tip_depth(pos)
+        stress = mean_stress(force, projected(foot, depth))
+        new = RFTState(
+            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
+        )
+        return new, TerrainOutput(force=force, stress=stress, depth=depth)
