@@ -63,10 +63,6 @@ def event_samples(tr: mudrft.Trajectory) -> np.ndarray:
     near = ev.copy()
     for k in (1, 2):  # the jump may land one or two samples after the event
         near[k:] |= ev[:-k]
-    # ... or, for granular RFT, one or two before it: its leading-facet ramp (D53) switches a
-    # face off while |n.v| < 1e-3, i.e. in the last samples before v_z reaches 0
-    for k in (1, 2):
-        near[:-k] |= ev[k:]
     return near
 
 
