@@ -221,7 +221,13 @@ def test_snap_through_is_resolved_by_continuation():
     assert fz == pytest.approx(float(S.force(low)), abs=BALANCE_TOL)
 
 
-def test_batch_equals_scalar():
+@pytest.mark.parametrize("few", [0, 10**9], ids=["find_root", "brentq"])
+def test_batch_equals_scalar(monkeypatch, few):
+    # with one solver for every call (few=0: find_root; huge: brentq), a batch gives bit for
+    # bit the deflections of single calls; the default threshold is checked below
+    from mudrft.feet.morphing import equilibrium
+
+    monkeypatch.setattr(equilibrium, "_FEW", few)
     rng = np.random.default_rng(3)
     depth = rng.uniform(0.0, 0.05, 64)
     sz = rng.uniform(-2e4, 4e4, 64)
@@ -375,3 +381,39 @@ def test_brentq_fallback_keeps_balance_and_branches(monkeypatch):
     high = float(FOOT.equilibrium(0.010, 4200.0, previous=FOOT.stroke))
     assert low < grid[crossings[1]] < high
     assert balance_ok(FOOT, 0.010, 4200.0, low) and balance_ok(FOOT, 0.010, 4200.0, high)
+
+
+def test_a_single_foot_uses_brentq_and_a_batch_find_root(monkeypatch):
+    # find_root has ~2 ms of fixed cost a call, so up to _FEW brackets are refined by brentq
+    # one by one (a single foot: as fast as the former hand-written loop). Same brackets and
+    # tolerances, so both stop within |R| <= 1e-10 N of the same root: |dR/d(delta)| >= 600
+    # N/m at these roots, so they agree to 1e-12 m, and the forces to 1e-10 relative
+    from mudrft.feet.morphing import equilibrium
+
+    if equilibrium.find_root is None:  # pragma: no cover - SciPy < 1.15: brentq only
+        pytest.skip("scipy.optimize.elementwise.find_root needs SciPy >= 1.15")
+    calls = []
+
+    def spy(f, init, **kw):
+        calls.append(init[0].size)
+        return find_root(f, init, **kw)
+
+    find_root = equilibrium.find_root
+    monkeypatch.setattr(equilibrium, "find_root", spy)
+    rng = np.random.default_rng(5)
+    depth = rng.uniform(0.0, 0.03, 64)
+    sz = rng.uniform(500.0, 1.2e4, 64)
+    prev = rng.uniform(0.0, FOOT.stroke, 64)
+    batch = FOOT.equilibrium(depth, sz, previous=prev)
+    assert len(calls) == 1 and calls[0] > equilibrium._FEW  # one find_root for the batch
+    single = np.array(
+        [float(FOOT.equilibrium(a, b, previous=c)) for a, b, c in zip(depth, sz, prev, strict=True)]
+    )
+    assert len(calls) == 1  # and none for the single feet
+    assert np.count_nonzero((single > 0) & (single < FOOT.stroke)) > equilibrium._FEW
+    np.testing.assert_allclose(batch, single, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        sz * FOOT.effective_area(depth, batch), sz * FOOT.effective_area(depth, single), rtol=1e-10
+    )
+    for a, b, c in zip(depth, sz, single, strict=True):
+        assert balance_ok(FOOT, a, b, c)
