@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import types
 
-__all__ = ["ELEMENTWISE", "pyfloat"]
+__all__ = ["ELEMENTWISE", "SCALAR_HELPERS", "pyfloat"]
 
 #: Names of the element-wise functions the physics may call on ``xp``.
 ELEMENTWISE = (
@@ -69,6 +69,16 @@ def _exp(x: float) -> float:
     except OverflowError:
         return math.inf
 
+
+#: The element-wise helpers written here (the rest are the ``math`` module's); the numba
+#: backend compiles these same functions.
+SCALAR_HELPERS = {
+    "where": _where,
+    "sign": _sign,
+    "maximum": _maximum,
+    "minimum": _minimum,
+    "clip": _clip,
+}
 
 #: The element-wise namespace on Python floats (math module semantics, numpy's names).
 pyfloat = types.SimpleNamespace(

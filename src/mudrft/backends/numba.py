@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._xp import SCALAR_HELPERS
 from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
 from ..feet.closed_form import closed_form_force
@@ -81,24 +82,8 @@ def scalar_namespace() -> types.ModuleType:
     numba = _numba()
     jit = numba.njit(inline="always")
     ns = types.ModuleType("mudrft_scalar_xp")
-
-    def where(c: bool, a: float, b: float) -> float:
-        return a if c else b
-
-    def sign(x: float) -> float:
-        return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
-
-    def maximum(a: float, b: float) -> float:
-        return a if a >= b else b
-
-    def minimum(a: float, b: float) -> float:
-        return a if a <= b else b
-
-    def clip(x: float, lo: float, hi: float) -> float:
-        return lo if x < lo else (hi if x > hi else x)
-
-    for g in (where, sign, maximum, minimum, clip):
-        setattr(ns, g.__name__, jit(g))
+    for name, g in SCALAR_HELPERS.items():
+        setattr(ns, name, jit(g))
     ns.abs = abs  # type: ignore[attr-defined]
     funcs: tuple[tuple[str, Any], ...] = (
         ("exp", math.exp), ("expm1", math.expm1), ("tanh", math.tanh), ("cos", math.cos),
