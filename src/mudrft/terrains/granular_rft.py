@@ -29,8 +29,8 @@ import numpy as np
 from .._validation import MudrftError, check_choice, check_finite, check_in_range, check_positive
 from ..citations import register
 from ..feet.base import SurfaceElements
-from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
-from .base import TerrainOutput
+from ._common import mean_stress, projected, tip_depth, tip_position
+from .base import TerrainOutput, check_motion
 
 __all__ = [
     "DEFAULT_ZETA",
@@ -399,8 +399,65 @@ class RFTState(NamedTuple):
     cache: Any = None
 
 
+class FacetRFT:
+    """The terrain step shared by the granular RFTs: per-facet unit responses weighted by depth.
+
+    Subclasses provide ``rest_speed`` [m/s], ``scale`` [N/m^3] and
+    ``_unit_forces(normals, direction)`` (the dimensionless response of each facet group to a
+    unit direction of motion); the step caches that response while the direction repeats.
+    """
+
+    rest_speed: float
+
+    @property
+    def scale(self) -> float:
+        """Scale of the medium [N/m^3]."""
+        raise NotImplementedError
+
+    def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def initial_state(self, foot: Any, position: Any) -> RFTState:
+        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = tip_position(position)
+        el = foot.elements()
+        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
+        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
+
+    def step(
+        self, foot: Any, state: RFTState, position: Any, velocity: Any, dt: float
+    ) -> tuple[RFTState, TerrainOutput]:
+        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
+
+        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface
+        (:func:`~mudrft.terrains.base.check_motion`).
+        """
+        pos, vel, _ = check_motion(position, velocity, dt)
+        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
+        moving = speed > self.rest_speed
+        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
+        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
+        cache = state.cache
+        if (
+            cache is not None
+            and cache[0].shape == direction.shape
+            and np.array_equal(cache[0], direction)
+        ):
+            unit = cache[1]
+        else:
+            unit = self._unit_forces(pr.normals, direction)  # (..., k, 3)
+        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
+        force = self.scale * np.einsum("...k,...kc->...c", w, unit)
+        depth = tip_depth(pos)
+        stress = mean_stress(force, projected(foot, depth))
+        new = RFTState(
+            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
+        )
+        return new, TerrainOutput(force=force, stress=stress, depth=depth)
+
+
 @dataclass(frozen=True, eq=False)
-class GranularRFT:
+class GranularRFT(FacetRFT):
     r"""Granular resistive force theory (Li et al. 2013) as a terrain, for any foot.
 
     Integrates :func:`rft_forces` over the foot's surface elements (``foot.elements()``)
@@ -457,45 +514,16 @@ class GranularRFT:
         check_choice("name", name, tuple(GRANULAR_MEDIA))
         return cls(zeta=GRANULAR_MEDIA[name], **kw)
 
-    def initial_state(self, foot: Any, position: Any) -> RFTState:
-        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        el = foot.elements()
-        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
-        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
+    @property
+    def scale(self) -> float:
+        r"""Scale of the medium :math:`\zeta` [N/m^3]."""
+        return float(self.zeta)
 
-    def step(
-        self, foot: Any, state: RFTState, position: Any, velocity: Any, dt: float
-    ) -> tuple[RFTState, TerrainOutput]:
-        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
-
-        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface.
-        """
-        check_positive("dt", dt, unit="s")
-        pos, vel = kinematics(position, velocity)
-        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
-        moving = speed > self.rest_speed
-        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
-        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
-        cache = state.cache
-        if (
-            cache is not None
-            and cache[0].shape == direction.shape
-            and np.array_equal(cache[0], direction)
-        ):
-            unit = cache[1]
-        else:
-            unit = _unit_forces(
-                pr.normals, direction, self.coefficients, self.extension, self.leading_width
-            )  # (..., k, 3)
-        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
-        force = self.zeta * np.einsum("...k,...kc->...c", w, unit)
-        depth = tip_depth(pos)
-        stress = mean_stress(force, projected(foot, depth))
-        new = RFTState(
-            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
+    def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        """Leading-weighted response (..., k, 3) of this terrain's options, divided by zeta [-]."""
+        return _unit_forces(
+            normals, direction, self.coefficients, self.extension, self.leading_width
         )
-        return new, TerrainOutput(force=force, stress=stress, depth=depth)
 
 
 def _try_register(key: str) -> None:

@@ -31,9 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_finite, check_in_range, check_positive
 from ..citations import register
-from ._common import mean_stress, projected, tip_depth, tip_position
-from .base import TerrainOutput, check_motion
-from .granular_rft import LEADING_WIDTH, RFTState, _group_weights, _prepare, leading_weight
+from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
 
 __all__ = [
     "AGARWAL2023",
@@ -383,7 +381,7 @@ def rft3d_forces(
 
 
 @dataclass(frozen=True, eq=False)
-class GranularRFT3D:
+class GranularRFT3D(FacetRFT):
     r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain, for any foot with elements.
 
     Integrates :func:`rft3d_forces` over the foot's surface elements (``foot.elements()``)
@@ -450,6 +448,11 @@ class GranularRFT3D:
         return float(agarwal_xi(self.rho_c, self.mu_int, gravity=self.gravity))
 
     @property
+    def scale(self) -> float:
+        """Scale of the medium: the material constant :math:`\\xi_n` [N/m^3]."""
+        return self.xi_n
+
+    @property
     def plate_constant(self) -> float:
         """Vertical stress per depth of a horizontal plate pushed down [N/m^3] (D92)."""
         down = np.array([0.0, 0.0, -1.0])
@@ -462,37 +465,3 @@ class GranularRFT3D:
         """Capped, leading-weighted response (..., k, 3) of this terrain's options [-]."""
         c, mu, lw, ww = self.coefficients, float(self.mu_surf), self.leading_width, self.wall_width
         return _unit_forces(normals, direction, c, mu, lw, ww)
-
-    def initial_state(self, foot: Any, position: ArrayLike) -> RFTState:
-        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        el = foot.elements()
-        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
-        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
-
-    def step(
-        self, foot: Any, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
-    ) -> tuple[RFTState, TerrainOutput]:
-        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
-
-        ``dt`` [s] is not used (3D-RFT is rate-independent) but checked for the interface.
-        """
-        pos, vel, _ = check_motion(position, velocity, dt)
-        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
-        moving = speed > self.rest_speed
-        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
-        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
-        cache = state.cache
-        if cache is not None and cache[0].shape == direction.shape:
-            same = np.array_equal(cache[0], direction)
-        else:
-            same = False
-        unit = cache[1] if same else self._unit_forces(pr.normals, direction)  # (..., k, 3)
-        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
-        force = self.xi_n * np.einsum("...k,...kc->...c", w, unit)
-        depth = tip_depth(pos)
-        stress = mean_stress(force, projected(foot, depth))
-        new = RFTState(
-            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
-        )
-        return new, TerrainOutput(force=force, stress=stress, depth=depth)
