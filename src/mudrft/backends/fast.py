@@ -21,8 +21,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_choice, check_finite
+from .._xp import pyfloat
 from ..parameters.base import Mud
 from ..terrains import MudTerrain
+from ..terrains.mud import mud_step
 from .batch import as_mud_terrain
 
 __all__ = ["FastMudFoot", "foot_geometry"]
@@ -107,16 +109,17 @@ class FastMudFoot:
             backend = "numba" if available() else "python"
         self.backend = backend
         if backend == "numba":
-            from .numba import N_OUT, compiled_feet, constant_row
+            from .numba import N_STATE, compiled_fast_foot, constant_row
 
-            self._loop = compiled_feet(False)
+            self._fast = compiled_fast_foot()
             self._c = constant_row(*terrain.constants).reshape(1, -1)
-            self._cfg = np.array(
-                [terrain.length(foot), terrain.kappa, terrain.xi0, float(terrain.reset_on_exit),
-                 terrain.heading_speed]
+            # work rows: state, output (force, stress, depth), options (cfg then geometry)
+            self._w = np.zeros((3, N_STATE))
+            self._w[2, :9] = (
+                terrain.length(foot), terrain.kappa, terrain.xi0, float(terrain.reset_on_exit),
+                terrain.heading_speed, kind, *geom,
             )  # fmt: skip
-            self._geom = np.array([kind, *geom], dtype=float)
-            self._out = np.zeros((1, N_OUT))
+            self._out = self._w[1:2]
         self.reset(position)
 
     def reset(self, position: ArrayLike) -> None:
@@ -124,13 +127,15 @@ class FastMudFoot:
         pos = check_finite("position", position)
         if pos.shape != (3,):
             raise MudrftError(f"position must have shape (3,) [m], got shape {pos.shape}")
-        self._state = self.terrain.initial_state(self.foot, pos)
-        self._stress = np.zeros(3)
+        self._channels = self.terrain.initial_state(self.foot, pos).channels
+        self._stress: Any = np.zeros(3)
         self._depth = max(-float(pos[2]), 0.0)
         if self.backend == "numba":
             from .numba import state_rows
 
-            self._st = state_rows(self._state.channels)
+            self._w[0] = state_rows(self._channels)[0]
+            self._w[1] = 0.0
+            self._w[1, 6] = self._depth
 
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance by ``dt`` to a tip at ``position`` moving at ``velocity``; return the force.
@@ -149,41 +154,62 @@ class FastMudFoot:
         ndarray, shape (3,)
             Force of the mud on the foot, world frame [N].
         """
-        pos = np.asarray(position, dtype=float)
-        vel = np.asarray(velocity, dtype=float)
-        if pos.shape != (3,) or vel.shape != (3,):
+        # Python floats: numba unboxes them much faster than numpy scalars
+        p_in: Any = position.tolist() if type(position) is np.ndarray else position
+        v_in: Any = velocity.tolist() if type(velocity) is np.ndarray else velocity
+        try:
+            x, y, z = p_in
+            vx, vy, vz = v_in
+            step = float(dt)
+        except (TypeError, ValueError):
             raise MudrftError(
-                f"position and velocity must have 3 components, got shapes {pos.shape} and "
-                f"{vel.shape}"
-            )
-        step = float(dt)
-        if not (step > 0.0 and math.isfinite(step) and math.isfinite(float(pos.sum() + vel.sum()))):
-            raise MudrftError(
-                f"position and velocity must be finite and dt > 0 s, got position {pos.tolist()}, "
-                f"velocity {vel.tolist()}, dt {dt!r}"
-            )
+                f"position and velocity must have 3 components, got shapes "
+                f"{np.shape(position)} and {np.shape(velocity)}"
+            ) from None
         if self.backend == "numba":
-            self._loop(
-                self._c, self._st, self._out, pos[None], vel[None], step, self._cfg, self._geom
+            code = self._fast(self._c, self._w, x, y, z, vx, vy, vz, step)
+            if code == 0:
+                return self._out[0, :3].copy()  # type: ignore[no-any-return]
+            if code == 2:
+                raise MudrftError(
+                    "the step produced a non-finite force; check the parameters and dt"
+                )
+            raise MudrftError(
+                f"position and velocity must be finite and dt > 0 s, got position "
+                f"{[float(v) for v in (x, y, z)]}, velocity {[float(v) for v in (vx, vy, vz)]}, "
+                f"dt {step!r}"
             )
-            out = self._out[0]
-            force, self._stress, self._depth = out[:3].copy(), out[3:6].copy(), float(out[6])
-        else:
-            self._state, o = self.terrain.step_unchecked(self.foot, self._state, pos, vel, step)
-            force, self._stress, self._depth = o.force, o.stress, float(o.depth)
+        p3 = (float(x), float(y), float(z))
+        v3 = (float(vx), float(vy), float(vz))
+        if not (step > 0.0 and math.isfinite(step) and math.isfinite(sum(p3) + sum(v3))):
+            raise MudrftError(
+                f"position and velocity must be finite and dt > 0 s, got position {list(p3)}, "
+                f"velocity {list(v3)}, dt {dt!r}"
+            )
+        # the one terrain step and the foot's closed form, on Python floats
+        t = self.terrain
+        ch, sx, sy, sz, depth = mud_step(
+            t.constants, self._channels, *p3, *v3, step, t.length(self.foot), t.kappa, t.xi0,
+            t.reset_on_exit, t.heading_speed, 1.0, xp=pyfloat,
+        )  # fmt: skip
+        f = self.foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
+        force = np.array(f) * ch.in_mud
         if not np.all(np.isfinite(force)):
             raise MudrftError("the step produced a non-finite force; check the parameters and dt")
+        self._channels, self._stress, self._depth = ch, (sx, sy, sz), depth
         return force
 
     @property
     def stress(self) -> NDArray[np.float64]:
         """Channel stresses (sx, sy, sz) of the last step [Pa]."""
+        if self.backend == "numba":
+            return self._out[0, 3:6].copy()  # type: ignore[no-any-return]
         return np.array(self._stress, dtype=float)
 
     @property
     def depth(self) -> float:
         """Tip depth after the last step [m]."""
-        return self._depth
+        return float(self._out[0, 6]) if self.backend == "numba" else self._depth
 
     def __repr__(self) -> str:
         return f"FastMudFoot(foot={self.foot!r}, mud={self.mud!r}, backend={self.backend!r})"

@@ -177,39 +177,60 @@ def state_rows(ch: MudChannels) -> NDArray[np.float64]:
 prange = range
 
 
+def _one_foot(
+    c: Any, r: int, s: Any, o: Any, x: float, y: float, z: float, vx: float, vy: float,
+    vz: float, dt: float, cfg: Any, geom: Any,
+) -> None:  # fmt: skip
+    """One closed-form foot: state row ``s`` and output row ``o`` updated in place."""
+    lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
+    ch = MudChannels(
+        ChannelState(s[0], s[1], s[2], s[3], s[4]),
+        ChannelState(s[5], s[6], s[7], s[8], s[9]),
+        ChannelState(s[10], s[11], s[12], s[13], s[14]),
+        s[15], s[16], s[17], s[18],
+    )  # fmt: skip
+    hor = _constants(c, r, 0)
+    ver = _constants(c, r, 12)
+    new, sx, sy, sz, depth = _step(
+        (hor, ver), ch, x, y, z, vx, vy, vz, dt, lc, kappa, xi0, reset, hs, 1.0
+    )
+    fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)
+    k = 0
+    for chan in (new.x, new.y, new.z):
+        for v in chan:
+            s[k] = v
+            k += 1
+    s[15], s[16], s[17], s[18] = new.entry_x, new.entry_y, new.heading, new.in_mud
+    o[0], o[1], o[2] = fx * new.in_mud, fy * new.in_mud, fz * new.in_mud
+    o[3], o[4], o[5], o[6] = sx, sy, sz, depth
+
+
 def _feet_loop(
     c: Any, st: Any, out: Any, pos: Any, vel: Any, dt: float, cfg: Any, geom: Any
 ) -> None:
     """N closed-form feet (compiled; ``prange`` is bound to numba's or to ``range``)."""
     n = pos.shape[0]
     stride = 0 if c.shape[0] == 1 else 1  # one mud for all feet, or one per foot
-    lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
-    kind = int(geom[0])
     for i in prange(n):
-        r = i * stride
-        hor = _constants(c, r, 0)
-        ver = _constants(c, r, 12)
-        s = st[i]
-        ch = MudChannels(
-            ChannelState(s[0], s[1], s[2], s[3], s[4]),
-            ChannelState(s[5], s[6], s[7], s[8], s[9]),
-            ChannelState(s[10], s[11], s[12], s[13], s[14]),
-            s[15], s[16], s[17], s[18],
+        _foot(
+            c, i * stride, st[i], out[i], pos[i, 0], pos[i, 1], pos[i, 2], vel[i, 0],
+            vel[i, 1], vel[i, 2], dt, cfg, geom,
         )  # fmt: skip
-        new, sx, sy, sz, depth = _step(
-            (hor, ver), ch, pos[i, 0], pos[i, 1], pos[i, 2], vel[i, 0], vel[i, 1], vel[i, 2],
-            dt, lc, kappa, xi0, reset, hs, 1.0,
-        )  # fmt: skip
-        fx, fy, fz = _force(kind, geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)
-        k = 0
-        for chan in (new.x, new.y, new.z):
-            for v in chan:
-                s[k] = v
-                k += 1
-        s[15], s[16], s[17], s[18] = new.entry_x, new.entry_y, new.heading, new.in_mud
-        o = out[i]
-        o[0], o[1], o[2] = fx * new.in_mud, fy * new.in_mud, fz * new.in_mud
-        o[3], o[4], o[5], o[6] = sx, sy, sz, depth
+
+
+def _fast_foot(
+    c: Any, w: Any, x: float, y: float, z: float, vx: float, vy: float, vz: float, dt: float
+) -> int:
+    """One foot with its checks: 0 done, 1 bad input (nothing changed), 2 non-finite force.
+
+    ``w`` (3, 19) holds the state row, the output row (first N_OUT) and the options row
+    (``cfg`` then ``geom``, 9 floats): three arrays fewer to pass than the loop's signature.
+    """
+    if not (dt > 0.0 and math.isfinite(dt) and math.isfinite(x + y + z + vx + vy + vz)):
+        return 1
+    o = w[1]
+    _foot(c, 0, w[0], o, x, y, z, vx, vy, vz, dt, w[2, :5], w[2, 5:9])
+    return 0 if math.isfinite(o[0] + o[1] + o[2]) else 2
 
 
 def _constants(c: Any, r: int, o: int) -> ChannelConstants:
@@ -223,6 +244,23 @@ def _constants(c: Any, r: int, o: int) -> ChannelConstants:
 
 _step = mud_step
 _force = closed_form_force
+_foot = _one_foot
+
+
+def _compile_driver(fn: Any, **extra: Any) -> Any:
+    """Compile a driver of this module with the compiled physics bound to its globals."""
+    numba = _numba()
+    env = dict(fn.__globals__)
+    env.update(
+        _step=compile_scalar(mud_step),
+        _force=compile_scalar(closed_form_force),
+        _constants=numba.njit(inline="always")(_constants),
+        **extra,
+    )
+    env["_foot"] = numba.njit(error_model="numpy")(
+        types.FunctionType(_one_foot.__code__, env, "_one_foot")
+    )
+    return types.FunctionType(fn.__code__, env, fn.__name__)
 
 
 @functools.cache
@@ -235,12 +273,13 @@ def compiled_feet(parallel: bool = False) -> Any:
     ``geom = (kind, g0, g1, g2)`` of :func:`~mudrft.feet.closed_form.closed_form_coefficients`.
     """
     numba = _numba()
-    env = dict(_feet_loop.__globals__)
-    env.update(
-        prange=numba.prange if parallel else range,
-        _step=compile_scalar(mud_step),
-        _force=compile_scalar(closed_form_force),
-        _constants=numba.njit(inline="always")(_constants),
-    )
-    loop = types.FunctionType(_feet_loop.__code__, env, "_feet_loop")
+    loop = _compile_driver(_feet_loop, prange=numba.prange if parallel else range)
     return numba.njit(error_model="numpy", parallel=parallel)(loop)
+
+
+@functools.cache
+def compiled_fast_foot() -> Any:
+    """One checked foot step, for :class:`~mudrft.backends.fast.FastMudFoot` (see
+    :func:`_fast_foot`): ``fast(c, w, x, y, z, vx, vy, vz, dt) -> int`` with the work array
+    ``w`` (3, N_STATE) updated in place."""
+    return _numba().njit(error_model="numpy")(_compile_driver(_fast_foot))
