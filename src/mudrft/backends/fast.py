@@ -60,7 +60,7 @@ class FastMudFoot:
         Initial tip position [m].
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the foot's.
-    acceleration, reset_on_exit, xi0, heading_speed : keyword-only
+    acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
         As :class:`mudrft.MudTerrain`.
     backend : {"auto", "numba", "python"}, keyword-only
         ``"auto"`` uses numba when it can be imported.
@@ -107,14 +107,11 @@ class FastMudFoot:
             backend = "numba" if available() else "python"
         self.backend = backend
         if backend == "numba":
-            from .numba import N_OUT, compiled_feet, constant_row
+            from .numba import N_OUT, compiled_feet, config_row, constant_row
 
             self._loop = compiled_feet(False)
             self._c = constant_row(*terrain.constants).reshape(1, -1)
-            self._cfg = np.array(
-                [terrain.length(foot), terrain.kappa, terrain.xi0, float(terrain.reset_on_exit),
-                 terrain.heading_speed]
-            )  # fmt: skip
+            self._cfg = config_row(terrain, foot)
             self._geom = np.array([kind, *geom], dtype=float)
             self._out = np.zeros((1, N_OUT))
         self.reset(position)
