@@ -83,6 +83,25 @@ def test_load_controlled_sinking_matches_static_balance():
     assert 0.98 * d_static < sudden.depth[-1] < d_static
 
 
+def test_a_ramped_load_creeps_to_the_static_depth_in_the_quasi_static_evaluation_too():
+    """Decision D13: the static depth is the limit of a ramped load whatever the evaluation.
+    In the quasi-static one (D15) eq. (9) is a lag-free damper (eta_inf + eta_m) A / L_c, so the
+    explicit coupling needs dt near 1 ms (simulate checks it); the creep time constant is a few
+    seconds, 30 s leave a gap below 1e-3. A load applied at once meets no damping at contact
+    (1 - e^{-t/lambda} = 0), overshoots and stays deep: the bed-contact factor (D2) removes the
+    elastic push as the foot rebounds."""
+    mud = mudrft.paper_mud(0.25)
+    terrain = mudrft.MudTerrain(mud, thixotropy="quasi-static")
+    W = 40.0
+    d_static = static_sinking(FOOT, mud, W)
+    with pytest.raises(MudrftError, match="dt"):
+        simulate(FOOT, terrain, LoadControl(weight=W, duration=1.0, dt=5e-3, ramp=2.0))
+    res = simulate(FOOT, terrain, LoadControl(weight=W, duration=30.0, dt=1e-3, ramp=2.0))
+    assert res.metrics()["sinking"] == pytest.approx(d_static, rel=1e-3)
+    sudden = simulate(FOOT, terrain, LoadControl(weight=W, duration=4.0, dt=1e-3))
+    assert sudden.depth[-1] > 1.4 * d_static
+
+
 def test_spring_leg_settles_to_the_same_depth():
     mud = mudrft.paper_mud(0.25)
     load = LoadControl(
