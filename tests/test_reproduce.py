@@ -1,4 +1,9 @@
-"""mudrft reproduce: the pinned summary.csv, figures, report and refusal to overwrite."""
+"""mudrft reproduce: summary.csv, the matrix of readings x claims, the report, the figures.
+
+The verdicts of every claim under every reading are pinned (:data:`VERDICTS`): a change of
+the model, of a reading or of a claim's evaluation that flips one fails here, and must be
+argued in docs/model.md (section 12) before the pin is moved.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +13,17 @@ import logging
 import pytest
 
 from mudrft._validation import MudrftError
-from mudrft.reproduce import FEET, SUMMARY_COLUMNS, read_summary, reproduce
+from mudrft.reproduce import (
+    CLAIMS,
+    FEET,
+    HEADLINE,
+    READINGS,
+    SUMMARY_COLUMNS,
+    evaluate,
+    inconsistency,
+    read_summary,
+    reproduce,
+)
 
 PINNED = [
     "foot",
@@ -23,17 +38,34 @@ PINNED = [
     "sinking [m]",
 ]
 
+A, D, I = "agrees", "differs", "inconsistent in the paper"
+CLAIM_KEYS = [c.key for c in CLAIMS]
+#: reading -> verdicts in the order of CLAIMS: shape-order, suction-order, speed,
+#: water-content, fixed-suction-ratio, morphing-suction-ratio, morphing-vs-semi-cylinder,
+#: morphing-vs-flat, sinking.
+VERDICTS = {
+    "paper": [D, A, A, A, A, D, I, I, A],
+    "paper-restart": [D, A, A, A, D, D, I, I, A],
+    "ode": [D, A, A, A, D, D, I, I, A],
+    "ode-acceleration": [A, A, D, A, D, D, I, I, A],
+    "paper-30mm": [D, A, A, A, A, D, I, I, A],
+    "paper-text-labels": [D, A, A, A, D, D, I, I, A],
+    "former-defaults": [D, A, D, A, D, A, I, I, A],
+}
+
 
 @pytest.fixture(scope="module")
 def full_run(tmp_path_factory):
     pytest.importorskip("matplotlib")  # the full run draws the figures
     out = tmp_path_factory.mktemp("reproduce")
     rows = reproduce(out, quiet=True)
-    return out, rows
+    with open(out / "claims.csv", newline="") as fh:
+        claims = list(csv.DictReader(fh))
+    return out, rows, claims
 
 
 def test_summary_has_the_pinned_columns_and_every_combination(full_run):
-    out, rows = full_run
+    out, rows, _ = full_run
     with open(out / "summary.csv", newline="") as fh:
         header = next(csv.reader(fh))
     assert header[: len(PINNED)] == PINNED
@@ -47,8 +79,61 @@ def test_summary_has_the_pinned_columns_and_every_combination(full_run):
         assert r["max_suction [N]"] >= 0 and r["energy [J]"] >= 0 and r["sinking [m]"] > 0
 
 
+def test_claims_csv_has_one_row_per_claim_and_reading(full_run):
+    _, _, claims = full_run
+    assert {"claim", "reading", "paper", "mudrft", "verdict"} <= set(claims[0])
+    assert len(claims) == len(CLAIMS) * len(READINGS)
+    pairs = {(r["claim"], r["reading"]) for r in claims}
+    assert pairs == {(c, rd.key) for c in CLAIM_KEYS for rd in READINGS}
+    assert all(r["mudrft"] and r["paper"] for r in claims)
+
+
+@pytest.mark.parametrize("reading", list(VERDICTS))
+def test_the_verdict_of_every_claim_under_every_reading_is_pinned(full_run, reading):
+    _, _, claims = full_run
+    got = {r["claim"]: r["verdict"] for r in claims if r["reading"] == reading}
+    assert [got[k] for k in CLAIM_KEYS] == VERDICTS[reading], {k: got[k] for k in CLAIM_KEYS}
+
+
+def test_headline_is_the_papers_own_evaluation_and_its_count_is_reported(full_run):
+    out, _, _ = full_run
+    assert HEADLINE.key == "paper" and READINGS[0] is HEADLINE
+    assert (HEADLINE.thixotropy, HEADLINE.clock, HEADLINE.labels) == (
+        "quasi-static",
+        "contact",
+        "table",
+    )
+    assert HEADLINE.depth < 0.026  # the feet are not buried
+    n = VERDICTS["paper"].count(A)
+    report = (out / "report.md").read_text()
+    assert f"**{n} of 9 claims reproduced; 2 inconsistent within the paper" in report
+    for rd in READINGS:  # every reading's count and derivation is in the report
+        assert f"**{VERDICTS[rd.key].count(A)} of 9**" in report
+        assert rd.derivation in report
+
+
+def test_morphing_percentages_are_inconsistent_by_the_runs_own_numbers(full_run):
+    """The 1.58 vs < 1 argument, recomputed here from summary.csv."""
+    out, _, claims = full_run
+    head = {
+        r["foot"]: r
+        for r in read_summary(out / "summary.csv")
+        if r["speed [m/s]"] == 0.2 and r["water_content"] == 0.25
+    }
+    ratio = head["semi-cylinder"]["max_suction [N]"] / head["flat"]["max_suction [N]"]
+    assert ratio < 1  # the run reproduces "the flat foot suffers the largest suction"
+    assert (1 - 0.32) / (1 - 0.57) == pytest.approx(1.58, abs=0.005)
+    arg = inconsistency(head["flat"]["max_suction [N]"], head["semi-cylinder"]["max_suction [N]"])
+    assert arg["run"] == pytest.approx(ratio)
+    cells = [r for r in claims if r["reading"] == "paper" and r["claim"].startswith("morphing-vs")]
+    assert len(cells) == 2
+    for c in cells:
+        assert c["verdict"] == I
+        assert "= 1.58" in c["mudrft"] and f"this run: {ratio:.2f}" in c["mudrft"]
+
+
 def test_figures_and_report(full_run):
-    out, _ = full_run
+    out, _, _ = full_run
     for name in (
         "fig09_forces.png",
         "fig10_normalized.png",
@@ -57,13 +142,13 @@ def test_figures_and_report(full_run):
     ):
         assert (out / name).stat().st_size > 10_000
     report = (out / "report.md").read_text()
-    for claim in ("largest suction", "40 %", "57 %", "water content", "speed", "sinks least"):
-        assert claim in report
-    assert "claims agree" in report and ("differs" in report or "agrees" in report)
+    for text in ("largest suction", "40 %", "57 %", "water content", "speed", "sinks least"):
+        assert text in report
+    assert "## Matrix: readings x claims" in report
 
 
 def test_refuses_to_overwrite_without_force(full_run):
-    out, _ = full_run
+    out, _, _ = full_run
     before = (out / "summary.csv").read_bytes()
     with pytest.raises(MudrftError, match="--force"):
         reproduce(out, quiet=True)
@@ -76,16 +161,107 @@ def test_subset_and_force(tmp_path, caplog):
             tmp_path, feet=("flat",), speeds=(0.2,), water_contents=(0.25,), figures=False
         )
     assert len(rows) == 1
-    assert "[ 1/1]" in caplog.text  # progress is shown, through the mudrft logger
+    assert "[ 1/" in caplog.text  # progress is shown, through the mudrft logger
+    with open(tmp_path / "claims.csv", newline="") as fh:
+        verdicts = {r["verdict"] for r in csv.DictReader(fh)}
+    assert verdicts == {"not evaluated"}  # one foot at one speed proves nothing
     rows = reproduce(
         tmp_path,
         force=True,
         feet=("semi-sphere",),
         speeds=(0.13,),
         water_contents=(0.35,),
+        readings=READINGS[:1],
         figures=False,
         quiet=True,
     )
     assert rows[0]["foot"] == "semi-sphere"
     with pytest.raises(MudrftError, match="speeds"):
         reproduce(tmp_path / "x", speeds=(0.0,), quiet=True)
+    with pytest.raises(MudrftError, match="readings"):
+        reproduce(tmp_path / "y", readings=(), quiet=True)
+
+
+# ---------------------------------------------------------------------------------------
+# the claims' logic on made-up numbers (no simulation): each verdict can flip
+# ---------------------------------------------------------------------------------------
+def _numbers(**changes):
+    base = {
+        "flat": {"peak_ns": 3.0, "min_ns": -3.0, "max_suction": 60.0, "energy": 2.0},
+        "semi-cylinder": {"peak_ns": 2.0, "min_ns": -2.0, "max_suction": 40.0, "energy": 2.0},
+        "semi-sphere": {"peak_ns": 1.0, "min_ns": -1.0, "max_suction": 20.0, "energy": 2.0},
+        "morphing": {"peak_support": 100.0, "max_suction": 40.0, "energy": 1.0},
+    }
+    for foot, kv in changes.items():
+        base[foot.replace("_", "-")].update(kv)
+
+    def metrics(foot, speed, row):
+        m = dict(base[foot])
+        if foot != "morphing":  # stronger mud on lower rows; speed-independent
+            m = {**m, "peak_ns": m["peak_ns"] * (1 + (0.45 - row))}
+        return m
+
+    return metrics
+
+
+def _verdicts(metrics, sink=None):
+    sink = sink or {"flat": 0.012, "semi-cylinder": 0.017, "semi-sphere": 0.019, "morphing": 0.01}
+    cells = evaluate(
+        HEADLINE,
+        metrics,
+        lambda f, row: sink[f],
+        feet=list(FEET),
+        speeds=[0.13, 0.2, 0.26],
+        rows=[0.25, 0.35, 0.45],
+    )
+    return {c.claim: c.verdict for c in cells}
+
+
+def test_claim_logic_agrees_on_numbers_that_meet_the_paper():
+    v = _verdicts(_numbers())
+    assert v == {k: (I if k.startswith("morphing-vs") else A) for k in CLAIM_KEYS}
+
+
+@pytest.mark.parametrize(
+    ("changes", "claim"),
+    [
+        ({"semi_sphere": {"peak_ns": 2.5}}, "shape-order"),
+        ({"semi_sphere": {"max_suction": 70.0}}, "suction-order"),
+        ({"flat": {"min_ns": -2.0}}, "fixed-suction-ratio"),
+        ({"morphing": {"max_suction": 55.0}}, "morphing-suction-ratio"),
+    ],
+)
+def test_claim_logic_differs_when_the_numbers_break_a_claim(changes, claim):
+    assert _verdicts(_numbers(**changes))[claim] == D
+
+
+def test_speed_and_water_content_and_sinking_can_fail():
+    base = _numbers()
+
+    def fast_is_stronger(foot, speed, row):
+        m = dict(base(foot, speed, row))
+        if foot != "morphing":
+            m["peak_ns"] *= 1 + 2 * (speed - 0.13)  # +34 % from slow to fast: 'partly'
+        return m
+
+    assert _verdicts(fast_is_stronger)["speed"] == "partly"
+
+    def wetter_is_stronger(foot, speed, row):
+        m = dict(base(foot, speed, row))
+        if foot == "flat" and row == 0.45:
+            m["peak_ns"] = 99.0
+        return m
+
+    assert _verdicts(wetter_is_stronger)["water-content"] == D
+    sink = {"flat": 0.012, "semi-cylinder": 0.017, "semi-sphere": 0.019, "morphing": 0.013}
+    assert _verdicts(base, sink)["sinking"] == D
+
+
+def test_inconsistency_argument():
+    arg = inconsistency(100.0, 50.0)
+    assert arg["required"] == pytest.approx(0.68 / 0.43)
+    assert arg["run"] == 0.5
+    # matching -57 % against these feet leaves the morphing foot at 0.43 * 50 N = 21.5 N,
+    # which is 78.5 % below the flat foot's 100 N, not 32 %
+    assert arg["flat_if_cylinder"] == pytest.approx(78.5)
+    assert arg["cylinder_if_flat"] == pytest.approx(100 * (1 - 68.0 / 50.0))

@@ -62,7 +62,9 @@ def plate_response(
     params: MudParameters | Mud,
     *,
     characteristic_length: float = DEFAULT_PLATE_LENGTH,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
     xi0: float = 0.0,
 ) -> PlateResult:
     """Stress on a plate driven along ``trajectory`` (from :func:`mudrft.plate_intrusion`).
@@ -75,8 +77,12 @@ def plate_response(
         A parameter set, or a Mud from which the set matching the test direction is taken.
     characteristic_length : float, keyword-only
         Plate characteristic length L_c [m].
-    acceleration : bool, keyword-only
-        Keep the acceleration term of f_xi (decision D6).
+    acceleration : bool or None, keyword-only
+        Keep the acceleration term of f_xi (decision D6); None keeps it in the ODE.
+    thixotropy : {"ode", "quasi-static"}, keyword-only
+        Step eqs. (3) and (5), or evaluate the paper's closed forms (9)-(11) (decision D15).
+    clock : {"contact", "retraction"}, keyword-only
+        Quasi-static only: the clock of eq. (9) (decision D15).
     xi0 : float, keyword-only
         Initial structure parameter [-].
 
@@ -106,7 +112,15 @@ def plate_response(
     q = trajectory.meta.get("displacement")
     if q is None:
         q = trajectory.depth if direction == "vertical" else trajectory.position[:, 0]
-    h = run(p, trajectory.time, np.asarray(q) / L, acceleration=acceleration, xi0=xi0)
+    h = run(
+        p,
+        trajectory.time,
+        np.asarray(q) / L,
+        acceleration=acceleration,
+        thixotropy=thixotropy,
+        clock=clock,
+        xi0=xi0,
+    )
     # a vertical plate back at the surface has left the mud: no stress (as MudTerrain does for feet)
     inside = np.asarray(q) > 0 if direction == "vertical" else np.ones(np.shape(q), dtype=bool)
     total, el, th, su = (

@@ -67,9 +67,10 @@ class LoadControl:
     Notes
     -----
     The coupling is explicit: the terrain force of the previous step drives the masses.
-    The mud's viscous term acts like a damper :math:`c\approx\eta_\infty A_z/L_c`, so the
-    moving mass must satisfy ``dt < 2 m / c``; :func:`simulate` checks this for the
-    paper's mud and raises with a suggested ``dt`` when it does not hold.
+    The mud's viscous term acts like a damper :math:`c\approx\eta_\infty A_z/L_c`
+    (:math:`(\eta_\infty+\eta_m)A_z/L_c` in the quasi-static evaluation, whose eq. (9) has
+    no lag), so the moving mass must satisfy ``dt < 2 m / c``; :func:`simulate` checks this
+    for the paper's mud and raises with a suggested ``dt`` when it does not hold.
     """
 
     weight: float
@@ -331,7 +332,11 @@ def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> No
         area = float(np.asarray(foot.projected_areas(foot.height))[..., 2].max())
     except Exception:
         return
-    c = float(np.max(mud.vertical.eta_inf)) * area / lc
+    eta = np.asarray(mud.vertical.eta_inf)
+    if getattr(terrain, "quasi_static", False):
+        # eq. (9) at rest from first contact: an instantaneous (eta_inf + xi_ss eta_m) damper
+        eta = eta + np.asarray(mud.vertical.eta_m)
+    c = float(np.max(eta)) * area / lc
     m = load.foot_mass if load.leg_stiffness is not None else load.body_mass
     limit = 2.0 * m / c
     if load.dt > 0.8 * limit:

@@ -21,12 +21,25 @@ from ._validation import (
     check_positive,
 )
 
-__all__ = ["GAIT_SPEEDS", "STRIDE_LENGTH", "Trajectory", "gait", "plate_intrusion"]
+__all__ = [
+    "FOOT_HEIGHT",
+    "GAIT_SPEEDS",
+    "STANCE_DEPTH",
+    "STRIDE_LENGTH",
+    "Trajectory",
+    "gait",
+    "plate_intrusion",
+]
 
 #: The paper's gait speeds [m/s] (Sec. IV-A).
 GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
 #: Stride length of :func:`gait` [m]: one cycle lasts STRIDE_LENGTH / speed (decision D10).
 STRIDE_LENGTH = 0.13
+#: Height of the paper's three fixed feet, :math:`h_F` = 26 mm (Sec. IV-A) [m].
+FOOT_HEIGHT = 0.026
+#: Deepest tip depth of :func:`gait` [m] (decision D10): within :data:`FOOT_HEIGHT`, as the
+#: closed forms (12)-(14) assume a foot that is not buried.
+STANCE_DEPTH = 0.02
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,7 +200,7 @@ def plate_intrusion(
 def gait(
     speed: float = 0.2,
     *,
-    depth: float = 0.03,
+    depth: float = STANCE_DEPTH,
     stride: float = STRIDE_LENGTH,
     slip: float = 0.3,
     sway: float = 0.15,
@@ -201,7 +214,8 @@ def gait(
     :math:`T=\text{stride}/\text{speed}`; with phase :math:`s=t/T`:
 
     * stance, :math:`s\in[0,\tfrac12]`: the tip sinks from the surface to ``depth`` along
-      :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)`;
+      :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)`; the default 20 mm keeps the paper's feet
+      (:math:`h_F` = 26 mm, Sec. IV-A) from being buried, which eqs. (12)-(14) assume;
     * swing, :math:`s\in[\tfrac12,1]`: it is pulled out and lifted to ``lift`` above
       the surface along :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))`;
     * horizontally it slips forward by ``slip * stride`` (:math:`x=\rho S(1-\cos\pi s)/2`) and
@@ -213,7 +227,7 @@ def gait(
     speed : float
         Gait speed [m/s].
     depth : float, keyword-only
-        Deepest tip depth [m].
+        Deepest tip depth [m] (:data:`STANCE_DEPTH`, 20 mm).
     stride : float, keyword-only
         Stride length [m].
     slip, sway : float, keyword-only
@@ -227,7 +241,7 @@ def gait(
     --------
     >>> tr = gait(speed=0.2)
     >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
-    (0.65, 0.03)
+    (0.65, 0.02)
     """
     check_positive("speed", speed, unit="m/s")
     for name, val, unit in (("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")):

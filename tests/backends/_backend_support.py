@@ -34,12 +34,17 @@ def channel_inputs(draw: st.DrawFn, shape: tuple[int, ...] = (4,)) -> tuple:
     gw = rng.normal(size=shape) * 0.4
     # the old displacement is at most as deep as the deepest point, same side
     g_old = gw * rng.uniform(0.0, 1.0, size=shape)
+    clock = rng.uniform(0.0, 2.0, size=shape)
     state = ChannelState(
         gamma=g_old,
         gamma_w=gw,
         xi=rng.uniform(0.0, 1.0, size=shape),
         s_th=rng.normal(size=shape) * 3e3,
         sigma_s=-np.abs(rng.normal(size=shape)) * 3e3,
+        clock=clock,
+        clock_w=np.where(
+            np.abs(g_old) < np.abs(gw), clock * rng.uniform(0.0, 1.0, size=shape), 0.0
+        ),
     )
     gamma = g_old + rng.normal(size=shape) * 0.05
     gamma_dot = rng.normal(size=shape) * 2.0

@@ -81,6 +81,43 @@ def test_jax_run_matches_numpy_run_along_a_plate_test():
         )
 
 
+@pytest.mark.parametrize("clock", ["contact", "retraction"])
+def test_jax_run_matches_numpy_run_in_the_quasi_static_evaluation(clock):
+    traj = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=2e-3)
+    p = mudrft.paper_parameters(0.25)
+    g = traj.depth / 0.05
+    ref = run(p, traj.time, g, thixotropy="quasi-static", clock=clock)
+    h = mjax.run(mjax.to_jax(p), traj.time, g, thixotropy="quasi-static", clock=clock)
+    assert ref.suction.min() < -100.0  # the test reaches the suction phase
+    scale = (np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0).max()
+    for name in ("total", "thixotropic", "suction"):
+        np.testing.assert_allclose(
+            np.asarray(getattr(h, name)), getattr(ref, name), rtol=0, atol=RTOL * scale
+        )
+
+
+def test_jax_simulate_matches_mudrft_simulate_in_the_quasi_static_evaluation():
+    from mudrft.backends.forces import force_function
+    from mudrft.simulation import simulate
+
+    foot = mudrft.feet.Flat()
+    pos, vel = wandering_path(150, 1e-3, seed=5)
+    traj = mudrft.Trajectory(time=np.arange(150) * 1e-3, position=pos, velocity=vel)
+    mud = mudrft.paper_mud(0.25)
+    ref = simulate(foot, mudrft.MudTerrain(mud, thixotropy="quasi-static"), traj)
+    force, _stress, _depth = mjax.simulate(
+        mjax.to_jax(mud),
+        traj.time,
+        pos,
+        vel,
+        force_fn=force_function(foot, xp=mjax.safe_namespace()),
+        characteristic_length=foot.characteristic_length,
+        thixotropy="quasi-static",
+    )
+    scale = np.abs(ref.force).max()
+    np.testing.assert_allclose(np.asarray(force), ref.force, rtol=0, atol=RTOL * scale)
+
+
 def test_params_round_trip_and_k_r():
     p = mudrft.paper_parameters(0.45, "horizontal")
     jp = mjax.to_jax(p)

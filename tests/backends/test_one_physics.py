@@ -18,6 +18,7 @@ import mudrft
 from mudrft._xp import pyfloat
 from mudrft.backends.batch import BatchedMud
 from mudrft.constitutive import channel_constants, initial_state, kernel, step
+from mudrft.constitutive.dynamics import evaluation
 from mudrft.constitutive.state import ChannelState
 
 SENTINEL = 12345.0  # [Pa], added to the total stress by the patched step
@@ -117,11 +118,21 @@ def _close(a, b, scale):
     assert np.all(np.abs(np.asarray(a, float) - np.asarray(b, float)) <= RTOL_SCALE * scale)
 
 
-def _specialized_outputs(fn, p, inputs, acceleration):
+#: The evaluations every specialization must reproduce (decision D15): (thixotropy, clock,
+#: acceleration) as MudTerrain takes them.
+MODES = [
+    ("ode", "contact", True),
+    ("ode", "contact", False),
+    ("quasi-static", "contact", None),
+    ("quasi-static", "retraction", None),
+]
+
+
+def _specialized_outputs(fn, p, inputs, mode):
     state, gamma, gdot, dt, seal = inputs
     c = tuple(float(v) for v in channel_constants(p))
-    kappa = 1.0 if acceleration else 0.0
-    totals, xis = [], []
+    qs, restart, kappa = evaluation(*mode[:2], mode[2])
+    totals, xis, clocks = [], [], []
     for i in range(gamma.shape[0]):
         st_i = ChannelState(*(float(f[i]) for f in state))
         new, s = fn(
@@ -132,40 +143,58 @@ def _specialized_outputs(fn, p, inputs, acceleration):
             dt,
             float(seal[i]),
             kappa,
+            qs,
+            restart,
         )
         totals.append(s.total)
         xis.append(new.xi)
-    return np.array(totals), np.array(xis)
+        clocks.append(new.clock_w)
+    return np.array(totals), np.array(xis), np.array(clocks)
+
+
+def _reference(p, inputs, mode):
+    state, gamma, gdot, dt, seal = inputs
+    return step(
+        p,
+        state,
+        gamma,
+        gdot,
+        dt,
+        seal=seal,
+        thixotropy=mode[0],
+        clock=mode[1],
+        acceleration=mode[2],
+    )
 
 
 @settings(max_examples=30, deadline=None)
-@given(parameter_sets(), channel_inputs(shape=(6,)), st.booleans())
-def test_float_path_equals_numpy_reference(p, inputs, acceleration):
-    state, gamma, gdot, dt, seal = inputs
-    ref_state, ref = step(p, state, gamma, gdot, dt, seal=seal, acceleration=acceleration)
+@given(parameter_sets(), channel_inputs(shape=(6,)), st.sampled_from(MODES))
+def test_float_path_equals_numpy_reference(p, inputs, mode):
+    ref_state, ref = _reference(p, inputs, mode)
 
-    def on_floats(c, st_i, g, gd, dt_, sl, kappa):
-        return kernel.channel_update(c, st_i, g, gd, dt_, sl, kappa, xp=pyfloat)
+    def on_floats(c, st_i, g, gd, dt_, sl, kappa, qs, restart):
+        return kernel.channel_step(c, st_i, g, gd, dt_, sl, kappa, qs, restart, xp=pyfloat)
 
-    total, xi = _specialized_outputs(on_floats, p, inputs, acceleration)
+    total, xi, clock_w = _specialized_outputs(on_floats, p, inputs, mode)
     scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
     _close(total, ref.total, scale)
     _close(xi, ref_state.xi, 1.0)
+    _close(clock_w, ref_state.clock_w, 1.0)
 
 
 @settings(max_examples=30, deadline=None)
-@given(parameter_sets(), channel_inputs(shape=(6,)), st.booleans())
-def test_numba_compilation_of_the_one_step_equals_numpy_reference(p, inputs, acceleration):
+@given(parameter_sets(), channel_inputs(shape=(6,)), st.sampled_from(MODES))
+def test_numba_compilation_of_the_one_step_equals_numpy_reference(p, inputs, mode):
     pytest.importorskip("numba")
     from mudrft.backends.numba import compile_scalar
 
-    compiled = compile_scalar(kernel.channel_update)
-    state, gamma, gdot, dt, seal = inputs
-    ref_state, ref = step(p, state, gamma, gdot, dt, seal=seal, acceleration=acceleration)
-    total, xi = _specialized_outputs(compiled, p, inputs, acceleration)
+    compiled = compile_scalar(kernel.channel_step)
+    ref_state, ref = _reference(p, inputs, mode)
+    total, xi, clock_w = _specialized_outputs(compiled, p, inputs, mode)
     scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
     _close(total, ref.total, scale)
     _close(xi, ref_state.xi, 1.0)
+    _close(clock_w, ref_state.clock_w, 1.0)
 
 
 def test_sign_flip_and_rest_on_every_specialization():
@@ -173,39 +202,46 @@ def test_sign_flip_and_rest_on_every_specialization():
     p = mudrft.paper_parameters(0.25, "horizontal")
     c = channel_constants(p)
     cases = [
-        (ChannelState(0.05, 0.08, 0.3, 100.0, -50.0), -0.01, -3.0),  # flips sign
-        (ChannelState(0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0),  # rest at the surface
-        (ChannelState(0.02, 0.04, 0.5, 0.0, -10.0), 0.02, 0.0),  # held while retracted
+        (ChannelState(0.05, 0.08, 0.3, 100.0, -50.0, 0.4, 0.1), -0.01, -3.0),  # flips sign
+        (ChannelState(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0),  # rest at the surface
+        (ChannelState(0.02, 0.04, 0.5, 0.0, -10.0, 0.6, 0.2), 0.02, 0.0),  # held while retracted
     ]
-    fns = [lambda *a: kernel.channel_update(*a, xp=pyfloat)]
+    fns = [lambda *a: kernel.channel_step(*a, xp=pyfloat)]
     try:
         from mudrft.backends.numba import compile_scalar
 
-        fns.append(compile_scalar(kernel.channel_update))
+        fns.append(compile_scalar(kernel.channel_step))
     except ImportError:
         pass
     for state, g, gd in cases:
-        ref_state, ref = kernel.channel_update(
-            c, ChannelState(*map(np.float64, state)), np.float64(g), np.float64(gd), 1e-3, 1.0, 1.0
-        )
-        for fn in fns:
-            new, s = fn(c, state, g, gd, 1e-3, 1.0, 1.0)
-            assert np.isclose(s.total, ref.total, rtol=1e-13, atol=1e-9)
-            assert np.allclose(tuple(new), tuple(ref_state), rtol=1e-13, atol=1e-12)
+        for qs, restart in ((False, False), (True, False), (True, True)):
+            ref_state, ref = kernel.channel_step(
+                c, ChannelState(*map(np.float64, state)), np.float64(g), np.float64(gd), 1e-3,
+                1.0, 1.0, qs, restart,
+            )  # fmt: skip
+            for fn in fns:
+                new, s = fn(c, state, g, gd, 1e-3, 1.0, 1.0, qs, restart)
+                assert np.isclose(s.total, ref.total, rtol=1e-13, atol=1e-9)
+                assert np.allclose(tuple(new), tuple(ref_state), rtol=1e-13, atol=1e-12)
 
 
-def test_compiled_feet_loop_equals_mud_terrain_on_a_wandering_path():
+@pytest.mark.parametrize(
+    "options",
+    [{}, {"thixotropy": "quasi-static"}, {"thixotropy": "quasi-static", "clock": "retraction"}],
+    ids=["ode", "quasi-static", "quasi-static-restart"],
+)
+def test_compiled_feet_loop_equals_mud_terrain_on_a_wandering_path(options):
     pytest.importorskip("numba")
-    from mudrft.backends.numba import N_OUT, compiled_feet, constant_row, state_rows
+    from mudrft.backends.numba import N_OUT, compiled_feet, config_row, constant_row, state_rows
 
     foot = mudrft.feet.SemiSphere()
-    terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35))
+    terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35), **options)
     pos, vel = wandering_path(200, 1e-3, seed=3)
     st = terrain.initial_state(foot, pos[0])
     rows = state_rows(st.channels)
     c = constant_row(*terrain.constants).reshape(1, -1)
     out = np.zeros((1, N_OUT))
-    cfg = np.array([foot.characteristic_length, 1.0, 0.0, 1.0, 1e-6])
+    cfg = config_row(terrain, foot)
     geom = np.array(foot.kernel_geometry, dtype=float)
     loop = compiled_feet(False)
     for k in range(1, len(pos)):

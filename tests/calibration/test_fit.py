@@ -278,3 +278,20 @@ def test_fit_in_wrong_units_is_flagged(vertical_data, true_vertical):
     fit = calibrate(wrong, groups="b", initial=true_vertical)
     assert fit.relative_rmse > 0.25
     assert "check the units" in fit.summary()
+
+
+def test_quasi_static_fit_recovers_its_own_data_and_keeps_the_choice(tmp_path, true_vertical):
+    """Decision D15 reaches the calibration: data made by the paper's quasi-static closed
+    forms are fitted by them, and the fit remembers (and saves) which evaluation it used."""
+    data = synthetic_dataset(
+        true_vertical, speeds=(0.02,), noise=0.005, seed=4, dt=0.05, thixotropy="quasi-static"
+    )
+    fit = calibrate(data, groups="b", thixotropy="quasi-static")
+    assert (fit.thixotropy, fit.clock, fit.acceleration) == ("quasi-static", "contact", False)
+    # 0.5 % noise on one trial: the elastic pair is identified to well within 5 %
+    assert abs(fit.parameters.alpha / true_vertical.alpha - 1) < 0.05
+    assert abs(fit.parameters.n / true_vertical.n - 1) < 0.05
+    back = FitResult.from_json(fit.to_json(tmp_path / "fit.json"))
+    assert (back.thixotropy, back.clock) == ("quasi-static", "contact")
+    with pytest.raises(MudrftError, match="acceleration"):
+        calibrate(data, groups="b", thixotropy="quasi-static", acceleration=True)

@@ -114,3 +114,27 @@ def test_citation_registered():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         mudrft.paper_mud(0.3)
+
+
+@pytest.mark.parametrize(("text_label", "printed_row"), [(0.15, 0.25), (0.25, 0.35), (0.35, 0.45)])
+def test_text_labelling_names_the_printed_rows_errata_E6_E7(text_label, printed_row):
+    """The text says 15/25/35 % three times; the tables print 25/35/45 %. labels="text"
+    reads a water content as the text does; the default stays the table's."""
+    text = mudrft.paper_mud(text_label, labels="text")
+    table = mudrft.paper_mud(printed_row)
+    for d in ("vertical", "horizontal"):
+        a, b = getattr(text, d), getattr(table, d)
+        for k in chen2026.COLUMNS:
+            assert getattr(a, k) == getattr(b, k), (d, k)
+        assert a.water_content == text_label
+        assert f"row W = {printed_row * 100:g} %" in a.source and "E6/E7" in a.source
+    assert mudrft.paper_mud(0.25).vertical.alpha == 24e3  # paper_mud(0.25) is the table's row
+
+
+def test_text_labelling_range_and_errors():
+    with pytest.raises(MudrftError, match=r"\[0.15, 0.35\]"):
+        mudrft.paper_mud(0.45, labels="text")
+    with pytest.raises(MudrftError, match="labels"):
+        mudrft.paper_mud(0.25, labels="figure")
+    between = mudrft.paper_parameters(0.3, labels="text")  # interpolated like the table's 40 %
+    assert between.alpha == mudrft.paper_parameters(0.4).alpha

@@ -139,7 +139,8 @@ class BatchedMud:
         Kernel (see module docstring). Default "numpy".
     **options
         Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m],
-        ``acceleration``, ``reset_on_exit``, ``xi0``, ``heading_speed``); ignored when
+        ``acceleration``, ``thixotropy``, ``clock``, ``reset_on_exit``, ``xi0``,
+        ``heading_speed``); ignored when
         ``mud`` is a MudTerrain.
 
     Attributes
@@ -201,20 +202,12 @@ class BatchedMud:
     def _setup_backend(self) -> None:
         if self.backend == "numba":
             from .fast import foot_geometry
-            from .numba import N_CONST, PARALLEL_MIN, compiled_feet, constant_row
+            from .numba import N_CONST, PARALLEL_MIN, compiled_feet, config_row, constant_row
 
             kind, geom = foot_geometry(self.foot)
             t = self.terrain
             self._geom = np.array([kind, *geom], dtype=float)
-            self._cfg = np.array(
-                [
-                    self.characteristic_length,
-                    t.kappa,
-                    t.xi0,
-                    float(t.reset_on_exit),
-                    t.heading_speed,
-                ]
-            )
+            self._cfg = config_row(t, self.foot)
             self._c = constant_row(*t.constants).reshape(-1, N_CONST)
             self._nb_step = compiled_feet(self.n >= PARALLEL_MIN)
         elif self.backend == "jax":
@@ -237,6 +230,8 @@ class BatchedMud:
             "force_fn": fn,
             "characteristic_length": self.characteristic_length,
             "acceleration": t.acceleration,
+            "thixotropy": t.thixotropy,
+            "clock": t.clock,
             "reset_on_exit": t.reset_on_exit,
             "xi0": t.xi0,
             "heading_speed": t.heading_speed,

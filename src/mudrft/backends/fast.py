@@ -62,7 +62,7 @@ class FastMudFoot:
         Initial tip position [m].
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the foot's.
-    acceleration, reset_on_exit, xi0, heading_speed : keyword-only
+    acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
         As :class:`mudrft.MudTerrain`.
     backend : {"auto", "numba", "python"}, keyword-only
         ``"auto"`` uses numba when it can be imported.
@@ -109,16 +109,13 @@ class FastMudFoot:
             backend = "numba" if available() else "python"
         self.backend = backend
         if backend == "numba":
-            from .numba import N_STATE, compiled_fast_foot, constant_row
+            from .numba import N_STATE, compiled_fast_foot, config_row, constant_row
 
             self._fast = compiled_fast_foot()
             self._c = constant_row(*terrain.constants).reshape(1, -1)
             # work rows: state, output (force, stress, depth), options (cfg then geometry)
             self._w = np.zeros((3, N_STATE))
-            self._w[2, :9] = (
-                terrain.length(foot), terrain.kappa, terrain.xi0, float(terrain.reset_on_exit),
-                terrain.heading_speed, kind, *geom,
-            )  # fmt: skip
+            self._w[2, :11] = (*config_row(terrain, foot), kind, *geom)
             self._out = self._w[1:2]
         self.reset(position)
 
@@ -190,7 +187,7 @@ class FastMudFoot:
         t = self.terrain
         ch, sx, sy, sz, depth = mud_step(
             t.constants, self._channels, *p3, *v3, step, t.length(self.foot), t.kappa, t.xi0,
-            t.reset_on_exit, t.heading_speed, 1.0, xp=pyfloat,
+            t.reset_on_exit, t.heading_speed, 1.0, t.quasi_static, t.restart, xp=pyfloat,
         )  # fmt: skip
         f = self.foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
         force = np.array(f) * ch.in_mud

@@ -78,17 +78,53 @@ def _compiled() -> dict[str, Any]:
     jax = enable_x64()
     import jax.numpy as jnp
 
-    def one_step(
-        p: JaxParams, st: ChannelState, g: Any, gd: Any, dt: Any, seal: Any, acceleration: bool
-    ) -> tuple[ChannelState, Any]:
-        return dynamics.step(p, st, g, gd, dt, seal=seal, acceleration=acceleration, xp=jnp)  # type: ignore[arg-type]
+    static = ("acceleration", "thixotropy", "clock")
 
-    step_jit = jax.jit(one_step, static_argnames=("acceleration",))
-    vstep = jax.vmap(one_step, in_axes=(0, 0, 0, 0, None, 0, None))
-    vstep_jit = jax.jit(vstep, static_argnames=("acceleration",))
+    def one_step(
+        p: JaxParams,
+        st: ChannelState,
+        g: Any,
+        gd: Any,
+        dt: Any,
+        seal: Any,
+        acceleration: bool | None,
+        thixotropy: str,
+        clock: str,
+    ) -> tuple[ChannelState, Any]:
+        return dynamics.step(
+            p, st, g, gd, dt, seal=seal, acceleration=acceleration,  # type: ignore[arg-type]
+            thixotropy=thixotropy, clock=clock, xp=jnp,
+        )  # fmt: skip
+
+    step_jit = jax.jit(one_step, static_argnames=static)
+
+    def vstep(
+        p: JaxParams,
+        st: ChannelState,
+        g: Any,
+        gd: Any,
+        dt: Any,
+        seal: Any,
+        acceleration: bool | None,
+        thixotropy: str,
+        clock: str,
+    ) -> tuple[ChannelState, Any]:
+        def member(p: Any, st: Any, g: Any, gd: Any, dt: Any, seal: Any) -> Any:
+            return one_step(p, st, g, gd, dt, seal, acceleration, thixotropy, clock)
+
+        return jax.vmap(member, in_axes=(0, 0, 0, 0, None, 0))(p, st, g, gd, dt, seal)  # type: ignore[no-any-return]
+
+    vstep_jit = jax.jit(vstep, static_argnames=static)
 
     def run_impl(
-        p: JaxParams, t: Any, g: Any, st0: ChannelState, seal: Any, acceleration: bool
+        p: JaxParams,
+        t: Any,
+        g: Any,
+        st0: ChannelState,
+        seal: Any,
+        acceleration: bool | None,
+        thixotropy: str,
+        clock: str,
     ) -> tuple[Any, ...]:
         dts = t[1:] - t[:-1]
         dts_b = dts.reshape(dts.shape + (1,) * (g.ndim - 1))
@@ -96,7 +132,10 @@ def _compiled() -> dict[str, Any]:
 
         def body(st: ChannelState, inp: tuple[Any, ...]) -> tuple[ChannelState, tuple[Any, ...]]:
             gk, rk, dtk, sk = inp
-            st, s = dynamics.step(p, st, gk, rk, dtk, seal=sk, acceleration=acceleration, xp=jnp)  # type: ignore[arg-type]
+            st, s = dynamics.step(
+                p, st, gk, rk, dtk, seal=sk, acceleration=acceleration,  # type: ignore[arg-type]
+                thixotropy=thixotropy, clock=clock, xp=jnp,
+            )  # fmt: skip
             return st, (s.total, s.elastic, s.thixotropic, s.suction, st.xi)
 
         _, outs = jax.lax.scan(body, st0, (g[1:], rates, dts_b, seal[1:]))
@@ -105,7 +144,7 @@ def _compiled() -> dict[str, Any]:
         xi = xi.at[0].set(jnp.broadcast_to(st0.xi, g.shape[1:]))
         return total, el, th, su, xi
 
-    run_jit = jax.jit(run_impl, static_argnames=("acceleration",))
+    run_jit = jax.jit(run_impl, static_argnames=static)
 
     def mesh_impl(v: Any, f: Any, d: Any, s: Any, h: Any, trailing: bool) -> Any:
         from ..feet.surface import integrate_triangles
@@ -124,7 +163,9 @@ def step(
     dt: Any,
     *,
     seal: Any = 1.0,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> tuple[ChannelState, Any]:
     """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`, ``xp=jax.numpy``).
 
@@ -142,8 +183,10 @@ def step(
         Step [s], > 0 (not checked: this function may be traced).
     seal : array_like, keyword-only
         Sealing factor in [0, 1] [-].
-    acceleration : bool, keyword-only
+    acceleration : bool or None, keyword-only
         Keep the acceleration term (decision D6); static under jit.
+    thixotropy, clock : str, keyword-only
+        Evaluation (:func:`mudrft.constitutive.dynamics.evaluation`, decision D15); static.
 
     Returns
     -------
@@ -152,7 +195,9 @@ def step(
     stress : ChannelStress
         Stresses [Pa].
     """
-    return _compiled()["step"](params, state, gamma, gamma_dot, dt, seal, acceleration)  # type: ignore[no-any-return]
+    return _compiled()["step"](  # type: ignore[no-any-return]
+        params, state, gamma, gamma_dot, dt, seal, acceleration, thixotropy, clock
+    )
 
 
 def batched_step(
@@ -163,7 +208,9 @@ def batched_step(
     dt: Any,
     *,
     seal: Any = None,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> tuple[ChannelState, Any]:
     """:func:`step` mapped with :func:`jax.vmap` over a leading axis of N independent channels.
 
@@ -179,8 +226,10 @@ def batched_step(
         Step shared by the batch [s].
     seal : array_like, shape (N, ...), keyword-only
         Sealing factor per member [-]; default ones.
-    acceleration : bool, keyword-only
+    acceleration : bool or None, keyword-only
         Keep the acceleration term (decision D6).
+    thixotropy, clock : str, keyword-only
+        Evaluation (decision D15), as :func:`step`.
 
     Returns
     -------
@@ -210,7 +259,7 @@ def batched_step(
         )
     )
     return _compiled()["vstep"](
-        p, state, g, jnp.asarray(gamma_dot, dtype=float), dt, s, acceleration
+        p, state, g, jnp.asarray(gamma_dot, dtype=float), dt, s, acceleration, thixotropy, clock
     )  # type: ignore[no-any-return]
 
 
@@ -226,7 +275,9 @@ def run(
     *,
     state: ChannelState | None = None,
     seal: Any = 1.0,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
     xi0: float = 0.0,
 ) -> ChannelHistory:
     """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`.
@@ -245,8 +296,10 @@ def run(
         Initial state; default undisturbed mud with ``xi0`` and ``gamma[0]``.
     seal : array_like, keyword-only
         Sealing factor, scalar or shape (n, ...) [-].
-    acceleration : bool, keyword-only
+    acceleration : bool or None, keyword-only
         Keep the acceleration term (decision D6).
+    thixotropy, clock : str, keyword-only
+        Evaluation (decision D15), as :func:`step`.
     xi0 : float, keyword-only
         Initial structure when ``state`` is None [-].
 
@@ -281,9 +334,16 @@ def run(
     g = jnp.asarray(gamma, dtype=float)
     if state is None:
         z = jnp.zeros(g.shape[1:])
-        state = ChannelState(gamma=g[0] + z, gamma_w=g[0] + z, xi=z + xi0, s_th=z, sigma_s=z)
+        state = ChannelState(
+            gamma=g[0] + z, gamma_w=g[0] + z, xi=z + xi0, s_th=z, sigma_s=z, clock=z, clock_w=z
+        )
+    else:  # a state built without clocks carries them as Python zeros: give them its shape
+        z = jnp.zeros(g.shape[1:])
+        state = state._replace(clock=z + state.clock, clock_w=z + state.clock_w)
     sl = jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
-    total, el, th, su, xi = _compiled()["run"](params, t, g, state, sl, acceleration)
+    total, el, th, su, xi = _compiled()["run"](
+        params, t, g, state, sl, acceleration, thixotropy, clock
+    )
     return ChannelHistory(
         time=t, gamma=g, total=total, elastic=el, thixotropic=th, suction=su, xi=xi
     )

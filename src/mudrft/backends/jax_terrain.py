@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import channel_constants
 from ..terrains.mud import MudChannels, initial_channels, mud_step
 from ._jax_base import JaxParams, _jnp, enable_x64
@@ -48,10 +49,12 @@ def terrain_step(
     *,
     force_fn: Callable[[Any, Any, Any], Any],
     characteristic_length: Any,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
     heading_speed: float = 1e-6,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> tuple[MudChannels, tuple[Any, Any, Any]]:
     """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX.
 
@@ -73,8 +76,8 @@ def terrain_step(
         ``functools.partial(mesh_force, vertices, faces)``.
     characteristic_length : float, keyword-only
         :math:`L_c` [m].
-    acceleration, reset_on_exit, xi0, heading_speed : keyword-only
-        As :class:`mudrft.MudTerrain`.
+    acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
+        As :class:`mudrft.MudTerrain` (static under jit: Python values, not traced).
 
     Returns
     -------
@@ -82,6 +85,7 @@ def terrain_step(
     (force, stress, depth) : tuple of arrays
         Force [N] (..., 3), channel stresses [Pa] (..., 3), depth [m] (...).
     """
+    qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     jax = enable_x64()
     jnp = _jnp()
     pos = jnp.asarray(position, dtype=float)
@@ -90,8 +94,8 @@ def terrain_step(
     ver = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 2], params))
     ch, sx, sy, sz, depth = mud_step(
         (hor, ver), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
-        vel[..., 2], dt, characteristic_length, 1.0 if acceleration else 0.0, xi0,
-        reset_on_exit, heading_speed, 1.0, xp=jnp,
+        vel[..., 2], dt, characteristic_length, kappa, xi0, reset_on_exit, heading_speed, 1.0,
+        qs, restart, xp=jnp,
     )  # fmt: skip
     stress = jnp.stack([sx, sy, sz], axis=-1)
     force = force_fn(depth, stress, ch.heading) * ch.in_mud[..., None]
@@ -106,10 +110,12 @@ def simulate(
     *,
     force_fn: Callable[[Any, Any, Any], Any],
     characteristic_length: Any,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
     heading_speed: float = 1e-6,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> tuple[Any, Any, Any]:
     """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`.
 
@@ -127,6 +133,8 @@ def simulate(
     position, velocity : array_like, shape (n, ..., 3)
         Tip position [m] and velocity [m/s] at the samples.
     force_fn, characteristic_length, acceleration, reset_on_exit, xi0, heading_speed :
+        As :func:`terrain_step`.
+    thixotropy, clock :
         As :func:`terrain_step`.
 
     Returns
@@ -155,6 +163,8 @@ def simulate(
             reset_on_exit=reset_on_exit,
             xi0=xi0,
             heading_speed=heading_speed,
+            thixotropy=thixotropy,
+            clock=clock,
         )
 
     _, (f, s, d) = jax.lax.scan(body, st0, (pos[1:], vel[1:], t[1:] - t[:-1]))

@@ -14,8 +14,8 @@ about a microsecond: :func:`compiled_feet` steps N closed-form feet (a ``prange`
 large N) and serves :class:`~mudrft.backends.batch.BatchedMud` and
 :class:`~mudrft.backends.fast.FastMudFoot`.
 
-Layout of a foot's state row (``N_STATE`` floats): the x, y, z channels (5 each:
-gamma, gamma_w, xi, s_th, sigma_s), entry x, entry y, heading, in_mud. Output row
+Layout of a foot's state row (``N_STATE`` floats): the x, y, z channels (7 each:
+gamma, gamma_w, xi, s_th, sigma_s, clock, clock_w), entry x, entry y, heading, in_mud. Output row
 (``N_OUT``): force (3) [N], stress (3) [Pa], depth [m]. A constants row (``N_CONST``):
 the horizontal then the vertical :class:`~mudrft.constitutive.kernel.ChannelConstants`.
 """
@@ -40,6 +40,7 @@ from ..feet.closed_form import closed_form_force
 from ..terrains.mud import MudChannels, mud_step
 
 __all__ = [
+    "N_CHANNEL",
     "N_CONST",
     "N_OUT",
     "N_STATE",
@@ -47,14 +48,17 @@ __all__ = [
     "available",
     "compile_scalar",
     "compiled_feet",
+    "config_row",
     "constant_row",
     "state_rows",
 ]
 
 #: Batches at least this large use the multi-threaded loop (smaller ones: one thread).
 PARALLEL_MIN = 4096
+#: Floats in a channel's state (the fields of ChannelState).
+N_CHANNEL = len(ChannelState._fields)
 #: Floats in a foot's state row, output row and constants row.
-N_STATE = 19
+N_STATE = 3 * N_CHANNEL + 4
 N_OUT = 7
 N_CONST = 2 * len(ChannelConstants._fields)
 
@@ -164,6 +168,21 @@ def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> NDArray[np.flo
     return np.ascontiguousarray(np.stack(np.broadcast_arrays(*fields), axis=-1))
 
 
+def config_row(terrain: Any, foot: Any) -> NDArray[np.float64]:
+    """The ``cfg`` row of :func:`compiled_feet` for a :class:`~mudrft.MudTerrain` and a foot."""
+    return np.array(
+        [
+            terrain.length(foot),
+            terrain.kappa,
+            terrain.xi0,
+            float(terrain.reset_on_exit),
+            terrain.heading_speed,
+            float(terrain.quasi_static),
+            float(terrain.restart),
+        ]
+    )
+
+
 def state_rows(ch: MudChannels) -> NDArray[np.float64]:
     """A :class:`~mudrft.terrains.mud.MudChannels` (floats or arrays (N,)) as rows (N, N_STATE)."""
     fields = [*ch.x, *ch.y, *ch.z, ch.entry_x, ch.entry_y, ch.heading, ch.in_mud]
@@ -183,16 +202,17 @@ def _one_foot(
 ) -> None:  # fmt: skip
     """One closed-form foot: state row ``s`` and output row ``o`` updated in place."""
     lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
+    qs, restart = cfg[5] != 0.0, cfg[6] != 0.0
     ch = MudChannels(
-        ChannelState(s[0], s[1], s[2], s[3], s[4]),
-        ChannelState(s[5], s[6], s[7], s[8], s[9]),
-        ChannelState(s[10], s[11], s[12], s[13], s[14]),
-        s[15], s[16], s[17], s[18],
+        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
+        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
+        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
+        s[21], s[22], s[23], s[24],
     )  # fmt: skip
     hor = _constants(c, r, 0)
     ver = _constants(c, r, 12)
     new, sx, sy, sz, depth = _step(
-        (hor, ver), ch, x, y, z, vx, vy, vz, dt, lc, kappa, xi0, reset, hs, 1.0
+        (hor, ver), ch, x, y, z, vx, vy, vz, dt, lc, kappa, xi0, reset, hs, 1.0, qs, restart
     )
     fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)
     k = 0
@@ -200,7 +220,7 @@ def _one_foot(
         for v in chan:
             s[k] = v
             k += 1
-    s[15], s[16], s[17], s[18] = new.entry_x, new.entry_y, new.heading, new.in_mud
+    s[21], s[22], s[23], s[24] = new.entry_x, new.entry_y, new.heading, new.in_mud
     o[0], o[1], o[2] = fx * new.in_mud, fy * new.in_mud, fz * new.in_mud
     o[3], o[4], o[5], o[6] = sx, sy, sz, depth
 
@@ -223,13 +243,13 @@ def _fast_foot(
 ) -> int:
     """One foot with its checks: 0 done, 1 bad input (nothing changed), 2 non-finite force.
 
-    ``w`` (3, 19) holds the state row, the output row (first N_OUT) and the options row
-    (``cfg`` then ``geom``, 9 floats): three arrays fewer to pass than the loop's signature.
+    ``w`` (3, N_STATE) holds the state row, the output row (first N_OUT) and the options row
+    (``cfg``, 7 floats, then ``geom``, 4): three arrays fewer to pass than the loop's signature.
     """
     if not (dt > 0.0 and math.isfinite(dt) and math.isfinite(x + y + z + vx + vy + vz)):
         return 1
     o = w[1]
-    _foot(c, 0, w[0], o, x, y, z, vx, vy, vz, dt, w[2, :5], w[2, 5:9])
+    _foot(c, 0, w[0], o, x, y, z, vx, vy, vz, dt, w[2, :7], w[2, 7:11])
     return 0 if math.isfinite(o[0] + o[1] + o[2]) else 2
 
 
@@ -269,7 +289,8 @@ def compiled_feet(parallel: bool = False) -> Any:
 
     Signature ``loop(c, st, out, pos, vel, dt, cfg, geom)``: ``c`` (1 or N, N_CONST),
     ``st`` (N, N_STATE) and ``out`` (N, N_OUT) updated in place, ``pos``/``vel`` (N, 3)
-    [m], [m/s], ``dt`` [s], ``cfg = (L_c [m], kappa, xi0, reset 0/1, heading_speed [m/s])``,
+    [m], [m/s], ``dt`` [s], ``cfg = (L_c [m], kappa, xi0, reset 0/1, heading_speed [m/s],
+    quasi_static 0/1, restart 0/1)`` (:func:`config_row`),
     ``geom = (kind, g0, g1, g2)`` of :func:`~mudrft.feet.closed_form.closed_form_coefficients`.
     """
     numba = _numba()

@@ -3,7 +3,7 @@
 All trials are simulated together: arrays of shape ``(n_max, T)`` for ``T`` trials,
 padded at the end (a padded step repeats the last sample, never read back). A
 batch of ``B`` parameter sets (a Jacobian, a grid of starting points) is run in
-the same pass, so one call of :func:`mudrft.constitutive.channel_update` per time step
+the same pass, so one call of :func:`mudrft.constitutive.kernel.channel_step` per time step
 advances ``B x T`` channels.
 """
 
@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..constitutive import channel_constants, channel_update, initial_state
+from ..constitutive import channel_constants, initial_state
+from ..constitutive.kernel import channel_step
 from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
 
@@ -100,6 +101,8 @@ class Packed:
     acceleration: bool
     xi0: float
     simulations: int = 0
+    thixotropy: str = "ode"
+    clock: str = "contact"
 
     @classmethod
     def from_dataset(
@@ -110,6 +113,8 @@ class Packed:
         k_a: float | None,
         acceleration: bool,
         xi0: float,
+        thixotropy: str = "ode",
+        clock: str = "contact",
     ) -> Packed:
         trials = dataset.trials
         T = len(trials)
@@ -160,6 +165,8 @@ class Packed:
             k_a=k_a,
             acceleration=acceleration,
             xi0=xi0,
+            thixotropy=thixotropy,
+            clock=clock,
         )
 
     @property
@@ -191,13 +198,23 @@ class Packed:
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
             st = initial_state((B, T), xi0=self.xi0, gamma=self.gamma[0])
-            # the one constitutive step (mudrft.constitutive.channel_update) without
+            # the one constitutive step (mudrft.constitutive.kernel.channel_step) without
             # per-step validation: the inputs were validated once when the data were packed
             consts = channel_constants(p)
-            kappa = 1.0 if self.acceleration else 0.0
+            # options validated by calibrate() (constitutive.dynamics.evaluation)
+            qs, restart = self.thixotropy == "quasi-static", self.clock == "retraction"
+            kappa = 1.0 if self.acceleration and not qs else 0.0
             for k in range(1, n):
-                st, stress = channel_update(
-                    consts, st, self.gamma[k], self.rate[k - 1], self.dt[k - 1], 1.0, kappa
+                st, stress = channel_step(
+                    consts,
+                    st,
+                    self.gamma[k],
+                    self.rate[k - 1],
+                    self.dt[k - 1],
+                    1.0,
+                    kappa,
+                    qs,
+                    restart,
                 )
                 out[k] = stress.total
         bad = ~np.isfinite(out)
@@ -217,7 +234,15 @@ class Packed:
         return int(rows[-1]) + 1 if rows.size else 1
 
 
-def pack(ds: IntrusionDataset, p: MudParameters, *, acceleration: bool, xi0: float) -> Packed:
+def pack(
+    ds: IntrusionDataset,
+    p: MudParameters,
+    *,
+    acceleration: bool,
+    xi0: float,
+    thixotropy: str = "ode",
+    clock: str = "contact",
+) -> Packed:
     """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
 
     Parameters
@@ -228,13 +253,21 @@ def pack(ds: IntrusionDataset, p: MudParameters, *, acceleration: bool, xi0: flo
         A single set; its ``nu`` [1/s] is kept, its ``k_a`` [1/s] too unless it is the
         default ``1/lam`` (then it follows each fitted ``lam``, decision D8).
     acceleration : bool, keyword-only
-        Keep the acceleration term (decision D6).
+        Keep the acceleration term (decision D6; ignored by the quasi-static evaluation).
     xi0 : float, keyword-only
         Initial structure of every trial [-].
+    thixotropy, clock : str, keyword-only
+        Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
     """
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed.from_dataset(
-        ds, nu=float(p.nu), k_a=None if tied else float(p.k_a), acceleration=acceleration, xi0=xi0
+        ds,
+        nu=float(p.nu),
+        k_a=None if tied else float(p.k_a),
+        acceleration=acceleration,
+        xi0=xi0,
+        thixotropy=thixotropy,
+        clock=clock,
     )
 
 

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import MudrftError, check_choice, check_in_range
+from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
 from ..metrics import relative_rmse
 from ..parameters.base import MudParameters
@@ -101,7 +102,9 @@ def calibrate(
     starts: int = 1,
     max_nfev: int = 200,
     confidence_level: float = 0.95,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
     xi0: float = 0.0,
     progress: bool | Callable[[str], object] | None = None,
     area: float | None = None,
@@ -142,8 +145,13 @@ def calibrate(
         Evaluations allowed to each least-squares solve.
     confidence_level : float, keyword-only
         Level of the confidence intervals, in (0, 1).
-    acceleration : bool, keyword-only
-        Keep the acceleration term of :math:`f_\xi` (decision D6).
+    acceleration : bool or None, keyword-only
+        Keep the acceleration term of :math:`f_\xi` (decision D6); None keeps it in the ODE.
+    thixotropy : {"ode", "quasi-static"}, keyword-only
+        Fit the ODE model (default) or the paper's quasi-static closed forms (9)-(11)
+        (decision D15), as :class:`mudrft.MudTerrain`.
+    clock : {"contact", "retraction"}, keyword-only
+        Quasi-static only: the clock of eq. (9) (decision D15).
     xi0 : float, keyword-only
         Initial structure of the mud in every trial [-] (decision D3: 0).
     progress : bool or callable, keyword-only
@@ -192,6 +200,8 @@ def calibrate(
     True
     """
     t_start = time.perf_counter()
+    _qs, _restart, kappa = evaluation(thixotropy, clock, acceleration)
+    acceleration = kappa == 1.0
     reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
     setup = _prepare(
         dataset,
@@ -224,6 +234,8 @@ def calibrate(
         xi0=xi0,
         trace_limit=trace_limit,
         reporter=reporter,
+        thixotropy=thixotropy,
+        clock=clock,
     )
     reporter.step()
     stages = [start]
@@ -351,4 +363,6 @@ def _assemble(
         acceleration=bool(acceleration),
         xi0=float(xi0),
         dataset=ds,
+        thixotropy=packed.thixotropy,
+        clock=packed.clock,
     )

@@ -117,6 +117,8 @@ class FitResult:
         Condition number of the Jacobian in log-parameters [-].
     acceleration : bool
         Whether the model kept the acceleration term (decision D6).
+    thixotropy, clock : str
+        Evaluation of the model that was fitted (decision D15).
     xi0 : float
         Initial structure of every trial [-].
     dataset : IntrusionDataset or None
@@ -144,6 +146,8 @@ class FitResult:
     acceleration: bool = True
     xi0: float = 0.0
     dataset: IntrusionDataset | None = None
+    thixotropy: str = "ode"
+    clock: str = "contact"
 
     @property
     def success(self) -> bool:
@@ -206,7 +210,14 @@ class FitResult:
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
-        packed = pack(ds, self.parameters, acceleration=self.acceleration, xi0=self.xi0)
+        packed = pack(
+            ds,
+            self.parameters,
+            acceleration=self.acceleration,
+            xi0=self.xi0,
+            thixotropy=self.thixotropy,
+            clock=self.clock,
+        )
         sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
         return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
 
@@ -265,6 +276,8 @@ class FitResult:
             "message": self.message,
             "condition_number": num(self.condition_number),
             "acceleration": self.acceleration,
+            "thixotropy": self.thixotropy,
+            "clock": self.clock,
             "xi0": self.xi0,
             "bounds": {k: list(v) for k, v in self.bounds.items()},
             "stages": [
@@ -367,6 +380,8 @@ class FitResult:
                 bounds={k: (float(a), float(b)) for k, (a, b) in data.get("bounds", {}).items()},
                 condition_number=f(data.get("condition_number")),
                 acceleration=bool(data.get("acceleration", True)),
+                thixotropy=str(data.get("thixotropy", "ode")),
+                clock=str(data.get("clock", "contact")),
                 xi0=float(data.get("xi0", 0.0)),
             )
         except MudrftError:

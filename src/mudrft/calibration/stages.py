@@ -133,6 +133,8 @@ def start_engine(
     xi0: float,
     trace_limit: int,
     reporter: Reporter,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> tuple[Engine, StageReport]:
     """Pack the data and set the starting point: the "start" stage.
 
@@ -152,10 +154,14 @@ def start_engine(
         As for :func:`~mudrft.calibration.calibrate`.
     reporter : Reporter, keyword-only
         Where notes go.
+    thixotropy, clock : str, keyword-only
+        Evaluation of the model (decision D15), as for :func:`~mudrft.calibration.calibrate`.
     """
     t0 = time.perf_counter()
     try:
-        packed = pack(ds, base, acceleration=acceleration, xi0=xi0)
+        packed = pack(
+            ds, base, acceleration=acceleration, xi0=xi0, thixotropy=thixotropy, clock=clock
+        )
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
     engine = Engine(

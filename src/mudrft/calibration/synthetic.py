@@ -61,7 +61,9 @@ def synthetic_dataset(
     rest: float = 0.0,
     characteristic_length: float = DEFAULT_PLATE_LENGTH,
     direction: str | None = None,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
 ) -> IntrusionDataset:
     """Plate tests simulated with known parameters plus noise (synthetic data).
 
@@ -91,8 +93,10 @@ def synthetic_dataset(
         Plate characteristic length [m] (decision D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
         Test direction; default ``params.direction`` or vertical.
-    acceleration : bool, keyword-only
-        Keep the acceleration term (decision D6).
+    acceleration : bool or None, keyword-only
+        Keep the acceleration term (decision D6); None keeps it in the ODE.
+    thixotropy, clock : str, keyword-only
+        Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
 
     Returns
     -------
@@ -119,7 +123,12 @@ def synthetic_dataset(
     for v in sp:
         tr = plate_intrusion(depth=depth, speed=float(v), hold=hold, direction=d, dt=dt, rest=rest)
         res = plate_response(
-            tr, params, characteristic_length=characteristic_length, acceleration=acceleration
+            tr,
+            params,
+            characteristic_length=characteristic_length,
+            acceleration=acceleration,
+            thixotropy=thixotropy,
+            clock=clock,
         )
         span = float(np.ptp(res.stress))
         stress = res.stress + rng.normal(0.0, float(noise) * span, res.stress.size)

@@ -117,13 +117,13 @@ def _unit(unit: str) -> str:
     return f" {unit}" if unit else ""
 
 
-def paper_mud_option(water_content: float, *, extrapolate: bool) -> Any:
+def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Any:
     """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
     from ..parameters import paper_mud
 
     check_finite_option("--water-content", water_content)
     try:
-        return paper_mud(water_content, extrapolate=extrapolate)
+        return paper_mud(water_content, extrapolate=extrapolate, labels=labels)
     except MudrftError as exc:
         text = str(exc).replace("pass extrapolate=True", "pass --extrapolate")
         if text.startswith("water_content "):

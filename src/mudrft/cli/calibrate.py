@@ -96,6 +96,18 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--confidence", type=float, default=0.95, help="level of the confidence intervals"
     )
+    p.add_argument(
+        "--thixotropy",
+        choices=["ode", "quasi-static"],
+        default="ode",
+        help="fit the ODE model or the paper's quasi-static closed forms (9)-(11) (D15)",
+    )
+    p.add_argument(
+        "--clock",
+        choices=["contact", "retraction"],
+        default="contact",
+        help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
+    )
     p.add_argument("--out", default=None, help="write the fit to this JSON file")
     add_force(p, "--out and --plot if they exist")
     p.add_argument(
@@ -135,6 +147,8 @@ def run(args: argparse.Namespace) -> int:
             confidence_level=args.confidence,
             progress=None if args.quiet else logger.info,
             decimate=args.decimate,
+            thixotropy=args.thixotropy,
+            clock=args.clock,
         )
         print(fit.summary())
         if ds.synthetic:

@@ -53,5 +53,9 @@ def run(args: argparse.Namespace) -> int:
             print("  " + "  ".join(vals) + flag)
         print()
     print("Between rows the sets are interpolated (log-linear); see docs/model.md, decision D7.")
+    print(
+        "W is labelled as the tables print it; the paper's text calls the same rows 15, 25 and "
+        "35 % (errata E6/E7): paper_mud(W, labels='text'), mudrft simulate --labels text."
+    )
     print("nu = 0.01 1/s and k_a = 1/lam are model choices (decisions D5, D8), not table values.")
     return 0

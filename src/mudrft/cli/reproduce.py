@@ -11,15 +11,19 @@ from ._common import HelpFormatter, Outputs, add_force, require_extra
 __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
-    "Run every foot (flat, semi-cylinder, semi-sphere, morphing) through one stepping cycle "
-    "at the paper's three gait speeds and tabulated water contents, plus a load-controlled "
-    "settle for the sinking depth, and write DIR/summary.csv (one row per foot, speed and "
-    "water content), DIR/report.md (each result beside the paper's claim, with a verdict) "
-    "and figures like the paper's Figs. 9, 10, 12 and 13 (PNG)."
+    "Reproduce the paper's comparisons as the paper computes them: every foot (flat, "
+    "semi-cylinder, semi-sphere, morphing) through one stepping cycle at the paper's three "
+    "gait speeds and tabulated water contents under the headline reading (the paper's "
+    "quasi-static eqs. (9)-(11), feet not buried), then under the other readings of the "
+    "paper. Writes DIR/summary.csv (headline: one row per foot, speed and water content), "
+    "DIR/claims.csv (one row per claim and reading: claim, reading, paper, mudrft, verdict), "
+    "DIR/report.md (the headline's 'N of 9 claims', the matrix of readings x claims and "
+    "where the paper supports each reading) and figures like the paper's Figs. 9, 10, 12 "
+    "and 13 (PNG)."
 )
 
 #: What ``mudrft reproduce`` writes in its directory.
-TABLES = ("summary.csv", "report.md")
+TABLES = ("summary.csv", "claims.csv", "report.md")
 FIGURES = (
     "fig09_forces.png",
     "fig10_normalized.png",
@@ -32,7 +36,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     """Add ``mudrft reproduce`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "reproduce",
-        help="the paper's comparisons: summary.csv, figures, report.md",
+        help="the paper's claims under its readings: summary.csv, claims.csv, report.md, figures",
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )

@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from .._validation import MudrftError
+from ..trajectories import STANCE_DEPTH
 from ._common import (
     HelpFormatter,
     Outputs,
@@ -45,7 +46,27 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
-    p.add_argument("--depth", type=float, default=0.03, help="deepest tip depth [m]")
+    p.add_argument(
+        "--depth", type=float, default=STANCE_DEPTH, help="deepest tip depth [m] (decision D10)"
+    )
+    p.add_argument(
+        "--thixotropy",
+        choices=["ode", "quasi-static"],
+        default="ode",
+        help="step eqs. (3), (5), or the paper's quasi-static closed forms (9)-(11) (D15)",
+    )
+    p.add_argument(
+        "--clock",
+        choices=["contact", "retraction"],
+        default="contact",
+        help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
+    )
+    p.add_argument(
+        "--labels",
+        choices=["table", "text"],
+        default="table",
+        help="water content as the tables label the rows (25/35/45 %%) or the text (15/25/35 %%)",
+    )
     p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
     p.add_argument(
         "--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])"
@@ -74,8 +95,14 @@ def run(args: argparse.Namespace) -> int:
             raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")
     if args.plot:
         require_extra("matplotlib", needed_for="--plot")
+    from ..terrains import MudTerrain
+
     foot = by_name(args.foot)
-    mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
+    mud = MudTerrain(
+        paper_mud_option(args.water_content, extrapolate=args.extrapolate, labels=args.labels),
+        thixotropy=args.thixotropy,
+        clock=args.clock,
+    )
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None

@@ -1,7 +1,9 @@
 r"""Time stepping of the mud constitutive model, validated: :func:`step` and :func:`run`.
 
-:func:`step` checks its inputs and calls :func:`mudrft.constitutive.kernel.channel_update`,
-the one definition of the update (exact exponential solution of eqs. 3 and 5 over a step).
+:func:`step` checks its inputs and calls :func:`mudrft.constitutive.kernel.channel_step`,
+the one definition of the update: the exact exponential solution of eqs. (3) and (5) over a
+step (``thixotropy="ode"``), or the paper's quasi-static closed forms (9)-(11)
+(``thixotropy="quasi-static"``, decision D15). :func:`evaluation` validates that choice.
 
 ``state, stress = step(params, state, gamma, gamma_dot, dt)`` serves a time loop,
 a MuJoCo loop, a batch (arrays everywhere) and, with ``xp=jax.numpy``, a JAX scan.
@@ -13,12 +15,77 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_increasing, check_positive
+from .._validation import (
+    MudrftError,
+    check_choice,
+    check_finite,
+    check_increasing,
+    check_positive,
+)
 from ..parameters.base import MudParameters
 from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
 
-__all__ = ["ChannelHistory", "run", "step"]
+__all__ = ["CLOCKS", "THIXOTROPY", "ChannelHistory", "evaluation", "run", "step"]
+
+#: Evaluations of the thixotropy and suction (decision D15): the ODEs (3) and (5) stepped
+#: exactly, or the paper's quasi-static closed forms (9)-(11).
+THIXOTROPY = ("ode", "quasi-static")
+#: Clock of eq. (9) in the quasi-static evaluation: from first contact, or restarted when
+#: the retraction begins (decision D15).
+CLOCKS = ("contact", "retraction")
+
+
+def evaluation(
+    thixotropy: str = "ode", clock: str = "contact", acceleration: bool | None = None
+) -> tuple[bool, bool, float]:
+    """Validate the evaluation options; return ``(quasi_static, restart, kappa)``.
+
+    Parameters
+    ----------
+    thixotropy : {"ode", "quasi-static"}
+        ``"ode"`` steps eqs. (3) and (5); ``"quasi-static"`` evaluates the paper's closed
+        forms (9)-(11) at the current rate and displacement (decision D15).
+    clock : {"contact", "retraction"}
+        Quasi-static only: the clock of eq. (9) runs from first contact, or restarts when
+        the retraction begins.
+    acceleration : bool or None
+        ODE only: keep the acceleration term (decision D6); None means True for the ODE.
+        Eq. (9) drops the term, so True is refused with ``"quasi-static"``.
+
+    Returns
+    -------
+    tuple
+        ``quasi_static`` (bool), ``restart`` (bool) and ``kappa`` (1.0 or 0.0) for
+        :func:`mudrft.constitutive.kernel.channel_step`.
+
+    Examples
+    --------
+    >>> evaluation("quasi-static", "retraction")
+    (True, True, 0.0)
+    >>> evaluation("ode", "retraction")
+    Traceback (most recent call last):
+    ...
+    mudrft._validation.MudrftError: clock='retraction' applies to thixotropy='quasi-static' only (eq. 9); the ODE keeps its own memory
+    """
+    check_choice("thixotropy", thixotropy, THIXOTROPY)
+    check_choice("clock", clock, CLOCKS)
+    if acceleration is not None and not isinstance(acceleration, bool | np.bool_):
+        raise MudrftError(f"acceleration must be True, False or None, got {acceleration!r}")
+    quasi_static = thixotropy == "quasi-static"
+    if quasi_static:
+        if acceleration:
+            raise MudrftError(
+                "acceleration=True cannot be combined with thixotropy='quasi-static': eq. (9) "
+                "is the solution of eq. (3a) with the acceleration term dropped"
+            )
+        return True, clock == "retraction", 0.0
+    if clock != "contact":
+        raise MudrftError(
+            f"clock={clock!r} applies to thixotropy='quasi-static' only (eq. 9); the ODE keeps "
+            "its own memory"
+        )
+    return False, False, 1.0 if acceleration is None or acceleration else 0.0
 
 
 def step(
@@ -29,7 +96,9 @@ def step(
     dt: Any,
     *,
     seal: Any = 1.0,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
     xp: Any = np,
     validate: bool = True,
 ) -> tuple[ChannelState, ChannelStress]:
@@ -54,8 +123,13 @@ def step(
     seal : array_like, keyword-only
         Factor in [0, 1] multiplying the sealing state (1: the foot can seal the cavity;
         the morphing foot lowers it as its pads retract) [-].
-    acceleration : bool, keyword-only
-        Keep the :math:`\lambda\eta_\infty\ddot\gamma` term of :math:`f_\xi` (default, decision D6).
+    acceleration : bool or None, keyword-only
+        Keep the :math:`\lambda\eta_\infty\ddot\gamma` term of :math:`f_\xi` (decision D6);
+        None keeps it in the ODE (the quasi-static evaluation has none).
+    thixotropy : {"ode", "quasi-static"}, keyword-only
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
+    clock : {"contact", "retraction"}, keyword-only
+        Quasi-static only: clock of eq. (9) (:func:`evaluation`).
     xp : module, keyword-only
         Array namespace (``numpy`` or ``jax.numpy``). No validation is done under JAX.
     validate : bool, keyword-only
@@ -81,9 +155,18 @@ def step(
         check_positive("dt", dt, unit="s")
         check_finite("gamma", gamma)
         check_finite("gamma_dot", gamma_dot)
-    kappa = 1.0 if acceleration else 0.0
-    return kernel.channel_update(
-        kernel.channel_constants(params), state, gamma, gamma_dot, dt, seal, kappa, xp=xp
+    qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
+    return kernel.channel_step(
+        kernel.channel_constants(params),
+        state,
+        gamma,
+        gamma_dot,
+        dt,
+        seal,
+        kappa,
+        qs,
+        restart,
+        xp=xp,
     )
 
 
@@ -106,7 +189,9 @@ def run(
     *,
     state: ChannelState | None = None,
     seal: Any = 1.0,
-    acceleration: bool = True,
+    acceleration: bool | None = None,
+    thixotropy: str = "ode",
+    clock: str = "contact",
     xi0: float = 0.0,
 ) -> ChannelHistory:
     """Run one channel along a displacement history sampled at ``time``.
@@ -126,8 +211,10 @@ def run(
         Initial state; default undisturbed mud with ``xi0`` and ``gamma[0]``.
     seal : array_like, keyword-only
         Sealing factor, scalar or shape (n, ...) [-].
-    acceleration : bool, keyword-only
-        Keep the acceleration term (decision D6).
+    acceleration : bool or None, keyword-only
+        Keep the acceleration term (decision D6); None: as :func:`step`.
+    thixotropy, clock : str, keyword-only
+        Evaluation of the thixotropy and suction (:func:`evaluation`, decision D15).
     xi0 : float, keyword-only
         Initial structure when ``state`` is not given [-].
 
@@ -145,6 +232,8 @@ def run(
         )
     if t.size < 2:
         raise MudrftError(f"time must have at least 2 samples, got {t.size}")
+    qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
+    consts = kernel.channel_constants(params)
     seal_arr = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
     st = state if state is not None else initial_state(g.shape[1:], xi0=xi0, gamma=g[0])
     n = t.size
@@ -155,7 +244,7 @@ def run(
         dt = t[k] - t[k - 1]
         rate = (g[k] - g[k - 1]) / dt
         sk = s_const if seal_arr is None else seal_arr[k]
-        st, s = step(params, st, g[k], rate, dt, seal=sk, acceleration=acceleration, validate=False)
+        st, s = kernel.channel_step(consts, st, g[k], rate, dt, sk, kappa, qs, restart)
         out["total"][k] = s.total
         out["elastic"][k] = s.elastic
         out["thixotropic"][k] = s.thixotropic

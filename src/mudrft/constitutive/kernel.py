@@ -1,17 +1,25 @@
 r"""The constitutive step: the one definition of how a stress channel advances in time.
 
-:func:`channel_update` is the only place where eqs. (1)-(5) are stepped. Every path calls
+:func:`channel_step` is the only place where eqs. (1)-(5) are stepped. Every path calls
 it: :func:`mudrft.constitutive.step` (the validated reference), :class:`mudrft.MudTerrain`
 (one foot on Python floats, or a batch on numpy arrays), the JAX backend
 (``xp=jax.numpy``), calibration, and the numba backend, which compiles this very function
 on floats (decision D80). It is written in the element-wise subset of
 :mod:`mudrft._xp`: no validation, no shapes, no stacking.
 
-The ODEs (3) and (5) are linear in the state when the rate is held constant over a step,
-so the update is their exact exponential solution: unconditionally stable for every time
-constant in the tables at any step size, and exact for inputs that are piecewise linear in
-time. The only approximation is the sealing function, evaluated at the middle of the step
-(second order).
+It selects one of two evaluations of the thixotropy and the suction by a static flag
+(decision D15):
+
+* :func:`channel_update`, the ODE reading: eqs. (3) and (5) are linear in the state when
+  the rate is held constant over a step, so the update is their exact exponential
+  solution: unconditionally stable for every time constant in the tables at any step
+  size, and exact for inputs that are piecewise linear in time. The only approximation is
+  the sealing function, evaluated at the middle of the step (second order).
+* :func:`channel_update_quasi_static`, the paper's own evaluation (Sec. III-A): the closed
+  forms (9)-(11) at the current rate and displacement, with the acceleration term
+  dropped as eq. (9) drops it. Its only memory is two clocks: the time since first
+  contact (:math:`t` of eq. 9) and the time since the retraction began
+  (:math:`\Delta t=t-t_w` of eq. 10).
 """
 
 from __future__ import annotations
@@ -23,7 +31,14 @@ import numpy as np
 from . import laws
 from .state import ChannelState, ChannelStress
 
-__all__ = ["ChannelConstants", "channel_constants", "channel_update", "expm1_over_x"]
+__all__ = [
+    "ChannelConstants",
+    "channel_constants",
+    "channel_step",
+    "channel_update",
+    "channel_update_quasi_static",
+    "expm1_over_x",
+]
 
 
 class ChannelConstants(NamedTuple):
@@ -134,18 +149,9 @@ def channel_update(
     stress : ChannelStress
         Stresses at the end of the step [Pa].
     """
-    g_old, gw_old, xi, s_th, sig_s = state
-    # deepest point of the current intrusion, and the retraction from it
-    ag = xp.abs(gamma)
-    agw = xp.abs(gw_old)
-    flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
-    deeper = (ag >= agw) | flipped
-    gw_new = xp.where(deeper, gamma, gw_old)
-    direction = xp.where(
-        gw_new != 0, xp.sign(gw_new), xp.where(gamma_dot != 0, xp.sign(gamma_dot), 1.0)
-    )
-    r_start = xp.where(flipped, 0.0, xp.maximum(agw - xp.abs(g_old), 0.0))
-    r_end = xp.maximum(xp.abs(gw_new) - ag, 0.0)
+    gw_new, direction, r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
+    clock, clock_w = _clocks(state, r_end, dt, xp=xp)
+    xi, s_th, sig_s = state.xi, state.s_th, state.sigma_s
 
     # structure parameter, eq. (3b): exact exponential update
     tau = laws.tau_xi(gamma_dot, c.k_a, c.k_r, xp=xp)
@@ -174,8 +180,163 @@ def channel_update(
     )
     sigma_th = s_new + kappa * c.eta_inf * gamma_dot
     suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * sig_new
-    new_state = ChannelState(gamma=gamma, gamma_w=gw_new, xi=xi_new, s_th=s_new, sigma_s=sig_new)
+    new_state = ChannelState(
+        gamma=gamma,
+        gamma_w=gw_new,
+        xi=xi_new,
+        s_th=s_new,
+        sigma_s=sig_new,
+        clock=clock,
+        clock_w=clock_w,
+    )
     stress = ChannelStress(
         total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
     )
     return new_state, stress
+
+
+def channel_update_quasi_static(
+    c: ChannelConstants,
+    state: ChannelState,
+    gamma: Any,
+    gamma_dot: Any,
+    dt: Any,
+    seal: Any = 1.0,
+    restart: bool = False,
+    *,
+    xp: Any = np,
+) -> tuple[ChannelState, ChannelStress]:
+    r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15).
+
+    Sec. III-A evaluates the stresses "by (2), (9) and (10)" at the current displacement
+    and rate, with the acceleration term dropped:
+
+    .. math::
+        \sigma_{th} = (1-e^{-t/\lambda})\,(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma,\qquad
+        \sigma_s = (1-e^{-a\Delta t})\,\sigma_{s,ss},\quad
+        \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
+        a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
+
+    with :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` (eq. 4), the sealing
+    state :math:`\phi` at the current retraction (decision D4, times ``seal``) and
+    :math:`\Delta t=t-t_w` the time since the retraction began. The clock :math:`t` of
+    eq. (9) runs from first contact (``restart=False``: eq. 9 is written in :math:`t`,
+    eq. 10 in :math:`t-t_w`) or restarts at :math:`t_w` (``restart=True``). The total is
+    eq. (1) with the bed-contact factor of decision D2 on :math:`\sigma_b`, as in
+    :func:`channel_update`. Only the clocks and the deepest point are state; the returned
+    state also holds :math:`\xi_{ss}`, :math:`\sigma_{th}` and :math:`\sigma_s`, for
+    inspection.
+
+    Parameters
+    ----------
+    c : ChannelConstants
+        Model constants (SI), from :func:`channel_constants`.
+    state : ChannelState
+        State at the start of the step (its clocks and deepest point are used).
+    gamma : array_like
+        Dimensionless displacement at the end of the step [-].
+    gamma_dot : array_like
+        Dimensionless rate at the end of the step [1/s].
+    dt : float or array_like
+        Step length [s], > 0 (advances the clocks).
+    seal : array_like
+        Factor in [0, 1] multiplying the sealing state [-].
+    restart : bool
+        Restart the clock of eq. (9) when the retraction begins.
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
+
+    Returns
+    -------
+    state : ChannelState
+        State at the end of the step.
+    stress : ChannelStress
+        Stresses at the end of the step [Pa].
+    """
+    gw_new, direction, _r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
+    clock, clock_w = _clocks(state, r_end, dt, xp=xp)
+    t9 = clock
+    if restart:
+        t9 = xp.where(clock_w > 0.0, clock_w, clock)
+    gamma_dot_c = c.k_a / c.k_r
+    # eq. (9) with eq. (4); 1 - exp(-t/lambda) written as -expm1(-t/lambda)
+    sigma_th = -xp.expm1(-t9 / c.lam) * laws.thixotropic_steady(
+        gamma_dot, c.eta_inf, c.eta_m, gamma_dot_c, xp=xp
+    )
+    # eqs. (10)-(11) at the current sealing state
+    phi = seal * laws.sealing(r_end, c.epsilon, xp=xp)
+    a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
+    steady = direction * laws.suction_steady(phi, c.tau_build, c.tau_leak, c.sigma_y)
+    sig_s = -xp.expm1(-a * clock_w) * steady
+    # eq. (1) with eq. (2) and the bed-contact factor (decision D2)
+    sigma_b = laws.elastic_stress(gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
+        r_end, c.epsilon, xp=xp
+    )
+    suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * sig_s
+    new_state = ChannelState(
+        gamma=gamma,
+        gamma_w=gw_new,
+        xi=laws.xi_steady(gamma_dot, gamma_dot_c, xp=xp),
+        s_th=sigma_th,
+        sigma_s=sig_s,
+        clock=clock,
+        clock_w=clock_w,
+    )
+    stress = ChannelStress(
+        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
+    )
+    return new_state, stress
+
+
+def channel_step(
+    c: ChannelConstants,
+    state: ChannelState,
+    gamma: Any,
+    gamma_dot: Any,
+    dt: Any,
+    seal: Any = 1.0,
+    kappa: Any = 1.0,
+    quasi_static: bool = False,
+    restart: bool = False,
+    *,
+    xp: Any = np,
+) -> tuple[ChannelState, ChannelStress]:
+    """One channel step in the selected evaluation (decision D15); no validation.
+
+    ``quasi_static`` and ``restart`` are static choices (Python bools; JAX must not trace
+    them): :func:`channel_update_quasi_static` with ``restart`` when ``quasi_static``, else
+    :func:`channel_update` with ``kappa``. Parameters and returns as those two.
+    """
+    if quasi_static:
+        return channel_update_quasi_static(c, state, gamma, gamma_dot, dt, seal, restart, xp=xp)
+    return channel_update(c, state, gamma, gamma_dot, dt, seal, kappa, xp=xp)
+
+
+def _retraction(state: ChannelState, gamma: Any, gamma_dot: Any, *, xp: Any = np) -> Any:
+    r"""Deepest point, intrusion direction, and the retraction from it at the step's ends.
+
+    Returns ``(gamma_w, direction, r_start, r_end)``: the deepest displacement of the
+    current intrusion [-], its sign (+-1), and :math:`r=|\gamma_w|-|\gamma|\ge0` before
+    and after the step [-]; a change of sign of the displacement starts a new intrusion.
+    """
+    g_old, gw_old = state.gamma, state.gamma_w
+    ag = xp.abs(gamma)
+    agw = xp.abs(gw_old)
+    flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
+    deeper = (ag >= agw) | flipped
+    gw_new = xp.where(deeper, gamma, gw_old)
+    direction = xp.where(
+        gw_new != 0, xp.sign(gw_new), xp.where(gamma_dot != 0, xp.sign(gamma_dot), 1.0)
+    )
+    r_start = xp.where(flipped, 0.0, xp.maximum(agw - xp.abs(g_old), 0.0))
+    r_end = xp.maximum(xp.abs(gw_new) - ag, 0.0)
+    return gw_new, direction, r_start, r_end
+
+
+def _clocks(state: ChannelState, r_end: Any, dt: Any, *, xp: Any = np) -> Any:
+    r"""``(clock, clock_w)`` after the step [s]: time since first contact and since :math:`t_w`.
+
+    The retraction clock runs while the channel is retracted from its deepest point
+    (:math:`r>0`) and is 0 otherwise, so :math:`t_w` is where :math:`r` leaves 0.
+    """
+    return state.clock + dt, xp.where(r_end > 0.0, state.clock_w + dt, 0.0)

@@ -33,6 +33,12 @@ class ChannelState(NamedTuple):
         :math:`\\sigma_{th}=s_{th}`.
     sigma_s : array
         Suction state of eq. (5) [Pa] (<= 0 for a downward intrusion).
+    clock : array
+        Time since the channel's mud was fresh, i.e. since first contact [s]: the
+        :math:`t` of eq. (9) in the quasi-static evaluation (decision D15). Default 0.
+    clock_w : array
+        Time since the current retraction began, :math:`\\Delta t=t-t_w` of eq. (10)
+        [s]; 0 while the channel is not retracting. Default 0.
     """
 
     gamma: Any
@@ -40,6 +46,8 @@ class ChannelState(NamedTuple):
     xi: Any
     s_th: Any
     sigma_s: Any
+    clock: Any = 0.0
+    clock_w: Any = 0.0
 
 
 class ChannelStress(NamedTuple):
@@ -86,4 +94,12 @@ def initial_state(
     check_in_range("xi0", xi0, 0.0, 1.0)
     z = np.zeros(shape)
     g = np.broadcast_to(np.asarray(gamma, dtype=float), shape).copy()
-    return ChannelState(gamma=g, gamma_w=g.copy(), xi=z + xi0, s_th=z.copy(), sigma_s=z.copy())
+    return ChannelState(
+        gamma=g,
+        gamma_w=g.copy(),
+        xi=z + xi0,
+        s_th=z.copy(),
+        sigma_s=z.copy(),
+        clock=z.copy(),
+        clock_w=z.copy(),
+    )

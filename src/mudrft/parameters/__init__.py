@@ -4,6 +4,7 @@ from .base import PARAMETER_UNITS, Mud, MudParameters
 from .registry import (
     DIRECTIONS,
     EXTRAPOLATION_RANGE,
+    LABELLINGS,
     WATER_CONTENT_RANGE,
     paper_mud,
     paper_parameters,
@@ -14,6 +15,7 @@ from .registry import (
 __all__ = [
     "DIRECTIONS",
     "EXTRAPOLATION_RANGE",
+    "LABELLINGS",
     "PARAMETER_UNITS",
     "WATER_CONTENT_RANGE",
     "Mud",

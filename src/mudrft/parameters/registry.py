@@ -8,6 +8,12 @@ keep every interpolated set valid. Outside the tabulated range a
 :class:`~mudrft._validation.MudrftError` is raised unless ``extrapolate=True``,
 which extends the end segments the same way, with a warning, down to 15 % and
 up to 50 % (decision D7 in docs/model.md).
+
+Two labellings of the rows (errata E6/E7): ``labels="table"`` (default) reads a water
+content as the tables print it (rows 25, 35 and 45 %); ``labels="text"`` reads it as the
+paper's text does, which says three times that the tests used 15, 25 and 35 % ("35 % was
+close to the upper limit"): the text's 15/25/35 % are the rows printed 25/35/45 %, so
+``paper_mud(0.25, labels="text")`` is the middle row.
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ from .base import Mud, MudParameters
 __all__ = [
     "DIRECTIONS",
     "EXTRAPOLATION_RANGE",
+    "LABELLINGS",
     "WATER_CONTENT_RANGE",
     "paper_mud",
     "paper_parameters",
@@ -36,6 +43,9 @@ DIRECTIONS = ("vertical", "horizontal")
 WATER_CONTENT_RANGE = (0.25, 0.45)
 EXTRAPOLATION_RANGE = (0.15, 0.50)
 _LINEAR_FIELDS = ("n",)
+#: The two labellings of the table rows and what each adds to a printed water content to
+#: give its label [-] (errata E6/E7): the tables' own, and the text's (15/25/35 %).
+LABELLINGS = {"table": 0.0, "text": -0.10}
 
 
 def _table(direction: str) -> dict[float, tuple[float, ...]]:
@@ -53,34 +63,39 @@ def table_rows(direction: str) -> dict[float, dict[str, float]]:
     return out
 
 
-def _check_water_content(water_content: object, extrapolate: bool) -> float:
+def _check_water_content(water_content: object, extrapolate: bool, shift: float = 0.0) -> float:
+    """The printed water content of a label (``label - shift``), checked against the rows."""
     if isinstance(water_content, bool) or not isinstance(
         water_content, (int, float, np.floating, np.integer)
     ):
         raise MudrftError(
             f"water_content must be a number (volume fraction, e.g. 0.25), got {water_content!r}"
         )
-    w = float(water_content)
-    if not math.isfinite(w):
-        raise MudrftError(f"water_content must be finite, got {w!r}")
-    if w < 0 or w > 1:
-        hint = " (give a fraction: 25 % is 0.25)" if 1 < w <= 100 else ""
-        raise MudrftError(f"water_content must be a volume fraction in [0, 1], got {w!r}{hint}")
+    label = float(water_content)
+    if not math.isfinite(label):
+        raise MudrftError(f"water_content must be finite, got {label!r}")
+    w = label - shift
+    if label < 0 or label > 1:
+        hint = " (give a fraction: 25 % is 0.25)" if 1 < label <= 100 else ""
+        raise MudrftError(f"water_content must be a volume fraction in [0, 1], got {label!r}{hint}")
     lo, hi = WATER_CONTENT_RANGE
+    if abs(w - round(w, 2)) < 1e-12:  # 0.25 - (-0.10) is not exactly 0.35 in floats
+        w = round(w, 2)
     if lo - 1e-12 <= w <= hi + 1e-12:
         return min(max(w, lo), hi)
     elo, ehi = EXTRAPOLATION_RANGE
+    lo, hi, elo, ehi = (round(x + shift, 2) for x in (lo, hi, elo, ehi))  # as labelled
     if not extrapolate:
         raise MudrftError(
-            f"water_content must lie in the tabulated range [{lo}, {hi}], got {w!r}; "
+            f"water_content must lie in the tabulated range [{lo}, {hi}], got {label!r}; "
             f"pass extrapolate=True to extend the table to [{elo}, {ehi}] (with a warning)"
         )
-    if not (elo <= w <= ehi):
+    if not (elo <= label <= ehi):
         raise MudrftError(
-            f"water_content must lie in [{elo}, {ehi}] even with extrapolate=True, got {w!r}"
+            f"water_content must lie in [{elo}, {ehi}] even with extrapolate=True, got {label!r}"
         )
     warnings.warn(
-        f"water_content={w} lies outside the tabulated rows [{lo}, {hi}]; the parameters are "
+        f"water_content={label} lies outside the tabulated rows [{lo}, {hi}]; the parameters are "
         "extrapolated from the nearest table segment and are not measured values",
         UserWarning,
         stacklevel=3,
@@ -110,7 +125,11 @@ def _interpolate(direction: str, w: float) -> dict[str, float]:
 
 
 def paper_parameters(
-    water_content: float = 0.25, direction: str = "vertical", *, extrapolate: bool = False
+    water_content: float = 0.25,
+    direction: str = "vertical",
+    *,
+    extrapolate: bool = False,
+    labels: str = "table",
 ) -> MudParameters:
     """One parameter set of Chen et al. (2026), converted to SI.
 
@@ -123,31 +142,44 @@ def paper_parameters(
         Which table: vertical (S1) or horizontal (S2) intrusion.
     extrapolate : bool, keyword-only
         Allow water contents in [0.15, 0.50] outside the tabulated rows (warns).
+    labels : {"table", "text"}, keyword-only
+        How ``water_content`` names the rows (errata E6/E7): as the tables print them
+        (default), or as the text does (15/25/35 % for the rows printed 25/35/45 %).
 
     Returns
     -------
     MudParameters
-        Frozen set in SI units with ``source`` naming table and row.
+        Frozen set in SI units with ``source`` naming table and row; its
+        ``water_content`` is the label asked for.
 
     Examples
     --------
     >>> p = paper_parameters(0.35, "horizontal")
     >>> round(p.lam, 3), p.sigma_y
     (17.0, 9400.0)
+    >>> paper_parameters(0.25, labels="text").source
+    "Chen et al. 2026, supplementary Table S1 (vertical intrusion), row W = 35 % (the text's W = 25 %, errata E6/E7)"
     """
     check_choice("direction", direction, DIRECTIONS)
-    w = _check_water_content(water_content, extrapolate)
+    check_choice("labels", labels, LABELLINGS)
+    shift = LABELLINGS[labels]
+    w = _check_water_content(water_content, extrapolate, shift)
     values = _interpolate(direction, w)
     table = chen2026.TABLE_NAME[direction]
     if w in _table(direction):
         source = f"Chen et al. 2026, {table}, row W = {w * 100:g} %"
     else:
         source = f"Chen et al. 2026, {table}, interpolated at W = {w * 100:g} %"
+    label = w if shift == 0.0 else round(w + shift, 10)
+    if labels != "table":
+        source += f" (the text's W = {label * 100:g} %, errata E6/E7)"
     register(chen2026.CITATION_KEY)
-    return MudParameters(**values, source=source, water_content=w, direction=direction)
+    return MudParameters(**values, source=source, water_content=label, direction=direction)
 
 
-def paper_mud(water_content: float = 0.25, *, extrapolate: bool = False) -> Mud:
+def paper_mud(
+    water_content: float = 0.25, *, extrapolate: bool = False, labels: str = "table"
+) -> Mud:
     """The paper's mud at one water content: vertical and horizontal sets (SI).
 
     Parameters
@@ -156,24 +188,30 @@ def paper_mud(water_content: float = 0.25, *, extrapolate: bool = False) -> Mud:
         Volumetric water content as a fraction [-], in [0.25, 0.45].
     extrapolate : bool, keyword-only
         Allow [0.15, 0.50] with a warning.
+    labels : {"table", "text"}, keyword-only
+        Read ``water_content`` as the tables label the rows (default: 25/35/45 %) or as
+        the text does (15/25/35 %, errata E6/E7; :func:`paper_parameters`).
 
     Examples
     --------
     >>> mud = paper_mud(0.25)
     >>> mud.vertical.alpha > mud.horizontal.alpha
     True
+    >>> paper_mud(0.25, labels="text").vertical.alpha == paper_mud(0.35).vertical.alpha
+    True
     """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        v = paper_parameters(water_content, "vertical", extrapolate=extrapolate)
-        h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate)
+        v = paper_parameters(water_content, "vertical", extrapolate=extrapolate, labels=labels)
+        h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate, labels=labels)
     if caught:
         warnings.warn(str(caught[0].message), UserWarning, stacklevel=2)
     return Mud(
         vertical=v,
         horizontal=h,
         water_content=v.water_content,
-        name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %",
+        name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %"
+        + ("" if labels == "table" else f" ({labels} labels)"),
     )
 
 

@@ -3,7 +3,8 @@ r"""The mud model of Chen et al. (2026) as a terrain: the one terrain step, and 
 :func:`mud_step` is the only definition of how the mud under a foot advances: the tip's
 motion turned into the three channels' displacements and rates, the reset when the tip
 re-enters fresh mud, the heading, and the three constitutive steps
-(:func:`~mudrft.constitutive.kernel.channel_update`). It is element-wise over any ``xp``
+(:func:`~mudrft.constitutive.kernel.channel_step`: the ODE or the paper's quasi-static
+evaluation, decision D15). It is element-wise over any ``xp``
 (:mod:`mudrft._xp`), so :class:`MudTerrain` runs it on Python floats for one foot and on
 numpy arrays for a batch, the JAX backend with ``jax.numpy`` and the numba backend compiled
 on floats (decision D80). The foot then turns the channel stresses into a force.
@@ -21,6 +22,7 @@ from .._validation import MudrftError, check_finite, check_in_range, check_posit
 from .._xp import pyfloat
 from ..citations import register
 from ..constitutive import kernel
+from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..constitutive.state import ChannelState
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
@@ -98,6 +100,8 @@ def _fresh(ch: ChannelState, fresh: Any, xi0: Any, *, xp: Any = np) -> ChannelSt
         xi=xp.where(fresh, xi0, ch.xi),
         s_th=xp.where(fresh, 0.0, ch.s_th),
         sigma_s=xp.where(fresh, 0.0, ch.sigma_s),
+        clock=xp.where(fresh, 0.0, ch.clock),
+        clock_w=xp.where(fresh, 0.0, ch.clock_w),
     )
 
 
@@ -117,6 +121,8 @@ def mud_step(
     reset: bool,
     heading_speed: Any,
     seal: Any,
+    quasi_static: bool = False,
+    restart: bool = False,
     *,
     xp: Any = np,
 ) -> tuple[MudChannels, Any, Any, Any, Any]:
@@ -152,6 +158,9 @@ def mud_step(
         Below this horizontal speed the last heading is kept [m/s].
     seal : array_like
         Sealing factor of the vertical channel in [0, 1] [-] (the morphing foot).
+    quasi_static, restart : bool
+        Static choice of the evaluation (decision D15): the paper's closed forms (9)-(11)
+        instead of the ODE, and the clock of eq. (9) restarted at the retraction.
     xp : module, keyword-only
         Element-wise namespace (:mod:`mudrft._xp`).
 
@@ -183,9 +192,10 @@ def mud_step(
         moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), st.heading
     )
     hor, ver = ch
-    cx, sx = kernel.channel_update(hor, cx, (px - ex) / lc, vx / lc, dt, 1.0, kappa, xp=xp)
-    cy, sy = kernel.channel_update(hor, cy, (py - ey) / lc, vy / lc, dt, 1.0, kappa, xp=xp)
-    cz, sz = kernel.channel_update(ver, cz, depth / lc, gdz, dt, seal, kappa, xp=xp)
+    qs, rs = quasi_static, restart
+    cx, sx = kernel.channel_step(hor, cx, (px - ex) / lc, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    cy, sy = kernel.channel_step(hor, cy, (py - ey) / lc, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    cz, sz = kernel.channel_step(ver, cz, depth / lc, gdz, dt, seal, kappa, qs, rs, xp=xp)
     inside = xp.where(in_mud, 1.0, 0.0)
     new = MudChannels(cx, cy, cz, ex, ey, heading, inside)
     return new, sx.total * inside, sy.total * inside, sz.total * inside, depth
@@ -201,7 +211,9 @@ def initial_channels(
     zero = 0.0 * depth
 
     def fresh(g: Any) -> ChannelState:
-        return ChannelState(gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero)
+        return ChannelState(
+            gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero, clock=zero, clock_w=zero
+        )
 
     return MudChannels(
         x=fresh(zero),
@@ -234,8 +246,17 @@ class MudTerrain:
         Vertical and horizontal parameter sets.
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's own.
-    acceleration : bool
-        Keep the acceleration term (decision D6).
+    acceleration : bool or None
+        Keep the acceleration term of the ODE (decision D6). None (default): True for
+        ``thixotropy="ode"``, False for ``"quasi-static"`` (eq. 9 drops it; True is refused).
+    thixotropy : {"ode", "quasi-static"}
+        How the thixotropic and suction stresses are evaluated (decision D15): ``"ode"``
+        (default) steps eqs. (3) and (5); ``"quasi-static"`` is the paper's own evaluation,
+        the closed forms (9)-(11) at the current rate and displacement (Sec. III-A).
+    clock : {"contact", "retraction"}
+        Quasi-static only: the clock of eq. (9) runs from first contact (default, as eq. 9
+        is written in :math:`t` and eq. 10 in :math:`t-t_w`) or restarts when the
+        retraction begins.
     reset_on_exit : bool
         When the tip leaves the mud, reset the channels to undisturbed mud, so the next
         step lands in fresh mud (decision D11). Default True.
@@ -255,11 +276,13 @@ class MudTerrain:
 
     mud: Mud
     characteristic_length: float | None = None
-    acceleration: bool = True
+    acceleration: bool | None = None
     reset_on_exit: bool = True
     xi0: float = 0.0
     heading_speed: float = 1e-6
     name: str = "mud"
+    thixotropy: str = "ode"
+    clock: str = "contact"
 
     def __post_init__(self) -> None:
         if not isinstance(self.mud, Mud):
@@ -272,7 +295,9 @@ class MudTerrain:
             )
             check_finite("characteristic_length", lc)
             object.__setattr__(self, "characteristic_length", lc)
-        object.__setattr__(self, "acceleration", _as_bool("acceleration", self.acceleration))
+        qs, restart, kappa = evaluation(self.thixotropy, self.clock, self.acceleration)
+        object.__setattr__(self, "acceleration", kappa == 1.0)
+        object.__setattr__(self, "_flags", (qs, restart))
         object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
         object.__setattr__(self, "xi0", float(check_in_range("xi0", self.xi0, 0.0, 1.0)))
         hs = float(check_positive("heading_speed", self.heading_speed, unit="m/s"))
@@ -298,6 +323,16 @@ class MudTerrain:
     def kappa(self) -> float:
         """1.0 with the acceleration term (decision D6), else 0.0."""
         return 1.0 if self.acceleration else 0.0
+
+    @property
+    def quasi_static(self) -> bool:
+        """True for the paper's quasi-static evaluation, eqs. (9)-(11) (decision D15)."""
+        return bool(self._flags[0])  # type: ignore[attr-defined]
+
+    @property
+    def restart(self) -> bool:
+        """True when the clock of eq. (9) restarts at the retraction (decision D15)."""
+        return bool(self._flags[1])  # type: ignore[attr-defined]
 
     def length(self, foot: Any) -> float:
         """:math:`L_c` [m]: the terrain's own, else the foot's."""
@@ -336,6 +371,7 @@ class MudTerrain:
         vel = np.asarray(velocity, dtype=float)
         seal = foot.seal_factor(state.foot)
         common = (self.length(foot), self.kappa, self.xi0, self.reset_on_exit, self.heading_speed)
+        flags = (self.quasi_static, self.restart)
         if pos.shape == (3,) and np.ndim(seal) == 0:
             # one foot: the same step on Python floats (no numpy call overhead)
             x, y, z = pos.tolist()
@@ -352,6 +388,7 @@ class MudTerrain:
                 float(dt),
                 *common,
                 float(seal),
+                *flags,
                 xp=pyfloat,
             )
             if foot.elementwise and state.foot is None:
@@ -377,6 +414,7 @@ class MudTerrain:
                 dt,
                 *common,
                 seal,
+                *flags,
             )
             stress = np.stack([sx, sy, sz], axis=-1)
             heading, inside = ch.heading, ch.in_mud

@@ -83,6 +83,7 @@ class MorphingFoot(MorphingMechanism, Foot):
             if characteristic_length is None
             else float(check_positive("characteristic_length", characteristic_length, unit="m"))
         )
+        self._lc_spread: float | None = None
 
     # -- parameters --------------------------------------------------------------------------
 
@@ -91,7 +92,9 @@ class MorphingFoot(MorphingMechanism, Foot):
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
         if self._lc is not None:
             return self._lc
-        return math.sqrt(float(self.footprint_area(self.stroke)))
+        if self._lc_spread is None:  # the terrain asks every step; the geometry is fixed
+            self._lc_spread = math.sqrt(float(self.footprint_area(self.stroke)))
+        return self._lc_spread
 
     @property
     def height(self) -> float:

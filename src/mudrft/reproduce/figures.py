@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .plotting import require_matplotlib
+from ..plotting import require_matplotlib
 
 __all__ = ["make_figures"]
 

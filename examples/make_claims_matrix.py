@@ -1,0 +1,95 @@
+"""The evidence tables of docs/model.md, section 12: the paper's claims under its readings.
+
+Run from the repository root::
+
+    python examples/make_claims_matrix.py
+
+Runs ``mudrft reproduce`` (no figures) into a temporary directory and replaces, between
+the markers in ``docs/model.md``,
+
+* ``claims``: the headline's claims and the matrix of readings x claims (from report.md);
+* ``sinking``: the flat foot under 49 N, applied at once or ramped over 1 s, in each
+  evaluation, beside the static depth (decision D13).
+
+Progress goes to stderr.
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+import mudrft
+from mudrft.reproduce import reproduce
+from mudrft.simulation import LoadControl, simulate, static_sinking
+from mudrft.terrains import MudTerrain
+
+ROOT = Path(__file__).resolve().parents[1]
+FRAGMENT = ROOT / "docs" / "model.md"
+LOAD = 49.0  # [N], as mudrft reproduce (D13)
+
+
+def say(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)
+
+
+def replace_between(text: str, tag: str, body: str) -> str:
+    start, end = f"<!-- {tag}:start -->", f"<!-- {tag}:end -->"
+    i, j = text.index(start) + len(start), text.index(end)
+    return text[:i] + "\n" + body + "\n" + text[j:]
+
+
+def claims_block() -> str:
+    with tempfile.TemporaryDirectory() as tmp:
+        reproduce(tmp, figures=False, quiet=False)
+        report = (Path(tmp) / "report.md").read_text()
+    lines = report.splitlines()
+    head = lines.index(next(x for x in lines if x.startswith("**") and "of 9 claims" in x))
+    table_end = lines.index("", head + 2)
+    m0 = lines.index("## Matrix: readings x claims")
+    m1 = lines.index("## The readings and where the paper supports them")
+    body = [lines[head], "", *lines[head + 2 : table_end], "", *lines[m0 + 2 : m1]]
+    return "\n".join(x.replace("## ", "#### ") for x in body).rstrip()
+
+
+def sinking_block() -> str:
+    mud = mudrft.paper_mud(0.25)
+    foot = mudrft.feet.Flat()
+    rows = [
+        "| evaluation | 49 N at once: depth at 8 s [mm] | ramped over 1 s: at 2 / 4 / 8 s [mm] |",
+        "|---|---|---|",
+    ]
+    for title, options in (
+        ("ODE with the acceleration term", {}),
+        ("ODE without it", {"acceleration": False}),
+        ("quasi-static (eqs. 9-11)", {"thixotropy": "quasi-static"}),
+    ):
+        terrain = MudTerrain(mud, **options)
+        at_once = simulate(foot, terrain, LoadControl(weight=LOAD, duration=8.0, dt=1e-3))
+        ramped = simulate(foot, terrain, LoadControl(weight=LOAD, ramp=1.0, duration=8.0, dt=1e-3))
+        d = ramped.depth * 1e3
+        rows.append(
+            f"| {title} | {at_once.depth[-1] * 1e3:.1f} | "
+            + " / ".join(f"{d[round(s / 1e-3)]:.1f}" for s in (2, 4, 8))
+            + " |"
+        )
+        say(f"sinking: {title}")
+    rows.append(
+        f"| static (`static_sinking`: relaxed mud, no suction) | "
+        f"{static_sinking(foot, mud, LOAD) * 1e3:.1f} | the limit of every ramped run |"
+    )
+    return "\n".join(rows)
+
+
+def main() -> int:
+    text = FRAGMENT.read_text()
+    text = replace_between(text, "claims", claims_block())
+    text = replace_between(text, "sinking", sinking_block())
+    FRAGMENT.write_text(text)
+    say(f"updated tables in {FRAGMENT}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,361 @@
+"""The paper's nine comparative claims, each evaluated on the quantity the paper plots.
+
+:data:`CLAIMS` lists them with the figure or section they come from. :func:`evaluate`
+returns one :class:`Cell` per claim for a reading: the paper's value, mudrft's number
+and a verdict. Verdicts: ``agrees``; ``partly`` and ``differs`` (failures of the reading);
+``inconsistent in the paper`` for the two morphing-foot percentage claims, which no model
+can meet together with the paper's own suction ordering (the argument is computed from
+the run's numbers, :func:`inconsistency`); ``not evaluated`` when the runs it needs were
+not asked for. Tolerances are fixed here, before any reading is evaluated.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from .readings import Reading
+
+__all__ = [
+    "AGREES",
+    "CLAIMS",
+    "INCONSISTENT",
+    "PCT_TOL",
+    "RATIO_TOL",
+    "SPEED_AGREE",
+    "SPEED_PARTLY",
+    "Cell",
+    "Claim",
+    "evaluate",
+    "inconsistency",
+]
+
+#: Tolerance on the paper's percentages [percentage points]: its numbers come from three
+#: trials with visible scatter (Table II: relative RMSEs of 4-18 %).
+PCT_TOL = 10.0
+#: "Almost as large as": suction / support within 100 +- 25 %.
+RATIO_TOL = 25.0
+#: Speed spread of the peak normalized stress [%]: "did not change" below 15 %, partly below 30 %.
+SPEED_AGREE, SPEED_PARTLY = 15.0, 30.0
+
+AGREES = "agrees"
+INCONSISTENT = "inconsistent in the paper"
+NOT_EVALUATED = "not evaluated"
+
+FIXED = ("flat", "semi-cylinder", "semi-sphere")
+#: The morphing-foot reductions of Sec. IV-B (Fig. 13): foot -> (suction, energy) [%].
+REDUCTIONS = {"semi-cylinder": (57.0, 44.0), "flat": (32.0, 26.0)}
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One comparative claim of the paper.
+
+    Attributes
+    ----------
+    key : str
+        Short name (``claims.csv``).
+    text : str
+        The claim, close to the paper's words, with its source.
+    paper : str
+        The paper's value.
+    quantity : str
+        What mudrft compares, and why that quantity.
+    """
+
+    key: str
+    text: str
+    paper: str
+    quantity: str
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One claim under one reading: ``claims.csv`` row."""
+
+    claim: str
+    reading: str
+    paper: str
+    mudrft: str
+    verdict: str
+    short: str = ""
+
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim(
+        "shape-order",
+        "Flat foot gives the largest normalized vertical resistance, then semi-cylindrical, "
+        "then semi-spherical (Sec. IV-B, Fig. 10a)",
+        "flat > semi-cylinder > semi-sphere",
+        "peak F_z/A_z over the cycle (Fig. 10 plots force over cross-section area)",
+    ),
+    Claim(
+        "suction-order",
+        "Flat foot suffers the largest suction force, semi-spherical the least (Sec. IV-B)",
+        "flat largest, semi-sphere least",
+        "max suction force [N] (the text says 'suction force'; Fig. 13a compares it too)",
+    ),
+    Claim(
+        "speed",
+        "Intrusion speed does not change the resistance (Sec. IV-B, Fig. 10b)",
+        "no change",
+        f"spread (max - min)/mean of peak F_z/A_z over the speeds, each fixed foot; agrees "
+        f"below {SPEED_AGREE:g} %, partly below {SPEED_PARTLY:g} %",
+    ),
+    Claim(
+        "water-content",
+        "Mud strength falls as water content rises (Sec. IV-B, Fig. 10c)",
+        "falls",
+        "peak F_z/A_z of each fixed foot over the three table rows",
+    ),
+    Claim(
+        "fixed-suction-ratio",
+        "For the fixed feet the suction is almost as large as the support (Sec. IV-B, Fig. 11c)",
+        "~100 %",
+        f"|min F_z/A_z| / max F_z/A_z (Fig. 11c plots the stress), each fixed foot, within "
+        f"100 +- {RATIO_TOL:g} %",
+    ),
+    Claim(
+        "morphing-suction-ratio",
+        "The morphing foot's suction is only about 40 % of its intrusion resistance "
+        "(Sec. IV-B, Fig. 11c)",
+        "40 %",
+        "max suction / peak support: the morphing foot's stress is its force over its spread "
+        f"footprint, a constant area (D38), so the force ratio; within +-{PCT_TOL:g} points",
+    ),
+    Claim(
+        "morphing-vs-semi-cylinder",
+        "Morphing foot: suction 57 % and energy 44 % lower than the semi-cylindrical foot "
+        "(Sec. IV-B, Fig. 13)",
+        "suction -57 %, energy -44 %",
+        "max suction force and energy of one gait cycle",
+    ),
+    Claim(
+        "morphing-vs-flat",
+        "Morphing foot: suction 32 % and energy 26 % lower than the flat foot (Sec. IV-B, Fig. 13)",
+        "suction -32 %, energy -26 %",
+        "max suction force and energy of one gait cycle",
+    ),
+    Claim(
+        "sinking",
+        "The morphing foot sinks least (Sec. IV-B, Fig. 12)",
+        "morphing least",
+        "depth where a slowly applied 49 N meets the relaxed mud's support (static_sinking, "
+        "the limit a ramped load creeps to)",
+    ),
+)
+
+#: A gait run's numbers: foot, speed [m/s], printed table row [-] -> metrics (or None).
+Metrics = Callable[[str, float, float], dict[str, float] | None]
+
+
+def inconsistency(flat_suction: float, cylinder_suction: float) -> dict[str, float]:
+    r"""The paper's morphing-foot percentages against its suction ordering, in numbers.
+
+    With :math:`s_m=(1-0.57)s_c` and :math:`s_m=(1-0.32)s_f` both true,
+    :math:`s_c/s_f=0.68/0.43=1.58`; "the flat foot suffers the largest suction" needs
+    :math:`s_c/s_f<1`. No model meets the three claims; this returns the run's ratio and
+    what each percentage would imply for the other.
+
+    Parameters
+    ----------
+    flat_suction, cylinder_suction : float
+        Max suction forces of the flat and semi-cylindrical feet [N].
+
+    Returns
+    -------
+    dict
+        ``required`` (1.58), ``run`` (the run's :math:`s_c/s_f`), ``flat_if_cylinder``
+        (the flat-foot reduction [%] implied by matching -57 % against this run's feet) and
+        ``cylinder_if_flat`` (the semi-cylinder reduction [%] implied by matching -32 %).
+
+    Examples
+    --------
+    >>> round(inconsistency(100.0, 158.14)["run"], 2), round(inconsistency(1, 1)["required"], 2)
+    (1.58, 1.58)
+    """
+    ps, pf = REDUCTIONS["semi-cylinder"][0] / 100, REDUCTIONS["flat"][0] / 100
+    ratio = cylinder_suction / flat_suction
+    return {
+        "required": (1 - pf) / (1 - ps),
+        "run": ratio,
+        "flat_if_cylinder": 100 * (1 - (1 - ps) * ratio),
+        "cylinder_if_flat": 100 * (1 - (1 - pf) / ratio),
+    }
+
+
+def _kpa(x: float) -> str:
+    return f"{x / 1e3:.1f} kPa"
+
+
+def evaluate(
+    reading: Reading,
+    metrics: Metrics,
+    sinking: Callable[[str, float], float | None],
+    *,
+    feet: Sequence[str],
+    speeds: Sequence[float],
+    rows: Sequence[float],
+) -> list[Cell]:
+    """Evaluate the nine claims under ``reading``; one :class:`Cell` per claim.
+
+    Parameters
+    ----------
+    reading : Reading
+        The reading.
+    metrics : callable
+        ``metrics(foot, speed, row)``: the gait run's numbers (``peak_support``,
+        ``max_suction``, ``energy`` [N, J], ``peak_ns``, ``min_ns`` [Pa]), or None if not run.
+    sinking : callable
+        ``sinking(foot, row)``: sinking depth under 49 N [m], or None.
+    feet, speeds, rows : sequence, keyword-only
+        The feet, gait speeds [m/s] and printed table rows [-] that were run.
+    """
+    v = min(speeds, key=lambda s: abs(s - 0.2))
+    w = reading.row(0.25)  # the reading's "25 %" mud
+    cells: list[Cell] = []
+
+    def cell(claim: Claim, mudrft: str, verdict: str, short: str = "") -> None:
+        cells.append(Cell(claim.key, reading.key, claim.paper, mudrft, verdict, short or mudrft))
+
+    def at(foot: str, speed: float = v, row: float = w) -> dict[str, float] | None:
+        return metrics(foot, speed, row) if foot in feet else None
+
+    c = {k.key: k for k in CLAIMS}
+    base = {f: at(f) for f in (*FIXED, "morphing")}
+    fixed = {f: m for f, m in base.items() if f in FIXED and m is not None}
+    all_fixed = len(fixed) == len(FIXED)
+    missing = f"{NOT_EVALUATED}: needs the three fixed feet at W = 25 %"
+
+    # shape-order (Fig. 10a)
+    if all_fixed:
+        ns = {f: fixed[f]["peak_ns"] for f in FIXED}
+        text = ", ".join(f"{f} {_kpa(ns[f])}" for f in FIXED)
+        ok = ns["flat"] > ns["semi-cylinder"] > ns["semi-sphere"]
+        short = "/".join(f"{ns[f] / 1e3:.1f}" for f in FIXED) + " kPa"
+        cell(c["shape-order"], text, _ok(ok), short)
+        su = {f: fixed[f]["max_suction"] for f in FIXED}
+        ok = max(su, key=su.__getitem__) == "flat" and min(su, key=su.__getitem__) == "semi-sphere"
+        text = ", ".join(f"{f} {su[f]:.0f} N" for f in FIXED)
+        cell(c["suction-order"], text, _ok(ok), "/".join(f"{su[f]:.0f}" for f in FIXED) + " N")
+    else:
+        cell(c["shape-order"], missing, NOT_EVALUATED)
+        cell(c["suction-order"], missing, NOT_EVALUATED)
+
+    # speed (Fig. 10b)
+    spreads = {}
+    for f in FIXED:
+        vals = [at(f, s) for s in speeds]
+        if len(speeds) > 1 and all(m is not None for m in vals):
+            pk = [m["peak_ns"] for m in vals if m is not None]
+            spreads[f] = (max(pk) - min(pk)) / (sum(pk) / len(pk)) * 100
+    if len(spreads) == len(FIXED):
+        worst = max(spreads.values())
+        verdict = AGREES if worst < SPEED_AGREE else "partly" if worst < SPEED_PARTLY else "differs"
+        text = "spread " + ", ".join(f"{f} {s:.0f} %" for f, s in spreads.items())
+        cell(c["speed"], text, verdict, f"spread <= {worst:.0f} %")
+    else:
+        cell(c["speed"], f"{NOT_EVALUATED}: needs two speeds or more", NOT_EVALUATED)
+
+    # water content (Fig. 10c)
+    order = sorted(rows)
+    series = {f: [at(f, v, r) for r in order] for f in FIXED}
+    if len(order) > 1 and all(m is not None for ms in series.values() for m in ms):
+        parts, ok = [], True
+        for f, ms in series.items():
+            pk = [m["peak_ns"] for m in ms if m is not None]
+            ok &= all(a > b for a, b in itertools.pairwise(pk))
+            parts.append(f"{f}: " + " > ".join(f"{x / 1e3:.1f}" for x in pk))
+        labels = "/".join(f"{reading.label(r) * 100:g}" for r in order)
+        cell(
+            c["water-content"],
+            f"W = {labels} %: " + "; ".join(parts) + " kPa",
+            _ok(ok),
+            "falls for every foot" if ok else "does not fall for every foot",
+        )
+    else:
+        cell(c["water-content"], f"{NOT_EVALUATED}: needs two rows or more", NOT_EVALUATED)
+
+    # fixed-suction-ratio (Fig. 11c)
+    if all_fixed:
+        ratios = {f: -m["min_ns"] / m["peak_ns"] * 100 for f, m in fixed.items()}
+        ok = all(abs(r - 100) <= RATIO_TOL for r in ratios.values())
+        cell(
+            c["fixed-suction-ratio"],
+            ", ".join(f"{f} {r:.0f} %" for f, r in ratios.items()),
+            _ok(ok),
+            "/".join(f"{r:.0f}" for r in ratios.values()) + " %",
+        )
+    else:
+        cell(c["fixed-suction-ratio"], missing, NOT_EVALUATED)
+
+    morph = base["morphing"]
+    if morph is not None:
+        r = morph["max_suction"] / morph["peak_support"] * 100  # over a constant area (D38)
+        cell(c["morphing-suction-ratio"], f"{r:.0f} %", _ok(abs(r - 40) <= PCT_TOL))
+    else:
+        cell(
+            c["morphing-suction-ratio"], f"{NOT_EVALUATED}: needs the morphing foot", NOT_EVALUATED
+        )
+
+    # morphing-vs-* (Fig. 13): inconsistent within the paper
+    if morph is not None and "flat" in fixed and "semi-cylinder" in fixed:
+        arg = inconsistency(fixed["flat"]["max_suction"], fixed["semi-cylinder"]["max_suction"])
+        for ref in ("semi-cylinder", "flat"):
+            ds = (1 - morph["max_suction"] / fixed[ref]["max_suction"]) * 100
+            de = (1 - morph["energy"] / fixed[ref]["energy"]) * 100
+            other = (
+                f"matching -57 % would make the flat-foot reduction {arg['flat_if_cylinder']:.0f} %"
+                if ref == "semi-cylinder"
+                else f"matching -32 % would make the semi-cylinder reduction "
+                f"{arg['cylinder_if_flat']:.0f} %"
+            )
+            text = (
+                f"suction -{ds:.0f} %, energy -{de:.0f} % (foot-on-mud work). Both suction "
+                f"percentages need semi-cylinder/flat suction = {arg['required']:.2f}; "
+                f"'flat suffers the largest suction' needs < 1; this run: {arg['run']:.2f}, so "
+                f"{other}. The paper's energies are whole-robot joint energy while walking"
+            )
+            short = f"-{ds:.0f} % / -{de:.0f} %; s_c/s_f = {arg['run']:.2f}, not 1.58"
+            cell(c[f"morphing-vs-{ref}"], text, INCONSISTENT, short)
+    else:
+        for ref in ("semi-cylinder", "flat"):
+            cell(
+                c[f"morphing-vs-{ref}"],
+                f"{NOT_EVALUATED}: needs the morphing, flat and semi-cylindrical feet",
+                NOT_EVALUATED,
+            )
+
+    # sinking (Fig. 12)
+    sink = {f: sinking(f, w) for f in feet}
+    if "morphing" in feet and len(feet) > 1 and all(s is not None for s in sink.values()):
+        depth = {f: s for f, s in sink.items() if s is not None}
+        ok = depth["morphing"] <= min(depth.values())
+        text = ", ".join(f"{f} {d * 1e3:.1f} mm" for f, d in depth.items())
+        others = min(d for f, d in depth.items() if f != "morphing")
+        short = f"morphing {depth['morphing'] * 1e3:.1f}, others >= {others * 1e3:.1f} mm"
+        cell(c["sinking"], text, _ok(ok), short)
+    else:
+        cell(c["sinking"], f"{NOT_EVALUATED}: needs the morphing foot and another", NOT_EVALUATED)
+    return cells
+
+
+def _ok(ok: bool) -> str:
+    return AGREES if ok else "differs"
+
+
+def count(cells: Sequence[Cell]) -> dict[str, Any]:
+    """``{"agrees": n, "inconsistent": n, "failed": n, "not evaluated": n, "total": 9}``."""
+    out = {"agrees": 0, "inconsistent": 0, "failed": 0, "not evaluated": 0, "total": len(cells)}
+    for cl in cells:
+        if cl.verdict == AGREES:
+            out["agrees"] += 1
+        elif cl.verdict == INCONSISTENT:
+            out["inconsistent"] += 1
+        elif cl.verdict == NOT_EVALUATED:
+            out["not evaluated"] += 1
+        else:
+            out["failed"] += 1
+    return out
