@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from ..._validation import MudrftError
+from ..._validation import MudrftError, plain
 from .linkage import Linkage
 from .pads import vertical_area
 from .springs import TwoStageSpring
@@ -235,7 +235,8 @@ def _refine(
             bad = int(np.flatnonzero(~res.success)[0])
             raise MudrftError(
                 "the column balance did not converge: expected a root of R in "
-                f"[{a[bad]!r}, {b[bad]!r}] m at depth {dd[bad]!r} m and sz {ss[bad]!r} Pa, "
+                f"[{plain(a[bad])}, {plain(b[bad])}] m at depth {plain(dd[bad])} m and sz "
+                f"{plain(ss[bad])} Pa, "
                 f"got scipy status {int(res.status[bad])}"
             )
         x[open_] = res.x
