@@ -2,51 +2,143 @@
 
 Every public function validates its inputs with these helpers so that a user
 mistake produces an error naming the argument, what was expected and what was
-given, instead of a NaN or a traceback from deep inside numpy.
+given, instead of a NaN or a traceback from deep inside numpy. Messages show
+numbers as a user typed them (:func:`plain`: ``1.0``, not ``np.float64(1.0)``).
+
+The input limits of docs/model.md (decisions D100-D105) live here too, one helper
+per concern: :func:`check_samples` bounds the samples of a run,
+:func:`check_memory` refuses an allocation larger than :data:`memory_limit`,
+:func:`check_length` rejects absurd sizes and :func:`warn_implausible` warns
+about values that look like a unit mistake.
 """
 
 from __future__ import annotations
 
+import math
+import os
+import re
+import sys
+import warnings
 from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 
 __all__ = [
+    "LENGTH_LIMITS",
+    "MAX_SAMPLES",
+    "MEMORY_LIMIT",
+    "PLAUSIBLE_FOOT_SIZE",
     "MudrftError",
+    "PlausibilityWarning",
     "as_array",
     "check_choice",
+    "check_dimensions",
     "check_finite",
     "check_in_range",
     "check_increasing",
+    "check_length",
+    "check_memory",
     "check_nonnegative",
     "check_positive",
+    "check_samples",
     "check_shape",
+    "format_bytes",
+    "memory_limit",
+    "plain",
+    "plain_text",
+    "warn_implausible",
 ]
+
+#: Most samples one run may hold: a trajectory, a load-controlled run, a walk (D100).
+MAX_SAMPLES = 5_000_000
+#: Default of :func:`memory_limit` [bytes]; the environment variable
+#: ``MUDRFT_MEMORY_LIMIT`` (bytes, e.g. ``16e9``) overrides it (D101).
+MEMORY_LIMIT = 4 * 1024**3
+#: Sizes a foot dimension may have at all [m]; outside, an error (D103).
+LENGTH_LIMITS = (1e-6, 100.0)
+#: Overall sizes of a plausible robot foot [m]; outside, a :class:`PlausibilityWarning` (D103).
+PLAUSIBLE_FOOT_SIZE = (1e-3, 1.0)
+
+
+_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)_?\d*\(([^()]*)\)")
+
+
+def plain_text(message: str) -> str:
+    """``message`` with numpy scalar reprs made plain (``np.float64(1.0)`` reads ``1.0``).
+
+    Examples
+    --------
+    >>> plain_text("dt = np.float64(0.001) s")
+    'dt = 0.001 s'
+    """
+    return _NUMPY_REPR.sub(r"\1", message)
 
 
 class MudrftError(ValueError):
-    """A user-facing error raised for invalid input (a ``ValueError``)."""
+    """A user-facing error raised for invalid input (a ``ValueError``).
+
+    Its message shows numbers plainly: a numpy scalar repr that slipped into it
+    (``np.float64(1.0)``) reads ``1.0``.
+    """
+
+    def __init__(self, *args: object) -> None:
+        if args and isinstance(args[0], str):
+            args = (plain_text(args[0]), *args[1:])
+        super().__init__(*args)
 
 
-def _describe(value: Any) -> str:
-    arr = np.asarray(value) if not isinstance(value, str) else None
-    if arr is not None and arr.ndim > 0:
-        return f"an array of shape {arr.shape}"
+class PlausibilityWarning(UserWarning):
+    """An input was accepted but looks like a unit mistake (a mm column labelled m, ...)."""
+
+
+def plain(value: Any) -> str:
+    """``value`` as a message shows it: plain numbers, arrays by their shape.
+
+    Examples
+    --------
+    >>> plain(np.float64(1.0)), plain(np.int64(3)), plain(True), plain("a"), plain(np.zeros(2))
+    ('1.0', '3', 'True', "'a'", 'an array of shape (2,)')
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    if isinstance(value, np.ndarray):
+        return plain(value.item()) if value.ndim == 0 else f"an array of shape {value.shape}"
+    if isinstance(value, str):
+        return repr(str(value))
     return repr(value)
 
 
+def _describe(value: Any) -> str:
+    if isinstance(value, (list, tuple)):
+        try:
+            return f"an array of shape {np.asarray(value, dtype=float).shape}"
+        except (TypeError, ValueError):
+            return f"a {type(value).__name__} of {len(value)} items"
+    return plain(value)
+
+
 def as_array(name: str, value: Any, *, dtype: Any = float) -> np.ndarray:
-    """Convert ``value`` to a float array, or raise naming ``name``."""
+    """Convert ``value`` to a float array, or raise naming ``name``.
+
+    A string or a bare ``True``/``False`` is refused: neither is a number.
+    """
     if isinstance(value, str):
         raise MudrftError(
             f"{name} must be a number or an array of numbers, got the string {value!r}"
         )
+    if isinstance(value, (bool, np.bool_)):
+        raise MudrftError(f"{name} must be a number, got the boolean {bool(value)}")
     try:
         arr = np.asarray(value, dtype=dtype)
     except (TypeError, ValueError) as exc:
         raise MudrftError(
-            f"{name} must be a number or an array of numbers, got {type(value).__name__}: {value!r}"
+            f"{name} must be a number or an array of numbers, got {type(value).__name__}: "
+            f"{_describe(value)}"
         ) from exc
     return arr
 
@@ -57,7 +149,7 @@ def check_finite(name: str, value: Any) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         bad = arr[~np.isfinite(arr)] if arr.ndim else arr
         raise MudrftError(
-            f"{name} must be finite, got {_describe(value)} containing {bad.ravel()[0]}"
+            f"{name} must be finite, got {_describe(value)} containing {plain(bad.ravel()[0])}"
         )
     return arr
 
@@ -98,7 +190,7 @@ def check_choice(name: str, value: Any, choices: Iterable[str]) -> str:
     """Return ``value`` if it is one of ``choices``; raise listing the choices otherwise."""
     options = list(choices)
     if not isinstance(value, str) or value not in options:
-        raise MudrftError(f"{name} must be one of {options}, got {value!r}")
+        raise MudrftError(f"{name} must be one of {options}, got {plain(value)}")
     return value
 
 
@@ -127,7 +219,218 @@ def check_increasing(name: str, value: Any) -> np.ndarray:
         if not np.all(d > 0):
             i = int(np.argmax(d <= 0))
             raise MudrftError(
-                f"{name} must be strictly increasing, but {name}[{i + 1}] = {arr[i + 1]!r} "
-                f"does not exceed {name}[{i}] = {arr[i]!r}"
+                f"{name} must be strictly increasing, but {name}[{i + 1}] = {plain(arr[i + 1])} "
+                f"does not exceed {name}[{i}] = {plain(arr[i])}"
             )
     return arr
+
+
+def format_bytes(nbytes: float) -> str:
+    """A byte count for a message, in binary units.
+
+    Examples
+    --------
+    >>> format_bytes(969 * 1024**3), format_bytes(512)
+    ('969 GiB', '512 B')
+    """
+    n = float(nbytes)
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n < 1024 or unit == "PiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def memory_limit() -> float:
+    """Largest allocation mudrft makes without refusing [bytes] (D101).
+
+    ``MUDRFT_MEMORY_LIMIT`` in the environment (a number of bytes, e.g. ``16e9``)
+    overrides :data:`MEMORY_LIMIT`.
+    """
+    text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
+    if not text:
+        return float(MEMORY_LIMIT)
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise MudrftError(
+            f"the environment variable MUDRFT_MEMORY_LIMIT must be a number of bytes > 0 "
+            f"(e.g. 16e9), got {text!r}"
+        )
+    return value
+
+
+def check_memory(what: str, nbytes: float, *, hint: str) -> None:
+    """Refuse, before allocating, work estimated to need more than :func:`memory_limit`.
+
+    Parameters
+    ----------
+    what : str
+        The work, for the message (``"a mesh of 3e+07 facets"``).
+    nbytes : float
+        Estimated memory [bytes].
+    hint : str
+        How to make the work smaller, for the message.
+    """
+    limit = memory_limit()
+    if not nbytes <= limit:  # also catches NaN
+        raise MudrftError(
+            f"{what} would need about {format_bytes(nbytes)} of memory, more than the limit of "
+            f"{format_bytes(limit)} (raise it with the environment variable "
+            f"MUDRFT_MEMORY_LIMIT=BYTES); {hint}"
+        )
+
+
+def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float = 200.0) -> int:
+    """The number of samples of a run as an int, or an error if it exceeds :data:`MAX_SAMPLES`.
+
+    Call it with the count computed from the inputs, before any array is allocated.
+
+    Parameters
+    ----------
+    what : str
+        How the count arises, for the message (``"gait: stride/speed/dt"``).
+    count : float
+        Number of samples [-] (may be huge, infinite or NaN).
+    hint : str
+        How to ask for fewer samples (``"use a larger dt"``).
+    bytes_per_sample : float, keyword-only
+        Memory one sample takes [bytes], for the message (a simulated sample holds
+        about 25 float64 values).
+
+    Returns
+    -------
+    int
+        ``ceil(count)``.
+
+    Examples
+    --------
+    >>> check_samples("t/dt", 1000.0, hint="use a larger dt")
+    1000
+    """
+    if not count <= MAX_SAMPLES:  # also catches NaN
+        raise MudrftError(
+            f"{what} = {float(count):.3g} samples, more than the {MAX_SAMPLES:.0e} one run may "
+            f"hold (it would need about {format_bytes(float(count) * bytes_per_sample)}); {hint}"
+        )
+    return max(math.ceil(count), 0)
+
+
+def check_length(name: str, value: Any) -> float:
+    """A size [m] as a float: finite, not a boolean, within :data:`LENGTH_LIMITS`.
+
+    Parameters
+    ----------
+    name : str
+        The argument, for the message.
+    value : float
+        The size [m].
+
+    Examples
+    --------
+    >>> check_length("radius", 0.045)
+    0.045
+    """
+    arr = check_positive(name, value, unit="m")
+    if arr.ndim:
+        raise MudrftError(f"{name} must be a single number [m], got {_describe(value)}")
+    low, high = LENGTH_LIMITS
+    v = float(arr)
+    if not low <= v <= high:
+        raise MudrftError(
+            f"{name} must lie in [{low:g}, {high:g}] m for a foot, got {v!r} m (sizes are in "
+            "metres: 45 mm is 0.045)"
+        )
+    return v
+
+
+def check_dimensions(what: str, **sizes: Any) -> dict[str, float]:
+    """Check the dimensions of a foot [m] with :func:`check_length`; warn if the largest is
+    not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
+
+    Parameters
+    ----------
+    what : str
+        The foot, for the message (``"Flat"``).
+    **sizes : float
+        The dimensions by name [m].
+
+    Returns
+    -------
+    dict of str to float
+        The dimensions as floats [m].
+
+    Examples
+    --------
+    >>> check_dimensions("Flat", length=0.08, width=0.065)
+    {'length': 0.08, 'width': 0.065}
+    """
+    out = {k: check_length(k, v) for k, v in sizes.items()}
+    name = max(out, key=out.__getitem__)
+    warn_implausible(
+        f"{what}: its largest dimension, {name}, is",
+        out[name],
+        PLAUSIBLE_FOOT_SIZE,
+        unit="m",
+        hint="sizes are in metres (45 mm is 0.045)",
+    )
+    return out
+
+
+def warn_implausible(
+    what: str,
+    value: float,
+    plausible: tuple[float, float],
+    *,
+    unit: str,
+    hint: str,
+) -> bool:
+    """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible``.
+
+    For values that are valid but more likely a unit mistake (a depth column in mm
+    labelled m, a mesh file in mm read as metres).
+
+    Parameters
+    ----------
+    what : str
+        The quantity, for the message (``"column 'depth [m]' reaches"``).
+    value : float
+        The suspicious value, in ``unit``.
+    plausible : (float, float)
+        Range of plausible values, in ``unit``.
+    unit : str, keyword-only
+        Unit of ``value`` and ``plausible``.
+    hint : str, keyword-only
+        How to state the unit, for the message.
+
+    Returns
+    -------
+    bool
+        Whether it warned.
+    """
+    low, high = plausible
+    v = float(value)
+    if low <= v <= high:
+        return False
+    side = f"more than {high:g}" if v > high else f"less than {low:g}"
+    warnings.warn(
+        plain_text(f"{what} {v:.3g} {unit}, {side} {unit} (implausible; a unit mistake?): {hint}"),
+        PlausibilityWarning,
+        stacklevel=_caller_level(),
+    )
+    return True
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first caller outside mudrft, so a warning names the user's
+    line (Python 3.11 has no ``skip_file_prefixes``)."""
+    frame, level = sys._getframe(2), 2
+    while frame.f_back is not None and _in_mudrft(frame.f_globals.get("__name__")):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def _in_mudrft(module: object) -> bool:
+    return isinstance(module, str) and (module == "mudrft" or module.startswith("mudrft."))

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import metrics as _m
 from ._progress import make_progress
-from ._validation import MudrftError, check_nonnegative, check_positive
+from ._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
 from .feet.base import Foot
 from .terrains import as_terrain
 from .trajectories import Trajectory
@@ -93,10 +93,11 @@ class LoadControl:
         check_positive("duration", self.duration, unit="s")
         check_positive("dt", self.dt, unit="s")
         check_nonnegative("ramp", self.ramp, unit="s")
-        if self.duration / self.dt > 2e7:
-            raise MudrftError(
-                f"duration/dt = {self.duration / self.dt:.3g} steps is too many; use a larger dt"
-            )
+        check_samples(
+            f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
+            self.duration / self.dt + 1,
+            hint="use a larger dt or a shorter duration",
+        )
 
     @property
     def body_mass(self) -> float:
@@ -225,7 +226,13 @@ class Result:
 
 
 def _resample(traj: Trajectory, dt: float) -> Trajectory:
-    n = int(np.floor((traj.time[-1] - traj.time[0]) / dt + 1e-9)) + 1
+    span = float(traj.time[-1] - traj.time[0])
+    check_samples(
+        f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s",
+        span / dt + 2,
+        hint="use a larger dt",
+    )
+    n = int(np.floor(span / dt + 1e-9)) + 1
     t = traj.time[0] + dt * np.arange(n)
     if t[-1] < traj.time[-1] - 1e-12:
         t = np.append(t, traj.time[-1])
@@ -341,7 +348,7 @@ def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> No
     limit = 2.0 * m / c
     if load.dt > 0.8 * limit:
         raise MudrftError(
-            f"LoadControl.dt={load.dt!r} s is too large for an explicit coupling: the mud damps the "
+            f"LoadControl.dt={plain(load.dt)} s is too large for an explicit coupling: the mud damps the "
             f"{m:g} kg mass like a {c:.3g} N s/m damper, stable only for dt < {limit:.3g} s; "
             f"use dt <= {0.5 * limit:.2g} s or a heavier foot_mass"
         )

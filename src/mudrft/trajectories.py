@@ -19,6 +19,7 @@ from ._validation import (
     check_increasing,
     check_nonnegative,
     check_positive,
+    check_samples,
 )
 
 __all__ = [
@@ -161,10 +162,11 @@ def plate_intrusion(
     check_positive("dt", dt, unit="s")
     t_in = depth / speed
     t_total = 2 * t_in + hold + rest
-    if t_total / dt > 5e6:
-        raise MudrftError(
-            f"dt={dt!r} s gives more than 5e6 samples for a {t_total:.3g} s test; use a larger dt"
-        )
+    check_samples(
+        f"plate_intrusion: a {t_total:.3g} s test at dt = {float(dt):g} s",
+        t_total / dt + 1,
+        hint="use a larger dt",
+    )
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
     # include the corners exactly so the piecewise-linear input is exact
@@ -250,6 +252,12 @@ def gait(
         check_in_range(name, val, 0.0, 1.0)
     check_nonnegative("lift", lift, unit="m")
     T = stride / speed
+    check_samples(
+        f"gait: one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s) "
+        f"at dt = {float(dt):g} s",
+        T / dt + 1,
+        hint="use a larger dt or a higher speed",
+    )
     n = max(int(np.ceil(T / dt)) + 1, 3)
     t = np.linspace(0.0, T, n)
     s = t / T

@@ -19,7 +19,7 @@ MS = 1.0e-3  #: 1 ms in s
 #: Factor that converts a value in the given unit to SI, grouped by quantity.
 SCALE: dict[str, dict[str, float]] = {
     "time": {"s": 1.0, "ms": 1.0e-3, "us": 1.0e-6, "min": 60.0},
-    "length": {"m": 1.0, "cm": 1.0e-2, "mm": 1.0e-3, "um": 1.0e-6},
+    "length": {"m": 1.0, "cm": 1.0e-2, "mm": 1.0e-3, "um": 1.0e-6, "in": 0.0254},
     "force": {"N": 1.0, "kN": 1.0e3, "mN": 1.0e-3},
     "stress": {"Pa": 1.0, "kPa": 1.0e3, "MPa": 1.0e6, "N/m^2": 1.0, "N/m2": 1.0},
     "area": {"m^2": 1.0, "m2": 1.0, "cm^2": 1.0e-4, "cm2": 1.0e-4, "mm^2": 1.0e-6, "mm2": 1.0e-6},

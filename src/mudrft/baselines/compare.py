@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_in_range
+from .._validation import MudrftError, plain
 from ..terrains._common import projected
 from ..trajectories import Trajectory
 
@@ -151,7 +151,7 @@ def run_terrain(
         bad = int(np.argmax(~np.all(np.isfinite(force), axis=1)))
         raise MudrftError(
             f"terrain {getattr(terrain, 'name', terrain)!r} returned a non-finite force "
-            f"at t = {t[bad]!r} s"
+            f"at t = {plain(t[bad])} s"
         )
     depth = trajectory.depth
     area = projected(foot, depth)[:, 2]
@@ -167,13 +167,14 @@ def run_terrain(
     )
 
 
-def default_terrains(water_content: float = 0.25) -> dict[str, Any]:
+def default_terrains(water_content: float = 0.25, *, extrapolate: bool = False) -> dict[str, Any]:
     """The mud model and the five baselines with their documented defaults.
 
     ``mud``, ``granular-rft``, ``granular-rft3d``, ``linear``, ``maxwell``, ``rigid``.
     ``water_content`` [-] selects the mud; the baselines' defaults were fitted to (or
     chosen for) the W = 25 % mud, or name a granular medium, and do not change with it
-    (decision D59).
+    (decision D59). Outside the tabulated rows the mud needs ``extrapolate=True`` (and
+    warns), as :func:`mudrft.paper_mud` does.
     """
     from ..parameters import paper_mud
     from ..terrains import MudTerrain
@@ -183,8 +184,7 @@ def default_terrains(water_content: float = 0.25) -> dict[str, Any]:
     from ..terrains.maxwell import MaxwellMud
     from ..terrains.rigid import RigidGround
 
-    check_in_range("water_content", water_content, 0.15, 0.5)
-    mud = MudTerrain(paper_mud(water_content, extrapolate=not 0.25 <= water_content <= 0.45))
+    mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
     terrains: list[Any] = [
         mud,
         GranularRFT(),
@@ -202,6 +202,7 @@ def compare(
     terrains: Mapping[str, Any] | Iterable[Any] | None = None,
     *,
     water_content: float = 0.25,
+    extrapolate: bool = False,
     progress: bool = False,
 ) -> dict[str, History]:
     """Run several terrains on the same foot and trajectory.
@@ -217,6 +218,8 @@ def compare(
         ``linear``, ``maxwell``, ``rigid``).
     water_content : float, keyword-only
         Mud water content [-] for the default terrains.
+    extrapolate : bool, keyword-only
+        Allow a water content outside the tabulated rows for the default terrains (warns).
     progress : bool, keyword-only
         Print one line per terrain to stderr.
 
@@ -235,7 +238,7 @@ def compare(
     ['granular-rft', 'linear']
     """
     if terrains is None:
-        items = list(default_terrains(water_content).items())
+        items = list(default_terrains(water_content, extrapolate=extrapolate).items())
     elif isinstance(terrains, Mapping):
         items = [(str(k), v) for k, v in terrains.items()]
     else:

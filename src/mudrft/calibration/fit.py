@@ -44,6 +44,7 @@ from ._options import (
     DEFAULT_BOUNDS,
     GROUPS,
     as_dataset,
+    auto_decimate,
     check_count,
     resolve_bounds,
     resolve_fixed,
@@ -110,7 +111,7 @@ def calibrate(
     area: float | None = None,
     characteristic_length: float | None = None,
     trace_limit: int = 2000,
-    decimate: int = 1,
+    decimate: int | None = None,
 ) -> FitResult:
     r"""Fit the mud model to intrusion logs; return parameters with their uncertainty.
 
@@ -162,17 +163,25 @@ def calibrate(
         Plate area [m^2] and length [m] when ``dataset`` is a path to load.
     trace_limit : int, keyword-only
         Most evaluations kept in ``trace``.
-    decimate : int, keyword-only
+    decimate : int or None, keyword-only
         Keep every ``decimate``-th sample of each trial (and its deepest and last
-        samples) before fitting. The fit time grows with the samples per trial; logs at
-        1 kHz fit in seconds at ``decimate=10`` (the model step is exact between samples,
-        so thinning loses data, not accuracy of the model).
+        samples) before fitting; 1 fits every sample. The fit time grows with the samples
+        per trial (the model step is exact between samples, so thinning loses data, not
+        accuracy of the model). Default ``None``: trials longer than
+        :data:`~mudrft.calibration._options.FIT_SAMPLES` (2000) samples are thinned to
+        about that many, with a warning naming the factor used (decision D104).
 
     Returns
     -------
     FitResult
         Parameters, standard errors, confidence intervals, correlation, verdicts, RMSE,
         status and trace. ``fit.parameters`` is a :class:`~mudrft.MudParameters`.
+
+    Raises
+    ------
+    MudrftError
+        For invalid arguments or data, and for a fit with no more fitted samples than
+        free parameters (decision D104).
 
     Notes
     -----
@@ -206,6 +215,7 @@ def calibrate(
     setup = _prepare(
         dataset,
         direction,
+        reporter=reporter,
         groups=groups,
         initial=initial,
         fixed=fixed,
@@ -276,6 +286,7 @@ def _prepare(
     dataset: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object],
     direction: str | None,
     *,
+    reporter: Reporter,
     groups: str | Iterable[str] | None,
     initial: MudParameters | None,
     fixed: dict[str, float] | None,
@@ -285,11 +296,21 @@ def _prepare(
     confidence_level: float,
     area: float | None,
     characteristic_length: float | None,
-    decimate: int,
+    decimate: int | None,
 ) -> _Setup:
     """Check the inputs of :func:`calibrate`; load, merge and thin the data."""
+    k = None if decimate is None else check_count("decimate", decimate)
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
-    k = check_count("decimate", decimate)
+    if k is None:
+        k = auto_decimate(ds)
+        if k > 1:
+            longest = max(len(t) for t in ds.trials)
+            reporter.note(
+                f"calibrate: warning: the longest trial has {longest} samples; fitting every "
+                f"{k}th sample (about {longest // k} per trial, decision D104) to keep the fit to "
+                "minutes; pass decimate=1 (CLI: --decimate 1) to fit every sample",
+                level=logging.WARNING,
+            )
     if k > 1:
         ds = thin_trials(ds, k)
     d = (

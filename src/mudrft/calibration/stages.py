@@ -26,6 +26,7 @@ from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
 from ._engine import Engine
+from ._options import check_determined
 from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, pack
 from ._report import Reporter
 from .result import StageReport
@@ -164,6 +165,7 @@ def start_engine(
         )
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
+    check_determined(int(np.count_nonzero(packed.valid)), free)
     engine = Engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )

@@ -7,7 +7,8 @@ package before it runs, so every subcommand shows in the help even when its extr
 missing, and then fails with one line naming the extra to install.
 
 Every error that comes from a user mistake is printed as one line
-(``mudrft COMMAND: error: ...``) with exit status 2, no traceback. Notes and progress go
+(``mudrft COMMAND: error: ...``) with exit status 2, no traceback; every warning of the
+library as one line ``mudrft COMMAND: warning: ...``. Notes and progress go
 to stderr through :mod:`logging` (logger ``"mudrft"``; ``--quiet`` keeps only warnings);
 a command's results (tables, metrics, ``wrote FILE``) go to stdout. Files are written
 all-or-nothing and never replaced without ``--force``.
@@ -17,14 +18,14 @@ from __future__ import annotations
 
 import argparse
 import logging
-import re
 import sys
+import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from types import ModuleType
 
 from .._progress import enable_stderr_logging, logger
-from .._validation import MudrftError
+from .._validation import MudrftError, plain_text
 from . import bench, calibrate, compare, params, reproduce, simulate, walk
 from ._common import EXTRAS, HelpFormatter
 
@@ -40,8 +41,6 @@ COMMANDS: dict[str, ModuleType] = {
     "walk": walk,
     "bench": bench,
 }
-
-_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)_?\d*\(([^()]*)\)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -69,7 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _plain(message: str) -> str:
     """One line, without numpy scalar reprs (``np.float64(1.0)`` reads ``1.0``)."""
-    return " ".join(_NUMPY_REPR.sub(r"\1", message).split())
+    return " ".join(plain_text(message).split())
 
 
 @contextmanager
@@ -92,6 +91,18 @@ def _logging(quiet: bool) -> Iterator[None]:
         logger.setLevel(level)
 
 
+@contextmanager
+def _warnings_as_lines(prog: str) -> Iterator[None]:
+    """Show each warning (a unit looks wrong, an extrapolation, ...) as one log line."""
+
+    def show(message: Warning | str, *args: object, **kwargs: object) -> None:
+        logger.warning("%s: warning: %s", prog, _plain(str(message)))
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``mudrft`` command.
 
@@ -112,7 +123,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     prog = f"mudrft {args.command}"
-    with _logging(bool(getattr(args, "quiet", False))):
+    with _logging(bool(getattr(args, "quiet", False))), _warnings_as_lines(prog):
         for note in getattr(args, "deprecations", ()):
             logger.warning("%s: warning: %s", prog, note)
         try:

@@ -90,8 +90,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--decimate",
         type=int,
-        default=1,
-        help="keep every K-th sample of each trial (for kHz logs)",
+        default=None,
+        metavar="K",
+        help="keep every K-th sample of each trial; 1 fits every sample (default: trials "
+        "longer than 2000 samples are thinned to about 2000, with a warning naming K)",
     )
     p.add_argument(
         "--confidence", type=float, default=0.95, help="level of the confidence intervals"

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +21,7 @@ from ._common import (
     add_force,
     check_finite_option,
     check_positive_option,
+    paper_mud_option,
     require_extra,
 )
 
@@ -60,6 +62,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
     p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
+    p.add_argument(
+        "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
+    )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     add_force(p, "existing results in DIR")
     p.add_argument("--quiet", action="store_true", help="no progress output")
@@ -78,6 +83,7 @@ def write_comparison(
     figures: bool = True,
     force: bool = False,
     quiet: bool = False,
+    extrapolate: bool = False,
 ) -> dict[str, Path]:
     """Run and write what ``mudrft compare`` writes; all files or none.
 
@@ -101,6 +107,8 @@ def write_comparison(
         Overwrite existing files.
     quiet : bool, keyword-only
         No progress lines on stderr.
+    extrapolate : bool, keyword-only
+        Allow a water content outside the tabulated rows (warns).
 
     Returns
     -------
@@ -118,10 +126,15 @@ def write_comparison(
                 foot,
                 plate_intrusion(depth=depth, hold=hold),
                 water_content=water_content,
+                extrapolate=extrapolate,
                 progress=not quiet,
             ),
             "gait": compare(
-                foot, gait(speed, depth=depth), water_content=water_content, progress=not quiet
+                foot,
+                gait(speed, depth=depth),
+                water_content=water_content,
+                extrapolate=extrapolate,
+                progress=not quiet,
             ),
         }
         write_csv(runs, stage / FILES["csv"][0], overwrite=True)
@@ -158,6 +171,9 @@ def run(args: argparse.Namespace) -> int:
     depth = check_positive_option("--depth", args.depth, unit="m")
     hold = check_finite_option("--hold", args.hold, unit="s")
     water_content = check_finite_option("--water-content", args.water_content)
+    with warnings.catch_warnings():  # refuse before any work; the run itself warns
+        warnings.simplefilter("ignore")
+        paper_mud_option(water_content, extrapolate=args.extrapolate)
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
@@ -172,6 +188,7 @@ def run(args: argparse.Namespace) -> int:
         figures=figures,
         force=args.force,
         quiet=args.quiet,
+        extrapolate=args.extrapolate,
     )
     for p in paths.values():
         print(f"wrote {p}")

@@ -43,6 +43,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
     )
     p.add_argument(
+        "--unit",
+        choices=["m", "mm", "cm", "in"],
+        default=None,
+        help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
+        "less than 1 mm across warns)",
+    )
+    p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
@@ -97,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
         require_extra("matplotlib", needed_for="--plot")
     from ..terrains import MudTerrain
 
-    foot = by_name(args.foot)
+    foot = by_name(args.foot, unit=args.unit)
     mud = MudTerrain(
         paper_mud_option(args.water_content, extrapolate=args.extrapolate, labels=args.labels),
         thixotropy=args.thixotropy,

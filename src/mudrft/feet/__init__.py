@@ -40,14 +40,17 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'mudrft.feet' has no attribute {name!r}")
 
 
-def by_name(name: str | os.PathLike[str]) -> Foot:
+def by_name(name: str | os.PathLike[str], *, unit: str | None = None) -> Foot:
     """The foot called ``name`` with the paper's dimensions, or a mesh foot read from a file.
 
     Parameters
     ----------
     name : str or path-like
         ``"flat"``, ``"semi-cylinder"``, ``"semi-sphere"``, ``"morphing"``, or a path ending
-        in ``.stl``, ``.obj`` or ``.ply`` (coordinates in metres).
+        in ``.stl``, ``.obj`` or ``.ply``.
+    unit : str or None, keyword-only
+        Length unit of a mesh file's coordinates (``"m"``, ``"mm"``, ``"cm"``, ``"in"``;
+        default metres); only for mesh files.
 
     Examples
     --------
@@ -56,7 +59,12 @@ def by_name(name: str | os.PathLike[str]) -> Foot:
     """
     is_path = isinstance(name, str) and name.lower().endswith((".stl", ".obj", ".ply"))
     if isinstance(name, os.PathLike) or is_path:
-        return MeshFoot.from_file(name)
+        return MeshFoot.from_file(name, unit="m" if unit is None else unit)
+    if unit is not None:
+        raise MudrftError(
+            f"unit (CLI: --unit) applies to mesh files only (.stl/.obj/.ply), but foot is "
+            f"{name!r}; the named feet have the paper's dimensions in metres"
+        )
     if name == "flat":
         return Flat()
     if name == "semi-cylinder":

@@ -13,6 +13,7 @@ Forces are the force of the mud on the foot in the world frame [N].
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -21,14 +22,59 @@ import numpy as np
 from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
 
 __all__ = [
+    "CHUNK",
     "Foot",
     "SurfaceElements",
     "check_resultant_inputs",
     "first_quadrant",
     "fold_heading",
+    "in_chunks",
     "unfold_forces",
     "world_force",
 ]
+
+
+#: Facet evaluations per vectorized chunk when a batch of samples meets a surface of facets:
+#: temporaries stay in cache and memory does not grow with samples x facets (decision D102).
+CHUNK = 1 << 16
+
+
+def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
+    """``fn(*rows)`` over the leading axis of ``rows``, a few rows (samples) at a time.
+
+    Each call sees about :data:`CHUNK` facet evaluations (at least one row), so the
+    memory of the temporaries is bounded by ``max(CHUNK, n_facets)`` evaluations, not
+    samples x facets.
+
+    Parameters
+    ----------
+    fn : callable
+        Evaluates a block of rows; returns an array with the rows on its leading axis or a
+        tuple (e.g. a NamedTuple) of such arrays.
+    n_facets : int
+        Facets one row evaluates [-].
+    *rows : ndarray
+        Arrays with a common leading length.
+
+    Returns
+    -------
+    ndarray or tuple
+        As ``fn`` returns for all rows at once.
+
+    Examples
+    --------
+    >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
+    (5, 3)
+    """
+    n = rows[0].shape[0]
+    step = max(1, CHUNK // max(int(n_facets), 1))
+    if n <= step:
+        return fn(*rows)
+    parts = [fn(*(r[i : i + step] for r in rows)) for i in range(0, n, step)]
+    if isinstance(parts[0], tuple):
+        joined = [np.concatenate(p, axis=0) for p in zip(*parts, strict=True)]
+        return type(parts[0])(*joined) if hasattr(parts[0], "_fields") else tuple(joined)
+    return np.concatenate(parts, axis=0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,17 +277,15 @@ class Foot(ABC):
         d = check_nonnegative("depth", depth, unit="m")
         el = self.elements()
         z = el.centroids[:, 2]
-        sub = z[None, :] <= np.atleast_1d(d)[:, None]
-        a = el.areas[None, :] * sub
-        out = np.stack(
-            [
-                0.5 * (a * np.abs(el.normals[:, 0])).sum(-1),
-                0.5 * (a * np.abs(el.normals[:, 1])).sum(-1),
-                (a * np.clip(-el.normals[:, 2], 0, None)).sum(-1),
-            ],
-            axis=-1,
+        n = el.normals
+        weights = el.areas[:, None] * np.stack(
+            [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0, None)], axis=-1
         )
-        return out.reshape((*np.shape(d), 3))
+
+        def block(dd: np.ndarray) -> np.ndarray:
+            return (z[None, :] <= dd[:, None]) @ weights
+
+        return in_chunks(block, len(z), d.reshape(-1)).reshape((*np.shape(d), 3))
 
     def elements(self) -> SurfaceElements:
         """Surface elements of the whole foot in its own frame (tip at the origin)."""

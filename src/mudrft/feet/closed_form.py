@@ -32,11 +32,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._validation import (
-    MudrftError,
-    check_nonnegative,
-    check_positive,
-)
+from .._validation import MudrftError, check_dimensions, check_nonnegative
 from ..constitutive.laws import f_n, f_t
 from .base import Foot, SurfaceElements, fold_heading, world_force
 from .base import check_resultant_inputs as _check_inputs
@@ -456,8 +452,9 @@ class Flat(_ClosedFormFoot):
     trailing: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
-        for k in ("length", "width", "height"):
-            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit="m")))
+        sizes = check_dimensions("Flat", length=self.length, width=self.width, height=self.height)
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
 
     @property
     def characteristic_length(self) -> float:
@@ -509,12 +506,15 @@ class SemiCylinder(_ClosedFormFoot):
     trailing: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
-        for k in ("radius", "width", "height"):
-            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit="m")))
+        sizes = check_dimensions(
+            "SemiCylinder", radius=self.radius, width=self.width, height=self.height
+        )
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
         if self.height > self.radius:
             raise MudrftError(
-                f"height must be <= radius = {self.radius!r} m for a semi-cylinder, "
-                f"got {self.height!r} m"
+                f"height must be <= radius = {self.radius} m for a semi-cylinder, "
+                f"got {self.height} m"
             )
 
     @property
@@ -569,12 +569,12 @@ class SemiSphere(_ClosedFormFoot):
     trailing: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
-        for k in ("radius", "height"):
-            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit="m")))
+        sizes = check_dimensions("SemiSphere", radius=self.radius, height=self.height)
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
         if self.height > self.radius:
             raise MudrftError(
-                f"height must be <= radius = {self.radius!r} m for a semi-sphere, "
-                f"got {self.height!r} m"
+                f"height must be <= radius = {self.radius} m for a semi-sphere, got {self.height} m"
             )
 
     @property

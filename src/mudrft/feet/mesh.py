@@ -27,21 +27,30 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
+from .._validation import (
+    PLAUSIBLE_FOOT_SIZE,
+    MudrftError,
+    check_finite,
+    check_in_range,
+    check_memory,
+    check_nonnegative,
+    warn_implausible,
+)
 from ..units import parse_unit
-from .base import Foot, SurfaceElements
+from .base import CHUNK, Foot, SurfaceElements, in_chunks
 from .surface import (
     PreparedTriangles,
     integrate_prepared,
     integrate_wrench,
     prepare_triangles,
+    submerged_area,
 )
 
-__all__ = ["MeshFoot", "MeshWarning", "as_rotation_matrix"]
+__all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 
-#: Facet evaluations per vectorized chunk when a batch is integrated (keeps the
-#: temporaries in cache; see benchmarks/bench_feet.py).
-CHUNK = 1 << 16
+#: Memory a mesh foot takes while it is built, per facet [bytes] (measured: about 490;
+#: decision D102). Larger meshes than :func:`mudrft._validation.memory_limit` allows are refused.
+BYTES_PER_FACET = 512
 
 #: File formats :meth:`MeshFoot.from_file` reads.
 FORMATS = (".stl", ".obj", ".ply")
@@ -186,6 +195,12 @@ class MeshFoot(Foot):
         if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] < 3:
             raise MudrftError(f"vertices must have shape (n, 3) with n >= 3, got shape {v.shape}")
         f = _check_faces(faces, v.shape[0])
+        check_memory(
+            f"a mesh foot of {f.shape[0]} facets",
+            f.shape[0] * BYTES_PER_FACET,
+            hint="simplify the mesh (a foot needs a few thousand facets; e.g. trimesh's "
+            "simplify_quadric_decimation)",
+        )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
         self.name = str(name)
@@ -195,6 +210,15 @@ class MeshFoot(Foot):
         diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
         if diag == 0.0:
             raise MudrftError("vertices must not all coincide: the mesh is degenerate (zero size)")
+        warn_implausible(
+            f"MeshFoot {self.name!r}: the mesh is",
+            float(np.ptp(vu, axis=0).max()),
+            PLAUSIBLE_FOOT_SIZE,
+            unit="m across",
+            hint="if its coordinates are not in metres, state their unit: "
+            "MeshFoot.from_file(path, unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the "
+            "vertices to metres",
+        )
         closed, wrong = _topology(v, f)
         if wrong:
             raise MudrftError(
@@ -262,7 +286,9 @@ class MeshFoot(Foot):
         path : str or path-like
             File to read (never modified).
         unit : str, optional
-            Length unit of the file's coordinates (``"m"``, ``"cm"``, ``"mm"``, ``"um"``).
+            Length unit of the file's coordinates (``"m"``, ``"cm"``, ``"mm"``, ``"um"``,
+            ``"in"``). A mesh more than 1 m or less than 1 mm across warns
+            (:class:`~mudrft._validation.PlausibilityWarning`, decision D103).
         trailing : bool, optional
             See :class:`MeshFoot`.
         name : str, optional
@@ -337,20 +363,17 @@ class MeshFoot(Foot):
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
         """Integrate in batch chunks of about :data:`CHUNK` facet evaluations (cache-sized
-        temporaries); each chunk is one vectorized call over all facets."""
+        temporaries, memory independent of the batch size); each chunk is one vectorized
+        call over all facets."""
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
-        n = math.prod(shape)
-        rows = max(1, CHUNK // len(self))
-        if n <= rows:
+        if math.prod(shape) <= max(1, CHUNK // len(self)):
             return np.asarray(integrate_prepared(self._prep, d, s, h, trailing=self.trailing))
-        d = np.broadcast_to(d, shape).reshape(-1)
-        h = np.broadcast_to(h, shape).reshape(-1)
-        s = np.broadcast_to(s, (*shape, 3)).reshape(-1, 3)
-        out = np.empty((n, 3))
-        for i in range(0, n, rows):  # over batch rows, never over facets
-            j = slice(i, i + rows)
-            out[j] = integrate_prepared(self._prep, d[j], s[j], h[j], trailing=self.trailing)
-        return out.reshape((*shape, 3))
+
+        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray) -> np.ndarray:
+            return np.asarray(integrate_prepared(self._prep, dd, ss, hh, trailing=self.trailing))
+
+        rows = _flat_rows(shape, d, s, h)
+        return np.asarray(in_chunks(block, len(self), *rows)).reshape((*shape, 3))
 
     def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """World-frame force [N] for a heading in any quadrant, by the vector rule directly.
@@ -378,10 +401,20 @@ class MeshFoot(Foot):
         """
         d, s = self._inputs(depth, stress)
         h = check_finite("heading", heading)
-        pt = None if point is None else check_finite("point", point)
-        return integrate_wrench(
-            None, d, s, h, point=pt, trailing=self.trailing, prepared=self._prep
-        )
+        pt = np.zeros(3) if point is None else check_finite("point", point)
+        if pt.shape[-1:] != (3,):
+            raise MudrftError(f"point must have shape (..., 3) [m], got shape {pt.shape}")
+        shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape, pt.shape[:-1])
+
+        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray, pp: np.ndarray) -> Any:
+            return integrate_wrench(
+                None, dd, ss, hh, point=pp, trailing=self.trailing, prepared=self._prep
+            )
+
+        if not shape:
+            return block(d, s, h, pt)
+        w = in_chunks(block, len(self), *_flat_rows(shape, d, s, h, pt))
+        return type(w)(*(np.asarray(a).reshape((*shape, 3)) for a in w))
 
     def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """Center of pressure in the foot frame [m], shape (..., 3) (decision D24).
@@ -397,25 +430,32 @@ class MeshFoot(Foot):
         closed convex foot; the horizontal cut adds no x or y area) and
         :math:`A_z=\sum\max(-n_z,0)dS` over the submerged parts of the facets.
         """
-        from .surface import clip_below
-
         d = check_nonnegative("depth", depth, unit="m")
-        a, _ = clip_below(self._prep, d)
         n = self._prep.normal
-        return np.stack(
-            [
-                0.5 * a @ np.abs(n[:, 0]),
-                0.5 * a @ np.abs(n[:, 1]),
-                a @ np.clip(-n[:, 2], 0.0, None),
-            ],
-            axis=-1,
+        weights = np.stack(
+            [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0.0, None)], axis=-1
         )
+
+        def block(dd: np.ndarray) -> np.ndarray:
+            return np.asarray(submerged_area(self._prep, dd) @ weights)
+
+        return np.asarray(in_chunks(block, len(self), d.reshape(-1))).reshape((*d.shape, 3))
 
     def __repr__(self) -> str:
         return (
             f"MeshFoot(name={self.name!r}, facets={len(self)}, height={self.height:.4g} m, "
             f"closed={self.closed}, trailing={self.trailing})"
         )
+
+
+def _flat_rows(shape: tuple[int, ...], *arrays: np.ndarray) -> list[np.ndarray]:
+    """``depth, stress, heading[, point]`` broadcast to the batch ``shape`` and flattened to
+    rows: depth and heading of shape (n,), stress and point of shape (n, 3)."""
+    vector = (False, True, False, True)
+    return [
+        np.broadcast_to(a, (*shape, 3) if vec else shape).reshape((-1, 3) if vec else (-1,))
+        for a, vec in zip(arrays, vector, strict=False)
+    ]
 
 
 def _index_triangles(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

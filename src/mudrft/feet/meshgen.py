@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from .._validation import MudrftError, check_positive
+from .._validation import MudrftError, check_length
 
 __all__ = ["box_mesh", "semicylinder_mesh", "semisphere_mesh"]
 
@@ -78,8 +78,7 @@ def box_mesh(
     ((26, 3), (48, 3))
     """
     length, width, height = (
-        float(check_positive(k, v, unit="m"))
-        for k, v in (("length", length), ("width", width), ("height", height))
+        check_length(k, v) for k, v in (("length", length), ("width", width), ("height", height))
     )
     n = _resolution(resolution)
     xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
@@ -131,11 +130,10 @@ def semicylinder_mesh(
     (True, 0.026)
     """
     radius, width, height = (
-        float(check_positive(k, v, unit="m"))
-        for k, v in (("radius", radius), ("width", width), ("height", height))
+        check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
     if height > radius:
-        raise MudrftError(f"height must be <= radius = {radius!r} m, got {height!r} m")
+        raise MudrftError(f"height must be <= radius = {radius} m, got {height} m")
     n = _resolution(resolution)
     tm = math.acos(1.0 - height / radius)
     th = np.linspace(-tm, tm, 2 * n + 1)
@@ -192,11 +190,9 @@ def semisphere_mesh(
     >>> f.shape
     (128, 3)
     """
-    radius, height = (
-        float(check_positive(k, v, unit="m")) for k, v in (("radius", radius), ("height", height))
-    )
+    radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
     if height > radius:
-        raise MudrftError(f"height must be <= radius = {radius!r} m, got {height!r} m")
+        raise MudrftError(f"height must be <= radius = {radius} m, got {height} m")
     n = _resolution(resolution)
     na = 4 * n
     tm = math.acos(1.0 - height / radius)

@@ -58,6 +58,7 @@ __all__ = [
     "integrate_wrench",
     "local_frame",
     "prepare_triangles",
+    "submerged_area",
 ]
 
 #: Tolerance on unit-vector components [-]: :math:`|n_z|\le` TOL is a vertical wall (D21),
@@ -223,7 +224,6 @@ def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
     order = xp.argsort(tri[..., 2], axis=-1)
     srt = xp.take_along_axis(tri, order[..., :, None], axis=-2)
     za, zb, zc = srt[..., 0, 2], srt[..., 1, 2], srt[..., 2, 2]
-    # spans below 1e-100 m count as flat (their clip is a step; avoids overflow to inf)
     # spans below 1e-100 m count as flat (avoids overflow of the clipping constants)
     span1 = (zb - za) * (zc - za)
     span2 = (zc - za) * (zc - zb)
@@ -254,14 +254,14 @@ def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
     )
 
 
-def _submerged_area(p: PreparedTriangles, depth: Any, xp: Any) -> Any:
-    r"""Exact submerged area of each facet [m^2], shape (..., m).
+def submerged_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> Any:
+    r"""Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`.
 
-    Piecewise quadratic in the depth, written with clamps rather than branches:
+    Parameters are those of :func:`clip_below`. Piecewise quadratic in depth (clamps, no branches):
     :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
     plus the whole area of a horizontal facet once the surface is above it (strictly).
     """
-    d = xp.asarray(depth)[..., None]
+    p, d = prepared, xp.asarray(depth)[..., None]
     lo = xp.minimum(xp.maximum(d - p.za, 0.0), p.zb - p.za)
     hi = xp.minimum(xp.maximum(p.zc - d, 0.0), p.zc - p.zb)
     d2 = p.zc - p.zb
@@ -319,7 +319,7 @@ def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tupl
     rest = 1.0 - top_frac
     c2 = _safe_div(full_c - top_frac * c_top, rest, xp)
     cen = xp.where(one_low[..., None], c1, xp.where(two_low[..., None], c2, full_c))
-    return _submerged_area(prepared, depth, xp), cen
+    return submerged_area(prepared, depth, xp=xp), cen
 
 
 def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElements:
@@ -475,7 +475,7 @@ def integrate_prepared(
     :func:`prepare_triangles` in place of the triangles.
     """
     p = prepared
-    area = _submerged_area(p, depth, xp)
+    area = submerged_area(p, depth, xp=xp)
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
     # sigma_e = sx hx^2 + sy hy^2 is linear in the stresses: sum the facets once per channel
     a = area * p.nh

@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_nonnegative, check_positive
+from .._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
 from .walk_output import (
     STEP_COLUMNS,
     WALK_COLUMNS,
@@ -376,10 +376,13 @@ def walk(
     check_positive("seconds", seconds, unit="s")
     check_positive("dt", dt, unit="s")
     if dt > 0.01:
-        raise MudrftError(f"dt must be <= 0.01 s for the biped, got {dt!r}")
+        raise MudrftError(f"dt must be <= 0.01 s for the biped, got {plain(dt)}")
+    check_samples(
+        f"walk: {float(seconds):g} s at dt = {float(dt):g} s",
+        seconds / dt,
+        hint="use a larger dt or fewer seconds",
+    )
     n = round(seconds / dt)
-    if n > 5_000_000:
-        raise MudrftError(f"seconds/dt = {n} steps is too many; use a larger dt or fewer seconds")
     model = biped_model(foot, bottom=bottom, timestep=dt)
     data = mj.MjData(model)
     ctrl = GaitController(model, speed=speed, step_time=step_time)

@@ -14,15 +14,27 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import MudrftError, check_choice, check_positive
+from .._validation import MudrftError, check_choice, check_positive, plain, warn_implausible
 from ..plate import DEFAULT_PLATE_LENGTH
-from .columns import fail
+from .columns import fail, parse_header_name
 from .dataset import Trial
 
-__all__ = ["DIRECTIONS", "build_trials", "resolve_direction", "resolve_plate"]
+__all__ = [
+    "DIRECTIONS",
+    "PLAUSIBLE_DEPTH",
+    "PLAUSIBLE_PEAK_STRESS",
+    "build_trials",
+    "check_plausible",
+    "resolve_direction",
+    "resolve_plate",
+]
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
+#: Deepest intrusion of a plausible plate or foot test [m] (decision D105).
+PLAUSIBLE_DEPTH = (1e-3, 1.0)
+#: Peak stress magnitude of a plausible test in mud [Pa] (decision D105).
+PLAUSIBLE_PEAK_STRESS = (10.0, 1e7)
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -144,8 +156,8 @@ def build_trials(
             raise fail(
                 path,
                 f"line {int(lines[idx[k]])}, column 'time'",
-                f"time must increase strictly within trial {name!r}, but {t[k]!r} s "
-                f"follows {t[k - 1]!r} s{hint}",
+                f"time must increase strictly within trial {name!r}, but {plain(t[k])} s "
+                f"follows {plain(t[k - 1])} s{hint}",
             )
         meta: dict[str, Any] = {"first_line": int(lines[idx[0]])}
         if A is not None:
@@ -159,3 +171,64 @@ def build_trials(
         except MudrftError as exc:
             raise fail(path, f"line {int(lines[idx[0]])}", str(exc)) from None
     return tuple(trials)
+
+
+def _unit_hint(label: str, units: str) -> str:
+    name = parse_header_name(label)[0] if label else "column"
+    first = units.split(" or ")[0]
+    return (
+        f"if the values are in {units}, state it in the header: '{name} [{first}]' "
+        f"(HDF5: a 'unit' attribute '{first}')"
+    )
+
+
+def check_plausible(
+    path: str,
+    columns: Sequence[tuple[dict[str, str], NDArray[np.float64], NDArray[np.float64]]],
+    *,
+    area: float | None,
+) -> None:
+    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) if a log's depths or stresses
+    look like a unit mistake: a deepest depth outside :data:`PLAUSIBLE_DEPTH` or a peak
+    stress outside :data:`PLAUSIBLE_PEAK_STRESS` (decision D105).
+
+    Parameters
+    ----------
+    path : str
+        The file, for the message.
+    columns : sequence of (labels, depth, stress)
+        Per table (trial group): the column labels by role (``"depth"``, ``"stress"`` or
+        ``"force"``), the depths [m] and the stresses [Pa] (force / area for a force).
+    area : float or None, keyword-only
+        Plate area [m^2] when the stresses come from a force column.
+    """
+    if not columns:
+        return
+    deep = max(columns, key=lambda c: float(np.max(np.abs(c[1]), initial=0.0)))
+    depth = float(np.max(np.abs(deep[1]), initial=0.0))
+    if depth > 0:
+        label = deep[0].get("depth", "depth")
+        units = "mm" if depth > PLAUSIBLE_DEPTH[1] else "m"
+        warn_implausible(
+            f"{path}: column {label!r} reaches a depth of",
+            depth,
+            PLAUSIBLE_DEPTH,
+            unit="m",
+            hint=_unit_hint(label, units),
+        )
+    peak_of = max(columns, key=lambda c: float(np.max(np.abs(c[2]), initial=0.0)))
+    peak = float(np.max(np.abs(peak_of[2]), initial=0.0))
+    if peak == 0:
+        return
+    if "stress" in peak_of[0]:
+        label = peak_of[0]["stress"]
+        units = "kPa or MPa" if peak < PLAUSIBLE_PEAK_STRESS[0] else "Pa"
+        what, hint = f"{path}: column {label!r} peaks at", _unit_hint(label, units)
+    else:
+        label = peak_of[0].get("force", "force")
+        what = f"{path}: column {label!r} over the plate area {plain(area)} m^2 peaks at"
+        hint = (
+            "check the force unit in the header ('Fz [N]', 'Fz [kN]'; HDF5: the 'unit' "
+            "attribute) and the plate area (area=..., CLI: --area, in m^2)"
+        )
+    warn_implausible(what, peak, PLAUSIBLE_PEAK_STRESS, unit="Pa", hint=hint)

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ._build import build_trials, resolve_direction, resolve_plate
+from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
 from .columns import (
     Column,
     check_roles,
@@ -258,6 +258,8 @@ def load_intrusion_csv(
         need_area=not has_stress,
     )
     trials = build_trials(where, values, labels, np.asarray(table.row_lines), L=L, A=A)
+    names = {role: col.label for role, col in columns.roles.items()}
+    check_plausible(where, [(names, t.depth, t.stress) for t in trials], area=A)
     meta = {**table.meta, "characteristic_length_source": lsrc, "ignored_columns": columns.ignored}
     if A is not None:
         meta["area"] = A

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ._build import build_trials, resolve_direction, resolve_plate
+from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
 from .atomic import atomic_write
 from .columns import Column, check_roles, fail, resolve_columns, to_si
 from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
@@ -66,8 +66,10 @@ def _notes(attrs: dict[str, Any]) -> list[str]:
     return notes
 
 
-def _read_group(h5py: Any, path: str, gname: str, group: Any, direction: str) -> Columns:
-    """The columns of one trial's group, in SI, checked."""
+def _read_group(
+    h5py: Any, path: str, gname: str, group: Any, direction: str
+) -> tuple[Columns, dict[str, str]]:
+    """The columns of one trial's group, in SI, checked, and their labels by role."""
     names = [k for k in group if isinstance(group[k], h5py.Dataset)]
     units = [_text(group[k].attrs.get("unit", group[k].attrs.get("units"))) for k in names]
 
@@ -86,7 +88,7 @@ def _read_group(h5py: Any, path: str, gname: str, group: Any, direction: str) ->
     for role, arr in out.items():
         if arr.size != n:
             raise fail(path, f"group '{gname}'", f"{role} has {arr.size} values but time has {n}")
-    return out
+    return out, {role: col.label for role, col in columns.roles.items()}
 
 
 def _column_values(path: str, dataset: Any, col: Column, loc: str) -> NDArray[np.float64]:
@@ -154,12 +156,16 @@ def load_intrusion_hdf5(
         meta_area=meta_area,
         characteristic_length=characteristic_length,
         area=area,
-        need_area=any("stress" not in cols for _, cols in tables),
+        need_area=any("stress" not in cols for _, (cols, _) in tables),
     )
     trials: list[Trial] = []
-    for gname, cols in tables:
+    found = []
+    for gname, (cols, names) in tables:
         n = cols["time"].size
-        trials.extend(build_trials(where, cols, [gname] * n, np.arange(n), L=L, A=A))
+        group = build_trials(where, cols, [gname] * n, np.arange(n), L=L, A=A)
+        trials.extend(group)
+        found += [(names, t.depth, t.stress) for t in group]
+    check_plausible(where, found, area=A)
     meta: dict[str, Any] = {"characteristic_length_source": lsrc}
     if A is not None:
         meta["area"] = A

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite
+from .._validation import MudrftError, check_positive
 
 __all__ = ["PARAMETER_UNITS", "POSITIVE_FIELDS", "Mud", "MudParameters"]
 
@@ -119,17 +119,14 @@ class MudParameters:
     direction: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        if self.k_a is None:
-            lam = check_finite("lam", self.lam)
-            object.__setattr__(self, "k_a", 1.0 / lam if lam.ndim else 1.0 / float(lam))
         for name in POSITIVE_FIELDS:
-            raw = getattr(self, name)
-            arr = check_finite(name, raw)
-            if not np.all(arr > 0):
-                raise MudrftError(
-                    f"{name} must be > 0 {PARAMETER_UNITS[name]}, got {float(np.min(arr))!r}"
-                )
+            if name == "k_a" and self.k_a is None:
+                continue  # follows lam, once lam is known to be > 0 (decision D3)
+            arr = check_positive(name, getattr(self, name), unit=PARAMETER_UNITS[name])
             object.__setattr__(self, name, float(arr) if arr.ndim == 0 else arr)
+        if self.k_a is None:
+            lam = self.lam
+            object.__setattr__(self, "k_a", 1.0 / lam if np.ndim(lam) else 1.0 / float(lam))
         if np.any(np.asarray(self.n) > 1.0):
             raise MudrftError(f"n must lie in (0, 1], got {float(np.max(self.n))!r}")
         if self.direction not in ("", "vertical", "horizontal"):

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from ..._validation import MudrftError
+from ..._validation import MudrftError, plain
 from .linkage import Linkage
 from .pads import vertical_area
 from .springs import TwoStageSpring
@@ -264,7 +264,7 @@ def _refine(
 def _diverged(a: float, b: float, d: float, s: float, why: str) -> NoReturn:
     raise MudrftError(
         "the column balance did not converge: expected a root of R in "
-        f"[{a!r}, {b!r}] m at depth {d!r} m and sz {s!r} Pa, got {why}"
+        f"[{plain(a)}, {plain(b)}] m at depth {plain(d)} m and sz {plain(s)} Pa, got {why}"
     )
 
 

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import check_nonnegative, check_positive
+from ..._validation import check_length, check_nonnegative, check_positive
 from ..base import Foot, unfold_forces
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
@@ -81,7 +81,7 @@ class MorphingFoot(MorphingMechanism, Foot):
         self._lc = (
             None
             if characteristic_length is None
-            else float(check_positive("characteristic_length", characteristic_length, unit="m"))
+            else check_length("characteristic_length", characteristic_length)
         )
         self._lc_spread: float | None = None
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import MudrftError, check_in_range, check_nonnegative, check_positive
+from ..._validation import MudrftError, check_in_range, check_length, check_nonnegative
 
 __all__ = ["Linkage", "MorphingFootGeometry"]
 
@@ -112,7 +112,7 @@ class MorphingFootGeometry:
             "crank_length",
             "coupler_length",
         ):
-            object.__setattr__(self, k, float(check_positive(k, getattr(self, k), unit="m")))
+            object.__setattr__(self, k, check_length(k, getattr(self, k)))
         object.__setattr__(
             self, "pole_radius", float(check_nonnegative("pole_radius", self.pole_radius, unit="m"))
         )

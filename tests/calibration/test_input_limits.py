@@ -1,0 +1,91 @@
+"""Calibration against hostile inputs (issue 15): long logs, too few samples, unit mistakes.
+
+Each test fails on the behaviour before the fix: a 1e6-row log fitted at full length with
+no warning (it did not end in 600 s), 9 samples for 10 parameters reported as converged,
+a depth column in mm labelled [m] or a stress in kPa labelled [Pa] loaded without a word.
+"""
+
+from __future__ import annotations
+
+import logging
+import warnings
+
+import numpy as np
+import pytest
+
+import mudrft.calibration._options as options
+from mudrft._validation import MudrftError, PlausibilityWarning
+from mudrft.calibration import calibrate, synthetic_dataset
+from mudrft.io import IntrusionDataset, Trial, load_dataset
+
+
+@pytest.fixture(scope="module")
+def plunge(true_vertical):
+    """One plate test at 20 ms steps: 226 samples."""
+    return synthetic_dataset(true_vertical, speeds=(0.02,), noise=0.01, seed=3, dt=0.02)
+
+
+def test_long_logs_are_thinned_to_the_target_with_a_warning(plunge, monkeypatch, caplog):
+    monkeypatch.setattr(options, "FIT_SAMPLES", 50)  # a 1e6-row log against 2000, scaled down
+    assert options.auto_decimate(plunge) == 5
+    with caplog.at_level(logging.WARNING, logger="mudrft.calibration"):
+        fit = calibrate(plunge, groups="b", phases=False, max_nfev=3)
+    warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert any(
+        "226 samples" in m and "every 5th sample" in m and "--decimate 1" in m for m in warned
+    )
+    assert len(fit.dataset[0]) <= 50
+
+
+def test_an_explicit_decimate_is_kept(plunge, monkeypatch):
+    monkeypatch.setattr(options, "FIT_SAMPLES", 50)
+    lines: list[str] = []
+    with pytest.raises(MudrftError, match="decimate must be an integer >= 1, got 0"):
+        calibrate(plunge, decimate=0)
+    fit = calibrate(plunge, groups="b", phases=False, max_nfev=3, decimate=1, progress=lines.append)
+    assert len(fit.dataset[0]) == len(plunge[0]) and not any("every" in m for m in lines)
+
+
+def test_fewer_samples_than_free_parameters_is_refused(plunge):
+    tr = plunge[0]
+    nine = IntrusionDataset((Trial(tr.time[:9], tr.depth[:9], tr.stress[:9]),))
+    with pytest.raises(MudrftError, match=r"9 fitted sample.*10 free parameter"):
+        calibrate(nine)
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_a_depth_in_mm_labelled_metres_warns_naming_column_value_and_fix(tmp_path):
+    depth_mm = np.r_[np.linspace(0, 30, 31), np.linspace(29, 0, 30)]
+    rows = "\n".join(f"{0.1 * i:g},{d:g},{1e3 * d:g}" for i, d in enumerate(depth_mm))
+    path = write(tmp_path, "mm.csv", "time [s],depth [m],stress [Pa]\n" + rows + "\n")
+    with pytest.warns(
+        PlausibilityWarning, match=r"'depth \[m\]' reaches a depth of 30 m.*'depth \[mm\]'"
+    ):
+        load_dataset(path)
+
+
+def test_a_stress_in_kpa_labelled_pascal_warns(tmp_path):
+    path = write(
+        tmp_path, "kpa.csv", "time [s],depth [m],stress [Pa]\n0,0,0\n1,0.02,7.2\n2,0.03,-1.5\n"
+    )
+    with pytest.warns(
+        PlausibilityWarning, match=r"'stress \[Pa\]' peaks at 7.2 Pa.*'stress \[kPa\]'"
+    ):
+        load_dataset(path)
+    force = write(tmp_path, "f.csv", "time [s],depth [m],Fz [kN]\n0,0,0\n1,0.02,30\n2,0.03,60\n")
+    with pytest.warns(PlausibilityWarning, match=r"'Fz \[kN\]' over the plate area 0.0025"):
+        load_dataset(force, area=0.0025)
+
+
+def test_a_plausible_log_loads_without_warnings(tmp_path):
+    path = write(
+        tmp_path, "ok.csv", "time [ms],depth [mm],stress [kPa]\n0,0,0\n500,10,2.5\n1000,20,4\n"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        assert load_dataset(path)[0].stress.max() == 4000.0
