@@ -83,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
     require_extra("mujoco", needed_for="mudrft walk")
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
     from ..integrations import walk as W
+    from ..integrations import walk_output as WO
 
     foot = by_name(args.foot)
     mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
@@ -111,10 +112,10 @@ def run(args: argparse.Namespace) -> int:
         s = res.summary
         s["water_content"] = float(args.water_content)
         s["wall_time [s]"] = round(time.perf_counter() - t0, 3)
-        W._write_csv(stage / "walk.csv", res.table, W.WALK_COLUMNS)
-        W._write_csv(stage / "steps.csv", res.steps, W.STEP_COLUMNS)
-        W.plot_walk(res, stage / "walk.png")
-        strip = W.save_strip(res.frames, stage / "frames.png")
+        WO._write_csv(stage / "walk.csv", res.table, WO.WALK_COLUMNS)
+        WO._write_csv(stage / "steps.csv", res.steps, WO.STEP_COLUMNS)
+        WO.plot_walk(res, stage / "walk.png")
+        strip = WO.save_strip(res.frames, stage / "frames.png")
         s["frames"] = strip.name if strip is not None else None
         (stage / "summary.json").write_text(json.dumps(s, indent=2) + "\n")
     print(
