@@ -46,6 +46,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .facet import TOL, clip_constants, clip_facet, facet_frame, sort_by_height, submerged_area
+
 __all__ = [
     "ClippedElements",
     "LocalFrame",
@@ -60,11 +62,6 @@ __all__ = [
     "local_frame",
     "prepare_triangles",
 ]
-
-#: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
-#: wall (no vertical force, decision D21); :math:`|\cos\psi_2|\le` this is parallel to the
-#: motion (tie rule of decision D22).
-TOL = 1e-9
 
 
 class PreparedTriangles(NamedTuple):
@@ -218,70 +215,25 @@ def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
     """
     tri = xp.asarray(triangles)
     v0, v1, v2 = tri[..., 0, :], tri[..., 1, :], tri[..., 2, :]
-    raw = _cross(v1 - v0, v2 - v0, xp)
-    norm = xp.sqrt(xp.sum(raw * raw, axis=-1))
-    normal = _safe_div(raw, norm[..., None], xp)
-    area = 0.5 * norm
-    order = xp.argsort(tri[..., 2], axis=-1)
-    srt = xp.take_along_axis(tri, order[..., :, None], axis=-2)
-    za, zb, zc = srt[..., 0, 2], srt[..., 1, 2], srt[..., 2, 2]
-    # spans below 1e-100 m count as flat (their clip is a step; avoids overflow to inf)
-    # spans below 1e-100 m count as flat (avoids overflow of the clipping constants)
-    span1 = (zb - za) * (zc - za)
-    span2 = (zc - za) * (zc - zb)
-    k_low = _safe_div(area, xp.where(span1 > 1e-200, span1, 0.0), xp)
-    k_high = _safe_div(area, xp.where(span2 > 1e-200, span2, 0.0), xp)
-    flat_area = xp.where((span1 > 1e-200) | (span2 > 1e-200), 0.0, area)
-    nh = xp.sqrt(normal[..., 0] ** 2 + normal[..., 1] ** 2)  # sin(psi1)
-    hx, hy = _safe_div(normal[..., 0], nh, xp), _safe_div(normal[..., 1], nh, xp)
-    c1 = -normal[..., 2]  # cos(psi1)
-    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
-    wz = xp.where(c1 > TOL, c1**3 + nh**3, 0.0)
+    v = (v0[..., 0], v0[..., 1], v0[..., 2], v1[..., 0], v1[..., 1], v1[..., 2],
+         v2[..., 0], v2[..., 1], v2[..., 2])  # fmt: skip
+    nx, ny, nz, area, nh, hx, hy, wz = facet_frame(*v, xp=xp)
+    srt = sort_by_height(*v, xp=xp)
+    lo = xp.stack(srt[0:3], axis=-1)
+    mid = xp.stack(srt[3:6], axis=-1)
+    hi = xp.stack(srt[6:9], axis=-1)
+    za, zb, zc = srt[2], srt[5], srt[8]
+    k_low, k_high, flat_area = clip_constants(za, zb, zc, area, xp=xp)
+    normal = xp.stack([nx, ny, nz], axis=-1)
     return PreparedTriangles(
-        srt[..., 0, :],
-        srt[..., 1, :],
-        srt[..., 2, :],
-        normal,
-        area,
-        k_low,
-        k_high,
-        nh,
-        hx,
-        hy,
-        wz,
-        xp.asarray(za, copy=True),
-        xp.asarray(zb, copy=True),
-        xp.asarray(zc, copy=True),
-        flat_area,
+        lo, mid, hi, normal, area, k_low, k_high, nh, hx, hy, wz, za, zb, zc, flat_area
     )
 
 
 def _submerged_area(p: PreparedTriangles, depth: Any, xp: Any) -> Any:
-    r"""Exact submerged area of each facet [m^2], shape (..., m).
-
-    Piecewise quadratic in the depth, written with clamps rather than branches:
-    :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
-    plus the whole area of a horizontal facet once the surface is above it (strictly).
-    """
+    """Exact submerged area of each facet [m^2], shape (..., m) (:func:`.facet.submerged_area`)."""
     d = xp.asarray(depth)[..., None]
-    lo = xp.minimum(xp.maximum(d - p.za, 0.0), p.zb - p.za)
-    hi = xp.minimum(xp.maximum(p.zc - d, 0.0), p.zc - p.zb)
-    d2 = p.zc - p.zb
-    flat = xp.where(d > p.za, p.flat_area, 0.0)
-    return p.k_low * lo * lo + p.k_high * (d2 * d2 - hi * hi) + flat
-
-
-def _fractions(p: PreparedTriangles, depth: Any, xp: Any) -> tuple[Any, ...]:
-    """Clipping parameters of each facet, shape (..., m)."""
-    d = xp.asarray(depth)[..., None]
-    za, zb, zc = p.lo[..., 2], p.mid[..., 2], p.hi[..., 2]
-    one_low = (d > za) & (d <= zb)  # only the lowest vertex submerged: a small triangle
-    two_low = (d > zb) & (d < zc)  # two submerged: the facet minus a top triangle
-    t_ab = _safe_div(d - za, zb - za, xp)
-    t_ac = _safe_div(d - za, zc - za, xp)
-    s_ca = _safe_div(zc - d, zc - za, xp)
-    s_cb = _safe_div(zc - d, zc - zb, xp)
-    return one_low, two_low, t_ab, t_ac, s_ca, s_cb
+    return submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
 
 
 def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tuple[Any, Any]:
@@ -310,18 +262,14 @@ def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tupl
     >>> float(a[0]), c[0].round(4).tolist()
     (0.25, [0.0, 0.0, 0.3333])
     """
-    one_low, two_low, t_ab, t_ac, s_ca, s_cb = _fractions(prepared, depth, xp)
-    a, b, c = prepared.lo, prepared.mid, prepared.hi
-    full_c = (a + b + c) / 3.0
-    # one vertex below: triangle (A, A + t_ab (B-A), A + t_ac (C-A))
-    c1 = a + (t_ab[..., None] * (b - a) + t_ac[..., None] * (c - a)) / 3.0
-    # two below: whole facet minus the top triangle (C, C + s_ca (A-C), C + s_cb (B-C))
-    top_frac = (s_ca * s_cb)[..., None]
-    c_top = c + (s_ca[..., None] * (a - c) + s_cb[..., None] * (b - c)) / 3.0
-    rest = 1.0 - top_frac
-    c2 = _safe_div(full_c - top_frac * c_top, rest, xp)
-    cen = xp.where(one_low[..., None], c1, xp.where(two_low[..., None], c2, full_c))
-    return _submerged_area(prepared, depth, xp), cen
+    p = prepared
+    d = xp.asarray(depth)[..., None]
+    a, b, c = p.lo, p.mid, p.hi
+    area, cx, cy, cz = clip_facet(
+        a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2],
+        c[..., 0], c[..., 1], c[..., 2], p.k_low, p.k_high, p.flat_area, d, xp=xp,
+    )  # fmt: skip
+    return area, xp.stack(xp.broadcast_arrays(cx, cy, cz), axis=-1)
 
 
 def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElements:

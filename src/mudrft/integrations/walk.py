@@ -327,6 +327,7 @@ def walk(
     step_time: float = 1.0,
     bottom: float = 0.15,
     implicit: bool = True,
+    backend: str = "auto",
     frames: int = 0,
     progress: Callable[[float], None] | None = None,
 ) -> WalkResult:
@@ -350,6 +351,9 @@ def walk(
         Depth of the rigid bed under the mud [m].
     implicit : bool, keyword-only
         Stabilised coupling (default); see :class:`mudrft.integrations.mujoco.MudBatch`.
+    backend : {"auto", "numpy", "numba"}, keyword-only
+        The coupling's backend; ``"auto"``: the compiled one (D68a) where numba is
+        installed and the foot is a closed form, else numpy.
     frames : int, keyword-only
         Number of offscreen images to render along the walk (needs a working OpenGL, e.g.
         ``MUJOCO_GL=egl``; silently none when rendering fails).
@@ -374,7 +378,12 @@ def walk(
     data = mj.MjData(model)
     ctrl = GaitController(model, speed=speed, step_time=step_time)
     ctrl.initial_pose(data)
-    coupling = attach(model, list(BIPED_FEET), mud, feet=foot, implicit=implicit)
+    from .mujoco.backend import choose_backend
+
+    coupling = attach(
+        model, list(BIPED_FEET), mud, feet=foot, implicit=implicit,
+        backend=choose_backend(backend, mud, foot),
+    )  # fmt: skip
     coupling.reset(data)
     qx = int(model.jnt_qposadr[model.joint("rootx").id])
     qz = int(model.jnt_qposadr[model.joint("rootz").id])

@@ -12,59 +12,24 @@ not diverge.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
 from ...citations import register
+from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
 from ._lazy import _mujoco
+from .backend import CompiledCoupling, check_compilable
+from .contact import MudContact, _central_point
 from .implicit import channel_rows, force_and_derivative, implicit_wrench, secant_steps
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .placement import BodyFoot, body_foot, lowest_points
-from .pose import POSE_RESOLUTION, ChannelGeometry, posed_channels
+from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
-
-
-class MudContact(NamedTuple):
-    """What the mud did in the last step, per robot and body (world frame).
-
-    Shapes are ``(nbody, ...)`` for :class:`~mudrft.integrations.mujoco.MudCoupling` and
-    ``(nrobot, nbody, ...)`` for :class:`MudBatch`.
-
-    Attributes
-    ----------
-    force : ndarray (..., 3)
-        Force written to ``xfrc_applied`` (stabilised) [N].
-    explicit_force : ndarray (..., 3)
-        Force of the mud model at the start of the step (what :class:`mudrft.MudTerrain`
-        returns for the same motion) plus the rigid bottom [N].
-    torque : ndarray (..., 3)
-        Moment about the body's center of mass written to ``xfrc_applied`` [N m].
-    point : ndarray (..., 3)
-        Point of application (center of pressure) [m].
-    tip : ndarray (..., 3)
-        Tip position; its z is that of the lowest point of the foot [m].
-    velocity : ndarray (..., 3)
-        Tip velocity [m/s].
-    depth : ndarray (...)
-        Depth of the lowest point below the mud surface [m].
-    stress : ndarray (..., 3)
-        Channel stresses in the foot frame [Pa].
-    """
-
-    force: NDArray[np.float64]
-    explicit_force: NDArray[np.float64]
-    torque: NDArray[np.float64]
-    point: NDArray[np.float64]
-    tip: NDArray[np.float64]
-    velocity: NDArray[np.float64]
-    depth: NDArray[np.float64]
-    stress: NDArray[np.float64]
 
 
 class MudBatch:
@@ -105,6 +70,10 @@ class MudBatch:
         transients; exact for a free body).
     resolution : int, keyword-only
         Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
+    backend : {"numpy", "numba"}, keyword-only
+        ``"numba"``: one compiled call per physics step for all feet of all robots
+        (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
+        round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
 
     Raises
     ------
@@ -128,6 +97,7 @@ class MudBatch:
         implicit: bool = True,
         mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
+        backend: str = "numpy",
     ) -> None:
         mj = _mujoco()
         if not isinstance(model, mj.MjModel):
@@ -197,6 +167,14 @@ class MudBatch:
         self._jac = np.zeros((6, model.nv))
         self._minv_jt = np.zeros((6, model.nv))
         self._warnings = np.zeros(self.n, dtype=np.int64)
+        self._warn: list[Any] = []
+        if backend not in ("numpy", "numba"):
+            raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
+        self.backend = backend
+        self._compiled: CompiledCoupling | None = None
+        if backend == "numba":
+            check_compilable(self.terrain, self.bodies)
+            self._compiled = CompiledCoupling(self)
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self.last: MudContact | None = None
         self.time_steps = 0
@@ -204,8 +182,8 @@ class MudBatch:
     # -- reading MuJoCo ---------------------------------------------------------------
     def _read(self, datas: Sequence[Any]) -> dict[str, Any]:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
-        tip = X + (R @ self._tip[..., None])[..., 0]
-        fw = (R @ self._fwd[..., None])[..., 0]
+        tip = X + matvec(R, self._tip)
+        fw = matvec(R, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
         tw = com_twist(V, S, C)
@@ -254,9 +232,13 @@ class MudBatch:
         for gi, (foot, idx) in enumerate(self._groups):
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
         self._world_xy = k["tip"][..., :2]
+        if self._compiled is not None:
+            self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
         self._wv_prev[:] = 0.0
-        self._warnings = np.array([_bad_qacc(d) for d in datas], dtype=np.int64)
+        mj_bad = int(mj.mjtWarning.mjWARN_BADQACC)
+        self._warn = [d.warning[mj_bad] for d in datas]
+        self._warnings = np.array([w.number for w in self._warn], dtype=np.int64)
         self.last = None
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
@@ -309,6 +291,8 @@ class MudBatch:
     def _apply(self, datas: list[Any]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
+        if self._compiled is not None:
+            return self._apply_compiled()
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
         geo, cs, tw, com = k["geo"], k["cs"], k["tw"], k["com"]
@@ -321,7 +305,7 @@ class MudBatch:
              p[..., 2] + (self.surface - com[..., None, 2])], axis=-1,
         )  # fmt: skip
         b = channel_rows(cs, rel)
-        vel = np.einsum("...ci,...i->...c", b, tw)  # channel velocities at their points
+        vel = rowdot(b, tw[..., None, :])  # channel velocities at their points
         pos = self._foot_position(k, fresh=False)
         self._world_xy = k["tip"][..., :2]
         N, nb = pos.shape[:2]
@@ -400,6 +384,23 @@ class MudBatch:
         )
         return self.last
 
+    def _apply_compiled(self) -> MudContact:
+        assert self._compiled is not None
+        bad = self._compiled.apply(self._has_prev)
+        self._has_prev = True
+        if bad:
+            raise MudrftError(
+                "the mud coupling produced a non-finite force; the simulation diverged "
+                "(check the model, the time step and the mud parameters)"
+            )
+        self.time_steps += 1
+        o = self._compiled.out.copy()
+        self.last = MudContact(
+            o[..., 0:3], o[..., 3:6], o[..., 6:9], o[..., 9:12], o[..., 12:15], o[..., 15:18],
+            o[..., 18], o[..., 19:22],
+        )  # fmt: skip
+        return self.last
+
     def step(self, datas: Sequence[Any], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
 
@@ -434,10 +435,10 @@ class MudBatch:
 
     def _check_diverged(self, datas: list[Any]) -> None:
         """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
-        for i, d in enumerate(datas):
-            count = _bad_qacc(d)
-            if count != self._warnings[i]:
-                self._warnings[i] = count
+        for i, w in enumerate(self._warn):
+            if w.number != self._warnings[i]:
+                self._warnings[i] = w.number
+                d = datas[i]
                 raise MudrftError(
                     f"the simulation of robot {i} diverged at time {float(d.time):.6g} s: "
                     "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
@@ -447,31 +448,14 @@ class MudBatch:
                 )
 
 
-def _bad_qacc(d: Any) -> int:
-    mj = _mujoco()
-    return int(d.warning[int(mj.mjtWarning.mjWARN_BADQACC)].number)
-
-
-def _central_point(
-    force: np.ndarray, torque: np.ndarray, com: np.ndarray, near: np.ndarray
-) -> np.ndarray:
-    """Point of the wrench's central axis nearest to ``near`` [m] (``near`` without force)."""
-    f2 = np.einsum("...i,...i->...", force, force)
-    has = f2 > 1e-300
-    safe = np.where(has, f2, 1.0)[..., None]
-    r0 = com + np.cross(force, torque) / safe
-    t = np.einsum("...i,...i->...", near - r0, force)[..., None] / safe
-    return np.where(has[..., None], r0 + t * force, near)
-
-
 def _group_pose(
     bodies: Sequence[BodyFoot], idx: np.ndarray
-) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """Body-frame triangles (nb_g, m, 3, 3) and the foot-frame ones of one foot type."""
+) -> tuple[np.ndarray | None, PreparedTriangles | None]:
+    """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
     tri = [bodies[i].triangles for i in idx]
     if any(t is None for t in tri):
         return None, None
-    return np.stack([np.asarray(t) for t in tri]), np.asarray(bodies[idx[0]].upright)
+    return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 
 def _hashable_repr(foot: Any) -> bool:
