@@ -12,7 +12,9 @@ for the compiled MuJoCo coupling (decision D80).
 * :func:`sort_by_height`: the vertices ordered by height (ties keep their order);
 * :func:`clip_constants`, :func:`submerged_area`: the exact submerged area;
 * :func:`clip_facet`: area and centroid of the part of the facet below the plane
-  :math:`z=d`, exact (0, 1, 2 or 3 vertices below).
+  :math:`z=d`, exact (0, 1, 2 or 3 vertices below);
+* :func:`fold_stresses`, :func:`facet_factors`, :func:`facet_force`: the element rule of
+  eqs. (6)-(7) on one submerged facet (decisions D21-D23, erratum E24).
 """
 
 from __future__ import annotations
@@ -25,7 +27,10 @@ __all__ = [
     "TOL",
     "clip_constants",
     "clip_facet",
+    "facet_factors",
+    "facet_force",
     "facet_frame",
+    "fold_stresses",
     "safe_div",
     "sort_by_height",
     "submerged_area",
@@ -190,3 +195,59 @@ def clip_facet(
         xp.where(one_low, y1, xp.where(two_low, y2, fy)),
         xp.where(one_low, z1, xp.where(two_low, z2, fz)),
     )
+
+
+def fold_stresses(sx: Any, sy: Any, heading: Any, *, xp: Any = np) -> tuple[Any, Any, Any, Any]:
+    r"""Horizontal channel stresses measured along the motion, and its direction.
+
+    Returns ``(sq_x, sq_y, u_x, u_y)``: :math:`\sigma_x\operatorname{sgn}\cos h`,
+    :math:`\sigma_y\operatorname{sgn}\sin h` (positive when resisting the motion; sgn 0 =
+    +1, as :func:`mudrft.feet.base.first_quadrant`) [Pa] and :math:`(\cos h, \sin h)` [-].
+    """
+    ux, uy = xp.cos(heading), xp.sin(heading)
+    return sx * xp.where(ux < 0, -1.0, 1.0), sy * xp.where(uy < 0, -1.0, 1.0), ux, uy
+
+
+def facet_factors(
+    hx: Any, hy: Any, ux: Any, uy: Any, trailing: bool, *, xp: Any = np
+) -> tuple[Any, Any]:
+    r"""The factors :math:`(\tilde f_n, \tilde f_t)` of eq. (7) of a facet for a motion.
+
+    With :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
+    :math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}`: :math:`\cos\psi_2|\cos\psi_2|`
+    and :math:`\sin\psi_2|\sin\psi_2|` on every facet with ``trailing`` (D23), else on
+    leading facets only (:math:`\psi_2\in(-\pi/2,\pi/2]`, tie rule of D22), 0 elsewhere.
+    """
+    cos2 = hx * ux + hy * uy  # cos(psi2)
+    sin2 = hx * uy - hy * ux  # sin(psi2) = t . u with t = e_z x e2
+    if trailing:
+        return cos2 * xp.abs(cos2), sin2 * xp.abs(sin2)
+    lead = (cos2 > TOL) | ((xp.abs(cos2) <= TOL) & (sin2 > 0))
+    return xp.where(lead, cos2 * cos2, 0.0), xp.where(lead, sin2 * xp.abs(sin2), 0.0)
+
+
+def facet_force(
+    area: Any,
+    nh: Any,
+    hx: Any,
+    hy: Any,
+    wz: Any,
+    sqx: Any,
+    sqy: Any,
+    sz: Any,
+    fn: Any,
+    ft: Any,
+    *,
+    xp: Any = np,
+) -> tuple[Any, Any, Any]:
+    r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].
+
+    :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t\hat{\mathbf t}]
+    |\mathbf n_h|dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` (folded
+    stresses, D22; :math:`\hat{\mathbf t}=(-\hat n_y,\hat n_x)`) and
+    :math:`dF_z=w_z\sigma_z dS`; ``area`` = :math:`dS` [m^2], the facet's frame from
+    :func:`facet_frame`, the folded stresses from :func:`fold_stresses` [Pa], the factors
+    from :func:`facet_factors`.
+    """
+    w = -(sqx * hx * hx + sqy * hy * hy) * nh * area  # -sigma_e |n_h| dS
+    return w * (fn * hx - ft * hy), w * (fn * hy + ft * hx), wz * sz * area

@@ -46,7 +46,16 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .facet import TOL, clip_constants, clip_facet, facet_frame, sort_by_height, submerged_area
+from .facet import (
+    clip_constants,
+    clip_facet,
+    facet_factors,
+    facet_force,
+    facet_frame,
+    fold_stresses,
+    sort_by_height,
+    submerged_area,
+)
 
 __all__ = [
     "ClippedElements",
@@ -343,33 +352,16 @@ def _heading_factors(
     """Folded stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
     s = xp.asarray(stress)
     h = xp.asarray(heading)
-    ux, uy = xp.cos(h), xp.sin(h)
-    # channel stresses measured along the motion (positive when resisting it), as in
-    # base.first_quadrant: the sign of cos/sin of the heading folds each channel
-    sqx = (s[..., 0] * xp.where(ux < 0, -1.0, 1.0))[..., None]
-    sqy = (s[..., 1] * xp.where(uy < 0, -1.0, 1.0))[..., None]
-    sz = s[..., 2][..., None]
-    ux, uy = ux[..., None], uy[..., None]
-    cos2 = p.hx * ux + p.hy * uy  # cos(psi2)
-    sin2 = p.hx * uy - p.hy * ux  # sin(psi2) = t . u with t = e_z x e2
-    if trailing:
-        fn = cos2 * xp.abs(cos2)  # f_n extended to the full range: cos|cos|
-        ft = sin2 * xp.abs(sin2)  # f_t extended: sin|sin|
-    else:
-        lead = (cos2 > TOL) | ((xp.abs(cos2) <= TOL) & (sin2 > 0))
-        fn = xp.where(lead, cos2 * cos2, 0.0)
-        ft = xp.where(lead, sin2 * xp.abs(sin2), 0.0)
-    return sqx, sqy, sz, fn, ft
+    sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], h, xp=xp)
+    fn, ft = facet_factors(p.hx, p.hy, ux[..., None], uy[..., None], trailing, xp=xp)
+    return sqx[..., None], sqy[..., None], s[..., 2][..., None], fn, ft
 
 
 def _force_density(p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any) -> Any:
     """Force per unit submerged area of each facet [Pa], shape (..., m, 3)."""
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
-    w = -(sqx * p.hx * p.hx + sqy * p.hy * p.hy) * p.nh  # -sigma_e |n_h|
-    fx = w * (fn * p.hx - ft * p.hy)  # t = (-hy, hx)
-    fy = w * (fn * p.hy + ft * p.hx)
-    fz = p.wz * sz
-    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+    f = facet_force(1.0, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
+    return xp.stack(xp.broadcast_arrays(*f), axis=-1)
 
 
 def element_forces(
@@ -427,19 +419,8 @@ def integrate_prepared(
     p = prepared
     area = _submerged_area(p, depth, xp)
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
-    # sigma_e = sx hx^2 + sy hy^2 is linear in the stresses: sum the facets once per channel
-    a = area * p.nh
-    qx = a * (fn * p.hx - ft * p.hy)
-    qy = a * (fn * p.hy + ft * p.hx)
-    hx2, hy2 = p.hx * p.hx, p.hy * p.hy
-
-    def dot(u: Any, w: Any) -> Any:
-        # reduction over the facets; einsum, not BLAS: no thread start-up per call
-        return xp.einsum("...i,...i->...", u, w)
-
-    fx = -(sqx[..., 0] * dot(qx, hx2) + sqy[..., 0] * dot(qx, hy2))
-    fy = -(sqx[..., 0] * dot(qy, hx2) + sqy[..., 0] * dot(qy, hy2))
-    fz = sz[..., 0] * dot(area, p.wz)
+    f = facet_force(area, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
+    fx, fy, fz = (xp.sum(c, axis=-1) for c in f)
     return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1) + 0.0  # -0.0 -> 0.0
 
 

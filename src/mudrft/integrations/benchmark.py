@@ -6,8 +6,8 @@ the biped (``mudrft.integrations.walk``) walking
 
 * on rigid ground (a floor at the mud surface, plain ``mj_step``): the physics step;
 * in mud (``MudCoupling.step``: ``mj_step1``, the mud, ``mj_step2``) with the flat foot
-  and the compiled coupling (``backend="numba"``, D68a), and with a 512-facet mesh foot and
-  the morphing foot (numpy coupling);
+  and the compiled coupling (``backend="numba"``, D68a), with a 512-facet mesh foot
+  (compiled) and with the morphing foot (numpy coupling);
 
 and the same for batches of robots (:class:`~mudrft.integrations.mujoco.MudBatch`: one
 compiled call per step for all robots). :func:`mujoco_overhead_ratio` is what
@@ -111,8 +111,8 @@ def mujoco_overhead_ratio(
 
     The headline ``mujoco_overhead_ratio`` is the biped with the paper's flat foot and the
     compiled coupling (``backend="numba"`` where numba is installed, D68a); ``feet``
-    reports the same for a 512-facet mesh foot and the morphing foot, which run the numpy
-    coupling; ``batch`` the ratio per robot for batches of robots (one compiled call for
+    reports the same for a 512-facet mesh foot (compiled too) and the morphing foot (numpy
+    coupling); ``batch`` the ratio per robot for batches of robots (one compiled call for
     all of them).
 
     Parameters
@@ -161,7 +161,7 @@ def mujoco_overhead_ratio(
         },
     }
     others = {
-        "mesh": (_mesh_foot, "numpy"),
+        "mesh": (_mesh_foot, choose_backend("auto", mudrft.paper_mud(0.25), _mesh_foot())),
         "morphing": (lambda: mudrft.feet.MorphingFoot(), "numpy"),
         "flat-numpy": (lambda: mudrft.feet.Flat(), "numpy"),
     }

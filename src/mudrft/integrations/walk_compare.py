@@ -168,9 +168,9 @@ def write_compare(
         for foot, s in summaries.items():
             w.writerow([foot] + [s.get(c) for c in COMPARE_COLUMNS[1:]])
     with open(paths[1], "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=("claim", "paper", "mudrft", "verdict"))
-        w.writeheader()
-        w.writerows(claims)
+        dw = csv.DictWriter(fh, fieldnames=("claim", "paper", "mudrft", "verdict"))
+        dw.writeheader()
+        dw.writerows(claims)
     paths[2].write_text(
         json.dumps({"feet": summaries, "claims": claims}, indent=2, default=float) + "\n"
     )

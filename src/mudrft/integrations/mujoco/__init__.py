@@ -23,6 +23,10 @@ the step and held over it, and MuJoCo's own integrator does the rest::
     for _ in range(1000):
         coupling.step(data)            # mj_step1, mud, mj_step2
 
+``attach(..., backend="numba")`` runs the whole coupling as one compiled call per physics
+step for all feet of all robots (:mod:`.compiled`; closed-form and mesh feet on the mud),
+equal to the numpy coupling to round-off (D68a).
+
 Passivity (docs/model.md, decisions D60a-D63). The mud force has a part that acts like a
 damper, :math:`c\approx\eta_\infty A/L_c` (1-2 kN s/m for the paper's feet), and the
 suction switch :math:`H_\nu` makes the force jump by :math:`\sigma_s A` within a velocity
@@ -52,7 +56,9 @@ Modules, one concept each:
 * :mod:`.wrench`: the wrench of the posed foot and its damping matrix;
 * :mod:`.implicit`: the implicit treatment above (secant derivative, implicit wrench);
 * :mod:`.stability`: explicit time-step limits (:func:`stability_limits`);
-* :mod:`.batch`: the coupling of many robots (:class:`MudBatch`, :class:`MudContact`);
+* :mod:`.batch`: the coupling of many robots (:class:`MudBatch`; :mod:`.contact`:
+  :class:`MudContact`);
+* :mod:`.compiled`, :mod:`.backend`, :mod:`.linalg`: the compiled coupling (numba);
 * :mod:`.coupling`: one robot (:class:`MudCoupling`, :func:`attach`, :func:`attach_batch`).
 
 Importing this package does not import MuJoCo; the coupling imports it when it is made.

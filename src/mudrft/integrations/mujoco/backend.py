@@ -17,6 +17,7 @@ import numpy as np
 
 from ..._validation import MudrftError
 from ...backends.numba import N_STATE, constant_row, state_rows
+from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains.mud import MudTerrain
 from .compiled import N_OUT, coupling_kernel, upright_rows
@@ -32,24 +33,36 @@ def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
             "use backend='numpy' for other terrains"
         )
     for b in bodies:
-        if not getattr(b.foot, "elementwise", False) or b.triangles is None:
+        if not _compilable_foot(b.foot) or b.triangles is None:
             raise MudrftError(
-                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere); "
-                f"body {b.body!r} has a {type(b.foot).__name__}: use backend='numpy'"
+                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere) "
+                f"and mesh feet (MeshFoot); body {b.body!r} has a {type(b.foot).__name__}: "
+                "use backend='numpy'"
             )
+
+
+def _compilable_foot(foot: Any) -> bool:
+    return bool(getattr(foot, "elementwise", False)) or isinstance(foot, MeshFoot)
+
+
+def _geometry_row(foot: Any) -> list[float]:
+    """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, or (3, trailing)."""
+    if isinstance(foot, MeshFoot):
+        return [3.0, float(foot.trailing), 0.0, 0.0]
+    return [float(v) for v in foot.kernel_geometry]
 
 
 def choose_backend(backend: str, mud: Any, foot: Any) -> str:
     """``"numba"`` or ``"numpy"`` for ``backend="auto"``: the compiled coupling where numba
-    is installed, the terrain is the mud and the foot a closed form; otherwise as given."""
+    is installed, the terrain is the mud and the foot a closed form or a mesh; otherwise as
+    given."""
     if backend != "auto":
         return backend
     from ...backends.numba import available
     from ...parameters.base import Mud
 
-    closed = getattr(foot, "elementwise", False)
     mud_ok = isinstance(mud, Mud | MudTerrain)
-    return "numba" if available() and closed and mud_ok else "numpy"
+    return "numba" if available() and _compilable_foot(foot) and mud_ok else "numpy"
 
 
 class CompiledCoupling:
@@ -90,7 +103,7 @@ class CompiledCoupling:
                 for b in bodies
             ]
         )
-        self.geom = np.array([list(map(float, b.foot.kernel_geometry)) for b in bodies])
+        self.geom = np.array([_geometry_row(b.foot) for b in bodies])
         n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
         self.odo = np.zeros((n, nb, 4))

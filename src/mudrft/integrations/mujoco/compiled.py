@@ -35,7 +35,16 @@ import numpy as np
 from ...backends.numba import _constants, _numba, compile_scalar
 from ...constitutive.state import ChannelState
 from ...feet.closed_form import closed_form_force
-from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_height, submerged_area
+from ...feet.facet import (
+    clip_constants,
+    clip_facet,
+    facet_factors,
+    facet_force,
+    facet_frame,
+    fold_stresses,
+    sort_by_height,
+    submerged_area,
+)
 from ...terrains.mud import MudChannels, mud_step
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
@@ -154,7 +163,26 @@ def upright_rows(prepared: Any) -> Any:
     return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
 
 
-def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any,
+def _mesh_force(up: Any, depth: float, sx: float, sy: float, sz: float, heading: float,
+                trailing: bool) -> Any:  # fmt: skip
+    """Force of the mud on an upright mesh foot [N]: the element rule summed over its
+    prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
+    sqx, sqy, ux, uy = _fold(sx, sy, heading)
+    fx, fy, fz = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # not submerged
+            continue
+        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
+        fn, ft = _factors(r[7], r[8], ux, uy, trailing)
+        a, b, c = _fforce(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft)
+        fx += a
+        fy += b
+        fz += c
+    return fx, fy, fz
+
+
+def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, up: Any,
                row: Any) -> Any:  # fmt: skip
     """One mud step of one foot from state row ``s`` (not modified), the new state written
     to ``row`` (19); returns (fx, fy, fz, sx, sy, sz, depth) [N, Pa, m]."""
@@ -170,7 +198,11 @@ def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any,
         (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
         cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], 1.0,
     )  # fmt: skip
-    fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading)
+    if geom[0] == 3.0:  # a mesh foot
+        fx, fy, fz = _mesh_force(up, depth, sx, sy, sz, new.heading, geom[1] != 0.0)
+    else:  # a closed form
+        fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz,
+                            new.heading)  # fmt: skip
     k = 0
     for chan in (new.x, new.y, new.z):
         for v in chan:
@@ -259,7 +291,8 @@ def _kernel(
             sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
             _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
             depth = max(-geo[41], 0.0)
-            _upright_area(tri_up[up_adr[j] : up_adr[j + 1]], depth, aup)
+            upj = tri_up[up_adr[j] : up_adr[j + 1]]
+            _upright_area(upj, depth, aup)
             for q in range(3):
                 ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
             # channel points relative to the center of mass, rows b_c, channel velocities
@@ -285,7 +318,7 @@ def _kernel(
             o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
             # the mud, and the secant derivative (D63); out of the mud every force is 0
             cj = consts[j : j + 1]
-            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], row)
+            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row)
             for q in range(3):
                 F[q] = ratio[q] * r0[q]
                 D[q] = 0.0
@@ -298,7 +331,7 @@ def _kernel(
                     st = dv if abs(dv) > dv_min else dv_min
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
-                    rq = _mud_force(cj, mud[k, j], pos, un, dt, cfg[j], geom[j], dummy)
+                    rq = _mud_force(cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, dummy)
                     D[q] = ratio[q] * min((rq[q] - r0[q]) / st, 0.0)
             for i in range(19):
                 mud[k, j, i] = row[i]
@@ -425,6 +458,9 @@ _sort = sort_by_height
 _const = clip_constants
 _clip = clip_facet
 _area = submerged_area
+_fold = fold_stresses
+_factors = facet_factors
+_fforce = facet_force
 _weights = channel_weights
 _step = mud_step
 _force = closed_form_force
@@ -442,6 +478,9 @@ def coupling_kernel() -> Any:
         _const=compile_scalar(clip_constants),
         _clip=compile_scalar(clip_facet),
         _area=compile_scalar(submerged_area),
+        _fold=compile_scalar(fold_stresses),
+        _factors=compile_scalar(facet_factors),
+        _fforce=compile_scalar(facet_force),
         _weights=compile_scalar(channel_weights),
         _step=compile_scalar(mud_step),
         _force=compile_scalar(closed_form_force),
@@ -450,7 +489,7 @@ def coupling_kernel() -> Any:
         carray=numba.carray,
     )
     helpers = {}
-    for fn in (_ld_solve, _jacobian, _solve6, _geometry, _upright_area, _mud_force):
+    for fn in (_ld_solve, _jacobian, _solve6, _geometry, _upright_area, _mesh_force, _mud_force):
         helpers[fn.__name__] = fn
     for name, fn in helpers.items():
         env[name] = jit(types.FunctionType(fn.__code__, env, name))
