@@ -12,7 +12,8 @@ the biped (``mudrft.integrations.walk``) walking
 and the same for batches of robots (:class:`~mudrft.integrations.mujoco.MudBatch`: one
 compiled call per step for all robots). :func:`mujoco_overhead_ratio` is what
 ``mudrft bench`` calls. Results and discussion: docs/performance.md.
-Timings are the best of three repeats, so other load on the machine inflates them less.
+Timings are the best of several repeats, with and without mud in alternation, so other
+load on the machine inflates them less and lands on both sides of the ratio.
 """
 
 from __future__ import annotations
@@ -66,17 +67,10 @@ def _robots(
     return model, datas, ctrl, coupling
 
 
-def _time_per_step(
-    n: int,
-    *,
-    mud: bool,
-    steps: int,
-    dt: float,
-    foot: Any = None,
-    backend: str = "numba",
-    repeats: int = 3,
-) -> float:
-    """Best wall time per physics step of ``n`` robots (controller included) [s]."""
+def _runner(
+    n: int, *, mud: bool, steps: int, dt: float, foot: Any = None, backend: str = "numba"
+) -> Any:
+    """A function that runs ``steps`` physics steps of ``n`` robots (controller included)."""
     import mujoco
 
     model, datas, ctrl, coupling = _robots(n, mud=mud, dt=dt, foot=foot, backend=backend)
@@ -92,7 +86,23 @@ def _time_per_step(
                 coupling.step(datas[0] if n == 1 else datas)
 
     run()  # warm up (and walk into the gait; compiles the numba kernel once)
-    return _best_time(run, repeats) / steps
+    return run
+
+
+def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tuple[float, float]:
+    """Best wall time per step without and with mud [s], measured in alternation.
+
+    Alternating the two runs (rather than timing one, then the other) keeps a change of load
+    on a shared machine from landing on one side of the ratio only.
+    """
+    foot = kw.get("foot")
+    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=foot)
+    with_mud = _runner(n, mud=True, steps=steps, dt=dt, **kw)
+    tp = tm = np.inf
+    for _ in range(repeats):
+        tp = min(tp, _best_time(phys, 1))
+        tm = min(tm, _best_time(with_mud, 1))
+    return tp / steps, tm / steps
 
 
 def _mesh_foot() -> Any:
@@ -141,8 +151,7 @@ def mujoco_overhead_ratio(
 
     steps = max(round(seconds / dt), 10)
     backend = choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.Flat())
-    t_phys = _time_per_step(1, mud=False, steps=steps, dt=dt)
-    t_mud = _time_per_step(1, mud=True, steps=steps, dt=dt, backend=backend)
+    t_phys, t_mud = _pair(1, steps=steps, dt=dt, repeats=5, backend=backend)
     out: dict[str, Any] = {
         "seconds": float(seconds),
         "dt [s]": dt,
@@ -169,8 +178,7 @@ def mujoco_overhead_ratio(
         make, be = others[name]
         foot = make()
         fsteps = max(steps // 10, 10)
-        tp = _time_per_step(1, mud=False, steps=fsteps, dt=dt, foot=foot, repeats=2)
-        tm = _time_per_step(1, mud=True, steps=fsteps, dt=dt, foot=foot, backend=be, repeats=2)
+        tp, tm = _pair(1, steps=fsteps, dt=dt, repeats=2, foot=foot, backend=be)
         out["feet"][name] = {
             "backend": be,
             "facets": len(foot.triangles) if hasattr(foot, "triangles") else None,
@@ -180,8 +188,7 @@ def mujoco_overhead_ratio(
         }
     for n in batch:
         bsteps = max(steps // 10, 10)
-        tp = _time_per_step(n, mud=False, steps=bsteps, dt=dt)
-        tm = _time_per_step(n, mud=True, steps=bsteps, dt=dt, backend=backend)
+        tp, tm = _pair(n, steps=bsteps, dt=dt, backend=backend)
         out["batch"][str(n)] = {
             "robots": n,
             "backend": backend,

@@ -122,6 +122,8 @@ class MudBatch:
                     f"feet must be one foot or one per body ({len(bodies)}), got {len(feet_list)}"
                 )
         self.model = model
+        self._mj = mj
+        self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
@@ -244,8 +246,7 @@ class MudBatch:
             d.xfrc_applied[self._ids] = 0.0
 
     def _check(self, datas: Any) -> list[Any]:
-        mj = _mujoco()
-        if isinstance(datas, mj.MjData):
+        if isinstance(datas, self._mj.MjData):
             datas = [datas]
         datas = list(datas)
         if len(datas) != self.n:
@@ -412,9 +413,9 @@ class MudBatch:
         return self._step(self._check(datas), nstep)
 
     def _step(self, datas: list[Any], nstep: int) -> MudContact:
-        mj = _mujoco()
+        mj = self._mj
         m = self.model
-        rk4 = int(m.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4)
+        rk4 = int(m.opt.integrator) == self._rk4
         out = self.last
         for _ in range(int(nstep)):
             if rk4:  # mj_step1/mj_step2 do not support RK4: full forward, then mj_step
