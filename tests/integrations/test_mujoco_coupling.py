@@ -106,7 +106,12 @@ def test_mud_advances_once_per_step():
 
 
 def test_torque_is_moment_about_center_of_mass():
-    """xfrc_applied = force at the center of pressure: same accelerations as mj_applyFT there."""
+    """xfrc_applied holds the force at the center of mass and the moment about it (D66).
+
+    Applying the force at the reported point of application, plus the couple left over,
+    with mj_applyFT gives the same accelerations (the body origin is off the center of
+    mass here, so a moment taken about the origin would not).
+    """
     xml = """<mujoco><worldbody><body name="foot" pos="0.2 0.1 0.005" euler="0 0 23"><freejoint/>
       <geom type="box" size="0.0325 0.04 0.013" pos="0.01 0 0.008" mass="0.8"/></body></worldbody></mujoco>"""
     model = mujoco.MjModel.from_xml_string(xml)
@@ -120,11 +125,12 @@ def test_torque_is_moment_about_center_of_mass():
     assert (
         out.depth[0] > 0 and np.linalg.norm(out.force[0, :2]) > 0.1
     )  # horizontal force -> a lever arm
-    assert abs(out.point[0, 2] - out.tip[0, 2]) > 1e-5  # force applied above the tip (axis CoP)
+    assert abs(out.point[0, 2] - out.tip[0, 2]) > 1e-5  # applied above the lowest point
     mujoco.mj_forward(model, data)
     qacc_xfrc = data.qacc.copy()
+    couple = out.torque[0] - np.cross(out.point[0] - data.xipos[1], out.force[0])
     qfrc = np.zeros(model.nv)
-    mujoco.mj_applyFT(model, data, out.force[0], np.zeros(3), out.point[0], 1, qfrc)
+    mujoco.mj_applyFT(model, data, out.force[0], couple, out.point[0], 1, qfrc)
     data.xfrc_applied[:] = 0.0
     data.qfrc_applied[:] = qfrc
     mujoco.mj_forward(model, data)

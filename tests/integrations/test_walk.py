@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 import mudrft
 
 pytest.importorskip("mujoco")
+import mudrft.integrations.walk_compare
 from mudrft.cli import walk as walk_cli
 from mudrft.integrations import walk as W
 
@@ -62,6 +63,40 @@ def test_morphing_foot_walks_with_less_suction(flat_runs):
     assert res.summary["max_suction [N]"] < 0.5 * flat_suction
 
 
+def test_walk_energy_is_joint_torque_times_joint_velocity(flat_runs):
+    """Per step: positive work of the joints <= absolute work; both from tau q_dot (D69)."""
+    res = flat_runs[2e-3]
+    st_ = res.steps
+    assert np.all(st_["energy [J]"] > 0)
+    assert np.all(st_["absolute_work [J]"] >= st_["energy [J]"] - 1e-12)
+    # the net power's positive part is at most the joints' positive work
+    t = res.table
+    dt = 2e-3
+    net_pos = np.cumsum(np.maximum(t["joint_power [W]"], 0.0)) * dt
+    assert net_pos[-1] <= t["joint_energy [J]"][-1] + 1e-9
+    s = res.summary
+    assert s["absolute_work_per_step [J]"] >= s["energy_per_step [J]"]
+    assert s["weight [N]"] == pytest.approx(10.0 * 9.81, rel=1e-9)
+    assert s["max_suction_over_weight"] == pytest.approx(s["max_suction [N]"] / s["weight [N]"])
+    assert 0.0 < s["mean_slip [m]"] < 0.05  # the stance foot slides a little in the mud
+    assert set(np.unique(st_["shank_in_mud"])) <= {0.0, 1.0}
+
+
+def test_walk_compare_writes_table_claims_and_figure(tmp_path):
+    """``mudrft walk --compare``: every foot on the same mud, the paper's claims beside."""
+    assert walk_cli.run(_args(tmp_path, compare=True, seconds=1.2, step_time=0.5)) == 0
+    out = tmp_path / "run"
+    table = np.genfromtxt(out / "compare.csv", delimiter=",", names=True, dtype=None)
+    assert [r[0].decode() if isinstance(r[0], bytes) else r[0] for r in table] == list(
+        mudrft.integrations.walk_compare.FEET
+    )
+    claims = (out / "claims.csv").read_text().splitlines()
+    assert claims[0] == "claim,paper,mudrft,verdict" and len(claims) == 5
+    assert (out / "compare.png").stat().st_size > 10_000
+    data = json.loads((out / "compare.json").read_text())
+    assert set(data["feet"]) == set(mudrft.integrations.walk_compare.FEET)
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.floats(-0.15, 0.15), st.floats(-0.36, -0.2))  # reachable: |(x, z)| < 0.4 m
 def test_leg_inverse_kinematics_round_trip(x, z):
@@ -101,6 +136,7 @@ def _args(tmp_path, **kw):
         "no_render": True,
         "force": False,
         "quiet": True,
+        "compare": False,
     }
     base.update(kw)
     return argparse.Namespace(**base)

@@ -30,6 +30,8 @@ DESCRIPTION = (
 
 #: The files ``mudrft walk`` may write in its directory.
 FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
+#: The files ``mudrft walk --compare`` writes in its directory.
+COMPARE_FILES = ("compare.csv", "claims.csv", "compare.json", "compare.png")
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -63,6 +65,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--extrapolate", action="store_true", help="allow water contents outside 0.25-0.45"
     )
     p.add_argument("--no-render", action="store_true", help="skip the rendered image strip")
+    p.add_argument(
+        "--compare",
+        action="store_true",
+        help="walk every foot (flat, semi-cylinder, semi-sphere, morphing) on the same mud and "
+        "write DIR/compare.csv, DIR/claims.csv (the paper's claims beside the results), "
+        "DIR/compare.json and DIR/compare.png (--foot is ignored)",
+    )
     add_force(p, "existing results in DIR")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=run)
@@ -83,9 +92,13 @@ def run(args: argparse.Namespace) -> int:
     require_extra("mujoco", needed_for="mudrft walk")
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
     from ..integrations import walk as W
+    from ..integrations import walk_output as WO
 
-    foot = by_name(args.foot)
     mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
+    if args.compare:
+        return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
+                        bottom=bottom)  # fmt: skip
+    foot = by_name(args.foot)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
         logger.info(
@@ -111,10 +124,10 @@ def run(args: argparse.Namespace) -> int:
         s = res.summary
         s["water_content"] = float(args.water_content)
         s["wall_time [s]"] = round(time.perf_counter() - t0, 3)
-        W._write_csv(stage / "walk.csv", res.table, W.WALK_COLUMNS)
-        W._write_csv(stage / "steps.csv", res.steps, W.STEP_COLUMNS)
-        W.plot_walk(res, stage / "walk.png")
-        strip = W.save_strip(res.frames, stage / "frames.png")
+        WO._write_csv(stage / "walk.csv", res.table, WO.WALK_COLUMNS)
+        WO._write_csv(stage / "steps.csv", res.steps, WO.STEP_COLUMNS)
+        WO.plot_walk(res, stage / "walk.png")
+        strip = WO.save_strip(res.frames, stage / "frames.png")
         s["frames"] = strip.name if strip is not None else None
         (stage / "summary.json").write_text(json.dumps(s, indent=2) + "\n")
     print(
@@ -122,6 +135,36 @@ def run(args: argparse.Namespace) -> int:
         f"{s['energy_per_step [J]']:.3f} J/step; sinking {1e3 * s['mean_sinking [m]']:.1f} mm; "
         f"max suction {s['max_suction [N]']:.2f} N"
     )
+    for path in outputs.written:
+        print(f"wrote {path}")
+    return 0
+
+
+def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
+    """``mudrft walk --compare``: every foot on the same mud, a table and a figure."""
+    from .._progress import Progress
+    from ..integrations.walk_compare import compare_feet, write_compare
+
+    with Outputs(force=args.force) as outputs:
+        stage = outputs.directory("--out", args.out, COMPARE_FILES)
+        logger.info(
+            "mudrft walk --compare: W = %g, %g s at dt = %g s",
+            args.water_content,
+            options["seconds"],
+            options["dt"],
+        )
+        summaries = compare_feet(
+            mud,
+            progress=None if args.quiet else (lambda name: Progress(f"walking ({name})")(0.0)),
+            implicit=not args.explicit,
+            **options,
+        )
+        write_compare(stage, summaries, mud_name=f"(W = {100 * args.water_content:.0f} %)")
+    for foot, s in summaries.items():
+        print(
+            f"{foot}: {'FELL, ' if s['fell'] else ''}{s['energy_per_step [J]']:.2f} J/step, "
+            f"sinking {1e3 * s['mean_sinking [m]']:.1f} mm, suction {s['max_suction [N]']:.0f} N"
+        )
     for path in outputs.written:
         print(f"wrote {path}")
     return 0

@@ -45,6 +45,19 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .facet import (
+    clip_constants,
+    clip_facet,
+    facet_factors,
+    facet_force,
+    facet_frame,
+    fold_stresses,
+    sort_by_height,
+)
+from .facet import (
+    submerged_area as facet_submerged_area,
+)
+
 __all__ = [
     "ClippedElements",
     "LocalFrame",
@@ -60,10 +73,6 @@ __all__ = [
     "prepare_triangles",
     "submerged_area",
 ]
-
-#: Tolerance on unit-vector components [-]: :math:`|n_z|\le` TOL is a vertical wall (D21),
-#: :math:`|\cos\psi_2|\le` TOL is parallel to the motion (tie rule of D22).
-TOL = 1e-9
 
 
 class PreparedTriangles(NamedTuple):
@@ -217,69 +226,27 @@ def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
     """
     tri = xp.asarray(triangles)
     v0, v1, v2 = tri[..., 0, :], tri[..., 1, :], tri[..., 2, :]
-    raw = _cross(v1 - v0, v2 - v0, xp)
-    norm = xp.sqrt(xp.sum(raw * raw, axis=-1))
-    normal = _safe_div(raw, norm[..., None], xp)
-    area = 0.5 * norm
-    order = xp.argsort(tri[..., 2], axis=-1)
-    srt = xp.take_along_axis(tri, order[..., :, None], axis=-2)
-    za, zb, zc = srt[..., 0, 2], srt[..., 1, 2], srt[..., 2, 2]
-    # spans below 1e-100 m count as flat (avoids overflow of the clipping constants)
-    span1 = (zb - za) * (zc - za)
-    span2 = (zc - za) * (zc - zb)
-    k_low = _safe_div(area, xp.where(span1 > 1e-200, span1, 0.0), xp)
-    k_high = _safe_div(area, xp.where(span2 > 1e-200, span2, 0.0), xp)
-    flat_area = xp.where((span1 > 1e-200) | (span2 > 1e-200), 0.0, area)
-    nh = xp.sqrt(normal[..., 0] ** 2 + normal[..., 1] ** 2)  # sin(psi1)
-    hx, hy = _safe_div(normal[..., 0], nh, xp), _safe_div(normal[..., 1], nh, xp)
-    c1 = -normal[..., 2]  # cos(psi1)
-    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
-    wz = xp.where(c1 > TOL, c1**3 + nh**3, 0.0)
+    v = (v0[..., 0], v0[..., 1], v0[..., 2], v1[..., 0], v1[..., 1], v1[..., 2],
+         v2[..., 0], v2[..., 1], v2[..., 2])  # fmt: skip
+    nx, ny, nz, area, nh, hx, hy, wz = facet_frame(*v, xp=xp)
+    srt = sort_by_height(*v, xp=xp)
+    lo = xp.stack(srt[0:3], axis=-1)
+    mid = xp.stack(srt[3:6], axis=-1)
+    hi = xp.stack(srt[6:9], axis=-1)
+    za, zb, zc = srt[2], srt[5], srt[8]
+    k_low, k_high, flat_area = clip_constants(za, zb, zc, area, xp=xp)
+    normal = xp.stack([nx, ny, nz], axis=-1)
     return PreparedTriangles(
-        srt[..., 0, :],
-        srt[..., 1, :],
-        srt[..., 2, :],
-        normal,
-        area,
-        k_low,
-        k_high,
-        nh,
-        hx,
-        hy,
-        wz,
-        xp.asarray(za, copy=True),
-        xp.asarray(zb, copy=True),
-        xp.asarray(zc, copy=True),
-        flat_area,
+        lo, mid, hi, normal, area, k_low, k_high, nh, hx, hy, wz, za, zb, zc, flat_area
     )
 
 
 def submerged_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> Any:
-    r"""Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`.
-
-    Parameters are those of :func:`clip_below`. Piecewise quadratic in depth (clamps, no branches):
-    :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
-    plus the whole area of a horizontal facet once the surface is above it (strictly).
-    """
-    p, d = prepared, xp.asarray(depth)[..., None]
-    lo = xp.minimum(xp.maximum(d - p.za, 0.0), p.zb - p.za)
-    hi = xp.minimum(xp.maximum(p.zc - d, 0.0), p.zc - p.zb)
-    d2 = p.zc - p.zb
-    flat = xp.where(d > p.za, p.flat_area, 0.0)
-    return p.k_low * lo * lo + p.k_high * (d2 * d2 - hi * hi) + flat
-
-
-def _fractions(p: PreparedTriangles, depth: Any, xp: Any) -> tuple[Any, ...]:
-    """Clipping parameters of each facet, shape (..., m)."""
+    """Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`
+    without the centroids (:func:`mudrft.feet.facet.submerged_area` per facet)."""
+    p = prepared
     d = xp.asarray(depth)[..., None]
-    za, zb, zc = p.lo[..., 2], p.mid[..., 2], p.hi[..., 2]
-    one_low = (d > za) & (d <= zb)  # only the lowest vertex submerged: a small triangle
-    two_low = (d > zb) & (d < zc)  # two submerged: the facet minus a top triangle
-    t_ab = _safe_div(d - za, zb - za, xp)
-    t_ac = _safe_div(d - za, zc - za, xp)
-    s_ca = _safe_div(zc - d, zc - za, xp)
-    s_cb = _safe_div(zc - d, zc - zb, xp)
-    return one_low, two_low, t_ab, t_ac, s_ca, s_cb
+    return facet_submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
 
 
 def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tuple[Any, Any]:
@@ -308,18 +275,14 @@ def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tupl
     >>> float(a[0]), c[0].round(4).tolist()
     (0.25, [0.0, 0.0, 0.3333])
     """
-    one_low, two_low, t_ab, t_ac, s_ca, s_cb = _fractions(prepared, depth, xp)
-    a, b, c = prepared.lo, prepared.mid, prepared.hi
-    full_c = (a + b + c) / 3.0
-    # one vertex below: triangle (A, A + t_ab (B-A), A + t_ac (C-A))
-    c1 = a + (t_ab[..., None] * (b - a) + t_ac[..., None] * (c - a)) / 3.0
-    # two below: whole facet minus the top triangle (C, C + s_ca (A-C), C + s_cb (B-C))
-    top_frac = (s_ca * s_cb)[..., None]
-    c_top = c + (s_ca[..., None] * (a - c) + s_cb[..., None] * (b - c)) / 3.0
-    rest = 1.0 - top_frac
-    c2 = _safe_div(full_c - top_frac * c_top, rest, xp)
-    cen = xp.where(one_low[..., None], c1, xp.where(two_low[..., None], c2, full_c))
-    return submerged_area(prepared, depth, xp=xp), cen
+    p = prepared
+    d = xp.asarray(depth)[..., None]
+    a, b, c = p.lo, p.mid, p.hi
+    area, cx, cy, cz = clip_facet(
+        a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2],
+        c[..., 0], c[..., 1], c[..., 2], p.k_low, p.k_high, p.flat_area, d, xp=xp,
+    )  # fmt: skip
+    return area, xp.stack(xp.broadcast_arrays(cx, cy, cz), axis=-1)
 
 
 def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElements:
@@ -393,33 +356,16 @@ def _heading_factors(
     """Folded stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
     s = xp.asarray(stress)
     h = xp.asarray(heading)
-    ux, uy = xp.cos(h), xp.sin(h)
-    # channel stresses measured along the motion (positive when resisting it), as in
-    # base.first_quadrant: the sign of cos/sin of the heading folds each channel
-    sqx = (s[..., 0] * xp.where(ux < 0, -1.0, 1.0))[..., None]
-    sqy = (s[..., 1] * xp.where(uy < 0, -1.0, 1.0))[..., None]
-    sz = s[..., 2][..., None]
-    ux, uy = ux[..., None], uy[..., None]
-    cos2 = p.hx * ux + p.hy * uy  # cos(psi2)
-    sin2 = p.hx * uy - p.hy * ux  # sin(psi2) = t . u with t = e_z x e2
-    if trailing:
-        fn = cos2 * xp.abs(cos2)  # f_n extended to the full range: cos|cos|
-        ft = sin2 * xp.abs(sin2)  # f_t extended: sin|sin|
-    else:
-        lead = (cos2 > TOL) | ((xp.abs(cos2) <= TOL) & (sin2 > 0))
-        fn = xp.where(lead, cos2 * cos2, 0.0)
-        ft = xp.where(lead, sin2 * xp.abs(sin2), 0.0)
-    return sqx, sqy, sz, fn, ft
+    sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], h, xp=xp)
+    fn, ft = facet_factors(p.hx, p.hy, ux[..., None], uy[..., None], trailing, xp=xp)
+    return sqx[..., None], sqy[..., None], s[..., 2][..., None], fn, ft
 
 
 def _force_density(p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any) -> Any:
     """Force per unit submerged area of each facet [Pa], shape (..., m, 3)."""
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
-    w = -(sqx * p.hx * p.hx + sqy * p.hy * p.hy) * p.nh  # -sigma_e |n_h|
-    fx = w * (fn * p.hx - ft * p.hy)  # t = (-hy, hx)
-    fy = w * (fn * p.hy + ft * p.hx)
-    fz = p.wz * sz
-    return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1)
+    f = facet_force(1.0, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
+    return xp.stack(xp.broadcast_arrays(*f), axis=-1)
 
 
 def element_forces(
@@ -477,19 +423,8 @@ def integrate_prepared(
     p = prepared
     area = submerged_area(p, depth, xp=xp)
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
-    # sigma_e = sx hx^2 + sy hy^2 is linear in the stresses: sum the facets once per channel
-    a = area * p.nh
-    qx = a * (fn * p.hx - ft * p.hy)
-    qy = a * (fn * p.hy + ft * p.hx)
-    hx2, hy2 = p.hx * p.hx, p.hy * p.hy
-
-    def dot(u: Any, w: Any) -> Any:
-        # reduction over the facets; einsum, not BLAS: no thread start-up per call
-        return xp.einsum("...i,...i->...", u, w)
-
-    fx = -(sqx[..., 0] * dot(qx, hx2) + sqy[..., 0] * dot(qx, hy2))
-    fy = -(sqx[..., 0] * dot(qy, hx2) + sqy[..., 0] * dot(qy, hy2))
-    fz = sz[..., 0] * dot(area, p.wz)
+    f = facet_force(area, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
+    fx, fy, fz = (xp.sum(c, axis=-1) for c in f)
     return xp.stack(xp.broadcast_arrays(fx, fy, fz), axis=-1) + 0.0  # -0.0 -> 0.0
 
 

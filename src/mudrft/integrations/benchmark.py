@@ -5,12 +5,15 @@
 the biped (``mudrft.integrations.walk``) walking
 
 * on rigid ground (a floor at the mud surface, plain ``mj_step``): the physics step;
-* in mud (``MudCoupling.step``: ``mj_step1``, the mud, ``mj_step2``);
+* in mud (``MudCoupling.step``: ``mj_step1``, the mud, ``mj_step2``) with the flat foot
+  and the compiled coupling (``backend="numba"``, D68a), with a 512-facet mesh foot
+  (compiled) and with the morphing foot (numpy coupling);
 
 and the same for batches of robots (:class:`~mudrft.integrations.mujoco.MudBatch`: one
-vectorized terrain call per step for all robots). :func:`mujoco_overhead_ratio` is what
+compiled call per step for all robots). :func:`mujoco_overhead_ratio` is what
 ``mudrft bench`` calls. Results and discussion: docs/performance.md.
-Timings are the best of three repeats, so other load on the machine inflates them less.
+Timings are the best of several repeats, with and without mud in alternation, so other
+load on the machine inflates them less and lands on both sides of the ratio.
 """
 
 from __future__ import annotations
@@ -37,13 +40,15 @@ def _best_time(fn: Any, repeats: int = 3) -> float:
     return float(best)
 
 
-def _robots(n: int, *, mud: bool, dt: float) -> tuple[Any, list[Any], Any, Any]:
+def _robots(
+    n: int, *, mud: bool, dt: float, foot: Any = None, backend: str = "numba"
+) -> tuple[Any, list[Any], Any, Any]:
     import mujoco
 
     from mudrft.integrations.mujoco import attach, attach_batch
     from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
-    foot = mudrft.feet.Flat()
+    foot = mudrft.feet.Flat() if foot is None else foot
     # without mud the biped walks on a rigid floor 1 mm under the mud surface
     model = biped_model(foot, bottom=0.15 if mud else 1e-3, timestep=dt)
     datas = [mujoco.MjData(model) for _ in range(n)]
@@ -52,7 +57,7 @@ def _robots(n: int, *, mud: bool, dt: float) -> tuple[Any, list[Any], Any, Any]:
         ctrl.initial_pose(d)
     coupling = None
     if mud:
-        kw = {"feet": foot}
+        kw = {"feet": foot, "backend": backend}
         coupling = (
             attach(model, list(BIPED_FEET), mudrft.paper_mud(0.25), **kw)
             if n == 1
@@ -62,11 +67,13 @@ def _robots(n: int, *, mud: bool, dt: float) -> tuple[Any, list[Any], Any, Any]:
     return model, datas, ctrl, coupling
 
 
-def _time_per_step(n: int, *, mud: bool, steps: int, dt: float) -> float:
-    """Best wall time per physics step of ``n`` robots (controller included) [s]."""
+def _runner(
+    n: int, *, mud: bool, steps: int, dt: float, foot: Any = None, backend: str = "numba"
+) -> Any:
+    """A function that runs ``steps`` physics steps of ``n`` robots (controller included)."""
     import mujoco
 
-    model, datas, ctrl, coupling = _robots(n, mud=mud, dt=dt)
+    model, datas, ctrl, coupling = _robots(n, mud=mud, dt=dt, foot=foot, backend=backend)
 
     def run() -> None:
         for _ in range(steps):
@@ -78,44 +85,83 @@ def _time_per_step(n: int, *, mud: bool, steps: int, dt: float) -> float:
             else:
                 coupling.step(datas[0] if n == 1 else datas)
 
-    run()  # warm up (and walk into the gait)
-    return _best_time(run) / steps
+    run()  # warm up (and walk into the gait; compiles the numba kernel once)
+    return run
+
+
+def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tuple[float, float]:
+    """Best wall time per step without and with mud [s], measured in alternation.
+
+    Alternating the two runs (rather than timing one, then the other) keeps a change of load
+    on a shared machine from landing on one side of the ratio only.
+    """
+    foot = kw.get("foot")
+    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=foot)
+    with_mud = _runner(n, mud=True, steps=steps, dt=dt, **kw)
+    tp = tm = np.inf
+    for _ in range(repeats):
+        tp = min(tp, _best_time(phys, 1))
+        tm = min(tm, _best_time(with_mud, 1))
+    return tp / steps, tm / steps
+
+
+def _mesh_foot() -> Any:
+    """A mesh foot of 512 facets (the semi-sphere's mesh at resolution 8)."""
+    return mudrft.feet.SemiSphere().to_mesh(resolution=8)
 
 
 def mujoco_overhead_ratio(
-    seconds: float = 2.0, *, batch: tuple[int, ...] = (64,), dt: float = 1e-3
+    seconds: float = 2.0,
+    *,
+    batch: tuple[int, ...] = (64,),
+    dt: float = 1e-3,
+    feet: tuple[str, ...] = ("mesh", "morphing"),
 ) -> dict:
-    """Steps per second of the biped with and without mud, and their ratio.
+    """Wall time per biped step with mud over without: the cost of the coupling.
+
+    The headline ``mujoco_overhead_ratio`` is the biped with the paper's flat foot and the
+    compiled coupling (``backend="numba"`` where numba is installed, D68a); ``feet``
+    reports the same for a 512-facet mesh foot (compiled too) and the morphing foot (numpy
+    coupling); ``batch`` the ratio per robot for batches of robots (one compiled call for
+    all of them).
 
     Parameters
     ----------
     seconds : float
-        Simulated time per measurement [s] (each is repeated three times).
+        Simulated time per measurement [s] (each is repeated three times; the numpy
+        coupling's runs use a tenth of it).
     batch : tuple of int, keyword-only
         Robot counts for the batched measurement (:class:`MudBatch`); empty to skip.
     dt : float, keyword-only
         Physics time step [s].
+    feet : tuple of str, keyword-only
+        Other feet to report: ``"mesh"``, ``"morphing"``, ``"flat-numpy"`` (the flat foot
+        with the numpy coupling).
 
     Returns
     -------
     dict
         ``ratio`` (= ``mujoco_overhead_ratio``): wall time per step with mud / without;
         ``mud_cost_over_physics``: (with - without) / without, the cost of the mud
-        relative to the physics step (the aim is < 1); ``steps_per_second_physics``,
-        ``steps_per_second_mud``; ``batch``: per robot count the same numbers per robot;
-        ``machine``: CPU count and platform.
+        relative to the physics step (the aim is < 1); ``backend``;
+        ``steps_per_second_physics``, ``steps_per_second_mud``; ``feet``: per foot the
+        same; ``batch``: per robot count the same numbers per robot; ``machine``.
     """
+    from .mujoco.backend import choose_backend
+
     steps = max(round(seconds / dt), 10)
-    t_phys = _time_per_step(1, mud=False, steps=steps, dt=dt)
-    t_mud = _time_per_step(1, mud=True, steps=steps, dt=dt)
+    backend = choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.Flat())
+    t_phys, t_mud = _pair(1, steps=steps, dt=dt, repeats=5, backend=backend)
     out: dict[str, Any] = {
         "seconds": float(seconds),
         "dt [s]": dt,
+        "backend": backend,
         "steps_per_second_physics": 1.0 / t_phys,
         "steps_per_second_mud": 1.0 / t_mud,
         "ratio": t_mud / t_phys,
         "mujoco_overhead_ratio": t_mud / t_phys,
         "mud_cost_over_physics": (t_mud - t_phys) / t_phys,
+        "feet": {},
         "batch": {},
         "machine": {
             "cpus": os.cpu_count(),
@@ -123,12 +169,29 @@ def mujoco_overhead_ratio(
             "python": platform.python_version(),
         },
     }
+    others = {
+        "mesh": (_mesh_foot, choose_backend("auto", mudrft.paper_mud(0.25), _mesh_foot())),
+        "morphing": (lambda: mudrft.feet.MorphingFoot(), "numpy"),
+        "flat-numpy": (lambda: mudrft.feet.Flat(), "numpy"),
+    }
+    for name in feet:
+        make, be = others[name]
+        foot = make()
+        fsteps = max(steps // 10, 10)
+        tp, tm = _pair(1, steps=fsteps, dt=dt, repeats=2, foot=foot, backend=be)
+        out["feet"][name] = {
+            "backend": be,
+            "facets": len(foot.triangles) if hasattr(foot, "triangles") else None,
+            "ratio": tm / tp,
+            "mud_us_per_step": 1e6 * (tm - tp),
+            "mud_cost_over_physics": (tm - tp) / tp,
+        }
     for n in batch:
         bsteps = max(steps // 10, 10)
-        tp = _time_per_step(n, mud=False, steps=bsteps, dt=dt)
-        tm = _time_per_step(n, mud=True, steps=bsteps, dt=dt)
+        tp, tm = _pair(n, steps=bsteps, dt=dt, backend=backend)
         out["batch"][str(n)] = {
             "robots": n,
+            "backend": backend,
             "robot_steps_per_second_physics": n / tp,
             "robot_steps_per_second_mud": n / tm,
             "ratio": tm / tp,
@@ -142,12 +205,16 @@ def _table(res: dict) -> str:
         "| robots | physics [robot-steps/s] | with mud [robot-steps/s] | with / without | mud cost / physics |",
         "|---:|---:|---:|---:|---:|",
         f"| 1 | {res['steps_per_second_physics']:,.0f} | {res['steps_per_second_mud']:,.0f} | "
-        f"{res['ratio']:.1f} | {res['mud_cost_over_physics']:.1f} |",
+        f"{res['ratio']:.2f} | {res['mud_cost_over_physics']:.2f} |",
     ]
+    for name, f in res.get("feet", {}).items():
+        rows.append(
+            f"| 1 ({name}, {f['backend']}) | | | {f['ratio']:.1f} | {f['mud_cost_over_physics']:.1f} |"
+        )
     for b in res["batch"].values():
         rows.append(
             f"| {b['robots']} | {b['robot_steps_per_second_physics']:,.0f} | "
-            f"{b['robot_steps_per_second_mud']:,.0f} | {b['ratio']:.1f} | {b['mud_cost_over_physics']:.1f} |"
+            f"{b['robot_steps_per_second_mud']:,.0f} | {b['ratio']:.2f} | {b['mud_cost_over_physics']:.2f} |"
         )
     return "\n".join(rows)
 

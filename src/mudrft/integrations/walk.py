@@ -337,6 +337,7 @@ def walk(
     step_time: float = 1.0,
     bottom: float = 0.15,
     implicit: bool = True,
+    backend: str = "auto",
     frames: int = 0,
     progress: Callable[[float], None] | None = None,
 ) -> WalkResult:
@@ -360,6 +361,9 @@ def walk(
         Depth of the rigid bed under the mud [m].
     implicit : bool, keyword-only
         Stabilised coupling (default); see :class:`mudrft.integrations.mujoco.MudBatch`.
+    backend : {"auto", "numpy", "numba"}, keyword-only
+        The coupling's backend; ``"auto"``: the compiled one (D68a) where numba is
+        installed and the foot is a closed form, else numpy.
     frames : int, keyword-only
         Number of offscreen images to render along the walk (needs a working OpenGL, e.g.
         ``MUJOCO_GL=egl``; silently none when rendering fails).
@@ -387,7 +391,12 @@ def walk(
     data = mj.MjData(model)
     ctrl = GaitController(model, speed=speed, step_time=step_time)
     ctrl.initial_pose(data)
-    coupling = attach(model, list(BIPED_FEET), mud, feet=foot, implicit=implicit)
+    from .mujoco.backend import choose_backend
+
+    coupling = attach(
+        model, list(BIPED_FEET), mud, feet=foot, implicit=implicit,
+        backend=choose_backend(backend, mud, foot),
+    )  # fmt: skip
     coupling.reset(data)
     qx = int(model.jnt_qposadr[model.joint("rootx").id])
     qz = int(model.jnt_qposadr[model.joint("rootz").id])
@@ -402,15 +411,18 @@ def walk(
         set(np.linspace(0, n - 1, frames).astype(int).tolist()) if renderer is not None else set()
     )
     images: list[np.ndarray] = []
-    energy = 0.0
+    energy = abs_energy = 0.0
     fell = False
     every = max(n // 20, 1)
     k = 0
     for k in range(n):
         step, _stance = ctrl(data)
         out = coupling.step(data)
-        power = float(np.dot(data.actuator_force, data.qvel[dadr]))
-        energy += max(power, 0.0) * dt
+        # joint torques times joint velocities, joint by joint (D69)
+        pj = data.actuator_force * data.qvel[dadr]
+        power = float(pj.sum())
+        energy += float(np.maximum(pj, 0.0).sum()) * dt
+        abs_energy += float(np.abs(pj).sum()) * dt
         x, z, pitch = float(data.xpos[torso, 0]), float(data.xpos[torso, 2]), float(data.qpos[qp])
         rows[k] = (
             data.time,
@@ -425,6 +437,9 @@ def walk(
             out.force[1, 2],
             power,
             energy,
+            abs_energy,
+            out.tip[0, 0],
+            out.tip[1, 0],
             step,
         )
         if k in marks and renderer is not None:
@@ -438,6 +453,8 @@ def walk(
     _ = qx, qz
     rows = rows[: k + 1]
     table = {c: rows[:, i] for i, c in enumerate(WALK_COLUMNS)}
+    weight = float(np.sum(model.body_mass) * -model.opt.gravity[2])
+    max_suction = float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min())))
     steps = _per_step(table, step_time)
     n_steps = len(steps["step"])
     summary = {
@@ -446,10 +463,15 @@ def walk(
         if math.isfinite(table["x [m]"][-1])
         else float("nan"),
         "energy_per_step [J]": float(np.mean(steps["energy [J]"])) if n_steps else float("nan"),
+        "absolute_work_per_step [J]": float(np.mean(steps["absolute_work [J]"]))
+        if n_steps
+        else float("nan"),
+        "mean_slip [m]": float(np.mean(steps["slip [m]"])) if n_steps else float("nan"),
+        "shank_in_mud_steps": int(np.sum(steps["shank_in_mud"])) if n_steps else 0,
+        "weight [N]": weight,
         "mean_sinking [m]": float(np.mean(steps["sinking [m]"])) if n_steps else float("nan"),
-        "max_suction [N]": float(
-            max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min()))
-        ),
+        "max_suction [N]": max_suction,
+        "max_suction_over_weight": max_suction / weight,
         "steps": n_steps,
         "seconds": float(table["time [s]"][-1]),
         "dt [s]": float(dt),

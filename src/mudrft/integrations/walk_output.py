@@ -20,7 +20,7 @@ from .mujoco._lazy import _mujoco
 if TYPE_CHECKING:
     from .walk import WalkResult
 
-__all__ = ["STEP_COLUMNS", "WALK_COLUMNS", "plot_walk", "save_strip"]
+__all__ = ["ANKLE_HEIGHT", "STEP_COLUMNS", "WALK_COLUMNS", "plot_walk", "save_strip"]
 
 #: Columns of the per-physics-step table (``walk.csv``), with units.
 WALK_COLUMNS = (
@@ -36,6 +36,9 @@ WALK_COLUMNS = (
     "right_Fz [N]",
     "joint_power [W]",
     "joint_energy [J]",
+    "joint_abs_energy [J]",
+    "left_x [m]",
+    "right_x [m]",
     "step",
 )
 #: Columns of the per-gait-step table (``steps.csv``), with units.
@@ -44,10 +47,16 @@ STEP_COLUMNS = (
     "t_start [s]",
     "stance",
     "energy [J]",
+    "absolute_work [J]",
     "sinking [m]",
     "max_suction [N]",
+    "slip [m]",
+    "shank_in_mud",
     "advance [m]",
 )
+#: Height of the shank's lower end (the ankle) above the sole [m]: deeper than this the
+#: shank is in the mud, whose force on it the coupling does not model.
+ANKLE_HEIGHT = 0.04
 
 
 def _renderer(model: Any) -> Any:
@@ -61,7 +70,7 @@ def _renderer(model: Any) -> Any:
 def _per_step(
     table: dict[str, NDArray[np.float64]], step_time: float
 ) -> dict[str, NDArray[np.float64]]:
-    """Energy, stance-foot sinking, suction and advance of every complete gait step.
+    r"""Energy, stance-foot sinking, suction and advance of every complete gait step.
 
     Parameters
     ----------
@@ -74,10 +83,14 @@ def _per_step(
     Returns
     -------
     dict of str -> ndarray (m,)
-        Keys :data:`STEP_COLUMNS`: ``energy [J]`` joint work, ``sinking [m]`` deepest
-        stance-foot depth, ``max_suction [N]`` largest downward mud force on either foot,
-        ``advance [m]`` torso advance, for each complete step (the last one, maybe cut
-        short, is left out).
+        Keys :data:`STEP_COLUMNS`: ``energy [J]`` positive work of the joint servos
+        (:math:`\sum_j\max(\tau_j\dot q_j,0)\,\Delta t`), ``absolute_work [J]``
+        (:math:`\sum_j|\tau_j\dot q_j|\,\Delta t`), ``sinking [m]`` deepest stance-foot
+        depth, ``max_suction [N]`` largest downward mud force on either foot, ``slip [m]``
+        horizontal travel of the stance foot while it is in the mud, ``shank_in_mud`` 1 when
+        the stance foot sank deeper than :data:`ANKLE_HEIGHT` (the shank then meets mud that
+        is not modelled), ``advance [m]`` torso advance, for each complete step (the last
+        one, maybe cut short, is left out).
     """
     t = table["time [s]"]
     step = table["step"].astype(int)
@@ -89,15 +102,23 @@ def _per_step(
             continue
         stance = k % 2
         side = "left" if stance == 0 else "right"
+        first = int(np.argmax(sel))
         e = table["joint_energy [J]"][sel]
-        e0 = table["joint_energy [J]"][np.argmax(sel) - 1] if np.argmax(sel) > 0 else 0.0
+        e0 = table["joint_energy [J]"][first - 1] if first > 0 else 0.0
+        a = table["joint_abs_energy [J]"][sel]
+        a0 = table["joint_abs_energy [J]"][first - 1] if first > 0 else 0.0
+        depth = table[f"{side}_depth [m]"][sel]
+        x_in = table[f"{side}_x [m]"][sel][depth > 0]
         fz = np.minimum(table["left_Fz [N]"][sel], table["right_Fz [N]"][sel])
         out["step"].append(k)
         out["t_start [s]"].append(float(t[sel][0]))
         out["stance"].append(stance)
         out["energy [J]"].append(float(e[-1] - e0))
-        out["sinking [m]"].append(float(table[f"{side}_depth [m]"][sel].max()))
+        out["absolute_work [J]"].append(float(a[-1] - a0))
+        out["sinking [m]"].append(float(depth.max()))
         out["max_suction [N]"].append(float(max(0.0, -fz.min())))
+        out["slip [m]"].append(float(x_in.max() - x_in.min()) if len(x_in) else 0.0)
+        out["shank_in_mud"].append(float(depth.max() > ANKLE_HEIGHT))
         out["advance [m]"].append(float(table["x [m]"][sel][-1] - table["x [m]"][sel][0]))
     return {c: np.asarray(v, dtype=float) for c, v in out.items()}
 
@@ -139,7 +160,9 @@ def plot_walk(result: WalkResult, path: Path) -> Path:
     ax[1].legend(loc="lower left")
     ax[2].axhline(0.0, color="k", lw=0.5)
     ax[2].set_ylabel("mud $F_z$ [N]\n(< 0: suction)")
-    ax[3].plot(t, tb["joint_energy [J]"], "k")
+    ax[3].plot(t, tb["joint_energy [J]"], "k", label="positive")
+    ax[3].plot(t, tb["joint_abs_energy [J]"], "k--", label="absolute")
+    ax[3].legend(loc="upper left")
     ax[3].set_ylabel("joint work [J]")
     ax[3].set_xlabel("time [s]")
     s = result.summary

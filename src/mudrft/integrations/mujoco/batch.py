@@ -1,65 +1,35 @@
 r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 
-Every step reads the kinematics of all robots (:mod:`.kinematics`), steps the terrain
-once per foot type for all robots and bodies together, stabilises the force with the
-linearly implicit step of its dissipative part (decisions D61-D63 in docs/model.md,
-summarised in :mod:`mudrft.integrations.mujoco`) and writes ``xfrc_applied``.
+Every step reads the kinematics of all robots (:mod:`.kinematics`), clips each foot in
+its current pose by the mud surface (:mod:`.pose`), steps the terrain once per foot type
+for all robots and bodies together, assembles the wrench of the posed foot
+(:mod:`.wrench`), stabilises it with the linearly implicit step of its dissipative part in
+the six degrees of freedom of the body (decisions D60a-D63 in docs/model.md, summarised in
+:mod:`mudrft.integrations.mujoco`), writes ``xfrc_applied`` and checks that MuJoCo did
+not diverge.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
 from ...citations import register
+from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .implicit import force_and_derivative, implicit_force, secant_steps
-from .kinematics import _cross, body_frames, body_mobility, chain_mobility
+from .backend import CompiledCoupling, check_compilable
+from .contact import MudContact, _central_point
+from .implicit import channel_rows, force_and_derivative, implicit_wrench, secant_steps
+from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .placement import BodyFoot, body_foot, lowest_points
+from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
+from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
-
-
-class MudContact(NamedTuple):
-    """What the mud did in the last step, per robot and body (world frame).
-
-    Shapes are ``(nbody, ...)`` for :class:`~mudrft.integrations.mujoco.MudCoupling` and
-    ``(nrobot, nbody, ...)`` for :class:`MudBatch`.
-
-    Attributes
-    ----------
-    force : ndarray (..., 3)
-        Force written to ``xfrc_applied`` (stabilised) [N].
-    explicit_force : ndarray (..., 3)
-        Force of the mud model at the start of the step (what :class:`mudrft.MudTerrain`
-        returns for the same motion) plus the rigid bottom [N].
-    torque : ndarray (..., 3)
-        Moment about the body's center of mass written to ``xfrc_applied`` [N m].
-    point : ndarray (..., 3)
-        Point of application (center of pressure) [m].
-    tip : ndarray (..., 3)
-        Tip position; its z is that of the lowest point of the foot [m].
-    velocity : ndarray (..., 3)
-        Tip velocity [m/s].
-    depth : ndarray (...)
-        Depth of the lowest point below the mud surface [m].
-    stress : ndarray (..., 3)
-        Channel stresses in the foot frame [Pa].
-    """
-
-    force: NDArray[np.float64]
-    explicit_force: NDArray[np.float64]
-    torque: NDArray[np.float64]
-    point: NDArray[np.float64]
-    tip: NDArray[np.float64]
-    velocity: NDArray[np.float64]
-    depth: NDArray[np.float64]
-    stress: NDArray[np.float64]
 
 
 class MudBatch:
@@ -95,12 +65,21 @@ class MudBatch:
         Apply the semi-implicit treatment of the velocity-dependent part (default).
         ``False`` writes the explicit force, exactly what :class:`mudrft.MudTerrain` gives.
     mobility : {"chain", "body"}, keyword-only
-        Tip mobility :math:`W` from the whole model (:math:`JM^{-1}J^T`, default) or from
-        the body alone (cheaper, an upper bound: more damping in transients).
-    center_of_pressure : {"axis", "foot", "tip"}, keyword-only
-        Where the force acts: on the foot axis half-way up the submerged height (default,
-        cheap), at the foot's own center of pressure (``foot.center_of_pressure``; exact
-        for mesh-integrated feet but slower), or at the tip.
+        6x6 mobility :math:`W` of each foot body from the whole model (:math:`JM^{-1}J^T`,
+        default) or from the body alone (cheaper, an upper bound: more damping in
+        transients; exact for a free body).
+    resolution : int, keyword-only
+        Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
+    backend : {"numpy", "numba"}, keyword-only
+        ``"numba"``: one compiled call per physics step for all feet of all robots
+        (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
+        round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
+
+    Raises
+    ------
+    MudrftError
+        From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
+        which MuJoCo answers with a silent reset) or the wrench is not finite.
     """
 
     def __init__(
@@ -117,7 +96,8 @@ class MudBatch:
         bottom_damping: float = 2e3,
         implicit: bool = True,
         mobility: str = "chain",
-        center_of_pressure: str = "axis",
+        resolution: int = POSE_RESOLUTION,
+        backend: str = "numpy",
     ) -> None:
         mj = _mujoco()
         if not isinstance(model, mj.MjModel):
@@ -142,6 +122,8 @@ class MudBatch:
                     f"feet must be one foot or one per body ({len(bodies)}), got {len(feet_list)}"
                 )
         self.model = model
+        self._mj = mj
+        self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
@@ -155,16 +137,13 @@ class MudBatch:
         )
         self.implicit = bool(implicit)
         self.mobility = mobility
-        if center_of_pressure not in ("axis", "foot", "tip"):
-            raise MudrftError(
-                f"center_of_pressure must be 'axis', 'foot' or 'tip', got {center_of_pressure!r}"
-            )
-        self.use_cop = center_of_pressure if center_of_pressure != "tip" else ""
+        if not isinstance(resolution, (int, np.integer)) or resolution < 1:
+            raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
         # one foot object per identical geometry, so equal feet share one terrain call
         cache: dict[Any, Any] = {}
         placed = []
         for b, f in zip(bodies, feet_list, strict=True):
-            bf = body_foot(model, b, f)
+            bf = body_foot(model, b, f, resolution=int(resolution))
             key = repr(bf.foot) if f is None else id(f)
             foot = (
                 cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot
@@ -183,11 +162,21 @@ class MudBatch:
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))
         self._world_xy = np.zeros((self.n, nb, 2))
-        self._v_prev = np.zeros((self.n, nb, 3))
-        self._wf_prev = np.zeros((self.n, nb, 3))
+        self._pose = [_group_pose(self.bodies, idx) for _, idx in self._groups]
+        self._tw_prev = np.zeros((self.n, nb, 6))
+        self._wv_prev = np.zeros((self.n, nb, 6))
         self._has_prev = False
-        self._jac = np.zeros((3, model.nv))
-        self._minv_jt = np.zeros((3, model.nv))
+        self._jac = np.zeros((6, model.nv))
+        self._minv_jt = np.zeros((6, model.nv))
+        self._warnings = np.zeros(self.n, dtype=np.int64)
+        self._warn: list[Any] = []
+        if backend not in ("numpy", "numba"):
+            raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
+        self.backend = backend
+        self._compiled: CompiledCoupling | None = None
+        if backend == "numba":
+            check_compilable(self.terrain, self.bodies)
+            self._compiled = CompiledCoupling(self)
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self.last: MudContact | None = None
         self.time_steps = 0
@@ -195,19 +184,43 @@ class MudBatch:
     # -- reading MuJoCo ---------------------------------------------------------------
     def _read(self, datas: Sequence[Any]) -> dict[str, Any]:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
-        tip = X + (R @ self._tip[..., None])[..., 0]
-        low = lowest_points(self.bodies, X, R, tip)
-        w, vlin = V[..., :3], V[..., 3:]
-        v_tip = vlin + _cross(w, tip - S)
-        r = low - S  # z velocity of the material point that is lowest (envelope theorem)
-        vz_low = vlin[..., 2] + w[..., 0] * r[..., 1] - w[..., 1] * r[..., 0]
+        tip = X + matvec(R, self._tip)
+        fw = matvec(R, self._fwd)
+        h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
+        cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
+        tw = com_twist(V, S, C)
         W = None
         if self.implicit:
             if self.mobility == "chain":
-                W = chain_mobility(self.model, datas, self._ids, tip, self._jac, self._minv_jt)
+                W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
             else:
-                W = body_mobility(self.model, datas, self._ids, tip, C)
-        return {"R": R, "com": C, "tip": tip, "low": low, "v_tip": v_tip, "vz_low": vz_low, "W": W}
+                W = body_mobility(self.model, datas, self._ids)
+        geo, ratio = self._posed(X, R, C, tip, cs)
+        return {
+            "R": R,
+            "com": C,
+            "tip": tip,
+            "cs": cs,
+            "tw": tw,
+            "W": W,
+            "geo": geo,
+            "ratio": ratio,
+        }
+
+    def _posed(
+        self, X: np.ndarray, R: np.ndarray, C: np.ndarray, tip: np.ndarray, cs: np.ndarray
+    ) -> tuple[ChannelGeometry, np.ndarray]:
+        groups = [
+            (tri, up, idx) for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
+        ]
+        bare = [i for (tri, _, idx) in groups if tri is None for i in idx]
+        low = None
+        if bare:  # feet without a surface act at the lowest point of their geom
+            low = tip.copy()
+            low[:, bare] = lowest_points(
+                [self.bodies[i] for i in bare], X[:, bare], R[:, bare], tip[:, bare]
+            )
+        return posed_channels(groups, X, R, C, cs, self.surface, low)
 
     # -- public API -------------------------------------------------------------------
     def reset(self, datas: Sequence[Any]) -> None:
@@ -217,34 +230,33 @@ class MudBatch:
         for d in datas:
             mj.mj_forward(self.model, d)
         k = self._read(datas)
-        pos, _vel, _cs = self._foot_frame(k, fresh=True)
+        pos = self._foot_position(k, fresh=True)
         for gi, (foot, idx) in enumerate(self._groups):
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
         self._world_xy = k["tip"][..., :2]
+        if self._compiled is not None:
+            self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
-        self._wf_prev[:] = 0.0
+        self._wv_prev[:] = 0.0
+        mj_bad = int(mj.mjtWarning.mjWARN_BADQACC)
+        self._warn = [d.warning[mj_bad] for d in datas]
+        self._warnings = np.array([w.number for w in self._warn], dtype=np.int64)
         self.last = None
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
 
     def _check(self, datas: Any) -> list[Any]:
-        mj = _mujoco()
-        if isinstance(datas, mj.MjData):
+        if isinstance(datas, self._mj.MjData):
             datas = [datas]
         datas = list(datas)
         if len(datas) != self.n:
             raise MudrftError(f"expected {self.n} MjData, got {len(datas)}")
         return datas
 
-    def _foot_frame(
-        self, k: dict[str, np.ndarray], *, fresh: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Tip position and velocity in the foot frame, and (cos, sin) of the foot's yaw."""
-        fw = (k["R"] @ self._fwd[..., None])[..., 0]
-        h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
-        cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
-        c, s = cs[..., 0], cs[..., 1]
-        tip, v = k["tip"], k["v_tip"]
+    def _foot_position(self, k: dict[str, Any], *, fresh: bool) -> np.ndarray:
+        """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
+        c, s = k["cs"][..., 0], k["cs"][..., 1]
+        tip = k["tip"]
         if fresh:
             xy = tip[..., :2]
             fxy = np.stack(
@@ -260,11 +272,7 @@ class MudBatch:
                 [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
             )
         self._foot_xy = fxy
-        pos = np.concatenate([fxy, k["low"][..., 2:] - self.surface], axis=-1)
-        vel = np.stack(
-            [c * v[..., 0] + s * v[..., 1], c * v[..., 1] - s * v[..., 0], k["vz_low"]], axis=-1
-        )
-        return pos, vel, cs
+        return np.concatenate([fxy, k["geo"].low[..., 2:]], axis=-1)
 
     def _in_mud(self) -> np.ndarray:
         out = np.zeros((self.n, len(self.bodies)), dtype=bool)
@@ -284,74 +292,77 @@ class MudBatch:
     def _apply(self, datas: list[Any]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
+        if self._compiled is not None:
+            return self._apply_compiled()
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
-        pos, vel, cs = self._foot_frame(k, fresh=False)
-        self._world_xy = k["tip"][..., :2]
+        geo, cs, tw, com = k["geo"], k["cs"], k["tw"], k["com"]
         c, s = cs[..., 0], cs[..., 1]
+        # channel points relative to the center of mass, world frame
+        p = geo.point
+        rel = np.stack(
+            [c[..., None] * p[..., 0] - s[..., None] * p[..., 1],
+             s[..., None] * p[..., 0] + c[..., None] * p[..., 1],
+             p[..., 2] + (self.surface - com[..., None, 2])], axis=-1,
+        )  # fmt: skip
+        b = channel_rows(cs, rel)
+        vel = rowdot(b, tw[..., None, :])  # channel velocities at their points
+        pos = self._foot_position(k, fresh=False)
+        self._world_xy = k["tip"][..., :2]
         N, nb = pos.shape[:2]
-        f0 = np.empty((N, nb, 3))
+        f_up = np.empty((N, nb, 3))
         jd = np.zeros((N, nb, 3))
         stress = np.empty((N, nb, 3))
-        cop = np.zeros((N, nb, 3))
         depth = np.maximum(-pos[..., 2], 0.0)
-        if self.implicit:
-            step = secant_steps(self._wf_prev, cs, dt, self._dv_min)
+        step = secant_steps(self._wv_prev, b, dt, self._dv_min) if self.implicit else None
         for gi, (foot, idx) in enumerate(self._groups):
             st = self._states[gi]
-            p, v = (pos, vel) if len(idx) == nb else (pos[:, idx], vel[:, idx])
-            if self.implicit:
+            pg, vg = (pos, vel) if len(idx) == nb else (pos[:, idx], vel[:, idx])
+            if step is not None:
                 sk = step if len(idx) == nb else step[:, idx]
-                new, f0[:, idx], jd[:, idx], sg = force_and_derivative(
-                    self.terrain, foot, st, p, v, sk, dt
+                new, f_up[:, idx], jd[:, idx], sg = force_and_derivative(
+                    self.terrain, foot, st, pg, vg, sk, dt
                 )
             else:
-                new, out = self.terrain.step(foot, st, p, v, dt)
-                f0[:, idx] = np.asarray(out.force)
+                new, out = self.terrain.step(foot, st, pg, vg, dt)
+                f_up[:, idx] = np.asarray(out.force)
                 sg = np.asarray(out.stress)
             self._states[gi] = new
             stress[:, idx] = sg
-            if self.use_cop:
-                d = depth[:, idx]
-                if self.use_cop == "foot":
-                    heading = np.broadcast_to(getattr(new, "heading", 0.0), d.shape)
-                    cp = np.asarray(foot.center_of_pressure(d, sg, heading), dtype=float)
-                    cop[:, idx] = np.where((d > 0)[..., None], cp, 0.0)
-                else:  # on the axis, half-way up the submerged height
-                    cop[:, idx, 2] = 0.5 * np.minimum(d, float(foot.height))
-        if self.bottom is not None:
-            pen = depth - self.bottom
-            on = pen > 0
-            fb = np.where(
-                on,
-                np.maximum(self.bottom_stiffness * pen - self.bottom_damping * vel[..., 2], 0.0),
-                0.0,
-            )
-            f0[..., 2] += fb
-            jd[..., 2] -= np.where(on & (fb > 0), self.bottom_damping, 0.0)
-        f0_w = np.stack(
-            [c * f0[..., 0] - s * f0[..., 1], s * f0[..., 0] + c * f0[..., 1], f0[..., 2]], axis=-1
-        )
+        ratio = k["ratio"]
+        w0 = posed_wrench(ratio * f_up, b)
+        K = None
         if self.implicit:
-            if self._has_prev:
-                acc = (k["v_tip"] - self._v_prev) / dt - self._wf_prev
-            else:
-                acc = np.broadcast_to(np.asarray(self.model.opt.gravity, dtype=float), f0_w.shape)
-            # linearly implicit step of the dissipative part (D62)
+            D = ratio * np.minimum(jd, 0.0)
+            K = damping_matrix(D, b, geo.area, yaw_inertia_to_world(geo.inertia, cs))
+            # the damping spread over the elements resists spin (D62a)
+            spread = K - np.einsum("...c,...ci,...cj->...ij", D, b, b)
+            w0 += (spread @ tw[..., None])[..., 0]
+        if self.bottom is not None:  # a one-sided penalty on the lowest point (D67)
+            lw = geo.low
+            low = np.stack(
+                [c * lw[..., 0] - s * lw[..., 1], s * lw[..., 0] + c * lw[..., 1],
+                 lw[..., 2] + self.surface - com[..., 2]], axis=-1,
+            )  # fmt: skip
+            wb, kb = bottom_wrench(
+                low, tw, depth - self.bottom, self.bottom_stiffness, self.bottom_damping
+            )
+            w0 += wb
+            if K is not None:
+                K += kb
+        if K is not None:
             W = k["W"]
-            force = implicit_force(f0_w, jd, cs, W, acc, dt)
-            self._wf_prev = (W @ force[..., None])[..., 0]
+            if self._has_prev:
+                acc = (tw - self._tw_prev) / dt - self._wv_prev
+            else:
+                acc = np.zeros_like(tw)
+                acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
+            wrench = implicit_wrench(w0, K, W, acc, dt)
+            self._wv_prev = (W @ wrench[..., None])[..., 0]
         else:
-            force = f0_w
-        self._v_prev = k["v_tip"]
+            wrench = w0
+        self._tw_prev = tw
         self._has_prev = True
-        tip = np.concatenate([k["tip"][..., :2], k["low"][..., 2:]], axis=-1)
-        point = tip.copy()
-        point[..., 0] += c * cop[..., 0] - s * cop[..., 1]
-        point[..., 1] += s * cop[..., 0] + c * cop[..., 1]
-        point[..., 2] += cop[..., 2]
-        torque = _cross(point - k["com"], force)
-        wrench = np.concatenate([force, torque], axis=-1)
         if not np.all(np.isfinite(wrench)):
             raise MudrftError(
                 "the mud coupling produced a non-finite force; the simulation diverged "
@@ -360,26 +371,51 @@ class MudBatch:
         for i, d in enumerate(datas):
             d.xfrc_applied[self._ids] = wrench[i]
         self.time_steps += 1
+        force, torque = wrench[..., :3], wrench[..., 3:]
+        pz = com + rel[..., 2, :]
         self.last = MudContact(
             force=force,
-            explicit_force=f0_w,
+            explicit_force=w0[..., :3],
             torque=torque,
-            point=point,
-            tip=tip,
-            velocity=k["v_tip"],
+            point=_central_point(force, torque, com, pz),
+            tip=np.concatenate([k["tip"][..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+            velocity=vel,
             depth=depth,
             stress=stress,
         )
         return self.last
 
+    def _apply_compiled(self) -> MudContact:
+        assert self._compiled is not None
+        bad = self._compiled.apply(self._has_prev)
+        self._has_prev = True
+        if bad:
+            raise MudrftError(
+                "the mud coupling produced a non-finite force; the simulation diverged "
+                "(check the model, the time step and the mud parameters)"
+            )
+        self.time_steps += 1
+        o = self._compiled.out.copy()
+        self.last = MudContact(
+            o[..., 0:3], o[..., 3:6], o[..., 6:9], o[..., 9:12], o[..., 12:15], o[..., 15:18],
+            o[..., 18], o[..., 19:22],
+        )  # fmt: skip
+        return self.last
+
     def step(self, datas: Sequence[Any], nstep: int = 1) -> MudContact:
-        """``nstep`` physics steps of every robot, the mud advanced once per step."""
+        """``nstep`` physics steps of every robot, the mud advanced once per step.
+
+        Raises
+        ------
+        MudrftError
+            When MuJoCo reports bad accelerations (it would reset the state silently).
+        """
         return self._step(self._check(datas), nstep)
 
     def _step(self, datas: list[Any], nstep: int) -> MudContact:
-        mj = _mujoco()
+        mj = self._mj
         m = self.model
-        rk4 = int(m.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4)
+        rk4 = int(m.opt.integrator) == self._rk4
         out = self.last
         for _ in range(int(nstep)):
             if rk4:  # mj_step1/mj_step2 do not support RK4: full forward, then mj_step
@@ -394,8 +430,33 @@ class MudBatch:
                 out = self._apply(datas)
                 for d in datas:
                     mj.mj_step2(m, d)
+            self._check_diverged(datas)
         assert out is not None
         return out
+
+    def _check_diverged(self, datas: list[Any]) -> None:
+        """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
+        for i, w in enumerate(self._warn):
+            if w.number != self._warnings[i]:
+                self._warnings[i] = w.number
+                d = datas[i]
+                raise MudrftError(
+                    f"the simulation of robot {i} diverged at time {float(d.time):.6g} s: "
+                    "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
+                    f"expected finite accelerations with the mud wrench "
+                    f"{np.round(self.last.force[i], 3).tolist() if self.last else None} N "
+                    "(reduce the time step, or check the model)"
+                )
+
+
+def _group_pose(
+    bodies: Sequence[BodyFoot], idx: np.ndarray
+) -> tuple[np.ndarray | None, PreparedTriangles | None]:
+    """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
+    tri = [bodies[i].triangles for i in idx]
+    if any(t is None for t in tri):
+        return None, None
+    return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 
 def _hashable_repr(foot: Any) -> bool:

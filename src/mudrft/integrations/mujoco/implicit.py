@@ -1,18 +1,23 @@
-r"""The semi-implicit treatment of the mud force's velocity-dependent part (D61-D63).
+r"""The linearly implicit treatment of the mud's dissipative part, in six dimensions (D62).
 
 An explicit step of the damper-like part of the mud force, :math:`c\approx\eta_\infty
 A/L_c`, is stable only for :math:`\Delta t<2m/c`
-(:func:`~mudrft.integrations.mujoco.stability_limits`). The coupling instead applies the
-force the mud would exert at the *end* of the step, linearised in the velocity:
+(:func:`~mudrft.integrations.mujoco.stability_limits`); the same damper acting at a lever
+arm on a light foot that can rotate is stiffer still (:math:`c\,r^2/I`). The coupling
+applies the wrench the mud would exert at the *end* of the step, linearised in the body
+twist :math:`\xi=(\mathbf v,\boldsymbol\omega)` (velocity of the center of mass, angular
+velocity):
 
-.. math:: F = (I - \Delta t\,D\,W)^{-1}\,(F_0 + \Delta t\,D\,a),
+.. math:: w = (I - \Delta t\,K\,W)^{-1}\,(w_0 + \Delta t\,K\,a),
 
-with :math:`F_0` the explicit force, :math:`W` the tip's mobility
-(:mod:`~mudrft.integrations.mujoco.kinematics`), :math:`a` the acceleration from all
-other forces and :math:`D\le0` the diagonal velocity derivative of the mud force in the
-foot frame, rotated by the foot's yaw. :func:`force_and_derivative` gets :math:`F_0` and
-:math:`D` from one batched terrain call by secant differences, with the steps of
-:func:`secant_steps` (D63); :func:`implicit_force` solves for :math:`F` (D62).
+with :math:`w_0` the explicit wrench, :math:`W` the 6x6 mobility of the body
+(:mod:`~mudrft.integrations.mujoco.kinematics`), :math:`a` the twist acceleration from
+all other forces and :math:`K` the symmetric, negative semi-definite damping of the
+wrench (D62a): each channel's velocity derivative :math:`D_c\le0` acting at the channel's
+point, :math:`D_c\,b_cb_c^T` (:func:`channel_rows`), plus the same damping spread over the
+submerged elements, :math:`(D_c/A_c)\mathbf J_c` on the rotation. :func:`force_and_derivative`
+gets :math:`D_c` from one batched terrain call by secant differences, with the steps of
+:func:`secant_steps` (D63); :func:`implicit_wrench` solves for :math:`w`.
 
 Shapes: ``N`` robots, ``nb`` bodies (or the bodies of one foot type); ``cs`` holds the
 cosine and sine of each foot's yaw.
@@ -25,20 +30,21 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["force_and_derivative", "implicit_force", "secant_steps"]
+__all__ = ["channel_rows", "force_and_derivative", "implicit_wrench", "secant_steps"]
 
 FloatArray = NDArray[np.float64]
 
 
-def secant_steps(wf_prev: FloatArray, cs: FloatArray, dt: float, dv_min: float) -> FloatArray:
-    """Velocity steps of the secant derivative: what the last force did in one step (D63).
+def secant_steps(wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float) -> FloatArray:
+    """Velocity steps of the secant derivative: what the last wrench did in one step (D63).
 
     Parameters
     ----------
-    wf_prev : ndarray (N, nb, 3)
-        Mobility times the last stabilised force, :math:`W F` [m/s^2] (world frame).
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
+    wv_prev : ndarray (N, nb, 6)
+        Mobility times the last applied wrench, :math:`W w` (twist change per unit time)
+        [m/s^2, rad/s^2].
+    b : ndarray (N, nb, 3, 6)
+        Twist-to-velocity rows of the three channels (:func:`channel_rows`) [-, m].
     dt : float
         Time step [s].
     dv_min : float
@@ -47,14 +53,38 @@ def secant_steps(wf_prev: FloatArray, cs: FloatArray, dt: float, dv_min: float) 
     Returns
     -------
     ndarray (N, nb, 3)
-        Steps in the foot frame [m/s].
+        Steps of the channel velocities [m/s].
+    """
+    dv = dt * np.einsum("...ci,...i->...c", b, wv_prev)
+    return np.where(np.abs(dv) > dv_min, dv, dv_min)
+
+
+def channel_rows(cs: FloatArray, rel: FloatArray) -> FloatArray:
+    r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
+
+    :math:`b_c\cdot\xi` is the velocity along the channel's axis :math:`\mathbf e_c` (the
+    foot's yaw frame in the world) of the point :math:`\mathbf r_c` (relative to the center
+    of mass) for the body twist :math:`\xi=(\mathbf v,\boldsymbol\omega)`, and
+    :math:`f\,b_c` is the wrench (force, moment about the center of mass) of a force
+    :math:`f\mathbf e_c` applied there.
+
+    Parameters
+    ----------
+    cs : ndarray (N, nb, 2)
+        Cosine and sine of each foot's yaw [-].
+    rel : ndarray (N, nb, 3, 3)
+        Point of each channel relative to the center of mass, world frame (row c) [m].
+
+    Returns
+    -------
+    ndarray (N, nb, 3, 6)
     """
     c, s = cs[..., 0], cs[..., 1]
-    wf = wf_prev * dt
-    wf = np.stack(
-        [c * wf[..., 0] + s * wf[..., 1], c * wf[..., 1] - s * wf[..., 0], wf[..., 2]], -1
+    z, o = np.zeros_like(c), np.ones_like(c)
+    E = np.stack(
+        [np.stack([c, s, z], -1), np.stack([-s, c, z], -1), np.stack([z, z, o], -1)], axis=-2
     )
-    return np.where(np.abs(wf) > dv_min, wf, dv_min)
+    return np.concatenate([E, np.cross(rel, E)], axis=-1)
 
 
 def force_and_derivative(
@@ -112,46 +142,31 @@ def force_and_derivative(
     return new, fk[0], jd, np.asarray(out.stress)[0]
 
 
-def implicit_force(
-    f0_w: FloatArray,
-    jd: FloatArray,
-    cs: FloatArray,
-    W: FloatArray,
-    acc: FloatArray,
-    dt: float,
+def implicit_wrench(
+    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float
 ) -> FloatArray:
-    r"""The linearly implicit force :math:`(I - \Delta t\,D\,W)^{-1}(F_0 + \Delta t\,D\,a)` (D62).
+    r"""The linearly implicit wrench :math:`(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)` (D62).
 
     Parameters
     ----------
-    f0_w : ndarray (N, nb, 3)
-        Explicit force in the world frame [N].
-    jd : ndarray (N, nb, 3)
-        Diagonal velocity derivative of the force in the foot frame [N s/m]; only its
-        dissipative (negative) part is used.
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
-    W : ndarray (N, nb, 3, 3)
-        Tip mobility [1/kg].
-    acc : ndarray (N, nb, 3)
-        Tip acceleration from all other forces [m/s^2].
+    w0 : ndarray (N, nb, 6)
+        Explicit wrench (force at the center of mass [N], torque [N m]), world frame.
+    K : ndarray (N, nb, 6, 6)
+        Symmetric, negative semi-definite damping of the wrench in the body twist (D62a).
+    W : ndarray (N, nb, 6, 6)
+        Mobility of the body twist.
+    acc : ndarray (N, nb, 6)
+        Twist acceleration from all other forces [m/s^2, rad/s^2].
     dt : float
         Time step [s].
 
     Returns
     -------
-    ndarray (N, nb, 3)
-        Stabilised force in the world frame [N].
+    ndarray (N, nb, 6)
+        Wrench to apply [N, N m].
     """
-    c, s = cs[..., 0], cs[..., 1]
-    dx, dy, dz = (np.minimum(jd[..., i], 0.0) for i in range(3))
-    D = np.zeros((*f0_w.shape, 3))  # world frame: R diag(dx, dy, dz) R^T, R the yaw
-    D[..., 0, 0] = c * c * dx + s * s * dy
-    D[..., 1, 1] = s * s * dx + c * c * dy
-    D[..., 0, 1] = D[..., 1, 0] = c * s * (dx - dy)
-    D[..., 2, 2] = dz
-    A = np.eye(3) - dt * (D @ W)
-    rhs = f0_w + dt * (D @ acc[..., None])[..., 0]
+    A = np.eye(6) - dt * (K @ W)
+    rhs = w0 + dt * (K @ acc[..., None])[..., 0]
     return cast(FloatArray, np.linalg.solve(A, rhs[..., None])[..., 0])
 
 

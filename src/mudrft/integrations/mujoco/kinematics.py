@@ -1,11 +1,12 @@
-r"""What the coupling reads from MuJoCo: body frames and velocities, and tip mobility.
+r"""What the coupling reads from MuJoCo: body frames, twists, and the 6x6 mobility.
 
-The *mobility* :math:`W` of a tip is the velocity change per unit impulse applied there,
-:math:`W = J M^{-1} J^T` with :math:`J` the tip's translational Jacobian and :math:`M`
-the joint-space inertia. The coupling's semi-implicit step needs it
+The *mobility* :math:`W` of a foot body is the change of its twist (velocity of its
+center of mass and angular velocity) per unit impulse of a wrench (force at the center
+of mass, torque), :math:`W = J M^{-1} J^T` with :math:`J` the body's 6 x nv Jacobian at
+its center of mass and :math:`M` the joint-space inertia. The coupling's semi-implicit step needs it
 (:class:`~mudrft.integrations.mujoco.MudBatch`, decision D62): :func:`chain_mobility`
 takes it from the whole model, :func:`body_mobility` from the body alone, as if the
-body were free (cheaper, and an upper bound: more damping in transients).
+body were free (cheaper, and an upper bound: more damping in transients; exact for a free body).
 
 Shapes: ``N`` robots (one ``MjData`` each), ``nb`` bodies; every array is in the world
 frame.
@@ -21,7 +22,7 @@ from numpy.typing import NDArray
 
 from ._lazy import _mujoco
 
-__all__ = ["body_frames", "body_mobility", "chain_mobility"]
+__all__ = ["body_frames", "body_mobility", "chain_mobility", "com_twist"]
 
 FloatArray = NDArray[np.float64]
 
@@ -71,11 +72,15 @@ def chain_mobility(
     model: Any,
     datas: Sequence[Any],
     ids: NDArray[np.int_],
-    tip: FloatArray,
+    com: FloatArray,
     jac: FloatArray,
     minv_jt: FloatArray,
 ) -> FloatArray:
-    """Mobility :math:`J M^{-1} J^T` of each tip from the whole model.
+    """Mobility :math:`J M^{-1} J^T` of each body's center of mass, 6x6, from the whole model.
+
+    :math:`J=(J_p; J_r)` is the Jacobian of the body's twist (velocity of its center of
+    mass, angular velocity) in the world frame; :math:`W` maps a wrench (force at the
+    center of mass, torque) to the change of that twist per unit impulse (D62).
 
     Parameters
     ----------
@@ -85,31 +90,31 @@ def chain_mobility(
         The ``N`` robots.
     ids : ndarray of int (nb,)
         Body ids.
-    tip : ndarray (N, nb, 3)
-        Tips in the world [m].
-    jac, minv_jt : ndarray (3, nv)
+    com : ndarray (N, nb, 3)
+        Centers of mass in the world [m].
+    jac, minv_jt : ndarray (6, nv)
         Work arrays (overwritten).
 
     Returns
     -------
-    ndarray (N, nb, 3, 3)
-        Mobility [1/kg].
+    ndarray (N, nb, 6, 6)
+        Mobility: [1/kg] (force to velocity), [1/(kg m)] (coupling) and [1/(kg m^2)]
+        (torque to angular velocity).
     """
     mj = _mujoco()
-    N, nb = tip.shape[:2]
-    W = np.empty((N, nb, 3, 3))
+    N, nb = com.shape[:2]
+    W = np.empty((N, nb, 6, 6))
+    jp, jr = jac[:3], jac[3:]
     for k, d in enumerate(datas):
         for j, b in enumerate(ids):
-            mj.mj_jac(model, d, jac, None, tip[k, j], int(b))
+            mj.mj_jac(model, d, jp, jr, com[k, j], int(b))
             mj.mj_solveM(model, d, minv_jt, jac)
             W[k, j] = jac @ minv_jt.T
     return W
 
 
-def body_mobility(
-    model: Any, datas: Sequence[Any], ids: NDArray[np.int_], tip: FloatArray, com: FloatArray
-) -> FloatArray:
-    r"""Mobility of each tip of a free body: :math:`I/m + [r]_\times I_c^{-1} [r]_\times^T`.
+def body_mobility(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> FloatArray:
+    r"""Mobility of each body as if it were free: :math:`\operatorname{diag}(I/m, I_c^{-1})`.
 
     Parameters
     ----------
@@ -119,27 +124,40 @@ def body_mobility(
         The ``N`` robots.
     ids : ndarray of int (nb,)
         Body ids.
-    tip : ndarray (N, nb, 3)
-        Tips in the world [m].
-    com : ndarray (N, nb, 3)
-        Body centers of mass in the world [m].
 
     Returns
     -------
-    ndarray (N, nb, 3, 3)
-        Mobility [1/kg].
+    ndarray (N, nb, 6, 6)
+        Mobility of the center-of-mass twist (see :func:`chain_mobility`).
     """
     mass = np.array(model.body_mass)[ids]
     inert = np.array(model.body_inertia)[ids]
-    N, nb = tip.shape[:2]
+    N, nb = len(datas), len(ids)
     Ri = np.stack([d.ximat for d in datas])[:, ids].reshape(N, nb, 3, 3)
-    inv_i = np.einsum("kbij,bj,kblj->kbil", Ri, 1.0 / np.maximum(inert, 1e-12), Ri)
-    r = tip - com
-    rx = np.zeros((N, nb, 3, 3))
-    rx[..., 0, 1], rx[..., 0, 2] = -r[..., 2], r[..., 1]
-    rx[..., 1, 0], rx[..., 1, 2] = r[..., 2], -r[..., 0]
-    rx[..., 2, 0], rx[..., 2, 1] = -r[..., 1], r[..., 0]
-    return (np.eye(3) / mass[:, None, None]) + rx @ inv_i @ np.swapaxes(rx, -1, -2)
+    W = np.zeros((N, nb, 6, 6))
+    W[..., :3, :3] = np.eye(3) / mass[:, None, None]
+    W[..., 3:, 3:] = np.einsum("kbij,bj,kblj->kbil", Ri, 1.0 / np.maximum(inert, 1e-12), Ri)
+    return W
+
+
+def com_twist(V: FloatArray, S: FloatArray, C: FloatArray) -> FloatArray:
+    """Twist of each body at its center of mass: (linear velocity [m/s], angular [rad/s]).
+
+    Parameters
+    ----------
+    V : ndarray (..., 6)
+        MuJoCo's ``cvel`` (angular, then linear velocity at ``S``).
+    S : ndarray (..., 3)
+        Root subtree centers of mass [m].
+    C : ndarray (..., 3)
+        Body centers of mass [m].
+
+    Returns
+    -------
+    ndarray (..., 6)
+    """
+    w = V[..., :3]
+    return np.concatenate([V[..., 3:] + _cross(w, C - S), w], axis=-1)
 
 
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:

@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..._validation import MudrftError, check_finite
 from ._lazy import _mujoco
 from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support
+from .pose import POSE_RESOLUTION, foot_triangles
 
 __all__ = ["BodyFoot", "body_foot", "lowest_points"]
 
@@ -51,6 +52,11 @@ class BodyFoot:
         Geom size as MuJoCo defines it [m].
     points : ndarray (k, 3)
         Mesh vertices in the body frame [m] (``kind == "points"``).
+    upright : ndarray (m, 3, 3) or None
+        Triangles of the foot in its own frame (:func:`~.pose.foot_triangles`) [m]; None
+        for a foot without a surface.
+    triangles : ndarray (m, 3, 3) or None
+        The same triangles in the body frame [m].
     """
 
     body: str
@@ -63,6 +69,8 @@ class BodyFoot:
     axes: NDArray[np.float64]
     size: NDArray[np.float64]
     points: NDArray[np.float64]
+    upright: NDArray[np.float64] | None = None
+    triangles: NDArray[np.float64] | None = None
 
 
 def _reference_pose(model: Any) -> Any:
@@ -78,7 +86,12 @@ def _body_geoms(model: Any, body_id: int) -> list[int]:
 
 
 def body_foot(
-    model: Any, body: str | int, foot: Any = None, *, tip: ArrayLike | None = None
+    model: Any,
+    body: str | int,
+    foot: Any = None,
+    *,
+    tip: ArrayLike | None = None,
+    resolution: int = POSE_RESOLUTION,
 ) -> BodyFoot:
     """Place a mudrft foot on a body of a MuJoCo model.
 
@@ -95,6 +108,8 @@ def body_foot(
     tip : array_like (3,) or None, keyword-only
         Tip in the body frame [m]; default the lowest point of that geom in the
         reference pose (the body origin when the body has no geom).
+    resolution : int, keyword-only
+        Mesh resolution of a curved closed-form foot's triangles (:func:`~.pose.foot_triangles`).
 
     Returns
     -------
@@ -156,17 +171,24 @@ def body_foot(
             f"foot for body {name!r} must be a mudrft foot (mudrft.feet), got {type(foot).__name__}"
         )
     tip_b = Rb.T @ (low_w - xb)
+    fwd_b = Rb.T @ fwd_w
+    up_b = Rb.T @ np.array([0.0, 0.0, 1.0])
+    frame = np.stack([fwd_b, np.cross(up_b, fwd_b), up_b], axis=-1)  # foot axes (columns)
+    upright = foot_triangles(foot, resolution=resolution)
+    tri_b = None if upright is None else tip_b + upright @ frame.T
     return BodyFoot(
         body=name,
         body_id=bid,
         foot=foot,
         tip=tip_b,
-        forward=Rb.T @ fwd_w,
+        forward=fwd_b,
         kind=kind,
         center=center,
         axes=axes,
         size=size,
         points=pts,
+        upright=upright,
+        triangles=tri_b,
     )
 
 

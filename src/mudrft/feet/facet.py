@@ -1,0 +1,253 @@
+r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
+
+The two rules :mod:`mudrft.feet.surface` applies to every facet, written once on the
+facet's coordinates as element-wise code over ``xp`` (:mod:`mudrft._xp`): numpy runs them
+on arrays of facets (``surface.prepare_triangles``, ``surface.clip_below``), JAX with
+``jax.numpy``, and :func:`mudrft.backends.numba.compile_scalar` compiles them on floats
+for the compiled MuJoCo coupling (decision D80).
+
+* :func:`facet_frame`: outward unit normal from the winding, area, :math:`|\mathbf n_h|=
+  \sin\psi_1`, unit horizontal normal and the vertical weight of eq. (6) on facets facing
+  down, :math:`w_z=\cos^3\psi_1+\sin^3\psi_1` (decision D21);
+* :func:`sort_by_height`: the vertices ordered by height (ties keep their order);
+* :func:`clip_constants`, :func:`submerged_area`: the exact submerged area;
+* :func:`clip_facet`: area and centroid of the part of the facet below the plane
+  :math:`z=d`, exact (0, 1, 2 or 3 vertices below);
+* :func:`fold_stresses`, :func:`facet_factors`, :func:`facet_force`: the element rule of
+  eqs. (6)-(7) on one submerged facet (decisions D21-D23, erratum E24).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "TOL",
+    "clip_constants",
+    "clip_facet",
+    "facet_factors",
+    "facet_force",
+    "facet_frame",
+    "fold_stresses",
+    "safe_div",
+    "sort_by_height",
+    "submerged_area",
+]
+
+#: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
+#: wall (no vertical force, decision D21).
+TOL = 1e-9
+
+
+def safe_div(num: Any, den: Any, *, xp: Any = np) -> Any:
+    """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
+    ok = den > 0
+    return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
+
+
+def facet_frame(
+    ax: Any, ay: Any, az: Any, bx: Any, by: Any, bz: Any, cx: Any, cy: Any, cz: Any, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
+    r"""Normal, area and the eq. (6) weights of a triangle (a, b, c) [m].
+
+    Returns
+    -------
+    tuple
+        ``(n_x, n_y, n_z, area, n_h, h_x, h_y, w_z)``: outward unit normal from the winding
+        (right-hand rule; zero for a zero-area facet) [-], area [m^2],
+        :math:`|\mathbf n_h|=\sin\psi_1` [-], unit horizontal normal :math:`\mathbf e_2`
+        (zero for a horizontal facet) [-], and :math:`\cos^3\psi_1+\sin^3\psi_1` on facets
+        facing down (:math:`-n_z>` :data:`TOL`), else 0 [-].
+    """
+    ux, uy, uz = bx - ax, by - ay, bz - az
+    vx, vy, vz = cx - ax, cy - ay, cz - az
+    rx = uy * vz - uz * vy
+    ry = uz * vx - ux * vz
+    rz = ux * vy - uy * vx
+    norm = xp.sqrt(rx * rx + ry * ry + rz * rz)
+    nx, ny, nz = safe_div(rx, norm, xp=xp), safe_div(ry, norm, xp=xp), safe_div(rz, norm, xp=xp)
+    nh = xp.sqrt(nx * nx + ny * ny)  # sin(psi1)
+    c1 = -nz  # cos(psi1)
+    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
+    wz = xp.where(c1 > TOL, c1 * c1 * c1 + nh * nh * nh, 0.0)
+    return nx, ny, nz, 0.5 * norm, nh, safe_div(nx, nh, xp=xp), safe_div(ny, nh, xp=xp), wz
+
+
+def sort_by_height(
+    ax: Any, ay: Any, az: Any, bx: Any, by: Any, bz: Any, cx: Any, cy: Any, cz: Any, *, xp: Any = np
+) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any, Any]:
+    """The vertices (lo, mid, hi) ordered by height; equal heights keep their order [m]."""
+    ab = az <= bz
+    px, py, pz = xp.where(ab, ax, bx), xp.where(ab, ay, by), xp.where(ab, az, bz)
+    qx, qy, qz = xp.where(ab, bx, ax), xp.where(ab, by, ay), xp.where(ab, bz, az)
+    first = cz < pz  # c below both
+    second = (cz < qz) & (cz >= pz)  # c between
+    lo = (xp.where(first, cx, px), xp.where(first, cy, py), xp.where(first, cz, pz))
+    mid = (
+        xp.where(first, px, xp.where(second, cx, qx)),
+        xp.where(first, py, xp.where(second, cy, qy)),
+        xp.where(first, pz, xp.where(second, cz, qz)),
+    )
+    hi = (
+        xp.where(first | second, qx, cx),
+        xp.where(first | second, qy, cy),
+        xp.where(first | second, qz, cz),
+    )
+    return lo[0], lo[1], lo[2], mid[0], mid[1], mid[2], hi[0], hi[1], hi[2]
+
+
+def clip_constants(za: Any, zb: Any, zc: Any, area: Any, *, xp: Any = np) -> tuple[Any, Any, Any]:
+    """Constants of the submerged area of a facet with sorted vertex heights [m].
+
+    Returns ``(k_low, k_high, flat_area)``: the submerged area is ``k_low (d - z_a)^2`` with
+    only the lowest vertex submerged and ``area - k_high (z_c - d)^2`` with two [-];
+    ``flat_area`` is the area of a facet with no height span, else 0 [m^2]. Spans below
+    1e-100 m count as flat (avoids overflow of the constants).
+    """
+    span1 = (zb - za) * (zc - za)
+    span2 = (zc - za) * (zc - zb)
+    k_low = safe_div(area, xp.where(span1 > 1e-200, span1, 0.0), xp=xp)
+    k_high = safe_div(area, xp.where(span2 > 1e-200, span2, 0.0), xp=xp)
+    flat_area = xp.where((span1 > 1e-200) | (span2 > 1e-200), 0.0, area)
+    return k_low, k_high, flat_area
+
+
+def submerged_area(
+    za: Any, zb: Any, zc: Any, k_low: Any, k_high: Any, flat_area: Any, depth: Any, *, xp: Any = np
+) -> Any:
+    r"""Exact area of a facet below the plane :math:`z=d` [m^2] (sorted heights [m]).
+
+    Piecewise quadratic in the depth, written with clamps rather than branches:
+    :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
+    plus the whole area of a horizontal facet once the plane is above it (strictly).
+    """
+    lo = xp.minimum(xp.maximum(depth - za, 0.0), zb - za)
+    hi = xp.minimum(xp.maximum(zc - depth, 0.0), zc - zb)
+    d2 = zc - zb
+    return k_low * lo * lo + k_high * (d2 * d2 - hi * hi) + xp.where(depth > za, flat_area, 0.0)
+
+
+def clip_facet(
+    ax: Any,
+    ay: Any,
+    az: Any,
+    bx: Any,
+    by: Any,
+    bz: Any,
+    cx: Any,
+    cy: Any,
+    cz: Any,
+    k_low: Any,
+    k_high: Any,
+    flat_area: Any,
+    depth: Any,
+    *,
+    xp: Any = np,
+) -> tuple[Any, Any, Any, Any]:
+    r"""Exact area and centroid of the part of a facet below the plane :math:`z=d`.
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz : array_like
+        Vertices sorted by height (:func:`sort_by_height`) [m].
+    k_low, k_high, flat_area : array_like
+        From :func:`clip_constants`.
+    depth : array_like
+        Height :math:`d` of the plane [m].
+    xp : module, keyword-only
+        Element-wise namespace.
+
+    Returns
+    -------
+    tuple
+        Submerged area [m^2] (piecewise quadratic in the depth:
+        :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
+        plus the whole area of a horizontal facet once the plane is above it, strictly) and
+        the centroid of the submerged polygon (the facet's centroid where nothing is
+        submerged) [m].
+    """
+    d = depth
+    area = submerged_area(az, bz, cz, k_low, k_high, flat_area, d, xp=xp)
+    one_low = (d > az) & (d <= bz)  # only the lowest vertex submerged: a small triangle
+    two_low = (d > bz) & (d < cz)  # two submerged: the facet minus a top triangle
+    t_ab = safe_div(d - az, bz - az, xp=xp)
+    t_ac = safe_div(d - az, cz - az, xp=xp)
+    s_ca = safe_div(cz - d, cz - az, xp=xp)
+    s_cb = safe_div(cz - d, cz - bz, xp=xp)
+    top = s_ca * s_cb
+    rest = 1.0 - top
+    # one vertex below: triangle (A, A + t_ab (B-A), A + t_ac (C-A))
+    # two below: whole facet minus the top triangle (C, C + s_ca (A-C), C + s_cb (B-C))
+    fx = (ax + bx + cx) / 3.0
+    fy = (ay + by + cy) / 3.0
+    fz = (az + bz + cz) / 3.0
+    x1 = ax + (t_ab * (bx - ax) + t_ac * (cx - ax)) / 3.0
+    y1 = ay + (t_ab * (by - ay) + t_ac * (cy - ay)) / 3.0
+    z1 = az + (t_ab * (bz - az) + t_ac * (cz - az)) / 3.0
+    x2 = safe_div(fx - top * (cx + (s_ca * (ax - cx) + s_cb * (bx - cx)) / 3.0), rest, xp=xp)
+    y2 = safe_div(fy - top * (cy + (s_ca * (ay - cy) + s_cb * (by - cy)) / 3.0), rest, xp=xp)
+    z2 = safe_div(fz - top * (cz + (s_ca * (az - cz) + s_cb * (bz - cz)) / 3.0), rest, xp=xp)
+    return (
+        area,
+        xp.where(one_low, x1, xp.where(two_low, x2, fx)),
+        xp.where(one_low, y1, xp.where(two_low, y2, fy)),
+        xp.where(one_low, z1, xp.where(two_low, z2, fz)),
+    )
+
+
+def fold_stresses(sx: Any, sy: Any, heading: Any, *, xp: Any = np) -> tuple[Any, Any, Any, Any]:
+    r"""Horizontal channel stresses measured along the motion, and its direction.
+
+    Returns ``(sq_x, sq_y, u_x, u_y)``: :math:`\sigma_x\operatorname{sgn}\cos h`,
+    :math:`\sigma_y\operatorname{sgn}\sin h` (positive when resisting the motion; sgn 0 =
+    +1, as :func:`mudrft.feet.base.first_quadrant`) [Pa] and :math:`(\cos h, \sin h)` [-].
+    """
+    ux, uy = xp.cos(heading), xp.sin(heading)
+    return sx * xp.where(ux < 0, -1.0, 1.0), sy * xp.where(uy < 0, -1.0, 1.0), ux, uy
+
+
+def facet_factors(
+    hx: Any, hy: Any, ux: Any, uy: Any, trailing: bool, *, xp: Any = np
+) -> tuple[Any, Any]:
+    r"""The factors :math:`(\tilde f_n, \tilde f_t)` of eq. (7) of a facet for a motion.
+
+    With :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
+    :math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}`: :math:`\cos\psi_2|\cos\psi_2|`
+    and :math:`\sin\psi_2|\sin\psi_2|` on every facet with ``trailing`` (D23), else on
+    leading facets only (:math:`\psi_2\in(-\pi/2,\pi/2]`, tie rule of D22), 0 elsewhere.
+    """
+    cos2 = hx * ux + hy * uy  # cos(psi2)
+    sin2 = hx * uy - hy * ux  # sin(psi2) = t . u with t = e_z x e2
+    if trailing:
+        return cos2 * xp.abs(cos2), sin2 * xp.abs(sin2)
+    lead = (cos2 > TOL) | ((xp.abs(cos2) <= TOL) & (sin2 > 0))
+    return xp.where(lead, cos2 * cos2, 0.0), xp.where(lead, sin2 * xp.abs(sin2), 0.0)
+
+
+def facet_force(
+    area: Any,
+    nh: Any,
+    hx: Any,
+    hy: Any,
+    wz: Any,
+    sqx: Any,
+    sqy: Any,
+    sz: Any,
+    fn: Any,
+    ft: Any,
+    *,
+    xp: Any = np,
+) -> tuple[Any, Any, Any]:
+    r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].
+
+    :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t\hat{\mathbf t}]
+    |\mathbf n_h|dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` (folded
+    stresses, D22; :math:`\hat{\mathbf t}=(-\hat n_y,\hat n_x)`) and
+    :math:`dF_z=w_z\sigma_z dS`; ``area`` = :math:`dS` [m^2], the facet's frame from
+    :func:`facet_frame`, the folded stresses from :func:`fold_stresses` [Pa], the factors
+    from :func:`facet_factors`.
+    """
+    w = -(sqx * hx * hx + sqy * hy * hy) * nh * area  # -sigma_e |n_h| dS
+    return w * (fn * hx - ft * hy), w * (fn * hy + ft * hx), wz * sz * area

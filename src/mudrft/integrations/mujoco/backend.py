@@ -1,0 +1,173 @@
+"""The numba backend of the coupling: arrays for :func:`.compiled.coupling_kernel` (D68a).
+
+:class:`CompiledCoupling` holds what the compiled kernel needs: the model's tree and
+mass-matrix sparsity, each body's foot (triangles, tip, forward axis, mud constants,
+closed form), the state of the mud under every foot as rows of floats
+(:func:`mudrft.backends.numba.state_rows`), and views of every ``MjData``'s arrays (views
+stay valid: MuJoCo never reallocates them). :class:`~.batch.MudBatch` calls
+:meth:`CompiledCoupling.apply` once per physics step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..._validation import MudrftError
+from ...backends.numba import N_STATE, config_row, constant_row, state_rows
+from ...feet.mesh import MeshFoot
+from ...feet.surface import prepare_triangles
+from ...terrains.mud import MudTerrain
+from .compiled import N_OUT, coupling_kernel, upright_rows
+
+__all__ = ["CompiledCoupling", "check_compilable", "choose_backend"]
+
+
+def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
+    """Raise unless the numba backend supports this terrain and these feet."""
+    if not isinstance(terrain, MudTerrain):
+        raise MudrftError(
+            f"backend='numba' needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}; "
+            "use backend='numpy' for other terrains"
+        )
+    for b in bodies:
+        if not _compilable_foot(b.foot) or b.triangles is None:
+            raise MudrftError(
+                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere) "
+                f"and mesh feet (MeshFoot); body {b.body!r} has a {type(b.foot).__name__}: "
+                "use backend='numpy'"
+            )
+
+
+def _compilable_foot(foot: Any) -> bool:
+    return bool(getattr(foot, "elementwise", False)) or isinstance(foot, MeshFoot)
+
+
+def _geometry_row(foot: Any) -> list[float]:
+    """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, or (3, trailing)."""
+    if isinstance(foot, MeshFoot):
+        return [3.0, float(foot.trailing), 0.0, 0.0]
+    return [float(v) for v in foot.kernel_geometry]
+
+
+def choose_backend(backend: str, mud: Any, foot: Any) -> str:
+    """``"numba"`` or ``"numpy"`` for ``backend="auto"``: the compiled coupling where numba
+    is installed, the terrain is the mud and the foot a closed form or a mesh; otherwise as
+    given."""
+    if backend != "auto":
+        return backend
+    from ...backends.numba import available
+    from ...parameters.base import Mud
+
+    mud_ok = isinstance(mud, Mud | MudTerrain)
+    return "numba" if available() and _compilable_foot(foot) and mud_ok else "numpy"
+
+
+class CompiledCoupling:
+    """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`."""
+
+    def __init__(self, batch: Any) -> None:
+        m = batch.model
+        self.batch = batch
+        self.kernel = coupling_kernel()
+        self.model_i = np.ascontiguousarray(
+            np.stack(
+                [m.body_dofadr, m.body_dofnum, m.body_parentid, m.body_rootid], axis=-1
+            ).astype(np.int64)
+        )
+        self.dof_parentid = np.asarray(m.dof_parentid, dtype=np.int64)
+        self.rownnz = np.asarray(m.M_rownnz, dtype=np.int64)
+        self.rowadr = np.asarray(m.M_rowadr, dtype=np.int64)
+        self.colind = np.asarray(m.M_colind, dtype=np.int64)
+        self.mass = np.asarray(m.body_mass, dtype=float)
+        self.inertia = np.ascontiguousarray(m.body_inertia, dtype=float)
+        bodies = batch.bodies
+        self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id])] for b in bodies])
+        self.tip = np.ascontiguousarray([b.tip for b in bodies], dtype=float)
+        self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
+        sizes = [len(b.triangles) for b in bodies]
+        self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        self.tri_b = np.ascontiguousarray(np.concatenate([b.triangles for b in bodies]))
+        ups = [upright_rows(prepare_triangles(b.upright)) for b in bodies]
+        self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
+        self.tri_up = np.ascontiguousarray(np.concatenate(ups))
+        t = batch.terrain
+        self.consts = np.ascontiguousarray(
+            np.broadcast_to(constant_row(*t.constants), (len(bodies), 24))
+        )
+        self.cfg = np.array([config_row(t, b.foot) for b in bodies])
+        self.geom = np.array([_geometry_row(b.foot) for b in bodies])
+        n, nb = batch.n, len(bodies)
+        self.mud = np.zeros((n, nb, N_STATE))
+        self.odo = np.zeros((n, nb, 4))
+        self.tw_prev = np.zeros((n, nb, 6))
+        self.wv_prev = np.zeros((n, nb, 6))
+        self.out = np.zeros((n, nb, N_OUT))
+        self.addr = np.zeros((n, 10), dtype=np.int64)
+        self.sizes = np.zeros(3, dtype=np.int64)
+        self.datas: list[Any] = []
+        self.opts = np.zeros(12)
+
+    def reset(self, datas: Sequence[Any], states: Sequence[Any], pos: np.ndarray) -> None:
+        """Mud rows from the numpy coupling's initial states; odometry from ``pos``."""
+        b = self.batch
+        for (_, idx), st in zip(b._groups, states, strict=True):
+            rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
+            self.mud[:, idx] = rows
+        self.odo[..., :2] = pos[..., :2]
+        self.odo[..., 2:] = b._world_xy
+        self.tw_prev[:] = 0.0
+        self.wv_prev[:] = 0.0
+        fields = ("xpos", "xmat", "xipos", "ximat", "cvel", "subtree_com", "cdof", "qLD",
+                  "qLDiagInv", "xfrc_applied")  # fmt: skip
+        self.datas = list(datas)  # keep them alive: the kernel reads their memory
+        for k, d in enumerate(datas):
+            for i, f in enumerate(fields):
+                a = getattr(d, f)
+                if a.dtype != np.float64 or not a.flags.c_contiguous:
+                    raise MudrftError(f"MjData.{f} must be contiguous float64 for backend='numba'")
+                self.addr[k, i] = a.ctypes.data
+        m = b.model
+        self.sizes[:] = (m.nbody, m.nv, len(datas[0].qLD))
+        bottom = -1.0 if b.bottom is None else b.bottom
+        g = np.asarray(m.opt.gravity, dtype=float)
+        self.opts = np.array(
+            [float(m.opt.timestep), b.surface, float(b.implicit), float(b.mobility == "chain"),
+             bottom, b.bottom_stiffness, b.bottom_damping, b._dv_min, g[0], g[1], g[2], 0.0]
+        )  # fmt: skip
+
+    def apply(self, has_prev: bool) -> int:
+        """One compiled step of every body of every robot, outputs in :attr:`out`; returns
+        the number of bodies whose wrench is not finite."""
+        self.opts[11] = 1.0 if has_prev else 0.0
+        return int(
+            self.kernel(
+                self.addr,
+                self.sizes,
+                self.model_i,
+                self.dof_parentid,
+                self.rownnz,
+                self.rowadr,
+                self.colind,
+                self.mass,
+                self.inertia,
+                self.ids,
+                self.tip,
+                self.fwd,
+                self.tri_adr,
+                self.tri_b,
+                self.up_adr,
+                self.tri_up,
+                self.consts,
+                self.cfg,
+                self.geom,
+                self.opts,
+                self.mud,
+                self.odo,
+                self.tw_prev,
+                self.wv_prev,
+                self.out,
+            )
+        )

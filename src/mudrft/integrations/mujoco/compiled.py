@@ -1,0 +1,496 @@
+r"""The compiled coupling: one numba call per physics step for all feet of all robots (D68a).
+
+:class:`~mudrft.integrations.mujoco.MudBatch` with ``backend="numba"`` runs, between
+``mj_step1`` and ``mj_step2``, one compiled call (:func:`coupling_kernel`) that does for
+every body of every robot what the numpy coupling does with arrays:
+
+1. reads the body's pose and twist from MuJoCo's arrays (``xpos``, ``xmat``, ``xipos``,
+   ``cvel``, ``subtree_com``);
+2. clips the foot's triangles in their current pose and sums the channel weights, points
+   and second moments (D60a) with the feet's own element-wise facet rules
+   (:mod:`mudrft.feet.facet`) and :func:`~.pose.channel_weights`;
+3. steps the mud four times from the same state (the motion and the three secant nudges,
+   D63) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and the closed
+   form (:func:`mudrft.feet.closed_form.closed_form_force`), keeping the first;
+4. assembles the wrench and its damping (D62a), computes the 6x6 mobility from MuJoCo's
+   ``cdof`` and the factorised mass matrix (``qLD``: the port of ``mj_jac`` and
+   ``mj_solveLD`` below), solves the implicit step (D62) and writes ``xfrc_applied``.
+
+The physics (mud step, closed forms, facet rules) is compiled from its one source by
+:func:`mudrft.backends.numba.compile_scalar`; what is written here is the coupling's own
+bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
+arrays, and the test ``test_compiled_coupling_equals_numpy`` keeps the two equal (1e-9 over
+a 2 s walk of the biped).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import types
+from typing import Any
+
+import numpy as np
+
+from ...backends.numba import N_STATE, _constants, _numba, compile_scalar
+from ...constitutive.state import ChannelState
+from ...feet.closed_form import closed_form_force
+from ...feet.facet import (
+    clip_constants,
+    clip_facet,
+    facet_factors,
+    facet_force,
+    facet_frame,
+    fold_stresses,
+    sort_by_height,
+    submerged_area,
+)
+from ...terrains.mud import MudChannels, mud_step
+from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
+from .pose import channel_weights
+
+__all__ = ["N_OUT", "coupling_kernel", "upright_rows"]
+
+#: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
+#: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
+N_OUT = 23
+
+
+def _geometry(tri: Any, M: Any, sh: Any, v: Any, scratch: Any, out: Any) -> None:
+    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`).
+
+    ``out`` = (A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3)), 42 floats; ``v`` (9)
+    and ``scratch`` (m, 6) (weights, centroid of each facet) are work arrays.
+    """
+    m = tri.shape[0]
+    for q in range(12):
+        out[q] = 0.0
+    lowz, lx, ly = np.inf, 0.0, 0.0
+    for f in range(m):
+        for k in range(3):
+            for i in range(3):
+                v[3 * k + i] = (
+                    M[i, 0] * tri[f, k, 0] + M[i, 1] * tri[f, k, 1] + M[i, 2] * tri[f, k, 2]
+                ) + sh[i]
+            if v[3 * k + 2] < lowz:
+                lowz, lx, ly = v[3 * k + 2], v[3 * k], v[3 * k + 1]
+        if v[2] >= 0.0 and v[5] >= 0.0 and v[8] >= 0.0:  # above the surface: no weight
+            for c in range(6):
+                scratch[f, c] = 0.0
+            continue
+        _nx, _ny, _nz, area, nh, hx, hy, wz = _frame(
+            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]
+        )
+        s0, s1, s2, s3, s4, s5, s6, s7, s8 = _sort(
+            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]
+        )
+        kl, kh, fa = _const(s2, s5, s8, area)
+        sub, cx, cy, cz = _clip(s0, s1, s2, s3, s4, s5, s6, s7, s8, kl, kh, fa, 0.0)
+        w0, w1, w2 = _weights(sub, nh, hx, hy, wz)
+        scratch[f, 0], scratch[f, 1], scratch[f, 2] = w0, w1, w2
+        scratch[f, 3], scratch[f, 4], scratch[f, 5] = cx, cy, cz
+        out[0] += w0
+        out[1] += w1
+        out[2] += w2
+        out[3] += w0 * cx
+        out[4] += w0 * cy
+        out[5] += w0 * cz
+        out[6] += w1 * cx
+        out[7] += w1 * cy
+        out[8] += w1 * cz
+        out[9] += w2 * cx
+        out[10] += w2 * cy
+        out[11] += w2 * cz
+    for c in range(3):
+        a = out[c]
+        if a > 0.0:
+            out[3 + 3 * c] /= a
+            out[4 + 3 * c] /= a
+            out[5 + 3 * c] /= a
+        else:
+            out[3 + 3 * c], out[4 + 3 * c], out[5 + 3 * c] = lx, ly, lowz
+    for q in range(12, 39):
+        out[q] = 0.0
+    for f in range(m):
+        for c in range(3):
+            w = scratch[f, c]
+            if w == 0.0:
+                continue
+            rx = scratch[f, 3] - out[3 + 3 * c]
+            ry = scratch[f, 4] - out[4 + 3 * c]
+            rz = scratch[f, 5] - out[5 + 3 * c]
+            if c == 0:
+                q0, q1, q2 = 0.0, rz, -ry
+            elif c == 1:
+                q0, q1, q2 = -rz, 0.0, rx
+            else:
+                q0, q1, q2 = ry, -rx, 0.0
+            base = 12 + 9 * c
+            out[base + 0] += w * q0 * q0
+            out[base + 1] += w * q0 * q1
+            out[base + 2] += w * q0 * q2
+            out[base + 3] += w * q1 * q0
+            out[base + 4] += w * q1 * q1
+            out[base + 5] += w * q1 * q2
+            out[base + 6] += w * q2 * q0
+            out[base + 7] += w * q2 * q1
+            out[base + 8] += w * q2 * q2
+    out[39], out[40], out[41] = lx, ly, lowz
+
+
+def _upright_area(up: Any, depth: float, a: Any) -> None:
+    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`).
+
+    ``up`` (m, 10): per prepared facet z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
+    h_y, w_z (:func:`upright_rows`).
+    """
+    a[0], a[1], a[2] = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # above the surface
+            continue
+        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
+        w0, w1, w2 = _weights(sub, r[6], r[7], r[8], r[9])
+        a[0] += w0
+        a[1] += w1
+        a[2] += w2
+
+
+def upright_rows(prepared: Any) -> Any:
+    """Rows (m, 10) of the prepared upright facets for :func:`_upright_area`."""
+    p = prepared
+    cols = (p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, p.nh, p.hx, p.hy, p.wz)
+    return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
+
+
+def _mesh_force(up: Any, depth: float, sx: float, sy: float, sz: float, heading: float,
+                trailing: bool) -> Any:  # fmt: skip
+    """Force of the mud on an upright mesh foot [N]: the element rule summed over its
+    prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
+    sqx, sqy, ux, uy = _fold(sx, sy, heading)
+    fx, fy, fz = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # not submerged
+            continue
+        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
+        fn, ft = _factors(r[7], r[8], ux, uy, trailing)
+        a, b, c = _fforce(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft)
+        fx += a
+        fy += b
+        fz += c
+    return fx, fy, fz
+
+
+def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, up: Any,
+               row: Any) -> Any:  # fmt: skip
+    """One mud step of one foot from state row ``s`` (not modified), the new state written
+    to ``row`` (N_STATE); returns (fx, fy, fz, sx, sy, sz, depth) [N, Pa, m]."""
+    hor = _constants(c, 0, 0)
+    ver = _constants(c, 0, 12)
+    ch = MudChannels(
+        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
+        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
+        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
+        s[21], s[22], s[23], s[24],
+    )  # fmt: skip
+    new, sx, sy, sz, depth = _step(
+        (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
+        cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
+    )  # fmt: skip
+    if geom[0] == 3.0:  # a mesh foot
+        fx, fy, fz = _mesh_force(up, depth, sx, sy, sz, new.heading, geom[1] != 0.0)
+    else:  # a closed form
+        fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz,
+                            new.heading)  # fmt: skip
+    k = 0
+    for chan in (new.x, new.y, new.z):
+        for v in chan:
+            row[k] = v
+            k += 1
+    row[21], row[22], row[23], row[24] = new.entry_x, new.entry_y, new.heading, new.in_mud
+    inside = new.in_mud
+    return (fx * inside, fy * inside, fz * inside, sx * inside, sy * inside, sz * inside,
+            depth)  # fmt: skip
+
+
+def _kernel(
+    addr: Any, sizes: Any,
+    model_i: Any, dof_parentid: Any, rownnz: Any, rowadr: Any, colind: Any,
+    mass: Any, inertia: Any,
+    bodies: Any, tip: Any, fwd: Any, tri_adr: Any, tri_b: Any, up_adr: Any, tri_up: Any,
+    consts: Any, cfg: Any, geom: Any, opts: Any,
+    mud: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any,
+) -> int:  # fmt: skip
+    """One coupling step of every body of every robot (see the module docstring).
+
+    Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
+    ximat, cvel, subtree_com, cdof, qLD, qLDiagInv, xfrc_applied; ``sizes`` = nbody, nv,
+    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root), tip/forward in the body frame,
+    posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
+    ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
+    kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
+    surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
+    has_prev). State ``mud`` (N, nb, N_STATE), ``odo`` (N, nb, 4: foot-frame xy, world xy),
+    ``tw_prev``, ``wv_prev`` (N, nb, 6) updated in place; ``out`` (N, nb, N_OUT).
+    Returns the number of bodies whose wrench is not finite.
+    """
+    dt, surface = opts[0], opts[1]
+    implicit, chain = opts[2] != 0.0, opts[3] != 0.0
+    bottom, kb, cb, dv_min = opts[4], opts[5], opts[6], opts[7]
+    has_prev = opts[11] != 0.0
+    n_rob, nb = mud.shape[0], mud.shape[1]
+    nbody, nv, nld = sizes[0], sizes[1], sizes[2]
+    # work arrays, allocated once per call
+    jac, mj = np.empty((6, nv)), np.empty((6, nv))
+    geo, aup, v = np.empty(42), np.empty(3), np.empty(9)
+    scratch = np.empty((tri_b.shape[0], 6))
+    tw, tipw, sh, ratio, u, un, pos = (np.empty(6), np.empty(3), np.empty(3), np.empty(3),
+                                       np.empty(3), np.empty(3), np.empty(3))  # fmt: skip
+    F, D, w0, wr, acc6, bl = (np.empty(3), np.empty(3), np.empty(6), np.empty(6),
+                              np.empty(6), np.empty(6))  # fmt: skip
+    M, E, spread = np.empty((3, 3)), np.zeros((3, 3)), np.empty((3, 3))
+    b, K, W, A = np.empty((3, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6))
+    row, dummy = np.empty(N_STATE), np.empty(N_STATE)
+    bad = 0
+    for k in range(n_rob):
+        a = addr[k]
+        xpos = carray(_ptr(a[0]), (nbody, 3))
+        xmat = carray(_ptr(a[1]), (nbody, 9))
+        xipos = carray(_ptr(a[2]), (nbody, 3))
+        ximat = carray(_ptr(a[3]), (nbody, 9))
+        cvel = carray(_ptr(a[4]), (nbody, 6))
+        subtree = carray(_ptr(a[5]), (nbody, 3))
+        cdof = carray(_ptr(a[6]), (nv, 6))
+        qld = carray(_ptr(a[7]), (nld,))
+        qldinv = carray(_ptr(a[8]), (nv,))
+        xfrc = carray(_ptr(a[9]), (nbody, 6))
+        for j in range(nb):
+            body, root = bodies[j, 0], bodies[j, 1]
+            X, R, C = xpos[body], xmat[body], xipos[body]
+            V, S = cvel[body], subtree[root]
+            # twist at the center of mass
+            dx, dy, dz = C[0] - S[0], C[1] - S[1], C[2] - S[2]
+            tw[0] = V[3] + (V[1] * dz - V[2] * dy)
+            tw[1] = V[4] + (V[2] * dx - V[0] * dz)
+            tw[2] = V[5] + (V[0] * dy - V[1] * dx)
+            tw[3], tw[4], tw[5] = V[0], V[1], V[2]
+            for i in range(3):
+                tipw[i] = X[i] + (R[3 * i] * tip[j, 0] + R[3 * i + 1] * tip[j, 1]
+                                  + R[3 * i + 2] * tip[j, 2])  # fmt: skip
+            fw0 = R[0] * fwd[j, 0] + R[1] * fwd[j, 1] + R[2] * fwd[j, 2]
+            fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
+            h = max(math.hypot(fw0, fw1), 1e-12)
+            c, s = fw0 / h, fw1 / h
+            # the posed foot in the yaw frame (origin: center of mass horizontally, surface)
+            for i in range(3):
+                M[0, i] = c * R[i] + s * R[3 + i]
+                M[1, i] = -s * R[i] + c * R[3 + i]
+                M[2, i] = R[6 + i]
+            ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
+            sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
+            _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
+            depth = max(-geo[41], 0.0)
+            upj = tri_up[up_adr[j] : up_adr[j + 1]]
+            _upright_area(upj, depth, aup)
+            for q in range(3):
+                ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
+            # channel points relative to the center of mass, rows b_c, channel velocities
+            E[0, 0], E[0, 1], E[1, 0], E[1, 1], E[2, 2] = c, s, -s, c, 1.0
+            for q in range(3):
+                px, py, pz = geo[3 + 3 * q], geo[4 + 3 * q], geo[5 + 3 * q]
+                rx, ry, rz = c * px - s * py, s * px + c * py, pz + (surface - C[2])
+                ex, ey, ez = E[q, 0], E[q, 1], E[q, 2]
+                b[q, 0], b[q, 1], b[q, 2] = ex, ey, ez
+                b[q, 3], b[q, 4], b[q, 5] = ry * ez - rz * ey, rz * ex - rx * ez, rx * ey - ry * ex
+                acc = 0.0
+                for i in range(6):
+                    acc += b[q, i] * tw[i]
+                u[q] = acc
+            # odometry of the tip in the foot frame (D65)
+            o = odo[k, j]
+            was_in = mud[k, j, 18] > 0.5
+            xy0 = tipw[0] - o[2] if was_in else tipw[0]
+            xy1 = tipw[1] - o[3] if was_in else tipw[1]
+            b0 = o[0] if was_in else 0.0
+            b1 = o[1] if was_in else 0.0
+            pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
+            o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
+            # the mud, and the secant derivative (D63); out of the mud every force is 0
+            cj = consts[j : j + 1]
+            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row)
+            for q in range(3):
+                F[q] = ratio[q] * r0[q]
+                D[q] = 0.0
+            if implicit and (was_in or depth > 0.0):
+                for q in range(3):
+                    dv = 0.0
+                    for i in range(6):
+                        dv += b[q, i] * wv_prev[k, j, i]
+                    dv = dt * dv
+                    st = dv if abs(dv) > dv_min else dv_min
+                    un[0], un[1], un[2] = u[0], u[1], u[2]
+                    un[q] += st
+                    rq = _mud_force(cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, dummy)
+                    D[q] = ratio[q] * min((rq[q] - r0[q]) / st, 0.0)
+            for i in range(N_STATE):
+                mud[k, j, i] = row[i]
+            for i in range(6):
+                w0[i] = F[0] * b[0, i] + F[1] * b[1, i] + F[2] * b[2, i]
+            if implicit:
+                for i in range(6):
+                    for l in range(6):
+                        K[i, l] = (
+                            D[0] * b[0, i] * b[0, l]
+                            + D[1] * b[1, i] * b[1, l]
+                            + (D[2] * b[2, i] * b[2, l])
+                        )
+                spread[:, :] = 0.0
+                for q in range(3):
+                    pa = D[q] / geo[q] if geo[q] > 0.0 else 0.0
+                    if pa == 0.0:
+                        continue
+                    base = 12 + 9 * q
+                    for i in range(3):  # R_z J R_z^T
+                        for l in range(3):
+                            acc = 0.0
+                            for m1 in range(3):
+                                for m2 in range(3):
+                                    acc += E[m1, i] * geo[base + 3 * m1 + m2] * E[m2, l]
+                            spread[i, l] += pa * acc
+                for i in range(3):
+                    for l in range(3):
+                        K[3 + i, 3 + l] += spread[i, l]
+                        w0[3 + i] += spread[i, l] * tw[3 + l]
+            if bottom >= 0.0:  # rigid bottom on the lowest point (D67)
+                lx, ly = c * geo[39] - s * geo[40], s * geo[39] + c * geo[40]
+                bl[0], bl[1], bl[2], bl[3], bl[4], bl[5] = 0.0, 0.0, 1.0, ly, -lx, 0.0
+                vz = 0.0
+                for i in range(6):
+                    vz += bl[i] * tw[i]
+                pen = depth - bottom
+                fb = kb * pen - cb * vz
+                if pen > 0.0 and fb > 0.0:
+                    for i in range(6):
+                        w0[i] += fb * bl[i]
+                        if implicit:
+                            for l in range(6):
+                                K[i, l] -= cb * bl[i] * bl[l]
+            for i in range(6):
+                wr[i] = w0[i]
+            if implicit:
+                if chain:
+                    _jacobian(jac, body, C, model_i, dof_parentid, cdof, subtree)
+                    for i in range(6):
+                        for d in range(nv):
+                            mj[i, d] = jac[i, d]
+                        _ld_solve(mj[i], qld, qldinv, rownnz, rowadr, colind)
+                    for i in range(6):
+                        for l in range(6):
+                            acc = 0.0
+                            for d in range(nv):
+                                acc += jac[i, d] * mj[l, d]
+                            W[i, l] = acc
+                else:
+                    W[:, :] = 0.0
+                    Ri = ximat[body]
+                    for i in range(3):
+                        W[i, i] = 1.0 / mass[body]
+                        for l in range(3):
+                            acc = 0.0
+                            for d in range(3):
+                                acc += Ri[3 * i + d] / max(inertia[body, d], 1e-12) * Ri[3 * l + d]
+                            W[3 + i, 3 + l] = acc
+                for i in range(6):
+                    if has_prev:
+                        acc6[i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
+                    else:
+                        acc6[i] = opts[8 + i] if i < 3 else 0.0
+                for i in range(6):
+                    for l in range(6):
+                        kw = 0.0
+                        for d in range(6):
+                            kw += K[i, d] * W[d, l]
+                        A[i, l] = (1.0 if i == l else 0.0) - dt * kw
+                    ka = 0.0
+                    for d in range(6):
+                        ka += K[i, d] * acc6[d]
+                    wr[i] = w0[i] + dt * ka
+                _solve6(A, wr)
+                for i in range(6):
+                    acc = 0.0
+                    for d in range(6):
+                        acc += W[i, d] * wr[d]
+                    wv_prev[k, j, i] = acc
+            finite = True
+            for i in range(6):
+                tw_prev[k, j, i] = tw[i]
+                finite = finite and math.isfinite(wr[i])
+                xfrc[body, i] = wr[i]
+            # outputs
+            r = out[k, j]
+            for i in range(3):
+                r[i], r[3 + i], r[6 + i] = wr[i], w0[i], wr[3 + i]
+            pzx = C[0] + (c * geo[9] - s * geo[10])
+            pzy = C[1] + (s * geo[9] + c * geo[10])
+            pzz = C[2] + (geo[11] + (surface - C[2]))
+            f2 = wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]
+            if f2 > 1e-300:
+                cx = wr[1] * wr[5] - wr[2] * wr[4]
+                cy = wr[2] * wr[3] - wr[0] * wr[5]
+                cz = wr[0] * wr[4] - wr[1] * wr[3]
+                r0x, r0y, r0z = C[0] + cx / f2, C[1] + cy / f2, C[2] + cz / f2
+                tt = ((pzx - r0x) * wr[0] + (pzy - r0y) * wr[1] + (pzz - r0z) * wr[2]) / f2
+                r[9], r[10], r[11] = r0x + tt * wr[0], r0y + tt * wr[1], r0z + tt * wr[2]
+            else:
+                r[9], r[10], r[11] = pzx, pzy, pzz
+            r[12], r[13], r[14] = tipw[0], tipw[1], geo[41] + surface
+            r[15], r[16], r[17] = u[0], u[1], u[2]
+            r[18] = depth
+            r[19], r[20], r[21] = r0[3], r0[4], r0[5]
+            r[22] = 0.0 if finite else 1.0
+            bad += 0 if finite else 1
+    return bad
+
+
+_frame = facet_frame
+_sort = sort_by_height
+_const = clip_constants
+_clip = clip_facet
+_area = submerged_area
+_fold = fold_stresses
+_factors = facet_factors
+_fforce = facet_force
+_weights = channel_weights
+_step = mud_step
+_force = closed_form_force
+
+
+@functools.cache
+def coupling_kernel() -> Any:
+    """The compiled :func:`_kernel` (numba), with the physics compiled from its one source."""
+    numba = _numba()
+    jit = numba.njit(error_model="numpy")
+    env = dict(_kernel.__globals__)
+    env.update(
+        _frame=compile_scalar(facet_frame),
+        _sort=compile_scalar(sort_by_height),
+        _const=compile_scalar(clip_constants),
+        _clip=compile_scalar(clip_facet),
+        _area=compile_scalar(submerged_area),
+        _fold=compile_scalar(fold_stresses),
+        _factors=compile_scalar(facet_factors),
+        _fforce=compile_scalar(facet_force),
+        _weights=compile_scalar(channel_weights),
+        _step=compile_scalar(mud_step),
+        _force=compile_scalar(closed_form_force),
+        _constants=numba.njit(inline="always")(_constants),
+        _ptr=_pointer_intrinsic(),
+        carray=numba.carray,
+    )
+    helpers = {}
+    for fn in (_ld_solve, _jacobian, _solve6, _geometry, _upright_area, _mesh_force, _mud_force):
+        helpers[fn.__name__] = fn
+    for name, fn in helpers.items():
+        env[name] = jit(types.FunctionType(fn.__code__, env, name))
+    return jit(types.FunctionType(_kernel.__code__, env, "_kernel"))

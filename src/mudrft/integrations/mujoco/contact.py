@@ -1,0 +1,59 @@
+"""What the mud did in the last step: :class:`MudContact`, the coupling's output."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["MudContact"]
+
+
+class MudContact(NamedTuple):
+    """What the mud did in the last step, per robot and body (world frame).
+
+    Shapes are ``(nbody, ...)`` for :class:`~mudrft.integrations.mujoco.MudCoupling` and
+    ``(nrobot, nbody, ...)`` for :class:`MudBatch`.
+
+    Attributes
+    ----------
+    force : ndarray (..., 3)
+        Force written to ``xfrc_applied`` (stabilised) [N].
+    explicit_force : ndarray (..., 3)
+        Force of the mud model at the start of the step (what :class:`mudrft.MudTerrain`
+        returns for the same motion) plus the rigid bottom [N].
+    torque : ndarray (..., 3)
+        Moment about the body's center of mass written to ``xfrc_applied`` [N m].
+    point : ndarray (..., 3)
+        Point of application (center of pressure) [m].
+    tip : ndarray (..., 3)
+        Tip position; its z is that of the lowest point of the foot [m].
+    velocity : ndarray (..., 3)
+        Tip velocity [m/s].
+    depth : ndarray (...)
+        Depth of the lowest point below the mud surface [m].
+    stress : ndarray (..., 3)
+        Channel stresses in the foot frame [Pa].
+    """
+
+    force: NDArray[np.float64]
+    explicit_force: NDArray[np.float64]
+    torque: NDArray[np.float64]
+    point: NDArray[np.float64]
+    tip: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    depth: NDArray[np.float64]
+    stress: NDArray[np.float64]
+
+
+def _central_point(
+    force: np.ndarray, torque: np.ndarray, com: np.ndarray, near: np.ndarray
+) -> np.ndarray:
+    """Point of the wrench's central axis nearest to ``near`` [m] (``near`` without force)."""
+    f2 = np.einsum("...i,...i->...", force, force)
+    has = f2 > 1e-300
+    safe = np.where(has, f2, 1.0)[..., None]
+    r0 = com + np.cross(force, torque) / safe
+    t = np.einsum("...i,...i->...", near - r0, force)[..., None] / safe
+    return np.where(has[..., None], r0 + t * force, near)

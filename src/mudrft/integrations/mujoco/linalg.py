@@ -1,0 +1,113 @@
+"""MuJoCo's tree Jacobian and sparse mass-matrix solve, on floats, for the compiled coupling.
+
+:func:`_jacobian` is ``mj_jac`` (the 6 x nv Jacobian of a point's velocity and the body's
+angular velocity, from ``cdof``) and :func:`_ld_solve` is ``mj_solveLD`` (``x <- M^-1 x``
+from the factor ``qLD``, ``qLDiagInv`` in MuJoCo's compressed rows ``M_rownnz``,
+``M_rowadr``, ``M_colind``); :func:`_solve6` solves the 6x6 implicit step. They are plain
+Python (``test_mobility_port_equals_mujoco`` runs them against MuJoCo's own functions) and
+are compiled with the kernel (:mod:`.compiled`). :func:`_ptr` turns the address of a
+MuJoCo array into a pointer the kernel reads with ``numba.carray``.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+__all__ = ["_jacobian", "_ld_solve", "_pointer_intrinsic", "_solve6"]
+
+
+def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
+    """In place x <- M^-1 x from MuJoCo's sparse L^T D L factor (``mj_solveLD``)."""
+    nv = x.shape[0]
+    for i in range(nv - 1, 0, -1):
+        if rownnz[i] == 1:
+            continue
+        xi = x[i]
+        if xi != 0.0:
+            start = rowadr[i]
+            for adr in range(start, start + rownnz[i] - 1):
+                x[colind[adr]] -= qld[adr] * xi
+    for i in range(nv):
+        x[i] *= qldinv[i]
+    for i in range(1, nv):
+        if rownnz[i] == 1:
+            continue
+        start = rowadr[i]
+        acc = 0.0
+        for adr in range(start, start + rownnz[i] - 1):
+            acc += qld[adr] * x[colind[adr]]
+        x[i] -= acc
+
+
+def _jacobian(jac: Any, body: int, point: Any, model_i: Any, dof_parentid: Any, cdof: Any,
+              subtree_com: Any) -> None:  # fmt: skip
+    """6 x nv Jacobian of (velocity of ``point``, angular velocity) of ``body`` (``mj_jac``)."""
+    jac[:, :] = 0.0
+    b = body
+    while b > 0 and model_i[b, 1] == 0:  # body_dofnum
+        b = model_i[b, 2]  # body_parentid
+    if b == 0:
+        return
+    i = model_i[b, 0] + model_i[b, 1] - 1  # body_dofadr + body_dofnum - 1
+    root = model_i[b, 3]
+    ox = point[0] - subtree_com[root, 0]
+    oy = point[1] - subtree_com[root, 1]
+    oz = point[2] - subtree_com[root, 2]
+    while i >= 0:
+        wx, wy, wz = cdof[i, 0], cdof[i, 1], cdof[i, 2]
+        jac[0, i] = cdof[i, 3] + (wy * oz - wz * oy)
+        jac[1, i] = cdof[i, 4] + (wz * ox - wx * oz)
+        jac[2, i] = cdof[i, 5] + (wx * oy - wy * ox)
+        jac[3, i], jac[4, i], jac[5, i] = wx, wy, wz
+        i = dof_parentid[i]
+
+
+def _solve6(A: Any, b: Any) -> None:
+    """In place b <- A^-1 b (6x6, Gaussian elimination with partial pivoting; A destroyed)."""
+    n = 6
+    for k in range(n):
+        p = k
+        for r in range(k + 1, n):
+            if abs(A[r, k]) > abs(A[p, k]):
+                p = r
+        if p != k:
+            for j in range(n):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+            b[k], b[p] = b[p], b[k]
+        for r in range(k + 1, n):
+            f = A[r, k] / A[k, k]
+            for j in range(k, n):
+                A[r, j] -= f * A[k, j]
+            b[r] -= f * b[k]
+    for k in range(n - 1, -1, -1):
+        acc = b[k]
+        for j in range(k + 1, n):
+            acc -= A[k, j] * b[j]
+        b[k] = acc / A[k, k]
+
+
+def _ptr(address: int) -> Any:  # pragma: no cover - replaced by the intrinsic below
+    raise NotImplementedError
+
+
+def carray(ptr: Any, shape: Any) -> Any:  # pragma: no cover - replaced by numba.carray
+    raise NotImplementedError
+
+
+@functools.cache
+def _pointer_intrinsic() -> Any:
+    """A numba intrinsic turning an integer address into a ``float64*``."""
+    from numba import types as nt
+    from numba.extending import intrinsic
+
+    @intrinsic  # type: ignore[misc]
+    def ptr(typingctx: Any, address: Any) -> Any:
+        sig = nt.CPointer(nt.float64)(nt.int64)
+
+        def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+            return builder.inttoptr(args[0], context.get_value_type(nt.CPointer(nt.float64)))
+
+        return sig, codegen
+
+    return ptr

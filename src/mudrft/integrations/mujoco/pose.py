@@ -1,0 +1,323 @@
+r"""The posed foot: its triangles, and where each channel of the mud acts on them (D60a).
+
+The mud model gives three channel stresses for the foot as a whole (Chen et al. 2026,
+eq. 1); the foot turns them into a force with the element rule of eqs. (6)-(7) integrated
+over its submerged surface (:mod:`mudrft.feet.surface`). A foot that is tilted or spinning
+is loaded where it is actually submerged: a tilted flat foot on one edge. The coupling
+therefore clips the foot's triangles, **in their current pose**, by the mud surface, and
+reads from the submerged elements, for each channel :math:`c\in\{x,y,z\}` of the foot
+frame (the foot's yaw frame, :math:`z` up), the element weights
+
+.. math:: w_{x}=|\mathbf n_h|\hat n_x^2\,dS,\quad w_{y}=|\mathbf n_h|\hat n_y^2\,dS,\quad
+          w_{z}=(\cos^3\psi_1+\sin^3\psi_1)\,dS\ (n_z<0),
+
+with which the channel's stress enters the element forces (the element stress
+:math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` on the projected area
+:math:`|\mathbf n_h|dS`, and the vertical weight of eq. 6). Their sums :math:`A_c`, their
+centroids :math:`\mathbf p_c` (where channel :math:`c` acts and where its velocity is
+read) and the second moments
+:math:`\mathbf J_c=\sum_i w_{ic}\,(\mathbf r_i\times\mathbf e_c)(\mathbf r_i\times\mathbf e_c)^T`,
+:math:`\mathbf r_i=\mathbf c_i-\mathbf p_c`, are what
+:class:`~mudrft.integrations.mujoco.MudBatch` needs (:class:`ChannelGeometry`).
+
+:func:`foot_triangles` gives the triangles of any foot in its own frame: a mesh foot's
+own, a closed-form foot's mesh (``to_mesh``; the flat foot's 12 triangles are exact), and
+for the morphing foot its base disk, column and pads (thin plates) at the spread pad angle.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...feet.facet import submerged_area
+from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
+
+__all__ = [
+    "ChannelGeometry",
+    "channel_geometry",
+    "channel_weights",
+    "foot_triangles",
+    "matvec",
+    "morphing_triangles",
+    "posed_channels",
+    "rowdot",
+    "upright_area",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Mesh resolution of the curved closed-form feet in the coupling (segments tip to rim).
+POSE_RESOLUTION = 6
+#: Segments of the morphing foot's base disk and column.
+_SEGMENTS = 16
+
+
+class ChannelGeometry(NamedTuple):
+    """Where the three channels act on the submerged part of a posed foot.
+
+    Shapes with batch ``...`` (robots, bodies); every length in the frame of the
+    triangles given to :func:`channel_geometry`.
+
+    Attributes
+    ----------
+    area : ndarray (..., 3)
+        :math:`A_c=\\sum_i w_{ic}` of the x, y and z channels [m^2].
+    point : ndarray (..., 3, 3)
+        :math:`\\mathbf p_c` (row ``c``) [m]; the lowest point where :math:`A_c=0`.
+    inertia : ndarray (..., 3, 3, 3)
+        :math:`\\mathbf J_c` (``[..., c, :, :]``) [m^4].
+    low : ndarray (..., 3)
+        Lowest vertex [m].
+    """
+
+    area: FloatArray
+    point: FloatArray
+    inertia: FloatArray
+    low: FloatArray
+
+
+def channel_weights(
+    area: Any, nh: Any, hx: Any, hy: Any, wz: Any, *, xp: Any = np
+) -> tuple[Any, Any, Any]:
+    r"""Weights :math:`(w_x, w_y, w_z)` of a submerged facet's channels [m^2], element-wise.
+
+    :math:`w_x=|\mathbf n_h|\hat n_x^2\,dS`, :math:`w_y=|\mathbf n_h|\hat n_y^2\,dS`,
+    :math:`w_z=w_{eq.6}\,dS` from the submerged area ``area`` [m^2] and the facet's
+    :math:`|\mathbf n_h|`, :math:`\hat n_x`, :math:`\hat n_y` and vertical weight [-]
+    (:func:`mudrft.feet.facet.facet_frame`).
+    """
+    a = area * nh
+    return a * hx * hx, a * hy * hy, area * wz
+
+
+def channel_geometry(triangles: FloatArray) -> ChannelGeometry:
+    """Channel weights, centroids and second moments of the part of triangles below z = 0.
+
+    Parameters
+    ----------
+    triangles : ndarray (..., m, 3, 3)
+        Triangles in the foot's yaw frame, heights measured from the mud surface [m]
+        (submerged below 0); outward winding.
+
+    Returns
+    -------
+    ChannelGeometry
+    """
+    tri = np.asarray(triangles, dtype=float)
+    prep = prepare_triangles(tri)
+    area, cen = clip_below(prep, np.zeros(tri.shape[:-3]))
+    w = np.stack(channel_weights(area, prep.nh, prep.hx, prep.hy, prep.wz), axis=-1)  # (..., m, 3)
+    a = w.sum(axis=-2)
+    flat = tri.reshape(*tri.shape[:-3], -1, 3)
+    low = np.take_along_axis(flat, np.argmin(flat[..., 2], axis=-1)[..., None, None], -2)[..., 0, :]
+    has = a > 0.0
+    safe = np.where(has, a, 1.0)
+    pts = np.einsum("...mc,...mk->...ck", w, cen) / safe[..., None]
+    pts = np.where(has[..., None], pts, low[..., None, :])
+    r = cen[..., None, :, :] - pts[..., :, None, :]  # (..., c, m, 3)
+    rx, ry, rz = r[..., 0], r[..., 1], r[..., 2]
+    zero = np.zeros_like(rx)
+    # r x e_c for c = x, y, z
+    q = np.stack(
+        [
+            np.stack([zero[..., 0, :], rz[..., 0, :], -ry[..., 0, :]], -1),
+            np.stack([-rz[..., 1, :], zero[..., 1, :], rx[..., 1, :]], -1),
+            np.stack([ry[..., 2, :], -rx[..., 2, :], zero[..., 2, :]], -1),
+        ],
+        axis=-3,
+    )  # (..., c, m, 3)
+    wc = np.moveaxis(w, -1, -2)  # (..., c, m)
+    inertia = np.einsum("...cm,...cmi,...cmj->...cij", wc, q, q)
+    return ChannelGeometry(area=a, point=pts, inertia=inertia, low=low)
+
+
+def upright_area(prepared: PreparedTriangles, depth: Any) -> FloatArray:
+    """Channel weights :math:`A_c` of the upright foot with its tip at ``depth`` [m].
+
+    Parameters
+    ----------
+    prepared : PreparedTriangles
+        The foot's triangles in its own frame, prepared once.
+    depth : ndarray (...)
+        Tip depth [m].
+
+    Returns
+    -------
+    ndarray (..., 3)
+        [m^2].
+    """
+    p = prepared
+    d = np.asarray(depth, dtype=float)[..., None]
+    area = submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d)
+    return np.stack(channel_weights(area, p.nh, p.hx, p.hy, p.wz), axis=-1).sum(axis=-2)
+
+
+def posed_channels(
+    groups: Sequence[tuple[FloatArray | None, PreparedTriangles | None, NDArray[np.int_]]],
+    X: FloatArray,
+    R: FloatArray,
+    C: FloatArray,
+    cs: FloatArray,
+    surface: float,
+    low: FloatArray | None = None,
+) -> tuple[ChannelGeometry, FloatArray]:
+    """Channel geometry of every posed foot, and its ratio to the upright foot (D60a).
+
+    Lengths are in the foot's yaw frame with the origin at the body's center of mass
+    horizontally and at the mud surface vertically.
+
+    Parameters
+    ----------
+    groups : sequence of (triangles, upright, idx)
+        Per foot type: the triangles of its bodies in their body frames (nb_g, m, 3, 3)
+        [m] and the prepared triangles of the foot in its own frame
+        (:func:`mudrft.feet.surface.prepare_triangles`), or ``None`` for a foot without a
+        surface, and the indices of its bodies.
+    X, R, C : ndarray (N, nb, 3), (N, nb, 3, 3), (N, nb, 3)
+        Body origins [m], orientations [-] and centers of mass [m].
+    cs : ndarray (N, nb, 2)
+        Cosine and sine of each foot's yaw [-].
+    surface : float
+        Height of the mud surface [m].
+    low : ndarray (N, nb, 3) or None
+        Lowest points in the world [m] of the feet without a surface: every channel acts
+        there, with weight 1 and ratio 1.
+
+    Returns
+    -------
+    geometry : ChannelGeometry
+        Shapes (N, nb, ...).
+    ratio : ndarray (N, nb, 3)
+        :math:`A_c/A_c^{up}`, the upright foot at the same depth of its lowest point
+        (0 where the upright foot has no weight).
+    """
+    N, nb = X.shape[:2]
+    area, ratio = np.zeros((N, nb, 3)), np.ones((N, nb, 3))
+    point, inertia = np.zeros((N, nb, 3, 3)), np.zeros((N, nb, 3, 3, 3))
+    lowest = np.zeros((N, nb, 3))
+    origin = np.concatenate([C[..., :2], np.full((N, nb, 1), float(surface))], axis=-1)
+    c, s = cs[..., 0], cs[..., 1]
+    # the yaw frame: x_yaw = R_z(-psi) (x - origin); the same order of operations as the
+    # compiled coupling, so that both see bit-identical positions (D68a)
+    for tri_b, upright, idx in groups:
+        ci, si = c[:, idx], s[:, idx]
+        if tri_b is None or upright is None:
+            assert low is not None
+            d = low[:, idx] - origin[:, idx]
+            rel = np.stack(
+                [ci * d[..., 0] + si * d[..., 1], -si * d[..., 0] + ci * d[..., 1], d[..., 2]], -1
+            )
+            lowest[:, idx] = rel
+            point[:, idx] = rel[..., None, :]
+            area[:, idx] = 1.0
+            continue
+        Rg = R[:, idx]
+        M = np.stack(
+            [ci[..., None] * Rg[..., 0, :] + si[..., None] * Rg[..., 1, :],
+             -si[..., None] * Rg[..., 0, :] + ci[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
+            axis=-2,
+        )  # fmt: skip
+        o = X[:, idx] - origin[:, idx]
+        shift = np.stack(
+            [ci * o[..., 0] + si * o[..., 1], -si * o[..., 0] + ci * o[..., 1], o[..., 2]], -1
+        )
+        t = matvec(M[:, :, None, None], tri_b[None]) + shift[:, :, None, None, :]
+        g = channel_geometry(t)
+        depth = np.maximum(-g.low[..., 2], 0.0)
+        up = upright_area(upright, depth)
+        area[:, idx], point[:, idx], inertia[:, idx], lowest[:, idx] = g
+        ratio[:, idx] = np.where(up > 0.0, g.area / np.where(up > 0.0, up, 1.0), 0.0)
+    return ChannelGeometry(area, point, inertia, lowest), ratio
+
+
+def matvec(R: FloatArray, v: FloatArray) -> FloatArray:
+    r""":math:`R v` over the last axes, summed in a fixed order, ((R0 v0 + R1 v1) + R2 v2).
+
+    The compiled coupling sums in the same order, so both see bit-identical positions: the
+    elastic law :math:`\alpha\gamma^n` with :math:`n<1` turns a round-off difference of
+    1e-16 in a displacement into a stress difference of 1 % (D68a).
+    """
+    return (R[..., 0] * v[..., 0, None] + R[..., 1] * v[..., 1, None]) + R[..., 2] * v[..., 2, None]
+
+
+def rowdot(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Dot product over the last axis, summed from the first element on (fixed order)."""
+    acc = a[..., 0] * b[..., 0]
+    for i in range(1, a.shape[-1]):
+        acc = acc + a[..., i] * b[..., i]
+    return acc
+
+
+def foot_triangles(foot: Any, *, resolution: int = POSE_RESOLUTION) -> FloatArray | None:
+    """Triangles of a foot in its own frame (tip at the origin, z up), shape (m, 3, 3) [m].
+
+    Parameters
+    ----------
+    foot : Foot
+        A mesh foot (its own triangles), a closed-form foot (its mesh; the flat foot's at
+        resolution 1, which is exact), the morphing foot (:func:`morphing_triangles`), or
+        any object with ``to_mesh()`` or ``triangles``.
+    resolution : int, keyword-only
+        Mesh resolution of curved closed-form feet.
+
+    Returns
+    -------
+    ndarray (m, 3, 3) or None
+        None when the foot has no surface (the coupling then acts at its lowest point).
+    """
+    from ...feet import Flat
+
+    if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):
+        return morphing_triangles(foot)
+    if isinstance(foot, Flat):
+        return np.asarray(foot.to_mesh(resolution=1).triangles, dtype=float)
+    if hasattr(foot, "to_mesh"):
+        return np.asarray(foot.to_mesh(resolution=resolution).triangles, dtype=float)
+    tri = getattr(foot, "triangles", None)
+    return None if tri is None else np.asarray(tri, dtype=float)
+
+
+def morphing_triangles(foot: Any, *, segments: int = _SEGMENTS) -> FloatArray:
+    """The morphing foot as triangles: base disk, column wall and pads at the spread angle.
+
+    The pads are thin plates (both faces), at the pad angle the foot is drawn with
+    (``pad_corners()``: spread for the free foot, the locked angle otherwise).
+
+    Parameters
+    ----------
+    foot : MorphingFoot
+        The foot.
+    segments : int, keyword-only
+        Segments of the base disk and the column.
+
+    Returns
+    -------
+    ndarray (m, 3, 3)
+        Triangles in the foot frame [m].
+    """
+    g = foot.geometry
+    a = np.linspace(0.0, 2.0 * math.pi, segments + 1)
+    ring = np.stack([np.cos(a), np.sin(a), np.zeros_like(a)], axis=-1)
+    tris = []
+    rb, rc, h = float(g.base_radius), float(g.column_radius), float(foot.height)
+    for k in range(segments):
+        # base disk facing down: (0, a_{k+1}, a_k)
+        tris.append([np.zeros(3), rb * ring[k + 1], rb * ring[k]])
+        lo0, lo1 = rc * ring[k], rc * ring[k + 1]
+        up = np.array([0.0, 0.0, h])
+        hi0, hi1 = lo0 + up, lo1 + up
+        tris.append([lo0, lo1, hi1])  # column wall facing out
+        tris.append([lo0, hi1, hi0])
+    for quad in np.asarray(foot.pad_corners(), dtype=float):
+        p0l, p0r, p1r, p1l = quad
+        t1, t2 = [p0l, p0r, p1r], [p0l, p1r, p1l]
+        n = np.cross(np.subtract(p0r, p0l), np.subtract(p1r, p0l))
+        if n[2] > 0:  # make the first pair the bottom face (normal down)
+            t1, t2 = [p0l, p1r, p0r], [p0l, p1l, p1r]
+        tris += [t1, t2, [t1[0], t1[2], t1[1]], [t2[0], t2[2], t2[1]]]
+    return np.asarray(tris, dtype=float)

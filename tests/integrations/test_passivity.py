@@ -1,0 +1,181 @@
+"""The coupling is passive: a free foot of any shape, landing tilted, spinning or sliding,
+never gains mechanical energy from the mud (D60a, D62a), and a divergence raises."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+
+pytest.importorskip("mujoco")
+from mudrft.integrations.mujoco import attach
+
+from .conftest import mechanical_energy, mujoco
+
+MUD = mudrft.paper_mud(0.25)
+#: the paper's flat foot as a 0.3 kg box: inertia of every free foot below [kg m^2]
+BOX_INERTIA = "0.000177 0.000123 0.000266"
+
+
+def _foot(shape: str):
+    if shape == "flat":
+        return mudrft.feet.Flat()
+    if shape == "semi-cylinder":
+        return mudrft.feet.SemiCylinder()
+    if shape == "semi-sphere":
+        return mudrft.feet.SemiSphere()
+    if shape == "mesh":  # an STL-like mesh foot: 512 facets of a rounded sole
+        return mudrft.feet.SemiSphere().to_mesh(resolution=8)
+    return mudrft.feet.MorphingFoot()
+
+
+def _release(shape, *, dt, tilt=(0.0, 0.0), spin=(0.0, 0.0, 0.0), slide=(0.0, 0.0)):
+    """A 0.3 kg free foot whose lowest point touches the mud surface, at rest or moving.
+
+    ``tilt`` = (roll, pitch) [deg]; ``spin`` = angular velocity in the world [rad/s];
+    ``slide`` = horizontal velocity [m/s].
+    """
+    xml = f"""<mujoco><option timestep="{dt}"/><worldbody><body name="foot" pos="0 0 0.5">
+      <freejoint/><inertial pos="0 0 0.013" mass="0.3" diaginertia="{BOX_INERTIA}"/>
+      </body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    coupling = attach(model, "foot", MUD, feet=_foot(shape))
+    q = np.zeros(4)
+    mujoco.mju_euler2Quat(q, np.radians([tilt[0], tilt[1], 0.0]), "xyz")
+    data.qpos[3:7] = q
+    mujoco.mj_forward(model, data)
+    R = data.xmat[1].reshape(3, 3)
+    lowest = (data.xpos[1] + coupling.bodies[0].triangles.reshape(-1, 3) @ R.T)[:, 2].min()
+    data.qpos[2] -= lowest
+    data.qvel[:2] = slide
+    data.qvel[3:6] = R.T @ np.asarray(spin, dtype=float)  # a free joint's spin: body frame
+    coupling.reset(data)
+    return model, data, coupling
+
+
+def _energy_rise(model, data, coupling, seconds: float) -> tuple[float, float]:
+    """Largest rise of kinetic + gravitational energy above its start [J], and the start."""
+    e0 = mechanical_energy(model, data)
+    rise = -np.inf
+    for _ in range(round(seconds / model.opt.timestep)):
+        coupling.step(data)
+        rise = max(rise, mechanical_energy(model, data) - e0)
+    return float(rise), e0
+
+
+def test_tilted_box_foot_released_at_rest_gains_no_energy():
+    """Issue 14: this foot went from 0 J to 1,308 J in 50 ms and left spinning at 2,500 rad/s.
+
+    The paper's flat foot, 0.3 kg, tilted 2 degrees, released at rest on the surface at
+    dt = 1 ms. Now its energy never rises (the mud only takes energy) and it settles.
+    """
+    model, data, coupling = _release("flat", dt=1e-3, tilt=(0.0, 2.0))
+    rise, _ = _energy_rise(model, data, coupling, 0.05)
+    assert rise <= 1e-9
+    _energy_rise(model, data, coupling, 0.25)
+    assert np.abs(data.qvel).max() < 0.05  # at rest within 0.3 s (measured 0.01)
+    assert coupling.last.depth[0] > 1e-4  # resting in the mud, not bounced off
+
+
+@settings(max_examples=20, deadline=None, derandomize=True)
+@given(
+    shape=st.sampled_from(["flat", "semi-cylinder", "semi-sphere", "mesh", "morphing"]),
+    dt=st.sampled_from([5e-4, 1e-3, 2e-3]),
+    tilt=st.tuples(st.floats(-30.0, 30.0), st.floats(-30.0, 30.0)),
+    spin=st.tuples(*[st.floats(-1.0, 1.0)] * 3),
+    spin_rate=st.floats(0.0, 20.0),
+    slide=st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0)),
+)
+def test_free_foot_of_any_shape_never_gains_energy(shape, dt, tilt, spin, spin_rate, slide):
+    """Tilted up to 30 deg, spinning up to 20 rad/s about any axis, sliding up to 1 m/s.
+
+    Kinetic + gravitational energy never rises above its start (tolerance: round-off; the
+    mud stores elastic energy it may give back, but never more than it took).
+    """
+    w = np.asarray(spin)
+    w = w * (spin_rate / np.linalg.norm(w)) if np.linalg.norm(w) > 1e-6 else 0.0 * w
+    v = np.asarray(slide)
+    v = v / max(1.0, float(np.linalg.norm(v)))
+    model, data, coupling = _release(shape, dt=dt, tilt=tilt, spin=tuple(w), slide=tuple(v))
+    rise, e0 = _energy_rise(model, data, coupling, 0.06)
+    assert rise <= 1e-9 * (1.0 + e0)
+
+
+def test_tilted_foot_loads_its_lower_edge():
+    """A tilted flat foot pressed into the mud is loaded where it is submerged (D60a).
+
+    Flat foot (W = 65 mm along x) pitched by 10 deg, its lower edge 2 mm deep, pushed down
+    without horizontal motion: the support acts at the centroid of the submerged part of
+    the sole (a strip d / sin(10 deg) = 11.5 mm wide) and of the wall below the edge, each
+    weighted by eq. (6), and is that fraction of the upright foot's support at the same
+    depth.
+    """
+    theta, depth = np.radians(10.0), 0.002
+    xml = """<mujoco><option timestep="0.001" gravity="0 0 0"/><worldbody>
+      <body name="foot"><joint name="z" type="slide" axis="0 0 1"/>
+        <joint name="pitch" type="hinge" axis="0 1 0"/>
+        <geom type="box" size="0.0325 0.04 0.013" pos="0 0 0.013" mass="0.3"/></body>
+      </worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    forces, out = {}, None
+    for pitch in (0.0, theta):
+        data = mujoco.MjData(model)
+        coupling = attach(model, "foot", MUD, implicit=False)
+        data.qpos[1] = pitch
+        lift = 0.5 * 0.065 * np.sin(pitch)  # the lower edge is this far below the sole center
+        data.qpos[0] = lift + 0.001  # 1 mm above the surface: fresh mud at reset
+        coupling.reset(data)
+        for k in range(30):
+            data.qpos[0] = lift + 0.001 - (depth + 0.001) * (k + 1) / 30
+            data.qvel[0] = -(depth + 0.001) / 30 / 1e-3
+            mujoco.mj_forward(model, data)
+            out = coupling.apply(data)
+        forces[pitch] = out.force[0]
+    assert out.depth[0] == pytest.approx(depth, rel=1e-9)
+    L, W = 0.08, 0.065
+    strip = depth / np.sin(theta)  # wet part of the sole, measured along it from the edge
+    # eq. (6): a facet whose normal is psi1 from straight down carries cos^3 + sin^3 of
+    # sigma_z per area: the sole (psi1 = 10 deg) and the wall below the edge (80 deg) alike
+    wz = np.cos(theta) ** 3 + np.sin(theta) ** 3
+    w_wall = wz * L * depth / np.cos(theta)
+    a_sole = wz * L * strip
+    edge_x = 0.5 * W * np.cos(theta)  # pitched about y: the edge at +x is the lower one
+    x_sole = edge_x - 0.5 * strip * np.cos(theta)
+    x_wall = edge_x + 0.5 * depth * np.tan(theta)  # mid-height of the wall's wet part
+    x_expected = (a_sole * x_sole + w_wall * x_wall) / (a_sole + w_wall)
+    assert out.point[0, 0] == pytest.approx(x_expected, abs=1e-9)
+    assert abs(out.point[0, 1]) < 1e-12
+    ratio = forces[theta][2] / forces[0.0][2]
+    assert ratio == pytest.approx((a_sole + w_wall) / (L * W), rel=1e-9)
+    assert 0.1 < ratio < 0.25  # a fifth of the upright support
+
+
+def test_divergence_raises_instead_of_a_silent_reset():
+    """MuJoCo answers bad accelerations with a printed warning and a reset; the coupling
+    raises a MudrftError naming the time instead."""
+
+    class Exploding:
+        name = "exploding mud"
+
+        def __init__(self) -> None:
+            self.inner = mudrft.MudTerrain(MUD)
+
+        def initial_state(self, foot, position):
+            return self.inner.initial_state(foot, position)
+
+        def step(self, foot, state, position, velocity, dt):
+            new, out = self.inner.step(foot, state, position, velocity, dt)
+            return new, out._replace(force=np.where(out.depth[..., None] > 0, 1e12, 0.0))
+
+    xml = """<mujoco><worldbody><body name="foot" pos="0 0 0.012"><freejoint/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="0.3"/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    coupling = attach(model, "foot", Exploding(), implicit=False)
+    coupling.reset(data)
+    with pytest.raises(mudrft.MudrftError, match="diverged at time"):
+        coupling.step(data, 5)
