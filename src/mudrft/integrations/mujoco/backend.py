@@ -20,7 +20,8 @@ from ...backends.numba import N_STATE, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains.mud import MudTerrain
-from .compiled import N_OUT, coupling_kernel, upright_rows
+from .compiled import ARGS, N_OUT, coupling_kernel, pack_arguments, upright_rows
+from .contact import MudContact
 
 __all__ = ["CompiledCoupling", "check_compilable", "choose_backend"]
 
@@ -137,37 +138,24 @@ class CompiledCoupling:
             [float(m.opt.timestep), b.surface, float(b.implicit), float(b.mobility == "chain"),
              bottom, b.bottom_stiffness, b.bottom_damping, b._dv_min, g[0], g[1], g[2], 0.0]
         )  # fmt: skip
+        self._pack()
+
+    def contact(self, index: int | None = None) -> MudContact:
+        """The outputs of the last :meth:`apply` as a :class:`MudContact` (copies), of every
+        robot, or of robot ``index`` only."""
+        o = self.out.copy() if index is None else self.out[index].copy()
+        return MudContact(
+            o[..., 0:3], o[..., 3:6], o[..., 6:9], o[..., 9:12], o[..., 12:15], o[..., 15:18],
+            o[..., 18], o[..., 19:22],
+        )  # fmt: skip
 
     def apply(self, has_prev: bool) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
         the number of bodies whose wrench is not finite."""
         self.opts[11] = 1.0 if has_prev else 0.0
-        return int(
-            self.kernel(
-                self.addr,
-                self.sizes,
-                self.model_i,
-                self.dof_parentid,
-                self.rownnz,
-                self.rowadr,
-                self.colind,
-                self.mass,
-                self.inertia,
-                self.ids,
-                self.tip,
-                self.fwd,
-                self.tri_adr,
-                self.tri_b,
-                self.up_adr,
-                self.tri_up,
-                self.consts,
-                self.cfg,
-                self.geom,
-                self.opts,
-                self.mud,
-                self.odo,
-                self.tw_prev,
-                self.wv_prev,
-                self.out,
-            )
-        )
+        return int(self.kernel(*self._args))
+
+    def _pack(self) -> None:
+        """The kernel's arrays in one argument (after :meth:`reset`; the arrays never move)."""
+        names = {"bodies": "ids"}
+        self._args = (pack_arguments({n: getattr(self, names.get(n, n)) for n, _, _ in ARGS}),)

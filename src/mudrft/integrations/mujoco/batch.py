@@ -124,6 +124,7 @@ class MudBatch:
         self.model = model
         self._mj = mj
         self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
+        self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
@@ -180,6 +181,8 @@ class MudBatch:
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self.last: MudContact | None = None
         self.time_steps = 0
+        self._single = False  # MudCoupling: outputs of shape (nbody, ...)
+        self._loop: Any = None  # the compiled step loop, made by reset()
 
     # -- reading MuJoCo ---------------------------------------------------------------
     def _read(self, datas: Sequence[Any]) -> dict[str, Any]:
@@ -244,6 +247,9 @@ class MudBatch:
         self.last = None
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
+        if self._compiled is not None:
+            self._compiled.opts[11] = 0.0
+            self._loop = self._compiled_loop(datas)
 
     def _check(self, datas: Any) -> list[Any]:
         if isinstance(datas, self._mj.MjData):
@@ -395,11 +401,7 @@ class MudBatch:
                 "(check the model, the time step and the mud parameters)"
             )
         self.time_steps += 1
-        o = self._compiled.out.copy()
-        self.last = MudContact(
-            o[..., 0:3], o[..., 3:6], o[..., 6:9], o[..., 9:12], o[..., 12:15], o[..., 15:18],
-            o[..., 18], o[..., 19:22],
-        )  # fmt: skip
+        self.last = self._compiled.contact()
         return self.last
 
     def step(self, datas: Sequence[Any], nstep: int = 1) -> MudContact:
@@ -413,9 +415,14 @@ class MudBatch:
         return self._step(self._check(datas), nstep)
 
     def _step(self, datas: list[Any], nstep: int) -> MudContact:
+        if self._compiled is not None:
+            return self._step_compiled(datas, int(nstep))
+        return self._step_generic(datas, nstep)
+
+    def _step_generic(self, datas: list[Any], nstep: int) -> MudContact:
         mj = self._mj
         m = self.model
-        rk4 = int(m.opt.integrator) == self._rk4
+        rk4 = int(self._opt.integrator) == self._rk4
         out = self.last
         for _ in range(int(nstep)):
             if rk4:  # mj_step1/mj_step2 do not support RK4: full forward, then mj_step
@@ -434,17 +441,113 @@ class MudBatch:
         assert out is not None
         return out
 
+    def _step_compiled(self, datas: list[Any], nstep: int) -> MudContact:
+        """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2`` (D68b)."""
+        if self._loop is None:
+            raise MudrftError("call reset(data) before stepping the mud coupling")
+        reset = self._compiled.datas if self._compiled is not None else []
+        if len(datas) != len(reset) or any(a is not b for a, b in zip(datas, reset, strict=True)):
+            raise MudrftError(
+                "backend='numba' steps the MjData given to reset(); got another MjData "
+                "(call reset(data) with it first)"
+            )
+        return self._loop(nstep)
+
+    def _compiled_loop(self, datas: list[Any]) -> Any:
+        """The compiled coupling's step loop over ``datas``, as a closure over local names.
+
+        Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
+        a look at MuJoCo's warning counters; the outputs are copied into :attr:`last` once,
+        after the last step. Closure variables, not attribute lookups: on the biped this
+        Python bookkeeping would otherwise cost as much as the mud itself (D68b).
+        """
+        comp = self._compiled
+        assert comp is not None
+        m, opt, rk4 = self.model, self.model.opt, self._rk4
+        step1, step2, kernel = self._mj.mj_step1, self._mj.mj_step2, comp.kernel
+        (args,) = comp._args
+        flags, contact = comp.opts, comp.contact
+        warn, seen = self._warn, self._warnings
+        index = 0 if self._single else None
+
+        def diverged(steps: int) -> None:
+            self.time_steps += steps
+            self.last = contact(index)
+            self._check_diverged(datas)
+
+        def fail(steps: int) -> None:
+            self.time_steps += steps
+            self.last = contact(index)
+            raise MudrftError(
+                "the mud coupling produced a non-finite force; the simulation "
+                "diverged (check the model, the time step and the mud parameters)"
+            )
+
+        def generic(nstep: int) -> MudContact:  # RK4: mj_step1/mj_step2 do not support it
+            out = self._step_generic(datas, nstep)
+            if index is not None:
+                out = self.last = MudContact(*(a[index] for a in out))
+            return out
+
+        def loop(nstep: int) -> MudContact:
+            if int(opt.integrator) == rk4:
+                return generic(nstep)
+            first = flags[11] == 0.0
+            for k in range(nstep):
+                for d in datas:
+                    step1(m, d)
+                if kernel(args):
+                    fail(k + 1)
+                if first:  # has_prev: from now on the acceleration is a difference
+                    flags[11], first = 1.0, False
+                for i, d in enumerate(datas):
+                    step2(m, d)
+                    if warn[i].number != seen[i]:
+                        diverged(k + 1)
+            self.time_steps += nstep
+            self._has_prev = True
+            self.last = contact(index)
+            return self.last
+
+        def loop1(nstep: int) -> MudContact:  # one robot: the same, without the inner loops
+            if int(opt.integrator) == rk4:
+                return generic(nstep)
+            first = flags[11] == 0.0
+            for k in range(nstep):
+                step1(m, d0)
+                if kernel(args):
+                    fail(k + 1)
+                if first:
+                    flags[11], first = 1.0, False
+                step2(m, d0)
+                if w0.number != n0[0]:
+                    n0[0] = w0.number  # raise once per event, as _check_diverged does
+                    diverged(k + 1)
+            self.time_steps += nstep
+            self._has_prev = True
+            self.last = contact(index)
+            return self.last
+
+        if len(datas) == 1:
+            d0, w0, n0 = datas[0], warn[0], [int(seen[0])]
+            return loop1
+        return loop
+
     def _check_diverged(self, datas: list[Any]) -> None:
         """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
         for i, w in enumerate(self._warn):
             if w.number != self._warnings[i]:
                 self._warnings[i] = w.number
                 d = datas[i]
+                force = None
+                if self.last is not None:
+                    f = self.last.force
+                    force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
                 raise MudrftError(
                     f"the simulation of robot {i} diverged at time {float(d.time):.6g} s: "
                     "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
                     f"expected finite accelerations with the mud wrench "
-                    f"{np.round(self.last.force[i], 3).tolist() if self.last else None} N "
+                    f"{force} N "
                     "(reduce the time step, or check the model)"
                 )
 

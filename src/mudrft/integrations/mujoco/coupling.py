@@ -26,6 +26,7 @@ class MudCoupling(MudBatch):
         if "n" in kw:
             raise MudrftError("MudCoupling couples one MjData; use MudBatch(n=...) for many")
         super().__init__(model, bodies, mud, n=1, **kw)
+        self._single = True
 
     def reset(self, data: Any) -> None:  # type: ignore[override]
         """Start with undisturbed mud under the feet in their current pose."""
@@ -38,8 +39,13 @@ class MudCoupling(MudBatch):
 
     def step(self, data: Any, nstep: int = 1) -> MudContact:  # type: ignore[override]
         """``nstep`` physics steps, the mud advanced once per step."""
-        self.last = MudContact(*(a[0] for a in self._step(self._check(data), nstep)))
-        return self.last
+        if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
+            return self._loop(int(nstep))  # the compiled loop (D68b)
+        out = self._step(self._check(data), nstep)
+        if out.depth.ndim == 2:  # (1, nbody): the batch's shape; the compiled path gives (nbody,)
+            out = MudContact(*(a[0] for a in out))
+        self.last = out
+        return out
 
 
 def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MudCoupling:
