@@ -34,6 +34,8 @@ __all__ = [
     "MudTerrain",
     "channel_parameters",
     "initial_channels",
+    "mud_channel_stress",
+    "mud_heading",
     "mud_step",
 ]
 
@@ -172,6 +174,26 @@ def mud_step(
     depth : array_like
         Tip depth [m].
     """
+    cx, cy, cz, gx, gy, gz, rz, ex, ey, depth, in_mud = _channel_motion(
+        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, xp=xp
+    )
+    heading = mud_heading(st.heading, vx, vy, heading_speed, xp=xp)
+    hor, ver = ch
+    qs, rs = quasi_static, restart
+    cx, sx = kernel.channel_step(hor, cx, gx, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    cy, sy = kernel.channel_step(hor, cy, gy, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp=xp)
+    inside = xp.where(in_mud, 1.0, 0.0)
+    new = MudChannels(cx, cy, cz, ex, ey, heading, inside)
+    return new, sx.total * inside, sy.total * inside, sz.total * inside, depth
+
+
+def _channel_motion(
+    st: MudChannels, px: Any, py: Any, pz: Any, vx: Any, vy: Any, vz: Any, dt: Any, lc: Any,
+    xi0: Any, reset: bool, *, xp: Any = np,
+) -> tuple[Any, ...]:  # fmt: skip
+    """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11),
+    displacements, the vertical rate, the entry point, the depth and whether in the mud."""
     depth = xp.maximum(-pz, 0.0)
     in_mud = depth > 0.0
     was_in = st.in_mud > 0.5
@@ -185,20 +207,40 @@ def mud_step(
         ex = xp.where(fresh, px - vx * dt, ex)
         ey = xp.where(fresh, py - vy * dt, ey)
     gdz = xp.where(in_mud | was_in, -vz, 0.0) / lc
-    # heading: compared on the squared speed, arctan2 on safe values, so that JAX gradients
-    # stay finite when the foot does not move horizontally
+    return cx, cy, cz, (px - ex) / lc, (py - ey) / lc, depth / lc, gdz, ex, ey, depth, in_mud
+
+
+def mud_heading(heading: Any, vx: Any, vy: Any, heading_speed: Any, *, xp: Any = np) -> Any:
+    """The heading after a step at horizontal velocity ``(vx, vy)`` [m/s]: its direction
+    [rad] when faster than ``heading_speed`` [m/s], otherwise the last ``heading`` (D52)."""
+    # compared on the squared speed, arctan2 on safe values, so that JAX gradients stay
+    # finite when the foot does not move horizontally
     moving = vx * vx + vy * vy > heading_speed * heading_speed
-    heading = xp.where(
-        moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), st.heading
+    return xp.where(
+        moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), heading
+    )
+
+
+def mud_channel_stress(
+    c: int, ch: ConstantsPair, st: MudChannels, px: Any, py: Any, pz: Any, vx: Any, vy: Any,
+    vz: Any, dt: Any, lc: Any, kappa: Any, xi0: Any, reset: bool, seal: Any,
+    quasi_static: bool = False, restart: bool = False, *, xp: Any = np,
+) -> Any:  # fmt: skip
+    """The stress [Pa] of channel ``c`` (0: x, 1: y, 2: z) that :func:`mud_step` returns for
+    the same arguments, computed alone: a channel's stress depends on its own rate only, so
+    a derivative by one channel's rate needs one channel step, not three (D63)."""
+    cx, cy, cz, gx, gy, gz, rz, _ex, _ey, _depth, in_mud = _channel_motion(
+        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, xp=xp
     )
     hor, ver = ch
     qs, rs = quasi_static, restart
-    cx, sx = kernel.channel_step(hor, cx, (px - ex) / lc, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    cy, sy = kernel.channel_step(hor, cy, (py - ey) / lc, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    cz, sz = kernel.channel_step(ver, cz, depth / lc, gdz, dt, seal, kappa, qs, rs, xp=xp)
-    inside = xp.where(in_mud, 1.0, 0.0)
-    new = MudChannels(cx, cy, cz, ex, ey, heading, inside)
-    return new, sx.total * inside, sy.total * inside, sz.total * inside, depth
+    if c == 0:
+        _, s = kernel.channel_step(hor, cx, gx, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    elif c == 1:
+        _, s = kernel.channel_step(hor, cy, gy, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
+    else:
+        _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp=xp)
+    return s.total * xp.where(in_mud, 1.0, 0.0)
 
 
 ConstantsPair = tuple[ChannelConstants, ChannelConstants]

@@ -46,7 +46,7 @@ from ...feet.facet import (
     sort_by_height,
     submerged_area,
 )
-from ...terrains.mud import MudChannels, mud_step
+from ...terrains.mud import MudChannels, mud_channel_stress, mud_heading, mud_step
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
@@ -215,6 +215,38 @@ def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, u
             depth)  # fmt: skip
 
 
+def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any,
+                  up: Any, r0: Any) -> float:  # fmt: skip
+    """Force component ``q`` [N] of the mud step from state row ``s`` when only channel
+    ``q``'s rate differs from the step that returned ``r0`` (:func:`_mud_force`): the one
+    channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`), the heading
+    follows the new velocity, and the other stresses are ``r0``'s (D63)."""
+    hor = _constants(c, 0, 0)
+    ver = _constants(c, 0, 12)
+    ch = MudChannels(
+        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
+        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
+        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
+        s[21], s[22], s[23], s[24],
+    )  # fmt: skip
+    sq = _channel(
+        q, (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
+        cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
+    )  # fmt: skip
+    sx = sq if q == 0 else r0[3]
+    sy = sq if q == 1 else r0[4]
+    sz = sq if q == 2 else r0[5]
+    heading = _heading(s[23], u[0], u[1], cfg[4])
+    depth = r0[6]
+    if geom[0] == 3.0:  # a mesh foot
+        fx, fy, fz = _mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
+    else:  # a closed form
+        fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz,
+                            heading)  # fmt: skip
+    inside = 1.0 if depth > 0.0 else 0.0
+    return (fx if q == 0 else (fy if q == 1 else fz)) * inside
+
+
 def _kernel(
     addr: Any, sizes: Any,
     model_i: Any, dof_parentid: Any, rownnz: Any, rowadr: Any, colind: Any,
@@ -252,7 +284,7 @@ def _kernel(
                               np.empty(6), np.empty(6))  # fmt: skip
     M, E, spread = np.empty((3, 3)), np.zeros((3, 3)), np.empty((3, 3))
     b, K, W, A = np.empty((3, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6))
-    row, dummy = np.empty(N_STATE), np.empty(N_STATE)
+    row = np.empty(N_STATE)
     bad = 0
     for k in range(n_rob):
         a = addr[k]
@@ -332,8 +364,8 @@ def _kernel(
                     st = dv if abs(dv) > dv_min else dv_min
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
-                    rq = _mud_force(cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, dummy)
-                    D[q] = ratio[q] * min((rq[q] - r0[q]) / st, 0.0)
+                    fq = _nudged_force(q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0)
+                    D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
             for i in range(N_STATE):
                 mud[k, j, i] = row[i]
             for i in range(6):
@@ -377,9 +409,17 @@ def _kernel(
                         if implicit:
                             for l in range(6):
                                 K[i, l] -= cb * bl[i] * bl[l]
+            idle = True  # no wrench and no damping: nothing to solve (a foot in the air)
             for i in range(6):
                 wr[i] = w0[i]
-            if implicit:
+                idle = idle and w0[i] == 0.0
+                if implicit:
+                    for l in range(6):
+                        idle = idle and K[i, l] == 0.0
+            if implicit and idle:
+                for i in range(6):
+                    wv_prev[k, j, i] = 0.0
+            elif implicit:
                 if chain:
                     _jacobian(jac, body, C, model_i, dof_parentid, cdof, subtree)
                     for i in range(6):
@@ -464,6 +504,8 @@ _factors = facet_factors
 _fforce = facet_force
 _weights = channel_weights
 _step = mud_step
+_channel = mud_channel_stress
+_heading = mud_heading
 _force = closed_form_force
 
 
@@ -550,13 +592,24 @@ def coupling_kernel() -> Any:
         _fforce=compile_scalar(facet_force),
         _weights=compile_scalar(channel_weights),
         _step=compile_scalar(mud_step),
+        _channel=compile_scalar(mud_channel_stress),
+        _heading=compile_scalar(mud_heading),
         _force=compile_scalar(closed_form_force),
         _constants=numba.njit(inline="always")(_constants),
         _ptr=_pointer_intrinsic(),
         carray=numba.carray,
     )
     helpers = {}
-    for fn in (_ld_solve, _jacobian, _solve6, _geometry, _upright_area, _mesh_force, _mud_force):
+    for fn in (
+        _ld_solve,
+        _jacobian,
+        _solve6,
+        _geometry,
+        _upright_area,
+        _mesh_force,
+        _mud_force,
+        _nudged_force,
+    ):
         helpers[fn.__name__] = fn
     for name, fn in helpers.items():
         env[name] = jit(types.FunctionType(fn.__code__, env, name))
