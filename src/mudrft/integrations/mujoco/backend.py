@@ -144,10 +144,11 @@ class CompiledCoupling:
         """The outputs of the last :meth:`apply` as a :class:`MudContact` (copies), of every
         robot, or of robot ``index`` only."""
         o = self.out.copy() if index is None else self.out[index].copy()
-        return MudContact(
+        # tuple.__new__: the named tuple's own __new__ takes keywords and costs a microsecond
+        return tuple.__new__(MudContact, (
             o[..., 0:3], o[..., 3:6], o[..., 6:9], o[..., 9:12], o[..., 12:15], o[..., 15:18],
             o[..., 18], o[..., 19:22],
-        )  # fmt: skip
+        ))  # fmt: skip
 
     def apply(self, has_prev: bool) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
