@@ -9,6 +9,8 @@
   small setting of the build, and a folder of its own for the PNG files it writes.
   :func:`png_scraper` puts the PNG files an example wrote beside its code (the examples
   close their matplotlib figures after saving them, so the default scraper sees none).
+* **The paper's numbers.** Equations labelled ``chen2026-eq-N`` carry ``\\tag{N}``; their
+  Sphinx number is dropped so that only the paper's shows.
 * **Modules not in this build.** ``.. optional-module:: NAME`` on an API page documents the
   module ``NAME`` and its members when it imports, and says that it is not part of this
   build otherwise (``mudrft.sweep`` and ``mudrft.envs`` land from other branches).
@@ -136,8 +138,23 @@ def _optional_modules(app: Any, docname: str, source: list[str]) -> None:
     source[0] = _OPTIONAL.sub(replace, source[0])
 
 
+# -- the paper's equation numbers ------------------------------------------------------------
+
+
+def _paper_numbers(app: Any, doctree: Any, docname: str) -> None:
+    # A docstring states the paper's equation (N) as ``.. math::`` labelled ``chen2026-eq-N``
+    # with ``\tag{N}`` in its TeX: MathJax shows the paper's number, so Sphinx's own
+    # page-local number (1, 2, ... on every page) would only contradict it.
+    from docutils import nodes
+
+    for node in doctree.findall(nodes.math_block):
+        if str(node.get("label") or "").startswith("chen2026-eq-"):
+            node["number"] = None
+
+
 def setup(app: Any) -> dict[str, Any]:
     app.connect("config-inited", _use_local_mathjax)
     app.connect("build-finished", _copy_mathjax)
     app.connect("source-read", _optional_modules)
+    app.connect("doctree-resolved", _paper_numbers)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
