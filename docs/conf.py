@@ -66,7 +66,7 @@ autosummary_generate = True
 autosummary_imported_members = False
 autodoc_typehints = "none"  # the numpydoc docstrings state types and units
 autodoc_member_order = "bysource"
-autodoc_default_options = {"inherited-members": False}
+autodoc_preserve_defaults = True  # `xp=np`, not the repr of the numpy module
 numpydoc_show_class_members = False  # the class template lists methods (own pages)
 numpydoc_class_members_toctree = False
 numpydoc_attributes_as_param_list = True
@@ -110,12 +110,17 @@ html_theme_options = {
     "navbar_align": "left",
     "show_toc_level": 2,
     "navigation_with_keys": False,
-    "header_links_before_dropdown": 7,
+    "header_links_before_dropdown": 8,
+    "navbar_persistent": ["search-button"],
     "secondary_sidebar_items": ["page-toc", "sourcelink"],
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }
-html_sidebars = {"index": [], "getting-started": []}
+# pages with no sub-pages need no section navigation (it would be an empty column)
+html_sidebars = {
+    page: []
+    for page in ("index", "getting-started", "model", "performance", "architecture", "changelog")
+}
 html_show_sourcelink = True
 html_last_updated_fmt = None
 

@@ -28,8 +28,19 @@ from typing import Any
 
 # -- offline MathJax ---------------------------------------------------------------------
 
-_MATHJAX_PARTS = ("tex-mml-chtml.js", "input", "output/chtml", "output/chtml.js", "a11y",
-                  "adaptors", "ui", "sre", "startup.js", "loader.js", "core.js")
+_MATHJAX_PARTS = (
+    "tex-mml-chtml.js",
+    "input",
+    "output/chtml",
+    "output/chtml.js",
+    "a11y",
+    "adaptors",
+    "ui",
+    "sre",
+    "startup.js",
+    "loader.js",
+    "core.js",
+)
 
 
 def _mathjax_es5() -> Path | None:
@@ -90,6 +101,13 @@ def gallery_argv(gallery_conf: dict, script_vars: dict) -> list[str]:
     return ["--quick", "--out", str(_example_out(script_vars["src_file"]))]
 
 
+def _remove_example_folders(app: Any, exc: Exception | None) -> None:
+    for folder in _OUT.values():
+        shutil.rmtree(folder, ignore_errors=True)
+    _OUT.clear()
+    _SEEN.clear()
+
+
 def png_scraper(block: Any, block_vars: dict, gallery_conf: dict) -> str:
     """The PNG files an example wrote since the last code block, as gallery images."""
     from sphinx_gallery.scrapers import figure_rst
@@ -99,10 +117,12 @@ def png_scraper(block: Any, block_vars: dict, gallery_conf: dict) -> str:
     if out is None:
         return ""
     seen = _SEEN[key]
-    new = sorted((p for p in out.glob("*.png") if p.name not in seen),
-                 key=lambda p: (p.stat().st_mtime, p.name))
+    new = sorted(
+        (p for p in out.glob("*.png") if p.name not in seen),
+        key=lambda p: (p.stat().st_mtime, p.name),
+    )
     paths = []
-    for png, image_path in zip(new, block_vars["image_path_iterator"]):
+    for png, image_path in zip(new, block_vars["image_path_iterator"], strict=False):
         shutil.copyfile(png, image_path)
         seen.add(png.name)
         paths.append(image_path)
@@ -155,6 +175,7 @@ def _paper_numbers(app: Any, doctree: Any, docname: str) -> None:
 def setup(app: Any) -> dict[str, Any]:
     app.connect("config-inited", _use_local_mathjax)
     app.connect("build-finished", _copy_mathjax)
+    app.connect("build-finished", _remove_example_folders)
     app.connect("source-read", _optional_modules)
     app.connect("doctree-resolved", _paper_numbers)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
