@@ -75,7 +75,8 @@ def main(argv: list[str] | None = None) -> int:
                     problems.append(f"{path}: broken images {broken}")
                 if anchor:
                     page.eval_on_selector(
-                        anchor, "e => window.scrollTo(0, e.getBoundingClientRect().top + window.scrollY - 80)"
+                        anchor,
+                        "e => window.scrollTo(0, e.getBoundingClientRect().top + window.scrollY - 80)",
                     )
                     page.wait_for_timeout(300)
                 page.screenshot(path=str(args.out / name))
