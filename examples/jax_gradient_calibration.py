@@ -72,7 +72,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Gradient-based calibration with the JAX backend.")
     ap.add_argument("--out", default=None, help="also draw the fit into this folder")
     ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     jax = mjax.enable_x64()
     jnp = jax.numpy
     truth = mudrft.paper_parameters(0.25, "vertical")
@@ -124,5 +124,5 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    if main() != 0:
+    if main(sys.argv[1:]) != 0:
         sys.exit(1)

@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description="Figures of the baselines (docs/figures/baselines_*.png).")
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
     ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     OUT = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     OUT.mkdir(parents=True, exist_ok=True)
 
@@ -116,4 +116,4 @@ def main(argv: list[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

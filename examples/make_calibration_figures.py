@@ -161,7 +161,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--data", action="store_true", help="regenerate src/mudrft/data/*.csv")
     ap.add_argument("--quick", action="store_true", help="3 seeds (the docs build)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     root = Path(__file__).resolve().parents[1] if not args.out or args.data else None
     out = Path(args.out) if args.out else root / "docs" / "figures"
     out.mkdir(parents=True, exist_ok=True)
@@ -174,4 +174,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

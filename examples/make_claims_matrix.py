@@ -88,7 +88,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="The claims tables of docs/model.md, section 12.")
     ap.add_argument("--quick", action="store_true", help="print the tables, write nothing")
     ap.add_argument("--out", default=None, help="accepted for the docs build (no figures)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     claims, sinking = claims_block(), sinking_block()
     if args.quick:
         print(claims, sinking, sep="\n\n")
@@ -103,4 +103,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

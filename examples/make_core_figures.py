@@ -18,6 +18,7 @@ Run from the repository root: ``python examples/make_core_figures.py [--out DIR]
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -71,7 +72,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Figures of the plate test (docs/figures/core_*.png).")
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
     ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     out = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     out.mkdir(parents=True, exist_ok=True)
     for path in (plate_figure(out), water_content_figure(out)):
@@ -80,4 +81,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 
 import numpy as np
 
@@ -206,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Figures of the feet (docs/figures/feet_*.png).")
     ap.add_argument("--out", default=os.path.join("docs", "figures"), help="output folder")
     ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     import matplotlib
 
     matplotlib.use("Agg")
@@ -219,4 +220,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -322,7 +322,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
     ap.add_argument("--quick", action="store_true",
                     help="no sensitivity table; print the feet table, leave docs/model.md alone")
-    args = ap.parse_args(argv)
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     global FIG
     FIG = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     plt = require_matplotlib()
@@ -354,4 +354,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--dt", type=float, default=2e-3)
     parser.add_argument("--out", default=None, help="output folder (default docs/figures)")
     parser.add_argument("--quick", action="store_true", help="3 s, no frames (the docs build)")
-    args = parser.parse_args(argv)
+    args = parser.parse_args([] if argv is None else argv)  # None: the defaults
     out = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     out.mkdir(parents=True, exist_ok=True)
     stability(out)
@@ -153,4 +153,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])
