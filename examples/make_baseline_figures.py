@@ -1,10 +1,14 @@
-"""Figures of the baseline comparison (docs/figures/baselines_*.png) and the fitted defaults.
+"""
+Mud against the baseline terrains
+=================================
 
-Run from the repository root::
+The same foot and motion on mud and on the terrains mudrft ships for comparison: granular
+resistive force theory (sand), a linear stiffness, a Maxwell-type mud and rigid ground.
+The linear stiffness and the Maxwell constants are re-derived from the W = 25 % plate
+test first.
 
-    python examples/make_baseline_figures.py
-
-Writes
+Run from the repository root: ``python examples/make_baseline_figures.py [--out DIR]``
+(default ``docs/figures``). Writes
 
 * ``baselines_s6.png``: Fig. S6-style plate test -- (a) normalised force against
   normalised depth for mud and sand (granular RFT), (b) stress against time and (c)
@@ -17,6 +21,7 @@ and prints the re-derivation of the default linear stiffness and Maxwell constan
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -37,14 +42,17 @@ from mudrft.baselines import (
 )
 from mudrft.baselines.plots import plot_gait, plot_rft_alpha, plot_s6
 
-OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
-
 
 def log(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description="Figures of the baselines (docs/figures/baselines_*.png).")
+    ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
+    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
+    OUT = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     OUT.mkdir(parents=True, exist_ok=True)
 
     log("1/4 re-deriving the defaults from the W = 25 % plate test")
@@ -104,8 +112,8 @@ def main() -> None:
     fig = plot_rft_alpha()
     fig.savefig(OUT / "baselines_rft_alpha.png", dpi=110)
     plt.close(fig)
-    log(f"wrote {OUT}/baselines_s6.png, baselines_gait.png, baselines_rft_alpha.png")
+    print("wrote baselines_s6.png, baselines_gait.png, baselines_rft_alpha.png")
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -1,21 +1,25 @@
-"""The evidence tables of docs/model.md, section 12: the paper's claims under its readings.
+"""
+The paper's claims under its readings
+=====================================
 
-Run from the repository root::
+The evidence tables of the model chapter, section 12: ``mudrft reproduce`` evaluates the
+paper's nine claims as the paper computes them and under six other readings of the paper.
 
-    python examples/make_claims_matrix.py
-
-Runs ``mudrft reproduce`` (no figures) into a temporary directory and replaces, between
+Run from the repository root: ``python examples/make_claims_matrix.py [--quick]``.
+It runs ``mudrft reproduce`` (no figures) into a temporary directory and replaces, between
 the markers in ``docs/model.md``,
 
 * ``claims``: the headline's claims and the matrix of readings x claims (from report.md);
 * ``sinking``: the flat foot under 49 N, applied at once or ramped over 1 s, in each
   evaluation, beside the static depth (decision D13).
 
+With ``--quick`` (the docs build) it prints the tables instead of writing them.
 Progress goes to stderr.
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
 import tempfile
 from pathlib import Path
@@ -25,8 +29,6 @@ from mudrft.reproduce import reproduce
 from mudrft.simulation import LoadControl, simulate, static_sinking
 from mudrft.terrains import MudTerrain
 
-ROOT = Path(__file__).resolve().parents[1]
-FRAGMENT = ROOT / "docs" / "model.md"
 LOAD = 49.0  # [N], as mudrft reproduce (D13)
 
 
@@ -82,14 +84,23 @@ def sinking_block() -> str:
     return "\n".join(rows)
 
 
-def main() -> int:
-    text = FRAGMENT.read_text()
-    text = replace_between(text, "claims", claims_block())
-    text = replace_between(text, "sinking", sinking_block())
-    FRAGMENT.write_text(text)
-    say(f"updated tables in {FRAGMENT}")
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="The claims tables of docs/model.md, section 12.")
+    ap.add_argument("--quick", action="store_true", help="print the tables, write nothing")
+    ap.add_argument("--out", default=None, help="accepted for the docs build (no figures)")
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
+    claims, sinking = claims_block(), sinking_block()
+    if args.quick:
+        print(claims, sinking, sep="\n\n")
+        return 0
+    fragment = Path(__file__).resolve().parents[1] / "docs" / "model.md"
+    text = fragment.read_text()
+    text = replace_between(text, "claims", claims)
+    text = replace_between(text, "sinking", sinking)
+    fragment.write_text(text)
+    say(f"updated tables in {fragment}")
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main(sys.argv[1:])

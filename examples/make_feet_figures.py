@@ -1,6 +1,13 @@
-"""Figures of the foot closed forms and mesh integration (docs/figures/feet_*.png).
+"""
+Closed forms and meshes of the paper's feet
+===========================================
 
-Run ``python examples/make_feet_figures.py [--out docs/figures]``:
+The resultant force of the flat, semi-cylindrical and semi-spherical feet for a uniform
+10 kPa stress in each channel: the closed forms of eqs. (12)-(14) as mudrft implements
+them (errata E20-E23 corrected), the printed finals beside them, and the surface integral
+of eqs. (6)-(7) over a triangle mesh of each foot, which converges to the closed form.
+
+Run from the repository root: ``python examples/make_feet_figures.py [--out docs/figures]``:
 
 * ``feet_fz_depth.png``: F_z against depth for the three feet, closed form and mesh,
   with the printed (erroneous) finals of eqs. (13)-(14) for comparison;
@@ -197,9 +204,10 @@ def meshes(plt, out: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description="Figures of the feet (docs/figures/feet_*.png).")
     ap.add_argument("--out", default=os.path.join("docs", "figures"), help="output folder")
-    args = ap.parse_args(argv)
+    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     import matplotlib
 
     matplotlib.use("Agg")
@@ -207,9 +215,9 @@ def main(argv: list[str] | None = None) -> int:
 
     os.makedirs(args.out, exist_ok=True)
     for make in (fz_depth, fxy_heading, convergence, meshes):
-        print(f"make_feet_figures: {make(plt, args.out)}", file=sys.stderr)
+        print(f"wrote {os.path.basename(make(plt, args.out))}")
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main(sys.argv[1:])

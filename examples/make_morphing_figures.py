@@ -1,10 +1,13 @@
-"""Figures and tables of the morphing foot: docs/figures/morphing_*.png, docs/model.md.
+"""
+The passive morphing foot
+=========================
 
-Run from the repository root::
+The paper's morphing foot as mudrft reconstructs it (the paper gives no dimensions for
+its springs, linkage and pads; decisions D30-D39): its linkage, its response on rigid
+ground, its three modes in mud and a gait cycle beside the fixed feet.
 
-    python examples/make_morphing_figures.py
-
-Writes
+Run from the repository root: ``python examples/make_morphing_figures.py [--out DIR]
+[--quick]``. Writes
 
 * ``morphing_linkage.png``: the linkage and pads at four deflections (section and 3D view);
 * ``morphing_rigid_ground.png``: pad angle and force against deflection on rigid ground
@@ -17,11 +20,14 @@ Writes
 
 and replaces the generated tables (sensitivity, the four feet over a gait cycle) between
 the markers in ``docs/model.md`` (the paper's claims are made by
-``examples/make_claims_matrix.py``). Progress goes to stderr.
+``examples/make_claims_matrix.py``). With ``--quick`` (the docs build) it skips the
+sensitivity table and prints the feet table instead of writing ``docs/model.md``.
+Progress goes to stderr.
 """
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 import time
@@ -34,9 +40,7 @@ from mudrft.feet import Flat, MorphingFoot, SemiCylinder, SemiSphere
 from mudrft.plotting import require_matplotlib
 from mudrft.simulation import simulate, static_sinking
 
-ROOT = Path(__file__).resolve().parents[1]
-FIG = ROOT / "docs" / "figures"
-FRAGMENT = ROOT / "docs" / "model.md"
+FIG = Path("docs") / "figures"  # the output folder; main() sets it from --out
 MUD = mudrft.paper_mud(0.25)
 GAIT = mudrft.gait(0.2)
 PLUNGE = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0, dt=1e-3)
@@ -313,7 +317,14 @@ def replace_between(text: str, tag: str, body: str) -> str:
     return text[:i] + "\n" + body + "\n" + text[j:]
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="Figures and tables of the morphing foot.")
+    ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
+    ap.add_argument("--quick", action="store_true",
+                    help="no sensitivity table; print the feet table, leave docs/model.md alone")
+    args = ap.parse_args([] if argv is None else argv)  # None: the defaults
+    global FIG
+    FIG = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     plt = require_matplotlib()
     FIG.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -325,10 +336,14 @@ def main() -> int:
     for foot in (Flat(), SemiCylinder(), SemiSphere(), MorphingFoot()):
         runs[foot.name] = simulate(foot, MUD, GAIT)
     say(f"wrote {fig_gait(plt, runs)}")
+    if args.quick:
+        print(feet_table(runs))
+        return 0
     say("sensitivity table (12 feet x gait + plunge) ...")
     sens = sensitivity_table()
     say("feet table ...")
     table = feet_table(runs)
+    FRAGMENT = Path(__file__).resolve().parents[1] / "docs" / "model.md"
     text = FRAGMENT.read_text()
     text = replace_between(text, "sensitivity", sens)
     text = replace_between(text, "morphing-feet", table)
@@ -339,4 +354,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main(sys.argv[1:])

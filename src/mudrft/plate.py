@@ -90,6 +90,12 @@ def plate_response(
     -----
     A vertical plate whose displacement is back to 0 has left the mud; its stress is 0.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. IV-A and supplementary Fig. S2 (plate tests).
+
     Examples
     --------
     >>> import mudrft

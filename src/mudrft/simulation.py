@@ -278,6 +278,12 @@ def simulate(
     Returns
     -------
     Result
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (1)-(7) and (12)-(14).
     """
     if not isinstance(foot, Foot):
         raise MudrftError(

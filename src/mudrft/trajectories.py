@@ -147,6 +147,12 @@ def plate_intrusion(
         With ``meta = {"angle", "direction", "depth", "speed", "hold", "t_retract"}``
         and the intrusion displacement in ``meta["displacement"]`` [m].
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. IV-A, Table I (plate tests).
+
     Examples
     --------
     >>> tr = plate_intrusion(depth=0.03, speed=0.02, hold=1.0)
@@ -238,6 +244,13 @@ def gait(
         Height of the tip above the surface at the end of the swing [m].
     dt : float, keyword-only
         Sample spacing [s].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. IV (gait speeds 0.13, 0.2 and 0.26 m/s); mudrft decision D10
+       (docs/model.md).
 
     Examples
     --------

@@ -198,6 +198,12 @@ def calibrate(
     bound; *weak* if :math:`0.05<\mathrm{se}(\ln p)\le 0.5`; *not identified* if the
     error is larger or infinite, or the parameter ends at a bound.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. III (identification of the mud constants).
+
     Examples
     --------
     >>> import mudrft

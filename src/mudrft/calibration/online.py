@@ -132,7 +132,7 @@ class OnlineEstimator:
     tau_build_grid : array_like, optional, keyword-only
         Candidate build-up times [s]; default 25 values from 0.02 to 5 s (log-spaced).
     rate_threshold : float, keyword-only
-        |rate| below which a sample counts as hold [1/s] (``"paper"`` skips hold samples).
+        Absolute rate below which a sample counts as hold [1/s] (``"paper"`` skips hold samples).
     retraction_skip : float, optional, keyword-only
         ``"paper"`` only: dimensionless retraction skipped at the start of each retraction,
         while the bed contact fades [-]; default ``3 * prior.epsilon``.

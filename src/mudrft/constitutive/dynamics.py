@@ -142,6 +142,25 @@ def step(
     stress : ChannelStress
         Stresses at the end of the step [Pa].
 
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-3a
+
+       \dot\sigma_{th}=\frac1\lambda f_\xi-\frac1\lambda\sigma_{th},\quad
+       f_\xi=(\eta_\infty+\xi\eta_m)\dot\gamma+\lambda\eta_\infty\ddot\gamma \tag{3a}
+
+    .. math::
+       :label: chen2026-eq-5
+
+       \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (1)-(5), (9)-(11); mudrft decisions D2-D6, D15 (docs/model.md).
+
     Examples
     --------
     >>> import mudrft
@@ -222,6 +241,12 @@ def run(
     -------
     ChannelHistory
         Stresses [Pa] and structure at every sample (the first sample is the initial state).
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (1)-(5).
     """
     t = check_increasing("time", time)
     g = check_finite("gamma", gamma)

@@ -22,7 +22,7 @@ def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0)
     r"""Structure parameter at constant rate: :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}`.
 
     The supplementary prints :math:`\xi(t)=(1-e^{t/\tau_\xi})\xi_{ss}` for
-    :math:`\xi_0=0`, whose exponent has a sign slip (erratum E4); this is the correct form.
+    :math:`\xi_0=0`, whose exponent has a sign slip (erratum E3); this is the correct form.
 
     Parameters
     ----------
@@ -34,6 +34,12 @@ def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0)
         Model constants.
     xi0 : float, keyword-only
         Structure at t = 0 [-] (the paper uses 0).
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. I (erratum E3).
     """
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
     xi_ss = params.k_a * tau
@@ -74,6 +80,12 @@ def thixotropic_exact(
     -------
     array
         :math:`\sigma_{th}(t)` [Pa].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. I, eq. (S2) (erratum E5).
     """
     t = np.asarray(t, dtype=float)
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
@@ -98,6 +110,19 @@ def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:
     Exact only when :math:`\xi` starts at its steady value; the supplementary
     justifies it by :math:`\tau_\xi\approx\lambda`, which does not remove the second
     term of eq. (S2) (see docs/model.md, erratum E5, and the tests that measure the error).
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-9
+
+       \sigma_{th}=\left(1-e^{-t/\lambda}\right)\sigma_{th,ss} \tag{9}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (9).
     """
     t = np.asarray(t, dtype=float)
     return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
@@ -122,6 +147,19 @@ def suction_closed_form(dt: Any, phi: Any, params: MudParameters, *, sigma_s0: f
         Model constants.
     sigma_s0 : float, keyword-only
         Suction at :math:`t_w` [Pa]; the paper uses 0.
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-10
+
+       \sigma_s=\left(1-e^{-a\Delta t}\right)\sigma_{s,ss},\qquad \Delta t=t-t_w \tag{10}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (10)-(11).
     """
     a = laws.suction_rate(phi, params.tau_build, params.tau_leak)
     ss = laws.suction_steady(phi, params.tau_build, params.tau_leak, params.sigma_y)

@@ -52,6 +52,19 @@ def elastic_stress(gamma: Any, alpha: Any, n: Any, *, xp: Any = np) -> Any:
     array
         Stress [Pa].
 
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-2
+
+       \sigma_b=\alpha\gamma^n \tag{2}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (2).
+
     Examples
     --------
     >>> float(elastic_stress(0.25, 24e3, 0.5))
@@ -75,6 +88,20 @@ def switch(gamma_dot: Any, nu: Any, *, xp: Any = np) -> Any:
     nu : array_like
         Switch width [1/s].
 
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-1
+
+       \sigma_{tot}=\sigma_b+\sigma_{th}+H_\nu(\dot\gamma)\,\sigma_s,\qquad
+       H_\nu(\dot\gamma)=\tfrac12\left(1-\tanh\frac{\dot\gamma}{\nu}\right) \tag{1}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (1).
+
     Examples
     --------
     >>> round(float(switch(-1.0, 0.01)), 6), float(switch(0.0, 0.01))
@@ -96,6 +123,12 @@ def sealing_printed(gamma: Any, gamma0: Any, epsilon: Any, *, xp: Any = np) -> A
         Dimensionless displacement and its value at the start of retraction [-].
     epsilon : array_like
         Width [-].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. II-B, below eq. (5).
     """
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
@@ -118,6 +151,13 @@ def sealing(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
     epsilon : array_like
         Width [-].
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (5) and the sealing function below it; mudrft decision D4
+       (docs/model.md).
+
     Examples
     --------
     >>> float(sealing(0.0, 0.02)), round(float(sealing(0.1, 0.02)), 4)
@@ -139,6 +179,13 @@ def bed_contact(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
         Dimensionless retraction :math:`r` [-].
     epsilon : array_like
         Width [-].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (2) and supplementary Sec. III-A; mudrft decision D2
+       (docs/model.md).
     """
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
@@ -152,6 +199,20 @@ def xi_steady(gamma_dot: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
         Rate [1/s].
     gamma_dot_c : array_like
         Critical rate [1/s].
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-3b
+
+       \dot\xi=k_a(1-\xi)-k_r|\dot\gamma|\,\xi,\qquad
+       \xi_{ss}=\frac{k_a}{k_a+k_r|\dot\gamma|}=\frac{\dot\gamma_c}{\dot\gamma_c+|\dot\gamma|} \tag{3b}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (3b) and the steady state below it.
 
     Examples
     --------
@@ -172,6 +233,12 @@ def tau_xi(gamma_dot: Any, k_a: Any, k_r: Any, *, xp: Any = np) -> Any:
         Aging rate [1/s].
     k_r : array_like
         Rejuvenation coefficient [-].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. I.
     """
     return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
 
@@ -189,12 +256,32 @@ def thixotropic_steady(
         Viscosities [Pa s].
     gamma_dot_c : array_like
         Critical rate [1/s].
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-4
+
+       \sigma_{th,ss}=(\eta_\infty+\xi_{ss}\eta_m)\,\dot\gamma,\qquad
+       \sigma_Y=(\eta_m-\eta_\infty)\,\dot\gamma_c \tag{4}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (4).
     """
     return (eta_inf + xi_steady(gamma_dot, gamma_dot_c, xp=xp) * eta_m) * gamma_dot
 
 
 def yield_stress(eta_m: Any, eta_inf: Any, gamma_dot_c: Any) -> Any:
     r"""Yield stress from eq. (4): :math:`\sigma_Y=(\eta_m-\eta_\infty)\dot\gamma_c` [Pa].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (4); Tables S1 and S2 (erratum E2: the horizontal rows break it).
 
     Examples
     --------
@@ -205,12 +292,33 @@ def yield_stress(eta_m: Any, eta_inf: Any, gamma_dot_c: Any) -> Any:
 
 
 def suction_rate(phi: Any, tau_build: Any, tau_leak: Any) -> Any:
-    r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s]."""
+    r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (11).
+    """
     return phi / tau_build + (1.0 - phi) / tau_leak
 
 
 def suction_steady(phi: Any, tau_build: Any, tau_leak: Any, sigma_y: Any) -> Any:
     r"""Steady suction, eq. (11): :math:`\sigma_{s,ss}=-\phi\sigma_Y/(a\tau_{build})` [Pa].
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-11
+
+       \sigma_{s,ss}=-\frac{\phi}{a\,\tau_{build}}\sigma_Y,\qquad
+       a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}} \tag{11}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (11).
 
     Examples
     --------
@@ -224,12 +332,34 @@ def suction_steady(phi: Any, tau_build: Any, tau_leak: Any, sigma_y: Any) -> Any
 
 
 def f_n(psi: Any, *, xp: Any = np) -> Any:
-    r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-]."""
+    r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-7
+
+       \sigma_v^i=f_i(\psi_1)\,\sigma_v,\quad \sigma_h^i=f_i(\psi_2)\,\sigma_h,\quad
+       f_n(\psi)=\tfrac12(1+\cos2\psi),\quad f_t(\psi)=\tfrac12(1-\cos2\psi) \tag{7}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (7).
+    """
     return 0.5 * (1.0 + xp.cos(2.0 * psi))
 
 
 def f_t(psi: Any, *, xp: Any = np) -> Any:
-    r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-]."""
+    r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-].
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (7).
+    """
     return 0.5 * (1.0 - xp.cos(2.0 * psi))
 
 
@@ -238,6 +368,12 @@ def f_n_extended(psi: Any, *, xp: Any = np) -> Any:
 
     Equal to :math:`\cos\psi|\cos\psi|`: positive on faces that lead the motion,
     negative on trailing faces.
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. II-C.
     """
     c = xp.cos(psi)
     return c * xp.abs(c)
@@ -247,6 +383,12 @@ def f_t_extended(psi: Any, *, xp: Any = np) -> Any:
     r"""Tangential factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
 
     Equal to :math:`\sin\psi|\sin\psi|` (odd in :math:`\psi`).
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Sec. II-C.
     """
     s = xp.sin(psi)
     return s * xp.abs(s)

@@ -92,6 +92,20 @@ def flat_coefficients(
     -------
     tuple
         ``(a_x, b_x, b_y, a_y, a_z)`` [m^2].
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-12
+
+       F_x=z\left[L f_n(\varphi)\sigma_x+W f_t(\varphi_c)\sigma_y\right],\quad
+       F_y=z\left[L f_t(\varphi)\sigma_x+W f_n(\varphi_c)\sigma_y\right],\quad F_z=LW\sigma_z \tag{12}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (12) and supplementary Sec. II-A.
     """
     z = xp.minimum(depth, height)
     phic = 0.5 * math.pi - phi
@@ -122,6 +136,21 @@ def semicylinder_coefficients(
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
     xp : module, keyword-only
         Element-wise namespace.
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-13
+
+       \begin{aligned}F_x&=R^2(\theta_c-sc)\,f_n(\varphi)\sigma_x+WR(1-c)\,f_t(\varphi_c)\sigma_y,\\
+       F_y&=R^2(\theta_c-sc)\,f_t(\varphi)\sigma_x+WR(1-c)\,f_n(\varphi_c)\sigma_y,\\
+       F_z&=2WR\,\sigma_z\left[s-\tfrac{s^3}{3}+\tfrac{(1-c)^2(2+c)}{3}\right]\end{aligned} \tag{13}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (13) and supplementary Sec. II-B (erratum E20 in eq. 13c).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
@@ -160,6 +189,20 @@ def semisphere_coefficients(
         :math:`R` and cap height (<= R) [m].
     xp : module, keyword-only
         Element-wise namespace.
+
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-14
+
+       F_x=\tfrac83R^2(\theta_c-sc)\cos\varphi\,\sigma_x,\quad F_y=\tfrac83R^2(\theta_c-sc)\sin\varphi\,\sigma_y,
+       \quad F_z=\tfrac{S_e}{4}\left(2+2c^2+\tfrac{2c^3}{s}-\tfrac{5c}{s}+\tfrac{3\theta_c}{s^2}\right)\sigma_z \tag{14}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (14) and supplementary Sec. II-C (errata E21-E23).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
@@ -438,6 +481,12 @@ class Flat(_ClosedFormFoot):
     height : float, optional
         Height of the plate [m]; deeper than this the foot is buried (decision D26).
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (12).
+
     Examples
     --------
     >>> foot = Flat()
@@ -492,6 +541,12 @@ class SemiCylinder(_ClosedFormFoot):
         :math:`W` [m], along the axis (x).
     height : float, optional
         Height of the foot [m], <= ``radius``.
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (13).
 
     Examples
     --------
@@ -556,6 +611,12 @@ class SemiSphere(_ClosedFormFoot):
         :math:`R` [m].
     height : float, optional
         Cap height [m], <= ``radius``.
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (14).
 
     Examples
     --------

@@ -175,6 +175,12 @@ class MeshFoot(Foot):
     dropped : int
         Number of zero-area facets dropped.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (6)-(7), Sec. II-C.
+
     Examples
     --------
     A downward-facing unit square (an open mesh: a warning says so):

@@ -463,6 +463,21 @@ def integrate_triangles(
         (Fx, Fy, Fz) [N] in the foot frame: horizontal components oppose the motion for
         resisting stresses; Fz > 0 is support.
 
+    Notes
+    -----
+    .. math::
+       :label: chen2026-eq-6
+
+       dF_x=(-\sigma_h^n\cos\varphi+\sigma_h^t\sin\varphi)\,dS_h,\quad
+       dF_y=-(\sigma_h^n\sin\varphi+\sigma_h^t\cos\varphi)\,dS_h,\quad
+       dF_z=(\sigma_v^n\cos\psi_1+\sigma_v^t\sin\psi_1)\,dS \tag{6}
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (6)-(7), Sec. II-C (erratum E24: the sign of dF_y).
+
     Examples
     --------
     A 1 m x 1 m downward-facing square at any positive depth carries sz x 1 m^2:

@@ -152,6 +152,12 @@ def paper_parameters(
         Frozen set in SI units with ``source`` naming table and row; its
         ``water_content`` is the label asked for.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Tables S1 and S2.
+
     Examples
     --------
     >>> p = paper_parameters(0.35, "horizontal")
@@ -191,6 +197,12 @@ def paper_mud(
     labels : {"table", "text"}, keyword-only
         Read ``water_content`` as the tables label the rows (default: 25/35/45 %) or as
         the text does (15/25/35 %, errata E6/E7; :func:`paper_parameters`).
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Tables S1 and S2.
 
     Examples
     --------

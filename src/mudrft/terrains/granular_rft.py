@@ -480,6 +480,17 @@ class GranularRFT(FacetRFT):
     name : str
         Label in reports.
 
+    References
+    ----------
+    .. [1] C. Li, T. Zhang and D. I. Goldman, "A Terradynamics of Legged Locomotion on
+       Granular Media", Science 339(6126):1408-1412, 2013, doi:10.1126/science.1229163.
+    .. [2] L. K. Treers, C. Cao and H. S. Stuart, "Granular Resistive Force Theory
+       Implementation for Three-Dimensional Trajectories", IEEE Robotics and Automation
+       Letters 6(2):1887-1894, 2021, doi:10.1109/LRA.2021.3057052.
+    .. [3] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Fig. S6 (the comparison with sand).
+
     Examples
     --------
     >>> rft = GranularRFT()

@@ -408,6 +408,12 @@ class GranularRFT3D(FacetRFT):
     name : str
         Label in reports.
 
+    References
+    ----------
+    .. [1] S. Agarwal, D. I. Goldman and K. Kamrin, "Mechanistic framework for
+       reduced-order models in soft materials: Application to three-dimensional granular
+       intrusion", PNAS 120:e2214017120, 2023, doi:10.1073/pnas.2214017120.
+
     Examples
     --------
     >>> t = GranularRFT3D()

@@ -52,6 +52,14 @@ class LinearStiffness:
     name : str
         Label in reports.
 
+    References
+    ----------
+    .. [1] S. Godon, A. Ristolainen and M. Kruusmaa, "An Insight on Mud Behavior Upon
+       Stepping", IEEE Robotics and Automation Letters, 2022.
+    .. [2] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. I and supplementary Fig. S6.
+
     Examples
     --------
     >>> LinearStiffness().stiffness

@@ -141,6 +141,14 @@ class MaxwellMud:
     name : str
         Label in reports.
 
+    References
+    ----------
+    .. [1] X. Chen, J. Yi and J. Shan, "A Reduced-Order Resistive Force Model for Robotic
+       Foot-Mud Interactions", IEEE/ASME AIM 2024, arXiv:2403.02617.
+    .. [2] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), supplementary Fig. S6.
+
     Examples
     --------
     >>> m = MaxwellMud()

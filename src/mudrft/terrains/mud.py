@@ -307,6 +307,12 @@ class MudTerrain:
     heading_speed : float
         Below this horizontal speed [m/s] the last heading is kept; > 0.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (1)-(7); mudrft decisions D1-D15 (docs/model.md).
+
     Examples
     --------
     >>> import mudrft

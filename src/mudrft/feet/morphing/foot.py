@@ -53,6 +53,13 @@ class MorphingFoot(MorphingMechanism, Foot):
         For an unknown override, a bad mode or length, a linkage that cannot be built, or
         a soft stage that does not bottom out within the stroke.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), Sec. III-B and supplementary Figs. S3-S4; mudrft decisions D30-D39
+       (docs/model.md).
+
     Examples
     --------
     >>> foot = MorphingFoot()

@@ -51,6 +51,13 @@ class MudCoupling(MudBatch):
 def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
 
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eqs. (1)-(7).
+    .. [2] mudrft's model chapter (docs/model.md), Sec. 10, decisions D60-D68.
+
     Examples
     --------
     >>> import mujoco, mudrft
