@@ -38,7 +38,7 @@ def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
     MudrftError
         For a foot without a closed form (mesh feet, the morphing foot).
     """
-    from ..feet.closed_form import Flat, SemiCylinder, SemiSphere
+    from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 
     if type(foot) not in (Flat, SemiCylinder, SemiSphere):
         raise MudrftError(

@@ -13,8 +13,8 @@ from typing import Any
 
 from .._validation import MudrftError
 from .base import Foot, SurfaceElements, first_quadrant
-from .closed_form import Flat, SemiCylinder, SemiSphere
 from .mesh import MeshFoot, MeshWarning
+from .shapes import Flat, SemiCylinder, SemiSphere
 
 __all__ = [
     "Flat",

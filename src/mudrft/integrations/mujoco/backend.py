@@ -10,20 +10,21 @@ stay valid: MuJoCo never reallocates them). :class:`~.batch.MudBatch` calls
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from ..._validation import MudrftError
-from ...backends.numba import N_STATE, config_row, constant_row, state_rows
+from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains.mud import MudTerrain
-from .compiled import ARGS, N_OUT, coupling_kernel, pack_arguments, upright_rows
+from .compiled import N_OUT, coupling_kernel, upright_rows
 from .contact import MudContact
 
-__all__ = ["CompiledCoupling", "check_compilable", "choose_backend"]
+__all__ = ["ARGS", "CompiledCoupling", "check_compilable", "choose_backend", "pack_arguments"]
 
 
 def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
@@ -64,6 +65,62 @@ def choose_backend(backend: str, mud: Any, foot: Any) -> str:
 
     mud_ok = isinstance(mud, Mud | MudTerrain)
     return "numba" if available() and _compilable_foot(foot) and mud_ok else "numpy"
+
+
+#: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
+ARGS = (
+    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
+    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
+    ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
+    ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
+    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("opts", "f8", 1),
+    ("mud", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
+    ("out", "f8", 3),
+)  # fmt: skip
+
+
+@functools.cache
+def packed_arguments() -> Any:
+    """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
+
+    Passing 25 arrays costs numba 2.5-4.5 us per call to type and unbox them (a third of the
+    coupling's cost for the biped); one jitclass instance costs a few tenths of a
+    microsecond (D68b). The instance shares the arrays' memory: writing them from Python
+    (the options, the state on reset) is seen by the kernel.
+    """
+    numba = _numba()
+    from numba.experimental import jitclass
+
+    kinds = {"i8": numba.int64, "f8": numba.float64}
+    spec = [(name, numba.types.Array(kinds[dt], nd, "C")) for name, dt, nd in ARGS]
+
+    class CouplingArrays:
+        def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
+                     inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
+                     geom, opts, mud, odo, tw_prev, wv_prev, out):  # type: ignore[no-untyped-def]  # fmt: skip
+            self.addr, self.sizes, self.model_i = addr, sizes, model_i
+            self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
+            self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
+            self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
+            self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
+            self.geom, self.opts, self.mud, self.odo = geom, opts, mud, odo
+            self.tw_prev, self.wv_prev, self.out = tw_prev, wv_prev, out
+
+    return jitclass(spec)(CouplingArrays)
+
+
+def pack_arguments(arrays: dict[str, Any]) -> Any:
+    """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
+    args = []
+    for name, dt, nd in ARGS:
+        a = arrays[name]
+        if a.dtype != np.dtype(dt) or a.ndim != nd or not a.flags.c_contiguous:
+            raise MudrftError(
+                f"coupling array {name!r} must be C-contiguous {np.dtype(dt)} with {nd} "
+                f"dimensions, got {a.dtype} with shape {a.shape}"
+            )
+        args.append(a)
+    return packed_arguments()(*args)
 
 
 class CompiledCoupling:

@@ -32,7 +32,6 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import MudrftError
 from ...backends.numba import N_STATE, _constants, _numba, compile_scalar
 from ...constitutive.state import ChannelState
 from ...feet.closed_form import closed_form_force
@@ -50,7 +49,7 @@ from ...terrains.mud import MudChannels, mud_channel_stress, mud_heading, mud_st
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
-__all__ = ["ARGS", "N_OUT", "coupling_kernel", "pack_arguments", "upright_rows"]
+__all__ = ["N_OUT", "coupling_kernel", "upright_rows"]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -509,64 +508,8 @@ _heading = mud_heading
 _force = closed_form_force
 
 
-#: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
-ARGS = (
-    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
-    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
-    ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
-    ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
-    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("opts", "f8", 1),
-    ("mud", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("out", "f8", 3),
-)  # fmt: skip
-
-
-@functools.cache
-def packed_arguments() -> Any:
-    """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
-
-    Passing 25 arrays costs numba 2.5-4.5 us per call to type and unbox them (a third of the
-    coupling's cost for the biped); one jitclass instance costs a few tenths of a
-    microsecond (D68b). The instance shares the arrays' memory: writing them from Python
-    (the options, the state on reset) is seen by the kernel.
-    """
-    numba = _numba()
-    from numba.experimental import jitclass
-
-    kinds = {"i8": numba.int64, "f8": numba.float64}
-    spec = [(name, numba.types.Array(kinds[dt], nd, "C")) for name, dt, nd in ARGS]
-
-    class CouplingArrays:
-        def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
-                     inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
-                     geom, opts, mud, odo, tw_prev, wv_prev, out):  # type: ignore[no-untyped-def]  # fmt: skip
-            self.addr, self.sizes, self.model_i = addr, sizes, model_i
-            self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
-            self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
-            self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
-            self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
-            self.geom, self.opts, self.mud, self.odo = geom, opts, mud, odo
-            self.tw_prev, self.wv_prev, self.out = tw_prev, wv_prev, out
-
-    return jitclass(spec)(CouplingArrays)
-
-
-def pack_arguments(arrays: dict[str, Any]) -> Any:
-    """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
-    args = []
-    for name, dt, nd in ARGS:
-        a = arrays[name]
-        if a.dtype != np.dtype(dt) or a.ndim != nd or not a.flags.c_contiguous:
-            raise MudrftError(
-                f"coupling array {name!r} must be C-contiguous {np.dtype(dt)} with {nd} "
-                f"dimensions, got {a.dtype} with shape {a.shape}"
-            )
-        args.append(a)
-    return packed_arguments()(*args)
-
-
 def _kernel_packed(p: Any) -> int:
-    """:func:`_kernel` on the arrays of one :func:`packed_arguments` instance."""
+    """:func:`_kernel` on the arrays of one :func:`.backend.packed_arguments` instance."""
     return _kernel(
         p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,
         p.inertia, p.bodies, p.tip, p.fwd, p.tri_adr, p.tri_b, p.up_adr, p.tri_up, p.consts,
@@ -577,7 +520,7 @@ def _kernel_packed(p: Any) -> int:
 @functools.cache
 def coupling_kernel() -> Any:
     """The compiled :func:`_kernel` (numba), with the physics compiled from its one source;
-    it takes the arrays packed by :func:`pack_arguments`."""
+    it takes the arrays packed by :func:`.backend.pack_arguments`."""
     numba = _numba()
     jit = numba.njit(error_model="numpy")
     env = dict(_kernel.__globals__)

@@ -1,0 +1,311 @@
+r"""The paper's three feet as objects: :class:`Flat`, :class:`SemiCylinder`, :class:`SemiSphere`.
+
+Their forces are the closed forms of :mod:`mudrft.feet.closed_form` (eqs. 12-14 of the
+paper, with errata E20-E23); their surfaces are meshes (:mod:`mudrft.feet.meshgen`) for the
+center of pressure and the posed (tilted) foot.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._validation import MudrftError, check_dimensions, check_nonnegative
+from .base import Foot, SurfaceElements
+from .base import check_resultant_inputs as _check_inputs
+from .closed_form import (
+    DEFAULT_RESOLUTION,
+    _magnitudes,
+    _theta,
+    closed_form_coefficients,
+    closed_form_force,
+)
+from .mesh import MeshFoot
+from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
+
+__all__ = ["Flat", "SemiCylinder", "SemiSphere"]
+
+
+class _ClosedFormFoot(Foot):
+    """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
+
+    #: whether the matching mesh rule lets trailing facets resist (decision D23)
+    trailing: ClassVar[bool] = False
+
+    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    elementwise: ClassVar[bool] = True
+
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths [m]."""
+        raise NotImplementedError
+
+    def coefficients(self, depth: Any, phi: Any, *, xp: Any = np) -> tuple[Any, ...]:
+        """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
+        [m] and first-quadrant heading [rad] (see :func:`flat_coefficients`)."""
+        kind, g0, g1, g2 = self.kernel_geometry
+        return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
+
+    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """The closed form without validation (first-quadrant heading) [N]."""
+        return _magnitudes(self.coefficients(depth, heading), stress, np)
+
+    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
+        return self._forces(*_check_inputs(depth, stress, heading))
+
+    def force_components(
+        self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
+    ) -> tuple[Any, Any, Any]:
+        """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
+        kind, g0, g1, g2 = self.kernel_geometry
+        return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
+
+    def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
+        s = np.asarray(stress, dtype=float)
+        f = self.force_components(
+            np.asarray(depth, dtype=float),
+            s[..., 0],
+            s[..., 1],
+            s[..., 2],
+            np.asarray(heading, dtype=float),
+        )
+        return np.stack(np.broadcast_arrays(*f), axis=-1)
+
+    def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
+        """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.
+
+        Parameters
+        ----------
+        resolution : int, optional
+            Mesh density (segments from the tip to the rim for curved feet, grid divisions
+            per edge for the flat foot), >= 1.
+        """
+        v, f = self._mesh_arrays(resolution)
+        return MeshFoot(v, f, trailing=self.trailing, name=self.name)
+
+    @cached_property
+    def _mesh(self) -> MeshFoot:
+        return self.to_mesh(resolution=DEFAULT_RESOLUTION)
+
+    def elements(self) -> SurfaceElements:
+        """Surface elements of the default mesh (``resolution=48``) in the foot frame."""
+        return self._mesh.elements()
+
+    def posed(self, rotation: Any, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
+        """The foot rotated by ``rotation`` (3x3 matrix or scipy Rotation), as a mesh foot.
+
+        The closed forms hold for the axis-aligned foot only, so a posed foot is integrated
+        on its mesh (see :meth:`MeshFoot.posed`).
+        """
+        return self.to_mesh(resolution=resolution).posed(rotation)
+
+    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+        """Center of pressure in the foot frame [m], shape (..., 3), from the default mesh.
+
+        See :func:`mudrft.feet.surface.integrate_wrench` (decision D24).
+        """
+        return self._mesh.center_of_pressure(depth, stress, heading)
+
+
+@dataclass(frozen=True, eq=True)
+class Flat(_ClosedFormFoot):
+    """Rectangular flat foot (paper: 80 x 65 mm, 26 mm tall), eq. (12).
+
+    The length :math:`L` runs along y and the width :math:`W` along x (decision D20: the
+    face whose normal is x has area :math:`Lz` in eq. 12).
+
+    Parameters
+    ----------
+    length : float, optional
+        :math:`L` [m], along y.
+    width : float, optional
+        :math:`W` [m], along x.
+    height : float, optional
+        Height of the plate [m]; deeper than this the foot is buried (decision D26).
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (12).
+
+    Examples
+    --------
+    >>> foot = Flat()
+    >>> foot.resultant(0.01, [1e3, 1e3, 1e3], 0.0).round(3).tolist()
+    [1.45, 0.0, 5.2]
+    """
+
+    length: float = 0.08
+    width: float = 0.065
+    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    name: ClassVar[str] = "flat"  # type: ignore[misc]
+    trailing: ClassVar[bool] = False
+
+    def __post_init__(self) -> None:
+        sizes = check_dimensions("Flat", length=self.length, width=self.width, height=self.height)
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
+
+    @property
+    def characteristic_length(self) -> float:
+        """:math:`L_c=\\sqrt{LW}` [m] (decision D27)."""
+        return math.sqrt(self.length * self.width)
+
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(0, L, W, H)`` [m], see :func:`closed_form_coefficients`."""
+        return 0, self.length, self.width, self.height
+
+    def projected_areas(self, depth: Any) -> np.ndarray:
+        """Submerged areas projected along x, y, z [m^2]: (L z, W z, L W), shape (..., 3)."""
+        d = check_nonnegative("depth", depth, unit="m")
+        z = np.minimum(d, self.height)
+        az = np.where(d > 0, self.length * self.width, 0.0)
+        return np.stack([self.length * z, self.width * z, az], axis=-1)
+
+    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        return box_mesh(self.length, self.width, self.height, resolution=resolution)
+
+
+@dataclass(frozen=True, eq=True)
+class SemiCylinder(_ClosedFormFoot):
+    """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13).
+
+    The cylinder axis runs along x (length :math:`W`); the cross-section is a circular
+    segment of radius :math:`R` and height ``height`` <= R, cut flat on top (decision D20).
+
+    Parameters
+    ----------
+    radius : float, optional
+        :math:`R` [m].
+    width : float, optional
+        :math:`W` [m], along the axis (x).
+    height : float, optional
+        Height of the foot [m], <= ``radius``.
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (13).
+
+    Examples
+    --------
+    >>> SemiCylinder().resultant(0.02, [0.0, 1e3, 0.0], np.pi / 2).round(4).tolist()
+    [0.0, 1.3, 0.0]
+    """
+
+    radius: float = 0.045
+    width: float = 0.065
+    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    name: ClassVar[str] = "semi-cylinder"  # type: ignore[misc]
+    trailing: ClassVar[bool] = False
+
+    def __post_init__(self) -> None:
+        sizes = check_dimensions(
+            "SemiCylinder", radius=self.radius, width=self.width, height=self.height
+        )
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
+        if self.height > self.radius:
+            raise MudrftError(
+                f"height must be <= radius = {self.radius} m for a semi-cylinder, "
+                f"got {self.height} m"
+            )
+
+    @property
+    def _theta_max(self) -> float:
+        return math.acos(1.0 - self.height / self.radius)
+
+    @property
+    def characteristic_length(self) -> float:
+        """:math:`L_c=\\sqrt{2R\\sin\\theta_H\\,W}` [m], the top cross-section (D27)."""
+        return math.sqrt(2 * self.radius * math.sin(self._theta_max) * self.width)
+
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(1, R, W, H)`` [m], see :func:`closed_form_coefficients`."""
+        return 1, self.radius, self.width, self.height
+
+    def projected_areas(self, depth: Any) -> np.ndarray:
+        """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
+        d = check_nonnegative("depth", depth, unit="m")
+        z = np.minimum(d, self.height)
+        th = _theta(z, self.radius)
+        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        return np.stack([seg, self.width * z, 2 * self.radius * self.width * np.sin(th)], axis=-1)
+
+    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        return semicylinder_mesh(self.radius, self.width, self.height, resolution=resolution)
+
+
+@dataclass(frozen=True, eq=True)
+class SemiSphere(_ClosedFormFoot):
+    """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14).
+
+    Its closed form counts the facets that trail the motion (the supplementary's full-range
+    factors), so its mesh uses ``trailing=True`` (decision D23).
+
+    Parameters
+    ----------
+    radius : float, optional
+        :math:`R` [m].
+    height : float, optional
+        Cap height [m], <= ``radius``.
+
+    References
+    ----------
+    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
+       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
+       materials), eq. (14).
+
+    Examples
+    --------
+    >>> SemiSphere().resultant(0.0, [1e3, 1e3, 1e3], 0.3).tolist()
+    [0.0, 0.0, 0.0]
+    """
+
+    radius: float = 0.045
+    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    name: ClassVar[str] = "semi-sphere"  # type: ignore[misc]
+    trailing: ClassVar[bool] = True
+
+    def __post_init__(self) -> None:
+        sizes = check_dimensions("SemiSphere", radius=self.radius, height=self.height)
+        for k, v in sizes.items():
+            object.__setattr__(self, k, v)
+        if self.height > self.radius:
+            raise MudrftError(
+                f"height must be <= radius = {self.radius} m for a semi-sphere, got {self.height} m"
+            )
+
+    @property
+    def characteristic_length(self) -> float:
+        """:math:`L_c=\\sqrt{\\pi}R\\sin\\theta_H`, the top cross-section (D27) [m]."""
+        th = math.acos(1.0 - self.height / self.radius)
+        return math.sqrt(math.pi) * self.radius * math.sin(th)
+
+    @property
+    def kernel_geometry(self) -> tuple[int, float, float, float]:
+        """``(2, R, H, 0)`` [m], see :func:`closed_form_coefficients`."""
+        return 2, self.radius, self.height, 0.0
+
+    def projected_areas(self, depth: Any) -> np.ndarray:
+        """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
+        d = check_nonnegative("depth", depth, unit="m")
+        z = np.minimum(d, self.height)
+        th = _theta(z, self.radius)
+        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        return np.stack([seg, seg, math.pi * (self.radius * np.sin(th)) ** 2], axis=-1)
+
+    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        return semisphere_mesh(self.radius, self.height, resolution=resolution)
