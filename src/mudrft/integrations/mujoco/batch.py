@@ -492,7 +492,7 @@ class MudBatch:
         def loop(nstep: int) -> MudContact:
             if int(opt.integrator) == rk4:
                 return generic(nstep)
-            first = flags[11] == 0.0
+            first = not self._has_prev
             for k in range(nstep):
                 for d in datas:
                     step1(m, d)
@@ -512,7 +512,7 @@ class MudBatch:
         def loop1(nstep: int) -> MudContact:  # one robot: the same, without the inner loops
             if int(opt.integrator) == rk4:
                 return generic(nstep)
-            first = flags[11] == 0.0
+            first = not self._has_prev
             for k in range(nstep):
                 step1(m, d0)
                 if kernel(args):
