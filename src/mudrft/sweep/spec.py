@@ -243,6 +243,10 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
         if key not in motion_allowed:
             raise _unknown(f"[motion] ({motion_kind})", key, ["kind", *motion_allowed])
         _add("motion", key, raw, design, fixed, axes, motion_kind=motion_kind)
+    if motion_kind == "load" and "weight" not in motion:
+        raise MudrftError(
+            "[motion] weight is required for kind = 'load' (the load on the foot [N])"
+        )
     if design != "grid" and not axes:
         raise MudrftError(f"[sweep] design = {design!r} needs at least one range to sample")
     ppt = _points_per_task(run.get("points_per_task"), motion_kind)

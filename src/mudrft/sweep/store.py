@@ -239,6 +239,6 @@ def load_result(store: Any, *, keep_done: bool = False) -> Any:
                 ds = ds.assign_coords({name: (ds[name].dims, values, ds[name].attrs)})
             else:
                 ds[name] = (ds[name].dims, values, ds[name].attrs)
-    if ds.attrs.get("complete") and not keep_done:
-        ds = ds.drop_vars("done")
-    return ds
+    metrics = [str(m) for m in np.atleast_1d(ds.attrs.get("metrics", [])) if m in ds]
+    order = [*metrics, "error", *([] if ds.attrs.get("complete") and not keep_done else ["done"])]
+    return ds[order]
