@@ -143,22 +143,22 @@ BAD = [
     (
         {"sweep": {"design": "lhs"}, "motion": {"speed": {"low": 0.1, "high": 0.2}}},
         r"\[sweep\] n \(the number of points\) is required",
-    ),  # fmt: skip
+    ),
     (
         {"sweep": {"design": "sobol", "n": 100}, "motion": {"speed": {"low": 0.1, "high": 0.2}}},
         r"power of 2.*got 100; use 128",
-    ),  # fmt: skip
+    ),
     ({"sweep": {"design": "lhs", "n": 8}}, r"needs at least one range"),
     ({"foot": {}}, r"\[foot\] kind is required"),
     ({"foot": {"kind": "square"}}, r"\[foot\] kind must be one of flat, semi-cylinder"),
     (
         {"foot": {"kind": "flat", "radius": 0.04}},
         r"\[foot\] radius: not a parameter of the flat foot; expected one of height, length, width",
-    ),  # fmt: skip
+    ),
     (
         {"foot": {"kind": "flat", "width": "wide"}},
         r"\[foot\] width must be a number \[m\].*got 'wide'",
-    ),  # fmt: skip
+    ),
     ({"foot": {"kind": "flat", "width": True}}, r"\[foot\] width must be a number"),
     ({"foot": {"kind": "flat", "width": float("nan")}}, r"\[foot\] width must be finite"),
     ({"foot": {"kind": "flat", "width": []}}, r"\[foot\] width: empty list"),
@@ -166,66 +166,66 @@ BAD = [
     (
         {"foot": {"kind": "flat", "width": {"low": 0.06, "high": 0.05, "num": 3}}},
         r"\[foot\] width: empty range, high \(0.05\) must be > low \(0.06\)",
-    ),  # fmt: skip
+    ),
     (
         {"foot": {"kind": "flat", "width": {"low": 0.05, "high": 0.06}}},
         r"\[foot\] width: a grid range needs num",
-    ),  # fmt: skip
+    ),
     (
         {"foot": {"kind": "flat", "width": {"low": 0.05, "high": 0.06, "num": 1}}},
         r"\[foot\] width num must be an integer >= 2",
-    ),  # fmt: skip
+    ),
     (
         {"foot": {"kind": "flat", "width": {"low": 0.05, "hi": 0.06}}},
         r"\[foot\] width hi: unknown key \(did you mean 'high'\?\)",
-    ),  # fmt: skip
+    ),
     (
         {"foot": {"kind": "flat", "width": {"low": 0.0, "high": 0.06, "num": 2, "log": True}}},
         r"log range needs low > 0",
-    ),  # fmt: skip
+    ),
     ({"foot": {"kind": "flat", "unit": "mm"}}, r"\[foot\] unit applies to mesh files only"),
     (
         {"foot": {"kind": "morphing", "mode": "open"}},
         r"\[foot\] mode must be one of morphing, expanded, retracted",
-    ),  # fmt: skip
+    ),
     ({"foot": {"kind": "morphing", "n_pads": 7.5}}, r"\[foot\] n_pads must be an integer"),
     ({"foot": {"kind": ["flat", "flat"]}}, r"\[foot\] kind lists a foot twice"),
     (
         {"mud": {"watercontent": 0.3}},
         r"\[mud\] watercontent: unknown key \(did you mean 'water_content'\?\)",
-    ),  # fmt: skip
+    ),
     ({"mud": {"extrapolate": [True, False]}}, r"\[mud\] extrapolate cannot be swept"),
     (
         {"mud": {"water_content": 0.3, "mud_set": "a"}},
         r"water_content .* or mud_set .* not both",
-    ),  # fmt: skip
+    ),
     ({"mud": {"mud_set": "a"}}, r"\[mud\] mud_set: no set 'a' in \[mud.sets\]"),
     (
         {"mud": {"thixotropy": ["ode", "fast"]}},
         r"\[mud\] thixotropy must be one of ode, quasi-static, got 'fast'",
-    ),  # fmt: skip
+    ),
     ({"motion": {"kind": "run"}}, r"\[motion\] kind must be one of gait, load, walk"),
     ({"motion": {"weight": 10.0}}, r"\[motion\] \(gait\) weight: unknown key"),
     ({"motion": {"kind": "load"}}, r"\[motion\] weight is required for kind = 'load'"),
     (
         {"motion": {"speed": 0.2}, "plot": {"x": "speed"}},
         r"\[plot\] x must be a swept parameter \(none\)",
-    ),  # fmt: skip
+    ),
     (
         {"motion": {"speed": [0.1, 0.2]}, "plot": {"colour": "speed"}},
         r"\[plot\] colour: unknown key",
-    ),  # fmt: skip
+    ),
     (
         {"sweep": {"design": "lhs", "n": 4}, "motion": {"speed": [0.1, 0.2]}},
         r"\[motion\] speed: a list of values is for grids",
-    ),  # fmt: skip
+    ),
     (
         {
             "sweep": {"design": "lhs", "n": 4},
             "motion": {"speed": {"low": 0.1, "high": 0.2, "num": 3}},
         },
         r"\[motion\] speed: num is for grids",
-    ),  # fmt: skip
+    ),
 ]
 
 

@@ -8,6 +8,7 @@ range. :func:`sensitivity` ranks the swept parameters by their effect on a metri
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -130,7 +131,7 @@ def _sample_maps(ds: Any, metric: str, x: str, y: str | None, panels: str | None
         edges = np.quantile(p, [0, 1 / 3, 2 / 3, 1])
         groups = [
             (f"{panels} in [{lo:.3g}, {hi:.3g}]", (p >= lo) & (p <= hi if k == 2 else p < hi))
-            for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:], strict=True))
+            for k, (lo, hi) in enumerate(pairwise(edges))
         ]
     fig, axes = plt.subplots(
         1, len(groups), figsize=(3.6 * len(groups) + 1.2, 3.4), squeeze=False, layout="constrained"
