@@ -142,3 +142,15 @@ def test_warnings_at_points_are_reported_once_per_message():
     mine = [w for w in caught if issubclass(w.category, SweepWarning)]
     assert len(mine) == 2 and all("extrapolated" in str(w.message) for w in mine)
     assert np.isfinite(ds["sinking"].values).all()
+
+
+def test_sensitivity_example_runs_on_a_small_sample(tmp_path, capsys):
+    import runpy
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "sweep_sensitivity.py"
+    example = runpy.run_path(str(path), run_name="sweep_sensitivity")
+    figure = tmp_path / "s.png"
+    ranked = example["main"](["--n", "8", "--serial", "--out", str(figure)])
+    assert sorted(name for name, _ in ranked) == sorted(f"{k}_scale" for k in example["FACTORS"])
+    assert figure.stat().st_size > 0 and "Spearman" in capsys.readouterr().out

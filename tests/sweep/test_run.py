@@ -182,7 +182,7 @@ def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(serial,
 
     with (
         LocalCluster(
-            n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
+            n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0"
         ) as cluster,
         Client(cluster) as client,
         get_task_stream(client) as stream,

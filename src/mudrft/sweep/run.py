@@ -92,7 +92,7 @@ def _client(client: Any, scheduler: str | None, workers: int | None) -> Iterator
             n_workers=n,
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",  # a free port (the HTTP server starts anyway)
             silence_logs=logging.ERROR,
         ) as cluster,
         distributed.Client(cluster) as c,
