@@ -13,6 +13,9 @@ checkout with the ``sweep`` extra. Figures (docs/performance.md):
   tasks and as a single task on the 1-worker cluster,
   ``(T(1 point/task) - T(all in one)) / (tasks - 1)``; it includes the scheduler round
   trip, the pickling of points and results, and the driver's store write of the chunk;
+* ``pool_points_per_s[1]``, ``[2]``: the same chunks on a plain ``ProcessPoolExecutor`` of
+  1 and 2 processes, without Dask or store (the control: how much parallel speed the
+  machine gives the physics at that moment), measured in alternation with the Dask runs;
 * ``noop_task_ms``: a Dask task that does nothing, submitted one at a time (the floor);
 * ``worker_ms_per_point``: the tasks' compute time on the workers per point, per run: the
   cost of a point as the workers saw it (it rises when other processes share the cores);
@@ -103,6 +106,38 @@ def cluster(n: int) -> Any:
     return c, client
 
 
+def _warm() -> None:
+    import mudrft.sweep.evaluate  # noqa: F401
+
+
+def pool(n: int) -> Any:
+    """A plain process pool of ``n`` processes, warm: the control without Dask."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    ex = ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("spawn"))
+    list(ex.map(_sleep_then_warm, range(n)))
+    return ex
+
+
+def _sleep_then_warm(_: int) -> None:
+    time.sleep(0.5)  # so that each process of the pool takes one
+    _warm()
+
+
+def pool_seconds(ex: Any, s: dict[str, Any]) -> float:
+    """The sweep's chunks on a plain process pool, no store: the physics' parallel speed."""
+    from mudrft.sweep import load_spec
+    from mudrft.sweep.evaluate import evaluate_chunk
+
+    spec = load_spec(s)
+    ctx = spec.context()
+    t0 = time.perf_counter()
+    chunks = [spec.chunk_points(i) for i in range(spec.n_chunks)]
+    list(ex.map(evaluate_chunk, [ctx] * len(chunks), chunks))
+    return time.perf_counter() - t0
+
+
 def noop_task_ms(client: Any, n: int = 200) -> float:
     t0 = time.perf_counter()
     for _ in range(n):
@@ -136,16 +171,19 @@ def main() -> dict[str, Any]:
 
     out["machine"]["dask"] = dask.__version__
     timed_sweep(spec(1), scheduler="serial")  # warm: imports, first points
-    serial = min(timed_sweep(s, scheduler="serial") for _ in range(args.repeat))
+    serial = timed_sweep(s, scheduler="serial")
     out["serial_points_per_s"] = round(n_points / serial, 2)
+    pools = {n: pool(n) for n in (1, 2)}
     c1, k1 = cluster(1)
     c2, k2 = cluster(2)
     times: dict[int, list[float]] = {1: [], 2: []}
+    plain: dict[int, list[float]] = {1: [], 2: []}
     busy: dict[int, list[float]] = {1: [], 2: []}
     frac: dict[int, list[float]] = {1: [], 2: []}
     try:
         for _ in range(args.repeat):
             for n, client in ((1, k1), (2, k2)):
+                plain[n].append(pool_seconds(pools[n], s))
                 wall, ms = worker_ms_per_point(s, client, n_points)
                 times[n].append(wall)
                 busy[n].append(ms)
@@ -155,6 +193,10 @@ def main() -> dict[str, Any]:
         out["worker_ms_per_point"] = {n: [round(x, 1) for x in b] for n, b in busy.items()}
         out["workers_busy_fraction"] = {n: [round(x, 3) for x in f] for n, f in frac.items()}
         out["speedup_2_over_1"] = round(out["points_per_s"][2] / out["points_per_s"][1], 3)
+        out["pool_points_per_s"] = {n: round(n_points / min(t), 2) for n, t in plain.items()}
+        out["pool_wall_s"] = {n: [round(x, 2) for x in t] for n, t in plain.items()}
+        pp = out["pool_points_per_s"]
+        out["pool_speedup_2_over_1"] = round(pp[2] / pp[1], 3)
         per = 24 if args.quick else 48
         small = spec(per // 12)
         ones = min(timed_sweep({**small, "sweep": {**small["sweep"], "points_per_task": 1}}, client=k1) for _ in range(args.repeat))  # fmt: skip
@@ -166,6 +208,8 @@ def main() -> dict[str, Any]:
         for client, c in ((k1, c1), (k2, c2)):
             client.close()
             c.close()
+        for ex in pools.values():
+            ex.shutdown()
     out["machine"]["load_average_1min_after"] = round(os.getloadavg()[0], 2)
     out["mudrft"] = mudrft.__version__
     print(json.dumps(out, indent=2))

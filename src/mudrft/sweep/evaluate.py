@@ -6,7 +6,9 @@ values and the point's swept values, runs :func:`mudrft.simulate` (or the MuJoCo
 and keeps the requested metrics. A point that raises is recorded, not fatal: its metrics
 are NaN and its error is ``"ExceptionType: message"``; the rest of the chunk goes on.
 Warnings are collected per chunk (each distinct message once) for the caller to report,
-so that a sweep behaves the same whatever the warning filters of the process it runs in.
+so that a sweep behaves the same whatever the warning filters of the process it runs in
+(Python's warning capture is per process: a worker should run one task at a time, as the
+local cluster's single-thread workers do, for the warnings to land on the right chunk).
 
 >>> import numpy as np
 >>> ctx = {"fixed": {"foot": "flat", "water_content": 0.25}, "motion": "gait",

@@ -201,6 +201,8 @@ def run_sweep(
         _require("mujoco")
     if client is not None and scheduler is not None:
         raise MudrftError("give client or scheduler, not both")
+    if workers is not None and (client is not None or scheduler is not None):
+        raise MudrftError("workers sets the size of the local cluster; it cannot go with client or scheduler")  # fmt: skip
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
         raise MudrftError(f"workers must be an integer >= 1, got {workers!r}")
     from . import store as S
