@@ -193,3 +193,25 @@ def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(serial,
     assert len({t["worker"] for t in tasks}) == 2  # both processes ran chunks
     same(ds, serial)
     assert ds.attrs["failed_points"] == serial.attrs["failed_points"] == 4
+
+
+def test_walk_metrics_are_read_from_the_walk_summary(monkeypatch):
+    # the MuJoCo walk itself is tested in tests/integrations; here, that a sweep passes the
+    # motion parameters on and reads every walking metric from the summary's keys
+    pytest.importorskip("mujoco")
+    from mudrft.integrations import walk as W
+    from mudrft.sweep.catalog import METRICS
+
+    seen = {}
+
+    def fake_walk(foot, mud, **kw):
+        seen.update(kw, foot=foot.name)
+        summary = {m.key: float(i) for i, m in enumerate(METRICS["walk"].values())}
+        return W.WalkResult(table={}, steps={}, summary=summary)
+
+    monkeypatch.setattr(W, "walk", fake_walk)
+    spec = {"foot": {"kind": "flat"}, "motion": {"kind": "walk", "seconds": [2.0], "speed": 0.1}}
+    ds = mudrft.sweep(spec, scheduler="serial")
+    assert seen == {"seconds": 2.0, "speed": 0.1, "foot": "flat"}
+    assert [ds[m].item() for m in METRICS["walk"]] == list(range(len(METRICS["walk"])))
+    assert ds["distance"].attrs["units"] == "m" and (ds["error"].values == "").all()

@@ -164,8 +164,7 @@ def evaluate_point(
     if motion == "walk":
         from ..integrations.walk import walk
 
-        summary = walk(foot, mud, **kw).summary
-        found = {m.name: float(summary[m.key]) for m in C.METRICS["walk"].values()}
+        found = walk(foot, mud, **kw).summary  # keys with units: "distance [m]", ...
     else:
         from ..simulation import LoadControl, simulate
         from ..trajectories import gait
