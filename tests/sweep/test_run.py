@@ -177,22 +177,47 @@ def test_a_killed_sweep_resumes_without_recomputing_finished_chunks(tmp_path, mo
     assert float(ds["max_suction"].sel(width=0.075, water_content=0.35)) == ref["max_suction"]
 
 
-def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(serial, tmp_path):
+def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(
+    serial, tmp_path, monkeypatch
+):
+    import distributed
     from distributed import Client, LocalCluster, get_task_stream
 
+    small = {**SPEC, "foot": {"kind": "flat", "width": [0.05]}, "mud": {"water_content": 0.25}}
     with (
         LocalCluster(
             n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0"
         ) as cluster,
         Client(cluster) as client,
-        get_task_stream(client) as stream,
     ):
-        ds = mudrft.sweep(SPEC, client=client, store=tmp_path / "d.zarr")
+        with get_task_stream(client) as stream:
+            ds = mudrft.sweep(SPEC, client=client, store=tmp_path / "d.zarr")
+        # a running cluster by its address, as `--scheduler tcp://...` does
+        by_address = mudrft.sweep(small, scheduler=cluster.scheduler_address)
+
+        # the default: a local cluster of single-thread worker processes (here the one above)
+        made = {}
+
+        class Local:
+            def __init__(self, **kw):
+                made.update(kw)
+
+            def __enter__(self):
+                return cluster
+
+            def __exit__(self, *exc):
+                return False
+
+        monkeypatch.setattr(distributed, "LocalCluster", Local)
+        default = mudrft.sweep(small, workers=2)
     tasks = [t for t in stream.data if "evaluate_chunk" in str(t["key"])]
     assert len(tasks) == load_spec(SPEC).n_chunks == 4
     assert len({t["worker"] for t in tasks}) == 2  # both processes ran chunks
     same(ds, serial)
-    assert ds.attrs["failed_points"] == serial.attrs["failed_points"] == 4
+    assert made["n_workers"] == 2 and made["threads_per_worker"] == 1 and made["processes"]
+    reference = serial.sel(foot="flat", width=[0.05], water_content=0.25)
+    for other in (by_address, default):
+        assert np.array_equal(other["max_suction"].values, reference["max_suction"].values)
 
 
 def test_walk_metrics_are_read_from_the_walk_summary(monkeypatch):

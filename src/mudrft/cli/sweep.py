@@ -44,7 +44,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "this process without Dask (default: a local cluster)",
     )
     p.add_argument(
-        "--workers", type=int, help="worker processes of the local cluster (default: CPU count)"
+        "--workers",
+        type=int,
+        metavar="N",
+        help="worker processes of the local cluster (default: CPU count)",
     )
     p.add_argument(
         "--plot", action="store_true", help="also write DIR/METRIC.png maps (needs mudrft[plot])"
