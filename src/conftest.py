@@ -24,7 +24,7 @@ from _pytest.doctest import DoctestItem
 
 #: Optional packages (the extras of pyproject.toml and what they pull in).
 EXTRAS = frozenset(
-    {"matplotlib", "pandas", "h5py", "trimesh", "mujoco", "jax", "numba", "dask", "xarray"}
+    {"matplotlib", "pandas", "h5py", "trimesh", "mujoco", "jax", "numba", "dask", "xarray", "zarr"}
 )
 
 #: Modules (and their submodules) whose examples need an extra without importing it.

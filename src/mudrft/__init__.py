@@ -37,6 +37,7 @@ _LAZY = {
     "metrics": "mudrft.metrics",
     "io": "mudrft.io",
     "plotting": "mudrft.plotting",
+    "sweep": "mudrft.sweep",  # callable: mudrft.sweep(spec, ...) runs a design sweep
 }
 _LAZY_ATTRS = {
     "calibrate": ("mudrft.calibration", "calibrate"),

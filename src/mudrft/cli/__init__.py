@@ -1,7 +1,8 @@
 """The ``mudrft`` command: one module per subcommand, each thin over the library.
 
 ``mudrft --help`` lists the subcommands. Each module (:mod:`.params`, :mod:`.simulate`,
-:mod:`.reproduce`, :mod:`.calibrate`, :mod:`.compare`, :mod:`.walk`, :mod:`.bench`) has
+:mod:`.reproduce`, :mod:`.calibrate`, :mod:`.compare`, :mod:`.walk`, :mod:`.sweep`,
+:mod:`.bench`) has
 ``add_parser(subparsers)`` and ``run(args) -> int``; none imports a heavy optional
 package before it runs, so every subcommand shows in the help even when its extra is
 missing, and then fails with one line naming the extra to install.
@@ -26,7 +27,7 @@ from types import ModuleType
 
 from .._progress import enable_stderr_logging, logger
 from .._validation import MudrftError, plain_text
-from . import bench, calibrate, compare, params, reproduce, simulate, walk
+from . import bench, calibrate, compare, params, reproduce, simulate, sweep, walk
 from ._common import EXTRAS, HelpFormatter
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -39,6 +40,7 @@ COMMANDS: dict[str, ModuleType] = {
     "calibrate": calibrate,
     "compare": compare,
     "walk": walk,
+    "sweep": sweep,
     "bench": bench,
 }
 

@@ -49,6 +49,10 @@ EXTRAS = {
     "numba": "numba",
     "pandas": "pandas",
     "h5py": "hdf5",
+    "dask": "sweep",
+    "distributed": "sweep",
+    "xarray": "sweep",
+    "zarr": "sweep",
 }
 
 

@@ -1,0 +1,157 @@
+"""``mudrft sweep``: a design sweep from a TOML spec, on Dask, into one directory."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from .._validation import MudrftError
+from ._common import HelpFormatter, Outputs, add_force, logger, require_extra
+
+__all__ = ["STORE", "TABLE", "add_parser", "run"]
+
+#: The resumable store in DIR (written chunk by chunk, kept when a run fails).
+STORE = "sweep.zarr"
+#: One row per point (parameters, metrics, error), written when the sweep completes.
+TABLE = "points.csv"
+
+DESCRIPTION = (
+    "Run a design sweep: the foot, mud and motion parameters of SPEC.toml over a grid or "
+    "a sample, every metric at every point, on Dask (a local cluster of --workers "
+    "processes, or the cluster at --scheduler). Writes DIR/sweep.zarr chunk by chunk (a "
+    "killed run resumes with --resume and computes only the missing chunks), then "
+    "DIR/points.csv (one row per point) and, with --plot, DIR/METRIC.png maps. A point "
+    "that fails is recorded (NaN and its error) and the rest completes. Needs "
+    "pip install 'mudrft[sweep]'. The spec format: examples/sweep_example.toml, README."
+)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add ``mudrft sweep`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "sweep",
+        help="design sweeps on Dask -> DIR/sweep.zarr, points.csv, maps",
+        description=DESCRIPTION,
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec (TOML)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="address of a running Dask scheduler (tcp://host:8786), or 'serial' to run in "
+        "this process without Dask (default: a local cluster)",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="worker processes of the local cluster (default: CPU count)",
+    )
+    p.add_argument(
+        "--plot", action="store_true", help="also write DIR/METRIC.png maps (needs mudrft[plot])"
+    )
+    p.add_argument(
+        "--resume",
+        action="store_true",
+        help="continue DIR/sweep.zarr (made from the same spec): compute only missing chunks",
+    )
+    add_force(
+        p,
+        "existing outputs: without --resume DIR/sweep.zarr is started again; with --resume "
+        "it is kept and only points.csv and the maps are replaced",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=run)
+    return p
+
+
+def _plot_metrics(spec: Any) -> tuple[str, ...]:
+    return tuple(spec.plot.get("metrics", spec.metrics))
+
+
+def _write_table(ds: Any, path: Path) -> None:
+    """One row per point: swept parameters, fixed parameters, metrics, error."""
+    ds = ds.drop_vars("done", errors="ignore")
+    df = ds.to_dataframe().reset_index()
+    swept = [str(d) for d in ds["error"].dims]
+    params = [*swept, *(str(c) for c in ds.coords if c not in swept)]
+    df = df[[*params, *(str(v) for v in ds.data_vars)]]
+    units = {str(k): ds[k].attrs.get("units", "") for k in ds.variables}
+    df.columns = [
+        f"{c} [{units[c]}]" if units.get(c) and units[c] != "-" else str(c) for c in df.columns
+    ]
+    df.to_csv(path, index=False, float_format="%.9g")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the sweep and write ``DIR``; returns the exit status (0)."""
+    from ..sweep.spec import load_spec
+
+    spec = load_spec(args.spec)
+    if args.workers is not None and args.workers < 1:
+        raise MudrftError(f"--workers must be >= 1, got {args.workers}")
+    if args.workers is not None and args.scheduler:
+        raise MudrftError("--workers sets the local cluster; it cannot go with --scheduler")
+    for module in ("dask", "distributed", "xarray", "zarr"):
+        require_extra(module, needed_for="mudrft sweep")
+    if args.plot:
+        require_extra("matplotlib", needed_for="--plot")
+    out = Path(args.out)
+    store = out / STORE
+    if store.exists() and not (args.resume or args.force):
+        raise MudrftError(
+            f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
+        )
+    names = [TABLE, *(f"{m}.png" for m in (_plot_metrics(spec) if args.plot else ()))]
+    with Outputs(force=args.force) as outputs:
+        stage = outputs.directory("--out", out, names)
+        logger.info(
+            "mudrft sweep: %d points in %d chunks (%s design, motion %s) -> %s",
+            spec.n_points,
+            spec.n_chunks,
+            spec.design,
+            spec.motion,
+            store,
+        )
+        from ..sweep.run import run_sweep
+
+        ds = run_sweep(
+            spec,
+            store=store,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            resume=args.resume,
+            overwrite=args.force and not args.resume,
+            progress=not args.quiet,
+        )
+        _write_table(ds, stage / TABLE)
+        if args.plot:
+            _write_maps(ds, spec, stage)
+    failed = int(ds.attrs.get("failed_points", 0))
+    print(f"{spec.n_points} points, {failed} failed; wrote {store}")
+    if failed:
+        errors = [e for e in ds["error"].values.ravel() if e]
+        distinct = list(dict.fromkeys(errors))
+        for e in distinct[:3]:
+            print(f"  failed ({errors.count(e)} points): {e}")
+        if len(distinct) > 3:
+            print(f"  ... and {len(distinct) - 3} other errors (the 'error' variable)")
+    for path in outputs.written:
+        print(f"wrote {path}")
+    return 0
+
+
+def _write_maps(ds: Any, spec: Any, stage: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    from ..sweep.plot import plot_maps
+
+    kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
+    for m in _plot_metrics(spec):
+        fig = plot_maps(ds, m, **kw)
+        try:
+            fig.savefig(stage / f"{m}.png", dpi=110)
+        finally:
+            plt.close(fig)

@@ -1,0 +1,201 @@
+"""The points of a sweep and how they are cut into chunks (one chunk = one task = one
+block of the store).
+
+A grid has one dimension per swept parameter; its chunks are blocks of about
+``points_per_task`` points, taken from the last dimensions first. A sample (Latin
+hypercube or scrambled Sobol, :mod:`scipy.stats.qmc`, seeded) has one dimension ``point``
+with every swept parameter a coordinate along it; its chunks are runs of consecutive
+points. Everything here is deterministic: the same spec gives the same points and chunks
+on any machine and for any number of workers, which is what lets a store be resumed.
+
+>>> d = Design("grid", (Axis("a", "float", values=np.arange(5.0)),
+...                     Axis("b", "float", values=np.arange(4.0))), points_per_task=3)
+>>> d.chunks, d.n_chunks
+((1, 2), 10)
+>>> d.chunk_points(1)
+[{'a': 0.0, 'b': 2.0}, {'a': 0.0, 'b': 3.0}]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from itertools import product
+from typing import Any
+
+import numpy as np
+
+__all__ = ["AUTO_TASKS", "MAX_POINTS_PER_TASK", "Axis", "Design"]
+
+#: With ``points_per_task`` unset, a sweep is cut into about this many tasks ...
+AUTO_TASKS = 32
+#: ... of at most this many points (a few seconds of work for a closed-form foot's gait).
+MAX_POINTS_PER_TASK = 64
+
+
+@dataclass(frozen=True, eq=False)
+class Axis:
+    """A swept parameter: grid values, or a range a sample draws from.
+
+    Attributes
+    ----------
+    name : str
+        The parameter (dimension or coordinate name).
+    kind : {"float", "int", "str"}
+        Its type.
+    values : ndarray or None
+        Grid values (None for a sample's range).
+    low, high : float or None
+        The range [SI] (a grid range keeps it for the record).
+    log : bool
+        Values spaced (or drawn) uniformly in the logarithm.
+    """
+
+    name: str
+    kind: str
+    values: np.ndarray | None = None
+    low: float | None = None
+    high: float | None = None
+    log: bool = False
+
+    def as_json(self) -> dict[str, Any]:
+        """The axis as plain data (for the spec's identity and the result's attributes)."""
+        out: dict[str, Any] = {"name": self.name, "kind": self.kind}
+        if self.values is not None:
+            out["values"] = [v.item() if hasattr(v, "item") else v for v in self.values]
+        if self.low is not None:
+            out.update(low=self.low, high=self.high, log=self.log)
+        return out
+
+    def draw(self, u: np.ndarray) -> np.ndarray:
+        """Map uniform numbers ``u`` in [0, 1) onto the range."""
+        lo, hi = float(self.low), float(self.high)  # type: ignore[arg-type]
+        if self.kind == "int":
+            return np.minimum(np.floor(lo + u * (hi - lo + 1)), hi).astype(np.int64)
+        if self.log:
+            return np.exp(math.log(lo) + u * (math.log(hi) - math.log(lo)))
+        return lo + u * (hi - lo)
+
+
+def _plain(v: Any) -> Any:
+    return v.item() if isinstance(v, np.generic) else v
+
+
+@dataclass(frozen=True, eq=False)
+class Design:
+    """Points and chunks of a sweep (the part of :class:`~.spec.SweepSpec` that is geometry).
+
+    Parameters
+    ----------
+    design : {"grid", "lhs", "sobol"}
+        Grid or sample.
+    axes : tuple of Axis
+        The swept parameters.
+    n, seed : int or None
+        Sample size and seed (samples only).
+    points_per_task : int
+        Target points per chunk; 0 chooses ``ceil(points / AUTO_TASKS)`` clipped to
+        [1, MAX_POINTS_PER_TASK].
+    """
+
+    design: str
+    axes: tuple[Axis, ...]
+    n: int | None = None
+    seed: int | None = None
+    points_per_task: int = 0
+
+    # -- points ---------------------------------------------------------------------------
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Dimensions of the result: the swept parameters (grid) or ``("point",)``."""
+        return tuple(a.name for a in self.axes) if self.design == "grid" else ("point",)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the result."""
+        if self.design == "grid":
+            return tuple(len(a.values) for a in self.axes)  # type: ignore[arg-type]
+        return (int(self.n),)  # type: ignore[arg-type]
+
+    @property
+    def n_points(self) -> int:
+        """Number of points."""
+        return math.prod(self.shape)
+
+    @cached_property
+    def sample(self) -> dict[str, np.ndarray]:
+        """A sample design's points: the values of every swept parameter, shape (n,)."""
+        if self.design == "grid":
+            return {}
+        from scipy.stats import qmc
+
+        d, n = len(self.axes), int(self.n)  # type: ignore[arg-type]
+        rng = np.random.default_rng(self.seed)
+        if self.design == "lhs":
+            u = qmc.LatinHypercube(d, rng=rng).random(n)
+        else:
+            u = qmc.Sobol(d, scramble=True, rng=rng).random_base2(int(math.log2(n)))
+        return {a.name: a.draw(u[:, i]) for i, a in enumerate(self.axes)}
+
+    def coords(self) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """Coordinates of the swept parameters: ``name -> (dims, values)``."""
+        if self.design == "grid":
+            return {a.name: ((a.name,), a.values) for a in self.axes}  # type: ignore[misc]
+        return {name: (("point",), v) for name, v in self.sample.items()}
+
+    # -- chunks ---------------------------------------------------------------------------
+    @property
+    def chunk_size(self) -> int:
+        """Target points per chunk (and per task)."""
+        if self.points_per_task:
+            return int(self.points_per_task)
+        return min(max(math.ceil(self.n_points / AUTO_TASKS), 1), MAX_POINTS_PER_TASK)
+
+    @cached_property
+    def chunks(self) -> tuple[int, ...]:
+        """Chunk shape: blocks filled from the last dimension, balanced within each."""
+        budget = self.chunk_size
+        if self.design != "grid":
+            return (min(budget, self.n_points),)
+        out = [1] * len(self.shape)
+        for d in reversed(range(len(self.shape))):
+            size = self.shape[d]
+            if budget <= 1:
+                break
+            blocks = math.ceil(size / budget)
+            out[d] = math.ceil(size / blocks)
+            budget //= out[d]
+        return tuple(out)
+
+    @property
+    def chunk_grid(self) -> tuple[int, ...]:
+        """Number of chunks along each dimension."""
+        return tuple(math.ceil(s / c) for s, c in zip(self.shape, self.chunks, strict=True))
+
+    @property
+    def n_chunks(self) -> int:
+        """Number of chunks (tasks)."""
+        return math.prod(self.chunk_grid)
+
+    def chunk_slices(self, i: int) -> tuple[slice, ...]:
+        """The block of chunk ``i`` (C order over the chunk grid)."""
+        index = np.unravel_index(int(i), self.chunk_grid)
+        return tuple(
+            slice(int(k) * c, min((int(k) + 1) * c, s))
+            for k, c, s in zip(index, self.chunks, self.shape, strict=True)
+        )
+
+    def chunk_shape(self, i: int) -> tuple[int, ...]:
+        """Shape of the block of chunk ``i``."""
+        return tuple(s.stop - s.start for s in self.chunk_slices(i))
+
+    def chunk_points(self, i: int) -> list[dict[str, Any]]:
+        """The points of chunk ``i`` (C order within the block), as plain Python values."""
+        sl = self.chunk_slices(i)
+        if self.design == "grid":
+            names = [a.name for a in self.axes]
+            cols = [[_plain(v) for v in a.values[s]] for a, s in zip(self.axes, sl, strict=True)]  # type: ignore[index]
+            return [dict(zip(names, combo, strict=True)) for combo in product(*cols)]
+        cols2 = {k: [_plain(v) for v in arr[sl[0]]] for k, arr in self.sample.items()}
+        return [{k: cols2[k][j] for k in cols2} for j in range(sl[0].stop - sl[0].start)]

@@ -1,0 +1,211 @@
+"""One point of a sweep, and one chunk of points: plain functions of the library, no Dask.
+
+A task runs :func:`evaluate_chunk` on a worker (or in the calling process for a serial
+sweep): it builds the foot, the mud and the motion of each point from the spec's fixed
+values and the point's swept values, runs :func:`mudrft.simulate` (or the MuJoCo walk),
+and keeps the requested metrics. A point that raises is recorded, not fatal: its metrics
+are NaN and its error is ``"ExceptionType: message"``; the rest of the chunk goes on.
+Warnings are collected per chunk (each distinct message once) for the caller to report,
+so that a sweep behaves the same whatever the warning filters of the process it runs in
+(Python's warning capture is per process: a worker should run one task at a time, as the
+local cluster's single-thread workers do, for the warnings to land on the right chunk).
+
+>>> import numpy as np
+>>> ctx = {"fixed": {"foot": "flat", "water_content": 0.25}, "motion": "gait",
+...        "metrics": ("peak_support",), "mud_sets": {}, "mesh": None}
+>>> out = evaluate_chunk(ctx, [{"speed": 0.2}, {"speed": -1.0}])
+>>> bool(out.values[0, 0] > 0), bool(np.isnan(out.values[1, 0])), out.errors[1][:33]
+(True, True, 'MudrftError: speed must be > 0 m/')
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from . import catalog as C
+
+__all__ = ["ChunkResult", "build_foot", "build_mud", "evaluate_chunk", "evaluate_point"]
+
+
+@dataclass(frozen=True)
+class ChunkResult:
+    """What one task returns.
+
+    Attributes
+    ----------
+    values : ndarray, shape (points, metrics)
+        The metrics of each point (NaN where the point failed).
+    errors : list of str
+        ``""`` for a point that ran, else ``"ExceptionType: message"``.
+    warnings : tuple of str
+        The distinct warning messages raised while the chunk ran.
+    seconds : float
+        Wall time of the chunk in the task [s] (for the overhead figures).
+    """
+
+    values: np.ndarray
+    errors: list[str]
+    warnings: tuple[str, ...]
+    seconds: float
+
+
+def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
+    return {
+        k: v
+        for k, v in values.items()
+        if k in C.PARAMETERS and C.PARAMETERS[k].section == section and k != "foot"
+    }
+
+
+def build_foot(values: dict[str, Any], *, mesh: Any = None, cache: dict | None = None) -> Any:
+    """The foot of a point: ``values["foot"]`` (a kind) with its foot parameters."""
+    kind = values["foot"]
+    params = _section(values, "foot")
+    if mesh is not None:
+        return mesh
+    key = (kind, tuple(sorted(params.items())))
+    if cache is not None and key in cache:
+        return cache[key]
+    allowed = C.foot_parameters(kind)
+    extra = [k for k in params if k not in allowed]
+    if extra:
+        raise MudrftError(
+            f"the {kind} foot has no parameter {extra[0]!r}; its parameters are "
+            f"{', '.join(allowed)}"
+        )
+    from .. import feet
+
+    if kind == "morphing":
+        foot = feet.MorphingFoot(**params)
+    else:
+        cls = {
+            "flat": feet.Flat,
+            "semi-cylinder": feet.SemiCylinder,
+            "semi-sphere": feet.SemiSphere,
+        }
+        foot = cls[kind](**params)
+    if cache is not None:
+        cache[key] = foot
+    return foot
+
+
+def build_mud(
+    values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
+) -> Any:
+    """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
+    from ..parameters import Mud, MudParameters, paper_mud
+    from ..terrains import MudTerrain
+
+    params = _section(values, "mud")
+    key = tuple(sorted(params.items()))
+    if cache is not None and key in cache:
+        return cache[key]
+    if "mud_set" in params:
+        entry = (mud_sets or {})[params["mud_set"]]
+        mud = Mud(
+            MudParameters(**entry["vertical"], source=entry["source"], direction="vertical"),
+            MudParameters(**entry["horizontal"], source=entry["source"], direction="horizontal"),
+            name=str(params["mud_set"]),
+        )
+    else:
+        mud = paper_mud(
+            params["water_content"],
+            extrapolate=bool(params.get("extrapolate", False)),
+            labels=params.get("labels", "table"),
+        )
+    scales = {k[: -len("_scale")]: v for k, v in params.items() if k.endswith("_scale")}
+    if scales:
+
+        def scaled(p: MudParameters) -> MudParameters:
+            return p.replace(**{f: getattr(p, f) * s for f, s in scales.items()})
+
+        mud = Mud(scaled(mud.vertical), scaled(mud.horizontal), mud.water_content, mud.name)
+    options = {k: params[k] for k in ("thixotropy", "clock", "xi0") if k in params}
+    terrain = MudTerrain(mud, **options)
+    if cache is not None:
+        cache[key] = terrain
+    return terrain
+
+
+def _motion(values: dict[str, Any], names: tuple[str, ...]) -> dict[str, Any]:
+    return {k: values[k] for k in names if k in values}
+
+
+def evaluate_point(
+    context: dict[str, Any], point: dict[str, Any], *, cache: dict | None = None
+) -> dict[str, float]:
+    """The metrics of one point.
+
+    Parameters
+    ----------
+    context : dict
+        :meth:`SweepSpec.context`: fixed values, motion, metrics, mud sets, mesh.
+    point : dict
+        The swept values of the point, by parameter name.
+    cache : dict or None, keyword-only
+        Feet and muds already built in this task (by their parameters).
+
+    Returns
+    -------
+    dict
+        Metric name -> value (SI).
+    """
+    values = {**context["fixed"], **point}
+    motion = context["motion"]
+    foot = build_foot(values, mesh=context.get("mesh"), cache=None if cache is None else cache.setdefault("feet", {}))  # fmt: skip
+    mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=None if cache is None else cache.setdefault("muds", {}))  # fmt: skip
+    kw = _motion(values, C.motion_parameters(motion))
+    if motion == "walk":
+        from ..integrations.walk import walk
+
+        found = walk(foot, mud, **kw).summary  # keys with units: "distance [m]", ...
+    else:
+        from ..simulation import LoadControl, simulate
+        from ..trajectories import gait
+
+        if motion == "gait":
+            speed = kw.pop("speed", 0.2)
+            result = simulate(foot, mud, gait(speed, **kw))
+        else:
+            result = simulate(foot, mud, LoadControl(**kw))
+        found = result.metrics()
+    return {name: float(found[C.METRICS[motion][name].key]) for name in context["metrics"]}
+
+
+def evaluate_chunk(context: dict[str, Any], points: list[dict[str, Any]]) -> ChunkResult:
+    """The metrics of a chunk of points; a point that raises is recorded, not fatal.
+
+    Parameters
+    ----------
+    context : dict
+        :meth:`SweepSpec.context`.
+    points : list of dict
+        The swept values of each point.
+
+    Returns
+    -------
+    ChunkResult
+    """
+    t0 = time.perf_counter()
+    metrics = context["metrics"]
+    values = np.full((len(points), len(metrics)), np.nan)
+    errors = [""] * len(points)
+    seen: dict[str, None] = {}
+    cache: dict[str, Any] = {}
+    for i, point in enumerate(points):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                out = evaluate_point(context, point, cache=cache)
+                values[i] = [out[m] for m in metrics]
+            except Exception as exc:  # a bad combination: recorded, the rest goes on
+                errors[i] = f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+        for w in caught:
+            seen.setdefault(f"{w.category.__name__}: {w.message}", None)
+    return ChunkResult(values, errors, tuple(seen), time.perf_counter() - t0)
