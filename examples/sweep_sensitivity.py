@@ -9,6 +9,8 @@ the two leading factors.
 
 Run ``python examples/sweep_sensitivity.py [--n 64] [--workers 2] [--serial]
 [--store S.zarr] [--out docs/figures/sweep_sensitivity.png]`` (needs ``mudrft[sweep,plot]``).
+``--out`` is the figure's path, or a folder to write ``sweep_sensitivity.png`` into;
+``--quick`` (the documentation build) samples 16 points and runs them serially.
 """
 
 from __future__ import annotations
@@ -61,8 +63,11 @@ def main(argv: list[str] | None = None) -> list[tuple[str, float]]:
     ap.add_argument("--workers", type=int, default=None, help="local cluster workers")
     ap.add_argument("--serial", action="store_true", help="run without Dask")
     ap.add_argument("--store", help="a .zarr store to write (and --resume from)")
-    ap.add_argument("--out", help="write the figure here (PNG)")
+    ap.add_argument("--out", help="write the figure here (a PNG path, or a folder)")
+    ap.add_argument("--quick", action="store_true", help="16 points, serial (docs build)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.n, args.serial = 16, True
     ds = mudrft.sweep(
         spec(args.n),
         store=args.store,
@@ -76,8 +81,12 @@ def main(argv: list[str] | None = None) -> list[tuple[str, float]]:
     for name, rho in ranked:
         print(f"{name.removesuffix('_scale'):12s}  {rho:+.2f}")
     if args.out:
-        figure(ds, ranked, Path(args.out))
-        print(f"wrote {args.out}")
+        out = Path(args.out)
+        if out.suffix.lower() != ".png":  # a folder
+            out.mkdir(parents=True, exist_ok=True)
+            out = out / "sweep_sensitivity.png"
+        figure(ds, ranked, out)
+        print(f"wrote {out}")
     return ranked
 
 
