@@ -12,7 +12,7 @@ import mudrft
 
 SRC = Path(mudrft.__file__).resolve().parent
 CORE = ("parameters", "constitutive", "feet", "terrains", "simulation")
-EDGES = ("backends", "integrations", "calibration", "cli")
+EDGES = ("backends", "integrations", "calibration", "cli", "envs")
 
 
 def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
@@ -27,7 +27,16 @@ def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
     )
     loaded = set(json.loads(out.stdout.strip().splitlines()[-1]))
-    for name in ("numba", "jax", "mudrft.backends", "mudrft.integrations", "mudrft.calibration"):
+    for name in (
+        "numba",
+        "jax",
+        "mujoco",
+        "gymnasium",
+        "mudrft.backends",
+        "mudrft.integrations",
+        "mudrft.calibration",
+        "mudrft.envs",
+    ):
         assert not any(m == name or m.startswith(name + ".") for m in loaded), name
 
 

@@ -7,8 +7,10 @@ import pytest
 
 import mudrft
 
-gymnasium = pytest.importorskip("gymnasium")
+pytest.importorskip("gymnasium")
 pytest.importorskip("mujoco")
+import gymnasium
+
 import mudrft.envs  # registers the environments
 from mudrft._validation import MudrftError
 from mudrft.envs.walker import OBS_SIZE

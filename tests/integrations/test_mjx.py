@@ -18,15 +18,17 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-jax = pytest.importorskip("jax")
-mm = pytest.importorskip("mudrft.integrations.mjx")
-if not mm.available():
-    pytest.skip("mujoco-mjx is not installed (extra 'mjx')", allow_module_level=True)
+pytest.importorskip("jax")
+import jax
 
+from mudrft.integrations import mjx as mm
 from mudrft.integrations.mujoco import attach
 from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
 from .conftest import mujoco
+
+if not mm.available():
+    pytest.skip("mujoco-mjx is not installed (extra 'mjx')", allow_module_level=True)
 
 MUD = mudrft.paper_mud(0.25)
 # float64 / float32: max |q_mjx - q_cpu| over the joint positions [m, rad] and max |depth

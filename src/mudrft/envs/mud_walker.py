@@ -39,7 +39,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     (23,)
     """
 
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}  # noqa: RUF012 (Gymnasium's attribute)
 
     def __init__(
         self, *, backend: str = "auto", render_mode: str | None = None, **options: Any

@@ -49,7 +49,10 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         As :class:`~mudrft.envs.walker.WalkerConfig`.
     """
 
-    metadata = {"autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP, "render_modes": []}
+    metadata = {  # noqa: RUF012 (Gymnasium's attribute)
+        "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
+        "render_modes": [],
+    }
 
     def __init__(
         self,
@@ -66,7 +69,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise MudrftError(f"num_envs must be an integer >= 1, got {num_envs!r}")
         if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
-            raise MudrftError(f"max_episode_steps must be an integer >= 1, got {max_episode_steps!r}")
+            raise MudrftError(
+                f"max_episode_steps must be an integer >= 1, got {max_episode_steps!r}"
+            )
         if render_mode is not None:
             raise MudrftError("the vector environment does not render; use MudWalkerEnv")
         w = np.asarray(water_content, dtype=float)

@@ -55,7 +55,10 @@ def _xp() -> Any:
 #: time of the coupling's programs (tens of seconds for the biped) but makes batched steps
 #: up to ten times slower, so it is opt-in: ``MUDRFT_FAST_COMPILE=1`` (the test suite sets
 #: it; decision D81).
-FAST_COMPILE_OPTIONS = {"xla_backend_optimization_level": 0, "xla_llvm_disable_expensive_passes": True}
+FAST_COMPILE_OPTIONS = {
+    "xla_backend_optimization_level": 0,
+    "xla_llvm_disable_expensive_passes": True,
+}
 
 
 def jit(fn: Any, **kw: Any) -> Any:

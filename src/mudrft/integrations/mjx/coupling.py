@@ -129,7 +129,9 @@ class MjxCoupling:
         for i, p in enumerate(placed):  # equal feet (same parameters) share one mud call
             if p.triangles is None:
                 raise MudrftError(f"body {p.body!r} has a foot without a surface")
-            groups.setdefault(repr(p.foot) if "=" in repr(p.foot) else str(id(p.foot)), []).append(i)
+            groups.setdefault(repr(p.foot) if "=" in repr(p.foot) else str(id(p.foot)), []).append(
+                i
+            )
         built = []
         for idx in groups.values():
             foot = placed[idx[0]].foot
