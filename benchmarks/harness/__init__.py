@@ -73,9 +73,10 @@ def run_benchmarks(*, quick: bool = False, progress: Progress = None) -> dict[st
     Parameters
     ----------
     quick : bool, keyword-only
-        Shorter timing budgets and smaller bandwidth arrays (well under a minute on 2
-        cores); every size (300,000 channels, 1e3/1e5 facets, 1, 1e3, 1e5 and 1e4 feet) is
-        kept, so quick and full numbers compare.
+        Shorter timing budgets and smaller bandwidth arrays; every size (300,000 channels,
+        1e3/1e5 facets, 1, 1e3, 1e5 and 1e4 feet, 1, 64 and 1,024 robots) is kept, so quick
+        and full numbers compare. About four minutes on 2 cores, most of it compiling the six
+        MJX programs of the robot benchmark (without mujoco-mjx, under a minute).
     progress : callable, keyword-only
         ``progress(message)`` after each stage (the CLI logs it to stderr).
 

@@ -162,7 +162,7 @@ def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
         inv = 1.0 / np.maximum(cfg.inertia, 1e-12)
         rot = xp.einsum("bij,bj,blj->bil", Ri, xp.asarray(inv), Ri)
         z = xp.zeros_like(rot)
-        return xp.concatenate([xp.concatenate([lin + z, z], -1), xp.concatenate([z, rot], -1)], -2)
+        return xp.concatenate([xp.concatenate([lin, z], -1), xp.concatenate([z, rot], -1)], -2)
     mjx = _mjx()
     rows = []
     for j, b in enumerate(cfg.ids):
