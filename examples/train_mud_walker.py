@@ -9,7 +9,7 @@ not train long enough to reach a gait.
 
 Run: ``pip install 'mudrft[rl-train]'`` (gymnasium, Stable-Baselines3, torch), then
 ``python examples/train_mud_walker.py [--steps 4096] [--foot flat] [--water-content 0.25]``.
-About a minute on 2 CPU cores (the first step compiles the numba coupling).
+About 30 s on 2 CPU cores (the first step compiles the numba coupling).
 """
 
 from __future__ import annotations
