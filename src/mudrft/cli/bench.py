@@ -87,7 +87,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
-    p.add_argument("--quick", action="store_true", help="short run (minutes: the MJX programs compile)")
+    p.add_argument("--quick", action="store_true", help="short run (minutes: MJX compiles)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE")
     add_force(p, "--json FILE if it exists")
     p.add_argument("--quiet", action="store_true", help="no progress output")
