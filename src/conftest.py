@@ -24,7 +24,19 @@ from _pytest.doctest import DoctestItem
 
 #: Optional packages (the extras of pyproject.toml and what they pull in).
 EXTRAS = frozenset(
-    {"matplotlib", "pandas", "h5py", "trimesh", "mujoco", "jax", "numba", "dask", "xarray", "zarr"}
+    {
+        "matplotlib",
+        "pandas",
+        "h5py",
+        "trimesh",
+        "mujoco",
+        "jax",
+        "numba",
+        "dask",
+        "xarray",
+        "zarr",
+        "gymnasium",
+    }
 )
 
 #: Modules (and their submodules) whose examples need an extra without importing it.
@@ -33,6 +45,8 @@ MODULE_EXTRAS: dict[str, tuple[str, ...]] = {
     "mudrft.integrations.mujoco": ("mujoco",),
     "mudrft.integrations.walk": ("mujoco",),
     "mudrft.integrations.benchmark": ("mujoco",),
+    "mudrft.integrations.mjx": ("mujoco", "jax", "mujoco.mjx"),
+    "mudrft.envs": ("mujoco", "gymnasium"),
 }
 
 
@@ -69,6 +83,10 @@ def _installed(name: str) -> bool:
         return importlib.util.find_spec(name) is not None
     except (ImportError, ValueError):
         return False
+
+
+#: Modules that cannot even be imported without their extra (a Gymnasium ``Env`` subclass).
+collect_ignore_glob = [] if _installed("gymnasium") else ["mudrft/envs/*"]
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:

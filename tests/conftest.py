@@ -25,6 +25,9 @@ import pytest
 from hypothesis import settings
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# the MJX coupling's programs compile with XLA's cheap CPU pipeline in the tests: half the
+# compile time, slower batched steps (mudrft.integrations.mjx.jit, decision D81)
+os.environ.setdefault("MUDRFT_FAST_COMPILE", "1")
 try:  # matplotlib is an optional extra; where it is installed, it draws off screen
     import matplotlib
 except ImportError:

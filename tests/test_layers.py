@@ -12,7 +12,7 @@ import mudrft
 
 SRC = Path(mudrft.__file__).resolve().parent
 CORE = ("parameters", "constitutive", "feet", "terrains", "simulation")
-EDGES = ("backends", "integrations", "calibration", "cli", "sweep")
+EDGES = ("backends", "integrations", "calibration", "cli", "sweep", "envs")
 
 
 def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
@@ -27,8 +27,21 @@ def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
     )
     loaded = set(json.loads(out.stdout.strip().splitlines()[-1]))
-    edges = ("mudrft.backends", "mudrft.integrations", "mudrft.calibration", "mudrft.sweep")
-    for name in ("numba", "jax", "dask", "distributed", "xarray", "zarr", *edges):
+    for name in (
+        "numba",
+        "jax",
+        "mujoco",
+        "gymnasium",
+        "dask",
+        "distributed",
+        "xarray",
+        "zarr",
+        "mudrft.backends",
+        "mudrft.integrations",
+        "mudrft.calibration",
+        "mudrft.sweep",
+        "mudrft.envs",
+    ):
         assert not any(m == name or m.startswith(name + ".") for m in loaded), name
 
 

@@ -15,6 +15,8 @@ order:
   numba and JAX backends; JAX on whatever device it has), ``batch_speedup_1e4``, one foot
   per step (``MudTerrain``, ``FastMudFoot``, ``simulate``) and the MuJoCo overhead ratio
   (:mod:`.feet`);
+* robot-steps per second with mud at 1, 64 and 1,024 robots, the CPU coupling and MJX (with
+  and without mud; MJX on whatever device JAX finds) (:mod:`.robots`);
 * a roofline estimate (:mod:`.roofline`).
 
 Timings are the best of several repeats (robust to other load on the machine). Only public
@@ -34,6 +36,7 @@ from ._timing import Progress, say
 from .feet import BATCH_SIZES, bench_batches, bench_mujoco, bench_single_foot, bench_speedup
 from .machine import machine_info, measure_bandwidth, measure_functions, measure_peak_flops
 from .physics import BATCH_CHANNELS, MESH_RESOLUTIONS, bench_constitutive, bench_mesh
+from .robots import ROBOT_COUNTS, bench_robots
 from .roofline import FUNCTION_CALLS, ROOFLINE, roofline
 
 __all__ = [
@@ -41,11 +44,13 @@ __all__ = [
     "BATCH_SIZES",
     "FUNCTION_CALLS",
     "MESH_RESOLUTIONS",
+    "ROBOT_COUNTS",
     "ROOFLINE",
     "bench_batches",
     "bench_constitutive",
     "bench_mesh",
     "bench_mujoco",
+    "bench_robots",
     "bench_single_foot",
     "bench_speedup",
     "machine_info",
@@ -68,9 +73,10 @@ def run_benchmarks(*, quick: bool = False, progress: Progress = None) -> dict[st
     Parameters
     ----------
     quick : bool, keyword-only
-        Shorter timing budgets and smaller bandwidth arrays (well under a minute on 2
-        cores); every size (300,000 channels, 1e3/1e5 facets, 1, 1e3, 1e5 and 1e4 feet) is
-        kept, so quick and full numbers compare.
+        Shorter timing budgets and smaller bandwidth arrays; every size (300,000 channels,
+        1e3/1e5 facets, 1, 1e3, 1e5 and 1e4 feet, 1, 64 and 1,024 robots) is kept, so quick
+        and full numbers compare. About four minutes on 2 cores, most of it compiling the six
+        MJX programs of the robot benchmark (without mujoco-mjx, under a minute).
     progress : callable, keyword-only
         ``progress(message)`` after each stage (the CLI logs it to stderr).
 
@@ -78,7 +84,7 @@ def run_benchmarks(*, quick: bool = False, progress: Progress = None) -> dict[st
     -------
     dict
         ``machine``, ``limits``, ``functions``, ``constitutive``, ``mesh``, ``batch``,
-        ``speedup``, ``single_foot``, ``mujoco``, ``roofline``, the headline numbers
+        ``speedup``, ``single_foot``, ``mujoco``, ``robots``, ``roofline``, the headline numbers
         ``batch_speedup_1e4`` (numpy backend) and ``mujoco_overhead_ratio`` (or None), and
         ``seconds`` (wall time of the run [s]).
     """
@@ -106,6 +112,7 @@ def run_benchmarks(*, quick: bool = False, progress: Progress = None) -> dict[st
     res["single_foot"] = bench_single_foot(quick, budget, progress)
     res["mujoco"] = bench_mujoco(quick, progress)
     res["mujoco_overhead_ratio"] = res["mujoco"]["ratio"]
+    res["robots"] = bench_robots(quick, progress)
     res["roofline"] = roofline(res)
     res["seconds"] = time.perf_counter() - t_start
     if hasattr(os, "getloadavg"):
@@ -164,6 +171,7 @@ def summary_lines(res: dict[str, Any]) -> list[str]:
     lines.append(
         f"mujoco_overhead_ratio: {mj['ratio']}" + (f" ({mj['note']})" if mj.get("note") else "")
     )
+    lines += _robot_lines(res.get("robots", {}))
     for k, r in res["roofline"].items():
         fb = "".join(
             f", {kind} functions {r[f'functions_{kind}_ns']:.1f} ns"
@@ -177,3 +185,20 @@ def summary_lines(res: dict[str, Any]) -> list[str]:
         )
     lines.append(f"total {res['seconds']:.1f} s")
     return lines
+
+
+def _robot_lines(rob: dict[str, Any]) -> list[str]:
+    """Robot-steps per second of the couplings (:func:`bench_robots`)."""
+    out = []
+    names = {"cpu_mud": "CPU coupling with mud", "mjx_mud": "MJX with mud",
+             "mjx_no_mud": "MJX without mud"}  # fmt: skip
+    for key, name in names.items():
+        if key in rob:
+            where = f" ({rob.get('device')}, {rob.get('dtype')})" if key != "cpu_mud" else ""
+            out.append(
+                f"robot-steps/s, {name}{where}: "
+                + ", ".join(f"N={n}: {v['robot_steps_per_s']:.3g}" for n, v in rob[key].items())
+            )
+    if rob.get("note"):
+        out.append(f"robots: {rob['note']}")
+    return out

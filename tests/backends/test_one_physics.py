@@ -106,6 +106,26 @@ def test_patching_the_constitutive_step_changes_the_jax_path(patched):
     assert float(stress[2]) > SENTINEL - 1e4
 
 
+def test_patching_the_constitutive_step_changes_the_mjx_path(patched):
+    """The MJX coupling traces the one step: three channels, stresses shifted (D68c)."""
+    mujoco = pytest.importorskip("mujoco")
+    pytest.importorskip("jax")
+    from mudrft.integrations import mjx as mm
+
+    if not mm.available():
+        pytest.skip("mujoco-mjx is not installed (extra 'mjx')")
+    xml = """<mujoco><worldbody><body name="foot" pos="0 0 0.005"><freejoint/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="1"/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)  # the sole 8 mm deep in the mud
+    coupling = mm.attach(model, "foot", mudrft.paper_mud(0.25))
+    d = coupling.put_data()
+    state = mm.jit(coupling.init)(d)
+    n_before = patched["n"]
+    _, _, out = mm.jit(coupling.step)(d, state)  # traced now, with the patched step
+    assert patched["n"] - n_before == 3
+    assert float(out.stress[0, 2]) > SENTINEL - 1e4
+
+
 # Tolerance of the specializations against the numpy reference. The float path runs the
 # same operations in the same order on IEEE doubles, but libm's exp/tanh may differ from
 # numpy's SIMD versions by an ulp; about 40 operations, and the total is a sum of terms

@@ -26,7 +26,8 @@ HARNESS_MODULE = "mudrft_benchmarks_harness"
 DESCRIPTION = (
     "Run the speed benchmarks (the machine's bandwidth and peak, the constitutive step, "
     "mesh feet, batches of feet on every backend, one foot per step, simulate, the MuJoCo "
-    "overhead and a roofline estimate) and print a summary; --json writes every number. "
+    "overhead, robot-steps per second with mud at 1, 64 and 1,024 robots for the CPU coupling "
+    "and MJX, and a roofline estimate) and print a summary; --json writes every number. "
     "Needs a source checkout: the benchmarks live in its benchmarks/ directory."
 )
 
@@ -86,7 +87,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
-    p.add_argument("--quick", action="store_true", help="short run (well under a minute)")
+    p.add_argument("--quick", action="store_true", help="short run (minutes: MJX compiles)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE")
     add_force(p, "--json FILE if it exists")
     p.add_argument("--quiet", action="store_true", help="no progress output")

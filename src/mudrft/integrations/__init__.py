@@ -2,6 +2,8 @@
 
 * :mod:`mudrft.integrations.mujoco`: mud under named bodies of any MuJoCo model
   (:func:`~mudrft.integrations.mujoco.attach`, :class:`~mudrft.integrations.mujoco.MudBatch`);
+* :mod:`mudrft.integrations.mjx`: the same coupling in MJX on JAX (jit, vmap over robots,
+  gradients; :func:`~mudrft.integrations.mjx.attach`);
 * :mod:`mudrft.integrations.walk`: a planar biped walking in mud and ``mudrft walk``.
 
 Importing this package does not import MuJoCo; the names below load it on first use.
@@ -20,6 +22,7 @@ __all__ = [
     "attach_batch",
     "biped_model",
     "body_foot",
+    "mjx",
     "mujoco",
     "stability_limits",
     "walk",
@@ -40,7 +43,7 @@ _ATTRS = {
 def __getattr__(name: str) -> Any:
     if name in _ATTRS:
         return getattr(importlib.import_module(_ATTRS[name]), name)
-    if name in ("mujoco", "walk"):
+    if name in ("mjx", "mujoco", "walk"):
         return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'mudrft.integrations' has no attribute {name!r}")
 

@@ -35,7 +35,9 @@ __all__ = ["channel_rows", "force_and_derivative", "implicit_wrench", "secant_st
 FloatArray = NDArray[np.float64]
 
 
-def secant_steps(wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float) -> FloatArray:
+def secant_steps(
+    wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float, *, xp: Any = np
+) -> FloatArray:
     """Velocity steps of the secant derivative: what the last wrench did in one step (D63).
 
     Parameters
@@ -49,17 +51,19 @@ def secant_steps(wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float) -
         Time step [s].
     dv_min : float
         Smallest step [m/s]; changes of magnitude at most ``dv_min`` are replaced by it.
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
 
     Returns
     -------
     ndarray (N, nb, 3)
         Steps of the channel velocities [m/s].
     """
-    dv = dt * np.einsum("...ci,...i->...c", b, wv_prev)
-    return np.where(np.abs(dv) > dv_min, dv, dv_min)
+    dv = dt * xp.einsum("...ci,...i->...c", b, wv_prev)
+    return xp.where(xp.abs(dv) > dv_min, dv, dv_min)
 
 
-def channel_rows(cs: FloatArray, rel: FloatArray) -> FloatArray:
+def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Any = np) -> FloatArray:
     r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
 
     :math:`b_c\cdot\xi` is the velocity along the channel's axis :math:`\mathbf e_c` (the
@@ -74,17 +78,19 @@ def channel_rows(cs: FloatArray, rel: FloatArray) -> FloatArray:
         Cosine and sine of each foot's yaw [-].
     rel : ndarray (N, nb, 3, 3)
         Point of each channel relative to the center of mass, world frame (row c) [m].
+    xp : module, keyword-only
+        Array namespace.
 
     Returns
     -------
     ndarray (N, nb, 3, 6)
     """
     c, s = cs[..., 0], cs[..., 1]
-    z, o = np.zeros_like(c), np.ones_like(c)
-    E = np.stack(
-        [np.stack([c, s, z], -1), np.stack([-s, c, z], -1), np.stack([z, z, o], -1)], axis=-2
+    z, o = xp.zeros_like(c), xp.ones_like(c)
+    E = xp.stack(
+        [xp.stack([c, s, z], -1), xp.stack([-s, c, z], -1), xp.stack([z, z, o], -1)], axis=-2
     )
-    return np.concatenate([E, np.cross(rel, E)], axis=-1)
+    return xp.concatenate([E, xp.cross(rel, E)], axis=-1)
 
 
 def force_and_derivative(
@@ -143,7 +149,7 @@ def force_and_derivative(
 
 
 def implicit_wrench(
-    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float
+    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, *, xp: Any = np
 ) -> FloatArray:
     r"""The linearly implicit wrench :math:`(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)` (D62).
 
@@ -159,15 +165,17 @@ def implicit_wrench(
         Twist acceleration from all other forces [m/s^2, rad/s^2].
     dt : float
         Time step [s].
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
 
     Returns
     -------
     ndarray (N, nb, 6)
         Wrench to apply [N, N m].
     """
-    A = np.eye(6) - dt * (K @ W)
+    A = xp.eye(6) - dt * (K @ W)
     rhs = w0 + dt * (K @ acc[..., None])[..., 0]
-    return cast(FloatArray, np.linalg.solve(A, rhs[..., None])[..., 0])
+    return cast(FloatArray, xp.linalg.solve(A, rhs[..., None])[..., 0])
 
 
 def _tree_map(fn: Any, tree: Any) -> Any:

@@ -140,7 +140,7 @@ def body_mobility(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> Fl
     return W
 
 
-def com_twist(V: FloatArray, S: FloatArray, C: FloatArray) -> FloatArray:
+def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, *, xp: Any = np) -> FloatArray:
     """Twist of each body at its center of mass: (linear velocity [m/s], angular [rad/s]).
 
     Parameters
@@ -151,18 +151,20 @@ def com_twist(V: FloatArray, S: FloatArray, C: FloatArray) -> FloatArray:
         Root subtree centers of mass [m].
     C : ndarray (..., 3)
         Body centers of mass [m].
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
 
     Returns
     -------
     ndarray (..., 6)
     """
     w = V[..., :3]
-    return np.concatenate([V[..., 3:] + _cross(w, C - S), w], axis=-1)
+    return xp.concatenate([V[..., 3:] + _cross(w, C - S, xp), w], axis=-1)
 
 
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+def _cross(a: FloatArray, b: FloatArray, xp: Any = np) -> FloatArray:
     """Cross product along the last axis."""
-    return np.stack(
+    return xp.stack(
         [
             a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
             a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],

@@ -95,7 +95,7 @@ def channel_weights(
     return a * hx * hx, a * hy * hy, area * wz
 
 
-def channel_geometry(triangles: FloatArray) -> ChannelGeometry:
+def channel_geometry(triangles: FloatArray, *, xp: Any = np) -> ChannelGeometry:
     """Channel weights, centroids and second moments of the part of triangles below z = 0.
 
     Parameters
@@ -103,40 +103,42 @@ def channel_geometry(triangles: FloatArray) -> ChannelGeometry:
     triangles : ndarray (..., m, 3, 3)
         Triangles in the foot's yaw frame, heights measured from the mud surface [m]
         (submerged below 0); outward winding.
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
 
     Returns
     -------
     ChannelGeometry
     """
-    tri = np.asarray(triangles, dtype=float)
-    prep = prepare_triangles(tri)
-    area, cen = clip_below(prep, np.zeros(tri.shape[:-3]))
-    w = np.stack(channel_weights(area, prep.nh, prep.hx, prep.hy, prep.wz), axis=-1)  # (..., m, 3)
+    tri = xp.asarray(triangles, dtype=float) if xp is np else triangles
+    prep = prepare_triangles(tri, xp=xp)
+    area, cen = clip_below(prep, xp.zeros(tri.shape[:-3]), xp=xp)
+    w = xp.stack(channel_weights(area, prep.nh, prep.hx, prep.hy, prep.wz), axis=-1)  # (..., m, 3)
     a = w.sum(axis=-2)
     flat = tri.reshape(*tri.shape[:-3], -1, 3)
-    low = np.take_along_axis(flat, np.argmin(flat[..., 2], axis=-1)[..., None, None], -2)[..., 0, :]
+    low = xp.take_along_axis(flat, xp.argmin(flat[..., 2], axis=-1)[..., None, None], -2)[..., 0, :]
     has = a > 0.0
-    safe = np.where(has, a, 1.0)
-    pts = np.einsum("...mc,...mk->...ck", w, cen) / safe[..., None]
-    pts = np.where(has[..., None], pts, low[..., None, :])
+    safe = xp.where(has, a, 1.0)
+    pts = xp.einsum("...mc,...mk->...ck", w, cen) / safe[..., None]
+    pts = xp.where(has[..., None], pts, low[..., None, :])
     r = cen[..., None, :, :] - pts[..., :, None, :]  # (..., c, m, 3)
     rx, ry, rz = r[..., 0], r[..., 1], r[..., 2]
-    zero = np.zeros_like(rx)
+    zero = xp.zeros_like(rx)
     # r x e_c for c = x, y, z
-    q = np.stack(
+    q = xp.stack(
         [
-            np.stack([zero[..., 0, :], rz[..., 0, :], -ry[..., 0, :]], -1),
-            np.stack([-rz[..., 1, :], zero[..., 1, :], rx[..., 1, :]], -1),
-            np.stack([ry[..., 2, :], -rx[..., 2, :], zero[..., 2, :]], -1),
+            xp.stack([zero[..., 0, :], rz[..., 0, :], -ry[..., 0, :]], -1),
+            xp.stack([-rz[..., 1, :], zero[..., 1, :], rx[..., 1, :]], -1),
+            xp.stack([ry[..., 2, :], -rx[..., 2, :], zero[..., 2, :]], -1),
         ],
         axis=-3,
     )  # (..., c, m, 3)
-    wc = np.moveaxis(w, -1, -2)  # (..., c, m)
-    inertia = np.einsum("...cm,...cmi,...cmj->...cij", wc, q, q)
+    wc = xp.moveaxis(w, -1, -2)  # (..., c, m)
+    inertia = xp.einsum("...cm,...cmi,...cmj->...cij", wc, q, q)
     return ChannelGeometry(area=a, point=pts, inertia=inertia, low=low)
 
 
-def upright_area(prepared: PreparedTriangles, depth: Any) -> FloatArray:
+def upright_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> FloatArray:
     """Channel weights :math:`A_c` of the upright foot with its tip at ``depth`` [m].
 
     Parameters
@@ -145,6 +147,8 @@ def upright_area(prepared: PreparedTriangles, depth: Any) -> FloatArray:
         The foot's triangles in its own frame, prepared once.
     depth : ndarray (...)
         Tip depth [m].
+    xp : module, keyword-only
+        Array namespace.
 
     Returns
     -------
@@ -152,9 +156,9 @@ def upright_area(prepared: PreparedTriangles, depth: Any) -> FloatArray:
         [m^2].
     """
     p = prepared
-    d = np.asarray(depth, dtype=float)[..., None]
-    area = submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d)
-    return np.stack(channel_weights(area, p.nh, p.hx, p.hy, p.wz), axis=-1).sum(axis=-2)
+    d = (np.asarray(depth, dtype=float) if xp is np else depth)[..., None]
+    area = submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
+    return xp.stack(channel_weights(area, p.nh, p.hx, p.hy, p.wz), axis=-1).sum(axis=-2)
 
 
 def posed_channels(

@@ -24,6 +24,8 @@ the coupling includes it in :math:`w_0` and in the implicit step (D62a).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -32,7 +34,7 @@ __all__ = ["bottom_wrench", "damping_matrix", "posed_wrench", "yaw_inertia_to_wo
 FloatArray = NDArray[np.float64]
 
 
-def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray) -> FloatArray:
+def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Any = np) -> FloatArray:
     """Second moments :math:`\\mathbf J_c` from the yaw frame to the world frame.
 
     Parameters
@@ -41,20 +43,23 @@ def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray) -> FloatArray:
         :math:`\\mathbf J_c` in the foot's yaw frame [m^4].
     cs : ndarray (N, nb, 2)
         Cosine and sine of each foot's yaw [-].
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
 
     Returns
     -------
     ndarray (N, nb, 3, 3, 3)
     """
     c, s = cs[..., 0], cs[..., 1]
-    rz = np.zeros((*cs.shape[:-1], 3, 3))
-    rz[..., 0, 0], rz[..., 0, 1], rz[..., 1, 0], rz[..., 1, 1] = c, -s, s, c
-    rz[..., 2, 2] = 1.0
-    return np.einsum("...ij,...cjk,...lk->...cil", rz, inertia, rz)
+    z, o = xp.zeros_like(c), xp.ones_like(c)
+    rz = xp.stack(
+        [xp.stack([c, -s, z], -1), xp.stack([s, c, z], -1), xp.stack([z, z, o], -1)], axis=-2
+    )
+    return xp.einsum("...ij,...cjk,...lk->...cil", rz, inertia, rz)
 
 
 def damping_matrix(
-    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray
+    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, *, xp: Any = np
 ) -> FloatArray:
     r"""Damping of the wrench in the body twist, :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)`.
 
@@ -68,19 +73,24 @@ def damping_matrix(
         Channel weights :math:`A_c` [m^2].
     inertia_w : ndarray (N, nb, 3, 3, 3)
         :math:`\mathbf J_c` in the world frame [m^4].
+    xp : module, keyword-only
+        Array namespace.
 
     Returns
     -------
     ndarray (N, nb, 6, 6)
         Symmetric, negative semi-definite [N s/m, N s, N m s].
     """
-    K = np.einsum("...c,...ci,...cj->...ij", D, b, b)
-    per_area = np.where(area > 0.0, D / np.where(area > 0.0, area, 1.0), 0.0)
-    K[..., 3:, 3:] += np.einsum("...c,...cij->...ij", per_area, inertia_w)
-    return K
+    K = xp.einsum("...c,...ci,...cj->...ij", D, b, b)
+    per_area = xp.where(area > 0.0, D / xp.where(area > 0.0, area, 1.0), 0.0)
+    spin = xp.einsum("...c,...cij->...ij", per_area, inertia_w)  # on the rotation block
+    zero = xp.zeros_like(spin)
+    return K + xp.concatenate(
+        [xp.concatenate([zero, zero], axis=-1), xp.concatenate([zero, spin], axis=-1)], axis=-2
+    )
 
 
-def posed_wrench(F: FloatArray, b: FloatArray) -> FloatArray:
+def posed_wrench(F: FloatArray, b: FloatArray, *, xp: Any = np) -> FloatArray:
     """The wrench :math:`\\sum_c F_c b_c` of channel forces acting at their points.
 
     Parameters
@@ -95,11 +105,17 @@ def posed_wrench(F: FloatArray, b: FloatArray) -> FloatArray:
     ndarray (N, nb, 6)
         Force [N] and moment about the center of mass [N m], world frame.
     """
-    return np.einsum("...c,...ci->...i", F, b)
+    return xp.einsum("...c,...ci->...i", F, b)
 
 
 def bottom_wrench(
-    low: FloatArray, tw: FloatArray, pen: FloatArray, stiffness: float, damping: float
+    low: FloatArray,
+    tw: FloatArray,
+    pen: FloatArray,
+    stiffness: float,
+    damping: float,
+    *,
+    xp: Any = np,
 ) -> tuple[FloatArray, FloatArray]:
     r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).
 
@@ -113,6 +129,8 @@ def bottom_wrench(
         Penetration below the bottom [m] (> 0 in contact).
     stiffness, damping : float
         :math:`k` [N/m], :math:`c` [N s/m].
+    xp : module, keyword-only
+        Array namespace.
 
     Returns
     -------
@@ -121,11 +139,11 @@ def bottom_wrench(
     K : ndarray (N, nb, 6, 6)
         Its damping where it acts (:math:`-c\,b b^T`), for the implicit step.
     """
-    ez = np.broadcast_to([0.0, 0.0, 1.0], low.shape)
-    b = np.concatenate([ez, np.cross(low, ez)], axis=-1)
-    vz = np.einsum("...i,...i->...", b, tw)
+    ez = xp.broadcast_to(xp.asarray([0.0, 0.0, 1.0]), low.shape)
+    b = xp.concatenate([ez, xp.cross(low, ez)], axis=-1)
+    vz = xp.einsum("...i,...i->...", b, tw)
     f = stiffness * pen - damping * vz
     on = (pen > 0) & (f > 0)
-    wrench = np.where(on, f, 0.0)[..., None] * b
-    K = -np.where(on, damping, 0.0)[..., None, None] * (b[..., :, None] * b[..., None, :])
+    wrench = xp.where(on, f, 0.0)[..., None] * b
+    K = -xp.where(on, damping, 0.0)[..., None, None] * (b[..., :, None] * b[..., None, :])
     return wrench, K

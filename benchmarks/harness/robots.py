@@ -1,0 +1,149 @@
+"""Robot-steps per second with mud: the CPU coupling and MJX at 1, 64 and 1,024 robots.
+
+The robot is the walker's biped (:mod:`mudrft.envs.walker`: the project's planar biped,
+MuJoCo's contacts off, the bed as the coupling's penalty) standing in the paper's mud at
+W = 25 %, its servos holding the pose, flat feet, dt = 2 ms. One robot-step is one physics
+step of one robot. Measured in one run:
+
+* ``cpu_mud``: :func:`mudrft.integrations.mujoco.attach_batch` (the compiled coupling,
+  ``backend="numba"`` where numba is installed) over N ``MjData``;
+* ``mjx_mud``: :class:`mudrft.integrations.mjx.MjxCoupling`, ``jit(vmap(scan(step)))``
+  over N robots, ``steps`` physics steps per call;
+* ``mjx_no_mud``: the same program with ``mjx.step`` alone (MJX's own figure).
+
+MJX runs in float32 (MJX's default; the harness switches JAX's 64-bit mode off for it) on
+``jax.devices()[0]`` (a CPU where the machine has no GPU). Compile times are reported
+beside the rates and are not part of them.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+from ._timing import Progress, have, say
+
+__all__ = ["ROBOT_COUNTS", "bench_robots"]
+
+ROBOT_COUNTS = (1, 64, 1024)
+
+
+def _layout() -> Any:
+    from mudrft.envs.walker import WalkerConfig, walker_layout
+
+    return walker_layout(WalkerConfig())
+
+
+def _cpu(lay: Any, n: int, seconds: float) -> dict[str, float]:
+    import mujoco
+
+    import mudrft
+    from mudrft.integrations.mujoco import attach_batch
+    from mudrft.integrations.mujoco.backend import choose_backend
+
+    foot = mudrft.feet.Flat()
+    mud = mudrft.paper_mud(0.25)
+    datas = []
+    for _ in range(n):
+        d = mujoco.MjData(lay.model)
+        d.qpos[:] = lay.qpos0
+        d.ctrl[:] = lay.ctrl0
+        datas.append(d)
+    batch = attach_batch(
+        lay.model, list(lay.bodies), mud, n=n, feet=foot, bottom=0.15,
+        backend=choose_backend("auto", mud, foot),
+    )  # fmt: skip
+    batch.reset(datas)
+    batch.step(datas, 2)  # warm-up (compiles the numba kernel once)
+    steps, t0 = 0, time.perf_counter()
+    while True:
+        batch.step(datas, 5)
+        steps += 5
+        dt = time.perf_counter() - t0
+        if dt > seconds:
+            break
+    return {"robot_steps_per_s": n * steps / dt, "backend": batch.backend}
+
+
+def _mjx(lay: Any, n: int, steps: int, repeat: int, mud: bool) -> dict[str, float]:
+    import jax
+    import jax.numpy as jnp
+    import mujoco
+
+    import mudrft
+    from mudrft.integrations import mjx as mm
+    from mudrft.integrations.mjx._lazy import _mjx as load_mjx
+
+    mjx = load_mjx()
+    cpl = mm.attach(lay.model, list(lay.bodies), mudrft.paper_mud(0.25), bottom=0.15)
+    d = mujoco.MjData(lay.model)
+    d.qpos[:] = lay.qpos0
+    d.ctrl[:] = lay.ctrl0
+    mujoco.mj_forward(lay.model, d)
+    d0 = cpl.put_data(d)
+    st0 = mm.jit(cpl.init)(d0)
+    batch = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (n, *a.shape)), (d0, st0))
+    mx = cpl.mjx_model
+
+    def run(carry: Any) -> Any:
+        def body(c: Any, _: Any) -> Any:
+            dd, st = c
+            if mud:
+                dd, st, _o = cpl.step(dd, st)
+            else:
+                dd = jax.tree_util.tree_map(
+                    lambda new, old: new.astype(old.dtype), mjx.step(mx, dd), dd
+                )
+            return (dd, st), None
+
+        return jax.lax.scan(body, carry, None, length=steps)[0]
+
+    fn = jax.jit(jax.vmap(run))
+    t0 = time.perf_counter()
+    carry = jax.block_until_ready(fn(batch))
+    compile_s = time.perf_counter() - t0
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        carry = jax.block_until_ready(fn(carry))
+        times.append(time.perf_counter() - t0)
+    finite = bool(jnp.all(jnp.isfinite(carry[0].qpos)))
+    return {
+        "robot_steps_per_s": n * steps / min(times),
+        "compile_s": compile_s,
+        "finite": finite,
+    }
+
+
+def bench_robots(quick: bool, progress: Progress) -> dict[str, Any]:
+    """Robot-steps per second with mud at :data:`ROBOT_COUNTS` robots (module docstring).
+
+    Returns
+    -------
+    dict
+        ``cpu_mud``, ``mjx_mud``, ``mjx_no_mud`` (each ``{N: {"robot_steps_per_s", ...}}``),
+        ``device``, ``dtype``; or a ``note`` when MuJoCo, JAX or MJX is missing.
+    """
+    if not have("mujoco"):
+        return {"note": "mujoco is not installed"}
+    lay = _layout()
+    res: dict[str, Any] = {"robot": "walker biped, flat feet, W = 25 %, dt = 2 ms"}
+    res["cpu_mud"] = {}
+    for n in ROBOT_COUNTS:
+        res["cpu_mud"][str(n)] = _cpu(lay, n, 0.5 if quick else 2.0)
+        say(progress, f"  robots, CPU coupling with mud, N={n}: done")
+    if not (have("jax") and have("mujoco.mjx")):
+        res["note"] = "jax or mujoco-mjx is not installed: no MJX numbers"
+        return res
+    import jax
+
+    with jax.enable_x64(False):
+        res["device"] = str(jax.devices()[0])
+        res["dtype"] = "float32"
+        steps = 50 if quick else 200
+        for key, mud in (("mjx_mud", True), ("mjx_no_mud", False)):
+            res[key] = {}
+            for n in ROBOT_COUNTS:
+                res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, mud)
+                say(progress, f"  robots, MJX {'with' if mud else 'without'} mud, N={n}: done")
+    return res

@@ -1,0 +1,139 @@
+"""``mudrft/MudWalker-v0``: one biped walking in mud, MuJoCo on the CPU with the CPU coupling.
+
+See :mod:`mudrft.envs.walker` for the robot, action, observation, reward and end; this
+module is the Gymnasium wrapper around :func:`mudrft.integrations.mujoco.attach`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from ._gym import gymnasium
+from .walker import ACTION_SIZE, OBS_SIZE, WalkerConfig, controls, healthy, observation, reward
+
+__all__ = ["MudWalkerEnv"]
+
+
+class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
+    """The planar biped walking in mud (Gymnasium ``Env``; id ``mudrft/MudWalker-v0``).
+
+    Parameters
+    ----------
+    foot, water_content, dt, frame_skip, forward_reward_weight, ctrl_cost_weight,
+    healthy_reward, action_scale, reset_noise_scale, bottom : keyword-only
+        As :class:`~mudrft.envs.walker.WalkerConfig`.
+    backend : {"auto", "numpy", "numba"}, keyword-only
+        Backend of the CPU coupling (``"auto"``: numba where installed).
+    render_mode : None or "rgb_array", keyword-only
+        ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL).
+
+    Examples
+    --------
+    >>> import gymnasium, mudrft.envs
+    >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-sphere", water_content=0.35)
+    >>> obs, info = env.reset(seed=0)
+    >>> obs.shape
+    (23,)
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}  # noqa: RUF012 (Gymnasium's attribute)
+
+    def __init__(
+        self, *, backend: str = "auto", render_mode: str | None = None, **options: Any
+    ) -> None:
+        from ..integrations.mujoco import _mujoco, attach
+        from ..integrations.mujoco.backend import choose_backend
+        from .walker import walker_layout
+
+        gym = gymnasium
+        if render_mode not in (None, "rgb_array"):
+            raise MudrftError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        self.config = WalkerConfig(**options)
+        self.layout = walker_layout(self.config)
+        self.render_mode = render_mode
+        fps = round(1.0 / (self.config.dt * self.config.frame_skip))
+        self.metadata = {**self.metadata, "render_fps": fps}
+        self._mj = _mujoco()
+        m = self.layout.model
+        self.data = self._mj.MjData(m)
+        foot = self.config.foot_object
+        self.coupling = attach(
+            m, list(self.layout.bodies), self.config.mud, feet=foot, bottom=self.config.bottom,
+            backend=choose_backend(backend, self.config.mud, foot),
+        )  # fmt: skip
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
+        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
+        self._renderer: Any = None
+        self._depth = np.zeros(2)
+        self._force = np.zeros((2, 3))
+
+    def _obs(self) -> np.ndarray:
+        d = self.data
+        o = observation(self.layout, d.qpos, d.qvel, self._depth, self._force)
+        return np.asarray(o, dtype=np.float32)
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
+        super().reset(seed=seed)
+        lay, d, mj = self.layout, self.data, self._mj
+        mj.mj_resetData(lay.model, d)
+        noise = self.config.reset_noise_scale
+        d.qpos[:] = lay.qpos0
+        d.qpos[lay.joint_qadr] += self.np_random.uniform(-noise, noise, ACTION_SIZE)
+        d.qvel[:] = self.np_random.uniform(-noise, noise, lay.model.nv)
+        d.ctrl[:] = lay.ctrl0
+        mj.mj_forward(lay.model, d)
+        self.coupling.reset(d)
+        self._depth = np.zeros(2)
+        self._force = np.zeros((2, 3))
+        return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """One control step: ``frame_skip`` physics steps with the mud."""
+        lay, cfg, d = self.layout, self.config, self.data
+        a = np.asarray(action, dtype=float).reshape(ACTION_SIZE)
+        x0 = float(d.qpos[lay.rootx])
+        d.ctrl[:] = controls(lay, a, cfg.action_scale)
+        try:
+            out = self.coupling.step(d, cfg.frame_skip)
+            self._depth, self._force = np.array(out.depth), np.array(out.force)
+            ok = bool(healthy(lay, d.qpos))
+        except MudrftError:  # MuJoCo diverged: end the episode, keep the observation finite
+            ok = False
+            d.qpos[:] = np.nan_to_num(d.qpos)
+            d.qvel[:] = 0.0
+        x1 = float(d.qpos[lay.rootx])
+        r = float(reward(cfg, x0, x1, a, float(ok)))
+        info = {
+            "x_position": x1,
+            "x_velocity": (x1 - x0) / (cfg.dt * cfg.frame_skip),
+            "sinking [m]": self._depth.copy(),
+            "mud_force [N]": self._force.copy(),
+        }
+        return self._obs(), r, not ok, False, info
+
+    def render(self) -> np.ndarray | None:
+        """An RGB image of the side camera (``render_mode="rgb_array"``), else None."""
+        if self.render_mode != "rgb_array":
+            return None
+        if self._renderer is None:
+            from ..integrations.walk_output import _renderer
+
+            self._renderer = _renderer(self.layout.model)
+            if self._renderer is None:
+                raise MudrftError(
+                    "rendering needs OpenGL: set MUJOCO_GL=egl (or osmesa) before mujoco is "
+                    "imported"
+                )
+        self._renderer.update_scene(self.data, camera="side")
+        return np.asarray(self._renderer.render())
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

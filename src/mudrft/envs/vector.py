@@ -1,0 +1,219 @@
+"""``mudrft/MudWalker-v0`` vectorized: many bipeds in mud at once, MJX with the MJX coupling.
+
+:class:`MudWalkerVectorEnv` is a :class:`gymnasium.vector.VectorEnv` whose ``step`` is one
+jit-compiled call for all robots: the MJX coupling's step (:mod:`mudrft.integrations.mjx`)
+scanned over ``frame_skip`` physics steps and vmapped over the robots, with each robot's
+mud state carried from call to call, and the walker's observation, reward and end
+(:mod:`mudrft.envs.walker`, the same functions as the CPU environment). Sub-environments
+reset themselves on the step after they end (Gymnasium's next-step autoreset). The first
+step compiles (tens of seconds on a CPU); later steps reuse the compiled program.
+
+Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or directly.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError
+from ._gym import gymnasium
+from .walker import (
+    ACTION_SIZE,
+    OBS_SIZE,
+    WalkerConfig,
+    controls,
+    healthy,
+    observation,
+    reward,
+    walker_layout,
+)
+
+__all__ = ["MudWalkerVectorEnv"]
+
+
+class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
+    """``num_envs`` planar bipeds in mud stepped together with MJX.
+
+    Parameters
+    ----------
+    num_envs : int
+        Number of robots.
+    max_episode_steps : int, keyword-only
+        Control steps after which a sub-environment is truncated.
+    water_content : float or sequence of float, keyword-only
+        One water content for all robots, or one per robot [-].
+    foot, dt, frame_skip, forward_reward_weight, ctrl_cost_weight, healthy_reward,
+    action_scale, reset_noise_scale, bottom : keyword-only
+        As :class:`~mudrft.envs.walker.WalkerConfig`.
+    """
+
+    metadata = {  # noqa: RUF012 (Gymnasium's attribute)
+        "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
+        "render_modes": [],
+    }
+
+    def __init__(
+        self,
+        num_envs: int = 64,
+        *,
+        max_episode_steps: int = 1000,
+        water_content: Any = 0.25,
+        render_mode: str | None = None,
+        **options: Any,
+    ) -> None:
+        from ..integrations.mjx import attach
+        from ..terrains import MudTerrain
+
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise MudrftError(f"num_envs must be an integer >= 1, got {num_envs!r}")
+        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise MudrftError(
+                f"max_episode_steps must be an integer >= 1, got {max_episode_steps!r}"
+            )
+        if render_mode is not None:
+            raise MudrftError("the vector environment does not render; use MudWalkerEnv")
+        w = np.asarray(water_content, dtype=float)
+        if w.ndim > 1 or (w.ndim == 1 and len(w) != num_envs):
+            raise MudrftError(
+                f"water_content must be a float or one per environment ({num_envs}), got shape {w.shape}"
+            )
+        w = np.broadcast_to(w, (int(num_envs),))
+        self.configs = {float(v): WalkerConfig(water_content=float(v), **options) for v in set(w)}
+        self.config = self.configs[float(w[0])]
+        self.water_content = w.copy()
+        self.num_envs = int(num_envs)
+        self.max_episode_steps = int(max_episode_steps)
+        self.render_mode = None
+        self.layout = walker_layout(self.config)
+        lay = self.layout
+        self.coupling = attach(
+            lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
+            bottom=self.config.bottom,
+        )  # fmt: skip
+        per_env = [MudTerrain(self.configs[float(v)].mud).constants for v in w]
+        self._constants = tuple(
+            type(per_env[0][k])(*(np.array([c[k][i] for c in per_env], dtype=float)
+                                  for i in range(len(per_env[0][k]))))
+            for k in range(2)
+        )  # fmt: skip
+        self.single_action_space = gymnasium.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
+        self.action_space = gymnasium.vector.utils.batch_space(
+            self.single_action_space, self.num_envs
+        )
+        self.single_observation_space = gymnasium.spaces.Box(
+            -np.inf, np.inf, (OBS_SIZE,), np.float32
+        )
+        self.observation_space = gymnasium.vector.utils.batch_space(
+            self.single_observation_space, self.num_envs
+        )
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._done = np.zeros(self.num_envs, dtype=bool)
+        self._state: Any = None
+        self._key: Any = None
+        self._fns = _compiled(self)
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Stand every robot 1 mm above the mud with noise on joints and velocities."""
+        import jax
+
+        super().reset(seed=seed)
+        if seed is not None or self._key is None:
+            self._key = jax.random.key(int(self.np_random.integers(2**31)))
+        self._key, sub = jax.random.split(self._key)
+        d, st, obs = self._fns["reset"](jax.random.split(sub, self.num_envs))
+        self._state = (d, st)
+        self._steps[:] = 0
+        self._done[:] = False
+        return np.asarray(obs, dtype=np.float32), {}
+
+    def step(
+        self, actions: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """One control step of every robot; robots that ended last step start anew."""
+        import jax
+
+        if self._state is None:
+            raise MudrftError("call reset() before step()")
+        a = np.asarray(actions, dtype=np.float32).reshape(self.num_envs, ACTION_SIZE)
+        self._key, sub = jax.random.split(self._key)
+        d, st = self._state
+        d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants)
+        if self._done.any():  # next-step autoreset of the robots that ended last step
+            fresh = self._fns["reset"](jax.random.split(sub, self.num_envs))
+            done = jax.numpy.asarray(self._done)
+            d, st, obs = self._fns["merge"](done, (d, st, obs), fresh)
+            rew, term = np.where(self._done, 0.0, rew), np.asarray(term) & ~self._done
+            info = {k: np.where(self._done.reshape((-1,) + (1,) * (np.ndim(v) - 1)), 0.0, v)
+                    for k, v in info.items()}  # fmt: skip
+        self._state = (d, st)
+        term = np.asarray(term)
+        self._steps = np.where(self._done, 0, self._steps + 1)
+        trunc = (self._steps >= self.max_episode_steps) & ~term
+        self._done = term | trunc
+        out = {k: np.asarray(v) for k, v in info.items()}
+        return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
+                trunc, out)  # fmt: skip
+
+
+def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
+    """The jit-compiled reset and step of all robots (jax imported here)."""
+    import jax
+    import jax.numpy as jnp
+
+    from ..integrations.mjx import jit
+    from ..integrations.mujoco import _mujoco
+
+    mj = _mujoco()
+    lay, cfg, cpl = env.layout, env.config, env.coupling
+    data = mj.MjData(lay.model)
+    data.qpos[:] = lay.qpos0
+    data.ctrl[:] = lay.ctrl0
+    mj.mj_forward(lay.model, data)
+    d0 = cpl.put_data(data)
+    nv, noise = lay.model.nv, cfg.reset_noise_scale
+    jq = lay.joint_qadr
+
+    def reset_one(key: Any) -> Any:
+        k1, k2 = jax.random.split(key)
+        qpos = d0.qpos.at[jq].add(jax.random.uniform(k1, (len(jq),), d0.qpos.dtype, -noise, noise))
+        qvel = jax.random.uniform(k2, (nv,), d0.qvel.dtype, -noise, noise)
+        d = d0.replace(qpos=qpos, qvel=qvel)
+        st = cpl.init(d)
+        z = jnp.zeros((2,), d0.qpos.dtype)
+        return d, st, observation(lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp)
+
+    def step_one(d: Any, st: Any, a: Any, consts: Any) -> Any:
+        x0 = d.qpos[lay.rootx]
+        d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
+
+        def body(carry: Any, _: Any) -> Any:
+            dd, ss = carry
+            dd, ss, out = cpl.step(dd, ss, consts)
+            return (dd, ss), (out.depth, out.force, out.finite)
+
+        (d, st), (depth, force, finite) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
+        alive = healthy(lay, d.qpos, xp=jnp) & jnp.all(finite)
+        r = reward(cfg, x0, d.qpos[lay.rootx], a, alive, xp=jnp)
+        obs = jnp.nan_to_num(observation(lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp))
+        info = {
+            "x_velocity": (d.qpos[lay.rootx] - x0) / (cfg.dt * cfg.frame_skip),
+            "sinking [m]": depth[-1],
+            "mud_force [N]": force[-1],
+        }
+        return d, st, obs, jnp.nan_to_num(r), ~alive, info
+
+    def merge(done: Any, new: Any, fresh: Any) -> Any:
+        def pick(a: Any, b: Any) -> Any:
+            return jnp.where(done.reshape(done.shape + (1,) * (a.ndim - 1)), b, a)
+
+        return jax.tree_util.tree_map(pick, new, fresh)
+
+    return {
+        "reset": jit(jax.vmap(reset_one)),
+        "step": jit(jax.vmap(step_one)),
+        "merge": jit(merge),
+    }

@@ -1,0 +1,218 @@
+r"""The mud walker: the project's planar biped in mud, its observation, reward and end.
+
+One definition for both environments: :class:`~mudrft.envs.MudWalkerEnv` (one robot,
+MuJoCo on the CPU with the CPU coupling) and :class:`~mudrft.envs.MudWalkerVectorEnv`
+(many robots, MJX with the MJX coupling) call :func:`observation`, :func:`reward` and
+:func:`healthy` below with ``xp`` = numpy or ``jax.numpy``.
+
+The robot is :func:`mudrft.integrations.walk.biped_model` (10 kg, torso on a planarizing
+boom, hip, knee and ankle PD servos) with MuJoCo's contacts switched off: the rigid bed
+under the mud is the coupling's one-sided penalty on each foot's lowest point (D67), the
+same on the CPU and in MJX, so that MJX compiles no collision and no constraint solver.
+
+*Action* (6,) in [-1, 1]: joint targets of the servos, ``stand + action_scale * action``
+[rad] (hips, knees, ankles; left then right), clipped to the servos' ranges.
+
+*Observation* (23,) float32:
+
+====== =====================================================================
+0-7    torso height above its start [m], torso pitch [rad], six joint angles [rad]
+8-16   the nine joint velocities [m/s, rad/s], clipped to +-10
+17-18  sinking of each foot (depth of its lowest point) [cm]
+19-22  mud force on each foot, (F_x, F_z) over the robot's weight [-]
+====== =====================================================================
+
+*Reward* per control step: forward speed of the torso [m/s] times
+``forward_reward_weight``, minus ``ctrl_cost_weight`` times the squared action, plus
+``healthy_reward`` while healthy (Gymnasium's Walker2d recipe).
+
+*End*: the episode terminates when the torso sinks below 60 % of its start height,
+pitches past 1 rad, or the state is not finite; the registered environments truncate at
+1000 control steps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import MudrftError, check_finite, check_nonnegative, check_positive
+
+__all__ = [
+    "ACTION_SIZE",
+    "FEET",
+    "OBS_SIZE",
+    "WalkerConfig",
+    "WalkerLayout",
+    "healthy",
+    "observation",
+    "reward",
+    "walker_layout",
+]
+
+#: Foot shapes by name (the paper's feet that both couplings support).
+FEET = ("flat", "semi-cylinder", "semi-sphere")
+OBS_SIZE = 23
+ACTION_SIZE = 6
+_JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
+
+
+@dataclass(frozen=True)
+class WalkerConfig:
+    """Options of the mud walker, validated here once.
+
+    Parameters
+    ----------
+    foot : {"flat", "semi-cylinder", "semi-sphere"} or Foot
+        Shape of both feet (a closed-form or mesh foot of :mod:`mudrft.feet`).
+    water_content : float
+        Water content of the paper's mud, 0.25-0.45 [-] (:func:`mudrft.paper_mud`).
+    dt : float
+        Physics time step [s].
+    frame_skip : int
+        Physics steps per control step.
+    forward_reward_weight, ctrl_cost_weight, healthy_reward : float
+        Reward terms (see the module docstring).
+    action_scale : float
+        Joint target range about the standing pose [rad].
+    reset_noise_scale : float
+        Half-width of the uniform noise on the joint angles [rad] and velocities at reset.
+    bottom : float
+        Depth of the rigid bed under the mud [m].
+    """
+
+    foot: Any = "flat"
+    water_content: float = 0.25
+    dt: float = 2e-3
+    frame_skip: int = 10
+    forward_reward_weight: float = 1.0
+    ctrl_cost_weight: float = 1e-3
+    healthy_reward: float = 1.0
+    action_scale: float = 0.5
+    reset_noise_scale: float = 5e-3
+    bottom: float = 0.15
+
+    def __post_init__(self) -> None:
+        import mudrft
+
+        if isinstance(self.foot, str):
+            if self.foot not in FEET:
+                raise MudrftError(f"foot must be one of {FEET} or a mudrft foot, got {self.foot!r}")
+        elif not hasattr(self.foot, "contact_force"):
+            raise MudrftError(f"foot must be a name or a mudrft foot, got {self.foot!r}")
+        mudrft.paper_mud(float(check_finite("water_content", self.water_content)))
+        check_positive("dt", self.dt, unit="s")
+        if self.dt > 5e-3:
+            raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")
+        if not isinstance(self.frame_skip, (int, np.integer)) or self.frame_skip < 1:
+            raise MudrftError(f"frame_skip must be an integer >= 1, got {self.frame_skip!r}")
+        for name in ("forward_reward_weight", "ctrl_cost_weight", "healthy_reward"):
+            check_finite(name, getattr(self, name))
+        check_positive("action_scale", self.action_scale, unit="rad")
+        check_nonnegative("reset_noise_scale", self.reset_noise_scale)
+        check_positive("bottom", self.bottom, unit="m")
+
+    @property
+    def foot_object(self) -> Any:
+        """The mudrft foot."""
+        import mudrft
+
+        return mudrft.feet.by_name(self.foot) if isinstance(self.foot, str) else self.foot
+
+    @property
+    def mud(self) -> Any:
+        """The paper's mud at :attr:`water_content`."""
+        import mudrft
+
+        return mudrft.paper_mud(float(self.water_content))
+
+
+@dataclass(frozen=True, eq=False)
+class WalkerLayout:
+    """The walker's MuJoCo model and where things are in it (numpy, made once)."""
+
+    model: Any
+    qpos0: np.ndarray  # standing pose, soles 1 mm above the mud
+    ctrl0: np.ndarray  # standing servo targets [rad]
+    ctrl_low: np.ndarray
+    ctrl_high: np.ndarray
+    joint_qadr: np.ndarray
+    joint_dadr: np.ndarray
+    rootx: int
+    rootz: int
+    pitch: int
+    torso: int
+    torso_z0: float  # torso height at the start [m]
+    weight: float  # [N]
+    bodies: tuple[str, str]
+
+
+def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
+    """Build the biped for ``cfg`` (contacts off: the bed is the coupling's, D67)."""
+    from ..integrations.mujoco import _mujoco
+    from ..integrations.walk import BIPED_FEET, GaitController, biped_model
+
+    mj = _mujoco()
+    model = biped_model(None, bottom=float(cfg.bottom), timestep=float(cfg.dt))
+    model.opt.disableflags |= int(mj.mjtDisableBit.mjDSBL_CONTACT)
+    data = mj.MjData(model)
+    GaitController(model).initial_pose(data)
+    jq = np.array([model.jnt_qposadr[model.joint(n).id] for n in _JOINTS])
+    jd = np.array([model.jnt_dofadr[model.joint(n).id] for n in _JOINTS])
+    torso = int(model.body("torso").id)
+    return WalkerLayout(
+        model=model,
+        qpos0=np.array(data.qpos),
+        ctrl0=np.array(data.qpos[jq]),
+        ctrl_low=np.array(model.actuator_ctrlrange[:, 0]),
+        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]),
+        joint_qadr=jq,
+        joint_dadr=jd,
+        rootx=int(model.jnt_qposadr[model.joint("rootx").id]),
+        rootz=int(model.jnt_qposadr[model.joint("rootz").id]),
+        pitch=int(model.jnt_qposadr[model.joint("rooty").id]),
+        torso=torso,
+        torso_z0=float(data.xpos[torso, 2]),
+        weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
+        bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
+    )
+
+
+def controls(lay: WalkerLayout, action: Any, scale: float, *, xp: Any = np) -> Any:
+    """Servo targets [rad] of an action in [-1, 1] (clipped to the servos' ranges)."""
+    a = xp.clip(action, -1.0, 1.0)
+    return xp.clip(lay.ctrl0 + scale * a, lay.ctrl_low, lay.ctrl_high)
+
+
+def observation(
+    lay: WalkerLayout, qpos: Any, qvel: Any, depth: Any, force: Any, *, xp: Any = np
+) -> Any:
+    """The observation (..., 23) of the module docstring from the state and the mud's
+    last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]."""
+    z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
+    pitch = qpos[..., lay.pitch : lay.pitch + 1]
+    joints = qpos[..., lay.joint_qadr]
+    f = force[..., :, (0, 2)] / lay.weight
+    return xp.concatenate(
+        [z, pitch, joints, xp.clip(qvel, -10.0, 10.0), depth / 0.01,
+         f.reshape(*f.shape[:-2], 4)], axis=-1,
+    )  # fmt: skip
+
+
+def healthy(lay: WalkerLayout, qpos: Any, *, xp: Any = np) -> Any:
+    """True while the torso is above 60 % of its start height, pitched less than 1 rad,
+    and the state is finite."""
+    height = lay.torso_z0 + (qpos[..., lay.rootz] - lay.qpos0[lay.rootz])
+    ok = (height > 0.6 * lay.torso_z0) & (xp.abs(qpos[..., lay.pitch]) < 1.0)
+    return ok & xp.all(xp.isfinite(qpos), axis=-1)
+
+
+def reward(
+    cfg: WalkerConfig, x_before: Any, x_after: Any, action: Any, alive: Any, *, xp: Any = np
+) -> Any:
+    """Forward speed times its weight, minus the control cost, plus the healthy reward."""
+    speed = (x_after - x_before) / (cfg.dt * cfg.frame_skip)
+    cost = cfg.ctrl_cost_weight * xp.sum(xp.clip(action, -1.0, 1.0) ** 2, axis=-1)
+    return cfg.forward_reward_weight * speed - cost + cfg.healthy_reward * alive

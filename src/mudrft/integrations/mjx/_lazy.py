@@ -1,0 +1,80 @@
+"""JAX and MJX, imported on first use: importing mudrft never needs the ``mjx`` extra."""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import io
+import os
+from typing import Any
+
+
+@functools.cache
+def _mjx() -> Any:
+    """Import ``mujoco.mjx`` lazily with a helpful message.
+
+    MJX 3.17 prints to stdout when its optional Warp backend is missing; that line is
+    swallowed here so that ``mudrft bench --json -`` and the like keep a clean stdout.
+    """
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            from mujoco import mjx
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError(
+            "the MJX coupling needs mujoco-mjx matching the installed mujoco: "
+            "pip install 'mudrft[mjx]'"
+        ) from exc
+    return mjx
+
+
+def _jax() -> Any:
+    try:
+        import jax
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("the MJX coupling needs jax: pip install 'mudrft[mjx]'") from exc
+    return jax
+
+
+@functools.cache
+def _xp() -> Any:
+    """``jax.numpy`` with the gradient-safe square root and arccos of the JAX backend.
+
+    The same namespace :func:`mudrft.backends.jax.safe_namespace` gives the feet's rules,
+    made here without switching JAX to 64-bit floats: the MJX coupling runs in the
+    precision JAX is configured for (decision D81).
+    """
+    _jax()
+    import jax.numpy as jnp
+
+    from ...backends._jax_base import _SafeNamespace
+
+    return _SafeNamespace(jnp)
+
+
+#: XLA options for a quick compile on a CPU: LLVM's cheap pipeline. It halves the compile
+#: time of the coupling's programs (tens of seconds for the biped) but makes batched steps
+#: up to ten times slower, so it is opt-in: ``MUDRFT_FAST_COMPILE=1`` (the test suite sets
+#: it; decision D81).
+FAST_COMPILE_OPTIONS = {
+    "xla_backend_optimization_level": 0,
+    "xla_llvm_disable_expensive_passes": True,
+}
+
+
+def jit(fn: Any, **kw: Any) -> Any:
+    """:func:`jax.jit`, with :data:`FAST_COMPILE_OPTIONS` on a CPU when the environment
+    variable ``MUDRFT_FAST_COMPILE`` is ``1``."""
+    jax = _jax()
+    fast = os.environ.get("MUDRFT_FAST_COMPILE", "") == "1"
+    if fast and jax.default_backend() == "cpu" and "compiler_options" not in kw:
+        kw["compiler_options"] = dict(FAST_COMPILE_OPTIONS)
+    return jax.jit(fn, **kw)
+
+
+def available() -> bool:
+    """True when jax and ``mujoco.mjx`` import."""
+    try:
+        _mjx()
+    except ImportError:
+        return False
+    return True

@@ -1,0 +1,315 @@
+r"""Mud under named bodies of an MJX model: :class:`MjxCoupling` and :func:`attach`.
+
+The coupling is made once from a ``mujoco.MjModel`` (the feet are placed and checked with
+the CPU coupling's own :func:`~mudrft.integrations.mujoco.body_foot`); its methods are pure
+functions of JAX arrays, so they jit, vmap over robots, scan over time and differentiate:
+
+* :meth:`MjxCoupling.init` -- undisturbed mud under the feet of an ``mjx.Data``;
+* :meth:`MjxCoupling.step` -- one physics step with mud: ``fwd_position``,
+  ``fwd_velocity``, the mud's wrench into ``xfrc_applied`` (:func:`.physics.mud_wrench`),
+  then the rest of MJX's forward dynamics and its integrator, the order of ``mj_step1`` /
+  ``mj_step2`` of the CPU coupling;
+* :meth:`MjxCoupling.rollout` -- ``n`` steps under :func:`jax.lax.scan`, with an optional
+  control sequence.
+
+The mud constants are an argument (default: the coupling's mud), so a batch of robots may
+carry a water content each, and gradients flow to them.
+
+Precision (decision D81): the coupling computes in the precision JAX is configured for when
+it is traced, float32 unless ``jax_enable_x64`` is on (the JAX backend of mudrft turns it
+on process-wide; MJX's own default is float32). Over 0.5 s of the standing biped it follows
+the CPU coupling's joint positions to 2e-5 in float64 and float32 alike, the feet's depths to
+2e-6 m (float64) and 6e-6 m (float32), and it is as stable (tests/integrations/test_mjx.py);
+the floor is the elastic law's sensitivity at zero displacement, not the port (D81).
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
+from ...citations import register
+from ...feet.mesh import MeshFoot
+from ...feet.surface import prepare_triangles
+from ...terrains import as_terrain
+from ...terrains.mud import MudTerrain
+from ..mujoco._lazy import _mujoco
+from ..mujoco.placement import body_foot
+from ..mujoco.pose import POSE_RESOLUTION
+from ._lazy import _jax, _mjx, _xp, jit
+from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
+
+__all__ = ["MjxCoupling", "attach"]
+
+
+def _force_rule(foot: Any) -> Any:
+    from ...backends.forces import force_function
+
+    fn = force_function(foot, xp=_xp())
+    if fn is None or not (getattr(foot, "elementwise", False) or isinstance(foot, MeshFoot)):
+        raise MudrftError(
+            "the MJX coupling supports closed-form feet (Flat, SemiCylinder, SemiSphere) and "
+            f"mesh feet (MeshFoot), got a {type(foot).__name__}: use the CPU coupling "
+            "(mudrft.integrations.mujoco.attach) for it"
+        )
+    return fn
+
+
+class MjxCoupling:
+    """Mud under named bodies of one MuJoCo model, stepped with MJX.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (the coupling also holds its MJX copy, :attr:`mjx_model`).
+    bodies : sequence of str
+        Names of the bodies that touch the mud.
+    mud : Mud or MudTerrain
+        The mud (:func:`mudrft.paper_mud`) or a configured :class:`mudrft.MudTerrain`.
+    feet, surface, bottom, bottom_stiffness, bottom_damping, implicit, mobility, resolution :
+        keyword-only, as :class:`mudrft.integrations.mujoco.MudBatch`.
+
+    Examples
+    --------
+    >>> import mujoco, mudrft
+    >>> from mudrft.integrations import mjx as mm
+    >>> xml = '''<mujoco><worldbody><body name="foot" pos="0 0 0.013">
+    ...   <freejoint/><geom type="box" size="0.0325 0.04 0.013" mass="1"/></body></worldbody></mujoco>'''
+    >>> coupling = mm.attach(mujoco.MjModel.from_xml_string(xml), "foot", mudrft.paper_mud(0.25))
+    >>> d = coupling.put_data()
+    >>> d, st, out = coupling.rollout(d, coupling.init(d), 200)  # doctest: +SKIP
+    """
+
+    def __init__(
+        self,
+        model: Any,
+        bodies: Sequence[str] | str,
+        mud: Any,
+        *,
+        feet: Any = None,
+        surface: float = 0.0,
+        bottom: float | None = None,
+        bottom_stiffness: float = 1e5,
+        bottom_damping: float = 2e3,
+        implicit: bool = True,
+        mobility: str = "chain",
+        resolution: int = POSE_RESOLUTION,
+    ) -> None:
+        mj = _mujoco()
+        if not isinstance(model, mj.MjModel):
+            raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
+        names = [bodies] if isinstance(bodies, str) else list(bodies)
+        if not names or len(set(names)) != len(names):
+            raise MudrftError(f"bodies must name distinct bodies (at least one), got {names}")
+        if mobility not in ("chain", "body"):
+            raise MudrftError(f"mobility must be 'chain' or 'body', got {mobility!r}")
+        if not isinstance(resolution, (int, np.integer)) or resolution < 1:
+            raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
+        terrain = as_terrain(mud)
+        if not isinstance(terrain, MudTerrain):
+            raise MudrftError(
+                f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
+            )
+        if feet is None or hasattr(feet, "contact_force"):
+            feet_list = [feet] * len(names)
+        else:
+            feet_list = list(feet)
+            if len(feet_list) != len(names):
+                raise MudrftError(
+                    f"feet must be one foot or one per body ({len(names)}), got {len(feet_list)}"
+                )
+        placed = [
+            body_foot(model, b, f, resolution=int(resolution))
+            for b, f in zip(names, feet_list, strict=True)
+        ]
+        groups: dict[str, list[int]] = {}
+        for i, p in enumerate(placed):  # equal feet (same parameters) share one mud call
+            if p.triangles is None:
+                raise MudrftError(f"body {p.body!r} has a foot without a surface")
+            groups.setdefault(repr(p.foot) if "=" in repr(p.foot) else str(id(p.foot)), []).append(
+                i
+            )
+        built = []
+        for idx in groups.values():
+            foot = placed[idx[0]].foot
+            built.append(
+                Group(
+                    idx=np.array(idx),
+                    lc=float(terrain.length(foot)),
+                    force_fn=_force_rule(foot),
+                    triangles=np.stack([np.asarray(placed[i].triangles) for i in idx]),
+                    upright=prepare_triangles(np.asarray(placed[idx[0]].upright, dtype=float)),
+                )
+            )
+        ids = np.array([p.body_id for p in placed])
+        self.model = model
+        self.terrain = terrain
+        self.bodies = tuple(placed)
+        self.static = Static(
+            ids=ids,
+            roots=np.array(model.body_rootid)[ids],
+            tip=np.stack([p.tip for p in placed]),
+            forward=np.stack([p.forward for p in placed]),
+            groups=tuple(built),
+            mass=np.array(model.body_mass, dtype=float)[ids],
+            inertia=np.array(model.body_inertia, dtype=float)[ids],
+            surface=float(check_finite("surface", surface)),
+            bottom=None if bottom is None else float(check_positive("bottom", bottom, unit="m")),
+            bottom_stiffness=float(check_nonnegative("bottom_stiffness", bottom_stiffness)),
+            bottom_damping=float(check_nonnegative("bottom_damping", bottom_damping)),
+            implicit=bool(implicit),
+            chain=mobility == "chain",
+            kappa=terrain.kappa,
+            xi0=terrain.xi0,
+            reset=terrain.reset_on_exit,
+            heading_speed=terrain.heading_speed,
+            quasi_static=terrain.quasi_static,
+            restart=terrain.restart,
+        )
+        if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_IMPLICIT):
+            raise MudrftError(
+                "MJX has no 'implicit' integrator; use 'implicitfast', 'Euler' or 'RK4'"
+            )
+        self.mjx_model = _mjx().put_model(model)
+        register("todorov2012mujoco")
+
+    # -- data and constants -----------------------------------------------------------
+    @property
+    def constants(self) -> Any:
+        """The mud's ``(horizontal, vertical)`` channel constants, as Python floats."""
+        return tuple(type(c)(*(float(v) for v in c)) for c in self.terrain.constants)
+
+    def put_data(self, data: Any = None) -> Any:
+        """An ``mjx.Data`` of ``data`` (default: a fresh ``MjData`` of the model)."""
+        mj = _mujoco()
+        if data is None:
+            data = mj.MjData(self.model)
+            mj.mj_forward(self.model, data)
+        return _mjx().put_data(self.model, data)
+
+    # -- pure functions ---------------------------------------------------------------
+    def init(self, d: Any) -> MjxMudState:
+        """Undisturbed mud under the feet of ``d`` in their current pose (jittable)."""
+        mjx = _mjx()
+        mx = self.mjx_model
+        return initial_state(self.static, mjx.com_pos(mx, mjx.kinematics(mx, d)))
+
+    def wrench(
+        self, d: Any, state: MjxMudState, constants: Any = None, *, model: Any = None
+    ) -> tuple[Any, MjxMudState, MjxContact]:
+        """``(xfrc_applied, state, contact)`` for ``d`` after ``fwd_position`` and
+        ``fwd_velocity`` (see :func:`.physics.mud_wrench`)."""
+        mx = self.mjx_model if model is None else model
+        consts = self.constants if constants is None else constants
+        return mud_wrench(self.static, consts, mx, d, state)
+
+    def step(
+        self, d: Any, state: MjxMudState, constants: Any = None, *, model: Any = None
+    ) -> tuple[Any, MjxMudState, MjxContact]:
+        """One physics step with the mud (jittable, vmappable, differentiable).
+
+        Parameters
+        ----------
+        d : mjx.Data
+            One robot (or, under :func:`jax.vmap`, each of many).
+        state : MjxMudState
+            From :meth:`init` or the last step.
+        constants : (ChannelConstants, ChannelConstants) or None
+            Mud constants (default :attr:`constants`); traced arrays are welcome.
+        model : mjx.Model or None, keyword-only
+            Default :attr:`mjx_model`.
+
+        Returns
+        -------
+        d : mjx.Data
+            After the step (same dtypes as the input, so it can be a scan carry).
+        state : MjxMudState
+        contact : MjxContact
+        """
+        mjx = _mjx()
+        mx = self.mjx_model if model is None else model
+        d0 = d
+        d = mjx.fwd_position(mx, d)
+        d = mjx.sensor_pos(mx, d)
+        d = mjx.fwd_velocity(mx, d)
+        d = mjx.sensor_vel(mx, d)
+        xfrc, state, out = self.wrench(d, state, constants, model=mx)
+        d = d.replace(xfrc_applied=xfrc)
+        d = _finish(mjx, mx, d)
+        jax = _jax()
+        d = jax.tree_util.tree_map(lambda new, old: new.astype(old.dtype), d, d0)
+        return d, state, out
+
+    def rollout(
+        self,
+        d: Any,
+        state: MjxMudState,
+        n: int,
+        *,
+        ctrl: Any = None,
+        constants: Any = None,
+    ) -> tuple[Any, MjxMudState, MjxContact]:
+        """``n`` steps under :func:`jax.lax.scan`, jit-compiled once per shape.
+
+        Parameters
+        ----------
+        d, state, constants :
+            As :meth:`step` (one robot; vmap this method for many).
+        n : int
+            Number of steps (static).
+        ctrl : array (n, nu) or None, keyword-only
+            Controls of each step; None keeps ``d.ctrl``.
+
+        Returns
+        -------
+        d, state :
+            After the last step.
+        contact : MjxContact
+            Every field with a leading axis of ``n``.
+        """
+        return self._rollout_jit(d, state, int(n), ctrl, constants)
+
+    @functools.cached_property
+    def _rollout_jit(self) -> Any:
+        jax = _jax()
+
+        def run(d: Any, state: Any, n: int, ctrl: Any, constants: Any) -> Any:
+            def body(carry: Any, u: Any) -> Any:
+                dd, st = carry
+                if u is not None:
+                    dd = dd.replace(ctrl=u)
+                dd, st, out = self.step(dd, st, constants)
+                return (dd, st), out
+
+            (d, state), out = jax.lax.scan(body, (d, state), ctrl, length=n)
+            return d, state, out
+
+        return jit(run, static_argnums=(2,))
+
+
+def _finish(mjx: Any, mx: Any, d: Any) -> Any:
+    """The rest of ``mjx.step`` after the velocity stage (``mj_step2``)."""
+    it = mjx.IntegratorType
+    if mx.opt.integrator == it.RK4:  # as the CPU coupling: the wrench held over the step
+        return mjx.step(mx, d)
+    d = mjx.fwd_actuation(mx, d)
+    d = mjx.fwd_acceleration(mx, d)
+    impl = getattr(d, "_impl", None)
+    efc = getattr(impl, "efc_J", None)
+    if efc is not None and efc.size == 0:
+        d = d.replace(qacc=d.qacc_smooth)
+    else:
+        d = mjx.solve(mx, d)
+        d = mjx.sensor_acc(mx, d)
+    if mx.opt.integrator == it.EULER:
+        return mjx.euler(mx, d)
+    return mjx.implicit(mx, d)
+
+
+def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MjxCoupling:
+    """Attach mud to named bodies of a MuJoCo model for MJX; see :class:`MjxCoupling`."""
+    return MjxCoupling(model, bodies, mud, **kw)

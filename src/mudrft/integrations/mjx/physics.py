@@ -1,0 +1,346 @@
+r"""One coupling step of the mud under the feet of one MJX robot, as a pure JAX function.
+
+:func:`mud_wrench` is what :class:`~mudrft.integrations.mujoco.MudBatch` does between
+``mj_step1`` and ``mj_step2``, for an MJX ``Data`` after ``fwd_position`` and
+``fwd_velocity``, written as a pure function of (model, data, mud state) so that
+:func:`jax.jit`, :func:`jax.vmap`, :func:`jax.lax.scan` and :func:`jax.grad` apply:
+
+1. read each foot body's frame and twist (``xpos``, ``xmat``, ``xipos``, ``cvel``,
+   ``subtree_com``) and its 6x6 mobility :math:`W=JM^{-1}J^T` (``mjx.jac``,
+   ``mjx.full_m``);
+2. clip the foot's triangles in their current pose by the mud surface and sum the channel
+   weights, points and second moments (:func:`~mudrft.integrations.mujoco.pose.channel_geometry`
+   with ``xp=jax.numpy``, which runs the feet's own facet rules, D60a);
+3. step the mud four times from the same state, the motion and the three secant nudges
+   (D63), with the one terrain step :func:`mudrft.terrains.mud.mud_step` and the foot's
+   own force rule (:func:`mudrft.backends.forces.force_function`), keeping the first;
+4. assemble the wrench and its damping (D62a) and solve the linearly implicit step of the
+   dissipative part (D62) with the CPU coupling's own functions
+   (:mod:`~mudrft.integrations.mujoco.wrench`, :mod:`~mudrft.integrations.mujoco.implicit`)
+   called with ``xp=jax.numpy``.
+
+What is written here is bookkeeping on arrays (frames, odometry, indices), the same as the
+numpy coupling's; the physics and the 6x6 algebra are the one definition.
+
+Shapes: ``nb`` bodies of one robot; a batch of robots is a :func:`jax.vmap` of it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from ...feet.surface import PreparedTriangles
+from ...terrains.mud import MudChannels, initial_channels, mud_step
+from ..mujoco.implicit import channel_rows, implicit_wrench, secant_steps
+from ..mujoco.kinematics import com_twist
+from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
+from ..mujoco.wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
+from ._lazy import _jax, _mjx, _xp
+
+__all__ = ["MjxContact", "MjxMudState", "Static", "initial_state", "mud_wrench"]
+
+
+class MjxMudState(NamedTuple):
+    """The coupling's memory for one robot (a JAX pytree; leading robot axis when batched).
+
+    Attributes
+    ----------
+    mud : MudChannels
+        The mud under each foot, arrays of shape (nb,).
+    foot_xy : array (nb, 2)
+        Tip odometry in the foot frame [m] (D65).
+    world_xy : array (nb, 2)
+        Tip position in the world at the last step [m].
+    tw_prev : array (nb, 6)
+        Body twist at the last step [m/s, rad/s].
+    wv_prev : array (nb, 6)
+        Mobility times the last wrench, :math:`Ww` [m/s^2, rad/s^2].
+    has_prev : array ()
+        1.0 after the first step, else 0.0.
+    """
+
+    mud: MudChannels
+    foot_xy: Any
+    world_xy: Any
+    tw_prev: Any
+    wv_prev: Any
+    has_prev: Any
+
+
+class MjxContact(NamedTuple):
+    """What the coupling applied at one step, per body (world frame).
+
+    Attributes
+    ----------
+    force : array (nb, 3)
+        Force applied at the body's center of mass (the implicit wrench) [N].
+    torque : array (nb, 3)
+        Moment about the center of mass [N m].
+    explicit_force : array (nb, 3)
+        The explicit mud force before the implicit step [N].
+    depth : array (nb,)
+        Depth of the foot's lowest point [m].
+    stress : array (nb, 3)
+        Channel stresses [Pa].
+    tip : array (nb, 3)
+        Lowest point of each foot [m].
+    velocity : array (nb, 3)
+        Channel velocities where each channel acts [m/s].
+    finite : array ()
+        True when every component of the wrench is finite.
+    """
+
+    force: Any
+    torque: Any
+    explicit_force: Any
+    depth: Any
+    stress: Any
+    tip: Any
+    velocity: Any
+    finite: Any
+
+
+@dataclass(frozen=True, eq=False)
+class Group:
+    """Bodies with one foot: indices, characteristic length, force rule, triangles (numpy)."""
+
+    idx: np.ndarray
+    lc: float
+    force_fn: Any
+    triangles: np.ndarray  # (nb_g, m, 3, 3) in the body frames [m]
+    upright: PreparedTriangles  # the foot in its own frame
+
+
+@dataclass(frozen=True, eq=False)
+class Static:
+    """Everything the step needs that is not traced: the placement of the feet, options."""
+
+    ids: np.ndarray
+    roots: np.ndarray
+    tip: np.ndarray  # (nb, 3) body frame [m]
+    forward: np.ndarray  # (nb, 3) body frame [-]
+    groups: tuple[Group, ...]
+    mass: np.ndarray  # (nb,) [kg]
+    inertia: np.ndarray  # (nb, 3) principal [kg m^2]
+    surface: float
+    bottom: float | None
+    bottom_stiffness: float
+    bottom_damping: float
+    implicit: bool
+    chain: bool
+    kappa: float
+    xi0: float
+    reset: bool
+    heading_speed: float
+    quasi_static: bool
+    restart: bool
+    dv_min: float = 1e-4
+
+
+def _frames(cfg: Static, d: Any) -> dict[str, Any]:
+    """Body frames, tips, yaw and twist of the foot bodies (``MudBatch._read``)."""
+    xp = _xp()
+    ids, roots = cfg.ids, cfg.roots
+    X, R, C = d.xpos[ids], d.xmat[ids].reshape(-1, 3, 3), d.xipos[ids]
+    V, S = d.cvel[ids], d.subtree_com[roots]
+    tip = X + matvec(R, xp.asarray(cfg.tip))
+    fw = matvec(R, xp.asarray(cfg.forward))
+    h = xp.maximum(xp.hypot(fw[..., 0], fw[..., 1]), 1e-12)
+    cs = xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)
+    return {"X": X, "R": R, "C": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C, xp=xp)}
+
+
+def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
+    """6x6 mobility of each foot body's center-of-mass twist (``kinematics.*_mobility``)."""
+    xp = _xp()
+    if not cfg.chain:
+        Ri = d.ximat[cfg.ids].reshape(-1, 3, 3)
+        lin = xp.eye(3) / xp.asarray(cfg.mass)[:, None, None]
+        inv = 1.0 / np.maximum(cfg.inertia, 1e-12)
+        rot = xp.einsum("bij,bj,blj->bil", Ri, xp.asarray(inv), Ri)
+        z = xp.zeros_like(rot)
+        return xp.concatenate([xp.concatenate([lin, z], -1), xp.concatenate([z, rot], -1)], -2)
+    mjx = _mjx()
+    rows = []
+    for j, b in enumerate(cfg.ids):
+        jp, jr = mjx.jac(mx, d, C[j], int(b))  # (nv, 3) each
+        rows.append(xp.concatenate([jp.T, jr.T], axis=0))
+    J = xp.stack(rows)  # (nb, 6, nv)
+    M = mjx.full_m(mx, d)
+    jax = _jax()
+    fac = jax.scipy.linalg.cho_factor(M)
+    minv_jt = jax.scipy.linalg.cho_solve(fac, xp.concatenate(rows, axis=0).T)  # (nv, 6 nb)
+    minv_jt = xp.moveaxis(minv_jt.reshape(M.shape[0], -1, 6), 1, 0)  # (nb, nv, 6)
+    return J @ minv_jt
+
+
+def _posed(cfg: Static, k: dict[str, Any]) -> tuple[tuple[Any, Any, Any, Any], Any]:
+    """Channel geometry of each posed foot and its ratio to the upright foot (D60a)."""
+    xp = _xp()
+    X, R, C, cs = k["X"], k["R"], k["C"], k["cs"]
+    parts: list[Any] = []
+    order = np.concatenate([g.idx for g in cfg.groups])
+    for g in cfg.groups:
+        idx = g.idx
+        c, s = cs[idx, 0], cs[idx, 1]
+        Rg = R[idx]
+        M = xp.stack(
+            [c[..., None] * Rg[..., 0, :] + s[..., None] * Rg[..., 1, :],
+             -s[..., None] * Rg[..., 0, :] + c[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
+            axis=-2,
+        )  # fmt: skip
+        o = X[idx] - xp.concatenate([C[idx, :2], xp.full((len(idx), 1), cfg.surface)], -1)
+        shift = xp.stack([c * o[..., 0] + s * o[..., 1], -s * o[..., 0] + c * o[..., 1],
+                          o[..., 2]], -1)  # fmt: skip
+        t = matvec(M[:, None, None], xp.asarray(g.triangles)) + shift[:, None, None, :]
+        geo = channel_geometry(t, xp=xp)
+        depth = xp.maximum(-geo.low[..., 2], 0.0)
+        up = upright_area(PreparedTriangles(*(xp.asarray(a) for a in g.upright)), depth, xp=xp)
+        ratio = xp.where(up > 0.0, geo.area / xp.where(up > 0.0, up, 1.0), 0.0)
+        parts.append((*geo, ratio))
+    inv = np.argsort(order)
+    cat = [xp.concatenate([p[i] for p in parts], axis=0)[inv] for i in range(5)]
+    return (cat[0], cat[1], cat[2], cat[3]), cat[4]
+
+
+def _take(tree: Any, idx: np.ndarray) -> Any:
+    return _jax().tree_util.tree_map(lambda a: a[idx], tree)
+
+
+def _force_and_derivative(
+    cfg: Static, g: Group, consts: Any, st: MudChannels, pos: Any, vel: Any, step: Any, dt: Any
+) -> tuple[MudChannels, Any, Any, Any]:
+    """The mud step of four copies of the motion (D61, D63): ``implicit.force_and_derivative``."""
+    xp = _xp()
+    nudge = xp.asarray(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
+    vk = vel[None] + nudge[:, None, :] * step[None] if step is not None else vel[None]
+    n = vk.shape[0]
+    st4 = _jax().tree_util.tree_map(lambda a: xp.broadcast_to(a, (n, *a.shape)), st)
+    p4 = xp.broadcast_to(pos, vk.shape)
+    new, sx, sy, sz, depth = mud_step(
+        consts, st4, p4[..., 0], p4[..., 1], p4[..., 2], vk[..., 0], vk[..., 1], vk[..., 2], dt,
+        g.lc, cfg.kappa, cfg.xi0, cfg.reset, cfg.heading_speed, 1.0, cfg.quasi_static,
+        cfg.restart, xp=xp,
+    )  # fmt: skip
+    stress = xp.stack([sx, sy, sz], axis=-1)
+    fk = g.force_fn(depth, stress, new.heading) * new.in_mud[..., None]
+    new = _jax().tree_util.tree_map(lambda a: a[0], new)
+    if step is None:
+        return new, fk[0], xp.zeros_like(fk[0]), stress[0]
+    jd = (xp.stack([fk[1, ..., 0], fk[2, ..., 1], fk[3, ..., 2]], axis=-1) - fk[0]) / step
+    return new, fk[0], jd, stress[0]
+
+
+def mud_wrench(
+    cfg: Static, consts: Any, mx: Any, d: Any, st: MjxMudState
+) -> tuple[Any, MjxMudState, MjxContact]:
+    """The wrench of the mud on every foot body, and the mud state after the step.
+
+    Parameters
+    ----------
+    cfg : Static
+        Placement of the feet and options (:class:`~mudrft.integrations.mjx.MjxCoupling`).
+    consts : (ChannelConstants, ChannelConstants)
+        Horizontal and vertical channel constants (floats or traced arrays).
+    mx : mjx.Model
+        The model.
+    d : mjx.Data
+        One robot after ``fwd_position`` and ``fwd_velocity``.
+    st : MjxMudState
+        State at the start of the step.
+
+    Returns
+    -------
+    xfrc : array (nbody, 6)
+        ``xfrc_applied`` with the mud's wrench on the foot bodies [N, N m].
+    state : MjxMudState
+    contact : MjxContact
+    """
+    xp = _xp()
+    dt = mx.opt.timestep
+    k = _frames(cfg, d)
+    (area, point, inertia, low), ratio = _posed(cfg, k)
+    cs, tw, com, tip = k["cs"], k["tw"], k["C"], k["tip"]
+    c, s = cs[..., 0], cs[..., 1]
+    rel = xp.stack(
+        [c[..., None] * point[..., 0] - s[..., None] * point[..., 1],
+         s[..., None] * point[..., 0] + c[..., None] * point[..., 1],
+         point[..., 2] + (cfg.surface - com[..., None, 2])], axis=-1,
+    )  # fmt: skip
+    b = channel_rows(cs, rel, xp=xp)
+    vel = rowdot(b, tw[..., None, :])
+    # odometry of the tip in the foot frame (D65)
+    was_in = (st.mud.in_mud > 0.5)[..., None]
+    xy = xp.where(was_in, tip[..., :2] - st.world_xy, tip[..., :2])
+    base = xp.where(was_in, st.foot_xy, 0.0)
+    fxy = base + xp.stack(
+        [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
+    )
+    pos = xp.concatenate([fxy, low[..., 2:]], axis=-1)
+    depth = xp.maximum(-pos[..., 2], 0.0)
+    step = secant_steps(st.wv_prev, b, dt, cfg.dv_min, xp=xp) if cfg.implicit else None
+    mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
+    for g in cfg.groups:
+        idx = g.idx
+        new, fg, jg, sg = _force_and_derivative(
+            cfg, g, consts, _take(st.mud, idx), pos[idx], vel[idx],
+            None if step is None else step[idx], dt,
+        )  # fmt: skip
+        mud = _jax().tree_util.tree_map(lambda a, v, i=idx: a.at[i].set(v), mud, new)
+        f_up, jd, stress = f_up.at[idx].set(fg), jd.at[idx].set(jg), stress.at[idx].set(sg)
+    w0 = posed_wrench(ratio * f_up, b, xp=xp)
+    K = None
+    if cfg.implicit:
+        D = ratio * xp.minimum(jd, 0.0)
+        K = damping_matrix(D, b, area, yaw_inertia_to_world(inertia, cs, xp=xp), xp=xp)
+        spread = K - xp.einsum("...c,...ci,...cj->...ij", D, b, b)  # spin damping (D62a)
+        w0 = w0 + (spread @ tw[..., None])[..., 0]
+    if cfg.bottom is not None:  # a one-sided penalty on the lowest point (D67)
+        lw = xp.stack([c * low[..., 0] - s * low[..., 1], s * low[..., 0] + c * low[..., 1],
+                       low[..., 2] + cfg.surface - com[..., 2]], axis=-1)  # fmt: skip
+        wb, kb = bottom_wrench(
+            lw, tw, depth - cfg.bottom, cfg.bottom_stiffness, cfg.bottom_damping, xp=xp
+        )
+        w0 = w0 + wb
+        K = None if K is None else K + kb
+    wv = st.wv_prev
+    if K is not None:
+        W = _mobility(cfg, mx, d, com)
+        g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
+        acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
+        wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
+        wv = (W @ wrench[..., None])[..., 0]
+    else:
+        wrench = w0
+    xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)
+    new_state = MjxMudState(mud, fxy, tip[..., :2], tw, wv, xp.ones_like(st.has_prev))
+    out = MjxContact(
+        force=wrench[..., :3], torque=wrench[..., 3:], explicit_force=w0[..., :3], depth=depth,
+        stress=stress, tip=xp.concatenate([tip[..., :2], low[..., 2:] + cfg.surface], -1),
+        velocity=vel, finite=xp.all(xp.isfinite(wrench)),
+    )  # fmt: skip
+    return xfrc, new_state, out
+
+
+def initial_state(cfg: Static, d: Any) -> MjxMudState:
+    """Undisturbed mud under the feet in their current pose (``MudBatch.reset``).
+
+    ``d`` needs the kinematics of its ``qpos`` (``mjx.kinematics`` and ``mjx.com_pos``).
+    """
+    xp = _xp()
+    k = _frames(cfg, d)
+    (_a, _p, _i, low), _r = _posed(cfg, k)
+    cs, tip = k["cs"], k["tip"]
+    c, s = cs[..., 0], cs[..., 1]
+    xy = tip[..., :2]
+    fxy = xp.stack([c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1)
+    depth = xp.maximum(-low[..., 2], 0.0)
+    lc = np.zeros(len(cfg.ids))
+    for g in cfg.groups:
+        lc[g.idx] = g.lc
+    mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.xi0, xp=xp)
+    zero6 = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype)
+    return MjxMudState(mud, fxy, tip[..., :2], zero6, zero6, xp.zeros((), dtype=tip.dtype))

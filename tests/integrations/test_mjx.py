@@ -1,0 +1,125 @@
+"""The MJX coupling (mudrft.integrations.mjx) follows the CPU coupling, stays stable and
+differentiates (decision D81).
+
+The equivalence runs in float64 (the JAX backend's precision, D70) and, with a looser
+tolerance, in float32 (MJX's default). Its floor is the model, not the port: the elastic
+law alpha gamma^n with n = 0.12 turns displacements of round-off size into stresses of
+hundreds of Pa, and the heading rule feeds them into the horizontal force (D68a). MJX
+computes the foot's pose with its own quaternion arithmetic, so the lateral displacement
+of the planar biped's feet is 1e-17 m instead of exactly 0; two CPU couplings that differ
+only by the order of a few sums (numpy and numba) already part by 2e-6 in 0.5 s.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudrft
+
+pytest.importorskip("mujoco")
+pytest.importorskip("jax")
+import jax
+
+from mudrft.integrations import mjx as mm
+from mudrft.integrations.mujoco import attach
+from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
+
+from .conftest import mujoco
+
+if not mm.available():
+    pytest.skip("mujoco-mjx is not installed (extra 'mjx')", allow_module_level=True)
+
+MUD = mudrft.paper_mud(0.25)
+DT = 2e-3  # [s], the largest step the CPU coupling's walk tests use
+# float64 / float32: max |q_mjx - q_cpu| over the joint positions [m, rad] and max |depth
+# difference| of the feet [m] over 0.5 s standing at dt = 2 ms (measured 2.1e-5 / 1.5e-6
+# and 2.4e-5 / 6.1e-6; at 1 ms 4e-6 / 8e-7 and 2e-5 / 5e-6; the feet sink 7-8 mm)
+TOL = {"float64": (5e-5, 5e-6), "float32": (1e-4, 2e-5)}
+
+
+def _standing_biped():
+    """The biped standing on the mud with its servos holding the pose; contacts off (the
+    bed is 0.15 m down, never reached), so MJX compiles no collision."""
+    m = biped_model(timestep=DT)
+    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    d = mujoco.MjData(m)
+    ctrl = GaitController(m)
+    ctrl.initial_pose(d)
+    ctrl(d)
+    return m, d
+
+
+@pytest.fixture(scope="module")
+def cpu_reference():
+    """0.5 s of the standing biped with the CPU coupling: joint positions and depths."""
+    m, d = _standing_biped()
+    cpu = attach(m, list(BIPED_FEET), MUD, backend="numpy")
+    cpu.reset(d)
+    q, depth = [], []
+    for _ in range(250):
+        out = cpu.step(d)
+        q.append(d.qpos.copy())
+        depth.append(out.depth.copy())
+    return np.array(q), np.array(depth)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_mjx_follows_the_cpu_coupling_and_stays_stable(cpu_reference, dtype):
+    """0.5 s against the CPU coupling within TOL; in float32 (the default of MJX and of
+    the vector environment) on to 10 s: finite, settled, no chatter."""
+    q_cpu, depth_cpu = cpu_reference
+    with jax.enable_x64(dtype == "float64"):
+        m, d = _standing_biped()
+        coupling = mm.attach(m, list(BIPED_FEET), MUD)
+        dx = coupling.put_data(d)
+        assert dx.qpos.dtype == np.dtype(dtype)
+        state = mm.jit(coupling.init)(dx)
+        dx, state, out = coupling.rollout(dx, state, 250)
+        dq = np.abs(np.asarray(dx.qpos) - q_cpu[-1]).max()
+        dd = np.abs(np.asarray(out.depth) - depth_cpu).max()
+        assert dq < TOL[dtype][0] and dd < TOL[dtype][1], (dq, dd)
+        assert np.asarray(out.depth)[-1].min() > 5e-3  # it did sink into the mud
+        if dtype == "float64":
+            return
+        for _ in range(19):  # on to 10 s with the same compiled rollout
+            dx, state, out = coupling.rollout(dx, state, 250)
+            assert bool(np.all(out.finite))
+        depth = np.asarray(out.depth[-1])
+        assert np.all(np.isfinite(np.asarray(dx.qpos)))
+        assert np.all((depth > 5e-3) & (depth < 0.03)), depth  # settled, not sinking away
+        assert float(np.abs(np.asarray(dx.qvel)).max()) < 0.05  # at rest, no chatter
+
+
+def test_gradient_through_a_rollout_equals_finite_differences():
+    """d(height after 40 ms)/d(initial sink speed) of a free foot shot into the mud:
+    reverse mode through MJX, the mud and the implicit step, against central differences."""
+    with jax.enable_x64(True):
+        xml = """<mujoco><option timestep="0.001"/><worldbody>
+          <body name="foot" pos="0 0 0.015"><freejoint/>
+          <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
+        m = mujoco.MjModel.from_xml_string(xml)
+        d = mujoco.MjData(m)
+        d.qvel[:] = [0.05, 0.0, -0.2, 0.0, 0.5, 0.0]  # sinking, sliding and pitching
+        mujoco.mj_forward(m, d)
+        coupling = mm.attach(m, "foot", MUD)
+        d0 = coupling.put_data(d)
+        st0 = mm.jit(coupling.init)(d0)
+
+        def height(vz):
+            def body(carry, _):
+                dd, st = carry
+                dd, st, _out = coupling.step(dd, st)
+                return (dd, st), None
+
+            start = d0.replace(qvel=d0.qvel.at[2].set(vz))
+            (dd, _), _ = jax.lax.scan(body, (start, st0), None, length=40)
+            return dd.qpos[2]
+
+        value_and_grad = mm.jit(jax.value_and_grad(height))  # one compiled program
+        value, grad = value_and_grad(-0.2)
+        h = 1e-6
+        fd = (value_and_grad(-0.2 + h)[0] - value_and_grad(-0.2 - h)[0]) / (2 * h)
+        assert float(value) < 0.013  # the foot is in the mud (it started at 0.015 m)
+        assert abs(float(grad) - float(fd)) < 1e-6 * abs(float(fd)), (grad, fd)  # 2e-8 measured
