@@ -1,4 +1,8 @@
-"""Which parameter of the mud moves suction most? A sensitivity study on top of a sweep.
+"""
+Which mud parameter moves suction most: a sensitivity study on a sweep
+======================================================================
+
+Which parameter of the mud moves suction most? A sensitivity study on top of a sweep.
 
 A Latin hypercube sample (seeded) of factors on six mud parameters, each between half and
 twice the paper's value at W = 25 % (log-uniform), for the semi-cylindrical foot at the
@@ -58,7 +62,7 @@ def figure(ds: Any, ranked: list[tuple[str, float]], path: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> list[tuple[str, float]]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description="Which parameter of the mud moves suction most (a sweep on Dask).")
     ap.add_argument("--n", type=int, default=64, help="sample size")
     ap.add_argument("--workers", type=int, default=None, help="local cluster workers")
     ap.add_argument("--serial", action="store_true", help="run without Dask")

@@ -1,4 +1,8 @@
-"""Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps: the wiring.
+"""
+Training PPO on the mud walker (Gymnasium)
+==========================================
+
+Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps: the wiring.
 
 ``mudrft/MudWalker-v0`` is the project's planar biped in the paper's mud (W = 25 %, flat
 feet; :mod:`mudrft.envs.walker`). This script trains Stable-Baselines3's PPO on it for
@@ -22,7 +26,7 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description="Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps.")
     ap.add_argument("--steps", type=int, default=4096, help="control steps of training")
     ap.add_argument("--foot", default="flat", help="flat, semi-cylinder or semi-sphere")
     ap.add_argument("--water-content", type=float, default=0.25)

@@ -22,13 +22,15 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
     Parameters
     ----------
-    foot, water_content, dt, frame_skip, forward_reward_weight, ctrl_cost_weight,
-    healthy_reward, action_scale, reset_noise_scale, bottom : keyword-only
-        As :class:`~mudrft.envs.walker.WalkerConfig`.
     backend : {"auto", "numpy", "numba"}, keyword-only
         Backend of the CPU coupling (``"auto"``: numba where installed).
     render_mode : None or "rgb_array", keyword-only
         ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL).
+    **options
+        ``foot``, ``water_content`` [-], ``dt`` [s], ``frame_skip``,
+        ``forward_reward_weight``, ``ctrl_cost_weight``, ``healthy_reward``,
+        ``action_scale``, ``reset_noise_scale``, ``bottom`` [m]: as
+        :class:`~mudrft.envs.walker.WalkerConfig`.
 
     Examples
     --------
@@ -134,6 +136,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         return np.asarray(self._renderer.render())
 
     def close(self) -> None:
+        """Release the offscreen renderer, if one was made."""
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
