@@ -203,12 +203,7 @@ def _one_foot(
     """One closed-form foot: state row ``s`` and output row ``o`` updated in place."""
     lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
     qs, restart = cfg[5] != 0.0, cfg[6] != 0.0
-    ch = MudChannels(
-        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
-        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
-        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
-        s[21], s[22], s[23], s[24],
-    )  # fmt: skip
+    ch = _channels(s)
     hor = _constants(c, r, 0)
     ver = _constants(c, r, 12)
     new, sx, sy, sz, depth = _step(
@@ -262,6 +257,16 @@ def _constants(c: Any, r: int, o: int) -> ChannelConstants:
     )  # fmt: skip
 
 
+def _channels(s: Any) -> MudChannels:
+    """The mud under one foot from its state row ``s`` (``N_STATE`` floats, :func:`state_rows`)."""
+    return MudChannels(
+        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
+        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
+        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
+        s[21], s[22], s[23], s[24],
+    )  # fmt: skip
+
+
 _step = mud_step
 _force = closed_form_force
 _foot = _one_foot
@@ -275,6 +280,7 @@ def _compile_driver(fn: Any, **extra: Any) -> Any:
         _step=compile_scalar(mud_step),
         _force=compile_scalar(closed_form_force),
         _constants=numba.njit(inline="always")(_constants),
+        _channels=numba.njit(inline="always")(_channels),
         **extra,
     )
     env["_foot"] = numba.njit(error_model="numpy")(

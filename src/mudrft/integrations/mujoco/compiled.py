@@ -32,8 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from ...backends.numba import N_STATE, _constants, _numba, compile_scalar
-from ...constitutive.state import ChannelState
+from ...backends.numba import N_STATE, _channels, _constants, _numba, compile_scalar
 from ...feet.closed_form import closed_form_force
 from ...feet.facet import (
     clip_constants,
@@ -45,7 +44,7 @@ from ...feet.facet import (
     sort_by_height,
     submerged_area,
 )
-from ...terrains.mud import MudChannels, mud_channel_stress, mud_heading, mud_step
+from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
@@ -188,12 +187,7 @@ def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, u
     to ``row`` (N_STATE); returns (fx, fy, fz, sx, sy, sz, depth) [N, Pa, m]."""
     hor = _constants(c, 0, 0)
     ver = _constants(c, 0, 12)
-    ch = MudChannels(
-        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
-        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
-        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
-        s[21], s[22], s[23], s[24],
-    )  # fmt: skip
+    ch = _channels(s)
     new, sx, sy, sz, depth = _step(
         (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
         cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
@@ -222,12 +216,7 @@ def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, g
     follows the new velocity, and the other stresses are ``r0``'s (D63)."""
     hor = _constants(c, 0, 0)
     ver = _constants(c, 0, 12)
-    ch = MudChannels(
-        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
-        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
-        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
-        s[21], s[22], s[23], s[24],
-    )  # fmt: skip
+    ch = _channels(s)
     sq = _channel(
         q, (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
         cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
@@ -539,6 +528,7 @@ def coupling_kernel() -> Any:
         _heading=compile_scalar(mud_heading),
         _force=compile_scalar(closed_form_force),
         _constants=numba.njit(inline="always")(_constants),
+        _channels=numba.njit(inline="always")(_channels),
         _ptr=_pointer_intrinsic(),
         carray=numba.carray,
     )
