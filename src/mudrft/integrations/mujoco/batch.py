@@ -443,9 +443,9 @@ class MudBatch:
 
     def _step_compiled(self, datas: list[Any], nstep: int) -> MudContact:
         """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2`` (D68b)."""
-        if self._loop is None:
+        if self._loop is None or self._compiled is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        reset = self._compiled.datas if self._compiled is not None else []
+        reset = self._compiled.datas
         if len(datas) != len(reset) or any(a is not b for a, b in zip(datas, reset, strict=True)):
             raise MudrftError(
                 "backend='numba' steps the MjData given to reset(); got another MjData "
@@ -463,7 +463,7 @@ class MudBatch:
         """
         comp = self._compiled
         assert comp is not None
-        m, opt, rk4 = self.model, self.model.opt, self._rk4
+        m, opt, rk4 = self.model, self._opt, self._rk4
         step1, step2, kernel = self._mj.mj_step1, self._mj.mj_step2, comp.kernel
         (args,) = comp._args
         flags, contact = comp.opts, comp.contact
@@ -509,28 +509,6 @@ class MudBatch:
             self.last = contact(index)
             return self.last
 
-        def loop1(nstep: int) -> MudContact:  # one robot: the same, without the inner loops
-            if int(opt.integrator) == rk4:
-                return generic(nstep)
-            first = not self._has_prev
-            for k in range(nstep):
-                step1(m, d0)
-                if kernel(args):
-                    fail(k + 1)
-                if first:
-                    flags[11], first = 1.0, False
-                step2(m, d0)
-                if w0.number != n0[0]:
-                    n0[0] = w0.number  # raise once per event, as _check_diverged does
-                    diverged(k + 1)
-            self.time_steps += nstep
-            self._has_prev = True
-            self.last = contact(index)
-            return self.last
-
-        if len(datas) == 1:
-            d0, w0, n0 = datas[0], warn[0], [int(seen[0])]
-            return loop1
         return loop
 
     def _check_diverged(self, datas: list[Any]) -> None:
