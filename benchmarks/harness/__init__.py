@@ -168,8 +168,11 @@ def summary_lines(res: dict[str, Any]) -> list[str]:
     )
     lines.append("single foot per step (us): " + _joined(res["single_foot"], "_us", ".2f"))
     mj = res["mujoco"]
+    with_contact = (mj.get("details") or {}).get("ratio_with_contact")
     lines.append(
-        f"mujoco_overhead_ratio: {mj['ratio']}" + (f" ({mj['note']})" if mj.get("note") else "")
+        f"mujoco_overhead_ratio: {mj['ratio']}"
+        + (f" (step with the contact: {with_contact:.3f})" if with_contact else "")
+        + (f" ({mj['note']})" if mj.get("note") else "")
     )
     lines += _robot_lines(res.get("robots", {}))
     for k, r in res["roofline"].items():

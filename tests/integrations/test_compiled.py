@@ -108,3 +108,46 @@ def test_compiled_biped_with_actuators_off_is_passive_for_ten_seconds(dt):
     assert np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(out.force))
     assert out.depth.max() > 0.005  # it sank into the mud
     assert rise <= 1e-9 * abs(e0)
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_advance_is_step_without_the_contact_and_last_is_read_when_asked(backend):
+    """``advance`` moves the robot exactly as ``step`` does; ``last`` after it is the contact
+    ``step`` returns for the same steps, built from the newest step whenever it is read
+    (never a stale one), for one robot and for a batch of two."""
+    from mudrft.integrations.mujoco import attach_batch
+
+    model = biped_model(mudrft.feet.Flat())
+    ctrl = GaitController(model)
+    datas = [mujoco.MjData(model) for _ in range(4)]
+    pair_b = [mujoco.MjData(model), mujoco.MjData(model)]
+    for d in (*datas, *pair_b):
+        ctrl.initial_pose(d)
+    kw = {"feet": mudrft.feet.Flat(), "backend": backend}
+    one_a, one_b = (attach(model, list(BIPED_FEET), MUD, **kw) for _ in range(2))
+    two_a, two_b = (attach_batch(model, list(BIPED_FEET), MUD, n=2, **kw) for _ in range(2))
+    one_a.reset(datas[0])
+    one_b.reset(datas[1])
+    two_a.reset(datas[2:])
+    two_b.reset(pair_b)
+    reads = 0
+    for k in range(300):
+        for d in (*datas, *pair_b):
+            ctrl(d)
+        one_a.advance(datas[0])
+        want = one_b.step(datas[1])
+        two_a.advance(datas[2:])
+        want2 = two_b.step(pair_b)
+        if k % 37 == 0 or k == 299:  # read now and then: each read is of the newest step
+            reads += 1
+            for got, ref in ((one_a.last, want), (two_a.last, want2)):
+                assert got is not None
+                for name in got._fields:
+                    np.testing.assert_array_equal(getattr(got, name), getattr(ref, name))
+    np.testing.assert_array_equal(datas[0].qpos, datas[1].qpos)
+    np.testing.assert_array_equal(datas[2].qpos, pair_b[0].qpos)
+    assert want.depth.max() > 0.0 and reads == 10
+    held = one_a.last
+    one_a.advance(datas[0], 5)
+    assert one_a.last is not held  # a kept contact is not changed by later steps
+    assert not np.array_equal(held.tip, one_a.last.tip)

@@ -68,22 +68,33 @@ def _robots(
 
 
 def _runner(
-    n: int, *, mud: bool, steps: int, dt: float, foot: Any = None, backend: str = "numba"
+    n: int,
+    *,
+    mud: bool,
+    steps: int,
+    dt: float,
+    foot: Any = None,
+    backend: str = "numba",
+    contact: bool = False,
 ) -> Any:
-    """A function that runs ``steps`` physics steps of ``n`` robots (controller included)."""
+    """A function that runs ``steps`` physics steps of ``n`` robots (controller included):
+    ``advance`` (the contact built only when read), or ``step`` (a :class:`MudContact`
+    returned every step) where ``contact``."""
     import mujoco
 
     model, datas, ctrl, coupling = _robots(n, mud=mud, dt=dt, foot=foot, backend=backend)
+    arg = datas[0] if n == 1 else datas
+    go = None if coupling is None else (coupling.step if contact else coupling.advance)
 
     def run() -> None:
         for _ in range(steps):
             for d in datas:
                 ctrl(d)
-            if coupling is None:
+            if go is None:
                 for d in datas:
                     mujoco.mj_step(model, d)
             else:
-                coupling.step(datas[0] if n == 1 else datas)
+                go(arg)
 
     run()  # warm up (and walk into the gait; compiles the numba kernel once)
     return run
@@ -105,6 +116,17 @@ def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tupl
     return tp / steps, tm / steps
 
 
+def _triple(n: int, *, steps: int, dt: float, repeats: int, **kw: Any) -> tuple[float, ...]:
+    """As :func:`_pair`, with a third run: ``step`` returning the contact every step."""
+    phys = _runner(n, mud=False, steps=steps, dt=dt)
+    runs = [_runner(n, mud=True, steps=steps, dt=dt, contact=c, **kw) for c in (False, True)]
+    best = [np.inf] * 3
+    for _ in range(repeats):
+        for i, fn in enumerate([phys, *runs]):
+            best[i] = min(best[i], _best_time(fn, 1))
+    return tuple(b / steps for b in best)
+
+
 def _mesh_foot() -> Any:
     """A mesh foot of 512 facets (the semi-sphere's mesh at resolution 8)."""
     return mudrft.feet.SemiSphere().to_mesh(resolution=8)
@@ -120,7 +142,10 @@ def mujoco_overhead_ratio(
     """Wall time per biped step with mud over without: the cost of the coupling.
 
     The headline ``mujoco_overhead_ratio`` is the biped with the paper's flat foot and the
-    compiled coupling (``backend="numba"`` where numba is installed, D68a); ``feet``
+    compiled coupling (``backend="numba"`` where numba is installed, D68a), stepped with
+    ``advance`` (the wrench written, the contact built only when read);
+    ``ratio_with_contact`` steps it with ``step``, which returns a :class:`MudContact`
+    every step. ``feet``
     reports the same for a 512-facet mesh foot (compiled too) and the morphing foot (numpy
     coupling); ``batch`` the ratio per robot for batches of robots (one compiled call for
     all of them).
@@ -142,6 +167,7 @@ def mujoco_overhead_ratio(
     -------
     dict
         ``ratio`` (= ``mujoco_overhead_ratio``): wall time per step with mud / without;
+        ``ratio_with_contact``: the same with the contact returned every step;
         ``mud_cost_over_physics``: (with - without) / without, the cost of the mud
         relative to the physics step (the aim is < 1); ``backend``;
         ``steps_per_second_physics``, ``steps_per_second_mud``; ``feet``: per foot the
@@ -151,7 +177,7 @@ def mujoco_overhead_ratio(
 
     steps = max(round(seconds / dt), 10)
     backend = choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.Flat())
-    t_phys, t_mud = _pair(1, steps=steps, dt=dt, repeats=5, backend=backend)
+    t_phys, t_mud, t_contact = _triple(1, steps=steps, dt=dt, repeats=5, backend=backend)
     out: dict[str, Any] = {
         "seconds": float(seconds),
         "dt [s]": dt,
@@ -161,6 +187,7 @@ def mujoco_overhead_ratio(
         "ratio": t_mud / t_phys,
         "mujoco_overhead_ratio": t_mud / t_phys,
         "mud_cost_over_physics": (t_mud - t_phys) / t_phys,
+        "ratio_with_contact": t_contact / t_phys,
         "feet": {},
         "batch": {},
         "machine": {
@@ -207,6 +234,10 @@ def _table(res: dict) -> str:
         f"| 1 | {res['steps_per_second_physics']:,.0f} | {res['steps_per_second_mud']:,.0f} | "
         f"{res['ratio']:.2f} | {res['mud_cost_over_physics']:.2f} |",
     ]
+    if "ratio_with_contact" in res:
+        rows.append(
+            f"| 1 (`step`: the contact every step) | | | {res['ratio_with_contact']:.2f} | |"
+        )
     for name, f in res.get("feet", {}).items():
         rows.append(
             f"| 1 ({name}, {f['backend']}) | | | {f['ratio']:.1f} | {f['mud_cost_over_physics']:.1f} |"

@@ -21,7 +21,7 @@ from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_r
 from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains.mud import MudTerrain
-from .compiled import N_OUT, coupling_kernel, upright_rows
+from .compiled import N_OUT, coupling_kernel, upright_rows, work_size
 from .contact import MudContact
 
 __all__ = ["ARGS", "CompiledCoupling", "check_compilable", "choose_backend", "pack_arguments"]
@@ -75,7 +75,7 @@ ARGS = (
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("opts", "f8", 1),
     ("mud", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("out", "f8", 3),
+    ("out", "f8", 3), ("work", "f8", 1),
 )  # fmt: skip
 
 
@@ -83,7 +83,7 @@ ARGS = (
 def packed_arguments() -> Any:
     """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
 
-    Passing 25 arrays costs numba 2.5-4.5 us per call to type and unbox them (a third of the
+    Passing the 25 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them (a third of the
     coupling's cost for the biped); one jitclass instance costs a few tenths of a
     microsecond (D68b). The instance shares the arrays' memory: writing them from Python
     (the options, the state on reset) is seen by the kernel.
@@ -97,14 +97,14 @@ def packed_arguments() -> Any:
     class CouplingArrays:
         def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
                      inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
-                     geom, opts, mud, odo, tw_prev, wv_prev, out):  # type: ignore[no-untyped-def]  # fmt: skip
+                     geom, opts, mud, odo, tw_prev, wv_prev, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
             self.addr, self.sizes, self.model_i = addr, sizes, model_i
             self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
             self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
             self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
             self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
             self.geom, self.opts, self.mud, self.odo = geom, opts, mud, odo
-            self.tw_prev, self.wv_prev, self.out = tw_prev, wv_prev, out
+            self.tw_prev, self.wv_prev, self.out, self.work = tw_prev, wv_prev, out, work
 
     return jitclass(spec)(CouplingArrays)
 
@@ -163,6 +163,7 @@ class CompiledCoupling:
         self.tw_prev = np.zeros((n, nb, 6))
         self.wv_prev = np.zeros((n, nb, 6))
         self.out = np.zeros((n, nb, N_OUT))
+        self.work = np.zeros(work_size(m.nv, len(self.tri_b)))
         self.addr = np.zeros((n, 10), dtype=np.int64)
         self.sizes = np.zeros(3, dtype=np.int64)
         self.datas: list[Any] = []

@@ -48,7 +48,7 @@ from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
-__all__ = ["N_OUT", "coupling_kernel", "upright_rows"]
+__all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "upright_rows", "work_size"]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -241,7 +241,7 @@ def _kernel(
     mass: Any, inertia: Any,
     bodies: Any, tip: Any, fwd: Any, tri_adr: Any, tri_b: Any, up_adr: Any, tri_up: Any,
     consts: Any, cfg: Any, geom: Any, opts: Any,
-    mud: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any,
+    mud: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any, work: Any,
 ) -> int:  # fmt: skip
     """One coupling step of every body of every robot (see the module docstring).
 
@@ -253,7 +253,8 @@ def _kernel(
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
     surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
     has_prev). State ``mud`` (N, nb, N_STATE), ``odo`` (N, nb, 4: foot-frame xy, world xy),
-    ``tw_prev``, ``wv_prev`` (N, nb, 6) updated in place; ``out`` (N, nb, N_OUT).
+    ``tw_prev``, ``wv_prev`` (N, nb, 6) updated in place; ``out`` (N, nb, N_OUT);
+    ``work`` (:func:`work_size`) the work arrays, allocated once (D68b).
     Returns the number of bodies whose wrench is not finite.
     """
     dt, surface = opts[0], opts[1]
@@ -262,17 +263,53 @@ def _kernel(
     has_prev = opts[11] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, nld = sizes[0], sizes[1], sizes[2]
-    # work arrays, allocated once per call
-    jac, mj = np.empty((6, nv)), np.empty((6, nv))
-    geo, aup, v = np.empty(42), np.empty(3), np.empty(9)
-    scratch = np.empty((tri_b.shape[0], 6))
-    tw, tipw, sh, ratio, u, un, pos = (np.empty(6), np.empty(3), np.empty(3), np.empty(3),
-                                       np.empty(3), np.empty(3), np.empty(3))  # fmt: skip
-    F, D, w0, wr, acc6, bl = (np.empty(3), np.empty(3), np.empty(6), np.empty(6),
-                              np.empty(6), np.empty(6))  # fmt: skip
-    M, E, spread = np.empty((3, 3)), np.zeros((3, 3)), np.empty((3, 3))
-    b, K, W, A = np.empty((3, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6))
-    row = np.empty(N_STATE)
+    # work arrays: views of ``work``, laid out as WORK_FIXED after 12 nv + 6 ntri floats
+    # (allocating them cost a microsecond per call)
+    ntri = tri_b.shape[0]
+    jac = work[0 : 6 * nv].reshape((6, nv))
+    mj = work[6 * nv : 12 * nv].reshape((6, nv))
+    o = 12 * nv
+    scratch = work[o : o + 6 * ntri].reshape((ntri, 6))
+    o += 6 * ntri
+    geo, aup, v, row = (
+        work[o : o + 42],
+        work[o + 42 : o + 45],
+        work[o + 45 : o + 54],
+        work[o + 54 : o + 54 + N_STATE],
+    )
+    o += 54 + N_STATE
+    tw, tipw, sh, ratio = (
+        work[o : o + 6],
+        work[o + 6 : o + 9],
+        work[o + 9 : o + 12],
+        work[o + 12 : o + 15],
+    )
+    u, un, pos, F, D = (
+        work[o + 15 : o + 18],
+        work[o + 18 : o + 21],
+        work[o + 21 : o + 24],
+        work[o + 24 : o + 27],
+        work[o + 27 : o + 30],
+    )
+    w0, wr, acc6, bl = (
+        work[o + 30 : o + 36],
+        work[o + 36 : o + 42],
+        work[o + 42 : o + 48],
+        work[o + 48 : o + 54],
+    )
+    o += 54
+    M, E, spread = (
+        work[o : o + 9].reshape((3, 3)),
+        work[o + 9 : o + 18].reshape((3, 3)),
+        work[o + 18 : o + 27].reshape((3, 3)),
+    )
+    b = work[o + 27 : o + 45].reshape((3, 6))
+    K, W, A = (
+        work[o + 45 : o + 81].reshape((6, 6)),
+        work[o + 81 : o + 117].reshape((6, 6)),
+        work[o + 117 : o + 153].reshape((6, 6)),
+    )
+    E[:, :] = 0.0
     bad = 0
     for k in range(n_rob):
         a = addr[k]
@@ -497,12 +534,22 @@ _heading = mud_heading
 _force = closed_form_force
 
 
+#: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`).
+WORK_FIXED = 54 + N_STATE + 54 + 153
+
+
+def work_size(nv: int, ntri: int) -> int:
+    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom and ``ntri``
+    posed triangles of all feet."""
+    return 12 * nv + 6 * ntri + WORK_FIXED
+
+
 def _kernel_packed(p: Any) -> int:
     """:func:`_kernel` on the arrays of one :func:`.backend.packed_arguments` instance."""
     return _kernel(
         p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,
         p.inertia, p.bodies, p.tip, p.fwd, p.tri_adr, p.tri_b, p.up_adr, p.tri_up, p.consts,
-        p.cfg, p.geom, p.opts, p.mud, p.odo, p.tw_prev, p.wv_prev, p.out,
+        p.cfg, p.geom, p.opts, p.mud, p.odo, p.tw_prev, p.wv_prev, p.out, p.work,
     )  # fmt: skip
 
 
