@@ -159,3 +159,34 @@ def test_numba_multithreaded_loop_equals_numpy_backend():
         fa, fb = a.step(pos, vel, DT), b.step(pos, vel, DT)
         np.testing.assert_allclose(fa, fb, rtol=0, atol=RTOL * max(np.abs(fb).max(), 1.0))
     assert np.abs(fb).max() > 1.0
+
+
+@pytest.mark.parametrize(
+    "foot",
+    [mudrft.feet.Flat(), mudrft.feet.SemiSphere(), mudrft.feet.MorphingFoot()],
+    ids=lambda f: f.name,
+)
+@pytest.mark.parametrize("as_list", [False, True], ids=["mud", "list"])
+def test_one_foot_on_numpy_takes_the_float_path_and_equals_the_array_path(foot, as_list):
+    """A batch of one foot (numpy) steps MudTerrain's float path (docs/performance.md); it
+    gives the array path's forces, stresses and depths: foot 0 of a batch of two on the same
+    motion, to the batch tolerance."""
+    mud = mudrft.paper_mud(0.25)
+    pos, vel = wandering_path(250, DT, seed=3)
+    one = BatchedMud([mud] if as_list else mud, foot, 1, position=pos[0])
+    assert one._one is not None  # the float path was taken
+    two = BatchedMud(mud, foot, 2, position=np.stack([pos[0], pos[0]]))
+    assert two._one is None
+    got, want = [], []
+    for k in range(1, len(pos)):
+        f1 = one.step(pos[k], vel[k], DT)
+        f2 = two.step(np.stack([pos[k], pos[k]]), np.stack([vel[k], vel[k]]), DT)
+        assert f1.shape == (1, 3) and one.stress.shape == (1, 3) and one.depth.shape == (1,)
+        np.testing.assert_allclose(one.stress[0], two.stress[0], rtol=1e-11, atol=1e-6)
+        np.testing.assert_allclose(one.depth[0], two.depth[0], rtol=0, atol=1e-15)
+        got.append(f1[0].copy())
+        want.append(f2[0].copy())
+    got, want = np.array(got), np.array(want)
+    scale = np.abs(want).max()
+    assert scale > 1.0
+    np.testing.assert_allclose(got, want, rtol=0, atol=RTOL * scale)

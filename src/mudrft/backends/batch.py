@@ -194,6 +194,13 @@ class BatchedMud:
         )
         self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
+        # one foot on numpy: MudTerrain's step on Python floats (the same one definition,
+        # without ~100 small-array operations per step; docs/performance.md)
+        self._one: MudTerrain | None = None
+        if self.backend == "numpy" and self.n == 1:
+            one = mud[0] if isinstance(mud, Sequence) and len(mud) == 1 else base.mud
+            if isinstance(one, Mud) and one.vertical.shape == one.horizontal.shape == ():
+                self._one = replace(base, mud=one)
         self.characteristic_length = self.terrain.length(foot)
         self._setup_backend()
         self.reset(np.zeros(3) if position is None else position)
@@ -264,6 +271,9 @@ class BatchedMud:
                 pos, self.characteristic_length, xi0=self.terrain.xi0
             )
             return
+        if self._one is not None:
+            self._state = self._one.initial_state(self.foot, pos[0])
+            return
         self._state = self.terrain.initial_state(self.foot, pos)
         if self.backend == "numba":
             from .numba import N_OUT, state_rows
@@ -303,6 +313,11 @@ class BatchedMud:
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
+        elif self._one is not None:
+            self._state, out = self._one.step_unchecked(self.foot, self._state, pos[0], vel[0], dt)
+            self.force = np.asarray(out.force, dtype=float).reshape(1, 3)
+            self.stress = np.asarray(out.stress, dtype=float).reshape(1, 3)
+            self.depth = np.asarray(out.depth, dtype=float).reshape(1)
         else:
             self._state, out = self.terrain.step_unchecked(self.foot, self._state, pos, vel, dt)
             self.force, self.stress, self.depth = out.force, out.stress, out.depth
