@@ -122,8 +122,9 @@ CLAIMS: tuple[Claim, ...] = (
         "The morphing foot's suction is only about 40 % of its intrusion resistance "
         "(Sec. IV-B, Fig. 11c)",
         "40 %",
-        "max suction / peak support: the morphing foot's stress is its force over its spread "
-        f"footprint, a constant area (D38), so the force ratio; within +-{PCT_TOL:g} points",
+        "max suction / peak support: the morphing foot's stress is its force over its whole "
+        "spread footprint (D38), so the force ratio (over the part in the mud: 74-90 %, "
+        f"docs/model.md Sec. 12); within +-{PCT_TOL:g} points",
     ),
     Claim(
         "morphing-vs-semi-cylinder",
@@ -293,7 +294,7 @@ def evaluate(
 
     morph = base["morphing"]
     if morph is not None:
-        r = morph["max_suction"] / morph["peak_support"] * 100  # over a constant area (D38)
+        r = morph["max_suction"] / morph["peak_support"] * 100  # over its whole footprint (D38)
         cell(c["morphing-suction-ratio"], f"{r:.0f} %", _ok(abs(r - 40) <= PCT_TOL))
     else:
         cell(
