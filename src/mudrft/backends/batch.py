@@ -244,10 +244,19 @@ class BatchedMud:
             "heading_speed": t.heading_speed,
         }
 
-        def one(st: Any, pos: Any, vel: Any, dt: Any) -> Any:
-            return mjax.terrain_step(jp, st, pos, vel, dt, **opts)
+        from jax.flatten_util import ravel_pytree
+
+        # the state crosses the jit boundary as one flat array: jit dispatch costs per leaf,
+        # and the terrain state has 25 (docs/performance.md)
+        n, lc, xi0 = self.n, self.characteristic_length, t.xi0
+        _, unravel = ravel_pytree(mjax.initial_terrain_state(np.zeros((n, 3)), lc, xi0=xi0))
+
+        def one(flat: Any, pos: Any, vel: Any, dt: Any) -> Any:
+            st, out = mjax.terrain_step(jp, unravel(flat), pos, vel, dt, **opts)
+            return ravel_pytree(st)[0], out
 
         self._jax_step = jax.jit(one)
+        self._jax_ravel = lambda st: ravel_pytree(st)[0]
         self._mjax = mjax
 
     # -- state ----------------------------------------------------------------------------
@@ -267,8 +276,10 @@ class BatchedMud:
         self.stress = np.zeros((n, 3))
         self.depth = np.maximum(-pos[:, 2], 0.0)
         if self.backend == "jax":
-            self._jst = self._mjax.initial_terrain_state(
-                pos, self.characteristic_length, xi0=self.terrain.xi0
+            self._jst = self._jax_ravel(
+                self._mjax.initial_terrain_state(
+                    pos, self.characteristic_length, xi0=self.terrain.xi0
+                )
             )
             return
         if self._one is not None:
