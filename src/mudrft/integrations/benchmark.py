@@ -100,31 +100,28 @@ def _runner(
     return run
 
 
-def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tuple[float, float]:
-    """Best wall time per step without and with mud [s], measured in alternation.
-
-    Alternating the two runs (rather than timing one, then the other) keeps a change of load
-    on a shared machine from landing on one side of the ratio only.
-    """
-    foot = kw.get("foot")
-    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=foot)
-    with_mud = _runner(n, mud=True, steps=steps, dt=dt, **kw)
-    tp = tm = np.inf
+def _alternated(fns: list[Any], steps: int, repeats: int) -> list[float]:
+    """Best wall time per step [s] of each runner, the runners timed in turn ``repeats``
+    times: a change of load on a shared machine then lands on every side of a ratio."""
+    best = [np.inf] * len(fns)
     for _ in range(repeats):
-        tp = min(tp, _best_time(phys, 1))
-        tm = min(tm, _best_time(with_mud, 1))
-    return tp / steps, tm / steps
+        for i, fn in enumerate(fns):
+            best[i] = min(best[i], _best_time(fn, 1))
+    return [b / steps for b in best]
+
+
+def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tuple[float, float]:
+    """Best wall time per step without and with mud (``advance``) [s], in alternation."""
+    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=kw.get("foot"))
+    tp, tm = _alternated([phys, _runner(n, mud=True, steps=steps, dt=dt, **kw)], steps, repeats)
+    return tp, tm
 
 
 def _triple(n: int, *, steps: int, dt: float, repeats: int, **kw: Any) -> tuple[float, ...]:
     """As :func:`_pair`, with a third run: ``step`` returning the contact every step."""
     phys = _runner(n, mud=False, steps=steps, dt=dt)
     runs = [_runner(n, mud=True, steps=steps, dt=dt, contact=c, **kw) for c in (False, True)]
-    best = [np.inf] * 3
-    for _ in range(repeats):
-        for i, fn in enumerate([phys, *runs]):
-            best[i] = min(best[i], _best_time(fn, 1))
-    return tuple(b / steps for b in best)
+    return tuple(_alternated([phys, *runs], steps, repeats))
 
 
 def _mesh_foot() -> Any:

@@ -83,8 +83,8 @@ ARGS = (
 def packed_arguments() -> Any:
     """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
 
-    Passing the 25 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them (a third of the
-    coupling's cost for the biped); one jitclass instance costs a few tenths of a
+    Passing the 25 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
+    (a third of the coupling's cost for the biped); one jitclass instance costs a few tenths of a
     microsecond (D68b). The instance shares the arrays' memory: writing them from Python
     (the options, the state on reset) is seen by the kernel.
     """

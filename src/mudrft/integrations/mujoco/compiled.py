@@ -534,8 +534,10 @@ _heading = mud_heading
 _force = closed_form_force
 
 
-#: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`).
-WORK_FIXED = 54 + N_STATE + 54 + 153
+#: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`), in
+#: the three groups :func:`_kernel` carves in order: geo, aup, v (54) and a state row;
+#: tw ... bl (54); M, E, spread, b, K, W, A (153).
+WORK_FIXED = (54 + N_STATE) + 54 + 153
 
 
 def work_size(nv: int, ntri: int) -> int:
