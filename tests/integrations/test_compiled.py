@@ -44,7 +44,7 @@ def test_mobility_port_equals_mujoco():
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
-@pytest.mark.parametrize("foot", ["flat", "semi-cylinder", "semi-sphere", "mesh"])
+@pytest.mark.parametrize("foot", ["flat", "semi-cylinder", "semi-sphere", "mesh", "morphing"])
 def test_compiled_coupling_equals_numpy_along_a_walk(foot):
     """Over a 2 s walk of the biped (dt = 2 ms), the compiled coupling writes the numpy
     coupling's wrench for the same motion to 1e-9 of the step's largest component.
@@ -89,16 +89,18 @@ def test_compiled_coupling_equals_numpy_along_a_walk(foot):
     assert worst < 1e-9
 
 
+@pytest.mark.parametrize("foot", ["flat", "morphing"])
 @pytest.mark.parametrize("dt", [1e-3, 2e-3])
-def test_compiled_biped_with_actuators_off_is_passive_for_ten_seconds(dt):
+def test_compiled_biped_with_actuators_off_is_passive_for_ten_seconds(dt, foot):
     """The biped, servos off, falls limp into the mud: 10 s without NaN, and its mechanical
     energy (kinetic, gravity, the boom's pitch spring) never rises above its start."""
-    model = biped_model(mudrft.feet.Flat(), timestep=dt)
+    f = mudrft.feet.by_name(foot)
+    model = biped_model(f, timestep=dt)
     model.actuator_gainprm[:] = 0.0
     model.actuator_biasprm[:] = 0.0
     data = mujoco.MjData(model)
     GaitController(model).initial_pose(data)
-    coupling = attach(model, list(BIPED_FEET), MUD, feet=mudrft.feet.Flat(), backend="numba")
+    coupling = attach(model, list(BIPED_FEET), MUD, feet=f, backend="numba")
     coupling.reset(data)
     e0 = mechanical_energy(model, data)
     rise = -np.inf

@@ -145,9 +145,13 @@ def compile_scalar(fn: types.FunctionType) -> Any:
     fdef.decorator_list = []
     args = fdef.args
     keep = [(a, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True) if a.arg != "xp"]
-    if keep:  # numba takes no keyword-only arguments: make the others positional
-        args.args += [a for a, _ in keep]
-        args.defaults += [d for _, d in keep]  # type: ignore[misc]
+    if keep:  # numba takes no keyword-only arguments: make the others positional (the
+        # required ones first; callers pass them by name)
+        required = [a for a, d in keep if d is None]
+        if required and args.defaults:
+            raise TypeError(f"{fn.__name__}: required keyword-only arguments after defaults")
+        args.args += required + [a for a, d in keep if d is not None]
+        args.defaults += [d for _, d in keep if d is not None]
     args.kwonlyargs, args.kw_defaults = [], []
     for a in args.args:
         a.annotation = None

@@ -157,8 +157,8 @@ def mujoco_overhead_ratio(
     dt : float, keyword-only
         Physics time step [s].
     feet : tuple of str, keyword-only
-        Other feet to report: ``"mesh"``, ``"morphing"``, ``"flat-numpy"`` (the flat foot
-        with the numpy coupling).
+        Other feet to report: ``"mesh"``, ``"morphing"``, ``"morphing-numpy"`` and
+        ``"flat-numpy"`` (those two with the numpy coupling).
 
     Returns
     -------
@@ -195,7 +195,11 @@ def mujoco_overhead_ratio(
     }
     others = {
         "mesh": (_mesh_foot, choose_backend("auto", mudrft.paper_mud(0.25), _mesh_foot())),
-        "morphing": (lambda: mudrft.feet.MorphingFoot(), "numpy"),
+        "morphing": (
+            mudrft.feet.MorphingFoot,
+            choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.MorphingFoot()),
+        ),
+        "morphing-numpy": (mudrft.feet.MorphingFoot, "numpy"),
         "flat-numpy": (lambda: mudrft.feet.Flat(), "numpy"),
     }
     for name in feet:

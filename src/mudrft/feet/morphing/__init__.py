@@ -28,9 +28,13 @@ One concept a module (decisions D30-D39):
   of the mechanism (rigid ground, areas, balance, drawing); the modes ``"expanded"`` and
   ``"retracted"`` lock the column (D37);
 * :mod:`.foot`: :class:`MorphingFoot`, the mechanism with the :class:`~mudrft.feet.base.Foot`
-  interface of the mud terrain; :math:`L_c` is the square root of the spread footprint (D36).
+  interface of the mud terrain; :math:`L_c` is the square root of the spread footprint (D36);
+* :mod:`.row`: the foot's numbers as one named tuple of floats, for compiled code (D68d).
 
-The implementation is NumPy only (no ``xp`` namespace): the JAX backend cannot trace it.
+The equations of the force are element-wise code over ``xp`` (decision D80) that reads its
+numbers by attribute, from the dataclasses or from one :class:`~.row.MorphingRow` of floats:
+numpy runs them on arrays, the compiled MuJoCo coupling on floats (D68d). The JAX backend
+does not trace the foot: the column balance selects its root by a data-dependent scan.
 """
 
 from __future__ import annotations

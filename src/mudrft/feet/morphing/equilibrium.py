@@ -29,7 +29,9 @@ the batch size; up to 16 (a single foot) by :func:`scipy.optimize.brentq`, one b
 time, ~0.15 ms each (the measured crossover). Both are elementwise, so a batch gives bit for bit the deflections of
 single calls refined by the same solver; across the threshold they agree to :math:`10^{-12}` m
 (both stop within :math:`10^{-10}` N of the same root). With SciPy older than 1.15, which lacks
-``find_root``, brentq refines every bracket.
+``find_root``, brentq refines every bracket. One foot on floats (the compiled coupling,
+D68d): :func:`balanced_deflection_on_floats`, the same scan as a loop that stops at the
+first sign change, refined by bisection to the same tolerances.
 
 *Sealing* (D35). Curling pads break the seal of the cavity under the foot: the seal factor
 is :math:`1-\tanh(g/g_s)` with :math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad
@@ -38,29 +40,40 @@ rims above their most spread position :math:`\theta_m` in the current contact.
 
 from __future__ import annotations
 
-from typing import NamedTuple, NoReturn
+from typing import Any, NamedTuple, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 from ..._validation import MudrftError, plain
-from .linkage import Linkage
-from .pads import vertical_area
-from .springs import TwoStageSpring
+from ..._xp import pyfloat
+from .linkage import Linkage, pad_angle
+from .pads import morphing_force, vertical_area
+from .springs import TwoStageSpring, spring_force
 
 try:  # SciPy >= 1.15
     from scipy.optimize.elementwise import find_root
 except ImportError:  # pragma: no cover - exercised by the tests through monkeypatching
     find_root = None
 
-__all__ = ["MorphingState", "balanced_deflection", "residual", "seal_factor", "track_most_spread"]
+__all__ = [
+    "MorphingState",
+    "balanced_deflection",
+    "balanced_deflection_on_floats",
+    "column_residual",
+    "contact_on_floats",
+    "residual",
+    "seal_factor",
+    "track_most_spread",
+]
 
 _GRID = 33  # nodes of the coarse bracketing grid over the stroke (D34)
 _FTOL = 1e-10  # force balance tolerance [N]
 _XTOL = 1e-15  # bracket width at which the refinement stops [m]
 _RTOL = 4.0 * np.finfo(float).eps  # relative bracket width for brentq, its smallest allowed [-]
 _FEW = 16  # up to this many brackets are refined by brentq one by one, more by find_root [-]
+_BISECTIONS = 64  # cap on the halvings of a bracket on floats (39 take 0.37 mm to 1e-15 m)
 
 
 class MorphingState(NamedTuple):
@@ -79,6 +92,21 @@ class MorphingState(NamedTuple):
     deflection: NDArray[np.float64]
     pad_angle: NDArray[np.float64]
     most_spread: NDArray[np.float64]
+
+
+def column_residual(
+    g: Any, pole_top: Any, branch: Any, spring: Any, deflection: Any, depth: Any, sz: Any,
+    *, xp: Any = np,
+) -> Any:  # fmt: skip
+    r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise.
+
+    The one definition of the column balance (D32), over ``xp`` (D80): ``g`` the dimensions
+    and ``spring`` the spring constants by attribute (dataclasses, or one
+    :class:`~.row.MorphingRow` for both), ``pole_top`` [m] and ``branch`` of the linkage;
+    deflection [m], depth [m], vertical channel stress [Pa].
+    """
+    theta = pad_angle(g, pole_top, branch, deflection, xp=xp)
+    return spring_force(spring, deflection, xp=xp) - sz * vertical_area(g, depth, theta, xp=xp)
 
 
 def residual(
@@ -109,9 +137,10 @@ def residual(
     ndarray
         :math:`R` [N]: > 0 where the springs push the column back open.
     """
-    theta = linkage.angle(deflection)
-    s = np.asarray(sz, dtype=float)
-    return np.asarray(spring.force(deflection) - s * vertical_area(linkage.geometry, depth, theta))
+    d, s = np.asarray(depth, dtype=float), np.asarray(sz, dtype=float)
+    x = np.asarray(deflection, dtype=float)
+    g = linkage.geometry
+    return np.asarray(column_residual(g, linkage.pole_top, linkage.branch, spring, x, d, s))
 
 
 def balanced_deflection(
@@ -274,7 +303,8 @@ def seal_factor(
     *,
     pad_length: float,
     seal_length: float,
-) -> NDArray[np.float64]:
+    xp: Any = np,
+) -> Any:
     r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
     Parameters
@@ -287,6 +317,8 @@ def seal_factor(
         :math:`\ell` [m].
     seal_length : float, keyword-only
         Rim lift :math:`g_s` over which the seal breaks [m], > 0.
+    xp : module, keyword-only
+        Element-wise namespace (D80).
 
     Returns
     -------
@@ -298,15 +330,11 @@ def seal_factor(
     >>> float(seal_factor(0.5, 0.5, pad_length=0.034, seal_length=0.002))
     1.0
     """
-    th = np.asarray(pad_angle, dtype=float)
-    tm = np.asarray(most_spread, dtype=float)
-    lift = np.maximum(pad_length * (np.sin(th) - np.sin(tm)), 0.0)
-    return np.asarray(1.0 - np.tanh(lift / seal_length))
+    lift = xp.maximum(pad_length * (xp.sin(pad_angle) - xp.sin(most_spread)), 0.0)
+    return 1.0 - xp.tanh(lift / seal_length)
 
 
-def track_most_spread(
-    depth: ArrayLike, pad_angle: ArrayLike, most_spread: ArrayLike
-) -> NDArray[np.float64]:
+def track_most_spread(depth: Any, pad_angle: Any, most_spread: Any, *, xp: Any = np) -> Any:
     """Seal memory after a step: the smallest pad angle of the contact [rad] (D35).
 
     Parameters
@@ -317,6 +345,85 @@ def track_most_spread(
         Pad angle after the step [rad].
     most_spread : float or array_like
         Memory before the step [rad].
+    xp : module, keyword-only
+        Element-wise namespace (D80).
     """
-    d = np.asarray(depth, dtype=float)
-    return np.asarray(np.where(d > 0, np.minimum(most_spread, pad_angle), pad_angle))
+    return xp.where(depth > 0.0, xp.minimum(most_spread, pad_angle), pad_angle)
+
+
+def balanced_deflection_on_floats(
+    m: Any, depth: float, sz: float, previous: float, *, xp: Any = pyfloat
+) -> float:
+    r""":func:`balanced_deflection` for one foot on floats (the compiled coupling, D68d).
+
+    The same root selection (D34) as the array path: stay where balanced or against the
+    stop pushed on; else scan the same 33 nodes from ``previous`` in the direction of the
+    net force to the first sign change (or the stop), and refine the bracket to
+    :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m, here by bisection (numba
+    cannot call SciPy). ``m`` is a :class:`~.row.MorphingRow`; depth [m], vertical stress
+    [Pa], previous deflection [m]; returns the deflection [m]. The test
+    ``test_deflection_on_floats_equals_the_array_path`` keeps the two paths equal.
+    """
+    stroke = m.stroke
+    p = xp.clip(previous, 0.0, stroke)
+    r_p = column_residual(m, m.pole_top, m.branch, m, p, depth, sz, xp=xp)
+    up = r_p < 0.0
+    if not ((up and p < stroke) or (r_p > 0.0 and p > 0.0)):
+        return p  # balanced already, or pushed against the stop it rests on
+    lo, flo, hi, fhi = p, r_p, p, r_p
+    found = False
+    for i in range(_GRID):
+        k = i if up else _GRID - 1 - i
+        x = stroke if k == _GRID - 1 else k * (stroke / (_GRID - 1))  # np.linspace's nodes
+        if (up and x <= p) or (not up and x >= p):
+            continue
+        r = column_residual(m, m.pole_top, m.branch, m, x, depth, sz, xp=xp)
+        if up and r >= 0.0:
+            hi, fhi, found = x, r, True
+            break
+        if not up and r <= 0.0:
+            lo, flo, found = x, r, True
+            break
+        if up:
+            lo, flo = x, r
+        else:
+            hi, fhi = x, r
+    if not found:
+        return stroke if up else 0.0  # no root: onto the stop
+    if fhi == 0.0:
+        return hi
+    if flo == 0.0:
+        return lo
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        r = column_residual(m, m.pole_top, m.branch, m, mid, depth, sz, xp=xp)
+        if abs(r) <= _FTOL:
+            return mid
+        if r < 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= _XTOL:
+            break
+    return 0.5 * (lo + hi)
+
+
+def contact_on_floats(
+    m: Any, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
+    sz: float, heading: float, *, xp: Any = pyfloat,
+) -> tuple[float, float, float, float, float, float]:  # fmt: skip
+    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (D68d).
+
+    The balanced (or locked) deflection, its pad angle, the force of the mud on the base
+    and pads (:func:`~.pads.morphing_force`) and the seal memory, for a
+    :class:`~.row.MorphingRow` ``m``, the previous deflection [m] and memory [rad], depth
+    [m], signed stresses [Pa] and world heading [rad]. Returns ``(F_x, F_y, F_z,
+    deflection, pad_angle, most_spread)`` [N, m, rad].
+    """
+    if m.lock >= 0.0:
+        delta = m.lock
+    else:
+        delta = balanced_deflection_on_floats(m, depth, sz, deflection, xp=xp)
+    th = pad_angle(m, m.pole_top, m.branch, delta, xp=xp)
+    fx, fy, fz = morphing_force(m, depth, th, sx, sy, sz, heading, xp=xp)
+    return fx, fy, fz, delta, th, track_most_spread(depth, th, most_spread, xp=xp)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._validation import check_length, check_nonnegative, check_positive
-from ..base import Foot, unfold_forces
+from ..base import Foot
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
 from .equilibrium import MorphingState, seal_factor, track_most_spread
@@ -246,10 +246,9 @@ class MorphingFoot(MorphingMechanism, Foot):
         s = np.asarray(stress, dtype=float)
         delta = self._deflection(d, s[..., 2], foot_state.deflection)
         th = self._linkage.angle(delta)
-        th_e = np.asarray(th)[..., None]
-        force = unfold_forces(
-            lambda su, ph: pads.magnitudes(self.geometry, d[..., None], su, ph, th_e), s, heading
-        )
+        h = np.asarray(heading, dtype=float)
+        f = pads.morphing_force(self.geometry, d, th, s[..., 0], s[..., 1], s[..., 2], h)
+        force = np.stack(np.broadcast_arrays(*f), axis=-1)
         th_b = np.broadcast_to(th, d.shape) if np.ndim(th) < d.ndim else th
         most = track_most_spread(d, th_b, foot_state.most_spread)
         return MorphingState(

@@ -22,13 +22,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._validation import MudrftError, check_in_range, check_length, check_nonnegative
 
-__all__ = ["Linkage", "MorphingFootGeometry"]
+__all__ = ["Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
 
 _DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
 
@@ -157,6 +158,31 @@ def _pole_height(g: MorphingFootGeometry, theta: NDArray[np.float64]) -> NDArray
     return np.asarray(zc + np.sqrt(g.coupler_length**2 - (rc - g.pole_radius) ** 2))
 
 
+def raw_pad_angle(g: Any, pole_top: Any, branch: Any, deflection: Any, *, xp: Any = np) -> Any:
+    """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
+
+    Element-wise over ``xp`` (D80); ``g`` holds the dimensions by attribute (a
+    :class:`MorphingFootGeometry` or a :class:`~.row.MorphingRow`), ``pole_top`` [m] and
+    ``branch`` (+1 or -1) come from :class:`Linkage`.
+    """
+    dr = g.pole_radius - g.base_radius
+    dz = pole_top - deflection - g.pivot_height
+    dist = xp.hypot(dr, dz)
+    a, b = g.crank_length, g.coupler_length
+    c = (a * a + dist * dist - b * b) / (2.0 * a * dist)
+    return xp.arctan2(dz, dr) + branch * xp.arccos(xp.clip(c, -1.0, 1.0)) - g.crank_offset
+
+
+def pad_angle(g: Any, pole_top: Any, branch: Any, deflection: Any, *, xp: Any = np) -> Any:
+    """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (D30).
+
+    :func:`raw_pad_angle` clipped to [``expanded_angle``, ``retracted_angle``]; the one
+    definition that :meth:`Linkage.angle` and the compiled coupling run.
+    """
+    th = raw_pad_angle(g, pole_top, branch, deflection, xp=xp)
+    return xp.clip(th, g.expanded_angle, g.retracted_angle)
+
+
 @dataclass(frozen=True)
 class Linkage:
     r"""The resolved slider-crank of one pad: its stroke and its branch (decision D30).
@@ -234,14 +260,8 @@ class Linkage:
 
     def raw_angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
         """Pad angle [rad] of the circle intersection at a deflection [m], not clipped."""
-        g = self.geometry
-        dr = g.pole_radius - g.base_radius
-        dz = self.pole_top - np.asarray(deflection, dtype=float) - g.pivot_height
-        dist = np.hypot(dr, dz)
-        c = (g.crank_length**2 + dist**2 - g.coupler_length**2) / (2.0 * g.crank_length * dist)
-        return np.asarray(
-            np.arctan2(dz, dr) + self.branch * np.arccos(np.clip(c, -1.0, 1.0)) - g.crank_offset
-        )
+        d = np.asarray(deflection, dtype=float)
+        return np.asarray(raw_pad_angle(self.geometry, self.pole_top, self.branch, d))
 
     def angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
         """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (unchecked).
@@ -256,8 +276,8 @@ class Linkage:
         ndarray
             Pad angle [rad], from ``retracted_angle`` (0) to ``expanded_angle`` (stroke).
         """
-        g = self.geometry
-        return np.clip(self.raw_angle(deflection), g.expanded_angle, g.retracted_angle)
+        d = np.asarray(deflection, dtype=float)
+        return np.asarray(pad_angle(self.geometry, self.pole_top, self.branch, d))
 
     def deflection_at(self, pad_angle: ArrayLike) -> NDArray[np.float64]:
         """Inverse kinematics: column deflection [m] that gives a pad angle [rad] (unchecked).

@@ -14,25 +14,32 @@ stresses the plate rule of the paper's eq. (6)-(7), pad tilt :math:`\psi_1=\thet
           \qquad A_h = A_{column}(d) + a_p(s)\sin\theta\sum_k|\cos(2\pi k/N-\varphi)|,
 
 first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. All functions here
-are vectorized and unchecked: the foot (:mod:`.foot`) validates its inputs.
+are vectorized and unchecked: the foot (:mod:`.foot`) validates its inputs. Those of the
+force (:func:`pad_area` to :func:`morphing_force`) are element-wise code over ``xp``
+(D80): they read the dimensions by attribute, from a
+:class:`~.linkage.MorphingFootGeometry` or a :class:`~.row.MorphingRow`, so the compiled
+coupling runs them on floats (D68d).
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ...constitutive.laws import f_n, f_t
-from ..base import SurfaceElements
+from ..base import SurfaceElements, fold_heading, world_force
 from .linkage import MorphingFootGeometry
 
 __all__ = [
     "center_height",
+    "coefficients",
     "footprint_area",
     "horizontal_area",
     "magnitudes",
+    "morphing_force",
     "pad_area",
     "pad_corners",
     "submerged_length",
@@ -43,74 +50,72 @@ __all__ = [
 _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot height [-]
 
 
-def pad_area(g: MorphingFootGeometry, length: ArrayLike) -> NDArray[np.float64]:
+def pad_area(g: Any, length: Any, *, xp: Any = np) -> Any:
     """Area of one pad from its pivot to a distance ``length`` along it [m^2].
 
     Parameters
     ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
+    g : MorphingFootGeometry or MorphingRow
+        Foot dimensions [m] (read by attribute).
     length : float or array_like
         Distance from the pivot along the pad [m], in [0, pad_length].
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
     """
-    s = np.asarray(length, dtype=float)
     kappa = (g.pad_outer_width - g.pad_inner_width) / g.pad_length
-    return np.asarray(g.pad_inner_width * s + 0.5 * kappa * s**2)
+    return g.pad_inner_width * length + 0.5 * kappa * length * length
 
 
-def submerged_length(
-    g: MorphingFootGeometry, depth: ArrayLike, theta: ArrayLike
-) -> NDArray[np.float64]:
+def submerged_length(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
     """Length of each pad below the mud surface, from its pivot [m].
 
     Parameters
     ----------
-    g : MorphingFootGeometry
+    g : MorphingFootGeometry or MorphingRow
         Foot dimensions [m].
     depth : float or array_like
         Tip depth [m], >= 0.
     theta : float or array_like
         Pad angle [rad].
+    xp : module, keyword-only
+        Element-wise namespace.
     """
-    rise = np.asarray(depth, dtype=float) - g.pivot_height
-    s = np.sin(theta)
-    safe = np.where(s > _FLAT, s, 1.0)
-    return np.where(
-        s > _FLAT,
-        np.clip(rise / safe, 0.0, g.pad_length),
-        np.where(rise > 0, g.pad_length, 0.0),
+    rise = depth - g.pivot_height
+    s = xp.sin(theta)
+    flat = s <= _FLAT
+    return xp.where(
+        flat,
+        xp.where(rise > 0.0, g.pad_length, 0.0),
+        xp.clip(rise / xp.where(flat, 1.0, s), 0.0, g.pad_length),
     )
 
 
-def vertical_area(
-    g: MorphingFootGeometry, depth: ArrayLike, theta: ArrayLike
-) -> NDArray[np.float64]:
+def vertical_area(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
     """Effective vertical area :math:`A_z` of the base and the pads [m^2] (D33).
 
     Parameters
     ----------
-    g : MorphingFootGeometry
+    g : MorphingFootGeometry or MorphingRow
         Foot dimensions [m].
     depth : float or array_like
         Tip depth [m], >= 0.
     theta : float or array_like
         Pad angle [rad].
+    xp : module, keyword-only
+        Element-wise namespace.
     """
-    d = np.asarray(depth, dtype=float)
-    base = np.where(d > 0, math.pi * g.base_radius**2, 0.0)
-    pad = pad_area(g, submerged_length(g, d, theta))
-    weight = f_n(theta) * np.cos(theta) + f_t(theta) * np.sin(theta)
-    return np.asarray(base + g.n_pads * pad * weight)
+    base = xp.where(depth > 0.0, math.pi * g.base_radius * g.base_radius, 0.0)
+    pad = pad_area(g, submerged_length(g, depth, theta, xp=xp), xp=xp)
+    weight = f_n(theta, xp=xp) * xp.cos(theta) + f_t(theta, xp=xp) * xp.sin(theta)
+    return base + g.n_pads * pad * weight
 
 
-def horizontal_area(
-    g: MorphingFootGeometry, depth: ArrayLike, theta: ArrayLike, heading: ArrayLike
-) -> NDArray[np.float64]:
+def horizontal_area(g: Any, depth: Any, theta: Any, heading: Any, *, xp: Any = np) -> Any:
     """Submerged area projected normal to the heading, :math:`A_h` [m^2] (D33).
 
     Parameters
     ----------
-    g : MorphingFootGeometry
+    g : MorphingFootGeometry or MorphingRow
         Foot dimensions [m].
     depth : float or array_like
         Tip depth [m], >= 0.
@@ -118,15 +123,18 @@ def horizontal_area(
         Pad angle [rad].
     heading : float or array_like
         Heading of the motion from the x axis [rad].
+    xp : module, keyword-only
+        Element-wise namespace.
     """
-    d = np.asarray(depth, dtype=float)
-    col = 2.0 * g.base_radius * np.clip(d, 0.0, g.pivot_height) + 2.0 * g.column_radius * np.clip(
-        d - g.pivot_height, 0.0, g.height - g.pivot_height
+    col = 2.0 * g.base_radius * xp.clip(depth, 0.0, g.pivot_height) + 2.0 * g.column_radius * (
+        xp.clip(depth - g.pivot_height, 0.0, g.height - g.pivot_height)
     )
-    pad = pad_area(g, submerged_length(g, d, theta)) * np.sin(theta)
-    h = np.asarray(heading, dtype=float)
-    proj = np.abs(np.cos(g.azimuths - h[..., None])).sum(-1)
-    return np.asarray(col + pad * proj)
+    pad = pad_area(g, submerged_length(g, depth, theta, xp=xp), xp=xp) * xp.sin(theta)
+    n = int(g.n_pads)
+    proj = 0.0 * heading  # sum over the pads at azimuths 2 pi k / N
+    for k in range(n):
+        proj = proj + xp.abs(xp.cos(2.0 * math.pi * k / n - heading))
+    return col + pad * proj
 
 
 def footprint_area(
@@ -148,6 +156,31 @@ def footprint_area(
     whole = np.isinf(d)
     length = np.where(whole, g.pad_length, submerged_length(g, np.where(whole, 0.0, d), theta))
     return np.asarray(base + g.n_pads * pad_area(g, length) * np.cos(theta))
+
+
+def coefficients(g: Any, depth: Any, theta: Any, phi: Any, *, xp: Any = np) -> Any:
+    r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33).
+
+    :math:`F_x=A_h\cos\varphi\,\sigma_x`, :math:`F_y=A_h\sin\varphi\,\sigma_y`,
+    :math:`F_z=A_z\sigma_z` at the first-quadrant heading ``phi`` [rad]: the form
+    :func:`~mudrft.feet.base.world_force` turns into a world force (the heading rule, D9).
+    """
+    ah = horizontal_area(g, depth, theta, phi, xp=xp)
+    zero = 0.0 * ah
+    return (ah * xp.cos(phi), zero, zero, ah * xp.sin(phi), vertical_area(g, depth, theta, xp=xp))
+
+
+def morphing_force(
+    g: Any, depth: Any, theta: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
+) -> tuple[Any, Any, Any]:
+    """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad].
+
+    :func:`coefficients` at the folded heading, then the heading rule
+    (:func:`~mudrft.feet.base.world_force`, D9): depth [m], signed stresses [Pa], world
+    heading [rad]. Written once, element-wise, for numpy and the compiled coupling.
+    """
+    co = coefficients(g, depth, theta, fold_heading(heading, xp=xp), xp=xp)
+    return world_force(co, sx, sy, sz, heading, xp=xp)
 
 
 def magnitudes(
@@ -178,12 +211,9 @@ def magnitudes(
         (Fx, Fy, Fz) [N].
     """
     s = np.asarray(stress, dtype=float)
-    h = np.asarray(heading, dtype=float)
-    ah = horizontal_area(g, depth, theta, h)
-    az = vertical_area(g, depth, theta)
-    fx = ah * np.cos(h) * s[..., 0]
-    fy = ah * np.sin(h) * s[..., 1]
-    fz = az * s[..., 2]
+    d = np.asarray(depth, dtype=float)
+    ax, _, _, ay, az = coefficients(g, d, np.asarray(theta, float), np.asarray(heading, float))
+    fx, fy, fz = ax * s[..., 0], ay * s[..., 1], az * s[..., 2]
     return np.stack(np.broadcast_arrays(fx, fy, fz), axis=-1)
 
 

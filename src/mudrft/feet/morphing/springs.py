@@ -17,14 +17,29 @@ The end stops at :math:`\delta=0` and at the stroke belong to the linkage
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._validation import MudrftError, check_positive
 
-__all__ = ["RigidGroundResponse", "TwoStageSpring"]
+__all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
+
+
+def spring_force(s: Any, deflection: Any, *, xp: Any = np) -> Any:
+    """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31).
+
+    Element-wise over ``xp`` (D80); ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
+    ``series_stiffness`` and ``hard_stiffness`` [N/m] by attribute (a
+    :class:`TwoStageSpring` or a :class:`~.row.MorphingRow`).
+    """
+    d1 = s.knee_deflection
+    return xp.where(
+        deflection <= d1,
+        s.series_stiffness * deflection,
+        s.knee_force + s.hard_stiffness * (deflection - d1),
+    )
 
 
 @dataclass(frozen=True)
@@ -101,11 +116,7 @@ class TwoStageSpring:
         ndarray
             :math:`F_s(\\delta)` [N].
         """
-        d = np.asarray(deflection, dtype=float)
-        d1 = self.knee_deflection
-        return np.where(
-            d <= d1, self.series_stiffness * d, self.knee_force + self.hard_stiffness * (d - d1)
-        )
+        return np.asarray(spring_force(self, np.asarray(deflection, dtype=float)))
 
     def deflection(self, force: ArrayLike) -> NDArray[np.float64]:
         """Inverse of :meth:`force`: deflection [m] under a force [N].

@@ -19,6 +19,8 @@ import numpy as np
 from ..._validation import MudrftError
 from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
+from ...feet.morphing import MorphingFoot
+from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
 from ...terrains.mud import MudTerrain
 from .compiled import N_OUT, coupling_kernel, upright_rows, work_size
@@ -37,21 +39,32 @@ def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
     for b in bodies:
         if not _compilable_foot(b.foot) or b.triangles is None:
             raise MudrftError(
-                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere) "
-                f"and mesh feet (MeshFoot); body {b.body!r} has a {type(b.foot).__name__}: "
-                "use backend='numpy'"
+                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere), "
+                f"mesh feet (MeshFoot) and the MorphingFoot; body {b.body!r} has a "
+                f"{type(b.foot).__name__}: use backend='numpy'"
             )
 
 
 def _compilable_foot(foot: Any) -> bool:
-    return bool(getattr(foot, "elementwise", False)) or isinstance(foot, MeshFoot)
+    elementwise = bool(getattr(foot, "elementwise", False))
+    return elementwise or isinstance(foot, MeshFoot | MorphingFoot)
 
 
 def _geometry_row(foot: Any) -> list[float]:
-    """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, or (3, trailing)."""
+    """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, (3, trailing, 0, 0)
+    for a mesh foot, (4, 0, 0, 0) for the morphing foot (its numbers: :func:`_morph_row`)."""
     if isinstance(foot, MeshFoot):
         return [3.0, float(foot.trailing), 0.0, 0.0]
+    if isinstance(foot, MorphingFoot):
+        return [4.0, 0.0, 0.0, 0.0]
     return [float(v) for v in foot.kernel_geometry]
+
+
+def _morph_row(foot: Any) -> Any:
+    """A morphing foot's :class:`~mudrft.feet.morphing.row.MorphingRow`; zeros for others."""
+    if isinstance(foot, MorphingFoot):
+        return row_array(foot)
+    return np.zeros(len(MorphingRow._fields))
 
 
 def choose_backend(backend: str, mud: Any, foot: Any) -> str:
@@ -73,8 +86,8 @@ ARGS = (
     ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
     ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
-    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("opts", "f8", 1),
-    ("mud", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
+    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
+    ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
     ("out", "f8", 3), ("work", "f8", 1),
 )  # fmt: skip
 
@@ -83,7 +96,7 @@ ARGS = (
 def packed_arguments() -> Any:
     """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
 
-    Passing the 25 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
+    Passing the 28 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
     (a third of the coupling's cost for the biped); one jitclass instance costs a few tenths of a
     microsecond (D68b). The instance shares the arrays' memory: writing them from Python
     (the options, the state on reset) is seen by the kernel.
@@ -97,13 +110,14 @@ def packed_arguments() -> Any:
     class CouplingArrays:
         def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
                      inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
-                     geom, opts, mud, odo, tw_prev, wv_prev, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
+                     geom, morph, opts, mud, fst, odo, tw_prev, wv_prev, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
             self.addr, self.sizes, self.model_i = addr, sizes, model_i
             self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
             self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
             self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
             self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
-            self.geom, self.opts, self.mud, self.odo = geom, opts, mud, odo
+            self.geom, self.morph, self.opts, self.mud = geom, morph, opts, mud
+            self.fst, self.odo = fst, odo
             self.tw_prev, self.wv_prev, self.out, self.work = tw_prev, wv_prev, out, work
 
     return jitclass(spec)(CouplingArrays)
@@ -157,8 +171,10 @@ class CompiledCoupling:
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(b.foot) for b in bodies])
+        self.morph = np.ascontiguousarray([_morph_row(b.foot) for b in bodies], dtype=float)
         n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
+        self.fst = np.zeros((n, nb, 3))  # morphing feet: deflection, pad angle, seal memory
         self.odo = np.zeros((n, nb, 4))
         self.tw_prev = np.zeros((n, nb, 6))
         self.wv_prev = np.zeros((n, nb, 6))
@@ -175,6 +191,9 @@ class CompiledCoupling:
         for (_, idx), st in zip(b._groups, states, strict=True):
             rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
             self.mud[:, idx] = rows
+            if st.foot is not None:  # a morphing foot's MorphingState
+                for i, v in enumerate(st.foot):
+                    self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))
         self.odo[..., :2] = pos[..., :2]
         self.odo[..., 2:] = b._world_xy
         self.tw_prev[:] = 0.0

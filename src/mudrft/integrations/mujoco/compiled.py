@@ -9,15 +9,18 @@ every body of every robot what the numpy coupling does with arrays:
 2. clips the foot's triangles in their current pose and sums the channel weights, points
    and second moments (D60a) with the feet's own element-wise facet rules
    (:mod:`mudrft.feet.facet`) and :func:`~.pose.channel_weights`;
-3. steps the mud four times from the same state (the motion and the three secant nudges,
-   D63) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and the closed
-   form (:func:`mudrft.feet.closed_form.closed_form_force`), keeping the first;
+3. steps the mud with the motion and each channel once more with its rate nudged (the
+   secants of D63) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
+   the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
+   mesh foot's facets, or the morphing foot's column balance and force
+   (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`, D68d);
 4. assembles the wrench and its damping (D62a), computes the 6x6 mobility from MuJoCo's
    ``cdof`` and the factorised mass matrix (``qLD``: the port of ``mj_jac`` and
    ``mj_solveLD`` below), solves the implicit step (D62) and writes ``xfrc_applied``.
 
-The physics (mud step, closed forms, facet rules) is compiled from its one source by
-:func:`mudrft.backends.numba.compile_scalar`; what is written here is the coupling's own
+The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
+one source by :func:`mudrft.backends.numba.compile_scalar`; what is written here is the
+coupling's own
 bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
 arrays, and the test ``test_compiled_coupling_equals_numpy`` keeps the two equal (1e-9 over
 a 2 s walk of the biped).
@@ -44,7 +47,11 @@ from ...feet.facet import (
     sort_by_height,
     submerged_area,
 )
+from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
+from ...feet.morphing.pads import morphing_force
+from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
+from .compiled_feet import ROW_OF_SOURCE, _mesh_force, _mud_force, _nudged_force
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
@@ -162,86 +169,13 @@ def upright_rows(prepared: Any) -> Any:
     return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
 
 
-def _mesh_force(up: Any, depth: float, sx: float, sy: float, sz: float, heading: float,
-                trailing: bool) -> Any:  # fmt: skip
-    """Force of the mud on an upright mesh foot [N]: the element rule summed over its
-    prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
-    sqx, sqy, ux, uy = _fold(sx, sy, heading)
-    fx, fy, fz = 0.0, 0.0, 0.0
-    for f in range(up.shape[0]):
-        r = up[f]
-        if r[0] >= depth:  # not submerged
-            continue
-        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
-        fn, ft = _factors(r[7], r[8], ux, uy, trailing)
-        a, b, c = _fforce(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft)
-        fx += a
-        fy += b
-        fz += c
-    return fx, fy, fz
-
-
-def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, up: Any,
-               row: Any) -> Any:  # fmt: skip
-    """One mud step of one foot from state row ``s`` (not modified), the new state written
-    to ``row`` (N_STATE); returns (fx, fy, fz, sx, sy, sz, depth) [N, Pa, m]."""
-    hor = _constants(c, 0, 0)
-    ver = _constants(c, 0, 12)
-    ch = _channels(s)
-    new, sx, sy, sz, depth = _step(
-        (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
-        cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
-    )  # fmt: skip
-    if geom[0] == 3.0:  # a mesh foot
-        fx, fy, fz = _mesh_force(up, depth, sx, sy, sz, new.heading, geom[1] != 0.0)
-    else:  # a closed form
-        fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz,
-                            new.heading)  # fmt: skip
-    k = 0
-    for chan in (new.x, new.y, new.z):
-        for v in chan:
-            row[k] = v
-            k += 1
-    row[21], row[22], row[23], row[24] = new.entry_x, new.entry_y, new.heading, new.in_mud
-    inside = new.in_mud
-    return (fx * inside, fy * inside, fz * inside, sx * inside, sy * inside, sz * inside,
-            depth)  # fmt: skip
-
-
-def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any,
-                  up: Any, r0: Any) -> float:  # fmt: skip
-    """Force component ``q`` [N] of the mud step from state row ``s`` when only channel
-    ``q``'s rate differs from the step that returned ``r0`` (:func:`_mud_force`): the one
-    channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`), the heading
-    follows the new velocity, and the other stresses are ``r0``'s (D63)."""
-    hor = _constants(c, 0, 0)
-    ver = _constants(c, 0, 12)
-    ch = _channels(s)
-    sq = _channel(
-        q, (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
-        cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, 1.0, cfg[5] != 0.0, cfg[6] != 0.0,
-    )  # fmt: skip
-    sx = sq if q == 0 else r0[3]
-    sy = sq if q == 1 else r0[4]
-    sz = sq if q == 2 else r0[5]
-    heading = _heading(s[23], u[0], u[1], cfg[4])
-    depth = r0[6]
-    if geom[0] == 3.0:  # a mesh foot
-        fx, fy, fz = _mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
-    else:  # a closed form
-        fx, fy, fz = _force(int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz,
-                            heading)  # fmt: skip
-    inside = 1.0 if depth > 0.0 else 0.0
-    return (fx if q == 0 else (fy if q == 1 else fz)) * inside
-
-
 def _kernel(
     addr: Any, sizes: Any,
     model_i: Any, dof_parentid: Any, rownnz: Any, rowadr: Any, colind: Any,
     mass: Any, inertia: Any,
     bodies: Any, tip: Any, fwd: Any, tri_adr: Any, tri_b: Any, up_adr: Any, tri_up: Any,
-    consts: Any, cfg: Any, geom: Any, opts: Any,
-    mud: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any, work: Any,
+    consts: Any, cfg: Any, geom: Any, morph: Any, opts: Any,
+    mud: Any, fst: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any, work: Any,
 ) -> int:  # fmt: skip
     """One coupling step of every body of every robot (see the module docstring).
 
@@ -252,7 +186,8 @@ def _kernel(
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
     surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
-    has_prev). State ``mud`` (N, nb, N_STATE), ``odo`` (N, nb, 4: foot-frame xy, world xy),
+    has_prev). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
+    deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
     ``tw_prev``, ``wv_prev`` (N, nb, 6) updated in place; ``out`` (N, nb, N_OUT);
     ``work`` (:func:`work_size`) the work arrays, allocated once (D68b).
     Returns the number of bodies whose wrench is not finite.
@@ -271,13 +206,14 @@ def _kernel(
     o = 12 * nv
     scratch = work[o : o + 6 * ntri].reshape((ntri, 6))
     o += 6 * ntri
-    geo, aup, v, row = (
+    geo, aup, v, row, frow = (
         work[o : o + 42],
         work[o + 42 : o + 45],
         work[o + 45 : o + 54],
         work[o + 54 : o + 54 + N_STATE],
+        work[o + 54 + N_STATE : o + 57 + N_STATE],
     )
-    o += 54 + N_STATE
+    o += 57 + N_STATE
     tw, tipw, sh, ratio = (
         work[o : o + 6],
         work[o + 6 : o + 9],
@@ -376,7 +312,8 @@ def _kernel(
             o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
             # the mud, and the secant derivative (D63); out of the mud every force is 0
             cj = consts[j : j + 1]
-            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row)
+            fs, mrow = fst[k, j], morph[j]
+            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row, mrow, fs, frow)
             for q in range(3):
                 F[q] = ratio[q] * r0[q]
                 D[q] = 0.0
@@ -389,10 +326,14 @@ def _kernel(
                     st = dv if abs(dv) > dv_min else dv_min
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
-                    fq = _nudged_force(q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0)
+                    fq = _nudged_force(
+                        q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, frow
+                    )
                     D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
             for i in range(N_STATE):
                 mud[k, j, i] = row[i]
+            if geom[j, 0] == 4.0:
+                fs[0], fs[1], fs[2] = frow[0], frow[1], frow[2]
             for i in range(6):
                 w0[i] = F[0] * b[0, i] + F[1] * b[1, i] + F[2] * b[2, i]
             if implicit:
@@ -524,20 +465,13 @@ _sort = sort_by_height
 _const = clip_constants
 _clip = clip_facet
 _area = submerged_area
-_fold = fold_stresses
-_factors = facet_factors
-_fforce = facet_force
 _weights = channel_weights
-_step = mud_step
-_channel = mud_channel_stress
-_heading = mud_heading
-_force = closed_form_force
 
 
 #: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`), in
-#: the three groups :func:`_kernel` carves in order: geo, aup, v (54) and a state row;
-#: tw ... bl (54); M, E, spread, b, K, W, A (153).
-WORK_FIXED = (54 + N_STATE) + 54 + 153
+#: the three groups :func:`_kernel` carves in order: geo, aup, v (54), a state row and a
+#: morphing foot's state row (3); tw ... bl (54); M, E, spread, b, K, W, A (153).
+WORK_FIXED = (57 + N_STATE) + 54 + 153
 
 
 def work_size(nv: int, ntri: int) -> int:
@@ -551,7 +485,8 @@ def _kernel_packed(p: Any) -> int:
     return _kernel(
         p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,
         p.inertia, p.bodies, p.tip, p.fwd, p.tri_adr, p.tri_b, p.up_adr, p.tri_up, p.consts,
-        p.cfg, p.geom, p.opts, p.mud, p.odo, p.tw_prev, p.wv_prev, p.out, p.work,
+        p.cfg, p.geom, p.morph, p.opts, p.mud, p.fst, p.odo, p.tw_prev, p.wv_prev, p.out,
+        p.work,
     )  # fmt: skip
 
 
@@ -576,11 +511,18 @@ def coupling_kernel() -> Any:
         _channel=compile_scalar(mud_channel_stress),
         _heading=compile_scalar(mud_heading),
         _force=compile_scalar(closed_form_force),
+        _seal=compile_scalar(seal_factor),
+        _contact=compile_scalar(contact_on_floats),
+        _mforce=compile_scalar(morphing_force),
         _constants=numba.njit(inline="always")(_constants),
         _channels=numba.njit(inline="always")(_channels),
         _ptr=_pointer_intrinsic(),
         carray=numba.carray,
     )
+    local: dict[str, Any] = {}
+    env["MorphingRow"] = MorphingRow
+    exec(ROW_OF_SOURCE, env, local)  # the fields of MorphingRow, spelled out
+    env["_row_of"] = numba.njit(inline="always")(local["_row_of"])
     helpers = {}
     for fn in (
         _ld_solve,

@@ -1,0 +1,76 @@
+r"""The morphing foot as one row of floats, for code compiled on floats (D68d).
+
+:class:`MorphingRow` holds every number the foot's force needs: the dimensions of
+:class:`~.linkage.MorphingFootGeometry` (same names), the resolved :class:`~.linkage.Linkage`
+(``pole_top``, ``stroke``, ``branch``), the :class:`~.springs.TwoStageSpring`'s derived
+constants (same names as its properties), the seal length and the locked deflection. The
+element-wise functions of :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
+:mod:`.equilibrium` read their numbers by attribute, so they run unchanged on a geometry
+dataclass (numpy) or on this named tuple (numba compiles named tuples of floats; it cannot
+compile the dataclasses).
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["MorphingRow", "morphing_row"]
+
+
+class MorphingRow(NamedTuple):
+    """Every number of a :class:`~.foot.MorphingFoot`'s force, as floats [m, rad, N/m, N].
+
+    ``lock`` is the locked deflection of the modes ``"expanded"`` and ``"retracted"``
+    [m], or -1 for the free ``"morphing"`` mode (D37).
+    """
+
+    base_radius: float
+    pivot_height: float
+    column_radius: float
+    height: float
+    pad_length: float
+    pad_inner_width: float
+    pad_outer_width: float
+    n_pads: float
+    crank_length: float
+    crank_offset: float
+    coupler_length: float
+    pole_radius: float
+    retracted_angle: float
+    expanded_angle: float
+    pole_top: float
+    stroke: float
+    branch: float
+    series_stiffness: float
+    hard_stiffness: float
+    knee_deflection: float
+    knee_force: float
+    seal_length: float
+    lock: float
+
+
+def morphing_row(foot: Any) -> MorphingRow:
+    """The :class:`MorphingRow` of a :class:`~.foot.MorphingFoot`."""
+    g, link, s = foot.geometry, foot.linkage, foot.spring
+    lock = foot.locked_deflection()
+    values = {f: getattr(g, f) for f in MorphingRow._fields[:14]}
+    values.update(
+        pole_top=link.pole_top,
+        stroke=link.stroke,
+        branch=link.branch,
+        series_stiffness=s.series_stiffness,
+        hard_stiffness=s.hard_stiffness,
+        knee_deflection=s.knee_deflection,
+        knee_force=s.knee_force,
+        seal_length=foot.seal_length,
+        lock=-1.0 if lock is None else lock,
+    )
+    return MorphingRow(**{k: float(v) for k, v in values.items()})
+
+
+def row_array(foot: Any) -> NDArray[np.float64]:
+    """:func:`morphing_row` as a float array (the compiled coupling's per-body row)."""
+    return np.array(morphing_row(foot), dtype=float)
