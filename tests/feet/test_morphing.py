@@ -221,9 +221,9 @@ def test_snap_through_is_resolved_by_continuation():
     assert fz == pytest.approx(float(S.force(low)), abs=BALANCE_TOL)
 
 
-@pytest.mark.parametrize("few", [0, 10**9], ids=["find_root", "brentq"])
+@pytest.mark.parametrize("few", [0, 10**9], ids=["find_root", "floats"])
 def test_batch_equals_scalar(monkeypatch, few):
-    # with one solver for every call (few=0: find_root; huge: brentq), a batch gives bit for
+    # with one solver for every call (few=0: find_root; huge: the float path), a batch gives bit for
     # bit the deflections of single calls; the default threshold is checked below
     from mudrft.feet.morphing import equilibrium
 
@@ -358,9 +358,9 @@ def test_package_keeps_the_names_of_the_former_module():
     assert isinstance(FOOT.rigid_ground(0.0), pkg.RigidGroundResponse)
 
 
-def test_brentq_fallback_keeps_balance_and_branches(monkeypatch):
-    # SciPy < 1.15 has no scipy.optimize.elementwise.find_root; the balance then refines each
-    # bracket with scipy.optimize.brentq. Same brackets, so the same roots: find_root stops at
+def test_old_scipy_takes_the_float_path_with_the_same_roots(monkeypatch):
+    # SciPy < 1.15 has no scipy.optimize.elementwise.find_root; every element then takes the
+    # float path (the same scan, bisection). Same brackets, so the same roots: both stop at
     # |R| <= 1e-10 N and |dR/d(delta)| >= 600 N/m at these roots, so they agree to 1e-12 m
     from mudrft.feet.morphing import equilibrium
 
@@ -383,14 +383,15 @@ def test_brentq_fallback_keeps_balance_and_branches(monkeypatch):
     assert balance_ok(FOOT, 0.010, 4200.0, low) and balance_ok(FOOT, 0.010, 4200.0, high)
 
 
-def test_a_single_foot_uses_brentq_and_a_batch_find_root(monkeypatch):
-    # find_root has ~2 ms of fixed cost a call, so up to _FEW brackets are refined by brentq
-    # one by one (a single foot: as fast as the former hand-written loop). Same brackets and
-    # tolerances, so both stop within |R| <= 1e-10 N of the same root: |dR/d(delta)| >= 600
-    # N/m at these roots, so they agree to 1e-12 m, and the forces to 1e-10 relative
+def test_a_single_foot_takes_the_float_path_and_a_batch_find_root(monkeypatch):
+    # find_root has ~2 ms of fixed cost a call, so up to _FEW moving elements take the float
+    # path one by one (balanced_deflection_on_floats, which the compiled coupling runs). Same
+    # brackets and tolerances, so both stop within |R| <= 1e-10 N of the same root:
+    # |dR/d(delta)| >= 600 N/m at these roots, so they agree to 1e-12 m, and the forces to
+    # 1e-10 relative
     from mudrft.feet.morphing import equilibrium
 
-    if equilibrium.find_root is None:  # pragma: no cover - SciPy < 1.15: brentq only
+    if equilibrium.find_root is None:  # pragma: no cover - SciPy < 1.15: the float path only
         pytest.skip("scipy.optimize.elementwise.find_root needs SciPy >= 1.15")
     calls = []
 

@@ -1,8 +1,10 @@
 """The morphing foot on floats (D68d): what the compiled coupling runs equals the array path.
 
-The column balance on floats (:func:`balanced_deflection_on_floats`: scan, then bisection)
-and the array path (scan, then SciPy) must select the same root: they agree far below the
-node spacing of the scan (0.37 mm), and each is balanced to the solver tolerance. Both
+The column balance on floats (:func:`balanced_deflection_on_floats`: the scan node by node,
+then bisection; one foot, and the compiled coupling) and the batch path (the scan on arrays,
+then SciPy's find_root) share the selection rule and must select the same root: they agree
+far below the node spacing of the scan (0.37 mm), and each is balanced to the solver
+tolerance. Both
 stop at |R| <= 1e-10 N; 1e-8 N leaves margin (as in test_morphing.py).
 """
 
@@ -77,14 +79,16 @@ def test_residual_on_floats_equals_the_array_residual():
 
 
 def test_deflection_on_floats_equals_the_array_path():
-    """Same root as the array path (branch selection, D34), and balanced, in every case."""
+    """Same root as the batch path (the scan on arrays, find_root), and balanced."""
+    cases = _cases()
+    depth, sz, prev = (np.array(c) for c in zip(*cases, strict=True))
+    batch = FOOT.equilibrium(depth, sz, previous=prev)  # > 16 moving elements: find_root
     snap = []
-    for depth, sz, prev in _cases():
-        want = float(FOOT.equilibrium(depth, sz, previous=prev))
-        got = balanced_deflection_on_floats(ROW, depth, sz, prev)
-        assert abs(got - want) <= SAME_ROOT, (depth, sz, prev, got, want)
-        assert _balanced(depth, sz, got), (depth, sz, prev, got)
-        if (depth, sz) == (0.010, 4200.0):
+    for (d, s, p), want in zip(cases, batch, strict=True):
+        got = balanced_deflection_on_floats(ROW, d, s, p)
+        assert abs(got - want) <= SAME_ROOT, (d, s, p, got, want)
+        assert _balanced(d, s, got), (d, s, p, got)
+        if (d, s) == (0.010, 4200.0):
             snap.append(got)
     # the snap-through: loading from curled stays low, unloading from spread stays high, and
     # from between the column reaches one of those two (the middle root is unstable)

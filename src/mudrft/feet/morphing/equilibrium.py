@@ -16,22 +16,23 @@ column reaches: from the previous deflection it moves in the direction of the ne
 (:math:`R<0`: compress, :math:`R>0`: extend) to the first root or stop it meets. This gives
 hysteresis, and equals the unique root wherever :math:`R` is monotone.
 
-*Algorithm*, vectorized over a batch: elements balanced already, or pushed against the stop
-they rest on, stay; the others evaluate :math:`R` on 33 nodes over the stroke and take the
-first sign change beyond the previous deflection, in the direction of motion, as a bracket.
-The scan, not the solver, selects the branch: the bracket holds the root to select and no
-other, unless three roots fall within one node spacing (0.37 mm for the defaults), which the
-grid does not resolve. Each bracket is then refined by a SciPy bracketing solver to
-:math:`|R|\le10^{-10}` N or a bracket of :math:`10^{-15}` m: more than 16 brackets at once
-(a batched terrain step: thousands) by :func:`scipy.optimize.elementwise.find_root`
-(Chandrupatla's method), which is vectorized over the batch but costs ~2 ms a call whatever
-the batch size; up to 16 (a single foot) by :func:`scipy.optimize.brentq`, one bracket at a
-time, ~0.15 ms each (the measured crossover). Both are elementwise, so a batch gives bit for bit the deflections of
-single calls refined by the same solver; across the threshold they agree to :math:`10^{-12}` m
-(both stop within :math:`10^{-10}` N of the same root). With SciPy older than 1.15, which lacks
-``find_root``, brentq refines every bracket. One foot on floats (the compiled coupling,
-D68d): :func:`balanced_deflection_on_floats`, the same scan as a loop that stops at the
-first sign change, refined by bisection to the same tolerances.
+*Algorithm.* Elements balanced already, or pushed against the stop they rest on, stay
+(:func:`_moving`); the others walk the 33 nodes over the stroke from the previous deflection
+in the direction of motion and take the first sign change of :math:`R` as a bracket, or the
+stop where there is none (:func:`_scan_node`, :func:`_settle`: the selection rule, written
+once, element-wise). The scan, not the solver, selects the branch: the bracket holds the
+root to select and no other, unless three roots fall within one node spacing (0.37 mm for
+the defaults), which the grid does not resolve. Each bracket is then refined to
+:math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m. Up to 16 moving elements (a
+single foot, the four nudged copies of the MuJoCo coupling) go one by one through
+:func:`balanced_deflection_on_floats`: the scan on Python floats, stopping at the first sign
+change, and bisection; the compiled coupling runs the same function with numba (D68d). More
+(a batched terrain step: thousands) evaluate :math:`R` on all nodes at once, walk them with
+the same rule on arrays, and refine every bracket in one call of
+:func:`scipy.optimize.elementwise.find_root` (Chandrupatla's method; ~2 ms a call whatever
+the batch size, hence the threshold). Both stop within :math:`10^{-10}` N of the same root,
+so across the threshold deflections agree to :math:`10^{-12}` m. With SciPy older than
+1.15, which lacks ``find_root``, every element takes the float path.
 
 *Sealing* (D35). Curling pads break the seal of the cavity under the foot: the seal factor
 is :math:`1-\tanh(g/g_s)` with :math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad
@@ -44,12 +45,12 @@ from typing import Any, NamedTuple, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 from ..._validation import MudrftError, plain
 from ..._xp import pyfloat
 from .linkage import Linkage, pad_angle
 from .pads import morphing_force, vertical_area
+from .row import linkage_row
 from .springs import TwoStageSpring, spring_force
 
 try:  # SciPy >= 1.15
@@ -71,8 +72,7 @@ __all__ = [
 _GRID = 33  # nodes of the coarse bracketing grid over the stroke (D34)
 _FTOL = 1e-10  # force balance tolerance [N]
 _XTOL = 1e-15  # bracket width at which the refinement stops [m]
-_RTOL = 4.0 * np.finfo(float).eps  # relative bracket width for brentq, its smallest allowed [-]
-_FEW = 16  # up to this many brackets are refined by brentq one by one, more by find_root [-]
+_FEW = 16  # up to this many moving elements take the float path one by one, more find_root [-]
 _BISECTIONS = 64  # cap on the halvings of a bracket on floats (39 take 0.37 mm to 1e-15 m)
 
 
@@ -183,11 +183,59 @@ def balanced_deflection(
     p = np.clip(p.ravel(), 0.0, stroke)
     out = p.copy()
     r_p = residual(p, d, s, linkage=linkage, spring=spring)
-    # elements balanced already, or pushed against the stop they rest on, stay put
-    moving = ((r_p < 0) & (p < stroke)) | ((r_p > 0) & (p > 0))
-    if np.any(moving):
+    moving = _moving(r_p, p, stroke)
+    count = int(np.count_nonzero(moving))
+    if count > _FEW and find_root is not None:
         out[moving] = _move(d[moving], s[moving], p[moving], r_p[moving], linkage, spring)
+    elif count:
+        row = linkage_row(linkage, spring)
+        for i in np.flatnonzero(moving):
+            out[i] = balanced_deflection_on_floats(row, float(d[i]), float(s[i]), float(p[i]))
     return out.reshape(shape)
+
+
+def _moving(r_p: Any, p: Any, stroke: Any, *, xp: Any = np) -> Any:
+    """Whether the column moves from ``p`` [m] (residual ``r_p`` [N] there): not balanced,
+    and not pushed against the stop it rests on (D34)."""
+    return ((r_p < 0.0) & (p < stroke)) | ((r_p > 0.0) & (p > 0.0))
+
+
+def _node(k: Any, up: Any, stroke: Any, *, xp: Any = np) -> Any:
+    """The ``k``-th of the 33 nodes [m] in the direction of motion (``up``: from 0), the
+    values of ``np.linspace(0, stroke, 33)`` bit for bit."""
+    j = xp.where(up, k, _GRID - 1 - k)
+    return xp.where(j == _GRID - 1, stroke, j * (stroke / (_GRID - 1)))
+
+
+def _scan_node(
+    up: Any, p: Any, x: Any, r: Any, lo: Any, flo: Any, hi: Any, fhi: Any, found: Any,
+    *, xp: Any = np,
+) -> tuple[Any, Any, Any, Any, Any]:  # fmt: skip
+    """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34).
+
+    The selection rule, element-wise: beyond ``p`` in the direction of motion (``up``:
+    compressing, R(p) < 0) and before the first root, a node where R keeps the sign of R(p)
+    becomes the near end of the bracket (``lo`` when compressing, ``hi`` when extending),
+    the first where it changes sign the far end, and the scan has ``found`` its bracket.
+    Returns ``(lo, flo, hi, fhi, found)``, ends [m] and their residuals [N].
+    """
+    beyond = xp.where(found, False, xp.where(up, x > p, x < p))
+    hit = beyond & xp.where(up, r >= 0.0, r <= 0.0)
+    to_hi = beyond & (hit == up)  # compressing: the root's far side; extending: the near end
+    to_lo = beyond & (hit != up)
+    lo, flo = xp.where(to_lo, x, lo), xp.where(to_lo, r, flo)
+    hi, fhi = xp.where(to_hi, x, hi), xp.where(to_hi, r, fhi)
+    return lo, flo, hi, fhi, found | hit
+
+
+def _settle(
+    up: Any, found: Any, lo: Any, flo: Any, hi: Any, fhi: Any, stroke: Any, *, xp: Any = np
+) -> tuple[Any, Any]:
+    """The deflection [m] a finished scan gives without refinement (the stop it runs onto
+    when no root was found, an end of the bracket that balances already), and whether the
+    bracket is open, to be refined (R(lo) < 0 < R(hi))."""
+    x = xp.where(found, xp.where(fhi == 0.0, hi, lo), xp.where(up, stroke, 0.0))
+    return x, found & (flo != 0.0) & (fhi != 0.0)
 
 
 def _move(
@@ -198,65 +246,21 @@ def _move(
     linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:
-    """Nearest root from ``p`` in the direction of the net force, or the stop it meets."""
-    n = d.size
+    """The moving elements of a batch: the scan on arrays, the brackets refined by
+    ``find_root`` in one call."""
     stroke = linkage.stroke
-    out = p.copy()
     nodes = np.linspace(0.0, stroke, _GRID)
     r_n = residual(nodes[None, :], d[:, None], s[:, None], linkage=linkage, spring=spring)
-    idx = np.arange(n)
-    lo, hi, flo, fhi = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
-    # moving up (compressing): first node above the previous deflection where the springs win
-    up = r_p < 0
-    cand = (nodes[None, :] > p[:, None]) & (r_n >= 0)
-    has = cand.any(axis=1)
-    j = np.argmax(cand, axis=1)
-    jm = np.maximum(j - 1, 0)
-    sel_up = up & has
-    below = nodes[jm] > p
-    lo = np.where(sel_up, np.where(below, nodes[jm], p), lo)
-    flo = np.where(sel_up, np.where(below, r_n[idx, jm], r_p), flo)
-    hi = np.where(sel_up, nodes[j], hi)
-    fhi = np.where(sel_up, r_n[idx, j], fhi)
-    out = np.where(up & ~has, stroke, out)  # no root: onto the compression stop
-    # moving down (extending): last node below the previous deflection where the mud wins
-    down = ~up
-    cand = (nodes[None, :] < p[:, None]) & (r_n <= 0)
-    has = cand.any(axis=1)
-    j = _GRID - 1 - np.argmax(cand[:, ::-1], axis=1)
-    jp = np.minimum(j + 1, _GRID - 1)
-    sel_down = down & has
-    above = nodes[jp] < p
-    lo = np.where(sel_down, nodes[j], lo)
-    flo = np.where(sel_down, r_n[idx, j], flo)
-    hi = np.where(sel_down, np.where(above, nodes[jp], p), hi)
-    fhi = np.where(sel_down, np.where(above, r_n[idx, jp], r_p), fhi)
-    out = np.where(down & ~has, 0.0, out)  # no root: onto the extension stop
-    act = sel_up | sel_down
-    if np.any(act):
-        out[act] = _refine(lo[act], hi[act], flo[act], fhi[act], d[act], s[act], linkage, spring)
-    return out
-
-
-def _refine(
-    lo: NDArray[np.float64],
-    hi: NDArray[np.float64],
-    flo: NDArray[np.float64],
-    fhi: NDArray[np.float64],
-    d: NDArray[np.float64],
-    s: NDArray[np.float64],
-    linkage: Linkage,
-    spring: TwoStageSpring,
-) -> NDArray[np.float64]:
-    """Root of R in each bracket [lo, hi] with R(lo) <= 0 <= R(hi), lo < hi (SciPy).
-
-    More than ``_FEW`` open brackets: one vectorized ``find_root`` call; fewer (or SciPy <
-    1.15): ``brentq`` per bracket, which avoids find_root's fixed cost of ~2 ms a call.
-    """
-    x = np.where(fhi == 0, hi, lo)  # an end of the bracket that balances already
-    open_ = (flo != 0) & (fhi != 0)
+    idx = np.arange(d.size)
+    up = r_p < 0.0
+    lo, flo, hi, fhi, found = p, r_p, p, r_p, np.zeros(d.size, dtype=bool)
+    for k in range(_GRID):
+        x = _node(k, up, stroke)
+        r = r_n[idx, np.where(up, k, _GRID - 1 - k)]
+        lo, flo, hi, fhi, found = _scan_node(up, p, x, r, lo, flo, hi, fhi, found)
+    out, open_ = _settle(up, found, lo, flo, hi, fhi, stroke)
     if not np.any(open_):
-        return x
+        return np.asarray(out)
 
     def f(
         xx: NDArray[np.float64], dd: NDArray[np.float64], ss: NDArray[np.float64]
@@ -264,30 +268,13 @@ def _refine(
         return residual(xx, dd, ss, linkage=linkage, spring=spring)
 
     a, b, dd, ss = lo[open_], hi[open_], d[open_], s[open_]
-    if find_root is not None and a.size > _FEW:
-        tol = {"xatol": _XTOL, "xrtol": 0.0, "fatol": _FTOL, "frtol": 0.0}
-        res = find_root(f, (a, b), args=(dd, ss), tolerances=tol)
-        if not np.all(res.success):
-            bad = int(np.flatnonzero(~res.success)[0])
-            _diverged(a[bad], b[bad], dd[bad], ss[bad], f"scipy status {int(res.status[bad])}")
-        x[open_] = res.x
-        return x
-    # few brackets (a single foot), or SciPy < 1.15: brentq, one bracket at a time
-    fa, fb = flo[open_], fhi[open_]
-    for i, k in enumerate(np.flatnonzero(open_)):
-
-        def g(t: float, i: int = i) -> float:
-            if t == a[i] or t == b[i]:  # brentq starts at the ends: R is known there
-                r = float(fa[i] if t == a[i] else fb[i])
-            else:
-                r = float(f(np.asarray(t), dd[i], ss[i]))
-            return 0.0 if abs(r) <= _FTOL else r  # |R| <= 1e-10 N: balanced, as in find_root
-
-        root, info = brentq(g, a[i], b[i], xtol=_XTOL, rtol=_RTOL, full_output=True, disp=False)
-        if not info.converged:
-            _diverged(a[i], b[i], dd[i], ss[i], f"brentq flag {info.flag!r}")
-        x[k] = root
-    return x
+    tol = {"xatol": _XTOL, "xrtol": 0.0, "fatol": _FTOL, "frtol": 0.0}
+    res = find_root(f, (a, b), args=(dd, ss), tolerances=tol)
+    if not np.all(res.success):
+        bad = int(np.flatnonzero(~res.success)[0])
+        _diverged(a[bad], b[bad], dd[bad], ss[bad], f"scipy status {int(res.status[bad])}")
+    out[open_] = res.x
+    return np.asarray(out)
 
 
 def _diverged(a: float, b: float, d: float, s: float, why: str) -> NoReturn:
@@ -356,44 +343,32 @@ def balanced_deflection_on_floats(
 ) -> float:
     r""":func:`balanced_deflection` for one foot on floats (the compiled coupling, D68d).
 
-    The same root selection (D34) as the array path: stay where balanced or against the
-    stop pushed on; else scan the same 33 nodes from ``previous`` in the direction of the
-    net force to the first sign change (or the stop), and refine the bracket to
-    :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m, here by bisection (numba
-    cannot call SciPy). ``m`` is a :class:`~.row.MorphingRow`; depth [m], vertical stress
-    [Pa], previous deflection [m]; returns the deflection [m]. The test
-    ``test_deflection_on_floats_equals_the_array_path`` keeps the two paths equal.
+    The selection rule of D34 (:func:`_moving`, :func:`_scan_node`, :func:`_settle`, shared
+    with the batch path) walked node by node to the first sign change, and the bracket
+    refined to :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m by bisection
+    (numba cannot call SciPy). Serves :func:`balanced_deflection` for up to 16 moving
+    elements, and the compiled coupling (D68d). ``m`` is a :class:`~.row.MorphingRow` (or
+    :func:`~.row.linkage_row`); depth [m], vertical stress [Pa], previous deflection [m];
+    returns the deflection [m].
     """
     stroke = m.stroke
     p = xp.clip(previous, 0.0, stroke)
     r_p = column_residual(m, m.pole_top, m.branch, m, p, depth, sz, xp=xp)
-    up = r_p < 0.0
-    if not ((up and p < stroke) or (r_p > 0.0 and p > 0.0)):
+    if not _moving(r_p, p, stroke, xp=xp):
         return p  # balanced already, or pushed against the stop it rests on
-    lo, flo, hi, fhi = p, r_p, p, r_p
-    found = False
-    for i in range(_GRID):
-        k = i if up else _GRID - 1 - i
-        x = stroke if k == _GRID - 1 else k * (stroke / (_GRID - 1))  # np.linspace's nodes
-        if (up and x <= p) or (not up and x >= p):
-            continue
+    up = r_p < 0.0
+    lo, flo, hi, fhi, found = p, r_p, p, r_p, False
+    for k in range(_GRID):
+        x = _node(k, up, stroke, xp=xp)
+        if (x <= p) if up else (x >= p):
+            continue  # behind the start: _scan_node would skip it; save the residual
         r = column_residual(m, m.pole_top, m.branch, m, x, depth, sz, xp=xp)
-        if up and r >= 0.0:
-            hi, fhi, found = x, r, True
+        lo, flo, hi, fhi, found = _scan_node(up, p, x, r, lo, flo, hi, fhi, found, xp=xp)
+        if found:
             break
-        if not up and r <= 0.0:
-            lo, flo, found = x, r, True
-            break
-        if up:
-            lo, flo = x, r
-        else:
-            hi, fhi = x, r
-    if not found:
-        return stroke if up else 0.0  # no root: onto the stop
-    if fhi == 0.0:
-        return hi
-    if flo == 0.0:
-        return lo
+    x, open_ = _settle(up, found, lo, flo, hi, fhi, stroke, xp=xp)
+    if not open_:
+        return x
     for _ in range(_BISECTIONS):
         mid = 0.5 * (lo + hi)
         r = column_residual(m, m.pole_top, m.branch, m, mid, depth, sz, xp=xp)

@@ -235,8 +235,8 @@ class MorphingMechanism:
         moves in the direction of the net force to the nearest root (the stable equilibrium
         an overdamped column reaches: hysteresis across a snap-through); where :math:`R` is
         monotone this is the unique root. Brackets from a 33-node scan are refined to
-        :math:`|R|\le10^{-10}` N by :func:`scipy.optimize.brentq` (up to 16 brackets) or
-        :func:`scipy.optimize.elementwise.find_root` (more; see
+        :math:`|R|\le10^{-10}` N: by bisection on floats for up to 16 moving elements, by
+        :func:`scipy.optimize.elementwise.find_root` for more (see
         :mod:`mudrft.feet.morphing.equilibrium`).
 
         Parameters

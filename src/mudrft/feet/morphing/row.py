@@ -12,12 +12,13 @@ compile the dataclasses).
 
 from __future__ import annotations
 
+import functools
 from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["MorphingRow", "morphing_row"]
+__all__ = ["MorphingRow", "linkage_row", "morphing_row", "row_array"]
 
 
 class MorphingRow(NamedTuple):
@@ -52,23 +53,33 @@ class MorphingRow(NamedTuple):
     lock: float
 
 
-def morphing_row(foot: Any) -> MorphingRow:
-    """The :class:`MorphingRow` of a :class:`~.foot.MorphingFoot`."""
-    g, link, s = foot.geometry, foot.linkage, foot.spring
-    lock = foot.locked_deflection()
+@functools.lru_cache(maxsize=64)
+def linkage_row(
+    linkage: Any, spring: Any, seal_length: float = 1.0, lock: float = -1.0
+) -> MorphingRow:
+    """The :class:`MorphingRow` of a :class:`~.linkage.Linkage` and a
+    :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1);
+    cached, for :func:`~.equilibrium.balanced_deflection` on floats."""
+    g = linkage.geometry
     values = {f: getattr(g, f) for f in MorphingRow._fields[:14]}
     values.update(
-        pole_top=link.pole_top,
-        stroke=link.stroke,
-        branch=link.branch,
-        series_stiffness=s.series_stiffness,
-        hard_stiffness=s.hard_stiffness,
-        knee_deflection=s.knee_deflection,
-        knee_force=s.knee_force,
-        seal_length=foot.seal_length,
-        lock=-1.0 if lock is None else lock,
+        pole_top=linkage.pole_top,
+        stroke=linkage.stroke,
+        branch=linkage.branch,
+        series_stiffness=spring.series_stiffness,
+        hard_stiffness=spring.hard_stiffness,
+        knee_deflection=spring.knee_deflection,
+        knee_force=spring.knee_force,
+        seal_length=seal_length,
+        lock=lock,
     )
     return MorphingRow(**{k: float(v) for k, v in values.items()})
+
+
+def morphing_row(foot: Any) -> MorphingRow:
+    """The :class:`MorphingRow` of a :class:`~.foot.MorphingFoot`."""
+    lock = foot.locked_deflection()
+    return linkage_row(foot.linkage, foot.spring, foot.seal_length, -1.0 if lock is None else lock)
 
 
 def row_array(foot: Any) -> NDArray[np.float64]:
