@@ -189,8 +189,12 @@ def balanced_deflection(
         out[moving] = _move(d[moving], s[moving], p[moving], r_p[moving], linkage, spring)
     elif count:
         row = linkage_row(linkage, spring)
+        seen: dict[tuple[float, float, float], float] = {}  # the coupling's nudged copies
         for i in np.flatnonzero(moving):
-            out[i] = balanced_deflection_on_floats(row, float(d[i]), float(s[i]), float(p[i]))
+            key = (float(d[i]), float(s[i]), float(p[i]))
+            if key not in seen:
+                seen[key] = balanced_deflection_on_floats(row, *key)
+            out[i] = seen[key]
     return out.reshape(shape)
 
 
@@ -251,13 +255,15 @@ def _move(
     stroke = linkage.stroke
     nodes = np.linspace(0.0, stroke, _GRID)
     r_n = residual(nodes[None, :], d[:, None], s[:, None], linkage=linkage, spring=spring)
-    idx = np.arange(d.size)
     up = r_p < 0.0
+    r_n = np.where(up[:, None], r_n, r_n[:, ::-1])  # in the direction of motion
     lo, flo, hi, fhi, found = p, r_p, p, r_p, np.zeros(d.size, dtype=bool)
     for k in range(_GRID):
         x = _node(k, up, stroke)
-        r = r_n[idx, np.where(up, k, _GRID - 1 - k)]
+        r = r_n[:, k]
         lo, flo, hi, fhi, found = _scan_node(up, p, x, r, lo, flo, hi, fhi, found)
+        if found.all():
+            break  # the remaining nodes change nothing
     out, open_ = _settle(up, found, lo, flo, hi, fhi, stroke)
     if not np.any(open_):
         return np.asarray(out)
