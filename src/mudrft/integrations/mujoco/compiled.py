@@ -51,7 +51,7 @@ from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
-from .compiled_feet import ROW_OF_SOURCE, _mesh_force, _mud_force, _nudged_force
+from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
@@ -531,6 +531,7 @@ def coupling_kernel() -> Any:
         _geometry,
         _upright_area,
         _mesh_force,
+        _inputs,
         _mud_force,
         _nudged_force,
     ):

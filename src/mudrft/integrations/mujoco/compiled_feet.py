@@ -52,13 +52,7 @@ def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, u
     ``frow``: the seal of the previous state scales the suction, as in
     :meth:`mudrft.MudTerrain.step_unchecked`.
     """
-    hor = _constants(c, 0, 0)
-    ver = _constants(c, 0, 12)
-    ch = _channels(s)
-    m = _row_of(mrow)
-    seal = 1.0
-    if geom[0] == 4.0:  # the seal of the previous state (D35)
-        seal = _seal(fs[1], fs[2], pad_length=m.pad_length, seal_length=m.seal_length)
+    hor, ver, ch, m, seal = _inputs(c, s, geom, mrow, fs)
     new, sx, sy, sz, depth = _step(
         (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
         cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], seal, cfg[5] != 0.0, cfg[6] != 0.0,
@@ -91,13 +85,7 @@ def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, g
     follows the new velocity, and the other stresses are ``r0``'s (D63). A morphing foot
     balances its column again for a vertical nudge; a horizontal one leaves the balance,
     which depends on the vertical stress only, at ``frow``'s pad angle."""
-    hor = _constants(c, 0, 0)
-    ver = _constants(c, 0, 12)
-    ch = _channels(s)
-    m = _row_of(mrow)
-    seal = 1.0
-    if geom[0] == 4.0:  # the seal of the previous state (D35)
-        seal = _seal(fs[1], fs[2], pad_length=m.pad_length, seal_length=m.seal_length)
+    hor, ver, ch, m, seal = _inputs(c, s, geom, mrow, fs)
     sq = _channel(
         q, (hor, ver), ch, p[0], p[1], p[2], u[0], u[1], u[2], dt,
         cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, seal, cfg[5] != 0.0, cfg[6] != 0.0,
@@ -118,6 +106,17 @@ def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, g
                             heading)  # fmt: skip
     inside = 1.0 if depth > 0.0 else 0.0
     return (fx if q == 0 else (fy if q == 1 else fz)) * inside
+
+
+def _inputs(c: Any, s: Any, geom: Any, mrow: Any, fs: Any) -> Any:
+    """What a step of one foot reads: the horizontal and vertical constants of row ``c``,
+    the channels of state row ``s``, the :class:`MorphingRow` of ``mrow`` and the seal
+    factor [-] (a morphing foot's, of its previous state ``fs`` (D35); 1 for others)."""
+    m = _row_of(mrow)
+    seal = 1.0
+    if geom[0] == 4.0:
+        seal = _seal(fs[1], fs[2], pad_length=m.pad_length, seal_length=m.seal_length)
+    return _constants(c, 0, 0), _constants(c, 0, 12), _channels(s), m, seal
 
 
 def _row_of(r: Any) -> Any:
