@@ -12,6 +12,7 @@ compile the dataclasses).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from typing import Any, NamedTuple
 
@@ -61,7 +62,8 @@ def linkage_row(
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1);
     cached, for :func:`~.equilibrium.balanced_deflection` on floats."""
     g = linkage.geometry
-    values = {f: getattr(g, f) for f in MorphingRow._fields[:14]}
+    # every field of the geometry (a field the row lacks fails below, instead of vanishing)
+    values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
     values.update(
         pole_top=linkage.pole_top,
         stroke=linkage.stroke,
