@@ -74,7 +74,7 @@ def test_force_needs_an_area_and_is_divided_by_it(tmp_path):
 
 
 def test_characteristic_length_sets_gamma(tmp_path):
-    text = "# characteristic_length [mm]: 40\ntime [s],depth [mm],stress [Pa]\n0,0,0\n1,10,5\n"
+    text = "# characteristic_length [mm]: 40\ntime [s],depth [mm],stress [Pa]\n0,0,0\n1,10,5000\n"
     p = _write(tmp_path, text)
     assert load_intrusion_csv(p)[0].gamma[-1] == pytest.approx(0.25, rel=1e-12)
     # the argument overrides the header
@@ -111,14 +111,14 @@ def test_csv_round_trip(tmp_path):
 
 
 def test_writers_never_overwrite(tmp_path):
-    ds = IntrusionDataset.from_arrays([0.0, 1.0], [0.0, 0.01], [0.0, 1.0])
+    ds = IntrusionDataset.from_arrays([0.0, 1.0], [0.0, 0.01], [0.0, 1000.0])
     p = _write(tmp_path, "precious user data\n")
     before = _fingerprint(p)
     with pytest.raises(MudrftError, match="exists"):
         save_intrusion_csv(ds, p)
     assert _fingerprint(p) == before
     save_intrusion_csv(ds, p, overwrite=True)
-    assert load_intrusion_csv(p)[0].stress[-1] == 1.0
+    assert load_intrusion_csv(p)[0].stress[-1] == 1000.0
 
 
 def test_hdf5_round_trip_and_unit_attributes(tmp_path):

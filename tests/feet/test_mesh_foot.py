@@ -51,7 +51,7 @@ def test_bad_vertices_and_faces(cyl: MeshFoot) -> None:
     with pytest.raises(MudrftError, match="zero size"):
         MeshFoot(np.zeros((3, 3)), [[0, 1, 2]])
     with pytest.raises(MudrftError, match="every facet has zero area"):
-        MeshFoot([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[0, 1, 2]])  # collinear
+        MeshFoot([[0, 0, 0], [0.01, 0, 0], [0.02, 0, 0]], [[0, 1, 2]])  # collinear
     with pytest.raises(MudrftError, match="trailing must be"):
         MeshFoot(cyl.vertices, f, trailing="yes")
 
