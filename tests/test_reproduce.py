@@ -10,9 +10,11 @@ from __future__ import annotations
 import csv
 import logging
 
+import numpy as np
 import pytest
 
 from mudrft._validation import MudrftError
+from mudrft.feet import by_name
 from mudrft.reproduce import (
     CLAIMS,
     FEET,
@@ -24,6 +26,7 @@ from mudrft.reproduce import (
     read_summary,
     reproduce,
 )
+from mudrft.reproduce.claims import shape_crossovers, shape_factor
 
 PINNED = [
     "foot",
@@ -130,6 +133,46 @@ def test_morphing_percentages_are_inconsistent_by_the_runs_own_numbers(full_run)
     for c in cells:
         assert c["verdict"] == I
         assert "= 1.58" in c["mudrft"] and f"this run: {ratio:.2f}" in c["mudrft"]
+
+
+def _hand_factors(z, radius=0.045):
+    """F_z / A_z at a unit stress from docs/model.md's table (eqs. 13c and 14b corrected by
+    E20 and E21), written out by hand: (semi-cylinder, semi-sphere)."""
+    c = 1 - z / radius
+    s, th = np.sqrt(1 - c * c), np.arccos(c)
+    cyl = (s - s**3 / 3 + (1 - c) ** 2 * (2 + c) / 3) / s
+    sph = (2 + 2 * c * c + 2 * c**3 / s - 5 * c / s + 3 * th / s**2) / 4
+    return cyl, sph
+
+
+def test_shape_factors_and_their_crossover_are_the_closed_forms_by_hand():
+    from scipy.optimize import brentq
+
+    cyl, sph, flat = by_name("semi-cylinder"), by_name("semi-sphere"), by_name("flat")
+    for z in (0.002, 0.01, 0.0189, 0.026):
+        assert (shape_factor(cyl, z), shape_factor(sph, z)) == pytest.approx(
+            _hand_factors(z), rel=1e-12
+        )
+        assert shape_factor(flat, z) == pytest.approx(1.0, rel=1e-14)
+    # one crossing within the 26 mm feet: the sphere's factor is below the cylinder's
+    # above it, above it below
+    (z_star,) = shape_crossovers(cyl, sph)
+    hand = brentq(lambda z: np.subtract(*_hand_factors(z)), 0.005, 0.026, xtol=1e-12)
+    assert z_star == pytest.approx(hand, abs=1e-8)
+    assert 0.017 < z_star < 0.0175
+    assert shape_factor(cyl, z_star - 1e-3) > shape_factor(sph, z_star - 1e-3)
+    assert shape_factor(cyl, z_star + 1e-3) < shape_factor(sph, z_star + 1e-3)
+
+
+def test_the_shape_order_cell_says_where_the_factors_cross(full_run):
+    """The headline misses the curved feet's order because its peaks lie deeper than the
+    crossover: the cell gives the peaks' depths, the factors there and the crossover."""
+    _, _, claims = full_run
+    (cell,) = [r for r in claims if r["reading"] == "paper" and r["claim"] == "shape-order"]
+    z_star = shape_crossovers(by_name("semi-cylinder"), by_name("semi-sphere"))[0]
+    assert f"passes the semi-cylinder's at {z_star * 1e3:.1f} mm" in cell["mudrft"]
+    depths = cell["mudrft"].split("at the peaks (")[1].split(" mm deep")[0].split(", ")
+    assert all(float(d) > z_star * 1e3 for d in depths[1:])  # both curved feet peak deeper
 
 
 def test_figures_and_report(full_run):

@@ -16,6 +16,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
+from ..feet.base import Foot
 from .readings import Reading
 
 __all__ = [
@@ -30,6 +33,8 @@ __all__ = [
     "Claim",
     "evaluate",
     "inconsistency",
+    "shape_crossovers",
+    "shape_factor",
 ]
 
 #: Tolerance on the paper's percentages [percentage points]: its numbers come from three
@@ -187,6 +192,74 @@ def inconsistency(flat_suction: float, cylinder_suction: float) -> dict[str, flo
     }
 
 
+def shape_factor(foot: Foot, depth: float) -> float:
+    """Normalized vertical force of ``foot`` under a uniform unit stress [-].
+
+    :math:`F_z/A_z` at tip depth ``depth`` [m] when every channel stress is 1 Pa: the
+    factor that the closed forms (eqs. 12, 13c, 14b, with errata E20-E21) put between the
+    stress at the tip's depth and the normalized stress the paper's Fig. 10 plots. The flat
+    foot's is 1.
+
+    Examples
+    --------
+    >>> from mudrft.feet import Flat
+    >>> shape_factor(Flat(), 0.02)
+    1.0
+    """
+    f = foot.force(depth, [1.0, 1.0, 1.0], 0.0)[2]
+    return float(f / foot.projected_areas(depth)[2])
+
+
+def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
+    """Depths [m] where the shape factors of feet ``a`` and ``b`` cross.
+
+    Searched between 0 and the lower of the two heights (deeper, the closed forms hold the
+    factor of a buried foot, decision D26): sign changes of the difference on ``points``
+    depths, each refined with :func:`scipy.optimize.brentq` to 1e-9 m.
+    """
+    from scipy.optimize import brentq
+
+    top = min(float(getattr(a, "height", 1.0)), float(getattr(b, "height", 1.0)))
+    grid = np.linspace(top / points, top, points)
+    diff = np.array([shape_factor(a, d) - shape_factor(b, d) for d in grid])
+    cuts = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
+    return [
+        float(
+            brentq(
+                lambda d: shape_factor(a, d) - shape_factor(b, d), grid[i], grid[i + 1], xtol=1e-9
+            )
+        )
+        for i in cuts
+    ]
+
+
+def _shape_argument(fixed: dict[str, dict[str, float]]) -> str:
+    """Why the curved feet's order is what it is: their shape factors at the peaks' depths
+    and where the factors cross (empty when the runs did not record the peaks' depths)."""
+    if not all("peak_ns_depth" in m for m in fixed.values()):
+        return ""
+    from ..feet import by_name
+
+    feet = {f: by_name(f) for f in FIXED}
+    at = {f: fixed[f]["peak_ns_depth"] for f in FIXED}
+    k = {f: shape_factor(feet[f], at[f]) for f in FIXED}
+    cross = shape_crossovers(feet["semi-cylinder"], feet["semi-sphere"])
+    text = (
+        "; at the peaks ("
+        + ", ".join(f"{at[f] * 1e3:.1f}" for f in FIXED)
+        + " mm deep) a uniform stress gives F_z/A_z = "
+        + "/".join(f"{k[f]:.3f}" for f in FIXED)
+        + " of it (eqs. 12, 13c, 14b; E20-E21)"
+    )
+    if cross:
+        text += (
+            ", and the semi-sphere's factor passes the semi-cylinder's at "
+            + ", ".join(f"{z * 1e3:.1f}" for z in cross)
+            + " mm: at equal stress the paper's order needs the peaks shallower"
+        )
+    return text
+
+
 def _kpa(x: float) -> str:
     return f"{x / 1e3:.1f} kPa"
 
@@ -233,7 +306,7 @@ def evaluate(
     # shape-order (Fig. 10a)
     if all_fixed:
         ns = {f: fixed[f]["peak_ns"] for f in FIXED}
-        text = ", ".join(f"{f} {_kpa(ns[f])}" for f in FIXED)
+        text = ", ".join(f"{f} {_kpa(ns[f])}" for f in FIXED) + _shape_argument(fixed)
         ok = ns["flat"] > ns["semi-cylinder"] > ns["semi-sphere"]
         short = "/".join(f"{ns[f] / 1e3:.1f}" for f in FIXED) + " kPa"
         cell(c["shape-order"], text, _ok(ok), short)

@@ -98,7 +98,11 @@ class _Runs:
         )
         m = res.metrics()
         ns = res.normalized_stress()[:, 2] if res.areas is not None else np.zeros(len(res))
-        m.update(peak_ns=float(ns.max()), min_ns=float(ns.min()))
+        m.update(
+            peak_ns=float(ns.max()),
+            min_ns=float(ns.min()),
+            peak_ns_depth=float(res.depth[int(np.argmax(ns))]),
+        )
         key = self.key(reading, foot, speed, row)
         self.results[key], self.numbers[key] = res, m
 
