@@ -174,25 +174,9 @@ def channel_update(
     target = -direction * phi * c.sigma_y / (a * c.tau_build)
     sig_new = target + (sig_s - target) * xp.exp(-a * dt)
 
-    # stresses at the end of the step, eq. (1); the bed-contact factor is decision D2
-    sigma_b = laws.elastic_stress(gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
-        r_end, c.epsilon, xp=xp
-    )
+    new_state = ChannelState(gamma, gw_new, xi_new, s_new, sig_new, clock, clock_w)
     sigma_th = s_new + kappa * c.eta_inf * gamma_dot
-    suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * sig_new
-    new_state = ChannelState(
-        gamma=gamma,
-        gamma_w=gw_new,
-        xi=xi_new,
-        s_th=s_new,
-        sigma_s=sig_new,
-        clock=clock,
-        clock_w=clock_w,
-    )
-    stress = ChannelStress(
-        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
-    )
-    return new_state, stress
+    return new_state, _stresses(c, new_state, sigma_th, direction, gamma_dot, r_end, xp=xp)
 
 
 def channel_update_quasi_static(
@@ -268,24 +252,9 @@ def channel_update_quasi_static(
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
     steady = direction * laws.suction_steady(phi, c.tau_build, c.tau_leak, c.sigma_y)
     sig_s = -xp.expm1(-a * clock_w) * steady
-    # eq. (1) with eq. (2) and the bed-contact factor (decision D2)
-    sigma_b = laws.elastic_stress(gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
-        r_end, c.epsilon, xp=xp
-    )
-    suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * sig_s
-    new_state = ChannelState(
-        gamma=gamma,
-        gamma_w=gw_new,
-        xi=laws.xi_steady(gamma_dot, gamma_dot_c, xp=xp),
-        s_th=sigma_th,
-        sigma_s=sig_s,
-        clock=clock,
-        clock_w=clock_w,
-    )
-    stress = ChannelStress(
-        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
-    )
-    return new_state, stress
+    xi = laws.xi_steady(gamma_dot, gamma_dot_c, xp=xp)
+    new_state = ChannelState(gamma, gw_new, xi, sigma_th, sig_s, clock, clock_w)
+    return new_state, _stresses(c, new_state, sigma_th, direction, gamma_dot, r_end, xp=xp)
 
 
 def channel_step(
@@ -310,6 +279,33 @@ def channel_step(
     if quasi_static:
         return channel_update_quasi_static(c, state, gamma, gamma_dot, dt, seal, restart, xp=xp)
     return channel_update(c, state, gamma, gamma_dot, dt, seal, kappa, xp=xp)
+
+
+def _stresses(
+    c: ChannelConstants,
+    state: ChannelState,
+    sigma_th: Any,
+    direction: Any,
+    gamma_dot: Any,
+    r_end: Any,
+    *,
+    xp: Any = np,
+) -> ChannelStress:
+    r"""The stresses at the end of a step, eq. (1), in both evaluations [Pa].
+
+    :math:`\sigma_b(\gamma)(1-\phi(r))` (eq. 2 with the bed-contact factor, decision D2)
+    :math:`+\,\sigma_{th}+H_\nu\,\sigma_s`, the suction switched on by the retraction
+    (eq. 5), from the step's new ``state`` (:math:`\gamma`, :math:`\sigma_s`), the
+    thixotropic stress ``sigma_th`` [Pa], the intrusion ``direction`` (+-1), the rate
+    ``gamma_dot`` [1/s] and the retraction ``r_end`` [-] at the end of the step.
+    """
+    sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
+        r_end, c.epsilon, xp=xp
+    )
+    suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * state.sigma_s
+    return ChannelStress(
+        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
+    )
 
 
 def _retraction(state: ChannelState, gamma: Any, gamma_dot: Any, *, xp: Any = np) -> Any:
