@@ -234,7 +234,7 @@ def _unit_forces(
     x_hat = np.array([1.0, 0.0, 0.0])
     z_hat = np.array([0.0, 0.0, 1.0])
     vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
-    nh_dir, _ = _unit_horizontal(nb, x_hat)
+    nh_dir, nh_ok = _unit_horizontal(nb, x_hat)
     if extension == "treers2021":
         horizontal_facet = np.abs(nb[..., 2]) >= 1.0 - _HORIZONTAL_TOL
         # with no horizontal motion, take the facet's own horizontal direction (not a world
@@ -242,12 +242,19 @@ def _unit_forces(
         e2 = np.where((horizontal_facet & vh_ok)[..., None], vh_dir, nh_dir)
     else:
         e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
+    # with neither a horizontal motion nor a horizontal normal (both <= 1e-9) e2 is the world
+    # x axis, which a rotation about z does not carry along: such a facet moves exactly
+    # vertically and is exactly horizontal (what remains is below 1e-9), so its force does not
+    # depend on the yaw (D53)
+    axial = ~(vh_ok | nh_ok)
+    vd = np.where(axial[..., None], vb * z_hat, vb)
     e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
-    v1c = (vb * e1).sum(-1)
-    v23 = vb - v1c[..., None] * e1
+    v1c = (vd * e1).sum(-1)
+    v23 = vd - v1c[..., None] * e1
     s = (v23 * e2).sum(-1)
     e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
-    beta = np.arctan2(nb[..., 2], (nb * e2m).sum(-1)) + np.pi / 2
+    n_along = np.where(axial, 0.0, (nb * e2m).sum(-1))
+    beta = np.arctan2(nb[..., 2], n_along) + np.pi / 2
     gamma = -np.arctan2(v23[..., 2], np.abs(s))
     ax, az = coefficients.alpha(beta, gamma)
     if extension == "treers2021":
