@@ -65,6 +65,8 @@ def test_a_millimetre_stl_read_as_metres_warns_and_unit_fixes_it(mm_stl, tmp_pat
         MeshFoot(foot.vertices * 1e-3, foot.faces)
 
 
+# the CLI shows the warning as a line: this test asks for it (pyproject makes it an error)
+@pytest.mark.filterwarnings("default::mudrft._validation.PlausibilityWarning")
 def test_cli_simulate_takes_the_unit_of_a_mesh_file(mm_stl, tmp_path, capsys):
     out = tmp_path / "run.csv"
     code = main(["simulate", "--foot", str(mm_stl), "--out", str(out), "--quiet"])

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 import mudrft
 from mudrft import MudrftError
 from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
-from mudrft.terrains.granular_rft import GRANULAR_MEDIA
+from mudrft.terrains.granular_rft import GRANULAR_MEDIA, horizontal_share
 
 # Li, Zhang & Goldman (Science 2013), generic first-order Fourier coefficients, typed
 # here from the publication (not imported from mudrft) so the hand computation below
@@ -138,14 +138,37 @@ unit3 = st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 3).filter(
 def test_rft_is_invariant_under_rotation_about_the_vertical(n, v, yaw):
     n = np.array(n) / np.linalg.norm(n)
     v = np.array(v) / np.linalg.norm(v)
-    if abs(abs(n[2]) - (1 - 1e-3)) < 1e-4:  # avoid the horizontal-facet tolerance edge
-        return
     c, s = math.cos(yaw), math.sin(yaw)
     R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
     f = rft_forces([n], [0.01], [1e-3], v, zeta=1e5)
     fr = rft_forces([R @ n], [0.01], [1e-3], R @ v, zeta=1e5)
     # rotating foot and motion about z rotates the force; rounding only
     np.testing.assert_allclose(fr, R @ f, atol=1e-12)
+
+
+@pytest.mark.parametrize("edge", [1 - 1e-3, 1 - 2e-3])
+def test_a_nearly_flat_facet_moves_the_force_continuously_across_the_horizontal_band(edge):
+    """Treers et al.'s switch at |n_z| = 1 - 1e-3 (frame from the motion above it, from the
+    normal below) made the force jump by 3 % under a tilt of 1e-9; across either edge of the
+    band where the two frames are mixed (horizontal_share) it now moves by a tiny amount."""
+    v = np.array([1.0, 0.0, -1.0]) / math.sqrt(2)
+
+    def force(nz):
+        n = [0.0, math.sqrt(1 - nz * nz), -nz]  # tilted toward +y, moving along +x and down
+        return rft_forces([n], [0.01], [1e-3], v, zeta=1e5)
+
+    above, below = force(edge + 1e-9), force(edge - 1e-9)
+    assert np.linalg.norm(above - below) < 1e-6 * np.linalg.norm(above)
+    # and the frames do differ there: the band mixes two different forces
+    assert np.linalg.norm(force(1 - 1e-3) - force(1 - 2e-3)) > 1e-2 * np.linalg.norm(above)
+
+
+def test_horizontal_share_is_the_sharp_rule_outside_its_band():
+    nz = np.array([-1.0, 0.9995, -(1 - 1e-3), 1 - 2e-3, 0.99, 0.0])
+    np.testing.assert_array_equal(horizontal_share(nz), [1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+    inside = np.linspace(1 - 2e-3, 1 - 1e-3, 7)[1:-1]
+    assert np.all(np.diff(horizontal_share(inside)) > 0)
+    assert np.all((horizontal_share(inside) > 0) & (horizontal_share(inside) < 1))
 
 
 @settings(max_examples=40, deadline=None)

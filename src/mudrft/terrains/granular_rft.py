@@ -40,6 +40,7 @@ __all__ = [
     "FourierCoefficients",
     "GranularRFT",
     "RFTState",
+    "horizontal_share",
     "leading_weight",
     "li2013_alpha",
     "rft_forces",
@@ -119,7 +120,8 @@ DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
 # (tanh) and f23 over |v23| (atanh), normalised here to 0 at 0 and 1 at 1.
 _TREERS_F1 = (3.62263982880971, 1.60910808139526)
 _TREERS_F23 = (1.61146827229181, 0.973746396532650)
-# a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance)
+# a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance), and
+# in part between 1 - 2e-3 and 1 - 1e-3 (horizontal_share)
 _HORIZONTAL_TOL = 1e-3
 
 
@@ -217,6 +219,57 @@ def leading_weight(n_dot_v: Any, width: float = LEADING_WIDTH) -> np.ndarray:
     return np.clip(d / width, 0.0, 1.0)
 
 
+def horizontal_share(nz: Any, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
+    r"""How much a facet counts as horizontal in the 3D extension (decision D51) [-].
+
+    Treers et al. treat a facet as horizontal when :math:`|n_z|\ge1-\delta`
+    (:math:`\delta=10^{-3}`) and then take its frame from the motion instead of its normal;
+    that switch made the force jump by a few per cent under a tilt of 1e-9 rad. The share
+    rises linearly from 0 at :math:`|n_z|=1-2\delta` to 1 at :math:`1-\delta`, and the force
+    is the same mix of the two frames' forces, so it is continuous in the tilt and equal to
+    the sharp rule outside that band (:math:`2.6^\circ` to :math:`3.6^\circ` from flat).
+
+    Examples
+    --------
+    >>> [round(float(horizontal_share(z)), 9) for z in (1.0, 0.999, 0.9985, 0.998, 0.5)]
+    [1.0, 1.0, 0.5, 0.0, 0.0]
+    """
+    a = np.abs(nz)
+    ramp = np.clip((a - (1.0 - 2.0 * tol)) / tol, 0.0, 1.0)
+    return np.where(a >= 1.0 - tol, 1.0, ramp)  # exactly Treers et al.'s rule from 1 - tol
+
+
+def _frame_forces(
+    nb: np.ndarray,
+    vd: np.ndarray,
+    e2: np.ndarray,
+    axial: np.ndarray,
+    coefficients: FourierCoefficients,
+    extension: str,
+) -> np.ndarray:
+    """Force per unit (depth x area) of facets ``nb`` moving along ``vd`` in the frame of the
+    horizontal direction ``e2`` (D51), before the leading weight, divided by zeta."""
+    z_hat = np.array([0.0, 0.0, 1.0])
+    e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
+    v1c = (vd * e1).sum(-1)
+    v23 = vd - v1c[..., None] * e1
+    s = (v23 * e2).sum(-1)
+    e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
+    n_along = np.where(axial, 0.0, (nb * e2m).sum(-1))
+    beta = np.arctan2(nb[..., 2], n_along) + np.pi / 2
+    gamma = -np.arctan2(v23[..., 2], np.abs(s))
+    ax, az = coefficients.alpha(beta, gamma)
+    if extension == "planar":
+        return -ax[..., None] * e2m + az[..., None] * z_hat  # type: ignore[no-any-return]
+    ay = coefficients.alpha(0.0, 0.0)[0]
+    f1, f23 = treers_weights(v1c, np.linalg.norm(v23, axis=-1))
+    return (  # type: ignore[no-any-return]
+        -(f1 * ay * np.sign(v1c))[..., None] * e1
+        - (f23 * ax)[..., None] * e2m
+        + (f23 * az)[..., None] * z_hat
+    )
+
+
 def _unit_forces(
     normals: np.ndarray,
     direction: np.ndarray,
@@ -232,41 +285,31 @@ def _unit_forces(
     vb = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
     nb = np.broadcast_to(normals, vb.shape)
     x_hat = np.array([1.0, 0.0, 0.0])
-    z_hat = np.array([0.0, 0.0, 1.0])
     vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
     nh_dir, nh_ok = _unit_horizontal(nb, x_hat)
-    if extension == "treers2021":
-        horizontal_facet = np.abs(nb[..., 2]) >= 1.0 - _HORIZONTAL_TOL
-        # with no horizontal motion, take the facet's own horizontal direction (not a world
-        # axis), so the force rotates with foot and motion about z
-        e2 = np.where((horizontal_facet & vh_ok)[..., None], vh_dir, nh_dir)
-    else:
-        e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
     # with neither a horizontal motion nor a horizontal normal (both <= 1e-9) e2 is the world
     # x axis, which a rotation about z does not carry along: such a facet moves exactly
     # vertically and is exactly horizontal (what remains is below 1e-9), so its force does not
     # depend on the yaw (D53)
     axial = ~(vh_ok | nh_ok)
-    vd = np.where(axial[..., None], vb * z_hat, vb)
-    e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
-    v1c = (vd * e1).sum(-1)
-    v23 = vd - v1c[..., None] * e1
-    s = (v23 * e2).sum(-1)
-    e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
-    n_along = np.where(axial, 0.0, (nb * e2m).sum(-1))
-    beta = np.arctan2(nb[..., 2], n_along) + np.pi / 2
-    gamma = -np.arctan2(v23[..., 2], np.abs(s))
-    ax, az = coefficients.alpha(beta, gamma)
-    if extension == "treers2021":
-        ay = coefficients.alpha(0.0, 0.0)[0]
-        f1, f23 = treers_weights(v1c, np.linalg.norm(v23, axis=-1))
-        f = (
-            -(f1 * ay * np.sign(v1c))[..., None] * e1
-            - (f23 * ax)[..., None] * e2m
-            + (f23 * az)[..., None] * z_hat
-        )
+    vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
+    if extension == "planar":
+        e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
+        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
     else:
-        f = -ax[..., None] * e2m + az[..., None] * z_hat
+        # a (nearly) horizontal facet takes its frame from the motion, the others from their
+        # normal; with no horizontal motion, every facet from its normal (not a world axis),
+        # so the force rotates with foot and motion about z
+        share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
+        e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
+        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
+        band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
+        if np.any(band):
+            fh = _frame_forces(
+                nb[band], vd[band], vh_dir[band], axial[band], coefficients, extension
+            )
+            h = share[band][:, None]
+            f[band] = (1.0 - h) * f[band] + h * fh
     w = leading_weight((nb * vb).sum(-1), leading_width)
     return w[..., None] * f
 
