@@ -11,6 +11,7 @@ not asked for. Tolerances are fixed here, before any reading is evaluated.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -233,17 +234,24 @@ def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
     ]
 
 
+@functools.lru_cache(maxsize=1)
+def _paper_feet() -> tuple[dict[str, Foot], tuple[float, ...]]:
+    """The paper's three fixed feet and where the curved feet's shape factors cross [m]:
+    the same for every reading, so computed once."""
+    from ..feet import by_name
+
+    feet = {f: by_name(f) for f in FIXED}
+    return feet, tuple(shape_crossovers(feet["semi-cylinder"], feet["semi-sphere"]))
+
+
 def _shape_argument(fixed: dict[str, dict[str, float]]) -> str:
     """Why the curved feet's order is what it is: their shape factors at the peaks' depths
     and where the factors cross (empty when the runs did not record the peaks' depths)."""
     if not all("peak_ns_depth" in m for m in fixed.values()):
         return ""
-    from ..feet import by_name
-
-    feet = {f: by_name(f) for f in FIXED}
+    feet, cross = _paper_feet()
     at = {f: fixed[f]["peak_ns_depth"] for f in FIXED}
     k = {f: shape_factor(feet[f], at[f]) for f in FIXED}
-    cross = shape_crossovers(feet["semi-cylinder"], feet["semi-sphere"])
     text = (
         "; at the peaks ("
         + ", ".join(f"{at[f] * 1e3:.1f}" for f in FIXED)
