@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mudrft
+from mudrft._specialize import on_floats
 from mudrft._xp import pyfloat
 from mudrft.backends.batch import BatchedMud
 from mudrft.constitutive import channel_constants, initial_state, kernel, step
@@ -71,7 +72,12 @@ def test_patching_the_constitutive_step_changes_every_numpy_path(monkeypatch):
         return new, s._replace(total=s.total + SENTINEL)
 
     monkeypatch.setattr(kernel, "channel_update", shifted)
+    # the float path is a specialization of the source, made once like a compilation:
+    # made again, it calls the patched step (mudrft._specialize)
+    on_floats.cache_clear()
     after = _mud_path_outputs()
+    monkeypatch.undo()
+    on_floats.cache_clear()
     assert calls["n"] == 1 + 3 * 3  # the reference step, and three channels per terrain path
     for name in before:
         # every channel in the mud moved by the sentinel: the path ran the patched step

@@ -3,8 +3,8 @@ r"""A fast single-foot path for per-step coupling (MuJoCo, a controller loop).
 :class:`FastMudFoot` is :class:`mudrft.MudTerrain` with one closed-form foot, advanced one
 step at a time: the one terrain step (:func:`mudrft.terrains.mud.mud_step`) and the foot's
 closed form (:func:`mudrft.feet.closed_form.closed_form_force`), compiled on floats by the
-numba backend when numba is installed (about 1-2 microseconds a step), else run on Python
-floats (:data:`mudrft._xp.pyfloat`, about 15-30 microseconds). The tests check that it
+numba backend when numba is installed (about 2 microseconds a step), else run on Python
+floats as :func:`mudrft._specialize.on_floats` rewrites them (about 20 microseconds). The tests check that it
 gives the same forces as ``MudTerrain`` + the foot (decision D73).
 
 Supported feet: :class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._specialize import on_floats
 from .._validation import MudrftError, check_choice, check_finite
-from .._xp import pyfloat
+from ..feet.closed_form import closed_form_force
 from ..parameters.base import Mud
 from ..terrains import MudTerrain
 from ..terrains.mud import mud_step
@@ -117,6 +118,15 @@ class FastMudFoot:
             self._w = np.zeros((3, N_STATE))
             self._w[2, :11] = (*config_row(terrain, foot), kind, *geom)
             self._out = self._w[1:2]
+        else:  # the specialized one terrain step and closed form, options read once
+            t = terrain
+            self._mud_step = on_floats(mud_step)
+            self._force = on_floats(closed_form_force)
+            self._geom = (kind, *geom)
+            self._options = (
+                t.length(foot), t.kappa, t.xi0, t.reset_on_exit, t.heading_speed, 1.0,
+                t.quasi_static, t.restart,
+            )  # fmt: skip
         self.reset(position)
 
     def reset(self, position: ArrayLike) -> None:
@@ -184,15 +194,13 @@ class FastMudFoot:
                 f"velocity {list(v3)}, dt {dt!r}"
             )
         # the one terrain step and the foot's closed form, on Python floats
-        t = self.terrain
-        ch, sx, sy, sz, depth = mud_step(
-            t.constants, self._channels, *p3, *v3, step, t.length(self.foot), t.kappa, t.xi0,
-            t.reset_on_exit, t.heading_speed, 1.0, t.quasi_static, t.restart, xp=pyfloat,
-        )  # fmt: skip
-        f = self.foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
-        force = np.array(f) * ch.in_mud
-        if not np.all(np.isfinite(force)):
+        ch, sx, sy, sz, depth = self._mud_step(
+            self.terrain.constants, self._channels, *p3, *v3, step, *self._options
+        )
+        fx, fy, fz = self._force(*self._geom, depth, sx, sy, sz, ch.heading)
+        if not (math.isfinite(fx) and math.isfinite(fy) and math.isfinite(fz)):
             raise MudrftError("the step produced a non-finite force; check the parameters and dt")
+        force = np.array((fx * ch.in_mud, fy * ch.in_mud, fz * ch.in_mud))
         self._channels, self._stress, self._depth = ch, (sx, sy, sz), depth
         return force
 

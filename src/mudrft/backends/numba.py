@@ -2,12 +2,12 @@ r"""numba backend: the one physics compiled on floats (optional extra ``numba``)
 
 The model's equations are written once as element-wise functions of an array namespace
 ``xp`` (:mod:`mudrft._xp`). numba cannot take a module as an argument, so
-:func:`compile_scalar` *specializes* such a function: it reads the function's own source,
-drops its ``xp`` keyword (and the ``xp=`` of the calls it makes), binds ``xp`` to a
-namespace of compiled scalar functions, specializes every mudrft function it calls the same
-way, and compiles the result with :func:`numba.njit`. The source lines, names and line
-numbers are the original ones (tracebacks point into the physics modules); nothing is
-copied by hand (decision D80).
+:func:`compile_scalar` compiles the rewrite of :func:`mudrft._specialize.specialize`: the
+function's own source without its ``xp`` keyword (and the ``xp=`` of the calls it makes),
+``xp`` bound to a namespace of compiled scalar functions, every mudrft function it calls
+compiled the same way, and the result compiled with :func:`numba.njit`. The Python-float
+path runs the same rewrite uncompiled (:func:`mudrft._specialize.on_floats`). Source lines,
+names and line numbers are the original ones; nothing is copied by hand (decision D80).
 
 On top, two drivers hold state in flat float arrays so that a call from Python costs
 about a microsecond: :func:`compiled_feet` steps N closed-form feet (a ``prange`` loop for
@@ -22,17 +22,15 @@ the horizontal then the vertical :class:`~mudrft.constitutive.kernel.ChannelCons
 
 from __future__ import annotations
 
-import ast
 import functools
-import inspect
 import math
-import textwrap
 import types
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .._specialize import specialize
 from .._xp import SCALAR_HELPERS
 from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
@@ -99,31 +97,6 @@ def scalar_namespace() -> types.ModuleType:
     return ns
 
 
-class _Specializer(ast.NodeTransformer):
-    """Drop ``xp=`` keywords and point calls of mudrft functions at their compiled forms."""
-
-    def __init__(self, env: dict[str, Any]) -> None:
-        self.env = env
-
-    def _resolve(self, node: ast.expr) -> Any:
-        if isinstance(node, ast.Name):
-            return self.env.get(node.id)
-        if isinstance(node, ast.Attribute):
-            base = self._resolve(node.value)
-            return getattr(base, node.attr, None) if isinstance(base, types.ModuleType) else None
-        return None
-
-    def visit_Call(self, node: ast.Call) -> ast.AST:
-        self.generic_visit(node)
-        node.keywords = [k for k in node.keywords if k.arg != "xp"]
-        target = self._resolve(node.func)
-        if isinstance(target, types.FunctionType) and target.__module__.startswith("mudrft."):
-            name = f"_k_{target.__module__.replace('.', '_')}_{target.__name__}"
-            self.env[name] = compile_scalar(target)
-            node.func = ast.Name(id=name, ctx=ast.Load())
-        return node
-
-
 @functools.cache
 def compile_scalar(fn: types.FunctionType) -> Any:
     """Compile an element-wise mudrft function on floats with numba (see module docstring).
@@ -138,32 +111,8 @@ def compile_scalar(fn: types.FunctionType) -> Any:
     numba dispatcher
         The same function without ``xp``, compiled lazily for the argument types.
     """
-    numba = _numba()
-    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
-    fdef = tree.body[0]
-    assert isinstance(fdef, ast.FunctionDef)
-    fdef.decorator_list = []
-    args = fdef.args
-    keep = [(a, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True) if a.arg != "xp"]
-    if keep:  # numba takes no keyword-only arguments: make the others positional (the
-        # required ones first; callers pass them by name)
-        required = [a for a, d in keep if d is None]
-        if required and args.defaults:
-            raise TypeError(f"{fn.__name__}: required keyword-only arguments after defaults")
-        args.args += required + [a for a, d in keep if d is not None]
-        args.defaults += [d for _, d in keep if d is not None]
-    args.kwonlyargs, args.kw_defaults = [], []
-    for a in args.args:
-        a.annotation = None
-    fdef.returns = None
-    env = dict(fn.__globals__)
-    env["xp"] = scalar_namespace()
-    tree = _Specializer(env).visit(tree)
-    ast.fix_missing_locations(tree)
-    ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
-    local: dict[str, Any] = {}
-    exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
-    return numba.njit(error_model="numpy")(local[fdef.name])
+    plain = specialize(fn, scalar_namespace(), compile_scalar, rewrite_where=False, positional=True)
+    return _numba().njit(error_model="numpy")(plain)
 
 
 def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> NDArray[np.float64]:

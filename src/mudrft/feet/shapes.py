@@ -14,7 +14,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from .._specialize import on_floats
 from .._validation import MudrftError, check_dimensions, check_nonnegative
+from .._xp import pyfloat
 from .base import Foot, SurfaceElements
 from .base import check_resultant_inputs as _check_inputs
 from .closed_form import (
@@ -65,6 +67,8 @@ class _ClosedFormFoot(Foot):
     ) -> tuple[Any, Any, Any]:
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
         kind, g0, g1, g2 = self.kernel_geometry
+        if xp is pyfloat:  # one foot on floats: the specialized source (mudrft._specialize)
+            return on_floats(closed_form_force)(kind, g0, g1, g2, depth, sx, sy, sz, heading)
         return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
 
     def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:

@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._specialize import on_floats
 from .._validation import MudrftError, check_finite, check_in_range, check_positive
 from .._xp import pyfloat
 from ..citations import register
@@ -424,7 +425,7 @@ class MudTerrain:
             # one foot: the same step on Python floats (no numpy call overhead)
             x, y, z = pos.tolist()
             u, v, w = vel.tolist()
-            ch, sx, sy, sz, depth = mud_step(
+            ch, sx, sy, sz, depth = on_floats(mud_step)(
                 self.constants,
                 state.channels,
                 x,
@@ -437,7 +438,6 @@ class MudTerrain:
                 *common,
                 float(seal),
                 *flags,
-                xp=pyfloat,
             )
             if foot.elementwise and state.foot is None:
                 f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)

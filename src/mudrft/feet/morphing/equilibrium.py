@@ -46,6 +46,7 @@ from typing import Any, NamedTuple, NoReturn
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._specialize import on_floats
 from ..._validation import MudrftError, plain
 from ..._xp import pyfloat
 from .linkage import Linkage, pad_angle
@@ -193,7 +194,7 @@ def balanced_deflection(
         for i in np.flatnonzero(moving):
             key = (float(d[i]), float(s[i]), float(p[i]))
             if key not in seen:
-                seen[key] = balanced_deflection_on_floats(row, *key)
+                seen[key] = on_floats(balanced_deflection_on_floats)(row, *key)
             out[i] = seen[key]
     return out.reshape(shape)
 

@@ -1,0 +1,436 @@
+r"""Specialize the one physics for one namespace: the same source, rewritten, not copied.
+
+The equations are written once as element-wise functions of an array namespace ``xp``
+(:mod:`mudrft._xp`, decision D80). On numpy and JAX they run as written. On one foot's
+Python floats, passing ``xp=pyfloat`` works but pays for generality: every ``xp.where``
+is a Python call that has evaluated both of its branches, every ``xp.exp`` an attribute
+lookup and a call. :func:`on_floats` reads a function's own source and rewrites it for
+floats:
+
+* ``xp.where(c, a, b)`` becomes ``a if c else b`` and ``xp.maximum``/``xp.minimum`` a
+  conditional on their two arguments (each evaluated once); the result is the same
+  float, and the branch not taken is not computed;
+* every other ``xp.f`` becomes a direct reference to the namespace's function, and a named
+  tuple made by keywords is made by position;
+* every call of a mudrft function is pointed at that function's own specialization (the
+  ``xp=`` keyword dropped), so a whole step is specialized from its entry point.
+
+The numba backend compiles the same rewrite (:func:`mudrft.backends.numba.compile_scalar`,
+with ``rewrite_where=False`` and the namespace of compiled scalar functions). Source lines,
+names and line numbers are the original ones, so a traceback points into the physics
+modules. A specialization is made once per process and function, like a compilation: a
+function replaced at run time (a test's ``monkeypatch``) is seen after
+``on_floats.cache_clear()``.
+"""
+
+from __future__ import annotations
+
+import ast
+import builtins
+import copy
+import functools
+import inspect
+import itertools
+import textwrap
+import types
+from collections.abc import Callable
+from typing import Any
+
+from ._xp import pyfloat
+
+__all__ = ["on_floats", "specialize"]
+
+
+class _Rewriter(ast.NodeTransformer):
+    """Rewrite ``xp.`` calls and point calls of mudrft functions at their specializations."""
+
+    def __init__(
+        self, env: dict[str, Any], callee: Callable[[Any], Any], rewrite_where: bool, drop: bool
+    ) -> None:
+        self.env = env
+        self.callee = callee
+        self.rewrite_where = rewrite_where
+        self.drop = drop  # drop every call's xp= (numba cannot pass a namespace)
+        self.targets: dict[str, types.FunctionType] = {}  # _k_ name -> the mudrft function
+        self.names = itertools.count()
+
+    def _resolve(self, node: ast.expr) -> Any:
+        if isinstance(node, ast.Name):
+            return self.env.get(node.id)
+        if isinstance(node, ast.Attribute):
+            base = self._resolve(node.value)
+            return getattr(base, node.attr, None) if isinstance(base, types.ModuleType) else None
+        return None
+
+    @staticmethod
+    def _is_mudrft(target: Any) -> bool:
+        return isinstance(target, types.FunctionType) and target.__module__.startswith("mudrft.")
+
+    def _temp(self) -> str:
+        return f"_xp_t{next(self.names)}"
+
+    def _extremum(self, args: list[ast.expr], op: ast.cmpop) -> ast.expr:
+        # (a if a >= b else b) with a and b evaluated once: numpy's maximum for non-NaN
+        # floats, and the same as mudrft._xp's scalar helpers for NaN
+        a, b = self._temp(), self._temp()
+        test = ast.Compare(
+            left=ast.NamedExpr(target=ast.Name(a, ast.Store()), value=args[0]),
+            ops=[op],
+            comparators=[ast.NamedExpr(target=ast.Name(b, ast.Store()), value=args[1])],
+        )
+        return ast.IfExp(test=test, body=ast.Name(a, ast.Load()), orelse=ast.Name(b, ast.Load()))
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        if self.drop:
+            node.keywords = [k for k in node.keywords if k.arg != "xp"]
+        f = node.func
+        if isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) and f.value.id == "xp":
+            args = node.args
+            if self.rewrite_where and f.attr == "where" and len(args) == 3:
+                return ast.IfExp(test=args[0], body=args[1], orelse=args[2])
+            if self.rewrite_where and f.attr in ("maximum", "minimum") and len(args) == 2:
+                return self._extremum(args, ast.GtE() if f.attr == "maximum" else ast.LtE())
+            target = getattr(self.env["xp"], f.attr)
+            if not self._is_mudrft(target):
+                name = f"_xp_{f.attr}"
+                self.env[name] = target
+                node.func = ast.Name(id=name, ctx=ast.Load())
+                return node
+            # else a helper of mudrft._xp (sign, clip): specialized, and inlined, as any
+        else:
+            target = self._resolve(f)
+        fields = getattr(target, "_fields", None)
+        if (
+            isinstance(target, type)
+            and issubclass(target, tuple)
+            and fields is not None
+            and not node.args
+            and sorted(k.arg or "" for k in node.keywords) == sorted(fields)
+        ):  # a named tuple made by keywords: by position, 3x cheaper on floats
+            by_name = {k.arg: k.value for k in node.keywords}
+            node.args, node.keywords = [by_name[name] for name in fields], []
+            return node
+        if self._is_mudrft(target):
+            name = f"_k_{target.__module__.replace('.', '_')}_{target.__name__}"
+            self.env[name] = self.callee(target)
+            self.targets[name] = target
+            node.func = ast.Name(id=name, ctx=ast.Load())
+            node.keywords = [k for k in node.keywords if k.arg != "xp"]
+        return node
+
+
+def specialize(
+    fn: types.FunctionType,
+    xp: Any,
+    callee: Callable[[Any], Any],
+    *,
+    rewrite_where: bool = True,
+    positional: bool = False,
+    inline: Callable[[Any], Any] | None = None,
+) -> types.FunctionType:
+    """The source of ``fn`` rewritten for the namespace ``xp`` (see the module docstring).
+
+    Parameters
+    ----------
+    fn : function
+        A mudrft function whose namespace is a keyword-only ``xp`` argument.
+    xp : namespace
+        The element-wise namespace the rewrite binds (:data:`mudrft._xp.pyfloat`, or the
+        numba backend's compiled scalar functions).
+    callee : callable
+        Maps a mudrft function that ``fn`` calls to what the rewrite calls instead (its
+        own specialization).
+    rewrite_where : bool
+        Rewrite ``xp.where``, ``xp.maximum`` and ``xp.minimum`` as conditionals.
+    positional : bool
+        For numba: make the keyword-only arguments positional (numba takes none; callers
+        pass them by name) and drop ``xp=`` from every call (it cannot pass a namespace).
+        Otherwise ``xp=`` is dropped only from the calls pointed at a specialization, and
+        any other function is called with the namespace as written.
+
+    inline : callable, optional
+        Maps a mudrft function that ``fn`` calls to its rewritten definition
+        (``(FunctionDef, env)``, see :func:`_float_def`); a straight-line one is then
+        inlined (:func:`_inline_block`) instead of called.
+
+    Returns
+    -------
+    function
+        Plain Python: the same arguments as ``fn`` without ``xp``; its rewritten
+        ``FunctionDef`` and environment as ``__specialized__``.
+    """
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    fdef = tree.body[0]
+    if not isinstance(fdef, ast.FunctionDef):
+        raise TypeError(f"cannot specialize {fn!r}: not a plain function")
+    fdef.decorator_list = []
+    args = fdef.args
+    keep = [(a, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True) if a.arg != "xp"]
+    if positional and keep:
+        required = [a for a, d in keep if d is None]
+        if required and args.defaults:
+            raise TypeError(f"{fn.__name__}: required keyword-only arguments after defaults")
+        args.args += required + [a for a, d in keep if d is not None]
+        args.defaults += [d for _, d in keep if d is not None]
+        keep = []
+    args.kwonlyargs, args.kw_defaults = [a for a, _ in keep], [d for _, d in keep]
+    for a in (*args.args, *args.kwonlyargs):
+        a.annotation = None
+    fdef.returns = None
+    env = dict(fn.__globals__)
+    env["xp"] = xp
+    rewriter = _Rewriter(env, callee, rewrite_where, positional)
+    tree = rewriter.visit(tree)
+    ast.fix_missing_locations(tree)
+    ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
+    if inline is not None:
+        fdef.body = _inline_block(_body(fdef), env, rewriter.targets, inline)
+    ast.fix_missing_locations(tree)
+    local: dict[str, Any] = {}
+    exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
+    out = local[fdef.name]
+    out.__doc__ = fn.__doc__
+    out.__specialized__ = (fdef, env)
+    return out  # type: ignore[no-any-return]
+
+
+@functools.cache
+def on_floats(fn: types.FunctionType) -> types.FunctionType:
+    """``fn`` specialized for one element on Python floats (see the module docstring).
+
+    The result equals ``fn(..., xp=pyfloat)`` bit for bit and takes the same arguments
+    without ``xp``.
+
+    Examples
+    --------
+    >>> from mudrft.constitutive import laws
+    >>> on_floats(laws.sealing)(1e-3, 2e-3) == laws.sealing(1e-3, 2e-3, xp=pyfloat)
+    True
+    """
+    return specialize(fn, pyfloat, on_floats, inline=_float_def)
+
+
+def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]]:
+    """The rewritten definition of ``fn`` on floats and its environment (for inlining)."""
+    return on_floats(fn).__specialized__  # type: ignore[attr-defined, no-any-return]
+
+
+# -- inlining ------------------------------------------------------------------------------
+#
+# A call of a mudrft function whose rewritten body is straight-line (assignments, then one
+# return) is replaced by that body: its parameters and locals renamed apart, its globals
+# bound in the caller's environment, the body placed before the statement that makes the
+# call, the call replaced by the returned expression. Only calls that the statement always
+# evaluates are inlined (not in a branch of a conditional expression, after the first
+# operand of ``and``/``or``, in a ``while`` test, a comprehension or a lambda), so nothing is
+# evaluated that the original would not evaluate. The physics is free of side effects, so
+# the result is the same float.
+
+_names = itertools.count()
+
+
+def _body(fdef: ast.FunctionDef) -> list[ast.stmt]:
+    """The statements of a function without its docstring."""
+    b = fdef.body
+    if b and isinstance(b[0], ast.Expr) and isinstance(b[0].value, ast.Constant):
+        return b[1:]
+    return b
+
+
+def _straight_line(fdef: ast.FunctionDef) -> bool:
+    """Whether a definition is assignments to names, then one return of a value."""
+    a = fdef.args
+    if a.vararg or a.kwarg or a.posonlyargs:
+        return False
+    body = _body(fdef)
+    if not body or not isinstance(body[-1], ast.Return) or body[-1].value is None:
+        return False
+    for st in body[:-1]:
+        if not (isinstance(st, ast.Assign) and len(st.targets) == 1):
+            return False
+        t = st.targets[0]
+        names = t.elts if isinstance(t, (ast.Tuple, ast.List)) else [t]
+        if not all(isinstance(n, ast.Name) for n in names):
+            return False
+    return not any(
+        isinstance(n, (ast.Lambda, ast.FunctionDef, ast.Yield, ast.Await, ast.Global))
+        or isinstance(n, (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp))
+        for st in body
+        for n in ast.walk(st)
+    )
+
+
+def _always_evaluated(node: ast.AST) -> list[ast.Call]:
+    """Calls in ``node`` that evaluating it always evaluates, outermost first."""
+    found: list[ast.Call] = []
+
+    def walk(n: ast.AST) -> None:
+        if isinstance(n, ast.Call):
+            found.append(n)
+            for c in (n.func, *n.args, *n.keywords):
+                walk(c)
+            return
+        if isinstance(n, ast.IfExp):
+            walk(n.test)
+            return
+        if isinstance(n, ast.BoolOp):
+            walk(n.values[0])
+            return
+        if isinstance(n, ast.Compare) and len(n.ops) > 1:
+            walk(n.left)
+            walk(n.comparators[0])
+            return
+        if isinstance(n, (ast.Lambda, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)):
+            return
+        for c in ast.iter_child_nodes(n):
+            walk(c)
+
+    walk(node)
+    return found
+
+
+def _evaluated_parts(st: ast.stmt) -> list[ast.AST]:
+    """The parts of a statement evaluated once, before anything else it does."""
+    if isinstance(st, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Return, ast.Expr)):
+        return [st.value] if st.value is not None else []
+    if isinstance(st, ast.If):
+        return [st.test]
+    if isinstance(st, ast.For):
+        return [st.iter]
+    return []  # while (its test is evaluated again), with, try, ...: left as they are
+
+
+def _at(nodes: list[ast.stmt], where: ast.AST) -> list[ast.stmt]:
+    """``nodes`` with every location set to ``where``'s (tracebacks name the call's line)."""
+    for st in nodes:
+        for n in ast.walk(st):
+            if "lineno" in n._attributes:
+                n.lineno = where.lineno  # type: ignore[attr-defined]
+                n.end_lineno = where.end_lineno  # type: ignore[attr-defined]
+                n.col_offset = where.col_offset  # type: ignore[attr-defined]
+                n.end_col_offset = where.end_col_offset  # type: ignore[attr-defined]
+    return nodes
+
+
+def _expand(
+    call: ast.Call, fn: types.FunctionType, fdef: ast.FunctionDef, callee_env: dict[str, Any],
+    env: dict[str, Any],
+) -> tuple[list[ast.stmt], ast.expr] | None:  # fmt: skip
+    """The statements and the value that replace ``call`` of ``fn``, or None."""
+    if any(isinstance(a, ast.Starred) for a in call.args) or any(
+        k.arg is None for k in call.keywords
+    ):
+        return None
+    k = next(_names)
+    params = [a.arg for a in (*fdef.args.args, *fdef.args.kwonlyargs)]
+    sig = inspect.signature(fn)
+    given: dict[str, ast.expr] = dict(zip(params, call.args, strict=False))
+    given.update({kw.arg: kw.value for kw in call.keywords if kw.arg is not None})
+    if len(call.args) > len(fdef.args.args) or set(given) - set(params):
+        return None
+    stored = {
+        n.id for n in ast.walk(fdef) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)
+    }
+    local = set(params) | stored
+    pre: list[ast.stmt] = []
+    subst: dict[str, ast.expr] = {}
+    for p in params:
+        if p in given:
+            arg = given[p]
+        else:
+            default = sig.parameters[p].default
+            if default is inspect.Parameter.empty:
+                return None
+            env[f"_i{k}_d_{p}"] = default
+            arg = ast.Name(f"_i{k}_d_{p}", ast.Load())
+        if isinstance(arg, (ast.Name, ast.Constant)) and p not in stored:
+            subst[p] = arg  # used as it is: the inlined body assigns only its own names
+        else:
+            pre.append(ast.Assign(targets=[ast.Name(f"_i{k}_{p}", ast.Store())], value=arg))
+    body = [copy.deepcopy(st) for st in _body(fdef)]
+    free: dict[str, str] = {}
+
+    class Rename(ast.NodeTransformer):
+        def visit_Name(self, n: ast.Name) -> ast.AST:
+            if n.id in subst:
+                return copy.deepcopy(subst[n.id])
+            if n.id in local:
+                return ast.Name(f"_i{k}_{n.id}", n.ctx)
+            if n.id not in free:  # a global of the callee's module, or a builtin
+                if n.id in callee_env:
+                    value = callee_env[n.id]
+                elif hasattr(builtins, n.id):
+                    value = getattr(builtins, n.id)
+                else:
+                    raise _NotInlined(n.id)
+                free[n.id] = f"_i{k}_g_{n.id}"
+                env[free[n.id]] = value
+            return ast.Name(free[n.id], n.ctx)
+
+    try:
+        body = [Rename().visit(st) for st in body]
+    except _NotInlined:
+        return None
+    ret = body.pop()
+    assert isinstance(ret, ast.Return) and ret.value is not None
+    return pre + body, ret.value
+
+
+class _NotInlined(Exception):
+    """A name the inlined body needs is not defined (left as a call)."""
+
+
+def _inline_block(
+    block: list[ast.stmt], env: dict[str, Any], targets: dict[str, types.FunctionType],
+    inline: Callable[[Any], Any],
+) -> list[ast.stmt]:  # fmt: skip
+    """``block`` with its always-evaluated calls of straight-line mudrft functions inlined."""
+    out: list[ast.stmt] = []
+    work = list(block)
+    while work:
+        st = work.pop(0)
+        for field in ("body", "orelse", "finalbody"):
+            inner = getattr(st, field, None)
+            if isinstance(inner, list) and inner and isinstance(inner[0], ast.stmt):
+                setattr(st, field, _inline_block(inner, env, targets, inline))
+        if isinstance(st, ast.Try):
+            for h in st.handlers:
+                h.body = _inline_block(h.body, env, targets, inline)
+        done = None
+        for part in _evaluated_parts(st):
+            for call in _always_evaluated(part):
+                f = call.func
+                if not (isinstance(f, ast.Name) and f.id in targets):
+                    continue
+                fdef, callee_env = inline(targets[f.id])
+                if not _straight_line(fdef):
+                    continue
+                done = _expand(call, targets[f.id], fdef, callee_env, env)
+                if done is not None:
+                    pre, value = done
+                    _replace(st, call, value)
+                    work[:0] = _at(pre, st)
+                    break
+            if done is not None:
+                break
+        if done is None:
+            out.append(st)
+        else:
+            work.insert(len(done[0]), st)  # the statement again, after its inlined parts
+    return out
+
+
+def _replace(root: ast.AST, old: ast.AST, new: ast.expr) -> None:
+    """Replace the node ``old`` (by identity) under ``root`` with ``new``."""
+    for parent in ast.walk(root):
+        for field, value in ast.iter_fields(parent):
+            if value is old:
+                setattr(parent, field, new)
+                return
+            if isinstance(value, list):
+                for i, v in enumerate(value):
+                    if v is old:
+                        value[i] = new
+                        return
+    raise AssertionError("node not found")

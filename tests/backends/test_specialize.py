@@ -1,0 +1,133 @@
+"""The float specialization of the one source (mudrft._specialize) computes what it rewrites.
+
+``on_floats(f)`` is ``f`` rewritten for one element on Python floats: ``xp.where`` as a
+conditional, straight-line callees inlined. Its result must be the generic ``f(...,
+xp=pyfloat)`` bit for bit (the same operations on the same doubles), so these tests compare
+with ``==``, not a tolerance. The toy functions show what may and may not be inlined.
+"""
+
+from __future__ import annotations
+
+import ast
+
+import numpy as np
+import pytest
+from _backend_support import channel_inputs, parameter_sets
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+from mudrft._specialize import on_floats
+from mudrft._xp import pyfloat
+from mudrft.constitutive import channel_constants, kernel
+from mudrft.feet.closed_form import closed_form_force
+from mudrft.feet.morphing.equilibrium import balanced_deflection_on_floats
+from mudrft.feet.morphing.row import linkage_row
+from mudrft.terrains.mud import mud_step
+
+
+def _floats(tree):
+    """A pytree of 1-element arrays (or floats) as Python floats."""
+    return type(tree)(*(float(np.ravel(v)[0]) for v in tree))
+
+
+@settings(max_examples=60)
+@given(parameter_sets(), channel_inputs(shape=(1,)), st.sampled_from([0.0, 1.0]))
+def test_the_float_channel_step_is_the_generic_one_bit_for_bit(p, inputs, kappa):
+    state, gamma, gamma_dot, dt, seal = inputs
+    c = _floats(channel_constants(p))
+    s = _floats(state)
+    g, gd, sl = float(gamma[0]), float(gamma_dot[0]), float(seal[0])
+    for qs, restart in ((False, False), (True, False), (True, True)):
+        args = (c, s, g, gd, dt, sl, kappa, qs, restart)
+        assert on_floats(kernel.channel_step)(*args) == kernel.channel_step(*args, xp=pyfloat)
+
+
+@settings(max_examples=40)
+@given(
+    st.sampled_from([0.25, 0.35, 0.45]),
+    st.integers(0, 2**31 - 1),
+    st.booleans(),
+    st.booleans(),
+)
+def test_the_float_terrain_step_and_closed_forms_are_the_generic_ones_bit_for_bit(
+    w, seed, reset, quasi_static
+):
+    rng = np.random.default_rng(seed)
+    terrain = mudrft.MudTerrain(
+        mudrft.paper_mud(w), thixotropy="quasi-static" if quasi_static else "ode"
+    )
+    for foot in (mudrft.feet.Flat(), mudrft.feet.SemiCylinder(), mudrft.feet.SemiSphere()):
+        ch = terrain.initial_state(foot, np.zeros(3)).channels
+        lc = terrain.length(foot)
+        for _ in range(20):  # a short random walk in and out of the mud
+            p = (*rng.normal(0.0, 0.01, 2), float(rng.uniform(-0.03, 0.005)))
+            v = tuple(rng.normal(0.0, 0.1, 3))
+            args = (terrain.constants, ch, *p, *v, 1e-3, lc, 1.0, 1.0, reset, 1e-3, 1.0)
+            out = on_floats(mud_step)(*args, quasi_static, False)
+            assert out == mud_step(*args, quasi_static, False, xp=pyfloat)
+            ch, sx, sy, sz, depth = out
+            geom = foot.kernel_geometry
+            f = on_floats(closed_form_force)(*geom, depth, sx, sy, sz, ch.heading)
+            assert f == closed_form_force(*geom, depth, sx, sy, sz, ch.heading, xp=pyfloat)
+
+
+@settings(max_examples=40)
+@given(st.floats(0.0, 0.03), st.floats(-4e4, 6e4), st.floats(0.0, 0.012))
+def test_the_float_column_balance_is_the_generic_one_bit_for_bit(depth, sz, previous):
+    foot = mudrft.feet.MorphingFoot()
+    row = linkage_row(foot.linkage, foot.spring)
+    got = on_floats(balanced_deflection_on_floats)(row, depth, sz, previous)
+    assert got == balanced_deflection_on_floats(row, depth, sz, previous, xp=pyfloat)
+
+
+# -- what is inlined --------------------------------------------------------------------
+
+
+def _half(x, *, xp=np):
+    y = 0.5 * x
+    return y
+
+
+def _recip(x, *, xp=np):
+    return 1.0 / x
+
+
+def _toy(x, *, xp=np):
+    a = _half(x, xp=xp) + _half(2.0 * x, xp=xp)  # inlined twice, its names kept apart
+    b = xp.where(x > 0.0, _recip(x, xp=xp), 0.0)  # a branch: called only when taken
+    n = 0
+    while _half(float(n), xp=xp) < 1.0:  # a while test: called at every test
+        n += 1
+    return a + b + n
+
+
+@pytest.fixture
+def toys(monkeypatch):
+    """The toy functions as mudrft functions (the specializer rewrites only those)."""
+    for f in (_half, _recip, _toy):
+        monkeypatch.setattr(f, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    yield
+    on_floats.cache_clear()
+
+
+def test_straight_line_callees_are_inlined_where_always_evaluated(toys):
+    fdef, _env = on_floats(_toy).__specialized__
+    calls = [
+        n.func.id
+        for n in ast.walk(fdef)
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
+    ]
+    # the two halves of `a` inlined; the branch of the where and the while test still calls
+    assert sorted(c for c in calls if c.startswith("_k_")) == [
+        "_k_mudrft__toy__half",
+        "_k_mudrft__toy__recip",
+    ]
+    assert on_floats(_toy)(2.0) == _toy(2.0, xp=pyfloat) == 3.0 + 0.5 + 2
+
+
+def test_a_branch_not_taken_is_not_evaluated_on_floats(toys):
+    with pytest.raises(ZeroDivisionError):  # the generic float path evaluates both branches
+        _toy(0.0, xp=pyfloat)
+    assert on_floats(_toy)(0.0) == 2.0  # a = b = 0; the loop ran twice
