@@ -35,6 +35,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import harness._timing
 import numpy as np
@@ -46,7 +47,7 @@ LABELS = {
     "step_one_plate_us": "`constitutive.step`, one channel, per call [us]",
     "step_batch_ns": "`constitutive.step`, 300,000 channels [ns/channel]",
     "kernel_batch_ns": "unvalidated numpy kernel (before: `fused_step`; after: `channel_update`), 300,000 channels [ns/channel]",
-    "float_one_plate_us": "Python floats (before: `scalar_channel_step`; after: `channel_update(xp=pyfloat)`), per call [us]",
+    "float_one_plate_us": "Python floats (before: `scalar_channel_step`; after: `on_floats(channel_update)`), per call [us]",
     "numba_one_plate_us": "numba, one channel from arrays, per call [us]",
     "numba_namedtuple_us": "numba, `compile_scalar(channel_update)` called with named tuples [us]",
     "numba_batch_ns": "numba, prange loop over 300,000 channels [ns/channel]",
@@ -95,24 +96,34 @@ def _constitutive(which: str, budget: float) -> dict[str, float]:
                 1e9 * best(lambda: batch(rows, sm, g, gd, 1e-3, 1.0, tot), budget=budget) / M
             )
     else:
-        from mudrft._xp import pyfloat
         from mudrft.constitutive import kernel
         from mudrft.constitutive.state import ChannelState
 
+        try:  # since the float specialization: what one foot on floats runs
+            from mudrft._specialize import on_floats
+
+            update = on_floats(kernel.channel_update)
+        except ImportError:
+            from mudrft._xp import pyfloat
+
+            def update(*a: Any) -> Any:
+                return kernel.channel_update(*a, xp=pyfloat)
+
         c = kernel.channel_constants(p)
         cf = kernel.ChannelConstants(*(float(v) for v in c))
-        sf = ChannelState(0.0, 0.0, 0.0, 0.0, 0.0)
+        sf = ChannelState(*[0.0] * len(ChannelState._fields))
         out["kernel_batch_ns"] = (
             1e9 * best(lambda: kernel.channel_update(c, bst, g, gd, 1e-3), budget=budget) / M
         )
         out["float_one_plate_us"] = 1e6 * best(
-            lambda: kernel.channel_update(cf, sf, 0.1, 1.0, 1e-3, xp=pyfloat), budget=budget
+            lambda: update(cf, sf, 0.1, 1.0, 1e-3), budget=budget
         )
         if have("numba"):
             from harness.physics import _numba_drivers
 
             upd, one, batch = _numba_drivers()
-            row, s1, sm, tot = np.array(cf, dtype=float), np.zeros(5), np.zeros((M, 5)), np.zeros(M)
+            n = len(ChannelState._fields)
+            row, s1, sm, tot = np.array(cf, dtype=float), np.zeros(n), np.zeros((M, n)), np.zeros(M)
             out["numba_one_plate_us"] = 1e6 * best(
                 lambda: one(row, s1, 0.1, 1.0, 1e-3), budget=budget
             )

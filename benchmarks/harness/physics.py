@@ -31,6 +31,10 @@ import numpy as np
 
 from ._timing import Progress, best, block, have, say
 
+#: Floats in a channel's state: the drivers below unpack ChannelState field by field (numba
+#: cannot splat a row), and check this count when they are built.
+N_FIELDS = 7
+
 __all__ = ["BATCH_CHANNELS", "MESH_RESOLUTIONS", "bench_constitutive", "bench_mesh"]
 
 #: Channels in the batched constitutive step.
@@ -48,6 +52,8 @@ def _numba_drivers() -> tuple[Any, Any, Any]:
     from mudrft.constitutive.kernel import ChannelConstants, channel_update
     from mudrft.constitutive.state import ChannelState
 
+    if len(ChannelState._fields) != N_FIELDS:
+        raise RuntimeError(f"ChannelState has {len(ChannelState._fields)} fields; update N_FIELDS")
     upd = compile_scalar(channel_update)
 
     @numba.njit(inline="always")
@@ -59,9 +65,10 @@ def _numba_drivers() -> tuple[Any, Any, Any]:
     @numba.njit(error_model="numpy")
     def one(r: Any, s: Any, g: float, gd: float, dt: float) -> float:
         new, out = upd(
-            constants(r), ChannelState(s[0], s[1], s[2], s[3], s[4]), g, gd, dt, 1.0, 1.0
-        )
-        s[0], s[1], s[2], s[3], s[4] = new
+            constants(r), ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]), g, gd, dt,
+            1.0, 1.0,
+        )  # fmt: skip
+        s[0], s[1], s[2], s[3], s[4], s[5], s[6] = new
         return out.total
 
     @numba.njit(error_model="numpy", parallel=True)
@@ -69,9 +76,9 @@ def _numba_drivers() -> tuple[Any, Any, Any]:
         c = constants(r)
         for i in numba.prange(g.shape[0]):
             si = s[i]
-            st = ChannelState(si[0], si[1], si[2], si[3], si[4])
+            st = ChannelState(si[0], si[1], si[2], si[3], si[4], si[5], si[6])
             new, out = upd(c, st, g[i], gd[i], dt, 1.0, 1.0)
-            si[0], si[1], si[2], si[3], si[4] = new
+            si[0], si[1], si[2], si[3], si[4], si[5], si[6] = new
             tot[i] = out.total
 
     return upd, one, batch
@@ -94,7 +101,7 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
     dict
         Times per call [us] and per channel [ns], keyed as in the module docstring.
     """
-    from mudrft._xp import pyfloat
+    from mudrft._specialize import on_floats
     from mudrft.constitutive import initial_state, kernel, step
     from mudrft.constitutive.state import ChannelState
     from mudrft.parameters import paper_parameters
@@ -105,9 +112,10 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
     st = initial_state()
     out["numpy_one_plate_us"] = 1e6 * best(lambda: step(p, st, 0.1, 1.0, 1e-3), budget=budget)
     cf = kernel.ChannelConstants(*(float(v) for v in c))
-    sf = ChannelState(0.0, 0.0, 0.0, 0.0, 0.0)
+    sf = ChannelState(*[0.0] * len(ChannelState._fields))
+    update = on_floats(kernel.channel_update)  # what one foot on floats runs
     out["python_float_one_plate_us"] = 1e6 * best(
-        lambda: kernel.channel_update(cf, sf, 0.1, 1.0, 1e-3, xp=pyfloat), budget=budget
+        lambda: update(cf, sf, 0.1, 1.0, 1e-3), budget=budget
     )
     m = BATCH_CHANNELS
     out["batch_channels"] = m
@@ -125,11 +133,11 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
             lambda: upd(cf, sf, 0.1, 1.0, 1e-3, 1.0, 1.0), budget=budget
         )
         row = np.array(cf, dtype=float)
-        s1 = np.zeros(5)
+        s1 = np.zeros(N_FIELDS)
         out["numba_array_one_plate_us"] = 1e6 * best(
             lambda: one(row, s1, 0.1, 1.0, 1e-3), budget=budget
         )
-        sm = np.zeros((m, 5))
+        sm = np.zeros((m, N_FIELDS))
         tot = np.zeros(m)
         t = best(lambda: batch(row, sm, g, gd, 1e-3, tot), budget=budget)
         out["numba_batch_ns_per_channel"] = 1e9 * t / m
