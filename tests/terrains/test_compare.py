@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import logging
 
 import numpy as np
 import pytest
@@ -169,3 +170,16 @@ def test_run_terrain_rejects_non_terrains(box):
         run_terrain(object(), box, mudrft.gait())
     with pytest.raises(MudrftError, match="trajectory"):
         run_terrain(LinearStiffness(), box, "gait")
+
+
+def test_compare_reports_progress_through_the_mudrft_logger_not_print(box, capsys, caplog):
+    tr = mudrft.gait(0.26)
+    seen = []
+    compare(box, tr, [LinearStiffness(), RigidGround()], progress=seen.append)
+    assert seen == [0.5, 1.0]  # a callable gets the share of terrains run
+    with caplog.at_level(logging.INFO, logger="mudrft"):
+        compare(box, tr, [LinearStiffness(), RigidGround()], progress=True)
+    lines = [r.getMessage() for r in caplog.records if r.name == "mudrft.progress"]
+    assert lines[-1].strip() == f"compare on {tr.name}: 100 %"
+    compare(box, tr, [LinearStiffness()])
+    assert capsys.readouterr().out == ""  # the library never prints

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -106,15 +107,21 @@ def test_defaults_are_the_fit_to_the_mud_plate_test():
         assert getattr(fit.model, f) == pytest.approx(getattr(MaxwellMud(), f), rel=5e-3), f
 
 
-def test_fit_recovers_known_constants():
+def test_fit_recovers_known_constants(caplog, capsys):
     tr = mudrft.plate_intrusion(dt=4e-3)
     truth = MaxwellMud(modulus=5e4, relaxation=0.5, sigma_y=1e4, omega=20.0, release=0.5)
     data = truth.response(tr)
-    fit = fit_maxwell(
-        tr,
-        data,
-        initial=MaxwellMud(modulus=8e4, relaxation=0.3, sigma_y=1.5e4, omega=30.0, release=1.0),
-    )
+    with caplog.at_level(logging.INFO, logger="mudrft"):
+        fit = fit_maxwell(
+            tr,
+            data,
+            initial=MaxwellMud(modulus=8e4, relaxation=0.3, sigma_y=1.5e4, omega=30.0, release=1.0),
+            progress=True,
+        )
+    # progress goes through the mudrft logger, one line per 20 evaluations, never print
+    notes = [r.getMessage() for r in caplog.records if r.name == "mudrft.progress"]
+    assert notes[0] == "fit_maxwell: evaluation 20"
+    assert capsys.readouterr().out == ""
     for f in FIELDS:
         # noise-free synthetic data: the optimiser's tolerance (ftol 1e-8) bounds the error
         assert getattr(fit.model, f) == pytest.approx(getattr(truth, f), rel=1e-3), f

@@ -10,7 +10,6 @@ models with and without channel stresses are compared on the same footing.
 from __future__ import annotations
 
 import csv
-import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from .._progress import make_progress
 from .._validation import MudrftError, plain
 from ..terrains._common import projected
 from ..trajectories import Trajectory
@@ -203,7 +203,7 @@ def compare(
     *,
     water_content: float = 0.25,
     extrapolate: bool = False,
-    progress: bool = False,
+    progress: bool | Callable[[float], None] = False,
 ) -> dict[str, History]:
     """Run several terrains on the same foot and trajectory.
 
@@ -220,8 +220,10 @@ def compare(
         Mud water content [-] for the default terrains.
     extrapolate : bool, keyword-only
         Allow a water content outside the tabulated rows for the default terrains (warns).
-    progress : bool, keyword-only
-        Print one line per terrain to stderr.
+    progress : bool or callable, keyword-only
+        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger
+        (a stderr handler is attached when logging is not configured), a callable is called
+        with the fraction done.
 
     Returns
     -------
@@ -249,9 +251,8 @@ def compare(
     if len(set(names)) != len(names):
         raise MudrftError(f"terrain names must be unique, got {names}")
     out: dict[str, History] = {}
-    for name, terrain in items:
-        if progress:
-            print(f"compare: {name} on {trajectory.name}", file=sys.stderr)
+    report = make_progress(progress, f"compare on {trajectory.name}")
+    for i, (name, terrain) in enumerate(items):
         h = run_terrain(terrain, foot, trajectory)
         out[name] = History(
             name=name,
@@ -263,6 +264,8 @@ def compare(
             depth=h.depth,
             area=h.area,
         )
+        if report is not None:
+            report((i + 1) / len(items))
     return out
 
 

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import cmath
 import math
-import sys
 from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
 import numpy as np
 
+from .._progress import Progress, make_progress
 from .._validation import (
     MudrftError,
     check_finite,
@@ -378,7 +378,8 @@ def fit_maxwell(
     initial : MaxwellMud or None, keyword-only
         Starting point (default: :class:`MaxwellMud` defaults).
     progress : bool, keyword-only
-        Print one line per 20 evaluations to stderr.
+        Report one line per 20 evaluations of the residual through the ``mudrft.progress``
+        logger (a stderr handler is attached when logging is not configured).
 
     Returns
     -------
@@ -402,11 +403,12 @@ def fit_maxwell(
         raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")
     x0 = np.log([getattr(m0, f) for f in _FIT_FIELDS])
     count = [0]
+    report = make_progress(bool(progress), "fit_maxwell")
 
     def resid(x: np.ndarray) -> np.ndarray:
         count[0] += 1
-        if progress and count[0] % 20 == 0:
-            print(f"fit_maxwell: evaluation {count[0]}", file=sys.stderr)
+        if isinstance(report, Progress) and count[0] % 20 == 0:
+            report.note(f"fit_maxwell: evaluation {count[0]}")
         m = m0.replace(**dict(zip(_FIT_FIELDS, np.exp(x), strict=True)))
         return (_stress_history(m, trajectory.time, g, gd) - s)[inside]
 
