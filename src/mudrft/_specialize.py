@@ -20,7 +20,8 @@ with ``rewrite_where=False`` and the namespace of compiled scalar functions). So
 names and line numbers are the original ones, so a traceback points into the physics
 modules. A specialization is made once per process and function, like a compilation: a
 function replaced at run time (a test's ``monkeypatch``) is seen after
-``on_floats.cache_clear()``.
+``on_floats.cache_clear()``. Without its source (an install without ``.py`` files) a
+function runs as written, with ``xp=pyfloat``.
 """
 
 from __future__ import annotations
@@ -148,7 +149,6 @@ def specialize(
         pass them by name) and drop ``xp=`` from every call (it cannot pass a namespace).
         Otherwise ``xp=`` is dropped only from the calls pointed at a specialization, and
         any other function is called with the namespace as written.
-
     inline : callable, optional
         Maps a mudrft function that ``fn`` calls to its rewritten definition
         (``(FunctionDef, env)``, see :func:`_float_def`); a straight-line one is then
@@ -208,12 +208,18 @@ def on_floats(fn: types.FunctionType) -> types.FunctionType:
     >>> on_floats(laws.sealing)(1e-3, 2e-3) == laws.sealing(1e-3, 2e-3, xp=pyfloat)
     True
     """
-    return specialize(fn, pyfloat, on_floats, inline=_float_def)
+    try:
+        return specialize(fn, pyfloat, on_floats, inline=_float_def)
+    except OSError:  # no source to read (an install without .py files): the generic code
+        if "xp" in inspect.signature(fn).parameters:
+            return functools.partial(fn, xp=pyfloat)  # type: ignore[return-value]
+        return fn
 
 
-def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]]:
-    """The rewritten definition of ``fn`` on floats and its environment (for inlining)."""
-    return on_floats(fn).__specialized__  # type: ignore[attr-defined, no-any-return]
+def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]] | None:
+    """The rewritten definition of ``fn`` on floats and its environment (for inlining), or
+    None when it could not be rewritten."""
+    return getattr(on_floats(fn), "__specialized__", None)
 
 
 # -- inlining ------------------------------------------------------------------------------
@@ -403,9 +409,10 @@ def _inline_block(
                 f = call.func
                 if not (isinstance(f, ast.Name) and f.id in targets):
                     continue
-                fdef, callee_env = inline(targets[f.id])
-                if not _straight_line(fdef):
+                rewritten = inline(targets[f.id])
+                if rewritten is None or not _straight_line(rewritten[0]):
                     continue
+                fdef, callee_env = rewritten
                 done = _expand(call, targets[f.id], fdef, callee_env, env)
                 if done is not None:
                     pre, value = done

@@ -20,6 +20,7 @@ import mudrft
 from mudrft._specialize import on_floats
 from mudrft._xp import pyfloat
 from mudrft.constitutive import channel_constants, kernel
+from mudrft.constitutive.state import ChannelState
 from mudrft.feet.closed_form import closed_form_force
 from mudrft.feet.morphing.equilibrium import balanced_deflection_on_floats
 from mudrft.feet.morphing.row import linkage_row
@@ -131,3 +132,26 @@ def test_a_branch_not_taken_is_not_evaluated_on_floats(toys):
     with pytest.raises(ZeroDivisionError):  # the generic float path evaluates both branches
         _toy(0.0, xp=pyfloat)
     assert on_floats(_toy)(0.0) == 2.0  # a = b = 0; the loop ran twice
+
+
+def test_without_source_the_float_path_runs_the_generic_code(monkeypatch):
+    def no_source(obj):
+        raise OSError("could not get source code")
+
+    monkeypatch.setattr("mudrft._specialize.inspect.getsource", no_source)
+    on_floats.cache_clear()
+    try:
+        c = channel_constants(mudrft.paper_parameters(0.25))
+        s = ChannelState(*[0.0] * len(ChannelState._fields))
+        args = (kernel.ChannelConstants(*map(float, c)), s, 0.1, 1.0, 1e-3)
+        step = on_floats(kernel.channel_update)
+        assert not hasattr(step, "__specialized__")  # nothing rewritten
+        assert step(*args) == kernel.channel_update(*args, xp=pyfloat)
+        terrain = mudrft.MudTerrain(mudrft.paper_mud(0.25))  # the whole float path still runs
+        foot = mudrft.feet.Flat()
+        st = terrain.initial_state(foot, np.zeros(3))
+        out = terrain.step(foot, st, [0.0, 0.0, -0.01], [0.0, 0.0, -0.02], 1e-3)[1]
+        assert out.force[2] > 0.0
+    finally:
+        monkeypatch.undo()
+        on_floats.cache_clear()
