@@ -3,8 +3,10 @@ r"""Array namespaces the one physics runs on.
 Every equation of the model is written once, as element-wise code over an array namespace
 ``xp`` (decision D80 in docs/model.md): ``numpy`` for the reference and for batches,
 ``jax.numpy`` for the JAX backend, and :data:`pyfloat` below for one foot on Python floats
-(the single-foot path of :class:`mudrft.MudTerrain`, 10x faster than numpy on 0-d arrays).
-The numba backend compiles the same functions on floats (:mod:`mudrft.backends.numba`).
+(10x faster than numpy on 0-d arrays). The single-foot path of :class:`mudrft.MudTerrain`
+runs the source rewritten for floats (:func:`mudrft._specialize.on_floats`: the same
+results, without the calls), and the numba backend compiles that rewrite
+(:mod:`mudrft.backends.numba`).
 
 The element-wise subset the physics may use is what every namespace here provides:
 ``where abs sign maximum minimum exp expm1 tanh cos sin arccos arctan2 hypot sqrt clip``,

@@ -118,6 +118,7 @@ class FastMudFoot:
             self._w = np.zeros((3, N_STATE))
             self._w[2, :11] = (*config_row(terrain, foot), kind, *geom)
             self._out = self._w[1:2]
+            self._force_view = self._w[1, :3]  # made once: a slice per step costs 0.2 us
         else:  # the specialized one terrain step and closed form, options read once
             t = terrain
             self._mud_step = on_floats(mud_step)
@@ -176,7 +177,7 @@ class FastMudFoot:
         if self.backend == "numba":
             code = self._fast(self._c, self._w, x, y, z, vx, vy, vz, step)
             if code == 0:
-                return self._out[0, :3].copy()  # type: ignore[no-any-return]
+                return self._force_view.copy()  # type: ignore[no-any-return]
             if code == 2:
                 raise MudrftError(
                     "the step produced a non-finite force; check the parameters and dt"
