@@ -42,6 +42,8 @@ EXTRAS = frozenset(
 #: Modules (and their submodules) whose examples need an extra without importing it.
 MODULE_EXTRAS: dict[str, tuple[str, ...]] = {
     "mudrft.backends.jax": ("jax",),
+    "mudrft.backends._jax_base": ("jax",),
+    "mudrft.backends.jax_terrain": ("jax",),
     "mudrft.integrations.mujoco": ("mujoco",),
     "mudrft.integrations.walk": ("mujoco",),
     "mudrft.integrations.benchmark": ("mujoco",),

@@ -78,12 +78,13 @@ def test_simulate_bad_input_is_one_line(tmp_path, capsys, monkeypatch, args, nee
 
 def test_reproduce_refuses_existing_results_and_unwritable_dirs(tmp_path, capsys):
     (tmp_path / "summary.csv").write_text("keep me")
-    code, _, err = run(capsys, "reproduce", "--out", str(tmp_path))
+    # --no-figures: the refusal does not depend on the extra "plot"
+    code, _, err = run(capsys, "reproduce", "--out", str(tmp_path), "--no-figures")
     assert code == 2 and "--force" in err
     assert (tmp_path / "summary.csv").read_text() == "keep me"
     blocker = tmp_path / "file"
     blocker.write_text("")
-    code, _, err = run(capsys, "reproduce", "--out", str(blocker))
+    code, _, err = run(capsys, "reproduce", "--out", str(blocker), "--no-figures")
     assert code == 2 and "not a directory" in err
 
 

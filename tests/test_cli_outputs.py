@@ -48,6 +48,7 @@ def plot_fails(monkeypatch):
 # --force
 # --------------------------------------------------------------------------------------
 def test_simulate_refuses_to_overwrite_an_existing_plot(tmp_path, capsys):
+    pytest.importorskip("matplotlib")  # --plot needs the extra "plot"
     fig = tmp_path / "fig.png"
     fig.write_bytes(b"my figure")
     code, _, err = run(
@@ -59,6 +60,7 @@ def test_simulate_refuses_to_overwrite_an_existing_plot(tmp_path, capsys):
 
 
 def test_simulate_force_replaces_both_outputs(tmp_path, capsys):
+    pytest.importorskip("matplotlib")  # --plot needs the extra "plot"
     out, fig = tmp_path / "run.csv", tmp_path / "fig.png"
     out.write_text("old")
     fig.write_bytes(b"old")
@@ -108,6 +110,7 @@ def test_calibrate_takes_force_and_still_accepts_overwrite_with_a_warning(tmp_pa
 # all or nothing
 # --------------------------------------------------------------------------------------
 def test_simulate_whose_plot_fails_leaves_no_csv(tmp_path, capsys, plot_fails):
+    pytest.importorskip("matplotlib")  # --plot needs the extra "plot"
     code, _, err = run(
         capsys,
         *("simulate", "--foot", "flat", *FAST),
@@ -130,6 +133,8 @@ def test_simulate_whose_plot_fails_keeps_the_old_csv_under_force(tmp_path, capsy
 
 
 def test_calibrate_whose_plot_fails_leaves_no_json(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")  # --plot needs the extra "plot"
+
     def broken(self, **kw):
         raise mudrft.MudrftError("the figure could not be drawn")
 
@@ -177,7 +182,9 @@ def test_failed_compare_leaves_no_directory(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(C, "compare", fails_second_time)
     out = tmp_path / "cmp"
     code, _, err = run(
-        capsys, "compare", "--out", out, "--depth", "0.01", "--hold", "0.05", "--quiet"
+        capsys,
+        *("compare", "--out", out, "--depth", "0.01", "--hold", "0.05", "--quiet"),
+        "--no-figures",  # the failure path, with or without matplotlib
     )
     one_line_error(code, err, "gait run failed")
     assert listing(tmp_path) == []
