@@ -227,3 +227,40 @@ def test_no_nan_or_inf_for_any_valid_input(p, amps, dt):
         assert np.all(np.isfinite(arr))
     assert np.all((h.xi >= 0) & (h.xi <= 1))
     assert np.all(h.suction * np.sign(g + 1e-300) <= p.sigma_y * (1 + 1e-9))
+
+
+@settings(max_examples=40)
+@given(
+    st.sampled_from([0.25, 0.35, 0.45]),
+    st.integers(0, 2**31 - 1),
+    st.sampled_from(
+        [("ode", "contact"), ("quasi-static", "contact"), ("quasi-static", "retraction")]
+    ),
+)
+def test_one_channel_on_floats_is_the_array_step(w, seed, evaluation):
+    """A step of one channel (numbers, 0-d state) takes the float path; a 1-element batch
+    takes numpy: the same step, to the rounding of libm against numpy (an ulp or so of
+    each term), and float64 numbers out."""
+    thixotropy, clock = evaluation
+    rng = np.random.default_rng(seed)
+    p = mudrft.paper_parameters(w)
+    one, batch = initial_state(), initial_state((1,))
+    for _ in range(30):  # a random walk in and out, both directions
+        g = float(rng.uniform(-0.3, 0.3))
+        gd, dt, seal = float(rng.normal(0.0, 2.0)), float(10 ** rng.uniform(-4, -2)), 1.0
+        kw = {"seal": seal, "thixotropy": thixotropy, "clock": clock}
+        one, s1 = step(p, one, g, gd, dt, **kw)
+        batch, sb = step(p, batch, np.array([g]), np.array([gd]), dt, **kw)
+        assert all(type(v) is np.float64 for v in (*one, *s1))
+        scale = abs(s1.elastic) + abs(s1.thixotropic) + abs(s1.suction) + 1.0
+        for a, b in zip((*one, *s1), (*batch, *sb), strict=True):
+            assert abs(a - float(np.ravel(b)[0])) <= 1e-12 * max(scale, abs(a))
+
+
+def test_one_channel_refuses_bad_input_as_the_array_step_does():
+    p = mudrft.paper_parameters(0.25)
+    for args, match in (((0.1, 1.0, -1e-3), "dt must be > 0 s"), ((np.nan, 1.0, 1e-3), "gamma")):
+        with pytest.raises(MudrftError, match=match):
+            step(p, initial_state(), *args)
+        with pytest.raises(MudrftError, match=match):
+            step(p, initial_state((1,)), *(np.array([a]) for a in args[:2]), args[2])
