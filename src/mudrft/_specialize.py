@@ -230,8 +230,9 @@ def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]]
 # call, the call replaced by the returned expression. Only calls that the statement always
 # evaluates are inlined (not in a branch of a conditional expression, after the first
 # operand of ``and``/``or``, in a ``while`` test, a comprehension or a lambda), so nothing is
-# evaluated that the original would not evaluate. The physics is free of side effects, so
-# the result is the same float.
+# evaluated that the original would not evaluate; a statement with an assignment expression
+# of the source keeps its calls in place (a call may read the name it assigns). The physics
+# is free of side effects, so the result is the same float.
 
 _names = itertools.count()
 
@@ -404,7 +405,15 @@ def _inline_block(
             for h in st.handlers:
                 h.body = _inline_block(h.body, env, targets, inline)
         done = None
-        for part in _evaluated_parts(st):
+        parts = _evaluated_parts(st)
+        if any(
+            isinstance(n, ast.NamedExpr) and not n.target.id.startswith(("_xp_t", "_i"))
+            for part in parts
+            for n in ast.walk(part)
+        ):  # an assignment expression of the source: a call after it in the statement may
+            # read its name, so nothing is moved before the statement
+            parts = []
+        for part in parts:
             for call in _always_evaluated(part):
                 f = call.func
                 if not (isinstance(f, ast.Name) and f.id in targets):

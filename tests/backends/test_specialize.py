@@ -103,10 +103,15 @@ def _toy(x, *, xp=np):
     return a + b + n
 
 
+def _walrus(x, *, xp=np):
+    y = (x := x + 1.0) + _half(x, xp=xp)  # _half must see the new x: not moved before
+    return y
+
+
 @pytest.fixture
 def toys(monkeypatch):
     """The toy functions as mudrft functions (the specializer rewrites only those)."""
-    for f in (_half, _recip, _toy):
+    for f in (_half, _recip, _toy, _walrus):
         monkeypatch.setattr(f, "__module__", "mudrft._toy")
     on_floats.cache_clear()
     yield
@@ -155,3 +160,7 @@ def test_without_source_the_float_path_runs_the_generic_code(monkeypatch):
     finally:
         monkeypatch.undo()
         on_floats.cache_clear()
+
+
+def test_a_statement_with_an_assignment_expression_keeps_its_calls_in_place(toys):
+    assert on_floats(_walrus)(1.0) == _walrus(1.0, xp=pyfloat) == 2.0 + 1.0
