@@ -1,7 +1,7 @@
 """Benchmark: the morphing foot's column balance (D34), the cases of docs/performance.md.
 
-``python benchmarks/bench_morphing_balance.py [--rounds 5]`` times, for the default
-:class:`mudrft.feet.MorphingFoot`,
+``python benchmarks/bench_morphing_balance.py [--rounds 5] [--budget 2]`` times, for the
+default :class:`mudrft.feet.MorphingFoot`,
 
 * one foot, from curled (deflection 0) at 20 mm and 30 kPa (the float walk);
 * the numpy coupling's four nudged copies of one foot (three identical, the vertical
@@ -10,37 +10,27 @@
   ``find_root``; seed 0);
 * ``mudrft.simulate`` of the morphing foot along the paper's gait at 0.2 m/s, W = 25 %.
 
-Each number is the best of ``--rounds`` rounds. To compare two trees, run it with each
-tree's ``src`` first on ``PYTHONPATH``, alternating, and keep the best of each.
+Each number is the best of ``--rounds`` rounds of about ``--budget / --rounds`` seconds
+(the harness's timer). To compare two trees, run it with each tree's ``src`` first on
+``PYTHONPATH``, alternating, and keep the best of each.
 """
 
 from __future__ import annotations
 
 import argparse
-import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from harness._timing import best
 
 import mudrft
 from mudrft.feet.morphing.equilibrium import balanced_deflection
 
 
-def _best(fn: Callable[[], Any], number: int, rounds: int) -> float:
-    """Best time per call [s] over ``rounds`` rounds of ``number`` calls."""
-    fn()  # warm up (the float specialization is made on the first call)
-    best = float("inf")
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / number)
-    return best
-
-
-def run(rounds: int) -> dict[str, float]:
-    """The four cases: ``one_us``, ``four_us``, ``thousand_ms``, ``simulate_s``."""
+def run(rounds: int, budget: float) -> dict[str, float]:
+    """The four cases: ``one_us``, ``four_us``, ``thousand_ms``, ``simulate_s``; the best
+    of ``rounds`` rounds of about ``budget / rounds`` seconds each (the harness's timer)."""
     foot = mudrft.feet.MorphingFoot()
     link, spring = foot.linkage, foot.spring
 
@@ -52,19 +42,21 @@ def run(rounds: int) -> dict[str, float]:
     rng = np.random.default_rng(0)
     dk, sk = rng.uniform(0.005, 0.025, 1000), rng.uniform(5e3, 40e3, 1000)
     gait, mud = mudrft.gait(speed=0.2), mudrft.paper_mud(0.25)
+    kw = {"budget": budget, "repeat": rounds}
     return {
-        "one_us": 1e6 * _best(balance(0.02, 30e3, 0.0), 300, rounds),
-        "four_us": 1e6 * _best(balance(d4, s4, np.zeros(4)), 300, rounds),
-        "thousand_ms": 1e3 * _best(balance(dk, sk, np.zeros(1000)), 5, rounds),
-        "simulate_s": _best(lambda: mudrft.simulate(foot, mud, gait), 1, max(rounds // 2, 1)),
+        "one_us": 1e6 * best(balance(0.02, 30e3, 0.0), **kw),
+        "four_us": 1e6 * best(balance(d4, s4, np.zeros(4)), **kw),
+        "thousand_ms": 1e3 * best(balance(dk, sk, np.zeros(1000)), **kw),
+        "simulate_s": best(lambda: mudrft.simulate(foot, mud, gait), **kw),
     }
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5, help="rounds per case (best is kept)")
+    ap.add_argument("--budget", type=float, default=2.0, help="seconds per case")
     args = ap.parse_args(argv)
-    r = run(args.rounds)
+    r = run(args.rounds, args.budget)
     print(
         f"one foot {r['one_us']:.0f} us | four nudged copies {r['four_us']:.0f} us | "
         f"1,000 feet {r['thousand_ms']:.2f} ms | simulate {r['simulate_s']:.3f} s"
