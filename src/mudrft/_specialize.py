@@ -32,6 +32,7 @@ import copy
 import functools
 import inspect
 import itertools
+import re
 import textwrap
 import types
 from collections.abc import Callable
@@ -235,6 +236,8 @@ def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]]
 # is free of side effects, so the result is the same float.
 
 _names = itertools.count()
+#: Names of the rewrite's own temporaries (maximum/minimum, and those of inlined bodies).
+_OWN_TEMP = re.compile(r"_xp_t\d+$|_i\d+_")
 
 
 def _body(fdef: ast.FunctionDef) -> list[ast.stmt]:
@@ -397,17 +400,10 @@ def _inline_block(
     work = list(block)
     while work:
         st = work.pop(0)
-        for field in ("body", "orelse", "finalbody"):
-            inner = getattr(st, field, None)
-            if isinstance(inner, list) and inner and isinstance(inner[0], ast.stmt):
-                setattr(st, field, _inline_block(inner, env, targets, inline))
-        if isinstance(st, ast.Try):
-            for h in st.handlers:
-                h.body = _inline_block(h.body, env, targets, inline)
         done = None
         parts = _evaluated_parts(st)
         if any(
-            isinstance(n, ast.NamedExpr) and not n.target.id.startswith(("_xp_t", "_i"))
+            isinstance(n, ast.NamedExpr) and not _OWN_TEMP.match(n.target.id)
             for part in parts
             for n in ast.walk(part)
         ):  # an assignment expression of the source: a call after it in the statement may
@@ -430,7 +426,14 @@ def _inline_block(
                     break
             if done is not None:
                 break
-        if done is None:
+        if done is None:  # final: its nested blocks are inlined once, now
+            for field in ("body", "orelse", "finalbody"):
+                inner = getattr(st, field, None)
+                if isinstance(inner, list) and inner and isinstance(inner[0], ast.stmt):
+                    setattr(st, field, _inline_block(inner, env, targets, inline))
+            if isinstance(st, ast.Try):
+                for h in st.handlers:
+                    h.body = _inline_block(h.body, env, targets, inline)
             out.append(st)
         else:
             work.insert(len(done[0]), st)  # the statement again, after its inlined parts

@@ -108,10 +108,15 @@ def _walrus(x, *, xp=np):
     return y
 
 
+def _walrus_i(x, *, xp=np):
+    y = (_idx := x + 1.0) + _half(_idx, xp=xp)  # a name like the rewrite's own temporaries
+    return y
+
+
 @pytest.fixture
 def toys(monkeypatch):
     """The toy functions as mudrft functions (the specializer rewrites only those)."""
-    for f in (_half, _recip, _toy, _walrus):
+    for f in (_half, _recip, _toy, _walrus, _walrus_i):
         monkeypatch.setattr(f, "__module__", "mudrft._toy")
     on_floats.cache_clear()
     yield
@@ -164,3 +169,4 @@ def test_without_source_the_float_path_runs_the_generic_code(monkeypatch):
 
 def test_a_statement_with_an_assignment_expression_keeps_its_calls_in_place(toys):
     assert on_floats(_walrus)(1.0) == _walrus(1.0, xp=pyfloat) == 2.0 + 1.0
+    assert on_floats(_walrus_i)(1.0) == _walrus_i(1.0, xp=pyfloat) == 2.0 + 1.0
