@@ -251,6 +251,28 @@ def test_sign_flip_and_rest_on_every_specialization():
                 assert np.allclose(tuple(new), tuple(ref_state), rtol=1e-13, atol=1e-12)
 
 
+def test_compile_scalar_inlines_composite_functions_only_when_asked():
+    """The drivers' flavor inlines the functions that call other physics (``inline="always"``)
+    and shares the dispatchers of the leaves with the plain flavor; results are the same."""
+    pytest.importorskip("numba")
+    from mudrft.backends.numba import compile_scalar
+    from mudrft.constitutive import laws
+
+    plain = compile_scalar(kernel.channel_step)
+    inlined = compile_scalar(kernel.channel_step, inline=True)
+    assert inlined is not plain
+    assert inlined.targetoptions["inline"] == "always"
+    assert plain.targetoptions["inline"] == "never"
+    assert compile_scalar(laws.switch, inline=True) is compile_scalar(laws.switch)
+    assert compile_scalar(laws.switch).targetoptions["inline"] == "never"
+    c = channel_constants(mudrft.paper_parameters(0.25, "vertical"))
+    state = ChannelState(0.05, 0.08, 0.3, 100.0, -50.0, 0.4, 0.1)
+    for qs in (False, True):
+        a = plain(c, state, 0.04, -0.5, 1e-3, 0.7, 1.0, qs, False)
+        b = inlined(c, state, 0.04, -0.5, 1e-3, 0.7, 1.0, qs, False)
+        assert a == b
+
+
 @pytest.mark.parametrize(
     "options",
     [{}, {"thixotropy": "quasi-static"}, {"thixotropy": "quasi-static", "clock": "retraction"}],
