@@ -175,9 +175,10 @@ def test_tilted_foot_loads_its_lower_edge():
     assert 0.1 < ratio < 0.25  # a fifth of the upright support
 
 
-def test_divergence_raises_instead_of_a_silent_reset():
+def test_divergence_raises_instead_of_a_silent_reset(monkeypatch, tmp_path):
     """MuJoCo answers bad accelerations with a printed warning and a reset; the coupling
     raises a MudrftError naming the time instead."""
+    monkeypatch.chdir(tmp_path)  # MuJoCo appends its warning to MUJOCO_LOG.TXT in the cwd
 
     class Exploding:
         name = "exploding mud"
