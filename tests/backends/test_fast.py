@@ -112,3 +112,23 @@ def test_fast_foot_rejects_unsupported_feet_and_batches():
         1,
         (0.05, 0.07, 0.03),
     )
+
+
+def test_numba_fast_foot_and_loop_share_one_compiled_foot_step():
+    """Integer input converts to floats (no new specialization, which costs seconds), and
+    the loop over feet and the single-foot driver run one compilation of the foot step."""
+    pytest.importorskip("numba")
+    from mudrft.backends.batch import BatchedMud
+    from mudrft.backends.numba import _compiled_one_foot, compiled_fast_foot
+
+    mud = mudrft.paper_mud(0.25)
+    ints = FastMudFoot(mudrft.feet.Flat(), mud, position=[0, 0, 1], backend="numba")
+    floats = FastMudFoot(mudrft.feet.Flat(), mud, position=[0.0, 0.0, 1.0], backend="numba")
+    for z in (0, -1, -2):
+        f_int = ints.step([0, 0, z * 0.01], [0, 0, -1], 0.01)
+        f_float = floats.step([0.0, 0.0, z * 0.01], [0.0, 0.0, -1.0], 0.01)
+        np.testing.assert_array_equal(f_int, f_float)
+    assert len(compiled_fast_foot().signatures) == 1
+    sim = BatchedMud(mud, mudrft.feet.Flat(), 2, position=np.zeros((2, 3)), backend="numba")
+    sim.step(np.full((2, 3), -0.01), np.full((2, 3), -0.1), 1e-3)
+    assert len(_compiled_one_foot().signatures) == 1

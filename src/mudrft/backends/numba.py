@@ -219,7 +219,9 @@ def _fast_foot(
     if not (dt > 0.0 and math.isfinite(dt) and math.isfinite(x + y + z + vx + vy + vz)):
         return 1
     o = w[1]
-    _foot(c, 0, w[0], o, x, y, z, vx, vy, vz, dt, w[2, :7], w[2, 7:11])
+    row = c.shape[0] - 1  # the one row, 0, typed int64 as in the loop: a literal 0 would
+    # compile the foot step a second time
+    _foot(c, row, w[0], o, x, y, z, vx, vy, vz, dt, w[2, :7], w[2, 7:11])
     return 0 if math.isfinite(o[0] + o[1] + o[2]) else 2
 
 
@@ -247,20 +249,25 @@ _force = closed_form_force
 _foot = _one_foot
 
 
-def _compile_driver(fn: Any, **extra: Any) -> Any:
-    """Compile a driver of this module with the compiled physics bound to its globals."""
+@functools.cache
+def _compiled_one_foot() -> Any:
+    """:func:`_one_foot` compiled once, with the physics inlined, for every driver: its
+    compilation is most of theirs."""
     numba = _numba()
-    env = dict(fn.__globals__)
+    env = dict(_one_foot.__globals__)
     env.update(
         _step=compile_scalar(mud_step, inline=True),
         _force=compile_scalar(closed_form_force, inline=True),
         _constants=numba.njit(inline="always")(_constants),
         _channels=numba.njit(inline="always")(_channels),
-        **extra,
     )
-    env["_foot"] = numba.njit(error_model="numpy")(
-        types.FunctionType(_one_foot.__code__, env, "_one_foot")
-    )
+    return numba.njit(error_model="numpy")(types.FunctionType(_one_foot.__code__, env, "_one_foot"))
+
+
+def _compile_driver(fn: Any, **extra: Any) -> Any:
+    """A driver of this module with the compiled foot step bound to its globals."""
+    env = dict(fn.__globals__)
+    env.update(_foot=_compiled_one_foot(), **extra)
     return types.FunctionType(fn.__code__, env, fn.__name__)
 
 
@@ -284,4 +291,10 @@ def compiled_fast_foot() -> Any:
     """One checked foot step, for :class:`~mudrft.backends.fast.FastMudFoot` (see
     :func:`_fast_foot`): ``fast(c, w, x, y, z, vx, vy, vz, dt) -> int`` with the work array
     ``w`` (3, N_STATE) updated in place."""
-    return _numba().njit(error_model="numpy")(_compile_driver(_fast_foot))
+    numba = _numba()
+    f64 = numba.float64
+    rows = f64[:, ::1]
+    # one signature, compiled now: ints given by a user convert to floats instead of
+    # compiling another specialization (seconds)
+    sig = numba.int64(rows, rows, f64, f64, f64, f64, f64, f64, f64)
+    return numba.njit(sig, error_model="numpy")(_compile_driver(_fast_foot))
