@@ -42,21 +42,28 @@ def bench_fits(repeat: int) -> list[dict[str, Any]]:
     cases = [
         ("example vertical W=25 % (3 trials, dt 25 ms)", example_dataset("vertical")),
         ("example horizontal W=25 % (3 trials, dt 25 ms)", example_dataset("horizontal")),
-        ("synthetic vertical W=25 % (3 trials, dt 10 ms)",
-         synthetic_dataset(mudrft.paper_parameters(0.25), noise=0.01, seed=1, dt=0.01)),
+        (
+            "synthetic vertical W=25 % (3 trials, dt 10 ms)",
+            synthetic_dataset(mudrft.paper_parameters(0.25), noise=0.01, seed=1, dt=0.01),
+        ),
     ]
     rows = []
     for name, ds in cases:
         sec, fit = _best(lambda ds=ds: calibrate(ds), repeat)
         sims = sum(s.simulations for s in fit.stages)
-        rows.append({
-            "case": name, "samples": int(sum(len(t) for t in ds)), "seconds": sec,
-            "simulations": sims, "status": fit.status,
-            "relative_rmse": fit.relative_rmse, "identified": list(fit.identified()),
-            "stage_seconds": {s.name: round(s.seconds, 3) for s in fit.stages},
-        })
-        print(f"{name}: {sec:.2f} s, {sims} batched simulations, {fit.status}",
-              file=sys.stderr)
+        rows.append(
+            {
+                "case": name,
+                "samples": int(sum(len(t) for t in ds)),
+                "seconds": sec,
+                "simulations": sims,
+                "status": fit.status,
+                "relative_rmse": fit.relative_rmse,
+                "identified": list(fit.identified()),
+                "stage_seconds": {s.name: round(s.seconds, 3) for s in fit.stages},
+            }
+        )
+        print(f"{name}: {sec:.2f} s, {sims} batched simulations, {fit.status}", file=sys.stderr)
     return rows
 
 
@@ -78,19 +85,24 @@ def bench_online(repeat: int, cycles: int) -> list[dict[str, Any]]:
     t, q, s = _stream(cycles)
     makers = {
         "OnlineEstimator(model='exact'), 25 tau_build filters": lambda: OnlineEstimator(
-            mudrft.paper_parameters(0.25)),
+            mudrft.paper_parameters(0.25)
+        ),
         "OnlineEstimator(model='paper'), 25 tau_build filters": lambda: OnlineEstimator(
-            mudrft.paper_parameters(0.25), model="paper"),
+            mudrft.paper_parameters(0.25), model="paper"
+        ),
         "StreamClassifier, 3 candidate sets": StreamClassifier,
         "StreamClassifier, 21 candidate sets": lambda: StreamClassifier(
-            water_contents=np.linspace(0.25, 0.45, 21)),
+            water_contents=np.linspace(0.25, 0.45, 21)
+        ),
     }
     rows = []
     for name, make in makers.items():
+
         def run(make: Callable[[], Any] = make) -> None:
             obj = make()
             for a, b, c in zip(t, q, s, strict=True):
                 obj.update(a, b, c)
+
         sec, _ = _best(run, repeat)
         us = 1e6 * sec / t.size
         rows.append({"estimator": name, "samples": int(t.size), "us_per_sample": us})
@@ -105,8 +117,12 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     repeat = 1 if args.quick else 3
     res = {
-        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
-                    "numpy": np.__version__, "platform": platform.platform()},
+        "machine": {
+            "cpus": os.cpu_count(),
+            "python": platform.python_version(),
+            "numpy": np.__version__,
+            "platform": platform.platform(),
+        },
         "fits": bench_fits(repeat),
         "online": bench_online(repeat, 2 if args.quick else 5),
     }
