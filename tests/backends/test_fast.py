@@ -92,6 +92,10 @@ def test_fast_foot_rejects_bad_input(backend):
         ff.step((0.0, 0.0, -0.01), (0.0, 0.0, 0.0), 0.0)
     with pytest.raises(MudrftError, match="3 components"):
         ff.step((0.0, 0.0), (0.0, 0.0, 0.0), 1e-3)
+    with pytest.raises(MudrftError, match="real numbers"):
+        ff.step((0.0, "a", -0.01), (0.0, 0.0, 0.0), 1e-3)
+    with pytest.raises(MudrftError, match="real numbers"):
+        ff.step((0.0, 0.0, -0.01), (1j, 0.0, 0.0), 1e-3)
 
 
 def test_fast_foot_rejects_unsupported_feet_and_batches():

@@ -175,7 +175,10 @@ class FastMudFoot:
                 f"{np.shape(position)} and {np.shape(velocity)}"
             ) from None
         if self.backend == "numba":
-            code = self._fast(self._c, self._w, x, y, z, vx, vy, vz, step)
+            try:
+                code = self._fast(self._c, self._w, x, y, z, vx, vy, vz, step)
+            except TypeError:  # no matching signature: not real numbers
+                raise self._not_numbers(p_in, v_in) from None
             if code == 0:
                 return self._force_view.copy()  # type: ignore[no-any-return]
             if code == 2:
@@ -187,8 +190,11 @@ class FastMudFoot:
                 f"{[float(v) for v in (x, y, z)]}, velocity {[float(v) for v in (vx, vy, vz)]}, "
                 f"dt {step!r}"
             )
-        p3 = (float(x), float(y), float(z))
-        v3 = (float(vx), float(vy), float(vz))
+        try:
+            p3 = (float(x), float(y), float(z))
+            v3 = (float(vx), float(vy), float(vz))
+        except (TypeError, ValueError):
+            raise self._not_numbers(p_in, v_in) from None
         if not (step > 0.0 and math.isfinite(step) and math.isfinite(sum(p3) + sum(v3))):
             raise MudrftError(
                 f"position and velocity must be finite and dt > 0 s, got position {list(p3)}, "
@@ -204,6 +210,13 @@ class FastMudFoot:
         force = np.array((fx * ch.in_mud, fy * ch.in_mud, fz * ch.in_mud))
         self._channels, self._stress, self._depth = ch, (sx, sy, sz), depth
         return force
+
+    @staticmethod
+    def _not_numbers(position: Any, velocity: Any) -> MudrftError:
+        return MudrftError(
+            f"position and velocity must be real numbers [m], [m/s], got {list(position)!r} "
+            f"and {list(velocity)!r}"
+        )
 
     @property
     def stress(self) -> NDArray[np.float64]:
