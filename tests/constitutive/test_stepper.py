@@ -264,3 +264,27 @@ def test_one_channel_refuses_bad_input_as_the_array_step_does():
             step(p, initial_state(), *args)
         with pytest.raises(MudrftError, match=match):
             step(p, initial_state((1,)), *(np.array([a]) for a in args[:2]), args[2])
+
+
+@pytest.mark.parametrize("lam", [1e-6, 1e-4, 1e-2])
+@pytest.mark.parametrize("dt", [1e-3, 0.05])
+def test_relaxation_much_faster_than_the_step_stays_exact(lam, dt):
+    """lambda << dt < tau_xi (k_a set apart from 1/lambda): the exact update's factor
+    e^{-dt/lambda} (e^x - 1)/x overflowed to 0 * inf once x = dt (1/lambda - 1/tau) > 709 (NaN
+    on arrays, OverflowError on floats). Both paths against a stiff solver of eqs. (3a)-(3b)."""
+    p = P25V.replace(lam=lam, k_a=0.5)
+    gd, xi0 = 2.0, 1.0
+    tau = 1.0 / (p.k_a + p.k_r * gd)
+
+    def rhs(t, y):
+        xi, s = y
+        return [(p.k_a * tau - xi) / tau, (p.eta_m * gd * xi - s) / lam]  # kappa = 1: A = 0
+
+    ref = solve_ivp(rhs, (0.0, dt), [xi0, 0.0], method="Radau", rtol=1e-11, atol=[1e-14, 1e-6])
+    xi_ref, s_ref = ref.y[:, -1]
+    one, _ = step(p, initial_state(xi0=xi0), gd * dt, gd, dt)
+    arr, _ = step(p, initial_state((2,), xi0=xi0), np.full(2, gd * dt), np.full(2, gd), dt)
+    for s_th, xi in ((one.s_th, one.xi), (arr.s_th[1], arr.xi[1])):
+        assert xi == pytest.approx(xi_ref, rel=1e-9)
+        # the solver's own tolerance: rtol 1e-11 of a stress of about 1e5 Pa
+        assert s_th == pytest.approx(s_ref, rel=1e-8)

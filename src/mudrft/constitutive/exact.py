@@ -13,7 +13,7 @@ import numpy as np
 
 from ..parameters.base import MudParameters
 from . import laws
-from .kernel import expm1_over_x
+from .kernel import relaxation_convolution
 
 __all__ = ["suction_closed_form", "thixotropic_approx", "thixotropic_exact", "xi_exact"]
 
@@ -95,8 +95,7 @@ def thixotropic_exact(
     A = (1.0 - kappa) * params.eta_inf * gamma_dot
     B = params.eta_m * gamma_dot
     e_lam = np.exp(-t / lam)
-    x = t * (1.0 / lam - 1.0 / tau)
-    conv = e_lam * (t / lam) * expm1_over_x(x, xp=np)
+    conv = relaxation_convolution(t, lam, tau, e_lam, np.exp(-t / tau))
     return (
         (A + B * xi_ss) * (1.0 - e_lam)
         + B * (xi0 - xi_ss) * conv

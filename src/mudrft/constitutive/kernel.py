@@ -38,6 +38,7 @@ __all__ = [
     "channel_update",
     "channel_update_quasi_static",
     "expm1_over_x",
+    "relaxation_convolution",
 ]
 
 
@@ -103,6 +104,45 @@ def expm1_over_x(x: Any, *, xp: Any = np) -> Any:
     return xp.where(small, 1.0 + 0.5 * x + x * x / 6.0, xp.expm1(xs) / xs)
 
 
+def relaxation_convolution(
+    t: Any, lam: Any, tau: Any, e_lam: Any, e_tau: Any, *, xp: Any = np
+) -> Any:
+    r"""How much of a drive that relaxes with time :math:`\tau` a stress that relaxes with
+    time :math:`\lambda` has taken up after ``t`` [-]: the factor of
+    :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2),
+
+    .. math::
+        \frac{t}{\lambda}\,\frac{e^{-t/\tau}-e^{-t/\lambda}}{x}
+        = \frac{t}{\lambda}\,e^{-t/\lambda}\,\frac{e^{x}-1}{x},\qquad
+        x = t\Big(\frac1\lambda-\frac1\tau\Big).
+
+    The right-hand form is exact near :math:`x=0` (:math:`\tau_\xi=\lambda`, erratum E5)
+    but overflows once :math:`x>709` (a relaxation much faster than the step and than the
+    structure: :math:`0\cdot\infty`, NaN on arrays, ``OverflowError`` on floats); the
+    left-hand form cancels near 0 and is exact beyond. So the right for :math:`x\le1`, the
+    left for :math:`x>1`.
+
+    Parameters
+    ----------
+    t : array_like
+        Elapsed time [s], >= 0.
+    lam, tau : array_like
+        The two relaxation times [s], > 0.
+    e_lam, e_tau : array_like
+        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-] (the caller has them).
+    xp : module, keyword-only
+        Element-wise namespace (:mod:`mudrft._xp`).
+
+    Returns
+    -------
+    array_like
+        The factor [-], in [0, 1].
+    """
+    x = t * (1.0 / lam - 1.0 / tau)
+    near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
+    return xp.where(x > 1.0, (t / lam) * (e_tau - e_lam) / xp.maximum(x, 1.0), near)
+
+
 def channel_update(
     c: ChannelConstants,
     state: ChannelState,
@@ -156,14 +196,15 @@ def channel_update(
     # structure parameter, eq. (3b): exact exponential update
     tau = laws.tau_xi(gamma_dot, c.k_a, c.k_r, xp=xp)
     xi_ss = c.k_a * tau
-    xi_new = xi_ss + (xi - xi_ss) * xp.exp(-dt / tau)
+    e_tau = xp.exp(-dt / tau)
+    xi_new = xi_ss + (xi - xi_ss) * e_tau
 
     # lagged thixotropic stress, eq. (3a) driven by A + B xi(t): exact (supplementary eq. S2
     # generalised to any xi(0) and to tau_xi == lambda)
     a_drive = (1.0 - kappa) * c.eta_inf * gamma_dot
     b_drive = c.eta_m * gamma_dot
     e_lam = xp.exp(-dt / c.lam)
-    conv = e_lam * (dt / c.lam) * expm1_over_x(dt * (1.0 / c.lam - 1.0 / tau), xp=xp)
+    conv = relaxation_convolution(dt, c.lam, tau, e_lam, e_tau, xp=xp)
     s_new = (
         s_th * e_lam + (a_drive + b_drive * xi_ss) * (1.0 - e_lam) + b_drive * (xi - xi_ss) * conv
     )
