@@ -79,6 +79,20 @@ def test_messages_show_plain_numbers():
     assert str(MudrftError(f"dt = {np.float64(0.5)!r} s")) == "dt = 0.5 s"
 
 
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (float("nan"), "depth must be finite, got nan"),  # was: "got nan containing nan"
+        (-np.inf, "depth must be finite, got -inf"),
+        ([0.01, np.inf], "depth must be finite, got an array of shape (2,) containing inf"),
+    ],
+)
+def test_a_non_finite_number_is_named_once(value, message):
+    with pytest.raises(MudrftError) as info:
+        mudrft.gait(speed=0.2, depth=value)
+    assert str(info.value) == message
+
+
 def test_compare_needs_extrapolate_like_simulate_and_walk(tmp_path, capsys):
     from mudrft.baselines import default_terrains
 

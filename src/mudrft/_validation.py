@@ -147,9 +147,11 @@ def check_finite(name: str, value: Any) -> np.ndarray:
     """Return ``value`` as a float array; raise if any entry is NaN or infinite."""
     arr = as_array(name, value)
     if not np.all(np.isfinite(arr)):
-        bad = arr[~np.isfinite(arr)] if arr.ndim else arr
+        if arr.ndim == 0:
+            raise MudrftError(f"{name} must be finite, got {plain(arr)}")
+        bad = arr[~np.isfinite(arr)]
         raise MudrftError(
-            f"{name} must be finite, got {_describe(value)} containing {plain(bad.ravel()[0])}"
+            f"{name} must be finite, got {_describe(value)} containing {plain(bad[0])}"
         )
     return arr
 
