@@ -12,6 +12,8 @@ only by the order of a few sums (numpy and numba) already part by 2e-6 in 0.5 s.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -123,3 +125,15 @@ def test_gradient_through_a_rollout_equals_finite_differences():
         fd = (value_and_grad(-0.2 + h)[0] - value_and_grad(-0.2 - h)[0]) / (2 * h)
         assert float(value) < 0.013  # the foot is in the mud (it started at 0.015 m)
         assert abs(float(grad) - float(fd)) < 1e-6 * abs(float(fd)), (grad, fd)  # 2e-8 measured
+
+
+def test_mjx_warns_for_the_evaluations_it_does_not_keep_passive():
+    """As the CPU coupling (D62b): the quasi-static evaluation warns; the default does not."""
+    from mudrft.integrations.passivity import PassivityWarning
+
+    m, _ = _standing_biped()
+    with pytest.warns(PassivityWarning, match="quasi-static"):
+        mm.attach(m, list(BIPED_FEET), mudrft.MudTerrain(MUD, thixotropy="quasi-static"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mm.attach(m, list(BIPED_FEET), MUD)

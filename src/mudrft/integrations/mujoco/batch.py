@@ -20,6 +20,7 @@ from ..._validation import MudrftError, check_finite, check_nonnegative, check_p
 from ...citations import register
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
+from ..passivity import warn_if_not_passive
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, check_compilable
 from .contact import MudContact, _central_point
@@ -184,6 +185,7 @@ class MudBatch:
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._loop: Any = None  # the compiled step loop, made by reset()
+        warn_if_not_passive(self.terrain)  # D62b
 
     @property
     def last(self) -> MudContact | None:
