@@ -3,7 +3,7 @@
 The MuJoCo and MJX couplings treat the mud's instantaneous damping implicitly (D62, D62a);
 the stresses with memory stay explicit. With the default evaluation (``thixotropy="ode"``
 with the acceleration term) the instantaneous viscous stress dominates, and no released
-free foot has gained energy in the tests or in 19,000 random releases. Without it
+free foot has gained energy in the tests or in 19,137 random releases. Without it
 (``acceleration=False``) or with the paper's quasi-static evaluation, a foot that tilts,
 spins about a horizontal axis and slides can gain energy from the mud: the coupling warns.
 """
