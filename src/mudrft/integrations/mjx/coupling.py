@@ -40,7 +40,6 @@ from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
 from ..mujoco.placement import body_foot
 from ..mujoco.pose import POSE_RESOLUTION
-from ..passivity import warn_if_not_passive
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
 
@@ -115,7 +114,6 @@ class MjxCoupling:
             raise MudrftError(
                 f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
             )
-        warn_if_not_passive(terrain)  # D62b
         if feet is None or hasattr(feet, "contact_force"):
             feet_list = [feet] * len(names)
         else:

@@ -15,7 +15,8 @@ r"""One coupling step of the mud under the feet of one MJX robot, as a pure JAX 
    (D63), with the one terrain step :func:`mudrft.terrains.mud.mud_step` and the foot's
    own force rule (:func:`mudrft.backends.forces.force_function`), keeping the first;
 4. assemble the wrench and its damping (D62a) and solve the linearly implicit step of the
-   dissipative part (D62) with the CPU coupling's own functions
+   dissipative part (D62), and bound its work by the foot's tank (D62c), with the CPU
+   coupling's own functions
    (:mod:`~mudrft.integrations.mujoco.wrench`, :mod:`~mudrft.integrations.mujoco.implicit`)
    called with ``xp=jax.numpy``.
 
@@ -34,7 +35,7 @@ import numpy as np
 
 from ...feet.surface import PreparedTriangles
 from ...terrains.mud import MudChannels, initial_channels, mud_step
-from ..mujoco.implicit import channel_rows, implicit_wrench, secant_steps
+from ..mujoco.implicit import channel_rows, implicit_wrench, passive_wrench, secant_steps
 from ..mujoco.kinematics import com_twist
 from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
 from ..mujoco.wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
@@ -60,6 +61,8 @@ class MjxMudState(NamedTuple):
         Mobility times the last wrench, :math:`Ww` [m/s^2, rad/s^2].
     has_prev : array ()
         1.0 after the first step, else 0.0.
+    tank : array (nb,)
+        Energy the mud has taken from each foot and may give back (D62c) [J].
     """
 
     mud: MudChannels
@@ -68,6 +71,7 @@ class MjxMudState(NamedTuple):
     tw_prev: Any
     wv_prev: Any
     has_prev: Any
+    tank: Any
 
 
 class MjxContact(NamedTuple):
@@ -76,7 +80,7 @@ class MjxContact(NamedTuple):
     Attributes
     ----------
     force : array (nb, 3)
-        Force applied at the body's center of mass (the implicit wrench) [N].
+        Force applied at the body's center of mass (the implicit wrench, bounded by D62c) [N].
     torque : array (nb, 3)
         Moment about the center of mass [N m].
     explicit_force : array (nb, 3)
@@ -306,17 +310,18 @@ def mud_wrench(
         )
         w0 = w0 + wb
         K = None if K is None else K + kb
-    wv = st.wv_prev
+    wv, tank = st.wv_prev, st.tank
     if K is not None:
         W = _mobility(cfg, mx, d, com)
         g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
         acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
         wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
+        wrench, tank = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
         wv = (W @ wrench[..., None])[..., 0]
     else:
         wrench = w0
     xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)
-    new_state = MjxMudState(mud, fxy, tip[..., :2], tw, wv, xp.ones_like(st.has_prev))
+    new_state = MjxMudState(mud, fxy, tip[..., :2], tw, wv, xp.ones_like(st.has_prev), tank)
     out = MjxContact(
         force=wrench[..., :3], torque=wrench[..., 3:], explicit_force=w0[..., :3], depth=depth,
         stress=stress, tip=xp.concatenate([tip[..., :2], low[..., 2:] + cfg.surface], -1),
@@ -343,4 +348,6 @@ def initial_state(cfg: Static, d: Any) -> MjxMudState:
         lc[g.idx] = g.lc
     mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.xi0, xp=xp)
     zero6 = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype)
-    return MjxMudState(mud, fxy, tip[..., :2], zero6, zero6, xp.zeros((), dtype=tip.dtype))
+    return MjxMudState(
+        mud, fxy, tip[..., :2], zero6, zero6, xp.zeros((), dtype=tip.dtype), zero6[:, 0]
+    )

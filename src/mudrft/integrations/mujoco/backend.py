@@ -88,7 +88,7 @@ ARGS = (
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("out", "f8", 3), ("work", "f8", 1),
+    ("tank", "f8", 2), ("out", "f8", 3), ("work", "f8", 1),
 )  # fmt: skip
 
 
@@ -96,7 +96,7 @@ ARGS = (
 def packed_arguments() -> Any:
     """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
 
-    Passing the 28 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
+    Passing the 29 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
     (a third of the coupling's cost for the biped); one jitclass instance costs a few tenths of a
     microsecond (D68b). The instance shares the arrays' memory: writing them from Python
     (the options, the state on reset) is seen by the kernel.
@@ -110,14 +110,14 @@ def packed_arguments() -> Any:
     class CouplingArrays:
         def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
                      inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
-                     geom, morph, opts, mud, fst, odo, tw_prev, wv_prev, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
+                     geom, morph, opts, mud, fst, odo, tw_prev, wv_prev, tank, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
             self.addr, self.sizes, self.model_i = addr, sizes, model_i
             self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
             self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
             self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
             self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
             self.geom, self.morph, self.opts, self.mud = geom, morph, opts, mud
-            self.fst, self.odo = fst, odo
+            self.fst, self.odo, self.tank = fst, odo, tank
             self.tw_prev, self.wv_prev, self.out, self.work = tw_prev, wv_prev, out, work
 
     return jitclass(spec)(CouplingArrays)
@@ -178,6 +178,7 @@ class CompiledCoupling:
         self.odo = np.zeros((n, nb, 4))
         self.tw_prev = np.zeros((n, nb, 6))
         self.wv_prev = np.zeros((n, nb, 6))
+        self.tank = np.zeros((n, nb))  # energy the mud may give back [J] (D62c)
         self.out = np.zeros((n, nb, N_OUT))
         self.work = np.zeros(work_size(m.nv, len(self.tri_b)))
         self.addr = np.zeros((n, 10), dtype=np.int64)
@@ -198,6 +199,7 @@ class CompiledCoupling:
         self.odo[..., 2:] = b._world_xy
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
+        self.tank[:] = 0.0
         fields = ("xpos", "xmat", "xipos", "ximat", "cvel", "subtree_com", "cdof", "qLD",
                   "qLDiagInv", "xfrc_applied")  # fmt: skip
         self.datas = list(datas)  # keep them alive: the kernel reads their memory

@@ -4,9 +4,9 @@ Every step reads the kinematics of all robots (:mod:`.kinematics`), clips each f
 its current pose by the mud surface (:mod:`.pose`), steps the terrain once per foot type
 for all robots and bodies together, assembles the wrench of the posed foot
 (:mod:`.wrench`), stabilises it with the linearly implicit step of its dissipative part in
-the six degrees of freedom of the body (decisions D60a-D63 in docs/model.md, summarised in
-:mod:`mudrft.integrations.mujoco`), writes ``xfrc_applied`` and checks that MuJoCo did
-not diverge.
+the six degrees of freedom of the body and bounds its work by what the mud has taken
+(decisions D60a-D63 in docs/model.md, summarised in :mod:`mudrft.integrations.mujoco`),
+writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
 """
 
 from __future__ import annotations
@@ -20,11 +20,16 @@ from ..._validation import MudrftError, check_finite, check_nonnegative, check_p
 from ...citations import register
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
-from ..passivity import warn_if_not_passive
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, check_compilable
 from .contact import MudContact, _central_point
-from .implicit import channel_rows, force_and_derivative, implicit_wrench, secant_steps
+from .implicit import (
+    channel_rows,
+    force_and_derivative,
+    implicit_wrench,
+    passive_wrench,
+    secant_steps,
+)
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .placement import BodyFoot, body_foot, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
@@ -167,6 +172,7 @@ class MudBatch:
         self._pose = [_group_pose(self.bodies, idx) for _, idx in self._groups]
         self._tw_prev = np.zeros((self.n, nb, 6))
         self._wv_prev = np.zeros((self.n, nb, 6))
+        self._tank = np.zeros((self.n, nb))  # energy the mud may give back [J] (D62c)
         self._has_prev = False
         self._jac = np.zeros((6, model.nv))
         self._minv_jt = np.zeros((6, model.nv))
@@ -185,7 +191,6 @@ class MudBatch:
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._loop: Any = None  # the compiled step loop, made by reset()
-        warn_if_not_passive(self.terrain)  # D62b
 
     @property
     def last(self) -> MudContact | None:
@@ -261,6 +266,7 @@ class MudBatch:
             self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
         self._wv_prev[:] = 0.0
+        self._tank[:] = 0.0
         mj_bad = int(mj.mjtWarning.mjWARN_BADQACC)
         self._warn = [d.warning[mj_bad] for d in datas]
         self._warnings = np.array([w.number for w in self._warn], dtype=np.int64)
@@ -384,6 +390,7 @@ class MudBatch:
                 acc = np.zeros_like(tw)
                 acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
             wrench = implicit_wrench(w0, K, W, acc, dt)
+            wrench, self._tank = passive_wrench(wrench, tw, W, acc, self._tank, dt)
             self._wv_prev = (W @ wrench[..., None])[..., 0]
         else:
             wrench = w0

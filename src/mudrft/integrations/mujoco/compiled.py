@@ -16,7 +16,9 @@ every body of every robot what the numpy coupling does with arrays:
    (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`, D68d);
 4. assembles the wrench and its damping (D62a), computes the 6x6 mobility from MuJoCo's
    ``cdof`` and the factorised mass matrix (``qLD``: the port of ``mj_jac`` and
-   ``mj_solveLD`` below), solves the implicit step (D62) and writes ``xfrc_applied``.
+   ``mj_solveLD`` below), solves the implicit step (D62), bounds the wrench's work by the
+   foot's tank (D62c, :func:`~.implicit.passivity_scale` compiled from its one source) and
+   writes ``xfrc_applied``.
 
 The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
 one source by :func:`mudrft.backends.numba.compile_scalar`; what is written here is the
@@ -52,6 +54,7 @@ from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
+from .implicit import passivity_scale
 from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
 from .pose import channel_weights
 
@@ -175,7 +178,7 @@ def _kernel(
     mass: Any, inertia: Any,
     bodies: Any, tip: Any, fwd: Any, tri_adr: Any, tri_b: Any, up_adr: Any, tri_up: Any,
     consts: Any, cfg: Any, geom: Any, morph: Any, opts: Any,
-    mud: Any, fst: Any, odo: Any, tw_prev: Any, wv_prev: Any, out: Any, work: Any,
+    mud: Any, fst: Any, odo: Any, tw_prev: Any, wv_prev: Any, tank: Any, out: Any, work: Any,
 ) -> int:  # fmt: skip
     """One coupling step of every body of every robot (see the module docstring).
 
@@ -188,7 +191,8 @@ def _kernel(
     surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
     has_prev). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
     deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
-    ``tw_prev``, ``wv_prev`` (N, nb, 6) updated in place; ``out`` (N, nb, N_OUT);
+    ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N, nb: the energy the mud may give
+    back, D62c) updated in place; ``out`` (N, nb, N_OUT);
     ``work`` (:func:`work_size`) the work arrays, allocated once (D68b).
     Returns the number of bodies whose wrench is not finite.
     """
@@ -383,6 +387,7 @@ def _kernel(
                     for l in range(6):
                         idle = idle and K[i, l] == 0.0
             if implicit and idle:
+                tank[k, j] = 0.0
                 for i in range(6):
                     wv_prev[k, j, i] = 0.0
             elif implicit:
@@ -424,6 +429,21 @@ def _kernel(
                         ka += K[i, d] * acc6[d]
                     wr[i] = w0[i] + dt * ka
                 _solve6(A, wr)
+                # the passivity bound on the work over the step (D62c, .implicit.passive_wrench)
+                lin, quad, zero = 0.0, 0.0, True
+                for i in range(6):
+                    acc = 0.0
+                    for d in range(6):
+                        acc += W[i, d] * wr[d]
+                    lin += wr[i] * (tw[i] + 0.5 * dt * acc6[i])
+                    quad += wr[i] * acc
+                    zero = zero and wr[i] == 0.0
+                lin, quad = dt * lin, 0.5 * dt * dt * quad
+                sc = _pscale(lin, quad, tank[k, j])
+                left = max(tank[k, j] - (sc * lin + sc * sc * quad), 0.0)
+                tank[k, j] = 0.0 if zero else left
+                for i in range(6):
+                    wr[i] = sc * wr[i]
                 for i in range(6):
                     acc = 0.0
                     for d in range(6):
@@ -466,6 +486,7 @@ _const = clip_constants
 _clip = clip_facet
 _area = submerged_area
 _weights = channel_weights
+_pscale = passivity_scale
 
 
 #: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`), in
@@ -485,7 +506,7 @@ def _kernel_packed(p: Any) -> int:
     return _kernel(
         p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,
         p.inertia, p.bodies, p.tip, p.fwd, p.tri_adr, p.tri_b, p.up_adr, p.tri_up, p.consts,
-        p.cfg, p.geom, p.morph, p.opts, p.mud, p.fst, p.odo, p.tw_prev, p.wv_prev, p.out,
+        p.cfg, p.geom, p.morph, p.opts, p.mud, p.fst, p.odo, p.tw_prev, p.wv_prev, p.tank, p.out,
         p.work,
     )  # fmt: skip
 
@@ -514,6 +535,7 @@ def coupling_kernel() -> Any:
         _seal=compile_scalar(seal_factor),
         _contact=compile_scalar(contact_on_floats),
         _mforce=compile_scalar(morphing_force),
+        _pscale=compile_scalar(passivity_scale),
         _constants=numba.njit(inline="always")(_constants),
         _channels=numba.njit(inline="always")(_channels),
         _ptr=_pointer_intrinsic(),

@@ -19,7 +19,7 @@ class MudContact(NamedTuple):
     Attributes
     ----------
     force : ndarray (..., 3)
-        Force written to ``xfrc_applied`` (stabilised) [N].
+        Force written to ``xfrc_applied`` (stabilised, D62; bounded, D62c) [N].
     explicit_force : ndarray (..., 3)
         Force of the mud model at the start of the step (what :class:`mudrft.MudTerrain`
         returns for the same motion) plus the rigid bottom [N].

@@ -17,7 +17,9 @@ wrench (D62a): each channel's velocity derivative :math:`D_c\le0` acting at the 
 point, :math:`D_c\,b_cb_c^T` (:func:`channel_rows`), plus the same damping spread over the
 submerged elements, :math:`(D_c/A_c)\mathbf J_c` on the rotation. :func:`force_and_derivative`
 gets :math:`D_c` from one batched terrain call by secant differences, with the steps of
-:func:`secant_steps` (D63); :func:`implicit_wrench` solves for :math:`w`.
+:func:`secant_steps` (D63); :func:`implicit_wrench` solves for :math:`w`;
+:func:`passive_wrench` then scales it so that its work over the step never exceeds the
+energy the mud has taken from the foot (D62c).
 
 Shapes: ``N`` robots, ``nb`` bodies (or the bodies of one foot type); ``cs`` holds the
 cosine and sine of each foot's yaw.
@@ -30,7 +32,14 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["channel_rows", "force_and_derivative", "implicit_wrench", "secant_steps"]
+__all__ = [
+    "channel_rows",
+    "force_and_derivative",
+    "implicit_wrench",
+    "passive_wrench",
+    "passivity_scale",
+    "secant_steps",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -176,6 +185,90 @@ def implicit_wrench(
     A = xp.eye(6) - dt * (K @ W)
     rhs = w0 + dt * (K @ acc[..., None])[..., 0]
     return cast(FloatArray, xp.linalg.solve(A, rhs[..., None])[..., 0])
+
+
+def passivity_scale(work_lin: Any, work_quad: Any, tank: Any, *, xp: Any = np) -> Any:
+    r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
+
+    Element-wise; :math:`q\ge0` and :math:`T\ge0`, so :math:`s=0` always satisfies it.
+
+    Parameters
+    ----------
+    work_lin : array_like
+        :math:`l`, the work the wrench would do on the body over the step, linear part [J].
+    work_quad : array_like
+        :math:`q\ge0`, its quadratic part [J].
+    tank : array_like
+        :math:`T\ge0`, the energy the mud has taken from the body and may give back [J].
+    xp : module, keyword-only
+        Element-wise namespace (numpy, ``jax.numpy``, or floats for the compiled coupling).
+
+    Returns
+    -------
+    array_like
+        The scale :math:`s` of the wrench [-].
+    """
+    full = work_lin + work_quad <= tank
+    disc = xp.sqrt(xp.maximum(work_lin * work_lin + 4.0 * work_quad * tank, 0.0))
+    # the positive root of q s^2 + l s - T = 0, in the form without cancellation
+    taking = (disc - work_lin) / (2.0 * xp.where(work_quad > 0.0, work_quad, 1.0))
+    den = work_lin + disc  # > 0 unless l = 0 and q T = 0, where the root is 0
+    giving = 2.0 * tank / xp.where(den > 0.0, den, 1.0)
+    root = xp.where(work_lin < 0.0, taking, giving)
+    return xp.where(full, 1.0, xp.minimum(xp.maximum(root, 0.0), 1.0))
+
+
+def passive_wrench(
+    wrench: FloatArray,
+    tw: FloatArray,
+    W: FloatArray,
+    acc: FloatArray,
+    tank: FloatArray,
+    dt: float,
+    *,
+    xp: Any = np,
+) -> tuple[FloatArray, FloatArray]:
+    r"""Scale the wrench so that the mud never gives the body more energy than it took (D62c).
+
+    The work of a wrench :math:`s\,w` held over the step on a body of twist :math:`\xi`,
+    mobility :math:`W` and acceleration :math:`a` from all other forces, at the middle
+    twist :math:`\xi+\tfrac{\Delta t}{2}(a+sWw)` of the step, is
+    :math:`s\,l+s^2q` with :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and
+    :math:`q=\tfrac{\Delta t^2}{2}w^TWw\ge0`. The tank :math:`T\ge0` holds the energy the
+    mud has taken from the body since the foot last had no wrench; the wrench is scaled by
+    the largest :math:`s\le1` (:func:`passivity_scale`) whose work stays within it, and the
+    tank gives up that work. A foot with no wrench (out of the mud) empties the tank.
+
+    Parameters
+    ----------
+    wrench : ndarray (..., 6)
+        Wrench of the implicit step (:func:`implicit_wrench`) [N, N m].
+    tw : ndarray (..., 6)
+        Body twist at the start of the step [m/s, rad/s].
+    W : ndarray (..., 6, 6)
+        Mobility of the body twist.
+    acc : ndarray (..., 6)
+        Twist acceleration from all other forces [m/s^2, rad/s^2].
+    tank : ndarray (...)
+        Energy the mud has taken and may give back [J].
+    dt : float
+        Time step [s].
+    xp : module, keyword-only
+        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
+
+    Returns
+    -------
+    wrench : ndarray (..., 6)
+        The scaled wrench [N, N m].
+    tank : ndarray (...)
+        The tank after the step [J].
+    """
+    lin = dt * xp.sum(wrench * (tw + 0.5 * dt * acc), axis=-1)
+    quad = 0.5 * dt * dt * xp.sum(wrench * (W @ wrench[..., None])[..., 0], axis=-1)
+    s = passivity_scale(lin, quad, tank, xp=xp)
+    idle = xp.all(wrench == 0.0, axis=-1)
+    left = xp.maximum(tank - (s * lin + s * s * quad), 0.0)
+    return s[..., None] * wrench, xp.where(idle, 0.0, left)
 
 
 def _tree_map(fn: Any, tree: Any) -> Any:
