@@ -358,7 +358,7 @@ def test_a_free_foot_spinning_fast_never_gains_energy(
 
 
 @OTHER_EVALUATIONS
-@settings(max_examples=12, deadline=None, derandomize=True)
+@settings(max_examples=25, deadline=None, derandomize=True)
 @given(**_FAST)
 def test_a_free_foot_spinning_fast_gains_no_energy_under_the_other_evaluations(
     evaluation, shape, dt, euler, twist, spin_rate, mass, drop
