@@ -435,6 +435,7 @@ def _kernel(
                     acc = 0.0
                     for d in range(6):
                         acc += W[i, d] * wr[d]
+                    wv_prev[k, j, i] = acc  # W w, scaled below with the wrench
                     lin += wr[i] * (tw[i] + 0.5 * dt * acc6[i])
                     quad += wr[i] * acc
                     zero = zero and wr[i] == 0.0
@@ -444,11 +445,7 @@ def _kernel(
                 tank[k, j] = 0.0 if zero else left
                 for i in range(6):
                     wr[i] = sc * wr[i]
-                for i in range(6):
-                    acc = 0.0
-                    for d in range(6):
-                        acc += W[i, d] * wr[d]
-                    wv_prev[k, j, i] = acc
+                    wv_prev[k, j, i] = sc * wv_prev[k, j, i]
             finite = True
             for i in range(6):
                 tw_prev[k, j, i] = tw[i]
