@@ -165,6 +165,32 @@ def test_symmetric_mesh_vector_rule_equals_folded_closed_form(foot) -> None:
     np.testing.assert_allclose(direct, foot.force(0.017, s, h), rtol=6e-3, atol=1e-3)
 
 
+@pytest.mark.parametrize("foot", [Flat(), SemiCylinder(), SemiSphere()], ids=lambda f: f.name)
+def test_mesh_follows_the_heading_rule_when_a_stress_lags_its_motion(foot) -> None:
+    """D9 per facet (D22a): a channel stress whose sign no longer matches its motion (the
+    motion reversed along that axis, the stress has not yet) enters the other axis's shear
+    by its magnitude. Then the mesh equals the folded rule for every sign of the stresses
+    and is continuous where the motion crosses an axis; before, the -y walls of a flat foot
+    sliding along +x with sigma_y > 0 pushed it forward (F_x -29 N -> -3 N when the heading
+    crossed 0)."""
+    mesh = foot.to_mesh(resolution=24)
+    eps = 1e-7
+    axes = np.arange(-4, 5) * 0.5 * math.pi
+    h = np.concatenate([np.linspace(-math.pi, math.pi, 25), axes - eps, axes + eps])
+    signs = np.array([[1, 1], [1, -1], [-1, 1], [-1, -1]], float)
+    for sgn in signs:
+        s = np.broadcast_to([1.4e3 * sgn[0], 0.6e3 * sgn[1], 1e3], (h.size, 3))
+        direct = mesh.force(0.017, s, h)
+        folded = Foot.force_unchecked(mesh, 0.017, s, h)
+        np.testing.assert_allclose(direct, folded, rtol=1e-10, atol=1e-12)
+        # continuous across each axis: the force moves by O(eps), not by a wall's shear
+        below = mesh.force(0.017, s[: axes.size], axes - eps)
+        above = mesh.force(0.017, s[: axes.size], axes + eps)
+        np.testing.assert_allclose(below, above, rtol=0, atol=1e-4)
+        if not foot.trailing:  # the printed sphere form differs when sigma_x != sigma_y (D22)
+            np.testing.assert_allclose(direct, foot.force(0.017, s, h), rtol=6e-3, atol=1e-3)
+
+
 @settings(max_examples=30, deadline=None)
 @given(
     heading=st.floats(-2 * math.pi, 2 * math.pi),

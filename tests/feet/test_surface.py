@@ -110,7 +110,11 @@ def _single(normal: np.ndarray) -> np.ndarray:
 def test_element_force_is_eq6_with_the_paper_factors(
     seed: int, heading: float, trailing: bool
 ) -> None:
-    """Erratum E24: the element force equals eq. (6) with dF_y = -(sn sin + st cos) dS_h."""
+    """Erratum E24: the element force equals eq. (6) with dF_y = -(sn sin + st cos) dS_h.
+
+    With the per-face stress of D22 and the heading rule per facet (D22a): in dF_x the
+    y stress enters by its magnitude, in dF_y the x stress (the same sigma_e in both where
+    both folded stresses resist the motion)."""
     rng = np.random.default_rng(seed)
     n = rng.normal(size=3)
     tri = _single(n)
@@ -125,16 +129,17 @@ def test_element_force_is_eq6_with_the_paper_factors(
         s[0] * (1 if math.cos(heading) >= 0 else -1),
         s[1] * (1 if math.sin(heading) >= 0 else -1),
     ]
-    sig = sq[0] * math.cos(vphi) ** 2 + sq[1] * math.sin(vphi) ** 2  # per-face stress (D22)
+    c2, s2 = math.cos(vphi) ** 2, math.sin(vphi) ** 2
+    sig_x = sq[0] * c2 + abs(sq[1]) * s2  # per-face stress (D22) in dF_x (D22a)
+    sig_y = abs(sq[0]) * c2 + sq[1] * s2  # and in dF_y
     lead = math.cos(psi2) > 1e-9 or (abs(math.cos(psi2)) <= 1e-9 and math.sin(psi2) > 0)
     if trailing:
-        sn, st_ = f_n_extended(psi2) * sig, f_t_extended(psi2) * sig
+        fn, ft = f_n_extended(psi2), f_t_extended(psi2)
     else:  # leading facets only, sign of the tangential part from sin(psi2)
-        sn = f_n(psi2) * sig * lead
-        st_ = math.copysign(f_t(psi2), math.sin(psi2)) * sig * lead
+        fn, ft = f_n(psi2) * lead, math.copysign(f_t(psi2), math.sin(psi2)) * lead
     dsh = r * 1.0  # projected area of the unit facet
-    ex = (-sn * math.cos(vphi) + st_ * math.sin(vphi)) * dsh
-    ey = -(sn * math.sin(vphi) + st_ * math.cos(vphi)) * dsh
+    ex = (-fn * sig_x * math.cos(vphi) + ft * sig_x * math.sin(vphi)) * dsh
+    ey = -(fn * sig_y * math.sin(vphi) + ft * sig_y * math.cos(vphi)) * dsh
     ez = (f_n(psi1) * math.cos(psi1) + f_t(psi1) * math.sin(psi1)) * s[2] if nn[2] < -1e-9 else 0.0
     np.testing.assert_allclose(df[0], [ex, ey, ez], rtol=1e-10, atol=1e-12)
 

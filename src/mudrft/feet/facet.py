@@ -248,6 +248,16 @@ def facet_force(
     :math:`dF_z=w_z\sigma_z dS`; ``area`` = :math:`dS` [m^2], the facet's frame from
     :func:`facet_frame`, the folded stresses from :func:`fold_stresses` [Pa], the factors
     from :func:`facet_factors`.
+
+    The heading rule of decision D9, per facet (D22a): in each component the stress of its
+    own channel keeps its folded sign, and the other channel's stress enters by its
+    magnitude, :math:`dF_x` with :math:`\sigma_x^q\hat n_x^2+|\sigma_y|\hat n_y^2` and
+    :math:`dF_y` with :math:`|\sigma_x|\hat n_x^2+\sigma_y^q\hat n_y^2`, so that the shear a
+    channel's stress puts across the other axis opposes the sliding along it. Where both
+    folded stresses resist the motion this is :math:`\sigma_e` itself; where one lags
+    behind a reversal of its motion (a gait's sway) the force stays continuous.
     """
-    w = -(sqx * hx * hx + sqy * hy * hy) * nh * area  # -sigma_e |n_h| dS
-    return w * (fn * hx - ft * hy), w * (fn * hy + ft * hx), wz * sz * area
+    g = -nh * area  # -|n_h| dS
+    wx = g * (sqx * hx * hx + xp.abs(sqy) * hy * hy)
+    wy = g * (xp.abs(sqx) * hx * hx + sqy * hy * hy)
+    return wx * (fn * hx - ft * hy), wy * (fn * hy + ft * hx), wz * sz * area
