@@ -222,3 +222,15 @@ def test_entry_point_and_python_dash_m(tmp_path):
         check=False,
     )
     assert proc.returncode == 0 and "Table S1" in proc.stdout
+
+
+@pytest.mark.parametrize("command", ["simulate", "compare", "walk"])
+def test_every_command_that_takes_a_foot_file_takes_its_unit(command):
+    """--unit, which the mesh warning recommends, exists wherever --foot takes a file (it
+    was missing from compare and walk, so the advice failed there)."""
+    from mudrft.cli import build_parser
+
+    parser = build_parser()
+    required = {"simulate": ["--out", "x.csv"], "walk": ["--out", "x"], "compare": []}[command]
+    args = parser.parse_args([command, "--foot", "foot.stl", "--unit", "mm", *required])
+    assert args.unit == "mm" and args.foot == "foot.stl"

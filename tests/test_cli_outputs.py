@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -264,3 +265,47 @@ def test_successful_commands_leave_no_temporary_files(tmp_path, capsys):
     )
     assert code == 0
     assert listing(tmp_path) == ["a", "a/b", "a/b/compare.csv", "a/b/compare_summary.csv"]
+
+
+# --------------------------------------------------------------------------------------
+# figure formats and file modes
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("command", ["simulate", "calibrate"])
+def test_a_plot_name_matplotlib_cannot_write_is_refused_before_any_work(
+    tmp_path, capsys, monkeypatch, command
+):
+    """A --plot suffix that is no figure format is a one-line error naming --plot and the
+    formats, raised before the simulation or the fit runs (it used to end the whole run in
+    a matplotlib traceback)."""
+    pytest.importorskip("matplotlib")  # --plot needs the extra "plot"
+    ran = []
+    monkeypatch.setattr(mudrft.simulation, "simulate", lambda *a, **k: ran.append(1))
+    monkeypatch.setattr(mudrft.calibration.fit, "calibrate", lambda *a, **k: ran.append(1))
+    if command == "simulate":
+        args = ["simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv"]
+    else:
+        data = tmp_path / "in" / "log.csv"
+        data.parent.mkdir()
+        mudrft.calibration.save_intrusion_csv(mudrft.calibration.example_dataset("vertical"), data)
+        args = ["calibrate", data, "--quiet", "--out", tmp_path / "fit.json"]
+    before = listing(tmp_path)
+    for name in ("fig.txt", "fig"):
+        code, _, err = run(capsys, *args, "--plot", tmp_path / name)
+        one_line_error(code, err, "--plot", ".png", ".pdf")
+    assert ran == []
+    assert listing(tmp_path) == before
+
+
+def test_output_files_get_the_mode_of_a_new_file(tmp_path, capsys):
+    """Outputs are written under a private temporary name, then moved: they must end with
+    the permissions the umask gives a new file, not the temporary file's 0600."""
+    old = os.umask(0o022)
+    try:
+        code, _, _ = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "a.csv")
+        os.umask(0o027)
+        code2, _, _ = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "b.csv")
+    finally:
+        os.umask(old)
+    assert code == code2 == 0
+    assert (tmp_path / "a.csv").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "b.csv").stat().st_mode & 0o777 == 0o640

@@ -46,6 +46,26 @@ def test_every_run_is_bounded_by_the_one_sample_limit(make, needle):
     assert "iB" in text  # the memory it would have needed
 
 
+@pytest.mark.parametrize(("speed", "dt"), [(0.2, 10.0), (0.2, 0.3), (100.0, 1e-3), (0.2, 0.0326)])
+def test_a_gait_cycle_too_coarse_to_mean_anything_is_refused(speed, dt):
+    """Fewer than MIN_GAIT_STEPS steps a cycle is an error naming dt and the largest dt that
+    works (it used to run: dt = 10 s gave a 2-sample cycle with no suction at all)."""
+    from mudrft.trajectories import MIN_GAIT_STEPS
+
+    with pytest.raises(MudrftError, match=r"dt = .* at least 20 are needed: use dt <= "):
+        mudrft.gait(speed, dt=dt)
+    period = mudrft.trajectories.STRIDE_LENGTH / speed
+    assert len(mudrft.gait(speed, dt=period / MIN_GAIT_STEPS).time) == MIN_GAIT_STEPS + 1
+
+
+def test_simulate_cli_with_a_coarse_dt_is_a_one_line_error(tmp_path, capsys):
+    code, _, err = run_cli(
+        capsys, "simulate", "--foot", "flat", "--dt", "10", "--out", str(tmp_path / "a.csv")
+    )
+    assert code == 2 and err.count("\n") == 1 and "dt = 10 s" in err, err
+    assert not (tmp_path / "a.csv").exists()
+
+
 def test_the_sample_limit_reports_count_and_memory():
     with pytest.raises(MudrftError, match=r"1\.3e\+11 samples.*about 23\.6 TiB"):
         check_samples("gait", 1.3e11, hint="use a larger dt", bytes_per_sample=200)

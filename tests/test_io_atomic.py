@@ -178,3 +178,16 @@ def test_text_is_utf8_and_option_is_named(tmp_path):
     assert p.read_bytes() == "σ [Pa]\n".encode()
     with pytest.raises(MudrftError, match="pass --force to replace it"):
         atomic_write(p, "again", option="--force")
+
+
+def test_json_text_writes_undefined_numbers_as_null():
+    """Standard JSON: NaN and infinities (numpy's too) become null, nested anywhere."""
+    import json
+
+    from mudrft.io import json_text
+
+    obj = {"a": float("nan"), "b": [1.0, np.inf, np.float64(2.5)], "c": {"d": -np.inf}, "e": True}
+    text = json_text(obj)
+    back = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-standard JSON: {c}"))
+    assert back == {"a": None, "b": [1.0, None, 2.5], "c": {"d": None}, "e": True}
+    assert text.endswith("\n")

@@ -25,6 +25,7 @@ from ._validation import (
 __all__ = [
     "FOOT_HEIGHT",
     "GAIT_SPEEDS",
+    "MIN_GAIT_STEPS",
     "STANCE_DEPTH",
     "STRIDE_LENGTH",
     "Trajectory",
@@ -41,6 +42,9 @@ FOOT_HEIGHT = 0.026
 #: Deepest tip depth of :func:`gait` [m] (decision D10): within :data:`FOOT_HEIGHT`, as the
 #: closed forms (12)-(14) assume a foot that is not buried.
 STANCE_DEPTH = 0.02
+#: Fewest steps of ``dt`` :func:`gait` accepts in one cycle [-]: coarser, the stance and the
+#: retraction are a handful of samples each and suction, impulse and sinking lose meaning.
+MIN_GAIT_STEPS = 20
 
 
 @dataclass(frozen=True, eq=False)
@@ -243,7 +247,7 @@ def gait(
     lift : float, keyword-only
         Height of the tip above the surface at the end of the swing [m].
     dt : float, keyword-only
-        Sample spacing [s].
+        Sample spacing [s]; at most :math:`T/20` (:data:`MIN_GAIT_STEPS` steps a cycle).
 
     References
     ----------
@@ -271,7 +275,13 @@ def gait(
         T / dt + 1,
         hint="use a larger dt or a higher speed",
     )
-    n = max(int(np.ceil(T / dt)) + 1, 3)
+    if not T / dt >= MIN_GAIT_STEPS:
+        raise MudrftError(
+            f"gait: dt = {float(dt):g} s cuts one {T:.3g} s cycle (stride {float(stride):g} m / "
+            f"speed {float(speed):g} m/s) into {T / dt:.3g} steps; at least {MIN_GAIT_STEPS} "
+            f"are needed: use dt <= {T / MIN_GAIT_STEPS:.3g} s or a lower speed"
+        )
+    n = int(np.ceil(T / dt)) + 1
     t = np.linspace(0.0, T, n)
     s = t / T
     w = 2 * np.pi / T

@@ -109,7 +109,7 @@ def test_fast_foot_rejects_unsupported_feet_and_batches():
     with pytest.raises(MudrftError, match="backend"):
         FastMudFoot(mudrft.feet.Flat(), mudrft.paper_mud(0.25), backend="cuda")
     p = mudrft.paper_parameters(0.25)
-    batch = mudrft.Mud(p.replace(alpha=np.array([1e4, 2e4])), p)
+    batch = mudrft.Mud(p.replace(alpha=np.array([1e4, 2e4])), mudrft.paper_mud(0.25).horizontal)
     with pytest.raises(MudrftError, match="BatchedMud"):
         FastMudFoot(mudrft.feet.Flat(), batch)
     assert foot_geometry(mudrft.feet.SemiCylinder(radius=0.05, width=0.07, height=0.03)) == (

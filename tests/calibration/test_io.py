@@ -281,3 +281,26 @@ def test_corrupted_valid_file_never_tracebacks(pos, junk):
     good = GOOD_HEADER + "".join(f"{0.1 * k:.2f},{0.001 * k:.4f},{100 * k}\n" for k in range(12))
     pos = min(pos, len(good))
     _check_file((good[:pos] + junk + good[pos + len(junk) :]).encode("utf-8"))
+
+
+def test_a_direction_that_overrides_the_files_is_said(tmp_path, caplog):
+    """direction= still wins over the file's '# direction:' (documented), but no longer
+    silently: a warning names the file, both directions and where the file says it."""
+    import logging
+
+    from mudrft.calibration import example_dataset, save_intrusion_csv
+    from mudrft.io import load_dataset
+
+    path = tmp_path / "h.csv"
+    save_intrusion_csv(example_dataset("horizontal"), path)
+    with caplog.at_level(logging.WARNING, logger="mudrft"):
+        same = load_dataset(path, direction="horizontal")
+    assert same.direction == "horizontal" and not caplog.records
+    with caplog.at_level(logging.WARNING, logger="mudrft"):
+        ds = load_dataset(path, direction="vertical")
+    assert ds.direction == "vertical"
+    (record,) = caplog.records
+    assert (
+        "h.csv" in record.getMessage()
+        and "overrides the file's 'horizontal'" in record.getMessage()
+    )

@@ -97,6 +97,31 @@ def test_walk_compare_writes_table_claims_and_figure(tmp_path):
     assert set(data["feet"]) == set(mudrft.integrations.walk_compare.FEET)
 
 
+def test_a_walk_without_a_complete_step_is_undetermined_and_strict_json(tmp_path):
+    """Too short a walk has no per-step energy or sinking: the claims that need them are
+    'undetermined' (they read 'differs' on NaN before) and compare.json writes null, not
+    the NaN that strict JSON parsers reject."""
+    from mudrft.integrations.walk_compare import UNDETERMINED, compare_claims, write_compare
+
+    def summary(suction, energy, sinking):
+        return {"fell": False, "max_suction [N]": suction, "energy_per_step [J]": energy,
+                "mean_sinking [m]": sinking, "steps": 0 if math.isnan(energy) else 3}  # fmt: skip
+
+    nan = float("nan")
+    short = {f: summary(s, nan, nan) for f, s in zip(mudrft.integrations.walk_compare.FEET,
+                                                      (30.0, 20.0, 10.0, 5.0), strict=True)}  # fmt: skip
+    rows = {r["claim"]: r["verdict"] for r in compare_claims(short)}
+    assert sum(v == UNDETERMINED for v in rows.values()) == 3
+    assert rows["flat foot: largest suction, semi-sphere: least (Sec. IV-B)"] == "agrees"
+    full = dict(short, morphing=summary(5.0, 1.0, 0.01), flat=summary(30.0, 2.0, 0.02),
+                **{"semi-cylinder": summary(20.0, 2.0, 0.02)}, **{"semi-sphere": summary(10.0, 2.0, 0.02)})  # fmt: skip
+    assert UNDETERMINED not in {r["verdict"] for r in compare_claims(full)}
+    write_compare(tmp_path, short)
+    text = (tmp_path / "compare.json").read_text()
+    data = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-standard JSON: {c}"))
+    assert data["feet"]["flat"]["energy_per_step [J]"] is None
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.floats(-0.15, 0.15), st.floats(-0.36, -0.2))  # reachable: |(x, z)| < 0.4 m
 def test_leg_inverse_kinematics_round_trip(x, z):
@@ -124,6 +149,7 @@ def test_ik_agrees_with_mujoco():
 def _args(tmp_path, **kw):
     base = {
         "foot": "semi-sphere",
+        "unit": None,
         "water_content": 0.3,
         "seconds": 1.2,
         "out": str(tmp_path / "run"),

@@ -138,3 +138,15 @@ def test_text_labelling_range_and_errors():
         mudrft.paper_mud(0.25, labels="figure")
     between = mudrft.paper_parameters(0.3, labels="text")  # interpolated like the table's 40 %
     assert between.alpha == mudrft.paper_parameters(0.4).alpha
+
+
+def test_a_mud_refuses_sets_fitted_to_the_other_direction():
+    """Mud(vertical, horizontal) with the sets swapped is an error that says so; a set
+    without a direction is taken in either place."""
+    mud = mudrft.paper_mud(0.25)
+    with pytest.raises(MudrftError, match=r"vertical must be a vertical parameter set.*swapped"):
+        mudrft.Mud(mud.horizontal, mud.vertical)
+    with pytest.raises(MudrftError, match="horizontal must be a horizontal parameter set"):
+        mudrft.Mud(mud.vertical, mud.vertical)
+    either = mudrft.Mud(mud.vertical, mud.vertical.replace(direction=""))
+    assert either.horizontal.alpha == mud.vertical.alpha

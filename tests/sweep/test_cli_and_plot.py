@@ -154,3 +154,16 @@ def test_sensitivity_example_runs_on_a_small_sample(tmp_path, capsys):
     ranked = example["main"](["--n", "8", "--serial", "--out", str(figure)])
     assert sorted(name for name, _ in ranked) == sorted(f"{k}_scale" for k in example["FACTORS"])
     assert figure.stat().st_size > 0 and "Spearman" in capsys.readouterr().out
+
+
+def test_a_sweep_whose_every_point_failed_exits_with_1(tmp_path, capsys):
+    """Failed points are recorded, not fatal; but when none succeeded the command says so
+    and exits with 1 (it exited with 0 before), so a script does not go on with no data."""
+    spec = SPEC.replace("width = [0.05, 0.065]", "width = [-0.05, -0.065]")
+    spec = spec.replace("water_content = [0.25, 0.35]", "water_content = 0.25")
+    spec = spec.replace("speed = [0.2, 0.26]", "speed = 0.2")
+    (tmp_path / "s.toml").write_text(spec)
+    args = ("sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--quiet")
+    code, stdout, err = run(capsys, *args, "--scheduler", "serial")
+    assert code == 1, err
+    assert "2 points, 2 failed" in stdout and "every point of the sweep failed" in err

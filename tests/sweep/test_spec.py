@@ -132,6 +132,23 @@ def test_mud_sets_are_read_relative_to_the_spec(tmp_path):
     assert s.mud_sets["site"]["vertical"]["sigma_y"] == mud.vertical.sigma_y
 
 
+def test_mud_sets_refuse_a_set_fitted_to_the_other_direction(tmp_path):
+    """A horizontal fit named as the vertical set is an error naming the key (it used to run
+    the sweep on swapped sets without a word)."""
+    import mudrft
+
+    mud = mudrft.paper_mud(0.35)
+    for d in ("vertical", "horizontal"):
+        p = dict(getattr(mud, d).as_dict(), direction=d)
+        (tmp_path / f"{d}.json").write_text(json.dumps(p))
+    (tmp_path / "s.toml").write_text(
+        '[foot]\nkind = "flat"\n[mud]\nmud_set = ["site"]\n'
+        '[mud.sets.site]\nvertical = "horizontal.json"\nhorizontal = "vertical.json"\n'
+    )
+    with pytest.raises(MudrftError, match=r"\[mud.sets.site\] vertical: .* holds a horizontal"):
+        load_spec(tmp_path / "s.toml")
+
+
 BAD = [
     ({"foo": {}}, r"unknown section \[foo\]"),
     ({"sweep": {"desing": "grid"}}, r"\[sweep\] desing: unknown key \(did you mean 'design'\?\)"),

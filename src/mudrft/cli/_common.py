@@ -18,6 +18,7 @@ import math
 import os
 import shutil
 import tempfile
+import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -31,12 +32,14 @@ __all__ = [
     "EXTRAS",
     "HelpFormatter",
     "Outputs",
+    "add_foot_options",
     "add_force",
     "check_finite_option",
     "check_positive_option",
     "logger",
     "paper_mud_option",
     "require_extra",
+    "require_plot_file",
     "same_file",
 ]
 
@@ -78,6 +81,24 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
     parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
 
 
+def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
+    """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None)
+    and ``--unit`` (the mesh file's length unit) to a subcommand's parser."""
+    parser.add_argument(
+        "--foot",
+        required=default is None,
+        default=default,
+        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
+    )
+    parser.add_argument(
+        "--unit",
+        choices=["m", "mm", "cm", "in"],
+        default=None,
+        help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
+        "less than 1 mm across warns)",
+    )
+
+
 def require_extra(module: str, *, needed_for: str) -> Any:
     """Import an optional package, or fail with one line naming the extra to install.
 
@@ -95,6 +116,29 @@ def require_extra(module: str, *, needed_for: str) -> Any:
             f"{needed_for} needs the optional package {module}, which is not installed: "
             f"pip install 'mudrft[{EXTRAS.get(module, module)}]'"
         ) from exc
+
+
+def require_plot_file(option: str, path: str | Path) -> None:
+    """Check, before any work, that matplotlib is installed and can write ``path``'s format.
+
+    Parameters
+    ----------
+    option : str
+        The option that names the figure (``"--plot"``), for the message.
+    path : str or Path
+        The figure's file name; its suffix chooses the format (``.png``, ``.pdf``, ...).
+    """
+    require_extra("matplotlib", needed_for=option)
+    from matplotlib.figure import Figure
+
+    formats = Figure().canvas.get_supported_filetypes()
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in formats:
+        got = f"'.{suffix}'" if suffix else "no suffix"
+        raise MudrftError(
+            f"{option} {str(path)!r}: expected a figure file name ending in one of "
+            f"{', '.join('.' + f for f in sorted(formats))}; got {got}"
+        )
 
 
 def _number(value: float) -> str:
@@ -272,10 +316,16 @@ class Outputs:
 
     @staticmethod
     def _mkstemp(option: str, final: Path) -> tuple[int, str]:
+        # a new file of a fresh name, created as any new file is (the umask applies: not
+        # mkstemp's private 0600, which the output would keep after the move)
         try:
-            return tempfile.mkstemp(
-                prefix=f".{final.stem}.", suffix=f".tmp{final.suffix}", dir=final.parent
-            )
+            for _ in range(100):
+                name = final.parent / f".{final.stem}.{uuid.uuid4().hex[:12]}.tmp{final.suffix}"
+                try:
+                    return os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), str(name)
+                except FileExistsError:  # pragma: no cover - a 48-bit random name collided
+                    continue
+            raise FileExistsError(f"no free temporary name next to {final}")  # pragma: no cover
         except OSError as exc:
             raise MudrftError(
                 f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import json
 import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from .._validation import MudrftError
+from ..io.atomic import json_text
 from ._common import HelpFormatter, Outputs, add_force, logger
 
 __all__ = ["HARNESS_MODULE", "add_parser", "harness_path", "load_harness", "run"]
@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
         for line in harness.summary_lines(res):
             print(line)
         if json_tmp is not None:
-            json_tmp.write_text(json.dumps(res, indent=2, default=float) + "\n")
+            json_tmp.write_text(json_text(res))
     for path in outputs.written:
         print(f"wrote {path}")
     return 0

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from .._validation import MudrftError
-from ._common import HelpFormatter, Outputs, add_force, logger, require_extra, same_file
+from ._common import HelpFormatter, Outputs, add_force, logger, require_plot_file, same_file
 
 __all__ = ["add_parser", "run"]
 
@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
         if target and any(same_file(target, d) for d in args.data):
             raise MudrftError(f"--{option} {target!r} names an input file; choose another name")
     if args.plot:
-        require_extra("matplotlib", needed_for="--plot")
+        require_plot_file("--plot", args.plot)
     opts: dict[str, Any] = {"area": args.area, "characteristic_length": args.length}
     if args.direction:
         opts["direction"] = args.direction

@@ -18,6 +18,7 @@ from typing import Any
 from ._common import (
     HelpFormatter,
     Outputs,
+    add_foot_options,
     add_force,
     check_finite_option,
     check_positive_option,
@@ -52,11 +53,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
-    p.add_argument(
-        "--foot",
-        default="flat",
-        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
-    )
+    add_foot_options(p, default="flat")
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
     p.add_argument("--water-content", type=float, default=0.25, help="mud water content W [-]")
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
@@ -177,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
-    foot = by_name(args.foot)
+    foot = by_name(args.foot, unit=args.unit)
     paths = write_comparison(
         foot,
         args.out,

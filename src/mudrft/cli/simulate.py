@@ -10,11 +10,12 @@ from ..trajectories import STANCE_DEPTH
 from ._common import (
     HelpFormatter,
     Outputs,
+    add_foot_options,
     add_force,
     check_positive_option,
     logger,
     paper_mud_option,
-    require_extra,
+    require_plot_file,
     same_file,
 )
 
@@ -37,18 +38,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
-    p.add_argument(
-        "--foot",
-        required=True,
-        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
-    )
-    p.add_argument(
-        "--unit",
-        choices=["m", "mm", "cm", "in"],
-        default=None,
-        help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
-        "less than 1 mm across warns)",
-    )
+    add_foot_options(p)
     p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
@@ -101,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         if path and same_file(path, args.foot):
             raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")
     if args.plot:
-        require_extra("matplotlib", needed_for="--plot")
+        require_plot_file("--plot", args.plot)
     from ..terrains import MudTerrain
 
     foot = by_name(args.foot, unit=args.unit)
@@ -110,13 +100,14 @@ def run(args: argparse.Namespace) -> int:
         thixotropy=args.thixotropy,
         clock=args.clock,
     )
+    trajectory = gait(speed, depth=depth, dt=dt)  # checked before anything is written
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
         logger.info(
             "simulating %s foot, W = %g %%, %g m/s", foot.name, args.water_content * 100, speed
         )
-        res = simulate(foot, mud, gait(speed, depth=depth, dt=dt), progress=not args.quiet)
+        res = simulate(foot, mud, trajectory, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
             fig = res.plot()

@@ -86,7 +86,7 @@ def _write_table(ds: Any, path: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep and write ``DIR``; returns the exit status (0)."""
+    """Run the sweep and write ``DIR``; returns the exit status (0, or 1 if every point failed)."""
     from ..sweep.spec import load_spec
 
     spec = load_spec(args.spec)
@@ -140,6 +140,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"  ... and {len(distinct) - 3} other errors (the 'error' variable)")
     for path in outputs.written:
         print(f"wrote {path}")
+    if spec.n_points and failed == spec.n_points:
+        logger.error("every point of the sweep failed (the errors above)")
+        return 1
     return 0
 
 

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import json
+import math
 import os
 import time
 from typing import Any
 
+from ..io.atomic import json_text
 from ._common import (
     HelpFormatter,
     Outputs,
+    add_foot_options,
     add_force,
     check_finite_option,
     check_positive_option,
@@ -42,11 +44,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description=DESCRIPTION,
         formatter_class=HelpFormatter,
     )
-    p.add_argument(
-        "--foot",
-        default="flat",
-        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply) in metres",
-    )
+    add_foot_options(p, default="flat")
     p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
@@ -98,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
     if args.compare:
         return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
                         bottom=bottom)  # fmt: skip
-    foot = by_name(args.foot)
+    foot = by_name(args.foot, unit=args.unit)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
         logger.info(
@@ -129,10 +127,12 @@ def run(args: argparse.Namespace) -> int:
         WO.plot_walk(res, stage / "walk.png")
         strip = WO.save_strip(res.frames, stage / "frames.png")
         s["frames"] = strip.name if strip is not None else None
-        (stage / "summary.json").write_text(json.dumps(s, indent=2) + "\n")
+        (stage / "summary.json").write_text(json_text(s))
+    _warn_if_no_step({foot.name: s}, seconds, step_time)
     print(
         f"{'FELL' if s['fell'] else 'walked'} {s['distance [m]']:.3f} m in {s['seconds']:.2f} s; "
-        f"{s['energy_per_step [J]']:.3f} J/step; sinking {1e3 * s['mean_sinking [m]']:.1f} mm; "
+        f"{_num(s['energy_per_step [J]'], '.3f')} J/step; "
+        f"sinking {_num(1e3 * s['mean_sinking [m]'], '.1f')} mm; "
         f"max suction {s['max_suction [N]']:.2f} N"
     )
     for path in outputs.written:
@@ -160,11 +160,33 @@ def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
             **options,
         )
         write_compare(stage, summaries, mud_name=f"(W = {100 * args.water_content:.0f} %)")
+    _warn_if_no_step(summaries, options["seconds"], options["step_time"])
     for foot, s in summaries.items():
         print(
-            f"{foot}: {'FELL, ' if s['fell'] else ''}{s['energy_per_step [J]']:.2f} J/step, "
-            f"sinking {1e3 * s['mean_sinking [m]']:.1f} mm, suction {s['max_suction [N]']:.0f} N"
+            f"{foot}: {'FELL, ' if s['fell'] else ''}"
+            f"{_num(s['energy_per_step [J]'], '.2f')} J/step, "
+            f"sinking {_num(1e3 * s['mean_sinking [m]'], '.1f')} mm, "
+            f"suction {s['max_suction [N]']:.0f} N"
         )
     for path in outputs.written:
         print(f"wrote {path}")
     return 0
+
+
+def _num(value: float, fmt: str) -> str:
+    """A number for the console; an undefined one (NaN) as ``n/a``."""
+    return format(value, fmt) if math.isfinite(value) else "n/a"
+
+
+def _warn_if_no_step(summaries: dict[str, dict[str, Any]], seconds: float, step: float) -> None:
+    """Say so when a walk had no complete gait step: its per-step metrics are undefined."""
+    short = [foot for foot, s in summaries.items() if s["steps"] == 0]
+    if short:
+        logger.warning(
+            "%s: no complete gait step in %g s (a step takes %g s); the per-step energy, "
+            "sinking and slip are undefined (null in the JSON, 'undetermined' in claims.csv): "
+            "walk longer (--seconds)",
+            ", ".join(short),
+            seconds,
+            step,
+        )

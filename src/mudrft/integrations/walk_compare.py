@@ -12,13 +12,21 @@ direction and the size of the difference); :func:`write_compare` writes
 from __future__ import annotations
 
 import csv
-import json
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["COMPARE_COLUMNS", "FEET", "compare_claims", "compare_feet", "write_compare"]
+from ..io.atomic import json_text
+
+__all__ = [
+    "COMPARE_COLUMNS",
+    "FEET",
+    "UNDETERMINED",
+    "compare_claims",
+    "compare_feet",
+    "write_compare",
+]
 
 #: The feet compared, by :func:`mudrft.feet.by_name`.
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
@@ -87,12 +95,22 @@ def _reduction(a: float, b: float) -> float:
     return (1.0 - a / b) * 100.0 if b > 0 and math.isfinite(a) and math.isfinite(b) else math.nan
 
 
+#: The verdict of a claim whose numbers are undefined (no complete gait step).
+UNDETERMINED = "undetermined"
+
+
+def _finite(*values: float) -> bool:
+    return all(math.isfinite(v) for v in values)
+
+
 def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]:
     """The paper's claims on the feet beside the walking results.
 
     Returns one dict per claim with ``claim``, ``paper``, ``mudrft`` and ``verdict``
     (``agrees`` when the walk shows the same ordering or a reduction within 15 points of
-    the paper's, ``same direction`` when only the sign agrees, else ``differs``).
+    the paper's, ``same direction`` when only the sign agrees, else ``differs``;
+    ``undetermined`` when a number it needs is undefined: a walk too short for one
+    complete gait step has no per-step energy or sinking).
     """
     rows: list[dict[str, str]] = []
     if "morphing" in summaries:
@@ -105,12 +123,13 @@ def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]
             de = _reduction(m["energy_per_step [J]"], r["energy_per_step [J]"])
             close = abs(ds - ps) <= 15 and abs(de - pe) <= 15
             same = ds > 0 and de > 0
+            verdict = "agrees" if close else ("same direction" if same else "differs")
             rows.append(
                 {
                     "claim": f"morphing foot: less suction and energy than the {ref} foot (Fig. 13)",
                     "paper": f"suction {ps:.0f} % lower, energy {pe:.0f} % lower",
                     "mudrft": f"suction {ds:.0f} % lower, energy {de:.0f} % lower",
-                    "verdict": "agrees" if close else ("same direction" if same else "differs"),
+                    "verdict": verdict if _finite(ds, de) else UNDETERMINED,
                 }
             )
         sink = {f: s["mean_sinking [m]"] for f, s in summaries.items()}
@@ -120,7 +139,9 @@ def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]
                 "claim": "the morphing foot sinks least (Fig. 12)",
                 "paper": "morphing sinks least",
                 "mudrft": ", ".join(f"{f} {1e3 * v:.1f} mm" for f, v in sink.items()),
-                "verdict": "agrees" if least == "morphing" else "differs",
+                "verdict": ("agrees" if least == "morphing" else "differs")
+                if _finite(*sink.values())
+                else UNDETERMINED,
             }
         )
     fixed = [f for f in ("flat", "semi-cylinder", "semi-sphere") if f in summaries]
@@ -171,9 +192,7 @@ def write_compare(
         dw = csv.DictWriter(fh, fieldnames=("claim", "paper", "mudrft", "verdict"))
         dw.writeheader()
         dw.writerows(claims)
-    paths[2].write_text(
-        json.dumps({"feet": summaries, "claims": claims}, indent=2, default=float) + "\n"
-    )
+    paths[2].write_text(json_text({"feet": summaries, "claims": claims}))
     _plot(paths[3], summaries, claims, mud_name)
     return paths
 

@@ -44,7 +44,7 @@ names, aliases and units, for CSV and HDF5 alike), :mod:`.csv_log` and :mod:`.hd
 (the two formats), :mod:`.load` (either, by suffix), :mod:`.atomic` (the one writer).
 """
 
-from .atomic import atomic_write
+from .atomic import atomic_write, json_text
 from .columns import COLUMN_ALIASES
 from .csv_log import load_intrusion_csv, save_intrusion_csv
 from .dataset import IntrusionDataset, Trial
@@ -56,6 +56,7 @@ __all__ = [
     "IntrusionDataset",
     "Trial",
     "atomic_write",
+    "json_text",
     "load_dataset",
     "load_intrusion_csv",
     "load_intrusion_hdf5",

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._progress import logger
 from .._validation import MudrftError, check_choice, check_positive, plain, warn_implausible
 from ..plate import DEFAULT_PLATE_LENGTH
 from .columns import fail, parse_header_name
@@ -62,7 +63,13 @@ def resolve_direction(path: str, given: str | None, from_file: str | None, where
                 f"metadata 'direction' must be 'vertical' or 'horizontal', got {from_file!r}",
             )
     if given:
-        return check_choice("direction", given, DIRECTIONS)
+        direction = check_choice("direction", given, DIRECTIONS)
+        if file_direction is not None and file_direction != direction:
+            logger.warning(
+                "%s: direction %r given overrides the file's %r (%s)",
+                path, direction, file_direction, where,
+            )  # fmt: skip
+        return direction
     return file_direction or "vertical"
 
 

@@ -10,14 +10,17 @@ are being written.
 from __future__ import annotations
 
 import contextlib
+import json
+import math
 import os
 import uuid
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from .._validation import MudrftError
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "json_text"]
 
 Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
@@ -135,3 +138,45 @@ def atomic_write(
             with contextlib.suppress(OSError):  # gone already once moved into place
                 os.unlink(tmp)
     return p
+
+
+def _finite_or_none(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {k: _finite_or_none(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite_or_none(v) for v in obj]
+    if isinstance(obj, bool) or obj is None or isinstance(obj, (int, str)):
+        return obj
+    try:
+        value = float(obj)  # also numpy numbers
+    except (TypeError, ValueError):
+        return obj  # json.dumps names what it cannot write
+    return value if math.isfinite(value) else None
+
+
+def json_text(obj: Any, *, indent: int | None = 2) -> str:
+    r"""Standard JSON for ``obj``, every NaN or infinite number written as ``null``.
+
+    Python's :func:`json.dumps` writes ``NaN`` and ``Infinity`` by default, which is not
+    JSON: strict parsers (JavaScript's ``JSON.parse``, ``json.loads`` with
+    ``parse_constant``) reject the file. mudrft's summaries mark an undefined number (a
+    metric of a walk without a complete step) as NaN in Python and ``null`` on disk.
+
+    Parameters
+    ----------
+    obj : dict, list or number
+        Nested dicts and lists of numbers (numpy numbers too), strings, booleans and None.
+    indent : int or None, keyword-only
+        As :func:`json.dumps`.
+
+    Returns
+    -------
+    str
+        The JSON text, ending in a newline.
+
+    Examples
+    --------
+    >>> json_text({"energy [J]": float("nan"), "steps": 0}, indent=None)
+    '{"energy [J]": null, "steps": 0}\n'
+    """
+    return json.dumps(_finite_or_none(obj), indent=indent, allow_nan=False) + "\n"

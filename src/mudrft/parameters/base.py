@@ -227,9 +227,15 @@ class Mud:
 
     def __post_init__(self) -> None:
         for attr in ("vertical", "horizontal"):
-            if not isinstance(getattr(self, attr), MudParameters):
+            value = getattr(self, attr)
+            if not isinstance(value, MudParameters):
+                raise MudrftError(f"{attr} must be a MudParameters, got {type(value).__name__}")
+            if value.direction not in ("", attr):  # a set fitted to the other direction
                 raise MudrftError(
-                    f"{attr} must be a MudParameters, got {type(getattr(self, attr)).__name__}"
+                    f"{attr} must be a {attr} parameter set (or one with no direction), got a "
+                    f"{value.direction} one ({value.source or 'no source'}): were vertical and "
+                    f"horizontal swapped? To use it anyway, pass "
+                    f"{attr}=params.replace(direction='')"
                 )
 
     def __repr__(self) -> str:

@@ -384,6 +384,11 @@ def _mud_sets(value: Any, base: Path) -> dict[str, dict[str, Any]]:
                 raise MudrftError(f"{where} {d}: {str(path)!r}: no such file") from None
             except (MudrftError, OSError) as exc:
                 raise MudrftError(f"{where} {d}: {exc}") from None
+            if p.direction not in ("", d):
+                raise MudrftError(
+                    f"{where} {d}: {str(path)!r} holds a {p.direction} parameter set, expected "
+                    f"a {d} one (were vertical and horizontal swapped?)"
+                )
             sets[d] = {k: float(v) for k, v in p.as_dict().items()}
             sources.append(f"{d}: {p.source or path}")
         sets["source"] = "; ".join(sources)
