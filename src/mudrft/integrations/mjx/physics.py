@@ -6,8 +6,8 @@ r"""One coupling step of the mud under the feet of one MJX robot, as a pure JAX 
 :func:`jax.jit`, :func:`jax.vmap`, :func:`jax.lax.scan` and :func:`jax.grad` apply:
 
 1. read each foot body's frame and twist (``xpos``, ``xmat``, ``xipos``, ``cvel``,
-   ``subtree_com``) and its 6x6 mobility :math:`W=JM^{-1}J^T` (``mjx.jac``,
-   ``mjx.full_m``);
+   ``subtree_com``) and the mobility :math:`W_{ij}=J_iM^{-1}J_j^T` of the feet, cross
+   blocks included (``mjx.jac``, ``mjx.full_m``; D62d);
 2. clip the foot's triangles in their current pose by the mud surface and sum the channel
    weights, points and second moments (:func:`~mudrft.integrations.mujoco.pose.channel_geometry`
    with ``xp=jax.numpy``, which runs the feet's own facet rules, D60a);
@@ -15,7 +15,8 @@ r"""One coupling step of the mud under the feet of one MJX robot, as a pure JAX 
    (D63), with the one terrain step :func:`mudrft.terrains.mud.mud_step` and the foot's
    own force rule (:func:`mudrft.backends.forces.force_function`), keeping the first;
 4. assemble the wrench and its damping (D62a) and solve the linearly implicit step of the
-   dissipative part (D62), and bound its work by the foot's tank (D62c), with the CPU
+   dissipative part (D62) for all the feet together (D62d), and bound their work by the
+   robot's tank (D62c), with the CPU
    coupling's own functions
    (:mod:`~mudrft.integrations.mujoco.wrench`, :mod:`~mudrft.integrations.mujoco.implicit`)
    called with ``xp=jax.numpy``.
@@ -61,8 +62,8 @@ class MjxMudState(NamedTuple):
         Mobility times the last wrench, :math:`Ww` [m/s^2, rad/s^2].
     has_prev : array ()
         1.0 after the first step, else 0.0.
-    tank : array (nb,)
-        Energy the mud has taken from each foot and may give back (D62c) [J].
+    tank : array ()
+        Energy the mud has taken from the robot and may give back (D62c, D62d) [J].
     """
 
     mud: MudChannels
@@ -158,7 +159,8 @@ def _frames(cfg: Static, d: Any) -> dict[str, Any]:
 
 
 def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
-    """6x6 mobility of each foot body's center-of-mass twist (``kinematics.*_mobility``)."""
+    """Mobility of the foot bodies' center-of-mass twists, (nb, nb, 6, 6) with the cross
+    blocks (``kinematics.*_mobility``, D62d)."""
     xp = _xp()
     if not cfg.chain:
         Ri = d.ximat[cfg.ids].reshape(-1, 3, 3)
@@ -166,7 +168,9 @@ def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
         inv = 1.0 / np.maximum(cfg.inertia, 1e-12)
         rot = xp.einsum("bij,bj,blj->bil", Ri, xp.asarray(inv), Ri)
         z = xp.zeros_like(rot)
-        return xp.concatenate([xp.concatenate([lin, z], -1), xp.concatenate([z, rot], -1)], -2)
+        blocks = xp.concatenate([xp.concatenate([lin, z], -1), xp.concatenate([z, rot], -1)], -2)
+        eye = xp.eye(len(cfg.ids))  # each body moves alone: block-diagonal
+        return xp.einsum("ij,iab->ijab", eye, blocks)
     mjx = _mjx()
     rows = []
     for j, b in enumerate(cfg.ids):
@@ -178,7 +182,7 @@ def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
     fac = jax.scipy.linalg.cho_factor(M)
     minv_jt = jax.scipy.linalg.cho_solve(fac, xp.concatenate(rows, axis=0).T)  # (nv, 6 nb)
     minv_jt = xp.moveaxis(minv_jt.reshape(M.shape[0], -1, 6), 1, 0)  # (nb, nv, 6)
-    return J @ minv_jt
+    return xp.einsum("iav,jvb->ijab", J, minv_jt)  # (nb, nb, 6, 6), cross blocks (D62d)
 
 
 def _posed(cfg: Static, k: dict[str, Any]) -> tuple[tuple[Any, Any, Any, Any], Any]:
@@ -316,8 +320,7 @@ def mud_wrench(
         g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
         acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
         wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
-        wrench, tank = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
-        wv = (W @ wrench[..., None])[..., 0]
+        wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
     else:
         wrench = w0
     xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)
@@ -349,5 +352,11 @@ def initial_state(cfg: Static, d: Any) -> MjxMudState:
     mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.xi0, xp=xp)
     zero6 = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype)
     return MjxMudState(
-        mud, fxy, tip[..., :2], zero6, zero6, xp.zeros((), dtype=tip.dtype), zero6[:, 0]
+        mud,
+        fxy,
+        tip[..., :2],
+        zero6,
+        zero6,
+        xp.zeros((), dtype=tip.dtype),
+        xp.zeros((), dtype=tip.dtype),
     )

@@ -10,8 +10,9 @@ foot, derived from its geoms or given explicitly. Every physics step the couplin
    channel's velocity read where that channel acts (the foot's yaw frame);
 3. assembles the wrench of the posed foot (:mod:`.wrench`), makes it safe for an explicit
    step (the linearly implicit treatment of its dissipative part in all six degrees of
-   freedom of the body, below), bounds it so that the mud never gives the body more energy
-   than it has taken (:func:`.implicit.passive_wrench`, D62c), writes force and moment
+   freedom of the body, below, all the feet of one robot together, D62d), bounds it so that
+   the mud never gives the robot more energy than it has taken
+   (:func:`.implicit.passive_wrench`, D62c), writes force and moment
    about the body's center of mass into ``data.xfrc_applied``, and raises if MuJoCo
    reports a diverged step.
 

@@ -88,7 +88,7 @@ ARGS = (
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("tank", "f8", 2), ("out", "f8", 3), ("work", "f8", 1),
+    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 1),
 )  # fmt: skip
 
 
@@ -178,9 +178,9 @@ class CompiledCoupling:
         self.odo = np.zeros((n, nb, 4))
         self.tw_prev = np.zeros((n, nb, 6))
         self.wv_prev = np.zeros((n, nb, 6))
-        self.tank = np.zeros((n, nb))  # energy the mud may give back [J] (D62c)
+        self.tank = np.zeros(n)  # energy the mud may give each robot back [J] (D62c, D62d)
         self.out = np.zeros((n, nb, N_OUT))
-        self.work = np.zeros(work_size(m.nv, len(self.tri_b)))
+        self.work = np.zeros(work_size(m.nv, len(self.tri_b), nb))
         self.addr = np.zeros((n, 10), dtype=np.int64)
         self.sizes = np.zeros(3, dtype=np.int64)
         self.datas: list[Any] = []

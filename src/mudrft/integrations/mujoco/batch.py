@@ -172,10 +172,10 @@ class MudBatch:
         self._pose = [_group_pose(self.bodies, idx) for _, idx in self._groups]
         self._tw_prev = np.zeros((self.n, nb, 6))
         self._wv_prev = np.zeros((self.n, nb, 6))
-        self._tank = np.zeros((self.n, nb))  # energy the mud may give back [J] (D62c)
+        self._tank = np.zeros(self.n)  # energy the mud may give each robot back [J] (D62c)
         self._has_prev = False
-        self._jac = np.zeros((6, model.nv))
-        self._minv_jt = np.zeros((6, model.nv))
+        self._jac = np.zeros((nb, 6, model.nv))
+        self._minv_jt = np.zeros((nb, 6, model.nv))
         self._warnings = np.zeros(self.n, dtype=np.int64)
         self._warn: list[Any] = []
         if backend not in ("numpy", "numba"):
@@ -390,8 +390,7 @@ class MudBatch:
                 acc = np.zeros_like(tw)
                 acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
             wrench = implicit_wrench(w0, K, W, acc, dt)
-            wrench, self._tank = passive_wrench(wrench, tw, W, acc, self._tank, dt)
-            self._wv_prev = (W @ wrench[..., None])[..., 0]
+            wrench, self._tank, self._wv_prev = passive_wrench(wrench, tw, W, acc, self._tank, dt)
         else:
             wrench = w0
         self._tw_prev = tw

@@ -14,11 +14,12 @@ every body of every robot what the numpy coupling does with arrays:
    the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
    mesh foot's facets, or the morphing foot's column balance and force
    (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`, D68d);
-4. assembles the wrench and its damping (D62a), computes the 6x6 mobility from MuJoCo's
-   ``cdof`` and the factorised mass matrix (``qLD``: the port of ``mj_jac`` and
-   ``mj_solveLD`` below), solves the implicit step (D62), bounds the wrench's work by the
-   foot's tank (D62c, :func:`~.implicit.passivity_scale` compiled from its one source) and
-   writes ``xfrc_applied``.
+4. assembles the wrench and its damping (D62a); then, per robot, computes the mobility of
+   its feet with the cross blocks from MuJoCo's ``cdof`` and the factorised mass matrix
+   (``qLD``: the port of ``mj_jac`` and ``mj_solveLD``), solves the implicit step of all
+   its feet together (D62, D62d) and bounds their work by the robot's tank (D62c; both in
+   :func:`.linalg._robot_step`, with :func:`~.implicit.passivity_scale` compiled from its
+   one source) and writes ``xfrc_applied``.
 
 The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
 one source by :func:`mudrft.backends.numba.compile_scalar`; what is written here is the
@@ -55,7 +56,7 @@ from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
 from .implicit import passivity_scale
-from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _solve6, carray
+from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _robot_step, _solve_n, carray
 from .pose import channel_weights
 
 __all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "upright_rows", "work_size"]
@@ -191,8 +192,8 @@ def _kernel(
     surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
     has_prev). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
     deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
-    ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N, nb: the energy the mud may give
-    back, D62c) updated in place; ``out`` (N, nb, N_OUT);
+    ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
+    robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
     ``work`` (:func:`work_size`) the work arrays, allocated once (D68b).
     Returns the number of bodies whose wrench is not finite.
     """
@@ -202,12 +203,12 @@ def _kernel(
     has_prev = opts[11] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, nld = sizes[0], sizes[1], sizes[2]
-    # work arrays: views of ``work``, laid out as WORK_FIXED after 12 nv + 6 ntri floats
-    # (allocating them cost a microsecond per call)
+    # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
+    # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest
     ntri = tri_b.shape[0]
-    jac = work[0 : 6 * nv].reshape((6, nv))
-    mj = work[6 * nv : 12 * nv].reshape((6, nv))
-    o = 12 * nv
+    FJ = work[0 : 6 * nb * nv].reshape((nb, 6, nv))
+    FM = work[6 * nb * nv : 12 * nb * nv].reshape((nb, 6, nv))
+    o = 12 * nb * nv
     scratch = work[o : o + 6 * ntri].reshape((ntri, 6))
     o += 6 * ntri
     geo, aup, v, row, frow = (
@@ -231,7 +232,7 @@ def _kernel(
         work[o + 24 : o + 27],
         work[o + 27 : o + 30],
     )
-    w0, wr, acc6, bl = (
+    w0, wr, _acc6, bl = (
         work[o + 30 : o + 36],
         work[o + 36 : o + 42],
         work[o + 42 : o + 48],
@@ -244,10 +245,25 @@ def _kernel(
         work[o + 18 : o + 27].reshape((3, 3)),
     )
     b = work[o + 27 : o + 45].reshape((3, 6))
-    K, W, A = (
-        work[o + 45 : o + 81].reshape((6, 6)),
-        work[o + 81 : o + 117].reshape((6, 6)),
-        work[o + 117 : o + 153].reshape((6, 6)),
+    K = work[o + 45 : o + 81].reshape((6, 6))
+    o += 81
+    FWB, FK = (
+        work[o : o + 36 * nb].reshape((nb, 6, 6)),
+        work[o + 36 * nb : o + 72 * nb].reshape((nb, 6, 6)),
+    )
+    o += 72 * nb
+    FW0, FACC, FTW, FWR, FWV = (
+        work[o : o + 6 * nb].reshape((nb, 6)),
+        work[o + 6 * nb : o + 12 * nb].reshape((nb, 6)),
+        work[o + 12 * nb : o + 18 * nb].reshape((nb, 6)),
+        work[o + 18 * nb : o + 24 * nb].reshape((nb, 6)),
+        work[o + 24 * nb : o + 30 * nb].reshape((nb, 6)),
+    )
+    FC = work[o + 30 * nb : o + 33 * nb].reshape((nb, 3))
+    o += 33 * nb
+    WF, AJ = (
+        work[o : o + 36 * nb * nb].reshape((6 * nb, 6 * nb)),
+        work[o + 36 * nb * nb : o + 72 * nb * nb].reshape((6 * nb, 6 * nb)),
     )
     E[:, :] = 0.0
     bad = 0
@@ -263,6 +279,7 @@ def _kernel(
         qld = carray(_ptr(a[7]), (nld,))
         qldinv = carray(_ptr(a[8]), (nv,))
         xfrc = carray(_ptr(a[9]), (nbody, 6))
+        active = 0
         for j in range(nb):
             body, root = bodies[j, 0], bodies[j, 1]
             X, R, C = xpos[body], xmat[body], xipos[body]
@@ -379,99 +396,84 @@ def _kernel(
                         if implicit:
                             for l in range(6):
                                 K[i, l] -= cb * bl[i] * bl[l]
-            idle = True  # no wrench and no damping: nothing to solve (a foot in the air)
+            # keep what the robot's joint step needs (D62d); a foot with no wrench and no
+            # damping (in the air) has nothing to solve
+            idle = True
             for i in range(6):
-                wr[i] = w0[i]
+                FW0[j, i], FTW[j, i] = w0[i], tw[i]
                 idle = idle and w0[i] == 0.0
-                if implicit:
-                    for l in range(6):
-                        idle = idle and K[i, l] == 0.0
-            if implicit and idle:
-                tank[k, j] = 0.0
-                for i in range(6):
-                    wv_prev[k, j, i] = 0.0
-            elif implicit:
-                if chain:
-                    _jacobian(jac, body, C, model_i, dof_parentid, cdof, subtree)
-                    for i in range(6):
-                        for d in range(nv):
-                            mj[i, d] = jac[i, d]
-                        _ld_solve(mj[i], qld, qldinv, rownnz, rowadr, colind)
-                    for i in range(6):
-                        for l in range(6):
-                            acc = 0.0
-                            for d in range(nv):
-                                acc += jac[i, d] * mj[l, d]
-                            W[i, l] = acc
+                for l in range(6):
+                    FK[j, i, l] = K[i, l] if implicit else 0.0
+                    idle = idle and FK[j, i, l] == 0.0
+                if has_prev:
+                    FACC[j, i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
                 else:
-                    W[:, :] = 0.0
-                    Ri = ximat[body]
-                    for i in range(3):
-                        W[i, i] = 1.0 / mass[body]
-                        for l in range(3):
-                            acc = 0.0
-                            for d in range(3):
-                                acc += Ri[3 * i + d] / max(inertia[body, d], 1e-12) * Ri[3 * l + d]
-                            W[3 + i, 3 + l] = acc
-                for i in range(6):
-                    if has_prev:
-                        acc6[i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
-                    else:
-                        acc6[i] = opts[8 + i] if i < 3 else 0.0
-                for i in range(6):
-                    for l in range(6):
-                        kw = 0.0
-                        for d in range(6):
-                            kw += K[i, d] * W[d, l]
-                        A[i, l] = (1.0 if i == l else 0.0) - dt * kw
-                    ka = 0.0
-                    for d in range(6):
-                        ka += K[i, d] * acc6[d]
-                    wr[i] = w0[i] + dt * ka
-                _solve6(A, wr)
-                # the passivity bound on the work over the step (D62c, .implicit.passive_wrench)
-                lin, quad, zero = 0.0, 0.0, True
-                for i in range(6):
-                    acc = 0.0
-                    for d in range(6):
-                        acc += W[i, d] * wr[d]
-                    wv_prev[k, j, i] = acc  # W w, scaled below with the wrench
-                    lin += wr[i] * (tw[i] + 0.5 * dt * acc6[i])
-                    quad += wr[i] * acc
-                    zero = zero and wr[i] == 0.0
-                lin, quad = dt * lin, 0.5 * dt * dt * quad
-                sc = _pscale(lin, quad, tank[k, j])
-                left = max(tank[k, j] - (sc * lin + sc * sc * quad), 0.0)
-                tank[k, j] = 0.0 if zero else left
-                for i in range(6):
-                    wr[i] = sc * wr[i]
-                    wv_prev[k, j, i] = sc * wv_prev[k, j, i]
-            finite = True
-            for i in range(6):
-                tw_prev[k, j, i] = tw[i]
-                finite = finite and math.isfinite(wr[i])
-                xfrc[body, i] = wr[i]
-            # outputs
+                    FACC[j, i] = opts[8 + i] if i < 3 else 0.0
+            active += 0 if idle else 1
+            FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
+            # outputs that do not depend on the applied wrench (the central point: provisional)
             r = out[k, j]
-            for i in range(3):
-                r[i], r[3 + i], r[6 + i] = wr[i], w0[i], wr[3 + i]
-            pzx = C[0] + (c * geo[9] - s * geo[10])
-            pzy = C[1] + (s * geo[9] + c * geo[10])
-            pzz = C[2] + (geo[11] + (surface - C[2]))
-            f2 = wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]
-            if f2 > 1e-300:
-                cx = wr[1] * wr[5] - wr[2] * wr[4]
-                cy = wr[2] * wr[3] - wr[0] * wr[5]
-                cz = wr[0] * wr[4] - wr[1] * wr[3]
-                r0x, r0y, r0z = C[0] + cx / f2, C[1] + cy / f2, C[2] + cz / f2
-                tt = ((pzx - r0x) * wr[0] + (pzy - r0y) * wr[1] + (pzz - r0z) * wr[2]) / f2
-                r[9], r[10], r[11] = r0x + tt * wr[0], r0y + tt * wr[1], r0z + tt * wr[2]
-            else:
-                r[9], r[10], r[11] = pzx, pzy, pzz
+            r[3], r[4], r[5] = w0[0], w0[1], w0[2]
+            r[9] = C[0] + (c * geo[9] - s * geo[10])
+            r[10] = C[1] + (s * geo[9] + c * geo[10])
+            r[11] = C[2] + (geo[11] + (surface - C[2]))
             r[12], r[13], r[14] = tipw[0], tipw[1], geo[41] + surface
             r[15], r[16], r[17] = u[0], u[1], u[2]
             r[18] = depth
             r[19], r[20], r[21] = r0[3], r0[4], r0[5]
+        # the implicit step of all the robot's feet together, and its passivity bound
+        if implicit and active > 0:
+            for j in range(nb):
+                body = bodies[j, 0]
+                if chain:  # J and M^-1 J^T of every foot (the cross blocks, D62d)
+                    _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
+                    for i in range(6):
+                        for d in range(nv):
+                            FM[j, i, d] = FJ[j, i, d]
+                        _ld_solve(FM[j, i], qld, qldinv, rownnz, rowadr, colind)
+                else:  # each body alone: diag(I/m, R I^-1 R^T)
+                    FWB[j, :, :] = 0.0
+                    Ri = ximat[body]
+                    for i in range(3):
+                        FWB[j, i, i] = 1.0 / mass[body]
+                        for l in range(3):
+                            acc = 0.0
+                            for d in range(3):
+                                acc += Ri[3 * i + d] / max(inertia[body, d], 1e-12) * Ri[3 * l + d]
+                            FWB[j, 3 + i, 3 + l] = acc
+            tank[k] = _robot_step(
+                nb, nv, chain, dt, FJ, FM, FWB, FK, FW0, FACC, FTW, WF, AJ, FWR, FWV, tank[k]
+            )
+            for j in range(nb):
+                for i in range(6):
+                    wv_prev[k, j, i] = FWV[j, i]
+        else:
+            if implicit:
+                tank[k] = 0.0
+            for j in range(nb):
+                for i in range(6):
+                    FWR[j, i] = FW0[j, i]
+                    if implicit:
+                        wv_prev[k, j, i] = 0.0
+        for j in range(nb):
+            body = bodies[j, 0]
+            wr, r = FWR[j], out[k, j]
+            finite = True
+            for i in range(6):
+                tw_prev[k, j, i] = FTW[j, i]
+                finite = finite and math.isfinite(wr[i])
+                xfrc[body, i] = wr[i]
+            for i in range(3):
+                r[i], r[6 + i] = wr[i], wr[3 + i]
+            f2 = wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]
+            if f2 > 1e-300:  # the central axis' point nearest to the provisional one
+                C = FC[j]
+                cx = wr[1] * wr[5] - wr[2] * wr[4]
+                cy = wr[2] * wr[3] - wr[0] * wr[5]
+                cz = wr[0] * wr[4] - wr[1] * wr[3]
+                r0x, r0y, r0z = C[0] + cx / f2, C[1] + cy / f2, C[2] + cz / f2
+                tt = ((r[9] - r0x) * wr[0] + (r[10] - r0y) * wr[1] + (r[11] - r0z) * wr[2]) / f2
+                r[9], r[10], r[11] = r0x + tt * wr[0], r0y + tt * wr[1], r0z + tt * wr[2]
             r[22] = 0.0 if finite else 1.0
             bad += 0 if finite else 1
     return bad
@@ -486,16 +488,17 @@ _weights = channel_weights
 _pscale = passivity_scale
 
 
-#: Floats of the kernel's work arrays beyond its 12 nv + 6 ntri (see :func:`work_size`), in
-#: the three groups :func:`_kernel` carves in order: geo, aup, v (54), a state row and a
-#: morphing foot's state row (3); tw ... bl (54); M, E, spread, b, K, W, A (153).
-WORK_FIXED = (57 + N_STATE) + 54 + 153
+#: Floats of the kernel's work arrays beyond those that grow with the model (see
+#: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
+#: a state row and a morphing foot's state row (3); tw ... bl (54); M, E, spread, b, K (81).
+WORK_FIXED = (57 + N_STATE) + 54 + 81
 
 
-def work_size(nv: int, ntri: int) -> int:
-    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom and ``ntri``
-    posed triangles of all feet."""
-    return 12 * nv + 6 * ntri + WORK_FIXED
+def work_size(nv: int, ntri: int, nb: int) -> int:
+    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri`` posed
+    triangles of all feet and ``nb`` foot bodies: per foot J and M^-1 J^T (12 nv), its
+    mobility, damping, wrenches, twists and center (111), the robot's joint system (72 nb)."""
+    return 6 * ntri + WORK_FIXED + nb * (12 * nv + 111) + 72 * nb * nb
 
 
 def _kernel_packed(p: Any) -> int:
@@ -546,7 +549,8 @@ def coupling_kernel() -> Any:
     for fn in (
         _ld_solve,
         _jacobian,
-        _solve6,
+        _solve_n,
+        _robot_step,
         _geometry,
         _upright_area,
         _mesh_force,

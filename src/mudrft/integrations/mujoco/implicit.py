@@ -160,18 +160,26 @@ def force_and_derivative(
 def implicit_wrench(
     w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, *, xp: Any = np
 ) -> FloatArray:
-    r"""The linearly implicit wrench :math:`(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)` (D62).
+    r"""The linearly implicit wrenches of one robot's feet, solved together (D62, D62d).
+
+    :math:`w=(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)` with :math:`w` the
+    wrenches of all ``nb`` foot bodies stacked (``6 nb`` entries), :math:`K` their damping,
+    block-diagonal, and :math:`W` the robot's mobility with its cross blocks
+    :math:`W_{ij}=J_iM^{-1}J_j^T` (how body ``j``'s wrench moves body ``i``): every foot's
+    damping sees the twist all the feet's wrenches give it at the end of the step.
 
     Parameters
     ----------
     w0 : ndarray (N, nb, 6)
         Explicit wrench (force at the center of mass [N], torque [N m]), world frame.
     K : ndarray (N, nb, 6, 6)
-        Symmetric, negative semi-definite damping of the wrench in the body twist (D62a).
-    W : ndarray (N, nb, 6, 6)
-        Mobility of the body twist.
+        Symmetric, negative semi-definite damping of each wrench in its body's twist (D62a).
+    W : ndarray (N, nb, nb, 6, 6)
+        Mobility: block ``(i, j)`` maps body ``j``'s wrench to the change of body ``i``'s
+        twist per unit time and impulse (block-diagonal for bodies that cannot move each
+        other).
     acc : ndarray (N, nb, 6)
-        Twist acceleration from all other forces [m/s^2, rad/s^2].
+        Twist acceleration from all forces but the mud's [m/s^2, rad/s^2].
     dt : float
         Time step [s].
     xp : module, keyword-only
@@ -180,11 +188,15 @@ def implicit_wrench(
     Returns
     -------
     ndarray (N, nb, 6)
-        Wrench to apply [N, N m].
+        Wrenches to apply [N, N m].
     """
-    A = xp.eye(6) - dt * (K @ W)
-    rhs = w0 + dt * (K @ acc[..., None])[..., 0]
-    return cast(FloatArray, xp.linalg.solve(A, rhs[..., None])[..., 0])
+    nb = w0.shape[-2]
+    KW = xp.einsum("...iab,...ijbc->...iajc", K, W)  # K_i W_ij, rows (i, a), columns (j, c)
+    shape = (*KW.shape[:-4], 6 * nb, 6 * nb)
+    A = xp.eye(6 * nb) - dt * xp.reshape(KW, shape)
+    rhs = w0 + dt * xp.einsum("...iab,...ib->...ia", K, acc)
+    sol = xp.linalg.solve(A, xp.reshape(rhs, (*rhs.shape[:-2], 6 * nb, 1)))
+    return cast(FloatArray, xp.reshape(sol, w0.shape))
 
 
 def passivity_scale(work_lin: Any, work_quad: Any, tank: Any, *, xp: Any = np) -> Any:
@@ -227,30 +239,31 @@ def passive_wrench(
     dt: float,
     *,
     xp: Any = np,
-) -> tuple[FloatArray, FloatArray]:
-    r"""Scale the wrench so that the mud never gives the body more energy than it took (D62c).
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    r"""Scale one robot's wrenches so that the mud never gives it more energy than it took (D62c).
 
-    The work of a wrench :math:`s\,w` held over the step on a body of twist :math:`\xi`,
-    mobility :math:`W` and acceleration :math:`a` from all other forces, at the middle
-    twist :math:`\xi+\tfrac{\Delta t}{2}(a+sWw)` of the step, is
-    :math:`s\,l+s^2q` with :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and
-    :math:`q=\tfrac{\Delta t^2}{2}w^TWw\ge0`. The tank :math:`T\ge0` holds the energy the
-    mud has taken from the body since the foot last had no wrench; the wrench is scaled by
-    the largest :math:`s\le1` (:func:`passivity_scale`) whose work stays within it, and the
-    tank gives up that work. A foot with no wrench (out of the mud) empties the tank.
+    The work of wrenches :math:`s\,w` held over the step on bodies of twists :math:`\xi`,
+    mobility :math:`W` (cross blocks included, D62d) and acceleration :math:`a` from all
+    other forces, at the middle twist :math:`\xi+\tfrac{\Delta t}{2}(a+sWw)` of the step,
+    is :math:`s\,l+s^2q` with :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and
+    :math:`q=\tfrac{\Delta t^2}{2}w^TWw\ge0`, summed over the robot's feet. The tank
+    :math:`T\ge0` holds the energy the mud has taken from the robot since its feet last had
+    no wrench; the wrenches are scaled by the largest :math:`s\le1`
+    (:func:`passivity_scale`) whose work stays within it, and the tank gives up that work.
+    A robot with no wrench on any foot (out of the mud) empties the tank.
 
     Parameters
     ----------
-    wrench : ndarray (..., 6)
-        Wrench of the implicit step (:func:`implicit_wrench`) [N, N m].
-    tw : ndarray (..., 6)
-        Body twist at the start of the step [m/s, rad/s].
-    W : ndarray (..., 6, 6)
-        Mobility of the body twist.
-    acc : ndarray (..., 6)
-        Twist acceleration from all other forces [m/s^2, rad/s^2].
+    wrench : ndarray (..., nb, 6)
+        Wrenches of the implicit step (:func:`implicit_wrench`) [N, N m].
+    tw : ndarray (..., nb, 6)
+        Body twists at the start of the step [m/s, rad/s].
+    W : ndarray (..., nb, nb, 6, 6)
+        Mobility of the body twists (see :func:`implicit_wrench`).
+    acc : ndarray (..., nb, 6)
+        Twist accelerations from all other forces [m/s^2, rad/s^2].
     tank : ndarray (...)
-        Energy the mud has taken and may give back [J].
+        Energy the mud has taken from the robot and may give back [J].
     dt : float
         Time step [s].
     xp : module, keyword-only
@@ -258,17 +271,22 @@ def passive_wrench(
 
     Returns
     -------
-    wrench : ndarray (..., 6)
-        The scaled wrench [N, N m].
+    wrench : ndarray (..., nb, 6)
+        The scaled wrenches [N, N m].
     tank : ndarray (...)
         The tank after the step [J].
+    wv : ndarray (..., nb, 6)
+        :math:`W\,s\,w`, the change of each twist per unit time the applied wrenches make
+        [m/s^2, rad/s^2] (the next step's estimate of :math:`a` subtracts it).
     """
-    lin = dt * xp.sum(wrench * (tw + 0.5 * dt * acc), axis=-1)
-    quad = 0.5 * dt * dt * xp.sum(wrench * (W @ wrench[..., None])[..., 0], axis=-1)
+    Ww = xp.einsum("...ijab,...jb->...ia", W, wrench)
+    lin = dt * xp.sum(wrench * (tw + 0.5 * dt * acc), axis=(-2, -1))
+    quad = 0.5 * dt * dt * xp.sum(wrench * Ww, axis=(-2, -1))
     s = passivity_scale(lin, quad, tank, xp=xp)
-    idle = xp.all(wrench == 0.0, axis=-1)
+    idle = xp.all(wrench == 0.0, axis=(-2, -1))
     left = xp.maximum(tank - (s * lin + s * s * quad), 0.0)
-    return s[..., None] * wrench, xp.where(idle, 0.0, left)
+    scale = s[..., None, None]
+    return scale * wrench, xp.where(idle, 0.0, left), scale * Ww
 
 
 def _tree_map(fn: Any, tree: Any) -> Any:

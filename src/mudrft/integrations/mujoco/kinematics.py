@@ -76,11 +76,12 @@ def chain_mobility(
     jac: FloatArray,
     minv_jt: FloatArray,
 ) -> FloatArray:
-    """Mobility :math:`J M^{-1} J^T` of each body's center of mass, 6x6, from the whole model.
+    """Mobility :math:`J_iM^{-1}J_j^T` of the bodies' centers of mass, from the whole model.
 
-    :math:`J=(J_p; J_r)` is the Jacobian of the body's twist (velocity of its center of
-    mass, angular velocity) in the world frame; :math:`W` maps a wrench (force at the
-    center of mass, torque) to the change of that twist per unit impulse (D62).
+    :math:`J_i=(J_p; J_r)` is the Jacobian of body ``i``'s twist (velocity of its center of
+    mass, angular velocity) in the world frame; block ``(i, j)`` maps a wrench on body ``j``
+    (force at its center of mass, torque) to the change of body ``i``'s twist per unit
+    impulse (D62); the cross blocks couple the feet of one robot (D62d).
 
     Parameters
     ----------
@@ -92,24 +93,23 @@ def chain_mobility(
         Body ids.
     com : ndarray (N, nb, 3)
         Centers of mass in the world [m].
-    jac, minv_jt : ndarray (6, nv)
+    jac, minv_jt : ndarray (nb, 6, nv)
         Work arrays (overwritten).
 
     Returns
     -------
-    ndarray (N, nb, 6, 6)
+    ndarray (N, nb, nb, 6, 6)
         Mobility: [1/kg] (force to velocity), [1/(kg m)] (coupling) and [1/(kg m^2)]
         (torque to angular velocity).
     """
     mj = _mujoco()
     N, nb = com.shape[:2]
-    W = np.empty((N, nb, 6, 6))
-    jp, jr = jac[:3], jac[3:]
+    W = np.empty((N, nb, nb, 6, 6))
     for k, d in enumerate(datas):
         for j, b in enumerate(ids):
-            mj.mj_jac(model, d, jp, jr, com[k, j], int(b))
-            mj.mj_solveM(model, d, minv_jt, jac)
-            W[k, j] = jac @ minv_jt.T
+            mj.mj_jac(model, d, jac[j, :3], jac[j, 3:], com[k, j], int(b))
+            mj.mj_solveM(model, d, minv_jt[j], jac[j])
+        W[k] = np.einsum("iav,jbv->ijab", jac, minv_jt)
     return W
 
 
@@ -127,16 +127,20 @@ def body_mobility(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> Fl
 
     Returns
     -------
-    ndarray (N, nb, 6, 6)
-        Mobility of the center-of-mass twist (see :func:`chain_mobility`).
+    ndarray (N, nb, nb, 6, 6)
+        Mobility of the center-of-mass twists (see :func:`chain_mobility`), block-diagonal:
+        each body moves alone.
     """
     mass = np.array(model.body_mass)[ids]
     inert = np.array(model.body_inertia)[ids]
     N, nb = len(datas), len(ids)
     Ri = np.stack([d.ximat for d in datas])[:, ids].reshape(N, nb, 3, 3)
-    W = np.zeros((N, nb, 6, 6))
-    W[..., :3, :3] = np.eye(3) / mass[:, None, None]
-    W[..., 3:, 3:] = np.einsum("kbij,bj,kblj->kbil", Ri, 1.0 / np.maximum(inert, 1e-12), Ri)
+    W = np.zeros((N, nb, nb, 6, 6))
+    diag = np.arange(nb)
+    W[:, diag, diag, :3, :3] = np.eye(3) / mass[:, None, None]
+    W[:, diag, diag, 3:, 3:] = np.einsum(
+        "kbij,bj,kblj->kbil", Ri, 1.0 / np.maximum(inert, 1e-12), Ri
+    )
     return W
 
 

@@ -3,7 +3,8 @@
 :func:`_jacobian` is ``mj_jac`` (the 6 x nv Jacobian of a point's velocity and the body's
 angular velocity, from ``cdof``) and :func:`_ld_solve` is ``mj_solveLD`` (``x <- M^-1 x``
 from the factor ``qLD``, ``qLDiagInv`` in MuJoCo's compressed rows ``M_rownnz``,
-``M_rowadr``, ``M_colind``); :func:`_solve6` solves the 6x6 implicit step. They are plain
+``M_rowadr``, ``M_colind``); :func:`_robot_step` solves the implicit step of one robot's
+feet together and bounds its work (:func:`_solve_n`, D62d). They are plain
 Python (``test_mobility_port_equals_mujoco`` runs them against MuJoCo's own functions) and
 are compiled with the kernel (:mod:`.compiled`). :func:`_ptr` turns the address of a
 MuJoCo array into a pointer the kernel reads with ``numba.carray``.
@@ -14,7 +15,9 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-__all__ = ["_jacobian", "_ld_solve", "_pointer_intrinsic", "_solve6"]
+from .implicit import passivity_scale as _pscale
+
+__all__ = ["_jacobian", "_ld_solve", "_pointer_intrinsic", "_robot_step", "_solve_n"]
 
 
 def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
@@ -63,9 +66,8 @@ def _jacobian(jac: Any, body: int, point: Any, model_i: Any, dof_parentid: Any, 
         i = dof_parentid[i]
 
 
-def _solve6(A: Any, b: Any) -> None:
-    """In place b <- A^-1 b (6x6, Gaussian elimination with partial pivoting; A destroyed)."""
-    n = 6
+def _solve_n(A: Any, b: Any, n: int) -> None:
+    """In place b <- A^-1 b (n x n, Gaussian elimination with partial pivoting; A destroyed)."""
     for k in range(n):
         p = k
         for r in range(k + 1, n):
@@ -85,6 +87,63 @@ def _solve6(A: Any, b: Any) -> None:
         for j in range(k + 1, n):
             acc -= A[k, j] * b[j]
         b[k] = acc / A[k, k]
+
+
+def _robot_step(
+    nb: int, nv: int, chain: bool, dt: float, FJ: Any, FM: Any, FWB: Any, FK: Any, FW0: Any,
+    FACC: Any, FTW: Any, WF: Any, AJ: Any, FWR: Any, FWV: Any, tank: float,
+) -> float:  # fmt: skip
+    """One robot's implicit step of all its feet together and its passivity bound, on floats.
+
+    The compiled form of :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
+    (D62, D62c, D62d): the mobility ``WF`` (6 nb x 6 nb) from each foot's ``FJ`` and
+    ``FM`` = M^-1 J^T (``chain``) or its own block ``FWB``; the system
+    ``(I - dt K W) w = w0 + dt K a`` in ``AJ``; the wrenches scaled by the bound into ``FWR``
+    and ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
+    """
+    n = 6 * nb
+    for i in range(nb):
+        for j in range(nb):
+            for a in range(6):
+                for c in range(6):
+                    if chain:
+                        acc = 0.0
+                        for d in range(nv):
+                            acc += FJ[i, a, d] * FM[j, c, d]
+                    else:
+                        acc = FWB[i, a, c] if i == j else 0.0
+                    WF[6 * i + a, 6 * j + c] = acc
+    for i in range(nb):
+        for a in range(6):
+            row = 6 * i + a
+            for col in range(n):
+                kw = 0.0
+                for d in range(6):
+                    kw += FK[i, a, d] * WF[6 * i + d, col]
+                AJ[row, col] = (1.0 if row == col else 0.0) - dt * kw
+            ka = 0.0
+            for d in range(6):
+                ka += FK[i, a, d] * FACC[i, d]
+            FWR[i, a] = FW0[i, a] + dt * ka
+    w = FWR.reshape(n)
+    _solve_n(AJ, w, n)
+    lin, quad, zero = 0.0, 0.0, True
+    for i in range(nb):
+        for a in range(6):
+            acc = 0.0
+            for col in range(n):
+                acc += WF[6 * i + a, col] * w[col]
+            FWV[i, a] = acc
+            lin += FWR[i, a] * (FTW[i, a] + 0.5 * dt * FACC[i, a])
+            quad += FWR[i, a] * acc
+            zero = zero and FWR[i, a] == 0.0
+    lin, quad = dt * lin, 0.5 * dt * dt * quad
+    sc = _pscale(lin, quad, tank)
+    for i in range(nb):
+        for a in range(6):
+            FWR[i, a] = sc * FWR[i, a]
+            FWV[i, a] = sc * FWV[i, a]
+    return 0.0 if zero else max(tank - (sc * lin + sc * sc * quad), 0.0)
 
 
 def _ptr(address: int) -> Any:  # pragma: no cover - replaced by the intrinsic below
