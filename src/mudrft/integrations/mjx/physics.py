@@ -321,6 +321,8 @@ def mud_wrench(
         acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
         wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
         wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
+        idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
+        wv = xp.where(idle[..., None], 0.0, wv)  # no wrench, no damping: W w = 0 (D62d)
     else:
         wrench = w0
     xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)

@@ -390,7 +390,10 @@ class MudBatch:
                 acc = np.zeros_like(tw)
                 acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
             wrench = implicit_wrench(w0, K, W, acc, dt)
-            wrench, self._tank, self._wv_prev = passive_wrench(wrench, tw, W, acc, self._tank, dt)
+            wrench, self._tank, wv = passive_wrench(wrench, tw, W, acc, self._tank, dt)
+            # a foot with no wrench and no damping is not in the robot's system: W w = 0
+            idle = np.all(w0 == 0.0, axis=-1) & np.all(K == 0.0, axis=(-2, -1))
+            self._wv_prev = np.where(idle[..., None], 0.0, wv)
         else:
             wrench = w0
         self._tw_prev = tw

@@ -56,7 +56,15 @@ from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
 from .implicit import passivity_scale
-from .linalg import _jacobian, _ld_solve, _pointer_intrinsic, _ptr, _robot_step, _solve_n, carray
+from .linalg import (
+    _jacobian,
+    _ld_solve,
+    _pointer_intrinsic,
+    _ptr,
+    _robot_step,
+    _solve_n,
+    carray,
+)
 from .pose import channel_weights
 
 __all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "upright_rows", "work_size"]
@@ -260,7 +268,8 @@ def _kernel(
         work[o + 24 * nb : o + 30 * nb].reshape((nb, 6)),
     )
     FC = work[o + 30 * nb : o + 33 * nb].reshape((nb, 3))
-    o += 33 * nb
+    FPOS, RJ = work[o + 33 * nb : o + 34 * nb], work[o + 34 * nb : o + 40 * nb]
+    o += 40 * nb
     WF, AJ = (
         work[o : o + 36 * nb * nb].reshape((6 * nb, 6 * nb)),
         work[o + 36 * nb * nb : o + 72 * nb * nb].reshape((6 * nb, 6 * nb)),
@@ -410,6 +419,7 @@ def _kernel(
                 else:
                     FACC[j, i] = opts[8 + i] if i < 3 else 0.0
             active += 0 if idle else 1
+            FPOS[j] = -1.0 if idle else 0.0
             FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
             # outputs that do not depend on the applied wrench (the central point: provisional)
             r = out[k, j]
@@ -425,7 +435,9 @@ def _kernel(
         if implicit and active > 0:
             for j in range(nb):
                 body = bodies[j, 0]
-                if chain:  # J and M^-1 J^T of every foot (the cross blocks, D62d)
+                if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
+                    continue
+                if chain:  # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
                     _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
                     for i in range(6):
                         for d in range(nv):
@@ -442,8 +454,9 @@ def _kernel(
                                 acc += Ri[3 * i + d] / max(inertia[body, d], 1e-12) * Ri[3 * l + d]
                             FWB[j, 3 + i, 3 + l] = acc
             tank[k] = _robot_step(
-                nb, nv, chain, dt, FJ, FM, FWB, FK, FW0, FACC, FTW, WF, AJ, FWR, FWV, tank[k]
-            )
+                nb, nv, chain, dt, FJ, FM, FWB, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV,
+                tank[k],
+            )  # fmt: skip
             for j in range(nb):
                 for i in range(6):
                     wv_prev[k, j, i] = FWV[j, i]
@@ -497,8 +510,9 @@ WORK_FIXED = (57 + N_STATE) + 54 + 81
 def work_size(nv: int, ntri: int, nb: int) -> int:
     """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri`` posed
     triangles of all feet and ``nb`` foot bodies: per foot J and M^-1 J^T (12 nv), its
-    mobility, damping, wrenches, twists and center (111), the robot's joint system (72 nb)."""
-    return 6 * ntri + WORK_FIXED + nb * (12 * nv + 111) + 72 * nb * nb
+    mobility, damping, wrenches, twists, center, place in the system and right-hand side
+    (118), the robot's joint system (72 nb)."""
+    return 6 * ntri + WORK_FIXED + nb * (12 * nv + 118) + 72 * nb * nb
 
 
 def _kernel_packed(p: Any) -> int:

@@ -91,49 +91,69 @@ def _solve_n(A: Any, b: Any, n: int) -> None:
 
 def _robot_step(
     nb: int, nv: int, chain: bool, dt: float, FJ: Any, FM: Any, FWB: Any, FK: Any, FW0: Any,
-    FACC: Any, FTW: Any, WF: Any, AJ: Any, FWR: Any, FWV: Any, tank: float,
+    FACC: Any, FTW: Any, FPOS: Any, WF: Any, AJ: Any, RJ: Any, FWR: Any, FWV: Any, tank: float,
 ) -> float:  # fmt: skip
     """One robot's implicit step of all its feet together and its passivity bound, on floats.
 
     The compiled form of :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
-    (D62, D62c, D62d): the mobility ``WF`` (6 nb x 6 nb) from each foot's ``FJ`` and
-    ``FM`` = M^-1 J^T (``chain``) or its own block ``FWB``; the system
-    ``(I - dt K W) w = w0 + dt K a`` in ``AJ``; the wrenches scaled by the bound into ``FWR``
-    and ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
+    (D62, D62c, D62d) for the feet with a wrench or damping (``FPOS[j] >= 0``; the others
+    have no wrench, and their ``W w`` is 0 as in the numpy coupling): the mobility ``WF``
+    (6 m x 6 m) from each foot's ``FJ`` and ``FM`` = M^-1 J^T (``chain``) or its own block
+    ``FWB``; the system ``(I - dt K W) w = w0 + dt K a`` in ``AJ``, ``RJ``; the wrenches
+    scaled by the bound into ``FWR`` and ``W w`` into ``FWV``. Returns the robot's tank
+    after the step [J].
     """
-    n = 6 * nb
-    for i in range(nb):
-        for j in range(nb):
+    m = 0
+    for j in range(nb):
+        if FPOS[j] >= 0.0:
+            FPOS[j] = m
+            m += 1
+    n = 6 * m
+    for i in range(nb):  # W is symmetric: the blocks (i, j >= i), mirrored
+        if FPOS[i] < 0.0:
+            continue
+        pi = int(FPOS[i])
+        for j in range(i, nb):
+            if FPOS[j] < 0.0:
+                continue
+            pj = int(FPOS[j])
             for a in range(6):
-                for c in range(6):
+                for c in range(a if i == j else 0, 6):
+                    acc = 0.0
                     if chain:
-                        acc = 0.0
                         for d in range(nv):
                             acc += FJ[i, a, d] * FM[j, c, d]
-                    else:
-                        acc = FWB[i, a, c] if i == j else 0.0
-                    WF[6 * i + a, 6 * j + c] = acc
+                    elif i == j:
+                        acc = FWB[i, a, c]
+                    WF[6 * pi + a, 6 * pj + c] = acc
+                    WF[6 * pj + c, 6 * pi + a] = acc
     for i in range(nb):
+        if FPOS[i] < 0.0:
+            continue
+        pi = int(FPOS[i])
         for a in range(6):
-            row = 6 * i + a
+            row = 6 * pi + a
             for col in range(n):
                 kw = 0.0
                 for d in range(6):
-                    kw += FK[i, a, d] * WF[6 * i + d, col]
+                    kw += FK[i, a, d] * WF[6 * pi + d, col]
                 AJ[row, col] = (1.0 if row == col else 0.0) - dt * kw
             ka = 0.0
             for d in range(6):
                 ka += FK[i, a, d] * FACC[i, d]
-            FWR[i, a] = FW0[i, a] + dt * ka
-    w = FWR.reshape(n)
-    _solve_n(AJ, w, n)
+            RJ[row] = FW0[i, a] + dt * ka
+    _solve_n(AJ, RJ, n)
     lin, quad, zero = 0.0, 0.0, True
     for i in range(nb):
+        pi = int(FPOS[i])
         for a in range(6):
+            if FPOS[i] < 0.0:
+                FWR[i, a], FWV[i, a] = 0.0, 0.0
+                continue
             acc = 0.0
             for col in range(n):
-                acc += WF[6 * i + a, col] * w[col]
-            FWV[i, a] = acc
+                acc += WF[6 * pi + a, col] * RJ[col]
+            FWR[i, a], FWV[i, a] = RJ[6 * pi + a], acc
             lin += FWR[i, a] * (FTW[i, a] + 0.5 * dt * FACC[i, a])
             quad += FWR[i, a] * acc
             zero = zero and FWR[i, a] == 0.0
