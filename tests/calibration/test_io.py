@@ -304,3 +304,27 @@ def test_a_direction_that_overrides_the_files_is_said(tmp_path, caplog):
         "h.csv" in record.getMessage()
         and "overrides the file's 'horizontal'" in record.getMessage()
     )
+
+
+def test_a_log_whose_depth_is_never_positive_is_refused(tmp_path):
+    """A log recorded with the opposite sign (every depth <= 0) is an error that names the
+    column and says what to do; it used to be fitted to the parameter bounds, exit 0."""
+    from mudrft.calibration import example_dataset, save_intrusion_csv
+    from mudrft.io import load_dataset
+
+    path = tmp_path / "v.csv"
+    save_intrusion_csv(example_dataset("vertical"), path)
+    lines = path.read_text().splitlines()
+    head = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    cols = lines[head].split(",")
+    k = next(i for i, c in enumerate(cols) if c.strip().lower().startswith("depth"))
+    flipped = lines[: head + 1]
+    for line in lines[head + 1 :]:
+        cells = line.split(",")
+        cells[k] = str(-float(cells[k]))
+        flipped.append(",".join(cells))
+    bad = tmp_path / "negative.csv"
+    bad.write_text("\n".join(flipped) + "\n")
+    load_dataset(path)  # the original loads
+    with pytest.raises(MudrftError, match=r"negative.csv.*'depth'.*never positive.*flip the sign"):
+        load_dataset(bad)

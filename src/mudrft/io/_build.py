@@ -142,6 +142,14 @@ def build_trials(
     """
     time = columns["time"]
     depth = columns["depth"]
+    if depth.size and float(np.max(depth)) <= 0.0 < -float(np.min(depth)):
+        raise fail(
+            path,
+            "column 'depth'",
+            f"the depth is never positive (it reaches {plain(float(np.min(depth)))} m); mudrft "
+            "measures it into the mud, positive while the plate intrudes: if your log records "
+            "it negative, flip the sign of the column",
+        )
     stress = columns["stress"] if "stress" in columns else columns["force"] / float(A)  # type: ignore[arg-type]
     trials = []
     for name, idx in _groups(labels, time.size).items():
