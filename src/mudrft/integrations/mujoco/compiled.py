@@ -240,13 +240,8 @@ def _kernel(
         work[o + 24 : o + 27],
         work[o + 27 : o + 30],
     )
-    w0, wr, _acc6, bl = (
-        work[o + 30 : o + 36],
-        work[o + 36 : o + 42],
-        work[o + 42 : o + 48],
-        work[o + 48 : o + 54],
-    )
-    o += 54
+    w0, bl = work[o + 30 : o + 36], work[o + 36 : o + 42]
+    o += 42
     M, E, spread = (
         work[o : o + 9].reshape((3, 3)),
         work[o + 9 : o + 18].reshape((3, 3)),
@@ -503,8 +498,8 @@ _pscale = passivity_scale
 
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
 #: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
-#: a state row and a morphing foot's state row (3); tw ... bl (54); M, E, spread, b, K (81).
-WORK_FIXED = (57 + N_STATE) + 54 + 81
+#: a state row and a morphing foot's state row (3); tw ... bl (42); M, E, spread, b, K (81).
+WORK_FIXED = (57 + N_STATE) + 42 + 81
 
 
 def work_size(nv: int, ntri: int, nb: int) -> int:
