@@ -9,6 +9,10 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -218,6 +222,35 @@ def test_failed_reproduce_leaves_nothing(tmp_path, capsys, monkeypatch):
     out = tmp_path / "results"
     code, _, err = run(capsys, "reproduce", "--out", out, "--no-figures", "--quiet")
     one_line_error(code, err, "a run failed")
+    assert listing(tmp_path) == []
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
+def test_a_terminated_reproduce_leaves_nothing(tmp_path):
+    """SIGTERM (a batch system's time limit, ``kill``, ``timeout``) mid-run: exit status
+    143, one line, and neither the output directory nor a temporary file stays behind."""
+    out = tmp_path / "results"
+    code = f"import sys, mudrft.cli; sys.exit(mudrft.cli.main(['reproduce', '--out', {str(out)!r}, '--no-figures']))"  # fmt: skip
+    src = str(Path(mudrft.__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and proc.poll() is None:
+            if out.is_dir() and any(out.iterdir()):  # the staging directory: it is running
+                break
+            time.sleep(0.01)
+        assert proc.poll() is None, "reproduce ended before it could be terminated"
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:  # pragma: no cover - only when the test fails
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 143, err
+    assert err.decode().strip().splitlines()[-1] == "mudrft reproduce: terminated"
     assert listing(tmp_path) == []
 
 

@@ -110,6 +110,41 @@ def test_store_is_never_replaced_without_asking(tmp_path):
     same(mudrft.sweep.load_result(store), mudrft.sweep(other, scheduler="serial"))
 
 
+def test_a_sweep_that_cannot_start_leaves_no_store(tmp_path):
+    """An unreachable scheduler fails before any chunk: the store this call made is removed,
+    so running again needs no --force (a failed run leaves nothing behind)."""
+    import dask
+
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
+    store = tmp_path / "s.zarr"
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}), pytest.raises(OSError):
+        mudrft.sweep(spec, store=store, scheduler="tcp://127.0.0.1:9")
+    assert list(tmp_path.iterdir()) == []
+    assert mudrft.sweep(spec, store=store, scheduler="serial")["sinking"].notnull().all()
+
+
+def test_a_sweep_that_fails_after_a_chunk_keeps_its_store_for_resume(tmp_path, monkeypatch):
+    """A failure after the first chunk keeps the store (resume continues it)."""
+    spec = {**SPEC, "foot": {"kind": "flat", "width": [0.05, 0.065]}}
+    store = tmp_path / "s.zarr"
+    real = evaluate.evaluate_chunk
+    calls = []
+
+    def second_fails(context, points):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(context, points)
+
+    monkeypatch.setattr("mudrft.sweep.run.evaluate_chunk", second_fails)
+    with pytest.raises(KeyboardInterrupt):
+        mudrft.sweep(spec, store=store, scheduler="serial")
+    assert store.is_dir()
+    monkeypatch.setattr("mudrft.sweep.run.evaluate_chunk", real)
+    ds = mudrft.sweep(spec, store=store, scheduler="serial", resume=True)
+    same(ds, mudrft.sweep(spec, scheduler="serial"))
+
+
 KILL_SPEC = """
 [sweep]
 metrics = ["max_suction"]

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import argparse
 import logging
+import signal
 import sys
+import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -105,6 +107,30 @@ def _warnings_as_lines(prog: str) -> Iterator[None]:
         yield
 
 
+class _Terminated(BaseException):
+    """SIGTERM turned into an exception, so that unwinding discards unfinished outputs."""
+
+
+@contextmanager
+def _terminate_as_exception() -> Iterator[None]:
+    """While a command runs, SIGTERM (``kill``, a batch system's time limit, ``timeout``)
+    raises :class:`_Terminated` instead of ending the process at once: the outputs'
+    temporary files are removed on the way out, as for Ctrl-C (a failed run leaves
+    nothing behind). Only in the main thread, where Python delivers signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: object) -> None:
+        raise _Terminated
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``mudrft`` command.
 
@@ -117,7 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     -------
     int
         The exit status: 0 success, 1 a fit that did not converge, 2 a user error,
-        130 interrupted.
+        130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
     """
     parser = build_parser()
     args = parser.parse_args(None if argv is None else list(argv))
@@ -125,7 +151,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     prog = f"mudrft {args.command}"
-    with _logging(bool(getattr(args, "quiet", False))), _warnings_as_lines(prog):
+    with (
+        _logging(bool(getattr(args, "quiet", False))),
+        _warnings_as_lines(prog),
+        _terminate_as_exception(),
+    ):
         for note in getattr(args, "deprecations", ()):
             logger.warning("%s: warning: %s", prog, note)
         try:
@@ -145,6 +175,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         except KeyboardInterrupt:  # pragma: no cover - interactive
             print(f"{prog}: interrupted", file=sys.stderr)
             return 130
+        except _Terminated:
+            print(f"{prog}: terminated", file=sys.stderr)
+            return 143
     return 2
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 import math
 import os
+import shutil
 import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
@@ -26,6 +27,8 @@ from .evaluate import ChunkResult, evaluate_chunk
 from .spec import SweepSpec, load_spec
 
 __all__ = ["SweepWarning", "run_sweep"]
+
+logger = logging.getLogger("mudrft.sweep")
 
 
 class SweepWarning(UserWarning):
@@ -207,26 +210,40 @@ def run_sweep(
         raise MudrftError(f"workers must be an integer >= 1, got {workers!r}")
     from . import store as S
 
-    group, done_mask = _prepare(S, store, spec, resume=resume, overwrite=overwrite)
+    group, done_mask, created = _prepare(S, store, spec, resume=resume, overwrite=overwrite)
     pending = [i for i in range(spec.n_chunks) if not done_mask[i]]
     n_done = sum(math.prod(spec.chunk_shape(i)) for i in range(spec.n_chunks) if done_mask[i])
     bar = _Bar(make_progress(progress, "sweep"), spec.n_points, n_done)
     seen: dict[str, int] = {}
+    written = 0
 
     def finished(i: int, result: ChunkResult) -> None:
+        nonlocal written
         S.write_chunk(group, spec, i, result)
+        written += 1
         for w in result.warnings:
             seen[w] = seen.get(w, 0) + 1
         bar.add(len(result.errors), sum(1 for e in result.errors if e))
 
     if pending:
         context = spec.context()
-        if scheduler == "serial":
-            _run_serial(spec, context, pending, finished)
-        else:
-            _require("distributed")
-            with _client(client, scheduler, workers) as c:
-                _run_dask(c, spec, context, pending, finished)
+        try:
+            if scheduler == "serial":
+                _run_serial(spec, context, pending, finished)
+            else:
+                _require("distributed")
+                with _client(client, scheduler, workers) as c:
+                    _run_dask(c, spec, context, pending, finished)
+        except BaseException:
+            # a store this call made and nothing was written to (an unreachable scheduler,
+            # a cluster that does not start, an interrupt before the first chunk) is removed:
+            # a failed run leaves nothing behind; a store with finished chunks is kept for
+            # ``resume``
+            if created is not None and written == 0:
+                shutil.rmtree(created, ignore_errors=True)
+            elif created is not None or resume:
+                logger.warning("sweep stopped after %d chunk(s); resume=True (CLI: --resume) continues it", written)  # fmt: skip
+            raise
     for message, chunks in seen.items():
         warnings.warn(f"in {chunks} chunk(s) of the sweep: {message}", SweepWarning, stacklevel=2)
     S.mark_complete(group, spec)
@@ -244,6 +261,7 @@ def _prepare(S: Any, store: Any, spec: SweepSpec, *, resume: bool, overwrite: bo
         store = zarr.storage.MemoryStore()
     elif resume and isinstance(store, str | os.PathLike) and os.path.exists(store):
         group = S.open_store(store, spec)
-        return group, S.done_chunks(group, spec)
+        return group, S.done_chunks(group, spec), None
     group = S.create_store(store, spec, overwrite=overwrite)
-    return group, np.zeros(spec.n_chunks, dtype=bool)
+    created = store if isinstance(store, str | os.PathLike) else None
+    return group, np.zeros(spec.n_chunks, dtype=bool), created
