@@ -57,3 +57,14 @@ def test_metric_errors_name_the_argument():
         metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.zeros((3, 3)))
     with pytest.raises(MudrftError, match="force_z"):
         metrics.max_suction([np.nan])
+
+
+@pytest.mark.parametrize("fn", [metrics.max_suction, metrics.peak_support, metrics.sinking_depth])
+def test_one_component_metrics_refuse_a_3d_history_and_an_empty_one(fn):
+    """A (n, 3) force or position passed whole gave a number from the wrong component
+    (max_suction([[-50, 0, 10]]) was 50 N though F_z = +10 N); an empty one failed in numpy."""
+    name = "depth" if fn is metrics.sinking_depth else "force_z"
+    with pytest.raises(MudrftError, match=rf"{name} must have shape \(n,\), got shape \(1, 3\)"):
+        fn([[-50.0, 0.0, 10.0]])
+    with pytest.raises(MudrftError, match=f"{name} must hold at least one sample"):
+        fn([])

@@ -320,6 +320,40 @@ def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float
     return max(math.ceil(count), 0)
 
 
+def check_broadcast(**shapes: tuple[int, ...]) -> tuple[int, ...]:
+    """The broadcast of the named shapes, or an error that gives each argument's shape
+    (not numpy's message from deep inside a formula).
+
+    Examples
+    --------
+    >>> check_broadcast(depth=(2,), heading=())
+    (2,)
+    """
+    try:
+        return np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        listed = ", ".join(f"{k} {v}" for k, v in shapes.items())
+        raise MudrftError(f"the shapes must broadcast together, got {listed}") from None
+
+
+def check_number(name: str, value: Any, *, unit: str = "") -> float:
+    """One finite number as a float; an array or a sequence names the argument.
+
+    ``value`` is usually the result of :func:`check_positive` (or a sibling) on the user's
+    input, so its range is already checked; ``unit`` is for the message.
+
+    Examples
+    --------
+    >>> check_number("speed", 0.2)
+    0.2
+    """
+    arr = check_finite(name, value)
+    if arr.ndim:
+        u = f" [{unit}]" if unit else ""
+        raise MudrftError(f"{name} must be a single number{u}, got {_describe(value)}")
+    return float(arr)
+
+
 def check_length(name: str, value: Any) -> float:
     """A size [m] as a float: finite, not a boolean, within :data:`LENGTH_LIMITS`.
 
@@ -335,11 +369,8 @@ def check_length(name: str, value: Any) -> float:
     >>> check_length("radius", 0.045)
     0.045
     """
-    arr = check_positive(name, value, unit="m")
-    if arr.ndim:
-        raise MudrftError(f"{name} must be a single number [m], got {_describe(value)}")
+    v = check_number(name, check_positive(name, value, unit="m"), unit="m")
     low, high = LENGTH_LIMITS
-    v = float(arr)
     if not low <= v <= high:
         raise MudrftError(
             f"{name} must lie in [{low:g}, {high:g}] m for a foot, got {v!r} m (sizes are in "

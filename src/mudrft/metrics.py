@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import MudrftError, check_finite, check_increasing
+from ._validation import MudrftError, check_finite, check_increasing, check_shape
 
 __all__ = [
     "energy",
@@ -26,6 +26,14 @@ __all__ = [
 
 def _trapz(y: np.ndarray, x: np.ndarray) -> Any:
     return np.trapezoid(y, x, axis=0)
+
+
+def _history(name: str, value: Any) -> np.ndarray:
+    """A finite 1-D history with at least one sample (one component: ``Fz``, a depth)."""
+    arr = check_shape(name, value, (None,))
+    if arr.size == 0:
+        raise MudrftError(f"{name} must hold at least one sample, got an empty array")
+    return arr
 
 
 def relative_rmse(predicted: Any, measured: Any) -> float:
@@ -84,18 +92,23 @@ def impulse(time: Any, force: Any) -> np.ndarray:
 def max_suction(force_z: Any) -> float:
     """Maximum suction: magnitude (>= 0) of the most negative vertical force [N].
 
+    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
+
     Examples
     --------
     >>> max_suction([1.0, -3.0, 2.0]), max_suction([1.0, 2.0])
     (3.0, 0.0)
     """
-    f = check_finite("force_z", force_z)
+    f = _history("force_z", force_z)
     return float(max(0.0, -float(np.min(f))))
 
 
 def peak_support(force_z: Any) -> float:
-    """Largest upward vertical force [N] (0 if never positive)."""
-    f = check_finite("force_z", force_z)
+    """Largest upward vertical force [N] (0 if never positive).
+
+    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
+    """
+    f = _history("force_z", force_z)
     return float(max(0.0, float(np.max(f))))
 
 
@@ -127,8 +140,9 @@ def sinking_depth(depth: Any, *, final: bool = False) -> float:
     """Sinking depth [m]: the deepest tip depth, or the last one with ``final=True``.
 
     Under load control the last depth is the equilibrium sinking (paper Fig. 12).
+    ``depth`` is the tip's depth below the surface, shape (n,) [m] (``result.depth``).
     """
-    d = check_finite("depth", depth)
+    d = _history("depth", depth)
     return float(d[-1] if final else d.max())
 
 

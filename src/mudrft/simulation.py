@@ -20,10 +20,19 @@ import numpy as np
 
 from . import metrics as _m
 from ._progress import make_progress
-from ._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
+from ._validation import (
+    MudrftError,
+    check_length,
+    check_nonnegative,
+    check_number,
+    check_positive,
+    check_samples,
+    plain,
+)
 from .feet.base import Foot
+from .io.atomic import atomic_write
 from .terrains import as_terrain
-from .trajectories import Trajectory
+from .trajectories import MIN_GAIT_STEPS, Trajectory
 
 __all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
 
@@ -178,23 +187,20 @@ class Result:
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
         """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``.
 
-        Refuses to replace an existing file unless ``overwrite=True``.
+        Written atomically (a temporary file in the same directory, then moved into
+        place): a failure leaves neither a partial file nor a temporary one. Refuses to
+        replace an existing file unless ``overwrite=True``.
         """
-        p = Path(path)
-        if p.exists() and not overwrite:
-            raise MudrftError(
-                f"path {str(p)!r} exists; pass overwrite=True (CLI: --force) to replace it"
-            )
-        if not p.parent.exists():
-            raise MudrftError(f"path {str(p)!r}: directory {str(p.parent)!r} does not exist")
         data = np.column_stack([self.time, self.position, self.force])
-        try:
+
+        def write(tmp: Path) -> None:
             np.savetxt(
-                p, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g"
+                tmp, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g"
             )
-        except OSError as exc:
-            raise MudrftError(f"cannot write {str(p)!r}: {exc.strerror or exc}") from exc
-        return p
+
+        return atomic_write(
+            path, write, overwrite=overwrite, option="overwrite=True (CLI: --force)"
+        )
 
     def to_pandas(self) -> Any:
         """The run as a ``pandas.DataFrame`` with the CSV columns plus stresses and depth."""
@@ -227,6 +233,13 @@ class Result:
 
 def _resample(traj: Trajectory, dt: float) -> Trajectory:
     span = float(traj.time[-1] - traj.time[0])
+    if span < MIN_GAIT_STEPS * dt * (1.0 - 1e-9):
+        # coarser, the resampled path jumps over the stance or the retraction: a 0.65 s
+        # gait cycle at dt = 0.3 s kept 3 samples and lost its suction without a word
+        raise MudrftError(
+            f"dt = {plain(dt)} s cuts the {span:.3g} s trajectory into fewer than "
+            f"{MIN_GAIT_STEPS} steps; use dt <= {span / MIN_GAIT_STEPS:.3g} s"
+        )
     check_samples(
         f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s",
         span / dt + 2,
@@ -268,7 +281,8 @@ def simulate(
     trajectory : Trajectory or LoadControl
         Tip motion (:func:`mudrft.gait`, :func:`mudrft.plate_intrusion`, ...) or a load.
     dt : float or None, keyword-only
-        Resample a trajectory at this step [s] (default: its own samples). Ignored for
+        Resample a trajectory at this step [s] (default: its own samples); at most the
+        trajectory's duration / :data:`~mudrft.trajectories.MIN_GAIT_STEPS`. Ignored for
         load control, which has its own ``dt``.
     progress : bool or callable, keyword-only
         ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
@@ -444,10 +458,16 @@ def static_sinking(
     from .constitutive import laws
     from .parameters.base import Mud
 
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a Foot (mudrft.feet), got {type(foot).__name__}")
     if not isinstance(mud, Mud):
         raise MudrftError(f"mud must be a Mud, got {type(mud).__name__}")
-    W = float(check_positive("weight", weight, unit="N"))
-    lc = float(characteristic_length or foot.characteristic_length)
+    W = check_number("weight", check_positive("weight", weight, unit="N"), unit="N")
+    lc = (
+        float(foot.characteristic_length)
+        if characteristic_length is None
+        else check_length("characteristic_length", characteristic_length)
+    )
     p = mud.vertical
 
     def support(d: float) -> float:

@@ -18,8 +18,10 @@ from ._validation import (
     check_in_range,
     check_increasing,
     check_nonnegative,
+    check_number,
     check_positive,
     check_samples,
+    warn_implausible,
 )
 
 __all__ = [
@@ -262,12 +264,18 @@ def gait(
     >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
     (0.65, 0.02)
     """
-    check_positive("speed", speed, unit="m/s")
-    for name, val, unit in (("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")):
-        check_positive(name, val, unit=unit)
-    for name, val in (("slip", slip), ("sway", sway)):
-        check_in_range(name, val, 0.0, 1.0)
-    check_nonnegative("lift", lift, unit="m")
+    # one number each (a list of speeds is a sweep: mudrft.sweep, or a loop)
+    speed, depth, stride, dt = (
+        check_number(name, check_positive(name, val, unit=unit), unit=unit)
+        for name, val, unit in (
+            ("speed", speed, "m/s"), ("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")
+        )
+    )  # fmt: skip
+    slip, sway = (check_number(n, check_in_range(n, v, 0.0, 1.0)) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
+    lift = check_number("lift", check_nonnegative("lift", lift, unit="m"), unit="m")
+    warn_implausible(
+        "gait: a stance depth of", depth, (0.0, 1.0), unit="m", hint="depth is in metres (20 mm = 0.02)"
+    )  # fmt: skip
     T = stride / speed
     check_samples(
         f"gait: one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s) "

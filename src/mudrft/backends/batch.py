@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_choice, check_finite, check_positive
+from .._validation import MudrftError, check_choice, check_finite, check_number, check_positive
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
 
@@ -312,7 +312,7 @@ class BatchedMud:
         """
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
-        dt = float(check_positive("dt", dt, unit="s"))
+        dt = check_number("dt", check_positive("dt", dt, unit="s"), unit="s")
         if self.backend == "numba":
             self._nb_step(
                 self._c, self._st, self._out, np.ascontiguousarray(pos),

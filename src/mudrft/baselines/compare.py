@@ -19,6 +19,8 @@ import numpy as np
 
 from .._progress import make_progress
 from .._validation import MudrftError, plain
+from ..feet.base import Foot
+from ..io.atomic import atomic_write
 from ..terrains._common import projected
 from ..trajectories import Trajectory
 
@@ -135,6 +137,8 @@ def run_terrain(
             "terrain must have initial_state() and step() (see mudrft.terrains), "
             f"got {type(terrain).__name__}"
         )
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
     t, pos, vel = trajectory.time, trajectory.position, trajectory.velocity
     n = t.size
     force = np.zeros((n, 3))
@@ -239,6 +243,12 @@ def compare(
     >>> list(out)
     ['granular-rft', 'linear']
     """
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(
+            f"trajectory must be a Trajectory (see mudrft.gait), got {type(trajectory).__name__}"
+        )
     if terrains is None:
         items = list(default_terrains(water_content, extrapolate=extrapolate).items())
     elif isinstance(terrains, Mapping):
@@ -269,10 +279,23 @@ def compare(
     return out
 
 
+def _check_history(name: str, value: Any) -> None:
+    if not isinstance(value, History):
+        raise MudrftError(
+            f"{name} must be a History (run_terrain's or compare's result), got {_what(value)}"
+        )
+
+
 def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
     """Per terrain: peak support, max suction [N], impulses [N s], energy [J], peak sigma_z [Pa]."""
     from .. import metrics
 
+    if not isinstance(histories, Mapping):
+        raise MudrftError(
+            f"histories must be a mapping {{terrain: History}}, got {_what(histories)}"
+        )
+    for name, h in histories.items():
+        _check_history(f"histories[{name!r}]", h)
     rows = []
     for name, h in histories.items():
         imp = metrics.impulse(h.time, h.force)
@@ -307,37 +330,61 @@ def write_csv(
     path : str or Path
         Output CSV.
     overwrite : bool, keyword-only
-        Replace an existing file (never done silently).
+        Replace an existing file (never done silently). The file is written atomically:
+        a failure leaves neither a partial file nor a temporary one.
     """
-    p = Path(path)
-    if p.exists() and not overwrite:
-        raise MudrftError(f"{str(p)!r} exists; pass overwrite=True (--force) to replace it")
+    if not isinstance(runs, Mapping) or not runs:
+        raise MudrftError(
+            "runs must be a non-empty mapping {terrain: History} (compare's result) or "
+            f"{{label: {{terrain: History}}}}, got {_what(runs)}"
+        )
     nested: Mapping[str, Any] = runs
-    if runs and all(isinstance(v, History) for v in runs.values()):
+    if all(isinstance(v, History) for v in runs.values()):
         nested = {"": runs}
-    with p.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(CSV_COLUMNS)
-        for label, histories in nested.items():
-            for name, h in histories.items():
-                sz = h.sigma_z
-                for i in range(len(h)):
-                    w.writerow(
-                        [
-                            label,
-                            name,
-                            f"{h.time[i]:.6g}",
-                            *(f"{v:.6g}" for v in h.position[i]),
-                            f"{h.depth[i]:.6g}",
-                            *(f"{v:.6g}" for v in h.force[i]),
-                            f"{sz[i]:.6g}",
-                        ]
-                    )
-    return p
+    for label, histories in nested.items():
+        if (
+            not isinstance(histories, Mapping)
+            or not histories
+            or not all(isinstance(h, History) for h in histories.values())
+        ):
+            raise MudrftError(
+                f"runs[{label!r}] must be a non-empty mapping {{terrain: History}}, got "
+                f"{_what(histories)}"
+            )
+
+    def write(tmp: Path) -> None:
+        with tmp.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(CSV_COLUMNS)
+            for label, histories in nested.items():
+                for name, h in histories.items():
+                    sz = h.sigma_z
+                    for i in range(len(h)):
+                        w.writerow(
+                            [
+                                label,
+                                name,
+                                f"{h.time[i]:.6g}",
+                                *(f"{v:.6g}" for v in h.position[i]),
+                                f"{h.depth[i]:.6g}",
+                                *(f"{v:.6g}" for v in h.force[i]),
+                                f"{sz[i]:.6g}",
+                            ]
+                        )
+
+    return atomic_write(path, write, overwrite=overwrite, option="overwrite=True (--force)")
+
+
+def _what(value: Any) -> str:
+    """A short description of a wrong argument, for messages."""
+    if isinstance(value, Mapping) and not value:
+        return "an empty mapping"
+    return f"{type(value).__name__} {plain(value)}"[:120]
 
 
 def normalized_loop(history: History) -> tuple[np.ndarray, np.ndarray]:
     """Fig. S6a axes: depth over its maximum and F_z over max |F_z| [-]."""
+    _check_history("history", history)
     d = history.depth
     f = history.force[:, 2]
     dmax = float(d.max())

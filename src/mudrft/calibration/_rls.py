@@ -10,7 +10,7 @@ previous one (decision D46).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -126,7 +126,7 @@ class SampleStream:
 
     def push(self, time: float, depth: float, stress: float) -> Sample:
         """Check one sample (time [s], depth [m], stress [Pa]) and step to it."""
-        t, q, s = float(time), float(depth), float(stress)
+        t, q, s = _number("time", time), _number("depth", depth), _number("stress", stress)
         if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
             raise MudrftError(
                 f"update needs finite time, depth and stress, got {time!r}, {depth!r}, {stress!r}"
@@ -141,3 +141,15 @@ class SampleStream:
         dt = t - t0
         self.last = (t, g)
         return Sample(t, g, s, dt, (g - g0) / dt, t0)
+
+
+def _number(name: str, value: Any) -> float:
+    """``float(value)`` for a sample, or an error naming it (a string, None, a list)."""
+    if isinstance(value, str | bytes | bool) or value is None:
+        raise MudrftError(f"update: {name} must be a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise MudrftError(
+            f"update: {name} must be a number, got {type(value).__name__} {value!r}"
+        ) from None

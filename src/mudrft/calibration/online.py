@@ -33,7 +33,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import MudrftError, check_choice, check_in_range, check_positive
+from .._validation import MudrftError, check_choice, check_in_range, check_positive, check_shape
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
@@ -373,9 +373,10 @@ class OnlineEstimator:
         -------
         list of OnlineEstimate
         """
-        t = np.asarray(time, dtype=float).ravel()
-        q = np.asarray(depth, dtype=float).ravel()
-        s = np.asarray(stress, dtype=float).ravel()
+        t, q, s = (
+            check_shape(name, value, (None,))
+            for name, value in (("time", time), ("depth", depth), ("stress", stress))
+        )
         if not (t.size == q.size == s.size):
             raise MudrftError(
                 f"time, depth and stress must have the same length, got "

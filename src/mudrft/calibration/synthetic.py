@@ -118,6 +118,8 @@ def synthetic_dataset(
     check_nonnegative("noise", noise)
     d = direction or params.direction or "vertical"
     check_choice("direction", d, ("vertical", "horizontal"))
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
+        raise MudrftError(f"seed must be an integer or None, got {seed!r}")
     rng = np.random.default_rng(seed)
     trials = []
     for v in sp:

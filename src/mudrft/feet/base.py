@@ -20,6 +20,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
+from .._validation import check_broadcast as check_shapes
 
 __all__ = [
     "CHUNK",
@@ -102,13 +103,20 @@ class SurfaceElements:
 def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
 
+    ``stress`` has shape (..., 3) [Pa] and ``heading`` [rad] broadcasts to its batch shape.
     Returns ``(stress_q, phi, signs)``: channel stresses measured along the motion
     (positive when they resist it), the heading folded into [0, pi/2], and the signs
     (sx, sy) that map first-quadrant forces back to the world. Forces are odd in the
     horizontal motion (decision D9 in docs/model.md).
     """
-    s = np.asarray(stress, dtype=float)
-    h = np.asarray(heading, dtype=float)
+    s = check_finite("stress", stress)
+    h = check_finite("heading", heading)
+    if s.shape[-1:] != (3,):
+        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
+    if check_shapes(**{"stress (its last axis, 3, aside)": s.shape[:-1]}, heading=h.shape) != s.shape[:-1]:  # fmt: skip
+        raise MudrftError(
+            f"heading (shape {h.shape}) must broadcast to stress's batch shape {s.shape[:-1]}"
+        )
     c, sn = np.cos(h), np.sin(h)
     signs = np.empty((*np.shape(h), 2))
     signs[..., 0] = np.where(c < 0, -1.0, 1.0)
@@ -130,7 +138,17 @@ def check_resultant_inputs(
     if s.shape[-1:] != (3,):
         raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
     h = check_in_range("heading", heading, 0.0, 0.5 * np.pi, unit="rad")
+    check_broadcast(d, s, h)
     return d, s, h
+
+
+def check_broadcast(depth: np.ndarray, stress: np.ndarray, heading: np.ndarray) -> tuple[int, ...]:
+    """The batch shape of depth [m], stress (..., 3) [Pa] and heading [rad], or an error
+    that names the shapes."""
+    return check_shapes(
+        **{"depth": depth.shape, "stress (its last axis, 3, aside)": stress.shape[:-1]},
+        heading=heading.shape,
+    )
 
 
 def fold_heading(heading: Any, *, xp: Any = np) -> Any:
@@ -314,6 +332,7 @@ class Foot(ABC):
         if s.shape[-1:] != (3,):
             raise MudrftError(f"stress must have shape (..., 3), got shape {s.shape}")
         h = check_finite("heading", heading)
+        check_broadcast(d, s, h)
         return self.force_unchecked(d, s, h)
 
     def force_unchecked(

@@ -31,13 +31,19 @@ from .._validation import (
     PLAUSIBLE_FOOT_SIZE,
     MudrftError,
     check_finite,
-    check_in_range,
     check_memory,
     check_nonnegative,
     warn_implausible,
 )
 from ..units import parse_unit
-from .base import CHUNK, Foot, SurfaceElements, in_chunks
+from .base import (
+    CHUNK,
+    Foot,
+    SurfaceElements,
+    check_broadcast,
+    check_resultant_inputs,
+    in_chunks,
+)
 from .surface import (
     PreparedTriangles,
     integrate_prepared,
@@ -395,8 +401,7 @@ class MeshFoot(Foot):
         ``(-Fx, -Fy, Fz)`` of the integrated force: positive when the force resists the
         motion (an asymmetric foot may give a negative side component).
         """
-        d, s = self._inputs(depth, stress)
-        h = check_in_range("heading", heading, 0.0, 0.5 * math.pi, unit="rad")
+        d, s, h = check_resultant_inputs(depth, stress, heading)
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
@@ -410,7 +415,13 @@ class MeshFoot(Foot):
         pt = np.zeros(3) if point is None else check_finite("point", point)
         if pt.shape[-1:] != (3,):
             raise MudrftError(f"point must have shape (..., 3) [m], got shape {pt.shape}")
-        shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape, pt.shape[:-1])
+        try:
+            shape = np.broadcast_shapes(check_broadcast(d, s, h), pt.shape[:-1])
+        except ValueError:
+            raise MudrftError(
+                f"point (shape {pt.shape}) must broadcast with depth, stress and heading "
+                f"(batch shape {check_broadcast(d, s, h)})"
+            ) from None
 
         def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray, pp: np.ndarray) -> Any:
             return integrate_wrench(

@@ -37,7 +37,7 @@ class Trial:
         Strictly increasing sample times [s].
     depth : array_like, shape (n,)
         Intrusion displacement of the plate [m] (vertical: depth below the surface;
-        horizontal: travel through the mud).
+        horizontal: travel through the mud), positive into the mud.
     stress : array_like, shape (n,)
         Stress resisting the intrusion [Pa] (negative under suction).
     name : str
@@ -82,6 +82,13 @@ class Trial:
                 raise MudrftError(f"trial {self.name!r}: {attr} must be finite, got NaN or inf")
             object.__setattr__(self, attr, a)
         object.__setattr__(self, "time", t)
+        d = self.depth
+        if float(np.max(d)) <= 0.0 < -float(np.min(d)):  # fitted, it converged at the bounds
+            raise MudrftError(
+                f"trial {self.name!r}: depth is never positive (it reaches "
+                f"{float(np.min(d)):.3g} m); mudrft measures it into the mud, positive while "
+                "the plate intrudes: flip its sign"
+            )
         L = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
         object.__setattr__(self, "characteristic_length", L)
 

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 from .._validation import MudrftError
 from .csv_log import load_intrusion_csv
@@ -44,9 +45,14 @@ def load_dataset(
     if isinstance(path, (str, os.PathLike)):
         paths = [path]
     else:
-        paths = list(path)
-        if not paths:
-            raise MudrftError("path must name at least one file, got an empty list")
+        items: list[Any] = list(path) if isinstance(path, Iterable) else [None]
+        if not all(isinstance(q, (str, os.PathLike)) for q in items):
+            raise MudrftError(
+                f"path must be a file path or a sequence of file paths, got {type(path).__name__}"
+            )
+        paths = items
+    if not paths:
+        raise MudrftError("path must name at least one file, got an empty list")
     sets = []
     for pth in paths:
         hdf5 = Path(os.fspath(pth)).suffix.lower() in HDF5_SUFFIXES

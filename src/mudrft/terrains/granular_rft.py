@@ -26,10 +26,19 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_finite, check_in_range, check_positive
+from .._validation import (
+    MudrftError,
+    check_broadcast,
+    check_choice,
+    check_finite,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+)
 from ..citations import register
 from ..feet.base import SurfaceElements
 from ._common import mean_stress, projected, tip_depth, tip_position
+from ._rft_groups import _group_weights, _prepare, _unit
 from .base import TerrainOutput, check_motion
 
 __all__ = [
@@ -155,6 +164,7 @@ def li2013_alpha(
     """
     b = check_finite("beta", beta)
     g = check_finite("gamma", gamma)
+    check_broadcast(beta=b.shape, gamma=g.shape)
     return coefficients.alpha(b, g)
 
 
@@ -173,8 +183,8 @@ def treers_weights(v1: Any, v23: Any) -> tuple[np.ndarray, np.ndarray]:
     >>> f1.round(12).tolist(), f23.round(12).tolist()
     ([0.0, 1.0], [0.0, 1.0])
     """
-    u1 = np.clip(np.abs(np.asarray(v1, dtype=float)), 0.0, 1.0)
-    u23 = np.clip(np.abs(np.asarray(v23, dtype=float)), 0.0, 1.0)
+    u1 = np.clip(np.abs(check_finite("v1", v1)), 0.0, 1.0)
+    u23 = np.clip(np.abs(check_finite("v23", v23)), 0.0, 1.0)
     a, b = _TREERS_F1
     c, d = _TREERS_F23
     f1 = (np.tanh(a * u1 - b) + np.tanh(b)) / (np.tanh(a - b) + np.tanh(b))
@@ -314,10 +324,6 @@ def _unit_forces(
     return w[..., None] * f
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
-
-
 def rft_forces(
     normals: Any,
     depths: Any,
@@ -372,7 +378,7 @@ def rft_forces(
     """
     check_choice("extension", extension, ("treers2021", "planar"))
     n = check_finite("normals", normals)
-    a = check_finite("areas", areas)
+    a = check_nonnegative("areas", areas, unit="m^2")
     d = check_finite("depths", depths)
     v = check_finite("direction", direction)
     if n.ndim != 2 or n.shape[1] != 3 or a.shape != (n.shape[0],) or d.shape[-1:] != (n.shape[0],):
@@ -382,54 +388,13 @@ def rft_forces(
         )
     if v.shape[-1:] != (3,) or not np.all(np.linalg.norm(v, axis=-1) > 0):
         raise MudrftError(f"direction must be nonzero with shape (..., 3), got shape {v.shape}")
+    if not np.all(np.linalg.norm(n, axis=-1) > 0):
+        i = int(np.argmin(np.linalg.norm(n, axis=-1)))
+        raise MudrftError(f"normals must be nonzero vectors, got normals[{i}] = {n[i].tolist()}")
     f = _unit_forces(_unit(n), _unit(v), coefficients, extension, leading_width)
     w = zeta * np.maximum(d, 0.0) * a
     forces = w[..., None] * f
     return forces if per_element else forces.sum(axis=-2)
-
-
-class _Prepared(NamedTuple):
-    r"""Surface elements grouped by normal and sorted by height, for fast integration.
-
-    The depth weight of group k, :math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` for a tip
-    depth :math:`D`, comes from prefix sums in O(log m): direction-independent.
-    """
-
-    normals: np.ndarray  # (k, 3) distinct unit normals
-    keys: np.ndarray  # (m,) group + normalised height, sorted
-    cum_a: np.ndarray  # (m + 1,) prefix sums of areas [m^2]
-    cum_ah: np.ndarray  # (m + 1,) prefix sums of area x height [m^3]
-    start: np.ndarray  # (k,) first sorted index of each group
-    h0: float  # lowest centroid height [m]
-    span: float  # normalisation of heights [m]
-
-
-def _prepare(el: SurfaceElements) -> _Prepared:
-    n = _unit(np.asarray(el.normals, dtype=float))
-    h = np.asarray(el.centroids, dtype=float)[:, 2]
-    a = np.asarray(el.areas, dtype=float)
-    uniq, inverse = np.unique(np.round(n, 9), axis=0, return_inverse=True)
-    inverse = np.asarray(inverse).ravel()
-    h0 = float(h.min())
-    span = float(h.max() - h0) + 1.0
-    keys = inverse + (h - h0) / span
-    order = np.argsort(keys, kind="stable")
-    keys, a_s, h_s = keys[order], a[order], h[order]
-    cum_a = np.concatenate([[0.0], np.cumsum(a_s)])
-    cum_ah = np.concatenate([[0.0], np.cumsum(a_s * h_s)])
-    start = np.searchsorted(keys, np.arange(uniq.shape[0], dtype=float), side="left")
-    return _Prepared(_unit(uniq), keys, cum_a, cum_ah, start, h0, span)
-
-
-def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
-    """Depth weights W_k (..., k) [m^3] for signed tip depths ``depth`` (...) [m]."""
-    k = pr.normals.shape[0]
-    frac = np.clip((depth[..., None] - pr.h0) / pr.span, 0.0, 1.0 - 1e-12)
-    query = np.arange(k) + frac  # (..., k)
-    j = np.searchsorted(pr.keys, query.ravel(), side="left").reshape(query.shape)
-    area = pr.cum_a[j] - pr.cum_a[pr.start]
-    moment = pr.cum_ah[j] - pr.cum_ah[pr.start]
-    return np.maximum(depth[..., None] * area - moment, 0.0)
 
 
 class RFTState(NamedTuple):

@@ -17,7 +17,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_finite, check_positive
+from .._validation import MudrftError, check_choice, check_finite, check_nonnegative, check_positive
 from ..citations import register
 from ._common import area_z, kinematics, tip_depth, tip_position
 from .base import TerrainOutput
@@ -115,7 +115,7 @@ def fit_stiffness(depth: Any, stress: Any) -> float:
     Parameters
     ----------
     depth : array_like
-        Tip depths [m].
+        Tip depths below the surface [m], >= 0.
     stress : array_like
         Vertical stresses [Pa] at those depths.
 
@@ -124,7 +124,7 @@ def fit_stiffness(depth: Any, stress: Any) -> float:
     >>> fit_stiffness([0.01, 0.02], [1e4, 2e4])
     1000000.0
     """
-    d = check_finite("depth", depth).ravel()
+    d = check_nonnegative("depth", depth, unit="m").ravel()  # into the mud: >= 0
     s = check_finite("stress", stress).ravel()
     if d.shape != s.shape or not np.any(d != 0):
         raise MudrftError(

@@ -1,0 +1,189 @@
+"""User mistakes in the library's API: each gets a MudrftError that names the argument.
+
+Found by a fuzz of the public API with wrong shapes, types and signs. Before the fix each
+case either failed inside numpy (``operands could not be broadcast``, ``zero-size array``,
+``could not convert string to float``, an AttributeError on None) or, worse, returned a
+number without a word: the test fails on that behaviour.
+"""
+
+from __future__ import annotations
+
+import csv
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mudrft
+from mudrft import baselines as B
+from mudrft import calibration as C
+from mudrft._validation import MudrftError, PlausibilityWarning
+from mudrft.feet import first_quadrant
+
+FLAT = mudrft.feet.Flat()
+MUD = mudrft.paper_mud(0.25)
+PLATE = mudrft.plate_intrusion()
+TWO, THREE_BY_3, FOUR = np.array([0.01, 0.02]), np.ones((3, 3)), np.zeros(4)
+
+
+CASES = [
+    # simulate resampled a 0.65 s gait at 0.3 s: 3 samples, no suction, no warning
+    (
+        lambda: mudrft.simulate(FLAT, MUD, mudrft.gait(), dt=0.3),
+        r"dt = 0.3 s cuts the 0.65 s trajectory into fewer than 20 steps; use dt <= 0.0325 s",
+    ),
+    # one number each: a list of speeds failed in plain arithmetic
+    (
+        lambda: mudrft.gait(speed=[0.1, 0.2]),
+        r"speed must be a single number \[m/s\], got an array of shape \(2,\)",
+    ),
+    (lambda: mudrft.gait(slip=[0.1, 0.2]), r"slip must be a single number"),
+    (lambda: mudrft.static_sinking(None, MUD, 10.0), r"foot must be a Foot"),
+    (
+        lambda: mudrft.static_sinking(FLAT, MUD, [10.0, 20.0]),
+        r"weight must be a single number \[N\]",
+    ),
+    # shapes that do not broadcast: three feet, three kinds
+    (
+        lambda: FLAT.resultant(TWO, THREE_BY_3, FOUR),
+        r"the shapes must broadcast together, got depth \(2,\), stress \(its last axis, 3, aside\) \(3,\), heading \(4,\)",
+    ),
+    (
+        lambda: mudrft.feet.SemiSphere().force(TWO, THREE_BY_3, FOUR),
+        r"must broadcast together",
+    ),
+    (lambda: FLAT.to_mesh().resultant(TWO, THREE_BY_3, FOUR), r"must broadcast together"),
+    (lambda: first_quadrant((1.0, 1.0, 1.0), np.nan), r"heading must be finite"),
+    (
+        lambda: first_quadrant(np.ones((2, 3)), np.ones(3)),
+        r"the shapes must broadcast together, got stress \(its last axis, 3, aside\) \(2,\), heading \(3,\)",
+    ),
+    (
+        lambda: first_quadrant(np.ones((2, 3)), np.ones((4, 1))),
+        r"heading \(shape \(4, 1\)\) must broadcast to stress's batch shape \(2,\)",
+    ),
+    # a trial whose depth was logged negative converged at the bounds with "converged"
+    (
+        lambda: C.Trial([0.0, 1.0, 2.0], [0.0, -0.01, -0.02], [0.0, 1e3, 2e3]),
+        r"depth is never positive .* flip its sign",
+    ),
+    (
+        lambda: C.OnlineEstimator().update("x", 0.01, 1.0),
+        r"update: time must be a number, got 'x'",
+    ),
+    (
+        lambda: C.StreamClassifier([mudrft.paper_parameters(0.25, "vertical")]).update(
+            0.0, None, 1.0
+        ),
+        r"update: depth must be a number, got None",
+    ),
+    (
+        lambda: C.OnlineEstimator().update_many([0.0, 1.0], [[0.01, 0.02]], [1.0, 2.0]),
+        r"depth must have shape \(n,\), got shape \(1, 2\)",
+    ),
+    (
+        lambda: C.load_dataset(None),
+        r"path must be a file path or a sequence of file paths, got NoneType",
+    ),
+    (
+        lambda: C.synthetic_dataset(mudrft.paper_parameters(0.25, "vertical"), seed="x"),
+        r"seed must be an integer or None, got 'x'",
+    ),
+    # baselines
+    (lambda: B.compare(None, PLATE), r"foot must be a Foot"),
+    (lambda: B.compare(FLAT, "x"), r"trajectory must be a Trajectory"),
+    (lambda: B.run_terrain(B.RigidGround(), None, PLATE), r"foot must be a Foot"),
+    (lambda: B.summarize("x"), r"histories must be a mapping"),
+    (lambda: B.normalized_loop("x"), r"history must be a History"),
+    (lambda: B.write_csv("x", "never.csv"), r"runs must be a non-empty mapping"),
+    (
+        lambda: B.write_csv({}, "never.csv"),
+        r"runs must be a non-empty mapping .* got an empty mapping",
+    ),
+    (
+        lambda: B.fit_stiffness(-np.linspace(0, 0.01, 5), np.linspace(0, 100, 5)),
+        r"depth must be >= 0 m",
+    ),
+    (lambda: B.rft_forces([[0, 0, -1]], [0.01], [-1e-4], (0, 0, -1)), r"areas must be >= 0 m\^2"),
+    (
+        lambda: B.rft_forces([[0, 0, 0]], [0.01], [1e-4], (0, 0, -1)),
+        r"normals must be nonzero vectors, got normals\[0\]",
+    ),
+    (lambda: B.treers_weights(np.nan, 0.0), r"v1 must be finite"),
+    (
+        lambda: B.li2013_alpha(np.ones(3), np.ones(4)),
+        r"the shapes must broadcast together, got beta \(3,\), gamma \(4,\)",
+    ),
+]
+
+
+@pytest.mark.parametrize(("call", "message"), CASES)
+def test_a_user_mistake_is_named(call, message, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(MudrftError, match=message):
+        call()
+    assert list(tmp_path.iterdir()) == []  # and nothing was written
+
+
+def test_batched_mud_takes_one_step_for_all_feet():
+    from mudrft.backends import BatchedMud
+
+    b = BatchedMud(MUD, FLAT, 4, backend="numpy")
+    with pytest.raises(MudrftError, match=r"dt must be a single number \[s\], got an array"):
+        b.step(np.zeros((4, 3)), np.zeros((4, 3)), np.full(4, 1e-3))
+
+
+def test_a_stance_depth_in_millimetres_warns():
+    """gait(depth=20) meant 20 mm: a 20 m stance runs, but with a warning naming the unit."""
+    with pytest.warns(PlausibilityWarning, match=r"stance depth of 20 m, more than 1 m .* metres"):
+        mudrft.gait(depth=20.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mudrft.gait(depth=0.3)  # deep mud, plausible
+
+
+def _fail_midway(monkeypatch, module, name):
+    real = getattr(module, name)
+
+    def broken(fname, *args, **kw):
+        Path(fname).write_text("partial")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(module, name, broken)
+    return real
+
+
+def test_result_to_csv_is_atomic(tmp_path, monkeypatch):
+    """A write that fails halfway keeps the old file under overwrite=True and leaves no
+    temporary file (it used to truncate the old file first)."""
+    res = mudrft.simulate(FLAT, MUD, mudrft.gait(dt=4e-3))
+    p = tmp_path / "run.csv"
+    p.write_text("old results")
+    _fail_midway(monkeypatch, np, "savetxt")
+    with pytest.raises(MudrftError, match="cannot be written"):
+        res.to_csv(p, overwrite=True)
+    assert p.read_text() == "old results"
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["run.csv"]
+    monkeypatch.undo()
+    res.to_csv(p, overwrite=True)
+    assert p.read_text().splitlines()[0] == "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]"
+
+
+def test_baselines_write_csv_is_atomic(tmp_path, monkeypatch):
+    out = B.compare(FLAT, PLATE, [B.RigidGround()])
+    p = tmp_path / "compare.csv"
+    p.write_text("old results")
+
+    class Broken:
+        def __init__(self, fh):
+            fh.write("partial")
+
+        def writerow(self, row):
+            raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(csv, "writer", Broken)
+    with pytest.raises(MudrftError, match="cannot be written"):
+        B.write_csv(out, p, overwrite=True)
+    assert p.read_text() == "old results"
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["compare.csv"]
