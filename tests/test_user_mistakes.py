@@ -187,3 +187,26 @@ def test_baselines_write_csv_is_atomic(tmp_path, monkeypatch):
         B.write_csv(out, p, overwrite=True)
     assert p.read_text() == "old results"
     assert sorted(q.name for q in tmp_path.iterdir()) == ["compare.csv"]
+
+
+def test_a_velocity_that_is_not_the_rate_of_the_position_warns():
+    """A flipped sign or mm/s: the force answered a motion the position never made (a tip
+    going down at +5 m/s met 5 kN of suction). The built-in paths stay quiet."""
+    t = np.linspace(0.0, 1.0, 101)
+    p = np.zeros((101, 3))
+    p[:, 2] = -0.02 * t  # 20 mm down in 1 s
+    for vz, drift in ((+0.02, "0.04 m"), (-20.0, "20 m")):  # flipped; mm/s
+        v = np.zeros((101, 3))
+        v[:, 2] = vz
+        with pytest.warns(PlausibilityWarning, match=rf"along z they disagree by {drift} over a path that spans 0.02 m"):  # fmt: skip
+            mudrft.Trajectory(t, p, v)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        v = np.zeros((101, 3))
+        v[:, 2] = -0.02
+        mudrft.Trajectory(t, p, v)
+        mudrft.Trajectory.from_positions(t, p)
+        for speed in mudrft.GAIT_SPEEDS.values():
+            mudrft.gait(speed)
+        mudrft.plate_intrusion(dt=0.5)  # corners kept exactly, velocity steps at them
+        mudrft.plate_intrusion(direction="horizontal")

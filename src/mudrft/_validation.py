@@ -456,6 +456,13 @@ def warn_implausible(
     return True
 
 
+def warn_plausibility(message: str) -> None:
+    """Warn with a :class:`PlausibilityWarning` that names the user's line: for input that
+    is valid but more likely a mistake (see :func:`warn_implausible` for a value out of
+    range)."""
+    warnings.warn(plain_text(message), PlausibilityWarning, stacklevel=_caller_level())
+
+
 def _caller_level() -> int:
     """The ``stacklevel`` of the first caller outside mudrft, so a warning names the user's
     line (Python 3.11 has no ``skip_file_prefixes``)."""

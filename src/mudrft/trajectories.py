@@ -22,6 +22,7 @@ from ._validation import (
     check_positive,
     check_samples,
     warn_implausible,
+    warn_plausibility,
 )
 
 __all__ = [
@@ -47,6 +48,30 @@ STANCE_DEPTH = 0.02
 #: Fewest steps of ``dt`` :func:`gait` accepts in one cycle [-]: coarser, the stance and the
 #: retraction are a handful of samples each and suction, impulse and sinking lose meaning.
 MIN_GAIT_STEPS = 20
+
+
+def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
+    """Warn when the velocity [m/s] is not the rate of the position [m].
+
+    Over each interval the mean velocity, the position change over the step, lies between
+    the velocities at its ends when the velocity is monotone there (a corner of a
+    piecewise-linear path included); the distance outside that range, summed over the path,
+    must stay below a quarter of the path's extent. A flipped sign or a velocity in mm/s
+    breaks it at once: the force then answers a motion the position never makes (a tip
+    going down at +5 m/s met 5 kN of suction).
+    """
+    dt = np.diff(t)[:, None]
+    dp = np.diff(p, axis=0)
+    lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
+    off = (np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)).sum(axis=0)  # per axis [m]
+    axis = int(np.argmax(off))
+    extent = float(np.ptp(p, axis=0).max())
+    if off[axis] > max(0.25 * extent, 1e-6):
+        warn_plausibility(
+            f"Trajectory: the velocity is not the rate of the position: along {'xyz'[axis]} "
+            f"they disagree by {off[axis]:.3g} m over a path that spans {extent:.3g} m; "
+            "velocity must be d(position)/dt in m/s (Trajectory.from_positions computes it)"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,6 +112,7 @@ class Trajectory:
         object.__setattr__(self, "time", t)
         object.__setattr__(self, "position", p)
         object.__setattr__(self, "velocity", v)
+        _check_velocity(t, p, v)
 
     @classmethod
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
