@@ -90,6 +90,14 @@ CASES = [
         lambda: C.synthetic_dataset(mudrft.paper_parameters(0.25, "vertical"), seed="x"),
         r"seed must be an integer or None, got 'x'",
     ),
+    # area and characteristic_length were ignored for a loaded dataset
+    (
+        lambda: C.calibrate(
+            C.synthetic_dataset(mudrft.paper_parameters(0.25, "vertical"), speeds=(0.02,)),
+            area=-1.0,
+        ),
+        r"area apply to a log read from a path",
+    ),
     # baselines
     (lambda: B.compare(None, PLATE), r"foot must be a Foot"),
     (lambda: B.compare(FLAT, "x"), r"trajectory must be a Trajectory"),

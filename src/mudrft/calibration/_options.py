@@ -218,6 +218,13 @@ def as_dataset(
             "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
             f"got {type(data).__name__}"
         )
+    given = sorted(k for k, v in load_options.items() if v is not None)
+    if given and kinds != {"path"}:  # they describe how to read a file; a dataset has them
+        raise MudrftError(
+            f"{' and '.join(given)} apply to a log read from a path; this dataset is already "
+            "loaded (its trials carry their characteristic_length, and stress, not force): "
+            "leave them out, or pass the file's path"
+        )
     if kind == "dataset":
         return data  # type: ignore[return-value]
     if kinds == {"path"}:

@@ -160,7 +160,8 @@ def calibrate(
         INFO level. ``True`` shows them on stderr with the progress in percent
         (:func:`mudrft._progress.make_progress`); a callable receives each note line.
     area, characteristic_length : float, optional, keyword-only
-        Plate area [m^2] and length [m] when ``dataset`` is a path to load.
+        Plate area [m^2] and length [m] when ``dataset`` is a path to load (an error
+        for a dataset already loaded, which they would not change).
     trace_limit : int, keyword-only
         Most evaluations kept in ``trace``.
     decimate : int or None, keyword-only
