@@ -142,6 +142,19 @@ def test_batched_mud_takes_one_step_for_all_feet():
         b.step(np.zeros((4, 3)), np.zeros((4, 3)), np.full(4, 1e-3))
 
 
+def test_mud_options_given_twice_or_unknown_are_named():
+    """BatchedMud/FastMudFoot ignored options given beside a MudTerrain, and an unknown one
+    failed as a TypeError of MudTerrain.__init__."""
+    from mudrft.backends import BatchedMud, FastMudFoot
+
+    with pytest.raises(MudrftError, match=r"unknown mud option\(s\) \['bogus'\]; the options are \['characteristic_length'"):  # fmt: skip
+        BatchedMud(MUD, FLAT, 4, backend="numpy", bogus=1)
+    terrain = mudrft.MudTerrain(MUD)
+    with pytest.raises(MudrftError, match=r"\['acceleration'\] cannot be set here: mud is a MudTerrain"):  # fmt: skip
+        FastMudFoot(FLAT, terrain, backend="python", acceleration=False)
+    assert FastMudFoot(FLAT, terrain, backend="python").terrain is terrain
+
+
 def test_a_stance_depth_in_millimetres_warns():
     """gait(depth=20) meant 20 mm: a 20 m stance runs, but with a warning naming the unit."""
     with pytest.warns(PlausibilityWarning, match=r"stance depth of 20 m, more than 1 m .* metres"):

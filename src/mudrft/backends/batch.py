@@ -31,6 +31,7 @@ arrays of shape (N,), or a list of N muds (stacked with
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
@@ -114,9 +115,19 @@ def as_mud_terrain(mud: Any, **options: Any) -> MudTerrain:
     """A :class:`~mudrft.MudTerrain` (returned as is) or a Mud wrapped with ``options``.
 
     The options (``characteristic_length``, ``acceleration``, ...) are validated by
-    MudTerrain; they are ignored when ``mud`` already is one.
+    MudTerrain. A MudTerrain carries its own options, so giving more is an error (they
+    were ignored), as is an option MudTerrain does not have.
     """
+    known = [f.name for f in dataclasses.fields(MudTerrain) if f.name != "mud"]
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise MudrftError(f"unknown mud option(s) {unknown}; the options are {known}")
     if isinstance(mud, MudTerrain):
+        if options:
+            raise MudrftError(
+                f"{sorted(options)} cannot be set here: mud is a MudTerrain, which carries "
+                "its own options; set them there (MudTerrain(mud, ...)) or pass the Mud"
+            )
         return mud
     return MudTerrain(mud, **options)
 

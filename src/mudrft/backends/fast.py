@@ -58,7 +58,7 @@ class FastMudFoot:
     foot : Flat, SemiCylinder or SemiSphere
         The foot.
     mud : Mud or MudTerrain
-        The mud (a MudTerrain brings its options, which then override the keywords below).
+        The mud (a MudTerrain brings its own options; the keywords below are then an error).
     position : array_like, shape (3,), keyword-only
         Initial tip position [m].
     characteristic_length : float or None, keyword-only
