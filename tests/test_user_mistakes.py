@@ -231,3 +231,9 @@ def test_a_velocity_that_is_not_the_rate_of_the_position_warns():
             mudrft.gait(speed)
         mudrft.plate_intrusion(dt=0.5)  # corners kept exactly, velocity steps at them
         mudrft.plate_intrusion(direction="horizontal")
+        two = mudrft.gait(0.2)  # two strokes end to end: the foot jumps back in the air
+        mudrft.Trajectory(
+            np.concatenate([two.time, two.time[-1] + 1e-3 + two.time]),
+            np.concatenate([two.position, two.position]),
+            np.concatenate([two.velocity, two.velocity]),
+        )

@@ -55,15 +55,18 @@ def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
 
     Over each interval the mean velocity, the position change over the step, lies between
     the velocities at its ends when the velocity is monotone there (a corner of a
-    piecewise-linear path included); the distance outside that range, summed over the path,
-    must stay below a quarter of the path's extent. A flipped sign or a velocity in mm/s
+    piecewise-linear path included); the distance outside that range, summed over the
+    intervals that reach into the mud, must stay below a quarter of the path's extent. A flipped sign or a velocity in mm/s
     breaks it at once: the force then answers a motion the position never makes (a tip
     going down at +5 m/s met 5 kN of suction).
     """
     dt = np.diff(t)[:, None]
     dp = np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
-    off = (np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)).sum(axis=0)  # per axis [m]
+    off = np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)
+    # in the air (z >= 0 at both ends) the mud sees neither: a path may jump there, as two
+    # strokes put end to end do when the foot goes back to its start
+    off = off[(p[:-1, 2] < 0.0) | (p[1:, 2] < 0.0)].sum(axis=0)  # per axis [m]
     axis = int(np.argmax(off))
     extent = float(np.ptp(p, axis=0).max())
     if off[axis] > max(0.25 * extent, 1e-6):
