@@ -347,11 +347,14 @@ def check_number(name: str, value: Any, *, unit: str = "") -> float:
     >>> check_number("speed", 0.2)
     0.2
     """
-    arr = check_finite(name, value)
+    arr = value if isinstance(value, np.ndarray) else as_array(name, value)
     if arr.ndim:
         u = f" [{unit}]" if unit else ""
         raise MudrftError(f"{name} must be a single number{u}, got {_describe(value)}")
-    return float(arr)
+    v = float(arr)
+    if not math.isfinite(v):
+        raise MudrftError(f"{name} must be finite, got {plain(v)}")
+    return v
 
 
 def check_length(name: str, value: Any) -> float:
