@@ -275,3 +275,20 @@ def test_walk_metrics_are_read_from_the_walk_summary(monkeypatch):
     assert seen == {"seconds": 2.0, "speed": 0.1, "foot": "flat"}
     assert [ds[m].item() for m in METRICS["walk"]] == list(range(len(METRICS["walk"])))
     assert ds["distance"].attrs["units"] == "m" and (ds["error"].values == "").all()
+
+
+def test_a_sweep_whose_every_point_failed_warns_with_the_first_error():
+    """A fixed value wrong for every point (a negative depth) gave an all-NaN result without
+    a word; the errors are still in ``error``."""
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.13, 0.2], "depth": -0.02}}
+    from mudrft.sweep.run import SweepWarning
+
+    with pytest.warns(SweepWarning, match=r"every point of the sweep failed \(2\); the first error: MudrftError: depth must be > 0"):  # fmt: skip
+        ds = mudrft.sweep(spec, scheduler="serial")
+    assert ds.attrs["failed_points"] == 2
+
+
+def test_resume_without_a_store_is_refused():
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
+    with pytest.raises(MudrftError, match=r"resume needs the store"):
+        mudrft.sweep(spec, scheduler="serial", resume=True)

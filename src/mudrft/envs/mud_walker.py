@@ -12,7 +12,16 @@ import numpy as np
 
 from .._validation import MudrftError
 from ._gym import gymnasium
-from .walker import ACTION_SIZE, OBS_SIZE, WalkerConfig, controls, healthy, observation, reward
+from .walker import (
+    ACTION_SIZE,
+    OBS_SIZE,
+    WalkerConfig,
+    check_action,
+    controls,
+    healthy,
+    observation,
+    reward,
+)
 
 __all__ = ["MudWalkerEnv"]
 
@@ -98,7 +107,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
         lay, cfg, d = self.layout, self.config, self.data
-        a = np.asarray(action, dtype=float).reshape(ACTION_SIZE)
+        a = check_action(action, (ACTION_SIZE,))
         x0 = float(d.qpos[lay.rootx])
         d.ctrl[:] = controls(lay, a, cfg.action_scale)
         try:

@@ -23,6 +23,7 @@ from .walker import (
     ACTION_SIZE,
     OBS_SIZE,
     WalkerConfig,
+    check_action,
     controls,
     healthy,
     observation,
@@ -138,7 +139,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
         if self._state is None:
             raise MudrftError("call reset() before step()")
-        a = np.asarray(actions, dtype=np.float32).reshape(self.num_envs, ACTION_SIZE)
+        a = check_action(actions, (self.num_envs, ACTION_SIZE)).astype(np.float32)
         self._key, sub = jax.random.split(self._key)
         d, st = self._state
         d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants)

@@ -180,6 +180,20 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     )
 
 
+def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """The action as a float array of exactly ``shape``, finite; an error naming it
+    otherwise (a NaN action gave a NaN reward and the episode went on)."""
+    try:
+        a = np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        raise MudrftError(f"action must be numbers of shape {shape}, got {action!r}") from None
+    if a.shape != shape:
+        raise MudrftError(f"action must have shape {shape}, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise MudrftError("action must be finite, got NaN or inf")
+    return a
+
+
 def controls(lay: WalkerLayout, action: Any, scale: float, *, xp: Any = np) -> Any:
     """Servo targets [rad] of an action in [-1, 1] (clipped to the servos' ranges)."""
     a = xp.clip(action, -1.0, 1.0)

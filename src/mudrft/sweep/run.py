@@ -246,8 +246,16 @@ def run_sweep(
             raise
     for message, chunks in seen.items():
         warnings.warn(f"in {chunks} chunk(s) of the sweep: {message}", SweepWarning, stacklevel=2)
-    S.mark_complete(group, spec)
-    return S.load_result(group.store)
+    failed = S.mark_complete(group, spec)
+    ds = S.load_result(group.store)
+    if failed and failed == spec.n_points:  # a fixed value wrong for every point, often
+        first = next(str(e) for e in ds["error"].values.ravel() if e)
+        warnings.warn(
+            f"every point of the sweep failed ({failed}); the first error: {first}",
+            SweepWarning,
+            stacklevel=2,
+        )
+    return ds
 
 
 def _prepare(S: Any, store: Any, spec: SweepSpec, *, resume: bool, overwrite: bool) -> Any:
@@ -255,6 +263,8 @@ def _prepare(S: Any, store: Any, spec: SweepSpec, *, resume: bool, overwrite: bo
 
     if resume and overwrite:
         raise MudrftError("give resume or overwrite, not both")
+    if resume and store is None:
+        raise MudrftError("resume needs the store of the sweep to continue (store=PATH)")
     if store is None:
         import zarr
 

@@ -31,13 +31,14 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
+from ..._validation import MudrftError, check_finite
 from ...citations import register
 from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains import as_terrain
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
+from ..mujoco.options import check_attach_options, check_count, check_data
 from ..mujoco.placement import body_foot
 from ..mujoco.pose import POSE_RESOLUTION
 from ._lazy import _jax, _mjx, _xp, jit
@@ -102,28 +103,19 @@ class MjxCoupling:
         mj = _mujoco()
         if not isinstance(model, mj.MjModel):
             raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
-        names = [bodies] if isinstance(bodies, str) else list(bodies)
-        if not names or len(set(names)) != len(names):
-            raise MudrftError(f"bodies must name distinct bodies (at least one), got {names}")
-        if mobility not in ("chain", "body"):
-            raise MudrftError(f"mobility must be 'chain' or 'body', got {mobility!r}")
-        if not isinstance(resolution, (int, np.integer)) or resolution < 1:
-            raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
+        opts = check_attach_options(
+            bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
+            bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
+            resolution=resolution,
+        )  # fmt: skip
+        names, feet_list = opts.bodies, opts.feet
         terrain = as_terrain(mud)
         if not isinstance(terrain, MudTerrain):
             raise MudrftError(
                 f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
             )
-        if feet is None or hasattr(feet, "contact_force"):
-            feet_list = [feet] * len(names)
-        else:
-            feet_list = list(feet)
-            if len(feet_list) != len(names):
-                raise MudrftError(
-                    f"feet must be one foot or one per body ({len(names)}), got {len(feet_list)}"
-                )
         placed = [
-            body_foot(model, b, f, resolution=int(resolution))
+            body_foot(model, b, f, resolution=opts.resolution)
             for b, f in zip(names, feet_list, strict=True)
         ]
         groups: dict[str, list[int]] = {}
@@ -157,12 +149,12 @@ class MjxCoupling:
             groups=tuple(built),
             mass=np.array(model.body_mass, dtype=float)[ids],
             inertia=np.array(model.body_inertia, dtype=float)[ids],
-            surface=float(check_finite("surface", surface)),
-            bottom=None if bottom is None else float(check_positive("bottom", bottom, unit="m")),
-            bottom_stiffness=float(check_nonnegative("bottom_stiffness", bottom_stiffness)),
-            bottom_damping=float(check_nonnegative("bottom_damping", bottom_damping)),
-            implicit=bool(implicit),
-            chain=mobility == "chain",
+            surface=opts.surface,
+            bottom=opts.bottom,
+            bottom_stiffness=opts.bottom_stiffness,
+            bottom_damping=opts.bottom_damping,
+            implicit=opts.implicit,
+            chain=opts.mobility == "chain",
             kappa=terrain.kappa,
             xi0=terrain.xi0,
             reset=terrain.reset_on_exit,
@@ -189,12 +181,16 @@ class MjxCoupling:
         if data is None:
             data = mj.MjData(self.model)
             mj.mj_forward(self.model, data)
+        check_data(self.model, data)
+        for name in ("qpos", "qvel"):  # NaN would run on silently under JAX
+            check_finite(f"data.{name}", getattr(data, name))
         return _mjx().put_data(self.model, data)
 
     # -- pure functions ---------------------------------------------------------------
     def init(self, d: Any) -> MjxMudState:
         """Undisturbed mud under the feet of ``d`` in their current pose (jittable)."""
         mjx = _mjx()
+        _check_mjx_data(mjx, d)
         mx = self.mjx_model
         return initial_state(self.static, mjx.com_pos(mx, mjx.kinematics(mx, d)))
 
@@ -231,6 +227,9 @@ class MjxCoupling:
         contact : MjxContact
         """
         mjx = _mjx()
+        _check_mjx_data(mjx, d)
+        if not isinstance(state, MjxMudState):
+            raise MudrftError(f"state must be an MjxMudState (coupling.init(d)), got {type(state).__name__}")  # fmt: skip
         mx = self.mjx_model if model is None else model
         d0 = d
         d = mjx.fwd_position(mx, d)
@@ -271,7 +270,14 @@ class MjxCoupling:
         contact : MjxContact
             Every field with a leading axis of ``n``.
         """
-        return self._rollout_jit(d, state, int(n), ctrl, constants)
+        n = check_count("n", n)
+        if ctrl is not None:
+            shape = tuple(np.shape(ctrl))
+            if shape != (n, self.model.nu):
+                raise MudrftError(
+                    f"ctrl must have shape (n, nu) = ({n}, {self.model.nu}), got {shape}"
+                )
+        return self._rollout_jit(d, state, n, ctrl, constants)
 
     @functools.cached_property
     def _rollout_jit(self) -> Any:
@@ -313,3 +319,11 @@ def _finish(mjx: Any, mx: Any, d: Any) -> Any:
 def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MjxCoupling:
     """Attach mud to named bodies of a MuJoCo model for MJX; see :class:`MjxCoupling`."""
     return MjxCoupling(model, bodies, mud, **kw)
+
+
+def _check_mjx_data(mjx: Any, d: Any) -> None:
+    """``d`` must be an ``mjx.Data`` (a CPU ``MjData`` failed deep inside MJX)."""
+    if not isinstance(d, mjx.Data):
+        raise MudrftError(
+            f"d must be an mjx.Data (coupling.put_data(data) makes one), got {type(d).__name__}"
+        )

@@ -16,7 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import MudrftError, check_finite, check_nonnegative, check_positive
+from ..._validation import (
+    MudrftError,
+)
 from ...citations import register
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
@@ -31,6 +33,7 @@ from .implicit import (
     secant_steps,
 )
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
+from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, body_foot, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
@@ -108,49 +111,29 @@ class MudBatch:
         mj = _mujoco()
         if not isinstance(model, mj.MjModel):
             raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
-        if isinstance(bodies, str):
-            bodies = [bodies]
-        bodies = list(bodies)
-        if not bodies:
-            raise MudrftError("bodies must name at least one body, got an empty list")
-        if len(set(bodies)) != len(bodies):
-            raise MudrftError(f"bodies must be distinct, got {bodies}")
-        if not isinstance(n, (int, np.integer)) or n < 1:
-            raise MudrftError(f"n must be an integer >= 1, got {n!r}")
-        if mobility not in ("chain", "body"):
-            raise MudrftError(f"mobility must be 'chain' or 'body', got {mobility!r}")
-        if feet is None or hasattr(feet, "contact_force"):
-            feet_list = [feet] * len(bodies)
-        else:
-            feet_list = list(feet)
-            if len(feet_list) != len(bodies):
-                raise MudrftError(
-                    f"feet must be one foot or one per body ({len(bodies)}), got {len(feet_list)}"
-                )
+        opts = check_attach_options(
+            bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
+            bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
+            resolution=resolution,
+        )  # fmt: skip
+        bodies, feet_list = opts.bodies, opts.feet
+        n = check_count("n", n)
         self.model = model
         self._mj = mj
+        self._checked: tuple[int, ...] = ()
         self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
-        self.surface = float(check_finite("surface", surface))
-        self.bottom = None if bottom is None else float(check_positive("bottom", bottom, unit="m"))
-        self.bottom_stiffness = float(
-            check_nonnegative("bottom_stiffness", bottom_stiffness, unit="N/m")
-        )
-        self.bottom_damping = float(
-            check_nonnegative("bottom_damping", bottom_damping, unit="N s/m")
-        )
-        self.implicit = bool(implicit)
-        self.mobility = mobility
-        if not isinstance(resolution, (int, np.integer)) or resolution < 1:
-            raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
+        self.surface, self.bottom = opts.surface, opts.bottom
+        self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
+        self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
         cache: dict[Any, Any] = {}
         placed = []
         for b, f in zip(bodies, feet_list, strict=True):
-            bf = body_foot(model, b, f, resolution=int(resolution))
+            bf = body_foot(model, b, f, resolution=opts.resolution)
             key = repr(bf.foot) if f is None else id(f)
             foot = (
                 cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot
@@ -280,10 +263,25 @@ class MudBatch:
     def _check(self, datas: Any) -> list[Any]:
         if isinstance(datas, self._mj.MjData):
             datas = [datas]
+        if not isinstance(datas, Sequence):
+            raise MudrftError(f"data must be a mujoco.MjData or a list of them, got {type(datas).__name__}")  # fmt: skip
         datas = list(datas)
         if len(datas) != self.n:
             raise MudrftError(f"expected {self.n} MjData, got {len(datas)}")
+        ids = tuple(map(id, datas))
+        if ids == self._checked:  # the MjData checked last time (an MjData keeps its model)
+            return datas
+        if len(set(ids)) != len(datas):
+            raise MudrftError("each robot needs its own MjData; the same one was given twice")
+        for d in datas:
+            check_data(self.model, d)
+        self._checked = ids
+        self._checked_datas = datas  # held, so that their ids stay theirs
         return datas
+
+    @staticmethod
+    def _nstep(nstep: Any) -> int:
+        return check_count("nstep", nstep)
 
     def _foot_position(self, k: dict[str, Any], *, fresh: bool) -> np.ndarray:
         """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
@@ -441,7 +439,7 @@ class MudBatch:
         MudrftError
             When MuJoCo reports bad accelerations (it would reset the state silently).
         """
-        return self._step(self._check(datas), nstep)
+        return self._step(self._check(datas), self._nstep(nstep))
 
     def advance(self, datas: Sequence[Any], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact: ``nstep`` physics steps of every
@@ -451,9 +449,9 @@ class MudBatch:
         about a tenth of the biped's physics step, which a loop that does not read it every
         step need not pay.
         """
-        datas = self._check(datas)
+        datas, nstep = self._check(datas), self._nstep(nstep)
         if self._compiled is not None:
-            self._step_compiled(datas, int(nstep), contact=False)
+            self._step_compiled(datas, nstep, contact=False)
         else:
             self._step_generic(datas, nstep)
 

@@ -40,11 +40,11 @@ class MudCoupling(MudBatch):
     def step(self, data: Any, nstep: int = 1) -> MudContact:  # type: ignore[override]
         """``nstep`` physics steps, the mud advanced once per step."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(int(nstep))  # the compiled loop (D68b)
+            self._loop(self._nstep(nstep))  # the compiled loop (D68b)
             out = self.last
             assert out is not None
             return out
-        out = self._step(self._check(data), nstep)
+        out = self._step(self._check(data), self._nstep(nstep))
         if out.depth.ndim == 2:  # (1, nbody): the batch's shape; the compiled path gives (nbody,)
             out = MudContact(*(a[0] for a in out))
         self.last = out
@@ -53,7 +53,7 @@ class MudCoupling(MudBatch):
     def advance(self, data: Any, nstep: int = 1) -> None:  # type: ignore[override]
         """``nstep`` physics steps without returning the contact (:attr:`last` has it)."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(int(nstep))  # the compiled loop (D68b)
+            self._loop(self._nstep(nstep))  # the compiled loop (D68b)
         else:
             self.step(data, nstep)
 

@@ -1,0 +1,116 @@
+"""Mistakes with the MuJoCo and MJX couplings and the walker: each is a MudrftError.
+
+Found by a fuzz of the integrations. Before the fix an MjData of another model crashed
+the process (segmentation fault) or coupled the wrong bodies, ``implicit="no"`` was read
+as True, ``bottom_stiffness`` without ``bottom`` was ignored, ``step(d, 0)`` returned a
+zero contact while the foot sat in the mud, a CPU MjData given to MJX failed deep inside
+it, NaN states ran on silently, and a NaN action gave the walker a NaN reward.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudrft
+from mudrft._validation import MudrftError
+
+pytest.importorskip("mujoco")
+from mudrft.integrations.mujoco import attach, attach_batch
+from mudrft.integrations.walk import biped_model
+
+from .conftest import box_foot_model, mujoco
+
+MUD = mudrft.paper_mud(0.25)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"bodies": 3}, r"bodies must be a body name or a list of names, got 3"),
+        ({"bodies": ["foot", "world"]}, r"bodies cannot include 'world'"),
+        ({"implicit": "no"}, r"implicit must be True or False, got 'no'"),
+        ({"bottom_stiffness": 1e4}, r"give its depth with bottom="),
+        ({"feet": "box"}, r"feet must be a foot \(mudrft.feet\), one per body"),
+        ({"surface": [0.0, 0.0]}, r"surface must be a single number \[m\]"),
+        ({"resolution": True}, r"resolution must be an integer >= 1, got True"),
+    ],
+)
+def test_attach_names_a_wrong_option(kwargs, message):
+    model = box_foot_model()
+    bodies = kwargs.pop("bodies", "foot")
+    with pytest.raises(MudrftError, match=message):
+        attach(model, bodies, MUD, **kwargs)
+
+
+def test_data_of_another_model_is_refused_not_a_crash():
+    coupling = attach(biped_model(), ["left_foot", "right_foot"], MUD)
+    other = mujoco.MjData(box_foot_model())
+    with pytest.raises(MudrftError, match=r"data was made for another model"):
+        coupling.reset(other)  # was: a segmentation fault
+    with pytest.raises(MudrftError, match=r"data must be a mujoco.MjData"):
+        coupling.reset(None)
+
+
+def test_one_mjdata_for_two_robots_is_refused():
+    model = box_foot_model()
+    batch = attach_batch(model, "foot", MUD, n=2)
+    d = mujoco.MjData(model)
+    with pytest.raises(MudrftError, match=r"the same one was given twice"):
+        batch.reset([d, d])
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+@pytest.mark.parametrize("nstep", [0, -1, 2.5, True, "3"])
+def test_nstep_must_be_a_count(backend, nstep):
+    if backend == "numba":
+        pytest.importorskip("numba")
+    model = box_foot_model()
+    d = mujoco.MjData(model)
+    coupling = attach(model, "foot", MUD, backend=backend)
+    coupling.reset(d)
+    with pytest.raises(MudrftError, match=r"nstep must be an integer >= 1"):
+        coupling.step(d, nstep)  # numba returned a zero contact for 0
+    with pytest.raises(MudrftError, match=r"nstep must be an integer >= 1"):
+        coupling.advance(d, nstep)
+    assert coupling.step(d, 3).depth.shape == (1,)
+
+
+def test_mjx_refuses_a_cpu_mjdata_a_nan_state_and_a_wrong_rollout():
+    pytest.importorskip("jax")
+    from mudrft.integrations import mjx as mm
+
+    model = box_foot_model()
+    cpl = mm.attach(model, "foot", MUD)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with pytest.raises(MudrftError, match=r"d must be an mjx.Data .* got MjData"):
+        cpl.init(data)
+    bad = mujoco.MjData(model)
+    bad.qpos[2] = np.nan
+    with pytest.raises(MudrftError, match=r"data.qpos must be finite"):
+        cpl.put_data(bad)
+    with pytest.raises(MudrftError, match=r"data was made for another model"):
+        cpl.put_data(mujoco.MjData(biped_model()))
+    d = cpl.put_data(data)
+    state = cpl.init(d)
+    with pytest.raises(MudrftError, match=r"n must be an integer >= 1, got 0"):
+        cpl.rollout(d, state, 0)
+    with pytest.raises(MudrftError, match=r"ctrl must have shape \(n, nu\) = \(3, 0\)"):
+        cpl.rollout(d, state, 3, ctrl=np.zeros((2, 1)))
+    with pytest.raises(MudrftError, match=r"state must be an MjxMudState"):
+        cpl.step(d, None)
+
+
+def test_the_walker_refuses_a_nan_or_misshaped_action():
+    gym = pytest.importorskip("gymnasium")
+    import mudrft.envs  # noqa: F401 - registers the environments
+
+    env = gym.make("mudrft/MudWalker-v0")
+    env.reset(seed=0)
+    with pytest.raises(MudrftError, match=r"action must be finite"):
+        env.step(np.full(6, np.nan))  # was: a NaN reward, and the episode went on
+    with pytest.raises(MudrftError, match=r"action must have shape \(6,\), got shape \(2, 3\)"):
+        env.step(np.zeros((2, 3)))  # was: reshaped silently
+    _, reward, *_ = env.step(np.zeros(6))
+    assert np.isfinite(reward)
