@@ -114,3 +114,37 @@ def test_the_walker_refuses_a_nan_or_misshaped_action():
         env.step(np.zeros((2, 3)))  # was: reshaped silently
     _, reward, *_ = env.step(np.zeros(6))
     assert np.isfinite(reward)
+
+
+def test_stability_limits_takes_the_mud_as_attach_does_and_names_mistakes():
+    from mudrft.integrations.mujoco import stability_limits
+
+    foot = mudrft.feet.Flat()
+    a = stability_limits(foot, MUD, mass=0.3, depth=0.01)
+    assert stability_limits(foot, mudrft.MudTerrain(MUD), mass=0.3, depth=0.01) == a
+    with pytest.raises(MudrftError, match=r"foot must be a Foot .* got str"):
+        stability_limits("flat", MUD, mass=0.3, depth=0.01)
+    with pytest.raises(MudrftError, match=r"mud must be a Mud or a MudTerrain, got Flat"):
+        stability_limits(foot, foot, mass=0.3, depth=0.01)
+    with pytest.raises(MudrftError, match=r"mass must be a single number \[kg\]"):
+        stability_limits(foot, MUD, mass=[1.0, 2.0], depth=0.01)
+
+
+def test_the_jax_backend_names_raw_parameters_and_a_missing_batch_axis():
+    pytest.importorskip("jax")
+    from mudrft.backends import jax as mjax
+    from mudrft.backends.jax_terrain import terrain_step
+
+    p = mudrft.paper_parameters(0.25, "vertical")
+    st = mjax.initial_state(())
+    with pytest.raises(MudrftError, match=r"params must be a JaxParams .* got MudParameters"):
+        mjax.step(p, st, 0.1, 1.0, 0.1)  # to_jax forgotten: was JAX's "abstract array" error
+    with pytest.raises(MudrftError, match=r"state must be a ChannelState"):
+        mjax.step(mjax.to_jax(p), None, 0.1, 1.0, 0.1)
+    with pytest.raises(MudrftError, match=r"gamma must have a leading batch axis"):
+        mjax.batched_step(mjax.to_jax(p), st, 0.1, 1.0, 0.1)
+    with pytest.raises(MudrftError, match=r"the mud's x, y, z channel sets"):
+        terrain_step(
+            mjax.to_jax(p), None, np.zeros(3), np.zeros(3), 1e-3,
+            force_fn=None, characteristic_length=0.05,
+        )  # fmt: skip

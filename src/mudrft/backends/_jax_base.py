@@ -119,6 +119,21 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     )
 
 
+def check_params(params: Any, *, channels: bool = False) -> None:
+    """``params`` must be a :class:`JaxParams` (from :func:`to_jax`); with ``channels``, the
+    mud's three channel sets (a trailing axis of 3, ``to_jax(mud)``). Works on traced
+    values (it reads the type and the static shape only)."""
+    if not isinstance(params, JaxParams):
+        raise MudrftError(
+            f"params must be a JaxParams (mudrft.backends.jax.to_jax(...)), got {type(params).__name__}"
+        )
+    if channels and _jnp().shape(params.alpha)[-1:] != (3,):
+        raise MudrftError(
+            "params must hold the mud's x, y, z channel sets (to_jax(mud), a trailing axis "
+            f"of 3), got alpha of shape {_jnp().shape(params.alpha)}"
+        )
+
+
 def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
     """Convert a :class:`JaxParams` back into a validated :class:`MudParameters`.
 

@@ -46,6 +46,7 @@ from ..constitutive.state import ChannelState
 from ._jax_base import (
     JaxParams,
     _jnp,
+    check_params,
     enable_x64,
     from_jax,
     initial_state,
@@ -195,6 +196,9 @@ def step(
     stress : ChannelStress
         Stresses [Pa].
     """
+    check_params(params)
+    if not isinstance(state, ChannelState):
+        raise MudrftError(f"state must be a ChannelState (initial_state(...)), got {type(state).__name__}")  # fmt: skip
     return _compiled()["step"](  # type: ignore[no-any-return]
         params, state, gamma, gamma_dot, dt, seal, acceleration, thixotropy, clock
     )
@@ -236,8 +240,11 @@ def batched_step(
     state, stress
         As :func:`step`, with the leading batch axis.
     """
+    check_params(params)
     jnp = _jnp()
     g = jnp.asarray(gamma, dtype=float)
+    if g.ndim == 0:
+        raise MudrftError("gamma must have a leading batch axis (N, ...), got a scalar")
     s = (
         jnp.ones_like(g)
         if seal is None

@@ -11,7 +11,7 @@ from typing import Any
 from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import channel_constants
 from ..terrains.mud import MudChannels, initial_channels, mud_step
-from ._jax_base import JaxParams, _jnp, enable_x64
+from ._jax_base import JaxParams, _jnp, check_params, enable_x64
 
 __all__ = ["TerrainState", "initial_terrain_state", "simulate", "terrain_step"]
 
@@ -85,6 +85,7 @@ def terrain_step(
     (force, stress, depth) : tuple of arrays
         Force [N] (..., 3), channel stresses [Pa] (..., 3), depth [m] (...).
     """
+    check_params(params, channels=True)
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     jax = enable_x64()
     jnp = _jnp()

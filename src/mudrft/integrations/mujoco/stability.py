@@ -14,7 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import check_positive
+from ..._validation import MudrftError, check_number, check_positive
+from ...feet.base import Foot
+from ...parameters.base import Mud
+from ...terrains.mud import MudTerrain
 
 __all__ = ["stability_limits"]
 
@@ -36,7 +39,7 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
     ----------
     foot : Foot
         The foot (its ``projected_areas`` and ``characteristic_length``).
-    mud : Mud
+    mud : Mud or MudTerrain
         The mud (vertical set).
     mass : float
         Effective mass of the foot [kg].
@@ -49,8 +52,14 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
         ``dt_viscous``, ``dt_elastic``, ``dt_suction`` [s] and the coefficients
         ``damping`` [N s/m], ``stiffness`` [N/m], ``suction_damping`` [N s/m].
     """
-    m = float(check_positive("mass", mass, unit="kg"))
-    d = float(check_positive("depth", depth, unit="m"))
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a Foot (mudrft.feet), got {type(foot).__name__}")
+    if isinstance(mud, MudTerrain):
+        mud = mud.mud
+    if not isinstance(mud, Mud):
+        raise MudrftError(f"mud must be a Mud or a MudTerrain, got {type(mud).__name__}")
+    m = check_number("mass", check_positive("mass", mass, unit="kg"), unit="kg")
+    d = check_number("depth", check_positive("depth", depth, unit="m"), unit="m")
     p = mud.vertical
     lc = float(foot.characteristic_length)
     az = float(np.asarray(foot.projected_areas(d))[..., 2])
