@@ -148,3 +148,26 @@ def test_the_jax_backend_names_raw_parameters_and_a_missing_batch_axis():
             mjax.to_jax(p), None, np.zeros(3), np.zeros(3), 1e-3,
             force_fn=None, characteristic_length=0.05,
         )  # fmt: skip
+
+
+def test_jax_mesh_force_refuses_faces_that_do_not_index_the_vertices():
+    """JAX clips an index out of range and wraps a negative one: the force was [0, 0, 0]."""
+    pytest.importorskip("jax")
+    from mudrft.backends import jax as mjax
+    from mudrft.feet.meshgen import box_mesh
+
+    v, f = box_mesh(0.08, 0.065, 0.026)
+    v = v - v.min(axis=0) * np.array([0.0, 0.0, 1.0])  # tip at z = 0
+    good = np.asarray(mjax.mesh_force(v, f, 0.01, [0.0, 0.0, 1e4], 0.0))
+    assert good[2] > 0
+    for faces, message in (
+        (f + 10, r"faces must index the 8 vertices \(0 to 7\), got 10 to 17"),
+        (f - 1, r"got -1 to 6"),
+        (f.astype(float), r"faces must be integers of shape \(m, 3\)"),
+    ):
+        with pytest.raises(MudrftError, match=message):
+            mjax.mesh_force(v, faces, 0.01, [0.0, 0.0, 1e4], 0.0)
+    with pytest.raises(MudrftError, match=r"vertices must have shape \(v, 3\)"):
+        mjax.mesh_force(v[:, :2], f, 0.01, [0.0, 0.0, 1e4], 0.0)
+    with pytest.raises(MudrftError, match=r"stress must have shape \(..., 3\)"):
+        mjax.mesh_force(v, f, 0.01, [0.0, 1e4], 0.0)

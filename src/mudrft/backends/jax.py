@@ -394,6 +394,22 @@ def mesh_force(
         Force in the world frame [N].
     """
     jnp = _jnp()
-    return _compiled()["mesh_force"](
-        jnp.asarray(vertices, dtype=float), jnp.asarray(faces), depth, stress, heading, trailing
-    )
+    v = jnp.asarray(vertices, dtype=float)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise MudrftError(f"vertices must have shape (v, 3) [m], got shape {v.shape}")
+    if _is_tracer(faces):  # traced faces: the caller's own program; shape checks only
+        f = faces
+    else:  # concrete faces (the usual case): indices JAX would clip or wrap silently
+        f = np.asarray(faces)
+        if f.ndim != 2 or f.shape[1] != 3 or f.dtype.kind not in "iu":
+            raise MudrftError(
+                f"faces must be integers of shape (m, 3), got {f.dtype} of shape {f.shape}"
+            )
+        if f.size and (f.min() < 0 or f.max() >= v.shape[0]):
+            raise MudrftError(
+                f"faces must index the {v.shape[0]} vertices (0 to {v.shape[0] - 1}), got "
+                f"{int(f.min())} to {int(f.max())}"
+            )
+    if np.shape(stress)[-1:] != (3,):
+        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {np.shape(stress)}")
+    return _compiled()["mesh_force"](v, jnp.asarray(f), depth, stress, heading, trailing)
