@@ -16,9 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import (
-    MudrftError,
-)
+from ..._validation import MudrftError
 from ...citations import register
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
@@ -120,7 +118,8 @@ class MudBatch:
         n = check_count("n", n)
         self.model = model
         self._mj = mj
-        self._checked: tuple[int, ...] = ()
+        self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
+        self._checked_datas: list[Any] = []
         self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
