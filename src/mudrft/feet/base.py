@@ -19,8 +19,13 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_in_range, check_nonnegative
-from .._validation import check_broadcast as check_shapes
+from .._validation import (
+    MudrftError,
+    check_broadcast,
+    check_finite,
+    check_in_range,
+    check_nonnegative,
+)
 
 __all__ = [
     "CHUNK",
@@ -100,6 +105,10 @@ class SurfaceElements:
         return int(self.areas.shape[0])
 
 
+#: How a shape message names a stress array's batch shape (its last axis of 3 left out).
+STRESS_BATCH = "stress (its last axis, 3, aside)"
+
+
 def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
 
@@ -113,7 +122,7 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     h = check_finite("heading", heading)
     if s.shape[-1:] != (3,):
         raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
-    if check_shapes(**{"stress (its last axis, 3, aside)": s.shape[:-1]}, heading=h.shape) != s.shape[:-1]:  # fmt: skip
+    if check_broadcast(**{STRESS_BATCH: s.shape[:-1]}, heading=h.shape) != s.shape[:-1]:
         raise MudrftError(
             f"heading (shape {h.shape}) must broadcast to stress's batch shape {s.shape[:-1]}"
         )
@@ -138,16 +147,17 @@ def check_resultant_inputs(
     if s.shape[-1:] != (3,):
         raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
     h = check_in_range("heading", heading, 0.0, 0.5 * np.pi, unit="rad")
-    check_broadcast(d, s, h)
+    batch_shape(d, s, h)
     return d, s, h
 
 
-def check_broadcast(depth: np.ndarray, stress: np.ndarray, heading: np.ndarray) -> tuple[int, ...]:
-    """The batch shape of depth [m], stress (..., 3) [Pa] and heading [rad], or an error
-    that names the shapes."""
-    return check_shapes(
-        **{"depth": depth.shape, "stress (its last axis, 3, aside)": stress.shape[:-1]},
-        heading=heading.shape,
+def batch_shape(
+    depth: np.ndarray, stress: np.ndarray, heading: np.ndarray, **more: tuple[int, ...]
+) -> tuple[int, ...]:
+    """The batch shape of depth [m], stress (..., 3) [Pa], heading [rad] and any ``more``
+    named shapes, or an error that names each shape."""
+    return check_broadcast(
+        depth=depth.shape, **{STRESS_BATCH: stress.shape[:-1]}, heading=heading.shape, **more
     )
 
 
@@ -332,7 +342,7 @@ class Foot(ABC):
         if s.shape[-1:] != (3,):
             raise MudrftError(f"stress must have shape (..., 3), got shape {s.shape}")
         h = check_finite("heading", heading)
-        check_broadcast(d, s, h)
+        batch_shape(d, s, h)
         return self.force_unchecked(d, s, h)
 
     def force_unchecked(

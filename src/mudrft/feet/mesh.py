@@ -40,7 +40,7 @@ from .base import (
     CHUNK,
     Foot,
     SurfaceElements,
-    check_broadcast,
+    batch_shape,
     check_resultant_inputs,
     in_chunks,
 )
@@ -415,13 +415,7 @@ class MeshFoot(Foot):
         pt = np.zeros(3) if point is None else check_finite("point", point)
         if pt.shape[-1:] != (3,):
             raise MudrftError(f"point must have shape (..., 3) [m], got shape {pt.shape}")
-        try:
-            shape = np.broadcast_shapes(check_broadcast(d, s, h), pt.shape[:-1])
-        except ValueError:
-            raise MudrftError(
-                f"point (shape {pt.shape}) must broadcast with depth, stress and heading "
-                f"(batch shape {check_broadcast(d, s, h)})"
-            ) from None
+        shape = batch_shape(d, s, h, point=pt.shape[:-1])
 
         def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray, pp: np.ndarray) -> Any:
             return integrate_wrench(
