@@ -254,6 +254,45 @@ def test_a_terminated_reproduce_leaves_nothing(tmp_path):
     assert listing(tmp_path) == []
 
 
+@pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
+@pytest.mark.parametrize(
+    ("where", "signame", "status", "last_line"),
+    [
+        ("staging directory", "SIGTERM", 143, "terminated"),
+        ("temporary file", "SIGTERM", 143, "terminated"),
+        ("staging directory", "SIGINT", 130, "interrupted"),
+    ],
+)
+def test_a_signal_while_an_output_is_created_leaves_nothing(
+    tmp_path, capsys, monkeypatch, where, signame, status, last_line
+):
+    """A signal delivered between creating an output's temporary name and registering it
+    for cleanup (the moment the test above waits for, so a busy machine hits it): it is
+    held until the name is registered, then the run unwinds and removes it."""
+    import tempfile
+
+    import mudrft.cli._common as common
+
+    def then_terminated(make):
+        def made(*args, **kwargs):
+            result = make(*args, **kwargs)
+            os.kill(os.getpid(), getattr(signal, signame))  # it exists, not yet registered
+            return result
+
+        return made
+
+    if where == "staging directory":
+        monkeypatch.setattr(common.tempfile, "mkdtemp", then_terminated(tempfile.mkdtemp))
+        args = ["reproduce", "--out", tmp_path / "results", "--no-figures", "--quiet"]
+    else:
+        make = common.Outputs._mkstemp
+        monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(then_terminated(make)))
+        args = ["simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv"]
+    code, _, err = run(capsys, *args)
+    assert code == status and err.strip().splitlines()[-1].endswith(f": {last_line}"), err
+    assert listing(tmp_path) == []
+
+
 def test_compare_out_under_a_file_is_a_one_line_error(tmp_path, capsys):
     (tmp_path / "file").write_text("")
     code, _, err = run(capsys, "compare", "--out", tmp_path / "file" / "x", "--no-figures")

@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import argparse
 import logging
-import signal
 import sys
-import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -30,7 +28,7 @@ from types import ModuleType
 from .._progress import enable_stderr_logging, logger
 from .._validation import MudrftError, plain_text
 from . import bench, calibrate, compare, params, reproduce, simulate, sweep, walk
-from ._common import EXTRAS, HelpFormatter
+from ._common import EXTRAS, HelpFormatter, Terminated, signals_as_exceptions
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -107,30 +105,6 @@ def _warnings_as_lines(prog: str) -> Iterator[None]:
         yield
 
 
-class _Terminated(BaseException):
-    """SIGTERM turned into an exception, so that unwinding discards unfinished outputs."""
-
-
-@contextmanager
-def _terminate_as_exception() -> Iterator[None]:
-    """While a command runs, SIGTERM (``kill``, a batch system's time limit, ``timeout``)
-    raises :class:`_Terminated` instead of ending the process at once: the outputs'
-    temporary files are removed on the way out, as for Ctrl-C (a failed run leaves
-    nothing behind). Only in the main thread, where Python delivers signals."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def terminate(signum: int, frame: object) -> None:
-        raise _Terminated
-
-    previous = signal.signal(signal.SIGTERM, terminate)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``mudrft`` command.
 
@@ -154,7 +128,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     with (
         _logging(bool(getattr(args, "quiet", False))),
         _warnings_as_lines(prog),
-        _terminate_as_exception(),
+        signals_as_exceptions(),
     ):
         for note in getattr(args, "deprecations", ()):
             logger.warning("%s: warning: %s", prog, note)
@@ -172,10 +146,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         except OSError as exc:
             where = f"{exc.filename}: " if exc.filename else ""
             _error(prog, f"{where}{exc.strerror or exc}")
-        except KeyboardInterrupt:  # pragma: no cover - interactive
+        except KeyboardInterrupt:
             print(f"{prog}: interrupted", file=sys.stderr)
             return 130
-        except _Terminated:
+        except Terminated:
             print(f"{prog}: terminated", file=sys.stderr)
             return 143
     return 2

@@ -17,7 +17,9 @@ import logging
 import math
 import os
 import shutil
+import signal
 import tempfile
+import threading
 import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -203,6 +205,72 @@ class _RenameFilter(logging.Filter):
         return True
 
 
+class Terminated(BaseException):
+    """SIGTERM turned into an exception, so that unwinding discards unfinished outputs."""
+
+
+#: While above zero, a signal is held back (:func:`_signals_held`); the held ones.
+_held = 0
+_pending: list[type[BaseException]] = []
+
+
+def _deliver(exc_type: type[BaseException]) -> None:
+    """Raise ``exc_type`` now, or once the outputs' bookkeeping is consistent again."""
+    if _held:
+        _pending.append(exc_type)
+    else:
+        raise exc_type
+
+
+@contextmanager
+def signals_as_exceptions() -> Iterator[None]:
+    """While a command runs, SIGTERM (``kill``, a batch system's time limit, ``timeout``)
+    raises :class:`Terminated` and SIGINT (Ctrl-C) ``KeyboardInterrupt``, unless an output
+    is being created, moved or removed (:func:`_signals_held`): then they are raised when
+    that ends. The outputs' temporary files are removed on the way out (a failed run
+    leaves nothing behind). A signal the caller ignores stays ignored. Only in the main
+    thread, where Python delivers signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: object) -> None:
+        _deliver(Terminated)
+
+    def interrupt(signum: int, frame: object) -> None:
+        _deliver(KeyboardInterrupt)
+
+    previous: dict[int, Any] = {}
+    for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
+        if signal.getsignal(signum) is not signal.SIG_IGN:  # nohup, a background job: kept
+            previous[signum] = signal.signal(signum, handler)
+    try:
+        yield
+    finally:
+        for restored, before in previous.items():
+            signal.signal(restored, before)
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back while an output is created and registered, or while
+    the outputs are moved or removed: a signal between the two would leave a file that no
+    cleanup knows about (the staging directory of a terminated run, seen on a busy CI
+    machine). A held signal is raised as the block ends. (A thread's signal mask cannot do
+    this: the kernel hands a process's signal to any thread that does not block it, and
+    Python then runs the handler in the main thread at once.)"""
+    global _held
+    _held += 1
+    try:
+        yield
+    finally:
+        _held -= 1
+        if not _held and _pending:
+            exc_type = _pending[0]
+            _pending.clear()
+            raise exc_type
+
+
 class Outputs:
     """The files one command writes, written all-or-nothing.
 
@@ -255,10 +323,11 @@ class Outputs:
         for _, other, other_option in self._files:
             if same_file(other, final):
                 raise MudrftError(f"{option} and {other_option} name the same file {str(final)!r}")
-        fd, name = self._mkstemp(option, final)
-        os.close(fd)
-        tmp = Path(name)
-        self._files.append((tmp, final, option))
+        with _signals_held():
+            fd, name = self._mkstemp(option, final)
+            os.close(fd)
+            tmp = Path(name)
+            self._files.append((tmp, final, option))
         self._filter.names[str(tmp)] = str(final)
         return tmp
 
@@ -275,14 +344,15 @@ class Outputs:
             raise MudrftError(f"{option} {str(final)!r} exists and is not a directory")
         for name in names:
             self._check_free(option, final / name)
-        self._mkdirs(option, final)
-        try:
-            stage = Path(tempfile.mkdtemp(prefix=".mudrft-", suffix=".tmp", dir=final))
-        except OSError as exc:
-            raise MudrftError(
-                f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
-            ) from exc
-        self._stages.append((stage, final, option))
+        with _signals_held():
+            self._mkdirs(option, final)
+            try:
+                stage = Path(tempfile.mkdtemp(prefix=".mudrft-", suffix=".tmp", dir=final))
+            except OSError as exc:
+                raise MudrftError(
+                    f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
+                ) from exc
+            self._stages.append((stage, final, option))
         self._filter.names[str(stage)] = str(final)
         return stage
 
@@ -388,13 +458,14 @@ class Outputs:
         tb: TracebackType | None,
     ) -> None:
         try:
-            if exc_type is None:
-                try:
-                    self.commit()
-                except BaseException:
+            with _signals_held():  # a signal now is taken after the move or the cleanup
+                if exc_type is None:
+                    try:
+                        self.commit()
+                    except BaseException:
+                        self.discard()
+                        raise
+                else:
                     self.discard()
-                    raise
-            else:
-                self.discard()
         finally:
             self._logs.__exit__(None, None, None)
