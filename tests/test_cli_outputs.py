@@ -13,6 +13,7 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -288,9 +289,48 @@ def test_a_signal_while_an_output_is_created_leaves_nothing(
         make = common.Outputs._mkstemp
         monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(then_terminated(make)))
         args = ["simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv"]
-    code, _, err = run(capsys, *args)
+    # as in a terminal: a background job (CI, nohup) starts with SIGINT ignored
+    with _default_signal_handlers():
+        code, _, err = run(capsys, *args)
     assert code == status and err.strip().splitlines()[-1].endswith(f": {last_line}"), err
     assert listing(tmp_path) == []
+
+
+@contextmanager
+def _default_signal_handlers():
+    before = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    try:
+        yield
+    finally:
+        for sig, handler in before.items():
+            signal.signal(sig, handler)
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
+def test_an_ignored_signal_stays_ignored(tmp_path, capsys, monkeypatch):
+    """``nohup mudrft ...`` or a background job ignores SIGINT: the command keeps it so."""
+    import mudrft.cli._common as common
+
+    make = common.Outputs._mkstemp
+
+    def made(*args, **kwargs):
+        result = make(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGINT)
+        return result
+
+    monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(made))
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        code, _, err = run(
+            capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "r.csv"
+        )
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN  # and is left so
+    finally:
+        signal.signal(signal.SIGINT, before)
+    assert code == 0, err
+    assert listing(tmp_path) == ["r.csv"]
 
 
 def test_compare_out_under_a_file_is_a_one_line_error(tmp_path, capsys):
