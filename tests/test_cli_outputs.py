@@ -231,7 +231,10 @@ def test_a_terminated_reproduce_leaves_nothing(tmp_path):
     """SIGTERM (a batch system's time limit, ``kill``, ``timeout``) mid-run: exit status
     143, one line, and neither the output directory nor a temporary file stays behind."""
     out = tmp_path / "results"
-    code = f"import sys, mudrft.cli; sys.exit(mudrft.cli.main(['reproduce', '--out', {str(out)!r}, '--no-figures']))"  # fmt: skip
+    code = (  # SIGTERM as a terminal's process has it, whatever this test process inherited
+        "import signal, sys, mudrft.cli; signal.signal(signal.SIGTERM, signal.SIG_DFL); "
+        f"sys.exit(mudrft.cli.main(['reproduce', '--out', {str(out)!r}, '--no-figures']))"
+    )
     src = str(Path(mudrft.__file__).resolve().parents[1])
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     proc = subprocess.Popen(
@@ -323,9 +326,7 @@ def test_an_ignored_signal_stays_ignored(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(made))
     before = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        code, _, err = run(
-            capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "r.csv"
-        )
+        code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "r.csv")
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN  # and is left so
     finally:
         signal.signal(signal.SIGINT, before)
