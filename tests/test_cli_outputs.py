@@ -292,7 +292,7 @@ def test_a_signal_while_an_output_is_created_leaves_nothing(
         make = common.Outputs._mkstemp
         monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(then_terminated(make)))
         args = ["simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv"]
-    # as in a terminal: a background job (CI, nohup) starts with SIGINT ignored
+    # as in a terminal: a background job (as in CI) starts with SIGINT ignored
     with _default_signal_handlers():
         code, _, err = run(capsys, *args)
     assert code == status and err.strip().splitlines()[-1].endswith(f": {last_line}"), err
@@ -313,7 +313,7 @@ def _default_signal_handlers():
 
 @pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
 def test_an_ignored_signal_stays_ignored(tmp_path, capsys, monkeypatch):
-    """``nohup mudrft ...`` or a background job ignores SIGINT: the command keeps it so."""
+    """A background job (``mudrft ... &`` in a script) ignores SIGINT: the command keeps it so."""
     import mudrft.cli._common as common
 
     make = common.Outputs._mkstemp

@@ -242,7 +242,8 @@ def signals_as_exceptions() -> Iterator[None]:
 
     previous: dict[int, Any] = {}
     for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
-        if signal.getsignal(signum) is not signal.SIG_IGN:  # nohup, a background job: kept
+        # a background job starts with SIGINT ignored: kept so, as Python itself does
+        if signal.getsignal(signum) is not signal.SIG_IGN:
             previous[signum] = signal.signal(signum, handler)
     try:
         yield
