@@ -299,6 +299,22 @@ def test_a_signal_while_an_output_is_created_leaves_nothing(
     assert listing(tmp_path) == []
 
 
+def test_a_signal_that_cuts_the_cleanup_short_still_leaves_nothing(tmp_path, capsys, monkeypatch):
+    """A signal at the first instruction of ``Outputs.__exit__``, before its cleanup began:
+    the command's signal context removes what that ``with`` block did not."""
+    import mudrft.cli._common as common
+
+    def cut_short(self, *exc_info):
+        raise common.Terminated
+
+    monkeypatch.setattr(common.Outputs, "__exit__", cut_short)
+    out = tmp_path / "results"
+    with _default_signal_handlers():
+        code, _, err = run(capsys, "reproduce", "--out", out, "--no-figures", "--quiet")
+    assert code == 143 and err.strip().endswith("mudrft reproduce: terminated"), err
+    assert listing(tmp_path) == []
+
+
 @contextmanager
 def _default_signal_handlers():
     before = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}

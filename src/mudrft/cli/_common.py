@@ -25,7 +25,7 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import Any, ClassVar
 
 from .._progress import logger
 from .._validation import MudrftError
@@ -209,15 +209,20 @@ class Terminated(BaseException):
     """SIGTERM turned into an exception, so that unwinding discards unfinished outputs."""
 
 
-#: While above zero, a signal is held back (:func:`_signals_held`); the held ones.
-_held = 0
-_pending: list[type[BaseException]] = []
+class _Signals:
+    """The command's signal bookkeeping (main thread only)."""
+
+    #: While above zero, a signal waits (:func:`_signals_held`); the one that waits.
+    held = 0
+    pending: type[BaseException] | None = None
+    #: The outputs of the running command not yet moved or removed.
+    live: ClassVar[list[Outputs]] = []
 
 
 def _deliver(exc_type: type[BaseException]) -> None:
     """Raise ``exc_type`` now, or once the outputs' bookkeeping is consistent again."""
-    if _held:
-        _pending.append(exc_type)
+    if _Signals.held:
+        _Signals.pending = _Signals.pending or exc_type
     else:
         raise exc_type
 
@@ -227,8 +232,9 @@ def signals_as_exceptions() -> Iterator[None]:
     """While a command runs, SIGTERM (``kill``, a batch system's time limit, ``timeout``)
     raises :class:`Terminated` and SIGINT (Ctrl-C) ``KeyboardInterrupt``, unless an output
     is being created, moved or removed (:func:`_signals_held`): then they are raised when
-    that ends. The outputs' temporary files are removed on the way out (a failed run
-    leaves nothing behind). A signal the caller ignores stays ignored. Only in the main
+    that ends. On the way out every output neither moved nor removed yet is removed (also
+    one whose ``with`` block the signal cut short before its cleanup began): a failed run
+    leaves nothing behind. A signal the caller ignores stays ignored. Only in the main
     thread, where Python delivers signals."""
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -248,8 +254,16 @@ def signals_as_exceptions() -> Iterator[None]:
     try:
         yield
     finally:
-        for restored, before in previous.items():
-            signal.signal(restored, before)
+        _Signals.held += 1  # a signal now waits; the command is over, so it is dropped
+        try:
+            for outputs in _Signals.live:
+                outputs.discard()
+            _Signals.live.clear()
+            for restored, before in previous.items():
+                signal.signal(restored, before)
+        finally:
+            _Signals.held -= 1
+            _Signals.pending = None
 
 
 @contextmanager
@@ -260,15 +274,14 @@ def _signals_held() -> Iterator[None]:
     machine). A held signal is raised as the block ends. (A thread's signal mask cannot do
     this: the kernel hands a process's signal to any thread that does not block it, and
     Python then runs the handler in the main thread at once.)"""
-    global _held
-    _held += 1
+    _Signals.held += 1
     try:
         yield
     finally:
-        _held -= 1
-        if not _held and _pending:
-            exc_type = _pending[0]
-            _pending.clear()
+        _Signals.held -= 1
+        exc_type = _Signals.pending
+        if not _Signals.held and exc_type is not None:
+            _Signals.pending = None
             raise exc_type
 
 
@@ -450,6 +463,7 @@ class Outputs:
     def __enter__(self) -> Outputs:
         self._logs = self._renaming_logs()
         self._logs.__enter__()
+        _Signals.live.append(self)
         return self
 
     def __exit__(
@@ -460,13 +474,16 @@ class Outputs:
     ) -> None:
         try:
             with _signals_held():  # a signal now is taken after the move or the cleanup
-                if exc_type is None:
-                    try:
-                        self.commit()
-                    except BaseException:
+                try:
+                    if exc_type is None:
+                        try:
+                            self.commit()
+                        except BaseException:
+                            self.discard()
+                            raise
+                    else:
                         self.discard()
-                        raise
-                else:
-                    self.discard()
+                finally:
+                    _Signals.live.remove(self)
         finally:
             self._logs.__exit__(None, None, None)
