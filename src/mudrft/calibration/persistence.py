@@ -7,6 +7,7 @@ library is :func:`load_parameters`.
 
 from __future__ import annotations
 
+import difflib
 import json
 import os
 from pathlib import Path
@@ -38,8 +39,20 @@ def read_json(p: Path) -> dict[str, Any]:
     return data
 
 
+#: What a fit file (:meth:`FitResult.to_dict`) calls itself, and the newest version read.
+FIT_FORMAT, FIT_VERSION = "mudrft-fit", 1
+#: Keys a plain parameter object may hold beside the fields.
+_PLAIN_META = ("direction", "source", "units", "format", "version")
+
+
 def parameters_from_json(data: dict[str, Any], *, where: str) -> MudParameters:
     """The parameter set of a fit dict (its ``"parameters"``) or of a plain dict of SI fields.
+
+    Refused, naming the key: a ``"format"`` other than ``"mudrft-fit"``, a newer
+    ``"version"``, a ``"units"`` entry other than the field's SI unit (the values are
+    read as SI; a file in MPa would load 10^6 times too soft), an unknown field (a
+    misspelled ``"Nu"`` would leave ``nu`` at its default), and a value that is not one
+    number (a file holds one set).
 
     Parameters
     ----------
@@ -48,10 +61,46 @@ def parameters_from_json(data: dict[str, Any], *, where: str) -> MudParameters:
     where : str, keyword-only
         Where the data come from (a path), named in errors and in the set's ``source``.
     """
-    fields = data.get("parameters", data)
-    if not isinstance(fields, dict):
-        raise MudrftError(f"{where}: 'parameters' must be an object of SI values")
-    fields = {k: v for k, v in fields.items() if k in PARAMETER_UNITS}
+    fmt, version = data.get("format", FIT_FORMAT), data.get("version", FIT_VERSION)
+    if fmt != FIT_FORMAT:
+        raise MudrftError(f"{where}: format {fmt!r} is not a mudrft parameter or fit file")
+    if isinstance(version, bool) or not isinstance(version, int) or version < 1:
+        raise MudrftError(f"{where}: version must be a positive integer, got {version!r}")
+    if version > FIT_VERSION:
+        raise MudrftError(
+            f"{where}: version {version} was written by a newer mudrft; this one reads "
+            f"version {FIT_VERSION}: upgrade mudrft"
+        )
+    if "parameters" in data:
+        fields = data["parameters"]
+        if not isinstance(fields, dict):
+            raise MudrftError(f"{where}: 'parameters' must be an object of SI values")
+    else:
+        fields = {k: v for k, v in data.items() if k not in _PLAIN_META}
+    unknown = [k for k in fields if k not in PARAMETER_UNITS]
+    if unknown:
+        hints = [
+            f"{k!r} (did you mean {close[0]!r}?)" if close else repr(k)
+            for k in unknown
+            for close in [difflib.get_close_matches(k.lower(), PARAMETER_UNITS, n=1)]
+        ]
+        raise MudrftError(
+            f"{where}: unknown parameter {', '.join(hints)}; the fields are "
+            f"{', '.join(PARAMETER_UNITS)}"
+        )
+    units = data.get("units", {})
+    if not isinstance(units, dict):
+        raise MudrftError(f"{where}: 'units' must be an object {{field: unit}}, got {units!r}")
+    for k, unit in units.items():
+        si = PARAMETER_UNITS.get(k)
+        if si is not None and " ".join(str(unit).split()) != si:
+            raise MudrftError(
+                f"{where}: {k} is given in {unit!r}; mudrft reads its files in SI ({si!r}): "
+                f'convert the value to {si} and write "{k}": "{si}"'
+            )
+    for k, v in fields.items():
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            raise MudrftError(f"{where}: {k} must be one number [{PARAMETER_UNITS[k]}], got {v!r}")
     direction = data.get("direction", "")
     if direction not in ("", "vertical", "horizontal"):
         raise MudrftError(
@@ -61,8 +110,6 @@ def parameters_from_json(data: dict[str, Any], *, where: str) -> MudParameters:
         return MudParameters.from_dict(fields, source=f"fit: {where}", direction=direction)
     except MudrftError as exc:
         raise MudrftError(f"{where}: {exc}") from None
-    except TypeError as exc:
-        raise MudrftError(f"{where}: bad parameter values ({exc})") from None
 
 
 def load_parameters(path: str | os.PathLike[str]) -> MudParameters:

@@ -24,7 +24,7 @@ from ..parameters.base import PARAMETER_UNITS, MudParameters
 from ._options import as_dataset
 from ._plot import plot_fit
 from ._problem import FIT_PARAMETERS, pack, values_of
-from .persistence import parameters_from_json, read_json
+from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE
 
 __all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult", "StageReport"]
@@ -250,8 +250,8 @@ class FitResult:
 
         corr = [[num(c) for c in row] for row in np.asarray(self.correlation, dtype=float)]
         return {
-            "format": "mudrft-fit",
-            "version": 1,
+            "format": FIT_FORMAT,
+            "version": FIT_VERSION,
             "direction": self.direction,
             "parameters": self.parameters.as_dict(),
             "units": dict(PARAMETER_UNITS),
@@ -318,7 +318,7 @@ class FitResult:
         """
         text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
         return atomic_write(
-            path, text + "\n", overwrite=overwrite, option="overwrite=True (CLI: --overwrite)"
+            path, text + "\n", overwrite=overwrite, option="overwrite=True (CLI: --force)"
         )
 
     @classmethod
@@ -342,6 +342,19 @@ class FitResult:
             se = {k: f(v) for k, v in data["standard_error"].items()}
             rse = {k: f(v) for k, v in data["relative_standard_error"].items()}
             ci = {k: (f(a), f(b)) for k, (a, b) in data["confidence_interval"].items()}
+            for key, per_free in (
+                ("standard_error", se),
+                ("relative_standard_error", rse),
+                ("confidence_interval", ci),
+                ("identifiability", data["identifiability"]),
+            ):
+                if set(per_free) != set(FIT_PARAMETERS):
+                    raise MudrftError(
+                        f"{where}: {key} must have one entry per parameter "
+                        f"{list(FIT_PARAMETERS)}, got {list(per_free)}"
+                    )
+            if not set(free) <= set(FIT_PARAMETERS):
+                raise MudrftError(f"{where}: free must name parameters of {list(FIT_PARAMETERS)}")
             corr = np.array(
                 [
                     [np.nan if c is None else c for c in row]

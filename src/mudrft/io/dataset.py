@@ -24,7 +24,7 @@ from .atomic import atomic_write
 __all__ = ["OVERWRITE_OPTION", "IntrusionDataset", "Trial", "csv_text"]
 
 #: How the writers of this package name the permission to replace a file, in errors.
-OVERWRITE_OPTION = "overwrite=True (CLI: --overwrite)"
+OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
 
 
 @dataclass(frozen=True, eq=False)
