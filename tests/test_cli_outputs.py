@@ -350,6 +350,24 @@ def test_an_ignored_signal_stays_ignored(tmp_path, capsys, monkeypatch):
     assert listing(tmp_path) == ["r.csv"]
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_force_refuses_a_pipe_and_writes_through_a_link(tmp_path, capsys):
+    """``--force`` replaced a named pipe (as root, /dev/null) and a symbolic link by a file."""
+    import stat
+
+    pipe, real, link = tmp_path / "pipe.csv", tmp_path / "real.csv", tmp_path / "link.csv"
+    os.mkfifo(pipe)
+    real.write_text("old")
+    link.symlink_to(real)
+    code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", pipe, "--force")
+    one_line_error(code, err, "--out", "not a regular file")
+    assert stat.S_ISFIFO(os.lstat(pipe).st_mode)
+    code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", link, "--force")
+    assert code == 0, err
+    assert link.is_symlink() and real.read_text().startswith("time [s]")
+    assert listing(tmp_path) == ["link.csv", "pipe.csv", "real.csv"]
+
+
 def test_compare_out_under_a_file_is_a_one_line_error(tmp_path, capsys):
     (tmp_path / "file").write_text("")
     code, _, err = run(capsys, "compare", "--out", tmp_path / "file" / "x", "--no-figures")

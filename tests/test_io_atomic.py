@@ -24,16 +24,17 @@ def _fit_to_json(ds: IntrusionDataset, p: Path, **kw: bool) -> Path:
     """A FitResult (made from a minimal dict, no fit needed) saved as JSON."""
     import mudrft
     from mudrft.calibration import FitResult
+    from mudrft.calibration._problem import FIT_PARAMETERS
 
     data = {
         "parameters": mudrft.paper_parameters(0.25).as_dict(),
         "free": [],
-        "standard_error": {},
-        "relative_standard_error": {},
-        "confidence_interval": {},
+        "standard_error": dict.fromkeys(FIT_PARAMETERS),
+        "relative_standard_error": dict.fromkeys(FIT_PARAMETERS),
+        "confidence_interval": {k: [None, None] for k in FIT_PARAMETERS},
         "confidence_level": 0.95,
         "correlation": {"parameters": [], "matrix": []},
-        "identifiability": {},
+        "identifiability": dict.fromkeys(FIT_PARAMETERS, "fixed"),
         "relative_rmse": 0.0,
         "trial_relative_rmse": [],
         "noise": 0.0,
@@ -191,3 +192,26 @@ def test_json_text_writes_undefined_numbers_as_null():
     back = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-standard JSON: {c}"))
     assert back == {"a": None, "b": [1.0, None, 2.5], "c": {"d": None}, "e": True}
     assert text.endswith("\n")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_a_pipe_is_refused_even_with_overwrite(tmp_path):
+    """An atomic write replaces the name by a file: a named pipe (or, as root, /dev/null)
+    became a regular file that its reader never saw."""
+    pipe = tmp_path / "pipe.csv"
+    os.mkfifo(pipe)
+    with pytest.raises(MudrftError, match=r"not a regular file \(a pipe, a device"):
+        atomic_write(pipe, "data\n", overwrite=True)
+    assert stat.S_ISFIFO(os.lstat(pipe).st_mode) and sorted(os.listdir(tmp_path)) == ["pipe.csv"]
+
+
+def test_a_symbolic_link_is_written_through(tmp_path):
+    """``overwrite=True`` on a link replaces the file it names; the link stays a link."""
+    real, link = tmp_path / "real.csv", tmp_path / "link.csv"
+    real.write_text("old\n")
+    link.symlink_to(real)
+    with pytest.raises(MudrftError, match="exists"):
+        atomic_write(link, "new\n")
+    assert atomic_write(link, "new\n", overwrite=True) == real
+    assert link.is_symlink() and real.read_text() == "new\n"
+    assert sorted(os.listdir(tmp_path)) == ["link.csv", "real.csv"]

@@ -29,6 +29,7 @@ from typing import Any, ClassVar
 
 from .._progress import logger
 from .._validation import MudrftError
+from ..io.atomic import regular_target
 
 __all__ = [
     "EXTRAS",
@@ -325,7 +326,7 @@ class Outputs:
         directory and keeps the suffix of ``path`` (so writers that look at it, such as
         matplotlib's ``savefig``, choose the right format).
         """
-        final = Path(path)
+        final = regular_target(path, option)
         self._check_parents(option, final)
         if not final.parent.is_dir():
             raise MudrftError(
@@ -357,7 +358,7 @@ class Outputs:
         if final.exists() and not final.is_dir():
             raise MudrftError(f"{option} {str(final)!r} exists and is not a directory")
         for name in names:
-            self._check_free(option, final / name)
+            self._check_free(option, regular_target(final / name, option))
         with _signals_held():
             self._mkdirs(option, final)
             try:
@@ -420,7 +421,10 @@ class Outputs:
         """Move every output to its final name; return the final paths (also ``written``)."""
         moves: list[tuple[Path, Path, str]] = list(self._files)
         for stage, final, option in self._stages:
-            moves += [(item, final / item.name, option) for item in sorted(stage.iterdir())]
+            moves += [
+                (item, regular_target(final / item.name, option), option)
+                for item in sorted(stage.iterdir())
+            ]
         for _, final, option in moves:  # also an output that was not announced
             self._check_free(option, final)
         for tmp, final, option in moves:

@@ -20,13 +20,39 @@ from typing import Any
 
 from .._validation import MudrftError
 
-__all__ = ["atomic_write", "json_text"]
+__all__ = ["atomic_write", "json_text", "regular_target"]
 
 Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
 
 def _exists_error(p: Path, option: str) -> MudrftError:
     return MudrftError(f"{p}: file exists; pass {option} to replace it")
+
+
+def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
+    """The file that writing ``path`` replaces: a symbolic link's target (the link stays a
+    link), ``path`` itself otherwise.
+
+    Refuses a pipe, a device or a socket: an atomic write replaces the name by a regular
+    file, which would turn ``/dev/null`` into a file (as root, destroying the device) and a
+    named pipe into a file its reader never sees.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output's name.
+    option : str
+        How the caller's API names the output, for the message (``"--out"``, ``"path"``).
+    """
+    p = Path(os.fspath(path))
+    if p.is_symlink():
+        p = Path(os.path.realpath(p))
+    if p.exists() and not (p.is_file() or p.is_dir()):
+        raise MudrftError(
+            f"{option} {str(path)!r} is not a regular file (a pipe, a device or a socket); "
+            "mudrft writes its outputs atomically, as new files: name a file"
+        )
+    return p
 
 
 def _temporary(p: Path) -> tuple[Path, int]:
@@ -116,7 +142,7 @@ def atomic_write(
     refused: True
     first ['a.txt']
     """
-    p = Path(os.fspath(path))
+    p = regular_target(path)
     if not (callable(content) or isinstance(content, (bytes, bytearray, memoryview, str))):
         raise MudrftError(
             f"content must be bytes, str or a callable that writes a path, got "
