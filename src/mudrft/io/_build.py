@@ -22,6 +22,7 @@ from .dataset import Trial
 
 __all__ = [
     "DIRECTIONS",
+    "PLAUSIBLE_AREA",
     "PLAUSIBLE_DEPTH",
     "PLAUSIBLE_PEAK_STRESS",
     "build_trials",
@@ -36,6 +37,8 @@ DIRECTIONS = ("vertical", "horizontal")
 PLAUSIBLE_DEPTH = (1e-3, 1.0)
 #: Peak stress magnitude of a plausible test in mud [Pa] (decision D105).
 PLAUSIBLE_PEAK_STRESS = (10.0, 1e7)
+#: Area of a plausible plate or foot [m^2]: 1 mm^2 to 1 m^2 (decision D105).
+PLAUSIBLE_AREA = (1e-6, 1.0)
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -96,6 +99,14 @@ def resolve_plate(
         A = float(check_positive("area", area, unit="m^2")) if area is not None else meta_area
     except MudrftError as exc:
         raise MudrftError(f"{path}: {exc}") from None
+    if A is not None:
+        warn_implausible(
+            f"{path}: the plate area is",
+            A,
+            PLAUSIBLE_AREA,
+            unit="m^2",
+            hint="it is in m^2 (20 cm^2 is 0.002); a file's value without a unit is read as m^2",
+        )
     if need_area and A is None:
         raise MudrftError(
             f"{path}: the file logs a force but no plate area is known; pass area=... [m^2] "

@@ -99,6 +99,8 @@ class _Table:
     header_line: int = 0
     rows: list[list[str]] = field(default_factory=list)
     row_lines: list[int] = field(default_factory=list)
+    #: The first line and value of each metadata key that must not be given twice.
+    meta_lines: dict[str, tuple[int, Any]] = field(default_factory=dict)
 
     def add_comment(self, lineno: int, comment: str) -> None:
         """A ``#`` line: a note, and metadata if it reads ``# key: value``."""
@@ -112,10 +114,23 @@ class _Table:
         except ValueError:
             name = key
         where = f"line {lineno}"
+        if name in ("characteristic_length", "area", "direction"):
+            parsed: Any = value
+            if name != "direction":
+                kind = "length" if name == "characteristic_length" else "area"
+                parsed = quantity_value(self.where, where, key, value, kind)
+            first = self.meta_lines.setdefault(name, (lineno, parsed))
+            if first[1] != parsed:  # the last one used to win, silently
+                raise fail(
+                    self.where,
+                    where,
+                    f"{name} is given again, as {value!r}, after line {first[0]} gave "
+                    f"{first[1]!r}; keep one",
+                )
         if name == "characteristic_length":
-            self.meta_len = quantity_value(self.where, where, key, value, "length")
+            self.meta_len = parsed
         elif name == "area":
-            self.meta_area = quantity_value(self.where, where, key, value, "area")
+            self.meta_area = parsed
         elif name == "direction":
             self.direction, self.direction_line = value, where
         else:

@@ -53,6 +53,14 @@ def load_dataset(
         paths = items
     if not paths:
         raise MudrftError("path must name at least one file, got an empty list")
+    seen: dict[Path, str] = {}
+    for pth in paths:  # the same file twice would count its data twice in a fit
+        key = Path(os.path.realpath(os.fspath(pth)))
+        if key in seen:
+            raise MudrftError(
+                f"path names the same file twice: {os.fspath(pth)!r} and {seen[key]!r}"
+            )
+        seen[key] = os.fspath(pth)
     sets = []
     for pth in paths:
         hdf5 = Path(os.fspath(pth)).suffix.lower() in HDF5_SUFFIXES

@@ -1,0 +1,133 @@
+"""CSV intrusion logs: what a fuzz of the file inputs found read wrong without a word.
+
+Each test fails on the code before the fix: a log written by mudrft that did not read
+back (6 significant digits), a trial named "#1" that vanished as a comment, metadata
+given twice where the last silently won, the same file merged twice, a characteristic
+length in mm read as metres, and the ``synthetic`` flag set by any mention of the word.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from mudrft import MudrftError
+from mudrft._validation import PlausibilityWarning
+from mudrft.io import IntrusionDataset, Trial, load_dataset, load_intrusion_csv, save_intrusion_csv
+
+HEADER = "trial,time [s],depth [m],stress [Pa]\n"
+ROWS = "a,0,0,0\na,0.1,0.002,500\na,0.2,0.004,900\na,0.3,0.002,-100\n"
+
+
+def write(tmp_path, text, name="log.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def quiet_load(p, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a correct file reads without a warning
+        return load_intrusion_csv(p, **kw)
+
+
+def test_a_written_log_reads_back_to_the_same_numbers(tmp_path):
+    """%.6g merged the samples of a 20 kHz log after 10 s (time must increase strictly),
+    absolute timestamps and stresses 1 mPa apart."""
+    t = 10.0 + np.arange(200) / 20_000
+    fast = Trial(t, 1e-3 * (t - 9.9), 123_456.789 + 1e-3 * np.arange(200), name="fast")
+    clock = Trial(1.7e9 + np.arange(5.0), [0, 1e-3, 2e-3, 1e-3, 0], [0, 1, 2, 3, 4], name="abs")
+    ds = IntrusionDataset((fast, clock))
+    back = quiet_load(save_intrusion_csv(ds, tmp_path / "x.csv"))
+    for a, b in zip(ds.trials, back.trials, strict=True):
+        assert a.name == b.name
+        for k in ("time", "depth", "stress"):
+            np.testing.assert_array_equal(getattr(a, k), getattr(b, k))
+
+
+@pytest.mark.parametrize("name", ["#1", "a, b", ' "quoted" '])
+def test_a_trial_name_the_csv_could_misread_survives(tmp_path, name):
+    """A trial named "#1" was written as comment lines and vanished on reading."""
+    tr = Trial([0.0, 0.1, 0.2], [0.0, 2e-3, 0.0], [0.0, 500.0, -50.0], name=name)
+    other = Trial([0.0, 0.1, 0.2], [0.0, 3e-3, 0.0], [0.0, 700.0, -60.0], name="other")
+    back = quiet_load(save_intrusion_csv(IntrusionDataset((tr, other)), tmp_path / "x.csv"))
+    assert [t.name for t in back.trials] == [name.strip(), "other"]
+    np.testing.assert_array_equal(back.trials[0].stress, tr.stress)
+
+
+def test_a_note_of_several_lines_reads_back(tmp_path):
+    tr = Trial([0.0, 0.1, 0.2], [0.0, 2e-3, 0.0], [0.0, 500.0, -50.0])
+    ds = IntrusionDataset((tr,), notes=("rig 2\nplate B",))
+    back = quiet_load(save_intrusion_csv(ds, tmp_path / "x.csv"))
+    assert back.notes[:2] == ("rig 2", "plate B")
+
+
+@pytest.mark.parametrize(
+    ("first", "again"),
+    [
+        ("# characteristic_length [m]: 0.05", "# characteristic_length [m]: 0.04"),
+        ("# area [m^2]: 0.002", "# area [m^2]: 0.003"),
+        ("# direction: vertical", "# direction: horizontal"),
+    ],
+)
+def test_metadata_given_twice_differently_is_refused(tmp_path, first, again):
+    """The last value used to win, also from a line after the data."""
+    p = write(tmp_path, f"{first}\n{HEADER}{ROWS}{again}\n")
+    with pytest.raises(MudrftError, match=r"line 7: .* is given again.*after line 1 gave"):
+        load_intrusion_csv(p)
+
+
+def test_metadata_repeated_with_the_same_value_is_fine(tmp_path):
+    p = write(tmp_path, f"# area [m^2]: 0.002\n# area [mm^2]: 2000\n{HEADER}{ROWS}")
+    assert len(quiet_load(p).trials) == 1
+
+
+def test_the_same_file_twice_is_refused(tmp_path):
+    """Merged, its data counted twice in a fit."""
+    p = write(tmp_path, HEADER + ROWS)
+    with pytest.raises(MudrftError, match="same file twice"):
+        load_dataset([p, tmp_path / "." / "log.csv"])
+
+
+@pytest.mark.parametrize("line", ["# characteristic_length: 50", "# characteristic_length [m]: 50"])
+def test_a_characteristic_length_in_mm_read_as_metres_warns(tmp_path, line):
+    """50 (mm) read as 50 m fitted alpha 33 times too large, 'converged'."""
+    p = write(tmp_path, f"{line}\n{HEADER}{ROWS}")
+    with pytest.warns(PlausibilityWarning, match=r"characteristic_length.*50.*\(50 mm is 0.05\)"):
+        load_intrusion_csv(p)
+
+
+def test_a_characteristic_length_argument_in_mm_warns():
+    with pytest.warns(PlausibilityWarning, match="characteristic_length"):
+        Trial([0.0, 0.1], [0.0, 1e-3], [0.0, 1.0], characteristic_length=50)
+
+
+def test_an_area_in_cm2_read_as_m2_warns(tmp_path):
+    p = write(tmp_path, "trial,time [s],depth [m],Fz [N]\n" + ROWS)
+    with pytest.warns(PlausibilityWarning, match=r"plate area is .*20"):
+        load_intrusion_csv(p, area=20.0)
+
+
+def test_a_depth_positive_only_by_noise_warns_of_a_flipped_sign():
+    """One +1 µm sample slipped past the refusal of a never-positive depth."""
+    depth = [0.0, -0.01, -0.02, 1e-6]
+    with pytest.warns(PlausibilityWarning, match="sign flipped"):
+        Trial([0.0, 0.1, 0.2, 0.3], depth, [0.0, 1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize(
+    ("note", "synthetic"),
+    [
+        ("synthetic: generated by mudrft", True),
+        ("synthetic: yes", True),
+        ("synthetic: no", False),
+        ("synthetic: false", False),
+        ("not synthetic: measured on rig 2", False),
+        ("compared with a synthetic data set", False),
+    ],
+)
+def test_the_synthetic_flag_is_what_the_file_says(tmp_path, note, synthetic):
+    p = write(tmp_path, f"# {note}\n{HEADER}{ROWS}")
+    assert quiet_load(p).synthetic is synthetic
