@@ -131,3 +131,18 @@ def test_a_depth_positive_only_by_noise_warns_of_a_flipped_sign():
 def test_the_synthetic_flag_is_what_the_file_says(tmp_path, note, synthetic):
     p = write(tmp_path, f"# {note}\n{HEADER}{ROWS}")
     assert quiet_load(p).synthetic is synthetic
+
+
+@pytest.mark.parametrize(("sep", "what"), [(";", "semicolons"), ("\t", "tabs")])
+def test_a_log_separated_by_semicolons_or_tabs_is_named(tmp_path, sep, what):
+    """'cannot read the column name 'time [s];depth [m];stress [Pa]'' did not say why."""
+    p = write(tmp_path, (HEADER + ROWS).replace(",", sep))
+    with pytest.raises(MudrftError, match=f"line 1: the header's fields are separated by {what}"):
+        load_intrusion_csv(p)
+
+
+def test_old_mac_line_endings_read_as_lines(tmp_path):
+    """A file with \\r alone ended in the csv module's 'new-line character seen' error."""
+    p = tmp_path / "mac.csv"
+    p.write_bytes((HEADER + ROWS).replace("\n", "\r").encode())
+    np.testing.assert_array_equal(quiet_load(p).trials[0].stress, [0, 500, 900, -100])

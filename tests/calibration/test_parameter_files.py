@@ -98,3 +98,16 @@ def test_the_overwrite_hint_names_the_cli_flag(tmp_path, vertical_fit):
     p = vertical_fit.to_json(tmp_path / "fit.json")
     with pytest.raises(MudrftError, match="CLI: --force"):
         vertical_fit.to_json(p)
+
+
+def test_a_byte_order_mark_is_read_as_csv_logs_allow(tmp_path, plain):
+    p = tmp_path / "bom.json"
+    p.write_bytes(b"\xef\xbb\xbf" + json.dumps(plain).encode())
+    assert load_parameters(p).alpha == plain["alpha"]
+
+
+def test_free_as_a_string_is_named(tmp_path, fit_dict):
+    """'cannot reshape array of size 100 into shape (5,5)' did not say what was wrong."""
+    fit_dict["free"] = "alpha"
+    with pytest.raises(MudrftError, match="free must be a list of names, got 'alpha'"):
+        FitResult.from_json(write(tmp_path, fit_dict))

@@ -23,7 +23,7 @@ def read_json(p: Path) -> dict[str, Any]:
     """The JSON object in file ``p``; a precise error for a missing, unreadable or
     malformed file (line and column) or for JSON that is not an object."""
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark, as CSV logs allow
     except FileNotFoundError as exc:
         raise MudrftError(f"{p}: no such file") from exc
     except (OSError, UnicodeDecodeError) as exc:

@@ -35,7 +35,8 @@ POOR_FIT_RMSE = 0.25
 POOR_FIT_HINT = (
     "warning: the model does not describe these data (relative RMSE above "
     f"{100 * POOR_FIT_RMSE:g} %); check the units (stress [Pa], depth [m]), the "
-    "plate area, the characteristic length and the direction"
+    "signs (depth and stress positive while the plate intrudes), the plate area, the "
+    "characteristic length and the direction"
 )
 
 
@@ -334,6 +335,8 @@ class FitResult:
         """
         try:
             params = parameters_from_json(data, where=where)
+            if not isinstance(data["free"], list):  # a string would read as its letters
+                raise MudrftError(f"{where}: free must be a list of names, got {data['free']!r}")
             free = tuple(data["free"])
 
             def f(x: Any) -> float:

@@ -143,6 +143,14 @@ class _Table:
         except csv.Error as exc:
             raise fail(self.where, f"line {lineno}", f"malformed CSV ({exc})") from None
         if self.header is None:
+            for sep, what in ((";", "semicolons"), ("\t", "tabs")):
+                if len(rec) == 1 and sep in line:
+                    raise fail(
+                        self.where,
+                        f"line {lineno}",
+                        f"the header's fields are separated by {what}; mudrft reads "
+                        "comma-separated files (save as CSV with ',' as the separator)",
+                    )
             self.header, self.header_line = rec, lineno
             return
         if len(rec) != len(self.header):
@@ -158,8 +166,7 @@ class _Table:
 
 def _parse(where: str, text: str) -> _Table:
     table = _Table(where)
-    for lineno, line in enumerate(text.split("\n"), start=1):
-        line = line.removesuffix("\r")
+    for lineno, line in enumerate(text.splitlines(), start=1):  # \n, \r\n and \r alone
         if not line.strip():
             continue
         if line.lstrip().startswith("#"):
