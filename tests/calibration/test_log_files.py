@@ -146,3 +146,12 @@ def test_old_mac_line_endings_read_as_lines(tmp_path):
     p = tmp_path / "mac.csv"
     p.write_bytes((HEADER + ROWS).replace("\n", "\r").encode())
     np.testing.assert_array_equal(quiet_load(p).trials[0].stress, [0, 500, 900, -100])
+
+
+def test_logs_of_two_directions_are_refused_naming_both_files(tmp_path):
+    v = write(tmp_path, "# direction: vertical\n" + HEADER + ROWS, "v.csv")
+    h = write(tmp_path, "# direction: horizontal\n" + HEADER + ROWS, "h.csv")
+    with pytest.raises(
+        MudrftError, match=r"horizontal dataset \(.*h\.csv\) into a vertical one \(.*v\.csv\)"
+    ):
+        load_dataset([v, h])

@@ -221,8 +221,10 @@ class IntrusionDataset:
             if not isinstance(o, IntrusionDataset):
                 raise MudrftError(f"merge expects IntrusionDataset objects, got {type(o).__name__}")
             if o.direction != self.direction:
+                named = [f" ({x.source})" if x.source else "" for x in (o, self)]
                 raise MudrftError(
-                    f"cannot merge a {o.direction} dataset into a {self.direction} one"
+                    f"cannot merge a {o.direction} dataset{named[0]} into a "
+                    f"{self.direction} one{named[1]}"
                 )
             trials.extend(o.trials)
         notes = tuple(dict.fromkeys(self.notes + tuple(n for o in others for n in o.notes)))
