@@ -166,6 +166,26 @@ class ColumnMap(NamedTuple):
     fz: bool
 
 
+def _check_same_unit(path: str, loc: str, label: str, quantity: str, unit: str, attr: str) -> None:
+    """Refuse a unit attribute (HDF5) that is not the unit in the name: which one the
+    values are in cannot be told."""
+    try:
+        from_attr = parse_unit(quantity, attr)
+    except MudrftError as exc:
+        raise fail(path, loc, f"column {label.strip()!r}: its unit attribute: {exc}") from None
+    try:
+        same = math.isclose(parse_unit(quantity, unit), from_attr, rel_tol=1e-12)
+    except MudrftError:
+        return  # the unit in the name is reported as unknown by the caller
+    if not same:
+        raise fail(
+            path,
+            loc,
+            f"the name gives the unit {unit!r} but the unit attribute says {attr!r}; "
+            "remove one or make them agree",
+        )
+
+
 def _column(
     path: str, loc: str, index: int, label: str, unit_attr: str | None, unit_hint: str
 ) -> Column | str | None:
@@ -180,6 +200,8 @@ def _column(
     if key not in COLUMN_ALIASES:
         return None
     role, quantity = COLUMN_ALIASES[key]
+    if unit is not None and unit_attr:
+        _check_same_unit(path, loc, label, quantity, unit, unit_attr)
     unit = unit if unit is not None else unit_attr
     if not unit:
         raise fail(
@@ -215,7 +237,7 @@ def resolve_columns(
         ``locate(j)`` is the place of column ``j`` in the file, for errors.
     units : sequence, optional, keyword-only
         Units given apart from the names (HDF5 ``unit`` attributes), used when a name
-        has no unit in brackets.
+        has no unit in brackets; one that differs from the unit in brackets is refused.
     unit_hint : str, keyword-only
         Appended to the error for a column without a unit.
 

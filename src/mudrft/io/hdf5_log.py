@@ -66,15 +66,29 @@ def _notes(attrs: dict[str, Any]) -> list[str]:
     return notes
 
 
+def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
+    """A dataset's ``unit`` (or ``units``) attribute; both present must agree."""
+    found = {k: str(_text(attrs[k])).strip() for k in ("unit", "units") if k in attrs}
+    if len(found) == 2 and found["unit"] != found["units"]:
+        raise fail(
+            path,
+            loc,
+            f"its 'unit' attribute {found['unit']!r} and its 'units' attribute "
+            f"{found['units']!r} disagree; keep one",
+        )
+    return found.get("unit", found.get("units"))
+
+
 def _read_group(
     h5py: Any, path: str, gname: str, group: Any, direction: str
 ) -> tuple[Columns, dict[str, str]]:
     """The columns of one trial's group, in SI, checked, and their labels by role."""
     names = [k for k in group if isinstance(group[k], h5py.Dataset)]
-    units = [_text(group[k].attrs.get("unit", group[k].attrs.get("units"))) for k in names]
 
     def locate(j: int) -> str:
         return f"dataset '{gname}/{names[j]}'"
+
+    units = [_unit_attr(path, locate(j), group[k].attrs) for j, k in enumerate(names)]
 
     columns = resolve_columns(
         path, names, locate=locate, units=units, unit_hint=" (or set a 'unit' attribute)"
