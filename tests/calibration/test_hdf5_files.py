@@ -5,15 +5,18 @@ MudrftError naming the file and the dataset, link or attribute."""
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
-from mudrft._validation import MudrftError
-from mudrft.io import load_intrusion_hdf5
+from mudrft._validation import MudrftError, PlausibilityWarning
+from mudrft.io import load_dataset, load_intrusion_hdf5
 
 h5py = pytest.importorskip("h5py")
 
@@ -74,3 +77,181 @@ def test_unit_and_units_attributes_that_disagree_are_refused(tmp_path):
         ds.attrs["units"] = "ms"
 
     _refused(_h5(tmp_path, fill), r"dataset 'a/time'.*'unit'.*'units'")
+
+
+# --- 2. datasets that are not 1-D ------------------------------------------------------
+@pytest.mark.parametrize(
+    "shape", [(50, 2), (100, 1), (1, 100), ()], ids=["50x2", "100x1", "1x100", "scalar"]
+)
+def test_a_dataset_that_is_not_one_dimensional_is_refused(tmp_path, shape):
+    stress = np.float64(1.0) if shape == () else STRESS.reshape(shape)
+    p = _h5(tmp_path, lambda fh: _trial(fh, stress=stress))
+    # (50, 2) loaded with the two columns interleaved as one
+    _refused(p, rf"dataset 'stress \[Pa\]'.*1-D.*shape {re.escape(str(shape))}")
+
+
+# --- 3. links that lead nowhere --------------------------------------------------------
+def test_a_dangling_soft_link_is_named(tmp_path):
+    def fill(fh):
+        g = fh.create_group("a")
+        _trial(g)
+        g["stress2"] = h5py.SoftLink("/nowhere")
+
+    _refused(_h5(tmp_path, fill), r"link 'a/stress2'.*soft link to '/nowhere'")
+
+
+def test_a_broken_external_link_is_named(tmp_path):
+    def fill(fh):
+        _trial(fh)
+        fh["extra"] = h5py.ExternalLink("missing.h5", "/data")
+
+    _refused(_h5(tmp_path, fill), r"link 'extra'.*external link to 'missing\.h5'")
+
+
+def test_a_working_external_link_is_followed(tmp_path):
+    _h5(tmp_path, lambda fh: fh.create_dataset("s", data=STRESS), "other.h5")
+
+    def fill(fh):
+        fh["time [s]"] = T
+        fh["depth [m]"] = DEPTH
+        fh["stress [Pa]"] = h5py.ExternalLink("other.h5", "/s")
+
+    np.testing.assert_allclose(load_intrusion_hdf5(_h5(tmp_path, fill))[0].stress, STRESS)
+
+
+# --- 5. non-real datasets ---------------------------------------------------------------
+@pytest.mark.parametrize(
+    "data",
+    [STRESS + 1j * STRESS, (STRESS > 0), np.array([b"1.0"] * 100)],
+    ids=["complex", "bool", "text"],
+)
+def test_a_dataset_that_is_not_real_numbers_is_refused(tmp_path, data):
+    p = _h5(tmp_path, lambda fh: _trial(fh, stress=data))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's ComplexWarning was all the user got
+        _refused(p, r"dataset 'stress \[Pa\]'.*real numbers.*dtype")
+
+
+# --- 6. messages ------------------------------------------------------------------------
+def test_time_errors_name_the_dataset_and_row_not_a_csv_line(tmp_path):
+    p = _h5(tmp_path, lambda fh: _trial(fh.create_group("g"), time=T[::-1].copy()))
+    msg = _refused(p, r"dataset 'g/time \[s\]', row 1: time must increase")
+    assert "line" not in msg and "column" not in msg
+
+
+def test_a_never_positive_depth_names_the_dataset(tmp_path):
+    def fill(fh):
+        _trial(fh)
+        fh["depth [m]"][...] = -DEPTH
+
+    msg = _refused(_h5(tmp_path, fill), r"dataset 'depth \[m\]'.*never positive")
+    assert "column" not in msg
+
+
+@pytest.mark.parametrize("n", [0, 1])
+def test_empty_datasets_name_the_file(tmp_path, n):
+    def fill(fh):
+        fh["time [s]"] = T[:n]
+        fh["depth [m]"] = DEPTH[:n]
+        fh["stress [Pa]"] = STRESS[:n]
+
+    # "trials must hold at least one Trial, got none", without a file name
+    _refused(_h5(tmp_path, fill), rf"root group: holds {n} samples?; a trial needs at least 2")
+
+
+def test_an_empty_file_says_what_it_expected(tmp_path):
+    _refused(_h5(tmp_path, lambda fh: None), "holds no datasets.*'time \\[s\\]'")
+
+
+def test_a_length_mismatch_names_both_datasets(tmp_path):
+    p = _h5(tmp_path, lambda fh: _trial(fh, stress=STRESS[:50]))
+    _refused(p, r"dataset 'stress \[Pa\]' has 50 values but dataset 'time \[s\]' has 100")
+
+
+def test_a_directory_is_named_as_one(tmp_path):
+    d = tmp_path / "x.h5"
+    d.mkdir()
+    for load in (load_intrusion_hdf5, load_dataset):
+        with pytest.raises(MudrftError) as info:
+            load(d)
+        assert str(info.value) == f"{d}: is a directory, expected an HDF5 file"
+
+
+def test_a_file_that_is_not_hdf5_gets_a_one_line_reason(tmp_path):
+    p = tmp_path / "fake.h5"
+    p.write_bytes(b"\x00" * 4096)
+    _refused(p, "is not a readable HDF5 file")
+
+
+def test_the_round_trip_and_groups_still_load(tmp_path):
+    def fill(fh):
+        fh.attrs["characteristic_length"] = 0.04
+        fh.attrs["direction"] = "horizontal"
+        fh.attrs["notes"] = "from a test"
+        for name in ("b", "a"):
+            g = fh.create_group(name)
+            _trial(g)
+            g.attrs["notes"] = "free text on a group is fine"
+
+    ds = load_intrusion_hdf5(_h5(tmp_path, fill))
+    assert [t.name for t in ds] == ["a", "b"] and ds.direction == "horizontal"
+    assert all(t.characteristic_length == 0.04 for t in ds)
+
+
+# --- a fuzz of the file's structure: a dataset in SI, or a one-line MudrftError -----------
+_NAMES = ["time [s]", "time", "depth [mm]", "depth", "stress [kPa]", "Fz [N]", "trial", "x"]
+_MEMBER = st.tuples(
+    st.sampled_from(["", "g/", "h/", "g/sub/"]),
+    st.sampled_from(_NAMES),
+    st.sampled_from(["f8", "i4", "c16", "S3", "?", "link", "external", "2d", "empty"]),
+    st.sampled_from([None, "s", "ms", "mm", "parsec", "m"]),
+    st.integers(min_value=0, max_value=4),
+)
+
+
+def _fill(fh: Any, members: list[tuple[str, str, str, str | None, int]]) -> None:
+    for where, name, kind, unit, n in members:
+        path = where + name
+        if path in fh:
+            continue
+        if kind == "link":
+            fh[path] = h5py.SoftLink("/nowhere")
+            continue
+        if kind == "external":
+            fh[path] = h5py.ExternalLink("absent.h5", "/x")
+            continue
+        values = np.arange(float(n)) * 0.5
+        if kind == "2d":
+            values = np.stack([values, values], axis=1)
+        elif kind == "empty":
+            values = values[:0]
+        elif kind == "S3":
+            values = values.astype("S3")
+        elif kind not in ("f8",):
+            values = values.astype(kind)
+        fh.create_dataset(path, data=values)
+        if unit is not None:
+            fh[path].attrs["unit"] = unit
+
+
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(st.lists(_MEMBER, max_size=8), st.sampled_from([None, 0.01, [0.01, 0.02], "big"]))
+def test_fuzzed_hdf5_structure_never_tracebacks(tmp_path_factory, members, area):
+    p = tmp_path_factory.mktemp("fuzz") / "f.h5"
+    with h5py.File(p, "w") as fh:
+        _fill(fh, members)
+        if area is not None:
+            fh.attrs["area"] = area
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        warnings.simplefilter("error", np.exceptions.ComplexWarning)
+        try:
+            ds = load_intrusion_hdf5(p)
+        except MudrftError as exc:
+            assert str(exc).startswith(str(p)) and "\n" not in str(exc), str(exc)
+        else:
+            for tr in ds:
+                assert tr.time.ndim == 1 and np.all(np.diff(tr.time) > 0)
+                assert np.all(np.isfinite(tr.stress)) and tr.stress.shape == tr.time.shape

@@ -1,11 +1,16 @@
 """Intrusion logs as HDF5 (optional extra ``h5py``): load and save.
 
 Layout: one group per trial (group name = trial label, in sorted order), or the datasets
-directly in the root for a single trial. Each 1-D dataset is a column named like a CSV
-header (``"time [ms]"``), or by the bare name with its unit in a ``unit`` (or ``units``)
-attribute; names and units are resolved by :mod:`.columns` as for a CSV log. Root
-attributes ``direction``, ``characteristic_length`` [m], ``area`` [m^2] and
-``synthetic`` / ``notes`` play the part of the CSV header comments.
+directly in the root for a single trial. Each dataset is a 1-D column of real numbers
+named like a CSV header (``"time [ms]"``), or by the bare name with its unit in a
+``unit`` (or ``units``) attribute (a unit in both places must agree); names and units are
+resolved by :mod:`.columns` as for a CSV log. Root attributes ``direction``,
+``characteristic_length`` [m], ``area`` [m^2] and ``synthetic`` / ``notes`` play the part
+of the CSV header comments.
+
+A dataset that is not 1-D or not real, and a soft or external link that leads nowhere,
+are refused with a :class:`~mudrft._validation.MudrftError` that names the file and the
+dataset or link.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import MudrftError
+from .._validation import MudrftError, plain
 from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
 from .atomic import atomic_write
 from .columns import Column, check_roles, fail, resolve_columns, to_si
@@ -27,6 +32,10 @@ from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
 __all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
 
 Columns = dict[str, NDArray[np.float64]]
+Table = tuple[str, Columns, dict[str, str]]
+
+#: dtype kinds of a column: signed and unsigned integers, floats.
+_REAL_KINDS = "iuf"
 
 
 def _require_h5py() -> Any:
@@ -42,6 +51,14 @@ def _text(value: Any) -> str | None:
     if value is None:
         return None
     return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def _first_line(exc: BaseException) -> str:
+    """The first line of an h5py error (its later lines are HDF5's internals)."""
+    text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc  # no quotes
+    lines = str(text).strip().splitlines()
+    text = lines[0] if lines else type(exc).__name__
+    return text if len(text) <= 200 else text[:197] + "..."
 
 
 def _attr_float(path: str, attrs: dict[str, Any], key: str) -> float | None:
@@ -66,6 +83,33 @@ def _notes(attrs: dict[str, Any]) -> list[str]:
     return notes
 
 
+def _broken_link(h5py: Any, group: Any, key: str, exc: BaseException) -> str:
+    """Why the member ``key`` of ``group`` cannot be opened."""
+    try:
+        link = group.get(key, getlink=True)
+    except (KeyError, OSError, RuntimeError):  # pragma: no cover - a damaged file
+        link = None
+    if isinstance(link, h5py.SoftLink):
+        return f"is a soft link to {link.path!r}, which is not in the file"
+    if isinstance(link, h5py.ExternalLink):
+        return (
+            f"is an external link to {link.filename!r} (object {link.path!r}), which "
+            f"cannot be opened ({_first_line(exc)})"
+        )
+    return f"cannot be opened ({_first_line(exc)})"
+
+
+def _members(h5py: Any, path: str, group: Any, prefix: str) -> dict[str, Any]:
+    """The objects of a group by name, links followed; a link that leads nowhere is named."""
+    out = {}
+    for key in group:
+        try:
+            out[key] = group[key]
+        except (KeyError, OSError, RuntimeError) as exc:
+            raise fail(path, f"link '{prefix}{key}'", _broken_link(h5py, group, key, exc)) from None
+    return out
+
+
 def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
     """A dataset's ``unit`` (or ``units``) attribute; both present must agree."""
     found = {k: str(_text(attrs[k])).strip() for k in ("unit", "units") if k in attrs}
@@ -79,43 +123,142 @@ def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
     return found.get("unit", found.get("units"))
 
 
+def _read_file(h5py: Any, path: str, fh: Any, direction: str) -> list[Table]:
+    """The tables of the file: its groups, or its root when it has no group."""
+    root = _members(h5py, path, fh, "")
+    groups = sorted(k for k, v in root.items() if isinstance(v, h5py.Group))
+    if not groups:
+        if not any(isinstance(v, h5py.Dataset) for v in root.values()):
+            raise fail(
+                path,
+                "",
+                "holds no datasets and no groups; expected one group per trial, or datasets "
+                "such as 'time [s]', 'depth [m]' and 'stress [Pa]' in the root",
+            )
+        return [("trial", *_read_group(h5py, path, None, root, direction))]
+    tables = []
+    for g in groups:
+        members = _members(h5py, path, root[g], f"{g}/")
+        tables.append((g, *_read_group(h5py, path, g, members, direction)))
+    return tables
+
+
 def _read_group(
-    h5py: Any, path: str, gname: str, group: Any, direction: str
+    h5py: Any,
+    path: str,
+    gname: str | None,
+    members: dict[str, Any],
+    direction: str,
 ) -> tuple[Columns, dict[str, str]]:
-    """The columns of one trial's group, in SI, checked, and their labels by role."""
-    names = [k for k in group if isinstance(group[k], h5py.Dataset)]
+    """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
+    checked, and their labels by role."""
+    prefix = f"{gname}/" if gname else ""
+    place = f"group '{gname}'" if gname else "root group"
+    names = [k for k, v in members.items() if isinstance(v, h5py.Dataset)]
 
     def locate(j: int) -> str:
-        return f"dataset '{gname}/{names[j]}'"
+        return f"dataset '{prefix}{names[j]}'"
 
-    units = [_unit_attr(path, locate(j), group[k].attrs) for j, k in enumerate(names)]
-
+    units = [_unit_attr(path, locate(j), members[k].attrs) for j, k in enumerate(names)]
     columns = resolve_columns(
         path, names, locate=locate, units=units, unit_hint=" (or set a 'unit' attribute)"
     )
-    check_roles(path, f"group '{gname}'", columns, names, direction=direction)
+    check_roles(path, place, columns, names, direction=direction)
     out = {
-        role: _column_values(path, group[names[col.position]], col, locate(col.position))
+        role: _column_values(path, members[names[col.position]], col, locate(col.position))
         for role, col in columns.roles.items()
     }
+    roles = columns.roles
     n = out["time"].size
     for role, arr in out.items():
         if arr.size != n:
-            raise fail(path, f"group '{gname}'", f"{role} has {arr.size} values but time has {n}")
-    return out, {role: col.label for role, col in columns.roles.items()}
+            raise fail(
+                path,
+                place,
+                f"{locate(roles[role].position)} has {arr.size} values but "
+                f"{locate(roles['time'].position)} has {n}",
+            )
+    _check_trial(path, place, out, locate(roles["time"].position), locate(roles["depth"].position))
+    return out, {role: col.label for role, col in roles.items()}
+
+
+def _check_trial(path: str, place: str, cols: Columns, time_at: str, depth_at: str) -> None:
+    """What :func:`~._build.build_trials` would refuse, said with the dataset and row."""
+    t, depth = cols["time"], cols["depth"]
+    if t.size < 2:
+        s = "" if t.size == 1 else "s"
+        raise fail(path, place, f"holds {t.size} sample{s}; a trial needs at least 2")
+    step = np.diff(t)
+    if not np.all(step > 0):
+        k = int(np.argmax(step <= 0)) + 1
+        raise fail(
+            path,
+            f"{time_at}, row {k}",
+            f"time must increase strictly, but {plain(t[k])} s follows {plain(t[k - 1])} s",
+        )
+    if float(np.max(depth)) <= 0.0 < -float(np.min(depth)):
+        raise fail(
+            path,
+            depth_at,
+            f"the depth is never positive (it reaches {plain(float(np.min(depth)))} m); mudrft "
+            "measures it into the mud, positive while the plate intrudes: if your log records "
+            "it negative, flip the sign of the dataset",
+        )
 
 
 def _column_values(path: str, dataset: Any, col: Column, loc: str) -> NDArray[np.float64]:
-    """One recognised dataset in SI, checked."""
+    """One recognised dataset in SI, checked: 1-D, real, finite."""
+    shape = dataset.shape
+    if shape is None or len(shape) != 1:
+        raise fail(
+            path,
+            loc,
+            f"must be 1-D (one value per sample), got shape {shape}; store each column as "
+            "a 1-D dataset of its own",
+        )
+    if dataset.dtype.kind not in _REAL_KINDS:
+        raise fail(
+            path, loc, f"must hold real numbers (integers or floats), got dtype {dataset.dtype}"
+        )
     try:
-        raw = np.asarray(dataset[()], dtype=float).ravel()
-    except (TypeError, ValueError) as exc:
-        raise fail(path, loc, f"is not numeric ({exc})") from None
+        raw = np.asarray(dataset[()], dtype=float)
+    except (OSError, TypeError, ValueError) as exc:
+        raise fail(path, loc, f"cannot be read ({_first_line(exc)})") from None
 
     def locate_row(i: int) -> str:
         return f"{loc}, row {i}"
 
     return to_si(path, raw, col, locate_row=locate_row)
+
+
+def _open(h5py: Any, p: Path) -> Any:
+    """The file opened read-only; the OS's reason, or h5py's in one line, if it cannot be."""
+    where = str(p)
+    if p.is_dir():
+        raise fail(where, "", "is a directory, expected an HDF5 file")
+    try:
+        with open(p, "rb"):
+            pass
+    except FileNotFoundError:
+        raise fail(where, "", "no such file") from None
+    except PermissionError:
+        raise fail(where, "", "permission denied (cannot read the file)") from None
+    except OSError as exc:
+        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from None
+    try:
+        return h5py.File(p, "r")
+    except OSError as exc:
+        raise fail(where, "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
+
+
+def _root_attrs(path: str, fh: Any) -> dict[str, Any]:
+    attrs = {}
+    for k in fh.attrs:
+        try:
+            attrs[k] = fh.attrs[k]
+        except (OSError, TypeError, ValueError) as exc:
+            raise fail(path, f"attribute {k!r}", f"cannot be read ({_first_line(exc)})") from None
+    return attrs
 
 
 def load_intrusion_hdf5(
@@ -127,7 +270,7 @@ def load_intrusion_hdf5(
 ) -> IntrusionDataset:
     """Load an intrusion log from HDF5 (needs the optional ``h5py``).
 
-    See the module docstring for the layout.
+    See the module docstring for the layout and what is refused.
 
     Parameters
     ----------
@@ -145,36 +288,35 @@ def load_intrusion_hdf5(
     Returns
     -------
     IntrusionDataset
+
+    Raises
+    ------
+    MudrftError
+        For a file that is missing, a directory or not HDF5, and for any content the
+        layout does not allow, naming the file and the dataset, link or attribute.
     """
     h5py = _require_h5py()
     p = Path(os.fspath(path))
     where = str(p)
-    if not p.exists():
-        raise fail(where, "", "no such file")
-    try:
-        fh = h5py.File(p, "r")
-    except OSError as exc:
-        raise fail(where, "", f"is not a readable HDF5 file ({exc})") from None
-    with fh:
-        attrs = {k: fh.attrs[k] for k in fh.attrs}
+    with _open(h5py, p) as fh:
+        attrs = _root_attrs(where, fh)
         meta_len = _attr_float(where, attrs, "characteristic_length")
         meta_area = _attr_float(where, attrs, "area")
         d = resolve_direction(
             where, direction, _text(attrs.get("direction")), "attribute 'direction'"
         )
-        groups = [(k, fh[k]) for k in sorted(fh.keys()) if isinstance(fh[k], h5py.Group)]
-        tables = [(g, _read_group(h5py, where, g, obj, d)) for g, obj in groups or [("trial", fh)]]
+        tables = _read_file(h5py, where, fh, d)
     L, A, lsrc = resolve_plate(
         where,
         meta_len=meta_len,
         meta_area=meta_area,
         characteristic_length=characteristic_length,
         area=area,
-        need_area=any("stress" not in cols for _, (cols, _) in tables),
+        need_area=any("stress" not in cols for _, cols, _ in tables),
     )
     trials: list[Trial] = []
     found = []
-    for gname, (cols, names) in tables:
+    for gname, cols, names in tables:
         n = cols["time"].size
         group = build_trials(where, cols, [gname] * n, np.arange(n), L=L, A=A)
         trials.extend(group)
