@@ -119,6 +119,80 @@ def test_a_working_external_link_is_followed(tmp_path):
     np.testing.assert_allclose(load_intrusion_hdf5(_h5(tmp_path, fill))[0].stress, STRESS)
 
 
+# --- 4. inputs that were ignored -------------------------------------------------------
+def test_root_datasets_beside_groups_are_refused(tmp_path):
+    def fill(fh):
+        _trial(fh)  # a trial in the root ...
+        _trial(fh.create_group("b"))  # ... and one in a group: the root's was dropped
+
+    _refused(
+        _h5(tmp_path, fill), r"root group: holds the datasets .*'time \[s\]' beside the group 'b'"
+    )
+
+
+def test_other_root_datasets_beside_groups_are_still_allowed(tmp_path):
+    def fill(fh):
+        fh["comment"] = np.arange(3)
+        _trial(fh.create_group("b"))
+
+    assert [t.name for t in load_intrusion_hdf5(_h5(tmp_path, fill))] == ["b"]
+
+
+@pytest.mark.parametrize("key", ["area", "characteristic_length", "direction", "synthetic"])
+def test_plate_attributes_on_a_group_are_refused(tmp_path, key):
+    def fill(fh):
+        g = fh.create_group("a")
+        _trial(g)
+        g.attrs[key] = "horizontal" if key == "direction" else 0.03
+
+    # a per-group 0.03 m plate was fitted as the 50 mm default
+    _refused(_h5(tmp_path, fill), rf"group 'a', attribute '{key}'.*root", area=0.01)
+
+
+def test_a_nested_group_with_a_log_is_refused(tmp_path):
+    def fill(fh):
+        g = fh.create_group("a")
+        _trial(g)
+        _trial(g.create_group("repeat"))  # a second trial, dropped
+
+    _refused(_h5(tmp_path, fill), r"group 'a/repeat'.*nested")
+
+
+def test_a_trial_dataset_is_refused(tmp_path):
+    def fill(fh):
+        fh["trial"] = np.array([b"slow"] * 50 + [b"fast"] * 50)
+        _trial(fh)
+
+    # the labels were ignored: the two trials were read as one
+    _refused(_h5(tmp_path, fill), r"dataset 'trial'.*group per trial")
+
+
+@pytest.mark.parametrize("value", [[0.03, 0.05], np.zeros((2, 2))])
+def test_an_array_attribute_is_refused(tmp_path, value):
+    def fill(fh):
+        _trial(fh)
+        fh.attrs["characteristic_length"] = value
+
+    # only the first element was used
+    _refused(_h5(tmp_path, fill), r"attribute 'characteristic_length'.*one number.*shape")
+
+
+def test_a_one_element_attribute_and_one_with_a_unit_are_read(tmp_path):
+    def fill(fh):
+        _trial(fh)
+        fh.attrs["characteristic_length [mm]"] = [40.0]
+
+    # the unit in the key was ignored and the default 50 mm used
+    tr = load_intrusion_hdf5(_h5(tmp_path, fill))[0]
+    assert tr.characteristic_length == pytest.approx(0.04, rel=1e-12)
+
+    def both(fh):
+        fill(fh)
+        fh.attrs["characteristic_length"] = 0.04
+
+    _refused(_h5(tmp_path, both, "both.h5"), "characteristic_length.*keep one")
+
+
 # --- 5. non-real datasets ---------------------------------------------------------------
 @pytest.mark.parametrize(
     "data",

@@ -1,22 +1,25 @@
 """Intrusion logs as HDF5 (optional extra ``h5py``): load and save.
 
 Layout: one group per trial (group name = trial label, in sorted order), or the datasets
-directly in the root for a single trial. Each dataset is a 1-D column of real numbers
-named like a CSV header (``"time [ms]"``), or by the bare name with its unit in a
+directly in the root for a single trial, never both. Each dataset is a 1-D column of real
+numbers named like a CSV header (``"time [ms]"``), or by the bare name with its unit in a
 ``unit`` (or ``units``) attribute (a unit in both places must agree); names and units are
 resolved by :mod:`.columns` as for a CSV log. Root attributes ``direction``,
-``characteristic_length`` [m], ``area`` [m^2] and ``synthetic`` / ``notes`` play the part
+``characteristic_length`` [m], ``area`` [m^2] (a key may carry its unit:
+``"area [cm^2]"``; the value is one number) and ``synthetic`` / ``notes`` play the part
 of the CSV header comments.
 
-A dataset that is not 1-D or not real, and a soft or external link that leads nowhere,
-are refused with a :class:`~mudrft._validation.MudrftError` that names the file and the
-dataset or link.
+Refused with a :class:`~mudrft._validation.MudrftError` that names the file and the
+dataset, link or attribute, rather than read in part: a dataset that is not 1-D or not
+real, a log column in the root beside groups or in a nested group, a ``trial`` dataset
+(the groups are the trials), a plate, direction or ``synthetic`` attribute on a group (the
+root's hold for every trial), and a soft or external link that leads nowhere.
 """
 
 from __future__ import annotations
 
-import math
 import os
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -24,9 +27,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError, plain
+from ..units import parse_unit
 from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
 from .atomic import atomic_write
-from .columns import Column, check_roles, fail, resolve_columns, to_si
+from .columns import (
+    COLUMN_ALIASES,
+    Column,
+    check_roles,
+    default_unit,
+    fail,
+    parse_header_name,
+    parse_number,
+    resolve_columns,
+    to_si,
+)
 from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
 
 __all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
@@ -34,6 +48,8 @@ __all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
 Columns = dict[str, NDArray[np.float64]]
 Table = tuple[str, Columns, dict[str, str]]
 
+#: Attributes read from the root only: they hold for every trial of the file.
+_ROOT_ONLY = ("direction", "characteristic_length", "area", "synthetic")
 #: dtype kinds of a column: signed and unsigned integers, floats.
 _REAL_KINDS = "iuf"
 
@@ -61,16 +77,46 @@ def _first_line(exc: BaseException) -> str:
     return text if len(text) <= 200 else text[:197] + "..."
 
 
-def _attr_float(path: str, attrs: dict[str, Any], key: str) -> float | None:
-    """A positive number attribute [SI], or None if absent."""
-    if key not in attrs:
-        return None
+def _key_name(key: str) -> str:
+    """'area [cm^2]' -> 'area': an attribute or dataset name without its unit, lower case."""
     try:
-        v = float(np.asarray(attrs[key]).ravel()[0])
-    except (TypeError, ValueError, IndexError):
-        raise fail(path, f"attribute {key!r}", f"must be a number, got {attrs[key]!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise fail(path, f"attribute {key!r}", f"must be > 0, got {v!r}")
+        return parse_header_name(key)[0].lower()
+    except ValueError:
+        return key.strip().lower()
+
+
+def _listing(names: Iterable[str]) -> str:
+    items = [repr(n) for n in names]
+    return ", ".join(items[:3] + (["..."] if len(items) > 3 else []))
+
+
+def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> float | None:
+    """A positive plate size from the root attribute ``name`` or ``name [unit]`` [SI], or
+    None if absent."""
+    keys = [k for k in attrs if _key_name(k) == name]
+    if not keys:
+        return None
+    if len(keys) > 1:
+        raise fail(path, f"attributes {_listing(keys)}", f"all give the {name}; keep one")
+    key = keys[0]
+    where = f"attribute {key!r}"
+    arr = np.asarray(attrs[key])
+    if arr.size != 1:
+        raise fail(path, where, f"must be one number, got an array of shape {arr.shape}")
+    value = arr.reshape(())[()]
+    try:
+        unit = parse_header_name(key)[1]
+        factor = parse_unit(quantity, unit if unit is not None else default_unit(quantity))
+        if arr.dtype.kind in _REAL_KINDS:
+            v = float(value) * factor
+        elif arr.dtype.kind in "SUO":
+            v = parse_number(str(_text(value))) * factor
+        else:
+            raise ValueError(f"got {value!r}")
+    except (MudrftError, ValueError, TypeError) as exc:
+        raise fail(path, where, f"must be a number: {exc}") from None
+    if not (np.isfinite(v) and v > 0):
+        raise fail(path, where, f"must be > 0 and finite, got {plain(v)} (SI)")
     return v
 
 
@@ -110,6 +156,11 @@ def _members(h5py: Any, path: str, group: Any, prefix: str) -> dict[str, Any]:
     return out
 
 
+def _is_log_column(name: str) -> bool:
+    key = _key_name(name)
+    return key in COLUMN_ALIASES or key == "trial"
+
+
 def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
     """A dataset's ``unit`` (or ``units``) attribute; both present must agree."""
     found = {k: str(_text(attrs[k])).strip() for k in ("unit", "units") if k in attrs}
@@ -136,10 +187,19 @@ def _read_file(h5py: Any, path: str, fh: Any, direction: str) -> list[Table]:
                 "such as 'time [s]', 'depth [m]' and 'stress [Pa]' in the root",
             )
         return [("trial", *_read_group(h5py, path, None, root, direction))]
+    stray = [k for k, v in root.items() if isinstance(v, h5py.Dataset) and _is_log_column(k)]
+    if stray:
+        raise fail(
+            path,
+            "root group",
+            f"holds the datasets {_listing(stray)} beside the group{'s' * (len(groups) > 1)} "
+            f"{_listing(groups)}: a file holds one group per trial, or a single trial in the "
+            "root, not both; move the root's datasets into a group of their own",
+        )
     tables = []
     for g in groups:
         members = _members(h5py, path, root[g], f"{g}/")
-        tables.append((g, *_read_group(h5py, path, g, members, direction)))
+        tables.append((g, *_read_group(h5py, path, g, members, direction, root[g].attrs)))
     return tables
 
 
@@ -149,11 +209,29 @@ def _read_group(
     gname: str | None,
     members: dict[str, Any],
     direction: str,
+    attrs: Any = None,
 ) -> tuple[Columns, dict[str, str]]:
     """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
     checked, and their labels by role."""
     prefix = f"{gname}/" if gname else ""
     place = f"group '{gname}'" if gname else "root group"
+    for key in attrs if attrs is not None else ():
+        if _key_name(key) in _ROOT_ONLY:
+            raise fail(
+                path,
+                f"{place}, attribute {key!r}",
+                f"mudrft reads {_key_name(key)!r} from the file's root attributes only, one "
+                "value for every trial; set it on the root, or save trials that differ in "
+                "it to separate files",
+            )
+    for key, obj in members.items():
+        if isinstance(obj, h5py.Group) and any(_is_log_column(k) for k in obj):
+            raise fail(
+                path,
+                f"group '{prefix}{key}'",
+                "is nested; mudrft reads one group per trial, in the root of the file: "
+                "move it there",
+            )
     names = [k for k, v in members.items() if isinstance(v, h5py.Dataset)]
 
     def locate(j: int) -> str:
@@ -163,6 +241,13 @@ def _read_group(
     columns = resolve_columns(
         path, names, locate=locate, units=units, unit_hint=" (or set a 'unit' attribute)"
     )
+    if columns.trial is not None:
+        raise fail(
+            path,
+            locate(columns.trial),
+            "is not read: in HDF5 the groups are the trials (one group per trial, named by "
+            "its label); split the rows into groups",
+        )
     check_roles(path, place, columns, names, direction=direction)
     out = {
         role: _column_values(path, members[names[col.position]], col, locate(col.position))
@@ -300,8 +385,8 @@ def load_intrusion_hdf5(
     where = str(p)
     with _open(h5py, p) as fh:
         attrs = _root_attrs(where, fh)
-        meta_len = _attr_float(where, attrs, "characteristic_length")
-        meta_area = _attr_float(where, attrs, "area")
+        meta_len = _plate_attr(where, attrs, "characteristic_length", "length")
+        meta_area = _plate_attr(where, attrs, "area", "area")
         d = resolve_direction(
             where, direction, _text(attrs.get("direction")), "attribute 'direction'"
         )
