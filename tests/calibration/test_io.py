@@ -184,7 +184,7 @@ MALFORMED = {
     "too many fields": (GOOD_HEADER + "0,0,0,9\n", "line 2: expected 3"),
     "time backwards": (
         GOOD_HEADER + "0,0,0\n1,0.01,5\n0.5,0.02,6\n",
-        r"line 4, column 'time'.*increase",
+        r"line 4, column 'time \[s\]'.*increase",
     ),
     "repeated time": (GOOD_HEADER + "0,0,0\n0,0.01,5\n", "line 3.*increase"),
     "one sample": (GOOD_HEADER + "0,0,0\n", "line 2.*at least 2"),
@@ -326,5 +326,7 @@ def test_a_log_whose_depth_is_never_positive_is_refused(tmp_path):
     bad = tmp_path / "negative.csv"
     bad.write_text("\n".join(flipped) + "\n")
     load_dataset(path)  # the original loads
-    with pytest.raises(MudrftError, match=r"negative.csv.*'depth'.*never positive.*flip the sign"):
+    with pytest.raises(
+        MudrftError, match=r"negative.csv.*'depth \[m\]'.*never positive.*flip its sign"
+    ):
         load_dataset(bad)

@@ -8,7 +8,7 @@ arguments with the file's metadata; :func:`build_trials` splits the samples into
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -125,11 +125,17 @@ def _groups(labels: Sequence[str] | None, n: int) -> dict[str, NDArray[np.intp]]
     return {k: np.asarray(v) for k, v in members.items()}
 
 
+#: Where sample ``i`` (or, given None, the whole column) of a column (or, given None, of
+#: the trial) stands in the file, for errors: ``"line 12, column 'time'"`` in a CSV log,
+#: ``"dataset 'run1/time [s]', row 11"`` in an HDF5 one.
+Locate = Callable[[int | None, str | None], str]
+
+
 def build_trials(
     path: str,
     columns: dict[str, NDArray[np.float64]],
     labels: Sequence[str] | None,
-    lines: NDArray[np.int_],
+    locate: Locate,
     *,
     L: float,
     A: float | None,
@@ -144,8 +150,9 @@ def build_trials(
         ``time`` [s], ``depth`` [m] and ``stress`` [Pa] or ``force`` [N], in SI.
     labels : sequence of str or None
         Trial label of each sample.
-    lines : ndarray of int
-        Place of each sample in the file (line or row), for errors.
+    locate : callable
+        ``locate(sample, role)``: the place of a sample (or None) of a column (a role such
+        as ``"time"``, or None) in the file, for errors (:data:`Locate`).
     L : float, keyword-only
         Plate characteristic length [m].
     A : float or None, keyword-only
@@ -153,13 +160,15 @@ def build_trials(
     """
     time = columns["time"]
     depth = columns["depth"]
-    if depth.size and float(np.max(depth)) <= 0.0 < -float(np.min(depth)):
+    if not time.size:
+        raise fail(path, locate(None, "time"), "holds no samples; a trial needs at least 2")
+    if float(np.max(depth)) <= 0.0 < -float(np.min(depth)):
         raise fail(
             path,
-            "column 'depth'",
+            locate(None, "depth"),
             f"the depth is never positive (it reaches {plain(float(np.min(depth)))} m); mudrft "
             "measures it into the mud, positive while the plate intrudes: if your log records "
-            "it negative, flip the sign of the column",
+            "it negative, flip its sign",
         )
     stress = columns["stress"] if "stress" in columns else columns["force"] / float(A)  # type: ignore[arg-type]
     trials = []
@@ -168,7 +177,7 @@ def build_trials(
         if idx.size < 2:
             raise fail(
                 path,
-                f"line {int(lines[idx[0]])}",
+                locate(int(idx[0]), None),
                 f"trial {name!r} has {idx.size} sample; a trial needs at least 2",
             )
         d = np.diff(t)
@@ -181,11 +190,11 @@ def build_trials(
             )
             raise fail(
                 path,
-                f"line {int(lines[idx[k]])}, column 'time'",
+                locate(int(idx[k]), "time"),
                 f"time must increase strictly within trial {name!r}, but {plain(t[k])} s "
                 f"follows {plain(t[k - 1])} s{hint}",
             )
-        meta: dict[str, Any] = {"first_line": int(lines[idx[0]])}
+        meta: dict[str, Any] = {"first_sample": locate(int(idx[0]), None)}
         if A is not None:
             meta["area"] = A
         try:
@@ -195,7 +204,7 @@ def build_trials(
                 )
             )
         except MudrftError as exc:
-            raise fail(path, f"line {int(lines[idx[0]])}", str(exc)) from None
+            raise fail(path, locate(int(idx[0]), None), str(exc)) from None
     return tuple(trials)
 
 

@@ -279,7 +279,12 @@ def load_intrusion_csv(
         area=area,
         need_area=not has_stress,
     )
-    trials = build_trials(where, values, labels, np.asarray(table.row_lines), L=L, A=A)
+
+    def sample(i: int | None, role: str | None) -> str:
+        col = "" if role is None else f"column {columns.roles[role].label!r}"
+        return col if i is None else f"line {table.row_lines[i]}" + (f", {col}" if col else "")
+
+    trials = build_trials(where, values, labels, sample, L=L, A=A)
     names = {role: col.label for role, col in columns.roles.items()}
     check_plausible(where, [(names, t.depth, t.stress) for t in trials], area=A)
     meta = {**table.meta, "characteristic_length_source": lsrc, "ignored_columns": columns.ignored}

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError, plain
 from ..units import parse_unit
-from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
+from ._build import Locate, build_trials, check_plausible, resolve_direction, resolve_plate
 from .atomic import atomic_write
 from .columns import (
     COLUMN_ALIASES,
@@ -46,7 +46,7 @@ from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
 __all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
 
 Columns = dict[str, NDArray[np.float64]]
-Table = tuple[str, Columns, dict[str, str]]
+Table = tuple[str, Columns, dict[str, str], Locate]
 
 #: Attributes read from the root only: they hold for every trial of the file.
 _ROOT_ONLY = ("direction", "characteristic_length", "area", "synthetic")
@@ -210,9 +210,10 @@ def _read_group(
     members: dict[str, Any],
     direction: str,
     attrs: Any = None,
-) -> tuple[Columns, dict[str, str]]:
+) -> tuple[Columns, dict[str, str], Locate]:
     """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
-    checked, and their labels by role."""
+    checked, their labels by role, and where a sample of them stands (for
+    :func:`~._build.build_trials`'s errors)."""
     prefix = f"{gname}/" if gname else ""
     place = f"group '{gname}'" if gname else "root group"
     for key in attrs if attrs is not None else ():
@@ -263,32 +264,12 @@ def _read_group(
                 f"{locate(roles[role].position)} has {arr.size} values but "
                 f"{locate(roles['time'].position)} has {n}",
             )
-    _check_trial(path, place, out, locate(roles["time"].position), locate(roles["depth"].position))
-    return out, {role: col.label for role, col in roles.items()}
 
+    def sample(i: int | None, role: str | None) -> str:
+        at = place if role is None else locate(roles[role].position)
+        return at if i is None else f"{at}, row {i}"
 
-def _check_trial(path: str, place: str, cols: Columns, time_at: str, depth_at: str) -> None:
-    """What :func:`~._build.build_trials` would refuse, said with the dataset and row."""
-    t, depth = cols["time"], cols["depth"]
-    if t.size < 2:
-        s = "" if t.size == 1 else "s"
-        raise fail(path, place, f"holds {t.size} sample{s}; a trial needs at least 2")
-    step = np.diff(t)
-    if not np.all(step > 0):
-        k = int(np.argmax(step <= 0)) + 1
-        raise fail(
-            path,
-            f"{time_at}, row {k}",
-            f"time must increase strictly, but {plain(t[k])} s follows {plain(t[k - 1])} s",
-        )
-    if float(np.max(depth)) <= 0.0 < -float(np.min(depth)):
-        raise fail(
-            path,
-            depth_at,
-            f"the depth is never positive (it reaches {plain(float(np.min(depth)))} m); mudrft "
-            "measures it into the mud, positive while the plate intrudes: if your log records "
-            "it negative, flip the sign of the dataset",
-        )
+    return out, {role: col.label for role, col in roles.items()}, sample
 
 
 def _column_values(path: str, dataset: Any, col: Column, loc: str) -> NDArray[np.float64]:
@@ -397,13 +378,13 @@ def load_intrusion_hdf5(
         meta_area=meta_area,
         characteristic_length=characteristic_length,
         area=area,
-        need_area=any("stress" not in cols for _, cols, _ in tables),
+        need_area=any("stress" not in cols for _, cols, _, _ in tables),
     )
     trials: list[Trial] = []
     found = []
-    for gname, cols, names in tables:
+    for gname, cols, names, sample in tables:
         n = cols["time"].size
-        group = build_trials(where, cols, [gname] * n, np.arange(n), L=L, A=A)
+        group = build_trials(where, cols, [gname] * n, sample, L=L, A=A)
         trials.extend(group)
         found += [(names, t.depth, t.stress) for t in group]
     check_plausible(where, found, area=A)
