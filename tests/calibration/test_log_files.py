@@ -155,3 +155,13 @@ def test_logs_of_two_directions_are_refused_naming_both_files(tmp_path):
         MudrftError, match=r"horizontal dataset \(.*h\.csv\) into a vertical one \(.*v\.csv\)"
     ):
         load_dataset([v, h])
+
+
+def test_a_stress_of_the_opposite_sign_warns():
+    """A log with the stress sign flipped fitted and reported 'converged'."""
+    t = np.linspace(0.0, 1.0, 11)
+    depth = 0.02 * np.minimum(t, 1.0 - t)
+    with pytest.warns(
+        PlausibilityWarning, match="stress is mostly negative while the plate intrudes"
+    ):
+        Trial(t, depth, -1e4 * depth)

@@ -104,6 +104,13 @@ class Trial:
                 f"{float(np.max(d)):.3g} m into the mud; mudrft measures depth into the mud, "
                 "positive while the plate intrudes: is its sign flipped?"
             )
+        intruding = (np.diff(d) > 0) & (d[1:] > 0)
+        if intruding.any() and float(np.median(self.stress[1:][intruding])) < 0:
+            warn_plausibility(
+                f"trial {self.name!r}: the stress is mostly negative while the plate intrudes; "
+                "mudrft's stress resists the intrusion, positive while intruding (negative "
+                "only under suction): is its sign flipped?"
+            )
         L = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
         warn_implausible(
             "characteristic_length (the plate's size) is",
