@@ -47,6 +47,11 @@ def parse_unit(quantity: str, unit: str) -> float:
     table = SCALE.get(quantity)
     if table is None:
         raise MudrftError(f"quantity must be one of {sorted(SCALE)}, got {quantity!r}")
+    if not isinstance(unit, str):
+        raise MudrftError(
+            f"unit for {quantity} must be a unit string, one of {sorted(table)}, got {unit!r} "
+            f"({type(unit).__name__})"
+        )
     u = unit.strip()
     if u not in table:
         raise MudrftError(f"unit for {quantity} must be one of {sorted(table)}, got {unit!r}")

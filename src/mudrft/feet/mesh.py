@@ -35,7 +35,7 @@ from .._validation import (
     check_nonnegative,
     warn_implausible,
 )
-from ..units import parse_unit
+from ..units import SCALE, parse_unit
 from .base import (
     CHUNK,
     Foot,
@@ -306,6 +306,17 @@ class MeshFoot(Foot):
         name : str, optional
             Name (default: the file name without extension).
         """
+        if not isinstance(path, str | os.PathLike):
+            raise MudrftError(
+                f"path must be the path of a mesh file (a str or path-like ending in "
+                f"{'/'.join(FORMATS)}), got {path!r}"
+            )
+        if not isinstance(unit, str):
+            raise MudrftError(
+                "unit must be the length unit of the file's coordinates as a string such as "
+                f"'m' or 'mm' (one of {sorted(SCALE['length'])}), got {unit!r} "
+                f"({type(unit).__name__})"
+            )
         scale = parse_unit("length", unit)
         p = os.fspath(path)
         ext = os.path.splitext(p)[1].lower()

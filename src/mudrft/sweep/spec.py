@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..units import SCALE
 from . import catalog as C
 from .design import Axis, Design
 
@@ -334,6 +335,8 @@ def _foot_kind(
         from ..feet import MeshFoot
 
         unit = foot.get("unit", "m")
+        if not isinstance(unit, str) or unit.strip() not in SCALE["length"]:
+            raise MudrftError(f'[foot] unit must be the length unit of the mesh file, a string such as "m" or "mm" (one of {", ".join(sorted(SCALE["length"]))}), got {unit!r}')  # fmt: skip
         path = Path(kind) if Path(kind).is_absolute() else base / kind
         try:
             mesh = MeshFoot.from_file(path, unit=unit)
