@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from mudrft._validation import MudrftError
-from mudrft.feet import Flat, MeshFoot
+from mudrft.feet import Flat, MeshFoot, MeshWarning
 from mudrft.feet.stl import write_stl
 from mudrft.sweep.spec import load_spec
 from mudrft.units import parse_unit
@@ -39,6 +39,17 @@ def boundary(path, match: str) -> None:
     with pytest.raises(MudrftError, match=match) as info:
         MeshFoot.from_file(path)
     assert str(path) in str(info.value), f"the message does not name the file: {info.value}"
+
+
+# -- 2. an open mesh whose normals point inward ----------------------------------------------
+def test_a_mesh_with_no_downward_facing_area_is_refused():
+    with pytest.raises(MudrftError, match=r"plan area is 0 m\^2.*normals may point inward"):
+        MeshFoot(SOLE, [[0, 1, 2], [0, 2, 3]])  # the sole wound upward: no bottom
+    with pytest.warns(MeshWarning, match="open"):
+        plate = MeshFoot(SOLE, [[0, 2, 1], [0, 3, 2]])  # wound downward: a valid plate
+    assert plate.characteristic_length == pytest.approx(np.sqrt(0.065 * 0.08))
+    with pytest.raises(MudrftError, match="no facet facing down"):
+        plate.posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])  # turned on edge: no bottom left
 
 
 # -- 3. units and paths that are not strings -------------------------------------------------

@@ -15,7 +15,9 @@ Mesh checks (decision D25 in ``docs/model.md``):
   flipped if the enclosed volume is negative (inward normals), recorded in ``flipped``;
 * inconsistently wound (an edge traversed twice in the same direction): error;
 * open or non-manifold: allowed with a :class:`MeshWarning` (only the outward normals of
-  the surface in contact matter; the winding is taken as given).
+  the surface in contact matter; the winding is taken as given);
+* no downward-facing area (plan area 0, so a characteristic length of 0: an open mesh
+  wound inward, or a plate posed on edge): error.
 """
 
 from __future__ import annotations
@@ -256,14 +258,31 @@ class MeshFoot(Foot):
             if volume < 0:
                 f = f[:, ::-1].copy()
                 self.flipped = True
-        else:
+        self._set_geometry(v, f)
+        self._check_plan_area(
+            "If the mesh is open, its normals may point inward (the winding of an open mesh "
+            "is taken as given): reverse it (faces[:, ::-1]) or close the mesh"
+        )
+        if not closed:
             warnings.warn(
                 "MeshFoot: the mesh is open (or non-manifold); its winding is taken as given, so "
                 "make sure the normals of the surface in contact point outward",
                 MeshWarning,
                 stacklevel=2,
             )
-        self._set_geometry(v, f)
+
+    def _check_plan_area(self, hint: str) -> None:
+        """Refuse a foot with no area that meets the mud going down: its characteristic
+        length :math:`\\sqrt{A_z}` would be 0, and the mud's rate and sealing terms divide
+        by it."""
+        total = float(np.sum(self._prep.area))
+        if not (self._plan_area > 1e-12 * total and self.characteristic_length > 0):
+            raise MudrftError(
+                f"MeshFoot {self.name!r}: the mesh must have a bottom, an area that faces "
+                f"down and meets the mud as the foot goes in, but its downward-facing plan "
+                f"area is {self._plan_area:.3g} m^2 (of {total:.3g} m^2 in all), so its "
+                f"characteristic length is {self.characteristic_length:.3g} m. {hint}"
+            )
 
     def _set_geometry(self, v: np.ndarray, f: np.ndarray) -> None:
         used = np.unique(f)
@@ -350,6 +369,10 @@ class MeshFoot(Foot):
         new = object.__new__(type(self))
         new.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         new._set_geometry(self.vertices @ r.T, self.faces)
+        new._check_plan_area(
+            "The rotation leaves no facet facing down (an open or flat mesh turned on edge "
+            "or upside down)"
+        )
         return new
 
     # -- Foot interface ---------------------------------------------------------------------
