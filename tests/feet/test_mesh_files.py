@@ -8,6 +8,8 @@ was checked, and messages that did not name the file.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -39,6 +41,43 @@ def boundary(path, match: str) -> None:
     with pytest.raises(MudrftError, match=match) as info:
         MeshFoot.from_file(path)
     assert str(path) in str(info.value), f"the message does not name the file: {info.value}"
+
+
+# -- 1. truncated files and facets of other than three vertices ------------------------------
+def test_an_ascii_stl_cut_on_a_facet_boundary_is_refused_as_truncated(tmp_path, box_text):
+    whole = tmp_path / "box.stl"
+    whole.write_text(box_text)
+    assert len(MeshFoot.from_file(whole)) == 12
+    half = tmp_path / "half.stl"
+    ends = [m.end() for m in re.finditer("endfacet\n", box_text)]
+    half.write_text(box_text[: ends[5]])  # six whole facets, no endsolid
+    boundary(half, r"looks truncated: it ends after facet 6, with no 'endsolid'")
+    cut = tmp_path / "cut.stl"
+    cut.write_text(box_text[: ends[5] + 60])  # inside facet 7
+    boundary(cut, r"looks truncated: it ends inside facet 7, after 1 of its 3 vertices")
+
+
+@pytest.mark.parametrize("count", [4, 2])
+def test_an_ascii_facet_must_have_three_vertices(tmp_path, count):
+    tri = Flat().to_mesh(resolution=1).triangles
+    body = facet_text(tri[0]) + facet_text(tri[1], vertices=count) + facet_text(tri[2])
+    path = tmp_path / "quad.stl"
+    path.write_text(f"solid q\n{body}endsolid q\n")
+    boundary(path, rf"{count} vertices in facet 2 .*exactly 3")
+
+
+def test_ascii_stl_variants_that_stay_valid(tmp_path, box_text):
+    """CRLF line ends, capital keywords and several solids in one file are all read."""
+    crlf = tmp_path / "crlf.stl"
+    crlf.write_bytes(box_text.upper().replace("\n", "\r\n").encode())
+    two = tmp_path / "two.stl"
+    head, tail = box_text.split("endfacet\n", 1)
+    two.write_text(head + "endfacet\nendsolid a\nsolid b\n" + tail)
+    for path in (crlf, two):
+        assert len(MeshFoot.from_file(path)) == 12
+    loose = tmp_path / "loose.stl"
+    loose.write_text("solid x\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendsolid x\n")
+    boundary(loose, r"vertex outside any facet \(line 2\)")
 
 
 # -- 2. an open mesh whose normals point inward ----------------------------------------------

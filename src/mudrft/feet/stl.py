@@ -3,15 +3,19 @@
 Binary STL: an 80-byte header, a little-endian uint32 triangle count, then 50 bytes per
 triangle (normal, three vertices as float32, a uint16 attribute). A file is read as binary
 when its size is exactly ``84 + 50 * count`` (some binary files start with ``solid`` too);
-otherwise as ASCII (``facet ... vertex x y z ... endfacet``). Stored normals are ignored:
-the winding gives the normal.
+otherwise as ASCII (``solid``, then per facet ``facet ... vertex x y z`` three times ``...
+endfacet``, then ``endsolid``: a file without it is refused as truncated). Stored normals are
+ignored: the winding gives the normal.
 """
 
 from __future__ import annotations
 
+import io
+import math
 import os
 import struct
-from typing import Any
+from array import array
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -43,17 +47,19 @@ def read_stl(path: str | os.PathLike[str]) -> np.ndarray:
     p = os.fspath(path)
     try:
         with open(p, "rb") as fh:
-            data = fh.read()
+            head = fh.read(84)
+            size = os.fstat(fh.fileno()).st_size
+            if len(head) == 84:
+                (count,) = struct.unpack_from("<I", head, 80)
+                if size == 84 + 50 * count:
+                    if count == 0:
+                        raise MudrftError(f"the STL file {p!r} contains no triangles")
+                    rec = np.fromfile(fh, dtype=_BINARY_DTYPE, count=count)
+                    return _finite(rec["v"].astype(np.float64), p)
+            fh.seek(0)
+            return _read_ascii(fh, p)
     except OSError as exc:
         raise MudrftError(f"could not read the STL file {p!r}: {exc.strerror or exc}") from exc
-    if len(data) >= 84:
-        (count,) = struct.unpack_from("<I", data, 80)
-        if len(data) == 84 + 50 * count:
-            if count == 0:
-                raise MudrftError(f"the STL file {p!r} contains no triangles")
-            rec = np.frombuffer(data, dtype=_BINARY_DTYPE, count=count, offset=84)
-            return _finite(rec["v"].astype(np.float64), p)
-    return _read_ascii(data, p)
 
 
 def _finite(tri: np.ndarray, path: str) -> np.ndarray:
@@ -62,41 +68,103 @@ def _finite(tri: np.ndarray, path: str) -> np.ndarray:
     return tri
 
 
-def _read_ascii(data: bytes, path: str) -> np.ndarray:
+def _read_ascii(fh: BinaryIO, path: str) -> np.ndarray:
+    """Parse ``solid / facet / vertex x y z (three) / endfacet / endsolid`` line by line into
+    a float array, so that memory stays near the triangles' own 72 bytes a facet.
+
+    Each ``facet`` line starts a facet, which must hold exactly three ``vertex`` lines; the
+    last solid must end with ``endsolid`` (a file cut short on a facet boundary has none).
+    Several solids in one file are read as one mesh.
+    """
+    text = io.TextIOWrapper(fh, encoding="ascii", newline=None)
+    coords = array("d")
+    facet = nvert = lineno = loose = 0  # facets so far, vertices in the current one, line,
+    started = open_solid = in_facet = False  # first line of a vertex outside any facet
     try:
-        text = data.decode("ascii")
+        for lineno, line in enumerate(text, start=1):
+            parts = line.split()
+            if not parts:
+                continue
+            key = parts[0].lower()
+            if not started and not key.startswith("solid"):
+                raise MudrftError(
+                    f"the STL file {path!r} is not an STL file (no 'solid' header, bad binary size)"
+                )
+            started = True
+            if key == "vertex":
+                coords.extend(_vertex(parts, path, lineno))
+                if in_facet:
+                    nvert += 1
+                else:
+                    loose = loose or lineno  # reported once every vertex is checked
+            elif key in ("facet", "endfacet", "endsolid"):
+                if in_facet and nvert != 3:
+                    raise _vertex_count(path, facet, nvert, lineno)
+                in_facet = key == "facet"
+                if key == "facet":
+                    if not open_solid:
+                        raise MudrftError(
+                            f"the STL file {path!r} has a facet after 'endsolid' (line {lineno})"
+                        )
+                    facet, nvert = facet + 1, 0
+                elif key == "endsolid":
+                    open_solid = False
+            elif key.startswith("solid"):  # "solid name" (or "solidname")
+                open_solid = True
     except UnicodeDecodeError as exc:
         raise MudrftError(
             f"the STL file {path!r} is neither a valid binary STL (size does not match the "
             "triangle count) nor ASCII text"
         ) from exc
-    if not text.lstrip().lower().startswith("solid"):
+    finally:
+        text.detach()  # leave the binary file to its owner
+    if in_facet and nvert > 3:
+        raise _vertex_count(path, facet, nvert, lineno)
+    if open_solid:
+        where = f"after facet {facet}"
+        if in_facet and nvert < 3:
+            where = (
+                f"inside facet {facet}, after {nvert} of its 3 vertices (a vertex count not a "
+                "multiple of 3)"
+            )
         raise MudrftError(
-            f"the STL file {path!r} is not an STL file (no 'solid' header, bad binary size)"
+            f"the STL file {path!r} looks truncated: it ends {where}, with no 'endsolid' line"
         )
-    coords: list[str] = []
-    for line in text.splitlines():
-        parts = line.split()
-        if parts and parts[0].lower() == "vertex":
-            if len(parts) != 4:
-                raise MudrftError(
-                    f"the STL file {path!r} has a malformed vertex line: {line.strip()!r}"
-                )
-            coords.extend(parts[1:])
+    if loose:
+        raise MudrftError(
+            f"the STL file {path!r} has a vertex outside any facet (line {loose}); each "
+            "'facet' line starts a facet of 3 'vertex' lines"
+        )
     if not coords:
         raise MudrftError(f"the STL file {path!r} contains no triangles")
+    return np.frombuffer(coords, dtype=np.float64).reshape(-1, 3, 3)
+
+
+def _vertex(parts: list[str], path: str, lineno: int) -> tuple[float, float, float]:
+    """The coordinates of a ``vertex x y z`` line, finite, or an error naming the line."""
+    if len(parts) != 4:
+        raise MudrftError(
+            f"the STL file {path!r} has a malformed vertex line (line {lineno}): "
+            f"{' '.join(parts)!r}"
+        )
     try:
-        arr = np.array([float(c) for c in coords])
+        x, y, z = (float(c) for c in parts[1:])
     except ValueError as exc:
         raise MudrftError(
-            f"the STL file {path!r} has a non-numeric vertex coordinate: {exc}"
+            f"the STL file {path!r} has a non-numeric vertex coordinate (line {lineno}): {exc}"
         ) from exc
-    if arr.size % 9:
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
         raise MudrftError(
-            f"the STL file {path!r} has {arr.size // 3} vertices, "
-            "not a multiple of 3 (truncated facet?)"
+            f"the STL file {path!r} has NaN or infinite vertex coordinates (line {lineno})"
         )
-    return _finite(arr.reshape(-1, 3, 3), path)
+    return x, y, z
+
+
+def _vertex_count(path: str, facet: int, nvert: int, lineno: int) -> MudrftError:
+    return MudrftError(
+        f"the STL file {path!r} has {nvert} vertices in facet {facet} (ending on line "
+        f"{lineno}); a facet must have exactly 3 (triangulate quads and polygons first)"
+    )
 
 
 def write_stl(
