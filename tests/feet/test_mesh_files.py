@@ -15,7 +15,7 @@ import pytest
 
 from mudrft._validation import MudrftError
 from mudrft.feet import Flat, MeshFoot, MeshWarning
-from mudrft.feet.stl import write_stl
+from mudrft.feet.stl import facet_bound, read_stl, write_stl
 from mudrft.sweep.spec import load_spec
 from mudrft.units import parse_unit
 
@@ -108,3 +108,33 @@ def test_a_unit_that_is_not_a_string_is_named(tmp_path, unit):
 def test_a_path_that_is_not_a_path_is_named(path):
     with pytest.raises(MudrftError, match="path must be the path of a mesh file"):
         MeshFoot.from_file(path)
+
+
+# -- 4. memory is checked from the file's size, before parsing -------------------------------
+def test_an_ascii_stl_is_refused_from_its_size_before_it_is_parsed(tmp_path, monkeypatch):
+    path = tmp_path / "big.stl"
+    # 100 kB that would fail to parse: refused for its size first, so never parsed
+    path.write_text("solid big\n" + "vertex x y z\n" * 8000)
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", "1e5")
+    boundary(path, r"reading the STL file .* \(up to 2312 facets\) would need about 325 KiB")
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", "1e9")
+    boundary(path, "non-numeric vertex coordinate")
+
+
+def test_the_size_bound_holds_for_the_shortest_facets(tmp_path, monkeypatch):
+    """45 bytes a facet is the least an ASCII facet takes: a file of them still reads."""
+    n = 200
+    tight = "solid\n" + "facet\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n" * n + "endsolid"
+    path = tmp_path / "tight.stl"
+    path.write_text(tight)
+    assert facet_bound(path) >= n and read_stl(path).shape == (n, 3, 3)
+    # the exact count is checked again before the mesh is welded and built
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", str(n * 300))
+    boundary(path, rf"the mesh foot of the file .* \({n} facets\) would need")
+
+
+def test_a_binary_stl_is_refused_from_its_header_count_before_it_is_read(tmp_path, monkeypatch):
+    path = tmp_path / "box.stl"
+    write_stl(path, Flat().to_mesh(resolution=1).triangles)
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", "1000")
+    boundary(path, r"reading the STL file .* \(12 facets\) would need")

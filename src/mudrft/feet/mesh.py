@@ -60,6 +60,15 @@ __all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 #: decision D102). Larger meshes than :func:`mudrft._validation.memory_limit` allows are refused.
 BYTES_PER_FACET = 512
 
+#: Memory :meth:`MeshFoot.from_file` takes per facet of an STL file [bytes], reading,
+#: welding and building together (measured: about 600).
+FILE_BYTES_PER_FACET = 640
+
+_SIMPLIFY = (
+    "simplify the mesh (a foot needs a few thousand facets; e.g. trimesh's "
+    "simplify_quadric_decimation)"
+)
+
 #: File formats :meth:`MeshFoot.from_file` reads.
 FORMATS = (".stl", ".obj", ".ply")
 
@@ -212,8 +221,7 @@ class MeshFoot(Foot):
         check_memory(
             f"a mesh foot of {f.shape[0]} facets",
             f.shape[0] * BYTES_PER_FACET,
-            hint="simplify the mesh (a foot needs a few thousand facets; e.g. trimesh's "
-            "simplify_quadric_decimation)",
+            hint=_SIMPLIFY,
         )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
@@ -346,8 +354,14 @@ class MeshFoot(Foot):
         if ext == ".stl":
             from .stl import read_stl
 
-            tri = read_stl(p)
+            tri = read_stl(p)  # checks the memory of reading, from the file's size
+            check_memory(
+                f"the mesh foot of the file {p!r} ({tri.shape[0]} facets)",
+                tri.shape[0] * FILE_BYTES_PER_FACET,
+                hint=_SIMPLIFY,
+            )
             v, f = _index_triangles(tri)
+            del tri
         else:
             v, f = _read_with_trimesh(p, ext)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]

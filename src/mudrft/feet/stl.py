@@ -19,15 +19,28 @@ from typing import Any, BinaryIO
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite
+from .._validation import MudrftError, check_finite, check_memory
 
-__all__ = ["read_stl", "write_stl"]
+__all__ = ["facet_bound", "read_stl", "write_stl"]
+
+#: The shortest text an ASCII facet can take [bytes]: a ``facet`` line (6 with its newline)
+#: and three ``vertex x y z`` lines of one-digit numbers (13 each); ``outer loop``,
+#: ``endloop`` and ``endfacet`` only add to it. A file of ``size`` bytes holds at most
+#: ``size // 45 + 1`` facets, which bounds the memory reading it takes before it is parsed.
+ASCII_FACET_MIN_BYTES = 45
+
+#: Memory reading an STL file takes per facet [bytes] (measured: 131 for a binary file, its
+#: 50-byte records and the float64 triangles; 75 for an ASCII one, parsed line by line).
+READ_BYTES_PER_FACET = 144
 
 _BINARY_DTYPE = np.dtype([("normal", "<f4", (3,)), ("v", "<f4", (3, 3)), ("attr", "<u2")])
 
 
 def read_stl(path: str | os.PathLike[str]) -> np.ndarray:
     """Read an STL file into a triangle array.
+
+    The file's size bounds its facet count (:func:`facet_bound`); the memory the reading takes
+    is checked against :func:`mudrft._validation.memory_limit` before the file is parsed.
 
     Parameters
     ----------
@@ -42,24 +55,50 @@ def read_stl(path: str | os.PathLike[str]) -> np.ndarray:
     Raises
     ------
     MudrftError
-        If the file cannot be opened, is truncated or malformed, or holds no triangle.
+        If the file cannot be opened, is truncated or malformed, holds no triangle, or would
+        need more memory than the limit.
     """
     p = os.fspath(path)
+    count, binary = _facet_bound(p)
+    check_memory(
+        f"reading the STL file {p!r} ({'' if binary else 'up to '}{count} facets)",
+        count * READ_BYTES_PER_FACET,
+        hint="simplify the mesh (a foot needs a few thousand facets)",
+    )
     try:
         with open(p, "rb") as fh:
-            head = fh.read(84)
-            size = os.fstat(fh.fileno()).st_size
-            if len(head) == 84:
-                (count,) = struct.unpack_from("<I", head, 80)
-                if size == 84 + 50 * count:
-                    if count == 0:
-                        raise MudrftError(f"the STL file {p!r} contains no triangles")
-                    rec = np.fromfile(fh, dtype=_BINARY_DTYPE, count=count)
-                    return _finite(rec["v"].astype(np.float64), p)
-            fh.seek(0)
+            if binary:
+                if count == 0:
+                    raise MudrftError(f"the STL file {p!r} contains no triangles")
+                rec = np.fromfile(fh, dtype=_BINARY_DTYPE, count=count, offset=84)
+                return _finite(rec["v"].astype(np.float64), p)
             return _read_ascii(fh, p)
     except OSError as exc:
         raise MudrftError(f"could not read the STL file {p!r}: {exc.strerror or exc}") from exc
+
+
+def facet_bound(path: str | os.PathLike[str]) -> int:
+    """The most facets the STL file at ``path`` can hold, from its size alone.
+
+    Exact for a binary file (its header's count); for an ASCII file the size over
+    :data:`ASCII_FACET_MIN_BYTES`, the shortest text a facet can take.
+    """
+    return _facet_bound(os.fspath(path))[0]
+
+
+def _facet_bound(path: str) -> tuple[int, bool]:
+    """``(facets, binary)``: the facet count (exact if binary, an upper bound if ASCII)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(84)
+            size = os.fstat(fh.fileno()).st_size
+    except OSError as exc:
+        raise MudrftError(f"could not read the STL file {path!r}: {exc.strerror or exc}") from exc
+    if len(head) == 84:
+        (count,) = struct.unpack_from("<I", head, 80)
+        if size == 84 + 50 * count:
+            return int(count), True
+    return size // ASCII_FACET_MIN_BYTES + 1, False
 
 
 def _finite(tri: np.ndarray, path: str) -> np.ndarray:
