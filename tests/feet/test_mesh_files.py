@@ -9,6 +9,7 @@ was checked, and messages that did not name the file.
 from __future__ import annotations
 
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -91,6 +92,14 @@ def test_a_mesh_with_no_downward_facing_area_is_refused():
         plate.posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])  # turned on edge: no bottom left
 
 
+def test_an_inward_open_mesh_file_is_refused_naming_the_file(tmp_path):
+    path = tmp_path / "inward.stl"
+    write_stl(path, np.asarray(SOLE, float)[[[0, 1, 2], [0, 2, 3]]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MeshWarning)
+        boundary(path, "normals may point inward")
+
+
 # -- 3. units and paths that are not strings -------------------------------------------------
 @pytest.mark.parametrize("unit", [None, 1e-3, 1, True])
 def test_a_unit_that_is_not_a_string_is_named(tmp_path, unit):
@@ -138,3 +147,42 @@ def test_a_binary_stl_is_refused_from_its_header_count_before_it_is_read(tmp_pat
     write_stl(path, Flat().to_mesh(resolution=1).triangles)
     monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", "1000")
     boundary(path, r"reading the STL file .* \(12 facets\) would need")
+
+
+# -- 5. messages that name the file and the fault --------------------------------------------
+def test_mesh_errors_from_a_file_name_the_file(tmp_path):
+    tri = Flat().to_mesh(resolution=1).triangles.copy()
+    tri[3] = tri[3][::-1]
+    wound = tmp_path / "wound.stl"
+    write_stl(wound, tri)
+    boundary(wound, "consistently wound")
+    line = tmp_path / "line.stl"
+    write_stl(line, np.array([[[0, 0, 0], [0.01, 0, 0], [0.02, 0, 0]]]))
+    boundary(line, "no non-degenerate facet: every facet has zero area")
+    nan = tmp_path / "nan.obj"
+    nan.write_text("v 0 0 0\nv 0.01 0 nan\nv 0 0.01 0\nf 1 2 3\n")
+    pytest.importorskip("trimesh")
+    boundary(nan, r"NaN or infinite vertex coordinates \(vertex 1")
+
+
+def test_an_all_degenerate_stl_says_it_has_no_facet(tmp_path):
+    path = tmp_path / "point.stl"
+    write_stl(path, np.zeros((2, 3, 3)))
+    boundary(path, "no non-degenerate facet")
+
+
+def test_a_directory_is_not_called_missing(tmp_path):
+    (tmp_path / "x.stl").mkdir()
+    with pytest.raises(MudrftError, match="which is a directory"):
+        MeshFoot.from_file(tmp_path / "x.stl")
+
+
+def test_a_ply_without_a_property_names_it_and_the_file(tmp_path):
+    pytest.importorskip("trimesh")
+    path = tmp_path / "bad.ply"
+    path.write_text(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0\n1 0\n0 1\n3 0 1 2\n"
+    )
+    boundary(path, r"lacks the property or element 'x' \(a PLY mesh needs")

@@ -251,7 +251,7 @@ class MeshFoot(Foot):
         area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
         zero = area <= 1e-14 * diag**2
         if np.all(zero):
-            raise MudrftError("the mesh is degenerate: every facet has zero area")
+            raise MudrftError("the mesh has no non-degenerate facet: every facet has zero area")
         self.dropped = int(zero.sum())
         if self.dropped:
             warnings.warn(
@@ -332,6 +332,16 @@ class MeshFoot(Foot):
             See :class:`MeshFoot`.
         name : str, optional
             Name (default: the file name without extension).
+
+        Raises
+        ------
+        MudrftError
+            If ``path`` or ``unit`` is not a string (or path-like), the file is missing, a
+            directory, truncated or malformed (an ASCII STL without ``endsolid`` or with a
+            facet of other than 3 vertices), would need more memory than
+            :func:`~mudrft._validation.memory_limit` (an STL is checked from its size before
+            it is parsed), or its mesh fails the checks of :class:`MeshFoot`; the message
+            names the file.
         """
         if not isinstance(path, str | os.PathLike):
             raise MudrftError(
@@ -345,10 +355,14 @@ class MeshFoot(Foot):
                 f"({type(unit).__name__})"
             )
         scale = parse_unit("length", unit)
+        if not isinstance(trailing, bool | np.bool_):
+            raise MudrftError(f"trailing must be True or False, got {trailing!r}")
         p = os.fspath(path)
         ext = os.path.splitext(p)[1].lower()
         if ext not in FORMATS:
             raise MudrftError(f"path must end in one of {list(FORMATS)}, got {p!r}")
+        if os.path.isdir(p):
+            raise MudrftError(f"path must be a mesh file, got {p!r}, which is a directory")
         if not os.path.isfile(p):
             raise MudrftError(f"path must be an existing mesh file, got {p!r} (no such file)")
         if ext == ".stl":
@@ -362,10 +376,19 @@ class MeshFoot(Foot):
             )
             v, f = _index_triangles(tri)
             del tri
+            if v.shape[0] < 3:
+                raise MudrftError(
+                    f"the mesh file {p!r} has no non-degenerate facet: its {f.shape[0]} "
+                    f"facet(s) have {v.shape[0]} distinct vertex position(s) in all, so every "
+                    "facet has zero area"
+                )
         else:
             v, f = _read_with_trimesh(p, ext)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
-        return cls(v * scale, f, trailing=trailing, name=nm)
+        try:
+            return cls(v * scale, f, trailing=trailing, name=nm)
+        except MudrftError as exc:
+            raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
     def posed(self, rotation: Any) -> MeshFoot:
         """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), re-tipped.
@@ -536,7 +559,27 @@ def _read_with_trimesh(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
         v = np.asarray(mesh.vertices, dtype=np.float64)
         f = np.asarray(mesh.faces)
     except Exception as exc:  # trimesh raises many exception types on bad files
-        raise MudrftError(f"could not read the mesh file {path!r}: {exc}") from exc
+        need = _PLY_NEEDS if ext == ".ply" else ""
+        if isinstance(exc, KeyError) and exc.args:  # a property looked up by name: str(exc) is 'x'
+            raise MudrftError(
+                f"could not read the mesh file {path!r}: it lacks the property or element "
+                f"{exc.args[0]!r}{need}"
+            ) from exc
+        raise MudrftError(
+            f"could not read the mesh file {path!r}: {type(exc).__name__}: {exc}{need}"
+        ) from exc
     if v.ndim != 2 or v.shape[0] == 0 or f.ndim != 2 or f.shape[0] == 0:
         raise MudrftError(f"the mesh file {path!r} contains no triangles")
+    if not np.all(np.isfinite(v)):
+        i = int(np.argmax(~np.isfinite(v).all(axis=1)))
+        raise MudrftError(
+            f"the mesh file {path!r} has NaN or infinite vertex coordinates (vertex {i}: "
+            f"{v[i].tolist()})"
+        )
     return v, f
+
+
+_PLY_NEEDS = (
+    " (a PLY mesh needs an element 'vertex' with the properties x, y and z, and an element "
+    "'face' with the list property vertex_indices)"
+)
