@@ -115,9 +115,15 @@ def peak_support(force_z: Any) -> float:
 def energy(time: Any, force: Any, velocity: Any) -> float:
     r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
 
-    ``force`` is the force of the mud on the foot and ``velocity`` the foot velocity. For
-    a closed intrusion-retraction cycle this is the area of the force-displacement
-    hysteresis loop, >= 0 for a dissipative terrain.
+    ``force`` is the force of the mud on the foot [N] and ``velocity`` the foot velocity
+    [m/s], with mudrft's convention (decision D13b): ``velocity[k]`` is the rate over the
+    step that ends at ``time[k]``, the rate :func:`~mudrft.simulate` integrates. So
+    :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`, the
+    trapezoidal work along the path the samples describe (for a closed
+    intrusion-retraction cycle the area of the force-displacement hysteresis loop, >= 0
+    for a dissipative terrain). A trapezoid on :math:`\mathbf F\cdot\mathbf v` instead
+    gave the rate of a motion to the rest before it: 92 J for a 3.6 J slide after a 1 s
+    rest sampled at its ends.
 
     Examples
     --------
@@ -132,8 +138,9 @@ def energy(time: Any, force: Any, velocity: Any) -> float:
         raise MudrftError(
             f"force and velocity must have the same shape with {t.size} samples, got {f.shape} and {v.shape}"
         )
-    power = -(f * v).sum(axis=-1) if f.ndim == 2 else -(f * v)
-    return float(_trapz(power, t))
+    mean_force = 0.5 * (f[1:] + f[:-1])
+    work = (mean_force * v[1:]).sum(axis=-1) if f.ndim == 2 else mean_force * v[1:]
+    return float(-(work * np.diff(t)).sum())
 
 
 def sinking_depth(depth: Any, *, final: bool = False) -> float:

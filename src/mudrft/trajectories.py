@@ -119,16 +119,22 @@ class Trajectory:
 
     @classmethod
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
-        """Build a trajectory from sampled positions; velocities by finite differences [m/s]."""
+        """Build a trajectory from sampled positions [m] at ``time`` [s].
+
+        The velocity of sample k is the rate of the path over the step that ends there,
+        (p_k - p_{k-1}) / (t_k - t_{k-1}) [m/s] (sample 0 takes the first step's): the
+        rate :func:`~mudrft.simulate` integrates over that step, so the piecewise-linear
+        path through the samples is followed exactly, as :func:`~mudrft.constitutive.run`
+        does. (A central difference gave a sample at the end of a long rest the rate of
+        the motion after it, applied over the whole rest: a force of 173 N where the
+        mud had relaxed to about 0.)
+        """
         t = check_increasing("time", time)
         p = check_finite("position", position)
         if p.shape != (t.size, 3):
             raise MudrftError(f"position must have shape ({t.size}, 3), got {p.shape}")
-        v = (
-            np.gradient(p, t, axis=0)
-            if t.size > 2
-            else np.repeat(np.diff(p, axis=0) / np.diff(t)[:, None], 2, 0)
-        )
+        rate = np.diff(p, axis=0) / np.diff(t)[:, None]
+        v = np.concatenate([rate[:1], rate]) if rate.size else np.zeros_like(p)
         return cls(time=t, position=p, velocity=v, **kw)  # type: ignore[arg-type]
 
     @property
@@ -217,8 +223,12 @@ def plate_intrusion(
         speed * t,
         np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
     )
+    # each corner sample carries the rate of the step that ends there (the rate simulate
+    # integrates over it): the deepest sample is still intruding
     qd = np.where(
-        t < t_in, speed, np.where(t < t_in + hold, 0.0, np.where(t < 2 * t_in + hold, -speed, 0.0))
+        t <= t_in,
+        speed,
+        np.where(t <= t_in + hold, 0.0, np.where(t <= 2 * t_in + hold, -speed, 0.0)),
     )
     pos = np.zeros((t.size, 3))
     vel = np.zeros((t.size, 3))

@@ -49,16 +49,16 @@ from .base import TerrainOutput
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
 # α, n: Table S1, W = 25 %, vertical. The rest: fit_maxwell() on the reference plate test
-# (decision D55); re-derived by tests/baselines/test_maxwell.py.
+# (decision D55); re-derived by tests/terrains/test_maxwell.py.
 _DEFAULTS = {
     "alpha": 24e3,
     "n": 0.53,
-    "modulus": 9.245e4,
-    "relaxation": 0.2027,
+    "modulus": 9.283e4,
+    "relaxation": 0.2017,
     "sigma_y": 2.247e4,
-    "omega": 60.02,
+    "omega": 62.50,
     "damping": 1.0 / np.sqrt(2.0),
-    "release": 1.468,
+    "release": 1.471,
 }
 
 
