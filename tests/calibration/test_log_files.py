@@ -165,3 +165,12 @@ def test_a_stress_of_the_opposite_sign_warns():
         PlausibilityWarning, match="stress is mostly negative while the plate intrudes"
     ):
         Trial(t, depth, -1e4 * depth)
+
+
+def test_units_in_parentheses_are_pointed_to_the_brackets(tmp_path):
+    """'time (s)' reads as a column named 'time (s)': 'no time column' did not say why."""
+    p = write(tmp_path, "time (s),depth (m),stress (Pa)\n0,0,0\n0.1,0.002,500\n")
+    with pytest.raises(
+        MudrftError, match=r"units go in square brackets: 'time \(s\)' reads as a name"
+    ):
+        load_intrusion_csv(p)

@@ -280,8 +280,12 @@ def check_roles(
     for need in ("time", "depth"):
         if need not in columns.roles:
             unit = "s" if need == "time" else "m"
+            parens = [n for n in names if re.fullmatch(r"\s*[^()\[\]]+\(\s*[^()]+\)\s*", n)]
+            hint = f"; units go in square brackets: {parens[0]!r} reads as a name" if parens else ""
             raise fail(
-                path, where, f"no {need} column; expected e.g. '{need} [{unit}]' among {names!r}"
+                path,
+                where,
+                f"no {need} column; expected e.g. '{need} [{unit}]' among {names!r}{hint}",
             )
     has_stress = "stress" in columns.roles
     if not has_stress and "force" not in columns.roles:
