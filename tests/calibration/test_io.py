@@ -124,11 +124,14 @@ def test_writers_never_overwrite(tmp_path):
 def test_hdf5_round_trip_and_unit_attributes(tmp_path):
     h5py = pytest.importorskip("h5py")
     t = np.linspace(0, 1, 5)
-    ds = IntrusionDataset((Trial(t, 0.02 * t, 100 * t, name="x"),), notes=("synthetic: yes",))
+    trials = (Trial(t, 0.02 * t, 100 * t, name="v10mm/s"), Trial(t, 0.03 * t, 90 * t, name="b"))
+    ds = IntrusionDataset(trials, notes=("synthetic: yes",))
     p = save_intrusion_hdf5(ds, tmp_path / "d.h5")
     back = load_dataset(p)
     np.testing.assert_allclose(back[0].stress, ds[0].stress, rtol=1e-15)
     assert back.synthetic
+    # the labels as they were (the groups are '000_v10mm_s', '001_b': ordered, no '/')
+    assert [tr.name for tr in back.trials] == ["v10mm/s", "b"]
     # a bare dataset name with a unit attribute, and a force with an area attribute
     q = tmp_path / "u.h5"
     with h5py.File(q, "w") as fh:

@@ -1,6 +1,7 @@
 """Intrusion logs as HDF5 (optional extra ``h5py``): load and save.
 
-Layout: one group per trial (group name = trial label, in sorted order), or the datasets
+Layout: one group per trial (in sorted order; its label is its ``trial`` attribute if it has
+one, as :func:`save_intrusion_hdf5` writes, else the group's name), or the datasets
 directly in the root for a single trial, never both. Each dataset is a 1-D column of real
 numbers named like a CSV header (``"time [ms]"``), or by the bare name with its unit in a
 ``unit`` (or ``units``) attribute (a unit in both places must agree); names and units are
@@ -199,7 +200,8 @@ def _read_file(h5py: Any, path: str, fh: Any, direction: str) -> list[Table]:
     tables = []
     for g in groups:
         members = _members(h5py, path, root[g], f"{g}/")
-        tables.append((g, *_read_group(h5py, path, g, members, direction, root[g].attrs)))
+        name = _text(root[g].attrs.get("trial")) or g  # the writer's label, else the group's
+        tables.append((name, *_read_group(h5py, path, g, members, direction, root[g].attrs)))
     return tables
 
 
@@ -402,7 +404,8 @@ def _write_hdf5(h5py: Any, dataset: IntrusionDataset, length: float, path: Path)
         if dataset.notes:
             fh.attrs["notes"] = "\n".join(dataset.notes)
         for i, tr in enumerate(dataset.trials):
-            g = fh.create_group(f"{i:03d}_{tr.name}".replace("/", "_"))
+            g = fh.create_group(f"{i:03d}_{tr.name}".replace("/", "_"))  # in order, no '/'
+            g.attrs["trial"] = tr.name  # the label as it is, read back by the loader
             g.create_dataset("time [s]", data=tr.time)
             g.create_dataset("depth [m]", data=tr.depth)
             g.create_dataset("stress [Pa]", data=tr.stress)
