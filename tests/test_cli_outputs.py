@@ -456,3 +456,87 @@ def test_output_files_get_the_mode_of_a_new_file(tmp_path, capsys):
     assert code == code2 == 0
     assert (tmp_path / "a.csv").stat().st_mode & 0o777 == 0o644
     assert (tmp_path / "b.csv").stat().st_mode & 0o777 == 0o640
+
+
+def test_a_nested_command_leaves_the_outer_commands_outputs_alone(tmp_path):
+    """The signal context kept one process-wide list: a nested command's end discarded the
+    outer command's outputs and the outer one then failed in list.remove."""
+    from mudrft.cli._common import Outputs, signals_as_exceptions
+
+    with signals_as_exceptions(), Outputs(force=False) as outer:
+        outer.file("--out", tmp_path / "outer.txt").write_text("x")
+        with signals_as_exceptions(), Outputs(force=False) as inner:
+            inner.file("--out", tmp_path / "inner.txt").write_text("y")
+    assert listing(tmp_path) == ["inner.txt", "outer.txt"]
+
+
+def test_a_command_in_a_thread_keeps_its_outputs_when_the_main_threads_ends(tmp_path):
+    """Signal bookkeeping belongs to the main thread. A command in another thread (a
+    notebook's worker, a GUI) had its outputs discarded by the end of the main thread's
+    command, then failed in list.remove, leaving its temporary file."""
+    import threading
+
+    from mudrft.cli._common import Outputs, signals_as_exceptions
+
+    entered, main_done, errors = threading.Event(), threading.Event(), []
+
+    def worker():
+        try:
+            with Outputs(force=False) as o:
+                o.file("--out", tmp_path / "worker.txt").write_text("w")
+                entered.set()
+                main_done.wait(10)
+        except Exception as exc:  # pragma: no cover - only when the test fails
+            errors.append(exc)
+
+    thread = threading.Thread(target=worker)
+    thread.start()
+    entered.wait(10)
+    with signals_as_exceptions():  # the main thread runs a command and ends it meanwhile
+        pass
+    main_done.set()
+    thread.join(10)
+    assert errors == [] and listing(tmp_path) == ["worker.txt"]
+
+
+@pytest.mark.parametrize("where", ["same file system", "another file system"])
+def test_a_link_in_an_output_directory_to_another_directory_is_written_through(tmp_path, where):
+    """A rename cannot reach a link's target on another file system (EXDEV): the commit
+    failed halfway, one output written. Each such output is now copied beside its target
+    before any output is moved."""
+    import tempfile
+
+    from mudrft.cli._common import Outputs
+
+    if where == "same file system":
+        elsewhere = tmp_path / "elsewhere"
+        elsewhere.mkdir()
+    else:
+        shm = Path("/dev/shm")
+        if not shm.is_dir() or shm.stat().st_dev == tmp_path.stat().st_dev:
+            pytest.skip("no second file system (/dev/shm) here")
+        elsewhere = Path(tempfile.mkdtemp(dir=shm))
+    try:
+        out = tmp_path / "out"
+        out.mkdir()
+        (elsewhere / "b.txt").write_text("old b")
+        (out / "b.txt").symlink_to(elsewhere / "b.txt")
+        with Outputs(force=True) as o:
+            stage = o.directory("--dir", out, ["a.txt", "b.txt"])
+            (stage / "a.txt").write_text("a")
+            (stage / "b.txt").write_text("new b")
+        assert (out / "b.txt").is_symlink() and (elsewhere / "b.txt").read_text() == "new b"
+        assert listing(out) == ["a.txt", "b.txt"] and listing(elsewhere) == ["b.txt"]
+    finally:
+        if where != "same file system":
+            import shutil
+
+            shutil.rmtree(elsewhere, ignore_errors=True)
+
+
+def test_a_symbolic_link_loop_is_refused(tmp_path, capsys):
+    (tmp_path / "a.csv").symlink_to(tmp_path / "b.csv")
+    (tmp_path / "b.csv").symlink_to(tmp_path / "a.csv")
+    code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "a.csv")
+    one_line_error(code, err, "--out", "symbolic link that loops")
+    assert (tmp_path / "a.csv").is_symlink()

@@ -284,3 +284,19 @@ def test_a_load_too_light_for_the_time_step_warns_that_the_foot_will_chatter():
     assert (res.depth[len(res.depth) // 2 :] == 0).mean() > 0.5  # it does chatter
     # the paper's 49 N settles at 1 ms without a warning (warnings are errors in the suite)
     simulate(mudrft.feet.Flat(), mudrft.paper_mud(0.35), LoadControl(49.0, duration=0.05, dt=1e-3))
+
+
+def test_resampling_holds_each_samples_velocity_over_its_step():
+    """simulate(..., dt=) interpolated the velocity: next to a rest the mud met half the
+    slide's rate (D13b: velocity[k] holds over the step that ends at k)."""
+    from mudrft.simulation import _resample
+
+    tr = mudrft.Trajectory.from_positions(
+        [0.0, 1.0, 2.0], [[0, 0, -0.01], [0, 0, -0.01], [0.1, 0, -0.01]]
+    )
+    fine = _resample(tr, 0.01)
+    moving = fine.time > 1.0 + 1e-12
+    np.testing.assert_allclose(fine.velocity[moving, 0], 0.1)
+    np.testing.assert_allclose(fine.velocity[~moving, 0], 0.0)
+    assert mudrft.metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.zeros((2, 3))) == 0.0
+    assert str(mudrft.metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.ones((2, 3)))) == "0.0"

@@ -140,7 +140,7 @@ def energy(time: Any, force: Any, velocity: Any) -> float:
         )
     mean_force = 0.5 * (f[1:] + f[:-1])
     work = (mean_force * v[1:]).sum(axis=-1) if f.ndim == 2 else mean_force * v[1:]
-    return float(-(work * np.diff(t)).sum())
+    return float(-(work * np.diff(t)).sum()) + 0.0  # + 0.0: no work reads 0.0, not -0.0
 
 
 def sinking_depth(depth: Any, *, final: bool = False) -> float:

@@ -251,7 +251,10 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
     if t[-1] < traj.time[-1] - 1e-12:
         t = np.append(t, traj.time[-1])
     pos = np.stack([np.interp(t, traj.time, traj.position[:, i]) for i in range(3)], 1)
-    vel = np.stack([np.interp(t, traj.time, traj.velocity[:, i]) for i in range(3)], 1)
+    # a sample's velocity holds over the step that ends there (D13b): a new sample inside
+    # (t[k-1], t[k]] takes velocity[k] (interpolating it halved a step's rate next to a rest)
+    k = np.minimum(np.searchsorted(traj.time, t, side="left"), traj.time.size - 1)
+    vel = traj.velocity[k]
     return Trajectory(time=t, position=pos, velocity=vel, name=traj.name, meta=traj.meta)
 
 

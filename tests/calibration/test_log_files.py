@@ -174,3 +174,44 @@ def test_units_in_parentheses_are_pointed_to_the_brackets(tmp_path):
         MudrftError, match=r"units go in square brackets: 'time \(s\)' reads as a name"
     ):
         load_intrusion_csv(p)
+
+
+def test_logs_of_different_areas_merge_and_read_back(tmp_path):
+    """Each file's '# area' note was written again, and the merged CSV was refused on
+    reading ('area is given again'); the two default-named trials merged into one."""
+    a = write(
+        tmp_path,
+        "# area [m^2]: 0.0025\n# synthetic: yes\ntime [s],depth [m],Fz [N]\n0,0,0\n0.1,0.002,10\n",
+        "a.csv",
+    )
+    b = write(
+        tmp_path, "# area [m^2]: 0.004\ntime [s],depth [m],Fz [N]\n0,0,0\n0.1,0.002,10\n", "b.csv"
+    )
+    merged = load_dataset([a, b])
+    assert [t.name for t in merged.trials] == ["trial", "trial (2)"]
+    back = quiet_load(save_intrusion_csv(merged, tmp_path / "m.csv"))
+    for x, y in zip(merged.trials, back.trials, strict=True):
+        np.testing.assert_array_equal(x.stress, y.stress)
+    assert back.synthetic
+
+
+def test_trials_of_one_name_are_refused_by_the_csv_writer(tmp_path):
+    tr = Trial([0.0, 0.1], [0.0, 1e-3], [0.0, 1.0])
+    with pytest.raises(MudrftError, match=r"several trials are named \['trial'\]"):
+        save_intrusion_csv(IntrusionDataset((tr, tr)), tmp_path / "x.csv")
+
+
+def test_a_note_line_that_looks_like_metadata_is_not_read_as_it(tmp_path):
+    tr = Trial([0.0, 0.1, 0.2], [0.0, 2e-3, 0.0], [0.0, 500.0, -50.0])
+    notes = ("run 3\ncharacteristic_length: 0.1", "run 4\narea: 5", "direction: vertical\nkept")
+    back = quiet_load(save_intrusion_csv(IntrusionDataset((tr,), notes=notes), tmp_path / "n.csv"))
+    assert back.notes[:3] == ("run 3", "run 4", "kept") and "area" not in back.meta
+
+
+def test_the_synthetic_flag_survives_an_hdf5_round_trip(tmp_path):
+    pytest.importorskip("h5py")
+    from mudrft.io import save_intrusion_hdf5
+
+    p = write(tmp_path, f"# source: rig B\n# synthetic: yes\n{HEADER}{ROWS}")
+    back = load_dataset(save_intrusion_hdf5(quiet_load(p), tmp_path / "x.h5"))
+    assert back.synthetic

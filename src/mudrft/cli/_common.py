@@ -186,7 +186,7 @@ def same_file(a: str | Path, b: str | Path) -> bool:
     """Whether two paths name the same file (after resolving links and ``..``)."""
     try:
         return Path(a).resolve() == Path(b).resolve()
-    except OSError:  # pragma: no cover - unresolvable paths are different
+    except (OSError, RuntimeError):  # unresolvable (3.11 raises RuntimeError on a link loop)
         return False
 
 
@@ -216,8 +216,12 @@ class _Signals:
     #: While above zero, a signal waits (:func:`_signals_held`); the one that waits.
     held = 0
     pending: type[BaseException] | None = None
-    #: The outputs of the running command not yet moved or removed.
-    live: ClassVar[list[Outputs]] = []
+    #: Per running command (innermost last), its outputs not yet moved or removed.
+    commands: ClassVar[list[list[Outputs]]] = []
+
+
+def _main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
 
 
 def _deliver(exc_type: type[BaseException]) -> None:
@@ -237,7 +241,7 @@ def signals_as_exceptions() -> Iterator[None]:
     one whose ``with`` block the signal cut short before its cleanup began): a failed run
     leaves nothing behind. A signal the caller ignores stays ignored. Only in the main
     thread, where Python delivers signals."""
-    if threading.current_thread() is not threading.main_thread():
+    if not _main_thread():
         yield
         return
 
@@ -247,6 +251,8 @@ def signals_as_exceptions() -> Iterator[None]:
     def interrupt(signum: int, frame: object) -> None:
         _deliver(KeyboardInterrupt)
 
+    mine: list[Outputs] = []
+    _Signals.commands.append(mine)
     previous: dict[int, Any] = {}
     for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
         # a background job starts with SIGINT ignored: kept so, as Python itself does
@@ -257,9 +263,9 @@ def signals_as_exceptions() -> Iterator[None]:
     finally:
         _Signals.held += 1  # a signal now waits; the command is over, so it is dropped
         try:
-            for outputs in _Signals.live:
+            for outputs in mine:  # this command's, not an outer one's
                 outputs.discard()
-            _Signals.live.clear()
+            _Signals.commands = [c for c in _Signals.commands if c is not mine]
             for restored, before in previous.items():
                 signal.signal(restored, before)
         finally:
@@ -275,6 +281,9 @@ def _signals_held() -> Iterator[None]:
     machine). A held signal is raised as the block ends. (A thread's signal mask cannot do
     this: the kernel hands a process's signal to any thread that does not block it, and
     Python then runs the handler in the main thread at once.)"""
+    if not _main_thread():  # Python runs signal handlers in the main thread only
+        yield
+        return
     _Signals.held += 1
     try:
         yield
@@ -315,6 +324,7 @@ class Outputs:
         self._stages: list[tuple[Path, Path, str]] = []  # (staging dir, final dir, option)
         self._made: list[Path] = []  # directories this command created, outermost first
         self._filter = _RenameFilter({})
+        self._registry: list[Outputs] | None = None  # the running command's, once entered
         #: The final paths, once :meth:`commit` has moved the outputs there.
         self.written: list[Path] = []
 
@@ -427,6 +437,7 @@ class Outputs:
             ]
         for _, final, option in moves:  # also an output that was not announced
             self._check_free(option, final)
+        moves = self._beside_targets(moves)
         for tmp, final, option in moves:
             try:
                 os.replace(tmp, final)
@@ -439,6 +450,33 @@ class Outputs:
             shutil.rmtree(stage, ignore_errors=True)
         self._files, self._stages, self._made = [], [], []
         return self.written
+
+    def _beside_targets(self, moves: list[tuple[Path, Path, str]]) -> list[tuple[Path, Path, str]]:
+        """Each staged file copied next to its target where that is elsewhere (a symbolic
+        link in an output directory names a file in another directory, maybe on another
+        file system, where a rename cannot reach): every copy is made before any output
+        is moved, so a copy that fails leaves the outputs as they were."""
+        out = []
+        for tmp, final, option in moves:
+            try:
+                same = os.path.samefile(tmp.parent, final.parent)
+            except OSError:  # a link into a directory that is not there: _mkstemp names it
+                same = False
+            if same:
+                out.append((tmp, final, option))
+                continue
+            fd, name = self._mkstemp(option, final)
+            os.close(fd)
+            near = Path(name)
+            self._files.append((near, final, option))  # removed by discard() if what follows fails
+            try:
+                shutil.copyfile(tmp, near)
+            except OSError as exc:
+                raise MudrftError(
+                    f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
+                ) from exc
+            out.append((near, final, option))
+        return out
 
     def discard(self) -> None:
         """Remove the temporary files and the directories this command created."""
@@ -467,7 +505,9 @@ class Outputs:
     def __enter__(self) -> Outputs:
         self._logs = self._renaming_logs()
         self._logs.__enter__()
-        _Signals.live.append(self)
+        self._registry = _Signals.commands[-1] if _Signals.commands and _main_thread() else None
+        if self._registry is not None:
+            self._registry.append(self)
         return self
 
     def __exit__(
@@ -488,6 +528,7 @@ class Outputs:
                     else:
                         self.discard()
                 finally:
-                    _Signals.live.remove(self)
+                    if self._registry is not None and self in self._registry:
+                        self._registry.remove(self)
         finally:
             self._logs.__exit__(None, None, None)

@@ -47,6 +47,11 @@ def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
     p = Path(os.fspath(path))
     if p.is_symlink():
         p = Path(os.path.realpath(p))
+        if p.is_symlink():  # realpath stops where links loop
+            raise MudrftError(
+                f"{option} {str(path)!r} is a symbolic link that loops (through {str(p)!r}); "
+                "name a file"
+            )
     if p.exists() and not (p.is_file() or p.is_dir()):
         raise MudrftError(
             f"{option} {str(path)!r} is not a regular file (a pipe, a device or a socket); "

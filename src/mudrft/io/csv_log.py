@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -166,7 +167,7 @@ class _Table:
 
 def _parse(where: str, text: str) -> _Table:
     table = _Table(where)
-    for lineno, line in enumerate(text.splitlines(), start=1):  # \n, \r\n and \r alone
+    for lineno, line in enumerate(re.split(r"\r\n|\r|\n", text), start=1):  # \r alone too
         if not line.strip():
             continue
         if line.lstrip().startswith("#"):

@@ -10,8 +10,9 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -213,7 +214,8 @@ class IntrusionDataset:
         no (``no``, ``false``, ``0``, ``none``, empty, ``not ...``). A note that merely
         mentions the word does not count."""
         said = [self.meta["synthetic"]] if "synthetic" in self.meta else []
-        said += [n.partition(":")[2] for n in self.notes if n.lower().startswith("synthetic:")]
+        lines = [line.strip() for note in self.notes for line in note.splitlines()]
+        said += [x.partition(":")[2] for x in lines if x.lower().startswith("synthetic:")]
         return any(_says_yes(v) for v in said)
 
     @property
@@ -234,6 +236,11 @@ class IntrusionDataset:
                     f"{self.direction} one{named[1]}"
                 )
             trials.extend(o.trials)
+        seen: dict[str, int] = {}
+        for i, tr in enumerate(trials):  # two files' trials of one name stay apart
+            seen[tr.name] = seen.get(tr.name, 0) + 1
+            if seen[tr.name] > 1:
+                trials[i] = replace(tr, name=f"{tr.name} ({seen[tr.name]})")
         notes = tuple(dict.fromkeys(self.notes + tuple(n for o in others for n in o.notes)))
         src = "; ".join(s for s in [self.source, *(o.source for o in others)] if s)
         return IntrusionDataset(
@@ -291,6 +298,13 @@ def csv_text(dataset: IntrusionDataset) -> str:
     MudrftError
         If the trials have different characteristic lengths (a file holds one).
     """
+    names = [tr.name for tr in dataset.trials]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:  # their rows would read back as one trial
+        raise MudrftError(
+            f"a CSV file tells trials apart by name; several trials are named {twice}: "
+            "rename them (IntrusionDataset.merge does)"
+        )
     lengths = {tr.characteristic_length for tr in dataset.trials}
     if len(lengths) != 1:
         raise MudrftError(
@@ -299,8 +313,10 @@ def csv_text(dataset: IntrusionDataset) -> str:
         )
     buf = io.StringIO()
     for note in dataset.notes:
-        if not note.lower().startswith(("direction:", "characteristic_length")):
-            for line in note.splitlines() or [""]:  # a note of several lines: one comment each
+        for line in note.splitlines() or [""]:  # a note of several lines: one comment each
+            # the plate and direction are written once below; a file's own lines (several,
+            # after a merge of logs with different areas) would read as conflicting metadata
+            if not re.match(r"\s*(direction|characteristic_length|area)\b", line, re.I):
                 buf.write(f"# {line}\n")
     buf.write(f"# direction: {dataset.direction}\n")
     buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
