@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mudrft._validation import MudrftError
+from mudrft._validation import MudrftError, PlausibilityWarning
 from mudrft.io import (
     IntrusionDataset,
     Trial,
@@ -256,13 +257,22 @@ def _check_file(content: bytes) -> None:
         p = Path(d) / "fuzz.csv"
         p.write_bytes(content)
         before = _fingerprint(p)
-        try:
-            ds = load_intrusion_csv(p, area=0.01)
-        except MudrftError as exc:
-            assert str(exc).startswith(str(p)), str(exc)
-        else:
-            # anything accepted is a valid dataset in SI
-            assert all(np.all(np.isfinite(t.stress)) and np.all(np.diff(t.time) > 0) for t in ds)
+        # a corrupted number can make a valid but suspicious log (a 1 m depth, a stress of
+        # the wrong sign): a PlausibilityWarning is an answer, not a traceback
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            try:
+                ds = load_intrusion_csv(p, area=0.01)
+            except MudrftError as exc:
+                assert str(exc).startswith(str(p)), str(exc)
+            else:
+                # anything accepted is a valid dataset in SI
+                assert all(
+                    np.all(np.isfinite(t.stress)) and np.all(np.diff(t.time) > 0) for t in ds
+                )
+        assert all(issubclass(w.category, PlausibilityWarning) for w in said), [
+            str(w.message) for w in said
+        ]
         assert _fingerprint(p) == before
 
 
