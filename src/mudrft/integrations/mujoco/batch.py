@@ -107,9 +107,8 @@ class MudBatch:
         backend: str = "numpy",
     ) -> None:
         mj = _mujoco()
-        if not isinstance(model, mj.MjModel):
-            raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         opts = check_attach_options(
+            model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
             resolution=resolution,

@@ -45,6 +45,7 @@ def check_count(name: str, value: Any) -> int:
 
 
 def check_attach_options(
+    model: Any,
     bodies: Any,
     feet: Any,
     *,
@@ -56,7 +57,12 @@ def check_attach_options(
     mobility: Any,
     resolution: Any,
 ) -> AttachOptions:
-    """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`)."""
+    """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
+    the model (a ``mujoco.MjModel``) first."""
+    from ._lazy import _mujoco
+
+    if not isinstance(model, _mujoco().MjModel):
+        raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
     names = [bodies] if isinstance(bodies, str) else bodies
     if not isinstance(names, Sequence) or not all(isinstance(b, str) for b in names):
         raise MudrftError(f"bodies must be a body name or a list of names, got {bodies!r}")
