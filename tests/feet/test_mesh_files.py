@@ -13,6 +13,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mudrft._validation import MudrftError
 from mudrft.feet import Flat, MeshFoot, MeshWarning
@@ -149,6 +151,100 @@ def test_a_binary_stl_is_refused_from_its_header_count_before_it_is_read(tmp_pat
     boundary(path, r"reading the STL file .* \(12 facets\) would need")
 
 
+def _box_mesh(quads: bool) -> tuple[np.ndarray, list[list[int]]]:
+    """The paper's flat foot as vertices and faces: 12 triangles, or 6 quads."""
+    v = np.array([[x, y, z] for z in (0, 0.026) for y in (0, 0.08) for x in (0, 0.065)])
+    quad = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+    if quads:
+        return v, quad
+    return v, [t for q in quad for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])]
+
+
+def _write_ply(path, v, faces, *, binary: bool, index: str = "int") -> None:
+    import struct
+
+    head = [
+        "ply", f"format {'binary_little_endian' if binary else 'ascii'} 1.0", "comment box",
+        f"element vertex {len(v)}", "property float x", "property float y", "property float z",
+        f"element face {len(faces)}", f"property list uchar {index} vertex_indices", "end_header",
+    ]  # fmt: skip
+    code = {"int": "i", "ushort": "H"}[index]
+    with open(path, "wb") as fh:
+        fh.write(("\n".join(head) + "\n").encode())
+        for p in v:
+            fh.write(struct.pack("<3f", *p) if binary else f"{p[0]} {p[1]} {p[2]}\n".encode())
+        for f in faces:
+            row = (len(f), *f)
+            fh.write(
+                struct.pack(f"<B{len(f)}{code}", *row)
+                if binary
+                else (" ".join(map(str, row)) + "\n").encode()
+            )
+
+
+@pytest.mark.parametrize("fmt", ["obj", "ply-ascii", "ply-binary", "ply-binary-ushort"])
+@pytest.mark.parametrize("quads", [False, True])
+def test_obj_and_ply_triangles_are_counted_without_parsing(tmp_path, fmt, quads):
+    """12 triangles either way (a quad is two), counted exactly from the lines or header."""
+    from mudrft.feet.meshbound import triangle_bound
+
+    v, faces = _box_mesh(quads)
+    path = tmp_path / f"box.{fmt[:3]}"
+    if fmt == "obj":
+        rows = [f"v {x} {y} {z}" for x, y, z in v] + [
+            "f " + " ".join(str(i + 1) for i in f) for f in faces
+        ]
+        path.write_text("# box\n" + "\n".join(rows) + "\n")
+    else:
+        _write_ply(
+            path, v, faces, binary=fmt != "ply-ascii", index="ushort" if "ushort" in fmt else "int"
+        )
+    assert triangle_bound(str(path), path.suffix) == 12
+    trimesh = pytest.importorskip("trimesh")
+    loaded = trimesh.load(str(path), force="mesh", process=False)
+    assert len(loaded.faces) == 12
+    foot = MeshFoot.from_file(path)
+    assert foot.faces.shape == (12, 3)
+
+
+def test_a_file_the_counter_cannot_read_gets_the_bound_of_its_size(tmp_path):
+    from mudrft.feet.meshbound import triangle_bound
+
+    path = tmp_path / "junk.ply"
+    path.write_bytes(b"ply\nformat ascii 1.0\nproperty float x\nend_header\n" + b"1 2 3\n" * 100)
+    assert triangle_bound(str(path), ".ply") == path.stat().st_size // 2 + 1
+
+
+@pytest.mark.parametrize("fmt", ["obj", "ply"])
+def test_an_obj_or_ply_over_the_memory_limit_is_refused_before_it_is_parsed(
+    tmp_path, monkeypatch, fmt
+):
+    import sys
+    import types
+
+    v, faces = _box_mesh(False)
+    path = tmp_path / f"box.{fmt}"
+    if fmt == "obj":
+        rows = [f"v {x} {y} {z}" for x, y, z in v] + [
+            "f " + " ".join(str(i + 1) for i in f) for f in faces
+        ]
+        path.write_text("\n".join(rows) + "\n")
+    else:
+        _write_ply(path, v, faces, binary=True)
+
+    def never(*args, **kwargs):
+        raise AssertionError("trimesh was asked to parse a file over the memory limit")
+
+    monkeypatch.setitem(sys.modules, "trimesh", types.SimpleNamespace(load=never))
+    size = path.stat().st_size
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", str(size * 16 - 1))  # the parse alone is too much
+    boundary(path, rf"reading the mesh file .*box.{fmt}' would need")
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", str(size * 16 + 12 * 640 - 1))  # with the foot
+    boundary(path, rf"reading the mesh file .*box.{fmt}' \(up to 12 triangles\) would need")
+    monkeypatch.setenv("MUDRFT_MEMORY_LIMIT", str(size * 16 + 12 * 640))  # fits: trimesh parses
+    boundary(path, "AssertionError: trimesh was asked to parse")  # the fake's error, wrapped
+
+
 # -- 5. messages that name the file and the fault --------------------------------------------
 def test_mesh_errors_from_a_file_name_the_file(tmp_path):
     tri = Flat().to_mesh(resolution=1).triangles.copy()
@@ -186,3 +282,25 @@ def test_a_ply_without_a_property_names_it_and_the_file(tmp_path):
         "0 0\n1 0\n0 1\n3 0 1 2\n"
     )
     boundary(path, r"lacks the property or element 'x' \(a PLY mesh needs")
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    sizes=st.lists(st.integers(3, 7), min_size=1, max_size=12),
+    fmt=st.sampled_from(["obj", "ply-ascii", "ply-binary"]),
+)
+def test_the_triangle_count_of_polygons_is_their_fan(tmp_path_factory, sizes, fmt):
+    """A face of k vertices is k - 2 triangles: exact for OBJ and ASCII PLY, and for binary
+    PLY (whose bound reads the face bytes) never below it."""
+    from mudrft.feet.meshbound import triangle_bound
+
+    v = np.random.default_rng(len(sizes)).uniform(0, 0.05, (8, 3))
+    faces = [[(i + j) % 8 for j in range(k)] for i, k in enumerate(sizes)]
+    path = tmp_path_factory.mktemp("poly") / f"p.{fmt[:3]}"
+    if fmt == "obj":
+        rows = [f"v {x} {y} {z}" for x, y, z in v]
+        rows += ["f " + " ".join(str(i + 1) for i in f) for f in faces]
+        path.write_text("\n".join(rows) + "\n")
+    else:
+        _write_ply(path, v, faces, binary=fmt == "ply-binary")
+    assert triangle_bound(str(path), path.suffix) == sum(k - 2 for k in sizes)

@@ -339,8 +339,9 @@ class MeshFoot(Foot):
             If ``path`` or ``unit`` is not a string (or path-like), the file is missing, a
             directory, truncated or malformed (an ASCII STL without ``endsolid`` or with a
             facet of other than 3 vertices), would need more memory than
-            :func:`~mudrft._validation.memory_limit` (an STL is checked from its size before
-            it is parsed), or its mesh fails the checks of :class:`MeshFoot`; the message
+            :func:`~mudrft._validation.memory_limit` (checked before the file is parsed: an
+            STL from its size, an OBJ or PLY from its triangles counted line by line or from
+            its header, :mod:`mudrft.feet.meshbound`), or its mesh fails the checks of :class:`MeshFoot`; the message
             names the file.
         """
         if not isinstance(path, str | os.PathLike):
@@ -383,6 +384,15 @@ class MeshFoot(Foot):
                     "facet has zero area"
                 )
         else:
+            from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
+
+            what = f"reading the mesh file {p!r}"
+            check_memory(what, os.path.getsize(p) * BYTES_PER_FILE_BYTE, hint=_SIMPLIFY)
+            try:  # the triangles counted without parsing, before trimesh parses the file
+                nbytes, count = reading_memory(p, ext, FILE_BYTES_PER_FACET)
+            except OSError as exc:
+                raise MudrftError(f"could not read the mesh file {p!r}: {exc}") from exc
+            check_memory(f"{what} (up to {count} triangles)", nbytes, hint=_SIMPLIFY)
             v, f = _read_with_trimesh(p, ext)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
         try:
