@@ -65,11 +65,10 @@ def _clip(x: float, lo: float, hi: float) -> float:
 
 
 def _exp(x: float) -> float:
-    # numpy semantics: overflow gives inf instead of raising
-    try:
-        return math.exp(x)
-    except OverflowError:
-        return math.inf
+    # numpy semantics: overflow gives inf instead of raising (math.exp overflows exactly
+    # above log(DBL_MAX) = 709.782712893384; NaN compares false and stays NaN). One
+    # expression, so that the float specialization inlines it (mudrft._specialize).
+    return math.inf if x > 709.782712893384 else math.exp(x)
 
 
 #: The element-wise helpers written here (the rest are the ``math`` module's); the numba

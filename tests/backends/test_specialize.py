@@ -9,6 +9,7 @@ with ``==``, not a tolerance. The toy functions show what may and may not be inl
 from __future__ import annotations
 
 import ast
+from typing import NamedTuple
 
 import numpy as np
 import pytest
@@ -170,3 +171,62 @@ def test_without_source_the_float_path_runs_the_generic_code(monkeypatch):
 def test_a_statement_with_an_assignment_expression_keeps_its_calls_in_place(toys):
     assert on_floats(_walrus)(1.0) == _walrus(1.0, xp=pyfloat) == 2.0 + 1.0
     assert on_floats(_walrus_i)(1.0) == _walrus_i(1.0, xp=pyfloat) == 2.0 + 1.0
+
+
+# -- named tuples on floats ---------------------------------------------------------------
+class _Pair(NamedTuple):
+    a: float
+    b: float
+
+
+class _Checked(_Pair):
+    """A named tuple whose own __new__ checks its input (must not be bypassed)."""
+
+    def __new__(cls, a: float, b: float) -> _Checked:
+        if a < 0:
+            raise ValueError("a must be >= 0")
+        return super().__new__(cls, a, b)
+
+
+def _pair(x, *, xp=np):
+    return _Pair(b=2.0 * x, a=x)
+
+
+def _pair_positional(x, *, xp=np):
+    return _Pair(x, 2.0 * x)
+
+
+def _checked(x, *, xp=np):
+    return _Checked(x, 2.0 * x)
+
+
+@pytest.fixture
+def tuple_toys(monkeypatch):
+    for f in (_pair, _pair_positional, _checked):
+        monkeypatch.setattr(f, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    yield
+    on_floats.cache_clear()
+
+
+def test_named_tuples_are_made_without_their_python_new_unless_it_is_their_own(tuple_toys):
+    for fn in (_pair, _pair_positional):
+        fdef, _env = on_floats(fn).__specialized__
+        made = [n.func.id for n in ast.walk(fdef) if isinstance(n, ast.Call)]
+        assert made == ["_xp_tuple_new"], ast.unparse(fdef)
+        out = on_floats(fn)(3.0)
+        assert type(out) is _Pair and out == fn(3.0, xp=pyfloat) == (3.0, 6.0)
+        assert out.b == 6.0
+    # a subclass with its own __new__ keeps it: its check still runs
+    fdef, _env = on_floats(_checked).__specialized__
+    assert "_xp_tuple_new" not in ast.unparse(fdef)
+    with pytest.raises(ValueError, match="a must be >= 0"):
+        on_floats(_checked)(-1.0)
+
+
+def test_the_float_exp_overflows_to_inf_as_numpy_does():
+    edge = 709.782712893384  # log of the largest double: the last argument math.exp takes
+    with np.errstate(over="ignore"):
+        for x in (edge, np.nextafter(edge, np.inf), 1e308, np.inf, -np.inf, -800.0, 0.0):
+            assert pyfloat.exp(float(x)) == float(np.exp(x)), x
+    assert np.isnan(pyfloat.exp(float("nan")))
