@@ -215,3 +215,52 @@ def test_the_synthetic_flag_survives_an_hdf5_round_trip(tmp_path):
     p = write(tmp_path, f"# source: rig B\n# synthetic: yes\n{HEADER}{ROWS}")
     back = load_dataset(save_intrusion_hdf5(quiet_load(p), tmp_path / "x.h5"))
     assert back.synthetic
+
+
+# -- times in the wrong unit (D105) ------------------------------------------------------------
+def _ramp_log(rate_hz: float, speed: float, *, time_scale: float = 1.0, unit: str = "s") -> str:
+    """A hold, an intrusion to 20 mm at ``speed`` [m/s], a hold: sampled at ``rate_hz``, its
+    times multiplied by ``time_scale`` and labelled ``unit``; a little depth noise."""
+    t = np.arange(0.0, 0.02 / speed + 0.2, 1.0 / rate_hz)
+    depth = np.clip(speed * (t - 0.1), 0.0, 0.02)
+    depth = depth + 1e-5 * np.random.default_rng(0).standard_normal(t.size) * (depth > 0)
+    stress = 2e4 * np.sqrt(np.clip(depth, 0.0, None) / 0.02)
+    columns = np.column_stack([t * time_scale, depth, stress]).tolist()
+    rows = "".join(f"{a!r},{d!r},{s!r}\n" for a, d, s in columns)
+    return f"time [{unit}],depth [m],stress [Pa]\n" + rows
+
+
+def test_the_intrusion_speed_ignores_holds_and_noise():
+    from mudrft.io._build import intrusion_speed
+
+    t = np.linspace(0.0, 1.0, 1001)
+    depth = np.clip(0.05 * (t - 0.3), 0.0, 0.02)  # 0.05 m/s from 0.3 s, held from 0.7 s
+    noisy = depth + 2e-5 * np.random.default_rng(1).standard_normal(t.size)
+    assert intrusion_speed(t, depth) == pytest.approx(0.05, rel=0.01)
+    assert intrusion_speed(t, noisy) == pytest.approx(0.05, rel=0.05)
+    assert np.isnan(intrusion_speed(t, -depth))  # never deeper than its start
+
+
+@pytest.mark.parametrize("rate_hz", [1_000.0, 20_000.0])
+def test_times_logged_in_ms_and_labelled_s_warn(tmp_path, rate_hz):
+    """The paper's 0.13 m/s logged in ms and read as s ran at 0.13 mm/s: a fit of a test a
+    thousand times slower, with no word."""
+    p = write(tmp_path, _ramp_log(rate_hz, 0.13, time_scale=1e3))
+    with pytest.warns(
+        PlausibilityWarning, match=r"runs at 0.00013 m/s, less than 0.001.*'time \[ms\]'"
+    ):
+        load_intrusion_csv(p)
+    stated = write(tmp_path, _ramp_log(rate_hz, 0.13, time_scale=1e3, unit="ms"), "ms.csv")
+    assert quiet_load(stated).trials[0].time[-1] == pytest.approx(0.02 / 0.13 + 0.2, abs=1e-3)
+
+
+def test_times_in_s_labelled_ms_warn(tmp_path):
+    p = write(tmp_path, _ramp_log(1_000.0, 0.13, unit="ms"))
+    with pytest.warns(PlausibilityWarning, match=r"runs at 130 m/s, more than 20 m/s"):
+        load_intrusion_csv(p)
+
+
+@pytest.mark.parametrize(("rate_hz", "speed"), [(1_000.0, 5e-4), (10.0, 0.05), (200.0, 2.0)])
+def test_plausible_slow_or_fast_tests_read_quietly(tmp_path, rate_hz, speed):
+    """A slow test sampled fast, a test sampled slowly but fast enough, a fast foot."""
+    quiet_load(write(tmp_path, _ramp_log(rate_hz, speed)))

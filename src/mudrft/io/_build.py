@@ -8,6 +8,7 @@ arguments with the file's metadata; :func:`build_trials` splits the samples into
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -25,11 +26,16 @@ __all__ = [
     "PLAUSIBLE_AREA",
     "PLAUSIBLE_DEPTH",
     "PLAUSIBLE_PEAK_STRESS",
+    "PLAUSIBLE_SPEED",
     "build_trials",
     "check_plausible",
     "resolve_direction",
     "resolve_plate",
 ]
+
+#: One trial for :func:`check_plausible`: column labels by role, depth [m], stress [Pa],
+#: time [s].
+LogColumns = tuple[dict[str, str], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
@@ -39,6 +45,11 @@ PLAUSIBLE_DEPTH = (1e-3, 1.0)
 PLAUSIBLE_PEAK_STRESS = (10.0, 1e7)
 #: Area of a plausible plate or foot [m^2]: 1 mm^2 to 1 m^2 (decision D105).
 PLAUSIBLE_AREA = (1e-6, 1.0)
+#: Intrusion speed of a plausible test [m/s] (decision D105): 1 mm/s to 20 m/s. Above it a
+#: log warns; below it, a log sampled at most every :data:`SLOW_SAMPLING` [s] (100 Hz) warns:
+#: the paper's 0.13 m/s logged at 1-100 kHz in ms and read as s is 0.13 mm/s at 1-100 Hz.
+PLAUSIBLE_SPEED = (1e-3, 20.0)
+SLOW_SAMPLING = 0.01
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -219,26 +230,30 @@ def _unit_hint(label: str, units: str) -> str:
 
 def check_plausible(
     path: str,
-    columns: Sequence[tuple[dict[str, str], NDArray[np.float64], NDArray[np.float64]]],
+    columns: Sequence[LogColumns],
     *,
     area: float | None,
 ) -> None:
-    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) if a log's depths or stresses
-    look like a unit mistake: a deepest depth outside :data:`PLAUSIBLE_DEPTH` or a peak
-    stress outside :data:`PLAUSIBLE_PEAK_STRESS` (decision D105).
+    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) if a log's depths, stresses or
+    times look like a unit mistake: a deepest depth outside :data:`PLAUSIBLE_DEPTH`, a peak
+    stress outside :data:`PLAUSIBLE_PEAK_STRESS`, an intrusion speed above
+    :data:`PLAUSIBLE_SPEED` or below it in a log sampled slower than :data:`SLOW_SAMPLING`
+    (decision D105).
 
     Parameters
     ----------
     path : str
         The file, for the message.
-    columns : sequence of (labels, depth, stress)
-        Per table (trial group): the column labels by role (``"depth"``, ``"stress"`` or
-        ``"force"``), the depths [m] and the stresses [Pa] (force / area for a force).
+    columns : sequence of (labels, depth, stress, time)
+        Per trial: the column labels by role (``"time"``, ``"depth"``, ``"stress"`` or
+        ``"force"``), the depths [m], the stresses [Pa] (force / area for a force) and the
+        times [s].
     area : float or None, keyword-only
         Plate area [m^2] when the stresses come from a force column.
     """
     if not columns:
         return
+    _check_speed(path, columns)
     deep = max(columns, key=lambda c: float(np.max(np.abs(c[1]), initial=0.0)))
     depth = float(np.max(np.abs(deep[1]), initial=0.0))
     if depth > 0:
@@ -267,3 +282,42 @@ def check_plausible(
             "attribute) and the plate area (area=..., CLI: --area, in m^2)"
         )
     warn_implausible(what, peak, PLAUSIBLE_PEAK_STRESS, unit="Pa", hint=hint)
+
+
+def intrusion_speed(time: NDArray[np.float64], depth: NDArray[np.float64]) -> float:
+    """Mean speed of a trial's first intrusion from 10 % to 90 % of its deepest depth [m/s].
+
+    Holds before and after, and noise, hardly change it (unlike the largest
+    sample-to-sample rate). NaN for a trial that never goes deeper than its start.
+    """
+    deepest = float(np.max(depth, initial=0.0))
+    if not deepest > 0:
+        return math.nan
+    i90 = int(np.argmax(depth >= 0.9 * deepest))
+    below = np.flatnonzero(depth[: i90 + 1] <= 0.1 * deepest)
+    i10 = int(below[-1]) if below.size else 0
+    if i10 >= i90:
+        return math.nan
+    return float((depth[i90] - depth[i10]) / (time[i90] - time[i10]))
+
+
+def _check_speed(path: str, columns: Sequence[LogColumns]) -> None:
+    speeds = [(intrusion_speed(c[3], c[1]), c) for c in columns]
+    speeds = [(v, c) for v, c in speeds if math.isfinite(v)]
+    if not speeds:
+        return
+    fast, (names, _, _, time) = max(speeds, key=lambda vc: vc[0])
+    label = names.get("time", "time")
+    what = f"{path}: the intrusion (10 % to 90 % of the deepest depth) runs at"
+    if fast > PLAUSIBLE_SPEED[1]:
+        hint = _unit_hint(label, "ms or us") + "; or check the depth unit"
+        warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
+        return
+    step = float(np.median(np.diff(time)))
+    if step >= SLOW_SAMPLING:
+        hint = (
+            f"samples {plain(step)} s apart; "
+            + _unit_hint(label, "ms")
+            + " (mudrft reads time in s; a test this slow in s needs nothing)"
+        )
+        warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)

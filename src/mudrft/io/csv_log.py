@@ -287,7 +287,7 @@ def load_intrusion_csv(
 
     trials = build_trials(where, values, labels, sample, L=L, A=A)
     names = {role: col.label for role, col in columns.roles.items()}
-    check_plausible(where, [(names, t.depth, t.stress) for t in trials], area=A)
+    check_plausible(where, [(names, t.depth, t.stress, t.time) for t in trials], area=A)
     meta = {**table.meta, "characteristic_length_source": lsrc, "ignored_columns": columns.ignored}
     if A is not None:
         meta["area"] = A

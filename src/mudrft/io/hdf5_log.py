@@ -388,7 +388,7 @@ def load_intrusion_hdf5(
         n = cols["time"].size
         group = build_trials(where, cols, [gname] * n, sample, L=L, A=A)
         trials.extend(group)
-        found += [(names, t.depth, t.stress) for t in group]
+        found += [(names, t.depth, t.stress, t.time) for t in group]
     check_plausible(where, found, area=A)
     meta: dict[str, Any] = {"characteristic_length_source": lsrc}
     if A is not None:
