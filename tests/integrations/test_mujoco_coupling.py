@@ -8,6 +8,7 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
+from mudrft._validation import PlausibilityWarning
 from mudrft.integrations.mujoco import MudBatch, attach, attach_batch, body_foot, stability_limits
 from mudrft.simulation import LoadControl, simulate, static_sinking
 
@@ -19,6 +20,7 @@ MUD = mudrft.paper_mud(0.25)
 # ---------------------------------------------------------------------------------------
 # Forces: the coupling writes exactly what MudTerrain gives for the same motion
 # ---------------------------------------------------------------------------------------
+@pytest.mark.filterwarnings("ignore:implicit=False couples")  # driven kinematically
 @pytest.mark.parametrize("yaw", [0.0, 0.7, -2.5])
 def test_forces_equal_mudterrain_along_gait(yaw):
     """Kinematic foot driven along mudrft.gait: xfrc_applied equals MudTerrain.step (D61, D65).
@@ -137,6 +139,7 @@ def test_torque_is_moment_about_center_of_mass():
     np.testing.assert_allclose(qacc_xfrc, data.qacc, rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.filterwarnings("ignore:implicit=False couples")  # driven kinematically
 def test_yawing_foot_in_mud_feels_no_spurious_drag():
     """Odometry in the foot frame (D65): a sphere spinning about the vertical axis through its
     tip, far from the world origin, has no horizontal displacement, so no horizontal force."""
@@ -214,7 +217,10 @@ def test_explicit_limit_is_the_viscous_limit():
     lim = stability_limits(foot, MUD, mass=0.3, depth=1e-3)
     assert lim["dt_viscous"] < lim["dt_elastic"]  # the damper, not the spring, sets the limit
     assert _drop_energy_rise(0.8 * lim["dt_viscous"], implicit=False) <= 1e-9  # round-off
-    assert _drop_energy_rise(1.3 * lim["dt_viscous"], implicit=False) > 0.01  # grows to joules
+    with pytest.warns(
+        PlausibilityWarning, match=r"implicit=False .* stable only for dt < 0.000594 s"
+    ):
+        assert _drop_energy_rise(1.3 * lim["dt_viscous"], implicit=False) > 0.01  # grows to joules
     assert _drop_energy_rise(1.3 * lim["dt_viscous"], implicit=True) <= 1e-9
 
 
@@ -385,3 +391,31 @@ def test_rk4_integrator_supported():
     assert depths["Euler"] > 5e-4
     # both integrate the same held force; they differ by O(dt) (measured 0.03 %)
     assert depths["RK4"] == pytest.approx(depths["Euler"], rel=0.01)
+
+
+def test_quasi_static_mud_damps_with_eta_inf_plus_eta_m():
+    """Eq. (9) from rest acts as an (eta_inf + xi_ss eta_m) damper at once, xi_ss -> 1 at
+    rest: its explicit limit is that much shorter (D15)."""
+    foot = mudrft.feet.Flat()
+    qs = mudrft.MudTerrain(MUD, thixotropy="quasi-static", acceleration=False)
+    ode = stability_limits(foot, MUD, mass=0.3, depth=0.01)
+    fast = stability_limits(foot, qs, mass=0.3, depth=0.01)
+    p = MUD.vertical
+    ratio = (float(p.eta_inf) + float(p.eta_m)) / float(p.eta_inf)
+    assert fast["damping"] == pytest.approx(ode["damping"] * ratio, rel=1e-12)
+    assert fast["dt_viscous"] == pytest.approx(ode["dt_viscous"] / ratio, rel=1e-12)
+
+
+def test_a_free_body_coupled_explicitly_above_its_limit_warns_at_attach():
+    """A free sphere (six degrees of freedom): implicit=False above 2 m / c warns once, at
+    attach; the default implicit coupling and a step below the limit do not."""
+    xml = """<mujoco><option timestep="{dt}"/><worldbody><body name="foot" pos="0 0 0.05">
+      <freejoint/><geom type="sphere" size="0.03" mass="0.3"/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml.format(dt=1e-3))
+    with pytest.warns(PlausibilityWarning, match=r"body 'foot' explicitly: its 0.3 kg"):
+        attach(model, "foot", MUD, implicit=False)
+    attach(model, "foot", MUD)  # implicit: no warning (warnings are errors in the suite)
+    foot = attach(model, "foot", MUD).bodies[0].foot
+    limit = stability_limits(foot, MUD, mass=0.3, depth=foot.height)["dt_viscous"]
+    slow = mujoco.MjModel.from_xml_string(xml.format(dt=0.9 * limit))
+    attach(slow, "foot", MUD, implicit=False)

@@ -126,6 +126,7 @@ def test_free_foot_on_the_compiled_coupling_never_gains_energy(shape, dt, tilt, 
     assert rise <= 1e-9 * (1.0 + e0)
 
 
+@pytest.mark.filterwarnings("ignore:implicit=False couples")  # pressed kinematically
 def test_tilted_foot_loads_its_lower_edge():
     """A tilted flat foot pressed into the mud is loaded where it is submerged (D60a).
 

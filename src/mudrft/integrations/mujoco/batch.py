@@ -34,6 +34,7 @@ from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, body_foot, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
+from .stability import check_explicit_step
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
@@ -70,7 +71,8 @@ class MudBatch:
         Damping of that bottom [N s/m] (treated implicitly like the mud's).
     implicit : bool, keyword-only
         Apply the semi-implicit treatment of the velocity-dependent part (default).
-        ``False`` writes the explicit force, exactly what :class:`mudrft.MudTerrain` gives.
+        ``False`` writes the explicit force, exactly what :class:`mudrft.MudTerrain` gives,
+        and warns when the timestep is above a foot's viscous limit (:func:`.stability.check_explicit_step`).
     mobility : {"chain", "body"}, keyword-only
         6x6 mobility :math:`W` of each foot body from the whole model (:math:`JM^{-1}J^T`,
         default) or from the body alone (cheaper, an upper bound: more damping in
@@ -146,6 +148,8 @@ class MudBatch:
         for i, placed_body in enumerate(self.bodies):
             groups.setdefault(id(placed_body.foot), []).append(i)
         self._groups = [(self.bodies[idx[0]].foot, np.array(idx)) for idx in groups.values()]
+        if not self.implicit:
+            check_explicit_step(model, self.bodies, self.terrain)
         nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))

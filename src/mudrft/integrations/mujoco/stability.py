@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import MudrftError, check_number, check_positive
+from ..._validation import MudrftError, check_number, check_positive, plain, warn_plausibility
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
 
-__all__ = ["stability_limits"]
+__all__ = ["check_explicit_step", "stability_limits"]
 
 
 def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[str, float]:
@@ -27,8 +27,9 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
 
     Linearising the vertical mud force about a tip at ``depth``:
 
-    * viscous part, a damper :math:`c=\eta_\infty A_z/L_c`: explicit Euler is stable for
-      :math:`\Delta t<2m/c` (``dt_viscous``);
+    * viscous part, a damper :math:`c=\eta_\infty A_z/L_c` (:math:`\eta_\infty+\eta_m`
+      for a terrain with ``thixotropy="quasi-static"``: eq. (9) from rest, decision D15):
+      explicit Euler is stable for :math:`\Delta t<2m/c` (``dt_viscous``);
     * elastic part, a spring :math:`k=\alpha n\gamma^{n-1}A_z/L_c` (infinite at
       :math:`\gamma\to0` for :math:`n<1`): symplectic Euler is stable for
       :math:`\Delta t<2\sqrt{m/k}` (``dt_elastic``);
@@ -54,6 +55,7 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
     """
     if not isinstance(foot, Foot):
         raise MudrftError(f"foot must be a Foot (mudrft.feet), got {type(foot).__name__}")
+    quasi_static = isinstance(mud, MudTerrain) and mud.quasi_static
     if isinstance(mud, MudTerrain):
         mud = mud.mud
     if not isinstance(mud, Mud):
@@ -64,7 +66,7 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
     lc = float(foot.characteristic_length)
     az = float(np.asarray(foot.projected_areas(d))[..., 2])
     g = d / lc
-    c = float(p.eta_inf) * az / lc
+    c = (float(p.eta_inf) + (float(p.eta_m) if quasi_static else 0.0)) * az / lc
     k = float(p.alpha) * float(p.n) * g ** (float(p.n) - 1.0) * az / lc
     cs = float(p.sigma_y) * az / (2.0 * float(p.nu) * lc)
     return {
@@ -75,3 +77,40 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
         "stiffness": k,
         "suction_damping": cs,
     }
+
+
+def check_explicit_step(model: Any, bodies: Any, terrain: Any) -> None:
+    """Warn if ``implicit=False`` couples a foot explicitly above its viscous limit.
+
+    For each foot body the mass is the body's and what hangs from it (``body_subtreemass``,
+    the least a foot can move with; a leg adds more) and the damper is the mud's at the
+    foot's full height (its largest area). A model time step above ``dt_viscous`` of
+    :func:`stability_limits` feeds energy into the foot (docs/model.md, "Stability of the
+    explicit coupling"): :class:`~mudrft._validation.PlausibilityWarning`. Terrains other
+    than :class:`~mudrft.MudTerrain` are not checked.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (its ``opt.timestep`` [s] and body masses [kg]).
+    bodies : sequence of BodyFoot
+        The coupled bodies (``body_id``, ``foot``).
+    terrain : Terrain
+        The coupling's terrain.
+    """
+    if not isinstance(terrain, MudTerrain):
+        return
+    dt = float(model.opt.timestep)
+    for b in bodies:
+        mass = float(model.body_subtreemass[b.body_id])
+        if not mass > 0:
+            continue
+        limit = stability_limits(b.foot, terrain, mass=mass, depth=float(b.foot.height))
+        if dt > limit["dt_viscous"]:
+            warn_plausibility(
+                f"implicit=False couples body {b.body!r} explicitly: its {plain(mass)} kg "
+                f"against the mud's {limit['damping']:.3g} N s/m damper is stable only for "
+                f"dt < {limit['dt_viscous']:.3g} s, and the model's timestep is {plain(dt)} s: "
+                "the mud may feed energy into the foot; keep implicit=True (the default) or "
+                f"use a timestep below {0.5 * limit['dt_viscous']:.2g} s"
+            )
