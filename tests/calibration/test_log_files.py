@@ -256,7 +256,15 @@ def test_times_logged_in_ms_and_labelled_s_warn(tmp_path, rate_hz):
 
 def test_times_in_s_labelled_ms_warn(tmp_path):
     p = write(tmp_path, _ramp_log(1_000.0, 0.13, unit="ms"))
-    with pytest.warns(PlausibilityWarning, match=r"runs at 130 m/s, more than 20 m/s"):
+    with pytest.warns(
+        PlausibilityWarning, match=r"runs at 130 m/s, more than 20 m/s.*'time \[s\]'"
+    ):
+        load_intrusion_csv(p)
+
+
+def test_times_in_us_labelled_ms_point_to_us(tmp_path):
+    p = write(tmp_path, _ramp_log(1_000.0, 0.13, time_scale=1e6, unit="ms"))
+    with pytest.warns(PlausibilityWarning, match=r"\(read as ms\); .*'time \[us\]'"):
         load_intrusion_csv(p)
 
 

@@ -308,16 +308,21 @@ def _check_speed(path: str, columns: Sequence[LogColumns]) -> None:
         return
     fast, (names, _, _, time) = max(speeds, key=lambda vc: vc[0])
     label = names.get("time", "time")
+    try:
+        stated = parse_header_name(label)[1] or "s"
+    except ValueError:
+        stated = "s"
     what = f"{path}: the intrusion (10 % to 90 % of the deepest depth) runs at"
     if fast > PLAUSIBLE_SPEED[1]:
-        hint = _unit_hint(label, "ms or us") + "; or check the depth unit"
+        larger = {"us": "ms or s", "ms": "s"}.get(stated, "")
+        hint = (_unit_hint(label, larger) + "; or " if larger else "") + "check the depth unit"
         warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
         return
     step = float(np.median(np.diff(time)))
     if step >= SLOW_SAMPLING:
-        hint = (
-            f"samples {plain(step)} s apart; "
-            + _unit_hint(label, "ms")
-            + " (mudrft reads time in s; a test this slow in s needs nothing)"
+        smaller = {"ms": "us", "us": ""}.get(stated, "ms")
+        hint = f"samples {plain(step)} s apart (read as {stated})" + (
+            "; " + _unit_hint(label, smaller) if smaller else ""
         )
+        hint += "; if the test really is this slow, ignore this warning"
         warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
