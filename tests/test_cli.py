@@ -159,12 +159,12 @@ def test_plot_without_matplotlib_fails_before_simulating(tmp_path, capsys, monke
 
 
 def test_errors_show_plain_numbers_not_numpy_reprs(tmp_path, capsys, monkeypatch):
-    import mudrft.feet
+    import mudrft.cli.simulate
 
     def bad_foot(name, **options):
         raise mudrft.MudrftError(f"foot size must be > 0 m, got {np.float64(-1.5)!r}")
 
-    monkeypatch.setattr(mudrft.feet, "by_name", bad_foot)
+    monkeypatch.setattr(mudrft.cli.simulate, "by_name", bad_foot)
     code, _, err = run(capsys, "simulate", "--foot", "x", "--out", str(tmp_path / "r.csv"))
     assert code == 2 and "got -1.5" in err and "np." not in err
 

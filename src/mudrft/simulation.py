@@ -30,8 +30,10 @@ from ._validation import (
     plain,
     warn_plausibility,
 )
+from .constitutive import laws
 from .feet.base import Foot
 from .io.atomic import atomic_write
+from .parameters.base import Mud
 from .terrains import as_terrain
 from .trajectories import MIN_GAIT_STEPS, Trajectory
 
@@ -479,9 +481,6 @@ def static_sinking(
         :math:`L_c` [m]; default the foot's.
     """
     from scipy.optimize import brentq
-
-    from .constitutive import laws
-    from .parameters.base import Mud
 
     if not isinstance(foot, Foot):
         raise MudrftError(f"foot must be a Foot (mudrft.feet), got {type(foot).__name__}")

@@ -13,7 +13,9 @@ import numpy as np
 
 from .._validation import MudrftError
 from ..constitutive.state import ChannelState
+from ..constitutive.state import initial_state as np_initial
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
+from ..terrains import channel_parameters
 
 __all__ = [
     "JaxParams",
@@ -107,7 +109,6 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     >>> p.alpha.shape
     (3,)
     """
-    from ..terrains import channel_parameters
 
     jnp = _jnp()
     if isinstance(params, Mud):
@@ -165,7 +166,6 @@ def initial_state(
     gamma : float or array, keyword-only
         Initial displacement [-].
     """
-    from ..constitutive.state import initial_state as np_initial
 
     jnp = _jnp()
     return ChannelState(*(jnp.asarray(a) for a in np_initial(shape, xi0=xi0, gamma=gamma)))

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_choice, check_finite, check_number, check_positive
+from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
 
@@ -189,7 +190,6 @@ class BatchedMud:
         backend: str = "numpy",
         **options: Any,
     ) -> None:
-        from ..feet.base import Foot
 
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise MudrftError(f"n must be an integer >= 1 (number of feet), got {n!r}")

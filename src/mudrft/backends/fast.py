@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._specialize import on_floats
 from .._validation import MudrftError, check_choice, check_finite
 from ..feet.closed_form import closed_form_force
+from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 from ..parameters.base import Mud
 from ..terrains import MudTerrain
 from ..terrains.mud import mud_step
@@ -39,7 +40,6 @@ def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
     MudrftError
         For a foot without a closed form (mesh feet, the morphing foot).
     """
-    from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 
     if type(foot) not in (Flat, SemiCylinder, SemiSphere):
         raise MudrftError(

@@ -21,6 +21,9 @@ from typing import Any
 
 import numpy as np
 
+from ..feet.mesh import MeshFoot
+from ..feet.surface import PreparedTriangles, integrate_prepared
+
 __all__ = ["force_function"]
 
 
@@ -47,8 +50,6 @@ def force_function(foot: Any, *, xp: Any = np) -> Callable[[Any, Any, Any], Any]
     >>> f(0.01, [1e3, 1e3, 1e3], 0.0).round(3).tolist()
     [-1.45, -0.0, 5.2]
     """
-    from ..feet.mesh import MeshFoot
-    from ..feet.surface import PreparedTriangles, integrate_prepared
 
     if getattr(foot, "elementwise", False) and foot.initial_foot_state() is None:
 

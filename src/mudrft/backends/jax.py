@@ -43,6 +43,7 @@ from .._validation import MudrftError, check_finite, check_in_range, check_incre
 from ..constitutive import dynamics
 from ..constitutive.dynamics import ChannelHistory
 from ..constitutive.state import ChannelState
+from ..feet.surface import integrate_triangles
 from ._jax_base import (
     JaxParams,
     _jnp,
@@ -148,7 +149,6 @@ def _compiled() -> dict[str, Any]:
     run_jit = jax.jit(run_impl, static_argnames=static)
 
     def mesh_impl(v: Any, f: Any, d: Any, s: Any, h: Any, trailing: bool) -> Any:
-        from ..feet.surface import integrate_triangles
 
         return integrate_triangles(v[f], d, s, h, trailing=trailing, xp=safe_namespace())
 

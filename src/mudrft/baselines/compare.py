@@ -17,11 +17,19 @@ from typing import Any
 
 import numpy as np
 
+from .. import metrics
 from .._progress import make_progress
 from .._validation import MudrftError, plain
 from ..feet.base import Foot
 from ..io.atomic import atomic_write
+from ..parameters import paper_mud
+from ..terrains import MudTerrain
 from ..terrains._common import projected
+from ..terrains.granular_rft import GranularRFT
+from ..terrains.granular_rft3d import GranularRFT3D
+from ..terrains.linear import LinearStiffness
+from ..terrains.maxwell import MaxwellMud
+from ..terrains.rigid import RigidGround
 from ..trajectories import Trajectory
 
 __all__ = [
@@ -180,13 +188,6 @@ def default_terrains(water_content: float = 0.25, *, extrapolate: bool = False) 
     (decision D59). Outside the tabulated rows the mud needs ``extrapolate=True`` (and
     warns), as :func:`mudrft.paper_mud` does.
     """
-    from ..parameters import paper_mud
-    from ..terrains import MudTerrain
-    from ..terrains.granular_rft import GranularRFT
-    from ..terrains.granular_rft3d import GranularRFT3D
-    from ..terrains.linear import LinearStiffness
-    from ..terrains.maxwell import MaxwellMud
-    from ..terrains.rigid import RigidGround
 
     mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
     terrains: list[Any] = [
@@ -288,7 +289,6 @@ def _check_history(name: str, value: Any) -> None:
 
 def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
     """Per terrain: peak support, max suction [N], impulses [N s], energy [J], peak sigma_z [Pa]."""
-    from .. import metrics
 
     if not isinstance(histories, Mapping):
         raise MudrftError(

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..terrains.granular_rft import li2013_alpha
 from .compare import History, normalized_loop
 
 __all__ = ["plot_gait", "plot_rft_alpha", "plot_s6"]
@@ -118,7 +119,6 @@ def plot_gait(
 
 def plot_rft_alpha(*, resolution: int = 121) -> Any:
     """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
-    from ..terrains.granular_rft import li2013_alpha
 
     plt = _plt()
     b = np.linspace(-np.pi / 2, np.pi / 2, resolution)

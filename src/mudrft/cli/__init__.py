@@ -25,6 +25,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from types import ModuleType
 
+from .. import __version__
 from .._progress import enable_stderr_logging, logger
 from .._validation import MudrftError, plain_text
 from . import bench, calibrate, compare, params, reproduce, simulate, sweep, walk
@@ -54,7 +55,6 @@ def build_parser() -> argparse.ArgumentParser:
         Parsed arguments carry ``command`` (the subcommand's name) and ``func`` (its
         ``run``).
     """
-    from .. import __version__
 
     p = argparse.ArgumentParser(
         prog="mudrft",

@@ -30,6 +30,7 @@ from typing import Any, ClassVar
 from .._progress import logger
 from .._validation import MudrftError
 from ..io.atomic import regular_target
+from ..parameters import paper_mud
 
 __all__ = [
     "EXTRAS",
@@ -170,7 +171,6 @@ def _unit(unit: str) -> str:
 
 def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Any:
     """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
-    from ..parameters import paper_mud
 
     check_finite_option("--water-content", water_content)
     try:

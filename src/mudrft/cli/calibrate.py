@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from .._validation import MudrftError
+from ..io import load_dataset
 from ._common import HelpFormatter, Outputs, add_force, logger, require_plot_file, same_file
 
 __all__ = ["add_parser", "run"]
@@ -126,7 +127,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Fit, print the table, write ``--out``/``--plot``; returns 0, or 1 if the fit failed."""
     from ..calibration.fit import calibrate
-    from ..io import load_dataset
 
     for option in ("out", "plot"):
         target = getattr(args, option)

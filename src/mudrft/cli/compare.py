@@ -15,6 +15,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
+from ..feet import by_name
+from ..trajectories import gait, plate_intrusion
 from ._common import (
     HelpFormatter,
     Outputs,
@@ -113,7 +115,6 @@ def write_comparison(
         The paths written, by key of :data:`FILES`.
     """
     from ..baselines.compare import compare, summarize, write_csv
-    from ..trajectories import gait, plate_intrusion
 
     keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
     with Outputs(force=force) as outputs:
@@ -162,7 +163,6 @@ def write_comparison(
 
 def run(args: argparse.Namespace) -> int:
     """Run ``mudrft compare`` with parsed arguments; returns the exit status (0)."""
-    from ..feet import by_name
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
+from ..parameters.chen2026 import TABLE_NAME
 from ._common import HelpFormatter
 
 __all__ = ["add_parser", "run"]
@@ -31,8 +33,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Print the parameter tables to stdout; returns the exit status (0)."""
-    from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
-    from ..parameters.chen2026 import TABLE_NAME
 
     names = list(PARAMETER_UNITS)[:10]
     for d in DIRECTIONS:

@@ -6,7 +6,10 @@ import argparse
 from typing import Any
 
 from .._validation import MudrftError
-from ..trajectories import STANCE_DEPTH
+from ..feet import by_name
+from ..simulation import simulate
+from ..terrains import MudTerrain
+from ..trajectories import STANCE_DEPTH, gait
 from ._common import (
     HelpFormatter,
     Outputs,
@@ -80,9 +83,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
-    from ..feet import by_name
-    from ..simulation import simulate
-    from ..trajectories import gait
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
@@ -92,7 +92,6 @@ def run(args: argparse.Namespace) -> int:
             raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")
     if args.plot:
         require_plot_file("--plot", args.plot)
-    from ..terrains import MudTerrain
 
     foot = by_name(args.foot, unit=args.unit)
     mud = MudTerrain(

@@ -8,6 +8,8 @@ import os
 import time
 from typing import Any
 
+from .._progress import Progress
+from ..feet import by_name
 from ..io.atomic import json_text
 from ._common import (
     HelpFormatter,
@@ -79,8 +81,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Walk the biped and write ``DIR``; returns the exit status (0)."""
     os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
-    from .._progress import Progress
-    from ..feet import by_name
 
     seconds = check_positive_option("--seconds", args.seconds, unit="s")
     dt = check_positive_option("--dt", args.dt, unit="s")
@@ -142,7 +142,6 @@ def run(args: argparse.Namespace) -> int:
 
 def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
     """``mudrft walk --compare``: every foot on the same mud, a table and a figure."""
-    from .._progress import Progress
     from ..integrations.walk_compare import compare_feet, write_compare
 
     with Outputs(force=args.force) as outputs:

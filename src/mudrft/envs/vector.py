@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..terrains import MudTerrain
 from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
@@ -65,7 +66,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         **options: Any,
     ) -> None:
         from ..integrations.mjx import attach
-        from ..terrains import MudTerrain
 
         if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise MudrftError(f"num_envs must be an integer >= 1, got {num_envs!r}")

@@ -46,6 +46,8 @@ from .base import (
     check_resultant_inputs,
     in_chunks,
 )
+from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
+from .stl import read_stl
 from .surface import (
     PreparedTriangles,
     integrate_prepared,
@@ -367,8 +369,6 @@ class MeshFoot(Foot):
         if not os.path.isfile(p):
             raise MudrftError(f"path must be an existing mesh file, got {p!r} (no such file)")
         if ext == ".stl":
-            from .stl import read_stl
-
             tri = read_stl(p)  # checks the memory of reading, from the file's size
             check_memory(
                 f"the mesh foot of the file {p!r} ({tri.shape[0]} facets)",
@@ -384,8 +384,6 @@ class MeshFoot(Foot):
                     "facet has zero area"
                 )
         else:
-            from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
-
             what = f"reading the mesh file {p!r}"
             check_memory(what, os.path.getsize(p) * BYTES_PER_FILE_BYTE, hint=_SIMPLIFY)
             try:  # the triangles counted without parsing, before trimesh parses the file

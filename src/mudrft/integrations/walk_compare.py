@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..feet import by_name
 from ..io.atomic import json_text
 
 __all__ = [
@@ -79,7 +80,6 @@ def compare_feet(
     dict
         ``{foot: summary}`` (see :func:`~mudrft.integrations.walk.walk`).
     """
-    from ..feet import by_name
     from .walk import walk
 
     out = {}

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ..feet import by_name
 from ..feet.base import Foot
 from .readings import Reading
 
@@ -238,7 +239,6 @@ def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
 def _paper_feet() -> tuple[dict[str, Foot], tuple[float, ...]]:
     """The paper's three fixed feet and where the curved feet's shape factors cross [m]:
     the same for every reading, so computed once."""
-    from ..feet import by_name
 
     feet = {f: by_name(f) for f in FIXED}
     return feet, tuple(shape_crossovers(feet["semi-cylinder"], feet["semi-sphere"]))

@@ -26,6 +26,7 @@ import numpy as np
 
 from .._progress import logger, make_progress
 from .._validation import MudrftError
+from ..feet import by_name
 from ..simulation import Result, simulate, static_sinking
 from ..trajectories import GAIT_SPEEDS, gait
 from .claims import FIXED, Cell, evaluate
@@ -185,7 +186,6 @@ def reproduce(
     if not readings:
         raise MudrftError("readings must name at least one reading (the headline)")
     t0 = _time.perf_counter()
-    from ..feet import by_name
 
     runs = _Runs({name: by_name(name) for name in feet}, dt)
     rows_w = [float(w) for w in water_contents]

@@ -17,6 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
+from ..feet.morphing.linkage import MorphingFootGeometry
+from ..feet.morphing.springs import TwoStageSpring
+
 __all__ = [
     "FOOT_KINDS",
     "METRICS",
@@ -103,8 +106,6 @@ _MORPHING_UNITS = {"n_pads": "-", "crank_offset": "rad", "retracted_angle": "rad
 
 def _morphing_fields() -> list[Parameter]:
     # the morphing foot's geometry and springs, by their dataclass fields (D30, D31)
-    from ..feet.morphing.linkage import MorphingFootGeometry
-    from ..feet.morphing.springs import TwoStageSpring
 
     out = []
     for cls in (MorphingFootGeometry, TwoStageSpring):

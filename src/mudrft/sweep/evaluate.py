@@ -27,7 +27,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import feet
 from .._validation import MudrftError
+from ..parameters import Mud, MudParameters, paper_mud
+from ..simulation import LoadControl, simulate
+from ..terrains import MudTerrain
+from ..trajectories import gait
 from . import catalog as C
 
 __all__ = ["ChunkResult", "build_foot", "build_mud", "evaluate_chunk", "evaluate_point"]
@@ -79,7 +84,6 @@ def build_foot(values: dict[str, Any], *, mesh: Any = None, cache: dict | None =
             f"the {kind} foot has no parameter {extra[0]!r}; its parameters are "
             f"{', '.join(allowed)}"
         )
-    from .. import feet
 
     if kind == "morphing":
         foot = feet.MorphingFoot(**params)
@@ -99,8 +103,6 @@ def build_mud(
     values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
 ) -> Any:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
-    from ..parameters import Mud, MudParameters, paper_mud
-    from ..terrains import MudTerrain
 
     params = _section(values, "mud")
     key = tuple(sorted(params.items()))
@@ -166,9 +168,6 @@ def evaluate_point(
 
         found = walk(foot, mud, **kw).summary  # keys with units: "distance [m]", ...
     else:
-        from ..simulation import LoadControl, simulate
-        from ..trajectories import gait
-
         if motion == "gait":
             speed = kw.pop("speed", 0.2)
             result = simulate(foot, mud, gait(speed, **kw))

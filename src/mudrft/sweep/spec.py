@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..feet import MeshFoot
 from ..units import SCALE
 from . import catalog as C
 from .design import Axis, Design
@@ -332,8 +333,6 @@ def _foot_kind(
     kind = foot.pop("kind")
     names = tuple(C.FOOT_KINDS)
     if isinstance(kind, str) and kind.lower().endswith((".stl", ".obj", ".ply")):
-        from ..feet import MeshFoot
-
         unit = foot.get("unit", "m")
         if not isinstance(unit, str) or unit.strip() not in SCALE["length"]:
             raise MudrftError(f'[foot] unit must be the length unit of the mesh file, a string such as "m" or "mm" (one of {", ".join(sorted(SCALE["length"]))}), got {unit!r}')  # fmt: skip

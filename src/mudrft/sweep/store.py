@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import __version__
 from .._validation import MudrftError
 from . import catalog as C
 from .evaluate import ChunkResult
@@ -74,8 +75,6 @@ def _param_attrs(name: str, spec: SweepSpec) -> dict[str, Any]:
 def _template(spec: SweepSpec) -> Any:
     import dask.array as da
     import xarray as xr
-
-    from .. import __version__
 
     dims, shape, chunks = spec.dims, spec.shape, spec.chunks
     coords: dict[str, Any] = {}

@@ -22,6 +22,7 @@ from ...feet.mesh import MeshFoot
 from ...feet.morphing import MorphingFoot
 from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
+from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
 from .compiled import N_OUT, coupling_kernel, upright_rows, work_size
 from .contact import MudContact
@@ -74,7 +75,6 @@ def choose_backend(backend: str, mud: Any, foot: Any) -> str:
     if backend != "auto":
         return backend
     from ...backends.numba import available
-    from ...parameters.base import Mud
 
     mud_ok = isinstance(mud, Mud | MudTerrain)
     return "numba" if available() and _compilable_foot(foot) and mud_ok else "numpy"

@@ -26,18 +26,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import feet
 from ..._validation import MudrftError
 from ._lazy import _mujoco
-
-
-def _feet_module() -> Any:
-    try:
-        from ... import feet
-    except ImportError as exc:  # pragma: no cover - while the feet are being written
-        raise MudrftError(
-            "deriving a foot from geoms needs mudrft.feet; pass the foot explicitly"
-        ) from exc
-    return feet
 
 
 def _lowest_geom(model: Any, ref: Any, geoms: list[int]) -> int:
@@ -120,7 +111,6 @@ def _derived_foot(
 ) -> tuple[Any, NDArray[np.float64]]:
     """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose)."""
     mj = _mujoco()
-    feet = _feet_module()
     t = int(model.geom_type[g])
     R = np.array(ref.geom_xmat[g]).reshape(3, 3)
     s = np.array(model.geom_size[g], dtype=float)

@@ -34,6 +34,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from ...feet import Flat
 from ...feet.facet import submerged_area
 from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
 
@@ -274,7 +275,6 @@ def foot_triangles(foot: Any, *, resolution: int = POSE_RESOLUTION) -> FloatArra
     ndarray (m, 3, 3) or None
         None when the foot has no surface (the coupling then acts at its lowest point).
     """
-    from ...feet import Flat
 
     if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):
         return morphing_triangles(foot)
