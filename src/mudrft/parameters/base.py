@@ -11,12 +11,19 @@ describe a batch of muds (one set per foot in a batched simulation).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_positive
+from .._validation import (
+    MudrftError,
+    check_broadcast,
+    check_finite,
+    check_number,
+    check_positive,
+)
 
 __all__ = ["PARAMETER_UNITS", "POSITIVE_FIELDS", "Mud", "MudParameters"]
 
@@ -51,6 +58,17 @@ POSITIVE_FIELDS = (
     "nu",
     "k_a",
 )
+
+
+def _check_water_content_field(value: Any) -> float | None:
+    """``water_content`` of a set or a mud: None or a volume fraction in [0, 1] [-]."""
+    if value is None:
+        return None
+    w = check_number("water_content", check_finite("water_content", value))
+    if not 0.0 <= w <= 1.0:
+        hint = " (give a fraction: 25 % is 0.25)" if 1 < w <= 100 else ""
+        raise MudrftError(f"water_content must be a volume fraction in [0, 1], got {w!r}{hint}")
+    return w
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,8 +145,18 @@ class MudParameters:
         if self.k_a is None:
             lam = self.lam
             object.__setattr__(self, "k_a", 1.0 / lam if np.ndim(lam) else 1.0 / float(lam))
+        # a batch: fields of one broadcastable shape with at least one set (fields of
+        # shapes (2,) and (3,) were accepted and failed inside a step; an empty one passed)
+        shapes = {k: np.shape(getattr(self, k)) for k in PARAMETER_UNITS}
+        shape = check_broadcast(**shapes)
+        if 0 in shape:
+            empty = next(k for k, v in shapes.items() if 0 in v)
+            raise MudrftError(
+                f"{empty} must hold at least one value, got an array of shape {shapes[empty]}"
+            )
         if np.any(np.asarray(self.n) > 1.0):
             raise MudrftError(f"n must lie in (0, 1], got {float(np.max(self.n))!r}")
+        object.__setattr__(self, "water_content", _check_water_content_field(self.water_content))
         if self.direction not in ("", "vertical", "horizontal"):
             raise MudrftError(
                 f"direction must be 'vertical', 'horizontal' or '', got {self.direction!r}"
@@ -170,6 +198,11 @@ class MudParameters:
     @classmethod
     def from_dict(cls, data: dict[str, Any], **meta: Any) -> MudParameters:
         """Build a set from a dict with the field names of :data:`PARAMETER_UNITS` (SI)."""
+        if not isinstance(data, Mapping):
+            raise MudrftError(
+                f"data must be a dict of the fields {list(PARAMETER_UNITS)}, got "
+                f"{type(data).__name__}"
+            )
         missing = [k for k in PARAMETER_UNITS if k not in data and k not in ("nu", "k_a")]
         if missing:
             raise MudrftError(f"parameter dict is missing the fields {missing}")
@@ -190,6 +223,13 @@ class MudParameters:
         """Stack several sets into one batched set with fields of shape ``(len(sets),)``."""
         if not sets:
             raise MudrftError("sets must contain at least one MudParameters, got an empty list")
+        for i, one in enumerate(sets):
+            if not isinstance(one, MudParameters):
+                raise MudrftError(f"sets[{i}] must be a MudParameters, got {type(one).__name__}")
+            if one.shape != ():
+                raise MudrftError(
+                    f"sets[{i}] must be a single parameter set, got a batch of shape {one.shape}"
+                )
         fields: dict[str, Any] = {
             k: np.array([np.asarray(getattr(s, k), dtype=float) for s in sets])
             for k in PARAMETER_UNITS
@@ -226,6 +266,9 @@ class Mud:
     name: str = "mud"
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "water_content", _check_water_content_field(self.water_content))
+        if not isinstance(self.name, str):
+            raise MudrftError(f"name must be a string, got {self.name!r}")
         for attr in ("vertical", "horizontal"):
             value = getattr(self, attr)
             if not isinstance(value, MudParameters):
@@ -237,6 +280,8 @@ class Mud:
                     f"horizontal swapped? To use it anyway, pass "
                     f"{attr}=params.replace(direction='')"
                 )
+        # a batch of muds: both sets of one broadcastable shape (numpy failed in a step)
+        check_broadcast(vertical=self.vertical.shape, horizontal=self.horizontal.shape)
 
     def __repr__(self) -> str:
         w = "" if self.water_content is None else f", water_content={self.water_content:g}"

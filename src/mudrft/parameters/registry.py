@@ -65,7 +65,11 @@ def table_rows(direction: str) -> dict[float, dict[str, float]]:
 
 def _check_water_content(water_content: object, extrapolate: bool, shift: float = 0.0) -> float:
     """The printed water content of a label (``label - shift``), checked against the rows."""
-    if isinstance(water_content, bool) or not isinstance(
+    if not isinstance(extrapolate, (bool, np.bool_)):  # "no" is true: it extrapolated
+        raise MudrftError(f"extrapolate must be True or False, got {extrapolate!r}")
+    if isinstance(water_content, np.ndarray) and water_content.ndim == 0:
+        water_content = water_content[()]  # a 0-d array is one number (numpy scalar)
+    if isinstance(water_content, (bool, np.bool_)) or not isinstance(
         water_content, (int, float, np.floating, np.integer)
     ):
         raise MudrftError(
