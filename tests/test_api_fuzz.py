@@ -59,3 +59,27 @@ def test_paper_mud_extrapolate_is_a_flag_and_a_0d_array_is_a_number():
     assert mudrft.paper_mud(np.array(0.35)).vertical.alpha == mudrft.paper_mud(0.35).vertical.alpha
 
 
+# -- metrics -------------------------------------------------------------------------------
+def test_impulse_and_energy_check_the_force_shape():
+    # a scalar force was an IndexError; (n, 3, 4) and (n, 2) returned numbers
+    with pytest.raises(MudrftError, match=r"force must have shape \(2,\) or \(2, 3\)"):
+        metrics.impulse([0.0, 1.0], 5.0)
+    with pytest.raises(MudrftError, match=r"force must have shape \(2,\) or \(2, 3\)"):
+        metrics.energy([0.0, 1.0], 5.0, 1.0)
+    with pytest.raises(MudrftError, match=r"force must have shape"):
+        metrics.impulse([0.0, 1.0], np.zeros((2, 3, 4)))
+    with pytest.raises(MudrftError, match=r"time must hold at least one sample"):
+        metrics.impulse([], np.zeros((0, 3)))
+    assert metrics.impulse([0.0, 1.0], [[1.0, 2.0, 3.0]] * 2).tolist() == [1.0, 2.0, 3.0]
+
+
+def test_sinking_depth_refuses_the_tips_z():
+    result = mudrft.simulate(feet.Flat(), MUD, mudrft.gait(0.2))
+    # the tip's z is <= 0 in the mud: its maximum read 0 sinking for a foot that sank 20 mm
+    with pytest.raises(MudrftError, match=r"depth must be >= 0 m .* tip's z"):
+        metrics.sinking_depth(result.position[:, 2])
+    with pytest.raises(MudrftError, match=r"final must be True or False, got 'no'"):
+        metrics.sinking_depth(result.depth, final="no")  # type: ignore[arg-type]
+    assert metrics.sinking_depth(result.depth) == pytest.approx(0.02)
+
+

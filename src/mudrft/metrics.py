@@ -36,6 +36,17 @@ def _history(name: str, value: Any) -> np.ndarray:
     return arr
 
 
+def _forces(name: str, value: Any, samples: int) -> np.ndarray:
+    """A finite force (or velocity) history of ``samples`` samples, shape (n,) or (n, 3)."""
+    arr = check_finite(name, value)
+    if arr.ndim not in (1, 2) or arr.shape[0] != samples or arr.shape[1:] not in ((), (3,)):
+        raise MudrftError(
+            f"{name} must have shape ({samples},) or ({samples}, 3) to match time, "
+            f"got shape {arr.shape}"
+        )
+    return arr
+
+
 def relative_rmse(predicted: Any, measured: Any) -> float:
     r"""Relative root-mean-square error [-] (Table II reports it in %).
 
@@ -83,9 +94,9 @@ def impulse(time: Any, force: Any) -> np.ndarray:
     array([1., 2., 3.])
     """
     t = check_increasing("time", time)
-    f = check_finite("force", force)
-    if f.shape[0] != t.size:
-        raise MudrftError(f"force must have {t.size} samples to match time, got shape {f.shape}")
+    if t.size == 0:
+        raise MudrftError("time must hold at least one sample, got an empty array")
+    f = _forces("force", force, t.size)
     return np.asarray(_trapz(f, t))
 
 
@@ -132,12 +143,12 @@ def energy(time: Any, force: Any, velocity: Any) -> float:
     20.0
     """
     t = check_increasing("time", time)
-    f = check_finite("force", force)
+    if t.size == 0:
+        raise MudrftError("time must hold at least one sample, got an empty array")
+    f = _forces("force", force, t.size)
     v = check_finite("velocity", velocity)
-    if f.shape != v.shape or f.shape[0] != t.size:
-        raise MudrftError(
-            f"force and velocity must have the same shape with {t.size} samples, got {f.shape} and {v.shape}"
-        )
+    if v.shape != f.shape:
+        raise MudrftError(f"velocity must have the shape of force {f.shape}, got shape {v.shape}")
     mean_force = 0.5 * (f[1:] + f[:-1])
     work = (mean_force * v[1:]).sum(axis=-1) if f.ndim == 2 else mean_force * v[1:]
     return float(-(work * np.diff(t)).sum()) + 0.0  # + 0.0: no work reads 0.0, not -0.0
@@ -149,7 +160,16 @@ def sinking_depth(depth: Any, *, final: bool = False) -> float:
     Under load control the last depth is the equilibrium sinking (paper Fig. 12).
     ``depth`` is the tip's depth below the surface, shape (n,) [m] (``result.depth``).
     """
+    if not isinstance(final, (bool, np.bool_)):  # final="no" is true
+        raise MudrftError(f"final must be True or False, got {final!r}")
     d = _history("depth", depth)
+    if np.any(d < 0):
+        # a depth is >= 0 below the surface; the tip's z (result.position[:, 2]) is <= 0
+        # there, and its maximum read 0 sinking for a foot that sank
+        raise MudrftError(
+            f"depth must be >= 0 m (the depth below the surface, result.depth), got "
+            f"{float(d.min())!r} m: was the tip's z given instead?"
+        )
     return float(d[-1] if final else d.max())
 
 
