@@ -83,3 +83,18 @@ def test_sinking_depth_refuses_the_tips_z():
     assert metrics.sinking_depth(result.depth) == pytest.approx(0.02)
 
 
+# -- calibration options -------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("options", "match"),
+    [
+        ({"xi0": [0.1]}, r"xi0 must be a single number"),
+        ({"phases": "no"}, r"phases must be True or False, got 'no'"),
+        ({"trace_limit": -1}, r"trace_limit must be an integer >= 0, got -1"),
+        ({"trace_limit": 1.5}, r"trace_limit must be an integer >= 0, got 1.5"),
+        ({"fixed": {"alpha": [1.0, 2.0]}}, r"fixed\['alpha'\] must be a single number"),
+        ({"fixed": {"alpha": "1"}}, r"fixed\['alpha'\] must be a number .* string '1'"),
+    ],
+)
+def test_calibrate_checks_its_options(options, match):
+    with pytest.raises(MudrftError, match=match):
+        calibrate(example_dataset(), "vertical", **{"max_nfev": 1, "phases": False, **options})

@@ -16,7 +16,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from .._validation import MudrftError, plain
+from .._validation import MudrftError, check_finite, check_number, plain
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
@@ -182,6 +182,8 @@ def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
     out = dict(fixed or {})
     for k in out:
         _check_name("fixed", k)
+        # one number each (a list failed inside the fit; the string "1" was read as 1 Pa)
+        out[k] = check_number(f"fixed[{k!r}]", check_finite(f"fixed[{k!r}]", out[k]))
     return out
 
 

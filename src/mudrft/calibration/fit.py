@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_in_range
+from .._validation import MudrftError, check_choice, check_in_range, check_number
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
 from ..metrics import relative_rmse
@@ -217,6 +217,17 @@ def calibrate(
     """
     t_start = time.perf_counter()
     _qs, _restart, kappa = evaluation(thixotropy, clock, acceleration)
+    # the options that are one number or a flag, checked before any work (a list of xi0
+    # failed inside the fit; phases="no" ran the phases, a negative trace_limit kept none)
+    xi0 = check_number("xi0", check_in_range("xi0", xi0, 0.0, 1.0))
+    if not isinstance(phases, (bool, np.bool_)):
+        raise MudrftError(f"phases must be True or False, got {phases!r}")
+    if (
+        isinstance(trace_limit, (bool, np.bool_))
+        or not isinstance(trace_limit, (int, np.integer))
+        or trace_limit < 0
+    ):
+        raise MudrftError(f"trace_limit must be an integer >= 0, got {trace_limit!r}")
     acceleration = kappa == 1.0
     reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
     setup = _prepare(
