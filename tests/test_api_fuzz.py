@@ -19,6 +19,64 @@ V = mudrft.paper_parameters(0.25, "vertical")
 H = mudrft.paper_parameters(0.25, "horizontal")
 
 
+# -- a list or an array where one number belongs ------------------------------------------
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (lambda: terrains.MudTerrain(MUD, xi0=[0.1, 0.2]), r"xi0 must be a single number"),
+        (
+            lambda: terrains.MudTerrain(MUD, characteristic_length=np.array([0.05, 0.06])),
+            r"characteristic_length must be a single number",
+        ),
+        (lambda: terrains.MudTerrain(MUD, heading_speed=[1e-6]), r"heading_speed must be a single"),
+        (lambda: mudrft.plate_intrusion(depth=[0.03, 0.04]), r"depth must be a single number"),
+        (lambda: mudrft.plate_intrusion(speed=[0.02, 0.03]), r"speed must be a single number"),
+        (lambda: mudrft.plate_intrusion(hold=[1.0]), r"hold must be a single number"),
+        (lambda: mudrft.plate_intrusion(angle=[0.1, 0.2]), r"angle must be a single number"),
+        (lambda: mudrft.plate_intrusion(dt=[1e-3, 1e-3]), r"dt must be a single number"),
+        (lambda: mudrft.LoadControl(weight=[1.0, 2.0]), r"weight must be a single number"),
+        (lambda: mudrft.LoadControl(weight=10.0, dt=[1e-3]), r"dt must be a single number"),
+        (lambda: mudrft.LoadControl(weight=10.0, duration=[1.0]), r"duration must be a single"),
+        (lambda: terrains.LinearStiffness(stiffness=[1e6, 2e6]), r"stiffness must be a single"),
+        (lambda: terrains.RigidGround(damping=[1.0, 2.0]), r"damping must be a single number"),
+        (lambda: terrains.MaxwellMud(alpha=[1.0, 2.0]), r"alpha must be a single number"),
+        (lambda: terrains.GranularRFT(zeta=[1.0, 2.0]), r"zeta must be a single number"),
+        (lambda: terrains.GranularRFT3D(rho_c=[1.0, 2.0]), r"rho_c must be a single number"),
+        (lambda: OnlineEstimator(forgetting=[0.9]), r"forgetting must be a single number"),
+        (
+            lambda: OnlineEstimator(characteristic_length=[0.05]),
+            r"characteristic_length must be a single number",
+        ),
+    ],
+)
+def test_one_number_options_refuse_a_list(make, match):
+    # each was a TypeError ("only 0-dimensional arrays can be converted", "can't multiply
+    # sequence") or numpy's broadcast error, at construction or inside simulate
+    with pytest.raises(MudrftError, match=match):
+        make()
+
+
+def test_simulate_dt_refuses_a_list():
+    with pytest.raises(MudrftError, match=r"dt must be a single number \[s\]"):
+        mudrft.simulate(feet.Flat(), MUD, mudrft.gait(0.2), dt=[0.01])
+
+
+def test_one_number_options_are_stored_as_floats():
+    lc = mudrft.LoadControl(weight=np.float32(10.0), mass=np.array(1.0))
+    assert type(lc.weight) is float and type(lc.mass) is float
+    assert type(terrains.RigidGround(stiffness=np.int64(1000)).stiffness) is float
+
+
+def test_none_is_named_not_read_as_nan():
+    # numpy reads None as NaN: the message was "depth must be finite, got nan"
+    with pytest.raises(
+        MudrftError, match=r"depth must be a number or an array of numbers, got None"
+    ):
+        feet.Flat().resultant(None, (1.0, 1.0, 1.0), 0.3)
+    with pytest.raises(MudrftError, match=r"nu must be a number .* got None"):
+        V.replace(nu=None)
+
+
 # -- parameter sets ------------------------------------------------------------------------
 def test_parameter_fields_must_broadcast():
     # shapes (2,) and (3,) were accepted and failed inside a step
@@ -57,6 +115,26 @@ def test_paper_mud_extrapolate_is_a_flag_and_a_0d_array_is_a_number():
     with pytest.raises(MudrftError, match=r"extrapolate must be True or False, got 'no'"):
         mudrft.paper_mud(0.2, extrapolate="no")  # type: ignore[arg-type]
     assert mudrft.paper_mud(np.array(0.35)).vertical.alpha == mudrft.paper_mud(0.35).vertical.alpha
+
+
+# -- plausibility ------------------------------------------------------------------------
+def test_characteristic_length_in_mm_warns():
+    with pytest.warns(PlausibilityWarning, match=r"characteristic_length is 45 m"):
+        terrains.MudTerrain(MUD, characteristic_length=45.0)
+    with pytest.warns(PlausibilityWarning, match=r"characteristic_length is 50 m"):
+        terrains.MaxwellMud(characteristic_length=50.0)
+    with pytest.warns(PlausibilityWarning, match=r"characteristic_length is 50 m"):
+        OnlineEstimator(characteristic_length=50.0)
+    with pytest.raises(MudrftError, match=r"characteristic_length must lie in"):
+        terrains.MudTerrain(MUD, characteristic_length=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert terrains.MudTerrain(MUD, characteristic_length=0.05).characteristic_length == 0.05
+
+
+def test_plate_depth_in_mm_warns():
+    with pytest.warns(PlausibilityWarning, match=r"plate_intrusion: a depth of 30 m"):
+        mudrft.plate_intrusion(depth=30.0, speed=20.0, dt=0.01)
 
 
 # -- metrics -------------------------------------------------------------------------------

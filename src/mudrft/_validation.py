@@ -32,6 +32,7 @@ __all__ = [
     "MudrftError",
     "PlausibilityWarning",
     "as_array",
+    "check_characteristic_length",
     "check_choice",
     "check_dimensions",
     "check_finite",
@@ -47,6 +48,7 @@ __all__ = [
     "memory_limit",
     "plain",
     "plain_text",
+    "set_number",
     "warn_implausible",
 ]
 
@@ -125,8 +127,11 @@ def _describe(value: Any) -> str:
 def as_array(name: str, value: Any, *, dtype: Any = float) -> np.ndarray:
     """Convert ``value`` to a float array, or raise naming ``name``.
 
-    A string or a bare ``True``/``False`` is refused: neither is a number.
+    A string, a bare ``True``/``False`` or ``None`` is refused: none is a number (numpy
+    reads ``None`` as NaN, and the message then spoke of a NaN the user never gave).
     """
+    if value is None:
+        raise MudrftError(f"{name} must be a number or an array of numbers, got None")
     if isinstance(value, str):
         raise MudrftError(
             f"{name} must be a number or an array of numbers, got the string {value!r}"
@@ -357,6 +362,15 @@ def check_number(name: str, value: Any, *, unit: str = "") -> float:
     return v
 
 
+def set_number(obj: Any, name: str, value: Any) -> None:
+    """Store ``value``, already range-checked, as the float field ``name`` of the frozen
+    dataclass ``obj``; an array or a sequence is refused, naming the field
+    (:func:`check_number`). For an option that is one number, such as a terrain's
+    stiffness: a list passed its range check and failed later inside numpy.
+    """
+    object.__setattr__(obj, name, check_number(name, value))
+
+
 def check_length(name: str, value: Any) -> float:
     """A size [m] as a float: finite, not a boolean, within :data:`LENGTH_LIMITS`.
 
@@ -413,6 +427,30 @@ def check_dimensions(what: str, **sizes: Any) -> dict[str, float]:
         hint="sizes are in metres (45 mm is 0.045)",
     )
     return out
+
+
+def check_characteristic_length(what: str, value: Any) -> float:
+    """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warn if it
+    is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`, a length in mm read as m).
+
+    The model's displacement and rate are depth and speed divided by :math:`L_c`, so one
+    in mm (45 for 0.045) makes both a thousand times smaller, and the stresses with them,
+    without a word (decision D103).
+
+    Examples
+    --------
+    >>> check_characteristic_length("MudTerrain", 0.05)
+    0.05
+    """
+    v = check_length("characteristic_length", value)
+    warn_implausible(
+        f"{what}: characteristic_length is",
+        v,
+        PLAUSIBLE_FOOT_SIZE,
+        unit="m",
+        hint="it is in metres (50 mm is 0.05)",
+    )
+    return v
 
 
 def warn_implausible(

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import MudrftError, check_positive
+from ._validation import MudrftError, check_characteristic_length
 from .constitutive import laws
 from .constitutive.dynamics import run
 from .parameters.base import Mud, MudParameters
@@ -107,7 +107,7 @@ def plate_response(
         raise MudrftError(
             f"trajectory must be a Trajectory (see mudrft.plate_intrusion), got {type(trajectory).__name__}"
         )
-    L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+    L = check_characteristic_length("plate_response", characteristic_length)
     direction = trajectory.meta.get("direction", "vertical")
     if isinstance(params, Mud):
         p = params.vertical if direction == "vertical" else params.horizontal

@@ -30,6 +30,9 @@ from ._validation import (
     plain,
     warn_plausibility,
 )
+from ._validation import (
+    set_number as _set,
+)
 from .constitutive import laws
 from .feet.base import Foot
 from .io.atomic import atomic_write
@@ -95,16 +98,21 @@ class LoadControl:
     ramp: float = 0.0
 
     def __post_init__(self) -> None:
-        check_positive("weight", self.weight, unit="N")
+        # one number each, stored as floats (a list passed, or failed formatting a message)
+        _set(self, "weight", check_positive("weight", self.weight, unit="N"))
         if self.mass is not None:
-            check_positive("mass", self.mass, unit="kg")
+            _set(self, "mass", check_positive("mass", self.mass, unit="kg"))
         if self.leg_stiffness is not None:
-            check_positive("leg_stiffness", self.leg_stiffness, unit="N/m")
-        check_nonnegative("leg_damping", self.leg_damping, unit="N s/m")
-        check_positive("foot_mass", self.foot_mass, unit="kg")
-        check_positive("duration", self.duration, unit="s")
-        check_positive("dt", self.dt, unit="s")
-        check_nonnegative("ramp", self.ramp, unit="s")
+            _set(
+                self,
+                "leg_stiffness",
+                check_positive("leg_stiffness", self.leg_stiffness, unit="N/m"),
+            )
+        _set(self, "leg_damping", check_nonnegative("leg_damping", self.leg_damping, unit="N s/m"))
+        _set(self, "foot_mass", check_positive("foot_mass", self.foot_mass, unit="kg"))
+        _set(self, "duration", check_positive("duration", self.duration, unit="s"))
+        _set(self, "dt", check_positive("dt", self.dt, unit="s"))
+        _set(self, "ramp", check_nonnegative("ramp", self.ramp, unit="s"))
         check_samples(
             f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
             self.duration / self.dt + 1,
@@ -319,7 +327,7 @@ def simulate(
             f"got {type(trajectory).__name__}"
         )
     tr = (
-        _resample(trajectory, float(check_positive("dt", dt, unit="s")))
+        _resample(trajectory, check_number("dt", check_positive("dt", dt, unit="s"), unit="s"))
         if dt is not None
         else trajectory
     )

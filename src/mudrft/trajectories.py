@@ -200,13 +200,20 @@ def plate_intrusion(
     >>> round(float(tr.depth.max()), 4), round(tr.duration, 3)
     (0.03, 4.5)
     """
-    check_positive("depth", depth, unit="m")
-    check_positive("speed", speed, unit="m/s")
-    check_nonnegative("hold", hold, unit="s")
-    check_nonnegative("rest", rest, unit="s")
-    check_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")
+    # one number each (a list failed inside numpy)
+    depth, speed, dt = (
+        check_number(name, check_positive(name, val, unit=unit), unit=unit)
+        for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
+    )  # fmt: skip
+    hold, rest = (
+        check_number(name, check_nonnegative(name, val, unit="s"), unit="s")
+        for name, val in (("hold", hold), ("rest", rest))
+    )  # fmt: skip
+    angle = check_number("angle", check_in_range("angle", angle, 0.0, np.pi / 2, unit="rad"), unit="rad")  # fmt: skip
     check_choice("direction", direction, ("vertical", "horizontal"))
-    check_positive("dt", dt, unit="s")
+    warn_implausible(
+        "plate_intrusion: a depth of", depth, (0.0, 1.0), unit="m", hint="depth is in metres (30 mm = 0.03)"
+    )  # fmt: skip
     t_in = depth / speed
     t_total = 2 * t_in + hold + rest
     check_samples(

@@ -17,7 +17,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_choice, check_positive
+from .._validation import (
+    MudrftError,
+    check_characteristic_length,
+    check_choice,
+    check_number,
+    check_positive,
+)
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
@@ -166,7 +172,7 @@ def classify(
     R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
     sse = np.sum(R**2, axis=0)
     m = R.shape[0]
-    nv = None if noise is None else float(check_positive("noise", noise)) ** 2
+    nv = None if noise is None else check_number("noise", check_positive("noise", noise)) ** 2
     ll, prob = _softmax_loglik(sse, m, nv)
     rrmse = np.sqrt(sse / m)
     return Classification(
@@ -229,12 +235,16 @@ class StreamClassifier:
     ) -> None:
         check_choice("direction", direction, ("vertical", "horizontal"))
         self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
-        self.L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
-        w = float(check_positive("window", window))
+        self.L = check_characteristic_length("StreamClassifier", characteristic_length)
+        w = check_number("window", check_positive("window", window))
         if w <= 1.0:
             raise MudrftError(f"window must exceed 1 sample, got {window!r}")
         self.decay = 1.0 - 1.0 / w
-        self.noise = None if noise is None else float(check_positive("noise", noise, unit="Pa"))
+        self.noise = (
+            None
+            if noise is None
+            else check_number("noise", check_positive("noise", noise, unit="Pa"), unit="Pa")
+        )
         self.params = MudParameters.stack(self.candidates)
         self._consts = channel_constants(self.params)
         self._stream = SampleStream(self.L)

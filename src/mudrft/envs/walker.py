@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_nonnegative, check_positive
+from .._validation import MudrftError, check_finite, check_nonnegative, check_number, check_positive
 
 __all__ = [
     "ACTION_SIZE",
@@ -102,7 +102,9 @@ class WalkerConfig:
                 raise MudrftError(f"foot must be one of {FEET} or a mudrft foot, got {self.foot!r}")
         elif not hasattr(self.foot, "contact_force"):
             raise MudrftError(f"foot must be a name or a mudrft foot, got {self.foot!r}")
-        mudrft.paper_mud(float(check_finite("water_content", self.water_content)))
+        mudrft.paper_mud(
+            check_number("water_content", check_finite("water_content", self.water_content))
+        )
         check_positive("dt", self.dt, unit="s")
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")

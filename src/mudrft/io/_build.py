@@ -16,7 +16,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._progress import logger
-from .._validation import MudrftError, check_choice, check_positive, plain, warn_implausible
+from .._validation import (
+    MudrftError,
+    check_choice,
+    check_number,
+    check_positive,
+    plain,
+    warn_implausible,
+)
 from ..plate import DEFAULT_PLATE_LENGTH
 from .columns import fail, parse_header_name
 from .dataset import Trial
@@ -101,13 +108,21 @@ def resolve_plate(
     (decision D1)."""
     try:
         if characteristic_length is not None:
-            L = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+            L = check_number(
+                "characteristic_length",
+                check_positive("characteristic_length", characteristic_length, unit="m"),
+                unit="m",
+            )
             src = "argument"
         elif meta_len is not None:
             L, src = meta_len, "file header"
         else:
             L, src = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
-        A = float(check_positive("area", area, unit="m^2")) if area is not None else meta_area
+        A = (
+            check_number("area", check_positive("area", area, unit="m^2"), unit="m^2")
+            if area is not None
+            else meta_area
+        )
     except MudrftError as exc:
         raise MudrftError(f"{path}: {exc}") from None
     if A is not None:

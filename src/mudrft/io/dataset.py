@@ -24,6 +24,7 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_increasing,
+    check_number,
     check_positive,
     warn_implausible,
     warn_plausibility,
@@ -112,7 +113,11 @@ class Trial:
                 "mudrft's stress resists the intrusion, positive while intruding (negative "
                 "only under suction): is its sign flipped?"
             )
-        L = float(check_positive("characteristic_length", self.characteristic_length, unit="m"))
+        L = check_number(
+            "characteristic_length",
+            check_positive("characteristic_length", self.characteristic_length, unit="m"),
+            unit="m",
+        )
         warn_implausible(
             "characteristic_length (the plate's size) is",
             L,

@@ -35,6 +35,9 @@ from .._validation import (
     check_nonnegative,
     check_positive,
 )
+from .._validation import (
+    set_number as _set,
+)
 from ..citations import register
 from ..feet.base import SurfaceElements
 from ._common import mean_stress, projected, tip_depth, tip_position
@@ -521,9 +524,10 @@ class GranularRFT(FacetRFT):
     name: str = "granular-rft"
 
     def __post_init__(self) -> None:
-        check_positive("zeta", self.zeta, unit="N/m^3")
-        check_positive("rest_speed", self.rest_speed, unit="m/s")
-        check_in_range("leading_width", self.leading_width, 0.0, 1.0)
+        # one number each, stored as floats (a list failed inside simulate)
+        _set(self, "zeta", check_positive("zeta", self.zeta, unit="N/m^3"))
+        _set(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
+        _set(self, "leading_width", check_in_range("leading_width", self.leading_width, 0.0, 1.0))
         check_choice("extension", self.extension, ("treers2021", "planar"))
         if not isinstance(self.coefficients, FourierCoefficients):
             raise MudrftError(

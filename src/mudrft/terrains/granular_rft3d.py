@@ -29,7 +29,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_finite, check_in_range, check_positive
+from .._validation import MudrftError, check_finite, check_in_range, check_number, check_positive
+from .._validation import set_number as _set
 from ..citations import register
 from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
 
@@ -138,7 +139,7 @@ def agarwal_xi(rho_c: Any, mu_int: Any, *, gravity: float = GRAVITY) -> NDArray[
     """
     rho = check_positive("rho_c", rho_c, unit="kg/m^3")
     mu = check_positive("mu_int", mu_int)
-    g = float(check_positive("gravity", gravity, unit="m/s^2"))
+    g = check_number("gravity", check_positive("gravity", gravity, unit="m/s^2"), unit="m/s^2")
     return np.asarray(rho * g * (894.0 * mu**3 - 386.0 * mu**2 + 89.0 * mu), dtype=float)
 
 
@@ -292,7 +293,7 @@ def rft3d_alpha(
     alpha = _generic(n, v, coefficients, wall_width)
     if mu_surf is None:
         return alpha
-    return _cap(alpha, n, float(check_in_range("mu_surf", mu_surf, 0.0, 1e3)))
+    return _cap(alpha, n, check_number("mu_surf", check_in_range("mu_surf", mu_surf, 0.0, 1e3)))
 
 
 def _unit_forces(
@@ -371,8 +372,8 @@ def rft3d_forces(
             "normals (m, 3), areas (m,) and depths (..., m) must agree, "
             f"got shapes {n.shape}, {a.shape}, {d.shape}"
         )
-    xi = float(check_positive("xi_n", xi_n, unit="N/m^3"))
-    mu = float(check_in_range("mu_surf", mu_surf, 0.0, 1e3))
+    xi = check_number("xi_n", check_positive("xi_n", xi_n, unit="N/m^3"), unit="N/m^3")
+    mu = check_number("mu_surf", check_in_range("mu_surf", mu_surf, 0.0, 1e3))
     check_in_range("leading_width", leading_width, 0.0, 1.0)
     check_in_range("wall_width", wall_width, 0.0, 1.0)
     unit = _unit_forces(n, v, coefficients, mu, leading_width, wall_width)
@@ -432,13 +433,14 @@ class GranularRFT3D(FacetRFT):
     name: str = "granular-rft3d"
 
     def __post_init__(self) -> None:
-        check_positive("rho_c", self.rho_c, unit="kg/m^3")
-        check_in_range("mu_int", self.mu_int, 1e-6, 2.0)
-        check_in_range("mu_surf", self.mu_surf, 0.0, 1e3)
-        check_positive("gravity", self.gravity, unit="m/s^2")
-        check_positive("rest_speed", self.rest_speed, unit="m/s")
-        check_in_range("leading_width", self.leading_width, 0.0, 1.0)
-        check_in_range("wall_width", self.wall_width, 0.0, 1.0)
+        # one number each, stored as floats (a list failed inside simulate)
+        _set(self, "rho_c", check_positive("rho_c", self.rho_c, unit="kg/m^3"))
+        _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
+        _set(self, "mu_surf", check_in_range("mu_surf", self.mu_surf, 0.0, 1e3))
+        _set(self, "gravity", check_positive("gravity", self.gravity, unit="m/s^2"))
+        _set(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
+        _set(self, "leading_width", check_in_range("leading_width", self.leading_width, 0.0, 1.0))
+        _set(self, "wall_width", check_in_range("wall_width", self.wall_width, 0.0, 1.0))
         if not isinstance(self.coefficients, PolynomialCoefficients):
             raise MudrftError(
                 "coefficients must be a PolynomialCoefficients, "

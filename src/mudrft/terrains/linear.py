@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validation import MudrftError, check_choice, check_finite, check_nonnegative, check_positive
+from .._validation import set_number as _set
 from ..citations import register
 from ._common import area_z, kinematics, tip_depth, tip_position
 from .base import TerrainOutput
@@ -71,7 +72,7 @@ class LinearStiffness:
     name: str = "linear"
 
     def __post_init__(self) -> None:
-        check_positive("stiffness", self.stiffness, unit="N/m^3")
+        _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m^3"))
         check_choice("unloading", self.unloading, ("elastic", "zero"))
         register("godon2022ral")
         register("liu2023ral")

@@ -36,10 +36,15 @@ import numpy as np
 from .._progress import Progress, make_progress
 from .._validation import (
     MudrftError,
+    check_characteristic_length,
     check_finite,
     check_in_range,
     check_nonnegative,
+    check_number,
     check_positive,
+)
+from .._validation import (
+    set_number as _set,
 )
 from ..citations import register
 from ..trajectories import Trajectory
@@ -168,12 +173,14 @@ class MaxwellMud:
     name: str = "maxwell"
 
     def __post_init__(self) -> None:
+        # one number each, stored as floats (a list failed inside simulate)
         for f in ("alpha", "modulus", "relaxation", "omega", "damping", "release"):
-            check_positive(f, getattr(self, f))
-        check_nonnegative("sigma_y", self.sigma_y, unit="Pa")
-        check_in_range("n", self.n, 1e-6, 1.0)
+            _set(self, f, check_positive(f, getattr(self, f)))
+        _set(self, "sigma_y", check_nonnegative("sigma_y", self.sigma_y, unit="Pa"))
+        _set(self, "n", check_in_range("n", self.n, 1e-6, 1.0))
         if self.characteristic_length is not None:
-            check_positive("characteristic_length", self.characteristic_length, unit="m")
+            lc = check_characteristic_length("MaxwellMud", self.characteristic_length)
+            object.__setattr__(self, "characteristic_length", lc)
         register("chen2024aim")
 
     @property
@@ -271,7 +278,11 @@ class MaxwellMud:
         """
         if not isinstance(trajectory, Trajectory):
             raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
-        lc = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+        lc = check_number(
+            "characteristic_length",
+            check_positive("characteristic_length", characteristic_length, unit="m"),
+            unit="m",
+        )
         return _stress_history(
             self, trajectory.time, trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
         )
@@ -394,7 +405,11 @@ def fit_maxwell(
         raise MudrftError(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
-    lc = float(check_positive("characteristic_length", characteristic_length, unit="m"))
+    lc = check_number(
+        "characteristic_length",
+        check_positive("characteristic_length", characteristic_length, unit="m"),
+        unit="m",
+    )
     m0 = initial or MaxwellMud()
     g = trajectory.depth / lc
     gd = -trajectory.velocity[:, 2] / lc

@@ -19,7 +19,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._specialize import on_floats
-from .._validation import MudrftError, check_finite, check_in_range, check_positive
+from .._validation import (
+    MudrftError,
+    check_characteristic_length,
+    check_finite,
+    check_in_range,
+    check_number,
+    check_positive,
+)
 from .._xp import pyfloat
 from ..citations import register
 from ..constitutive import kernel
@@ -339,17 +346,20 @@ class MudTerrain:
                 f"mud must be a Mud (see mudrft.paper_mud), got {type(self.mud).__name__}"
             )
         if self.characteristic_length is not None:
-            lc = float(
-                check_positive("characteristic_length", self.characteristic_length, unit="m")
-            )
-            check_finite("characteristic_length", lc)
+            lc = check_characteristic_length("MudTerrain", self.characteristic_length)
             object.__setattr__(self, "characteristic_length", lc)
         qs, restart, kappa = evaluation(self.thixotropy, self.clock, self.acceleration)
         object.__setattr__(self, "acceleration", kappa == 1.0)
         object.__setattr__(self, "_flags", (qs, restart))
         object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
-        object.__setattr__(self, "xi0", float(check_in_range("xi0", self.xi0, 0.0, 1.0)))
-        hs = float(check_positive("heading_speed", self.heading_speed, unit="m/s"))
+        object.__setattr__(
+            self, "xi0", check_number("xi0", check_in_range("xi0", self.xi0, 0.0, 1.0))
+        )
+        hs = check_number(
+            "heading_speed",
+            check_positive("heading_speed", self.heading_speed, unit="m/s"),
+            unit="m/s",
+        )
         check_finite("heading_speed", hs)
         object.__setattr__(self, "heading_speed", hs)
         if not isinstance(self.name, str):

@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validation import check_nonnegative, check_positive
+from .._validation import set_number as _set
 from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 from .base import TerrainOutput
 
@@ -70,10 +71,11 @@ class RigidGround:
     name: str = "rigid"
 
     def __post_init__(self) -> None:
-        check_positive("stiffness", self.stiffness, unit="N/m")
-        check_nonnegative("damping", self.damping, unit="N s/m")
-        check_nonnegative("friction", self.friction)
-        check_positive("slip_speed", self.slip_speed, unit="m/s")
+        # one number each, stored as floats (a list failed inside simulate)
+        _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m"))
+        _set(self, "damping", check_nonnegative("damping", self.damping, unit="N s/m"))
+        _set(self, "friction", check_nonnegative("friction", self.friction))
+        _set(self, "slip_speed", check_positive("slip_speed", self.slip_speed, unit="m/s"))
 
     def initial_state(self, foot: Any, position: Any) -> RigidState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""

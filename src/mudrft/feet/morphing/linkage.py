@@ -27,7 +27,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import MudrftError, check_in_range, check_length, check_nonnegative
+from ..._validation import (
+    MudrftError,
+    check_in_range,
+    check_length,
+    check_nonnegative,
+    check_number,
+)
 
 __all__ = ["Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
 
@@ -115,12 +121,22 @@ class MorphingFootGeometry:
         ):
             object.__setattr__(self, k, check_length(k, getattr(self, k)))
         object.__setattr__(
-            self, "pole_radius", float(check_nonnegative("pole_radius", self.pole_radius, unit="m"))
+            self,
+            "pole_radius",
+            check_number(
+                "pole_radius",
+                check_nonnegative("pole_radius", self.pole_radius, unit="m"),
+                unit="m",
+            ),
         )
         object.__setattr__(
             self,
             "crank_offset",
-            float(check_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad")),
+            check_number(
+                "crank_offset",
+                check_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad"),
+                unit="rad",
+            ),
         )
         th_e = float(
             check_in_range("expanded_angle", self.expanded_angle, 0.0, 0.5 * math.pi, unit="rad")
