@@ -164,6 +164,23 @@ def test_a_stance_depth_in_millimetres_warns():
         mudrft.gait(depth=0.3)  # deep mud, plausible
 
 
+@pytest.mark.parametrize(
+    ("option", "value", "dt", "message"),
+    [
+        ("lift", 10.0, 1e-3, r"lift of 10 m, more than 1 m .*\(10 mm = 0.01\)"),
+        ("stride", 130.0, 0.05, r"stride of 130 m, more than 5 m .*\(130 mm = 0.13\)"),
+        ("speed", 200.0, 1e-6, r"speed of 200 m/s, more than 10 m/s .*\(200 mm/s = 0.2\)"),
+    ],
+)
+def test_gait_lengths_in_mm_and_a_speed_in_mm_per_s_warn(option, value, dt, message):
+    """A lift, stride or speed in mm (mm/s) ran silently (found by a fuzz of the API)."""
+    with pytest.warns(PlausibilityWarning, match=message):
+        mudrft.gait(**{option: value, "dt": dt})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mudrft.gait(lift=0.05, stride=0.5, speed=2.0)  # high and fast, plausible
+
+
 def _fail_midway(monkeypatch, module, name):
     real = getattr(module, name)
 

@@ -319,9 +319,13 @@ def gait(
     )  # fmt: skip
     slip, sway = (check_number(n, check_in_range(n, v, 0.0, 1.0)) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
     lift = check_number("lift", check_nonnegative("lift", lift, unit="m"), unit="m")
-    warn_implausible(
-        "gait: a stance depth of", depth, (0.0, 1.0), unit="m", hint="depth is in metres (20 mm = 0.02)"
-    )  # fmt: skip
+    for what, value, plausible, unit, hint in (
+        ("a stance depth of", depth, (0.0, 1.0), "m", "depth is in metres (20 mm = 0.02)"),
+        ("a lift of", lift, (0.0, 1.0), "m", "lift is in metres (10 mm = 0.01)"),
+        ("a stride of", stride, (0.0, 5.0), "m", "stride is in metres (130 mm = 0.13)"),
+        ("a speed of", speed, (0.0, 10.0), "m/s", "speed is in m/s (200 mm/s = 0.2)"),
+    ):  # lengths in mm or a speed in mm/s read as SI: valid, but surely a unit mistake
+        warn_implausible(f"gait: {what}", value, plausible, unit=unit, hint=hint)
     T = stride / speed
     check_samples(
         f"gait: one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s) "
