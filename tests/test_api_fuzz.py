@@ -13,6 +13,7 @@ import mudrft
 from mudrft import feet, metrics, terrains
 from mudrft._validation import MudrftError, PlausibilityWarning
 from mudrft.calibration import OnlineEstimator, calibrate, example_dataset
+from mudrft.trajectories import Trajectory
 
 MUD = mudrft.paper_mud(0.25)
 V = mudrft.paper_parameters(0.25, "vertical")
@@ -176,3 +177,12 @@ def test_sinking_depth_refuses_the_tips_z():
 def test_calibrate_checks_its_options(options, match):
     with pytest.raises(MudrftError, match=match):
         calibrate(example_dataset(), "vertical", **{"max_nfev": 1, "phases": False, **options})
+
+
+def test_a_trajectory_name_and_meta_are_checked():
+    t = np.linspace(0.0, 1.0, 5)
+    p = np.zeros((5, 3))
+    with pytest.raises(MudrftError, match=r"name must be a string, got 5"):
+        Trajectory(t, p, p, name=5)
+    with pytest.raises(MudrftError, match=r"meta must be a dict, got list"):
+        Trajectory(t, p, p, meta=[1])

@@ -112,6 +112,10 @@ class Trajectory:
                 raise MudrftError(
                     f"{name} must have shape ({t.size}, 3) to match time, got {a.shape}"
                 )
+        if not isinstance(self.name, str):
+            raise MudrftError(f"name must be a string, got {self.name!r}")
+        if not isinstance(self.meta, dict):
+            raise MudrftError(f"meta must be a dict, got {type(self.meta).__name__}")
         object.__setattr__(self, "time", t)
         object.__setattr__(self, "position", p)
         object.__setattr__(self, "velocity", v)
