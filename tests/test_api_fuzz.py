@@ -186,3 +186,12 @@ def test_a_trajectory_name_and_meta_are_checked():
         Trajectory(t, p, p, name=5)
     with pytest.raises(MudrftError, match=r"meta must be a dict, got list"):
         Trajectory(t, p, p, meta=[1])
+
+
+def test_normalized_stress_refuses_negative_areas_and_peak_support_a_mask():
+    force = np.array([[0.0, 0.0, 10.0]])
+    with pytest.raises(MudrftError, match=r"areas must be >= 0 m\^2, got -0.01"):
+        metrics.normalized_stress(force, [[0.0, 0.0, -0.01]])
+    assert metrics.normalized_stress(force, [[0.0, 0.0, 0.01]])[0, 2] == pytest.approx(1000.0)
+    with pytest.raises(MudrftError, match="force_z must be the vertical force"):
+        metrics.peak_support(np.array([1.0, 2.0]) > 1.5)

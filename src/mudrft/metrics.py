@@ -119,6 +119,8 @@ def peak_support(force_z: Any) -> float:
 
     ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
     """
+    if np.asarray(force_z).dtype == bool:  # a mask (force > 0) given for the force
+        raise MudrftError("force_z must be the vertical force [N], got a boolean array")
     f = _history("force_z", force_z)
     return float(max(0.0, float(np.max(f))))
 
@@ -190,5 +192,7 @@ def normalized_stress(force: Any, areas: Any) -> np.ndarray:
     a = check_finite("areas", areas)
     if f.shape != a.shape:
         raise MudrftError(f"force and areas must have the same shape, got {f.shape} and {a.shape}")
+    if np.any(a < 0):  # an area is >= 0; a negative one read as 0 stress without a word
+        raise MudrftError(f"areas must be >= 0 m^2, got {float(a.min())!r} m^2")
     safe = np.where(a > 0, a, 1.0)
     return np.where(a > 0, f / safe, 0.0)
