@@ -190,6 +190,13 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
+def _check_named(option: str, path: str | Path, expected: str) -> None:
+    """Refuse an empty output name: ``Path("")`` is the current directory, so ``--out ""``
+    (an unset shell variable, ``--out "$DIR"``) would write there unasked."""
+    if not os.fspath(path):
+        raise MudrftError(f"{option}: expected {expected}, got an empty string")
+
+
 class _RenameFilter(logging.Filter):
     """Show final names, not temporary ones, in the log lines written during a command."""
 
@@ -336,6 +343,7 @@ class Outputs:
         directory and keeps the suffix of ``path`` (so writers that look at it, such as
         matplotlib's ``savefig``, choose the right format).
         """
+        _check_named(option, path, "a file name")
         final = regular_target(path, option)
         self._check_parents(option, final)
         if not final.parent.is_dir():
@@ -363,6 +371,7 @@ class Outputs:
         error without ``--force``. ``path`` and its missing parents are created (and
         removed again if the command fails).
         """
+        _check_named(option, path, "a directory name")
         final = Path(path)
         self._check_parents(option, final)
         if final.exists() and not final.is_dir():
