@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from importlib import resources
 
+import pytest
+
 from mudrft.cli import main
 
 FAST = ("--dt", "0.004", "--quiet")  # a coarse, quiet gait cycle: the command is tested
@@ -52,3 +54,54 @@ def test_empty_out_directory_is_refused(tmp_path, capsys, monkeypatch):
     code, _, err = run(capsys, "compare", "--out", "", "--no-figures", "--quiet")
     one_line_error(code, err, "--out", "empty")
     assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------------------------------------
+# errors name the command line's options, not the library's keywords
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("args", "needles"),
+    [
+        (("--confidence", "95"), ("--confidence", "0.95")),
+        (("--confidence", "0"), ("--confidence",)),
+        (("--length", "0"), ("--length",)),
+        (("--area", "-1"), ("--area",)),
+        (("--starts", "0"), ("--starts",)),
+        (("--decimate", "0"), ("--decimate",)),
+        (("--clock", "retraction"), ("--clock retraction", "--thixotropy quasi-static")),
+    ],
+)
+def test_calibrate_option_errors_name_the_option(tmp_path, capsys, args, needles):
+    out = tmp_path / "fit.json"
+    code, _, err = run(capsys, "calibrate", example_log(), "--out", out, "--quiet", *args)
+    one_line_error(code, err, *needles)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_simulate_clock_without_quasi_static_names_the_options(tmp_path, capsys):
+    args = ("simulate", "--foot", "flat", "--out", tmp_path / "run.csv", "--clock", "retraction")
+    code, _, err = run(capsys, *args, *FAST)
+    one_line_error(code, err, "--clock retraction", "--thixotropy quasi-static")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_compare_negative_hold_names_the_option(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    code, _, err = run(capsys, "compare", "--out", out, "--hold", "-1", "--no-figures")
+    one_line_error(code, err, "--hold", ">= 0 s")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "needles"),
+    [(("--speed", "-1"), ("--speed", ">= 0 m/s")), (("--dt", "0.02"), ("--dt", "0.01 s"))],
+)
+def test_walk_option_errors_name_the_option(tmp_path, capsys, args, needles):
+    pytest.importorskip("mujoco")
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "w"
+    code, _, err = run(
+        capsys, "walk", "--out", out, "--seconds", "0.05", "--no-render", "--quiet", *args
+    )
+    one_line_error(code, err, *needles)
+    assert not out.exists()

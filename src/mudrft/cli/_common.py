@@ -38,7 +38,9 @@ __all__ = [
     "Outputs",
     "add_foot_options",
     "add_force",
+    "check_clock_option",
     "check_finite_option",
+    "check_nonnegative_option",
     "check_positive_option",
     "logger",
     "paper_mud_option",
@@ -163,6 +165,24 @@ def check_positive_option(option: str, value: float, *, unit: str = "") -> float
     if not value > 0:
         raise MudrftError(f"{option} must be > 0{_unit(unit)}, got {_number(value)}")
     return float(value)
+
+
+def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
+    """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
+    check_finite_option(option, value, unit=unit)
+    if not value >= 0:
+        raise MudrftError(f"{option} must be >= 0{_unit(unit)}, got {_number(value)}")
+    return float(value)
+
+
+def check_clock_option(thixotropy: str, clock: str) -> None:
+    """Refuse ``--clock retraction`` without ``--thixotropy quasi-static``, naming the options
+    (the library names its keywords, ``clock=`` and ``thixotropy=``)."""
+    if clock != "contact" and thixotropy != "quasi-static":
+        raise MudrftError(
+            f"--clock {clock} applies to --thixotropy quasi-static only (eq. 9); the ODE "
+            f"(--thixotropy {thixotropy}) keeps its own memory"
+        )
 
 
 def _unit(unit: str) -> str:

@@ -20,7 +20,17 @@ from typing import Any
 
 from .._validation import MudrftError
 from ..io import load_dataset
-from ._common import HelpFormatter, Outputs, add_force, logger, require_plot_file, same_file
+from ._common import (
+    HelpFormatter,
+    Outputs,
+    add_force,
+    check_clock_option,
+    check_finite_option,
+    check_positive_option,
+    logger,
+    require_plot_file,
+    same_file,
+)
 
 __all__ = ["add_parser", "run"]
 
@@ -97,7 +107,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "longer than 2000 samples are thinned to about 2000, with a warning naming K)",
     )
     p.add_argument(
-        "--confidence", type=float, default=0.95, help="level of the confidence intervals"
+        "--confidence",
+        type=float,
+        default=0.95,
+        help="level of the confidence intervals, a fraction between 0 and 1",
     )
     p.add_argument(
         "--thixotropy",
@@ -124,6 +137,23 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return p
 
 
+def _check_options(args: argparse.Namespace) -> None:
+    """Check the numeric options before any file is read, naming them as the command line
+    does (the library names ``confidence_level``, ``characteristic_length``, and blames
+    the data file for a bad ``--area`` or ``--length``)."""
+    for option, value in (("--starts", args.starts), ("--decimate", args.decimate)):
+        if value is not None and value < 1:
+            raise MudrftError(f"{option} must be an integer >= 1, got {value}")
+    if args.area is not None:
+        check_positive_option("--area", args.area, unit="m^2")
+    if args.length is not None:
+        check_positive_option("--length", args.length, unit="m")
+    level = check_finite_option("--confidence", args.confidence)
+    if not 0 < level < 1:
+        hint = f" (give a fraction: {level:g} % is {level / 100:g})" if 1 < level < 100 else ""
+        raise MudrftError(f"--confidence must lie between 0 and 1, got {level:g}{hint}")
+
+
 def run(args: argparse.Namespace) -> int:
     """Fit, print the table, write ``--out``/``--plot``; returns 0, or 1 if the fit failed."""
     from ..calibration.fit import calibrate
@@ -134,6 +164,8 @@ def run(args: argparse.Namespace) -> int:
             raise MudrftError(f"--{option} {target!r} names an input file; choose another name")
     if args.plot:
         require_plot_file("--plot", args.plot)
+    _check_options(args)
+    check_clock_option(args.thixotropy, args.clock)
     opts: dict[str, Any] = {"area": args.area, "characteristic_length": args.length}
     if args.direction:
         opts["direction"] = args.direction

@@ -23,6 +23,7 @@ from ._common import (
     add_foot_options,
     add_force,
     check_finite_option,
+    check_nonnegative_option,
     check_positive_option,
     paper_mud_option,
     require_extra,
@@ -166,7 +167,7 @@ def run(args: argparse.Namespace) -> int:
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
-    hold = check_finite_option("--hold", args.hold, unit="s")
+    hold = check_nonnegative_option("--hold", args.hold, unit="s")
     water_content = check_finite_option("--water-content", args.water_content)
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
         warnings.simplefilter("ignore")

@@ -9,6 +9,7 @@ import time
 from typing import Any
 
 from .._progress import Progress
+from .._validation import MudrftError
 from ..feet import by_name
 from ..io.atomic import json_text
 from ._common import (
@@ -16,7 +17,7 @@ from ._common import (
     Outputs,
     add_foot_options,
     add_force,
-    check_finite_option,
+    check_nonnegative_option,
     check_positive_option,
     logger,
     paper_mud_option,
@@ -86,11 +87,14 @@ def run(args: argparse.Namespace) -> int:
     dt = check_positive_option("--dt", args.dt, unit="s")
     step_time = check_positive_option("--step-time", args.step_time, unit="s")
     bottom = check_positive_option("--bottom", args.bottom, unit="m")
-    speed = check_finite_option("--speed", args.speed, unit="m/s")
+    speed = check_nonnegative_option("--speed", args.speed, unit="m/s")
     require_extra("mujoco", needed_for="mudrft walk")
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
     from ..integrations import walk as W
     from ..integrations import walk_output as WO
+
+    if dt > W.MAX_DT:
+        raise MudrftError(f"--dt must be <= {W.MAX_DT} s for the biped, got {dt:g}")
 
     mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
     if args.compare:

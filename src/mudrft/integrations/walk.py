@@ -47,6 +47,7 @@ from .walk_output import (
 
 __all__ = [
     "BIPED_FEET",
+    "MAX_DT",
     "STEP_COLUMNS",
     "WALK_COLUMNS",
     "GaitController",
@@ -62,6 +63,8 @@ __all__ = [
 BIPED_FEET = ("left_foot", "right_foot")
 #: Leg segment lengths of the biped: thigh, shank [m]; ankle height above the sole [m].
 THIGH, SHANK, ANKLE = 0.2, 0.2, 0.04
+#: The largest physics time step the biped walks stably at [s].
+MAX_DT = 0.01
 _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
 
 
@@ -379,8 +382,8 @@ def walk(
     mj = _mujoco()
     check_positive("seconds", seconds, unit="s")
     check_positive("dt", dt, unit="s")
-    if dt > 0.01:
-        raise MudrftError(f"dt must be <= 0.01 s for the biped, got {plain(dt)}")
+    if dt > MAX_DT:
+        raise MudrftError(f"dt must be <= {MAX_DT} s for the biped, got {plain(dt)}")
     check_samples(
         f"walk: {float(seconds):g} s at dt = {float(dt):g} s",
         seconds / dt,
