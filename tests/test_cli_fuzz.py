@@ -105,3 +105,31 @@ def test_walk_option_errors_name_the_option(tmp_path, capsys, args, needles):
     )
     one_line_error(code, err, *needles)
     assert not out.exists()
+
+
+# --------------------------------------------------------------------------------------
+# mudrft sweep
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("address", ["bogus", "localhost:notaport", ""])
+def test_sweep_bad_scheduler_address_is_one_line(tmp_path, capsys, address):
+    for module in ("dask", "distributed", "xarray", "zarr"):
+        pytest.importorskip(module)
+    (tmp_path / "s.toml").write_text(SPEC)
+    out = tmp_path / "o"
+    code, _, err = run(
+        capsys, "sweep", tmp_path / "s.toml", "--out", out, "--scheduler", address, "--quiet"
+    )
+    one_line_error(code, err, "--scheduler")
+    assert not out.exists()
+
+
+def test_sweep_never_replaces_its_spec(tmp_path, capsys):
+    for module in ("xarray", "zarr"):
+        pytest.importorskip(module)
+    spec = tmp_path / "points.csv"  # a spec under the name of the table the sweep writes
+    spec.write_text(SPEC)
+    args = ("sweep", spec, "--out", tmp_path, "--scheduler", "serial", "--force", "--quiet")
+    code, _, err = run(capsys, *args)
+    one_line_error(code, err, "--out", "spec")
+    assert spec.read_text() == SPEC
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["points.csv"]

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from .._validation import MudrftError
-from ._common import HelpFormatter, Outputs, add_force, logger, require_extra
+from ._common import HelpFormatter, Outputs, add_force, logger, require_extra, same_file
 
 __all__ = ["STORE", "TABLE", "add_parser", "run"]
 
@@ -92,6 +92,11 @@ def run(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     if args.workers is not None and args.workers < 1:
         raise MudrftError(f"--workers must be >= 1, got {args.workers}")
+    if args.scheduler is not None and not args.scheduler.strip():
+        raise MudrftError(
+            "--scheduler: expected an address such as tcp://host:8786 or 'serial', got an "
+            "empty string"
+        )
     if args.workers is not None and args.scheduler:
         raise MudrftError("--workers sets the local cluster; it cannot go with --scheduler")
     for module in ("dask", "distributed", "xarray", "zarr"):
@@ -105,6 +110,15 @@ def run(args: argparse.Namespace) -> int:
             f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
         )
     names = [TABLE, *(f"{m}.png" for m in (_plot_metrics(spec) if args.plot else ()))]
+    spec_path = Path(args.spec).resolve()
+    restarts = args.force and not args.resume  # DIR/sweep.zarr is removed and made again
+    if any(same_file(spec_path, out / n) for n in names) or (
+        restarts and store.resolve() in spec_path.parents
+    ):
+        raise MudrftError(
+            f"--out {str(out)!r} would replace the spec {args.spec!r}; move the spec or "
+            "choose another directory"
+        )
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", out, names)
         logger.info(

@@ -86,7 +86,14 @@ def _client(client: Any, scheduler: str | None, workers: int | None) -> Iterator
         return
     distributed = _require("distributed")
     if scheduler:
-        with distributed.Client(scheduler) as c:
+        try:
+            connected = distributed.Client(scheduler)
+        except (ValueError, TypeError) as exc:  # a malformed address: distributed's parser
+            raise MudrftError(
+                f"scheduler (CLI: --scheduler) {scheduler!r} is not a Dask scheduler address "
+                f"such as 'tcp://host:8786' (or 'serial'): {exc}"
+            ) from exc
+        with connected as c:
             yield c
         return
     n = workers or os.cpu_count() or 1
