@@ -94,7 +94,11 @@ def test_compare_negative_hold_names_the_option(tmp_path, capsys):
 
 @pytest.mark.parametrize(
     ("args", "needles"),
-    [(("--speed", "-1"), ("--speed", ">= 0 m/s")), (("--dt", "0.02"), ("--dt", "0.01 s"))],
+    [
+        (("--speed", "-1"), ("--speed", ">= 0 m/s")),
+        (("--dt", "0.02"), ("--dt", "0.01 s")),
+        (("--step-time", "1e-6"), ("--step-time", "at least 20 time steps", "0.02 s")),
+    ],
 )
 def test_walk_option_errors_name_the_option(tmp_path, capsys, args, needles):
     pytest.importorskip("mujoco")
@@ -133,3 +137,11 @@ def test_sweep_never_replaces_its_spec(tmp_path, capsys):
     one_line_error(code, err, "--out", "spec")
     assert spec.read_text() == SPEC
     assert sorted(p.name for p in tmp_path.iterdir()) == ["points.csv"]
+
+
+def test_a_missing_foot_file_names_the_foot_option(tmp_path, capsys):
+    """'path must be an existing mesh file' named the reader's argument, not --foot."""
+    out = tmp_path / "r.csv"
+    code, _, err = run(capsys, "simulate", "--foot", tmp_path / "missing.stl", "--out", out)
+    one_line_error(code, err, "--foot", "missing.stl", "no such mesh file")
+    assert not out.exists()

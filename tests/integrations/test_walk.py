@@ -219,3 +219,9 @@ def test_cli_rejects_bad_input(tmp_path):
         walk_cli.run(_args(tmp_path, foot="paddle"))
     with pytest.raises(mudrft.MudrftError, match="dt"):
         W.walk(mudrft.feet.Flat(), MUD, seconds=1.0, dt=0.05)
+
+
+def test_a_step_of_a_few_physics_steps_is_refused():
+    """walk(step_time=1e-6) ran and returned meaningless numbers (found by a CLI fuzz)."""
+    with pytest.raises(mudrft.MudrftError, match=r"step_time must span at least 20 physics steps"):
+        W.walk(mudrft.feet.Flat(), MUD, seconds=0.01, dt=1e-3, step_time=0.019)

@@ -95,6 +95,11 @@ def run(args: argparse.Namespace) -> int:
 
     if dt > W.MAX_DT:
         raise MudrftError(f"--dt must be <= {W.MAX_DT} s for the biped, got {dt:g}")
+    if step_time < W.MIN_STEP_SAMPLES * dt:
+        raise MudrftError(
+            f"--step-time must span at least {W.MIN_STEP_SAMPLES} time steps (>= "
+            f"{W.MIN_STEP_SAMPLES * dt:g} s at --dt {dt:g}), got {step_time:g}"
+        )
 
     mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
     if args.compare:

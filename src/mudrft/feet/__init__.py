@@ -59,6 +59,8 @@ def by_name(name: str | os.PathLike[str], *, unit: str | None = None) -> Foot:
     """
     is_path = isinstance(name, str) and name.lower().endswith((".stl", ".obj", ".ply"))
     if isinstance(name, os.PathLike) or is_path:
+        if not os.path.exists(name):  # named as the foot (CLI: --foot), not the reader's path
+            raise MudrftError(f"foot (CLI: --foot) {os.fspath(name)!r}: no such mesh file")
         return MeshFoot.from_file(name, unit="m" if unit is None else unit)
     if unit is not None:
         raise MudrftError(

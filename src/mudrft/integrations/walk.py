@@ -65,6 +65,9 @@ BIPED_FEET = ("left_foot", "right_foot")
 THIGH, SHANK, ANKLE = 0.2, 0.2, 0.04
 #: The largest physics time step the biped walks stably at [s].
 MAX_DT = 0.01
+#: The fewest physics steps a walking step may span (``step_time / dt``): the servos
+#: track the gait's joint targets, which a step of a handful of samples does not describe.
+MIN_STEP_SAMPLES = 20
 _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
 
 
@@ -359,7 +362,7 @@ def walk(
     speed : float, keyword-only
         Walking speed command [m/s].
     step_time : float, keyword-only
-        Duration of a step [s].
+        Duration of a step [s], at least :data:`MIN_STEP_SAMPLES` physics steps.
     bottom : float, keyword-only
         Depth of the rigid bed under the mud [m].
     implicit : bool, keyword-only
@@ -384,6 +387,12 @@ def walk(
     check_positive("dt", dt, unit="s")
     if dt > MAX_DT:
         raise MudrftError(f"dt must be <= {MAX_DT} s for the biped, got {plain(dt)}")
+    check_positive("step_time", step_time, unit="s")
+    if step_time < MIN_STEP_SAMPLES * dt:
+        raise MudrftError(
+            f"step_time must span at least {MIN_STEP_SAMPLES} physics steps (>= "
+            f"{plain(MIN_STEP_SAMPLES * dt)} s at dt = {plain(dt)} s), got {plain(step_time)} s"
+        )
     check_samples(
         f"walk: {float(seconds):g} s at dt = {float(dt):g} s",
         seconds / dt,
