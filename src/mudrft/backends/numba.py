@@ -44,6 +44,7 @@ __all__ = [
     "N_OUT",
     "N_STATE",
     "PARALLEL_MIN",
+    "STATE_IN_MUD",
     "available",
     "compile_scalar",
     "compiled_feet",
@@ -58,6 +59,8 @@ PARALLEL_MIN = 4096
 N_CHANNEL = len(ChannelState._fields)
 #: Floats in a foot's state row, output row and constants row.
 N_STATE = 3 * N_CHANNEL + 4
+#: Index of ``in_mud`` in a foot's state row (its last float).
+STATE_IN_MUD = N_STATE - 1
 N_OUT = 7
 N_CONST = 2 * len(ChannelConstants._fields)
 

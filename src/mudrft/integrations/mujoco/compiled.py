@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from ...backends.numba import N_STATE, _channels, _constants, _numba, compile_scalar
+from ...backends.numba import N_STATE, STATE_IN_MUD, _channels, _constants, _numba, compile_scalar
 from ...feet.closed_form import closed_form_force
 from ...feet.facet import (
     clip_constants,
@@ -328,7 +328,7 @@ def _kernel(
                 u[q] = acc
             # odometry of the tip in the foot frame (D65)
             o = odo[k, j]
-            was_in = mud[k, j, 18] > 0.5
+            was_in = mud[k, j, STATE_IN_MUD] > 0.5
             xy0 = tipw[0] - o[2] if was_in else tipw[0]
             xy1 = tipw[1] - o[3] if was_in else tipw[1]
             b0 = o[0] if was_in else 0.0
