@@ -46,7 +46,7 @@ def test_every_run_is_bounded_by_the_one_sample_limit(make, needle):
     assert "iB" in text  # the memory it would have needed
 
 
-@pytest.mark.parametrize(("speed", "dt"), [(0.2, 10.0), (0.2, 0.3), (100.0, 1e-3), (0.2, 0.0326)])
+@pytest.mark.parametrize(("speed", "dt"), [(0.2, 10.0), (0.2, 0.3), (9.0, 1e-3), (0.2, 0.0326)])
 def test_a_gait_cycle_too_coarse_to_mean_anything_is_refused(speed, dt):
     """Fewer than MIN_GAIT_STEPS steps a cycle is an error naming dt and the largest dt that
     works (it used to run: dt = 10 s gave a 2-sample cycle with no suction at all)."""
