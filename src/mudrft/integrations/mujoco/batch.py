@@ -34,7 +34,7 @@ from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, body_foot, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
-from .stability import check_explicit_step
+from .stability import check_explicit_step, warn_rk4
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
@@ -121,7 +121,7 @@ class MudBatch:
         self._mj = mj
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
         self._checked_datas: list[Any] = []
-        self._rk4 = int(mj.mjtIntegrator.mjINT_RK4)
+        self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
@@ -468,6 +468,8 @@ class MudBatch:
         mj = self._mj
         m = self.model
         rk4 = int(self._opt.integrator) == self._rk4
+        if rk4 and not self._rk4_warned:
+            self._rk4_warned = warn_rk4()
         out = self.last
         for _ in range(int(nstep)):
             if rk4:  # mj_step1/mj_step2 do not support RK4: full forward, then mj_step

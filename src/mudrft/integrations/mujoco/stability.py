@@ -19,7 +19,7 @@ from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
 
-__all__ = ["check_explicit_step", "stability_limits"]
+__all__ = ["check_explicit_step", "stability_limits", "warn_rk4"]
 
 
 def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[str, float]:
@@ -114,3 +114,23 @@ def check_explicit_step(model: Any, bodies: Any, terrain: Any) -> None:
                 "the mud may feed energy into the foot; keep implicit=True (the default) or "
                 f"use a timestep below {0.5 * limit['dt_viscous']:.2g} s"
             )
+
+
+def warn_rk4() -> bool:
+    """Warn (once per coupling) that the passivity bound does not cover MuJoCo's RK4.
+
+    The bound of decision D62c counts the work of the mud's wrench over MuJoCo's Euler
+    step; RK4 holds the wrench over four stages, during which a light, fast-spinning body
+    turns far, and a random search found releases that gained energy (docs/model.md D62e).
+
+    Returns
+    -------
+    bool
+        True (the caller records that it warned).
+    """
+    warn_plausibility(
+        "the model integrates with RK4: the mud coupling's passivity bound assumes MuJoCo's "
+        "Euler or implicitfast step, and under RK4 a light, fast-spinning foot can gain "
+        "energy from the mud (docs/model.md D62e); use integrator='implicitfast' or 'Euler'"
+    )
+    return True
