@@ -196,3 +196,17 @@ def test_mjx_keeps_the_passivity_bound():
     assert rise <= 1e-9 * (1.0 + start)
     rise_off, _ = _rolling_shadow_rise(bound=False)
     assert rise_off > 0.1 * start
+
+
+def test_mjx_under_rk4_warns_that_the_passivity_bound_assumes_euler():
+    """As the CPU coupling (D62e): RK4 is accepted, with a warning at attach."""
+    from mudrft._validation import PlausibilityWarning
+
+    from .conftest import box_foot_model
+
+    m = box_foot_model()
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    with pytest.warns(PlausibilityWarning, match="integrates with RK4"):
+        mm.attach(m, "foot", MUD)
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    mm.attach(m, "foot", MUD)  # no warning (warnings are errors in the suite)

@@ -41,6 +41,7 @@ from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data
 from ..mujoco.placement import body_foot
 from ..mujoco.pose import POSE_RESOLUTION
+from ..mujoco.stability import warn_rk4
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
 
@@ -165,6 +166,8 @@ class MjxCoupling:
             raise MudrftError(
                 "MJX has no 'implicit' integrator; use 'implicitfast', 'Euler' or 'RK4'"
             )
+        if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4):
+            warn_rk4()  # as the CPU coupling: outside the passivity bound (D62e)
         self.mjx_model = _mjx().put_model(model)
         register("todorov2012mujoco")
 
