@@ -145,3 +145,15 @@ def test_a_missing_foot_file_names_the_foot_option(tmp_path, capsys):
     code, _, err = run(capsys, "simulate", "--foot", tmp_path / "missing.stl", "--out", out)
     one_line_error(code, err, "--foot", "missing.stl", "no such mesh file")
     assert not out.exists()
+
+
+def test_sweep_out_inside_a_store_is_refused(tmp_path, capsys):
+    """--out DIR/sweep.zarr wrote sweep.zarr, points.csv and maps inside the store."""
+    for module in ("xarray", "zarr"):
+        pytest.importorskip(module)
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC)
+    for out in (tmp_path / "sweep.zarr", tmp_path / "sweep.zarr" / "more"):
+        code, _, err = run(capsys, "sweep", spec, "--out", out, "--scheduler", "serial", "--quiet")
+        one_line_error(code, err, "--out", "is a sweep store", "give the directory that holds it")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.toml"]

@@ -105,6 +105,11 @@ def run(args: argparse.Namespace) -> int:
         require_extra("matplotlib", needed_for="--plot")
     out = Path(args.out)
     store = out / STORE
+    if any(part.name == STORE for part in (out, *out.parents)):  # a store inside a store
+        raise MudrftError(
+            f"--out {str(out)!r} is a sweep store; give the directory that holds it "
+            f"({str(out.parent)!r}), where the sweep writes {STORE}, points.csv and maps"
+        )
     if store.exists() and not (args.resume or args.force):
         raise MudrftError(
             f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
