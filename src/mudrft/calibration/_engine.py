@@ -87,7 +87,7 @@ class Engine:
 
     # ---- variable projection ----------------------------------------------------------
     def project(
-        self, R: NDArray[np.float64], lin: list[str]
+        self, R: NDArray[np.float64], lin: list[str], keep: dict[str, float] | None = None
     ) -> tuple[NDArray[np.float64], list[float]]:
         """Solve the linear parameters exactly from a basis simulation.
 
@@ -95,7 +95,9 @@ class Engine:
         to 1 (column 0) and with parameter j set to 2 (column 1 + j). The model is linear
         in each of them, so column differences are their basis functions. Returns the
         residuals at the non-negative least-squares solution (clipped to the bounds) and
-        the solution.
+        the solution. A parameter the samples do not depend on (a zero basis, e.g. sigma_y
+        on data without a retraction) keeps its value in ``keep`` (default the current values):
+        the data say nothing of it, and the solver's 0 would have put it on its lower bound.
         """
         from scipy.optimize import nnls
 
@@ -104,12 +106,17 @@ class Engine:
         E = R[:, 1:] - R[:, :1]  # weighted basis of each linear parameter
         rest = R[:, 0] - E.sum(axis=1)  # weighted (everything else - data)
         scale = np.linalg.norm(E, axis=0)
-        scale[~(scale > 0)] = 1.0
+        seen = scale > 0
+        scale[~seen] = 1.0
         try:
             coef, _ = nnls(E / scale, -rest, maxiter=50 * E.shape[1])
         except RuntimeError:  # pragma: no cover - nnls iteration limit
             coef = np.zeros(E.shape[1])
-        c = [self.clip(k, float(v)) for k, v in zip(lin, coef / scale, strict=True)]
+        held = self.values if keep is None else keep
+        c = [
+            self.clip(k, float(v)) if s else float(held[k])
+            for k, v, s in zip(lin, coef / scale, seen, strict=True)
+        ]
         return rest + E @ np.asarray(c), c
 
     def basis(self, vals: Values, lin: list[str]) -> Values:
@@ -155,7 +162,7 @@ class Engine:
             if not np.all(np.isfinite(res[:, g, :])):
                 continue
             point = {k: float(v) for k, v in cands[g].items()}
-            r, coef = self.project(res[:, g, :], lin)
+            r, coef = self.project(res[:, g, :], lin, {**self.values, **cands[g]})
             point.update(zip(lin, coef, strict=True))
             cost = 0.5 * float(r @ r)
             scored.append((cost, point))
@@ -309,7 +316,7 @@ class _LogObjective:
         X[1 + np.arange(n_free), np.arange(n_free)] += h
         sim = eng.packed.simulate(eng.basis(self.values_at(X), lin), self.upto)
         R = eng.packed.residuals(sim, self.mask).reshape(-1, 1 + n_free, 1 + len(lin))
-        cols = [eng.project(R[:, i, :], lin) for i in range(1 + n_free)]
+        cols = [eng.project(R[:, i, :], lin, self.base) for i in range(1 + n_free)]
         r = cols[0][0]
         if not np.all(np.isfinite(r)):
             r = np.full_like(r, 1e6)

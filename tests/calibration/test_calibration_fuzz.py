@@ -1,0 +1,35 @@
+"""Regression tests from a fuzz of the calibration with valid but difficult data."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mudrft.calibration import calibrate, synthetic_dataset
+from mudrft.io import IntrusionDataset, Trial
+
+
+def _intrusion_only(true):
+    """Trials cut at their deepest sample: no hold, no retraction, nothing of the suction."""
+    full = synthetic_dataset(true, speeds=(0.01, 0.04), noise=0.01, seed=3, dt=0.02)
+    cut = []
+    for tr in full:
+        i = int(np.argmax(tr.depth)) + 1
+        cut.append(Trial(tr.time[:i], tr.depth[:i], tr.stress[:i], name=tr.name))
+    return IntrusionDataset(tuple(cut))
+
+
+def test_sigma_y_without_retraction_keeps_its_start_value(true_vertical):
+    """sigma_y has no effect before the retraction: the exact linear solve gave it 0, clipped
+    to its lower bound (0.01 Pa), so a fit of the intrusion group reported sigma_y "fixed" at
+    0.01 Pa (the paper row's 7100 Pa silently replaced) and fit.to_parameters() lost the
+    suction. It keeps its starting value, like the suction constants next to it."""
+    data = _intrusion_only(true_vertical)
+    fit = calibrate(data, groups="b")
+    assert fit.identifiability["sigma_y"] == "fixed"
+    assert math.isclose(fit.parameters.sigma_y, true_vertical.sigma_y, rel_tol=1e-9)
+    fit = calibrate(data, groups=("b", "s"))
+    assert fit.identifiability["sigma_y"] == "not identified"
+    assert math.isinf(fit.standard_error["sigma_y"])
+    assert math.isclose(fit.parameters.sigma_y, true_vertical.sigma_y, rel_tol=1e-6)
