@@ -131,8 +131,8 @@ def calibrate(
         (:math:`k_a=1/\lambda` follows :math:`\lambda`, decisions D8, D41).
     initial : MudParameters, optional, keyword-only
         Starting values and values of the fixed parameters. Default: the paper row of
-        the direction that best matches the data after rescaling its linear parameters
-        (decision D43).
+        the direction that best matches the data after rescaling its free linear
+        parameters (decision D43); those not fitted keep the row's values.
     fixed : dict, optional, keyword-only
         Parameters to hold at given SI values (removed from the free set).
     bounds : dict, optional, keyword-only

@@ -103,20 +103,24 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
     )
 
 
-def _paper_start(engine: Engine, direction: str, reporter: Reporter) -> dict[str, float]:
-    """The paper row (of the data's direction) that fits best after its linear parameters
-    are rescaled by non-negative least squares; all rows in one batched simulation
-    (decision D43)."""
+def _paper_start(
+    engine: Engine, direction: str, reporter: Reporter, free: tuple[str, ...]
+) -> dict[str, float]:
+    """The paper row (of the data's direction) that fits best after its free linear
+    parameters are rescaled by non-negative least squares; all rows in one batched
+    simulation (decision D43). The linear parameters not fitted keep the row's values: a
+    rescaled one would be fitted to the data at the start and then reported "fixed"."""
     rows = table_rows(direction)
     ws = sorted(rows)
     cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
     mask = engine.packed.mask(ALL_PHASES)
-    cost, point = engine.grid_start("start", mask, LINEAR_PARAMETERS, cands, len(cands))[0]
+    lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
+    cost, point = engine.grid_start("start", mask, lin, cands, len(cands))[0]
     nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
     w = next(w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear))
     reporter.note(
         f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
-        f"(linear parameters rescaled), cost {cost:.4g}"
+        f"(free linear parameters rescaled), cost {cost:.4g}"
     )
     return point
 
@@ -170,7 +174,7 @@ def start_engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )
     if from_paper:
-        engine.values.update(_paper_start(engine, direction, reporter))
+        engine.values.update(_paper_start(engine, direction, reporter, free))
     engine.values.update({k: float(v) for k, v in fixed.items()})
     for k in free:
         engine.values[k] = engine.clip(k, engine.values[k])
