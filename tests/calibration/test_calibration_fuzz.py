@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from mudrft.calibration import calibrate, synthetic_dataset
 from mudrft.io import IntrusionDataset, Trial
@@ -48,3 +49,14 @@ def test_held_linear_constants_keep_the_paper_row_values(true_vertical):
     for k in fit.free:
         lo, hi = fit.confidence_interval[k]
         assert lo <= getattr(true, k) <= hi, k
+
+
+def test_interval_of_a_parameter_at_a_bound_is_the_bounds(true_vertical):
+    """Rule D44: a parameter that ends at a bound is "not identified" and its interval is
+    the bounds; it was the linearised interval around the bound (19700-20000 Pa for a true
+    alpha of 24000 Pa)."""
+    data = synthetic_dataset(true_vertical, speeds=(0.02,), noise=0.01, seed=3, dt=0.02)
+    fit = calibrate(data, groups="b", initial=true_vertical, bounds={"alpha": (1.0, 2.0e4)})
+    assert fit.parameters.alpha == pytest.approx(2.0e4)
+    assert fit.identifiability["alpha"] == "not identified"
+    assert fit.confidence_interval["alpha"] == (1.0, 2.0e4)

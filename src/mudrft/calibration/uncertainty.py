@@ -194,7 +194,9 @@ def uncertainty(
         e = float(cov.se_log[free.index(name)])
         rse[name] = e
         se[name] = v * e if math.isfinite(e) else math.inf
-        ci[name] = interval(v, e, q, bounds[name])
+        # at a bound the interval is the bounds (rule D44): the optimum lies past the bound,
+        # so the linearised interval around the bound value would be a confident wrong range
+        ci[name] = bounds[name] if bound[name] else interval(v, e, q, bounds[name])
         verdicts[name] = verdict(e, bound[name])
     return Uncertainty(
         se, rse, ci, verdicts, cov.correlation, math.sqrt(cov.s2), cov.condition_number
