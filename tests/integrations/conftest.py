@@ -44,3 +44,14 @@ def mechanical_energy(model: object, data: object) -> float:
     model.opt.enableflags |= int(mujoco.mjtEnableBit.mjENBL_ENERGY)  # type: ignore[attr-defined]
     mujoco.mj_forward(model, data)
     return float(data.energy[0] + data.energy[1])  # type: ignore[attr-defined]
+
+
+def energy_rise(model: object, data: object, step: object, steps: int) -> tuple[float, float]:
+    """Largest rise of :func:`mechanical_energy` above its start over ``steps`` calls of
+    ``step()`` [J], and the start [J]."""
+    e0 = mechanical_energy(model, data)
+    rise = -np.inf
+    for _ in range(steps):
+        step()  # type: ignore[operator]
+        rise = max(rise, mechanical_energy(model, data) - e0)
+    return float(rise), e0

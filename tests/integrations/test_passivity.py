@@ -13,7 +13,7 @@ import mudrft
 pytest.importorskip("mujoco")
 from mudrft.integrations.mujoco import attach
 
-from .conftest import mechanical_energy, mujoco
+from .conftest import energy_rise, mechanical_energy, mujoco
 
 MUD = mudrft.paper_mud(0.25)
 #: the paper's flat foot as a 0.3 kg box: inertia of every free foot below [kg m^2]
@@ -507,15 +507,8 @@ def _quadruped_rise(
         backend=backend,
     )
     coupling.reset(data)
-    e0 = mechanical_energy(model, data)
-    rise = -np.inf
-    for _ in range(round(0.15 / dt)):
-        if mud:
-            coupling.step(data)
-        else:
-            mujoco.mj_step(model, data)
-        rise = max(rise, mechanical_energy(model, data) - e0)
-    return float(rise), e0
+    step = (lambda: coupling.step(data)) if mud else (lambda: mujoco.mj_step(model, data))
+    return energy_rise(model, data, step, round(0.15 / dt))
 
 
 @pytest.mark.parametrize(

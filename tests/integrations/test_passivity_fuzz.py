@@ -12,7 +12,7 @@ import mudrft
 pytest.importorskip("mujoco")
 from mudrft.integrations.mujoco import attach
 
-from .conftest import mechanical_energy, mujoco
+from .conftest import energy_rise, mechanical_energy, mujoco
 
 GEOMS = ("box", "sphere", "capsule", "cylinder", "mesh")
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing", "mesh-foot")
@@ -37,14 +37,8 @@ def _geom(kind: str, s: float) -> str:
 
 
 def _foot(kind: str):
-    if kind == "flat":
-        return mudrft.feet.Flat()
-    if kind == "semi-cylinder":
-        return mudrft.feet.SemiCylinder()
-    if kind == "semi-sphere":
-        return mudrft.feet.SemiSphere()
-    if kind == "morphing":
-        return mudrft.feet.MorphingFoot()
+    if kind in mudrft.feet.NAMES:  # flat, semi-cylinder, semi-sphere, morphing
+        return mudrft.feet.by_name(kind)
     return mudrft.feet.SemiSphere().to_mesh(resolution=6)
 
 
@@ -178,15 +172,8 @@ def _sphere_release(backend: str, *, mud: bool = True) -> tuple[float, float]:
     data.qvel[:3] = (0.467, -1.7996, 0.6248)
     data.qvel[3:6] = R.T @ np.array([20.59, -5.327, 49.72])
     coupling.reset(data)
-    e0 = mechanical_energy(model, data)
-    rise = -np.inf
-    for _ in range(300):
-        if mud:
-            coupling.step(data)
-        else:
-            mujoco.mj_step(model, data)
-        rise = max(rise, mechanical_energy(model, data) - e0)
-    return float(rise), e0
+    step = (lambda: coupling.step(data)) if mud else (lambda: mujoco.mj_step(model, data))
+    return energy_rise(model, data, step, 300)
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
