@@ -157,3 +157,19 @@ def test_sweep_out_inside_a_store_is_refused(tmp_path, capsys):
         code, _, err = run(capsys, "sweep", spec, "--out", out, "--scheduler", "serial", "--quiet")
         one_line_error(code, err, "--out", "is a sweep store", "give the directory that holds it")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.toml"]
+
+
+def test_a_library_warning_through_logging_has_the_command_prefix(tmp_path, capsys):
+    """A warning the library logs (not a Python warning) was printed bare; the CLI promises
+    'mudrft COMMAND: warning: ...' for every warning of the library."""
+    log = tmp_path / "v.csv"
+    log.write_text(
+        "# direction: vertical\ntime [s],depth [m],stress [Pa]\n"
+        "0,0,0\n0.1,0.002,500\n0.2,0.004,900\n0.3,0.002,-100\n"
+    )
+    code, _, err = run(
+        capsys, "calibrate", log, "--direction", "horizontal", "--out", tmp_path / "f.json"
+    )
+    lines = [line for line in err.splitlines() if "overrides the file's" in line]
+    assert len(lines) == 1 and lines[0].startswith("mudrft calibrate: warning: "), err
+    assert code == 2 and not (tmp_path / "f.json").exists()  # 4 samples: too few to fit

@@ -73,12 +73,28 @@ def _plain(message: str) -> str:
     return " ".join(plain_text(message).split())
 
 
+class _CommandLines(logging.Formatter):
+    """Notes as they are; a warning of the library as ``mudrft COMMAND: warning: ...``."""
+
+    def __init__(self, prog: str) -> None:
+        super().__init__("%(message)s")
+        self.prog = prog
+
+    def format(self, record: logging.LogRecord) -> str:
+        text = super().format(record)
+        if record.levelno >= logging.WARNING and not text.startswith(f"{self.prog}: "):
+            return f"{self.prog}: warning: {_plain(text)}"
+        return text
+
+
 @contextmanager
-def _logging(quiet: bool) -> Iterator[None]:
+def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
     """Notes and progress to the current stderr for one command; restore logging after."""
     had = any(getattr(h, "_mudrft_stderr", False) for h in logger.handlers)
     level = logger.level
     handler = enable_stderr_logging(logging.WARNING if quiet else logging.INFO)
+    old_format = handler.formatter
+    handler.setFormatter(_CommandLines(prog))
     old_stream = None
     if isinstance(handler, logging.StreamHandler):
         old_stream = handler.setStream(sys.stderr)  # None if it already writes there
@@ -86,6 +102,7 @@ def _logging(quiet: bool) -> Iterator[None]:
         yield
     finally:
         handler.flush()
+        handler.setFormatter(old_format)
         if not had:
             logger.removeHandler(handler)
         elif old_stream is not None and isinstance(handler, logging.StreamHandler):
@@ -126,7 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     prog = f"mudrft {args.command}"
     with (
-        _logging(bool(getattr(args, "quiet", False))),
+        _logging(bool(getattr(args, "quiet", False)), prog),
         _warnings_as_lines(prog),
         signals_as_exceptions(),
     ):
