@@ -38,7 +38,6 @@ __all__ = [
     "Outputs",
     "add_foot_options",
     "add_force",
-    "check_clock_option",
     "check_finite_option",
     "check_nonnegative_option",
     "check_positive_option",
@@ -173,16 +172,6 @@ def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> fl
     if not value >= 0:
         raise MudrftError(f"{option} must be >= 0{_unit(unit)}, got {_number(value)}")
     return float(value)
-
-
-def check_clock_option(thixotropy: str, clock: str) -> None:
-    """Refuse ``--clock retraction`` without ``--thixotropy quasi-static``, naming the options
-    (the library names its keywords, ``clock=`` and ``thixotropy=``)."""
-    if clock != "contact" and thixotropy != "quasi-static":
-        raise MudrftError(
-            f"--clock {clock} applies to --thixotropy quasi-static only (eq. 9); the ODE "
-            f"(--thixotropy {thixotropy}) keeps its own memory"
-        )
 
 
 def _unit(unit: str) -> str:

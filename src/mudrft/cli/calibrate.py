@@ -24,7 +24,6 @@ from ._common import (
     HelpFormatter,
     Outputs,
     add_force,
-    check_clock_option,
     check_finite_option,
     check_positive_option,
     logger,
@@ -165,7 +164,6 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         require_plot_file("--plot", args.plot)
     _check_options(args)
-    check_clock_option(args.thixotropy, args.clock)
     opts: dict[str, Any] = {"area": args.area, "characteristic_length": args.length}
     if args.direction:
         opts["direction"] = args.direction

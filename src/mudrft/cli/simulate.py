@@ -15,7 +15,6 @@ from ._common import (
     Outputs,
     add_foot_options,
     add_force,
-    check_clock_option,
     check_positive_option,
     logger,
     paper_mud_option,
@@ -88,7 +87,6 @@ def run(args: argparse.Namespace) -> int:
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
     dt = check_positive_option("--dt", args.dt, unit="s")
-    check_clock_option(args.thixotropy, args.clock)
     for option, path in (("--out", args.out), ("--plot", args.plot)):
         if path and same_file(path, args.foot):
             raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")

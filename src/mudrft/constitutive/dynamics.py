@@ -68,7 +68,7 @@ def evaluation(
     >>> evaluation("ode", "retraction")
     Traceback (most recent call last):
     ...
-    mudrft._validation.MudrftError: clock='retraction' applies to thixotropy='quasi-static' only (eq. 9); the ODE keeps its own memory
+    mudrft._validation.MudrftError: clock='retraction' (CLI: --clock retraction) applies to thixotropy='quasi-static' (CLI: --thixotropy quasi-static) only (eq. 9); the ODE keeps its own memory
     """
     check_choice("thixotropy", thixotropy, THIXOTROPY)
     check_choice("clock", clock, CLOCKS)
@@ -84,8 +84,8 @@ def evaluation(
         return True, clock == "retraction", 0.0
     if clock != "contact":
         raise MudrftError(
-            f"clock={clock!r} applies to thixotropy='quasi-static' only (eq. 9); the ODE keeps "
-            "its own memory"
+            f"clock={clock!r} (CLI: --clock {clock}) applies to thixotropy='quasi-static' "
+            "(CLI: --thixotropy quasi-static) only (eq. 9); the ODE keeps its own memory"
         )
     return False, False, 1.0 if acceleration is None or acceleration else 0.0
 
