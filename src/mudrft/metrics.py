@@ -38,6 +38,8 @@ def _history(name: str, value: Any) -> np.ndarray:
 
 def _forces(name: str, value: Any, samples: int) -> np.ndarray:
     """A finite force (or velocity) history of ``samples`` samples, shape (n,) or (n, 3)."""
+    if samples == 0:
+        raise MudrftError("time must hold at least one sample, got an empty array")
     arr = check_finite(name, value)
     if arr.ndim not in (1, 2) or arr.shape[0] != samples or arr.shape[1:] not in ((), (3,)):
         raise MudrftError(
@@ -94,8 +96,6 @@ def impulse(time: Any, force: Any) -> np.ndarray:
     array([1., 2., 3.])
     """
     t = check_increasing("time", time)
-    if t.size == 0:
-        raise MudrftError("time must hold at least one sample, got an empty array")
     f = _forces("force", force, t.size)
     return np.asarray(_trapz(f, t))
 
@@ -145,8 +145,6 @@ def energy(time: Any, force: Any, velocity: Any) -> float:
     20.0
     """
     t = check_increasing("time", time)
-    if t.size == 0:
-        raise MudrftError("time must hold at least one sample, got an empty array")
     f = _forces("force", force, t.size)
     v = check_finite("velocity", velocity)
     if v.shape != f.shape:
