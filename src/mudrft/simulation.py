@@ -38,6 +38,7 @@ from .feet.base import Foot
 from .io.atomic import atomic_write
 from .parameters.base import Mud
 from .terrains import as_terrain
+from .terrains.mud import vertical_viscosity
 from .trajectories import MIN_GAIT_STEPS, Trajectory
 
 __all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
@@ -373,11 +374,8 @@ def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> No
         area = float(np.asarray(foot.projected_areas(foot.height))[..., 2].max())
     except Exception:
         return
-    eta = np.asarray(mud.vertical.eta_inf)
-    if getattr(terrain, "quasi_static", False):
-        # eq. (9) at rest from first contact: an instantaneous (eta_inf + xi_ss eta_m) damper
-        eta = eta + np.asarray(mud.vertical.eta_m)
-    c = float(np.max(eta)) * area / lc
+    qs = bool(getattr(terrain, "quasi_static", False))
+    c = vertical_viscosity(mud, quasi_static=qs) * area / lc
     m = load.foot_mass if load.leg_stiffness is not None else load.body_mass
     limit = 2.0 * m / c
     if load.dt > 0.8 * limit:

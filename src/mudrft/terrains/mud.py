@@ -45,6 +45,7 @@ __all__ = [
     "mud_channel_stress",
     "mud_heading",
     "mud_step",
+    "vertical_viscosity",
 ]
 
 
@@ -61,6 +62,21 @@ def channel_parameters(mud: Mud) -> MudParameters:
         a, b = np.broadcast_arrays(a, b)
         fields[k] = np.stack([a, a, b], axis=-1)
     return MudParameters(**fields, source=f"channels of {mud.name}")
+
+
+def vertical_viscosity(mud: Mud, *, quasi_static: bool = False) -> float:
+    r"""The vertical stress's instantaneous viscosity [Pa s], the largest of a batch.
+
+    :math:`\eta_\infty` (the rate term of :math:`\sigma_{th}`, decision D6), or
+    :math:`\eta_\infty+\eta_m` for the quasi-static evaluation: eq. (9) from rest, with
+    :math:`\xi_{ss}\to1` (D15). A foot of area :math:`A` feels it as a damper
+    :math:`c=\eta A/L_c`, which sets the explicit time-step limit :math:`2m/c` of
+    ``simulate``'s load control and of the MuJoCo coupling's ``stability_limits``.
+    """
+    eta = np.asarray(mud.vertical.eta_inf, dtype=float)
+    if quasi_static:
+        eta = eta + np.asarray(mud.vertical.eta_m, dtype=float)
+    return float(np.max(eta))
 
 
 class MudChannels(NamedTuple):

@@ -17,7 +17,7 @@ import numpy as np
 from ..._validation import MudrftError, check_number, check_positive, plain, warn_plausibility
 from ...feet.base import Foot
 from ...parameters.base import Mud
-from ...terrains.mud import MudTerrain
+from ...terrains.mud import MudTerrain, vertical_viscosity
 
 __all__ = ["check_explicit_step", "stability_limits", "warn_rk4"]
 
@@ -66,7 +66,7 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
     lc = float(foot.characteristic_length)
     az = float(np.asarray(foot.projected_areas(d))[..., 2])
     g = d / lc
-    c = (float(p.eta_inf) + (float(p.eta_m) if quasi_static else 0.0)) * az / lc
+    c = vertical_viscosity(mud, quasi_static=quasi_static) * az / lc
     k = float(p.alpha) * float(p.n) * g ** (float(p.n) - 1.0) * az / lc
     cs = float(p.sigma_y) * az / (2.0 * float(p.nu) * lc)
     return {
