@@ -18,7 +18,13 @@ import pytest
 import mudrft
 from mudrft import baselines as B
 from mudrft import calibration as C
-from mudrft._validation import MudrftError, PlausibilityWarning
+from mudrft._validation import (
+    MudrftError,
+    PlausibilityWarning,
+    nonnegative_number,
+    number_in_range,
+    positive_number,
+)
 from mudrft.feet import first_quadrant
 
 FLAT = mudrft.feet.Flat()
@@ -138,7 +144,7 @@ def test_batched_mud_takes_one_step_for_all_feet():
     from mudrft.backends import BatchedMud
 
     b = BatchedMud(MUD, FLAT, 4, backend="numpy")
-    with pytest.raises(MudrftError, match=r"dt must be a single number \[s\], got an array"):
+    with pytest.raises(MudrftError, match=r"dt must be a single number \[s\]"):
         b.step(np.zeros((4, 3)), np.zeros((4, 3)), np.full(4, 1e-3))
 
 
@@ -254,3 +260,41 @@ def test_a_velocity_that_is_not_the_rate_of_the_position_warns():
             np.concatenate([two.position, two.position]),
             np.concatenate([two.velocity, two.velocity]),
         )
+
+
+@pytest.mark.parametrize(
+    "check, args, message",
+    [
+        (positive_number, ("dt", -1e-3), r"dt must be > 0 s, got -0\.001"),
+        (
+            positive_number,
+            ("dt", [1e-3, 2e-3]),
+            r"dt must be a single number \[s\], got an array of shape \(2,\)",
+        ),
+        (positive_number, ("dt", None), r"dt .*None"),
+        (nonnegative_number, ("dt", -1.0), r"dt must be >= 0 s, got -1\.0"),
+        (nonnegative_number, ("dt", np.ones(2)), r"dt must be a single number \[s\]"),
+        (
+            positive_number,
+            ("dt", [-1.0, 2.0]),
+            r"dt must be a single number \[s\], got an array of shape \(2,\)",
+        ),
+        (number_in_range, ("dt", 2.0, 0.0, 1.0), r"dt must lie in \[0\.0, 1\.0\] s, got 2\.0 s"),
+        (number_in_range, ("dt", (0.5, 0.5), 0.0, 1.0), r"dt must be a single number \[s\]"),
+    ],
+)
+def test_one_number_checks_count_then_range(check, args, message):
+    """positive_number and its siblings: one number first (a list of two is refused as such, not for its sign), then
+    the range, both messages naming the argument and its unit."""
+    with pytest.raises(MudrftError, match=message):
+        check(*args, unit="s")
+
+
+def test_one_number_checks_return_a_float():
+    values = (
+        positive_number("a", 2),
+        nonnegative_number("b", np.float32(0)),
+        number_in_range("c", np.array(0.25), 0.0, 1.0),
+    )
+    assert values == (2.0, 0.0, 0.25)
+    assert all(type(v) is float for v in values)

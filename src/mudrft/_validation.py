@@ -46,8 +46,11 @@ __all__ = [
     "check_shape",
     "format_bytes",
     "memory_limit",
+    "nonnegative_number",
+    "number_in_range",
     "plain",
     "plain_text",
+    "positive_number",
     "set_number",
     "warn_implausible",
 ]
@@ -362,6 +365,37 @@ def check_number(name: str, value: Any, *, unit: str = "") -> float:
     return v
 
 
+def positive_number(name: str, value: Any, *, unit: str = "") -> float:
+    """One finite number > 0 as a float: :func:`check_number`, then :func:`check_positive`.
+
+    ``unit`` is the argument's SI unit, for the messages. A sequence or an array is refused
+    as such (``got an array of shape (2,)``) before its entries are looked at.
+
+    Examples
+    --------
+    >>> positive_number("dt", 1e-3, unit="s")
+    0.001
+    """
+    v = check_number(name, value, unit=unit)
+    check_positive(name, v, unit=unit)
+    return v
+
+
+def nonnegative_number(name: str, value: Any, *, unit: str = "") -> float:
+    """One finite number >= 0 as a float: :func:`check_number`, then :func:`check_nonnegative`."""
+    v = check_number(name, value, unit=unit)
+    check_nonnegative(name, v, unit=unit)
+    return v
+
+
+def number_in_range(name: str, value: Any, low: float, high: float, *, unit: str = "") -> float:
+    """One finite number in ``[low, high]`` as a float: :func:`check_number`, then
+    :func:`check_in_range`."""
+    v = check_number(name, value, unit=unit)
+    check_in_range(name, v, low, high, unit=unit)
+    return v
+
+
 def set_number(obj: Any, name: str, value: Any) -> None:
     """Store ``value``, already range-checked, as the float field ``name`` of the frozen
     dataclass ``obj``; an array or a sequence is refused, naming the field
@@ -386,7 +420,7 @@ def check_length(name: str, value: Any) -> float:
     >>> check_length("radius", 0.045)
     0.045
     """
-    v = check_number(name, check_positive(name, value, unit="m"), unit="m")
+    v = positive_number(name, value, unit="m")
     low, high = LENGTH_LIMITS
     if not low <= v <= high:
         raise MudrftError(

@@ -24,10 +24,10 @@ from ._validation import (
     MudrftError,
     check_length,
     check_nonnegative,
-    check_number,
     check_positive,
     check_samples,
     plain,
+    positive_number,
     warn_plausibility,
 )
 from ._validation import (
@@ -328,9 +328,7 @@ def simulate(
             f"got {type(trajectory).__name__}"
         )
     tr = (
-        _resample(trajectory, check_number("dt", check_positive("dt", dt, unit="s"), unit="s"))
-        if dt is not None
-        else trajectory
+        _resample(trajectory, positive_number("dt", dt, unit="s")) if dt is not None else trajectory
     )
     n = len(tr)
     force = np.zeros((n, 3))

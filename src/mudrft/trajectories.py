@@ -15,12 +15,11 @@ from ._validation import (
     MudrftError,
     check_choice,
     check_finite,
-    check_in_range,
     check_increasing,
-    check_nonnegative,
-    check_number,
-    check_positive,
     check_samples,
+    nonnegative_number,
+    number_in_range,
+    positive_number,
     warn_implausible,
     warn_plausibility,
 )
@@ -206,14 +205,14 @@ def plate_intrusion(
     """
     # one number each (a list failed inside numpy)
     depth, speed, dt = (
-        check_number(name, check_positive(name, val, unit=unit), unit=unit)
+        positive_number(name, val, unit=unit)
         for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
     )  # fmt: skip
     hold, rest = (
-        check_number(name, check_nonnegative(name, val, unit="s"), unit="s")
+        nonnegative_number(name, val, unit="s")
         for name, val in (("hold", hold), ("rest", rest))
     )  # fmt: skip
-    angle = check_number("angle", check_in_range("angle", angle, 0.0, np.pi / 2, unit="rad"), unit="rad")  # fmt: skip
+    angle = number_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")  # fmt: skip
     check_choice("direction", direction, ("vertical", "horizontal"))
     warn_implausible(
         "plate_intrusion: a depth of", depth, (0.0, 1.0), unit="m", hint="depth is in metres (30 mm = 0.03)"
@@ -316,13 +315,13 @@ def gait(
     """
     # one number each (a list of speeds is a sweep: mudrft.sweep, or a loop)
     speed, depth, stride, dt = (
-        check_number(name, check_positive(name, val, unit=unit), unit=unit)
+        positive_number(name, val, unit=unit)
         for name, val, unit in (
             ("speed", speed, "m/s"), ("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")
         )
     )  # fmt: skip
-    slip, sway = (check_number(n, check_in_range(n, v, 0.0, 1.0)) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
-    lift = check_number("lift", check_nonnegative("lift", lift, unit="m"), unit="m")
+    slip, sway = (number_in_range(n, v, 0.0, 1.0) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
+    lift = nonnegative_number("lift", lift, unit="m")
     for what, value, plausible, unit, hint in (
         ("a stance depth of", depth, (0.0, 1.0), "m", "depth is in metres (20 mm = 0.02)"),
         ("a lift of", lift, (0.0, 1.0), "m", "lift is in metres (10 mm = 0.01)"),

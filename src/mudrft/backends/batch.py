@@ -39,7 +39,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_choice, check_finite, check_number, check_positive
+from .._validation import (
+    MudrftError,
+    check_choice,
+    check_finite,
+    positive_number,
+)
 from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
@@ -323,7 +328,7 @@ class BatchedMud:
         """
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
-        dt = check_number("dt", check_positive("dt", dt, unit="s"), unit="s")
+        dt = positive_number("dt", dt, unit="s")
         if self.backend == "numba":
             self._nb_step(
                 self._c, self._st, self._out, np.ascontiguousarray(pos),

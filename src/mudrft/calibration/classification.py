@@ -21,8 +21,7 @@ from .._validation import (
     MudrftError,
     check_characteristic_length,
     check_choice,
-    check_number,
-    check_positive,
+    positive_number,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..io import IntrusionDataset
@@ -172,7 +171,7 @@ def classify(
     R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
     sse = np.sum(R**2, axis=0)
     m = R.shape[0]
-    nv = None if noise is None else check_number("noise", check_positive("noise", noise)) ** 2
+    nv = None if noise is None else positive_number("noise", noise) ** 2
     ll, prob = _softmax_loglik(sse, m, nv)
     rrmse = np.sqrt(sse / m)
     return Classification(
@@ -236,15 +235,11 @@ class StreamClassifier:
         check_choice("direction", direction, ("vertical", "horizontal"))
         self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
         self.L = check_characteristic_length("StreamClassifier", characteristic_length)
-        w = check_number("window", check_positive("window", window))
+        w = positive_number("window", window)
         if w <= 1.0:
             raise MudrftError(f"window must exceed 1 sample, got {window!r}")
         self.decay = 1.0 - 1.0 / w
-        self.noise = (
-            None
-            if noise is None
-            else check_number("noise", check_positive("noise", noise, unit="Pa"), unit="Pa")
-        )
+        self.noise = None if noise is None else positive_number("noise", noise, unit="Pa")
         self.params = MudParameters.stack(self.candidates)
         self._consts = channel_constants(self.params)
         self._stream = SampleStream(self.L)

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice, check_in_range, check_number
+from .._validation import MudrftError, check_choice, check_in_range, number_in_range
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
 from ..metrics import relative_rmse
@@ -219,7 +219,7 @@ def calibrate(
     _qs, _restart, kappa = evaluation(thixotropy, clock, acceleration)
     # the options that are one number or a flag, checked before any work (a list of xi0
     # failed inside the fit; phases="no" ran the phases, a negative trace_limit kept none)
-    xi0 = check_number("xi0", check_in_range("xi0", xi0, 0.0, 1.0))
+    xi0 = number_in_range("xi0", xi0, 0.0, 1.0)
     if not isinstance(phases, (bool, np.bool_)):
         raise MudrftError(f"phases must be True or False, got {phases!r}")
     if (

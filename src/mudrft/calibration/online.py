@@ -37,10 +37,10 @@ from .._validation import (
     MudrftError,
     check_characteristic_length,
     check_choice,
-    check_in_range,
-    check_number,
     check_positive,
     check_shape,
+    number_in_range,
+    positive_number,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..parameters.base import MudParameters
@@ -181,29 +181,19 @@ class OnlineEstimator:
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.L = check_characteristic_length("OnlineEstimator", characteristic_length)
-        self.n = check_number("n", check_in_range("n", prior.n if n is None else n, 1e-3, 1.0))
+        self.n = number_in_range("n", prior.n if n is None else n, 1e-3, 1.0)
         self.prior = prior.replace(n=self.n) if n is not None else prior
-        self.forgetting = check_number(
-            "forgetting", check_in_range("forgetting", forgetting, 0.5, 1.0)
-        )
+        self.forgetting = number_in_range("forgetting", forgetting, 0.5, 1.0)
         grid = np.geomspace(0.02, 5.0, 25) if tau_build_grid is None else tau_build_grid
         g = check_positive("tau_build_grid", grid, unit="s")
         if g.ndim != 1 or g.size < 3:
             raise MudrftError(f"tau_build_grid must hold at least 3 times [s], got {grid!r}")
         self.tau_grid = np.sort(g)
-        self.rate_threshold = check_number(
-            "rate_threshold",
-            check_positive("rate_threshold", rate_threshold, unit="1/s"),
-            unit="1/s",
-        )
+        self.rate_threshold = positive_number("rate_threshold", rate_threshold, unit="1/s")
         if retraction_skip is None:
             retraction_skip = 3.0 * float(self.prior.epsilon)
-        self.retraction_skip = check_number(
-            "retraction_skip", check_in_range("retraction_skip", retraction_skip, 0.0, 10.0)
-        )
-        self.initial_scale = check_number(
-            "initial_scale", check_positive("initial_scale", initial_scale)
-        )
+        self.retraction_skip = number_in_range("retraction_skip", retraction_skip, 0.0, 10.0)
+        self.initial_scale = positive_number("initial_scale", initial_scale)
         self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
         self._stream = SampleStream(self.L)
         self._build_basis()

@@ -19,9 +19,8 @@ from .._progress import logger
 from .._validation import (
     MudrftError,
     check_choice,
-    check_number,
-    check_positive,
     plain,
+    positive_number,
     warn_implausible,
 )
 from ..plate import DEFAULT_PLATE_LENGTH
@@ -108,21 +107,13 @@ def resolve_plate(
     (decision D1)."""
     try:
         if characteristic_length is not None:
-            L = check_number(
-                "characteristic_length",
-                check_positive("characteristic_length", characteristic_length, unit="m"),
-                unit="m",
-            )
+            L = positive_number("characteristic_length", characteristic_length, unit="m")
             src = "argument"
         elif meta_len is not None:
             L, src = meta_len, "file header"
         else:
             L, src = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
-        A = (
-            check_number("area", check_positive("area", area, unit="m^2"), unit="m^2")
-            if area is not None
-            else meta_area
-        )
+        A = positive_number("area", area, unit="m^2") if area is not None else meta_area
     except MudrftError as exc:
         raise MudrftError(f"{path}: {exc}") from None
     if A is not None:

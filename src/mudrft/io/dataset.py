@@ -24,8 +24,7 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_increasing,
-    check_number,
-    check_positive,
+    positive_number,
     warn_implausible,
     warn_plausibility,
 )
@@ -113,11 +112,7 @@ class Trial:
                 "mudrft's stress resists the intrusion, positive while intruding (negative "
                 "only under suction): is its sign flipped?"
             )
-        L = check_number(
-            "characteristic_length",
-            check_positive("characteristic_length", self.characteristic_length, unit="m"),
-            unit="m",
-        )
+        L = positive_number("characteristic_length", self.characteristic_length, unit="m")
         warn_implausible(
             "characteristic_length (the plate's size) is",
             L,

@@ -29,7 +29,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_finite, check_in_range, check_number, check_positive
+from .._validation import (
+    MudrftError,
+    check_finite,
+    check_in_range,
+    check_positive,
+    number_in_range,
+    positive_number,
+)
 from .._validation import set_number as _set
 from ..citations import register
 from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
@@ -139,7 +146,7 @@ def agarwal_xi(rho_c: Any, mu_int: Any, *, gravity: float = GRAVITY) -> NDArray[
     """
     rho = check_positive("rho_c", rho_c, unit="kg/m^3")
     mu = check_positive("mu_int", mu_int)
-    g = check_number("gravity", check_positive("gravity", gravity, unit="m/s^2"), unit="m/s^2")
+    g = positive_number("gravity", gravity, unit="m/s^2")
     return np.asarray(rho * g * (894.0 * mu**3 - 386.0 * mu**2 + 89.0 * mu), dtype=float)
 
 
@@ -293,7 +300,7 @@ def rft3d_alpha(
     alpha = _generic(n, v, coefficients, wall_width)
     if mu_surf is None:
         return alpha
-    return _cap(alpha, n, check_number("mu_surf", check_in_range("mu_surf", mu_surf, 0.0, 1e3)))
+    return _cap(alpha, n, number_in_range("mu_surf", mu_surf, 0.0, 1e3))
 
 
 def _unit_forces(
@@ -372,8 +379,8 @@ def rft3d_forces(
             "normals (m, 3), areas (m,) and depths (..., m) must agree, "
             f"got shapes {n.shape}, {a.shape}, {d.shape}"
         )
-    xi = check_number("xi_n", check_positive("xi_n", xi_n, unit="N/m^3"), unit="N/m^3")
-    mu = check_number("mu_surf", check_in_range("mu_surf", mu_surf, 0.0, 1e3))
+    xi = positive_number("xi_n", xi_n, unit="N/m^3")
+    mu = number_in_range("mu_surf", mu_surf, 0.0, 1e3)
     check_in_range("leading_width", leading_width, 0.0, 1.0)
     check_in_range("wall_width", wall_width, 0.0, 1.0)
     unit = _unit_forces(n, v, coefficients, mu, leading_width, wall_width)

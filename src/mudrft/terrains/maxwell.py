@@ -40,8 +40,8 @@ from .._validation import (
     check_finite,
     check_in_range,
     check_nonnegative,
-    check_number,
     check_positive,
+    positive_number,
 )
 from .._validation import (
     set_number as _set,
@@ -278,11 +278,7 @@ class MaxwellMud:
         """
         if not isinstance(trajectory, Trajectory):
             raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
-        lc = check_number(
-            "characteristic_length",
-            check_positive("characteristic_length", characteristic_length, unit="m"),
-            unit="m",
-        )
+        lc = positive_number("characteristic_length", characteristic_length, unit="m")
         return _stress_history(
             self, trajectory.time, trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
         )
@@ -405,11 +401,7 @@ def fit_maxwell(
         raise MudrftError(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
-    lc = check_number(
-        "characteristic_length",
-        check_positive("characteristic_length", characteristic_length, unit="m"),
-        unit="m",
-    )
+    lc = positive_number("characteristic_length", characteristic_length, unit="m")
     m0 = initial or MaxwellMud()
     g = trajectory.depth / lc
     gd = -trajectory.velocity[:, 2] / lc

@@ -23,9 +23,8 @@ from .._validation import (
     MudrftError,
     check_characteristic_length,
     check_finite,
-    check_in_range,
-    check_number,
-    check_positive,
+    number_in_range,
+    positive_number,
 )
 from .._xp import pyfloat
 from ..citations import register
@@ -368,14 +367,8 @@ class MudTerrain:
         object.__setattr__(self, "acceleration", kappa == 1.0)
         object.__setattr__(self, "_flags", (qs, restart))
         object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
-        object.__setattr__(
-            self, "xi0", check_number("xi0", check_in_range("xi0", self.xi0, 0.0, 1.0))
-        )
-        hs = check_number(
-            "heading_speed",
-            check_positive("heading_speed", self.heading_speed, unit="m/s"),
-            unit="m/s",
-        )
+        object.__setattr__(self, "xi0", number_in_range("xi0", self.xi0, 0.0, 1.0))
+        hs = positive_number("heading_speed", self.heading_speed, unit="m/s")
         check_finite("heading_speed", hs)
         object.__setattr__(self, "heading_speed", hs)
         if not isinstance(self.name, str):

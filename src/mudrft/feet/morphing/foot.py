@@ -16,7 +16,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import check_length, check_nonnegative, check_number, check_positive
+from ..._validation import (
+    check_length,
+    check_nonnegative,
+    positive_number,
+)
 from ..base import Foot
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
@@ -83,9 +87,7 @@ class MorphingFoot(MorphingMechanism, Foot):
         **overrides: Any,
     ) -> None:
         super().__init__(geometry, spring, mode=mode, **overrides)
-        self.seal_length = check_number(
-            "seal_length", check_positive("seal_length", seal_length, unit="m"), unit="m"
-        )
+        self.seal_length = positive_number("seal_length", seal_length, unit="m")
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
         self._lc = (
             None

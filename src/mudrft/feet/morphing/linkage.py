@@ -31,8 +31,8 @@ from ..._validation import (
     MudrftError,
     check_in_range,
     check_length,
-    check_nonnegative,
-    check_number,
+    nonnegative_number,
+    number_in_range,
 )
 
 __all__ = ["Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
@@ -123,20 +123,12 @@ class MorphingFootGeometry:
         object.__setattr__(
             self,
             "pole_radius",
-            check_number(
-                "pole_radius",
-                check_nonnegative("pole_radius", self.pole_radius, unit="m"),
-                unit="m",
-            ),
+            nonnegative_number("pole_radius", self.pole_radius, unit="m"),
         )
         object.__setattr__(
             self,
             "crank_offset",
-            check_number(
-                "crank_offset",
-                check_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad"),
-                unit="rad",
-            ),
+            number_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad"),
         )
         th_e = float(
             check_in_range("expanded_angle", self.expanded_angle, 0.0, 0.5 * math.pi, unit="rad")

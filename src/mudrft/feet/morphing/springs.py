@@ -22,7 +22,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import MudrftError, check_number, check_positive
+from ..._validation import MudrftError, positive_number
 
 __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 
@@ -79,9 +79,7 @@ class TwoStageSpring:
 
     def __post_init__(self) -> None:
         for k, u in (("soft_stiffness", "N/m"), ("hard_stiffness", "N/m"), ("soft_travel", "m")):
-            object.__setattr__(
-                self, k, check_number(k, check_positive(k, getattr(self, k), unit=u), unit=u)
-            )
+            object.__setattr__(self, k, positive_number(k, getattr(self, k), unit=u))
         if self.hard_stiffness < self.soft_stiffness:
             raise MudrftError(
                 f"hard_stiffness must be >= soft_stiffness = {self.soft_stiffness!r} N/m, "

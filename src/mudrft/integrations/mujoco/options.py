@@ -13,7 +13,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..._validation import MudrftError, check_nonnegative, check_number, check_positive
+from ..._validation import (
+    MudrftError,
+    check_number,
+    nonnegative_number,
+    positive_number,
+)
 
 __all__ = ["AttachOptions", "check_attach_options", "check_count", "check_data"]
 
@@ -98,19 +103,9 @@ def check_attach_options(
         bodies=names,
         feet=feet_list,
         surface=check_number("surface", surface, unit="m"),
-        bottom=None
-        if bottom is None
-        else check_number("bottom", check_positive("bottom", bottom, unit="m"), unit="m"),
-        bottom_stiffness=check_number(
-            "bottom_stiffness",
-            check_nonnegative("bottom_stiffness", bottom_stiffness, unit="N/m"),
-            unit="N/m",
-        ),
-        bottom_damping=check_number(
-            "bottom_damping",
-            check_nonnegative("bottom_damping", bottom_damping, unit="N s/m"),
-            unit="N s/m",
-        ),
+        bottom=None if bottom is None else positive_number("bottom", bottom, unit="m"),
+        bottom_stiffness=nonnegative_number("bottom_stiffness", bottom_stiffness, unit="N/m"),
+        bottom_damping=nonnegative_number("bottom_damping", bottom_damping, unit="N s/m"),
         implicit=bool(implicit),
         mobility=str(mobility),
         resolution=check_count("resolution", resolution),

@@ -14,7 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from ..._validation import MudrftError, check_number, check_positive, plain, warn_plausibility
+from ..._validation import (
+    MudrftError,
+    plain,
+    positive_number,
+    warn_plausibility,
+)
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
@@ -60,8 +65,8 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
         mud = mud.mud
     if not isinstance(mud, Mud):
         raise MudrftError(f"mud must be a Mud or a MudTerrain, got {type(mud).__name__}")
-    m = check_number("mass", check_positive("mass", mass, unit="kg"), unit="kg")
-    d = check_number("depth", check_positive("depth", depth, unit="m"), unit="m")
+    m = positive_number("mass", mass, unit="kg")
+    d = positive_number("depth", depth, unit="m")
     p = mud.vertical
     lc = float(foot.characteristic_length)
     az = float(np.asarray(foot.projected_areas(d))[..., 2])
