@@ -12,7 +12,14 @@ import numpy as np
 import pytest
 
 import mudrft
-from mudrft._validation import MAX_SAMPLES, MudrftError, check_increasing, check_samples, plain
+from mudrft._validation import (
+    MAX_SAMPLES,
+    MudrftError,
+    check_finite,
+    check_increasing,
+    check_samples,
+    plain,
+)
 from mudrft.cli import main
 from mudrft.simulation import LoadControl
 
@@ -104,13 +111,20 @@ def test_messages_show_plain_numbers():
     [
         (float("nan"), "depth must be finite, got nan"),  # was: "got nan containing nan"
         (-np.inf, "depth must be finite, got -inf"),
-        ([0.01, np.inf], "depth must be finite, got an array of shape (2,) containing inf"),
+        # one number is asked for: a list is refused for its count before its entries
+        ([0.01, np.inf], "depth must be a single number [m], got an array of shape (2,)"),
     ],
 )
 def test_a_non_finite_number_is_named_once(value, message):
     with pytest.raises(MudrftError) as info:
         mudrft.gait(speed=0.2, depth=value)
     assert str(info.value) == message
+
+
+def test_a_non_finite_entry_of_an_array_is_named():
+    with pytest.raises(MudrftError) as info:
+        check_finite("depth", [0.01, np.inf])
+    assert str(info.value) == "depth must be finite, got an array of shape (2,) containing inf"
 
 
 def test_compare_needs_extrapolate_like_simulate_and_walk(tmp_path, capsys):
