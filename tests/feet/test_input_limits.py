@@ -112,3 +112,20 @@ def test_mesh_feet_evaluate_many_samples_in_bounded_memory():
         one = mesh.wrench(depth[k], stress, 0.3)
         np.testing.assert_allclose(wrench.moment[k], one.moment, atol=1e-12)
         np.testing.assert_allclose(force[k], wrench.force[k], atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["flat", "semi-cylinder", "semi-sphere", "morphing", "mesh"])
+def test_a_depth_in_millimetres_warns_on_every_foot(name):
+    """foot.resultant(20, ...) meant 20 mm: the 26 mm foot buried under 20 m of mud gave a
+    force without a word (D103). 1 m, and ten heights of a foot, do not warn."""
+    foot = Flat().to_mesh(resolution=4) if name == "mesh" else by_name(name)
+    stress = np.array([1e3, 1e3, 1e3])
+    with pytest.warns(PlausibilityWarning, match=r"tip depth of 20 m, more than 1 m .*0\.02"):
+        foot.resultant(20.0, stress, 0.3)
+    with pytest.warns(PlausibilityWarning, match=r"tip depth of 20 m"):
+        foot.force(np.array([0.01, 20.0]), stress, 0.3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        foot.resultant(np.array([0.0, 0.02, 1.0]), stress, 0.3)
+        tall = Flat(length=0.3, width=0.3, height=0.3)  # 3 m is ten of its heights
+        assert tall.resultant(3.0, stress, 0.0)[2] > 0

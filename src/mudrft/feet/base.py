@@ -25,12 +25,14 @@ from .._validation import (
     check_finite,
     check_in_range,
     check_nonnegative,
+    warn_implausible,
 )
 
 __all__ = [
     "CHUNK",
     "Foot",
     "SurfaceElements",
+    "check_depth_stress",
     "check_resultant_inputs",
     "first_quadrant",
     "fold_heading",
@@ -137,15 +139,41 @@ def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, n
     return sq, phi, signs
 
 
-def check_resultant_inputs(
-    depth: Any, stress: Any, heading: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Validate the arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa],
-    first-quadrant heading [rad]) and return them as float arrays."""
+#: A tip depth beyond the larger of this [m] and :data:`PLAUSIBLE_DEPTH_HEIGHTS` times the
+#: foot's height warns as a likely unit mistake (a depth in mm read as m; D103).
+PLAUSIBLE_DEPTH = 1.0
+#: See :data:`PLAUSIBLE_DEPTH`.
+PLAUSIBLE_DEPTH_HEIGHTS = 10.0
+
+
+def check_depth_stress(depth: Any, stress: Any, *, height: float) -> tuple[np.ndarray, np.ndarray]:
+    """Validate a tip depth [m] (>= 0) and channel stresses (..., 3) [Pa] given to a foot of
+    ``height`` [m]; return them as float arrays.
+
+    A depth deeper than ``max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * height)`` warns
+    (:class:`~mudrft._validation.PlausibilityWarning`): 20 for 20 mm buries a 26 mm foot
+    under 20 m of mud without a word otherwise.
+    """
     d = check_nonnegative("depth", depth, unit="m")
+    if d.size:
+        limit = max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * float(height))
+        warn_implausible(
+            "foot: a tip depth of", float(d.max()), (0.0, limit), unit="m",
+            hint="depth is in metres (20 mm = 0.02)",
+        )  # fmt: skip
     s = check_finite("stress", stress)
     if s.shape[-1:] != (3,):
         raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
+    return d, s
+
+
+def check_resultant_inputs(
+    depth: Any, stress: Any, heading: Any, *, height: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Validate the arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa],
+    first-quadrant heading [rad]) for a foot of ``height`` [m] (:func:`check_depth_stress`)
+    and return them as float arrays."""
+    d, s = check_depth_stress(depth, stress, height=height)
     h = check_in_range("heading", heading, 0.0, 0.5 * np.pi, unit="rad")
     batch_shape(d, s, h)
     return d, s, h
@@ -337,10 +365,7 @@ class Foot(ABC):
             (Fx, Fy, Fz) [N]: horizontal components oppose the motion when the
             stresses resist it; Fz > 0 is support, Fz < 0 suction.
         """
-        d = check_nonnegative("depth", depth, unit="m")
-        s = check_finite("stress", stress)
-        if s.shape[-1:] != (3,):
-            raise MudrftError(f"stress must have shape (..., 3), got shape {s.shape}")
+        d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         batch_shape(d, s, h)
         return self.force_unchecked(d, s, h)

@@ -43,6 +43,7 @@ from .base import (
     Foot,
     SurfaceElements,
     batch_shape,
+    check_depth_stress,
     check_resultant_inputs,
     in_chunks,
 )
@@ -446,11 +447,7 @@ class MeshFoot(Foot):
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
     def _inputs(self, depth: Any, stress: Any) -> tuple[np.ndarray, np.ndarray]:
-        d = check_nonnegative("depth", depth, unit="m")
-        s = check_finite("stress", stress)
-        if s.shape[-1:] != (3,):
-            raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
-        return d, s
+        return check_depth_stress(depth, stress, height=self.height)
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
         """Integrate in batch chunks of about :data:`CHUNK` facet evaluations (cache-sized
@@ -480,7 +477,7 @@ class MeshFoot(Foot):
         ``(-Fx, -Fy, Fz)`` of the integrated force: positive when the force resists the
         motion (an asymmetric foot may give a negative side component).
         """
-        d, s, h = check_resultant_inputs(depth, stress, heading)
+        d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 

@@ -60,7 +60,7 @@ class _ClosedFormFoot(Foot):
 
     def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
-        return self._forces(*_check_inputs(depth, stress, heading))
+        return self._forces(*_check_inputs(depth, stress, heading, height=self.height))
 
     def force_components(
         self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np

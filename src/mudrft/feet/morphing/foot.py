@@ -180,7 +180,7 @@ class MorphingFoot(MorphingMechanism, Foot):
         deflection : float or array_like
             Column deflection [m], in [0, stroke].
         """
-        d, s, h = _check_inputs(depth, stress, heading)
+        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         return pads.magnitudes(self.geometry, d, s, h, self.pad_angle(deflection))
 
     def resultant(
@@ -192,7 +192,7 @@ class MorphingFoot(MorphingMechanism, Foot):
         (``previous=0``, D34); :meth:`contact_force` follows the deflection in time instead.
         See :meth:`Foot.resultant` for the arguments.
         """
-        d, s, h = _check_inputs(depth, stress, heading)
+        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
 
@@ -267,7 +267,7 @@ class MorphingFoot(MorphingMechanism, Foot):
         On the axis by symmetry, at the height of the vertical-area-weighted centroid of the
         submerged base (z = 0) and pad parts, at the loading-branch deflection.
         """
-        d, s, _ = _check_inputs(depth, stress, heading)
+        d, s, _ = _check_inputs(depth, stress, heading, height=self.height)
         th = self._linkage.angle(self._deflection(d, s[..., 2], 0.0))
         z = pads.center_height(self.geometry, d, th)
         return np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=-1)
