@@ -15,6 +15,7 @@ import pytest
 
 from mudrft import MudrftError
 from mudrft._validation import PlausibilityWarning
+from mudrft.cli import main
 from mudrft.io import IntrusionDataset, Trial, load_dataset, load_intrusion_csv, save_intrusion_csv
 
 HEADER = "trial,time [s],depth [m],stress [Pa]\n"
@@ -84,11 +85,16 @@ def test_metadata_repeated_with_the_same_value_is_fine(tmp_path):
     assert len(quiet_load(p).trials) == 1
 
 
-def test_the_same_file_twice_is_refused(tmp_path):
-    """Merged, its data counted twice in a fit."""
+def test_the_same_file_twice_is_refused(tmp_path, capsys):
+    """Merged, its data counted twice in a fit; the message names the argument for the
+    library and for the command line."""
     p = write(tmp_path, HEADER + ROWS)
-    with pytest.raises(MudrftError, match="same file twice"):
+    with pytest.raises(MudrftError, match=r"path \(CLI: data\) names the same file twice"):
         load_dataset([p, tmp_path / "." / "log.csv"])
+    out = tmp_path / "fit.json"
+    assert main(["calibrate", str(p), str(tmp_path / "." / "log.csv"), "--out", str(out)]) == 2
+    assert "(CLI: data) names the same file twice" in capsys.readouterr().err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("line", ["# characteristic_length: 50", "# characteristic_length [m]: 50"])

@@ -58,7 +58,8 @@ def load_dataset(
         key = Path(os.path.realpath(os.fspath(pth)))
         if key in seen:
             raise MudrftError(
-                f"path names the same file twice: {os.fspath(pth)!r} and {seen[key]!r}"
+                f"path (CLI: data) names the same file twice, {seen[key]!r} and "
+                f"{os.fspath(pth)!r}: its samples would count twice in a fit"
             )
         seen[key] = os.fspath(pth)
     sets = []
