@@ -7,10 +7,10 @@ signals the simulator produces between samples.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
+from numpy.typing import ArrayLike
 
+from ._typing import FloatArray, FloatOrArray
 from ._validation import MudrftError, check_finite, check_increasing, check_shape
 
 __all__ = [
@@ -24,11 +24,11 @@ __all__ = [
 ]
 
 
-def _trapz(y: np.ndarray, x: np.ndarray) -> Any:
+def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
     return np.trapezoid(y, x, axis=0)
 
 
-def _history(name: str, value: Any) -> np.ndarray:
+def _history(name: str, value: ArrayLike) -> FloatArray:
     """A finite 1-D history with at least one sample (one component: ``Fz``, a depth)."""
     arr = check_shape(name, value, (None,))
     if arr.size == 0:
@@ -36,7 +36,7 @@ def _history(name: str, value: Any) -> np.ndarray:
     return arr
 
 
-def _forces(name: str, value: Any, samples: int) -> np.ndarray:
+def _forces(name: str, value: ArrayLike, samples: int) -> FloatArray:
     """A finite force (or velocity) history of ``samples`` samples, shape (n,) or (n, 3)."""
     if samples == 0:
         raise MudrftError("time must hold at least one sample, got an empty array")
@@ -49,7 +49,7 @@ def _forces(name: str, value: Any, samples: int) -> np.ndarray:
     return arr
 
 
-def relative_rmse(predicted: Any, measured: Any) -> float:
+def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
     r"""Relative root-mean-square error [-] (Table II reports it in %).
 
     .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
@@ -80,7 +80,7 @@ def relative_rmse(predicted: Any, measured: Any) -> float:
     return float(np.sqrt(np.mean((p - m) ** 2)) / span)
 
 
-def impulse(time: Any, force: Any) -> np.ndarray:
+def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
     r"""Impulse per axis :math:`\int F\,dt` [N s].
 
     Parameters
@@ -100,7 +100,7 @@ def impulse(time: Any, force: Any) -> np.ndarray:
     return np.asarray(_trapz(f, t))
 
 
-def max_suction(force_z: Any) -> float:
+def max_suction(force_z: ArrayLike) -> float:
     """Maximum suction: magnitude (>= 0) of the most negative vertical force [N].
 
     ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
@@ -114,7 +114,7 @@ def max_suction(force_z: Any) -> float:
     return float(max(0.0, -float(np.min(f))))
 
 
-def peak_support(force_z: Any) -> float:
+def peak_support(force_z: ArrayLike) -> float:
     """Largest upward vertical force [N] (0 if never positive).
 
     ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
@@ -125,7 +125,7 @@ def peak_support(force_z: Any) -> float:
     return float(max(0.0, float(np.max(f))))
 
 
-def energy(time: Any, force: Any, velocity: Any) -> float:
+def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
 
     ``force`` is the force of the mud on the foot [N] and ``velocity`` the foot velocity
@@ -154,7 +154,7 @@ def energy(time: Any, force: Any, velocity: Any) -> float:
     return float(-(work * np.diff(t)).sum()) + 0.0  # + 0.0: no work reads 0.0, not -0.0
 
 
-def sinking_depth(depth: Any, *, final: bool = False) -> float:
+def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
     """Sinking depth [m]: the deepest tip depth, or the last one with ``final=True``.
 
     Under load control the last depth is the equilibrium sinking (paper Fig. 12).
@@ -173,7 +173,7 @@ def sinking_depth(depth: Any, *, final: bool = False) -> float:
     return float(d[-1] if final else d.max())
 
 
-def normalized_stress(force: Any, areas: Any) -> np.ndarray:
+def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:
     r"""Force divided by the matching cross-section area, as in Figs. 10-12 [Pa].
 
     :math:`\bar\sigma_i=F_i/A_i`, with :math:`A_x, A_y` the submerged areas projected along

@@ -101,7 +101,7 @@ class _Table:
     rows: list[list[str]] = field(default_factory=list)
     row_lines: list[int] = field(default_factory=list)
     #: The first line and value of each metadata key that must not be given twice.
-    meta_lines: dict[str, tuple[int, Any]] = field(default_factory=dict)
+    meta_lines: dict[str, tuple[int, str | float]] = field(default_factory=dict)
 
     def add_comment(self, lineno: int, comment: str) -> None:
         """A ``#`` line: a note, and metadata if it reads ``# key: value``."""

@@ -64,6 +64,8 @@ class Trial:
     ([0.0, 0.2, 0.4], 0.02)
     """
 
+    # Any: given as array_like (lists in the examples above), held as float arrays once
+    # __post_init__ has checked them; a dataclass field cannot type the two apart
     time: Any
     depth: Any
     stress: Any
@@ -175,6 +177,7 @@ class IntrusionDataset:
     (1, 'vertical')
     """
 
+    # Any: given as a Trial or an iterable of them, held as tuple[Trial, ...]
     trials: Any
     direction: str = "vertical"
     source: str = ""

@@ -22,7 +22,8 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,6 +45,9 @@ from .columns import (
 )
 from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
 
+if TYPE_CHECKING:  # h5py is an optional extra; at run time it is imported on use
+    import h5py
+
 __all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
 
 Columns = dict[str, NDArray[np.float64]]
@@ -55,7 +59,7 @@ _ROOT_ONLY = ("direction", "characteristic_length", "area", "synthetic")
 _REAL_KINDS = "iuf"
 
 
-def _require_h5py() -> Any:
+def _require_h5py() -> ModuleType:
     try:
         import h5py
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -130,7 +134,7 @@ def _notes(attrs: dict[str, Any]) -> list[str]:
     return notes
 
 
-def _broken_link(h5py: Any, group: Any, key: str, exc: BaseException) -> str:
+def _broken_link(h5py: ModuleType, group: h5py.Group, key: str, exc: BaseException) -> str:
     """Why the member ``key`` of ``group`` cannot be opened."""
     try:
         link = group.get(key, getlink=True)
@@ -146,7 +150,9 @@ def _broken_link(h5py: Any, group: Any, key: str, exc: BaseException) -> str:
     return f"cannot be opened ({_first_line(exc)})"
 
 
-def _members(h5py: Any, path: str, group: Any, prefix: str) -> dict[str, Any]:
+def _members(
+    h5py: ModuleType, path: str, group: h5py.Group, prefix: str
+) -> dict[str, h5py.HLObject]:
     """The objects of a group by name, links followed; a link that leads nowhere is named."""
     out = {}
     for key in group:
@@ -162,7 +168,7 @@ def _is_log_column(name: str) -> bool:
     return key in COLUMN_ALIASES or key == "trial"
 
 
-def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
+def _unit_attr(path: str, loc: str, attrs: h5py.AttributeManager) -> str | None:
     """A dataset's ``unit`` (or ``units``) attribute; both present must agree."""
     found = {k: str(_text(attrs[k])).strip() for k in ("unit", "units") if k in attrs}
     if len(found) == 2 and found["unit"] != found["units"]:
@@ -175,7 +181,7 @@ def _unit_attr(path: str, loc: str, attrs: Any) -> str | None:
     return found.get("unit", found.get("units"))
 
 
-def _read_file(h5py: Any, path: str, fh: Any, direction: str) -> list[Table]:
+def _read_file(h5py: ModuleType, path: str, fh: h5py.File, direction: str) -> list[Table]:
     """The tables of the file: its groups, or its root when it has no group."""
     root = _members(h5py, path, fh, "")
     groups = sorted(k for k, v in root.items() if isinstance(v, h5py.Group))
@@ -206,12 +212,12 @@ def _read_file(h5py: Any, path: str, fh: Any, direction: str) -> list[Table]:
 
 
 def _read_group(
-    h5py: Any,
+    h5py: ModuleType,
     path: str,
     gname: str | None,
-    members: dict[str, Any],
+    members: dict[str, h5py.HLObject],
     direction: str,
-    attrs: Any = None,
+    attrs: h5py.AttributeManager | None = None,
 ) -> tuple[Columns, dict[str, str], Locate]:
     """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
     checked, their labels by role, and where a sample of them stands (for
@@ -274,7 +280,7 @@ def _read_group(
     return out, {role: col.label for role, col in roles.items()}, sample
 
 
-def _column_values(path: str, dataset: Any, col: Column, loc: str) -> NDArray[np.float64]:
+def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> NDArray[np.float64]:
     """One recognised dataset in SI, checked: 1-D, real, finite."""
     shape = dataset.shape
     if shape is None or len(shape) != 1:
@@ -299,7 +305,7 @@ def _column_values(path: str, dataset: Any, col: Column, loc: str) -> NDArray[np
     return to_si(path, raw, col, locate_row=locate_row)
 
 
-def _open(h5py: Any, p: Path) -> Any:
+def _open(h5py: ModuleType, p: Path) -> h5py.File:
     """The file opened read-only; the OS's reason, or h5py's in one line, if it cannot be."""
     where = str(p)
     if p.is_dir():
@@ -319,7 +325,7 @@ def _open(h5py: Any, p: Path) -> Any:
         raise fail(where, "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
 
 
-def _root_attrs(path: str, fh: Any) -> dict[str, Any]:
+def _root_attrs(path: str, fh: h5py.File) -> dict[str, Any]:
     attrs = {}
     for k in fh.attrs:
         try:
@@ -397,7 +403,7 @@ def load_intrusion_hdf5(
     return IntrusionDataset(tuple(trials), direction=d, source=where, notes=notes, meta=meta)
 
 
-def _write_hdf5(h5py: Any, dataset: IntrusionDataset, length: float, path: Path) -> None:
+def _write_hdf5(h5py: ModuleType, dataset: IntrusionDataset, length: float, path: Path) -> None:
     with h5py.File(path, "w") as fh:
         fh.attrs["direction"] = dataset.direction
         fh.attrs["characteristic_length"] = length

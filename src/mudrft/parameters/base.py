@@ -16,7 +16,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from .._typing import FloatOrArray
 from .._validation import (
     MudrftError,
     check_broadcast,
@@ -60,7 +62,7 @@ POSITIVE_FIELDS = (
 )
 
 
-def _check_water_content_field(value: Any) -> float | None:
+def _check_water_content_field(value: ArrayLike | None) -> float | None:
     """``water_content`` of a set or a mud: None or a volume fraction in [0, 1] [-]."""
     if value is None:
         return None
@@ -120,17 +122,20 @@ class MudParameters:
     (24000.0, 67000.0)
     """
 
-    alpha: Any
-    n: Any
-    lam: Any
-    eta_m: Any
-    eta_inf: Any
-    gamma_dot_c: Any
-    tau_build: Any
-    tau_leak: Any
-    epsilon: Any
-    sigma_y: Any
-    nu: Any = 0.01
+    alpha: FloatOrArray
+    n: FloatOrArray
+    lam: FloatOrArray
+    eta_m: FloatOrArray
+    eta_inf: FloatOrArray
+    gamma_dot_c: FloatOrArray
+    tau_build: FloatOrArray
+    tau_leak: FloatOrArray
+    epsilon: FloatOrArray
+    sigma_y: FloatOrArray
+    nu: FloatOrArray = 0.01
+    # Any, not FloatOrArray: None asks for k_a = 1/lam (decision D3) and __post_init__
+    # puts the number in its place; a dataclass field cannot type its argument
+    # (FloatOrArray | None) apart from its attribute (FloatOrArray)
     k_a: Any = None
     source: str = field(default="", compare=False)
     water_content: float | None = field(default=None, compare=False)
@@ -164,17 +169,17 @@ class MudParameters:
 
     # -- derived quantities -------------------------------------------------------------
     @property
-    def k_r(self) -> Any:
+    def k_r(self) -> FloatOrArray:
         """Rejuvenation coefficient :math:`k_r = k_a/\\dot\\gamma_c` [-]."""
         return self.k_a / self.gamma_dot_c
 
     @property
-    def G_m(self) -> Any:
+    def G_m(self) -> FloatOrArray:
         """Elastic modulus :math:`G_m=\\eta_m/\\lambda` [Pa]."""
         return self.eta_m / self.lam
 
     @property
-    def sigma_y_relation(self) -> Any:
+    def sigma_y_relation(self) -> FloatOrArray:
         """Yield stress from the paper's relation (4): :math:`(\\eta_m-\\eta_\\infty)\\dot\\gamma_c` [Pa]."""
         return (self.eta_m - self.eta_inf) * self.gamma_dot_c
 

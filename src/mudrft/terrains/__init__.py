@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 
-def Mud(water_content: Any = 0.25, **kw: Any) -> MudTerrain:
+def Mud(water_content: float | MudParameterSets = 0.25, **kw: Any) -> MudTerrain:
     """The mud model as a terrain: ``MudTerrain(paper_mud(water_content), **kw)``.
 
     Parameters

@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from .._typing import FloatArray
 from .._validation import MudrftError, check_finite
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = ["area_z", "kinematics", "mean_stress", "tip_depth", "tip_position"]
 
 
-def tip_position(position: Any) -> np.ndarray:
+def tip_position(position: ArrayLike) -> FloatArray:
     """Validate a tip position [m]: finite, shape (3,) or (..., 3)."""
     pos = check_finite("position", position)
     if pos.shape[-1:] != (3,):
@@ -19,7 +24,7 @@ def tip_position(position: Any) -> np.ndarray:
     return pos
 
 
-def kinematics(position: Any, velocity: Any) -> tuple[np.ndarray, np.ndarray]:
+def kinematics(position: ArrayLike, velocity: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Validate tip position [m] and velocity [m/s]: finite, shape (..., 3), same shape."""
     pos = tip_position(position)
     vel = check_finite("velocity", velocity)
@@ -35,12 +40,12 @@ def tip_depth(pos: np.ndarray) -> np.ndarray:
     return np.maximum(-pos[..., 2], 0.0)
 
 
-def projected(foot: Any, depth: np.ndarray) -> np.ndarray:
+def projected(foot: Foot, depth: FloatArray) -> FloatArray:
     """Projected areas (x, y, z) of the submerged foot [m^2], shape depth.shape + (3,)."""
     return np.asarray(foot.projected_areas(depth), dtype=float).reshape((*np.shape(depth), 3))
 
 
-def area_z(foot: Any, depth: np.ndarray) -> np.ndarray:
+def area_z(foot: Foot, depth: FloatArray) -> FloatArray:
     """Horizontal (z-projected) area of the submerged foot [m^2]."""
     return projected(foot, depth)[..., 2]
 

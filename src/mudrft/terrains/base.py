@@ -15,12 +15,16 @@ the motion over the step that ends at ``position``.
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError, check_finite
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
+    from ..parameters.base import Mud
 
 __all__ = ["Terrain", "TerrainOutput", "as_terrain", "check_motion"]
 
@@ -47,21 +51,25 @@ class TerrainOutput(NamedTuple):
 class Terrain(Protocol):
     """Interface of every terrain model."""
 
-    name: str
+    @property
+    def name(self) -> str:
+        """Short name of the model (a frozen field of every terrain: read-only here)."""
+        ...
 
-    def initial_state(self, foot: Any, position: ArrayLike) -> Any:
+    # the state is each terrain's own (a NamedTuple of arrays, or None): Any here
+    def initial_state(self, foot: Foot, position: ArrayLike) -> Any:
         """State before the first step, for a foot whose tip is at ``position`` [m]."""
         ...
 
     def step(
-        self, foot: Any, state: Any, position: ArrayLike, velocity: ArrayLike, dt: float
+        self, foot: Foot, state: Any, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[Any, TerrainOutput]:
         """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
         ...
 
 
 def check_motion(
-    position: ArrayLike, velocity: ArrayLike, dt: Any
+    position: ArrayLike, velocity: ArrayLike, dt: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
     """Validate the inputs of a terrain step, shared by every terrain.
 
@@ -97,7 +105,7 @@ def check_motion(
     return pos, vel, step
 
 
-def as_terrain(terrain: Any) -> Any:
+def as_terrain(terrain: Mud | Terrain) -> Terrain:
     """Accept a :class:`~mudrft.Mud` (wrapped in :class:`~mudrft.MudTerrain`) or any terrain."""
     from ..parameters.base import Mud
     from .mud import MudTerrain

@@ -22,9 +22,10 @@ Trailing elements carry nothing, so a foot pulled out of sand feels no suction
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import (
     MudrftError,
@@ -41,8 +42,11 @@ from .._validation import (
 from ..citations import register
 from ..feet.base import SurfaceElements
 from ._common import mean_stress, projected, tip_depth, tip_position
-from ._rft_groups import _group_weights, _prepare, _unit
+from ._rft_groups import _group_weights, _prepare, _Prepared, _unit
 from .base import TerrainOutput, check_motion
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = [
     "DEFAULT_ZETA",
@@ -87,7 +91,7 @@ class FourierCoefficients:
     Cm11: float
     D10: float
 
-    def alpha(self, beta: Any, gamma: Any) -> tuple[np.ndarray, np.ndarray]:
+    def alpha(self, beta: ArrayLike, gamma: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """``(alpha_x, alpha_z)`` at attack angle ``beta`` and intrusion angle ``gamma`` [rad]."""
         b2 = 2.0 * np.asarray(beta, dtype=float)
         g = np.asarray(gamma, dtype=float)
@@ -138,7 +142,7 @@ _HORIZONTAL_TOL = 1e-3
 
 
 def li2013_alpha(
-    beta: Any, gamma: Any, *, coefficients: FourierCoefficients = LI2013_GENERIC
+    beta: ArrayLike, gamma: ArrayLike, *, coefficients: FourierCoefficients = LI2013_GENERIC
 ) -> tuple[np.ndarray, np.ndarray]:
     r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
 
@@ -171,7 +175,7 @@ def li2013_alpha(
     return coefficients.alpha(b, g)
 
 
-def treers_weights(v1: Any, v23: Any) -> tuple[np.ndarray, np.ndarray]:
+def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     r"""Treers et al.'s (2021) weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)` [-].
 
     :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
@@ -208,7 +212,7 @@ def _unit_horizontal(vec: np.ndarray, fallback: np.ndarray) -> tuple[np.ndarray,
 LEADING_WIDTH = 1e-3
 
 
-def leading_weight(n_dot_v: Any, width: float = LEADING_WIDTH) -> np.ndarray:
+def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarray:
     r"""Weight of a facet by how much it leads the motion (decision D53) [-].
 
     :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`: 0 on trailing and tangent facets,
@@ -232,7 +236,7 @@ def leading_weight(n_dot_v: Any, width: float = LEADING_WIDTH) -> np.ndarray:
     return np.clip(d / width, 0.0, 1.0)
 
 
-def horizontal_share(nz: Any, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
+def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
     r"""How much a facet counts as horizontal in the 3D extension (decision D51) [-].
 
     Treers et al. treat a facet as horizontal when :math:`|n_z|\ge1-\delta`
@@ -328,10 +332,10 @@ def _unit_forces(
 
 
 def rft_forces(
-    normals: Any,
-    depths: Any,
-    areas: Any,
-    direction: Any,
+    normals: ArrayLike,
+    depths: ArrayLike,
+    areas: ArrayLike,
+    direction: ArrayLike,
     *,
     zeta: float = DEFAULT_ZETA,
     coefficients: FourierCoefficients = LI2013_GENERIC,
@@ -413,8 +417,9 @@ class RFTState(NamedTuple):
 
     direction: np.ndarray
     elements: SurfaceElements
-    prepared: Any = None
-    cache: Any = None
+    prepared: _Prepared | None = None
+    #: (direction, unit forces) of the last step, reused while the direction repeats
+    cache: tuple[np.ndarray, np.ndarray] | None = None
 
 
 class FacetRFT:
@@ -435,7 +440,7 @@ class FacetRFT:
     def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
-    def initial_state(self, foot: Any, position: Any) -> RFTState:
+    def initial_state(self, foot: Foot, position: ArrayLike) -> RFTState:
         """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
         pos = tip_position(position)
         el = foot.elements()
@@ -443,7 +448,7 @@ class FacetRFT:
         return RFTState(direction=direction, elements=el, prepared=_prepare(el))
 
     def step(
-        self, foot: Any, state: RFTState, position: Any, velocity: Any, dt: float
+        self, foot: Foot, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[RFTState, TerrainOutput]:
         """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
 

@@ -24,7 +24,6 @@ Sources, coefficient provenance and decisions D90-D95: ``docs/model.md`` section
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -84,7 +83,7 @@ class PolynomialCoefficients:
         """The coefficients as a (20, 3) array, columns :math:`c_1, c_2, c_3` [-]."""
         return np.array([self.c1, self.c2, self.c3], dtype=float).T
 
-    def f(self, x1: Any, x2: Any, x3: Any) -> NDArray[np.float64]:
+    def f(self, x1: ArrayLike, x2: ArrayLike, x3: ArrayLike) -> NDArray[np.float64]:
         """``(f1, f2, f3)`` stacked on a last axis of 3, for arrays of ``x1, x2, x3`` [-]."""
         x1, x2, x3 = (np.asarray(x, dtype=float) for x in (x1, x2, x3))
         terms = np.stack(
@@ -122,7 +121,9 @@ AGARWAL2023 = PolynomialCoefficients(
 _Z = np.array([0.0, 0.0, 1.0])
 
 
-def agarwal_xi(rho_c: Any, mu_int: Any, *, gravity: float = GRAVITY) -> NDArray[np.float64]:
+def agarwal_xi(
+    rho_c: ArrayLike, mu_int: ArrayLike, *, gravity: float = GRAVITY
+) -> NDArray[np.float64]:
     r"""Material constant of 3D-RFT, :math:`\xi_n=\rho_c g(894\mu^3-386\mu^2+89\mu)` [N/m^3].
 
     Parameters
@@ -151,7 +152,11 @@ def agarwal_xi(rho_c: Any, mu_int: Any, *, gravity: float = GRAVITY) -> NDArray[
 
 
 def agarwal_generic_alpha(
-    beta: Any, gamma: Any, psi: Any, *, coefficients: PolynomialCoefficients = AGARWAL2023
+    beta: ArrayLike,
+    gamma: ArrayLike,
+    psi: ArrayLike,
+    *,
+    coefficients: PolynomialCoefficients = AGARWAL2023,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-].
 
@@ -242,7 +247,9 @@ def _cap(
     return a_n + scale * a_t
 
 
-def _check_unit_vectors(name: str, value: Any, ndim: int | None = None) -> NDArray[np.float64]:
+def _check_unit_vectors(
+    name: str, value: ArrayLike, ndim: int | None = None
+) -> NDArray[np.float64]:
     arr = check_finite(name, value)
     if arr.shape[-1:] != (3,) or (ndim is not None and arr.ndim != ndim):
         want = "(m, 3)" if ndim == 2 else "(..., 3)"

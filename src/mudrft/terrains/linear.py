@@ -13,15 +13,20 @@ same depth: no hysteresis, no relaxation, no suction) and rate-independent.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from .._typing import FloatArray
 from .._validation import MudrftError, check_choice, check_finite, check_nonnegative, check_positive
 from .._validation import set_number as _set
 from ..citations import register
 from ._common import area_z, kinematics, tip_depth, tip_position
 from .base import TerrainOutput
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = ["DEFAULT_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"]
 
@@ -77,7 +82,7 @@ class LinearStiffness:
         register("godon2022ral")
         register("liu2023ral")
 
-    def stress(self, depth: Any) -> np.ndarray:
+    def stress(self, depth: ArrayLike) -> FloatArray:
         """Vertical stress at tip depth ``depth`` [m], in Pa.
 
         Examples
@@ -88,13 +93,13 @@ class LinearStiffness:
         d = check_finite("depth", depth)
         return self.stiffness * np.maximum(d, 0.0)
 
-    def initial_state(self, foot: Any, position: Any) -> LinearState:
+    def initial_state(self, foot: Foot, position: ArrayLike) -> LinearState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
         pos = tip_position(position)
         return LinearState(in_mud=tip_depth(pos) > 0)
 
     def step(
-        self, foot: Any, state: LinearState, position: Any, velocity: Any, dt: float
+        self, foot: Foot, state: LinearState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[LinearState, TerrainOutput]:
         """Force at tip ``position`` [m] moving at ``velocity`` [m/s]; ``dt`` [s] unused."""
         check_positive("dt", dt, unit="s")
@@ -110,7 +115,7 @@ class LinearStiffness:
         return LinearState(in_mud=depth > 0), TerrainOutput(force=force, stress=stress, depth=depth)
 
 
-def fit_stiffness(depth: Any, stress: Any) -> float:
+def fit_stiffness(depth: ArrayLike, stress: ArrayLike) -> float:
     r"""Least-squares :math:`k` [N/m^3] of :math:`\sigma=k d` through the origin.
 
     Parameters

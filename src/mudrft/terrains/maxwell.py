@@ -29,9 +29,10 @@ from __future__ import annotations
 import cmath
 import math
 from dataclasses import dataclass, replace
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._progress import Progress, make_progress
 from .._validation import (
@@ -50,6 +51,9 @@ from ..citations import register
 from ..trajectories import Trajectory
 from ._common import area_z, kinematics, tip_depth, tip_position
 from .base import TerrainOutput
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
@@ -192,10 +196,10 @@ class MaxwellMud:
         """A copy with some fields changed."""
         return replace(self, **kw)
 
-    def _lc(self, foot: Any) -> float:
+    def _lc(self, foot: Foot) -> float:
         return float(self.characteristic_length or foot.characteristic_length)
 
-    def initial_state(self, foot: Any, position: Any) -> MaxwellState:
+    def initial_state(self, foot: Foot, position: ArrayLike) -> MaxwellState:
         """Undisturbed mud under a foot whose tip is at ``position`` (..., 3) [m]."""
         pos = tip_position(position)
         depth = tip_depth(pos)
@@ -203,7 +207,7 @@ class MaxwellMud:
         return MaxwellState(z, z.copy(), z.copy(), depth / self._lc(foot), depth > 0)
 
     def advance(
-        self, state: MaxwellState, gamma: Any, gamma_dot: Any, dt: float
+        self, state: MaxwellState, gamma: ArrayLike, gamma_dot: ArrayLike, dt: float
     ) -> tuple[MaxwellState, np.ndarray]:
         """Advance the stresses over ``dt`` [s] at constant rate; return (state, stress [Pa]).
 
@@ -235,7 +239,7 @@ class MaxwellMud:
         return new, stress
 
     def step(
-        self, foot: Any, state: MaxwellState, position: Any, velocity: Any, dt: float
+        self, foot: Foot, state: MaxwellState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MaxwellState, TerrainOutput]:
         """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
         pos, vel = kinematics(position, velocity)
@@ -362,7 +366,7 @@ _FIT_FIELDS = ("modulus", "relaxation", "sigma_y", "omega", "release")
 
 def fit_maxwell(
     trajectory: Trajectory,
-    stress: Any,
+    stress: ArrayLike,
     *,
     characteristic_length: float = 0.05,
     initial: MaxwellMud | None = None,

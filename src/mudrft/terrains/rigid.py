@@ -19,14 +19,18 @@ of 0.5 kg or more; :math:`\mu=0.6`, :math:`v_s=0.01` m/s.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import check_nonnegative, check_positive
 from .._validation import set_number as _set
 from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
 from .base import TerrainOutput
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = ["RigidGround", "RigidState"]
 
@@ -77,13 +81,18 @@ class RigidGround:
         _set(self, "friction", check_nonnegative("friction", self.friction))
         _set(self, "slip_speed", check_positive("slip_speed", self.slip_speed, unit="m/s"))
 
-    def initial_state(self, foot: Any, position: Any) -> RigidState:
+    def initial_state(self, foot: Foot | None, position: ArrayLike) -> RigidState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
         pos = tip_position(position)
         return RigidState(in_contact=tip_depth(pos) > 0)
 
     def step(
-        self, foot: Any, state: RigidState, position: Any, velocity: Any, dt: float
+        self,
+        foot: Foot | None,
+        state: RigidState,
+        position: ArrayLike,
+        velocity: ArrayLike,
+        dt: float,
     ) -> tuple[RigidState, TerrainOutput]:
         """Contact force at tip ``position`` [m] moving at ``velocity`` [m/s]; ``dt`` [s] unused."""
         check_positive("dt", dt, unit="s")

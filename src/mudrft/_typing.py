@@ -1,0 +1,43 @@
+"""Type aliases for arrays, and the shape conventions they carry.
+
+Annotations only: nothing here converts or checks a value at run time.
+
+- An input a user may give as a number, a list or an array is :data:`ArrayLike`; the
+  public function validates it (:mod:`mudrft._validation`) into a float array.
+- A float array the library returns is :data:`FloatArray` (``float64``). Its shape is
+  stated in the docstring: ``(3,)`` for one force or position, ``(n, 3)`` for a history
+  of ``n`` samples, ``(..., 3)`` for a batch of feet.
+- A value that is a float for one foot and an array for a batch is :data:`FloatOrArray`.
+- A path is :data:`PathLike`.
+- Code written once over an array namespace ``xp`` (numpy, jax.numpy or the float
+  namespace of :mod:`mudrft._xp`) keeps ``Any``: its values may be JAX arrays or tracers.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import TypeAlias
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "ArrayLike",
+    "BoolArray",
+    "FloatArray",
+    "FloatOrArray",
+    "IntArray",
+    "NDArray",
+    "PathLike",
+]
+
+#: A float64 array (forces [N], positions [m], stresses [Pa], ...).
+FloatArray: TypeAlias = NDArray[np.float64]
+#: An integer index array (mesh faces, sample indices).
+IntArray: TypeAlias = NDArray[np.intp]
+#: A boolean mask.
+BoolArray: TypeAlias = NDArray[np.bool_]
+#: A float for one set or one foot, a float64 array for a batch.
+FloatOrArray: TypeAlias = float | NDArray[np.float64]
+#: A file-system path.
+PathLike: TypeAlias = str | os.PathLike[str]
