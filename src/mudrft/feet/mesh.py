@@ -25,10 +25,12 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from .._typing import FloatArray
 from .._validation import (
     PLAUSIBLE_FOOT_SIZE,
     MudrftError,
@@ -51,11 +53,15 @@ from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
 from .stl import read_stl
 from .surface import (
     PreparedTriangles,
+    Wrench,
     integrate_prepared,
     integrate_wrench,
     prepare_triangles,
     submerged_area,
 )
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
 
 __all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 
@@ -80,7 +86,7 @@ class MeshWarning(UserWarning):
     """A mesh was accepted with a change or a caveat (dropped facets, open surface)."""
 
 
-def as_rotation_matrix(rotation: Any) -> np.ndarray:
+def as_rotation_matrix(rotation: ArrayLike | Rotation) -> FloatArray:
     """A proper rotation matrix (3, 3) from a matrix or a ``scipy.spatial.transform.Rotation``.
 
     Parameters
@@ -110,7 +116,7 @@ def as_rotation_matrix(rotation: Any) -> np.ndarray:
     return m
 
 
-def _check_faces(faces: Any, n_vertices: int) -> np.ndarray:
+def _check_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
     if isinstance(faces, str):
         raise MudrftError(
             f"faces must be an integer array of shape (m, 3), got the string {faces!r}"
@@ -215,7 +221,7 @@ class MeshFoot(Foot):
     """
 
     def __init__(
-        self, vertices: Any, faces: Any, *, trailing: bool = False, name: str = "mesh"
+        self, vertices: ArrayLike, faces: ArrayLike, *, trailing: bool = False, name: str = "mesh"
     ) -> None:
         v = check_finite("vertices", vertices)
         if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] < 3:
@@ -399,7 +405,7 @@ class MeshFoot(Foot):
         except MudrftError as exc:
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
-    def posed(self, rotation: Any) -> MeshFoot:
+    def posed(self, rotation: ArrayLike | Rotation) -> MeshFoot:
         """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), re-tipped.
 
         The rotation acts on the foot-frame vertices; the copy's tip is again its lowest point.
@@ -446,7 +452,7 @@ class MeshFoot(Foot):
         t = self._triangles
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
-    def _inputs(self, depth: Any, stress: Any) -> tuple[np.ndarray, np.ndarray]:
+    def _inputs(self, depth: ArrayLike, stress: ArrayLike) -> tuple[FloatArray, FloatArray]:
         return check_depth_stress(depth, stress, height=self.height)
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
@@ -463,7 +469,9 @@ class MeshFoot(Foot):
         rows = _flat_rows(shape, d, s, h)
         return np.asarray(in_chunks(block, len(self), *rows)).reshape((*shape, 3))
 
-    def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def force_unchecked(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
         """World-frame force [N] for a heading in any quadrant, by the vector rule directly.
 
         Called by :meth:`Foot.force` after validation. No first-quadrant folding, so
@@ -471,7 +479,7 @@ class MeshFoot(Foot):
         """
         return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
 
-    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2], by integration.
 
         ``(-Fx, -Fy, Fz)`` of the integrated force: positive when the force resists the
@@ -481,7 +489,14 @@ class MeshFoot(Foot):
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
-    def wrench(self, depth: Any, stress: Any, heading: Any, *, point: Any = None) -> Any:
+    def wrench(
+        self,
+        depth: ArrayLike,
+        stress: ArrayLike,
+        heading: ArrayLike,
+        *,
+        point: ArrayLike | None = None,
+    ) -> Wrench:
         """Force [N], moment about ``point`` [N m] and center of pressure [m] (foot frame).
 
         See :func:`mudrft.feet.surface.integrate_wrench`; ``point`` defaults to the tip.
@@ -493,7 +508,7 @@ class MeshFoot(Foot):
             raise MudrftError(f"point must have shape (..., 3) [m], got shape {pt.shape}")
         shape = batch_shape(d, s, h, point=pt.shape[:-1])
 
-        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray, pp: np.ndarray) -> Any:
+        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray, pp: np.ndarray) -> Wrench:
             return integrate_wrench(
                 None, dd, ss, hh, point=pp, trailing=self.trailing, prepared=self._prep
             )
@@ -503,14 +518,16 @@ class MeshFoot(Foot):
         w = in_chunks(block, len(self), *_flat_rows(shape, d, s, h, pt))
         return type(w)(*(np.asarray(a).reshape((*shape, 3)) for a in w))
 
-    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def center_of_pressure(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
         """Center of pressure in the foot frame [m], shape (..., 3) (decision D24).
 
         Any heading; the stresses are signed channel stresses as in :meth:`force`.
         """
         return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
 
-    def projected_areas(self, depth: Any) -> np.ndarray:
+    def projected_areas(self, depth: ArrayLike) -> FloatArray:
         r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping.
 
         :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a
@@ -560,7 +577,8 @@ def _read_with_trimesh(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
             "`pip install 'mudrft[mesh]'` (or convert the mesh to STL, which needs nothing extra)"
         ) from exc
     try:
-        mesh: Any = trimesh.load(path, force="mesh", process=False)
+        # force="mesh": one Trimesh (a scene is concatenated), not a Scene
+        mesh = cast("trimesh.Trimesh", trimesh.load(path, force="mesh", process=False))
         v = np.asarray(mesh.vertices, dtype=np.float64)
         f = np.asarray(mesh.faces)
     except Exception as exc:  # trimesh raises many exception types on bad files

@@ -10,11 +10,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._specialize import on_floats
+from .._typing import FloatArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
 from .._xp import pyfloat
 from .base import Foot, SurfaceElements
@@ -28,6 +30,9 @@ from .closed_form import (
 )
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
 
 __all__ = ["Flat", "SemiCylinder", "SemiSphere"]
 
@@ -54,11 +59,11 @@ class _ClosedFormFoot(Foot):
         kind, g0, g1, g2 = self.kernel_geometry
         return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
 
-    def _forces(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def _forces(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """The closed form without validation (first-quadrant heading) [N]."""
         return _magnitudes(self.coefficients(depth, heading), stress, np)
 
-    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
         return self._forces(*_check_inputs(depth, stress, heading, height=self.height))
 
@@ -71,7 +76,9 @@ class _ClosedFormFoot(Foot):
             return on_floats(closed_form_force)(kind, g0, g1, g2, depth, sx, sy, sz, heading)
         return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
 
-    def force_unchecked(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def force_unchecked(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
         """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
         s = np.asarray(stress, dtype=float)
         f = self.force_components(
@@ -103,7 +110,9 @@ class _ClosedFormFoot(Foot):
         """Surface elements of the default mesh (``resolution=48``) in the foot frame."""
         return self._mesh.elements()
 
-    def posed(self, rotation: Any, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
+    def posed(
+        self, rotation: ArrayLike | Rotation, *, resolution: int = DEFAULT_RESOLUTION
+    ) -> MeshFoot:
         """The foot rotated by ``rotation`` (3x3 matrix or scipy Rotation), as a mesh foot.
 
         The closed forms hold for the axis-aligned foot only, so a posed foot is integrated
@@ -111,7 +120,9 @@ class _ClosedFormFoot(Foot):
         """
         return self.to_mesh(resolution=resolution).posed(rotation)
 
-    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def center_of_pressure(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
         """Center of pressure in the foot frame [m], shape (..., 3), from the default mesh.
 
         See :func:`mudrft.feet.surface.integrate_wrench` (decision D24).
@@ -169,7 +180,7 @@ class Flat(_ClosedFormFoot):
         """``(0, L, W, H)`` [m], see :func:`closed_form_coefficients`."""
         return 0, self.length, self.width, self.height
 
-    def projected_areas(self, depth: Any) -> np.ndarray:
+    def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (L z, W z, L W), shape (..., 3)."""
         d = check_nonnegative("depth", depth, unit="m")
         z = np.minimum(d, self.height)
@@ -240,7 +251,7 @@ class SemiCylinder(_ClosedFormFoot):
         """``(1, R, W, H)`` [m], see :func:`closed_form_coefficients`."""
         return 1, self.radius, self.width, self.height
 
-    def projected_areas(self, depth: Any) -> np.ndarray:
+    def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
         d = check_nonnegative("depth", depth, unit="m")
         z = np.minimum(d, self.height)
@@ -303,7 +314,7 @@ class SemiSphere(_ClosedFormFoot):
         """``(2, R, H, 0)`` [m], see :func:`closed_form_coefficients`."""
         return 2, self.radius, self.height, 0.0
 
-    def projected_areas(self, depth: Any) -> np.ndarray:
+    def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
         d = check_nonnegative("depth", depth, unit="m")
         z = np.minimum(d, self.height)

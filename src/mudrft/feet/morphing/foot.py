@@ -16,11 +16,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import (
-    check_length,
-    check_nonnegative,
-    positive_number,
-)
+from ..._typing import FloatOrArray
+from ..._validation import check_length, check_nonnegative, positive_number
 from ..base import Foot
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
@@ -205,7 +202,7 @@ class MorphingFoot(MorphingMechanism, Foot):
             deflection=np.asarray(delta), pad_angle=np.asarray(th), most_spread=np.asarray(th)
         )
 
-    def seal_factor(self, foot_state: Any) -> Any:
+    def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
         r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
         :math:`g` [m] is how far the pad rims have lifted (curled) since their most spread
@@ -226,7 +223,12 @@ class MorphingFoot(MorphingMechanism, Foot):
         )
 
     def contact_force(
-        self, foot_state: Any, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, dt: float
+        self,
+        foot_state: MorphingState | None,
+        depth: ArrayLike,
+        stress: ArrayLike,
+        heading: ArrayLike,
+        dt: float,
     ) -> tuple[MorphingState, NDArray[np.float64]]:
         """Solve the column balance for this step and return ``(state, force)`` [N] (D32, D34).
 

@@ -14,10 +14,15 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .foot import MorphingFoot
+    from .linkage import Linkage
+    from .springs import TwoStageSpring
 
 __all__ = ["MorphingRow", "linkage_row", "morphing_row", "row_array"]
 
@@ -56,7 +61,7 @@ class MorphingRow(NamedTuple):
 
 @functools.lru_cache(maxsize=64)
 def linkage_row(
-    linkage: Any, spring: Any, seal_length: float = 1.0, lock: float = -1.0
+    linkage: Linkage, spring: TwoStageSpring, seal_length: float = 1.0, lock: float = -1.0
 ) -> MorphingRow:
     """The :class:`MorphingRow` of a :class:`~.linkage.Linkage` and a
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1);
@@ -78,12 +83,12 @@ def linkage_row(
     return MorphingRow(**{k: float(v) for k, v in values.items()})
 
 
-def morphing_row(foot: Any) -> MorphingRow:
+def morphing_row(foot: MorphingFoot) -> MorphingRow:
     """The :class:`MorphingRow` of a :class:`~.foot.MorphingFoot`."""
     lock = foot.locked_deflection()
     return linkage_row(foot.linkage, foot.spring, foot.seal_length, -1.0 if lock is None else lock)
 
 
-def row_array(foot: Any) -> NDArray[np.float64]:
+def row_array(foot: MorphingFoot) -> NDArray[np.float64]:
     """:func:`morphing_row` as a float array (the compiled coupling's per-body row)."""
     return np.array(morphing_row(foot), dtype=float)
