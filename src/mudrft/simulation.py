@@ -11,12 +11,13 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from . import metrics as _m
 from ._progress import make_progress
@@ -40,6 +41,13 @@ from .parameters.base import Mud
 from .terrains import as_terrain
 from .terrains.mud import vertical_viscosity
 from .trajectories import MIN_GAIT_STEPS, Trajectory
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .terrains.base import Terrain
 
 __all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
 
@@ -214,7 +222,7 @@ class Result:
             path, write, overwrite=overwrite, option="overwrite=True (CLI: --force)"
         )
 
-    def to_pandas(self) -> Any:
+    def to_pandas(self) -> pd.DataFrame:
         """The run as a ``pandas.DataFrame`` with the CSV columns plus stresses and depth."""
         try:
             import pandas as pd
@@ -233,7 +241,7 @@ class Result:
         )
         return pd.DataFrame(cols)
 
-    def plot(self, *, axes: Any = None) -> Any:
+    def plot(self, *, axes: Sequence[Axes] | NDArray[np.object_] | None = None) -> Figure:
         """Forces against time and Fz against depth (needs matplotlib)."""
         from .plotting import plot_result
 
@@ -278,7 +286,7 @@ def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
 
 def simulate(
     foot: Foot,
-    mud: Any,
+    mud: Mud | Terrain,
     trajectory: Trajectory | LoadControl,
     *,
     dt: float | None = None,
@@ -363,7 +371,7 @@ def simulate(
     )
 
 
-def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> None:
+def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -> None:
     mud = getattr(terrain, "mud", None)
     if mud is None or not hasattr(mud, "vertical"):
         return
@@ -404,7 +412,9 @@ def _check_explicit_stability(foot: Foot, terrain: Any, load: LoadControl) -> No
         )
 
 
-def _simulate_load(foot: Foot, terrain: Any, load: LoadControl, report: Any) -> Result:
+def _simulate_load(
+    foot: Foot, terrain: Terrain, load: LoadControl, report: Callable[[float], None] | None
+) -> Result:
     _check_explicit_stability(foot, terrain, load)
     dt = load.dt
     n = int(np.ceil(load.duration / dt)) + 1
@@ -476,7 +486,7 @@ def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]
 
 
 def static_sinking(
-    foot: Foot, mud: Any, weight: float, *, characteristic_length: float | None = None
+    foot: Foot, mud: Mud, weight: float, *, characteristic_length: float | None = None
 ) -> float:
     r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
 

@@ -17,12 +17,15 @@ evaluation count, and offers the three operations the stages of
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed
+
+if TYPE_CHECKING:
+    from scipy.optimize import OptimizeResult
 
 __all__ = ["Engine"]
 
@@ -181,7 +184,7 @@ class Engine:
         max_nfev: int,
         start: dict[str, float] | None = None,
         project: tuple[str, ...] = (),
-    ) -> tuple[float, Any]:
+    ) -> tuple[float, OptimizeResult | None]:
         """Bounded least squares over ``free`` in log-parameters (trust-region reflective).
 
         With ``project``, those linear parameters are not solver variables: each

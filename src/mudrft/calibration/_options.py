@@ -199,7 +199,7 @@ def _kind(x: object) -> str | None:
 
 
 def as_dataset(
-    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[Any],
+    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object],
     **load_options: Any,
 ) -> IntrusionDataset:
     """The data of a fit as one :class:`~mudrft.io.IntrusionDataset`.

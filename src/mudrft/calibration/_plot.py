@@ -4,13 +4,16 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..io import IntrusionDataset
 from ._problem import PHASES, segment
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["plot_fit"]
 
@@ -20,8 +23,8 @@ def plot_fit(
     predictions: Sequence[NDArray[np.float64]],
     *,
     title: str,
-    axes: Any = None,
-) -> Any:
+    axes: Any = None,  # an array or sequence of matplotlib Axes (np.ravel cannot type it)
+) -> Figure:
     """Stress [kPa] against time [s], data and fit, one panel per trial.
 
     Parameters

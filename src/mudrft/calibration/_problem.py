@@ -9,11 +9,12 @@ advances ``B x T`` channels.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError
 from ..constitutive import channel_constants, initial_state
@@ -177,14 +178,14 @@ class Packed:
         """Samples (n_max, T) of the given phases (and valid)."""
         return self.valid & np.isin(self.phase, phases)
 
-    def parameters(self, values: dict[str, Any]) -> MudParameters:
+    def parameters(self, values: Mapping[str, ArrayLike]) -> MudParameters:
         """A (batched) MudParameters from a dict of arrays of shape (B,)."""
         fields: dict[str, Any] = {
             k: np.asarray(values[k], dtype=float).reshape(-1, 1) for k in FIT_PARAMETERS
         }
         return MudParameters(**fields, nu=self.nu, k_a=self.k_a)
 
-    def simulate(self, values: dict[str, Any], upto: int | None = None) -> np.ndarray:
+    def simulate(self, values: Mapping[str, ArrayLike], upto: int | None = None) -> np.ndarray:
         """Total stress, shape (upto, B, T) [Pa], for a batch of parameter values.
 
         Non-finite results (only possible at absurd parameter values) are returned as

@@ -11,9 +11,10 @@ from __future__ import annotations
 import json
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +27,10 @@ from ._plot import plot_fit
 from ._problem import FIT_PARAMETERS, pack, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult", "StageReport"]
 
@@ -222,7 +227,12 @@ class FitResult:
         sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
         return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
 
-    def plot(self, dataset: IntrusionDataset | None = None, *, axes: Any = None) -> Any:
+    def plot(
+        self,
+        dataset: IntrusionDataset | None = None,
+        *,
+        axes: Sequence[Axes] | NDArray[np.object_] | None = None,
+    ) -> Figure:
         """Fit against data: stress against time, one panel per trial (needs matplotlib).
 
         Parameters

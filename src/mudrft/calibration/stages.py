@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +31,9 @@ from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, pack
 from ._report import Reporter
 from .result import StageReport
 from .uncertainty import Uncertainty, at_bound, uncertainty
+
+if TYPE_CHECKING:
+    from scipy.optimize import OptimizeResult
 
 __all__ = [
     "ALL_PHASES",
@@ -198,7 +201,7 @@ def _grid(engine: Engine, stage: Stage, free: tuple[str, ...]) -> list[dict[str,
     return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
 
 
-def _message(sol: Any) -> str:
+def _message(sol: OptimizeResult | None) -> str:
     return "linear parameters solved exactly" if sol is None else str(sol.message)
 
 
@@ -220,7 +223,7 @@ def phase_stage(
         return None
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
-    best: tuple[float, dict[str, float], Any] | None = None
+    best: tuple[float, dict[str, float], OptimizeResult | None] | None = None
     starting = engine.grid_start(
         stage.name, mask, stage_free, _grid(engine, stage, stage_free), starts
     )
@@ -237,7 +240,7 @@ def phase_stage(
     )
 
 
-def status(sol: Any) -> str:
+def status(sol: OptimizeResult | None) -> str:
     """``"converged"``, ``"max_evaluations"`` or ``"failed"`` from a solver result."""
     if sol is None or sol.status > 0:
         return "converged"
@@ -257,7 +260,8 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     cost, sol_full = engine.fit("joint", mask, free, max_nfev)
     sol = sol_full if sol_full is not None else sol
     sims = engine.packed.simulations - n0
-    report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, sol.message)
+    # _message, not sol.message: fit returns None when no solver variable is left
+    report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, _message(sol))
     return report, status(sol)
 
 
