@@ -16,10 +16,13 @@ Annotations only: nothing here converts or checks a value at run time.
 from __future__ import annotations
 
 import os
-from typing import TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
 
 __all__ = [
     "ArrayLike",
@@ -29,6 +32,7 @@ __all__ = [
     "IntArray",
     "NDArray",
     "PathLike",
+    "RotationLike",
 ]
 
 #: A float64 array (forces [N], positions [m], stresses [Pa], ...).
@@ -41,3 +45,5 @@ BoolArray: TypeAlias = NDArray[np.bool_]
 FloatOrArray: TypeAlias = float | NDArray[np.float64]
 #: A file-system path.
 PathLike: TypeAlias = str | os.PathLike[str]
+#: A rotation: a proper 3x3 matrix (array_like) or a ``scipy.spatial.transform.Rotation``.
+RotationLike: TypeAlias = "ArrayLike | Rotation"

@@ -25,12 +25,11 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from typing import TYPE_CHECKING, cast
+from typing import cast
 
 import numpy as np
-from numpy.typing import ArrayLike
 
-from .._typing import FloatArray
+from .._typing import ArrayLike, FloatArray, RotationLike
 from .._validation import (
     PLAUSIBLE_FOOT_SIZE,
     MudrftError,
@@ -40,7 +39,7 @@ from .._validation import (
     warn_implausible,
 )
 from ..units import SCALE, parse_unit
-from .base import (
+from .base import (  # fmt: skip
     CHUNK,
     Foot,
     SurfaceElements,
@@ -59,9 +58,6 @@ from .surface import (
     prepare_triangles,
     submerged_area,
 )
-
-if TYPE_CHECKING:
-    from scipy.spatial.transform import Rotation
 
 __all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 
@@ -86,7 +82,7 @@ class MeshWarning(UserWarning):
     """A mesh was accepted with a change or a caveat (dropped facets, open surface)."""
 
 
-def as_rotation_matrix(rotation: ArrayLike | Rotation) -> FloatArray:
+def as_rotation_matrix(rotation: RotationLike) -> FloatArray:
     """A proper rotation matrix (3, 3) from a matrix or a ``scipy.spatial.transform.Rotation``.
 
     Parameters
@@ -405,7 +401,7 @@ class MeshFoot(Foot):
         except MudrftError as exc:
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
-    def posed(self, rotation: ArrayLike | Rotation) -> MeshFoot:
+    def posed(self, rotation: RotationLike) -> MeshFoot:
         """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), re-tipped.
 
         The rotation acts on the foot-frame vertices; the copy's tip is again its lowest point.

@@ -10,13 +10,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from .._specialize import on_floats
-from .._typing import FloatArray
+from .._typing import ArrayLike, FloatArray, RotationLike
 from .._validation import MudrftError, check_dimensions, check_nonnegative
 from .._xp import pyfloat
 from .base import Foot, SurfaceElements
@@ -30,9 +29,6 @@ from .closed_form import (
 )
 from .mesh import MeshFoot
 from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
-
-if TYPE_CHECKING:
-    from scipy.spatial.transform import Rotation
 
 __all__ = ["Flat", "SemiCylinder", "SemiSphere"]
 
@@ -110,9 +106,7 @@ class _ClosedFormFoot(Foot):
         """Surface elements of the default mesh (``resolution=48``) in the foot frame."""
         return self._mesh.elements()
 
-    def posed(
-        self, rotation: ArrayLike | Rotation, *, resolution: int = DEFAULT_RESOLUTION
-    ) -> MeshFoot:
+    def posed(self, rotation: RotationLike, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """The foot rotated by ``rotation`` (3x3 matrix or scipy Rotation), as a mesh foot.
 
         The closed forms hold for the axis-aligned foot only, so a posed foot is integrated
