@@ -25,7 +25,6 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from typing import cast
 
 import numpy as np
 
@@ -49,6 +48,7 @@ from .base import (  # fmt: skip
     in_chunks,
 )
 from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
+from .meshfile import read_with_trimesh
 from .stl import read_stl
 from .surface import (
     PreparedTriangles,
@@ -394,7 +394,7 @@ class MeshFoot(Foot):
             except OSError as exc:
                 raise MudrftError(f"could not read the mesh file {p!r}: {exc}") from exc
             check_memory(f"{what} (up to {count} triangles)", nbytes, hint=_SIMPLIFY)
-            v, f = _read_with_trimesh(p, ext)
+            v, f = read_with_trimesh(p, ext)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
         try:
             return cls(v * scale, f, trailing=trailing, name=nm)
@@ -562,43 +562,3 @@ def _index_triangles(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Shared vertices and faces from a triangle soup (exact coordinate matches merged)."""
     v, inv = np.unique(tri.reshape(-1, 3), axis=0, return_inverse=True)
     return v, inv.reshape(-1, 3)
-
-
-def _read_with_trimesh(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        import trimesh
-    except ImportError as exc:
-        raise MudrftError(
-            f"reading {ext} files needs the optional dependency trimesh; install it with "
-            "`pip install 'mudrft[mesh]'` (or convert the mesh to STL, which needs nothing extra)"
-        ) from exc
-    try:
-        # force="mesh": one Trimesh (a scene is concatenated), not a Scene
-        mesh = cast("trimesh.Trimesh", trimesh.load(path, force="mesh", process=False))
-        v = np.asarray(mesh.vertices, dtype=np.float64)
-        f = np.asarray(mesh.faces)
-    except Exception as exc:  # trimesh raises many exception types on bad files
-        need = _PLY_NEEDS if ext == ".ply" else ""
-        if isinstance(exc, KeyError) and exc.args:  # a property looked up by name: str(exc) is 'x'
-            raise MudrftError(
-                f"could not read the mesh file {path!r}: it lacks the property or element "
-                f"{exc.args[0]!r}{need}"
-            ) from exc
-        raise MudrftError(
-            f"could not read the mesh file {path!r}: {type(exc).__name__}: {exc}{need}"
-        ) from exc
-    if v.ndim != 2 or v.shape[0] == 0 or f.ndim != 2 or f.shape[0] == 0:
-        raise MudrftError(f"the mesh file {path!r} contains no triangles")
-    if not np.all(np.isfinite(v)):
-        i = int(np.argmax(~np.isfinite(v).all(axis=1)))
-        raise MudrftError(
-            f"the mesh file {path!r} has NaN or infinite vertex coordinates (vertex {i}: "
-            f"{v[i].tolist()})"
-        )
-    return v, f
-
-
-_PLY_NEEDS = (
-    " (a PLY mesh needs an element 'vertex' with the properties x, y and z, and an element "
-    "'face' with the list property vertex_indices)"
-)
