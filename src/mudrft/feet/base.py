@@ -19,6 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validation import (
     MudrftError,
     check_broadcast,
@@ -111,7 +112,9 @@ class SurfaceElements:
 STRESS_BATCH = "stress (its last axis, 3, aside)"
 
 
-def first_quadrant(stress: Any, heading: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def first_quadrant(
+    stress: ArrayLike, heading: ArrayLike
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
 
     ``stress`` has shape (..., 3) [Pa] and ``heading`` [rad] broadcasts to its batch shape.
@@ -146,7 +149,9 @@ PLAUSIBLE_DEPTH = 1.0
 PLAUSIBLE_DEPTH_HEIGHTS = 10.0
 
 
-def check_depth_stress(depth: Any, stress: Any, *, height: float) -> tuple[np.ndarray, np.ndarray]:
+def check_depth_stress(
+    depth: ArrayLike, stress: ArrayLike, *, height: float
+) -> tuple[FloatArray, FloatArray]:
     """Validate a tip depth [m] (>= 0) and channel stresses (..., 3) [Pa] given to a foot of
     ``height`` [m]; return them as float arrays.
 
@@ -168,8 +173,8 @@ def check_depth_stress(depth: Any, stress: Any, *, height: float) -> tuple[np.nd
 
 
 def check_resultant_inputs(
-    depth: Any, stress: Any, heading: Any, *, height: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, *, height: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Validate the arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa],
     first-quadrant heading [rad]) for a foot of ``height`` [m] (:func:`check_depth_stress`)
     and return them as float arrays."""
@@ -241,7 +246,11 @@ def world_force(
     return fx, fy, az * sz
 
 
-def unfold_forces(magnitudes: Any, stress: Any, heading: Any) -> np.ndarray:
+def unfold_forces(
+    magnitudes: Callable[[FloatArray, FloatArray], FloatArray],
+    stress: ArrayLike,
+    heading: ArrayLike,
+) -> FloatArray:
     r"""World forces, for any heading, from a foot that only gives first-quadrant magnitudes.
 
     Reads the coefficients of the linear form off ``magnitudes`` with unit stresses and
@@ -306,7 +315,7 @@ class Foot(ABC):
         """Height of the foot above its tip [m]."""
 
     @abstractmethod
-    def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Paper-style resultant force magnitudes (Fx, Fy, Fz) [N].
 
         Parameters
@@ -324,7 +333,7 @@ class Foot(ABC):
             (Fx, Fy, Fz) [N]: magnitudes that resist the motion for positive stresses.
         """
 
-    def projected_areas(self, depth: Any) -> np.ndarray:
+    def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Areas of the submerged part projected along x, y and z [m^2], shape (..., 3).
 
         Used to normalise forces into stresses (paper Figs. 10-12). The default
@@ -347,7 +356,7 @@ class Foot(ABC):
         """Surface elements of the whole foot in its own frame (tip at the origin)."""
         raise MudrftError(f"{type(self).__name__} does not provide surface elements")
 
-    def force(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def force(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """World-frame force of the mud on the foot [N], for a heading in any quadrant.
 
         Parameters
@@ -408,7 +417,9 @@ class Foot(ABC):
         """
         return foot_state, self.force_unchecked(depth, stress, heading)
 
-    def center_of_pressure(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
+    def center_of_pressure(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
         """Point of application of the mud force in the foot frame [m], shape (..., 3).
 
         Default: on the foot axis, half-way up the submerged height.
