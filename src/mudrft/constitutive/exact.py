@@ -7,10 +7,9 @@ quasi-static evaluation, and users who want the formulas. The time stepping is i
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
+from .._typing import ArrayLike, FloatOrArray
 from ..parameters.base import MudParameters
 from . import laws
 from .kernel import relaxation_convolution
@@ -18,7 +17,9 @@ from .kernel import relaxation_convolution
 __all__ = ["suction_closed_form", "thixotropic_approx", "thixotropic_exact", "xi_exact"]
 
 
-def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0) -> Any:
+def xi_exact(
+    t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters, *, xi0: float = 0.0
+) -> FloatOrArray:
     r"""Structure parameter at constant rate: :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}`.
 
     The supplementary prints :math:`\xi(t)=(1-e^{t/\tau_\xi})\xi_{ss}` for
@@ -47,8 +48,13 @@ def xi_exact(t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0)
 
 
 def thixotropic_exact(
-    t: Any, gamma_dot: Any, params: MudParameters, *, xi0: float = 0.0, acceleration: bool = False
-) -> Any:
+    t: ArrayLike,
+    gamma_dot: FloatOrArray,
+    params: MudParameters,
+    *,
+    xi0: float = 0.0,
+    acceleration: bool = False,
+) -> FloatOrArray:
     r"""Thixotropic stress at constant rate from rest, supplementary eq. (S2), exact.
 
     For :math:`\xi(0)=0` and :math:`\ddot\gamma=0`:
@@ -103,7 +109,9 @@ def thixotropic_exact(
     )
 
 
-def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:
+def thixotropic_approx(
+    t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters
+) -> FloatOrArray:
     r"""The paper's approximation, eq. (9): :math:`(1-e^{-t/\lambda})\sigma_{th,ss}` [Pa].
 
     Exact only when :math:`\xi` starts at its steady value; the supplementary
@@ -129,7 +137,9 @@ def thixotropic_approx(t: Any, gamma_dot: Any, params: MudParameters) -> Any:
     )
 
 
-def suction_closed_form(dt: Any, phi: Any, params: MudParameters, *, sigma_s0: float = 0.0) -> Any:
+def suction_closed_form(
+    dt: ArrayLike, phi: FloatOrArray, params: MudParameters, *, sigma_s0: float = 0.0
+) -> FloatOrArray:
     r"""Suction at constant sealing state, eqs. (10)-(11).
 
     .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t},\quad
