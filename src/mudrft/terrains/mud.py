@@ -32,6 +32,7 @@ from ..constitutive import kernel
 from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..constitutive.state import ChannelState
+from ..feet.base import Foot
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
 from .base import TerrainOutput, check_motion
 
@@ -402,11 +403,11 @@ class MudTerrain:
         """True when the clock of eq. (9) restarts at the retraction (decision D15)."""
         return bool(self._flags[1])  # type: ignore[attr-defined]
 
-    def length(self, foot: Any) -> float:
+    def length(self, foot: Foot) -> float:
         """:math:`L_c` [m]: the terrain's own, else the foot's."""
         return float(self.characteristic_length or foot.characteristic_length)
 
-    def initial_state(self, foot: Any, position: ArrayLike) -> MudState:
+    def initial_state(self, foot: Foot, position: ArrayLike) -> MudState:
         """Undisturbed mud under a foot whose tip is at ``position`` (3,) or (..., 3) [m]."""
         pos = check_finite("position", position)
         if pos.shape[-1:] != (3,):
@@ -421,7 +422,7 @@ class MudTerrain:
         return MudState(channels=ch, foot=foot.initial_foot_state())
 
     def step(
-        self, foot: Any, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
+        self, foot: Foot, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MudState, TerrainOutput]:
         """Advance the mud under the foot by ``dt`` [s]; see :class:`~mudrft.terrains.Terrain`.
 
@@ -432,7 +433,7 @@ class MudTerrain:
         return self.step_unchecked(foot, state, pos, vel, step)
 
     def step_unchecked(
-        self, foot: Any, state: MudState, position: Any, velocity: Any, dt: float
+        self, foot: Foot, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MudState, TerrainOutput]:
         """:meth:`step` without validation (finite (..., 3) inputs and dt > 0 assumed)."""
         pos = np.asarray(position, dtype=float)
