@@ -23,7 +23,7 @@ from .._validation import MudrftError, plain
 from ..feet.base import Foot
 from ..io.atomic import atomic_write
 from ..parameters import paper_mud
-from ..terrains import MudTerrain
+from ..terrains import MudTerrain, Terrain
 from ..terrains._common import projected
 from ..terrains.granular_rft import GranularRFT
 from ..terrains.granular_rft3d import GranularRFT3D
@@ -101,8 +101,8 @@ class History:
 
 
 def run_terrain(
-    terrain: Any,
-    foot: Any,
+    terrain: Terrain,
+    foot: Foot,
     trajectory: Trajectory,
     *,
     progress: Callable[[int, int], None] | None = None,
@@ -179,7 +179,9 @@ def run_terrain(
     )
 
 
-def default_terrains(water_content: float = 0.25, *, extrapolate: bool = False) -> dict[str, Any]:
+def default_terrains(
+    water_content: float = 0.25, *, extrapolate: bool = False
+) -> dict[str, Terrain]:
     """The mud model and the five baselines with their documented defaults.
 
     ``mud``, ``granular-rft``, ``granular-rft3d``, ``linear``, ``maxwell``, ``rigid``.
@@ -190,7 +192,7 @@ def default_terrains(water_content: float = 0.25, *, extrapolate: bool = False) 
     """
 
     mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
-    terrains: list[Any] = [
+    terrains: list[Terrain] = [
         mud,
         GranularRFT(),
         GranularRFT3D(),
@@ -202,9 +204,9 @@ def default_terrains(water_content: float = 0.25, *, extrapolate: bool = False) 
 
 
 def compare(
-    foot: Any,
+    foot: Foot,
     trajectory: Trajectory,
-    terrains: Mapping[str, Any] | Iterable[Any] | None = None,
+    terrains: Mapping[str, Terrain] | Iterable[Terrain] | None = None,
     *,
     water_content: float = 0.25,
     extrapolate: bool = False,
