@@ -33,6 +33,11 @@ def _check(ds: Any, metric: str, names: dict[str, str | None]) -> list[str]:
     for key, value in names.items():
         if value is not None and value not in swept:
             raise MudrftError(f"{key} must be a swept parameter ({', '.join(swept)}), got {value!r}")  # fmt: skip
+    given = [(k, v) for k, v in names.items() if v is not None]
+    for i, (key, value) in enumerate(given):
+        for other, v in given[:i]:
+            if v == value:
+                raise MudrftError(f"{other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
     return swept
 
 
@@ -88,7 +93,15 @@ def plot_maps(
         panels = named[0] if named else rest[0]
     if "point" in ds.dims:
         return _sample_maps(ds, metric, x, y, panels, plt)
-    held = {d: (select or {}).get(d, ds[d].values[0]) for d in swept if d not in (x, y, panels)}
+    held = {d: ds[d].values[0] for d in swept if d not in (x, y, panels)}
+    if select is not None and not isinstance(select, dict):
+        raise MudrftError(f"select must be a dict of parameter values, got {select!r}")
+    for key, value in (select or {}).items():  # silently ignored before, or a KeyError
+        if key not in held:
+            raise MudrftError(f"select {key!r}: not a parameter these maps hold at one value; expected one of {', '.join(held) or 'none'} (x, y and panels are not held)")  # fmt: skip
+        if value not in list(ds[key].values):
+            raise MudrftError(f"select {key!r}: {value!r} is not one of its values ({', '.join(map(str, ds[key].values))})")  # fmt: skip
+        held[key] = value
     da = ds[metric].sel(held) if held else ds[metric]
     values = list(ds[panels].values) if panels else [None]
     fig, axes = plt.subplots(

@@ -215,6 +215,7 @@ def run_sweep(
         raise MudrftError("workers sets the size of the local cluster; it cannot go with client or scheduler")  # fmt: skip
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
         raise MudrftError(f"workers must be an integer >= 1, got {workers!r}")
+    _check_options(store, client, resume=resume, overwrite=overwrite, progress=progress)
     from . import store as S
 
     group, done_mask, created = _prepare(S, store, spec, resume=resume, overwrite=overwrite)
@@ -263,6 +264,27 @@ def run_sweep(
             stacklevel=2,
         )
     return ds
+
+
+def _check_options(store: Any, client: Any, **flags: Any) -> None:
+    """The options numpy, zarr or Dask would have failed on deep inside (or taken
+    silently: ``resume="no"`` resumed), named."""
+    for name in ("resume", "overwrite"):
+        if not isinstance(flags[name], bool):
+            raise MudrftError(f"{name} must be True or False, got {flags[name]!r}")
+    progress = flags["progress"]
+    if not (isinstance(progress, bool) or progress is None or callable(progress)):
+        raise MudrftError(f"progress must be True, False or a callable f(fraction), got {progress!r}")  # fmt: skip
+    if isinstance(store, str | os.PathLike):
+        if not os.fspath(store):
+            raise MudrftError("store must be the path of a .zarr directory, got an empty string")
+    elif store is not None:
+        from zarr.abc.store import Store
+
+        if not isinstance(store, Store):
+            raise MudrftError(f"store must be the path of a .zarr directory, a zarr store or None, got {type(store).__name__}: {store!r}")  # fmt: skip
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise MudrftError(f"client must be a distributed.Client, got {type(client).__name__}: {client!r}")  # fmt: skip
 
 
 def _prepare(S: Any, store: Any, spec: SweepSpec, *, resume: bool, overwrite: bool) -> Any:

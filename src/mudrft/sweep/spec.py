@@ -57,6 +57,7 @@ _SWEEP_KEYS = ("design", "n", "seed", "metrics", "points_per_task")
 _PLOT_KEYS = ("x", "y", "panels", "metrics")
 #: Largest number of points of one sweep (1e7; the issue's maps have 1e4-1e6).
 MAX_POINTS = 10_000_000
+_INT_MIN, _INT_MAX = -(2**53), 2**53  # integer values an int64 coordinate and a float hold
 
 
 @dataclass(frozen=True, eq=False)
@@ -463,6 +464,8 @@ def _scalar(where: str, p: C.Parameter, v: Any) -> Any:
         raise MudrftError(f"{where} must be {kinds} [{p.unit}], a list of them or a table {{low, high, num}}, got {v!r}")  # fmt: skip
     if p.kind == "int" and not isinstance(v, int):
         raise MudrftError(f"{where} must be an integer, got {v!r}")
+    if p.kind == "int" and not _INT_MIN <= v <= _INT_MAX:  # int64 coordinates, exact in float64
+        raise MudrftError(f"{where} must be an integer of magnitude at most 2**53, got {v!r}")
     if not math.isfinite(v):
         raise MudrftError(f"{where} must be finite [{p.unit}], got {v!r}")
     return int(v) if p.kind == "int" else float(v)
@@ -481,6 +484,8 @@ def _range(where: str, p: C.Parameter, raw: dict[str, Any], design: str) -> Axis
     high = _scalar(f"{where} high", p, raw["high"])
     if not high > low:
         raise MudrftError(f"{where}: empty range, high ({high!r}) must be > low ({low!r})")
+    if not math.isfinite(high - low):  # points drawn or spaced in it would be inf or NaN
+        raise MudrftError(f"{where}: the range is too wide, high - low ({high!r} - {low!r}) is not a finite number")  # fmt: skip
     log = raw.get("log", False)
     if not isinstance(log, bool):
         raise MudrftError(f"{where} log must be true or false, got {log!r}")
@@ -492,6 +497,8 @@ def _range(where: str, p: C.Parameter, raw: dict[str, Any], design: str) -> Axis
         if "num" not in raw:
             raise MudrftError(f"{where}: a grid range needs num (the number of values)")
         num = _integer(f"{where} num", raw["num"], 2)
+        if num > MAX_POINTS:  # before the values are made (num = 1e12 took 7 TiB)
+            raise MudrftError(f"{where} num = {num:.3g} values, more than a sweep's limit of {MAX_POINTS:.0e} points; split it into several sweeps")  # fmt: skip
         values = np.geomspace(low, high, num) if log else np.linspace(low, high, num)
         return Axis(p.name, p.kind, values=values, low=low, high=high, log=log)
     if "num" in raw:
@@ -514,4 +521,9 @@ def _plot(plot: dict[str, Any], axes: list[Axis], metrics: tuple[str, ...]) -> d
             raise MudrftError(f"[plot] {key} must be a swept parameter ({', '.join(names) or 'none'}), got {value!r}")  # fmt: skip
         else:
             out[key] = value
+    used = [k for k in ("x", "y", "panels") if k in out]
+    for i, key in enumerate(used):
+        for other in used[:i]:
+            if out[key] == out[other]:
+                raise MudrftError(f"[plot] {other} and {key} are both {out[key]!r}; a map needs a different parameter for each")  # fmt: skip
     return out
