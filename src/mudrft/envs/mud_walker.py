@@ -15,12 +15,13 @@ from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     OBS_SIZE,
-    WalkerConfig,
     check_action,
+    check_reset_options,
     controls,
     healthy,
     observation,
     reward,
+    walker_config,
 )
 
 __all__ = ["MudWalkerEnv"]
@@ -62,7 +63,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         gym = gymnasium
         if render_mode not in (None, "rgb_array"):
             raise MudrftError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        self.config = WalkerConfig(**options)
+        self.config = walker_config(options, own=("backend", "render_mode"))
         self.layout = walker_layout(self.config)
         self.render_mode = render_mode
         fps = round(1.0 / (self.config.dt * self.config.frame_skip))
@@ -80,6 +81,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._renderer: Any = None
         self._depth = np.zeros(2)
         self._force = np.zeros((2, 3))
+        self._ready = False  # reset() not called yet
 
     def _obs(self) -> np.ndarray:
         d = self.data
@@ -90,6 +92,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
+        check_reset_options(options)
         super().reset(seed=seed)
         lay, d, mj = self.layout, self.data, self._mj
         mj.mj_resetData(lay.model, d)
@@ -102,11 +105,14 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self.coupling.reset(d)
         self._depth = np.zeros(2)
         self._force = np.zeros((2, 3))
+        self._ready = True
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
         lay, cfg, d = self.layout, self.config, self.data
+        if not self._ready:  # the robot lay at the origin, the coupling unset: a "fall"
+            raise MudrftError("call reset() before step()")
         a = check_action(action, (ACTION_SIZE,))
         x0 = float(d.qpos[lay.rootx])
         d.ctrl[:] = controls(lay, a, cfg.action_scale)

@@ -17,18 +17,19 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError
+from .._validation import MudrftError, as_array, check_memory
 from ..terrains import MudTerrain
 from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     OBS_SIZE,
-    WalkerConfig,
     check_action,
+    check_reset_options,
     controls,
     healthy,
     observation,
     reward,
+    walker_config,
     walker_layout,
 )
 
@@ -67,23 +68,27 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     ) -> None:
         from ..integrations.mjx import attach
 
-        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+        def count(v: Any) -> bool:
+            return bool(not isinstance(v, bool) and isinstance(v, (int, np.integer)) and v >= 1)
+
+        if not count(num_envs):
             raise MudrftError(f"num_envs must be an integer >= 1, got {num_envs!r}")
-        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+        if not count(max_episode_steps):
             raise MudrftError(
                 f"max_episode_steps must be an integer >= 1, got {max_episode_steps!r}"
             )
         if render_mode is not None:
             raise MudrftError("the vector environment does not render; use MudWalkerEnv")
-        w = np.asarray(water_content, dtype=float)
+        w = as_array("water_content", water_content)
         if w.ndim > 1 or (w.ndim == 1 and len(w) != num_envs):
             raise MudrftError(
                 f"water_content must be a float or one per environment ({num_envs}), got shape {w.shape}"
             )
-        w = np.broadcast_to(w, (int(num_envs),))
-        self.configs = {float(v): WalkerConfig(water_content=float(v), **options) for v in set(w)}
-        self.config = self.configs[float(w[0])]
-        self.water_content = w.copy()
+        own = ("num_envs", "max_episode_steps", "water_content", "render_mode")
+        # one mud per value, not per robot; nothing of size num_envs before the memory check
+        values, which = np.unique(w, return_inverse=True) if w.ndim else (w.reshape(1), None)
+        self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
+        self.config = self.configs[float(w.flat[0])]
         self.num_envs = int(num_envs)
         self.max_episode_steps = int(max_episode_steps)
         self.render_mode = None
@@ -93,10 +98,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
             bottom=self.config.bottom,
         )  # fmt: skip
-        per_env = [MudTerrain(self.configs[float(v)].mud).constants for v in w]
+        self._fns = _compiled(self)  # checks the memory of num_envs robots first
+        self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
+        which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
+        per_value = [MudTerrain(self.configs[float(v)].mud).constants for v in values]
         self._constants = tuple(
-            type(per_env[0][k])(*(np.array([c[k][i] for c in per_env], dtype=float)
-                                  for i in range(len(per_env[0][k]))))
+            type(per_value[0][k])(*(np.array([c[k][i] for c in per_value], dtype=float)[which]
+                                    for i in range(len(per_value[0][k]))))
             for k in range(2)
         )  # fmt: skip
         self.single_action_space = gymnasium.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
@@ -113,7 +121,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self._done = np.zeros(self.num_envs, dtype=bool)
         self._state: Any = None
         self._key: Any = None
-        self._fns = _compiled(self)
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -121,6 +128,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
         import jax
 
+        check_reset_options(options)
         super().reset(seed=seed)
         if seed is not None or self._key is None:
             self._key = jax.random.key(int(self.np_random.integers(2**31)))
@@ -175,6 +183,11 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
     data.ctrl[:] = lay.ctrl0
     mj.mj_forward(lay.model, data)
     d0 = cpl.put_data(data)
+    per_env = sum(getattr(x, "nbytes", 0) for x in jax.tree_util.tree_leaves(d0))
+    check_memory(  # the state, a fresh reset and their merge of every robot, before any is made
+        f"num_envs = {env.num_envs} robots", 3.0 * per_env * env.num_envs,
+        hint="use fewer environments (num_envs)",
+    )  # fmt: skip
     nv, noise = lay.model.nv, cfg.reset_noise_scale
     jq = lay.joint_qadr
 

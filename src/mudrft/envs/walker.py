@@ -33,12 +33,20 @@ pitches past 1 rad, or the state is not finite; the registered environments trun
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import difflib
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_nonnegative, check_number, check_positive
+from .._validation import (
+    MudrftError,
+    check_finite,
+    check_number,
+    nonnegative_number,
+    positive_number,
+    set_number,
+)
 
 __all__ = [
     "ACTION_SIZE",
@@ -46,9 +54,12 @@ __all__ = [
     "OBS_SIZE",
     "WalkerConfig",
     "WalkerLayout",
+    "check_action",
+    "check_reset_options",
     "healthy",
     "observation",
     "reward",
+    "walker_config",
     "walker_layout",
 ]
 
@@ -105,16 +116,18 @@ class WalkerConfig:
         mudrft.paper_mud(
             check_number("water_content", check_finite("water_content", self.water_content))
         )
-        check_positive("dt", self.dt, unit="s")
+        # one number each: a list was a TypeError (dt) or broadcast into the reward and noise
+        set_number(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")
-        if not isinstance(self.frame_skip, (int, np.integer)) or self.frame_skip < 1:
-            raise MudrftError(f"frame_skip must be an integer >= 1, got {self.frame_skip!r}")
+        fs = self.frame_skip
+        if isinstance(fs, bool) or not isinstance(fs, (int, np.integer)) or fs < 1:
+            raise MudrftError(f"frame_skip must be an integer >= 1, got {fs!r}")
         for name in ("forward_reward_weight", "ctrl_cost_weight", "healthy_reward"):
-            check_finite(name, getattr(self, name))
-        check_positive("action_scale", self.action_scale, unit="rad")
-        check_nonnegative("reset_noise_scale", self.reset_noise_scale)
-        check_positive("bottom", self.bottom, unit="m")
+            set_number(self, name, getattr(self, name))
+        set_number(self, "action_scale", positive_number("action_scale", self.action_scale, unit="rad"))  # fmt: skip
+        set_number(self, "reset_noise_scale", nonnegative_number("reset_noise_scale", self.reset_noise_scale, unit="rad"))  # fmt: skip
+        set_number(self, "bottom", positive_number("bottom", self.bottom, unit="m"))
 
     @property
     def foot_object(self) -> Any:
@@ -129,6 +142,19 @@ class WalkerConfig:
         import mudrft
 
         return mudrft.paper_mud(float(self.water_content))
+
+
+def walker_config(options: dict[str, Any], *, own: tuple[str, ...] = ()) -> WalkerConfig:
+    """``WalkerConfig(**options)``; an unknown option is named with the known ones (it was
+    Python's "WalkerConfig.__init__() got an unexpected keyword argument", from
+    ``gymnasium.make``). ``own`` are the environment's own keywords, for the message."""
+    known = list(dict.fromkeys([*own, *(f.name for f in fields(WalkerConfig))]))
+    for key in options:
+        if key not in known:
+            near = difflib.get_close_matches(str(key), known, n=1)
+            hint = f" (did you mean {near[0]!r}?)" if near else ""
+            raise MudrftError(f"{key}: not an option of the mud walker{hint}; expected one of {', '.join(known)}")  # fmt: skip
+    return WalkerConfig(**options)
 
 
 @dataclass(frozen=True, eq=False)
@@ -180,6 +206,16 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
     )
+
+
+def check_reset_options(options: Any) -> None:
+    """The walker's ``reset`` takes no options: one given was ignored without a word (the
+    mud and the foot are set when the environment is made)."""
+    if options:
+        raise MudrftError(
+            f"options: reset takes none (the foot, the mud and the other options are set "
+            f"when the environment is made), got {options!r}"
+        )
 
 
 def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
