@@ -137,3 +137,21 @@ def test_a_held_parameter_is_selected_by_one_of_its_values():
     plt = pytest.importorskip("matplotlib.pyplot")
     fig = mudrft.sweep.plot_maps(_fake_result(), "energy", x="width", y="length", select={"depth": 0.02})  # fmt: skip
     plt.close(fig)
+
+
+def test_resume_with_another_spec_says_so_before_asking_for_force(tmp_path, capsys):
+    # it said "points.csv exists; pass --force", and --force then named the other spec
+    from mudrft.cli import main
+    from mudrft.sweep.store import create_store
+
+    out = tmp_path / "out"
+    out.mkdir()
+    create_store(out / "sweep.zarr", load_spec(SMALL))  # a store of SMALL (no points run)
+    (out / "points.csv").write_text("width [m]\n")
+    other = tmp_path / "other.toml"
+    other.write_text('[foot]\nkind = "flat"\nwidth = [0.05, 0.07]\n')
+    code = main(["sweep", str(other), "--out", str(out), "--resume", "--scheduler", "serial"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "sweep.zarr' was made from another spec" in err
+    assert (out / "points.csv").read_text() == "width [m]\n"

@@ -110,6 +110,10 @@ def run(args: argparse.Namespace) -> int:
             f"--out {str(out)!r} is a sweep store; give the directory that holds it "
             f"({str(out.parent)!r}), where the sweep writes {STORE}, points.csv and maps"
         )
+    if args.resume and store.exists():  # another spec's store: said before --force is asked
+        from ..sweep.store import open_store
+
+        open_store(store, spec)
     if store.exists() and not (args.resume or args.force):
         raise MudrftError(
             f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
