@@ -35,6 +35,14 @@ BAD = [
         },
         r"\[foot\] n_pads high must be an integer of magnitude at most 2\*\*53",
     ),
+    # log = true was ignored: the integers were drawn uniformly
+    (
+        {
+            "sweep": {"design": "lhs", "n": 4},
+            "foot": {"kind": "morphing", "n_pads": {"low": 1, "high": 8, "log": True}},
+        },
+        r"\[foot\] n_pads: log applies to real ranges; an integer range is drawn uniformly",
+    ),
     # high - low overflows: every point drawn was inf, a grid's middle value NaN
     (
         {

@@ -489,6 +489,8 @@ def _range(where: str, p: C.Parameter, raw: dict[str, Any], design: str) -> Axis
     log = raw.get("log", False)
     if not isinstance(log, bool):
         raise MudrftError(f"{where} log must be true or false, got {log!r}")
+    if log and p.kind == "int":  # drawn uniformly: log = true was ignored
+        raise MudrftError(f"{where}: log applies to real ranges; an integer range is drawn uniformly")  # fmt: skip
     if log and low <= 0:
         raise MudrftError(f"{where}: a log range needs low > 0, got {low!r}")
     if design == "grid":
