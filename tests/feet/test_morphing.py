@@ -298,6 +298,10 @@ def test_overrides_and_replace():
         ({"coupler_length": 0.005}, "coupler_length"),
         ({"expanded_angle": 1.4}, "retracted_angle must exceed"),
         ({"n_pads": 0}, "n_pads"),
+        # the pivots of ten 10 mm pads do not fit around the 14 mm base (tangent decagon)
+        ({"n_pads": 10}, r"n_pads = 10 pads .* overlap at their pivots.* <= .* = 0\.0091 m"),
+        # a million pads hung every force evaluation (found by the sweep fuzz)
+        ({"n_pads": 10**6, "pad_inner_width": 1e-6}, "n_pads must be at most 100"),
         ({"seal_length": 0.0}, "seal_length must be > 0"),
         ({"column_radius": 0.02}, "column_radius must be <="),
     ],
@@ -305,6 +309,15 @@ def test_overrides_and_replace():
 def test_bad_parameters_raise(kwargs, match):
     with pytest.raises(MudrftError, match=match):
         MorphingFoot(**kwargs)
+
+
+def test_pads_that_just_fit_around_the_base_are_a_foot():
+    """Nine 10 mm pads fit the 14 mm base (2 r tan(pi/9) = 10.2 mm), and so do twelve pads of
+    the width that tiles it exactly."""
+    assert MorphingFoot(n_pads=9).geometry.n_pads == 9
+    width = 2 * 0.014 * math.tan(math.pi / 12)
+    foot = MorphingFoot(n_pads=12, pad_inner_width=width)
+    assert foot.resultant(0.01, [0.0, 0.0, 1e3], 0.0)[2] > 0
 
 
 def test_bad_inputs_raise():

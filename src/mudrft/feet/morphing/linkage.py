@@ -35,9 +35,14 @@ from ..._validation import (
     number_in_range,
 )
 
-__all__ = ["Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
+__all__ = ["MAX_PADS", "Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
 
 _DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
+
+
+#: Most pads a morphing foot may have [-]: each force evaluation sums over the pads one by
+#: one (``pads.py``), so a count of 10**6 hung a sweep point; the paper's foot has 8 (D30).
+MAX_PADS = 100
 
 
 @dataclass(frozen=True)
@@ -108,6 +113,11 @@ class MorphingFootGeometry:
             or self.n_pads < 1
         ):
             raise MudrftError(f"n_pads must be an integer >= 1, got {self.n_pads!r}")
+        if self.n_pads > MAX_PADS:
+            raise MudrftError(
+                f"n_pads must be at most {MAX_PADS} (the paper's foot has 8; every force sums "
+                f"over the pads one by one), got {self.n_pads!r}"
+            )
         for k in (
             "base_radius",
             "pivot_height",
@@ -147,6 +157,17 @@ class MorphingFootGeometry:
                 f"column_radius must be <= base_radius = {self.base_radius!r} m, "
                 f"got {self.column_radius!r} m"
             )
+        # the pads' pivot edges, tangent to the base rim, must not overlap: at most the sides
+        # of the regular n-gon around the rim (this also bounds n_pads, D30)
+        if self.n_pads >= 3:
+            fit = 2.0 * self.base_radius * math.tan(math.pi / self.n_pads)
+            if self.pad_inner_width > fit:
+                raise MudrftError(
+                    f"n_pads = {self.n_pads} pads of pad_inner_width = {self.pad_inner_width!r} m "
+                    f"overlap at their pivots: on a base_radius of {self.base_radius!r} m they fit "
+                    f"only if pad_inner_width <= 2 base_radius tan(pi/n_pads) = {fit:.3g} m; use "
+                    "fewer or narrower pads, or a larger base_radius"
+                )
         if self.height <= self.pivot_height:
             raise MudrftError(
                 f"height must exceed pivot_height = {self.pivot_height!r} m, got {self.height!r} m"
