@@ -29,6 +29,12 @@ from mudrft.envs.walker import WalkerConfig
         ({"bottom": [0.1]}, r"bottom must be a single number \[m\]"),
         # True was one physics step per control step
         ({"frame_skip": True}, r"frame_skip must be an integer >= 1, got True"),
+        # one step ran for hours
+        (
+            {"frame_skip": 10**9},
+            r"frame_skip must hold an action for at most 1 s .* got 1000000000 steps of 0\.002 s",
+        ),
+        ({"frame_skip": 501}, r"frame_skip must hold an action for at most 1 s"),
     ],
 )
 def test_walker_options_are_single_numbers(options, message):
@@ -37,6 +43,7 @@ def test_walker_options_are_single_numbers(options, message):
 
 
 def test_walker_options_are_stored_as_floats():
+    assert WalkerConfig(frame_skip=500).frame_skip == 500  # one second of 2 ms steps
     cfg = WalkerConfig(healthy_reward=1, bottom=np.float32(0.15))
     assert type(cfg.healthy_reward) is float and type(cfg.bottom) is float
 

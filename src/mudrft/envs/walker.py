@@ -51,6 +51,7 @@ from .._validation import (
 __all__ = [
     "ACTION_SIZE",
     "FEET",
+    "MAX_CONTROL_PERIOD",
     "OBS_SIZE",
     "WalkerConfig",
     "WalkerLayout",
@@ -66,6 +67,9 @@ __all__ = [
 #: Foot shapes by name (the paper's feet that both couplings support).
 FEET = ("flat", "semi-cylinder", "semi-sphere")
 OBS_SIZE = 23
+#: Longest time one action may be held, ``frame_skip * dt`` [s]: the walker falls sooner, and
+#: ``frame_skip=10**9`` made one step run for hours.
+MAX_CONTROL_PERIOD = 1.0
 ACTION_SIZE = 6
 _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
 
@@ -123,6 +127,11 @@ class WalkerConfig:
         fs = self.frame_skip
         if isinstance(fs, bool) or not isinstance(fs, (int, np.integer)) or fs < 1:
             raise MudrftError(f"frame_skip must be an integer >= 1, got {fs!r}")
+        if fs * self.dt > MAX_CONTROL_PERIOD:
+            raise MudrftError(
+                f"frame_skip must hold an action for at most {MAX_CONTROL_PERIOD:g} s "
+                f"(frame_skip * dt; the walker falls sooner), got {fs!r} steps of {self.dt!r} s"
+            )
         for name in ("forward_reward_weight", "ctrl_cost_weight", "healthy_reward"):
             set_number(self, name, getattr(self, name))
         set_number(self, "action_scale", positive_number("action_scale", self.action_scale, unit="rad"))  # fmt: skip
