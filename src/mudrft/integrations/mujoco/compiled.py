@@ -57,6 +57,7 @@ from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
 from .implicit import passivity_scale
 from .linalg import (
+    _borrow,
     _jacobian,
     _ld_solve,
     _pointer_intrinsic,
@@ -212,77 +213,86 @@ def _kernel(
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, nld = sizes[0], sizes[1], sizes[2]
     # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
-    # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest
+    # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest.
+    # They and the arrays below are borrowed views (:func:`.linalg._borrow`): no reference
+    # count to update on each view the loops take, nor numba's reshape helper per view;
+    # ``p`` of :func:`_kernel_packed` keeps the memory alive for the call.
     ntri = tri_b.shape[0]
-    FJ = work[0 : 6 * nb * nv].reshape((nb, 6, nv))
-    FM = work[6 * nb * nv : 12 * nb * nv].reshape((nb, 6, nv))
+    wa = work.ctypes.data
+    FJ = carray(_ptr(wa), (nb, 6, nv))
+    FM = carray(_ptr(wa + 8 * (6 * nb * nv)), (nb, 6, nv))
     o = 12 * nb * nv
-    scratch = work[o : o + 6 * ntri].reshape((ntri, 6))
+    scratch = carray(_ptr(wa + 8 * o), (ntri, 6))
     o += 6 * ntri
     geo, aup, v, row, frow = (
-        work[o : o + 42],
-        work[o + 42 : o + 45],
-        work[o + 45 : o + 54],
-        work[o + 54 : o + 54 + N_STATE],
-        work[o + 54 + N_STATE : o + 57 + N_STATE],
+        carray(_ptr(wa + 8 * o), (42,)),
+        carray(_ptr(wa + 8 * (o + 42)), (3,)),
+        carray(_ptr(wa + 8 * (o + 45)), (9,)),
+        carray(_ptr(wa + 8 * (o + 54)), (N_STATE,)),
+        carray(_ptr(wa + 8 * (o + 54 + N_STATE)), (3,)),
     )
     o += 57 + N_STATE
     tw, tipw, sh, ratio = (
-        work[o : o + 6],
-        work[o + 6 : o + 9],
-        work[o + 9 : o + 12],
-        work[o + 12 : o + 15],
+        carray(_ptr(wa + 8 * o), (6,)),
+        carray(_ptr(wa + 8 * (o + 6)), (3,)),
+        carray(_ptr(wa + 8 * (o + 9)), (3,)),
+        carray(_ptr(wa + 8 * (o + 12)), (3,)),
     )
     u, un, pos, F, D = (
-        work[o + 15 : o + 18],
-        work[o + 18 : o + 21],
-        work[o + 21 : o + 24],
-        work[o + 24 : o + 27],
-        work[o + 27 : o + 30],
+        carray(_ptr(wa + 8 * (o + 15)), (3,)),
+        carray(_ptr(wa + 8 * (o + 18)), (3,)),
+        carray(_ptr(wa + 8 * (o + 21)), (3,)),
+        carray(_ptr(wa + 8 * (o + 24)), (3,)),
+        carray(_ptr(wa + 8 * (o + 27)), (3,)),
     )
-    w0, bl = work[o + 30 : o + 36], work[o + 36 : o + 42]
+    w0, bl = carray(_ptr(wa + 8 * (o + 30)), (6,)), carray(_ptr(wa + 8 * (o + 36)), (6,))
     o += 42
     M, E, spread = (
-        work[o : o + 9].reshape((3, 3)),
-        work[o + 9 : o + 18].reshape((3, 3)),
-        work[o + 18 : o + 27].reshape((3, 3)),
+        carray(_ptr(wa + 8 * o), (3, 3)),
+        carray(_ptr(wa + 8 * (o + 9)), (3, 3)),
+        carray(_ptr(wa + 8 * (o + 18)), (3, 3)),
     )
-    b = work[o + 27 : o + 45].reshape((3, 6))
-    K = work[o + 45 : o + 81].reshape((6, 6))
+    b = carray(_ptr(wa + 8 * (o + 27)), (3, 6))
+    K = carray(_ptr(wa + 8 * (o + 45)), (6, 6))
     o += 81
     FWB, FK = (
-        work[o : o + 36 * nb].reshape((nb, 6, 6)),
-        work[o + 36 * nb : o + 72 * nb].reshape((nb, 6, 6)),
+        carray(_ptr(wa + 8 * o), (nb, 6, 6)),
+        carray(_ptr(wa + 8 * (o + 36 * nb)), (nb, 6, 6)),
     )
     o += 72 * nb
     FW0, FACC, FTW, FWR, FWV = (
-        work[o : o + 6 * nb].reshape((nb, 6)),
-        work[o + 6 * nb : o + 12 * nb].reshape((nb, 6)),
-        work[o + 12 * nb : o + 18 * nb].reshape((nb, 6)),
-        work[o + 18 * nb : o + 24 * nb].reshape((nb, 6)),
-        work[o + 24 * nb : o + 30 * nb].reshape((nb, 6)),
+        carray(_ptr(wa + 8 * o), (nb, 6)),
+        carray(_ptr(wa + 8 * (o + 6 * nb)), (nb, 6)),
+        carray(_ptr(wa + 8 * (o + 12 * nb)), (nb, 6)),
+        carray(_ptr(wa + 8 * (o + 18 * nb)), (nb, 6)),
+        carray(_ptr(wa + 8 * (o + 24 * nb)), (nb, 6)),
     )
-    FC = work[o + 30 * nb : o + 33 * nb].reshape((nb, 3))
-    FPOS, RJ = work[o + 33 * nb : o + 34 * nb], work[o + 34 * nb : o + 40 * nb]
+    FC = carray(_ptr(wa + 8 * (o + 30 * nb)), (nb, 3))
+    FPOS = carray(_ptr(wa + 8 * (o + 33 * nb)), (nb,))
+    RJ = carray(_ptr(wa + 8 * (o + 34 * nb)), (6 * nb,))
     o += 40 * nb
     WF, AJ = (
-        work[o : o + 36 * nb * nb].reshape((6 * nb, 6 * nb)),
-        work[o + 36 * nb * nb : o + 72 * nb * nb].reshape((6 * nb, 6 * nb)),
+        carray(_ptr(wa + 8 * o), (6 * nb, 6 * nb)),
+        carray(_ptr(wa + 8 * (o + 36 * nb * nb)), (6 * nb, 6 * nb)),
     )
+    mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
+    tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
+    consts, cfg, geom, morph = _borrow(consts), _borrow(cfg), _borrow(geom), _borrow(morph)
+    tri_b, tri_up, tip, fwd = _borrow(tri_b), _borrow(tri_up), _borrow(tip), _borrow(fwd)
+    mass, inertia = _borrow(mass), _borrow(inertia)
     E[:, :] = 0.0
     bad = 0
     for k in range(n_rob):
-        a = addr[k]
-        xpos = carray(_ptr(a[0]), (nbody, 3))
-        xmat = carray(_ptr(a[1]), (nbody, 9))
-        xipos = carray(_ptr(a[2]), (nbody, 3))
-        ximat = carray(_ptr(a[3]), (nbody, 9))
-        cvel = carray(_ptr(a[4]), (nbody, 6))
-        subtree = carray(_ptr(a[5]), (nbody, 3))
-        cdof = carray(_ptr(a[6]), (nv, 6))
-        qld = carray(_ptr(a[7]), (nld,))
-        qldinv = carray(_ptr(a[8]), (nv,))
-        xfrc = carray(_ptr(a[9]), (nbody, 6))
+        xpos = carray(_ptr(addr[k, 0]), (nbody, 3))
+        xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
+        xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
+        ximat = carray(_ptr(addr[k, 3]), (nbody, 9))
+        cvel = carray(_ptr(addr[k, 4]), (nbody, 6))
+        subtree = carray(_ptr(addr[k, 5]), (nbody, 3))
+        cdof = carray(_ptr(addr[k, 6]), (nv, 6))
+        qld = carray(_ptr(addr[k, 7]), (nld,))
+        qldinv = carray(_ptr(addr[k, 8]), (nv,))
+        xfrc = carray(_ptr(addr[k, 9]), (nbody, 6))
         active = 0
         for j in range(nb):
             body, root = bodies[j, 0], bodies[j, 1]
@@ -554,6 +564,9 @@ def coupling_kernel() -> Any:
     env["MorphingRow"] = MorphingRow
     exec(ROW_OF_SOURCE, env, local)  # the fields of MorphingRow, spelled out
     env["_row_of"] = numba.njit(inline="always")(local["_row_of"])
+    env["_borrow"] = numba.njit(inline="always")(
+        types.FunctionType(_borrow.__code__, env, "_borrow")
+    )
     helpers = {}
     for fn in (
         _ld_solve,

@@ -17,7 +17,7 @@ from typing import Any
 
 from .implicit import passivity_scale as _pscale
 
-__all__ = ["_jacobian", "_ld_solve", "_pointer_intrinsic", "_robot_step", "_solve_n"]
+__all__ = ["_borrow", "_jacobian", "_ld_solve", "_pointer_intrinsic", "_robot_step", "_solve_n"]
 
 
 def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
@@ -172,6 +172,15 @@ def _ptr(address: int) -> Any:  # pragma: no cover - replaced by the intrinsic b
 
 def carray(ptr: Any, shape: Any) -> Any:  # pragma: no cover - replaced by numba.carray
     raise NotImplementedError
+
+
+def _borrow(a: Any) -> Any:
+    """A float64 C-contiguous array as a view without a reference count (``numba.carray``
+    on its address): every view the kernel then takes of it (a row, a slice, an argument
+    to a helper) skips numba's atomic reference updates, which cost the biped's step about
+    a microsecond. The caller keeps ``a`` alive while the view is used (the kernel's
+    packed argument does, for the call)."""
+    return carray(_ptr(a.ctypes.data), a.shape)
 
 
 @functools.cache
