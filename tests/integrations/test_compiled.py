@@ -38,9 +38,8 @@ def test_mobility_port_equals_mujoco():
     np.testing.assert_allclose(jac, np.vstack([jp, jr]), rtol=0, atol=1e-14)
     want = np.empty_like(jac)
     mujoco.mj_solveM(model, data, want, jac)
-    got = jac.copy()
-    for row in got:
-        _ld_solve(row, data.qLD, data.qLDiagInv, model.M_rownnz, model.M_rowadr, model.M_colind)
+    got = jac.copy()  # the six rows together, as the kernel solves them
+    _ld_solve(got, data.qLD, data.qLDiagInv, model.M_rownnz, model.M_rowadr, model.M_colind)
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 

@@ -447,7 +447,7 @@ def _kernel(
                     for i in range(6):
                         for d in range(nv):
                             FM[j, i, d] = FJ[j, i, d]
-                        _ld_solve(FM[j, i], qld, qldinv, rownnz, rowadr, colind)
+                    _ld_solve(FM[j], qld, qldinv, rownnz, rowadr, colind)
                 else:  # each body alone: diag(I/m, R I^-1 R^T)
                     FWB[j, :, :] = 0.0
                     Ri = ximat[body]

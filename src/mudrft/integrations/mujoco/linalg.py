@@ -2,8 +2,8 @@
 
 :func:`_jacobian` is ``mj_jac`` (the 6 x nv Jacobian of a point's velocity and the body's
 angular velocity, from ``cdof``) and :func:`_ld_solve` is ``mj_solveLD`` (``x <- M^-1 x``
-from the factor ``qLD``, ``qLDiagInv`` in MuJoCo's compressed rows ``M_rownnz``,
-``M_rowadr``, ``M_colind``); :func:`_robot_step` solves the implicit step of one robot's
+for each row of ``x``, from the factor ``qLD``, ``qLDiagInv`` in MuJoCo's compressed rows
+``M_rownnz``, ``M_rowadr``, ``M_colind``); :func:`_robot_step` solves the implicit step of one robot's
 feet together and bounds its work (:func:`_solve_n`, D62d). They are plain
 Python (``test_mobility_port_equals_mujoco`` runs them against MuJoCo's own functions) and
 are compiled with the kernel (:mod:`.compiled`). :func:`_ptr` turns the address of a
@@ -21,26 +21,35 @@ __all__ = ["_borrow", "_jacobian", "_ld_solve", "_pointer_intrinsic", "_robot_st
 
 
 def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
-    """In place x <- M^-1 x from MuJoCo's sparse L^T D L factor (``mj_solveLD``)."""
-    nv = x.shape[0]
+    """In place x <- M^-1 x for each row of ``x`` (r, nv) from MuJoCo's sparse L^T D L
+    factor (``mj_solveLD``).
+
+    The rows are solved together, each with ``mj_solveLD``'s operations in its order (a
+    row's values are those of solving it alone): one call and one walk of the sparse rows
+    for the six rows of a foot's Jacobian instead of six.
+    """
+    r, nv = x.shape
     for i in range(nv - 1, 0, -1):
         if rownnz[i] == 1:
             continue
-        xi = x[i]
-        if xi != 0.0:
-            start = rowadr[i]
-            for adr in range(start, start + rownnz[i] - 1):
-                x[colind[adr]] -= qld[adr] * xi
-    for i in range(nv):
-        x[i] *= qldinv[i]
+        start = rowadr[i]
+        for k in range(r):
+            xi = x[k, i]
+            if xi != 0.0:
+                for adr in range(start, start + rownnz[i] - 1):
+                    x[k, colind[adr]] -= qld[adr] * xi
+    for k in range(r):
+        for i in range(nv):
+            x[k, i] *= qldinv[i]
     for i in range(1, nv):
         if rownnz[i] == 1:
             continue
         start = rowadr[i]
-        acc = 0.0
-        for adr in range(start, start + rownnz[i] - 1):
-            acc += qld[adr] * x[colind[adr]]
-        x[i] -= acc
+        for k in range(r):
+            acc = 0.0
+            for adr in range(start, start + rownnz[i] - 1):
+                acc += qld[adr] * x[k, colind[adr]]
+            x[k, i] -= acc
 
 
 def _jacobian(jac: Any, body: int, point: Any, model_i: Any, dof_parentid: Any, cdof: Any,
