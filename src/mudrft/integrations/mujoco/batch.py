@@ -515,7 +515,7 @@ class MudBatch:
         comp = self._compiled
         assert comp is not None
         m, opt, rk4 = self.model, self._opt, self._rk4
-        step1, step2, kernel = self._mj.mj_step1, self._mj.mj_step2, comp.kernel
+        step1, step2, kernel = self._mj.mj_step1, self._mj.mj_step2, comp.entry()
         (args,) = comp._args
         flags, contact = comp.opts, comp.contact
         warn, seen = self._warn, self._warnings
