@@ -30,7 +30,8 @@ from __future__ import annotations
 from typing import Any, cast
 
 import numpy as np
-from numpy.typing import NDArray
+
+from ..._typing import FloatArray
 
 __all__ = [
     "channel_rows",
@@ -40,8 +41,6 @@ __all__ = [
     "passivity_scale",
     "secant_steps",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 def secant_steps(

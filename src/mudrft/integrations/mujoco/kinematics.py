@@ -20,11 +20,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._typing import FloatArray
 from ._lazy import _mujoco
 
 __all__ = ["body_frames", "body_mobility", "chain_mobility", "com_twist"]
-
-FloatArray = NDArray[np.float64]
 
 
 def body_frames(

@@ -34,6 +34,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._typing import FloatArray
 from ...feet import Flat
 from ...feet.facet import submerged_area
 from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
@@ -50,7 +51,6 @@ __all__ = [
     "upright_area",
 ]
 
-FloatArray = NDArray[np.float64]
 
 #: Mesh resolution of the curved closed-form feet in the coupling (segments tip to rim).
 POSE_RESOLUTION = 6

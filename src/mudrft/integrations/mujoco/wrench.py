@@ -27,11 +27,10 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+
+from ..._typing import FloatArray
 
 __all__ = ["bottom_wrench", "damping_matrix", "posed_wrench", "yaw_inertia_to_world"]
-
-FloatArray = NDArray[np.float64]
 
 
 def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Any = np) -> FloatArray:
