@@ -189,6 +189,25 @@ def test_estimator_rejects_bad_samples():
         OnlineEstimator(forgetting=1.5)
 
 
+@pytest.mark.parametrize("model", ["paper", "exact"])
+def test_a_sample_beyond_any_mud_is_refused_before_it_overflows_the_filters(model):
+    """1e300 Pa made the filters' squared error inf (a RuntimeWarning, then NaN estimates);
+    the classifier reads the same stream. The estimate is unchanged by a refused sample."""
+    est = OnlineEstimator(model=model)
+    for t in np.linspace(0.0, 0.2, 21):
+        est.update(t, 0.1 * t, 2e4 * t)
+    before = est.estimate
+    with pytest.raises(MudrftError, match=r"stress must be at most 1e\+12 Pa .* got 1e\+300"):
+        est.update(0.21, 0.021, 1e300)
+    with pytest.raises(MudrftError, match=r"depth must be at most 100 m .* got -1e\+300"):
+        est.update(0.21, -1e300, 1.0)
+    assert est.estimate == before
+    est.update(0.21, 0.021, 4.2e3)  # the stream goes on
+    classifier = StreamClassifier([mudrft.paper_parameters(0.25, "vertical")])
+    with pytest.raises(MudrftError, match="stress must be at most"):
+        classifier.update(0.0, 0.01, -1e13)
+
+
 def test_to_parameters_is_a_usable_set():
     t, q, s, _ = cycles([SHIFTED], 1, noise=0.0)
     est = OnlineEstimator(P25)

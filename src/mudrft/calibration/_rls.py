@@ -15,9 +15,13 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError
+from .._validation import LENGTH_LIMITS, MudrftError
 
-__all__ = ["Sample", "SampleStream", "refined_argmin", "rls_update"]
+__all__ = ["MAX_STRESS", "Sample", "SampleStream", "refined_argmin", "rls_update"]
+
+#: Largest stress magnitude a streamed sample may have [Pa]: far above any mud (a few
+#: hundred kPa) and any material; 1e300 overflowed the filters' squared errors to inf.
+MAX_STRESS = 1e12
 
 
 def rls_update(
@@ -130,6 +134,15 @@ class SampleStream:
         if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
             raise MudrftError(
                 f"update needs finite time, depth and stress, got {time!r}, {depth!r}, {stress!r}"
+            )
+        if abs(s) > MAX_STRESS or abs(q) > LENGTH_LIMITS[1]:
+            what, value, limit, unit = (
+                ("stress", stress, MAX_STRESS, "Pa") if abs(s) > MAX_STRESS
+                else ("depth", depth, LENGTH_LIMITS[1], "m")
+            )  # fmt: skip
+            raise MudrftError(
+                f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud test "
+                f"reaches it: a unit mistake?), got {value!r}"
             )
         g = q / self.L
         if self.last is None:
