@@ -14,7 +14,7 @@ import gymnasium
 
 import mudrft.envs  # registers the environments
 from mudrft._validation import MudrftError
-from mudrft.envs.walker import WalkerConfig
+from mudrft.envs.walker import WalkerConfig, check_action
 
 
 @pytest.mark.parametrize(
@@ -130,3 +130,19 @@ def test_vector_env_refuses_reset_options_before_compiling():
     np.testing.assert_array_equal(envs.water_content, [0.25, 0.35])
     with pytest.raises(MudrftError, match=r"options: reset takes none"):
         envs.reset(options={"water_content": 0.45})
+
+
+@pytest.mark.parametrize(
+    ("action", "message"),
+    [
+        (np.zeros(5), r"action must have shape \(6,\), got shape \(5,\)"),
+        ([0.0] * 5 + [np.nan], r"action must be finite, got NaN or inf"),
+        (["a"] * 6, r"action must be numbers of shape \(6,\)"),
+        # numpy dropped the imaginary part with a ComplexWarning and the step went on
+        (np.full(6, 0.5 + 0.5j), r"action must be real numbers of shape \(6,\), got complex"),
+    ],
+)
+def test_a_bad_action_is_named(action, message):
+    with pytest.raises(MudrftError, match=message):
+        check_action(action, (6,))
+    assert check_action([0.5] * 6, (6,)).dtype == np.float64

@@ -230,6 +230,8 @@ def check_reset_options(options: Any) -> None:
 def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
     """The action as a float array of exactly ``shape``, finite; an error naming it
     otherwise (a NaN action gave a NaN reward and the episode went on)."""
+    if np.iscomplexobj(action):  # numpy would drop the imaginary part with a warning
+        raise MudrftError(f"action must be real numbers of shape {shape}, got complex values")
     try:
         a = np.asarray(action, dtype=float)
     except (TypeError, ValueError):
