@@ -10,13 +10,15 @@ Annotations only: nothing here converts or checks a value at run time.
 - A value that is a float for one foot and an array for a batch is :data:`FloatOrArray`.
 - A path is :data:`PathLike`.
 - Code written once over an array namespace ``xp`` (numpy, jax.numpy or the float
-  namespace of :mod:`mudrft._xp`) keeps ``Any``: its values may be JAX arrays or tracers.
+  namespace of :mod:`mudrft._xp`) types its values :data:`XpArray` and the namespace
+  :data:`Namespace`: both are ``Any`` underneath, since a float, a numpy array and a JAX
+  array or tracer share no static type, but the names say what an argument is.
 """
 
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,8 +33,10 @@ __all__ = [
     "FloatOrArray",
     "IntArray",
     "NDArray",
+    "Namespace",
     "PathLike",
     "RotationLike",
+    "XpArray",
 ]
 
 #: A float64 array (forces [N], positions [m], stresses [Pa], ...).
@@ -47,3 +51,8 @@ FloatOrArray: TypeAlias = float | NDArray[np.float64]
 PathLike: TypeAlias = str | os.PathLike[str]
 #: A rotation: a proper 3x3 matrix (array_like) or a ``scipy.spatial.transform.Rotation``.
 RotationLike: TypeAlias = "ArrayLike | Rotation"
+#: A value of code written once over ``xp``: a float, a numpy array, or a JAX array or
+#: tracer (``Any`` underneath; see the module docstring).
+XpArray: TypeAlias = Any
+#: An array namespace: numpy, ``jax.numpy`` or ``mudrft._xp.pyfloat`` (``Any`` underneath).
+Namespace: TypeAlias = Any

@@ -28,6 +28,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .._typing import Namespace, XpArray
 from . import laws
 from .state import ChannelState, ChannelStress
 
@@ -50,21 +51,21 @@ class ChannelConstants(NamedTuple):
     ``tau_leak`` [s]; ``eta_m``, ``eta_inf`` [Pa s]; ``k_a`` [1/s]; ``nu`` [1/s].
     """
 
-    alpha: Any
-    n: Any
-    lam: Any
-    eta_m: Any
-    eta_inf: Any
-    k_a: Any
-    k_r: Any
-    tau_build: Any
-    tau_leak: Any
-    epsilon: Any
-    sigma_y: Any
-    nu: Any
+    alpha: XpArray
+    n: XpArray
+    lam: XpArray
+    eta_m: XpArray
+    eta_inf: XpArray
+    k_a: XpArray
+    k_r: XpArray
+    tau_build: XpArray
+    tau_leak: XpArray
+    epsilon: XpArray
+    sigma_y: XpArray
+    nu: XpArray
 
 
-def channel_constants(params: Any) -> ChannelConstants:
+def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxParams
     """The constants of :func:`channel_update` from a parameter set.
 
     Parameters
@@ -97,7 +98,7 @@ def channel_constants(params: Any) -> ChannelConstants:
     )
 
 
-def expm1_over_x(x: Any, *, xp: Any = np) -> Any:
+def expm1_over_x(x: XpArray, *, xp: Namespace = np) -> XpArray:
     """(exp(x) - 1) / x, accurate near 0 and safe under JAX autodiff [-]."""
     small = xp.abs(x) < 1e-6
     xs = xp.where(small, 1.0, x)
@@ -105,8 +106,8 @@ def expm1_over_x(x: Any, *, xp: Any = np) -> Any:
 
 
 def relaxation_convolution(
-    t: Any, lam: Any, tau: Any, e_lam: Any, e_tau: Any, *, xp: Any = np
-) -> Any:
+    t: XpArray, lam: XpArray, tau: XpArray, e_lam: XpArray, e_tau: XpArray, *, xp: Namespace = np
+) -> XpArray:
     r"""How much of a drive that relaxes with time :math:`\tau` a stress that relaxes with
     time :math:`\lambda` has taken up after ``t`` [-]: the factor of
     :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2),
@@ -146,13 +147,13 @@ def relaxation_convolution(
 def channel_update(
     c: ChannelConstants,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
-    seal: Any = 1.0,
-    kappa: Any = 1.0,
+    gamma: XpArray,
+    gamma_dot: XpArray,
+    dt: XpArray,
+    seal: XpArray = 1.0,
+    kappa: XpArray = 1.0,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     r"""Advance one stress channel by ``dt``; no validation (see :func:`mudrft.constitutive.step`).
 
@@ -223,13 +224,13 @@ def channel_update(
 def channel_update_quasi_static(
     c: ChannelConstants,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
-    seal: Any = 1.0,
+    gamma: XpArray,
+    gamma_dot: XpArray,
+    dt: XpArray,
+    seal: XpArray = 1.0,
     restart: bool = False,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15).
 
@@ -301,15 +302,15 @@ def channel_update_quasi_static(
 def channel_step(
     c: ChannelConstants,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
-    seal: Any = 1.0,
-    kappa: Any = 1.0,
+    gamma: XpArray,
+    gamma_dot: XpArray,
+    dt: XpArray,
+    seal: XpArray = 1.0,
+    kappa: XpArray = 1.0,
     quasi_static: bool = False,
     restart: bool = False,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     """One channel step in the selected evaluation (decision D15); no validation.
 
@@ -325,12 +326,12 @@ def channel_step(
 def _stresses(
     c: ChannelConstants,
     state: ChannelState,
-    sigma_th: Any,
-    direction: Any,
-    gamma_dot: Any,
-    r_end: Any,
+    sigma_th: XpArray,
+    direction: XpArray,
+    gamma_dot: XpArray,
+    r_end: XpArray,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> ChannelStress:
     r"""The stresses at the end of a step, eq. (1), in both evaluations [Pa].
 
@@ -349,7 +350,9 @@ def _stresses(
     )
 
 
-def _retraction(state: ChannelState, gamma: Any, gamma_dot: Any, *, xp: Any = np) -> Any:
+def _retraction(
+    state: ChannelState, gamma: XpArray, gamma_dot: XpArray, *, xp: Namespace = np
+) -> XpArray:
     r"""Deepest point, intrusion direction, and the retraction from it at the step's ends.
 
     Returns ``(gamma_w, direction, r_start, r_end)``: the deepest displacement of the
@@ -370,7 +373,7 @@ def _retraction(state: ChannelState, gamma: Any, gamma_dot: Any, *, xp: Any = np
     return gw_new, direction, r_start, r_end
 
 
-def _clocks(state: ChannelState, r_end: Any, dt: Any, *, xp: Any = np) -> Any:
+def _clocks(state: ChannelState, r_end: XpArray, dt: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""``(clock, clock_w)`` after the step [s]: time since first contact and since :math:`t_w`.
 
     The retraction clock runs while the channel is retracted from its deepest point

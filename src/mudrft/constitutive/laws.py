@@ -9,9 +9,9 @@ characteristic length.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
+
+from .._typing import Namespace, XpArray
 
 __all__ = [
     "bed_contact",
@@ -32,7 +32,7 @@ __all__ = [
 ]
 
 
-def elastic_stress(gamma: Any, alpha: Any, n: Any, *, xp: Any = np) -> Any:
+def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Immediate (nonlinear elastic) resistance, eq. (2): :math:`\sigma_b=\alpha\gamma^n`.
 
     Extended as an odd function, :math:`\alpha|\gamma|^n\operatorname{sgn}\gamma`, so the
@@ -76,7 +76,7 @@ def elastic_stress(gamma: Any, alpha: Any, n: Any, *, xp: Any = np) -> Any:
     return xp.where(g > 0, alpha * safe**n, 0.0) * xp.sign(gamma)
 
 
-def switch(gamma_dot: Any, nu: Any, *, xp: Any = np) -> Any:
+def switch(gamma_dot: XpArray, nu: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Intrusion/retraction index of eq. (1): :math:`H_\nu=\tfrac12(1-\tanh(\dot\gamma/\nu))`.
 
     About 0 while intruding (:math:`\dot\gamma\gg\nu`), about 1 while retracting.
@@ -110,7 +110,9 @@ def switch(gamma_dot: Any, nu: Any, *, xp: Any = np) -> Any:
     return 0.5 * (1.0 - xp.tanh(gamma_dot / nu))
 
 
-def sealing_printed(gamma: Any, gamma0: Any, epsilon: Any, *, xp: Any = np) -> Any:
+def sealing_printed(
+    gamma: XpArray, gamma0: XpArray, epsilon: XpArray, *, xp: Namespace = np
+) -> XpArray:
     r"""The sealing function exactly as printed below eq. (5).
 
     :math:`\phi_\varepsilon(\gamma)=\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))`.
@@ -133,7 +135,7 @@ def sealing_printed(gamma: Any, gamma0: Any, epsilon: Any, *, xp: Any = np) -> A
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
 
-def sealing(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
+def sealing(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Sealing state of the cavity used by the model (decision D4).
 
     :math:`\phi=\tanh(\max(r,0)/\varepsilon)` where :math:`r=|\gamma_w|-|\gamma|` is the
@@ -166,7 +168,7 @@ def sealing(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
     return xp.tanh(xp.maximum(retraction, 0.0) / epsilon)
 
 
-def bed_contact(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
+def bed_contact(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Fraction of the immediate resistance kept during retraction (decision D2).
 
     :math:`1-\phi`: the foot leaves the compacted bed within a few :math:`\varepsilon` of
@@ -190,7 +192,7 @@ def bed_contact(retraction: Any, epsilon: Any, *, xp: Any = np) -> Any:
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
 
-def xi_steady(gamma_dot: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
+def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Steady structure parameter :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` [-].
 
     Parameters
@@ -222,7 +224,7 @@ def xi_steady(gamma_dot: Any, gamma_dot_c: Any, *, xp: Any = np) -> Any:
     return gamma_dot_c / (gamma_dot_c + xp.abs(gamma_dot))
 
 
-def tau_xi(gamma_dot: Any, k_a: Any, k_r: Any, *, xp: Any = np) -> Any:
+def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Time constant of the structure ODE, :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
 
     Parameters
@@ -244,8 +246,13 @@ def tau_xi(gamma_dot: Any, k_a: Any, k_r: Any, *, xp: Any = np) -> Any:
 
 
 def thixotropic_steady(
-    gamma_dot: Any, eta_inf: Any, eta_m: Any, gamma_dot_c: Any, *, xp: Any = np
-) -> Any:
+    gamma_dot: XpArray,
+    eta_inf: XpArray,
+    eta_m: XpArray,
+    gamma_dot_c: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     r"""Steady thixotropic stress, eq. (4): :math:`(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma` [Pa].
 
     Parameters
@@ -274,7 +281,7 @@ def thixotropic_steady(
     return (eta_inf + xi_steady(gamma_dot, gamma_dot_c, xp=xp) * eta_m) * gamma_dot
 
 
-def yield_stress(eta_m: Any, eta_inf: Any, gamma_dot_c: Any) -> Any:
+def yield_stress(eta_m: XpArray, eta_inf: XpArray, gamma_dot_c: XpArray) -> XpArray:
     r"""Yield stress from eq. (4): :math:`\sigma_Y=(\eta_m-\eta_\infty)\dot\gamma_c` [Pa].
 
     References
@@ -291,7 +298,7 @@ def yield_stress(eta_m: Any, eta_inf: Any, gamma_dot_c: Any) -> Any:
     return (eta_m - eta_inf) * gamma_dot_c
 
 
-def suction_rate(phi: Any, tau_build: Any, tau_leak: Any) -> Any:
+def suction_rate(phi: XpArray, tau_build: XpArray, tau_leak: XpArray) -> XpArray:
     r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s].
 
     References
@@ -303,7 +310,9 @@ def suction_rate(phi: Any, tau_build: Any, tau_leak: Any) -> Any:
     return phi / tau_build + (1.0 - phi) / tau_leak
 
 
-def suction_steady(phi: Any, tau_build: Any, tau_leak: Any, sigma_y: Any) -> Any:
+def suction_steady(
+    phi: XpArray, tau_build: XpArray, tau_leak: XpArray, sigma_y: XpArray
+) -> XpArray:
     r"""Steady suction, eq. (11): :math:`\sigma_{s,ss}=-\phi\sigma_Y/(a\tau_{build})` [Pa].
 
     Notes
@@ -331,7 +340,7 @@ def suction_steady(phi: Any, tau_build: Any, tau_leak: Any, sigma_y: Any) -> Any
     return -phi * sigma_y / (a * tau_build)
 
 
-def f_n(psi: Any, *, xp: Any = np) -> Any:
+def f_n(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
 
     Notes
@@ -351,7 +360,7 @@ def f_n(psi: Any, *, xp: Any = np) -> Any:
     return 0.5 * (1.0 + xp.cos(2.0 * psi))
 
 
-def f_t(psi: Any, *, xp: Any = np) -> Any:
+def f_t(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-].
 
     References
@@ -363,7 +372,7 @@ def f_t(psi: Any, *, xp: Any = np) -> Any:
     return 0.5 * (1.0 - xp.cos(2.0 * psi))
 
 
-def f_n_extended(psi: Any, *, xp: Any = np) -> Any:
+def f_n_extended(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Normal factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
 
     Equal to :math:`\cos\psi|\cos\psi|`: positive on faces that lead the motion,
@@ -379,7 +388,7 @@ def f_n_extended(psi: Any, *, xp: Any = np) -> Any:
     return c * xp.abs(c)
 
 
-def f_t_extended(psi: Any, *, xp: Any = np) -> Any:
+def f_t_extended(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     r"""Tangential factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
 
     Equal to :math:`\sin\psi|\sin\psi|` (odd in :math:`\psi`).

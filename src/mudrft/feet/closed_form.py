@@ -26,10 +26,10 @@ All functions are vectorized (depth, stress and heading broadcast) and take ``xp
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
+from .._typing import Namespace, XpArray
 from ..constitutive.laws import f_n, f_t
 from .base import fold_heading, world_force
 from .printed import printed_semicylinder_fz, printed_semisphere_fxy, printed_semisphere_fz
@@ -53,13 +53,13 @@ __all__ = [
 DEFAULT_RESOLUTION = 48
 
 
-def _theta(z: Any, radius: float, *, xp: Any = np) -> Any:
+def _theta(z: XpArray, radius: float, *, xp: Namespace = np) -> XpArray:
     return xp.arccos(xp.clip(1.0 - z / radius, -1.0, 1.0))
 
 
 def flat_coefficients(
-    depth: Any, phi: Any, length: float, width: float, height: float, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any]:
+    depth: XpArray, phi: XpArray, length: float, width: float, height: float, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Flat foot, eq. (12), as the coefficients of its linear form [m^2].
 
     Every closed form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
@@ -109,8 +109,8 @@ def flat_coefficients(
 
 
 def semicylinder_coefficients(
-    depth: Any, phi: Any, radius: float, width: float, height: float, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any]:
+    depth: XpArray, phi: XpArray, radius: float, width: float, height: float, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20), as coefficients [m^2].
 
     :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
@@ -163,8 +163,8 @@ def semicylinder_coefficients(
 
 
 def semisphere_coefficients(
-    depth: Any, phi: Any, radius: float, height: float, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any]:
+    depth: XpArray, phi: XpArray, radius: float, height: float, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23), as coefficients [m^2].
 
     :math:`a_x=\tfrac83R^2(\theta_c-sc)\cos\varphi`, :math:`a_y=\tfrac83R^2(\theta_c-sc)
@@ -209,8 +209,8 @@ def semisphere_coefficients(
 
 
 def closed_form_coefficients(
-    kind: int, g0: float, g1: float, g2: float, depth: Any, phi: Any, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any]:
+    kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     """The coefficients of a closed-form foot chosen by ``kind`` (:data:`FOOT_KINDS`) [m^2].
 
     For compiled paths that cannot hold a foot object (each foot's ``kernel_geometry``): 0 flat
@@ -229,14 +229,14 @@ def closed_form_force(
     g0: float,
     g1: float,
     g2: float,
-    depth: Any,
-    sx: Any,
-    sy: Any,
-    sz: Any,
-    heading: Any,
+    depth: XpArray,
+    sx: XpArray,
+    sy: XpArray,
+    sz: XpArray,
+    heading: XpArray,
     *,
-    xp: Any = np,
-) -> tuple[Any, Any, Any]:
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:
     """World force ``(F_x, F_y, F_z)`` [N] of a closed-form foot chosen by ``kind``.
 
     :func:`closed_form_coefficients` at the folded heading, then the heading rule
@@ -247,7 +247,7 @@ def closed_form_force(
     return world_force(co, sx, sy, sz, heading, xp=xp)
 
 
-def _magnitudes(coeffs: tuple[Any, ...], stress: Any, xp: Any) -> Any:
+def _magnitudes(coeffs: tuple[XpArray, ...], stress: XpArray, xp: Namespace) -> XpArray:
     """Paper-style first-quadrant magnitudes (Fx, Fy, Fz) [N] from coefficients and stresses."""
     ax, bx, by, ay, az = coeffs
     s = xp.asarray(stress)
@@ -256,15 +256,15 @@ def _magnitudes(coeffs: tuple[Any, ...], stress: Any, xp: Any) -> Any:
 
 
 def flat_forces(
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
     length: float,
     width: float,
     height: float,
-    xp: Any = np,
-) -> Any:
+    xp: Namespace = np,
+) -> XpArray:
     r"""Flat foot, eq. (12): first-quadrant force magnitudes (Fx, Fy, Fz) [N].
 
     Parameters
@@ -296,15 +296,15 @@ def flat_forces(
 
 
 def semicylinder_forces(
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
     radius: float,
     width: float,
     height: float,
-    xp: Any = np,
-) -> Any:
+    xp: Namespace = np,
+) -> XpArray:
     r"""Semi-cylindrical foot, eq. (13) with the corrected :math:`F_z` (E20) [N].
 
     Parameters
@@ -339,8 +339,14 @@ def semicylinder_forces(
 
 
 def semisphere_forces(
-    depth: Any, stress: Any, heading: Any, *, radius: float, height: float, xp: Any = np
-) -> Any:
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
+    *,
+    radius: float,
+    height: float,
+    xp: Namespace = np,
+) -> XpArray:
     r"""Semi-spherical foot (spherical cap), eq. (14) corrected (E21-E23) [N].
 
     Parameters
@@ -371,7 +377,7 @@ def semisphere_forces(
     return _magnitudes(co, stress, xp)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> XpArray:
     # the feet moved to mudrft.feet.shapes (this module: the closed forms); old imports work
     if name in ("Flat", "SemiCylinder", "SemiSphere"):
         from . import shapes

@@ -19,9 +19,9 @@ for the compiled MuJoCo coupling (decision D80).
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
+
+from .._typing import Namespace, XpArray
 
 __all__ = [
     "TOL",
@@ -41,15 +41,25 @@ __all__ = [
 TOL = 1e-9
 
 
-def safe_div(num: Any, den: Any, *, xp: Any = np) -> Any:
+def safe_div(num: XpArray, den: XpArray, *, xp: Namespace = np) -> XpArray:
     """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
     ok = den > 0
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
 def facet_frame(
-    ax: Any, ay: Any, az: Any, bx: Any, by: Any, bz: Any, cx: Any, cy: Any, cz: Any, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
+    ax: XpArray,
+    ay: XpArray,
+    az: XpArray,
+    bx: XpArray,
+    by: XpArray,
+    bz: XpArray,
+    cx: XpArray,
+    cy: XpArray,
+    cz: XpArray,
+    *,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Normal, area and the eq. (6) weights of a triangle (a, b, c) [m].
 
     Returns
@@ -76,8 +86,18 @@ def facet_frame(
 
 
 def sort_by_height(
-    ax: Any, ay: Any, az: Any, bx: Any, by: Any, bz: Any, cx: Any, cy: Any, cz: Any, *, xp: Any = np
-) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any, Any]:
+    ax: XpArray,
+    ay: XpArray,
+    az: XpArray,
+    bx: XpArray,
+    by: XpArray,
+    bz: XpArray,
+    cx: XpArray,
+    cy: XpArray,
+    cz: XpArray,
+    *,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray]:
     """The vertices (lo, mid, hi) ordered by height; equal heights keep their order [m]."""
     ab = az <= bz
     px, py, pz = xp.where(ab, ax, bx), xp.where(ab, ay, by), xp.where(ab, az, bz)
@@ -98,7 +118,9 @@ def sort_by_height(
     return lo[0], lo[1], lo[2], mid[0], mid[1], mid[2], hi[0], hi[1], hi[2]
 
 
-def clip_constants(za: Any, zb: Any, zc: Any, area: Any, *, xp: Any = np) -> tuple[Any, Any, Any]:
+def clip_constants(
+    za: XpArray, zb: XpArray, zc: XpArray, area: XpArray, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray]:
     """Constants of the submerged area of a facet with sorted vertex heights [m].
 
     Returns ``(k_low, k_high, flat_area)``: the submerged area is ``k_low (d - z_a)^2`` with
@@ -115,8 +137,16 @@ def clip_constants(za: Any, zb: Any, zc: Any, area: Any, *, xp: Any = np) -> tup
 
 
 def submerged_area(
-    za: Any, zb: Any, zc: Any, k_low: Any, k_high: Any, flat_area: Any, depth: Any, *, xp: Any = np
-) -> Any:
+    za: XpArray,
+    zb: XpArray,
+    zc: XpArray,
+    k_low: XpArray,
+    k_high: XpArray,
+    flat_area: XpArray,
+    depth: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     r"""Exact area of a facet below the plane :math:`z=d` [m^2] (sorted heights [m]).
 
     Piecewise quadratic in the depth, written with clamps rather than branches:
@@ -130,22 +160,22 @@ def submerged_area(
 
 
 def clip_facet(
-    ax: Any,
-    ay: Any,
-    az: Any,
-    bx: Any,
-    by: Any,
-    bz: Any,
-    cx: Any,
-    cy: Any,
-    cz: Any,
-    k_low: Any,
-    k_high: Any,
-    flat_area: Any,
-    depth: Any,
+    ax: XpArray,
+    ay: XpArray,
+    az: XpArray,
+    bx: XpArray,
+    by: XpArray,
+    bz: XpArray,
+    cx: XpArray,
+    cy: XpArray,
+    cz: XpArray,
+    k_low: XpArray,
+    k_high: XpArray,
+    flat_area: XpArray,
+    depth: XpArray,
     *,
-    xp: Any = np,
-) -> tuple[Any, Any, Any, Any]:
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray]:
     r"""Exact area and centroid of the part of a facet below the plane :math:`z=d`.
 
     Parameters
@@ -197,7 +227,9 @@ def clip_facet(
     )
 
 
-def fold_stresses(sx: Any, sy: Any, heading: Any, *, xp: Any = np) -> tuple[Any, Any, Any, Any]:
+def fold_stresses(
+    sx: XpArray, sy: XpArray, heading: XpArray, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray]:
     r"""Horizontal channel stresses measured along the motion, and its direction.
 
     Returns ``(sq_x, sq_y, u_x, u_y)``: :math:`\sigma_x\operatorname{sgn}\cos h`,
@@ -209,8 +241,8 @@ def fold_stresses(sx: Any, sy: Any, heading: Any, *, xp: Any = np) -> tuple[Any,
 
 
 def facet_factors(
-    hx: Any, hy: Any, ux: Any, uy: Any, trailing: bool, *, xp: Any = np
-) -> tuple[Any, Any]:
+    hx: XpArray, hy: XpArray, ux: XpArray, uy: XpArray, trailing: bool, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray]:
     r"""The factors :math:`(\tilde f_n, \tilde f_t)` of eq. (7) of a facet for a motion.
 
     With :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
@@ -227,19 +259,19 @@ def facet_factors(
 
 
 def facet_force(
-    area: Any,
-    nh: Any,
-    hx: Any,
-    hy: Any,
-    wz: Any,
-    sqx: Any,
-    sqy: Any,
-    sz: Any,
-    fn: Any,
-    ft: Any,
+    area: XpArray,
+    nh: XpArray,
+    hx: XpArray,
+    hy: XpArray,
+    wz: XpArray,
+    sqx: XpArray,
+    sqy: XpArray,
+    sz: XpArray,
+    fn: XpArray,
+    ft: XpArray,
     *,
-    xp: Any = np,
-) -> tuple[Any, Any, Any]:
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:
     r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].
 
     :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t\hat{\mathbf t}]

@@ -41,10 +41,11 @@ unchanged under ``jax.numpy``): no boolean-mask indexing, no loop over facets, o
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
+from .._typing import Namespace, XpArray
 from .facet import (
     clip_constants,
     clip_facet,
@@ -103,21 +104,21 @@ class PreparedTriangles(NamedTuple):
         Area of facets with no height span (horizontal), else 0 [m^2].
     """
 
-    lo: Any
-    mid: Any
-    hi: Any
-    normal: Any
-    area: Any
-    k_low: Any
-    k_high: Any
-    nh: Any
-    hx: Any
-    hy: Any
-    wz: Any
-    za: Any
-    zb: Any
-    zc: Any
-    flat_area: Any
+    lo: XpArray
+    mid: XpArray
+    hi: XpArray
+    normal: XpArray
+    area: XpArray
+    k_low: XpArray
+    k_high: XpArray
+    nh: XpArray
+    hx: XpArray
+    hy: XpArray
+    wz: XpArray
+    za: XpArray
+    zb: XpArray
+    zc: XpArray
+    flat_area: XpArray
 
 
 class ClippedElements(NamedTuple):
@@ -135,10 +136,10 @@ class ClippedElements(NamedTuple):
         Depth of each centroid below the mud surface [m] (negative above it).
     """
 
-    centroids: Any
-    normals: Any
-    areas: Any
-    depths: Any
+    centroids: XpArray
+    normals: XpArray
+    areas: XpArray
+    depths: XpArray
 
 
 class LocalFrame(NamedTuple):
@@ -158,12 +159,12 @@ class LocalFrame(NamedTuple):
         Azimuth of :math:`\\mathbf e_2` from the x axis [rad], in (-pi, pi].
     """
 
-    e1: Any
-    e2: Any
-    e3: Any
-    psi1: Any
-    psi2: Any
-    varphi: Any
+    e1: XpArray
+    e2: XpArray
+    e3: XpArray
+    psi1: XpArray
+    psi2: XpArray
+    varphi: XpArray
 
 
 class Wrench(NamedTuple):
@@ -180,12 +181,12 @@ class Wrench(NamedTuple):
         submerged surface [m] (decision D24); ``point`` when no force acts.
     """
 
-    force: Any
-    moment: Any
-    center_of_pressure: Any
+    force: XpArray
+    moment: XpArray
+    center_of_pressure: XpArray
 
 
-def _cross(a: Any, b: Any, xp: Any) -> Any:
+def _cross(a: XpArray, b: XpArray, xp: Namespace) -> XpArray:
     return xp.stack(
         [
             a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
@@ -196,13 +197,13 @@ def _cross(a: Any, b: Any, xp: Any) -> Any:
     )
 
 
-def _safe_div(num: Any, den: Any, xp: Any) -> Any:
+def _safe_div(num: XpArray, den: XpArray, xp: Namespace) -> XpArray:
     """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
     ok = den > 0
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
-def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
+def prepare_triangles(triangles: XpArray, *, xp: Namespace = np) -> PreparedTriangles:
     """Per-facet data that do not depend on depth, stress or heading.
 
     Parameters
@@ -241,7 +242,7 @@ def prepare_triangles(triangles: Any, *, xp: Any = np) -> PreparedTriangles:
     )
 
 
-def submerged_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> Any:
+def submerged_area(prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np) -> XpArray:
     """Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`
     without the centroids (:func:`mudrft.feet.facet.submerged_area` per facet)."""
     p = prepared
@@ -249,7 +250,9 @@ def submerged_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> 
     return facet_submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
 
 
-def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tuple[Any, Any]:
+def clip_below(
+    prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray]:
     """Exact area and centroid of the part of each facet below the plane ``z = depth``.
 
     Parameters
@@ -285,7 +288,7 @@ def clip_below(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> tupl
     return area, xp.stack(xp.broadcast_arrays(cx, cy, cz), axis=-1)
 
 
-def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElements:
+def clip_elements(triangles: XpArray, depth: XpArray, *, xp: Namespace = np) -> ClippedElements:
     """Submerged surface elements (centroid, normal, area, depth) at a tip depth.
 
     Parameters
@@ -313,7 +316,7 @@ def clip_elements(triangles: Any, depth: Any, *, xp: Any = np) -> ClippedElement
     return ClippedElements(cen, normals, area, xp.asarray(depth)[..., None] - cen[..., 2])
 
 
-def local_frame(normals: Any, heading: Any, *, xp: Any = np) -> LocalFrame:
+def local_frame(normals: XpArray, heading: XpArray, *, xp: Namespace = np) -> LocalFrame:
     """The local frame (e1, e2, e3) and angles psi1, psi2, varphi of eq. (6).
 
     Parameters
@@ -351,8 +354,8 @@ def local_frame(normals: Any, heading: Any, *, xp: Any = np) -> LocalFrame:
 
 
 def _heading_factors(
-    p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any
-) -> tuple[Any, ...]:
+    p: PreparedTriangles, stress: XpArray, heading: XpArray, trailing: bool, xp: Namespace
+) -> tuple[XpArray, ...]:
     """Folded stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
     s = xp.asarray(stress)
     h = xp.asarray(heading)
@@ -361,7 +364,9 @@ def _heading_factors(
     return sqx[..., None], sqy[..., None], s[..., 2][..., None], fn, ft
 
 
-def _force_density(p: PreparedTriangles, stress: Any, heading: Any, trailing: bool, xp: Any) -> Any:
+def _force_density(
+    p: PreparedTriangles, stress: XpArray, heading: XpArray, trailing: bool, xp: Namespace
+) -> XpArray:
     """Force per unit submerged area of each facet [Pa], shape (..., m, 3)."""
     sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
     f = facet_force(1.0, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
@@ -370,13 +375,13 @@ def _force_density(p: PreparedTriangles, stress: Any, heading: Any, trailing: bo
 
 def element_forces(
     prepared: PreparedTriangles,
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
     trailing: bool = False,
-    xp: Any = np,
-) -> tuple[Any, Any]:
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray]:
     """Force on each submerged facet and its point of application.
 
     Parameters
@@ -408,13 +413,13 @@ def element_forces(
 
 def integrate_prepared(
     prepared: PreparedTriangles,
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
     trailing: bool = False,
-    xp: Any = np,
-) -> Any:
+    xp: Namespace = np,
+) -> XpArray:
     """Resultant force of :func:`integrate_triangles` on prepared facets (no centroids).
 
     Parameters are those of :func:`integrate_triangles` with ``prepared`` from
@@ -429,14 +434,14 @@ def integrate_prepared(
 
 
 def integrate_triangles(
-    triangles: Any,
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    triangles: XpArray,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
     trailing: bool = False,
-    xp: Any = np,
-) -> Any:
+    xp: Namespace = np,
+) -> XpArray:
     r"""Force of the mud on a triangulated foot: the element rule integrated and summed.
 
     Parameters
@@ -492,14 +497,14 @@ def integrate_triangles(
 
 
 def integrate_wrench(
-    triangles: Any,
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    triangles: XpArray,
+    depth: XpArray,
+    stress: XpArray,
+    heading: XpArray,
     *,
-    point: Any = None,
+    point: XpArray = None,
     trailing: bool = False,
-    xp: Any = np,
+    xp: Namespace = np,
     prepared: PreparedTriangles | None = None,
 ) -> Wrench:
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
