@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._specialize import on_floats
+from .._typing import Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_characteristic_length,
@@ -97,10 +98,10 @@ class MudChannels(NamedTuple):
     x: ChannelState
     y: ChannelState
     z: ChannelState
-    entry_x: Any
-    entry_y: Any
-    heading: Any
-    in_mud: Any
+    entry_x: XpArray
+    entry_y: XpArray
+    heading: XpArray
+    in_mud: XpArray
 
 
 class MudState(NamedTuple):
@@ -118,7 +119,7 @@ class MudState(NamedTuple):
     foot: Any
 
 
-def _fresh(ch: ChannelState, fresh: Any, xi0: Any, *, xp: Any = np) -> ChannelState:
+def _fresh(ch: ChannelState, fresh: XpArray, xi0: XpArray, *, xp: Namespace = np) -> ChannelState:
     """Channels reset to undisturbed mud where ``fresh`` (decision D11)."""
     return ChannelState(
         gamma=xp.where(fresh, 0.0, ch.gamma),
@@ -134,24 +135,24 @@ def _fresh(ch: ChannelState, fresh: Any, xi0: Any, *, xp: Any = np) -> ChannelSt
 def mud_step(
     ch: ConstantsPair,
     st: MudChannels,
-    px: Any,
-    py: Any,
-    pz: Any,
-    vx: Any,
-    vy: Any,
-    vz: Any,
-    dt: Any,
-    lc: Any,
-    kappa: Any,
-    xi0: Any,
+    px: XpArray,
+    py: XpArray,
+    pz: XpArray,
+    vx: XpArray,
+    vy: XpArray,
+    vz: XpArray,
+    dt: XpArray,
+    lc: XpArray,
+    kappa: XpArray,
+    xi0: XpArray,
     reset: bool,
-    heading_speed: Any,
-    seal: Any,
+    heading_speed: XpArray,
+    seal: XpArray,
     quasi_static: bool = False,
     restart: bool = False,
     *,
-    xp: Any = np,
-) -> tuple[MudChannels, Any, Any, Any, Any]:
+    xp: Namespace = np,
+) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
 
     Displacements :math:`\gamma_x=(x-x_e)/L_c`, :math:`\gamma_y=(y-y_e)/L_c` from the entry
@@ -213,9 +214,9 @@ def mud_step(
 
 
 def _channel_motion(
-    st: MudChannels, px: Any, py: Any, pz: Any, vx: Any, vy: Any, vz: Any, dt: Any, lc: Any,
-    xi0: Any, reset: bool, *, xp: Any = np,
-) -> tuple[Any, ...]:  # fmt: skip
+    st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray, vz: XpArray, dt: XpArray, lc: XpArray,
+    xi0: XpArray, reset: bool, *, xp: Namespace = np,
+) -> tuple[XpArray, ...]:  # fmt: skip
     """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11),
     displacements, the vertical rate, the entry point, the depth and whether in the mud."""
     depth = xp.maximum(-pz, 0.0)
@@ -234,7 +235,9 @@ def _channel_motion(
     return cx, cy, cz, (px - ex) / lc, (py - ey) / lc, depth / lc, gdz, ex, ey, depth, in_mud
 
 
-def mud_heading(heading: Any, vx: Any, vy: Any, heading_speed: Any, *, xp: Any = np) -> Any:
+def mud_heading(
+    heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """The heading after a step at horizontal velocity ``(vx, vy)`` [m/s]: its direction
     [rad] when faster than ``heading_speed`` [m/s], otherwise the last ``heading`` (D52)."""
     # compared on the squared speed, arctan2 on safe values, so that JAX gradients stay
@@ -246,10 +249,10 @@ def mud_heading(heading: Any, vx: Any, vy: Any, heading_speed: Any, *, xp: Any =
 
 
 def mud_channel_stress(
-    c: int, ch: ConstantsPair, st: MudChannels, px: Any, py: Any, pz: Any, vx: Any, vy: Any,
-    vz: Any, dt: Any, lc: Any, kappa: Any, xi0: Any, reset: bool, seal: Any,
-    quasi_static: bool = False, restart: bool = False, *, xp: Any = np,
-) -> Any:  # fmt: skip
+    c: int, ch: ConstantsPair, st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray,
+    vz: XpArray, dt: XpArray, lc: XpArray, kappa: XpArray, xi0: XpArray, reset: bool, seal: XpArray,
+    quasi_static: bool = False, restart: bool = False, *, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     """The stress [Pa] of channel ``c`` (0: x, 1: y, 2: z) that :func:`mud_step` returns for
     the same arguments, computed alone: a channel's stress depends on its own rate only, so
     a derivative by one channel's rate needs one channel step, not three (D63)."""
@@ -271,12 +274,12 @@ ConstantsPair = tuple[ChannelConstants, ChannelConstants]
 
 
 def initial_channels(
-    px: Any, py: Any, depth: Any, lc: float, xi0: float, *, xp: Any = np
+    px: XpArray, py: XpArray, depth: XpArray, lc: float, xi0: float, *, xp: Namespace = np
 ) -> MudChannels:
     """Undisturbed mud under a tip at horizontal ``(px, py)`` [m] and ``depth`` [m] >= 0."""
     zero = 0.0 * depth
 
-    def fresh(g: Any) -> ChannelState:
+    def fresh(g: XpArray) -> ChannelState:
         return ChannelState(
             gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero, clock=zero, clock_w=zero
         )
