@@ -390,6 +390,8 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
             f"{m:g} kg mass like a {c:.3g} N s/m damper, stable only for dt < {limit:.3g} s; "
             f"use dt <= {0.5 * limit:.2g} s or a heavier foot_mass"
         )
+    if load.leg_stiffness is not None:
+        _check_leg_stability(load, c)
     # the elastic law alpha (d/L)^n is infinitely stiff at d = 0 (n < 1): a light load
     # balances so close to the surface that the explicit step overshoots into the air and
     # back (1 N on the flat foot at W = 35 %: in the air 81 % of the time at dt = 0.1 ms)
@@ -409,6 +411,31 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
             f"explicit step is stable only for dt < {elastic:.3g} s, so at dt = "
             f"{plain(load.dt)} s the foot will chatter at the surface; use dt <= "
             f"{0.5 * elastic:.2g} s or a heavier load"
+        )
+
+
+def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
+    r"""Refuse a spring leg the explicit step cannot integrate (it diverged to NaN).
+
+    The step is semi-implicit Euler; for one oscillator :math:`m\ddot x=-kx-c\dot x` it is
+    stable while :math:`2ch/m+kh^2/m<4`. The leg's spring and damper act on the relative
+    motion of body and foot (reduced mass :math:`\mu`), the mud's damper on the foot, so
+    with :math:`\rho=c_{mud}/m_f+c_{leg}/\mu` and :math:`\omega^2=k/\mu` the step must
+    satisfy :math:`\omega^2h^2+2\rho h<4`. Refused above 0.8 of that bound, as the mud's.
+    """
+    mf, mb = load.foot_mass, load.body_mass
+    mu = mf * mb / (mf + mb)
+    rate = c_mud / mf + load.leg_damping / mu
+    w2 = float(load.leg_stiffness) / mu  # type: ignore[arg-type]
+    limit = 4.0 / (rate + np.sqrt(rate * rate + 4.0 * w2))  # root of w2 h^2 + 2 rate h = 4
+    if load.dt > 0.8 * limit:
+        raise MudrftError(
+            f"LoadControl.dt={plain(load.dt)} s is too large for an explicit coupling: the "
+            f"leg (leg_stiffness={plain(load.leg_stiffness)} N/m, leg_damping="
+            f"{plain(load.leg_damping)} N s/m) between the {mb:g} kg body and the {mf:g} kg "
+            f"foot, with the mud's {c_mud:.3g} N s/m damper on the foot, is stable only for "
+            f"dt < {limit:.3g} s; use dt <= {0.5 * limit:.2g} s, a heavier foot_mass or a "
+            "softer leg"
         )
 
 
@@ -444,6 +471,8 @@ def _simulate_load(
             vb = vb + (-W - f_leg) / m * dt
             v = v + (f_prev + f_leg) / load.foot_mass * dt
             zb, z = zb + vb * dt, z + v * dt
+        if not (np.isfinite(z) and np.isfinite(v)):  # before the terrain names its input
+            raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")
         state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
         f_prev = float(out.force[2])
         force[k] = out.force
