@@ -11,6 +11,7 @@ True
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -471,7 +472,7 @@ def _simulate_load(
             vb = vb + (-W - f_leg) / m * dt
             v = v + (f_prev + f_leg) / load.foot_mass * dt
             zb, z = zb + vb * dt, z + v * dt
-        if not (np.isfinite(z) and np.isfinite(v)):  # before the terrain names its input
+        if not (math.isfinite(z) and math.isfinite(v)):  # before the terrain names its input
             raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")
         state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
         f_prev = float(out.force[2])
