@@ -54,7 +54,18 @@ DEFAULT_RESOLUTION = 48
 
 
 def _theta(z: XpArray, radius: float, *, xp: Namespace = np) -> XpArray:
-    return xp.arccos(xp.clip(1.0 - z / radius, -1.0, 1.0))
+    r""":math:`\theta_c=\cos^{-1}(1-z/R)` [rad], with a zero derivative at the surface (D107).
+
+    At :math:`z=0` (and :math:`z\ge2R`) the argument is +-1, where the arc cosine's
+    derivative is infinite: under plain ``jax.numpy`` that made every derivative of a
+    curved foot's force NaN with the tip at the surface, even with respect to the stresses
+    (:math:`0\cdot\infty`). There the value is the constant 0 (or pi), so the derivative
+    is 0 (a one-sided choice, as D74); elsewhere the values are those of ``arccos``.
+    """
+    x = xp.clip(1.0 - z / radius, -1.0, 1.0)
+    inside = xp.abs(x) < 1.0
+    edge = xp.where(x > 0.0, 0.0, math.pi)  # arccos(1) = 0, arccos(-1) = pi, exactly
+    return xp.where(inside, xp.arccos(xp.where(inside, x, 0.0)), edge)
 
 
 def flat_coefficients(
