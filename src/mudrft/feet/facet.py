@@ -32,6 +32,7 @@ __all__ = [
     "facet_frame",
     "fold_stresses",
     "safe_div",
+    "safe_sqrt",
     "sort_by_height",
     "submerged_area",
 ]
@@ -45,6 +46,18 @@ def safe_div(num: XpArray, den: XpArray, *, xp: Namespace = np) -> XpArray:
     """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
     ok = den > 0
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
+
+
+def safe_sqrt(x: XpArray, *, xp: Namespace = np) -> XpArray:
+    r"""``sqrt(x)`` of a sum of squares ``x >= 0``, with a zero derivative at 0 (D107).
+
+    The value is :math:`\sqrt x` (0 at 0); under JAX the derivative at 0 is 0 instead of
+    infinite, so a horizontal facet (:math:`n_x=n_y=0`) or a zero-area one does not turn
+    the gradient of every force into NaN (:math:`0\cdot\infty`) when ``xp`` is plain
+    ``jax.numpy`` (the double ``where``: the square root never sees 0).
+    """
+    pos = x > 0
+    return xp.where(pos, xp.sqrt(xp.where(pos, x, 1.0)), 0.0)
 
 
 def facet_frame(
@@ -76,9 +89,9 @@ def facet_frame(
     rx = uy * vz - uz * vy
     ry = uz * vx - ux * vz
     rz = ux * vy - uy * vx
-    norm = xp.sqrt(rx * rx + ry * ry + rz * rz)
+    norm = safe_sqrt(rx * rx + ry * ry + rz * rz, xp=xp)
     nx, ny, nz = safe_div(rx, norm, xp=xp), safe_div(ry, norm, xp=xp), safe_div(rz, norm, xp=xp)
-    nh = xp.sqrt(nx * nx + ny * ny)  # sin(psi1)
+    nh = safe_sqrt(nx * nx + ny * ny, xp=xp)  # sin(psi1)
     c1 = -nz  # cos(psi1)
     # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
     wz = xp.where(c1 > TOL, c1 * c1 * c1 + nh * nh * nh, 0.0)
