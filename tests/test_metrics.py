@@ -61,6 +61,19 @@ def test_metric_errors_name_the_argument():
         metrics.max_suction([np.nan])
 
 
+def test_relative_rmse_is_scale_free_up_to_the_largest_float():
+    """The error is normalised before it is squared: forces above about 1e150 overflowed the
+    squares to inf (a RuntimeWarning, an error in this suite), though the ratio is finite;
+    a range beyond the largest float is refused instead of reading 0."""
+    m = np.array([0.0, 1.0, 3.0])
+    p = np.array([0.0, 1.0, 2.0])
+    e = metrics.relative_rmse(p, m)
+    assert metrics.relative_rmse(1e200 * p, 1e200 * m) == pytest.approx(e, rel=1e-15)
+    assert metrics.relative_rmse(1e-200 * p, 1e-200 * m) == pytest.approx(e, rel=1e-15)
+    with pytest.raises(MudrftError, match="largest float"):
+        metrics.relative_rmse([0.0, 1e308], [-1e308, 1e308])
+
+
 @pytest.mark.parametrize("fn", [metrics.max_suction, metrics.peak_support, metrics.sinking_depth])
 def test_one_component_metrics_refuse_a_3d_history_and_an_empty_one(fn):
     """A (n, 3) force or position passed whole gave a number from the wrong component

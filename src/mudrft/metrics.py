@@ -7,6 +7,8 @@ signals the simulator produces between samples.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -74,10 +76,18 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
         raise MudrftError(
             f"predicted and measured must be 1-D with the same length >= 2, got shapes {p.shape} and {m.shape}"
         )
-    span = float(m.max() - m.min())
-    if span <= 0:
-        raise MudrftError("measured must not be constant: its range normalises the error")
-    return float(np.sqrt(np.mean((p - m) ** 2)) / span)
+    with np.errstate(over="ignore"):  # a range beyond the largest float is refused below
+        span = float(m.max() - m.min())
+        if span <= 0:
+            raise MudrftError("measured must not be constant: its range normalises the error")
+        rel = (p - m) / span
+    if not (math.isfinite(span) and np.all(np.isfinite(rel))):
+        raise MudrftError(
+            f"predicted and measured must differ by less than the largest float, got a range "
+            f"of {span!r}"
+        )
+    # normalised before it is squared: forces above about 1e150 overflowed the squares
+    return float(np.sqrt(np.mean(rel * rel)))
 
 
 def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
