@@ -58,6 +58,7 @@ from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nud
 from .implicit import passivity_scale
 from .linalg import (
     _borrow,
+    _carve,
     _jacobian,
     _ld_solve,
     _pointer_intrinsic,
@@ -219,61 +220,61 @@ def _kernel(
     # ``p`` of :func:`_kernel_packed` keeps the memory alive for the call.
     ntri = tri_b.shape[0]
     wa = work.ctypes.data
-    FJ = carray(_ptr(wa), (nb, 6, nv))
-    FM = carray(_ptr(wa + 8 * (6 * nb * nv)), (nb, 6, nv))
+    FJ = _carve(wa, 0, (nb, 6, nv))
+    FM = _carve(wa, 6 * nb * nv, (nb, 6, nv))
     o = 12 * nb * nv
-    scratch = carray(_ptr(wa + 8 * o), (ntri, 6))
+    scratch = _carve(wa, o, (ntri, 6))
     o += 6 * ntri
     geo, aup, v, row, frow = (
-        carray(_ptr(wa + 8 * o), (42,)),
-        carray(_ptr(wa + 8 * (o + 42)), (3,)),
-        carray(_ptr(wa + 8 * (o + 45)), (9,)),
-        carray(_ptr(wa + 8 * (o + 54)), (N_STATE,)),
-        carray(_ptr(wa + 8 * (o + 54 + N_STATE)), (3,)),
+        _carve(wa, o, (42,)),
+        _carve(wa, o + 42, (3,)),
+        _carve(wa, o + 45, (9,)),
+        _carve(wa, o + 54, (N_STATE,)),
+        _carve(wa, o + 54 + N_STATE, (3,)),
     )
     o += 57 + N_STATE
     tw, tipw, sh, ratio = (
-        carray(_ptr(wa + 8 * o), (6,)),
-        carray(_ptr(wa + 8 * (o + 6)), (3,)),
-        carray(_ptr(wa + 8 * (o + 9)), (3,)),
-        carray(_ptr(wa + 8 * (o + 12)), (3,)),
+        _carve(wa, o, (6,)),
+        _carve(wa, o + 6, (3,)),
+        _carve(wa, o + 9, (3,)),
+        _carve(wa, o + 12, (3,)),
     )
     u, un, pos, F, D = (
-        carray(_ptr(wa + 8 * (o + 15)), (3,)),
-        carray(_ptr(wa + 8 * (o + 18)), (3,)),
-        carray(_ptr(wa + 8 * (o + 21)), (3,)),
-        carray(_ptr(wa + 8 * (o + 24)), (3,)),
-        carray(_ptr(wa + 8 * (o + 27)), (3,)),
+        _carve(wa, o + 15, (3,)),
+        _carve(wa, o + 18, (3,)),
+        _carve(wa, o + 21, (3,)),
+        _carve(wa, o + 24, (3,)),
+        _carve(wa, o + 27, (3,)),
     )
-    w0, bl = carray(_ptr(wa + 8 * (o + 30)), (6,)), carray(_ptr(wa + 8 * (o + 36)), (6,))
+    w0, bl = _carve(wa, o + 30, (6,)), _carve(wa, o + 36, (6,))
     o += 42
     M, E, spread = (
-        carray(_ptr(wa + 8 * o), (3, 3)),
-        carray(_ptr(wa + 8 * (o + 9)), (3, 3)),
-        carray(_ptr(wa + 8 * (o + 18)), (3, 3)),
+        _carve(wa, o, (3, 3)),
+        _carve(wa, o + 9, (3, 3)),
+        _carve(wa, o + 18, (3, 3)),
     )
-    b = carray(_ptr(wa + 8 * (o + 27)), (3, 6))
-    K = carray(_ptr(wa + 8 * (o + 45)), (6, 6))
+    b = _carve(wa, o + 27, (3, 6))
+    K = _carve(wa, o + 45, (6, 6))
     o += 81
     FWB, FK = (
-        carray(_ptr(wa + 8 * o), (nb, 6, 6)),
-        carray(_ptr(wa + 8 * (o + 36 * nb)), (nb, 6, 6)),
+        _carve(wa, o, (nb, 6, 6)),
+        _carve(wa, o + 36 * nb, (nb, 6, 6)),
     )
     o += 72 * nb
     FW0, FACC, FTW, FWR, FWV = (
-        carray(_ptr(wa + 8 * o), (nb, 6)),
-        carray(_ptr(wa + 8 * (o + 6 * nb)), (nb, 6)),
-        carray(_ptr(wa + 8 * (o + 12 * nb)), (nb, 6)),
-        carray(_ptr(wa + 8 * (o + 18 * nb)), (nb, 6)),
-        carray(_ptr(wa + 8 * (o + 24 * nb)), (nb, 6)),
+        _carve(wa, o, (nb, 6)),
+        _carve(wa, o + 6 * nb, (nb, 6)),
+        _carve(wa, o + 12 * nb, (nb, 6)),
+        _carve(wa, o + 18 * nb, (nb, 6)),
+        _carve(wa, o + 24 * nb, (nb, 6)),
     )
-    FC = carray(_ptr(wa + 8 * (o + 30 * nb)), (nb, 3))
-    FPOS = carray(_ptr(wa + 8 * (o + 33 * nb)), (nb,))
-    RJ = carray(_ptr(wa + 8 * (o + 34 * nb)), (6 * nb,))
+    FC = _carve(wa, o + 30 * nb, (nb, 3))
+    FPOS = _carve(wa, o + 33 * nb, (nb,))
+    RJ = _carve(wa, o + 34 * nb, (6 * nb,))
     o += 40 * nb
     WF, AJ = (
-        carray(_ptr(wa + 8 * o), (6 * nb, 6 * nb)),
-        carray(_ptr(wa + 8 * (o + 36 * nb * nb)), (6 * nb, 6 * nb)),
+        _carve(wa, o, (6 * nb, 6 * nb)),
+        _carve(wa, o + 36 * nb * nb, (6 * nb, 6 * nb)),
     )
     mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
@@ -564,9 +565,10 @@ def coupling_kernel() -> Any:
     env["MorphingRow"] = MorphingRow
     exec(ROW_OF_SOURCE, env, local)  # the fields of MorphingRow, spelled out
     env["_row_of"] = numba.njit(inline="always")(local["_row_of"])
-    env["_borrow"] = numba.njit(inline="always")(
-        types.FunctionType(_borrow.__code__, env, "_borrow")
-    )
+    for view in (_borrow, _carve):
+        env[view.__name__] = numba.njit(inline="always")(
+            types.FunctionType(view.__code__, env, view.__name__)
+        )
     helpers = {}
     for fn in (
         _ld_solve,

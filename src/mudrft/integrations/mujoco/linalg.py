@@ -18,7 +18,15 @@ from typing import Any
 
 from .implicit import passivity_scale as _pscale
 
-__all__ = ["_borrow", "_jacobian", "_ld_solve", "_pointer_intrinsic", "_robot_step", "_solve_n"]
+__all__ = [
+    "_borrow",
+    "_carve",
+    "_jacobian",
+    "_ld_solve",
+    "_pointer_intrinsic",
+    "_robot_step",
+    "_solve_n",
+]
 
 
 def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
@@ -191,6 +199,13 @@ def _borrow(a: Any) -> Any:
     biped's step, D68b). The caller keeps ``a`` alive while the view is used (the kernel's
     packed argument does, for the call)."""
     return carray(_ptr(a.ctypes.data), a.shape)
+
+
+def _carve(base: Any, offset: Any, shape: Any) -> Any:
+    """A borrowed float64 view of ``shape`` starting ``offset`` floats after the address
+    ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
+    caller keeps the memory alive)."""
+    return carray(_ptr(base + 8 * offset), shape)
 
 
 @functools.cache
