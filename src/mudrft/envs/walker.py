@@ -121,7 +121,7 @@ class WalkerConfig:
             check_number("water_content", check_finite("water_content", self.water_content))
         )
         # one number each: a list was a TypeError (dt) or broadcast into the reward and noise
-        set_number(self, "dt", positive_number("dt", self.dt, unit="s"))
+        object.__setattr__(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")
         fs = self.frame_skip
@@ -134,9 +134,9 @@ class WalkerConfig:
             )
         for name in ("forward_reward_weight", "ctrl_cost_weight", "healthy_reward"):
             set_number(self, name, getattr(self, name))
-        set_number(self, "action_scale", positive_number("action_scale", self.action_scale, unit="rad"))  # fmt: skip
-        set_number(self, "reset_noise_scale", nonnegative_number("reset_noise_scale", self.reset_noise_scale, unit="rad"))  # fmt: skip
-        set_number(self, "bottom", positive_number("bottom", self.bottom, unit="m"))
+        object.__setattr__(self, "action_scale", positive_number("action_scale", self.action_scale, unit="rad"))  # fmt: skip
+        object.__setattr__(self, "reset_noise_scale", nonnegative_number("reset_noise_scale", self.reset_noise_scale, unit="rad"))  # fmt: skip
+        object.__setattr__(self, "bottom", positive_number("bottom", self.bottom, unit="m"))
 
     @property
     def foot_object(self) -> Any:
