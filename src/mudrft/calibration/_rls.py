@@ -135,15 +135,14 @@ class SampleStream:
             raise MudrftError(
                 f"update needs finite time, depth and stress, got {time!r}, {depth!r}, {stress!r}"
             )
-        if abs(s) > MAX_STRESS or abs(q) > LENGTH_LIMITS[1]:
-            what, value, limit, unit = (
-                ("stress", stress, MAX_STRESS, "Pa") if abs(s) > MAX_STRESS
-                else ("depth", depth, LENGTH_LIMITS[1], "m")
-            )  # fmt: skip
-            raise MudrftError(
-                f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud test "
-                f"reaches it: a unit mistake?), got {value!r}"
-            )
+        for what, given, v, limit, unit in (
+            ("stress", stress, s, MAX_STRESS, "Pa"), ("depth", depth, q, LENGTH_LIMITS[1], "m")
+        ):  # fmt: skip
+            if abs(v) > limit:
+                raise MudrftError(
+                    f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud "
+                    f"test reaches it: a unit mistake?), got {given!r}"
+                )
         g = q / self.L
         if self.last is None:
             self.last = (t, g)
