@@ -61,18 +61,9 @@ def safe_sqrt(x: XpArray, *, xp: Namespace = np) -> XpArray:
 
 
 def facet_frame(
-    ax: XpArray,
-    ay: XpArray,
-    az: XpArray,
-    bx: XpArray,
-    by: XpArray,
-    bz: XpArray,
-    cx: XpArray,
-    cy: XpArray,
-    cz: XpArray,
-    *,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray]:
+    ax: XpArray, ay: XpArray, az: XpArray, bx: XpArray, by: XpArray, bz: XpArray,
+    cx: XpArray, cy: XpArray, cz: XpArray, *, xp: Namespace = np,
+) -> tuple[XpArray, ...]:  # fmt: skip
     r"""Normal, area and the eq. (6) weights of a triangle (a, b, c) [m].
 
     Returns
@@ -99,18 +90,9 @@ def facet_frame(
 
 
 def sort_by_height(
-    ax: XpArray,
-    ay: XpArray,
-    az: XpArray,
-    bx: XpArray,
-    by: XpArray,
-    bz: XpArray,
-    cx: XpArray,
-    cy: XpArray,
-    cz: XpArray,
-    *,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray]:
+    ax: XpArray, ay: XpArray, az: XpArray, bx: XpArray, by: XpArray, bz: XpArray,
+    cx: XpArray, cy: XpArray, cz: XpArray, *, xp: Namespace = np,
+) -> tuple[XpArray, ...]:  # fmt: skip
     """The vertices (lo, mid, hi) ordered by height; equal heights keep their order [m]."""
     ab = az <= bz
     px, py, pz = xp.where(ab, ax, bx), xp.where(ab, ay, by), xp.where(ab, az, bz)
