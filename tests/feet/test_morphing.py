@@ -431,3 +431,23 @@ def test_a_single_foot_takes_the_float_path_and_a_batch_find_root(monkeypatch):
     )
     for a, b, c in zip(depth, sz, single, strict=True):
         assert balance_ok(FOOT, a, b, c)
+
+
+def test_forces_at_the_balanced_deflection_are_the_resultant_and_it_checks_the_deflection():
+    # forces_at is resultant with the deflection given instead of balanced: at the column's
+    # own balance (equilibrium loaded from rest, D34) the two agree exactly; spreading the
+    # pads (a larger deflection) only adds footprint in the mud, so the vertical force
+    # grows once the pads reach the mud (at 4 mm only the base plate is in it)
+    depth = np.array([0.004, 0.01, 0.02])
+    stress = np.array([[900.0, 700.0, 4000.0], [1500.0, 1200.0, 9000.0], [0.0, 0.0, 15000.0]])
+    heading = np.array([0.0, 0.3, 1.0])
+    delta = FOOT.equilibrium(depth, stress[:, 2])
+    np.testing.assert_array_equal(
+        FOOT.forces_at(depth, stress, heading, delta), FOOT.resultant(depth, stress, heading)
+    )
+    curled = FOOT.forces_at(depth, stress, heading, 0.0)
+    spread = FOOT.forces_at(depth, stress, heading, FOOT.stroke)
+    assert spread[0, 2] == pytest.approx(curled[0, 2], rel=1e-12)
+    assert np.all(spread[1:, 2] > 1.5 * curled[1:, 2])
+    with pytest.raises(MudrftError, match="deflection"):
+        FOOT.forces_at(0.01, [0.0, 0.0, 1e4], 0.0, 2 * FOOT.stroke)
