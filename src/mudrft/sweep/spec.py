@@ -101,14 +101,6 @@ class SweepSpec(Design):
     text: str = ""
     where: str = "<dict>"
 
-    @property
-    def foot_kinds(self) -> tuple[str, ...]:
-        """The foot kinds of the sweep (one, or the values of the ``foot`` axis)."""
-        for a in self.axes:
-            if a.name == "foot":
-                return tuple(str(v) for v in a.values)  # type: ignore[union-attr]
-        return (str(self.fixed["foot"]),)
-
     def context(self) -> dict[str, Any]:
         """What a task needs besides its points: plain data (and the mesh), no Dask."""
         return {
