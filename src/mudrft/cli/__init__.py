@@ -18,6 +18,7 @@ all-or-nothing and never replaced without ``--force``.
 from __future__ import annotations
 
 import argparse
+import difflib
 import logging
 import sys
 import warnings
@@ -137,7 +138,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
     """
     parser = build_parser()
-    args = parser.parse_args(None if argv is None else list(argv))
+    args, unknown = parser.parse_known_args(None if argv is None else list(argv))
+    if unknown:
+        if not getattr(args, "command", None):
+            parser.error(f"unrecognized arguments: {' '.join(unknown)}")
+        _unrecognized(parser, args.command, unknown)
     if not getattr(args, "command", None):
         parser.print_help()
         return 0
@@ -170,6 +175,24 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"{prog}: terminated", file=sys.stderr)
             return 143
     return 2
+
+
+def _unrecognized(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
+    """End a command line with a word the command does not know: one line naming the
+    command and the closest option, exit status 2 (decision D112)."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[
+        command
+    ]
+    options = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
+    word = next((u for u in unknown if u.startswith("-")), unknown[0])
+    name = word.split("=", 1)[0]
+    if name.startswith("-"):
+        close = difflib.get_close_matches(name, options, n=1, cutoff=0.6)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        what = f"unrecognized option {name!r}{hint}"
+    else:
+        what = f"unrecognized argument {name!r}"
+    sub.exit(2, f"mudrft {command}: error: {what} (mudrft {command} --help lists the options)\n")
 
 
 def _error(prog: str, message: str) -> None:
