@@ -7,6 +7,7 @@ from typing import Any
 
 from .._validation import MudrftError
 from ..feet import by_name
+from ..parameters import Mud
 from ..simulation import simulate
 from ..terrains import MudTerrain
 from ..trajectories import STANCE_DEPTH, gait
@@ -26,7 +27,8 @@ __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
     "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait) of a foot through "
-    "the paper's mud at the given water content and speed, and write the tip position and "
+    "the paper's mud at the given water content (or a mud calibrated by mudrft calibrate: "
+    "--vertical, --horizontal) and speed, and write the tip position and "
     "the force of the mud on the foot to a CSV file with the columns "
     "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints the cycle's metrics (peak "
     "support, suction, impulses, energy)."
@@ -45,6 +47,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
+    for d in ("vertical", "horizontal"):
+        p.add_argument(
+            f"--{d}",
+            metavar="FIT.json",
+            help=f"{d} parameter set from a file (mudrft calibrate --out, SI) in place of the "
+            f"paper's {d} row at --water-content (decision D111)",
+        )
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument(
         "--depth", type=float, default=STANCE_DEPTH, help="deepest tip depth [m] (decision D10)"
@@ -95,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
 
     foot = by_name(args.foot, unit=args.unit)
     mud = MudTerrain(
-        paper_mud_option(args.water_content, extrapolate=args.extrapolate, labels=args.labels),
+        _mud(args),
         thixotropy=args.thixotropy,
         clock=args.clock,
     )
@@ -103,9 +112,7 @@ def run(args: argparse.Namespace) -> int:
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
-        logger.info(
-            "simulating %s foot, W = %g %%, %g m/s", foot.name, args.water_content * 100, speed
-        )
+        logger.info("simulating %s foot, %s, %g m/s", foot.name, mud.mud.name, speed)
         res = simulate(foot, mud, trajectory, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
@@ -122,3 +129,31 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         print(f"wrote {args.plot}")
     return 0
+
+
+def _mud(args: argparse.Namespace) -> Mud:
+    """The paper's mud at ``--water-content``, with a set from ``--vertical`` or
+    ``--horizontal`` in place of its row (decision D111); errors name the option."""
+    from ..calibration.persistence import load_parameters
+
+    paper = paper_mud_option(args.water_content, extrapolate=args.extrapolate, labels=args.labels)
+    sets, names = {}, []
+    for d in ("vertical", "horizontal"):
+        path = getattr(args, d)
+        if path is None:
+            sets[d] = getattr(paper, d)
+            continue
+        try:
+            params = load_parameters(path)
+        except MudrftError as exc:
+            raise MudrftError(f"--{d}: {exc}") from None
+        if params.direction not in ("", d):
+            raise MudrftError(
+                f"--{d}: {path!r} holds a {params.direction} parameter set, expected a {d} one "
+                "(were --vertical and --horizontal swapped?)"
+            )
+        sets[d] = params
+        names.append(f"{d} {path}")
+    w = f"W = {100 * args.water_content:g} %"
+    name = ", ".join(names) + ("" if len(names) == 2 else f", the rest of the paper's mud at {w}")
+    return Mud(sets["vertical"], sets["horizontal"], paper.water_content, name=name if names else w)
