@@ -97,6 +97,11 @@ class PlausibilityWarning(UserWarning):
     """An input was accepted but looks like a unit mistake (a mm column labelled m, ...)."""
 
 
+class CalibrationWarning(UserWarning):
+    """A fit ran but the user should know: its data were thinned, or the model does not
+    describe them (decision D110)."""
+
+
 def plain(value: Any) -> str:
     """``value`` as a message shows it: plain numbers, arrays by their shape.
 

@@ -138,3 +138,26 @@ def test_synthetic_dataset_noise_level_and_seed():
     # Gaussian noise of 2 % of the range: the sample std of 450 draws is within 15 %
     # of it (about 4.5 standard errors of a standard deviation)
     assert np.std(r) == pytest.approx(0.02 * np.ptp(clean[0].stress), rel=0.15)
+
+
+def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
+    tmp_path, capsys, monkeypatch
+):
+    """With --quiet the thinning warning read 'mudrft calibrate: warning: calibrate:
+    warning: ...'; without it, it came as a plain progress note (D110)."""
+    import mudrft.calibration._options as options
+
+    longest = max(len(t) for t in example_dataset("vertical").trials)
+    monkeypatch.setattr(options, "FIT_SAMPLES", longest // 2 + 1)  # thinned by 2
+    log = tmp_path / "log.csv"
+    name = EXAMPLE_FILES[("vertical", 0.25)]
+    log.write_bytes(resources.files("mudrft.data").joinpath(name).read_bytes())
+    for quiet in (["--quiet"], []):
+        assert mudrft_main(["calibrate", str(log), "--groups", "b", *quiet]) in (0, 1)
+        err = capsys.readouterr().err
+        warned = [line for line in err.splitlines() if "warning" in line]
+        assert warned == [
+            f"mudrft calibrate: warning: the longest trial has {longest} samples; fitting "
+            f"every 2nd sample (about {longest // 2} per trial, decision D104) to keep the "
+            "fit to minutes; pass decimate=1 (CLI: --decimate 1) to fit every sample"
+        ], err

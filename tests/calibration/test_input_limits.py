@@ -7,7 +7,6 @@ a depth column in mm labelled [m] or a stress in kPa labelled [Pa] loaded withou
 
 from __future__ import annotations
 
-import logging
 import warnings
 
 import numpy as np
@@ -15,7 +14,7 @@ import pytest
 
 import mudrft.calibration._options as options
 from mudrft._validation import MudrftError, PlausibilityWarning
-from mudrft.calibration import calibrate, synthetic_dataset
+from mudrft.calibration import CalibrationWarning, calibrate, synthetic_dataset
 from mudrft.io import IntrusionDataset, Trial, load_dataset
 
 
@@ -25,16 +24,41 @@ def plunge(true_vertical):
     return synthetic_dataset(true_vertical, speeds=(0.02,), noise=0.01, seed=3, dt=0.02)
 
 
-def test_long_logs_are_thinned_to_the_target_with_a_warning(plunge, monkeypatch, caplog):
+def test_long_logs_are_thinned_to_the_target_with_a_warning(plunge, monkeypatch):
     monkeypatch.setattr(options, "FIT_SAMPLES", 50)  # a 1e6-row log against 2000, scaled down
     assert options.auto_decimate(plunge) == 5
-    with caplog.at_level(logging.WARNING, logger="mudrft.calibration"):
+    # a Python warning (D110): the library's logger has only a NullHandler, so a logged
+    # warning reached no one who called calibrate() without configuring logging
+    with pytest.warns(CalibrationWarning) as record:
         fit = calibrate(plunge, groups="b", phases=False, max_nfev=3)
-    warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
-    assert any(
-        "226 samples" in m and "every 5th sample" in m and "--decimate 1" in m for m in warned
-    )
+    warned = [str(w.message) for w in record if issubclass(w.category, CalibrationWarning)]
+    assert warned == [
+        "the longest trial has 226 samples; fitting every 5th sample (about 45 per trial, "
+        "decision D104) to keep the fit to minutes; pass decimate=1 (CLI: --decimate 1) to "
+        "fit every sample"
+    ]
     assert len(fit.dataset[0]) <= 50
+
+
+@pytest.mark.parametrize(
+    ("fit_samples", "words"), [(113, "every 2nd sample"), (76, "every 3rd"), (11, "every 21st")]
+)
+def test_the_thinning_warning_writes_english_ordinals(plunge, monkeypatch, fit_samples, words):
+    """It said 'fitting every 2th sample' (D110); 226 samples / fit_samples gives k."""
+    monkeypatch.setattr(options, "FIT_SAMPLES", fit_samples)
+    with pytest.warns(CalibrationWarning, match=words):
+        calibrate(plunge, groups="b", phases=False, max_nfev=1)
+
+
+def test_a_fit_that_does_not_describe_the_data_warns_in_python(plunge):
+    """The flag of a poor fit went to the logger only (silent in a script, D110)."""
+    tr = plunge[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)  # the sign looks flipped: it is
+        flipped = IntrusionDataset((Trial(tr.time, tr.depth, -tr.stress),))
+    with pytest.warns(CalibrationWarning, match=r"^the model does not describe these data"):
+        fit = calibrate(flipped, groups="b", phases=False, max_nfev=3)
+    assert fit.relative_rmse > 0.25
 
 
 def test_an_explicit_decimate_is_kept(plunge, monkeypatch):

@@ -25,6 +25,7 @@ Modules, one concept each:
 * :mod:`.synthetic`: the synthetic example data.
 """
 
+from .._validation import CalibrationWarning
 from ..io import (
     IntrusionDataset,
     Trial,
@@ -48,6 +49,7 @@ __all__ = [
     "DEFAULT_BOUNDS",
     "EXAMPLE_FILES",
     "GROUPS",
+    "CalibrationWarning",
     "Classification",
     "FitResult",
     "IntrusionDataset",

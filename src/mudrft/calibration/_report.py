@@ -10,12 +10,13 @@ str), as the command line and the examples use it.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections.abc import Callable
 
 from .._progress import make_progress
-from .._validation import MudrftError
+from .._validation import CalibrationWarning, MudrftError, _caller_level
 
-__all__ = ["Reporter", "logger"]
+__all__ = ["Reporter", "logger", "ordinal"]
 
 logger = logging.getLogger("mudrft.calibration")
 
@@ -49,15 +50,37 @@ class Reporter:
         self._steps = max(int(steps), 1)
         self._done = 0
 
-    def note(self, message: str, *, level: int = logging.INFO) -> None:
+    def note(self, message: str) -> None:
         """Pass one line to the line callable, or log it when there is none (never both)."""
         if self._lines is not None:
             self._lines(message)
         else:
-            logger.log(level, "%s", message)
+            logger.info("%s", message)
+
+    @staticmethod
+    def warn(message: str) -> None:
+        """Something the user must see, whatever ``progress`` is: a
+        :class:`~mudrft._validation.CalibrationWarning` (decision D110). The ``mudrft``
+        logger has only a ``NullHandler``, so a logged warning reached no script that had
+        not configured logging; the command line shows each Python warning as one line
+        ``mudrft calibrate: warning: ...``."""
+        warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
 
     def step(self) -> None:
         """One more step of the job is done."""
         self._done = min(self._done + 1, self._steps)
         if self._fraction is not None:
             self._fraction(self._done / self._steps)
+
+
+def ordinal(k: int) -> str:
+    """``2`` -> ``"2nd"``, ``11`` -> ``"11th"``, ``21`` -> ``"21st"``.
+
+    Examples
+    --------
+    >>> [ordinal(k) for k in (1, 2, 3, 4, 11, 12, 13, 21, 102)]
+    ['1st', '2nd', '3rd', '4th', '11th', '12th', '13th', '21st', '102nd']
+    """
+    if 10 <= k % 100 <= 20:
+        return f"{k}th"
+    return f"{k}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(k % 10, 'th') }"

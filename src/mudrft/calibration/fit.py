@@ -25,7 +25,6 @@ confidence intervals positive; each parameter gets an identifiability verdict
 
 from __future__ import annotations
 
-import logging
 import os
 import time
 from collections.abc import Callable, Iterable, Sequence
@@ -55,7 +54,7 @@ from ._problem import FIT_PARAMETERS, values_of
 from ._problem import LINEAR_PARAMETERS as LINEAR_PARAMETERS  # importable here, as before
 from ._problem import PHASES as PHASES
 from ._problem import Packed as Packed
-from ._report import Reporter
+from ._report import Reporter, ordinal
 from .persistence import load_parameters
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult, StageReport
 from .stages import (
@@ -291,7 +290,7 @@ def calibrate(
         xi0=xi0,
     )
     if fit.relative_rmse > POOR_FIT_RMSE:
-        reporter.note(f"calibrate: {POOR_FIT_HINT}", level=logging.WARNING)
+        reporter.warn(POOR_FIT_HINT.removeprefix("warning: "))
     reporter.note(
         f"calibrate: done in {time.perf_counter() - t_start:.2f} s, relative RMSE "
         f"{100 * fit.relative_rmse:.2f} %, identified {list(fit.identified())}"
@@ -323,11 +322,10 @@ def _prepare(
         k = auto_decimate(ds)
         if k > 1:
             longest = max(len(t) for t in ds.trials)
-            reporter.note(
-                f"calibrate: warning: the longest trial has {longest} samples; fitting every "
-                f"{k}th sample (about {longest // k} per trial, decision D104) to keep the fit to "
-                "minutes; pass decimate=1 (CLI: --decimate 1) to fit every sample",
-                level=logging.WARNING,
+            reporter.warn(
+                f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
+                f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
+                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
             )
     if k > 1:
         ds = thin_trials(ds, k)
