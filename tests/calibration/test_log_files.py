@@ -278,3 +278,34 @@ def test_times_in_us_labelled_ms_point_to_us(tmp_path):
 def test_plausible_slow_or_fast_tests_read_quietly(tmp_path, rate_hz, speed):
     """A slow test sampled fast, a test sampled slowly but fast enough, a fast foot."""
     quiet_load(write(tmp_path, _ramp_log(rate_hz, speed)))
+
+
+@pytest.mark.parametrize(
+    ("header", "message"),
+    [
+        (
+            "time [ms],position [mm],load [N]",
+            "no depth column; name it 'depth' or 'displacement', with its unit in brackets "
+            "(e.g. 'depth [mm]'); got ['time [ms]', 'position [mm]', 'load [N]']",
+        ),
+        (
+            "Zeit [ms],depth [mm],force [N]",
+            "no time column; name it 'time' or 't', with its unit in brackets "
+            "(e.g. 'time [ms]'); got ['Zeit [ms]', 'depth [mm]', 'force [N]']",
+        ),
+        (
+            "time [ms],depth [mm],load [N]",
+            "needs a stress or a force column; name it 'stress' or 'sigma' (e.g. "
+            "'stress [Pa]'), or 'Fz', 'force' or 'F' (e.g. 'force [N]'); got "
+            "['time [ms]', 'depth [mm]', 'load [N]']",
+        ),
+    ],
+)
+def test_a_column_with_its_rigs_own_name_is_told_the_names_mudrft_reads(tmp_path, header, message):
+    """A new user's rig logs 'position [mm]' and 'load [N]': the error said only
+    "expected e.g. 'depth [m]'", not which names are read, nor that the unit in the
+    header may stay as the rig logs it (D110's walkthrough)."""
+    p = write(tmp_path, f"{header}\n0,0,0\n100,2,10\n")
+    with pytest.raises(MudrftError) as exc:
+        load_intrusion_csv(p, area=0.0025)
+    assert str(exc.value) == f"{p}: line 1: {message}"

@@ -279,20 +279,21 @@ def check_roles(
     """
     for need in ("time", "depth"):
         if need not in columns.roles:
-            unit = "s" if need == "time" else "m"
             parens = [n for n in names if re.fullmatch(r"\s*[^()\[\]]+\(\s*[^()]+\)\s*", n)]
             hint = f"; units go in square brackets: {parens[0]!r} reads as a name" if parens else ""
             raise fail(
                 path,
                 where,
-                f"no {need} column; expected e.g. '{need} [{unit}]' among {names!r}{hint}",
+                f"no {need} column; name it {_names_of(need)}, with its unit in brackets "
+                f"(e.g. '{need} [{_unit_like(need, names)}]'); got {list(names)!r}{hint}",
             )
     has_stress = "stress" in columns.roles
     if not has_stress and "force" not in columns.roles:
         raise fail(
             path,
             where,
-            f"needs a 'stress [Pa]' or a force column ('Fz [N]' or 'force [N]'), got {names!r}",
+            f"needs a stress or a force column; name it {_names_of('stress')} (e.g. "
+            f"'stress [Pa]'), or {_names_of('force')} (e.g. 'force [N]'); got {list(names)!r}",
         )
     if not has_stress and columns.fz and direction == "horizontal":
         raise fail(
@@ -302,6 +303,27 @@ def check_roles(
             "'force [N]' (the force resisting the intrusion)",
         )
     return has_stress
+
+
+def _names_of(role: str) -> str:
+    """The names read for a role, as a header would write them: "'depth' or 'displacement'"."""
+    shown = [{"fz": "Fz", "f": "F"}.get(k, k) for k, (r, _) in COLUMN_ALIASES.items() if r == role]
+    quoted = [repr(k) for k in shown]
+    return quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+
+
+def _unit_like(role: str, names: Sequence[str]) -> str:
+    """The unit of the first column whose unit is one of the role's (the rig's own name for
+    it, such as 'position [mm]'), else the SI unit."""
+    quantity = {"time": "time", "depth": "length"}[role]
+    for label in names:
+        try:
+            _, unit = parse_header_name(label)
+            if unit is not None and parse_unit(quantity, unit) > 0:
+                return unit
+        except (ValueError, MudrftError):
+            continue
+    return default_unit(quantity)
 
 
 def to_si(
