@@ -253,3 +253,22 @@ def test_stream_classifier_probabilities_and_reset():
     assert clf.rmse[1] < 1e-6 * np.ptp(res.stress)  # the right set reproduces the stream
     clf.reset()
     assert np.all(clf.rmse == 0)
+
+
+def test_a_second_trial_whose_clock_restarts_is_told_how_to_continue():
+    """Feeding a log's trials one after another (each from t = 0) stopped with 'time must
+    increase between updates, got 0.0 after 7.3', with no word on what to do."""
+    import mudrft
+    from mudrft._validation import MudrftError
+    from mudrft.calibration import OnlineEstimator
+
+    est = OnlineEstimator(mudrft.paper_parameters(0.25))
+    est.update(0.0, 0.0, 0.0)
+    est.update(7.3, 0.0, 0.0)
+    with pytest.raises(MudrftError) as exc:
+        est.update(0.0, 0.0, 0.0)
+    assert str(exc.value) == (
+        "update: time must increase between updates, got 0.0 [s] after 7.3 [s]; a trial "
+        "whose clock starts again: add the previous trial's last time to its times (the "
+        "estimates carry on), or call reset() first (they start again from the prior)"
+    )

@@ -149,7 +149,12 @@ class SampleStream:
             return Sample(t, g, s)
         t0, g0 = self.last
         if not t > t0:
-            raise MudrftError(f"time must increase between updates, got {t!r} after {t0!r}")
+            raise MudrftError(
+                f"update: time must increase between updates, got {t!r} [s] after {t0!r} [s]; "
+                "a trial whose clock starts again: add the previous trial's last time to its "
+                "times (the estimates carry on), or call reset() first (they start again from "
+                "the prior)"
+            )
         dt = t - t0
         self.last = (t, g)
         return Sample(t, g, s, dt, (g - g0) / dt, t0)
