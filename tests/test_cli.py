@@ -234,3 +234,88 @@ def test_every_command_that_takes_a_foot_file_takes_its_unit(command):
     required = {"simulate": ["--out", "x.csv"], "walk": ["--out", "x"], "compare": []}[command]
     args = parser.parse_args([command, "--foot", "foot.stl", "--unit", "mm", *required])
     assert args.unit == "mm" and args.foot == "foot.stl"
+
+
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [
+        (
+            ["simulate", "--foot", "flat", "--speeed", "0.2", "--out", "x.csv"],
+            "mudrft simulate: error: unrecognized option '--speeed'; did you mean '--speed'? "
+            "(mudrft simulate --help lists the options)",
+        ),
+        (
+            ["calibrate", "log.csv", "--directon", "vertical"],
+            "mudrft calibrate: error: unrecognized option '--directon'; did you mean "
+            "'--direction'? (mudrft calibrate --help lists the options)",
+        ),
+        (
+            ["simulate", "--foot", "flat", "--out", "x.csv", "extra"],
+            "mudrft simulate: error: unrecognized argument 'extra' "
+            "(mudrft simulate --help lists the options)",
+        ),
+    ],
+)
+def test_a_mistyped_option_is_one_line_naming_the_command_and_the_closest_option(
+    tmp_path, capsys, monkeypatch, args, line
+):
+    """A new user's typo: argparse answered with the top-level usage and
+    'mudrft: error: unrecognized arguments: --speeed 0.2' (not the command, no hint),
+    though every other mistake is one line 'mudrft COMMAND: error: ...' (D112)."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(args)
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err == line + "\n"
+    assert not (tmp_path / "x.csv").exists()
+
+
+def _parameter_file(path, params):
+    import json
+
+    path.write_text(json.dumps({"direction": params.direction, **params.as_dict()}))
+    return str(path)
+
+
+def test_simulate_takes_calibrated_parameter_files(tmp_path, capsys):
+    """A user who ran 'mudrft calibrate --out fit.json' could not simulate with the fit:
+    simulate knew only the paper's rows (D111)."""
+    import mudrft
+
+    v35 = mudrft.paper_parameters(0.35, "vertical")
+    fit = _parameter_file(tmp_path / "fit_v.json", v35)
+    out = tmp_path / "run.csv"
+    code, stdout, _ = run(
+        capsys, "simulate", "--foot", "flat", "--vertical", fit, "--out", str(out), "--quiet"
+    )
+    assert code == 0, stdout
+    mud = mudrft.Mud(vertical=v35, horizontal=mudrft.paper_parameters(0.25, "horizontal"))
+    expected = mudrft.simulate(mudrft.feet.by_name("flat"), mud, mudrft.gait(0.2))
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(table[:, 4:], expected.force, rtol=1e-6, atol=1e-9)
+    paper = mudrft.simulate(mudrft.feet.by_name("flat"), mudrft.paper_mud(0.25), mudrft.gait(0.2))
+    assert not np.allclose(table[:, 6], paper.force[:, 2], rtol=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("option", "which", "message"),
+    [
+        ("--vertical", "h", "--vertical: {path!r} holds a horizontal parameter set, expected a "
+         "vertical one (were --vertical and --horizontal swapped?)"),
+        ("--horizontal", "missing", "--horizontal: {path}: no such file"),
+    ],
+)  # fmt: skip
+def test_simulate_parameter_file_mistakes_name_the_option(
+    tmp_path, capsys, monkeypatch, option, which, message
+):
+    import mudrft
+
+    monkeypatch.chdir(tmp_path)
+    path = "missing.json"
+    if which == "h":
+        path = _parameter_file(tmp_path / "h.json", mudrft.paper_parameters(0.25, "horizontal"))
+    code, _, err = run(capsys, "simulate", "--foot", "flat", option, path, "--out", "x.csv")
+    assert code == 2
+    assert err == f"mudrft simulate: error: {message.format(path=path)}\n"
+    assert not (tmp_path / "x.csv").exists()
