@@ -319,3 +319,23 @@ def test_simulate_parameter_file_mistakes_name_the_option(
     assert code == 2
     assert err == f"mudrft simulate: error: {message.format(path=path)}\n"
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_simulate_prints_each_metric_with_its_unit(tmp_path, capsys):
+    """The metrics came as 'peak_support 92.79', 'impulse_x -20.2': a new user could not
+    tell N from N s from J without the README."""
+    code, out, _ = run(
+        capsys, "simulate", "--foot", "flat", "--out", str(tmp_path / "r.csv"), "--quiet"
+    )
+    assert code == 0
+    units = {line.split()[0]: line.split()[2:] for line in out.splitlines()[1:]}
+    assert units == {
+        "peak_support": ["N"],
+        "max_suction": ["N"],
+        "impulse_x": ["N", "s"],
+        "impulse_y": ["N", "s"],
+        "impulse_z": ["N", "s"],
+        "energy": ["J"],
+        "sinking": ["m"],
+        "suction_ratio": ["-"],
+    }

@@ -124,8 +124,10 @@ def run(args: argparse.Namespace) -> int:
             finally:
                 plt.close(fig)
     print(f"wrote {args.out}")
+    from ..sweep.catalog import METRICS  # names and units only (no Dask, no xarray)
+
     for k, v in res.metrics().items():
-        print(f"  {k:14s} {v: .6g}")
+        print(f"  {k:14s} {v: .6g} {METRICS['gait'][k].unit}")
     if args.plot:
         print(f"wrote {args.plot}")
     return 0
