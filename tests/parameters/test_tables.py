@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import warnings
 
@@ -150,3 +151,14 @@ def test_a_mud_refuses_sets_fitted_to_the_other_direction():
         mudrft.Mud(mud.vertical, mud.vertical)
     either = mudrft.Mud(mud.vertical, mud.vertical.replace(direction=""))
     assert either.horizontal.alpha == mud.vertical.alpha
+
+
+def test_replace_moves_a_default_k_a_with_lam_and_keeps_an_explicit_one():
+    # D3: k_a = 1/lam unless given. replace() knows whether k_a was derived;
+    # dataclasses.replace cannot, and keeps the old value (docstring of replace)
+    v = mudrft.paper_parameters(0.25)
+    moved = v.replace(lam=2.0 * v.lam)
+    assert moved.k_a == pytest.approx(1.0 / (2.0 * v.lam), rel=1e-15)
+    assert dataclasses.replace(v, lam=2.0 * v.lam).k_a == v.k_a
+    explicit = v.replace(k_a=0.5).replace(lam=3.0)
+    assert explicit.k_a == 0.5

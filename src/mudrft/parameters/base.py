@@ -184,7 +184,12 @@ class MudParameters:
         return (self.eta_m - self.eta_inf) * self.gamma_dot_c
 
     def replace(self, **changes: Any) -> MudParameters:
-        """Return a copy with some fields changed (validated again)."""
+        """Return a copy with some fields changed (validated again).
+
+        A new ``lam`` also moves ``k_a`` when it was the default :math:`1/\\lambda` (D3).
+        :func:`dataclasses.replace` cannot know that ``k_a`` was derived and keeps its old
+        value: use this method.
+        """
         if "lam" in changes and "k_a" not in changes and self._k_a_is_default():
             changes["k_a"] = None
         return dataclasses.replace(self, **changes)
