@@ -272,3 +272,19 @@ def test_a_second_trial_whose_clock_restarts_is_told_how_to_continue():
         "whose clock starts again: add the previous trial's last time to its times (the "
         "estimates carry on), or call reset() first (they start again from the prior)"
     )
+
+
+def test_a_non_positive_estimate_is_kept_out_of_to_parameters_with_a_warning():
+    # a prior from the wrong row (25 % for a 35 % mud) at a slow 5 mm/s drives the
+    # unconstrained eta_inf estimate below 0; to_parameters keeps the prior's value, and
+    # says so instead of doing it silently
+    from mudrft.calibration import CalibrationWarning
+
+    t, q, s, _ = cycles([P35], 3, noise=0.01, speed=0.005)
+    est = OnlineEstimator(P25)
+    est.update_many(t, q, s)
+    assert est.estimate.eta_inf < 0
+    with pytest.warns(CalibrationWarning, match=r"not positive \(eta_inf = -"):
+        p = est.to_parameters()
+    assert p.eta_inf == P25.eta_inf
+    assert p.alpha == est.estimate.alpha

@@ -28,12 +28,14 @@ bias by comparing whole candidate models.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validation import (
+    CalibrationWarning,
     MudrftError,
     check_characteristic_length,
     check_choice,
@@ -429,7 +431,11 @@ class OnlineEstimator:
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
         """``base`` (default the prior) with the estimated fields replaced.
 
-        Estimates not yet available, or not positive, keep the base value.
+        Estimates not yet available, or not positive, keep the base value; a
+        non-positive estimate warns (a :class:`~mudrft.calibration.CalibrationWarning`
+        naming it), since the least-squares estimates are unconstrained and one at or below
+        0 says the prior's fixed constants (``n``, ``lam``, ``gamma_dot_c``, ``epsilon``,
+        ``tau_leak``) do not describe this mud (D46).
 
         Parameters
         ----------
@@ -441,10 +447,21 @@ class OnlineEstimator:
             raise MudrftError(f"base must be a MudParameters, got {type(b).__name__}")
         est = self.estimate
         changes: dict[str, float] = {"n": self.n}
+        kept = []
         for k in ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build"):
             v = getattr(est, k)
             if v is not None and v > 0:
                 changes[k] = v
+            elif v is not None:
+                kept.append(f"{k} = {v:.4g}")
+        if kept:
+            warnings.warn(
+                f"online estimate not positive ({', '.join(kept)}): the base value is kept; "
+                "the prior's fixed constants may not describe this mud (calibrate offline, "
+                "then rebase() the estimator on the fit)",
+                CalibrationWarning,
+                stacklevel=2,
+            )
         return b.replace(**changes, source=f"online estimate ({self.model})")
 
     def __repr__(self) -> str:
