@@ -288,3 +288,26 @@ def test_a_non_positive_estimate_is_kept_out_of_to_parameters_with_a_warning():
         p = est.to_parameters()
     assert p.eta_inf == P25.eta_inf
     assert p.alpha == est.estimate.alpha
+
+
+@pytest.mark.parametrize("kind", ["estimator", "classifier"])
+def test_a_stream_in_mm_warns_once_as_the_log_loader_does(kind):
+    # depths in mm (30 for 30 mm) pass the hard 100 m limit; they warn once a stream
+    # (D105's plausible depth, as the log loader), and an SI stream does not warn
+    import warnings
+
+    from mudrft._validation import PlausibilityWarning
+
+    t, q, s, _ = cycles([P25], 1, noise=0.0)
+
+    def feed(depths):
+        stream = OnlineEstimator(P25) if kind == "estimator" else StreamClassifier()
+        for sample in zip(t, depths, s, strict=True):
+            stream.update(*sample)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        feed(q)
+    with pytest.warns(PlausibilityWarning, match=r"update: depth of .* more than 1 m") as rec:
+        feed(1e3 * q)
+    assert sum(issubclass(w.category, PlausibilityWarning) for w in rec) == 1

@@ -15,7 +15,8 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import LENGTH_LIMITS, MudrftError
+from .._validation import LENGTH_LIMITS, MudrftError, warn_implausible
+from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
 __all__ = ["MAX_STRESS", "Sample", "SampleStream", "refined_argmin", "rls_update"]
 
@@ -123,6 +124,7 @@ class SampleStream:
     def __init__(self, characteristic_length: float) -> None:
         self.L = float(characteristic_length)
         self.last: tuple[float, float] | None = None
+        self.warned = False  # one plausibility warning a stream, not one a sample
 
     def reset(self) -> None:
         """Forget the previous sample."""
@@ -143,6 +145,18 @@ class SampleStream:
                     f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud "
                     f"test reaches it: a unit mistake?), got {given!r}"
                 )
+        if not self.warned and (
+            abs(q) > PLAUSIBLE_DEPTH[1] or abs(s) > PLAUSIBLE_PEAK_STRESS[1]
+        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns (D105)
+            big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
+            self.warned = warn_implausible(
+                f"update: {'depth' if big_depth else 'stress'} of",
+                abs(q) if big_depth else abs(s),
+                PLAUSIBLE_DEPTH if big_depth else PLAUSIBLE_PEAK_STRESS,
+                unit="m" if big_depth else "Pa",
+                hint="stream SI values (depth in m, stress in Pa, time in s); "
+                "this warning is shown once a stream",
+            )
         g = q / self.L
         if self.last is None:
             self.last = (t, g)
