@@ -298,6 +298,29 @@ def test_simulate_takes_calibrated_parameter_files(tmp_path, capsys):
     assert not np.allclose(table[:, 6], paper.force[:, 2], rtol=1e-3)
 
 
+def test_compare_takes_a_calibrated_parameter_file_for_the_mud_only(tmp_path, capsys):
+    """``mudrft compare --vertical FIT.json`` runs the mud model on the fit (D111); the
+    baselines keep their defaults (D59)."""
+    import csv
+
+    import mudrft
+
+    fit = _parameter_file(tmp_path / "fit.json", mudrft.paper_parameters(0.45, "vertical"))
+    rows = {}
+    for name, extra in (("paper", []), ("fit", ["--vertical", fit])):
+        out = tmp_path / name
+        args = ["compare", "--out", str(out), "--no-figures", "--quiet", *extra]
+        assert run(capsys, *args)[0] == 0
+        with (out / "compare_summary.csv").open() as fh:
+            rows[name] = {(r["trajectory"], r["terrain"]): r for r in csv.DictReader(fh)}
+    for key, paper in rows["paper"].items():
+        same = rows["fit"][key]["peak_support [N]"] == paper["peak_support [N]"]
+        assert same == (key[1] != "mud"), key
+    assert float(rows["fit"][("plate", "mud")]["peak_support [N]"]) < float(
+        rows["paper"][("plate", "mud")]["peak_support [N]"]
+    )
+
+
 @pytest.mark.parametrize(
     ("option", "which", "message"),
     [

@@ -175,6 +175,8 @@ def _args(tmp_path, **kw):
         "force": False,
         "quiet": True,
         "compare": False,
+        "vertical": None,
+        "horizontal": None,
     }
     base.update(kw)
     return argparse.Namespace(**base)
@@ -225,3 +227,18 @@ def test_a_step_of_a_few_physics_steps_is_refused():
     """walk(step_time=1e-6) ran and returned meaningless numbers (found by a CLI fuzz)."""
     with pytest.raises(mudrft.MudrftError, match=r"step_time must span at least 20 physics steps"):
         W.walk(mudrft.feet.Flat(), MUD, seconds=0.01, dt=1e-3, step_time=0.019)
+
+
+def test_walk_takes_a_calibrated_parameter_file(tmp_path):
+    """``mudrft walk --vertical FIT.json`` walks on a fitted set (D111), as simulate does;
+    the summary names the mud, and a softer fitted row sinks the feet deeper."""
+    v45 = mudrft.paper_parameters(0.45, "vertical")
+    fit = tmp_path / "fit.json"
+    fit.write_text(json.dumps({"direction": "vertical", **v45.as_dict()}))
+    assert walk_cli.run(_args(tmp_path, water_content=0.25)) == 0
+    paper = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert walk_cli.run(_args(tmp_path, water_content=0.25, vertical=str(fit), force=True)) == 0
+    fitted = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert paper["mud"] == "Chen 2026 mud, W = 25 %"
+    assert fitted["mud"] == f"vertical {fit}, the rest of the paper's mud at W = 25 %"
+    assert fitted["steps"] > 0 and fitted["mean_sinking [m]"] > paper["mean_sinking [m]"]

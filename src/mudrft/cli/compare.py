@@ -16,6 +16,8 @@ from pathlib import Path
 from typing import Any
 
 from ..feet import by_name
+from ..parameters import Mud
+from ..terrains import MudTerrain
 from ..trajectories import gait, plate_intrusion
 from ._common import (
     HelpFormatter,
@@ -25,9 +27,9 @@ from ._common import (
     check_finite_option,
     check_nonnegative_option,
     check_positive_option,
-    paper_mud_option,
     require_extra,
 )
+from ._mud import add_fit_options, mud_from_options
 
 __all__ = ["FILES", "add_parser", "run", "write_comparison"]
 
@@ -36,7 +38,8 @@ DESCRIPTION = (
     "terrains (granular RFT, linear stiffness, Maxwell-type mud, rigid ground), and write "
     "DIR/compare.csv (every sample, long format), DIR/compare_summary.csv (peak support, "
     "suction, impulses and energy per run) and the figures DIR/compare_s6.png and "
-    "DIR/compare_gait.png (as in the paper's Figs. S5 and S6)."
+    "DIR/compare_gait.png (as in the paper's Figs. S5 and S6). --vertical/--horizontal "
+    "FIT.json put calibrated sets in the mud model (the baselines keep their defaults)."
 )
 
 #: The files ``mudrft compare`` writes in its directory: key -> (name, is a figure).
@@ -59,6 +62,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     add_foot_options(p, default="flat")
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
     p.add_argument("--water-content", type=float, default=0.25, help="mud water content W [-]")
+    add_fit_options(p)
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
     p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
@@ -84,6 +88,7 @@ def write_comparison(
     force: bool = False,
     quiet: bool = False,
     extrapolate: bool = False,
+    mud: Mud | None = None,
 ) -> dict[str, Path]:
     """Run and write what ``mudrft compare`` writes; all files or none.
 
@@ -109,14 +114,20 @@ def write_comparison(
         No progress lines on stderr.
     extrapolate : bool, keyword-only
         Allow a water content outside the tabulated rows (warns).
+    mud : Mud, optional, keyword-only
+        The mud model's parameters in place of the paper's at ``water_content`` (a
+        calibrated mud, decision D111); the baselines keep their defaults (D59).
 
     Returns
     -------
     dict of str to Path
         The paths written, by key of :data:`FILES`.
     """
-    from ..baselines.compare import compare, summarize, write_csv
+    from ..baselines.compare import compare, default_terrains, summarize, write_csv
 
+    terrains = default_terrains(water_content, extrapolate=extrapolate)
+    if mud is not None:
+        terrains["mud"] = MudTerrain(mud)
     keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
     with Outputs(force=force) as outputs:
         stage = outputs.directory("--out", out, [FILES[k][0] for k in keys])
@@ -124,15 +135,13 @@ def write_comparison(
             "plate": compare(
                 foot,
                 plate_intrusion(depth=depth, hold=hold),
-                water_content=water_content,
-                extrapolate=extrapolate,
+                terrains,
                 progress=not quiet,
             ),
             "gait": compare(
                 foot,
                 gait(speed, depth=depth),
-                water_content=water_content,
-                extrapolate=extrapolate,
+                terrains,
                 progress=not quiet,
             ),
         }
@@ -171,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
     water_content = check_finite_option("--water-content", args.water_content)
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
         warnings.simplefilter("ignore")
-        paper_mud_option(water_content, extrapolate=args.extrapolate)
+        mud = mud_from_options(args)
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
@@ -187,6 +196,7 @@ def run(args: argparse.Namespace) -> int:
         force=args.force,
         quiet=args.quiet,
         extrapolate=args.extrapolate,
+        mud=mud,
     )
     for p in paths.values():
         print(f"wrote {p}")

@@ -7,7 +7,6 @@ from typing import Any
 
 from .._validation import MudrftError
 from ..feet import by_name
-from ..parameters import Mud
 from ..simulation import simulate
 from ..terrains import MudTerrain
 from ..trajectories import STANCE_DEPTH, gait
@@ -18,10 +17,10 @@ from ._common import (
     add_force,
     check_positive_option,
     logger,
-    paper_mud_option,
     require_plot_file,
     same_file,
 )
+from ._mud import add_fit_options, mud_from_options
 
 __all__ = ["add_parser", "run"]
 
@@ -47,13 +46,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
-    for d in ("vertical", "horizontal"):
-        p.add_argument(
-            f"--{d}",
-            metavar="FIT.json",
-            help=f"{d} parameter set from a file (mudrft calibrate --out, SI) in place of the "
-            f"paper's {d} row at --water-content (decision D111)",
-        )
+    add_fit_options(p)
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument(
         "--depth", type=float, default=STANCE_DEPTH, help="deepest tip depth [m] (decision D10)"
@@ -104,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
 
     foot = by_name(args.foot, unit=args.unit)
     mud = MudTerrain(
-        _mud(args),
+        mud_from_options(args),
         thixotropy=args.thixotropy,
         clock=args.clock,
     )
@@ -131,31 +124,3 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         print(f"wrote {args.plot}")
     return 0
-
-
-def _mud(args: argparse.Namespace) -> Mud:
-    """The paper's mud at ``--water-content``, with a set from ``--vertical`` or
-    ``--horizontal`` in place of its row (decision D111); errors name the option."""
-    from ..calibration.persistence import load_parameters
-
-    paper = paper_mud_option(args.water_content, extrapolate=args.extrapolate, labels=args.labels)
-    sets, names = {}, []
-    for d in ("vertical", "horizontal"):
-        path = getattr(args, d)
-        if path is None:
-            sets[d] = getattr(paper, d)
-            continue
-        try:
-            params = load_parameters(path)
-        except MudrftError as exc:
-            raise MudrftError(f"--{d}: {exc}") from None
-        if params.direction not in ("", d):
-            raise MudrftError(
-                f"--{d}: {path!r} holds a {params.direction} parameter set, expected a {d} one "
-                "(were --vertical and --horizontal swapped?)"
-            )
-        sets[d] = params
-        names.append(f"{d} {path}")
-    w = f"W = {100 * args.water_content:g} %"
-    name = ", ".join(names) + ("" if len(names) == 2 else f", the rest of the paper's mud at {w}")
-    return Mud(sets["vertical"], sets["horizontal"], paper.water_content, name=name if names else w)

@@ -20,9 +20,9 @@ from ._common import (
     check_nonnegative_option,
     check_positive_option,
     logger,
-    paper_mud_option,
     require_extra,
 )
+from ._mud import add_fit_options, mud_from_options
 
 __all__ = ["FILES", "add_parser", "run"]
 
@@ -51,6 +51,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
+    add_fit_options(p)
     p.add_argument("--seconds", type=float, default=10.0, help="simulated time [s]")
     p.add_argument("--out", required=True, help="output directory DIR")
     p.add_argument("--dt", type=float, default=1e-3, help="physics time step [s]")
@@ -101,20 +102,14 @@ def run(args: argparse.Namespace) -> int:
             f"{W.MIN_STEP_SAMPLES * dt:g} s at --dt {dt:g}), got {step_time:g}"
         )
 
-    mud = paper_mud_option(args.water_content, extrapolate=args.extrapolate)
+    mud = mud_from_options(args)
     if args.compare:
         return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
                         bottom=bottom)  # fmt: skip
     foot = by_name(args.foot, unit=args.unit)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
-        logger.info(
-            "mudrft walk: %s feet, W = %g, %g s at dt = %g s",
-            foot.name,
-            args.water_content,
-            seconds,
-            dt,
-        )
+        logger.info("mudrft walk: %s feet, %s, %g s at dt = %g s", foot.name, mud.name, seconds, dt)
         t0 = time.perf_counter()
         res = W.walk(
             foot,
@@ -130,6 +125,7 @@ def run(args: argparse.Namespace) -> int:
         )
         s = res.summary
         s["water_content"] = float(args.water_content)
+        s["mud"] = mud.name
         s["wall_time [s]"] = round(time.perf_counter() - t0, 3)
         WO._write_csv(stage / "walk.csv", res.table, WO.WALK_COLUMNS)
         WO._write_csv(stage / "steps.csv", res.steps, WO.STEP_COLUMNS)
@@ -156,8 +152,8 @@ def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, COMPARE_FILES)
         logger.info(
-            "mudrft walk --compare: W = %g, %g s at dt = %g s",
-            args.water_content,
+            "mudrft walk --compare: %s, %g s at dt = %g s",
+            mud.name,
             options["seconds"],
             options["dt"],
         )
@@ -167,7 +163,7 @@ def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
             implicit=not args.explicit,
             **options,
         )
-        write_compare(stage, summaries, mud_name=f"(W = {100 * args.water_content:.0f} %)")
+        write_compare(stage, summaries, mud_name=f"({mud.name})")
     _warn_if_no_step(summaries, options["seconds"], options["step_time"])
     for foot, s in summaries.items():
         print(
