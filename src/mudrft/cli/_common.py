@@ -30,7 +30,7 @@ from typing import Any, ClassVar
 from .._progress import logger
 from .._validation import MudrftError
 from ..io.atomic import regular_target
-from ..parameters import paper_mud
+from ..parameters import Mud, paper_mud
 
 __all__ = [
     "EXTRAS",
@@ -178,7 +178,7 @@ def _unit(unit: str) -> str:
     return f" {unit}" if unit else ""
 
 
-def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Any:
+def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Mud:
     """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
 
     check_finite_option("--water-content", water_content)

@@ -12,7 +12,6 @@ import importlib.util
 import sys
 from pathlib import Path
 from types import ModuleType
-from typing import Any
 
 from .._validation import MudrftError
 from ..io.atomic import json_text
@@ -79,7 +78,9 @@ def load_harness() -> ModuleType:
     return module
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft bench`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "bench",

@@ -52,7 +52,7 @@ class _DeprecatedForce(argparse.Action):
         self,
         parser: argparse.ArgumentParser,
         namespace: argparse.Namespace,
-        values: Any,
+        values: object,
         option_string: str | None = None,
     ) -> None:
         namespace.force = True
@@ -61,7 +61,9 @@ class _DeprecatedForce(argparse.Action):
         namespace.deprecations = notes
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft calibrate`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "calibrate",

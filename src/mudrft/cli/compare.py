@@ -13,7 +13,7 @@ import argparse
 import csv
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..feet import by_name
 from ..parameters import Mud
@@ -30,6 +30,9 @@ from ._common import (
     require_extra,
 )
 from ._mud import add_fit_options, mud_from_options
+
+if TYPE_CHECKING:
+    from ..feet import Foot
 
 __all__ = ["FILES", "add_parser", "run", "write_comparison"]
 
@@ -51,7 +54,9 @@ FILES = {
 }
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft compare`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "compare",
@@ -77,7 +82,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def write_comparison(
-    foot: Any,
+    foot: Foot,
     out: str | Path,
     *,
     water_content: float = 0.25,

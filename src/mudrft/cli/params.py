@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
 from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
 from ..parameters.chen2026 import TABLE_NAME
@@ -19,7 +18,9 @@ DESCRIPTION = (
 )
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft params`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "params",

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
 
 from ._common import HelpFormatter, Outputs, add_force, require_extra
 
@@ -32,7 +31,9 @@ FIGURES = (
 )
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft reproduce`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "reproduce",

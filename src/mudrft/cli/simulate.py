@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
 from .._validation import MudrftError
 from ..feet import by_name
@@ -34,7 +33,9 @@ DESCRIPTION = (
 )
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft simulate`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "simulate",

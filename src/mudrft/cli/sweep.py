@@ -4,10 +4,15 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
 from ._common import HelpFormatter, Outputs, add_force, logger, require_extra, same_file
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..sweep.spec import SweepSpec
 
 __all__ = ["STORE", "TABLE", "add_parser", "run"]
 
@@ -27,7 +32,9 @@ DESCRIPTION = (
 )
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft sweep`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "sweep",
@@ -67,11 +74,11 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return p
 
 
-def _plot_metrics(spec: Any) -> tuple[str, ...]:
+def _plot_metrics(spec: SweepSpec) -> tuple[str, ...]:
     return tuple(spec.plot.get("metrics", spec.metrics))
 
 
-def _write_table(ds: Any, path: Path) -> None:
+def _write_table(ds: xr.Dataset, path: Path) -> None:
     """One row per point: swept parameters, fixed parameters, metrics, error."""
     ds = ds.drop_vars("done", errors="ignore")
     df = ds.to_dataframe().reset_index()
@@ -169,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write_maps(ds: Any, spec: Any, stage: Path) -> None:
+def _write_maps(ds: xr.Dataset, spec: SweepSpec, stage: Path) -> None:
     import matplotlib.pyplot as plt
 
     from ..sweep.plot import plot_maps

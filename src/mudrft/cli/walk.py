@@ -6,7 +6,7 @@ import argparse
 import math
 import os
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._progress import Progress
 from .._validation import MudrftError
@@ -24,6 +24,10 @@ from ._common import (
 )
 from ._mud import add_fit_options, mud_from_options
 
+if TYPE_CHECKING:
+    from ..parameters import Mud
+    from ..terrains import Terrain
+
 __all__ = ["FILES", "add_parser", "run"]
 
 DESCRIPTION = (
@@ -39,7 +43,9 @@ FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
 COMPARE_FILES = ("compare.csv", "claims.csv", "compare.json", "compare.png")
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> argparse.ArgumentParser:
     """Add ``mudrft walk`` to an argparse subparsers object."""
     p = subparsers.add_parser(
         "walk",
@@ -145,7 +151,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _compare(args: argparse.Namespace, mud: Any, **options: Any) -> int:
+def _compare(args: argparse.Namespace, mud: Mud | Terrain, **options: Any) -> int:
     """``mudrft walk --compare``: every foot on the same mud, a table and a figure."""
     from ..integrations.walk_compare import compare_feet, write_compare
 
