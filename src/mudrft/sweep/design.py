@@ -78,7 +78,7 @@ class Axis:
         return lo + u * (hi - lo)
 
 
-def _plain(v: Any) -> Any:
+def _plain(v: object) -> Any:
     return v.item() if isinstance(v, np.generic) else v
 
 

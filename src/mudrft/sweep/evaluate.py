@@ -68,7 +68,9 @@ def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
     }
 
 
-def build_foot(values: dict[str, Any], *, mesh: Any = None, cache: dict | None = None) -> Any:
+def build_foot(
+    values: dict[str, Any], *, mesh: feet.Foot | None = None, cache: dict | None = None
+) -> feet.Foot:
     """The foot of a point: ``values["foot"]`` (a kind) with its foot parameters."""
     kind = values["foot"]
     params = _section(values, "foot")
@@ -101,7 +103,7 @@ def build_foot(values: dict[str, Any], *, mesh: Any = None, cache: dict | None =
 
 def build_mud(
     values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
-) -> Any:
+) -> MudTerrain:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
 
     params = _section(values, "mud")

@@ -9,23 +9,27 @@ range. :func:`sensitivity` ranks the swept parameters by their effect on a metri
 from __future__ import annotations
 
 from itertools import pairwise
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._validation import MudrftError
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 __all__ = ["plot_maps", "sensitivity"]
 
 
-def _swept(ds: Any) -> list[str]:
+def _swept(ds: xr.Dataset) -> list[str]:
     """Swept parameters: the grid's dimensions, or the sample's coordinates along point."""
     if "point" in ds.dims:
         return [str(c) for c in ds.coords if ds[c].dims == ("point",) and c != "point"]
     return [str(d) for d in ds.dims]
 
 
-def _check(ds: Any, metric: str, names: dict[str, str | None]) -> list[str]:
+def _check(ds: xr.Dataset, metric: str, names: dict[str, str | None]) -> list[str]:
     if metric not in ds.data_vars or metric in ("error", "done"):
         known = [str(v) for v in ds.data_vars if v not in ("error", "done")]
         raise MudrftError(f"metric must be one of {', '.join(known)}, got {metric!r}")
@@ -41,7 +45,7 @@ def _check(ds: Any, metric: str, names: dict[str, str | None]) -> list[str]:
     return swept
 
 
-def _label(ds: Any, name: str) -> str:
+def _label(ds: xr.Dataset, name: str) -> str:
     unit = ds[name].attrs.get("units", "")
     return f"{name} [{unit}]" if unit and unit != "-" else name
 
@@ -53,7 +57,7 @@ def _positions(values: np.ndarray) -> tuple[np.ndarray, list[str] | None]:
 
 
 def plot_maps(
-    ds: Any,
+    ds: xr.Dataset,
     metric: str,
     *,
     x: str | None = None,
@@ -136,7 +140,9 @@ def plot_maps(
     return fig
 
 
-def _sample_maps(ds: Any, metric: str, x: str, y: str | None, panels: str | None, plt: Any) -> Any:
+def _sample_maps(
+    ds: xr.Dataset, metric: str, x: str, y: str | None, panels: str | None, plt: ModuleType
+) -> Any:
     m = ds[metric].values
     groups: list[tuple[str, np.ndarray]] = [("", np.ones(m.shape, dtype=bool))]
     if panels:
@@ -167,7 +173,7 @@ def _sample_maps(ds: Any, metric: str, x: str, y: str | None, panels: str | None
     return fig
 
 
-def sensitivity(ds: Any, metric: str) -> list[tuple[str, float]]:
+def sensitivity(ds: xr.Dataset, metric: str) -> list[tuple[str, float]]:
     """Rank the swept numeric parameters by their effect on ``metric``, largest first.
 
     For a sample: Spearman's rank correlation between each parameter and the metric over

@@ -19,12 +19,18 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 from .._progress import Progress, make_progress
 from .._validation import MudrftError
 from .evaluate import ChunkResult, evaluate_chunk
 from .spec import SweepSpec, load_spec
+
+if TYPE_CHECKING:
+    import distributed
+
+    from .store import StoreLike
 
 __all__ = ["SweepWarning", "run_sweep"]
 
@@ -79,7 +85,9 @@ class _Bar:
 
 
 @contextmanager
-def _client(client: Any, scheduler: str | None, workers: int | None) -> Iterator[Any]:
+def _client(
+    client: distributed.Client | None, scheduler: str | None, workers: int | None
+) -> Iterator[Any]:
     """The client to use: the one given, one connected to ``scheduler``, or a local cluster."""
     if client is not None:
         yield client
@@ -118,7 +126,7 @@ def _run_serial(
 
 
 def _run_dask(
-    client: Any,
+    client: distributed.Client,
     spec: SweepSpec,
     context: dict[str, Any],
     pending: list[int],
@@ -158,8 +166,8 @@ def _run_dask(
 def run_sweep(
     spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec,
     *,
-    store: Any = None,
-    client: Any = None,
+    store: StoreLike | None = None,
+    client: distributed.Client | None = None,
     scheduler: str | None = None,
     workers: int | None = None,
     resume: bool = False,
@@ -266,7 +274,7 @@ def run_sweep(
     return ds
 
 
-def _check_options(store: Any, client: Any, **flags: Any) -> None:
+def _check_options(store: object, client: object, **flags: Any) -> None:
     """The options numpy, zarr or Dask would have failed on deep inside (or taken
     silently: ``resume="no"`` resumed), named."""
     for name in ("resume", "overwrite"):
@@ -287,7 +295,9 @@ def _check_options(store: Any, client: Any, **flags: Any) -> None:
         raise MudrftError(f"client must be a distributed.Client, got {type(client).__name__}: {client!r}")  # fmt: skip
 
 
-def _prepare(S: Any, store: Any, spec: SweepSpec, *, resume: bool, overwrite: bool) -> Any:
+def _prepare(
+    S: ModuleType, store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
+) -> Any:
     import numpy as np
 
     if resume and overwrite:

@@ -35,7 +35,7 @@ import json
 import math
 import os
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -179,7 +179,7 @@ def load_spec(spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec) -> S
     return _resolve(data, text=text, where=str(path), base=path.parent)
 
 
-def _unknown(where: str, key: str, allowed: Any) -> MudrftError:
+def _unknown(where: str, key: str, allowed: Iterable[str]) -> MudrftError:
     near = difflib.get_close_matches(key, list(allowed), n=1)
     hint = f" (did you mean {near[0]!r}?)" if near else ""
     return MudrftError(f"{where} {key}: unknown key{hint}; expected one of {', '.join(allowed)}")
@@ -268,7 +268,7 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
     return spec
 
 
-def _integer(where: str, value: Any, low: int) -> int:
+def _integer(where: str, value: object, low: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < low:
         raise MudrftError(f"{where} must be an integer >= {low}, got {value!r}")
     return int(value)
@@ -291,7 +291,7 @@ def _sample_size(run: dict[str, Any], design: str) -> tuple[int | None, int | No
     return n, _integer("[sweep] seed", run.get("seed", 0), 0)
 
 
-def _metrics(value: Any, motion: str, where: str) -> tuple[str, ...]:
+def _metrics(value: object, motion: str, where: str) -> tuple[str, ...]:
     known = C.metric_names(motion)
     if value is None:
         return known
@@ -309,7 +309,7 @@ def _metrics(value: Any, motion: str, where: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _points_per_task(value: Any, motion: str) -> int:
+def _points_per_task(value: object, motion: str) -> int:
     if value is not None:
         return _integer("[sweep] points_per_task", value, 1)
     return 0 if motion != "walk" else 1  # 0: chosen from the size (Design.points_per_task)
@@ -352,7 +352,7 @@ def _foot_kind(
     return tuple(values), None
 
 
-def _mud_sets(value: Any, base: Path) -> dict[str, dict[str, Any]]:
+def _mud_sets(value: object, base: Path) -> dict[str, dict[str, Any]]:
     if value is None:
         return {}
     if not isinstance(value, Mapping) or not value:
@@ -413,7 +413,7 @@ def _check_mud_source(fixed: dict[str, Any], axes: list[Axis], sets: dict[str, A
 def _add(
     section: str,
     key: str,
-    raw: Any,
+    raw: object,
     design: str,
     fixed: dict[str, Any],
     axes: list[Axis],
@@ -440,7 +440,7 @@ def _add(
         fixed[key] = _scalar(where, p, raw)
 
 
-def _scalar(where: str, p: C.Parameter, v: Any) -> Any:
+def _scalar(where: str, p: C.Parameter, v: object) -> Any:
     if p.kind == "bool":
         if not isinstance(v, bool):
             raise MudrftError(f"{where} must be true or false, got {v!r}")

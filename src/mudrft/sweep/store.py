@@ -25,7 +25,7 @@ import json
 import os
 import shutil
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
@@ -34,6 +34,12 @@ from .._validation import MudrftError
 from . import catalog as C
 from .evaluate import ChunkResult
 from .spec import SweepSpec
+
+if TYPE_CHECKING:
+    import zarr.abc.store
+
+#: Where a sweep is stored: a ``.zarr`` directory path or a zarr store object.
+StoreLike: TypeAlias = "str | os.PathLike[str] | zarr.abc.store.Store"
 
 __all__ = ["FORMAT", "create_store", "done_chunks", "load_result", "open_store", "write_chunk"]
 
@@ -129,7 +135,7 @@ def _is_store(path: Path) -> bool:
     return "mudrft_sweep_format" in meta.get("attributes", {})
 
 
-def create_store(store: Any, spec: SweepSpec, *, overwrite: bool = False) -> Any:
+def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) -> Any:
     """Create an empty store for ``spec`` (metadata and coordinates only); return its group.
 
     ``store`` is a directory path (``.zarr``) or a zarr store object; an existing path is
@@ -168,7 +174,7 @@ def create_store(store: Any, spec: SweepSpec, *, overwrite: bool = False) -> Any
     return group
 
 
-def open_store(store: Any, spec: SweepSpec) -> Any:
+def open_store(store: StoreLike, spec: SweepSpec) -> Any:
     """Open an existing store to resume ``spec``; raise if it was made from another spec."""
     import zarr
 
@@ -214,7 +220,7 @@ def mark_complete(group: Any, spec: SweepSpec) -> int:
     return failed
 
 
-def load_result(store: Any, *, keep_done: bool = False) -> Any:
+def load_result(store: StoreLike, *, keep_done: bool = False) -> Any:
     """The sweep's Dataset from a store (loaded into memory), strings as plain ``str``.
 
     Parameters
