@@ -20,9 +20,9 @@ import re
 import sys
 import warnings
 from collections.abc import Iterable
-from typing import Any
 
 import numpy as np
+from numpy.typing import DTypeLike
 
 __all__ = [
     "LENGTH_LIMITS",
@@ -102,7 +102,7 @@ class CalibrationWarning(UserWarning):
     describe them (decision D110)."""
 
 
-def plain(value: Any) -> str:
+def plain(value: object) -> str:
     """``value`` as a message shows it: plain numbers, arrays by their shape.
 
     Examples
@@ -123,7 +123,7 @@ def plain(value: Any) -> str:
     return repr(value)
 
 
-def _describe(value: Any) -> str:
+def _describe(value: object) -> str:
     if isinstance(value, (list, tuple)):
         try:
             return f"an array of shape {np.asarray(value, dtype=float).shape}"
@@ -132,7 +132,7 @@ def _describe(value: Any) -> str:
     return plain(value)
 
 
-def as_array(name: str, value: Any, *, dtype: Any = float) -> np.ndarray:
+def as_array(name: str, value: object, *, dtype: DTypeLike = float) -> np.ndarray:
     """Convert ``value`` to a float array, or raise naming ``name``.
 
     A string, a bare ``True``/``False`` or ``None`` is refused: none is a number (numpy
@@ -156,7 +156,7 @@ def as_array(name: str, value: Any, *, dtype: Any = float) -> np.ndarray:
     return arr
 
 
-def check_finite(name: str, value: Any) -> np.ndarray:
+def check_finite(name: str, value: object) -> np.ndarray:
     """Return ``value`` as a float array; raise if any entry is NaN or infinite."""
     arr = as_array(name, value)
     if not np.all(np.isfinite(arr)):
@@ -169,7 +169,7 @@ def check_finite(name: str, value: Any) -> np.ndarray:
     return arr
 
 
-def check_positive(name: str, value: Any, *, unit: str = "") -> np.ndarray:
+def check_positive(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is > 0."""
     arr = check_finite(name, value)
     if not np.all(arr > 0):
@@ -178,7 +178,7 @@ def check_positive(name: str, value: Any, *, unit: str = "") -> np.ndarray:
     return arr
 
 
-def check_nonnegative(name: str, value: Any, *, unit: str = "") -> np.ndarray:
+def check_nonnegative(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is >= 0."""
     arr = check_finite(name, value)
     if not np.all(arr >= 0):
@@ -189,7 +189,9 @@ def check_nonnegative(name: str, value: Any, *, unit: str = "") -> np.ndarray:
     return arr
 
 
-def check_in_range(name: str, value: Any, low: float, high: float, *, unit: str = "") -> np.ndarray:
+def check_in_range(
+    name: str, value: object, low: float, high: float, *, unit: str = ""
+) -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless ``low <= value <= high``."""
     arr = check_finite(name, value)
     if not np.all((arr >= low) & (arr <= high)):
@@ -201,7 +203,7 @@ def check_in_range(name: str, value: Any, low: float, high: float, *, unit: str 
     return arr
 
 
-def check_choice(name: str, value: Any, choices: Iterable[str]) -> str:
+def check_choice(name: str, value: object, choices: Iterable[str]) -> str:
     """Return ``value`` if it is one of ``choices``; raise listing the choices otherwise."""
     options = list(choices)
     if not isinstance(value, str) or value not in options:
@@ -209,7 +211,7 @@ def check_choice(name: str, value: Any, choices: Iterable[str]) -> str:
     return value
 
 
-def check_shape(name: str, value: Any, shape: tuple[int | None, ...]) -> np.ndarray:
+def check_shape(name: str, value: object, shape: tuple[int | None, ...]) -> np.ndarray:
     """Return ``value`` as a finite float array of the given shape (``None`` = any length)."""
     arr = check_finite(name, value)
     ok = arr.ndim == len(shape) and all(
@@ -226,7 +228,7 @@ def check_shape(name: str, value: Any, shape: tuple[int | None, ...]) -> np.ndar
     return arr
 
 
-def check_increasing(name: str, value: Any) -> np.ndarray:
+def check_increasing(name: str, value: object) -> np.ndarray:
     """Return a finite 1-D array that is strictly increasing; raise otherwise."""
     arr = check_shape(name, value, (None,))
     if arr.size >= 2:
@@ -349,7 +351,7 @@ def check_broadcast(**shapes: tuple[int, ...]) -> tuple[int, ...]:
         raise MudrftError(f"the shapes must broadcast together, got {listed}") from None
 
 
-def check_number(name: str, value: Any, *, unit: str = "") -> float:
+def check_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number as a float; an array or a sequence names the argument.
 
     ``value`` is usually the result of :func:`check_positive` (or a sibling) on the user's
@@ -370,7 +372,7 @@ def check_number(name: str, value: Any, *, unit: str = "") -> float:
     return v
 
 
-def positive_number(name: str, value: Any, *, unit: str = "") -> float:
+def positive_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number > 0 as a float: :func:`check_number`, then :func:`check_positive`.
 
     ``unit`` is the argument's SI unit, for the messages. A sequence or an array is refused
@@ -386,14 +388,14 @@ def positive_number(name: str, value: Any, *, unit: str = "") -> float:
     return v
 
 
-def nonnegative_number(name: str, value: Any, *, unit: str = "") -> float:
+def nonnegative_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number >= 0 as a float: :func:`check_number`, then :func:`check_nonnegative`."""
     v = check_number(name, value, unit=unit)
     check_nonnegative(name, v, unit=unit)
     return v
 
 
-def number_in_range(name: str, value: Any, low: float, high: float, *, unit: str = "") -> float:
+def number_in_range(name: str, value: object, low: float, high: float, *, unit: str = "") -> float:
     """One finite number in ``[low, high]`` as a float: :func:`check_number`, then
     :func:`check_in_range`."""
     v = check_number(name, value, unit=unit)
@@ -401,7 +403,7 @@ def number_in_range(name: str, value: Any, low: float, high: float, *, unit: str
     return v
 
 
-def set_number(obj: Any, name: str, value: Any) -> None:
+def set_number(obj: object, name: str, value: object) -> None:
     """Store ``value``, already range-checked, as the float field ``name`` of the frozen
     dataclass ``obj``; an array or a sequence is refused, naming the field
     (:func:`check_number`). For an option that is one number, such as a terrain's
@@ -410,7 +412,7 @@ def set_number(obj: Any, name: str, value: Any) -> None:
     object.__setattr__(obj, name, check_number(name, value))
 
 
-def check_length(name: str, value: Any) -> float:
+def check_length(name: str, value: object) -> float:
     """A size [m] as a float: finite, not a boolean, within :data:`LENGTH_LIMITS`.
 
     Parameters
@@ -435,7 +437,7 @@ def check_length(name: str, value: Any) -> float:
     return v
 
 
-def check_dimensions(what: str, **sizes: Any) -> dict[str, float]:
+def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
     """Check the dimensions of a foot [m] with :func:`check_length`; warn if the largest is
     not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
 
@@ -468,7 +470,7 @@ def check_dimensions(what: str, **sizes: Any) -> dict[str, float]:
     return out
 
 
-def check_characteristic_length(what: str, value: Any) -> float:
+def check_characteristic_length(what: str, value: object) -> float:
     """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warn if it
     is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`, a length in mm read as m).
 
