@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,10 +27,19 @@ from ...terrains.mud import MudTerrain
 from .compiled import N_OUT, coupling_kernel, upright_rows, work_size
 from .contact import MudContact
 
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...feet.base import Foot
+    from ...feet.shapes import _ClosedFormFoot
+    from ...terrains import Terrain
+    from ...terrains.mud import MudState
+    from .placement import BodyFoot
+
 __all__ = ["ARGS", "CompiledCoupling", "check_compilable", "choose_backend", "pack_arguments"]
 
 
-def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
+def check_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> None:
     """Raise unless the numba backend supports this terrain and these feet."""
     if not isinstance(terrain, MudTerrain):
         raise MudrftError(
@@ -46,12 +55,12 @@ def check_compilable(terrain: Any, bodies: Sequence[Any]) -> None:
             )
 
 
-def _compilable_foot(foot: Any) -> bool:
+def _compilable_foot(foot: Foot | None) -> bool:
     elementwise = bool(getattr(foot, "elementwise", False))
     return elementwise or isinstance(foot, MeshFoot | MorphingFoot)
 
 
-def _geometry_row(foot: Any) -> list[float]:
+def _geometry_row(foot: MeshFoot | MorphingFoot | _ClosedFormFoot) -> list[float]:
     """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, (3, trailing, 0, 0)
     for a mesh foot, (4, 0, 0, 0) for the morphing foot (its numbers: :func:`_morph_row`)."""
     if isinstance(foot, MeshFoot):
@@ -61,14 +70,14 @@ def _geometry_row(foot: Any) -> list[float]:
     return [float(v) for v in foot.kernel_geometry]
 
 
-def _morph_row(foot: Any) -> Any:
+def _morph_row(foot: Foot) -> Any:
     """A morphing foot's :class:`~mudrft.feet.morphing.row.MorphingRow`; zeros for others."""
     if isinstance(foot, MorphingFoot):
         return row_array(foot)
     return np.zeros(len(MorphingRow._fields))
 
 
-def choose_backend(backend: str, mud: Any, foot: Any) -> str:
+def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
     """``"numba"`` or ``"numpy"`` for ``backend="auto"``: the compiled coupling where numba
     is installed, the terrain is the mud and the foot a closed form or a mesh; otherwise as
     given."""
@@ -186,7 +195,9 @@ class CompiledCoupling:
         self.datas: list[Any] = []
         self.opts = np.zeros(12)
 
-    def reset(self, datas: Sequence[Any], states: Sequence[Any], pos: np.ndarray) -> None:
+    def reset(
+        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: np.ndarray
+    ) -> None:
         """Mud rows from the numpy coupling's initial states; odometry from ``pos``."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):

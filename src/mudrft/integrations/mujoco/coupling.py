@@ -8,10 +8,16 @@ robots.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..._validation import MudrftError
 from .batch import MudBatch, MudContact
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...parameters import Mud
+    from ...terrains import Terrain
 
 __all__ = ["MudCoupling", "attach", "attach_batch"]
 
@@ -22,22 +28,24 @@ class MudCoupling(MudBatch):
     Outputs in :attr:`last` have shape ``(nbody, ...)``.
     """
 
-    def __init__(self, model: Any, bodies: Sequence[str], mud: Any, **kw: Any) -> None:
+    def __init__(
+        self, model: mujoco.MjModel, bodies: Sequence[str], mud: Mud | Terrain, **kw: Any
+    ) -> None:
         if "n" in kw:
             raise MudrftError("MudCoupling couples one MjData; use MudBatch(n=...) for many")
         super().__init__(model, bodies, mud, n=1, **kw)
         self._single = True
 
-    def reset(self, data: Any) -> None:  # type: ignore[override]
+    def reset(self, data: mujoco.MjData) -> None:  # type: ignore[override]
         """Start with undisturbed mud under the feet in their current pose."""
         super().reset([data])
 
-    def apply(self, data: Any) -> MudContact:  # type: ignore[override]
+    def apply(self, data: mujoco.MjData) -> MudContact:  # type: ignore[override]
         """Advance the mud once and write ``data.xfrc_applied`` (after ``mj_step1``)."""
         self.last = MudContact(*(a[0] for a in self._apply(self._check(data))))
         return self.last
 
-    def step(self, data: Any, nstep: int = 1) -> MudContact:  # type: ignore[override]
+    def step(self, data: mujoco.MjData, nstep: int = 1) -> MudContact:  # type: ignore[override]
         """``nstep`` physics steps, the mud advanced once per step."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
             self._loop(self._nstep(nstep))  # the compiled loop (D68b)
@@ -50,7 +58,7 @@ class MudCoupling(MudBatch):
         self.last = out
         return out
 
-    def advance(self, data: Any, nstep: int = 1) -> None:  # type: ignore[override]
+    def advance(self, data: mujoco.MjData, nstep: int = 1) -> None:  # type: ignore[override]
         """``nstep`` physics steps without returning the contact (:attr:`last` has it)."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
             self._loop(self._nstep(nstep))  # the compiled loop (D68b)
@@ -58,7 +66,9 @@ class MudCoupling(MudBatch):
             self.step(data, nstep)
 
 
-def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MudCoupling:
+def attach(
+    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | Terrain, **kw: Any
+) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
 
     References
@@ -86,7 +96,7 @@ def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MudC
 
 
 def attach_batch(
-    model: Any, bodies: Sequence[str] | str, mud: Any, *, n: int, **kw: Any
+    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | Terrain, *, n: int, **kw: Any
 ) -> MudBatch:
     """Attach mud to named bodies of ``n`` robots of one model; see :class:`MudBatch`."""
     return MudBatch(model, [bodies] if isinstance(bodies, str) else bodies, mud, n=n, **kw)

@@ -21,7 +21,8 @@ batched form).
 from __future__ import annotations
 
 import math
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,8 +31,11 @@ from ... import feet
 from ..._validation import MudrftError
 from ._lazy import _mujoco
 
+if TYPE_CHECKING:
+    import mujoco
 
-def _lowest_geom(model: Any, ref: Any, geoms: list[int]) -> int:
+
+def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) -> int:
     """The geom reaching lowest in the reference pose (mesh/box/sphere/capsule/cylinder)."""
     mj = _mujoco()
     best, zbest = -1, math.inf
@@ -47,7 +51,7 @@ def _lowest_geom(model: Any, ref: Any, geoms: list[int]) -> int:
     return best
 
 
-def _SUPPORTED_GEOMS(mj: Any) -> tuple[int, ...]:
+def _SUPPORTED_GEOMS(mj: ModuleType) -> tuple[int, ...]:
     G = mj.mjtGeom
     return tuple(
         int(t)
@@ -55,7 +59,7 @@ def _SUPPORTED_GEOMS(mj: Any) -> tuple[int, ...]:
     )
 
 
-def _support(model: Any, d: Any, g: int) -> NDArray[np.float64]:
+def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
     """Lowest point (world) of geom ``g`` in pose ``d`` (ties resolved to the center)."""
     mj = _mujoco()
     c = np.array(d.geom_xpos[g])
@@ -94,20 +98,20 @@ def _support(model: Any, d: Any, g: int) -> NDArray[np.float64]:
     )
 
 
-def _mesh_vertices(model: Any, g: int) -> NDArray[np.float64]:
+def _mesh_vertices(model: mujoco.MjModel, g: int) -> NDArray[np.float64]:
     m = int(model.geom_dataid[g])
     adr, num = int(model.mesh_vertadr[m]), int(model.mesh_vertnum[m])
     return np.array(model.mesh_vert[adr : adr + num], dtype=float)
 
 
-def _mesh_faces(model: Any, g: int) -> NDArray[np.int_]:
+def _mesh_faces(model: mujoco.MjModel, g: int) -> NDArray[np.int_]:
     m = int(model.geom_dataid[g])
     adr, num = int(model.mesh_faceadr[m]), int(model.mesh_facenum[m])
     return np.array(model.mesh_face[adr : adr + num], dtype=int)
 
 
 def _derived_foot(
-    model: Any, ref: Any, g: int, fwd_w: NDArray[np.float64]
+    model: mujoco.MjModel, ref: mujoco.MjData, g: int, fwd_w: NDArray[np.float64]
 ) -> tuple[Any, NDArray[np.float64]]:
     """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose)."""
     mj = _mujoco()

@@ -9,7 +9,7 @@ ignored).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -19,6 +19,9 @@ from ..._validation import (
     nonnegative_number,
     positive_number,
 )
+
+if TYPE_CHECKING:
+    import mujoco
 
 __all__ = ["AttachOptions", "check_attach_options", "check_count", "check_data"]
 
@@ -40,7 +43,7 @@ class AttachOptions(NamedTuple):
     resolution: int
 
 
-def check_count(name: str, value: Any) -> int:
+def check_count(name: str, value: object) -> int:
     """An integer >= 1 (not a bool, not 2.5), or an error naming ``name``."""
     if type(value) is int and value >= 1:  # the common case, cheaply (a loop's nstep)
         return value
@@ -50,17 +53,17 @@ def check_count(name: str, value: Any) -> int:
 
 
 def check_attach_options(
-    model: Any,
-    bodies: Any,
-    feet: Any,
+    model: object,
+    bodies: object,
+    feet: object,
     *,
-    surface: Any,
-    bottom: Any,
-    bottom_stiffness: Any,
-    bottom_damping: Any,
-    implicit: Any,
-    mobility: Any,
-    resolution: Any,
+    surface: object,
+    bottom: object,
+    bottom_stiffness: object,
+    bottom_damping: object,
+    implicit: object,
+    mobility: object,
+    resolution: object,
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
@@ -112,7 +115,7 @@ def check_attach_options(
     )
 
 
-def check_data(model: Any, data: Any) -> None:
+def check_data(model: mujoco.MjModel, data: object) -> None:
     """``data`` must be a ``mujoco.MjData`` of ``model``: one made for another model
     coupled the wrong bodies, or crashed inside MuJoCo (a segmentation fault)."""
     from ._lazy import _mujoco
