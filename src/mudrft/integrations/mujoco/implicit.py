@@ -27,11 +27,16 @@ cosine and sine of each foot's yaw.
 
 from __future__ import annotations
 
-from typing import Any, cast
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from ..._typing import FloatArray
+from ..._typing import ArrayLike, FloatArray, Namespace, XpArray
+
+if TYPE_CHECKING:
+    from ...feet.base import Foot
+    from ...terrains import Terrain
 
 __all__ = [
     "channel_rows",
@@ -44,7 +49,7 @@ __all__ = [
 
 
 def secant_steps(
-    wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float, *, xp: Any = np
+    wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float, *, xp: Namespace = np
 ) -> FloatArray:
     """Velocity steps of the secant derivative: what the last wrench did in one step (D63).
 
@@ -71,7 +76,7 @@ def secant_steps(
     return xp.where(xp.abs(dv) > dv_min, dv, dv_min)
 
 
-def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Any = np) -> FloatArray:
+def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Namespace = np) -> FloatArray:
     r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
 
     :math:`b_c\cdot\xi` is the velocity along the channel's axis :math:`\mathbf e_c` (the
@@ -102,8 +107,8 @@ def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Any = np) -> FloatArray
 
 
 def force_and_derivative(
-    terrain: Any,
-    foot: Any,
+    terrain: Terrain,
+    foot: Foot,
     state: Any,
     pos: FloatArray,
     vel: FloatArray,
@@ -157,7 +162,7 @@ def force_and_derivative(
 
 
 def implicit_wrench(
-    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, *, xp: Any = np
+    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, *, xp: Namespace = np
 ) -> FloatArray:
     r"""The linearly implicit wrenches of one robot's feet, solved together (D62, D62d).
 
@@ -198,7 +203,9 @@ def implicit_wrench(
     return cast(FloatArray, xp.reshape(sol, w0.shape))
 
 
-def passivity_scale(work_lin: Any, work_quad: Any, tank: Any, *, xp: Any = np) -> Any:
+def passivity_scale(
+    work_lin: XpArray, work_quad: XpArray, tank: XpArray, *, xp: Namespace = np
+) -> XpArray:
     r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
 
     Element-wise; :math:`q\ge0` and :math:`T\ge0`, so :math:`s=0` always satisfies it.
@@ -237,7 +244,7 @@ def passive_wrench(
     tank: FloatArray,
     dt: float,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Scale one robot's wrenches so that the mud never gives it more energy than it took (D62c).
 
@@ -288,7 +295,7 @@ def passive_wrench(
     return scale * wrench, xp.where(idle, 0.0, left), scale * Ww
 
 
-def _tree_map(fn: Any, tree: Any) -> Any:
+def _tree_map(fn: Callable[..., Any], tree: object) -> Any:
     if tree is None:
         return None
     if isinstance(tree, tuple) and hasattr(tree, "_fields"):
@@ -300,7 +307,7 @@ def _tree_map(fn: Any, tree: Any) -> Any:
     return fn(tree)
 
 
-def _batched(x: Any, batch: tuple[int, ...], k: int) -> np.ndarray:
+def _batched(x: ArrayLike, batch: tuple[int, ...], k: int) -> np.ndarray:
     """Leaf of a terrain state with ``k`` copies along a new leading axis, batch-shaped."""
     a = np.asarray(x)
     if a.shape[: len(batch)] != batch:

@@ -29,15 +29,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..._typing import FloatArray
+from ..._typing import FloatArray, Namespace, XpArray
 from ...feet import Flat
 from ...feet.facet import submerged_area
 from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
+
+if TYPE_CHECKING:
+    from ...feet.morphing import MorphingFoot
 
 __all__ = [
     "ChannelGeometry",
@@ -83,8 +86,8 @@ class ChannelGeometry(NamedTuple):
 
 
 def channel_weights(
-    area: Any, nh: Any, hx: Any, hy: Any, wz: Any, *, xp: Any = np
-) -> tuple[Any, Any, Any]:
+    area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, *, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray]:
     r"""Weights :math:`(w_x, w_y, w_z)` of a submerged facet's channels [m^2], element-wise.
 
     :math:`w_x=|\mathbf n_h|\hat n_x^2\,dS`, :math:`w_y=|\mathbf n_h|\hat n_y^2\,dS`,
@@ -96,7 +99,7 @@ def channel_weights(
     return a * hx * hx, a * hy * hy, area * wz
 
 
-def channel_geometry(triangles: FloatArray, *, xp: Any = np) -> ChannelGeometry:
+def channel_geometry(triangles: FloatArray, *, xp: Namespace = np) -> ChannelGeometry:
     """Channel weights, centroids and second moments of the part of triangles below z = 0.
 
     Parameters
@@ -139,7 +142,7 @@ def channel_geometry(triangles: FloatArray, *, xp: Any = np) -> ChannelGeometry:
     return ChannelGeometry(area=a, point=pts, inertia=inertia, low=low)
 
 
-def upright_area(prepared: PreparedTriangles, depth: Any, *, xp: Any = np) -> FloatArray:
+def upright_area(prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np) -> FloatArray:
     """Channel weights :math:`A_c` of the upright foot with its tip at ``depth`` [m].
 
     Parameters
@@ -286,7 +289,7 @@ def foot_triangles(foot: Any, *, resolution: int = POSE_RESOLUTION) -> FloatArra
     return None if tri is None else np.asarray(tri, dtype=float)
 
 
-def morphing_triangles(foot: Any, *, segments: int = _SEGMENTS) -> FloatArray:
+def morphing_triangles(foot: MorphingFoot, *, segments: int = _SEGMENTS) -> FloatArray:
     """The morphing foot as triangles: base disk, column wall and pads at the spread angle.
 
     The pads are thin plates (both faces), at the pad angle the foot is drawn with
