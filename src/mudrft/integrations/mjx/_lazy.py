@@ -6,6 +6,7 @@ import contextlib
 import functools
 import io
 import os
+from collections.abc import Callable
 from typing import Any
 
 
@@ -61,7 +62,7 @@ FAST_COMPILE_OPTIONS = {
 }
 
 
-def jit(fn: Any, **kw: Any) -> Any:
+def jit(fn: Callable[..., Any], **kw: Any) -> Any:
     """:func:`jax.jit`, with :data:`FAST_COMPILE_OPTIONS` on a CPU when the environment
     variable ``MUDRFT_FAST_COMPILE`` is ``1``."""
     jax = _jax()

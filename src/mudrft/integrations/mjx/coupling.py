@@ -27,7 +27,8 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
@@ -45,10 +46,23 @@ from ..mujoco.stability import warn_rk4
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
 
+if TYPE_CHECKING:
+    import mujoco
+    import mujoco.mjx
+    from jax import Array
+
+    from ..._typing import ArrayLike
+    from ...constitutive.kernel import ChannelConstants
+    from ...feet.base import Foot
+    from ...parameters import Mud
+
+#: The mud's (horizontal, vertical) channel constants: floats, or traced arrays.
+Constants: TypeAlias = "tuple[ChannelConstants, ChannelConstants]"
+
 __all__ = ["MjxCoupling", "attach"]
 
 
-def _force_rule(foot: Any) -> Any:
+def _force_rule(foot: Foot) -> Any:
     from ...backends.forces import force_function
 
     fn = force_function(foot, xp=_xp())
@@ -88,11 +102,11 @@ class MjxCoupling:
 
     def __init__(
         self,
-        model: Any,
+        model: mujoco.MjModel,
         bodies: Sequence[str] | str,
-        mud: Any,
+        mud: Mud | MudTerrain,
         *,
-        feet: Any = None,
+        feet: Foot | Sequence[Foot | None] | None = None,
         surface: float = 0.0,
         bottom: float | None = None,
         bottom_stiffness: float = 1e5,
@@ -177,7 +191,7 @@ class MjxCoupling:
         """The mud's ``(horizontal, vertical)`` channel constants, as Python floats."""
         return tuple(type(c)(*(float(v) for v in c)) for c in self.terrain.constants)
 
-    def put_data(self, data: Any = None) -> Any:
+    def put_data(self, data: mujoco.MjData | None = None) -> mujoco.mjx.Data:
         """An ``mjx.Data`` of ``data`` (default: a fresh ``MjData`` of the model)."""
         mj = _mujoco()
         if data is None:
@@ -189,7 +203,7 @@ class MjxCoupling:
         return _mjx().put_data(self.model, data)
 
     # -- pure functions ---------------------------------------------------------------
-    def init(self, d: Any) -> MjxMudState:
+    def init(self, d: mujoco.mjx.Data) -> MjxMudState:
         """Undisturbed mud under the feet of ``d`` in their current pose (jittable)."""
         mjx = _mjx()
         _check_mjx_data(mjx, d)
@@ -197,8 +211,13 @@ class MjxCoupling:
         return initial_state(self.static, mjx.com_pos(mx, mjx.kinematics(mx, d)))
 
     def wrench(
-        self, d: Any, state: MjxMudState, constants: Any = None, *, model: Any = None
-    ) -> tuple[Any, MjxMudState, MjxContact]:
+        self,
+        d: mujoco.mjx.Data,
+        state: MjxMudState,
+        constants: Constants | None = None,
+        *,
+        model: mujoco.mjx.Model | None = None,
+    ) -> tuple[Array, MjxMudState, MjxContact]:
         """``(xfrc_applied, state, contact)`` for ``d`` after ``fwd_position`` and
         ``fwd_velocity`` (see :func:`.physics.mud_wrench`)."""
         mx = self.mjx_model if model is None else model
@@ -206,8 +225,13 @@ class MjxCoupling:
         return mud_wrench(self.static, consts, mx, d, state)
 
     def step(
-        self, d: Any, state: MjxMudState, constants: Any = None, *, model: Any = None
-    ) -> tuple[Any, MjxMudState, MjxContact]:
+        self,
+        d: mujoco.mjx.Data,
+        state: MjxMudState,
+        constants: Constants | None = None,
+        *,
+        model: mujoco.mjx.Model | None = None,
+    ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
         """One physics step with the mud (jittable, vmappable, differentiable).
 
         Parameters
@@ -247,13 +271,13 @@ class MjxCoupling:
 
     def rollout(
         self,
-        d: Any,
+        d: mujoco.mjx.Data,
         state: MjxMudState,
         n: int,
         *,
-        ctrl: Any = None,
-        constants: Any = None,
-    ) -> tuple[Any, MjxMudState, MjxContact]:
+        ctrl: ArrayLike | None = None,
+        constants: Constants | None = None,
+    ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
         """``n`` steps under :func:`jax.lax.scan`, jit-compiled once per shape.
 
         Parameters
@@ -285,8 +309,16 @@ class MjxCoupling:
     def _rollout_jit(self) -> Any:
         jax = _jax()
 
-        def run(d: Any, state: Any, n: int, ctrl: Any, constants: Any) -> Any:
-            def body(carry: Any, u: Any) -> Any:
+        def run(
+            d: mujoco.mjx.Data,
+            state: MjxMudState,
+            n: int,
+            ctrl: Array | None,
+            constants: Constants | None,
+        ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
+            def body(
+                carry: tuple[mujoco.mjx.Data, MjxMudState], u: Array | None
+            ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], MjxContact]:
                 dd, st = carry
                 if u is not None:
                     dd = dd.replace(ctrl=u)
@@ -299,7 +331,7 @@ class MjxCoupling:
         return jit(run, static_argnums=(2,))
 
 
-def _finish(mjx: Any, mx: Any, d: Any) -> Any:
+def _finish(mjx: ModuleType, mx: mujoco.mjx.Model, d: mujoco.mjx.Data) -> mujoco.mjx.Data:
     """The rest of ``mjx.step`` after the velocity stage (``mj_step2``)."""
     it = mjx.IntegratorType
     if mx.opt.integrator == it.RK4:  # as the CPU coupling: the wrench held over the step
@@ -318,12 +350,14 @@ def _finish(mjx: Any, mx: Any, d: Any) -> Any:
     return mjx.implicit(mx, d)
 
 
-def attach(model: Any, bodies: Sequence[str] | str, mud: Any, **kw: Any) -> MjxCoupling:
+def attach(
+    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | MudTerrain, **kw: Any
+) -> MjxCoupling:
     """Attach mud to named bodies of a MuJoCo model for MJX; see :class:`MjxCoupling`."""
     return MjxCoupling(model, bodies, mud, **kw)
 
 
-def _check_mjx_data(mjx: Any, d: Any) -> None:
+def _check_mjx_data(mjx: ModuleType, d: object) -> None:
     """``d`` must be an ``mjx.Data`` (a CPU ``MjData`` failed deep inside MJX)."""
     if not isinstance(d, mjx.Data):
         raise MudrftError(

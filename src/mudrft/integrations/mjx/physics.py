@@ -30,7 +30,7 @@ Shapes: ``nb`` bodies of one robot; a batch of robots is a :func:`jax.vmap` of i
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -41,6 +41,12 @@ from ..mujoco.kinematics import com_twist
 from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
 from ..mujoco.wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 from ._lazy import _jax, _mjx, _xp
+
+if TYPE_CHECKING:
+    import jax
+    from mujoco import mjx
+
+    from ...constitutive.kernel import ChannelConstants
 
 __all__ = ["MjxContact", "MjxMudState", "Static", "initial_state", "mud_wrench"]
 
@@ -145,7 +151,7 @@ class Static:
     dv_min: float = 1e-4
 
 
-def _frames(cfg: Static, d: Any) -> dict[str, Any]:
+def _frames(cfg: Static, d: mjx.Data) -> dict[str, Any]:
     """Body frames, tips, yaw and twist of the foot bodies (``MudBatch._read``)."""
     xp = _xp()
     ids, roots = cfg.ids, cfg.roots
@@ -158,7 +164,7 @@ def _frames(cfg: Static, d: Any) -> dict[str, Any]:
     return {"X": X, "R": R, "C": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C, xp=xp)}
 
 
-def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
+def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: jax.Array) -> Any:
     """Mobility of the foot bodies' center-of-mass twists, (nb, nb, 6, 6) with the cross
     blocks (``kinematics.*_mobility``, D62d)."""
     xp = _xp()
@@ -185,7 +191,7 @@ def _mobility(cfg: Static, mx: Any, d: Any, C: Any) -> Any:
     return xp.einsum("iav,jvb->ijab", J, minv_jt)  # (nb, nb, 6, 6), cross blocks (D62d)
 
 
-def _posed(cfg: Static, k: dict[str, Any]) -> tuple[tuple[Any, Any, Any, Any], Any]:
+def _posed(cfg: Static, k: dict[str, jax.Array]) -> tuple[tuple[Any, Any, Any, Any], Any]:
     """Channel geometry of each posed foot and its ratio to the upright foot (D60a)."""
     xp = _xp()
     X, R, C, cs = k["X"], k["R"], k["C"], k["cs"]
@@ -214,13 +220,20 @@ def _posed(cfg: Static, k: dict[str, Any]) -> tuple[tuple[Any, Any, Any, Any], A
     return (cat[0], cat[1], cat[2], cat[3]), cat[4]
 
 
-def _take(tree: Any, idx: np.ndarray) -> Any:
+def _take(tree: MudChannels, idx: np.ndarray) -> MudChannels:
     return _jax().tree_util.tree_map(lambda a: a[idx], tree)
 
 
 def _force_and_derivative(
-    cfg: Static, g: Group, consts: Any, st: MudChannels, pos: Any, vel: Any, step: Any, dt: Any
-) -> tuple[MudChannels, Any, Any, Any]:
+    cfg: Static,
+    g: Group,
+    consts: tuple[ChannelConstants, ChannelConstants],
+    st: MudChannels,
+    pos: jax.Array,
+    vel: jax.Array,
+    step: jax.Array | None,
+    dt: float | jax.Array,
+) -> tuple[MudChannels, jax.Array, jax.Array, jax.Array]:
     """The mud step of four copies of the motion (D61, D63): ``implicit.force_and_derivative``."""
     xp = _xp()
     nudge = xp.asarray(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
@@ -243,8 +256,12 @@ def _force_and_derivative(
 
 
 def mud_wrench(
-    cfg: Static, consts: Any, mx: Any, d: Any, st: MjxMudState
-) -> tuple[Any, MjxMudState, MjxContact]:
+    cfg: Static,
+    consts: tuple[ChannelConstants, ChannelConstants],
+    mx: mjx.Model,
+    d: mjx.Data,
+    st: MjxMudState,
+) -> tuple[jax.Array, MjxMudState, MjxContact]:
     """The wrench of the mud on every foot body, and the mud state after the step.
 
     Parameters
@@ -335,7 +352,7 @@ def mud_wrench(
     return xfrc, new_state, out
 
 
-def initial_state(cfg: Static, d: Any) -> MjxMudState:
+def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
     """Undisturbed mud under the feet in their current pose (``MudBatch.reset``).
 
     ``d`` needs the kinematics of its ``qpos`` (``mjx.kinematics`` and ``mjx.com_pos``).
