@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validation import MudrftError
 from ._gym import gymnasium
 from .walker import (
@@ -108,7 +109,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._ready = True
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 
-    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+    def step(self, action: ArrayLike) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
         lay, cfg, d = self.layout, self.config, self.data
         if not self._ready:  # the robot lay at the origin, the coupling unset: a "fall"

@@ -13,10 +13,11 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validation import MudrftError, as_array, check_memory
 from ..terrains import MudTerrain
 from ._gym import gymnasium
@@ -32,6 +33,16 @@ from .walker import (
     walker_config,
     walker_layout,
 )
+
+if TYPE_CHECKING:
+    import jax
+    import mujoco.mjx
+
+    from ..integrations.mjx.coupling import Constants
+    from ..integrations.mjx.physics import MjxMudState
+
+#: Every robot's (mjx.Data, mud state, observation): what reset makes and merge picks from.
+Robots: TypeAlias = "tuple[mujoco.mjx.Data, MjxMudState, jax.Array]"
 
 __all__ = ["MudWalkerVectorEnv"]
 
@@ -62,13 +73,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         num_envs: int = 64,
         *,
         max_episode_steps: int = 1000,
-        water_content: Any = 0.25,
+        water_content: ArrayLike = 0.25,
         render_mode: str | None = None,
         **options: Any,
     ) -> None:
         from ..integrations.mjx import attach
 
-        def count(v: Any) -> bool:
+        def count(v: object) -> bool:
             return bool(not isinstance(v, bool) and isinstance(v, (int, np.integer)) and v >= 1)
 
         if not count(num_envs):
@@ -140,7 +151,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         return np.asarray(obs, dtype=np.float32), {}
 
     def step(
-        self, actions: Any
+        self, actions: ArrayLike
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         """One control step of every robot; robots that ended last step start anew."""
         import jax
@@ -191,7 +202,7 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
     nv, noise = lay.model.nv, cfg.reset_noise_scale
     jq = lay.joint_qadr
 
-    def reset_one(key: Any) -> Any:
+    def reset_one(key: jax.Array) -> Robots:
         k1, k2 = jax.random.split(key)
         qpos = d0.qpos.at[jq].add(jax.random.uniform(k1, (len(jq),), d0.qpos.dtype, -noise, noise))
         qvel = jax.random.uniform(k2, (nv,), d0.qvel.dtype, -noise, noise)
@@ -200,11 +211,15 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
         z = jnp.zeros((2,), d0.qpos.dtype)
         return d, st, observation(lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp)
 
-    def step_one(d: Any, st: Any, a: Any, consts: Any) -> Any:
+    def step_one(
+        d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
+    ) -> tuple[Any, ...]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
 
-        def body(carry: Any, _: Any) -> Any:
+        def body(
+            carry: tuple[mujoco.mjx.Data, MjxMudState], _: None
+        ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], tuple[jax.Array, jax.Array, jax.Array]]:
             dd, ss = carry
             dd, ss, out = cpl.step(dd, ss, consts)
             return (dd, ss), (out.depth, out.force, out.finite)
@@ -220,8 +235,8 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
         }
         return d, st, obs, jnp.nan_to_num(r), ~alive, info
 
-    def merge(done: Any, new: Any, fresh: Any) -> Any:
-        def pick(a: Any, b: Any) -> Any:
+    def merge(done: jax.Array, new: Robots, fresh: Robots) -> Robots:
+        def pick(a: jax.Array, b: jax.Array) -> jax.Array:
             return jnp.where(done.reshape(done.shape + (1,) * (a.ndim - 1)), b, a)
 
         return jax.tree_util.tree_map(pick, new, fresh)

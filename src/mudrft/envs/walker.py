@@ -35,10 +35,11 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass, fields
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike, Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_finite,
@@ -47,6 +48,9 @@ from .._validation import (
     positive_number,
     set_number,
 )
+
+if TYPE_CHECKING:
+    import mujoco
 
 __all__ = [
     "ACTION_SIZE",
@@ -170,7 +174,7 @@ def walker_config(options: dict[str, Any], *, own: tuple[str, ...] = ()) -> Walk
 class WalkerLayout:
     """The walker's MuJoCo model and where things are in it (numpy, made once)."""
 
-    model: Any
+    model: mujoco.MjModel
     qpos0: np.ndarray  # standing pose, soles 1 mm above the mud
     ctrl0: np.ndarray  # standing servo targets [rad]
     ctrl_low: np.ndarray
@@ -217,7 +221,7 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     )
 
 
-def check_reset_options(options: Any) -> None:
+def check_reset_options(options: object) -> None:
     """The walker's ``reset`` takes no options: one given was ignored without a word (the
     mud and the foot are set when the environment is made)."""
     if options:
@@ -227,7 +231,7 @@ def check_reset_options(options: Any) -> None:
         )
 
 
-def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
+def check_action(action: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
     """The action as a float array of exactly ``shape``, finite; an error naming it
     otherwise (a NaN action gave a NaN reward and the episode went on)."""
     if np.iscomplexobj(action):  # numpy would drop the imaginary part with a warning
@@ -243,15 +247,21 @@ def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
     return a
 
 
-def controls(lay: WalkerLayout, action: Any, scale: float, *, xp: Any = np) -> Any:
+def controls(lay: WalkerLayout, action: XpArray, scale: float, *, xp: Namespace = np) -> XpArray:
     """Servo targets [rad] of an action in [-1, 1] (clipped to the servos' ranges)."""
     a = xp.clip(action, -1.0, 1.0)
     return xp.clip(lay.ctrl0 + scale * a, lay.ctrl_low, lay.ctrl_high)
 
 
 def observation(
-    lay: WalkerLayout, qpos: Any, qvel: Any, depth: Any, force: Any, *, xp: Any = np
-) -> Any:
+    lay: WalkerLayout,
+    qpos: XpArray,
+    qvel: XpArray,
+    depth: XpArray,
+    force: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     """The observation (..., 23) of the module docstring from the state and the mud's
     last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]."""
     z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
@@ -264,7 +274,7 @@ def observation(
     )  # fmt: skip
 
 
-def healthy(lay: WalkerLayout, qpos: Any, *, xp: Any = np) -> Any:
+def healthy(lay: WalkerLayout, qpos: XpArray, *, xp: Namespace = np) -> XpArray:
     """True while the torso is above 60 % of its start height, pitched less than 1 rad,
     and the state is finite."""
     height = lay.torso_z0 + (qpos[..., lay.rootz] - lay.qpos0[lay.rootz])
@@ -273,8 +283,14 @@ def healthy(lay: WalkerLayout, qpos: Any, *, xp: Any = np) -> Any:
 
 
 def reward(
-    cfg: WalkerConfig, x_before: Any, x_after: Any, action: Any, alive: Any, *, xp: Any = np
-) -> Any:
+    cfg: WalkerConfig,
+    x_before: XpArray,
+    x_after: XpArray,
+    action: XpArray,
+    alive: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     """Forward speed times its weight, minus the control cost, plus the healthy reward."""
     speed = (x_after - x_before) / (cfg.dt * cfg.frame_skip)
     cost = cfg.ctrl_cost_weight * xp.sum(xp.clip(action, -1.0, 1.0) ** 2, axis=-1)
