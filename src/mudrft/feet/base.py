@@ -19,7 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._typing import ArrayLike, FloatArray
+from .._typing import ArrayLike, FloatArray, Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_broadcast,
@@ -194,20 +194,20 @@ def batch_shape(
     )
 
 
-def fold_heading(heading: Any, *, xp: Any = np) -> Any:
+def fold_heading(heading: XpArray, *, xp: Namespace = np) -> XpArray:
     """The world heading folded into the first quadrant, :math:`[0,\\pi/2]` [rad] (D9)."""
     return xp.arctan2(xp.abs(xp.sin(heading)), xp.abs(xp.cos(heading)))
 
 
 def world_force(
-    coefficients: tuple[Any, Any, Any, Any, Any],
-    sx: Any,
-    sy: Any,
-    sz: Any,
-    heading: Any,
+    coefficients: tuple[XpArray, XpArray, XpArray, XpArray, XpArray],
+    sx: XpArray,
+    sy: XpArray,
+    sz: XpArray,
+    heading: XpArray,
     *,
-    xp: Any = np,
-) -> tuple[Any, Any, Any]:
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:
     r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
 
     Every closed form is linear in the stresses, :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
@@ -390,8 +390,15 @@ class Foot(ABC):
         return unfold_forces(lambda su, ph: self.resultant(d[..., None], su, ph), stress, heading)
 
     def force_components(
-        self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
-    ) -> tuple[Any, Any, Any]:
+        self,
+        depth: XpArray,
+        sx: XpArray,
+        sy: XpArray,
+        sz: XpArray,
+        heading: XpArray,
+        *,
+        xp: Namespace = np,
+    ) -> tuple[XpArray, XpArray, XpArray]:
         """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``.
 
         Parameters are as :meth:`force`, with the stresses split into channels [Pa].
@@ -408,7 +415,7 @@ class Foot(ABC):
         return 1.0
 
     def contact_force(
-        self, foot_state: Any, depth: Any, stress: Any, heading: Any, dt: float
+        self, foot_state: Any, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray, dt: float
     ) -> tuple[Any, np.ndarray]:
         """Advance the foot's internal state and return ``(foot_state, force)`` [N].
 

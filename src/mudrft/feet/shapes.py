@@ -10,12 +10,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
 from .._specialize import on_floats
-from .._typing import ArrayLike, FloatArray, RotationLike
+from .._typing import ArrayLike, FloatArray, Namespace, RotationLike, XpArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
 from .._xp import pyfloat
 from .base import Foot, SurfaceElements
@@ -49,7 +49,9 @@ class _ClosedFormFoot(Foot):
         """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths [m]."""
         raise NotImplementedError
 
-    def coefficients(self, depth: Any, phi: Any, *, xp: Any = np) -> tuple[Any, ...]:
+    def coefficients(
+        self, depth: XpArray, phi: XpArray, *, xp: Namespace = np
+    ) -> tuple[XpArray, ...]:
         """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
         [m] and first-quadrant heading [rad] (see :func:`flat_coefficients`)."""
         kind, g0, g1, g2 = self.kernel_geometry
@@ -64,8 +66,15 @@ class _ClosedFormFoot(Foot):
         return self._forces(*_check_inputs(depth, stress, heading, height=self.height))
 
     def force_components(
-        self, depth: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
-    ) -> tuple[Any, Any, Any]:
+        self,
+        depth: XpArray,
+        sx: XpArray,
+        sy: XpArray,
+        sz: XpArray,
+        heading: XpArray,
+        *,
+        xp: Namespace = np,
+    ) -> tuple[XpArray, XpArray, XpArray]:
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
         kind, g0, g1, g2 = self.kernel_geometry
         if xp is pyfloat:  # one foot on floats: the specialized source (mudrft._specialize)

@@ -15,10 +15,11 @@ import math
 import os
 import struct
 from array import array
-from typing import Any, BinaryIO
+from typing import BinaryIO
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validation import MudrftError, check_finite, check_memory
 
 __all__ = ["facet_bound", "read_stl", "write_stl"]
@@ -207,7 +208,11 @@ def _vertex_count(path: str, facet: int, nvert: int, lineno: int) -> MudrftError
 
 
 def write_stl(
-    path: str | os.PathLike[str], triangles: Any, *, binary: bool = True, overwrite: bool = False
+    path: str | os.PathLike[str],
+    triangles: ArrayLike,
+    *,
+    binary: bool = True,
+    overwrite: bool = False,
 ) -> None:
     """Write triangles to an STL file.
 

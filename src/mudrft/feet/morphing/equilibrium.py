@@ -41,18 +41,23 @@ rims above their most spread position :math:`\theta_m` in the current contact.
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, NamedTuple, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._specialize import on_floats
+from ..._typing import Namespace, XpArray
 from ..._validation import MudrftError, plain
 from ..._xp import pyfloat
 from .linkage import Linkage, pad_angle
 from .pads import morphing_force, vertical_area
 from .row import linkage_row
 from .springs import TwoStageSpring, spring_force
+
+if TYPE_CHECKING:
+    from .linkage import MorphingFootGeometry
+    from .row import MorphingRow
 
 try:  # SciPy >= 1.15
     from scipy.optimize.elementwise import find_root
@@ -96,9 +101,10 @@ class MorphingState(NamedTuple):
 
 
 def column_residual(
-    g: Any, pole_top: Any, branch: Any, spring: Any, deflection: Any, depth: Any, sz: Any,
-    *, xp: Any = np,
-) -> Any:  # fmt: skip
+    g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray,
+    spring: TwoStageSpring | MorphingRow, deflection: XpArray, depth: XpArray, sz: XpArray,
+    *, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise.
 
     The one definition of the column balance (D32), over ``xp`` (D80): ``g`` the dimensions
@@ -199,13 +205,13 @@ def balanced_deflection(
     return out.reshape(shape)
 
 
-def _moving(r_p: Any, p: Any, stroke: Any, *, xp: Any = np) -> Any:
+def _moving(r_p: XpArray, p: XpArray, stroke: XpArray, *, xp: Namespace = np) -> XpArray:
     """Whether the column moves from ``p`` [m] (residual ``r_p`` [N] there): not balanced,
     and not pushed against the stop it rests on (D34)."""
     return ((r_p < 0.0) & (p < stroke)) | ((r_p > 0.0) & (p > 0.0))
 
 
-def _node(k: Any, up: Any, stroke: Any, *, xp: Any = np) -> Any:
+def _node(k: XpArray, up: XpArray, stroke: XpArray, *, xp: Namespace = np) -> XpArray:
     """The ``k``-th of the 33 nodes [m] in the direction of motion (``up``: from 0), the
     values of ``np.linspace(0, stroke, 33)`` bit for bit."""
     j = xp.where(up, k, _GRID - 1 - k)
@@ -213,9 +219,9 @@ def _node(k: Any, up: Any, stroke: Any, *, xp: Any = np) -> Any:
 
 
 def _scan_node(
-    up: Any, p: Any, x: Any, r: Any, lo: Any, flo: Any, hi: Any, fhi: Any, found: Any,
-    *, xp: Any = np,
-) -> tuple[Any, Any, Any, Any, Any]:  # fmt: skip
+    up: XpArray, p: XpArray, x: XpArray, r: XpArray, lo: XpArray, flo: XpArray, hi: XpArray,
+    fhi: XpArray, found: XpArray, *, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34).
 
     The selection rule, element-wise: beyond ``p`` in the direction of motion (``up``:
@@ -234,8 +240,16 @@ def _scan_node(
 
 
 def _settle(
-    up: Any, found: Any, lo: Any, flo: Any, hi: Any, fhi: Any, stroke: Any, *, xp: Any = np
-) -> tuple[Any, Any]:
+    up: XpArray,
+    found: XpArray,
+    lo: XpArray,
+    flo: XpArray,
+    hi: XpArray,
+    fhi: XpArray,
+    stroke: XpArray,
+    *,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray]:
     """The deflection [m] a finished scan gives without refinement (the stop it runs onto
     when no root was found, an end of the bracket that balances already), and whether the
     bracket is open, to be refined (R(lo) < 0 < R(hi))."""
@@ -297,8 +311,8 @@ def seal_factor(
     *,
     pad_length: float,
     seal_length: float,
-    xp: Any = np,
-) -> Any:
+    xp: Namespace = np,
+) -> XpArray:
     r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
     Parameters
@@ -328,7 +342,9 @@ def seal_factor(
     return 1.0 - xp.tanh(lift / seal_length)
 
 
-def track_most_spread(depth: Any, pad_angle: Any, most_spread: Any, *, xp: Any = np) -> Any:
+def track_most_spread(
+    depth: XpArray, pad_angle: XpArray, most_spread: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """Seal memory after a step: the smallest pad angle of the contact [rad] (D35).
 
     Parameters
@@ -346,7 +362,7 @@ def track_most_spread(depth: Any, pad_angle: Any, most_spread: Any, *, xp: Any =
 
 
 def balanced_deflection_on_floats(
-    m: Any, depth: float, sz: float, previous: float, *, xp: Any = pyfloat
+    m: MorphingRow, depth: float, sz: float, previous: float, *, xp: Namespace = pyfloat
 ) -> float:
     r""":func:`balanced_deflection` for one foot on floats (the compiled coupling, D68d).
 
@@ -391,8 +407,8 @@ def balanced_deflection_on_floats(
 
 
 def contact_on_floats(
-    m: Any, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
-    sz: float, heading: float, *, xp: Any = pyfloat,
+    m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
+    sz: float, heading: float, *, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (D68d).
 

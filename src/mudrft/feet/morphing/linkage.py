@@ -22,11 +22,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._typing import Namespace, XpArray
 from ..._validation import (
     MudrftError,
     check_in_range,
@@ -34,6 +35,9 @@ from ..._validation import (
     nonnegative_number,
     number_in_range,
 )
+
+if TYPE_CHECKING:
+    from .row import MorphingRow
 
 __all__ = ["MAX_PADS", "Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
 
@@ -187,7 +191,14 @@ def _pole_height(g: MorphingFootGeometry, theta: NDArray[np.float64]) -> NDArray
     return np.asarray(zc + np.sqrt(g.coupler_length**2 - (rc - g.pole_radius) ** 2))
 
 
-def raw_pad_angle(g: Any, pole_top: Any, branch: Any, deflection: Any, *, xp: Any = np) -> Any:
+def raw_pad_angle(
+    g: MorphingFootGeometry | MorphingRow,
+    pole_top: XpArray,
+    branch: XpArray,
+    deflection: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
 
     Element-wise over ``xp`` (D80); ``g`` holds the dimensions by attribute (a
@@ -202,7 +213,14 @@ def raw_pad_angle(g: Any, pole_top: Any, branch: Any, deflection: Any, *, xp: An
     return xp.arctan2(dz, dr) + branch * xp.arccos(xp.clip(c, -1.0, 1.0)) - g.crank_offset
 
 
-def pad_angle(g: Any, pole_top: Any, branch: Any, deflection: Any, *, xp: Any = np) -> Any:
+def pad_angle(
+    g: MorphingFootGeometry | MorphingRow,
+    pole_top: XpArray,
+    branch: XpArray,
+    deflection: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (D30).
 
     :func:`raw_pad_angle` clipped to [``expanded_angle``, ``retracted_angle``]; the one

@@ -24,14 +24,18 @@ coupling runs them on floats (D68d).
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._typing import Namespace, XpArray
 from ...constitutive.laws import f_n, f_t
 from ..base import SurfaceElements, fold_heading, world_force
 from .linkage import MorphingFootGeometry
+
+if TYPE_CHECKING:
+    from .row import MorphingRow
 
 __all__ = [
     "center_height",
@@ -50,7 +54,9 @@ __all__ = [
 _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot height [-]
 
 
-def pad_area(g: Any, length: Any, *, xp: Any = np) -> Any:
+def pad_area(
+    g: MorphingFootGeometry | MorphingRow, length: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """Area of one pad from its pivot to a distance ``length`` along it [m^2].
 
     Parameters
@@ -66,7 +72,9 @@ def pad_area(g: Any, length: Any, *, xp: Any = np) -> Any:
     return g.pad_inner_width * length + 0.5 * kappa * length * length
 
 
-def submerged_length(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
+def submerged_length(
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """Length of each pad below the mud surface, from its pivot [m].
 
     Parameters
@@ -90,7 +98,9 @@ def submerged_length(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
     )
 
 
-def vertical_area(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
+def vertical_area(
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """Effective vertical area :math:`A_z` of the base and the pads [m^2] (D33).
 
     Parameters
@@ -110,7 +120,14 @@ def vertical_area(g: Any, depth: Any, theta: Any, *, xp: Any = np) -> Any:
     return base + g.n_pads * pad * weight
 
 
-def horizontal_area(g: Any, depth: Any, theta: Any, heading: Any, *, xp: Any = np) -> Any:
+def horizontal_area(
+    g: MorphingFootGeometry | MorphingRow,
+    depth: XpArray,
+    theta: XpArray,
+    heading: XpArray,
+    *,
+    xp: Namespace = np,
+) -> XpArray:
     """Submerged area projected normal to the heading, :math:`A_h` [m^2] (D33).
 
     Parameters
@@ -158,7 +175,14 @@ def footprint_area(
     return np.asarray(base + g.n_pads * pad_area(g, length) * np.cos(theta))
 
 
-def coefficients(g: Any, depth: Any, theta: Any, phi: Any, *, xp: Any = np) -> Any:
+def coefficients(
+    g: MorphingFootGeometry | MorphingRow,
+    depth: XpArray,
+    theta: XpArray,
+    phi: XpArray,
+    *,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33).
 
     :math:`F_x=A_h\cos\varphi\,\sigma_x`, :math:`F_y=A_h\sin\varphi\,\sigma_y`,
@@ -171,8 +195,16 @@ def coefficients(g: Any, depth: Any, theta: Any, phi: Any, *, xp: Any = np) -> A
 
 
 def morphing_force(
-    g: Any, depth: Any, theta: Any, sx: Any, sy: Any, sz: Any, heading: Any, *, xp: Any = np
-) -> tuple[Any, Any, Any]:
+    g: MorphingFootGeometry | MorphingRow,
+    depth: XpArray,
+    theta: XpArray,
+    sx: XpArray,
+    sy: XpArray,
+    sz: XpArray,
+    heading: XpArray,
+    *,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:
     """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad].
 
     :func:`coefficients` at the folded heading, then the heading rule

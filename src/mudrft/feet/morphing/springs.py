@@ -17,17 +17,23 @@ The end stops at :math:`\delta=0` and at the stroke belong to the linkage
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._typing import Namespace, XpArray
 from ..._validation import MudrftError, positive_number
+
+if TYPE_CHECKING:
+    from .row import MorphingRow
 
 __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 
 
-def spring_force(s: Any, deflection: Any, *, xp: Any = np) -> Any:
+def spring_force(
+    s: TwoStageSpring | MorphingRow, deflection: XpArray, *, xp: Namespace = np
+) -> XpArray:
     """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31).
 
     Element-wise over ``xp`` (D80); ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
