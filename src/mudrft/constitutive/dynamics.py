@@ -12,11 +12,12 @@ a MuJoCo loop, a batch (arrays everywhere) and, with ``xp=jax.numpy``, a JAX sca
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
 from .._specialize import on_floats
+from .._typing import ArrayLike, FloatOrArray, Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_choice,
@@ -93,15 +94,15 @@ def evaluation(
 def step(
     params: MudParameters,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
+    gamma: XpArray,
+    gamma_dot: XpArray,
+    dt: XpArray,
     *,
-    seal: Any = 1.0,
+    seal: XpArray = 1.0,
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
-    xp: Any = np,
+    xp: Namespace = np,
     validate: bool = True,
 ) -> tuple[ChannelState, ChannelStress]:
     r"""Advance one stress channel by ``dt`` and return the new state and stresses.
@@ -202,14 +203,14 @@ def step(
     )
 
 
-def _check(gamma: Any, gamma_dot: Any, dt: Any) -> None:
+def _check(gamma: object, gamma_dot: object, dt: object) -> None:
     """The inputs of :func:`step`: ``dt`` [s] > 0, ``gamma`` and ``gamma_dot`` finite."""
     check_positive("dt", dt, unit="s")
     check_finite("gamma", gamma)
     check_finite("gamma_dot", gamma_dot)
 
 
-def _one_channel(*values: Any) -> bool:
+def _one_channel(*values: object) -> bool:
     """Whether every value (numbers, or named tuples of numbers) is one real number."""
     for v in values:
         for x in v if isinstance(v, tuple) else (v,):
@@ -235,11 +236,11 @@ class ChannelHistory(NamedTuple):
 
 def run(
     params: MudParameters,
-    time: Any,
-    gamma: Any,
+    time: ArrayLike,
+    gamma: ArrayLike,
     *,
     state: ChannelState | None = None,
-    seal: Any = 1.0,
+    seal: FloatOrArray = 1.0,
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
