@@ -34,7 +34,8 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -48,6 +49,11 @@ from .._validation import (
 from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
+
+if TYPE_CHECKING:
+    from jax import Array
+
+    from .forces import ForceRule
 
 __all__ = ["BACKENDS", "BatchedMud", "as_mud_terrain", "batched_channel_parameters", "batched_mud"]
 
@@ -117,7 +123,7 @@ def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
     return out
 
 
-def as_mud_terrain(mud: Any, **options: Any) -> MudTerrain:
+def as_mud_terrain(mud: Mud | MudTerrain, **options: Any) -> MudTerrain:
     """A :class:`~mudrft.MudTerrain` (returned as is) or a Mud wrapped with ``options``.
 
     The options (``characteristic_length``, ``acceleration``, ...) are validated by
@@ -187,8 +193,8 @@ class BatchedMud:
 
     def __init__(
         self,
-        mud: Any,
-        foot: Any,
+        mud: Mud | MudTerrain | Sequence[Mud],
+        foot: Foot,
         n: int,
         *,
         position: ArrayLike | None = None,
@@ -245,7 +251,7 @@ class BatchedMud:
                 )
             self._jax_setup(mjax, fn)
 
-    def _jax_setup(self, mjax: Any, fn: Any) -> None:
+    def _jax_setup(self, mjax: ModuleType, fn: ForceRule) -> None:
         jax = mjax.enable_x64()
         jp = mjax.to_jax(self.params)
         t = self.terrain
@@ -267,7 +273,9 @@ class BatchedMud:
         n, lc, xi0 = self.n, self.characteristic_length, t.xi0
         _, unravel = ravel_pytree(mjax.initial_terrain_state(np.zeros((n, 3)), lc, xi0=xi0))
 
-        def one(flat: Any, pos: Any, vel: Any, dt: Any) -> Any:
+        def one(
+            flat: Array, pos: Array, vel: Array, dt: float
+        ) -> tuple[Array, tuple[Array, Array, Array]]:
             st, out = mjax.terrain_step(jp, unravel(flat), pos, vel, dt, **opts)
             return ravel_pytree(st)[0], out
 
@@ -276,7 +284,7 @@ class BatchedMud:
         self._mjax = mjax
 
     # -- state ----------------------------------------------------------------------------
-    def _inputs(self, name: str, value: Any) -> NDArray[np.float64]:
+    def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
         a = check_finite(name, value)
         if a.shape == (3,):
             a = np.broadcast_to(a, (self.n, 3))

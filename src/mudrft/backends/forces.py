@@ -17,17 +17,24 @@ Validation is left out on purpose: the batched hot loop validates its inputs onc
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
+from .._typing import Namespace, XpArray
 from ..feet.mesh import MeshFoot
 from ..feet.surface import PreparedTriangles, integrate_prepared
 
-__all__ = ["force_function"]
+if TYPE_CHECKING:
+    from ..feet.base import Foot
+
+__all__ = ["ForceRule", "force_function"]
+
+#: ``f(depth, stress, heading) -> world force (..., 3)`` [N], over any array namespace.
+ForceRule: TypeAlias = Callable[[XpArray, XpArray, XpArray], XpArray]
 
 
-def force_function(foot: Any, *, xp: Any = np) -> Callable[[Any, Any, Any], Any] | None:
+def force_function(foot: Foot, *, xp: Namespace = np) -> ForceRule | None:
     """``f(depth, stress, heading) -> world force (..., 3)`` [N] for a rigid foot, or None.
 
     Parameters
@@ -53,7 +60,7 @@ def force_function(foot: Any, *, xp: Any = np) -> Callable[[Any, Any, Any], Any]
 
     if getattr(foot, "elementwise", False) and foot.initial_foot_state() is None:
 
-        def rule(d: Any, s: Any, h: Any) -> Any:
+        def rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:
             s = xp.asarray(s)
             f = foot.force_components(
                 xp.asarray(d), s[..., 0], s[..., 1], s[..., 2], xp.asarray(h), xp=xp
@@ -65,7 +72,7 @@ def force_function(foot: Any, *, xp: Any = np) -> Callable[[Any, Any, Any], Any]
         prep = PreparedTriangles(*(xp.asarray(a) for a in foot._prep))
         trailing = foot.trailing
 
-        def mesh_rule(d: Any, s: Any, h: Any) -> Any:
+        def mesh_rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:
             return integrate_prepared(prep, d, s, h, trailing=trailing, xp=xp)
 
         return mesh_rule

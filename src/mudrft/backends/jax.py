@@ -35,7 +35,7 @@ True
 from __future__ import annotations
 
 import functools
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -55,6 +55,10 @@ from ._jax_base import (
     to_jax,
 )
 from .jax_terrain import TerrainState, initial_terrain_state, simulate, terrain_step
+
+if TYPE_CHECKING:
+    from jax import Array
+    from jax.typing import ArrayLike as JaxArrayLike
 
 __all__ = [
     "JaxParams",
@@ -85,10 +89,10 @@ def _compiled() -> dict[str, Any]:
     def one_step(
         p: JaxParams,
         st: ChannelState,
-        g: Any,
-        gd: Any,
-        dt: Any,
-        seal: Any,
+        g: Array,
+        gd: Array,
+        dt: Array,
+        seal: Array,
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
@@ -103,15 +107,17 @@ def _compiled() -> dict[str, Any]:
     def vstep(
         p: JaxParams,
         st: ChannelState,
-        g: Any,
-        gd: Any,
-        dt: Any,
-        seal: Any,
+        g: Array,
+        gd: Array,
+        dt: Array,
+        seal: Array,
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
     ) -> tuple[ChannelState, Any]:
-        def member(p: Any, st: Any, g: Any, gd: Any, dt: Any, seal: Any) -> Any:
+        def member(
+            p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array
+        ) -> Any:
             return one_step(p, st, g, gd, dt, seal, acceleration, thixotropy, clock)
 
         return jax.vmap(member, in_axes=(0, 0, 0, 0, None, 0))(p, st, g, gd, dt, seal)  # type: ignore[no-any-return]
@@ -120,10 +126,10 @@ def _compiled() -> dict[str, Any]:
 
     def run_impl(
         p: JaxParams,
-        t: Any,
-        g: Any,
+        t: Array,
+        g: Array,
         st0: ChannelState,
-        seal: Any,
+        seal: Array,
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
@@ -132,7 +138,9 @@ def _compiled() -> dict[str, Any]:
         dts_b = dts.reshape(dts.shape + (1,) * (g.ndim - 1))
         rates = (g[1:] - g[:-1]) / dts_b
 
-        def body(st: ChannelState, inp: tuple[Any, ...]) -> tuple[ChannelState, tuple[Any, ...]]:
+        def body(
+            st: ChannelState, inp: tuple[Array, Array, Array, Array]
+        ) -> tuple[ChannelState, tuple[Any, ...]]:
             gk, rk, dtk, sk = inp
             st, s = dynamics.step(
                 p, st, gk, rk, dtk, seal=sk, acceleration=acceleration,  # type: ignore[arg-type]
@@ -148,7 +156,7 @@ def _compiled() -> dict[str, Any]:
 
     run_jit = jax.jit(run_impl, static_argnames=static)
 
-    def mesh_impl(v: Any, f: Any, d: Any, s: Any, h: Any, trailing: bool) -> Any:
+    def mesh_impl(v: Array, f: Array, d: Array, s: Array, h: Array, trailing: bool) -> Any:
 
         return integrate_triangles(v[f], d, s, h, trailing=trailing, xp=safe_namespace())
 
@@ -159,11 +167,11 @@ def _compiled() -> dict[str, Any]:
 def step(
     params: JaxParams,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
+    gamma: JaxArrayLike,
+    gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike,
     *,
-    seal: Any = 1.0,
+    seal: JaxArrayLike = 1.0,
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
@@ -207,11 +215,11 @@ def step(
 def batched_step(
     params: JaxParams,
     state: ChannelState,
-    gamma: Any,
-    gamma_dot: Any,
-    dt: Any,
+    gamma: JaxArrayLike,
+    gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike,
     *,
-    seal: Any = None,
+    seal: JaxArrayLike | None = None,
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
@@ -270,18 +278,18 @@ def batched_step(
     )  # type: ignore[no-any-return]
 
 
-def _is_tracer(x: Any) -> bool:
+def _is_tracer(x: object) -> bool:
     jax = enable_x64()
     return isinstance(x, jax.core.Tracer)
 
 
 def run(
     params: JaxParams,
-    time: Any,
-    gamma: Any,
+    time: JaxArrayLike,
+    gamma: JaxArrayLike,
     *,
     state: ChannelState | None = None,
-    seal: Any = 1.0,
+    seal: JaxArrayLike = 1.0,
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
@@ -360,11 +368,11 @@ def run(
 # surface integration and the terrain step
 # ---------------------------------------------------------------------------------------
 def mesh_force(
-    vertices: Any,
-    faces: Any,
-    depth: Any,
-    stress: Any,
-    heading: Any,
+    vertices: JaxArrayLike,
+    faces: JaxArrayLike,
+    depth: JaxArrayLike,
+    stress: JaxArrayLike,
+    heading: JaxArrayLike,
     *,
     trailing: bool = False,
 ) -> Any:

@@ -5,13 +5,18 @@ Part of the JAX backend (:mod:`mudrft.backends.jax` re-exports every name).
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import channel_constants
 from ..terrains.mud import MudChannels, initial_channels, mud_step
 from ._jax_base import JaxParams, _jnp, check_params, enable_x64
+
+if TYPE_CHECKING:
+    from jax import Array
+    from jax.typing import ArrayLike as JaxArrayLike
+
+    from .forces import ForceRule
 
 __all__ = ["TerrainState", "initial_terrain_state", "simulate", "terrain_step"]
 
@@ -21,7 +26,7 @@ TerrainState = MudChannels
 
 
 def initial_terrain_state(
-    position: Any, characteristic_length: Any, *, xi0: float = 0.0
+    position: JaxArrayLike, characteristic_length: float, *, xi0: float = 0.0
 ) -> MudChannels:
     """Undisturbed mud under tips at ``position`` (..., 3) [m], as JAX arrays.
 
@@ -43,19 +48,19 @@ def initial_terrain_state(
 def terrain_step(
     params: JaxParams,
     state: MudChannels,
-    position: Any,
-    velocity: Any,
-    dt: Any,
+    position: JaxArrayLike,
+    velocity: JaxArrayLike,
+    dt: JaxArrayLike,
     *,
-    force_fn: Callable[[Any, Any, Any], Any],
-    characteristic_length: Any,
+    force_fn: ForceRule,
+    characteristic_length: float,
     acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
     heading_speed: float = 1e-6,
     thixotropy: str = "ode",
     clock: str = "contact",
-) -> tuple[MudChannels, tuple[Any, Any, Any]]:
+) -> tuple[MudChannels, tuple[Array, Array, Array]]:
     """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX.
 
     It is :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy`` (the one terrain step),
@@ -105,19 +110,19 @@ def terrain_step(
 
 def simulate(
     params: JaxParams,
-    time: Any,
-    position: Any,
-    velocity: Any,
+    time: JaxArrayLike,
+    position: JaxArrayLike,
+    velocity: JaxArrayLike,
     *,
-    force_fn: Callable[[Any, Any, Any], Any],
-    characteristic_length: Any,
+    force_fn: ForceRule,
+    characteristic_length: float,
     acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
     heading_speed: float = 1e-6,
     thixotropy: str = "ode",
     clock: str = "contact",
-) -> tuple[Any, Any, Any]:
+) -> tuple[Array, Array, Array]:
     """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`.
 
     Same sampling as :func:`mudrft.simulate`: the state starts at ``position[0]`` and step
@@ -150,7 +155,9 @@ def simulate(
     vel = jnp.asarray(velocity, dtype=float)
     st0 = initial_terrain_state(pos[0], characteristic_length, xi0=xi0)
 
-    def body(st: MudChannels, inp: tuple[Any, ...]) -> tuple[MudChannels, tuple[Any, Any, Any]]:
+    def body(
+        st: MudChannels, inp: tuple[Array, Array, Array]
+    ) -> tuple[MudChannels, tuple[Array, Array, Array]]:
         p, v, dt = inp
         return terrain_step(
             params,
