@@ -132,7 +132,7 @@ def packed_arguments() -> Any:
     return jitclass(spec)(CouplingArrays)
 
 
-def pack_arguments(arrays: dict[str, Any]) -> Any:
+def pack_arguments(arrays: dict[str, np.ndarray]) -> Any:
     """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
     args = []
     for name, dt, nd in ARGS:
