@@ -71,16 +71,38 @@ class _Rewriter(ast.NodeTransformer):
     def _temp(self) -> str:
         return f"_xp_t{next(self.names)}"
 
+    def _once(self, value: ast.expr, other: ast.expr) -> tuple[ast.expr, ast.expr]:
+        """``value`` as its first evaluation and as a later read of the same float: a
+        constant or a name as it is (read twice: the same float, no store), anything else
+        through a temporary (evaluated once)."""
+        if isinstance(value, ast.Constant) or (
+            isinstance(value, ast.Name)
+            and not any(
+                isinstance(n, ast.NamedExpr) and n.target.id == value.id for n in ast.walk(other)
+            )  # not reassigned between the two reads
+        ):
+            return value, copy.deepcopy(value)
+        t = self._temp()
+        return ast.NamedExpr(target=ast.Name(t, ast.Store()), value=value), ast.Name(t, ast.Load())
+
     def _extremum(self, args: list[ast.expr], op: ast.cmpop) -> ast.expr:
         # (a if a >= b else b) with a and b evaluated once: numpy's maximum for non-NaN
         # floats, and the same as mudrft._xp's scalar helpers for NaN
-        a, b = self._temp(), self._temp()
-        test = ast.Compare(
-            left=ast.NamedExpr(target=ast.Name(a, ast.Store()), value=args[0]),
-            ops=[op],
-            comparators=[ast.NamedExpr(target=ast.Name(b, ast.Store()), value=args[1])],
-        )
-        return ast.IfExp(test=test, body=ast.Name(a, ast.Load()), orelse=ast.Name(b, ast.Load()))
+        a, a_again = self._once(args[0], args[1])
+        b, b_again = self._once(args[1], args[0])
+        test = ast.Compare(left=a, ops=[op], comparators=[b])
+        return ast.IfExp(test=test, body=a_again, orelse=b_again)
+
+    def _tanh(self, arg: ast.expr, tanh: Any) -> ast.expr:
+        # tanh(+-0) is +-0 exactly (C99 F.9.5.6, every libm): skip the call at 0, where a
+        # switch or the sealing state rests (no retraction); the product with 1.0 keeps the
+        # sign of the zero and makes an int 0 the float 0.0 that math.tanh returns
+        self.env["_xp_tanh"] = tanh
+        x, x_again = self._once(arg, ast.Constant(0.0))
+        zero = ast.BinOp(left=x_again, op=ast.Mult(), right=ast.Constant(1.0))
+        test = ast.Compare(left=x, ops=[ast.Eq()], comparators=[ast.Constant(0.0)])
+        call = ast.Call(ast.Name("_xp_tanh", ast.Load()), [copy.deepcopy(x_again)], [])
+        return ast.IfExp(test=test, body=zero, orelse=call)
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
         self.generic_visit(node)
@@ -93,6 +115,8 @@ class _Rewriter(ast.NodeTransformer):
                 return ast.IfExp(test=args[0], body=args[1], orelse=args[2])
             if self.rewrite_where and f.attr in ("maximum", "minimum") and len(args) == 2:
                 return self._extremum(args, ast.GtE() if f.attr == "maximum" else ast.LtE())
+            if self.rewrite_where and f.attr == "tanh" and len(args) == 1:
+                return self._tanh(args[0], self.env["xp"].tanh)
             target = getattr(self.env["xp"], f.attr)
             if not self._is_mudrft(target):
                 name = f"_xp_{f.attr}"
@@ -213,6 +237,7 @@ def specialize(
     ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
     if inline is not None:
         fdef.body = _inline_block(_body(fdef), env, rewriter.targets, inline)
+        fdef.body = [_inline_expressions(st, env) for st in fdef.body]
     ast.fix_missing_locations(tree)
     local: dict[str, Any] = {}
     exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
@@ -464,6 +489,32 @@ def _inline_block(
         else:
             work.insert(len(done[0]), st)  # the statement again, after its inlined parts
     return out
+
+
+def _inline_expressions(st: ast.stmt, env: dict[str, Any]) -> ast.stmt:
+    """``st`` with every call of a specialization that is one ``return`` of an expression,
+    with names and constants for arguments, replaced by that expression, wherever the call
+    is (a branch, a loop test): the arguments are read where the call read them, and the
+    expression evaluated right after, as the call would (``xp.sign`` in a conditional)."""
+
+    class Calls(ast.NodeTransformer):
+        def visit_Call(self, call: ast.Call) -> ast.AST:
+            self.generic_visit(call)
+            fn = env.get(call.func.id) if isinstance(call.func, ast.Name) else None
+            fdef, callee_env = getattr(fn, "__specialized__", (None, None))
+            if fdef is None or len(_body(fdef)) != 1 or not _straight_line(fdef):
+                return call
+            simple = (ast.Name, ast.Constant)
+            if not all(
+                isinstance(a, simple) for a in (*call.args, *(k.value for k in call.keywords))
+            ):
+                return call
+            done = _expand(call, fn, fdef, callee_env, env)
+            if done is None or done[0]:
+                return call
+            return _at([ast.Expr(done[1])], call)[0].value  # type: ignore[attr-defined]
+
+    return Calls().visit(st)  # type: ignore[no-any-return]
 
 
 def _replace(root: ast.AST, old: ast.AST, new: ast.expr) -> None:

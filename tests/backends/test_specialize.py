@@ -104,6 +104,11 @@ def _toy(x, *, xp=np):
     return a + b + n
 
 
+def _branches(x, *, xp=np):
+    # one-return callees in branches: inlined where their arguments are names or constants
+    return xp.where(x > 0.0, _recip(x, xp=xp), xp.where(x < 0.0, _recip(x - 1.0, xp=xp), 0.0))
+
+
 def _walrus(x, *, xp=np):
     y = (x := x + 1.0) + _half(x, xp=xp)  # _half must see the new x: not moved before
     return y
@@ -117,7 +122,7 @@ def _walrus_i(x, *, xp=np):
 @pytest.fixture
 def toys(monkeypatch):
     """The toy functions as mudrft functions (the specializer rewrites only those)."""
-    for f in (_half, _recip, _toy, _walrus, _walrus_i):
+    for f in (_half, _recip, _toy, _branches, _walrus, _walrus_i, _extrema, _tanh):
         monkeypatch.setattr(f, "__module__", "mudrft._toy")
     on_floats.cache_clear()
     yield
@@ -131,12 +136,51 @@ def test_straight_line_callees_are_inlined_where_always_evaluated(toys):
         for n in ast.walk(fdef)
         if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
     ]
-    # the two halves of `a` inlined; the branch of the where and the while test still calls
-    assert sorted(c for c in calls if c.startswith("_k_")) == [
-        "_k_mudrft__toy__half",
-        "_k_mudrft__toy__recip",
-    ]
+    # the two halves of `a` inlined, and `_recip` (one return, a name for argument) as an
+    # expression in the branch of the where; the while test still calls `_half`
+    assert sorted(c for c in calls if c.startswith("_k_")) == ["_k_mudrft__toy__half"]
     assert on_floats(_toy)(2.0) == _toy(2.0, xp=pyfloat) == 3.0 + 0.5 + 2
+
+
+def test_one_return_callees_are_inlined_in_branches_where_their_arguments_are_names(toys):
+    fdef, _env = on_floats(_branches).__specialized__
+    calls = [n.func.id for n in ast.walk(fdef) if isinstance(n, ast.Call)]
+    assert calls == ["_k_mudrft__toy__recip"], ast.unparse(fdef)  # only the x - 1.0 one
+    for x in (2.0, -3.0):
+        assert on_floats(_branches)(x) == _branches(x, xp=pyfloat)
+    assert on_floats(_branches)(0.0) == 0.0  # neither branch evaluated (1/0 on floats)
+
+
+def _extrema(x, *, xp=np):
+    # a name, a constant, an expression, and a name the other operand reassigns
+    return xp.maximum(x, 0.0) + xp.minimum(2.0 * x, 1.0) + xp.maximum(x, (x := 2.0 * x) - 5.0)
+
+
+def test_maximum_and_minimum_store_only_what_they_must_evaluate_once(toys):
+    fdef, _env = on_floats(_extrema).__specialized__
+    stored = sorted(n.target.id for n in ast.walk(fdef) if isinstance(n, ast.NamedExpr))
+    # 2.0 * x, and the x read before (x := ...) reassigns it; the rest read as they are
+    assert [s for s in stored if s != "x"] == ["_xp_t0", "_xp_t1", "_xp_t2"], stored
+    for x in (-1.0, 0.25, 1.0, 4.0):
+        assert on_floats(_extrema)(x) == _extrema(x, xp=pyfloat), x
+
+
+def _tanh(x, *, xp=np):
+    return xp.tanh(x)
+
+
+def test_tanh_is_not_called_at_zero_and_keeps_its_sign(toys):
+    import math
+
+    f = on_floats(_tanh)
+    fdef, env = f.__specialized__
+    calls = []
+    env["_xp_tanh"] = lambda x: calls.append(x) or math.tanh(x)  # the function's globals
+    for x in (0.0, -0.0, 0, 1e-300, -2.0, 30.0, float("inf"), float("nan")):
+        got, want = f(x), _tanh(x, xp=pyfloat)
+        assert type(got) is float and math.copysign(1.0, got) == math.copysign(1.0, want), x
+        assert got == want or (math.isnan(got) and math.isnan(want)), x
+    assert len(calls) == 5  # all but the three zeros
 
 
 def test_a_branch_not_taken_is_not_evaluated_on_floats(toys):
