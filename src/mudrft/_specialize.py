@@ -38,6 +38,7 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from ._specialize_tuples import new_tuple, plain_fields, shared_test, unpack_fields
 from ._xp import pyfloat
 
 __all__ = ["on_floats", "specialize"]
@@ -139,13 +140,18 @@ class _Rewriter(ast.NodeTransformer):
         if self.rewrite_where and not self.drop and _plain_named_tuple(target, node):
             # on floats: tuple.__new__(cls, (...)), without the Python frame of the named
             # tuple's own __new__ (half the cost of making it)
-            self.env["_xp_tuple_new"] = tuple.__new__
+            self.env["_xp_tuple_new"], self.env["_xp_type"] = tuple.__new__, type
             self.env[name := f"_xp_nt_{target.__name__}_{id(target)}"] = target
-            elements = ast.Tuple(elts=node.args, ctx=ast.Load())
-            return ast.Call(
-                func=ast.Name("_xp_tuple_new", ast.Load()),
-                args=[ast.Name(name, ast.Load()), elements],
-                keywords=[],
+            test = shared_test(node.args)
+            fields = plain_fields(target)  # None: a field read its own way (x.f is not x[i])
+            if test is None:
+                return new_tuple(name, node.args, fields)
+            # every field under one test (a where over a whole state, a channel made fresh):
+            # one conditional of two tuples, and the argument itself for its own fields
+            return ast.IfExp(
+                test=test,
+                body=new_tuple(name, [e.body for e in node.args], fields),  # type: ignore[attr-defined]
+                orelse=new_tuple(name, [e.orelse for e in node.args], fields),  # type: ignore[attr-defined]
             )
         if fields is not None:
             return node
@@ -242,8 +248,13 @@ def specialize(
     local: dict[str, Any] = {}
     exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
     out = local[fdef.name]
+    plain = copy.deepcopy(fdef)  # what callers inline
+    if rewrite_where and not positional and unpack_fields(fn, fdef, env, name := "_xp_plain"):
+        env[name] = out  # what the unpacked function runs for other types
+        exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
+        out = local[fdef.name]
     out.__doc__ = fn.__doc__
-    out.__specialized__ = (fdef, env)
+    out.__specialized__ = (plain, env)
     return out  # type: ignore[no-any-return]
 
 
@@ -500,7 +511,9 @@ def _inline_expressions(st: ast.stmt, env: dict[str, Any]) -> ast.stmt:
     class Calls(ast.NodeTransformer):
         def visit_Call(self, call: ast.Call) -> ast.AST:
             self.generic_visit(call)
-            fn = env.get(call.func.id) if isinstance(call.func, ast.Name) else None
+            fn: Any = env.get(call.func.id) if isinstance(call.func, ast.Name) else None
+            fdef: Any
+            callee_env: Any
             fdef, callee_env = getattr(fn, "__specialized__", (None, None))
             if fdef is None or len(_body(fdef)) != 1 or not _straight_line(fdef):
                 return call

@@ -173,7 +173,7 @@ def test_tanh_is_not_called_at_zero_and_keeps_its_sign(toys):
     import math
 
     f = on_floats(_tanh)
-    fdef, env = f.__specialized__
+    _fdef, env = f.__specialized__
     calls = []
     env["_xp_tanh"] = lambda x: calls.append(x) or math.tanh(x)  # the function's globals
     for x in (0.0, -0.0, 0, 1e-300, -2.0, 30.0, float("inf"), float("nan")):
@@ -274,3 +274,61 @@ def test_the_float_exp_overflows_to_inf_as_numpy_does():
         for x in (edge, np.nextafter(edge, np.inf), 1e308, np.inf, -np.inf, -800.0, 0.0):
             assert pyfloat.exp(float(x)) == float(np.exp(x)), x
     assert np.isnan(pyfloat.exp(float("nan")))
+
+
+# -- named-tuple arguments read once ------------------------------------------------------
+class _Three(NamedTuple):
+    a: float
+    b: float
+    c: float
+
+
+class _Sub(_Three):
+    @property
+    def a(self) -> float:  # a subclass that reads a field its own way
+        return -1.0
+
+
+class _Duck:
+    a, b, c = 1.0, 2.0, 3.0
+
+
+def _sum3(t: _Three, x, *, xp=np):
+    return t.a * x + t.b + t.c * t.a
+
+
+@pytest.fixture
+def field_toys(monkeypatch):
+    monkeypatch.setattr(_sum3, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    yield
+    on_floats.cache_clear()
+
+
+def test_a_named_tuple_argument_is_unpacked_once_for_its_own_class_only(field_toys):
+    f = on_floats(_sum3)
+    names = f.__code__.co_names
+    assert "_xp_plain" in names and "a" not in names, names  # unpacked: no attribute read
+    for t in (_Three(1.0, 2.0, 3.0), _Sub(1.0, 2.0, 3.0), _Duck()):
+        assert f(t, 0.5) == _sum3(t, 0.5, xp=pyfloat), t  # others: the reads as written
+    assert f(_Sub(1.0, 2.0, 3.0), 0.5) == -0.5 + 2.0 - 3.0
+    fdef, _env = f.__specialized__  # callers inline the function without the entry check
+    assert "_xp_plain" not in ast.unparse(fdef)
+
+
+def _refresh(t: _Three, fresh, *, xp=np):
+    return _Three(
+        a=xp.where(fresh, 0.0, t.a), b=xp.where(fresh, 0.0, t.b), c=xp.where(fresh, 1.0, t.c)
+    )
+
+
+def test_a_tuple_of_conditionals_on_one_test_is_one_conditional_of_tuples(field_toys, monkeypatch):
+    monkeypatch.setattr(_refresh, "__module__", "mudrft._toy")
+    f = on_floats(_refresh)
+    kept = _Three(1.0, 2.0, 3.0)
+    assert f(kept, False) is kept  # its own fields, of its own class: not copied
+    assert f(kept, True) == _refresh(kept, True, xp=pyfloat) == (0.0, 0.0, 1.0)
+    for t in (_Sub(1.0, 2.0, 3.0), _Duck()):  # others are read field by field, as written
+        got = f(t, False)
+        assert type(got) is _Three and got == _refresh(t, False, xp=pyfloat), t
+    assert f(_Sub(1.0, 2.0, 3.0), False) == (-1.0, 2.0, 3.0)

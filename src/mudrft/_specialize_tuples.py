@@ -1,0 +1,183 @@
+"""Named tuples on floats: passes of the float specialization (:mod:`mudrft._specialize`).
+
+The physics reads the constants and the state of a step by name (``c.k_a``, ``state.xi``)
+and returns named tuples. On one foot's Python floats (:func:`mudrft._specialize.on_floats`)
+each read goes through the field's descriptor, and each tuple made costs more than the
+arithmetic around it. Two rewrites, each the same floats bit for bit (docs/model.md, D80):
+
+* :func:`unpack_fields`: a parameter annotated with a named-tuple class, whose fields the
+  function reads often enough, is unpacked once at entry into locals (a third of the cost
+  of a read per field), guarded by the exact type of the argument: anything else (a
+  subclass, another object with those attributes) goes to the function as it was;
+* :func:`shared_test` and :func:`new_tuple`: a named tuple whose every field is a
+  conditional on one test (``xp.where(fresh, 0.0, ch.gamma)``, ...) is made as one
+  conditional of two tuples, and a tuple of the fields of an argument ``x`` of that exact
+  class, in order, is ``x`` itself (a channel state that stays as it was is not copied).
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import types
+from typing import Any
+
+__all__ = ["new_tuple", "plain_fields", "shared_test", "unpack_fields"]
+
+
+def shared_test(elements: list[ast.expr]) -> ast.Name | None:
+    """The name that every element tests (``a if t else b``), not assigned in any."""
+    tests = {
+        e.test.id for e in elements if isinstance(e, ast.IfExp) and isinstance(e.test, ast.Name)
+    }
+    if len(tests) != 1 or not all(isinstance(e, ast.IfExp) for e in elements):
+        return None
+    test = next(iter(tests))
+    if any(
+        isinstance(n, ast.NamedExpr) and n.target.id == test for e in elements for n in ast.walk(e)
+    ):
+        return None
+    return ast.Name(test, ast.Load())
+
+
+def new_tuple(name: str, elements: list[ast.expr], fields: tuple[str, ...] | None) -> ast.expr:
+    """``tuple.__new__`` of the named tuple ``name`` (in the environment) from ``elements``;
+    when they are ``x.<field>`` of one name ``x`` in the order of the fields, ``x`` itself
+    if it is of that exact class (the same floats; its own fields are the elements)."""
+    new = ast.Call(
+        func=ast.Name("_xp_tuple_new", ast.Load()),
+        args=[ast.Name(name, ast.Load()), ast.Tuple(elts=elements, ctx=ast.Load())],
+        keywords=[],
+    )
+    x = {
+        e.value.id
+        for e in elements
+        if isinstance(e, ast.Attribute) and isinstance(e.value, ast.Name)
+    }
+    if len(x) != 1 or [getattr(e, "attr", None) for e in elements] != list(fields or ()):
+        return new
+    name_x = next(iter(x))
+    same = ast.Compare(
+        left=ast.Call(ast.Name("_xp_type", ast.Load()), [ast.Name(name_x, ast.Load())], []),
+        ops=[ast.Is()],
+        comparators=[ast.Name(name, ast.Load())],
+    )
+    return ast.IfExp(test=same, body=ast.Name(name_x, ast.Load()), orelse=new)
+
+
+def plain_fields(cls: Any) -> tuple[str, ...] | None:
+    """The fields of ``cls`` if it is a named tuple whose fields are the tuple's elements
+    and whose iteration is the tuple's (no field redefined, no ``__iter__`` of its own)."""
+    fields = getattr(cls, "_fields", None)
+    if not (isinstance(cls, type) and issubclass(cls, tuple) and isinstance(fields, tuple)):
+        return None
+    owner = next((k for k in cls.__mro__ if "_fields" in vars(k)), None)
+    if owner is None or cls.__iter__ is not tuple.__iter__:
+        return None
+    getter = type(vars(owner).get(fields[0])) if fields else None
+    if not fields or any(
+        type(inspect.getattr_static(cls, f)) is not getter
+        or inspect.getattr_static(cls, f) is not vars(owner).get(f)
+        for f in fields
+    ):
+        return None
+    return fields
+
+
+def _annotated_tuples(fn: types.FunctionType) -> dict[str, tuple[type, tuple[str, ...]]]:
+    """Parameters of ``fn`` annotated with a plain named-tuple class: name -> (class, fields)."""
+    out = {}
+    for name, ann in getattr(fn, "__annotations__", {}).items():
+        try:
+            cls = eval(ann, fn.__globals__) if isinstance(ann, str) else ann
+        except Exception:  # a name only imported for type checking, a generic alias...
+            continue
+        fields = plain_fields(cls)
+        if fields is not None and name != "return":
+            out[name] = (cls, fields)
+    return out
+
+
+def unpack_fields(
+    fn: types.FunctionType, fdef: ast.FunctionDef, env: dict[str, Any], plain: str
+) -> bool:
+    """Rewrite ``fdef`` (the specialization of ``fn``) to unpack its named-tuple parameters.
+
+    A parameter qualifies if it is annotated with a plain named tuple, never assigned, and
+    its fields are read (``p.field``) at least half as many times as it has fields: then
+    ``_xp_p_<field>, ... = p`` once at entry is cheaper than the reads. The entry checks
+    ``type(p) is`` the annotated class for every such parameter and otherwise returns
+    ``plain(...)`` with the same arguments, ``plain`` being the name in ``env`` of the
+    function before this pass. Returns whether anything was rewritten.
+    """
+    if any(
+        isinstance(n, (ast.Lambda, ast.FunctionDef, ast.ClassDef, ast.ListComp, ast.SetComp))
+        or isinstance(n, (ast.DictComp, ast.GeneratorExp, ast.Global, ast.Nonlocal))
+        for st in fdef.body
+        for n in ast.walk(st)
+    ):  # a nested scope would read the locals as cells: left as it is
+        return False
+    a = fdef.args
+    if a.vararg or a.kwarg or a.posonlyargs:
+        return False
+    stored = {
+        n.id
+        for st in fdef.body
+        for n in ast.walk(st)
+        if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load)
+    }
+    reads: dict[str, int] = {}
+    for st in fdef.body:
+        for n in ast.walk(st):
+            if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name):
+                reads[n.value.id] = reads.get(n.value.id, 0) + 1
+    chosen = {
+        name: (cls, fields)
+        for name, (cls, fields) in _annotated_tuples(fn).items()
+        if name in {x.arg for x in (*a.args, *a.kwonlyargs)}
+        and name not in stored
+        and reads.get(name, 0) >= max(2, len(fields) / 2)
+    }
+    if not chosen:
+        return False
+
+    class Fields(ast.NodeTransformer):
+        def visit_Attribute(self, n: ast.Attribute) -> ast.AST:
+            self.generic_visit(n)
+            v = n.value
+            if isinstance(v, ast.Name) and v.id in chosen and n.attr in chosen[v.id][1]:
+                if isinstance(n.ctx, ast.Load):
+                    return ast.copy_location(ast.Name(f"_xp_{v.id}_{n.attr}", ast.Load()), n)
+            return n
+
+    body = [Fields().visit(st) for st in fdef.body]
+    checks: list[ast.expr] = []
+    env["_xp_type"] = type
+    for name, (cls, _) in chosen.items():
+        env[cls_name := f"_xp_cls_{cls.__name__}_{id(cls)}"] = cls
+        checks.append(
+            ast.Compare(
+                left=ast.Call(ast.Name("_xp_type", ast.Load()), [ast.Name(name, ast.Load())], []),
+                ops=[ast.IsNot()],
+                comparators=[ast.Name(cls_name, ast.Load())],
+            )
+        )
+    call = ast.Call(
+        func=ast.Name(plain, ast.Load()),
+        args=[ast.Name(x.arg, ast.Load()) for x in a.args],
+        keywords=[ast.keyword(x.arg, ast.Name(x.arg, ast.Load())) for x in a.kwonlyargs],
+    )
+    test = checks[0] if len(checks) == 1 else ast.BoolOp(op=ast.Or(), values=checks)
+    entry: list[ast.stmt] = [ast.If(test=test, body=[ast.Return(call)], orelse=[])]
+    for name, (_, fields) in chosen.items():
+        targets: list[ast.expr] = [ast.Name(f"_xp_{name}_{f}", ast.Store()) for f in fields]
+        entry.append(
+            ast.Assign(targets=[ast.Tuple(targets, ast.Store())], value=ast.Name(name, ast.Load()))
+        )
+    for st in entry:  # located at the def line (a traceback names the function)
+        for n in ast.walk(st):
+            if "lineno" in n._attributes:
+                n.lineno = n.end_lineno = fdef.lineno  # type: ignore[attr-defined]
+                n.col_offset = n.end_col_offset = 0  # type: ignore[attr-defined]
+    fdef.body = entry + body
+    return True
