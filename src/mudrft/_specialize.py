@@ -13,7 +13,10 @@ floats:
 * every other ``xp.f`` becomes a direct reference to the namespace's function, and a named
   tuple made by keywords is made by position;
 * every call of a mudrft function is pointed at that function's own specialization (the
-  ``xp=`` keyword dropped), so a whole step is specialized from its entry point.
+  ``xp=`` keyword dropped), so a whole step is specialized from its entry point;
+* ``xp.tanh(x)`` skips its call at an exact 0, a callee that is one ``return`` is inlined
+  wherever it is called with names or constants, and named-tuple arguments are unpacked
+  once (:mod:`mudrft._specialize_tuples`).
 
 The numba backend compiles the same rewrite (:func:`mudrft.backends.numba.compile_scalar`,
 with ``rewrite_where=False`` and the namespace of compiled scalar functions). Source lines,
