@@ -1,7 +1,8 @@
 r"""Feet from MuJoCo geoms: the lowest point of a geom, and the mudrft foot it stands for.
 
-A body's foot is derived from its geom that reaches lowest in the model's reference pose
-(:func:`_lowest_geom`):
+A body's foot is derived from its geom that reaches lowest in the model's reference pose,
+among the geoms that collide (a visual-only geom, contype and conaffinity 0, only when the
+body has no other; :func:`_lowest_geom`):
 
 ============================  ==========================================================
 geom                          mudrft foot
@@ -35,14 +36,34 @@ if TYPE_CHECKING:
     import mujoco
 
 
+def geom_label(model: mujoco.MjModel, g: int) -> str:
+    """``geom 'name' of body 'body'`` (``geom 3 of body 'body'`` for an unnamed geom)."""
+    name = model.geom(g).name
+    which = repr(name) if name else str(g)
+    return f"geom {which} of body {model.body(int(model.geom_bodyid[g])).name!r}"
+
+
+def geom_type_name(model: mujoco.MjModel, g: int) -> str:
+    """The type of geom ``g`` as MJCF spells it (``"ellipsoid"``)."""
+    return str(_mujoco().mjtGeom(int(model.geom_type[g])).name[len("mjGEOM_") :].lower())
+
+
+def _collides(model: mujoco.MjModel, g: int) -> bool:
+    """Whether geom ``g`` takes part in collisions (a visual-only geom has contype and
+    conaffinity 0)."""
+    return bool(int(model.geom_contype[g]) or int(model.geom_conaffinity[g]))
+
+
 def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) -> int:
-    """The geom reaching lowest in the reference pose (mesh/box/sphere/capsule/cylinder)."""
+    """The geom reaching lowest in the reference pose (mesh/box/sphere/capsule/cylinder),
+    among the geoms that collide when the body has any (D113): a visual-only mesh that
+    reaches below the collision geom is not the foot."""
     mj = _mujoco()
     best, zbest = -1, math.inf
-    for g in geoms:
+    supported = [g for g in geoms if int(model.geom_type[g]) in _SUPPORTED_GEOMS(mj)]
+    colliding = [g for g in supported if _collides(model, g)]
+    for g in colliding or supported:
         t = int(model.geom_type[g])
-        if t not in _SUPPORTED_GEOMS(mj):
-            continue
         z = float(ref.geom_xpos[g, 2]) - float(model.geom_rbound[g])
         if t != int(mj.mjtGeom.mjGEOM_MESH):
             z = _support(model, ref, g)[2]
@@ -93,7 +114,8 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
             ]
         )
     raise MudrftError(
-        f"geom {g} has type {mj.mjtGeom(t).name}, which mudrft cannot turn into a foot; "
+        f"{geom_label(model, g)} has type {geom_type_name(model, g)}, which mudrft "
+        "cannot turn into a foot; "
         "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
     )
 
@@ -133,7 +155,8 @@ def _derived_foot(
         a = R[:, 2]
         if abs(a[2]) > 0.5:
             raise MudrftError(
-                f"geom {g} is a {mj.mjtGeom(t).name[7:].lower()} whose axis is not horizontal; "
+                f"{geom_label(model, g)} is a {geom_type_name(model, g)} whose axis is "
+                "not horizontal; "
                 "mudrft derives a SemiCylinder from horizontal cylinders and capsules only, "
                 "pass the foot explicitly (feet=...)"
             )
@@ -149,6 +172,7 @@ def _derived_foot(
         frame = np.stack([ex, ey, [0.0, 0.0, 1.0]])  # rows: foot axes in the world
         return feet.MeshFoot((v - low) @ frame.T, _mesh_faces(model, g)), fwd_w
     raise MudrftError(
-        f"geom {g} has type {mj.mjtGeom(t).name}, which mudrft cannot turn into a foot; "
+        f"{geom_label(model, g)} has type {geom_type_name(model, g)}, which mudrft "
+        "cannot turn into a foot; "
         "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
     )

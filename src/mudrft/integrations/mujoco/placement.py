@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..._validation import MudrftError, check_finite
 from ._lazy import _mujoco
-from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support
+from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support, geom_type_name
 from .pose import POSE_RESOLUTION, foot_triangles
 
 __all__ = ["BodyFoot", "body_foot", "lowest_points"]
@@ -102,7 +102,8 @@ def body_foot(
     body : str or int
         Body name or id.
     foot : Foot or None
-        The foot; ``None`` derives it from the body's lowest geom: box -> ``Flat``,
+        The foot; ``None`` derives it from the body's lowest geom (of those that collide,
+        when it has any; D113): box -> ``Flat``,
         horizontal cylinder or capsule -> ``SemiCylinder`` (capsule caps neglected),
         sphere -> ``SemiSphere``, mesh -> ``MeshFoot``.
     tip : array_like (3,) or None, keyword-only
@@ -119,6 +120,14 @@ def body_foot(
     if isinstance(body, str):
         bid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body))
         if bid < 0:
+            gid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, body))
+            if gid >= 0:  # the natural mix-up: the foot geom's name for its body's
+                owner = model.body(int(model.geom_bodyid[gid])).name
+                raise MudrftError(
+                    f"{body!r} is a geom, not a body: the mud acts on the bodies named, and "
+                    f"its body is {owner!r} (the foot is derived from the body's lowest geom, "
+                    "or given with feet=)"
+                )
             names = [model.body(i).name for i in range(model.nbody)]
             raise MudrftError(f"body {body!r} is not in the model; bodies are {names}")
     else:
@@ -132,6 +141,16 @@ def body_foot(
     fwd_w = np.array([1.0, 0.0, 0.0])
     g = _lowest_geom(model, ref, _body_geoms(model, bid))
     if g < 0:
+        if foot is None and _body_geoms(model, bid):
+            found = ", ".join(
+                f"{repr(model.geom(i).name) if model.geom(i).name else f'geom {i}'} "
+                f"({geom_type_name(model, i)})"
+                for i in _body_geoms(model, bid)
+            )
+            raise MudrftError(
+                f"body {name!r} has no geom mudrft can turn into a foot: {found}; use a box, "
+                "sphere, capsule, cylinder or mesh, or pass the foot explicitly (feet=...)"
+            )
         if foot is None:
             raise MudrftError(
                 f"body {name!r} has no geom to derive a foot from; pass the foot explicitly"

@@ -1,0 +1,80 @@
+"""A robot-learning user's own robot: the mistakes and models the demo biped never shows.
+
+Found by a walkthrough with a quadruped of one's own (sphere feet on the calf bodies, a
+visual mesh, geoms of every type). Before the fixes a geom name given for a body was
+answered with the list of bodies only, a body whose only geom was an ellipsoid "had no
+geom", a vertical capsule was "geom 0" without the body or its name, and a visual-only mesh
+below the collision sphere became the foot.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+import mudrft
+from mudrft._validation import MudrftError
+
+pytest.importorskip("mujoco")
+from mudrft.integrations.mujoco import attach, body_foot
+
+from .conftest import mujoco
+
+MUD = mudrft.paper_mud(0.25)
+
+
+def _leg(geoms: str) -> object:
+    """A free body 'calf' carrying ``geoms`` (MJCF), 5 cm above the mud."""
+    xml = f"""<mujoco><worldbody><body name="calf" pos="0 0 0.05"><freejoint/>
+      {geoms}</body></worldbody></mujoco>"""
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def test_a_geom_name_given_for_a_body_names_the_body_to_give():
+    model = _leg('<geom name="FL_foot" type="sphere" size="0.025" mass="0.3"/>')
+    with pytest.raises(MudrftError, match=r"'FL_foot' is a geom, not a body: .*its body is 'calf'"):
+        attach(model, ["FL_foot"], MUD)
+
+
+def test_a_body_without_a_geom_of_a_supported_type_names_its_geoms():
+    model = _leg('<geom name="sole" type="ellipsoid" size="0.03 0.02 0.01" mass="0.3"/>')
+    with pytest.raises(
+        MudrftError,
+        match=r"body 'calf' has no geom mudrft can turn into a foot: 'sole' \(ellipsoid\); "
+        r"use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly \(feet=",
+    ):
+        attach(model, "calf", MUD)
+
+
+def test_a_body_without_any_geom_still_asks_for_the_foot():
+    model = mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody><body name="calf"><freejoint/><inertial pos="0 0 0" mass="1"
+        diaginertia="1e-3 1e-3 1e-3"/></body></worldbody></mujoco>"""
+    )
+    with pytest.raises(MudrftError, match=r"body 'calf' has no geom to derive a foot from"):
+        attach(model, "calf", MUD)
+
+
+@pytest.mark.parametrize("named", [True, False])
+def test_a_vertical_capsule_names_its_geom_and_body(named):
+    name = 'name="shin_col" ' if named else ""
+    model = _leg(f'<geom {name}type="capsule" fromto="0 0 0 0 0 -0.05" size="0.02" mass="0.3"/>')
+    label = "geom 'shin_col' of body 'calf'" if named else "geom 0 of body 'calf'"
+    with pytest.raises(MudrftError, match=rf"{label} is a capsule whose axis is not horizontal"):
+        attach(model, "calf", MUD)
+
+
+def test_a_visual_only_geom_below_the_collision_geom_is_not_the_foot():
+    model = _leg(
+        """<geom name="shoe" type="box" size="0.05 0.03 0.02" pos="0 0 -0.02"
+             contype="0" conaffinity="0" group="2" mass="0"/>
+           <geom name="foot_col" type="sphere" size="0.025" mass="0.3"/>"""
+    )
+    placed = body_foot(model, "calf")
+    assert isinstance(placed.foot, mudrft.feet.SemiSphere)
+    assert placed.kind == "sphere"
+    assert placed.tip[2] == pytest.approx(-0.025)
+
+
+def test_a_body_of_visual_geoms_only_still_derives_its_foot_from_them():
+    model = _leg('<geom type="box" size="0.03 0.04 0.01" contype="0" conaffinity="0" mass="0.3"/>')
+    assert isinstance(body_foot(model, "calf").foot, mudrft.feet.Flat)
