@@ -152,3 +152,28 @@ def test_advance_is_step_without_the_contact_and_last_is_read_when_asked(backend
     one_a.advance(datas[0], 5)
     assert one_a.last is not held  # a kept contact is not changed by later steps
     assert not np.array_equal(held.tip, one_a.last.tip)
+
+
+class _Dispatcher:
+    """Stands for a numba dispatcher: its compiled signatures and ``compile``."""
+
+    def __init__(self, signatures):
+        self.signatures = list(signatures)
+
+    def compile(self, signature):
+        self.signatures.append(signature)
+        return "entry"
+
+
+def test_the_first_compilation_says_so_on_the_logger(caplog):
+    """The first reset of a numba coupling compiles for about 15 s; it was silent (D114)."""
+    from mudrft.integrations.mujoco.backend import compile_once
+
+    with caplog.at_level("INFO", logger="mudrft"):
+        assert compile_once(_Dispatcher([]), ("sig",)) == "entry"
+    assert "compiling the MuJoCo coupling with numba" in caplog.text
+    assert "compiled the MuJoCo coupling in" in caplog.text
+    caplog.clear()
+    with caplog.at_level("INFO", logger="mudrft"):
+        assert compile_once(_Dispatcher([("sig",)]), ("sig",)) == "entry"
+    assert caplog.text == ""

@@ -11,11 +11,13 @@ stay valid: MuJoCo never reallocates them). :class:`~.batch.MudBatch` calls
 from __future__ import annotations
 
 import functools
+import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..._progress import logger
 from ..._validation import MudrftError
 from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
@@ -257,4 +259,22 @@ class CompiledCoupling:
         D68b): the unchecked path of the step loop, which passes only ``_args`` (made at
         :meth:`reset`, of the type compiled here)."""
         (p,) = self._args
-        return self.kernel.compile((_numba().typeof(p),))
+        return compile_once(self.kernel, (_numba().typeof(p),))
+
+
+def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:
+    """``kernel.compile(signature)`` (a numba dispatcher), saying so on the ``mudrft``
+    logger (INFO) when it compiles for the first time in this process: about 15 s on one
+    core, spent in the first ``reset`` of a coupling with ``backend="numba"`` (or of a
+    Gymnasium environment), which otherwise looked like a hang (D114)."""
+    first = not kernel.signatures
+    if first:
+        logger.info(
+            "compiling the MuJoCo coupling with numba (backend='numba'; about 15 s, once "
+            "per process)"
+        )
+    start = time.perf_counter()
+    entry = kernel.compile(signature)
+    if first:
+        logger.info("compiled the MuJoCo coupling in %.1f s", time.perf_counter() - start)
+    return entry
