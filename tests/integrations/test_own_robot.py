@@ -9,6 +9,8 @@ below the collision sphere became the foot.
 
 from __future__ import annotations
 
+import importlib.util
+
 import pytest
 
 import mudrft
@@ -78,3 +80,32 @@ def test_a_visual_only_geom_below_the_collision_geom_is_not_the_foot():
 def test_a_body_of_visual_geoms_only_still_derives_its_foot_from_them():
     model = _leg('<geom type="box" size="0.03 0.04 0.01" contype="0" conaffinity="0" mass="0.3"/>')
     assert isinstance(body_foot(model, "calf").foot, mudrft.feet.Flat)
+
+
+def test_a_body_welded_to_the_world_warns_that_the_mud_moves_nothing():
+    # the mud's force on a body with no joint to the world does nothing: most likely the
+    # wrong body or a joint missing; a body that can move (free or hinged) does not warn
+    import warnings
+
+    from mudrft._validation import PlausibilityWarning
+
+    xml = """<mujoco><worldbody>
+      <body name="fixed" pos="0 0 0.05"><geom type="sphere" size="0.02" mass="0.3"/>
+        <body name="fixed_child" pos="0 0.1 0"><geom type="box" size="0.02 0.02 0.01"/></body>
+        <body name="hinged" pos="0.1 0 0"><joint type="hinge" axis="0 1 0"/>
+          <geom type="sphere" size="0.02" mass="0.3"/></body></body>
+      <body name="free" pos="1 0 0.05"><freejoint/><geom type="sphere" size="0.02"/></body>
+    </worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    for body in ("fixed", "fixed_child"):
+        with pytest.warns(PlausibilityWarning, match=rf"body '{body}' is welded to the world"):
+            attach(model, body, MUD)
+    if importlib.util.find_spec("mujoco.mjx") is not None:  # the MJX coupling places alike
+        from mudrft.integrations import mjx
+
+        with pytest.warns(PlausibilityWarning, match=r"body 'fixed' is welded to the world"):
+            mjx.attach(model, "fixed", MUD)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        attach(model, ["hinged", "free"], MUD)
+        body_foot(model, "fixed")  # placing a foot to inspect it is no coupling

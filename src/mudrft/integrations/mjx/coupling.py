@@ -40,7 +40,7 @@ from ...terrains import as_terrain
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data
-from ..mujoco.placement import body_foot
+from ..mujoco.placement import attached_foot
 from ..mujoco.pose import POSE_RESOLUTION
 from ..mujoco.stability import warn_rk4
 from ._lazy import _jax, _mjx, _xp, jit
@@ -129,7 +129,7 @@ class MjxCoupling:
                 f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
             )
         placed = [
-            body_foot(model, b, f, resolution=opts.resolution)
+            attached_foot(model, b, f, resolution=opts.resolution)
             for b, f in zip(names, feet_list, strict=True)
         ]
         groups: dict[str, list[int]] = {}

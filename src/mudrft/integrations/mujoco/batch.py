@@ -32,7 +32,7 @@ from .implicit import (
 )
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .options import check_attach_options, check_count, check_data
-from .placement import BodyFoot, body_foot, lowest_points
+from .placement import BodyFoot, attached_foot, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .stability import check_explicit_step, warn_rk4
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
@@ -133,7 +133,7 @@ class MudBatch:
         cache: dict[Any, Any] = {}
         placed = []
         for b, f in zip(bodies, feet_list, strict=True):
-            bf = body_foot(model, b, f, resolution=opts.resolution)
+            bf = attached_foot(model, b, f, resolution=opts.resolution)
             key = repr(bf.foot) if f is None else id(f)
             foot = (
                 cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot

@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validation import MudrftError, check_finite
+from ..._validation import MudrftError, check_finite, warn_plausibility
 from ._lazy import _mujoco
 from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support, geom_type_name
 from .pose import POSE_RESOLUTION, foot_triangles
 
-__all__ = ["BodyFoot", "body_foot", "lowest_points"]
+__all__ = ["BodyFoot", "attached_foot", "body_foot", "lowest_points"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -267,3 +267,19 @@ def lowest_points(
             i = np.argmin(pts[..., 2], axis=1)
             low[:, j] = pts[np.arange(len(i)), i]
     return low
+
+
+def attached_foot(model: Any, body: str | int, foot: Any, *, resolution: int) -> BodyFoot:
+    """:func:`body_foot` for a coupling: a body welded to the world warns (D113).
+
+    The mud's force on a body with no joint between it and the world moves nothing, so a
+    coupling that attaches to one is most likely a mistake (the foot's body named instead
+    of the leg's, a joint missing from the model). Arguments as :func:`body_foot`.
+    """
+    placed = body_foot(model, body, foot, resolution=resolution)
+    if int(model.body_weldid[placed.body_id]) == 0:
+        warn_plausibility(
+            f"body {placed.body!r} is welded to the world (no joint between it and the world): "
+            "the mud's force on it moves nothing; attach the mud to a body that can move"
+        )
+    return placed
