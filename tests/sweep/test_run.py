@@ -292,3 +292,57 @@ def test_resume_without_a_store_is_refused():
     spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
     with pytest.raises(MudrftError, match=r"resume needs the store"):
         mudrft.sweep(spec, scheduler="serial", resume=True)
+
+
+def test_a_sweep_called_while_a_worker_imports_the_script_names_the_main_guard(
+    tmp_path, monkeypatch
+):
+    """D116: a worker process imports the driver's script; an unguarded top-level call ran
+    the sweep again there and failed with "store exists", a store the user never made."""
+    import multiprocessing
+
+    monkeypatch.setattr(multiprocessing.current_process(), "_inheriting", True, raising=False)
+    with pytest.raises(MudrftError, match=r"importing the script.*if __name__ == \"__main__\""):
+        mudrft.sweep(SPEC, store=tmp_path / "s.zarr", scheduler="serial")
+    assert not (tmp_path / "s.zarr").exists()
+
+
+def test_a_local_cluster_that_does_not_start_is_one_error_naming_the_main_guard(
+    tmp_path, monkeypatch
+):
+    """D116: distributed says only "Nanny failed to start."; the store made for the run is
+    removed and the error says what to do."""
+    import distributed
+
+    def failing(**kw):
+        raise RuntimeError("Nanny failed to start.")
+
+    monkeypatch.setattr(distributed, "LocalCluster", failing)
+    with pytest.raises(
+        MudrftError,
+        match=r"could not start its 2 worker process\(es\) \(Nanny failed to start\.\); "
+        r"most often because .*if __name__ == \"__main__\".*scheduler='serial'",
+    ):
+        mudrft.sweep(SPEC, store=tmp_path / "s.zarr", workers=2)
+    assert not (tmp_path / "s.zarr").exists()
+
+
+def test_an_unguarded_script_fails_with_the_main_guard_in_driver_and_worker(tmp_path):
+    """The script of the README without ``if __name__ == "__main__":``, run for real."""
+    script = tmp_path / "unguarded.py"
+    script.write_text(
+        "import mudrft\n"
+        "mudrft.sweep({'foot': {'kind': 'flat'}, 'motion': {'speed': [0.2]}},\n"
+        "             store='s.zarr', workers=1)\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    run = subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, env=env, capture_output=True, text=True,
+        timeout=240,
+    )  # fmt: skip
+    assert run.returncode == 1
+    last = run.stderr.strip().splitlines()[-1]
+    assert last.startswith("mudrft._validation.MudrftError: the local Dask cluster could not")
+    assert 'if __name__ == "__main__"' in last
+    assert "while a new worker process was importing the script" in run.stderr  # the worker
+    assert "exists" not in run.stderr and not (tmp_path / "s.zarr").exists()

@@ -54,6 +54,33 @@ def _require(module: str) -> Any:
         ) from exc
 
 
+#: What a script that runs a sweep on the local cluster needs (decision D116).
+_MAIN_GUARD = (
+    "each worker process of the local cluster starts by importing the script that started "
+    "the sweep, so a script must call mudrft.sweep(...) under 'if __name__ == \"__main__\":' "
+    "(or pass scheduler='serial' to run every point in this process)"
+)
+
+
+def _check_not_bootstrapping() -> None:
+    """Refuse a sweep started while a new process imports its parent's main script.
+
+    Dask's worker processes are spawned: each imports the ``__main__`` module of the
+    process that made the cluster. A script that calls :func:`run_sweep` at its top level,
+    without the ``__main__`` guard, would start the same sweep again in every worker (it
+    met the driver's store and failed with "store exists", and the driver only saw
+    "Nanny failed to start"). :mod:`multiprocessing` marks that import phase with
+    ``current_process()._inheriting`` (its own check of the same mistake reads it).
+    """
+    import multiprocessing
+
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        raise MudrftError(
+            "mudrft.sweep was called while a new worker process was importing the script "
+            f"that started it: {_MAIN_GUARD}"
+        )
+
+
 class _Bar:
     """Progress of the points: a text bar through the ``mudrft`` logger, or a callable."""
 
@@ -105,16 +132,20 @@ def _client(
             yield c
         return
     n = workers or os.cpu_count() or 1
-    with (
-        distributed.LocalCluster(
+    try:
+        cluster = distributed.LocalCluster(
             n_workers=n,
             threads_per_worker=1,
             processes=True,
             dashboard_address=":0",  # a free port (the HTTP server starts anyway)
             silence_logs=logging.ERROR,
-        ) as cluster,
-        distributed.Client(cluster) as c,
-    ):
+        )
+    except RuntimeError as exc:  # "Nanny failed to start." and nothing else to go on
+        raise MudrftError(
+            f"the local Dask cluster could not start its {n} worker process(es) ({exc}); "
+            f"most often because {_MAIN_GUARD}"
+        ) from exc
+    with cluster as running, distributed.Client(running) as c:
         yield c
 
 
@@ -210,8 +241,12 @@ def run_sweep(
     ------
     MudrftError
         For a bad spec, an existing store without ``resume``/``overwrite``, a store made
-        from another spec, or a missing optional package (``pip install 'mudrft[sweep]'``).
+        from another spec, a missing optional package (``pip install 'mudrft[sweep]'``), a
+        local cluster whose worker processes do not start, or a call made while a worker
+        process imports the script that started the sweep: a script that runs a sweep on
+        the local cluster calls it under ``if __name__ == "__main__":`` (decision D116).
     """
+    _check_not_bootstrapping()
     spec = load_spec(spec)
     for module in ("xarray", "zarr", "dask"):
         _require(module)
