@@ -249,3 +249,20 @@ def test_constructors_and_bad_input() -> None:
         SemiSphere().resultant(0.01, [1.0, 1.0], 0.0)
     with pytest.raises(MudrftError, match="stress must be finite"):
         SemiSphere().resultant(0.01, [1.0, np.nan, 1.0], 0.0)
+
+
+@pytest.mark.parametrize(("cls", "shape"), [(SemiSphere, "sphere"), (SemiCylinder, "cylinder")])
+def test_a_radius_below_the_default_height_says_the_height_is_the_default(cls, shape) -> None:
+    """D117: ``SemiSphere(radius=0.02)`` was refused for "got 0.026 m", a height the user
+    never gave; a sweep over radii down to 20 mm failed at every small radius the same way."""
+    with pytest.raises(MudrftError) as err:
+        cls(radius=0.02)
+    assert str(err.value) == (
+        f"height must be <= radius = 0.02 m for a semi-{shape}, got 0.026 m (the default "
+        f"height, the paper's 26 mm, is taller than this foot: give height <= radius, e.g. "
+        f"height=0.02 for a full half-{shape}; in a sweep, fix or sweep height in [foot])"
+    )
+    assert cls(radius=0.02, height=0.02).height == 0.02
+    with pytest.raises(MudrftError) as given:  # a height given: no word about the default
+        cls(radius=0.02, height=0.03)
+    assert str(given.value) == f"height must be <= radius = 0.02 m for a semi-{shape}, got 0.03 m"

@@ -32,6 +32,27 @@ from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
 
 __all__ = ["Flat", "SemiCylinder", "SemiSphere"]
 
+#: Height of the paper's feet, the default ``height`` of every closed-form foot [m].
+PAPER_HEIGHT = 0.026
+
+
+def _check_height(shape: str, radius: float, height: float) -> None:
+    """Refuse a curved foot taller than its radius; at the default height, say so and how
+    to make a smaller foot (decision D117: ``SemiSphere(radius=0.02)`` was refused for a
+    height nobody had given)."""
+    if height <= radius:
+        return
+    hint = (
+        f" (the default height, the paper's {PAPER_HEIGHT * 1e3:g} mm, is taller than this "
+        f"foot: give height <= radius, e.g. height={radius!r} for a full half-{shape}; in a "
+        "sweep, fix or sweep height in [foot])"
+        if height == PAPER_HEIGHT
+        else ""
+    )
+    raise MudrftError(
+        f"height must be <= radius = {radius} m for a semi-{shape}, got {height} m{hint}"
+    )
+
 
 class _ClosedFormFoot(Foot):
     """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
@@ -164,7 +185,7 @@ class Flat(_ClosedFormFoot):
 
     length: float = 0.08
     width: float = 0.065
-    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "flat"  # type: ignore[misc]
     trailing: ClassVar[bool] = False
 
@@ -224,7 +245,7 @@ class SemiCylinder(_ClosedFormFoot):
 
     radius: float = 0.045
     width: float = 0.065
-    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-cylinder"  # type: ignore[misc]
     trailing: ClassVar[bool] = False
 
@@ -234,11 +255,7 @@ class SemiCylinder(_ClosedFormFoot):
         )
         for k, v in sizes.items():
             object.__setattr__(self, k, v)
-        if self.height > self.radius:
-            raise MudrftError(
-                f"height must be <= radius = {self.radius} m for a semi-cylinder, "
-                f"got {self.height} m"
-            )
+        _check_height("cylinder", self.radius, self.height)
 
     @property
     def _theta_max(self) -> float:
@@ -293,7 +310,7 @@ class SemiSphere(_ClosedFormFoot):
     """
 
     radius: float = 0.045
-    height: float = field(default=0.026, kw_only=True)  # type: ignore[assignment]
+    height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-sphere"  # type: ignore[misc]
     trailing: ClassVar[bool] = True
 
@@ -301,10 +318,7 @@ class SemiSphere(_ClosedFormFoot):
         sizes = check_dimensions("SemiSphere", radius=self.radius, height=self.height)
         for k, v in sizes.items():
             object.__setattr__(self, k, v)
-        if self.height > self.radius:
-            raise MudrftError(
-                f"height must be <= radius = {self.radius} m for a semi-sphere, got {self.height} m"
-            )
+        _check_height("sphere", self.radius, self.height)
 
     @property
     def characteristic_length(self) -> float:
