@@ -300,3 +300,20 @@ def test_resampling_holds_each_samples_velocity_over_its_step():
     np.testing.assert_allclose(fine.velocity[~moving, 0], 0.0)
     assert mudrft.metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.zeros((2, 3))) == 0.0
     assert str(mudrft.metrics.energy([0.0, 1.0], np.zeros((2, 3)), np.ones((2, 3)))) == "0.0"
+
+
+def test_a_weight_beyond_the_buried_foot_names_the_support_and_the_depth_searched():
+    """D118: "weight=200.0 N exceeds the static support of flat at depth 0.104 m" gave no
+    support to compare with and no reason for that depth (4 heights of a 26 mm foot), and
+    read as "no balance", though a LoadControl run settles deeper."""
+    foot, mud = mudrft.feet.Flat(), mudrft.paper_mud(0.25)
+    at = float(foot.resultant(0.104, [0.0, 0.0, mud.vertical.alpha * (0.104 / foot.characteristic_length) ** mud.vertical.n], 0.0)[2])  # fmt: skip
+    with pytest.raises(mudrft.MudrftError) as err:
+        static_sinking(foot, mud, 200.0)
+    assert str(err.value) == (
+        f"weight=200.0 N exceeds the static support of the flat foot buried 4 times its "
+        f"height ({at:.4g} N at a tip depth of 0.104 m): the balance lies deeper still, where "
+        "the mud on the leg, which the model does not count (decision D26), would carry part "
+        "of the load. Is the weight in newtons (a mass of m kg weighs 9.81 m N)?"
+    )
+    assert 150.0 < at < 200.0

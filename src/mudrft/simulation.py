@@ -515,6 +515,10 @@ def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]
     return force
 
 
+#: How deep :func:`static_sinking` looks for a balance, in heights of the foot.
+BURIED_SEARCH = 4.0
+
+
 def static_sinking(
     foot: Foot, mud: Mud, weight: float, *, characteristic_length: float | None = None
 ) -> float:
@@ -522,8 +526,10 @@ def static_sinking(
 
     At rest the thixotropic stress relaxes to zero and no suction acts, so the
     balance is :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`.
-    Solved by bracketing (support is increasing in depth). Raises if even the fully
-    buried foot cannot carry the weight.
+    Solved by bracketing (support is increasing in depth) down to
+    :data:`BURIED_SEARCH` times the foot's height. A depth beyond the foot's height
+    means a buried foot (decision D26: the foot's force saturates, the stress keeps
+    growing with depth, and the mud on the leg above it is not modelled).
 
     Parameters
     ----------
@@ -535,6 +541,18 @@ def static_sinking(
         Load [N].
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the foot's.
+
+    Returns
+    -------
+    float
+        Tip depth [m] below the mud surface (> 0).
+
+    Raises
+    ------
+    MudrftError
+        If ``weight`` is not a positive number, or the foot cannot carry it even buried
+        :data:`BURIED_SEARCH` times its height; the message gives the support there
+        (decision D118).
     """
     from scipy.optimize import brentq
 
@@ -553,10 +571,14 @@ def static_sinking(
     def support(d: float) -> float:
         return force(d) - W
 
-    hi = foot.height * 4.0
+    hi = foot.height * BURIED_SEARCH
     if support(hi) < 0:
         raise MudrftError(
-            f"weight={W!r} N exceeds the static support of {foot.name} at depth {hi:.3g} m"
+            f"weight={plain(W)} N exceeds the static support of the {foot.name} foot "
+            f"buried {BURIED_SEARCH:g} times its height ({force(hi):.4g} N at a tip depth of "
+            f"{hi:.3g} m): the balance lies deeper still, where the mud on the leg, which "
+            "the model does not count (decision D26), would carry part of the load. Is the "
+            "weight in newtons (a mass of m kg weighs 9.81 m N)?"
         )
     # the support grows as d^n from 0, so a light load can balance far below a nanometre
     # (1 N on the flat foot at W = 35 %: scipy's bracket error from a fixed 1e-9 m);
