@@ -233,7 +233,32 @@ def test_every_command_that_takes_a_foot_file_takes_its_unit(command):
     parser = build_parser()
     required = {"simulate": ["--out", "x.csv"], "walk": ["--out", "x"], "compare": []}[command]
     args = parser.parse_args([command, "--foot", "foot.stl", "--unit", "mm", *required])
-    assert args.unit == "mm" and args.foot == "foot.stl"
+    assert args.unit == "mm" and args.foot == "foot.stl" and args.trailing is None
+    assert parser.parse_args([command, "--foot", "foot.stl", "--trailing", *required]).trailing
+
+
+def test_simulate_trailing_lets_a_dome_mesh_resist_with_its_trailing_facets(tmp_path, capsys):
+    """A dome mesh of one's own matches SemiSphere only with trailing facets (D23); the
+    command line could not ask for them. --trailing is for mesh files only."""
+    import mudrft
+    from mudrft.feet.meshgen import semisphere_mesh
+    from mudrft.feet.stl import write_stl
+
+    v, f = semisphere_mesh(0.045, 0.026, resolution=12)
+    write_stl(tmp_path / "dome.stl", v[f])
+    drag = {}
+    for trailing in (False, True):
+        out = tmp_path / f"run{trailing}.csv"
+        extra = ["--trailing"] if trailing else []
+        args = ["simulate", "--foot", str(tmp_path / "dome.stl"), "--out", str(out), *extra]
+        assert run(capsys, *args, "--quiet")[0] == 0
+        drag[trailing] = np.abs(np.loadtxt(out, delimiter=",", skiprows=1)[:, 4]).max()
+    sphere = mudrft.simulate(mudrft.feet.SemiSphere(), mudrft.paper_mud(0.25), mudrft.gait(0.2))
+    closed_form = np.abs(sphere.force[:, 0]).max()
+    assert abs(drag[True] / closed_form - 1) < abs(drag[False] / closed_form - 1)
+    code, _, err = run(capsys, "simulate", "--foot", "flat", "--trailing", "--out", "x.csv")
+    assert code == 2
+    assert "trailing (CLI: --trailing) applies to mesh files only" in err
 
 
 @pytest.mark.parametrize(

@@ -162,6 +162,7 @@ def _args(tmp_path, **kw):
     base = {
         "foot": "semi-sphere",
         "unit": None,
+        "trailing": None,
         "water_content": 0.3,
         "seconds": 1.2,
         "out": str(tmp_path / "run"),

@@ -87,8 +87,8 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
 
 
 def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
-    """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None)
-    and ``--unit`` (the mesh file's length unit) to a subcommand's parser."""
+    """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None),
+    ``--unit`` (the mesh file's length unit) and ``--trailing`` to a subcommand's parser."""
     parser.add_argument(
         "--foot",
         required=default is None,
@@ -101,6 +101,14 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
         default=None,
         help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
         "less than 1 mm across warns)",
+    )
+    parser.add_argument(
+        "--trailing",
+        action="store_const",
+        const=True,
+        default=None,
+        help="a mesh foot's trailing facets resist too (as in the semi-sphere's closed form, "
+        "D23; default: leading facets only)",
     )
 
 

@@ -40,7 +40,9 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'mudrft.feet' has no attribute {name!r}")
 
 
-def by_name(name: str | os.PathLike[str], *, unit: str | None = None) -> Foot:
+def by_name(
+    name: str | os.PathLike[str], *, unit: str | None = None, trailing: bool | None = None
+) -> Foot:
     """The foot called ``name`` with the paper's dimensions, or a mesh foot read from a file.
 
     Parameters
@@ -51,6 +53,9 @@ def by_name(name: str | os.PathLike[str], *, unit: str | None = None) -> Foot:
     unit : str or None, keyword-only
         Length unit of a mesh file's coordinates (``"m"``, ``"mm"``, ``"cm"``, ``"in"``;
         default metres); only for mesh files.
+    trailing : bool or None, keyword-only
+        Let a mesh foot's trailing facets resist too (:class:`MeshFoot`, D23; default
+        ``False``); only for mesh files.
 
     Examples
     --------
@@ -61,11 +66,16 @@ def by_name(name: str | os.PathLike[str], *, unit: str | None = None) -> Foot:
     if isinstance(name, os.PathLike) or is_path:
         if not os.path.exists(name):  # named as the foot (CLI: --foot), not the reader's path
             raise MudrftError(f"foot (CLI: --foot) {os.fspath(name)!r}: no such mesh file")
-        return MeshFoot.from_file(name, unit="m" if unit is None else unit)
+        return MeshFoot.from_file(name, unit="m" if unit is None else unit, trailing=bool(trailing))
     if unit is not None:
         raise MudrftError(
             f"unit (CLI: --unit) applies to mesh files only (.stl/.obj/.ply), but foot is "
             f"{name!r}; the named feet have the paper's dimensions in metres"
+        )
+    if trailing is not None:
+        raise MudrftError(
+            f"trailing (CLI: --trailing) applies to mesh files only (.stl/.obj/.ply), but foot "
+            f"is {name!r}; the named feet's closed forms fix which facets resist (D23)"
         )
     if name == "flat":
         return Flat()
