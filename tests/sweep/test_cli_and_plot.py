@@ -107,6 +107,29 @@ def test_grid_maps_one_panel_per_value_of_the_third_parameter():
         plot_maps(_grid(), "m", x="z")
 
 
+def test_map_titles_carry_the_units_of_the_values_they_name():
+    # a panel read 'speed = 0.13' with the unit only in the axis labels of other plots
+    import matplotlib.pyplot as plt
+
+    grid = _grid()
+    grid["a"].attrs["units"] = "m/s"
+    grid["c"].attrs["units"] = "-"
+    fig = plot_maps(grid, "m", x="b", y="c", panels="a")
+    try:
+        titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
+        assert titles == ["a = 1 m/s", "a = 2 m/s", "a = 3 m/s"]
+    finally:
+        plt.close(fig)
+    deeper = grid.expand_dims(d=[0.02, 0.03])
+    deeper["d"].attrs["units"] = "m"
+    fig = plot_maps(deeper, "m", x="b", y="a", panels="c")  # d held at its first value
+    try:
+        assert "at d = 0.02 m" in fig.get_suptitle()
+        assert [ax.get_title() for ax in fig.axes if ax.get_title()] == ["c = x", "c = y"]
+    finally:
+        plt.close(fig)
+
+
 def test_sensitivity_ranks_parameters():
     grid = _grid()
     grid["m"][0, 0, 0] = 2.0 + 1.0  # no failed point: the main effects' spreads are exact

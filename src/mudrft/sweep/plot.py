@@ -50,6 +50,13 @@ def _label(ds: xr.Dataset, name: str) -> str:
     return f"{name} [{unit}]" if unit and unit != "-" else name
 
 
+def _value(ds: xr.Dataset, name: str, v: object) -> str:
+    """``name = value unit`` for a title (``speed = 0.13 m/s``; no unit for ``-``)."""
+    unit = ds[name].attrs.get("units", "")
+    text = f"{v:g}" if isinstance(v, float | np.floating) else f"{v}"
+    return f"{name} = {text}" + (f" {unit}" if unit and unit != "-" else "")
+
+
 def _positions(values: np.ndarray) -> tuple[np.ndarray, list[str] | None]:
     if values.dtype.kind in "fiu":
         return values.astype(float), None
@@ -132,10 +139,10 @@ def plot_maps(
             ax.set_xticks(px, xt)
         ax.set_xlabel(_label(ds, x))
         if panels:
-            ax.set_title(f"{panels} = {v:g}" if isinstance(v, float) else f"{panels} = {v}")
+            ax.set_title(_value(ds, panels, v))
     if mesh is not None:
         fig.colorbar(mesh, ax=axes[0].tolist(), label=_label(ds, metric))
-    held_text = ", ".join(f"{k} = {v}" for k, v in held.items())
+    held_text = ", ".join(_value(ds, k, v) for k, v in held.items())
     fig.suptitle(f"{metric}" + (f" at {held_text}" if held_text else "") + " (grey: failed)")
     return fig
 
