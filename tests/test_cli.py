@@ -235,6 +235,7 @@ def test_every_command_that_takes_a_foot_file_takes_its_unit(command):
     args = parser.parse_args([command, "--foot", "foot.stl", "--unit", "mm", *required])
     assert args.unit == "mm" and args.foot == "foot.stl" and args.trailing is None
     assert parser.parse_args([command, "--foot", "foot.stl", "--trailing", *required]).trailing
+    assert parser.parse_args([command, "--foot", "foot.obj", "--up", "y", *required]).up == "y"
 
 
 def test_simulate_trailing_lets_a_dome_mesh_resist_with_its_trailing_facets(tmp_path, capsys):

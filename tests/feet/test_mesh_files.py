@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mudrft._validation import MudrftError
-from mudrft.feet import Flat, MeshFoot, MeshWarning
+from mudrft.feet import Flat, MeshFoot, MeshWarning, SemiSphere
 from mudrft.feet.stl import facet_bound, read_stl, write_stl
 from mudrft.sweep.spec import load_spec
 from mudrft.units import parse_unit
@@ -304,3 +304,35 @@ def test_the_triangle_count_of_polygons_is_their_fan(tmp_path_factory, sizes, fm
     else:
         _write_ply(path, v, faces, binary=fmt == "ply-binary")
     assert triangle_bound(str(path), path.suffix) == sum(k - 2 for k in sizes)
+
+
+@pytest.mark.parametrize("up", ["y", "-y", "x", "-x", "-z"])
+def test_a_file_with_another_up_axis_is_stood_up(tmp_path, up):
+    # a Y-up export (Blender's OBJ default) was taken as it lay: the foot's length stood
+    # vertical. up= turns the file's up axis to +z: the same foot as the z-up file
+    from mudrft.feet.mesh import UP_AXES
+
+    dome = SemiSphere().to_mesh(resolution=6)  # no symmetry that hides a wrong turn
+    turn = np.array(UP_AXES[up], float)  # file -> z up, so z up -> file is its transpose
+    write_stl(tmp_path / "z.stl", dome.triangles, binary=False)
+    write_stl(tmp_path / "f.stl", dome.triangles @ turn, binary=False)
+    assert np.allclose(turn @ np.array({"x": [1, 0, 0], "y": [0, 1, 0], "-x": [-1, 0, 0],
+                                        "-y": [0, -1, 0], "-z": [0, 0, -1]}[up]), [0, 0, 1])  # fmt: skip
+    upright = MeshFoot.from_file(tmp_path / "z.stl")
+    lying = MeshFoot.from_file(tmp_path / "f.stl")
+    stood = MeshFoot.from_file(tmp_path / "f.stl", up=up)
+    assert stood.height == pytest.approx(upright.height, abs=1e-12)
+    for d in (0.005, 0.01, 0.02):
+        np.testing.assert_allclose(stood.projected_areas(d), upright.projected_areas(d), atol=1e-12)
+    assert not np.allclose(lying.projected_areas(0.01), upright.projected_areas(0.01), rtol=0.05)
+
+
+def test_up_is_checked_and_is_for_mesh_files_only(tmp_path):
+    from mudrft.feet import by_name
+
+    write_stl(tmp_path / "z.stl", Flat().to_mesh(resolution=1).triangles)
+    with pytest.raises(MudrftError, match=r"up must be the file's up axis, one of .*got 'Y'"):
+        MeshFoot.from_file(tmp_path / "z.stl", up="Y")
+    with pytest.raises(MudrftError, match=r"up \(CLI: --up\) applies to mesh files only"):
+        by_name("flat", up="y")
+    assert by_name(str(tmp_path / "z.stl"), up="z").height == pytest.approx(0.026, abs=1e-9)

@@ -163,6 +163,7 @@ def _args(tmp_path, **kw):
         "foot": "semi-sphere",
         "unit": None,
         "trailing": None,
+        "up": None,
         "water_content": 0.3,
         "seconds": 1.2,
         "out": str(tmp_path / "run"),

@@ -88,7 +88,8 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
 
 def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
     """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None),
-    ``--unit`` (the mesh file's length unit) and ``--trailing`` to a subcommand's parser."""
+    ``--unit`` (the mesh file's length unit), ``--up`` and ``--trailing`` to a subcommand's
+    parser."""
     parser.add_argument(
         "--foot",
         required=default is None,
@@ -101,6 +102,12 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
         default=None,
         help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
         "less than 1 mm across warns)",
+    )
+    parser.add_argument(
+        "--up",
+        choices=["z", "y", "x", "-z", "-y", "-x"],
+        default=None,
+        help="the mesh file's up axis, turned to z (a Y-up export: y; default: z)",
     )
     parser.add_argument(
         "--trailing",

@@ -189,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
-    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing)
+    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     paths = write_comparison(
         foot,
         args.out,

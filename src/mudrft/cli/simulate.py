@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         require_plot_file("--plot", args.plot)
 
-    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing)
+    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     mud = MudTerrain(
         mud_from_options(args),
         thixotropy=args.thixotropy,

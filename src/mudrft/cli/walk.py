@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
     if args.compare:
         return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
                         bottom=bottom)  # fmt: skip
-    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing)
+    foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
         logger.info("mudrft walk: %s feet, %s, %g s at dt = %g s", foot.name, mud.name, seconds, dt)

@@ -41,7 +41,11 @@ def __getattr__(name: str) -> Any:
 
 
 def by_name(
-    name: str | os.PathLike[str], *, unit: str | None = None, trailing: bool | None = None
+    name: str | os.PathLike[str],
+    *,
+    unit: str | None = None,
+    trailing: bool | None = None,
+    up: str | None = None,
 ) -> Foot:
     """The foot called ``name`` with the paper's dimensions, or a mesh foot read from a file.
 
@@ -56,6 +60,9 @@ def by_name(
     trailing : bool or None, keyword-only
         Let a mesh foot's trailing facets resist too (:class:`MeshFoot`, D23; default
         ``False``); only for mesh files.
+    up : str or None, keyword-only
+        A mesh file's up axis (:meth:`MeshFoot.from_file`; default ``"z"``); only for mesh
+        files.
 
     Examples
     --------
@@ -66,17 +73,22 @@ def by_name(
     if isinstance(name, os.PathLike) or is_path:
         if not os.path.exists(name):  # named as the foot (CLI: --foot), not the reader's path
             raise MudrftError(f"foot (CLI: --foot) {os.fspath(name)!r}: no such mesh file")
-        return MeshFoot.from_file(name, unit="m" if unit is None else unit, trailing=bool(trailing))
-    if unit is not None:
-        raise MudrftError(
-            f"unit (CLI: --unit) applies to mesh files only (.stl/.obj/.ply), but foot is "
-            f"{name!r}; the named feet have the paper's dimensions in metres"
+        return MeshFoot.from_file(
+            name,
+            unit="m" if unit is None else unit,
+            trailing=bool(trailing),
+            up="z" if up is None else up,
         )
-    if trailing is not None:
-        raise MudrftError(
-            f"trailing (CLI: --trailing) applies to mesh files only (.stl/.obj/.ply), but foot "
-            f"is {name!r}; the named feet's closed forms fix which facets resist (D23)"
-        )
+    for option, given, why in (
+        ("unit", unit, "the named feet have the paper's dimensions in metres"),
+        ("trailing", trailing, "the named feet's closed forms fix which facets resist (D23)"),
+        ("up", up, "the named feet stand with z up"),
+    ):
+        if given is not None:
+            raise MudrftError(
+                f"{option} (CLI: --{option}) applies to mesh files only (.stl/.obj/.ply), but "
+                f"foot is {name!r}; {why}"
+            )
     if name == "flat":
         return Flat()
     if name == "semi-cylinder":

@@ -76,6 +76,15 @@ _SIMPLIFY = (
 
 #: File formats :meth:`MeshFoot.from_file` reads.
 FORMATS = (".stl", ".obj", ".ply")
+#: Rotations that turn a file's up axis to +z (proper rotations; ``from_file(up=)``).
+UP_AXES = {
+    "z": ((1, 0, 0), (0, 1, 0), (0, 0, 1)),
+    "-z": ((1, 0, 0), (0, -1, 0), (0, 0, -1)),
+    "y": ((1, 0, 0), (0, 0, -1), (0, 1, 0)),
+    "-y": ((1, 0, 0), (0, 0, 1), (0, -1, 0)),
+    "x": ((0, 0, -1), (0, 1, 0), (1, 0, 0)),
+    "-x": ((0, 0, 1), (0, 1, 0), (-1, 0, 0)),
+}
 
 
 class MeshWarning(UserWarning):
@@ -322,6 +331,7 @@ class MeshFoot(Foot):
         unit: str = "m",
         trailing: bool = False,
         name: str | None = None,
+        up: str = "z",
     ) -> MeshFoot:
         """Read a mesh file: STL (ASCII or binary; no extra dependency), OBJ or PLY (trimesh).
 
@@ -337,6 +347,9 @@ class MeshFoot(Foot):
             See :class:`MeshFoot`.
         name : str, optional
             Name (default: the file name without extension).
+        up : {"z", "y", "x", "-z", "-y", "-x"}, optional
+            The file's axis that points up, turned to +z by a rotation (a Y-up export:
+            ``"y"``); default ``"z"``, the mud's up.
 
         Raises
         ------
@@ -363,6 +376,8 @@ class MeshFoot(Foot):
         scale = parse_unit("length", unit)
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
+        if not isinstance(up, str) or up not in UP_AXES:
+            raise MudrftError(f"up must be the file's up axis, one of {list(UP_AXES)}, got {up!r}")
         p = os.fspath(path)
         ext = os.path.splitext(p)[1].lower()
         if ext not in FORMATS:
@@ -397,7 +412,8 @@ class MeshFoot(Foot):
             v, f = read_with_trimesh(p, ext)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
         try:
-            return cls(v * scale, f, trailing=trailing, name=nm)
+            v = v * scale if up == "z" else (v * scale) @ np.array(UP_AXES[up], float).T
+            return cls(v, f, trailing=trailing, name=nm)
         except MudrftError as exc:
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
