@@ -16,7 +16,10 @@ floats:
   ``xp=`` keyword dropped), so a whole step is specialized from its entry point;
 * ``xp.tanh(x)`` skips its call at an exact 0, a callee that is one ``return`` is inlined
   wherever it is called with names or constants, and named-tuple arguments are unpacked
-  once (:mod:`mudrft._specialize_tuples`).
+  once (:mod:`mudrft._specialize_tuples`);
+* a callee with an early return (``if quasi_static: return ...``) is inlined as an ``if``
+  statement (:mod:`mudrft._specialize_flow`), and a local named tuple of which only fields
+  are read is those fields (``sx.total``, :func:`mudrft._specialize_tuples.drop_fields`).
 
 The numba backend compiles the same rewrite (:func:`mudrft.backends.numba.compile_scalar`,
 with ``rewrite_where=False`` and the namespace of compiled scalar functions). Source lines,
@@ -41,7 +44,8 @@ import types
 from collections.abc import Callable
 from typing import Any
 
-from ._specialize_tuples import new_tuple, plain_fields, shared_test, unpack_fields
+from ._specialize_flow import SELF, as_branches, assign_in_branches
+from ._specialize_tuples import drop_fields, new_tuple, plain_fields, shared_test, unpack_fields
 from ._xp import pyfloat
 
 __all__ = ["on_floats", "specialize"]
@@ -247,6 +251,7 @@ def specialize(
     if inline is not None:
         fdef.body = _inline_block(_body(fdef), env, rewriter.targets, inline)
         fdef.body = [_inline_expressions(st, env) for st in fdef.body]
+        drop_fields(fdef, env)
     ast.fix_missing_locations(tree)
     local: dict[str, Any] = {}
     exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
@@ -258,6 +263,8 @@ def specialize(
         out = local[fdef.name]
     out.__doc__ = fn.__doc__
     out.__specialized__ = (plain, env)
+    out.__specialized_from__ = fn
+    env[SELF] = out
     return out  # type: ignore[no-any-return]
 
 
@@ -290,10 +297,11 @@ def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]]
 
 # -- inlining ------------------------------------------------------------------------------
 #
-# A call of a mudrft function whose rewritten body is straight-line (assignments, then one
-# return) is replaced by that body: its parameters and locals renamed apart, its globals
-# bound in the caller's environment, the body placed before the statement that makes the
-# call, the call replaced by the returned expression. Only calls that the statement always
+# A call of a mudrft function whose rewritten body is straight-line (assignments, and if
+# statements of assignments, then one return) is replaced by that body: its parameters and
+# locals renamed apart, its globals bound in the caller's environment, the body placed
+# before the statement that makes the call, the call replaced by the returned expression
+# (an early return: mudrft._specialize_flow). Only calls that the statement always
 # evaluates are inlined (not in a branch of a conditional expression, after the first
 # operand of ``and``/``or``, in a ``while`` test, a comprehension or a lambda), so nothing is
 # evaluated that the original would not evaluate; a statement with an assignment expression
@@ -314,26 +322,39 @@ def _body(fdef: ast.FunctionDef) -> list[ast.stmt]:
 
 
 def _straight_line(fdef: ast.FunctionDef) -> bool:
-    """Whether a definition is assignments to names, then one return of a value."""
+    """Whether a definition is assignments to names (:func:`_assignments`), then one return
+    of a value."""
     a = fdef.args
     if a.vararg or a.kwarg or a.posonlyargs:
         return False
     body = _body(fdef)
     if not body or not isinstance(body[-1], ast.Return) or body[-1].value is None:
         return False
-    for st in body[:-1]:
-        if not (isinstance(st, ast.Assign) and len(st.targets) == 1):
-            return False
-        t = st.targets[0]
-        names = t.elts if isinstance(t, (ast.Tuple, ast.List)) else [t]
-        if not all(isinstance(n, ast.Name) for n in names):
-            return False
+    if not _assignments(body[:-1]):
+        return False
     return not any(
         isinstance(n, (ast.Lambda, ast.FunctionDef, ast.Yield, ast.Await, ast.Global))
         or isinstance(n, (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp))
         for st in body
         for n in ast.walk(st)
     )
+
+
+def _assignments(block: list[ast.stmt]) -> bool:
+    """Whether ``block`` only assigns names: ``a = ...``, ``a, b = ...``, and ``if`` statements
+    whose branches only assign names (the one return of an inlined body comes after)."""
+    for st in block:
+        if isinstance(st, ast.If):
+            if not (_assignments(st.body) and _assignments(st.orelse)):
+                return False
+            continue
+        if not (isinstance(st, ast.Assign) and len(st.targets) == 1):
+            return False
+        t = st.targets[0]
+        names = t.elts if isinstance(t, (ast.Tuple, ast.List)) else [t]
+        if not all(isinstance(n, ast.Name) for n in names):
+            return False
+    return True
 
 
 def _always_evaluated(node: ast.AST) -> list[ast.Call]:
@@ -465,7 +486,7 @@ def _inline_block(
     work = list(block)
     while work:
         st = work.pop(0)
-        done = None
+        done: tuple[list[ast.stmt], ast.expr | None] | None = None
         parts = _evaluated_parts(st)
         if any(
             isinstance(n, ast.NamedExpr) and not _OWN_TEMP.match(n.target.id)
@@ -477,16 +498,25 @@ def _inline_block(
         for part in parts:
             for call in _always_evaluated(part):
                 f = call.func
-                if not (isinstance(f, ast.Name) and f.id in targets):
-                    continue
-                rewritten = inline(targets[f.id])
-                if rewritten is None or not _straight_line(rewritten[0]):
+                fn = _target(f, env, targets)
+                rewritten = None if fn is None else inline(fn)
+                if fn is None or rewritten is None:
                     continue
                 fdef, callee_env = rewritten
-                done = _expand(call, targets[f.id], fdef, callee_env, env)
-                if done is not None:
-                    pre, value = done
-                    _replace(st, call, value)
+                branched = not _straight_line(fdef)
+                if branched:  # an early return: inlined as an if statement
+                    fdef = as_branches(fdef, st, call, _straight_line, _body(fdef))
+                    if fdef is None:
+                        continue
+                expanded = _expand(call, fn, fdef, callee_env, env)
+                if expanded is not None:
+                    pre, value = expanded
+                    if branched:  # the if statement assigns the statement's names
+                        assign_in_branches(pre, value, st)  # type: ignore[arg-type]
+                        done = pre, None
+                    else:
+                        _replace(st, call, value)
+                        done = pre, value
                     work[:0] = _at(pre, st)
                     break
             if done is not None:
@@ -500,9 +530,19 @@ def _inline_block(
                 for h in st.handlers:
                     h.body = _inline_block(h.body, env, targets, inline)
             out.append(st)
-        else:
+        elif done[1] is not None:
             work.insert(len(done[0]), st)  # the statement again, after its inlined parts
     return out
+
+
+def _target(
+    f: ast.expr, env: dict[str, Any], targets: dict[str, types.FunctionType]
+) -> types.FunctionType | None:
+    """The mudrft function a call's ``f`` names: one the source calls, or a specialization
+    that an inlined body calls (under its renamed global)."""
+    if not isinstance(f, ast.Name) or f.id.endswith(f"_g_{SELF}"):
+        return None  # the early branch of an inlined if statement stays a call
+    return targets.get(f.id) or getattr(env.get(f.id), "__specialized_from__", None)
 
 
 def _inline_expressions(st: ast.stmt, env: dict[str, Any]) -> ast.stmt:

@@ -22,7 +22,7 @@ import inspect
 import types
 from typing import Any
 
-__all__ = ["new_tuple", "plain_fields", "shared_test", "unpack_fields"]
+__all__ = ["drop_fields", "new_tuple", "plain_fields", "shared_test", "unpack_fields"]
 
 
 def shared_test(elements: list[ast.expr]) -> ast.Name | None:
@@ -181,3 +181,210 @@ def unpack_fields(
                 n.col_offset = n.end_col_offset = 0  # type: ignore[attr-defined]
     fdef.body = entry + body
     return True
+
+
+def _fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[Any, list[ast.expr]] | None:
+    """``(class, elements)`` when ``value`` is ``tuple.__new__(<named tuple>, (elements))``
+    as the rewrite makes it (:func:`new_tuple`), else None."""
+    if not (
+        isinstance(value, ast.Call)
+        and isinstance(value.func, ast.Name)
+        and env.get(value.func.id) is tuple.__new__
+        and len(value.args) == 2
+        and isinstance(value.args[0], ast.Name)
+        and isinstance(value.args[1], ast.Tuple)
+        and not value.keywords
+    ):
+        return None
+    cls = env.get(value.args[0].id)
+    fields = plain_fields(cls)
+    elements = value.args[1].elts
+    if (
+        fields is None
+        or len(fields) != len(elements)
+        or any(isinstance(e, ast.Starred) for e in elements)
+    ):
+        return None
+    return cls, elements
+
+
+def drop_fields(fdef: ast.FunctionDef, env: dict[str, Any]) -> bool:
+    """Rewrite ``fdef`` so that a local named tuple of which only some fields are read is
+    those fields, as locals (``sx.total`` -> ``_xp_field_sx_total``).
+
+    A local qualifies if every read of it is a field read (``x.field``) and every
+    assignment is ``x = <value>`` or ``..., x, ... = (..., <value>, ...)``; where the value
+    is a named tuple the rewrite makes (:func:`new_tuple`), the fields read are assigned its
+    elements and the others (names or constants only) are not made; where it is anything
+    else (a call), its fields read are read once right after the assignment (the physics
+    is free of side effects). At least one assignment must make the tuple, all of one
+    class. Returns whether anything was rewritten.
+    """
+    nodes = [n for st in fdef.body for n in ast.walk(st)]
+    if any(
+        isinstance(n, (ast.For, ast.While, ast.AsyncFor, ast.Lambda, ast.FunctionDef))
+        or isinstance(n, (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp))
+        or isinstance(n, (ast.ClassDef, ast.Global, ast.Nonlocal, ast.Try))
+        for n in nodes
+    ):
+        return False
+    params = {a.arg for a in (*fdef.args.args, *fdef.args.kwonlyargs, *fdef.args.posonlyargs)}
+    used = {n.id for n in nodes if isinstance(n, ast.Name)} | params
+    field_reads = {
+        id(n.value): n.attr
+        for n in nodes
+        if isinstance(n, ast.Attribute)
+        and isinstance(n.value, ast.Name)
+        and isinstance(n.ctx, ast.Load)
+    }
+    # every store of a name as an assignment target: (statement, index in a tuple target)
+    stores: dict[str, list[tuple[ast.Assign, int | None]]] = {}
+    bad: set[str] = set(params)
+    for n in nodes:
+        if isinstance(n, ast.Assign) and len(n.targets) == 1:
+            t = n.targets[0]
+            if isinstance(t, ast.Name):
+                stores.setdefault(t.id, []).append((n, None))
+            elif isinstance(t, ast.Tuple) and not any(
+                isinstance(e, ast.Starred) for e in (*t.elts, *getattr(n.value, "elts", ()))
+            ):
+                if isinstance(n.value, ast.Tuple) and len(t.elts) != len(n.value.elts):
+                    continue
+                for i, e in enumerate(t.elts):
+                    if isinstance(e, ast.Name):
+                        stores.setdefault(e.id, []).append((n, i))
+    counted = {id(s.targets[0] if i is None else s.targets[0].elts[i])  # type: ignore[attr-defined]
+               for v in stores.values() for s, i in v}  # fmt: skip
+    reads: dict[str, set[str]] = {}
+    for n in nodes:
+        if not isinstance(n, ast.Name):
+            continue
+        if isinstance(n.ctx, ast.Load):
+            if id(n) in field_reads:
+                reads.setdefault(n.id, set()).add(field_reads[id(n)])
+            else:
+                bad.add(n.id)
+        elif id(n) not in counted:  # an assignment expression, a del, an unpacked target...
+            bad.add(n.id)
+    chosen: dict[str, tuple[str, ...]] = {}
+    for name, where in stores.items():
+        if name in bad or name not in reads:
+            continue
+        made = [_fields_of(_value(s, i), env) for s, i in where]
+        classes = {id(m[0]) for m in made if m is not None}
+        if len(classes) != 1:
+            continue
+        cls = next(m[0] for m in made if m is not None)
+        fields = plain_fields(cls) or ()
+        kept = tuple(f for f in fields if f in reads[name])
+        new = [f"_xp_field_{name}_{f}" for f in kept]
+        if len(kept) != len(reads[name]) or used & set(new):
+            continue
+        if any(
+            not isinstance(e, (ast.Name, ast.Constant))
+            for m in made
+            if m is not None
+            for f, e in zip(fields, m[1], strict=True)
+            if f not in kept
+        ):
+            continue  # an element not made might raise: left as it is
+        chosen[name] = kept
+    if not chosen:
+        return False
+    _rewrite_fields(fdef, env, chosen)
+    return True
+
+
+def _value(st: ast.Assign, i: int | None) -> ast.expr:
+    """What the assignment ``st`` assigns to its target (``i``: the element of a tuple)."""
+    if i is None or not isinstance(st.value, ast.Tuple):
+        return st.value  # all of it (a tuple target of a call: not a made tuple)
+    return st.value.elts[i]
+
+
+def _rewrite_fields(
+    fdef: ast.FunctionDef, env: dict[str, Any], chosen: dict[str, tuple[str, ...]]
+) -> None:
+    """:func:`drop_fields` for the locals ``chosen`` (name -> the fields read)."""
+
+    def local(name: str, field: str, ctx: ast.expr_context) -> ast.Name:
+        return ast.Name(f"_xp_field_{name}_{field}", ctx)
+
+    hoisted: set[int] = set()  # the reads made right after an assignment
+
+    class Reads(ast.NodeTransformer):
+        def visit_Attribute(self, n: ast.Attribute) -> ast.AST:
+            self.generic_visit(n)
+            v = n.value
+            if (
+                isinstance(v, ast.Name)
+                and v.id in chosen
+                and isinstance(n.ctx, ast.Load)
+                and id(n) not in hoisted
+            ):
+                return ast.copy_location(local(v.id, n.attr, ast.Load()), n)
+            return n
+
+    def read_after(name: str) -> ast.stmt:
+        reads: list[ast.expr] = [
+            ast.Attribute(ast.Name(name, ast.Load()), f, ast.Load()) for f in chosen[name]
+        ]
+        hoisted.update(id(r) for r in reads)
+        targets: list[ast.expr] = [local(name, f, ast.Store()) for f in chosen[name]]
+        return ast.Assign(targets=[_pack(targets, ast.Store())], value=_pack(reads))
+
+    def assignment(st: ast.Assign) -> list[ast.stmt]:
+        t = st.targets[0]
+        if isinstance(t, ast.Tuple) and not isinstance(st.value, ast.Tuple):  # of a call
+            names = [getattr(e, "id", "") for e in t.elts]
+            after = [read_after(name) for name in names if name in chosen]
+            return [st, *(ast.copy_location(s, st) for s in after)]
+        pairs = (
+            list(zip(t.elts, st.value.elts, strict=True))  # type: ignore[attr-defined]
+            if isinstance(t, ast.Tuple)
+            else [(t, st.value)]
+        )
+        targets: list[ast.expr] = []
+        values: list[ast.expr] = []
+        after = []
+        for target, value in pairs:
+            name = getattr(target, "id", "")
+            made = _fields_of(value, env) if name in chosen else None
+            if made is not None:  # the fields read, from the elements
+                fields = plain_fields(made[0]) or ()
+                for f, e in zip(fields, made[1], strict=True):
+                    if f in chosen[name]:
+                        targets.append(local(name, f, ast.Store()))
+                        values.append(e)
+            else:  # another value, read after the assignment when it is one chosen
+                targets.append(target)
+                values.append(value)
+                if name in chosen:
+                    after.append(read_after(name))
+        new = ast.Assign(targets=[_pack(targets, ast.Store())], value=_pack(values))
+        return [ast.copy_location(s, st) for s in (new, *after)]
+
+    def block(stmts: list[ast.stmt]) -> list[ast.stmt]:
+        out: list[ast.stmt] = []
+        for st in stmts:
+            for field in ("body", "orelse"):
+                inner = getattr(st, field, None)
+                if isinstance(inner, list) and inner and isinstance(inner[0], ast.stmt):
+                    setattr(st, field, block(inner))
+            if isinstance(st, ast.Assign) and any(
+                isinstance(n, ast.Name) and n.id in chosen and isinstance(n.ctx, ast.Store)
+                for n in ast.walk(st.targets[0])
+            ):
+                out.extend(assignment(st))
+            else:
+                out.append(st)
+        return out
+
+    fdef.body = [Reads().visit(st) for st in block(fdef.body)]
+
+
+def _pack(items: list[ast.expr], ctx: ast.expr_context | None = None) -> ast.expr:
+    """One expression, or a tuple of several (``ctx``: Store for a target)."""
+    if len(items) == 1:
+        return items[0]
+    return ast.Tuple(elts=items, ctx=ctx or ast.Load())

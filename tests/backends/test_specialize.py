@@ -332,3 +332,68 @@ def test_a_tuple_of_conditionals_on_one_test_is_one_conditional_of_tuples(field_
         got = f(t, False)
         assert type(got) is _Three and got == _refresh(t, False, xp=pyfloat), t
     assert f(_Sub(1.0, 2.0, 3.0), False) == (-1.0, 2.0, 3.0)
+
+
+# -- control flow: if statements of assignments, an early return, fields read -------------
+def _scaled(x, flag, *, xp=np):
+    y = 2.0 * x
+    if flag:  # an if statement that only assigns: inlined as it is
+        y = y + 1.0
+    return _Pair(y, 3.0 * x)
+
+
+def _dispatch(x, flag, *, xp=np):
+    if flag:  # an early return: the branch calls this function again, the rest is inlined
+        return _Pair(-x, 0.0)
+    p = _scaled(x, flag, xp=xp)
+    return _Pair(p.a + 1.0, p.b)
+
+
+def _uses_a(x, flag, *, xp=np):
+    u = _dispatch(x, flag, xp=xp)  # only u.a is read: u is not made where it is built
+    v = _dispatch(2.0 * x, flag, xp=xp)
+    return u.a * v.a + v.b
+
+
+@pytest.fixture
+def flow_toys(monkeypatch):
+    for f in (_scaled, _dispatch, _uses_a):
+        monkeypatch.setattr(f, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    yield
+    on_floats.cache_clear()
+
+
+def _calls(fdef):
+    return sorted(n.func.id for n in ast.walk(fdef) if isinstance(n, ast.Call))
+
+
+def test_callees_with_if_statements_of_assignments_are_inlined(flow_toys):
+    fdef, _env = on_floats(_dispatch).__specialized__
+    assert not [c for c in _calls(fdef) if "_scaled" in c], ast.unparse(fdef)  # inlined
+    for x, flag in ((1.5, False), (1.5, True), (-2.0, False)):
+        assert on_floats(_dispatch)(x, flag) == _dispatch(x, flag, xp=pyfloat)
+
+
+def test_a_callee_with_an_early_return_is_inlined_as_an_if_statement(flow_toys):
+    fdef, _env = on_floats(_uses_a).__specialized__
+    # both calls of _dispatch inlined: each an if statement whose early branch calls the
+    # specialization of _dispatch, the rest (and _scaled in it) in place
+    calls = _calls(fdef)
+    assert not [c for c in calls if "_dispatch" in c or "_scaled" in c], ast.unparse(fdef)
+    assert sum(c.endswith("_g__xp_self") for c in calls) == 2, ast.unparse(fdef)
+    assert sum(isinstance(n, ast.If) for n in ast.walk(fdef)) >= 2
+    for x, flag in ((1.5, False), (1.5, True), (-2.0, False), (0.0, True)):
+        assert on_floats(_uses_a)(x, flag) == _uses_a(x, flag, xp=pyfloat), (x, flag)
+
+
+def test_a_local_named_tuple_read_by_field_is_its_fields(flow_toys):
+    fdef, _env = on_floats(_uses_a).__specialized__
+    text = ast.unparse(fdef)
+    # u is never made where _dispatch is inlined (only u.a is read, its other element a
+    # name or a constant); after the early branch's call, u.a is read right away
+    assert "_xp_field_u_a" in text and "_xp_field_v_b" in text, text
+    made = [n for n in ast.walk(fdef) if isinstance(n, ast.Call) and "tuple_new" in n.func.id]
+    assert not made, text
+    assert [n.attr for n in ast.walk(fdef) if isinstance(n, ast.Attribute)] == ["a", "a", "b"]
+    assert on_floats(_uses_a)(1.0, False) == _uses_a(1.0, False, xp=pyfloat) == 3.0 * 5.0 + 6.0
