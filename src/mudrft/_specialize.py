@@ -44,6 +44,7 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from ._specialize_copies import propagate_copies
 from ._specialize_flow import SELF, as_branches, assign_in_branches
 from ._specialize_tuples import drop_fields, new_tuple, plain_fields, shared_test, unpack_fields
 from ._xp import pyfloat
@@ -252,12 +253,14 @@ def specialize(
         fdef.body = _inline_block(_body(fdef), env, rewriter.targets, inline)
         fdef.body = [_inline_expressions(st, env) for st in fdef.body]
         drop_fields(fdef, env)
+        propagate_copies(fdef, env)
     ast.fix_missing_locations(tree)
     local: dict[str, Any] = {}
     exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
     out = local[fdef.name]
     plain = copy.deepcopy(fdef)  # what callers inline
     if rewrite_where and not positional and unpack_fields(fn, fdef, env, name := "_xp_plain"):
+        propagate_copies(fdef, env)  # the copies of the fields unpacked
         env[name] = out  # what the unpacked function runs for other types
         exec(compile(tree, fn.__code__.co_filename, "exec"), env, local)
         out = local[fdef.name]

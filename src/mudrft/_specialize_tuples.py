@@ -22,7 +22,7 @@ import inspect
 import types
 from typing import Any
 
-__all__ = ["drop_fields", "new_tuple", "plain_fields", "shared_test", "unpack_fields"]
+__all__ = ["drop_fields", "fields_of", "new_tuple", "plain_fields", "shared_test", "unpack_fields"]
 
 
 def shared_test(elements: list[ast.expr]) -> ast.Name | None:
@@ -183,7 +183,7 @@ def unpack_fields(
     return True
 
 
-def _fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[Any, list[ast.expr]] | None:
+def fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[Any, list[ast.expr]] | None:
     """``(class, elements)`` when ``value`` is ``tuple.__new__(<named tuple>, (elements))``
     as the rewrite makes it (:func:`new_tuple`), else None."""
     if not (
@@ -270,7 +270,7 @@ def drop_fields(fdef: ast.FunctionDef, env: dict[str, Any]) -> bool:
     for name, where in stores.items():
         if name in bad or name not in reads:
             continue
-        made = [_fields_of(_value(s, i), env) for s, i in where]
+        made = [fields_of(_value(s, i), env) for s, i in where]
         classes = {id(m[0]) for m in made if m is not None}
         if len(classes) != 1:
             continue
@@ -349,7 +349,7 @@ def _rewrite_fields(
         after = []
         for target, value in pairs:
             name = getattr(target, "id", "")
-            made = _fields_of(value, env) if name in chosen else None
+            made = fields_of(value, env) if name in chosen else None
             if made is not None:  # the fields read, from the elements
                 fields = plain_fields(made[0]) or ()
                 for f, e in zip(fields, made[1], strict=True):

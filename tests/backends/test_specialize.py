@@ -397,3 +397,29 @@ def test_a_local_named_tuple_read_by_field_is_its_fields(flow_toys):
     assert not made, text
     assert [n.attr for n in ast.walk(fdef) if isinstance(n, ast.Attribute)] == ["a", "a", "b"]
     assert on_floats(_uses_a)(1.0, False) == _uses_a(1.0, False, xp=pyfloat) == 3.0 * 5.0 + 6.0
+
+
+def _copies(x, *, xp=np):
+    p = _Pair(x, 2.0 * x)  # returned, so made; p.a read back is x itself
+    y = _half(p.a, xp=xp)  # the inlined parameter: a copy of x
+    k = 3.0  # a constant, assigned once
+    return p, y * k
+
+
+def test_copies_are_read_from_their_source(monkeypatch):
+    for f in (_half, _copies):
+        monkeypatch.setattr(f, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    try:
+        f = on_floats(_copies)
+        fdef, _env = f.__specialized__
+        text = ast.unparse(fdef)
+        # no field read back, no copy of x or of the constant: only p and the half stored
+        assert not [n for n in ast.walk(fdef) if isinstance(n, ast.Attribute)], text
+        stored = {n.id for n in ast.walk(fdef) if isinstance(n, ast.Name) and n.ctx == ast.Store()}
+        assert "k" not in stored and not [s for s in stored if s.endswith("_x")], text
+        assert "_i" in text and "0.5 * x" in text and "* 3.0" in text, text
+        assert f(2.0) == _copies(2.0, xp=pyfloat) == ((2.0, 4.0), 3.0)
+        assert f.__code__.co_nlocals == 3  # x, p and the half
+    finally:
+        on_floats.cache_clear()
