@@ -3,12 +3,15 @@
 The physics reads the constants and the state of a step by name (``c.k_a``, ``state.xi``)
 and returns named tuples. On one foot's Python floats (:func:`mudrft._specialize.on_floats`)
 each read goes through the field's descriptor, and each tuple made costs more than the
-arithmetic around it. Two rewrites, each the same floats bit for bit (docs/model.md, D80):
+arithmetic around it. Three rewrites, each the same floats bit for bit (docs/model.md, D80):
 
 * :func:`unpack_fields`: a parameter annotated with a named-tuple class, whose fields the
   function reads often enough, is unpacked once at entry into locals (a third of the cost
   of a read per field), guarded by the exact type of the argument: anything else (a
-  subclass, another object with those attributes) goes to the function as it was;
+  subclass, another object with those attributes) goes to the function as it was; so are
+  the elements of a ``tuple[X, Y]`` parameter unpacked by name (``hor, ver = ch``);
+* :func:`drop_fields`: a local named tuple of which only fields are read is those fields
+  (``sx.total`` when the terrain step reads only the total stress);
 * :func:`shared_test` and :func:`new_tuple`: a named tuple whose every field is a
   conditional on one test (``xp.where(fresh, 0.0, ch.gamma)``, ...) is made as one
   conditional of two tuples, and a tuple of the fields of an argument ``x`` of that exact
@@ -18,8 +21,10 @@ arithmetic around it. Two rewrites, each the same floats bit for bit (docs/model
 from __future__ import annotations
 
 import ast
+import copy
 import inspect
 import types
+import typing
 from typing import Any
 
 __all__ = ["drop_fields", "fields_of", "new_tuple", "plain_fields", "shared_test", "unpack_fields"]
@@ -108,7 +113,11 @@ def unpack_fields(
     ``_xp_p_<field>, ... = p`` once at entry is cheaper than the reads. The entry checks
     ``type(p) is`` the annotated class for every such parameter and otherwise returns
     ``plain(...)`` with the same arguments, ``plain`` being the name in ``env`` of the
-    function before this pass. Returns whether anything was rewritten.
+    function before this pass. A parameter annotated with a tuple of plain named tuples
+    (``ch: tuple[ChannelConstants, ChannelConstants]``) and read only as ``hor, ver = ch``
+    gives locals of known classes: their fields are unpacked right after that statement,
+    behind the same check (the function, free of side effects and with no parameter
+    assigned, then starts again from its entry). Returns whether anything was rewritten.
     """
     if any(
         isinstance(n, (ast.Lambda, ast.FunctionDef, ast.ClassDef, ast.ListComp, ast.SetComp))
@@ -138,22 +147,45 @@ def unpack_fields(
         and name not in stored
         and reads.get(name, 0) >= max(2, len(fields) / 2)
     }
-    if not chosen:
+    derived = _unpacked_pairs(fn, fdef, reads)  # local -> (class, fields, statement)
+    if not chosen and not derived:
         return False
+    every = {name: fields for name, (_, fields) in chosen.items()}
+    every.update({name: fields for name, (_, fields, _) in derived.items()})
 
     class Fields(ast.NodeTransformer):
         def visit_Attribute(self, n: ast.Attribute) -> ast.AST:
             self.generic_visit(n)
             v = n.value
-            if isinstance(v, ast.Name) and v.id in chosen and n.attr in chosen[v.id][1]:
+            if isinstance(v, ast.Name) and v.id in every and n.attr in every[v.id]:
                 if isinstance(n.ctx, ast.Load):
                     return ast.copy_location(ast.Name(f"_xp_{v.id}_{n.attr}", ast.Load()), n)
             return n
 
     body = [Fields().visit(st) for st in fdef.body]
-    checks: list[ast.expr] = []
     env["_xp_type"] = type
-    for name, (cls, _) in chosen.items():
+    call = ast.Call(
+        func=ast.Name(plain, ast.Load()),
+        args=[ast.Name(x.arg, ast.Load()) for x in a.args],
+        keywords=[ast.keyword(x.arg, ast.Name(x.arg, ast.Load())) for x in a.kwonlyargs],
+    )
+    after: dict[int, dict[str, tuple[type, tuple[str, ...]]]] = {-1: chosen}
+    for name, (cls, fields, i) in derived.items():
+        after.setdefault(i, {})[name] = (cls, fields)
+    for i in sorted(after, reverse=True):  # the checks and unpacking after statement i
+        where = fdef if i < 0 else fdef.body[i]
+        if after[i]:
+            body[i + 1 : i + 1] = _located(_checked_unpack(after[i], env, call), where)
+    fdef.body = body
+    return True
+
+
+def _checked_unpack(
+    names: dict[str, tuple[type, tuple[str, ...]]], env: dict[str, Any], call: ast.Call
+) -> list[ast.stmt]:
+    """``if type(x) is not X or ...: return call`` then ``_xp_x_<field>, ... = x``."""
+    checks: list[ast.expr] = []
+    for name, (cls, _) in names.items():
         env[cls_name := f"_xp_cls_{cls.__name__}_{id(cls)}"] = cls
         checks.append(
             ast.Compare(
@@ -162,25 +194,85 @@ def unpack_fields(
                 comparators=[ast.Name(cls_name, ast.Load())],
             )
         )
-    call = ast.Call(
-        func=ast.Name(plain, ast.Load()),
-        args=[ast.Name(x.arg, ast.Load()) for x in a.args],
-        keywords=[ast.keyword(x.arg, ast.Name(x.arg, ast.Load())) for x in a.kwonlyargs],
-    )
     test = checks[0] if len(checks) == 1 else ast.BoolOp(op=ast.Or(), values=checks)
-    entry: list[ast.stmt] = [ast.If(test=test, body=[ast.Return(call)], orelse=[])]
-    for name, (_, fields) in chosen.items():
+    out: list[ast.stmt] = [ast.If(test=test, body=[ast.Return(copy.deepcopy(call))], orelse=[])]
+    for name, (_, fields) in names.items():
         targets: list[ast.expr] = [ast.Name(f"_xp_{name}_{f}", ast.Store()) for f in fields]
-        entry.append(
+        out.append(
             ast.Assign(targets=[ast.Tuple(targets, ast.Store())], value=ast.Name(name, ast.Load()))
         )
-    for st in entry:  # located at the def line (a traceback names the function)
+    return out
+
+
+def _located(stmts: list[ast.stmt], where: ast.AST) -> list[ast.stmt]:
+    """``stmts`` located at ``where``'s line (a traceback names the function's line)."""
+    for st in stmts:
         for n in ast.walk(st):
             if "lineno" in n._attributes:
-                n.lineno = n.end_lineno = fdef.lineno  # type: ignore[attr-defined]
+                n.lineno = n.end_lineno = where.lineno  # type: ignore[attr-defined]
                 n.col_offset = n.end_col_offset = 0  # type: ignore[attr-defined]
-    fdef.body = entry + body
-    return True
+    return stmts
+
+
+def _unpacked_pairs(
+    fn: types.FunctionType, fdef: ast.FunctionDef, reads: dict[str, int]
+) -> dict[str, tuple[type, tuple[str, ...], int]]:
+    """Locals ``x`` of ``x, y = p`` (a statement of the body, ``i``), ``p`` a parameter
+    annotated ``tuple[X, Y]`` of plain named tuples and read only so, ``x`` assigned only
+    there and its fields read often enough: ``x -> (X, fields, i)``. After statement ``i``
+    the function can start again from its entry (no parameter is assigned, no loop)."""
+    out: dict[str, tuple[type, tuple[str, ...], int]] = {}
+    nodes = [n for st in fdef.body for n in ast.walk(st)]
+    if any(isinstance(n, (ast.For, ast.While, ast.AsyncFor, ast.Try)) for n in nodes):
+        return out
+    stores: dict[str, int] = {}
+    for n in nodes:
+        if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load):
+            stores[n.id] = stores.get(n.id, 0) + 1
+    a = fdef.args
+    params = {x.arg for x in (*a.args, *a.kwonlyargs)}
+    if params & set(stores):
+        return out
+    for name, classes in _annotated_pairs(fn).items():
+        if name not in params:
+            continue
+        loads = [n for n in nodes if isinstance(n, ast.Name) and n.id == name]
+        sites = [
+            (i, st)
+            for i, st in enumerate(fdef.body)
+            if isinstance(st, ast.Assign)
+            and isinstance(st.value, ast.Name)
+            and st.value.id == name
+            and len(st.targets) == 1
+            and isinstance(st.targets[0], ast.Tuple)
+            and len(st.targets[0].elts) == len(classes)
+        ]
+        if len(sites) != len(loads):  # p read otherwise
+            continue
+        for i, st in sites:
+            for x, cls in zip(st.targets[0].elts, classes, strict=True):  # type: ignore[attr-defined]
+                fields = plain_fields(cls) or ()
+                if (
+                    isinstance(x, ast.Name)
+                    and stores.get(x.id) == 1
+                    and reads.get(x.id, 0) >= max(2, len(fields) / 2)
+                ):
+                    out[x.id] = (cls, fields, i)
+    return out
+
+
+def _annotated_pairs(fn: types.FunctionType) -> dict[str, tuple[type, ...]]:
+    """Parameters of ``fn`` annotated ``tuple[X, Y, ...]`` of plain named tuples."""
+    out = {}
+    for name, ann in getattr(fn, "__annotations__", {}).items():
+        try:
+            t = eval(ann, fn.__globals__) if isinstance(ann, str) else ann
+        except Exception:  # a name only imported for type checking...
+            continue
+        args = typing.get_args(t)
+        if typing.get_origin(t) is tuple and args and all(plain_fields(c) for c in args):
+            out[name] = args
+    return out
 
 
 def fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[Any, list[ast.expr]] | None:

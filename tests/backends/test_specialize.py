@@ -423,3 +423,24 @@ def test_copies_are_read_from_their_source(monkeypatch):
         assert f.__code__.co_nlocals == 3  # x, p and the half
     finally:
         on_floats.cache_clear()
+
+
+def _pair_sum(pair: tuple[_Three, _Three], x, *, xp=np):
+    y = 2.0 * x
+    u, v = pair  # each read field by field: unpacked after this line, for their own class
+    return u.a * y + u.b + u.c * u.a + v.a * v.b + v.c
+
+
+def test_a_pair_of_named_tuples_is_unpacked_once_for_its_own_classes_only(monkeypatch):
+    monkeypatch.setattr(_pair_sum, "__module__", "mudrft._toy")
+    on_floats.cache_clear()
+    try:
+        f = on_floats(_pair_sum)
+        names = f.__code__.co_names
+        assert "_xp_plain" in names and not {"a", "b", "c"} & set(names), names
+        t, s = _Three(1.0, 2.0, 3.0), _Sub(1.0, 2.0, 3.0)
+        for pair in ((t, t), (t, s), (s, t), (_Duck(), t), (t, _Duck())):
+            assert f(pair, 0.5) == _pair_sum(pair, 0.5, xp=pyfloat), pair
+        assert f((t, s), 0.5) == 1.0 + 2.0 + 3.0 - 2.0 + 3.0
+    finally:
+        on_floats.cache_clear()
