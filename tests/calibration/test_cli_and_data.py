@@ -140,6 +140,7 @@ def test_synthetic_dataset_noise_level_and_seed():
     assert np.std(r) == pytest.approx(0.02 * np.ptp(clean[0].stress), rel=0.15)
 
 
+@pytest.mark.filterwarnings("default::mudrft._validation.CalibrationWarning")  # shown as lines
 def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
     tmp_path, capsys, monkeypatch
 ):

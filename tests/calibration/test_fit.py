@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mudrft
-from mudrft._validation import MudrftError
+from mudrft._validation import CalibrationWarning, MudrftError
 from mudrft.calibration import (
     FitResult,
     IntrusionDataset,
@@ -275,7 +275,8 @@ def test_fit_in_wrong_units_is_flagged(vertical_data, true_vertical):
     # the stress logged in MPa but labelled Pa: no parameter set within the bounds fits
     tr = vertical_data[0]
     wrong = IntrusionDataset.from_arrays(tr.time, tr.depth, tr.stress * 1e-6)
-    fit = calibrate(wrong, groups="b", initial=true_vertical)
+    with pytest.warns(CalibrationWarning, match=r"does not describe these data.*check the units"):
+        fit = calibrate(wrong, groups="b", initial=true_vertical)
     assert fit.relative_rmse > 0.25
     assert "check the units" in fit.summary()
 
