@@ -317,3 +317,21 @@ def test_a_weight_beyond_the_buried_foot_names_the_support_and_the_depth_searche
         "of the load. Is the weight in newtons (a mass of m kg weighs 9.81 m N)?"
     )
     assert 150.0 < at < 200.0
+
+
+def test_results_and_trajectories_print_as_a_summary_not_their_arrays():
+    """``print(result)`` in a notebook shows what the run was, in one line with units;
+    the dataclass default printed every array (18,741 characters for one gait cycle)."""
+    mud = mudrft.paper_mud(0.25)
+    gait = mudrft.gait(0.2)
+    res = simulate(mudrft.feet.Flat(), mud, gait)
+    plate = mudrft.plate_response(mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=1.0), mud)
+    for obj, needed in (
+        (gait, ("Trajectory(", "samples=651", "duration=0.65 s", "lowest_z=-0.02 m")),
+        (res, ("Result(foot='flat'", "samples=651", "max_depth=0.02 m")),
+        (plate, ("PlateResult(", "samples=4501", "max_displacement=0.03 m", "Pa")),
+    ):
+        text = repr(obj)
+        assert "\n" not in text and len(text) < 160, text
+        for part in needed:
+            assert part in text, (part, text)

@@ -50,6 +50,15 @@ class PlateResult:
     suction: np.ndarray
     xi: np.ndarray
 
+    def __repr__(self) -> str:
+        return (
+            f"PlateResult(samples={self.time.size}, "
+            f"duration={self.time[-1] - self.time[0]:.4g} s, "
+            f"max_displacement={float(self.displacement.max()):.4g} m, "
+            f"min_stress={float(self.stress.min()):.4g} Pa, "
+            f"max_stress={float(self.stress.max()):.4g} Pa)"
+        )
+
     def plot(self, ax: object = None) -> object:
         """Stress against time and displacement (needs matplotlib)."""
         from .plotting import plot_plate

@@ -251,6 +251,13 @@ class Result:
     def __len__(self) -> int:
         return int(self.time.size)
 
+    def __repr__(self) -> str:
+        return (
+            f"Result(foot={self.foot!r}, terrain={self.terrain!r}, samples={len(self)}, "
+            f"duration={self.time[-1] - self.time[0]:.4g} s, "
+            f"max_depth={float(self.depth.max()):.4g} m)"
+        )
+
 
 def _resample(traj: Trajectory, dt: float) -> Trajectory:
     span = float(traj.time[-1] - traj.time[0])

@@ -120,6 +120,13 @@ class Trajectory:
         object.__setattr__(self, "velocity", v)
         _check_velocity(t, p, v)
 
+    def __repr__(self) -> str:
+        return (
+            f"Trajectory(name={self.name!r}, samples={self.time.size}, "
+            f"duration={self.time[-1] - self.time[0]:.4g} s, "
+            f"lowest_z={float(self.position[:, 2].min()):.4g} m)"
+        )
+
     @classmethod
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
         """Build a trajectory from sampled positions [m] at ``time`` [s].
