@@ -1,4 +1,4 @@
-"""``mudrft simulate``: one stepping cycle of a foot in the paper's mud, to a CSV file."""
+"""``mudrft simulate``: one stepping cycle (or a measured path, ``--path``) of a foot in mud, to CSV."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ import argparse
 
 from .._validation import MudrftError
 from ..feet import by_name
+from ..io import load_path_csv
 from ..simulation import simulate
 from ..terrains import MudTerrain
 from ..trajectories import STANCE_DEPTH, gait
@@ -23,8 +24,11 @@ from ._mud import add_fit_options, mud_from_options
 
 __all__ = ["add_parser", "run"]
 
+GAIT_SPEED = 0.2  #: the default gait speed of ``mudrft simulate`` [m/s]
+
 DESCRIPTION = (
-    "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait) of a foot through "
+    "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait), or a path of the "
+    "foot's tip read from a CSV file (--path), of a foot through "
     "the paper's mud at the given water content (or a mud calibrated by mudrft calibrate: "
     "--vertical, --horizontal) and speed, and write the tip position and "
     "the force of the mud on the foot to a CSV file with the columns "
@@ -48,9 +52,18 @@ def add_parser(
         "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
     )
     add_fit_options(p)
-    p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument(
-        "--depth", type=float, default=STANCE_DEPTH, help="deepest tip depth [m] (decision D10)"
+        "--path",
+        metavar="PATH.csv",
+        help="the foot tip's own path in place of the gait: a CSV file with 'time [s]' and "
+        "'z [m]' (negative below the surface; or 'depth'), optionally 'x' and 'y', units in "
+        "brackets (mudrft.io.load_path_csv; a --out file reads back as its path)",
+    )
+    p.add_argument("--speed", type=float, help=f"gait speed [m/s] (default: {GAIT_SPEED})")
+    p.add_argument(
+        "--depth",
+        type=float,
+        help=f"deepest tip depth of the gait [m] (decision D10) (default: {STANCE_DEPTH})",
     )
     p.add_argument(
         "--thixotropy",
@@ -70,7 +83,9 @@ def add_parser(
         default="table",
         help="water content as the tables label the rows (25/35/45 %%) or the text (15/25/35 %%)",
     )
-    p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
+    p.add_argument(
+        "--dt", type=float, default=1e-3, help="time step [s] (a --path is resampled at it)"
+    )
     p.add_argument(
         "--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])"
     )
@@ -87,12 +102,23 @@ def add_parser(
 def run(args: argparse.Namespace) -> int:
     """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
 
-    speed = check_positive_option("--speed", args.speed, unit="m/s")
-    depth = check_positive_option("--depth", args.depth, unit="m")
+    if args.path is not None:
+        for option, value in (("--speed", args.speed), ("--depth", args.depth)):
+            if value is not None:
+                raise MudrftError(
+                    f"{option} sets the gait, which --path replaces; give one or the other"
+                )
+    speed = check_positive_option(
+        "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
+    )
+    depth = check_positive_option(
+        "--depth", STANCE_DEPTH if args.depth is None else args.depth, unit="m"
+    )
     dt = check_positive_option("--dt", args.dt, unit="s")
     for option, path in (("--out", args.out), ("--plot", args.plot)):
-        if path and same_file(path, args.foot):
-            raise MudrftError(f"{option} {path!r} is the --foot file; choose another name")
+        for other, given in (("--foot", args.foot), ("--path", args.path)):
+            if path and given and same_file(path, given):
+                raise MudrftError(f"{option} {path!r} is the {other} file; choose another name")
     if args.plot:
         require_plot_file("--plot", args.plot)
 
@@ -102,12 +128,18 @@ def run(args: argparse.Namespace) -> int:
         thixotropy=args.thixotropy,
         clock=args.clock,
     )
-    trajectory = gait(speed, depth=depth, dt=dt)  # checked before anything is written
+    # checked before anything is written
+    if args.path is not None:
+        trajectory = load_path_csv(args.path)
+        what = f"path {args.path}"
+    else:
+        trajectory = gait(speed, depth=depth, dt=dt)
+        what = f"{speed:g} m/s gait"
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
-        logger.info("simulating %s foot, %s, %g m/s", foot.name, mud.mud.name, speed)
-        res = simulate(foot, mud, trajectory, progress=not args.quiet)
+        logger.info("simulating %s foot, %s, %s", foot.name, mud.mud.name, what)
+        res = simulate(foot, mud, trajectory, dt=dt if args.path else None, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
             fig = res.plot()

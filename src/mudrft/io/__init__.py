@@ -41,7 +41,8 @@ the writers write atomically and refuse to replace an existing file unless
 
 Modules: :mod:`.dataset` (the data classes), :mod:`.columns` (the one resolver of column
 names, aliases and units, for CSV and HDF5 alike), :mod:`.csv_log` and :mod:`.hdf5_log`
-(the two formats), :mod:`.load` (either, by suffix), :mod:`.atomic` (the one writer).
+(the two formats), :mod:`.load` (either, by suffix), :mod:`.atomic` (the one writer),
+:mod:`.path_csv` (a foot's path to simulate, :func:`load_path_csv`).
 """
 
 from .atomic import atomic_write, json_text
@@ -50,6 +51,7 @@ from .csv_log import load_intrusion_csv, save_intrusion_csv
 from .dataset import IntrusionDataset, Trial
 from .hdf5_log import load_intrusion_hdf5, save_intrusion_hdf5
 from .load import load_dataset
+from .path_csv import load_path_csv
 
 __all__ = [
     "COLUMN_ALIASES",
@@ -60,6 +62,7 @@ __all__ = [
     "load_dataset",
     "load_intrusion_csv",
     "load_intrusion_hdf5",
+    "load_path_csv",
     "save_intrusion_csv",
     "save_intrusion_hdf5",
 ]

@@ -1,0 +1,151 @@
+"""Foot paths as CSV: :func:`load_path_csv` reads the path of a foot's tip as a
+:class:`~mudrft.Trajectory` for :func:`mudrft.simulate`.
+
+A measured path (motion capture, a robot's log) or a path written by hand::
+
+    # tip of the front-left foot, trial 3
+    time [ms],x [mm],z [mm]
+    0,0,5
+    10,1.2,-0.8
+    ...
+
+The header names each column with its unit in brackets (SI when no unit is given; the
+units of :mod:`mudrft.units`). ``time`` (or ``t``) and ``z`` are required: ``z`` is the
+tip's height in the world frame, negative below the mud surface, as everywhere in
+mudrft. A ``depth`` column (positive below the surface) may stand in for ``z``.
+``x`` and ``y`` are 0 when absent. Other columns are ignored, so the CSV that
+``mudrft simulate --out`` writes (``time [s],x [m],y [m],z [m],Fx [N],...``) reads back
+as the path it ran. ``#`` lines are notes. The file is only read, never written.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from .._typing import PathLike
+from .._validation import MudrftError, PlausibilityWarning, plain
+from ..trajectories import Trajectory
+from ..units import parse_unit
+from .columns import Column, default_unit, fail, parse_header_name
+from .csv_log import _column_values, _parse, _read_text
+
+__all__ = ["PATH_COLUMNS", "load_path_csv"]
+
+#: Column name (lower case) -> the coordinate it holds. Every one is a length except time.
+PATH_COLUMNS: dict[str, str] = {
+    "time": "time",
+    "t": "time",
+    "x": "x",
+    "y": "y",
+    "z": "z",
+    "depth": "depth",
+}
+
+
+def load_path_csv(path: PathLike) -> Trajectory:
+    """Read a foot tip's path from a CSV file, as a trajectory to simulate.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file (layout in the module docstring).
+
+    Returns
+    -------
+    Trajectory
+        Times [s] and tip positions [m] in the world frame (z < 0 below the mud
+        surface) as in the file, the velocity [m/s] the rate of each step
+        (:meth:`Trajectory.from_positions`), named after the file.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> path = mudrft.io.load_path_csv("tip.csv")  # doctest: +SKIP
+    >>> mudrft.simulate(mudrft.feet.Flat(), mudrft.paper_mud(0.25), path)  # doctest: +SKIP
+
+    Raises
+    ------
+    MudrftError
+        Naming the file, and the line and column where it applies: no such file, no
+        header, a missing ``time`` or ``z`` column, ``z`` and ``depth`` both given, a
+        column given twice, an unknown unit, a cell that is not a finite number, fewer
+        than two rows, or times that do not increase.
+
+    Warns
+    -----
+    PlausibilityWarning
+        When the path never goes below the mud surface (z >= 0 throughout): nothing
+        would touch the mud, which is usually a depth given as ``z``.
+    """
+    where = str(path)
+    table = _parse(where, _read_text(Path(path)))
+    header = table.header or []
+    columns: dict[str, Column] = {}
+    for i, label in enumerate(header):
+        try:
+            name, unit = parse_header_name(label)
+        except ValueError as exc:
+            raise fail(where, f"line {table.header_line}", str(exc)) from None
+        role = PATH_COLUMNS.get(name.lower())
+        if role is None:
+            continue
+        quantity = "time" if role == "time" else "length"
+        try:
+            factor = parse_unit(quantity, unit if unit is not None else default_unit(quantity))
+        except MudrftError as exc:
+            raise fail(where, f"line {table.header_line}, column {i + 1}", str(exc)) from None
+        if role in columns:
+            raise fail(
+                where,
+                f"line {table.header_line}",
+                f"columns {columns[role].label!r} and {label!r} both give {role}; keep one",
+            )
+        columns[role] = Column(i, label, role, factor)
+    missing = [r for r in ("time",) if r not in columns]
+    if "z" not in columns and "depth" not in columns:
+        missing.append("z (or depth)")
+    if missing:
+        raise fail(
+            where,
+            f"line {table.header_line}",
+            f"the header {', '.join(header)!r} has no {' and no '.join(missing)} column; "
+            "a path needs 'time [s]' and 'z [m]' (the tip's height, negative below the "
+            "surface), optionally 'x [m]' and 'y [m]'",
+        )
+    if "z" in columns and "depth" in columns:
+        raise fail(
+            where,
+            f"line {table.header_line}",
+            f"columns {columns['z'].label!r} and {columns['depth'].label!r} both give the "
+            "tip's height (z = -depth); keep one",
+        )
+    if len(table.rows) < 2:
+        raise fail(where, "", f"has {len(table.rows)} data row(s); a path needs at least 2")
+    time = _column_values(table, columns["time"])
+    steps = np.diff(time)
+    if not np.all(steps > 0):
+        k = int(np.argmax(steps <= 0)) + 1
+        raise fail(
+            where,
+            f"line {table.row_lines[k]}",
+            f"time {plain(time[k])} s does not exceed the previous row's {plain(time[k - 1])} s; "
+            "the times of a path must increase",
+        )
+    position = np.zeros((time.size, 3))
+    for axis, role in enumerate(("x", "y", "z")):
+        if role in columns:
+            position[:, axis] = _column_values(table, columns[role])
+    if "depth" in columns:
+        position[:, 2] = -_column_values(table, columns["depth"])
+    if not np.any(position[:, 2] < 0.0):
+        warnings.warn(
+            f"{where}: the path never goes below the mud surface (z >= 0 throughout, "
+            f"lowest {plain(position[:, 2].min())} m): z is the tip's height, negative in "
+            "the mud; name a column 'depth' if it is positive downward",
+            PlausibilityWarning,
+            stacklevel=2,
+        )
+    return Trajectory.from_positions(time, position, name=Path(path).name)
