@@ -9,6 +9,7 @@ import sys
 import numpy as np
 import pytest
 
+import mudrft
 from mudrft.cli import main
 
 
@@ -388,3 +389,35 @@ def test_simulate_prints_each_metric_with_its_unit(tmp_path, capsys):
         "sinking": ["m"],
         "suction_ratio": ["-"],
     }
+
+
+def test_simulate_load_sinks_to_the_static_depth_and_prints_it(tmp_path, capsys):
+    """--load presses the foot with a ramped weight for 30 s (D13: it creeps to the static
+    depth; measured 3e-4 short for the flat foot under 49 N), and prints both depths."""
+    out = tmp_path / "load.csv"
+    code, stdout, _ = run(capsys, "simulate", "--foot", "flat", "--load", "49", "--out", str(out))
+    assert code == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    static = mudrft.static_sinking(mudrft.feet.Flat(), mudrft.paper_mud(0.25), 49.0)
+    assert data[-1, 0] == pytest.approx(30.0)
+    assert -data[-1, 3] == pytest.approx(static, rel=1e-3)
+    assert data[-1, 6] == pytest.approx(49.0, rel=1e-3)  # the mud carries the weight
+    assert f"static sinking {static: .6g} m" in stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--load", "49", "--speed", "0.2"], "--speed sets the gait, which --load replaces"),
+        (["--load", "49", "--path", "p.csv"], "--path moves the foot and --load presses it"),
+        (["--ramp", "1"], "--ramp applies to --load only"),
+        (["--duration", "5"], "--duration applies to --load only"),
+        (["--load", "-3"], "--load must be > 0 N, got -3"),
+        (["--load", "49", "--ramp", "-1"], "--ramp must be >= 0 s"),
+    ],
+)
+def test_simulate_motion_options_that_do_not_go_together(tmp_path, capsys, args, needle):
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "simulate", "--foot", "flat", *args, "--out", str(out))
+    assert code == 2 and needle in err and err.count("\n") == 1, err
+    assert not out.exists()

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mudrft
-from mudrft._validation import MudrftError
+from mudrft._validation import MudrftError, PlausibilityWarning
 from mudrft.feet.base import Foot
 from mudrft.simulation import CSV_COLUMNS, LoadControl, simulate, static_sinking
 
@@ -335,3 +335,14 @@ def test_results_and_trajectories_print_as_a_summary_not_their_arrays():
         assert "\n" not in text and len(text) < 160, text
         for part in needed:
             assert part in text, (part, text)
+
+
+def test_a_load_that_buries_the_foot_deeper_than_static_sinking_looks_warns():
+    """5,000 N on the flat foot sinks it metres deep; static_sinking refuses it (D118) and
+    the dynamic run says the depth is no prediction (D26) instead of printing 27 m."""
+    mud, foot = mudrft.paper_mud(0.25), mudrft.feet.Flat()
+    with pytest.warns(PlausibilityWarning, match="not a prediction"):
+        res = simulate(foot, mud, LoadControl(weight=5000.0, duration=2.0, ramp=0.5))
+    assert res.depth.max() > 4 * foot.height
+    # 49 N, the paper's load, stays shallow and quiet (warnings are errors in the suite)
+    simulate(foot, mud, LoadControl(weight=49.0, duration=2.0, ramp=0.5))

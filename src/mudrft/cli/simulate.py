@@ -7,9 +7,9 @@ import argparse
 from .._validation import MudrftError
 from ..feet import by_name
 from ..io import load_path_csv
-from ..simulation import simulate
+from ..simulation import LoadControl, simulate, static_sinking
 from ..terrains import MudTerrain
-from ..trajectories import STANCE_DEPTH, gait
+from ..trajectories import STANCE_DEPTH, Trajectory, gait
 from ._common import (
     HelpFormatter,
     Outputs,
@@ -24,7 +24,12 @@ from ._mud import add_fit_options, mud_from_options
 
 __all__ = ["add_parser", "run"]
 
-GAIT_SPEED = 0.2  #: the default gait speed of ``mudrft simulate`` [m/s]
+#: The defaults of ``mudrft simulate``: the gait's speed [m/s]; the time over which
+#: ``--load`` rises [s] and the time simulated [s] (a ramped load creeps to the static
+#: depth in 10-30 s, D13).
+GAIT_SPEED = 0.2
+LOAD_RAMP = 1.0
+LOAD_DURATION = 30.0
 
 DESCRIPTION = (
     "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait), or a path of the "
@@ -58,6 +63,25 @@ def add_parser(
         help="the foot tip's own path in place of the gait: a CSV file with 'time [s]' and "
         "'z [m]' (negative below the surface; or 'depth'), optionally 'x' and 'y', units in "
         "brackets (mudrft.io.load_path_csv; a --out file reads back as its path)",
+    )
+    p.add_argument(
+        "--load",
+        metavar="WEIGHT",
+        type=float,
+        help="press the foot into the mud with this weight [N] instead of moving it "
+        "(mudrft.LoadControl; a rigid leg, the foot starting at the surface): the CSV holds "
+        "the sinking, and the static sinking depth is printed beside the final one",
+    )
+    p.add_argument(
+        "--ramp",
+        type=float,
+        help=f"--load only: time over which the weight rises from 0 [s] (default: {LOAD_RAMP}; "
+        "0 drops it at once, and the foot overshoots, D13)",
+    )
+    p.add_argument(
+        "--duration",
+        type=float,
+        help=f"--load only: simulated time [s] (default: {LOAD_DURATION})",
     )
     p.add_argument("--speed", type=float, help=f"gait speed [m/s] (default: {GAIT_SPEED})")
     p.add_argument(
@@ -102,18 +126,7 @@ def add_parser(
 def run(args: argparse.Namespace) -> int:
     """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
 
-    if args.path is not None:
-        for option, value in (("--speed", args.speed), ("--depth", args.depth)):
-            if value is not None:
-                raise MudrftError(
-                    f"{option} sets the gait, which --path replaces; give one or the other"
-                )
-    speed = check_positive_option(
-        "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
-    )
-    depth = check_positive_option(
-        "--depth", STANCE_DEPTH if args.depth is None else args.depth, unit="m"
-    )
+    _check_motion_options(args)
     dt = check_positive_option("--dt", args.dt, unit="s")
     for option, path in (("--out", args.out), ("--plot", args.plot)):
         for other, given in (("--foot", args.foot), ("--path", args.path)):
@@ -128,18 +141,18 @@ def run(args: argparse.Namespace) -> int:
         thixotropy=args.thixotropy,
         clock=args.clock,
     )
-    # checked before anything is written
-    if args.path is not None:
-        trajectory = load_path_csv(args.path)
-        what = f"path {args.path}"
-    else:
-        trajectory = gait(speed, depth=depth, dt=dt)
-        what = f"{speed:g} m/s gait"
+    motion, what = _motion(args, dt)  # checked before anything is written
+    static = None
+    if isinstance(motion, LoadControl):
+        try:
+            static = static_sinking(foot, mud.mud, motion.weight)
+        except MudrftError as exc:  # too heavy to balance (D118): say why, run anyway
+            static = str(exc)
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
         logger.info("simulating %s foot, %s, %s", foot.name, mud.mud.name, what)
-        res = simulate(foot, mud, trajectory, dt=dt if args.path else None, progress=not args.quiet)
+        res = simulate(foot, mud, motion, dt=dt if args.path else None, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
             fig = res.plot()
@@ -154,6 +167,53 @@ def run(args: argparse.Namespace) -> int:
 
     for k, v in res.metrics().items():
         print(f"  {k:14s} {v: .6g} {METRICS['gait'][k].unit}")
+    if isinstance(static, float):
+        print(f"  {'static sinking':14s} {static: .6g} m (relaxed mud, no suction; D13)")
+    elif static is not None:
+        print(f"  static sinking: {static}")
     if args.plot:
         print(f"wrote {args.plot}")
     return 0
+
+
+def _check_motion_options(args: argparse.Namespace) -> None:
+    """One motion: the gait (--speed, --depth), --path, or --load (--ramp, --duration)."""
+    chosen = [o for o, v in (("--path", args.path), ("--load", args.load)) if v is not None]
+    if len(chosen) == 2:
+        raise MudrftError("--path moves the foot and --load presses it; give one or the other")
+    gait_options = [
+        o for o, v in (("--speed", args.speed), ("--depth", args.depth)) if v is not None
+    ]
+    if chosen and gait_options:
+        raise MudrftError(
+            f"{gait_options[0]} sets the gait, which {chosen[0]} replaces; give one or the other"
+        )
+    if args.load is None:
+        for option, value in (("--ramp", args.ramp), ("--duration", args.duration)):
+            if value is not None:
+                raise MudrftError(f"{option} applies to --load only; give --load WEIGHT [N]")
+
+
+def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadControl, str]:
+    """The motion the options ask for, and its description for the log."""
+    if args.path is not None:
+        return load_path_csv(args.path), f"path {args.path}"
+    if args.load is not None:
+        weight = check_positive_option("--load", args.load, unit="N")
+        ramp = LOAD_RAMP if args.ramp is None else args.ramp
+        if not ramp >= 0:
+            raise MudrftError(f"--ramp must be >= 0 s, got {ramp:g}")
+        duration = check_positive_option(
+            "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
+        )
+        return (
+            LoadControl(weight, duration=duration, dt=dt, ramp=ramp),
+            f"a load of {weight:g} N",
+        )
+    speed = check_positive_option(
+        "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
+    )
+    depth = check_positive_option(
+        "--depth", STANCE_DEPTH if args.depth is None else args.depth, unit="m"
+    )
+    return gait(speed, depth=depth, dt=dt), f"{speed:g} m/s gait"
