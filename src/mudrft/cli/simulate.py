@@ -142,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
         clock=args.clock,
     )
     motion, what = _motion(args, dt)  # checked before anything is written
-    static = None
+    static: float | str | None = None
     if isinstance(motion, LoadControl):
         try:
             static = static_sinking(foot, mud.mud, motion.weight)
