@@ -16,6 +16,8 @@ Mesh checks (decision D25 in ``docs/model.md``):
 * inconsistently wound (an edge traversed twice in the same direction): error;
 * open or non-manifold: allowed with a :class:`MeshWarning` (only the outward normals of
   the surface in contact matter; the winding is taken as given);
+* closed but made of separate parts that overlap or touch (a sole and cleats exported
+  unmerged): a :class:`MeshWarning` (:mod:`.meshparts`, D136);
 * no downward-facing area (plan area 0, so a characteristic length of 0: an open mesh
   wound inward, or a plate posed on edge): error.
 """
@@ -49,6 +51,7 @@ from .base import (  # fmt: skip
 )
 from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
 from .meshfile import read_with_trimesh
+from .meshparts import overlapping_parts
 from .stl import read_stl
 from .surface import (
     PreparedTriangles,
@@ -171,6 +174,21 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int]:
     return closed, int(np.sum(dcount > 1))
 
 
+def _warn_overlapping_parts(name: str, vertices: np.ndarray, faces: np.ndarray) -> None:
+    """Warn when separate closed parts overlap or touch (D136, :mod:`.meshparts`)."""
+    hit = overlapping_parts(vertices, faces)
+    if hit is not None:
+        warnings.warn(
+            f"MeshFoot {name!r}: the mesh is {hit.parts} separate closed parts, and the "
+            f"vertex ({', '.join(f'{c:.4g}' for c in hit.point)}) m of part {hit.inner} lies "
+            f"inside or on part {hit.outer}: the facets where parts overlap or touch count as "
+            "if mud reached them, so the forces come out too large. Merge the parts into one "
+            "surface (a boolean union in CAD, or trimesh.boolean.union) before loading",
+            MeshWarning,
+            stacklevel=3,
+        )
+
+
 class MeshFoot(Foot):
     r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
 
@@ -280,6 +298,7 @@ class MeshFoot(Foot):
             if volume < 0:
                 f = f[:, ::-1].copy()
                 self.flipped = True
+            _warn_overlapping_parts(self.name, v, f)
         self._set_geometry(v, f)
         self._check_plan_area(
             "If the mesh is open, its normals may point inward (the winding of an open mesh "

@@ -1,0 +1,152 @@
+r"""Separate parts of a closed mesh that overlap: a sole and its cleats exported unmerged.
+
+CAD exports a multi-body part (a sole with cleats, a foot with a bolted pad) as one file
+of several closed surfaces. The element rule integrates every facet as if mud touched it,
+so a cleat pushed into the sole adds the sole's facets inside the cleat and the cleat's
+facets inside the sole, and a cleat standing on the sole adds the sole's bottom under it:
+the forces come out too large, without any error. :func:`overlapping_parts` finds such
+parts; :class:`~mudrft.feet.MeshFoot` warns (decision D136 in ``docs/model.md``).
+
+A point is inside or on a closed part when its generalized winding number,
+:math:`w(p)=\frac1{4\pi}\sum_t\Omega_t(p)`, is above 1/4 (1 inside, 1/2 on a face, 0
+outside). Each facet's solid angle is that of Van Oosterom and Strackee (1983),
+:math:`\tan\frac{\Omega}{2}=\frac{\mathbf a\cdot(\mathbf b\times\mathbf c)}
+{abc+(\mathbf a\cdot\mathbf b)c+(\mathbf b\cdot\mathbf c)a+(\mathbf c\cdot\mathbf a)b}`
+with :math:`\mathbf a,\mathbf b,\mathbf c` the facet's corners from :math:`p`.
+
+References
+----------
+.. [1] A. van Oosterom and J. Strackee, "The solid angle of a plane triangle", IEEE
+   Transactions on Biomedical Engineering, BME-30(2), 125-126, 1983.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .._typing import FloatArray, IntArray
+
+__all__ = ["PartOverlap", "overlapping_parts", "winding_numbers"]
+
+#: Most points a part is tested with against another (its vertices, evenly picked), and
+#: how many at a time (the test stops at the first point inside).
+MAX_POINTS = 64
+BATCH_POINTS = 8
+#: Most parts checked pairwise (a mesh of more parts is a scan or a lattice, not a sole
+#: with cleats; it is left unchecked).
+MAX_PARTS = 64
+#: Point-facet pairs evaluated at once (memory: about 200 bytes each).
+CHUNK_PAIRS = 200_000
+
+
+class PartOverlap(NamedTuple):
+    """Two parts of a mesh, one with vertices inside or on the other.
+
+    Attributes
+    ----------
+    parts : int
+        Number of separate parts of the mesh.
+    inner, outer : int
+        The part (numbered from 1, by first facet) with a vertex inside or on ``outer``.
+    point : ndarray, shape (3,)
+        That vertex [m], in the coordinates given.
+    """
+
+    parts: int
+    inner: int
+    outer: int
+    point: FloatArray
+
+
+def winding_numbers(points: FloatArray, triangles: FloatArray) -> FloatArray:
+    """Generalized winding number of each point with respect to a closed surface [-].
+
+    Parameters
+    ----------
+    points : ndarray, shape (p, 3)
+        Points [m].
+    triangles : ndarray, shape (t, 3, 3)
+        The surface's facets [m], wound outward.
+
+    Returns
+    -------
+    ndarray, shape (p,)
+        1 inside, 0 outside, 1/2 on a flat face or its edges (up to round-off); -1 inside a
+        surface wound inward. A facet whose plane holds the point counts 0.
+    """
+    out = np.empty(len(points))
+    step = max(1, CHUNK_PAIRS // max(len(triangles), 1))
+    for s in range(0, len(points), step):
+        d = triangles[None, :, :, :] - points[s : s + step, None, None, :]
+        a, b, c = d[..., 0, :], d[..., 1, :], d[..., 2, :]
+        la, lb, lc = (np.linalg.norm(x, axis=-1) for x in (a, b, c))
+        num = np.einsum("...i,...i->...", a, np.cross(b, c))
+        den = (
+            la * lb * lc
+            + np.einsum("...i,...i->...", a, b) * lc
+            + np.einsum("...i,...i->...", b, c) * la
+            + np.einsum("...i,...i->...", c, a) * lb
+        )
+        # a point in a facet's plane (on the facet or outside it) sees it at 0 solid angle:
+        # arctan2 would give +-pi inside it by the sign of a rounded zero
+        flat = np.abs(num) <= 1e-12 * la * lb * lc
+        angle = np.where(flat, 0.0, np.arctan2(num, den))
+        out[s : s + step] = angle.sum(axis=1) / (2.0 * np.pi)
+    return out
+
+
+def overlapping_parts(vertices: FloatArray, faces: IntArray) -> PartOverlap | None:
+    """The first pair of separate parts of a closed mesh that overlap or touch, if any.
+
+    Parameters
+    ----------
+    vertices : ndarray, shape (n, 3)
+        Vertex coordinates [m]; vertices at the same coordinates are one vertex.
+    faces : ndarray, shape (m, 3)
+        Facets, each closed part wound outward.
+
+    Returns
+    -------
+    PartOverlap or None
+        None for a mesh of one part, of parts apart from each other, or of more than
+        :data:`MAX_PARTS` parts (not checked).
+    """
+    _, weld = np.unique(vertices, axis=0, return_inverse=True)
+    f = weld.reshape(-1)[faces]
+    n = int(f.max()) + 1
+    rows = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
+    cols = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
+    graph = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
+    count, label = connected_components(graph, directed=False)
+    if count < 2 or count > MAX_PARTS:
+        return None
+    part_of_face = label[f[:, 0]]
+    # number the parts by their first facet, as a user reading the file would
+    order = np.unique(part_of_face, return_index=True)[1]
+    number = {int(part_of_face[i]): k + 1 for k, i in enumerate(np.sort(order))}
+    parts = sorted(number, key=number.__getitem__)
+    tris = {p: vertices[faces[part_of_face == p]] for p in parts}
+    lows = {p: tris[p].reshape(-1, 3).min(axis=0) for p in parts}
+    highs = {p: tris[p].reshape(-1, 3).max(axis=0) for p in parts}
+    for inner in parts:
+        pts = np.unique(tris[inner].reshape(-1, 3), axis=0)
+        for outer in parts:
+            if outer == inner:
+                continue
+            near = np.all((pts >= lows[outer]) & (pts <= highs[outer]), axis=1)
+            cand = pts[near]
+            if cand.size == 0:
+                continue
+            if len(cand) > MAX_POINTS:
+                cand = cand[np.linspace(0, len(cand) - 1, MAX_POINTS).astype(int)]
+            for s in range(0, len(cand), BATCH_POINTS):
+                w = winding_numbers(cand[s : s + BATCH_POINTS], tris[outer])
+                hit = np.flatnonzero(np.abs(w) > 0.25)
+                if hit.size:
+                    point = cand[s + int(hit[0])]
+                    return PartOverlap(count, number[inner], number[outer], point)
+    return None
