@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
+
 from .._validation import MudrftError
 from ..feet import by_name
 from ..io import load_path_csv
-from ..simulation import LoadControl, simulate, static_sinking
+from ..metrics import relative_rmse
+from ..simulation import LoadControl, Result, simulate, static_sinking
 from ..terrains import MudTerrain
 from ..trajectories import STANCE_DEPTH, Trajectory, gait
 from ._common import (
@@ -167,6 +170,8 @@ def run(args: argparse.Namespace) -> int:
 
     for k, v in res.metrics().items():
         print(f"  {k:14s} {v: .6g} {METRICS['gait'][k].unit}")
+    if isinstance(motion, Trajectory):
+        _print_against_measured(res, motion)
     if isinstance(static, float):
         print(f"  {'static sinking':14s} {static: .6g} m (relaxed mud, no suction; D13)")
     elif static is not None:
@@ -217,3 +222,16 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         "--depth", STANCE_DEPTH if args.depth is None else args.depth, unit="m"
     )
     return gait(speed, depth=depth, dt=dt), f"{speed:g} m/s gait"
+
+
+def _print_against_measured(res: Result, path: Trajectory) -> None:
+    """The relative RMSE [-] of each force the path's file measured (the paper's Table II),
+    the prediction read at the file's own times."""
+    for name, measured in path.meta.get("measured_force", {}).items():
+        axis = "xyz".index(name[1])
+        predicted = np.interp(path.time, res.time, res.force[:, axis])
+        try:
+            error = f"{relative_rmse(predicted, measured): .6g} -"
+        except MudrftError as exc:  # a constant column has no range to normalise by
+            error = f" not defined: {exc}"
+        print(f"  {'rel_rmse_' + name:14s} {error} (against the file's {name}; Table II)")

@@ -13,9 +13,13 @@ The header names each column with its unit in brackets (SI when no unit is given
 units of :mod:`mudrft.units`). ``time`` (or ``t``) and ``z`` are required: ``z`` is the
 tip's height in the world frame, negative below the mud surface, as everywhere in
 mudrft. A ``depth`` column (positive below the surface) may stand in for ``z``.
-``x`` and ``y`` are 0 when absent. Other columns are ignored, so the CSV that
+``x`` and ``y`` are 0 when absent. Measured forces ``Fx``, ``Fy``, ``Fz`` (of the mud on
+the foot, world frame, as mudrft's: ``Fz`` > 0 while the mud supports the foot) are kept
+in ``trajectory.meta["measured_force"]`` [N], to compare a prediction with
+(:func:`mudrft.metrics.relative_rmse`, the paper's Table II); so the CSV that
 ``mudrft simulate --out`` writes (``time [s],x [m],y [m],z [m],Fx [N],...``) reads back
-as the path it ran. ``#`` lines are notes. The file is only read, never written.
+as the path it ran, with its forces. Other columns are ignored. ``#`` lines are notes.
+The file is only read, never written.
 """
 
 from __future__ import annotations
@@ -34,7 +38,7 @@ from .csv_log import _column_values, _parse, _read_text
 
 __all__ = ["PATH_COLUMNS", "load_path_csv"]
 
-#: Column name (lower case) -> the coordinate it holds. Every one is a length except time.
+#: Column name (lower case) -> what it holds: time, a coordinate (a length) or a force.
 PATH_COLUMNS: dict[str, str] = {
     "time": "time",
     "t": "time",
@@ -42,7 +46,11 @@ PATH_COLUMNS: dict[str, str] = {
     "y": "y",
     "z": "z",
     "depth": "depth",
+    "fx": "Fx",
+    "fy": "Fy",
+    "fz": "Fz",
 }
+_QUANTITY = {"time": "time", "Fx": "force", "Fy": "force", "Fz": "force"}
 
 
 def load_path_csv(path: PathLike) -> Trajectory:
@@ -58,7 +66,8 @@ def load_path_csv(path: PathLike) -> Trajectory:
     Trajectory
         Times [s] and tip positions [m] in the world frame (z < 0 below the mud
         surface) as in the file, the velocity [m/s] the rate of each step
-        (:meth:`Trajectory.from_positions`), named after the file.
+        (:meth:`Trajectory.from_positions`), named after the file; the file's force
+        columns [N] by name in ``meta["measured_force"]`` (``{"Fz": array}``), if any.
 
     Examples
     --------
@@ -92,7 +101,7 @@ def load_path_csv(path: PathLike) -> Trajectory:
         role = PATH_COLUMNS.get(name.lower())
         if role is None:
             continue
-        quantity = "time" if role == "time" else "length"
+        quantity = _QUANTITY.get(role, "length")
         try:
             factor = parse_unit(quantity, unit if unit is not None else default_unit(quantity))
         except MudrftError as exc:
@@ -148,4 +157,6 @@ def load_path_csv(path: PathLike) -> Trajectory:
             PlausibilityWarning,
             stacklevel=2,
         )
-    return Trajectory.from_positions(time, position, name=Path(path).name)
+    measured = {r: _column_values(table, columns[r]) for r in ("Fx", "Fy", "Fz") if r in columns}
+    meta = {"measured_force": measured} if measured else {}
+    return Trajectory.from_positions(time, position, name=Path(path).name, meta=meta)
