@@ -24,6 +24,7 @@ import numpy as np
 
 from mudrft.feet import MeshFoot
 from mudrft.feet.meshgen import semisphere_mesh
+from mudrft.feet.meshparts import overlapping_parts
 from mudrft.feet.surface import integrate_triangles
 
 #: semi-sphere mesh resolutions giving 968 and 100,352 facets (8 n^2)
@@ -96,6 +97,11 @@ def _bench_mesh(
             lambda: integrate_triangles(tri, 0.015, s1, 0.4, trailing=True),
             1,
         ),
+        "MeshFoot construction (checks, preparation)": (
+            lambda: MeshFoot(v, f, trailing=True),
+            1,
+        ),
+        "of which the overlapping-parts check (D136)": (lambda: overlapping_parts(v, f), 1),
     }
     records: list[dict[str, Any]] = []
     for name, (fn, states) in cases.items():
