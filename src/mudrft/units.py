@@ -25,6 +25,14 @@ SCALE: dict[str, dict[str, float]] = {
     "area": {"m^2": 1.0, "m2": 1.0, "cm^2": 1.0e-4, "cm2": 1.0e-4, "mm^2": 1.0e-6, "mm2": 1.0e-6},
     "velocity": {"m/s": 1.0, "mm/s": 1.0e-3, "cm/s": 1.0e-2},
     "angle": {"rad": 1.0, "deg": 3.141592653589793 / 180.0},
+    # granular RFT's stress per unit depth (Li et al. 2013 print N/cm^3)
+    "stress per depth": {
+        "N/m^3": 1.0,
+        "N/m3": 1.0,
+        "kN/m^3": 1.0e3,
+        "N/cm^3": 1.0e6,
+        "N/cm3": 1.0e6,
+    },
     "dimensionless": {"-": 1.0, "": 1.0, "1": 1.0},
 }
 

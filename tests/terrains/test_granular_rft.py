@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -11,6 +12,7 @@ from hypothesis import strategies as st
 
 import mudrft
 from mudrft import MudrftError
+from mudrft._validation import PlausibilityWarning
 from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
 from mudrft.terrains.granular_rft import GRANULAR_MEDIA, horizontal_share
 
@@ -305,3 +307,63 @@ def test_rft_force_is_lipschitz_in_the_facet_tilt(tilt, eps):
     full = np.abs(rft_forces(np.array([[1.0, 0.0, 0.0]]), [0.02], [5e-3], [1.0, 0.0, 0.0])).max()
     bound = 10 * full * abs(eps) / 1e-3 + 1e-9 * full
     assert np.abs(force(tilt + eps) - force(tilt)).max() <= bound
+
+
+# --- a terramechanics researcher's walkthrough (D130): units as RFT papers print them ---
+
+#: Li et al.'s (2013) fit for loosely packed poppy seeds as tabulated [N/cm^3] (D50).
+POPPY_LP_N_PER_CM3 = dict(
+    A00=0.051,
+    A10=0.047,
+    B01=0.083,
+    B11=0.053,
+    Bm11=0.020,
+    C01=0.057,
+    C11=-0.026,
+    Cm11=0.0,
+    D10=0.025,
+)
+
+
+def test_zeta_given_in_n_per_cm3_warns_and_si_does_not():
+    # 0.254 "N/m^3" is 1e6 times too small a medium: the plate test read 4e-5 N, silently
+    with pytest.warns(PlausibilityWarning, match=r"zeta is 0.254 N/m\^3.*N/cm\^3"):
+        GranularRFT(zeta=0.254)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        GranularRFT(zeta=0.254e6)
+        GranularRFT.medium("poppy-cp")
+
+
+def test_a_mediums_own_fit_in_n_per_cm3_is_kept_exactly(box):
+    from mudrft.baselines import FourierCoefficients
+
+    lp = FourierCoefficients(**POPPY_LP_N_PER_CM3)
+    rft = GranularRFT.from_coefficients(lp, unit="N/cm^3")
+    assert rft.zeta == pytest.approx(0.254e6, rel=1e-12)  # A00 + A10 + B01 + B11 + Bm11
+    beta, gamma = np.meshgrid(np.linspace(-1.5, 1.5, 7), np.linspace(-1.5, 1.5, 7))
+    ax, az = rft.alpha(beta, gamma)  # [N/m^3]
+    ax_ref, az_ref = lp.alpha(beta, gamma)  # [N/cm^3], the published series
+    np.testing.assert_allclose(ax, 1e6 * ax_ref, rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(az, 1e6 * az_ref, rtol=1e-12, atol=1e-6)
+    # the plate test: F_z = 0.254 N/cm^3 * depth * area, in SI
+    tr = mudrft.plate_intrusion(depth=0.02, dt=2e-3)
+    h = run_terrain(rft, box, tr)
+    assert h.force[:, 2].max() == pytest.approx(0.254e6 * 0.02 * box.length * box.width, rel=1e-9)
+    # the same table given as the dimensionless fit was multiplied by zeta once more: warns
+    with pytest.warns(PlausibilityWarning, match=r"not normalised.*from_coefficients"):
+        GranularRFT(coefficients=lp)
+
+
+def test_from_coefficients_rejects_what_it_cannot_scale():
+    from mudrft.baselines import FourierCoefficients
+
+    flat = dict(POPPY_LP_N_PER_CM3, A00=-0.254)  # alpha_z(0, pi/2) = -0.051
+    with pytest.raises(MudrftError, match=r"alpha_z\(0, pi/2\).*> 0, got -0.051 N/cm\^3"):
+        GranularRFT.from_coefficients(FourierCoefficients(**flat))
+    with pytest.raises(
+        MudrftError, match=r"unit for stress per depth must be one of .*got .psi/in."
+    ):
+        GranularRFT.from_coefficients(FourierCoefficients(**POPPY_LP_N_PER_CM3), unit="psi/in")
+    with pytest.raises(MudrftError, match="takes its scale from the coefficients, got zeta="):
+        GranularRFT.from_coefficients(FourierCoefficients(**POPPY_LP_N_PER_CM3), zeta=1e5)

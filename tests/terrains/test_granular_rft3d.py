@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
@@ -12,6 +13,7 @@ from hypothesis import strategies as st
 
 import mudrft
 from mudrft import MudrftError
+from mudrft._validation import PlausibilityWarning
 from mudrft.baselines import run_terrain
 from mudrft.feet.base import Foot, SurfaceElements
 from mudrft.terrains import GranularRFT, GranularRFT3D
@@ -360,3 +362,16 @@ def test_bad_options_are_rejected_with_clear_messages(box):
 def test_use_registers_the_citation():
     GranularRFT3D()
     assert "agarwal2023rft3d" in mudrft.citations(bibtex=False)
+
+
+def test_density_in_g_per_cm3_and_friction_in_degrees_warn():
+    # a terramechanics researcher's walkthrough (D130): 1.31 (g/cm^3) gave a medium 1000x
+    # too soft and 22 (degrees) a cap that never acts, both silently
+    with pytest.warns(PlausibilityWarning, match=r"rho_c is 1.31 kg/m\^3.*g/cm\^3"):
+        GranularRFT3D(rho_c=1.31)
+    with pytest.warns(PlausibilityWarning, match=r"mu_surf = 22 looks like a friction angle"):
+        GranularRFT3D(mu_surf=22.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        GranularRFT3D(rho_c=1600.0, mu_int=0.6, mu_surf=0.5)
+        GranularRFT3D(mu_surf=1e3)  # the cap turned off

@@ -29,21 +29,31 @@ from numpy.typing import ArrayLike
 
 from .._validation import (
     MudrftError,
-    check_broadcast,
     check_choice,
     check_finite,
     check_in_range,
     check_nonnegative,
     check_positive,
+    warn_implausible,
+    warn_plausibility,
 )
 from .._validation import (
     set_number as _set,
 )
 from ..citations import register
 from ..feet.base import SurfaceElements
+from ..units import parse_unit
 from ._common import mean_stress, projected, tip_depth, tip_position
 from ._rft_groups import _group_weights, _prepare, _Prepared, _unit
 from .base import TerrainOutput, check_motion
+from .li2013 import (
+    DEFAULT_ZETA,
+    GRANULAR_MEDIA,
+    LI2013_GENERIC,
+    PLAUSIBLE_ZETA,
+    FourierCoefficients,
+    li2013_alpha,
+)
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -53,6 +63,7 @@ __all__ = [
     "GRANULAR_MEDIA",
     "LEADING_WIDTH",
     "LI2013_GENERIC",
+    "PLAUSIBLE_ZETA",
     "FourierCoefficients",
     "GranularRFT",
     "RFTState",
@@ -64,74 +75,6 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class FourierCoefficients:
-    r"""Coefficients of Li et al.'s (2013) first-order Fourier fit of :math:`\alpha_{z,x}`.
-
-    .. math::
-
-        \alpha_z &= A_{00} + A_{10}\cos 2\beta + B_{01}\sin\gamma + B_{11}\sin(2\beta+\gamma)
-                    + B_{-11}\sin(-2\beta+\gamma),\\
-        \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
-                    + D_{10}\sin 2\beta,
-
-    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle of the element (0: horizontal),
-    :math:`\gamma\in[-\pi/2,\pi/2]` the intrusion angle of its velocity below the
-    horizontal (:math:`\pi/2`: straight down). The units are those of the fit (the
-    generic fit is dimensionless, normalised to :math:`\alpha_z(0,\pi/2)=1`).
-    """
-
-    A00: float
-    A10: float
-    B01: float
-    B11: float
-    Bm11: float
-    C01: float
-    C11: float
-    Cm11: float
-    D10: float
-
-    def alpha(self, beta: ArrayLike, gamma: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """``(alpha_x, alpha_z)`` at attack angle ``beta`` and intrusion angle ``gamma`` [rad]."""
-        b2 = 2.0 * np.asarray(beta, dtype=float)
-        g = np.asarray(gamma, dtype=float)
-        az = (
-            self.A00
-            + self.A10 * np.cos(b2)
-            + self.B01 * np.sin(g)
-            + self.B11 * np.sin(b2 + g)
-            + self.Bm11 * np.sin(-b2 + g)
-        )
-        ax = (
-            self.C01 * np.cos(g)
-            + self.C11 * np.cos(b2 + g)
-            + self.Cm11 * np.cos(-b2 + g)
-            + self.D10 * np.sin(b2)
-        )
-        return ax, az
-
-
-#: Li, Zhang & Goldman (2013), generic coefficients (dimensionless; alpha_z(0, pi/2) = 1).
-LI2013_GENERIC = FourierCoefficients(
-    A00=0.206,
-    A10=0.169,
-    B01=0.358,
-    B11=0.212,
-    Bm11=0.055,
-    C01=0.253,
-    C11=-0.124,
-    Cm11=0.007,
-    D10=0.088,
-)
-
-#: Scale zeta [N/m^3] of named granular media: alpha_z(0, pi/2) of Li et al.'s (2013)
-#: per-medium Fourier fits for loosely (LP) and closely (CP) packed poppy seeds,
-#: 0.254 and 0.464 N/cm^3 (decision D50).
-GRANULAR_MEDIA: dict[str, float] = {"poppy-lp": 0.254e6, "poppy-cp": 0.464e6}
-
-#: Default scale: loosely packed poppy seeds [N/m^3].
-DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
-
 # Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|
 # (tanh) and f23 over |v23| (atanh), normalised here to 0 at 0 and 1 at 1.
 _TREERS_F1 = (3.62263982880971, 1.60910808139526)
@@ -139,40 +82,6 @@ _TREERS_F23 = (1.61146827229181, 0.973746396532650)
 # a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance), and
 # in part between 1 - 2e-3 and 1 - 1e-3 (horizontal_share)
 _HORIZONTAL_TOL = 1e-3
-
-
-def li2013_alpha(
-    beta: ArrayLike, gamma: ArrayLike, *, coefficients: FourierCoefficients = LI2013_GENERIC
-) -> tuple[np.ndarray, np.ndarray]:
-    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
-
-    Parameters
-    ----------
-    beta : array_like
-        Attack angle of the surface element [rad] (0: horizontal plate; the fit is
-        :math:`\pi`-periodic in ``beta``).
-    gamma : array_like
-        Intrusion angle of the velocity below the horizontal [rad], in
-        :math:`[-\pi/2, \pi/2]` (:math:`\pi/2`: straight down, :math:`-\pi/2`: straight up).
-    coefficients : FourierCoefficients, keyword-only
-        The fit (default: the generic one, dimensionless).
-
-    Returns
-    -------
-    (ndarray, ndarray)
-        :math:`\alpha_x` (positive: resists motion along the element's horizontal
-        direction) and :math:`\alpha_z` (positive: lift), in the units of the fit.
-
-    Examples
-    --------
-    >>> ax, az = li2013_alpha(0.0, np.pi / 2)     # horizontal plate pushed straight down
-    >>> round(float(ax), 12), round(float(az), 3)
-    (0.0, 1.0)
-    """
-    b = check_finite("beta", beta)
-    g = check_finite("gamma", gamma)
-    check_broadcast(beta=b.shape, gamma=g.shape)
-    return coefficients.alpha(b, g)
 
 
 def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -489,10 +398,16 @@ class GranularRFT(FacetRFT):
     Parameters
     ----------
     zeta : float
-        Scale of the medium [N/m^3]; default: loosely packed poppy seeds,
-        0.254 N/cm^3 (:data:`GRANULAR_MEDIA`, decision D50).
+        Scale of the medium [N/m^3]: the vertical stress per unit depth of a horizontal
+        plate pushed straight down; default: loosely packed poppy seeds, 0.254 N/cm^3 =
+        2.54e5 N/m^3 (:data:`GRANULAR_MEDIA`, decision D50). RFT papers print N/cm^3:
+        multiply by 1e6. A value below 1e3 N/m^3 warns (:data:`PLAUSIBLE_ZETA`, D130).
     coefficients : FourierCoefficients
-        2D fit; default Li et al.'s generic one.
+        2D fit, dimensionless and normalised to :math:`\alpha_z(0,\pi/2)=1`
+        (:attr:`FourierCoefficients.plate`); default Li et al.'s generic one. The force is
+        ``zeta`` times this fit, so a medium's own fit as Li et al. tabulate it (in N/cm^3,
+        not normalised) goes through :meth:`from_coefficients`; unnormalised coefficients
+        given here warn (D130).
     extension : {"treers2021", "planar"}
         3D extension (decision D51).
     rest_speed : float
@@ -519,6 +434,8 @@ class GranularRFT(FacetRFT):
     >>> rft = GranularRFT()
     >>> rft.zeta
     254000.0
+    >>> GranularRFT(zeta=0.464e6).zeta     # closely packed poppy seeds, 0.464 N/cm^3
+    464000.0
     """
 
     zeta: float = DEFAULT_ZETA
@@ -539,6 +456,23 @@ class GranularRFT(FacetRFT):
                 "coefficients must be a FourierCoefficients, "
                 f"got {type(self.coefficients).__name__}"
             )
+        # valid but most likely a unit mistake (D130): zeta in N/cm^3 as papers print it,
+        # or a medium's own fit (N/cm^3, not normalised) multiplied by zeta once more
+        warn_implausible(
+            "GranularRFT: zeta is",
+            self.zeta,
+            PLAUSIBLE_ZETA,
+            unit="N/m^3",
+            hint="zeta is in N/m^3; RFT papers print N/cm^3 (0.254 N/cm^3 = 2.54e5 N/m^3)",
+        )
+        plate = self.coefficients.plate
+        if not abs(plate - 1.0) <= 0.01:
+            warn_plausibility(
+                "GranularRFT: coefficients are not normalised (alpha_z(0, pi/2) = "
+                f"{plate:.4g}, expected 1) and the force is zeta = {self.zeta:.4g} N/m^3 "
+                "times them; for a medium's own Fourier fit in N/cm^3 use "
+                "GranularRFT.from_coefficients(coefficients, unit='N/cm^3')"
+            )
         register("li2013terradynamics")
         if self.extension == "treers2021":
             _try_register("treers2021granular")
@@ -548,6 +482,66 @@ class GranularRFT(FacetRFT):
         """RFT for a named medium of :data:`GRANULAR_MEDIA` (``"poppy-lp"``, ``"poppy-cp"``)."""
         check_choice("name", name, tuple(GRANULAR_MEDIA))
         return cls(zeta=GRANULAR_MEDIA[name], **kw)
+
+    @classmethod
+    def from_coefficients(
+        cls, coefficients: FourierCoefficients, *, unit: str = "N/cm^3", **kw: Any
+    ) -> GranularRFT:
+        r"""RFT for a medium's own Fourier fit, in the units Li et al. (2013) tabulate.
+
+        Li et al.'s per-medium fits (their supplementary table) give
+        :math:`A_{00}\dots D_{10}` of a medium in N/cm^3. The terrain keeps them exactly,
+        as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)` converted to
+        N/m^3 and the coefficients divided by it (decision D130).
+
+        Parameters
+        ----------
+        coefficients : FourierCoefficients
+            The medium's fit, in ``unit``; its :math:`\alpha_z(0,\pi/2)` must be > 0.
+        unit : {"N/cm^3", "N/m^3", "kN/m^3"}, keyword-only
+            Unit of the coefficients (default N/cm^3, as printed).
+        **kw
+            Other options of :class:`GranularRFT` (``extension``, ``name``, ...).
+
+        Examples
+        --------
+        Loosely packed poppy seeds, as tabulated (N/cm^3):
+
+        >>> lp = FourierCoefficients(A00=0.051, A10=0.047, B01=0.083, B11=0.053, Bm11=0.020,
+        ...                          C01=0.057, C11=-0.026, Cm11=0.0, D10=0.025)
+        >>> rft = GranularRFT.from_coefficients(lp, unit="N/cm^3")
+        >>> round(rft.zeta)                       # [N/m^3]
+        254000
+        >>> ax, az = rft.alpha(np.pi / 2, 0.0)    # a vertical wall dragged face-on [N/m^3]
+        >>> round(float(ax)), round(float(az))
+        (83000, 4000)
+        """
+        if not isinstance(coefficients, FourierCoefficients):
+            raise MudrftError(
+                f"coefficients must be a FourierCoefficients, got {type(coefficients).__name__}"
+            )
+        for field in ("zeta", "coefficients"):
+            if field in kw:
+                raise MudrftError(
+                    f"from_coefficients takes its scale from the coefficients, got {field}="
+                )
+        factor = parse_unit("stress per depth", unit)
+        values = {k: check_finite(k, v) for k, v in vars(coefficients).items()}
+        plate = coefficients.plate
+        if not plate > 0.0:
+            raise MudrftError(
+                "coefficients must support a horizontal plate pushed down, alpha_z(0, pi/2) "
+                f"= A00 + A10 + B01 + B11 + Bm11 > 0, got {plate:.4g} {unit}"
+            )
+        normalised = FourierCoefficients(**{k: float(v) / plate for k, v in values.items()})
+        return cls(zeta=plate * factor, coefficients=normalised, **kw)
+
+    def alpha(self, beta: ArrayLike, gamma: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        r"""This medium's stress per unit depth :math:`(\alpha_x,\alpha_z)=\zeta\,\alpha^{fit}`
+        [N/m^3] at attack angle ``beta`` and intrusion angle ``gamma`` [rad]
+        (:func:`li2013_alpha` for the conventions)."""
+        ax, az = li2013_alpha(beta, gamma, coefficients=self.coefficients)
+        return self.zeta * ax, self.zeta * az
 
     @property
     def scale(self) -> float:

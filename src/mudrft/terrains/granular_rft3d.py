@@ -35,6 +35,8 @@ from .._validation import (
     check_positive,
     number_in_range,
     positive_number,
+    warn_implausible,
+    warn_plausibility,
 )
 from .._validation import set_number as _set
 from ..citations import register
@@ -43,6 +45,7 @@ from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
 __all__ = [
     "AGARWAL2023",
     "GRAVITY",
+    "PLAUSIBLE_RHO_C",
     "WALL_WIDTH",
     "GranularRFT3D",
     "PolynomialCoefficients",
@@ -57,6 +60,9 @@ GRAVITY = 9.81
 
 #: Width in :math:`n_z` of the blend across vertical walls [-] (decision D93).
 WALL_WIDTH = 1e-3
+
+#: Plausible bulk densities of a granular medium [kg/m^3]; below, most likely g/cm^3 (D130).
+PLAUSIBLE_RHO_C = (100.0, 1.0e4)
 
 
 @dataclass(frozen=True)
@@ -405,11 +411,16 @@ class GranularRFT3D(FacetRFT):
     Parameters
     ----------
     rho_c : float
-        Density of the medium [kg/m^3] (default 1310, D95).
+        Bulk density of the medium [kg/m^3] (packing fraction times grain density, not the
+        grains' own density; default 1310, D95). A value below 100 kg/m^3 warns: g/cm^3
+        given as kg/m^3 (D130).
     mu_int : float
-        Internal friction coefficient of the medium [-] (default 0.21, D95).
+        Internal friction coefficient of the medium [-] (default 0.21, D95): a coefficient,
+        :math:`\tan` of the internal friction angle, not the angle.
     mu_surf : float
-        Intruder-surface friction coefficient of the cap [-] (default 0.4, D95).
+        Intruder-surface friction coefficient of the cap [-] (default 0.4, D95): a
+        coefficient, not an angle (a value in (2, 90] warns as degrees, D130); a large
+        value (1e3) turns the cap off.
     gravity : float
         Gravitational acceleration [m/s^2] in :math:`\xi_n`.
     coefficients : PolynomialCoefficients
@@ -462,6 +473,19 @@ class GranularRFT3D(FacetRFT):
             )
         if not isinstance(self.name, str) or not self.name:
             raise MudrftError(f"name must be a non-empty string, got {self.name!r}")
+        # valid but most likely a unit mistake (D130)
+        warn_implausible(
+            "GranularRFT3D: rho_c is",
+            self.rho_c,
+            PLAUSIBLE_RHO_C,
+            unit="kg/m^3",
+            hint="rho_c is the bulk density in kg/m^3 (1.31 g/cm^3 = 1310 kg/m^3)",
+        )
+        if 2.0 < self.mu_surf <= 90.0:
+            warn_plausibility(
+                f"GranularRFT3D: mu_surf = {self.mu_surf:g} looks like a friction angle in "
+                "degrees; mu_surf is a friction coefficient, tan(angle) (22 degrees: 0.40)"
+            )
         register("agarwal2023rft3d")
 
     @property

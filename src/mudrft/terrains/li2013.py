@@ -1,0 +1,149 @@
+r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media.
+
+The stress per unit depth on a small plate element of a granular medium is
+:math:`\zeta\,\alpha^{fit}(\beta,\gamma)` (:class:`FourierCoefficients`, :func:`li2013_alpha`),
+with the *generic* dimensionless fit :data:`LI2013_GENERIC` normalised to
+:math:`\alpha_z(0,\pi/2)=1` and :math:`\zeta` [N/m^3] the medium's scale
+(:data:`GRANULAR_MEDIA`). Li et al. print stresses per depth in N/cm^3; mudrft holds
+N/m^3 (decisions D50, D130 in ``docs/model.md``). :mod:`~mudrft.terrains.granular_rft`
+integrates the fit over a foot.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._validation import check_broadcast, check_finite
+
+__all__ = [
+    "DEFAULT_ZETA",
+    "GRANULAR_MEDIA",
+    "LI2013_GENERIC",
+    "PLAUSIBLE_ZETA",
+    "FourierCoefficients",
+    "li2013_alpha",
+]
+
+
+@dataclass(frozen=True)
+class FourierCoefficients:
+    r"""Coefficients of Li et al.'s (2013) first-order Fourier fit of :math:`\alpha_{z,x}`.
+
+    .. math::
+
+        \alpha_z &= A_{00} + A_{10}\cos 2\beta + B_{01}\sin\gamma + B_{11}\sin(2\beta+\gamma)
+                    + B_{-11}\sin(-2\beta+\gamma),\\
+        \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
+                    + D_{10}\sin 2\beta,
+
+    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle of the element (0: horizontal),
+    :math:`\gamma\in[-\pi/2,\pi/2]` the intrusion angle of its velocity below the
+    horizontal (:math:`\pi/2`: straight down). The units are those of the fit (the
+    generic fit is dimensionless, normalised to :math:`\alpha_z(0,\pi/2)=1`).
+    """
+
+    A00: float
+    A10: float
+    B01: float
+    B11: float
+    Bm11: float
+    C01: float
+    C11: float
+    Cm11: float
+    D10: float
+
+    @property
+    def plate(self) -> float:
+        r""":math:`\alpha_z(0,\pi/2)=A_{00}+A_{10}+B_{01}+B_{11}+B_{-11}`, the vertical stress
+        per unit depth of a horizontal plate pushed straight down, in the units of the fit
+        (1 for the generic fit).
+
+        Examples
+        --------
+        >>> round(LI2013_GENERIC.plate, 12)
+        1.0
+        """
+        return float(self.alpha(0.0, np.pi / 2)[1])
+
+    def alpha(self, beta: ArrayLike, gamma: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """``(alpha_x, alpha_z)`` at attack angle ``beta`` and intrusion angle ``gamma`` [rad]."""
+        b2 = 2.0 * np.asarray(beta, dtype=float)
+        g = np.asarray(gamma, dtype=float)
+        az = (
+            self.A00
+            + self.A10 * np.cos(b2)
+            + self.B01 * np.sin(g)
+            + self.B11 * np.sin(b2 + g)
+            + self.Bm11 * np.sin(-b2 + g)
+        )
+        ax = (
+            self.C01 * np.cos(g)
+            + self.C11 * np.cos(b2 + g)
+            + self.Cm11 * np.cos(-b2 + g)
+            + self.D10 * np.sin(b2)
+        )
+        return ax, az
+
+
+#: Li, Zhang & Goldman (2013), generic coefficients (dimensionless; alpha_z(0, pi/2) = 1).
+LI2013_GENERIC = FourierCoefficients(
+    A00=0.206,
+    A10=0.169,
+    B01=0.358,
+    B11=0.212,
+    Bm11=0.055,
+    C01=0.253,
+    C11=-0.124,
+    Cm11=0.007,
+    D10=0.088,
+)
+
+#: Scale zeta [N/m^3] of named granular media: alpha_z(0, pi/2) of Li et al.'s (2013)
+#: per-medium Fourier fits for loosely (LP) and closely (CP) packed poppy seeds,
+#: 0.254 and 0.464 N/cm^3 (decision D50).
+GRANULAR_MEDIA: dict[str, float] = {"poppy-lp": 0.254e6, "poppy-cp": 0.464e6}
+
+#: Default scale: loosely packed poppy seeds [N/m^3].
+DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
+
+#: Plausible scales of a granular medium [N/m^3] (1e-3 to 100 N/cm^3; Li et al.'s media lie
+#: near 0.1-1 N/cm^3). A zeta below it is most likely a value in N/cm^3, as RFT papers
+#: print it, given as N/m^3 (decision D130).
+PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
+
+
+def li2013_alpha(
+    beta: ArrayLike, gamma: ArrayLike, *, coefficients: FourierCoefficients = LI2013_GENERIC
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
+
+    Parameters
+    ----------
+    beta : array_like
+        Attack angle of the surface element [rad] (0: horizontal plate; the fit is
+        :math:`\pi`-periodic in ``beta``).
+    gamma : array_like
+        Intrusion angle of the velocity below the horizontal [rad], in
+        :math:`[-\pi/2, \pi/2]` (:math:`\pi/2`: straight down, :math:`-\pi/2`: straight up).
+    coefficients : FourierCoefficients, keyword-only
+        The fit (default: the generic one, dimensionless).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        :math:`\alpha_x` (positive: resists motion along the element's horizontal
+        direction) and :math:`\alpha_z` (positive: lift), in the units of the fit.
+
+    Examples
+    --------
+    >>> ax, az = li2013_alpha(0.0, np.pi / 2)     # horizontal plate pushed straight down
+    >>> round(float(ax), 12), round(float(az), 3)
+    (0.0, 1.0)
+    """
+    b = check_finite("beta", beta)
+    g = check_finite("gamma", gamma)
+    check_broadcast(beta=b.shape, gamma=g.shape)
+    return coefficients.alpha(b, g)
