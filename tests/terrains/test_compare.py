@@ -183,3 +183,41 @@ def test_compare_reports_progress_through_the_mudrft_logger_not_print(box, capsy
     assert lines[-1].strip() == f"compare on {tr.name}: 100 %"
     compare(box, tr, [LinearStiffness()])
     assert capsys.readouterr().out == ""  # the library never prints
+
+
+def test_compare_takes_terrain_names_objects_and_muds_mixed(box):
+    # a terramechanics researcher's walkthrough (D131): switching terrains by name, the
+    # names of default_terrains; before, a name failed with "terrain names must be unique,
+    # got ['str', 'str']" or "terrain must have initial_state() and step(), got str"
+    plate = mudrft.plate_intrusion(depth=0.01, hold=0.0, dt=2e-3)
+    sand = GranularRFT(zeta=0.464e6, name="poppy-cp")
+    out = compare(box, plate, ["mud", "granular-rft", sand], water_content=0.45)
+    assert list(out) == ["mud", "granular-rft", "poppy-cp"]
+    ref = run_terrain(mudrft.terrains.MudTerrain(mudrft.paper_mud(0.45)), box, plate)
+    np.testing.assert_array_equal(out["mud"].force, ref.force)
+    np.testing.assert_array_equal(
+        out["granular-rft"].force, run_terrain(GranularRFT(), box, plate).force
+    )
+    both = compare(box, plate, {"W=25": mudrft.paper_mud(0.25), "sand": "granular-rft"})
+    np.testing.assert_array_equal(both["sand"].force, out["granular-rft"].force)
+    assert both["W=25"].force[:, 2].max() > 0
+
+
+def test_compare_names_what_is_wrong_with_a_terrain(box):
+    plate = mudrft.plate_intrusion(depth=0.01, hold=0.0, dt=2e-3)
+    names = r"\['mud', 'granular-rft', 'granular-rft3d', 'linear', 'maxwell', 'rigid'\]"
+    with pytest.raises(
+        MudrftError, match=rf"terrains\[1\] must be a terrain .*{names}, got 'sand'"
+    ):
+        compare(box, plate, ["mud", "sand"])
+    with pytest.raises(MudrftError, match=r"got the string 'linear' \(write \['linear'\]"):
+        compare(box, plate, "linear")
+    with pytest.raises(MudrftError, match=r"terrains\[0\] must be a terrain object, got the class"):
+        compare(box, plate, [GranularRFT])
+    with pytest.raises(MudrftError, match=r"terrains\['a'\] must be a terrain.*got float 3.0"):
+        compare(box, plate, {"a": 3.0})
+    # simulate takes objects: a name or a class says what to write
+    with pytest.raises(MudrftError, match=r"got the string 'granular-rft': write the terrain"):
+        mudrft.simulate(box, "granular-rft", plate)
+    with pytest.raises(MudrftError, match=r"got the class GranularRFT \(write GranularRFT\(\)"):
+        mudrft.simulate(box, GranularRFT, plate)

@@ -22,7 +22,7 @@ from .._progress import make_progress
 from .._validation import MudrftError, plain
 from ..feet.base import Foot
 from ..io.atomic import atomic_write
-from ..parameters import paper_mud
+from ..parameters import Mud, paper_mud
 from ..terrains import MudTerrain, Terrain
 from ..terrains._common import projected
 from ..terrains.granular_rft import GranularRFT
@@ -34,6 +34,7 @@ from ..trajectories import Trajectory
 
 __all__ = [
     "CSV_COLUMNS",
+    "TERRAIN_NAMES",
     "History",
     "compare",
     "default_terrains",
@@ -179,6 +180,10 @@ def run_terrain(
     )
 
 
+#: Names of :func:`default_terrains`, in their order.
+TERRAIN_NAMES = ("mud", "granular-rft", "granular-rft3d", "linear", "maxwell", "rigid")
+
+
 def default_terrains(
     water_content: float = 0.25, *, extrapolate: bool = False
 ) -> dict[str, Terrain]:
@@ -220,9 +225,11 @@ def compare(
         The foot (granular RFT needs ``foot.elements()``).
     trajectory : Trajectory
         Prescribed tip motion, e.g. :func:`mudrft.plate_intrusion` or :func:`mudrft.gait`.
-    terrains : mapping name -> terrain, iterable of terrains, or None, optional
-        Default :func:`default_terrains` (``mud``, ``granular-rft``, ``granular-rft3d``,
-        ``linear``, ``maxwell``, ``rigid``).
+    terrains : mapping name -> terrain, iterable of terrains or names, or None, optional
+        Terrain objects (``mudrft.terrains.GranularRFT(zeta=...)``, ...) or the names of
+        :func:`default_terrains` (``"mud"``, ``"granular-rft"``, ``"granular-rft3d"``,
+        ``"linear"``, ``"maxwell"``, ``"rigid"``: those terrains with their defaults), mixed
+        freely; default: all of :func:`default_terrains` (decision D131).
     water_content : float, keyword-only
         Mud water content [-] for the default terrains.
     extrapolate : bool, keyword-only
@@ -245,6 +252,8 @@ def compare(
     >>> out = compare(foot, plate, [GranularRFT(), LinearStiffness()])
     >>> list(out)
     ['granular-rft', 'linear']
+    >>> list(compare(foot, plate, ["mud", GranularRFT(zeta=0.464e6, name="poppy-cp")]))
+    ['mud', 'poppy-cp']
     """
     if not isinstance(foot, Foot):
         raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
@@ -254,10 +263,21 @@ def compare(
         )
     if terrains is None:
         items = list(default_terrains(water_content, extrapolate=extrapolate).items())
+    elif isinstance(terrains, str):
+        raise MudrftError(
+            f"terrains must be a list of terrains or names, got the string {terrains!r} "
+            f"(write [{terrains!r}]; names: {list(TERRAIN_NAMES)})"
+        )
     elif isinstance(terrains, Mapping):
-        items = [(str(k), v) for k, v in terrains.items()]
+        items = [
+            (str(k), _terrain(f"terrains[{k!r}]", v, water_content, extrapolate))
+            for k, v in terrains.items()
+        ]
     else:
-        items = [(str(getattr(t, "name", type(t).__name__)), t) for t in terrains]
+        items = []
+        for i, t in enumerate(terrains):
+            t = _terrain(f"terrains[{i}]", t, water_content, extrapolate)
+            items.append((str(getattr(t, "name", type(t).__name__)), t))
     if not items:
         raise MudrftError("terrains must name at least one terrain, got none")
     names = [k for k, _ in items]
@@ -280,6 +300,30 @@ def compare(
         if report is not None:
             report((i + 1) / len(items))
     return out
+
+
+def _terrain(label: str, value: Any, water_content: float, extrapolate: bool) -> Terrain:
+    """A terrain object from ``value``: a terrain, or the name of a default terrain (D131)."""
+    if isinstance(value, str):
+        if value not in TERRAIN_NAMES:
+            raise MudrftError(
+                f"{label} must be a terrain or one of the names {list(TERRAIN_NAMES)}, "
+                f"got {value!r}"
+            )
+        return default_terrains(water_content, extrapolate=extrapolate)[value]
+    if isinstance(value, type):
+        raise MudrftError(
+            f"{label} must be a terrain object, got the class {value.__name__} "
+            f"(write {value.__name__}() with its options)"
+        )
+    if isinstance(value, Mud):  # the paper's mud or a calibrated one, as simulate takes it
+        return MudTerrain(value)
+    if not isinstance(value, Terrain):
+        raise MudrftError(
+            f"{label} must be a terrain (mudrft.terrains), a Mud or one of the names "
+            f"{list(TERRAIN_NAMES)}, got {_what(value)}"
+        )
+    return value
 
 
 def _check_history(name: str, value: Any) -> None:

@@ -112,8 +112,19 @@ def as_terrain(terrain: Mud | Terrain) -> Terrain:
 
     if isinstance(terrain, Mud):
         return MudTerrain(terrain)
-    if isinstance(terrain, Terrain):
+    if isinstance(terrain, Terrain) and not isinstance(terrain, type):
         return terrain
+    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes (D131)
+        raise MudrftError(
+            "mud must be a Mud (mudrft.paper_mud) or a terrain object, got the string "
+            f"{terrain!r}: write the terrain, e.g. mudrft.terrains.GranularRFT() "
+            "(mudrft.baselines.compare takes names)"
+        )
+    if isinstance(terrain, type):
+        raise MudrftError(
+            f"mud must be a Mud or a terrain object, got the class {terrain.__name__} "
+            f"(write {terrain.__name__}() with its options)"
+        )
     raise MudrftError(
         "mud must be a Mud (mudrft.paper_mud) or a terrain with initial_state() and step() "
         f"(mudrft.terrains), got {type(terrain).__name__}"
