@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -421,3 +422,64 @@ def test_simulate_motion_options_that_do_not_go_together(tmp_path, capsys, args,
     code, _, err = run(capsys, "simulate", "--foot", "flat", *args, "--out", str(out))
     assert code == 2 and needle in err and err.count("\n") == 1, err
     assert not out.exists()
+
+
+def test_compare_runs_your_own_granular_medium_and_only_the_terrains_named(tmp_path, capsys):
+    """A terramechanics researcher's walkthrough (D132): ``--terrains`` picks the terrains and
+    ``--zeta``/``--rho-c``/``--mu-int``/``--mu-surf`` describe the sand; before, compare ran
+    every terrain with the default media only."""
+    import csv
+
+    import mudrft
+    from mudrft.baselines import compare, summarize
+
+    out = tmp_path / "sand"
+    args = ["compare", "--out", str(out), "--no-figures", "--quiet", "--depth", "0.01"]
+    args += ["--hold", "0.1", "--terrains", "granular-rft,granular-rft3d", "--zeta", "0.9e6"]
+    args += ["--rho-c", "1600", "--mu-int", "0.4", "--mu-surf", "0.3"]
+    assert run(capsys, *args)[0] == 0
+    with (out / "compare_summary.csv").open() as fh:
+        rows = {(r["trajectory"], r["terrain"]): r for r in csv.DictReader(fh)}
+    assert sorted(rows) == [
+        (t, n) for t in ("gait", "plate") for n in ("granular-rft", "granular-rft3d")
+    ]
+    terrains = [
+        mudrft.terrains.GranularRFT(zeta=0.9e6),
+        mudrft.terrains.GranularRFT3D(rho_c=1600, mu_int=0.4, mu_surf=0.3),
+    ]
+    foot = mudrft.feet.by_name("flat")
+    expected = summarize(compare(foot, mudrft.plate_intrusion(depth=0.01, hold=0.1), terrains))
+    for row in expected:
+        got = float(rows[("plate", row["terrain"])]["peak_support [N]"])
+        assert got == pytest.approx(row["peak_support [N]"], rel=1e-5)
+    # the plate: zeta * depth * area for the 80 x 65 mm flat foot
+    assert float(rows[("plate", "granular-rft")]["peak_support [N]"]) == pytest.approx(
+        0.9e6 * 0.01 * 0.08 * 0.065, rel=1e-5
+    )
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--terrains", "sand"], "--terrains must name one or more of mud, granular-rft"),
+        (["--terrains", "mud,mud"], "--terrains must name each terrain once, got 'mud,mud'"),
+        (["--terrains", "mud", "--zeta", "2e5"], "--zeta describes granular-rft, which --terrains leaves out"),
+        (["--rho-c", "-1"], "--rho-c must be > 0 kg/m^3, got -1"),
+        (["--depth", "30"], "--depth must be at most 1 m (it is in metres: 30 mm is 0.03), got 30 m"),
+    ],
+)  # fmt: skip
+def test_compare_terrain_option_mistakes_name_the_option(tmp_path, capsys, extra, message):
+    code, _, err = run(capsys, "compare", "--out", str(tmp_path / "x"), "--no-figures", *extra)
+    assert code == 2
+    assert message in err
+    assert not (tmp_path / "x").exists()
+
+
+def test_compare_warns_on_sand_coefficients_in_n_per_cm3(tmp_path, capsys):
+    args = ["compare", "--out", str(tmp_path / "x"), "--no-figures", "--quiet"]
+    args += ["--terrains", "granular-rft", "--zeta", "0.254", "--depth", "0.005", "--hold", "0"]
+    with warnings.catch_warnings():  # the suite makes PlausibilityWarning an error
+        warnings.simplefilter("always")
+        code, _, err = run(capsys, *args)
+    assert code == 0
+    assert "compare: warning: GranularRFT: zeta is 0.254 N/m^3" in err and "N/cm^3" in err

@@ -12,12 +12,15 @@ from __future__ import annotations
 import argparse
 import csv
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .._validation import MudrftError
+from ..baselines.compare import TERRAIN_NAMES, default_terrains
 from ..feet import by_name
-from ..parameters import Mud
-from ..terrains import MudTerrain
+from ..parameters import Mud, paper_mud
+from ..terrains import GranularRFT, GranularRFT3D, MudTerrain, Terrain
 from ..trajectories import gait, plate_intrusion
 from ._common import (
     HelpFormatter,
@@ -42,7 +45,9 @@ DESCRIPTION = (
     "DIR/compare.csv (every sample, long format), DIR/compare_summary.csv (peak support, "
     "suction, impulses and energy per run) and the figures DIR/compare_s6.png and "
     "DIR/compare_gait.png (as in the paper's Figs. S5 and S6). --vertical/--horizontal "
-    "FIT.json put calibrated sets in the mud model (the baselines keep their defaults)."
+    "FIT.json put calibrated sets in the mud model; --terrains picks the terrains, and "
+    "--zeta, --rho-c, --mu-int, --mu-surf describe your own granular medium (the other "
+    "baselines keep their defaults)."
 )
 
 #: The files ``mudrft compare`` writes in its directory: key -> (name, is a figure).
@@ -72,6 +77,38 @@ def add_parser(
     p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
     p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
     p.add_argument(
+        "--terrains",
+        default=",".join(TERRAIN_NAMES),
+        metavar="NAME[,NAME...]",
+        help="the terrains to run, comma-separated, of " + ", ".join(TERRAIN_NAMES),
+    )
+    p.add_argument(
+        "--zeta",
+        type=float,
+        default=None,
+        help="granular-rft: scale of the medium [N/m^3], the vertical stress per depth of a "
+        "horizontal plate (Li et al. print N/cm^3: 0.254 N/cm^3 is 2.54e5; default: loosely "
+        "packed poppy seeds, 2.54e5)",
+    )
+    p.add_argument(
+        "--rho-c",
+        type=float,
+        default=None,
+        help="granular-rft3d: bulk density of the medium [kg/m^3] (default: 1310)",
+    )
+    p.add_argument(
+        "--mu-int",
+        type=float,
+        default=None,
+        help="granular-rft3d: internal friction coefficient [-] (default: 0.21)",
+    )
+    p.add_argument(
+        "--mu-surf",
+        type=float,
+        default=None,
+        help="granular-rft3d: foot-surface friction coefficient [-] (default: 0.4)",
+    )
+    p.add_argument(
         "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
     )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
@@ -94,6 +131,7 @@ def write_comparison(
     quiet: bool = False,
     extrapolate: bool = False,
     mud: Mud | None = None,
+    terrains: Mapping[str, Terrain] | None = None,
 ) -> dict[str, Path]:
     """Run and write what ``mudrft compare`` writes; all files or none.
 
@@ -122,6 +160,9 @@ def write_comparison(
     mud : Mud, optional, keyword-only
         The mud model's parameters in place of the paper's at ``water_content`` (a
         calibrated mud, decision D111); the baselines keep their defaults (D59).
+    terrains : mapping of str to Terrain, optional, keyword-only
+        The terrains to run, by name (default: every one of
+        :func:`~mudrft.baselines.default_terrains`, ``mud`` replaced by ``mud`` if given).
 
     Returns
     -------
@@ -130,9 +171,10 @@ def write_comparison(
     """
     from ..baselines.compare import compare, default_terrains, summarize, write_csv
 
-    terrains = default_terrains(water_content, extrapolate=extrapolate)
-    if mud is not None:
-        terrains["mud"] = MudTerrain(mud)
+    if terrains is None:
+        terrains = default_terrains(water_content, extrapolate=extrapolate)
+        if mud is not None:
+            terrains["mud"] = MudTerrain(mud)
     keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
     with Outputs(force=force) as outputs:
         stage = outputs.directory("--out", out, [FILES[k][0] for k in keys])
@@ -181,6 +223,10 @@ def run(args: argparse.Namespace) -> int:
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
+    if depth > 1.0:  # 30 (mm) ran a 3 million-sample plate test for hours (D132)
+        raise MudrftError(
+            f"--depth must be at most 1 m (it is in metres: 30 mm is 0.03), got {depth:g} m"
+        )
     hold = check_nonnegative_option("--hold", args.hold, unit="s")
     water_content = check_finite_option("--water-content", args.water_content)
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
@@ -189,6 +235,7 @@ def run(args: argparse.Namespace) -> int:
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
+    terrains = _terrains(args, water_content, mud)
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     paths = write_comparison(
         foot,
@@ -202,7 +249,58 @@ def run(args: argparse.Namespace) -> int:
         quiet=args.quiet,
         extrapolate=args.extrapolate,
         mud=mud,
+        terrains=terrains,
     )
     for p in paths.values():
         print(f"wrote {p}")
     return 0
+
+
+def _terrains(
+    args: argparse.Namespace, water_content: float, mud: Mud | None
+) -> dict[str, Terrain]:
+    """The terrains of ``--terrains``, with the granular media of ``--zeta`` ... (D132)."""
+    names = [n.strip() for n in str(args.terrains).split(",") if n.strip()]
+    unknown = [n for n in names if n not in TERRAIN_NAMES]
+    if unknown or not names:
+        raise MudrftError(
+            f"--terrains must name one or more of {', '.join(TERRAIN_NAMES)} (comma-separated), "
+            f"got {args.terrains!r}"
+        )
+    if len(set(names)) != len(names):
+        raise MudrftError(f"--terrains must name each terrain once, got {args.terrains!r}")
+    granular3d = {
+        "--rho-c": ("rho_c", args.rho_c),
+        "--mu-int": ("mu_int", args.mu_int),
+        "--mu-surf": ("mu_surf", args.mu_surf),
+    }
+    for option, value in (("--zeta", args.zeta), *((o, v) for o, (_, v) in granular3d.items())):
+        if value is None:
+            continue
+        if option == "--mu-surf":  # 0: a frictionless foot
+            check_nonnegative_option(option, value)
+        else:
+            units = {"--zeta": "N/m^3", "--rho-c": "kg/m^3"}
+            check_positive_option(option, value, unit=units.get(option, ""))
+        owner = "granular-rft" if option == "--zeta" else "granular-rft3d"
+        if owner not in names:
+            raise MudrftError(f"{option} describes {owner}, which --terrains leaves out")
+    extrapolate = bool(args.extrapolate)
+    out: dict[str, Terrain] = {}
+    for name in names:
+        if name == "mud":
+            out[name] = MudTerrain(
+                mud if mud is not None else paper_mud(water_content, extrapolate=extrapolate)
+            )
+        elif name == "granular-rft" and args.zeta is not None:
+            out[name] = GranularRFT(zeta=args.zeta)
+        elif name == "granular-rft3d":
+            d = GranularRFT3D
+            out[name] = GranularRFT3D(
+                rho_c=d.rho_c if args.rho_c is None else float(args.rho_c),
+                mu_int=d.mu_int if args.mu_int is None else float(args.mu_int),
+                mu_surf=d.mu_surf if args.mu_surf is None else float(args.mu_surf),
+            )
+        else:
+            out[name] = default_terrains(water_content, extrapolate=extrapolate)[name]
+    return out
