@@ -483,3 +483,14 @@ def test_compare_warns_on_sand_coefficients_in_n_per_cm3(tmp_path, capsys):
         code, _, err = run(capsys, *args)
     assert code == 0
     assert "compare: warning: GranularRFT: zeta is 0.254 N/m^3" in err and "N/cm^3" in err
+
+
+def test_compare_figures_of_a_subset_of_terrains(tmp_path, capsys):
+    """``--terrains rigid`` (or any subset without mud and sand) wrote no figure: the S6
+    figure needed mud and granular RFT and the gait figure left rigid ground out (D132)."""
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "rigid"
+    args = ["compare", "--out", str(out), "--quiet", "--terrains", "rigid"]
+    assert run(capsys, *args, "--depth", "0.005", "--hold", "0")[0] == 0
+    assert (out / "compare_s6.png").stat().st_size > 0
+    assert (out / "compare_gait.png").stat().st_size > 0

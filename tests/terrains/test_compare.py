@@ -221,3 +221,32 @@ def test_compare_names_what_is_wrong_with_a_terrain(box):
         mudrft.simulate(box, "granular-rft", plate)
     with pytest.raises(MudrftError, match=r"got the class GranularRFT \(write GranularRFT\(\)"):
         mudrft.simulate(box, GranularRFT, plate)
+
+
+def test_figure_s6_draws_any_subset_and_does_not_claim_w25(box):
+    """A terramechanics researcher's walkthrough (D132): ``mudrft compare --terrains
+    granular-rft,linear`` ran and then failed on the figure ('histories must include
+    ['mud', 'granular-rft']'), and panel (a) labelled the mud 'W = 25 %' at any water
+    content."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from mudrft.baselines.plots import plot_s6
+
+    plate = mudrft.plate_intrusion(depth=0.01, hold=0.0, dt=2e-3)
+    fig = plot_s6(compare(box, plate, [GranularRFT(), LinearStiffness()]))
+    try:
+        labels = [a.get_legend_handles_labels()[1] for a in fig.axes]
+        assert labels[0] == ["sand (granular RFT)"]
+        assert labels[1] == ["linear stiffness (Godon 2022)"]
+    finally:
+        plt.close(fig)
+    fig = plot_s6(
+        compare(box, plate, ["mud", "granular-rft", "granular-rft3d"], water_content=0.45)
+    )
+    try:
+        a = fig.axes[0].get_legend_handles_labels()[1]
+        assert a == ["mud (this model)", "sand (granular RFT)", "sand (3D-RFT)"]
+        assert not any("25 %" in t for t in a)
+    finally:
+        plt.close(fig)

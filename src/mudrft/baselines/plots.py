@@ -16,6 +16,7 @@ __all__ = ["plot_gait", "plot_rft_alpha", "plot_s6"]
 _STYLE = {
     "mud": {"color": "C0", "lw": 2.0},
     "granular-rft": {"color": "C1", "lw": 1.6},
+    "granular-rft3d": {"color": "C4", "lw": 1.6, "ls": (0, (5, 1))},
     "maxwell": {"color": "C2", "lw": 1.6, "ls": "--"},
     "linear": {"color": "C3", "lw": 1.6, "ls": "-."},
     "rigid": {"color": "C7", "lw": 1.4, "ls": ":"},
@@ -30,41 +31,46 @@ def _plt() -> Any:
     return plt
 
 
-def _need(h: Mapping[str, History], *names: str) -> None:
-    missing = [n for n in names if n not in h]
-    if missing:
-        raise MudrftError(f"histories must include {list(names)}, missing {missing}")
-
-
 def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
 
-    (a) normalised force against normalised depth, mud against sand (granular RFT);
+    (a) normalised force against normalised depth, mud against sand (granular RFT, and
+    3D-RFT when present);
     (b) vertical stress :math:`F_z/A_z` against time and (c) against depth, for the
     mud model, the Maxwell-type model and the linear model.
 
     Parameters
     ----------
     plate : mapping name -> History
-        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`; must
-        hold ``mud`` and ``sand``; (b, c) show whichever of ``mud``, ``maxwell``,
-        ``linear`` are present.
+        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`. (a) shows
+        whichever of ``mud``, ``sand`` and ``granular-rft3d`` are present, (b, c) whichever
+        of ``mud``, ``maxwell``, ``linear``; a panel with none of its terrains says so
+        (``mudrft compare --terrains`` runs any subset, D132).
     sand : str, keyword-only
         Name of the granular history.
     """
-    _need(plate, "mud", sand)
+    if not isinstance(plate, Mapping) or not plate:
+        raise MudrftError("plate must be a non-empty mapping {terrain: History} (compare's result)")
     plt = _plt()
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 4.0), constrained_layout=True)
-    for name, label in (("mud", "mud (this model, W = 25 %)"), (sand, "sand (granular RFT)")):
-        x, y = normalized_loop(plate[name])
-        ax[0].plot(x, y, label=label, **_STYLE.get(name, {}))
+    loops = (
+        ("mud", "mud (this model)"),  # its water content is the run's, not always 25 %
+        (sand, "sand (granular RFT)"),
+        ("granular-rft3d", "sand (3D-RFT)"),
+    )
+    for name, label in loops:
+        if name in plate:
+            x, y = normalized_loop(plate[name])
+            ax[0].plot(x, y, label=label, **_STYLE.get(name, {}))
+    _note_if_empty(ax[0], [n for n, _ in loops])
     ax[0].axhline(0, color="k", lw=0.5)
     ax[0].set(
         xlabel="normalised depth d / d_max [-]",
         ylabel="normalised force F_z / max|F_z| [-]",
         title="(a) intrusion-hold-retraction: mud vs sand",
     )
-    ax[0].legend(loc="lower right", fontsize=8)
+    if ax[0].get_legend_handles_labels()[0]:
+        ax[0].legend(loc="lower right", fontsize=8)
     labels = {
         "mud": "this model (Chen 2026)",
         "maxwell": "Maxwell-type (AIM24, reconstructed)",
@@ -83,10 +89,21 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
             )
     for a in ax[1:]:
         a.axhline(0, color="k", lw=0.5)
+        _note_if_empty(a, list(labels))
     ax[1].set(xlabel="time [s]", ylabel="stress F_z / A_z [kPa]", title="(b) time history")
     ax[2].set(xlabel="depth [mm]", ylabel="stress F_z / A_z [kPa]", title="(c) stress-depth")
-    ax[1].legend(fontsize=8)
+    if ax[1].lines[1:]:
+        ax[1].legend(fontsize=8)
     return fig
+
+
+def _note_if_empty(ax: Any, names: list[str]) -> None:
+    """Say on a panel that none of its terrains was run (only the zero line is drawn)."""
+    if not ax.get_legend_handles_labels()[0]:
+        ax.text(
+            0.5, 0.5, "not run: " + ", ".join(names), ha="center", va="center",
+            transform=ax.transAxes, fontsize=9, color="0.4",
+        )  # fmt: skip
 
 
 def plot_gait(
