@@ -494,3 +494,40 @@ def test_compare_figures_of_a_subset_of_terrains(tmp_path, capsys):
     assert run(capsys, *args, "--depth", "0.005", "--hold", "0")[0] == 0
     assert (out / "compare_s6.png").stat().st_size > 0
     assert (out / "compare_gait.png").stat().st_size > 0
+
+
+def test_simulate_runs_a_baseline_terrain_with_your_own_medium(tmp_path, capsys):
+    """``mudrft simulate --terrain granular-rft --zeta ...`` (D132): before, simulate ran the
+    mud only, so a terramechanics researcher could not put the same gait on sand here."""
+    import mudrft
+
+    out = tmp_path / "sand.csv"
+    args = ["simulate", "--foot", "flat", "--terrain", "granular-rft", "--zeta", "0.9e6"]
+    code, stdout, _ = run(capsys, *args, "--out", str(out), "--quiet")
+    assert code == 0 and "peak_support" in stdout
+    expected = mudrft.simulate(
+        mudrft.feet.by_name("flat"), mudrft.terrains.GranularRFT(zeta=0.9e6), mudrft.gait(0.2)
+    )
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(table[:, 4:], expected.force, rtol=1e-6, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--terrain", "sand"], "--terrain must name one of mud, granular-rft"),
+        (["--terrain", "mud,linear"], "--terrain must name one terrain, got 'mud,linear'"),
+        (["--zeta", "2e5"], "--zeta describes granular-rft, which --terrain leaves out"),
+        (["--terrain", "linear", "--thixotropy", "quasi-static"],
+         "--thixotropy describes the mud, but --terrain is 'linear'"),
+        (["--terrain", "rigid", "--water-content", "0.35"],
+         "--water-content describes the mud, but --terrain is 'rigid'"),
+        (["--terrain", "granular-rft3d", "--mu-surf", "-0.1"], "--mu-surf must be >= 0, got -0.1"),
+    ],
+)  # fmt: skip
+def test_simulate_terrain_option_mistakes_name_the_option(tmp_path, capsys, extra, message):
+    out = tmp_path / "x.csv"
+    code, _, err = run(capsys, "simulate", "--foot", "flat", "--out", str(out), *extra)
+    assert code == 2
+    assert message in err
+    assert not out.exists()

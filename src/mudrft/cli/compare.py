@@ -17,10 +17,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ..baselines.compare import TERRAIN_NAMES, default_terrains
+from ..baselines.compare import default_terrains
 from ..feet import by_name
-from ..parameters import Mud, paper_mud
-from ..terrains import GranularRFT, GranularRFT3D, MudTerrain, Terrain
+from ..parameters import Mud
+from ..terrains import MudTerrain, Terrain
 from ..trajectories import gait, plate_intrusion
 from ._common import (
     HelpFormatter,
@@ -33,6 +33,7 @@ from ._common import (
     require_extra,
 )
 from ._mud import add_fit_options, mud_from_options
+from ._terrain import add_terrain_options, terrains_from_options
 
 if TYPE_CHECKING:
     from ..feet import Foot
@@ -76,38 +77,7 @@ def add_parser(
     p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
     p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
     p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
-    p.add_argument(
-        "--terrains",
-        default=",".join(TERRAIN_NAMES),
-        metavar="NAME[,NAME...]",
-        help="the terrains to run, comma-separated, of " + ", ".join(TERRAIN_NAMES),
-    )
-    p.add_argument(
-        "--zeta",
-        type=float,
-        default=None,
-        help="granular-rft: scale of the medium [N/m^3], the vertical stress per depth of a "
-        "horizontal plate (Li et al. print N/cm^3: 0.254 N/cm^3 is 2.54e5; default: loosely "
-        "packed poppy seeds, 2.54e5)",
-    )
-    p.add_argument(
-        "--rho-c",
-        type=float,
-        default=None,
-        help="granular-rft3d: bulk density of the medium [kg/m^3] (default: 1310)",
-    )
-    p.add_argument(
-        "--mu-int",
-        type=float,
-        default=None,
-        help="granular-rft3d: internal friction coefficient [-] (default: 0.21)",
-    )
-    p.add_argument(
-        "--mu-surf",
-        type=float,
-        default=None,
-        help="granular-rft3d: foot-surface friction coefficient [-] (default: 0.4)",
-    )
+    add_terrain_options(p, several=True)
     p.add_argument(
         "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
     )
@@ -169,7 +139,7 @@ def write_comparison(
     dict of str to Path
         The paths written, by key of :data:`FILES`.
     """
-    from ..baselines.compare import compare, default_terrains, summarize, write_csv
+    from ..baselines.compare import compare, summarize, write_csv
 
     if terrains is None:
         terrains = default_terrains(water_content, extrapolate=extrapolate)
@@ -238,7 +208,9 @@ def run(args: argparse.Namespace) -> int:
     figures = not args.no_figures
     if figures:
         require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
-    terrains = _terrains(args, water_content, mud)
+    terrains = terrains_from_options(
+        args, args.terrains, "--terrains", water_content=water_content, mud=mud
+    )
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     paths = write_comparison(
         foot,
@@ -257,53 +229,3 @@ def run(args: argparse.Namespace) -> int:
     for p in paths.values():
         print(f"wrote {p}")
     return 0
-
-
-def _terrains(
-    args: argparse.Namespace, water_content: float, mud: Mud | None
-) -> dict[str, Terrain]:
-    """The terrains of ``--terrains``, with the granular media of ``--zeta`` ... (D132)."""
-    names = [n.strip() for n in str(args.terrains).split(",") if n.strip()]
-    unknown = [n for n in names if n not in TERRAIN_NAMES]
-    if unknown or not names:
-        raise MudrftError(
-            f"--terrains must name one or more of {', '.join(TERRAIN_NAMES)} (comma-separated), "
-            f"got {args.terrains!r}"
-        )
-    if len(set(names)) != len(names):
-        raise MudrftError(f"--terrains must name each terrain once, got {args.terrains!r}")
-    granular3d = {
-        "--rho-c": ("rho_c", args.rho_c),
-        "--mu-int": ("mu_int", args.mu_int),
-        "--mu-surf": ("mu_surf", args.mu_surf),
-    }
-    for option, value in (("--zeta", args.zeta), *((o, v) for o, (_, v) in granular3d.items())):
-        if value is None:
-            continue
-        if option == "--mu-surf":  # 0: a frictionless foot
-            check_nonnegative_option(option, value)
-        else:
-            units = {"--zeta": "N/m^3", "--rho-c": "kg/m^3"}
-            check_positive_option(option, value, unit=units.get(option, ""))
-        owner = "granular-rft" if option == "--zeta" else "granular-rft3d"
-        if owner not in names:
-            raise MudrftError(f"{option} describes {owner}, which --terrains leaves out")
-    extrapolate = bool(args.extrapolate)
-    out: dict[str, Terrain] = {}
-    for name in names:
-        if name == "mud":
-            out[name] = MudTerrain(
-                mud if mud is not None else paper_mud(water_content, extrapolate=extrapolate)
-            )
-        elif name == "granular-rft" and args.zeta is not None:
-            out[name] = GranularRFT(zeta=args.zeta)
-        elif name == "granular-rft3d":
-            d = GranularRFT3D
-            out[name] = GranularRFT3D(
-                rho_c=d.rho_c if args.rho_c is None else float(args.rho_c),
-                mu_int=d.mu_int if args.mu_int is None else float(args.mu_int),
-                mu_surf=d.mu_surf if args.mu_surf is None else float(args.mu_surf),
-            )
-        else:
-            out[name] = default_terrains(water_content, extrapolate=extrapolate)[name]
-    return out

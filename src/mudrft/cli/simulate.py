@@ -11,7 +11,7 @@ from ..feet import by_name
 from ..io import load_path_csv
 from ..metrics import relative_rmse
 from ..simulation import LoadControl, Result, simulate, static_sinking
-from ..terrains import MudTerrain
+from ..terrains import MudTerrain, Terrain
 from ..trajectories import STANCE_DEPTH, Trajectory, gait
 from ._common import (
     HelpFormatter,
@@ -24,6 +24,7 @@ from ._common import (
     same_file,
 )
 from ._mud import add_fit_options, mud_from_options
+from ._terrain import add_terrain_options, terrain_names, terrains_from_options
 
 __all__ = ["add_parser", "run"]
 
@@ -41,7 +42,8 @@ DESCRIPTION = (
     "--vertical, --horizontal) and speed, and write the tip position and "
     "the force of the mud on the foot to a CSV file with the columns "
     "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints the cycle's metrics (peak "
-    "support, suction, impulses, energy)."
+    "support, suction, impulses, energy). --terrain runs a baseline instead of the mud "
+    "(granular RFT with --zeta, 3D-RFT with --rho-c, --mu-int, --mu-surf, ...)."
 )
 
 
@@ -113,6 +115,7 @@ def add_parser(
     p.add_argument(
         "--dt", type=float, default=1e-3, help="time step [s] (a --path is resampled at it)"
     )
+    add_terrain_options(p, several=False)
     p.add_argument(
         "--out", required=True, help="output CSV (time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N])"
     )
@@ -139,23 +142,43 @@ def run(args: argparse.Namespace) -> int:
         require_plot_file("--plot", args.plot)
 
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
-    mud = MudTerrain(
-        mud_from_options(args),
-        thixotropy=args.thixotropy,
-        clock=args.clock,
-    )
+    terrain: Terrain
+    (chosen,) = terrain_names(args, args.terrain, "--terrain")  # and the media options
+    if chosen == "mud":
+        terrain = MudTerrain(
+            mud_from_options(args),
+            thixotropy=args.thixotropy,
+            clock=args.clock,
+        )
+    else:  # a baseline: the mud's own options would be silently ignored (D132)
+        mud_only = {
+            "--vertical": args.vertical is not None,
+            "--horizontal": args.horizontal is not None,
+            "--thixotropy": args.thixotropy != "ode",
+            "--clock": args.clock != "contact",
+            "--labels": args.labels != "table",
+            "--water-content": args.water_content != 0.25,  # the baselines' own (D59)
+            "--extrapolate": bool(args.extrapolate),
+        }
+        for option, given in mud_only.items():
+            if given:
+                raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
+        (terrain,) = terrains_from_options(
+            args, args.terrain, "--terrain", water_content=0.25, mud=None
+        ).values()
     motion, what = _motion(args, dt)  # checked before anything is written
     static: float | str | None = None
-    if isinstance(motion, LoadControl):
+    if isinstance(motion, LoadControl) and isinstance(terrain, MudTerrain):
         try:
-            static = static_sinking(foot, mud.mud, motion.weight)
+            static = static_sinking(foot, terrain.mud, motion.weight)
         except MudrftError as exc:  # too heavy to balance (D118): say why, run anyway
             static = str(exc)
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
-        logger.info("simulating %s foot, %s, %s", foot.name, mud.mud.name, what)
-        res = simulate(foot, mud, motion, dt=dt if args.path else None, progress=not args.quiet)
+        label = terrain.mud.name if isinstance(terrain, MudTerrain) else terrain.name
+        logger.info("simulating %s foot, %s, %s", foot.name, label, what)
+        res = simulate(foot, terrain, motion, dt=dt if args.path else None, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
             fig = res.plot()
