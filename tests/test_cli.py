@@ -299,6 +299,41 @@ def test_a_mistyped_option_is_one_line_naming_the_command_and_the_closest_option
     assert not (tmp_path / "x.csv").exists()
 
 
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [
+        (
+            ["reproduc", "--out", "x"],
+            "mudrft: error: unrecognized command 'reproduc'; did you mean 'reproduce'? "
+            "(mudrft --help lists the commands)",
+        ),
+        (["flat"], "mudrft: error: unrecognized command 'flat' (mudrft --help lists the commands)"),
+        (
+            ["--versoin"],
+            "mudrft: error: unrecognized option '--versoin'; did you mean '--version'? "
+            "(mudrft --help lists the commands and options)",
+        ),
+        (
+            ["--foo"],
+            "mudrft: error: unrecognized option '--foo' "
+            "(mudrft --help lists the commands and options)",
+        ),
+    ],
+)
+def test_a_mistyped_command_or_top_level_option_is_one_line_naming_the_closest(
+    tmp_path, capsys, monkeypatch, args, line
+):
+    """'mudrft reproduc' answered with argparse's usage and 'argument COMMAND: invalid
+    choice: ... (choose from ...)', and 'mudrft --foo' with the usage and 'unrecognized
+    arguments': the walls D112 removed from a command's options (D122)."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(args)
+    assert exc.value.code == 2
+    assert capsys.readouterr().err == line + "\n"
+    assert list(tmp_path.iterdir()) == []
+
+
 def _parameter_file(path, params):
     import json
 

@@ -138,11 +138,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
     """
     parser = build_parser()
-    args, unknown = parser.parse_known_args(None if argv is None else list(argv))
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser.exit_on_error = False  # a mistyped command is one line, as an option is (D122)
+    try:
+        args, unknown = parser.parse_known_args(words)
+    except argparse.ArgumentError as exc:
+        _unknown_command(parser, words, exc)
     if unknown:
-        if not getattr(args, "command", None):
-            parser.error(f"unrecognized arguments: {' '.join(unknown)}")
-        _unrecognized(parser, args.command, unknown)
+        _unrecognized(parser, getattr(args, "command", None), unknown)
     if not getattr(args, "command", None):
         parser.print_help()
         return 0
@@ -177,22 +180,50 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 2
 
 
-def _unrecognized(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
-    """End a command line with a word the command does not know: one line naming the
-    command and the closest option, exit status 2 (decision D112)."""
-    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[
-        command
-    ]
+def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown: list[str]) -> None:
+    """End a command line with a word the command (or ``mudrft`` itself, before any
+    command) does not know: one line naming the command and the closest option, exit
+    status 2 (decisions D112, D122)."""
+    if command is None:
+        sub, prog, lists = parser, "mudrft", "the commands and options"
+    else:
+        sub = _subparsers(parser).choices[command]
+        prog, lists = f"mudrft {command}", "the options"
     options = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
     word = next((u for u in unknown if u.startswith("-")), unknown[0])
     name = word.split("=", 1)[0]
     if name.startswith("-"):
-        close = difflib.get_close_matches(name, options, n=1, cutoff=0.6)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
-        what = f"unrecognized option {name!r}{hint}"
+        what = f"unrecognized option {name!r}{_did_you_mean(name, options)}"
     else:
         what = f"unrecognized argument {name!r}"
-    sub.exit(2, f"mudrft {command}: error: {what} (mudrft {command} --help lists the options)\n")
+    sub.exit(2, f"{prog}: error: {what} ({prog} --help lists {lists})\n")
+
+
+def _unknown_command(
+    parser: argparse.ArgumentParser, words: list[str], exc: argparse.ArgumentError
+) -> None:
+    """A command that does not exist (``mudrft reproduc``): one line naming the closest
+    command, exit status 2, not argparse's usage and list of choices (decision D122)."""
+    if exc.argument_name != "COMMAND":
+        parser.exit(2, f"mudrft: error: {_plain(str(exc))} (mudrft --help lists the options)\n")
+    word = next((w for w in words if not w.startswith("-")), None)
+    what = (
+        f"unrecognized command {word!r}{_did_you_mean(word, list(COMMANDS))}"
+        if word is not None
+        else _plain(str(exc))
+    )
+    parser.exit(2, f"mudrft: error: {what} (mudrft --help lists the commands)\n")
+
+
+def _subparsers(parser: argparse.ArgumentParser) -> argparse._SubParsersAction:
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+
+
+def _did_you_mean(word: str, choices: list[str]) -> str:
+    """``"; did you mean 'X'?"`` for the closest of ``choices`` (``difflib``, cutoff 0.6),
+    else ``""``: the one rule for a mistyped option or command (D112, D122)."""
+    close = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def _error(prog: str, message: str) -> None:
