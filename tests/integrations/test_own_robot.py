@@ -109,3 +109,42 @@ def test_a_body_welded_to_the_world_warns_that_the_mud_moves_nothing():
         warnings.simplefilter("error")
         attach(model, ["hinged", "free"], MUD)
         body_foot(model, "fixed")  # placing a foot to inspect it is no coupling
+
+
+def test_a_timestep_far_above_the_checked_range_warns_once_at_attach_and_reset():
+    # a model of one's own at 20 ms: a 1.5 kg box foot settles 2.8 times too deep there
+    # with a force alternating step by step; the couplings were checked at 0.5-5 ms (D62e)
+    # and the biped walks at up to 10 ms, which stay quiet (D123)
+    import warnings
+
+    from mudrft._validation import PlausibilityWarning
+    from mudrft.integrations import walk
+    from mudrft.integrations.mujoco.stability import LARGEST_TIMESTEP
+
+    from .conftest import box_foot_model
+
+    assert walk.MAX_DT <= LARGEST_TIMESTEP  # mudrft walk never warns
+    for dt in (5e-4, 2e-3, 5e-3, LARGEST_TIMESTEP):
+        model = box_foot_model(dt=dt)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            attach(model, "foot", MUD).reset(mujoco.MjData(model))
+    model = box_foot_model(dt=0.02)
+    advice = r"timestep is 0\.02 s, far above .* \(0\.5-5 ms.*use a timestep of 5 ms or less"
+    with pytest.warns(PlausibilityWarning, match=advice) as record:
+        coupling = attach(model, "foot", MUD)
+    assert len(record) == 1
+    data = mujoco.MjData(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coupling.reset(data)  # the step it warned about: once is enough
+    model.opt.timestep = 0.05
+    with pytest.warns(PlausibilityWarning, match=r"timestep is 0\.05 s") as record:
+        coupling.reset(data)
+    assert len(record) == 1
+    if importlib.util.find_spec("mujoco.mjx") is not None:  # the MJX coupling alike
+        from mudrft.integrations import mjx
+
+        with pytest.warns(PlausibilityWarning, match=r"timestep is 0\.05 s") as record:
+            mjx.attach(model, "foot", MUD)
+        assert len(record) == 1

@@ -42,7 +42,7 @@ from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data
 from ..mujoco.placement import attached_foot
 from ..mujoco.pose import POSE_RESOLUTION
-from ..mujoco.stability import warn_rk4
+from ..mujoco.stability import check_timestep, warn_rk4
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
 
@@ -182,6 +182,7 @@ class MjxCoupling:
             )
         if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4):
             warn_rk4()  # as the CPU coupling: outside the passivity bound (D62e)
+        check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
         self.mjx_model = _mjx().put_model(model)
         register("todorov2012mujoco")
 

@@ -18,7 +18,6 @@ import numpy as np
 
 from ..._validation import MudrftError
 from ...citations import register
-from ...feet.surface import PreparedTriangles, prepare_triangles
 from ...terrains import as_terrain
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, check_compilable
@@ -32,9 +31,9 @@ from .implicit import (
 )
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .options import check_attach_options, check_count, check_data
-from .placement import BodyFoot, attached_foot, lowest_points
+from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
-from .stability import check_explicit_step, warn_rk4
+from .stability import check_explicit_step, check_timestep, warn_rk4
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
@@ -83,6 +82,11 @@ class MudBatch:
         ``"numba"``: one compiled call per physics step for all feet of all robots
         (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
         round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
+
+    Warns
+    -----
+    PlausibilityWarning
+        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset).
 
     Raises
     ------
@@ -148,13 +152,14 @@ class MudBatch:
         for i, placed_body in enumerate(self.bodies):
             groups.setdefault(id(placed_body.foot), []).append(i)
         self._groups = [(self.bodies[idx[0]].foot, np.array(idx)) for idx in groups.values()]
+        self._timestep = check_timestep(model)  # reset checks again if it changed (D123)
         if not self.implicit:
             check_explicit_step(model, self.bodies, self.terrain)
         nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))
         self._world_xy = np.zeros((self.n, nb, 2))
-        self._pose = [_group_pose(self.bodies, idx) for _, idx in self._groups]
+        self._pose = [group_triangles(self.bodies, idx) for _, idx in self._groups]
         self._tw_prev = np.zeros((self.n, nb, 6))
         self._wv_prev = np.zeros((self.n, nb, 6))
         self._tank = np.zeros(self.n)  # energy the mud may give each robot back [J] (D62c)
@@ -240,6 +245,7 @@ class MudBatch:
         """Start with undisturbed mud under the feet in their current pose (calls mj_forward)."""
         mj = _mujoco()
         datas = self._check(datas)
+        self._timestep = check_timestep(self.model, checked=self._timestep)
         for d in datas:
             mj.mj_forward(self.model, d)
         k = self._read(datas)
@@ -577,16 +583,6 @@ class MudBatch:
                     f"{force} N "
                     "(reduce the time step, or check the model)"
                 )
-
-
-def _group_pose(
-    bodies: Sequence[BodyFoot], idx: np.ndarray
-) -> tuple[np.ndarray | None, PreparedTriangles | None]:
-    """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
-    tri = [bodies[i].triangles for i in idx]
-    if any(t is None for t in tri):
-        return None, None
-    return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 
 def _hashable_repr(foot: Any) -> bool:

@@ -18,11 +18,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._validation import MudrftError, check_finite, warn_plausibility
+from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
 from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support, geom_type_name
 from .pose import POSE_RESOLUTION, foot_triangles
 
-__all__ = ["BodyFoot", "attached_foot", "body_foot", "lowest_points"]
+__all__ = ["BodyFoot", "attached_foot", "body_foot", "group_triangles", "lowest_points"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -267,6 +268,16 @@ def lowest_points(
             i = np.argmin(pts[..., 2], axis=1)
             low[:, j] = pts[np.arange(len(i)), i]
     return low
+
+
+def group_triangles(
+    bodies: Sequence[BodyFoot], idx: np.ndarray
+) -> tuple[np.ndarray | None, PreparedTriangles | None]:
+    """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
+    tri = [bodies[i].triangles for i in idx]
+    if any(t is None for t in tri):
+        return None, None
+    return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 
 def attached_foot(model: Any, body: str | int, foot: Any, *, resolution: int) -> BodyFoot:

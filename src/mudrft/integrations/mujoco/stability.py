@@ -24,7 +24,21 @@ from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
 
-__all__ = ["check_explicit_step", "stability_limits", "warn_rk4"]
+__all__ = [
+    "LARGEST_TIMESTEP",
+    "SEARCHED_TIMESTEPS",
+    "check_explicit_step",
+    "check_timestep",
+    "stability_limits",
+    "warn_rk4",
+]
+
+#: The time steps the passivity searches of the couplings covered [s] (docs/model.md D62e).
+SEARCHED_TIMESTEPS = (5e-4, 5e-3)
+#: The largest model time step a coupling takes without a warning [s] (decision D123): twice
+#: the searched range, the biped's largest step (``walk.MAX_DT``); at 20 ms a free 1.5 kg box
+#: foot settled 2.8 times too deep with a force alternating step by step.
+LARGEST_TIMESTEP = 0.01
 
 
 def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[str, float]:
@@ -119,6 +133,40 @@ def check_explicit_step(model: Any, bodies: Any, terrain: Any) -> None:
                 "the mud may feed energy into the foot; keep implicit=True (the default) or "
                 f"use a timestep below {0.5 * limit['dt_viscous']:.2g} s"
             )
+
+
+def check_timestep(model: Any, *, checked: float | None = None) -> float:
+    """Warn if the model's time step is far above those the coupling was checked at.
+
+    The passivity searches (docs/model.md D62e) ran at 0.5-5 ms (:data:`SEARCHED_TIMESTEPS`)
+    and the biped walks at up to 10 ms; above :data:`LARGEST_TIMESTEP` a foot that settles
+    correctly at 1-10 ms sinks too deep and its force alternates from step to step (decision
+    D123): :class:`~mudrft._validation.PlausibilityWarning`, naming the time step, the range
+    checked and the advice.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (its ``opt.timestep`` [s]).
+    checked : float or None, keyword-only
+        The time step checked last [s]; the same step again does not warn again.
+
+    Returns
+    -------
+    float
+        The time step checked [s] (a coupling checks again only when it changes).
+    """
+    dt = float(model.opt.timestep)
+    if dt > LARGEST_TIMESTEP and dt != checked:
+        lo, hi = SEARCHED_TIMESTEPS
+        warn_plausibility(
+            f"the model's timestep is {plain(dt)} s, far above those the mud coupling was "
+            f"checked at ({lo * 1e3:g}-{hi * 1e3:g} ms, docs/model.md D62e; up to "
+            f"{LARGEST_TIMESTEP * 1e3:g} ms for the biped's walk): a foot may settle too "
+            "deep and its force alternate from step to step; use a timestep of "
+            f"{hi * 1e3:g} ms or less (MuJoCo's default is 2 ms)"
+        )
+    return dt
 
 
 def warn_rk4() -> bool:
