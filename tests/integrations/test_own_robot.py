@@ -33,7 +33,11 @@ def _leg(geoms: str) -> object:
 
 def test_a_geom_name_given_for_a_body_names_the_body_to_give():
     model = _leg('<geom name="FL_foot" type="sphere" size="0.025" mass="0.3"/>')
-    with pytest.raises(MudrftError, match=r"'FL_foot' is a geom, not a body: .*its body is 'calf'"):
+    with pytest.raises(
+        MudrftError,
+        match=r"'FL_foot' is a geom, not a body: .*its body is 'calf' \(to make this geom the "
+        r"foot, name the body and the geom with foot_geoms=\{'calf': 'FL_foot'\}",
+    ):
         attach(model, ["FL_foot"], MUD)
 
 
@@ -148,3 +152,102 @@ def test_a_timestep_far_above_the_checked_range_warns_once_at_attach_and_reset()
         with pytest.warns(PlausibilityWarning, match=r"timestep is 0\.05 s") as record:
             mjx.attach(model, "foot", MUD)
         assert len(record) == 1
+
+
+def _two_soles(toe_z: float = 0.0) -> object:
+    """A free body 'calf' with two colliding box soles, 'heel' and 'toe' (its bottom
+    ``toe_z`` [m] above the heel's), a capsule 'shin' above them and an ellipsoid."""
+    return _leg(
+        f"""<geom name="heel" type="box" size="0.02 0.03 0.01" pos="-0.03 0 0" mass="0.2"/>
+           <geom name="toe" type="box" size="0.02 0.03 0.01" pos="0.03 0 {toe_z}" mass="0.2"/>
+           <geom name="shin" type="capsule" fromto="0 0 0.02 0 0 0.1" size="0.01" mass="0.1"/>
+           <geom name="knob" type="ellipsoid" size="0.01 0.01 0.02" pos="0 0 0.03"/>"""
+    )
+
+
+def test_foot_geoms_names_the_geom_that_is_the_foot_on_both_couplings():
+    # a body with several colliding geoms: the lowest is the foot unless foot_geoms names
+    # another (D124); body_foot takes the same choice as geom=
+    import warnings
+
+    model = _leg(
+        """<geom name="shin" type="capsule" fromto="-0.03 0 -0.03 0.03 0 -0.03" size="0.01"/>
+           <geom name="toe" type="sphere" size="0.02" mass="0.3"/>"""
+    )
+    toe = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "toe")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        derived = attach(model, "calf", MUD).bodies[0]
+        named = attach(model, "calf", MUD, foot_geoms={"calf": "toe"}).bodies[0]
+        by_id = body_foot(model, "calf", geom=toe)
+    assert isinstance(derived.foot, mudrft.feet.SemiCylinder) and derived.tip[2] == pytest.approx(
+        -0.04
+    )
+    for placed in (named, by_id):
+        assert isinstance(placed.foot, mudrft.feet.SemiSphere) and placed.geom == toe
+        assert placed.kind == "sphere" and placed.tip[2] == pytest.approx(-0.02)
+    if importlib.util.find_spec("mujoco.mjx") is not None:
+        from mudrft.integrations import mjx
+
+        placed = mjx.attach(model, "calf", MUD, foot_geoms={"calf": "toe"}).bodies[0]
+        assert isinstance(placed.foot, mudrft.feet.SemiSphere) and placed.geom == toe
+
+
+def test_colliding_geoms_as_low_as_the_foot_warn_and_point_to_foot_geoms():
+    import warnings
+
+    from mudrft._validation import PlausibilityWarning
+
+    advice = (
+        r"body 'calf' has colliding geoms that reach as low as its foot, geom 'heel' "
+        r"\(within 1 mm\): geom 'toe'; .* foot_geoms=\{'calf': 'heel'\}"
+    )
+    for toe_z in (0.0, 0.0009):
+        with pytest.warns(PlausibilityWarning, match=advice) as record:
+            attach(_two_soles(toe_z), "calf", MUD)
+        assert len(record) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        attach(_two_soles(), "calf", MUD, foot_geoms={"calf": "toe"})  # the user chose
+        attach(_two_soles(0.0011), "calf", MUD)  # the heel is the lowest, clearly
+        body_foot(_two_soles(), "calf")  # placing a foot to inspect it is no coupling
+    if importlib.util.find_spec("mujoco.mjx") is not None:
+        from mudrft.integrations import mjx
+
+        with pytest.warns(PlausibilityWarning, match=advice):
+            mjx.attach(_two_soles(), "calf", MUD)
+
+
+@pytest.mark.parametrize(
+    ("foot_geoms", "message"),
+    [
+        ("toe", r"foot_geoms must be a mapping \{body: geom name\}, e.g. foot_geoms=\{'calf': "),
+        (
+            {"thigh": "toe"},
+            r"foot_geoms names body 'thigh', which is not coupled; the bodies are \['calf'\]",
+        ),
+        ({"calf": True}, r"foot_geoms\['calf'\] must be a geom's name \(or id\), got True"),
+        (
+            {"calf": "sole"},
+            r"geom 'sole', named as the foot of body 'calf', is not in the model; the body's "
+            r"geoms are \['heel', 'toe', 'shin', 'knob'\]",
+        ),
+        (
+            {"calf": "floor"},
+            r"geom 'floor' of body 'world', named as the foot of body 'calf', is not one of its geoms",
+        ),
+        ({"calf": "knob"}, r"geom 'knob' of body 'calf', named as the foot, has type ellipsoid"),
+    ],
+)
+def test_foot_geoms_mistakes_name_the_option_the_body_and_its_geoms(foot_geoms, message):
+    model = mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody><geom name="floor" type="plane" size="1 1 0.1" pos="0 0 -1"/>
+        <body name="calf" pos="0 0 0.05"><freejoint/>
+        <geom name="heel" type="box" size="0.02 0.03 0.01" pos="-0.03 0 0" mass="0.2"/>
+        <geom name="toe" type="box" size="0.02 0.03 0.01" pos="0.03 0 0" mass="0.2"/>
+        <geom name="shin" type="capsule" fromto="0 0 0.02 0 0 0.1" size="0.01" mass="0.1"/>
+        <geom name="knob" type="ellipsoid" size="0.01 0.01 0.02" pos="0 0 0.03"/>
+        </body></worldbody></mujoco>"""
+    )
+    with pytest.raises(MudrftError, match=message):
+        attach(model, "calf", MUD, foot_geoms=foot_geoms)

@@ -26,7 +26,7 @@ the floor is the elastic law's sensitivity at zero displacement, not the port (D
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeAlias
 
@@ -86,7 +86,7 @@ class MjxCoupling:
         Names of the bodies that touch the mud.
     mud : Mud or MudTerrain
         The mud (:func:`mudrft.paper_mud`) or a configured :class:`mudrft.MudTerrain`.
-    feet, surface, bottom, bottom_stiffness, bottom_damping, implicit, mobility, resolution :
+    feet, surface, bottom, bottom_stiffness, bottom_damping, implicit, mobility, resolution, foot_geoms :
         keyword-only, as :class:`mudrft.integrations.mujoco.MudBatch`.
 
     Examples
@@ -114,13 +114,14 @@ class MjxCoupling:
         implicit: bool = True,
         mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
+        foot_geoms: Mapping[str, str | int] | None = None,
     ) -> None:
         mj = _mujoco()
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution,
+            resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         names, feet_list = opts.bodies, opts.feet
         terrain = as_terrain(mud)
@@ -129,8 +130,8 @@ class MjxCoupling:
                 f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
             )
         placed = [
-            attached_foot(model, b, f, resolution=opts.resolution)
-            for b, f in zip(names, feet_list, strict=True)
+            attached_foot(model, b, f, resolution=opts.resolution, geom=g)
+            for b, f, g in zip(names, feet_list, opts.geoms, strict=True)
         ]
         groups: dict[str, list[int]] = {}
         for i, p in enumerate(placed):  # equal feet (same parameters) share one mud call

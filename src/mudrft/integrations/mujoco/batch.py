@@ -11,7 +11,7 @@ writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -78,6 +78,9 @@ class MudBatch:
         transients; exact for a free body).
     resolution : int, keyword-only
         Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
+    foot_geoms : mapping or None, keyword-only
+        ``{body: geom name}``: the geom that is a body's foot where its lowest colliding
+        geom is not (D124); a body with several such geoms equally low warns without it.
     backend : {"numpy", "numba"}, keyword-only
         ``"numba"``: one compiled call per physics step for all feet of all robots
         (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
@@ -110,6 +113,7 @@ class MudBatch:
         implicit: bool = True,
         mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
+        foot_geoms: Mapping[str, str | int] | None = None,
         backend: str = "numpy",
     ) -> None:
         mj = _mujoco()
@@ -117,7 +121,7 @@ class MudBatch:
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution,
+            resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         bodies, feet_list = opts.bodies, opts.feet
         n = check_count("n", n)
@@ -136,8 +140,8 @@ class MudBatch:
         # one foot object per identical geometry, so equal feet share one terrain call
         cache: dict[Any, Any] = {}
         placed = []
-        for b, f in zip(bodies, feet_list, strict=True):
-            bf = attached_foot(model, b, f, resolution=opts.resolution)
+        for b, f, g in zip(bodies, feet_list, opts.geoms, strict=True):
+            bf = attached_foot(model, b, f, resolution=opts.resolution, geom=g)
             key = repr(bf.foot) if f is None else id(f)
             foot = (
                 cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot

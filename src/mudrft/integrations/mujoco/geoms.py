@@ -36,11 +36,12 @@ if TYPE_CHECKING:
     import mujoco
 
 
-def geom_label(model: mujoco.MjModel, g: int) -> str:
-    """``geom 'name' of body 'body'`` (``geom 3 of body 'body'`` for an unnamed geom)."""
+def geom_label(model: mujoco.MjModel, g: int, *, body: bool = True) -> str:
+    """``geom 'name' of body 'body'`` (``geom 3 of body 'body'`` for an unnamed geom);
+    ``geom 'name'`` with ``body=False``."""
     name = model.geom(g).name
-    which = repr(name) if name else str(g)
-    return f"geom {which} of body {model.body(int(model.geom_bodyid[g])).name!r}"
+    which = f"geom {name!r}" if name else f"geom {g}"
+    return f"{which} of body {model.body(int(model.geom_bodyid[g])).name!r}" if body else which
 
 
 def geom_type_name(model: mujoco.MjModel, g: int) -> str:
@@ -70,6 +71,26 @@ def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) ->
         if z < zbest:
             best, zbest = g, z
     return best
+
+
+#: Colliding geoms whose lowest points lie within this height of the foot geom's reach
+#: equally low [m]: the mud acts on one of them only, so the choice is the user's (D124).
+TIED_HEIGHT = 1e-3
+
+
+def _tied_geoms(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int], g: int) -> list[int]:
+    """The other colliding geoms of a supported type that reach as low as geom ``g`` in the
+    reference pose (within :data:`TIED_HEIGHT`)."""
+    mj = _mujoco()
+    low = _support(model, ref, g)[2]
+    return [
+        o
+        for o in geoms
+        if o != g
+        and int(model.geom_type[o]) in _SUPPORTED_GEOMS(mj)
+        and _collides(model, o)
+        and _support(model, ref, o)[2] <= low + TIED_HEIGHT
+    ]
 
 
 def _SUPPORTED_GEOMS(mj: ModuleType) -> tuple[int, ...]:

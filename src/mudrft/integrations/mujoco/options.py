@@ -8,7 +8,7 @@ ignored).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -41,6 +41,7 @@ class AttachOptions(NamedTuple):
     implicit: bool
     mobility: str
     resolution: int
+    geoms: list[str | int | None]  # the foot's geom of each body, None: derived (D124)
 
 
 def check_count(name: str, value: object) -> int:
@@ -64,6 +65,7 @@ def check_attach_options(
     implicit: object,
     mobility: object,
     resolution: object,
+    foot_geoms: object = None,
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
@@ -103,6 +105,7 @@ def check_attach_options(
             "bottom= (without it they would be ignored)"
         )
     return AttachOptions(
+        geoms=_foot_geoms(foot_geoms, names),
         bodies=names,
         feet=feet_list,
         surface=check_number("surface", surface, unit="m"),
@@ -113,6 +116,25 @@ def check_attach_options(
         mobility=str(mobility),
         resolution=check_count("resolution", resolution),
     )
+
+
+def _foot_geoms(foot_geoms: object, names: list[str]) -> list[str | int | None]:
+    """``foot_geoms``, a mapping ``{body: geom name or id}``, as one entry per body."""
+    if foot_geoms is None:
+        return [None] * len(names)
+    if not isinstance(foot_geoms, Mapping):
+        raise MudrftError(
+            "foot_geoms must be a mapping {body: geom name}, e.g. "
+            f"foot_geoms={{{names[0]!r}: 'foot_geom'}}, got {foot_geoms!r}"
+        )
+    for body, geom in foot_geoms.items():
+        if body not in names:
+            raise MudrftError(
+                f"foot_geoms names body {body!r}, which is not coupled; the bodies are {names}"
+            )
+        if isinstance(geom, bool) or not isinstance(geom, (str, int, np.integer)):
+            raise MudrftError(f"foot_geoms[{body!r}] must be a geom's name (or id), got {geom!r}")
+    return [foot_geoms.get(b) for b in names]
 
 
 def check_data(model: mujoco.MjModel, data: object) -> None:

@@ -20,7 +20,17 @@ from numpy.typing import ArrayLike, NDArray
 from ..._validation import MudrftError, check_finite, warn_plausibility
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
-from .geoms import _derived_foot, _lowest_geom, _mesh_vertices, _support, geom_type_name
+from .geoms import (
+    _SUPPORTED_GEOMS,
+    TIED_HEIGHT,
+    _derived_foot,
+    _lowest_geom,
+    _mesh_vertices,
+    _support,
+    _tied_geoms,
+    geom_label,
+    geom_type_name,
+)
 from .pose import POSE_RESOLUTION, foot_triangles
 
 __all__ = ["BodyFoot", "attached_foot", "body_foot", "group_triangles", "lowest_points"]
@@ -58,6 +68,8 @@ class BodyFoot:
         for a foot without a surface.
     triangles : ndarray (m, 3, 3) or None
         The same triangles in the body frame [m].
+    geom : int
+        MuJoCo id of the geom the foot stands for (-1: none, the tip is a point).
     """
 
     body: str
@@ -72,6 +84,7 @@ class BodyFoot:
     points: NDArray[np.float64]
     upright: NDArray[np.float64] | None = None
     triangles: NDArray[np.float64] | None = None
+    geom: int = -1
 
 
 def _reference_pose(model: Any) -> Any:
@@ -93,6 +106,7 @@ def body_foot(
     *,
     tip: ArrayLike | None = None,
     resolution: int = POSE_RESOLUTION,
+    geom: str | int | None = None,
 ) -> BodyFoot:
     """Place a mudrft foot on a body of a MuJoCo model.
 
@@ -112,6 +126,9 @@ def body_foot(
         reference pose (the body origin when the body has no geom).
     resolution : int, keyword-only
         Mesh resolution of a curved closed-form foot's triangles (:func:`~.pose.foot_triangles`).
+    geom : str, int or None, keyword-only
+        The body's geom that is the foot (name or id), when the lowest colliding one is not
+        (D124); it must belong to the body and be a box, sphere, capsule, cylinder or mesh.
 
     Returns
     -------
@@ -126,8 +143,9 @@ def body_foot(
                 owner = model.body(int(model.geom_bodyid[gid])).name
                 raise MudrftError(
                     f"{body!r} is a geom, not a body: the mud acts on the bodies named, and "
-                    f"its body is {owner!r} (the foot is derived from the body's lowest geom, "
-                    "or given with feet=)"
+                    f"its body is {owner!r} (to make this geom the foot, name the body and "
+                    f"the geom with foot_geoms={{{owner!r}: {body!r}}}; the foot is otherwise "
+                    "derived from the body's lowest colliding geom, or given with feet=)"
                 )
             names = [model.body(i).name for i in range(model.nbody)]
             raise MudrftError(f"body {body!r} is not in the model; bodies are {names}")
@@ -140,7 +158,11 @@ def body_foot(
     Rb = np.array(ref.xmat[bid]).reshape(3, 3)
     xb = np.array(ref.xpos[bid])
     fwd_w = np.array([1.0, 0.0, 0.0])
-    g = _lowest_geom(model, ref, _body_geoms(model, bid))
+    g = (
+        _lowest_geom(model, ref, _body_geoms(model, bid))
+        if geom is None
+        else _named_geom(model, name, bid, geom)
+    )
     if g < 0:
         if foot is None and _body_geoms(model, bid):
             found = ", ".join(
@@ -209,7 +231,36 @@ def body_foot(
         points=pts,
         upright=upright,
         triangles=tri_b,
+        geom=int(g),
     )
+
+
+def _named_geom(model: Any, body: str, bid: int, geom: str | int) -> int:
+    """The id of the geom named as ``body``'s foot, or an error naming what is wrong."""
+    mj = _mujoco()
+    geoms = _body_geoms(model, bid)
+    names = [model.geom(i).name or i for i in geoms]
+    if isinstance(geom, bool) or not isinstance(geom, (str, int, np.integer)):
+        raise MudrftError(
+            f"the foot's geom of body {body!r} must be a geom's name or id, got {geom!r}"
+        )
+    g = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, geom) if isinstance(geom, str) else geom)
+    if not 0 <= g < model.ngeom:
+        raise MudrftError(
+            f"geom {geom!r}, named as the foot of body {body!r}, is not in the model; the "
+            f"body's geoms are {names}"
+        )
+    if g not in geoms:
+        raise MudrftError(
+            f"{geom_label(model, g)}, named as the foot of body {body!r}, is not one of its "
+            f"geoms: {names}"
+        )
+    if int(model.geom_type[g]) not in _SUPPORTED_GEOMS(mj):
+        raise MudrftError(
+            f"{geom_label(model, g)}, named as the foot, has type {geom_type_name(model, g)}, "
+            "which mudrft cannot turn into a foot; use a box, sphere, capsule, cylinder or mesh"
+        )
+    return g
 
 
 def lowest_points(
@@ -280,14 +331,32 @@ def group_triangles(
     return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 
-def attached_foot(model: Any, body: str | int, foot: Any, *, resolution: int) -> BodyFoot:
-    """:func:`body_foot` for a coupling: a body welded to the world warns (D113).
+def attached_foot(
+    model: Any, body: str | int, foot: Any, *, resolution: int, geom: str | int | None = None
+) -> BodyFoot:
+    """:func:`body_foot` for a coupling: a body welded to the world warns (D113), and so
+    does a foot derived from one of several colliding geoms that reach equally low (D124).
 
     The mud's force on a body with no joint between it and the world moves nothing, so a
     coupling that attaches to one is most likely a mistake (the foot's body named instead
-    of the leg's, a joint missing from the model). Arguments as :func:`body_foot`.
+    of the leg's, a joint missing from the model). The mud acts on one geom of a body; when
+    others reach as low (within :data:`~.geoms.TIED_HEIGHT`), which one was the user's to
+    say, with ``foot_geoms``. Arguments as :func:`body_foot`.
     """
-    placed = body_foot(model, body, foot, resolution=resolution)
+    placed = body_foot(model, body, foot, resolution=resolution, geom=geom)
+    if geom is None and placed.geom >= 0:
+        tied = _tied_geoms(
+            model, _reference_pose(model), _body_geoms(model, placed.body_id), placed.geom
+        )
+        if tied:
+            label = model.geom(placed.geom).name or placed.geom
+            others = ", ".join(geom_label(model, g, body=False) for g in tied)
+            warn_plausibility(
+                f"body {placed.body!r} has colliding geoms that reach as low as its foot, "
+                f"{geom_label(model, placed.geom, body=False)} (within {TIED_HEIGHT * 1e3:g} "
+                f"mm): {others}; the mud acts on one geom of a body, so name the foot's with "
+                f"foot_geoms={{{placed.body!r}: {label!r}}} (or another of them)"
+            )
     if int(model.body_weldid[placed.body_id]) == 0:
         warn_plausibility(
             f"body {placed.body!r} is welded to the world (no joint between it and the world): "
