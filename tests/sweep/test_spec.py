@@ -201,6 +201,7 @@ BAD = [
         r"log range needs low > 0",
     ),
     ({"foot": {"kind": "flat", "unit": "mm"}}, r"\[foot\] unit applies to mesh files only"),
+    ({"foot": {"kind": "flat", "up": "y"}}, r"\[foot\] up applies to mesh files only"),
     (
         {"foot": {"kind": "morphing", "mode": "open"}},
         r"\[foot\] mode must be one of morphing, expanded, retracted",
@@ -251,6 +252,34 @@ def test_bad_spec_is_a_clear_error_naming_the_key(sections, message):
     data = {"foot": {"kind": "flat"}, **sections}
     with pytest.raises(MudrftError, match=message):
         load_spec(data)
+
+
+def test_a_mesh_foot_takes_its_files_up_axis(tmp_path):
+    # a y-up export (Blender's OBJ default) could be stood up on the command line (--up)
+    # and in Python (up=), not in a sweep spec: [foot] up takes the file's up axis
+    from mudrft.feet import MeshFoot, SemiSphere
+    from mudrft.feet.mesh import UP_AXES
+    from mudrft.feet.stl import write_stl
+
+    dome = SemiSphere().to_mesh(resolution=6)
+    write_stl(tmp_path / "y.stl", dome.triangles @ np.array(UP_AXES["y"], float), binary=False)
+    toml = tmp_path / "spec.toml"
+    toml.write_text('[foot]\nkind = "y.stl"\nup = "y"\n[motion]\nspeed = [0.1, 0.2]\n')
+    stood = load_spec(toml).mesh
+    upright = MeshFoot.from_file(tmp_path / "y.stl", up="y")
+    np.testing.assert_allclose(stood.vertices, upright.vertices, atol=1e-15)
+    assert stood.height == pytest.approx(dome.height, abs=1e-12)
+    lying = load_spec({"foot": {"kind": str(tmp_path / "y.stl")}}).mesh
+    assert lying.height > 2 * dome.height  # the dome on its side
+    for up, shown in (("Y", "'Y'"), (1, "1")):
+        with pytest.raises(
+            MudrftError,
+            match=r"\[foot\] up must be the mesh file's up axis, a string, one of \"z\", "
+            rf"\"-z\", .*\(y for a y-up export\), got {shown}",
+        ):
+            load_spec({"foot": {"kind": str(tmp_path / "y.stl"), "up": up}})
+    with pytest.raises(MudrftError, match=r"\[foot\] radius: a mesh foot has no parameters \(only unit and up\)"):  # fmt: skip
+        load_spec({"foot": {"kind": str(tmp_path / "y.stl"), "up": "y", "radius": 0.04}})
 
 
 def test_bad_files_are_clear_errors(tmp_path):

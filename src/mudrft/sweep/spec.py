@@ -44,6 +44,7 @@ import numpy as np
 
 from .._validation import MudrftError
 from ..feet import MeshFoot
+from ..feet.mesh import UP_AXES
 from ..units import SCALE
 from . import catalog as C
 from .design import Axis, Design
@@ -215,13 +216,13 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
     axes: list[Axis] = []
     kinds, mesh = _foot_kind(foot, design, base, fixed, axes)
     allowed = sorted({p for k in kinds for p in C.foot_parameters(k)})
-    if mesh is not None and "unit" in foot:
-        foot.pop("unit")
+    for key in ("unit", "up") if mesh is not None else ():
+        foot.pop(key, None)  # read by _foot_kind
     for key, raw in foot.items():
         if key not in allowed:
             what = f"the {kinds[0]} foot" if len(kinds) == 1 else f"the feet {', '.join(kinds)}"
             if not allowed:
-                raise MudrftError(f"[foot] {key}: a mesh foot has no parameters (only unit)")
+                raise MudrftError(f"[foot] {key}: a mesh foot has no parameters (only unit and up)")
             raise MudrftError(
                 f"[foot] {key}: not a parameter of {what}; expected one of {', '.join(allowed)}"
             )
@@ -329,15 +330,20 @@ def _foot_kind(
         unit = foot.get("unit", "m")
         if not isinstance(unit, str) or unit.strip() not in SCALE["length"]:
             raise MudrftError(f'[foot] unit must be the length unit of the mesh file, a string such as "m" or "mm" (one of {", ".join(sorted(SCALE["length"]))}), got {unit!r}')  # fmt: skip
+        up = foot.get("up", "z")
+        if not isinstance(up, str) or up not in UP_AXES:
+            axes_ = ", ".join(f'"{a}"' for a in UP_AXES)
+            raise MudrftError(f"[foot] up must be the mesh file's up axis, a string, one of {axes_} (y for a y-up export), got {up!r}")  # fmt: skip
         path = Path(kind) if Path(kind).is_absolute() else base / kind
         try:
-            mesh = MeshFoot.from_file(path, unit=unit)
+            mesh = MeshFoot.from_file(path, unit=unit, up=up)
         except MudrftError as exc:
             raise MudrftError(f"[foot] kind: {exc}") from None
         fixed["foot"] = str(path)
         return ("mesh",), mesh
-    if "unit" in foot:
-        raise MudrftError("[foot] unit applies to mesh files only (.stl/.obj/.ply)")
+    for key in ("unit", "up"):
+        if key in foot:
+            raise MudrftError(f"[foot] {key} applies to mesh files only (.stl/.obj/.ply)")
     values = kind if isinstance(kind, list) else [kind]
     if not values or not all(isinstance(v, str) and v in names for v in values):
         raise MudrftError(f"[foot] kind must be one of {', '.join(names)} or a mesh file, or a list of the named feet, got {kind!r}")  # fmt: skip
