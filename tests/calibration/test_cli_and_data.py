@@ -162,3 +162,32 @@ def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
             f"every 2nd sample (about {longest // 2} per trial, decision D104) to keep the "
             "fit to minutes; pass decimate=1 (CLI: --decimate 1) to fit every sample"
         ], err
+
+
+@pytest.mark.filterwarnings("default::mudrft._validation.CalibrationWarning")  # shown as lines
+def test_strict_makes_a_fit_that_does_not_describe_the_data_exit_1_with_the_warning(
+    tmp_path, capsys
+):
+    """A fit that 'does not describe the data' (D110) exits 0, so a script could not fail
+    on it; --strict makes a warning exit status 1 with its message (D125). The default is
+    unchanged, and the outputs are written as without --strict."""
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 1.0, 41)
+    depth = 0.06 * np.minimum(t, 1.0 - t)
+    stress = np.abs(rng.normal(0.0, 2000.0, t.size)) + 100.0 * (depth > 0)  # noise
+    log = tmp_path / "noise.csv"
+    rows = "".join(f"{a},{b},{c}\n" for a, b, c in zip(t, depth, stress, strict=True))
+    log.write_text("time [s],depth [m],stress [Pa]\n" + rows)
+    poor = "the model does not describe these data (relative RMSE above 25 %); check the units"
+    common = ["calibrate", str(log), "--groups", "b", "--quiet"]
+    assert mudrft_main([*common, "--out", str(tmp_path / "a.json")]) == 0
+    err = capsys.readouterr().err
+    assert f"mudrft calibrate: warning: {poor}" in err and "error" not in err
+    assert mudrft_main([*common, "--strict", "--out", str(tmp_path / "b.json")]) == 1
+    out, err = capsys.readouterr()
+    last = err.splitlines()[-1]
+    assert last.startswith(f"mudrft calibrate: error: --strict: the command warned: {poor}")
+    assert (tmp_path / "b.json").exists() and "wrote" in out
+    example = ["calibrate", _example_path(), "--groups", "b", "--quiet", "--strict"]
+    assert mudrft_main(example) == 0  # a fit that describes its data passes
+    assert capsys.readouterr().err == ""

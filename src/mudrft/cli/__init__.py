@@ -123,6 +123,23 @@ def _warnings_as_lines(prog: str) -> Iterator[None]:
         yield
 
 
+@contextmanager
+def _warned(prog: str) -> Iterator[list[str]]:
+    """The warnings a command shows (Python warnings and logged ones), for ``--strict``."""
+    warned: list[str] = []
+
+    class Record(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            warned.append(_plain(record.getMessage()).removeprefix(f"{prog}: warning: "))
+
+    handler = Record(logging.WARNING)
+    logger.addHandler(handler)
+    try:
+        yield warned
+    finally:
+        logger.removeHandler(handler)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``mudrft`` command.
 
@@ -134,8 +151,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 success, 1 a fit that did not converge, 2 a user error,
-        130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
+        The exit status: 0 success, 1 a fit that did not converge or, with ``--strict``,
+        a command that warned (D125), 2 a user error, 130 interrupted (Ctrl-C), 143
+        terminated (SIGTERM).
     """
     parser = build_parser()
     words = sys.argv[1:] if argv is None else list(argv)
@@ -158,7 +176,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         for note in getattr(args, "deprecations", ()):
             logger.warning("%s: warning: %s", prog, note)
         try:
-            return int(args.func(args) or 0)
+            with _warned(prog) as warned:
+                code = int(args.func(args) or 0)
+            if getattr(args, "strict", False) and warned and code == 0:
+                more = f" (and {len(warned) - 1} more warnings)" if len(warned) > 1 else ""
+                _error(prog, f"--strict: the command warned: {warned[0]}{more}")
+                return 1
+            return code
         except MudrftError as exc:
             _error(prog, str(exc))
         except ModuleNotFoundError as exc:

@@ -86,6 +86,17 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
     parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
 
 
+def add_strict(parser: argparse.ArgumentParser, what: str) -> None:
+    """Add ``--strict``: a warning of the command makes its exit status 1 (``main`` acts on
+    it, decision D125); ``what`` says which warnings a script would fail on."""
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help=f"exit with status 1 if the command warns ({what}); the outputs are written "
+        "as without it",
+    )
+
+
 def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
     """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None),
     ``--unit`` (the mesh file's length unit), ``--up`` and ``--trailing`` to a subcommand's

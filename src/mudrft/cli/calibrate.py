@@ -4,12 +4,14 @@
 
     mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
                      [--area A] [--length L] [--groups b th s] [--starts K]
-                     --out fit.json [--force] [--plot fit.png] [--quiet]
+                     --out fit.json [--force] [--plot fit.png] [--quiet] [--strict]
 
 Progress goes to stderr, one line per stage; the parameter table to stdout. The JSON
 (:meth:`mudrft.calibration.FitResult.to_json`) loads back with
 ``mudrft.calibration.load_parameters(path)``. An existing output file is never replaced
-without ``--force`` (``--overwrite`` is its deprecated old name).
+without ``--force`` (``--overwrite`` is its deprecated old name). The exit status is 1 for a
+fit that did not converge and, with ``--strict``, for any warning (a fit that does not
+describe the data, D110, D125).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from ._common import (
     HelpFormatter,
     Outputs,
     add_force,
+    add_strict,
     check_finite_option,
     check_positive_option,
     logger,
@@ -134,6 +137,7 @@ def add_parser(
         "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
     )
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_strict(p, "a fit that does not describe the data, a log thinned, units that look wrong")
     p.set_defaults(func=run)
     return p
 
