@@ -318,6 +318,16 @@ def test_a_mistyped_option_is_one_line_naming_the_command_and_the_closest_option
             "mudrft: error: unrecognized option '--foo' "
             "(mudrft --help lists the commands and options)",
         ),
+        (
+            ["--quiet", "simulate", "--foot", "flat", "--out", "x.csv"],
+            "mudrft simulate: error: option '--quiet' goes after the command: mudrft simulate "
+            "... --quiet (mudrft simulate --help lists the options)",
+        ),
+        (
+            ["--force"],
+            "mudrft: error: unrecognized option '--force'; a command's options go after it: "
+            "mudrft COMMAND --force (mudrft --help lists the commands and options)",
+        ),
     ],
 )
 def test_a_mistyped_command_or_top_level_option_is_one_line_naming_the_closest(
@@ -325,7 +335,8 @@ def test_a_mistyped_command_or_top_level_option_is_one_line_naming_the_closest(
 ):
     """'mudrft reproduc' answered with argparse's usage and 'argument COMMAND: invalid
     choice: ... (choose from ...)', and 'mudrft --foo' with the usage and 'unrecognized
-    arguments': the walls D112 removed from a command's options (D122)."""
+    arguments': the walls D112 removed from a command's options (D122). A command's own
+    option before the command was 'unrecognized', with "did you mean '--quiet'?"."""
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SystemExit) as exc:
         main(args)

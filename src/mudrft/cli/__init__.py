@@ -208,15 +208,21 @@ def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown:
     """End a command line with a word the command (or ``mudrft`` itself, before any
     command) does not know: one line naming the command and the closest option, exit
     status 2 (decisions D112, D122)."""
+    commands = _subparsers(parser).choices
     if command is None:
         sub, prog, lists = parser, "mudrft", "the commands and options"
     else:
-        sub = _subparsers(parser).choices[command]
-        prog, lists = f"mudrft {command}", "the options"
-    options = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
+        sub, prog, lists = commands[command], f"mudrft {command}", "the options"
+    options = [o for o in _options(sub) if o.startswith("--")]
     word = next((u for u in unknown if u.startswith("-")), unknown[0])
     name = word.split("=", 1)[0]
-    if name.startswith("-"):
+    if name in options:  # the command's own option, given before the command
+        what = f"option {name!r} goes after the command: {prog} ... {name}"
+    elif command is None and any(name in _options(c) for c in commands.values()):
+        what = (
+            f"unrecognized option {name!r}; a command's options go after it: mudrft COMMAND {name}"
+        )
+    elif name.startswith("-"):
         what = f"unrecognized option {name!r}{_did_you_mean(name, options)}"
     else:
         what = f"unrecognized argument {name!r}"
@@ -241,6 +247,10 @@ def _unknown_command(
 
 def _subparsers(parser: argparse.ArgumentParser) -> argparse._SubParsersAction:
     return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+
+
+def _options(parser: argparse.ArgumentParser) -> list[str]:
+    return [o for a in parser._actions for o in a.option_strings]
 
 
 def _did_you_mean(word: str, choices: list[str]) -> str:
