@@ -297,7 +297,9 @@ def test_a_tumbling_foot_gains_no_energy_under_the_other_evaluations(evaluation)
 @OTHER_EVALUATIONS
 def test_without_the_bound_the_tumbling_foot_gains_energy(evaluation, monkeypatch):
     """The test above can fail: with the bound switched off (the wrench passed through) the
-    same release gains more than a third of its energy (D62b's finding)."""
+    same release gains more than a tenth of its energy (D62b's finding; measured 1.24 J
+    without the acceleration term and 0.81 J quasi-static of its 3.8 J, 1.85 J and 1.57 J
+    before the secant toward rest of D119 damped the switch)."""
     from mudrft.integrations.mujoco import batch
 
     def unbounded(w, tw, W, a, tank, dt):
@@ -307,7 +309,7 @@ def test_without_the_bound_the_tumbling_foot_gains_energy(evaluation, monkeypatc
     terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35), **evaluation)
     model, data, coupling = _tumbling_release(terrain)
     rise, _plain, e0 = _shadow_rise(model, data, coupling, 0.2)
-    assert rise > 0.35 * e0
+    assert rise > 0.1 * e0
 
 
 def _fast_release(mud, shape, dt, euler, twist, spin_rate, mass, drop):
@@ -531,7 +533,8 @@ def test_a_quadruped_whose_four_feet_stand_in_the_mud_gains_no_energy(dt, mobili
 
 def test_feet_solved_one_by_one_let_the_quadruped_gain_energy(monkeypatch):
     """The test above can fail: with the cross blocks of the mobility dropped (each foot's
-    step alone, as before D62d) the same release gains hundreds of joules at 2 ms."""
+    step alone, as before D62d) the same release gains more than twice its energy at 2 ms
+    (measured 68.5 J on 20.9 J; 642 J before the secant toward rest of D119)."""
     from mudrft.integrations.mujoco import batch, kinematics
 
     def own_blocks(*args):
@@ -541,4 +544,4 @@ def test_feet_solved_one_by_one_let_the_quadruped_gain_energy(monkeypatch):
 
     monkeypatch.setattr(batch, "chain_mobility", own_blocks)
     rise, e0 = _quadruped_rise(2e-3, mud=True)
-    assert rise > 5.0 * (1.0 + e0)
+    assert rise > 2.0 * (1.0 + e0)

@@ -34,8 +34,6 @@ from .conftest import box_foot_model, mujoco
 
 MUD = mudrft.paper_mud(0.25)
 
-pytestmark = pytest.mark.xfail(strict=True, reason="a resting foot's period-two oscillation (D115)")
-
 BACKENDS = [
     "numpy",
     pytest.param(

@@ -306,7 +306,7 @@ def mud_wrench(
     )
     pos = xp.concatenate([fxy, low[..., 2:]], axis=-1)
     depth = xp.maximum(-pos[..., 2], 0.0)
-    step = secant_steps(st.wv_prev, b, dt, cfg.dv_min, xp=xp) if cfg.implicit else None
+    step = secant_steps(vel, cfg.dv_min, xp=xp) if cfg.implicit else None
     mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
     for g in cfg.groups:
         idx = g.idx

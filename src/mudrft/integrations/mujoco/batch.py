@@ -356,7 +356,7 @@ class MudBatch:
         jd = np.zeros((N, nb, 3))
         stress = np.empty((N, nb, 3))
         depth = np.maximum(-pos[..., 2], 0.0)
-        step = secant_steps(self._wv_prev, b, dt, self._dv_min) if self.implicit else None
+        step = secant_steps(vel, self._dv_min) if self.implicit else None
         for gi, (foot, idx) in enumerate(self._groups):
             st = self._states[gi]
             pg, vg = (pos, vel) if len(idx) == nb else (pos[:, idx], vel[:, idx])

@@ -9,8 +9,9 @@ every body of every robot what the numpy coupling does with arrays:
 2. clips the foot's triangles in their current pose and sums the channel weights, points
    and second moments (D60a) with the feet's own element-wise facet rules
    (:mod:`mudrft.feet.facet`) and :func:`~.pose.channel_weights`;
-3. steps the mud with the motion and each channel once more with its rate nudged (the
-   secants of D63) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
+3. steps the mud with the motion and each channel once more with its rate nudged toward
+   rest (the secants of D63, their steps :func:`~.implicit.secant_steps` compiled from its
+   one source, D119) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
    the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
    mesh foot's facets, or the morphing foot's column balance and force
    (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`, D68d);
@@ -55,7 +56,7 @@ from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
-from .implicit import passivity_scale
+from .implicit import passivity_scale, secant_steps
 from .linalg import (
     _borrow,
     _carve,
@@ -346,7 +347,7 @@ def _kernel(
             b1 = o[1] if was_in else 0.0
             pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
             o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
-            # the mud, and the secant derivative (D63); out of the mud every force is 0
+            # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
             cj = consts[j : j + 1]
             fs, mrow = fst[k, j], morph[j]
             r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row, mrow, fs, frow)
@@ -355,11 +356,7 @@ def _kernel(
                 D[q] = 0.0
             if implicit and (was_in or depth > 0.0):
                 for q in range(3):
-                    dv = 0.0
-                    for i in range(6):
-                        dv += b[q, i] * wv_prev[k, j, i]
-                    dv = dt * dv
-                    st = dv if abs(dv) > dv_min else dv_min
+                    st = _secant(u[q], dv_min)
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
                     fq = _nudged_force(
@@ -505,6 +502,7 @@ _clip = clip_facet
 _area = submerged_area
 _weights = channel_weights
 _pscale = passivity_scale
+_secant = secant_steps
 
 
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
@@ -556,6 +554,7 @@ def coupling_kernel() -> Any:
         _contact=compile_scalar(contact_on_floats),
         _mforce=compile_scalar(morphing_force),
         _pscale=compile_scalar(passivity_scale),
+        _secant=compile_scalar(secant_steps),
         _constants=numba.njit(inline="always")(_constants),
         _channels=numba.njit(inline="always")(_channels),
         _ptr=_pointer_intrinsic(),

@@ -48,32 +48,35 @@ __all__ = [
 ]
 
 
-def secant_steps(
-    wv_prev: FloatArray, b: FloatArray, dt: float, dv_min: float, *, xp: Namespace = np
-) -> FloatArray:
-    """Velocity steps of the secant derivative: what the last wrench did in one step (D63).
+def secant_steps(vel: XpArray, dv_min: float, *, xp: Namespace = np) -> XpArray:
+    r"""Velocity steps of the secant derivative: from each channel's velocity to rest (D63, D119).
+
+    Element-wise: the step is :math:`-u`, so that the secant spans the mud's force between
+    the channel velocity :math:`u` and rest, where the suction switch :math:`H_\nu` of
+    eq. (1) turns within :math:`\nu L_c` (about 0.5 mm/s); a velocity within ``dv_min`` of
+    rest steps by ``dv_min`` across it (away from its sign; up from exactly 0), so that a
+    foot that rests or creeps sees the switch's own slope. A secant that ends beyond rest
+    on the far side of the switch (the rule of D63 before D119: the velocity change the
+    last wrench made) has a slope far below the switch's, and a resting foot jumped across
+    the switch every step (the period-two oscillation of D115).
 
     Parameters
     ----------
-    wv_prev : ndarray (N, nb, 6)
-        Mobility times the last applied wrench, :math:`W w` (twist change per unit time)
-        [m/s^2, rad/s^2].
-    b : ndarray (N, nb, 3, 6)
-        Twist-to-velocity rows of the three channels (:func:`channel_rows`) [-, m].
-    dt : float
-        Time step [s].
+    vel : array_like
+        Channel velocities [m/s].
     dv_min : float
-        Smallest step [m/s]; changes of magnitude at most ``dv_min`` are replaced by it.
+        Smallest step [m/s] (> 0).
     xp : module, keyword-only
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
+        Element-wise namespace (numpy, ``jax.numpy`` for the MJX coupling, or floats for
+        the compiled coupling).
 
     Returns
     -------
-    ndarray (N, nb, 3)
-        Steps of the channel velocities [m/s].
+    array_like
+        Steps of the channel velocities [m/s], never 0.
     """
-    dv = dt * xp.einsum("...ci,...i->...c", b, wv_prev)
-    return xp.where(xp.abs(dv) > dv_min, dv, dv_min)
+    across = xp.where(vel > 0.0, -dv_min, dv_min)
+    return xp.where(xp.abs(vel) > dv_min, -vel, across)
 
 
 def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Namespace = np) -> FloatArray:
