@@ -22,6 +22,7 @@ __all__ = [
     "enable_x64",
     "from_jax",
     "initial_state",
+    "is_tracer",
     "safe_namespace",
     "to_jax",
 ]
@@ -42,6 +43,12 @@ def enable_x64() -> Any:
     if not getattr(jax.config, "jax_enable_x64", False):
         jax.config.update("jax_enable_x64", True)
     return jax
+
+
+def is_tracer(x: object) -> bool:
+    """Whether ``x`` is a JAX tracer (inside ``jit``, ``grad``, ``vmap``...): its values
+    cannot be checked, only its static shape and dtype."""
+    return isinstance(x, enable_x64().core.Tracer)
 
 
 def _jnp() -> Any:

@@ -51,6 +51,7 @@ from ._jax_base import (
     enable_x64,
     from_jax,
     initial_state,
+    is_tracer,
     safe_namespace,
     to_jax,
 )
@@ -235,7 +236,7 @@ def batched_step(
     gamma, gamma_dot : array_like, shape (N, ...)
         Displacement [-] and rate [1/s] per member.
     dt : float
-        Step shared by the batch [s].
+        Step shared by the batch [s], a scalar.
     seal : array_like, shape (N, ...), keyword-only
         Sealing factor per member [-]; default ones.
     acceleration : bool or None, keyword-only
@@ -259,6 +260,12 @@ def batched_step(
         else jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
     )
     n = g.shape[0]
+    if jnp.ndim(dt):
+        raise MudrftError(
+            f"dt must be one step shared by the batch [s], a number, got an array of shape "
+            f"{jnp.shape(dt)} (each member's dt was applied to every member); for a step per "
+            "member, call step(...), which broadcasts dt with gamma"
+        )
     for name, f in zip(JaxParams._fields, params, strict=True):
         if jnp.ndim(f) and jnp.shape(f)[0] != n:
             raise MudrftError(
@@ -276,11 +283,6 @@ def batched_step(
     return _compiled()["vstep"](
         p, state, g, jnp.asarray(gamma_dot, dtype=float), dt, s, acceleration, thixotropy, clock
     )  # type: ignore[no-any-return]
-
-
-def _is_tracer(x: object) -> bool:
-    jax = enable_x64()
-    return isinstance(x, jax.core.Tracer)
 
 
 def run(
@@ -332,21 +334,30 @@ def run(
     (11,)
     """
     jnp = _jnp()
-    if not _is_tracer(time):
+    check_params(params)
+    if not is_tracer(time):
         time = check_increasing("time", time)
         if time.size < 2:
             raise MudrftError(f"time must have at least 2 samples, got {time.size}")
-    if not _is_tracer(gamma):
+    if not is_tracer(gamma):
         g_np = check_finite("gamma", gamma)
         if g_np.shape[:1] != np.shape(time):
             raise MudrftError(
                 f"gamma must have the same length as time along its first axis, got gamma shape "
                 f"{g_np.shape} and time shape {np.shape(time)}"
             )
-    if not _is_tracer(xi0):
+    if not is_tracer(xi0):
         check_in_range("xi0", xi0, 0.0, 1.0)
     t = jnp.asarray(time, dtype=float)
     g = jnp.asarray(gamma, dtype=float)
+    for name, f in zip(JaxParams._fields, params, strict=True):
+        if np.broadcast_shapes(jnp.shape(f), g.shape[1:]) != g.shape[1:]:
+            raise MudrftError(
+                f"params.{name} has shape {jnp.shape(f)}, which does not broadcast to one "
+                f"sample of gamma, shape {g.shape[1:]}: gamma needs a column per parameter "
+                f"set, shape (n, {', '.join(map(str, jnp.shape(f)))}) (to_jax(mud) holds the "
+                "x, y, z channels)"
+            )
     if state is None:
         z = jnp.zeros(g.shape[1:])
         state = ChannelState(
@@ -384,7 +395,8 @@ def mesh_force(
     Parameters
     ----------
     vertices : array_like, shape (v, 3)
-        Vertices in the foot frame, tip (lowest point) at the origin [m].
+        Vertices in the foot frame, tip (lowest point) at z = 0 [m] (checked when
+        concrete; :attr:`mudrft.feet.MeshFoot.vertices` are).
     faces : array_like of int, shape (m, 3)
         Triangles, counter-clockwise seen from outside.
     depth : float or array
@@ -394,7 +406,9 @@ def mesh_force(
     heading : float or array
         Horizontal heading of the motion [rad].
     trailing : bool, keyword-only
-        Passed on to ``integrate_triangles`` (load trailing faces too).
+        Passed on to ``integrate_triangles`` (load trailing faces too). Give the foot's
+        own, ``trailing=foot.trailing``: a foot made with ``to_mesh`` has True, and the
+        default False gave it other forces (D126).
 
     Returns
     -------
@@ -405,7 +419,7 @@ def mesh_force(
     v = jnp.asarray(vertices, dtype=float)
     if v.ndim != 2 or v.shape[1] != 3:
         raise MudrftError(f"vertices must have shape (v, 3) [m], got shape {v.shape}")
-    if _is_tracer(faces):  # traced faces: the caller's own program; shape checks only
+    if is_tracer(faces):  # traced faces: the caller's own program; shape checks only
         f = faces
     else:  # concrete faces (the usual case): indices JAX would clip or wrap silently
         f = np.asarray(faces)
@@ -417,6 +431,18 @@ def mesh_force(
             raise MudrftError(
                 f"faces must index the {v.shape[0]} vertices (0 to {v.shape[0] - 1}), got "
                 f"{int(f.min())} to {int(f.max())}"
+            )
+    if (
+        not (is_tracer(vertices) or is_tracer(f)) and v.size and np.size(f)
+    ):  # the depth is the tip's (D126)
+        used = np.asarray(vertices, dtype=float)[np.unique(np.asarray(f))]
+        low, size = float(used[:, 2].min()), float(np.ptp(used, axis=0).max())
+        if abs(low) > 1e-9 * size:
+            raise MudrftError(
+                f"vertices must have the tip (lowest point) at z = 0 [m], got a lowest z of "
+                f"{low:.6g} m: depth is the tip's, so the foot would sit {abs(low):.3g} m "
+                f"{'higher' if low > 0 else 'lower'}; use MeshFoot(vertices, faces).vertices "
+                "(shifted to the tip)"
             )
     if np.shape(stress)[-1:] != (3,):
         raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {np.shape(stress)}")

@@ -5,12 +5,23 @@ Part of the JAX backend (:mod:`mudrft.backends.jax` re-exports every name).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from .._validation import (
+    MudrftError,
+    check_characteristic_length,
+    check_finite,
+    check_increasing,
+    check_positive,
+)
 from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import channel_constants
+from ..feet.base import Foot
 from ..terrains.mud import MudChannels, initial_channels, mud_step
-from ._jax_base import JaxParams, _jnp, check_params, enable_x64
+from ._jax_base import JaxParams, _jnp, check_params, enable_x64, is_tracer, safe_namespace
+from .forces import force_function
 
 if TYPE_CHECKING:
     from jax import Array
@@ -23,6 +34,73 @@ __all__ = ["TerrainState", "initial_terrain_state", "simulate", "terrain_step"]
 
 #: State of :func:`terrain_step`: the mud under the feet (a JAX pytree).
 TerrainState = MudChannels
+
+
+def _xyz(name: str, value: Any, unit: str) -> Array:
+    """``value`` as a float array of shape (..., 3): x, y, z. A concrete value is checked
+    for NaN and infinity as well; a traced one (inside the caller's ``jit``) for its shape
+    only. JAX clips an index out of range instead of raising, so without this check a
+    position of shape (..., 2) read its y as the depth (D126)."""
+    jnp = _jnp()
+    a = jnp.asarray(value if is_tracer(value) else check_finite(name, value), dtype=float)
+    if a.shape[-1:] != (3,):
+        raise MudrftError(
+            f"{name} must have shape (..., 3) [{unit}], its x, y and z components, got shape "
+            f"{a.shape}"
+        )
+    return a
+
+
+def _length(characteristic_length: Any) -> Any:
+    """:math:`L_c` [m], checked when concrete (a traced one is the caller's design variable)."""
+    if isinstance(characteristic_length, Foot):
+        raise MudrftError(
+            "characteristic_length must be a length [m], got a "
+            f"{type(characteristic_length).__name__}: use foot.characteristic_length, or pass "
+            "the foot as force_fn, which then gives its own"
+        )
+    if is_tracer(characteristic_length) or np.ndim(characteristic_length):
+        return characteristic_length
+    return check_characteristic_length("mudrft.backends.jax", characteristic_length)
+
+
+def foot_rule(force_fn: Foot | ForceRule, characteristic_length: Any) -> tuple[ForceRule, Any]:
+    """The force rule and :math:`L_c` [m] of :func:`terrain_step` from its arguments.
+
+    A foot (or its ``force`` method, numpy) gives
+    :func:`~mudrft.backends.forces.force_function` with the backend's safe namespace (and
+    its own ``characteristic_length`` when none is given); a function is used as it is and
+    needs ``characteristic_length``. Errors name the argument (D127).
+    """
+    owner = getattr(force_fn, "__self__", None)
+    if isinstance(owner, Foot) and getattr(force_fn, "__name__", "") in (
+        "force",
+        "force_unchecked",
+    ):
+        force_fn = owner  # foot.force is numpy (and validates): the foot's own rule instead
+    if isinstance(force_fn, Foot):
+        fn = force_function(force_fn, xp=safe_namespace())
+        if fn is None:
+            raise MudrftError(
+                f"force_fn: the {type(force_fn).__name__} has no force rule under JAX (its "
+                "internal state is solved with numpy); the flat, semi-cylinder, semi-sphere "
+                "and mesh feet have one"
+            )
+        if characteristic_length is None:
+            characteristic_length = force_fn.characteristic_length
+        return fn, _length(characteristic_length)
+    if not callable(force_fn):
+        raise MudrftError(
+            "force_fn must be a foot (mudrft.feet.Flat(), ...) or a function f(depth [m], "
+            "stress (..., 3) [Pa], heading [rad]) -> force (..., 3) [N] written with "
+            f"jax.numpy, got {type(force_fn).__name__}"
+        )
+    if characteristic_length is None:
+        raise MudrftError(
+            "characteristic_length [m] must be given with a force function (a foot passed as "
+            "force_fn gives its own, foot.characteristic_length)"
+        )
+    return force_fn, _length(characteristic_length)
 
 
 def initial_terrain_state(
@@ -40,9 +118,10 @@ def initial_terrain_state(
         Structure of undisturbed mud [-].
     """
     jnp = _jnp()
-    pos = jnp.asarray(position, dtype=float)
+    pos = _xyz("position", position, "m")
     depth = jnp.maximum(-pos[..., 2], 0.0)
-    return initial_channels(pos[..., 0], pos[..., 1], depth, characteristic_length, xi0, xp=jnp)
+    lc = _length(characteristic_length)
+    return initial_channels(pos[..., 0], pos[..., 1], depth, lc, xi0, xp=jnp)
 
 
 def terrain_step(
@@ -52,8 +131,8 @@ def terrain_step(
     velocity: JaxArrayLike,
     dt: JaxArrayLike,
     *,
-    force_fn: ForceRule,
-    characteristic_length: float,
+    force_fn: Foot | ForceRule,
+    characteristic_length: float | None = None,
     acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
@@ -75,14 +154,26 @@ def terrain_step(
     position, velocity : array_like, shape (..., 3)
         Tip position [m] and velocity [m/s] at the end of the step.
     dt : float
-        Step [s].
-    force_fn : callable, keyword-only
-        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] in JAX, e.g.
-        ``functools.partial(mesh_force, vertices, faces)``.
+        Step [s], > 0.
+    force_fn : Foot or callable, keyword-only
+        The foot: a rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or
+        mesh; :func:`~mudrft.backends.forces.force_function` with the backend's namespace),
+        or ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with
+        ``jax.numpy``. For gradients by a mesh's vertices, ``lambda d, s, h: mesh_force(v,
+        foot.faces, d, s, h, trailing=foot.trailing)``: ``mesh_force`` does not know the
+        foot, and a foot made with ``to_mesh`` loads its trailing faces.
     characteristic_length : float, keyword-only
-        :math:`L_c` [m].
+        :math:`L_c` [m]; default the foot's when ``force_fn`` is a foot (needed with a
+        function). May be traced (a design variable).
     acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
         As :class:`mudrft.MudTerrain` (static under jit: Python values, not traced).
+
+    Raises
+    ------
+    MudrftError
+        For a position or velocity not of shape (..., 3), a state made for another batch,
+        and, when the values are concrete (not traced), NaN or infinite inputs and
+        ``dt <= 0``.
 
     Returns
     -------
@@ -92,19 +183,38 @@ def terrain_step(
     """
     check_params(params, channels=True)
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
+    fn, lc = foot_rule(force_fn, characteristic_length)
     jax = enable_x64()
     jnp = _jnp()
-    pos = jnp.asarray(position, dtype=float)
-    vel = jnp.asarray(velocity, dtype=float)
+    pos = _xyz("position", position, "m")
+    vel = _xyz("velocity", velocity, "m/s")
+    if not is_tracer(dt):
+        check_positive("dt", dt, unit="s")
+    batch = jnp.shape(state.in_mud)
+    try:
+        np.broadcast_shapes(batch, pos.shape[:-1], vel.shape[:-1])
+    except ValueError:
+        raise MudrftError(
+            f"state is the mud under tips of shape {batch} (initial_terrain_state), but "
+            f"position has shape {pos.shape} and velocity {vel.shape}: one (x, y, z) per tip"
+        ) from None
     hor = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 0], params))
     ver = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 2], params))
     ch, sx, sy, sz, depth = mud_step(
         (hor, ver), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
-        vel[..., 2], dt, characteristic_length, kappa, xi0, reset_on_exit, heading_speed, 1.0,
+        vel[..., 2], dt, lc, kappa, xi0, reset_on_exit, heading_speed, 1.0,
         qs, restart, xp=jnp,
     )  # fmt: skip
     stress = jnp.stack([sx, sy, sz], axis=-1)
-    force = force_fn(depth, stress, ch.heading) * ch.in_mud[..., None]
+    try:
+        force = fn(depth, stress, ch.heading) * ch.in_mud[..., None]
+    except jax.errors.TracerArrayConversionError as exc:
+        raise MudrftError(
+            "force_fn must compute with jax.numpy, but it turned a traced value into a numpy "
+            "array (a numpy rule such as foot.force or force_function(foot)); pass the foot "
+            "itself, force_fn=foot, or force_function(foot, xp=mudrft.backends.jax."
+            "safe_namespace())"
+        ) from exc
     return ch, (force, stress, depth)
 
 
@@ -114,8 +224,8 @@ def simulate(
     position: JaxArrayLike,
     velocity: JaxArrayLike,
     *,
-    force_fn: ForceRule,
-    characteristic_length: float,
+    force_fn: Foot | ForceRule,
+    characteristic_length: float | None = None,
     acceleration: bool | None = None,
     reset_on_exit: bool = True,
     xi0: float = 0.0,
@@ -128,14 +238,16 @@ def simulate(
     Same sampling as :func:`mudrft.simulate`: the state starts at ``position[0]`` and step
     ``k`` ends at sample ``k`` with ``dt = time[k] - time[k-1]``. Traceable: wrap it in
     :func:`jax.jit` (``force_fn`` closed over) and differentiate it with respect to
-    ``params``, the foot geometry in ``force_fn`` or the trajectory.
+    ``params``, the foot geometry in ``force_fn`` or the trajectory. Called outside
+    ``jit``, every call traces and compiles its scan again (about 0.4 s for 650 steps on a
+    CPU, against 2 ms for a jitted call): jit the function that calls it (D128).
 
     Parameters
     ----------
     params : JaxParams
         Channel parameters (``to_jax(mud)``).
     time : array_like, shape (n,)
-        Increasing times [s].
+        Strictly increasing times [s] (checked when concrete).
     position, velocity : array_like, shape (n, ..., 3)
         Tip position [m] and velocity [m/s] at the samples.
     force_fn, characteristic_length, acceleration, reset_on_exit, xi0, heading_speed :
@@ -150,9 +262,18 @@ def simulate(
     """
     jax = enable_x64()
     jnp = _jnp()
+    if not is_tracer(time):
+        time = check_increasing("time", time)
     t = jnp.asarray(time, dtype=float)
-    pos = jnp.asarray(position, dtype=float)
-    vel = jnp.asarray(velocity, dtype=float)
+    pos = _xyz("position", position, "m")
+    vel = _xyz("velocity", velocity, "m/s")
+    if t.ndim != 1 or t.shape[0] < 2 or pos.shape[:1] != t.shape or vel.shape != pos.shape:
+        raise MudrftError(
+            "time must have shape (n,) with n >= 2 and position and velocity shape (n, ..., 3) "
+            f"(one row per sample), got time {t.shape}, position {pos.shape} and velocity "
+            f"{vel.shape}"
+        )
+    force_fn, characteristic_length = foot_rule(force_fn, characteristic_length)
     st0 = initial_terrain_state(pos[0], characteristic_length, xi0=xi0)
 
     def body(
