@@ -169,6 +169,13 @@ def test_run_refuses_numpy_parameters_and_channel_sets_without_channels():
         mjax.run(mjax.to_jax(MUD), t, 0.2 * t)
     h = mjax.run(mjax.to_jax(MUD), t, np.stack([0.2 * t] * 3, 1))  # one column per channel
     assert h.total.shape == (11, 3)
+    # the numpy run said "setting an array element with a sequence"
+    from mudrft.terrains import channel_parameters
+
+    with pytest.raises(MudrftError, match=r"params.alpha has shape \(3,\).*shape \(n, 3\)"):
+        mudrft.constitutive.run(channel_parameters(MUD), t, 0.2 * t)
+    ref = mudrft.constitutive.run(channel_parameters(MUD), t, np.stack([0.2 * t] * 3, 1))
+    np.testing.assert_allclose(np.asarray(h.total), ref.total, rtol=1e-11, atol=1e-9)
 
 
 def test_a_traced_characteristic_length_is_a_design_variable():

@@ -350,14 +350,9 @@ def run(
         check_in_range("xi0", xi0, 0.0, 1.0)
     t = jnp.asarray(time, dtype=float)
     g = jnp.asarray(gamma, dtype=float)
-    for name, f in zip(JaxParams._fields, params, strict=True):
-        if np.broadcast_shapes(jnp.shape(f), g.shape[1:]) != g.shape[1:]:
-            raise MudrftError(
-                f"params.{name} has shape {jnp.shape(f)}, which does not broadcast to one "
-                f"sample of gamma, shape {g.shape[1:]}: gamma needs a column per parameter "
-                f"set, shape (n, {', '.join(map(str, jnp.shape(f)))}) (to_jax(mud) holds the "
-                "x, y, z channels)"
-            )
+    dynamics.check_parameter_shapes(
+        {k: jnp.shape(f) for k, f in zip(JaxParams._fields, params, strict=True)}, g.shape[1:]
+    )
     if state is None:
         z = jnp.zeros(g.shape[1:])
         state = ChannelState(

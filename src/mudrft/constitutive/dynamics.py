@@ -25,11 +25,19 @@ from .._validation import (
     check_increasing,
     check_positive,
 )
-from ..parameters.base import MudParameters
+from ..parameters.base import PARAMETER_UNITS, MudParameters
 from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
 
-__all__ = ["CLOCKS", "THIXOTROPY", "ChannelHistory", "evaluation", "run", "step"]
+__all__ = [
+    "CLOCKS",
+    "THIXOTROPY",
+    "ChannelHistory",
+    "check_parameter_shapes",
+    "evaluation",
+    "run",
+    "step",
+]
 
 #: Evaluations of the thixotropy and suction (decision D15): the ODEs (3) and (5) stepped
 #: exactly, or the paper's quasi-static closed forms (9)-(11).
@@ -234,6 +242,20 @@ class ChannelHistory(NamedTuple):
     xi: np.ndarray
 
 
+def check_parameter_shapes(shapes: dict[str, tuple[int, ...]], sample: tuple[int, ...]) -> None:
+    """Each parameter field's shape must broadcast to one sample of ``gamma`` (``sample``):
+    a run keeps one state per element of a sample. A mud's three channel sets (fields of
+    shape (3,)) with one column of gamma ended in numpy's "setting an array element with a
+    sequence" (JAX: a scan carry mismatch) (D127)."""
+    for name, shape in shapes.items():
+        if np.broadcast_shapes(shape, sample) != sample:
+            raise MudrftError(
+                f"params.{name} has shape {shape}, which does not broadcast to one sample of "
+                f"gamma, shape {sample}: gamma needs a column per parameter set, shape "
+                f"(n, {', '.join(map(str, shape))}) (a mud's channel sets are x, y, z)"
+            )
+
+
 def run(
     params: MudParameters,
     time: ArrayLike,
@@ -290,6 +312,7 @@ def run(
         )
     if t.size < 2:
         raise MudrftError(f"time must have at least 2 samples, got {t.size}")
+    check_parameter_shapes({k: np.shape(getattr(params, k)) for k in PARAMETER_UNITS}, g.shape[1:])
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     consts = kernel.channel_constants(params)
     seal_arr = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
