@@ -210,3 +210,25 @@ def test_mjx_under_rk4_warns_that_the_passivity_bound_assumes_euler():
         mm.attach(m, "foot", MUD)
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     mm.attach(m, "foot", MUD)  # no warning (warnings are errors in the suite)
+
+
+def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened():
+    """D129: a robot made in float32, stepped after mudrft.backends.jax switched the
+    process to float64 (its first call does, D70): the rollout's scan refused its carry
+    ('carry[1].foot_xy has type float32[1,2] but ... float64'), and the vector environment
+    failed on 'lax.add requires arguments to have the same dtypes, got int32, int64'. Now
+    a MudrftError says what happened and what to do; in float32 it still runs."""
+    xml = """<mujoco><option timestep="0.001"/><worldbody>
+      <body name="foot" pos="0 0 0.005"><freejoint/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
+    m = mujoco.MjModel.from_xml_string(xml)
+    with jax.enable_x64(False):
+        coupling = mm.attach(m, "foot", MUD)
+        d0 = coupling.put_data()
+        st0 = mm.jit(coupling.init)(d0)
+    assert d0.qpos.dtype == np.float32
+    with jax.enable_x64(True), pytest.raises(mudrft.MudrftError, match="d is float32 but JAX now"):
+        coupling.rollout(d0, st0, 3)
+    with jax.enable_x64(False):
+        _, st, out = coupling.rollout(d0, st0, 3)
+        assert st.foot_xy.dtype == np.float32 and float(out.depth[-1, 0]) > 0.005

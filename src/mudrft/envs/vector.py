@@ -105,6 +105,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.render_mode = None
         self.layout = walker_layout(self.config)
         lay = self.layout
+        # the precision the robots are made in; every later call runs in it (D129)
+        self._x64 = bool(_jax_module().config.jax_enable_x64)
         self.coupling = attach(
             lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
             bottom=self.config.bottom,
@@ -137,6 +139,12 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
+        with _precision(self._x64):
+            return self._reset(seed=seed, options=options)
+
+    def _reset(
+        self, *, seed: int | None, options: dict[str, Any] | None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         import jax
 
         check_reset_options(options)
@@ -153,7 +161,18 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     def step(
         self, actions: ArrayLike
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        """One control step of every robot; robots that ended last step start anew."""
+        """One control step of every robot; robots that ended last step start anew.
+
+        Runs in the precision the environment was made in (float32 unless JAX computed in
+        float64 then), even if the process has been switched since, as
+        :mod:`mudrft.backends.jax` does on its first call (D70, D129).
+        """
+        with _precision(self._x64):
+            return self._step(actions)
+
+    def _step(
+        self, actions: ArrayLike
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         import jax
 
         if self._state is None:
@@ -177,6 +196,24 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         out = {k: np.asarray(v) for k, v in info.items()}
         return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
                 trunc, out)  # fmt: skip
+
+
+def _jax_module() -> Any:
+    import jax
+
+    return jax
+
+
+def _precision(x64: bool) -> Any:
+    """A context in which JAX computes in float64 if ``x64``, else in float32: the robots'
+    arrays and the compiled programs were made in one precision, and a process switched to
+    the other in between (mudrft.backends.jax switches to float64, D70) made the next step
+    fail on 'lax.add requires arguments to have the same dtypes, got int32, int64' (D129)."""
+    jax = _jax_module()
+    context = getattr(jax, "enable_x64", None)
+    if context is None:  # older JAX has it in jax.experimental only
+        from jax.experimental import enable_x64 as context
+    return context(x64)
 
 
 def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:

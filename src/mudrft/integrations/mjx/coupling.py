@@ -360,8 +360,19 @@ def attach(
 
 
 def _check_mjx_data(mjx: ModuleType, d: object) -> None:
-    """``d`` must be an ``mjx.Data`` (a CPU ``MjData`` failed deep inside MJX)."""
+    """``d`` must be an ``mjx.Data`` (a CPU ``MjData`` failed deep inside MJX), in the
+    precision JAX computes in now (a static dtype: checked under ``jit`` too)."""
     if not isinstance(d, mjx.Data):
         raise MudrftError(
             f"d must be an mjx.Data (coupling.put_data(data) makes one), got {type(d).__name__}"
+        )
+    jax = _jax()
+    x64 = bool(jax.config.jax_enable_x64)
+    if x64 and d.qpos.dtype == np.float32:  # D129
+        raise MudrftError(
+            "d is float32 but JAX now computes in float64: it was made before the process "
+            "was switched (mudrft.backends.jax does so on its first call, D70), and the "
+            "step would mix the two (a scan's carry then changes dtype). Make the data and "
+            "the mud state again (coupling.put_data(...), coupling.init(d)), or run the "
+            "float32 robot inside jax.enable_x64(False)"
         )
