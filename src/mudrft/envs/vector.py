@@ -13,6 +13,7 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 
 from __future__ import annotations
 
+import importlib
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -210,9 +211,9 @@ def _precision(x64: bool) -> Any:
     the other in between (mudrft.backends.jax switches to float64, D70) made the next step
     fail on 'lax.add requires arguments to have the same dtypes, got int32, int64' (D129)."""
     jax = _jax_module()
-    context = getattr(jax, "enable_x64", None)
+    context: Any = getattr(jax, "enable_x64", None)
     if context is None:  # older JAX has it in jax.experimental only
-        from jax.experimental import enable_x64 as context
+        context = getattr(importlib.import_module("jax.experimental"), "enable_x64")  # noqa: B009
     return context(x64)
 
 
