@@ -195,3 +195,15 @@ def test_a_traced_characteristic_length_is_a_design_variable():
     fd = (float(impulse_z(LC + h)) - float(impulse_z(LC - h))) / (2 * h)
     assert abs(g) > 0
     assert abs(LC * (g - fd)) <= 1e-6 * (abs(float(impulse_z(LC))) + abs(LC * fd))
+
+
+def test_mud_constants_are_the_terrain_constants_and_differentiable():
+    """The constants the MJX coupling's constants= takes, from to_jax(mud), traceable: a
+    learning user had to rebuild them with tree_map and channel_constants (D127)."""
+    got = mjax.mud_constants(mjax.to_jax(MUD))
+    ref = mudrft.MudTerrain(MUD).constants
+    for g, r in zip(got, ref, strict=True):
+        assert type(g) is type(r)
+        np.testing.assert_allclose([float(x) for x in g], [float(x) for x in r], rtol=1e-15)
+    grad = jax.grad(lambda p: mjax.mud_constants(p)[1].alpha)(mjax.to_jax(MUD))
+    np.testing.assert_array_equal(np.asarray(grad.alpha), [0.0, 0.0, 1.0])

@@ -55,7 +55,13 @@ from ._jax_base import (
     safe_namespace,
     to_jax,
 )
-from .jax_terrain import TerrainState, initial_terrain_state, simulate, terrain_step
+from .jax_terrain import (
+    TerrainState,
+    initial_terrain_state,
+    mud_constants,
+    simulate,
+    terrain_step,
+)
 
 if TYPE_CHECKING:
     from jax import Array
@@ -70,6 +76,7 @@ __all__ = [
     "initial_state",
     "initial_terrain_state",
     "mesh_force",
+    "mud_constants",
     "run",
     "safe_namespace",
     "simulate",

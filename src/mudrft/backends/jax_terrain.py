@@ -17,7 +17,7 @@ from .._validation import (
     check_positive,
 )
 from ..constitutive.dynamics import evaluation
-from ..constitutive.kernel import channel_constants
+from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..feet.base import Foot
 from ..terrains.mud import MudChannels, initial_channels, mud_step
 from ._jax_base import JaxParams, _jnp, check_params, enable_x64, is_tracer, safe_namespace
@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
     from .forces import ForceRule
 
-__all__ = ["TerrainState", "initial_terrain_state", "simulate", "terrain_step"]
+__all__ = ["TerrainState", "initial_terrain_state", "mud_constants", "simulate", "terrain_step"]
 
 
 #: State of :func:`terrain_step`: the mud under the feet (a JAX pytree).
@@ -101,6 +101,30 @@ def foot_rule(force_fn: Foot | ForceRule, characteristic_length: Any) -> tuple[F
             "force_fn gives its own, foot.characteristic_length)"
         )
     return force_fn, _length(characteristic_length)
+
+
+def mud_constants(params: JaxParams) -> tuple[ChannelConstants, ChannelConstants]:
+    """The mud's ``(horizontal, vertical)`` channel constants from its three channel sets.
+
+    What the terrain step and the MJX coupling run on (``constants=`` of
+    :meth:`mudrft.integrations.mjx.MjxCoupling.step` and ``rollout``); traceable, so a
+    function of ``params`` can be differentiated by the mud's parameters.
+
+    Parameters
+    ----------
+    params : JaxParams
+        ``to_jax(mud)``: fields with a trailing axis of 3 (x, y, z).
+
+    Returns
+    -------
+    (ChannelConstants, ChannelConstants)
+        Of the x channel (the horizontal set) and of the z channel (the vertical set).
+    """
+    check_params(params, channels=True)
+    tree_map = enable_x64().tree_util.tree_map
+    hor = channel_constants(tree_map(lambda a: a[..., 0], params))
+    ver = channel_constants(tree_map(lambda a: a[..., 2], params))
+    return hor, ver
 
 
 def initial_terrain_state(
@@ -198,10 +222,8 @@ def terrain_step(
             f"state is the mud under tips of shape {batch} (initial_terrain_state), but "
             f"position has shape {pos.shape} and velocity {vel.shape}: one (x, y, z) per tip"
         ) from None
-    hor = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 0], params))
-    ver = channel_constants(jax.tree_util.tree_map(lambda a: a[..., 2], params))
     ch, sx, sy, sz, depth = mud_step(
-        (hor, ver), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
+        mud_constants(params), state, pos[..., 0], pos[..., 1], pos[..., 2], vel[..., 0], vel[..., 1],
         vel[..., 2], dt, lc, kappa, xi0, reset_on_exit, heading_speed, 1.0,
         qs, restart, xp=jnp,
     )  # fmt: skip

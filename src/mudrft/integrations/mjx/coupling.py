@@ -243,7 +243,11 @@ class MjxCoupling:
         state : MjxMudState
             From :meth:`init` or the last step.
         constants : (ChannelConstants, ChannelConstants) or None
-            Mud constants (default :attr:`constants`); traced arrays are welcome.
+            Mud constants (default :attr:`constants`); traced arrays are welcome:
+            ``mudrft.backends.jax.mud_constants(p)`` of ``p = to_jax(mud)`` makes them, to
+            differentiate by the mud's parameters (reverse mode needs a model without
+            MuJoCo constraints, whose solver is a ``while_loop``; ``jax.jacfwd`` works with
+            them).
         model : mjx.Model or None, keyword-only
             Default :attr:`mjx_model`.
 
