@@ -67,6 +67,9 @@ def test_batched_step_refuses_one_dt_per_member():
         mjax.batched_step(p, st, np.full(4, 0.01), np.ones(4), np.full(4, 1e-3))
     _, out = mjax.batched_step(p, st, np.full(4, 0.01), np.ones(4), 1e-3)
     assert out.total.shape == (4,)
+    # a state for another batch ended in vmap's "inconsistent sizes for array axes"
+    with pytest.raises(MudrftError, match=r"state.gamma must have a leading axis of length 4"):
+        mjax.batched_step(p, mjax.initial_state((5,)), np.full(4, 0.01), np.ones(4), 1e-3)
 
 
 def test_mesh_force_refuses_vertices_whose_tip_is_not_at_the_origin():

@@ -273,6 +273,14 @@ def batched_step(
             f"{jnp.shape(dt)} (each member's dt was applied to every member); for a step per "
             "member, call step(...), which broadcasts dt with gamma"
         )
+    if not isinstance(state, ChannelState):
+        raise MudrftError(f"state must be a ChannelState (initial_state((N, ...))), got {type(state).__name__}")  # fmt: skip
+    for name, f in zip(ChannelState._fields, state, strict=True):
+        if jnp.shape(f)[:1] != (n,):
+            raise MudrftError(
+                f"state.{name} must have a leading axis of length {n} (one state per member "
+                f"of the batch, initial_state(({n}, ...))), got shape {jnp.shape(f)}"
+            )
     for name, f in zip(JaxParams._fields, params, strict=True):
         if jnp.ndim(f) and jnp.shape(f)[0] != n:
             raise MudrftError(
