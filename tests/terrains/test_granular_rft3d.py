@@ -375,3 +375,8 @@ def test_density_in_g_per_cm3_and_friction_in_degrees_warn():
         warnings.simplefilter("error")
         GranularRFT3D(rho_c=1600.0, mu_int=0.6, mu_surf=0.5)
         GranularRFT3D(mu_surf=1e3)  # the cap turned off
+
+
+def test_an_internal_friction_angle_in_degrees_is_told_it_is_a_coefficient():
+    with pytest.raises(MudrftError, match=r"mu_int must lie in .*got 30.0: mu_int is the internal"):
+        GranularRFT3D(mu_int=30)

@@ -57,3 +57,14 @@ def test_errors():
         LinearStiffness(unloading="plastic")
     with pytest.raises(MudrftError, match="depth"):
         fit_stiffness([0.0, 0.0], [1.0, 2.0])
+
+
+def test_a_stiffness_in_the_units_papers_print_warns():
+    """D130 for the linear model: 1.09 (N/cm^3 or kPa/mm read as N/m^3) is a million times
+    too soft and ran silently; the paper's mud (1.09e6) and stiff soils stay quiet."""
+    from mudrft._validation import PlausibilityWarning
+
+    with pytest.warns(PlausibilityWarning, match=r"1 N/cm\^3 = 1 kPa/mm = 1e6 N/m\^3"):
+        LinearStiffness(stiffness=1.09)
+    LinearStiffness(stiffness=DEFAULT_STIFFNESS)  # warnings are errors in the suite
+    LinearStiffness(stiffness=1e8)

@@ -460,7 +460,12 @@ class GranularRFT3D(FacetRFT):
     def __post_init__(self) -> None:
         # one number each, stored as floats (a list failed inside simulate)
         _set(self, "rho_c", check_positive("rho_c", self.rho_c, unit="kg/m^3"))
-        _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
+        try:
+            _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
+        except MudrftError as exc:  # an angle in degrees is the usual mistake (D130)
+            raise MudrftError(
+                f"{exc}: mu_int is the internal friction coefficient, tan(angle) (30 degrees: 0.58)"
+            ) from None
         _set(self, "mu_surf", check_in_range("mu_surf", self.mu_surf, 0.0, 1e3))
         _set(self, "gravity", check_positive("gravity", self.gravity, unit="m/s^2"))
         _set(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))

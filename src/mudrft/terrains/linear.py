@@ -19,7 +19,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._typing import FloatArray
-from .._validation import MudrftError, check_choice, check_finite, check_nonnegative, check_positive
+from .._validation import (
+    MudrftError,
+    check_choice,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+    warn_implausible,
+)
 from .._validation import set_number as _set
 from ..citations import register
 from ._common import area_z, kinematics, tip_depth, tip_position
@@ -28,7 +35,17 @@ from .base import TerrainOutput
 if TYPE_CHECKING:
     from ..feet.base import Foot
 
-__all__ = ["DEFAULT_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"]
+__all__ = [
+    "DEFAULT_STIFFNESS",
+    "PLAUSIBLE_STIFFNESS",
+    "LinearState",
+    "LinearStiffness",
+    "fit_stiffness",
+]
+
+#: Plausible stiffnesses per unit area [N/m^3], as the granular scale's (D130): the paper's mud
+#: 1.09e6, granular media 1e5-1e6 (D50). Below, most likely N/cm^3 or kPa/mm read as N/m^3.
+PLAUSIBLE_STIFFNESS = (1.0e3, 1.0e9)
 
 #: Default stiffness per unit area [N/m^3]: the least-squares fit (through the origin)
 #: of sigma = k d to the mudrft W = 25 % vertical plate stress over the intrusion of
@@ -50,7 +67,9 @@ class LinearStiffness:
     Parameters
     ----------
     stiffness : float
-        :math:`k` [N/m^3]: vertical stress per unit tip depth (decision D54).
+        :math:`k` [N/m^3]: vertical stress per unit tip depth (decision D54). A value
+        outside :data:`PLAUSIBLE_STIFFNESS` (1e3-1e9 N/m^3) warns: most likely N/cm^3 or
+        kPa/mm given as N/m^3.
     unloading : {"elastic", "zero"}
         ``"elastic"`` (default): the force follows :math:`k d` both ways (no
         hysteresis); ``"zero"``: no force while the foot moves up (the sources' own
@@ -78,6 +97,14 @@ class LinearStiffness:
 
     def __post_init__(self) -> None:
         _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m^3"))
+        warn_implausible(  # valid but most likely a unit mistake (D130)
+            "LinearStiffness: stiffness is",
+            self.stiffness,
+            PLAUSIBLE_STIFFNESS,
+            unit="N/m^3",
+            hint="stiffness is the stress per depth in N/m^3 = Pa/m (1 N/cm^3 = 1 kPa/mm = "
+            "1e6 N/m^3; the paper's mud: 1.09e6)",
+        )
         check_choice("unloading", self.unloading, ("elastic", "zero"))
         register("godon2022ral")
         register("liu2023ral")
