@@ -18,6 +18,7 @@ from ._common import (
     Outputs,
     add_foot_options,
     add_force,
+    check_nonnegative_option,
     check_positive_option,
     logger,
     require_plot_file,
@@ -228,9 +229,9 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         return load_path_csv(args.path), f"path {args.path}"
     if args.load is not None:
         weight = check_positive_option("--load", args.load, unit="N")
-        ramp = LOAD_RAMP if args.ramp is None else args.ramp
-        if not ramp >= 0:
-            raise MudrftError(f"--ramp must be >= 0 s, got {ramp:g}")
+        ramp = check_nonnegative_option(
+            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s"
+        )
         duration = check_positive_option(
             "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
         )

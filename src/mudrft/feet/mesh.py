@@ -157,11 +157,10 @@ def _check_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
     return f.astype(np.int64)
 
 
-def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int]:
-    """``(closed, n_inconsistent)``: closed 2-manifold test and count of mis-wound edges.
-
-    Vertices with identical coordinates are treated as one (STL files repeat them).
-    """
+def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.ndarray]:
+    """``(closed, n_inconsistent, weld)``: closed 2-manifold test, count of mis-wound edges,
+    and each vertex's index among the distinct coordinates (STL files repeat vertices;
+    identical coordinates are treated as one)."""
     _, weld = np.unique(vertices, axis=0, return_inverse=True)
     f = weld.reshape(-1)[faces]
     # facets with a repeated vertex are no surface (dropped later); leave them out here
@@ -171,12 +170,14 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int]:
     undirected = np.sort(directed, axis=1)
     _, ucount = np.unique(undirected, axis=0, return_counts=True)
     closed = bool(ucount.size > 0 and np.all(ucount == 2))
-    return closed, int(np.sum(dcount > 1))
+    return closed, int(np.sum(dcount > 1)), weld.reshape(-1)
 
 
-def _warn_overlapping_parts(name: str, vertices: np.ndarray, faces: np.ndarray) -> None:
+def _warn_overlapping_parts(
+    name: str, vertices: np.ndarray, faces: np.ndarray, weld: np.ndarray
+) -> None:
     """Warn when separate closed parts overlap or touch (D136, :mod:`.meshparts`)."""
-    hit = overlapping_parts(vertices, faces)
+    hit = overlapping_parts(vertices, faces, weld=weld)
     if hit is not None:
         warnings.warn(
             f"MeshFoot {name!r}: the mesh is {hit.parts} separate closed parts, and the "
@@ -273,7 +274,7 @@ class MeshFoot(Foot):
             "MeshFoot.from_file(path, unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the "
             "vertices to metres",
         )
-        closed, wrong = _topology(v, f)
+        closed, wrong, weld = _topology(v, f)
         if wrong:
             raise MudrftError(
                 f"faces must be consistently wound, but {wrong} edge(s) are traversed twice in the "
@@ -298,7 +299,7 @@ class MeshFoot(Foot):
             if volume < 0:
                 f = f[:, ::-1].copy()
                 self.flipped = True
-            _warn_overlapping_parts(self.name, v, f)
+            _warn_overlapping_parts(self.name, v, f, weld)
         self._set_geometry(v, f)
         self._check_plan_area(
             "If the mesh is open, its normals may point inward (the winding of an open mesh "

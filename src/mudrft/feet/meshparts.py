@@ -99,7 +99,9 @@ def winding_numbers(points: FloatArray, triangles: FloatArray) -> FloatArray:
     return out
 
 
-def overlapping_parts(vertices: FloatArray, faces: IntArray) -> PartOverlap | None:
+def overlapping_parts(
+    vertices: FloatArray, faces: IntArray, *, weld: IntArray | None = None
+) -> PartOverlap | None:
     """The first pair of separate parts of a closed mesh that overlap or touch, if any.
 
     Parameters
@@ -108,6 +110,10 @@ def overlapping_parts(vertices: FloatArray, faces: IntArray) -> PartOverlap | No
         Vertex coordinates [m]; vertices at the same coordinates are one vertex.
     faces : ndarray, shape (m, 3)
         Facets, each closed part wound outward.
+    weld : ndarray, shape (n,), keyword-only
+        Each vertex's index among the distinct coordinates, if already known
+        (``numpy.unique(vertices, axis=0, return_inverse=True)[1]``; :class:`MeshFoot`'s
+        topology check has it); computed when None.
 
     Returns
     -------
@@ -115,8 +121,9 @@ def overlapping_parts(vertices: FloatArray, faces: IntArray) -> PartOverlap | No
         None for a mesh of one part, of parts apart from each other, or of more than
         :data:`MAX_PARTS` parts (not checked).
     """
-    _, weld = np.unique(vertices, axis=0, return_inverse=True)
-    f = weld.reshape(-1)[faces]
+    if weld is None:
+        weld = np.unique(vertices, axis=0, return_inverse=True)[1].reshape(-1)
+    f = weld[faces]
     n = int(f.max()) + 1
     rows = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
     cols = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
