@@ -90,6 +90,20 @@ def test_reproduce_refuses_existing_results_and_unwritable_dirs(tmp_path, capsys
     assert code == 2 and "not a directory" in err
 
 
+@pytest.mark.parametrize("command", ["reproduce", "compare"])
+def test_figures_without_matplotlib_name_the_extra_and_the_way_around(
+    tmp_path, capsys, monkeypatch, command
+):
+    """A core-only install (``pip install mudrft``): the figures need the extra, and the
+    message says both ways out; nothing is written."""
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib -> ImportError
+    out = tmp_path / "out"
+    code, _, err = run(capsys, command, "--out", str(out), "--quiet")
+    assert code == 2 and err.count("\n") == 1, err
+    assert "pip install 'mudrft[plot]', or pass --no-figures" in err
+    assert not out.exists()
+
+
 # --------------------------------------------------------------------------------------
 # help, extras, logging, messages
 # --------------------------------------------------------------------------------------
@@ -568,6 +582,12 @@ def test_simulate_runs_a_baseline_terrain_with_your_own_medium(tmp_path, capsys)
          "--thixotropy describes the mud, but --terrain is 'linear'"),
         (["--terrain", "rigid", "--water-content", "0.35"],
          "--water-content describes the mud, but --terrain is 'rigid'"),
+        (["--terrain", "maxwell", "--clock", "retraction"],
+         "--clock describes the mud, but --terrain is 'maxwell'"),
+        (["--terrain", "rigid", "--labels", "text"],
+         "--labels describes the mud, but --terrain is 'rigid'"),
+        (["--terrain", "linear", "--extrapolate"],
+         "--extrapolate describes the mud, but --terrain is 'linear'"),
         (["--terrain", "granular-rft3d", "--mu-surf", "-0.1"], "--mu-surf must be >= 0, got -0.1"),
     ],
 )  # fmt: skip

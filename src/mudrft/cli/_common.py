@@ -130,7 +130,7 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
     )
 
 
-def require_extra(module: str, *, needed_for: str) -> Any:
+def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> Any:
     """Import an optional package, or fail with one line naming the extra to install.
 
     Parameters
@@ -139,6 +139,8 @@ def require_extra(module: str, *, needed_for: str) -> Any:
         The package, a key of :data:`EXTRAS`.
     needed_for : str
         What needs it, for the message (``"mudrft walk"``, ``"--plot"``).
+    unless : str, optional
+        The option that does without it (``"--no-figures"``), named in the message.
     """
     try:
         return importlib.import_module(module)
@@ -146,6 +148,7 @@ def require_extra(module: str, *, needed_for: str) -> Any:
         raise MudrftError(
             f"{needed_for} needs the optional package {module}, which is not installed: "
             f"pip install 'mudrft[{EXTRAS.get(module, module)}]'"
+            + (f", or pass {unless}" if unless else "")
         ) from exc
 
 

@@ -207,7 +207,9 @@ def run(args: argparse.Namespace) -> int:
         mud = mud_from_options(args)
     figures = not args.no_figures
     if figures:
-        require_extra("matplotlib", needed_for="the figures of mudrft compare (or --no-figures)")
+        require_extra(
+            "matplotlib", needed_for="the figures of mudrft compare", unless="--no-figures"
+        )
     terrains = terrains_from_options(
         args, args.terrains, "--terrains", water_content=water_content, mud=mud
     )

@@ -55,7 +55,9 @@ def run(args: argparse.Namespace) -> int:
 
     figures = not args.no_figures
     if figures:
-        require_extra("matplotlib", needed_for="the figures of mudrft reproduce (or --no-figures)")
+        require_extra(
+            "matplotlib", needed_for="the figures of mudrft reproduce", unless="--no-figures"
+        )
     names = TABLES + (FIGURES if figures else ())
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, names)

@@ -126,7 +126,17 @@ def add_parser(
     )
     add_force(p, "--out and --plot if they exist")
     p.add_argument("--quiet", action="store_true", help="no progress output")
-    p.set_defaults(func=run)
+    # the mud's own options and their defaults: given with a baseline they are refused (D132)
+    mud = (
+        "vertical",
+        "horizontal",
+        "thixotropy",
+        "clock",
+        "labels",
+        "water_content",
+        "extrapolate",
+    )
+    p.set_defaults(func=run, mud_defaults={dest: p.get_default(dest) for dest in mud})
     return p
 
 
@@ -153,16 +163,11 @@ def run(args: argparse.Namespace) -> int:
         )
     else:  # a baseline: the mud's own options would be silently ignored (D132)
         mud_only = {
-            "--vertical": args.vertical is not None,
-            "--horizontal": args.horizontal is not None,
-            "--thixotropy": args.thixotropy != "ode",
-            "--clock": args.clock != "contact",
-            "--labels": args.labels != "table",
-            "--water-content": args.water_content != 0.25,  # the baselines' own (D59)
-            "--extrapolate": bool(args.extrapolate),
+            "--" + dest.replace("_", "-"): getattr(args, dest) != default
+            for dest, default in args.mud_defaults.items()
         }
-        for option, given in mud_only.items():
-            if given:
+        for option, changed in mud_only.items():
+            if changed:
                 raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
         (terrain,) = terrains_from_options(
             args, args.terrain, "--terrain", water_content=0.25, mud=None
