@@ -121,7 +121,10 @@ def test_the_examples_of_a_page_run(page, scratch):
         if why is not None:
             continue
         try:
-            exec(compile(code, f"{page.name}[{i}]", "exec"), namespace)  # the docs' own code
+            # dont_inherit: not this module's `from __future__ import annotations`, which
+            # turns a dataclass's annotations into strings it cannot resolve in a namespace
+            # that is no module; a reader runs the page's code as a plain script
+            exec(compile(code, f"{page.name}[{i}]", "exec", dont_inherit=True), namespace)
         except ImportError as exc:  # mudrft's "plotting needs matplotlib: pip install ..."
             absent = [m for m in EXTRAS if importlib.util.find_spec(m) is None]
             if (exc.name or "").split(".")[0] in absent or any(m in str(exc) for m in absent):
