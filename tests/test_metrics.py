@@ -17,6 +17,21 @@ def test_impulse_of_a_triangle_and_a_constant():
     np.testing.assert_allclose(metrics.impulse(t, f), [10.0, 0.0, -6.0], rtol=1e-12)
 
 
+@pytest.mark.parametrize("shape", [(7,), (7, 3), (1,), (1, 3)])
+def test_the_trapezoid_rule_is_scipys(shape):
+    """mudrft's own trapezoid rule (numpy.trapezoid exists from numpy 2.0 only, numpy.trapz
+    is gone from 2.4; D149) equals scipy's, on uneven samples and per column; one sample
+    integrates to zero."""
+    from scipy.integrate import trapezoid
+
+    rng = np.random.default_rng(3)
+    x = np.cumsum(rng.uniform(0.1, 1.0, shape[0]))
+    y = rng.normal(size=shape)
+    got = metrics._trapz(y, x)
+    np.testing.assert_allclose(got, trapezoid(y, x, axis=0), rtol=1e-14, atol=1e-15)
+    assert np.shape(got) == shape[1:]
+
+
 def test_energy_of_a_spring_loop_is_zero_and_of_a_damper_is_positive():
     t = np.linspace(0, 1, 20001)
     z = 0.01 * np.sin(2 * np.pi * t)

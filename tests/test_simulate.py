@@ -7,6 +7,7 @@ simulation layer alone; the feet have their own tests.
 from __future__ import annotations
 
 import numpy as np
+import scipy.integrate
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -62,7 +63,7 @@ def test_plate_cycle_energy_equals_loop_area():
     for dt in (1e-3, 5e-4):
         tr = mudrft.plate_intrusion(depth=0.02, speed=0.02, hold=0.5, rest=0.0, dt=dt)
         res = simulate(FOOT, mudrft.paper_mud(0.25), tr)
-        loop = np.trapezoid(res.force[:, 2], res.depth)
+        loop = scipy.integrate.trapezoid(res.force[:, 2], res.depth)
         assert loop > 0
         gaps.append(abs(res.metrics()["energy"] - loop) / loop)
     assert gaps[1] < 0.6 * gaps[0] and gaps[1] < 1e-3

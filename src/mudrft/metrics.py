@@ -27,7 +27,15 @@ __all__ = [
 
 
 def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
-    return np.trapezoid(y, x, axis=0)
+    """Trapezoidal integral of ``y`` (samples along axis 0) over the 1-D ``x``.
+
+    Written here, in the order of operations of ``numpy.trapezoid``, because that name
+    exists from numpy 2.0 and its predecessor ``numpy.trapz`` is gone from numpy 2.4:
+    mudrft supports numpy 1.24 and later (D149).
+    """
+    dx = np.diff(x).reshape((-1,) + (1,) * (np.ndim(y) - 1))
+    out: FloatOrArray = (dx * (y[1:] + y[:-1]) / 2.0).sum(axis=0)
+    return out
 
 
 def _history(name: str, value: ArrayLike) -> FloatArray:

@@ -62,10 +62,16 @@ def test_one_foot_on_floats_equals_a_batch_of_one_on_arrays():
     tr = mudrft.gait(0.2)
     s1 = terrain.initial_state(foot, tr.position[0])
     sb = terrain.initial_state(foot, tr.position[:1])
+    f1, fb = [], []
     for k in range(1, len(tr)):
         dt = float(tr.time[k] - tr.time[k - 1])
         s1, o1 = terrain.step(foot, s1, tr.position[k], tr.velocity[k], dt)
         sb, ob = terrain.step(foot, sb, tr.position[k : k + 1], tr.velocity[k : k + 1], dt)
-        scale = np.abs(ob.force).max() + 1e-9
-        # libm and numpy's vectorized exp/tanh may differ by an ulp; 1e-12 of the peak
-        assert np.all(np.abs(o1.force - ob.force[0]) <= 1e-12 * scale), k
+        f1.append(o1.force)
+        fb.append(ob.force[0])
+    # libm and numpy's vectorized exp/tanh may differ by an ulp, and the ODE carries the
+    # difference: 1e-12 of the run's peak force. (Of each step's own force it failed with
+    # numpy 1.24 at first contact, 4.5e-15 N of 4.2e-4 N, where stresses of 1e4 Pa act on
+    # 0.5 um of depth; the largest gap over the run was 7e-12 N of 57 N, D149.)
+    gap = np.abs(np.array(f1) - np.array(fb))
+    assert gap.max() <= 1e-12 * np.abs(fb).max(), np.unravel_index(gap.argmax(), gap.shape)

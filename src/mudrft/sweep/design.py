@@ -18,6 +18,7 @@ on any machine and for any number of workers, which is what lets a store be resu
 
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -131,11 +132,13 @@ class Design:
         from scipy.stats import qmc
 
         d, n = len(self.axes), int(self.n)  # type: ignore[arg-type]
-        rng = np.random.default_rng(self.seed)
+        # scipy names the generator rng= from 1.15 and seed= before (mudrft supports 1.10, D149)
+        key = "rng" if "rng" in inspect.signature(qmc.LatinHypercube).parameters else "seed"
+        gen = {key: np.random.default_rng(self.seed)}
         if self.design == "lhs":
-            u = qmc.LatinHypercube(d, rng=rng).random(n)
+            u = qmc.LatinHypercube(d, **gen).random(n)
         else:
-            u = qmc.Sobol(d, scramble=True, rng=rng).random_base2(int(math.log2(n)))
+            u = qmc.Sobol(d, scramble=True, **gen).random_base2(int(math.log2(n)))
         return {a.name: a.draw(u[:, i]) for i, a in enumerate(self.axes)}
 
     def coords(self) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
