@@ -7,8 +7,8 @@ simulation layer alone; the feet have their own tests.
 from __future__ import annotations
 
 import numpy as np
-import scipy.integrate
 import pytest
+import scipy.integrate
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
