@@ -311,3 +311,57 @@ def test_a_stream_in_mm_warns_once_as_the_log_loader_does(kind):
     with pytest.warns(PlausibilityWarning, match=r"update: depth of .* more than 1 m") as rec:
         feed(1e3 * q)
     assert sum(issubclass(w.category, PlausibilityWarning) for w in rec) == 1
+
+
+@pytest.mark.parametrize("model", ["exact", "paper"])
+def test_suction_constants_are_not_reported_before_the_plate_retracts(model):
+    """Until the first retraction the suction regressor is 0: the exact model reported the
+    prior's sigma_y and the grid's first tau_build (0.02 s against 0.45 s), and
+    to_parameters put them into the set (D137)."""
+    t, q, s, nc = cycles([SHIFTED], 2, noise=0.01)
+    est = OnlineEstimator(P25, model=model)
+    first = None
+    for i, e in enumerate(est.update_many(t, q, s)):
+        if e.phase == "retraction" and first is None:
+            first = i
+        if first is None:  # intrusion and hold of the first cycle
+            assert e.sigma_y is None and e.tau_build is None, (i, e)
+    assert first is not None and 0 < first < nc
+    assert est.estimate.sigma_y is not None and est.estimate.tau_build is not None
+    partial = OnlineEstimator(P25, model=model)
+    partial.update_many(t[:first], q[:first], s[:first])
+    p = partial.to_parameters()
+    assert (p.sigma_y, p.tau_build) == (P25.sigma_y, P25.tau_build)
+
+
+def test_online_standard_errors_are_honest_over_noise_seeds():
+    """The estimate reports a standard error for each constant it informs (D138); over 20
+    noise seeds the truth lies within 1.96 of them about 95 % of the time and the errors
+    are neither much too small nor much too wide (the plain RLS covariance s^2 P, without
+    the forgetting's sandwich and the tau_build profile's factor, was 1.7 times too wide)."""
+    z = {k: [] for k in KEYS}
+    for seed in range(20):
+        t, q, s, _ = cycles([SHIFTED], 3, noise=0.01, seed=seed)
+        e = OnlineEstimator(P25).update_many(t, q, s)[-1]
+        assert set(e.standard_error) == set(KEYS)
+        for k in KEYS:
+            z[k].append((getattr(e, k) - getattr(SHIFTED, k)) / e.standard_error[k])
+    for k in KEYS:
+        a = np.asarray(z[k])
+        assert np.count_nonzero(np.abs(a) < 1.96) >= 17, (k, a)  # 95 %: 19 expected
+        assert 0.6 < np.sqrt(np.mean(a**2)) < 1.5, (k, a)  # 1 for honest errors
+
+
+def test_online_standard_errors_shrink_with_samples_and_name_only_what_is_estimated():
+    t, q, s, nc = cycles([SHIFTED], 2, noise=0.01)
+    est = OnlineEstimator(P25)
+    hist = est.update_many(t, q, s)
+    assert hist[0].standard_error == {}  # nothing estimated yet
+    e = hist[nc // 2]  # in the first hold: no suction constant yet
+    assert set(e.standard_error) == {"alpha", "eta_inf", "eta_m"}
+    assert all(0 < v < np.inf for v in e.standard_error.values())
+    for k in KEYS:
+        assert hist[-1].standard_error[k] < hist[nc - 1].standard_error[k] * 1.05, k
+    paper = OnlineEstimator(P25, model="paper").update_many(t, q, s)[-1]
+    assert set(paper.standard_error) == {"alpha", "eta_inf", "sigma_y", "tau_build"}
+    assert all(0 < v < np.inf for v in paper.standard_error.values())

@@ -18,7 +18,16 @@ from numpy.typing import ArrayLike, NDArray
 from .._validation import LENGTH_LIMITS, MudrftError, warn_implausible
 from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
-__all__ = ["MAX_STRESS", "Sample", "SampleStream", "refined_argmin", "rls_update"]
+__all__ = [
+    "MAX_STRESS",
+    "Sample",
+    "SampleStream",
+    "bank_errors",
+    "filter_errors",
+    "refined_argmin",
+    "rls_update",
+    "square_weighted",
+]
 
 #: Largest stress magnitude a streamed sample may have [Pa]: far above any mud (a few
 #: hundred kPa) and any material; 1e300 overflowed the filters' squared errors to inf.
@@ -83,6 +92,115 @@ def refined_argmin(e: NDArray[np.float64]) -> float:
         if den > 0:
             return i + float(np.clip(0.5 * (e[i - 1] - e[i + 1]) / den, -0.5, 0.5))
     return float(i)
+
+
+def square_weighted(
+    M: NDArray[np.float64], phi: NDArray[np.float64], lam: float
+) -> NDArray[np.float64]:
+    r"""``M`` advanced by one sample: :math:`M_k=\lambda^2M_{k-1}+\phi\phi^T`, the
+    regressors' outer products weighted by the squared forgetting weights (shapes as
+    :func:`rls_update`'s ``P`` and ``phi``) [-]."""
+    return lam * lam * M + phi[..., :, None] * phi[..., None, :]
+
+
+def filter_errors(
+    P: NDArray[np.float64], M: NDArray[np.float64], cost: float, weight: float
+) -> NDArray[np.float64]:
+    r"""Standard errors of one filter's estimates [-] (normalised, as ``P``).
+
+    With forgetting the estimate is a weighted least-squares one, weights
+    :math:`\lambda_f^{k-i}`, so its covariance is the sandwich :math:`s^2PMP`
+    (:math:`P` the filter's covariance, :math:`M` from :func:`square_weighted`), not
+    :math:`s^2P`, which overstates the error by about :math:`\sqrt{1+\lambda_f}`. The
+    noise variance is :math:`s^2=V/(w-p)`, from the discounted cost :math:`V` and the
+    discounted count of samples :math:`w=\sum\lambda_f^{k-i}` (decision D138); ``inf``
+    while :math:`w\le p`.
+
+    Parameters
+    ----------
+    P : ndarray, shape (p, p)
+        Covariance of the filter [-].
+    M : ndarray, shape (p, p)
+        Its square-weighted regressor products [-].
+    cost : float
+        Its discounted least-squares cost :math:`V` [-].
+    weight : float
+        Discounted count of its samples :math:`w` [-].
+    """
+    p = P.shape[-1]
+    if weight <= p:
+        return np.full(p, np.inf)
+    return np.sqrt(cost / (weight - p) * np.clip(np.diagonal(P @ M @ P), 0.0, None))
+
+
+def bank_errors(
+    theta: NDArray[np.float64],
+    P: NDArray[np.float64],
+    M: NDArray[np.float64],
+    cost: NDArray[np.float64],
+    weight: float,
+    weight2: float,
+    x: float,
+    log_grid: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], float]:
+    r"""Standard errors of a bank's estimates read at ``x`` [grid steps], and of the log of
+    the grid's value there.
+
+    The grid value's log-error is the profile's: the cost :math:`V(u)`, :math:`u` the log
+    of the grid value, rises by the noise variance :math:`s^2` at
+    :math:`\delta=\sqrt{2s^2/V''}`, with :math:`V''` the parabola through the best member
+    and its neighbours (``inf`` at the grid's ends or without curvature), times
+    :math:`\sqrt{w_2/w}`, the sandwich's factor of :func:`filter_errors` for samples of
+    equal information (the profile of a weighted cost is as much too wide). Each estimate's
+    error adds, to the best member's own (:func:`filter_errors`), its change along the grid
+    times that log-error (delta method): a trade-off with the grid value widens it; with
+    the log-error infinite, half its range over the whole grid is added instead (decision
+    D138).
+
+    Parameters
+    ----------
+    theta : ndarray, shape (G, p)
+        Estimates of each member [-].
+    P : ndarray, shape (G, p, p)
+        Covariances [-].
+    M : ndarray, shape (G, p, p)
+        Square-weighted regressor products (:func:`square_weighted`) [-].
+    cost : ndarray, shape (G,)
+        Discounted costs :math:`V` [-].
+    weight : float
+        Discounted count of the samples [-].
+    weight2 : float
+        Their count discounted by the squared factor, :math:`\sum\lambda_f^{2(k-i)}` [-].
+    x : float
+        Where the estimates are read, from :func:`refined_argmin` [grid steps].
+    log_grid : ndarray, shape (G,)
+        Log of the grid values, increasing [-].
+
+    Returns
+    -------
+    se : ndarray, shape (p,)
+        Standard errors of the estimates [-] (normalised, as ``theta``).
+    se_log : float
+        Standard error of the log of the grid value [-].
+    """
+    G, p = theta.shape
+    i = round(x)
+    se = filter_errors(P[i], M[i], float(cost[i]), weight)
+    se_log = math.inf
+    if 0 < i < G - 1 and weight > p:
+        h0, h1 = log_grid[i] - log_grid[i - 1], log_grid[i + 1] - log_grid[i]
+        curv = (
+            2.0 * ((cost[i + 1] - cost[i]) / h1 - (cost[i] - cost[i - 1]) / h0) / (h0 + h1)
+        )  # the second derivative of the parabola through the three
+        if curv > 0:
+            s2 = float(cost[i]) / (weight - p)
+            se_log = math.sqrt(2.0 * s2 / float(curv) * weight2 / weight)
+    if math.isfinite(se_log):
+        slope = (theta[i + 1] - theta[i - 1]) / (log_grid[i + 1] - log_grid[i - 1])
+        spread = slope * se_log
+    else:  # the grid value is anywhere on the grid (or beyond it)
+        spread = 0.5 * np.ptp(theta, axis=0)
+    return np.sqrt(se**2 + spread**2), se_log
 
 
 class Sample(NamedTuple):

@@ -49,7 +49,15 @@ from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS
-from ._rls import Sample, SampleStream, refined_argmin, rls_update
+from ._rls import (
+    Sample,
+    SampleStream,
+    bank_errors,
+    filter_errors,
+    refined_argmin,
+    rls_update,
+    square_weighted,
+)
 from .classification import Classification, StreamClassifier, classify
 
 __all__ = [
@@ -73,15 +81,21 @@ class OnlineEstimate(NamedTuple):
     eta_m : float or None
         Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
     sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa].
+        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample has
+        informed it (the intrusion and the hold say nothing of the suction).
     tau_build : float or None
-        Suction build-up time [s].
+        Suction build-up time [s]; ``None`` until a retraction sample, as ``sigma_y``.
     n : float
         Exponent used (fixed) [-].
     updates : int
         Samples used so far.
     phase : str
         Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
+    standard_error : dict
+        Standard error of each estimate that is not ``None`` [its unit], from the filter's
+        covariance and the noise of its prediction errors; ``inf`` while too few samples
+        inform it (decision D138). An estimate within a few standard errors of its last
+        value has settled; one whose error stays large is not informed by the motion.
     """
 
     alpha: float | None
@@ -92,6 +106,7 @@ class OnlineEstimate(NamedTuple):
     n: float
     updates: int
     phase: str
+    standard_error: dict[str, float] = {}  # noqa: RUF012 (a NamedTuple default, never mutated)
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
@@ -248,8 +263,11 @@ class OnlineEstimator:
         self._p_max = float(var0.sum())
         self._theta = np.ones((G, self._scale.size))
         self._P = np.tile(np.diag(var0), (G, 1, 1))
+        self._M = np.zeros_like(self._P)  # for the standard errors (D138)
         self._err = np.zeros(G)
+        self._weight = self._weight2 = 0.0  # discounted counts of the bank's samples (D138)
         self._updates = 0
+        self._suction_seen = False  # a sample has excited the suction regressor
         self._stream.reset()
         self._gamma_w = 0.0
         self._t_w: float | None = None
@@ -259,7 +277,9 @@ class OnlineEstimator:
             self._th_i = np.ones(2)
             self._P_i = np.diag(np.full(2, self.initial_scale**2))
             self._pi_max = float(np.trace(self._P_i))
+            self._M_i = np.zeros((2, 2))
             self._n_i = 0
+            self._err_i, self._weight_i = 0.0, 0.0
         else:
             self._state = initial_state((G * 5,))
 
@@ -324,28 +344,29 @@ class OnlineEstimator:
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
         if not np.any(np.abs(phi) > 0):
             return
+        # the suction regressor is exactly 0 until the plate retracts: until then every
+        # filter of the bank is the same, sigma_y is the prior's and the tau_build "chosen"
+        # is the grid's first value (0.02 s), which the estimate must not report
+        self._suction_seen = self._suction_seen or bool(np.any(phi[:, 3] != 0))
+        phi = phi * (self._scale / self._S)
         self._theta, self._P, dv = rls_update(
-            self._theta,
-            self._P,
-            phi * (self._scale / self._S),
-            np.full(G, s / self._S),
-            self.forgetting,
-            self._p_max,
+            self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
         )
+        self._M = square_weighted(self._M, phi, self.forgetting)
         self._err = self.forgetting * self._err + dv
+        self._weight = self.forgetting * self._weight + 1.0
+        self._weight2 = self.forgetting**2 * self._weight2 + 1.0
         self._updates += 1
 
     def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
         if self._phase == "intrusion":
-            phi = np.array([g**self.n, gd])
-            self._th_i, self._P_i, _ = rls_update(
-                self._th_i,
-                self._P_i,
-                phi * (self._scale_i / self._S),
-                s / self._S,
-                self.forgetting,
-                self._pi_max,
+            phi = np.array([g**self.n, gd]) * (self._scale_i / self._S)
+            self._th_i, self._P_i, dv = rls_update(
+                self._th_i, self._P_i, phi, s / self._S, self.forgetting, self._pi_max
             )
+            self._M_i = square_weighted(self._M_i, phi, self.forgetting)
+            self._err_i = self.forgetting * self._err_i + float(dv)
+            self._weight_i = self.forgetting * self._weight_i + 1.0
             self._n_i += 1
             self._updates += 1
         elif self._phase == "retraction" and self._gamma_w - g >= self.retraction_skip:
@@ -353,16 +374,15 @@ class OnlineEstimator:
             G = self.tau_grid.size
             phi = np.stack(
                 [-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)), np.full(G, gd)], axis=-1
-            )
+            ) * (self._scale / self._S)
             self._theta, self._P, dv = rls_update(
-                self._theta,
-                self._P,
-                phi * (self._scale / self._S),
-                np.full(G, s / self._S),
-                self.forgetting,
-                self._p_max,
+                self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
             )
+            self._M = square_weighted(self._M, phi, self.forgetting)
             self._err = self.forgetting * self._err + dv
+            self._weight = self.forgetting * self._weight + 1.0
+            self._weight2 = self.forgetting**2 * self._weight2 + 1.0
+            self._suction_seen = True
             self._updates += 1
 
     def update_many(
@@ -401,22 +421,35 @@ class OnlineEstimator:
         est: dict[str, float | None] = dict.fromkeys(
             ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
         )
+        se: dict[str, float] = {}
         have_bank = np.any(self._err > 0)
         if have_bank:
             x = refined_argmin(self._err)
             lg = np.log(self.tau_grid)
-            est["tau_build"] = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
+            tau = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
+            est["tau_build"] = tau
             i0 = min(int(np.floor(x)), lg.size - 2)
             w = x - i0
             th = (1.0 - w) * self._theta[i0] + w * self._theta[i0 + 1]  # linear in ln(tau)
             th = th * self._scale
             for k, v in zip(self._names, th, strict=True):
                 est[k] = float(v)
+            se_b, se_log = bank_errors(
+                self._theta, self._P, self._M, self._err, self._weight, self._weight2, x, lg
+            )
+            se.update(zip(self._names, (se_b * self._scale).tolist(), strict=True))
+            se["tau_build"] = tau * se_log  # delta method, as the offline fit
+        if not self._suction_seen:  # no retraction yet: nothing tells sigma_y or tau_build
+            est["sigma_y"] = est["tau_build"] = None
         if self.model == "paper":
             est["eta_inf"] = None
             if self._n_i >= 2:
                 a, e = self._th_i * self._scale_i
                 est["alpha"], est["eta_inf"] = float(a), float(e)
+                se_i = (
+                    filter_errors(self._P_i, self._M_i, self._err_i, self._weight_i) * self._scale_i
+                )
+                se["alpha"], se["eta_inf"] = (float(v) for v in se_i)
         return OnlineEstimate(
             alpha=est["alpha"],
             eta_inf=est["eta_inf"],
@@ -426,6 +459,7 @@ class OnlineEstimator:
             n=self.n,
             updates=self._updates,
             phase=self._phase,
+            standard_error={k: se[k] for k, v in est.items() if v is not None},
         )
 
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
