@@ -1,5 +1,6 @@
 r"""Recursive least squares with forgetting, for banks of filters, and the stream of samples
-it reads (internal).
+it reads, and the estimate it gives (:class:`OnlineEstimate`, public from
+:mod:`mudrft.calibration`) (internal).
 
 :func:`rls_update` advances any number of independent filters (a bank: one per value of
 a grid) by one sample; :func:`refined_argmin` picks the best bank member between grid
@@ -20,6 +21,7 @@ from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
 __all__ = [
     "MAX_STRESS",
+    "OnlineEstimate",
     "Sample",
     "SampleStream",
     "bank_errors",
@@ -32,6 +34,46 @@ __all__ = [
 #: Largest stress magnitude a streamed sample may have [Pa]: far above any mud (a few
 #: hundred kPa) and any material; 1e300 overflowed the filters' squared errors to inf.
 MAX_STRESS = 1e12
+
+
+class OnlineEstimate(NamedTuple):
+    """Current estimates of :class:`OnlineEstimator` (SI; ``None`` until informed).
+
+    Attributes
+    ----------
+    alpha : float or None
+        Stiffness :math:`\\alpha` [Pa].
+    eta_inf : float or None
+        Viscosity :math:`\\eta_\\infty` [Pa s].
+    eta_m : float or None
+        Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
+    sigma_y : float or None
+        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample has
+        informed it (the intrusion and the hold say nothing of the suction).
+    tau_build : float or None
+        Suction build-up time [s]; ``None`` until a retraction sample, as ``sigma_y``.
+    n : float
+        Exponent used (fixed) [-].
+    updates : int
+        Samples used so far.
+    phase : str
+        Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
+    standard_error : dict
+        Standard error of each estimate that is not ``None`` [its unit], from the filter's
+        covariance and the noise of its prediction errors; ``inf`` while too few samples
+        inform it (decision D138). An estimate within a few standard errors of its last
+        value has settled; one whose error stays large is not informed by the motion.
+    """
+
+    alpha: float | None
+    eta_inf: float | None
+    eta_m: float | None
+    sigma_y: float | None
+    tau_build: float | None
+    n: float
+    updates: int
+    phase: str
+    standard_error: dict[str, float] = {}  # noqa: RUF012 (a NamedTuple default, never mutated)
 
 
 def rls_update(

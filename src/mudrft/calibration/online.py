@@ -29,7 +29,7 @@ bias by comparing whole candidate models.
 from __future__ import annotations
 
 import warnings
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -50,6 +50,7 @@ from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS
 from ._rls import (
+    OnlineEstimate,
     Sample,
     SampleStream,
     bank_errors,
@@ -67,46 +68,6 @@ __all__ = [
     "StreamClassifier",
     "classify",
 ]
-
-
-class OnlineEstimate(NamedTuple):
-    """Current estimates of :class:`OnlineEstimator` (SI; ``None`` until informed).
-
-    Attributes
-    ----------
-    alpha : float or None
-        Stiffness :math:`\\alpha` [Pa].
-    eta_inf : float or None
-        Viscosity :math:`\\eta_\\infty` [Pa s].
-    eta_m : float or None
-        Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
-    sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample has
-        informed it (the intrusion and the hold say nothing of the suction).
-    tau_build : float or None
-        Suction build-up time [s]; ``None`` until a retraction sample, as ``sigma_y``.
-    n : float
-        Exponent used (fixed) [-].
-    updates : int
-        Samples used so far.
-    phase : str
-        Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
-    standard_error : dict
-        Standard error of each estimate that is not ``None`` [its unit], from the filter's
-        covariance and the noise of its prediction errors; ``inf`` while too few samples
-        inform it (decision D138). An estimate within a few standard errors of its last
-        value has settled; one whose error stays large is not informed by the motion.
-    """
-
-    alpha: float | None
-    eta_inf: float | None
-    eta_m: float | None
-    sigma_y: float | None
-    tau_build: float | None
-    n: float
-    updates: int
-    phase: str
-    standard_error: dict[str, float] = {}  # noqa: RUF012 (a NamedTuple default, never mutated)
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
