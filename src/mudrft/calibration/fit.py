@@ -291,6 +291,9 @@ def calibrate(
     )
     if fit.relative_rmse > POOR_FIT_RMSE:
         reporter.warn(POOR_FIT_HINT.removeprefix("warning: "))
+    outliers = fit.outlying_trials()
+    if outliers is not None:
+        reporter.warn(outliers)
     reporter.note(
         f"calibrate: done in {time.perf_counter() - t_start:.2f} s, relative RMSE "
         f"{100 * fit.relative_rmse:.2f} %, identified {list(fit.identified())}"

@@ -26,7 +26,7 @@ from ._options import as_dataset
 from ._plot import plot_fit
 from ._problem import FIT_PARAMETERS, pack, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
-from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE
+from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, outlying_trials
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -164,6 +164,23 @@ class FitResult:
         """The fitted :class:`~mudrft.MudParameters` (same as ``fit.parameters``)."""
         return self.parameters
 
+    def trial_names(self) -> tuple[str, ...]:
+        """Names of the fitted trials (numbers ``"1"``, ``"2"``, ... without the dataset)."""
+        n = len(self.trial_relative_rmse)
+        if self.dataset is not None and len(self.dataset.trials) == n:
+            return tuple(t.name for t in self.dataset.trials)
+        return tuple(str(i + 1) for i in range(n))
+
+    def outlying_trials(self) -> str | None:
+        """The warning naming the trials that fit much worse than the others (rule D139:
+        :func:`~mudrft.calibration.uncertainty.outlying_trials`), or None; None without the
+        dataset (a fit loaded from JSON)."""
+        ds = self.dataset
+        if ds is None or len(ds.trials) != len(self.trial_relative_rmse):
+            return None
+        ranges = [float(np.ptp(t.stress)) for t in ds.trials]
+        return outlying_trials(self.trial_relative_rmse, ranges, self.trial_names())
+
     def identified(self) -> tuple[str, ...]:
         """Names of the parameters the data identify (verdict ``"identified"``)."""
         return tuple(k for k, v in self.identifiability.items() if v == "identified")
@@ -176,6 +193,18 @@ class FitResult:
         ]
         if self.relative_rmse > POOR_FIT_RMSE:
             lines.append(POOR_FIT_HINT)
+        names = self.trial_names()
+        if len(names) > 1:
+            lines.append(
+                "relative RMSE per trial: "
+                + ", ".join(
+                    f"{n} {100 * r:.2f} %"
+                    for n, r in zip(names, self.trial_relative_rmse, strict=True)
+                )
+            )
+        outliers = self.outlying_trials()
+        if outliers is not None:
+            lines.append(f"warning: {outliers}")
         pct = round(100 * self.confidence_level)
         lines.append(
             f"{'parameter':<12}{'value':>12}{'unit':>6}  {'rel. SE':>9}  "
