@@ -21,15 +21,6 @@ DESCRIPTION = (
     "and 13 (PNG)."
 )
 
-#: What ``mudrft reproduce`` writes in its directory.
-TABLES = ("summary.csv", "claims.csv", "report.md")
-FIGURES = (
-    "fig09_forces.png",
-    "fig10_normalized.png",
-    "fig12_hysteresis.png",
-    "fig13_suction_energy.png",
-)
-
 
 def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
@@ -52,6 +43,7 @@ def add_parser(
 def run(args: argparse.Namespace) -> int:
     """Run :func:`mudrft.reproduce.reproduce` into ``--out``; returns the exit status (0)."""
     from ..reproduce import reproduce
+    from ..reproduce.runner import FIGURES, TABLES
 
     figures = not args.no_figures
     if figures:

@@ -32,12 +32,31 @@ from ..trajectories import GAIT_SPEEDS, gait
 from .claims import FIXED, Cell, evaluate
 from .readings import READINGS, Reading
 
-__all__ = ["FEET", "LOAD", "SUMMARY_COLUMNS", "WATER_CONTENTS", "read_summary", "reproduce"]
+__all__ = [
+    "FEET",
+    "FIGURES",
+    "LOAD",
+    "SUMMARY_COLUMNS",
+    "TABLES",
+    "WATER_CONTENTS",
+    "read_summary",
+    "reproduce",
+]
 
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
 #: Load used for the sinking depth [N]: half the weight of a 10 kg biped on one foot (decision D13).
 LOAD = 49.0
+
+#: The tables :func:`reproduce` writes in its directory.
+TABLES = ("summary.csv", "claims.csv", "report.md")
+#: The figures it writes there (``figures=True``).
+FIGURES = (
+    "fig09_forces.png",
+    "fig10_normalized.png",
+    "fig12_hysteresis.png",
+    "fig13_suction_energy.png",
+)
 
 SUMMARY_COLUMNS = (
     "foot",
@@ -64,12 +83,17 @@ def _say(msg: str, quiet: bool) -> None:
         logger.info("%s", msg)
 
 
-def _prepare_out(out: Path, force: bool) -> None:
+def _prepare_out(out: Path, force: bool, names: Sequence[str]) -> None:
+    """Check that ``out`` can take the files ``names``: every one that exists is refused
+    without ``force`` (a report.md of one's own is not replaced because summary.csv is
+    missing)."""
     if out.exists() and not out.is_dir():
         raise MudrftError(f"--out {str(out)!r} exists and is not a directory")
-    if (out / "summary.csv").exists() and not force:
+    taken = [n for n in names if (out / n).exists()]
+    if taken and not force:
         raise MudrftError(
-            f"--out {str(out)!r} already holds results (summary.csv); pass --force to overwrite them"
+            f"--out {str(out)!r} already holds {', '.join(taken)}; pass --force "
+            "(force=True) to overwrite"
         )
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -179,7 +203,7 @@ def reproduce(
         The rows of ``summary.csv``.
     """
     outp = Path(out)
-    _prepare_out(outp, force)
+    _prepare_out(outp, force, TABLES + (FIGURES if figures else ()))
     for s in speeds:
         if not (isinstance(s, (int, float)) and s > 0):
             raise MudrftError(f"speeds must be > 0 m/s, got {s!r}")
@@ -193,9 +217,11 @@ def reproduce(
     tasks = [(head, f, float(v), w) for w in rows_w for f in feet for v in speeds]
     for rd in readings:
         tasks += [(rd, *t) for t in _plan(rd, feet, speeds, rows_w)]
-    todo = list({runs.key(*t): t for t in tasks}.values())  # each physics once, in order
+    todo: dict[tuple[Any, ...], tuple[Reading, str, float, float]] = {}
+    for t in tasks:  # each physics once, in order, named by the first reading that needs it
+        todo.setdefault(runs.key(*t), t)
     width = max(2, len(str(len(todo))))
-    for i, (rd, f, v, w) in enumerate(todo, 1):
+    for i, (rd, f, v, w) in enumerate(todo.values(), 1):
         _say(
             f"[{i:{width}d}/{len(todo)}] {rd.key:17s} {f:13s} {v:.2f} m/s  "
             f"W = {rd.label(w) * 100:g} %",
