@@ -51,3 +51,56 @@ def test_progress_names_a_shared_run_by_the_first_reading_that_needs_it(tmp_path
     assert len(lines) == 2  # two rows, each run once
     assert re.search(r"\] paper +flat +0\.20 m/s +W = 25 %", lines[0]), lines
     assert re.search(r"\] paper +flat +0\.20 m/s +W = 35 %", lines[1]), lines
+
+
+def _morphing_cells(morph_suction, morph_energy):
+    """The two morphing-vs cells of the headline on made-up numbers [N, J]."""
+    from mudrft.reproduce import FEET, HEADLINE, evaluate
+
+    numbers = {
+        "flat": {"peak_ns": 3.0, "min_ns": -3.0, "max_suction": 60.0, "energy": 2.0},
+        "semi-cylinder": {"peak_ns": 2.0, "min_ns": -2.0, "max_suction": 40.0, "energy": 2.0},
+        "semi-sphere": {"peak_ns": 1.0, "min_ns": -1.0, "max_suction": 20.0, "energy": 2.0},
+        "morphing": {"peak_support": 100.0, "max_suction": morph_suction, "energy": morph_energy},
+    }
+    cells = evaluate(
+        HEADLINE,
+        lambda foot, speed, row: numbers[foot],
+        lambda foot, row: 0.01,
+        feet=list(FEET),
+        speeds=[0.2],
+        rows=[0.25],
+    )
+    return {c.claim: c for c in cells if c.claim.startswith("morphing-vs")}
+
+
+def test_a_morphing_foot_worse_than_a_fixed_one_is_a_plus_not_a_double_minus():
+    """'suction -{reduction} %' printed 'suction --25 %' for a morphing foot with more
+    suction than the semi-cylinder."""
+    cells = _morphing_cells(50.0, 2.5)  # 25 % more suction and energy than the semi-cylinder
+    cyl, flat = cells["morphing-vs-semi-cylinder"], cells["morphing-vs-flat"]
+    assert "--" not in cyl.mudrft + cyl.short + flat.mudrft + flat.short
+    assert cyl.mudrft.startswith("suction +25 %, energy +25 %")
+    assert cyl.short.startswith("+25 % / +25 %")
+    assert flat.mudrft.startswith("suction -17 %, energy +25 %")  # 50 N against 60 N
+
+
+def test_what_matching_one_percentage_does_to_the_other_is_said_with_its_direction():
+    """s_c/s_f = 40/60: matching -57 % leaves 17.2 N, 71 % below the flat foot's 60 N;
+    matching -32 % leaves 40.8 N, 2 % above the semi-cylinder's 40 N (printed before as
+    'the semi-cylinder reduction -2 %')."""
+    cells = _morphing_cells(10.0, 1.0)
+    assert "suction 71 % below the flat foot's (the paper: 32 % below)" in (
+        cells["morphing-vs-semi-cylinder"].mudrft
+    )
+    assert "suction 2 % above the semi-cylinder's (the paper: 57 % below)" in (
+        cells["morphing-vs-flat"].mudrft
+    )
+
+
+def test_the_headline_cites_the_figures_that_state_25_percent():
+    """Figs. 9 and 12 state W = 25 % in their captions; Fig. 11's caption states none."""
+    from mudrft.reproduce import HEADLINE
+
+    cited = HEADLINE.derivation.split("stated at '25 %' (")[1].split(")")[0]
+    assert re.findall(r"\d+", cited) == ["9", "12"]

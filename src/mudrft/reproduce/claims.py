@@ -150,8 +150,9 @@ CLAIMS: tuple[Claim, ...] = (
         "sinking",
         "The morphing foot sinks least (Sec. IV-B, Fig. 12)",
         "morphing least",
-        "depth where a slowly applied 49 N meets the relaxed mud's support (static_sinking, "
-        "the limit a ramped load creeps to)",
+        "depth where a slowly applied 49 N (half the weight of a 10 kg biped; the paper gives "
+        "no load, D13) meets the relaxed mud's support (static_sinking, the limit a ramped "
+        "load creeps to)",
     ),
 )
 
@@ -176,8 +177,9 @@ def inconsistency(flat_suction: float, cylinder_suction: float) -> dict[str, flo
     -------
     dict
         ``required`` (1.58), ``run`` (the run's :math:`s_c/s_f`), ``flat_if_cylinder``
-        (the flat-foot reduction [%] implied by matching -57 % against this run's feet) and
-        ``cylinder_if_flat`` (the semi-cylinder reduction [%] implied by matching -32 %).
+        (how far below the flat foot's suction [%] the morphing foot's would be, matching
+        -57 % against this run's feet) and ``cylinder_if_flat`` (how far below the
+        semi-cylinder's [%], matching -32 %; negative: above it).
 
     Examples
     --------
@@ -389,18 +391,19 @@ def evaluate(
             ds = (1 - morph["max_suction"] / fixed[ref]["max_suction"]) * 100
             de = (1 - morph["energy"] / fixed[ref]["energy"]) * 100
             other = (
-                f"matching -57 % would make the flat-foot reduction {arg['flat_if_cylinder']:.0f} %"
+                f"matching -57 % would put the morphing foot's suction "
+                f"{_below(arg['flat_if_cylinder'])} the flat foot's (the paper: 32 % below)"
                 if ref == "semi-cylinder"
-                else f"matching -32 % would make the semi-cylinder reduction "
-                f"{arg['cylinder_if_flat']:.0f} %"
+                else f"matching -32 % would put the morphing foot's suction "
+                f"{_below(arg['cylinder_if_flat'])} the semi-cylinder's (the paper: 57 % below)"
             )
             text = (
-                f"suction -{ds:.0f} %, energy -{de:.0f} % (foot-on-mud work). Both suction "
+                f"suction {_change(ds)}, energy {_change(de)} (foot-on-mud work). Both suction "
                 f"percentages need semi-cylinder/flat suction = {arg['required']:.2f}; "
                 f"'flat suffers the largest suction' needs < 1; this run: {arg['run']:.2f}, so "
                 f"{other}. The paper's energies are whole-robot joint energy while walking"
             )
-            short = f"-{ds:.0f} % / -{de:.0f} %; s_c/s_f = {arg['run']:.2f}, not 1.58"
+            short = f"{_change(ds)} / {_change(de)}; s_c/s_f = {arg['run']:.2f}, not 1.58"
             cell(c[f"morphing-vs-{ref}"], text, INCONSISTENT, short)
     else:
         for ref in ("semi-cylinder", "flat"):
@@ -426,6 +429,18 @@ def evaluate(
 
 def _ok(ok: bool) -> str:
     return AGREES if ok else "differs"
+
+
+def _change(reduction: float) -> str:
+    """A reduction [%] as the signed change the paper prints: 71 -> '-71 %', -5 -> '+5 %'."""
+    pct = round(-reduction)
+    return f"{pct:+d} %" if pct else "0 %"
+
+
+def _below(reduction: float) -> str:
+    """A reduction [%] in words: 78 -> '78 % below', -31 -> '31 % above'."""
+    pct = round(reduction)
+    return f"{pct} % below" if pct >= 0 else f"{-pct} % above"
 
 
 def count(cells: Sequence[Cell]) -> dict[str, Any]:

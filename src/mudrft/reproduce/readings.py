@@ -106,7 +106,7 @@ _DEPTH = (
 )
 _TABLE = (
     "The tables label their rows 25/35/45 %, and the claims are stated at '25 %' "
-    "(Figs. 9, 11, 12; Sec. IV-B), so the 25 % row is used."
+    "(Figs. 9 and 12 and their text in Sec. IV-B), so the 25 % row is used."
 )
 
 #: The readings of the matrix; the first is the headline.
@@ -153,7 +153,7 @@ READINGS: tuple[Reading, ...] = (
         "as 'paper', with the former 30 mm stance (the feet buried)",
         depth=0.03,
         derivation=(
-            "As 'paper' on mudrft's former gait (decision D10 before issue 13): the tip "
+            "As 'paper' on mudrft's former gait (decision D10 before the 20 mm stance): the tip "
             "sinks 30 mm, deeper than the 26 mm feet, which the closed forms (12)-(14) do not "
             "describe; shown to isolate the effect of burying the feet."
         ),
@@ -172,13 +172,14 @@ READINGS: tuple[Reading, ...] = (
     ),
     Reading(
         "former-defaults",
-        "mudrft before issue 13: ODE with the acceleration term, 30 mm stance",
+        "mudrft's former defaults: ODE with the acceleration term, 30 mm stance",
         thixotropy="ode",
         acceleration=True,
         depth=0.03,
         derivation=(
-            "mudrft's defaults before issue 13 (decisions D6, D10 as they were), evaluated "
-            "on the same claims and quantities as every other reading, for comparison."
+            "mudrft's defaults before it adopted the paper's evaluation and the 20 mm stance "
+            "(its issue 13; decisions D6, D10 as they were), evaluated on the same claims and "
+            "quantities as every other reading, for comparison."
         ),
     ),
 )
