@@ -26,6 +26,7 @@ from pathlib import Path
 
 import mudrft
 from mudrft.reproduce import reproduce
+from mudrft.reproduce.report import claims_block as quoted_block
 from mudrft.simulation import LoadControl, simulate, static_sinking
 from mudrft.terrains import MudTerrain
 
@@ -46,13 +47,7 @@ def claims_block() -> str:
     with tempfile.TemporaryDirectory() as tmp:
         reproduce(tmp, figures=False, quiet=False)
         report = (Path(tmp) / "report.md").read_text()
-    lines = report.splitlines()
-    head = lines.index(next(x for x in lines if x.startswith("**") and "of 9 claims" in x))
-    table_end = lines.index("", head + 2)
-    m0 = lines.index("## Matrix: readings x claims")
-    m1 = lines.index("## The readings and where the paper supports them")
-    body = [lines[head], "", *lines[head + 2 : table_end], "", *lines[m0 + 2 : m1]]
-    return "\n".join(x.replace("## ", "#### ") for x in body).rstrip()
+    return quoted_block(report)
 
 
 def sinking_block() -> str:

@@ -308,3 +308,16 @@ def test_inconsistency_argument():
     # which is 78.5 % below the flat foot's 100 N, not 32 %
     assert arg["flat_if_cylinder"] == pytest.approx(78.5)
     assert arg["cylinder_if_flat"] == pytest.approx(100 * (1 - 68.0 / 50.0))
+
+
+def test_the_tables_docs_model_md_quotes_are_this_runs(full_run):
+    """docs/model.md Sec. 12 quotes report.md between its claims markers (made by
+    examples/make_claims_matrix.py); a change of the report or of a number must reach it."""
+    from pathlib import Path
+
+    from mudrft.reproduce.report import claims_block
+
+    out, _, _ = full_run
+    doc = (Path(__file__).parents[1] / "docs" / "model.md").read_text()
+    quoted = doc.split("<!-- claims:start -->\n")[1].split("\n<!-- claims:end -->")[0]
+    assert quoted == claims_block((out / "report.md").read_text())

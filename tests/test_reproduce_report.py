@@ -104,3 +104,47 @@ def test_the_headline_cites_the_figures_that_state_25_percent():
 
     cited = HEADLINE.derivation.split("stated at '25 %' (")[1].split(")")[0]
     assert re.findall(r"\d+", cited) == ["9", "12"]
+
+
+@pytest.fixture(scope="module")
+def small_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("small")
+    reproduce(out, quiet=True, **SMALL)
+    return (out / "report.md").read_text()
+
+
+def test_the_report_says_what_a_reading_and_each_verdict_are(small_report):
+    """report.md used 'reading', 'agrees', 'partly' and the tolerances without saying what
+    they are, or that the headline was fixed before its verdicts were seen (docs/model.md
+    said it)."""
+    how = small_report.split("## How to read this report")[1].split("\n## ")[0]
+    assert "A *reading* fixes each choice" in how
+    assert "before any of its verdicts was computed" in how
+    for verdict in ("agrees", "partly", "differs", "inconsistent in the paper", "not evaluated"):
+        assert f"*{verdict}*" in how
+    for tolerance in ("+-10 points", "100 +- 25 %", "below 15 %", "below 30 %"):
+        assert tolerance in how
+    assert "kPa" in how and "(9)-(14) here" in how  # units and the equation numbers
+
+
+def test_no_column_of_the_reports_tables_is_named_twice(small_report):
+    """The matrix's header was '| claim | paper | paper | paper-restart | ...': the paper's
+    value and the headline reading had the same name."""
+    headers = [ln for ln in small_report.splitlines() if ln.startswith("| claim |")]
+    assert len(headers) == 2
+    for header in headers:
+        names = [x.strip() for x in header.strip("|").split("|")]
+        assert len(names) == len(set(names)), names
+        assert "the paper says" in names
+    assert "paper (headline)" in headers[1]
+
+
+def test_the_report_gives_every_csv_column_with_its_unit(small_report):
+    from mudrft.reproduce import SUMMARY_COLUMNS
+    from mudrft.reproduce.report import CLAIMS_COLUMNS
+
+    files = small_report.split("## Files")[1]
+    for col in (*SUMMARY_COLUMNS, *CLAIMS_COLUMNS):
+        assert f"`{col}`" in files, col
+    for unitless in ("water_content", "suction_ratio", "normalized_suction_ratio"):
+        assert f"`{unitless}` [-]" in files

@@ -6,10 +6,25 @@ import csv
 from collections.abc import Sequence
 from pathlib import Path
 
-from .claims import CLAIMS, INCONSISTENT, Cell, count
+from .claims import (
+    CLAIMS,
+    INCONSISTENT,
+    PCT_TOL,
+    RATIO_TOL,
+    SPEED_AGREE,
+    SPEED_PARTLY,
+    Cell,
+    count,
+)
 from .readings import Reading
 
-__all__ = ["CLAIMS_COLUMNS", "headline_count", "write_claims_csv", "write_report"]
+__all__ = [
+    "CLAIMS_COLUMNS",
+    "claims_block",
+    "headline_count",
+    "write_claims_csv",
+    "write_report",
+]
 
 #: Columns of ``claims.csv``: one row per claim and reading.
 CLAIMS_COLUMNS = ("claim", "reading", "paper", "mudrft", "verdict", "summary", "headline")
@@ -60,11 +75,15 @@ def write_report(path: Path, cells: dict[str, list[Cell]], *, readings: list[Rea
         "docs/model.md). These are model predictions on documented reconstructions (gait path,",
         "plate size, morphing-foot dimensions), not measurements: the paper's data are not public.",
         "",
-        f"Headline reading **{head.key}**: {head.title}.",
+        *_how_to_read(head),
+        "",
+        f"## Headline reading: {head.key}",
+        "",
+        f"**{head.key}**: {head.title}.",
         "",
         f"**{headline_count(hc)}.**",
         "",
-        "| claim | paper | mudrft | verdict |",
+        "| claim | the paper says | mudrft | verdict |",
         "|---|---|---|---|",
     ]
     for c in hc:
@@ -99,7 +118,9 @@ def write_report(path: Path, cells: dict[str, list[Cell]], *, readings: list[Rea
         "Each cell: mudrft's number, then the verdict (feet in the order flat / semi-cylinder /",
         "semi-sphere). Numbers and full texts are in `claims.csv`.",
         "",
-        "| claim | paper | " + " | ".join(rd.key for rd in readings) + " |",
+        "| claim | the paper says | "
+        + " | ".join(rd.key + (" (headline)" if rd is head else "") for rd in readings)
+        + " |",
         "|---|---|" + "---|" * len(readings),
     ]
     for i, claim in enumerate(CLAIMS):
@@ -124,11 +145,83 @@ def write_report(path: Path, cells: dict[str, list[Cell]], *, readings: list[Rea
     ]
     for claim in CLAIMS:
         lines.append(f"* **{claim.key}**: {claim.text}. mudrft compares: {claim.quantity}.")
-    lines += [
-        "",
-        "Figures (headline reading): `fig09_forces.png`, `fig10_normalized.png`,",
-        "`fig12_hysteresis.png`, `fig13_suction_energy.png`; numbers in `summary.csv`.",
-        "",
-    ]
+    lines += ["", *_files()]
     path.write_text("\n".join(lines))
     return path
+
+
+def _how_to_read(head: Reading) -> list[str]:
+    """What a reading, a verdict and the units are, for a reader without docs/model.md."""
+    return [
+        "## How to read this report",
+        "",
+        "* **Readings.** The paper leaves some choices open: how eqs. (3) and (5) are "
+        "evaluated (its quasi-static solutions (9)-(11) or the ODEs themselves), when the clock "
+        "of eq. (9) starts, how deep the foot goes in the stepping gait (the paper gives "
+        "the gait speeds, not the path), and which water content each row of Tables S1-S2 "
+        "is. A *reading* fixes each choice, citing the paper's text (section 'The readings' "
+        f"below). The headline reading, **{head.key}**, is the paper's own evaluation: it was "
+        "fixed from the text before any of its verdicts was computed and has not been "
+        "changed since. Every other reading changes one choice of it (or restores mudrft's "
+        "former defaults), so the matrix shows which choice decides which claim.",
+        "* **Verdicts**, with tolerances fixed before any reading was evaluated: *agrees* "
+        f"(orderings strictly met; the paper's percentages within +-{PCT_TOL:g} points; "
+        f"'almost as large' within 100 +- {RATIO_TOL:g} %; 'did not change' a spread below "
+        f"{SPEED_AGREE:g} %), *partly* (that spread below {SPEED_PARTLY:g} %), *differs* "
+        "(not met), *inconsistent in the paper* (the two morphing-foot percentages, which "
+        "contradict the paper's own suction ordering: not counted as failures of the "
+        "model), *not evaluated* (the runs it needs were not asked for). No model parameter "
+        "is tuned to any claim.",
+        "* **Units.** Forces in N; energies in J, the work the foot does against the mud over "
+        "one gait cycle; depths in mm; F_z/A_z in kPa is the vertical force over the foot's "
+        "cross-section area in the mud at its current depth, the paper's normalised stress "
+        "(Sec. IV-B; the morphing foot's over its spread footprint, D38). The claims are "
+        "evaluated at the medium gait speed, 0.2 m/s, and W = 25 %, unless they vary them; "
+        "a percentage change is the morphing foot's against the other foot's.",
+        "* **References.** Sections, equations, figures and tables are the paper's (S: "
+        "supplementary materials). Equation numbers are the manuscript's, as the "
+        "supplementary materials cite them ('(9) in the manuscript'); the LaTeX source shows "
+        "F_mud = integral of dF inline, so its own counter is one lower from there on (its "
+        "(8)-(13) are (9)-(14) here). D and E numbers are mudrft's decisions and the "
+        "paper's errata, in docs/model.md.",
+    ]
+
+
+def _files() -> list[str]:
+    """The output files and the units of their columns."""
+    return [
+        "## Files",
+        "",
+        "* `summary.csv`: the headline reading, one row per foot x speed x water content. "
+        "Columns: `foot`; `speed [m/s]`; `water_content` [-], a fraction (0.25 = 25 %); "
+        "`peak_support [N]`; `max_suction [N]`, the magnitude of the most negative F_z; "
+        "`impulse_x [N s]`, `impulse_y [N s]`, `impulse_z [N s]`; `energy [J]`; "
+        "`sinking [m]`, under a slowly applied 49 N (claim sinking); `suction_ratio` [-], "
+        "max_suction / peak_support; `peak_normalized_sz [Pa]` and `min_normalized_sz [Pa]`, "
+        "the extremes of F_z/A_z; `normalized_suction_ratio` [-], their magnitudes' ratio.",
+        "* `claims.csv`: one row per claim and reading. Columns: `claim`; `reading`; "
+        "`paper`, what the paper says; `mudrft`, the run's numbers with their units; "
+        "`verdict`; `summary`, the matrix cell; `headline`, True on the headline reading's "
+        "rows.",
+        "* Figures of the headline reading, like the paper's: `fig09_forces.png`, "
+        "`fig10_normalized.png`, `fig12_hysteresis.png`, `fig13_suction_energy.png`.",
+        "",
+    ]
+
+
+def claims_block(report: str) -> str:
+    """The part of a ``report.md`` that docs/model.md quotes (Sec. 12, between its
+    ``claims`` markers): the headline's count and table, and the matrix.
+
+    Parameters
+    ----------
+    report : str
+        The text of a ``report.md`` written by :func:`write_report`.
+    """
+    lines = report.splitlines()
+    head = lines.index(next(x for x in lines if x.startswith("**") and "of 9 claims" in x))
+    table_end = lines.index("", head + 2)
+    m0 = lines.index("## Matrix: readings x claims")
+    m1 = lines.index("## The readings and where the paper supports them")
+    body = [lines[head], "", *lines[head + 2 : table_end], "", *lines[m0 + 2 : m1]]
+    return "\n".join(x.replace("## ", "#### ") for x in body).rstrip()
