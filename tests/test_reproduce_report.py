@@ -148,3 +148,33 @@ def test_the_report_gives_every_csv_column_with_its_unit(small_report):
         assert f"`{col}`" in files, col
     for unitless in ("water_content", "suction_ratio", "normalized_suction_ratio"):
         assert f"`{unitless}` [-]" in files
+
+
+def test_every_figure_says_its_speed_and_water_content(tmp_path, monkeypatch):
+    """Figs. 10, 12 and 13 did not say at which speed (and Figs. 10, 13 at which water
+    content) they were drawn."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from mudrft.reproduce.runner import FIGURES
+
+    texts: dict[str, str] = {}
+    save = matplotlib.figure.Figure.savefig
+
+    def record(fig, fname, *args, **kwargs):
+        parts = [fig.get_suptitle(), *(ax.get_title() for ax in fig.axes)]
+        texts[str(fname).rsplit("/", 1)[-1]] = " ".join(parts)
+        return save(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", record)
+    reproduce(
+        tmp_path,
+        feet=("flat", "morphing"),
+        speeds=(0.13, 0.2),
+        water_contents=(0.25, 0.35),
+        readings=READINGS[:1],
+        quiet=True,
+    )
+    assert tuple(texts) == FIGURES
+    for name, text in texts.items():
+        assert "0.2 m/s" in text and "W = 25 %" in text, (name, text)

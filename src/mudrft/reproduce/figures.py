@@ -90,6 +90,11 @@ def make_figures(
         ax.set_xlabel("gait phase [-]")
         ax.legend(fontsize=8)
     axes[0].set_ylabel(r"$F_z/A_z$ [kPa]")
+    fig.suptitle(
+        f"Normalized vertical stress over one stepping cycle, {v:g} m/s, W = {w * 100:g} % "
+        "unless varied (cf. paper Fig. 10)",
+        fontsize=10,
+    )
     paths.append(out / "fig10_normalized.png")
     fig.savefig(paths[-1], dpi=120)
     plt.close(fig)
@@ -102,7 +107,9 @@ def make_figures(
     ax.axhline(0, color="0.75", lw=0.6)
     ax.set_xlabel("tip depth [mm]")
     ax.set_ylabel(r"$\sigma_z=F_z/A_z$ [kPa]")
-    ax.set_title(f"Vertical stress vs depth, W = {w * 100:g} % (cf. Fig. 12)", fontsize=10)
+    ax.set_title(
+        f"Vertical stress vs depth, {v:g} m/s, W = {w * 100:g} % (cf. paper Fig. 12)", fontsize=10
+    )
     ax.legend(fontsize=8)
     paths.append(out / "fig12_hysteresis.png")
     fig.savefig(paths[-1], dpi=120)
@@ -138,7 +145,7 @@ def make_figures(
         "max_suction [N]",
         "energy [J]",
     ]
-    labels = ["|I_x|", "|I_y|", "|I_z|", "suction", "energy"]
+    labels = ["impulse |I_x|", "impulse |I_y|", "impulse |I_z|", "max suction", "energy"]
     ang = np.linspace(0, 2 * np.pi, len(keys), endpoint=False)
     ax3 = fig.add_subplot(1, 2, 2, projection="polar")
     mx = {k: max(abs(sel[f][k]) for f in names) or 1.0 for k in keys}
@@ -146,8 +153,10 @@ def make_figures(
         vals = [abs(sel[f][k]) / mx[k] for k in keys]
         ax3.plot(np.append(ang, ang[0]), vals + vals[:1], color=COLORS.get(f, "k"), label=f)
     ax3.set_xticks(ang, labels, fontsize=8)
+    ax3.set_rlabel_position(110)  # between the spokes, clear of their labels
     ax3.set_title("(b) normalized by the largest foot (cf. Fig. 13b)", fontsize=10)
     ax3.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.35, -0.1))
+    fig.suptitle(f"One stepping cycle, {v:g} m/s, W = {w * 100:g} %", fontsize=10)
     paths.append(out / "fig13_suction_energy.png")
     fig.savefig(paths[-1], dpi=120)
     plt.close(fig)
