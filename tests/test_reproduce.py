@@ -384,3 +384,35 @@ def test_the_suction_ratio_cells_give_the_other_normalisation_from_the_run(full_
         f"{head['morphing']['suction_ratio'] * 100:.0f} % "
         f"(over the part of its spread pads in the mud: {pads} %)"
     )
+
+
+def test_read_as_stress_the_suction_ordering_still_forbids_the_158(full_run):
+    """The 'largest suction force' sentence describes Fig. 10a, which plots F_z/A_z. The
+    argument holds read as stress too: s_c/s_f <= A_c/A_f, written out by hand here."""
+    from mudrft.reproduce.claims import suction_area_bound
+
+    out, _, claims = full_run
+    radius, width, length, height = 0.045, 0.065, 0.08, 0.026
+    hand = 2 * radius * width * np.sqrt(1 - (1 - height / radius) ** 2) / (length * width)
+    assert suction_area_bound() == pytest.approx(hand, rel=1e-12)
+    assert hand < 1.05 < 1.58
+    assert f"s_c / s_f <= A_c / A_f <= {hand:.2f}" in (out / "report.md").read_text()
+    # each suction-order cell gives the order by stress too, from the run's numbers
+    head = {
+        r["foot"]: -r["min_normalized_sz [Pa]"]
+        for r in read_summary(out / "summary.csv")
+        if r["speed [m/s]"] == 0.2 and r["water_content"] == 0.25
+    }
+    (cell,) = [r for r in claims if r["reading"] == "paper" and r["claim"] == "suction-order"]
+    fixed = {f: head[f] for f in FEET[:3]}
+    assert ", ".join(f"{f} {fixed[f] / 1e3:.2f} kPa" for f in fixed) in cell["mudrft"]
+    assert f"the {max(fixed, key=fixed.get)} largest" in cell["mudrft"]
+    assert f"the {min(fixed, key=fixed.get)} least" in cell["mudrft"]
+    assert max(fixed, key=fixed.get) == "flat"  # what the inconsistency argument needs
+    quoted = ", ".join(f"{f} {fixed[f] / 1e3:.2f}" for f in fixed)
+    assert f"(headline: {quoted} kPa, " in _model_md_section_12()
+    # report.md: "every reading gives the flat foot the largest suction, by force and by stress"
+    order = [r for r in claims if r["claim"] == "suction-order"]
+    assert len(order) == len(READINGS)
+    assert all(r["mudrft"].startswith("flat ") and "the flat largest" in r["mudrft"] for r in order)
+    assert all(r["verdict"] == A for r in order)  # by force: flat largest, semi-sphere least

@@ -37,6 +37,7 @@ __all__ = [
     "inconsistency",
     "shape_crossovers",
     "shape_factor",
+    "suction_area_bound",
 ]
 
 #: Tolerance on the paper's percentages [percentage points]: its numbers come from three
@@ -196,6 +197,20 @@ def inconsistency(flat_suction: float, cylinder_suction: float) -> dict[str, flo
     }
 
 
+def suction_area_bound() -> float:
+    r"""Largest :math:`s_c/s_f` the suction ordering allows when read as stress [-].
+
+    If the flat foot's normalised suction :math:`|\min F_z/A_z|` is the largest, then,
+    its footprint :math:`A_f` being constant, :math:`s_c/s_f\le A_c^{max}/A_f`: the
+    semi-cylinder's submerged cross-section at its full height over the flat foot's
+    (1.02 for the paper's feet), far below the 1.58 the morphing-foot percentages need.
+    """
+    feet, _ = _paper_feet()
+    cyl, flat = feet["semi-cylinder"], feet["flat"]
+    a_c = float(np.asarray(cyl.projected_areas(cyl.height))[..., 2])
+    return a_c / float(np.asarray(flat.projected_areas(flat.height))[..., 2])
+
+
 def shape_factor(foot: Foot, depth: float) -> float:
     """Normalized vertical force of ``foot`` under a uniform unit stress [-].
 
@@ -323,6 +338,15 @@ def evaluate(
         su = {f: fixed[f]["max_suction"] for f in FIXED}
         ok = max(su, key=su.__getitem__) == "flat" and min(su, key=su.__getitem__) == "semi-sphere"
         text = ", ".join(f"{f} {su[f]:.0f} N" for f in FIXED)
+        # the sentence stands in the paragraph on Fig. 10a, which plots F_z/A_z: the same
+        # order by stress, for the reader to judge (the verdict is on the force, as printed)
+        ss = {f: -fixed[f]["min_ns"] for f in FIXED}
+        text += (
+            "; by suction stress |min F_z/A_z| (Fig. 10a): "
+            + ", ".join(f"{f} {ss[f] / 1e3:.2f} kPa" for f in FIXED)
+            + f", the {max(ss, key=ss.__getitem__)} largest, the "
+            + f"{min(ss, key=ss.__getitem__)} least"
+        )
         cell(c["suction-order"], text, _ok(ok), "/".join(f"{su[f]:.0f}" for f in FIXED) + " N")
     else:
         cell(c["shape-order"], missing, NOT_EVALUATED)

@@ -15,6 +15,7 @@ from .claims import (
     SPEED_PARTLY,
     Cell,
     count,
+    suction_area_bound,
 )
 from .readings import Reading
 
@@ -100,8 +101,13 @@ def write_report(path: Path, cells: dict[str, list[Cell]], *, readings: list[Rea
             "foot's and 32 % below the flat foot's, so s_m = 0.43 s_c = 0.68 s_f, which needs "
             "s_c / s_f = 0.68 / 0.43 = 1.58: the semi-cylindrical foot would suffer 58 % more "
             "suction than the flat foot. The same section says 'the flat foot ... suffered from "
-            "the largest suction force', s_c / s_f < 1. No model can meet the three claims; "
-            "every reading below reproduces the ordering (claim suction-order), and the cells "
+            "the largest suction force', s_c / s_f < 1. That sentence describes Fig. 10a, "
+            "which plots F_z/A_z; read as suction stress it still forbids 1.58: the flat "
+            "foot's footprint A_f is constant, so s_c / s_f <= A_c / A_f <= "
+            f"{suction_area_bound():.2f} (the semi-cylinder's cross-section at its full "
+            "height). No model can meet the three claims; "
+            "every reading below gives the flat foot the largest suction, by force and by "
+            "stress (claim suction-order), and the cells "
             "give each run's s_c / s_f and what matching one percentage does to the other. "
             "Fig. 13's energies are the whole robot's joint energy while walking (Sec. IV-A: "
             "'joint torques were recorded to calculate the energy consumption during walking'; "
