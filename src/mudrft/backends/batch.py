@@ -49,6 +49,8 @@ from .._validation import (
 from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
+from ..terrains.mud import MudState
+from ._snapshot import Snapshot, check_snapshot, copy_foot_state, frozen, map_leaves
 
 if TYPE_CHECKING:
     from jax import Array
@@ -209,6 +211,7 @@ class BatchedMud:
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
             )
         self.backend = check_choice("backend", backend, BACKENDS)
+        self._args = (mud, foot, int(n), self.backend, options)  # to unpickle (D143)
         self.n = int(n)
         self.foot = foot
         base = as_mud_terrain(
@@ -281,6 +284,7 @@ class BatchedMud:
 
         self._jax_step = jax.jit(one)
         self._jax_ravel = lambda st: ravel_pytree(st)[0]
+        self._jax_unravel = unravel
         self._mjax = mjax
 
     # -- state ----------------------------------------------------------------------------
@@ -361,6 +365,71 @@ class BatchedMud:
                 "the batched step produced non-finite forces; check the parameters and dt"
             )
         return self.force
+
+    # -- snapshots (decision D143) ----------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        """Every foot's state after the last step, a copy to :meth:`restore` later (D143).
+
+        Returns
+        -------
+        Snapshot
+            The mud under the feet (read-only arrays of shape (N,), the same on every
+            backend), the foot mechanism's state, and :attr:`force` [N], :attr:`stress`
+            [Pa] and :attr:`depth` [m]; no later step changes it.
+        """
+        foot_state = None
+        if self.backend == "numba":
+            from .numba import channels_of_rows
+
+            ch = channels_of_rows(self._st)
+        elif self.backend == "jax":
+            ch = self._jax_unravel(self._jst)
+        else:
+            ch, foot_state = self._state.channels, self._state.foot
+        n = (self.n,)
+        ch = map_leaves(lambda v: frozen(np.broadcast_to(np.asarray(v, dtype=float), n)), ch)
+        state = MudState(channels=ch, foot=copy_foot_state(foot_state))
+        return Snapshot(state, frozen(self.force), frozen(self.stress), frozen(self.depth))
+
+    def restore(self, snapshot: Snapshot) -> None:
+        """Put every foot back into the state of ``snapshot`` (from :meth:`snapshot` of a
+        ``BatchedMud`` of the same feet, any backend); the steps after it are those that
+        followed the snapshot, bit for bit on the same backend (D143)."""
+        ch = check_snapshot(snapshot, (self.n,), "BatchedMud")
+        foot_state = copy_foot_state(snapshot.state.foot)
+        if self.backend == "numba":
+            from .numba import N_OUT, state_rows
+
+            # fresh arrays (the compiled step writes into them): a copy must not share them
+            self._st, self._out = state_rows(ch), np.zeros((self.n, N_OUT))
+        elif self.backend == "jax":
+            self._jst = self._jax_ravel(ch)
+        elif self._one is not None:
+            self._state = MudState(channels=map_leaves(lambda v: float(v[0]), ch), foot=foot_state)
+        else:
+            self._state = MudState(channels=ch, foot=foot_state)
+        self.force = np.array(snapshot.force, dtype=float)
+        self.stress = np.array(snapshot.stress, dtype=float)
+        self.depth = np.array(snapshot.depth, dtype=float)
+
+    def __copy__(self) -> BatchedMud:
+        # the foot, the terrain and the compiled step are shared; the state is the copy's own
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.restore(self.snapshot())
+        return new
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> BatchedMud:
+        return self.__copy__()
+
+    def __getstate__(self) -> dict[str, Any]:
+        # the compiled step is made again on unpickling
+        return {"args": self._args, "snapshot": self.snapshot()}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        mud, foot, n, backend, options = state["args"]
+        self.__init__(mud, foot, n, backend=backend, **options)  # type: ignore[misc]
+        self.restore(state["snapshot"])
 
     def __repr__(self) -> str:
         return f"BatchedMud(n={self.n}, foot={self.foot!r}, backend={self.backend!r})"

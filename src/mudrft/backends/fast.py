@@ -26,7 +26,8 @@ from ..feet.closed_form import closed_form_force
 from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 from ..parameters.base import Mud
 from ..terrains import MudTerrain
-from ..terrains.mud import mud_step
+from ..terrains.mud import MudState, mud_step
+from ._snapshot import Snapshot, check_snapshot, frozen, map_leaves
 from .batch import as_mud_terrain
 
 __all__ = ["FastMudFoot", "foot_geometry"]
@@ -117,8 +118,7 @@ class FastMudFoot:
             # work rows: state, output (force, stress, depth), options (cfg then geometry)
             self._w = np.zeros((3, N_STATE))
             self._w[2, :11] = (*config_row(terrain, foot), kind, *geom)
-            self._out = self._w[1:2]
-            self._force_view = self._w[1, :3]  # made once: a slice per step costs 0.2 us
+            self._bind(self._w)
         else:  # the specialized one terrain step and closed form, options read once
             t = terrain
             self._mud_step = on_floats(mud_step)
@@ -145,6 +145,70 @@ class FastMudFoot:
             self._w[0] = state_rows(self._channels)[0]
             self._w[1] = 0.0
             self._w[1, 6] = self._depth
+
+    def _bind(self, w: NDArray[np.float64]) -> None:
+        """Use the work array ``w`` (numba), and views of it made once (a slice per step
+        costs 0.2 us). A copy of the array needs views of its own: views copied with it
+        still showed the old array, so a deep copy returned the force of the copy time."""
+        self._w, self._out, self._force_view = w, w[1:2], w[1, :3]
+
+    # -- snapshots (decision D143) ----------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        """The foot's state after the last step, a copy to :meth:`restore` later (D143).
+
+        Returns
+        -------
+        Snapshot
+            The mud under the foot (Python floats), and the force [N], stresses [Pa] and
+            depth [m] of the last step; no later step changes it.
+        """
+        if self.backend == "numba":
+            from .numba import channels_of_rows
+
+            ch = channels_of_rows(self._w[0])
+            force, stress = self._w[1, :3], self._w[1, 3:6]
+        else:
+            ch = self._channels
+            stress = np.array(self._stress, dtype=float)
+            f = self._force(*self._geom, self._depth, *stress.tolist(), ch.heading)
+            force = np.array(f, dtype=float) * ch.in_mud  # what the step returned
+        state = MudState(channels=map_leaves(float, ch), foot=None)
+        return Snapshot(state, frozen(force), frozen(stress), float(self.depth))
+
+    def restore(self, snapshot: Snapshot) -> None:
+        """Put the foot back into the state of ``snapshot`` (from :meth:`snapshot` of this
+        foot, or of another ``FastMudFoot`` with the same foot and mud); the steps after it
+        are those that followed the snapshot, bit for bit (D143)."""
+        ch = map_leaves(float, check_snapshot(snapshot, (), "FastMudFoot"))
+        stress, depth = np.array(snapshot.stress, dtype=float), float(snapshot.depth)
+        if self.backend == "numba":
+            from .numba import state_rows
+
+            w = self._w.copy()  # a fresh array: a copy of this foot must not share it
+            w[0] = state_rows(ch)[0]
+            w[1] = 0.0
+            w[1, :3], w[1, 3:6], w[1, 6] = snapshot.force, stress, depth
+            self._bind(w)
+        self._channels, self._stress, self._depth = ch, tuple(stress.tolist()), depth
+
+    def __copy__(self) -> FastMudFoot:
+        # the foot and the terrain are immutable and shared; the state is the copy's own
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.restore(self.snapshot())
+        return new
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> FastMudFoot:
+        return self.__copy__()
+
+    def __getstate__(self) -> dict[str, Any]:
+        # the compiled or specialized step is made again on unpickling
+        return {"args": (self.foot, self.terrain, self.backend), "snapshot": self.snapshot()}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        foot, terrain, backend = state["args"]
+        self.__init__(foot, terrain, backend=backend)  # type: ignore[misc]
+        self.restore(state["snapshot"])
 
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance by ``dt`` to a tip at ``position`` moving at ``velocity``; return the force.

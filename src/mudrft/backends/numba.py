@@ -46,6 +46,7 @@ __all__ = [
     "PARALLEL_MIN",
     "STATE_IN_MUD",
     "available",
+    "channels_of_rows",
     "compile_scalar",
     "compiled_feet",
     "config_row",
@@ -167,6 +168,13 @@ def state_rows(ch: MudChannels) -> NDArray[np.float64]:
     return np.ascontiguousarray(
         np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1)
     ).reshape(-1, N_STATE)
+
+
+def channels_of_rows(rows: NDArray[np.float64]) -> MudChannels:
+    """The inverse of :func:`state_rows`: floats from one row (N_STATE,), arrays (N,) from
+    rows (N, N_STATE) (views of ``rows``)."""
+    a = np.asarray(rows, dtype=float)
+    return _channels(a.tolist() if a.ndim == 1 else a.T)
 
 
 # names the compiled loop binds to numba's prange and to the compiled physics (the plain

@@ -1,0 +1,95 @@
+"""Snapshots of the stateful steppers :class:`~mudrft.backends.FastMudFoot` and
+:class:`~mudrft.backends.BatchedMud`, for a controller or planner (decision D143).
+
+A planner saves the mud where the robot is, rolls out candidate futures from it and goes
+back: ``snap = sim.snapshot()``, ``sim.restore(snap)``. A snapshot is a copy made of
+read-only arrays (or Python floats), so no later step, of this stepper or of another, can
+change it, and one snapshot restores any number of times to a bit-identical continuation.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._validation import MudrftError
+from ..terrains.mud import MudChannels, MudState
+
+__all__ = ["Snapshot", "check_snapshot", "copy_foot_state", "frozen", "map_leaves"]
+
+
+class Snapshot(NamedTuple):
+    """The state of a stepper after a step, as ``snapshot()`` returns it.
+
+    Attributes
+    ----------
+    state : MudState
+        The mud under the feet (:class:`~mudrft.terrains.mud.MudChannels`, Python floats
+        for :class:`~mudrft.backends.FastMudFoot`, read-only arrays of shape (N,) for
+        :class:`~mudrft.backends.BatchedMud`) and the foot mechanism's state (None for the
+        rigid feet). The same channels as :meth:`mudrft.MudTerrain.initial_state`, so the
+        state also steps on in :meth:`mudrft.MudTerrain.step`.
+    force : ndarray (3,) or (N, 3)
+        Force of the mud on the foot (feet) at the last step [N].
+    stress : ndarray (3,) or (N, 3)
+        Channel stresses (sx, sy, sz) at the last step [Pa].
+    depth : float or ndarray (N,)
+        Tip depth after the last step [m].
+    """
+
+    state: MudState
+    force: NDArray[np.float64]
+    stress: NDArray[np.float64]
+    depth: Any
+
+
+def map_leaves(fn: Any, tree: Any) -> Any:
+    """``fn`` applied to every leaf of nested named tuples (the channels' state)."""
+    if isinstance(tree, tuple) and hasattr(tree, "_fields"):
+        return type(tree)(*(map_leaves(fn, v) for v in tree))
+    return fn(tree)
+
+
+def frozen(value: Any) -> Any:
+    """A read-only float copy of an array (a Python float stays as it is)."""
+    if isinstance(value, float):
+        return value
+    out = np.array(value, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+def check_snapshot(snapshot: object, batch: tuple[int, ...], owner: str) -> MudChannels:
+    """The channels of ``snapshot`` after checking it is a :class:`Snapshot` whose channels
+    have the shape ``batch`` of the stepper ``owner`` restores it into."""
+    if not isinstance(snapshot, Snapshot) or not isinstance(snapshot.state, MudState):
+        raise MudrftError(
+            f"snapshot must be what {owner}.snapshot() returned, got {type(snapshot).__name__}"
+        )
+    ch = snapshot.state.channels
+    shapes = {np.shape(leaf) for leaf in _leaves(ch)}
+    outputs = {np.shape(snapshot.force), np.shape(snapshot.stress)}
+    if shapes != {batch} or outputs != {(*batch, 3)} or np.shape(snapshot.depth) != batch:
+        raise MudrftError(
+            f"snapshot must hold the mud under {owner}'s feet (state arrays of shape {batch}), "
+            f"got state arrays of shape(s) {sorted(shapes)}: a snapshot of another stepper?"
+        )
+    return ch
+
+
+def copy_foot_state(foot_state: Any) -> Any:
+    """An independent copy of a foot mechanism's state (None for rigid feet)."""
+    if foot_state is None:
+        return None
+    if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
+        return map_leaves(frozen, foot_state)
+    return copy.deepcopy(foot_state)
+
+
+def _leaves(tree: Any) -> list[Any]:
+    if isinstance(tree, tuple) and hasattr(tree, "_fields"):
+        return [leaf for v in tree for leaf in _leaves(v)]
+    return [tree]
