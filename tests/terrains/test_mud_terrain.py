@@ -75,3 +75,22 @@ def test_one_foot_on_floats_equals_a_batch_of_one_on_arrays():
     # 0.5 um of depth; the largest gap over the run was 7e-12 N of 57 N, D149.)
     gap = np.abs(np.array(f1) - np.array(fb))
     assert gap.max() <= 1e-12 * np.abs(fb).max(), np.unravel_index(gap.argmax(), gap.shape)
+
+
+def test_the_step_matches_its_tips_to_the_state_or_names_the_state():
+    """D144: a batch's state with one position (a planner trying one action on every
+    candidate) raised numpy's "truth value of an array ... is ambiguous", and tips that
+    do not broadcast with the state numpy's "operands could not be broadcast"."""
+    foot = mudrft.feet.Flat()
+    terrain = MudTerrain(MUD)
+    start = np.array([[0.0, 0.0, -0.01], [0.001, 0.0, -0.012], [0.0, 0.002, 0.001]])
+    state = terrain.initial_state(foot, start)
+    p, v = np.array([0.0005, 0.0, -0.0105]), np.array([0.5, 0.0, -0.5])
+    new, out = terrain.step(foot, state, p, v, 1e-3)
+    _, expected = terrain.step(foot, state, np.tile(p, (3, 1)), np.tile(v, (3, 1)), 1e-3)
+    np.testing.assert_array_equal(out.force, expected.force)
+    assert out.force.shape == (3, 3) and np.shape(new.channels.in_mud) == (3,)
+    with pytest.raises(MudrftError, match=r"state is the mud under tips of shape \(3,\)"):
+        terrain.step(foot, state, np.tile(p, (5, 1)), np.tile(v, (5, 1)), 1e-3)
+    with pytest.raises(MudrftError, match="state must be the MudState"):
+        terrain.step(foot, state.channels, p, v, 1e-3)

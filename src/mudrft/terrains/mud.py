@@ -295,6 +295,30 @@ def initial_channels(
     )
 
 
+def _motion_for_state(
+    state: Any, pos: np.ndarray, vel: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tips of the shape of ``state``'s mud: one position for a batch's state is every tip's,
+    tips that do not broadcast with it are refused (D144: they raised numpy's "truth value
+    of an array ... is ambiguous" or "operands could not be broadcast")."""
+    if not isinstance(state, MudState):
+        raise MudrftError(
+            "state must be the MudState of MudTerrain.initial_state or of the previous step, "
+            f"got {type(state).__name__}"
+        )
+    batch = np.shape(state.channels.in_mud)
+    try:
+        shape = np.broadcast_shapes(batch, pos.shape[:-1])
+    except ValueError:
+        raise MudrftError(
+            f"state is the mud under tips of shape {batch} (initial_state), but position has "
+            f"shape {pos.shape}: one (x, y, z) per tip"
+        ) from None
+    if shape != pos.shape[:-1]:
+        pos, vel = np.broadcast_to(pos, (*shape, 3)), np.broadcast_to(vel, (*shape, 3))
+    return pos, vel
+
+
 def _as_bool(name: str, value: Any) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise MudrftError(f"{name} must be True or False, got {value!r}")
@@ -433,6 +457,7 @@ class MudTerrain:
         :meth:`step_unchecked` is the same without, for loops that validated once.
         """
         pos, vel, step = check_motion(position, velocity, dt)
+        pos, vel = _motion_for_state(state, pos, vel)
         return self.step_unchecked(foot, state, pos, vel, step)
 
     def step_unchecked(
