@@ -62,19 +62,28 @@ def frozen(value: Any) -> Any:
     return out
 
 
-def check_snapshot(snapshot: object, batch: tuple[int, ...], owner: str) -> MudChannels:
+def check_snapshot(
+    snapshot: object, batch: tuple[int, ...], owner: str, *, one_for_all: bool = False
+) -> MudChannels:
     """The channels of ``snapshot`` after checking it is a :class:`Snapshot` whose channels
-    have the shape ``batch`` of the stepper ``owner`` restores it into."""
+    have the shape ``batch`` of the stepper ``owner`` restores it into; ``one_for_all``
+    takes the snapshot of one foot (shape () or (1,)) for every foot of the batch."""
     if not isinstance(snapshot, Snapshot) or not isinstance(snapshot.state, MudState):
         raise MudrftError(
             f"snapshot must be what {owner}.snapshot() returned, got {type(snapshot).__name__}"
         )
     ch = snapshot.state.channels
     shapes = {np.shape(leaf) for leaf in _leaves(ch)}
+    if one_for_all and len(shapes) == 1 and shapes < {(), (1,)}:
+        (one,) = shapes
+        ch = map_leaves(lambda v: np.broadcast_to(v, batch), ch)
+    else:
+        one = batch
     outputs = {np.shape(snapshot.force), np.shape(snapshot.stress)}
-    if shapes != {batch} or outputs != {(*batch, 3)} or np.shape(snapshot.depth) != batch:
+    if shapes != {one} or outputs != {(*one, 3)} or np.shape(snapshot.depth) != one:
         raise MudrftError(
-            f"snapshot must hold the mud under {owner}'s feet (state arrays of shape {batch}), "
+            f"snapshot must hold the mud under {owner}'s feet (state arrays of shape {batch}"
+            f"{', or () for one foot' if one_for_all else ''}), "
             f"got state arrays of shape(s) {sorted(shapes)}: a snapshot of another stepper?"
         )
     return ch

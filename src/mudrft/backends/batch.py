@@ -394,8 +394,11 @@ class BatchedMud:
     def restore(self, snapshot: Snapshot) -> None:
         """Put every foot back into the state of ``snapshot`` (from :meth:`snapshot` of a
         ``BatchedMud`` of the same feet, any backend); the steps after it are those that
-        followed the snapshot, bit for bit on the same backend (D143)."""
-        ch = check_snapshot(snapshot, (self.n,), "BatchedMud")
+        followed the snapshot, bit for bit on the same backend (D143). The snapshot of one
+        foot (:meth:`FastMudFoot.snapshot`, or a batch of one) puts every foot into its
+        state: candidate futures of one foot, stepped together."""
+        n = (self.n,)
+        ch = check_snapshot(snapshot, n, "BatchedMud", one_for_all=True)
         foot_state = copy_foot_state(snapshot.state.foot)
         if self.backend == "numba":
             from .numba import N_OUT, state_rows
@@ -408,9 +411,9 @@ class BatchedMud:
             self._state = MudState(channels=map_leaves(lambda v: float(v[0]), ch), foot=foot_state)
         else:
             self._state = MudState(channels=ch, foot=foot_state)
-        self.force = np.array(snapshot.force, dtype=float)
-        self.stress = np.array(snapshot.stress, dtype=float)
-        self.depth = np.array(snapshot.depth, dtype=float)
+        self.force = np.array(np.broadcast_to(snapshot.force, (*n, 3)), dtype=float)
+        self.stress = np.array(np.broadcast_to(snapshot.stress, (*n, 3)), dtype=float)
+        self.depth = np.array(np.broadcast_to(snapshot.depth, n), dtype=float)
 
     def __copy__(self) -> BatchedMud:
         # the foot, the terrain and the compiled step are shared; the state is the copy's own
