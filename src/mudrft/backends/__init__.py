@@ -4,6 +4,8 @@
   and motion, advanced by one call (numpy, numba or JAX kernels);
 * :class:`FastMudFoot` (:mod:`mudrft.backends.fast`): one closed-form foot stepped on
   floats (numba or plain Python), microseconds per step, for per-step coupling;
+* both keep their state inside: ``snapshot()`` copies it (a :class:`Snapshot`) and
+  ``restore(snapshot)`` puts it back, for a planner's rollouts (decision D143);
 * :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan over a
   trajectory and surface integration (optional extra ``jax``);
 * :mod:`mudrft.backends.numba`: the one physics compiled on floats with numba (optional
@@ -29,6 +31,7 @@ from typing import Any
 __all__ = [
     "BatchedMud",
     "FastMudFoot",
+    "Snapshot",
     "available",
     "batch",
     "fast",
@@ -40,6 +43,7 @@ __all__ = [
 _ATTRS = {
     "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
     "FastMudFoot": ("mudrft.backends.fast", "FastMudFoot"),
+    "Snapshot": ("mudrft.backends._snapshot", "Snapshot"),
 }
 _MODULES = {"batch", "fast", "forces", "jax", "numba"}
 
