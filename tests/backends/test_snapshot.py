@@ -58,6 +58,8 @@ def _batch(backend, n=3, foot=FOOT):
 STEPPERS = [
     *(pytest.param(_fast, b, id=f"fast-{b}") for b in _installed("python", "numba")),
     *(pytest.param(_batch, b, id=f"batch-{b}") for b in _installed("numpy", "numba", "jax")),
+    # one foot on numpy steps on Python floats (its own state format inside)
+    pytest.param(lambda b: _batch(b, n=1), "numpy", id="batch-numpy-one"),
 ]
 
 
