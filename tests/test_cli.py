@@ -223,6 +223,27 @@ def test_the_command_leaves_logging_as_it_found_it(tmp_path, capsys):
     assert (list(log.handlers), log.level) == before
 
 
+def test_a_root_handler_does_not_print_the_commands_lines_twice(tmp_path, capsys):
+    """`mudrft bench` printed 'INFO:mudrft:  robots, MJX with mud, N=1: done' after each
+    line once MJX had logged through the root logger (an implicit logging.basicConfig):
+    the command's lines reached stderr twice. Its own handler is the one that prints."""
+    import logging
+
+    root = logging.getLogger()
+    extra = logging.StreamHandler(sys.stderr)  # what logging.basicConfig() adds
+    root.addHandler(extra)
+    try:
+        code, _, err = run(
+            capsys, "simulate", "--foot", "flat", "--dt", "0.004", "--out", str(tmp_path / "a.csv")
+        )
+    finally:
+        root.removeHandler(extra)
+    lines = err.splitlines()
+    assert code == 0 and any("simulating flat foot" in line for line in lines)
+    assert len(lines) == len(set(lines)), err
+    assert logging.getLogger("mudrft").propagate  # restored for the library's users
+
+
 def test_entry_point_and_python_dash_m(tmp_path):
     from importlib.metadata import entry_points
 

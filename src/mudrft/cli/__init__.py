@@ -90,9 +90,14 @@ class _CommandLines(logging.Formatter):
 
 @contextmanager
 def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
-    """Notes and progress to the current stderr for one command; restore logging after."""
+    """Notes and progress to the current stderr for one command; restore logging after.
+
+    The command's own handler prints each line once: the ``mudrft`` logger does not pass
+    its records on to the root logger meanwhile, whose handler (``logging.basicConfig``,
+    called by a library such as MJX's as it logs) would print each again (D146)."""
     had = any(getattr(h, "_mudrft_stderr", False) for h in logger.handlers)
-    level = logger.level
+    level, propagate = logger.level, logger.propagate
+    logger.propagate = False
     handler = enable_stderr_logging(logging.WARNING if quiet else logging.INFO)
     old_format = handler.formatter
     handler.setFormatter(_CommandLines(prog))
@@ -109,6 +114,7 @@ def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
         elif old_stream is not None and isinstance(handler, logging.StreamHandler):
             handler.setStream(old_stream)
         logger.setLevel(level)
+        logger.propagate = propagate
 
 
 @contextmanager
