@@ -261,8 +261,8 @@ def simulate(
     ``k`` ends at sample ``k`` with ``dt = time[k] - time[k-1]``. Traceable: wrap it in
     :func:`jax.jit` (``force_fn`` closed over) and differentiate it with respect to
     ``params``, the foot geometry in ``force_fn`` or the trajectory. Called outside
-    ``jit``, every call traces and compiles its scan again (about 0.4 s for 650 steps on a
-    CPU, against 2 ms for a jitted call): jit the function that calls it (D128).
+    ``jit``, every call traces and compiles its scan again (tenths of a second for 650
+    steps on a CPU, against about 2 ms for a jitted call): jit the function that calls it (D128).
 
     Parameters
     ----------
