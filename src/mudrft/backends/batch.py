@@ -165,8 +165,8 @@ class BatchedMud:
     **options
         Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m],
         ``acceleration``, ``thixotropy``, ``clock``, ``reset_on_exit``, ``xi0``,
-        ``heading_speed``); ignored when
-        ``mud`` is a MudTerrain.
+        ``heading_speed``). A MudTerrain carries its own options, so giving any with
+        one is an error (:class:`~mudrft.MudrftError`).
 
     Attributes
     ----------

@@ -216,8 +216,8 @@ class MeshFoot(Foot):
         Faces after dropping zero-area facets (and flipping the winding if it was inward).
     shift : ndarray (3,)
         Translation added to the given vertices to put the tip at the origin [m]: the tip is
-        the lowest vertex; its x, y are the mean of all vertices within 1e-9 of the
-        bounding-box diagonal of the lowest height.
+        the lowest vertex; its x, y are the mean of the faces' vertices no higher than the
+        lowest by more than 1e-9 times the bounding-box diagonal.
     closed : bool
         Whether the mesh is a closed 2-manifold.
     flipped : bool
