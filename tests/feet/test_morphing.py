@@ -451,3 +451,12 @@ def test_forces_at_the_balanced_deflection_are_the_resultant_and_it_checks_the_d
     assert np.all(spread[1:, 2] > 1.5 * curled[1:, 2])
     with pytest.raises(MudrftError, match="deflection"):
         FOOT.forces_at(0.01, [0.0, 0.0, 1e4], 0.0, 2 * FOOT.stroke)
+
+
+def test_posed_is_refused_with_the_reason_and_where_a_tilted_morphing_foot_is_posed():
+    """`foot.posed(rotation)` is listed as what every foot has; the morphing foot answered
+    AttributeError. Its pads move, so it has no rotated mesh: a clear refusal (D148)."""
+    from scipy.spatial.transform import Rotation
+
+    with pytest.raises(MudrftError, match=r"posed\(rotation\).*pads open and curl.*D60a"):
+        MorphingFoot().posed(Rotation.from_euler("y", 10, degrees=True))

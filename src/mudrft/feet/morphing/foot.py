@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._typing import FloatOrArray
-from ..._validation import check_length, check_nonnegative, positive_number
+from ..._typing import FloatOrArray, RotationLike
+from ..._validation import MudrftError, check_length, check_nonnegative, positive_number
 from ..base import Foot
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
@@ -192,6 +192,21 @@ class MorphingFoot(MorphingMechanism, Foot):
         d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
+
+    def posed(self, rotation: RotationLike) -> NoReturn:
+        """Not available for the morphing foot: raises :class:`~mudrft.MudrftError`.
+
+        A rigid foot's ``posed`` is its rotated mesh; the morphing foot's pads open and curl
+        with the load, so no one rigid mesh stands for it (decision D148). Under a robot in
+        MuJoCo the coupling poses it at every step (decision D60a).
+        """
+        raise MudrftError(
+            "MorphingFoot.posed(rotation): the morphing foot has no rotated "
+            "mesh, since its pads open and curl with the load (D148); the flat, "
+            "semi-cylindrical, semi-spherical and mesh feet have one. Under a robot in "
+            "MuJoCo, mudrft.integrations.mujoco.attach poses the morphing foot at every "
+            "step (docs/model.md D60a)"
+        )
 
     def initial_foot_state(self) -> MorphingState:
         """Column unloaded, or locked (D37); the seal memory at the current pad angle."""
