@@ -21,6 +21,7 @@ from mudrft.cli import main
 REPO = Path(__file__).resolve().parents[2]
 README = REPO / "README.md"
 GETTING_STARTED = REPO / "docs" / "getting-started.md"
+FORCES = REPO / "docs" / "guide" / "forces.md"
 
 
 def _extras_table(page: Path) -> set[str]:
@@ -49,19 +50,19 @@ def _metric_names(line: str) -> set[str]:
 
 
 def test_the_pages_that_list_the_metrics_list_them_all():
-    """The README's and getting-started's lists of ``Result.metrics()`` ended at ``sinking``:
-    ``suction_ratio`` [-] was missing. A list that elides some (``...``) names the first
-    and the last."""
+    """The README's, getting-started's and the forces guide's lists of ``Result.metrics()``
+    ended at ``sinking``: ``suction_ratio`` [-] was missing. A list that elides some
+    (``...``) names the first and the last."""
     keys = list(
         mudrft.simulate(mudrft.feet.Flat(), mudrft.paper_mud(0.25), mudrft.gait(0.26)).metrics()
     )
     lines = [
         line
-        for page in (README, GETTING_STARTED)
+        for page in (README, GETTING_STARTED, FORCES)
         for line in page.read_text(encoding="utf-8").splitlines()
         if "peak_support" in line and "max_suction" in line and "sinking" in line
     ]
-    assert len(lines) >= 3
+    assert len(lines) >= 4
     for line in lines:
         named = _metric_names(line)
         wanted = {keys[0], keys[-1]} if "..." in line else set(keys)
