@@ -2,12 +2,14 @@
 
 ``pyproject.toml`` promises numpy and scipy from a floor on; CI's core-only run installs
 exactly those floors (``.ci/run``), so a use of a newer name (``numpy.trapezoid`` exists
-from numpy 2.0 only) fails there instead of on a user's machine. These tests keep the two
-files from drifting apart.
+from numpy 2.0 only) fails there instead of on a user's machine. Its "oldest extras" run
+installs every optional extra at its floor (``tools/oldest_requirements.py``). These tests
+keep the files from drifting apart.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import re
 import tomllib
 from pathlib import Path
@@ -54,3 +56,35 @@ def test_the_installed_version_is_at_least_the_floor(package):
         return tuple(int(x) for x in re.findall(r"\d+", v)[:3])
 
     assert key(version(package)) >= key(floors()[package])
+
+
+def _oldest_tool():
+    spec = importlib.util.spec_from_file_location(
+        "oldest", REPO / "tools" / "oldest_requirements.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_oldest_extras_pins_every_extra_at_its_floor():
+    """Every requirement of the extra ``all`` (self-references expanded) is pinned, at the
+    floor it states: a three-part floor exactly, a two-part one to its release series."""
+    tool = _oldest_tool()
+    table = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    pins = [tool.pin(r) for r in tool.requirements("all", table)]
+    names = {re.match(r"[A-Za-z0-9_.-]+", p)[0] for p in pins}
+    for extra in ("plot", "mesh", "mujoco", "jax", "numba", "pandas", "hdf5", "sweep", "mjx", "rl"):
+        for req in table[extra]:
+            if not req.startswith("mudrft["):
+                assert re.match(r"[A-Za-z0-9_.-]+", req)[0] in names, (extra, req)
+    assert tool.pin("zarr>=3.1.1") == "zarr==3.1.1"
+    assert tool.pin("dask[distributed]>=2024.8") == "dask[distributed]==2024.8.*"
+    with pytest.raises(SystemExit, match="plain floor"):
+        tool.pin("jax")
+
+
+def test_ci_installs_the_oldest_extras_and_runs_the_suite():
+    text = (REPO / ".ci" / "run").read_text()
+    assert "python tools/oldest_requirements.py >" in text
+    assert '"$OLDEST/bin/python" -m pytest' in text

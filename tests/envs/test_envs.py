@@ -16,6 +16,7 @@ import gymnasium
 import mudrft.envs  # registers the environments
 from mudrft._validation import MudrftError
 from mudrft.envs.walker import OBS_SIZE
+from mudrft.integrations.mjx._lazy import x64_context
 
 
 def _renders(env) -> bool:
@@ -90,14 +91,14 @@ def test_the_vector_env_keeps_its_precision_when_the_process_switches_to_float64
     """D129: made in float32, then mudrft.backends.jax switched the process to float64
     (its first call does, D70): the next step failed on 'lax.add requires arguments to
     have the same dtypes, got int32, int64'. The environment runs in its own precision."""
-    jax = pytest.importorskip("jax")
+    pytest.importorskip("jax")
     if not mudrft.integrations.mjx.available():
         pytest.skip("mujoco-mjx is not installed (extra 'mjx')")
-    with jax.enable_x64(False):
+    with x64_context(False):
         envs = gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=2)
         envs.reset(seed=0)
         first = envs.step(np.zeros((2, 6)))[0]
-    with jax.enable_x64(True):
+    with x64_context(True):
         obs, reward, terminated, _, _ = envs.step(np.zeros((2, 6)))
         assert np.all(np.isfinite(obs)) and np.all(np.isfinite(reward)) and not terminated.any()
         assert envs.unwrapped._state[0].qpos.dtype == np.float32

@@ -22,6 +22,7 @@ pytest.importorskip("jax")
 import jax
 
 from mudrft.integrations import mjx as mm
+from mudrft.integrations.mjx._lazy import x64_context
 from mudrft.integrations.mujoco import attach
 from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
@@ -70,7 +71,7 @@ def test_mjx_follows_the_cpu_coupling_and_stays_stable(cpu_reference, dtype):
     """0.5 s against the CPU coupling within TOL; in float32 (the default of MJX and of
     the vector environment) on to 10 s: finite, settled, no chatter."""
     q_cpu, depth_cpu = cpu_reference
-    with jax.enable_x64(dtype == "float64"):
+    with x64_context(dtype == "float64"):
         m, d = _standing_biped()
         coupling = mm.attach(m, list(BIPED_FEET), MUD)
         dx = coupling.put_data(d)
@@ -95,7 +96,7 @@ def test_mjx_follows_the_cpu_coupling_and_stays_stable(cpu_reference, dtype):
 def test_gradient_through_a_rollout_equals_finite_differences():
     """d(height after 40 ms)/d(initial sink speed) of a free foot shot into the mud:
     reverse mode through MJX, the mud and the implicit step, against central differences."""
-    with jax.enable_x64(True):
+    with x64_context(True):
         xml = """<mujoco><option timestep="0.001"/><worldbody>
           <body name="foot" pos="0 0 0.015"><freejoint/>
           <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
@@ -167,7 +168,7 @@ def _rolling_shadow_rise(*, bound: bool) -> tuple[float, float]:
         kinetic = 0.5 * r["mass"] * (qvel[:3] @ qvel[:3]) + 0.5 * inertia * (qvel[3:] @ qvel[3:])
         return kinetic - r["mass"] * g * qpos[2] + 0.5 * dt * r["mass"] * g * qvel[2]
 
-    with jax.enable_x64(True):
+    with x64_context(True):
         coupling = mm.attach(m, "foot", terrain, feet=foot)
         d0 = coupling.put_data(d)
         st0 = coupling.init(d0)
@@ -222,13 +223,13 @@ def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened():
       <body name="foot" pos="0 0 0.005"><freejoint/>
       <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
     m = mujoco.MjModel.from_xml_string(xml)
-    with jax.enable_x64(False):
+    with x64_context(False):
         coupling = mm.attach(m, "foot", MUD)
         d0 = coupling.put_data()
         st0 = mm.jit(coupling.init)(d0)
     assert d0.qpos.dtype == np.float32
-    with jax.enable_x64(True), pytest.raises(mudrft.MudrftError, match="d is float32 but JAX now"):
+    with x64_context(True), pytest.raises(mudrft.MudrftError, match="d is float32 but JAX now"):
         coupling.rollout(d0, st0, 3)
-    with jax.enable_x64(False):
+    with x64_context(False):
         _, st, out = coupling.rollout(d0, st0, 3)
         assert st.foot_xy.dtype == np.float32 and float(out.depth[-1, 0]) > 0.005

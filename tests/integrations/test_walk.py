@@ -18,7 +18,7 @@ import mudrft.integrations.walk_compare
 from mudrft.cli import walk as walk_cli
 from mudrft.integrations import walk as W
 
-from .conftest import mujoco
+from .conftest import mujoco, mujoco_at_least
 
 MUD = mudrft.paper_mud(0.25)
 
@@ -53,7 +53,11 @@ def test_walk_converges_in_the_time_step(flat_runs):
         assert b[key] == pytest.approx(a[key], rel=0.05), key
 
 
-@pytest.mark.xfail(strict=True, reason="one-step overshoot at the stance switch at 2 ms (D62d)")
+@pytest.mark.xfail(
+    mujoco_at_least(3, 5),
+    strict=True,
+    reason="one-step overshoot at the stance switch at 2 ms from MuJoCo 3.5 (D62d, D149)",
+)
 def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     """The largest suction is one sample: at 2 ms the first step after a stance switch
     overshoots (the servos' new torque reaches the mud's implicit step a step late, in the
@@ -62,7 +66,8 @@ def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     that spike, 6 % above the 1 ms one (580 N); since the secant toward rest (D119) it is
     -626 N, from +83 N the step before and -271 N after, 8 % above 1 ms (577 N). Strict: it
     fails once the coupling sees the actuators' change (the estimates tried and why none is
-    built: D62d)."""
+    built: D62d). The spike comes with MuJoCo 3.5: on 3.3.6 and 3.4.0 the 2 ms maximum is
+    574 and 570 N against 578 N at 1 ms, and the test passes (D149)."""
     a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
     assert b["max_suction [N]"] == pytest.approx(a["max_suction [N]"], rel=0.05)
 

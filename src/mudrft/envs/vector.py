@@ -13,7 +13,6 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -210,11 +209,9 @@ def _precision(x64: bool) -> Any:
     arrays and the compiled programs were made in one precision, and a process switched to
     the other in between (mudrft.backends.jax switches to float64, D70) made the next step
     fail on 'lax.add requires arguments to have the same dtypes, got int32, int64' (D129)."""
-    jax = _jax_module()
-    context: Any = getattr(jax, "enable_x64", None)
-    if context is None:  # older JAX has it in jax.experimental only
-        context = getattr(importlib.import_module("jax.experimental"), "enable_x64")  # noqa: B009
-    return context(x64)
+    from ..integrations.mjx._lazy import x64_context
+
+    return x64_context(x64)
 
 
 def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:

@@ -36,6 +36,21 @@ def _jax() -> Any:
     return jax
 
 
+def x64_context(x64: bool) -> Any:
+    """A context in which JAX computes in float64 if ``x64``, else in float32.
+
+    ``jax.enable_x64`` from JAX 0.8, ``jax.experimental.enable_x64`` before it: mudrft
+    supports JAX from 0.5 (decision D149).
+    """
+    jax = _jax()
+    context: Any = getattr(jax, "enable_x64", None)
+    if context is None:  # older JAX has it in jax.experimental only
+        import jax.experimental
+
+        context = jax.experimental.enable_x64
+    return context(x64)
+
+
 @functools.cache
 def _xp() -> Any:
     """``jax.numpy`` with the gradient-safe square root and arccos of the JAX backend.
