@@ -306,7 +306,9 @@ def _motion_for_state(
             "state must be the MudState of MudTerrain.initial_state or of the previous step, "
             f"got {type(state).__name__}"
         )
-    batch = np.shape(state.channels.in_mud)
+    batch = getattr(state.channels.in_mud, "shape", ())  # a bool for one foot on floats
+    if batch == pos.shape[:-1]:  # the usual case, without numpy's broadcasting rules
+        return pos, vel
     try:
         shape = np.broadcast_shapes(batch, pos.shape[:-1])
     except ValueError:
