@@ -101,7 +101,10 @@ def test_compare_runs_every_terrain_on_the_same_motion(box):
             box,
             tr,
         )
-        np.testing.assert_array_equal(h.force, ref.force)
+        # the same steps; numpy 1.26's SIMD loops may round an element by an ulp
+        # differently with the array's alignment (1.1e-16 N seen, D149): 1e-12 of the peak
+        peak = np.abs(ref.force).max()
+        np.testing.assert_allclose(h.force, ref.force, rtol=0, atol=1e-12 * peak)
     with pytest.raises(MudrftError, match="unique"):
         compare(box, tr, [LinearStiffness(), LinearStiffness()])
 
