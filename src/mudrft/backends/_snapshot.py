@@ -18,7 +18,14 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..terrains.mud import MudChannels, MudState
 
-__all__ = ["Snapshot", "check_snapshot", "copy_foot_state", "frozen", "map_leaves"]
+__all__ = [
+    "Restorable",
+    "Snapshot",
+    "check_snapshot",
+    "copy_foot_state",
+    "frozen",
+    "map_leaves",
+]
 
 
 class Snapshot(NamedTuple):
@@ -60,6 +67,42 @@ def frozen(value: Any) -> Any:
     out = np.array(value, dtype=float)
     out.setflags(write=False)
     return out
+
+
+class Restorable:
+    """Copies and pickles of a stepper through its snapshot (decision D143).
+
+    ``copy.copy``, ``copy.deepcopy`` and ``pickle`` give a stepper that shares the foot,
+    the terrain and any compiled step (a pickle makes the step again from the arguments)
+    and owns its state: a copy of ``snapshot()``, restored. A subclass has ``snapshot``,
+    ``restore`` and ``_init_args``, the positional and keyword arguments it was made with.
+    """
+
+    def snapshot(self) -> Snapshot:  # pragma: no cover - every subclass has its own
+        raise NotImplementedError
+
+    def restore(self, snapshot: Snapshot) -> None:  # pragma: no cover - as snapshot
+        raise NotImplementedError
+
+    def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:  # pragma: no cover
+        raise NotImplementedError
+
+    def __copy__(self) -> Any:
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.restore(self.snapshot())
+        return new
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Any:
+        return self.__copy__()
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"args": self._init_args(), "snapshot": self.snapshot()}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        args, kwargs = state["args"]
+        self.__init__(*args, **kwargs)  # type: ignore[misc]
+        self.restore(state["snapshot"])
 
 
 def check_snapshot(

@@ -50,7 +50,14 @@ from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
 from ..terrains.mud import MudState
-from ._snapshot import Snapshot, check_snapshot, copy_foot_state, frozen, map_leaves
+from ._snapshot import (
+    Restorable,
+    Snapshot,
+    check_snapshot,
+    copy_foot_state,
+    frozen,
+    map_leaves,
+)
 
 if TYPE_CHECKING:
     from jax import Array
@@ -146,7 +153,7 @@ def as_mud_terrain(mud: Mud | MudTerrain, **options: Any) -> MudTerrain:
     return MudTerrain(mud, **options)
 
 
-class BatchedMud:
+class BatchedMud(Restorable):
     """N feet of one shape in mud, advanced together (see module docstring).
 
     Parameters
@@ -415,24 +422,9 @@ class BatchedMud:
         self.stress = np.array(np.broadcast_to(snapshot.stress, (*n, 3)), dtype=float)
         self.depth = np.array(np.broadcast_to(snapshot.depth, n), dtype=float)
 
-    def __copy__(self) -> BatchedMud:
-        # the foot, the terrain and the compiled step are shared; the state is the copy's own
-        new = object.__new__(type(self))
-        new.__dict__.update(self.__dict__)
-        new.restore(self.snapshot())
-        return new
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> BatchedMud:
-        return self.__copy__()
-
-    def __getstate__(self) -> dict[str, Any]:
-        # the compiled step is made again on unpickling
-        return {"args": self._args, "snapshot": self.snapshot()}
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        mud, foot, n, backend, options = state["args"]
-        self.__init__(mud, foot, n, backend=backend, **options)  # type: ignore[misc]
-        self.restore(state["snapshot"])
+    def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:
+        mud, foot, n, backend, options = self._args
+        return (mud, foot, n), {"backend": backend, **options}
 
     def __repr__(self) -> str:
         return f"BatchedMud(n={self.n}, foot={self.foot!r}, backend={self.backend!r})"

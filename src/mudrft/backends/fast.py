@@ -27,7 +27,7 @@ from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 from ..parameters.base import Mud
 from ..terrains import MudTerrain
 from ..terrains.mud import MudState, mud_step
-from ._snapshot import Snapshot, check_snapshot, frozen, map_leaves
+from ._snapshot import Restorable, Snapshot, check_snapshot, frozen, map_leaves
 from .batch import as_mud_terrain
 
 __all__ = ["FastMudFoot", "foot_geometry"]
@@ -51,7 +51,7 @@ def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
     return kind, (g0, g1, g2)
 
 
-class FastMudFoot:
+class FastMudFoot(Restorable):
     """One closed-form foot in mud, stepped on floats (see module docstring).
 
     Parameters
@@ -191,24 +191,8 @@ class FastMudFoot:
             self._bind(w)
         self._channels, self._stress, self._depth = ch, tuple(stress.tolist()), depth
 
-    def __copy__(self) -> FastMudFoot:
-        # the foot and the terrain are immutable and shared; the state is the copy's own
-        new = object.__new__(type(self))
-        new.__dict__.update(self.__dict__)
-        new.restore(self.snapshot())
-        return new
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> FastMudFoot:
-        return self.__copy__()
-
-    def __getstate__(self) -> dict[str, Any]:
-        # the compiled or specialized step is made again on unpickling
-        return {"args": (self.foot, self.terrain, self.backend), "snapshot": self.snapshot()}
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        foot, terrain, backend = state["args"]
-        self.__init__(foot, terrain, backend=backend)  # type: ignore[misc]
-        self.restore(state["snapshot"])
+    def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:
+        return (self.foot, self.terrain), {"backend": self.backend}
 
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance by ``dt`` to a tip at ``position`` moving at ``velocity``; return the force.
