@@ -11,6 +11,8 @@ previous one (decision D46).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -73,7 +75,7 @@ class OnlineEstimate(NamedTuple):
     n: float
     updates: int
     phase: str
-    standard_error: dict[str, float] = {}  # noqa: RUF012 (a NamedTuple default, never mutated)
+    standard_error: Mapping[str, float] = MappingProxyType({})  # read-only: one shared default
 
 
 def rls_update(
