@@ -18,6 +18,7 @@ Modules, one concept each:
 * :mod:`._engine`: bounded least squares in log-parameters with variable projection;
 * :mod:`._problem`: trials packed for batched simulation, phases of a trial;
 * :mod:`._options`: parameter groups, bounds, accepted datasets, decimation;
+* :mod:`.sensors`: a saturated or unzeroed force sensor in a log (D153, D154);
 * :mod:`.uncertainty`: covariance, intervals, identifiability verdicts (D44);
 * :mod:`.result`, :mod:`.persistence`, :mod:`._plot`: :class:`FitResult`, JSON files, figure;
 * :mod:`.online`, :mod:`._rls`: the recursive estimator (D46);

@@ -9,7 +9,7 @@ advances ``B x T`` channels.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -116,6 +116,7 @@ class Packed:
         xi0: float,
         thixotropy: str = "ode",
         clock: str = "contact",
+        exclude: Sequence[NDArray[np.bool_]] | None = None,
     ) -> Packed:
         trials = dataset.trials
         T = len(trials)
@@ -139,6 +140,8 @@ class Packed:
             data[:n, j] = tr.stress
             phase[:n, j] = ph
             valid[:n, j] = ph != PHASES["out"]
+            if exclude is not None:  # a saturated sensor's samples (decision D153)
+                valid[:n, j] &= ~np.asarray(exclude[j], dtype=bool)
             if not np.any(ph == PHASES["intrusion"]) or float(np.max(np.abs(tr.depth))) <= 0:
                 raise MudrftError(
                     f"trial {tr.name!r} has no intrusion (depth never increases); "
@@ -243,6 +246,7 @@ def pack(
     xi0: float,
     thixotropy: str = "ode",
     clock: str = "contact",
+    exclude: Sequence[NDArray[np.bool_]] | None = None,
 ) -> Packed:
     """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
 
@@ -259,6 +263,9 @@ def pack(
         Initial structure of every trial [-].
     thixotropy, clock : str, keyword-only
         Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
+    exclude : sequence of bool arrays, optional, keyword-only
+        Per trial, samples left out of the fit (a saturated sensor's, decision D153); they
+        are still simulated, the model's input being the depth.
     """
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed.from_dataset(
@@ -269,6 +276,7 @@ def pack(
         xi0=xi0,
         thixotropy=thixotropy,
         clock=clock,
+        exclude=exclude,
     )
 
 

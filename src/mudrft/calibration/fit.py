@@ -31,6 +31,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .._validation import MudrftError, check_choice, check_in_range, number_in_range
 from ..constitutive.dynamics import evaluation
@@ -57,6 +58,7 @@ from ._problem import Packed as Packed
 from ._report import Reporter, ordinal
 from .persistence import load_parameters
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult, StageReport
+from .sensors import check_sensors
 from .stages import (
     STAGES,
     joint_stage,
@@ -88,6 +90,8 @@ class _Setup:
     free: tuple[str, ...]
     fixed: dict[str, float]
     bounds: dict[str, tuple[float, float]]
+    exclude: list[NDArray[np.bool_]] | None = None
+    data_warnings: tuple[str, ...] = ()
 
 
 def calibrate(
@@ -111,6 +115,8 @@ def calibrate(
     characteristic_length: float | None = None,
     trace_limit: int = 2000,
     decimate: int | None = None,
+    clipped: str = "exclude",
+    zero: str = "check",
 ) -> FitResult:
     r"""Fit the mud model to intrusion logs; return parameters with their uncertainty.
 
@@ -170,6 +176,19 @@ def calibrate(
         accuracy of the model). Default ``None``: trials longer than
         :data:`~mudrft.calibration._options.FIT_SAMPLES` (2000) samples are thinned to
         about that many, with a warning naming the factor used (decision D104).
+    clipped : {"exclude", "keep"}, keyword-only
+        A trial with :data:`~mudrft.calibration.sensors.CLIPPED_SAMPLES` (5) samples or more
+        at exactly its largest positive (or smallest negative) stress is a saturated force
+        sensor: it is named by a :class:`~mudrft.calibration.CalibrationWarning`, and
+        ``"exclude"`` (default) leaves those samples out of the fit (they say only that the
+        stress was at least the limit); ``"keep"`` fits them (decision D153).
+    zero : {"check", "subtract"}, keyword-only
+        The stress [Pa] while the plate is out of the mud (depth <= 0) is the force sensor's
+        zero. ``"check"`` (default) warns, naming the trial, when its median is clearly off 0
+        (above 2 % of the trial's range, at least 5 samples); ``"subtract"`` subtracts each
+        trial's median out of the mud before the fit, and needs 5 such samples in every
+        trial; a vertical test only: a horizontal plate at zero travel is still in the mud
+        (decision D154).
 
     Returns
     -------
@@ -228,6 +247,8 @@ def calibrate(
     ):
         raise MudrftError(f"trace_limit must be an integer >= 0, got {trace_limit!r}")
     acceleration = kappa == 1.0
+    clipped = check_choice("clipped", clipped, ("exclude", "keep"))
+    zero = check_choice("zero", zero, ("check", "subtract"))
     reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
     setup = _prepare(
         dataset,
@@ -243,6 +264,8 @@ def calibrate(
         area=area,
         characteristic_length=characteristic_length,
         decimate=decimate,
+        clipped=clipped,
+        zero=zero,
     )
     ds, free = setup.dataset, setup.free
     reporter.note(
@@ -263,6 +286,7 @@ def calibrate(
         reporter=reporter,
         thixotropy=thixotropy,
         clock=clock,
+        exclude=setup.exclude,
     )
     reporter.step()
     stages = [start]
@@ -317,6 +341,8 @@ def _prepare(
     area: float | None,
     characteristic_length: float | None,
     decimate: int | None,
+    clipped: str,
+    zero: str,
 ) -> _Setup:
     """Check the inputs of :func:`calibrate`; load, merge and thin the data."""
     k = None if decimate is None else check_count("decimate", decimate)
@@ -337,6 +363,11 @@ def _prepare(
         if direction is None
         else check_choice("direction", direction, ("vertical", "horizontal"))
     )
+    ds, exclude, data_warnings, notes = check_sensors(ds, clipped=clipped, zero=zero, direction=d)
+    for line in notes:
+        reporter.note(line)
+    for line in data_warnings:
+        reporter.warn(line)
     check_in_range("confidence_level", confidence_level, 1e-6, 1 - 1e-9)
     check_count("starts", starts)
     check_count("max_nfev", max_nfev)
@@ -352,7 +383,7 @@ def _prepare(
     free = tuple(k for k in selected if k not in held)
     if not free:
         raise MudrftError("every parameter is fixed: nothing to fit")
-    return _Setup(ds, d, free, held, bnds)
+    return _Setup(ds, d, free, held, bnds, exclude, tuple(data_warnings))
 
 
 def _assemble(
@@ -405,4 +436,5 @@ def _assemble(
         dataset=ds,
         thixotropy=packed.thixotropy,
         clock=packed.clock,
+        data_warnings=setup.data_warnings,
     )

@@ -129,6 +129,9 @@ class FitResult:
         Initial structure of every trial [-].
     dataset : IntrusionDataset or None
         The data that were fitted (not saved to JSON).
+    data_warnings : tuple of str
+        What the checks of the log's sensor found before the fit: a saturated sensor's
+        trial (decision D153), an unzeroed one (D154); shown by :meth:`summary`.
     """
 
     parameters: MudParameters
@@ -154,6 +157,7 @@ class FitResult:
     dataset: IntrusionDataset | None = None
     thixotropy: str = "ode"
     clock: str = "contact"
+    data_warnings: tuple[str, ...] = ()
 
     @property
     def success(self) -> bool:
@@ -205,6 +209,7 @@ class FitResult:
         outliers = self.outlying_trials()
         if outliers is not None:
             lines.append(f"warning: {outliers}")
+        lines.extend(f"warning: {w}" for w in self.data_warnings)
         pct = round(100 * self.confidence_level)
         lines.append(
             f"{'parameter':<12}{'value':>12}{'unit':>6}  {'rel. SE':>9}  "
@@ -319,6 +324,7 @@ class FitResult:
             "thixotropy": self.thixotropy,
             "clock": self.clock,
             "xi0": self.xi0,
+            "data_warnings": list(self.data_warnings),
             "bounds": {k: list(v) for k, v in self.bounds.items()},
             "stages": [
                 {
@@ -438,6 +444,7 @@ class FitResult:
                 thixotropy=str(data.get("thixotropy", "ode")),
                 clock=str(data.get("clock", "contact")),
                 xi0=float(data.get("xi0", 0.0)),
+                data_warnings=tuple(str(w) for w in data.get("data_warnings", [])),
             )
         except MudrftError:
             raise

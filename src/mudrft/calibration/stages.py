@@ -143,6 +143,7 @@ def start_engine(
     reporter: Reporter,
     thixotropy: str = "ode",
     clock: str = "contact",
+    exclude: list[NDArray[np.bool_]] | None = None,
 ) -> tuple[Engine, StageReport]:
     """Pack the data and set the starting point: the "start" stage.
 
@@ -164,11 +165,19 @@ def start_engine(
         Where notes go.
     thixotropy, clock : str, keyword-only
         Evaluation of the model (decision D15), as for :func:`~mudrft.calibration.calibrate`.
+    exclude : list of bool arrays, optional, keyword-only
+        Per trial, samples left out of the fit (a saturated sensor's, decision D153).
     """
     t0 = time.perf_counter()
     try:
         packed = pack(
-            ds, base, acceleration=acceleration, xi0=xi0, thixotropy=thixotropy, clock=clock
+            ds,
+            base,
+            acceleration=acceleration,
+            xi0=xi0,
+            thixotropy=thixotropy,
+            clock=clock,
+            exclude=exclude,
         )
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None

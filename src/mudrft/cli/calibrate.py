@@ -4,6 +4,7 @@
 
     mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
                      [--area A] [--length L] [--groups b th s] [--starts K]
+                     [--clipped {exclude,keep}] [--zero {check,subtract}]
                      --out fit.json [--force] [--plot fit.png] [--quiet] [--strict]
 
 Progress goes to stderr, one line per stage; the parameter table to stdout. The JSON
@@ -128,6 +129,20 @@ def add_parser(
         default="contact",
         help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
     )
+    p.add_argument(
+        "--clipped",
+        choices=["exclude", "keep"],
+        default="exclude",
+        help="a trial with 5 or more samples at exactly its extreme stress is a saturated "
+        "sensor (named by a warning): leave those samples out of the fit, or fit them (D153)",
+    )
+    p.add_argument(
+        "--zero",
+        choices=["check", "subtract"],
+        default="check",
+        help="the stress while the plate is out of the mud (depth <= 0, vertical tests) is "
+        "the sensor's zero: warn when it is clearly off 0, or subtract it from each trial (D154)",
+    )
     p.add_argument("--out", default=None, help="write the fit to this JSON file")
     add_force(p, "--out and --plot if they exist")
     p.add_argument(
@@ -137,7 +152,11 @@ def add_parser(
         "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
     )
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
-    add_strict(p, "a fit that does not describe the data, a log thinned, units that look wrong")
+    add_strict(
+        p,
+        "a fit that does not describe the data, a log thinned, units that look wrong, "
+        "a sensor saturated or not zeroed",
+    )
     p.set_defaults(func=run)
     return p
 
@@ -187,6 +206,8 @@ def run(args: argparse.Namespace) -> int:
             decimate=args.decimate,
             thixotropy=args.thixotropy,
             clock=args.clock,
+            clipped=args.clipped,
+            zero=args.zero,
         )
         print(fit.summary())
         if ds.synthetic:
