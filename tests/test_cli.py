@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 import subprocess
 import sys
@@ -141,6 +142,21 @@ def test_subcommands_have_a_description(capsys, command):
 )
 def test_help_shows_defaults(capsys, command, needle):
     assert needle in " ".join(help_of(capsys, command).split())
+
+
+def test_every_subcommand_has_the_house_help_layout_and_one_quiet_flag():
+    """Subcommands register through cli._parser.add_subcommand (one place for the help
+    layout) and take --quiet from add_quiet (issue 12: it was written once per command)."""
+    from mudrft.cli import COMMANDS, build_parser
+    from mudrft.cli._parser import HelpFormatter
+
+    parser = build_parser()
+    (sub,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    assert set(sub.choices) == set(COMMANDS)
+    for name, command in sub.choices.items():
+        assert command.formatter_class is HelpFormatter, name
+        quiet = [a for a in command._actions if "--quiet" in a.option_strings]
+        assert name == "params" or (len(quiet) == 1 and quiet[0].default is False), name
 
 
 def test_compare_help_is_plain_text(capsys):

@@ -1,4 +1,4 @@
-"""What the subcommands share: help layout, option checks, optional extras, safe outputs.
+"""What the subcommands share: option checks, optional extras, safe outputs.
 
 Outputs are all-or-nothing. A command registers every file (or directory) it will write
 *before* it starts working, so that an existing output without ``--force``, a directory
@@ -11,7 +11,6 @@ behind.
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import logging
 import math
@@ -32,12 +31,16 @@ from .._validation import MudrftError
 from ..io.atomic import regular_target
 from ..parameters import Mud, paper_mud
 
+# the parser's building blocks live in ._parser; cli.calibrate still takes them from here
+from ._parser import HelpFormatter, add_foot_options, add_force, add_strict
+
 __all__ = [
     "EXTRAS",
     "HelpFormatter",
     "Outputs",
     "add_foot_options",
     "add_force",
+    "add_strict",
     "check_finite_option",
     "check_nonnegative_option",
     "check_positive_option",
@@ -62,72 +65,6 @@ EXTRAS = {
     "xarray": "sweep",
     "zarr": "sweep",
 }
-
-
-class HelpFormatter(argparse.HelpFormatter):
-    """Help that shows each option's default, except for flags and options without one."""
-
-    def _get_help_string(self, action: argparse.Action) -> str | None:
-        text = action.help or ""
-        default = action.default
-        if (
-            "%(default)" in text
-            or default in (None, False, argparse.SUPPRESS)
-            or not action.option_strings
-        ):
-            return text
-        if isinstance(default, list):
-            return f"{text} (default: {' '.join(map(str, default))})"
-        return f"{text} (default: %(default)s)"
-
-
-def add_force(parser: argparse.ArgumentParser, what: str = "existing output files") -> None:
-    """Add the one overwrite flag, ``--force``, to a subcommand's parser."""
-    parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
-
-
-def add_strict(parser: argparse.ArgumentParser, what: str) -> None:
-    """Add ``--strict``: a warning of the command makes its exit status 1 (``main`` acts on
-    it, decision D125); ``what`` says which warnings a script would fail on."""
-    parser.add_argument(
-        "--strict",
-        action="store_true",
-        help=f"exit with status 1 if the command warns ({what}); the outputs are written "
-        "as without it",
-    )
-
-
-def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
-    """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None),
-    ``--unit`` (the mesh file's length unit), ``--up`` and ``--trailing`` to a subcommand's
-    parser."""
-    parser.add_argument(
-        "--foot",
-        required=default is None,
-        default=default,
-        help="flat, semi-cylinder, semi-sphere, morphing, or a mesh file (.stl/.obj/.ply)",
-    )
-    parser.add_argument(
-        "--unit",
-        choices=["m", "mm", "cm", "in"],
-        default=None,
-        help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
-        "less than 1 mm across warns)",
-    )
-    parser.add_argument(
-        "--up",
-        choices=["z", "y", "x", "-z", "-y", "-x"],
-        default=None,
-        help="the mesh file's up axis, turned to z (a Y-up export: y; default: z)",
-    )
-    parser.add_argument(
-        "--trailing",
-        action="store_const",
-        const=True,
-        default=None,
-        help="a mesh foot's trailing facets resist too (as in the semi-sphere's closed form, "
-        "D23; default: leading facets only)",
-    )
 
 
 def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> Any:

@@ -15,7 +15,8 @@ from types import ModuleType
 
 from .._validation import MudrftError
 from ..io.atomic import json_text
-from ._common import HelpFormatter, Outputs, add_force, logger
+from ._common import Outputs, logger
+from ._parser import add_force, add_quiet, add_subcommand
 
 __all__ = ["HARNESS_MODULE", "add_parser", "harness_path", "load_harness", "run"]
 
@@ -82,16 +83,16 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft bench`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "bench",
         help="speed benchmarks (constitutive step, mesh, batches, one foot, MuJoCo)",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     p.add_argument("--quick", action="store_true", help="short run (minutes: MJX compiles)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE")
     add_force(p, "--json FILE if it exists")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 

@@ -23,16 +23,14 @@ from ..parameters import Mud
 from ..terrains import MudTerrain, Terrain
 from ..trajectories import gait, plate_intrusion
 from ._common import (
-    HelpFormatter,
     Outputs,
-    add_foot_options,
-    add_force,
     check_finite_option,
     check_nonnegative_option,
     check_positive_option,
     require_extra,
 )
 from ._mud import add_fit_options, mud_from_options
+from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
 from ._terrain import add_terrain_options, terrains_from_options
 
 if TYPE_CHECKING:
@@ -64,11 +62,11 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft compare`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "compare",
         help="mud model vs granular RFT, linear, Maxwell-type and rigid ground -> DIR/compare.csv",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     add_foot_options(p, default="flat")
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
@@ -83,7 +81,7 @@ def add_parser(
     )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     add_force(p, "existing results in DIR")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 

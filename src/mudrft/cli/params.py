@@ -6,7 +6,7 @@ import argparse
 
 from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
 from ..parameters.chen2026 import TABLE_NAME
-from ._common import HelpFormatter
+from ._parser import add_subcommand
 
 __all__ = ["add_parser", "run"]
 
@@ -22,11 +22,8 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft params`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
-        "params",
-        help="list the built-in parameter sets",
-        description=DESCRIPTION,
-        formatter_class=HelpFormatter,
+    p = add_subcommand(
+        subparsers, "params", help="list the built-in parameter sets", description=DESCRIPTION
     )
     p.set_defaults(func=run)
     return p

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ._common import HelpFormatter, Outputs, add_force, require_extra
+from ._common import Outputs, require_extra
+from ._parser import add_force, add_quiet, add_subcommand
 
 __all__ = ["add_parser", "run"]
 
@@ -26,16 +27,16 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft reproduce`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "reproduce",
         help="the paper's claims under its readings: summary.csv, claims.csv, report.md, figures",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     p.add_argument("--out", default="mudrft-results", help="output directory DIR")
     add_force(p, "existing results in DIR")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 

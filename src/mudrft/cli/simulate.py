@@ -14,10 +14,7 @@ from ..simulation import LoadControl, Result, simulate, static_sinking
 from ..terrains import MudTerrain, Terrain
 from ..trajectories import STANCE_DEPTH, Trajectory, gait
 from ._common import (
-    HelpFormatter,
     Outputs,
-    add_foot_options,
-    add_force,
     check_nonnegative_option,
     check_positive_option,
     logger,
@@ -25,6 +22,7 @@ from ._common import (
     same_file,
 )
 from ._mud import add_fit_options, mud_from_options
+from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
 from ._terrain import add_terrain_options, terrain_names, terrains_from_options
 
 __all__ = ["add_parser", "run"]
@@ -52,11 +50,11 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft simulate`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "simulate",
         help="one stepping cycle of a foot in mud -> run.csv",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     add_foot_options(p)
     p.add_argument(
@@ -125,7 +123,7 @@ def add_parser(
         "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
     )
     add_force(p, "--out and --plot if they exist")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     # the mud's own options and their defaults: given with a baseline they are refused (D132)
     mud = (
         "vertical",

@@ -7,7 +7,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import HelpFormatter, Outputs, add_force, logger, require_extra, same_file
+from ._common import Outputs, logger, require_extra, same_file
+from ._parser import add_force, add_quiet, add_subcommand
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -36,11 +37,11 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft sweep`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "sweep",
         help="design sweeps on Dask -> DIR/sweep.zarr, points.csv, maps",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec (TOML)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -69,7 +70,7 @@ def add_parser(
         "existing outputs: without --resume DIR/sweep.zarr is started again; with --resume "
         "it is kept and only points.csv and the maps are replaced",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 

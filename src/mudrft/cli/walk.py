@@ -12,17 +12,9 @@ from .._progress import Progress
 from .._validation import MudrftError
 from ..feet import by_name
 from ..io.atomic import json_text
-from ._common import (
-    HelpFormatter,
-    Outputs,
-    add_foot_options,
-    add_force,
-    check_nonnegative_option,
-    check_positive_option,
-    logger,
-    require_extra,
-)
+from ._common import Outputs, check_nonnegative_option, check_positive_option, logger, require_extra
 from ._mud import add_fit_options, mud_from_options
+from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
 
 if TYPE_CHECKING:
     from ..parameters import Mud
@@ -47,11 +39,11 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft walk`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "walk",
         help="a planar biped walking in mud (MuJoCo): walk.csv, summary.json, walk.png",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     add_foot_options(p, default="flat")
     p.add_argument(
@@ -81,7 +73,7 @@ def add_parser(
         "DIR/compare.json and DIR/compare.png (--foot is ignored)",
     )
     add_force(p, "existing results in DIR")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 
