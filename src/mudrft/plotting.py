@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .plate import PlateResult
+    from .simulation import Result
 
 __all__ = ["plot_plate", "plot_result", "require_matplotlib"]
 
@@ -22,14 +26,20 @@ def require_matplotlib() -> Any:
     return plt
 
 
-def plot_plate(result: Any, ax: Any = None) -> Any:
-    """Stress against time and against displacement for a plate test (kPa, mm)."""
-    plt = require_matplotlib()
-    if ax is None:
-        fig, ax = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
+def _two_panels(axes: Any) -> tuple[Any, Any, Any]:
+    """``(figure, left, right)``: a new figure of two panels side by side when ``axes`` is
+    None, else the first two of the caller's axes and their figure."""
+    if axes is None:
+        fig, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     else:
-        fig = np.ravel(ax)[0].figure
-    a0, a1 = np.ravel(ax)[:2]
+        fig = np.ravel(axes)[0].figure
+    a0, a1 = np.ravel(axes)[:2]
+    return fig, a0, a1
+
+
+def plot_plate(result: PlateResult, ax: Any = None) -> Any:
+    """Stress against time and against displacement for a plate test (kPa, mm)."""
+    fig, a0, a1 = _two_panels(ax)
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
     a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
     a0.plot(result.time, result.thixotropic / 1e3, "--", lw=1, label=r"$\sigma_{th}$")
@@ -45,14 +55,9 @@ def plot_plate(result: Any, ax: Any = None) -> Any:
     return fig
 
 
-def plot_result(result: Any, axes: Any = None) -> Any:
+def plot_result(result: Result, axes: Any = None) -> Any:
     """Forces against time, and vertical force against depth, for a :class:`~mudrft.Result`."""
-    plt = require_matplotlib()
-    if axes is None:
-        fig, axes = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
-    else:
-        fig = np.ravel(axes)[0].figure
-    a0, a1 = np.ravel(axes)[:2]
+    fig, a0, a1 = _two_panels(axes)
     for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
         a0.plot(result.time, result.force[:, i], lw=1.3, label=lab)
     a0.axhline(0, color="0.7", lw=0.6)
