@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -142,6 +143,17 @@ def test_run_rejects_bad_input():
         mjax.batched_step(
             channels, mjax.initial_state((5, 3)), np.zeros((5, 3)), np.zeros((5, 3)), 1e-3
         )
+    vertical = mjax.to_jax(mudrft.paper_parameters(0.25))
+    for call, made_by in [
+        (lambda: mjax.step(vertical, None, 0.1, 1.0, 0.1), "initial_state(...)"),
+        (
+            lambda: mjax.batched_step(vertical, None, np.zeros(2), np.zeros(2), 0.1),
+            "initial_state((N, ...))",
+        ),
+    ]:
+        message = f"state must be a ChannelState ({made_by}), got NoneType"
+        with pytest.raises(MudrftError, match=re.escape(message)):
+            call()
 
 
 # ---------------------------------------------------------------------------------------

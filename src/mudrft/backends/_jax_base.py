@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .._typing import ArrayLike, XpArray
 from .._validation import MudrftError
 from ..constitutive.state import ChannelState
 from ..constitutive.state import initial_state as np_initial
@@ -71,21 +72,21 @@ class JaxParams(NamedTuple):
     differentiated function (decision D72).
     """
 
-    alpha: Any
-    n: Any
-    lam: Any
-    eta_m: Any
-    eta_inf: Any
-    gamma_dot_c: Any
-    tau_build: Any
-    tau_leak: Any
-    epsilon: Any
-    sigma_y: Any
-    nu: Any
-    k_a: Any
+    alpha: XpArray
+    n: XpArray
+    lam: XpArray
+    eta_m: XpArray
+    eta_inf: XpArray
+    gamma_dot_c: XpArray
+    tau_build: XpArray
+    tau_leak: XpArray
+    epsilon: XpArray
+    sigma_y: XpArray
+    nu: XpArray
+    k_a: XpArray
 
     @property
-    def k_r(self) -> Any:
+    def k_r(self) -> XpArray:
         """Rejuvenation coefficient :math:`k_r=k_a/\\dot\\gamma_c` [-]."""
         return self.k_a / self.gamma_dot_c
 
@@ -160,7 +161,7 @@ def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
 
 
 def initial_state(
-    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0
+    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: ArrayLike = 0.0
 ) -> ChannelState:
     """Undisturbed channel state as JAX arrays (see :func:`mudrft.constitutive.initial_state`).
 

@@ -150,10 +150,7 @@ def _compiled() -> dict[str, Any]:
             st: ChannelState, inp: tuple[Array, Array, Array, Array]
         ) -> tuple[ChannelState, tuple[Any, ...]]:
             gk, rk, dtk, sk = inp
-            st, s = dynamics.step(
-                p, st, gk, rk, dtk, seal=sk, acceleration=acceleration,  # type: ignore[arg-type]
-                thixotropy=thixotropy, clock=clock, xp=jnp,
-            )  # fmt: skip
+            st, s = one_step(p, st, gk, rk, dtk, sk, acceleration, thixotropy, clock)
             return st, (s.total, s.elastic, s.thixotropic, s.suction, st.xi)
 
         _, outs = jax.lax.scan(body, st0, (g[1:], rates, dts_b, seal[1:]))
@@ -170,6 +167,12 @@ def _compiled() -> dict[str, Any]:
 
     mesh_jit = jax.jit(mesh_impl, static_argnames=("trailing",))
     return {"step": step_jit, "vstep": vstep_jit, "run": run_jit, "mesh_force": mesh_jit}
+
+
+def _check_state(state: ChannelState, made_by: str) -> None:
+    """``state`` must be a :class:`ChannelState`; the message says how to make one."""
+    if not isinstance(state, ChannelState):
+        raise MudrftError(f"state must be a ChannelState ({made_by}), got {type(state).__name__}")
 
 
 def step(
@@ -213,8 +216,7 @@ def step(
         Stresses [Pa].
     """
     check_params(params)
-    if not isinstance(state, ChannelState):
-        raise MudrftError(f"state must be a ChannelState (initial_state(...)), got {type(state).__name__}")  # fmt: skip
+    _check_state(state, "initial_state(...)")
     return _compiled()["step"](  # type: ignore[no-any-return]
         params, state, gamma, gamma_dot, dt, seal, acceleration, thixotropy, clock
     )
@@ -273,8 +275,7 @@ def batched_step(
             f"{jnp.shape(dt)} (each member's dt was applied to every member); for a step per "
             "member, call step(...), which broadcasts dt with gamma"
         )
-    if not isinstance(state, ChannelState):
-        raise MudrftError(f"state must be a ChannelState (initial_state((N, ...))), got {type(state).__name__}")  # fmt: skip
+    _check_state(state, "initial_state((N, ...))")
     for name, f in zip(ChannelState._fields, state, strict=True):
         if jnp.shape(f)[:1] != (n,):
             raise MudrftError(

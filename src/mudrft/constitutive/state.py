@@ -7,10 +7,11 @@ carried through ``lax.scan``, stored per foot in a batch, or checkpointed.
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
+from .._typing import ArrayLike, XpArray
 from .._validation import check_in_range
 
 __all__ = ["ChannelState", "ChannelStress", "initial_state"]
@@ -41,13 +42,13 @@ class ChannelState(NamedTuple):
         [s]; 0 while the channel is not retracting. Default 0.
     """
 
-    gamma: Any
-    gamma_w: Any
-    xi: Any
-    s_th: Any
-    sigma_s: Any
-    clock: Any = 0.0
-    clock_w: Any = 0.0
+    gamma: XpArray
+    gamma_w: XpArray
+    xi: XpArray
+    s_th: XpArray
+    sigma_s: XpArray
+    clock: XpArray = 0.0
+    clock_w: XpArray = 0.0
 
 
 class ChannelStress(NamedTuple):
@@ -65,14 +66,14 @@ class ChannelStress(NamedTuple):
         :math:`H_\\nu\\sigma_s`, the suction as it enters eq. (1).
     """
 
-    total: Any
-    elastic: Any
-    thixotropic: Any
-    suction: Any
+    total: XpArray
+    elastic: XpArray
+    thixotropic: XpArray
+    suction: XpArray
 
 
 def initial_state(
-    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: Any = 0.0
+    shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: ArrayLike = 0.0
 ) -> ChannelState:
     """State of freshly prepared mud: no stress, structure ``xi0``.
 
