@@ -105,6 +105,13 @@ def test_parameters_validate_fields():
         mudrft.MudParameters.from_dict({**p.as_dict(), "beta": 1.0})
 
 
+@pytest.mark.parametrize("name", list(mudrft.parameters.PARAMETER_UNITS))
+def test_every_field_must_be_strictly_positive(name):
+    """POSITIVE_FIELDS is every field of MudParameters: a zero is refused, by name."""
+    with pytest.raises(MudrftError, match=rf"^{name} must be > 0"):
+        mudrft.paper_parameters(0.25).replace(**{name: 0.0})
+
+
 def test_citation_registered():
     from mudrft.citations import reset
 

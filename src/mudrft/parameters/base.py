@@ -45,21 +45,8 @@ PARAMETER_UNITS: dict[str, str] = {
     "k_a": "1/s",
 }
 
-#: Fields that must be strictly positive.
-POSITIVE_FIELDS = (
-    "alpha",
-    "n",
-    "lam",
-    "eta_m",
-    "eta_inf",
-    "gamma_dot_c",
-    "tau_build",
-    "tau_leak",
-    "epsilon",
-    "sigma_y",
-    "nu",
-    "k_a",
-)
+#: Fields that must be strictly positive: every field of :class:`MudParameters`.
+POSITIVE_FIELDS = tuple(PARAMETER_UNITS)
 
 
 def _check_water_content_field(value: ArrayLike | None) -> float | None:
