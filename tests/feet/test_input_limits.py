@@ -6,6 +6,7 @@ mm STL read silently as an 80 m foot, no ``--unit``, memory growing with samples
 
 from __future__ import annotations
 
+import dataclasses
 import tracemalloc
 import warnings
 
@@ -32,6 +33,18 @@ from mudrft.feet.stl import write_stl
 def test_absurd_foot_sizes_are_errors(make, match):
     with pytest.raises(MudrftError, match=match):
         make()
+
+
+@pytest.mark.parametrize(
+    ("cls", "name"),
+    [(cls, f.name) for cls in (Flat, SemiCylinder, SemiSphere) for f in dataclasses.fields(cls)],
+)
+def test_every_dimension_of_a_closed_form_foot_is_checked_and_kept_as_a_float(cls, name):
+    """One __post_init__ (the closed-form feet's base) checks each dataclass field [m]."""
+    with pytest.raises(MudrftError, match=rf"^{name} must be > 0 m, got -0.01"):
+        cls(**{name: -0.01})
+    foot = cls(**{name: np.float32(getattr(cls(), name))})
+    assert type(getattr(foot, name)) is float
 
 
 def test_a_foot_larger_than_a_metre_warns_but_works():

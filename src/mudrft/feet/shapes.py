@@ -8,7 +8,7 @@ center of pressure and the posed (tilted) foot.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import cached_property
 from typing import ClassVar
 
@@ -64,6 +64,13 @@ class _ClosedFormFoot(Foot):
         raise NotImplementedError
 
     elementwise: ClassVar[bool] = True
+
+    def __post_init__(self) -> None:
+        """Check the dimensions [m], the dataclass's fields in their order, with
+        :func:`~mudrft._validation.check_dimensions` and keep them as floats."""
+        dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
+        for k, v in check_dimensions(type(self).__name__, **dims).items():
+            object.__setattr__(self, k, v)
 
     @property
     def kernel_geometry(self) -> tuple[int, float, float, float]:
@@ -189,11 +196,6 @@ class Flat(_ClosedFormFoot):
     name: ClassVar[str] = "flat"  # type: ignore[misc]
     trailing: ClassVar[bool] = False
 
-    def __post_init__(self) -> None:
-        sizes = check_dimensions("Flat", length=self.length, width=self.width, height=self.height)
-        for k, v in sizes.items():
-            object.__setattr__(self, k, v)
-
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{LW}` [m] (decision D27)."""
@@ -250,11 +252,7 @@ class SemiCylinder(_ClosedFormFoot):
     trailing: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
-        sizes = check_dimensions(
-            "SemiCylinder", radius=self.radius, width=self.width, height=self.height
-        )
-        for k, v in sizes.items():
-            object.__setattr__(self, k, v)
+        super().__post_init__()
         _check_height("cylinder", self.radius, self.height)
 
     @property
@@ -315,9 +313,7 @@ class SemiSphere(_ClosedFormFoot):
     trailing: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
-        sizes = check_dimensions("SemiSphere", radius=self.radius, height=self.height)
-        for k, v in sizes.items():
-            object.__setattr__(self, k, v)
+        super().__post_init__()
         _check_height("sphere", self.radius, self.height)
 
     @property
