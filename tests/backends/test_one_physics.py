@@ -303,3 +303,29 @@ def test_compiled_feet_loop_equals_mud_terrain_on_a_wandering_path(options):
         loop(c, rows, out, pos[k : k + 1], vel[k : k + 1], 1e-3, cfg, geom)
         scale = np.abs(ref.force).max() + 1e-9
         assert np.all(np.abs(out[0, :3] - ref.force) <= 1e-12 * scale), k
+
+
+@pytest.mark.parametrize("foot", [mudrft.feet.Flat(), mudrft.feet.SemiSphere()])
+def test_the_foots_force_and_the_backends_force_rule_stack_the_force_in_one_place(
+    monkeypatch, foot
+):
+    """Foot.force (numpy) and backends.forces.force_function run Foot.force_array, the one
+    place that splits the stresses and stacks the element-wise force (issue 12)."""
+    from mudrft.backends.forces import force_function
+    from mudrft.feet.base import Foot
+
+    depth, stress, heading = 0.012, np.array([[900.0, -400.0, 2500.0]]), np.array([2.4])
+    before = (foot.force(depth, stress, heading), force_function(foot)(depth, stress, heading))
+    np.testing.assert_array_equal(*before)
+    original = Foot.force_array
+
+    def shifted(self, *args, **kwargs):
+        return original(self, *args, **kwargs) + SENTINEL
+
+    monkeypatch.setattr(Foot, "force_array", shifted)
+    for name, after in zip(
+        ("Foot.force", "force_function"),
+        (foot.force(depth, stress, heading), force_function(foot)(depth, stress, heading)),
+        strict=True,
+    ):
+        np.testing.assert_allclose(after - before[0], SENTINEL, rtol=1e-12, err_msg=name)

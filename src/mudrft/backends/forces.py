@@ -5,7 +5,7 @@ signed stresses, any heading, shapes broadcasting as in :meth:`mudrft.feet.base.
 built from the feet's own element-wise rules, called with an array namespace ``xp``:
 
 * closed-form feet (:class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
-  :class:`~mudrft.feet.SemiSphere`): :meth:`~mudrft.feet.base.Foot.force_components`
+  :class:`~mudrft.feet.SemiSphere`): :meth:`~mudrft.feet.base.Foot.force_array`
   (the closed form and the heading rule, decision D9);
 * :class:`~mudrft.feet.MeshFoot`: :func:`mudrft.feet.surface.integrate_prepared` on the
   foot's prepared triangles (the vector rule, any heading, no folding).
@@ -61,11 +61,7 @@ def force_function(foot: Foot, *, xp: Namespace = np) -> ForceRule | None:
     if getattr(foot, "elementwise", False) and foot.initial_foot_state() is None:
 
         def rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:
-            s = xp.asarray(s)
-            f = foot.force_components(
-                xp.asarray(d), s[..., 0], s[..., 1], s[..., 2], xp.asarray(h), xp=xp
-            )
-            return xp.stack(xp.broadcast_arrays(*f), axis=-1)
+            return foot.force_array(d, s, h, xp=xp)
 
         return rule
     if isinstance(foot, MeshFoot) and type(foot).force_unchecked is MeshFoot.force_unchecked:

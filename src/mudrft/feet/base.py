@@ -405,6 +405,18 @@ class Foot(ABC):
         """
         raise MudrftError(f"{type(self).__name__} has no element-wise force rule")
 
+    def force_array(
+        self, depth: XpArray, stress: XpArray, heading: XpArray, *, xp: Namespace = np
+    ) -> XpArray:
+        """:meth:`force_components` with the stresses (..., 3) [Pa] split and the force
+        stacked: world force (..., 3) [N]; no validation, no dtype conversion (the numpy
+        path passes float arrays, a JAX caller its own)."""
+        s = xp.asarray(stress)
+        f = self.force_components(
+            xp.asarray(depth), s[..., 0], s[..., 1], s[..., 2], xp.asarray(heading), xp=xp
+        )
+        return xp.stack(xp.broadcast_arrays(*f), axis=-1)
+
     # -- hooks for feet with internal state (the morphing foot overrides them) --------------
     def initial_foot_state(self) -> Any:
         """Internal state of the foot mechanism (``None`` for rigid feet)."""

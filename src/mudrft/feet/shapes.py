@@ -113,15 +113,9 @@ class _ClosedFormFoot(Foot):
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
         """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
-        s = np.asarray(stress, dtype=float)
-        f = self.force_components(
-            np.asarray(depth, dtype=float),
-            s[..., 0],
-            s[..., 1],
-            s[..., 2],
-            np.asarray(heading, dtype=float),
+        return self.force_array(
+            *(np.asarray(a, dtype=float) for a in (depth, stress, heading))
         )
-        return np.stack(np.broadcast_arrays(*f), axis=-1)
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.
