@@ -42,7 +42,7 @@ import numpy as np
 from .._validation import MudrftError, check_finite, check_in_range, check_increasing
 from ..constitutive import dynamics
 from ..constitutive.dynamics import ChannelHistory
-from ..constitutive.state import ChannelState
+from ..constitutive.state import ChannelState, ChannelStress
 from ..feet.surface import integrate_triangles
 from ._jax_base import (
     JaxParams,
@@ -104,7 +104,7 @@ def _compiled() -> dict[str, Any]:
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
-    ) -> tuple[ChannelState, Any]:
+    ) -> tuple[ChannelState, ChannelStress]:
         return dynamics.step(
             p, st, g, gd, dt, seal=seal, acceleration=acceleration,  # type: ignore[arg-type]
             thixotropy=thixotropy, clock=clock, xp=jnp,
@@ -122,10 +122,10 @@ def _compiled() -> dict[str, Any]:
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
-    ) -> tuple[ChannelState, Any]:
+    ) -> tuple[ChannelState, ChannelStress]:
         def member(
             p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array
-        ) -> Any:
+        ) -> tuple[ChannelState, ChannelStress]:
             return one_step(p, st, g, gd, dt, seal, acceleration, thixotropy, clock)
 
         return jax.vmap(member, in_axes=(0, 0, 0, 0, None, 0))(p, st, g, gd, dt, seal)  # type: ignore[no-any-return]
@@ -161,7 +161,7 @@ def _compiled() -> dict[str, Any]:
 
     run_jit = jax.jit(run_impl, static_argnames=static)
 
-    def mesh_impl(v: Array, f: Array, d: Array, s: Array, h: Array, trailing: bool) -> Any:
+    def mesh_impl(v: Array, f: Array, d: Array, s: Array, h: Array, trailing: bool) -> Array:
 
         return integrate_triangles(v[f], d, s, h, trailing=trailing, xp=safe_namespace())
 
@@ -186,7 +186,7 @@ def step(
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
-) -> tuple[ChannelState, Any]:
+) -> tuple[ChannelState, ChannelStress]:
     """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`, ``xp=jax.numpy``).
 
     Parameters
@@ -233,7 +233,7 @@ def batched_step(
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
-) -> tuple[ChannelState, Any]:
+) -> tuple[ChannelState, ChannelStress]:
     """:func:`step` mapped with :func:`jax.vmap` over a leading axis of N independent channels.
 
     Parameters
@@ -397,7 +397,7 @@ def mesh_force(
     heading: JaxArrayLike,
     *,
     trailing: bool = False,
-) -> Any:
+) -> Array:
     """Force of the mud on a triangulated foot, in JAX (differentiable in ``vertices``).
 
     Calls :func:`mudrft.feet.surface.integrate_triangles` with ``xp=jax.numpy`` on the

@@ -113,9 +113,7 @@ class _ClosedFormFoot(Foot):
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
         """:meth:`Foot.force` without validation: closed forms mapped to the world (D9) [N]."""
-        return self.force_array(
-            *(np.asarray(a, dtype=float) for a in (depth, stress, heading))
-        )
+        return self.force_array(*(np.asarray(a, dtype=float) for a in (depth, stress, heading)))
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.
