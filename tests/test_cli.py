@@ -159,6 +159,24 @@ def test_every_subcommand_has_the_house_help_layout_and_one_quiet_flag():
         assert name == "params" or (len(quiet) == 1 and quiet[0].default is False), name
 
 
+def test_the_evaluation_options_are_the_same_in_every_command_that_has_them():
+    """--thixotropy and --clock come from one add_evaluation_options (they were written out
+    in simulate and calibrate alike); the commands differ only in what --thixotropy does."""
+    from mudrft.cli import build_parser
+
+    parser = build_parser()
+    (sub,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    seen = {}
+    for name, command in sub.choices.items():
+        options = {o: a for a in command._actions for o in a.option_strings}
+        if "--thixotropy" in options:
+            seen[name] = tuple(
+                (tuple(options[o].choices), options[o].default) for o in ("--thixotropy", "--clock")
+            ) + (options["--clock"].help,)
+    assert {"simulate", "calibrate"} <= set(seen)
+    assert len(set(seen.values())) == 1, seen
+
+
 def test_compare_help_is_plain_text(capsys):
     out = help_of(capsys, "compare")
     for rest in (":func:", ":data:", ":mod:", "``"):

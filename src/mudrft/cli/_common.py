@@ -31,16 +31,9 @@ from .._validation import MudrftError
 from ..io.atomic import regular_target
 from ..parameters import Mud, paper_mud
 
-# the parser's building blocks live in ._parser; cli.calibrate still takes them from here
-from ._parser import HelpFormatter, add_foot_options, add_force, add_strict
-
 __all__ = [
     "EXTRAS",
-    "HelpFormatter",
     "Outputs",
-    "add_foot_options",
-    "add_force",
-    "add_strict",
     "check_finite_option",
     "check_nonnegative_option",
     "check_positive_option",

@@ -110,6 +110,25 @@ def add_subcommand(
     )
 
 
+def add_evaluation_options(parser: argparse.ArgumentParser, *, what: str) -> None:
+    """Add ``--thixotropy`` and ``--clock``: how eqs. (3), (5) are evaluated (decision D15).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The subcommand's parser.
+    what : str
+        What ``--thixotropy`` does in this command (its help text).
+    """
+    parser.add_argument("--thixotropy", choices=["ode", "quasi-static"], default="ode", help=what)
+    parser.add_argument(
+        "--clock",
+        choices=["contact", "retraction"],
+        default="contact",
+        help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
+    )
+
+
 def add_quiet(parser: argparse.ArgumentParser) -> None:
     """Add ``--quiet``: no progress output."""
     parser.add_argument("--quiet", action="store_true", help="no progress output")

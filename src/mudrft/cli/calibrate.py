@@ -24,16 +24,14 @@ from typing import Any
 from .._validation import MudrftError
 from ..io import load_dataset
 from ._common import (
-    HelpFormatter,
     Outputs,
-    add_force,
-    add_strict,
     check_finite_option,
     check_positive_option,
     logger,
     require_plot_file,
     same_file,
 )
+from ._parser import add_evaluation_options, add_force, add_quiet, add_strict, add_subcommand
 
 __all__ = ["add_parser", "run"]
 
@@ -69,11 +67,11 @@ def add_parser(
     subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 ) -> argparse.ArgumentParser:
     """Add ``mudrft calibrate`` to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p = add_subcommand(
+        subparsers,
         "calibrate",
         help="fit the model to your own intrusion logs",
         description=DESCRIPTION,
-        formatter_class=HelpFormatter,
     )
     p.add_argument("data", nargs="+", help="intrusion log(s): CSV, or HDF5 (.h5/.hdf5)")
     p.add_argument(
@@ -117,17 +115,8 @@ def add_parser(
         default=0.95,
         help="level of the confidence intervals, a fraction between 0 and 1",
     )
-    p.add_argument(
-        "--thixotropy",
-        choices=["ode", "quasi-static"],
-        default="ode",
-        help="fit the ODE model or the paper's quasi-static closed forms (9)-(11) (D15)",
-    )
-    p.add_argument(
-        "--clock",
-        choices=["contact", "retraction"],
-        default="contact",
-        help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
+    add_evaluation_options(
+        p, what="fit the ODE model or the paper's quasi-static closed forms (9)-(11) (D15)"
     )
     p.add_argument(
         "--clipped",
@@ -151,7 +140,7 @@ def add_parser(
     p.add_argument(
         "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
     )
-    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_quiet(p)
     add_strict(
         p,
         "a fit that does not describe the data, a log thinned, units that look wrong, "

@@ -22,7 +22,13 @@ from ._common import (
     same_file,
 )
 from ._mud import add_fit_options, mud_from_options
-from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
+from ._parser import (
+    add_evaluation_options,
+    add_foot_options,
+    add_force,
+    add_quiet,
+    add_subcommand,
+)
 from ._terrain import add_terrain_options, terrain_names, terrains_from_options
 
 __all__ = ["add_parser", "run"]
@@ -93,17 +99,8 @@ def add_parser(
         type=float,
         help=f"deepest tip depth of the gait [m] (decision D10) (default: {STANCE_DEPTH})",
     )
-    p.add_argument(
-        "--thixotropy",
-        choices=["ode", "quasi-static"],
-        default="ode",
-        help="step eqs. (3), (5), or the paper's quasi-static closed forms (9)-(11) (D15)",
-    )
-    p.add_argument(
-        "--clock",
-        choices=["contact", "retraction"],
-        default="contact",
-        help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
+    add_evaluation_options(
+        p, what="step eqs. (3), (5), or the paper's quasi-static closed forms (9)-(11) (D15)"
     )
     p.add_argument(
         "--labels",
