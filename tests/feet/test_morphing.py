@@ -341,9 +341,14 @@ def test_drawing_helpers_are_consistent():
         rim, G.base_radius + G.pad_length * math.cos(G.expanded_angle), rtol=1e-12
     )
     el = FOOT.elements(FOOT.stroke)
-    np.testing.assert_allclose(
+    walls = (
+        2
+        * math.pi
+        * (G.base_radius * G.pivot_height + G.column_radius * (G.height - G.pivot_height))
+    )
+    np.testing.assert_allclose(  # base disk, its rim and the column, both faces of 8 pads (D159)
         el.areas.sum(),
-        math.pi * G.base_radius**2 + 8 * pad_area_independent(G.pad_length),
+        math.pi * G.base_radius**2 + walls + 2 * 8 * pad_area_independent(G.pad_length),
         rtol=1e-12,
     )
     np.testing.assert_allclose(np.linalg.norm(el.normals, axis=1), 1.0, rtol=1e-12)

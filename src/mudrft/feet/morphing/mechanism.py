@@ -294,15 +294,20 @@ class MorphingMechanism:
         return self._linkage.points(float(self._check_deflection(deflection)))
 
     def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
-        """Surface elements of the base (one downward disk) and the pads (thin plates) [m].
+        """Surface elements of the base, the column and both faces of every pad [m] (D159).
+
+        What a terrain that integrates elements (granular RFT) sees: the base disk facing
+        down, the base rim and the column facing out, and each pad as a thin plate with a
+        lower face (leading into the ground) and an upper face (leading out of it), at the
+        pad angle of ``deflection``: the foot does not morph on such a terrain.
 
         Parameters
         ----------
         deflection : float or None
-            Column deflection [m]; default as in :meth:`pad_corners`.
+            Column deflection [m]; default as in :meth:`pad_corners` (the locked one, or
+            fully spread for the free foot).
         strips : int, keyword-only
-            Elements along each pad [-]; a pad element's normal is the upward-outward
-            normal of the plate.
+            Elements along each pad face and up each wall [-].
         """
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.surface_elements(self.geometry, th, strips=strips)

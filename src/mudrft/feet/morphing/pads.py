@@ -52,6 +52,7 @@ __all__ = [
 ]
 
 _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot height [-]
+_WALL_SEGMENTS = 16  # elements around the base rim and the column in surface_elements [-]
 
 
 def pad_area(
@@ -307,7 +308,16 @@ def pad_corners(g: MorphingFootGeometry, theta: float) -> NDArray[np.float64]:
 
 
 def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> SurfaceElements:
-    """Surface elements of the base (one downward disk) and the pads (thin plates) [m].
+    r"""Surface elements of the base, its rim, the column and both faces of the pads [m] (D159).
+
+    The base pad is one downward disk at the tip and a wall of radius ``base_radius`` up to
+    the pivots; the column a wall of radius ``column_radius`` from the pivots to the top;
+    each pad a thin plate with two faces, the lower one (outward normal
+    :math:`\sin\theta\,\hat e_r-\cos\theta\,\hat z`, the face that leads into the
+    mud) and the upper one (the opposite normal), ``strips`` elements each. The same body
+    as the mud model's areas (:func:`vertical_area`, :func:`horizontal_area`) and as the
+    MuJoCo coupling's triangles; a terrain that integrates elements (granular RFT) thus
+    loads the pads' lower faces on intrusion and their upper faces on extraction.
 
     Parameters
     ----------
@@ -316,8 +326,7 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
     theta : float
         Pad angle [rad].
     strips : int, keyword-only
-        Elements along each pad [-]; a pad element's normal is the plate's upward-outward
-        normal.
+        Elements along each pad face and up each wall [-].
     """
     edges = np.linspace(0.0, g.pad_length, strips + 1)
     areas_1 = np.diff(pad_area(g, edges))
@@ -326,14 +335,33 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
     nor = [np.array([[0.0, 0.0, -1.0]])]
     ar = [np.array([math.pi * g.base_radius**2])]
     ez = np.array([0.0, 0.0, 1.0])
+    # walls: the base pad's rim up to the pivots, the column above them (outward normals)
+    az = 2.0 * math.pi * (np.arange(_WALL_SEGMENTS) + 0.5) / _WALL_SEGMENTS
+    er_w = np.stack([np.cos(az), np.sin(az), np.zeros_like(az)], axis=-1)
+    for radius, z0, z1 in (
+        (g.base_radius, 0.0, g.pivot_height),
+        (g.column_radius, g.pivot_height, g.height),
+    ):
+        zs = np.linspace(z0, z1, strips + 1)
+        zm = 0.5 * (zs[1:] + zs[:-1])
+        cen.append((radius * er_w[:, None, :] + zm[None, :, None] * ez).reshape(-1, 3))
+        nor.append(np.repeat(er_w, strips, axis=0))
+        ar.append(
+            np.full(
+                _WALL_SEGMENTS * strips,
+                2.0 * math.pi * radius * (z1 - z0) / (_WALL_SEGMENTS * strips),
+            )
+        )
     for a in g.azimuths:
         er = np.array([math.cos(a), math.sin(a), 0.0])
         p = (g.base_radius * er + g.pivot_height * ez)[None, :] + mids[:, None] * (
             math.cos(theta) * er + math.sin(theta) * ez
         )[None, :]
-        cen.append(p)
-        nor.append(np.tile(-math.sin(theta) * er + math.cos(theta) * ez, (strips, 1)))
-        ar.append(areas_1)
+        lower = math.sin(theta) * er - math.cos(theta) * ez
+        for normal in (lower, -lower):  # a thin plate: both faces
+            cen.append(p)
+            nor.append(np.tile(normal, (strips, 1)))
+            ar.append(areas_1)
     return SurfaceElements(
         centroids=np.concatenate(cen), normals=np.concatenate(nor), areas=np.concatenate(ar)
     )
