@@ -136,3 +136,28 @@ def test_balance_matches_an_independent_root(depth, sz):
         roots.append(FOOT.stroke)
     assert len(roots) == 1
     assert float(FOOT.equilibrium(depth, sz)) == pytest.approx(roots[0], abs=1e-12)
+
+
+# -- two properties of the reconstruction that docs/model.md states (D160) -------------------------
+def test_curled_pads_overlap_past_the_documented_angle():
+    """Neighbouring rims touch at 49.2 deg; the defaults curl to 75 deg, where they overlap."""
+    room = lambda s, th: 2 * (G.base_radius + s * math.cos(th)) * math.tan(math.pi / G.n_pads)  # noqa: E731
+    touch = brentq(lambda th: G.pad_outer_width - room(G.pad_length, th), 0.01, 1.5)
+    assert math.degrees(touch) == pytest.approx(49.2, abs=0.05)
+    assert G.pad_outer_width > room(G.pad_length, G.retracted_angle)  # overlap when curled
+    assert G.pad_inner_width < room(0.0, G.retracted_angle)  # not at the pivots
+    assert G.pad_outer_width < room(G.pad_length, G.expanded_angle)  # nor when spread
+
+
+def test_virtual_work_feedback_of_the_pads_is_as_documented():
+    """x_p cos(theta) |dtheta/ddelta|: 0.66 curled, 2.53 spread (D32's rejected balance)."""
+    width = lambda s: G.pad_inner_width + (G.pad_outer_width - G.pad_inner_width) * s / G.pad_length  # noqa: E731
+    x_p = quad(lambda s: s * width(s), 0.0, G.pad_length)[0] / quad(width, 0.0, G.pad_length)[0]
+    h = 1e-7
+    factors = []
+    for d in (h, FOOT.stroke - h):
+        slope = (float(FOOT.pad_angle(d + h)) - float(FOOT.pad_angle(d - h))) / (2 * h)
+        factors.append(x_p * math.cos(float(FOOT.pad_angle(d))) * abs(slope))
+    assert x_p == pytest.approx(0.0198, abs=5e-5)
+    assert factors[0] == pytest.approx(0.66, abs=0.005)
+    assert factors[1] == pytest.approx(2.53, abs=0.005)

@@ -8,7 +8,10 @@ base and the pads passes through the column, so the deflection :math:`\delta` so
 
 with the end stops as complementarity: :math:`\delta=0` where :math:`R(0)\ge0` (the mud does
 not push), :math:`\delta=\delta_{max}` where :math:`R(\delta_{max})\le0` (it pushes harder
-than the fully compressed springs).
+than the fully compressed springs). This load path is an assumption (D32, D160): by
+virtual work the drawn linkage would feed the pads' moment back to the column, and with the
+default dimensions that feedback exceeds the pads' load (factor 0.66 curled to 2.53 spread),
+so the mud would curl the pads instead of spreading them, against the paper's Fig. S4a.
 
 *Root selection* (D34). Where pads dip into the surface as they spread, :math:`R` can have
 three roots (a snap-through). :func:`balanced_deflection` returns the root an overdamped

@@ -55,7 +55,10 @@ class MorphingFootGeometry:
 
     All lengths in metres, angles in radians. Defaults reconstruct a foot of the scale
     of the paper's fixed feet (80 x 65 mm flat foot, R = 45 mm curved feet): about 96 mm
-    across when spread.
+    across when spread. The paper gives none of these numbers (D30). Neighbouring pads fit
+    side by side while ``w(s) <= 2 (base_radius + s cos(theta)) tan(pi / n_pads)`` along
+    them; the defaults' rims touch at 49 deg, so curled at 75 deg the pads overlap, and the
+    forces count each pad whole, as if the petals were layered (D160).
 
     Attributes
     ----------
