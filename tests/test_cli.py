@@ -170,9 +170,14 @@ def test_the_evaluation_options_are_the_same_in_every_command_that_has_them():
     for name, command in sub.choices.items():
         options = {o: a for a in command._actions for o in a.option_strings}
         if "--thixotropy" in options:
-            seen[name] = tuple(
-                (tuple(options[o].choices), options[o].default) for o in ("--thixotropy", "--clock")
-            ) + (options["--clock"].help,)
+            thixotropy, clock = options["--thixotropy"], options["--clock"]
+            seen[name] = (
+                tuple(thixotropy.choices),
+                thixotropy.default,
+                tuple(clock.choices),
+                clock.default,
+                clock.help,
+            )
     assert {"simulate", "calibrate"} <= set(seen)
     assert len(set(seen.values())) == 1, seen
 
