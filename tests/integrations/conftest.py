@@ -67,3 +67,27 @@ def energy_rise(model: object, data: object, step: object, steps: int) -> tuple[
         step()  # type: ignore[operator]
         rise = max(rise, mechanical_energy(model, data) - e0)
     return float(rise), e0
+
+
+_LEG = """<mujoco><option timestep="{dt}" gravity="0 0 -3.639" integrator="{integrator}"/><worldbody>
+  <body name="base" pos="0 0 0.25"><freejoint/>
+    <geom type="box" size="0.05 0.05 0.03" mass="1.6363"/>
+    <body name="thigh" pos="0 0 -0.05"><joint type="hinge" axis="-0.6071 -0.1164 0.7860"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.1" size="0.015" mass="0.9067"/>
+      <body name="shank" pos="0 0 -0.1"><joint type="hinge" axis="0.0360 0.0251 0.9990"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.1" size="0.012" mass="0.3930"/>
+        <body name="foot" pos="0 0 -0.11"><joint type="hinge" axis="0.9038 -0.3401 0.2597"/>
+          <geom name="sole" type="box" size="0.03 0.04 0.01" mass="0.3554"/>
+        </body></body></body></body></worldbody></mujoco>"""
+
+
+def thrown_leg(dt: float = 0.002, integrator: str = "RK4") -> tuple[object, object]:
+    """A random leg of the search of D150 (seed 387), model and data: a free base, hinges on
+    random axes, a box foot ("sole") 5 mm into the mud, thrown at up to 18 rad/s."""
+    model = mujoco.MjModel.from_xml_string(_LEG.format(dt=dt, integrator=integrator))
+    data = mujoco.MjData(model)
+    data.qvel[:9] = [6.1017, 4.246, -1.0, 1.6234, 5.7705, 4.2251, -1.4605, -1.5018, 1.6873]
+    mujoco.mj_forward(model, data)
+    data.qpos[2] -= data.geom_xpos[model.geom("sole").id][2] - 0.005
+    mujoco.mj_forward(model, data)
+    return model, data

@@ -246,7 +246,9 @@ class CompiledCoupling:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
         the number of bodies whose wrench is not finite."""
         self.opts[11] = 1.0 if has_prev else 0.0
-        return int(self.kernel(*self._args))
+        bad = int(self.kernel(*self._args))
+        self.opts[11] = 1.0  # has a last step now: the compiled step loop's value (D151)
+        return bad
 
     def _pack(self) -> None:
         """The kernel's arrays in one argument (after :meth:`reset`; the arrays never move)."""
