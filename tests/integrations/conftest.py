@@ -15,9 +15,9 @@ G = 9.81  # MuJoCo's default gravity [m/s^2]
 def mujoco_at_least(major: int, minor: int) -> bool:
     """Whether the installed MuJoCo is ``major.minor`` or later (False without MuJoCo).
 
-    Two failures the suite documents as strict xfails appear only from a MuJoCo release on
-    (measured, D149): the 2 ms walk's suction spike from 3.5 (3.3.6 and 3.4.0 converge),
-    the RK4 energy gain from 4.0 (3.3.6, 3.10 and 3.17 lose energy)."""
+    Two findings of the suite appear only from a MuJoCo release on
+    (measured, D149): the 2 ms walk's suction spike from 3.5 (3.3.6 and 3.4.0 converge);
+    the RK4 energy gain of ``apply`` before ``mj_step`` from 4.0 (D150)."""
     if mujoco is None:
         return False
     parts = [int(p) for p in mujoco.__version__.split(".")[:2]]

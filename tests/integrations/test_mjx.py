@@ -200,7 +200,8 @@ def test_mjx_keeps_the_passivity_bound():
 
 
 def test_mjx_under_rk4_warns_that_the_passivity_bound_assumes_euler():
-    """As the CPU coupling (D62e): RK4 is accepted, with a warning at attach."""
+    """RK4 is accepted, with a warning at attach (D62e): unlike the CPU coupling's step
+    (D150), the MJX step holds the wrench in the world frame with the lagged estimate."""
     from mudrft._validation import PlausibilityWarning
 
     from .conftest import box_foot_model

@@ -10,6 +10,7 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
+from mudrft._validation import PlausibilityWarning
 from mudrft.integrations.mujoco import attach
 
 from .conftest import energy_rise, mechanical_energy, mujoco, mujoco_at_least
@@ -42,7 +43,7 @@ def _foot(kind: str):
     return mudrft.feet.SemiSphere().to_mesh(resolution=6)
 
 
-def _release(kind: str, backend: str, seed: int):
+def _release(kind: str, backend: str, seed: int, *, integrator: str | None = None):
     """A random free release (deterministic in ``seed``) without gravity.
 
     Isotropic inertia with the centre of mass at the frame origin, so that MuJoCo's Euler
@@ -50,15 +51,15 @@ def _release(kind: str, backend: str, seed: int):
     down, on edge), lowest point 5 mm deep to 15 mm above the mud, moving at up to 2 m/s
     (downwards at 0.2 m/s at least)
     and spinning at up to 100 rad/s about any axis; 0.05-20 kg, dt 0.5-5 ms, Euler or
-    implicitfast, W = 25/35/45 %, the ODE or the quasi-static evaluation, with or without
-    a rigid bottom.
+    implicitfast (or ``integrator``), W = 25/35/45 %, the ODE or the quasi-static
+    evaluation, with or without a rigid bottom.
     """
     rng = np.random.default_rng(seed)
     mass = float(np.exp(rng.uniform(np.log(0.05), np.log(20.0))))
     s = float(rng.uniform(0.02, 0.04))
     inertia = mass * (rng.uniform(0.2, 1.5) * s) ** 2
     dt = float(rng.choice([5e-4, 1e-3, 2e-3, 5e-3]))
-    integrator = str(rng.choice(["Euler", "implicitfast"]))
+    integrator = str(rng.choice(["Euler", "implicitfast"])) if integrator is None else integrator
     quat = rng.normal(size=4)
     drop = rng.uniform(-0.005, 0.015)
     vel = rng.normal(size=3)
@@ -188,22 +189,12 @@ def test_the_sphere_the_search_found_gains_nothing_beyond_mujoco_alone(backend):
     assert rise <= control + 1e-9 * e0, (rise, control, e0)
 
 
-# -- found and not fixed: RK4 ---------------------------------------------------------------
+# -- RK4: the wrench held the way RK4 integrates it (D150) ----------------------------------
 
 
-@pytest.mark.xfail(
-    mujoco_at_least(4, 0),
-    strict=True,
-    reason="RK4 is outside D62c's bound from MuJoCo 4.0 (D62e, D149)",
-)
-@pytest.mark.filterwarnings("ignore:the model integrates with RK4")  # the energy, not the warning
-def test_a_free_flat_foot_under_rk4_gains_no_energy():
-    """The bound of D62c accounts the mud's work for MuJoCo's Euler step. Under RK4 (the
-    wrench held over the four stages) a free 1 kg flat foot of small inertia (5.1e-6 kg m^2,
-    isotropic), spinning at 76 rad/s at dt = 5 ms without gravity, gains 0.63 J of its
-    2.9 J (seed 5738 of the search; the same release under Euler gains nothing); 0.26 J
-    since D119. On MuJoCo 3.3.6 to 3.17 it loses 1.4e-4 J and the test passes: the gain
-    comes with MuJoCo 4.0's RK4 (D149)."""
+def _flat_foot_under_rk4(backend: str):
+    """Seed 5738 of the search of D62e: a free 1 kg flat foot of small isotropic inertia
+    (5.1e-6 kg m^2) spinning at 76 rad/s, 6 mm deep, at dt = 5 ms without gravity, RK4."""
     xml = """<mujoco><option timestep="0.005" gravity="0 0 0" integrator="RK4"/><worldbody>
       <body name="foot" pos="0 0 0.5"><freejoint/>
       <inertial pos="0 0 0" mass="1.0256" diaginertia="5.11e-6 5.11e-6 5.11e-6"/></body>
@@ -211,7 +202,7 @@ def test_a_free_flat_foot_under_rk4_gains_no_energy():
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35), acceleration=False)
-    coupling = attach(model, "foot", terrain, feet=mudrft.feet.Flat())
+    coupling = attach(model, "foot", terrain, feet=mudrft.feet.Flat(), backend=backend)
     quat = np.array([0.5931, 0.1947, 0.1002, 0.7748])
     data.qpos[3:7] = quat / np.linalg.norm(quat)
     mujoco.mj_forward(model, data)
@@ -221,5 +212,48 @@ def test_a_free_flat_foot_under_rk4_gains_no_energy():
     data.qvel[:3] = (-1.915, -0.0804, -1.3872)
     data.qvel[3:6] = R.T @ np.array([37.80, 1.663, 66.43])
     coupling.reset(data)
-    rise, e0, _ = _rise(model, data, coupling, 0.3)
+    return model, data, coupling
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_free_flat_foot_under_rk4_gains_no_energy(backend):
+    """The release the search of D62e found: stepped with ``apply`` and ``mj_step`` (the
+    wrench in ``xfrc_applied``, the acceleration of D62 from the last step) it gains
+    0.26 J of its 2.9 J on MuJoCo 4.0 (1.4e-4 J lost on 3.3.6-3.17, D149). ``step``
+    under RK4 reads the other forces' acceleration from MuJoCo and holds the free foot's
+    wrench in its body frame (D150): the energy never rises (tolerance round-off; measured
+    4e-16 J on 4.0, 0 on 3.3.6 and 3.17)."""
+    model, data, coupling = _flat_foot_under_rk4(_backend(backend))
+    rise, e0, wet = _rise(model, data, coupling, 0.3)
+    assert wet > 0
     assert rise <= 1e-9 * e0, (rise, e0)
+
+
+@pytest.mark.skipif(not mujoco_at_least(4, 0), reason="MuJoCo 4.0's RK4 (D150, D149)")
+def test_applied_before_mj_step_the_flat_foot_gains_energy_under_rk4():
+    """The finding the test above fixes: with ``apply`` then ``mj_step`` (what ``step``
+    did before D150) the release gains more than 0.1 J on MuJoCo 4.0 (measured 0.26 J),
+    and ``apply`` under RK4 says so once."""
+    model, data, coupling = _flat_foot_under_rk4("numpy")
+
+    def step():
+        mujoco.mj_forward(model, data)
+        coupling.apply(data)
+        mujoco.mj_step(model, data)
+
+    with pytest.warns(PlausibilityWarning, match="applied with apply") as said:
+        rise, e0 = energy_rise(model, data, step, 60)
+    assert len(said) == 1
+    assert rise > 0.1, (rise, e0)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("kind", GEOMS + FEET)
+def test_a_free_body_of_any_kind_never_gains_energy_under_rk4(kind, backend):
+    """The releases of the test above of every kind (seed 1) under RK4: no rise above
+    round-off (a search of 200 such releases on the compiled coupling: largest rise
+    2.4e-16 of 1 + E0, D150)."""
+    model, data, coupling = _release(kind, _backend(backend), 1, integrator="RK4")
+    rise, e0, wet = _rise(model, data, coupling, 0.15)
+    assert wet > 0
+    assert rise <= 1e-9 * e0 + 1e-12, (rise, e0)

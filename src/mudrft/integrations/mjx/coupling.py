@@ -182,7 +182,7 @@ class MjxCoupling:
                 "MJX has no 'implicit' integrator; use 'implicitfast', 'Euler' or 'RK4'"
             )
         if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4):
-            warn_rk4()  # as the CPU coupling: outside the passivity bound (D62e)
+            warn_rk4()  # outside the passivity bound (D62e; the CPU coupling's step: D150)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
         self.mjx_model = _mjx().put_model(model)
         register("todorov2012mujoco")

@@ -242,10 +242,16 @@ class CompiledCoupling:
             o[..., 18], o[..., 19:22],
         ))  # fmt: skip
 
-    def apply(self, has_prev: bool) -> int:
+    def apply(self, has_prev: bool, acc: np.ndarray | None = None) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
-        the number of bodies whose wrench is not finite."""
-        self.opts[11] = 1.0 if has_prev else 0.0
+        the number of bodies whose wrench is not finite.
+
+        ``acc`` (N, nb, 6): the twist acceleration of all other forces [m/s^2, rad/s^2]
+        read from MuJoCo (the RK4 step, D150) in place of the last step's difference; the
+        kernel reads it from ``tw_prev`` (``opts[11] = 2``)."""
+        if acc is not None:
+            self.tw_prev[:] = acc
+        self.opts[11] = 2.0 if acc is not None else 1.0 if has_prev else 0.0
         bad = int(self.kernel(*self._args))
         self.opts[11] = 1.0  # has a last step now: the compiled step loop's value (D151)
         return bad

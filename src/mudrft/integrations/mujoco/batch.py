@@ -33,7 +33,8 @@ from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
-from .stability import check_explicit_step, check_timestep, warn_rk4
+from .rk4 import rk4_step, warn_rk4_apply
+from .stability import check_explicit_step, check_timestep
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
@@ -130,6 +131,7 @@ class MudBatch:
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
         self._checked_datas: list[Any] = []
         self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
+        self._given_acc: np.ndarray | None = None  # RK4: what all other forces do (D150)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
@@ -334,6 +336,9 @@ class MudBatch:
     def _apply(self, datas: list[Any]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
+        rk4 = int(self._opt.integrator) == self._rk4
+        if rk4 and self._given_acc is None and not self._rk4_warned:  # apply(), not step()
+            self._rk4_warned = warn_rk4_apply()
         if self._compiled is not None:
             return self._apply_compiled()
         dt = float(self.model.opt.timestep)
@@ -394,7 +399,9 @@ class MudBatch:
                 K += kb
         if K is not None:
             W = k["W"]
-            if self._has_prev:
+            if self._given_acc is not None:
+                acc = self._given_acc
+            elif self._has_prev:
                 acc = (tw - self._tw_prev) / dt - self._wv_prev
             else:
                 acc = np.zeros_like(tw)
@@ -432,7 +439,7 @@ class MudBatch:
 
     def _apply_compiled(self) -> MudContact:
         assert self._compiled is not None
-        bad = self._compiled.apply(self._has_prev)
+        bad = self._compiled.apply(self._has_prev, self._given_acc)
         self._has_prev = True
         if bad:
             raise MudrftError(
@@ -478,16 +485,10 @@ class MudBatch:
         mj = self._mj
         m = self.model
         rk4 = int(self._opt.integrator) == self._rk4
-        if rk4 and not self._rk4_warned:
-            self._rk4_warned = warn_rk4()
         out = self.last
         for _ in range(int(nstep)):
-            if rk4:  # mj_step1/mj_step2 do not support RK4: full forward, then mj_step
-                for d in datas:
-                    mj.mj_forward(m, d)
-                out = self._apply(datas)
-                for d in datas:
-                    mj.mj_step(m, d)
+            if rk4:  # mj_step1/mj_step2 do not support RK4; the wrench is held (D150)
+                out = rk4_step(self, datas)
             else:
                 for d in datas:
                     mj.mj_step1(m, d)

@@ -201,7 +201,8 @@ def _kernel(
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
     surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
-    has_prev). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
+    has_prev: 0 first step, 1 the last step's difference, 2 the acceleration given in
+    ``tw_prev``, D150). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
     deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
     ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
     robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
@@ -211,7 +212,7 @@ def _kernel(
     dt, surface = opts[0], opts[1]
     implicit, chain = opts[2] != 0.0, opts[3] != 0.0
     bottom, kb, cb, dv_min = opts[4], opts[5], opts[6], opts[7]
-    has_prev = opts[11] != 0.0
+    has_prev, given = opts[11] != 0.0, opts[11] == 2.0
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, nld = sizes[0], sizes[1], sizes[2]
     # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
@@ -417,7 +418,9 @@ def _kernel(
                 for l in range(6):
                     FK[j, i, l] = K[i, l] if implicit else 0.0
                     idle = idle and FK[j, i, l] == 0.0
-                if has_prev:
+                if given:  # RK4: what all other forces do, read from MuJoCo (D150)
+                    FACC[j, i] = tw_prev[k, j, i]
+                elif has_prev:
                     FACC[j, i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
                 else:
                     FACC[j, i] = opts[8 + i] if i < 3 else 0.0

@@ -173,8 +173,11 @@ def warn_rk4() -> bool:
     """Warn (once per coupling) that the passivity bound does not cover MuJoCo's RK4.
 
     The bound of decision D62c counts the work of the mud's wrench over MuJoCo's Euler
-    step; RK4 holds the wrench over four stages, during which a light, fast-spinning body
-    turns far, and a random search found releases that gained energy (docs/model.md D62e).
+    step; RK4 holds ``xfrc_applied`` over four stages, during which a light, fast-spinning
+    body turns far, and a random search found releases that gained energy (docs/model.md
+    D62e). The MJX coupling warns so at attach; the CPU coupling's ``step`` holds the wrench
+    the way RK4 integrates it and does not need the warning (D150; its ``apply`` warns
+    with :func:`.rk4.warn_rk4_apply`).
 
     Returns
     -------
