@@ -56,7 +56,8 @@ def test_walk_converges_in_the_time_step(flat_runs):
 @pytest.mark.xfail(
     mujoco_at_least(3, 5),
     strict=True,
-    reason="one-step overshoot at the stance switch at 2 ms from MuJoCo 3.5 (D62d, D149)",
+    reason="one-step overshoot at the stance switch at 2 ms from MuJoCo 3.5, whose "
+    "implicitfast drops a torque-saturated servo's implicit damping (D62d, D149, D152)",
 )
 def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     """The largest suction is one sample: at 2 ms the first step after a stance switch
@@ -67,9 +68,43 @@ def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     -626 N, from +83 N the step before and -271 N after, 8 % above 1 ms (577 N). Strict: it
     fails once the coupling sees the actuators' change (the estimates tried and why none is
     built: D62d). The spike comes with MuJoCo 3.5: on 3.3.6 and 3.4.0 the 2 ms maximum is
-    574 and 570 N against 578 N at 1 ms, and the test passes (D149)."""
+    574 and 570 N against 578 N at 1 ms, and the test passes (D149). The cause (D152):
+    from 3.5 a servo at its torque limit has no velocity derivative in implicitfast's
+    implicit step, and the spike is the step after the stance switch's saturated servos;
+    the largest suction on any other step is 562 N."""
     a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
     assert b["max_suction [N]"] == pytest.approx(a["max_suction [N]"], rel=0.05)
+
+
+def test_a_servo_at_its_torque_limit_is_not_damped_implicitly_from_mujoco_3_5():
+    """What the spike above rests on (D152): the biped's knee servo (its kp, kv and torque
+    limit) on a hinge at 2 ms, from 2 rad/s. Within its limit, implicitfast damps it
+    implicitly (unlike Euler); at its limit, from MuJoCo 3.5, it does not (as Euler: the
+    clamped torque has no velocity derivative), before 3.5 it did (measured 5.85 against
+    18.67 rad/s after the step)."""
+    biped = W.biped_model(mudrft.feet.Flat())
+    knee = biped.actuator("left_knee").id
+    kp, kv = biped.actuator_gainprm[knee, 0], -biped.actuator_biasprm[knee, 2]
+    limit = biped.actuator_forcerange[knee, 1]
+    xml = f"""<mujoco><option timestep="0.002" gravity="0 0 0"/><worldbody><body>
+      <joint name="j" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.5"/></body></worldbody>
+      <actuator><position joint="j" kp="{kp}" kv="{kv}" forcerange="{-limit} {limit}"/>
+      </actuator></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    after = {}
+    for setpoint in (0.05, 1.0):  # within the limit; at it
+        for integrator in ("Euler", "implicitfast"):
+            model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
+            data = mujoco.MjData(model)
+            data.qvel[0], data.ctrl[0] = 2.0, setpoint
+            mujoco.mj_step(model, data)
+            after[setpoint, integrator] = float(data.qvel[0])
+        saturated = abs(float(data.actuator_force[0])) == pytest.approx(limit)
+        assert saturated == (setpoint == 1.0)
+    assert after[0.05, "implicitfast"] != pytest.approx(after[0.05, "Euler"], rel=1e-3)
+    clamped_as_euler = after[1.0, "implicitfast"] == pytest.approx(after[1.0, "Euler"], rel=1e-9)
+    assert clamped_as_euler == mujoco_at_least(3, 5), after
 
 
 def test_morphing_foot_walks_with_less_suction(flat_runs):
