@@ -43,7 +43,9 @@ def _foot(kind: str):
     return mudrft.feet.SemiSphere().to_mesh(resolution=6)
 
 
-def _release(kind: str, backend: str, seed: int, *, integrator: str | None = None):
+def _release(
+    kind: str, backend: str, seed: int, *, integrator: str | None = None, lookahead: bool = False
+):
     """A random free release (deterministic in ``seed``) without gravity.
 
     Isotropic inertia with the centre of mass at the frame origin, so that MuJoCo's Euler
@@ -52,7 +54,7 @@ def _release(kind: str, backend: str, seed: int, *, integrator: str | None = Non
     (downwards at 0.2 m/s at least)
     and spinning at up to 100 rad/s about any axis; 0.05-20 kg, dt 0.5-5 ms, Euler or
     implicitfast (or ``integrator``), W = 25/35/45 %, the ODE or the quasi-static
-    evaluation, with or without a rigid bottom.
+    evaluation, with or without a rigid bottom; ``lookahead`` is the coupling's (D162).
     """
     rng = np.random.default_rng(seed)
     mass = float(np.exp(rng.uniform(np.log(0.05), np.log(20.0))))
@@ -82,7 +84,9 @@ def _release(kind: str, backend: str, seed: int, *, integrator: str | None = Non
     mud = mudrft.paper_mud(w)
     terrain = mudrft.MudTerrain(mud, thixotropy="quasi-static") if quasi else mud
     feet = None if kind in GEOMS else _foot(kind)
-    coupling = attach(model, "foot", terrain, feet=feet, bottom=bottom, backend=backend)
+    coupling = attach(
+        model, "foot", terrain, feet=feet, bottom=bottom, backend=backend, lookahead=lookahead
+    )
     data.qpos[3:7] = quat / np.linalg.norm(quat)
     mujoco.mj_forward(model, data)
     R = data.xmat[1].reshape(3, 3)

@@ -30,11 +30,12 @@ from .implicit import (
     secant_steps,
 )
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
+from .lookahead import lookahead_apply, lookahead_step, reads_ahead
 from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .rk4 import rk4_step, warn_rk4_apply
-from .stability import check_explicit_step, check_timestep
+from .stability import check_explicit_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 __all__ = ["MudBatch", "MudContact"]
@@ -82,6 +83,12 @@ class MudBatch:
     foot_geoms : mapping or None, keyword-only
         ``{body: geom name}``: the geom that is a body's foot where its lowest colliding
         geom is not (D124); a body with several such geoms equally low warns without it.
+    lookahead : bool, keyword-only
+        Under Euler and ``implicitfast``, read the other forces' acceleration and the feet's
+        mobility from a look-ahead of MuJoCo's step (:mod:`.lookahead`, D162; a copy of the
+        data and a second ``mj_step2`` per step) instead of estimating them from the last
+        step (default): a chain's actuators, constraints and Coriolis forces are then seen
+        in the step they act.
     backend : {"numpy", "numba"}, keyword-only
         ``"numba"``: one compiled call per physics step for all feet of all robots
         (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
@@ -116,13 +123,14 @@ class MudBatch:
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
         backend: str = "numpy",
+        lookahead: bool = False,
     ) -> None:
         mj = _mujoco()
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution, foot_geoms=foot_geoms,
+            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead,
         )  # fmt: skip
         bodies, feet_list = opts.bodies, opts.feet
         n = check_count("n", n)
@@ -132,6 +140,7 @@ class MudBatch:
         self._checked_datas: list[Any] = []
         self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
         self._given_acc: np.ndarray | None = None  # RK4: what all other forces do (D150)
+        self.lookahead, self._scratch = opts.lookahead, list[Any]()  # read ahead (D162)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
@@ -331,7 +340,10 @@ class MudBatch:
         Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
         does all three.
         """
-        return self._apply(self._check(datas))
+        return self._apply_now(self._check(datas))
+
+    def _apply_now(self, datas: list[Any]) -> MudContact:  # apply(): reading ahead (D162)
+        return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
 
     def _apply(self, datas: list[Any]) -> MudContact:
         if self._states[0] is None:
@@ -489,6 +501,8 @@ class MudBatch:
         for _ in range(int(nstep)):
             if rk4:  # mj_step1/mj_step2 do not support RK4; the wrench is held (D150)
                 out = rk4_step(self, datas)
+            elif reads_ahead(self):  # the other forces' acceleration read ahead (D162)
+                out = lookahead_step(self, datas)
             else:
                 for d in datas:
                     mj.mj_step1(m, d)
@@ -550,7 +564,7 @@ class MudBatch:
             self.last = out if index is None else MudContact(*(a[index] for a in out))
 
         def loop(nstep: int) -> None:
-            if int(opt.integrator) == rk4:
+            if int(opt.integrator) == rk4 or self.lookahead:
                 generic(nstep)
                 return
             first = not self._has_prev
@@ -576,18 +590,7 @@ class MudBatch:
         for i, w in enumerate(self._warn):
             if w.number != self._warnings[i]:
                 self._warnings[i] = w.number
-                d = datas[i]
-                force = None
-                if self.last is not None:
-                    f = self.last.force
-                    force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
-                raise MudrftError(
-                    f"the simulation of robot {i} diverged at time {float(d.time):.6g} s: "
-                    "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
-                    f"expected finite accelerations with the mud wrench "
-                    f"{force} N "
-                    "(reduce the time step, or check the model)"
-                )
+                raise diverged_error(i, datas[i], self.last)
 
 
 def _hashable_repr(foot: Any) -> bool:

@@ -42,6 +42,7 @@ class AttachOptions(NamedTuple):
     mobility: str
     resolution: int
     geoms: list[str | int | None]  # the foot's geom of each body, None: derived (D124)
+    lookahead: bool = False  # read the other forces' acceleration ahead (D162)
 
 
 def check_count(name: str, value: object) -> int:
@@ -66,6 +67,7 @@ def check_attach_options(
     mobility: object,
     resolution: object,
     foot_geoms: object = None,
+    lookahead: object = False,
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
@@ -97,6 +99,11 @@ def check_attach_options(
             )
     if not isinstance(implicit, (bool, np.bool_)):
         raise MudrftError(f"implicit must be True or False, got {implicit!r}")
+    if not isinstance(lookahead, (bool, np.bool_)):
+        raise MudrftError(
+            "lookahead must be True (read the other forces' acceleration from a look-ahead "
+            f"of MuJoCo's step) or False (estimate it from the last step), got {lookahead!r}"
+        )
     if mobility not in ("chain", "body"):
         raise MudrftError(f"mobility must be 'chain' or 'body', got {mobility!r}")
     if bottom is None and (bottom_stiffness != BOTTOM_STIFFNESS or bottom_damping != BOTTOM_DAMPING):  # fmt: skip
@@ -115,6 +122,7 @@ def check_attach_options(
         implicit=bool(implicit),
         mobility=str(mobility),
         resolution=check_count("resolution", resolution),
+        lookahead=bool(lookahead),
     )
 
 

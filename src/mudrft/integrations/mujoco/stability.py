@@ -29,6 +29,7 @@ __all__ = [
     "SEARCHED_TIMESTEPS",
     "check_explicit_step",
     "check_timestep",
+    "diverged_error",
     "stability_limits",
     "warn_rk4",
 ]
@@ -190,3 +191,19 @@ def warn_rk4() -> bool:
         "energy from the mud (docs/model.md D62e); use integrator='implicitfast' or 'Euler'"
     )
     return True
+
+
+def diverged_error(i: int, data: Any, last: Any) -> MudrftError:
+    """The error for robot ``i`` whose step MuJoCo reported bad accelerations in (it resets
+    such a state), with the mud's last wrench ``last`` (a MudContact or None)."""
+    force = None
+    if last is not None:
+        f = last.force
+        force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
+    return MudrftError(
+        f"the simulation of robot {i} diverged at time {float(data.time):.6g} s: "
+        "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
+        f"expected finite accelerations with the mud wrench "
+        f"{force} N "
+        "(reduce the time step, or check the model)"
+    )
