@@ -8,7 +8,9 @@ functions of JAX arrays, so they jit, vmap over robots, scan over time and diffe
 * :meth:`MjxCoupling.step` -- one physics step with mud: ``fwd_position``,
   ``fwd_velocity``, the mud's wrench into ``xfrc_applied`` (:func:`.physics.mud_wrench`),
   then the rest of MJX's forward dynamics and its integrator, the order of ``mj_step1`` /
-  ``mj_step2`` of the CPU coupling;
+  ``mj_step2`` of the CPU coupling; under RK4, the CPU coupling's RK4 step (D150):
+  the other forces' acceleration read from a forward pass and a free foot's wrench held
+  as a generalized force (:mod:`.rk4`, D165);
 * :meth:`MjxCoupling.rollout` -- ``n`` steps under :func:`jax.lax.scan`, with an optional
   control sequence.
 
@@ -42,9 +44,10 @@ from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data
 from ..mujoco.placement import attached_foot
 from ..mujoco.pose import POSE_RESOLUTION
-from ..mujoco.stability import check_timestep, warn_rk4
+from ..mujoco.stability import check_timestep
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
+from .rk4 import RK4Plan, held_step, twist_acceleration
 
 if TYPE_CHECKING:
     import mujoco
@@ -181,8 +184,8 @@ class MjxCoupling:
             raise MudrftError(
                 "MJX has no 'implicit' integrator; use 'implicitfast', 'Euler' or 'RK4'"
             )
-        if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_RK4):
-            warn_rk4()  # outside the passivity bound (D62e; the CPU coupling's step: D150)
+        # under RK4 the step holds the wrench the way RK4 integrates it (D165, as D150)
+        self._rk4 = RK4Plan(model, ids)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
         self.mjx_model = _mjx().put_model(model)
         register("todorov2012mujoco")
@@ -264,6 +267,14 @@ class MjxCoupling:
             raise MudrftError(f"state must be an MjxMudState (coupling.init(d)), got {type(state).__name__}")  # fmt: skip
         mx = self.mjx_model if model is None else model
         d0 = d
+        if mx.opt.integrator == mjx.IntegratorType.RK4:  # D165: the CPU coupling's D150
+            ids = self._rk4.ids
+            d = mjx.forward(mx, d.replace(xfrc_applied=d.xfrc_applied.at[ids].set(0.0)))
+            acc = twist_acceleration(self._rk4, mx, d)
+            consts = self.constants if constants is None else constants
+            xfrc, state, out = mud_wrench(self.static, consts, mx, d, state, acc=acc)
+            d = held_step(self._rk4, mx, d, xfrc)
+            return _cast(d, d0), state, out
         d = mjx.fwd_position(mx, d)
         d = mjx.sensor_pos(mx, d)
         d = mjx.fwd_velocity(mx, d)
@@ -271,9 +282,7 @@ class MjxCoupling:
         xfrc, state, out = self.wrench(d, state, constants, model=mx)
         d = d.replace(xfrc_applied=xfrc)
         d = _finish(mjx, mx, d)
-        jax = _jax()
-        d = jax.tree_util.tree_map(lambda new, old: new.astype(old.dtype), d, d0)
-        return d, state, out
+        return _cast(d, d0), state, out
 
     def rollout(
         self,
@@ -337,11 +346,16 @@ class MjxCoupling:
         return jit(run, static_argnums=(2,))
 
 
+def _cast(d: mujoco.mjx.Data, d0: mujoco.mjx.Data) -> mujoco.mjx.Data:
+    """``d`` in the dtypes of ``d0`` (so that it can be a scan carry)."""
+    out: mujoco.mjx.Data = _jax().tree_util.tree_map(lambda new, old: new.astype(old.dtype), d, d0)
+    return out
+
+
 def _finish(mjx: ModuleType, mx: mujoco.mjx.Model, d: mujoco.mjx.Data) -> mujoco.mjx.Data:
-    """The rest of ``mjx.step`` after the velocity stage (``mj_step2``)."""
+    """The rest of ``mjx.step`` after the velocity stage (``mj_step2``); Euler and
+    ``implicitfast`` (RK4 has its own step, D165)."""
     it = mjx.IntegratorType
-    if mx.opt.integrator == it.RK4:  # as the CPU coupling: the wrench held over the step
-        return mjx.step(mx, d)
     d = mjx.fwd_actuation(mx, d)
     d = mjx.fwd_acceleration(mx, d)
     impl = getattr(d, "_impl", None)
