@@ -149,3 +149,37 @@ def test_under_rk4_the_step_leaves_the_users_qfrc_applied_and_shows_the_wrench()
         wrench = np.concatenate([np.asarray(out.force[0]), np.asarray(out.torque[0])])
         assert np.abs(wrench).max() > 0
         np.testing.assert_array_equal(np.asarray(d0.xfrc_applied[1]), wrench)
+
+
+def test_under_rk4_mjx_follows_the_cpu_coupling_on_a_leg():
+    """The MuJoCo guide's calf (a slide and a hinge: no rotation for MuJoCo 4.0's RK4 to
+    compose differently from MJX's) swung into the mud under RK4, 0.2 s at 2 ms: MJX's
+    joint positions equal the CPU coupling's (D150) to round-off (measured 8e-17; before
+    D165, with the lagged estimate of the other forces' acceleration, 2.9e-4 rad apart)."""
+    xml = """<mujoco><option timestep="0.002" integrator="RK4"/><worldbody>
+      <body name="hip" pos="0 0 0.2"><joint type="slide" axis="0 0 1"/>
+        <geom type="box" size="0.05 0.05 0.02" mass="2"/>
+        <body name="calf" pos="0 0 -0.1"><joint name="knee" type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.06" size="0.012" mass="0.2"/>
+          <geom type="sphere" pos="0 0 -0.07" size="0.03" mass="0.05"/></body></body>
+      </worldbody><actuator><position joint="knee" kp="20"/></actuator></mujoco>"""
+    m = mujoco.MjModel.from_xml_string(xml)
+    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    mud = mudrft.paper_mud(0.25)
+
+    def start():
+        d = mujoco.MjData(m)
+        d.qpos[1], d.qvel[:], d.ctrl[0] = 0.3, (-0.3, 2.0), -0.2
+        mujoco.mj_forward(m, d)
+        return d
+
+    d = start()
+    cpu = attach(m, "calf", mud, backend="numpy")
+    cpu.reset(d)
+    out_cpu = cpu.step(d, 100)
+    with x64_context(True):
+        coupling = mm.attach(m, "calf", mud)
+        dx = coupling.put_data(start())
+        dx, _, out = coupling.rollout(dx, coupling.init(dx), 100)
+    assert float(out.depth[-1, 0]) > 0.01 and out_cpu.depth[0] > 0.01  # in the mud
+    assert np.abs(np.asarray(dx.qpos) - d.qpos).max() < 1e-9, (np.asarray(dx.qpos), d.qpos)
