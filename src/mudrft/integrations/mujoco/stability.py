@@ -31,7 +31,6 @@ __all__ = [
     "check_timestep",
     "diverged_error",
     "stability_limits",
-    "warn_rk4",
 ]
 
 #: The time steps the passivity searches of the couplings covered [s] (docs/model.md D62e).
@@ -168,29 +167,6 @@ def check_timestep(model: Any, *, checked: float | None = None) -> float:
             f"{hi * 1e3:g} ms or less (MuJoCo's default is 2 ms)"
         )
     return dt
-
-
-def warn_rk4() -> bool:
-    """Warn (once per coupling) that the passivity bound does not cover MuJoCo's RK4.
-
-    The bound of decision D62c counts the work of the mud's wrench over MuJoCo's Euler
-    step; RK4 holds ``xfrc_applied`` over four stages, during which a light, fast-spinning
-    body turns far, and a random search found releases that gained energy (docs/model.md
-    D62e). The MJX coupling warns so at attach; the CPU coupling's ``step`` holds the wrench
-    the way RK4 integrates it and does not need the warning (D150; its ``apply`` warns
-    with :func:`.rk4.warn_rk4_apply`).
-
-    Returns
-    -------
-    bool
-        True (the caller records that it warned).
-    """
-    warn_plausibility(
-        "the model integrates with RK4: the mud coupling's passivity bound assumes MuJoCo's "
-        "Euler or implicitfast step, and under RK4 a light, fast-spinning foot can gain "
-        "energy from the mud (docs/model.md D62e); use integrator='implicitfast' or 'Euler'"
-    )
-    return True
 
 
 def diverged_error(i: int, data: Any, last: Any) -> MudrftError:
