@@ -29,6 +29,7 @@ second ``mj_step2`` per step, so it is an option.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from typing import Any
 
@@ -63,8 +64,18 @@ def reads_ahead(batch: Any) -> bool:
     )
 
 
+def _copy_data(mj: Any, model: Any, data: Any, scratch: list[Any], k: int) -> Any:
+    """``data`` copied into ``scratch[k]``: in place with ``mj_copyData`` where the bindings
+    have it (MuJoCo 3.3.6 does not), else as a new copy that replaces ``scratch[k]``."""
+    if hasattr(mj, "mj_copyData"):
+        mj.mj_copyData(scratch[k], model, data)
+    else:
+        scratch[k] = copy.copy(data)
+    return scratch[k]
+
+
 def lookahead_acceleration(
-    model: Any, datas: Sequence[Any], scratch: Sequence[Any], ids: Any
+    model: Any, datas: Sequence[Any], scratch: list[Any], ids: Any
 ) -> FloatArray:
     r"""Twist acceleration of each body that MuJoCo's step gives without its wrench.
 
@@ -74,8 +85,9 @@ def lookahead_acceleration(
         The model.
     datas : sequence of mujoco.MjData
         The ``N`` robots, after ``mj_step1``; left unchanged.
-    scratch : sequence of mujoco.MjData
-        One scratch ``MjData`` of ``model`` per robot (overwritten).
+    scratch : list of mujoco.MjData
+        One scratch ``MjData`` of ``model`` per robot (overwritten; replaced by a copy
+        where the MuJoCo release has no ``mj_copyData``).
     ids : ndarray of int (nb,)
         Body ids.
 
@@ -89,8 +101,8 @@ def lookahead_acceleration(
     dt = float(model.opt.timestep)
     jac = np.zeros((6, model.nv))
     acc = np.empty((len(datas), len(ids), 6))
-    for k, (d, s) in enumerate(zip(datas, scratch, strict=True)):
-        mj.mj_copyData(s, model, d)
+    for k, d in enumerate(datas):
+        s = _copy_data(mj, model, d, scratch, k)
         s.xfrc_applied[ids] = 0.0
         s.qHDiagInv[:] = 0.0  # nonzero after the step: it factorized its own matrix
         mj.mj_step2(model, s)
