@@ -213,7 +213,7 @@ def channel_update(
     # suction, eq. (5): exact exponential with the sealing state at mid-step (decision D4)
     phi = seal * laws.sealing(0.5 * (r_start + r_end), c.epsilon, xp=xp)
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
-    target = -direction * phi * c.sigma_y / (a * c.tau_build)
+    target = direction * laws.suction_steady(phi, c.tau_build, c.tau_leak, c.sigma_y)  # eq. (11)
     sig_new = target + (sig_s - target) * xp.exp(-a * dt)
 
     new_state = ChannelState(gamma, gw_new, xi_new, s_new, sig_new, clock, clock_w)
