@@ -32,7 +32,7 @@ import warnings
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .._validation import (
     CalibrationWarning,
@@ -309,15 +309,7 @@ class OnlineEstimator:
         # filter of the bank is the same, sigma_y is the prior's and the tau_build "chosen"
         # is the grid's first value (0.02 s), which the estimate must not report
         self._suction_seen = self._suction_seen or bool(np.any(phi[:, 3] != 0))
-        phi = phi * (self._scale / self._S)
-        self._theta, self._P, dv = rls_update(
-            self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
-        )
-        self._M = square_weighted(self._M, phi, self.forgetting)
-        self._err = self.forgetting * self._err + dv
-        self._weight = self.forgetting * self._weight + 1.0
-        self._weight2 = self.forgetting**2 * self._weight2 + 1.0
-        self._updates += 1
+        self._update_bank(phi * (self._scale / self._S), s)
 
     def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
         if self._phase == "intrusion":
@@ -336,15 +328,31 @@ class OnlineEstimator:
             phi = np.stack(
                 [-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)), np.full(G, gd)], axis=-1
             ) * (self._scale / self._S)
-            self._theta, self._P, dv = rls_update(
-                self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
-            )
-            self._M = square_weighted(self._M, phi, self.forgetting)
-            self._err = self.forgetting * self._err + dv
-            self._weight = self.forgetting * self._weight + 1.0
-            self._weight2 = self.forgetting**2 * self._weight2 + 1.0
             self._suction_seen = True
-            self._updates += 1
+            self._update_bank(phi, s)
+
+    def _update_bank(self, phi: NDArray[np.float64], s: float) -> None:
+        """One forgetting RLS step of every filter of the bank, and its bookkeeping.
+
+        The step and the discounted sums behind the standard errors (D138) are the same for
+        both models; only the regressors differ.
+
+        Parameters
+        ----------
+        phi : ndarray, shape (G, 2) or (G, 4)
+            Regressors of each filter, already scaled by ``self._scale / self._S`` [-].
+        s : float
+            Measured stress [Pa] (divided here by the stress scale ``self._S``).
+        """
+        G = self.tau_grid.size
+        self._theta, self._P, dv = rls_update(
+            self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
+        )
+        self._M = square_weighted(self._M, phi, self.forgetting)
+        self._err = self.forgetting * self._err + dv
+        self._weight = self.forgetting * self._weight + 1.0
+        self._weight2 = self.forgetting**2 * self._weight2 + 1.0
+        self._updates += 1
 
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
