@@ -380,3 +380,32 @@ def test_density_in_g_per_cm3_and_friction_in_degrees_warn():
 def test_an_internal_friction_angle_in_degrees_is_told_it_is_a_coefficient():
     with pytest.raises(MudrftError, match=r"mu_int must lie in .*got 30.0: mu_int is the internal"):
         GranularRFT3D(mu_int=30)
+
+
+def test_both_rfts_weight_each_element_by_depth_and_area_in_one_place(monkeypatch):
+    """dF = k max(z, 0) A alpha is written once (_rft_groups._element_forces): 2D RFT and
+    3D-RFT both scale their unit responses by it; replacing it changes both."""
+    from mudrft.terrains import _rft_groups, granular_rft, granular_rft3d
+
+    n = np.array([[0.0, 0.0, -1.0], [0.6, 0.0, -0.8], [0.0, 1.0, 0.0]])
+    a = np.array([1e-4, 2e-4, 3e-4])
+    d = np.array([0.02, -0.01, 0.03])
+    v = np.array([0.3, 0.0, -1.0])
+    kw3 = dict(xi_n=1e5, mu_surf=0.4)
+    each = rft3d_forces(n, d, a, v, per_element=True, **kw3)
+    assert np.all(each[1] == 0.0)  # above the surface: no force
+    np.testing.assert_allclose(rft3d_forces(n, 2 * d, a, v, **kw3), 2 * each.sum(0))
+    np.testing.assert_allclose(
+        rft_forces(n, d, a, v, zeta=1e5, per_element=True).sum(0), rft_forces(n, d, a, v, zeta=1e5)
+    )
+    calls = []
+
+    def spy(*args, **kwargs):
+        calls.append(args[0])
+        return _rft_groups._element_forces(*args, **kwargs)
+
+    monkeypatch.setattr(granular_rft, "_element_forces", spy)
+    monkeypatch.setattr(granular_rft3d, "_element_forces", spy)
+    rft_forces(n, d, a, v, zeta=2.5e5)
+    rft3d_forces(n, d, a, v, **kw3)
+    assert calls == [2.5e5, 1e5]

@@ -44,7 +44,14 @@ from ..citations import register
 from ..feet.base import SurfaceElements
 from ..units import parse_unit
 from ._common import mean_stress, projected, tip_depth, tip_position
-from ._rft_groups import _group_weights, _prepare, _Prepared, _unit
+from ._rft_groups import (
+    _check_elements,
+    _element_forces,
+    _group_weights,
+    _prepare,
+    _Prepared,
+    _unit,
+)
 from .base import TerrainOutput, check_motion
 from .li2013 import (
     DEFAULT_ZETA,
@@ -297,20 +304,14 @@ def rft_forces(
     a = check_nonnegative("areas", areas, unit="m^2")
     d = check_finite("depths", depths)
     v = check_finite("direction", direction)
-    if n.ndim != 2 or n.shape[1] != 3 or a.shape != (n.shape[0],) or d.shape[-1:] != (n.shape[0],):
-        raise MudrftError(
-            "normals (m, 3), areas (m,) and depths (..., m) must agree, "
-            f"got shapes {n.shape}, {a.shape}, {d.shape}"
-        )
+    _check_elements(n, a, d)
     if v.shape[-1:] != (3,) or not np.all(np.linalg.norm(v, axis=-1) > 0):
         raise MudrftError(f"direction must be nonzero with shape (..., 3), got shape {v.shape}")
     if not np.all(np.linalg.norm(n, axis=-1) > 0):
         i = int(np.argmin(np.linalg.norm(n, axis=-1)))
         raise MudrftError(f"normals must be nonzero vectors, got normals[{i}] = {n[i].tolist()}")
     f = _unit_forces(_unit(n), _unit(v), coefficients, extension, leading_width)
-    w = zeta * np.maximum(d, 0.0) * a
-    forces = w[..., None] * f
-    return forces if per_element else forces.sum(axis=-2)
+    return _element_forces(zeta, d, a, f, per_element=per_element)
 
 
 class RFTState(NamedTuple):

@@ -40,6 +40,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
+from ._rft_groups import _check_elements, _element_forces
 from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
 
 __all__ = [
@@ -387,18 +388,13 @@ def rft3d_forces(
     v = _check_unit_vectors("direction", direction)
     a = check_finite("areas", areas)
     d = check_finite("depths", depths)
-    if a.shape != (n.shape[0],) or d.shape[-1:] != (n.shape[0],):
-        raise MudrftError(
-            "normals (m, 3), areas (m,) and depths (..., m) must agree, "
-            f"got shapes {n.shape}, {a.shape}, {d.shape}"
-        )
+    _check_elements(n, a, d)
     xi = positive_number("xi_n", xi_n, unit="N/m^3")
     mu = number_in_range("mu_surf", mu_surf, 0.0, 1e3)
     check_in_range("leading_width", leading_width, 0.0, 1.0)
     check_in_range("wall_width", wall_width, 0.0, 1.0)
     unit = _unit_forces(n, v, coefficients, mu, leading_width, wall_width)
-    forces = (xi * np.maximum(d, 0.0) * a)[..., None] * unit
-    return forces if per_element else forces.sum(axis=-2)
+    return _element_forces(xi, d, a, unit, per_element=per_element)
 
 
 @dataclass(frozen=True, eq=False)
