@@ -206,3 +206,27 @@ def test_forces_oppose_the_motion(lumpy_mesh, heading, depth, sx, sy, trailing) 
     stress = [sx * (1 if c >= 0 else -1), sy * (1 if s >= 0 else -1), 0.0]
     force = foot.force(depth, stress, heading)
     assert force[0] * c + force[1] * s < 0
+
+
+@pytest.mark.parametrize("radius, height", [(0.045, 0.026), (0.045, 0.045), (0.02, 0.005)])
+def test_curved_meshes_and_characteristic_lengths_end_at_the_one_rim_angle(radius, height):
+    """theta_H = acos(1 - H/R) is written once (meshgen.rim_angle): the meshes' rims and the
+    characteristic lengths of D27 (top cross-sections) are read at it."""
+    from mudrft._validation import MudrftError
+    from mudrft.feet.meshgen import rim_angle, semicylinder_mesh, semisphere_mesh
+    from mudrft.feet.shapes import SemiCylinder, SemiSphere
+
+    th = rim_angle(radius, height)
+    half = radius * np.sin(th)  # half the top cross-section's width [m]
+    v, _ = semicylinder_mesh(radius, 0.065, height, resolution=6)
+    assert np.isclose(np.abs(v[:, 1]).max(), half, rtol=1e-12)
+    v, _ = semisphere_mesh(radius, height, resolution=6)
+    assert np.isclose(np.hypot(v[:, 0], v[:, 1]).max(), half, rtol=1e-12)
+    assert SemiCylinder(radius=radius, height=height).characteristic_length == pytest.approx(
+        np.sqrt(2 * half * 0.065)
+    )
+    assert SemiSphere(radius=radius, height=height).characteristic_length == pytest.approx(
+        np.sqrt(np.pi) * half
+    )
+    with pytest.raises(MudrftError, match="height must be <= radius"):
+        rim_angle(radius, 1.5 * radius)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .._validation import MudrftError, check_length
 
-__all__ = ["box_mesh", "semicylinder_mesh", "semisphere_mesh"]
+__all__ = ["box_mesh", "rim_angle", "semicylinder_mesh", "semisphere_mesh"]
 
 
 def _resolution(resolution: int) -> int:
@@ -33,6 +33,40 @@ def _resolution(resolution: int) -> int:
     ):
         raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
     return int(resolution)
+
+
+def rim_angle(radius: float, height: float) -> float:
+    r"""Angle :math:`\theta_H=\cos^{-1}(1-H/R)` [rad] from the tip to the rim of a curved foot.
+
+    The semi-cylinder's and the semi-sphere's surfaces are circular arcs of radius
+    :math:`R` cut at height :math:`H`; their meshes, their characteristic lengths (D27)
+    and the closed forms' :math:`\theta_c` at full depth all end at this angle.
+
+    Parameters
+    ----------
+    radius : float
+        :math:`R` [m], > 0.
+    height : float
+        :math:`H` [m], in (0, R].
+
+    Returns
+    -------
+    float
+        :math:`\theta_H` [rad], in (0, pi/2].
+
+    Raises
+    ------
+    MudrftError
+        If ``height`` > ``radius`` (a taller foot is not a circular cap).
+
+    Examples
+    --------
+    >>> round(rim_angle(0.045, 0.045), 6)  # a full half-cylinder or hemisphere: pi/2
+    1.570796
+    """
+    if height > radius:
+        raise MudrftError(f"height must be <= radius = {radius} m, got {height} m")
+    return math.acos(1.0 - height / radius)
 
 
 def _grid_faces(ids: np.ndarray) -> np.ndarray:
@@ -132,10 +166,8 @@ def semicylinder_mesh(
     radius, width, height = (
         check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
-    if height > radius:
-        raise MudrftError(f"height must be <= radius = {radius} m, got {height} m")
+    tm = rim_angle(radius, height)
     n = _resolution(resolution)
-    tm = math.acos(1.0 - height / radius)
     th = np.linspace(-tm, tm, 2 * n + 1)
     ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
     za[[0, -1]] = height  # the rim lies exactly on the top plane
@@ -191,11 +223,9 @@ def semisphere_mesh(
     (128, 3)
     """
     radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
-    if height > radius:
-        raise MudrftError(f"height must be <= radius = {radius} m, got {height} m")
+    tm = rim_angle(radius, height)
     n = _resolution(resolution)
     na = 4 * n
-    tm = math.acos(1.0 - height / radius)
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na
     r = radius * np.sin(th)

@@ -28,7 +28,7 @@ from .closed_form import (
     closed_form_force,
 )
 from .mesh import MeshFoot
-from .meshgen import box_mesh, semicylinder_mesh, semisphere_mesh
+from .meshgen import box_mesh, rim_angle, semicylinder_mesh, semisphere_mesh
 
 __all__ = ["Flat", "SemiCylinder", "SemiSphere"]
 
@@ -248,13 +248,10 @@ class SemiCylinder(_ClosedFormFoot):
         _check_height("cylinder", self.radius, self.height)
 
     @property
-    def _theta_max(self) -> float:
-        return math.acos(1.0 - self.height / self.radius)
-
-    @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{2R\\sin\\theta_H\\,W}` [m], the top cross-section (D27)."""
-        return math.sqrt(2 * self.radius * math.sin(self._theta_max) * self.width)
+        th = rim_angle(self.radius, self.height)
+        return math.sqrt(2 * self.radius * math.sin(th) * self.width)
 
     @property
     def kernel_geometry(self) -> tuple[int, float, float, float]:
@@ -311,7 +308,7 @@ class SemiSphere(_ClosedFormFoot):
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{\\pi}R\\sin\\theta_H`, the top cross-section (D27) [m]."""
-        th = math.acos(1.0 - self.height / self.radius)
+        th = rim_angle(self.radius, self.height)
         return math.sqrt(math.pi) * self.radius * math.sin(th)
 
     @property
