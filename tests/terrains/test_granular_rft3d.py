@@ -357,6 +357,9 @@ def test_bad_options_are_rejected_with_clear_messages(box):
         rft3d_forces([[0, 0, -1]], [0.01], [1e-3], [0, 0, 0], xi_n=1e5, mu_surf=0.4)
     with pytest.raises(MudrftError, match="xi_n must be > 0"):
         rft3d_forces([[0, 0, -1]], [0.01], [1e-3], [0, 0, -1], xi_n=0.0, mu_surf=0.4)
+    # a negative area is refused as by rft_forces (it would turn the element's force round)
+    with pytest.raises(MudrftError, match=r"areas must be >= 0 m\^2"):
+        rft3d_forces([[0, 0, -1]], [0.01], [-1e-3], [0, 0, -1], xi_n=1e5, mu_surf=0.4)
 
 
 def test_use_registers_the_citation():

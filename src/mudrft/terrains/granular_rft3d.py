@@ -32,6 +32,7 @@ from .._validation import (
     MudrftError,
     check_finite,
     check_in_range,
+    check_nonnegative,
     check_positive,
     number_in_range,
     positive_number,
@@ -386,7 +387,7 @@ def rft3d_forces(
     """
     n = _check_unit_vectors("normals", normals, ndim=2)
     v = _check_unit_vectors("direction", direction)
-    a = check_finite("areas", areas)
+    a = check_nonnegative("areas", areas, unit="m^2")
     d = check_finite("depths", depths)
     _check_elements(n, a, d)
     xi = positive_number("xi_n", xi_n, unit="N/m^3")
