@@ -11,8 +11,8 @@ writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +37,13 @@ from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowd
 from .rk4 import rk4_step, warn_rk4_apply
 from .stability import check_explicit_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...feet.base import Foot
+    from ...parameters import Mud
+    from ...terrains import Terrain
 
 __all__ = ["MudBatch", "MudContact"]
 
@@ -108,12 +115,12 @@ class MudBatch:
 
     def __init__(
         self,
-        model: Any,
+        model: mujoco.MjModel,
         bodies: Sequence[str],
-        mud: Any,
+        mud: Mud | Terrain,
         *,
         n: int = 1,
-        feet: Any = None,
+        feet: Foot | Sequence[Foot | None] | None = None,
         surface: float = 0.0,
         bottom: float | None = None,
         bottom_stiffness: float = 1e5,
@@ -137,10 +144,11 @@ class MudBatch:
         self.model = model
         self._mj = mj
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
-        self._checked_datas: list[Any] = []
+        self._checked_datas: list[mujoco.MjData] = []
         self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
         self._given_acc: np.ndarray | None = None  # RK4: what all other forces do (D150)
-        self.lookahead, self._scratch = opts.lookahead, list[Any]()  # read ahead (D162)
+        self.lookahead = opts.lookahead
+        self._scratch: list[mujoco.MjData] = []  # copies to read ahead in (D162)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
@@ -149,7 +157,7 @@ class MudBatch:
         self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
         self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
-        cache: dict[Any, Any] = {}
+        cache: dict[str | int, Foot] = {}
         placed = []
         for b, f, g in zip(bodies, feet_list, opts.geoms, strict=True):
             bf = attached_foot(model, b, f, resolution=opts.resolution, geom=g)
@@ -182,7 +190,7 @@ class MudBatch:
         self._jac = np.zeros((nb, 6, model.nv))
         self._minv_jt = np.zeros((nb, 6, model.nv))
         self._warnings = np.zeros(self.n, dtype=np.int64)
-        self._warn: list[Any] = []
+        self._warn: list[mujoco.MjWarningStat] = []
         if backend not in ("numpy", "numba"):
             raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
         self.backend = backend
@@ -195,7 +203,7 @@ class MudBatch:
         self._stale = False  # the compiled outputs are newer than _last (built on demand)
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
-        self._loop: Any = None  # the compiled step loop, made by reset()
+        self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
 
     @property
     def last(self) -> MudContact | None:
@@ -215,7 +223,7 @@ class MudBatch:
         self._last, self._stale = value, False
 
     # -- reading MuJoCo ---------------------------------------------------------------
-    def _read(self, datas: Sequence[Any]) -> dict[str, Any]:
+    def _read(self, datas: Sequence[mujoco.MjData]) -> dict[str, Any]:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
         tip = X + matvec(R, self._tip)
         fw = matvec(R, self._fwd)
@@ -256,7 +264,7 @@ class MudBatch:
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
     # -- public API -------------------------------------------------------------------
-    def reset(self, datas: Sequence[Any]) -> None:
+    def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:
         """Start with undisturbed mud under the feet in their current pose (calls mj_forward)."""
         mj = _mujoco()
         datas = self._check(datas)
@@ -283,7 +291,7 @@ class MudBatch:
             self._compiled.opts[11] = 0.0
             self._loop = self._compiled_loop(datas)
 
-    def _check(self, datas: Any) -> list[Any]:
+    def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):
             datas = [datas]
         if not isinstance(datas, Sequence):
@@ -303,7 +311,7 @@ class MudBatch:
         return datas
 
     @staticmethod
-    def _nstep(nstep: Any) -> int:
+    def _nstep(nstep: object) -> int:
         return check_count("nstep", nstep)
 
     def _foot_position(self, k: dict[str, Any], *, fresh: bool) -> np.ndarray:
@@ -334,7 +342,7 @@ class MudBatch:
             out[:, idx] = np.broadcast_to(im, (self.n, len(idx))) if im is not None else True
         return out
 
-    def apply(self, datas: Sequence[Any]) -> MudContact:
+    def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
         """Advance the mud once and write ``xfrc_applied`` for the current state.
 
         Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
@@ -342,10 +350,10 @@ class MudBatch:
         """
         return self._apply_now(self._check(datas))
 
-    def _apply_now(self, datas: list[Any]) -> MudContact:  # apply(): reading ahead (D162)
+    def _apply_now(self, datas: list[mujoco.MjData]) -> MudContact:  # apply(): reading ahead (D162)
         return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
 
-    def _apply(self, datas: list[Any]) -> MudContact:
+    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
         rk4 = int(self._opt.integrator) == self._rk4
@@ -462,7 +470,7 @@ class MudBatch:
         self.last = self._compiled.contact()
         return self.last
 
-    def step(self, datas: Sequence[Any], nstep: int = 1) -> MudContact:
+    def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
 
         Raises
@@ -472,7 +480,7 @@ class MudBatch:
         """
         return self._step(self._check(datas), self._nstep(nstep))
 
-    def advance(self, datas: Sequence[Any], nstep: int = 1) -> None:
+    def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact: ``nstep`` physics steps of every
         robot; :attr:`last` still gives what the mud did in the last one, built when read.
 
@@ -486,14 +494,14 @@ class MudBatch:
         else:
             self._step_generic(datas, nstep)
 
-    def _step(self, datas: list[Any], nstep: int) -> MudContact:
+    def _step(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
         if self._compiled is not None:
             out = self._step_compiled(datas, int(nstep))
             assert out is not None
             return out
         return self._step_generic(datas, nstep)
 
-    def _step_generic(self, datas: list[Any], nstep: int) -> MudContact:
+    def _step_generic(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
         mj = self._mj
         m = self.model
         rk4 = int(self._opt.integrator) == self._rk4
@@ -514,7 +522,7 @@ class MudBatch:
         return out
 
     def _step_compiled(
-        self, datas: list[Any], nstep: int, *, contact: bool = True
+        self, datas: list[mujoco.MjData], nstep: int, *, contact: bool = True
     ) -> MudContact | None:
         """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2`` (D68b);
         the contact of the last step, unless ``contact`` is false."""
@@ -529,7 +537,7 @@ class MudBatch:
         self._loop(nstep)
         return self.last if contact else None
 
-    def _compiled_loop(self, datas: list[Any]) -> Any:
+    def _compiled_loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
         """The compiled coupling's step loop over ``datas``, as a closure over local names.
 
         Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
@@ -585,7 +593,7 @@ class MudBatch:
 
         return loop
 
-    def _check_diverged(self, datas: list[Any]) -> None:
+    def _check_diverged(self, datas: list[mujoco.MjData]) -> None:
         """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
         for i, w in enumerate(self._warn):
             if w.number != self._warnings[i]:
@@ -593,6 +601,6 @@ class MudBatch:
                 raise diverged_error(i, datas[i], self.last)
 
 
-def _hashable_repr(foot: Any) -> bool:
+def _hashable_repr(foot: Foot) -> bool:
     # dataclass feet with eq=True print their parameters; equal reprs = equal geometry
     return type(foot).__repr__ is not object.__repr__ and "(" in repr(foot) and "=" in repr(foot)

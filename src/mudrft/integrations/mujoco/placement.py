@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -32,6 +32,11 @@ from .geoms import (
     geom_type_name,
 )
 from .pose import POSE_RESOLUTION, foot_triangles
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...feet.base import Foot
 
 __all__ = ["BodyFoot", "attached_foot", "body_foot", "group_triangles", "lowest_points"]
 
@@ -74,7 +79,7 @@ class BodyFoot:
 
     body: str
     body_id: int
-    foot: Any
+    foot: Foot
     tip: NDArray[np.float64]
     forward: NDArray[np.float64]
     kind: str
@@ -87,22 +92,22 @@ class BodyFoot:
     geom: int = -1
 
 
-def _reference_pose(model: Any) -> Any:
+def _reference_pose(model: mujoco.MjModel) -> mujoco.MjData:
     mj = _mujoco()
     d = mj.MjData(model)
     mj.mj_kinematics(model, d)
     return d
 
 
-def _body_geoms(model: Any, body_id: int) -> list[int]:
+def _body_geoms(model: mujoco.MjModel, body_id: int) -> list[int]:
     adr, num = int(model.body_geomadr[body_id]), int(model.body_geomnum[body_id])
     return list(range(adr, adr + num)) if adr >= 0 else []
 
 
 def body_foot(
-    model: Any,
+    model: mujoco.MjModel,
     body: str | int,
-    foot: Any = None,
+    foot: Foot | None = None,
     *,
     tip: ArrayLike | None = None,
     resolution: int = POSE_RESOLUTION,
@@ -235,7 +240,7 @@ def body_foot(
     )
 
 
-def _named_geom(model: Any, body: str, bid: int, geom: str | int) -> int:
+def _named_geom(model: mujoco.MjModel, body: str, bid: int, geom: str | int) -> int:
     """The id of the geom named as ``body``'s foot, or an error naming what is wrong."""
     mj = _mujoco()
     geoms = _body_geoms(model, bid)
@@ -332,7 +337,12 @@ def group_triangles(
 
 
 def attached_foot(
-    model: Any, body: str | int, foot: Any, *, resolution: int, geom: str | int | None = None
+    model: mujoco.MjModel,
+    body: str | int,
+    foot: Foot | None,
+    *,
+    resolution: int,
+    geom: str | int | None = None,
 ) -> BodyFoot:
     """:func:`body_foot` for a coupling: a body welded to the world warns (D113), and so
     does a foot derived from one of several colliding geoms that reach equally low (D124).
