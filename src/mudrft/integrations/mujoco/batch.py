@@ -12,10 +12,11 @@ writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._typing import FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
@@ -46,6 +47,18 @@ if TYPE_CHECKING:
     from ...terrains import Terrain
 
 __all__ = ["MudBatch", "MudContact"]
+
+
+class _Reading(NamedTuple):
+    """What a step reads of the robots (:meth:`MudBatch._read`), shapes (N, nb, ...)."""
+
+    com: FloatArray  # each body's center of mass [m], world frame (N, nb, 3)
+    tip: FloatArray  # tip position [m] (N, nb, 3)
+    cs: FloatArray  # cosine and sine of the foot's heading (yaw) (N, nb, 2)
+    tw: FloatArray  # twist at the center of mass [m/s, rad/s] (N, nb, 6)
+    W: FloatArray | None  # mobility (N, nb, nb, 6, 6) for the implicit step, else None
+    geo: ChannelGeometry  # the posed feet's channels (:func:`.pose.posed_channels`)
+    ratio: FloatArray  # their areas over the upright foot's (N, nb, 3)
 
 
 class MudBatch:
@@ -223,7 +236,7 @@ class MudBatch:
         self._last, self._stale = value, False
 
     # -- reading MuJoCo ---------------------------------------------------------------
-    def _read(self, datas: Sequence[mujoco.MjData]) -> dict[str, Any]:
+    def _read(self, datas: Sequence[mujoco.MjData]) -> _Reading:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
         tip = X + matvec(R, self._tip)
         fw = matvec(R, self._fwd)
@@ -237,16 +250,7 @@ class MudBatch:
             else:
                 W = body_mobility(self.model, datas, self._ids)
         geo, ratio = self._posed(X, R, C, tip, cs)
-        return {
-            "R": R,
-            "com": C,
-            "tip": tip,
-            "cs": cs,
-            "tw": tw,
-            "W": W,
-            "geo": geo,
-            "ratio": ratio,
-        }
+        return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
     def _posed(
         self, X: np.ndarray, R: np.ndarray, C: np.ndarray, tip: np.ndarray, cs: np.ndarray
@@ -275,7 +279,7 @@ class MudBatch:
         pos = self._foot_position(k, fresh=True)
         for gi, (foot, idx) in enumerate(self._groups):
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
-        self._world_xy = k["tip"][..., :2]
+        self._world_xy = k.tip[..., :2]
         if self._compiled is not None:
             self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
@@ -314,10 +318,10 @@ class MudBatch:
     def _nstep(nstep: object) -> int:
         return check_count("nstep", nstep)
 
-    def _foot_position(self, k: dict[str, Any], *, fresh: bool) -> np.ndarray:
+    def _foot_position(self, k: _Reading, *, fresh: bool) -> np.ndarray:
         """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
-        c, s = k["cs"][..., 0], k["cs"][..., 1]
-        tip = k["tip"]
+        c, s = k.cs[..., 0], k.cs[..., 1]
+        tip = k.tip
         if fresh:
             xy = tip[..., :2]
             fxy = np.stack(
@@ -333,7 +337,7 @@ class MudBatch:
                 [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
             )
         self._foot_xy = fxy
-        return np.concatenate([fxy, k["geo"].low[..., 2:]], axis=-1)
+        return np.concatenate([fxy, k.geo.low[..., 2:]], axis=-1)
 
     def _in_mud(self) -> np.ndarray:
         out = np.zeros((self.n, len(self.bodies)), dtype=bool)
@@ -363,7 +367,7 @@ class MudBatch:
             return self._apply_compiled()
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
-        geo, cs, tw, com = k["geo"], k["cs"], k["tw"], k["com"]
+        geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
         c, s = cs[..., 0], cs[..., 1]
         # channel points relative to the center of mass, world frame
         p = geo.point
@@ -375,7 +379,7 @@ class MudBatch:
         b = channel_rows(cs, rel)
         vel = rowdot(b, tw[..., None, :])  # channel velocities at their points
         pos = self._foot_position(k, fresh=False)
-        self._world_xy = k["tip"][..., :2]
+        self._world_xy = k.tip[..., :2]
         N, nb = pos.shape[:2]
         f_up = np.empty((N, nb, 3))
         jd = np.zeros((N, nb, 3))
@@ -396,7 +400,7 @@ class MudBatch:
                 sg = np.asarray(out.stress)
             self._states[gi] = new
             stress[:, idx] = sg
-        ratio = k["ratio"]
+        ratio = k.ratio
         w0 = posed_wrench(ratio * f_up, b)
         K = None
         if self.implicit:
@@ -418,7 +422,8 @@ class MudBatch:
             if K is not None:
                 K += kb
         if K is not None:
-            W = k["W"]
+            W = k.W
+            assert W is not None  # read when implicit, as K is made
             if self._given_acc is not None:
                 acc = self._given_acc
             elif self._has_prev:
@@ -450,12 +455,21 @@ class MudBatch:
             explicit_force=w0[..., :3],
             torque=torque,
             point=_central_point(force, torque, com, pz),
-            tip=np.concatenate([k["tip"][..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
             velocity=vel,
             depth=depth,
             stress=stress,
         )
         return self.last
+
+    def _apply_given(self, datas: Sequence[mujoco.MjData], acc: FloatArray) -> MudContact:
+        """:meth:`_apply` with the twist acceleration ``acc`` (N, nb, 6) of all forces but
+        the mud's given (RK4, D150; read ahead, D162) instead of taken from the last step."""
+        self._given_acc = acc
+        try:
+            return self._apply(datas)
+        finally:
+            self._given_acc = None
 
     def _apply_compiled(self) -> MudContact:
         assert self._compiled is not None

@@ -147,16 +147,15 @@ def lookahead_apply(batch: MudBatch, datas: Sequence[mujoco.MjData]) -> MudConta
     """
     if len(batch._scratch) != len(datas):
         batch._scratch = [_mujoco().MjData(batch.model) for _ in datas]
-    batch._given_acc = lookahead_acceleration(batch.model, datas, batch._scratch, batch._ids)
+    acc = lookahead_acceleration(batch.model, datas, batch._scratch, batch._ids)
     # the mobility through the step's own matrix: its factor in place of M's for the solve
     mine = [(d.qLD.copy(), d.qLDiagInv.copy()) for d in datas]
     for d, s in zip(datas, batch._scratch, strict=True):
         if np.any(s.qHDiagInv):
             d.qLD[:], d.qLDiagInv[:] = s.qH, s.qHDiagInv
     try:
-        return batch._apply(datas)
+        return batch._apply_given(datas, acc)
     finally:
-        batch._given_acc = None
         for d, (ld, di) in zip(datas, mine, strict=True):
             d.qLD[:], d.qLDiagInv[:] = ld, di
 

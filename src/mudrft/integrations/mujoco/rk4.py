@@ -172,11 +172,7 @@ def rk4_step(batch: MudBatch, datas: Sequence[mujoco.MjData]) -> MudContact:
     for d in datas:
         d.xfrc_applied[ids] = 0.0
         mj.mj_forward(m, d)
-    batch._given_acc = twist_acceleration(m, datas, ids)
-    try:
-        out = batch._apply(datas)
-    finally:
-        batch._given_acc = None
+    out = batch._apply_given(datas, twist_acceleration(m, datas, ids))
     free = ids[free_bodies(m, ids)]
     for d in datas:
         wrench = np.array(d.xfrc_applied[ids])
