@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, TypeAlias, cast
 import numpy as np
 
 from ..._progress import logger
-from ..._typing import FloatArray
+from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError
 from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
@@ -139,7 +139,7 @@ def packed_arguments() -> Any:
     return jitclass(spec)(CouplingArrays)
 
 
-def pack_arguments(arrays: dict[str, np.ndarray]) -> Any:
+def pack_arguments(arrays: dict[str, IndexArray | FloatArray]) -> Any:
     """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
     args = []
     for name, dt, nd in ARGS:
@@ -206,7 +206,7 @@ class CompiledCoupling:
         self.opts = np.zeros(12)
 
     def reset(
-        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: np.ndarray
+        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
     ) -> None:
         """Mud rows from the numpy coupling's initial states; odometry from ``pos``."""
         b = self.batch
@@ -250,7 +250,7 @@ class CompiledCoupling:
             o[..., 18], o[..., 19:22],
         ))  # fmt: skip
 
-    def apply(self, has_prev: bool, acc: np.ndarray | None = None) -> int:
+    def apply(self, has_prev: bool, acc: FloatArray | None = None) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
         the number of bodies whose wrench is not finite.
 

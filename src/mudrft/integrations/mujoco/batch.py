@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..._typing import FloatArray
+from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
@@ -159,7 +159,7 @@ class MudBatch:
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
         self._checked_datas: list[mujoco.MjData] = []
         self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
-        self._given_acc: np.ndarray | None = None  # RK4: what all other forces do (D150)
+        self._given_acc: FloatArray | None = None  # RK4: what all other forces do (D150)
         self.lookahead = opts.lookahead
         self._scratch: list[mujoco.MjData] = []  # copies to read ahead in (D162)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
@@ -253,8 +253,8 @@ class MudBatch:
         return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
     def _posed(
-        self, X: np.ndarray, R: np.ndarray, C: np.ndarray, tip: np.ndarray, cs: np.ndarray
-    ) -> tuple[ChannelGeometry, np.ndarray]:
+        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
+    ) -> tuple[ChannelGeometry, FloatArray]:
         groups = [
             (tri, up, idx) for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
@@ -318,7 +318,7 @@ class MudBatch:
     def _nstep(nstep: object) -> int:
         return check_count("nstep", nstep)
 
-    def _foot_position(self, k: _Reading, *, fresh: bool) -> np.ndarray:
+    def _foot_position(self, k: _Reading, *, fresh: bool) -> FloatArray:
         """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
         c, s = k.cs[..., 0], k.cs[..., 1]
         tip = k.tip
@@ -339,7 +339,7 @@ class MudBatch:
         self._foot_xy = fxy
         return np.concatenate([fxy, k.geo.low[..., 2:]], axis=-1)
 
-    def _in_mud(self) -> np.ndarray:
+    def _in_mud(self) -> BoolArray:
         out = np.zeros((self.n, len(self.bodies)), dtype=bool)
         for (_, idx), st in zip(self._groups, self._states, strict=True):
             im = getattr(st, "in_mud", None)

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError, check_finite, warn_plausibility
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
@@ -327,8 +328,8 @@ def lowest_points(
 
 
 def group_triangles(
-    bodies: Sequence[BodyFoot], idx: np.ndarray
-) -> tuple[np.ndarray | None, PreparedTriangles | None]:
+    bodies: Sequence[BodyFoot], idx: IndexArray
+) -> tuple[FloatArray | None, PreparedTriangles | None]:
     """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
     tri = [bodies[i].triangles for i in idx]
     if any(t is None for t in tri):
