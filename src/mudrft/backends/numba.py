@@ -131,8 +131,10 @@ def compile_scalar(fn: Callable[..., Any], *, inline: bool = False) -> Any:
     return _compile_scalar(fn, bool(inline))
 
 
+# ``fn: Any``: specialize reads its source and globals (a FunctionType, where mypy sees a
+# def as a Callable); the result is a numba dispatcher
 @functools.cache
-def _compile_scalar(fn: Any, inline: bool) -> Any:  # fn: see _compile_driver
+def _compile_scalar(fn: Any, inline: bool) -> Any:
     calls: list[Callable[..., Any]] = []
 
     def callee(g: Callable[..., Any]) -> Any:
