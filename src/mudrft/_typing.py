@@ -31,6 +31,7 @@ __all__ = [
     "BoolArray",
     "FloatArray",
     "FloatOrArray",
+    "IndexArray",
     "IntArray",
     "NDArray",
     "Namespace",
@@ -43,6 +44,9 @@ __all__ = [
 FloatArray: TypeAlias = NDArray[np.float64]
 #: An integer index array (mesh faces, sample indices).
 IntArray: TypeAlias = NDArray[np.intp]
+#: An integer array of any width: indices into MuJoCo's arrays (its own ``int32`` model
+#: arrays, or the ``int64`` copies the compiled coupling packs).
+IndexArray: TypeAlias = NDArray[np.integer]
 #: A boolean mask.
 BoolArray: TypeAlias = NDArray[np.bool_]
 #: A float for one set or one foot, a float64 array for a batch.

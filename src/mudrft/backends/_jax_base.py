@@ -7,16 +7,20 @@ See :mod:`mudrft.backends.jax` (the public module); this module is its foundatio
 from __future__ import annotations
 
 import functools
-from typing import Any, NamedTuple
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._typing import ArrayLike, XpArray
+from .._typing import ArrayLike, FloatOrArray, XpArray
 from .._validation import MudrftError
 from ..constitutive.state import ChannelState
 from ..constitutive.state import initial_state as np_initial
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
 from ..terrains import channel_parameters
+
+if TYPE_CHECKING:
+    from jax import Array
 
 __all__ = [
     "JaxParams",
@@ -29,7 +33,7 @@ __all__ = [
 ]
 
 
-def enable_x64() -> Any:
+def enable_x64() -> ModuleType:
     """Import jax, switch it to 64-bit floats (decision D70) and return the module.
 
     Raises
@@ -52,7 +56,7 @@ def is_tracer(x: object) -> bool:
     return isinstance(x, enable_x64().core.Tracer)
 
 
-def _jnp() -> Any:
+def _jnp() -> ModuleType:
     enable_x64()
     import jax.numpy as jnp
 
@@ -128,7 +132,7 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     )
 
 
-def check_params(params: Any, *, channels: bool = False) -> None:
+def check_params(params: object, *, channels: bool = False) -> None:
     """``params`` must be a :class:`JaxParams` (from :func:`to_jax`); with ``channels``, the
     mud's three channel sets (a trailing axis of 3, ``to_jax(mud)``). Works on traced
     values (it reads the type and the static shape only)."""
@@ -153,7 +157,7 @@ def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
     **meta
         ``source``, ``water_content``, ``direction`` passed on to MudParameters.
     """
-    fields: dict[str, Any] = {}
+    fields: dict[str, FloatOrArray] = {}
     for k in PARAMETER_UNITS:
         a = np.asarray(getattr(params, k), dtype=float)
         fields[k] = float(a) if a.ndim == 0 else a
@@ -191,18 +195,18 @@ class _SafeNamespace:
     at the surface (z = 0) and at the rim.
     """
 
-    def __init__(self, jnp: Any) -> None:
+    def __init__(self, jnp: ModuleType) -> None:
         self._jnp = jnp
 
-    def __getattr__(self, name: str) -> Any:
+    def __getattr__(self, name: str) -> Any:  # any function of jax.numpy
         return getattr(self._jnp, name)
 
-    def sqrt(self, x: Any) -> Any:
+    def sqrt(self, x: Array | float) -> Array:
         jnp = self._jnp
         pos = x > 0
         return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
-    def arccos(self, x: Any) -> Any:
+    def arccos(self, x: Array | float) -> Array:
         import jax
 
         jnp = self._jnp
@@ -212,6 +216,6 @@ class _SafeNamespace:
 
 
 @functools.cache
-def safe_namespace() -> Any:
+def safe_namespace() -> _SafeNamespace:
     """The array namespace the JAX backend gives the feet's rules (see ``_SafeNamespace``)."""
     return _SafeNamespace(_jnp())

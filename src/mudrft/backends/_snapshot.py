@@ -10,11 +10,12 @@ change it, and one snapshot restores any number of times to a bit-identical cont
 from __future__ import annotations
 
 import copy
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Self, overload
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .._typing import FloatArray, FloatOrArray
 from .._validation import MudrftError
 from ..terrains.mud import MudChannels, MudState
 
@@ -50,7 +51,7 @@ class Snapshot(NamedTuple):
     state: MudState
     force: NDArray[np.float64]
     stress: NDArray[np.float64]
-    depth: Any
+    depth: FloatOrArray
 
 
 def map_leaves(fn: Any, tree: Any) -> Any:
@@ -60,7 +61,11 @@ def map_leaves(fn: Any, tree: Any) -> Any:
     return fn(tree)
 
 
-def frozen(value: Any) -> Any:
+@overload
+def frozen(value: float) -> float: ...
+@overload
+def frozen(value: FloatArray) -> FloatArray: ...
+def frozen(value: FloatOrArray) -> FloatOrArray:
     """A read-only float copy of an array (a Python float stays as it is)."""
     if isinstance(value, float):
         return value
@@ -87,13 +92,13 @@ class Restorable:
     def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:  # pragma: no cover
         raise NotImplementedError
 
-    def __copy__(self) -> Any:
+    def __copy__(self) -> Self:
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new.restore(self.snapshot())
         return new
 
-    def __deepcopy__(self, memo: dict[int, Any]) -> Any:
+    def __deepcopy__(self, memo: dict[int, Any]) -> Self:
         return self.__copy__()
 
     def __getstate__(self) -> dict[str, Any]:

@@ -15,13 +15,15 @@ Supported feet: :class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Iterable
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._specialize import on_floats
 from .._validation import MudrftError, check_choice, check_finite
+from ..feet.base import Foot
 from ..feet.closed_form import closed_form_force
 from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 from ..parameters.base import Mud
@@ -33,7 +35,7 @@ from .batch import as_mud_terrain
 __all__ = ["FastMudFoot", "foot_geometry"]
 
 
-def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
+def foot_geometry(foot: Foot) -> tuple[int, tuple[float, float, float]]:
     """``(kind, (g0, g1, g2))`` of a closed-form foot for the compiled paths [m].
 
     Raises
@@ -47,7 +49,7 @@ def foot_geometry(foot: Any) -> tuple[int, tuple[float, float, float]]:
             "foot must be a closed-form foot (mudrft.feet.Flat, SemiCylinder or SemiSphere), "
             f"got {type(foot).__name__}; use mudrft.MudTerrain for other feet"
         )
-    kind, g0, g1, g2 = foot.kernel_geometry
+    kind, g0, g1, g2 = cast("Flat | SemiCylinder | SemiSphere", foot).kernel_geometry
     return kind, (g0, g1, g2)
 
 
@@ -89,7 +91,7 @@ class FastMudFoot(Restorable):
 
     def __init__(
         self,
-        foot: Any,
+        foot: Flat | SemiCylinder | SemiSphere,
         mud: Mud | MudTerrain,
         *,
         position: ArrayLike = (0.0, 0.0, 0.0),
@@ -137,7 +139,7 @@ class FastMudFoot(Restorable):
         if pos.shape != (3,):
             raise MudrftError(f"position must have shape (3,) [m], got shape {pos.shape}")
         self._channels = self.terrain.initial_state(self.foot, pos).channels
-        self._stress: Any = np.zeros(3)
+        self._stress: NDArray[np.float64] | tuple[float, ...] = np.zeros(3)
         self._depth = max(-float(pos[2]), 0.0)
         if self.backend == "numba":
             from .numba import state_rows
@@ -264,7 +266,7 @@ class FastMudFoot(Restorable):
         return force
 
     @staticmethod
-    def _not_numbers(position: Any, velocity: Any) -> MudrftError:
+    def _not_numbers(position: Iterable[object], velocity: Iterable[object]) -> MudrftError:
         return MudrftError(
             f"position and velocity must be real numbers [m], [m/s], got {list(position)!r} "
             f"and {list(velocity)!r}"

@@ -141,14 +141,14 @@ def _compiled() -> dict[str, Any]:
         acceleration: bool | None,
         thixotropy: str,
         clock: str,
-    ) -> tuple[Any, ...]:
+    ) -> tuple[Array, Array, Array, Array, Array]:
         dts = t[1:] - t[:-1]
         dts_b = dts.reshape(dts.shape + (1,) * (g.ndim - 1))
         rates = (g[1:] - g[:-1]) / dts_b
 
         def body(
             st: ChannelState, inp: tuple[Array, Array, Array, Array]
-        ) -> tuple[ChannelState, tuple[Any, ...]]:
+        ) -> tuple[ChannelState, tuple[Array, Array, Array, Array, Array]]:
             gk, rk, dtk, sk = inp
             st, s = one_step(p, st, gk, rk, dtk, sk, acceleration, thixotropy, clock)
             return st, (s.total, s.elastic, s.thixotropic, s.suction, st.xi)

@@ -5,7 +5,7 @@ Part of the JAX backend (:mod:`mudrft.backends.jax` re-exports every name).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,7 +36,7 @@ __all__ = ["TerrainState", "initial_terrain_state", "mud_constants", "simulate",
 TerrainState = MudChannels
 
 
-def _xyz(name: str, value: Any, unit: str) -> Array:
+def _xyz(name: str, value: JaxArrayLike, unit: str) -> Array:
     """``value`` as a float array of shape (..., 3): x, y, z. A concrete value is checked
     for NaN and infinity as well; a traced one (inside the caller's ``jit``) for its shape
     only. JAX clips an index out of range instead of raising, so without this check a
@@ -51,7 +51,7 @@ def _xyz(name: str, value: Any, unit: str) -> Array:
     return a
 
 
-def _length(characteristic_length: Any) -> Any:
+def _length(characteristic_length: float) -> float:  # or traced, typed float as in terrain_step
     """:math:`L_c` [m], checked when concrete (a traced one is the caller's design variable)."""
     if isinstance(characteristic_length, Foot):
         raise MudrftError(
@@ -64,7 +64,9 @@ def _length(characteristic_length: Any) -> Any:
     return check_characteristic_length("mudrft.backends.jax", characteristic_length)
 
 
-def foot_rule(force_fn: Foot | ForceRule, characteristic_length: Any) -> tuple[ForceRule, Any]:
+def foot_rule(
+    force_fn: Foot | ForceRule, characteristic_length: float | None
+) -> tuple[ForceRule, float]:
     """The force rule and :math:`L_c` [m] of :func:`terrain_step` from its arguments.
 
     A foot (or its ``force`` method, numpy) gives

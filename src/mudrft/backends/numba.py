@@ -25,8 +25,8 @@ from __future__ import annotations
 import functools
 import math
 import types
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,6 +37,10 @@ from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
 from ..feet.closed_form import closed_form_force
 from ..terrains.mud import MudChannels, mud_step
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
+    from ..terrains.mud import MudTerrain
 
 __all__ = [
     "N_CHANNEL",
@@ -75,7 +79,7 @@ def available() -> bool:
     return True
 
 
-def _numba() -> Any:
+def _numba() -> types.ModuleType:
     try:
         import numba
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -92,7 +96,7 @@ def scalar_namespace() -> types.ModuleType:
     for name, g in SCALAR_HELPERS.items():
         setattr(ns, name, jit(g))
     ns.abs = abs  # type: ignore[attr-defined]
-    funcs: tuple[tuple[str, Any], ...] = (
+    funcs: tuple[tuple[str, Callable[..., float]], ...] = (
         ("exp", math.exp), ("expm1", math.expm1), ("tanh", math.tanh), ("cos", math.cos),
         ("sin", math.sin), ("arccos", math.acos), ("arctan2", math.atan2),
         ("hypot", math.hypot), ("sqrt", math.sqrt),
@@ -127,11 +131,13 @@ def compile_scalar(fn: Callable[..., Any], *, inline: bool = False) -> Any:
     return _compile_scalar(fn, bool(inline))
 
 
+# ``fn: Any``: specialize reads its source and globals (a FunctionType, where mypy sees a
+# def as a Callable); the result is a numba dispatcher
 @functools.cache
 def _compile_scalar(fn: Any, inline: bool) -> Any:
-    calls: list[Any] = []
+    calls: list[Callable[..., Any]] = []
 
-    def callee(g: Any) -> Any:
+    def callee(g: Callable[..., Any]) -> Any:
         calls.append(g)
         return _compile_scalar(g, inline)
 
@@ -147,7 +153,7 @@ def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> NDArray[np.flo
     return np.ascontiguousarray(np.stack(np.broadcast_arrays(*fields), axis=-1))
 
 
-def config_row(terrain: Any, foot: Any) -> NDArray[np.float64]:
+def config_row(terrain: MudTerrain, foot: Foot) -> NDArray[np.float64]:
     """The ``cfg`` row of :func:`compiled_feet` for a :class:`~mudrft.MudTerrain` and a foot."""
     return np.array(
         [
@@ -183,8 +189,9 @@ prange = range
 
 
 def _one_foot(
-    c: Any, r: int, s: Any, o: Any, x: float, y: float, z: float, vx: float, vy: float,
-    vz: float, dt: float, cfg: Any, geom: Any,
+    c: NDArray[np.float64], r: int, s: NDArray[np.float64], o: NDArray[np.float64], x: float,
+    y: float, z: float, vx: float, vy: float, vz: float, dt: float, cfg: NDArray[np.float64],
+    geom: NDArray[np.float64],
 ) -> None:  # fmt: skip
     """One closed-form foot: state row ``s`` and output row ``o`` updated in place."""
     lc, kappa, xi0, reset, hs = cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4]
@@ -207,7 +214,14 @@ def _one_foot(
 
 
 def _feet_loop(
-    c: Any, st: Any, out: Any, pos: Any, vel: Any, dt: float, cfg: Any, geom: Any
+    c: NDArray[np.float64],
+    st: NDArray[np.float64],
+    out: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    vel: NDArray[np.float64],
+    dt: float,
+    cfg: NDArray[np.float64],
+    geom: NDArray[np.float64],
 ) -> None:
     """N closed-form feet (compiled; ``prange`` is bound to numba's or to ``range``)."""
     n = pos.shape[0]
@@ -220,7 +234,15 @@ def _feet_loop(
 
 
 def _fast_foot(
-    c: Any, w: Any, x: float, y: float, z: float, vx: float, vy: float, vz: float, dt: float
+    c: NDArray[np.float64],
+    w: NDArray[np.float64],
+    x: float,
+    y: float,
+    z: float,
+    vx: float,
+    vy: float,
+    vz: float,
+    dt: float,
 ) -> int:
     """One foot with its checks: 0 done, 1 bad input (nothing changed), 2 non-finite force.
 
@@ -236,7 +258,7 @@ def _fast_foot(
     return 0 if math.isfinite(o[0] + o[1] + o[2]) else 2
 
 
-def _constants(c: Any, r: int, o: int) -> ChannelConstants:
+def _constants(c: NDArray[np.float64], r: int, o: int) -> ChannelConstants:
     """One channel's constants from row ``r`` of ``c`` at offset ``o``."""
     x = c[r]
     return ChannelConstants(
@@ -245,7 +267,7 @@ def _constants(c: Any, r: int, o: int) -> ChannelConstants:
     )  # fmt: skip
 
 
-def _channels(s: Any) -> MudChannels:
+def _channels(s: NDArray[np.float64] | Sequence[float]) -> MudChannels:
     """The mud under one foot from its state row ``s`` (``N_STATE`` floats, :func:`state_rows`)."""
     return MudChannels(
         ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
@@ -275,7 +297,9 @@ def _compiled_one_foot() -> Any:
     return numba.njit(error_model="numpy")(types.FunctionType(_one_foot.__code__, env, "_one_foot"))
 
 
-def _compile_driver(fn: Any, **extra: Any) -> Any:
+# ``fn: Any``: a plain function whose code and globals are read, which mypy sees as a
+# Callable (no ``__code__``), not as the FunctionType it is
+def _compile_driver(fn: Any, **extra: Any) -> types.FunctionType:
     """A driver of this module with the compiled foot step bound to its globals."""
     env = dict(fn.__globals__)
     env.update(_foot=_compiled_one_foot(), **extra)

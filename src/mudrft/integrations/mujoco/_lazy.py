@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Any
+from types import ModuleType
 
 
-def _mujoco() -> Any:
+def _mujoco() -> ModuleType:
     """Import MuJoCo lazily with a helpful message."""
     try:
         import mujoco

@@ -13,11 +13,12 @@ from __future__ import annotations
 import functools
 import time
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias, cast
 
 import numpy as np
 
 from ..._progress import logger
+from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError
 from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
@@ -36,7 +37,11 @@ if TYPE_CHECKING:
     from ...feet.shapes import _ClosedFormFoot
     from ...terrains import Terrain
     from ...terrains.mud import MudState
+    from .batch import MudBatch
     from .placement import BodyFoot
+
+#: The feet the kernel steps (:func:`check_compilable`).
+_KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
 __all__ = ["ARGS", "CompiledCoupling", "check_compilable", "choose_backend", "pack_arguments"]
 
@@ -62,7 +67,7 @@ def _compilable_foot(foot: Foot | None) -> bool:
     return elementwise or isinstance(foot, MeshFoot | MorphingFoot)
 
 
-def _geometry_row(foot: MeshFoot | MorphingFoot | _ClosedFormFoot) -> list[float]:
+def _geometry_row(foot: _KernelFoot) -> list[float]:
     """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, (3, trailing, 0, 0)
     for a mesh foot, (4, 0, 0, 0) for the morphing foot (its numbers: :func:`_morph_row`)."""
     if isinstance(foot, MeshFoot):
@@ -72,7 +77,7 @@ def _geometry_row(foot: MeshFoot | MorphingFoot | _ClosedFormFoot) -> list[float
     return [float(v) for v in foot.kernel_geometry]
 
 
-def _morph_row(foot: Foot) -> Any:
+def _morph_row(foot: Foot) -> FloatArray:
     """A morphing foot's :class:`~mudrft.feet.morphing.row.MorphingRow`; zeros for others."""
     if isinstance(foot, MorphingFoot):
         return row_array(foot)
@@ -134,7 +139,7 @@ def packed_arguments() -> Any:
     return jitclass(spec)(CouplingArrays)
 
 
-def pack_arguments(arrays: dict[str, np.ndarray]) -> Any:
+def pack_arguments(arrays: dict[str, IndexArray | FloatArray]) -> Any:
     """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
     args = []
     for name, dt, nd in ARGS:
@@ -151,7 +156,7 @@ def pack_arguments(arrays: dict[str, np.ndarray]) -> Any:
 class CompiledCoupling:
     """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`."""
 
-    def __init__(self, batch: Any) -> None:
+    def __init__(self, batch: MudBatch) -> None:
         m = batch.model
         self.batch = batch
         self.kernel = coupling_kernel()
@@ -166,22 +171,25 @@ class CompiledCoupling:
         self.colind = np.asarray(m.M_colind, dtype=np.int64)
         self.mass = np.asarray(m.body_mass, dtype=float)
         self.inertia = np.ascontiguousarray(m.body_inertia, dtype=float)
+        # check_compilable has made sure of the mud, a surface on every foot and feet the
+        # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
+        tris = [cast(FloatArray, b.triangles) for b in bodies]
         self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id])] for b in bodies])
         self.tip = np.ascontiguousarray([b.tip for b in bodies], dtype=float)
         self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
-        sizes = [len(b.triangles) for b in bodies]
+        sizes = [len(tri) for tri in tris]
         self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-        self.tri_b = np.ascontiguousarray(np.concatenate([b.triangles for b in bodies]))
+        self.tri_b = np.ascontiguousarray(np.concatenate(tris))
         ups = [upright_rows(prepare_triangles(b.upright)) for b in bodies]
         self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
         self.tri_up = np.ascontiguousarray(np.concatenate(ups))
-        t = batch.terrain
+        t = cast(MudTerrain, batch.terrain)
         self.consts = np.ascontiguousarray(
             np.broadcast_to(constant_row(*t.constants), (len(bodies), 24))
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
-        self.geom = np.array([_geometry_row(b.foot) for b in bodies])
+        self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
         self.morph = np.ascontiguousarray([_morph_row(b.foot) for b in bodies], dtype=float)
         n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
@@ -194,11 +202,11 @@ class CompiledCoupling:
         self.work = np.zeros(work_size(m.nv, len(self.tri_b), nb))
         self.addr = np.zeros((n, 10), dtype=np.int64)
         self.sizes = np.zeros(3, dtype=np.int64)
-        self.datas: list[Any] = []
+        self.datas: list[mujoco.MjData] = []
         self.opts = np.zeros(12)
 
     def reset(
-        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: np.ndarray
+        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
     ) -> None:
         """Mud rows from the numpy coupling's initial states; odometry from ``pos``."""
         b = self.batch
@@ -242,7 +250,7 @@ class CompiledCoupling:
             o[..., 18], o[..., 19:22],
         ))  # fmt: skip
 
-    def apply(self, has_prev: bool, acc: np.ndarray | None = None) -> int:
+    def apply(self, has_prev: bool, acc: FloatArray | None = None) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
         the number of bodies whose wrench is not finite.
 

@@ -11,11 +11,12 @@ writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
@@ -38,7 +39,26 @@ from .rk4 import rk4_step, warn_rk4_apply
 from .stability import check_explicit_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...feet.base import Foot
+    from ...parameters import Mud
+    from ...terrains import Terrain
+
 __all__ = ["MudBatch", "MudContact"]
+
+
+class _Reading(NamedTuple):
+    """What a step reads of the robots (:meth:`MudBatch._read`), shapes (N, nb, ...)."""
+
+    com: FloatArray  # each body's center of mass [m], world frame (N, nb, 3)
+    tip: FloatArray  # tip position [m] (N, nb, 3)
+    cs: FloatArray  # cosine and sine of the foot's heading (yaw) (N, nb, 2)
+    tw: FloatArray  # twist at the center of mass [m/s, rad/s] (N, nb, 6)
+    W: FloatArray | None  # mobility (N, nb, nb, 6, 6) for the implicit step, else None
+    geo: ChannelGeometry  # the posed feet's channels (:func:`.pose.posed_channels`)
+    ratio: FloatArray  # their areas over the upright foot's (N, nb, 3)
 
 
 class MudBatch:
@@ -108,12 +128,12 @@ class MudBatch:
 
     def __init__(
         self,
-        model: Any,
+        model: mujoco.MjModel,
         bodies: Sequence[str],
-        mud: Any,
+        mud: Mud | Terrain,
         *,
         n: int = 1,
-        feet: Any = None,
+        feet: Foot | Sequence[Foot | None] | None = None,
         surface: float = 0.0,
         bottom: float | None = None,
         bottom_stiffness: float = 1e5,
@@ -137,10 +157,11 @@ class MudBatch:
         self.model = model
         self._mj = mj
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
-        self._checked_datas: list[Any] = []
+        self._checked_datas: list[mujoco.MjData] = []
         self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
-        self._given_acc: np.ndarray | None = None  # RK4: what all other forces do (D150)
-        self.lookahead, self._scratch = opts.lookahead, list[Any]()  # read ahead (D162)
+        self._given_acc: FloatArray | None = None  # RK4: what all other forces do (D150)
+        self.lookahead = opts.lookahead
+        self._scratch: list[mujoco.MjData] = []  # copies to read ahead in (D162)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
@@ -149,7 +170,7 @@ class MudBatch:
         self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
         self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
-        cache: dict[Any, Any] = {}
+        cache: dict[str | int, Foot] = {}
         placed = []
         for b, f, g in zip(bodies, feet_list, opts.geoms, strict=True):
             bf = attached_foot(model, b, f, resolution=opts.resolution, geom=g)
@@ -182,7 +203,7 @@ class MudBatch:
         self._jac = np.zeros((nb, 6, model.nv))
         self._minv_jt = np.zeros((nb, 6, model.nv))
         self._warnings = np.zeros(self.n, dtype=np.int64)
-        self._warn: list[Any] = []
+        self._warn: list[mujoco.MjWarningStat] = []
         if backend not in ("numpy", "numba"):
             raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
         self.backend = backend
@@ -195,7 +216,7 @@ class MudBatch:
         self._stale = False  # the compiled outputs are newer than _last (built on demand)
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
-        self._loop: Any = None  # the compiled step loop, made by reset()
+        self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
 
     @property
     def last(self) -> MudContact | None:
@@ -215,7 +236,7 @@ class MudBatch:
         self._last, self._stale = value, False
 
     # -- reading MuJoCo ---------------------------------------------------------------
-    def _read(self, datas: Sequence[Any]) -> dict[str, Any]:
+    def _read(self, datas: Sequence[mujoco.MjData]) -> _Reading:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
         tip = X + matvec(R, self._tip)
         fw = matvec(R, self._fwd)
@@ -229,20 +250,11 @@ class MudBatch:
             else:
                 W = body_mobility(self.model, datas, self._ids)
         geo, ratio = self._posed(X, R, C, tip, cs)
-        return {
-            "R": R,
-            "com": C,
-            "tip": tip,
-            "cs": cs,
-            "tw": tw,
-            "W": W,
-            "geo": geo,
-            "ratio": ratio,
-        }
+        return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
     def _posed(
-        self, X: np.ndarray, R: np.ndarray, C: np.ndarray, tip: np.ndarray, cs: np.ndarray
-    ) -> tuple[ChannelGeometry, np.ndarray]:
+        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
+    ) -> tuple[ChannelGeometry, FloatArray]:
         groups = [
             (tri, up, idx) for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
@@ -256,7 +268,7 @@ class MudBatch:
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
     # -- public API -------------------------------------------------------------------
-    def reset(self, datas: Sequence[Any]) -> None:
+    def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:
         """Start with undisturbed mud under the feet in their current pose (calls mj_forward)."""
         mj = _mujoco()
         datas = self._check(datas)
@@ -267,7 +279,7 @@ class MudBatch:
         pos = self._foot_position(k, fresh=True)
         for gi, (foot, idx) in enumerate(self._groups):
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
-        self._world_xy = k["tip"][..., :2]
+        self._world_xy = k.tip[..., :2]
         if self._compiled is not None:
             self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
@@ -283,7 +295,7 @@ class MudBatch:
             self._compiled.opts[11] = 0.0
             self._loop = self._compiled_loop(datas)
 
-    def _check(self, datas: Any) -> list[Any]:
+    def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):
             datas = [datas]
         if not isinstance(datas, Sequence):
@@ -303,13 +315,13 @@ class MudBatch:
         return datas
 
     @staticmethod
-    def _nstep(nstep: Any) -> int:
+    def _nstep(nstep: object) -> int:
         return check_count("nstep", nstep)
 
-    def _foot_position(self, k: dict[str, Any], *, fresh: bool) -> np.ndarray:
+    def _foot_position(self, k: _Reading, *, fresh: bool) -> FloatArray:
         """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
-        c, s = k["cs"][..., 0], k["cs"][..., 1]
-        tip = k["tip"]
+        c, s = k.cs[..., 0], k.cs[..., 1]
+        tip = k.tip
         if fresh:
             xy = tip[..., :2]
             fxy = np.stack(
@@ -325,16 +337,16 @@ class MudBatch:
                 [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
             )
         self._foot_xy = fxy
-        return np.concatenate([fxy, k["geo"].low[..., 2:]], axis=-1)
+        return np.concatenate([fxy, k.geo.low[..., 2:]], axis=-1)
 
-    def _in_mud(self) -> np.ndarray:
+    def _in_mud(self) -> BoolArray:
         out = np.zeros((self.n, len(self.bodies)), dtype=bool)
         for (_, idx), st in zip(self._groups, self._states, strict=True):
             im = getattr(st, "in_mud", None)
             out[:, idx] = np.broadcast_to(im, (self.n, len(idx))) if im is not None else True
         return out
 
-    def apply(self, datas: Sequence[Any]) -> MudContact:
+    def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
         """Advance the mud once and write ``xfrc_applied`` for the current state.
 
         Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
@@ -342,10 +354,10 @@ class MudBatch:
         """
         return self._apply_now(self._check(datas))
 
-    def _apply_now(self, datas: list[Any]) -> MudContact:  # apply(): reading ahead (D162)
+    def _apply_now(self, datas: list[mujoco.MjData]) -> MudContact:  # apply(): reading ahead (D162)
         return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
 
-    def _apply(self, datas: list[Any]) -> MudContact:
+    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
         rk4 = int(self._opt.integrator) == self._rk4
@@ -355,7 +367,7 @@ class MudBatch:
             return self._apply_compiled()
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
-        geo, cs, tw, com = k["geo"], k["cs"], k["tw"], k["com"]
+        geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
         c, s = cs[..., 0], cs[..., 1]
         # channel points relative to the center of mass, world frame
         p = geo.point
@@ -367,7 +379,7 @@ class MudBatch:
         b = channel_rows(cs, rel)
         vel = rowdot(b, tw[..., None, :])  # channel velocities at their points
         pos = self._foot_position(k, fresh=False)
-        self._world_xy = k["tip"][..., :2]
+        self._world_xy = k.tip[..., :2]
         N, nb = pos.shape[:2]
         f_up = np.empty((N, nb, 3))
         jd = np.zeros((N, nb, 3))
@@ -388,7 +400,7 @@ class MudBatch:
                 sg = np.asarray(out.stress)
             self._states[gi] = new
             stress[:, idx] = sg
-        ratio = k["ratio"]
+        ratio = k.ratio
         w0 = posed_wrench(ratio * f_up, b)
         K = None
         if self.implicit:
@@ -410,7 +422,8 @@ class MudBatch:
             if K is not None:
                 K += kb
         if K is not None:
-            W = k["W"]
+            W = k.W
+            assert W is not None  # read when implicit, as K is made
             if self._given_acc is not None:
                 acc = self._given_acc
             elif self._has_prev:
@@ -442,12 +455,21 @@ class MudBatch:
             explicit_force=w0[..., :3],
             torque=torque,
             point=_central_point(force, torque, com, pz),
-            tip=np.concatenate([k["tip"][..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
             velocity=vel,
             depth=depth,
             stress=stress,
         )
         return self.last
+
+    def _apply_given(self, datas: Sequence[mujoco.MjData], acc: FloatArray) -> MudContact:
+        """:meth:`_apply` with the twist acceleration ``acc`` (N, nb, 6) of all forces but
+        the mud's given (RK4, D150; read ahead, D162) instead of taken from the last step."""
+        self._given_acc = acc
+        try:
+            return self._apply(datas)
+        finally:
+            self._given_acc = None
 
     def _apply_compiled(self) -> MudContact:
         assert self._compiled is not None
@@ -462,7 +484,7 @@ class MudBatch:
         self.last = self._compiled.contact()
         return self.last
 
-    def step(self, datas: Sequence[Any], nstep: int = 1) -> MudContact:
+    def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
 
         Raises
@@ -472,7 +494,7 @@ class MudBatch:
         """
         return self._step(self._check(datas), self._nstep(nstep))
 
-    def advance(self, datas: Sequence[Any], nstep: int = 1) -> None:
+    def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact: ``nstep`` physics steps of every
         robot; :attr:`last` still gives what the mud did in the last one, built when read.
 
@@ -486,14 +508,14 @@ class MudBatch:
         else:
             self._step_generic(datas, nstep)
 
-    def _step(self, datas: list[Any], nstep: int) -> MudContact:
+    def _step(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
         if self._compiled is not None:
             out = self._step_compiled(datas, int(nstep))
             assert out is not None
             return out
         return self._step_generic(datas, nstep)
 
-    def _step_generic(self, datas: list[Any], nstep: int) -> MudContact:
+    def _step_generic(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
         mj = self._mj
         m = self.model
         rk4 = int(self._opt.integrator) == self._rk4
@@ -514,7 +536,7 @@ class MudBatch:
         return out
 
     def _step_compiled(
-        self, datas: list[Any], nstep: int, *, contact: bool = True
+        self, datas: list[mujoco.MjData], nstep: int, *, contact: bool = True
     ) -> MudContact | None:
         """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2`` (D68b);
         the contact of the last step, unless ``contact`` is false."""
@@ -529,7 +551,7 @@ class MudBatch:
         self._loop(nstep)
         return self.last if contact else None
 
-    def _compiled_loop(self, datas: list[Any]) -> Any:
+    def _compiled_loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
         """The compiled coupling's step loop over ``datas``, as a closure over local names.
 
         Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
@@ -585,7 +607,7 @@ class MudBatch:
 
         return loop
 
-    def _check_diverged(self, datas: list[Any]) -> None:
+    def _check_diverged(self, datas: list[mujoco.MjData]) -> None:
         """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
         for i, w in enumerate(self._warn):
             if w.number != self._warnings[i]:
@@ -593,6 +615,6 @@ class MudBatch:
                 raise diverged_error(i, datas[i], self.last)
 
 
-def _hashable_repr(foot: Any) -> bool:
+def _hashable_repr(foot: Foot) -> bool:
     # dataclass feet with eq=True print their parameters; equal reprs = equal geometry
     return type(foot).__repr__ is not object.__repr__ and "(" in repr(foot) and "=" in repr(foot)

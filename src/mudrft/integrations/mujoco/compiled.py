@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from ..._typing import FloatArray, IndexArray
 from ...backends.numba import N_STATE, STATE_IN_MUD, _channels, _constants, _numba, compile_scalar
 from ...feet.closed_form import closed_form_force
 from ...feet.facet import (
@@ -54,6 +55,7 @@ from ...feet.facet import (
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
+from ...feet.surface import PreparedTriangles
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
 from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
 from .implicit import passivity_scale, secant_steps
@@ -77,7 +79,14 @@ __all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "upright_rows", "work_size"
 N_OUT = 23
 
 
-def _geometry(tri: Any, M: Any, sh: Any, v: Any, scratch: Any, out: Any) -> None:
+def _geometry(
+    tri: FloatArray,
+    M: FloatArray,
+    sh: FloatArray,
+    v: FloatArray,
+    scratch: FloatArray,
+    out: FloatArray,
+) -> None:
     """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`).
 
     ``out`` = (A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3)), 42 floats; ``v`` (9)
@@ -159,7 +168,7 @@ def _geometry(tri: Any, M: Any, sh: Any, v: Any, scratch: Any, out: Any) -> None
     out[39], out[40], out[41] = lx, ly, lowz
 
 
-def _upright_area(up: Any, depth: float, a: Any) -> None:
+def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
     """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`).
 
     ``up`` (m, 10): per prepared facet z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
@@ -177,7 +186,7 @@ def _upright_area(up: Any, depth: float, a: Any) -> None:
         a[2] += w2
 
 
-def upright_rows(prepared: Any) -> Any:
+def upright_rows(prepared: PreparedTriangles) -> FloatArray:
     """Rows (m, 10) of the prepared upright facets for :func:`_upright_area`."""
     p = prepared
     cols = (p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, p.nh, p.hx, p.hy, p.wz)
@@ -185,12 +194,15 @@ def upright_rows(prepared: Any) -> Any:
 
 
 def _kernel(
-    addr: Any, sizes: Any,
-    model_i: Any, dof_parentid: Any, rownnz: Any, rowadr: Any, colind: Any,
-    mass: Any, inertia: Any,
-    bodies: Any, tip: Any, fwd: Any, tri_adr: Any, tri_b: Any, up_adr: Any, tri_up: Any,
-    consts: Any, cfg: Any, geom: Any, morph: Any, opts: Any,
-    mud: Any, fst: Any, odo: Any, tw_prev: Any, wv_prev: Any, tank: Any, out: Any, work: Any,
+    addr: IndexArray, sizes: IndexArray,
+    model_i: IndexArray, dof_parentid: IndexArray, rownnz: IndexArray, rowadr: IndexArray,
+    colind: IndexArray,
+    mass: FloatArray, inertia: FloatArray,
+    bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
+    tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
+    consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
+    mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
+    wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
 ) -> int:  # fmt: skip
     """One coupling step of every body of every robot (see the module docstring).
 
@@ -522,7 +534,7 @@ def work_size(nv: int, ntri: int, nb: int) -> int:
     return 6 * ntri + WORK_FIXED + nb * (12 * nv + 118) + 72 * nb * nb
 
 
-def _kernel_packed(p: Any) -> int:
+def _kernel_packed(p: Any) -> int:  # p: a numba jitclass instance, its class made at run time
     """:func:`_kernel` on the arrays of one :func:`.backend.packed_arguments` instance."""
     return _kernel(
         p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,

@@ -10,21 +10,26 @@ floats here; :func:`.compiled.coupling_kernel` compiles them with the physics th
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TypeAlias
 
+from ..._typing import FloatArray
 from ...backends.numba import _channels, _constants
+from ...constitutive.kernel import ChannelConstants
 from ...feet.closed_form import closed_form_force
 from ...feet.facet import facet_factors, facet_force, fold_stresses, submerged_area
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
-from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
+from ...terrains.mud import MudChannels, mud_channel_stress, mud_heading, mud_step
 
 __all__ = ["ROW_OF_SOURCE", "mesh_force", "mud_force", "nudged_force"]
 
+#: What :func:`_mud_force` returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
+FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
-def _mesh_force(up: Any, depth: float, sx: float, sy: float, sz: float, heading: float,
-                trailing: bool) -> Any:  # fmt: skip
+
+def _mesh_force(up: FloatArray, depth: float, sx: float, sy: float, sz: float, heading: float,
+                trailing: bool) -> tuple[float, float, float]:  # fmt: skip
     """Force of the mud on an upright mesh foot [N]: the element rule summed over its
     prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
     sqx, sqy, ux, uy = _fold(sx, sy, heading)
@@ -42,8 +47,10 @@ def _mesh_force(up: Any, depth: float, sx: float, sy: float, sz: float, heading:
     return fx, fy, fz
 
 
-def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, up: Any,
-               row: Any, mrow: Any, fs: Any, frow: Any) -> Any:  # fmt: skip
+def _mud_force(c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray, dt: float,
+               cfg: FloatArray, geom: FloatArray, up: FloatArray, row: FloatArray,
+               mrow: FloatArray, fs: FloatArray, frow: FloatArray,
+               ) -> FootStep:  # fmt: skip
     """One mud step of one foot from state row ``s`` (not modified), the new state written
     to ``row`` (N_STATE); returns (fx, fy, fz, sx, sy, sz, depth) [N, Pa, m].
 
@@ -77,8 +84,9 @@ def _mud_force(c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any, u
             depth)  # fmt: skip
 
 
-def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, geom: Any,
-                  up: Any, r0: Any, mrow: Any, fs: Any, frow: Any) -> float:  # fmt: skip
+def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray,
+                  dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray, r0: FootStep,
+                  mrow: FloatArray, fs: FloatArray, frow: FloatArray) -> float:  # fmt: skip
     """Force component ``q`` [N] of the mud step from state row ``s`` when only channel
     ``q``'s rate differs from the step that returned ``r0`` (:func:`_mud_force`): the one
     channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`), the heading
@@ -108,7 +116,9 @@ def _nudged_force(q: int, c: Any, s: Any, p: Any, u: Any, dt: float, cfg: Any, g
     return (fx if q == 0 else (fy if q == 1 else fz)) * inside
 
 
-def _inputs(c: Any, s: Any, geom: Any, mrow: Any, fs: Any) -> Any:
+def _inputs(
+    c: FloatArray, s: FloatArray, geom: FloatArray, mrow: FloatArray, fs: FloatArray
+) -> tuple[ChannelConstants, ChannelConstants, MudChannels, MorphingRow, float]:
     """What a step of one foot reads: the horizontal and vertical constants of row ``c``,
     the channels of state row ``s``, the :class:`MorphingRow` of ``mrow`` and the seal
     factor [-] (a morphing foot's, of its previous state ``fs`` (D35); 1 for others)."""
@@ -119,7 +129,7 @@ def _inputs(c: Any, s: Any, geom: Any, mrow: Any, fs: Any) -> Any:
     return _constants(c, 0, 0), _constants(c, 0, 12), _channels(s), m, seal
 
 
-def _row_of(r: Any) -> Any:
+def _row_of(r: FloatArray) -> MorphingRow:
     """The :class:`MorphingRow` of a float row (:func:`~.backend._morph_row`); numba takes
     no ``*r`` of an array: :func:`coupling_kernel` compiles the same call with the fields
     spelled out (:func:`_row_of_source`)."""

@@ -7,6 +7,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._typing import FloatArray
+
 __all__ = ["MudContact"]
 
 
@@ -48,8 +50,8 @@ class MudContact(NamedTuple):
 
 
 def _central_point(
-    force: np.ndarray, torque: np.ndarray, com: np.ndarray, near: np.ndarray
-) -> np.ndarray:
+    force: FloatArray, torque: FloatArray, com: FloatArray, near: FloatArray
+) -> FloatArray:
     """Point of the wrench's central axis nearest to ``near`` [m] (``near`` without force)."""
     f2 = np.einsum("...i,...i->...", force, force)
     has = f2 > 1e-300

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from types import ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -155,7 +155,7 @@ def _mesh_faces(model: mujoco.MjModel, g: int) -> NDArray[np.int_]:
 
 def _derived_foot(
     model: mujoco.MjModel, ref: mujoco.MjData, g: int, fwd_w: NDArray[np.float64]
-) -> tuple[Any, NDArray[np.float64]]:
+) -> tuple[feet.Foot, NDArray[np.float64]]:
     """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose)."""
     mj = _mujoco()
     t = int(model.geom_type[g])

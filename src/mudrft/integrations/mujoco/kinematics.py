@@ -15,19 +15,21 @@ frame.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
-from ..._typing import FloatArray
+from ..._typing import FloatArray, IndexArray, Namespace
 from ._lazy import _mujoco
+
+if TYPE_CHECKING:
+    import mujoco
 
 __all__ = ["body_frames", "body_mobility", "chain_mobility", "com_twist"]
 
 
 def body_frames(
-    datas: Sequence[Any], ids: NDArray[np.int_], roots: NDArray[np.int_]
+    datas: Sequence[mujoco.MjData], ids: IndexArray, roots: IndexArray
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
     """Frames and velocities of bodies ``ids`` of every robot.
 
@@ -68,9 +70,9 @@ def body_frames(
 
 
 def chain_mobility(
-    model: Any,
-    datas: Sequence[Any],
-    ids: NDArray[np.int_],
+    model: mujoco.MjModel,
+    datas: Sequence[mujoco.MjData],
+    ids: IndexArray,
     com: FloatArray,
     jac: FloatArray,
     minv_jt: FloatArray,
@@ -112,7 +114,9 @@ def chain_mobility(
     return W
 
 
-def body_mobility(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> FloatArray:
+def body_mobility(
+    model: mujoco.MjModel, datas: Sequence[mujoco.MjData], ids: IndexArray
+) -> FloatArray:
     r"""Mobility of each body as if it were free: :math:`\operatorname{diag}(I/m, I_c^{-1})`.
 
     Parameters
@@ -143,7 +147,7 @@ def body_mobility(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> Fl
     return W
 
 
-def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, *, xp: Any = np) -> FloatArray:
+def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, *, xp: Namespace = np) -> FloatArray:
     """Twist of each body at its center of mass: (linear velocity [m/s], angular [rad/s]).
 
     Parameters
@@ -165,7 +169,7 @@ def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, *, xp: Any = np) -> F
     return xp.concatenate([V[..., 3:] + _cross(w, C - S, xp), w], axis=-1)
 
 
-def _cross(a: FloatArray, b: FloatArray, xp: Any = np) -> FloatArray:
+def _cross(a: FloatArray, b: FloatArray, xp: Namespace = np) -> FloatArray:
     """Cross product along the last axis."""
     return xp.stack(
         [

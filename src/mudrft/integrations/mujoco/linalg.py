@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
+from ..._typing import FloatArray, IndexArray
 from .implicit import passivity_scale as _pscale
 
 __all__ = [
@@ -29,7 +30,14 @@ __all__ = [
 ]
 
 
-def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: Any) -> None:
+def _ld_solve(
+    x: FloatArray,
+    qld: FloatArray,
+    qldinv: FloatArray,
+    rownnz: IndexArray,
+    rowadr: IndexArray,
+    colind: IndexArray,
+) -> None:
     """In place x <- M^-1 x for each row of ``x`` (r, nv) from MuJoCo's sparse L^T D L
     factor (``mj_solveLD``).
 
@@ -61,8 +69,9 @@ def _ld_solve(x: Any, qld: Any, qldinv: Any, rownnz: Any, rowadr: Any, colind: A
             x[k, i] -= acc
 
 
-def _jacobian(jac: Any, body: int, point: Any, model_i: Any, dof_parentid: Any, cdof: Any,
-              subtree_com: Any) -> None:  # fmt: skip
+def _jacobian(jac: FloatArray, body: int, point: FloatArray, model_i: IndexArray,
+              dof_parentid: IndexArray, cdof: FloatArray, subtree_com: FloatArray,
+              ) -> None:  # fmt: skip
     """6 x nv Jacobian of (velocity of ``point``, angular velocity) of ``body`` (``mj_jac``)."""
     jac[:, :] = 0.0
     b = body
@@ -84,7 +93,7 @@ def _jacobian(jac: Any, body: int, point: Any, model_i: Any, dof_parentid: Any, 
         i = dof_parentid[i]
 
 
-def _solve_n(A: Any, b: Any, n: int) -> None:
+def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
     """In place b <- A^-1 b (n x n, Gaussian elimination with partial pivoting; A destroyed)."""
     for k in range(n):
         p = k
@@ -108,8 +117,10 @@ def _solve_n(A: Any, b: Any, n: int) -> None:
 
 
 def _robot_step(
-    nb: int, nv: int, chain: bool, dt: float, FJ: Any, FM: Any, FWB: Any, FK: Any, FW0: Any,
-    FACC: Any, FTW: Any, FPOS: Any, WF: Any, AJ: Any, RJ: Any, FWR: Any, FWV: Any, tank: float,
+    nb: int, nv: int, chain: bool, dt: float, FJ: FloatArray, FM: FloatArray, FWB: FloatArray,
+    FK: FloatArray, FW0: FloatArray, FACC: FloatArray, FTW: FloatArray, FPOS: FloatArray,
+    WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
+    tank: float,
 ) -> float:  # fmt: skip
     """One robot's implicit step of all its feet together and its passivity bound, on floats.
 
@@ -184,15 +195,18 @@ def _robot_step(
     return 0.0 if zero else max(tank - (sc * lin + sc * sc * quad), 0.0)
 
 
+# ``Any``: a numba ``float64*``, a type only compiled code has
 def _ptr(address: int) -> Any:  # pragma: no cover - replaced by the intrinsic below
     raise NotImplementedError
 
 
-def carray(ptr: Any, shape: Any) -> Any:  # pragma: no cover - replaced by numba.carray
+def carray(
+    ptr: Any, shape: tuple[int, ...]
+) -> FloatArray:  # pragma: no cover - replaced by numba.carray
     raise NotImplementedError
 
 
-def _borrow(a: Any) -> Any:
+def _borrow(a: FloatArray) -> FloatArray:
     """A float64 C-contiguous array as a view without a reference count (``numba.carray``
     on its address): every view the kernel then takes of it (a row, a slice, an argument
     to a helper) skips numba's atomic reference updates (about 2.5 us of the walking
@@ -201,7 +215,7 @@ def _borrow(a: Any) -> Any:
     return carray(_ptr(a.ctypes.data), a.shape)
 
 
-def _carve(base: Any, offset: Any, shape: Any) -> Any:
+def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
     """A borrowed float64 view of ``shape`` starting ``offset`` floats after the address
     ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
     caller keeps the memory alive)."""

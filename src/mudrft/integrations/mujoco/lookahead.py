@@ -31,17 +31,24 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..._typing import FloatArray
+from ..._typing import FloatArray, IndexArray
 from ._lazy import _mujoco
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from .batch import MudBatch
+    from .contact import MudContact
 
 __all__ = ["lookahead_acceleration", "lookahead_apply", "lookahead_step", "reads_ahead"]
 
 
-def reads_ahead(batch: Any) -> bool:
+def reads_ahead(batch: MudBatch) -> bool:
     """Whether a coupling reads ahead this step: ``lookahead=True`` and the model's
     integrator Euler or ``implicitfast`` (RK4 reads its own way, D150; under ``implicit``
     the read acceleration and the mobility would not match, D163).
@@ -64,7 +71,13 @@ def reads_ahead(batch: Any) -> bool:
     )
 
 
-def _copy_data(mj: Any, model: Any, data: Any, scratch: list[Any], k: int) -> Any:
+def _copy_data(
+    mj: ModuleType,
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    scratch: list[mujoco.MjData],
+    k: int,
+) -> mujoco.MjData:
     """``data`` copied into ``scratch[k]``: in place with ``mj_copyData`` where the bindings
     have it (MuJoCo 3.3.6 does not), else as a new copy that replaces ``scratch[k]``."""
     if hasattr(mj, "mj_copyData"):
@@ -75,7 +88,10 @@ def _copy_data(mj: Any, model: Any, data: Any, scratch: list[Any], k: int) -> An
 
 
 def lookahead_acceleration(
-    model: Any, datas: Sequence[Any], scratch: list[Any], ids: Any
+    model: mujoco.MjModel,
+    datas: Sequence[mujoco.MjData],
+    scratch: list[mujoco.MjData],
+    ids: IndexArray,
 ) -> FloatArray:
     r"""Twist acceleration of each body that MuJoCo's step gives without its wrench.
 
@@ -113,7 +129,7 @@ def lookahead_acceleration(
     return acc
 
 
-def lookahead_apply(batch: Any, datas: Sequence[Any]) -> Any:
+def lookahead_apply(batch: MudBatch, datas: Sequence[mujoco.MjData]) -> MudContact:
     """Advance the mud once with the other forces' acceleration read ahead and write the
     feet's ``xfrc_applied`` (after ``mj_step1`` or ``mj_forward``, before ``mj_step2``).
 
@@ -131,21 +147,20 @@ def lookahead_apply(batch: Any, datas: Sequence[Any]) -> Any:
     """
     if len(batch._scratch) != len(datas):
         batch._scratch = [_mujoco().MjData(batch.model) for _ in datas]
-    batch._given_acc = lookahead_acceleration(batch.model, datas, batch._scratch, batch._ids)
+    acc = lookahead_acceleration(batch.model, datas, batch._scratch, batch._ids)
     # the mobility through the step's own matrix: its factor in place of M's for the solve
     mine = [(d.qLD.copy(), d.qLDiagInv.copy()) for d in datas]
     for d, s in zip(datas, batch._scratch, strict=True):
         if np.any(s.qHDiagInv):
             d.qLD[:], d.qLDiagInv[:] = s.qH, s.qHDiagInv
     try:
-        return batch._apply(datas)
+        return batch._apply_given(datas, acc)
     finally:
-        batch._given_acc = None
         for d, (ld, di) in zip(datas, mine, strict=True):
             d.qLD[:], d.qLDiagInv[:] = ld, di
 
 
-def lookahead_step(batch: Any, datas: Sequence[Any]) -> Any:
+def lookahead_step(batch: MudBatch, datas: Sequence[mujoco.MjData]) -> MudContact:
     """One Euler or implicit step of every robot: ``mj_step1``, :func:`lookahead_apply`,
     ``mj_step2``.
 

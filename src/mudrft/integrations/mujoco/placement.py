@@ -12,11 +12,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError, check_finite, warn_plausibility
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
@@ -32,6 +33,11 @@ from .geoms import (
     geom_type_name,
 )
 from .pose import POSE_RESOLUTION, foot_triangles
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...feet.base import Foot
 
 __all__ = ["BodyFoot", "attached_foot", "body_foot", "group_triangles", "lowest_points"]
 
@@ -74,7 +80,7 @@ class BodyFoot:
 
     body: str
     body_id: int
-    foot: Any
+    foot: Foot
     tip: NDArray[np.float64]
     forward: NDArray[np.float64]
     kind: str
@@ -87,22 +93,22 @@ class BodyFoot:
     geom: int = -1
 
 
-def _reference_pose(model: Any) -> Any:
+def _reference_pose(model: mujoco.MjModel) -> mujoco.MjData:
     mj = _mujoco()
     d = mj.MjData(model)
     mj.mj_kinematics(model, d)
     return d
 
 
-def _body_geoms(model: Any, body_id: int) -> list[int]:
+def _body_geoms(model: mujoco.MjModel, body_id: int) -> list[int]:
     adr, num = int(model.body_geomadr[body_id]), int(model.body_geomnum[body_id])
     return list(range(adr, adr + num)) if adr >= 0 else []
 
 
 def body_foot(
-    model: Any,
+    model: mujoco.MjModel,
     body: str | int,
-    foot: Any = None,
+    foot: Foot | None = None,
     *,
     tip: ArrayLike | None = None,
     resolution: int = POSE_RESOLUTION,
@@ -235,7 +241,7 @@ def body_foot(
     )
 
 
-def _named_geom(model: Any, body: str, bid: int, geom: str | int) -> int:
+def _named_geom(model: mujoco.MjModel, body: str, bid: int, geom: str | int) -> int:
     """The id of the geom named as ``body``'s foot, or an error naming what is wrong."""
     mj = _mujoco()
     geoms = _body_geoms(model, bid)
@@ -322,8 +328,8 @@ def lowest_points(
 
 
 def group_triangles(
-    bodies: Sequence[BodyFoot], idx: np.ndarray
-) -> tuple[np.ndarray | None, PreparedTriangles | None]:
+    bodies: Sequence[BodyFoot], idx: IndexArray
+) -> tuple[FloatArray | None, PreparedTriangles | None]:
     """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
     tri = [bodies[i].triangles for i in idx]
     if any(t is None for t in tri):
@@ -332,7 +338,12 @@ def group_triangles(
 
 
 def attached_foot(
-    model: Any, body: str | int, foot: Any, *, resolution: int, geom: str | int | None = None
+    model: mujoco.MjModel,
+    body: str | int,
+    foot: Foot | None,
+    *,
+    resolution: int,
+    geom: str | int | None = None,
 ) -> BodyFoot:
     """:func:`body_foot` for a coupling: a body welded to the world warns (D113), and so
     does a foot derived from one of several colliding geoms that reach equally low (D124).

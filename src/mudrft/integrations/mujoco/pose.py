@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,6 +40,7 @@ from ...feet.facet import submerged_area
 from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
 
 if TYPE_CHECKING:
+    from ...feet.base import Foot
     from ...feet.morphing import MorphingFoot
 
 __all__ = [
@@ -261,7 +262,7 @@ def rowdot(a: FloatArray, b: FloatArray) -> FloatArray:
     return acc
 
 
-def foot_triangles(foot: Any, *, resolution: int = POSE_RESOLUTION) -> FloatArray | None:
+def foot_triangles(foot: Foot, *, resolution: int = POSE_RESOLUTION) -> FloatArray | None:
     """Triangles of a foot in its own frame (tip at the origin, z up), shape (m, 3, 3) [m].
 
     Parameters
@@ -279,8 +280,8 @@ def foot_triangles(foot: Any, *, resolution: int = POSE_RESOLUTION) -> FloatArra
         None when the foot has no surface (the coupling then acts at its lowest point).
     """
 
-    if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):
-        return morphing_triangles(foot)
+    if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):  # a MorphingFoot
+        return morphing_triangles(cast("MorphingFoot", foot))
     if isinstance(foot, Flat):
         return np.asarray(foot.to_mesh(resolution=1).triangles, dtype=float)
     if hasattr(foot, "to_mesh"):

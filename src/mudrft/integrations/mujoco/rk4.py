@@ -30,14 +30,19 @@ added the stage velocities: the same step turns a spinning body differently, and
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
-from ..._typing import FloatArray
+from ..._typing import BoolArray, FloatArray, IndexArray
 from ..._validation import warn_plausibility
 from ._lazy import _mujoco
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from .batch import MudBatch
+    from .contact import MudContact
 
 __all__ = [
     "free_bodies",
@@ -48,7 +53,9 @@ __all__ = [
 ]
 
 
-def twist_acceleration(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) -> FloatArray:
+def twist_acceleration(
+    model: mujoco.MjModel, datas: Sequence[mujoco.MjData], ids: IndexArray
+) -> FloatArray:
     r"""Acceleration of each body's twist from MuJoCo's last forward pass, world frame.
 
     :math:`a=J\ddot q+\dot J\dot q` with :math:`J` the Jacobian of the twist (velocity of
@@ -82,7 +89,7 @@ def twist_acceleration(model: Any, datas: Sequence[Any], ids: NDArray[np.int_]) 
     return acc
 
 
-def free_bodies(model: Any, ids: NDArray[np.int_]) -> NDArray[np.bool_]:
+def free_bodies(model: mujoco.MjModel, ids: IndexArray) -> BoolArray:
     """Which bodies move by one free joint alone (their own, or a welded ancestor's).
 
     Parameters
@@ -108,7 +115,7 @@ def free_bodies(model: Any, ids: NDArray[np.int_]) -> NDArray[np.bool_]:
 
 
 def held_generalized_force(
-    model: Any, data: Any, ids: NDArray[np.int_], wrench: FloatArray
+    model: mujoco.MjModel, data: mujoco.MjData, ids: IndexArray, wrench: FloatArray
 ) -> FloatArray:
     r"""The generalized force :math:`\sum_i J_i^\top w_i` of the bodies' wrenches.
 
@@ -139,7 +146,7 @@ def held_generalized_force(
     return qfrc
 
 
-def rk4_step(batch: Any, datas: Sequence[Any]) -> Any:
+def rk4_step(batch: MudBatch, datas: Sequence[mujoco.MjData]) -> MudContact:
     """One RK4 step of every robot of a :class:`~.batch.MudBatch` (see the module docstring).
 
     The feet's ``xfrc_applied`` is cleared for the forward pass (``qacc`` is then what all
@@ -165,11 +172,7 @@ def rk4_step(batch: Any, datas: Sequence[Any]) -> Any:
     for d in datas:
         d.xfrc_applied[ids] = 0.0
         mj.mj_forward(m, d)
-    batch._given_acc = twist_acceleration(m, datas, ids)
-    try:
-        out = batch._apply(datas)
-    finally:
-        batch._given_acc = None
+    out = batch._apply_given(datas, twist_acceleration(m, datas, ids))
     free = ids[free_bodies(m, ids)]
     for d in datas:
         wrench = np.array(d.xfrc_applied[ids])

@@ -10,7 +10,8 @@ semi-implicitly (docs/model.md, decisions D61-D64).
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,6 +24,13 @@ from ..._validation import (
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ...terrains import Terrain
+    from .contact import MudContact
+    from .placement import BodyFoot
 
 __all__ = [
     "LARGEST_TIMESTEP",
@@ -41,7 +49,9 @@ SEARCHED_TIMESTEPS = (5e-4, 5e-3)
 LARGEST_TIMESTEP = 0.01
 
 
-def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[str, float]:
+def stability_limits(
+    foot: Foot, mud: Mud | MudTerrain, *, mass: float, depth: float
+) -> dict[str, float]:
     r"""Largest explicit time steps of a foot of effective mass ``mass`` in mud.
 
     Linearising the vertical mud force about a tip at ``depth``:
@@ -98,7 +108,9 @@ def stability_limits(foot: Any, mud: Any, *, mass: float, depth: float) -> dict[
     }
 
 
-def check_explicit_step(model: Any, bodies: Any, terrain: Any) -> None:
+def check_explicit_step(
+    model: mujoco.MjModel, bodies: Sequence[BodyFoot], terrain: Terrain
+) -> None:
     """Warn if ``implicit=False`` couples a foot explicitly above its viscous limit.
 
     For each foot body the mass is the body's and what hangs from it (``body_subtreemass``,
@@ -135,7 +147,7 @@ def check_explicit_step(model: Any, bodies: Any, terrain: Any) -> None:
             )
 
 
-def check_timestep(model: Any, *, checked: float | None = None) -> float:
+def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> float:
     """Warn if the model's time step is far above those the coupling was checked at.
 
     The passivity searches (docs/model.md D62e) ran at 0.5-5 ms (:data:`SEARCHED_TIMESTEPS`)
@@ -169,7 +181,7 @@ def check_timestep(model: Any, *, checked: float | None = None) -> float:
     return dt
 
 
-def diverged_error(i: int, data: Any, last: Any) -> MudrftError:
+def diverged_error(i: int, data: mujoco.MjData, last: MudContact | None) -> MudrftError:
     """The error for robot ``i`` whose step MuJoCo reported bad accelerations in (it resets
     such a state), with the mud's last wrench ``last`` (a MudContact or None)."""
     force = None

@@ -24,16 +24,14 @@ the coupling includes it in :math:`w_0` and in the implicit step (D62a).
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from ..._typing import FloatArray
+from ..._typing import FloatArray, Namespace
 
 __all__ = ["bottom_wrench", "damping_matrix", "posed_wrench", "yaw_inertia_to_world"]
 
 
-def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Any = np) -> FloatArray:
+def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Namespace = np) -> FloatArray:
     """Second moments :math:`\\mathbf J_c` from the yaw frame to the world frame.
 
     Parameters
@@ -58,7 +56,7 @@ def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Any = np) -
 
 
 def damping_matrix(
-    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, *, xp: Any = np
+    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, *, xp: Namespace = np
 ) -> FloatArray:
     r"""Damping of the wrench in the body twist, :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)`.
 
@@ -89,7 +87,7 @@ def damping_matrix(
     )
 
 
-def posed_wrench(F: FloatArray, b: FloatArray, *, xp: Any = np) -> FloatArray:
+def posed_wrench(F: FloatArray, b: FloatArray, *, xp: Namespace = np) -> FloatArray:
     """The wrench :math:`\\sum_c F_c b_c` of channel forces acting at their points.
 
     Parameters
@@ -114,7 +112,7 @@ def bottom_wrench(
     stiffness: float,
     damping: float,
     *,
-    xp: Any = np,
+    xp: Namespace = np,
 ) -> tuple[FloatArray, FloatArray]:
     r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).
 
