@@ -318,7 +318,7 @@ def _points_per_task(value: object, motion: str) -> int:
 
 def _foot_kind(
     foot: dict[str, Any], design: str, base: Path, fixed: dict[str, Any], axes: list[Axis]
-) -> tuple[tuple[str, ...], Any]:
+) -> tuple[tuple[str, ...], MeshFoot | None]:
     if "kind" not in foot:
         raise MudrftError(
             "[foot] kind is required: flat, semi-cylinder, semi-sphere, morphing or a mesh "
