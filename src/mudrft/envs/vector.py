@@ -13,6 +13,8 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 
 from __future__ import annotations
 
+from contextlib import AbstractContextManager
+from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -36,6 +38,7 @@ from .walker import (
 
 if TYPE_CHECKING:
     import jax
+    import jax.stages
     import mujoco.mjx
 
     from ..integrations.mjx.coupling import Constants
@@ -198,13 +201,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 trunc, out)  # fmt: skip
 
 
-def _jax_module() -> Any:
+def _jax_module() -> ModuleType:
     import jax
 
     return jax
 
 
-def _precision(x64: bool) -> Any:
+def _precision(x64: bool) -> AbstractContextManager[None]:
     """A context in which JAX computes in float64 if ``x64``, else in float32: the robots'
     arrays and the compiled programs were made in one precision, and a process switched to
     the other in between (mudrft.backends.jax switches to float64, D70) made the next step
@@ -214,7 +217,7 @@ def _precision(x64: bool) -> Any:
     return x64_context(x64)
 
 
-def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
+def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
     """The jit-compiled reset and step of all robots (jax imported here)."""
     import jax
     import jax.numpy as jnp
@@ -248,7 +251,7 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
 
     def step_one(
         d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
-    ) -> tuple[Any, ...]:
+    ) -> tuple[mujoco.mjx.Data, MjxMudState, jax.Array, jax.Array, jax.Array, dict[str, jax.Array]]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
 
