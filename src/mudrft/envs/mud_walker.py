@@ -95,7 +95,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
         check_reset_options(options)
         super().reset(seed=seed)
@@ -113,7 +113,9 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._ready = True
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 
-    def step(self, action: ArrayLike) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+    def step(
+        self, action: ArrayLike
+    ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
         lay, cfg, d = self.layout, self.config, self.data
         if not self._ready:  # the robot lay at the origin, the coupling unset: a "fall"

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
-from .._typing import ArrayLike
+from .._typing import ArrayLike, BoolArray, NDArray
 from .._validation import MudrftError, as_array, check_memory
 from ..terrains import MudTerrain
 from ._gym import gymnasium
@@ -140,14 +140,14 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
         with _precision(self._x64):
             return self._reset(seed=seed, options=options)
 
     def _reset(
         self, *, seed: int | None, options: dict[str, Any] | None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         import jax
 
         check_reset_options(options)
@@ -163,7 +163,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def step(
         self, actions: ArrayLike
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    ) -> tuple[
+        NDArray[np.float32], NDArray[np.float64], BoolArray, BoolArray, dict[str, NDArray[Any]]
+    ]:
         """One control step of every robot; robots that ended last step start anew.
 
         Runs in the precision the environment was made in (float32 unless JAX computed in
@@ -175,7 +177,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def _step(
         self, actions: ArrayLike
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    ) -> tuple[
+        NDArray[np.float32], NDArray[np.float64], BoolArray, BoolArray, dict[str, NDArray[Any]]
+    ]:
         import jax
 
         if self._state is None:
