@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._progress import Progress, make_progress
 from .._validation import MudrftError
-from .evaluate import ChunkResult, evaluate_chunk
+from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
 
 if TYPE_CHECKING:
@@ -155,7 +155,7 @@ def _client(
 
 def _run_serial(
     spec: SweepSpec,
-    context: dict[str, Any],
+    context: SweepContext,
     pending: list[int],
     done: Callable[[int, ChunkResult], None],
 ) -> None:
@@ -166,7 +166,7 @@ def _run_serial(
 def _run_dask(
     client: distributed.Client,
     spec: SweepSpec,
-    context: dict[str, Any],
+    context: SweepContext,
     pending: list[int],
     done: Callable[[int, ChunkResult], None],
 ) -> None:
