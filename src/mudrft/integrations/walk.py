@@ -28,12 +28,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
+from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
     STEP_COLUMNS,
     WALK_COLUMNS,
@@ -82,12 +82,6 @@ _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "ri
 def biped_path() -> Path:
     """Path of the biped's MJCF file."""
     return Path(str(resources.files("mudrft.integrations") / "assets" / "biped.xml"))
-
-
-def _mujoco() -> ModuleType:
-    from .mujoco import _mujoco as imp
-
-    return imp()
 
 
 def biped_model(
