@@ -42,21 +42,33 @@ import re
 import textwrap
 import types
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeAlias, TypeGuard
 
 from ._specialize_copies import propagate_copies
 from ._specialize_flow import SELF, as_branches, assign_in_branches
 from ._specialize_tuples import drop_fields, new_tuple, plain_fields, shared_test, unpack_fields
+from ._typing import Namespace
 from ._xp import pyfloat
 
 __all__ = ["on_floats", "specialize"]
+
+# An environment (``env``) is the globals a rewritten definition is executed in, as
+# ``exec`` takes them: names bound to any Python object, hence ``dict[str, Any]``.
+
+#: A rewritten definition and its environment: ``specialize``'s ``__specialized__``.
+Rewritten: TypeAlias = tuple[ast.FunctionDef, dict[str, Any]]
+#: What a mudrft function called by the rewritten one is called as instead (its own
+#: specialization: a function, or a numba dispatcher).
+Callee: TypeAlias = Callable[[types.FunctionType], object]
+#: A mudrft function's rewritten definition for inlining, or None (see ``_float_def``).
+Inliner: TypeAlias = Callable[[types.FunctionType], Rewritten | None]
 
 
 class _Rewriter(ast.NodeTransformer):
     """Rewrite ``xp.`` calls and point calls of mudrft functions at their specializations."""
 
     def __init__(
-        self, env: dict[str, Any], callee: Callable[[Any], Any], rewrite_where: bool, drop: bool
+        self, env: dict[str, Any], callee: Callee, rewrite_where: bool, drop: bool
     ) -> None:
         self.env = env
         self.callee = callee
@@ -65,7 +77,7 @@ class _Rewriter(ast.NodeTransformer):
         self.targets: dict[str, types.FunctionType] = {}  # _k_ name -> the mudrft function
         self.names = itertools.count()
 
-    def _resolve(self, node: ast.expr) -> Any:
+    def _resolve(self, node: ast.expr) -> object:
         if isinstance(node, ast.Name):
             return self.env.get(node.id)
         if isinstance(node, ast.Attribute):
@@ -74,7 +86,7 @@ class _Rewriter(ast.NodeTransformer):
         return None
 
     @staticmethod
-    def _is_mudrft(target: Any) -> bool:
+    def _is_mudrft(target: object) -> TypeGuard[types.FunctionType]:
         return isinstance(target, types.FunctionType) and target.__module__.startswith("mudrft.")
 
     def _temp(self) -> str:
@@ -102,7 +114,7 @@ class _Rewriter(ast.NodeTransformer):
         test = ast.Compare(left=a, ops=[op], comparators=[b])
         return ast.IfExp(test=test, body=a_again, orelse=b_again)
 
-    def _tanh(self, arg: ast.expr, tanh: Any) -> ast.expr:
+    def _tanh(self, arg: ast.expr, tanh: Callable[[float], float]) -> ast.expr:
         # tanh(+-0) is +-0 exactly (C99 F.9.5.6, every libm): skip the call at 0, where a
         # switch or the sealing state rests (no retraction); the product with 1.0 keeps the
         # sign of the zero and makes an int 0 the float 0.0 that math.tanh returns
@@ -172,7 +184,7 @@ class _Rewriter(ast.NodeTransformer):
         return node
 
 
-def _plain_named_tuple(target: Any, node: ast.Call) -> bool:
+def _plain_named_tuple(target: object, node: ast.Call) -> TypeGuard[type[tuple[Any, ...]]]:
     """Whether ``node`` makes the named tuple ``target`` from all its fields by position,
     with the ``__new__`` that ``collections.namedtuple`` wrote (no subclass's own)."""
     if not (isinstance(target, type) and issubclass(target, tuple)):
@@ -188,12 +200,12 @@ def _plain_named_tuple(target: Any, node: ast.Call) -> bool:
 
 def specialize(
     fn: types.FunctionType,
-    xp: Any,
-    callee: Callable[[Any], Any],
+    xp: Namespace,
+    callee: Callee,
     *,
     rewrite_where: bool = True,
     positional: bool = False,
-    inline: Callable[[Any], Any] | None = None,
+    inline: Inliner | None = None,
 ) -> types.FunctionType:
     """The source of ``fn`` rewritten for the namespace ``xp`` (see the module docstring).
 
@@ -292,7 +304,7 @@ def on_floats(fn: types.FunctionType) -> types.FunctionType:
         return fn
 
 
-def _float_def(fn: types.FunctionType) -> tuple[ast.FunctionDef, dict[str, Any]] | None:
+def _float_def(fn: types.FunctionType) -> Rewritten | None:
     """The rewritten definition of ``fn`` on floats and its environment (for inlining), or
     None when it could not be rewritten."""
     return getattr(on_floats(fn), "__specialized__", None)
@@ -482,7 +494,7 @@ class _NotInlined(Exception):
 
 def _inline_block(
     block: list[ast.stmt], env: dict[str, Any], targets: dict[str, types.FunctionType],
-    inline: Callable[[Any], Any],
+    inline: Inliner,
 ) -> list[ast.stmt]:  # fmt: skip
     """``block`` with its always-evaluated calls of straight-line mudrft functions inlined."""
     out: list[ast.stmt] = []
@@ -508,9 +520,10 @@ def _inline_block(
                 fdef, callee_env = rewritten
                 branched = not _straight_line(fdef)
                 if branched:  # an early return: inlined as an if statement
-                    fdef = as_branches(fdef, st, call, _straight_line, _body(fdef))
-                    if fdef is None:
+                    as_if = as_branches(fdef, st, call, _straight_line, _body(fdef))
+                    if as_if is None:
                         continue
+                    fdef = as_if
                 expanded = _expand(call, fn, fdef, callee_env, env)
                 if expanded is not None:
                     pre, value = expanded

@@ -70,7 +70,7 @@ def new_tuple(name: str, elements: list[ast.expr], fields: tuple[str, ...] | Non
     return ast.IfExp(test=same, body=ast.Name(name_x, ast.Load()), orelse=new)
 
 
-def plain_fields(cls: Any) -> tuple[str, ...] | None:
+def plain_fields(cls: object) -> tuple[str, ...] | None:
     """The fields of ``cls`` if it is a named tuple whose fields are the tuple's elements
     and whose iteration is the tuple's (no field redefined, no ``__iter__`` of its own)."""
     fields = getattr(cls, "_fields", None)
@@ -275,7 +275,7 @@ def _annotated_pairs(fn: types.FunctionType) -> dict[str, tuple[type, ...]]:
     return out
 
 
-def fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[Any, list[ast.expr]] | None:
+def fields_of(value: ast.expr, env: dict[str, Any]) -> tuple[object, list[ast.expr]] | None:
     """``(class, elements)`` when ``value`` is ``tuple.__new__(<named tuple>, (elements))``
     as the rewrite makes it (:func:`new_tuple`), else None."""
     if not (

@@ -2,19 +2,30 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
+from types import ModuleType
+from typing import TYPE_CHECKING, TypeAlias, cast
 
 import numpy as np
+from numpy.typing import NDArray
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
     from .plate import PlateResult
     from .simulation import Result
+
+#: The caller's axes: a sequence or object array of at least two matplotlib ``Axes``, or
+#: None for a new figure (the type of :meth:`mudrft.Result.plot`'s ``axes``).
+AxesArg: TypeAlias = "Sequence[Axes] | NDArray[np.object_] | None"
 
 __all__ = ["plot_plate", "plot_result", "require_matplotlib"]
 
 
-def require_matplotlib() -> Any:
-    """Import matplotlib.pyplot with the Agg backend when no display is set."""
+def require_matplotlib() -> ModuleType:
+    """Import matplotlib.pyplot with the Agg backend when no display is set; return the
+    ``matplotlib.pyplot`` module."""
     try:
         import matplotlib
 
@@ -26,20 +37,24 @@ def require_matplotlib() -> Any:
     return plt
 
 
-def _two_panels(axes: Any) -> tuple[Any, Any, Any]:
+def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
     """``(figure, left, right)``: a new figure of two panels side by side when ``axes`` is
     None, else the first two of the caller's axes and their figure."""
     if axes is None:
         fig, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     else:
-        fig = np.ravel(axes)[0].figure
-    a0, a1 = np.ravel(axes)[:2]
+        fig = np.asarray(axes, dtype=object).ravel()[0].figure
+    a0, a1 = np.asarray(axes, dtype=object).ravel()[:2]
     return fig, a0, a1
 
 
-def plot_plate(result: PlateResult, ax: Any = None) -> Any:
-    """Stress against time and against displacement for a plate test (kPa, mm)."""
-    fig, a0, a1 = _two_panels(ax)
+def plot_plate(result: PlateResult, ax: object = None) -> Figure:
+    """Stress against time and against displacement for a plate test (kPa, mm).
+
+    ``ax`` is typed ``object`` because :meth:`mudrft.PlateResult.plot` passes its
+    ``object``-typed argument through; it takes what ``plot_result``'s ``axes`` takes.
+    """
+    fig, a0, a1 = _two_panels(cast("AxesArg", ax))
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
     a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
     a0.plot(result.time, result.thixotropic / 1e3, "--", lw=1, label=r"$\sigma_{th}$")
@@ -55,7 +70,7 @@ def plot_plate(result: PlateResult, ax: Any = None) -> Any:
     return fig
 
 
-def plot_result(result: Result, axes: Any = None) -> Any:
+def plot_result(result: Result, axes: AxesArg = None) -> Figure:
     """Forces against time, and vertical force against depth, for a :class:`~mudrft.Result`."""
     fig, a0, a1 = _two_panels(axes)
     for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):

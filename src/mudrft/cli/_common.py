@@ -23,13 +23,16 @@ import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from types import TracebackType
-from typing import Any, ClassVar
+from types import ModuleType, TracebackType
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._progress import logger
 from .._validation import MudrftError
 from ..io.atomic import regular_target
 from ..parameters import Mud, paper_mud
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = [
     "EXTRAS",
@@ -42,6 +45,7 @@ __all__ = [
     "require_extra",
     "require_plot_file",
     "same_file",
+    "save_figure",
 ]
 
 #: Optional packages and the extra of ``pip install 'mudrft[EXTRA]'`` that provides them.
@@ -60,7 +64,7 @@ EXTRAS = {
 }
 
 
-def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> Any:
+def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> ModuleType:
     """Import an optional package, or fail with one line naming the extra to install.
 
     Parameters
@@ -103,6 +107,27 @@ def require_plot_file(option: str, path: str | Path) -> None:
             f"{option} {str(path)!r}: expected a figure file name ending in one of "
             f"{', '.join('.' + f for f in sorted(formats))}; got {got}"
         )
+
+
+def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> None:
+    """Write ``fig`` to ``path`` and close it, also when writing fails (pyplot keeps every
+    figure it made open, and its memory, until it is closed).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        A figure made through pyplot (``Result.plot``, ``plot_maps``, ...).
+    path : str or Path
+        The file; its suffix chooses the format.
+    dpi : int, keyword-only
+        Resolution of a raster format [dots per inch].
+    """
+    import matplotlib.pyplot as plt
+
+    try:
+        fig.savefig(path, dpi=dpi)
+    finally:
+        plt.close(fig)
 
 
 def _number(value: float) -> str:

@@ -30,6 +30,7 @@ from ._common import (
     logger,
     require_plot_file,
     same_file,
+    save_figure,
 )
 from ._parser import add_evaluation_options, add_force, add_quiet, add_strict, add_subcommand
 
@@ -204,13 +205,7 @@ def run(args: argparse.Namespace) -> int:
         if json_tmp is not None:
             fit.to_json(json_tmp, overwrite=True)
         if plot_tmp is not None:
-            fig = fit.plot()
-            import matplotlib.pyplot as plt
-
-            try:
-                fig.savefig(plot_tmp, dpi=120)
-            finally:
-                plt.close(fig)
+            save_figure(fit.plot(), plot_tmp)
     for path in outputs.written:
         print(f"wrote {path}")
     return 0 if fit.success else 1

@@ -28,6 +28,7 @@ from ._common import (
     check_nonnegative_option,
     check_positive_option,
     require_extra,
+    save_figure,
 )
 from ._mud import add_fit_options, mud_from_options
 from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
@@ -171,7 +172,7 @@ def write_comparison(
             from ..baselines.plots import plot_gait, plot_s6
             from ..plotting import require_matplotlib
 
-            plt = require_matplotlib()
+            require_matplotlib()  # the Agg backend, before the first figure
             title = f"{foot.name} foot, one gait cycle at {speed:g} m/s"
             makers = {
                 "s6": lambda: plot_s6(runs["plate"]),
@@ -181,11 +182,7 @@ def write_comparison(
                 ),
             }
             for key, make in makers.items():
-                fig = make()
-                try:
-                    fig.savefig(stage / FILES[key][0], dpi=120)
-                finally:
-                    plt.close(fig)
+                save_figure(make(), stage / FILES[key][0])
     return {k: Path(out) / FILES[k][0] for k in keys}
 
 

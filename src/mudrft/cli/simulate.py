@@ -20,6 +20,7 @@ from ._common import (
     logger,
     require_plot_file,
     same_file,
+    save_figure,
 )
 from ._mud import add_fit_options, mud_from_options
 from ._parser import (
@@ -182,13 +183,7 @@ def run(args: argparse.Namespace) -> int:
         res = simulate(foot, terrain, motion, dt=dt if args.path else None, progress=not args.quiet)
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
-            fig = res.plot()
-            import matplotlib.pyplot as plt
-
-            try:
-                fig.savefig(plot_tmp, dpi=120)
-            finally:
-                plt.close(fig)
+            save_figure(res.plot(), plot_tmp)
     print(f"wrote {args.out}")
     from ..sweep.catalog import METRICS  # names and units only (no Dask, no xarray)
 

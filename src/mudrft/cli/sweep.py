@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import Outputs, logger, require_extra, same_file
+from ._common import Outputs, logger, require_extra, same_file, save_figure
 from ._parser import add_force, add_quiet, add_subcommand
 
 if TYPE_CHECKING:
@@ -178,14 +178,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _write_maps(ds: xr.Dataset, spec: SweepSpec, stage: Path) -> None:
-    import matplotlib.pyplot as plt
-
     from ..sweep.plot import plot_maps
 
     kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
     for m in _plot_metrics(spec):
-        fig = plot_maps(ds, m, **kw)
-        try:
-            fig.savefig(stage / f"{m}.png", dpi=110)
-        finally:
-            plt.close(fig)
+        save_figure(plot_maps(ds, m, **kw), stage / f"{m}.png", dpi=110)

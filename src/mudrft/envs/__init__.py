@@ -18,10 +18,13 @@ Importing this package registers, under ids that start with ``mudrft/``:
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ._gym import gymnasium
 from .mud_walker import MudWalkerEnv
+
+if TYPE_CHECKING:  # imported by __getattr__ on first use (jax, MJX)
+    from .vector import MudWalkerVectorEnv
 
 __all__ = ["ENV_IDS", "MudWalkerEnv", "MudWalkerVectorEnv", "register_envs"]
 
@@ -29,7 +32,7 @@ __all__ = ["ENV_IDS", "MudWalkerEnv", "MudWalkerVectorEnv", "register_envs"]
 ENV_IDS = ("mudrft/MudWalker-v0",)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> type[MudWalkerVectorEnv]:
     if name == "MudWalkerVectorEnv":  # imports jax and MJX only when asked for
         from .vector import MudWalkerVectorEnv
 

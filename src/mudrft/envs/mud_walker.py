@@ -6,9 +6,10 @@ module is the Gymnasium wrapper around :func:`mudrft.integrations.mujoco.attach`
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .._typing import ArrayLike
 from .._validation import MudrftError
@@ -24,6 +25,9 @@ from .walker import (
     reward,
     walker_config,
 )
+
+if TYPE_CHECKING:
+    import mujoco
 
 __all__ = ["MudWalkerEnv"]
 
@@ -79,19 +83,19 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         )  # fmt: skip
         self.action_space = gym.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
-        self._renderer: Any = None
+        self._renderer: mujoco.Renderer | None = None
         self._depth = np.zeros(2)
         self._force = np.zeros((2, 3))
         self._ready = False  # reset() not called yet
 
-    def _obs(self) -> np.ndarray:
+    def _obs(self) -> NDArray[np.float32]:
         d = self.data
         o = observation(self.layout, d.qpos, d.qvel, self._depth, self._force)
         return np.asarray(o, dtype=np.float32)
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
         check_reset_options(options)
         super().reset(seed=seed)
@@ -109,7 +113,9 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._ready = True
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 
-    def step(self, action: ArrayLike) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+    def step(
+        self, action: ArrayLike
+    ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
         lay, cfg, d = self.layout, self.config, self.data
         if not self._ready:  # the robot lay at the origin, the coupling unset: a "fall"

@@ -13,11 +13,13 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 
 from __future__ import annotations
 
+from contextlib import AbstractContextManager
+from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
-from .._typing import ArrayLike
+from .._typing import ArrayLike, BoolArray, NDArray
 from .._validation import MudrftError, as_array, check_memory
 from ..terrains import MudTerrain
 from ._gym import gymnasium
@@ -36,6 +38,7 @@ from .walker import (
 
 if TYPE_CHECKING:
     import jax
+    import jax.stages
     import mujoco.mjx
 
     from ..integrations.mjx.coupling import Constants
@@ -137,14 +140,14 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
         with _precision(self._x64):
             return self._reset(seed=seed, options=options)
 
     def _reset(
         self, *, seed: int | None, options: dict[str, Any] | None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
+    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         import jax
 
         check_reset_options(options)
@@ -160,7 +163,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def step(
         self, actions: ArrayLike
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    ) -> tuple[
+        NDArray[np.float32], NDArray[np.float64], BoolArray, BoolArray, dict[str, NDArray[Any]]
+    ]:
         """One control step of every robot; robots that ended last step start anew.
 
         Runs in the precision the environment was made in (float32 unless JAX computed in
@@ -172,7 +177,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
     def _step(
         self, actions: ArrayLike
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    ) -> tuple[
+        NDArray[np.float32], NDArray[np.float64], BoolArray, BoolArray, dict[str, NDArray[Any]]
+    ]:
         import jax
 
         if self._state is None:
@@ -198,13 +205,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 trunc, out)  # fmt: skip
 
 
-def _jax_module() -> Any:
+def _jax_module() -> ModuleType:
     import jax
 
     return jax
 
 
-def _precision(x64: bool) -> Any:
+def _precision(x64: bool) -> AbstractContextManager[None]:
     """A context in which JAX computes in float64 if ``x64``, else in float32: the robots'
     arrays and the compiled programs were made in one precision, and a process switched to
     the other in between (mudrft.backends.jax switches to float64, D70) made the next step
@@ -214,7 +221,7 @@ def _precision(x64: bool) -> Any:
     return x64_context(x64)
 
 
-def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
+def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
     """The jit-compiled reset and step of all robots (jax imported here)."""
     import jax
     import jax.numpy as jnp
@@ -248,7 +255,7 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, Any]:
 
     def step_one(
         d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
-    ) -> tuple[Any, ...]:
+    ) -> tuple[mujoco.mjx.Data, MjxMudState, jax.Array, jax.Array, jax.Array, dict[str, jax.Array]]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
 

@@ -52,6 +52,9 @@ from .._validation import (
 if TYPE_CHECKING:
     import mujoco
 
+    from ..feet.base import Foot
+    from ..parameters.base import Mud
+
 __all__ = [
     "ACTION_SIZE",
     "FEET",
@@ -102,7 +105,7 @@ class WalkerConfig:
         Depth of the rigid bed under the mud [m].
     """
 
-    foot: Any = "flat"
+    foot: str | Foot = "flat"
     water_content: float = 0.25
     dt: float = 2e-3
     frame_skip: int = 10
@@ -143,14 +146,14 @@ class WalkerConfig:
         object.__setattr__(self, "bottom", positive_number("bottom", self.bottom, unit="m"))
 
     @property
-    def foot_object(self) -> Any:
+    def foot_object(self) -> Foot:
         """The mudrft foot."""
         import mudrft
 
         return mudrft.feet.by_name(self.foot) if isinstance(self.foot, str) else self.foot
 
     @property
-    def mud(self) -> Any:
+    def mud(self) -> Mud:
         """The paper's mud at :attr:`water_content`."""
         import mudrft
 

@@ -24,14 +24,23 @@ import os
 import platform
 import sys
 import time
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 import mudrft
 
+if TYPE_CHECKING:
+    import mujoco
 
-def _best_time(fn: Any, repeats: int = 3) -> float:
+    from mudrft.feet.base import Foot
+    from mudrft.feet.mesh import MeshFoot
+    from mudrft.integrations.mujoco import MudBatch
+    from mudrft.integrations.walk import GaitController
+
+
+def _best_time(fn: Callable[[], object], repeats: int = 3) -> float:
     best = np.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -41,8 +50,8 @@ def _best_time(fn: Any, repeats: int = 3) -> float:
 
 
 def _robots(
-    n: int, *, mud: bool, dt: float, foot: Any = None, backend: str = "numba"
-) -> tuple[Any, list[Any], Any, Any]:
+    n: int, *, mud: bool, dt: float, foot: Foot | None = None, backend: str = "numba"
+) -> tuple[mujoco.MjModel, list[mujoco.MjData], GaitController, MudBatch | None]:
     import mujoco
 
     from mudrft.integrations.mujoco import attach, attach_batch
@@ -73,10 +82,10 @@ def _runner(
     mud: bool,
     steps: int,
     dt: float,
-    foot: Any = None,
+    foot: Foot | None = None,
     backend: str = "numba",
     contact: bool = False,
-) -> Any:
+) -> Callable[[], None]:
     """A function that runs ``steps`` physics steps of ``n`` robots (controller included):
     ``advance`` (the contact built only when read), or ``step`` (a :class:`MudContact`
     returned every step) where ``contact``."""
@@ -100,7 +109,7 @@ def _runner(
     return run
 
 
-def _alternated(fns: list[Any], steps: int, repeats: int) -> list[float]:
+def _alternated(fns: Sequence[Callable[[], object]], steps: int, repeats: int) -> list[float]:
     """Best wall time per step [s] of each runner, the runners timed in turn ``repeats``
     times: a change of load on a shared machine then lands on every side of a ratio."""
     best = [np.inf] * len(fns)
@@ -110,21 +119,34 @@ def _alternated(fns: list[Any], steps: int, repeats: int) -> list[float]:
     return [b / steps for b in best]
 
 
-def _pair(n: int, *, steps: int, dt: float, repeats: int = 3, **kw: Any) -> tuple[float, float]:
+def _pair(
+    n: int,
+    *,
+    steps: int,
+    dt: float,
+    repeats: int = 3,
+    foot: Foot | None = None,
+    backend: str = "numba",
+) -> tuple[float, float]:
     """Best wall time per step without and with mud (``advance``) [s], in alternation."""
-    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=kw.get("foot"))
-    tp, tm = _alternated([phys, _runner(n, mud=True, steps=steps, dt=dt, **kw)], steps, repeats)
+    phys = _runner(n, mud=False, steps=steps, dt=dt, foot=foot)
+    mud = _runner(n, mud=True, steps=steps, dt=dt, foot=foot, backend=backend)
+    tp, tm = _alternated([phys, mud], steps, repeats)
     return tp, tm
 
 
-def _triple(n: int, *, steps: int, dt: float, repeats: int, **kw: Any) -> tuple[float, ...]:
+def _triple(
+    n: int, *, steps: int, dt: float, repeats: int, backend: str = "numba"
+) -> tuple[float, ...]:
     """As :func:`_pair`, with a third run: ``step`` returning the contact every step."""
     phys = _runner(n, mud=False, steps=steps, dt=dt)
-    runs = [_runner(n, mud=True, steps=steps, dt=dt, contact=c, **kw) for c in (False, True)]
+    runs = [
+        _runner(n, mud=True, steps=steps, dt=dt, contact=c, backend=backend) for c in (False, True)
+    ]
     return tuple(_alternated([phys, *runs], steps, repeats))
 
 
-def _mesh_foot() -> Any:
+def _mesh_foot() -> MeshFoot:
     """A mesh foot of 512 facets (the semi-sphere's mesh at resolution 8)."""
     return mudrft.feet.SemiSphere().to_mesh(resolution=8)
 

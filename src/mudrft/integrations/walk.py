@@ -28,11 +28,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
+from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
     STEP_COLUMNS,
     WALK_COLUMNS,
@@ -44,6 +45,13 @@ from .walk_output import (
 from .walk_output import (
     _write_csv as _write_csv,  # re-exported for mudrft.cli.walk
 )
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from ..feet.base import Foot
+    from ..parameters.base import Mud
+    from ..terrains import Terrain
 
 __all__ = [
     "BIPED_FEET",
@@ -76,15 +84,9 @@ def biped_path() -> Path:
     return Path(str(resources.files("mudrft.integrations") / "assets" / "biped.xml"))
 
 
-def _mujoco() -> Any:
-    from .mujoco import _mujoco as imp
-
-    return imp()
-
-
 def biped_model(
-    foot: Any = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3
-) -> Any:
+    foot: Foot | None = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3
+) -> mujoco.MjModel:
     """The biped as a ``mujoco.MjModel``, with feet shaped like ``foot``.
 
     Parameters
@@ -129,11 +131,12 @@ def biped_model(
     return spec.compile()
 
 
-def _foot_mesh(foot: Any) -> tuple[np.ndarray, np.ndarray] | None:
+def _foot_mesh(foot: Foot | None) -> tuple[np.ndarray, np.ndarray] | None:
     if foot is None:
         return None
     try:
-        mf = foot.to_mesh(resolution=8) if hasattr(foot, "to_mesh") else foot
+        # duck-typed: a closed form's MeshFoot, or a foot that has vertices and faces itself
+        mf: Any = foot.to_mesh(resolution=8) if hasattr(foot, "to_mesh") else foot
         v, f = np.asarray(mf.vertices, dtype=float), np.asarray(mf.faces, dtype=int)
     except (AttributeError, TypeError, MudrftError):
         return None
@@ -183,7 +186,7 @@ class GaitController:
         Steps over which the step length ramps up from 0.
     """
 
-    model: Any
+    model: mujoco.MjModel
     speed: float = 0.1
     step_time: float = 1.0
     hip_height: float = 0.33
@@ -284,7 +287,7 @@ class GaitController:
         half = 0.5 * self.step_length(k)
         return -half if leg == k % 2 else half
 
-    def __call__(self, data: Any) -> tuple[int, int]:
+    def __call__(self, data: mujoco.MjData) -> tuple[int, int]:
         """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
         pitch = float(data.qpos[self._pitch])
         hip_z = float(data.xpos[self._hip_body, 2])
@@ -296,7 +299,9 @@ class GaitController:
         data.ctrl[:] = np.clip(q_des, self._lo, self._hi)
         return k, stance
 
-    def initial_pose(self, data: Any, *, surface: float = 0.0, clearance: float = 0.001) -> None:
+    def initial_pose(
+        self, data: mujoco.MjData, *, surface: float = 0.0, clearance: float = 0.001
+    ) -> None:
         """Set a standing pose with both soles ``clearance`` above the mud surface [m]."""
         mj = _mujoco()
         q1, q2 = _leg_ik(0.0, -self.hip_height)
@@ -334,8 +339,8 @@ class WalkResult:
 
 
 def walk(
-    foot: Any,
-    mud: Any,
+    foot: Foot,
+    mud: Mud | Terrain,
     *,
     seconds: float = 10.0,
     dt: float = 1e-3,

@@ -15,10 +15,14 @@ import csv
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..feet import by_name
 from ..io.atomic import json_text
+
+if TYPE_CHECKING:
+    from ..parameters.base import Mud
+    from ..terrains import Terrain
 
 __all__ = [
     "COMPARE_COLUMNS",
@@ -52,7 +56,7 @@ _FIG13 = (("flat", 32.0, 26.0), ("semi-cylinder", 57.0, 44.0))
 
 
 def compare_feet(
-    mud: Any,
+    mud: Mud | Terrain,
     *,
     seconds: float = 10.0,
     dt: float = 1e-3,

@@ -10,7 +10,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,6 +18,8 @@ from numpy.typing import NDArray
 from .mujoco._lazy import _mujoco
 
 if TYPE_CHECKING:
+    import mujoco
+
     from .walk import WalkResult
 
 __all__ = ["ANKLE_HEIGHT", "STEP_COLUMNS", "WALK_COLUMNS", "plot_walk", "save_strip"]
@@ -59,7 +61,7 @@ STEP_COLUMNS = (
 ANKLE_HEIGHT = 0.04
 
 
-def _renderer(model: Any) -> Any:
+def _renderer(model: mujoco.MjModel) -> mujoco.Renderer | None:
     """An offscreen renderer, or None where OpenGL is not available."""
     try:
         return _mujoco().Renderer(model, 240, 320)

@@ -15,7 +15,6 @@ import functools
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -480,7 +479,7 @@ def _below(reduction: float) -> str:
     return f"{pct} % below" if pct >= 0 else f"{-pct} % above"
 
 
-def count(cells: Sequence[Cell]) -> dict[str, Any]:
+def count(cells: Sequence[Cell]) -> dict[str, int]:
     """``{"agrees": n, "inconsistent": n, "failed": n, "not evaluated": n, "total": 9}``."""
     out = {"agrees": 0, "inconsistent": 0, "failed": 0, "not evaluated": 0, "total": len(cells)}
     for cl in cells:

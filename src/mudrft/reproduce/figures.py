@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..plotting import require_matplotlib
+
+if TYPE_CHECKING:
+    from ..simulation import Result
 
 __all__ = ["make_figures"]
 
@@ -25,7 +28,7 @@ def _near(values: list[float], target: float) -> float:
 
 def make_figures(
     out: Path,
-    runs: dict[tuple[str, float, float], Any],
+    runs: dict[tuple[str, float, float], Result],
     rows: list[dict[str, Any]],
     *,
     feet: list[str],

@@ -20,7 +20,7 @@ import functools
 import time as _time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
@@ -31,6 +31,9 @@ from ..simulation import Result, simulate, static_sinking
 from ..trajectories import GAIT_SPEEDS, gait
 from .claims import FIXED, Cell, evaluate
 from .readings import READINGS, Reading
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
 
 __all__ = [
     "FEET",
@@ -104,17 +107,21 @@ def _prepare_out(out: Path, force: bool, names: Sequence[str]) -> None:
         raise MudrftError(f"--out {str(out)!r} is not writable: {exc.strerror or exc}") from exc
 
 
+#: A gait run: (the reading's run key, foot, speed [m/s], table row).
+RunKey: TypeAlias = tuple[tuple[object, ...], str, float, float]
+
+
 class _Runs:
     """Gait runs and sinking depths, computed once and shared by every reading."""
 
-    def __init__(self, feet: dict[str, Any], dt: float) -> None:
+    def __init__(self, feet: dict[str, Foot], dt: float) -> None:
         self.feet, self.dt = feet, dt
-        self.results: dict[tuple[Any, ...], Result] = {}
-        self.numbers: dict[tuple[Any, ...], dict[str, float]] = {}
+        self.results: dict[RunKey, Result] = {}
+        self.numbers: dict[RunKey, dict[str, float]] = {}
         self._sinking: dict[tuple[str, float], float] = {}
 
     @staticmethod
-    def key(reading: Reading, foot: str, speed: float, row: float) -> tuple[Any, ...]:
+    def key(reading: Reading, foot: str, speed: float, row: float) -> RunKey:
         return (reading.run_key, foot, float(speed), float(row))
 
     def run(self, reading: Reading, foot: str, speed: float, row: float) -> None:
@@ -217,7 +224,7 @@ def reproduce(
     tasks = [(head, f, float(v), w) for w in rows_w for f in feet for v in speeds]
     for rd in readings:
         tasks += [(rd, *t) for t in _plan(rd, feet, speeds, rows_w)]
-    todo: dict[tuple[Any, ...], tuple[Reading, str, float, float]] = {}
+    todo: dict[RunKey, tuple[Reading, str, float, float]] = {}
     for t in tasks:  # each physics once, in order, named by the first reading that needs it
         todo.setdefault(runs.key(*t), t)
     width = max(2, len(str(len(todo))))

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import sys
 import types
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, PARAMETERS
 from .design import Axis
@@ -46,38 +46,48 @@ __all__ = [
 ]
 
 
-def run_sweep(*args: Any, **kwargs: Any) -> Any:
-    """Run a sweep; see :func:`mudrft.sweep.run.run_sweep` (loads Dask on first use)."""
-    from .run import run_sweep as run
+if TYPE_CHECKING:
+    # Type checkers see the functions themselves, with their signatures; at run time the
+    # wrappers below import them on first call, so that importing this package loads
+    # neither Dask, xarray nor zarr.
+    import xarray as xr
+    from matplotlib.figure import Figure
 
-    return run(*args, **kwargs)
+    from .plot import plot_maps, sensitivity
+    from .run import run_sweep
+    from .store import load_result
+else:
+    # The wrappers forward whatever they are given: the signatures are the functions'.
 
+    def run_sweep(*args: Any, **kwargs: Any) -> xr.Dataset:
+        """Run a sweep; see :func:`mudrft.sweep.run.run_sweep` (loads Dask on first use)."""
+        from .run import run_sweep as run
 
-def load_result(*args: Any, **kwargs: Any) -> Any:
-    """Open a sweep's store as a Dataset; see :func:`mudrft.sweep.store.load_result`."""
-    from .store import load_result as load
+        return run(*args, **kwargs)
 
-    return load(*args, **kwargs)
+    def load_result(*args: Any, **kwargs: Any) -> xr.Dataset:
+        """Open a sweep's store as a Dataset; see :func:`mudrft.sweep.store.load_result`."""
+        from .store import load_result as load
 
+        return load(*args, **kwargs)
 
-def plot_maps(*args: Any, **kwargs: Any) -> Any:
-    """Maps of a metric; see :func:`mudrft.sweep.plot.plot_maps`."""
-    from .plot import plot_maps as plot
+    def plot_maps(*args: Any, **kwargs: Any) -> Figure:
+        """Maps of a metric; see :func:`mudrft.sweep.plot.plot_maps`."""
+        from .plot import plot_maps as plot
 
-    return plot(*args, **kwargs)
+        return plot(*args, **kwargs)
 
+    def sensitivity(*args: Any, **kwargs: Any) -> list[tuple[str, float]]:
+        """Rank parameters by their effect on a metric; see :func:`mudrft.sweep.plot.sensitivity`."""
+        from .plot import sensitivity as sens
 
-def sensitivity(*args: Any, **kwargs: Any) -> Any:
-    """Rank parameters by their effect on a metric; see :func:`mudrft.sweep.plot.sensitivity`."""
-    from .plot import sensitivity as sens
-
-    return sens(*args, **kwargs)
+        return sens(*args, **kwargs)
 
 
 class _CallableModule(types.ModuleType):
     """This package, callable: ``mudrft.sweep(spec, ...)`` runs :func:`run_sweep`."""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+    def __call__(self, *args: Any, **kwargs: Any) -> xr.Dataset:
         return run_sweep(*args, **kwargs)
 
 

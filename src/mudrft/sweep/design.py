@@ -79,7 +79,7 @@ class Axis:
         return lo + u * (hi - lo)
 
 
-def _plain(v: object) -> Any:
+def _plain(v: object) -> object:
     return v.item() if isinstance(v, np.generic) else v
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -35,7 +35,30 @@ from ..terrains import MudTerrain
 from ..trajectories import gait
 from . import catalog as C
 
-__all__ = ["ChunkResult", "build_foot", "build_mud", "evaluate_chunk", "evaluate_point"]
+__all__ = [
+    "ChunkResult",
+    "SweepContext",
+    "build_foot",
+    "build_mud",
+    "evaluate_chunk",
+    "evaluate_point",
+]
+
+
+class SweepContext(TypedDict):
+    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`): plain data
+    and the mesh, no Dask. Values of the spec's tables are TOML values, hence ``Any``."""
+
+    #: The fixed parameters by name (SI; ``foot`` is the foot kind).
+    fixed: dict[str, Any]
+    #: ``"gait"``, ``"load"`` or ``"walk"``.
+    motion: str
+    #: The metrics measured.
+    metrics: tuple[str, ...]
+    #: Calibrated mud sets by name.
+    mud_sets: dict[str, dict[str, Any]]
+    #: The mesh foot when the spec's foot is a mesh file.
+    mesh: feet.MeshFoot | None
 
 
 @dataclass(frozen=True)
@@ -142,7 +165,7 @@ def _motion(values: dict[str, Any], names: tuple[str, ...]) -> dict[str, Any]:
 
 
 def evaluate_point(
-    context: dict[str, Any], point: dict[str, Any], *, cache: dict | None = None
+    context: SweepContext, point: dict[str, Any], *, cache: dict | None = None
 ) -> dict[str, float]:
     """The metrics of one point.
 
@@ -179,7 +202,7 @@ def evaluate_point(
     return {name: float(found[C.METRICS[motion][name].key]) for name in context["metrics"]}
 
 
-def evaluate_chunk(context: dict[str, Any], points: list[dict[str, Any]]) -> ChunkResult:
+def evaluate_chunk(context: SweepContext, points: list[dict[str, Any]]) -> ChunkResult:
     """The metrics of a chunk of points; a point that raises is recorded, not fatal.
 
     Parameters

@@ -18,6 +18,7 @@ from .._validation import MudrftError
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["plot_maps", "sensitivity"]
 
@@ -71,7 +72,7 @@ def plot_maps(
     y: str | None = None,
     panels: str | None = None,
     select: dict[str, Any] | None = None,
-) -> Any:
+) -> Figure:
     """Maps of ``metric`` over ``x`` and ``y``, one panel per value of ``panels``.
 
     Parameters
@@ -149,7 +150,7 @@ def plot_maps(
 
 def _sample_maps(
     ds: xr.Dataset, metric: str, x: str, y: str | None, panels: str | None, plt: ModuleType
-) -> Any:
+) -> Figure:
     m = ds[metric].values
     groups: list[tuple[str, np.ndarray]] = [("", np.ones(m.shape, dtype=bool))]
     if panels:

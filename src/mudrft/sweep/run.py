@@ -24,11 +24,15 @@ from typing import TYPE_CHECKING, Any
 
 from .._progress import Progress, make_progress
 from .._validation import MudrftError
-from .evaluate import ChunkResult, evaluate_chunk
+from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
 
 if TYPE_CHECKING:
     import distributed
+    import numpy as np
+    import xarray as xr
+    import zarr
+    from numpy.typing import NDArray
 
     from .store import StoreLike
 
@@ -41,7 +45,7 @@ class SweepWarning(UserWarning):
     """A warning raised at some points of a sweep (reported once per distinct message)."""
 
 
-def _require(module: str) -> Any:
+def _require(module: str) -> ModuleType:
     import importlib
 
     try:
@@ -114,7 +118,7 @@ class _Bar:
 @contextmanager
 def _client(
     client: distributed.Client | None, scheduler: str | None, workers: int | None
-) -> Iterator[Any]:
+) -> Iterator[distributed.Client]:
     """The client to use: the one given, one connected to ``scheduler``, or a local cluster."""
     if client is not None:
         yield client
@@ -150,7 +154,10 @@ def _client(
 
 
 def _run_serial(
-    spec: SweepSpec, context: dict[str, Any], pending: list[int], done: Callable[..., None]
+    spec: SweepSpec,
+    context: SweepContext,
+    pending: list[int],
+    done: Callable[[int, ChunkResult], None],
 ) -> None:
     for i in pending:
         done(i, evaluate_chunk(context, spec.chunk_points(i)))
@@ -159,9 +166,9 @@ def _run_serial(
 def _run_dask(
     client: distributed.Client,
     spec: SweepSpec,
-    context: dict[str, Any],
+    context: SweepContext,
     pending: list[int],
-    done: Callable[..., None],
+    done: Callable[[int, ChunkResult], None],
 ) -> None:
     from distributed import as_completed
 
@@ -169,9 +176,9 @@ def _run_dask(
     window = 4 * n_workers + 4  # tasks in flight: enough to keep workers busy
     ctx = client.scatter(context, broadcast=True)
     todo = iter(pending)
-    futures: dict[Any, int] = {}
+    futures: dict[distributed.Future[ChunkResult], int] = {}
 
-    def submit() -> Any:
+    def submit() -> distributed.Future[ChunkResult] | None:
         i = next(todo, None)
         if i is None:
             return None
@@ -204,7 +211,7 @@ def run_sweep(
     resume: bool = False,
     overwrite: bool = False,
     progress: bool | Callable[[float], None] = False,
-) -> Any:
+) -> xr.Dataset:
     """Run a design sweep and return its labelled results (also ``mudrft.sweep(...)``).
 
     Parameters
@@ -309,7 +316,7 @@ def run_sweep(
     return ds
 
 
-def _check_options(store: object, client: object, **flags: Any) -> None:
+def _check_options(store: object, client: object, **flags: object) -> None:
     """The options numpy, zarr or Dask would have failed on deep inside (or taken
     silently: ``resume="no"`` resumed), named."""
     for name in ("resume", "overwrite"):
@@ -332,7 +339,7 @@ def _check_options(store: object, client: object, **flags: Any) -> None:
 
 def _prepare(
     S: ModuleType, store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
-) -> Any:
+) -> tuple[zarr.Group, NDArray[np.bool_], str | os.PathLike[str] | None]:
     import numpy as np
 
     if resume and overwrite:

@@ -38,7 +38,7 @@ import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -48,6 +48,9 @@ from ..feet.mesh import UP_AXES
 from ..units import SCALE
 from . import catalog as C
 from .design import Axis, Design
+
+if TYPE_CHECKING:
+    from .evaluate import SweepContext
 
 __all__ = ["DESIGNS", "SweepSpec", "load_spec"]
 
@@ -97,12 +100,12 @@ class SweepSpec(Design):
     metrics: tuple[str, ...] = ()
     fixed: dict[str, Any] = field(default_factory=dict)
     mud_sets: dict[str, dict[str, Any]] = field(default_factory=dict)
-    mesh: Any = None
+    mesh: MeshFoot | None = None
     plot: dict[str, Any] = field(default_factory=dict)
     text: str = ""
     where: str = "<dict>"
 
-    def context(self) -> dict[str, Any]:
+    def context(self) -> SweepContext:
         """What a task needs besides its points: plain data (and the mesh), no Dask."""
         return {
             "fixed": dict(self.fixed),
@@ -318,7 +321,7 @@ def _points_per_task(value: object, motion: str) -> int:
 
 def _foot_kind(
     foot: dict[str, Any], design: str, base: Path, fixed: dict[str, Any], axes: list[Axis]
-) -> tuple[tuple[str, ...], Any]:
+) -> tuple[tuple[str, ...], MeshFoot | None]:
     if "kind" not in foot:
         raise MudrftError(
             "[foot] kind is required: flat, semi-cylinder, semi-sphere, morphing or a mesh "

@@ -25,9 +25,10 @@ import json
 import os
 import shutil
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias, cast
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .. import __version__
 from .._validation import MudrftError
@@ -36,6 +37,8 @@ from .evaluate import ChunkResult
 from .spec import SweepSpec
 
 if TYPE_CHECKING:
+    import xarray as xr
+    import zarr
     import zarr.abc.store
 
 #: Where a sweep is stored: a ``.zarr`` directory path or a zarr store object.
@@ -78,12 +81,12 @@ def _param_attrs(name: str, spec: SweepSpec) -> dict[str, Any]:
     return {"long_name": p.doc, "units": p.unit, "section": p.section}
 
 
-def _template(spec: SweepSpec) -> Any:
+def _template(spec: SweepSpec) -> xr.Dataset:
     import dask.array as da
     import xarray as xr
 
     dims, shape, chunks = spec.dims, spec.shape, spec.chunks
-    coords: dict[str, Any] = {}
+    coords: dict[str, xr.Variable] = {}
     for name, (d, v) in spec.coords().items():
         coords[name] = xr.Variable(d, v, attrs=_param_attrs(name, spec))
         for a in spec.axes:
@@ -95,7 +98,7 @@ def _template(spec: SweepSpec) -> Any:
     for name, v in spec.fixed.items():
         value = np.array(v, dtype=object) if isinstance(v, str) else v
         coords[name] = xr.Variable((), value, attrs=_param_attrs(name, spec))
-    data: dict[str, Any] = {}
+    data: dict[str, xr.Variable] = {}
     for m in spec.metrics:
         meta = C.METRICS[spec.motion][m]
         data[m] = xr.Variable(dims, da.full(shape, np.nan, chunks=chunks), {"units": meta.unit, "long_name": meta.doc})  # fmt: skip
@@ -135,7 +138,7 @@ def _is_store(path: Path) -> bool:
     return "mudrft_sweep_format" in meta.get("attributes", {})
 
 
-def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) -> Any:
+def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) -> zarr.Group:
     """Create an empty store for ``spec`` (metadata and coordinates only); return its group.
 
     ``store`` is a directory path (``.zarr``) or a zarr store object; an existing path is
@@ -174,7 +177,7 @@ def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) 
     return group
 
 
-def open_store(store: StoreLike, spec: SweepSpec) -> Any:
+def open_store(store: StoreLike, spec: SweepSpec) -> zarr.Group:
     """Open an existing store to resume ``spec``; raise if it was made from another spec."""
     import zarr
 
@@ -195,32 +198,38 @@ def open_store(store: StoreLike, spec: SweepSpec) -> Any:
     return group
 
 
-def done_chunks(group: Any, spec: SweepSpec) -> np.ndarray:
+def _array(group: zarr.Group, name: str) -> zarr.Array:
+    """The array ``name`` of a sweep's store (every name of the layout is an array, never a
+    subgroup; zarr types an item of a group as either)."""
+    return cast("zarr.Array", group[name])
+
+
+def done_chunks(group: zarr.Group, spec: SweepSpec) -> NDArray[np.bool_]:
     """Which chunks are stored whole: bool, shape (n_chunks,)."""
-    done = np.asarray(group["done"][...])
+    done = np.asarray(_array(group, "done")[...])
     return np.array(
         [bool(np.all(done[spec.chunk_slices(i)] == 1)) for i in range(spec.n_chunks)], dtype=bool
     )
 
 
-def write_chunk(group: Any, spec: SweepSpec, i: int, result: ChunkResult) -> None:
+def write_chunk(group: zarr.Group, spec: SweepSpec, i: int, result: ChunkResult) -> None:
     """Write chunk ``i`` (metrics, then errors, then ``done``)."""
     sl = spec.chunk_slices(i)
     shape = spec.chunk_shape(i)
     for k, m in enumerate(spec.metrics):
-        group[m][sl] = result.values[:, k].reshape(shape)
-    group["error"][sl] = np.array(result.errors, dtype=object).reshape(shape)
-    group["done"][sl] = np.ones(shape, dtype=np.uint8)
+        _array(group, m)[sl] = result.values[:, k].reshape(shape)
+    _array(group, "error")[sl] = np.array(result.errors, dtype=object).reshape(shape)
+    _array(group, "done")[sl] = np.ones(shape, dtype=np.uint8)
 
 
-def mark_complete(group: Any, spec: SweepSpec) -> int:
+def mark_complete(group: zarr.Group, spec: SweepSpec) -> int:
     """Count the failed points, set ``complete`` and ``failed_points``; return the count."""
-    failed = int(np.count_nonzero(np.asarray(group["error"][...], dtype=object) != ""))
+    failed = int(np.count_nonzero(np.asarray(_array(group, "error")[...], dtype=object) != ""))
     group.attrs.update({"complete": 1, "failed_points": failed})
     return failed
 
 
-def load_result(store: StoreLike, *, keep_done: bool = False) -> Any:
+def load_result(store: StoreLike, *, keep_done: bool = False) -> xr.Dataset:
     """The sweep's Dataset from a store (loaded into memory), strings as plain ``str``.
 
     Parameters

@@ -27,7 +27,12 @@ object, its step, rollout and data), :mod:`._lazy` (imports).
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # what __getattr__ imports on first use, named for type checkers
+    from ._lazy import available, jit
+    from .coupling import MjxCoupling, attach
+    from .physics import MjxContact, MjxMudState
 
 __all__ = ["MjxContact", "MjxCoupling", "MjxMudState", "attach", "available", "jit"]
 
@@ -41,7 +46,7 @@ _ATTRS = {
 }
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     if name in _ATTRS:
         return getattr(importlib.import_module(f"{__name__}.{_ATTRS[name]}"), name)
     raise AttributeError(f"module 'mudrft.integrations.mjx' has no attribute {name!r}")

@@ -7,11 +7,17 @@ import functools
 import io
 import os
 from collections.abc import Callable
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import jax.stages
+
+    from ...backends._jax_base import _SafeNamespace
 
 
 @functools.cache
-def _mjx() -> Any:
+def _mjx() -> ModuleType:
     """Import ``mujoco.mjx`` lazily with a helpful message.
 
     MJX 3.17 prints to stdout when its optional Warp backend is missing; that line is
@@ -28,7 +34,7 @@ def _mjx() -> Any:
     return mjx
 
 
-def _jax() -> Any:
+def _jax() -> ModuleType:
     try:
         import jax
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -36,7 +42,7 @@ def _jax() -> Any:
     return jax
 
 
-def x64_context(x64: bool) -> Any:
+def x64_context(x64: bool) -> contextlib.AbstractContextManager[None]:
     """A context in which JAX computes in float64 if ``x64``, else in float32.
 
     ``jax.enable_x64`` from JAX 0.8, ``jax.experimental.enable_x64`` before it: mudrft
@@ -52,7 +58,7 @@ def x64_context(x64: bool) -> Any:
 
 
 @functools.cache
-def _xp() -> Any:
+def _xp() -> _SafeNamespace:
     """``jax.numpy`` with the gradient-safe square root and arccos of the JAX backend.
 
     The same namespace :func:`mudrft.backends.jax.safe_namespace` gives the feet's rules,
@@ -77,7 +83,7 @@ FAST_COMPILE_OPTIONS = {
 }
 
 
-def jit(fn: Callable[..., Any], **kw: Any) -> Any:
+def jit(fn: Callable[..., Any], **kw: Any) -> jax.stages.Wrapped:
     """:func:`jax.jit`, with :data:`FAST_COMPILE_OPTIONS` on a CPU when the environment
     variable ``MUDRFT_FAST_COMPILE`` is ``1``."""
     jax = _jax()

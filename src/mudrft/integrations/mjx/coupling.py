@@ -50,11 +50,13 @@ from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_
 from .rk4 import RK4Plan, held_step, twist_acceleration
 
 if TYPE_CHECKING:
+    import jax.stages
     import mujoco
     import mujoco.mjx
     from jax import Array
 
     from ..._typing import ArrayLike
+    from ...backends.forces import ForceRule
     from ...constitutive.kernel import ChannelConstants
     from ...feet.base import Foot
     from ...parameters import Mud
@@ -65,7 +67,7 @@ Constants: TypeAlias = "tuple[ChannelConstants, ChannelConstants]"
 __all__ = ["MjxCoupling", "attach"]
 
 
-def _force_rule(foot: Foot) -> Any:
+def _force_rule(foot: Foot) -> ForceRule:
     from ...backends.forces import force_function
 
     fn = force_function(foot, xp=_xp())
@@ -192,9 +194,10 @@ class MjxCoupling:
 
     # -- data and constants -----------------------------------------------------------
     @property
-    def constants(self) -> Any:
+    def constants(self) -> Constants:
         """The mud's ``(horizontal, vertical)`` channel constants, as Python floats."""
-        return tuple(type(c)(*(float(v) for v in c)) for c in self.terrain.constants)
+        horizontal, vertical = (type(c)(*(float(v) for v in c)) for c in self.terrain.constants)
+        return horizontal, vertical
 
     def put_data(self, data: mujoco.MjData | None = None) -> mujoco.mjx.Data:
         """An ``mjx.Data`` of ``data`` (default: a fresh ``MjData`` of the model)."""
@@ -321,7 +324,7 @@ class MjxCoupling:
         return self._rollout_jit(d, state, n, ctrl, constants)
 
     @functools.cached_property
-    def _rollout_jit(self) -> Any:
+    def _rollout_jit(self) -> jax.stages.Wrapped:
         jax = _jax()
 
         def run(

@@ -46,6 +46,7 @@ if TYPE_CHECKING:
     import jax
     from mujoco import mjx
 
+    from ..._typing import XpArray
     from ...constitutive.kernel import ChannelConstants
 
 __all__ = ["MjxContact", "MjxMudState", "Static", "initial_state", "mud_wrench"]
@@ -151,7 +152,7 @@ class Static:
     dv_min: float = 1e-4
 
 
-def _frames(cfg: Static, d: mjx.Data) -> dict[str, Any]:
+def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
     """Body frames, tips, yaw and twist of the foot bodies (``MudBatch._read``)."""
     xp = _xp()
     ids, roots = cfg.ids, cfg.roots
@@ -164,7 +165,7 @@ def _frames(cfg: Static, d: mjx.Data) -> dict[str, Any]:
     return {"X": X, "R": R, "C": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C, xp=xp)}
 
 
-def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: jax.Array) -> Any:
+def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: XpArray) -> XpArray:
     """Mobility of the foot bodies' center-of-mass twists, (nb, nb, 6, 6) with the cross
     blocks (``kinematics.*_mobility``, D62d)."""
     xp = _xp()
@@ -191,11 +192,13 @@ def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: jax.Array) -> Any:
     return xp.einsum("iav,jvb->ijab", J, minv_jt)  # (nb, nb, 6, 6), cross blocks (D62d)
 
 
-def _posed(cfg: Static, k: dict[str, jax.Array]) -> tuple[tuple[Any, Any, Any, Any], Any]:
+def _posed(
+    cfg: Static, k: dict[str, XpArray]
+) -> tuple[tuple[XpArray, XpArray, XpArray, XpArray], XpArray]:
     """Channel geometry of each posed foot and its ratio to the upright foot (D60a)."""
     xp = _xp()
     X, R, C, cs = k["X"], k["R"], k["C"], k["cs"]
-    parts: list[Any] = []
+    parts: list[tuple[XpArray, ...]] = []
     order = np.concatenate([g.idx for g in cfg.groups])
     for g in cfg.groups:
         idx = g.idx
@@ -262,7 +265,7 @@ def mud_wrench(
     d: mjx.Data,
     st: MjxMudState,
     *,
-    acc: Any = None,
+    acc: XpArray | None = None,
 ) -> tuple[jax.Array, MjxMudState, MjxContact]:
     """The wrench of the mud on every foot body, and the mud state after the step.
 

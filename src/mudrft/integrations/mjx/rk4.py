@@ -36,6 +36,8 @@ if TYPE_CHECKING:
     from jax import Array
     from mujoco import mjx
 
+    from ..._typing import XpArray
+
 __all__ = ["RK4Plan", "held_step", "twist_acceleration"]
 
 
@@ -108,7 +110,7 @@ def twist_acceleration(plan: RK4Plan, mx: mjx.Model, d: mjx.Data) -> Array:
     mjx_, jax = _mjx(), _jax()
     ids = plan.ids
 
-    def twist(qpos: Array, qvel: Array) -> Any:
+    def twist(qpos: Array, qvel: Array) -> XpArray:
         k = mjx_.com_vel(mx, mjx_.com_pos(mx, mjx_.kinematics(mx, d.replace(qpos=qpos, qvel=qvel))))  # fmt: skip
         return com_twist(k.cvel[ids], k.subtree_com[plan.roots], k.xipos[ids], xp=_xp())
 
