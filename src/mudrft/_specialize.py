@@ -45,7 +45,14 @@ from collections.abc import Callable
 from typing import Any, TypeAlias, TypeGuard
 
 from ._specialize_copies import propagate_copies
-from ._specialize_flow import SELF, as_branches, assign_in_branches
+from ._specialize_flow import (
+    SELF,
+    always_evaluated,
+    as_branches,
+    assign_in_branches,
+    evaluated_parts,
+    located_at,
+)
 from ._specialize_tuples import drop_fields, new_tuple, plain_fields, shared_test, unpack_fields
 from ._typing import Namespace
 from ._xp import pyfloat
@@ -372,58 +379,6 @@ def _assignments(block: list[ast.stmt]) -> bool:
     return True
 
 
-def _always_evaluated(node: ast.AST) -> list[ast.Call]:
-    """Calls in ``node`` that evaluating it always evaluates, outermost first."""
-    found: list[ast.Call] = []
-
-    def walk(n: ast.AST) -> None:
-        if isinstance(n, ast.Call):
-            found.append(n)
-            for c in (n.func, *n.args, *n.keywords):
-                walk(c)
-            return
-        if isinstance(n, ast.IfExp):
-            walk(n.test)
-            return
-        if isinstance(n, ast.BoolOp):
-            walk(n.values[0])
-            return
-        if isinstance(n, ast.Compare) and len(n.ops) > 1:
-            walk(n.left)
-            walk(n.comparators[0])
-            return
-        if isinstance(n, (ast.Lambda, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)):
-            return
-        for c in ast.iter_child_nodes(n):
-            walk(c)
-
-    walk(node)
-    return found
-
-
-def _evaluated_parts(st: ast.stmt) -> list[ast.AST]:
-    """The parts of a statement evaluated once, before anything else it does."""
-    if isinstance(st, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Return, ast.Expr)):
-        return [st.value] if st.value is not None else []
-    if isinstance(st, ast.If):
-        return [st.test]
-    if isinstance(st, ast.For):
-        return [st.iter]
-    return []  # while (its test is evaluated again), with, try, ...: left as they are
-
-
-def _at(nodes: list[ast.stmt], where: ast.AST) -> list[ast.stmt]:
-    """``nodes`` with every location set to ``where``'s (tracebacks name the call's line)."""
-    for st in nodes:
-        for n in ast.walk(st):
-            if "lineno" in n._attributes:
-                n.lineno = where.lineno  # type: ignore[attr-defined]
-                n.end_lineno = where.end_lineno  # type: ignore[attr-defined]
-                n.col_offset = where.col_offset  # type: ignore[attr-defined]
-                n.end_col_offset = where.end_col_offset  # type: ignore[attr-defined]
-    return nodes
-
-
 def _expand(
     call: ast.Call, fn: types.FunctionType, fdef: ast.FunctionDef, callee_env: dict[str, Any],
     env: dict[str, Any],
@@ -502,7 +457,7 @@ def _inline_block(
     while work:
         st = work.pop(0)
         done: tuple[list[ast.stmt], ast.expr | None] | None = None
-        parts = _evaluated_parts(st)
+        parts = evaluated_parts(st)
         if any(
             isinstance(n, ast.NamedExpr) and not _OWN_TEMP.match(n.target.id)
             for part in parts
@@ -511,7 +466,7 @@ def _inline_block(
             # read its name, so nothing is moved before the statement
             parts = []
         for part in parts:
-            for call in _always_evaluated(part):
+            for call in always_evaluated(part):
                 f = call.func
                 fn = _target(f, env, targets)
                 rewritten = None if fn is None else inline(fn)
@@ -533,7 +488,7 @@ def _inline_block(
                     else:
                         _replace(st, call, value)
                         done = pre, value
-                    work[:0] = _at(pre, st)
+                    work[:0] = located_at(pre, st)
                     break
             if done is not None:
                 break
@@ -584,7 +539,7 @@ def _inline_expressions(st: ast.stmt, env: dict[str, Any]) -> ast.stmt:
             done = _expand(call, fn, fdef, callee_env, env)
             if done is None or done[0]:
                 return call
-            return _at([ast.Expr(done[1])], call)[0].value  # type: ignore[attr-defined]
+            return located_at([ast.Expr(done[1])], call)[0].value  # type: ignore[attr-defined]
 
     return Calls().visit(st)  # type: ignore[no-any-return]
 

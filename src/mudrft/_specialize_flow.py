@@ -25,6 +25,11 @@ inlined (the other evaluation, taken when the name is false, is not copied in: i
 would cost every call, taken or not, about a nanosecond each). The names are assigned last
 in each branch, as the assignment did after the call returned. The same floats bit for bit
 (docs/model.md, D80).
+
+The inliner's order of evaluation lives here too: which calls evaluating an expression
+always evaluates (:func:`always_evaluated`), which parts of a statement run once before it
+does anything else (:func:`evaluated_parts`), and the location inlined statements take
+(:func:`located_at`, so that a traceback names the call's line).
 """
 
 from __future__ import annotations
@@ -33,7 +38,13 @@ import ast
 import copy
 from collections.abc import Callable
 
-__all__ = ["as_branches", "assign_in_branches"]
+__all__ = [
+    "always_evaluated",
+    "as_branches",
+    "assign_in_branches",
+    "evaluated_parts",
+    "located_at",
+]
 
 #: The placeholder the branches assign (renamed apart by the inliner, then replaced).
 RESULT = "_xp_result"
@@ -99,3 +110,55 @@ def assign_in_branches(pre: list[ast.stmt], value: ast.expr, st: ast.Assign) -> 
             isinstance(t, ast.Name) and t.id == value.id for t in n.targets
         ):
             n.targets = [copy.deepcopy(st.targets[0])]
+
+
+def always_evaluated(node: ast.AST) -> list[ast.Call]:
+    """Calls in ``node`` that evaluating it always evaluates, outermost first."""
+    found: list[ast.Call] = []
+
+    def walk(n: ast.AST) -> None:
+        if isinstance(n, ast.Call):
+            found.append(n)
+            for c in (n.func, *n.args, *n.keywords):
+                walk(c)
+            return
+        if isinstance(n, ast.IfExp):
+            walk(n.test)
+            return
+        if isinstance(n, ast.BoolOp):
+            walk(n.values[0])
+            return
+        if isinstance(n, ast.Compare) and len(n.ops) > 1:
+            walk(n.left)
+            walk(n.comparators[0])
+            return
+        if isinstance(n, (ast.Lambda, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)):
+            return
+        for c in ast.iter_child_nodes(n):
+            walk(c)
+
+    walk(node)
+    return found
+
+
+def evaluated_parts(st: ast.stmt) -> list[ast.AST]:
+    """The parts of a statement evaluated once, before anything else it does."""
+    if isinstance(st, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Return, ast.Expr)):
+        return [st.value] if st.value is not None else []
+    if isinstance(st, ast.If):
+        return [st.test]
+    if isinstance(st, ast.For):
+        return [st.iter]
+    return []  # while (its test is evaluated again), with, try, ...: left as they are
+
+
+def located_at(nodes: list[ast.stmt], where: ast.AST) -> list[ast.stmt]:
+    """``nodes`` with every location set to ``where``'s (tracebacks name the call's line)."""
+    for st in nodes:
+        for n in ast.walk(st):
+            if "lineno" in n._attributes:
+                n.lineno = where.lineno  # type: ignore[attr-defined]
+                n.end_lineno = where.end_lineno  # type: ignore[attr-defined]
+                n.col_offset = where.col_offset  # type: ignore[attr-defined]
+                n.end_col_offset = where.end_col_offset  # type: ignore[attr-defined]
+    return nodes
