@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import functools
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, TypeAlias, cast
 
 import numpy as np
@@ -27,7 +27,8 @@ from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
-from .compiled import N_OUT, coupling_kernel, upright_rows, work_size
+from .compiled import N_OUT, coupling_kernel, work_size
+from .compiled_feet import upright_rows
 from .contact import MudContact
 
 if TYPE_CHECKING:
@@ -204,6 +205,61 @@ class CompiledCoupling:
         self.sizes = np.zeros(3, dtype=np.int64)
         self.datas: list[mujoco.MjData] = []
         self.opts = np.zeros(12)
+
+    def loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
+        """The batch's step loop over ``datas``, as a closure over local names.
+
+        Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
+        a look at MuJoCo's warning counters; the batch's ``last`` is marked stale and built
+        from the outputs only when read. Closure variables, not attribute lookups: on the
+        biped this Python bookkeeping would otherwise cost as much as the mud itself (D68b).
+        """
+        b = self.batch
+        m, opt, rk4 = b.model, b._opt, b._rk4
+        step1, step2, kernel = b._mj.mj_step1, b._mj.mj_step2, self.entry()
+        (args,) = self._args
+        flags, contact = self.opts, self.contact
+        warn, seen = b._warn, b._warnings
+        index = 0 if b._single else None
+
+        def diverged(steps: int) -> None:
+            b.time_steps += steps
+            b.last = contact(index)
+            b._check_diverged(datas)
+
+        def fail(steps: int) -> None:
+            b.time_steps += steps
+            b.last = contact(index)
+            raise MudrftError(
+                "the mud coupling produced a non-finite force; the simulation "
+                "diverged (check the model, the time step and the mud parameters)"
+            )
+
+        def generic(nstep: int) -> None:  # RK4: mj_step1/mj_step2 do not support it
+            out = b._step_generic(datas, nstep)
+            b.last = out if index is None else MudContact(*(a[index] for a in out))
+
+        def loop(nstep: int) -> None:
+            if int(opt.integrator) == rk4 or b.lookahead:
+                generic(nstep)
+                return
+            first = not b._has_prev
+            for k in range(nstep):
+                for d in datas:
+                    step1(m, d)
+                if kernel(args):
+                    fail(k + 1)
+                if first:  # has_prev: from now on the acceleration is a difference
+                    flags[11], first = 1.0, False
+                for i, d in enumerate(datas):
+                    step2(m, d)
+                    if warn[i].number != seen[i]:
+                        diverged(k + 1)
+            b.time_steps += nstep
+            b._has_prev = True
+            b._stale = True
+
+        return loop
 
     def reset(
         self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray

@@ -293,7 +293,7 @@ class MudBatch:
             d.xfrc_applied[self._ids] = 0.0
         if self._compiled is not None:
             self._compiled.opts[11] = 0.0
-            self._loop = self._compiled_loop(datas)
+            self._loop = self._compiled.loop(datas)
 
     def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):
@@ -550,62 +550,6 @@ class MudBatch:
             )
         self._loop(nstep)
         return self.last if contact else None
-
-    def _compiled_loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
-        """The compiled coupling's step loop over ``datas``, as a closure over local names.
-
-        Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
-        a look at MuJoCo's warning counters; :attr:`last` is marked stale and built from the
-        outputs only when read. Closure variables, not attribute lookups: on the biped this
-        Python bookkeeping would otherwise cost as much as the mud itself (D68b).
-        """
-        comp = self._compiled
-        assert comp is not None
-        m, opt, rk4 = self.model, self._opt, self._rk4
-        step1, step2, kernel = self._mj.mj_step1, self._mj.mj_step2, comp.entry()
-        (args,) = comp._args
-        flags, contact = comp.opts, comp.contact
-        warn, seen = self._warn, self._warnings
-        index = 0 if self._single else None
-
-        def diverged(steps: int) -> None:
-            self.time_steps += steps
-            self.last = contact(index)
-            self._check_diverged(datas)
-
-        def fail(steps: int) -> None:
-            self.time_steps += steps
-            self.last = contact(index)
-            raise MudrftError(
-                "the mud coupling produced a non-finite force; the simulation "
-                "diverged (check the model, the time step and the mud parameters)"
-            )
-
-        def generic(nstep: int) -> None:  # RK4: mj_step1/mj_step2 do not support it
-            out = self._step_generic(datas, nstep)
-            self.last = out if index is None else MudContact(*(a[index] for a in out))
-
-        def loop(nstep: int) -> None:
-            if int(opt.integrator) == rk4 or self.lookahead:
-                generic(nstep)
-                return
-            first = not self._has_prev
-            for k in range(nstep):
-                for d in datas:
-                    step1(m, d)
-                if kernel(args):
-                    fail(k + 1)
-                if first:  # has_prev: from now on the acceleration is a difference
-                    flags[11], first = 1.0, False
-                for i, d in enumerate(datas):
-                    step2(m, d)
-                    if warn[i].number != seen[i]:
-                        diverged(k + 1)
-            self.time_steps += nstep
-            self._has_prev = True
-            self._stale = True
-
-        return loop
 
     def _check_diverged(self, datas: list[mujoco.MjData]) -> None:
         """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""

@@ -55,9 +55,15 @@ from ...feet.facet import (
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
-from ...feet.surface import PreparedTriangles
 from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
-from .compiled_feet import ROW_OF_SOURCE, _inputs, _mesh_force, _mud_force, _nudged_force
+from .compiled_feet import (
+    ROW_OF_SOURCE,
+    _inputs,
+    _mesh_force,
+    _mud_force,
+    _nudged_force,
+    _upright_area,
+)
 from .implicit import passivity_scale, secant_steps
 from .linalg import (
     _borrow,
@@ -72,7 +78,7 @@ from .linalg import (
 )
 from .pose import channel_weights
 
-__all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "upright_rows", "work_size"]
+__all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "work_size"]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -166,31 +172,6 @@ def _geometry(
             out[base + 7] += w * q2 * q1
             out[base + 8] += w * q2 * q2
     out[39], out[40], out[41] = lx, ly, lowz
-
-
-def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
-    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`).
-
-    ``up`` (m, 10): per prepared facet z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
-    h_y, w_z (:func:`upright_rows`).
-    """
-    a[0], a[1], a[2] = 0.0, 0.0, 0.0
-    for f in range(up.shape[0]):
-        r = up[f]
-        if r[0] >= depth:  # above the surface
-            continue
-        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
-        w0, w1, w2 = _weights(sub, r[6], r[7], r[8], r[9])
-        a[0] += w0
-        a[1] += w1
-        a[2] += w2
-
-
-def upright_rows(prepared: PreparedTriangles) -> FloatArray:
-    """Rows (m, 10) of the prepared upright facets for :func:`_upright_area`."""
-    p = prepared
-    cols = (p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, p.nh, p.hx, p.hy, p.wz)
-    return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
 
 
 def _kernel(

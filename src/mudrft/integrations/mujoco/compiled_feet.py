@@ -3,14 +3,17 @@ r"""The feet in the compiled coupling: one mud step of a foot and its force (D68
 :func:`_mud_force` steps the mud under one foot from its state row and returns the force of
 the foot's model: a closed form, a mesh foot's facets (:func:`_mesh_force`), or the morphing
 foot's column balance and force (:func:`~mudrft.feet.morphing.equilibrium.contact_on_floats`);
-:func:`_nudged_force` is the one-channel step of a secant nudge (D63). Plain Python on
-floats here; :func:`.compiled.coupling_kernel` compiles them with the physics they call
-(bound by :func:`mudrft.backends.numba.compile_scalar`) into the kernel.
+:func:`_nudged_force` is the one-channel step of a secant nudge (D63); :func:`_upright_area`
+gives the upright foot's channel areas from its facet rows (:func:`upright_rows`). Plain
+Python on floats here; :func:`.compiled.coupling_kernel` compiles them with the physics they
+call (bound by :func:`mudrft.backends.numba.compile_scalar`) into the kernel.
 """
 
 from __future__ import annotations
 
 from typing import TypeAlias
+
+import numpy as np
 
 from ..._typing import FloatArray
 from ...backends.numba import _channels, _constants
@@ -20,12 +23,39 @@ from ...feet.facet import facet_factors, facet_force, fold_stresses, submerged_a
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
 from ...feet.morphing.row import MorphingRow
+from ...feet.surface import PreparedTriangles
 from ...terrains.mud import MudChannels, mud_channel_stress, mud_heading, mud_step
+from .pose import channel_weights
 
-__all__ = ["ROW_OF_SOURCE", "mesh_force", "mud_force", "nudged_force"]
+__all__ = ["ROW_OF_SOURCE", "upright_rows"]
 
 #: What :func:`_mud_force` returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
 FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
+
+
+def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
+    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`).
+
+    ``up`` (m, 10): per prepared facet z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
+    h_y, w_z (:func:`upright_rows`).
+    """
+    a[0], a[1], a[2] = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # above the surface
+            continue
+        sub = _area(r[0], r[1], r[2], r[3], r[4], r[5], depth)
+        w0, w1, w2 = _weights(sub, r[6], r[7], r[8], r[9])
+        a[0] += w0
+        a[1] += w1
+        a[2] += w2
+
+
+def upright_rows(prepared: PreparedTriangles) -> FloatArray:
+    """Rows (m, 10) of the prepared upright facets for :func:`_upright_area`."""
+    p = prepared
+    cols = (p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, p.nh, p.hx, p.hy, p.wz)
+    return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
 
 
 def _mesh_force(up: FloatArray, depth: float, sx: float, sy: float, sz: float, heading: float,
@@ -147,6 +177,7 @@ ROW_OF_SOURCE = _row_of_source()
 
 # the names the functions above call; the kernel binds them to the compiled physics
 _area = submerged_area
+_weights = channel_weights
 _fold = fold_stresses
 _factors = facet_factors
 _fforce = facet_force
