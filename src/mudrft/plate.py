@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -11,6 +12,11 @@ from .constitutive import laws
 from .constitutive.dynamics import run
 from .parameters.base import Mud, MudParameters
 from .trajectories import Trajectory
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from .plotting import AxesArg
 
 __all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response"]
 
@@ -59,7 +65,7 @@ class PlateResult:
             f"max_stress={float(self.stress.max()):.4g} Pa)"
         )
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: AxesArg = None) -> Figure:
         """Stress against time and displacement (needs matplotlib)."""
         from .plotting import plot_plate
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from types import ModuleType
-from typing import TYPE_CHECKING, TypeAlias, cast
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,13 +48,13 @@ def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
     return fig, a0, a1
 
 
-def plot_plate(result: PlateResult, ax: object = None) -> Figure:
+def plot_plate(result: PlateResult, ax: AxesArg = None) -> Figure:
     """Stress against time and against displacement for a plate test (kPa, mm).
 
     ``ax`` is typed ``object`` because :meth:`mudrft.PlateResult.plot` passes its
     ``object``-typed argument through; it takes what ``plot_result``'s ``axes`` takes.
     """
-    fig, a0, a1 = _two_panels(cast("AxesArg", ax))
+    fig, a0, a1 = _two_panels(ax)
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
     a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
     a0.plot(result.time, result.thixotropic / 1e3, "--", lw=1, label=r"$\sigma_{th}$")
