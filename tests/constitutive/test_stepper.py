@@ -291,15 +291,16 @@ def test_relaxation_much_faster_than_the_step_stays_exact(lam, dt):
 
 
 def test_both_evaluations_take_the_steady_suction_from_the_one_eq_11(monkeypatch):
-    """Eq. (11) is written once (laws.suction_steady): the ODE step's exponential target and
-    the quasi-static plateau both read it, so doubling it changes both suctions."""
+    """Eq. (11) is written once (laws.suction_steady_at_rate, which laws.suction_steady calls):
+    the ODE step's exponential target and the quasi-static plateau both read it with the rate
+    they computed, so doubling it changes both suctions."""
     from mudrft.constitutive import laws
 
     t = np.linspace(0.0, 2.0, 201)
     g = np.concatenate([np.linspace(0.0, 0.6, 100), np.linspace(0.6, 0.2, 101)])
     before = {th: run(P25V, t, g, thixotropy=th).suction for th in ("ode", "quasi-static")}
-    original = laws.suction_steady
-    monkeypatch.setattr(laws, "suction_steady", lambda *a: 2.0 * original(*a))
+    original = laws.suction_steady_at_rate
+    monkeypatch.setattr(laws, "suction_steady_at_rate", lambda *a: 2.0 * original(*a))
     for th, s0 in before.items():
         s1 = run(P25V, t, g, thixotropy=th).suction
         assert np.any(s0 != 0.0)

@@ -213,7 +213,7 @@ def channel_update(
     # suction, eq. (5): exact exponential with the sealing state at mid-step (decision D4)
     phi = seal * laws.sealing(0.5 * (r_start + r_end), c.epsilon, xp=xp)
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
-    target = direction * laws.suction_steady(phi, c.tau_build, c.tau_leak, c.sigma_y)  # eq. (11)
+    target = direction * laws.suction_steady_at_rate(phi, a, c.tau_build, c.sigma_y)  # eq. (11)
     sig_new = target + (sig_s - target) * xp.exp(-a * dt)
 
     new_state = ChannelState(gamma, gw_new, xi_new, s_new, sig_new, clock, clock_w)
@@ -292,7 +292,7 @@ def channel_update_quasi_static(
     # eqs. (10)-(11) at the current sealing state
     phi = seal * laws.sealing(r_end, c.epsilon, xp=xp)
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
-    steady = direction * laws.suction_steady(phi, c.tau_build, c.tau_leak, c.sigma_y)
+    steady = direction * laws.suction_steady_at_rate(phi, a, c.tau_build, c.sigma_y)
     sig_s = -xp.expm1(-a * clock_w) * steady
     xi = laws.xi_steady(gamma_dot, gamma_dot_c, xp=xp)
     new_state = ChannelState(gamma, gw_new, xi, sigma_th, sig_s, clock, clock_w)

@@ -24,6 +24,7 @@ __all__ = [
     "sealing_printed",
     "suction_rate",
     "suction_steady",
+    "suction_steady_at_rate",
     "switch",
     "tau_xi",
     "thixotropic_steady",
@@ -336,8 +337,34 @@ def suction_steady(
     >>> float(suction_steady(0.0, 0.32, 0.17, 7100.0))
     -0.0
     """
-    a = suction_rate(phi, tau_build, tau_leak)
-    return -phi * sigma_y / (a * tau_build)
+    return suction_steady_at_rate(phi, suction_rate(phi, tau_build, tau_leak), tau_build, sigma_y)
+
+
+def suction_steady_at_rate(
+    phi: XpArray, rate: XpArray, tau_build: XpArray, sigma_y: XpArray
+) -> XpArray:
+    r"""Eq. (11) at a given rate :math:`a`: :math:`-\phi\sigma_Y/(a\tau_{build})` [Pa].
+
+    The one definition of eq. (11): :func:`suction_steady` computes :math:`a` and calls it;
+    the constitutive step, which needs :math:`a` for its exponential anyway, passes its own.
+
+    Parameters
+    ----------
+    phi : array_like
+        Sealing state [-].
+    rate : array_like
+        :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` [1/s] (:func:`suction_rate`).
+    tau_build : array_like
+        Build-up time [s].
+    sigma_y : array_like
+        Yield stress [Pa].
+
+    Examples
+    --------
+    >>> float(suction_steady_at_rate(1.0, 1.0 / 0.32, 0.32, 7100.0))
+    -7100.0
+    """
+    return -phi * sigma_y / (rate * tau_build)
 
 
 def f_n(psi: XpArray, *, xp: Namespace = np) -> XpArray:
