@@ -16,6 +16,13 @@ EDGES = ("backends", "integrations", "calibration", "cli", "sweep", "envs")
 
 
 def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
+    """``import mudrft`` loads neither numba nor an edge; ``simulate`` compiles the mud under
+    a foot of mudrft.feet with numba (a core dependency, mudrft._jit) and loads no edge."""
+    out = subprocess.run(
+        [sys.executable, "-c", "import json, sys, mudrft; print(json.dumps(sorted(sys.modules)))"],
+        capture_output=True, text=True, check=True, timeout=120,
+    )  # fmt: skip
+    assert "numba" not in set(json.loads(out.stdout.strip().splitlines()[-1]))
     code = (
         "import json, sys, mudrft\n"
         "foot = mudrft.feet.SemiCylinder()\n"
@@ -28,7 +35,6 @@ def test_import_and_simulate_with_numpy_load_no_accelerator_and_no_edge():
     )
     loaded = set(json.loads(out.stdout.strip().splitlines()[-1]))
     for name in (
-        "numba",
         "jax",
         "mujoco",
         "gymnasium",

@@ -38,15 +38,15 @@ def ci_pins() -> dict[str, str]:
     return {m[1].lower(): m[2] for m in re.finditer(r'"([A-Za-z0-9_.-]+)==([0-9.]+)\.\*"', core[0])}
 
 
-def test_the_core_dependencies_are_numpy_and_scipy():
-    assert set(floors()) == {"numpy", "scipy"}
+def test_the_core_dependencies_are_numpy_scipy_and_numba():
+    assert set(floors()) == {"numpy", "scipy", "numba"}
 
 
 def test_ci_tests_the_declared_floors():
     assert ci_pins() == floors()
 
 
-@pytest.mark.parametrize("package", ["numpy", "scipy"])
+@pytest.mark.parametrize("package", ["numpy", "scipy", "numba"])
 def test_the_installed_version_is_at_least_the_floor(package):
     """The environment running the suite satisfies the floor (a stale environment would
     test something that users cannot install against)."""

@@ -149,16 +149,16 @@ def test_batched_mud_takes_one_step_for_all_feet():
 
 
 def test_mud_options_given_twice_or_unknown_are_named():
-    """BatchedMud/FastMudFoot ignored options given beside a MudTerrain, and an unknown one
-    failed as a TypeError of MudTerrain.__init__."""
-    from mudrft.backends import BatchedMud, FastMudFoot
+    """BatchedMud ignored options given beside a MudTerrain, and an unknown one failed as a
+    TypeError of MudTerrain.__init__."""
+    from mudrft.backends import BatchedMud
 
     with pytest.raises(MudrftError, match=r"unknown mud option\(s\) \['bogus'\]; the options are \['characteristic_length'"):  # fmt: skip
         BatchedMud(MUD, FLAT, 4, backend="numpy", bogus=1)
     terrain = mudrft.MudTerrain(MUD)
     with pytest.raises(MudrftError, match=r"\['acceleration'\] cannot be set here: mud is a MudTerrain"):  # fmt: skip
-        FastMudFoot(FLAT, terrain, backend="python", acceleration=False)
-    assert FastMudFoot(FLAT, terrain, backend="python").terrain is terrain
+        BatchedMud(terrain, FLAT, 1, backend="numba", acceleration=False)
+    assert BatchedMud(terrain, FLAT, 1, backend="numba").terrain.mud is terrain.mud
 
 
 def test_a_stance_depth_in_millimetres_warns():

@@ -13,7 +13,7 @@ order:
   (:mod:`.physics`);
 * batches of 1, 1e3 and 1e5 flat feet (:class:`mudrft.backends.batch.BatchedMud`, numpy,
   numba and JAX backends; JAX on whatever device it has), ``batch_speedup_1e4``, one foot
-  per step (``MudTerrain``, ``FastMudFoot``, ``simulate``) and the MuJoCo overhead ratio
+  per step (``MudTerrain``, a batch of one on numba, ``simulate``) and the MuJoCo overhead ratio
   (:mod:`.feet`);
 * robot-steps per second with mud at 1, 64 and 1,024 robots, the CPU coupling and MJX (with
   and without mud; MJX on whatever device JAX finds) (:mod:`.robots`);

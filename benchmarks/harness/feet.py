@@ -6,7 +6,7 @@
   single-foot :meth:`mudrft.MudTerrain.step` calls divided by the time per foot of one
   batched call of 10,000 feet, in the same run;
 * ``bench_single_foot``: one flat foot per step through ``MudTerrain.step`` (Python floats),
-  :class:`mudrft.backends.fast.FastMudFoot` (numba and pure Python), and
+  :class:`mudrft.backends.BatchedMud` of one foot on numba, and
   :func:`mudrft.simulate` of the paper's gait divided by its number of steps;
 * ``bench_mujoco``: ``mujoco_overhead_ratio`` from
   :func:`mudrft.integrations.benchmark.mujoco_overhead_ratio`.
@@ -119,14 +119,18 @@ def bench_speedup(quick: bool, budget: float, progress: Progress) -> dict[str, A
 
 
 def bench_single_foot(quick: bool, budget: float, progress: Progress) -> dict[str, Any]:
-    """One flat foot per step [us]: ``mud_terrain_us``, ``fast_{python,numba}_us``, ``simulate_us``.
+    """One flat foot per step [us]: ``mud_terrain_us``, ``one_numba_us``, ``simulate_us``.
+
+    ``mud_terrain_us`` is :meth:`mudrft.MudTerrain.step` (Python floats, validated),
+    ``one_numba_us`` a :class:`~mudrft.backends.BatchedMud` of one foot on numba (the
+    single-foot stepper for per-step coupling).
 
     ``simulate_us`` is one :func:`mudrft.simulate` of the paper's gait at 0.2 m/s (651
     samples, dt = 1 ms, W = 25 %) divided by its number of steps: the terrain step plus
     the loop's own work (trajectory, result arrays), validation done once per run.
     """
     import mudrft
-    from mudrft.backends.fast import FastMudFoot
+    from mudrft.backends import BatchedMud
 
     foot, mud = mudrft.feet.Flat(), mudrft.paper_mud(0.3)
     terrain = mudrft.MudTerrain(mud)
@@ -136,9 +140,8 @@ def bench_single_foot(quick: bool, budget: float, progress: Progress) -> dict[st
     out: dict[str, Any] = {
         "mud_terrain_us": 1e6 * best(lambda: terrain.step(foot, st, pos, vel, 1e-3), budget=budget)
     }
-    for b in ["python"] + (["numba"] if have("numba") else []):
-        ff = FastMudFoot(foot, terrain, backend=b)
-        out[f"fast_{b}_us"] = 1e6 * best(lambda ff=ff: ff.step(pos, vel, 1e-3), budget=budget)
+    one = BatchedMud(terrain, foot, 1, backend="numba")
+    out["one_numba_us"] = 1e6 * best(lambda: one.step(pos, vel, 1e-3), budget=budget)
     gait = mudrft.gait(speed=0.2)
     mud25 = mudrft.paper_mud(0.25)
     steps = len(gait.time) - 1

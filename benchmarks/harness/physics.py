@@ -9,12 +9,6 @@ The constitutive step is timed on every path that runs the one definition,
   ``numpy_step_batch_ns_per_channel``: the validated ``step`` on the same batch;
 * ``python_float_one_plate_us``: ``channel_update(..., xp=pyfloat)`` on Python floats (the
   path of the single-foot :class:`mudrft.MudTerrain`);
-* ``numba_one_plate_us``: ``compile_scalar(channel_update)`` called from Python with
-  named tuples of floats (numba boxes and unboxes 17 floats in, 9 out);
-  ``numba_array_one_plate_us``: the same compiled update inside a small ``njit`` wrapper
-  that reads constants and state from float arrays and writes the state back (the
-  interface of a compiled caller); ``numba_batch_ns_per_channel``: a ``prange`` loop over
-  the batch calling the compiled update;
 * ``jax_one_plate_us`` / ``jax_batch_ns_per_channel``: :func:`mudrft.backends.jax.step`.
 
 The mesh integration times :func:`mudrft.feet.surface.integrate_prepared` (numpy, and under
@@ -23,7 +17,6 @@ The mesh integration times :func:`mudrft.feet.surface.integrate_prepared` (numpy
 
 from __future__ import annotations
 
-import functools
 import warnings
 from typing import Any
 
@@ -31,57 +24,12 @@ import numpy as np
 
 from ._timing import Progress, best, block, have, say
 
-#: Floats in a channel's state: the drivers below unpack ChannelState field by field (numba
-#: cannot splat a row), and check this count when they are built.
-N_FIELDS = 7
-
 __all__ = ["BATCH_CHANNELS", "MESH_RESOLUTIONS", "bench_constitutive", "bench_mesh"]
 
 #: Channels in the batched constitutive step.
 BATCH_CHANNELS = 300_000
 #: Semi-sphere mesh resolutions giving 968 and 100,352 facets (8 r^2).
 MESH_RESOLUTIONS = {"1e3": 11, "1e5": 112}
-
-
-@functools.cache
-def _numba_drivers() -> tuple[Any, Any, Any]:
-    """The compiled update, an array-interface wrapper of it, and a prange loop over channels."""
-    import numba
-
-    from mudrft.backends.numba import compile_scalar
-    from mudrft.constitutive.kernel import ChannelConstants, channel_update
-    from mudrft.constitutive.state import ChannelState
-
-    if len(ChannelState._fields) != N_FIELDS:
-        raise RuntimeError(f"ChannelState has {len(ChannelState._fields)} fields; update N_FIELDS")
-    upd = compile_scalar(channel_update)
-
-    @numba.njit(inline="always")
-    def constants(r: Any) -> Any:
-        return ChannelConstants(
-            r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11]
-        )
-
-    @numba.njit(error_model="numpy")
-    def one(r: Any, s: Any, g: float, gd: float, dt: float) -> float:
-        new, out = upd(
-            constants(r), ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]), g, gd, dt,
-            1.0, 1.0,
-        )  # fmt: skip
-        s[0], s[1], s[2], s[3], s[4], s[5], s[6] = new
-        return out.total
-
-    @numba.njit(error_model="numpy", parallel=True)
-    def batch(r: Any, s: Any, g: Any, gd: Any, dt: float, tot: Any) -> None:
-        c = constants(r)
-        for i in numba.prange(g.shape[0]):
-            si = s[i]
-            st = ChannelState(si[0], si[1], si[2], si[3], si[4], si[5], si[6])
-            new, out = upd(c, st, g[i], gd[i], dt, 1.0, 1.0)
-            si[0], si[1], si[2], si[3], si[4], si[5], si[6] = new
-            tot[i] = out.total
-
-    return upd, one, batch
 
 
 def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[str, Any]:
@@ -101,7 +49,7 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
     dict
         Times per call [us] and per channel [ns], keyed as in the module docstring.
     """
-    from mudrft._specialize import on_floats
+    from mudrft._xp import pyfloat
     from mudrft.constitutive import initial_state, kernel, step
     from mudrft.constitutive.state import ChannelState
     from mudrft.parameters import paper_parameters
@@ -113,9 +61,8 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
     out["numpy_one_plate_us"] = 1e6 * best(lambda: step(p, st, 0.1, 1.0, 1e-3), budget=budget)
     cf = kernel.ChannelConstants(*(float(v) for v in c))
     sf = ChannelState(*[0.0] * len(ChannelState._fields))
-    update = on_floats(kernel.channel_update)  # what one foot on floats runs
     out["python_float_one_plate_us"] = 1e6 * best(
-        lambda: update(cf, sf, 0.1, 1.0, 1e-3), budget=budget
+        lambda: kernel.channel_update(cf, sf, 0.1, 1.0, 1e-3, 1.0, 1.0, pyfloat), budget=budget
     )
     m = BATCH_CHANNELS
     out["batch_channels"] = m
@@ -127,20 +74,6 @@ def bench_constitutive(quick: bool, budget: float, progress: Progress) -> dict[s
     out["numpy_batch_ns_per_channel"] = 1e9 * t / m
     t = best(lambda: step(p, bst, g, gd, 1e-3), budget=budget)
     out["numpy_step_batch_ns_per_channel"] = 1e9 * t / m
-    if have("numba"):
-        upd, one, batch = _numba_drivers()
-        out["numba_one_plate_us"] = 1e6 * best(
-            lambda: upd(cf, sf, 0.1, 1.0, 1e-3, 1.0, 1.0), budget=budget
-        )
-        row = np.array(cf, dtype=float)
-        s1 = np.zeros(N_FIELDS)
-        out["numba_array_one_plate_us"] = 1e6 * best(
-            lambda: one(row, s1, 0.1, 1.0, 1e-3), budget=budget
-        )
-        sm = np.zeros((m, N_FIELDS))
-        tot = np.zeros(m)
-        t = best(lambda: batch(row, sm, g, gd, 1e-3, tot), budget=budget)
-        out["numba_batch_ns_per_channel"] = 1e9 * t / m
     if have("jax"):
         import jax.numpy as jnp
 

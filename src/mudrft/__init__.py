@@ -43,7 +43,6 @@ _LAZY_ATTRS = {
     "calibrate": ("mudrft.calibration", "calibrate"),
     "load_parameters": ("mudrft.calibration", "load_parameters"),
     "BatchedMud": ("mudrft.backends", "BatchedMud"),
-    "FastMudFoot": ("mudrft.backends", "FastMudFoot"),
 }
 
 __all__ = [

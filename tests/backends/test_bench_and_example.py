@@ -11,10 +11,8 @@ import runpy
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-import mudrft
 from mudrft._validation import MudrftError
 from mudrft.cli import bench as bench_cli
 
@@ -88,24 +86,3 @@ def test_jax_gradient_calibration_example_recovers_alpha_and_eta_inf(capsys):
     mod = runpy.run_path(str(script))
     assert mod["main"]() == 0  # main returns 0 only within 2 % (alpha) and 5 % (eta_inf)
     assert "recovered" in capsys.readouterr().out
-
-
-def test_the_harness_numba_drivers_step_a_channel_as_the_float_path_does(harness):
-    """The benchmark's own compiled drivers unpack the channel state field by field; when
-    the state grew to 7 fields they went stale unnoticed (a benchmark no test ran)."""
-    pytest.importorskip("numba")
-    from mudrft._specialize import on_floats
-    from mudrft.constitutive import channel_constants, kernel
-    from mudrft.constitutive.state import ChannelState
-
-    physics = sys.modules[harness.__name__ + ".physics"]
-    upd, one, _batch = physics._numba_drivers()
-    c = kernel.ChannelConstants(*map(float, channel_constants(mudrft.paper_parameters(0.25))))
-    row, state = np.array(c, dtype=float), np.zeros(len(ChannelState._fields))
-    total = one(row, state, 0.1, 1.0, 1e-3)
-    new, stress = on_floats(kernel.channel_update)(c, ChannelState(*[0.0] * 7), 0.1, 1.0, 1e-3)
-    _, direct = upd(c, ChannelState(*[0.0] * 7), 0.1, 1.0, 1e-3, 1.0, 1.0)
-    # the same source compiled and on floats: within rounding (libm vs numba's exp)
-    assert total == pytest.approx(stress.total, rel=1e-12)
-    assert direct.total == pytest.approx(stress.total, rel=1e-12)
-    np.testing.assert_allclose(state, new, rtol=1e-12, atol=0.0)

@@ -2,8 +2,8 @@
 
 Two kinds of test: (1) patching the one constitutive step changes every path that claims to
 use it (the numpy reference, the single-foot float path of MudTerrain, batches, BatchedMud,
-JAX); (2) the compiled and float specializations of the one source equal the numpy
-reference to rounding, so the equivalence tests test compilation, not drift.
+JAX); (2) the float path and numba's compilation of the same functions (mudrft._jit) equal
+the numpy reference to rounding, so the equivalence tests test compilation, not drift.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mudrft
-from mudrft._specialize import on_floats
+from mudrft._jit import jit
 from mudrft._xp import pyfloat
 from mudrft.backends.batch import BatchedMud
 from mudrft.constitutive import channel_constants, initial_state, kernel, step
@@ -72,12 +72,8 @@ def test_patching_the_constitutive_step_changes_every_numpy_path(monkeypatch):
         return new, s._replace(total=s.total + SENTINEL)
 
     monkeypatch.setattr(kernel, "channel_update", shifted)
-    # the float path is a specialization of the source, made once like a compilation:
-    # made again, it calls the patched step (mudrft._specialize)
-    on_floats.cache_clear()
     after = _mud_path_outputs()
     monkeypatch.undo()
-    on_floats.cache_clear()
     assert calls["n"] == 1 + 3 * 3  # the reference step, and three channels per terrain path
     for name in before:
         # every channel in the mud moved by the sentinel: the path ran the patched step
@@ -208,13 +204,15 @@ def test_float_path_equals_numpy_reference(p, inputs, mode):
     _close(clock_w, ref_state.clock_w, 1.0)
 
 
+def _channel_step_on_floats(c, st_i, g, gd, dt_, sl, kappa, qs, restart):
+    """The one channel step with ``xp`` bound to the float namespace, for numba."""
+    return kernel.channel_step(c, st_i, g, gd, dt_, sl, kappa, qs, restart, pyfloat)
+
+
 @settings(max_examples=30, deadline=None)
 @given(parameter_sets(), channel_inputs(shape=(6,)), st.sampled_from(MODES))
 def test_numba_compilation_of_the_one_step_equals_numpy_reference(p, inputs, mode):
-    pytest.importorskip("numba")
-    from mudrft.backends.numba import compile_scalar
-
-    compiled = compile_scalar(kernel.channel_step)
+    compiled = jit(_channel_step_on_floats, cache=False)
     ref_state, ref = _reference(p, inputs, mode)
     total, xi, clock_w = _specialized_outputs(compiled, p, inputs, mode)
     scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
@@ -232,13 +230,7 @@ def test_sign_flip_and_rest_on_every_specialization():
         (ChannelState(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0),  # rest at the surface
         (ChannelState(0.02, 0.04, 0.5, 0.0, -10.0, 0.6, 0.2), 0.02, 0.0),  # held while retracted
     ]
-    fns = [lambda *a: kernel.channel_step(*a, xp=pyfloat)]
-    try:
-        from mudrft.backends.numba import compile_scalar
-
-        fns.append(compile_scalar(kernel.channel_step))
-    except ImportError:
-        pass
+    fns = [_channel_step_on_floats, jit(_channel_step_on_floats, cache=False)]
     for state, g, gd in cases:
         for qs, restart in ((False, False), (True, False), (True, True)):
             ref_state, ref = kernel.channel_step(
@@ -257,52 +249,23 @@ def test_sign_flip_and_rest_on_every_specialization():
                 _close(tuple(new), tuple(ref_state), per_state)
 
 
-def test_compile_scalar_inlines_composite_functions_only_when_asked():
-    """The drivers' flavor inlines the functions that call other physics (``inline="always"``)
-    and shares the dispatchers of the leaves with the plain flavor; results are the same."""
-    pytest.importorskip("numba")
-    from mudrft.backends.numba import compile_scalar
-    from mudrft.constitutive import laws
-
-    plain = compile_scalar(kernel.channel_step)
-    inlined = compile_scalar(kernel.channel_step, inline=True)
-    assert inlined is not plain
-    assert inlined.targetoptions["inline"] == "always"
-    assert plain.targetoptions["inline"] == "never"
-    assert compile_scalar(laws.switch, inline=True) is compile_scalar(laws.switch)
-    assert compile_scalar(laws.switch).targetoptions["inline"] == "never"
-    c = channel_constants(mudrft.paper_parameters(0.25, "vertical"))
-    state = ChannelState(0.05, 0.08, 0.3, 100.0, -50.0, 0.4, 0.1)
-    for qs in (False, True):
-        a = plain(c, state, 0.04, -0.5, 1e-3, 0.7, 1.0, qs, False)
-        b = inlined(c, state, 0.04, -0.5, 1e-3, 0.7, 1.0, qs, False)
-        assert a == b
-
-
 @pytest.mark.parametrize(
     "options",
     [{}, {"thixotropy": "quasi-static"}, {"thixotropy": "quasi-static", "clock": "retraction"}],
     ids=["ode", "quasi-static", "quasi-static-restart"],
 )
-def test_compiled_feet_loop_equals_mud_terrain_on_a_wandering_path(options):
-    pytest.importorskip("numba")
-    from mudrft.backends.numba import N_OUT, compiled_feet, config_row, constant_row, state_rows
+def test_compiled_rows_equal_mud_terrain_on_a_wandering_path(options):
+    from mudrft.terrains import rows
 
     foot = mudrft.feet.SemiSphere()
     terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35), **options)
     pos, vel = wandering_path(200, 1e-3, seed=3)
     st = terrain.initial_state(foot, pos[0])
-    rows = state_rows(st.channels)
-    c = constant_row(*terrain.constants).reshape(1, -1)
-    out = np.zeros((1, N_OUT))
-    cfg = config_row(terrain, foot)
-    geom = np.array(foot.kernel_geometry, dtype=float)
-    loop = compiled_feet(False)
+    out = rows.along_path(terrain, foot, pos, vel, np.full(len(pos) - 1, 1e-3))
     for k in range(1, len(pos)):
         st, ref = terrain.step(foot, st, pos[k], vel[k], 1e-3)
-        loop(c, rows, out, pos[k : k + 1], vel[k : k + 1], 1e-3, cfg, geom)
         scale = np.abs(ref.force).max() + 1e-9
-        assert np.all(np.abs(out[0, :3] - ref.force) <= 1e-12 * scale), k
+        assert np.all(np.abs(out[k - 1, :3] - ref.force) <= 1e-12 * scale), k
 
 
 @pytest.mark.parametrize("foot", [mudrft.feet.Flat(), mudrft.feet.SemiSphere()])
@@ -329,3 +292,28 @@ def test_the_foots_force_and_the_backends_force_rule_stack_the_force_in_one_plac
         strict=True,
     ):
         np.testing.assert_allclose(after - before[0], SENTINEL, rtol=1e-12, err_msg=name)
+
+
+def test_the_compiled_path_reaches_the_one_definition_of_every_equation():
+    """numba compiles the functions the rows call, found from their global names
+    (mudrft._jit.reached_functions): the one constitutive step in both evaluations, the
+    terrain step, the closed forms, the element rule and the morphing foot."""
+    from mudrft._jit import reached_functions
+    from mudrft.constitutive import laws
+    from mudrft.feet import closed_form, facet
+    from mudrft.feet.morphing import equilibrium, pads
+    from mudrft.terrains import mud, rows
+
+    reached = set(reached_functions(rows.run))
+    for fn in (
+        kernel.channel_update,
+        kernel.channel_update_quasi_static,
+        laws.suction_steady_at_rate,
+        laws.sealing,
+        mud.mud_step,
+        closed_form.closed_form_force,
+        facet.facet_force,
+        equilibrium.contact_on_floats,
+        pads.morphing_force,
+    ):
+        assert fn in reached, fn.__qualname__

@@ -1,4 +1,4 @@
-"""Snapshots, copies and pickles of the stateful steppers FastMudFoot and BatchedMud (D143).
+"""Snapshots, copies and pickles of the stateful stepper BatchedMud (D143).
 
 A planner saves the mud where the robot is, rolls out candidate futures and goes back. The
 continuation after a restore, a copy or a pickle must be the original's, bit for bit, and a
@@ -17,7 +17,7 @@ from _backend_support import wandering_path
 
 import mudrft
 from mudrft._validation import MudrftError
-from mudrft.backends import BatchedMud, FastMudFoot
+from mudrft.backends import BatchedMud
 
 MUD = mudrft.paper_mud(0.3)
 FOOT = mudrft.feet.SemiSphere()
@@ -47,8 +47,9 @@ def _steps(sim, k0, k1, n=None):
     return np.array(out)
 
 
-def _fast(backend):
-    return FastMudFoot(FOOT, MUD, position=POS[0], backend=backend), None
+def _one(backend):
+    """One foot: the single-foot stepper (a batch of one)."""
+    return BatchedMud(MUD, FOOT, 1, position=POS[0], backend=backend), None
 
 
 def _batch(backend, n=3, foot=FOOT):
@@ -56,7 +57,7 @@ def _batch(backend, n=3, foot=FOOT):
 
 
 STEPPERS = [
-    *(pytest.param(_fast, b, id=f"fast-{b}") for b in _installed("python", "numba")),
+    *(pytest.param(_one, b, id=f"one-{b}") for b in _installed("numba")),
     *(pytest.param(_batch, b, id=f"batch-{b}") for b in _installed("numpy", "numba", "jax")),
     # one foot on numpy steps on Python floats (its own state format inside)
     pytest.param(lambda b: _batch(b, n=1), "numpy", id="batch-numpy-one"),
@@ -66,10 +67,9 @@ STEPPERS = [
 @pytest.mark.parametrize("how", COPIES)
 @pytest.mark.parametrize(("make", "backend"), STEPPERS)
 def test_a_copy_continues_as_the_original_and_does_not_share_its_state(make, backend, how):
-    # before D143: a deep copy or pickle of the numba FastMudFoot returned the force of the
-    # copy time at every step (its output view still showed the original's array), a
-    # shallow copy of a numba stepper stepped the original's state, the python FastMudFoot
-    # and the JAX BatchedMud could not be pickled or deep-copied at all
+    # before D143: a deep copy or pickle of a numba stepper returned the force of the copy
+    # time at every step (its output view still showed the original's array), a shallow
+    # copy stepped the original's state, the JAX BatchedMud could not be pickled at all
     sim, n = make(backend)
     ref, _ = make(backend)
     _steps(sim, 1, K, n)
@@ -111,11 +111,10 @@ def test_the_last_step_is_in_the_snapshot_and_comes_back_with_restore():
         sim.restore(snap)
         for a, b in zip((sim.force, sim.stress, sim.depth), out, strict=True):
             np.testing.assert_array_equal(a, b)
-    for backend in _installed("python", "numba"):
-        ff, _ = _fast(backend)
-        f = _steps(ff, 1, K)[-1]
-        np.testing.assert_array_equal(ff.snapshot().force, f)
-        assert ff.snapshot().depth == ff.depth
+    ff, _ = _one("numba")
+    f = _steps(ff, 1, K)[-1]
+    np.testing.assert_array_equal(ff.snapshot().force, f)
+    np.testing.assert_array_equal(ff.snapshot().depth, ff.depth)
 
 
 @pytest.mark.parametrize("backend", _installed("numba", "jax"))
@@ -148,9 +147,6 @@ def test_a_morphing_foot_batch_restores_its_mechanism_state():
 
 def test_restore_refuses_a_snapshot_of_another_stepper():
     batch, _ = _batch("numpy", n=2)
-    fast, _ = _fast("python")
-    with pytest.raises(MudrftError, match=r"snapshot must hold .* shape \(\)"):
-        fast.restore(batch.snapshot())
     with pytest.raises(
         MudrftError, match=r"shape \(3,\).*got state arrays of shape\(s\) \[\(2,\)\]"
     ):
@@ -167,9 +163,9 @@ def _leaves(tree):
 
 @pytest.mark.parametrize("backend", _installed("numpy", "numba", "jax"))
 def test_one_foot_snapshot_seeds_a_batch_of_candidate_futures(backend):
-    # the live foot is one FastMudFoot; 5 candidate velocities are rolled out together from
+    # the live foot is a batch of one; 5 candidate velocities are rolled out together from
     # its snapshot and agree with each candidate rolled out alone from the same snapshot
-    live, _ = _fast("python")
+    live, _ = _one("numba")
     _steps(live, 1, K)
     snap = live.snapshot()
     gains = np.linspace(0.6, 1.4, 5)
@@ -182,6 +178,6 @@ def test_one_foot_snapshot_seeds_a_batch_of_candidate_futures(backend):
     ]
     for i, g in enumerate(gains):
         live.restore(snap)
-        alone = [live.step(POS[k], VEL[k] * g, DT) for k in range(K, K + 30)]
+        alone = [live.step(POS[k], VEL[k] * g, DT)[0] for k in range(K, K + 30)]
         scale = np.abs(alone).max()
         np.testing.assert_allclose(np.array(together)[:, i], alone, rtol=0, atol=1e-11 * scale)

@@ -118,11 +118,10 @@ def test_contact_on_floats_equals_contact_force():
 
 
 def test_compiled_balance_equals_the_floats_path():
-    """numba compiles the same source (D80): the same deflections to round-off."""
-    pytest.importorskip("numba")
-    from mudrft.backends.numba import compile_scalar
+    """numba compiles the same function (mudrft._jit): the same deflections to round-off."""
+    from mudrft._jit import jit
 
-    fast = compile_scalar(balanced_deflection_on_floats)
+    fast = jit(balanced_deflection_on_floats)
     for depth, sz, prev in _cases()[::3]:
         want = balanced_deflection_on_floats(ROW, depth, sz, prev)
         assert fast(ROW, depth, sz, prev) == pytest.approx(want, rel=0, abs=1e-15)

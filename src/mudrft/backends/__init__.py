@@ -2,18 +2,17 @@
 
 * :class:`BatchedMud` (:mod:`mudrft.backends.batch`): N feet, each with its own mud, state
   and motion, advanced by one call (numpy, numba or JAX kernels);
-* :class:`FastMudFoot` (:mod:`mudrft.backends.fast`): one closed-form foot stepped on
-  floats (numba or plain Python), microseconds per step, for per-step coupling;
-* both keep their state inside: ``snapshot()`` copies it (a :class:`Snapshot`) and
+  (a batch of one foot with ``backend="numba"`` is the fast single-foot stepper for
+  per-step coupling, a few microseconds a step);
+* it keeps its state inside: ``snapshot()`` copies it (a :class:`Snapshot`) and
   ``restore(snapshot)`` puts it back, for a planner's rollouts (decision D143);
 * :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan over a
   trajectory and surface integration (optional extra ``jax``);
-* :mod:`mudrft.backends.numba`: the one physics compiled on floats with numba (optional
-  extra), and the compiled loop over feet.
+* :mod:`mudrft.backends.numba`: the compiled loop over feet (numba, a core dependency),
+  multi-threaded for large batches.
 
 The backends hold no physics: each equation is written once, element-wise over an array
-namespace, in the core (decision D80 in docs/model.md); a backend runs it on its arrays
-or compiles it.
+namespace, in the core; a backend runs it on its arrays or compiles it (:mod:`mudrft._jit`).
 
 Heavy optional dependencies load on first use. See docs/model.md.
 
@@ -30,11 +29,9 @@ from typing import Any
 
 __all__ = [
     "BatchedMud",
-    "FastMudFoot",
     "Snapshot",
     "available",
     "batch",
-    "fast",
     "forces",
     "jax",
     "numba",
@@ -42,10 +39,9 @@ __all__ = [
 
 _ATTRS = {
     "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
-    "FastMudFoot": ("mudrft.backends.fast", "FastMudFoot"),
     "Snapshot": ("mudrft.backends._snapshot", "Snapshot"),
 }
-_MODULES = {"batch", "fast", "forces", "jax", "numba"}
+_MODULES = {"batch", "forces", "jax", "numba"}
 
 
 def available() -> list[str]:

@@ -1,5 +1,4 @@
-"""Snapshots of the stateful steppers :class:`~mudrft.backends.FastMudFoot` and
-:class:`~mudrft.backends.BatchedMud`, for a controller or planner (decision D143).
+"""Snapshots of the stateful stepper :class:`~mudrft.backends.BatchedMud`, for a controller or planner (decision D143).
 
 A planner saves the mud where the robot is, rolls out candidate futures from it and goes
 back: ``snap = sim.snapshot()``, ``sim.restore(snap)``. A snapshot is a copy made of
@@ -35,9 +34,8 @@ class Snapshot(NamedTuple):
     Attributes
     ----------
     state : MudState
-        The mud under the feet (:class:`~mudrft.terrains.mud.MudChannels`, Python floats
-        for :class:`~mudrft.backends.FastMudFoot`, read-only arrays of shape (N,) for
-        :class:`~mudrft.backends.BatchedMud`) and the foot mechanism's state (None for the
+        The mud under the feet (:class:`~mudrft.terrains.mud.MudChannels` of read-only
+        arrays of shape (N,)) and the foot mechanism's state (None for the
         rigid feet). The same channels as :meth:`mudrft.MudTerrain.initial_state`, so the
         state also steps on in :meth:`mudrft.MudTerrain.step`.
     force : ndarray (3,) or (N, 3)

@@ -16,9 +16,11 @@ Backends:
 ``"numpy"`` (default)
     :meth:`mudrft.MudTerrain.step_unchecked` on arrays; any foot.
 ``"numba"``
-    The same step compiled on floats (:mod:`mudrft.backends.numba`), with a loop over feet
-    in compiled code (multi-threaded from :data:`~mudrft.backends.numba.PARALLEL_MIN` feet
-    on); closed-form feet (flat, semi-cylinder, semi-sphere).
+    The same step compiled (:mod:`mudrft.terrains.rows`, :mod:`mudrft.backends.numba`),
+    with the loop over feet in compiled code (multi-threaded from
+    :data:`~mudrft.backends.numba.PARALLEL_MIN` feet on); every foot of :mod:`mudrft.feet`.
+    A batch of one foot is the fast single-foot stepper for per-step coupling (a few
+    microseconds a step).
 ``"jax"``
     :func:`mudrft.backends.jax.terrain_step` (the same step with ``xp=jax.numpy``) compiled
     with :func:`jax.jit`; closed-form and
@@ -240,15 +242,19 @@ class BatchedMud(Restorable):
     # -- set-up ---------------------------------------------------------------------------
     def _setup_backend(self) -> None:
         if self.backend == "numba":
-            from .fast import foot_geometry
-            from .numba import N_CONST, PARALLEL_MIN, compiled_feet, config_row, constant_row
+            from ..terrains import rows
+            from .numba import feet_loop
 
-            kind, geom = foot_geometry(self.foot)
+            if not rows.compilable(self.foot):
+                raise MudrftError(
+                    f"backend 'numba' runs the feet of mudrft.feet, got {type(self.foot).__name__};"
+                    " use backend='numpy'"
+                )
             t = self.terrain
-            self._geom = np.array([kind, *geom], dtype=float)
-            self._cfg = config_row(t, self.foot)
-            self._c = constant_row(*t.constants).reshape(-1, N_CONST)
-            self._nb_step = compiled_feet(self.n >= PARALLEL_MIN)
+            self._geom, self._up, self._mrow, self._fst0 = rows.foot_rows(self.foot)
+            self._cfg = rows.config_row(t, self.foot)
+            self._c = rows.constant_row(*t.constants).reshape(-1, rows.N_CONST)
+            self._nb_step = feet_loop(self.n)
         elif self.backend == "jax":
             from . import jax as mjax
             from .forces import force_function
@@ -322,10 +328,11 @@ class BatchedMud(Restorable):
             return
         self._state = self.terrain.initial_state(self.foot, pos)
         if self.backend == "numba":
-            from .numba import N_OUT, state_rows
+            from ..terrains.rows import N_OUT, state_rows
 
             self._st = state_rows(self._state.channels)
-            self._out = np.zeros((n, N_OUT))
+            self._fst = np.tile(self._fst0, (n, 1))
+            self._out = np.zeros((1, n, N_OUT))
 
     # -- stepping -------------------------------------------------------------------------
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
@@ -350,12 +357,13 @@ class BatchedMud(Restorable):
         dt = positive_number("dt", dt, unit="s")
         if self.backend == "numba":
             self._nb_step(
-                self._c, self._st, self._out, np.ascontiguousarray(pos),
-                np.ascontiguousarray(vel), dt, self._cfg, self._geom,
+                self._c, self._st, self._fst, np.ascontiguousarray(pos)[None],
+                np.ascontiguousarray(vel)[None], np.array([dt]), self._cfg, self._geom,
+                self._up, self._mrow, self._out,
             )  # fmt: skip
-            self.force = self._out[:, 0:3].copy()
-            self.stress = self._out[:, 3:6].copy()
-            self.depth = self._out[:, 6].copy()
+            self.force = self._out[0, :, 0:3].copy()
+            self.stress = self._out[0, :, 3:6].copy()
+            self.depth = self._out[0, :, 6].copy()
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
@@ -386,9 +394,10 @@ class BatchedMud(Restorable):
         """
         foot_state = None
         if self.backend == "numba":
-            from .numba import channels_of_rows
+            from ..terrains.rows import channels_of_rows
 
             ch = channels_of_rows(self._st)
+            foot_state = self._foot_state_of_rows()
         elif self.backend == "jax":
             ch = self._jax_unravel(self._jst)
         else:
@@ -401,17 +410,22 @@ class BatchedMud(Restorable):
     def restore(self, snapshot: Snapshot) -> None:
         """Put every foot back into the state of ``snapshot`` (from :meth:`snapshot` of a
         ``BatchedMud`` of the same feet, any backend); the steps after it are those that
-        followed the snapshot, bit for bit on the same backend (D143). The snapshot of one
-        foot (:meth:`FastMudFoot.snapshot`, or a batch of one) puts every foot into its
-        state: candidate futures of one foot, stepped together."""
+        followed the snapshot, bit for bit on the same backend (D143). The snapshot of a
+        batch of one foot puts every foot into its state: candidate futures of one foot,
+        stepped together."""
         n = (self.n,)
         ch = check_snapshot(snapshot, n, "BatchedMud", one_for_all=True)
         foot_state = copy_foot_state(snapshot.state.foot)
         if self.backend == "numba":
-            from .numba import N_OUT, state_rows
+            from ..terrains.rows import N_OUT, state_rows
 
             # fresh arrays (the compiled step writes into them): a copy must not share them
-            self._st, self._out = state_rows(ch), np.zeros((self.n, N_OUT))
+            self._st, self._out = state_rows(ch), np.zeros((1, self.n, N_OUT))
+            self._fst = np.tile(self._fst0, (self.n, 1))
+            if foot_state is not None:
+                fields = (foot_state.deflection, foot_state.pad_angle, foot_state.most_spread)
+                for k, v in enumerate(fields):
+                    self._fst[:, k] = np.broadcast_to(np.asarray(v, dtype=float), n)
         elif self.backend == "jax":
             self._jst = self._jax_ravel(ch)
         elif self._one is not None:
@@ -421,6 +435,18 @@ class BatchedMud(Restorable):
         self.force = np.array(np.broadcast_to(snapshot.force, (*n, 3)), dtype=float)
         self.stress = np.array(np.broadcast_to(snapshot.stress, (*n, 3)), dtype=float)
         self.depth = np.array(np.broadcast_to(snapshot.depth, n), dtype=float)
+
+    def _foot_state_of_rows(self) -> Any:
+        """The morphing foot's :class:`~mudrft.feet.morphing.equilibrium.MorphingState` of
+        the compiled rows (None for other feet)."""
+        from ..terrains.rows import MORPHING
+
+        if self._geom[0] != MORPHING:
+            return None
+        from ..feet.morphing.equilibrium import MorphingState
+
+        f = self._fst
+        return MorphingState(deflection=f[:, 0], pad_angle=f[:, 1], most_spread=f[:, 2])
 
     def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:
         mud, foot, n, backend, options = self._args

@@ -34,7 +34,7 @@ __all__ = ["ForceRule", "force_function"]
 ForceRule: TypeAlias = Callable[[XpArray, XpArray, XpArray], XpArray]
 
 
-def force_function(foot: Foot, *, xp: Namespace = np) -> ForceRule | None:
+def force_function(foot: Foot, xp: Namespace = np) -> ForceRule | None:
     """``f(depth, stress, heading) -> world force (..., 3)`` [N] for a rigid foot, or None.
 
     Parameters

@@ -16,7 +16,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._specialize import on_floats
 from .._typing import ArrayLike, FloatOrArray, Namespace, XpArray
 from .._validation import (
     MudrftError,
@@ -25,6 +24,7 @@ from .._validation import (
     check_increasing,
     check_positive,
 )
+from .._xp import pyfloat
 from ..parameters.base import PARAMETER_UNITS, MudParameters
 from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
@@ -184,15 +184,15 @@ def step(
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     c = kernel.channel_constants(params)
     if xp is np and _one_channel(c, state, gamma, gamma_dot, dt, seal):
-        # one channel: the same step on floats (mudrft._specialize), 6x faster than numpy
-        # on 0-d values; the results are numpy float64 scalars as on the numpy path
+        # one channel: the same step on Python floats, faster than numpy on 0-d values;
+        # the results are numpy float64 scalars as on the numpy path
         g, gd, h, sl = float(gamma), float(gamma_dot), float(dt), float(seal)
         if validate and not (h > 0.0 and math.isfinite(h + g + gd)):
             _check(gamma, gamma_dot, dt)  # raises with the message of the array path
-        new, out = on_floats(kernel.channel_step)(
+        new, out = kernel.channel_step(
             kernel.ChannelConstants(*map(float, c)),
             ChannelState(*map(float, state)),
-            g, gd, h, sl, float(kappa), qs, restart,
+            g, gd, h, sl, float(kappa), qs, restart, pyfloat,
         )  # fmt: skip
         return ChannelState(*map(np.float64, new)), ChannelStress(*map(np.float64, out))
     if validate and xp is np:

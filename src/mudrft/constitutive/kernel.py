@@ -98,7 +98,7 @@ def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxP
     )
 
 
-def expm1_over_x(x: XpArray, *, xp: Namespace = np) -> XpArray:
+def expm1_over_x(x: XpArray, xp: Namespace = np) -> XpArray:
     """(exp(x) - 1) / x, accurate near 0 and safe under JAX autodiff [-]."""
     small = xp.abs(x) < 1e-6
     xs = xp.where(small, 1.0, x)
@@ -106,7 +106,7 @@ def expm1_over_x(x: XpArray, *, xp: Namespace = np) -> XpArray:
 
 
 def relaxation_convolution(
-    t: XpArray, lam: XpArray, tau: XpArray, e_lam: XpArray, e_tau: XpArray, *, xp: Namespace = np
+    t: XpArray, lam: XpArray, tau: XpArray, e_lam: XpArray, e_tau: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""How much of a drive that relaxes with time :math:`\tau` a stress that relaxes with
     time :math:`\lambda` has taken up after ``t`` [-]: the factor of
@@ -152,7 +152,6 @@ def channel_update(
     dt: XpArray,
     seal: XpArray = 1.0,
     kappa: XpArray = 1.0,
-    *,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     r"""Advance one stress channel by ``dt``; no validation (see :func:`mudrft.constitutive.step`).
@@ -229,7 +228,6 @@ def channel_update_quasi_static(
     dt: XpArray,
     seal: XpArray = 1.0,
     restart: bool = False,
-    *,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15).
@@ -309,7 +307,6 @@ def channel_step(
     kappa: XpArray = 1.0,
     quasi_static: bool = False,
     restart: bool = False,
-    *,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
     """One channel step in the selected evaluation (decision D15); no validation.
@@ -330,7 +327,6 @@ def _stresses(
     direction: XpArray,
     gamma_dot: XpArray,
     r_end: XpArray,
-    *,
     xp: Namespace = np,
 ) -> ChannelStress:
     r"""The stresses at the end of a step, eq. (1), in both evaluations [Pa].
@@ -351,7 +347,7 @@ def _stresses(
 
 
 def _retraction(
-    state: ChannelState, gamma: XpArray, gamma_dot: XpArray, *, xp: Namespace = np
+    state: ChannelState, gamma: XpArray, gamma_dot: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""Deepest point, intrusion direction, and the retraction from it at the step's ends.
 
@@ -373,7 +369,7 @@ def _retraction(
     return gw_new, direction, r_start, r_end
 
 
-def _clocks(state: ChannelState, r_end: XpArray, dt: XpArray, *, xp: Namespace = np) -> XpArray:
+def _clocks(state: ChannelState, r_end: XpArray, dt: XpArray, xp: Namespace = np) -> XpArray:
     r"""``(clock, clock_w)`` after the step [s]: time since first contact and since :math:`t_w`.
 
     The retraction clock runs while the channel is retracted from its deepest point

@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 
-def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, *, xp: Namespace = np) -> XpArray:
+def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = np) -> XpArray:
     r"""Immediate (nonlinear elastic) resistance, eq. (2): :math:`\sigma_b=\alpha\gamma^n`.
 
     Extended as an odd function, :math:`\alpha|\gamma|^n\operatorname{sgn}\gamma`, so the
@@ -77,7 +77,7 @@ def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, *, xp: Namespace 
     return xp.where(g > 0, alpha * safe**n, 0.0) * xp.sign(gamma)
 
 
-def switch(gamma_dot: XpArray, nu: XpArray, *, xp: Namespace = np) -> XpArray:
+def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
     r"""Intrusion/retraction index of eq. (1): :math:`H_\nu=\tfrac12(1-\tanh(\dot\gamma/\nu))`.
 
     About 0 while intruding (:math:`\dot\gamma\gg\nu`), about 1 while retracting.
@@ -112,7 +112,7 @@ def switch(gamma_dot: XpArray, nu: XpArray, *, xp: Namespace = np) -> XpArray:
 
 
 def sealing_printed(
-    gamma: XpArray, gamma0: XpArray, epsilon: XpArray, *, xp: Namespace = np
+    gamma: XpArray, gamma0: XpArray, epsilon: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""The sealing function exactly as printed below eq. (5).
 
@@ -136,7 +136,7 @@ def sealing_printed(
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
 
-def sealing(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) -> XpArray:
+def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
     r"""Sealing state of the cavity used by the model (decision D4).
 
     :math:`\phi=\tanh(\max(r,0)/\varepsilon)` where :math:`r=|\gamma_w|-|\gamma|` is the
@@ -169,7 +169,7 @@ def sealing(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) -> XpA
     return xp.tanh(xp.maximum(retraction, 0.0) / epsilon)
 
 
-def bed_contact(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) -> XpArray:
+def bed_contact(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
     r"""Fraction of the immediate resistance kept during retraction (decision D2).
 
     :math:`1-\phi`: the foot leaves the compacted bed within a few :math:`\varepsilon` of
@@ -193,7 +193,7 @@ def bed_contact(retraction: XpArray, epsilon: XpArray, *, xp: Namespace = np) ->
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
 
-def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, *, xp: Namespace = np) -> XpArray:
+def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> XpArray:
     r"""Steady structure parameter :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` [-].
 
     Parameters
@@ -225,7 +225,7 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, *, xp: Namespace = np) -
     return gamma_dot_c / (gamma_dot_c + xp.abs(gamma_dot))
 
 
-def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, *, xp: Namespace = np) -> XpArray:
+def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -> XpArray:
     r"""Time constant of the structure ODE, :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
 
     Parameters
@@ -251,7 +251,6 @@ def thixotropic_steady(
     eta_inf: XpArray,
     eta_m: XpArray,
     gamma_dot_c: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     r"""Steady thixotropic stress, eq. (4): :math:`(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma` [Pa].
@@ -367,7 +366,7 @@ def suction_steady_at_rate(
     return -phi * sigma_y / (rate * tau_build)
 
 
-def f_n(psi: XpArray, *, xp: Namespace = np) -> XpArray:
+def f_n(psi: XpArray, xp: Namespace = np) -> XpArray:
     r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
 
     Notes
@@ -387,7 +386,7 @@ def f_n(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     return 0.5 * (1.0 + xp.cos(2.0 * psi))
 
 
-def f_t(psi: XpArray, *, xp: Namespace = np) -> XpArray:
+def f_t(psi: XpArray, xp: Namespace = np) -> XpArray:
     r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-].
 
     References
@@ -399,7 +398,7 @@ def f_t(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     return 0.5 * (1.0 - xp.cos(2.0 * psi))
 
 
-def f_n_extended(psi: XpArray, *, xp: Namespace = np) -> XpArray:
+def f_n_extended(psi: XpArray, xp: Namespace = np) -> XpArray:
     r"""Normal factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
 
     Equal to :math:`\cos\psi|\cos\psi|`: positive on faces that lead the motion,
@@ -415,7 +414,7 @@ def f_n_extended(psi: XpArray, *, xp: Namespace = np) -> XpArray:
     return c * xp.abs(c)
 
 
-def f_t_extended(psi: XpArray, *, xp: Namespace = np) -> XpArray:
+def f_t_extended(psi: XpArray, xp: Namespace = np) -> XpArray:
     r"""Tangential factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
 
     Equal to :math:`\sin\psi|\sin\psi|` (odd in :math:`\psi`).

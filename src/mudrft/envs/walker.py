@@ -250,7 +250,7 @@ def check_action(action: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
     return a
 
 
-def controls(lay: WalkerLayout, action: XpArray, scale: float, *, xp: Namespace = np) -> XpArray:
+def controls(lay: WalkerLayout, action: XpArray, scale: float, xp: Namespace = np) -> XpArray:
     """Servo targets [rad] of an action in [-1, 1] (clipped to the servos' ranges)."""
     a = xp.clip(action, -1.0, 1.0)
     return xp.clip(lay.ctrl0 + scale * a, lay.ctrl_low, lay.ctrl_high)
@@ -262,7 +262,6 @@ def observation(
     qvel: XpArray,
     depth: XpArray,
     force: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     """The observation (..., 23) of the module docstring from the state and the mud's
@@ -277,7 +276,7 @@ def observation(
     )  # fmt: skip
 
 
-def healthy(lay: WalkerLayout, qpos: XpArray, *, xp: Namespace = np) -> XpArray:
+def healthy(lay: WalkerLayout, qpos: XpArray, xp: Namespace = np) -> XpArray:
     """True while the torso is above 60 % of its start height, pitched less than 1 rad,
     and the state is finite."""
     height = lay.torso_z0 + (qpos[..., lay.rootz] - lay.qpos0[lay.rootz])
@@ -291,7 +290,6 @@ def reward(
     x_after: XpArray,
     action: XpArray,
     alive: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     """Forward speed times its weight, minus the control cost, plus the healthy reward."""

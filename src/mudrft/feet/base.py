@@ -194,7 +194,7 @@ def batch_shape(
     )
 
 
-def fold_heading(heading: XpArray, *, xp: Namespace = np) -> XpArray:
+def fold_heading(heading: XpArray, xp: Namespace = np) -> XpArray:
     """The world heading folded into the first quadrant, :math:`[0,\\pi/2]` [rad] (D9)."""
     return xp.arctan2(xp.abs(xp.sin(heading)), xp.abs(xp.cos(heading)))
 
@@ -205,7 +205,6 @@ def world_force(
     sy: XpArray,
     sz: XpArray,
     heading: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
     r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
@@ -396,7 +395,6 @@ class Foot(ABC):
         sy: XpArray,
         sz: XpArray,
         heading: XpArray,
-        *,
         xp: Namespace = np,
     ) -> tuple[XpArray, XpArray, XpArray]:
         """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``.
@@ -406,7 +404,7 @@ class Foot(ABC):
         raise MudrftError(f"{type(self).__name__} has no element-wise force rule")
 
     def force_array(
-        self, depth: XpArray, stress: XpArray, heading: XpArray, *, xp: Namespace = np
+        self, depth: XpArray, stress: XpArray, heading: XpArray, xp: Namespace = np
     ) -> XpArray:
         """:meth:`force_components` with the stresses (..., 3) [Pa] split and the force
         stacked: world force (..., 3) [N]; no validation, no dtype conversion (the numpy

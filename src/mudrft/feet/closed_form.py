@@ -53,7 +53,7 @@ __all__ = [
 DEFAULT_RESOLUTION = 48
 
 
-def _theta(z: XpArray, radius: float, *, xp: Namespace = np) -> XpArray:
+def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
     r""":math:`\theta_c=\cos^{-1}(1-z/R)` [rad], with a zero derivative at the surface (D107).
 
     At :math:`z=0` (and :math:`z\ge2R`) the argument is +-1, where the arc cosine's
@@ -69,7 +69,7 @@ def _theta(z: XpArray, radius: float, *, xp: Namespace = np) -> XpArray:
 
 
 def flat_coefficients(
-    depth: XpArray, phi: XpArray, length: float, width: float, height: float, *, xp: Namespace = np
+    depth: XpArray, phi: XpArray, length: float, width: float, height: float, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Flat foot, eq. (12), as the coefficients of its linear form [m^2].
 
@@ -120,7 +120,7 @@ def flat_coefficients(
 
 
 def semicylinder_coefficients(
-    depth: XpArray, phi: XpArray, radius: float, width: float, height: float, *, xp: Namespace = np
+    depth: XpArray, phi: XpArray, radius: float, width: float, height: float, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20), as coefficients [m^2].
 
@@ -174,7 +174,7 @@ def semicylinder_coefficients(
 
 
 def semisphere_coefficients(
-    depth: XpArray, phi: XpArray, radius: float, height: float, *, xp: Namespace = np
+    depth: XpArray, phi: XpArray, radius: float, height: float, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23), as coefficients [m^2].
 
@@ -220,7 +220,7 @@ def semisphere_coefficients(
 
 
 def closed_form_coefficients(
-    kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, *, xp: Namespace = np
+    kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     """The coefficients of a closed-form foot chosen by ``kind`` (:data:`FOOT_KINDS`) [m^2].
 
@@ -245,7 +245,6 @@ def closed_form_force(
     sy: XpArray,
     sz: XpArray,
     heading: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
     """World force ``(F_x, F_y, F_z)`` [N] of a closed-form foot chosen by ``kind``.

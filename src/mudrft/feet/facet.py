@@ -42,13 +42,13 @@ __all__ = [
 TOL = 1e-9
 
 
-def safe_div(num: XpArray, den: XpArray, *, xp: Namespace = np) -> XpArray:
+def safe_div(num: XpArray, den: XpArray, xp: Namespace = np) -> XpArray:
     """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
     ok = den > 0
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
-def safe_sqrt(x: XpArray, *, xp: Namespace = np) -> XpArray:
+def safe_sqrt(x: XpArray, xp: Namespace = np) -> XpArray:
     r"""``sqrt(x)`` of a sum of squares ``x >= 0``, with a zero derivative at 0 (D107).
 
     The value is :math:`\sqrt x` (0 at 0); under JAX the derivative at 0 is 0 instead of
@@ -62,7 +62,7 @@ def safe_sqrt(x: XpArray, *, xp: Namespace = np) -> XpArray:
 
 def facet_frame(
     ax: XpArray, ay: XpArray, az: XpArray, bx: XpArray, by: XpArray, bz: XpArray,
-    cx: XpArray, cy: XpArray, cz: XpArray, *, xp: Namespace = np,
+    cx: XpArray, cy: XpArray, cz: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, ...]:  # fmt: skip
     r"""Normal, area and the eq. (6) weights of a triangle (a, b, c) [m].
 
@@ -91,7 +91,7 @@ def facet_frame(
 
 def sort_by_height(
     ax: XpArray, ay: XpArray, az: XpArray, bx: XpArray, by: XpArray, bz: XpArray,
-    cx: XpArray, cy: XpArray, cz: XpArray, *, xp: Namespace = np,
+    cx: XpArray, cy: XpArray, cz: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, ...]:  # fmt: skip
     """The vertices (lo, mid, hi) ordered by height; equal heights keep their order [m]."""
     ab = az <= bz
@@ -114,7 +114,7 @@ def sort_by_height(
 
 
 def clip_constants(
-    za: XpArray, zb: XpArray, zc: XpArray, area: XpArray, *, xp: Namespace = np
+    za: XpArray, zb: XpArray, zc: XpArray, area: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray]:
     """Constants of the submerged area of a facet with sorted vertex heights [m].
 
@@ -139,7 +139,6 @@ def submerged_area(
     k_high: XpArray,
     flat_area: XpArray,
     depth: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     r"""Exact area of a facet below the plane :math:`z=d` [m^2] (sorted heights [m]).
@@ -168,7 +167,6 @@ def clip_facet(
     k_high: XpArray,
     flat_area: XpArray,
     depth: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray]:
     r"""Exact area and centroid of the part of a facet below the plane :math:`z=d`.
@@ -223,7 +221,7 @@ def clip_facet(
 
 
 def fold_stresses(
-    sx: XpArray, sy: XpArray, heading: XpArray, *, xp: Namespace = np
+    sx: XpArray, sy: XpArray, heading: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray]:
     r"""Horizontal channel stresses measured along the motion, and its direction.
 
@@ -236,7 +234,7 @@ def fold_stresses(
 
 
 def facet_factors(
-    hx: XpArray, hy: XpArray, ux: XpArray, uy: XpArray, trailing: bool, *, xp: Namespace = np
+    hx: XpArray, hy: XpArray, ux: XpArray, uy: XpArray, trailing: bool, xp: Namespace = np
 ) -> tuple[XpArray, XpArray]:
     r"""The factors :math:`(\tilde f_n, \tilde f_t)` of eq. (7) of a facet for a motion.
 
@@ -264,7 +262,6 @@ def facet_force(
     sz: XpArray,
     fn: XpArray,
     ft: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
     r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].

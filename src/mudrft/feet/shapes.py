@@ -14,10 +14,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from .._specialize import on_floats
 from .._typing import ArrayLike, FloatArray, Namespace, RotationLike, XpArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
-from .._xp import pyfloat
 from .base import Foot, SurfaceElements
 from .base import check_resultant_inputs as _check_inputs
 from .closed_form import (
@@ -77,9 +75,7 @@ class _ClosedFormFoot(Foot):
         """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths [m]."""
         raise NotImplementedError
 
-    def coefficients(
-        self, depth: XpArray, phi: XpArray, *, xp: Namespace = np
-    ) -> tuple[XpArray, ...]:
+    def coefficients(self, depth: XpArray, phi: XpArray, xp: Namespace = np) -> tuple[XpArray, ...]:
         """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
         [m] and first-quadrant heading [rad] (see :func:`flat_coefficients`)."""
         kind, g0, g1, g2 = self.kernel_geometry
@@ -100,13 +96,10 @@ class _ClosedFormFoot(Foot):
         sy: XpArray,
         sz: XpArray,
         heading: XpArray,
-        *,
         xp: Namespace = np,
     ) -> tuple[XpArray, XpArray, XpArray]:
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
         kind, g0, g1, g2 = self.kernel_geometry
-        if xp is pyfloat:  # one foot on floats: the specialized source (mudrft._specialize)
-            return on_floats(closed_form_force)(kind, g0, g1, g2, depth, sx, sy, sz, heading)
         return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
 
     def force_unchecked(

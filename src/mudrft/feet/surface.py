@@ -203,7 +203,7 @@ def _safe_div(num: XpArray, den: XpArray, xp: Namespace) -> XpArray:
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
-def prepare_triangles(triangles: XpArray, *, xp: Namespace = np) -> PreparedTriangles:
+def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangles:
     """Per-facet data that do not depend on depth, stress or heading.
 
     Parameters
@@ -242,7 +242,7 @@ def prepare_triangles(triangles: XpArray, *, xp: Namespace = np) -> PreparedTria
     )
 
 
-def submerged_area(prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np) -> XpArray:
+def submerged_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> XpArray:
     """Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`
     without the centroids (:func:`mudrft.feet.facet.submerged_area` per facet)."""
     p = prepared
@@ -251,7 +251,7 @@ def submerged_area(prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace
 
 
 def clip_below(
-    prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np
+    prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray]:
     """Exact area and centroid of the part of each facet below the plane ``z = depth``.
 
@@ -288,7 +288,7 @@ def clip_below(
     return area, xp.stack(xp.broadcast_arrays(cx, cy, cz), axis=-1)
 
 
-def clip_elements(triangles: XpArray, depth: XpArray, *, xp: Namespace = np) -> ClippedElements:
+def clip_elements(triangles: XpArray, depth: XpArray, xp: Namespace = np) -> ClippedElements:
     """Submerged surface elements (centroid, normal, area, depth) at a tip depth.
 
     Parameters
@@ -316,7 +316,7 @@ def clip_elements(triangles: XpArray, depth: XpArray, *, xp: Namespace = np) -> 
     return ClippedElements(cen, normals, area, xp.asarray(depth)[..., None] - cen[..., 2])
 
 
-def local_frame(normals: XpArray, heading: XpArray, *, xp: Namespace = np) -> LocalFrame:
+def local_frame(normals: XpArray, heading: XpArray, xp: Namespace = np) -> LocalFrame:
     """The local frame (e1, e2, e3) and angles psi1, psi2, varphi of eq. (6).
 
     Parameters

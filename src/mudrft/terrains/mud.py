@@ -18,7 +18,6 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._specialize import on_floats
 from .._typing import Namespace, XpArray
 from .._validation import (
     MudrftError,
@@ -119,7 +118,7 @@ class MudState(NamedTuple):
     foot: Any
 
 
-def _fresh(ch: ChannelState, fresh: XpArray, xi0: XpArray, *, xp: Namespace = np) -> ChannelState:
+def _fresh(ch: ChannelState, fresh: XpArray, xi0: XpArray, xp: Namespace = np) -> ChannelState:
     """Channels reset to undisturbed mud where ``fresh`` (decision D11)."""
     return ChannelState(
         gamma=xp.where(fresh, 0.0, ch.gamma),
@@ -150,7 +149,6 @@ def mud_step(
     seal: XpArray,
     quasi_static: bool = False,
     restart: bool = False,
-    *,
     xp: Namespace = np,
 ) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
@@ -215,7 +213,7 @@ def mud_step(
 
 def _channel_motion(
     st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray, vz: XpArray, dt: XpArray, lc: XpArray,
-    xi0: XpArray, reset: bool, *, xp: Namespace = np,
+    xi0: XpArray, reset: bool, xp: Namespace = np,
 ) -> tuple[XpArray, ...]:  # fmt: skip
     """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11),
     displacements, the vertical rate, the entry point, the depth and whether in the mud."""
@@ -236,7 +234,7 @@ def _channel_motion(
 
 
 def mud_heading(
-    heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, *, xp: Namespace = np
+    heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, xp: Namespace = np
 ) -> XpArray:
     """The heading after a step at horizontal velocity ``(vx, vy)`` [m/s]: its direction
     [rad] when faster than ``heading_speed`` [m/s], otherwise the last ``heading`` (D52)."""
@@ -251,7 +249,7 @@ def mud_heading(
 def mud_channel_stress(
     c: int, ch: ConstantsPair, st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray,
     vz: XpArray, dt: XpArray, lc: XpArray, kappa: XpArray, xi0: XpArray, reset: bool, seal: XpArray,
-    quasi_static: bool = False, restart: bool = False, *, xp: Namespace = np,
+    quasi_static: bool = False, restart: bool = False, xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
     """The stress [Pa] of channel ``c`` (0: x, 1: y, 2: z) that :func:`mud_step` returns for
     the same arguments, computed alone: a channel's stress depends on its own rate only, so
@@ -274,7 +272,7 @@ ConstantsPair = tuple[ChannelConstants, ChannelConstants]
 
 
 def initial_channels(
-    px: XpArray, py: XpArray, depth: XpArray, lc: float, xi0: float, *, xp: Namespace = np
+    px: XpArray, py: XpArray, depth: XpArray, lc: float, xi0: float, xp: Namespace = np
 ) -> MudChannels:
     """Undisturbed mud under a tip at horizontal ``(px, py)`` [m] and ``depth`` [m] >= 0."""
     zero = 0.0 * depth
@@ -475,7 +473,7 @@ class MudTerrain:
             # one foot: the same step on Python floats (no numpy call overhead)
             x, y, z = pos.tolist()
             u, v, w = vel.tolist()
-            ch, sx, sy, sz, depth = on_floats(mud_step)(
+            ch, sx, sy, sz, depth = mud_step(
                 self.constants,
                 state.channels,
                 x,
@@ -488,6 +486,7 @@ class MudTerrain:
                 *common,
                 float(seal),
                 *flags,
+                pyfloat,
             )
             if foot.elementwise and state.foot is None:
                 f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)

@@ -49,7 +49,6 @@ from typing import TYPE_CHECKING, NamedTuple, NoReturn
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._specialize import on_floats
 from ..._typing import Namespace, XpArray
 from ..._validation import MudrftError, plain
 from ..._xp import pyfloat
@@ -106,7 +105,7 @@ class MorphingState(NamedTuple):
 def column_residual(
     g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray,
     spring: TwoStageSpring | MorphingRow, deflection: XpArray, depth: XpArray, sz: XpArray,
-    *, xp: Namespace = np,
+    xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
     r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise.
 
@@ -203,18 +202,18 @@ def balanced_deflection(
         for i in np.flatnonzero(moving):
             key = (float(d[i]), float(s[i]), float(p[i]))
             if key not in seen:
-                seen[key] = on_floats(balanced_deflection_on_floats)(row, *key)
+                seen[key] = balanced_deflection_on_floats(row, *key)
             out[i] = seen[key]
     return out.reshape(shape)
 
 
-def _moving(r_p: XpArray, p: XpArray, stroke: XpArray, *, xp: Namespace = np) -> XpArray:
+def _moving(r_p: XpArray, p: XpArray, stroke: XpArray, xp: Namespace = np) -> XpArray:
     """Whether the column moves from ``p`` [m] (residual ``r_p`` [N] there): not balanced,
     and not pushed against the stop it rests on (D34)."""
     return ((r_p < 0.0) & (p < stroke)) | ((r_p > 0.0) & (p > 0.0))
 
 
-def _node(k: XpArray, up: XpArray, stroke: XpArray, *, xp: Namespace = np) -> XpArray:
+def _node(k: XpArray, up: XpArray, stroke: XpArray, xp: Namespace = np) -> XpArray:
     """The ``k``-th of the 33 nodes [m] in the direction of motion (``up``: from 0), the
     values of ``np.linspace(0, stroke, 33)`` bit for bit."""
     j = xp.where(up, k, _GRID - 1 - k)
@@ -223,7 +222,7 @@ def _node(k: XpArray, up: XpArray, stroke: XpArray, *, xp: Namespace = np) -> Xp
 
 def _scan_node(
     up: XpArray, p: XpArray, x: XpArray, r: XpArray, lo: XpArray, flo: XpArray, hi: XpArray,
-    fhi: XpArray, found: XpArray, *, xp: Namespace = np,
+    fhi: XpArray, found: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34).
 
@@ -250,7 +249,6 @@ def _settle(
     hi: XpArray,
     fhi: XpArray,
     stroke: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray]:
     """The deflection [m] a finished scan gives without refinement (the stop it runs onto
@@ -311,7 +309,6 @@ def _diverged(a: float, b: float, d: float, s: float, why: str) -> NoReturn:
 def seal_factor(
     pad_angle: ArrayLike,
     most_spread: ArrayLike,
-    *,
     pad_length: float,
     seal_length: float,
     xp: Namespace = np,
@@ -324,9 +321,9 @@ def seal_factor(
         Current pad angle :math:`\theta` [rad].
     most_spread : float or array_like
         Smallest pad angle of the current contact, :math:`\theta_m` [rad].
-    pad_length : float, keyword-only
+    pad_length : float
         :math:`\ell` [m].
-    seal_length : float, keyword-only
+    seal_length : float
         Rim lift :math:`g_s` over which the seal breaks [m], > 0.
     xp : module, keyword-only
         Element-wise namespace (D80).
@@ -346,7 +343,7 @@ def seal_factor(
 
 
 def track_most_spread(
-    depth: XpArray, pad_angle: XpArray, most_spread: XpArray, *, xp: Namespace = np
+    depth: XpArray, pad_angle: XpArray, most_spread: XpArray, xp: Namespace = np
 ) -> XpArray:
     """Seal memory after a step: the smallest pad angle of the contact [rad] (D35).
 
@@ -365,7 +362,7 @@ def track_most_spread(
 
 
 def balanced_deflection_on_floats(
-    m: MorphingRow, depth: float, sz: float, previous: float, *, xp: Namespace = pyfloat
+    m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
     r""":func:`balanced_deflection` for one foot on floats (the compiled coupling, D68d).
 
@@ -411,7 +408,7 @@ def balanced_deflection_on_floats(
 
 def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
-    sz: float, heading: float, *, xp: Namespace = pyfloat,
+    sz: float, heading: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (D68d).
 

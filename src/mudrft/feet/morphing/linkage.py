@@ -199,7 +199,6 @@ def raw_pad_angle(
     pole_top: XpArray,
     branch: XpArray,
     deflection: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
@@ -221,7 +220,6 @@ def pad_angle(
     pole_top: XpArray,
     branch: XpArray,
     deflection: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (D30).

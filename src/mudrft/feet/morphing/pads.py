@@ -55,9 +55,7 @@ _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot 
 _WALL_SEGMENTS = 16  # elements around the base rim and the column in surface_elements [-]
 
 
-def pad_area(
-    g: MorphingFootGeometry | MorphingRow, length: XpArray, *, xp: Namespace = np
-) -> XpArray:
+def pad_area(g: MorphingFootGeometry | MorphingRow, length: XpArray, xp: Namespace = np) -> XpArray:
     """Area of one pad from its pivot to a distance ``length`` along it [m^2].
 
     Parameters
@@ -74,7 +72,7 @@ def pad_area(
 
 
 def submerged_length(
-    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, *, xp: Namespace = np
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, xp: Namespace = np
 ) -> XpArray:
     """Length of each pad below the mud surface, from its pivot [m].
 
@@ -100,7 +98,7 @@ def submerged_length(
 
 
 def vertical_area(
-    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, *, xp: Namespace = np
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, xp: Namespace = np
 ) -> XpArray:
     """Effective vertical area :math:`A_z` of the base and the pads [m^2] (D33).
 
@@ -126,7 +124,6 @@ def horizontal_area(
     depth: XpArray,
     theta: XpArray,
     heading: XpArray,
-    *,
     xp: Namespace = np,
 ) -> XpArray:
     """Submerged area projected normal to the heading, :math:`A_h` [m^2] (D33).
@@ -181,7 +178,6 @@ def coefficients(
     depth: XpArray,
     theta: XpArray,
     phi: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33).
@@ -203,7 +199,6 @@ def morphing_force(
     sy: XpArray,
     sz: XpArray,
     heading: XpArray,
-    *,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
     """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad].

@@ -32,7 +32,7 @@ __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 
 
 def spring_force(
-    s: TwoStageSpring | MorphingRow, deflection: XpArray, *, xp: Namespace = np
+    s: TwoStageSpring | MorphingRow, deflection: XpArray, xp: Namespace = np
 ) -> XpArray:
     """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31).
 

@@ -15,20 +15,20 @@ import time
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, TypeAlias, cast
 
+import numba
 import numpy as np
 
 from ..._progress import logger
 from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError
-from ...backends.numba import N_STATE, _numba, config_row, constant_row, state_rows
 from ...feet.mesh import MeshFoot
 from ...feet.morphing import MorphingFoot
 from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
+from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
 from .compiled import N_OUT, coupling_kernel, work_size
-from .compiled_feet import upright_rows
 from .contact import MudContact
 
 if TYPE_CHECKING:
@@ -91,10 +91,8 @@ def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
     given."""
     if backend != "auto":
         return backend
-    from ...backends.numba import available
-
     mud_ok = isinstance(mud, Mud | MudTerrain)
-    return "numba" if available() and _compilable_foot(foot) and mud_ok else "numpy"
+    return "numba" if _compilable_foot(foot) and mud_ok else "numpy"
 
 
 #: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
@@ -118,7 +116,6 @@ def packed_arguments() -> Any:
     microsecond (D68b). The instance shares the arrays' memory: writing them from Python
     (the options, the state on reset) is seen by the kernel.
     """
-    numba = _numba()
     from numba.experimental import jitclass
 
     kinds = {"i8": numba.int64, "f8": numba.float64}
@@ -331,7 +328,7 @@ class CompiledCoupling:
         D68b): the unchecked path of the step loop, which passes only ``_args`` (made at
         :meth:`reset`, of the type compiled here)."""
         (p,) = self._args
-        return compile_once(self.kernel, (_numba().typeof(p),))
+        return compile_once(self.kernel, (numba.typeof(p),))
 
 
 def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:

@@ -23,59 +23,27 @@ every body of every robot what the numpy coupling does with arrays:
    one source) and writes ``xfrc_applied``.
 
 The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
-one source by :func:`mudrft.backends.numba.compile_scalar`; what is written here is the
-coupling's own
-bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
+one source by :func:`mudrft._jit.jit`, with ``xp`` bound to :mod:`mudrft._xp`; what is
+written here is the coupling's own bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
 arrays, and the test ``test_compiled_coupling_equals_numpy`` keeps the two equal (1e-9 over
 a 2 s walk of the biped).
 """
 
 from __future__ import annotations
 
-import functools
 import math
-import types
 from typing import Any
 
 import numpy as np
 
+from ..._jit import jit
 from ..._typing import FloatArray, IndexArray
-from ...backends.numba import N_STATE, STATE_IN_MUD, _channels, _constants, _numba, compile_scalar
-from ...feet.closed_form import closed_form_force
-from ...feet.facet import (
-    clip_constants,
-    clip_facet,
-    facet_factors,
-    facet_force,
-    facet_frame,
-    fold_stresses,
-    sort_by_height,
-    submerged_area,
-)
-from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
-from ...feet.morphing.pads import morphing_force
-from ...feet.morphing.row import MorphingRow
-from ...terrains.mud import mud_channel_stress, mud_heading, mud_step
-from .compiled_feet import (
-    ROW_OF_SOURCE,
-    _inputs,
-    _mesh_force,
-    _mud_force,
-    _nudged_force,
-    _upright_area,
-)
-from .implicit import passivity_scale, secant_steps
-from .linalg import (
-    _borrow,
-    _carve,
-    _jacobian,
-    _ld_solve,
-    _pointer_intrinsic,
-    _ptr,
-    _robot_step,
-    _solve_n,
-    carray,
-)
+from ..._xp import pyfloat
+from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_height
+from ...terrains.rows import N_STATE, STATE_IN_MUD
+from .compiled_feet import _mud_force, _nudged_force, _upright_area
+from .implicit import secant_steps
+from .linalg import _borrow, _carve, _jacobian, _ld_solve, _ptr, _robot_step, carray
 from .pose import channel_weights
 
 __all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "work_size"]
@@ -114,15 +82,15 @@ def _geometry(
             for c in range(6):
                 scratch[f, c] = 0.0
             continue
-        _nx, _ny, _nz, area, nh, hx, hy, wz = _frame(
-            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]
+        _nx, _ny, _nz, area, nh, hx, hy, wz = facet_frame(
+            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], pyfloat
         )
-        s0, s1, s2, s3, s4, s5, s6, s7, s8 = _sort(
-            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]
+        s0, s1, s2, s3, s4, s5, s6, s7, s8 = sort_by_height(
+            v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], pyfloat
         )
-        kl, kh, fa = _const(s2, s5, s8, area)
-        sub, cx, cy, cz = _clip(s0, s1, s2, s3, s4, s5, s6, s7, s8, kl, kh, fa, 0.0)
-        w0, w1, w2 = _weights(sub, nh, hx, hy, wz)
+        kl, kh, fa = clip_constants(s2, s5, s8, area, pyfloat)
+        sub, cx, cy, cz = clip_facet(s0, s1, s2, s3, s4, s5, s6, s7, s8, kl, kh, fa, 0.0, pyfloat)
+        w0, w1, w2 = channel_weights(sub, nh, hx, hy, wz, pyfloat)
         scratch[f, 0], scratch[f, 1], scratch[f, 2] = w0, w1, w2
         scratch[f, 3], scratch[f, 4], scratch[f, 5] = cx, cy, cz
         out[0] += w0
@@ -350,7 +318,7 @@ def _kernel(
                 D[q] = 0.0
             if implicit and (was_in or depth > 0.0):
                 for q in range(3):
-                    st = _secant(u[q], dv_min)
+                    st = secant_steps(u[q], dv_min, pyfloat)
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
                     fq = _nudged_force(
@@ -491,16 +459,6 @@ def _kernel(
     return bad
 
 
-_frame = facet_frame
-_sort = sort_by_height
-_const = clip_constants
-_clip = clip_facet
-_area = submerged_area
-_weights = channel_weights
-_pscale = passivity_scale
-_secant = secant_steps
-
-
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
 #: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
 #: a state row and a morphing foot's state row (3); tw ... bl (42); M, E, spread, b, K (81).
@@ -525,60 +483,8 @@ def _kernel_packed(p: Any) -> int:  # p: a numba jitclass instance, its class ma
     )  # fmt: skip
 
 
-@functools.cache
 def coupling_kernel() -> Any:
-    """The compiled :func:`_kernel` (numba), with the physics compiled from its one source;
-    it takes the arrays packed by :func:`.backend.pack_arguments`."""
-    numba = _numba()
-    jit = numba.njit(error_model="numpy")
-    env = dict(_kernel.__globals__)
-    env.update(
-        _frame=compile_scalar(facet_frame),
-        _sort=compile_scalar(sort_by_height),
-        _const=compile_scalar(clip_constants),
-        _clip=compile_scalar(clip_facet),
-        _area=compile_scalar(submerged_area),
-        _fold=compile_scalar(fold_stresses),
-        _factors=compile_scalar(facet_factors),
-        _fforce=compile_scalar(facet_force),
-        _weights=compile_scalar(channel_weights),
-        _step=compile_scalar(mud_step),
-        _channel=compile_scalar(mud_channel_stress),
-        _heading=compile_scalar(mud_heading),
-        _force=compile_scalar(closed_form_force),
-        _seal=compile_scalar(seal_factor),
-        _contact=compile_scalar(contact_on_floats),
-        _mforce=compile_scalar(morphing_force),
-        _pscale=compile_scalar(passivity_scale),
-        _secant=compile_scalar(secant_steps),
-        _constants=numba.njit(inline="always")(_constants),
-        _channels=numba.njit(inline="always")(_channels),
-        _ptr=_pointer_intrinsic(),
-        carray=numba.carray,
-    )
-    local: dict[str, Any] = {}
-    env["MorphingRow"] = MorphingRow
-    exec(ROW_OF_SOURCE, env, local)  # the fields of MorphingRow, spelled out
-    env["_row_of"] = numba.njit(inline="always")(local["_row_of"])
-    for view in (_borrow, _carve):
-        env[view.__name__] = numba.njit(inline="always")(
-            types.FunctionType(view.__code__, env, view.__name__)
-        )
-    helpers = {}
-    for fn in (
-        _ld_solve,
-        _jacobian,
-        _solve_n,
-        _robot_step,
-        _geometry,
-        _upright_area,
-        _mesh_force,
-        _inputs,
-        _mud_force,
-        _nudged_force,
-    ):
-        helpers[fn.__name__] = fn
-    for name, fn in helpers.items():
-        env[name] = jit(types.FunctionType(fn.__code__, env, name))
-    env["_kernel"] = jit(types.FunctionType(_kernel.__code__, env, "_kernel"))
-    return jit(types.FunctionType(_kernel_packed.__code__, env, "_kernel_packed"))
+    """The compiled :func:`_kernel` (numba, :func:`mudrft._jit.jit`), taking the arrays
+    packed by :func:`.backend.pack_arguments`. Not cached on disk: the kernel reads MuJoCo's
+    memory through addresses known at run time."""
+    return jit(_kernel_packed, cache=False)

@@ -48,7 +48,7 @@ __all__ = [
 ]
 
 
-def secant_steps(vel: XpArray, dv_min: float, *, xp: Namespace = np) -> XpArray:
+def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:
     r"""Velocity steps of the secant derivative: from each channel's velocity to rest (D63, D119).
 
     Element-wise: the step is :math:`-u`, so that the secant spans the mud's force between
@@ -79,7 +79,7 @@ def secant_steps(vel: XpArray, dv_min: float, *, xp: Namespace = np) -> XpArray:
     return xp.where(xp.abs(vel) > dv_min, -vel, across)
 
 
-def channel_rows(cs: FloatArray, rel: FloatArray, *, xp: Namespace = np) -> FloatArray:
+def channel_rows(cs: FloatArray, rel: FloatArray, xp: Namespace = np) -> FloatArray:
     r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
 
     :math:`b_c\cdot\xi` is the velocity along the channel's axis :math:`\mathbf e_c` (the
@@ -165,7 +165,7 @@ def force_and_derivative(
 
 
 def implicit_wrench(
-    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, *, xp: Namespace = np
+    w0: FloatArray, K: FloatArray, W: FloatArray, acc: FloatArray, dt: float, xp: Namespace = np
 ) -> FloatArray:
     r"""The linearly implicit wrenches of one robot's feet, solved together (D62, D62d).
 
@@ -207,7 +207,7 @@ def implicit_wrench(
 
 
 def passivity_scale(
-    work_lin: XpArray, work_quad: XpArray, tank: XpArray, *, xp: Namespace = np
+    work_lin: XpArray, work_quad: XpArray, tank: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
 
@@ -246,7 +246,6 @@ def passive_wrench(
     acc: FloatArray,
     tank: FloatArray,
     dt: float,
-    *,
     xp: Namespace = np,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Scale one robot's wrenches so that the mud never gives it more energy than it took (D62c).

@@ -147,7 +147,7 @@ def body_mobility(
     return W
 
 
-def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, *, xp: Namespace = np) -> FloatArray:
+def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, xp: Namespace = np) -> FloatArray:
     """Twist of each body at its center of mass: (linear velocity [m/s], angular [rad/s]).
 
     Parameters

@@ -13,18 +13,21 @@ such a view of one of the kernel's own arrays.
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
+import numba
+from numba import types as nt
+from numba.extending import intrinsic
+
 from ..._typing import FloatArray, IndexArray
-from .implicit import passivity_scale as _pscale
+from ..._xp import pyfloat
+from .implicit import passivity_scale
 
 __all__ = [
     "_borrow",
     "_carve",
     "_jacobian",
     "_ld_solve",
-    "_pointer_intrinsic",
     "_robot_step",
     "_solve_n",
 ]
@@ -187,7 +190,7 @@ def _robot_step(
             quad += FWR[i, a] * acc
             zero = zero and FWR[i, a] == 0.0
     lin, quad = dt * lin, 0.5 * dt * dt * quad
-    sc = _pscale(lin, quad, tank)
+    sc = passivity_scale(lin, quad, tank, pyfloat)
     for i in range(nb):
         for a in range(6):
             FWR[i, a] = sc * FWR[i, a]
@@ -195,15 +198,18 @@ def _robot_step(
     return 0.0 if zero else max(tank - (sc * lin + sc * sc * quad), 0.0)
 
 
-# ``Any``: a numba ``float64*``, a type only compiled code has
-def _ptr(address: int) -> Any:  # pragma: no cover - replaced by the intrinsic below
-    raise NotImplementedError
+@intrinsic  # type: ignore[misc]
+def _ptr(typingctx: Any, address: Any) -> Any:
+    """An integer address as a numba ``float64*`` (compiled code only)."""
+    sig = nt.CPointer(nt.float64)(nt.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return builder.inttoptr(args[0], context.get_value_type(nt.CPointer(nt.float64)))
+
+    return sig, codegen
 
 
-def carray(
-    ptr: Any, shape: tuple[int, ...]
-) -> FloatArray:  # pragma: no cover - replaced by numba.carray
-    raise NotImplementedError
+carray = numba.carray
 
 
 def _borrow(a: FloatArray) -> FloatArray:
@@ -220,21 +226,3 @@ def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
     ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
     caller keeps the memory alive)."""
     return carray(_ptr(base + 8 * offset), shape)
-
-
-@functools.cache
-def _pointer_intrinsic() -> Any:
-    """A numba intrinsic turning an integer address into a ``float64*``."""
-    from numba import types as nt
-    from numba.extending import intrinsic
-
-    @intrinsic  # type: ignore[misc]
-    def ptr(typingctx: Any, address: Any) -> Any:
-        sig = nt.CPointer(nt.float64)(nt.int64)
-
-        def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-            return builder.inttoptr(args[0], context.get_value_type(nt.CPointer(nt.float64)))
-
-        return sig, codegen
-
-    return ptr

@@ -87,7 +87,7 @@ class ChannelGeometry(NamedTuple):
 
 
 def channel_weights(
-    area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, *, xp: Namespace = np
+    area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray]:
     r"""Weights :math:`(w_x, w_y, w_z)` of a submerged facet's channels [m^2], element-wise.
 
@@ -100,7 +100,7 @@ def channel_weights(
     return a * hx * hx, a * hy * hy, area * wz
 
 
-def channel_geometry(triangles: FloatArray, *, xp: Namespace = np) -> ChannelGeometry:
+def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
     """Channel weights, centroids and second moments of the part of triangles below z = 0.
 
     Parameters
@@ -143,7 +143,7 @@ def channel_geometry(triangles: FloatArray, *, xp: Namespace = np) -> ChannelGeo
     return ChannelGeometry(area=a, point=pts, inertia=inertia, low=low)
 
 
-def upright_area(prepared: PreparedTriangles, depth: XpArray, *, xp: Namespace = np) -> FloatArray:
+def upright_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> FloatArray:
     """Channel weights :math:`A_c` of the upright foot with its tip at ``depth`` [m].
 
     Parameters

@@ -31,7 +31,7 @@ from ..._typing import FloatArray, Namespace
 __all__ = ["bottom_wrench", "damping_matrix", "posed_wrench", "yaw_inertia_to_world"]
 
 
-def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Namespace = np) -> FloatArray:
+def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, xp: Namespace = np) -> FloatArray:
     """Second moments :math:`\\mathbf J_c` from the yaw frame to the world frame.
 
     Parameters
@@ -56,7 +56,7 @@ def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, *, xp: Namespace =
 
 
 def damping_matrix(
-    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, *, xp: Namespace = np
+    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, xp: Namespace = np
 ) -> FloatArray:
     r"""Damping of the wrench in the body twist, :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)`.
 
@@ -87,7 +87,7 @@ def damping_matrix(
     )
 
 
-def posed_wrench(F: FloatArray, b: FloatArray, *, xp: Namespace = np) -> FloatArray:
+def posed_wrench(F: FloatArray, b: FloatArray, xp: Namespace = np) -> FloatArray:
     """The wrench :math:`\\sum_c F_c b_c` of channel forces acting at their points.
 
     Parameters
@@ -111,7 +111,6 @@ def bottom_wrench(
     pen: FloatArray,
     stiffness: float,
     damping: float,
-    *,
     xp: Namespace = np,
 ) -> tuple[FloatArray, FloatArray]:
     r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).

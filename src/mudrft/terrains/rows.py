@@ -1,0 +1,305 @@
+r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain`.
+
+One foot's mud (:class:`~mudrft.terrains.mud.MudChannels`) is a row of :data:`N_STATE`
+floats, its parameters a row of :data:`N_CONST`, its options a row of seven and its shape a
+geometry row, so that a loop over time steps and feet (:func:`run`) takes a handful of
+arrays and numba compiles it (:func:`mudrft._jit.jit`): :func:`mudrft.simulate` runs a
+closed-form or morphing foot through it, :class:`mudrft.backends.BatchedMud` runs N feet
+(``backend="numba"``) and the MuJoCo coupling steps its feet with :func:`foot_step`. What is
+written here is bookkeeping; the physics is :func:`~mudrft.terrains.mud.mud_step` and the
+feet's own force rules, called with ``xp=pyfloat`` (:mod:`mudrft._xp`).
+
+Rows:
+
+* state (``N_STATE``): the x, y, z channels (7 each: gamma, gamma_w, xi, s_th, sigma_s,
+  clock, clock_w), entry x, entry y, heading, in_mud;
+* constants (``N_CONST``): the horizontal then the vertical
+  :class:`~mudrft.constitutive.kernel.ChannelConstants`;
+* options (:func:`config_row`): L_c [m], kappa, xi0, reset, heading_speed [m/s],
+  quasi_static, restart;
+* geometry (:func:`foot_rows`): ``(kind, g0, g1, g2)``, kind 0-2 a closed form
+  (:func:`~mudrft.feet.closed_form.closed_form_force`), 3 a mesh foot (``g0``: trailing),
+  4 the morphing foot; the mesh foot's prepared facets (m, 10) and the morphing foot's
+  :class:`~mudrft.feet.morphing.row.MorphingRow`;
+* the foot's own state (``N_FOOT``): deflection [m], pad angle [rad], most spread [rad]
+  (the morphing foot; unused by the others);
+* output (``N_OUT``): force (3) [N], stress (3) [Pa], depth [m].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .._typing import FloatArray
+from .._xp import pyfloat
+from ..constitutive.kernel import ChannelConstants
+from ..constitutive.state import ChannelState
+from ..feet.closed_form import closed_form_force
+from ..feet.facet import facet_factors, facet_force, fold_stresses, submerged_area
+from ..feet.morphing.equilibrium import contact_on_floats, seal_factor
+from ..feet.morphing.row import MorphingRow, row_array
+from ..feet.surface import PreparedTriangles
+from .mud import MudChannels, mud_step
+
+if TYPE_CHECKING:
+    from ..feet.base import Foot
+    from .mud import MudTerrain
+
+__all__ = [
+    "MESH",
+    "MORPHING",
+    "N_CONST",
+    "N_FOOT",
+    "N_OUT",
+    "N_STATE",
+    "STATE_IN_MUD",
+    "channels_of_rows",
+    "compilable",
+    "config_row",
+    "constant_row",
+    "foot_rows",
+    "foot_step",
+    "run",
+    "state_rows",
+    "upright_rows",
+]
+
+N_CHANNEL = len(ChannelState._fields)
+N_STATE = 3 * N_CHANNEL + 4
+STATE_IN_MUD = N_STATE - 1
+N_CONST = 2 * len(ChannelConstants._fields)
+N_FOOT = 3
+N_OUT = 7
+#: Geometry kinds of the mesh and the morphing foot (0-2 are the closed forms).
+MESH, MORPHING = 3.0, 4.0
+
+
+def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> FloatArray:
+    """Horizontal and vertical constants as rows, shape batch + (N_CONST,)."""
+    fields = [np.asarray(v, dtype=float) for v in (*hor, *ver)]
+    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*fields), axis=-1))
+
+
+def config_row(terrain: MudTerrain, foot: Foot) -> FloatArray:
+    """The options row of a :class:`~mudrft.MudTerrain` for a foot (see module docstring)."""
+    return np.array(
+        [
+            terrain.length(foot),
+            terrain.kappa,
+            terrain.xi0,
+            float(terrain.reset_on_exit),
+            terrain.heading_speed,
+            float(terrain.quasi_static),
+            float(terrain.restart),
+        ]
+    )
+
+
+def state_rows(ch: MudChannels) -> FloatArray:
+    """Channels (floats, or arrays (N,)) as rows (N, N_STATE)."""
+    fields = [*ch.x, *ch.y, *ch.z, ch.entry_x, ch.entry_y, ch.heading, ch.in_mud]
+    return np.ascontiguousarray(
+        np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1), dtype=float
+    ).reshape(-1, N_STATE)
+
+
+def channels_of_rows(rows: FloatArray) -> MudChannels:
+    """The inverse of :func:`state_rows`: floats from one row, arrays (N,) from rows (N, N_STATE)."""
+    a = np.asarray(rows, dtype=float)
+    return channels_at(a.tolist() if a.ndim == 1 else a.T)
+
+
+def compilable(foot: Foot) -> bool:
+    """Whether :func:`foot_rows` describes ``foot``: a closed form, a mesh foot or the
+    morphing foot (the kinds of :mod:`mudrft.feet` except user-made subclasses)."""
+    from ..feet.mesh import MeshFoot
+    from ..feet.morphing import MorphingFoot
+    from ..feet.shapes import Flat, SemiCylinder, SemiSphere
+
+    return type(foot) in (Flat, SemiCylinder, SemiSphere, MeshFoot, MorphingFoot)
+
+
+def foot_rows(foot: Foot) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``(geometry (4,), facets (m, 10), morphing row, foot state (N_FOOT,))`` of a foot.
+
+    The morphing row and the foot state are zeros for feet other than the morphing foot,
+    the facets an empty (0, 10) array for feet other than a mesh foot.
+    """
+    from ..feet.mesh import MeshFoot
+    from ..feet.morphing import MorphingFoot
+
+    facets = np.zeros((0, 10))
+    mrow = np.zeros(len(MorphingRow._fields))
+    fst = np.zeros(N_FOOT)
+    if isinstance(foot, MorphingFoot):
+        geom = np.array([MORPHING, 0.0, 0.0, 0.0])
+        mrow = row_array(foot)
+        s = foot.initial_foot_state()
+        fst = np.array([s.deflection, s.pad_angle, s.most_spread], dtype=float)
+    elif isinstance(foot, MeshFoot):
+        geom = np.array([MESH, float(foot.trailing), 0.0, 0.0])
+        facets = upright_rows(foot._prep)
+    else:
+        geom = np.array(foot.kernel_geometry, dtype=float)  # type: ignore[attr-defined]
+    return geom, facets, mrow, fst
+
+
+def upright_rows(prepared: PreparedTriangles) -> FloatArray:
+    """Rows (m, 10) of prepared facets: z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
+    h_y, w_z (:class:`~mudrft.feet.surface.PreparedTriangles`)."""
+    p = prepared
+    cols = (p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, p.nh, p.hx, p.hy, p.wz)
+    return np.ascontiguousarray(np.stack(cols, axis=-1), dtype=float)
+
+
+# ---- the compiled part: plain functions on floats and float arrays (mudrft._jit) ----
+
+
+def constants_at(c: FloatArray, r: int, o: int) -> ChannelConstants:
+    """One channel's constants from row ``r`` of ``c`` at offset ``o`` (0 or 12)."""
+    x = c[r]
+    return ChannelConstants(
+        x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5], x[o + 6], x[o + 7], x[o + 8],
+        x[o + 9], x[o + 10], x[o + 11],
+    )  # fmt: skip
+
+
+def channels_at(s: FloatArray | Sequence[float]) -> MudChannels:
+    """The mud under one foot from its state row ``s``."""
+    return MudChannels(
+        ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
+        ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
+        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
+        s[21], s[22], s[23], s[24],
+    )  # fmt: skip
+
+
+def morphing_at(r: FloatArray) -> MorphingRow:
+    """The :class:`~mudrft.feet.morphing.row.MorphingRow` of a float row (its 23 fields)."""
+    return MorphingRow(
+        r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12],
+        r[13], r[14], r[15], r[16], r[17], r[18], r[19], r[20], r[21], r[22],
+    )  # fmt: skip
+
+
+def mesh_force(
+    up: FloatArray, depth: float, sx: float, sy: float, sz: float, heading: float,
+    trailing: bool,
+) -> tuple[float, float, float]:  # fmt: skip
+    """Force of the mud on a mesh foot [N]: the element rule (eqs. 6-7) summed over its
+    prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
+    sqx, sqy, ux, uy = fold_stresses(sx, sy, heading, pyfloat)
+    fx, fy, fz = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # not submerged
+            continue
+        sub = submerged_area(r[0], r[1], r[2], r[3], r[4], r[5], depth, pyfloat)
+        fn, ft = facet_factors(r[7], r[8], ux, uy, trailing, pyfloat)
+        a, b, c = facet_force(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft, pyfloat)
+        fx += a
+        fy += b
+        fz += c
+    return fx, fy, fz
+
+
+def foot_step(
+    c: FloatArray, r: int, s: FloatArray, px: float, py: float, pz: float, vx: float,
+    vy: float, vz: float, dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray,
+    mrow: FloatArray, fs: FloatArray, row: FloatArray, frow: FloatArray,
+) -> tuple[float, float, float, float, float, float, float]:  # fmt: skip
+    """One mud step of one foot: :meth:`mudrft.MudTerrain.step_unchecked` on rows.
+
+    Reads the state row ``s`` and foot state ``fs`` (not modified) and the constants row
+    ``r`` of ``c``; writes the new state to ``row`` (N_STATE) and ``frow`` (N_FOOT); returns
+    ``(fx, fy, fz, sx, sy, sz, depth)`` [N, Pa, m], zero force and stress out of the mud. A
+    morphing foot's seal (of its previous state) scales the vertical suction.
+    """
+    m = morphing_at(mrow)
+    seal = 1.0
+    if geom[0] == MORPHING:
+        seal = seal_factor(fs[1], fs[2], m.pad_length, m.seal_length, pyfloat)
+    new, sx, sy, sz, depth = mud_step(
+        (constants_at(c, r, 0), constants_at(c, r, 12)), channels_at(s), px, py, pz, vx, vy,
+        vz, dt, cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], seal, cfg[5] != 0.0,
+        cfg[6] != 0.0, pyfloat,
+    )  # fmt: skip
+    frow[0], frow[1], frow[2] = fs[0], fs[1], fs[2]
+    if geom[0] == MESH:
+        fx, fy, fz = mesh_force(up, depth, sx, sy, sz, new.heading, geom[1] != 0.0)
+    elif geom[0] == MORPHING:
+        fx, fy, fz, frow[0], frow[1], frow[2] = contact_on_floats(
+            m, fs[0], fs[2], depth, sx, sy, sz, new.heading, pyfloat
+        )
+    else:
+        fx, fy, fz = closed_form_force(
+            int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading, pyfloat
+        )
+    k = 0
+    for chan in (new.x, new.y, new.z):
+        for v in chan:
+            row[k] = v
+            k += 1
+    row[21], row[22], row[23], row[24] = new.entry_x, new.entry_y, new.heading, new.in_mud
+    inside = new.in_mud
+    return (fx * inside, fy * inside, fz * inside, sx, sy, sz, depth)
+
+
+def run(
+    c: FloatArray, st: FloatArray, fst: FloatArray, pos: FloatArray, vel: FloatArray,
+    dts: FloatArray, cfg: FloatArray, geom: FloatArray, up: FloatArray, mrow: FloatArray,
+    out: FloatArray,
+) -> None:  # fmt: skip
+    """T steps of N feet of one shape: ``pos``, ``vel`` (T, N, 3) [m, m/s], ``dts`` (T,) [s].
+
+    ``c`` (1 or N, N_CONST) (one mud for all feet, or one each), ``st`` (N, N_STATE) and
+    ``fst`` (N, N_FOOT) are updated in place, ``out`` (T, N, N_OUT) receives each step's
+    force, stress and depth. A step that is not finite stops the run: its output row holds
+    NaN in the force and the states are those before it (the caller reports it).
+    """
+    n = pos.shape[1]
+    stride = 0 if c.shape[0] == 1 else 1
+    row = np.empty(N_STATE)
+    frow = np.empty(N_FOOT)
+    for t in range(pos.shape[0]):
+        for i in range(n):
+            o = out[t, i]
+            fx, fy, fz, sx, sy, sz, depth = foot_step(
+                c, i * stride, st[i], pos[t, i, 0], pos[t, i, 1], pos[t, i, 2], vel[t, i, 0],
+                vel[t, i, 1], vel[t, i, 2], dts[t], cfg, geom, up, mrow, fst[i], row, frow,
+            )  # fmt: skip
+            o[0], o[1], o[2], o[3], o[4], o[5], o[6] = fx, fy, fz, sx, sy, sz, depth
+            if not np.isfinite(fx + fy + fz):
+                return
+            st[i, :] = row
+            fst[i, :] = frow
+
+
+def along_path(
+    terrain: MudTerrain, foot: Foot, position: FloatArray, velocity: FloatArray, dts: FloatArray
+) -> FloatArray | None:
+    """One foot in the mud along a path, compiled: the output rows (T, N_OUT) of the steps
+    to ``position[1:]`` [m] at ``velocity[1:]`` [m/s] with steps ``dts`` (T,) [s], from
+    undisturbed mud at ``position[0]``; None when the foot or the mud has no rows (a
+    foot of another kind, parameter fields that are arrays)."""
+    from .._jit import jit
+
+    if not compilable(foot) or any(
+        np.ndim(v) for v in (*terrain.constants[0], *terrain.constants[1])
+    ):
+        return None
+    start = terrain.initial_state(foot, position[0])
+    st = state_rows(start.channels)
+    geom, up, mrow, fst = foot_rows(foot)
+    c = constant_row(*terrain.constants).reshape(1, -1)
+    pos = np.ascontiguousarray(position[1:, None, :], dtype=float)
+    vel = np.ascontiguousarray(velocity[1:, None, :], dtype=float)
+    out = np.zeros((len(pos), 1, N_OUT))
+    dt = np.ascontiguousarray(dts, dtype=float)
+    jit(run)(
+        c, st, fst.reshape(1, -1), pos, vel, dt, config_row(terrain, foot), geom, up, mrow, out
+    )
+    return out[:, 0]
