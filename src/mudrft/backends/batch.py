@@ -34,6 +34,7 @@ arrays of shape (N,), or a list of N muds (stacked with
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 from types import ModuleType
@@ -302,6 +303,15 @@ class BatchedMud(Restorable):
 
     # -- state ----------------------------------------------------------------------------
     def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
+        if (  # the usual case, checked in a few microseconds (per-step coupling)
+            type(value) is np.ndarray
+            and value.dtype == np.float64
+            and value.shape in ((self.n, 3), (3,))
+            and np.isfinite(value).all()
+        ):
+            if value.ndim == 2:
+                return value
+            return value.reshape(1, 3) if self.n == 1 else np.broadcast_to(value, (self.n, 3))
         a = check_finite(name, value)
         if a.shape == (3,):
             a = np.broadcast_to(a, (self.n, 3))
@@ -354,7 +364,8 @@ class BatchedMud(Restorable):
         """
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
-        dt = positive_number("dt", dt, unit="s")
+        if not (type(dt) is float and 0.0 < dt < math.inf):
+            dt = positive_number("dt", dt, unit="s")
         if self.backend == "numba":
             self._nb_step(
                 self._c, self._st, self._fst, np.ascontiguousarray(pos)[None],
