@@ -179,14 +179,24 @@ def test_sensitivity_example_runs_on_a_small_sample(tmp_path, capsys):
     assert figure.stat().st_size > 0 and "Spearman" in capsys.readouterr().out
 
 
-def test_a_sweep_whose_every_point_failed_exits_with_1(tmp_path, capsys):
-    """Failed points are recorded, not fatal; but when none succeeded the command says so
-    and exits with 1 (it exited with 0 before), so a script does not go on with no data."""
-    spec = SPEC.replace("width = [0.05, 0.065]", "width = [-0.05, -0.065]")
+def test_a_sweep_with_failed_points_exits_with_1_and_says_how_many(tmp_path, capsys):
+    """Failed points are recorded, not fatal; but the command says how many, even under
+    --quiet, and exits with 1 (it exited with 0 unless every point failed)."""
+    spec = SPEC.replace('kind = "flat"', 'kind = ["flat", "semi-sphere"]')
     spec = spec.replace("water_content = [0.25, 0.35]", "water_content = 0.25")
     spec = spec.replace("speed = [0.2, 0.26]", "speed = 0.2")
     (tmp_path / "s.toml").write_text(spec)
     args = ("sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--quiet")
     code, stdout, err = run(capsys, *args, "--scheduler", "serial")
     assert code == 1, err
-    assert "2 points, 2 failed" in stdout and "every point of the sweep failed" in err
+    assert "4 points, 2 failed" in stdout
+    assert err.strip().endswith(f"mudrft sweep: error: 2 of 4 points failed (NaN metrics; each error in the 'error' column of {tmp_path / 'o' / 'points.csv'})")  # fmt: skip
+    assert (tmp_path / "o" / "points.csv").read_text().count("has no parameter 'width'") == 2
+
+
+def test_a_value_out_of_range_is_refused_before_anything_runs(tmp_path, capsys):
+    # width = [0.05, -0.01] ran, half the points failed, and --quiet exited 0 saying nothing
+    (tmp_path / "s.toml").write_text(SPEC.replace("width = [0.05, 0.065]", "width = [0.05, -0.01]"))  # fmt: skip
+    code, _, err = run(capsys, "sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--quiet")  # fmt: skip
+    assert code == 2 and err.strip() == "mudrft sweep: error: [foot] width must be > 0.0 [m], got -0.01"  # fmt: skip
+    assert not (tmp_path / "o").exists()

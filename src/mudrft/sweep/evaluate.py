@@ -1,14 +1,11 @@
 """One point of a sweep, and one chunk of points: plain functions of the library, no Dask.
 
-A task runs :func:`evaluate_chunk` on a worker (or in the calling process for a serial
-sweep): it builds the foot, the mud and the motion of each point from the spec's fixed
-values and the point's swept values, runs :func:`mudrft.simulate` (or the MuJoCo walk),
-and keeps the requested metrics. A point that raises is recorded, not fatal: its metrics
-are NaN and its error is ``"ExceptionType: message"``; the rest of the chunk goes on.
-Warnings are collected per chunk (each distinct message once) for the caller to report,
-so that a sweep behaves the same whatever the warning filters of the process it runs in
-(Python's warning capture is per process: a worker should run one task at a time, as the
-local cluster's single-thread workers do, for the warnings to land on the right chunk).
+A task runs :func:`evaluate_chunk` on a worker (or in the calling process): it builds the
+foot, the mud and the motion of each point, runs :func:`mudrft.simulate` (or the MuJoCo
+walk) and keeps the requested metrics. A point that raises is recorded, not fatal: its
+metrics are NaN and its error is ``"ExceptionType: message"``. Warnings are collected per
+chunk, each distinct message once (warning capture is per process, so a worker runs one
+task at a time, as the local cluster's single-thread workers do).
 
 >>> import numpy as np
 >>> ctx = {"fixed": {"foot": "flat", "water_content": 0.25}, "motion": "gait",
@@ -33,7 +30,7 @@ from ..parameters import Mud, MudParameters, paper_mud
 from ..simulation import LoadControl, simulate
 from ..terrains import MudTerrain
 from ..trajectories import gait
-from . import catalog as C
+from .catalog import FOOT_KINDS, METRICS, MOTIONS, PARAMETERS
 
 __all__ = [
     "ChunkResult",
@@ -46,8 +43,7 @@ __all__ = [
 
 
 class SweepContext(TypedDict):
-    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`): plain data
-    and the mesh, no Dask. Values of the spec's tables are TOML values, hence ``Any``."""
+    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`), no Dask."""
 
     #: The fixed parameters by name (SI; ``foot`` is the foot kind).
     fixed: dict[str, Any]
@@ -87,7 +83,7 @@ def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
     return {
         k: v
         for k, v in values.items()
-        if k in C.PARAMETERS and C.PARAMETERS[k].section == section and k != "foot"
+        if k in PARAMETERS and PARAMETERS[k].section == section and k != "foot"
     }
 
 
@@ -102,7 +98,7 @@ def build_foot(
     key = (kind, tuple(sorted(params.items())))
     if cache is not None and key in cache:
         return cache[key]
-    allowed = C.foot_parameters(kind)
+    allowed = FOOT_KINDS[kind]
     extra = [k for k in params if k not in allowed]
     if extra:
         raise MudrftError(
@@ -160,10 +156,6 @@ def build_mud(
     return terrain
 
 
-def _motion(values: dict[str, Any], names: tuple[str, ...]) -> dict[str, Any]:
-    return {k: values[k] for k in names if k in values}
-
-
 def evaluate_point(
     context: SweepContext, point: dict[str, Any], *, cache: dict | None = None
 ) -> dict[str, float]:
@@ -187,7 +179,7 @@ def evaluate_point(
     motion = context["motion"]
     foot = build_foot(values, mesh=context.get("mesh"), cache=None if cache is None else cache.setdefault("feet", {}))  # fmt: skip
     mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=None if cache is None else cache.setdefault("muds", {}))  # fmt: skip
-    kw = _motion(values, C.motion_parameters(motion))
+    kw = {k: values[k] for k in MOTIONS[motion] if k in values}
     if motion == "walk":
         from ..integrations.walk import walk
 
@@ -199,7 +191,7 @@ def evaluate_point(
         else:
             result = simulate(foot, mud, LoadControl(**kw))
         found = result.metrics()
-    return {name: float(found[C.METRICS[motion][name].key]) for name in context["metrics"]}
+    return {name: float(found[METRICS[motion][name].key]) for name in context["metrics"]}
 
 
 def evaluate_chunk(context: SweepContext, points: list[dict[str, Any]]) -> ChunkResult:
