@@ -318,29 +318,29 @@ def test_bad_files_are_clear_errors(tmp_path):
 # Ranges: a value the library refuses at every point is refused with the spec (it ran, and
 # every point failed); each bound is the catalog entry's, named with the key and the value.
 RANGE = [
-    ({"motion": {"dt": 0}}, r"\[motion\] dt must be > 0.0 \[s\], got 0"),
-    ({"motion": {"speed": 0}}, r"\[motion\] speed must be > 0.0 \[m/s\], got 0"),
-    ({"foot": {"kind": "flat", "width": -0.05}}, r"\[foot\] width must be > 0.0 \[m\], got -0.05"),
+    ({"motion": {"dt": 0}}, r"\[motion\] dt must be > 0 \[s\], got 0"),
+    ({"motion": {"speed": 0}}, r"\[motion\] speed must be > 0 \[m/s\], got 0"),
+    ({"foot": {"kind": "flat", "width": -0.05}}, r"\[foot\] width must be > 0 \[m\], got -0.05"),
     (
         {"foot": {"kind": "flat", "width": [0.05, -0.01]}},
-        r"\[foot\] width must be > 0.0 \[m\], got -0.01",
+        r"\[foot\] width must be > 0 \[m\], got -0.01",
     ),
     (
         {"foot": {"kind": "flat", "width": {"low": -0.01, "high": 0.05, "num": 3}}},
-        r"\[foot\] width low must be > 0.0 \[m\], got -0.01",
+        r"\[foot\] width low must be > 0 \[m\], got -0.01",
     ),
     (
         {"mud": {"water_content": [0.25, 0.6]}},
         r"\[mud\] water_content must be <= 0.5 \[-\], got 0.6",
     ),
-    ({"mud": {"sigma_y_scale": 0.0}}, r"\[mud\] sigma_y_scale must be > 0.0"),
-    ({"mud": {"xi0": 1.5}}, r"\[mud\] xi0 must be <= 1.0"),
-    ({"motion": {"slip": -0.1}}, r"\[motion\] slip must be >= 0.0"),
+    ({"mud": {"sigma_y_scale": 0.0}}, r"\[mud\] sigma_y_scale must be > 0 "),
+    ({"mud": {"xi0": 1.5}}, r"\[mud\] xi0 must be <= 1"),
+    ({"motion": {"slip": -0.1}}, r"\[motion\] slip must be >= 0"),
     (
         {"foot": {"kind": "morphing", "n_pads": [0, 4]}},
         r"\[foot\] n_pads must be >= 1 \[-\], got 0",
     ),
-    ({"motion": {"kind": "load", "weight": -1.0}}, r"\[motion\] weight must be > 0.0 \[N\]"),
+    ({"motion": {"kind": "load", "weight": -1.0}}, r"\[motion\] weight must be > 0 \[N\]"),
 ]
 
 

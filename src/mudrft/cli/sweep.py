@@ -101,17 +101,6 @@ def run(args: argparse.Namespace) -> int:
     from ..sweep.spec import load_spec
 
     spec = load_spec(args.spec)
-    if args.workers is not None and args.workers < 1:
-        raise MudrftError(f"--workers must be >= 1, got {args.workers}")
-    if args.scheduler is not None and not args.scheduler.strip():
-        raise MudrftError(
-            "--scheduler: expected an address such as tcp://host:8786 or 'serial', got an "
-            "empty string"
-        )
-    if args.workers is not None and args.scheduler:
-        raise MudrftError("--workers sets the local cluster; it cannot go with --scheduler")
-    for module in ("dask", "distributed", "xarray", "zarr"):
-        require_extra(module, needed_for="mudrft sweep")
     if args.plot:
         require_extra("matplotlib", needed_for="--plot")
     out = Path(args.out)

@@ -17,6 +17,7 @@ mudrft._validation.MudrftError: [foot] width must be > 0 [m], got -0.05
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,30 +27,17 @@ from ..parameters.registry import EXTRAPOLATION_RANGE
 __all__ = ["FOOT_KINDS", "METRICS", "MOTIONS", "MOTION_KINDS", "PARAMETERS", "Metric", "Parameter"]
 
 _INT_LIMIT = 2**53  # integers an int64 coordinate and a float64 both hold exactly
+_OPS = {">": operator.gt, ">=": operator.ge, "<=": operator.le}
 
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named input a sweep may fix or vary.
+    """A named input of ``section`` ("foot", "mud", "motion") a sweep may fix or vary.
 
-    Attributes
-    ----------
-    name : str
-        Key in the spec and dimension name in the result.
-    section : {"foot", "mud", "motion"}
-        Where it belongs.
-    kind : {"float", "int", "str", "bool"}
-        Its type; only numbers take ranges or are sampled.
-    unit : str
-        SI unit (``"-"`` for none).
-    doc : str
-        One line (the result's ``long_name``).
-    gt, ge, le : float or None
-        Allowed values: ``> gt``, ``>= ge``, ``<= le`` [unit] (None: no bound).
-    choices : tuple of str
-        Allowed values of a string parameter (empty: any).
-    sweepable : bool
-        False for options that stay fixed over a sweep (``extrapolate``, ``labels``).
+    Its ``kind`` is "float", "int", "str" or "bool" (numbers only take ranges); its values
+    are ``> gt``, ``>= ge``, ``<= le`` [``unit``] where given, or one of ``choices``;
+    ``doc`` is the result's ``long_name``; options such as ``extrapolate`` are not
+    ``sweepable``.
     """
 
     name: str
@@ -83,11 +71,9 @@ class Parameter:
             raise MudrftError(f"{where} must be an integer of magnitude at most 2**53, got {v!r}")
         if not math.isfinite(v):
             raise MudrftError(f"{where} must be finite [{self.unit}], got {v!r}")
-        for ok, bound in ((self.gt is None or v > self.gt, f"> {self.gt}"),
-                          (self.ge is None or v >= self.ge, f">= {self.ge}"),
-                          (self.le is None or v <= self.le, f"<= {self.le}")):  # fmt: skip
-            if not ok:
-                raise MudrftError(f"{where} must be {bound} [{self.unit}], got {v!r}")
+        for op, bound in ((">", self.gt), (">=", self.ge), ("<=", self.le)):
+            if bound is not None and not _OPS[op](v, bound):
+                raise MudrftError(f"{where} must be {op} {bound:g} [{self.unit}], got {v!r}")
         return int(v) if self.kind == "int" else float(v)
 
 

@@ -59,19 +59,9 @@ class SweepContext(TypedDict):
 
 @dataclass(frozen=True)
 class ChunkResult:
-    """What one task returns.
-
-    Attributes
-    ----------
-    values : ndarray, shape (points, metrics)
-        The metrics of each point (NaN where the point failed).
-    errors : list of str
-        ``""`` for a point that ran, else ``"ExceptionType: message"``.
-    warnings : tuple of str
-        The distinct warning messages raised while the chunk ran.
-    seconds : float
-        Wall time of the chunk in the task [s] (for the overhead figures).
-    """
+    """What one task returns: ``values`` (points, metrics), NaN where a point failed;
+    ``errors``, ``""`` for a point that ran, else ``"ExceptionType: message"``; the distinct
+    ``warnings``; the chunk's wall time ``seconds`` [s]."""
 
     values: np.ndarray
     errors: list[str]
@@ -101,20 +91,9 @@ def build_foot(
     allowed = FOOT_KINDS[kind]
     extra = [k for k in params if k not in allowed]
     if extra:
-        raise MudrftError(
-            f"the {kind} foot has no parameter {extra[0]!r}; its parameters are "
-            f"{', '.join(allowed)}"
-        )
-
-    if kind == "morphing":
-        foot = feet.MorphingFoot(**params)
-    else:
-        cls = {
-            "flat": feet.Flat,
-            "semi-cylinder": feet.SemiCylinder,
-            "semi-sphere": feet.SemiSphere,
-        }
-        foot = cls[kind](**params)
+        raise MudrftError(f"the {kind} foot has no parameter {extra[0]!r}; its parameters are {', '.join(allowed)}")  # fmt: skip
+    cls = {"flat": feet.Flat, "semi-cylinder": feet.SemiCylinder, "semi-sphere": feet.SemiSphere}
+    foot = feet.MorphingFoot(**params) if kind == "morphing" else cls[kind](**params)
     if cache is not None:
         cache[key] = foot
     return foot
@@ -124,7 +103,6 @@ def build_mud(
     values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
 ) -> MudTerrain:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
-
     params = _section(values, "mud")
     key = tuple(sorted(params.items()))
     if cache is not None and key in cache:
@@ -159,22 +137,8 @@ def build_mud(
 def evaluate_point(
     context: SweepContext, point: dict[str, Any], *, cache: dict | None = None
 ) -> dict[str, float]:
-    """The metrics of one point.
-
-    Parameters
-    ----------
-    context : dict
-        :meth:`SweepSpec.context`: fixed values, motion, metrics, mud sets, mesh.
-    point : dict
-        The swept values of the point, by parameter name.
-    cache : dict or None, keyword-only
-        Feet and muds already built in this task (by their parameters).
-
-    Returns
-    -------
-    dict
-        Metric name -> value (SI).
-    """
+    """The metrics of one point (name -> SI value): the ``context``'s fixed values with the
+    ``point``'s swept ones; ``cache`` keeps the feet and muds a task has built."""
     values = {**context["fixed"], **point}
     motion = context["motion"]
     foot = build_foot(values, mesh=context.get("mesh"), cache=None if cache is None else cache.setdefault("feet", {}))  # fmt: skip
@@ -195,19 +159,7 @@ def evaluate_point(
 
 
 def evaluate_chunk(context: SweepContext, points: list[dict[str, Any]]) -> ChunkResult:
-    """The metrics of a chunk of points; a point that raises is recorded, not fatal.
-
-    Parameters
-    ----------
-    context : dict
-        :meth:`SweepSpec.context`.
-    points : list of dict
-        The swept values of each point.
-
-    Returns
-    -------
-    ChunkResult
-    """
+    """The metrics of a chunk of ``points``; a point that raises is recorded, not fatal."""
     t0 = time.perf_counter()
     metrics = context["metrics"]
     values = np.full((len(points), len(metrics)), np.nan)

@@ -15,7 +15,6 @@ import math
 import multiprocessing
 import os
 import shutil
-import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -24,16 +23,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._progress import Progress, make_progress
+from .._progress import make_progress
 from .._validation import MudrftError
 from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
+from .store import StoreLike, chunk_status, create_store, load_result, open_store, write_chunk
 
 if TYPE_CHECKING:
     import distributed
     import xarray as xr
-
-    from .store import StoreLike
+    import zarr
 
 __all__ = ["CLUSTER_START_S", "SweepWarning", "run_sweep"]
 
@@ -75,32 +74,6 @@ def _check_not_bootstrapping() -> None:
         raise MudrftError(
             "mudrft.sweep was called while a new worker process was importing the script "
             f"that started it: {_MAIN_GUARD}"
-        )
-
-
-class _Bar:
-    """Progress of the points: a text bar through the ``mudrft`` logger, or a callable."""
-
-    def __init__(self, report: Callable[[float], None] | None, total: int, done: int) -> None:
-        self.report, self.total, self.done, self.failed = report, total, done, 0
-        self.start_done, self.t0, self.last = done, time.perf_counter(), -math.inf
-
-    def add(self, points: int, failed: int) -> None:
-        self.done += points
-        self.failed += failed
-        frac = self.done / self.total if self.total else 1.0
-        if self.report is None or not isinstance(self.report, Progress):
-            if self.report is not None:
-                self.report(frac)
-            return
-        if 100 * frac < self.last + 5 and self.done < self.total:
-            return
-        self.last = 100 * frac
-        rate = (self.done - self.start_done) / max(time.perf_counter() - self.t0, 1e-9)
-        left = (self.total - self.done) / rate if rate > 0 else math.inf
-        self.report.note(
-            f"  sweep [{'#' * int(frac * 20):<20s}] {100 * frac:3.0f} % ({self.done} of "
-            f"{self.total} points, {self.failed} failed, {rate:.3g} points/s, {left:.0f} s left)"
         )
 
 
@@ -247,26 +220,25 @@ def run_sweep(
     -------
     xarray.Dataset
         One dimension per swept parameter (or ``point`` for a sample), one variable per
-        metric, ``error``; units, the mudrft version, the spec, the parameter sources and
-        ``failed_points`` in the attributes (see :mod:`mudrft.sweep.store`).
+        metric, ``error``; units, the spec, the parameter sources and ``failed_points`` in
+        the attributes (:mod:`mudrft.sweep.store`). A point that raised has NaN metrics and
+        its ``error``, and is warned about (:class:`SweepWarning`).
 
     Notes
     -----
-    With none of ``client``, ``scheduler`` and ``workers``, the chunks run in this process
-    while the points left would take less than a local cluster's start-up
-    (:data:`CLUSTER_START_S`) would save: a sweep of a few hundred closed-form gait points
-    runs serially, and a larger or slower one moves to a local cluster of one worker per
-    CPU after its second chunk. A machine with one CPU always runs serially. A point that
-    raises is recorded (NaN metrics and its ``error``) and warned about
-    (:class:`SweepWarning`); the rest completes.
+    With none of ``client``, ``scheduler`` and ``workers``, chunks run in this process
+    until the points left would take longer than a local cluster's start-up
+    (:data:`CLUSTER_START_S`) would cost; the rest then run on a local cluster of one
+    worker per CPU (never with one CPU). A sweep of a few hundred closed-form gait points
+    thus starts no cluster. A script that may start one calls the sweep under
+    ``if __name__ == "__main__":`` (the workers import it).
 
     Raises
     ------
     MudrftError
         For a bad spec, an existing store without ``resume``/``overwrite``, a store made
-        from another spec or damaged beyond its chunks, a missing optional package
-        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start:
-        a script that may start one calls the sweep under ``if __name__ == "__main__":``.
+        from another spec or whose metadata is gone, a missing optional package
+        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start.
     """
     _check_not_bootstrapping()
     spec = load_spec(spec)
@@ -276,26 +248,28 @@ def run_sweep(
         _require("mujoco")
     if client is not None and scheduler is not None:
         raise MudrftError("give client or scheduler, not both")
+    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+        raise MudrftError(f"scheduler (CLI: --scheduler) must be a Dask scheduler address such as 'tcp://host:8786', or 'serial', got {scheduler!r}")  # fmt: skip
     if workers is not None and (client is not None or scheduler is not None):
-        raise MudrftError("workers sets the size of the local cluster; it cannot go with client or scheduler")  # fmt: skip
+        raise MudrftError("workers (CLI: --workers) sets the size of a local cluster; it cannot go with client or scheduler (--scheduler)")  # fmt: skip
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
-        raise MudrftError(f"workers must be an integer >= 1, got {workers!r}")
+        raise MudrftError(f"workers (CLI: --workers) must be an integer >= 1, got {workers!r}")
     _check_options(store, client, resume=resume, overwrite=overwrite, progress=progress)
-    from . import store as S
-
-    group, pending, created = _prepare(S, store, spec, resume=resume, overwrite=overwrite)
+    group, pending, created = _prepare(store, spec, resume=resume, overwrite=overwrite)
+    report = make_progress(progress, "sweep")
     n_done = spec.n_points - sum(math.prod(spec.chunk_shape(i)) for i in pending)
-    bar = _Bar(make_progress(progress, "sweep"), spec.n_points, n_done)
     seen: dict[str, int] = {}
     written = 0
 
     def finished(i: int, result: ChunkResult) -> None:
-        nonlocal written
-        S.write_chunk(group, spec, i, result)
+        nonlocal written, n_done
+        write_chunk(group, spec, i, result)
         written += 1
+        n_done += len(result.errors)
         for w in result.warnings:
             seen[w] = seen.get(w, 0) + 1
-        bar.add(len(result.errors), sum(1 for e in result.errors if e))
+        if report is not None:
+            report(n_done / spec.n_points)
 
     if pending:
         context = spec.context()
@@ -319,7 +293,7 @@ def run_sweep(
     for message, chunks in seen.items():
         warnings.warn(f"in {chunks} chunk(s) of the sweep: {message}", SweepWarning, stacklevel=2)
     group.attrs["complete"] = 1
-    ds = S.load_result(group.store)
+    ds = load_result(group.store)
     errors = ds["error"].values.ravel()
     failed = int(np.count_nonzero(errors != ""))
     group.attrs["failed_points"] = ds.attrs["failed_points"] = failed
@@ -355,8 +329,8 @@ def _check_options(store: object, client: object, **flags: object) -> None:
 
 
 def _prepare(
-    S: ModuleType, store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
-) -> tuple[Any, list[int], str | os.PathLike[str] | None]:
+    store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
+) -> tuple[zarr.Group, list[int], str | os.PathLike[str] | None]:
     """The store's group, the chunks to compute, and the path of a store made here."""
     if resume and overwrite:
         raise MudrftError("give resume or overwrite, not both")
@@ -367,8 +341,8 @@ def _prepare(
 
         store = zarr.storage.MemoryStore()
     elif resume and isinstance(store, str | os.PathLike) and os.path.exists(store):
-        group = S.open_store(store, spec)
-        done, damaged, _ = S.chunk_status(group)
+        group = open_store(store, spec)
+        done, damaged, _ = chunk_status(group)
         if damaged:
             logger.warning(
                 "sweep: %d damaged chunk(s) of %s are computed again: %s",
@@ -378,6 +352,6 @@ def _prepare(
         if pending:
             group.attrs["complete"] = 0
         return group, pending, None
-    group = S.create_store(store, spec, overwrite=overwrite)
+    group = create_store(store, spec, overwrite=overwrite)
     created = store if isinstance(store, str | os.PathLike) else None
     return group, list(range(spec.n_chunks)), created

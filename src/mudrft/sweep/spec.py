@@ -1,23 +1,7 @@
 """The sweep spec: a TOML file (or a dict of the same shape) read into dataclasses.
 
 Every mistake is an error naming the key, before anything runs: an unknown section, key,
-parameter or metric, a value of the wrong type or outside its range, an empty range::
-
-    [sweep]
-    design = "grid"                     # or "lhs", "sobol" (then n = ..., seed = ...)
-    metrics = ["peak_support", "max_suction"]
-
-    [foot]
-    kind = "semi-cylinder"
-    radius = [0.03, 0.045, 0.06]        # a list: grid values
-
-    [mud]
-    water_content = { low = 0.25, high = 0.45, num = 5 }   # a range
-
-    [motion]
-    kind = "gait"
-    speed = 0.2                         # a scalar: fixed
-
+parameter or metric, a value of the wrong type or outside its range, an empty range.
 ``examples/sweep_example.toml`` shows every option.
 
 >>> spec = load_spec({"foot": {"kind": "flat", "width": [0.05, 0.065]},
@@ -169,27 +153,11 @@ def _table(cls: type[_T], raw: object, where: str) -> _T:
 # -- the resolved spec ------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class SweepSpec(Design):
-    """A checked, resolved sweep spec (made by :func:`load_spec`).
-
-    Attributes
-    ----------
-    design, axes, n, seed, points_per_task
-        The points and their chunks (:class:`~.design.Design`); axes in spec order.
-    motion : {"gait", "load", "walk"}
-        What the foot does at every point.
-    metrics : tuple of str
-        The metrics measured.
-    fixed : dict
-        The fixed parameters by name (SI; ``foot`` is the foot kind or the mesh file).
-    mud_sets : dict
-        Calibrated sets by name: ``{"vertical": {...}, "horizontal": {...}, "source": str}``.
-    mesh : MeshFoot or None
-        The mesh foot when ``[foot] kind`` is a mesh file.
-    plot : dict
-        ``x``, ``y``, ``panels``, ``metrics`` of the maps (those given).
-    text, where : str
-        The spec as given (TOML text, or JSON of a dict) and where it came from.
-    """
+    """A checked, resolved sweep spec (made by :func:`load_spec`): the points and chunks
+    (:class:`~.design.Design`, axes in spec order), the ``motion`` and ``metrics``, the
+    ``fixed`` parameters (SI; ``foot`` is the kind or mesh file), calibrated ``mud_sets``
+    (``{"vertical": {...}, "horizontal": {...}, "source": str}``), the ``mesh`` foot, the
+    maps' ``plot`` names, and the spec's ``text`` and where it came from."""
 
     motion: str = "gait"
     metrics: tuple[str, ...] = ()
@@ -233,17 +201,8 @@ class SweepSpec(Design):
 
 
 def load_spec(spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec) -> SweepSpec:
-    """Read and check a sweep spec.
-
-    Parameters
-    ----------
-    spec : path-like, dict or SweepSpec
-        A TOML file, a dict of the same shape (``{"foot": {...}, "mud": {...}, ...}``) or
-        an already loaded spec (returned as is).
-
-    Returns
-    -------
-    SweepSpec
+    """Read and check a sweep spec: a TOML file, a dict of the same shape
+    (``{"foot": {...}, "mud": {...}, ...}``) or a loaded spec (returned as is).
 
     Raises
     ------

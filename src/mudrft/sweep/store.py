@@ -1,34 +1,27 @@
-"""The result store: a labelled xarray Dataset in Zarr v3, written one chunk at a time, and
-verified when read.
+"""The result store: a labelled Dataset in Zarr v3, written a chunk at a time, verified
+when read.
 
-Layout (store format 2):
+Layout (format 2): the result's dimensions and coordinates (README); one float64 variable
+per metric, ``error``, ``done`` (uint8, 1 once the point's chunk is stored) and
+``checksum`` (uint32 along ``chunk``: the CRC-32 of each chunk's metrics and errors);
+``units`` and ``long_name`` everywhere; the dataset's attributes hold the mudrft version,
+the spec and its identity hash, the design, the parameter sources, the names of every
+array (``arrays``, written last), ``complete`` and ``failed_points``.
 
-* dimensions: one per swept parameter of a grid, its values as coordinate; a sample has one
-  dimension ``point`` and each swept parameter is a coordinate along it; fixed parameters
-  are scalar coordinates;
-* variables: one float64 per metric (NaN where the point failed or has not run), ``error``
-  (``""`` or ``"ExceptionType: message"``), ``done`` (uint8, 1 once the point's chunk is
-  stored) and ``checksum`` (uint32, dimension ``chunk``: the CRC-32 of each chunk's metrics
-  and errors);
-* attributes: ``units`` and ``long_name`` of every coordinate and variable; of the dataset,
-  the mudrft version, the spec (text and identity hash), the design, the parameter
-  sources, the names of every array (``arrays``), ``complete`` and ``failed_points``.
-
-One chunk of the store is one task's block of points. Its metrics and errors are written
-first, then its checksum, then ``done`` (zarr-python writes each chunk file atomically), so a
-sweep killed at any moment leaves every chunk either whole or not done. A chunk that ``done``
-vouches for is trusted only when it decodes and matches its checksum: a chunk file that was
-overwritten, truncated, had bytes flipped or was removed is *damaged*;
-:func:`load_result` names it, and a resumed sweep recomputes it.
+A chunk's metrics and errors are written first, then its checksum, then ``done``, each
+chunk file atomically (zarr-python), so a kill leaves every chunk whole or not done. A
+chunk ``done`` vouches for is trusted only when it decodes and matches its checksum; one
+overwritten, truncated, with bytes flipped or removed is *damaged*: :func:`load_result`
+names it, and a resumed sweep computes it again.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import zlib
-from itertools import product
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeAlias, cast
 
@@ -37,6 +30,7 @@ import numpy as np
 from .. import __version__
 from .._validation import MudrftError
 from .catalog import METRICS
+from .design import block
 from .evaluate import ChunkResult
 from .spec import SweepSpec
 
@@ -241,9 +235,8 @@ def _array(group: zarr.Group, name: str) -> zarr.Array:
 
 
 def _blocks(shape: tuple[int, ...], chunks: tuple[int, ...]) -> list[tuple[slice, ...]]:
-    """Every chunk's block, in C order over the chunk grid (the chunk numbers)."""
-    starts = product(*(range(0, s, c) for s, c in zip(shape, chunks, strict=True)))
-    return [tuple(slice(a, min(a + c, s)) for a, c, s in zip(st, chunks, shape, strict=True)) for st in starts]  # fmt: skip
+    n = math.prod(math.ceil(s / c) for s, c in zip(shape, chunks, strict=True))
+    return [block(shape, chunks, i) for i in range(n)]
 
 
 def _checksum(values: list[np.ndarray], errors: np.ndarray) -> int:
