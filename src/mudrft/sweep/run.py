@@ -39,8 +39,8 @@ __all__ = ["CLUSTER_START_S", "SweepWarning", "run_sweep"]
 logger = logging.getLogger("mudrft.sweep")
 
 #: What a local cluster costs before it computes: starting its worker processes, importing
-#: mudrft in them, their first points, and closing it [s]. Measured with
-#: ``benchmarks/bench_sweep.py --startup`` (``cluster_cost_s``, docs/performance.md).
+#: mudrft in them, their first points, and closing it [s]: 4.2-5.7 s for two workers on two
+#: shared cores (``benchmarks/bench_sweep.py --startup``, ``cluster_cost_s``; docs/guide/sweep.md).
 CLUSTER_START_S = 5.0
 
 
@@ -224,6 +224,13 @@ def run_sweep(
         the attributes (:mod:`mudrft.sweep.store`). A point that raised has NaN metrics and
         its ``error``, and is warned about (:class:`SweepWarning`).
 
+    Raises
+    ------
+    MudrftError
+        For a bad spec, an existing store without ``resume``/``overwrite``, a store made
+        from another spec or whose metadata is gone, a missing optional package
+        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start.
+
     Notes
     -----
     With none of ``client``, ``scheduler`` and ``workers``, chunks run in this process
@@ -232,13 +239,6 @@ def run_sweep(
     worker per CPU (never with one CPU). A sweep of a few hundred closed-form gait points
     thus starts no cluster. A script that may start one calls the sweep under
     ``if __name__ == "__main__":`` (the workers import it).
-
-    Raises
-    ------
-    MudrftError
-        For a bad spec, an existing store without ``resume``/``overwrite``, a store made
-        from another spec or whose metadata is gone, a missing optional package
-        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start.
     """
     _check_not_bootstrapping()
     spec = load_spec(spec)

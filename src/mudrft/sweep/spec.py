@@ -190,10 +190,9 @@ class SweepSpec(Design):
             h = hashlib.sha256(np.ascontiguousarray(self.mesh.vertices).tobytes())
             h.update(np.ascontiguousarray(self.mesh.faces).tobytes())
             mesh = h.hexdigest()
-        doc = {
-            "design": self.design, "n": self.n, "seed": self.seed,
-            "axes": [a.as_json() for a in self.axes], "fixed": self.fixed, "motion": self.motion,
-            "metrics": self.metrics, "points_per_task": self.points_per_task, "chunks": self.chunks,
+        names = ("design", "n", "seed", "fixed", "motion", "metrics", "points_per_task", "chunks")
+        doc = {k: getattr(self, k) for k in names} | {
+            "axes": [a.as_json() for a in self.axes],
             "mud_sets": {k: {d: v[d] for d in ("vertical", "horizontal")} for k, v in self.mud_sets.items()},
             "mesh": mesh,
         }  # fmt: skip
