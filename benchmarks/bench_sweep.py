@@ -22,9 +22,17 @@ checkout with the ``sweep`` extra. Figures (docs/performance.md):
 * ``workers_busy_fraction``: that compute time over ``wall x workers``: how well the sweep
   keeps its workers fed, whatever the machine's load.
 
-Closed-form feet only (flat, semi-cylinder, semi-sphere): about 60 ms a point. Each
-figure is the best of ``--repeat`` runs, the 1- and 2-worker runs in alternation, because
-the machine is shared: the load average is recorded before and after.
+Closed-form feet only (flat, semi-cylinder, semi-sphere). Each figure is the best of
+``--repeat`` runs, the 1- and 2-worker runs in alternation, because the machine is shared:
+the load average is recorded before and after.
+
+``--startup`` measures instead what decides whether a sweep without options starts a
+cluster (``mudrft.sweep.run.CLUSTER_START_S``):
+
+* ``cluster_cost_s``: a local cluster of one worker per CPU started, mudrft imported and
+  one point computed in each worker, and closed;
+* ``seconds[N]``: sweeps of N points run serially, on that cluster (``workers=``) and by
+  default (no options), each from a fresh store.
 """
 
 from __future__ import annotations
@@ -145,12 +153,54 @@ def noop_task_ms(client: Any, n: int = 200) -> float:
     return 1e3 * (time.perf_counter() - t0) / n
 
 
+def startup(repeat: int, quick: bool) -> dict[str, Any]:
+    """What a local cluster costs before it computes, and sweeps of N points three ways."""
+    from distributed import Client, LocalCluster
+
+    from mudrft.sweep import load_spec
+    from mudrft.sweep.evaluate import evaluate_chunk
+
+    n = os.cpu_count() or 1
+    one = load_spec(spec(1))
+    costs = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        with (
+            LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                         dashboard_address=":0", silence_logs=logging.ERROR) as c,
+            Client(c) as client,
+        ):  # fmt: skip
+            client.run(_warm)
+            points = [one.chunk_points(0)[:1]] * n
+            client.gather(client.map(evaluate_chunk, [one.context()] * n, points, pure=False))
+        costs.append(time.perf_counter() - t0)
+    timed_sweep(spec(1), scheduler="serial")  # warm this process
+    seconds: dict[int, dict[str, float]] = {}
+    for speeds in (1, 4) if quick else (1, 4, 8, 16, 32):
+        s = spec(speeds)
+        runs = {"serial": {"scheduler": "serial"}, "cluster": {"workers": n}, "default": {}}
+        seconds[12 * speeds] = {
+            k: round(min(timed_sweep(s, **kw) for _ in range(repeat)), 2) for k, kw in runs.items()
+        }
+    return {"workers": n, "cluster_cost_s": [round(c, 2) for c in costs], "seconds": seconds}
+
+
 def main() -> dict[str, Any]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer points (a trial run)")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each figure; best kept")
+    ap.add_argument("--startup", action="store_true", help="a cluster's start-up cost only")
     ap.add_argument("--json", help="also write the results here")
     args = ap.parse_args()
+    if args.startup:
+        load0 = os.getloadavg()[0]
+        out = startup(args.repeat, args.quick)
+        out["machine"] = {"cpu": _cpu(), "load_average_1min_before": round(load0, 2),
+                          "load_average_1min_after": round(os.getloadavg()[0], 2)}  # fmt: skip
+        print(json.dumps(out, indent=2))
+        if args.json:
+            Path(args.json).write_text(json.dumps(out, indent=2) + "\n")
+        return out
     speeds = 4 if args.quick else 32  # 48 or 384 points: long enough that the fixed costs
     # of a sweep (store made, result loaded: about 1 s) weigh little against the points
     s = spec(speeds)

@@ -6,15 +6,16 @@ Which parameter of the mud moves suction most? A sensitivity study on top of a s
 
 A Latin hypercube sample (seeded) of factors on six mud parameters, each between half and
 twice the paper's value at W = 25 % (log-uniform), for the semi-cylindrical foot at the
-medium gait; every point's largest suction is computed on Dask (a local cluster), and the
-parameters are ranked by Spearman's rank correlation with it
+medium gait; every point's largest suction is computed (in this process, or on a local
+Dask cluster with ``--workers``), and the parameters are ranked by Spearman's rank
+correlation with it
 (:func:`mudrft.sweep.sensitivity`). The figure shows the ranking and the suction against
 the two leading factors.
 
 Run ``python examples/sweep_sensitivity.py [--n 64] [--workers 2] [--serial]
 [--store S.zarr] [--out docs/figures/sweep_sensitivity.png]`` (needs ``mudrft[sweep,plot]``).
 ``--out`` is the figure's path, or a folder to write ``sweep_sensitivity.png`` into;
-``--quick`` (the documentation build) samples 16 points and runs them serially.
+``--quick`` (the documentation build) samples 16 points.
 """
 
 from __future__ import annotations
@@ -62,10 +63,10 @@ def figure(ds: Any, ranked: list[tuple[str, float]], path: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> list[tuple[str, float]]:
-    ap = argparse.ArgumentParser(description="Which parameter of the mud moves suction most (a sweep on Dask).")
+    ap = argparse.ArgumentParser(description="Which parameter of the mud moves suction most.")
     ap.add_argument("--n", type=int, default=64, help="sample size")
-    ap.add_argument("--workers", type=int, default=None, help="local cluster workers")
-    ap.add_argument("--serial", action="store_true", help="run without Dask")
+    ap.add_argument("--workers", type=int, default=None, help="run on a local Dask cluster")
+    ap.add_argument("--serial", action="store_true", help="never start a Dask cluster")
     ap.add_argument("--store", help="a .zarr store to write (and --resume from)")
     ap.add_argument("--out", help="write the figure here (a PNG path, or a folder)")
     ap.add_argument("--quick", action="store_true", help="16 points, serial (docs build)")

@@ -44,7 +44,7 @@ def test_sweep_writes_store_table_and_maps_and_never_overwrites(tmp_path, capsys
     code, stdout, err = run(capsys, *args, "--plot")
     assert code == 0, err
     assert sorted(p.name for p in out.iterdir()) == ["max_suction.png", "points.csv", "sweep.zarr"]
-    assert "8 points, 0 failed" in stdout and "sweep [####################] 100 %" in err
+    assert "8 points, 0 failed" in stdout and "  sweep: 100 %" in err
     rows = (out / "points.csv").read_text().splitlines()
     assert rows[0] == (
         "width [m],water_content,speed [m/s],foot,max_suction [N],peak_support [N],error"
@@ -72,7 +72,8 @@ def test_sweep_errors_are_one_line(tmp_path, capsys):
     assert not (tmp_path / "o").exists()  # nothing made before the spec is good
     (tmp_path / "s.toml").write_text(SPEC)
     code, _, err = run(capsys, "sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--workers", "0")  # fmt: skip
-    assert code == 2 and "--workers must be >= 1" in err
+    assert code == 2 and "workers (CLI: --workers) must be an integer >= 1, got 0" in err
+    assert not (tmp_path / "o").exists()
 
 
 def test_help_lists_sweep(capsys):
@@ -179,14 +180,24 @@ def test_sensitivity_example_runs_on_a_small_sample(tmp_path, capsys):
     assert figure.stat().st_size > 0 and "Spearman" in capsys.readouterr().out
 
 
-def test_a_sweep_whose_every_point_failed_exits_with_1(tmp_path, capsys):
-    """Failed points are recorded, not fatal; but when none succeeded the command says so
-    and exits with 1 (it exited with 0 before), so a script does not go on with no data."""
-    spec = SPEC.replace("width = [0.05, 0.065]", "width = [-0.05, -0.065]")
+def test_a_sweep_with_failed_points_exits_with_1_and_says_how_many(tmp_path, capsys):
+    """Failed points are recorded, not fatal; but the command says how many, even under
+    --quiet, and exits with 1 (it exited with 0 unless every point failed)."""
+    spec = SPEC.replace('kind = "flat"', 'kind = ["flat", "semi-sphere"]')
     spec = spec.replace("water_content = [0.25, 0.35]", "water_content = 0.25")
     spec = spec.replace("speed = [0.2, 0.26]", "speed = 0.2")
     (tmp_path / "s.toml").write_text(spec)
     args = ("sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--quiet")
     code, stdout, err = run(capsys, *args, "--scheduler", "serial")
     assert code == 1, err
-    assert "2 points, 2 failed" in stdout and "every point of the sweep failed" in err
+    assert "4 points, 2 failed" in stdout
+    assert err.strip().endswith(f"mudrft sweep: error: 2 of 4 points failed (NaN metrics; each error in the 'error' column of {tmp_path / 'o' / 'points.csv'})")  # fmt: skip
+    assert (tmp_path / "o" / "points.csv").read_text().count("has no parameter 'width'") == 2
+
+
+def test_a_value_out_of_range_is_refused_before_anything_runs(tmp_path, capsys):
+    # width = [0.05, -0.01] ran, half the points failed, and --quiet exited 0 saying nothing
+    (tmp_path / "s.toml").write_text(SPEC.replace("width = [0.05, 0.065]", "width = [0.05, -0.01]"))  # fmt: skip
+    code, _, err = run(capsys, "sweep", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o"), "--quiet")  # fmt: skip
+    assert code == 2 and err.strip() == "mudrft sweep: error: [foot] width must be > 0 [m], got -0.01"  # fmt: skip
+    assert not (tmp_path / "o").exists()

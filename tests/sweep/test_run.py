@@ -5,6 +5,7 @@ real dask.distributed cluster of two worker processes giving the serial run's re
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -17,7 +18,7 @@ import pytest
 
 import mudrft
 from mudrft._validation import MudrftError
-from mudrft.sweep import evaluate, load_spec
+from mudrft.sweep import SweepWarning, evaluate, load_spec
 
 pytest.importorskip("xarray")
 pytest.importorskip("zarr")
@@ -35,8 +36,9 @@ SPEC = {
 
 @pytest.fixture(scope="module")
 def serial():
-    """The spec's sweep, run serially in memory (12 s of physics spared to later tests)."""
-    return mudrft.sweep(SPEC, scheduler="serial")
+    """The spec's sweep, run serially in memory (its semi-sphere points fail: no width)."""
+    with pytest.warns(SweepWarning, match="4 of 8 points of the sweep failed"):
+        return mudrft.sweep(SPEC, scheduler="serial")
 
 
 def same(a, b):
@@ -83,7 +85,8 @@ def test_a_point_that_raises_is_recorded_and_the_rest_completes(serial, monkeypa
 
     monkeypatch.setattr(evaluate, "evaluate_point", flaky)
     spec = {**SPEC, "foot": {"kind": "flat", "width": [0.05, 0.065]}}
-    ds = mudrft.sweep(spec, scheduler="serial")
+    with pytest.warns(SweepWarning, match="1 of 4 points"):
+        ds = mudrft.sweep(spec, scheduler="serial")
     assert ds["error"].sel(width=0.05, water_content=0.35).item() == "ZeroDivisionError: boom"
     assert np.isnan(ds["peak_support"].sel(width=0.05, water_content=0.35))
     assert np.isfinite(ds["peak_support"].sel(width=0.05, water_content=0.25))
@@ -160,6 +163,14 @@ dt = 2e-4
 """
 
 
+def created(store):
+    """Whether the store is made whole (its last attribute written)."""
+    try:
+        return "arrays" in json.loads((store / "zarr.json").read_text())["attributes"]
+    except (OSError, ValueError, KeyError):
+        return False
+
+
 def test_a_killed_sweep_resumes_without_recomputing_finished_chunks(tmp_path, monkeypatch):
     (tmp_path / "spec.toml").write_text(KILL_SPEC)
     spec = load_spec(tmp_path / "spec.toml")
@@ -172,13 +183,16 @@ def test_a_killed_sweep_resumes_without_recomputing_finished_chunks(tmp_path, mo
     proc = subprocess.Popen([sys.executable, "-c", code], env=env)
     import zarr
 
-    from mudrft.sweep.store import done_chunks
+    from mudrft.sweep.store import chunk_status
+
+    def done_chunks(group, spec):
+        return chunk_status(group)[0]
 
     try:
         deadline = time.monotonic() + 120
         done = np.zeros(spec.n_chunks, dtype=bool)
         while time.monotonic() < deadline and proc.poll() is None:
-            if (store / "done" / "zarr.json").exists():
+            if created(store):
                 done = done_chunks(zarr.open_group(str(store), mode="r"), spec)
                 if done.sum() >= 2:
                     break
@@ -225,7 +239,7 @@ def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(
         ) as cluster,
         Client(cluster) as client,
     ):
-        with get_task_stream(client) as stream:
+        with get_task_stream(client) as stream, pytest.warns(SweepWarning):
             ds = mudrft.sweep(SPEC, client=client, store=tmp_path / "d.zarr")
         # a running cluster by its address, as `--scheduler tcp://...` does
         by_address = mudrft.sweep(small, scheduler=cluster.scheduler_address)
@@ -245,11 +259,19 @@ def test_two_worker_processes_on_a_local_cluster_give_the_serial_results(
 
         monkeypatch.setattr(distributed, "LocalCluster", Local)
         default = mudrft.sweep(small, workers=2)
+        # with no options, a sweep whose points left outlast a cluster's start-up moves
+        # there after its second chunk (the first pays the warm-up)
+        monkeypatch.setattr("mudrft.sweep.run.CLUSTER_START_S", 0.0)
+        monkeypatch.setattr(os, "cpu_count", lambda: 2)
+        with get_task_stream(client) as moved, pytest.warns(SweepWarning):
+            switched = mudrft.sweep(SPEC)
     tasks = [t for t in stream.data if "evaluate_chunk" in str(t["key"])]
     assert len(tasks) == load_spec(SPEC).n_chunks == 4
     assert len({t["worker"] for t in tasks}) == 2  # both processes ran chunks
     same(ds, serial)
     assert made["n_workers"] == 2 and made["threads_per_worker"] == 1 and made["processes"]
+    same(switched, serial)
+    assert len([t for t in moved.data if "evaluate_chunk" in str(t["key"])]) == 2
     reference = serial.sel(foot="flat", width=[0.05], water_content=0.25)
     for other in (by_address, default):
         assert np.array_equal(other["max_suction"].values, reference["max_suction"].values)
@@ -277,15 +299,31 @@ def test_walk_metrics_are_read_from_the_walk_summary(monkeypatch):
     assert ds["distance"].attrs["units"] == "m" and (ds["error"].values == "").all()
 
 
-def test_a_sweep_whose_every_point_failed_warns_with_the_first_error():
-    """A fixed value wrong for every point (a negative depth) gave an all-NaN result without
-    a word; the errors are still in ``error``."""
-    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.13, 0.2], "depth": -0.02}}
-    from mudrft.sweep.run import SweepWarning
-
-    with pytest.warns(SweepWarning, match=r"every point of the sweep failed \(2\); the first error: MudrftError: depth must be > 0"):  # fmt: skip
+def test_failed_points_are_warned_about_with_the_first_error(serial):
+    """A combination wrong for every point (a semi-cylinder lower than its height) gave an
+    all-NaN result without a word; some failed points are warned about too."""
+    spec = {"foot": {"kind": "semi-cylinder", "radius": 0.01}, "motion": {"speed": [0.13, 0.2]}}
+    with pytest.warns(SweepWarning, match=r"every point of the sweep failed \(2\); the first error: MudrftError: height must be <= radius"):  # fmt: skip
         ds = mudrft.sweep(spec, scheduler="serial")
     assert ds.attrs["failed_points"] == 2
+    spec = {**SPEC, "mud": {"water_content": 0.25}, "foot": {"kind": ["flat", "semi-sphere"], "width": 0.05}}  # fmt: skip
+    with pytest.warns(SweepWarning, match=r"1 of 2 points of the sweep failed \(NaN metrics; each error in 'error'\); the first error: MudrftError: the semi-sphere foot has no parameter 'width'"):  # fmt: skip
+        mudrft.sweep(spec, scheduler="serial")
+
+
+def test_a_small_sweep_runs_in_this_process_by_default(monkeypatch):
+    """A sweep quicker than a cluster's start-up starts none (it ran 10-15 s on a local
+    cluster against 3-6 s serially)."""
+    import distributed
+
+    def no_cluster(**kw):
+        raise AssertionError("a local cluster was started for a small sweep")
+
+    monkeypatch.setattr(distributed, "LocalCluster", no_cluster)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    small = {**SPEC, "foot": {"kind": "flat", "width": [0.05]}, "mud": {"water_content": [0.25, 0.35]}}  # fmt: skip
+    ds = mudrft.sweep(small)
+    assert np.isfinite(ds["max_suction"].values).all()
 
 
 def test_resume_without_a_store_is_refused():

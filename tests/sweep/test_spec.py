@@ -197,8 +197,30 @@ BAD = [
         r"\[foot\] width hi: unknown key \(did you mean 'high'\?\)",
     ),
     (
-        {"foot": {"kind": "flat", "width": {"low": 0.0, "high": 0.06, "num": 2, "log": True}}},
-        r"log range needs low > 0",
+        {"motion": {"lift": {"low": 0.0, "high": 0.02, "num": 2, "log": True}}},
+        r"\[motion\] lift: a log range needs low > 0",
+    ),
+    ({"sweep": {"points_per_task": True}}, r"\[sweep\] points_per_task must be an integer >= 1"),
+    (
+        {"sweep": {"design": "lhs", "n": 4, "sed": 1}},
+        r"\[sweep\] sed: unknown key \(did you mean 'seed'\?\)",
+    ),
+    (
+        {"foot": {"kind": "flat", "width": {"low": 0.05}}},
+        r"\[foot\] width needs high, it is missing",
+    ),
+    (
+        {"foot": {"kind": "flat", "width": {"low": 0.05, "high": 0.06, "num": 3, "log": "yes"}}},
+        r"\[foot\] width log must be true or false",
+    ),
+    ({"mud": {"sets": {"a": {"vertical": "v.json"}}}}, r"\[mud.sets.a\] needs horizontal"),
+    (
+        {"mud": {"sets": {"a": {"vertical": 1, "horizontal": "h.json"}}}},
+        r"\[mud.sets.a\] vertical must be a string, got 1",
+    ),
+    (
+        {"plot": {"metrics": ["energy"]}, "sweep": {"metrics": ["sinking"]}},
+        r"\[plot\] metrics must name measured metrics \(sinking\)",
     ),
     ({"foot": {"kind": "flat", "unit": "mm"}}, r"\[foot\] unit applies to mesh files only"),
     ({"foot": {"kind": "flat", "up": "y"}}, r"\[foot\] up applies to mesh files only"),
@@ -291,3 +313,82 @@ def test_bad_files_are_clear_errors(tmp_path):
         load_spec(bad)
     with pytest.raises(MudrftError, match="spec must be a TOML file path, a dict"):
         load_spec(42)  # type: ignore[arg-type]
+
+
+# Ranges: a value the library refuses at every point is refused with the spec (it ran, and
+# every point failed); each bound is the catalog entry's, named with the key and the value.
+RANGE = [
+    ({"motion": {"dt": 0}}, r"\[motion\] dt must be > 0 \[s\], got 0"),
+    ({"motion": {"speed": 0}}, r"\[motion\] speed must be > 0 \[m/s\], got 0"),
+    ({"foot": {"kind": "flat", "width": -0.05}}, r"\[foot\] width must be > 0 \[m\], got -0.05"),
+    (
+        {"foot": {"kind": "flat", "width": [0.05, -0.01]}},
+        r"\[foot\] width must be > 0 \[m\], got -0.01",
+    ),
+    (
+        {"foot": {"kind": "flat", "width": {"low": -0.01, "high": 0.05, "num": 3}}},
+        r"\[foot\] width low must be > 0 \[m\], got -0.01",
+    ),
+    (
+        {"mud": {"water_content": [0.25, 0.6]}},
+        r"\[mud\] water_content must be <= 0.5 \[-\], got 0.6",
+    ),
+    ({"mud": {"sigma_y_scale": 0.0}}, r"\[mud\] sigma_y_scale must be > 0 "),
+    ({"mud": {"xi0": 1.5}}, r"\[mud\] xi0 must be <= 1"),
+    ({"motion": {"slip": -0.1}}, r"\[motion\] slip must be >= 0"),
+    (
+        {"foot": {"kind": "morphing", "n_pads": [0, 4]}},
+        r"\[foot\] n_pads must be >= 1 \[-\], got 0",
+    ),
+    ({"motion": {"kind": "load", "weight": -1.0}}, r"\[motion\] weight must be > 0 \[N\]"),
+]
+
+
+@pytest.mark.parametrize(("sections", "message"), RANGE)
+def test_a_value_out_of_range_is_refused_naming_the_key_and_value(sections, message):
+    with pytest.raises(MudrftError, match=message):
+        load_spec({"foot": {"kind": "flat"}, **sections})
+
+
+def test_a_walk_may_stand_still_where_a_gait_may_not():
+    # speed > 0 for a gait, >= 0 for the walk's command: the motion's own entry decides
+    assert load_spec({"foot": {"kind": "flat"}, "motion": {"kind": "walk", "speed": 0.0}}).fixed["speed"] == 0.0  # fmt: skip
+    with pytest.raises(MudrftError, match=r"\[motion\] speed must be > 0"):
+        load_spec({"foot": {"kind": "flat"}, "motion": {"speed": 0.0}})
+
+
+def _outside(p):
+    if p.gt is not None:
+        return p.gt
+    if p.ge is not None:
+        return p.ge - (1 if p.kind == "int" else 1e-3)
+    return None
+
+
+def test_every_catalog_bound_is_one_the_library_enforces():
+    """A value just outside a catalog bound fails where the library builds the point too, so
+    the spec refuses nothing the library would run (walk: tests/integrations)."""
+    import mudrft
+    from mudrft.sweep.catalog import FOOT_KINDS, MOTIONS, PARAMETERS
+    from mudrft.sweep.evaluate import build_foot, build_mud
+
+    checked = 0
+    for p in PARAMETERS.values():
+        for bad in (_outside(p), None if p.le is None else p.le + 0.1):
+            if bad is None or p.section == "motion":
+                continue
+            with pytest.raises(MudrftError):
+                if p.section == "foot":
+                    kind = next(k for k, names in FOOT_KINDS.items() if p.name in names)
+                    build_foot({"foot": kind, p.name: bad})
+                else:
+                    build_mud({"water_content": 0.25, "extrapolate": True, p.name: bad})
+            checked += 1
+    for kind, make in (("gait", mudrft.gait), ("load", lambda **kw: mudrft.LoadControl(**{"weight": 10.0, **kw}))):  # fmt: skip
+        for p in MOTIONS[kind].values():
+            for bad in (_outside(p), None if p.le is None else p.le + 0.1):
+                if bad is not None:
+                    with pytest.raises(MudrftError):
+                        make(**{p.name: bad})
+                    checked += 1
+    assert checked >= 45

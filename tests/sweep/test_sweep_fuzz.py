@@ -47,9 +47,9 @@ BAD = [
     (
         {
             "sweep": {"design": "lhs", "n": 4},
-            "foot": {**FLAT, "width": {"low": -1e308, "high": 1e308}},
+            "foot": {"kind": "morphing", "crank_offset": {"low": -1e308, "high": 1e308}},
         },
-        r"\[foot\] width: the range is too wide, high - low .* is not a finite number",
+        r"\[foot\] crank_offset: the range is too wide, high - low .* is not a finite number",
     ),
     # the maps of x = y failed with xarray's "axes don't match array" after the whole sweep
     (

@@ -1,4 +1,4 @@
-"""Design sweeps on Dask: many feet, muds and motions, labelled xarray results in Zarr.
+"""Design sweeps: many feet, muds and motions, labelled xarray results in a resumable Zarr store.
 
 ``mudrft.sweep`` is both this package and the function that runs a sweep
 (:func:`~mudrft.sweep.run.run_sweep`)::
@@ -9,15 +9,13 @@
 
 A spec (:func:`load_spec`, a TOML file) names the swept parameters of the foot, the mud
 and the motion, a grid or a sample (Latin hypercube, Sobol), and the metrics. Points are
-cut into chunks; each chunk is one Dask task (:func:`~.evaluate.evaluate_chunk`, plain
-library code) and one block of the Zarr store, written as it finishes, so a killed sweep
-resumes without recomputing finished chunks. A point that raises is recorded (NaN and its
-error) and the rest completes. :func:`plot_maps` draws a metric over two parameters, one
-panel per value of a third; :func:`sensitivity` ranks parameters by their effect.
+cut into chunks; each chunk is one task (in this process, or on Dask) and one block of the
+store, written as it finishes and verified when read, so a killed or damaged sweep
+resumes without recomputing whole chunks. :func:`plot_maps` draws a metric over two
+parameters, one panel per value of a third; :func:`sensitivity` ranks parameters.
 
-The package needs the ``sweep`` extra (``pip install 'mudrft[sweep]'``: dask[distributed],
-xarray, zarr); importing it does not import them, and ``import mudrft`` does not import it.
-It is an edge layer: it uses the core, the core never imports it.
+Running a sweep needs the ``sweep`` extra (``pip install 'mudrft[sweep]'``: Dask, xarray,
+Zarr); importing this package loads none of them, and ``import mudrft`` does not import it.
 """
 
 from __future__ import annotations
@@ -28,7 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, PARAMETERS
 from .design import Axis
+from .plot import plot_maps, sensitivity
+from .run import SweepWarning, run_sweep
 from .spec import DESIGNS, SweepSpec, load_spec
+from .store import load_result
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "DESIGNS",
@@ -38,50 +42,13 @@ __all__ = [
     "PARAMETERS",
     "Axis",
     "SweepSpec",
+    "SweepWarning",
     "load_result",
     "load_spec",
     "plot_maps",
     "run_sweep",
     "sensitivity",
 ]
-
-
-if TYPE_CHECKING:
-    # Type checkers see the functions themselves, with their signatures; at run time the
-    # wrappers below import them on first call, so that importing this package loads
-    # neither Dask, xarray nor zarr.
-    import xarray as xr
-    from matplotlib.figure import Figure
-
-    from .plot import plot_maps, sensitivity
-    from .run import run_sweep
-    from .store import load_result
-else:
-    # The wrappers forward whatever they are given: the signatures are the functions'.
-
-    def run_sweep(*args: Any, **kwargs: Any) -> xr.Dataset:
-        """Run a sweep; see :func:`mudrft.sweep.run.run_sweep` (loads Dask on first use)."""
-        from .run import run_sweep as run
-
-        return run(*args, **kwargs)
-
-    def load_result(*args: Any, **kwargs: Any) -> xr.Dataset:
-        """Open a sweep's store as a Dataset; see :func:`mudrft.sweep.store.load_result`."""
-        from .store import load_result as load
-
-        return load(*args, **kwargs)
-
-    def plot_maps(*args: Any, **kwargs: Any) -> Figure:
-        """Maps of a metric; see :func:`mudrft.sweep.plot.plot_maps`."""
-        from .plot import plot_maps as plot
-
-        return plot(*args, **kwargs)
-
-    def sensitivity(*args: Any, **kwargs: Any) -> list[tuple[str, float]]:
-        """Rank parameters by their effect on a metric; see :func:`mudrft.sweep.plot.sensitivity`."""
-        from .plot import sensitivity as sens
-
-        return sens(*args, **kwargs)
 
 
 class _CallableModule(types.ModuleType):

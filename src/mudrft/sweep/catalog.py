@@ -1,62 +1,43 @@
-"""What a sweep can vary and measure: the named parameters of the foot, the mud and the
-motion, and the metrics, each with its type and SI unit.
+"""What a sweep can vary and measure: the parameters of the foot, the mud and the motion,
+each with its type, SI unit and allowed range, and the metrics.
 
-A parameter's name is its key in the spec file (``[foot] radius = ...``) and its dimension
-(or coordinate) in the result; names are unique across the three sections, so a result
-reads ``ds.sel(radius=0.045, water_content=0.25)``.
+A parameter's name is its key in the spec (``[foot] radius = ...``) and its dimension or
+coordinate in the result, so a result reads ``ds.sel(radius=0.045, water_content=0.25)``.
+The range here is the one check of a value's range: a spec value outside it is refused
+before anything runs (the library checks again, with combinations, at each point).
 
 >>> PARAMETERS["radius"].unit, PARAMETERS["water_content"].section
 ('m', 'mud')
->>> foot_parameters("semi-sphere")
-('radius', 'height')
->>> metric_names("gait")[:2]
-('peak_support', 'max_suction')
+>>> PARAMETERS["width"].check("[foot] width", -0.05)
+Traceback (most recent call last):
+...
+mudrft._validation.MudrftError: [foot] width must be > 0 [m], got -0.05
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import math
+import operator
+from dataclasses import dataclass
+from typing import Any
 
-from ..feet.morphing.linkage import MorphingFootGeometry
-from ..feet.morphing.springs import TwoStageSpring
+from .._validation import MudrftError
+from ..parameters.registry import EXTRAPOLATION_RANGE
 
-__all__ = [
-    "FOOT_KINDS",
-    "METRICS",
-    "MOTION_KINDS",
-    "PARAMETERS",
-    "SECTIONS",
-    "Metric",
-    "Parameter",
-    "foot_parameters",
-    "metric_names",
-    "motion_parameters",
-]
+__all__ = ["FOOT_KINDS", "METRICS", "MOTIONS", "MOTION_KINDS", "PARAMETERS", "Metric", "Parameter"]
 
-#: The sections of a spec that hold parameters.
-SECTIONS = ("foot", "mud", "motion")
+_INT_LIMIT = 2**53  # integers an int64 coordinate and a float64 both hold exactly
+_OPS = {">": operator.gt, ">=": operator.ge, "<=": operator.le}
 
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named input a sweep may fix or vary.
+    """A named input of ``section`` ("foot", "mud", "motion") a sweep may fix or vary.
 
-    Attributes
-    ----------
-    name : str
-        Key in the spec and dimension name in the result.
-    section : {"foot", "mud", "motion"}
-        Where it belongs.
-    kind : {"float", "int", "str", "bool"}
-        Its type; only numbers can be ranges or sampled.
-    unit : str
-        SI unit (``"-"`` for none).
-    doc : str
-        One line for the documentation and the result's ``long_name``.
-    choices : tuple of str
-        Allowed values of a string parameter (empty: any).
-    sweepable : bool
-        False for options that must stay fixed over a sweep (``extrapolate``, ``labels``).
+    Its ``kind`` is "float", "int", "str" or "bool" (numbers only take ranges); its values
+    are ``> gt``, ``>= ge``, ``<= le`` [``unit``] where given, or one of ``choices``;
+    ``doc`` is the result's ``long_name``; options such as ``extrapolate`` are not
+    ``sweepable``.
     """
 
     name: str
@@ -64,13 +45,63 @@ class Parameter:
     kind: str
     unit: str
     doc: str
+    gt: float | None = None
+    ge: float | None = None
+    le: float | None = None
     choices: tuple[str, ...] = ()
     sweepable: bool = True
 
+    def check(self, where: str, v: object) -> Any:
+        """``v`` as a plain Python value of this parameter, or a MudrftError naming ``where``."""
+        if self.kind == "bool":
+            if not isinstance(v, bool):
+                raise MudrftError(f"{where} must be true or false, got {v!r}")
+            return v
+        if self.kind == "str":
+            if not isinstance(v, str) or (self.choices and v not in self.choices):
+                expected = f"one of {', '.join(self.choices)}" if self.choices else "a string"
+                raise MudrftError(f"{where} must be {expected}, got {v!r}")
+            return v
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            what = "an integer" if self.kind == "int" else "a number"
+            raise MudrftError(f"{where} must be {what} [{self.unit}], a list of them or a table {{low, high, num}}, got {v!r}")  # fmt: skip
+        if self.kind == "int" and not isinstance(v, int):
+            raise MudrftError(f"{where} must be an integer, got {v!r}")
+        if self.kind == "int" and abs(v) > _INT_LIMIT:
+            raise MudrftError(f"{where} must be an integer of magnitude at most 2**53, got {v!r}")
+        if not math.isfinite(v):
+            raise MudrftError(f"{where} must be finite [{self.unit}], got {v!r}")
+        for op, bound in ((">", self.gt), (">=", self.ge), ("<=", self.le)):
+            if bound is not None and not _OPS[op](v, bound):
+                raise MudrftError(f"{where} must be {op} {bound:g} [{self.unit}], got {v!r}")
+        return int(v) if self.kind == "int" else float(v)
 
-def _p(section: str, name: str, kind: str, unit: str, doc: str, **kw: object) -> Parameter:
-    return Parameter(name, section, kind, unit, doc, **kw)  # type: ignore[arg-type]
 
+def _p(section: str, name: str, unit: str, doc: str, kind: str = "float", **kw: Any) -> Parameter:
+    return Parameter(name, section, kind, unit, doc, **kw)
+
+
+_FOOT = [
+    _p("foot", "length", "m", "flat foot length L (along y)", gt=0.0),
+    _p("foot", "width", "m", "flat or semi-cylinder foot width W", gt=0.0),
+    _p("foot", "radius", "m", "semi-cylinder or semi-sphere radius R", gt=0.0),
+    _p("foot", "height", "m", "foot height above its tip", gt=0.0),
+    _p("foot", "mode", "-", "morphing foot mode", "str", choices=("morphing", "expanded", "retracted")),
+    _p("foot", "seal_length", "m", "morphing foot rim lift that breaks the seal", gt=0.0),
+]  # fmt: skip
+#: The morphing foot's geometry and springs (fields of MorphingFootGeometry, TwoStageSpring).
+_MORPHING = [
+    _p("foot", "n_pads", "-", "morphing foot number of pads", "int", ge=1),
+    *(_p("foot", k, "m", f"morphing foot {k.replace('_', ' ')}", gt=0.0) for k in (
+        "base_radius", "pivot_height", "column_radius", "pad_length", "pad_inner_width",
+        "pad_outer_width", "crank_length", "coupler_length", "soft_travel")),
+    _p("foot", "pole_radius", "m", "morphing foot pole radius", ge=0.0),
+    _p("foot", "crank_offset", "rad", "morphing foot crank offset"),
+    _p("foot", "retracted_angle", "rad", "morphing foot retracted angle", ge=0.0, le=math.pi / 2),
+    _p("foot", "expanded_angle", "rad", "morphing foot expanded angle", ge=0.0, le=math.pi / 2),
+    _p("foot", "soft_stiffness", "N/m", "morphing foot soft stiffness", gt=0.0),
+    _p("foot", "hard_stiffness", "N/m", "morphing foot hard stiffness", gt=0.0),
+]  # fmt: skip
 
 _MUD_FIELDS = {
     "alpha": "stiffness alpha of the immediate resistance",
@@ -85,146 +116,73 @@ _MUD_FIELDS = {
     "sigma_y": "yield stress sigma_y (limit of suction)",
     "nu": "switch width nu",
 }
-
-_FOOT = [
-    _p("foot", "length", "float", "m", "flat foot length L (along y)"),
-    _p("foot", "width", "float", "m", "flat or semi-cylinder foot width W"),
-    _p("foot", "radius", "float", "m", "semi-cylinder or semi-sphere radius R"),
-    _p("foot", "height", "float", "m", "foot height above its tip"),
-    _p(
-        "foot",
-        "mode",
-        "str",
-        "-",
-        "morphing foot mode",
-        choices=("morphing", "expanded", "retracted"),
-    ),
-    _p("foot", "seal_length", "float", "m", "morphing foot rim lift that breaks the seal"),
-]
-_MORPHING_UNITS = {"n_pads": "-", "crank_offset": "rad", "retracted_angle": "rad", "expanded_angle": "rad"}  # fmt: skip
-
-
-def _morphing_fields() -> list[Parameter]:
-    # the morphing foot's geometry and springs, by their dataclass fields (D30, D31)
-
-    out = []
-    for cls in (MorphingFootGeometry, TwoStageSpring):
-        for f in fields(cls):
-            if f.name in ("height",):
-                continue  # shared with the closed-form feet, listed above
-            unit = _MORPHING_UNITS.get(f.name, "N/m" if "stiffness" in f.name else "m")
-            kind = "int" if f.name == "n_pads" else "float"
-            out.append(_p("foot", f.name, kind, unit, f"morphing foot {f.name.replace('_', ' ')}"))
-    return out
-
-
-_MORPHING = _morphing_fields()
-
+_W_LOW, _W_HIGH = EXTRAPOLATION_RANGE  # paper_mud's widest range
 _MUD = [
-    _p("mud", "water_content", "float", "-", "water content W of the paper's mud"),
-    _p("mud", "mud_set", "str", "-", "a calibrated parameter set named in [mud.sets]"),
-    *(
-        _p("mud", f"{k}_scale", "float", "-", f"factor on the {doc} (both directions)")
-        for k, doc in _MUD_FIELDS.items()
-    ),
-    _p("mud", "thixotropy", "str", "-", "evaluation of eqs. (3), (5) (D15)", choices=("ode", "quasi-static")),
-    _p("mud", "clock", "str", "-", "quasi-static clock (D15)", choices=("contact", "retraction")),
-    _p("mud", "xi0", "float", "-", "initial structure xi(0)"),
-    _p("mud", "extrapolate", "bool", "-", "allow water contents outside the tables", sweepable=False),
-    _p("mud", "labels", "str", "-", "water content labels of the table rows", choices=("table", "text"), sweepable=False),
+    _p("mud", "water_content", "-", "water content W of the paper's mud", ge=_W_LOW, le=_W_HIGH),
+    _p("mud", "mud_set", "-", "a calibrated parameter set named in [mud.sets]", "str"),
+    *(_p("mud", f"{k}_scale", "-", f"factor on the {doc} (both directions)", gt=0.0) for k, doc in _MUD_FIELDS.items()),
+    _p("mud", "thixotropy", "-", "evaluation of eqs. (3), (5)", "str", choices=("ode", "quasi-static")),
+    _p("mud", "clock", "-", "quasi-static clock", "str", choices=("contact", "retraction")),
+    _p("mud", "xi0", "-", "initial structure xi(0)", ge=0.0, le=1.0),
+    _p("mud", "extrapolate", "-", "allow water contents outside the tables", "bool", sweepable=False),
+    _p("mud", "labels", "-", "water content labels of the table rows", "str", choices=("table", "text"), sweepable=False),
 ]  # fmt: skip
 
-#: Motions: ``gait`` (one stepping cycle, :func:`mudrft.gait`), ``load`` (a foot under a
-#: load, :class:`mudrft.LoadControl`) and ``walk`` (the MuJoCo biped; needs mudrft[mujoco]).
-MOTION_KINDS = ("gait", "load", "walk")
+#: The motions and their parameters: ``gait`` (one stepping cycle, :func:`mudrft.gait`),
+#: ``load`` (a foot under a load, :class:`mudrft.LoadControl`) and ``walk`` (the MuJoCo
+#: biped; needs mudrft[mujoco]).
+MOTIONS: dict[str, dict[str, Parameter]] = {
+    kind: {p.name: p for p in params}
+    for kind, params in {
+        "gait": [
+            _p("motion", "speed", "m/s", "gait speed", gt=0.0),
+            _p("motion", "depth", "m", "deepest tip depth of the gait", gt=0.0),
+            _p("motion", "stride", "m", "stride length", gt=0.0),
+            _p("motion", "slip", "-", "forward slip as a fraction of the stride", ge=0.0, le=1.0),
+            _p("motion", "sway", "-", "lateral sway as a fraction of the stride", ge=0.0, le=1.0),
+            _p("motion", "lift", "m", "tip height at the end of the swing", ge=0.0),
+            _p("motion", "dt", "s", "time step", gt=0.0),
+        ],
+        "load": [
+            _p("motion", "weight", "N", "load pressing the foot into the mud", gt=0.0),
+            _p("motion", "mass", "kg", "mass of the loaded body", gt=0.0),
+            _p("motion", "leg_stiffness", "N/m", "stiffness of a spring leg", gt=0.0),
+            _p("motion", "leg_damping", "N s/m", "damping of the spring leg", ge=0.0),
+            _p("motion", "foot_mass", "kg", "mass of the foot below a spring leg", gt=0.0),
+            _p("motion", "duration", "s", "simulated time", gt=0.0),
+            _p("motion", "dt", "s", "time step", gt=0.0),
+            _p("motion", "ramp", "s", "time over which the load rises", ge=0.0),
+        ],
+        "walk": [
+            _p("motion", "seconds", "s", "simulated walking time", gt=0.0),
+            _p("motion", "dt", "s", "physics time step", gt=0.0),
+            _p("motion", "speed", "m/s", "walking speed command", ge=0.0),
+            _p("motion", "step_time", "s", "duration of a step", gt=0.0),
+            _p("motion", "bottom", "m", "depth of the rigid bed under the mud", gt=0.0),
+        ],
+    }.items()
+}  # fmt: skip
+MOTION_KINDS = tuple(MOTIONS)
 
-_MOTION = {
-    "gait": [
-        _p("motion", "speed", "float", "m/s", "gait speed"),
-        _p("motion", "depth", "float", "m", "deepest tip depth of the gait"),
-        _p("motion", "stride", "float", "m", "stride length"),
-        _p("motion", "slip", "float", "-", "forward slip as a fraction of the stride"),
-        _p("motion", "sway", "float", "-", "lateral sway as a fraction of the stride"),
-        _p("motion", "lift", "float", "m", "tip height at the end of the swing"),
-        _p("motion", "dt", "float", "s", "time step"),
-    ],
-    "load": [
-        _p("motion", "weight", "float", "N", "load pressing the foot into the mud"),
-        _p("motion", "mass", "float", "kg", "mass of the loaded body"),
-        _p("motion", "leg_stiffness", "float", "N/m", "stiffness of a spring leg"),
-        _p("motion", "leg_damping", "float", "N s/m", "damping of the spring leg"),
-        _p("motion", "foot_mass", "float", "kg", "mass of the foot below a spring leg"),
-        _p("motion", "duration", "float", "s", "simulated time"),
-        _p("motion", "dt", "float", "s", "time step"),
-        _p("motion", "ramp", "float", "s", "time over which the load rises"),
-    ],
-    "walk": [
-        _p("motion", "seconds", "float", "s", "simulated walking time"),
-        _p("motion", "dt", "float", "s", "physics time step"),
-        _p("motion", "speed", "float", "m/s", "walking speed command"),
-        _p("motion", "step_time", "float", "s", "duration of a step"),
-        _p("motion", "bottom", "float", "m", "depth of the rigid bed under the mud"),
-    ],
+#: The foot and mud parameters by name, and each motion parameter as ``gait`` (or the first
+#: motion that has it) documents it.
+PARAMETERS: dict[str, Parameter] = {p.name: p for p in (*_FOOT, *_MORPHING, *_MUD)} | {
+    name: p for kind in reversed(MOTION_KINDS) for name, p in MOTIONS[kind].items()
 }
-
-
-def _catalog() -> dict[str, Parameter]:
-    out: dict[str, Parameter] = {}
-    for p in (*_FOOT, *_MORPHING, *_MUD, *(q for v in _MOTION.values() for q in v)):
-        if p.name in out and out[p.name] != p and p.section != "motion":
-            raise AssertionError(f"parameter {p.name} is defined twice")  # pragma: no cover
-        out.setdefault(p.name, p)
-    return out
-
-
-#: Every parameter by name (a motion parameter such as ``dt`` or ``speed`` appears once,
-#: with the documentation of the first motion that has it).
-PARAMETERS: dict[str, Parameter] = _catalog()
 
 #: The foot kinds and the parameters each accepts (a mesh file path accepts none).
 FOOT_KINDS: dict[str, tuple[str, ...]] = {
     "flat": ("length", "width", "height"),
     "semi-cylinder": ("radius", "width", "height"),
     "semi-sphere": ("radius", "height"),
-    "morphing": (
-        "mode",
-        "seal_length",
-        "height",
-        *(p.name for p in _MORPHING),
-    ),
+    "morphing": ("mode", "seal_length", "height", *(p.name for p in _MORPHING)),
 }
-
-
-def foot_parameters(kind: str) -> tuple[str, ...]:
-    """The parameters of a foot kind (none for a mesh file)."""
-    return FOOT_KINDS.get(kind, ())
-
-
-def motion_parameters(kind: str) -> tuple[str, ...]:
-    """The parameters of a motion kind (``gait``, ``load``, ``walk``)."""
-    return tuple(p.name for p in _MOTION[kind])
-
-
-def motion_parameter(kind: str, name: str) -> Parameter:
-    """The parameter ``name`` as the motion ``kind`` documents it."""
-    return next(p for p in _MOTION[kind] if p.name == name)
 
 
 @dataclass(frozen=True)
 class Metric:
-    """A number a sweep measures at every point.
-
-    Attributes
-    ----------
-    name : str
-        Variable name in the result.
-    unit : str
-        SI unit.
-    doc : str
-        One line (the result's ``long_name``).
-    key : str
-        Key of the metric in ``Result.metrics()`` or the walk summary.
-    """
+    """A number a sweep measures at every point: variable ``name`` [``unit``], read from
+    ``Result.metrics()`` (or the walk's summary) under ``key``."""
 
     name: str
     unit: str
@@ -255,14 +213,9 @@ _WALK = (
     Metric("min_torso_height", "m", "lowest torso height", "min_torso_height [m]"),
 )  # fmt: skip
 
-#: The metrics of each motion kind.
+#: The metrics of each motion kind, in their documented order.
 METRICS: dict[str, dict[str, Metric]] = {
     "gait": {m.name: m for m in _CYCLE},
     "load": {m.name: m for m in _CYCLE},
     "walk": {m.name: m for m in _WALK},
 }
-
-
-def metric_names(motion: str) -> tuple[str, ...]:
-    """The metrics a motion kind measures, in their documented order."""
-    return tuple(METRICS[motion])

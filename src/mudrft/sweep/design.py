@@ -1,12 +1,10 @@
-"""The points of a sweep and how they are cut into chunks (one chunk = one task = one
-block of the store).
+"""The points of a sweep and their chunks (one chunk = one task = one block of the store).
 
 A grid has one dimension per swept parameter; its chunks are blocks of about
-``points_per_task`` points, taken from the last dimensions first. A sample (Latin
-hypercube or scrambled Sobol, :mod:`scipy.stats.qmc`, seeded) has one dimension ``point``
-with every swept parameter a coordinate along it; its chunks are runs of consecutive
-points. Everything here is deterministic: the same spec gives the same points and chunks
-on any machine and for any number of workers, which is what lets a store be resumed.
+``points_per_task`` points, filled from the last dimension. A sample (Latin hypercube or
+scrambled Sobol, :mod:`scipy.stats.qmc`, seeded) has one dimension ``point``; its chunks
+are runs of points. The same spec gives the same points and chunks on any machine, so any
+cluster can resume any store.
 
 >>> d = Design("grid", (Axis("a", "float", values=np.arange(5.0)),
 ...                     Axis("b", "float", values=np.arange(4.0))), points_per_task=3)
@@ -27,31 +25,19 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["AUTO_TASKS", "MAX_POINTS_PER_TASK", "Axis", "Design"]
+__all__ = ["AUTO_TASKS", "MAX_POINTS_PER_TASK", "Axis", "Design", "block"]
 
-#: With ``points_per_task`` unset, a sweep is cut into about this many tasks ...
+#: With ``points_per_task`` unset, a sweep is cut into about this many tasks of at most
+#: ``MAX_POINTS_PER_TASK`` points (a few seconds of a closed-form foot's gaits).
 AUTO_TASKS = 32
-#: ... of at most this many points (a few seconds of work for a closed-form foot's gait).
 MAX_POINTS_PER_TASK = 64
 
 
 @dataclass(frozen=True, eq=False)
 class Axis:
-    """A swept parameter: grid values, or a range a sample draws from.
-
-    Attributes
-    ----------
-    name : str
-        The parameter (dimension or coordinate name).
-    kind : {"float", "int", "str"}
-        Its type.
-    values : ndarray or None
-        Grid values (None for a sample's range).
-    low, high : float or None
-        The range [SI] (a grid range keeps it for the record).
-    log : bool
-        Values spaced (or drawn) uniformly in the logarithm.
-    """
+    """A swept parameter ``name`` of ``kind`` ("float", "int", "str"): grid ``values``, or
+    a range ``[low, high]`` [SI] a sample draws from (a grid range keeps it for the
+    record), spaced or drawn uniformly in the logarithm with ``log``."""
 
     name: str
     kind: str
@@ -61,7 +47,7 @@ class Axis:
     log: bool = False
 
     def as_json(self) -> dict[str, Any]:
-        """The axis as plain data (for the spec's identity and the result's attributes)."""
+        """The axis as plain data (the spec's identity, the result's attributes)."""
         out: dict[str, Any] = {"name": self.name, "kind": self.kind}
         if self.values is not None:
             out["values"] = [v.item() if hasattr(v, "item") else v for v in self.values]
@@ -79,26 +65,21 @@ class Axis:
         return lo + u * (hi - lo)
 
 
+def block(shape: tuple[int, ...], chunks: tuple[int, ...], i: int) -> tuple[slice, ...]:
+    """The block of chunk ``i`` of an array of ``shape`` cut into ``chunks`` (C order)."""
+    index = np.unravel_index(int(i), [math.ceil(s / c) for s, c in zip(shape, chunks, strict=True)])  # fmt: skip
+    return tuple(slice(int(k) * c, min((int(k) + 1) * c, s)) for k, c, s in zip(index, chunks, shape, strict=True))  # fmt: skip
+
+
 def _plain(v: object) -> object:
     return v.item() if isinstance(v, np.generic) else v
 
 
 @dataclass(frozen=True, eq=False)
 class Design:
-    """Points and chunks of a sweep (the part of :class:`~.spec.SweepSpec` that is geometry).
-
-    Parameters
-    ----------
-    design : {"grid", "lhs", "sobol"}
-        Grid or sample.
-    axes : tuple of Axis
-        The swept parameters.
-    n, seed : int or None
-        Sample size and seed (samples only).
-    points_per_task : int
-        Target points per chunk; 0 chooses ``ceil(points / AUTO_TASKS)`` clipped to
-        [1, MAX_POINTS_PER_TASK].
-    """
+    """Points and chunks of a sweep: a ``design`` ("grid", "lhs", "sobol") over ``axes``,
+    ``n`` points from ``seed`` for a sample, about ``points_per_task`` points a chunk (0:
+    ``ceil(points / AUTO_TASKS)`` clipped to [1, MAX_POINTS_PER_TASK])."""
 
     design: str
     axes: tuple[Axis, ...]
@@ -106,7 +87,6 @@ class Design:
     seed: int | None = None
     points_per_task: int = 0
 
-    # -- points ---------------------------------------------------------------------------
     @property
     def dims(self) -> tuple[str, ...]:
         """Dimensions of the result: the swept parameters (grid) or ``("point",)``."""
@@ -147,7 +127,6 @@ class Design:
             return {a.name: ((a.name,), a.values) for a in self.axes}  # type: ignore[misc]
         return {name: (("point",), v) for name, v in self.sample.items()}
 
-    # -- chunks ---------------------------------------------------------------------------
     @property
     def chunk_size(self) -> int:
         """Target points per chunk (and per task)."""
@@ -183,11 +162,7 @@ class Design:
 
     def chunk_slices(self, i: int) -> tuple[slice, ...]:
         """The block of chunk ``i`` (C order over the chunk grid)."""
-        index = np.unravel_index(int(i), self.chunk_grid)
-        return tuple(
-            slice(int(k) * c, min((int(k) + 1) * c, s))
-            for k, c, s in zip(index, self.chunks, self.shape, strict=True)
-        )
+        return block(self.shape, self.chunks, i)
 
     def chunk_shape(self, i: int) -> tuple[int, ...]:
         """Shape of the block of chunk ``i``."""

@@ -1,14 +1,11 @@
 """One point of a sweep, and one chunk of points: plain functions of the library, no Dask.
 
-A task runs :func:`evaluate_chunk` on a worker (or in the calling process for a serial
-sweep): it builds the foot, the mud and the motion of each point from the spec's fixed
-values and the point's swept values, runs :func:`mudrft.simulate` (or the MuJoCo walk),
-and keeps the requested metrics. A point that raises is recorded, not fatal: its metrics
-are NaN and its error is ``"ExceptionType: message"``; the rest of the chunk goes on.
-Warnings are collected per chunk (each distinct message once) for the caller to report,
-so that a sweep behaves the same whatever the warning filters of the process it runs in
-(Python's warning capture is per process: a worker should run one task at a time, as the
-local cluster's single-thread workers do, for the warnings to land on the right chunk).
+A task runs :func:`evaluate_chunk` on a worker (or in the calling process): it builds the
+foot, the mud and the motion of each point, runs :func:`mudrft.simulate` (or the MuJoCo
+walk) and keeps the requested metrics. A point that raises is recorded, not fatal: its
+metrics are NaN and its error is ``"ExceptionType: message"``. Warnings are collected per
+chunk, each distinct message once (warning capture is per process, so a worker runs one
+task at a time, as the local cluster's single-thread workers do).
 
 >>> import numpy as np
 >>> ctx = {"fixed": {"foot": "flat", "water_content": 0.25}, "motion": "gait",
@@ -33,7 +30,7 @@ from ..parameters import Mud, MudParameters, paper_mud
 from ..simulation import LoadControl, simulate
 from ..terrains import MudTerrain
 from ..trajectories import gait
-from . import catalog as C
+from .catalog import FOOT_KINDS, METRICS, MOTIONS, PARAMETERS
 
 __all__ = [
     "ChunkResult",
@@ -46,8 +43,7 @@ __all__ = [
 
 
 class SweepContext(TypedDict):
-    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`): plain data
-    and the mesh, no Dask. Values of the spec's tables are TOML values, hence ``Any``."""
+    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`), no Dask."""
 
     #: The fixed parameters by name (SI; ``foot`` is the foot kind).
     fixed: dict[str, Any]
@@ -63,19 +59,9 @@ class SweepContext(TypedDict):
 
 @dataclass(frozen=True)
 class ChunkResult:
-    """What one task returns.
-
-    Attributes
-    ----------
-    values : ndarray, shape (points, metrics)
-        The metrics of each point (NaN where the point failed).
-    errors : list of str
-        ``""`` for a point that ran, else ``"ExceptionType: message"``.
-    warnings : tuple of str
-        The distinct warning messages raised while the chunk ran.
-    seconds : float
-        Wall time of the chunk in the task [s] (for the overhead figures).
-    """
+    """What one task returns: ``values`` (points, metrics), NaN where a point failed;
+    ``errors``, ``""`` for a point that ran, else ``"ExceptionType: message"``; the distinct
+    ``warnings``; the chunk's wall time ``seconds`` [s]."""
 
     values: np.ndarray
     errors: list[str]
@@ -87,7 +73,7 @@ def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
     return {
         k: v
         for k, v in values.items()
-        if k in C.PARAMETERS and C.PARAMETERS[k].section == section and k != "foot"
+        if k in PARAMETERS and PARAMETERS[k].section == section and k != "foot"
     }
 
 
@@ -102,23 +88,12 @@ def build_foot(
     key = (kind, tuple(sorted(params.items())))
     if cache is not None and key in cache:
         return cache[key]
-    allowed = C.foot_parameters(kind)
+    allowed = FOOT_KINDS[kind]
     extra = [k for k in params if k not in allowed]
     if extra:
-        raise MudrftError(
-            f"the {kind} foot has no parameter {extra[0]!r}; its parameters are "
-            f"{', '.join(allowed)}"
-        )
-
-    if kind == "morphing":
-        foot = feet.MorphingFoot(**params)
-    else:
-        cls = {
-            "flat": feet.Flat,
-            "semi-cylinder": feet.SemiCylinder,
-            "semi-sphere": feet.SemiSphere,
-        }
-        foot = cls[kind](**params)
+        raise MudrftError(f"the {kind} foot has no parameter {extra[0]!r}; its parameters are {', '.join(allowed)}")  # fmt: skip
+    cls = {"flat": feet.Flat, "semi-cylinder": feet.SemiCylinder, "semi-sphere": feet.SemiSphere}
+    foot = feet.MorphingFoot(**params) if kind == "morphing" else cls[kind](**params)
     if cache is not None:
         cache[key] = foot
     return foot
@@ -128,7 +103,6 @@ def build_mud(
     values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
 ) -> MudTerrain:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
-
     params = _section(values, "mud")
     key = tuple(sorted(params.items()))
     if cache is not None and key in cache:
@@ -160,34 +134,16 @@ def build_mud(
     return terrain
 
 
-def _motion(values: dict[str, Any], names: tuple[str, ...]) -> dict[str, Any]:
-    return {k: values[k] for k in names if k in values}
-
-
 def evaluate_point(
     context: SweepContext, point: dict[str, Any], *, cache: dict | None = None
 ) -> dict[str, float]:
-    """The metrics of one point.
-
-    Parameters
-    ----------
-    context : dict
-        :meth:`SweepSpec.context`: fixed values, motion, metrics, mud sets, mesh.
-    point : dict
-        The swept values of the point, by parameter name.
-    cache : dict or None, keyword-only
-        Feet and muds already built in this task (by their parameters).
-
-    Returns
-    -------
-    dict
-        Metric name -> value (SI).
-    """
+    """The metrics of one point (name -> SI value): the ``context``'s fixed values with the
+    ``point``'s swept ones; ``cache`` keeps the feet and muds a task has built."""
     values = {**context["fixed"], **point}
     motion = context["motion"]
     foot = build_foot(values, mesh=context.get("mesh"), cache=None if cache is None else cache.setdefault("feet", {}))  # fmt: skip
     mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=None if cache is None else cache.setdefault("muds", {}))  # fmt: skip
-    kw = _motion(values, C.motion_parameters(motion))
+    kw = {k: values[k] for k in MOTIONS[motion] if k in values}
     if motion == "walk":
         from ..integrations.walk import walk
 
@@ -199,23 +155,11 @@ def evaluate_point(
         else:
             result = simulate(foot, mud, LoadControl(**kw))
         found = result.metrics()
-    return {name: float(found[C.METRICS[motion][name].key]) for name in context["metrics"]}
+    return {name: float(found[METRICS[motion][name].key]) for name in context["metrics"]}
 
 
 def evaluate_chunk(context: SweepContext, points: list[dict[str, Any]]) -> ChunkResult:
-    """The metrics of a chunk of points; a point that raises is recorded, not fatal.
-
-    Parameters
-    ----------
-    context : dict
-        :meth:`SweepSpec.context`.
-    points : list of dict
-        The swept values of each point.
-
-    Returns
-    -------
-    ChunkResult
-    """
+    """The metrics of a chunk of ``points``; a point that raises is recorded, not fatal."""
     t0 = time.perf_counter()
     metrics = context["metrics"]
     values = np.full((len(points), len(metrics)), np.nan)

@@ -1,10 +1,4 @@
-"""What a designer reads off a sweep: maps of a metric, and which parameter matters most.
-
-:func:`plot_maps` draws a metric over two swept parameters, one panel per value of a third
-(the other parameters held at a chosen value); failed points show grey. For a sample it
-draws the points coloured by the metric, one panel per third of the third parameter's
-range. :func:`sensitivity` ranks the swept parameters by their effect on a metric.
-"""
+"""What a designer reads off a sweep: maps of a metric, and which parameter matters most."""
 
 from __future__ import annotations
 
@@ -24,7 +18,7 @@ __all__ = ["plot_maps", "sensitivity"]
 
 
 def _swept(ds: xr.Dataset) -> list[str]:
-    """Swept parameters: the grid's dimensions, or the sample's coordinates along point."""
+    """The grid's dimensions, or the sample's coordinates along ``point``."""
     if "point" in ds.dims:
         return [str(c) for c in ds.coords if ds[c].dims == ("point",) and c != "point"]
     return [str(d) for d in ds.dims]
@@ -74,6 +68,9 @@ def plot_maps(
     select: dict[str, Any] | None = None,
 ) -> Figure:
     """Maps of ``metric`` over ``x`` and ``y``, one panel per value of ``panels``.
+
+    Failed points show grey. A sample's points are drawn coloured by the metric, one panel
+    per third of the ``panels`` parameter's range.
 
     Parameters
     ----------

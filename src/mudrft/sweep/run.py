@@ -1,44 +1,47 @@
-"""Run a sweep: chunks of points as tasks on Dask, results into the store as they finish.
+"""Run a sweep: chunks of points as tasks, in this process or on Dask, each chunk written to
+the store as it finishes.
 
-The calling process (the *driver*) makes the store, submits one task per unfinished chunk
-(:func:`~.evaluate.evaluate_chunk`, a plain function) to a ``dask.distributed`` client,
-and writes each chunk's block when its task returns, so workers need no access to the
-store and a real cluster needs no shared file system. At most a few tasks per worker are
-in flight; the rest are submitted as others finish, so a sweep of 1e6 points holds only a
-window of its points in memory. Without Dask (``scheduler="serial"``) the driver runs the
-same chunks itself, in order.
+The calling process (the *driver*) makes the store and writes each chunk's block when its
+task returns, so workers need no access to the store and a cluster needs no shared file
+system. On Dask at most a few tasks per worker are in flight; the rest are submitted as
+others finish, so a sweep of 1e6 points holds only a window of its points in memory.
 """
 
 from __future__ import annotations
 
+import importlib
 import logging
 import math
+import multiprocessing
 import os
 import shutil
-import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
-from .._progress import Progress, make_progress
+import numpy as np
+
+from .._progress import make_progress
 from .._validation import MudrftError
 from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
+from .store import StoreLike, chunk_status, create_store, load_result, open_store, write_chunk
 
 if TYPE_CHECKING:
     import distributed
-    import numpy as np
     import xarray as xr
     import zarr
-    from numpy.typing import NDArray
 
-    from .store import StoreLike
-
-__all__ = ["SweepWarning", "run_sweep"]
+__all__ = ["CLUSTER_START_S", "SweepWarning", "run_sweep"]
 
 logger = logging.getLogger("mudrft.sweep")
+
+#: What a local cluster costs before it computes: starting its worker processes, importing
+#: mudrft in them, their first points, and closing it [s]: 4.2-5.7 s for two workers on two
+#: shared cores (``benchmarks/bench_sweep.py --startup``, ``cluster_cost_s``; docs/guide/sweep.md).
+CLUSTER_START_S = 5.0
 
 
 class SweepWarning(UserWarning):
@@ -46,8 +49,6 @@ class SweepWarning(UserWarning):
 
 
 def _require(module: str) -> ModuleType:
-    import importlib
-
     try:
         return importlib.import_module(module)
     except ImportError as exc:
@@ -58,7 +59,6 @@ def _require(module: str) -> ModuleType:
         ) from exc
 
 
-#: What a script that runs a sweep on the local cluster needs (decision D116).
 _MAIN_GUARD = (
     "each worker process of the local cluster starts by importing the script that started "
     "the sweep, so a script must call mudrft.sweep(...) under 'if __name__ == \"__main__\":' "
@@ -67,51 +67,13 @@ _MAIN_GUARD = (
 
 
 def _check_not_bootstrapping() -> None:
-    """Refuse a sweep started while a new process imports its parent's main script.
-
-    Dask's worker processes are spawned: each imports the ``__main__`` module of the
-    process that made the cluster. A script that calls :func:`run_sweep` at its top level,
-    without the ``__main__`` guard, would start the same sweep again in every worker (it
-    met the driver's store and failed with "store exists", and the driver only saw
-    "Nanny failed to start"). :mod:`multiprocessing` marks that import phase with
-    ``current_process()._inheriting`` (its own check of the same mistake reads it).
-    """
-    import multiprocessing
-
+    """Refuse a sweep started while a spawned worker imports its parent's main script (an
+    unguarded script would start the sweep again in every worker); multiprocessing marks
+    that phase with ``current_process()._inheriting``."""
     if getattr(multiprocessing.current_process(), "_inheriting", False):
         raise MudrftError(
             "mudrft.sweep was called while a new worker process was importing the script "
             f"that started it: {_MAIN_GUARD}"
-        )
-
-
-class _Bar:
-    """Progress of the points: a text bar through the ``mudrft`` logger, or a callable."""
-
-    def __init__(self, report: Callable[[float], None] | None, total: int, done: int) -> None:
-        self.report, self.total, self.done, self.failed = report, total, done, 0
-        self.start_done, self.t0, self.last = done, time.perf_counter(), -math.inf
-        self.step = 5.0
-
-    def add(self, points: int, failed: int) -> None:
-        self.done += points
-        self.failed += failed
-        if self.report is None:
-            return
-        frac = self.done / self.total if self.total else 1.0
-        if not isinstance(self.report, Progress):
-            self.report(frac)
-            return
-        pct = 100 * frac
-        if pct < self.last + self.step and self.done < self.total:
-            return
-        self.last = pct
-        rate = (self.done - self.start_done) / max(time.perf_counter() - self.t0, 1e-9)
-        left = (self.total - self.done) / rate if rate > 0 else math.inf
-        bar = "#" * int(frac * 20)
-        self.report.note(
-            f"  sweep [{bar:<20s}] {pct:3.0f} % ({self.done} of {self.total} points, "
-            f"{self.failed} failed, {rate:.3g} points/s, {left:.0f} s left)"
         )
 
 
@@ -158,9 +120,27 @@ def _run_serial(
     context: SweepContext,
     pending: list[int],
     done: Callable[[int, ChunkResult], None],
-) -> None:
-    for i in pending:
-        done(i, evaluate_chunk(context, spec.chunk_points(i)))
+    *,
+    cpus: int | None = None,
+) -> list[int]:
+    """Run ``pending`` chunks here, in order; return those left to a cluster.
+
+    With ``cpus``, stop once the points left would take longer serially than a local
+    cluster of ``cpus`` workers takes to start and compute them: the time left at the last
+    chunk's rate is over ``CLUSTER_START_S * cpus / (cpus - 1)``. The first chunk, which
+    pays the process's warm-up, does not count.
+    """
+    for k, i in enumerate(pending):
+        result = evaluate_chunk(context, spec.chunk_points(i))
+        done(i, result)
+        rest = pending[k + 1 :]
+        if cpus is None or cpus < 2 or k == 0 or not rest:
+            continue
+        left = result.seconds / len(result.errors) * sum(math.prod(spec.chunk_shape(j)) for j in rest)  # fmt: skip
+        if left > CLUSTER_START_S * cpus / (cpus - 1):
+            logger.info("sweep: about %.0f s of points left; they go to a local cluster of %d workers", left, cpus)  # fmt: skip
+            return rest
+    return []
 
 
 def _run_dask(
@@ -173,7 +153,6 @@ def _run_dask(
     from distributed import as_completed
 
     n_workers = max(len(client.scheduler_info(n_workers=-1).get("workers", {})), 1)
-    window = 4 * n_workers + 4  # tasks in flight: enough to keep workers busy
     ctx = client.scatter(context, broadcast=True)
     todo = iter(pending)
     futures: dict[distributed.Future[ChunkResult], int] = {}
@@ -186,6 +165,7 @@ def _run_dask(
         futures[f] = i
         return f
 
+    window = 4 * n_workers + 4  # tasks in flight: enough to keep the workers busy
     queue = as_completed([f for _ in range(window) if (f := submit()) is not None])
     try:
         for fut in queue:
@@ -193,11 +173,10 @@ def _run_dask(
             result = fut.result()
             fut.release()
             done(i, result)
-            nxt = submit()
-            if nxt is not None:
+            if (nxt := submit()) is not None:
                 queue.add(nxt)
     finally:
-        for f in futures:  # interrupted: do not leave work behind on the cluster
+        for f in futures:  # interrupted: leave no work behind on the cluster
             f.cancel()
 
 
@@ -225,12 +204,12 @@ def run_sweep(
         Run the tasks on this client (it is left open).
     scheduler : str or None, keyword-only
         Address of a running Dask scheduler (``"tcp://host:8786"``), or ``"serial"`` to
-        run every chunk in this process without Dask. Default: a local cluster.
+        run every chunk in this process without Dask.
     workers : int or None, keyword-only
-        Worker processes of the local cluster (one thread each); default: the CPU count.
+        Run on a local cluster of this many worker processes (one thread each).
     resume : bool, keyword-only
         Continue an existing store made from the same spec, computing only the chunks it
-        lacks (a missing store starts a new sweep).
+        lacks and those found damaged (a missing store starts a new sweep).
     overwrite : bool, keyword-only
         Replace an existing store (only a mudrft sweep store is ever removed).
     progress : bool or callable, keyword-only
@@ -241,17 +220,25 @@ def run_sweep(
     -------
     xarray.Dataset
         One dimension per swept parameter (or ``point`` for a sample), one variable per
-        metric, ``error``; units, the mudrft version, the spec and the parameter sources
-        in the attributes (see :mod:`mudrft.sweep.store`).
+        metric, ``error``; units, the spec, the parameter sources and ``failed_points`` in
+        the attributes (:mod:`mudrft.sweep.store`). A point that raised has NaN metrics and
+        its ``error``, and is warned about (:class:`SweepWarning`).
 
     Raises
     ------
     MudrftError
         For a bad spec, an existing store without ``resume``/``overwrite``, a store made
-        from another spec, a missing optional package (``pip install 'mudrft[sweep]'``), a
-        local cluster whose worker processes do not start, or a call made while a worker
-        process imports the script that started the sweep: a script that runs a sweep on
-        the local cluster calls it under ``if __name__ == "__main__":`` (decision D116).
+        from another spec or whose metadata is gone, a missing optional package
+        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start.
+
+    Notes
+    -----
+    With none of ``client``, ``scheduler`` and ``workers``, chunks run in this process
+    until the points left would take longer than a local cluster's start-up
+    (:data:`CLUSTER_START_S`) would cost; the rest then run on a local cluster of one
+    worker per CPU (never with one CPU). A sweep of a few hundred closed-form gait points
+    thus starts no cluster. A script that may start one calls the sweep under
+    ``if __name__ == "__main__":`` (the workers import it).
     """
     _check_not_bootstrapping()
     spec = load_spec(spec)
@@ -261,42 +248,43 @@ def run_sweep(
         _require("mujoco")
     if client is not None and scheduler is not None:
         raise MudrftError("give client or scheduler, not both")
+    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+        raise MudrftError(f"scheduler (CLI: --scheduler) must be a Dask scheduler address such as 'tcp://host:8786', or 'serial', got {scheduler!r}")  # fmt: skip
     if workers is not None and (client is not None or scheduler is not None):
-        raise MudrftError("workers sets the size of the local cluster; it cannot go with client or scheduler")  # fmt: skip
+        raise MudrftError("workers (CLI: --workers) sets the size of a local cluster; it cannot go with client or scheduler (--scheduler)")  # fmt: skip
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
-        raise MudrftError(f"workers must be an integer >= 1, got {workers!r}")
+        raise MudrftError(f"workers (CLI: --workers) must be an integer >= 1, got {workers!r}")
     _check_options(store, client, resume=resume, overwrite=overwrite, progress=progress)
-    from . import store as S
-
-    group, done_mask, created = _prepare(S, store, spec, resume=resume, overwrite=overwrite)
-    pending = [i for i in range(spec.n_chunks) if not done_mask[i]]
-    n_done = sum(math.prod(spec.chunk_shape(i)) for i in range(spec.n_chunks) if done_mask[i])
-    bar = _Bar(make_progress(progress, "sweep"), spec.n_points, n_done)
+    group, pending, created = _prepare(store, spec, resume=resume, overwrite=overwrite)
+    report = make_progress(progress, "sweep")
+    n_done = spec.n_points - sum(math.prod(spec.chunk_shape(i)) for i in pending)
     seen: dict[str, int] = {}
     written = 0
 
     def finished(i: int, result: ChunkResult) -> None:
-        nonlocal written
-        S.write_chunk(group, spec, i, result)
+        nonlocal written, n_done
+        write_chunk(group, spec, i, result)
         written += 1
+        n_done += len(result.errors)
         for w in result.warnings:
             seen[w] = seen.get(w, 0) + 1
-        bar.add(len(result.errors), sum(1 for e in result.errors if e))
+        if report is not None:
+            report(n_done / spec.n_points)
 
     if pending:
         context = spec.context()
+        auto = client is None and scheduler is None and workers is None
         try:
-            if scheduler == "serial":
-                _run_serial(spec, context, pending, finished)
-            else:
+            if scheduler == "serial" or auto:
+                cpus = (os.cpu_count() or 1) if auto else None
+                pending = _run_serial(spec, context, pending, finished, cpus=cpus)
+            if pending:
                 _require("distributed")
                 with _client(client, scheduler, workers) as c:
                     _run_dask(c, spec, context, pending, finished)
         except BaseException:
-            # a store this call made and nothing was written to (an unreachable scheduler,
-            # a cluster that does not start, an interrupt before the first chunk) is removed:
-            # a failed run leaves nothing behind; a store with finished chunks is kept for
-            # ``resume``
+            # a store this call made and nothing was written to is removed (a failed run
+            # leaves nothing behind); a store with finished chunks is kept for resume
             if created is not None and written == 0:
                 shutil.rmtree(created, ignore_errors=True)
             elif created is not None or resume:
@@ -304,21 +292,24 @@ def run_sweep(
             raise
     for message, chunks in seen.items():
         warnings.warn(f"in {chunks} chunk(s) of the sweep: {message}", SweepWarning, stacklevel=2)
-    failed = S.mark_complete(group, spec)
-    ds = S.load_result(group.store)
-    if failed and failed == spec.n_points:  # a fixed value wrong for every point, often
-        first = next(str(e) for e in ds["error"].values.ravel() if e)
-        warnings.warn(
-            f"every point of the sweep failed ({failed}); the first error: {first}",
-            SweepWarning,
-            stacklevel=2,
-        )
+    group.attrs["complete"] = 1
+    ds = load_result(group.store)
+    errors = ds["error"].values.ravel()
+    failed = int(np.count_nonzero(errors != ""))
+    group.attrs["failed_points"] = ds.attrs["failed_points"] = failed
+    if failed:
+        first = next(e for e in errors if e)
+        head = (
+            f"every point of the sweep failed ({failed})"
+            if failed == spec.n_points
+            else f"{failed} of {spec.n_points} points of the sweep failed (NaN metrics; each error in 'error')"
+        )  # fmt: skip
+        warnings.warn(f"{head}; the first error: {first}", SweepWarning, stacklevel=2)
     return ds
 
 
 def _check_options(store: object, client: object, **flags: object) -> None:
-    """The options numpy, zarr or Dask would have failed on deep inside (or taken
-    silently: ``resume="no"`` resumed), named."""
+    """The options zarr or Dask would fail on deep inside (or take silently), named."""
     for name in ("resume", "overwrite"):
         if not isinstance(flags[name], bool):
             raise MudrftError(f"{name} must be True or False, got {flags[name]!r}")
@@ -338,10 +329,9 @@ def _check_options(store: object, client: object, **flags: object) -> None:
 
 
 def _prepare(
-    S: ModuleType, store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
-) -> tuple[zarr.Group, NDArray[np.bool_], str | os.PathLike[str] | None]:
-    import numpy as np
-
+    store: StoreLike | None, spec: SweepSpec, *, resume: bool, overwrite: bool
+) -> tuple[zarr.Group, list[int], str | os.PathLike[str] | None]:
+    """The store's group, the chunks to compute, and the path of a store made here."""
     if resume and overwrite:
         raise MudrftError("give resume or overwrite, not both")
     if resume and store is None:
@@ -351,8 +341,17 @@ def _prepare(
 
         store = zarr.storage.MemoryStore()
     elif resume and isinstance(store, str | os.PathLike) and os.path.exists(store):
-        group = S.open_store(store, spec)
-        return group, S.done_chunks(group, spec), None
-    group = S.create_store(store, spec, overwrite=overwrite)
+        group = open_store(store, spec)
+        done, damaged, _ = chunk_status(group)
+        if damaged:
+            logger.warning(
+                "sweep: %d damaged chunk(s) of %s are computed again: %s",
+                len(damaged), os.fspath(store), "; ".join(f"chunk {i}: {w}" for i, w in list(damaged.items())[:5]),
+            )  # fmt: skip
+        pending = [i for i in range(spec.n_chunks) if not done[i]]
+        if pending:
+            group.attrs["complete"] = 0
+        return group, pending, None
+    group = create_store(store, spec, overwrite=overwrite)
     created = store if isinstance(store, str | os.PathLike) else None
-    return group, np.zeros(spec.n_chunks, dtype=bool), created
+    return group, list(range(spec.n_chunks)), created

@@ -1,25 +1,8 @@
-"""The sweep spec: a TOML file (or a dict of the same shape) read, checked and resolved.
+"""The sweep spec: a TOML file (or a dict of the same shape) read into dataclasses.
 
-A spec names a design (a grid, or a Latin hypercube or Sobol sample), the parameters of the
-foot, the mud and the motion (each fixed, or swept), the metrics and how the result is
-plotted. Every mistake is reported before anything runs, naming the key::
-
-    [sweep]
-    design = "grid"                     # or "lhs", "sobol" (then n = ..., seed = ...)
-    metrics = ["peak_support", "max_suction"]
-
-    [foot]
-    kind = "semi-cylinder"
-    radius = [0.03, 0.045, 0.06]        # a list: grid values
-
-    [mud]
-    water_content = { low = 0.25, high = 0.45, num = 5 }   # a range
-
-    [motion]
-    kind = "gait"
-    speed = 0.2                         # a scalar: fixed
-
-See the README's library section and ``examples/sweep_example.toml`` for every option.
+Every mistake is an error naming the key, before anything runs: an unknown section, key,
+parameter or metric, a value of the wrong type or outside its range, an empty range.
+``examples/sweep_example.toml`` shows every option.
 
 >>> spec = load_spec({"foot": {"kind": "flat", "width": [0.05, 0.065]},
 ...                   "mud": {"water_content": {"low": 0.25, "high": 0.45, "num": 3}}})
@@ -35,10 +18,11 @@ import json
 import math
 import os
 import tomllib
+import typing
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 import numpy as np
 
@@ -46,55 +30,134 @@ from .._validation import MudrftError
 from ..feet import MeshFoot
 from ..feet.mesh import UP_AXES
 from ..units import SCALE
-from . import catalog as C
+from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, MOTIONS, PARAMETERS, Parameter
 from .design import Axis, Design
 
 if TYPE_CHECKING:
     from .evaluate import SweepContext
 
-__all__ = ["DESIGNS", "SweepSpec", "load_spec"]
+__all__ = ["DESIGNS", "MAX_POINTS", "SweepSpec", "load_spec"]
 
 #: The designs of a sweep.
 DESIGNS = ("grid", "lhs", "sobol")
-_SECTIONS = ("sweep", "foot", "mud", "motion", "plot")
-_SWEEP_KEYS = ("design", "n", "seed", "metrics", "points_per_task")
-_PLOT_KEYS = ("x", "y", "panels", "metrics")
-#: Largest number of points of one sweep (1e7; the issue's maps have 1e4-1e6).
+#: Largest number of points of one sweep.
 MAX_POINTS = 10_000_000
-_INT_MIN, _INT_MAX = -(2**53), 2**53  # integer values an int64 coordinate and a float hold
+_MESH_SUFFIXES = (".stl", ".obj", ".ply")
 
 
+# -- the tables of a spec, as dataclasses -----------------------------------------------------
+# A field's type is checked by _table; ``metadata={"ge": k}`` bounds an integer.
+@dataclass(frozen=True)
+class Options:
+    """``[sweep]``: the design, sample size and seed, metrics, points per task."""
+
+    design: Literal["grid", "lhs", "sobol"] = "grid"
+    n: int | None = field(default=None, metadata={"ge": 1})
+    seed: int | None = field(default=None, metadata={"ge": 0})
+    metrics: list[str] | str | None = None
+    points_per_task: int | None = field(default=None, metadata={"ge": 1})
+
+    def __post_init__(self) -> None:
+        if self.design == "grid":
+            for key in ("n", "seed"):
+                if getattr(self, key) is not None:
+                    raise MudrftError(f"[sweep] {key} is for sample designs (lhs, sobol), not a grid")  # fmt: skip
+        elif self.n is None:
+            raise MudrftError(f"[sweep] n (the number of points) is required for design = {self.design!r}")  # fmt: skip
+        elif self.design == "sobol" and self.n & (self.n - 1):
+            raise MudrftError(
+                f"[sweep] n must be a power of 2 for a Sobol sample (its balance properties), got "
+                f"{self.n}; use {1 << (self.n - 1).bit_length()} or design = 'lhs'"
+            )
+
+
+@dataclass(frozen=True)
+class Range:
+    """A parameter's range ``{low, high, num, log}``; low and high are checked as its values."""
+
+    low: Any
+    high: Any
+    num: int | None = field(default=None, metadata={"ge": 2})
+    log: bool = False
+
+
+@dataclass(frozen=True)
+class MudSet:
+    """``[mud.sets.NAME]``: parameter JSON files of ``mudrft calibrate --out``."""
+
+    vertical: str
+    horizontal: str
+
+
+@dataclass(frozen=True)
+class PlotOptions:
+    """``[plot]``: the maps' swept parameters and metrics (names)."""
+
+    x: str | None = None
+    y: str | None = None
+    panels: str | None = None
+    metrics: list[str] | str | None = None
+
+
+_SECTIONS = ("sweep", "foot", "mud", "motion", "plot")
+_T = TypeVar("_T")
+
+
+def _unknown(where: str, key: str, allowed: Iterable[str]) -> MudrftError:
+    near = difflib.get_close_matches(str(key), list(allowed), n=1)
+    hint = f" (did you mean {near[0]!r}?)" if near else ""
+    return MudrftError(f"{where} {key}: unknown key{hint}; expected one of {', '.join(allowed)}")
+
+
+def _check_type(where: str, value: object, hint: Any, ge: int | None) -> None:
+    options = [h for h in typing.get_args(hint) if h is not type(None)] or [hint]
+    if typing.get_origin(hint) is Literal:
+        if value not in options:
+            raise MudrftError(f"{where} must be one of {', '.join(options)}, got {value!r}")
+        return
+    for h in options:
+        if h is Any or (h is bool and isinstance(value, bool)):
+            return
+        if h is int and isinstance(value, int) and not isinstance(value, bool):
+            if ge is not None and value < ge:
+                break
+            return
+        if h is str and isinstance(value, str):
+            return
+        if typing.get_origin(h) is list and isinstance(value, list) and value:
+            if all(isinstance(v, str) for v in value):
+                return
+    names = {int: "an integer", bool: "true or false", str: "a string"}
+    what = " or ".join(names.get(h, "a non-empty list of strings") for h in options)
+    bound = f" >= {ge}" if ge is not None else ""
+    raise MudrftError(f"{where} must be {what}{bound}, got {value!r}")
+
+
+def _table(cls: type[_T], raw: object, where: str) -> _T:
+    """``raw`` (a TOML table) as a ``cls``: unknown keys, missing keys and types named."""
+    if not isinstance(raw, Mapping):
+        raise MudrftError(f"{where} must be a table, got {type(raw).__name__}: {raw!r}")
+    hints = typing.get_type_hints(cls)
+    names = [f.name for f in fields(cls)]  # type: ignore[arg-type]
+    for key in raw:
+        if key not in names:
+            raise _unknown(where, key, names)
+    for f in fields(cls):  # type: ignore[arg-type]
+        if f.name in raw:
+            _check_type(f"{where} {f.name}", raw[f.name], hints[f.name], f.metadata.get("ge"))
+        elif f.default is MISSING:
+            raise MudrftError(f"{where} needs {f.name}, it is missing")
+    return cls(**raw)
+
+
+# -- the resolved spec ------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class SweepSpec(Design):
-    """A checked, resolved sweep spec (made by :func:`load_spec`).
-
-    Attributes
-    ----------
-    design : {"grid", "lhs", "sobol"}
-        How points are chosen.
-    axes : tuple of Axis
-        The swept parameters, in spec order (foot, mud, motion).
-    fixed : dict
-        The fixed parameters by name (SI; ``foot`` is the foot kind).
-    motion : {"gait", "load", "walk"}
-        What the foot does at every point.
-    metrics : tuple of str
-        The metrics measured.
-    n, seed : int or None
-        Sample size and seed (sample designs).
-    points_per_task : int
-        Target number of points per task (and per chunk of the store).
-    mud_sets : dict
-        Calibrated sets by name: ``{"vertical": {...}, "horizontal": {...}, "source": str}``.
-    mesh : MeshFoot or None
-        The mesh foot when ``[foot] kind`` is a mesh file.
-    plot : dict
-        ``x``, ``y``, ``panels``, ``metrics`` of the maps (names; may be absent).
-    text : str
-        The spec as given (TOML text, or JSON of a dict), kept in the result.
-    where : str
-        Where it came from (a path or ``"<dict>"``), for messages.
-    """
+    """A checked, resolved sweep spec (made by :func:`load_spec`): the points and chunks
+    (:class:`~.design.Design`, axes in spec order), the ``motion`` and ``metrics``, the
+    ``fixed`` parameters (SI; ``foot`` is the kind or mesh file), calibrated ``mud_sets``
+    (``{"vertical": {...}, "horizontal": {...}, "source": str}``), the ``mesh`` foot, the
+    maps' ``plot`` names, and the spec's ``text`` and where it came from."""
 
     motion: str = "gait"
     metrics: tuple[str, ...] = ()
@@ -115,56 +178,42 @@ class SweepSpec(Design):
             "mesh": self.mesh,
         }
 
+    def parameter(self, name: str) -> Parameter:
+        """The catalog entry of a parameter of this spec (a motion's own for motion names)."""
+        return MOTIONS[self.motion].get(name) or PARAMETERS[name]
+
     def identity(self) -> str:
-        """A hash of everything that decides the values (not the plot): equal specs, equal
-        stores; a store made from another spec is not resumed."""
+        """A hash of everything that decides the values (not the plot): a store made from
+        another spec is not resumed."""
         mesh = None
         if self.mesh is not None:
             h = hashlib.sha256(np.ascontiguousarray(self.mesh.vertices).tobytes())
             h.update(np.ascontiguousarray(self.mesh.faces).tobytes())
             mesh = h.hexdigest()
-        doc = {
-            "design": self.design,
-            "n": self.n,
-            "seed": self.seed,
+        names = ("design", "n", "seed", "fixed", "motion", "metrics", "points_per_task", "chunks")
+        doc = {k: getattr(self, k) for k in names} | {
             "axes": [a.as_json() for a in self.axes],
-            "fixed": self.fixed,
-            "motion": self.motion,
-            "metrics": self.metrics,
-            "points_per_task": self.points_per_task,
-            "chunks": self.chunks,
             "mud_sets": {k: {d: v[d] for d in ("vertical", "horizontal")} for k, v in self.mud_sets.items()},
             "mesh": mesh,
         }  # fmt: skip
         return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()
 
 
-# -- reading --------------------------------------------------------------------------------
 def load_spec(spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec) -> SweepSpec:
-    """Read and check a sweep spec.
-
-    Parameters
-    ----------
-    spec : path-like, dict or SweepSpec
-        A TOML file, a dict of the same shape (``{"foot": {...}, "mud": {...}, ...}``) or
-        an already loaded spec (returned as is).
-
-    Returns
-    -------
-    SweepSpec
+    """Read and check a sweep spec: a TOML file, a dict of the same shape
+    (``{"foot": {...}, "mud": {...}, ...}``) or a loaded spec (returned as is).
 
     Raises
     ------
     MudrftError
-        For an unreadable or malformed file, an unknown section, parameter or metric, a
-        value of the wrong type, an empty range, ... naming the key.
+        For an unreadable or malformed file, an unknown section, key, parameter or metric,
+        a value of the wrong type or outside its range, an empty range, ... naming the key.
     """
     if isinstance(spec, SweepSpec):
         return spec
     if isinstance(spec, Mapping):
-        data = dict(spec)
-        text = json.dumps(data, indent=1, sort_keys=False, default=str)
-        return _resolve(data, text=text, where="<dict>", base=Path.cwd())
+        text = json.dumps(dict(spec), indent=1, default=str)
+        return _resolve(dict(spec), text=text, where="<dict>", base=Path.cwd())
     if not isinstance(spec, str | os.PathLike):
         raise MudrftError(
             f"spec must be a TOML file path, a dict or a SweepSpec, got {type(spec).__name__}"
@@ -183,13 +232,7 @@ def load_spec(spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec) -> S
     return _resolve(data, text=text, where=str(path), base=path.parent)
 
 
-def _unknown(where: str, key: str, allowed: Iterable[str]) -> MudrftError:
-    near = difflib.get_close_matches(key, list(allowed), n=1)
-    hint = f" (did you mean {near[0]!r}?)" if near else ""
-    return MudrftError(f"{where} {key}: unknown key{hint}; expected one of {', '.join(allowed)}")
-
-
-def _table(data: Mapping[str, Any], name: str) -> dict[str, Any]:
+def _section(data: Mapping[str, Any], name: str) -> dict[str, Any]:
     value = data.get(name, {})
     if not isinstance(value, Mapping):
         raise MudrftError(f"[{name}] must be a table, got {type(value).__name__}: {value!r}")
@@ -202,65 +245,54 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
             near = difflib.get_close_matches(str(key), _SECTIONS, n=1)
             hint = f" (did you mean [{near[0]}]?)" if near else ""
             raise MudrftError(f"unknown section [{key}]{hint}; expected {', '.join(f'[{s}]' for s in _SECTIONS)}")  # fmt: skip
-    run, foot, mud, motion, plot = (_table(data, s) for s in _SECTIONS)
-    for key in run:
-        if key not in _SWEEP_KEYS:
-            raise _unknown("[sweep]", key, _SWEEP_KEYS)
-    design = run.get("design", "grid")
-    if design not in DESIGNS:
-        raise MudrftError(f"[sweep] design must be one of {', '.join(DESIGNS)}, got {design!r}")
-    n, seed = _sample_size(run, design)
+    opts = _table(Options, data.get("sweep", {}), "[sweep]")
+    foot, mud, motion = (_section(data, s) for s in ("foot", "mud", "motion"))
     motion_kind = motion.pop("kind", "gait")
-    if motion_kind not in C.MOTION_KINDS:
-        raise MudrftError(f"[motion] kind must be one of {', '.join(C.MOTION_KINDS)}, got {motion_kind!r}")  # fmt: skip
-    metrics = _metrics(run.get("metrics"), motion_kind, "[sweep] metrics")
+    if motion_kind not in MOTION_KINDS:
+        raise MudrftError(f"[motion] kind must be one of {', '.join(MOTION_KINDS)}, got {motion_kind!r}")  # fmt: skip
+    metrics = _metrics(opts.metrics, motion_kind, "[sweep] metrics") or tuple(METRICS[motion_kind])
 
     fixed: dict[str, Any] = {}
     axes: list[Axis] = []
-    kinds, mesh = _foot_kind(foot, design, base, fixed, axes)
-    allowed = sorted({p for k in kinds for p in C.foot_parameters(k)})
-    for key in ("unit", "up") if mesh is not None else ():
-        foot.pop(key, None)  # read by _foot_kind
+    kinds, mesh = _foot_kind(foot, opts.design, base, fixed, axes)
+    allowed = sorted({p for k in kinds for p in FOOT_KINDS.get(k, ())})
     for key, raw in foot.items():
         if key not in allowed:
-            what = f"the {kinds[0]} foot" if len(kinds) == 1 else f"the feet {', '.join(kinds)}"
-            if not allowed:
+            if mesh is not None:
                 raise MudrftError(f"[foot] {key}: a mesh foot has no parameters (only unit and up)")
-            raise MudrftError(
-                f"[foot] {key}: not a parameter of {what}; expected one of {', '.join(allowed)}"
-            )
-        _add("foot", key, raw, design, fixed, axes)
-    mud_sets = _mud_sets(mud.pop("sets", None), base)
-    mud_allowed = [p.name for p in C.PARAMETERS.values() if p.section == "mud"]
+            what = f"the {kinds[0]} foot" if len(kinds) == 1 else f"the feet {', '.join(kinds)}"
+            raise MudrftError(f"[foot] {key}: not a parameter of {what}; expected one of {', '.join(allowed)}")  # fmt: skip
+        _add(f"[foot] {key}", PARAMETERS[key], raw, opts.design, fixed, axes)
+    sets = mud.pop("sets", None)
+    if sets is not None and (not isinstance(sets, Mapping) or not sets):
+        raise MudrftError(f"[mud.sets] must be a table of named sets, got {sets!r}")
+    mud_sets = {str(k): _mud_set(f"[mud.sets.{k}]", v, base) for k, v in (sets or {}).items()}
+    mud_allowed = [p.name for p in PARAMETERS.values() if p.section == "mud"]
     for key, raw in mud.items():
         if key not in mud_allowed:
             raise _unknown("[mud]", key, [*mud_allowed, "sets"])
-        _add("mud", key, raw, design, fixed, axes)
+        _add(f"[mud] {key}", PARAMETERS[key], raw, opts.design, fixed, axes)
     _check_mud_source(fixed, axes, mud_sets)
-    motion_allowed = C.motion_parameters(motion_kind)
     for key, raw in motion.items():
-        if key not in motion_allowed:
-            raise _unknown(f"[motion] ({motion_kind})", key, ["kind", *motion_allowed])
-        _add("motion", key, raw, design, fixed, axes, motion_kind=motion_kind)
+        if key not in MOTIONS[motion_kind]:
+            raise _unknown(f"[motion] ({motion_kind})", key, ["kind", *MOTIONS[motion_kind]])
+        _add(f"[motion] {key}", MOTIONS[motion_kind][key], raw, opts.design, fixed, axes)
     if motion_kind == "load" and "weight" not in motion:
-        raise MudrftError(
-            "[motion] weight is required for kind = 'load' (the load on the foot [N])"
-        )
-    if design != "grid" and not axes:
-        raise MudrftError(f"[sweep] design = {design!r} needs at least one range to sample")
-    ppt = _points_per_task(run.get("points_per_task"), motion_kind)
+        raise MudrftError("[motion] weight is required for kind = 'load' (the load on the foot [N])")  # fmt: skip
+    if opts.design != "grid" and not axes:
+        raise MudrftError(f"[sweep] design = {opts.design!r} needs at least one range to sample")
     spec = SweepSpec(
-        design=design,
+        design=opts.design,
         axes=tuple(axes),
-        n=n,
-        seed=seed,
-        points_per_task=ppt,
+        n=opts.n,
+        seed=None if opts.design == "grid" else opts.seed or 0,
+        points_per_task=opts.points_per_task or (1 if motion_kind == "walk" else 0),
         motion=motion_kind,
         metrics=metrics,
         fixed=fixed,
         mud_sets=mud_sets,
         mesh=mesh,
-        plot=_plot(plot, axes, metrics),
+        plot=_plot(_table(PlotOptions, data.get("plot", {}), "[plot]"), axes, metrics),
         text=text,
         where=where,
     )
@@ -272,51 +304,17 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
     return spec
 
 
-def _integer(where: str, value: object, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise MudrftError(f"{where} must be an integer >= {low}, got {value!r}")
-    return int(value)
-
-
-def _sample_size(run: dict[str, Any], design: str) -> tuple[int | None, int | None]:
-    if design == "grid":
-        for key in ("n", "seed"):
-            if key in run:
-                raise MudrftError(f"[sweep] {key} is for sample designs (lhs, sobol), not a grid")
-        return None, None
-    if "n" not in run:
-        raise MudrftError(f"[sweep] n (the number of points) is required for design = {design!r}")
-    n = _integer("[sweep] n", run["n"], 1)
-    if design == "sobol" and n & (n - 1):
-        raise MudrftError(
-            f"[sweep] n must be a power of 2 for a Sobol sample (its balance properties), got "
-            f"{n}; use {1 << (n - 1).bit_length()} or design = 'lhs'"
-        )
-    return n, _integer("[sweep] seed", run.get("seed", 0), 0)
-
-
-def _metrics(value: object, motion: str, where: str) -> tuple[str, ...]:
-    known = C.metric_names(motion)
+def _metrics(value: list[str] | str | None, motion: str, where: str) -> tuple[str, ...]:
     if value is None:
-        return known
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        raise MudrftError(f"{where} must be a non-empty list of metric names, got {value!r}")
-    for v in value:
+        return ()
+    names = [value] if isinstance(value, str) else value
+    known = tuple(METRICS[motion])
+    for v in names:
         if v not in known:
-            raise MudrftError(
-                f"{where}: unknown metric {v!r} for motion {motion!r}; expected {', '.join(known)}"
-            )
-    if len(set(value)) != len(value):
+            raise MudrftError(f"{where}: unknown metric {v!r} for motion {motion!r}; expected {', '.join(known)}")  # fmt: skip
+    if len(set(names)) != len(names):
         raise MudrftError(f"{where} lists a metric twice: {value!r}")
-    return tuple(value)
-
-
-def _points_per_task(value: object, motion: str) -> int:
-    if value is not None:
-        return _integer("[sweep] points_per_task", value, 1)
-    return 0 if motion != "walk" else 1  # 0: chosen from the size (Design.points_per_task)
+    return tuple(names)
 
 
 def _foot_kind(
@@ -328,12 +326,10 @@ def _foot_kind(
             "file (.stl/.obj/.ply), or a list of the named feet"
         )
     kind = foot.pop("kind")
-    names = tuple(C.FOOT_KINDS)
-    if isinstance(kind, str) and kind.lower().endswith((".stl", ".obj", ".ply")):
-        unit = foot.get("unit", "m")
+    if isinstance(kind, str) and kind.lower().endswith(_MESH_SUFFIXES):
+        unit, up = foot.pop("unit", "m"), foot.pop("up", "z")
         if not isinstance(unit, str) or unit.strip() not in SCALE["length"]:
             raise MudrftError(f'[foot] unit must be the length unit of the mesh file, a string such as "m" or "mm" (one of {", ".join(sorted(SCALE["length"]))}), got {unit!r}')  # fmt: skip
-        up = foot.get("up", "z")
         if not isinstance(up, str) or up not in UP_AXES:
             axes_ = ", ".join(f'"{a}"' for a in UP_AXES)
             raise MudrftError(f"[foot] up must be the mesh file's up axis, a string, one of {axes_} (y for a y-up export), got {up!r}")  # fmt: skip
@@ -341,15 +337,15 @@ def _foot_kind(
         try:
             mesh = MeshFoot.from_file(path, unit=unit, up=up)
         except MudrftError as exc:
-            raise MudrftError(f"[foot] kind: {exc}") from None
+            raise MudrftError(f"[foot] kind = {kind!r}: {exc}") from None
         fixed["foot"] = str(path)
         return ("mesh",), mesh
     for key in ("unit", "up"):
         if key in foot:
             raise MudrftError(f"[foot] {key} applies to mesh files only (.stl/.obj/.ply)")
     values = kind if isinstance(kind, list) else [kind]
-    if not values or not all(isinstance(v, str) and v in names for v in values):
-        raise MudrftError(f"[foot] kind must be one of {', '.join(names)} or a mesh file, or a list of the named feet, got {kind!r}")  # fmt: skip
+    if not values or not all(isinstance(v, str) and v in FOOT_KINDS for v in values):
+        raise MudrftError(f"[foot] kind must be one of {', '.join(FOOT_KINDS)} or a mesh file, or a list of the named feet, got {kind!r}")  # fmt: skip
     if isinstance(kind, list):
         if design != "grid":
             raise MudrftError(f"[foot] kind: a list of feet is for grids; design = {design!r} samples ranges only")  # fmt: skip
@@ -361,42 +357,29 @@ def _foot_kind(
     return tuple(values), None
 
 
-def _mud_sets(value: object, base: Path) -> dict[str, dict[str, Any]]:
-    if value is None:
-        return {}
-    if not isinstance(value, Mapping) or not value:
-        raise MudrftError(f"[mud.sets] must be a table of named sets, got {value!r}")
+def _mud_set(where: str, entry: object, base: Path) -> dict[str, Any]:
     from ..calibration.persistence import load_parameters
 
-    out: dict[str, dict[str, Any]] = {}
-    for name, entry in value.items():
-        where = f"[mud.sets.{name}]"
-        if not isinstance(entry, Mapping):
-            raise MudrftError(f"{where} must be a table with vertical = FILE and horizontal = FILE, got {entry!r}")  # fmt: skip
-        for key in entry:
-            if key not in ("vertical", "horizontal"):
-                raise _unknown(where, key, ("vertical", "horizontal"))
-        sets: dict[str, Any] = {}
-        sources = []
-        for d in ("vertical", "horizontal"):
-            if not isinstance(entry.get(d), str):
-                raise MudrftError(f"{where} {d} must be the path of a parameter JSON (mudrft calibrate --out), got {entry.get(d)!r}")  # fmt: skip
-            path = Path(entry[d]) if Path(entry[d]).is_absolute() else base / entry[d]
-            try:
-                p = load_parameters(path)
-            except FileNotFoundError:
-                raise MudrftError(f"{where} {d}: {str(path)!r}: no such file") from None
-            except (MudrftError, OSError) as exc:
-                raise MudrftError(f"{where} {d}: {exc}") from None
-            if p.direction not in ("", d):
-                raise MudrftError(
-                    f"{where} {d}: {str(path)!r} holds a {p.direction} parameter set, expected "
-                    f"a {d} one (were vertical and horizontal swapped?)"
-                )
-            sets[d] = {k: float(v) for k, v in p.as_dict().items()}
-            sources.append(f"{d}: {p.source or path}")
-        sets["source"] = "; ".join(sources)
-        out[str(name)] = sets
+    files = _table(MudSet, entry, where)
+    out: dict[str, Any] = {}
+    sources = []
+    for d in ("vertical", "horizontal"):
+        name = getattr(files, d)
+        path = Path(name) if Path(name).is_absolute() else base / name
+        try:
+            p = load_parameters(path)
+        except FileNotFoundError:
+            raise MudrftError(f"{where} {d}: {str(path)!r}: no such file") from None
+        except (MudrftError, OSError) as exc:
+            raise MudrftError(f"{where} {d}: {exc}") from None
+        if p.direction not in ("", d):
+            raise MudrftError(
+                f"{where} {d}: {str(path)!r} holds a {p.direction} parameter set, expected "
+                f"a {d} one (were vertical and horizontal swapped?)"
+            )
+        out[d] = {k: float(v) for k, v in p.as_dict().items()}
+        sources.append(f"{d}: {p.source or path}")
+    out["source"] = "; ".join(sources)
     return out
 
 
@@ -420,113 +403,67 @@ def _check_mud_source(fixed: dict[str, Any], axes: list[Axis], sets: dict[str, A
 
 
 def _add(
-    section: str,
-    key: str,
-    raw: object,
-    design: str,
-    fixed: dict[str, Any],
-    axes: list[Axis],
-    *,
-    motion_kind: str = "gait",
+    where: str, p: Parameter, raw: object, design: str, fixed: dict[str, Any], axes: list[Axis]
 ) -> None:
-    p = C.motion_parameter(motion_kind, key) if section == "motion" else C.PARAMETERS[key]
-    where = f"[{section}] {key}"
-    if isinstance(raw, Mapping):
-        axes.append(_range(where, p, dict(raw), design))
-    elif isinstance(raw, list):
-        if not p.sweepable:
-            raise MudrftError(f"{where} cannot be swept; give one value")
+    """A parameter's value: a scalar (fixed), a list (grid values) or a range."""
+    if not isinstance(raw, Mapping | list):
+        fixed[p.name] = p.check(where, raw)
+        return
+    if not p.sweepable:
+        raise MudrftError(f"{where} cannot be swept; give one value")
+    if isinstance(raw, list):
         if design != "grid":
             raise MudrftError(f"{where}: a list of values is for grids; design = {design!r} draws from ranges: give {{low = ..., high = ...}}")  # fmt: skip
         if not raw:
             raise MudrftError(f"{where}: empty list; give at least one value")
-        values = [_scalar(where, p, v) for v in raw]
+        values = [p.check(where, v) for v in raw]
         if len(set(values)) != len(values):
             raise MudrftError(f"{where} lists a value twice: {raw!r}")
-        dtype = object if p.kind == "str" else (np.int64 if p.kind == "int" else float)
-        axes.append(Axis(key, p.kind, values=np.array(values, dtype=dtype)))
-    else:
-        fixed[key] = _scalar(where, p, raw)
-
-
-def _scalar(where: str, p: C.Parameter, v: object) -> Any:
-    if p.kind == "bool":
-        if not isinstance(v, bool):
-            raise MudrftError(f"{where} must be true or false, got {v!r}")
-        return v
-    if p.kind == "str":
-        if not isinstance(v, str):
-            raise MudrftError(f"{where} must be a string, got {v!r}")
-        if p.choices and v not in p.choices:
-            raise MudrftError(f"{where} must be one of {', '.join(p.choices)}, got {v!r}")
-        return v
-    if isinstance(v, bool) or not isinstance(v, int | float):
-        kinds = "an integer" if p.kind == "int" else "a number"
-        raise MudrftError(f"{where} must be {kinds} [{p.unit}], a list of them or a table {{low, high, num}}, got {v!r}")  # fmt: skip
-    if p.kind == "int" and not isinstance(v, int):
-        raise MudrftError(f"{where} must be an integer, got {v!r}")
-    if p.kind == "int" and not _INT_MIN <= v <= _INT_MAX:  # int64 coordinates, exact in float64
-        raise MudrftError(f"{where} must be an integer of magnitude at most 2**53, got {v!r}")
-    if not math.isfinite(v):
-        raise MudrftError(f"{where} must be finite [{p.unit}], got {v!r}")
-    return int(v) if p.kind == "int" else float(v)
-
-
-def _range(where: str, p: C.Parameter, raw: dict[str, Any], design: str) -> Axis:
-    if p.kind not in ("float", "int") or not p.sweepable:
+        dtype = {"str": object, "int": np.int64}.get(p.kind, float)
+        axes.append(Axis(p.name, p.kind, values=np.array(values, dtype=dtype)))
+        return
+    if p.kind not in ("float", "int"):
         raise MudrftError(f"{where}: only numeric parameters take a range {{low, high}}")
-    for key in raw:
-        if key not in ("low", "high", "num", "log"):
-            raise _unknown(where, key, ("low", "high", "num", "log"))
-    for key in ("low", "high"):
-        if key not in raw:
-            raise MudrftError(f"{where}: a range needs low and high, {key} is missing")
-    low = _scalar(f"{where} low", p, raw["low"])
-    high = _scalar(f"{where} high", p, raw["high"])
+    r = _table(Range, raw, where)
+    low, high = p.check(f"{where} low", r.low), p.check(f"{where} high", r.high)
     if not high > low:
         raise MudrftError(f"{where}: empty range, high ({high!r}) must be > low ({low!r})")
     if not math.isfinite(high - low):  # points drawn or spaced in it would be inf or NaN
         raise MudrftError(f"{where}: the range is too wide, high - low ({high!r} - {low!r}) is not a finite number")  # fmt: skip
-    log = raw.get("log", False)
-    if not isinstance(log, bool):
-        raise MudrftError(f"{where} log must be true or false, got {log!r}")
-    if log and p.kind == "int":  # drawn uniformly: log = true was ignored
+    if r.log and p.kind == "int":
         raise MudrftError(f"{where}: log applies to real ranges; an integer range is drawn uniformly")  # fmt: skip
-    if log and low <= 0:
+    if r.log and low <= 0:
         raise MudrftError(f"{where}: a log range needs low > 0, got {low!r}")
-    if design == "grid":
-        if p.kind == "int":
-            raise MudrftError(f"{where}: an integer parameter takes a list of values in a grid")
-        if "num" not in raw:
-            raise MudrftError(f"{where}: a grid range needs num (the number of values)")
-        num = _integer(f"{where} num", raw["num"], 2)
-        if num > MAX_POINTS:  # before the values are made (num = 1e12 took 7 TiB)
-            raise MudrftError(f"{where} num = {num:.3g} values, more than a sweep's limit of {MAX_POINTS:.0e} points; split it into several sweeps")  # fmt: skip
-        values = np.geomspace(low, high, num) if log else np.linspace(low, high, num)
-        return Axis(p.name, p.kind, values=values, low=low, high=high, log=log)
-    if "num" in raw:
-        raise MudrftError(f"{where}: num is for grids; a {design} sample has [sweep] n points")
-    return Axis(p.name, p.kind, low=low, high=high, log=log)
+    if design != "grid":
+        if r.num is not None:
+            raise MudrftError(f"{where}: num is for grids; a {design} sample has [sweep] n points")
+        axes.append(Axis(p.name, p.kind, low=low, high=high, log=r.log))
+        return
+    if p.kind == "int":
+        raise MudrftError(f"{where}: an integer parameter takes a list of values in a grid")
+    if r.num is None:
+        raise MudrftError(f"{where}: a grid range needs num (the number of values)")
+    if r.num > MAX_POINTS:  # before the values are made (num = 1e12 took 7 TiB)
+        raise MudrftError(f"{where} num = {r.num:.3g} values, more than a sweep's limit of {MAX_POINTS:.0e} points; split it into several sweeps")  # fmt: skip
+    grid = (np.geomspace if r.log else np.linspace)(low, high, r.num)
+    axes.append(Axis(p.name, p.kind, values=grid, low=low, high=high, log=r.log))
 
 
-def _plot(plot: dict[str, Any], axes: list[Axis], metrics: tuple[str, ...]) -> dict[str, Any]:
+def _plot(plot: PlotOptions, axes: list[Axis], metrics: tuple[str, ...]) -> dict[str, Any]:
     names = [a.name for a in axes]
     out: dict[str, Any] = {}
-    for key, value in plot.items():
-        if key not in _PLOT_KEYS:
-            raise _unknown("[plot]", key, _PLOT_KEYS)
-        if key == "metrics":
-            bad = [m for m in (value if isinstance(value, list) else [value]) if m not in metrics]
-            if bad or not value:
-                raise MudrftError(f"[plot] metrics must name measured metrics ({', '.join(metrics)}), got {value!r}")  # fmt: skip
-            out[key] = tuple(value) if isinstance(value, list) else (value,)
-        elif value not in names:
+    for key in ("x", "y", "panels"):
+        value = getattr(plot, key)
+        if value is not None and value not in names:
             raise MudrftError(f"[plot] {key} must be a swept parameter ({', '.join(names) or 'none'}), got {value!r}")  # fmt: skip
-        else:
+        if value is not None:
+            for other, v in out.items():
+                if v == value:
+                    raise MudrftError(f"[plot] {other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
             out[key] = value
-    used = [k for k in ("x", "y", "panels") if k in out]
-    for i, key in enumerate(used):
-        for other in used[:i]:
-            if out[key] == out[other]:
-                raise MudrftError(f"[plot] {other} and {key} are both {out[key]!r}; a map needs a different parameter for each")  # fmt: skip
+    if plot.metrics is not None:
+        chosen = [plot.metrics] if isinstance(plot.metrics, str) else plot.metrics
+        if any(m not in metrics for m in chosen):
+            raise MudrftError(f"[plot] metrics must name measured metrics ({', '.join(metrics)}), got {plot.metrics!r}")  # fmt: skip
+        out["metrics"] = tuple(chosen)
     return out

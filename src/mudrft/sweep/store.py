@@ -1,38 +1,36 @@
-"""The result store: a labelled xarray Dataset in Zarr, written one chunk at a time.
+"""The result store: a labelled Dataset in Zarr v3, written a chunk at a time, verified
+when read.
 
-Layout (see the README's library section):
+Layout (format 2): the result's dimensions and coordinates (README); one float64 variable
+per metric, ``error``, ``done`` (uint8, 1 once the point's chunk is stored) and
+``checksum`` (uint32 along ``chunk``: the CRC-32 of each chunk's metrics and errors);
+``units`` and ``long_name`` everywhere; the dataset's attributes hold the mudrft version,
+the spec and its identity hash, the design, the parameter sources, the names of every
+array (``arrays``, written last), ``complete`` and ``failed_points``.
 
-* dimensions: one per swept parameter of a grid (``radius``, ``water_content``, ...) with
-  its values as coordinate; a sample has one dimension ``point`` and every swept
-  parameter is a coordinate along it;
-* fixed parameters: scalar coordinates (``foot = "flat"``, ``speed = 0.2``);
-* variables: one float64 per metric (NaN where the point failed or has not run), ``error``
-  (str: ``""`` or ``"ExceptionType: message"``) and ``done`` (uint8: 1 once the point's
-  chunk is written);
-* attributes of every coordinate and variable: ``units``, ``long_name`` (and ``section``
-  for parameters); of the dataset: the mudrft version, the spec (text, identity hash),
-  the design, the parameter sources, ``complete`` and ``failed_points``.
-
-One chunk of the store is one task's block of points. The block of every metric and of
-``error`` is written first, ``done`` last; zarr-python writes each chunk file atomically
-(a temporary file renamed), so a sweep killed at any moment leaves a store in which every
-chunk whose ``done`` is set is whole, and a resumed sweep recomputes the others only.
+A chunk's metrics and errors are written first, then its checksum, then ``done``, each
+chunk file atomically (zarr-python), so a kill leaves every chunk whole or not done. A
+chunk ``done`` vouches for is trusted only when it decodes and matches its checksum; one
+overwritten, truncated, with bytes flipped or removed is *damaged*: :func:`load_result`
+names it, and a resumed sweep computes it again.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
+import zlib
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeAlias, cast
+from typing import TYPE_CHECKING, Any, Literal, TypeAlias, cast
 
 import numpy as np
-from numpy.typing import NDArray
 
 from .. import __version__
 from .._validation import MudrftError
-from . import catalog as C
+from .catalog import METRICS
+from .design import block
 from .evaluate import ChunkResult
 from .spec import SweepSpec
 
@@ -44,40 +42,31 @@ if TYPE_CHECKING:
 #: Where a sweep is stored: a ``.zarr`` directory path or a zarr store object.
 StoreLike: TypeAlias = "str | os.PathLike[str] | zarr.abc.store.Store"
 
-__all__ = ["FORMAT", "create_store", "done_chunks", "load_result", "open_store", "write_chunk"]
+__all__ = ["FORMAT", "chunk_status", "create_store", "load_result", "open_store", "write_chunk"]
 
-#: Version of the store layout (attribute ``mudrft_sweep_format``).
-FORMAT = 1
+#: Version of the store layout (attribute ``mudrft_sweep_format``); 2 added the checksums.
+FORMAT = 2
+_AGAIN = "start again with overwrite=True (CLI: --force)"
 
 
 def _sources(spec: SweepSpec) -> str:
-    parts = []
     if spec.mud_sets:
-        parts += [f"mud set {k}: {v['source']}" for k, v in spec.mud_sets.items()]
+        parts = [f"mud set {k}: {v['source']}" for k, v in spec.mud_sets.items()]
     else:
-        parts.append(
+        parts = [
             "mud: mudrft.paper_mud: Chen et al. 2026, supplementary Tables S1 (vertical) and "
             "S2 (horizontal), rows interpolated in water content (docs/model.md)"
-        )
-    if any(a.name.endswith("_scale") for a in spec.axes) or any(
-        k.endswith("_scale") for k in spec.fixed
-    ):
+        ]
+    if any(k.endswith("_scale") for k in (*spec.fixed, *(a.name for a in spec.axes))):
         parts.append("*_scale: factors on both directions' values of that field")
-    parts.append(
-        "feet: mudrft.feet defaults (the paper's dimensions; morphing foot D30-D31) "
-        "unless swept or fixed here"
-    )
+    parts.append("feet: mudrft.feet defaults (the paper's dimensions) unless swept or fixed here")
     return "; ".join(parts)
 
 
 def _param_attrs(name: str, spec: SweepSpec) -> dict[str, Any]:
     if name == "foot":
         return {"long_name": "foot kind", "units": "-", "section": "foot"}
-    p = (
-        C.motion_parameter(spec.motion, name)
-        if name in C.motion_parameters(spec.motion)
-        else C.PARAMETERS[name]
-    )
+    p = spec.parameter(name)
     return {"long_name": p.doc, "units": p.unit, "section": p.section}
 
 
@@ -91,8 +80,7 @@ def _template(spec: SweepSpec) -> xr.Dataset:
         coords[name] = xr.Variable(d, v, attrs=_param_attrs(name, spec))
         for a in spec.axes:
             if a.name == name and a.low is not None:
-                coords[name].attrs["range"] = [a.low, a.high]
-                coords[name].attrs["log"] = int(a.log)
+                coords[name].attrs.update(range=[a.low, a.high], log=int(a.log))
     if spec.design != "grid":
         coords["point"] = xr.Variable("point", np.arange(spec.n_points), {"long_name": "sample point"})  # fmt: skip
     for name, v in spec.fixed.items():
@@ -100,7 +88,7 @@ def _template(spec: SweepSpec) -> xr.Dataset:
         coords[name] = xr.Variable((), value, attrs=_param_attrs(name, spec))
     data: dict[str, xr.Variable] = {}
     for m in spec.metrics:
-        meta = C.METRICS[spec.motion][m]
+        meta = METRICS[spec.motion][m]
         data[m] = xr.Variable(dims, da.full(shape, np.nan, chunks=chunks), {"units": meta.unit, "long_name": meta.doc})  # fmt: skip
     data["done"] = xr.Variable(
         dims,
@@ -130,12 +118,13 @@ def _template(spec: SweepSpec) -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _is_store(path: Path) -> bool:
+def _root_attrs(path: Path) -> dict[str, Any] | None:
+    """The attributes of the group at ``path``, or None without a readable ``zarr.json``."""
     try:
         meta = json.loads((path / "zarr.json").read_text())
-    except (OSError, ValueError):
-        return False
-    return "mudrft_sweep_format" in meta.get("attributes", {})
+        return dict(meta.get("attributes", {}))
+    except (OSError, ValueError, AttributeError):
+        return None
 
 
 def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) -> zarr.Group:
@@ -154,10 +143,10 @@ def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) 
                     f"store {str(path)!r} exists; pass resume=True (CLI: --resume) to continue "
                     f"it or overwrite=True (CLI: --force) to start again"
                 )
-            if not _is_store(path):
+            if "mudrft_sweep_format" not in (_root_attrs(path) or {}):
                 raise MudrftError(
                     f"store {str(path)!r} exists and is not a mudrft sweep store; refusing to "
-                    f"replace it"
+                    f"replace it (remove it yourself, or choose another store)"
                 )
             shutil.rmtree(path)
         if not path.parent.is_dir():
@@ -174,63 +163,171 @@ def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) 
         dimension_names=list(spec.dims),
         attributes={"long_name": "error of a point that failed ('' where it ran)", "units": "-"},
     )
+    group.create_array(
+        "checksum",
+        shape=(spec.n_chunks,),
+        chunks=(1,),
+        dtype="uint32",
+        fill_value=0,
+        dimension_names=["chunk"],
+        attributes={"long_name": "CRC-32 of each chunk's metrics and errors", "units": "-"},
+    )
+    group.attrs["arrays"] = sorted(group.array_keys())
     return group
+
+
+def _open(store: StoreLike, mode: Literal["r", "r+"]) -> tuple[zarr.Group, str]:
+    """A sweep's store opened, its format and the metadata of every array checked."""
+    import zarr
+
+    where = repr(str(store)) if isinstance(store, str | os.PathLike) else "the store"
+    if isinstance(store, str | os.PathLike):
+        path = Path(store)
+        if not path.is_dir():
+            raise MudrftError(f"store {where}: no such directory")
+        attrs = _root_attrs(path)
+        if attrs is None:
+            raise MudrftError(
+                f"store {where} has no readable zarr.json: it is not a Zarr store, or its root "
+                f"metadata is gone; it cannot be read or resumed: if it was a sweep, remove the "
+                f"directory and run the sweep again"
+            )
+        if "mudrft_sweep_format" not in attrs:
+            raise MudrftError(f"store {where} is not a mudrft sweep store")
+        store = str(path)
+    try:
+        group = zarr.open_group(store, mode=mode)
+    except Exception as exc:  # zarr's FileNotFoundError, JSON or metadata errors
+        raise MudrftError(f"store {where} cannot be opened as a sweep store ({exc}); {_AGAIN}") from None  # fmt: skip
+    fmt = group.attrs.get("mudrft_sweep_format")
+    if fmt != FORMAT:
+        raise MudrftError(
+            f"store {where} has store format {fmt!r} (this mudrft reads {FORMAT}: format 1 "
+            f"stores have no chunk checksums and cannot be verified); {_AGAIN} "
+            f"(xarray.open_zarr still reads it, unverified)"
+        )
+    if "arrays" not in group.attrs:  # written last by create_store
+        raise MudrftError(f"store {where} was not completely created (its making was interrupted); {_AGAIN}")  # fmt: skip
+    for name in cast("list[str]", group.attrs["arrays"]):
+        try:
+            group[name]
+        except Exception:  # KeyError (zarr.json gone) or a JSON error (garbled)
+            raise MudrftError(
+                f"store {where}: the metadata of its array {name!r} ({name}/zarr.json) is gone "
+                f"or unreadable, so the store cannot be read or resumed; {_AGAIN}"
+            ) from None
+    return group, where
 
 
 def open_store(store: StoreLike, spec: SweepSpec) -> zarr.Group:
     """Open an existing store to resume ``spec``; raise if it was made from another spec."""
-    import zarr
-
-    where = str(store) if isinstance(store, str | os.PathLike) else "store"
-    if isinstance(store, str | os.PathLike):
-        if not _is_store(Path(store)):
-            raise MudrftError(f"{where!r} is not a mudrft sweep store")
-        store = str(store)
-    group = zarr.open_group(store, mode="r+")
-    attrs = dict(group.attrs)
-    if attrs.get("mudrft_sweep_format") != FORMAT:
-        raise MudrftError(f"{where!r} has store format {attrs.get('mudrft_sweep_format')!r}; this mudrft writes {FORMAT}")  # fmt: skip
-    if attrs.get("spec_identity") != spec.identity():
+    group, where = _open(store, "r+")
+    if group.attrs.get("spec_identity") != spec.identity():
         raise MudrftError(
-            f"{where!r} was made from another spec ({attrs.get('spec_source')}); resume it "
+            f"{where} was made from another spec ({group.attrs.get('spec_source')}); resume it "
             f"with that spec, or start again (overwrite=True, CLI: --force)"
         )
     return group
 
 
 def _array(group: zarr.Group, name: str) -> zarr.Array:
-    """The array ``name`` of a sweep's store (every name of the layout is an array, never a
-    subgroup; zarr types an item of a group as either)."""
     return cast("zarr.Array", group[name])
 
 
-def done_chunks(group: zarr.Group, spec: SweepSpec) -> NDArray[np.bool_]:
-    """Which chunks are stored whole: bool, shape (n_chunks,)."""
-    done = np.asarray(_array(group, "done")[...])
-    return np.array(
-        [bool(np.all(done[spec.chunk_slices(i)] == 1)) for i in range(spec.n_chunks)], dtype=bool
-    )
+def _blocks(shape: tuple[int, ...], chunks: tuple[int, ...]) -> list[tuple[slice, ...]]:
+    n = math.prod(math.ceil(s / c) for s, c in zip(shape, chunks, strict=True))
+    return [block(shape, chunks, i) for i in range(n)]
+
+
+def _checksum(values: list[np.ndarray], errors: np.ndarray) -> int:
+    crc = 0
+    for v in values:  # NaN made canonical: zarr may store an all-NaN chunk as its fill value
+        crc = zlib.crc32(np.where(np.isnan(v), np.nan, v).astype("<f8").tobytes(), crc)
+    return zlib.crc32("\0".join(str(e) for e in np.ravel(errors)).encode(), crc)
 
 
 def write_chunk(group: zarr.Group, spec: SweepSpec, i: int, result: ChunkResult) -> None:
-    """Write chunk ``i`` (metrics, then errors, then ``done``)."""
+    """Write chunk ``i``: metrics and errors, then its checksum, then ``done``."""
     sl = spec.chunk_slices(i)
     shape = spec.chunk_shape(i)
-    for k, m in enumerate(spec.metrics):
-        _array(group, m)[sl] = result.values[:, k].reshape(shape)
-    _array(group, "error")[sl] = np.array(result.errors, dtype=object).reshape(shape)
+    values = [result.values[:, k].reshape(shape) for k in range(len(spec.metrics))]
+    errors = np.array(result.errors, dtype=object).reshape(shape)
+    for m, v in zip(spec.metrics, values, strict=True):
+        _array(group, m)[sl] = v
+    _array(group, "error")[sl] = errors
+    _array(group, "checksum")[i] = _checksum(values, errors)
     _array(group, "done")[sl] = np.ones(shape, dtype=np.uint8)
 
 
-def mark_complete(group: zarr.Group, spec: SweepSpec) -> int:
-    """Count the failed points, set ``complete`` and ``failed_points``; return the count."""
-    failed = int(np.count_nonzero(np.asarray(_array(group, "error")[...], dtype=object) != ""))
-    group.attrs.update({"complete": 1, "failed_points": failed})
-    return failed
+def _read(group: zarr.Group) -> tuple[dict[str, np.ndarray], list[tuple[slice, ...]], dict[int, str]]:  # fmt: skip
+    """The metrics, errors, done flags and checksums, and the chunks that do not decode."""
+    names = [*group.attrs["metrics"], "error", "done"]  # type: ignore[misc]
+    first = _array(group, names[0])
+    blocks = _blocks(first.shape, first.chunks)
+    data: dict[str, np.ndarray] = {}
+    bad: dict[int, str] = {}
+    for name in [*names, "checksum"]:
+        arr = _array(group, name)
+        try:
+            data[name] = np.asarray(arr[...])
+            continue
+        except Exception:  # any failure to decode is damage: found chunk by chunk below
+            pass
+        out = np.full(arr.shape, arr.fill_value, dtype=object if name == "error" else arr.dtype)
+        for i, sl in enumerate(blocks):
+            sl = (slice(i, i + 1),) if name == "checksum" else sl
+            try:
+                out[sl] = arr[sl]
+            except Exception as exc:
+                bad.setdefault(i, f"{name} does not decode ({type(exc).__name__}: {exc})")
+        data[name] = out
+    return data, blocks, bad
 
 
-def load_result(store: StoreLike, *, keep_done: bool = False) -> xr.Dataset:
-    """The sweep's Dataset from a store (loaded into memory), strings as plain ``str``.
+def chunk_status(group: zarr.Group) -> tuple[np.ndarray, dict[int, str], dict[str, np.ndarray]]:
+    """Which chunks are stored whole, which are damaged (and why), and the data read.
+
+    Returns
+    -------
+    done : ndarray of bool, shape (chunks,)
+        Chunks whose ``done`` is set and whose metrics and errors match their checksum.
+    damaged : dict
+        Chunk number -> what is wrong: it does not decode, it does not match its checksum
+        (changed or removed), or ``done`` is partly set or unset in a completed store.
+    data : dict
+        Every metric, ``error``, ``done`` and ``checksum`` as read (fill values where damaged).
+    """
+    data, blocks, damaged = _read(group)
+    complete = bool(group.attrs.get("complete"))
+    done = np.zeros(len(blocks), dtype=bool)
+    metrics = cast("list[str]", group.attrs["metrics"])
+    for i, sl in enumerate(blocks):
+        flags = data["done"][sl]
+        if i in damaged:
+            continue
+        if np.all(flags == 1):
+            crc = _checksum([data[m][sl] for m in metrics], data["error"][sl])
+            if crc == data["checksum"][i]:
+                done[i] = True
+            else:
+                damaged[i] = "its values do not match their checksum (a chunk file changed or is missing)"  # fmt: skip
+        elif np.any(flags != 0) or complete:
+            damaged[i] = "its done flags are missing or partial"
+    return done, damaged, data
+
+
+def _points(ds: xr.Dataset, sl: tuple[slice, ...]) -> str:
+    parts = []
+    for dim, s in zip(ds["error"].dims, sl, strict=True):
+        v = [f"{x:g}" if isinstance(x, float) else str(x) for x in ds[dim].values[s].tolist()]
+        parts.append(f"{dim} = {v[0]}" + (f"..{v[-1]}" if len(v) > 1 else ""))
+    return ", ".join(parts)
+
+
+def load_result(
+    store: StoreLike, *, keep_done: bool = False, on_damage: str = "raise"
+) -> xr.Dataset:
+    """The sweep's Dataset from a store (loaded into memory, every chunk verified).
 
     Parameters
     ----------
@@ -238,21 +335,57 @@ def load_result(store: StoreLike, *, keep_done: bool = False) -> xr.Dataset:
         A store written by :func:`mudrft.sweep`.
     keep_done : bool, keyword-only
         Keep the ``done`` variable (default: drop it when the sweep is complete).
+    on_damage : {"raise", "mask"}, keyword-only
+        A damaged chunk (see :func:`chunk_status`) raises, or is returned masked: NaN
+        metrics, ``done`` 0 and an ``error`` saying it is damaged (attribute
+        ``damaged_chunks``). ``resume=True`` recomputes damaged chunks.
+
+    Raises
+    ------
+    MudrftError
+        For a path that is not a sweep store, a store of another format or whose metadata
+        is gone, and (``on_damage="raise"``) damaged chunks, naming them and their points.
     """
     import xarray as xr
 
-    if isinstance(store, str | os.PathLike):
-        if not _is_store(Path(store)):
-            raise MudrftError(f"{str(store)!r} is not a mudrft sweep store")
-        store = str(store)
-    ds = xr.open_zarr(store, consolidated=False).load()
+    if on_damage not in ("raise", "mask"):
+        raise MudrftError(f"on_damage must be 'raise' or 'mask', got {on_damage!r}")
+    group, where = _open(store, "r")
+    _, damaged, data = chunk_status(group)
+    blocks = _blocks(data["error"].shape, _array(group, "error").chunks)
+    try:
+        ds = xr.open_zarr(group.store, consolidated=False, chunks=None, drop_variables=["checksum"])  # fmt: skip
+        for c in ds.coords.values():
+            c.load()
+        labels = {i: _points(ds, blocks[i]) for i in list(damaged)[:5]}
+    except Exception as exc:  # a damaged coordinate: the points cannot be labelled
+        raise MudrftError(f"store {where}: its coordinates cannot be read ({type(exc).__name__}: {exc}); {_AGAIN}") from None  # fmt: skip
+    if damaged and on_damage == "raise":
+        listed = "; ".join(f"chunk {i} ({labels[i]}): {damaged[i]}" for i in labels)
+        more = f"; and {len(damaged) - len(labels)} more" if len(damaged) > len(labels) else ""
+        raise MudrftError(
+            f"store {where} is damaged: {len(damaged)} of {len(blocks)} chunks cannot be "
+            f"trusted: {listed}{more}. resume=True (CLI: --resume) recomputes them; "
+            f"load_result(..., on_damage='mask') reads the rest"
+        )
+    data["error"] = data["error"].astype(object)
+    for i, why in damaged.items():
+        for name, value in data.items():
+            if name not in ("checksum", "done", "error"):
+                value[blocks[i]] = np.nan
+        data["done"][blocks[i]] = 0
+        data["error"][blocks[i]] = f"damaged: chunk {i} of the store, {why}"
+    ds = ds.assign({k: ds[k].copy(data=v) for k, v in data.items() if k != "checksum"})
     for name in list(ds.variables):
-        if ds[name].dtype.kind == "T":  # numpy StringDType, as zarr reads vlen strings
+        if ds[name].dtype.kind in "OT":  # numpy StringDType, as zarr reads strings
             values = np.asarray(ds[name].values, dtype=object).astype(str)
             if name in ds.coords:
                 ds = ds.assign_coords({name: (ds[name].dims, values, ds[name].attrs)})
             else:
                 ds[name] = (ds[name].dims, values, ds[name].attrs)
+    ds.attrs.pop("arrays", None)
+    if damaged:
+        ds.attrs["damaged_chunks"] = sorted(damaged)
     metrics = [str(m) for m in np.atleast_1d(ds.attrs.get("metrics", [])) if m in ds]
-    order = [*metrics, "error", *([] if ds.attrs.get("complete") and not keep_done else ["done"])]
-    return ds[order]
+    drop = ds.attrs.get("complete") and not keep_done and not damaged
+    return ds[[*metrics, "error", *([] if drop else ["done"])]]
