@@ -50,7 +50,6 @@ __all__ = [
 EXTRAS = {
     "matplotlib": "plot",
     "mujoco": "mujoco",
-    "trimesh": "mesh",
     "jax": "jax",
     "numba": "numba",
     "pandas": "pandas",
