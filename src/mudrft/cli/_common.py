@@ -127,36 +127,29 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> None:
         plt.close(fig)
 
 
-def _number(value: float) -> str:
-    return f"{float(value):g}"
-
-
 def check_finite_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` if it is NaN or infinite."""
     if not math.isfinite(value):
         where = f" [{unit}]" if unit else ""
-        raise MudrftError(f"{option} must be a finite number{where}, got {_number(value)}")
+        raise MudrftError(f"{option} must be a finite number{where}, got {float(value):g}")
     return float(value)
 
 
 def check_positive_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0."""
-    check_finite_option(option, value, unit=unit)
-    if not value > 0:
-        raise MudrftError(f"{option} must be > 0{_unit(unit)}, got {_number(value)}")
-    return float(value)
+    return _compare(option, value, unit, ">")
 
 
 def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
-    check_finite_option(option, value, unit=unit)
-    if not value >= 0:
-        raise MudrftError(f"{option} must be >= 0{_unit(unit)}, got {_number(value)}")
-    return float(value)
+    return _compare(option, value, unit, ">=")
 
 
-def _unit(unit: str) -> str:
-    return f" {unit}" if unit else ""
+def _compare(option: str, value: float, unit: str, sign: str) -> float:
+    v = check_finite_option(option, value, unit=unit)
+    if not (v > 0 if sign == ">" else v >= 0):
+        raise MudrftError(f"{option} must be {sign} 0{' ' + unit if unit else ''}, got {v:g}")
+    return v
 
 
 def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Mud:
