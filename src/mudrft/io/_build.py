@@ -227,6 +227,14 @@ def build_trials(
                 f"time must increase strictly within trial {name!r}, but {plain(t[k])} s "
                 f"follows {plain(t[k - 1])} s{hint}",
             )
+        if float(np.ptp(stress[idx])) == 0.0:  # numpy's zero-size error came out of a fit
+            raise fail(
+                path,
+                locate(int(idx[0]), "stress" if "stress" in columns else "force"),
+                f"trial {name!r}: stress is {plain(float(stress[idx[0]]))} Pa in every sample; "
+                "a test records the stress changing as the plate moves (a sensor that did not "
+                "record, or not the stress column?)",
+            )
         meta: dict[str, Any] = {"first_sample": locate(int(idx[0]), None)}
         if A is not None:
             meta["area"] = A

@@ -26,6 +26,7 @@ from ..units import parse_unit
 from ._build import build_trials, check_plausible, check_roles, resolve_direction, resolve_plate
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import IntrusionDataset
+from .hdf5_log import load_intrusion_hdf5
 
 __all__ = ["HDF5_SUFFIXES", "Table", "load_dataset", "load_intrusion_csv", "read_table"]
 
@@ -299,8 +300,6 @@ def load_dataset(
     """Load one or several logs (text tables, or HDF5 by suffix ``.h5``/``.hdf5``) into one
     dataset; several files are merged (same direction). The options are those of
     :func:`load_intrusion_csv`."""
-    from .hdf5_log import load_intrusion_hdf5
-
     if isinstance(path, (str, os.PathLike)):
         paths: list[Any] = [path]
     else:

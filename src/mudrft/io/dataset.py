@@ -24,7 +24,6 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_increasing,
-    plain,
     positive_number,
     warn_implausible,
     warn_plausibility,
@@ -118,12 +117,6 @@ class Trial:
                 f"trial {self.name!r}: depth reaches {float(np.min(d)):.3g} m but only "
                 f"{float(np.max(d)):.3g} m into the mud; mudrft measures depth into the mud, "
                 "positive while the plate intrudes: is its sign flipped?"
-            )
-        if float(np.ptp(self.stress)) == 0.0:
-            raise MudrftError(
-                f"trial {self.name!r}: stress is {plain(float(self.stress[0]))} Pa in every "
-                "sample; a trial records the stress changing as the plate moves (a sensor "
-                "that did not record, or not the stress column?)"
             )
         intruding = (np.diff(d) > 0) & (d[1:] > 0)
         if intruding.any() and float(np.median(self.stress[1:][intruding])) < 0:
