@@ -45,9 +45,12 @@ _HINTS = {
 
 def _stl_facets(path: str, size: int) -> int | None:
     """The facet count of a binary STL (its header's, when the size matches it), None for
-    an ASCII one; an error for a file that is neither."""
+    an ASCII one; an error for a file that is neither, or an ASCII STL cut short (which
+    some trimesh versions read as part of a foot)."""
     with open(path, "rb") as fh:
         head = fh.read(84)
+        fh.seek(max(0, size - 256))
+        tail = fh.read().strip().splitlines()
     if len(head) == 84:
         count = int(np.frombuffer(head, "<u4", 1, 80)[0])
         if size == 84 + 50 * count:
@@ -56,6 +59,12 @@ def _stl_facets(path: str, size: int) -> int | None:
         raise MudrftError(
             f"the mesh file {path!r} is neither a binary STL (its size, {size} bytes, does not "
             "match the facet count in its header) nor an ASCII STL (which begins 'solid')"
+        )
+    last = tail[-1].strip() if tail else b""
+    if not last.lower().startswith(b"endsolid"):
+        raise MudrftError(
+            f"the mesh file {path!r} looks truncated: an ASCII STL ends with an 'endsolid' "
+            f"line, and its last line is {last.decode('ascii', 'replace')[:40]!r}"
         )
     return None
 
