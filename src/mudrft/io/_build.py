@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from .._progress import logger
 from .._validation import MudrftError, check_choice, plain, positive_number, warn_implausible
+from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
 from .dataset import DEFAULT_PLATE_LENGTH, Trial, intrusion_speed
 
@@ -92,8 +93,6 @@ def check_roles(
 def _unit_like(role: str, names: Sequence[str]) -> str:
     """The unit of the first column in a unit of the role's quantity (the rig's own name
     for it, 'position [mm]'), else the SI unit."""
-    from ..units import SCALE
-
     quantity = {"time": "time", "depth": "length"}[role]
     units = [split_label(label)[1] for label in names]
     return next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
