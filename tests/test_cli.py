@@ -214,12 +214,12 @@ def test_plot_without_matplotlib_fails_before_simulating(tmp_path, capsys, monke
 
 
 def test_errors_show_plain_numbers_not_numpy_reprs(tmp_path, capsys, monkeypatch):
-    import mudrft.cli.simulate
+    import mudrft.feet
 
     def bad_foot(name, **options):
         raise mudrft.MudrftError(f"foot size must be > 0 m, got {np.float64(-1.5)!r}")
 
-    monkeypatch.setattr(mudrft.cli.simulate, "by_name", bad_foot)
+    monkeypatch.setattr(mudrft.feet, "by_name", bad_foot)  # the command imports it as it runs
     code, _, err = run(capsys, "simulate", "--foot", "x", "--out", str(tmp_path / "r.csv"))
     assert code == 2 and "got -1.5" in err and "np." not in err
 
@@ -317,12 +317,13 @@ def test_every_command_that_takes_a_foot_file_takes_its_unit(command):
 def test_simulate_trailing_lets_a_dome_mesh_resist_with_its_trailing_facets(tmp_path, capsys):
     """A dome mesh of one's own matches SemiSphere only with trailing facets (D23); the
     command line could not ask for them. --trailing is for mesh files only."""
+    import trimesh
+
     import mudrft
     from mudrft.feet.meshgen import semisphere_mesh
-    from mudrft.feet.stl import write_stl
 
     v, f = semisphere_mesh(0.045, 0.026, resolution=12)
-    write_stl(tmp_path / "dome.stl", v[f])
+    trimesh.Trimesh(v, f, process=False).export(tmp_path / "dome.stl")
     drag = {}
     for trailing in (False, True):
         out = tmp_path / f"run{trailing}.csv"
@@ -657,3 +658,40 @@ def test_simulate_terrain_option_mistakes_name_the_option(tmp_path, capsys, extr
     assert code == 2
     assert message in err
     assert not out.exists()
+
+
+#: What ``mudrft --help`` may not import: the physics, the library's edges, heavy packages.
+HEAVY = (
+    "mudrft.parameters", "mudrft.constitutive", "mudrft.feet", "mudrft.terrains",
+    "mudrft.simulation", "mudrft.plate", "mudrft.trajectories", "mudrft.calibration",
+    "mudrft.baselines", "mudrft.reproduce", "mudrft.integrations", "mudrft.backends",
+    "mudrft.io.dataset", "mudrft.sweep.run", "scipy", "trimesh", "matplotlib",
+)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "command", ["", "params", "simulate", "reproduce", "calibrate", "compare", "walk", "bench"]
+)
+def test_help_parses_before_it_imports_the_physics(command):
+    """``mudrft --help`` (and each command's) imports the command line only (issue 40)."""
+    words = [command, "--help"] if command else ["--help"]
+    code = (
+        "import sys\nfrom mudrft.cli import main\n"
+        f"try:\n    main({words!r})\nexcept SystemExit:\n    pass\n"
+        f"print([m for m in sys.modules if m.split('.')[0] in ('scipy', 'trimesh', 'matplotlib')"
+        f" or m.startswith({HEAVY!r})], file=sys.stderr)"
+    )
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert proc.returncode == 0 and "usage: mudrft" in proc.stdout, proc.stderr
+    assert proc.stderr.strip().splitlines()[-1] == "[]", proc.stderr
+
+
+def test_the_help_texts_constants_are_the_librarys():
+    """Written in the command line so that ``--help`` needs no physics."""
+    from mudrft.baselines.compare import TERRAIN_NAMES
+    from mudrft.cli import _terrain, simulate
+    from mudrft.trajectories import STANCE_DEPTH
+
+    assert _terrain.TERRAIN_NAMES == TERRAIN_NAMES
+    assert simulate.STANCE_DEPTH == STANCE_DEPTH

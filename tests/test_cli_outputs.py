@@ -275,7 +275,7 @@ def test_a_signal_while_an_output_is_created_leaves_nothing(
     held until the name is registered, then the run unwinds and removes it."""
     import tempfile
 
-    import mudrft.cli._common as common
+    import mudrft.io.atomic as atomic
 
     def then_terminated(make):
         def made(*args, **kwargs):
@@ -285,12 +285,10 @@ def test_a_signal_while_an_output_is_created_leaves_nothing(
 
         return made
 
+    monkeypatch.setattr(atomic.tempfile, "mkdtemp", then_terminated(tempfile.mkdtemp))
     if where == "staging directory":
-        monkeypatch.setattr(common.tempfile, "mkdtemp", then_terminated(tempfile.mkdtemp))
         args = ["reproduce", "--out", tmp_path / "results", "--no-figures", "--quiet"]
     else:
-        make = common.Outputs._mkstemp
-        monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(then_terminated(make)))
         args = ["simulate", "--foot", "flat", *FAST, "--out", tmp_path / "run.csv"]
     # as in a terminal: a background job (as in CI) starts with SIGINT ignored
     with _default_signal_handlers():
@@ -330,16 +328,18 @@ def _default_signal_handlers():
 @pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
 def test_an_ignored_signal_stays_ignored(tmp_path, capsys, monkeypatch):
     """A background job (``mudrft ... &`` in a script) ignores SIGINT: the command keeps it so."""
-    import mudrft.cli._common as common
+    import tempfile
 
-    make = common.Outputs._mkstemp
+    import mudrft.io.atomic as atomic
+
+    make = tempfile.mkdtemp
 
     def made(*args, **kwargs):
         result = make(*args, **kwargs)
         os.kill(os.getpid(), signal.SIGINT)
         return result
 
-    monkeypatch.setattr(common.Outputs, "_mkstemp", staticmethod(made))
+    monkeypatch.setattr(atomic.tempfile, "mkdtemp", made)
     before = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "r.csv")

@@ -215,3 +215,80 @@ def test_a_symbolic_link_is_written_through(tmp_path):
     assert atomic_write(link, "new\n", overwrite=True) == real
     assert link.is_symlink() and real.read_text() == "new\n"
     assert sorted(os.listdir(tmp_path)) == ["link.csv", "real.csv"]
+
+
+# -- staging left by a killed run (issue 43) ---------------------------------------------
+def _dead_pid() -> int:
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], text=True,
+                          capture_output=True, check=True)  # fmt: skip
+    return int(proc.stdout)
+
+
+def _age(path: Path, seconds: float = 60.0) -> Path:
+    old = atomic_module._STARTED - seconds
+    os.utime(path, (old, old))
+    return path
+
+
+def test_stale_staging_of_dead_runs_is_removed_and_nothing_else(tmp_path):
+    dead, mine = _dead_pid(), os.getpid()
+    stale_dir = tmp_path / f".mudrft-{dead}-abcd_123.tmp"
+    stale_dir.mkdir()
+    (stale_dir / "run.csv").write_text("half")
+    (tmp_path / ".mudrft-k2j4_x9a.tmp").mkdir()  # mudrft 0.1's names, without the process
+    (tmp_path / ".fit.0123456789ab.tmp.json").write_text("half")
+    (tmp_path / ".log.csv.0123456789ab.tmp").write_text("half")
+    stale = sorted(tmp_path.iterdir())
+    (tmp_path / f".mudrft-{mine}-live1234.tmp").mkdir()  # a run still going (this process)
+    (tmp_path / ".mudrft-settings").mkdir()
+    (tmp_path / ".fit.json").write_text("{}")
+    (tmp_path / "notes.tmp").write_text("")
+    kept = sorted(set(tmp_path.iterdir()) - set(stale))
+    for p in [*stale, *kept]:
+        _age(p)
+    (tmp_path / f".mudrft-{dead}-newer123.tmp").mkdir()  # made after this process started
+    assert sorted(atomic_module.remove_stale_staging(tmp_path)) == stale
+    assert _listing(tmp_path) == sorted([p.name for p in kept] + [f".mudrft-{dead}-newer123.tmp"])
+    assert atomic_module.remove_stale_staging(tmp_path / "missing") == []
+
+
+def test_the_next_write_removes_the_staging_of_a_killed_one(tmp_path):
+    stale = tmp_path / f".mudrft-{_dead_pid()}-abcd1234.tmp"
+    stale.mkdir()
+    (stale / "out.csv").write_text("half")
+    _age(stale)
+    save_intrusion_csv(_dataset(), tmp_path / "out.csv")
+    assert _listing(tmp_path) == ["out.csv"]
+
+
+def test_a_command_killed_outright_is_cleaned_up_by_the_next_run(tmp_path):
+    """``kill -9`` mid-run leaves the staging directory; the next run into the same
+    directory (a new process) removes it."""
+    import signal
+    import subprocess
+    import sys
+
+    if os.name == "nt":
+        pytest.skip("POSIX signals")
+    import mudrft
+
+    src = str(Path(mudrft.__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    out = tmp_path / "run.csv"
+    killed = (
+        "import os, signal, sys; from mudrft.cli._common import Outputs; "
+        "Outputs(force=False).file('--out', sys.argv[1]).write_text('half'); "
+        "os.kill(os.getpid(), signal.SIGKILL)"
+    )
+    proc = subprocess.run([sys.executable, "-c", killed, str(out)], env=env, check=False)
+    assert proc.returncode == -signal.SIGKILL
+    (left,) = os.listdir(tmp_path)
+    assert left.startswith(".mudrft-")
+    command = [sys.executable, "-m", "mudrft", "simulate", "--foot", "flat", "--dt", "0.004"]
+    proc = subprocess.run([*command, "--out", str(out)], env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert _listing(tmp_path) == ["run.csv"]
+    assert f"removed 1 staging file(s) left by a killed run: {left}" in proc.stderr

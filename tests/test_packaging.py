@@ -1,6 +1,6 @@
 """The versions the package declares are the versions CI tests (decision D149).
 
-``pyproject.toml`` promises numpy and scipy from a floor on; CI's core-only run installs
+``pyproject.toml`` promises numpy, scipy and trimesh from a floor on; CI's core-only run installs
 exactly those floors (``.ci/run``), so a use of a newer name (``numpy.trapezoid`` exists
 from numpy 2.0 only) fails there instead of on a user's machine. Its "oldest extras" run
 installs every optional extra at its floor (``tools/oldest_requirements.py``). These tests
@@ -38,15 +38,24 @@ def ci_pins() -> dict[str, str]:
     return {m[1].lower(): m[2] for m in re.finditer(r'"([A-Za-z0-9_.-]+)==([0-9.]+)\.\*"', core[0])}
 
 
-def test_the_core_dependencies_are_numpy_scipy_and_numba():
-    assert set(floors()) == {"numpy", "scipy", "numba"}
+def test_the_core_dependencies_are_numpy_scipy_numba_and_trimesh():
+    assert set(floors()) == {"numpy", "scipy", "numba", "trimesh"}
+
+
+def test_the_mesh_extra_stays_and_the_docs_extra_builds_the_sweep_pages():
+    """trimesh moved into the core: ``pip install 'mudrft[mesh]'`` still works (an extra
+    that adds nothing); the documentation's gallery runs the sweep example."""
+    table = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    assert table["mesh"] == []
+    docs = [r for r in table["docs"] if r.startswith("mudrft[")]
+    assert "sweep" in docs[0].removeprefix("mudrft[").rstrip("]").split(",")
 
 
 def test_ci_tests_the_declared_floors():
     assert ci_pins() == floors()
 
 
-@pytest.mark.parametrize("package", ["numpy", "scipy", "numba"])
+@pytest.mark.parametrize("package", ["numpy", "scipy", "numba", "trimesh"])
 def test_the_installed_version_is_at_least_the_floor(package):
     """The environment running the suite satisfies the floor (a stale environment would
     test something that users cannot install against)."""

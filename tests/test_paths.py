@@ -63,12 +63,12 @@ def test_simulate_output_reads_back_as_the_path_it_ran(tmp_path):
         ("time [s],x [m]\n0,0\n1,0\n", ("no z (or depth) column", "line 1")),
         ("x [m],z [m]\n0,0\n1,-1\n", ("no time column",)),
         ("time [s],z [m],depth [m]\n0,0,0\n1,-1,1\n", ("both give the tip's height",)),
-        ("t [s],time [s],z [m]\n0,0,0\n1,1,-1\n", ("both give time",)),
+        ("t [s],time [s],z [m]\n0,0,0\n1,1,-1\n", ("two columns give the time",)),
         ("time [s],z [m]\n0,0\n", ("1 data row", "at least 2")),
         ("time [s],z [m]\n0,0\n1,-0.01\n1,-0.02\n", ("line 4", "does not exceed")),
         ("time [s],z [furlong]\n0,0\n1,-1\n", ("line 1, column 2", "furlong")),
         ("time [s],z [m]\n0,0\n1,deep\n", ("line 3, column 2", "'deep'")),
-        ("time [s];z [m]\n0;0\n", ("semicolons",)),
+        ("time [s];z [m]\n0;0\n", ("1 data row",)),
     ],
 )
 def test_mistakes_name_the_file_and_the_place(tmp_path, text, needles):

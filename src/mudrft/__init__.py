@@ -14,20 +14,25 @@ surface of any foot. SI units throughout.
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from . import constitutive, parameters, units
-from ._validation import MudrftError
-from .citations import citations
-from .parameters import Mud, MudParameters, paper_mud, paper_parameters
-from .plate import PlateResult, plate_response
-from .simulation import LoadControl, Result, simulate, static_sinking
-from .terrains import MudTerrain, Terrain, TerrainOutput
-from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
+if TYPE_CHECKING:  # at run time every name loads on first use: `mudrft --help` stays light
+    from . import constitutive, parameters, units
+    from ._validation import MudrftError
+    from .citations import citations
+    from .data import data_path
+    from .parameters import Mud, MudParameters, paper_mud, paper_parameters
+    from .plate import PlateResult, plate_response
+    from .simulation import LoadControl, Result, simulate, static_sinking
+    from .terrains import MudTerrain, Terrain, TerrainOutput
+    from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
 
 __version__ = "0.1.0"
 
 _LAZY = {
+    "constitutive": "mudrft.constitutive",
+    "parameters": "mudrft.parameters",
+    "units": "mudrft.units",
     "feet": "mudrft.feet",
     "terrains": "mudrft.terrains",
     "baselines": "mudrft.baselines",
@@ -39,38 +44,59 @@ _LAZY = {
     "plotting": "mudrft.plotting",
     "sweep": "mudrft.sweep",  # callable: mudrft.sweep(spec, ...) runs a design sweep
 }
-_LAZY_ATTRS = {
-    "calibrate": ("mudrft.calibration", "calibrate"),
-    "load_parameters": ("mudrft.calibration", "load_parameters"),
-    "BatchedMud": ("mudrft.backends", "BatchedMud"),
+#: Names loaded on first use, by module.
+_FROM = {
+    "mudrft._validation": ("MudrftError",),
+    "mudrft.backends": ("BatchedMud",),
+    "mudrft.calibration": ("calibrate", "load_parameters"),
+    "mudrft.citations": ("citations",),
+    "mudrft.data": ("data_path",),
+    "mudrft.parameters": ("Mud", "MudParameters", "paper_mud", "paper_parameters"),
+    "mudrft.plate": ("PlateResult", "plate_response"),
+    "mudrft.simulation": ("LoadControl", "Result", "simulate", "static_sinking"),
+    "mudrft.terrains": ("MudTerrain", "Terrain", "TerrainOutput"),
+    "mudrft.trajectories": ("GAIT_SPEEDS", "Trajectory", "gait", "plate_intrusion"),
 }
+_LAZY_ATTRS = {name: (module, name) for module, names in _FROM.items() for name in names}
 
-__all__ = [
+__all__ = [  # the lazy names below, spelled out for readers and linters
     "GAIT_SPEEDS",
+    "BatchedMud",
+    "LoadControl",
     "Mud",
     "MudParameters",
     "MudTerrain",
     "MudrftError",
-    "LoadControl",
     "PlateResult",
     "Result",
     "Terrain",
     "TerrainOutput",
     "Trajectory",
     "__version__",
+    "backends",
+    "baselines",
+    "calibrate",
+    "calibration",
     "citations",
     "constitutive",
+    "data_path",
+    "feet",
     "gait",
+    "integrations",
+    "io",
+    "load_parameters",
+    "metrics",
     "paper_mud",
     "paper_parameters",
     "parameters",
     "plate_intrusion",
     "plate_response",
+    "plotting",
     "simulate",
     "static_sinking",
+    "sweep",
+    "terrains",
     "units",
-    *sorted(_LAZY),
-    *sorted(_LAZY_ATTRS),
 ]
 
 

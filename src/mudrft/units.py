@@ -7,9 +7,11 @@ converted here, once, on the way in or out.
 
 from __future__ import annotations
 
+import re
+
 from ._validation import MudrftError
 
-__all__ = ["KPA", "MM", "MPA", "MS", "SCALE", "parse_unit", "to_si"]
+__all__ = ["KPA", "MM", "MPA", "MS", "SCALE", "parse_quantity", "parse_unit", "to_si"]
 
 MPA = 1.0e6  #: 1 MPa in Pa
 KPA = 1.0e3  #: 1 kPa in Pa
@@ -75,3 +77,37 @@ def to_si(value: float, quantity: str, unit: str) -> float:
     24000.0
     """
     return value * parse_unit(quantity, unit)
+
+
+_QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+
+
+def parse_quantity(name: str, text: str, quantity: str) -> float:
+    """A number with an optional unit, as typed on a command line, in SI.
+
+    Parameters
+    ----------
+    name : str
+        What the text is given as (``"--area"``), for the messages.
+    text : str
+        ``"1600mm^2"``, ``"40 mm"``, or a bare number, read in SI (``"0.0016"``).
+    quantity : str
+        One of the keys of :data:`SCALE` (``"area"``, ``"length"``, ...).
+
+    Examples
+    --------
+    >>> parse_quantity("--length", "40mm", "length"), parse_quantity("--area", "0.0016", "area")
+    (0.04, 0.0016)
+    """
+    m = _QUANTITY.fullmatch(text)
+    if m is None:
+        example = {"area": "1600mm^2", "length": "40mm"}.get(quantity, "1.5")
+        raise MudrftError(
+            f"{name} must be a number with an optional unit (e.g. {example!r}; a bare number "
+            f"is in SI), got {text!r}"
+        )
+    try:
+        factor = parse_unit(quantity, m[2]) if m[2] else 1.0
+    except MudrftError as exc:
+        raise MudrftError(f"{name}: {exc}") from None
+    return float(m[1]) * factor

@@ -96,8 +96,8 @@ def test_add_parser_wires_into_a_parent_parser():
             "s",
         ]
     )
-    assert args.func is run and args.data == ["a.csv"] and args.area == 0.01
-    assert args.groups == ["b", "s"] and args.length == 0.04
+    assert args.func is run and args.data == ["a.csv"] and args.area == "0.01"  # units later
+    assert args.groups == ["b", "s"] and args.length == "0.04"
 
 
 # --------------------------------------------------------------------------------------
@@ -191,3 +191,44 @@ def test_strict_makes_a_fit_that_does_not_describe_the_data_exit_1_with_the_warn
     example = ["calibrate", _example_path(), "--groups", "b", "--quiet", "--strict"]
     assert mudrft_main(example) == 0  # a fit that describes its data passes
     assert capsys.readouterr().err == ""
+
+
+# --------------------------------------------------------------------------------------
+# a log as a lab's logger writes it (issue 39)
+# --------------------------------------------------------------------------------------
+def _lab_log(path, names, *, sep="\t"):
+    """A 20 mm/s plate test of the paper's W = 25 % mud, as a logger writes it: a force in N
+    on a 40 x 40 mm plate, depth in mm, a column mudrft does not read, tab-separated."""
+    truth = mudrft.paper_parameters(0.25)
+    (tr,) = synthetic_dataset(
+        truth, speeds=(0.02,), noise=0.005, dt=0.02, hold=0.5, characteristic_length=0.04
+    )
+    rows = "".join(
+        f"{t:.3f}{sep}{1e3 * q:.4f}{sep}{s * 0.0016:.5f}{sep}21.5\n"
+        for t, q, s in zip(tr.time, tr.depth, tr.stress, strict=True)
+    )
+    path.write_text(sep.join(names) + "\n" + rows)
+    return truth
+
+
+def _alpha(path):
+    return json.loads(path.read_text())["parameters"]["alpha"]
+
+
+def test_a_tab_separated_lab_log_calibrates_with_columns_and_units_on_the_options(tmp_path, capsys):
+    fit = ["--groups", "alpha", "--quiet", "--length", "40mm"]
+    truth = _lab_log(tmp_path / "lab.txt", ("Time (s)", "Depth (mm)", "Force (N)", "Temp (C)"))
+    assert main([str(tmp_path / "lab.txt"), "--area", "1600mm^2", *fit, "--out", str(tmp_path / "a.json")]) == 0  # fmt: skip
+    german = tmp_path / "de.txt"
+    _lab_log(german, ("Zeit (s)", "Weg (mm)", "Kraft (N)", "Temperatur (C)"))
+    assert main([str(german), "--area", "1600mm^2", *fit]) == 2
+    err = capsys.readouterr().err
+    assert "no time column" in err and "--columns time=NAME" in err
+    columns = 'time="Zeit (s)",depth="Weg (mm)",force="Kraft (N)"'
+    out = tmp_path / "b.json"
+    assert (
+        main([str(german), "--columns", columns, "--area", "0.0016", *fit, "--out", str(out)]) == 0
+    )
+    # the same numbers in SI (1600 mm^2 is 0.0016 m^2 to round-off)
+    assert _alpha(out) == pytest.approx(_alpha(tmp_path / "a.json"), rel=1e-9)
+    assert _alpha(out) == pytest.approx(truth.alpha, rel=0.02)

@@ -84,13 +84,13 @@ def test_characteristic_length_sets_gamma(tmp_path):
 
 def test_trial_column_splits_trials_in_order_of_appearance(tmp_path):
     text = (
-        "trial,time [s],depth [m],stress [Pa]\n"
+        "trial,time [s],depth [m],stress [kPa]\n"
         "slow,0,0,0\nslow,1,0.01,10\nfast,0,0,0\nfast,0.5,0.01,20\nslow,2,0.02,15\n"
     )
     ds = load_intrusion_csv(_write(tmp_path, text))
     assert [t.name for t in ds] == ["slow", "fast"]
     np.testing.assert_allclose(ds[0].time, [0.0, 1.0, 2.0])
-    np.testing.assert_allclose(ds[1].stress, [0.0, 20.0])
+    np.testing.assert_allclose(ds[1].stress, [0.0, 20e3])
     # trial speeds follow the depth and time columns
     assert ds.speeds == pytest.approx([0.01, 0.02])
 

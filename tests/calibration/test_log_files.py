@@ -111,7 +111,7 @@ def test_a_characteristic_length_argument_in_mm_warns():
 
 
 def test_an_area_in_cm2_read_as_m2_warns(tmp_path):
-    p = write(tmp_path, "trial,time [s],depth [m],Fz [N]\n" + ROWS)
+    p = write(tmp_path, "trial,time [s],depth [m],Fz [kN]\n" + ROWS)
     with pytest.warns(PlausibilityWarning, match=r"plate area is .*20"):
         load_intrusion_csv(p, area=20.0)
 
@@ -139,11 +139,22 @@ def test_the_synthetic_flag_is_what_the_file_says(tmp_path, note, synthetic):
     assert quiet_load(p).synthetic is synthetic
 
 
-@pytest.mark.parametrize(("sep", "what"), [(";", "semicolons"), ("\t", "tabs")])
-def test_a_log_separated_by_semicolons_or_tabs_is_named(tmp_path, sep, what):
-    """'cannot read the column name 'time [s];depth [m];stress [Pa]'' did not say why."""
-    p = write(tmp_path, (HEADER + ROWS).replace(",", sep))
-    with pytest.raises(MudrftError, match=f"line 1: the header's fields are separated by {what}"):
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_a_log_separated_by_semicolons_or_tabs_reads_as_one_with_commas(tmp_path, sep):
+    """Refused before (issue 39): the delimiter is the header's most frequent of comma, tab
+    and semicolon; with semicolons or tabs, a number may have a decimal comma."""
+    commas = quiet_load(write(tmp_path, HEADER + ROWS, "c.csv"))
+    text = (HEADER + ROWS).replace(",", sep)
+    for decimal in (".", ","):
+        other = quiet_load(write(tmp_path, text.replace(".", decimal), "s.csv"))
+        for a, b in zip(commas.trials, other.trials, strict=True):
+            for k in ("time", "depth", "stress"):
+                np.testing.assert_array_equal(getattr(a, k), getattr(b, k))
+
+
+def test_a_decimal_comma_in_a_comma_separated_file_is_a_field_count_error(tmp_path):
+    p = write(tmp_path, HEADER + ROWS.replace("0.002", "0,002"))
+    with pytest.raises(MudrftError, match=r"line 3: expected 4 comma-separated fields"):
         load_intrusion_csv(p)
 
 
@@ -173,13 +184,17 @@ def test_a_stress_of_the_opposite_sign_warns():
         Trial(t, depth, -1e4 * depth)
 
 
-def test_units_in_parentheses_are_pointed_to_the_brackets(tmp_path):
-    """'time (s)' reads as a column named 'time (s)': 'no time column' did not say why."""
-    p = write(tmp_path, "time (s),depth (m),stress (Pa)\n0,0,0\n0.1,0.002,500\n")
-    with pytest.raises(
-        MudrftError, match=r"units go in square brackets: 'time \(s\)' reads as a name"
-    ):
-        load_intrusion_csv(p)
+@pytest.mark.parametrize(
+    "header",
+    ["time (ms),depth (mm),stress (kPa)", "Time in ms,Depth in mm,Stress in kPa"],
+)
+def test_units_in_parentheses_or_after_in_are_read(tmp_path, header):
+    """'time (s)' read as a column named 'time (s)' (issue 39)."""
+    p = write(tmp_path, f"{header}\n0,0,0\n100,2,0.5\n200,4,0.9\n")
+    tr = quiet_load(p).trials[0]
+    np.testing.assert_allclose(tr.time, [0.0, 0.1, 0.2], rtol=1e-12)
+    np.testing.assert_allclose(tr.depth, [0.0, 0.002, 0.004], rtol=1e-12)
+    np.testing.assert_allclose(tr.stress, [0.0, 500.0, 900.0], rtol=1e-12)
 
 
 def test_logs_of_different_areas_merge_and_read_back(tmp_path):
@@ -237,14 +252,14 @@ def _ramp_log(rate_hz: float, speed: float, *, time_scale: float = 1.0, unit: st
 
 
 def test_the_intrusion_speed_ignores_holds_and_noise():
-    from mudrft.io._build import intrusion_speed
+    from mudrft.io.dataset import intrusion_speed
 
     t = np.linspace(0.0, 1.0, 1001)
     depth = np.clip(0.05 * (t - 0.3), 0.0, 0.02)  # 0.05 m/s from 0.3 s, held from 0.7 s
     noisy = depth + 2e-5 * np.random.default_rng(1).standard_normal(t.size)
     assert intrusion_speed(t, depth) == pytest.approx(0.05, rel=0.01)
     assert intrusion_speed(t, noisy) == pytest.approx(0.05, rel=0.05)
-    assert np.isnan(intrusion_speed(t, -depth))  # never deeper than its start
+    assert intrusion_speed(t, -depth) == 0.0  # never deeper than its start
 
 
 @pytest.mark.parametrize("rate_hz", [1_000.0, 20_000.0])
@@ -285,18 +300,21 @@ def test_plausible_slow_or_fast_tests_read_quietly(tmp_path, rate_hz, speed):
     [
         (
             "time [ms],position [mm],load [N]",
-            "no depth column; name it 'depth' or 'displacement', with its unit in brackets "
-            "(e.g. 'depth [mm]'); got ['time [ms]', 'position [mm]', 'load [N]']",
+            "no depth column; name it 'depth' or 'displacement', with its unit (e.g. "
+            "'depth [mm]'), or name it with columns={'depth': 'NAME'} (CLI: --columns "
+            "depth=NAME); got ['time [ms]', 'position [mm]', 'load [N]']",
         ),
         (
             "Zeit [ms],depth [mm],force [N]",
-            "no time column; name it 'time' or 't', with its unit in brackets "
-            "(e.g. 'time [ms]'); got ['Zeit [ms]', 'depth [mm]', 'force [N]']",
+            "no time column; name it 'time' or 't', with its unit (e.g. 'time [ms]'), or "
+            "name it with columns={'time': 'NAME'} (CLI: --columns time=NAME); got "
+            "['Zeit [ms]', 'depth [mm]', 'force [N]']",
         ),
         (
             "time [ms],depth [mm],load [N]",
             "needs a stress or a force column; name it 'stress' or 'sigma' (e.g. "
-            "'stress [Pa]'), or 'Fz', 'force' or 'F' (e.g. 'force [N]'); got "
+            "'stress [Pa]'), or 'Fz', 'force' or 'F' (e.g. 'force [N]'), or name it with "
+            "columns={'force': 'NAME'} (CLI: --columns force=NAME); got "
             "['time [ms]', 'depth [mm]', 'load [N]']",
         ),
     ],
@@ -309,3 +327,100 @@ def test_a_column_with_its_rigs_own_name_is_told_the_names_mudrft_reads(tmp_path
     with pytest.raises(MudrftError) as exc:
         load_intrusion_csv(p, area=0.0025)
     assert str(exc.value) == f"{p}: line 1: {message}"
+
+
+# -- columns as the logger wrote them (issue 39) ----------------------------------------------
+LAB = "Zeit (ms)\tPosition (mm)\tLoad (N)\tpos\n0\t0\t0\t0\n100\t2\t0.8\t2\n200\t4\t1.44\t4\n"
+
+
+def test_a_column_mapping_names_the_columns_a_logger_calls_otherwise(tmp_path):
+    p = write(tmp_path, LAB, "lab.txt")
+    with pytest.raises(MudrftError, match=r"no time column; .*columns=\{'time': 'NAME'\}"):
+        load_intrusion_csv(p, area=0.0016)
+    mapping = {"time": "zeit (ms)", "depth": "Position (mm)", "force": "Load (N)"}
+    tr = quiet_load(p, area=0.0016, columns=mapping).trials[0]
+    np.testing.assert_allclose(tr.time, [0.0, 0.1, 0.2], rtol=1e-12)
+    np.testing.assert_allclose(tr.depth, [0.0, 0.002, 0.004], rtol=1e-12)
+    np.testing.assert_allclose(tr.stress, [0.0, 500.0, 900.0], rtol=1e-12)
+    # a column without a unit takes the one given with the mapping
+    units = {**mapping, "depth": "pos [mm]"}
+    np.testing.assert_array_equal(
+        quiet_load(p, area=0.0016, columns=units).trials[0].depth, tr.depth
+    )
+    via = load_dataset(p, area=0.0016, columns=mapping)  # the same through load_dataset
+    np.testing.assert_array_equal(via.trials[0].stress, tr.stress)
+
+
+@pytest.mark.parametrize(
+    ("columns", "message"),
+    [
+        (
+            {"time": "Time (s)"},
+            r"columns maps time to 'Time \(s\)', but no column is named so; "
+            r"the columns are \['Zeit \(ms\)'",
+        ),
+        ({"speed": "Load (N)"}, r"columns must map roles, of \['depth', 'force', .*got 'speed'"),
+        ({"time": "Zeit (ms)", "depth": "Zeit (ms)"}, r"maps both time and depth to 'Zeit \(ms\)'"),
+        ({"depth": "pos"}, r"column 'pos' has no unit; write it as 'pos \[m\]'"),
+        ({"time": "Zeit (ms)", "force": "Load (N)"}, r"no depth column"),
+    ],
+)
+def test_a_column_mapping_that_does_not_fit_the_file_is_named(tmp_path, columns, message):
+    p = write(tmp_path, LAB, "lab.txt")
+    with pytest.raises(MudrftError, match=message):
+        load_intrusion_csv(p, area=0.0016, columns=columns)
+
+
+def test_an_hdf5_log_takes_a_column_mapping(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    p = tmp_path / "lab.h5"
+    with h5py.File(p, "w") as fh:
+        fh["Zeit (ms)"] = [0.0, 100.0, 200.0]
+        fh["Weg (mm)"] = [0.0, 2.0, 4.0]
+        fh["stress [kPa]"] = [0.0, 0.5, 0.9]
+    tr = load_dataset(p, columns={"time": "Zeit (ms)", "depth": "Weg (mm)"}).trials[0]
+    np.testing.assert_allclose(tr.depth, [0.0, 0.002, 0.004], rtol=1e-12)
+    np.testing.assert_allclose(tr.time, [0.0, 0.1, 0.2], rtol=1e-12)
+
+
+# -- the last silent inputs of a log (issue 43) -----------------------------------------------
+@pytest.mark.parametrize("value", ["5000", "0"])
+def test_a_stress_of_one_value_throughout_is_refused(tmp_path, value):
+    """numpy's 'zero-size array to reduction operation' came out of mudrft calibrate."""
+    rows = "".join(f"{0.1 * k:.1f},{0.002 * min(k, 8 - k)},{value}\n" for k in range(9))
+    p = write(tmp_path, "time [s],depth [m],stress [Pa]\n" + rows)
+    said = rf"log.csv: line 2, column 'stress \[Pa\]': trial 'trial': stress is {value}.0 Pa in every sample"  # fmt: skip
+    with pytest.raises(MudrftError, match=said):
+        load_intrusion_csv(p)
+
+
+def test_a_cli_calibration_of_a_constant_stress_is_one_line(tmp_path, capsys):
+    rows = "".join(f"{0.1 * k:.1f},{0.002 * min(k, 8 - k)},5000\n" for k in range(9))
+    p = write(tmp_path, "time [s],depth [m],stress [Pa]\n" + rows)
+    assert main(["calibrate", str(p), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "stress is 5000.0 Pa in every sample" in err
+
+
+def test_a_log_in_kpa_labelled_pa_warns(tmp_path):
+    """It fitted sigma_y = 7.2 Pa, a thousand times too soft, without a word (issue 43)."""
+    p = write(
+        tmp_path, HEADER + ROWS.replace("500", "0.5").replace("900", "0.9").replace("-100", "-0.1")
+    )
+    with pytest.warns(PlausibilityWarning, match=r"peaks at 0.9 Pa, less than 100 Pa.*'stress \[kPa\]'"):  # fmt: skip
+        load_intrusion_csv(p)
+
+
+def test_a_trials_speed_is_its_rate_in_the_mud_not_its_largest_step():
+    """An approach from 5 mm above the surface in one step, 0.02 mm of depth noise at
+    500 Hz, a hold and a retraction: 'the largest rate' labelled a 10 mm/s trial
+    1.25e+03 mm/s (issue 39)."""
+    t = np.arange(0.0, 7.0, 0.002)
+    depth = np.where(t < 3.0, 0.01 * t, np.maximum(0.03 - 0.01 * (t - 4.0), 0.0))
+    depth = np.where((t >= 3.0) & (t < 4.0), 0.03, depth)
+    depth[:1] = -0.005  # the plate above the surface, then at it
+    noisy = depth + 2e-5 * np.random.default_rng(4).standard_normal(t.size)
+    stress = 2e4 * np.sqrt(np.clip(depth, 0.0, None) / 0.03) + 1.0
+    tr = Trial(t, noisy, stress)
+    assert tr.speed == pytest.approx(0.01, rel=0.01)
+    assert "speed=0.01 m/s" in repr(tr)

@@ -17,7 +17,15 @@ from mudrft._validation import MudrftError, PlausibilityWarning
 from mudrft.cli import main
 from mudrft.feet import Flat, MeshFoot, SemiCylinder, SemiSphere, by_name
 from mudrft.feet.base import Foot
-from mudrft.feet.stl import write_stl
+
+
+def write_stl(path, triangles) -> None:
+    """Triangles (m, 3, 3) as a binary STL file, written by trimesh."""
+    import trimesh
+
+    tri = np.asarray(triangles, dtype=float)
+    faces = np.arange(3 * len(tri)).reshape(-1, 3)
+    trimesh.Trimesh(tri.reshape(-1, 3), faces, process=False).export(path, file_type="stl")
 
 
 @pytest.mark.parametrize(

@@ -279,12 +279,16 @@ def test_bad_spec_is_a_clear_error_naming_the_key(sections, message):
 def test_a_mesh_foot_takes_its_files_up_axis(tmp_path):
     # a y-up export (Blender's OBJ default) could be stood up on the command line (--up)
     # and in Python (up=), not in a sweep spec: [foot] up takes the file's up axis
+    import trimesh
+
     from mudrft.feet import MeshFoot, SemiSphere
     from mudrft.feet.mesh import UP_AXES
-    from mudrft.feet.stl import write_stl
 
     dome = SemiSphere().to_mesh(resolution=6)
-    write_stl(tmp_path / "y.stl", dome.triangles @ np.array(UP_AXES["y"], float), binary=False)
+    lying = trimesh.Trimesh(
+        dome.vertices @ np.array(UP_AXES["y"], float), dome.faces, process=False
+    )
+    lying.export(tmp_path / "y.stl", file_type="stl_ascii")
     toml = tmp_path / "spec.toml"
     toml.write_text('[foot]\nkind = "y.stl"\nup = "y"\n[motion]\nspeed = [0.1, 0.2]\n')
     stood = load_spec(toml).mesh

@@ -1,12 +1,11 @@
 """What the subcommands share: option checks, optional extras, safe outputs.
 
-Outputs are all-or-nothing. A command registers every file (or directory) it will write
-*before* it starts working, so that an existing output without ``--force``, a directory
-that is a file, or a missing parent directory is reported at once. The command writes to
-temporary names in the target's own directory; :meth:`Outputs.commit` then moves every
-file to its final name with :func:`os.replace`. When anything fails, the temporary files
-and the directories the command created are removed, so a failed command leaves nothing
-behind.
+Outputs are all-or-nothing (:class:`Outputs`). A command registers every file (or
+directory) it will write *before* it starts working, so that an existing output without
+``--force``, a directory that is a file, or a missing parent directory is reported at once.
+It writes in staging directories beside the targets; :meth:`Outputs.commit` then moves
+every file to its final name. When anything fails (also SIGTERM or Ctrl-C), the staging
+directories and the directories the command created are removed.
 """
 
 from __future__ import annotations
@@ -17,9 +16,7 @@ import math
 import os
 import shutil
 import signal
-import tempfile
 import threading
-import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,11 +25,12 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._progress import logger
 from .._validation import MudrftError
-from ..io.atomic import regular_target
-from ..parameters import Mud, paper_mud
+from ..io.atomic import move_into_place, regular_target, staging_directory
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from ..parameters import Mud
 
 __all__ = [
     "EXTRAS",
@@ -52,7 +50,6 @@ __all__ = [
 EXTRAS = {
     "matplotlib": "plot",
     "mujoco": "mujoco",
-    "trimesh": "mesh",
     "jax": "jax",
     "numba": "numba",
     "pandas": "pandas",
@@ -130,40 +127,34 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> None:
         plt.close(fig)
 
 
-def _number(value: float) -> str:
-    return f"{float(value):g}"
-
-
 def check_finite_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` if it is NaN or infinite."""
     if not math.isfinite(value):
         where = f" [{unit}]" if unit else ""
-        raise MudrftError(f"{option} must be a finite number{where}, got {_number(value)}")
+        raise MudrftError(f"{option} must be a finite number{where}, got {float(value):g}")
     return float(value)
 
 
 def check_positive_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0."""
-    check_finite_option(option, value, unit=unit)
-    if not value > 0:
-        raise MudrftError(f"{option} must be > 0{_unit(unit)}, got {_number(value)}")
-    return float(value)
+    return _compare(option, value, unit, ">")
 
 
 def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
-    check_finite_option(option, value, unit=unit)
-    if not value >= 0:
-        raise MudrftError(f"{option} must be >= 0{_unit(unit)}, got {_number(value)}")
-    return float(value)
+    return _compare(option, value, unit, ">=")
 
 
-def _unit(unit: str) -> str:
-    return f" {unit}" if unit else ""
+def _compare(option: str, value: float, unit: str, sign: str) -> float:
+    v = check_finite_option(option, value, unit=unit)
+    if not (v > 0 if sign == ">" else v >= 0):
+        raise MudrftError(f"{option} must be {sign} 0{' ' + unit if unit else ''}, got {v:g}")
+    return v
 
 
 def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Mud:
     """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
+    from ..parameters import paper_mud
 
     check_finite_option("--water-content", water_content)
     try:
@@ -299,7 +290,9 @@ class Outputs:
     """The files one command writes, written all-or-nothing.
 
     Use it as a context manager: on leaving the block normally every registered output is
-    moved to its final name; on an exception nothing of the command's stays behind.
+    moved to its final name; on an exception nothing of the command's stays behind. Each
+    output is written in a staging directory beside its target
+    (:func:`mudrft.io.atomic.staging_directory`, which also removes what killed runs left).
 
     Parameters
     ----------
@@ -320,8 +313,9 @@ class Outputs:
 
     def __init__(self, *, force: bool) -> None:
         self.force = bool(force)
-        self._files: list[tuple[Path, Path, str]] = []  # (temporary, final, option)
-        self._stages: list[tuple[Path, Path, str]] = []  # (staging dir, final dir, option)
+        #: (staging directory, final directory, option): everything staged is moved there
+        self._stages: list[tuple[Path, Path, str]] = []
+        self._files: list[tuple[Path, str]] = []  # the files announced, with their option
         self._made: list[Path] = []  # directories this command created, outermost first
         self._filter = _RenameFilter({})
         self._registry: list[Outputs] | None = None  # the running command's, once entered
@@ -332,8 +326,8 @@ class Outputs:
     def file(self, option: str, path: str | Path) -> Path:
         """Register the output file ``path`` of ``option``; return the name to write to.
 
-        The directory of ``path`` must exist. The returned temporary name is in that
-        directory and keeps the suffix of ``path`` (so writers that look at it, such as
+        The directory of ``path`` must exist. The name returned is ``path``'s own name in
+        a staging directory beside it (so writers that look at its suffix, such as
         matplotlib's ``savefig``, choose the right format).
         """
         _check_named(option, path, "a file name")
@@ -346,16 +340,13 @@ class Outputs:
         if final.is_dir():
             raise MudrftError(f"{option} {str(final)!r} is a directory, expected a file name")
         self._check_free(option, final)
-        for _, other, other_option in self._files:
+        for other, other_option in self._files:
             if same_file(other, final):
                 raise MudrftError(f"{option} and {other_option} name the same file {str(final)!r}")
-        with _signals_held():
-            fd, name = self._mkstemp(option, final)
-            os.close(fd)
-            tmp = Path(name)
-            self._files.append((tmp, final, option))
-        self._filter.names[str(tmp)] = str(final)
-        return tmp
+        self._files.append((final, option))
+        staged = self._stage(option, final.parent) / final.name
+        self._filter.names[str(staged)] = str(final)
+        return staged
 
     def directory(self, option: str, path: str | Path, names: Iterable[str]) -> Path:
         """Register the output directory ``path``; return a staging directory to write in.
@@ -373,14 +364,21 @@ class Outputs:
             self._check_free(option, regular_target(final / name, option))
         with _signals_held():
             self._mkdirs(option, final)
+        stage = self._stage(option, final)
+        self._filter.names[str(stage)] = str(final)
+        return stage
+
+    def _stage(self, option: str, final: Path) -> Path:
+        """A staging directory in ``final``, registered for the move or the cleanup (a
+        signal waits until it is: a signal between the two would leave it behind)."""
+        with _signals_held():
             try:
-                stage = Path(tempfile.mkdtemp(prefix=".mudrft-", suffix=".tmp", dir=final))
+                stage = staging_directory(final)
             except OSError as exc:
                 raise MudrftError(
                     f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
                 ) from exc
             self._stages.append((stage, final, option))
-        self._filter.names[str(stage)] = str(final)
         return stage
 
     # -- checks -------------------------------------------------------------------------
@@ -411,46 +409,27 @@ class Outputs:
                 ) from exc
             self._made.append(p)
 
-    @staticmethod
-    def _mkstemp(option: str, final: Path) -> tuple[int, str]:
-        # a new file of a fresh name, created as any new file is (the umask applies: not
-        # mkstemp's private 0600, which the output would keep after the move)
-        try:
-            for _ in range(100):
-                name = final.parent / f".{final.stem}.{uuid.uuid4().hex[:12]}.tmp{final.suffix}"
-                try:
-                    return os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), str(name)
-                except FileExistsError:  # pragma: no cover - a 48-bit random name collided
-                    continue
-            raise FileExistsError(f"no free temporary name next to {final}")  # pragma: no cover
-        except OSError as exc:
-            raise MudrftError(
-                f"{option} {str(final)!r} is not writable: {exc.strerror or exc}"
-            ) from exc
-
     # -- the end ------------------------------------------------------------------------
     def commit(self) -> list[Path]:
         """Move every output to its final name; return the final paths (also ``written``)."""
-        moves: list[tuple[Path, Path, str]] = list(self._files)
-        for stage, final, option in self._stages:
-            moves += [
-                (item, regular_target(final / item.name, option), option)
-                for item in sorted(stage.iterdir())
-            ]
+        moves = [
+            (item, regular_target(final / item.name, option), option)
+            for stage, final, option in list(self._stages)
+            for item in sorted(stage.iterdir())
+        ]
         for _, final, option in moves:  # also an output that was not announced
             self._check_free(option, final)
         moves = self._beside_targets(moves)
-        for tmp, final, option in moves:
+        for staged, final, option in moves:
             try:
-                os.replace(tmp, final)
+                move_into_place(staged, final, overwrite=True, option=option)
             except OSError as exc:
                 raise MudrftError(
                     f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
                 ) from exc
             self.written.append(final)
-        for stage, _, _ in self._stages:
-            shutil.rmtree(stage, ignore_errors=True)
-        self._files, self._stages, self._made = [], [], []
+        self._made = []
+        self.discard()
         return self.written
 
     def _beside_targets(self, moves: list[tuple[Path, Path, str]]) -> list[tuple[Path, Path, str]]:
@@ -459,31 +438,25 @@ class Outputs:
         file system, where a rename cannot reach): every copy is made before any output
         is moved, so a copy that fails leaves the outputs as they were."""
         out = []
-        for tmp, final, option in moves:
+        for staged, final, option in moves:
             try:
-                same = os.path.samefile(tmp.parent, final.parent)
-            except OSError:  # a link into a directory that is not there: _mkstemp names it
+                same = os.path.samefile(staged.parent.parent, final.parent)
+            except OSError:  # a link into a directory that is not there: _stage names it
                 same = False
-            if same:
-                out.append((tmp, final, option))
-                continue
-            fd, name = self._mkstemp(option, final)
-            os.close(fd)
-            near = Path(name)
-            self._files.append((near, final, option))  # removed by discard() if what follows fails
-            try:
-                shutil.copyfile(tmp, near)
-            except OSError as exc:
-                raise MudrftError(
-                    f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
-                ) from exc
-            out.append((near, final, option))
+            if not same:
+                near = self._stage(option, final.parent) / final.name
+                try:
+                    shutil.copyfile(staged, near)
+                except OSError as exc:
+                    raise MudrftError(
+                        f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
+                    ) from exc
+                staged = near
+            out.append((staged, final, option))
         return out
 
     def discard(self) -> None:
-        """Remove the temporary files and the directories this command created."""
-        for tmp, _, _ in self._files:
-            tmp.unlink(missing_ok=True)
+        """Remove the staging directories and the directories this command created."""
         for stage, _, _ in self._stages:
             shutil.rmtree(stage, ignore_errors=True)
         for d in reversed(self._made):
@@ -491,7 +464,7 @@ class Outputs:
                 d.rmdir()
             except OSError:  # not empty: something else wrote there meanwhile
                 break
-        self._files, self._stages, self._made = [], [], []
+        self._stages, self._made = [], []
 
     @contextmanager
     def _renaming_logs(self) -> Iterator[None]:

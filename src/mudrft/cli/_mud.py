@@ -8,10 +8,13 @@ the direction not given stays the paper's. Shared by ``mudrft simulate`` and ``m
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ..parameters import Mud
 from ._common import paper_mud_option
+
+if TYPE_CHECKING:
+    from ..parameters import Mud
 
 __all__ = ["add_fit_options", "mud_from_options"]
 
@@ -31,6 +34,7 @@ def mud_from_options(args: argparse.Namespace) -> Mud:
     """The paper's mud at ``--water-content``, with a set from ``--vertical`` or
     ``--horizontal`` in place of its row (decision D111); errors name the option."""
     from ..calibration.persistence import load_parameters
+    from ..parameters import Mud
 
     paper = paper_mud_option(
         args.water_content,

@@ -8,22 +8,20 @@ of :data:`mudrft.baselines.TERRAIN_NAMES`; ``--zeta`` describes granular RFT's m
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ..baselines.compare import TERRAIN_NAMES
-from ..parameters import Mud, paper_mud
-from ..terrains import (
-    GranularRFT,
-    GranularRFT3D,
-    LinearStiffness,
-    MaxwellMud,
-    MudTerrain,
-    RigidGround,
-    Terrain,
-)
 from ._common import check_nonnegative_option, check_positive_option
 
-__all__ = ["add_terrain_options", "terrain_names", "terrains_from_options"]
+if TYPE_CHECKING:
+    from ..parameters import Mud
+    from ..terrains import Terrain
+
+__all__ = ["TERRAIN_NAMES", "add_terrain_options", "terrain_names", "terrains_from_options"]
+
+#: ``mudrft.baselines.TERRAIN_NAMES``, written here so that ``--help`` needs no physics
+#: (a test holds the two equal).
+TERRAIN_NAMES = ("mud", "granular-rft", "granular-rft3d", "linear", "maxwell", "rigid")
 
 #: Option -> (terrain it describes, unit for messages).
 MEDIUM_OPTIONS = {
@@ -116,6 +114,16 @@ def terrains_from_options(
 ) -> dict[str, Terrain]:
     """The terrains named in ``value`` (:func:`terrain_names`), by name, with the media
     options; the other baselines with their defaults (D59)."""
+    from ..parameters import paper_mud
+    from ..terrains import (
+        GranularRFT,
+        GranularRFT3D,
+        LinearStiffness,
+        MaxwellMud,
+        MudTerrain,
+        RigidGround,
+    )
+
     names = terrain_names(args, value, option)
     given = _media(args)
     extrapolate = bool(getattr(args, "extrapolate", False))

@@ -3,7 +3,8 @@
 ::
 
     mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
-                     [--area A] [--length L] [--groups b th s] [--starts K]
+                     [--columns ROLE=NAME,...] [--area A] [--length L]
+                     [--groups b th s] [--starts K]
                      [--clipped {exclude,keep}] [--zero {check,subtract}]
                      --out fit.json [--force] [--plot fit.png] [--quiet] [--strict]
 
@@ -18,11 +19,12 @@ describe the data, D110, D125).
 from __future__ import annotations
 
 import argparse
+import csv
 from collections.abc import Sequence
 from typing import Any
 
 from .._validation import MudrftError
-from ..io import load_dataset
+from ..units import parse_quantity
 from ._common import (
     Outputs,
     check_finite_option,
@@ -40,9 +42,13 @@ DESCRIPTION = (
     "Fit the mud model (Chen et al. 2026) to plate-intrusion logs: bounded least squares, "
     "phase by phase (intrusion, relaxation, retraction) then jointly; prints parameters "
     "with standard errors, confidence intervals and an identifiability verdict, and writes "
-    "them as JSON. CSV columns: 'time [s]', 'depth [m]' and 'stress [Pa]' or 'Fz [N]' "
-    "(units such as ms, mm, kPa, MPa are converted), optional 'trial' column."
+    "them as JSON. Columns: 'time', 'depth' and 'stress' or 'force' (or 'Fz'), each with "
+    "its unit as 'time [s]', 'Time (s)' or 'time in s' (ms, mm, kPa, N, ... are converted), "
+    "an optional 'trial' column, separated by commas, tabs or semicolons; --columns names "
+    "the columns a logger calls otherwise."
 )
+#: The roles --columns maps.
+ROLES = ("time", "depth", "stress", "force", "trial")
 
 
 class _DeprecatedForce(argparse.Action):
@@ -82,16 +88,23 @@ def add_parser(
         help="loading direction of the tests (default: the file's, else vertical)",
     )
     p.add_argument(
-        "--area",
-        type=float,
+        "--columns",
+        metavar="ROLE=NAME,...",
         default=None,
-        help="plate area [m^2], needed when the log has a force column",
+        help="the log's names of its columns, for names mudrft does not read: e.g. "
+        'time="Time (s)",depth="Position (mm)",force="Load (N)"; roles: ' + ", ".join(ROLES),
+    )
+    p.add_argument(
+        "--area",
+        default=None,
+        help="plate area, with a unit (1600mm^2, 16cm^2) or in m^2; needed when the log has "
+        "a force column",
     )
     p.add_argument(
         "--length",
-        type=float,
         default=None,
-        help="plate characteristic length L_c [m] (default: the file's, else 0.05)",
+        help="plate characteristic length L_c, with a unit (40mm) or in m (default: the "
+        "file's, else 0.05)",
     )
     p.add_argument(
         "--groups",
@@ -151,26 +164,55 @@ def add_parser(
     return p
 
 
-def _check_options(args: argparse.Namespace) -> None:
-    """Check the numeric options before any file is read, naming them as the command line
-    does (the library names ``confidence_level``, ``characteristic_length``, and blames
-    the data file for a bad ``--area`` or ``--length``)."""
+def parse_columns(text: str) -> dict[str, str]:
+    """``time="Time (s)",depth=Pos`` -> ``{"time": "Time (s)", "depth": "Pos"}``."""
+    pairs = [p for p in next(csv.reader([text], skipinitialspace=True), []) if p.strip()]
+    out: dict[str, str] = {}
+    for pair in pairs:
+        role, sep, name = (part.strip() for part in pair.partition("="))
+        if not sep or role not in ROLES or not name.strip("\"'"):
+            raise MudrftError(
+                f"--columns must be ROLE=NAME pairs separated by commas, ROLE one of "
+                f'{", ".join(ROLES)} (e.g. time="Time (s)",depth="Depth (mm)"), got {pair!r}'
+            )
+        if role in out:
+            raise MudrftError(f"--columns names the {role} twice ({out[role]!r}, {name!r})")
+        out[role] = name.strip("\"'")
+    if not out:
+        raise MudrftError(f"--columns must name at least one column, got {text!r}")
+    return out
+
+
+def _check_options(args: argparse.Namespace) -> dict[str, Any]:
+    """Check the options before any file is read, naming them as the command line does
+    (the library names ``confidence_level``, ``characteristic_length``, and blames the data
+    file for a bad ``--area`` or ``--length``); return the loader's options, in SI."""
     for option, value in (("--starts", args.starts), ("--decimate", args.decimate)):
         if value is not None and value < 1:
             raise MudrftError(f"{option} must be an integer >= 1, got {value}")
-    if args.area is not None:
-        check_positive_option("--area", args.area, unit="m^2")
-    if args.length is not None:
-        check_positive_option("--length", args.length, unit="m")
+    opts: dict[str, Any] = {"area": None, "characteristic_length": None}
+    for option, key, value, quantity, unit in (
+        ("--area", "area", args.area, "area", "m^2"),
+        ("--length", "characteristic_length", args.length, "length", "m"),
+    ):
+        if value is not None:
+            si = parse_quantity(option, value, quantity)
+            opts[key] = check_positive_option(option, si, unit=unit)
+    if args.columns is not None:
+        opts["columns"] = parse_columns(args.columns)
+    if args.direction:
+        opts["direction"] = args.direction
     level = check_finite_option("--confidence", args.confidence)
     if not 0 < level < 1:
         hint = f" (give a fraction: {level:g} % is {level / 100:g})" if 1 < level < 100 else ""
         raise MudrftError(f"--confidence must lie between 0 and 1, got {level:g}{hint}")
+    return opts
 
 
 def run(args: argparse.Namespace) -> int:
     """Fit, print the table, write ``--out``/``--plot``; returns 0, or 1 if the fit failed."""
     from ..calibration.fit import calibrate
+    from ..io import load_dataset
 
     for option in ("out", "plot"):
         target = getattr(args, option)
@@ -178,10 +220,7 @@ def run(args: argparse.Namespace) -> int:
             raise MudrftError(f"--{option} {target!r} names an input file; choose another name")
     if args.plot:
         require_plot_file("--plot", args.plot)
-    _check_options(args)
-    opts: dict[str, Any] = {"area": args.area, "characteristic_length": args.length}
-    if args.direction:
-        opts["direction"] = args.direction
+    opts = _check_options(args)
     with Outputs(force=args.force) as outputs:
         json_tmp = outputs.file("--out", args.out) if args.out else None
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None

@@ -17,11 +17,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ..baselines.compare import default_terrains
-from ..feet import by_name
-from ..parameters import Mud
-from ..terrains import MudTerrain, Terrain
-from ..trajectories import gait, plate_intrusion
 from ._common import (
     Outputs,
     check_finite_option,
@@ -36,6 +31,8 @@ from ._terrain import add_terrain_options, terrains_from_options
 
 if TYPE_CHECKING:
     from ..feet import Foot
+    from ..parameters import Mud
+    from ..terrains import Terrain
 
 __all__ = ["FILES", "add_parser", "run", "write_comparison"]
 
@@ -138,7 +135,9 @@ def write_comparison(
     dict of str to Path
         The paths written, by key of :data:`FILES`.
     """
-    from ..baselines.compare import compare, summarize, write_csv
+    from ..baselines.compare import compare, default_terrains, summarize, write_csv
+    from ..terrains import MudTerrain
+    from ..trajectories import gait, plate_intrusion
 
     if terrains is None:
         terrains = default_terrains(water_content, extrapolate=extrapolate)
@@ -188,6 +187,7 @@ def write_comparison(
 
 def run(args: argparse.Namespace) -> int:
     """Run ``mudrft compare`` with parsed arguments; returns the exit status (0)."""
+    from ..feet import by_name
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")

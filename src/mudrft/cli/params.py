@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
-from ..parameters.chen2026 import TABLE_NAME
 from ._parser import add_subcommand
 
 __all__ = ["add_parser", "run"]
@@ -31,6 +29,8 @@ def add_parser(
 
 def run(args: argparse.Namespace) -> int:
     """Print the parameter tables to stdout; returns the exit status (0)."""
+    from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
+    from ..parameters.chen2026 import TABLE_NAME
 
     names = list(PARAMETER_UNITS)[:10]
     for d in DIRECTIONS:

@@ -3,16 +3,9 @@
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ..feet import by_name
-from ..io import load_path_csv
-from ..metrics import relative_rmse
-from ..simulation import LoadControl, Result, simulate, static_sinking
-from ..terrains import MudTerrain, Terrain
-from ..trajectories import STANCE_DEPTH, Trajectory, gait
 from ._common import (
     Outputs,
     check_nonnegative_option,
@@ -32,12 +25,19 @@ from ._parser import (
 )
 from ._terrain import add_terrain_options, terrain_names, terrains_from_options
 
+if TYPE_CHECKING:
+    from ..simulation import LoadControl, Result
+    from ..terrains import Terrain
+    from ..trajectories import Trajectory
+
 __all__ = ["add_parser", "run"]
 
-#: The defaults of ``mudrft simulate``: the gait's speed [m/s]; the time over which
-#: ``--load`` rises [s] and the time simulated [s] (a ramped load creeps to the static
-#: depth in 10-30 s, D13).
+#: The defaults of ``mudrft simulate``: the gait's speed [m/s] and deepest tip depth [m]
+#: (``mudrft.trajectories.STANCE_DEPTH``, D10; written here so that ``--help`` needs no
+#: physics, and tested equal); the time over which ``--load`` rises [s] and the time
+#: simulated [s] (a ramped load creeps to the static depth in 10-30 s, D13).
 GAIT_SPEED = 0.2
+STANCE_DEPTH = 0.02
 LOAD_RAMP = 1.0
 LOAD_DURATION = 30.0
 
@@ -138,6 +138,10 @@ def add_parser(
 
 def run(args: argparse.Namespace) -> int:
     """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
+    from ..feet import by_name
+    from ..simulation import LoadControl, simulate, static_sinking
+    from ..terrains import MudTerrain
+    from ..trajectories import Trajectory
 
     _check_motion_options(args)
     dt = check_positive_option("--dt", args.dt, unit="s")
@@ -220,6 +224,10 @@ def _check_motion_options(args: argparse.Namespace) -> None:
 
 def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadControl, str]:
     """The motion the options ask for, and its description for the log."""
+    from ..io import load_path_csv
+    from ..simulation import LoadControl
+    from ..trajectories import gait
+
     if args.path is not None:
         return load_path_csv(args.path), f"path {args.path}"
     if args.load is not None:
@@ -246,6 +254,10 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
 def _print_against_measured(res: Result, path: Trajectory) -> None:
     """The relative RMSE [-] of each force the path's file measured (the paper's Table II),
     the prediction read at the file's own times."""
+    import numpy as np
+
+    from ..metrics import relative_rmse
+
     for name, measured in path.meta.get("measured_force", {}).items():
         axis = "xyz".index(name[1])
         predicted = np.interp(path.time, res.time, res.force[:, axis])

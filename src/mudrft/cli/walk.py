@@ -10,7 +10,6 @@ from typing import TYPE_CHECKING, Any
 
 from .._progress import Progress
 from .._validation import MudrftError
-from ..feet import by_name
 from ..io.atomic import json_text
 from ._common import Outputs, check_nonnegative_option, check_positive_option, logger, require_extra
 from ._mud import add_fit_options, mud_from_options
@@ -89,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
     speed = check_nonnegative_option("--speed", args.speed, unit="m/s")
     require_extra("mujoco", needed_for="mudrft walk")
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
+    from ..feet import by_name
     from ..integrations import walk as W
     from ..integrations import walk_output as WO
 

@@ -2,12 +2,12 @@ r"""A foot of any shape, given as a triangle mesh: forces by surface-element int
 
 :class:`MeshFoot` validates a mesh, puts it in the foot frame (lowest point at the origin)
 and integrates the element rule of :mod:`mudrft.feet.surface` over it, with each facet
-clipped exactly by the mud surface. Mesh files: STL (ASCII or binary, read without extra
-dependencies by :mod:`mudrft.feet.stl`), OBJ and PLY (through the optional ``trimesh``).
+clipped exactly by the mud surface. Mesh files: STL (ASCII or binary), OBJ and PLY, read
+through trimesh (:mod:`mudrft.feet.meshfile`).
 
 Mesh checks (decision D25 in ``docs/model.md``):
 
-* NaN or infinite vertices, faces not of shape (m, 3), non-integer or out-of-range indices,
+* NaN, infinite or complex vertices, faces not of shape (m, 3), non-integer or out-of-range indices,
   an empty or all-degenerate mesh: :class:`~mudrft.MudrftError`;
 * zero-area facets (area <= 1e-14 of the squared bounding-box diagonal, including
   facets with a repeated vertex): dropped, with a :class:`MeshWarning`;
@@ -49,10 +49,8 @@ from .base import (  # fmt: skip
     check_resultant_inputs,
     in_chunks,
 )
-from .meshbound import BYTES_PER_FILE_BYTE, reading_memory
-from .meshfile import read_with_trimesh
+from .meshfile import FORMATS, SIMPLIFY, read_mesh, weld
 from .meshparts import overlapping_parts
-from .stl import read_stl
 from .surface import (
     PreparedTriangles,
     Wrench,
@@ -68,17 +66,6 @@ __all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 #: decision D102). Larger meshes than :func:`mudrft._validation.memory_limit` allows are refused.
 BYTES_PER_FACET = 512
 
-#: Memory :meth:`MeshFoot.from_file` takes per facet of an STL file [bytes], reading,
-#: welding and building together (measured: about 600).
-FILE_BYTES_PER_FACET = 640
-
-_SIMPLIFY = (
-    "simplify the mesh (a foot needs a few thousand facets; e.g. trimesh's "
-    "simplify_quadric_decimation)"
-)
-
-#: File formats :meth:`MeshFoot.from_file` reads.
-FORMATS = (".stl", ".obj", ".ply")
 #: Rotations that turn a file's up axis to +z (proper rotations; ``from_file(up=)``).
 UP_AXES = {
     "z": ((1, 0, 0), (0, 1, 0), (0, 0, 1)),
@@ -161,16 +148,17 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.nd
     """``(closed, n_inconsistent, weld)``: closed 2-manifold test, count of mis-wound edges,
     and each vertex's index among the distinct coordinates (STL files repeat vertices;
     identical coordinates are treated as one)."""
-    _, weld = np.unique(vertices, axis=0, return_inverse=True)
-    f = weld.reshape(-1)[faces]
+    welded = weld(vertices)[1]
+    f = welded[faces]
     # facets with a repeated vertex are no surface (dropped later); leave them out here
     f = f[(f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])]
-    directed = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    _, dcount = np.unique(directed, axis=0, return_counts=True)
-    undirected = np.sort(directed, axis=1)
-    _, ucount = np.unique(undirected, axis=0, return_counts=True)
+    start = np.concatenate([f[:, 0], f[:, 1], f[:, 2]]).astype(np.int64)
+    end = np.concatenate([f[:, 1], f[:, 2], f[:, 0]]).astype(np.int64)
+    n = int(welded.max(initial=0)) + 1  # an edge as one integer key: sorted 10x faster
+    dcount = np.unique(start * n + end, return_counts=True)[1]
+    ucount = np.unique(np.minimum(start, end) * n + np.maximum(start, end), return_counts=True)[1]
     closed = bool(ucount.size > 0 and np.all(ucount == 2))
-    return closed, int(np.sum(dcount > 1)), weld.reshape(-1)
+    return closed, int(np.sum(dcount > 1)), welded
 
 
 def _warn_overlapping_parts(
@@ -247,6 +235,11 @@ class MeshFoot(Foot):
     def __init__(
         self, vertices: ArrayLike, faces: ArrayLike, *, trailing: bool = False, name: str = "mesh"
     ) -> None:
+        if np.iscomplexobj(vertices):
+            raise MudrftError(
+                "vertices must be real coordinates [m], got complex numbers (dtype "
+                f"{np.asarray(vertices).dtype})"
+            )
         v = check_finite("vertices", vertices)
         if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] < 3:
             raise MudrftError(f"vertices must have shape (n, 3) with n >= 3, got shape {v.shape}")
@@ -254,7 +247,7 @@ class MeshFoot(Foot):
         check_memory(
             f"a mesh foot of {f.shape[0]} facets",
             f.shape[0] * BYTES_PER_FACET,
-            hint=_SIMPLIFY,
+            hint=SIMPLIFY,
         )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
@@ -353,7 +346,7 @@ class MeshFoot(Foot):
         name: str | None = None,
         up: str = "z",
     ) -> MeshFoot:
-        """Read a mesh file: STL (ASCII or binary; no extra dependency), OBJ or PLY (trimesh).
+        """Read a mesh file: STL (ASCII or binary), OBJ or PLY, through trimesh.
 
         Parameters
         ----------
@@ -375,12 +368,19 @@ class MeshFoot(Foot):
         ------
         MudrftError
             If ``path`` or ``unit`` is not a string (or path-like), the file is missing, a
-            directory, truncated or malformed (an ASCII STL without ``endsolid`` or with a
-            facet of other than 3 vertices), would need more memory than
-            :func:`~mudrft._validation.memory_limit` (checked before the file is parsed: an
-            STL from its size, an OBJ or PLY from its triangles counted line by line or from
-            its header, :mod:`mudrft.feet.meshbound`), or its mesh fails the checks of :class:`MeshFoot`; the message
-            names the file.
+            directory or unreadable, holds no triangles or NaN coordinates, would need more
+            memory than :func:`~mudrft._validation.memory_limit` (checked before it is
+            parsed, :mod:`mudrft.feet.meshfile`), or its mesh fails the checks of
+            :class:`MeshFoot`; the message names the file.
+
+        Examples
+        --------
+        The example foot shipped with mudrft (:func:`mudrft.data_path`), in millimetres:
+
+        >>> import mudrft
+        >>> foot = MeshFoot.from_file(mudrft.data_path("foot.stl"), unit="mm")
+        >>> foot.name, round(foot.height, 3)
+        ('foot', 0.026)
         """
         if not isinstance(path, str | os.PathLike):
             raise MudrftError(
@@ -399,39 +399,21 @@ class MeshFoot(Foot):
         if not isinstance(up, str) or up not in UP_AXES:
             raise MudrftError(f"up must be the file's up axis, one of {list(UP_AXES)}, got {up!r}")
         p = os.fspath(path)
-        ext = os.path.splitext(p)[1].lower()
-        if ext not in FORMATS:
+        if os.path.splitext(p)[1].lower() not in FORMATS:
             raise MudrftError(f"path must end in one of {list(FORMATS)}, got {p!r}")
         if os.path.isdir(p):
             raise MudrftError(f"path must be a mesh file, got {p!r}, which is a directory")
         if not os.path.isfile(p):
             raise MudrftError(f"path must be an existing mesh file, got {p!r} (no such file)")
-        if ext == ".stl":
-            tri = read_stl(p)  # checks the memory of reading, from the file's size
-            check_memory(
-                f"the mesh foot of the file {p!r} ({tri.shape[0]} facets)",
-                tri.shape[0] * FILE_BYTES_PER_FACET,
-                hint=_SIMPLIFY,
-            )
-            v, f = _index_triangles(tri)
-            del tri
-            if v.shape[0] < 3:
-                raise MudrftError(
-                    f"the mesh file {p!r} has no non-degenerate facet: its {f.shape[0]} "
-                    f"facet(s) have {v.shape[0]} distinct vertex position(s) in all, so every "
-                    "facet has zero area"
-                )
-        else:
-            what = f"reading the mesh file {p!r}"
-            check_memory(what, os.path.getsize(p) * BYTES_PER_FILE_BYTE, hint=_SIMPLIFY)
-            try:  # the triangles counted without parsing, before trimesh parses the file
-                nbytes, count = reading_memory(p, ext, FILE_BYTES_PER_FACET)
-            except OSError as exc:
-                raise MudrftError(f"could not read the mesh file {p!r}: {exc}") from exc
-            check_memory(f"{what} (up to {count} triangles)", nbytes, hint=_SIMPLIFY)
-            v, f = read_with_trimesh(p, ext)
+        v, f = read_mesh(p)
         nm = name if name is not None else os.path.splitext(os.path.basename(p))[0]
         try:
+            if v.shape[0] < 3:
+                raise MudrftError(
+                    f"the mesh has no non-degenerate facet: its {f.shape[0]} facet(s) have "
+                    f"{v.shape[0]} distinct vertex position(s) in all, so every facet has zero "
+                    "area"
+                )
             v = v * scale if up == "z" else (v * scale) @ np.array(UP_AXES[up], float).T
             return cls(v, f, trailing=trailing, name=nm)
         except MudrftError as exc:
@@ -592,9 +574,3 @@ def _flat_rows(shape: tuple[int, ...], *arrays: np.ndarray) -> list[np.ndarray]:
         np.broadcast_to(a, (*shape, 3) if vec else shape).reshape((-1, 3) if vec else (-1,))
         for a, vec in zip(arrays, vector, strict=False)
     ]
-
-
-def _index_triangles(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Shared vertices and faces from a triangle soup (exact coordinate matches merged)."""
-    v, inv = np.unique(tri.reshape(-1, 3), axis=0, return_inverse=True)
-    return v, inv.reshape(-1, 3)

@@ -25,8 +25,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from .._typing import FloatArray, IntArray
 
@@ -121,6 +119,9 @@ def overlapping_parts(
         None for a mesh of one part, of parts apart from each other, or of more than
         :data:`MAX_PARTS` parts (not checked).
     """
+    from scipy.sparse import coo_matrix  # heavy (0.5 s): imported for a closed mesh only
+    from scipy.sparse.csgraph import connected_components
+
     if weld is None:
         weld = np.unique(vertices, axis=0, return_inverse=True)[1].reshape(-1)
     f = weld[faces]

@@ -1,41 +1,62 @@
-"""Atomic, overwrite-safe writing of files: the one way mudrft writes a file it produces.
+"""Writing files atomically: the one way mudrft writes a file it produces.
 
-:func:`atomic_write` writes to a temporary file in the target's directory, then moves it
-into place in one step. A reader never sees a half-written file, a failure leaves
-nothing behind (no temporary file, no truncated target), and an existing file is never
-replaced unless the caller passes ``overwrite=True``, even if it appears while the data
-are being written.
+A file is written in a private staging directory beside its target
+(:func:`tempfile.mkdtemp`), under the target's own name, then moved into place with
+:func:`os.replace`. A reader never sees a half-written file; a failure leaves nothing
+behind; an existing file is replaced only with ``overwrite=True`` (a hard link, which
+fails on an existing name, moves it otherwise). The file is created by :func:`open`, so
+it gets the permissions of any new file (the umask applies).
+
+A run killed outright (``kill -9``) cannot clean up: its staging directory,
+``.mudrft-PID-XXXXXXXX.tmp``, stays. The next run that stages in the same directory
+removes it (:func:`remove_stale_staging`).
 """
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import os
-import uuid
+import re
+import shutil
+import tempfile
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from .._progress import logger
 from .._validation import MudrftError
 
-__all__ = ["atomic_write", "json_text", "regular_target"]
+__all__ = [
+    "STAGING_PREFIX",
+    "atomic_write",
+    "json_text",
+    "move_into_place",
+    "regular_target",
+    "remove_stale_staging",
+    "staging_directory",
+]
 
 Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
-
-def _exists_error(p: Path, option: str) -> MudrftError:
-    return MudrftError(f"{p}: file exists; pass {option} to replace it")
+#: How the staging directories of mudrft begin: ``.mudrft-PID-XXXXXXXX.tmp``.
+STAGING_PREFIX = ".mudrft-"
+#: Staging names: this version's (with the process id), and those of mudrft 0.1 (a staging
+#: directory ``.mudrft-XXXXXXXX.tmp``, a file ``.NAME.<12 hex>.tmp[.SUFFIX]``).
+_STAGED = re.compile(r"\.mudrft-(?P<pid>\d+)-[a-z0-9_]+\.tmp")
+_LEGACY = re.compile(r"\.mudrft-[a-z0-9_]{8}\.tmp|\..+\.[0-9a-f]{12}\.tmp(\.[A-Za-z0-9]+)?")
+#: When this process started to stage files [s since the epoch]: staging newer than this
+#: may belong to a run that is still going.
+_STARTED = time.time()
 
 
 def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
     """The file that writing ``path`` replaces: a symbolic link's target (the link stays a
     link), ``path`` itself otherwise.
 
-    Refuses a pipe, a device or a socket: an atomic write replaces the name by a regular
-    file, which would turn ``/dev/null`` into a file (as root, destroying the device) and a
-    named pipe into a file its reader never sees.
+    Refuses a pipe, a device or a socket: an atomic write would replace it by a regular
+    file (``/dev/null`` as root; a named pipe whose reader never sees the data).
 
     Parameters
     ----------
@@ -60,45 +81,91 @@ def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
     return p
 
 
-def _temporary(p: Path) -> tuple[Path, int]:
-    """A new empty file next to ``p`` (same directory, so the final move is atomic), opened
-    for writing; created with the default permissions (the umask applies)."""
-    for _ in range(100):
-        tmp = p.with_name(f".{p.name}.{uuid.uuid4().hex[:12]}.tmp")
-        try:
-            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-        except FileExistsError:  # pragma: no cover - a 48-bit random name collided
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this machine (unknown on Windows: taken as yes)."""
+    if os.name == "nt" or pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process
+        return True
+    return True
+
+
+def remove_stale_staging(directory: str | os.PathLike[str]) -> list[Path]:
+    """Remove the staging that killed runs left in ``directory``; return what was removed.
+
+    Only names of mudrft's own staging (:data:`STAGING_PREFIX`, and mudrft 0.1's) older
+    than this process, whose process (named in the staging's name) no longer runs.
+    """
+    removed: list[Path] = []
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for entry in entries:
+        name = entry.name
+        staged = _STAGED.fullmatch(name)
+        if not (staged or _LEGACY.fullmatch(name)):
             continue
-    raise FileExistsError(f"no free temporary name next to {p}")  # pragma: no cover
+        try:
+            if entry.stat(follow_symlinks=False).st_mtime >= _STARTED:
+                continue
+            if staged and _alive(int(staged["pid"])):
+                continue
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path)
+            else:
+                os.unlink(entry.path)
+        except OSError:  # gone meanwhile, or not ours to remove
+            continue
+        removed.append(Path(entry.path))
+    if removed:
+        logger.info(
+            "removed %d staging file(s) left by a killed run: %s",
+            len(removed), ", ".join(p.name for p in removed),
+        )  # fmt: skip
+    return removed
 
 
-def _fill(tmp: Path, fd: int, content: Content) -> None:
-    """Write ``content`` to the temporary file (flushed to disk for bytes and text)."""
-    if callable(content):
-        os.close(fd)
-        content(tmp)
-        return
-    data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
-    with os.fdopen(fd, "wb") as fh:
-        fh.write(data)
-        fh.flush()
-        os.fsync(fh.fileno())
+def staging_directory(directory: str | os.PathLike[str]) -> Path:
+    """A new private directory in ``directory`` to write outputs in before they are moved
+    into place (:func:`move_into_place`); stale ones of killed runs are removed first.
+
+    Raises
+    ------
+    OSError
+        If ``directory`` is missing or not writable.
+    """
+    remove_stale_staging(directory)
+    prefix = f"{STAGING_PREFIX}{os.getpid()}-"
+    return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=directory))
 
 
-def _move_into_place(tmp: Path, p: Path, *, overwrite: bool, option: str) -> None:
-    """Move the finished temporary file to ``p``; without ``overwrite`` only if ``p`` does
-    not exist at that moment (a hard link fails on an existing name, atomically)."""
+def move_into_place(staged: Path, target: Path, *, overwrite: bool, option: str) -> None:
+    """Move ``staged`` to ``target`` in one step; without ``overwrite`` only if ``target``
+    does not exist at that moment (a hard link fails on an existing name).
+
+    Raises
+    ------
+    MudrftError
+        If ``target`` exists and ``overwrite`` is false.
+    OSError
+        If the move fails.
+    """
     if overwrite:
-        os.replace(tmp, p)
+        os.replace(staged, target)
         return
     try:
-        os.link(tmp, p)
+        os.link(staged, target)
     except FileExistsError:
-        raise _exists_error(p, option) from None
-    except OSError:  # hard links not supported here: check, then move
-        if os.path.lexists(p):
-            raise _exists_error(p, option) from None
-        os.replace(tmp, p)
+        raise MudrftError(f"{target}: file exists; pass {option} to replace it") from None
+    except OSError:  # no hard links on this file system: check, then move
+        if os.path.lexists(target):
+            raise MudrftError(f"{target}: file exists; pass {option} to replace it") from None
+        os.replace(staged, target)
 
 
 def atomic_write(
@@ -132,7 +199,7 @@ def atomic_write(
     ------
     MudrftError
         If ``path`` exists and ``overwrite`` is false, names a directory, or cannot be
-        written. Nothing is left behind: neither a temporary file nor a partial target.
+        written. Nothing is left behind: neither a staging file nor a partial target.
 
     Examples
     --------
@@ -155,19 +222,25 @@ def atomic_write(
         )
     if p.is_dir():
         raise MudrftError(f"{p}: is a directory, expected a file name")
-    if not overwrite and os.path.lexists(p):
-        raise _exists_error(p, option)  # early, before any work
-    tmp: Path | None = None
+    if not overwrite and os.path.lexists(p):  # early, before any work
+        raise MudrftError(f"{p}: file exists; pass {option} to replace it")
+    stage = None
     try:
-        tmp, fd = _temporary(p)
-        _fill(tmp, fd, content)
-        _move_into_place(tmp, p, overwrite=overwrite, option=option)
+        stage = staging_directory(p.parent)
+        staged = stage / p.name
+        if callable(content):
+            content(staged)
+        else:
+            with open(staged, "wb") as fh:
+                fh.write(content.encode("utf-8") if isinstance(content, str) else content)
+                fh.flush()
+                os.fsync(fh.fileno())
+        move_into_place(staged, p, overwrite=overwrite, option=option)
     except OSError as exc:
         raise MudrftError(f"{p}: cannot be written ({exc.strerror or exc})") from exc
     finally:
-        if tmp is not None:
-            with contextlib.suppress(OSError):  # gone already once moved into place
-                os.unlink(tmp)
+        if stage is not None:
+            shutil.rmtree(stage, ignore_errors=True)
     return p
 
 
@@ -186,12 +259,8 @@ def _finite_or_none(obj: Any) -> Any:
 
 
 def json_text(obj: Any, *, indent: int | None = 2) -> str:
-    r"""Standard JSON for ``obj``, every NaN or infinite number written as ``null``.
-
-    Python's :func:`json.dumps` writes ``NaN`` and ``Infinity`` by default, which is not
-    JSON: strict parsers (JavaScript's ``JSON.parse``, ``json.loads`` with
-    ``parse_constant``) reject the file. mudrft's summaries mark an undefined number (a
-    metric of a walk without a complete step) as NaN in Python and ``null`` on disk.
+    r"""Standard JSON for ``obj``, every NaN or infinite number written as ``null``
+    (:func:`json.dumps` writes ``NaN``, which strict parsers reject).
 
     Parameters
     ----------

@@ -1,9 +1,11 @@
-"""Intrusion logs as CSV: :func:`load_intrusion_csv` and :func:`save_intrusion_csv`.
+"""Logs as text tables: :func:`read_table` (the one CSV reader), :func:`load_intrusion_csv`,
+:func:`save_intrusion_csv` and :func:`load_dataset` (CSV or HDF5, by suffix).
 
-The file is read once as UTF-8 text (never written); ``#`` lines are notes, and
-``# key: value`` notes are metadata (``direction``, ``characteristic_length [m]``,
-``area [m^2]``, ...). The header names the columns with their units, resolved by
-:mod:`.columns` like the datasets of an HDF5 log.
+A table is read once as UTF-8 text, never written. ``#`` lines are notes, and ``# key:
+value`` notes are metadata (``direction``, ``characteristic_length [m]``, ``area [m^2]``,
+...). The first other line is the header; its fields are separated by commas, tabs or
+semicolons, whichever it holds most of (a semicolon- or tab-separated file may write its
+numbers with a decimal comma). The columns are resolved by :mod:`.columns`.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 import csv
 import os
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -19,53 +22,83 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ._build import build_trials, check_plausible, resolve_direction, resolve_plate
-from .columns import (
-    Column,
-    check_roles,
-    fail,
-    parse_header_name,
-    parse_number,
-    quantity_value,
-    resolve_columns,
-    to_si,
-)
+from ..units import parse_unit
+from ._build import build_trials, check_plausible, check_roles, resolve_direction, resolve_plate
+from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import IntrusionDataset
+from .hdf5_log import load_intrusion_hdf5
 
-__all__ = ["load_intrusion_csv", "save_intrusion_csv"]
+__all__ = ["HDF5_SUFFIXES", "Table", "load_dataset", "load_intrusion_csv", "read_table"]
 
+#: File suffixes read as HDF5 by :func:`load_dataset`; every other file is read as CSV.
+HDF5_SUFFIXES = (".h5", ".hdf5", ".hdf")
 _MAX_BYTES = 200 * 1024 * 1024
+_DELIMITERS = {",": "comma", "\t": "tab", ";": "semicolon"}
+#: Metadata keys that hold for the whole file: given twice, they must agree.
+_PLATE_KEYS = {"characteristic_length": "length", "area": "area"}
 
 
-def _read_bytes(path: Path) -> bytes:
-    where = str(path)
+@dataclass
+class Table:
+    """A text table as read: notes, metadata, header and rows (cells as text), each with
+    its line in the file."""
+
+    path: str
+    notes: list[str] = field(default_factory=list)
+    meta: dict[str, Any] = field(default_factory=dict)
+    #: ``key -> (line, value)`` of ``direction`` and the plate's size (SI).
+    fixed: dict[str, tuple[int, Any]] = field(default_factory=dict)
+    header: list[str] = field(default_factory=list)
+    header_line: int = 0
+    delimiter: str = ","
+    rows: list[list[str]] = field(default_factory=list)
+    lines: list[int] = field(default_factory=list)
+
+    def column(self, col: Column) -> NDArray[np.float64]:
+        """A column's values in SI; an error names the line and column of a bad cell."""
+
+        def locate(i: int) -> str:
+            return f"line {self.lines[i]}, column {col.position + 1} ({col.label!r})"
+
+        cells = [row[col.position].strip() for row in self.rows]
+        if self.delimiter != "," and any("," in c for c in cells):  # a decimal comma
+            cells = [c.replace(",", ".") for c in cells]
+        try:
+            raw = np.array(cells, dtype=float)
+        except ValueError:
+            i, why = next(((i, _why(c)) for i, c in enumerate(cells) if _why(c)), (0, "?"))
+            raise fail(self.path, locate(i), why) from None
+        return to_si(self.path, raw, col, locate_row=locate)
+
+
+def _why(cell: str) -> str:
+    """Why a cell is no number ('' if it is one)."""
+    if not cell:
+        return "empty cell, expected a number"
     try:
-        if path.is_dir():
+        float(cell)
+    except ValueError:
+        return f"cannot read {cell[:40]!r} as a number"
+    return ""
+
+
+def _text(p: Path) -> str:
+    """The text of a file; precise errors for a missing, binary or non-UTF-8 one."""
+    where = str(p)
+    try:
+        if p.is_dir():
             raise fail(where, "", "is a directory, expected a CSV file")
-        size = path.stat().st_size
-        if size > _MAX_BYTES:
+        if p.stat().st_size > _MAX_BYTES:
             raise fail(
-                where,
-                "",
-                f"is {size} bytes; intrusion logs above {_MAX_BYTES} bytes are not supported "
-                "as CSV (use HDF5)",
+                where, "", f"is larger than {_MAX_BYTES} bytes, too large for CSV (use HDF5)"
             )
-        with open(path, "rb") as fh:  # read only: the loader never writes the input
-            return fh.read()
-    except FileNotFoundError as exc:
-        raise fail(where, "", "no such file") from exc
-    except PermissionError as exc:
-        raise fail(where, "", "permission denied (cannot read the file)") from exc
-    except IsADirectoryError as exc:
-        raise fail(where, "", "is a directory, expected a CSV file") from exc
+        raw = p.read_bytes()  # read only: the loader never writes the input
+    except FileNotFoundError:
+        raise fail(where, "", "no such file") from None
+    except PermissionError:
+        raise fail(where, "", "permission denied (cannot read the file)") from None
     except OSError as exc:
-        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from exc
-
-
-def _read_text(path: Path) -> str:
-    """The text of a CSV file; precise errors for a missing, binary or non-UTF-8 file."""
-    where = str(path)
-    raw = _read_bytes(path)
+        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from None
     if b"\x00" in raw:
         line = raw[: raw.index(b"\x00")].count(b"\n") + 1
         raise fail(
@@ -82,134 +115,86 @@ def _read_text(path: Path) -> str:
             where,
             f"line {line}",
             f"is not valid UTF-8 text (byte {exc.start}: {raw[exc.start : exc.start + 1]!r})",
-        ) from exc
+        ) from None
 
 
-@dataclass
-class _Table:
-    """The parts of a CSV log: notes, metadata, header and data rows (as text)."""
-
-    where: str
-    notes: list[str] = field(default_factory=list)
-    meta: dict[str, Any] = field(default_factory=dict)
-    meta_len: float | None = None
-    meta_area: float | None = None
-    direction: str | None = None
-    direction_line: str = ""
-    header: list[str] | None = None
-    header_line: int = 0
-    rows: list[list[str]] = field(default_factory=list)
-    row_lines: list[int] = field(default_factory=list)
-    #: The first line and value of each metadata key that must not be given twice.
-    meta_lines: dict[str, tuple[int, str | float]] = field(default_factory=dict)
-
-    def add_comment(self, lineno: int, comment: str) -> None:
-        """A ``#`` line: a note, and metadata if it reads ``# key: value``."""
-        self.notes.append(comment.lstrip("#").strip())
-        key, sep, value = comment.lstrip("#").strip().partition(":")
-        key, value = key.strip(), value.strip()
-        if not sep or not key or len(key) > 60:
-            return
+def _metadata(table: Table, lineno: int, comment: str) -> None:
+    """A ``#`` line: a note, and metadata if it reads ``# key: value``."""
+    text = comment.lstrip("#").strip()
+    table.notes.append(text)
+    key, sep, value = (part.strip() for part in text.partition(":"))
+    if not sep or not key or len(key) > 60:
+        return
+    name, unit = split_label(key)
+    name = name.lower()
+    if name not in (*_PLATE_KEYS, "direction"):
+        table.meta[key] = value
+        return
+    parsed: Any = value
+    if name in _PLATE_KEYS:
+        quantity = _PLATE_KEYS[name]
         try:
-            name = parse_header_name(key)[0].lower()
-        except ValueError:
-            name = key
-        where = f"line {lineno}"
-        if name in ("characteristic_length", "area", "direction"):
-            parsed: Any = value
-            if name != "direction":
-                kind = "length" if name == "characteristic_length" else "area"
-                parsed = quantity_value(self.where, where, key, value, kind)
-            first = self.meta_lines.setdefault(name, (lineno, parsed))
-            if first[1] != parsed:  # the last one used to win, silently
-                raise fail(
-                    self.where,
-                    where,
-                    f"{name} is given again, as {value!r}, after line {first[0]} gave "
-                    f"{first[1]!r}; keep one",
-                )
-        if name == "characteristic_length":
-            self.meta_len = parsed
-        elif name == "area":
-            self.meta_area = parsed
-        elif name == "direction":
-            self.direction, self.direction_line = value, where
-        else:
-            self.meta[key] = value
-
-    def add_record(self, lineno: int, line: str) -> None:
-        """A line of data, or the header if none was read yet."""
-        try:
-            rec = next(csv.reader([line], skipinitialspace=True, strict=True))
-        except csv.Error as exc:
-            raise fail(self.where, f"line {lineno}", f"malformed CSV ({exc})") from None
-        if self.header is None:
-            for sep, what in ((";", "semicolons"), ("\t", "tabs")):
-                if len(rec) == 1 and sep in line:
-                    raise fail(
-                        self.where,
-                        f"line {lineno}",
-                        f"the header's fields are separated by {what}; mudrft reads "
-                        "comma-separated files (save as CSV with ',' as the separator)",
-                    )
-            self.header, self.header_line = rec, lineno
-            return
-        if len(rec) != len(self.header):
-            raise fail(
-                self.where,
-                f"line {lineno}",
-                f"expected {len(self.header)} comma-separated fields as in the header "
-                f"(line {self.header_line}), got {len(rec)}",
-            )
-        self.rows.append(rec)
-        self.row_lines.append(lineno)
+            parsed = float(value) * parse_unit(quantity, unit or SI_UNIT[quantity])
+        except (ValueError, MudrftError) as exc:
+            raise fail(table.path, f"line {lineno}", f"metadata {key!r}: {exc}") from None
+        if not 0 < parsed < float("inf"):
+            raise fail(table.path, f"line {lineno}", f"metadata {key!r} must be > 0, got {value!r}")
+    first = table.fixed.setdefault(name, (lineno, parsed))
+    if first[1] != parsed:  # the last one used to win, silently
+        raise fail(
+            table.path,
+            f"line {lineno}",
+            f"{name} is given again, as {value!r}, after line {first[0]} gave {first[1]!r}; "
+            "keep one",
+        )
 
 
-def _parse(where: str, text: str) -> _Table:
-    table = _Table(where)
-    for lineno, line in enumerate(re.split(r"\r\n|\r|\n", text), start=1):  # \r alone too
+def read_table(path: str | os.PathLike[str]) -> Table:
+    """Read a text table: notes and metadata, the header, the rows (cells as text).
+
+    Raises
+    ------
+    MudrftError
+        Naming the file and the line: no such file, not UTF-8 text, no header, a row whose
+        field count is not the header's, malformed quoting, metadata given twice.
+    """
+    p = Path(os.fspath(path))
+    table = Table(str(p))
+    for lineno, line in enumerate(re.split(r"\r\n|\r|\n", _text(p)), start=1):
         if not line.strip():
             continue
         if line.lstrip().startswith("#"):
-            table.add_comment(lineno, line.strip())
+            _metadata(table, lineno, line.strip())
+            continue
+        if not table.header:  # the header sets the delimiter
+            fields = {d: len(next(csv.reader([line], delimiter=d))) for d in _DELIMITERS}
+            table.delimiter = max(_DELIMITERS, key=fields.__getitem__)  # ties: the comma
+        try:
+            reader = csv.reader(
+                [line], delimiter=table.delimiter, skipinitialspace=True, strict=True
+            )
+            record = next(reader)
+        except csv.Error as exc:
+            raise fail(table.path, f"line {lineno}", f"malformed CSV ({exc})") from None
+        if not table.header:
+            table.header, table.header_line = record, lineno
+        elif len(record) != len(table.header):
+            raise fail(
+                table.path,
+                f"line {lineno}",
+                f"expected {len(table.header)} {_DELIMITERS[table.delimiter]}-separated fields "
+                f"as in the header (line {table.header_line}), got {len(record)}",
+            )
         else:
-            table.add_record(lineno, line)
-    if table.header is None:
+            table.rows.append(record)
+            table.lines.append(lineno)
+    if not table.header:
         raise fail(
-            where,
+            table.path,
             "",
             "has no header line; expected a line such as 'time [s],depth [m],stress [Pa]'",
         )
     return table
-
-
-def _column_values(table: _Table, col: Column) -> NDArray[np.float64]:
-    """One recognised column in SI, with the line and column of any bad cell."""
-
-    def locate(i: int) -> str:
-        return f"line {table.row_lines[i]}, column {col.position + 1} ({col.label!r})"
-
-    raw = np.empty(len(table.rows))
-    for i, rec in enumerate(table.rows):
-        try:
-            raw[i] = parse_number(rec[col.position])
-        except ValueError as exc:
-            raise fail(table.where, locate(i), str(exc)) from None
-    return to_si(table.where, raw, col, locate_row=locate)
-
-
-def _labels(table: _Table, j: int | None) -> list[str] | None:
-    """The trial label of each row, if the log has a ``trial`` column."""
-    if j is None:
-        return None
-    labels = []
-    for i, rec in enumerate(table.rows):
-        label = rec[j].strip()
-        if not label:
-            where = f"line {table.row_lines[i]}, column {j + 1} ('trial')"
-            raise fail(table.where, where, "empty trial label")
-        labels.append(label)
-    return labels
 
 
 def load_intrusion_csv(
@@ -218,27 +203,31 @@ def load_intrusion_csv(
     area: float | None = None,
     characteristic_length: float | None = None,
     direction: str | None = None,
+    columns: Mapping[str, str] | None = None,
 ) -> IntrusionDataset:
-    """Load an intrusion log from a CSV file, converting every column to SI.
+    """Load an intrusion log from a text table (CSV, or tab- or semicolon-separated), in SI.
 
     Parameters
     ----------
     path : str or path-like
-        The CSV file (read only; it is never modified).
+        The file (read only; it is never modified).
     area : float, optional, keyword-only
-        Plate area [m^2], needed when the file logs a force instead of a stress.
-        Overrides a ``# area [m^2]: ...`` header line.
+        Plate area [m^2], needed when the file logs a force instead of a stress; overrides
+        a ``# area [m^2]: ...`` line.
     characteristic_length : float, optional, keyword-only
         Plate characteristic length :math:`L_c` [m]; overrides a
-        ``# characteristic_length [m]: ...`` header line; default 0.05 m (decision D1).
+        ``# characteristic_length [m]: ...`` line; default 0.05 m (decision D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
-        Loading direction; overrides a ``# direction: ...`` header line; default vertical.
+        Loading direction; overrides a ``# direction: ...`` line; default vertical.
+    columns : mapping, optional, keyword-only
+        Role (``time``, ``depth``, ``stress``, ``force``, ``trial``) -> the column's name as
+        the logger wrote it, for names mudrft does not know (``{"depth": "Pos (mm)"}``).
 
     Returns
     -------
     IntrusionDataset
-        One :class:`Trial` per distinct value of the ``trial`` column (in order of
-        first appearance), or a single trial if there is no such column.
+        One :class:`Trial` per distinct value of the ``trial`` column (in order of first
+        appearance), or a single trial if there is no such column.
 
     Raises
     ------
@@ -248,56 +237,102 @@ def load_intrusion_csv(
     Examples
     --------
     >>> import tempfile, os
-    >>> text = "time [ms],depth [mm],Fz [N]\\n0,0,0\\n500,10,2.5\\n1000,20,4.0\\n"
+    >>> text = "Time (ms)\\tDepth (mm)\\tForce (N)\\n0\\t0\\t0\\n500\\t10\\t2.5\\n1000\\t20\\t4.0\\n"
     >>> with tempfile.TemporaryDirectory() as d:
-    ...     p = os.path.join(d, "log.csv")
+    ...     p = os.path.join(d, "log.txt")
     ...     _ = open(p, "w").write(text)
     ...     ds = load_intrusion_csv(p, area=0.0025)
     >>> ds[0].time.tolist(), ds[0].depth.tolist(), ds[0].stress.tolist()
     ([0.0, 0.5, 1.0], [0.0, 0.01, 0.02], [0.0, 1000.0, 1600.0])
     """
-    p = Path(os.fspath(path))
-    where = str(p)
-    table = _parse(where, _read_text(p))
-    header = table.header
-    assert header is not None
+    table = read_table(path)
+    where, header = table.path, table.header
 
     def locate(j: int) -> str:
         return f"line {table.header_line}, column {j + 1}"
 
-    columns = resolve_columns(where, header, locate=locate)
-    d = resolve_direction(where, direction, table.direction, table.direction_line)
-    has_stress = check_roles(where, f"line {table.header_line}", columns, header, direction=d)
+    roles = resolve_columns(where, header, aliases=LOG_COLUMNS, locate=locate, columns=columns)
+    line = table.fixed.get("direction", (0, None))
+    d = resolve_direction(where, direction, line[1], f"line {line[0]}")
+    check_roles(where, f"line {table.header_line}", roles, header, direction=d)
     if not table.rows:
         raise fail(where, "", "has a header but no data rows")
-    values = {role: _column_values(table, col) for role, col in columns.roles.items()}
-    labels = _labels(table, columns.trial)
-    L, A, lsrc = resolve_plate(
+    values = {r: table.column(c) for r, c in roles.items() if r != "trial"}
+    labels = None
+    if "trial" in roles:
+        labels = [row[roles["trial"].position].strip() for row in table.rows]
+        if "" in labels:
+            i = labels.index("")
+            spot = f"line {table.lines[i]}, column {roles['trial'].position + 1} ('trial')"
+            raise fail(where, spot, "empty trial label")
+    L, A, source = resolve_plate(
         where,
-        meta_len=table.meta_len,
-        meta_area=table.meta_area,
+        meta_len=table.fixed.get("characteristic_length", (0, None))[1],
+        meta_area=table.fixed.get("area", (0, None))[1],
         characteristic_length=characteristic_length,
         area=area,
-        need_area=not has_stress,
+        need_area="stress" not in roles,
     )
 
     def sample(i: int | None, role: str | None) -> str:
-        col = "" if role is None else f"column {columns.roles[role].label!r}"
-        return col if i is None else f"line {table.row_lines[i]}" + (f", {col}" if col else "")
+        col = "" if role is None else f"column {roles[role].label!r}"
+        return col if i is None else f"line {table.lines[i]}" + (f", {col}" if col else "")
 
     trials = build_trials(where, values, labels, sample, L=L, A=A)
-    names = {role: col.label for role, col in columns.roles.items()}
-    check_plausible(where, [(names, t.depth, t.stress, t.time) for t in trials], area=A)
-    meta = {**table.meta, "characteristic_length_source": lsrc, "ignored_columns": columns.ignored}
+    names = {r: c.label for r, c in roles.items()}
+    check_plausible(where, trials, names, area=A)
+    used = {c.position for c in roles.values()}
+    ignored = [h.strip() for j, h in enumerate(header) if j not in used]
+    meta = {**table.meta, "characteristic_length_source": source, "ignored_columns": ignored}
     if A is not None:
         meta["area"] = A
     return IntrusionDataset(trials, direction=d, source=where, notes=tuple(table.notes), meta=meta)
 
 
+def load_dataset(
+    path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    *,
+    area: float | None = None,
+    characteristic_length: float | None = None,
+    direction: str | None = None,
+    columns: Mapping[str, str] | None = None,
+) -> IntrusionDataset:
+    """Load one or several logs (text tables, or HDF5 by suffix ``.h5``/``.hdf5``) into one
+    dataset; several files are merged (same direction). The options are those of
+    :func:`load_intrusion_csv`."""
+    if isinstance(path, (str, os.PathLike)):
+        paths: list[Any] = [path]
+    else:
+        paths = list(path) if isinstance(path, Iterable) else [None]
+        if not all(isinstance(q, (str, os.PathLike)) for q in paths):
+            raise MudrftError(
+                f"path must be a file path or a sequence of file paths, got {type(path).__name__}"
+            )
+    if not paths:
+        raise MudrftError("path must name at least one file, got an empty list")
+    seen: dict[Path, str] = {}
+    for pth in paths:  # the same file twice would count its data twice in a fit
+        key = Path(os.path.realpath(os.fspath(pth)))
+        if key in seen:
+            raise MudrftError(
+                f"path (CLI: data) names the same file twice, {seen[key]!r} and "
+                f"{os.fspath(pth)!r}: its samples would count twice in a fit"
+            )
+        seen[key] = os.fspath(pth)
+    options = {"area": area, "characteristic_length": characteristic_length}
+    sets = [
+        (load_intrusion_hdf5 if Path(p).suffix.lower() in HDF5_SUFFIXES else load_intrusion_csv)(
+            p, direction=direction, columns=columns, **options
+        )
+        for p in paths
+    ]
+    return sets[0].merge(*sets[1:]) if len(sets) > 1 else sets[0]
+
+
 def save_intrusion_csv(
     dataset: IntrusionDataset, path: str | os.PathLike[str], *, overwrite: bool = False
 ) -> Path:
-    """Write a dataset as CSV in SI units, with its notes and metadata as ``#`` comments.
+    """Write a dataset as CSV in SI units (:meth:`IntrusionDataset.to_csv`).
 
     Parameters
     ----------
@@ -307,11 +342,6 @@ def save_intrusion_csv(
         Output file; written atomically (:func:`~mudrft.io.atomic_write`).
     overwrite : bool, keyword-only
         Replace an existing file (default: refuse, so a user's data are never lost).
-
-    Returns
-    -------
-    Path
-        The file written.
     """
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")

@@ -31,7 +31,14 @@ from .._validation import (
 from ..plate import DEFAULT_PLATE_LENGTH
 from .atomic import atomic_write
 
-__all__ = ["OVERWRITE_OPTION", "IntrusionDataset", "Trial", "csv_text"]
+__all__ = [
+    "DEFAULT_PLATE_LENGTH",
+    "OVERWRITE_OPTION",
+    "IntrusionDataset",
+    "Trial",
+    "csv_text",
+    "intrusion_speed",
+]
 
 #: How the writers of this package name the permission to replace a file, in errors.
 OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
@@ -40,6 +47,10 @@ OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
 @dataclass(frozen=True, eq=False)
 class Trial:
     """One intrusion test: displacement and stress sampled in time (SI).
+
+    The way to bring data already in memory (a pandas DataFrame of a log read by one's own
+    code) to :func:`mudrft.calibrate`: one ``Trial`` per test, in SI, gathered in an
+    :class:`IntrusionDataset` (the calibration guide shows it).
 
     Parameters
     ----------
@@ -131,11 +142,8 @@ class Trial:
 
     @property
     def speed(self) -> float:
-        """Median intrusion speed over the samples where the plate moves forward [m/s]."""
-        v = np.diff(self.depth) / np.diff(self.time)
-        peak = np.max(np.abs(v)) if v.size else 0.0
-        fwd = v[v > 0.2 * peak] if peak > 0 else v[:0]
-        return float(np.median(fwd)) if fwd.size else 0.0
+        """Intrusion speed through the mud [m/s] (:func:`intrusion_speed`); 0 if none."""
+        return intrusion_speed(self.time, self.depth)
 
     @property
     def duration(self) -> float:
@@ -286,6 +294,32 @@ class IntrusionDataset:
             f"IntrusionDataset({len(self)} trials, direction={self.direction!r}, "
             f"samples={sum(len(t) for t in self.trials)}{tag})"
         )
+
+
+def intrusion_speed(time: ArrayLike, depth: ArrayLike) -> float:
+    """A trial's speed through the mud: the rate of its first intrusion from 10 % to 90 % of
+    its deepest depth [m/s]; 0 for a trial that never goes deeper than 0.
+
+    The approach from above the surface, holds and retractions lie outside, and the noise of
+    a logged depth hardly changes it: 0.02 mm of noise at 500 Hz is 14 mm/s in each
+    sample-to-sample rate (whose largest labelled a 10 mm/s trial 1.25 m/s, issue 39).
+
+    Examples
+    --------
+    >>> t = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]
+    >>> round(intrusion_speed(t, [-0.005, 0.0, 0.001, 0.002, 0.003, 0.003]), 9)  # 10 mm/s
+    0.01
+    """
+    t, d = np.asarray(time, dtype=float), np.asarray(depth, dtype=float)
+    deepest = float(np.max(d, initial=0.0))
+    if not deepest > 0:
+        return 0.0
+    i90 = int(np.argmax(d >= 0.9 * deepest))
+    below = np.flatnonzero(d[: i90 + 1] <= 0.1 * deepest)
+    i10 = int(below[-1]) if below.size else 0
+    if i10 >= i90:
+        return 0.0
+    return float((d[i90] - d[i10]) / (t[i90] - t[i10]))
 
 
 def _says_yes(value: object) -> bool:

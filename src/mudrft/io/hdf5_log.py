@@ -20,7 +20,7 @@ root's hold for every trial), and a soft or external link that leads nowhere.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
@@ -30,19 +30,16 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError, plain
 from ..units import parse_unit
-from ._build import Locate, build_trials, check_plausible, resolve_direction, resolve_plate
-from .atomic import atomic_write
-from .columns import (
-    COLUMN_ALIASES,
-    Column,
+from ._build import (
+    Locate,
+    build_trials,
+    check_plausible,
     check_roles,
-    default_unit,
-    fail,
-    parse_header_name,
-    parse_number,
-    resolve_columns,
-    to_si,
+    resolve_direction,
+    resolve_plate,
 )
+from .atomic import atomic_write
+from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
 
 if TYPE_CHECKING:  # h5py is an optional extra; at run time it is imported on use
@@ -84,10 +81,7 @@ def _first_line(exc: BaseException) -> str:
 
 def _key_name(key: str) -> str:
     """'area [cm^2]' -> 'area': an attribute or dataset name without its unit, lower case."""
-    try:
-        return parse_header_name(key)[0].lower()
-    except ValueError:
-        return key.strip().lower()
+    return split_label(key)[0].lower()
 
 
 def _listing(names: Iterable[str]) -> str:
@@ -110,14 +104,11 @@ def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> f
         raise fail(path, where, f"must be one number, got an array of shape {arr.shape}")
     value = arr.reshape(())[()]
     try:
-        unit = parse_header_name(key)[1]
-        factor = parse_unit(quantity, unit if unit is not None else default_unit(quantity))
-        if arr.dtype.kind in _REAL_KINDS:
-            v = float(value) * factor
-        elif arr.dtype.kind in "SUO":
-            v = parse_number(str(_text(value))) * factor
-        else:
+        unit = split_label(key)[1]
+        factor = parse_unit(quantity, unit if unit is not None else SI_UNIT[quantity])
+        if arr.dtype.kind not in _REAL_KINDS + "SUO":
             raise ValueError(f"got {value!r}")
+        v = float(value if arr.dtype.kind in _REAL_KINDS else str(_text(value))) * factor
     except (MudrftError, ValueError, TypeError) as exc:
         raise fail(path, where, f"must be a number: {exc}") from None
     if not (np.isfinite(v) and v > 0):
@@ -164,8 +155,7 @@ def _members(
 
 
 def _is_log_column(name: str) -> bool:
-    key = _key_name(name)
-    return key in COLUMN_ALIASES or key == "trial"
+    return _key_name(name) in LOG_COLUMNS
 
 
 def _unit_attr(path: str, loc: str, attrs: h5py.AttributeManager) -> str | None:
@@ -181,7 +171,9 @@ def _unit_attr(path: str, loc: str, attrs: h5py.AttributeManager) -> str | None:
     return found.get("unit", found.get("units"))
 
 
-def _read_file(h5py: ModuleType, path: str, fh: h5py.File, direction: str) -> list[Table]:
+def _read_file(
+    h5py: ModuleType, path: str, fh: h5py.File, direction: str, columns: Mapping[str, str] | None
+) -> list[Table]:
     """The tables of the file: its groups, or its root when it has no group."""
     root = _members(h5py, path, fh, "")
     groups = sorted(k for k, v in root.items() if isinstance(v, h5py.Group))
@@ -193,7 +185,7 @@ def _read_file(h5py: ModuleType, path: str, fh: h5py.File, direction: str) -> li
                 "holds no datasets and no groups; expected one group per trial, or datasets "
                 "such as 'time [s]', 'depth [m]' and 'stress [Pa]' in the root",
             )
-        return [("trial", *_read_group(h5py, path, None, root, direction))]
+        return [("trial", *_read_group(h5py, path, None, root, direction, columns))]
     stray = [k for k, v in root.items() if isinstance(v, h5py.Dataset) and _is_log_column(k)]
     if stray:
         raise fail(
@@ -207,7 +199,8 @@ def _read_file(h5py: ModuleType, path: str, fh: h5py.File, direction: str) -> li
     for g in groups:
         members = _members(h5py, path, root[g], f"{g}/")
         name = _text(root[g].attrs.get("trial")) or g  # the writer's label, else the group's
-        tables.append((name, *_read_group(h5py, path, g, members, direction, root[g].attrs)))
+        group = _read_group(h5py, path, g, members, direction, columns, root[g].attrs)
+        tables.append((name, *group))
     return tables
 
 
@@ -217,6 +210,7 @@ def _read_group(
     gname: str | None,
     members: dict[str, h5py.HLObject],
     direction: str,
+    columns: Mapping[str, str] | None,
     attrs: h5py.AttributeManager | None = None,
 ) -> tuple[Columns, dict[str, str], Locate]:
     """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
@@ -247,22 +241,21 @@ def _read_group(
         return f"dataset '{prefix}{names[j]}'"
 
     units = [_unit_attr(path, locate(j), members[k].attrs) for j, k in enumerate(names)]
-    columns = resolve_columns(
-        path, names, locate=locate, units=units, unit_hint=" (or set a 'unit' attribute)"
+    roles = resolve_columns(
+        path, names, aliases=LOG_COLUMNS, locate=locate, columns=columns, units=units
     )
-    if columns.trial is not None:
+    if "trial" in roles:
         raise fail(
             path,
-            locate(columns.trial),
+            locate(roles["trial"].position),
             "is not read: in HDF5 the groups are the trials (one group per trial, named by "
             "its label); split the rows into groups",
         )
-    check_roles(path, place, columns, names, direction=direction)
+    check_roles(path, place, roles, names, direction=direction)
     out = {
         role: _column_values(path, members[names[col.position]], col, locate(col.position))
-        for role, col in columns.roles.items()
+        for role, col in roles.items()
     }
-    roles = columns.roles
     n = out["time"].size
     for role, arr in out.items():
         if arr.size != n:
@@ -341,6 +334,7 @@ def load_intrusion_hdf5(
     area: float | None = None,
     characteristic_length: float | None = None,
     direction: str | None = None,
+    columns: Mapping[str, str] | None = None,
 ) -> IntrusionDataset:
     """Load an intrusion log from HDF5 (needs the optional ``h5py``).
 
@@ -358,6 +352,9 @@ def load_intrusion_hdf5(
         attribute; default 0.05 m (decision D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
         Loading direction; overrides the ``direction`` attribute; default vertical.
+    columns : mapping, optional, keyword-only
+        Role -> dataset name, for names mudrft does not know (as
+        :func:`~mudrft.io.load_intrusion_csv`).
 
     Returns
     -------
@@ -379,7 +376,7 @@ def load_intrusion_hdf5(
         d = resolve_direction(
             where, direction, _text(attrs.get("direction")), "attribute 'direction'"
         )
-        tables = _read_file(h5py, where, fh, d)
+        tables = _read_file(h5py, where, fh, d, columns)
     L, A, lsrc = resolve_plate(
         where,
         meta_len=meta_len,
@@ -389,13 +386,9 @@ def load_intrusion_hdf5(
         need_area=any("stress" not in cols for _, cols, _, _ in tables),
     )
     trials: list[Trial] = []
-    found = []
-    for gname, cols, names, sample in tables:
-        n = cols["time"].size
-        group = build_trials(where, cols, [gname] * n, sample, L=L, A=A)
-        trials.extend(group)
-        found += [(names, t.depth, t.stress, t.time) for t in group]
-    check_plausible(where, found, area=A)
+    for gname, cols, _, sample in tables:
+        trials += build_trials(where, cols, [gname] * cols["time"].size, sample, L=L, A=A)
+    check_plausible(where, trials, tables[0][2], area=A)
     meta: dict[str, Any] = {"characteristic_length_source": lsrc}
     if A is not None:
         meta["area"] = A

@@ -9,8 +9,9 @@ A measured path (motion capture, a robot's log) or a path written by hand::
     10,1.2,-0.8
     ...
 
-The header names each column with its unit in brackets (SI when no unit is given; the
-units of :mod:`mudrft.units`). ``time`` (or ``t``) and ``z`` are required: ``z`` is the
+The header names each column with its unit (``x [mm]``, ``x (mm)`` or ``x in mm``; SI when
+no unit is given; the units of :mod:`mudrft.units`), its fields separated by commas, tabs or
+semicolons. ``time`` (or ``t``) and ``z`` are required: ``z`` is the
 tip's height in the world frame, negative below the mud surface, as everywhere in
 mudrft. A ``depth`` column (positive below the surface) may stand in for ``z``.
 ``x`` and ``y`` are 0 when absent. Measured forces ``Fx``, ``Fy``, ``Fz`` (of the mud on
@@ -25,41 +26,30 @@ The file is only read, never written.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from .._typing import PathLike
-from .._validation import MudrftError, PlausibilityWarning, plain
+from .._validation import PlausibilityWarning, plain
 from ..trajectories import Trajectory
-from ..units import parse_unit
-from .columns import Column, default_unit, fail, parse_header_name
-from .csv_log import _column_values, _parse, _read_text
+from .columns import PATH_COLUMNS, fail, resolve_columns
+from .csv_log import read_table
 
 __all__ = ["PATH_COLUMNS", "load_path_csv"]
 
-#: Column name (lower case) -> what it holds: time, a coordinate (a length) or a force.
-PATH_COLUMNS: dict[str, str] = {
-    "time": "time",
-    "t": "time",
-    "x": "x",
-    "y": "y",
-    "z": "z",
-    "depth": "depth",
-    "fx": "Fx",
-    "fy": "Fy",
-    "fz": "Fz",
-}
-_QUANTITY = {"time": "time", "Fx": "force", "Fy": "force", "Fz": "force"}
 
-
-def load_path_csv(path: PathLike) -> Trajectory:
+def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -> Trajectory:
     """Read a foot tip's path from a CSV file, as a trajectory to simulate.
 
     Parameters
     ----------
     path : str or path-like
         The CSV file (layout in the module docstring).
+    columns : mapping, optional, keyword-only
+        Role (``time``, ``x``, ``y``, ``z``, ``depth``, ``Fx``, ``Fy``, ``Fz``) -> the
+        column's name as written, for names mudrft does not know.
 
     Returns
     -------
@@ -89,66 +79,53 @@ def load_path_csv(path: PathLike) -> Trajectory:
         When the path never goes below the mud surface (z >= 0 throughout): nothing
         would touch the mud, which is usually a depth given as ``z``.
     """
-    where = str(path)
-    table = _parse(where, _read_text(Path(path)))
-    header = table.header or []
-    columns: dict[str, Column] = {}
-    for i, label in enumerate(header):
-        try:
-            name, unit = parse_header_name(label)
-        except ValueError as exc:
-            raise fail(where, f"line {table.header_line}", str(exc)) from None
-        role = PATH_COLUMNS.get(name.lower())
-        if role is None:
-            continue
-        quantity = _QUANTITY.get(role, "length")
-        try:
-            factor = parse_unit(quantity, unit if unit is not None else default_unit(quantity))
-        except MudrftError as exc:
-            raise fail(where, f"line {table.header_line}, column {i + 1}", str(exc)) from None
-        if role in columns:
-            raise fail(
-                where,
-                f"line {table.header_line}",
-                f"columns {columns[role].label!r} and {label!r} both give {role}; keep one",
-            )
-        columns[role] = Column(i, label, role, factor)
-    missing = [r for r in ("time",) if r not in columns]
-    if "z" not in columns and "depth" not in columns:
+    table = read_table(path)
+    where, head = table.path, f"line {table.header_line}"
+    found = resolve_columns(
+        where,
+        table.header,
+        aliases=PATH_COLUMNS,
+        locate=lambda j: f"{head}, column {j + 1}",
+        columns=columns,
+        require_units=False,
+    )
+    missing = [r for r in ("time",) if r not in found]
+    if "z" not in found and "depth" not in found:
         missing.append("z (or depth)")
     if missing:
         raise fail(
             where,
-            f"line {table.header_line}",
-            f"the header {', '.join(header)!r} has no {' and no '.join(missing)} column; "
+            head,
+            f"the header {', '.join(table.header)!r} has no {' and no '.join(missing)} column; "
             "a path needs 'time [s]' and 'z [m]' (the tip's height, negative below the "
             "surface), optionally 'x [m]' and 'y [m]'",
         )
-    if "z" in columns and "depth" in columns:
+    if "z" in found and "depth" in found:
         raise fail(
             where,
-            f"line {table.header_line}",
-            f"columns {columns['z'].label!r} and {columns['depth'].label!r} both give the "
+            head,
+            f"found {found['z'].label!r} and {found['depth'].label!r} both give the "
             "tip's height (z = -depth); keep one",
         )
     if len(table.rows) < 2:
         raise fail(where, "", f"has {len(table.rows)} data row(s); a path needs at least 2")
-    time = _column_values(table, columns["time"])
+    values = {role: table.column(col) for role, col in found.items()}
+    time = values["time"]
     steps = np.diff(time)
     if not np.all(steps > 0):
         k = int(np.argmax(steps <= 0)) + 1
         raise fail(
             where,
-            f"line {table.row_lines[k]}",
+            f"line {table.lines[k]}",
             f"time {plain(time[k])} s does not exceed the previous row's {plain(time[k - 1])} s; "
             "the times of a path must increase",
         )
     position = np.zeros((time.size, 3))
     for axis, role in enumerate(("x", "y", "z")):
-        if role in columns:
-            position[:, axis] = _column_values(table, columns[role])
-    if "depth" in columns:
-        position[:, 2] = -_column_values(table, columns["depth"])
+        if role in values:
+            position[:, axis] = values[role]
+    if "depth" in values:
+        position[:, 2] = -values["depth"]
     if not np.any(position[:, 2] < 0.0):
         warnings.warn(
             f"{where}: the path never goes below the mud surface (z >= 0 throughout, "
@@ -157,6 +134,6 @@ def load_path_csv(path: PathLike) -> Trajectory:
             PlausibilityWarning,
             stacklevel=2,
         )
-    measured = {r: _column_values(table, columns[r]) for r in ("Fx", "Fy", "Fz") if r in columns}
+    measured = {r: values[r] for r in ("Fx", "Fy", "Fz") if r in values}
     meta = {"measured_force": measured} if measured else {}
     return Trajectory.from_positions(time, position, name=Path(path).name, meta=meta)
