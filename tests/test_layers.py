@@ -90,3 +90,72 @@ def test_no_module_in_src_is_above_600_lines():
         if (n := len(f.read_text().splitlines())) > 600
     }
     assert not long, long
+
+
+def _module_name(path: Path, root: Path) -> str:
+    parts = path.relative_to(root).with_suffix("").parts
+    return ".".join(("mudrft", *(parts[:-1] if parts[-1] == "__init__" else parts)))
+
+
+def import_graph(root: Path) -> dict[str, set[str]]:
+    """The modules of the package at ``root`` outside ``integrations/``, each with the modules of
+    that package it imports: anywhere in the file (inside functions and ``TYPE_CHECKING`` too),
+    read from the source with ``ast``. ``from pkg import name`` points at the module ``pkg.name``
+    where there is one, else at ``pkg`` (its ``__init__``)."""
+    files = {
+        _module_name(f, root): f
+        for f in root.rglob("*.py")
+        if f.relative_to(root).parts[0] != "integrations"
+    }
+    graph: dict[str, set[str]] = {}
+    for name, path in files.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        targets: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                targets.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                    base = ".".join([*up, base] if base else up)
+                for alias in node.names:
+                    sub = f"{base}.{alias.name}"
+                    targets.add(sub if sub in files else base)
+        graph[name] = {t for t in targets if t in files and t != name}
+    return graph
+
+
+def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """One cycle of ``graph`` as the list of its modules (first repeated at the end), or None."""
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+    path: list[str] = []
+
+    def visit(node: str) -> list[str] | None:
+        state[node] = 1
+        path.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                return [*path[path.index(nxt) :], nxt]
+            if nxt not in state and (cycle := visit(nxt)):
+                return cycle
+        state[node] = 2
+        path.pop()
+        return None
+
+    for start in sorted(graph):
+        if start not in state and (cycle := visit(start)):
+            return cycle
+    return None
+
+
+def test_find_cycle_reports_a_cycle_through_others_and_none_in_a_chain():
+    assert find_cycle({"a": {"b"}, "b": {"c"}, "c": set()}) is None
+    assert find_cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
+
+
+def test_no_two_modules_outside_integrations_import_each_other():
+    graph = import_graph(SRC)
+    assert "mudrft.feet.morphing.foot" in graph and "mudrft.feet.base" in graph
+    cycle = find_cycle(graph)
+    assert cycle is None, "modules that import each other: " + " -> ".join(cycle or [])

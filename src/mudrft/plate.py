@@ -11,12 +11,11 @@ from ._validation import MudrftError, check_characteristic_length
 from .constitutive import laws
 from .constitutive.dynamics import run
 from .parameters.base import Mud, MudParameters
+from .plotting import AxesArg, plot_plate
 from .trajectories import Trajectory
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-    from .plotting import AxesArg
 
 __all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response"]
 
@@ -67,8 +66,6 @@ class PlateResult:
 
     def plot(self, ax: AxesArg = None) -> Figure:
         """Stress against time and displacement (needs matplotlib)."""
-        from .plotting import plot_plate
-
         return plot_plate(self, ax=ax)
 
 

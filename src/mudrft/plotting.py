@@ -1,10 +1,15 @@
-"""Matplotlib figures (optional extra ``plot``; matplotlib is imported lazily)."""
+"""Matplotlib figures (optional extra ``plot``; matplotlib is imported lazily).
+
+The figures read a run's arrays by attribute (:class:`RunArrays`, :class:`PlateArrays`), so
+this module sits below :mod:`mudrft.simulation` and :mod:`mudrft.plate`, whose ``plot``
+methods call it.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from types import ModuleType
-from typing import TYPE_CHECKING, TypeAlias
+from typing import TYPE_CHECKING, Protocol, TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
@@ -13,14 +18,46 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from .plate import PlateResult
-    from .simulation import Result
-
 #: The caller's axes: a sequence or object array of at least two matplotlib ``Axes``, or
 #: None for a new figure (the type of :meth:`mudrft.Result.plot`'s ``axes``).
 AxesArg: TypeAlias = "Sequence[Axes] | NDArray[np.object_] | None"
 
-__all__ = ["plot_plate", "plot_result", "require_matplotlib"]
+__all__ = ["PlateArrays", "RunArrays", "plot_plate", "plot_result", "require_matplotlib"]
+
+
+class RunArrays(Protocol):
+    """What :func:`plot_result` draws, as :class:`mudrft.Result` has it: ``time`` (n,) [s],
+    ``force`` (n, 3) [N], ``depth`` (n,) [m] and the ``foot`` and ``terrain`` names."""
+
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def force(self) -> np.ndarray: ...
+    @property
+    def depth(self) -> np.ndarray: ...
+    @property
+    def foot(self) -> str: ...
+    @property
+    def terrain(self) -> str: ...
+
+
+class PlateArrays(Protocol):
+    """What :func:`plot_plate` draws, as :class:`mudrft.PlateResult` has it: ``time`` [s],
+    ``displacement`` [m], the ``stress`` [Pa] and its terms ``elastic``, ``thixotropic``,
+    ``suction`` [Pa], each (n,)."""
+
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def displacement(self) -> np.ndarray: ...
+    @property
+    def stress(self) -> np.ndarray: ...
+    @property
+    def elastic(self) -> np.ndarray: ...
+    @property
+    def thixotropic(self) -> np.ndarray: ...
+    @property
+    def suction(self) -> np.ndarray: ...
 
 
 def require_matplotlib() -> ModuleType:
@@ -48,12 +85,9 @@ def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
     return fig, a0, a1
 
 
-def plot_plate(result: PlateResult, ax: AxesArg = None) -> Figure:
-    """Stress against time and against displacement for a plate test (kPa, mm).
-
-    ``ax`` is typed ``object`` because :meth:`mudrft.PlateResult.plot` passes its
-    ``object``-typed argument through; it takes what ``plot_result``'s ``axes`` takes.
-    """
+def plot_plate(result: PlateArrays, ax: AxesArg = None) -> Figure:
+    """Stress against time and against displacement for a plate test (kPa, mm), new or in
+    the first two of the caller's axes ``ax``."""
     fig, a0, a1 = _two_panels(ax)
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
     a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
@@ -70,7 +104,7 @@ def plot_plate(result: PlateResult, ax: AxesArg = None) -> Figure:
     return fig
 
 
-def plot_result(result: Result, axes: AxesArg = None) -> Figure:
+def plot_result(result: RunArrays, axes: AxesArg = None) -> Figure:
     """Forces against time, and vertical force against depth, for a :class:`~mudrft.Result`."""
     fig, a0, a1 = _two_panels(axes)
     for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):

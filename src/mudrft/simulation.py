@@ -9,13 +9,12 @@ True
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
 from . import metrics as _m
 from ._progress import make_progress
@@ -34,6 +33,7 @@ from .constitutive import laws
 from .feet.base import Foot
 from .io.atomic import atomic_write
 from .parameters.base import Mud
+from .plotting import AxesArg, plot_result
 from .terrains import MudTerrain, as_terrain
 from .terrains.mud import vertical_viscosity
 from .terrains.rows import along_path
@@ -41,7 +41,6 @@ from .trajectories import MIN_GAIT_STEPS, Trajectory
 
 if TYPE_CHECKING:
     import pandas as pd
-    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from .terrains.base import Terrain
@@ -238,10 +237,8 @@ class Result:
         )
         return pd.DataFrame(cols)
 
-    def plot(self, *, axes: Sequence[Axes] | NDArray[np.object_] | None = None) -> Figure:
+    def plot(self, *, axes: AxesArg = None) -> Figure:
         """Forces against time and Fz against depth (needs matplotlib)."""
-        from .plotting import plot_result
-
         return plot_result(self, axes=axes)
 
     def __len__(self) -> int:

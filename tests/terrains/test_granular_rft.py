@@ -9,11 +9,15 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import mudrft
 from mudrft import MudrftError
 from mudrft._validation import PlausibilityWarning
 from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
+from mudrft.feet.meshgen import semisphere_mesh
+from mudrft.terrains import GranularRFT3D
+from mudrft.terrains._rft_groups import _group_weights, _prepare
 from mudrft.terrains.granular_rft import GRANULAR_MEDIA, horizontal_share
 
 # Li, Zhang & Goldman (Science 2013), generic first-order Fourier coefficients, typed
@@ -367,3 +371,41 @@ def test_from_coefficients_rejects_what_it_cannot_scale():
         GranularRFT.from_coefficients(FourierCoefficients(**POPPY_LP_N_PER_CM3), unit="psi/in")
     with pytest.raises(MudrftError, match="takes its scale from the coefficients, got zeta="):
         GranularRFT.from_coefficients(FourierCoefficients(**POPPY_LP_N_PER_CM3), zeta=1e5)
+
+
+def _tilted_mesh_foot() -> mudrft.feet.MeshFoot:
+    """A semi-sphere mesh tilted off every axis: each facet has its own normal."""
+    mesh = mudrft.feet.MeshFoot(*semisphere_mesh(0.045, 0.045, resolution=6))
+    return mesh.posed(Rotation.from_rotvec([0.1, 0.2, 0.3]))
+
+
+@pytest.mark.parametrize("terrain", [GranularRFT(), GranularRFT3D()], ids=lambda t: t.name)
+@pytest.mark.parametrize("which", ["tilted mesh", "flat"])
+def test_the_step_equals_every_groups_response_weighted_by_depth(terrain, which):
+    """A step evaluates the submerged groups of facets only and reuses their responses while
+    the direction repeats; its force is the depth-weighted sum over all of the foot's groups,
+    each evaluated afresh (the step before that saving), to 1e-12 of the largest force. The
+    path: a gait (a new direction each step), then straight down and a hold (one direction:
+    groups join the cached ones as they sink), three feet at once at staggered depths."""
+    foot = _tilted_mesh_foot() if which == "tilted mesh" else mudrft.feet.Flat()
+    gait = mudrft.gait(0.2, dt=5e-3)
+    plate = mudrft.plate_intrusion(depth=0.03, speed=0.05, hold=0.05, dt=5e-3)
+    one = np.concatenate([gait.position, plate.position])
+    vel = np.concatenate([gait.velocity, plate.velocity])
+    pos = one[:, None, :] + np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -0.004], [0.0, 0.0, 0.03]])
+    vel = np.repeat(vel[:, None, :], 3, axis=1)
+    pr = _prepare(foot.elements())
+    state = terrain.initial_state(foot, pos[0])
+    direction = np.array([0.0, 0.0, -1.0])
+    forces, every = [], []
+    for k in range(1, len(pos)):
+        state, out = terrain.step(foot, state, pos[k], vel[k], 5e-3)
+        speed = np.linalg.norm(vel[k, 0])
+        direction = vel[k, 0] / speed if speed > terrain.rest_speed else direction
+        unit = terrain._unit_forces(pr.normals, direction)  # every group, (k, 3)
+        w = _group_weights(pr, -pos[k, :, 2])  # (3, k) [m^3]
+        forces.append(out.force)
+        every.append(terrain.scale * np.einsum("bk,kc->bc", w, unit))
+    every_a = np.array(every)
+    assert np.abs(every_a[:, 0, 2]).max() > 1.0  # the foot sank and was held [N]
+    np.testing.assert_allclose(forces, every_a, rtol=0, atol=1e-12 * np.abs(every_a).max())

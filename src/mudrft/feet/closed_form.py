@@ -385,12 +385,3 @@ def semisphere_forces(
     """
     co = semisphere_coefficients(xp.asarray(depth), xp.asarray(heading), radius, height, xp=xp)
     return _magnitudes(co, stress, xp)
-
-
-def __getattr__(name: str) -> XpArray:
-    # the feet moved to mudrft.feet.shapes (this module: the closed forms); old imports work
-    if name in ("Flat", "SemiCylinder", "SemiSphere"):
-        from . import shapes
-
-        return getattr(shapes, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -37,6 +37,7 @@ from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
     STEP_COLUMNS,
     WALK_COLUMNS,
+    WalkResult,
     _per_step,
     _renderer,
     plot_walk,
@@ -313,29 +314,6 @@ class GaitController:
             surface + clearance + self.hip_height + ANKLE - z0
         )
         mj.mj_forward(self.model, data)
-
-
-@dataclass(frozen=True, eq=False)
-class WalkResult:
-    """Outcome of :func:`walk`.
-
-    Attributes
-    ----------
-    table : dict of str -> ndarray
-        Per physics step, keys :data:`WALK_COLUMNS`.
-    steps : dict of str -> ndarray
-        Per gait step, keys :data:`STEP_COLUMNS` (complete steps only).
-    summary : dict
-        ``fell`` (bool), ``distance [m]``, ``energy_per_step [J]``, ``mean_sinking [m]``,
-        ``max_suction [N]`` and the run settings.
-    frames : list of ndarray
-        Offscreen-rendered RGB images (empty unless asked for and rendering works).
-    """
-
-    table: dict[str, np.ndarray]
-    steps: dict[str, np.ndarray]
-    summary: dict[str, Any]
-    frames: list = field(default_factory=list)
 
 
 def walk(

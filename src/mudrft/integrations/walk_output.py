@@ -1,16 +1,17 @@
-"""What a biped walk writes: its tables, the CSV files, the plot and the image strip.
+"""What a biped walk returns and writes: its tables, the CSV files, the plot, the images.
 
-:func:`mudrft.integrations.walk.walk` fills a table with one row per physics step
-(:data:`WALK_COLUMNS`), from which :func:`_per_step` makes one row per gait step
-(:data:`STEP_COLUMNS`); ``mudrft walk`` writes both as CSV (:func:`_write_csv`), draws them
-(:func:`plot_walk`, needs matplotlib) and saves offscreen-rendered frames side by side
-(:func:`save_strip`).
+:func:`mudrft.integrations.walk.walk` returns a :class:`WalkResult`: a table with one row
+per physics step (:data:`WALK_COLUMNS`), from which :func:`_per_step` makes one row per
+gait step (:data:`STEP_COLUMNS`); ``mudrft walk`` writes both as CSV (:func:`_write_csv`),
+draws them (:func:`plot_walk`, needs matplotlib) and saves offscreen-rendered frames side
+by side (:func:`save_strip`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,9 +21,14 @@ from .mujoco._lazy import _mujoco
 if TYPE_CHECKING:
     import mujoco
 
-    from .walk import WalkResult
-
-__all__ = ["ANKLE_HEIGHT", "STEP_COLUMNS", "WALK_COLUMNS", "plot_walk", "save_strip"]
+__all__ = [
+    "ANKLE_HEIGHT",
+    "STEP_COLUMNS",
+    "WALK_COLUMNS",
+    "WalkResult",
+    "plot_walk",
+    "save_strip",
+]
 
 #: Columns of the per-physics-step table (``walk.csv``), with units.
 WALK_COLUMNS = (
@@ -59,6 +65,29 @@ STEP_COLUMNS = (
 #: Height of the shank's lower end (the ankle) above the sole [m]: deeper than this the
 #: shank is in the mud, whose force on it the coupling does not model.
 ANKLE_HEIGHT = 0.04
+
+
+@dataclass(frozen=True, eq=False)
+class WalkResult:
+    """Outcome of :func:`mudrft.integrations.walk.walk`.
+
+    Attributes
+    ----------
+    table : dict of str -> ndarray
+        Per physics step, keys :data:`WALK_COLUMNS`.
+    steps : dict of str -> ndarray
+        Per gait step, keys :data:`STEP_COLUMNS` (complete steps only).
+    summary : dict
+        ``fell`` (bool), ``distance [m]``, ``energy_per_step [J]``, ``mean_sinking [m]``,
+        ``max_suction [N]`` and the run settings.
+    frames : list of ndarray
+        Offscreen-rendered RGB images (empty unless asked for and rendering works).
+    """
+
+    table: dict[str, np.ndarray]
+    steps: dict[str, np.ndarray]
+    summary: dict[str, Any]
+    frames: list = field(default_factory=list)
 
 
 def _renderer(model: mujoco.MjModel) -> mujoco.Renderer | None:

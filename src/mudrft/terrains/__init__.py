@@ -25,9 +25,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from .._validation import MudrftError
 from ..parameters.base import Mud as MudParameterSets
 from ..parameters.registry import paper_mud
-from .base import Terrain, TerrainOutput, as_terrain, check_motion
+from .base import Terrain, TerrainOutput, check_motion
 from .granular_rft import GranularRFT
 from .granular_rft3d import GranularRFT3D
 from .linear import LinearStiffness
@@ -70,3 +71,26 @@ def Mud(water_content: float | MudParameterSets = 0.25, **kw: Any) -> MudTerrain
     """
     mud = water_content if isinstance(water_content, MudParameterSets) else paper_mud(water_content)
     return MudTerrain(mud, **kw)
+
+
+def as_terrain(terrain: MudParameterSets | Terrain) -> Terrain:
+    """Accept a :class:`~mudrft.Mud` (wrapped in :class:`~mudrft.MudTerrain`) or any terrain."""
+    if isinstance(terrain, MudParameterSets):
+        return MudTerrain(terrain)
+    if isinstance(terrain, Terrain) and not isinstance(terrain, type):
+        return terrain
+    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes (D131)
+        raise MudrftError(
+            "mud must be a Mud (mudrft.paper_mud) or a terrain object, got the string "
+            f"{terrain!r}: write the terrain, e.g. mudrft.terrains.GranularRFT() "
+            "(mudrft.baselines.compare takes names)"
+        )
+    if isinstance(terrain, type):
+        raise MudrftError(
+            f"mud must be a Mud or a terrain object, got the class {terrain.__name__} "
+            f"(write {terrain.__name__}() with its options)"
+        )
+    raise MudrftError(
+        "mud must be a Mud (mudrft.paper_mud) or a terrain with initial_state() and step() "
+        f"(mudrft.terrains), got {type(terrain).__name__}"
+    )

@@ -1,8 +1,10 @@
-r"""Surface elements grouped by normal, for granular RFT's depth weights in O(log m).
+r"""The terrain step of the granular RFTs: surface elements grouped by normal.
 
 Granular RFT's force on a foot is a sum over groups of elements that share a normal, each
 weighted by :math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)`; prefix sums over the elements
-sorted by height make that weight a binary search, exactly (no approximation).
+sorted by height make that weight a binary search, exactly (no approximation). A step
+evaluates the response of the groups with :math:`W_k>0` only, the submerged ones, and
+reuses them while the direction of motion repeats (:class:`FacetRFT`).
 :func:`_element_forces` is the same integrand element by element, for the public
 ``rft_forces`` and ``rft3d_forces``.
 """
@@ -12,11 +14,14 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import MudrftError
-from ..feet.base import SurfaceElements
+from ..feet.base import Foot, SurfaceElements
+from ._common import mean_stress, projected, tip_depth, tip_position
+from .base import TerrainOutput, check_motion
 
-__all__: list[str] = []  # private to the granular RFTs (granular_rft, granular_rft3d)
+__all__ = ["FacetRFT", "RFTState"]  # users import them from mudrft.terrains.granular_rft
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -111,3 +116,102 @@ def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
     area = pr.cum_a[j] - pr.cum_a[pr.start]
     moment = pr.cum_ah[j] - pr.cum_ah[pr.start]
     return np.maximum(depth[..., None] * area - moment, 0.0)
+
+
+class RFTState(NamedTuple):
+    """State of granular RFT under a foot.
+
+    Attributes
+    ----------
+    direction : ndarray (..., 3)
+        Last unit direction of motion, kept while the foot is at rest (decision D52).
+    elements : SurfaceElements
+        The foot's surface elements (foot frame, tip at the origin).
+    """
+
+    direction: np.ndarray
+    elements: SurfaceElements
+    prepared: _Prepared | None = None
+    #: (direction, responses (..., k, 3), which groups they hold (k,)) of the last step
+    cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+
+class FacetRFT:
+    """The terrain step shared by the granular RFTs: per-facet unit responses weighted by depth.
+
+    Subclasses provide ``rest_speed`` [m/s], ``scale`` [N/m^3] and
+    ``_unit_forces(normals, direction)`` (the dimensionless response of each facet group to a
+    unit direction of motion). A step evaluates it for the submerged groups only (most of
+    a foot's groups are out of the medium at a gait's depths) and keeps it while the
+    direction repeats (a foot at rest or pushed straight down).
+    """
+
+    rest_speed: float
+
+    @property
+    def scale(self) -> float:
+        """Scale of the medium [N/m^3]."""
+        raise NotImplementedError
+
+    def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def initial_state(self, foot: Foot, position: ArrayLike) -> RFTState:
+        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
+        pos = tip_position(position)
+        el = foot.elements()
+        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
+        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
+
+    def step(
+        self, foot: Foot, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
+    ) -> tuple[RFTState, TerrainOutput]:
+        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
+
+        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface
+        (:func:`~mudrft.terrains.base.check_motion`).
+        """
+        pos, vel, _ = check_motion(position, velocity, dt)
+        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
+        moving = speed > self.rest_speed
+        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
+        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
+        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
+        unit, known = self._responses(pr, direction, w > 0.0, state.cache)
+        force = self.scale * np.einsum("...k,...kc->...c", w, unit)
+        depth = tip_depth(pos)
+        stress = mean_stress(force, projected(foot, depth))
+        new = RFTState(
+            direction=direction,
+            elements=state.elements,
+            prepared=pr,
+            cache=(direction, unit, known),
+        )
+        return new, TerrainOutput(force=force, stress=stress, depth=depth)
+
+    def _responses(
+        self,
+        pr: _Prepared,
+        direction: np.ndarray,
+        submerged: np.ndarray,
+        cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Unit responses (..., k, 3) of the groups submerged anywhere in the batch
+        (``submerged`` (..., k)), zeros for the others (their weight is 0), and which groups
+        hold one (k,); those of ``cache`` are reused if its direction is ``direction``."""
+        need = np.any(submerged, axis=tuple(range(submerged.ndim - 1)))
+        if (
+            cache is not None
+            and cache[0].shape == direction.shape
+            and np.array_equal(cache[0], direction)
+        ):
+            unit, known = cache[1], cache[2]
+        else:
+            unit = np.zeros((*direction.shape[:-1], need.size, 3))
+            known = np.zeros(need.size, dtype=bool)
+        todo = need & ~known
+        if np.any(todo):
+            unit = unit.copy()  # the previous state keeps its own
+            unit[..., todo, :] = self._unit_forces(pr.normals[todo], direction)
+            known = known | todo
+        return unit, known

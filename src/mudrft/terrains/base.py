@@ -24,9 +24,8 @@ from .._validation import MudrftError, check_finite
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
-    from ..parameters.base import Mud
 
-__all__ = ["Terrain", "TerrainOutput", "as_terrain", "check_motion"]
+__all__ = ["Terrain", "TerrainOutput", "check_motion"]
 
 
 class TerrainOutput(NamedTuple):
@@ -103,29 +102,3 @@ def check_motion(
     if not (math.isfinite(step) and step > 0.0):
         raise MudrftError(f"dt must be finite and > 0 s, got {step!r} s")
     return pos, vel, step
-
-
-def as_terrain(terrain: Mud | Terrain) -> Terrain:
-    """Accept a :class:`~mudrft.Mud` (wrapped in :class:`~mudrft.MudTerrain`) or any terrain."""
-    from ..parameters.base import Mud
-    from .mud import MudTerrain
-
-    if isinstance(terrain, Mud):
-        return MudTerrain(terrain)
-    if isinstance(terrain, Terrain) and not isinstance(terrain, type):
-        return terrain
-    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes (D131)
-        raise MudrftError(
-            "mud must be a Mud (mudrft.paper_mud) or a terrain object, got the string "
-            f"{terrain!r}: write the terrain, e.g. mudrft.terrains.GranularRFT() "
-            "(mudrft.baselines.compare takes names)"
-        )
-    if isinstance(terrain, type):
-        raise MudrftError(
-            f"mud must be a Mud or a terrain object, got the class {terrain.__name__} "
-            f"(write {terrain.__name__}() with its options)"
-        )
-    raise MudrftError(
-        "mud must be a Mud (mudrft.paper_mud) or a terrain with initial_state() and step() "
-        f"(mudrft.terrains), got {type(terrain).__name__}"
-    )

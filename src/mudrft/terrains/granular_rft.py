@@ -22,7 +22,7 @@ Trailing elements carry nothing, so a foot pulled out of sand feels no suction
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -41,18 +41,8 @@ from .._validation import (
     set_number as _set,
 )
 from ..citations import register
-from ..feet.base import SurfaceElements
 from ..units import parse_unit
-from ._common import mean_stress, projected, tip_depth, tip_position
-from ._rft_groups import (
-    _check_elements,
-    _element_forces,
-    _group_weights,
-    _prepare,
-    _Prepared,
-    _unit,
-)
-from .base import TerrainOutput, check_motion
+from ._rft_groups import FacetRFT, RFTState, _check_elements, _element_forces, _unit
 from .li2013 import (
     DEFAULT_ZETA,
     GRANULAR_MEDIA,
@@ -61,9 +51,6 @@ from .li2013 import (
     FourierCoefficients,
     li2013_alpha,
 )
-
-if TYPE_CHECKING:
-    from ..feet.base import Foot
 
 __all__ = [
     "DEFAULT_ZETA",
@@ -312,81 +299,6 @@ def rft_forces(
         raise MudrftError(f"normals must be nonzero vectors, got normals[{i}] = {n[i].tolist()}")
     f = _unit_forces(_unit(n), _unit(v), coefficients, extension, leading_width)
     return _element_forces(zeta, d, a, f, per_element=per_element)
-
-
-class RFTState(NamedTuple):
-    """State of granular RFT under a foot.
-
-    Attributes
-    ----------
-    direction : ndarray (..., 3)
-        Last unit direction of motion, kept while the foot is at rest (decision D52).
-    elements : SurfaceElements
-        The foot's surface elements (foot frame, tip at the origin).
-    """
-
-    direction: np.ndarray
-    elements: SurfaceElements
-    prepared: _Prepared | None = None
-    #: (direction, unit forces) of the last step, reused while the direction repeats
-    cache: tuple[np.ndarray, np.ndarray] | None = None
-
-
-class FacetRFT:
-    """The terrain step shared by the granular RFTs: per-facet unit responses weighted by depth.
-
-    Subclasses provide ``rest_speed`` [m/s], ``scale`` [N/m^3] and
-    ``_unit_forces(normals, direction)`` (the dimensionless response of each facet group to a
-    unit direction of motion); the step caches that response while the direction repeats.
-    """
-
-    rest_speed: float
-
-    @property
-    def scale(self) -> float:
-        """Scale of the medium [N/m^3]."""
-        raise NotImplementedError
-
-    def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
-
-    def initial_state(self, foot: Foot, position: ArrayLike) -> RFTState:
-        """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        el = foot.elements()
-        direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
-        return RFTState(direction=direction, elements=el, prepared=_prepare(el))
-
-    def step(
-        self, foot: Foot, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
-    ) -> tuple[RFTState, TerrainOutput]:
-        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
-
-        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface
-        (:func:`~mudrft.terrains.base.check_motion`).
-        """
-        pos, vel, _ = check_motion(position, velocity, dt)
-        speed = np.linalg.norm(vel, axis=-1, keepdims=True)
-        moving = speed > self.rest_speed
-        direction = np.where(moving, vel / np.where(moving, speed, 1.0), state.direction)
-        pr = state.prepared if state.prepared is not None else _prepare(state.elements)
-        cache = state.cache
-        if (
-            cache is not None
-            and cache[0].shape == direction.shape
-            and np.array_equal(cache[0], direction)
-        ):
-            unit = cache[1]
-        else:
-            unit = self._unit_forces(pr.normals, direction)  # (..., k, 3)
-        w = _group_weights(pr, -pos[..., 2])  # (..., k) [m^3]
-        force = self.scale * np.einsum("...k,...kc->...c", w, unit)
-        depth = tip_depth(pos)
-        stress = mean_stress(force, projected(foot, depth))
-        new = RFTState(
-            direction=direction, elements=state.elements, prepared=pr, cache=(direction, unit)
-        )
-        return new, TerrainOutput(force=force, stress=stress, depth=depth)
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,6 +24,7 @@ Sources, coefficient provenance and decisions D90-D95: ``docs/model.md`` section
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -41,8 +42,8 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from ._rft_groups import _check_elements, _element_forces
-from .granular_rft import LEADING_WIDTH, FacetRFT, leading_weight
+from ._rft_groups import FacetRFT, _check_elements, _element_forces
+from .granular_rft import LEADING_WIDTH, leading_weight
 
 __all__ = [
     "AGARWAL2023",
@@ -490,7 +491,7 @@ class GranularRFT3D(FacetRFT):
             )
         register("agarwal2023rft3d")
 
-    @property
+    @cached_property  # read at every step
     def xi_n(self) -> float:
         """Material constant :math:`\\xi_n` [N/m^3] (:func:`agarwal_xi`)."""
         return float(agarwal_xi(self.rho_c, self.mu_int, gravity=self.gravity))

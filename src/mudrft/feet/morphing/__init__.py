@@ -29,10 +29,11 @@ One concept a module (decisions D30-D39):
   ``"retracted"`` lock the column (D37);
 * :mod:`.foot`: :class:`MorphingFoot`, the mechanism with the :class:`~mudrft.feet.base.Foot`
   interface of the mud terrain; :math:`L_c` is the square root of the spread footprint (D36);
-* :mod:`.row`: the foot's numbers as one named tuple of floats, for compiled code (D68d).
+* :mod:`.row`: the foot's numbers as one named tuple of floats
+  (:class:`~.linkage.MorphingRow`), for compiled code (D68d).
 
 The equations of the force are element-wise code over ``xp`` (decision D80) that reads its
-numbers by attribute, from the dataclasses or from one :class:`~.row.MorphingRow` of floats:
+numbers by attribute, from the dataclasses or from one :class:`~.linkage.MorphingRow` of floats:
 numpy runs them on arrays, the compiled MuJoCo coupling on floats (D68d). The JAX backend
 does not trace the foot: the column balance selects its root by a data-dependent scan.
 """

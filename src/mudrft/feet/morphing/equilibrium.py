@@ -44,6 +44,8 @@ rims above their most spread position :math:`\theta_m` in the current contact.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from typing import TYPE_CHECKING, NamedTuple, NoReturn
 
 import numpy as np
@@ -52,14 +54,12 @@ from numpy.typing import ArrayLike, NDArray
 from ..._typing import Namespace, XpArray
 from ..._validation import MudrftError, plain
 from ..._xp import pyfloat
-from .linkage import Linkage, pad_angle
+from .linkage import Linkage, MorphingRow, pad_angle
 from .pads import morphing_force, vertical_area
-from .row import linkage_row
 from .springs import TwoStageSpring, spring_force
 
 if TYPE_CHECKING:
     from .linkage import MorphingFootGeometry
-    from .row import MorphingRow
 
 try:  # SciPy >= 1.15
     from scipy.optimize.elementwise import find_root
@@ -72,6 +72,7 @@ __all__ = [
     "balanced_deflection_on_floats",
     "column_residual",
     "contact_on_floats",
+    "linkage_row",
     "residual",
     "seal_factor",
     "track_most_spread",
@@ -111,7 +112,7 @@ def column_residual(
 
     The one definition of the column balance (D32), over ``xp`` (D80): ``g`` the dimensions
     and ``spring`` the spring constants by attribute (dataclasses, or one
-    :class:`~.row.MorphingRow` for both), ``pole_top`` [m] and ``branch`` of the linkage;
+    :class:`~.linkage.MorphingRow` for both), ``pole_top`` [m] and ``branch`` of the linkage;
     deflection [m], depth [m], vertical channel stress [Pa].
     """
     theta = pad_angle(g, pole_top, branch, deflection, xp=xp)
@@ -150,6 +151,30 @@ def residual(
     x = np.asarray(deflection, dtype=float)
     g = linkage.geometry
     return np.asarray(column_residual(g, linkage.pole_top, linkage.branch, spring, x, d, s))
+
+
+@functools.lru_cache(maxsize=64)
+def linkage_row(
+    linkage: Linkage, spring: TwoStageSpring, seal_length: float = 1.0, lock: float = -1.0
+) -> MorphingRow:
+    """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
+    :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1);
+    cached, for :func:`balanced_deflection` on floats."""
+    g = linkage.geometry
+    # every field of the geometry (a field the row lacks fails below, instead of vanishing)
+    values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
+    values.update(
+        pole_top=linkage.pole_top,
+        stroke=linkage.stroke,
+        branch=linkage.branch,
+        series_stiffness=spring.series_stiffness,
+        hard_stiffness=spring.hard_stiffness,
+        knee_deflection=spring.knee_deflection,
+        knee_force=spring.knee_force,
+        seal_length=seal_length,
+        lock=lock,
+    )
+    return MorphingRow(**{k: float(v) for k, v in values.items()})
 
 
 def balanced_deflection(
@@ -370,8 +395,8 @@ def balanced_deflection_on_floats(
     with the batch path) walked node by node to the first sign change, and the bracket
     refined to :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m by bisection
     (numba cannot call SciPy). Serves :func:`balanced_deflection` for up to 16 moving
-    elements, and the compiled coupling (D68d). ``m`` is a :class:`~.row.MorphingRow` (or
-    :func:`~.row.linkage_row`); depth [m], vertical stress [Pa], previous deflection [m];
+    elements, and the compiled coupling (D68d). ``m`` is a :class:`~.linkage.MorphingRow` (or
+    :func:`linkage_row`); depth [m], vertical stress [Pa], previous deflection [m];
     returns the deflection [m].
     """
     stroke = m.stroke
@@ -414,7 +439,7 @@ def contact_on_floats(
 
     The balanced (or locked) deflection, its pad angle, the force of the mud on the base
     and pads (:func:`~.pads.morphing_force`) and the seal memory, for a
-    :class:`~.row.MorphingRow` ``m``, the previous deflection [m] and memory [rad], depth
+    :class:`~.linkage.MorphingRow` ``m``, the previous deflection [m] and memory [rad], depth
     [m], signed stresses [Pa] and world heading [rad]. Returns ``(F_x, F_y, F_z,
     deflection, pad_angle, most_spread)`` [N, m, rad].
     """

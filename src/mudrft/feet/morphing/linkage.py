@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -36,10 +36,14 @@ from ..._validation import (
     number_in_range,
 )
 
-if TYPE_CHECKING:
-    from .row import MorphingRow
-
-__all__ = ["MAX_PADS", "Linkage", "MorphingFootGeometry", "pad_angle", "raw_pad_angle"]
+__all__ = [
+    "MAX_PADS",
+    "Linkage",
+    "MorphingFootGeometry",
+    "MorphingRow",
+    "pad_angle",
+    "raw_pad_angle",
+]
 
 _DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
 
@@ -204,7 +208,7 @@ def raw_pad_angle(
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
 
     Element-wise over ``xp`` (D80); ``g`` holds the dimensions by attribute (a
-    :class:`MorphingFootGeometry` or a :class:`~.row.MorphingRow`), ``pole_top`` [m] and
+    :class:`MorphingFootGeometry` or a :class:`MorphingRow`), ``pole_top`` [m] and
     ``branch`` (+1 or -1) come from :class:`Linkage`.
     """
     dr = g.pole_radius - g.base_radius
@@ -366,3 +370,44 @@ class Linkage:
         b = np.array([g.pole_radius, self.pole_top - deflection])
         p = a + g.pad_length * np.array([math.cos(th), math.sin(th)])
         return {"A": a, "C": c, "B": b, "P": p}
+
+
+class MorphingRow(NamedTuple):
+    """Every number of a :class:`~.foot.MorphingFoot`'s force, as floats [m, rad, N/m, N].
+
+    The dimensions of :class:`MorphingFootGeometry` (same names), the resolved
+    :class:`Linkage` (``pole_top``, ``stroke``, ``branch``), the
+    :class:`~.springs.TwoStageSpring`'s derived constants (same names as its properties),
+    the seal length and the locked deflection (made by :func:`~.row.morphing_row`). The
+    element-wise functions of :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
+    :mod:`.equilibrium` read their numbers by attribute, so they run unchanged on the
+    dataclasses (numpy) or on this named tuple (numba compiles named tuples of floats,
+    not dataclasses; D68d).
+
+    ``lock`` is the locked deflection of the modes ``"expanded"`` and ``"retracted"``
+    [m], or -1 for the free ``"morphing"`` mode (D37).
+    """
+
+    base_radius: float
+    pivot_height: float
+    column_radius: float
+    height: float
+    pad_length: float
+    pad_inner_width: float
+    pad_outer_width: float
+    n_pads: float
+    crank_length: float
+    crank_offset: float
+    coupler_length: float
+    pole_radius: float
+    retracted_angle: float
+    expanded_angle: float
+    pole_top: float
+    stroke: float
+    branch: float
+    series_stiffness: float
+    hard_stiffness: float
+    knee_deflection: float
+    knee_force: float
+    seal_length: float
+    lock: float

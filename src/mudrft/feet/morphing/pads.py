@@ -17,7 +17,7 @@ first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. All fun
 are vectorized and unchecked: the foot (:mod:`.foot`) validates its inputs. Those of the
 force (:func:`pad_area` to :func:`morphing_force`) are element-wise code over ``xp``
 (D80): they read the dimensions by attribute, from a
-:class:`~.linkage.MorphingFootGeometry` or a :class:`~.row.MorphingRow`, so the compiled
+:class:`~.linkage.MorphingFootGeometry` or a :class:`~.linkage.MorphingRow`, so the compiled
 coupling runs them on floats (D68d).
 """
 
@@ -35,7 +35,7 @@ from ..base import SurfaceElements, fold_heading, world_force
 from .linkage import MorphingFootGeometry
 
 if TYPE_CHECKING:
-    from .row import MorphingRow
+    from .linkage import MorphingRow
 
 __all__ = [
     "center_height",

@@ -26,7 +26,7 @@ from ..._typing import Namespace, XpArray
 from ..._validation import MudrftError, positive_number
 
 if TYPE_CHECKING:
-    from .row import MorphingRow
+    from .linkage import MorphingRow
 
 __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 
@@ -38,7 +38,7 @@ def spring_force(
 
     Element-wise over ``xp`` (D80); ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
     ``series_stiffness`` and ``hard_stiffness`` [N/m] by attribute (a
-    :class:`TwoStageSpring` or a :class:`~.row.MorphingRow`).
+    :class:`TwoStageSpring` or a :class:`~.linkage.MorphingRow`).
     """
     d1 = s.knee_deflection
     return xp.where(
