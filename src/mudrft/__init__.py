@@ -19,13 +19,16 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # at run time every name loads on first use: `mudrft --help` stays light
     from . import constitutive, parameters, units
     from ._validation import MudrftError
-    from .citations import citations
     from .data import data_path
     from .parameters import Mud, MudParameters, paper_mud, paper_parameters
     from .plate import PlateResult, plate_response
     from .simulation import LoadControl, Result, simulate, static_sinking
     from .terrains import MudTerrain, Terrain, TerrainOutput
     from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
+
+# the function mudrft.citations() shares its name with the module mudrft.citations, which
+# would replace a lazy attribute once imported: the function is bound here (stdlib only)
+from .citations import citations
 
 __version__ = "0.1.0"
 
@@ -49,7 +52,6 @@ _FROM = {
     "mudrft._validation": ("MudrftError",),
     "mudrft.backends": ("BatchedMud",),
     "mudrft.calibration": ("calibrate", "load_parameters"),
-    "mudrft.citations": ("citations",),
     "mudrft.data": ("data_path",),
     "mudrft.parameters": ("Mud", "MudParameters", "paper_mud", "paper_parameters"),
     "mudrft.plate": ("PlateResult", "plate_response"),

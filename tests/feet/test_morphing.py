@@ -148,9 +148,9 @@ def test_horizontal_forces_are_symmetric_and_odd():
     fy = foot.resultant(0.02, s, math.pi / 2)
     assert fx[0] == pytest.approx(fy[1], rel=1e-12)  # 8-fold symmetry: x and y alike
     assert fx[1] == 0.0 and fy[0] == pytest.approx(0.0, abs=1e-12)
-    # world-frame force flips with the motion (decision D9)
+    # world-frame force flips with the motion (decision D9): stresses along the motion
     f1 = foot.force(0.02, [2e3, 1e3, 5e3], 0.4)
-    f2 = foot.force(0.02, [-2e3, -1e3, 5e3], 0.4 + math.pi)
+    f2 = foot.force(0.02, [2e3, 1e3, 5e3], 0.4 + math.pi)
     np.testing.assert_allclose(f2, f1 * [-1, -1, 1], rtol=1e-12)
     assert f1[0] < 0 and f1[1] < 0  # resisting motion toward +x, +y
 

@@ -110,11 +110,8 @@ def _single(normal: np.ndarray) -> np.ndarray:
 def test_element_force_is_eq6_with_the_paper_factors(
     seed: int, heading: float, trailing: bool
 ) -> None:
-    """Erratum E24: the element force equals eq. (6) with dF_y = -(sn sin + st cos) dS_h.
-
-    With the per-face stress of D22 and the heading rule per facet (D22a): in dF_x the
-    y stress enters by its magnitude, in dF_y the x stress (the same sigma_e in both where
-    both folded stresses resist the motion)."""
+    """Erratum E24: the element force equals eq. (6) with dF_y = -(sn sin + st cos) dS_h,
+    with the per-face stress of D22 (stresses measured along the motion)."""
     rng = np.random.default_rng(seed)
     n = rng.normal(size=3)
     tri = _single(n)
@@ -125,13 +122,8 @@ def test_element_force_is_eq6_with_the_paper_factors(
     nn = prep.normal[0]
     r = math.hypot(nn[0], nn[1])
     psi1, psi2, vphi = float(fr.psi1[0]), float(fr.psi2[0]), float(fr.varphi[0])
-    sq = [
-        s[0] * (1 if math.cos(heading) >= 0 else -1),
-        s[1] * (1 if math.sin(heading) >= 0 else -1),
-    ]
     c2, s2 = math.cos(vphi) ** 2, math.sin(vphi) ** 2
-    sig_x = sq[0] * c2 + abs(sq[1]) * s2  # per-face stress (D22) in dF_x (D22a)
-    sig_y = abs(sq[0]) * c2 + sq[1] * s2  # and in dF_y
+    sig_x = sig_y = s[0] * c2 + s[1] * s2  # per-face stress (D22)
     lead = math.cos(psi2) > 1e-9 or (abs(math.cos(psi2)) <= 1e-9 and math.sin(psi2) > 0)
     if trailing:
         fn, ft = f_n_extended(psi2), f_t_extended(psi2)

@@ -31,9 +31,7 @@ def test_force_is_continuous_when_one_motion_component_reverses(foot):
 def test_forces_resist_the_motion_in_every_quadrant(foot):
     for heading in np.deg2rad([10, 80, 100, 170, 190, 260, 280, 350]):
         u = np.array([np.cos(heading), np.sin(heading)])
-        stress = np.array(
-            [5e3 * u[0], 5e3 * u[1], 0.0]
-        )  # channel stresses resisting each component
+        stress = np.array([5e3, 5e3, 0.0])  # the mud's one horizontal stress, resisting
         f = foot.force(0.02, stress, heading)
         assert f[:2] @ u < 0
         assert f[0] * u[0] <= 1e-12 and f[1] * u[1] <= 1e-12
@@ -62,5 +60,5 @@ def test_unfold_uses_the_linearity_of_the_closed_form():
 
     f = unfold_forces(linear, np.array([1.0, -2.0, 1.0]), np.pi + 0.3)  # moving -x, -y
     assert calls == [(2, 3)]
-    # Fx = -(2*sx + 0.5*|sy|*sgn(ux)) = -(2 - 1) ; Fy = -(3*sy + 0.25*|sx|*sgn(uy)) = -(-6 - 0.25)
-    np.testing.assert_allclose(f, [-1.0, 6.25, 7.0])
+    # Fx = -sgn(ux) (2 sx + 0.5 sy) = +(2 - 1); Fy = -sgn(uy) (3 sy + 0.25 sx) = +(-6 + 0.25)
+    np.testing.assert_allclose(f, [1.0, -5.75, 7.0])

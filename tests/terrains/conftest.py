@@ -59,7 +59,17 @@ class BoxFoot(Foot):
         return np.stack([d * self.width, d * self.length, footprint], -1)
 
     def resultant(self, depth: Any, stress: Any, heading: Any) -> np.ndarray:
-        return self.projected_areas(depth) * np.asarray(stress, dtype=float)
+        """The flat foot's form (eq. 12) on the box's walls: the faces facing x (area
+        ``a_x``) take the normal weight f_n(phi) of sx and the faces facing y the shear
+        f_t(pi/2 - phi) of sy, and so on, so that with the mud's one horizontal stress the
+        force follows the heading continuously (D9)."""
+        a = self.projected_areas(depth)
+        s = np.asarray(stress, dtype=float)
+        c2 = np.cos(np.asarray(heading, dtype=float)) ** 2
+        s2 = 1.0 - c2
+        fx = a[..., 0] * c2 * s[..., 0] + a[..., 1] * c2 * s[..., 1]
+        fy = a[..., 0] * s2 * s[..., 0] + a[..., 1] * s2 * s[..., 1]
+        return np.stack(np.broadcast_arrays(fx, fy, a[..., 2] * s[..., 2]), axis=-1)
 
 
 @pytest.fixture

@@ -118,10 +118,10 @@ def first_quadrant(
     """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
 
     ``stress`` has shape (..., 3) [Pa] and ``heading`` [rad] broadcasts to its batch shape.
-    Returns ``(stress_q, phi, signs)``: channel stresses measured along the motion
-    (positive when they resist it), the heading folded into [0, pi/2], and the signs
-    (sx, sy) that map first-quadrant forces back to the world. Forces are odd in the
-    horizontal motion (decision D9 in docs/model.md).
+    Returns ``(stress_q, phi, signs)``: the stresses (which the mud measures along the
+    motion already: positive when they resist it), the heading folded into [0, pi/2], and
+    the signs (sx, sy) that map first-quadrant forces back to the world. Forces are odd in
+    the horizontal motion (decision D9 in docs/model.md).
     """
     s = check_finite("stress", stress)
     h = check_finite("heading", heading)
@@ -136,10 +136,7 @@ def first_quadrant(
     signs[..., 0] = np.where(c < 0, -1.0, 1.0)
     signs[..., 1] = np.where(sn < 0, -1.0, 1.0)
     phi = np.arctan2(np.abs(sn), np.abs(c))
-    sq = s.copy()
-    sq[..., 0] *= signs[..., 0]
-    sq[..., 1] *= signs[..., 1]
-    return sq, phi, signs
+    return s.copy(), phi, signs
 
 
 #: A tip depth beyond the larger of this [m] and :data:`PLAUSIBLE_DEPTH_HEIGHTS` times the
@@ -210,18 +207,20 @@ def world_force(
     r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
 
     Every closed form is linear in the stresses, :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
-    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`, with coefficients taken
-    at the heading folded into :math:`[0,\pi/2]` (:func:`fold_heading`). The ``a`` terms
-    (normal stress on faces that face the axis of their own stress) keep the sign of their
-    channel stress; the ``b`` terms (shear on the other faces) oppose the sliding along
-    their axis:
+    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z` (eqs. 12-14), with
+    coefficients taken at the heading folded into :math:`[0,\pi/2]` (:func:`fold_heading`)
+    and stresses measured along the motion (positive when they resist it); the quadrant of
+    the heading gives the signs:
 
-    .. math:: F_x=-\bigl(a_x\sigma_x+b_x|\sigma_y|\operatorname{sgn}u_x\bigr),\quad
-              F_y=-\bigl(a_y\sigma_y+b_y|\sigma_x|\operatorname{sgn}u_y\bigr)
+    .. math:: F_x=-\operatorname{sgn}(\cos h)\,(a_x\sigma_x+b_x\sigma_y),\quad
+              F_y=-\operatorname{sgn}(\sin h)\,(a_y\sigma_y+b_y\sigma_x)
 
-    Because the shear weight vanishes when its sliding component does, the force stays
-    continuous when the motion reverses along one axis. Written once, element-wise, for
-    every path (numpy, Python floats, JAX, numba).
+    (sgn 0 = +1). The mud gives one horizontal stress, :math:`\sigma_x=\sigma_y=\sigma_h`
+    (Sec. II-C), so the force depends on the heading relative to the foot only: rotating
+    the foot and its motion together rotates the force (a semi-sphere's is antiparallel to
+    the motion). Each coefficient that a sign multiplies vanishes where the sign flips, so
+    the force is continuous in the heading. Written once, element-wise, for every path
+    (numpy, Python floats, JAX, numba).
 
     Parameters
     ----------
@@ -240,9 +239,9 @@ def world_force(
         ``(F_x, F_y, F_z)`` [N], world frame.
     """
     ax, bx, by, ay, az = coefficients
-    fx = -(ax * sx + bx * xp.abs(sy) * xp.sign(xp.cos(heading)))
-    fy = -(ay * sy + by * xp.abs(sx) * xp.sign(xp.sin(heading)))
-    return fx, fy, az * sz
+    cx = xp.where(xp.cos(heading) < 0.0, -1.0, 1.0)
+    cy = xp.where(xp.sin(heading) < 0.0, -1.0, 1.0)
+    return -cx * (ax * sx + bx * sy), -cy * (ay * sy + by * sx), az * sz
 
 
 def unfold_forces(
@@ -262,7 +261,7 @@ def unfold_forces(
         shape (..., 2, 3) and folded headings of shape (..., 1); it is called once with the
         rows (1, 0, sz) and (0, 1, sz).
     stress : ndarray (..., 3)
-        Signed channel stresses [Pa].
+        Stresses (sx, sy, sz) [Pa], horizontal ones measured along the motion.
     heading : ndarray (...)
         World heading of the horizontal motion [rad].
 

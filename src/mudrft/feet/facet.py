@@ -223,14 +223,12 @@ def clip_facet(
 def fold_stresses(
     sx: XpArray, sy: XpArray, heading: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    r"""Horizontal channel stresses measured along the motion, and its direction.
+    r"""The horizontal stresses and the direction of the motion ``(sx, sy, u_x, u_y)``.
 
-    Returns ``(sq_x, sq_y, u_x, u_y)``: :math:`\sigma_x\operatorname{sgn}\cos h`,
-    :math:`\sigma_y\operatorname{sgn}\sin h` (positive when resisting the motion; sgn 0 =
-    +1, as :func:`mudrft.feet.base.first_quadrant`) [Pa] and :math:`(\cos h, \sin h)` [-].
+    The stresses are measured along the motion already (positive when they resist it)
+    [Pa]; :math:`(u_x, u_y)=(\cos h, \sin h)` [-].
     """
-    ux, uy = xp.cos(heading), xp.sin(heading)
-    return sx * xp.where(ux < 0, -1.0, 1.0), sy * xp.where(uy < 0, -1.0, 1.0), ux, uy
+    return sx, sy, xp.cos(heading), xp.sin(heading)
 
 
 def facet_factors(
@@ -267,21 +265,12 @@ def facet_force(
     r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].
 
     :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t\hat{\mathbf t}]
-    |\mathbf n_h|dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` (folded
-    stresses, D22; :math:`\hat{\mathbf t}=(-\hat n_y,\hat n_x)`) and
-    :math:`dF_z=w_z\sigma_z dS`; ``area`` = :math:`dS` [m^2], the facet's frame from
-    :func:`facet_frame`, the folded stresses from :func:`fold_stresses` [Pa], the factors
-    from :func:`facet_factors`.
-
-    The heading rule of decision D9, per facet (D22a): in each component the stress of its
-    own channel keeps its folded sign, and the other channel's stress enters by its
-    magnitude, :math:`dF_x` with :math:`\sigma_x^q\hat n_x^2+|\sigma_y|\hat n_y^2` and
-    :math:`dF_y` with :math:`|\sigma_x|\hat n_x^2+\sigma_y^q\hat n_y^2`, so that the shear a
-    channel's stress puts across the other axis opposes the sliding along it. Where both
-    folded stresses resist the motion this is :math:`\sigma_e` itself; where one lags
-    behind a reversal of its motion (a gait's sway) the force stays continuous.
+    |\mathbf n_h|dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` (D22;
+    :math:`\hat{\mathbf t}=(-\hat n_y,\hat n_x)`) and :math:`dF_z=w_z\sigma_z dS`;
+    ``area`` = :math:`dS` [m^2], the facet's frame from :func:`facet_frame`, the stresses
+    measured along the motion [Pa] (the mud's one horizontal stress in both, so
+    :math:`\sigma_e=\sigma_h`: the rule depends on the facet's angle to the motion only),
+    the factors from :func:`facet_factors`.
     """
-    g = -nh * area  # -|n_h| dS
-    wx = g * (sqx * hx * hx + xp.abs(sqy) * hy * hy)
-    wy = g * (xp.abs(sqx) * hx * hx + sqy * hy * hy)
-    return wx * (fn * hx - ft * hy), wy * (fn * hy + ft * hx), wz * sz * area
+    se = -nh * area * (sqx * hx * hx + sqy * hy * hy)  # -sigma_e |n_h| dS
+    return se * (fn * hx - ft * hy), se * (fn * hy + ft * hx), wz * sz * area

@@ -84,21 +84,25 @@ class MudChannels(NamedTuple):
 
     Attributes
     ----------
-    x, y, z : ChannelState
-        The three stress channels (x and y horizontal, z vertical).
+    h, z : ChannelState
+        The two stress channels: horizontal (the displacement from the entry point, along
+        its line, Sec. II-C) and vertical (the depth).
     entry_x, entry_y : float or array
         Horizontal tip position where the foot entered the mud [m].
+    line : float or array
+        The line of the horizontal displacement through the entry point [rad], oriented as
+        the first motion on entry (the channel is odd along it).
     heading : float or array
-        Last horizontal heading of the motion [rad].
+        The direction in which the horizontal stress acts [rad] (the feet's heading).
     in_mud : float or array
         1.0 when the tip was below the surface after the last step, else 0.0.
     """
 
-    x: ChannelState
-    y: ChannelState
+    h: ChannelState
     z: ChannelState
     entry_x: XpArray
     entry_y: XpArray
+    line: XpArray
     heading: XpArray
     in_mud: XpArray
 
@@ -153,11 +157,21 @@ def mud_step(
 ) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
 
-    Displacements :math:`\gamma_x=(x-x_e)/L_c`, :math:`\gamma_y=(y-y_e)/L_c` from the entry
-    point :math:`(x_e,y_e)` and :math:`\gamma_z=d/L_c` with the tip depth :math:`d=\max(-z,0)`;
-    rates :math:`\dot x/L_c`, :math:`\dot y/L_c` and :math:`-\dot z/L_c` (0 out of the mud).
-    When the tip was out of the mud before the step and ``reset``, the channels start from
-    undisturbed mud and the entry point is where the tip crossed (decision D11).
+    Two channels (Sec. II-C). Horizontal: the displacement from the entry point
+    :math:`(x_e,y_e)` along its line :math:`\hat{\mathbf l}`, :math:`\gamma_h=\pm|\mathbf r|/L_c`
+    with :math:`\mathbf r=(x-x_e,y-y_e)`, and its rate :math:`\hat{\mathbf l}\cdot\mathbf u_h/L_c`
+    (the paper's :math:`|\mathbf u_h|/L_c` while the tip moves straight away; negative when it
+    comes back: the retraction of the horizontal plate test). The line follows
+    :math:`\mathbf r` and keeps its orientation, so :math:`\gamma_h` turns negative when the
+    tip passes back through the entry point (the channel is odd, as the plate test's). The
+    motion across the line, :math:`u_t`, meets the viscous stress
+    :math:`\eta_\infty u_t/L_c` (D9a). The horizontal stress acts as one vector
+    :math:`\sigma_h\hat{\mathbf l}+\eta_\infty u_t/L_c\,\hat{\mathbf t}`: its magnitude in
+    ``sx`` and ``sy`` alike, its direction the heading (D9), so the law does not depend on
+    how the world axes point. Vertical: :math:`\gamma_z=d/L_c` with the tip depth
+    :math:`d=\max(-z,0)`, rate :math:`-\dot z/L_c` (0 out of the mud). When the tip was out
+    of the mud before the step and ``reset``, the channels start from undisturbed mud, the
+    entry point is where the tip crossed and the line the motion's direction (D11, D52).
 
     Parameters
     ----------
@@ -180,7 +194,7 @@ def mud_step(
     reset : bool
         Reset the channels on re-entry (decision D11).
     heading_speed : float
-        Below this horizontal speed the last heading is kept [m/s].
+        Below this horizontal speed the heading is kept [m/s].
     seal : array_like
         Sealing factor of the vertical channel in [0, 1] [-] (the morphing foot).
     quasi_static, restart : bool
@@ -193,44 +207,71 @@ def mud_step(
     -------
     state : MudChannels
     sx, sy, sz : array_like
-        Channel stresses [Pa] (0 out of the mud).
+        Stresses [Pa] (0 out of the mud): the horizontal one in ``sx`` and ``sy`` alike,
+        measured along the heading (positive when it resists the displacement).
     depth : array_like
         Tip depth [m].
     """
-    cx, cy, cz, gx, gy, gz, rz, ex, ey, depth, in_mud = _channel_motion(
-        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, xp=xp
+    chh, cz, gh, rh, gz, rz, ex, ey, line, ut, depth, in_mud = _channel_motion(
+        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
-    heading = mud_heading(st.heading, vx, vy, heading_speed, xp=xp)
     hor, ver = ch
     qs, rs = quasi_static, restart
-    cx, sx = kernel.channel_step(hor, cx, gx, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    cy, sy = kernel.channel_step(hor, cy, gy, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp=xp)
+    chh, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
+    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
     inside = xp.where(in_mud, 1.0, 0.0)
-    new = MudChannels(cx, cy, cz, ex, ey, heading, inside)
-    return new, sx.total * inside, sy.total * inside, sz.total * inside, depth
+    new = MudChannels(chh, cz, ex, ey, line, heading, inside)
+    return new, s * inside, s * inside, sz.total * inside, depth
+
+
+def horizontal_stress(
+    along: XpArray, across: XpArray, line: XpArray, xp: Namespace = np
+) -> tuple[XpArray, XpArray]:
+    r"""The horizontal stress vector :math:`\sigma_l\hat{\mathbf l}+\sigma_t\hat{\mathbf t}` as
+    its magnitude [Pa] and direction [rad] (D9a): ``along`` the line [Pa], ``across`` it
+    [Pa] (:math:`\hat{\mathbf t}` the line turned by +90 degrees), the line's angle [rad]."""
+    m2 = along * along + across * across
+    nonzero = m2 > 0.0  # the root and the angle of safe values: finite JAX gradients at 0
+    heading = line + xp.where(
+        nonzero, xp.arctan2(xp.where(nonzero, across, 0.0), xp.where(nonzero, along, 1.0)), 0.0
+    )
+    return xp.where(nonzero, xp.sqrt(xp.where(nonzero, m2, 1.0)), 0.0), heading
 
 
 def _channel_motion(
     st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray, vz: XpArray, dt: XpArray, lc: XpArray,
-    xi0: XpArray, reset: bool, xp: Namespace = np,
+    xi0: XpArray, reset: bool, heading_speed: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, ...]:  # fmt: skip
-    """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11),
-    displacements, the vertical rate, the entry point, the depth and whether in the mud."""
+    """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11), the
+    horizontal displacement and rate, the vertical ones, the entry point, the line, the
+    speed across it [m/s], the depth and whether in the mud (see :func:`mud_step`)."""
     depth = xp.maximum(-pz, 0.0)
     in_mud = depth > 0.0
     was_in = st.in_mud > 0.5
-    cx, cy, cz = st.x, st.y, st.z
-    ex, ey = st.entry_x, st.entry_y
+    chh, cz = st.h, st.z
+    ex, ey, last = st.entry_x, st.entry_y, st.line
     if reset:
         fresh = st.in_mud < 0.5
-        cx = _fresh(cx, fresh, xi0, xp=xp)
-        cy = _fresh(cy, fresh, xi0, xp=xp)
-        cz = _fresh(cz, fresh, xi0, xp=xp)
+        chh = _fresh(chh, fresh, xi0, xp)
+        cz = _fresh(cz, fresh, xi0, xp)
         ex = xp.where(fresh, px - vx * dt, ex)
         ey = xp.where(fresh, py - vy * dt, ey)
+        last = xp.where(fresh, mud_heading(last, vx, vy, heading_speed, xp), last)
+    rx, ry = px - ex, py - ey
+    r2 = rx * rx + ry * ry
+    away = r2 > 0.0  # roots and angles of safe values: finite JAX gradients at the entry
+    r = xp.sqrt(xp.where(away, r2, 1.0))
+    side = xp.where(rx * xp.cos(last) + ry * xp.sin(last) < 0.0, -1.0, 1.0)
+    line = xp.where(
+        away, xp.arctan2(side * xp.where(away, ry, 0.0), side * xp.where(away, rx, 1.0)), last
+    )
+    lx, ly = xp.cos(line), xp.sin(line)
+    rate_h = (lx * vx + ly * vy) / lc
+    gamma_h = xp.where(away, side * r, 0.0) / lc
+    ut = lx * vy - ly * vx  # the speed across the line [m/s]
     gdz = xp.where(in_mud | was_in, -vz, 0.0) / lc
-    return cx, cy, cz, (px - ex) / lc, (py - ey) / lc, depth / lc, gdz, ex, ey, depth, in_mud
+    return chh, cz, gamma_h, rate_h, depth / lc, gdz, ex, ey, line, ut, depth, in_mud
 
 
 def mud_heading(
@@ -248,24 +289,26 @@ def mud_heading(
 
 def mud_channel_stress(
     c: int, ch: ConstantsPair, st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray,
-    vz: XpArray, dt: XpArray, lc: XpArray, kappa: XpArray, xi0: XpArray, reset: bool, seal: XpArray,
-    quasi_static: bool = False, restart: bool = False, xp: Namespace = np,
-) -> XpArray:  # fmt: skip
-    """The stress [Pa] of channel ``c`` (0: x, 1: y, 2: z) that :func:`mud_step` returns for
-    the same arguments, computed alone: a channel's stress depends on its own rate only, so
-    a derivative by one channel's rate needs one channel step, not three (D63)."""
-    cx, cy, cz, gx, gy, gz, rz, _ex, _ey, _depth, in_mud = _channel_motion(
-        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, xp=xp
+    vz: XpArray, dt: XpArray, lc: XpArray, kappa: XpArray, xi0: XpArray, reset: bool,
+    heading_speed: XpArray, seal: XpArray, quasi_static: bool = False, restart: bool = False,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray]:  # fmt: skip
+    """The stress [Pa] that :func:`mud_step` returns in ``sx``, ``sy`` (``c`` 0 or 1: the
+    horizontal channel, with the heading [rad] of its state) or ``sz`` (``c`` 2, with the
+    line [rad]) for the same arguments, computed alone: a channel's stress depends on its own rate only, so a
+    derivative by one velocity component needs one channel step, not two (D63)."""
+    chh, cz, gh, rh, gz, rz, _ex, _ey, line, ut, _depth, in_mud = _channel_motion(
+        st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
     hor, ver = ch
     qs, rs = quasi_static, restart
-    if c == 0:
-        _, s = kernel.channel_step(hor, cx, gx, vx / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    elif c == 1:
-        _, s = kernel.channel_step(hor, cy, gy, vy / lc, dt, 1.0, kappa, qs, rs, xp=xp)
-    else:
-        _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp=xp)
-    return s.total * xp.where(in_mud, 1.0, 0.0)
+    inside = xp.where(in_mud, 1.0, 0.0)
+    if c < 2:
+        _, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
+        s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
+        return s * inside, heading
+    _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    return s.total * inside, line
 
 
 ConstantsPair = tuple[ChannelConstants, ChannelConstants]
@@ -283,11 +326,11 @@ def initial_channels(
         )
 
     return MudChannels(
-        x=fresh(zero),
-        y=fresh(zero),
+        h=fresh(zero),
         z=fresh(depth / lc),
         entry_x=px + zero,
         entry_y=py + zero,
+        line=zero,
         heading=zero,
         in_mud=xp.where(depth > 0.0, 1.0, 0.0),
     )

@@ -11,8 +11,8 @@ feet's own force rules, called with ``xp=pyfloat`` (:mod:`mudrft._xp`).
 
 Rows:
 
-* state (``N_STATE``): the x, y, z channels (7 each: gamma, gamma_w, xi, s_th, sigma_s,
-  clock, clock_w), entry x, entry y, heading, in_mud;
+* state (``N_STATE``): the horizontal and vertical channels (7 each: gamma, gamma_w, xi,
+  s_th, sigma_s, clock, clock_w), entry x, entry y, line, heading, in_mud;
 * constants (``N_CONST``): the horizontal then the vertical
   :class:`~mudrft.constitutive.kernel.ChannelConstants`;
 * options (:func:`config_row`): L_c [m], kappa, xi0, reset, heading_speed [m/s],
@@ -55,6 +55,7 @@ __all__ = [
     "N_FOOT",
     "N_OUT",
     "N_STATE",
+    "STATE_HEADING",
     "STATE_IN_MUD",
     "channels_of_rows",
     "compilable",
@@ -68,7 +69,8 @@ __all__ = [
 ]
 
 N_CHANNEL = len(ChannelState._fields)
-N_STATE = 3 * N_CHANNEL + 4
+N_STATE = 2 * N_CHANNEL + 5
+STATE_HEADING = N_STATE - 2
 STATE_IN_MUD = N_STATE - 1
 N_CONST = 2 * len(ChannelConstants._fields)
 N_FOOT = 3
@@ -100,7 +102,7 @@ def config_row(terrain: MudTerrain, foot: Foot) -> FloatArray:
 
 def state_rows(ch: MudChannels) -> FloatArray:
     """Channels (floats, or arrays (N,)) as rows (N, N_STATE)."""
-    fields = [*ch.x, *ch.y, *ch.z, ch.entry_x, ch.entry_y, ch.heading, ch.in_mud]
+    fields = [*ch.h, *ch.z, ch.entry_x, ch.entry_y, ch.line, ch.heading, ch.in_mud]
     return np.ascontiguousarray(
         np.stack(np.broadcast_arrays(*map(np.asarray, fields)), -1), dtype=float
     ).reshape(-1, N_STATE)
@@ -172,8 +174,7 @@ def channels_at(s: FloatArray | Sequence[float]) -> MudChannels:
     return MudChannels(
         ChannelState(s[0], s[1], s[2], s[3], s[4], s[5], s[6]),
         ChannelState(s[7], s[8], s[9], s[10], s[11], s[12], s[13]),
-        ChannelState(s[14], s[15], s[16], s[17], s[18], s[19], s[20]),
-        s[21], s[22], s[23], s[24],
+        s[14], s[15], s[16], s[17], s[18],
     )  # fmt: skip
 
 
@@ -239,11 +240,12 @@ def foot_step(
             int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, new.heading, pyfloat
         )
     k = 0
-    for chan in (new.x, new.y, new.z):
+    for chan in (new.h, new.z):
         for v in chan:
             row[k] = v
             k += 1
-    row[21], row[22], row[23], row[24] = new.entry_x, new.entry_y, new.heading, new.in_mud
+    row[14], row[15], row[16] = new.entry_x, new.entry_y, new.line
+    row[17], row[18] = new.heading, new.in_mud
     inside = new.in_mud
     return (fx * inside, fy * inside, fz * inside, sx, sy, sz, depth)
 

@@ -322,7 +322,7 @@ def _kernel(
                     un[0], un[1], un[2] = u[0], u[1], u[2]
                     un[q] += st
                     fq = _nudged_force(
-                        q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, frow
+                        q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, row, frow
                     )
                     D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
             for i in range(N_STATE):

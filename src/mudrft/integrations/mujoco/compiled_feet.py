@@ -18,10 +18,11 @@ from ...feet.closed_form import closed_form_force
 from ...feet.facet import submerged_area
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
-from ...terrains.mud import mud_channel_stress, mud_heading
+from ...terrains.mud import mud_channel_stress
 from ...terrains.rows import (
     MESH,
     MORPHING,
+    STATE_HEADING,
     channels_at,
     constants_at,
     foot_step,
@@ -67,26 +68,29 @@ def _mud_force(c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray, dt: f
 
 def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray,
                   dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray, r0: FootStep,
-                  mrow: FloatArray, fs: FloatArray, frow: FloatArray) -> float:  # fmt: skip
+                  mrow: FloatArray, fs: FloatArray, row: FloatArray,
+                  frow: FloatArray) -> float:  # fmt: skip
     """Force component ``q`` [N] of the mud step from state row ``s`` when only channel
     ``q``'s rate differs from the step that returned ``r0`` (:func:`_mud_force`): the one
-    channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`), the heading
-    follows the new velocity, and the other stresses are ``r0``'s (D63). A morphing foot
+    channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`, with the heading of
+    that step for a horizontal nudge, the step's own, ``row``, for a vertical one), and the
+    other stresses are ``r0``'s (D63). A morphing foot
     balances its column again for a vertical nudge; a horizontal one leaves the balance,
     which depends on the vertical stress only, at ``frow``'s pad angle."""
     m = morphing_at(mrow)
     seal = 1.0
     if geom[0] == MORPHING:
         seal = seal_factor(fs[1], fs[2], m.pad_length, m.seal_length, pyfloat)
-    sq = mud_channel_stress(
+    sq, heading = mud_channel_stress(
         q, (constants_at(c, 0, 0), constants_at(c, 0, 12)), channels_at(s), p[0], p[1], p[2],
-        u[0], u[1], u[2], dt, cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, seal, cfg[5] != 0.0,
-        cfg[6] != 0.0, pyfloat,
+        u[0], u[1], u[2], dt, cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], seal,
+        cfg[5] != 0.0, cfg[6] != 0.0, pyfloat,
     )  # fmt: skip
-    sx = sq if q == 0 else r0[3]
-    sy = sq if q == 1 else r0[4]
+    sx = sq if q < 2 else r0[3]  # the one horizontal stress, in both components
+    sy = sq if q < 2 else r0[4]
     sz = sq if q == 2 else r0[5]
-    heading = mud_heading(s[23], u[0], u[1], cfg[4], pyfloat)
+    if q == 2:
+        heading = row[STATE_HEADING]
     depth = r0[6]
     if geom[0] == MESH:
         fx, fy, fz = mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
