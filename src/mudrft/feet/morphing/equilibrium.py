@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import TYPE_CHECKING, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,10 +61,24 @@ from .springs import TwoStageSpring, spring_force
 if TYPE_CHECKING:
     from .linkage import MorphingFootGeometry
 
-try:  # SciPy >= 1.15
-    from scipy.optimize.elementwise import find_root
-except ImportError:  # pragma: no cover - exercised by the tests through monkeypatching
-    find_root = None
+
+def _find_root() -> Any:
+    """SciPy's ``find_root`` (SciPy >= 1.15), or None; imported on first use, since
+    ``scipy.optimize`` takes most of a second to import (tests may set ``find_root``)."""
+    if "find_root" not in globals():
+        try:
+            from scipy.optimize.elementwise import find_root
+        except ImportError:  # pragma: no cover - exercised by the tests through monkeypatching
+            find_root = None
+        globals()["find_root"] = find_root
+    return globals()["find_root"]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "find_root":
+        return _find_root()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "MorphingState",
@@ -219,7 +233,7 @@ def balanced_deflection(
     r_p = residual(p, d, s, linkage=linkage, spring=spring)
     moving = _moving(r_p, p, stroke)
     count = int(np.count_nonzero(moving))
-    if count > _FEW and find_root is not None:
+    if count > _FEW and _find_root() is not None:
         out[moving] = _move(d[moving], s[moving], p[moving], r_p[moving], linkage, spring)
     elif count:
         row = linkage_row(linkage, spring)
@@ -316,7 +330,7 @@ def _move(
 
     a, b, dd, ss = lo[open_], hi[open_], d[open_], s[open_]
     tol = {"xatol": _XTOL, "xrtol": 0.0, "fatol": _FTOL, "frtol": 0.0}
-    res = find_root(f, (a, b), args=(dd, ss), tolerances=tol)
+    res = _find_root()(f, (a, b), args=(dd, ss), tolerances=tol)
     if not np.all(res.success):
         bad = int(np.flatnonzero(~res.success)[0])
         _diverged(a[bad], b[bad], dd[bad], ss[bad], f"scipy status {int(res.status[bad])}")
