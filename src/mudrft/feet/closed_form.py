@@ -287,7 +287,8 @@ def semicylinder_forces(
     Parameters
     ----------
     depth, stress, heading, xp
-        As in :func:`flat_forces`; the heading is measured from the cylinder axis (x).
+        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad] from the
+        cylinder axis (x), and the array namespace.
     radius, width, height : float
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
 
@@ -318,7 +319,8 @@ def semisphere_forces(
     Parameters
     ----------
     depth, stress, heading, xp
-        As in :func:`flat_forces`.
+        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad], and the
+        array namespace.
     radius, height : float
         :math:`R` and cap height (<= R) [m].
 

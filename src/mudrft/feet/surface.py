@@ -331,7 +331,8 @@ def element_forces(
     prepared : PreparedTriangles
         From :func:`prepare_triangles`.
     depth, stress, heading, trailing, xp
-        As in :func:`integrate_triangles`.
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
 
     Returns
     -------
@@ -363,7 +364,8 @@ def integrate_prepared(
     prepared : PreparedTriangles
         From :func:`prepare_triangles`.
     depth, stress, heading, trailing, xp
-        As in :func:`integrate_triangles`.
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
 
     Returns
     -------
@@ -466,7 +468,8 @@ def integrate_wrench(
     triangles : array_like, shape (..., m, 3, 3)
         Triangles in the foot frame [m] (ignored when ``prepared`` is given).
     depth, stress, heading, trailing, xp
-        As in :func:`integrate_triangles`.
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
     point : array_like, shape (..., 3), optional
         Reference point for the moment, in the foot frame [m]; default the tip (origin).
     prepared : PreparedTriangles, optional

@@ -190,7 +190,7 @@ class MudParameters:
             raise MudrftError(
                 f"parameter dict has unknown fields {unknown}; expected {list(PARAMETER_UNITS)}"
             )
-        return cls(**{k: data[k] for k in data}, **meta)
+        return cls(**data, **meta)
 
     @property
     def shape(self) -> tuple[int, ...]:
