@@ -1,15 +1,11 @@
-"""Which papers a run relied on.
-
-Modules call :func:`register` when they use a model or a number from a paper;
-:func:`citations` lists what has been registered in this process, as BibTeX.
-"""
+"""Which papers a run relied on: modules :func:`register` what they use, :func:`citations`
+lists it as BibTeX."""
 
 from __future__ import annotations
 
 __all__ = ["BIBTEX", "citations", "register", "reset"]
 
-#: BibTeX entries of the works mudrft implements or compares with. Where the full
-#: record could not be verified offline the entry says so in its ``note``.
+#: BibTeX entries of the works mudrft implements or compares with.
 BIBTEX: dict[str, str] = {
     "chen2026mud": """@article{chen2026mud,
   author = {Chen, Xunjie and Wang, Liuyin and Huang, Xinyan and Shan, Jerry and Shen, Yantao and Yi, Jingang},

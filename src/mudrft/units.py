@@ -1,12 +1,8 @@
-"""Unit conversion at the edges of the library.
-
-mudrft computes in SI units (m, s, N, Pa, Pa s). The paper's tables are in MPa and
-its plots in mm and kPa; data files often log ms, mm, kPa or MPa. Everything is
-converted here, once, on the way in or out.
-"""
+"""Unit conversion at the edges of the library: mudrft computes in SI (m, s, N, Pa, Pa s)."""
 
 from __future__ import annotations
 
+import math
 import re
 
 from ._validation import MudrftError
@@ -26,7 +22,7 @@ SCALE: dict[str, dict[str, float]] = {
     "stress": {"Pa": 1.0, "kPa": 1.0e3, "MPa": 1.0e6, "N/m^2": 1.0, "N/m2": 1.0},
     "area": {"m^2": 1.0, "m2": 1.0, "cm^2": 1.0e-4, "cm2": 1.0e-4, "mm^2": 1.0e-6, "mm2": 1.0e-6},
     "velocity": {"m/s": 1.0, "mm/s": 1.0e-3, "cm/s": 1.0e-2},
-    "angle": {"rad": 1.0, "deg": 3.141592653589793 / 180.0},
+    "angle": {"rad": 1.0, "deg": math.pi / 180.0},
     # granular RFT's stress per unit depth (Li et al. 2013 print N/cm^3)
     "stress per depth": {
         "N/m^3": 1.0,
@@ -40,14 +36,8 @@ SCALE: dict[str, dict[str, float]] = {
 
 
 def parse_unit(quantity: str, unit: str) -> float:
-    """Return the factor that converts ``unit`` of ``quantity`` to SI.
-
-    Parameters
-    ----------
-    quantity : str
-        One of the keys of :data:`SCALE` (``"time"``, ``"length"``, ...).
-    unit : str
-        The unit as written in a file header, e.g. ``"mm"`` or ``"kPa"``.
+    """Return the factor [SI/unit] that converts ``unit`` (``"mm"``, ``"kPa"``) of
+    ``quantity`` (a key of :data:`SCALE`: ``"time"``, ``"length"``, ...) to SI.
 
     Examples
     --------
@@ -69,7 +59,7 @@ def parse_unit(quantity: str, unit: str) -> float:
 
 
 def to_si(value: float, quantity: str, unit: str) -> float:
-    """Convert ``value`` given in ``unit`` to SI.
+    """Convert ``value`` given in ``unit`` of ``quantity`` to SI (:func:`parse_unit`).
 
     Examples
     --------

@@ -1,17 +1,14 @@
 r"""Run any terrain along a trajectory and compare terrains (supplementary Figs. S5, S6).
 
-:func:`run_terrain` is the plain loop over a prescribed trajectory
-(``terrain.initial_state`` then ``terrain.step`` at every sample); :func:`compare` runs
-the mud model and the baselines on the same foot and trajectory. Every history has the
-vertical stress :math:`\bar\sigma_z=F_z/A_z(d)` (force over the submerged footprint), so
-models with and without channel stresses are compared on the same footing.
+Every history has the vertical stress :math:`\bar\sigma_z=F_z/A_z(d)` (force over the
+submerged footprint), so models with and without channel stresses compare alike.
 """
 
 from __future__ import annotations
 
 import csv
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -110,8 +107,8 @@ def run_terrain(
 ) -> History:
     """Drive ``foot`` along ``trajectory`` through ``terrain`` and record the forces.
 
-    The force at sample ``i`` comes from the step that ends at sample ``i`` (step length
-    ``t[i] - t[i-1]``; the first step uses ``t[1] - t[0]``), decision D58.
+    The force at sample ``i`` comes from the step that ends there (step ``t[i] - t[i-1]``;
+    the first step ``t[1] - t[0]``), decision D58.
 
     Parameters
     ----------
@@ -187,13 +184,10 @@ TERRAIN_NAMES = ("mud", "granular-rft", "granular-rft3d", "linear", "maxwell", "
 def default_terrains(
     water_content: float = 0.25, *, extrapolate: bool = False
 ) -> dict[str, Terrain]:
-    """The mud model and the five baselines with their documented defaults.
+    """The mud model and the five baselines with their defaults, by name (:data:`TERRAIN_NAMES`).
 
-    ``mud``, ``granular-rft``, ``granular-rft3d``, ``linear``, ``maxwell``, ``rigid``.
-    ``water_content`` [-] selects the mud; the baselines' defaults were fitted to (or
-    chosen for) the W = 25 % mud, or name a granular medium, and do not change with it
-    (decision D59). Outside the tabulated rows the mud needs ``extrapolate=True`` (and
-    warns), as :func:`mudrft.paper_mud` does.
+    ``water_content`` [-] selects the mud (``extrapolate`` as :func:`mudrft.paper_mud`);
+    the baselines' defaults do not change with it (decision D59).
     """
 
     mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
@@ -226,18 +220,15 @@ def compare(
     trajectory : Trajectory
         Prescribed tip motion, e.g. :func:`mudrft.plate_intrusion` or :func:`mudrft.gait`.
     terrains : mapping name -> terrain, iterable of terrains or names, or None, optional
-        Terrain objects (``mudrft.terrains.GranularRFT(zeta=...)``, ...) or the names of
-        :func:`default_terrains` (``"mud"``, ``"granular-rft"``, ``"granular-rft3d"``,
-        ``"linear"``, ``"maxwell"``, ``"rigid"``: those terrains with their defaults), mixed
-        freely; default: all of :func:`default_terrains` (decision D131).
+        Terrain objects (``GranularRFT(zeta=...)``, a :class:`~mudrft.Mud`, ...) or names
+        of :func:`default_terrains`, mixed freely; default: all of them.
     water_content : float, keyword-only
         Mud water content [-] for the default terrains.
     extrapolate : bool, keyword-only
         Allow a water content outside the tabulated rows for the default terrains (warns).
     progress : bool or callable, keyword-only
-        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger
-        (a stderr handler is attached when logging is not configured), a callable is called
-        with the fraction done.
+        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger,
+        or a callable called with the fraction done.
 
     Returns
     -------
@@ -286,24 +277,14 @@ def compare(
     out: dict[str, History] = {}
     report = make_progress(progress, f"compare on {trajectory.name}")
     for i, (name, terrain) in enumerate(items):
-        h = run_terrain(terrain, foot, trajectory)
-        out[name] = History(
-            name=name,
-            time=h.time,
-            position=h.position,
-            velocity=h.velocity,
-            force=h.force,
-            stress=h.stress,
-            depth=h.depth,
-            area=h.area,
-        )
+        out[name] = replace(run_terrain(terrain, foot, trajectory), name=name)
         if report is not None:
             report((i + 1) / len(items))
     return out
 
 
 def _terrain(label: str, value: Any, water_content: float, extrapolate: bool) -> Terrain:
-    """A terrain object from ``value``: a terrain, or the name of a default terrain (D131)."""
+    """A terrain object from ``value``: a terrain, a Mud, or the name of a default terrain."""
     if isinstance(value, str):
         if value not in TERRAIN_NAMES:
             raise MudrftError(
@@ -335,7 +316,6 @@ def _check_history(name: str, value: Any) -> None:
 
 def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
     """Per terrain: peak support, max suction [N], impulses [N s], energy [J], peak sigma_z [Pa]."""
-
     if not isinstance(histories, Mapping):
         raise MudrftError(
             f"histories must be a mapping {{terrain: History}}, got {_what(histories)}"
@@ -376,8 +356,7 @@ def write_csv(
     path : str or Path
         Output CSV.
     overwrite : bool, keyword-only
-        Replace an existing file (never done silently). The file is written atomically:
-        a failure leaves neither a partial file nor a temporary one.
+        Replace an existing file (default: refuse); the file is written atomically.
     """
     if not isinstance(runs, Mapping) or not runs:
         raise MudrftError(

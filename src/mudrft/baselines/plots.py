@@ -42,10 +42,8 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     Parameters
     ----------
     plate : mapping name -> History
-        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`. (a) shows
-        whichever of ``mud``, ``sand`` and ``granular-rft3d`` are present, (b, c) whichever
-        of ``mud``, ``maxwell``, ``linear``; a panel with none of its terrains says so
-        (``mudrft compare --terrains`` runs any subset, D132).
+        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`. Each
+        panel shows those of its terrains that are present, or says none is.
     sand : str, keyword-only
         Name of the granular history.
     """
@@ -112,8 +110,7 @@ def plot_gait(
     """Fig. S5-style figure: Fx, Fy, Fz over one gait cycle for the terrains given.
 
     ``exclude`` drops terrains by name: by default rigid ground, whose force on a
-    prescribed path that goes 30 mm "into" it is only the penalty spring's (rigid
-    ground needs a load-controlled foot, :class:`mudrft.LoadControl`).
+    prescribed path into it is only its penalty spring's.
     """
     shown = {k: v for k, v in gait.items() if k not in exclude}
     if not shown:
@@ -136,7 +133,6 @@ def plot_gait(
 
 def plot_rft_alpha(*, resolution: int = 121) -> Any:
     """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
-
     plt = _plt()
     b = np.linspace(-np.pi / 2, np.pi / 2, resolution)
     g = np.linspace(-np.pi / 2, np.pi / 2, resolution)

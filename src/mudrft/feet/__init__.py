@@ -58,8 +58,8 @@ def by_name(
         Length unit of a mesh file's coordinates (``"m"``, ``"mm"``, ``"cm"``, ``"in"``;
         default metres); only for mesh files.
     trailing : bool or None, keyword-only
-        Let a mesh foot's trailing facets resist too (:class:`MeshFoot`, D23; default
-        ``False``); only for mesh files.
+        Let a mesh foot's trailing facets resist too (:class:`MeshFoot`; default ``False``);
+        only for mesh files.
     up : str or None, keyword-only
         A mesh file's up axis (:meth:`MeshFoot.from_file`; default ``"z"``); only for mesh
         files.
@@ -89,12 +89,9 @@ def by_name(
                 f"{option} (CLI: --{option}) applies to mesh files only (.stl/.obj/.ply), but "
                 f"foot is {name!r}; {why}"
             )
-    if name == "flat":
-        return Flat()
-    if name == "semi-cylinder":
-        return SemiCylinder()
-    if name == "semi-sphere":
-        return SemiSphere()
+    closed = {"flat": Flat, "semi-cylinder": SemiCylinder, "semi-sphere": SemiSphere}
+    if isinstance(name, str) and name in closed:
+        return closed[name]()
     if name == "morphing":
         return __getattr__("MorphingFoot")()  # type: ignore[no-any-return]
     raise MudrftError(f"foot must be one of {list(NAMES)} or a .stl/.obj/.ply file, got {name!r}")

@@ -1,13 +1,10 @@
 r"""The foot interface shared by closed-form feet, mesh feet and the morphing foot.
 
-Conventions (DESIGN.md): world frame right-handed, z up, mud surface at z = 0.
-A foot's own frame has its origin at the foot's lowest point (the *tip*) and z up;
-``depth`` is the depth of the tip below the surface [m], >= 0.
-
-Stress channels: the mud model gives three signed channel stresses
-:math:`(\sigma_x,\sigma_y,\sigma_z)` [Pa]; :math:`\sigma_z>0` resists downward motion
-(support), :math:`\sigma_z<0` is suction; :math:`\sigma_x>0` resists motion toward +x.
-Forces are the force of the mud on the foot in the world frame [N].
+A foot's frame has its origin at its lowest point (the *tip*) and z up; ``depth`` is the
+depth of the tip below the mud surface [m], >= 0. The mud gives three signed channel
+stresses :math:`(\sigma_x,\sigma_y,\sigma_z)` [Pa]: :math:`\sigma_z>0` is support,
+:math:`\sigma_z<0` suction, horizontal stresses are positive when they resist the
+motion. Forces are those of the mud on the foot, in the world frame [N].
 """
 
 from __future__ import annotations
@@ -43,32 +40,15 @@ __all__ = [
 ]
 
 
-#: Facet evaluations per vectorized chunk when a batch of samples meets a surface of facets:
-#: temporaries stay in cache and memory does not grow with samples x facets (decision D102).
+#: Facet evaluations per vectorized chunk when a batch of samples meets a surface of
+#: facets: temporaries stay in cache and memory does not grow with samples x facets.
 CHUNK = 1 << 16
 
 
 def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
-    """``fn(*rows)`` over the leading axis of ``rows``, a few rows (samples) at a time.
-
-    Each call sees about :data:`CHUNK` facet evaluations (at least one row), so the
-    memory of the temporaries is bounded by ``max(CHUNK, n_facets)`` evaluations, not
-    samples x facets.
-
-    Parameters
-    ----------
-    fn : callable
-        Evaluates a block of rows; returns an array with the rows on its leading axis or a
-        tuple (e.g. a NamedTuple) of such arrays.
-    n_facets : int
-        Facets one row evaluates [-].
-    *rows : ndarray
-        Arrays with a common leading length.
-
-    Returns
-    -------
-    ndarray or tuple
-        As ``fn`` returns for all rows at once.
+    """``fn(*rows)`` over the leading axis of ``rows``, about :data:`CHUNK` facet
+    evaluations (``n_facets`` per row) at a time; ``fn`` returns an array with the rows on
+    its leading axis, or a tuple (a NamedTuple too) of such arrays.
 
     Examples
     --------
@@ -117,11 +97,20 @@ def first_quadrant(
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Reduce a world heading to the first quadrant, as the paper's closed forms expect.
 
-    ``stress`` has shape (..., 3) [Pa] and ``heading`` [rad] broadcasts to its batch shape.
-    Returns ``(stress_q, phi, signs)``: the stresses (which the mud measures along the
-    motion already: positive when they resist it), the heading folded into [0, pi/2], and
-    the signs (sx, sy) that map first-quadrant forces back to the world. Forces are odd in
-    the horizontal motion (decision D9 in docs/model.md).
+    Parameters
+    ----------
+    stress : array_like, shape (..., 3)
+        Channel stresses [Pa], positive when they resist the motion.
+    heading : array_like
+        World heading of the horizontal motion [rad]; broadcasts to the batch shape of
+        ``stress``.
+
+    Returns
+    -------
+    tuple
+        ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into
+        [0, pi/2] [rad], and the signs (sx, sy) that map first-quadrant forces back to the
+        world (the forces are odd in the horizontal motion, decision D9).
     """
     s = check_finite("stress", stress)
     h = check_finite("heading", heading)
@@ -140,9 +129,8 @@ def first_quadrant(
 
 
 #: A tip depth beyond the larger of this [m] and :data:`PLAUSIBLE_DEPTH_HEIGHTS` times the
-#: foot's height warns as a likely unit mistake (a depth in mm read as m; D103).
+#: foot's height warns as a likely unit mistake (a depth in mm read as m).
 PLAUSIBLE_DEPTH = 1.0
-#: See :data:`PLAUSIBLE_DEPTH`.
 PLAUSIBLE_DEPTH_HEIGHTS = 10.0
 
 
@@ -150,12 +138,9 @@ def check_depth_stress(
     depth: ArrayLike, stress: ArrayLike, *, height: float
 ) -> tuple[FloatArray, FloatArray]:
     """Validate a tip depth [m] (>= 0) and channel stresses (..., 3) [Pa] given to a foot of
-    ``height`` [m]; return them as float arrays.
-
-    A depth deeper than ``max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * height)`` warns
-    (:class:`~mudrft._validation.PlausibilityWarning`): 20 for 20 mm buries a 26 mm foot
-    under 20 m of mud without a word otherwise.
-    """
+    ``height`` [m]; return them as float arrays. A depth deeper than
+    ``max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * height)`` warns
+    (:class:`~mudrft._validation.PlausibilityWarning`)."""
     d = check_nonnegative("depth", depth, unit="m")
     if d.size:
         limit = max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * float(height))
@@ -206,21 +191,12 @@ def world_force(
 ) -> tuple[XpArray, XpArray, XpArray]:
     r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
 
-    Every closed form is linear in the stresses, :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
-    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z` (eqs. 12-14), with
-    coefficients taken at the heading folded into :math:`[0,\pi/2]` (:func:`fold_heading`)
-    and stresses measured along the motion (positive when they resist it); the quadrant of
-    the heading gives the signs:
+    The coefficients of the linear form (eqs. 12-14) are taken at the heading folded into
+    :math:`[0,\pi/2]` (:func:`fold_heading`); the quadrant of the heading gives the signs
+    (sgn 0 = +1):
 
     .. math:: F_x=-\operatorname{sgn}(\cos h)\,(a_x\sigma_x+b_x\sigma_y),\quad
               F_y=-\operatorname{sgn}(\sin h)\,(a_y\sigma_y+b_y\sigma_x)
-
-    (sgn 0 = +1). The mud gives one horizontal stress, :math:`\sigma_x=\sigma_y=\sigma_h`
-    (Sec. II-C), so the force depends on the heading relative to the foot only: rotating
-    the foot and its motion together rotates the force (a semi-sphere's is antiparallel to
-    the motion). Each coefficient that a sign multiplies vanishes where the sign flips, so
-    the force is continuous in the heading. Written once, element-wise, for every path
-    (numpy, Python floats, JAX, numba).
 
     Parameters
     ----------
@@ -231,7 +207,7 @@ def world_force(
     heading : array_like
         World heading of the horizontal motion [rad].
     xp : module, keyword-only
-        Element-wise namespace (:mod:`mudrft._xp`).
+        Element-wise namespace.
 
     Returns
     -------
@@ -249,17 +225,16 @@ def unfold_forces(
     stress: ArrayLike,
     heading: ArrayLike,
 ) -> FloatArray:
-    r"""World forces, for any heading, from a foot that only gives first-quadrant magnitudes.
-
-    Reads the coefficients of the linear form off ``magnitudes`` with unit stresses and
-    applies :func:`world_force` (the heading rule, decision D9).
+    r"""World forces, for any heading, from a foot that only gives first-quadrant magnitudes:
+    the coefficients of the linear form read off ``magnitudes`` with unit stresses, then
+    :func:`world_force`.
 
     Parameters
     ----------
     magnitudes : callable
-        ``magnitudes(stress_units, phi)`` returning paper-style (Fx, Fy, Fz) [N] for stresses of
-        shape (..., 2, 3) and folded headings of shape (..., 1); it is called once with the
-        rows (1, 0, sz) and (0, 1, sz).
+        ``magnitudes(stress_units, phi)`` returning paper-style (Fx, Fy, Fz) [N] for
+        stresses of shape (..., 2, 3), the rows (1, 0, sz) and (0, 1, sz), and folded
+        headings of shape (..., 1) [rad].
     stress : ndarray (..., 3)
         Stresses (sx, sy, sz) [Pa], horizontal ones measured along the motion.
     heading : ndarray (...)
@@ -285,17 +260,9 @@ def unfold_forces(
 
 
 class Foot(ABC):
-    """Abstract foot. Subclasses implement :meth:`resultant` (and usually :meth:`elements`).
-
-    Attributes expected of every foot:
-
-    ``name`` : str
-        Short name used in reports (``"flat"``, ``"semi-cylinder"``, ...).
-    ``characteristic_length`` : float
-        :math:`L_c` [m] that turns displacements into the dimensionless :math:`\\gamma`.
-    ``height`` : float
-        Height of the foot above its tip [m]; deeper than this the foot is buried.
-    """
+    """Abstract foot: subclasses implement :meth:`resultant` (and usually :meth:`elements`),
+    and have a ``name`` (str), a ``characteristic_length`` :math:`L_c` [m] that makes
+    displacements dimensionless, and a ``height`` above the tip [m]."""
 
     name: str = "foot"
     #: whether :meth:`force_components` gives the world force element-wise on any ``xp``
@@ -332,11 +299,8 @@ class Foot(ABC):
         """
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
-        """Areas of the submerged part projected along x, y and z [m^2], shape (..., 3).
-
-        Used to normalise forces into stresses (paper Figs. 10-12). The default
-        integrates :meth:`elements`; closed-form feet override it.
-        """
+        """Areas of the submerged part projected along x, y and z [m^2], shape (..., 3), at
+        tip ``depth`` [m], to normalise forces into stresses (paper Figs. 10-12)."""
         d = check_nonnegative("depth", depth, unit="m")
         el = self.elements()
         z = el.centroids[:, 2]
@@ -380,10 +344,7 @@ class Foot(ABC):
     def force_unchecked(
         self, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray
     ) -> np.ndarray:
-        """:meth:`force` without input validation, for inner loops (arrays already checked).
-
-        Subclasses that compute world forces directly (mesh feet) override this method.
-        """
+        """:meth:`force` without input validation, for inner loops (arrays already checked)."""
         d = np.asarray(depth, dtype=float)
         return unfold_forces(lambda su, ph: self.resultant(d[..., None], su, ph), stress, heading)
 
@@ -405,9 +366,8 @@ class Foot(ABC):
     def force_array(
         self, depth: XpArray, stress: XpArray, heading: XpArray, xp: Namespace = np
     ) -> XpArray:
-        """:meth:`force_components` with the stresses (..., 3) [Pa] split and the force
-        stacked: world force (..., 3) [N]; no validation, no dtype conversion (the numpy
-        path passes float arrays, a JAX caller its own)."""
+        """:meth:`force_components` with the stresses (..., 3) [Pa] split and the world force
+        stacked (..., 3) [N]; no validation, no dtype conversion."""
         s = xp.asarray(stress)
         f = self.force_components(
             xp.asarray(depth), s[..., 0], s[..., 1], s[..., 2], xp.asarray(heading), xp=xp
@@ -426,20 +386,15 @@ class Foot(ABC):
     def contact_force(
         self, foot_state: Any, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray, dt: float
     ) -> tuple[Any, np.ndarray]:
-        """Advance the foot's internal state and return ``(foot_state, force)`` [N].
-
-        Rigid feet return :meth:`force` unchanged; the morphing foot solves its spring
-        balance here.
-        """
+        """Advance the foot's internal state and return ``(foot_state, force)`` [N]
+        (rigid feet: the state unchanged and :meth:`force`)."""
         return foot_state, self.force_unchecked(depth, stress, heading)
 
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """Point of application of the mud force in the foot frame [m], shape (..., 3).
-
-        Default: on the foot axis, half-way up the submerged height.
-        """
+        """Point of application of the mud force in the foot frame [m], shape (..., 3);
+        by default on the foot axis, half-way up the submerged height."""
         d = np.minimum(np.asarray(depth, dtype=float), self.height)
         return np.stack([np.zeros_like(d), np.zeros_like(d), 0.5 * d], axis=-1)
 

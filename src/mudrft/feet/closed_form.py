@@ -1,26 +1,15 @@
 r"""The paper's three feet in closed form: flat, semi-cylindrical, semi-spherical (Sec. III-A).
 
-Each closed form is the paper's own integral of eqs. (6)-(7) over the foot (supplementary
-Sec. II), corrected where the printed final expression differs from that integral
-(errata E20-E23 in ``docs/model.md``). With :math:`z` the tip depth capped at the
-foot height :math:`H` (decision D26: deeper, the foot is buried), :math:`\varphi` the
-first-quadrant heading, :math:`\varphi_c=\pi/2-\varphi`,
-:math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`:
-
-* flat (eq. 12), length :math:`L` along y, width :math:`W` along x (decision D20):
-  :math:`F_x=z[Lf_n(\varphi)\sigma_x+Wf_t(\varphi_c)\sigma_y]`,
-  :math:`F_y=z[Lf_t(\varphi)\sigma_x+Wf_n(\varphi_c)\sigma_y]`, :math:`F_z=LW\sigma_z`;
-* semi-cylinder (eq. 13), axis along x: :math:`F_x=R^2(\theta_c-sc)f_n(\varphi)\sigma_x
-  +WR(1-c)f_t(\varphi_c)\sigma_y`, :math:`F_y` likewise with :math:`f_t(\varphi)`,
-  :math:`f_n(\varphi_c)`, and (E20) :math:`F_z=2WR\sigma_z[s-\tfrac{s^3}{3}+\tfrac23-c
-  +\tfrac{c^3}{3}]`;
-* semi-sphere (eq. 14), a spherical cap: (E21) :math:`F_z=\tfrac{S_e}{4}(2+2c^2
-  +\tfrac{2c^3}{s}-\tfrac{5c}{s}+\tfrac{3\theta_c}{s^2})\sigma_z` with
-  :math:`S_e=\pi R^2s^2`, and (E22, E23) :math:`F_x=\tfrac83R^2(\theta_c-sc)\cos\varphi\,
-  \sigma_x`, :math:`F_y=\tfrac83R^2(\theta_c-sc)\sin\varphi\,\sigma_y`.
-
-The ``printed_*`` functions reproduce the printed finals for the erratum tests and docs.
-All functions are vectorized (depth, stress and heading broadcast) and take ``xp``.
+Each closed form is the paper's integral of eqs. (6)-(7) over the foot (supplementary
+Sec. II), corrected where the printed final differs from that integral (errata E20-E23 in
+``docs/model.md``; the printed finals are in :mod:`mudrft.feet.printed`). With :math:`z`
+the tip depth capped at the foot height :math:`H` (D26), :math:`\varphi` the heading
+folded into :math:`[0,\pi/2]`, :math:`\varphi_c=\pi/2-\varphi`,
+:math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`, every
+closed form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
+:math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`. The ``*_coefficients``
+functions give :math:`(a_x,b_x,b_y,a_y,a_z)`, the ``*_forces`` functions the forces.
+All are vectorized (depth, stress and heading broadcast) and take ``xp``.
 """
 
 from __future__ import annotations
@@ -54,14 +43,8 @@ DEFAULT_RESOLUTION = 48
 
 
 def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
-    r""":math:`\theta_c=\cos^{-1}(1-z/R)` [rad], with a zero derivative at the surface (D107).
-
-    At :math:`z=0` (and :math:`z\ge2R`) the argument is +-1, where the arc cosine's
-    derivative is infinite: under plain ``jax.numpy`` that made every derivative of a
-    curved foot's force NaN with the tip at the surface, even with respect to the stresses
-    (:math:`0\cdot\infty`). There the value is the constant 0 (or pi), so the derivative
-    is 0 (a one-sided choice, as D74); elsewhere the values are those of ``arccos``.
-    """
+    r""":math:`\theta_c=\cos^{-1}(1-z/R)` [rad], with a zero derivative where the argument
+    is +-1, so that JAX gradients stay finite with the tip at the surface (D107)."""
     x = xp.clip(1.0 - z / radius, -1.0, 1.0)
     inside = xp.abs(x) < 1.0
     edge = xp.where(x > 0.0, 0.0, math.pi)  # arccos(1) = 0, arccos(-1) = pi, exactly
@@ -73,10 +56,7 @@ def flat_coefficients(
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
     r"""Flat foot, eq. (12), as the coefficients of its linear form [m^2].
 
-    Every closed form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
-    :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z` (first-quadrant heading);
-    ``a`` terms are normal stress on faces facing their own axis, ``b`` terms shear.
-    Here :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`, :math:`b_y=zLf_t(\varphi)`,
+    :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`, :math:`b_y=zLf_t(\varphi)`,
     :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` (0 out of the mud), :math:`z` capped at H.
 
     Parameters
@@ -105,9 +85,8 @@ def flat_coefficients(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (12) and supplementary Sec. II-A.
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (12) and supplementary Sec. II-A.
     """
     z = xp.minimum(depth, height)
     phic = 0.5 * math.pi - phi
@@ -126,7 +105,7 @@ def semicylinder_coefficients(
 
     :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
     :math:`b_x=WR(1-c)f_t(\varphi_c)`, :math:`a_y=WR(1-c)f_n(\varphi_c)`,
-    :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`; see :func:`flat_coefficients` for the form.
+    :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`.
 
     Parameters
     ----------
@@ -150,9 +129,8 @@ def semicylinder_coefficients(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (13) and supplementary Sec. II-B (erratum E20 in eq. 13c).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (13) and supplementary Sec. II-B (erratum E20 in eq. 13c).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
@@ -202,9 +180,8 @@ def semisphere_coefficients(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (14) and supplementary Sec. II-C (errata E21-E23).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (14) and supplementary Sec. II-C (errata E21-E23).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
@@ -222,12 +199,9 @@ def semisphere_coefficients(
 def closed_form_coefficients(
     kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    """The coefficients of a closed-form foot chosen by ``kind`` (:data:`FOOT_KINDS`) [m^2].
-
-    For compiled paths that cannot hold a foot object (each foot's ``kernel_geometry``): 0 flat
-    ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``; lengths
-    [m], depth [m], phi [rad].
-    """
+    """The coefficients [m^2] of the closed-form foot ``kind``, for compiled paths that
+    cannot hold a foot object: 0 flat ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2
+    semi-sphere ``(R, H, unused)`` [m] (a foot's ``kernel_geometry``); depth [m], phi [rad]."""
     if kind == 0:
         return flat_coefficients(depth, phi, g0, g1, g2, xp=xp)
     if kind == 1:
@@ -247,12 +221,10 @@ def closed_form_force(
     heading: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
-    """World force ``(F_x, F_y, F_z)`` [N] of a closed-form foot chosen by ``kind``.
-
-    :func:`closed_form_coefficients` at the folded heading, then the heading rule
-    (:func:`~mudrft.feet.base.world_force`, decision D9). Depth [m], stresses [Pa],
-    world heading [rad]; geometry as :func:`closed_form_coefficients` [m].
-    """
+    """World force ``(F_x, F_y, F_z)`` [N] of the closed-form foot ``kind``: the
+    coefficients at the folded heading, then the heading rule
+    (:func:`~mudrft.feet.base.world_force`). Depth [m], stresses [Pa], world heading [rad];
+    geometry as :func:`closed_form_coefficients` [m]."""
     co = closed_form_coefficients(kind, g0, g1, g2, depth, fold_heading(heading, xp=xp), xp=xp)
     return world_force(co, sx, sy, sz, heading, xp=xp)
 
@@ -275,7 +247,7 @@ def flat_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    r"""Flat foot, eq. (12): first-quadrant force magnitudes (Fx, Fy, Fz) [N].
+    """Flat foot, eq. (12): first-quadrant force magnitudes (Fx, Fy, Fz) [N], shape (..., 3).
 
     Parameters
     ----------
@@ -284,16 +256,11 @@ def flat_forces(
     stress : array_like, shape (..., 3)
         Channel stresses (sx, sy, sz) [Pa], positive when resisting.
     heading : array_like
-        Heading :math:`\varphi` in [0, pi/2] [rad].
+        Heading :math:`\\varphi` in [0, pi/2] [rad].
     length, width, height : float
         :math:`L` (along y), :math:`W` (along x) and height [m].
     xp : module, optional
         Array namespace.
-
-    Returns
-    -------
-    array, shape (..., 3)
-        Force magnitudes [N].
 
     Examples
     --------
@@ -315,25 +282,15 @@ def semicylinder_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    r"""Semi-cylindrical foot, eq. (13) with the corrected :math:`F_z` (E20) [N].
+    """Semi-cylindrical foot, eq. (13) corrected (E20): magnitudes (Fx, Fy, Fz) [N].
 
     Parameters
     ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``).
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa].
-    heading : array_like
-        Heading :math:`\varphi` in [0, pi/2] [rad] from the cylinder axis (x).
+    depth, stress, heading, xp
+        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad] from the
+        cylinder axis (x), and the array namespace.
     radius, width, height : float
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
-    xp : module, optional
-        Array namespace.
-
-    Returns
-    -------
-    array, shape (..., 3)
-        Force magnitudes [N].
 
     Examples
     --------
@@ -357,25 +314,15 @@ def semisphere_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    r"""Semi-spherical foot (spherical cap), eq. (14) corrected (E21-E23) [N].
+    """Semi-spherical foot (a cap), eq. (14) corrected (E21-E23): magnitudes (Fx, Fy, Fz) [N].
 
     Parameters
     ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``).
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa].
-    heading : array_like
-        Heading :math:`\varphi` in [0, pi/2] [rad].
+    depth, stress, heading, xp
+        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad], and the
+        array namespace.
     radius, height : float
         :math:`R` and cap height (<= R) [m].
-    xp : module, optional
-        Array namespace.
-
-    Returns
-    -------
-    array, shape (..., 3)
-        Force magnitudes [N].
 
     Examples
     --------

@@ -1,20 +1,22 @@
 r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
 
-The two rules :mod:`mudrft.feet.surface` applies to every facet, written once on the
-facet's coordinates as element-wise code over ``xp`` (:mod:`mudrft._xp`): numpy runs them
-on arrays of facets (``surface.prepare_triangles``, ``surface.clip_below``), JAX with
-``jax.numpy``, and :func:`mudrft.backends.numba.compile_scalar` compiles them on floats
-for the compiled MuJoCo coupling (decision D80).
+The rules :mod:`mudrft.feet.surface` applies to every facet, written once on the facet's
+coordinates as element-wise code over ``xp``: numpy runs them on arrays of facets, JAX
+with ``jax.numpy``, and numba compiles them on floats for the MuJoCo coupling.
 
-* :func:`facet_frame`: outward unit normal from the winding, area, :math:`|\mathbf n_h|=
-  \sin\psi_1`, unit horizontal normal and the vertical weight of eq. (6) on facets facing
-  down, :math:`w_z=\cos^3\psi_1+\sin^3\psi_1` (decision D21);
-* :func:`sort_by_height`: the vertices ordered by height (ties keep their order);
-* :func:`clip_constants`, :func:`submerged_area`: the exact submerged area;
-* :func:`clip_facet`: area and centroid of the part of the facet below the plane
-  :math:`z=d`, exact (0, 1, 2 or 3 vertices below);
-* :func:`fold_stresses`, :func:`facet_factors`, :func:`facet_force`: the element rule of
-  eqs. (6)-(7) on one submerged facet (decisions D21-D23, erratum E24).
+For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
+horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times
+\hat{\mathbf n}_h` and motion direction :math:`\hat{\mathbf u}=(\cos h,\sin h)`, with
+:math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
+:math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}` (decisions D21-D23, erratum E24):
+
+* vertical, on facets facing down: :math:`dF_z=(\cos^3\psi_1+\sin^3\psi_1)\,\sigma_z\,dS`,
+  eq. (6) with :math:`f_n=\cos^2`, :math:`f_t=\sin^2`;
+* horizontal: :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t
+  \hat{\mathbf t}]\,|\mathbf n_h|\,dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y
+  \hat n_y^2`, :math:`\tilde f_n=\cos\psi_2|\cos\psi_2|`, :math:`\tilde f_t=\sin\psi_2
+  |\sin\psi_2|` (the supplementary's full-range factors), on leading facets only unless
+  ``trailing``.
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ __all__ = [
 ]
 
 #: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
-#: wall (no vertical force, decision D21).
+#: wall, with no vertical force.
 TOL = 1e-9
 
 
@@ -49,13 +51,8 @@ def safe_div(num: XpArray, den: XpArray, xp: Namespace = np) -> XpArray:
 
 
 def safe_sqrt(x: XpArray, xp: Namespace = np) -> XpArray:
-    r"""``sqrt(x)`` of a sum of squares ``x >= 0``, with a zero derivative at 0 (D107).
-
-    The value is :math:`\sqrt x` (0 at 0); under JAX the derivative at 0 is 0 instead of
-    infinite, so a horizontal facet (:math:`n_x=n_y=0`) or a zero-area one does not turn
-    the gradient of every force into NaN (:math:`0\cdot\infty`) when ``xp`` is plain
-    ``jax.numpy`` (the double ``where``: the square root never sees 0).
-    """
+    """``sqrt(x)`` of ``x >= 0`` with a zero derivative at 0, so that JAX gradients stay
+    finite on horizontal or zero-area facets (decision D107)."""
     pos = x > 0
     return xp.where(pos, xp.sqrt(xp.where(pos, x, 1.0)), 0.0)
 
@@ -84,7 +81,7 @@ def facet_frame(
     nx, ny, nz = safe_div(rx, norm, xp=xp), safe_div(ry, norm, xp=xp), safe_div(rz, norm, xp=xp)
     nh = safe_sqrt(nx * nx + ny * ny, xp=xp)  # sin(psi1)
     c1 = -nz  # cos(psi1)
-    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only (D21)
+    # eq. (6) with f_n = cos^2, f_t = sin^2, on facets facing down only
     wz = xp.where(c1 > TOL, c1 * c1 * c1 + nh * nh * nh, 0.0)
     return nx, ny, nz, 0.5 * norm, nh, safe_div(nx, nh, xp=xp), safe_div(ny, nh, xp=xp), wz
 
@@ -120,8 +117,7 @@ def clip_constants(
 
     Returns ``(k_low, k_high, flat_area)``: the submerged area is ``k_low (d - z_a)^2`` with
     only the lowest vertex submerged and ``area - k_high (z_c - d)^2`` with two [-];
-    ``flat_area`` is the area of a facet with no height span, else 0 [m^2]. Spans below
-    1e-100 m count as flat (avoids overflow of the constants).
+    ``flat_area`` is the area of a facet with no height span (below 1e-100 m), else 0 [m^2].
     """
     span1 = (zb - za) * (zc - za)
     span2 = (zc - za) * (zc - zb)
@@ -185,11 +181,8 @@ def clip_facet(
     Returns
     -------
     tuple
-        Submerged area [m^2] (piecewise quadratic in the depth:
-        :math:`k_{lo}\min((d-z_a)^+,z_b-z_a)^2+k_{hi}[(z_c-z_b)^2-\min((z_c-d)^+,z_c-z_b)^2]`,
-        plus the whole area of a horizontal facet once the plane is above it, strictly) and
-        the centroid of the submerged polygon (the facet's centroid where nothing is
-        submerged) [m].
+        Submerged area [m^2] (:func:`submerged_area`) and the centroid ``(x, y, z)`` of the
+        submerged polygon (the facet's centroid where nothing is submerged) [m].
     """
     d = depth
     area = submerged_area(az, bz, cz, k_low, k_high, flat_area, d, xp=xp)
@@ -223,24 +216,18 @@ def clip_facet(
 def fold_stresses(
     sx: XpArray, sy: XpArray, heading: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    r"""The horizontal stresses and the direction of the motion ``(sx, sy, u_x, u_y)``.
-
-    The stresses are measured along the motion already (positive when they resist it)
-    [Pa]; :math:`(u_x, u_y)=(\cos h, \sin h)` [-].
-    """
+    """The horizontal stresses [Pa], as given, and the direction of the motion:
+    ``(sx, sy, cos h, sin h)``."""
     return sx, sy, xp.cos(heading), xp.sin(heading)
 
 
 def facet_factors(
     hx: XpArray, hy: XpArray, ux: XpArray, uy: XpArray, trailing: bool, xp: Namespace = np
 ) -> tuple[XpArray, XpArray]:
-    r"""The factors :math:`(\tilde f_n, \tilde f_t)` of eq. (7) of a facet for a motion.
-
-    With :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
-    :math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}`: :math:`\cos\psi_2|\cos\psi_2|`
-    and :math:`\sin\psi_2|\sin\psi_2|` on every facet with ``trailing`` (D23), else on
-    leading facets only (:math:`\psi_2\in(-\pi/2,\pi/2]`, tie rule of D22), 0 elsewhere.
-    """
+    r"""The factors :math:`(\tilde f_n, \tilde f_t)` [-] of eq. (7) of a facet with unit
+    horizontal normal ``(hx, hy)`` for a motion ``(ux, uy)``: on every facet with
+    ``trailing`` (D23), else on leading facets only (:math:`\psi_2\in(-\pi/2,\pi/2]`), 0
+    elsewhere."""
     cos2 = hx * ux + hy * uy  # cos(psi2)
     sin2 = hx * uy - hy * ux  # sin(psi2) = t . u with t = e_z x e2
     if trailing:
@@ -262,15 +249,8 @@ def facet_force(
     ft: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
-    r"""Force of the mud on one submerged facet, eq. (6) with the factors of eq. (7) [N].
-
-    :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t\hat{\mathbf t}]
-    |\mathbf n_h|dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` (D22;
-    :math:`\hat{\mathbf t}=(-\hat n_y,\hat n_x)`) and :math:`dF_z=w_z\sigma_z dS`;
-    ``area`` = :math:`dS` [m^2], the facet's frame from :func:`facet_frame`, the stresses
-    measured along the motion [Pa] (the mud's one horizontal stress in both, so
-    :math:`\sigma_e=\sigma_h`: the rule depends on the facet's angle to the motion only),
-    the factors from :func:`facet_factors`.
-    """
+    """Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet (module docstring):
+    ``area`` is :math:`dS` [m^2], ``nh, hx, hy, wz`` come from :func:`facet_frame`, the
+    stresses [Pa] are measured along the motion, ``fn, ft`` come from :func:`facet_factors`."""
     se = -nh * area * (sqx * hx * hx + sqy * hy * hy)  # -sigma_e |n_h| dS
     return se * (fn * hx - ft * hy), se * (fn * hy + ft * hx), wz * sz * area

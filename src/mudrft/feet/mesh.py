@@ -1,25 +1,9 @@
 r"""A foot of any shape, given as a triangle mesh: forces by surface-element integration.
 
-:class:`MeshFoot` validates a mesh, puts it in the foot frame (lowest point at the origin)
-and integrates the element rule of :mod:`mudrft.feet.surface` over it, with each facet
-clipped exactly by the mud surface. Mesh files: STL (ASCII or binary), OBJ and PLY, read
-through trimesh (:mod:`mudrft.feet.meshfile`).
-
-Mesh checks (decision D25 in ``docs/model.md``):
-
-* NaN, infinite or complex vertices, faces not of shape (m, 3), non-integer or out-of-range indices,
-  an empty or all-degenerate mesh: :class:`~mudrft.MudrftError`;
-* zero-area facets (area <= 1e-14 of the squared bounding-box diagonal, including
-  facets with a repeated vertex): dropped, with a :class:`MeshWarning`;
-* closed (every edge shared by exactly two facets) and consistently wound: the winding is
-  flipped if the enclosed volume is negative (inward normals), recorded in ``flipped``;
-* inconsistently wound (an edge traversed twice in the same direction): error;
-* open or non-manifold: allowed with a :class:`MeshWarning` (only the outward normals of
-  the surface in contact matter; the winding is taken as given);
-* closed but made of separate parts that overlap or touch (a sole and cleats exported
-  unmerged): a :class:`MeshWarning` (:mod:`.meshparts`, D136);
-* no downward-facing area (plan area 0, so a characteristic length of 0: an open mesh
-  wound inward, or a plate posed on edge): error.
+:class:`MeshFoot` checks a mesh (decision D25), puts it in the foot frame (lowest point at
+the origin) and integrates the element rule of :mod:`mudrft.feet.surface` over it, each
+facet clipped exactly by the mud surface. Mesh files (STL, OBJ, PLY) are read through
+trimesh (:mod:`mudrft.feet.meshfile`).
 """
 
 from __future__ import annotations
@@ -62,8 +46,8 @@ from .surface import (
 
 __all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
 
-#: Memory a mesh foot takes while it is built, per facet [bytes] (measured: about 490;
-#: decision D102). Larger meshes than :func:`mudrft._validation.memory_limit` allows are refused.
+#: Memory a mesh foot takes while it is built, per facet [bytes]; larger meshes than
+#: :func:`mudrft._validation.memory_limit` allows are refused.
 BYTES_PER_FACET = 512
 
 #: Rotations that turn a file's up axis to +z (proper rotations; ``from_file(up=)``).
@@ -145,9 +129,8 @@ def _check_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
 
 
 def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.ndarray]:
-    """``(closed, n_inconsistent, weld)``: closed 2-manifold test, count of mis-wound edges,
-    and each vertex's index among the distinct coordinates (STL files repeat vertices;
-    identical coordinates are treated as one)."""
+    """``(closed, n_inconsistent, weld)``: whether the mesh is a closed 2-manifold, the
+    count of mis-wound edges, and each vertex's index among the distinct coordinates."""
     welded = weld(vertices)[1]
     f = welded[faces]
     # facets with a repeated vertex are no surface (dropped later); leave them out here
@@ -164,7 +147,7 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.nd
 def _warn_overlapping_parts(
     name: str, vertices: np.ndarray, faces: np.ndarray, weld: np.ndarray
 ) -> None:
-    """Warn when separate closed parts overlap or touch (D136, :mod:`.meshparts`)."""
+    """Warn when separate closed parts overlap or touch (:mod:`.meshparts`)."""
     hit = overlapping_parts(vertices, faces, weld=weld)
     if hit is not None:
         warnings.warn(
@@ -181,18 +164,21 @@ def _warn_overlapping_parts(
 class MeshFoot(Foot):
     r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
 
+    Zero-area facets are dropped and an open mesh is accepted, each with a
+    :class:`MeshWarning`; a closed mesh wound inward is flipped; a closed mesh of separate
+    parts that overlap warns (:mod:`.meshparts`).
+
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
-        Vertex coordinates [m] (z up). The mesh is translated so that its lowest point is the
-        tip at the origin (see ``shift``).
+        Vertex coordinates [m] (z up), translated so that the lowest point is the tip at
+        the origin (see ``shift``).
     faces : array_like, shape (m, 3)
         Vertex indices of each triangle; the winding (right-hand rule) gives the outward
-        normal (fixed automatically for closed meshes).
+        normal.
     trailing : bool, optional
-        Let facets that trail the horizontal motion resist too (the supplementary's
-        full-range factors, as in the sphere's derivation). Default ``False``: only leading
-        facets resist, as in the flat and semi-cylindrical feet's closed forms (D23).
+        Let facets that trail the horizontal motion resist too (as the semi-sphere's closed
+        form does); default ``False``, leading facets only (decision D23).
     name : str, optional
         Name used in reports.
 
@@ -215,9 +201,8 @@ class MeshFoot(Foot):
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (6)-(7), Sec. II-C.
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eqs. (6)-(7), Sec. II-C.
 
     Examples
     --------
@@ -307,9 +292,7 @@ class MeshFoot(Foot):
             )
 
     def _check_plan_area(self, hint: str) -> None:
-        """Refuse a foot with no area that meets the mud going down: its characteristic
-        length :math:`\\sqrt{A_z}` would be 0, and the mud's rate and sealing terms divide
-        by it."""
+        """Refuse a foot with no downward-facing area: its characteristic length would be 0."""
         total = float(np.sum(self._prep.area))
         if not (self._plan_area > 1e-12 * total and self.characteristic_length > 0):
             raise MudrftError(
@@ -354,8 +337,7 @@ class MeshFoot(Foot):
             File to read (never modified).
         unit : str, optional
             Length unit of the file's coordinates (``"m"``, ``"cm"``, ``"mm"``, ``"um"``,
-            ``"in"``). A mesh more than 1 m or less than 1 mm across warns
-            (:class:`~mudrft._validation.PlausibilityWarning`, decision D103).
+            ``"in"``); a mesh more than 1 m or less than 1 mm across warns.
         trailing : bool, optional
             See :class:`MeshFoot`.
         name : str, optional
@@ -367,11 +349,10 @@ class MeshFoot(Foot):
         Raises
         ------
         MudrftError
-            If ``path`` or ``unit`` is not a string (or path-like), the file is missing, a
-            directory or unreadable, holds no triangles or NaN coordinates, would need more
-            memory than :func:`~mudrft._validation.memory_limit` (checked before it is
-            parsed, :mod:`mudrft.feet.meshfile`), or its mesh fails the checks of
-            :class:`MeshFoot`; the message names the file.
+            Naming the file, if it is missing or unreadable, holds no triangles or NaN
+            coordinates, would need more memory than
+            :func:`~mudrft._validation.memory_limit`, or fails the checks of
+            :class:`MeshFoot`.
 
         Examples
         --------
@@ -420,9 +401,8 @@ class MeshFoot(Foot):
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
     def posed(self, rotation: RotationLike) -> MeshFoot:
-        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), re-tipped.
-
-        The rotation acts on the foot-frame vertices; the copy's tip is again its lowest point.
+        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation) about the tip; the
+        copy's tip is again its lowest point.
 
         Examples
         --------
@@ -449,8 +429,7 @@ class MeshFoot(Foot):
 
     @property
     def characteristic_length(self) -> float:
-        """:math:`L_c=\\sqrt{A_z}` with :math:`A_z` the downward-facing area projected on
-        the horizontal plane (the largest cross-section of a convex foot) [m] (D27)."""
+        """:math:`L_c=\\sqrt{A_z}` [m], :math:`A_z` the downward-facing plan area (D27)."""
         return math.sqrt(self._plan_area)
 
     @property
@@ -466,13 +445,8 @@ class MeshFoot(Foot):
         t = self._triangles
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
-    def _inputs(self, depth: ArrayLike, stress: ArrayLike) -> tuple[FloatArray, FloatArray]:
-        return check_depth_stress(depth, stress, height=self.height)
-
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
-        """Integrate in batch chunks of about :data:`CHUNK` facet evaluations (cache-sized
-        temporaries, memory independent of the batch size); each chunk is one vectorized
-        call over all facets."""
+        """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
         if math.prod(shape) <= max(1, CHUNK // len(self)):
             return np.asarray(integrate_prepared(self._prep, d, s, h, trailing=self.trailing))
@@ -486,19 +460,13 @@ class MeshFoot(Foot):
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """World-frame force [N] for a heading in any quadrant, by the vector rule directly.
-
-        Called by :meth:`Foot.force` after validation. No first-quadrant folding, so
-        asymmetric meshes are handled exactly.
-        """
+        """:meth:`Foot.force` without validation [N]; any heading, no folding, so asymmetric
+        meshes are exact."""
         return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2], by integration.
-
-        ``(-Fx, -Fy, Fz)`` of the integrated force: positive when the force resists the
-        motion (an asymmetric foot may give a negative side component).
-        """
+        """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2]: ``(-Fx, -Fy,
+        Fz)`` of the integrated force (an asymmetric foot may give a negative side one)."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
@@ -515,7 +483,7 @@ class MeshFoot(Foot):
 
         See :func:`mudrft.feet.surface.integrate_wrench`; ``point`` defaults to the tip.
         """
-        d, s = self._inputs(depth, stress)
+        d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         pt = np.zeros(3) if point is None else check_finite("point", point)
         if pt.shape[-1:] != (3,):
@@ -535,10 +503,8 @@ class MeshFoot(Foot):
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """Center of pressure in the foot frame [m], shape (..., 3) (decision D24).
-
-        Any heading; the stresses are signed channel stresses as in :meth:`force`.
-        """
+        """Center of pressure in the foot frame [m], shape (..., 3) (decision D24), for any
+        heading [rad]; the stresses [Pa] as in :meth:`force`."""
         return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:

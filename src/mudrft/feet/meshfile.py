@@ -1,10 +1,8 @@
 """Mesh files (STL, OBJ, PLY) read through trimesh, their memory bounded before parsing.
 
-:meth:`mudrft.feet.MeshFoot.from_file` calls :func:`read_mesh`. The memory the reading and
-the foot's construction take is checked against :func:`mudrft._validation.memory_limit`
-before trimesh parses the file (decision D102): a binary STL from the facet count in its
-header, any other file from its size. An STL is a soup of triangles: vertices at exactly the
-same coordinates are welded into one (:func:`weld`).
+The memory reading a file and building its foot take is checked against
+:func:`mudrft._validation.memory_limit` before trimesh parses it: a binary STL's from the
+facet count in its header, any other file's from its size.
 """
 
 from __future__ import annotations
@@ -23,11 +21,9 @@ __all__ = ["BYTES_PER_FACET", "BYTES_PER_FILE_BYTE", "FORMATS", "read_mesh", "we
 
 #: File formats :func:`read_mesh` reads.
 FORMATS = (".stl", ".obj", ".ply")
-#: Memory reading a binary STL and building its foot take per facet [bytes] (measured:
-#: 380 for a closed mesh of a million facets, 5 s; benchmarks/bench_mesh_load.py).
+#: Memory reading a binary STL and building its foot take per facet [bytes].
 BYTES_PER_FACET = 640
-#: The same per byte of a file whose facets its header does not count [bytes]: the fewest
-#: bytes a triangle takes is about 10 (an OBJ face line ``f 1 2 3``), times 640.
+#: The same per byte of any other file [bytes] (a triangle takes at least about 10 bytes).
 BYTES_PER_FILE_BYTE = 64
 
 SIMPLIFY = (
@@ -44,9 +40,8 @@ _HINTS = {
 
 
 def _stl_facets(path: str, size: int) -> int | None:
-    """The facet count of a binary STL (its header's, when the size matches it), None for
-    an ASCII one; an error for a file that is neither, or an ASCII STL cut short (which
-    some trimesh versions read as part of a foot)."""
+    """The facet count of a binary STL, None for an ASCII one; an error for a file that is
+    neither, or an ASCII STL cut short."""
     with open(path, "rb") as fh:
         head = fh.read(84)
         fh.seek(max(0, size - 256))
@@ -70,11 +65,8 @@ def _stl_facets(path: str, size: int) -> int | None:
 
 
 def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The distinct rows of ``points`` (n, 3), sorted, and each row's index among them.
-
-    A lexicographic sort of the columns: ``numpy.unique(points, axis=0)`` sorts the rows as
-    bytes, 5 times slower (a million-facet STL: 6 s), and keeps -0.0 apart from 0.0.
-    """
+    """The distinct rows of ``points`` (n, 3), sorted, and each row's index among them
+    (faster than ``numpy.unique(points, axis=0)``, and -0.0 equals 0.0)."""
     order = np.lexsort(points.T[::-1])
     ordered = points[order]
     new = np.empty(len(ordered), dtype=bool)

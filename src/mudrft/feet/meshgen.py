@@ -9,9 +9,7 @@ closed-form foot (tip at the origin, z up):
   :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)`, :math:`|\theta|\le\theta_H`, cut at z = H;
 * :func:`semisphere_mesh`: spherical cap of radius R and height H, flat top.
 
-Curved surfaces are inscribed polyhedra (vertices on the exact surface); the force
-integrated on them converges to the closed forms at second order in the element size
-(test ``test_mesh_converges_to_closed_form``).
+Curved surfaces are inscribed polyhedra (vertices on the exact surface).
 """
 
 from __future__ import annotations
@@ -37,10 +35,6 @@ def _resolution(resolution: int) -> int:
 
 def rim_angle(radius: float, height: float) -> float:
     r"""Angle :math:`\theta_H=\cos^{-1}(1-H/R)` [rad] from the tip to the rim of a curved foot.
-
-    The semi-cylinder's and the semi-sphere's surfaces are circular arcs of radius
-    :math:`R` cut at height :math:`H`; their meshes, their characteristic lengths (D27)
-    and the closed forms' :math:`\theta_c` at full depth all end at this angle.
 
     Parameters
     ----------

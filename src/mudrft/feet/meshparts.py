@@ -1,11 +1,8 @@
 r"""Separate parts of a closed mesh that overlap: a sole and its cleats exported unmerged.
 
-CAD exports a multi-body part (a sole with cleats, a foot with a bolted pad) as one file
-of several closed surfaces. The element rule integrates every facet as if mud touched it,
-so a cleat pushed into the sole adds the sole's facets inside the cleat and the cleat's
-facets inside the sole, and a cleat standing on the sole adds the sole's bottom under it:
-the forces come out too large, without any error. :func:`overlapping_parts` finds such
-parts; :class:`~mudrft.feet.MeshFoot` warns (decision D136 in ``docs/model.md``).
+The element rule integrates every facet as if mud touched it, so facets where parts
+overlap or touch make the forces too large. :func:`overlapping_parts` finds such parts;
+:class:`~mudrft.feet.MeshFoot` warns (decision D136).
 
 A point is inside or on a closed part when its generalized winding number,
 :math:`w(p)=\frac1{4\pi}\sum_t\Omega_t(p)`, is above 1/4 (1 inside, 1/2 on a face, 0
@@ -30,12 +27,10 @@ from .._typing import FloatArray, IntArray
 
 __all__ = ["PartOverlap", "overlapping_parts", "winding_numbers"]
 
-#: Most points a part is tested with against another (its vertices, evenly picked), and
-#: how many at a time (the test stops at the first point inside).
+#: Most points a part is tested with against another, and how many at a time.
 MAX_POINTS = 64
 BATCH_POINTS = 8
-#: Most parts checked pairwise (a mesh of more parts is a scan or a lattice, not a sole
-#: with cleats; it is left unchecked).
+#: Most parts checked pairwise (more is a scan or a lattice, left unchecked).
 MAX_PARTS = 64
 #: Point-facet pairs evaluated at once (memory: about 200 bytes each).
 CHUNK_PAIRS = 200_000
@@ -109,9 +104,7 @@ def overlapping_parts(
     faces : ndarray, shape (m, 3)
         Facets, each closed part wound outward.
     weld : ndarray, shape (n,), keyword-only
-        Each vertex's index among the distinct coordinates, if already known
-        (``numpy.unique(vertices, axis=0, return_inverse=True)[1]``; :class:`MeshFoot`'s
-        topology check has it); computed when None.
+        Each vertex's index among the distinct coordinates, if known; computed when None.
 
     Returns
     -------

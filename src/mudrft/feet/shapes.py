@@ -35,9 +35,8 @@ PAPER_HEIGHT = 0.026
 
 
 def _check_height(shape: str, radius: float, height: float) -> None:
-    """Refuse a curved foot taller than its radius; at the default height, say so and how
-    to make a smaller foot (decision D117: ``SemiSphere(radius=0.02)`` was refused for a
-    height nobody had given)."""
+    """Refuse a curved foot taller than its radius; at the default height, say how to make
+    a smaller foot."""
     if height <= radius:
         return
     hint = (
@@ -57,15 +56,13 @@ class _ClosedFormFoot(Foot):
 
     #: whether the matching mesh rule lets trailing facets resist (decision D23)
     trailing: ClassVar[bool] = False
+    elementwise: ClassVar[bool] = True
 
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    elementwise: ClassVar[bool] = True
-
     def __post_init__(self) -> None:
-        """Check the dimensions [m], the dataclass's fields in their order, with
-        :func:`~mudrft._validation.check_dimensions` and keep them as floats."""
+        """Check the dimensions [m] and keep them as floats."""
         dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
         for k, v in check_dimensions(type(self).__name__, **dims).items():
             object.__setattr__(self, k, v)
@@ -77,7 +74,7 @@ class _ClosedFormFoot(Foot):
 
     def coefficients(self, depth: XpArray, phi: XpArray, xp: Namespace = np) -> tuple[XpArray, ...]:
         """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
-        [m] and first-quadrant heading [rad] (see :func:`flat_coefficients`)."""
+        [m] and first-quadrant heading [rad]."""
         kind, g0, g1, g2 = self.kernel_geometry
         return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
 
@@ -114,8 +111,8 @@ class _ClosedFormFoot(Foot):
         Parameters
         ----------
         resolution : int, optional
-            Mesh density (segments from the tip to the rim for curved feet, grid divisions
-            per edge for the flat foot), >= 1.
+            Segments from the tip to the rim (curved feet) or divisions per edge (flat
+            foot) [-], >= 1.
         """
         v, f = self._mesh_arrays(resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
@@ -129,20 +126,15 @@ class _ClosedFormFoot(Foot):
         return self._mesh.elements()
 
     def posed(self, rotation: RotationLike, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
-        """The foot rotated by ``rotation`` (3x3 matrix or scipy Rotation), as a mesh foot.
-
-        The closed forms hold for the axis-aligned foot only, so a posed foot is integrated
-        on its mesh (see :meth:`MeshFoot.posed`).
-        """
+        """The foot rotated by ``rotation`` (3x3 matrix or scipy Rotation), as a mesh foot
+        (the closed forms hold for the axis-aligned foot only)."""
         return self.to_mesh(resolution=resolution).posed(rotation)
 
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """Center of pressure in the foot frame [m], shape (..., 3), from the default mesh.
-
-        See :func:`mudrft.feet.surface.integrate_wrench` (decision D24).
-        """
+        """Center of pressure in the foot frame [m], shape (..., 3), from the default mesh
+        (:func:`mudrft.feet.surface.integrate_wrench`)."""
         return self._mesh.center_of_pressure(depth, stress, heading)
 
 
@@ -164,9 +156,8 @@ class Flat(_ClosedFormFoot):
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (12).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (12).
 
     Examples
     --------
@@ -220,9 +211,8 @@ class SemiCylinder(_ClosedFormFoot):
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (13).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (13).
 
     Examples
     --------
@@ -267,8 +257,8 @@ class SemiCylinder(_ClosedFormFoot):
 class SemiSphere(_ClosedFormFoot):
     """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14).
 
-    Its closed form counts the facets that trail the motion (the supplementary's full-range
-    factors), so its mesh uses ``trailing=True`` (decision D23).
+    Its closed form counts the facets that trail the motion, so its mesh uses
+    ``trailing=True`` (decision D23).
 
     Parameters
     ----------
@@ -279,9 +269,8 @@ class SemiSphere(_ClosedFormFoot):
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (14).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eq. (14).
 
     Examples
     --------

@@ -1,41 +1,12 @@
 r"""Surface-element integration of the 3D force law (Chen et al. 2026, eqs. 6-7) on triangles.
 
-This module is the general rule behind every foot: the surface is a set of triangles in the
-foot frame (tip at :math:`z=0`, :math:`z` up), the mud surface is the plane :math:`z=d`
-(``depth`` of the tip), and each triangle is **clipped** exactly by that plane so that only
-its submerged polygon counts, with its exact area and centroid.
+The surface is a set of triangles in the foot frame (tip at :math:`z=0`, :math:`z` up);
+the mud surface is the plane :math:`z=d` (the tip ``depth``), and each triangle is clipped
+exactly by that plane, so only its submerged polygon counts. The element rule of each
+facet is written once in :mod:`mudrft.feet.facet` (decisions D21-D23, erratum E24).
 
-Element rule (decisions D21-D23, erratum E24 in ``docs/model.md``). For a facet with
-outward unit normal :math:`\mathbf n=(n_x,n_y,n_z)`, submerged area :math:`dS`, horizontal normal
-:math:`\mathbf n_h=(n_x,n_y)`, :math:`\hat{\mathbf n}_h=\mathbf n_h/|\mathbf n_h|`,
-:math:`\hat{\mathbf t}=\mathbf e_z\times\hat{\mathbf n}_h` and motion direction
-:math:`\hat{\mathbf u}=(\cos h,\sin h)`:
-
-* local frame of eq. (6): :math:`\mathbf e_3=\mathbf e_z`,
-  :math:`\mathbf e_1=\mathbf n\times\mathbf e_3/\|\cdot\|=-\hat{\mathbf t}`,
-  :math:`\mathbf e_2=\mathbf e_3\times\mathbf e_1=\hat{\mathbf n}_h`; :math:`\varphi` is the
-  azimuth of :math:`\hat{\mathbf n}_h`, :math:`\psi_1` the angle between :math:`\mathbf n`
-  and :math:`-\mathbf e_z`, :math:`\psi_2` the signed angle from :math:`\mathbf e_2` to
-  :math:`\hat{\mathbf u}`, so :math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}`,
-  :math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}`;
-* vertical, on facets that face down (:math:`n_z<0`):
-  :math:`dF_z=[f_n(\psi_1)\cos\psi_1+f_t(\psi_1)\sin\psi_1]\,\sigma_z\,dS
-  =(\cos^3\psi_1+\sin^3\psi_1)\,\sigma_z\,dS`;
-* horizontal, per projected area :math:`|\mathbf n_h|dS`, with the element stress
-  :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2`:
-  :math:`d\mathbf F_h=-\sigma_e\,[\tilde f_n(\psi_2)\hat{\mathbf n}_h
-  +\tilde f_t(\psi_2)\hat{\mathbf t}]\,|\mathbf n_h|\,dS`, where
-  :math:`\tilde f_n=\cos\psi_2|\cos\psi_2|`, :math:`\tilde f_t=\sin\psi_2|\sin\psi_2|` are the
-  supplementary's full-range factors (equal to :math:`f_n`, :math:`\operatorname{sgn}
-  (\sin\psi_2)f_t` on leading facets). With ``trailing=False`` only leading facets
-  (:math:`\psi_2\in(-\pi/2,\pi/2]`) count; with ``trailing=True`` all do.
-
-Since :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)=\cos^2\psi` and
-:math:`f_t(\psi)=\sin^2\psi`, the rule needs no trigonometric function: only dot products.
-
-Every function here is pure and takes an ``xp`` array namespace (``numpy`` by default; it runs
-unchanged under ``jax.numpy``): no boolean-mask indexing, no loop over facets, only
-``xp.where``. Shapes: ``triangles`` (..., m, 3, 3) [m]; ``depth`` (...) [m];
+Every function is pure and takes an ``xp`` array namespace (``numpy`` by default, or
+``jax.numpy``). Shapes: ``triangles`` (..., m, 3, 3) [m]; ``depth`` (...) [m];
 ``stress`` (..., 3) [Pa]; ``heading`` (...) [rad]; leading batch dimensions broadcast.
 """
 
@@ -53,6 +24,7 @@ from .facet import (
     facet_force,
     facet_frame,
     fold_stresses,
+    safe_div,
     sort_by_height,
 )
 from .facet import (
@@ -77,31 +49,28 @@ __all__ = [
 
 
 class PreparedTriangles(NamedTuple):
-    r"""Depth-independent per-facet data, computed once by :func:`prepare_triangles`.
-
-    Shapes with ``m`` facets (leading batch dimensions allowed).
+    r"""Per-facet data that do not depend on depth, stress or heading (:func:`prepare_triangles`).
 
     Attributes
     ----------
     lo, mid, hi : array (..., m, 3)
         Vertices sorted by height [m].
     normal : array (..., m, 3)
-        Outward unit normal from the winding (right-hand rule) [-] (zero for zero-area facets).
+        Outward unit normal from the winding [-] (zero for zero-area facets).
     area : array (..., m)
         Facet area [m^2].
     k_low, k_high : array (..., m)
-        Clipping constants [-]: the submerged area is ``k_low (d - z_lo)^2`` with only the
-        lowest vertex submerged and ``area - k_high (z_hi - d)^2`` with two.
+        Clipping constants of :func:`mudrft.feet.facet.clip_constants` [-].
     nh : array (..., m)
         :math:`|\mathbf n_h|=\sin\psi_1` [-].
     hx, hy : array (..., m)
-        Unit horizontal normal :math:`\mathbf e_2` [-] (zero for horizontal facets).
+        Unit horizontal normal [-] (zero for horizontal facets).
     wz : array (..., m)
         Vertical weight :math:`\cos^3\psi_1+\sin^3\psi_1` on facets facing down, else 0 [-].
     za, zb, zc : array (..., m)
-        Sorted vertex heights [m] (contiguous copies for speed).
+        Sorted vertex heights [m].
     flat_area : array (..., m)
-        Area of facets with no height span (horizontal), else 0 [m^2].
+        Area of horizontal facets, else 0 [m^2].
     """
 
     lo: XpArray
@@ -131,7 +100,7 @@ class ClippedElements(NamedTuple):
     normals : array (..., m, 3)
         Outward unit normals [-].
     areas : array (..., m)
-        Submerged areas [m^2] (0 for facets above the surface).
+        Submerged areas [m^2].
     depths : array (..., m)
         Depth of each centroid below the mud surface [m] (negative above it).
     """
@@ -143,20 +112,20 @@ class ClippedElements(NamedTuple):
 
 
 class LocalFrame(NamedTuple):
-    """Local plate frame and angles of eq. (6) for each facet and heading.
+    r"""Local plate frame and angles of eq. (6) for each facet and heading.
 
     Attributes
     ----------
     e1, e2, e3 : array (..., m, 3)
-        Unit vectors: :math:`\\mathbf e_1=\\mathbf n\\times\\mathbf e_3/\\|\\cdot\\|`,
-        :math:`\\mathbf e_2=\\mathbf e_3\\times\\mathbf e_1` (the horizontal normal) and
-        :math:`\\mathbf e_3=\\mathbf e_z`; zero e1, e2 for horizontal facets.
+        Unit vectors :math:`\mathbf e_1=\mathbf n\times\mathbf e_3/\|\cdot\|`,
+        :math:`\mathbf e_2=\mathbf e_3\times\mathbf e_1` (the horizontal normal),
+        :math:`\mathbf e_3=\mathbf e_z`; e1, e2 are zero for horizontal facets [-].
     psi1 : array (..., m)
-        Angle between the normal and the downward vertical :math:`-\\mathbf e_z` [rad], in [0, pi].
+        Angle between the normal and :math:`-\mathbf e_z` [rad], in [0, pi].
     psi2 : array (..., m)
-        Signed angle from :math:`\\mathbf e_2` to the motion direction [rad], in (-pi, pi].
+        Signed angle from :math:`\mathbf e_2` to the motion direction [rad], in (-pi, pi].
     varphi : array (..., m)
-        Azimuth of :math:`\\mathbf e_2` from the x axis [rad], in (-pi, pi].
+        Azimuth of :math:`\mathbf e_2` from the x axis [rad], in (-pi, pi].
     """
 
     e1: XpArray
@@ -177,30 +146,13 @@ class Wrench(NamedTuple):
     moment : array (..., 3)
         Moment of the element forces about ``point`` [N m].
     center_of_pressure : array (..., 3)
-        Point of the wrench's central axis nearest to the force-weighted centroid of the
-        submerged surface [m] (decision D24); ``point`` when no force acts.
+        Center of pressure [m] (decision D24, :func:`integrate_wrench`); ``point`` when no
+        force acts.
     """
 
     force: XpArray
     moment: XpArray
     center_of_pressure: XpArray
-
-
-def _cross(a: XpArray, b: XpArray, xp: Namespace) -> XpArray:
-    return xp.stack(
-        [
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ],
-        axis=-1,
-    )
-
-
-def _safe_div(num: XpArray, den: XpArray, xp: Namespace) -> XpArray:
-    """``num/den`` where ``den > 0``, else 0 (gradient-safe: the divisor is never 0)."""
-    ok = den > 0
-    return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
 def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangles:
@@ -209,8 +161,8 @@ def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangl
     Parameters
     ----------
     triangles : array_like, shape (..., m, 3, 3)
-        Vertex coordinates of each triangle in the foot frame [m]; the winding (right-hand
-        rule) gives the outward normal.
+        Vertices of each triangle in the foot frame [m]; the winding (right-hand rule)
+        gives the outward normal.
     xp : module, optional
         Array namespace (``numpy`` or ``jax.numpy``).
 
@@ -231,20 +183,19 @@ def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangl
          v2[..., 0], v2[..., 1], v2[..., 2])  # fmt: skip
     nx, ny, nz, area, nh, hx, hy, wz = facet_frame(*v, xp=xp)
     srt = sort_by_height(*v, xp=xp)
-    lo = xp.stack(srt[0:3], axis=-1)
-    mid = xp.stack(srt[3:6], axis=-1)
-    hi = xp.stack(srt[6:9], axis=-1)
     za, zb, zc = srt[2], srt[5], srt[8]
     k_low, k_high, flat_area = clip_constants(za, zb, zc, area, xp=xp)
-    normal = xp.stack([nx, ny, nz], axis=-1)
     return PreparedTriangles(
-        lo, mid, hi, normal, area, k_low, k_high, nh, hx, hy, wz, za, zb, zc, flat_area
-    )
+        xp.stack(srt[0:3], axis=-1),
+        xp.stack(srt[3:6], axis=-1),
+        xp.stack(srt[6:9], axis=-1),
+        xp.stack([nx, ny, nz], axis=-1),
+        area, k_low, k_high, nh, hx, hy, wz, za, zb, zc, flat_area,
+    )  # fmt: skip
 
 
 def submerged_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> XpArray:
-    """Exact submerged area of each facet [m^2], shape (..., m): the area of :func:`clip_below`
-    without the centroids (:func:`mudrft.feet.facet.submerged_area` per facet)."""
+    """Exact submerged area of each facet [m^2], shape (..., m), at tip ``depth`` [m]."""
     p = prepared
     d = xp.asarray(depth)[..., None]
     return facet_submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
@@ -260,7 +211,7 @@ def clip_below(
     prepared : PreparedTriangles
         From :func:`prepare_triangles`.
     depth : array_like, shape (...)
-        Height of the mud surface in the foot frame = tip depth [m].
+        Tip depth [m], the height of the mud surface in the foot frame.
     xp : module, optional
         Array namespace.
 
@@ -317,7 +268,7 @@ def clip_elements(triangles: XpArray, depth: XpArray, xp: Namespace = np) -> Cli
 
 
 def local_frame(normals: XpArray, heading: XpArray, xp: Namespace = np) -> LocalFrame:
-    """The local frame (e1, e2, e3) and angles psi1, psi2, varphi of eq. (6).
+    """The local frame (e1, e2, e3) and the angles psi1, psi2, varphi of eq. (6).
 
     Parameters
     ----------
@@ -341,7 +292,7 @@ def local_frame(normals: XpArray, heading: XpArray, xp: Namespace = np) -> Local
     n = xp.asarray(normals)
     h = xp.asarray(heading)[..., None]
     r = xp.sqrt(n[..., 0] ** 2 + n[..., 1] ** 2)
-    nx, ny = _safe_div(n[..., 0], r, xp), _safe_div(n[..., 1], r, xp)
+    nx, ny = safe_div(n[..., 0], r, xp), safe_div(n[..., 1], r, xp)
     zero = xp.zeros_like(r)
     e2 = xp.stack([nx, ny, zero], axis=-1)
     e1 = xp.stack([ny, -nx, zero], axis=-1)
@@ -356,21 +307,12 @@ def local_frame(normals: XpArray, heading: XpArray, xp: Namespace = np) -> Local
 def _heading_factors(
     p: PreparedTriangles, stress: XpArray, heading: XpArray, trailing: bool, xp: Namespace
 ) -> tuple[XpArray, ...]:
-    """Folded stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
+    """Stresses (..., 1) and the factors f_n, f_t of each facet (..., m)."""
     s = xp.asarray(stress)
     h = xp.asarray(heading)
     sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], h, xp=xp)
     fn, ft = facet_factors(p.hx, p.hy, ux[..., None], uy[..., None], trailing, xp=xp)
     return sqx[..., None], sqy[..., None], s[..., 2][..., None], fn, ft
-
-
-def _force_density(
-    p: PreparedTriangles, stress: XpArray, heading: XpArray, trailing: bool, xp: Namespace
-) -> XpArray:
-    """Force per unit submerged area of each facet [Pa], shape (..., m, 3)."""
-    sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
-    f = facet_force(1.0, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
-    return xp.stack(xp.broadcast_arrays(*f), axis=-1)
 
 
 def element_forces(
@@ -388,16 +330,9 @@ def element_forces(
     ----------
     prepared : PreparedTriangles
         From :func:`prepare_triangles`.
-    depth : array_like, shape (...)
-        Tip depth [m].
-    stress : array_like, shape (..., 3)
-        Signed channel stresses (sx, sy, sz) [Pa] (see :mod:`mudrft.feet.base`).
-    heading : array_like, shape (...)
-        World heading of the horizontal motion [rad], any value.
-    trailing : bool, optional
-        Let facets that trail the horizontal motion resist too (full-range factors).
-    xp : module, optional
-        Array namespace.
+    depth, stress, heading, trailing, xp
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
 
     Returns
     -------
@@ -406,9 +341,11 @@ def element_forces(
     centroid : array (..., m, 3)
         Centroid of each submerged polygon [m].
     """
-    area, cen = clip_below(prepared, depth, xp=xp)
-    dens = _force_density(prepared, stress, heading, trailing, xp)
-    return dens * area[..., None], cen
+    p = prepared
+    area, cen = clip_below(p, depth, xp=xp)
+    sqx, sqy, sz, fn, ft = _heading_factors(p, stress, heading, trailing, xp)
+    f = facet_force(1.0, p.nh, p.hx, p.hy, p.wz, sqx, sqy, sz, fn, ft, xp=xp)
+    return xp.stack(xp.broadcast_arrays(*f), axis=-1) * area[..., None], cen
 
 
 def integrate_prepared(
@@ -420,10 +357,20 @@ def integrate_prepared(
     trailing: bool = False,
     xp: Namespace = np,
 ) -> XpArray:
-    """Resultant force of :func:`integrate_triangles` on prepared facets (no centroids).
+    """:func:`integrate_triangles` on facets from :func:`prepare_triangles` [N].
 
-    Parameters are those of :func:`integrate_triangles` with ``prepared`` from
-    :func:`prepare_triangles` in place of the triangles.
+    Parameters
+    ----------
+    prepared : PreparedTriangles
+        From :func:`prepare_triangles`.
+    depth, stress, heading, trailing, xp
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
+
+    Returns
+    -------
+    array, shape (..., 3)
+        (Fx, Fy, Fz) [N] in the foot frame.
     """
     p = prepared
     area = submerged_area(p, depth, xp=xp)
@@ -453,12 +400,11 @@ def integrate_triangles(
     stress : array_like, shape (..., 3)
         Signed channel stresses (sx, sy, sz) [Pa]; sx > 0 resists motion toward +x.
     heading : array_like, shape (...)
-        Heading of the horizontal motion from the x axis [rad]; any angle (a heading in
-        [0, pi/2] with positive stresses gives the paper's first-quadrant case).
+        Heading of the horizontal motion from the x axis [rad], any angle.
     trailing : bool, optional
-        Count facets that trail the motion with the supplementary's full-range factors
-        (``True`` reproduces the sphere's derivation; ``False``, the default, the flat and
-        semi-cylindrical feet's).
+        Let facets that trail the motion resist too, with the supplementary's full-range
+        factors (as in the sphere's derivation); default ``False``, leading facets only (as
+        in the flat and semi-cylindrical feet's), decision D23.
     xp : module, optional
         Array namespace (``numpy``, ``jax.numpy``).
 
@@ -477,11 +423,13 @@ def integrate_triangles(
        dF_y=-(\sigma_h^n\sin\varphi+\sigma_h^t\cos\varphi)\,dS_h,\quad
        dF_z=(\sigma_v^n\cos\psi_1+\sigma_v^t\sin\psi_1)\,dS \tag{6}
 
+    with :math:`f_n=\cos^2`, :math:`f_t=\sin^2` (eq. 7), applied per facet by
+    :func:`mudrft.feet.facet.facet_force`.
+
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (6)-(7), Sec. II-C (erratum E24: the sign of dF_y).
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", eqs. (6)-(7), supplementary Sec. II-C (erratum E24: the sign of dF_y).
 
     Examples
     --------
@@ -509,23 +457,23 @@ def integrate_wrench(
 ) -> Wrench:
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at the centroid of its submerged polygon (uniform stress on the
-    facet). The center of pressure (decision D24) is the point of the wrench's central axis
+    Each facet's force acts at the centroid of its submerged polygon. The center of
+    pressure (decision D24) is the point of the wrench's central axis
     :math:`\mathbf r_0+t\hat{\mathbf F}`, :math:`\mathbf r_0=\mathbf p+\mathbf F\times
     \mathbf M_p/|\mathbf F|^2`, nearest to the :math:`|d\mathbf F|`-weighted centroid of the
-    submerged surface; applying :math:`\mathbf F` there leaves only a couple parallel to
-    :math:`\mathbf F` (zero when the element forces are coplanar or parallel).
+    submerged surface.
 
     Parameters
     ----------
     triangles : array_like, shape (..., m, 3, 3)
         Triangles in the foot frame [m] (ignored when ``prepared`` is given).
     depth, stress, heading, trailing, xp
-        As in :func:`integrate_triangles`.
+        Tip depth [m], channel stresses (..., 3) [Pa], heading [rad], and the options, as
+        in :func:`integrate_triangles`.
     point : array_like, shape (..., 3), optional
         Reference point for the moment, in the foot frame [m]; default the tip (origin).
     prepared : PreparedTriangles, optional
-        Pre-computed facet data (saves the preparation on repeated calls).
+        Facet data from :func:`prepare_triangles`, to skip that step.
 
     Returns
     -------
@@ -542,14 +490,14 @@ def integrate_wrench(
     df, cen = element_forces(p, depth, stress, heading, trailing=trailing, xp=xp)
     force = xp.sum(df, axis=-2)
     pt = (xp.zeros(3) if point is None else xp.asarray(point)) + 0.0 * force  # batch shape
-    moment = xp.sum(_cross(cen - pt[..., None, :], df, xp), axis=-2)
+    moment = xp.sum(xp.cross(cen - pt[..., None, :], df), axis=-2)
     w = xp.sqrt(xp.sum(df * df, axis=-1))
     wsum = xp.sum(w, axis=-1)
-    cbar = _safe_div(xp.sum(w[..., None] * cen, axis=-2), wsum[..., None], xp)
+    cbar = safe_div(xp.sum(w[..., None] * cen, axis=-2), wsum[..., None], xp)
     cbar = xp.where(wsum[..., None] > 0, cbar, pt)
     f2 = xp.sum(force * force, axis=-1)
     has_f = f2 > (1e-24 * wsum * wsum)  # the element forces do not cancel out
     f2_safe = xp.where(has_f, f2, 1.0)[..., None]
-    r0 = pt + _cross(force, moment, xp) / f2_safe
+    r0 = pt + xp.cross(force, moment) / f2_safe
     along = xp.sum((cbar - r0) * force, axis=-1)[..., None] / f2_safe
     return Wrench(force, moment, xp.where(has_f[..., None], r0 + along * force, cbar))

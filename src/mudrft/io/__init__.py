@@ -34,14 +34,9 @@ The force is the force of the mud on the plate *resisting the intrusion* (positi
 intruding, negative under suction); for a vertical test that is the world ``Fz`` (D40).
 
 Every problem in a file raises :class:`~mudrft._validation.MudrftError` naming the file,
-the line and the column. Files are only read, never written, by the loaders; the writers
-write atomically and refuse to replace an existing file unless ``overwrite=True``
-(:func:`atomic_write`).
-
-Modules: :mod:`.dataset` (the data classes), :mod:`.columns` (the one resolver of column
-names and units), :mod:`.csv_log` (the one text-table reader, and :func:`load_dataset`),
-:mod:`.hdf5_log`, :mod:`.path_csv` (a foot's path to simulate), :mod:`.atomic` (the one
-writer). Names load on first use, so that the writer does not bring the readers along.
+the line and the column. The loaders never write; the writers write atomically and
+refuse to replace an existing file unless ``overwrite=True`` (:func:`atomic_write`).
+Names load on first use, so that the writer does not bring the readers along.
 """
 
 from __future__ import annotations

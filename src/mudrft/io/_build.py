@@ -1,8 +1,4 @@
-"""From a log's columns to trials (internal): the roles a log needs, the plate, the
-direction, one :class:`~mudrft.io.Trial` per label, and the plausibility of the units.
-
-Shared by the CSV and HDF5 loaders once :mod:`.columns` has resolved the columns.
-"""
+"""From a log's resolved columns to trials, shared by the CSV and HDF5 loaders (internal)."""
 
 from __future__ import annotations
 
@@ -33,31 +29,25 @@ __all__ = [
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
-#: Deepest intrusion of a plausible plate or foot test [m] (decision D105).
+#: Plausible ranges of a plate or foot test, outside which a log warns of a unit mistake:
+#: deepest intrusion [m], peak stress [Pa], plate area [m^2], intrusion speed [m/s] (a
+#: speed below the range warns only in a log sampled at most every SLOW_SAMPLING [s]).
 PLAUSIBLE_DEPTH = (1e-3, 1.0)
-#: Peak stress magnitude of a plausible test in mud [Pa] (decision D105). The paper's
-#: softest mud resists a 1 mm intrusion with about 5 kPa: a peak under 100 Pa is a log in
-#: kPa labelled Pa (issue 43).
 PLAUSIBLE_PEAK_STRESS = (100.0, 1e7)
-#: Area of a plausible plate or foot [m^2]: 1 mm^2 to 1 m^2 (decision D105).
 PLAUSIBLE_AREA = (1e-6, 1.0)
-#: Intrusion speed of a plausible test [m/s] (decision D105): 1 mm/s to 20 m/s. Above it a
-#: log warns; below it, a log sampled at most every :data:`SLOW_SAMPLING` [s] warns (the
-#: paper's 0.13 m/s logged in ms and read as s is 0.13 mm/s).
 PLAUSIBLE_SPEED = (1e-3, 20.0)
 SLOW_SAMPLING = 0.01
 
 #: Where sample ``i`` (None: the whole column) of a role's column (None: of the trial)
-#: stands in the file: ``"line 12, column 'time [s]'"``, ``"dataset 'a/time [s]', row 11"``.
+#: stands in the file: ``"line 12, column 'time [s]'"``.
 Locate = Callable[[int | None, str | None], str]
 
 
 def check_roles(
     path: str, where: str, columns: dict[str, Column], names: Sequence[str], *, direction: str
 ) -> None:
-    """Refuse columns that make no intrusion log: a time and a depth, and a stress or a
-    force, are needed; a force named ``Fz`` (the vertical force) is refused for a
-    horizontal test."""
+    """Refuse columns that make no intrusion log: a time, a depth, and a stress or a force
+    are needed; a force named ``Fz`` is refused for a horizontal test."""
     named = {r: [repr({"fz": "Fz", "f": "F"}.get(k, k)) for k, v in LOG_COLUMNS.items() if v == r]
              for r in ("time", "depth", "stress", "force")}  # fmt: skip
     words = {r: f"{', '.join(n[:-1])} or {n[-1]}" for r, n in named.items()}
@@ -91,8 +81,7 @@ def check_roles(
 
 
 def _unit_like(role: str, names: Sequence[str]) -> str:
-    """The unit of the first column in a unit of the role's quantity (the rig's own name
-    for it, 'position [mm]'), else the SI unit."""
+    """The unit of the first column in a unit of the role's quantity, else the SI unit."""
     quantity = {"time": "time", "depth": "length"}[role]
     units = [split_label(label)[1] for label in names]
     return next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
@@ -130,8 +119,8 @@ def resolve_plate(
     area: float | None,
     need_area: bool,
 ) -> tuple[float, float | None, str]:
-    """Plate length [m] and area [m^2] (None if unknown and not needed), and where the
-    length came from: the caller's argument, else the file's metadata, else 50 mm (D1)."""
+    """Plate length [m], area [m^2] (None if unknown and not needed), and where the length
+    came from: the caller's argument, else the file's metadata, else 50 mm (D1)."""
     try:
         if characteristic_length is not None:
             L = positive_number("characteristic_length", characteristic_length, unit="m")
@@ -226,7 +215,7 @@ def build_trials(
                 f"time must increase strictly within trial {name!r}, but {plain(t[k])} s "
                 f"follows {plain(t[k - 1])} s{hint}",
             )
-        if float(np.ptp(stress[idx])) == 0.0:  # numpy's zero-size error came out of a fit
+        if float(np.ptp(stress[idx])) == 0.0:
             raise fail(
                 path,
                 locate(int(idx[0]), "stress" if "stress" in columns else "force"),
@@ -257,22 +246,9 @@ def _unit_hint(label: str, units: str) -> str:
 def check_plausible(
     path: str, trials: Sequence[Trial], labels: dict[str, str], *, area: float | None
 ) -> None:
-    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) where a log's units look
-    wrong: a deepest depth outside :data:`PLAUSIBLE_DEPTH`, a peak stress outside
-    :data:`PLAUSIBLE_PEAK_STRESS`, an intrusion speed above :data:`PLAUSIBLE_SPEED`, or
-    below it in a log sampled slower than :data:`SLOW_SAMPLING` (decision D105).
-
-    Parameters
-    ----------
-    path : str
-        The file, for the message.
-    trials : sequence of Trial
-        The trials (SI).
-    labels : dict
-        The column names by role (``"time"``, ``"depth"``, ``"stress"`` or ``"force"``).
-    area : float or None, keyword-only
-        Plate area [m^2] when the stresses come from a force column.
-    """
+    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) where the units of the
+    trials read from ``path`` look wrong (the ``PLAUSIBLE_*`` ranges); ``labels`` are the
+    column names by role, ``area`` the plate area [m^2] when a force was logged."""
     if not trials:
         return
     _check_speed(path, trials, labels.get("time", "time"))

@@ -1,15 +1,10 @@
 """Writing files atomically: the one way mudrft writes a file it produces.
 
 A file is written in a private staging directory beside its target
-(:func:`tempfile.mkdtemp`), under the target's own name, then moved into place with
-:func:`os.replace`. A reader never sees a half-written file; a failure leaves nothing
-behind; an existing file is replaced only with ``overwrite=True`` (a hard link, which
-fails on an existing name, moves it otherwise). The file is created by :func:`open`, so
-it gets the permissions of any new file (the umask applies).
-
-A run killed outright (``kill -9``) cannot clean up: its staging directory,
-``.mudrft-PID-XXXXXXXX.tmp``, stays. The next run that stages in the same directory
-removes it (:func:`remove_stale_staging`).
+(:func:`tempfile.mkdtemp`), then moved into place: a reader never sees a half-written
+file, a failure leaves nothing behind, and an existing file is replaced only with
+``overwrite=True``. The staging a killed run leaves is removed by the next run that
+stages in the same directory (:func:`remove_stale_staging`).
 """
 
 from __future__ import annotations
@@ -42,28 +37,18 @@ Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
 #: How the staging directories of mudrft begin: ``.mudrft-PID-XXXXXXXX.tmp``.
 STAGING_PREFIX = ".mudrft-"
-#: Staging names: this version's (with the process id), and those of mudrft 0.1 (a staging
-#: directory ``.mudrft-XXXXXXXX.tmp``, a file ``.NAME.<12 hex>.tmp[.SUFFIX]``).
+#: Staging names: this version's (with the process id), and those of mudrft 0.1.
 _STAGED = re.compile(r"\.mudrft-(?P<pid>\d+)-[a-z0-9_]+\.tmp")
 _LEGACY = re.compile(r"\.mudrft-[a-z0-9_]{8}\.tmp|\..+\.[0-9a-f]{12}\.tmp(\.[A-Za-z0-9]+)?")
-#: When this process started to stage files [s since the epoch]: staging newer than this
-#: may belong to a run that is still going.
+#: When this process started [s since the epoch]: newer staging may belong to a live run.
 _STARTED = time.time()
 
 
 def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
-    """The file that writing ``path`` replaces: a symbolic link's target (the link stays a
-    link), ``path`` itself otherwise.
+    """The file that writing ``path`` replaces: a symbolic link's target, else ``path``.
 
-    Refuses a pipe, a device or a socket: an atomic write would replace it by a regular
-    file (``/dev/null`` as root; a named pipe whose reader never sees the data).
-
-    Parameters
-    ----------
-    path : str or path-like
-        The output's name.
-    option : str
-        How the caller's API names the output, for the message (``"--out"``, ``"path"``).
+    Refuses a pipe, a device or a socket, which an atomic write would replace by a file;
+    ``option`` is how the caller's API names the output, for the message (``"--out"``).
     """
     p = Path(os.fspath(path))
     if p.is_symlink():
@@ -95,11 +80,8 @@ def _alive(pid: int) -> bool:
 
 
 def remove_stale_staging(directory: str | os.PathLike[str]) -> list[Path]:
-    """Remove the staging that killed runs left in ``directory``; return what was removed.
-
-    Only names of mudrft's own staging (:data:`STAGING_PREFIX`, and mudrft 0.1's) older
-    than this process, whose process (named in the staging's name) no longer runs.
-    """
+    """Remove the staging of mudrft runs in ``directory`` that are older than this
+    process and whose process no longer runs; return what was removed."""
     removed: list[Path] = []
     try:
         entries = list(os.scandir(directory))
@@ -133,12 +115,7 @@ def remove_stale_staging(directory: str | os.PathLike[str]) -> list[Path]:
 def staging_directory(directory: str | os.PathLike[str]) -> Path:
     """A new private directory in ``directory`` to write outputs in before they are moved
     into place (:func:`move_into_place`); stale ones of killed runs are removed first.
-
-    Raises
-    ------
-    OSError
-        If ``directory`` is missing or not writable.
-    """
+    Raises :class:`OSError` if ``directory`` is missing or not writable."""
     remove_stale_staging(directory)
     prefix = f"{STAGING_PREFIX}{os.getpid()}-"
     return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=directory))
@@ -146,15 +123,8 @@ def staging_directory(directory: str | os.PathLike[str]) -> Path:
 
 def move_into_place(staged: Path, target: Path, *, overwrite: bool, option: str) -> None:
     """Move ``staged`` to ``target`` in one step; without ``overwrite`` only if ``target``
-    does not exist at that moment (a hard link fails on an existing name).
-
-    Raises
-    ------
-    MudrftError
-        If ``target`` exists and ``overwrite`` is false.
-    OSError
-        If the move fails.
-    """
+    does not exist at that moment. Raises :class:`MudrftError` if it does, :class:`OSError`
+    if the move fails."""
     if overwrite:
         os.replace(staged, target)
         return
@@ -182,8 +152,8 @@ def atomic_write(
     path : str or path-like
         The file to write.
     content : bytes, str or callable
-        The data (a str is written as UTF-8), or a function that writes the file whose
-        path it is given (e.g. with h5py); it must write that path, not another.
+        The data (a str is written as UTF-8), or a function that writes the path it is
+        given (e.g. with h5py).
     overwrite : bool, keyword-only
         Replace ``path`` if it exists (default: refuse).
     option : str, keyword-only
@@ -199,7 +169,7 @@ def atomic_write(
     ------
     MudrftError
         If ``path`` exists and ``overwrite`` is false, names a directory, or cannot be
-        written. Nothing is left behind: neither a staging file nor a partial target.
+        written; nothing is left behind.
 
     Examples
     --------
@@ -259,20 +229,9 @@ def _finite_or_none(obj: Any) -> Any:
 
 
 def json_text(obj: Any, *, indent: int | None = 2) -> str:
-    r"""Standard JSON for ``obj``, every NaN or infinite number written as ``null``
-    (:func:`json.dumps` writes ``NaN``, which strict parsers reject).
-
-    Parameters
-    ----------
-    obj : dict, list or number
-        Nested dicts and lists of numbers (numpy numbers too), strings, booleans and None.
-    indent : int or None, keyword-only
-        As :func:`json.dumps`.
-
-    Returns
-    -------
-    str
-        The JSON text, ending in a newline.
+    r"""Standard JSON for ``obj`` (nested dicts and lists of numbers, numpy numbers too,
+    strings, booleans and None), ending in a newline; every NaN or infinite number is
+    written as ``null``. ``indent`` as :func:`json.dumps`.
 
     Examples
     --------

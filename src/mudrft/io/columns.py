@@ -2,11 +2,8 @@
 
 Every table mudrft reads (a CSV log's header, an HDF5 log's dataset names, a foot's path)
 goes through :func:`resolve_columns`. A name carries its unit as a logger writes it,
-``depth [mm]``, ``Depth (mm)`` or ``depth in mm`` (:func:`split_label`); the name is looked
-up (case-insensitive) in the file kind's aliases, or given by the caller
-(``columns={"depth": "Position (mm)"}``, CLI ``--columns``); the unit becomes a factor to
-SI (:func:`mudrft.units.parse_unit`). Every problem raises a
-:class:`~mudrft._validation.MudrftError` made by :func:`fail`, naming the file and the place.
+``depth [mm]``, ``Depth (mm)`` or ``depth in mm``; the name is looked up (case-insensitive)
+in the file kind's aliases, or given by the caller (``columns={"depth": "Position (mm)"}``).
 """
 
 from __future__ import annotations
@@ -104,8 +101,7 @@ def split_label(text: str) -> tuple[str, str | None]:
 
 
 class Column(NamedTuple):
-    """A recognised column: its position among the names, its name as written, its role
-    (``"time"``, ``"depth"``, ...) and the factor from its unit to SI [SI/unit]."""
+    """A recognised column: position, name as written, role and factor to SI [SI/unit]."""
 
     position: int
     label: str
@@ -116,8 +112,8 @@ class Column(NamedTuple):
 def _mapped(
     path: str, names: Sequence[str], columns: Mapping[str, str], roles: set[str]
 ) -> dict[str, tuple[int, str | None]]:
-    """The caller's ``columns`` (role -> name as written): role -> (position, unit given
-    with the name when the file's name has none)."""
+    """The caller's ``columns`` (role -> name): role -> (position, unit given with the name
+    when the file's name has none)."""
     out: dict[str, tuple[int, str | None]] = {}
     keys = [n.strip().lower() for n in names]
     for role, label in columns.items():
@@ -173,8 +169,8 @@ def resolve_columns(
         Role -> column name as written, for names the aliases do not know; a unit may come
         with the name (``{"depth": "Position [mm]"}``) when the file states none.
     units : sequence, optional, keyword-only
-        Units given apart from the names (HDF5 ``unit`` attributes), used when a name has
-        none; one that differs from the unit in the name is refused.
+        Units given apart from the names (HDF5 ``unit`` attributes); one that differs from
+        the unit in the name is refused.
     require_units : bool, keyword-only
         Refuse a column without a unit (True), or read it as SI (False).
     """
@@ -222,8 +218,7 @@ def resolve_columns(
 
 
 def _same_unit(path: str, where: str, quantity: str, unit: str, given: str) -> None:
-    """Refuse a unit attribute that is not the unit in the name: which one holds cannot
-    be told."""
+    """Refuse a unit attribute that is not the unit in the name."""
     try:
         same = parse_unit(quantity, given) == parse_unit(quantity, unit)
     except MudrftError as exc:

@@ -1,11 +1,9 @@
 """Logs as text tables: :func:`read_table` (the one CSV reader), :func:`load_intrusion_csv`,
 :func:`save_intrusion_csv` and :func:`load_dataset` (CSV or HDF5, by suffix).
 
-A table is read once as UTF-8 text, never written. ``#`` lines are notes, and ``# key:
-value`` notes are metadata (``direction``, ``characteristic_length [m]``, ``area [m^2]``,
-...). The first other line is the header; its fields are separated by commas, tabs or
-semicolons, whichever it holds most of (a semicolon- or tab-separated file may write its
-numbers with a decimal comma). The columns are resolved by :mod:`.columns`.
+A table is UTF-8 text. ``#`` lines are notes, ``# key: value`` notes metadata. The first
+other line is the header; its fields are separated by commas, tabs or semicolons,
+whichever it holds most of (a semicolon- or tab-separated file may use a decimal comma).
 """
 
 from __future__ import annotations
@@ -40,8 +38,7 @@ _PLATE_KEYS = {"characteristic_length": "length", "area": "area"}
 
 @dataclass
 class Table:
-    """A text table as read: notes, metadata, header and rows (cells as text), each with
-    its line in the file."""
+    """A text table as read: notes, metadata, header and rows (cells as text), with lines."""
 
     path: str
     notes: list[str] = field(default_factory=list)
@@ -140,7 +137,7 @@ def _metadata(table: Table, lineno: int, comment: str) -> None:
         if not 0 < parsed < float("inf"):
             raise fail(table.path, f"line {lineno}", f"metadata {key!r} must be > 0, got {value!r}")
     first = table.fixed.setdefault(name, (lineno, parsed))
-    if first[1] != parsed:  # the last one used to win, silently
+    if first[1] != parsed:
         raise fail(
             table.path,
             f"line {lineno}",
@@ -216,7 +213,7 @@ def load_intrusion_csv(
         a ``# area [m^2]: ...`` line.
     characteristic_length : float, optional, keyword-only
         Plate characteristic length :math:`L_c` [m]; overrides a
-        ``# characteristic_length [m]: ...`` line; default 0.05 m (decision D1).
+        ``# characteristic_length [m]: ...`` line; default 0.05 m (D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
         Loading direction; overrides a ``# direction: ...`` line; default vertical.
     columns : mapping, optional, keyword-only
@@ -332,16 +329,16 @@ def load_dataset(
 def save_intrusion_csv(
     dataset: IntrusionDataset, path: str | os.PathLike[str], *, overwrite: bool = False
 ) -> Path:
-    """Write a dataset as CSV in SI units (:meth:`IntrusionDataset.to_csv`).
+    """Write a dataset as CSV in SI units: :meth:`IntrusionDataset.to_csv`, checked.
 
     Parameters
     ----------
     dataset : IntrusionDataset
         The data.
     path : str or path-like
-        Output file; written atomically (:func:`~mudrft.io.atomic_write`).
+        Output file; written atomically.
     overwrite : bool, keyword-only
-        Replace an existing file (default: refuse, so a user's data are never lost).
+        Replace an existing file (default: refuse).
     """
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")

@@ -10,11 +10,9 @@ resolved by :mod:`.columns` as for a CSV log. Root attributes ``direction``,
 ``"area [cm^2]"``; the value is one number) and ``synthetic`` / ``notes`` play the part
 of the CSV header comments.
 
-Refused with a :class:`~mudrft._validation.MudrftError` that names the file and the
-dataset, link or attribute, rather than read in part: a dataset that is not 1-D or not
-real, a log column in the root beside groups or in a nested group, a ``trial`` dataset
-(the groups are the trials), a plate, direction or ``synthetic`` attribute on a group (the
-root's hold for every trial), and a soft or external link that leads nowhere.
+Anything else (a dataset not 1-D or not real, log columns both in the root and in
+groups, nested groups, a ``trial`` dataset, file-wide attributes on a group, a broken
+link) is refused with a :class:`~mudrft._validation.MudrftError` naming the place.
 """
 
 from __future__ import annotations
@@ -72,7 +70,7 @@ def _text(value: Any) -> str | None:
 
 
 def _first_line(exc: BaseException) -> str:
-    """The first line of an h5py error (its later lines are HDF5's internals)."""
+    """The first line of an h5py error, at most 200 characters."""
     text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc  # no quotes
     lines = str(text).strip().splitlines()
     text = lines[0] if lines else type(exc).__name__
@@ -90,8 +88,7 @@ def _listing(names: Iterable[str]) -> str:
 
 
 def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> float | None:
-    """A positive plate size from the root attribute ``name`` or ``name [unit]`` [SI], or
-    None if absent."""
+    """A plate size [SI] from the root attribute ``name`` or ``name [unit]``, or None."""
     keys = [k for k in attrs if _key_name(k) == name]
     if not keys:
         return None
@@ -213,9 +210,8 @@ def _read_group(
     columns: Mapping[str, str] | None,
     attrs: h5py.AttributeManager | None = None,
 ) -> tuple[Columns, dict[str, str], Locate]:
-    """The columns of one trial (a group, or the root when ``gname`` is None), in SI,
-    checked, their labels by role, and where a sample of them stands (for
-    :func:`~._build.build_trials`'s errors)."""
+    """The columns of one trial (a group, or the root when ``gname`` is None) in SI, their
+    labels by role, and where a sample stands in the file."""
     prefix = f"{gname}/" if gname else ""
     place = f"group '{gname}'" if gname else "root group"
     for key in attrs if attrs is not None else ():
@@ -299,7 +295,7 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
 
 
 def _open(h5py: ModuleType, p: Path) -> h5py.File:
-    """The file opened read-only; the OS's reason, or h5py's in one line, if it cannot be."""
+    """The file opened read-only, or an error that says why it cannot be."""
     where = str(p)
     if p.is_dir():
         raise fail(where, "", "is a directory, expected an HDF5 file")
@@ -336,9 +332,8 @@ def load_intrusion_hdf5(
     direction: str | None = None,
     columns: Mapping[str, str] | None = None,
 ) -> IntrusionDataset:
-    """Load an intrusion log from HDF5 (needs the optional ``h5py``).
-
-    See the module docstring for the layout and what is refused.
+    """Load an intrusion log from HDF5 (needs the optional ``h5py``; layout in the module
+    docstring).
 
     Parameters
     ----------
@@ -349,7 +344,7 @@ def load_intrusion_hdf5(
         attribute.
     characteristic_length : float, optional, keyword-only
         Plate characteristic length [m]; overrides the ``characteristic_length``
-        attribute; default 0.05 m (decision D1).
+        attribute; default 0.05 m (D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
         Loading direction; overrides the ``direction`` attribute; default vertical.
     columns : mapping, optional, keyword-only
@@ -363,8 +358,8 @@ def load_intrusion_hdf5(
     Raises
     ------
     MudrftError
-        For a file that is missing, a directory or not HDF5, and for any content the
-        layout does not allow, naming the file and the dataset, link or attribute.
+        Naming the file and the place, for a missing or unreadable file or any content
+        the layout does not allow.
     """
     h5py = _require_h5py()
     p = Path(os.fspath(path))
@@ -420,7 +415,7 @@ def save_intrusion_hdf5(
     dataset : IntrusionDataset
         The data.
     path : str or path-like
-        Output file; written atomically (:func:`~mudrft.io.atomic_write`).
+        Output file; written atomically.
     overwrite : bool, keyword-only
         Replace an existing file (default: refuse).
 

@@ -10,17 +10,12 @@ A measured path (motion capture, a robot's log) or a path written by hand::
     ...
 
 The header names each column with its unit (``x [mm]``, ``x (mm)`` or ``x in mm``; SI when
-no unit is given; the units of :mod:`mudrft.units`), its fields separated by commas, tabs or
-semicolons. ``time`` (or ``t``) and ``z`` are required: ``z`` is the
-tip's height in the world frame, negative below the mud surface, as everywhere in
-mudrft. A ``depth`` column (positive below the surface) may stand in for ``z``.
-``x`` and ``y`` are 0 when absent. Measured forces ``Fx``, ``Fy``, ``Fz`` (of the mud on
-the foot, world frame, as mudrft's: ``Fz`` > 0 while the mud supports the foot) are kept
-in ``trajectory.meta["measured_force"]`` [N], to compare a prediction with
-(:func:`mudrft.metrics.relative_rmse`, the paper's Table II); so the CSV that
-``mudrft simulate --out`` writes (``time [s],x [m],y [m],z [m],Fx [N],...``) reads back
-as the path it ran, with its forces. Other columns are ignored. ``#`` lines are notes.
-The file is only read, never written.
+none is given). ``time`` (or ``t``) and ``z`` are required: ``z`` is the tip's height in
+the world frame, negative below the mud surface; a ``depth`` column (positive below the
+surface) may stand in for it. ``x`` and ``y`` are 0 when absent. Measured forces ``Fx``,
+``Fy``, ``Fz`` (of the mud on the foot) are kept in ``trajectory.meta["measured_force"]``
+[N], so the CSV that ``mudrft simulate --out`` writes reads back as the path it ran, with
+its forces. Other columns are ignored; ``#`` lines are notes.
 """
 
 from __future__ import annotations
@@ -68,16 +63,14 @@ def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -
     Raises
     ------
     MudrftError
-        Naming the file, and the line and column where it applies: no such file, no
-        header, a missing ``time`` or ``z`` column, ``z`` and ``depth`` both given, a
-        column given twice, an unknown unit, a cell that is not a finite number, fewer
-        than two rows, or times that do not increase.
+        Naming the file, line and column: no such file or header, a missing ``time`` or
+        ``z`` column, ``z`` and ``depth`` both given, an unknown unit, a cell that is not
+        a finite number, fewer than two rows, or times that do not increase.
 
     Warns
     -----
     PlausibilityWarning
-        When the path never goes below the mud surface (z >= 0 throughout): nothing
-        would touch the mud, which is usually a depth given as ``z``.
+        When the path never goes below the mud surface (z >= 0 throughout).
     """
     table = read_table(path)
     where, head = table.path, f"line {table.header_line}"

@@ -1,11 +1,8 @@
 """Typed, frozen parameter sets of the mud model (SI units).
 
-A :class:`MudParameters` holds the constants of the constitutive model of
-Chen et al. (2026), eqs. (1)-(5), for one loading direction. A :class:`Mud`
-pairs the vertical and the horizontal sets of one mud.
-
-Fields may be floats or numpy arrays of a common broadcastable shape; arrays
-describe a batch of muds (one set per foot in a batched simulation).
+A :class:`MudParameters` holds the constants of eqs. (1)-(5) of Chen et al. (2026) for
+one loading direction; a :class:`Mud` pairs the vertical and horizontal sets of one mud.
+Fields may be arrays of a common broadcastable shape: a batch of muds.
 """
 
 from __future__ import annotations
@@ -49,8 +46,8 @@ PARAMETER_UNITS: dict[str, str] = {
 POSITIVE_FIELDS = tuple(PARAMETER_UNITS)
 
 
-def _check_water_content_field(value: ArrayLike | None) -> float | None:
-    """``water_content`` of a set or a mud: None or a volume fraction in [0, 1] [-]."""
+def check_water_content(value: ArrayLike | None) -> float | None:
+    """``water_content`` [-]: None, or one volume fraction in [0, 1] as a float."""
     if value is None:
         return None
     w = check_number("water_content", check_finite("water_content", value))
@@ -87,13 +84,11 @@ class MudParameters:
     sigma_y : float
         Yield stress :math:`\sigma_Y`, the limit of suction [Pa].
     nu : float, optional
-        Width of the intrusion/retraction switch :math:`H_\nu` in dimensionless rate [1/s].
-        The paper calls it "a small constant" without a value; default 0.01 1/s
-        (docs/model.md, decision D5).
+        Width of the intrusion/retraction switch :math:`H_\nu` [1/s]; the paper gives no
+        value: default 0.01 1/s (decision D5).
     k_a : float or None, optional
-        Aging rate of the structure parameter [1/s]. The paper gives only
-        :math:`\dot\gamma_c=k_a/k_r` and states :math:`\tau_\xi\approx\lambda`; ``None``
-        (default) means :math:`k_a = 1/\lambda` (decision D3).
+        Aging rate of the structure parameter [1/s]; ``None`` (default) means
+        :math:`k_a = 1/\lambda`, the paper's :math:`\tau_\xi\approx\lambda` (decision D3).
     source : str, optional
         Where the numbers come from (paper, table and row, or "fit").
     water_content : float or None, optional
@@ -120,10 +115,7 @@ class MudParameters:
     epsilon: FloatOrArray
     sigma_y: FloatOrArray
     nu: FloatOrArray = 0.01
-    # Any, not FloatOrArray: None asks for k_a = 1/lam (decision D3) and __post_init__
-    # puts the number in its place; a dataclass field cannot type its argument
-    # (FloatOrArray | None) apart from its attribute (FloatOrArray)
-    k_a: Any = None
+    k_a: Any = None  # None asks for 1/lam, which __post_init__ puts in its place
     source: str = field(default="", compare=False)
     water_content: float | None = field(default=None, compare=False)
     direction: str = field(default="", compare=False)
@@ -131,14 +123,13 @@ class MudParameters:
     def __post_init__(self) -> None:
         for name in POSITIVE_FIELDS:
             if name == "k_a" and self.k_a is None:
-                continue  # follows lam, once lam is known to be > 0 (decision D3)
+                continue  # follows lam, once lam is known to be > 0
             arr = check_positive(name, getattr(self, name), unit=PARAMETER_UNITS[name])
             object.__setattr__(self, name, float(arr) if arr.ndim == 0 else arr)
         if self.k_a is None:
             lam = self.lam
             object.__setattr__(self, "k_a", 1.0 / lam if np.ndim(lam) else 1.0 / float(lam))
-        # a batch: fields of one broadcastable shape with at least one set (fields of
-        # shapes (2,) and (3,) were accepted and failed inside a step; an empty one passed)
+        # a batch: fields of one broadcastable shape with at least one set
         shapes = {k: np.shape(getattr(self, k)) for k in PARAMETER_UNITS}
         shape = check_broadcast(**shapes)
         if 0 in shape:
@@ -148,7 +139,7 @@ class MudParameters:
             )
         if np.any(np.asarray(self.n) > 1.0):
             raise MudrftError(f"n must lie in (0, 1], got {float(np.max(self.n))!r}")
-        object.__setattr__(self, "water_content", _check_water_content_field(self.water_content))
+        object.__setattr__(self, "water_content", check_water_content(self.water_content))
         if self.direction not in ("", "vertical", "horizontal"):
             raise MudrftError(
                 f"direction must be 'vertical', 'horizontal' or '', got {self.direction!r}"
@@ -171,26 +162,17 @@ class MudParameters:
         return (self.eta_m - self.eta_inf) * self.gamma_dot_c
 
     def replace(self, **changes: Any) -> MudParameters:
-        """Return a copy with some fields changed (validated again).
-
-        A new ``lam`` also moves ``k_a`` when it was the default :math:`1/\\lambda` (D3).
-        :func:`dataclasses.replace` cannot know that ``k_a`` was derived and keeps its old
-        value: use this method.
-        """
-        if "lam" in changes and "k_a" not in changes and self._k_a_is_default():
+        """Return a copy with some fields changed (validated again); a new ``lam`` also
+        moves ``k_a`` when it was the default :math:`1/\\lambda`, which
+        :func:`dataclasses.replace` would keep."""
+        default_k_a = np.all(np.isclose(np.asarray(self.k_a), 1.0 / np.asarray(self.lam)))
+        if "lam" in changes and "k_a" not in changes and default_k_a:
             changes["k_a"] = None
         return dataclasses.replace(self, **changes)
 
-    def _k_a_is_default(self) -> bool:
-        return bool(np.all(np.isclose(np.asarray(self.k_a), 1.0 / np.asarray(self.lam))))
-
     def as_dict(self) -> dict[str, Any]:
         """The numeric fields as a dict of floats or lists (SI), for JSON."""
-        out: dict[str, Any] = {}
-        for name in PARAMETER_UNITS:
-            v = getattr(self, name)
-            out[name] = np.asarray(v).tolist()
-        return out
+        return {name: np.asarray(getattr(self, name)).tolist() for name in PARAMETER_UNITS}
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], **meta: Any) -> MudParameters:
@@ -208,7 +190,7 @@ class MudParameters:
             raise MudrftError(
                 f"parameter dict has unknown fields {unknown}; expected {list(PARAMETER_UNITS)}"
             )
-        return cls(**{k: data[k] for k in data}, **meta)
+        return cls(**data, **meta)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -241,11 +223,8 @@ class MudParameters:
 
 @dataclass(frozen=True, eq=False)
 class Mud:
-    """One mud: the vertical and horizontal parameter sets (SI).
-
-    The vertical set drives the z stress channel, the horizontal set the x and y
-    channels (paper Sec. II-C). A ``Mud`` can be passed to :func:`mudrft.simulate`
-    wherever a terrain is expected.
+    """One mud: the vertical set drives the z stress channel, the horizontal set the x and y
+    channels (paper Sec. II-C); it can be passed to :func:`mudrft.simulate` as a terrain.
 
     Parameters
     ----------
@@ -263,7 +242,7 @@ class Mud:
     name: str = "mud"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "water_content", _check_water_content_field(self.water_content))
+        object.__setattr__(self, "water_content", check_water_content(self.water_content))
         if not isinstance(self.name, str):
             raise MudrftError(f"name must be a string, got {self.name!r}")
         for attr in ("vertical", "horizontal"):
@@ -277,7 +256,7 @@ class Mud:
                     f"horizontal swapped? To use it anyway, pass "
                     f"{attr}=params.replace(direction='')"
                 )
-        # a batch of muds: both sets of one broadcastable shape (numpy failed in a step)
+        # a batch of muds: both sets of one broadcastable shape
         check_broadcast(vertical=self.vertical.shape, horizontal=self.horizontal.shape)
 
     def __repr__(self) -> str:

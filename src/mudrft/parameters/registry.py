@@ -1,19 +1,13 @@
-"""Access to the built-in parameter sets, with interpolation between table rows.
+"""The built-in parameter sets, with interpolation between table rows (decision D7).
 
-Between the tabulated water contents (25, 35 and 45 %) every strictly positive
-constant is interpolated linearly in its logarithm (the constants span orders of
-magnitude and clay rheology varies roughly exponentially with water content);
-the exponent ``n``, which is bounded in (0, 1], is interpolated linearly. Both
-keep every interpolated set valid. Outside the tabulated range a
-:class:`~mudrft._validation.MudrftError` is raised unless ``extrapolate=True``,
-which extends the end segments the same way, with a warning, down to 15 % and
-up to 50 % (decision D7 in docs/model.md).
+Between the tabulated water contents (25, 35 and 45 %) every constant is interpolated
+linearly in its logarithm, the exponent ``n`` linearly. Outside them a
+:class:`~mudrft._validation.MudrftError` is raised unless ``extrapolate=True``, which
+extends the end segments the same way, with a warning, to [15 %, 50 %].
 
-Two labellings of the rows (errata E6/E7): ``labels="table"`` (default) reads a water
-content as the tables print it (rows 25, 35 and 45 %); ``labels="text"`` reads it as the
-paper's text does, which says three times that the tests used 15, 25 and 35 % ("35 % was
-close to the upper limit"): the text's 15/25/35 % are the rows printed 25/35/45 %, so
-``paper_mud(0.25, labels="text")`` is the middle row.
+The rows have two labellings (errata E6/E7): ``labels="table"`` (default) as the tables
+print them (25, 35, 45 %), ``labels="text"`` as the paper's text names them (15, 25,
+35 %), so ``paper_mud(0.25, labels="text")`` is the middle row.
 """
 
 from __future__ import annotations
@@ -23,10 +17,10 @@ import warnings
 
 import numpy as np
 
-from .._validation import MudrftError, check_choice
+from .._validation import MudrftError, check_choice, check_finite
 from ..citations import register
 from . import chen2026
-from .base import Mud, MudParameters
+from .base import Mud, MudParameters, check_water_content
 
 __all__ = [
     "DIRECTIONS",
@@ -67,21 +61,9 @@ def _check_water_content(water_content: object, extrapolate: bool, shift: float 
     """The printed water content of a label (``label - shift``), checked against the rows."""
     if not isinstance(extrapolate, (bool, np.bool_)):  # "no" is true: it extrapolated
         raise MudrftError(f"extrapolate must be True or False, got {extrapolate!r}")
-    if isinstance(water_content, np.ndarray) and water_content.ndim == 0:
-        water_content = water_content[()]  # a 0-d array is one number (numpy scalar)
-    if isinstance(water_content, (bool, np.bool_)) or not isinstance(
-        water_content, (int, float, np.floating, np.integer)
-    ):
-        raise MudrftError(
-            f"water_content must be a number (volume fraction, e.g. 0.25), got {water_content!r}"
-        )
-    label = float(water_content)
-    if not math.isfinite(label):
-        raise MudrftError(f"water_content must be finite, got {label!r}")
+    label = check_water_content(check_finite("water_content", water_content))
+    assert label is not None  # check_finite refused None
     w = label - shift
-    if label < 0 or label > 1:
-        hint = " (give a fraction: 25 % is 0.25)" if 1 < label <= 100 else ""
-        raise MudrftError(f"water_content must be a volume fraction in [0, 1], got {label!r}{hint}")
     lo, hi = WATER_CONTENT_RANGE
     if abs(w - round(w, 2)) < 1e-12:  # 0.25 - (-0.10) is not exactly 0.35 in floats
         w = round(w, 2)
@@ -140,8 +122,8 @@ def paper_parameters(
     Parameters
     ----------
     water_content : float
-        Volumetric water content as a fraction [-]; the tables hold 0.25, 0.35 and 0.45.
-        Values in between are interpolated (log-linear, see module docstring).
+        Volumetric water content as a fraction [-]; the tables hold 0.25, 0.35 and 0.45,
+        values in between are interpolated.
     direction : {"vertical", "horizontal"}
         Which table: vertical (S1) or horizontal (S2) intrusion.
     extrapolate : bool, keyword-only
@@ -158,9 +140,8 @@ def paper_parameters(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Tables S1 and S2.
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", supplementary Tables S1 and S2.
 
     Examples
     --------
@@ -204,9 +185,8 @@ def paper_mud(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Tables S1 and S2.
+    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", supplementary Tables S1 and S2.
 
     Examples
     --------
@@ -234,10 +214,9 @@ def paper_mud(
 def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:
     """Check every printed row against the paper's relation sigma_Y = (eta_m - eta_inf) gamma_dot_c.
 
-    The printed numbers have two significant figures, so each is known only to
-    +/- half a unit in its last digit. A row is *consistent* when the interval of
-    the right-hand side, evaluated over those rounding intervals, contains the
-    interval of the printed sigma_Y.
+    A row is *consistent* when the interval of the right-hand side, over the rounding
+    intervals of the printed numbers (half a unit in their last digit), meets the interval
+    of the printed sigma_Y.
 
     Returns
     -------
