@@ -508,7 +508,7 @@ def test_simulate_prints_each_metric_with_its_unit(tmp_path, capsys):
         "impulse_y": ["N", "s"],
         "impulse_z": ["N", "s"],
         "energy": ["J"],
-        "sinking": ["m"],
+        "max_depth": ["m"],
         "suction_ratio": ["-"],
     }
 
@@ -525,6 +525,8 @@ def test_simulate_load_sinks_to_the_static_depth_and_prints_it(tmp_path, capsys)
     assert -data[-1, 3] == pytest.approx(static, rel=1e-3)
     assert data[-1, 6] == pytest.approx(49.0, rel=1e-3)  # the mud carries the weight
     assert f"static sinking {static: .6g} m" in stdout
+    final = float(next(x for x in stdout.splitlines() if x.split()[0] == "sinking").split()[1])
+    assert final == pytest.approx(-data[-1, 3], rel=1e-5)  # the settled depth, in m
 
 
 @pytest.mark.parametrize(

@@ -9,6 +9,7 @@ True
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,7 +38,7 @@ from .plotting import AxesArg, plot_result
 from .terrains import MudTerrain, as_terrain
 from .terrains.mud import vertical_viscosity
 from .terrains.rows import along_path
-from .trajectories import MIN_GAIT_STEPS, Trajectory
+from .trajectories import MIN_GAIT_STEPS, STANCE_DEPTH, Trajectory, check_unburied
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -45,7 +46,7 @@ if TYPE_CHECKING:
 
     from .terrains.base import Terrain
 
-__all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
+__all__ = ["CSV_COLUMNS", "LoadControl", "Metrics", "Result", "simulate", "static_sinking"]
 
 #: Columns of ``run.csv`` (DESIGN.md).
 CSV_COLUMNS = ("time [s]", "x [m]", "y [m]", "z [m]", "Fx [N]", "Fy [N]", "Fz [N]")
@@ -130,6 +131,27 @@ class LoadControl:
         return float(self.mass if self.mass is not None else self.weight / G)
 
 
+class Metrics(dict[str, float]):
+    """The metrics of a run (:meth:`Result.metrics`), a dict.
+
+    ``sinking`` is a settled depth under a load, so a prescribed motion has none: its
+    deepest depth is ``max_depth``. Reading ``["sinking"]`` of a prescribed motion, as
+    mudrft 0.1 wrote it, gives ``max_depth`` with a :class:`DeprecationWarning`.
+    """
+
+    def __missing__(self, key: str) -> float:
+        if key == "sinking" and "max_depth" in self:
+            warnings.warn(
+                "metrics()['sinking'] of a prescribed motion is its deepest depth, "
+                "metrics()['max_depth']; 'sinking' is the settled depth under a load "
+                "(LoadControl)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return self["max_depth"]
+        raise KeyError(key)
+
+
 @dataclass(frozen=True, eq=False)
 class Result:
     """Outcome of :func:`simulate`.
@@ -167,30 +189,34 @@ class Result:
     areas: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
-    def metrics(self) -> dict[str, float]:
+    def metrics(self) -> Metrics:
         """The paper's metrics of this run.
 
         Returns
         -------
-        dict
-            ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
-            ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
-            ``sinking`` [m] (deepest depth; the final depth under load control),
-            ``suction_ratio`` [-] (max suction / peak support).
+        Metrics
+            A dict: ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``,
+            ``impulse_y``, ``impulse_z`` [N s], ``energy`` [J] (work done by the foot
+            against the terrain), ``max_depth`` [m] (the deepest tip depth: a gait's
+            prescribed stance depth), ``suction_ratio`` [-] (max suction / peak support),
+            and under load control ``sinking`` [m], the settled (final) depth.
         """
         imp = _m.impulse(self.time, self.force)
         peak = _m.peak_support(self.force[:, 2])
         suction = _m.max_suction(self.force[:, 2])
-        return {
-            "peak_support": peak,
-            "max_suction": suction,
-            "impulse_x": float(imp[0]),
-            "impulse_y": float(imp[1]),
-            "impulse_z": float(imp[2]),
-            "energy": _m.energy(self.time, self.force, self.velocity),
-            "sinking": _m.sinking_depth(self.depth, final=bool(self.meta.get("load_control"))),
-            "suction_ratio": suction / peak if peak > 0 else 0.0,
-        }
+        out = Metrics(
+            peak_support=peak,
+            max_suction=suction,
+            impulse_x=float(imp[0]),
+            impulse_y=float(imp[1]),
+            impulse_z=float(imp[2]),
+            energy=_m.energy(self.time, self.force, self.velocity),
+            max_depth=_m.sinking_depth(self.depth),
+            suction_ratio=suction / peak if peak > 0 else 0.0,
+        )
+        if self.meta.get("load_control"):
+            out["sinking"] = _m.sinking_depth(self.depth, final=True)
+        return out
 
     def normalized_stress(self) -> np.ndarray:
         """Force divided by the submerged cross-section areas (Figs. 10-12) [Pa], shape (n, 3)."""
@@ -292,8 +318,12 @@ def simulate(
     *,
     dt: float | None = None,
     progress: bool | Callable[[float], None] = False,
+    strict: bool = False,
 ) -> Result:
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
+
+    Which evaluation of the mud to use (the paper's quasi-static closed forms or the ODEs)
+    is in the user guide, "Which evaluation" (docs/guide/evaluations.md).
 
     Parameters
     ----------
@@ -312,6 +342,10 @@ def simulate(
         ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
         is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
         ``progress(fraction)`` with the fraction done.
+    strict : bool, keyword-only
+        Raise a :class:`~mudrft.MudrftError` where the run would warn that the foot goes
+        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, once a
+        run: the model does not describe a buried foot, decision D26).
 
     Returns
     -------
@@ -329,8 +363,10 @@ def simulate(
         )
     terrain = as_terrain(mud)
     report = make_progress(progress, f"{foot.name} in {getattr(terrain, 'name', 'terrain')}")
+    if not isinstance(strict, bool):
+        raise MudrftError(f"strict must be True or False, got {strict!r}")
     if isinstance(trajectory, LoadControl):
-        return _simulate_load(foot, terrain, trajectory, report)
+        return _simulate_load(foot, terrain, trajectory, report, strict)
     if not isinstance(trajectory, Trajectory):
         raise MudrftError(
             f"trajectory must be a Trajectory (mudrft.gait, mudrft.plate_intrusion) or a LoadControl, "
@@ -338,6 +374,14 @@ def simulate(
         )
     tr = (
         _resample(trajectory, positive_number("dt", dt, unit="s")) if dt is not None else trajectory
+    )
+    check_unburied(
+        foot.name,
+        foot.height,
+        float(tr.depth.max()),
+        how=f"{tr.name}: the tip goes",
+        strict=strict,
+        hint=f"; keep the tip within the foot's height (mudrft.gait's stance: {STANCE_DEPTH} m)",
     )
     n = len(tr)
     force = np.zeros((n, 3))
@@ -443,7 +487,11 @@ def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
 
 
 def _simulate_load(
-    foot: Foot, terrain: Terrain, load: LoadControl, report: Callable[[float], None] | None
+    foot: Foot,
+    terrain: Terrain,
+    load: LoadControl,
+    report: Callable[[float], None] | None,
+    strict: bool,
 ) -> Result:
     _check_explicit_stability(foot, terrain, load)
     dt = load.dt
@@ -486,12 +534,11 @@ def _simulate_load(
     pos = np.column_stack([np.zeros(n), np.zeros(n), zf])
     vel = np.column_stack([np.zeros(n), np.zeros(n), vf])
     depth = np.maximum(-zf, 0.0)
+    hint = "; a lighter load or a larger foot stays within it"
     if depth.max() > BURIED_SEARCH * foot.height:  # as deep as static_sinking looks (D26)
-        warn_plausibility(
-            f"under {plain(load.weight)} N the {foot.name} foot sank {depth.max():.3g} m, over "
-            f"{BURIED_SEARCH:g} times its height: not a prediction, since the mud on the leg "
-            "above a buried foot is not modelled (D26). Is the weight in N (m kg weigh 9.81m N)?"
-        )
+        hint += ". Is the weight in N (m kg weigh 9.81 m N)?"
+    how = f"under {plain(load.weight)} N the tip sank"
+    check_unburied(foot.name, foot.height, float(depth.max()), how=how, strict=strict, hint=hint)
     return Result(
         time=t,
         position=pos,

@@ -191,8 +191,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}")
     from ..sweep.catalog import METRICS  # names and units only (no Dask, no xarray)
 
+    kind = "load" if isinstance(motion, LoadControl) else "gait"
     for k, v in res.metrics().items():
-        print(f"  {k:14s} {v: .6g} {METRICS['gait'][k].unit}")
+        print(f"  {k:14s} {v: .6g} {METRICS[kind][k].unit}")
     if isinstance(motion, Trajectory):
         _print_against_measured(res, motion)
     if isinstance(static, float):
