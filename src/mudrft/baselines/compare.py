@@ -30,7 +30,7 @@ from ..terrains.granular_rft3d import GranularRFT3D
 from ..terrains.linear import LinearStiffness
 from ..terrains.maxwell import MaxwellMud
 from ..terrains.rigid import RigidGround
-from ..trajectories import Trajectory
+from ..trajectories import Trajectory, check_unburied
 
 __all__ = [
     "CSV_COLUMNS",
@@ -216,6 +216,7 @@ def compare(
     water_content: float = 0.25,
     extrapolate: bool = False,
     progress: bool | Callable[[float], None] = False,
+    strict: bool = False,
 ) -> dict[str, History]:
     """Run several terrains on the same foot and trajectory.
 
@@ -238,6 +239,10 @@ def compare(
         Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger
         (a stderr handler is attached when logging is not configured), a callable is called
         with the fraction done.
+    strict : bool, keyword-only
+        Raise a :class:`~mudrft.MudrftError` where the trajectory takes the foot deeper
+        than its own height, instead of warning once
+        (:class:`~mudrft.trajectories.BuriedFootWarning`, as :func:`mudrft.simulate`).
 
     Returns
     -------
@@ -280,6 +285,13 @@ def compare(
             items.append((str(getattr(t, "name", type(t).__name__)), t))
     if not items:
         raise MudrftError("terrains must name at least one terrain, got none")
+    check_unburied(
+        foot.name,
+        foot.height,
+        float(trajectory.depth.max()),
+        how=f"{trajectory.name}: the tip goes",
+        strict=bool(strict),
+    )
     names = [k for k, _ in items]
     if len(set(names)) != len(names):
         raise MudrftError(f"terrain names must be unique, got {names}")
