@@ -740,3 +740,16 @@ def test_a_30_mm_gait_of_a_26_mm_foot_warns_and_fails_under_strict(tmp_path, cap
     out2 = str(tmp_path / ("s.csv" if command == "simulate" else "d"))
     code, _, err = run(capsys, *[out2 if a == out else a for a in args], "--strict")
     assert code == 2 and not os.path.exists(out2)  # nothing written
+
+
+def test_simulate_help_points_to_the_guide_page_on_which_evaluation_to_use(capsys):
+    from pathlib import Path
+
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "docs/guide/evaluations.md" in text and "--strict" in text
+    docs = Path(__file__).resolve().parents[1] / "docs" / "guide"
+    page = (docs / "evaluations.md").read_text()
+    assert page.startswith("# Which evaluation to use")
+    assert "evaluations" in (docs / "index.md").read_text().split()
