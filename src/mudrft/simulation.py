@@ -9,7 +9,6 @@ True
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,7 +37,7 @@ from .plotting import AxesArg, plot_result
 from .terrains import MudTerrain, as_terrain
 from .terrains.mud import vertical_viscosity
 from .terrains.rows import along_path
-from .trajectories import MIN_GAIT_STEPS, STANCE_DEPTH, Trajectory, check_unburied
+from .trajectories import MIN_GAIT_STEPS, Trajectory, check_unburied
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -46,7 +45,7 @@ if TYPE_CHECKING:
 
     from .terrains.base import Terrain
 
-__all__ = ["CSV_COLUMNS", "LoadControl", "Metrics", "Result", "simulate", "static_sinking"]
+__all__ = ["CSV_COLUMNS", "LoadControl", "Result", "simulate", "static_sinking"]
 
 #: Columns of ``run.csv`` (DESIGN.md).
 CSV_COLUMNS = ("time [s]", "x [m]", "y [m]", "z [m]", "Fx [N]", "Fy [N]", "Fz [N]")
@@ -131,27 +130,6 @@ class LoadControl:
         return float(self.mass if self.mass is not None else self.weight / G)
 
 
-class Metrics(dict[str, float]):
-    """The metrics of a run (:meth:`Result.metrics`), a dict.
-
-    ``sinking`` is a settled depth under a load, so a prescribed motion has none: its
-    deepest depth is ``max_depth``. Reading ``["sinking"]`` of a prescribed motion, as
-    mudrft 0.1 wrote it, gives ``max_depth`` with a :class:`DeprecationWarning`.
-    """
-
-    def __missing__(self, key: str) -> float:
-        if key == "sinking" and "max_depth" in self:
-            warnings.warn(
-                "metrics()['sinking'] of a prescribed motion is its deepest depth, "
-                "metrics()['max_depth']; 'sinking' is the settled depth under a load "
-                "(LoadControl)",
-                DeprecationWarning,
-                stacklevel=2,
-            )
-            return self["max_depth"]
-        raise KeyError(key)
-
-
 @dataclass(frozen=True, eq=False)
 class Result:
     """Outcome of :func:`simulate`.
@@ -189,34 +167,12 @@ class Result:
     areas: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
-    def metrics(self) -> Metrics:
-        """The paper's metrics of this run.
-
-        Returns
-        -------
-        Metrics
-            A dict: ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``,
-            ``impulse_y``, ``impulse_z`` [N s], ``energy`` [J] (work done by the foot
-            against the terrain), ``max_depth`` [m] (the deepest tip depth: a gait's
-            prescribed stance depth), ``suction_ratio`` [-] (max suction / peak support),
-            and under load control ``sinking`` [m], the settled (final) depth.
-        """
-        imp = _m.impulse(self.time, self.force)
-        peak = _m.peak_support(self.force[:, 2])
-        suction = _m.max_suction(self.force[:, 2])
-        out = Metrics(
-            peak_support=peak,
-            max_suction=suction,
-            impulse_x=float(imp[0]),
-            impulse_y=float(imp[1]),
-            impulse_z=float(imp[2]),
-            energy=_m.energy(self.time, self.force, self.velocity),
-            max_depth=_m.sinking_depth(self.depth),
-            suction_ratio=suction / peak if peak > 0 else 0.0,
-        )
-        if self.meta.get("load_control"):
-            out["sinking"] = _m.sinking_depth(self.depth, final=True)
-        return out
+    def metrics(self) -> _m.Metrics:
+        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`): a dict of
+        ``peak_support``, ``max_suction`` [N], ``impulse_x/y/z`` [N s], ``energy`` [J],
+        ``max_depth`` [m], ``suction_ratio`` [-], and under load control ``sinking`` [m]."""
+        load = bool(self.meta.get("load_control"))
+        return _m.cycle_metrics(self.time, self.force, self.velocity, self.depth, load=load)
 
     def normalized_stress(self) -> np.ndarray:
         """Force divided by the submerged cross-section areas (Figs. 10-12) [Pa], shape (n, 3)."""
@@ -322,8 +278,7 @@ def simulate(
 ) -> Result:
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
 
-    Which evaluation of the mud to use (the paper's quasi-static closed forms or the ODEs)
-    is in the user guide, "Which evaluation" (docs/guide/evaluations.md).
+    Which evaluation of the mud to use: docs/guide/evaluations.md.
 
     Parameters
     ----------
@@ -343,9 +298,8 @@ def simulate(
         is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
         ``progress(fraction)`` with the fraction done.
     strict : bool, keyword-only
-        Raise a :class:`~mudrft.MudrftError` where the run would warn that the foot goes
-        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, once a
-        run: the model does not describe a buried foot, decision D26).
+        Raise a :class:`~mudrft.MudrftError` instead of warning once that the foot goes
+        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, D26).
 
     Returns
     -------
@@ -375,14 +329,8 @@ def simulate(
     tr = (
         _resample(trajectory, positive_number("dt", dt, unit="s")) if dt is not None else trajectory
     )
-    check_unburied(
-        foot.name,
-        foot.height,
-        float(tr.depth.max()),
-        how=f"{tr.name}: the tip goes",
-        strict=strict,
-        hint=f"; keep the tip within the foot's height (mudrft.gait's stance: {STANCE_DEPTH} m)",
-    )
+    how = f"{tr.name}: the tip goes"
+    check_unburied(foot.name, foot.height, float(tr.depth.max()), how=how, strict=strict)
     n = len(tr)
     force = np.zeros((n, 3))
     stress = np.zeros((n, 3))
@@ -487,12 +435,8 @@ def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
 
 
 def _simulate_load(
-    foot: Foot,
-    terrain: Terrain,
-    load: LoadControl,
-    report: Callable[[float], None] | None,
-    strict: bool,
-) -> Result:
+    foot: Foot, terrain: Terrain, load: LoadControl, report: Callable[[float], None] | None, strict: bool
+) -> Result:  # fmt: skip
     _check_explicit_stability(foot, terrain, load)
     dt = load.dt
     n = int(np.ceil(load.duration / dt)) + 1
@@ -534,9 +478,9 @@ def _simulate_load(
     pos = np.column_stack([np.zeros(n), np.zeros(n), zf])
     vel = np.column_stack([np.zeros(n), np.zeros(n), vf])
     depth = np.maximum(-zf, 0.0)
-    hint = "; a lighter load or a larger foot stays within it"
-    if depth.max() > BURIED_SEARCH * foot.height:  # as deep as static_sinking looks (D26)
-        hint += ". Is the weight in N (m kg weigh 9.81 m N)?"
+    hint = "; a lighter load or a larger foot stays within it" + (
+        ". Is the weight in N (m kg weigh 9.81 m N)?" if depth.max() > BURIED_SEARCH * foot.height else ""
+    )  # fmt: skip
     how = f"under {plain(load.weight)} N the tip sank"
     check_unburied(foot.name, foot.height, float(depth.max()), how=how, strict=strict, hint=hint)
     return Result(

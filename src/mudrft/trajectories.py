@@ -63,7 +63,13 @@ class BuriedFootWarning(PlausibilityWarning):
 
 
 def check_unburied(
-    foot: str, height: float, depth: float, *, how: str, strict: bool, hint: str = ""
+    foot: str,
+    height: float,
+    depth: float,
+    *,
+    how: str,
+    strict: bool,
+    hint: str | None = None,
 ) -> None:
     """Warn once (:class:`BuriedFootWarning`), or raise under ``strict``, when a foot's
     tip goes deeper than the foot is tall.
@@ -81,10 +87,12 @@ def check_unburied(
     strict : bool
         Raise a :class:`~mudrft.MudrftError` instead of warning.
     hint : str, keyword-only
-        Appended to the message.
+        Appended to the message (default: for a prescribed motion).
     """
     if not depth > height * (1 + 1e-9):
         return
+    if hint is None:
+        hint = f"; keep the tip within the foot's height (mudrft.gait's stance: {STANCE_DEPTH} m)"
     message = (
         f"{how} {depth:.3g} m deep, deeper than the {foot} foot is tall ({height:.3g} m): the "
         "mud closes over it, and the model gives the force of the foot alone, without the "
