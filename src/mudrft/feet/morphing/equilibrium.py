@@ -401,29 +401,11 @@ def held_deflection(
     curl_delay: float,
     xp: Namespace = np,
 ) -> XpArray:
-    r"""The column deflection [m] after the pad-curl delay (D35).
+    r"""The column deflection [m] after the pad-curl delay (D35): for the first ``curl_delay``
+    [s] of a retraction (``retraction``, the mud's :math:`t-t_w` [s], 0 while not retracting)
+    the column may compress but not extend, so the pads do not curl; else ``deflection``, the
+    step's balance [m]. ``previous`` is the deflection after the previous step [m].
 
-    For the first ``curl_delay`` seconds of a retraction the column does not extend, so
-    the pads do not curl (it may still compress: they may spread further); otherwise the
-    balanced ``deflection`` stands. With ``curl_delay`` 0 (the default of
-    :class:`~.foot.MorphingFoot`) the pads curl the moment the retraction begins.
-
-    Parameters
-    ----------
-    deflection : float or array_like
-        Balanced deflection of this step [m].
-    previous : float or array_like
-        Deflection after the previous step [m].
-    retraction : float or array_like
-        Time since the retraction began, :math:`t-t_w` [s]: the mud's vertical suction
-        clock of eq. (10), 0 while the foot is not retracting.
-    curl_delay : float
-        How long the pads are held [s], >= 0.
-    xp : module, keyword-only
-        Element-wise namespace (D80).
-
-    Examples
-    --------
     >>> float(held_deflection(0.004, 0.011, 0.02, 0.05)), float(held_deflection(0.004, 0.011, 0.06, 0.05))
     (0.011, 0.004)
     """
