@@ -253,7 +253,7 @@ def compare(
     --------
     >>> import mudrft
     >>> from mudrft.baselines import GranularRFT, LinearStiffness
-    >>> foot, plate = mudrft.feet.Flat(), mudrft.plate_intrusion()
+    >>> foot, plate = mudrft.feet.Flat(), mudrft.plate_intrusion(depth=0.02)
     >>> out = compare(foot, plate, [GranularRFT(), LinearStiffness()])
     >>> list(out)
     ['granular-rft', 'linear']
