@@ -3,13 +3,15 @@ The paper's claims under its readings
 =====================================
 
 The evidence tables of the model chapter, section 12: ``mudrft reproduce`` evaluates the
-paper's nine claims as the paper computes them and under six other readings of the paper.
+paper's nine claims as the paper computes them, under seven other readings of the paper and
+at every stance depth of 10-26 mm.
 
 Run from the repository root: ``python examples/make_claims_matrix.py [--quick]``.
 It runs ``mudrft reproduce`` (no figures) into a temporary directory and replaces, between
 the markers in ``docs/model.md``,
 
-* ``claims``: the headline's claims and the matrix of readings x claims (from report.md);
+* ``claims``: the headline's claims and their range over the stance depths, the claims
+  against the depth and the matrix of readings x claims (from report.md);
 * ``sinking``: the flat foot under 49 N, applied at once or ramped over 1 s, in each
   evaluation, beside the static depth (decision D13).
 

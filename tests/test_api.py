@@ -70,8 +70,9 @@ def test_feet_contract(foot):
         "impulse_y",
         "impulse_z",
         "energy",
-        "sinking",
+        "max_depth",
     }
+    assert result.metrics()["max_depth"] == pytest.approx(0.02)  # the gait's stance depth
 
 
 def test_mesh_foot_contract(tmp_path):

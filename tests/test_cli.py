@@ -508,7 +508,7 @@ def test_simulate_prints_each_metric_with_its_unit(tmp_path, capsys):
         "impulse_y": ["N", "s"],
         "impulse_z": ["N", "s"],
         "energy": ["J"],
-        "sinking": ["m"],
+        "max_depth": ["m"],
         "suction_ratio": ["-"],
     }
 
@@ -525,6 +525,8 @@ def test_simulate_load_sinks_to_the_static_depth_and_prints_it(tmp_path, capsys)
     assert -data[-1, 3] == pytest.approx(static, rel=1e-3)
     assert data[-1, 6] == pytest.approx(49.0, rel=1e-3)  # the mud carries the weight
     assert f"static sinking {static: .6g} m" in stdout
+    final = float(next(x for x in stdout.splitlines() if x.split()[0] == "sinking").split()[1])
+    assert final == pytest.approx(-data[-1, 3], rel=1e-5)  # the settled depth, in m
 
 
 @pytest.mark.parametrize(
@@ -695,3 +697,59 @@ def test_the_help_texts_constants_are_the_librarys():
 
     assert _terrain.TERRAIN_NAMES == TERRAIN_NAMES
     assert simulate.STANCE_DEPTH == STANCE_DEPTH
+    assert simulate.GAIT_SPEED == mudrft.gait().meta["speed"]
+
+
+# ---------------------------------------------------------------------------------------
+# one default gait, and a foot deeper than its height (issue 38)
+# ---------------------------------------------------------------------------------------
+def test_simulate_and_compare_give_the_same_support_and_suction_by_default(tmp_path, capsys):
+    """simulate's gait was 20 mm deep and compare's 30 mm: the same foot printed 116/144 N
+    in one and 164/204 N in the other. Both take mudrft.trajectories.STANCE_DEPTH now."""
+    import csv
+
+    code, out, _ = run(capsys, "simulate", "--foot", "flat", "--out", str(tmp_path / "r.csv"))
+    assert code == 0
+    printed = {line.split()[0]: float(line.split()[1]) for line in out.splitlines()[1:]}
+    code, _, _ = run(
+        capsys, "compare", "--foot", "flat", "--terrains", "mud", "--no-figures",
+        "--out", str(tmp_path / "c"), "--quiet",
+    )  # fmt: skip
+    assert code == 0
+    with open(tmp_path / "c" / "compare_summary.csv", newline="") as fh:
+        (row,) = [r for r in csv.DictReader(fh) if r["trajectory"] == "gait"]
+    for name in ("peak_support", "max_suction"):
+        assert float(row[f"{name} [N]"]) == pytest.approx(printed[name], rel=1e-5), name
+    assert printed["max_depth"] == pytest.approx(0.02)
+
+
+@pytest.mark.parametrize("command", ["simulate", "compare"])
+def test_a_30_mm_gait_of_a_26_mm_foot_warns_and_fails_under_strict(tmp_path, capsys, command):
+    out = str(tmp_path / ("r.csv" if command == "simulate" else "c"))
+    args = [command, "--foot", "flat", "--depth", "0.03", "--out", out, "--quiet"]
+    if command == "compare":
+        args += ["--terrains", "mud", "--no-figures"]
+    with warnings.catch_warnings():  # the suite makes PlausibilityWarning an error
+        warnings.simplefilter("always")
+        code, _, err = run(capsys, *args)
+    assert code == 0
+    assert "warning:" in err and "deeper than the flat foot is tall (0.026 m)" in err
+    assert err.count("deeper than the flat foot") == (1 if command == "simulate" else 2)
+    code, _, err = run(capsys, *args, "--force", "--strict")
+    assert code == 2 and "strict: " in err and "Traceback" not in err
+    out2 = str(tmp_path / ("s.csv" if command == "simulate" else "d"))
+    code, _, err = run(capsys, *[out2 if a == out else a for a in args], "--strict")
+    assert code == 2 and not os.path.exists(out2)  # nothing written
+
+
+def test_simulate_help_points_to_the_guide_page_on_which_evaluation_to_use(capsys):
+    from pathlib import Path
+
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "docs/guide/evaluations.md" in text and "--strict" in text
+    docs = Path(__file__).resolve().parents[1] / "docs" / "guide"
+    page = (docs / "evaluations.md").read_text()
+    assert page.startswith("# Which evaluation to use")
+    assert "evaluations" in (docs / "index.md").read_text().split()

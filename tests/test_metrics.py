@@ -98,3 +98,20 @@ def test_one_component_metrics_refuse_a_3d_history_and_an_empty_one(fn):
         fn([[-50.0, 0.0, 10.0]])
     with pytest.raises(MudrftError, match=f"{name} must hold at least one sample"):
         fn([])
+
+
+def test_cycle_metrics_name_the_deepest_depth_and_the_settled_one_apart():
+    """max_depth is the deepest tip depth of any run; sinking, the final depth, only under a
+    load (it was the deepest depth of a prescribed motion and the final one under a load)."""
+    t = np.array([0.0, 1.0, 2.0])
+    f = np.array([[0, 0, 0], [0, 0, 10.0], [0, 0, -4.0]])
+    v = np.array([[0, 0, 0], [0, 0, -0.01], [0, 0, 0.005]])
+    d = np.array([0.0, 0.01, 0.005])
+    m = metrics.cycle_metrics(t, f, v, d, load=False)
+    assert (m["peak_support"], m["max_suction"], m["max_depth"]) == (10.0, 4.0, 0.01)
+    assert m["suction_ratio"] == 0.4 and "sinking" not in m
+    assert m["impulse_z"] == pytest.approx(8.0)  # (0 + 10) / 2 + (10 - 4) / 2
+    loaded = metrics.cycle_metrics(t, f, v, d, load=True)
+    assert loaded["sinking"] == 0.005 and loaded["max_depth"] == 0.01
+    with pytest.raises(KeyError):
+        m["depth"]

@@ -19,10 +19,12 @@ from mudrft.reproduce import (
     CLAIMS,
     FEET,
     HEADLINE,
+    LOAD,
     READINGS,
+    REQUIRED_RATIO,
+    STANCE_DEPTHS,
     SUMMARY_COLUMNS,
     evaluate,
-    inconsistency,
     read_summary,
     reproduce,
 )
@@ -41,19 +43,20 @@ PINNED = [
     "sinking [m]",
 ]
 
-A, D, I = "agrees", "differs", "inconsistent in the paper"
+A, D = "agrees", "differs"
 CLAIM_KEYS = [c.key for c in CLAIMS]
 #: reading -> verdicts in the order of CLAIMS: shape-order, suction-order, speed,
 #: water-content, fixed-suction-ratio, morphing-suction-ratio, morphing-vs-semi-cylinder,
 #: morphing-vs-flat, sinking.
 VERDICTS = {
-    "paper": [D, A, A, A, A, D, I, I, A],
-    "paper-restart": [D, A, A, A, D, D, I, I, A],
-    "ode": [D, A, A, A, D, D, I, I, A],
-    "ode-acceleration": [A, A, D, A, D, D, I, I, A],
-    "paper-30mm": [D, A, A, A, A, D, I, I, A],
-    "paper-text-labels": [D, A, A, A, D, D, I, I, A],
-    "former-defaults": [D, A, D, A, D, A, I, I, A],
+    "paper": [D, A, A, A, A, D, D, D, A],
+    "paper-restart": [D, A, A, A, D, D, D, D, A],
+    "ode": [D, A, A, A, D, D, D, D, A],
+    "ode-acceleration": [A, A, D, A, D, D, A, D, A],
+    "paper-30mm": [D, A, A, A, A, D, A, D, A],
+    "paper-text-labels": [D, A, A, A, D, D, D, D, A],
+    "paper-curl-50ms": [D, A, A, A, A, A, D, D, A],
+    "former-defaults": [D, A, D, A, D, A, A, D, A],
 }
 
 
@@ -109,14 +112,18 @@ def test_headline_is_the_papers_own_evaluation_and_its_count_is_reported(full_ru
     assert HEADLINE.depth < 0.026  # the feet are not buried
     n = VERDICTS["paper"].count(A)
     report = (out / "report.md").read_text()
-    assert f"**{n} of 9 claims reproduced; 2 inconsistent within the paper" in report
+    assert f"**{n} of 9 claims reproduced; {9 - n} not reproduced.**" in report
     for rd in READINGS:  # every reading's count and derivation is in the report
         assert f"**{VERDICTS[rd.key].count(A)} of 9**" in report
         assert rd.derivation in report
 
 
-def test_morphing_percentages_are_inconsistent_by_the_runs_own_numbers(full_run):
-    """The 1.58 vs < 1 argument, recomputed here from summary.csv."""
+def test_the_morphing_percentages_are_not_reproduced_with_both_experiments_ratios(full_run):
+    """-57 % and -32 % need s_c/s_f = 1.58 together; the cells give the run's s_c/s_f in
+    the gait (recomputed here from summary.csv) and with a load-carrying stance (each foot's
+    gait at its own static depth under 49 N, recomputed here with mudrft.simulate)."""
+    from mudrft import gait, simulate, static_sinking
+
     out, _, claims = full_run
     head = {
         r["foot"]: r
@@ -125,14 +132,25 @@ def test_morphing_percentages_are_inconsistent_by_the_runs_own_numbers(full_run)
     }
     ratio = head["semi-cylinder"]["max_suction [N]"] / head["flat"]["max_suction [N]"]
     assert ratio < 1  # the run reproduces "the flat foot suffers the largest suction"
-    assert (1 - 0.32) / (1 - 0.57) == pytest.approx(1.58, abs=0.005)
-    arg = inconsistency(head["flat"]["max_suction [N]"], head["semi-cylinder"]["max_suction [N]"])
-    assert arg["run"] == pytest.approx(ratio)
-    cells = [r for r in claims if r["reading"] == "paper" and r["claim"].startswith("morphing-vs")]
-    assert len(cells) == 2
-    for c in cells:
-        assert c["verdict"] == I
-        assert "= 1.58" in c["mudrft"] and f"this run: {ratio:.2f}" in c["mudrft"]
+    assert REQUIRED_RATIO == pytest.approx(0.68 / 0.43) and LOAD == 49.0
+    held = {}
+    for f in ("flat", "semi-cylinder", "morphing"):
+        foot = by_name(f)
+        depth = static_sinking(foot, HEADLINE.mud(0.25), 49.0)
+        held[f] = simulate(foot, HEADLINE.terrain(0.25), gait(0.2, depth=depth)).metrics()
+    ratio_l = held["semi-cylinder"]["max_suction"] / held["flat"]["max_suction"]
+    cells = {r["claim"]: r for r in claims if r["reading"] == "paper"}
+    for ref, paper in (("semi-cylinder", 57), ("flat", 32)):
+        c = cells[f"morphing-vs-{ref}"]
+        gait_change = -(1 - head["morphing"]["max_suction [N]"] / head[ref]["max_suction [N]"])
+        held_change = -(1 - held["morphing"]["max_suction"] / held[ref]["max_suction"])
+        assert c["verdict"] == D
+        assert all(abs(100 * x + paper) > 10 for x in (gait_change, held_change))
+        assert (
+            f"gait: suction {round(100 * gait_change):+d} %, s_c/s_f = {ratio:.2f}" in c["mudrft"]
+        )
+        assert f"suction {round(100 * held_change):+d} %, s_c/s_f = {ratio_l:.2f}" in c["mudrft"]
+        assert "together need s_c/s_f = 1.58" in c["mudrft"]
 
 
 def _hand_factors(z, radius=0.045):
@@ -223,6 +241,10 @@ def test_subset_and_force(tmp_path, caplog):
         reproduce(tmp_path / "x", speeds=(0.0,), quiet=True)
     with pytest.raises(MudrftError, match="readings"):
         reproduce(tmp_path / "y", readings=(), quiet=True)
+    with pytest.raises(MudrftError, match=r"depths must be > 0 m, got -0.02"):
+        reproduce(tmp_path / "z", depths=(0.01, -0.02), quiet=True)
+    with pytest.raises(MudrftError, match=r"curl_delays must be >= 0 s, got -1"):
+        reproduce(tmp_path / "w", curl_delays=(-1,), quiet=True)
 
 
 # ---------------------------------------------------------------------------------------
@@ -247,7 +269,7 @@ def _numbers(**changes):
     return metrics
 
 
-def _verdicts(metrics, sink=None):
+def _verdicts(metrics, sink=None, loaded=None):
     sink = sink or {"flat": 0.012, "semi-cylinder": 0.017, "semi-sphere": 0.019, "morphing": 0.01}
     cells = evaluate(
         HEADLINE,
@@ -256,13 +278,22 @@ def _verdicts(metrics, sink=None):
         feet=list(FEET),
         speeds=[0.13, 0.2, 0.26],
         rows=[0.25, 0.35, 0.45],
+        loaded=None
+        if loaded is None
+        else lambda f: {"max_suction": loaded[f], "max_depth": sink[f]},
     )
     return {c.claim: c.verdict for c in cells}
 
 
 def test_claim_logic_agrees_on_numbers_that_meet_the_paper():
-    v = _verdicts(_numbers())
-    assert v == {k: (I if k.startswith("morphing-vs") else A) for k in CLAIM_KEYS}
+    """The morphing foot 32 % below the flat foot in the gait and 57 % below the
+    semi-cylinder with the load-carrying stance: the two percentages hold in different
+    experiments, so the suction order and both can agree."""
+    v = _verdicts(_numbers(morphing={"max_suction": 40.8}))
+    assert v == {k: (D if k == "morphing-vs-semi-cylinder" else A) for k in CLAIM_KEYS}
+    held = {"flat": 30.0, "semi-cylinder": 50.0, "morphing": 21.5}
+    v = _verdicts(_numbers(morphing={"max_suction": 40.8}), loaded=held)
+    assert v == dict.fromkeys(CLAIM_KEYS, A)
 
 
 @pytest.mark.parametrize(
@@ -300,16 +331,6 @@ def test_speed_and_water_content_and_sinking_can_fail():
     assert _verdicts(base, sink)["sinking"] == D
 
 
-def test_inconsistency_argument():
-    arg = inconsistency(100.0, 50.0)
-    assert arg["required"] == pytest.approx(0.68 / 0.43)
-    assert arg["run"] == 0.5
-    # matching -57 % against these feet leaves the morphing foot at 0.43 * 50 N = 21.5 N,
-    # which is 78.5 % below the flat foot's 100 N, not 32 %
-    assert arg["flat_if_cylinder"] == pytest.approx(78.5)
-    assert arg["cylinder_if_flat"] == pytest.approx(100 * (1 - 68.0 / 50.0))
-
-
 def test_the_tables_docs_model_md_quotes_are_this_runs(full_run):
     """docs/model.md Sec. 12 quotes report.md between its claims markers (made by
     examples/make_claims_matrix.py); a change of the report or of a number must reach it."""
@@ -331,15 +352,24 @@ def _model_md_section_12():
 
 
 def test_the_suction_ratios_docs_model_md_gives_for_every_reading_are_the_runs(full_run):
-    """Sec. 12 said s_c/s_f = 0.33-0.72 where the runs give 0.32-0.71."""
-    _, _, claims = full_run
-    ratios = [
-        float(r["summary"].split("s_c/s_f = ")[1].split(",")[0])
-        for r in claims
-        if r["claim"] == "morphing-vs-flat"
-    ]
-    assert len(ratios) == len(READINGS) and max(ratios) < 1
-    assert f"$s_c/s_f$ = {min(ratios):.2f}-{max(ratios):.2f};" in _model_md_section_12()
+    """Sec. 12 said s_c/s_f = 0.33-0.72 where the runs give 0.32-0.71; it gives the
+    load-carrying stance's too."""
+    out, _, claims = full_run
+    cells = [r["summary"] for r in claims if r["claim"] == "morphing-vs-flat"]
+    gait = [float(c.split("s_c/s_f ")[1].split(";")[0]) for c in cells]
+    held = [float(c.split("loaded ")[1].split(", ")[1]) for c in cells]
+    assert len(gait) == len(held) == len(READINGS) and max(gait + held) < 1
+    text = (
+        f"$s_c/s_f$ = {min(gait):.2f}-{max(gait):.2f} in the gait and "
+        f"{min(held):.2f}-{max(held):.2f} with the load-carrying stance"
+    )
+    assert text in _model_md_section_12()
+    assert (
+        text.replace("$s_c/s_f$ =", "its s_c / s_f is").replace(
+            "the load-carrying", "a load-carrying"
+        )
+        in (out / "report.md").read_text()
+    )
 
 
 def test_why_the_morphing_foots_ratio_is_13_percent_in_docs_model_md_is_the_run():
@@ -386,18 +416,10 @@ def test_the_suction_ratio_cells_give_the_other_normalisation_from_the_run(full_
     )
 
 
-def test_read_as_stress_the_suction_ordering_still_forbids_the_158(full_run):
-    """The 'largest suction force' sentence describes Fig. 10a, which plots F_z/A_z. The
-    argument holds read as stress too: s_c/s_f <= A_c/A_f, written out by hand here."""
-    from mudrft.reproduce.claims import suction_area_bound
-
+def test_the_suction_order_cells_give_the_order_by_stress_too(full_run):
+    """The 'largest suction force' sentence stands by Fig. 10a, which plots F_z/A_z: each
+    suction-order cell gives the order by stress too, from the run's numbers."""
     out, _, claims = full_run
-    radius, width, length, height = 0.045, 0.065, 0.08, 0.026
-    hand = 2 * radius * width * np.sqrt(1 - (1 - height / radius) ** 2) / (length * width)
-    assert suction_area_bound() == pytest.approx(hand, rel=1e-12)
-    assert hand < 1.05 < 1.58
-    assert f"s_c / s_f <= A_c / A_f <= {hand:.2f}" in (out / "report.md").read_text()
-    # each suction-order cell gives the order by stress too, from the run's numbers
     head = {
         r["foot"]: -r["min_normalized_sz [Pa]"]
         for r in read_summary(out / "summary.csv")
@@ -408,10 +430,8 @@ def test_read_as_stress_the_suction_ordering_still_forbids_the_158(full_run):
     assert ", ".join(f"{f} {fixed[f] / 1e3:.2f} kPa" for f in fixed) in cell["mudrft"]
     assert f"the {max(fixed, key=fixed.get)} largest" in cell["mudrft"]
     assert f"the {min(fixed, key=fixed.get)} least" in cell["mudrft"]
-    assert max(fixed, key=fixed.get) == "flat"  # what the inconsistency argument needs
     quoted = ", ".join(f"{f} {fixed[f] / 1e3:.2f}" for f in fixed)
     assert f"(headline: {quoted} kPa, " in _model_md_section_12()
-    # report.md: "every reading gives the flat foot the largest suction, by force and by stress"
     order = [r for r in claims if r["claim"] == "suction-order"]
     assert len(order) == len(READINGS)
     assert all(r["mudrft"].startswith("flat ") and "the flat largest" in r["mudrft"] for r in order)
@@ -436,3 +456,112 @@ def test_the_fixed_feets_suction_stress_ratio_does_not_rest_on_the_last_step(foo
         ratio = -stress[depth > deeper].min() / stress.max() * 100
         assert abs(ratio - 100) <= RATIO_TOL, (deeper, ratio)
         assert ratio < -stress.min() / stress.max() * 100  # it does fall with the cut
+
+
+# ---------------------------------------------------------------------------------------
+# the stance depth as a dimension: depths.csv against an independent calculation
+# ---------------------------------------------------------------------------------------
+def _verdicts_by_hand(depth):
+    """The nine verdicts of the paper's evaluation at stance ``depth`` [m], computed here
+    from mudrft.simulate runs and the claims' tolerances, without mudrft.reproduce."""
+    from mudrft import MudTerrain, gait, paper_mud, simulate, static_sinking
+
+    def terrain(w):
+        return MudTerrain(paper_mud(w), thixotropy="quasi-static", clock="contact")
+
+    def run(foot, w=0.25, v=0.2, d=depth):
+        res = simulate(by_name(foot), terrain(w), gait(v, depth=d))
+        ns = res.normalized_stress()[:, 2]
+        return {**res.metrics(), "peak_ns": ns.max(), "min_ns": ns.min()}
+
+    fixed = ("flat", "semi-cylinder", "semi-sphere")
+    at = {f: run(f) for f in (*fixed, "morphing")}
+    ns = [at[f]["peak_ns"] for f in fixed]
+    suction = {f: at[f]["max_suction"] for f in fixed}
+    spread = [
+        np.ptp(p := [run(f, v=v)["peak_ns"] for v in (0.13, 0.2, 0.26)]) / np.mean(p) for f in fixed
+    ]
+    falls = [
+        np.all(np.diff([run(f, w=w)["peak_ns"] for w in (0.25, 0.35, 0.45)]) < 0) for f in fixed
+    ]
+    ratio = [-at[f]["min_ns"] / at[f]["peak_ns"] for f in fixed]
+    morph = at["morphing"]["max_suction"] / at["morphing"]["peak_support"]
+    sink = {f: static_sinking(by_name(f), paper_mud(0.25), 49.0) for f in (*fixed, "morphing")}
+    held = {f: run(f, d=sink[f])["max_suction"] for f in ("flat", "semi-cylinder", "morphing")}
+
+    def versus(ref, paper):
+        gait_cut = 100 * (1 - at["morphing"]["max_suction"] / suction[ref])
+        held_cut = 100 * (1 - held["morphing"] / held[ref])
+        return min(abs(gait_cut - paper), abs(held_cut - paper)) <= 10
+
+    ok = [
+        ns[0] > ns[1] > ns[2],
+        max(suction, key=suction.get) == "flat" and min(suction, key=suction.get) == "semi-sphere",
+        max(spread) < 0.15,
+        all(falls),
+        all(abs(r - 1) <= 0.25 for r in ratio),
+        abs(morph - 0.40) <= 0.10,
+        versus("semi-cylinder", 57),
+        versus("flat", 32),
+        sink["morphing"] <= min(sink.values()),
+    ]
+    return [A if x else D for x in ok]
+
+
+@pytest.mark.parametrize("depth", [0.015, 0.02, 0.025])
+def test_the_depth_resolved_verdicts_equal_an_independent_calculation(full_run, depth):
+    out, _, _ = full_run
+    with open(out / "depths.csv", newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if float(r["stance_depth [m]"]) == depth]
+    assert [r["claim"] for r in rows] == CLAIM_KEYS
+    assert [r["verdict"] for r in rows] == _verdicts_by_hand(depth)
+
+
+def test_the_report_states_the_headline_as_its_range_over_the_depths(full_run):
+    """The paper gives no stance depth: the count is stated for every depth of 10-26 mm,
+    grouped into ranges, from depths.csv; the 20 mm headline is one of them."""
+    out, _, _ = full_run
+    assert STANCE_DEPTHS[0] == 0.01 and STANCE_DEPTHS[-1] == 0.026 and len(STANCE_DEPTHS) == 17
+    with open(out / "depths.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    agree: dict[float, int] = {}
+    for r in rows:
+        d = float(r["stance_depth [m]"])
+        agree[d] = agree.get(d, 0) + (r["verdict"] == A)
+    assert sorted(agree) == list(STANCE_DEPTHS)
+    assert agree[HEADLINE.depth] == VERDICTS["paper"].count(A)
+    groups: list[list] = []
+    for d in sorted(agree):
+        if groups and groups[-1][0] == agree[d]:
+            groups[-1][2] = d
+        else:
+            groups.append([agree[d], d, d])
+    ranges = ", ".join(f"{n} of 9 at {a * 1e3:g}-{b * 1e3:g} mm" for n, a, b in groups)
+    report = (out / "report.md").read_text()
+    assert f"**Over the stance depth, which the paper does not give: {ranges}.**" in report
+    assert groups[0][:2] == [6, 0.01] and groups[0][2] == 0.017  # the curved feet's order
+    assert (out / "fig_depth_verdicts.png").stat().st_size > 10_000
+
+
+def test_the_pad_curl_delay_reading_and_table_are_the_morphing_foots_runs(full_run):
+    """The 40 % rests on when the pads curl: the report's table gives the headline's
+    morphing foot at every delay, recomputed here."""
+    from mudrft import gait, simulate
+    from mudrft.feet import MorphingFoot
+
+    out, _, claims = full_run
+    report = (out / "report.md").read_text()
+    row = next(x for x in report.splitlines() if x.startswith("| suction / support [%] |"))
+    shown = [int(x) for x in row.strip("|").split("|")[1:]]
+    for delay, pct in zip((0.0, 0.05, 0.1), (shown[0], shown[5], shown[10]), strict=True):
+        res = simulate(
+            MorphingFoot(curl_delay=delay), HEADLINE.terrain(0.25), gait(0.2, depth=HEADLINE.depth)
+        )
+        m = res.metrics()
+        assert round(100 * m["max_suction"] / m["peak_support"]) == pct
+    cell = next(
+        r
+        for r in claims
+        if r["reading"] == "paper-curl-50ms" and r["claim"] == "morphing-suction-ratio"
+    )
+    assert cell["summary"] == f"{shown[5]} %"

@@ -19,7 +19,8 @@ from mudrft.simulation import CSV_COLUMNS, LoadControl, simulate, static_sinking
 
 
 class PlateFoot(Foot):
-    """A square plate of side 60 mm and height 20 mm: Fz = A sz, Fx = z W (cos^2 sx + ...)."""
+    """A square plate of side 60 mm and height 50 mm (tall enough for every motion here to
+    leave it unburied): Fz = A sz, Fx = z W (cos^2 sx + ...)."""
 
     name = "plate"
     side = 0.06
@@ -30,7 +31,7 @@ class PlateFoot(Foot):
 
     @property
     def height(self) -> float:
-        return 0.02
+        return 0.05
 
     def resultant(self, depth, stress, heading):
         s = np.asarray(stress, dtype=float)
@@ -340,10 +341,11 @@ def test_results_and_trajectories_print_as_a_summary_not_their_arrays():
 
 def test_a_load_that_buries_the_foot_deeper_than_static_sinking_looks_warns():
     """5,000 N on the flat foot sinks it metres deep; static_sinking refuses it (D118) and
-    the dynamic run says the depth is no prediction (D26) instead of printing 27 m."""
+    the dynamic run says the foot is buried (D26) and asks for the unit of the weight."""
     mud, foot = mudrft.paper_mud(0.25), mudrft.feet.Flat()
-    with pytest.warns(PlausibilityWarning, match="not a prediction"):
+    with pytest.warns(PlausibilityWarning, match=r"deeper than the flat foot is tall.*in N") as w:
         res = simulate(foot, mud, LoadControl(weight=5000.0, duration=2.0, ramp=0.5))
+    assert len(w) == 1  # once a run
     assert res.depth.max() > 4 * foot.height
     # 49 N, the paper's load, stays shallow and quiet (warnings are errors in the suite)
     simulate(foot, mud, LoadControl(weight=49.0, duration=2.0, ramp=0.5))
@@ -369,3 +371,60 @@ def test_gait_velocities_are_the_rates_of_its_steps():
     np.testing.assert_allclose(
         tr.velocity[1:], np.diff(tr.position, axis=0) / np.diff(tr.time)[:, None]
     )
+
+
+# ---------------------------------------------------------------------------------------
+# a foot pushed deeper than its height (D26): one warning a run, an error under strict
+# ---------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "motion",
+    [
+        mudrft.gait(0.2, depth=0.03),
+        mudrft.plate_intrusion(),  # 30 mm
+        LoadControl(weight=400.0, duration=1.0, ramp=0.5),
+    ],
+    ids=["gait", "plate", "load"],
+)
+def test_a_foot_deeper_than_its_height_warns_once_and_strict_refuses_it(motion):
+    from mudrft.trajectories import BuriedFootWarning
+
+    mud, foot = mudrft.paper_mud(0.25), mudrft.feet.Flat()
+    with pytest.warns(BuriedFootWarning) as caught:
+        res = simulate(foot, mud, motion)
+    assert len(caught) == 1
+    assert res.depth.max() > foot.height
+    message = str(caught[0].message)
+    assert f"{res.depth.max():.3g} m deep" in message and "(0.026 m)" in message
+    with pytest.raises(MudrftError, match=r"strict: .*deeper than the flat foot is tall"):
+        simulate(foot, mud, motion, strict=True)
+
+
+def test_a_foot_within_its_height_does_not_warn_under_strict():
+    """The default gait keeps the paper's 26 mm feet unburied; at 26 mm exactly too."""
+    mud = mudrft.paper_mud(0.25)
+    for depth in (None, 0.026):
+        gait = mudrft.gait(0.2) if depth is None else mudrft.gait(0.2, depth=depth)
+        simulate(mudrft.feet.Flat(), mud, gait, strict=True)  # warnings are errors here
+    with pytest.raises(MudrftError, match="strict must be True or False, got 'yes'"):
+        simulate(mudrft.feet.Flat(), mud, mudrft.gait(0.2), strict="yes")
+
+
+def test_a_gaits_metric_is_its_depth_and_sinking_is_the_settled_depth_under_a_load():
+    """max_depth is the deepest tip depth (a gait's prescribed stance depth); sinking is
+    only the settled depth under a load. Reading a gait's 'sinking' still gives its
+    deepest depth, with a DeprecationWarning (mudrft 0.1 named it so)."""
+    from mudrft.trajectories import STANCE_DEPTH
+
+    mud, foot = mudrft.paper_mud(0.25), mudrft.feet.Flat()
+    m = simulate(foot, mud, mudrft.gait(0.2)).metrics()
+    assert m["max_depth"] == pytest.approx(STANCE_DEPTH, abs=1e-12)
+    assert "sinking" not in m and "sinking" not in list(m)
+    with pytest.warns(DeprecationWarning, match=r"\['max_depth'\]"):
+        assert m["sinking"] == m["max_depth"]
+    with pytest.raises(KeyError):
+        m["depth"]
+    # a load at once on a spring overshoots and settles shallower
+    res = simulate(foot, mudrft.terrains.LinearStiffness(), LoadControl(weight=10.0, duration=2.0))
+    m = res.metrics()
+    assert m["sinking"] == res.depth[-1] and m["max_depth"] == res.depth.max()
+    assert m["max_depth"] > m["sinking"]

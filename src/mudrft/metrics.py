@@ -8,6 +8,7 @@ signals the simulator produces between samples.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -16,6 +17,8 @@ from ._typing import FloatArray, FloatOrArray
 from ._validation import MudrftError, check_finite, check_increasing, check_shape
 
 __all__ = [
+    "Metrics",
+    "cycle_metrics",
     "energy",
     "impulse",
     "max_suction",
@@ -24,6 +27,27 @@ __all__ = [
     "relative_rmse",
     "sinking_depth",
 ]
+
+
+class Metrics(dict[str, float]):
+    """The metrics of a run (:meth:`mudrft.Result.metrics`), a dict.
+
+    ``sinking`` is a settled depth under a load, so a prescribed motion has none: its
+    deepest depth is ``max_depth``. Reading ``["sinking"]`` of a prescribed motion, as
+    mudrft 0.1 wrote it, gives ``max_depth`` with a :class:`DeprecationWarning`.
+    """
+
+    def __missing__(self, key: str) -> float:
+        if key == "sinking" and "max_depth" in self:
+            warnings.warn(
+                "metrics()['sinking'] of a prescribed motion is its deepest depth, "
+                "metrics()['max_depth']; 'sinking' is the settled depth under a load "
+                "(LoadControl)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return self["max_depth"]
+        raise KeyError(key)
 
 
 def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
@@ -189,6 +213,47 @@ def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
             f"{float(d.min())!r} m: was the tip's z given instead?"
         )
     return float(d[-1] if final else d.max())
+
+
+def cycle_metrics(
+    time: FloatArray, force: FloatArray, velocity: FloatArray, depth: FloatArray, *, load: bool
+) -> Metrics:
+    """The paper's metrics of one run (checked histories, as a :class:`~mudrft.Result` holds).
+
+    Parameters
+    ----------
+    time : ndarray, shape (n,)
+        Times [s].
+    force, velocity : ndarray, shape (n, 3)
+        Force of the terrain on the foot [N] and tip velocity [m/s].
+    depth : ndarray, shape (n,)
+        Tip depth [m].
+    load : bool, keyword-only
+        A run under a load (:class:`~mudrft.LoadControl`): it also has ``sinking``.
+
+    Returns
+    -------
+    Metrics
+        ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
+        ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
+        ``max_depth`` [m] (the deepest tip depth: a gait's stance depth), ``suction_ratio``
+        [-] (max suction / peak support); under a load ``sinking`` [m], the settled depth.
+    """
+    imp = impulse(time, force)
+    peak, suction = peak_support(force[:, 2]), max_suction(force[:, 2])
+    out = Metrics(
+        peak_support=peak,
+        max_suction=suction,
+        impulse_x=float(imp[0]),
+        impulse_y=float(imp[1]),
+        impulse_z=float(imp[2]),
+        energy=energy(time, force, velocity),
+        max_depth=sinking_depth(depth),
+        suction_ratio=suction / peak if peak > 0 else 0.0,
+    )
+    if load:
+        out["sinking"] = sinking_depth(depth, final=True)
+    return out
 
 
 def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:

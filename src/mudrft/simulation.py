@@ -37,7 +37,7 @@ from .plotting import AxesArg, plot_result
 from .terrains import MudTerrain, as_terrain
 from .terrains.mud import vertical_viscosity
 from .terrains.rows import along_path
-from .trajectories import MIN_GAIT_STEPS, Trajectory
+from .trajectories import MIN_GAIT_STEPS, Trajectory, check_unburied
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -167,30 +167,12 @@ class Result:
     areas: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
-    def metrics(self) -> dict[str, float]:
-        """The paper's metrics of this run.
-
-        Returns
-        -------
-        dict
-            ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
-            ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
-            ``sinking`` [m] (deepest depth; the final depth under load control),
-            ``suction_ratio`` [-] (max suction / peak support).
-        """
-        imp = _m.impulse(self.time, self.force)
-        peak = _m.peak_support(self.force[:, 2])
-        suction = _m.max_suction(self.force[:, 2])
-        return {
-            "peak_support": peak,
-            "max_suction": suction,
-            "impulse_x": float(imp[0]),
-            "impulse_y": float(imp[1]),
-            "impulse_z": float(imp[2]),
-            "energy": _m.energy(self.time, self.force, self.velocity),
-            "sinking": _m.sinking_depth(self.depth, final=bool(self.meta.get("load_control"))),
-            "suction_ratio": suction / peak if peak > 0 else 0.0,
-        }
+    def metrics(self) -> _m.Metrics:
+        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`): a dict of
+        ``peak_support``, ``max_suction`` [N], ``impulse_x/y/z`` [N s], ``energy`` [J],
+        ``max_depth`` [m], ``suction_ratio`` [-], and under load control ``sinking`` [m]."""
+        load = bool(self.meta.get("load_control"))
+        return _m.cycle_metrics(self.time, self.force, self.velocity, self.depth, load=load)
 
     def normalized_stress(self) -> np.ndarray:
         """Force divided by the submerged cross-section areas (Figs. 10-12) [Pa], shape (n, 3)."""
@@ -292,8 +274,11 @@ def simulate(
     *,
     dt: float | None = None,
     progress: bool | Callable[[float], None] = False,
+    strict: bool = False,
 ) -> Result:
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
+
+    Which evaluation of the mud to use: docs/guide/evaluations.md.
 
     Parameters
     ----------
@@ -312,6 +297,9 @@ def simulate(
         ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
         is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
         ``progress(fraction)`` with the fraction done.
+    strict : bool, keyword-only
+        Raise a :class:`~mudrft.MudrftError` instead of warning once that the foot goes
+        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, D26).
 
     Returns
     -------
@@ -329,8 +317,10 @@ def simulate(
         )
     terrain = as_terrain(mud)
     report = make_progress(progress, f"{foot.name} in {getattr(terrain, 'name', 'terrain')}")
+    if not isinstance(strict, bool):
+        raise MudrftError(f"strict must be True or False, got {strict!r}")
     if isinstance(trajectory, LoadControl):
-        return _simulate_load(foot, terrain, trajectory, report)
+        return _simulate_load(foot, terrain, trajectory, report, strict)
     if not isinstance(trajectory, Trajectory):
         raise MudrftError(
             f"trajectory must be a Trajectory (mudrft.gait, mudrft.plate_intrusion) or a LoadControl, "
@@ -339,6 +329,8 @@ def simulate(
     tr = (
         _resample(trajectory, positive_number("dt", dt, unit="s")) if dt is not None else trajectory
     )
+    how = f"{tr.name}: the tip goes"
+    check_unburied(foot.name, foot.height, float(tr.depth.max()), how=how, strict=strict)
     n = len(tr)
     force = np.zeros((n, 3))
     stress = np.zeros((n, 3))
@@ -443,8 +435,8 @@ def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
 
 
 def _simulate_load(
-    foot: Foot, terrain: Terrain, load: LoadControl, report: Callable[[float], None] | None
-) -> Result:
+    foot: Foot, terrain: Terrain, load: LoadControl, report: Callable[[float], None] | None, strict: bool
+) -> Result:  # fmt: skip
     _check_explicit_stability(foot, terrain, load)
     dt = load.dt
     n = int(np.ceil(load.duration / dt)) + 1
@@ -486,12 +478,11 @@ def _simulate_load(
     pos = np.column_stack([np.zeros(n), np.zeros(n), zf])
     vel = np.column_stack([np.zeros(n), np.zeros(n), vf])
     depth = np.maximum(-zf, 0.0)
-    if depth.max() > BURIED_SEARCH * foot.height:  # as deep as static_sinking looks (D26)
-        warn_plausibility(
-            f"under {plain(load.weight)} N the {foot.name} foot sank {depth.max():.3g} m, over "
-            f"{BURIED_SEARCH:g} times its height: not a prediction, since the mud on the leg "
-            "above a buried foot is not modelled (D26). Is the weight in N (m kg weigh 9.81m N)?"
-        )
+    hint = "; a lighter load or a larger foot stays within it" + (
+        ". Is the weight in N (m kg weigh 9.81 m N)?" if depth.max() > BURIED_SEARCH * foot.height else ""
+    )  # fmt: skip
+    how = f"under {plain(load.weight)} N the tip sank"
+    check_unburied(foot.name, foot.height, float(depth.max()), how=how, strict=strict, hint=hint)
     return Result(
         time=t,
         position=pos,

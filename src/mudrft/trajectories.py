@@ -7,18 +7,22 @@ z = 0, so the tip depth is ``max(-z, 0)``.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ._validation import (
     MudrftError,
+    PlausibilityWarning,
+    _caller_level,
     check_choice,
     check_finite,
     check_increasing,
     check_samples,
     nonnegative_number,
     number_in_range,
+    plain_text,
     positive_number,
     warn_implausible,
     warn_plausibility,
@@ -30,7 +34,9 @@ __all__ = [
     "MIN_GAIT_STEPS",
     "STANCE_DEPTH",
     "STRIDE_LENGTH",
+    "BuriedFootWarning",
     "Trajectory",
+    "check_unburied",
     "gait",
     "plate_intrusion",
 ]
@@ -41,12 +47,60 @@ GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
 STRIDE_LENGTH = 0.13
 #: Height of the paper's three fixed feet, :math:`h_F` = 26 mm (Sec. IV-A) [m].
 FOOT_HEIGHT = 0.026
-#: Deepest tip depth of :func:`gait` [m] (decision D10): within :data:`FOOT_HEIGHT`, as the
-#: closed forms (12)-(14) assume a foot that is not buried.
+#: Deepest tip depth of :func:`gait` [m] (decision D10), the one default stance of
+#: ``mudrft simulate``, ``compare``, ``sweep`` and the API: within :data:`FOOT_HEIGHT`, as the
+#: closed forms (12)-(14) assume a foot that is not buried, and deeper than the static
+#: sinking of the paper's fixed feet under 49 N (12-19 mm), as a stepping foot's would be.
 STANCE_DEPTH = 0.02
 #: Fewest steps of ``dt`` :func:`gait` accepts in one cycle [-]: coarser, the stance and the
 #: retraction are a handful of samples each and suction, impulse and sinking lose meaning.
 MIN_GAIT_STEPS = 20
+
+
+class BuriedFootWarning(PlausibilityWarning):
+    """A foot was pushed deeper than its own height: the mud closes over its top, which the
+    model does not describe (the leg above the foot carries nothing, decision D26)."""
+
+
+def check_unburied(
+    foot: str,
+    height: float,
+    depth: float,
+    *,
+    how: str,
+    strict: bool,
+    hint: str | None = None,
+) -> None:
+    """Warn once (:class:`BuriedFootWarning`), or raise under ``strict``, when a foot's
+    tip goes deeper than the foot is tall.
+
+    Parameters
+    ----------
+    foot : str
+        The foot's name, for the message.
+    height : float
+        The foot's height above its tip [m].
+    depth : float
+        The deepest tip depth of the run [m].
+    how : str
+        What pushed it there ("the tip goes", "under 49 N the tip sank"), for the message.
+    strict : bool
+        Raise a :class:`~mudrft.MudrftError` instead of warning.
+    hint : str, keyword-only
+        Appended to the message (default: for a prescribed motion).
+    """
+    if not depth > height * (1 + 1e-9):
+        return
+    if hint is None:
+        hint = f"; keep the tip within the foot's height (mudrft.gait's stance: {STANCE_DEPTH} m)"
+    message = (
+        f"{how} {depth:.3g} m deep, deeper than the {foot} foot is tall ({height:.3g} m): the "
+        "mud closes over it, and the model gives the force of the foot alone, without the "
+        f"mud on its top or on the leg (decision D26){hint}"
+    )
+    if strict:
+        raise MudrftError(f"strict: {message}")
+    warnings.warn(plain_text(message), BuriedFootWarning, stacklevel=_caller_level())
 
 
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:

@@ -46,13 +46,13 @@ def test_the_extras_table_lists_every_extra(page):
 
 def _metric_names(line: str) -> set[str]:
     line = line.replace("impulse_x/y/z", "impulse_x impulse_y impulse_z")
-    return set(re.findall(r"[a-z]+(?:_[a-z]+)+|energy|sinking", line))
+    return set(re.findall(r"[a-z]+(?:_[a-z]+)+|energy", line))
 
 
 def test_the_pages_that_list_the_metrics_list_them_all():
     """The README's, getting-started's and the forces guide's lists of ``Result.metrics()``
-    ended at ``sinking``: ``suction_ratio`` [-] was missing. A list that elides some
-    (``...``) names the first and the last."""
+    ended at ``sinking`` (now ``max_depth``): ``suction_ratio`` [-] was missing. A list that
+    elides some (``...``) names the first and the last."""
     keys = list(
         mudrft.simulate(mudrft.feet.Flat(), mudrft.paper_mud(0.25), mudrft.gait(0.26)).metrics()
     )
@@ -60,7 +60,7 @@ def test_the_pages_that_list_the_metrics_list_them_all():
         line
         for page in (README, GETTING_STARTED, FORCES)
         for line in page.read_text(encoding="utf-8").splitlines()
-        if "peak_support" in line and "max_suction" in line and "sinking" in line
+        if "peak_support" in line and "max_suction" in line and "max_depth" in line
     ]
     assert len(lines) >= 4
     for line in lines:

@@ -95,12 +95,15 @@ def test_deflection_on_floats_equals_the_array_path():
     assert snap[1] - snap[0] > 1e-3 and snap[2] in (snap[0], snap[1])
 
 
-def test_contact_on_floats_equals_contact_force():
-    """Force, deflection, pad angle and seal memory of one step, any heading, all modes."""
+@pytest.mark.parametrize(("delay", "retraction"), [(0.0, 0.0), (0.0, 0.02), (0.05, 0.02)])
+def test_contact_on_floats_equals_contact_force(delay, retraction):
+    """Force, deflection, pad angle and seal memory of one step, any heading, all modes;
+    with the pads held by a pad-curl delay (0.02 s into the retraction, 0.05 s delay) too."""
     rng = np.random.default_rng(7)
     for mode in ("morphing", "expanded", "retracted"):
-        foot = MorphingFoot(mode=mode)
+        foot = MorphingFoot(mode=mode, curl_delay=delay)
         row = morphing_row(foot)
+        assert row.curl_delay == delay
         for depth, sz, prev in _cases()[::10]:
             sx, sy = float(rng.uniform(-2e4, 2e4)), float(rng.uniform(-2e4, 2e4))
             heading = float(rng.uniform(-math.pi, math.pi))
@@ -108,9 +111,10 @@ def test_contact_on_floats_equals_contact_force():
                 deflection=np.asarray(prev), most_spread=np.asarray(0.3)
             )
             st1, f = foot.contact_force(
-                st0, np.asarray(depth), np.array([sx, sy, sz]), heading, 1e-3
-            )
-            got = contact_on_floats(row, prev, 0.3, depth, sx, sy, sz, heading)
+                st0, np.asarray(depth), np.array([sx, sy, sz]), heading, 1e-3,
+                retraction=retraction,
+            )  # fmt: skip
+            got = contact_on_floats(row, prev, 0.3, depth, sx, sy, sz, heading, retraction)
             scale = max(float(np.abs(f).max()), 1e-9)
             np.testing.assert_allclose(got[:3], f, rtol=0, atol=1e-9 * scale)
             want_state = (st1.deflection, st1.pad_angle, st1.most_spread)

@@ -171,3 +171,65 @@ def test_simulate_by_name_and_csv(tmp_path):
     p = res.to_csv(tmp_path / "run.csv")
     data = np.loadtxt(p, delimiter=",", skiprows=1)
     np.testing.assert_allclose(data[:, 4:], res.force, rtol=1e-8, atol=1e-9)
+
+
+# ---------------------------------------------------------------------------------------
+# the pad-curl delay (D35)
+# ---------------------------------------------------------------------------------------
+#: The morphing foot's gait at 0.2 m/s on the W = 25 % mud under each evaluation, computed
+#: by mudrft before the pad-curl delay existed (commit 0780bab): peak support [N], max
+#: suction [N], energy [J] and the sum of |F| over the samples [N].
+BEFORE_THE_DELAY = {
+    "quasi-static": (80.70013730442608, 10.395629494024877, 1.7786983220340353, 27693.25569611258),
+    "ode": (157.53988952166347, 39.59519568436661, 3.3639901380816903, 44123.48921518316),
+}
+
+
+@pytest.mark.parametrize("thixotropy", list(BEFORE_THE_DELAY))
+def test_a_zero_pad_curl_delay_is_the_former_behaviour_exactly(thixotropy):
+    """The delay's default, 0, lets the pads curl the moment the retraction begins, as
+    mudrft did before it had the parameter: the same numbers, bit for bit."""
+    assert MorphingFoot().curl_delay == 0.0
+    res = simulate(MorphingFoot(), MudTerrain(MUD, thixotropy=thixotropy), mudrft.gait(0.2))
+    m = res.metrics()
+    got = (m["peak_support"], m["max_suction"], m["energy"], float(np.abs(res.force).sum()))
+    assert got == BEFORE_THE_DELAY[thixotropy]
+
+
+def test_the_pad_curl_delay_holds_the_pads_spread_for_its_time_into_the_retraction():
+    """Held: the deflection does not fall (the pads do not curl) while the retraction is
+    younger than the delay; then they curl, and the seal breaks later than without it."""
+    gait, delay = mudrft.gait(0.2), 0.05
+    rows0 = run_states(MorphingFoot(), gait)
+    rows = run_states(MorphingFoot(curl_delay=delay), gait)
+    deepest = int(np.argmax(rows[:, 0]))  # the retraction begins after this step
+    dt = float(gait.time[1] - gait.time[0])
+    held = slice(deepest + 1, deepest + 1 + int(delay / dt) - 1)
+    assert np.all(np.diff(rows[deepest : held.stop, 2]) >= 0)  # no curl while held
+    assert rows0[held, 2].min() < rows[held, 2].min()  # without the delay they curl there
+    assert np.all(rows[held, 4] == 1.0)  # the seal holds
+    assert rows[held.stop + 20, 2] < rows[held.stop - 1, 2]  # then they curl
+    np.testing.assert_array_equal(rows[: deepest + 1], rows0[: deepest + 1])  # intrusion alike
+
+
+def test_the_pad_curl_delay_is_the_same_compiled_and_stepped():
+    """simulate runs the compiled rows (terrains.rows), MudTerrain.step the foot's Python
+    path: the delay is carried in both."""
+    foot, gait = MorphingFoot(curl_delay=0.055), mudrft.gait(0.2)
+    res = simulate(foot, MUD, gait)
+    stepped = run_states(foot, gait)
+    np.testing.assert_allclose(res.force[1:, 2], stepped[:, 3], rtol=0, atol=1e-9)
+    assert (
+        res.metrics()["max_suction"]
+        > 2 * simulate(MorphingFoot(), MUD, gait).metrics()["max_suction"]
+    )
+
+
+def test_the_pad_curl_delay_is_a_checked_parameter_of_the_foot():
+    foot = MorphingFoot(curl_delay=0.05)
+    assert foot.as_dict()["curl_delay"] == 0.05 and foot != MorphingFoot()
+    assert foot.replace(mode="expanded").curl_delay == 0.05
+    assert foot.replace(curl_delay=0.0) == MorphingFoot()
+    assert "curl_delay=0.05 s" in repr(foot)
+    with pytest.raises(mudrft.MudrftError, match="curl_delay must be >= 0"):
+        MorphingFoot(curl_delay=-0.01)

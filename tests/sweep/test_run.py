@@ -94,7 +94,7 @@ def test_a_point_that_raises_is_recorded_and_the_rest_completes(serial, monkeypa
 
 
 def test_store_is_never_replaced_without_asking(tmp_path):
-    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["max_depth"]}}  # fmt: skip
     store = tmp_path / "s.zarr"
     first = mudrft.sweep(spec, store=store, scheduler="serial")
     with pytest.raises(MudrftError, match="exists; pass resume=True"):
@@ -118,12 +118,12 @@ def test_a_sweep_that_cannot_start_leaves_no_store(tmp_path):
     so running again needs no --force (a failed run leaves nothing behind)."""
     import dask
 
-    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["max_depth"]}}  # fmt: skip
     store = tmp_path / "s.zarr"
     with dask.config.set({"distributed.comm.timeouts.connect": "1s"}), pytest.raises(OSError):
         mudrft.sweep(spec, store=store, scheduler="tcp://127.0.0.1:9")
     assert list(tmp_path.iterdir()) == []
-    assert mudrft.sweep(spec, store=store, scheduler="serial")["sinking"].notnull().all()
+    assert mudrft.sweep(spec, store=store, scheduler="serial")["max_depth"].notnull().all()
 
 
 def test_a_sweep_that_fails_after_a_chunk_keeps_its_store_for_resume(tmp_path, monkeypatch):
@@ -327,7 +327,7 @@ def test_a_small_sweep_runs_in_this_process_by_default(monkeypatch):
 
 
 def test_resume_without_a_store_is_refused():
-    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["sinking"]}}  # fmt: skip
+    spec = {"foot": {"kind": "flat"}, "motion": {"speed": [0.2]}, "sweep": {"metrics": ["max_depth"]}}  # fmt: skip
     with pytest.raises(MudrftError, match=r"resume needs the store"):
         mudrft.sweep(spec, scheduler="serial", resume=True)
 

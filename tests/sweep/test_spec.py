@@ -219,8 +219,8 @@ BAD = [
         r"\[mud.sets.a\] vertical must be a string, got 1",
     ),
     (
-        {"plot": {"metrics": ["energy"]}, "sweep": {"metrics": ["sinking"]}},
-        r"\[plot\] metrics must name measured metrics \(sinking\)",
+        {"plot": {"metrics": ["energy"]}, "sweep": {"metrics": ["max_depth"]}},
+        r"\[plot\] metrics must name measured metrics \(max_depth\)",
     ),
     ({"foot": {"kind": "flat", "unit": "mm"}}, r"\[foot\] unit applies to mesh files only"),
     ({"foot": {"kind": "flat", "up": "y"}}, r"\[foot\] up applies to mesh files only"),

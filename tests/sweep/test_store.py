@@ -21,7 +21,7 @@ pytest.importorskip("xarray")
 pytest.importorskip("zarr")
 
 SPEC = {
-    "sweep": {"metrics": ["max_suction", "sinking"], "points_per_task": 2},
+    "sweep": {"metrics": ["max_suction", "max_depth"], "points_per_task": 2},
     "foot": {"kind": "flat", "width": [0.05, 0.06, 0.065]},
     "mud": {"water_content": [0.25, 0.35]},
     "motion": {"speed": 0.2},
@@ -73,7 +73,7 @@ def test_a_damaged_chunk_is_named_masked_on_request_and_recomputed_on_resume(sto
     assert "resume=True (CLI: --resume) recomputes them" in message
     masked = load_result(store, on_damage="mask")
     bad = masked.sel(width=0.06)
-    assert np.isnan(bad["max_suction"]).all() and np.isnan(bad["sinking"]).all()
+    assert np.isnan(bad["max_suction"]).all() and np.isnan(bad["max_depth"]).all()
     assert all(e.startswith("damaged: chunk 1 of the store") for e in bad["error"].values)
     assert (bad["done"] == 0).all() and masked.attrs["damaged_chunks"] == [CHUNK]
     good = masked.sel(width=[0.05, 0.065])
@@ -87,7 +87,7 @@ def test_a_damaged_chunk_is_named_masked_on_request_and_recomputed_on_resume(sto
 def test_resume_recomputes_only_the_damaged_chunk(store, monkeypatch):
     from mudrft.sweep import evaluate
 
-    damage(store / "sinking/c/2/0", "random bytes")  # chunk 2: width = 0.065
+    damage(store / "max_depth/c/2/0", "random bytes")  # chunk 2: width = 0.065
     calls = []
     real = evaluate.evaluate_point
     monkeypatch.setattr(evaluate, "evaluate_point", lambda c, p, **kw: calls.append(p) or real(c, p, **kw))  # fmt: skip
@@ -105,9 +105,9 @@ def test_a_store_without_its_root_or_array_metadata_is_refused_saying_how_to_sta
     store, tmp_path
 ):
     shutil.copytree(store, tmp_path / "t.zarr")
-    (store / "sinking" / "zarr.json").unlink()
+    (store / "max_depth" / "zarr.json").unlink()
     for call in (lambda: load_result(store), lambda: mudrft.sweep(SPEC, store=store, resume=True)):  # fmt: skip
-        with pytest.raises(MudrftError, match=r"the metadata of its array 'sinking' \(sinking/zarr.json\) is gone or unreadable, so the store cannot be read or resumed; start again with overwrite=True \(CLI: --force\)"):  # fmt: skip
+        with pytest.raises(MudrftError, match=r"the metadata of its array 'max_depth' \(max_depth/zarr.json\) is gone or unreadable, so the store cannot be read or resumed; start again with overwrite=True \(CLI: --force\)"):  # fmt: skip
             call()
     assert mudrft.sweep(SPEC, store=store, scheduler="serial", overwrite=True).attrs["complete"] == 1  # fmt: skip
     root = tmp_path / "t.zarr"
@@ -136,17 +136,17 @@ def test_a_store_of_the_first_format_or_half_made_is_refused(store):
 def test_the_command_line_names_the_damage_and_resume_repairs_it(tmp_path, capsys):
     spec = tmp_path / "s.toml"
     spec.write_text(
-        '[sweep]\nmetrics = ["sinking"]\npoints_per_task = 1\n[foot]\nkind = "flat"\n'
+        '[sweep]\nmetrics = ["max_depth"]\npoints_per_task = 1\n[foot]\nkind = "flat"\n'
         "width = [0.05, 0.06]\n[motion]\nspeed = 0.2\n"
     )
     out = tmp_path / "o"
     args = ["sweep", str(spec), "--out", str(out), "--scheduler", "serial", "--quiet"]
     assert main(args) == 0
-    damage(out / "sweep.zarr" / "sinking" / "c" / "1", "random bytes")
+    damage(out / "sweep.zarr" / "max_depth" / "c" / "1", "random bytes")
     assert main([*args, "--force"]) == 0  # starts again
-    damage(out / "sweep.zarr" / "sinking" / "c" / "1", "truncated")
+    damage(out / "sweep.zarr" / "max_depth" / "c" / "1", "truncated")
     capsys.readouterr()
     assert main([*args, "--resume", "--force"]) == 0
     err = capsys.readouterr().err
-    assert "1 damaged chunk(s)" in err and "chunk 1: sinking does not decode" in err
-    assert np.isfinite(load_result(out / "sweep.zarr")["sinking"]).all()
+    assert "1 damaged chunk(s)" in err and "chunk 1: max_depth does not decode" in err
+    assert np.isfinite(load_result(out / "sweep.zarr")["max_depth"]).all()

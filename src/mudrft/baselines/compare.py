@@ -27,7 +27,7 @@ from ..terrains.granular_rft3d import GranularRFT3D
 from ..terrains.linear import LinearStiffness
 from ..terrains.maxwell import MaxwellMud
 from ..terrains.rigid import RigidGround
-from ..trajectories import Trajectory
+from ..trajectories import Trajectory, check_unburied
 
 __all__ = [
     "CSV_COLUMNS",
@@ -210,6 +210,7 @@ def compare(
     water_content: float = 0.25,
     extrapolate: bool = False,
     progress: bool | Callable[[float], None] = False,
+    strict: bool = False,
 ) -> dict[str, History]:
     """Run several terrains on the same foot and trajectory.
 
@@ -227,8 +228,13 @@ def compare(
     extrapolate : bool, keyword-only
         Allow a water content outside the tabulated rows for the default terrains (warns).
     progress : bool or callable, keyword-only
-        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger,
-        or a callable called with the fraction done.
+        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger
+        (a stderr handler is attached when logging is not configured), a callable is called
+        with the fraction done.
+    strict : bool, keyword-only
+        Raise a :class:`~mudrft.MudrftError` where the trajectory takes the foot deeper
+        than its own height, instead of warning once
+        (:class:`~mudrft.trajectories.BuriedFootWarning`, as :func:`mudrft.simulate`).
 
     Returns
     -------
@@ -239,7 +245,7 @@ def compare(
     --------
     >>> import mudrft
     >>> from mudrft.baselines import GranularRFT, LinearStiffness
-    >>> foot, plate = mudrft.feet.Flat(), mudrft.plate_intrusion()
+    >>> foot, plate = mudrft.feet.Flat(), mudrft.plate_intrusion(depth=0.02)
     >>> out = compare(foot, plate, [GranularRFT(), LinearStiffness()])
     >>> list(out)
     ['granular-rft', 'linear']
@@ -271,6 +277,13 @@ def compare(
             items.append((str(getattr(t, "name", type(t).__name__)), t))
     if not items:
         raise MudrftError("terrains must name at least one terrain, got none")
+    check_unburied(
+        foot.name,
+        foot.height,
+        float(trajectory.depth.max()),
+        how=f"{trajectory.name}: the tip goes",
+        strict=bool(strict),
+    )
     names = [k for k, _ in items]
     if len(set(names)) != len(names):
         raise MudrftError(f"terrain names must be unique, got {names}")

@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 
 __all__ = [
+    "GAIT_SPEED",
+    "STANCE_DEPTH",
     "HelpFormatter",
     "add_foot_options",
     "add_force",
@@ -17,6 +19,13 @@ __all__ = [
     "add_strict",
     "add_subcommand",
 ]
+
+
+#: The gait the subcommands share by default: its speed [m/s] and its deepest tip depth [m],
+#: ``mudrft.trajectories.STANCE_DEPTH`` (D10; written here so that ``--help`` needs no
+#: physics, and tested equal).
+GAIT_SPEED = 0.2
+STANCE_DEPTH = 0.02
 
 
 class HelpFormatter(argparse.HelpFormatter):
@@ -41,15 +50,16 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
     parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
 
 
-def add_strict(parser: argparse.ArgumentParser, what: str) -> None:
+def add_strict(parser: argparse.ArgumentParser, what: str, *, refuses: str = "") -> None:
     """Add ``--strict``: a warning of the command makes its exit status 1 (``main`` acts on
-    it, decision D125); ``what`` says which warnings a script would fail on."""
-    parser.add_argument(
-        "--strict",
-        action="store_true",
-        help=f"exit with status 1 if the command warns ({what}); the outputs are written "
-        "as without it",
+    it, decision D125); ``what`` says which warnings a script would fail on, ``refuses``
+    what the command then refuses outright (an error, nothing written)."""
+    text = (
+        f"exit with status 1 if the command warns ({what}); the outputs are written as without it"
     )
+    if refuses:
+        text = f"refuse {refuses} (an error: nothing is written), and {text}"
+    parser.add_argument("--strict", action="store_true", help=text)
 
 
 def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:

@@ -26,7 +26,15 @@ from ._common import (
     save_figure,
 )
 from ._mud import add_fit_options, mud_from_options
-from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
+from ._parser import (
+    GAIT_SPEED,
+    STANCE_DEPTH,
+    add_foot_options,
+    add_force,
+    add_quiet,
+    add_strict,
+    add_subcommand,
+)
 from ._terrain import add_terrain_options, terrains_from_options
 
 if TYPE_CHECKING:
@@ -70,8 +78,13 @@ def add_parser(
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
     p.add_argument("--water-content", type=float, default=0.25, help="mud water content W [-]")
     add_fit_options(p)
-    p.add_argument("--speed", type=float, default=0.2, help="gait speed [m/s]")
-    p.add_argument("--depth", type=float, default=0.03, help="intrusion depth [m] of both runs")
+    p.add_argument("--speed", type=float, default=GAIT_SPEED, help="gait speed [m/s]")
+    p.add_argument(
+        "--depth",
+        type=float,
+        default=STANCE_DEPTH,
+        help="intrusion depth [m] of both runs (the gait's stance, as mudrft simulate's)",
+    )
     p.add_argument("--hold", type=float, default=1.0, help="hold time [s] of the plate test")
     add_terrain_options(p, several=True)
     p.add_argument(
@@ -80,6 +93,11 @@ def add_parser(
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     add_force(p, "existing results in DIR")
     add_quiet(p)
+    add_strict(
+        p,
+        "an extrapolated water content, a unit that looks wrong, ...",
+        refuses="a foot pushed deeper than its own height",
+    )
     p.set_defaults(func=run)
     return p
 
@@ -89,8 +107,8 @@ def write_comparison(
     out: str | Path,
     *,
     water_content: float = 0.25,
-    speed: float = 0.2,
-    depth: float = 0.03,
+    speed: float = GAIT_SPEED,
+    depth: float = STANCE_DEPTH,
     hold: float = 1.0,
     figures: bool = True,
     force: bool = False,
@@ -98,6 +116,7 @@ def write_comparison(
     extrapolate: bool = False,
     mud: Mud | None = None,
     terrains: Mapping[str, Terrain] | None = None,
+    strict: bool = False,
 ) -> dict[str, Path]:
     """Run and write what ``mudrft compare`` writes; all files or none.
 
@@ -112,7 +131,8 @@ def write_comparison(
     speed : float, keyword-only
         Gait speed [m/s].
     depth : float, keyword-only
-        Plate intrusion depth and deepest gait depth [m].
+        Plate intrusion depth and deepest gait depth [m] (default: the gait's stance,
+        ``mudrft.trajectories.STANCE_DEPTH``, as ``mudrft simulate`` and ``mudrft.gait``).
     hold : float, keyword-only
         Hold time of the plate test [s].
     figures : bool, keyword-only
@@ -129,6 +149,9 @@ def write_comparison(
     terrains : mapping of str to Terrain, optional, keyword-only
         The terrains to run, by name (default: every one of
         :func:`~mudrft.baselines.default_terrains`, ``mud`` replaced by ``mud`` if given).
+    strict : bool, keyword-only
+        Refuse a depth deeper than the foot is tall (a :class:`~mudrft.MudrftError`
+        before anything runs) instead of warning.
 
     Returns
     -------
@@ -152,12 +175,14 @@ def write_comparison(
                 plate_intrusion(depth=depth, hold=hold),
                 terrains,
                 progress=not quiet,
+                strict=strict,
             ),
             "gait": compare(
                 foot,
                 gait(speed, depth=depth),
                 terrains,
                 progress=not quiet,
+                strict=strict,
             ),
         }
         write_csv(runs, stage / FILES["csv"][0], overwrite=True)
@@ -222,6 +247,7 @@ def run(args: argparse.Namespace) -> int:
         extrapolate=args.extrapolate,
         mud=mud,
         terrains=terrains,
+        strict=args.strict,
     )
     for p in paths.values():
         print(f"wrote {p}")

@@ -15,11 +15,13 @@ DESCRIPTION = (
     "semi-cylinder, semi-sphere, morphing) through one stepping cycle at the paper's three "
     "gait speeds and tabulated water contents under the headline reading (the paper's "
     "quasi-static eqs. (9)-(11), feet not buried), then under the other readings of the "
-    "paper. Writes DIR/summary.csv (headline: one row per foot, speed and water content), "
-    "DIR/claims.csv (one row per claim and reading: claim, reading, paper, mudrft, verdict), "
-    "DIR/report.md (the headline's 'N of 9 claims', the matrix of readings x claims and "
-    "where the paper supports each reading) and figures like the paper's Figs. 9, 10, 12 "
-    "and 13 (PNG)."
+    "paper and at every stance depth of 10-26 mm, which the paper does not give. Writes "
+    "DIR/summary.csv (headline: one row per foot, speed and water content), DIR/claims.csv "
+    "(one row per claim and reading: claim, reading, paper, mudrft, verdict), "
+    "DIR/depths.csv (one row per claim and stance depth), DIR/report.md (the headline's "
+    "'N of 9 claims' and its range over the stance depths, the matrix of readings x claims "
+    "and where the paper supports each reading) and figures like the paper's Figs. 9, 10, "
+    "12 and 13 and of the verdicts against the depth (PNG)."
 )
 
 

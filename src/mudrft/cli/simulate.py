@@ -17,10 +17,13 @@ from ._common import (
 )
 from ._mud import add_fit_options, mud_from_options
 from ._parser import (
+    GAIT_SPEED,
+    STANCE_DEPTH,
     add_evaluation_options,
     add_foot_options,
     add_force,
     add_quiet,
+    add_strict,
     add_subcommand,
 )
 from ._terrain import add_terrain_options, terrain_names, terrains_from_options
@@ -32,12 +35,9 @@ if TYPE_CHECKING:
 
 __all__ = ["add_parser", "run"]
 
-#: The defaults of ``mudrft simulate``: the gait's speed [m/s] and deepest tip depth [m]
-#: (``mudrft.trajectories.STANCE_DEPTH``, D10; written here so that ``--help`` needs no
-#: physics, and tested equal); the time over which ``--load`` rises [s] and the time
-#: simulated [s] (a ramped load creeps to the static depth in 10-30 s, D13).
-GAIT_SPEED = 0.2
-STANCE_DEPTH = 0.02
+#: The defaults of ``mudrft simulate`` beside the shared gait (``_parser.GAIT_SPEED``,
+#: ``STANCE_DEPTH``): the time over which ``--load`` rises [s] and the time simulated [s]
+#: (a ramped load creeps to the static depth in 10-30 s, D13).
 LOAD_RAMP = 1.0
 LOAD_DURATION = 30.0
 
@@ -49,7 +49,10 @@ DESCRIPTION = (
     "the force of the mud on the foot to a CSV file with the columns "
     "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints the cycle's metrics (peak "
     "support, suction, impulses, energy). --terrain runs a baseline instead of the mud "
-    "(granular RFT with --zeta, 3D-RFT with --rho-c, --mu-int, --mu-surf, ...)."
+    "(granular RFT with --zeta, 3D-RFT with --rho-c, --mu-int, --mu-surf, ...). "
+    "Which evaluation to use: the ODEs (the default) to design a foot or step a robot, "
+    "--thixotropy quasi-static to reproduce the paper's numbers (mudrft reproduce); why, "
+    "and what each gives: the user guide, docs/guide/evaluations.md."
 )
 
 
@@ -101,7 +104,9 @@ def add_parser(
         help=f"deepest tip depth of the gait [m] (decision D10) (default: {STANCE_DEPTH})",
     )
     add_evaluation_options(
-        p, what="step eqs. (3), (5), or the paper's quasi-static closed forms (9)-(11) (D15)"
+        p,
+        what="step eqs. (3), (5), or the paper's quasi-static closed forms (9)-(11) (D15); "
+        "which to use: docs/guide/evaluations.md",
     )
     p.add_argument(
         "--labels",
@@ -122,6 +127,11 @@ def add_parser(
     )
     add_force(p, "--out and --plot if they exist")
     add_quiet(p)
+    add_strict(
+        p,
+        "an extrapolated water content, a unit that looks wrong, ...",
+        refuses="a foot pushed deeper than its own height",
+    )
     # the mud's own options and their defaults: given with a baseline they are refused (D132)
     mud = (
         "vertical",
@@ -184,15 +194,23 @@ def run(args: argparse.Namespace) -> int:
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
         label = terrain.mud.name if isinstance(terrain, MudTerrain) else terrain.name
         logger.info("simulating %s foot, %s, %s", foot.name, label, what)
-        res = simulate(foot, terrain, motion, dt=dt if args.path else None, progress=not args.quiet)
+        res = simulate(
+            foot,
+            terrain,
+            motion,
+            dt=dt if args.path else None,
+            progress=not args.quiet,
+            strict=args.strict,
+        )
         res.to_csv(csv_tmp, overwrite=True)
         if plot_tmp is not None:
             save_figure(res.plot(), plot_tmp)
     print(f"wrote {args.out}")
     from ..sweep.catalog import METRICS  # names and units only (no Dask, no xarray)
 
+    kind = "load" if isinstance(motion, LoadControl) else "gait"
     for k, v in res.metrics().items():
-        print(f"  {k:14s} {v: .6g} {METRICS['gait'][k].unit}")
+        print(f"  {k:14s} {v: .6g} {METRICS[kind][k].unit}")
     if isinstance(motion, Trajectory):
         _print_against_measured(res, motion)
     if isinstance(static, float):

@@ -384,10 +384,20 @@ class Foot(ABC):
         return 1.0
 
     def contact_force(
-        self, foot_state: Any, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray, dt: float
+        self,
+        foot_state: Any,
+        depth: np.ndarray,
+        stress: np.ndarray,
+        heading: np.ndarray,
+        dt: float,
+        *,
+        retraction: Any = 0.0,
     ) -> tuple[Any, np.ndarray]:
-        """Advance the foot's internal state and return ``(foot_state, force)`` [N]
-        (rigid feet: the state unchanged and :meth:`force`)."""
+        """Advance the foot's internal state and return ``(foot_state, force)`` [N].
+
+        Rigid feet return :meth:`force` unchanged; the morphing foot solves its spring
+        balance here, with ``retraction`` the time since the retraction began [s].
+        """
         return foot_state, self.force_unchecked(depth, stress, heading)
 
     def center_of_pressure(

@@ -1,4 +1,5 @@
-"""Figures of ``mudrft reproduce`` (like the paper's Figs. 9, 10, 12 and 13)."""
+"""Figures of ``mudrft reproduce`` (like the paper's Figs. 9, 10, 12 and 13, and the
+headline's verdicts against the stance depth)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from ..plotting import require_matplotlib
 
 if TYPE_CHECKING:
     from ..simulation import Result
+    from .claims import Cell
 
 __all__ = ["make_figures"]
 
@@ -34,8 +36,10 @@ def make_figures(
     feet: list[str],
     speeds: list[float],
     water_contents: list[float],
+    by_depth: dict[float, list[Cell]] | None = None,
 ) -> list[Path]:
-    """Write the PNG figures to ``out``; return their paths."""
+    """Write the PNG figures to ``out``; return their paths (the depth figure where
+    ``by_depth``, stance depth [m] -> the headline's cells, is given)."""
     plt = require_matplotlib()
     v, w = _near(speeds, 0.2), _near(water_contents, 0.25)
     paths = []
@@ -163,4 +167,69 @@ def make_figures(
     paths.append(out / "fig13_suction_energy.png")
     fig.savefig(paths[-1], dpi=120)
     plt.close(fig)
+    if by_depth:
+        paths.append(_depth_figure(plt, out / "fig_depth_verdicts.png", by_depth, v, w))
     return paths
+
+
+#: Colour of each verdict in the depth figure.
+VERDICT_COLORS = {
+    "agrees": "tab:green",
+    "partly": "gold",
+    "differs": "tab:red",
+    "not evaluated": "0.85",
+}
+
+
+def _depth_figure(
+    plt: Any, path: Path, by_depth: dict[float, list[Cell]], speed: float, water: float
+) -> Path:
+    """The headline's verdicts (claims x stance depths) and their count against the depth."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import MaxNLocator
+
+    depths = sorted(by_depth)
+    claims = [c.claim for c in by_depth[depths[0]]]
+    names = list(VERDICT_COLORS)
+    grid = np.array([[names.index(c.verdict) for c in by_depth[d]] for d in depths]).T
+    mm = np.array(depths) * 1e3
+    agree = [sum(c.verdict == "agrees" for c in by_depth[d]) for d in depths]
+    fig, (top, ax) = plt.subplots(
+        2,
+        1,
+        figsize=(8, 5.2),
+        sharex=True,
+        gridspec_kw={"height_ratios": [1, 3]},
+        constrained_layout=True,
+    )
+    top.step(mm, agree, where="mid", color="k")
+    top.set_ylabel("claims\nreproduced")
+    top.set_ylim(min(agree) - 1.5, max(agree) + 1.5)
+    top.yaxis.set_major_locator(MaxNLocator(integer=True))
+    step = float(np.diff(mm).min()) if len(mm) > 1 else 1.0
+    ax.imshow(
+        grid,
+        aspect="auto",
+        cmap=ListedColormap(list(VERDICT_COLORS.values())),
+        vmin=-0.5,
+        vmax=len(names) - 0.5,
+        extent=(mm[0] - step / 2, mm[-1] + step / 2, len(claims) - 0.5, -0.5),
+        interpolation="nearest",
+    )
+    ax.set_yticks(range(len(claims)), claims, fontsize=8)
+    ax.set_xlabel("stance depth of the gait [mm] (the fixed feet are 26 mm tall)")
+    ax.legend(
+        handles=[Patch(color=c, label=n) for n, c in VERDICT_COLORS.items()],
+        fontsize=7,
+        loc="upper left",
+        bbox_to_anchor=(1.0, 1.0),
+    )
+    fig.suptitle(
+        f"The claims of the headline reading against the stance depth, {speed:g} m/s, "
+        f"W = {water * 100:g} %",
+        fontsize=10,
+    )
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -3,14 +3,17 @@
 Runs every foot (flat, semi-cylinder, semi-sphere, morphing) through one stepping cycle
 (:func:`mudrft.gait`) at the paper's three gait speeds and the tabulated water contents
 under the headline reading (:data:`~mudrft.reproduce.readings.HEADLINE`), then the runs
-each other reading needs for the nine claims (runs are shared where two readings give the
-same physics), and writes
+each other reading, each stance depth and each pad-curl delay needs for the nine claims
+(runs are shared where two give the same physics), and writes
 
 * ``summary.csv``: the headline reading, one row per foot x speed x water content
   (columns in DESIGN.md);
 * ``claims.csv``: one row per claim and reading (``claim,reading,paper,mudrft,verdict``);
-* ``report.md``: the headline's "N of 9 claims", the matrix and every reading's derivation;
-* figures like the paper's Figs. 9, 10, 12 and 13 (PNG), for the headline reading.
+* ``depths.csv``: one row per claim and stance depth, under the headline reading;
+* ``report.md``: the headline's "N of 9 claims" and its range over the stance depths, the
+  matrix and every reading's derivation;
+* figures like the paper's Figs. 9, 10, 12 and 13 (PNG), for the headline reading, and the
+  verdicts against the stance depth.
 """
 
 from __future__ import annotations
@@ -18,7 +21,9 @@ from __future__ import annotations
 import csv
 import functools
 import time as _time
+import warnings
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeAlias
 
@@ -26,11 +31,11 @@ import numpy as np
 
 from .._progress import logger, make_progress
 from .._validation import MudrftError
-from ..feet import by_name
+from ..feet import MorphingFoot, by_name
 from ..simulation import Result, simulate, static_sinking
-from ..trajectories import GAIT_SPEEDS, gait
-from .claims import FIXED, Cell, evaluate
-from .readings import READINGS, Reading
+from ..trajectories import GAIT_SPEEDS, BuriedFootWarning, gait
+from .claims import FIXED, LOAD, Cell, evaluate
+from .readings import CURL_DELAYS, READINGS, STANCE_DEPTHS, Reading
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -48,17 +53,16 @@ __all__ = [
 
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
-#: Load used for the sinking depth [N]: half the weight of a 10 kg biped on one foot (decision D13).
-LOAD = 49.0
 
 #: The tables :func:`reproduce` writes in its directory.
-TABLES = ("summary.csv", "claims.csv", "report.md")
+TABLES = ("summary.csv", "claims.csv", "depths.csv", "report.md")
 #: The figures it writes there (``figures=True``).
 FIGURES = (
     "fig09_forces.png",
     "fig10_normalized.png",
     "fig12_hysteresis.png",
     "fig13_suction_energy.png",
+    "fig_depth_verdicts.png",
 )
 
 SUMMARY_COLUMNS = (
@@ -107,27 +111,47 @@ def _prepare_out(out: Path, force: bool, names: Sequence[str]) -> None:
         raise MudrftError(f"--out {str(out)!r} is not writable: {exc.strerror or exc}") from exc
 
 
-#: A gait run: (the reading's run key, foot, speed [m/s], table row).
+#: A gait run: (the physics of the reading and foot, foot, speed [m/s], table row).
 RunKey: TypeAlias = tuple[tuple[object, ...], str, float, float]
+#: A run to make: (reading, foot, speed [m/s], table row, stance depth [m] or None: the reading's).
+Task: TypeAlias = tuple[Reading, str, float, float, float | None]
 
 
 class _Runs:
     """Gait runs and sinking depths, computed once and shared by every reading."""
 
-    def __init__(self, feet: dict[str, Foot], dt: float) -> None:
-        self.feet, self.dt = feet, dt
+    def __init__(self, dt: float) -> None:
+        self.dt = dt
         self.results: dict[RunKey, Result] = {}
         self.numbers: dict[RunKey, dict[str, float]] = {}
         self._sinking: dict[tuple[str, float], float] = {}
+        self._feet: dict[tuple[str, float], Foot] = {}
+
+    def foot(self, name: str, curl_delay: float = 0.0) -> Foot:
+        """The foot ``name``; the morphing foot with its pad-curl delay [s]."""
+        if (name, curl_delay) not in self._feet:
+            held = curl_delay and name == "morphing"
+            self._feet[name, curl_delay] = (
+                MorphingFoot(curl_delay=curl_delay) if held else by_name(name)
+            )
+        return self._feet[name, curl_delay]
 
     @staticmethod
-    def key(reading: Reading, foot: str, speed: float, row: float) -> RunKey:
-        return (reading.run_key, foot, float(speed), float(row))
+    def key(
+        reading: Reading, foot: str, speed: float, row: float, depth: float | None = None
+    ) -> RunKey:
+        return (reading.run_key(foot, depth), foot, float(speed), float(row))
 
-    def run(self, reading: Reading, foot: str, speed: float, row: float) -> None:
-        res = simulate(
-            self.feet[foot], reading.terrain(row), gait(speed, depth=reading.depth, dt=self.dt)
-        )
+    def run(
+        self, reading: Reading, foot: str, speed: float, row: float, depth: float | None = None
+    ) -> None:
+        stance = depth or reading.depth
+        delay = reading.curl_delay if foot == "morphing" else 0.0
+        with warnings.catch_warnings():  # the buried readings say so in the report
+            warnings.simplefilter("ignore", BuriedFootWarning)
+            res = simulate(
+                self.foot(foot, delay), reading.terrain(row), gait(speed, depth=stance, dt=self.dt)
+            )
         m = res.metrics()
         ns = res.normalized_stress()[:, 2] if res.areas is not None else np.zeros(len(res))
         m.update(
@@ -135,29 +159,40 @@ class _Runs:
             min_ns=float(ns.min()),
             peak_ns_depth=float(res.depth[int(np.argmax(ns))]),
         )
-        key = self.key(reading, foot, speed, row)
+        key = self.key(reading, foot, speed, row, depth)
         self.results[key], self.numbers[key] = res, m
 
     def metrics(
-        self, reading: Reading, foot: str, speed: float, row: float
+        self, reading: Reading, foot: str, speed: float, row: float, depth: float | None = None
     ) -> dict[str, float] | None:
         """The numbers of a run, or None if it was not run."""
-        return self.numbers.get(self.key(reading, foot, speed, row))
+        return self.numbers.get(self.key(reading, foot, speed, row, depth))
 
     def sinking(self, reading: Reading, foot: str, row: float) -> float:
         """Sinking under :data:`LOAD` on the row's relaxed mud [m] (independent of the
         evaluation and the gait: the limit a ramped load creeps to, decision D13)."""
         key = (foot, float(row))
         if key not in self._sinking:
-            self._sinking[key] = static_sinking(self.feet[foot], reading.mud(row), LOAD)
+            self._sinking[key] = static_sinking(self.foot(foot), reading.mud(row), LOAD)
         return self._sinking[key]
+
+    def loaded(self, reading: Reading, foot: str, speed: float) -> dict[str, float] | None:
+        """The load-carrying stance: ``foot``'s gait at its own sinking depth under
+        :data:`LOAD`, on the reading's "25 %" row (None if not run)."""
+        w = reading.row(0.25)
+        return self.metrics(reading, foot, speed, w, self.sinking(reading, foot, w))
+
+
+#: The feet of the load-carrying stance (claims morphing-vs-*).
+LOADED = ("flat", "semi-cylinder", "morphing")
 
 
 def _plan(
     reading: Reading, feet: Sequence[str], speeds: Sequence[float], rows: Sequence[float]
 ) -> list[tuple[str, float, float]]:
-    """The (foot, speed, row) runs the nine claims need under ``reading``."""
-    v = min(speeds, key=lambda s: abs(s - 0.2))
+    """The (foot, speed, row) runs the nine claims need under ``reading``, but the
+    load-carrying stance (:func:`_loaded_plan`)."""
+    v = _medium(speeds)
     w = reading.row(0.25)
     if not any(abs(w - r) < 1e-9 for r in rows):
         return []
@@ -168,6 +203,11 @@ def _plan(
     return list(dict.fromkeys(out))
 
 
+def _medium(speeds: Sequence[float]) -> float:
+    """The speed of the claims [m/s]: the one nearest the paper's medium 0.2 m/s."""
+    return min(speeds, key=lambda s: abs(s - 0.2))
+
+
 def reproduce(
     out: str | Path,
     *,
@@ -176,6 +216,8 @@ def reproduce(
     speeds: Sequence[float] = tuple(GAIT_SPEEDS.values()),
     water_contents: Sequence[float] = WATER_CONTENTS,
     readings: Sequence[Reading] = READINGS,
+    depths: Sequence[float] = STANCE_DEPTHS,
+    curl_delays: Sequence[float] = CURL_DELAYS,
     figures: bool = True,
     quiet: bool = False,
     dt: float = 1e-3,
@@ -197,6 +239,12 @@ def reproduce(
     readings : sequence of Reading, keyword-only
         Readings of the matrix (:data:`~mudrft.reproduce.readings.READINGS`); the first is
         the headline, which also makes ``summary.csv`` and the figures.
+    depths : sequence of float, keyword-only
+        Stance depths [m] at which the headline's claims are also evaluated
+        (:data:`~mudrft.reproduce.readings.STANCE_DEPTHS`, 10-26 mm): ``depths.csv``.
+    curl_delays : sequence of float, keyword-only
+        Pad-curl delays of the morphing foot [s] whose suction ratio the report gives
+        (:data:`~mudrft.reproduce.readings.CURL_DELAYS`, 0-100 ms).
     figures : bool, keyword-only
         Write the PNG figures (needs matplotlib).
     quiet : bool, keyword-only
@@ -211,62 +259,123 @@ def reproduce(
     """
     outp = Path(out)
     _prepare_out(outp, force, TABLES + (FIGURES if figures else ()))
-    for s in speeds:
-        if not (isinstance(s, (int, float)) and s > 0):
-            raise MudrftError(f"speeds must be > 0 m/s, got {s!r}")
+    for name, values, unit in (("speeds", speeds, "m/s"), ("depths", depths, "m")):
+        for x in values:
+            if not (isinstance(x, (int, float)) and x > 0):
+                raise MudrftError(f"{name} must be > 0 {unit}, got {x!r}")
+    for x in curl_delays:
+        if not (isinstance(x, (int, float)) and x >= 0):
+            raise MudrftError(f"curl_delays must be >= 0 s, got {x!r}")
     if not readings:
         raise MudrftError("readings must name at least one reading (the headline)")
     t0 = _time.perf_counter()
 
-    runs = _Runs({name: by_name(name) for name in feet}, dt)
+    runs = _Runs(dt)
     rows_w = [float(w) for w in water_contents]
     head = readings[0]
-    tasks = [(head, f, float(v), w) for w in rows_w for f in feet for v in speeds]
-    for rd in readings:
-        tasks += [(rd, *t) for t in _plan(rd, feet, speeds, rows_w)]
-    todo: dict[RunKey, tuple[Reading, str, float, float]] = {}
+    at_depth = {float(d): head.at_depth(float(d)) for d in depths}
+    delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
+    v = _medium(speeds) if speeds else 0.0
+    tasks: list[Task] = [(head, f, float(s), w, None) for w in rows_w for f in feet for s in speeds]
+    for rd in (*readings, *at_depth.values()):
+        tasks += [(rd, *t, None) for t in _plan(rd, feet, speeds, rows_w)]
+        if rd.row(0.25) in rows_w and set(LOADED) <= set(feet):
+            w = rd.row(0.25)
+            tasks += [(rd, f, v, w, runs.sinking(rd, f, w)) for f in LOADED]
+    if "morphing" in feet and head.row(0.25) in rows_w:
+        tasks += [(rd, "morphing", v, head.row(0.25), None) for rd in delayed.values()]
+    todo: dict[RunKey, Task] = {}
     for t in tasks:  # each physics once, in order, named by the first reading that needs it
         todo.setdefault(runs.key(*t), t)
     width = max(2, len(str(len(todo))))
-    for i, (rd, f, v, w) in enumerate(todo.values(), 1):
+    for i, (rd, f, s, w, d) in enumerate(todo.values(), 1):
         _say(
-            f"[{i:{width}d}/{len(todo)}] {rd.key:17s} {f:13s} {v:.2f} m/s  "
-            f"W = {rd.label(w) * 100:g} %",
+            f"[{i:{width}d}/{len(todo)}] {rd.key:17s} {f:13s} {s:.2f} m/s  "
+            f"W = {rd.label(w) * 100:g} %  {(d or rd.depth) * 1e3:.1f} mm",
             quiet,
         )
-        runs.run(rd, f, v, w)
+        runs.run(rd, f, s, w, d)
     rows = _summary_rows(runs, head, feet, speeds, rows_w)
     _write_summary(outp / "summary.csv", rows)
     _say(f"wrote {outp / 'summary.csv'} ({len(rows)} rows)", quiet)
-    if figures:
-        from .figures import make_figures
 
-        head_runs = {
-            (f, float(v), w): runs.results[runs.key(head, f, v, w)]
-            for w in rows_w
-            for f in feet
-            for v in speeds
-        }
-        for path in make_figures(
-            outp, head_runs, rows, feet=list(feet), speeds=list(speeds), water_contents=rows_w
-        ):
-            _say(f"wrote {path}", quiet)
-    cells: dict[str, list[Cell]] = {}
-    for rd in readings:
-        cells[rd.key] = evaluate(
+    def cells_of(rd: Reading) -> list[Cell]:
+        return evaluate(
             rd,
             functools.partial(runs.metrics, rd),
             functools.partial(runs.sinking, rd),
             feet=list(feet),
             speeds=[float(s) for s in speeds],
             rows=rows_w,
+            loaded=functools.partial(runs.loaded, rd, speed=v)
+            if set(LOADED) <= set(feet)
+            else None,
         )
-    from .report import write_claims_csv, write_report
+
+    cells = {rd.key: cells_of(rd) for rd in readings}
+    by_depth = {d: cells_of(rd) for d, rd in at_depth.items()}
+    ratios = {}
+    for x, rd in delayed.items():
+        m = runs.metrics(rd, "morphing", v, head.row(0.25))
+        if m is not None and m["peak_support"] > 0:
+            ratios[x] = m["max_suction"] / m["peak_support"]
+    if figures:
+        from .figures import make_figures
+
+        head_runs = {
+            (f, float(s), w): runs.results[runs.key(head, f, s, w)]
+            for w in rows_w
+            for f in feet
+            for s in speeds
+        }
+        for path in make_figures(
+            outp,
+            head_runs,
+            rows,
+            feet=list(feet),
+            speeds=list(speeds),
+            water_contents=rows_w,
+            by_depth=by_depth,
+        ):
+            _say(f"wrote {path}", quiet)
+    from .report import write_claims_csv, write_depths_csv, write_report
 
     _say(f"wrote {write_claims_csv(outp / 'claims.csv', cells)}", quiet)
-    _say(f"wrote {write_report(outp / 'report.md', cells, readings=list(readings))}", quiet)
-    _say(f"done in {_time.perf_counter() - t0:.1f} s", quiet)
+    _say(f"wrote {write_depths_csv(outp / 'depths.csv', head, by_depth)}", quiet)
+    sinking = {f: runs.sinking(head, f, head.row(0.25)) for f in feet if f in FIXED}
+    report = write_report(
+        outp / "report.md",
+        cells,
+        readings=list(readings),
+        by_depth=by_depth,
+        curl_ratios=ratios,
+        suction_ratios=_suction_ratios(runs, readings, v),
+        sinking=sinking if head.row(0.25) in rows_w else {},
+    )
+    _say(f"wrote {report}", quiet)
+    _say(f"done in {_time.perf_counter() - t0:.1f} s ({len(todo)} gait runs)", quiet)
     return rows
+
+
+def _suction_ratios(
+    runs: _Runs, readings: Sequence[Reading], speed: float
+) -> dict[str, tuple[float, float | None]]:
+    """Reading -> the semi-cylinder's suction over the flat foot's [-] in the gait and with
+    the load-carrying stance (None where not run), for the readings that ran both feet."""
+    out: dict[str, tuple[float, float | None]] = {}
+    for rd in readings:
+        gait = [runs.metrics(rd, f, speed, rd.row(0.25)) for f in ("semi-cylinder", "flat")]
+        held = [runs.loaded(rd, f, speed) for f in ("semi-cylinder", "flat")]
+        if gait[0] is None or gait[1] is None:
+            continue
+        ratio = gait[0]["max_suction"] / gait[1]["max_suction"]
+        loaded = (
+            held[0]["max_suction"] / held[1]["max_suction"]
+            if held[0] is not None and held[1] is not None
+            else None
+        )
+        out[rd.key] = (ratio, loaded)
+    return out
 
 
 def _summary_rows(

@@ -136,7 +136,7 @@ MOTIONS: dict[str, dict[str, Parameter]] = {
     for kind, params in {
         "gait": [
             _p("motion", "speed", "m/s", "gait speed", gt=0.0),
-            _p("motion", "depth", "m", "deepest tip depth of the gait", gt=0.0),
+            _p("motion", "depth", "m", "deepest tip depth of the gait (default: mudrft.trajectories.STANCE_DEPTH, 0.02 m)", gt=0.0),
             _p("motion", "stride", "m", "stride length", gt=0.0),
             _p("motion", "slip", "-", "forward slip as a fraction of the stride", ge=0.0, le=1.0),
             _p("motion", "sway", "-", "lateral sway as a fraction of the stride", ge=0.0, le=1.0),
@@ -197,9 +197,10 @@ _CYCLE = (
     Metric("impulse_y", "N s", "impulse of Fy", "impulse_y"),
     Metric("impulse_z", "N s", "impulse of Fz", "impulse_z"),
     Metric("energy", "J", "work of the foot against the mud", "energy"),
-    Metric("sinking", "m", "sinking (deepest depth; final depth under a load)", "sinking"),
+    Metric("max_depth", "m", "deepest tip depth (a gait's prescribed stance depth)", "max_depth"),
     Metric("suction_ratio", "-", "max suction / peak support", "suction_ratio"),
 )  # fmt: skip
+_SINKING = Metric("sinking", "m", "sinking: the settled (final) depth under the load", "sinking")
 _WALK = (
     Metric("fell", "-", "1 if the biped fell, else 0", "fell"),
     Metric("distance", "m", "distance walked", "distance [m]"),
@@ -216,6 +217,6 @@ _WALK = (
 #: The metrics of each motion kind, in their documented order.
 METRICS: dict[str, dict[str, Metric]] = {
     "gait": {m.name: m for m in _CYCLE},
-    "load": {m.name: m for m in _CYCLE},
+    "load": {m.name: m for m in (*_CYCLE, _SINKING)},
     "walk": {m.name: m for m in _WALK},
 }

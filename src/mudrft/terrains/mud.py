@@ -558,7 +558,9 @@ class MudTerrain:
             )
             stress = np.stack([sx, sy, sz], axis=-1)
             heading, inside = ch.heading, ch.in_mud
-        foot_state, force = foot.contact_force(state.foot, depth_a, stress, heading, dt)
+        foot_state, force = foot.contact_force(
+            state.foot, depth_a, stress, heading, dt, retraction=ch.z.clock_w
+        )
         force = force * np.asarray(inside)[..., None]
         out = TerrainOutput(force=force, stress=stress, depth=depth_a)
         return MudState(channels=ch, foot=foot_state), out

@@ -57,6 +57,7 @@ __all__ = [
     "N_STATE",
     "STATE_HEADING",
     "STATE_IN_MUD",
+    "STATE_RETRACTION",
     "channels_of_rows",
     "compilable",
     "config_row",
@@ -71,6 +72,7 @@ __all__ = [
 N_CHANNEL = len(ChannelState._fields)
 N_STATE = 2 * N_CHANNEL + 5
 STATE_HEADING = N_STATE - 2
+STATE_RETRACTION = 2 * N_CHANNEL - 1  # the vertical channel's clock_w: t - t_w [s]
 STATE_IN_MUD = N_STATE - 1
 N_CONST = 2 * len(ChannelConstants._fields)
 N_FOOT = 3
@@ -179,10 +181,10 @@ def channels_at(s: FloatArray | Sequence[float]) -> MudChannels:
 
 
 def morphing_at(r: FloatArray) -> MorphingRow:
-    """The :class:`~mudrft.feet.morphing.row.MorphingRow` of a float row (its 23 fields)."""
+    """The :class:`~mudrft.feet.morphing.row.MorphingRow` of a float row (its 24 fields)."""
     return MorphingRow(
         r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12],
-        r[13], r[14], r[15], r[16], r[17], r[18], r[19], r[20], r[21], r[22],
+        r[13], r[14], r[15], r[16], r[17], r[18], r[19], r[20], r[21], r[22], r[23],
     )  # fmt: skip
 
 
@@ -233,7 +235,7 @@ def foot_step(
         fx, fy, fz = mesh_force(up, depth, sx, sy, sz, new.heading, geom[1] != 0.0)
     elif geom[0] == MORPHING:
         fx, fy, fz, frow[0], frow[1], frow[2] = contact_on_floats(
-            m, fs[0], fs[2], depth, sx, sy, sz, new.heading, pyfloat
+            m, fs[0], fs[2], depth, sx, sy, sz, new.heading, new.z.clock_w, pyfloat
         )
     else:
         fx, fy, fz = closed_form_force(

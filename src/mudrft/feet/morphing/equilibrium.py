@@ -39,7 +39,9 @@ so across the threshold deflections agree to :math:`10^{-12}` m. With SciPy olde
 
 *Sealing* (D35). Curling pads break the seal of the cavity under the foot: the seal factor
 is :math:`1-\tanh(g/g_s)` with :math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad
-rims above their most spread position :math:`\theta_m` in the current contact.
+rims above their most spread position :math:`\theta_m` in the current contact. The pads curl as
+soon as the retraction lowers the mud's push, unless the foot's pad-curl delay holds them
+(:func:`held_deflection`).
 """
 
 from __future__ import annotations
@@ -86,6 +88,7 @@ __all__ = [
     "balanced_deflection_on_floats",
     "column_residual",
     "contact_on_floats",
+    "held_deflection",
     "linkage_row",
     "residual",
     "seal_factor",
@@ -169,11 +172,15 @@ def residual(
 
 @functools.lru_cache(maxsize=64)
 def linkage_row(
-    linkage: Linkage, spring: TwoStageSpring, seal_length: float = 1.0, lock: float = -1.0
+    linkage: Linkage,
+    spring: TwoStageSpring,
+    seal_length: float = 1.0,
+    lock: float = -1.0,
+    curl_delay: float = 0.0,
 ) -> MorphingRow:
     """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
-    :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1);
-    cached, for :func:`balanced_deflection` on floats."""
+    :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1,
+    pad-curl delay [s]); cached, for :func:`balanced_deflection` on floats."""
     g = linkage.geometry
     # every field of the geometry (a field the row lacks fails below, instead of vanishing)
     values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
@@ -187,6 +194,7 @@ def linkage_row(
         knee_force=spring.knee_force,
         seal_length=seal_length,
         lock=lock,
+        curl_delay=curl_delay,
     )
     return MorphingRow(**{k: float(v) for k, v in values.items()})
 
@@ -400,6 +408,25 @@ def track_most_spread(
     return xp.where(depth > 0.0, xp.minimum(most_spread, pad_angle), pad_angle)
 
 
+def held_deflection(
+    deflection: XpArray,
+    previous: XpArray,
+    retraction: XpArray,
+    curl_delay: float,
+    xp: Namespace = np,
+) -> XpArray:
+    r"""The column deflection [m] after the pad-curl delay (D35): for the first ``curl_delay``
+    [s] of a retraction (``retraction``, the mud's :math:`t-t_w` [s], 0 while not retracting)
+    the column may compress but not extend, so the pads do not curl; else ``deflection``, the
+    step's balance [m]. ``previous`` is the deflection after the previous step [m].
+
+    >>> float(held_deflection(0.004, 0.011, 0.02, 0.05)), float(held_deflection(0.004, 0.011, 0.06, 0.05))
+    (0.011, 0.004)
+    """
+    held = (retraction > 0.0) & (retraction <= curl_delay)
+    return xp.where(held, xp.maximum(deflection, previous), deflection)
+
+
 def balanced_deflection_on_floats(
     m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
@@ -447,20 +474,22 @@ def balanced_deflection_on_floats(
 
 def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
-    sz: float, heading: float, xp: Namespace = pyfloat,
+    sz: float, heading: float, retraction: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (D68d).
 
-    The balanced (or locked) deflection, its pad angle, the force of the mud on the base
-    and pads (:func:`~.pads.morphing_force`) and the seal memory, for a
+    The balanced (or locked) deflection, held by the pad-curl delay
+    (:func:`held_deflection`), its pad angle, the force of the mud on the base and pads
+    (:func:`~.pads.morphing_force`) and the seal memory, for a
     :class:`~.linkage.MorphingRow` ``m``, the previous deflection [m] and memory [rad], depth
-    [m], signed stresses [Pa] and world heading [rad]. Returns ``(F_x, F_y, F_z,
-    deflection, pad_angle, most_spread)`` [N, m, rad].
+    [m], signed stresses [Pa], world heading [rad] and the time since the retraction began
+    [s]. Returns ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)`` [N, m, rad].
     """
     if m.lock >= 0.0:
         delta = m.lock
     else:
         delta = balanced_deflection_on_floats(m, depth, sz, deflection, xp=xp)
+        delta = held_deflection(delta, deflection, retraction, m.curl_delay, xp=xp)
     th = pad_angle(m, m.pole_top, m.branch, delta, xp=xp)
     fx, fy, fz = morphing_force(m, depth, th, sx, sy, sz, heading, xp=xp)
     return fx, fy, fz, delta, th, track_most_spread(depth, th, most_spread, xp=xp)

@@ -21,7 +21,7 @@ from ..._validation import MudrftError, check_length, check_nonnegative, positiv
 from ..base import Foot
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
-from .equilibrium import MorphingState, seal_factor, track_most_spread
+from .equilibrium import MorphingState, held_deflection, seal_factor, track_most_spread
 from .linkage import MorphingFootGeometry
 from .mechanism import MorphingMechanism
 from .springs import TwoStageSpring
@@ -42,6 +42,10 @@ class MorphingFoot(MorphingMechanism, Foot):
         Free morphing (default), pads locked fully spread, or locked curled up.
     seal_length : float, keyword-only
         Rim lift :math:`g_s` over which curling pads break the cavity seal [m] (D35).
+    curl_delay : float, keyword-only
+        Time after the retraction begins during which the pads stay spread [s] (D35). The
+        paper says the suction comes before the curl but gives no timing; 0, the default,
+        lets them curl the moment the retraction begins.
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the square root of the spread footprint (D36).
     **overrides
@@ -80,11 +84,13 @@ class MorphingFoot(MorphingMechanism, Foot):
         *,
         mode: str = "morphing",
         seal_length: float = 0.002,
+        curl_delay: float = 0.0,
         characteristic_length: float | None = None,
         **overrides: Any,
     ) -> None:
         super().__init__(geometry, spring, mode=mode, **overrides)
         self.seal_length = positive_number("seal_length", seal_length, unit="m")
+        self.curl_delay = float(check_nonnegative("curl_delay", curl_delay, unit="s"))
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
         self._lc = (
             None
@@ -114,9 +120,10 @@ class MorphingFoot(MorphingMechanism, Foot):
         kw: dict[str, Any] = {
             "mode": self.mode,
             "seal_length": self.seal_length,
+            "curl_delay": self.curl_delay,
             "characteristic_length": self._lc,
         }
-        for k in ("mode", "seal_length", "characteristic_length"):
+        for k in tuple(kw):
             if k in changes:
                 kw[k] = changes.pop(k)
         return MorphingFoot(self.geometry, self.spring, **kw, **changes)
@@ -128,11 +135,13 @@ class MorphingFoot(MorphingMechanism, Foot):
             **asdict(self.spring),
             "mode": self.mode,
             "seal_length": self.seal_length,
+            "curl_delay": self.curl_delay,
             "characteristic_length": self.characteristic_length,
         }
 
     def __repr__(self) -> str:
-        return f"MorphingFoot(mode={self.mode!r}, stroke={self.stroke:.4g} m)"
+        delay = f", curl_delay={self.curl_delay:g} s" if self.curl_delay else ""
+        return f"MorphingFoot(mode={self.mode!r}, stroke={self.stroke:.4g} m{delay})"
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, MorphingFoot):
@@ -244,12 +253,16 @@ class MorphingFoot(MorphingMechanism, Foot):
         stress: ArrayLike,
         heading: ArrayLike,
         dt: float,
+        *,
+        retraction: ArrayLike = 0.0,
     ) -> tuple[MorphingState, NDArray[np.float64]]:
         """Solve the column balance for this step and return ``(state, force)`` [N] (D32, D34).
 
         The deflection moves from the previous one (``foot_state.deflection``) to the
-        balance with the current stresses; out of the mud (depth 0) the column relaxes to
-        0 and the seal memory resets. Force in the world frame as in :meth:`Foot.force`.
+        balance with the current stresses, held for the first :attr:`curl_delay` seconds of
+        a retraction (:func:`~.equilibrium.held_deflection`); out of the mud (depth 0) the
+        column relaxes to 0 and the seal memory resets. Force in the world frame as in
+        :meth:`Foot.force`.
 
         Parameters
         ----------
@@ -260,12 +273,17 @@ class MorphingFoot(MorphingMechanism, Foot):
             (checked by the caller, as in :meth:`Foot.force_unchecked`).
         dt : float
             Step [s]; unused, the balance is quasi-static.
+        retraction : float or array_like, keyword-only
+            Time since the retraction began, :math:`t-t_w` [s] (the mud's vertical suction
+            clock; 0 while not retracting).
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()
         d = np.asarray(depth, dtype=float)
         s = np.asarray(stress, dtype=float)
         delta = self._deflection(d, s[..., 2], foot_state.deflection)
+        if self.curl_delay > 0.0 and self.mode == "morphing":
+            delta = held_deflection(delta, foot_state.deflection, retraction, self.curl_delay)
         th = self._linkage.angle(delta)
         h = np.asarray(heading, dtype=float)
         f = pads.morphing_force(self.geometry, d, th, s[..., 0], s[..., 1], s[..., 2], h)

@@ -378,14 +378,16 @@ class MorphingRow(NamedTuple):
     The dimensions of :class:`MorphingFootGeometry` (same names), the resolved
     :class:`Linkage` (``pole_top``, ``stroke``, ``branch``), the
     :class:`~.springs.TwoStageSpring`'s derived constants (same names as its properties),
-    the seal length and the locked deflection (made by :func:`~.row.morphing_row`). The
+    the seal length, the locked deflection and the pad-curl delay (made by
+    :func:`~.row.morphing_row`). The
     element-wise functions of :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
     :mod:`.equilibrium` read their numbers by attribute, so they run unchanged on the
     dataclasses (numpy) or on this named tuple (numba compiles named tuples of floats,
     not dataclasses; D68d).
 
     ``lock`` is the locked deflection of the modes ``"expanded"`` and ``"retracted"``
-    [m], or -1 for the free ``"morphing"`` mode (D37).
+    [m], or -1 for the free ``"morphing"`` mode (D37); ``curl_delay`` the time after the
+    retraction begins during which the pads do not curl [s] (D35).
     """
 
     base_radius: float
@@ -411,3 +413,4 @@ class MorphingRow(NamedTuple):
     knee_force: float
     seal_length: float
     lock: float
+    curl_delay: float

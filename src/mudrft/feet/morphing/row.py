@@ -25,7 +25,8 @@ __all__ = ["MorphingRow", "linkage_row", "morphing_row", "row_array"]
 def morphing_row(foot: MorphingFoot) -> MorphingRow:
     """The :class:`~.linkage.MorphingRow` of a :class:`~.foot.MorphingFoot`."""
     lock = foot.locked_deflection()
-    return linkage_row(foot.linkage, foot.spring, foot.seal_length, -1.0 if lock is None else lock)
+    lock_row = -1.0 if lock is None else lock
+    return linkage_row(foot.linkage, foot.spring, foot.seal_length, lock_row, foot.curl_delay)
 
 
 def row_array(foot: MorphingFoot) -> NDArray[np.float64]:

@@ -23,6 +23,7 @@ from ...terrains.rows import (
     MESH,
     MORPHING,
     STATE_HEADING,
+    STATE_RETRACTION,
     channels_at,
     constants_at,
     foot_step,
@@ -96,7 +97,7 @@ def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatA
         fx, fy, fz = mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
     elif geom[0] == MORPHING and q == 2:  # the morphing foot, its column balanced again
         fx, fy, fz, _, _, _ = contact_on_floats(
-            m, fs[0], fs[2], depth, sx, sy, sz, heading, pyfloat
+            m, fs[0], fs[2], depth, sx, sy, sz, heading, row[STATE_RETRACTION], pyfloat
         )
     elif geom[0] == MORPHING:  # the morphing foot at the balance of the step
         fx, fy, fz = morphing_force(m, depth, frow[1], sx, sy, sz, heading, pyfloat)
