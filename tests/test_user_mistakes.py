@@ -29,7 +29,7 @@ from mudrft.feet import first_quadrant
 
 FLAT = mudrft.feet.Flat()
 MUD = mudrft.paper_mud(0.25)
-PLATE = mudrft.plate_intrusion()
+PLATE = mudrft.plate_intrusion(depth=0.02)  # within the 26 mm foot
 TWO, THREE_BY_3, FOUR = np.array([0.01, 0.02]), np.ones((3, 3)), np.zeros(4)
 
 
@@ -298,3 +298,43 @@ def test_one_number_checks_return_a_float():
     )
     assert values == (2.0, 0.0, 0.25)
     assert all(type(v) is float for v in values)
+
+
+def test_the_last_silent_core_inputs_are_refused():
+    """Issue 43: each of these was accepted silently, returned NaN, or failed deep inside
+    (AttributeError, numpy's MemoryError for 21.8 TiB)."""
+    from mudrft import constitutive
+    from mudrft.backends import BatchedMud
+
+    p = mudrft.paper_parameters(0.25)
+    st = constitutive.initial_state()
+    with pytest.raises(MudrftError, match=r"progress must be True, False or a callable"):
+        mudrft.simulate(FLAT, MUD, mudrft.gait(0.2), progress="yes")
+    for seal in (2.0, -0.5):
+        with pytest.raises(MudrftError, match=r"seal must lie in \[0.0, 1.0\]"):
+            constitutive.step(p, st, 0.1, 1.0, 0.01, seal=seal)
+    with pytest.raises(MudrftError, match="seal must be finite"):
+        constitutive.step(p, st, 0.1, 1.0, 0.01, seal=float("nan"))
+    with pytest.raises(MudrftError, match="state must be a ChannelState.*got NoneType"):
+        constitutive.step(p, None, 0.1, 1.0, 0.01)
+    terrain = mudrft.MudTerrain(MUD)
+    state = terrain.initial_state(FLAT, [0.0, 0.0, 0.0])
+    with pytest.raises(MudrftError, match="foot must be a mudrft foot.*got NoneType"):
+        terrain.step(None, state, [0.0, 0.0, -0.01], [0.0, 0.0, -0.1], 1e-3)
+    with pytest.raises(MudrftError, match=r"a batch of n = 1000000000000 feet would need about"):
+        BatchedMud(MUD, FLAT, 10**12)
+
+
+def test_the_jax_step_checks_concrete_inputs():
+    """Issue 43: ``backends.jax.step`` took dt = -1 and a NaN gamma and returned numbers."""
+    pytest.importorskip("jax")
+    from mudrft.backends import jax as mjax
+
+    jp = mjax.to_jax(mudrft.paper_parameters(0.25))
+    st = mjax.initial_state()
+    with pytest.raises(MudrftError, match="dt must be > 0"):
+        mjax.step(jp, st, 0.1, 1.0, -1.0)
+    with pytest.raises(MudrftError, match="gamma must be finite"):
+        mjax.step(jp, st, float("nan"), 1.0, 0.01)
+    with pytest.raises(MudrftError, match=r"seal must lie in \[0.0, 1.0\]"):
+        mjax.step(jp, st, 0.1, 1.0, 0.01, seal=2.0)

@@ -104,4 +104,10 @@ def make_progress(
         return Progress(label)
     if callable(progress):
         return progress
-    return None
+    if progress is None or progress is False or type(progress).__name__ == "bool_":
+        return None  # numpy's False
+    from ._validation import MudrftError
+
+    raise MudrftError(
+        f"progress must be True, False or a callable taking the fraction done, got {progress!r}"
+    )

@@ -47,6 +47,7 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_finite,
+    check_memory,
     positive_number,
 )
 from ..feet.base import Foot
@@ -71,6 +72,9 @@ __all__ = ["BACKENDS", "BatchedMud", "as_mud_terrain", "batched_channel_paramete
 
 #: Backends of :class:`BatchedMud`.
 BACKENDS = ("numpy", "numba", "jax")
+#: Memory a foot of a batch needs at most [bytes]: its state, parameters and outputs, and the
+#: temporaries of a step on numpy arrays (about 200 arrays of one float a foot).
+BYTES_PER_FOOT = 2048
 
 
 def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameters:
@@ -216,6 +220,9 @@ class BatchedMud(Restorable):
 
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise MudrftError(f"n must be an integer >= 1 (number of feet), got {n!r}")
+        check_memory(
+            f"a batch of n = {n} feet", BYTES_PER_FOOT * float(n), hint="step fewer feet at once"
+        )
         if not isinstance(foot, Foot):
             raise MudrftError(
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"

@@ -39,7 +39,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_in_range, check_increasing
+from .._validation import (
+    MudrftError,
+    check_finite,
+    check_in_range,
+    check_increasing,
+    check_positive,
+)
 from ..constitutive import dynamics
 from ..constitutive.dynamics import ChannelHistory
 from ..constitutive.state import ChannelState, ChannelStress
@@ -175,6 +181,17 @@ def _check_state(state: ChannelState, made_by: str) -> None:
         raise MudrftError(f"state must be a ChannelState ({made_by}), got {type(state).__name__}")
 
 
+def _check_concrete(gamma: object, gamma_dot: object, dt: object, seal: object) -> None:
+    """The checks of :func:`mudrft.constitutive.step` on the inputs that are not traced."""
+    for name, value in (("gamma", gamma), ("gamma_dot", gamma_dot)):
+        if not is_tracer(value):
+            check_finite(name, value)
+    if not is_tracer(dt):
+        check_positive("dt", dt, unit="s")
+    if not is_tracer(seal):
+        check_in_range("seal", seal, 0.0, 1.0)
+
+
 def step(
     params: JaxParams,
     state: ChannelState,
@@ -200,7 +217,7 @@ def step(
     gamma_dot : array_like
         Dimensionless rate over the step [1/s].
     dt : float or array_like
-        Step [s], > 0 (not checked: this function may be traced).
+        Step [s], > 0.
     seal : array_like, keyword-only
         Sealing factor in [0, 1] [-].
     acceleration : bool or None, keyword-only
@@ -214,9 +231,16 @@ def step(
         New state (JAX arrays).
     stress : ChannelStress
         Stresses [Pa].
+
+    Notes
+    -----
+    Concrete inputs are checked (``dt`` > 0, finite ``gamma`` and ``gamma_dot``, ``seal`` in
+    [0, 1]); inside the caller's own ``jax.jit`` they are tracers, whose values cannot be
+    checked: there a bad value gives NaN, as any JAX function does.
     """
     check_params(params)
     _check_state(state, "initial_state(...)")
+    _check_concrete(gamma, gamma_dot, dt, seal)
     return _compiled()["step"](  # type: ignore[no-any-return]
         params, state, gamma, gamma_dot, dt, seal, acceleration, thixotropy, clock
     )

@@ -21,6 +21,7 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_finite,
+    check_in_range,
     check_increasing,
     check_positive,
 )
@@ -182,6 +183,8 @@ def step(
     True
     """
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
+    if validate and xp is np:
+        _check_state_and_seal(state, seal)
     c = kernel.channel_constants(params)
     if xp is np and _one_channel(c, state, gamma, gamma_dot, dt, seal):
         # one channel: the same step on Python floats, faster than numpy on 0-d values;
@@ -209,6 +212,16 @@ def step(
         restart,
         xp=xp,
     )
+
+
+def _check_state_and_seal(state: object, seal: object) -> None:
+    """``state`` a :class:`ChannelState`; ``seal`` [-] finite, in [0, 1]."""
+    if not isinstance(state, ChannelState):
+        raise MudrftError(
+            "state must be a ChannelState (mudrft.constitutive.initial_state(), or the state "
+            f"a step returned), got {type(state).__name__}"
+        )
+    check_in_range("seal", seal, 0.0, 1.0)
 
 
 def _check(gamma: object, gamma_dot: object, dt: object) -> None:

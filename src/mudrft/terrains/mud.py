@@ -499,6 +499,10 @@ class MudTerrain:
         Inputs are validated (:func:`~mudrft.terrains.base.check_motion`);
         :meth:`step_unchecked` is the same without, for loops that validated once.
         """
+        if not isinstance(foot, Foot):
+            raise MudrftError(
+                f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
+            )
         pos, vel, step = check_motion(position, velocity, dt)
         pos, vel = _motion_for_state(state, pos, vel)
         return self.step_unchecked(foot, state, pos, vel, step)
