@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
-from ._validation import MudrftError, check_characteristic_length
+from ._validation import MudrftError, check_characteristic_length, check_finite, number_in_range
 from .constitutive import laws
-from .constitutive.dynamics import run
+from .constitutive.contact import contact_rate, enter, in_contact
+from .constitutive.dynamics import evaluation
+from .constitutive.kernel import ChannelConstants, channel_constants, channel_step
+from .constitutive.state import ChannelState, ChannelStress, initial_state
 from .parameters.base import Mud, MudParameters
 from .plotting import AxesArg, plot_plate
 from .trajectories import Trajectory
@@ -17,7 +22,7 @@ from .trajectories import Trajectory
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response"]
+__all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response", "plate_steps"]
 
 #: Characteristic length of the paper's plates [m]. The paper does not give the plate
 #: size; 50 mm fits its 28 x 23 cm container (decision D1 in docs/model.md).
@@ -100,7 +105,10 @@ def plate_response(
 
     Notes
     -----
-    A vertical plate whose displacement is back to 0 has left the mud; its stress is 0.
+    A vertical plate feels the mud only while its displacement is positive, and the mud's
+    memory starts at first contact (:mod:`mudrft.constitutive.contact`, as in
+    :func:`mudrft.simulate`): the stress is exactly 0 above the surface, and motion there
+    does not change the stress in the mud.
 
     References
     ----------
@@ -127,32 +135,110 @@ def plate_response(
         p = params
     else:
         raise MudrftError(f"params must be a MudParameters or a Mud, got {type(params).__name__}")
+    if p.shape != ():
+        raise MudrftError(f"params must be a single parameter set, got a batch of shape {p.shape}")
+    t = trajectory.time
     q = trajectory.meta.get("displacement")
     if q is None:
         q = trajectory.depth if direction == "vertical" else trajectory.position[:, 0]
-    h = run(
-        p,
-        trajectory.time,
-        np.asarray(q) / L,
-        acceleration=acceleration,
-        thixotropy=thixotropy,
-        clock=clock,
+    q = check_finite("trajectory.meta['displacement']", q)
+    if q.shape != t.shape:
+        raise MudrftError(
+            f"trajectory.meta['displacement'] must have shape {t.shape} to match the time, "
+            f"got {q.shape}"
+        )
+    qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
+    number_in_range("xi0", xi0, 0.0, 1.0)
+    gamma = q / L
+    out = np.zeros((5, t.size))
+    out[4, 0] = xi0
+    steps = plate_steps(
+        channel_constants(p),
+        gamma,
+        np.diff(gamma) / np.diff(t),
+        np.diff(t),
+        kappa=kappa,
+        quasi_static=qs,
+        restart=restart,
         xi0=xi0,
+        contact=direction == "vertical",
     )
-    # a vertical plate back at the surface has left the mud: no stress (as MudTerrain does for feet)
-    inside = np.asarray(q) > 0 if direction == "vertical" else np.ones(np.shape(q), dtype=bool)
-    total, el, th, su = (
-        np.where(inside, a, 0.0) for a in (h.total, h.elastic, h.thixotropic, h.suction)
-    )
+    for k, (st, stress, inside) in enumerate(steps, start=1):
+        out[:4, k] = np.where(inside, stress, 0.0)
+        out[4, k] = st.xi
+    total, el, th, su, xi = out
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
-        time=trajectory.time,
-        displacement=np.asarray(q, dtype=float),
+        time=t,
+        displacement=q,
         stress=total,
         normal=laws.f_n(angle) * total,
         tangential=laws.f_t(angle) * total,
         elastic=el,
         thixotropic=th,
         suction=su,
-        xi=h.xi,
+        xi=xi,
     )
+
+
+def plate_steps(
+    consts: ChannelConstants,
+    gamma: NDArray[np.float64],
+    rate: NDArray[np.float64],
+    dt: NDArray[np.float64],
+    *,
+    kappa: float,
+    quasi_static: bool,
+    restart: bool,
+    xi0: float,
+    contact: bool,
+    shape: tuple[int, ...] | None = None,
+) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:
+    """The steps of a plate channel along a displacement history (no validation).
+
+    The one loop of :func:`plate_response` and of the calibration's forward model. With
+    ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``, and
+    each entry into the mud starts from undisturbed mud (:mod:`mudrft.constitutive.contact`,
+    the rule of :func:`mudrft.terrains.mud.mud_step`); without it (a horizontal plate) it is
+    in the mud throughout.
+
+    Parameters
+    ----------
+    consts : ChannelConstants
+        Model constants (SI); arrays broadcast with ``shape``.
+    gamma : ndarray, shape (n, ...)
+        Dimensionless displacement at the samples [-].
+    rate : ndarray, shape (n - 1, ...)
+        Rate over each step [1/s].
+    dt : ndarray, shape (n - 1, ...)
+        Step lengths [s], > 0.
+    kappa, quasi_static, restart : keyword-only
+        Evaluation of the model, from :func:`mudrft.constitutive.dynamics.evaluation`.
+    xi0 : float, keyword-only
+        Structure of undisturbed mud [-].
+    contact : bool, keyword-only
+        Apply the contact rule (vertical plates).
+    shape : tuple of int, optional, keyword-only
+        Shape of the channel state; default ``gamma.shape[1:]``.
+
+    Yields
+    ------
+    state : ChannelState
+        State after step ``k`` (k = 1 ... n-1).
+    stress : ChannelStress
+        Stresses at sample ``k`` [Pa], to be read only where ``inside``.
+    inside : ndarray of bool
+        Whether the plate is in the mud at sample ``k``.
+    """
+    inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
+    g = np.where(inside, gamma, 0.0) if contact else gamma
+    r = contact_rate(rate, inside[:-1], inside[1:]) if contact else rate
+    st = initial_state(gamma.shape[1:] if shape is None else shape, xi0=xi0, gamma=g[0])
+    for k in range(1, gamma.shape[0]):
+        fresh = ~inside[k - 1]
+        if fresh.any():
+            st = enter(st, fresh, xi0)
+        st, stress = channel_step(
+            consts, st, g[k], r[k - 1], dt[k - 1], 1.0, kappa, quasi_static, restart
+        )
+        yield st, stress, inside[k]

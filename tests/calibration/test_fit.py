@@ -28,9 +28,10 @@ from mudrft.parameters import PARAMETER_UNITS
 # --------------------------------------------------------------------------------------
 # the machinery
 # --------------------------------------------------------------------------------------
-def test_packed_simulation_equals_constitutive_run(true_vertical):
+def test_packed_simulation_equals_plate_response(true_vertical):
     """The batched simulation of the fitter is the library's model: same stress as
-    constitutive.run on every trial, for a batch of two parameter sets."""
+    plate_response (constitutive.run in the mud, 0 out of it) on every trial, for a batch
+    of two parameter sets."""
     ds = synthetic_dataset(true_vertical, speeds=(0.01, 0.04), noise=0.0, dt=0.02)
     pk = Packed.from_dataset(ds, nu=true_vertical.nu, k_a=None, acceleration=True, xi0=0.0)
     other = true_vertical.replace(alpha=1e4, lam=0.7, tau_build=0.9)
@@ -38,7 +39,14 @@ def test_packed_simulation_equals_constitutive_run(true_vertical):
     sim = pk.simulate(vals)
     for b, p in enumerate((true_vertical, other)):
         for j, tr in enumerate(ds):
-            ref = run(p, tr.time, tr.gamma).total
+            pos = np.zeros((len(tr), 3))
+            pos[:, 2] = -tr.depth
+            path = mudrft.Trajectory.from_positions(
+                tr.time, pos, meta={"direction": "vertical", "displacement": tr.depth}
+            )
+            ref = mudrft.plate_response(path, p).stress
+            inside = tr.depth > 0
+            np.testing.assert_array_equal(ref[inside], run(p, tr.time, tr.gamma).total[inside])
             # same arithmetic up to the order of operations: 1e-9 relative to the range
             np.testing.assert_allclose(sim[: len(tr), b, j], ref, rtol=0, atol=1e-9 * np.ptp(ref))
 

@@ -250,7 +250,7 @@ def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:
     trials = []
     for tr in ds.trials:
         n = len(tr)
-        keep = np.unique(np.r_[np.arange(0, n, k), int(np.argmax(np.abs(tr.depth))), n - 1])
+        keep = np.unique(np.r_[np.arange(0, n, k), int(np.argmax(tr.depth)), n - 1])
         trials.append(
             Trial(
                 tr.time[keep],

@@ -17,10 +17,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import MudrftError
-from ..constitutive import channel_constants, initial_state
-from ..constitutive.kernel import channel_step
+from ..constitutive import channel_constants
+from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
+from ..plate import plate_steps
 
 __all__ = [
     "FIT_PARAMETERS",
@@ -58,15 +59,15 @@ SEGMENT_TOLERANCE = 0.01
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
     """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud.
 
-    The deepest point is ``q_max = max |q|``. Intrusion runs until the displacement
-    first comes within ``tolerance * q_max`` of it, the hold until it last leaves
-    that band, the retraction until the displacement is back within the band around
-    the surface; later samples are "out" (decision D42).
+    The deepest point is ``q_max = max q`` (positive into the mud). Intrusion runs until
+    the displacement first comes within ``tolerance * q_max`` of it, the hold until it
+    last leaves that band, the retraction until the displacement is back within the band
+    around the surface; later samples are "out" (decision D42). Samples of a vertical
+    trial before its first contact are "intrusion" here; the fit leaves them out as it
+    leaves out every sample above the surface (:class:`Packed`).
     """
     q = np.asarray(trial.depth, dtype=float)
-    i_peak = int(np.argmax(np.abs(q)))
-    sign = 1.0 if q[i_peak] >= 0 else -1.0
-    q = q * sign
+    i_peak = int(np.argmax(q))
     qmax = float(q[i_peak])
     phase = np.full(q.size, 2, dtype=np.int8)
     if qmax <= 0:
@@ -85,7 +86,15 @@ def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray
 
 @dataclass
 class Packed:
-    """Trials padded into ``(n_max, T)`` arrays, with phase codes and trial weights."""
+    """Trials padded into ``(n_max, T)`` arrays, with phase codes and trial weights.
+
+    ``contact`` (vertical trials): the plate feels the mud only below the surface, from
+    undisturbed mud at first contact (:func:`mudrft.plate.plate_steps`); samples above the
+    surface are simulated (their stress is 0) but not fitted: they serve the sensor's zero
+    check and tare (:mod:`.sensors`). Nor is the first sample in the mud after each entry:
+    the viscous stress appears at once on contact, so its stress depends on whether the
+    plate had reached the surface, which a depth's noise blurs.
+    """
 
     time: np.ndarray
     gamma: np.ndarray
@@ -104,6 +113,7 @@ class Packed:
     simulations: int = 0
     thixotropy: str = "ode"
     clock: str = "contact"
+    contact: bool = True
 
     @classmethod
     def from_dataset(
@@ -117,8 +127,10 @@ class Packed:
         thixotropy: str = "ode",
         clock: str = "contact",
         exclude: Sequence[NDArray[np.bool_]] | None = None,
+        direction: str | None = None,
     ) -> Packed:
         trials = dataset.trials
+        contact = (direction or dataset.direction) == "vertical"
         T = len(trials)
         n_max = max(len(t) for t in trials)
         time = np.zeros((n_max, T))
@@ -140,16 +152,24 @@ class Packed:
             data[:n, j] = tr.stress
             phase[:n, j] = ph
             valid[:n, j] = ph != PHASES["out"]
+            if contact:  # above the surface: no mud stress, nothing to fit; nor on entry
+                inside = in_contact(tr.depth)
+                valid[:n, j] &= inside & np.r_[False, inside[:-1]]
             if exclude is not None:  # a saturated sensor's samples (decision D153)
                 valid[:n, j] &= ~np.asarray(exclude[j], dtype=bool)
-            if not np.any(ph == PHASES["intrusion"]) or float(np.max(np.abs(tr.depth))) <= 0:
+            if not np.any(ph == PHASES["intrusion"]) or float(np.max(tr.depth)) <= 0:
                 raise MudrftError(
                     f"trial {tr.name!r} has no intrusion (depth never increases); "
                     "a calibration trial must intrude into the mud"
                 )
-            span = float(np.ptp(tr.stress[valid[:n, j]]))
+            fitted = tr.stress[valid[:n, j]]
+            span = float(np.ptp(fitted)) if fitted.size else 0.0
             if not span > 0:
-                raise MudrftError(f"trial {tr.name!r}: the stress is constant; nothing to fit")
+                raise MudrftError(
+                    f"trial {tr.name!r}: the stress is the same ({float(tr.stress[0]):.4g} Pa) "
+                    f"at every sample in the mud ({fitted.size} samples); the model has "
+                    "nothing to fit: is this the stress column of an intrusion log?"
+                )
             weight[j] = 1.0 / span
             lengths[j] = n
         dt = np.diff(time, axis=0)
@@ -171,6 +191,7 @@ class Packed:
             xi0=xi0,
             thixotropy=thixotropy,
             clock=clock,
+            contact=contact,
         )
 
     @property
@@ -201,26 +222,23 @@ class Packed:
         out = np.zeros((n, B, T))
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
-            st = initial_state((B, T), xi0=self.xi0, gamma=self.gamma[0])
-            # the one constitutive step (mudrft.constitutive.kernel.channel_step) without
-            # per-step validation: the inputs were validated once when the data were packed
-            consts = channel_constants(p)
-            # options validated by calibrate() (constitutive.dynamics.evaluation)
+            # the plate's one loop without per-step validation: the inputs were validated
+            # once when the data were packed, the options by calibrate()
             qs, restart = self.thixotropy == "quasi-static", self.clock == "retraction"
-            kappa = 1.0 if self.acceleration and not qs else 0.0
-            for k in range(1, n):
-                st, stress = channel_step(
-                    consts,
-                    st,
-                    self.gamma[k],
-                    self.rate[k - 1],
-                    self.dt[k - 1],
-                    1.0,
-                    kappa,
-                    qs,
-                    restart,
-                )
-                out[k] = stress.total
+            steps = plate_steps(
+                channel_constants(p),
+                self.gamma[:n],
+                self.rate[: n - 1],
+                self.dt[: n - 1],
+                kappa=1.0 if self.acceleration and not qs else 0.0,
+                quasi_static=qs,
+                restart=restart,
+                xi0=self.xi0,
+                contact=self.contact,
+                shape=(B, T),
+            )
+            for k, (_, stress, inside) in enumerate(steps, start=1):
+                out[k] = np.where(inside, stress.total, 0.0)
         bad = ~np.isfinite(out)
         if np.any(bad):
             out[bad] = np.inf
@@ -247,6 +265,7 @@ def pack(
     thixotropy: str = "ode",
     clock: str = "contact",
     exclude: Sequence[NDArray[np.bool_]] | None = None,
+    direction: str | None = None,
 ) -> Packed:
     """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
 
@@ -266,6 +285,9 @@ def pack(
     exclude : sequence of bool arrays, optional, keyword-only
         Per trial, samples left out of the fit (a saturated sensor's, decision D153); they
         are still simulated, the model's input being the depth.
+    direction : {"vertical", "horizontal"}, optional, keyword-only
+        The tests' direction (default the dataset's); a vertical plate is in the mud only
+        below the surface.
     """
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed.from_dataset(
@@ -277,6 +299,7 @@ def pack(
         thixotropy=thixotropy,
         clock=clock,
         exclude=exclude,
+        direction=direction,
     )
 
 

@@ -24,6 +24,7 @@ from .._validation import (
     positive_number,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
+from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
@@ -271,7 +272,7 @@ class StreamClassifier:
         if x.dt is None or x.rate is None:  # the first sample: a starting point only
             self._state = initial_state((K,), gamma=x.gamma)
             return self.best
-        if x.gamma <= 0.0:
+        if not in_contact(x.gamma):
             # at or above the surface: no mud stress (as plate_response) and nothing to
             # compare; the next intrusion starts afresh (D11)
             if self._inside:

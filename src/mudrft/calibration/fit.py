@@ -57,8 +57,9 @@ from ._problem import PHASES as PHASES
 from ._problem import Packed as Packed
 from ._report import Reporter, ordinal
 from .persistence import load_parameters
+from .rate import Smoothing, check_window, smooth_dataset
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult, StageReport
-from .sensors import check_sensors
+from .sensors import check_clipped, check_zero
 from .stages import (
     STAGES,
     joint_stage,
@@ -92,6 +93,14 @@ class _Setup:
     bounds: dict[str, tuple[float, float]]
     exclude: list[NDArray[np.bool_]] | None = None
     data_warnings: tuple[str, ...] = ()
+    smoothing: tuple[Smoothing, ...] = ()
+    rate: int | str = "auto"
+    tare: tuple[float, ...] | None = None
+
+    @property
+    def depth_notes(self) -> tuple[str, ...]:
+        """How each trial's depth was read, for the trials with something to say."""
+        return tuple(h.note() for h in self.smoothing if h.method != "as logged" or h.depth_noise)
 
 
 def calibrate(
@@ -117,6 +126,7 @@ def calibrate(
     decimate: int | None = None,
     clipped: str = "exclude",
     zero: str = "check",
+    rate: int | str = "auto",
 ) -> FitResult:
     r"""Fit the mud model to intrusion logs; return parameters with their uncertainty.
 
@@ -189,6 +199,13 @@ def calibrate(
         trial's median out of the mud before the fit, and needs 5 such samples in every
         trial; a vertical test only: a horizontal plate at zero travel is still in the mud
         (decision D154).
+    rate : "auto", "raw" or int, keyword-only
+        How the model's rate comes from the logged depth (:mod:`.rate`). ``"auto"``
+        (default): the depth is smoothed over the fewest samples that bring the rate's noise
+        to 1 % of the trial's speed (none for a clean depth); ``"raw"``: the difference of
+        the logged depths; an odd int: smoothed over that many samples. Samples whose rate
+        spans a change of speed are not fitted. The window of each trial is in
+        ``fit.rate_notes``.
 
     Returns
     -------
@@ -249,6 +266,7 @@ def calibrate(
     acceleration = kappa == 1.0
     clipped = check_choice("clipped", clipped, ("exclude", "keep"))
     zero = check_choice("zero", zero, ("check", "subtract"))
+    rate = check_window(rate)
     reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
     setup = _prepare(
         dataset,
@@ -266,12 +284,15 @@ def calibrate(
         decimate=decimate,
         clipped=clipped,
         zero=zero,
+        rate=rate,
     )
     ds, free = setup.dataset, setup.free
     reporter.note(
         f"calibrate: {len(ds)} trial(s), {sum(len(t) for t in ds.trials)} samples, "
         f"direction {setup.direction}, free {list(free)}"
     )
+    for line in setup.depth_notes:
+        reporter.note(f"calibrate: depth of {line}")
     engine, start = start_engine(
         ds,
         initial if initial is not None else paper_parameters(0.25, setup.direction),
@@ -302,7 +323,7 @@ def calibrate(
     stages.append(joint)
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
-    unc = uncertainty_at_optimum(engine, free, confidence_level)
+    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=setup.tare)
     fit = _assemble(
         engine,
         setup,
@@ -343,10 +364,19 @@ def _prepare(
     decimate: int | None,
     clipped: str,
     zero: str,
+    rate: int | str,
 ) -> _Setup:
-    """Check the inputs of :func:`calibrate`; load, merge and thin the data."""
+    """Check the inputs of :func:`calibrate`; load, merge, smooth and thin the data."""
     k = None if decimate is None else check_count("decimate", decimate)
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
+    d = (
+        ds.direction
+        if direction is None
+        else check_choice("direction", direction, ("vertical", "horizontal"))
+    )
+    ds, smoothing, rate_warnings = smooth_dataset(ds, check_window(rate))
+    # the sensor's zero on every sample: the tare's error is then as small as the log allows
+    ds, tare, data_warnings, notes = check_zero(ds, zero=zero, direction=d)
     if k is None:
         k = auto_decimate(ds)
         if k > 1:
@@ -358,16 +388,15 @@ def _prepare(
             )
     if k > 1:
         ds = thin_trials(ds, k)
-    d = (
-        ds.direction
-        if direction is None
-        else check_choice("direction", direction, ("vertical", "horizontal"))
-    )
-    ds, exclude, data_warnings, notes = check_sensors(ds, clipped=clipped, zero=zero, direction=d)
+    exclude, clip_warnings = check_clipped(ds, clipped=clipped)
+    data_warnings += clip_warnings
     for line in notes:
         reporter.note(line)
-    for line in data_warnings:
+    for line in data_warnings + rate_warnings:
         reporter.warn(line)
+    # samples whose step spans a change of speed are not fitted (module rate)
+    near = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
+    exclude = [m if exclude is None else m | exclude[j] for j, m in enumerate(near)]
     check_in_range("confidence_level", confidence_level, 1e-6, 1 - 1e-9)
     check_count("starts", starts)
     check_count("max_nfev", max_nfev)
@@ -383,7 +412,18 @@ def _prepare(
     free = tuple(k for k in selected if k not in held)
     if not free:
         raise MudrftError("every parameter is fixed: nothing to fit")
-    return _Setup(ds, d, free, held, bnds, exclude, tuple(data_warnings))
+    return _Setup(
+        ds,
+        d,
+        free,
+        held,
+        bnds,
+        exclude,
+        tuple(data_warnings + rate_warnings),
+        tuple(smoothing),
+        check_window(rate),
+        None if tare is None else tuple(off.error for off in tare),
+    )
 
 
 def _assemble(
@@ -419,6 +459,8 @@ def _assemble(
         relative_standard_error=unc.rse,
         confidence_interval=unc.ci,
         confidence_level=float(confidence_level),
+        robust_standard_error=unc.robust_rse,
+        robust_interval=unc.robust_ci,
         correlation=unc.corr,
         identifiability=unc.verdict,
         relative_rmse=float(np.mean(trmse)),
@@ -437,4 +479,6 @@ def _assemble(
         thixotropy=packed.thixotropy,
         clock=packed.clock,
         data_warnings=setup.data_warnings,
+        rate=setup.rate,
+        depth_notes=setup.depth_notes,
     )

@@ -45,6 +45,7 @@ from .._validation import (
     positive_number,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
+from ..constitutive.contact import in_contact
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
@@ -277,7 +278,7 @@ class OnlineEstimator:
 
     def _phase_of(self, g: float, gd: float) -> str:
         """Phase of a sample from its displacement [-] and rate [1/s]."""
-        if g <= 0.0:
+        if not in_contact(g):
             return "out"  # at or above the surface: no mud stress (as plate_response)
         if gd > self.rate_threshold:
             return "intrusion"

@@ -12,7 +12,7 @@ import json
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,6 +26,7 @@ from ._options import as_dataset
 from ._plot import plot_fit
 from ._problem import FIT_PARAMETERS, pack, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
+from .rate import check_window, smooth_dataset
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, outlying_trials
 
 if TYPE_CHECKING:
@@ -92,14 +93,19 @@ class FitResult:
         :math:`\mathrm{se}(\ln p)` [-], the relative error for small values.
     confidence_interval : dict
         ``(low, high)`` [SI] at ``confidence_level``:
-        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds.
+        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds. It covers
+        the noise only: it assumes the model exact and the residuals independent.
     confidence_level : float
         Two-sided level of the intervals [-].
+    robust_standard_error, robust_interval : dict
+        Relative error [-] and ``(low, high)`` [SI] that admit model error (residuals
+        correlated in time, :mod:`~mudrft.calibration.uncertainty`), never narrower than the
+        noise's; the intervals hold for all free parameters at once. The verdicts use them.
     correlation : ndarray, shape (k, k)
         Correlation matrix of the log-parameters, in the order of ``free``.
     identifiability : dict
         Verdict per parameter: ``"identified"``, ``"weak"``, ``"not identified"``
-        or ``"fixed"`` (rule D44, see :func:`calibrate`).
+        or ``"fixed"`` (rule D44 on ``robust_standard_error``, see :func:`calibrate`).
     relative_rmse : float
         Mean over trials of the relative RMSE (RMSE / peak-to-peak, decision D12) [-].
     trial_relative_rmse : tuple of float
@@ -131,7 +137,12 @@ class FitResult:
         The data that were fitted (not saved to JSON).
     data_warnings : tuple of str
         What the checks of the log's sensor found before the fit: a saturated sensor's
-        trial (decision D153), an unzeroed one (D154); shown by :meth:`summary`.
+        trial (decision D153), an unzeroed one (D154), a depth too noisy for the rate
+        (:mod:`~mudrft.calibration.rate`); shown by :meth:`summary`.
+    rate : str or int
+        How the rate came from the logged depth (the ``rate`` option of :func:`calibrate`).
+    depth_notes : tuple of str
+        Per trial, how its depth was read: noise, segments or window, rate noise.
     """
 
     parameters: MudParameters
@@ -158,6 +169,10 @@ class FitResult:
     thixotropy: str = "ode"
     clock: str = "contact"
     data_warnings: tuple[str, ...] = ()
+    robust_standard_error: dict[str, float] = field(default_factory=dict)
+    robust_interval: dict[str, tuple[float, float]] = field(default_factory=dict)
+    rate: str | int = "auto"
+    depth_notes: tuple[str, ...] = ()
 
     @property
     def success(self) -> bool:
@@ -197,33 +212,42 @@ class FitResult:
         ]
         if self.relative_rmse > POOR_FIT_RMSE:
             lines.append(POOR_FIT_HINT)
-        names = self.trial_names()
-        if len(names) > 1:
+        rmse = zip(self.trial_names(), self.trial_relative_rmse, strict=True)
+        if len(self.trial_relative_rmse) > 1:
             lines.append(
-                "relative RMSE per trial: "
-                + ", ".join(
-                    f"{n} {100 * r:.2f} %"
-                    for n, r in zip(names, self.trial_relative_rmse, strict=True)
-                )
+                "relative RMSE per trial: " + ", ".join(f"{n} {100 * r:.2f} %" for n, r in rmse)
             )
         outliers = self.outlying_trials()
         if outliers is not None:
             lines.append(f"warning: {outliers}")
         lines.extend(f"warning: {w}" for w in self.data_warnings)
+        lines.extend(f"depth of {n}" for n in self.depth_notes)
         pct = round(100 * self.confidence_level)
         lines.append(
-            f"{'parameter':<12}{'value':>12}{'unit':>6}  {'rel. SE':>9}  "
-            f"{f'{pct} % interval':>25}  verdict"
+            f"{pct} % intervals: 'noise' is each parameter's own and assumes the model exact "
+            "and the residuals independent noise; 'robust' takes the residuals as they are "
+            "(correlated in time, a model slightly off), holds for all free parameters at "
+            "once, and its errors decide the verdict"
         )
+        lines.append(
+            f"{'parameter':<12}{'value':>11}{'unit':>5} {'rel. SE':>8} {'robust':>7} "
+            f"{'noise interval':>22} {'robust interval':>22}  verdict"
+        )
+        robust_e = self.robust_standard_error or self.relative_standard_error
+        robust_i = self.robust_interval or self.confidence_interval
         for k in FIT_PARAMETERS:
             v = float(getattr(self.parameters, k))
-            rse = self.relative_standard_error[k]
-            lo, hi = self.confidence_interval[k]
-            rs = "-" if k not in self.free else ("inf" if not math.isfinite(rse) else f"{rse:.3g}")
-            ci = "-" if k not in self.free else f"[{lo:.4g}, {hi:.4g}]"
+            cells = ["-", "-", "-", "-"]
+            if k in self.free:
+                cells = [
+                    "inf" if not math.isfinite(e) else f"{e:.3g}"
+                    for e in (self.relative_standard_error[k], robust_e[k])
+                ] + [
+                    f"[{lo:.4g}, {hi:.4g}]" for lo, hi in (self.confidence_interval[k], robust_i[k])
+                ]
             lines.append(
-                f"{k:<12}{v:>12.4g}{PARAMETER_UNITS[k]:>6}  {rs:>9}  {ci:>25}  "
-                f"{self.identifiability[k]}"
+                f"{k:<12}{v:>11.4g}{PARAMETER_UNITS[k]:>5} {cells[0]:>8} {cells[1]:>7} "
+                f"{cells[2]:>22} {cells[3]:>22}  {self.identifiability[k]}"
             )
         return "\n".join(lines)
 
@@ -240,7 +264,9 @@ class FitResult:
         Parameters
         ----------
         dataset : IntrusionDataset, optional
-            Trials to predict (SI); default the fitted data.
+            Trials to predict (SI), their depth read with the fit's ``rate`` option; default
+            the fitted data. The stress is exactly 0 while a vertical plate is above the
+            surface.
 
         Returns
         -------
@@ -250,6 +276,8 @@ class FitResult:
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
+        if dataset is not None:  # its depth read as the fitted data's were
+            ds = smooth_dataset(ds, self.rate)[0]
         packed = pack(
             ds,
             self.parameters,
@@ -257,6 +285,7 @@ class FitResult:
             xi0=self.xi0,
             thixotropy=self.thixotropy,
             clock=self.clock,
+            direction=self.direction,
         )
         sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
         return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
@@ -307,10 +336,12 @@ class FitResult:
                 k: [num(a), num(b)] for k, (a, b) in self.confidence_interval.items()
             },
             "confidence_level": self.confidence_level,
+            "robust_standard_error": {k: num(v) for k, v in self.robust_standard_error.items()},
+            "robust_interval": {k: [num(a), num(b)] for k, (a, b) in self.robust_interval.items()},
             "correlation": {"parameters": list(self.free), "matrix": corr},
             "identifiability": dict(self.identifiability),
             "identifiability_rule": (
-                f"identified: relative SE <= {IDENTIFIED_SE}; weak: <= "
+                f"identified: robust relative SE <= {IDENTIFIED_SE}; weak: <= "
                 f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
                 "(Jacobian rank-deficient) or at a bound"
             ),
@@ -325,18 +356,10 @@ class FitResult:
             "clock": self.clock,
             "xi0": self.xi0,
             "data_warnings": list(self.data_warnings),
+            "rate": self.rate,
+            "depth_notes": list(self.depth_notes),
             "bounds": {k: list(v) for k, v in self.bounds.items()},
-            "stages": [
-                {
-                    "name": s.name,
-                    "free": list(s.free),
-                    "simulations": s.simulations,
-                    "cost": s.cost,
-                    "seconds": s.seconds,
-                    "message": s.message,
-                }
-                for s in self.stages
-            ],
+            "stages": [asdict(s) | {"free": list(s.free)} for s in self.stages],
             "trace": [dict(t) for t in self.trace],
             "data": None
             if self.dataset is None
@@ -390,10 +413,15 @@ class FitResult:
             se = {k: f(v) for k, v in data["standard_error"].items()}
             rse = {k: f(v) for k, v in data["relative_standard_error"].items()}
             ci = {k: (f(a), f(b)) for k, (a, b) in data["confidence_interval"].items()}
+            # files written before the robust errors (issue 39) have none: the noise's
+            rrse = {k: f(v) for k, v in data.get("robust_standard_error", {}).items()} or rse
+            rci = {k: (f(a), f(b)) for k, (a, b) in data.get("robust_interval", {}).items()} or ci
             for key, per_free in (
                 ("standard_error", se),
                 ("relative_standard_error", rse),
                 ("confidence_interval", ci),
+                ("robust_standard_error", rrse),
+                ("robust_interval", rci),
                 ("identifiability", data["identifiability"]),
             ):
                 if set(per_free) != set(FIT_PARAMETERS):
@@ -412,12 +440,12 @@ class FitResult:
             )
             stages = tuple(
                 StageReport(
-                    name=s["name"],
-                    free=tuple(s["free"]),
-                    simulations=int(s["simulations"]),
-                    cost=float(s["cost"]),
-                    seconds=float(s["seconds"]),
-                    message=s.get("message", ""),
+                    s["name"],
+                    tuple(s["free"]),
+                    int(s["simulations"]),
+                    float(s["cost"]),
+                    float(s["seconds"]),
+                    s.get("message", ""),
                 )
                 for s in data.get("stages", [])
             )
@@ -445,6 +473,10 @@ class FitResult:
                 clock=str(data.get("clock", "contact")),
                 xi0=float(data.get("xi0", 0.0)),
                 data_warnings=tuple(str(w) for w in data.get("data_warnings", [])),
+                robust_standard_error=rrse,
+                robust_interval=rci,
+                rate=check_window(data.get("rate", "auto")),
+                depth_notes=tuple(str(w) for w in data.get("depth_notes", [])),
             )
         except MudrftError:
             raise

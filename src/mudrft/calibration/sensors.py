@@ -20,13 +20,13 @@ once divided by the plate's area, which changes neither fault.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
+from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset, Trial
 from ._problem import PHASES, segment
 
@@ -35,7 +35,8 @@ __all__ = [
     "OFFSET_FRACTION",
     "OFFSET_SAMPLES",
     "Offset",
-    "check_sensors",
+    "check_clipped",
+    "check_zero",
     "clipped_samples",
     "clipped_warning",
     "offset_warning",
@@ -90,9 +91,10 @@ def clipped_samples(trial: Trial) -> NDArray[np.bool_]:
     s = np.asarray(trial.stress, dtype=float)
     inside = segment(trial) != PHASES["out"]
     out = np.zeros(s.size, dtype=bool)
-    if not inside.any():
-        return out
-    tol = _AT_EXTREME * float(np.ptp(s[inside]))
+    span = float(np.ptp(s[inside])) if inside.any() else 0.0
+    if span == 0.0:
+        return out  # a constant is no saturation: the fit refuses it as nothing to fit
+    tol = _AT_EXTREME * span
     for extreme, sign in ((float(np.max(s[inside])), 1.0), (float(np.min(s[inside])), -1.0)):
         if sign * extreme <= 0:
             continue  # a limit at 0 is a sensor that reads one sign only, not a saturation
@@ -135,12 +137,15 @@ class Offset(NamedTuple):
         Whether it is a sensor offset: at least :data:`OFFSET_SAMPLES` samples, a
         ``fraction`` above :data:`OFFSET_FRACTION`, and the median four of its standard
         errors from 0.
+    error : float
+        Standard error of ``value`` [Pa].
     """
 
     value: float
     samples: int
     fraction: float
     significant: bool
+    error: float = math.nan
 
 
 def stress_offset(trial: Trial) -> Offset:
@@ -172,21 +177,22 @@ def stress_offset(trial: Trial) -> Offset:
     """
     d = np.asarray(trial.depth, dtype=float)
     s = np.asarray(trial.stress, dtype=float)
-    out = d <= 0
+    out = ~in_contact(d)
     m = int(np.count_nonzero(out))
     if m == 0:
-        return Offset(math.nan, 0, math.nan, False)
+        return Offset(math.nan, 0, math.nan, False, math.nan)
     inside = ~out
     span = float(np.ptp(s[inside])) if inside.any() else 0.0
     value = float(np.median(s[out]))
     spread = 1.4826 * float(np.median(np.abs(s[out] - value)))
     fraction = abs(value) / span if span > 0 else math.inf
+    error = 1.2533 * spread / math.sqrt(m)
     significant = (
         m >= OFFSET_SAMPLES
         and fraction > OFFSET_FRACTION
-        and abs(value) > _OFFSET_SIGNIFICANCE * 1.2533 * spread / math.sqrt(m)
+        and abs(value) > _OFFSET_SIGNIFICANCE * error
     )
-    return Offset(value, m, fraction, bool(significant))
+    return Offset(value, m, fraction, bool(significant), error)
 
 
 def offset_warning(trial: Trial, offset: Offset) -> str:
@@ -201,7 +207,7 @@ def offset_warning(trial: Trial, offset: Offset) -> str:
     )
 
 
-def subtract_offsets(ds: IntrusionDataset) -> tuple[IntrusionDataset, list[tuple[str, float]]]:
+def subtract_offsets(ds: IntrusionDataset) -> tuple[IntrusionDataset, list[Offset]]:
     """Each trial's stress less its median stress out of the mud (``zero="subtract"``, D154).
 
     Parameters
@@ -211,8 +217,8 @@ def subtract_offsets(ds: IntrusionDataset) -> tuple[IntrusionDataset, list[tuple
 
     Returns
     -------
-    IntrusionDataset, list of (str, float)
-        The zeroed data, and each trial's name with the offset subtracted [Pa].
+    IntrusionDataset, list of Offset
+        The zeroed data, and each trial's offset subtracted.
 
     Raises
     ------
@@ -221,7 +227,7 @@ def subtract_offsets(ds: IntrusionDataset) -> tuple[IntrusionDataset, list[tuple
         cannot be measured.
     """
     trials: list[Trial] = []
-    done: list[tuple[str, float]] = []
+    done: list[Offset] = []
     for tr in ds.trials:
         off = stress_offset(tr)
         if off.samples < OFFSET_SAMPLES:
@@ -241,24 +247,22 @@ def subtract_offsets(ds: IntrusionDataset) -> tuple[IntrusionDataset, list[tuple
                 meta={**tr.meta, "stress_offset": off.value},
             )
         )
-        done.append((tr.name, off.value))
+        done.append(off)
     zeroed = IntrusionDataset(
         tuple(trials), direction=ds.direction, source=ds.source, notes=ds.notes, meta=dict(ds.meta)
     )
     return zeroed, done
 
 
-def check_sensors(
-    ds: IntrusionDataset, *, clipped: str, zero: str, direction: str
-) -> tuple[IntrusionDataset, list[NDArray[np.bool_]] | None, list[str], list[str]]:
-    """Both checks of a fit's data (decisions D153, D154).
+def check_zero(
+    ds: IntrusionDataset, *, zero: str, direction: str
+) -> tuple[IntrusionDataset, list[Offset] | None, list[str], list[str]]:
+    """The sensor's zero of a fit's data (decision D154), on every logged sample.
 
     Parameters
     ----------
     ds : IntrusionDataset
         The data (depth [m], stress [Pa]).
-    clipped : {"exclude", "keep"}, keyword-only
-        Leave a saturated sensor's samples out of the fit, or fit them.
     zero : {"check", "subtract"}, keyword-only
         Warn about an unzeroed sensor, or subtract each trial's stress out of the mud.
     direction : {"vertical", "horizontal"}, keyword-only
@@ -267,12 +271,10 @@ def check_sensors(
 
     Returns
     -------
-    IntrusionDataset, list of ndarray or None, list of str, list of str
-        The data (zeroed with ``zero="subtract"``); the samples to leave out of each trial
-        (None when there are none); the warnings; the notes (offsets subtracted).
+    IntrusionDataset, list of Offset or None, list of str, list of str
+        The data (zeroed with ``zero="subtract"``); the offsets subtracted (None when
+        none were; their errors widen the fit's robust intervals); the warnings; the notes.
     """
-    warnings_: list[str] = []
-    notes: list[str] = []
     if zero == "subtract" and direction != "vertical":
         raise MudrftError(
             "zero='subtract' needs a vertical test, whose plate leaves the mud (depth <= 0); "
@@ -281,20 +283,42 @@ def check_sensors(
         )
     if zero == "subtract":
         ds, done = subtract_offsets(ds)
-        notes.append(
-            "calibrate: sensor zero subtracted (decision D154): "
-            + ", ".join(f"{name} {value:.4g} Pa" for name, value in done)
+        note = "calibrate: sensor zero subtracted (decision D154): " + ", ".join(
+            f"{tr.name} {off.value:.4g} Pa" for tr, off in zip(ds.trials, done, strict=True)
         )
-    elif direction == "vertical":
+        return ds, done, [], [note]
+    warned = []
+    if direction == "vertical":
         for tr in ds.trials:
             off = stress_offset(tr)
             if off.significant:
-                warnings_.append(offset_warning(tr, off))
+                warned.append(offset_warning(tr, off))
+    return ds, None, warned, []
+
+
+def check_clipped(
+    ds: IntrusionDataset, *, clipped: str
+) -> tuple[list[NDArray[np.bool_]] | None, list[str]]:
+    """A saturated sensor in a fit's data (decision D153).
+
+    Parameters
+    ----------
+    ds : IntrusionDataset
+        The data (stress [Pa]).
+    clipped : {"exclude", "keep"}, keyword-only
+        Leave a saturated sensor's samples out of the fit, or fit them.
+
+    Returns
+    -------
+    list of ndarray or None, list of str
+        The samples to leave out of each trial (None when there are none); the warnings.
+    """
     masks = [clipped_samples(tr) for tr in ds.trials]
-    for tr, mask in zip(ds.trials, masks, strict=True):
-        if mask.any():
-            warnings_.append(clipped_warning(tr, mask, kept=clipped == "keep"))
-    exclude: Sequence[NDArray[np.bool_]] | None = masks
+    warned = [
+        clipped_warning(tr, mask, kept=clipped == "keep")
+        for tr, mask in zip(ds.trials, masks, strict=True)
+        if mask.any()
+    ]
     if clipped == "keep" or not any(m.any() for m in masks):
-        exclude = None
-    return ds, None if exclude is None else list(exclude), warnings_, notes
+        return None, warned
+    return masks, warned

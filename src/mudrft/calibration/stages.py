@@ -178,6 +178,7 @@ def start_engine(
             thixotropy=thixotropy,
             clock=clock,
             exclude=exclude,
+            direction=direction,
         )
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
@@ -274,7 +275,9 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     return report, status(sol)
 
 
-def uncertainty_at_optimum(engine: Engine, free: tuple[str, ...], level: float) -> Uncertainty:
+def uncertainty_at_optimum(
+    engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
+) -> Uncertainty:
     """Standard errors, intervals and verdicts at the engine's current values.
 
     Parameters
@@ -285,7 +288,16 @@ def uncertainty_at_optimum(engine: Engine, free: tuple[str, ...], level: float) 
         The fitted parameters.
     level : float
         Confidence level of the intervals, in (0, 1) [-].
+    tare : tuple of float, optional, keyword-only
+        Standard error [Pa] of the sensor zero subtracted from each trial, if any: an error
+        shared by all of a trial's samples, added to the robust errors.
     """
-    r, J = engine.jacobian(engine.packed.mask(ALL_PHASES), free)
+    mask = engine.packed.mask(ALL_PHASES)
+    r, J = engine.jacobian(mask, free)
     bound = at_bound(engine.values, free, engine.bounds)
-    return uncertainty(r, J, free, bound, level, engine.values, engine.bounds)
+    _, trial = np.nonzero(mask)  # the residuals' order: time, then trial
+    order = np.argsort(trial, kind="stable")  # each trial's residuals together, in time order
+    shift = None if tare is None else np.asarray(tare) * engine.packed.weight
+    return uncertainty(
+        r[order], J[order], free, bound, level, engine.values, engine.bounds, trial[order], shift
+    )

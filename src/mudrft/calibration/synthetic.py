@@ -15,13 +15,23 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from .._validation import MudrftError, check_choice, check_nonnegative, check_positive
+from .._validation import (
+    MudrftError,
+    check_choice,
+    check_nonnegative,
+    check_number,
+    check_positive,
+    check_samples,
+    nonnegative_number,
+    positive_number,
+)
 from ..io import IntrusionDataset, Trial, load_intrusion_csv, save_intrusion_csv
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH, plate_response
-from ..trajectories import plate_intrusion
+from ..trajectories import Trajectory, plate_intrusion
 
 __all__ = [
     "EXAMPLE_FILES",
@@ -64,12 +74,25 @@ def synthetic_dataset(
     acceleration: bool | None = None,
     thixotropy: str = "ode",
     clock: str = "contact",
+    approach: float = 0.0,
+    tare: float = 0.0,
+    stress_noise: float = 0.0,
+    depth_noise: float = 0.0,
+    offset: float = 0.0,
 ) -> IntrusionDataset:
     """Plate tests simulated with known parameters plus noise (synthetic data).
 
     One trial per speed: intrude to ``depth`` at the speed, hold, retract at the
     same speed (:func:`mudrft.plate_intrusion`). The noise is Gaussian with a
-    standard deviation of ``noise`` times the trial's peak-to-peak stress.
+    standard deviation of ``noise`` times the trial's peak-to-peak stress, plus
+    ``stress_noise``.
+
+    A log as a lab's data logger writes it (``approach`` or ``tare`` > 0, vertical tests):
+    samples every ``dt`` from the start; the plate rests ``tare`` seconds at ``approach``
+    above the surface (where the force sensor is tared), moves down at the trial's speed,
+    intrudes, holds, and retracts out of the mud back to ``approach`` above the surface,
+    then rests ``rest`` seconds. The stress is the model's, stepped exactly through the
+    corners of the motion (which fall between samples), at the samples.
 
     Parameters
     ----------
@@ -97,6 +120,16 @@ def synthetic_dataset(
         Keep the acceleration term (decision D6); None keeps it in the ODE.
     thixotropy, clock : str, keyword-only
         Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
+    approach : float, keyword-only
+        Height above the surface the plate starts from and retracts to [m].
+    tare : float, keyword-only
+        Time at rest above the surface before the approach [s].
+    stress_noise : float, keyword-only
+        Standard deviation of the force sensor's noise, as a stress [Pa].
+    depth_noise : float, keyword-only
+        Standard deviation of the depth sensor's noise [m].
+    offset : float, keyword-only
+        The force sensor's reading at zero force, as a stress [Pa] (an untared sensor).
 
     Returns
     -------
@@ -116,14 +149,33 @@ def synthetic_dataset(
     if sp.ndim != 1 or sp.size == 0:
         raise MudrftError(f"speeds must be a non-empty list of speeds [m/s], got {speeds!r}")
     check_nonnegative("noise", noise)
+    sd_stress, sd_depth = (
+        nonnegative_number(name, v, unit=u)
+        for name, v, u in (("stress_noise", stress_noise, "Pa"), ("depth_noise", depth_noise, "m"))
+    )
+    offset = check_number("offset", offset, unit="Pa")
     d = direction or params.direction or "vertical"
     check_choice("direction", d, ("vertical", "horizontal"))
+    lab = nonnegative_number("approach", approach, unit="m") > 0 or (
+        nonnegative_number("tare", tare, unit="s") > 0
+    )
+    if lab and d != "vertical":
+        raise MudrftError(
+            "approach and tare apply to vertical tests (a plate that starts above the mud); "
+            f"this one is {d}"
+        )
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
         raise MudrftError(f"seed must be an integer or None, got {seed!r}")
     rng = np.random.default_rng(seed)
     trials = []
     for v in sp:
-        tr = plate_intrusion(depth=depth, speed=float(v), hold=hold, direction=d, dt=dt, rest=rest)
+        if lab:
+            tr, logged = _lab_path(float(v), depth, hold, dt, rest, float(approach), float(tare))
+        else:
+            tr = plate_intrusion(
+                depth=depth, speed=float(v), hold=hold, direction=d, dt=dt, rest=rest
+            )
+            logged = np.arange(tr.time.size)
         res = plate_response(
             tr,
             params,
@@ -132,28 +184,75 @@ def synthetic_dataset(
             thixotropy=thixotropy,
             clock=clock,
         )
-        span = float(np.ptp(res.stress))
-        stress = res.stress + rng.normal(0.0, float(noise) * span, res.stress.size)
+        true = res.stress[logged]
+        span = float(np.ptp(true))
+        sd = float(np.hypot(float(noise) * span, sd_stress))
+        # drawn only when asked for: the shipped examples keep their noise
+        depth_error = rng.normal(0.0, sd_depth, logged.size) if sd_depth > 0 else 0.0
         trials.append(
             Trial(
-                tr.time,
-                res.displacement,
-                stress,
+                tr.time[logged],
+                res.displacement[logged] + depth_error,
+                true + offset + rng.normal(0.0, sd, logged.size),
                 name=f"v{1e3 * v:g}mm_s",
                 characteristic_length=characteristic_length,
-                meta={"speed": float(v), "noise": float(noise) * span},
+                meta={"speed": float(v), "noise": sd},
             )
         )
     w = params.water_content
     label = params.source or "given parameters"
-    notes = (
+    notes: tuple[str, ...] = (
         f"synthetic: generated by mudrft's own model ({label}) with Gaussian noise of "
         f"{100 * float(noise):g} % of each trial's stress range; NOT measured data",
         f"generator: mudrft.calibration.synthetic_dataset(seed={seed}, depth={depth} m, "
         f"hold={hold} s, dt={dt} s, speeds={[float(x) for x in sp]} m/s)",
     )
+    if lab or sd_stress or sd_depth or offset:
+        notes += (
+            f"generator (lab log): approach={approach} m, tare={tare} s, stress_noise="
+            f"{sd_stress} Pa, depth_noise={sd_depth} m, offset={offset} Pa",
+        )
     meta = {"synthetic": "yes", "true_parameters": params.as_dict(), "water_content": w}
     return IntrusionDataset(tuple(trials), direction=d, source="synthetic", notes=notes, meta=meta)
+
+
+def _lab_path(
+    speed: float, depth: float, hold: float, dt: float, rest: float, approach: float, tare: float
+) -> tuple[Trajectory, NDArray[np.intp]]:
+    """A vertical plate test as a logger samples it, and which of its samples are logged.
+
+    The path rests at ``approach`` [m] above the surface for ``tare`` [s], moves at
+    ``speed`` [m/s] to ``depth`` [m] below it, holds ``hold`` [s], returns to ``approach``
+    above it and rests ``rest`` [s]. The trajectory's samples are the logger's (every ``dt``
+    [s]) and the corners of the path, so the model is stepped exactly; the second array
+    indexes the logger's samples in it.
+    """
+    depth, dt = (
+        positive_number(k, v, unit="m" if k == "depth" else "s")
+        for k, v in (("depth", depth), ("dt", dt))
+    )
+    hold, rest = (nonnegative_number(k, v, unit="s") for k, v in (("hold", hold), ("rest", rest)))
+    t_in = depth / speed
+    t_air = approach / speed
+    corners = np.cumsum([0.0, tare, t_air, t_in, hold, t_in, t_air, rest])
+    heights = np.array([approach, approach, 0.0, -depth, -depth, 0.0, approach, approach])
+    check_samples(
+        f"synthetic_dataset: a {corners[-1]:.3g} s test at dt = {dt:g} s",
+        corners[-1] / dt + 1,
+        hint="use a larger dt",
+    )
+    n = int(np.floor(corners[-1] / dt + 1e-9)) + 1
+    grid = dt * np.arange(n)
+    t = np.union1d(grid, corners[corners <= grid[-1]])
+    z = np.interp(t, corners, heights)
+    logged = np.searchsorted(t, grid)
+    traj = Trajectory.from_positions(
+        t,
+        np.column_stack([np.zeros_like(t), np.zeros_like(t), z]),
+        name="plate vertical intrusion (logged)",
+        meta={"direction": "vertical", "displacement": -z},
+    )
+    return traj, logged
 
 
 def example_dataset(

@@ -29,6 +29,7 @@ from .._validation import (
 from .._xp import pyfloat
 from ..citations import register
 from ..constitutive import kernel
+from ..constitutive.contact import contact_rate, enter, in_contact
 from ..constitutive.dynamics import evaluation
 from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..constitutive.state import ChannelState
@@ -120,19 +121,6 @@ class MudState(NamedTuple):
 
     channels: MudChannels
     foot: Any
-
-
-def _fresh(ch: ChannelState, fresh: XpArray, xi0: XpArray, xp: Namespace = np) -> ChannelState:
-    """Channels reset to undisturbed mud where ``fresh`` (decision D11)."""
-    return ChannelState(
-        gamma=xp.where(fresh, 0.0, ch.gamma),
-        gamma_w=xp.where(fresh, 0.0, ch.gamma_w),
-        xi=xp.where(fresh, xi0, ch.xi),
-        s_th=xp.where(fresh, 0.0, ch.s_th),
-        sigma_s=xp.where(fresh, 0.0, ch.sigma_s),
-        clock=xp.where(fresh, 0.0, ch.clock),
-        clock_w=xp.where(fresh, 0.0, ch.clock_w),
-    )
 
 
 def mud_step(
@@ -247,14 +235,14 @@ def _channel_motion(
     horizontal displacement and rate, the vertical ones, the entry point, the line, the
     speed across it [m/s], the depth and whether in the mud (see :func:`mud_step`)."""
     depth = xp.maximum(-pz, 0.0)
-    in_mud = depth > 0.0
+    in_mud = in_contact(depth)
     was_in = st.in_mud > 0.5
     chh, cz = st.h, st.z
     ex, ey, last = st.entry_x, st.entry_y, st.line
     if reset:
         fresh = st.in_mud < 0.5
-        chh = _fresh(chh, fresh, xi0, xp)
-        cz = _fresh(cz, fresh, xi0, xp)
+        chh = enter(chh, fresh, xi0, xp)
+        cz = enter(cz, fresh, xi0, xp)
         ex = xp.where(fresh, px - vx * dt, ex)
         ey = xp.where(fresh, py - vy * dt, ey)
         last = xp.where(fresh, mud_heading(last, vx, vy, heading_speed, xp), last)
@@ -270,7 +258,7 @@ def _channel_motion(
     rate_h = (lx * vx + ly * vy) / lc
     gamma_h = xp.where(away, side * r, 0.0) / lc
     ut = lx * vy - ly * vx  # the speed across the line [m/s]
-    gdz = xp.where(in_mud | was_in, -vz, 0.0) / lc
+    gdz = contact_rate(-vz / lc, was_in, in_mud, xp)
     return chh, cz, gamma_h, rate_h, depth / lc, gdz, ex, ey, line, ut, depth, in_mud
 
 
@@ -332,7 +320,7 @@ def initial_channels(
         entry_y=py + zero,
         line=zero,
         heading=zero,
-        in_mud=xp.where(depth > 0.0, 1.0, 0.0),
+        in_mud=xp.where(in_contact(depth), 1.0, 0.0),
     )
 
 

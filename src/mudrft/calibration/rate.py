@@ -1,0 +1,368 @@
+r"""The rate of a logged depth: estimated to survive the sensor's noise, not fitted where
+the speed changes.
+
+The model's rate over a step is the difference of two depths over the step. A logged depth
+carries the sensor's noise :math:`\sigma_q`, and the difference multiplies it by
+:math:`\sqrt2/\Delta t`: 0.02 mm at 500 Hz is 14 mm/s of noise on a 10 mm/s test. A fit
+then takes the noise for motion, and errors in its input bias every rate-dependent
+constant towards zero (:math:`\eta_\infty`, :math:`\eta_m`, :math:`\lambda`, ...), by
+the fraction :math:`x^2/(1+x^2)` for a rate noise :math:`x` times the speed. The noise also
+moves the deepest point of a hold, and the model reads each rise of it followed by a fall
+as a retraction that unseals the bed: with :math:`\varepsilon L_c` = 0.64 mm, 0.02 mm of
+noise cost 400 Pa of the support during a hold.
+
+:func:`smooth_trial` estimates :math:`\sigma_q` from the log (:func:`depth_noise`) and
+
+* finds where the speed changes (:func:`speed_changes`): the least-squares slopes before
+  and after each sample, over the fewest samples that bring their noise to
+  :data:`RATE_NOISE` of the trial's speed, differ by more than :data:`KINK_Z` standard
+  errors;
+* fits the depth as constant-speed segments between those changes (a linear spline,
+  :func:`scipy.interpolate.make_lsq_spline`, each change placed where the lines of its two
+  segments meet), as a plate rig moves: exact rates, exactly still holds. If the depth is
+  not that (its residual exceeds the noise), it is smoothed instead with a local-linear
+  (Savitzky-Golay) kernel over the same window: a moving average with parabolic weights,
+  exact at constant speed, whose differences are least-squares slopes.
+
+No depth log says when within a sampling interval the speed changed, and the stress after
+that interval answers a rate the log does not give: the samples whose step spans a change
+of speed (:meth:`Smoothing.excluded`) are not fitted.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from .._validation import MudrftError
+from ..io import IntrusionDataset, Trial
+
+__all__ = [
+    "KINK_Z",
+    "RATE_NOISE",
+    "Smoothing",
+    "check_window",
+    "depth_noise",
+    "rate_bias",
+    "slope_noise",
+    "smooth_dataset",
+    "smooth_trial",
+    "speed_changes",
+]
+
+#: The smoothing window is chosen for a rate noise of at most this fraction of the trial's
+#: speed [-]; the bias it leaves on the rate-dependent constants is about its square.
+RATE_NOISE = 0.01
+#: A change of slope across a sample larger than this many of its standard errors (and than
+#: :data:`RATE_NOISE` of the speed) is a change of speed [-].
+KINK_Z = 5.0
+#: Warn when the rate's noise biases the rate-dependent constants by more than this [-].
+BIAS_WARNING = 0.01
+#: The window is at most this fraction of the trial's samples in the mud [-].
+_MAX_WINDOW_FRACTION = 0.1
+#: Constant-speed segments describe a depth whose residual's mean square is at most this
+#: many times the noise's (a curved motion leaves much more) [-].
+_NOISE_RATIO = 1.3
+
+
+class Smoothing(NamedTuple):
+    """How the depth of one trial was read.
+
+    Attributes
+    ----------
+    name : str
+        The trial.
+    method : str
+        ``"as logged"``, ``"segments"`` (constant-speed segments) or ``"kernel"``.
+    window : int
+        Samples of the slopes that found the changes of speed, or of the kernel [-].
+    dt : float
+        Median sampling interval [s].
+    depth_noise : float
+        Estimated noise of the logged depth, :math:`\\sigma_q` [m].
+    rate_noise : float
+        Noise of the rate as the model reads it [m/s] (the largest over the segments).
+    speed : float
+        The trial's speed through the mud [m/s].
+    changes : tuple of (float, float)
+        Where the speed changes: the time span [s] in which the change lies.
+    """
+
+    name: str
+    method: str
+    window: int
+    dt: float
+    depth_noise: float
+    rate_noise: float
+    speed: float
+    changes: tuple[tuple[float, float], ...]
+
+    @property
+    def bias(self) -> float:
+        """Relative bias of the rate-dependent constants from the rate's noise [-]."""
+        return rate_bias(self.rate_noise, self.speed)
+
+    def excluded(self, time: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Samples at ``time`` [s] whose step, or the step before it, spans a change of
+        speed: their stress answers a rate the log does not give."""
+        t = np.asarray(time, dtype=float)
+        out = np.zeros(t.size, dtype=bool)
+        for a, b in self.changes:
+            spans = np.flatnonzero((t[:-1] < b) & (t[1:] >= a)) + 1
+            out[spans] = True
+            out[np.minimum(spans + 1, t.size - 1)] = True
+        return out
+
+    def note(self) -> str:
+        """One line: how the depth was read, its noise and the rate's."""
+        what = {
+            "as logged": "as logged",
+            "segments": f"fitted as {len(self.changes) + 1} constant-speed segments",
+            "kernel": f"smoothed over {self.window} samples ({1e3 * self.window * self.dt:.3g} ms)",
+        }[self.method]
+        share = f" ({100 * self.rate_noise / self.speed:.2g} % of the speed)" if self.speed else ""
+        return (
+            f"{self.name}: depth noise {1e3 * self.depth_noise:.3g} mm, {what}, rate noise "
+            f"{1e3 * self.rate_noise:.3g} mm/s{share}, {len(self.changes)} changes of speed"
+        )
+
+
+def depth_noise(depth: NDArray[np.float64]) -> float:
+    r"""Standard deviation of a logged depth's noise [m], from its second differences.
+
+    :math:`1.4826\,\mathrm{median}|\Delta^2 q|/\sqrt6`: white noise of standard deviation
+    :math:`\sigma` gives second differences of standard deviation :math:`\sqrt6\sigma`,
+    while a motion at constant speed gives none and a change of speed a few outliers,
+    which the median ignores.
+
+    Examples
+    --------
+    >>> q = np.random.default_rng(0).normal(0.0, 2e-5, 5000) + 0.01 * np.linspace(0, 1, 5000)
+    >>> round(depth_noise(q) / 2e-5, 1)
+    1.0
+    """
+    d2 = np.diff(np.asarray(depth, dtype=float), 2)
+    if d2.size == 0:
+        return 0.0
+    return 1.4826 * float(np.median(np.abs(d2))) / math.sqrt(6.0)
+
+
+def slope_noise(sigma: float, samples: int, dt: float) -> float:
+    """Noise [m/s] of the least-squares slope of ``samples`` [-] depths of noise ``sigma``
+    [m], ``dt`` [s] apart: :math:`\\sigma\\sqrt{12/(m(m^2-1))}/\\Delta t`."""
+    m = max(int(samples), 2)
+    return sigma * math.sqrt(12.0 / (m * (m * m - 1))) / dt
+
+
+def rate_bias(noise: float, speed: float) -> float:
+    """Relative bias [-] of the rate-dependent constants from a rate ``noise`` [m/s] at a
+    ``speed`` [m/s]: the attenuation :math:`x^2/(1+x^2)` of errors in the variables."""
+    x2 = (noise / speed) ** 2 if speed > 0 else 0.0
+    return x2 / (1.0 + x2)
+
+
+def _kernel_smooth(depth: NDArray[np.float64], half_width: int) -> NDArray[np.float64]:
+    """The depth [m] averaged with parabolic weights over ``2h+1`` samples, so that the
+    difference of two neighbours is the least-squares slope of the ``2h+2`` samples around
+    them; the ends are extended by odd reflection (a constant speed stays exact)."""
+    if half_width == 0:
+        return depth
+    i = np.arange(-half_width, half_width + 1, dtype=float)
+    w = (half_width + 0.5) ** 2 - i * i
+    padded = np.pad(depth, half_width, mode="reflect", reflect_type="odd")
+    return np.convolve(padded, w / w.sum(), mode="valid")
+
+
+def speed_changes(
+    time: NDArray[np.float64],
+    depth: NDArray[np.float64],
+    half_width: int,
+    sigma: float,
+    speed: float,
+) -> list[int]:
+    """The samples where the speed changes.
+
+    At each sample the least-squares slopes of the ``h + 1`` samples before it and after it
+    (``h`` = ``half_width``, at least 1; both include it) are compared; a group of samples
+    where they differ by more than :data:`KINK_Z` standard errors and :data:`RATE_NOISE` of
+    ``speed`` [m/s] (noise ``sigma`` [m]) is one change, at its largest difference.
+    """
+    n = depth.size
+    k = max(half_width, 1) + 1
+    if n < 2 * k + 1:
+        return []
+    dt = float(np.median(np.diff(time)))
+    j = np.arange(k, dtype=float) - (k - 1) / 2.0
+    slope = np.convolve(depth, (j / float(j @ j) / dt)[::-1], mode="valid")  # of depth[i:i+k]
+    jump = np.zeros(n)
+    jump[k - 1 : n - k + 1] = slope[k - 1 :] - slope[: n - 2 * k + 2]
+    se = math.sqrt(2.0) * slope_noise(sigma, k, dt)
+    big = np.abs(jump) > max(KINK_Z * se, RATE_NOISE * speed)
+    groups, count = ndimage.label(ndimage.binary_closing(big, np.ones(k, dtype=bool)) | big)
+    at = ndimage.maximum_position(np.abs(jump), groups, range(1, count + 1))
+    return [int(a[0]) for a in at]
+
+
+def _segments(
+    time: NDArray[np.float64], depth: NDArray[np.float64], at: list[int], margin: int, sigma: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float] | None:
+    """Constant-speed segments between the changes ``at`` (sample indices).
+
+    Each change is placed where the lines of its two segments meet (each line fitted
+    ``margin`` samples clear of its ends); the depth is then fitted by least squares as the
+    continuous piecewise-linear function with those corners, a segment whose speed is within
+    :data:`KINK_Z` standard errors of 0 held exactly still (a drift of microns in a hold
+    reads as a retraction that unseals the bed). Returns the change times [s], the fitted
+    depth [m] at ``time`` and the largest standard error of a moving segment's speed [m/s]
+    (noise ``sigma`` [m]); None if a segment is too short to fit.
+    """
+    bounds = [0, *at, depth.size - 1]
+    lines = []
+    for a, b in itertools.pairwise(bounds):
+        lo, hi = (a + margin, b - margin) if b - a > 4 * margin else (a, b)
+        if hi - lo < 2:
+            return None
+        lines.append(np.polyfit(time[lo : hi + 1], depth[lo : hi + 1], 1))
+    knots = []
+    for i, (l1, l2) in enumerate(itertools.pairwise(lines)):
+        dv = l1[0] - l2[0]
+        t_meet = (l2[1] - l1[1]) / dv if dv != 0 else np.inf
+        near = time[max(at[i] - margin - 1, 0)], time[min(at[i] + margin + 1, time.size - 1)]
+        knots.append(t_meet if near[0] <= t_meet <= near[1] else time[at[i]])
+    nodes = np.r_[time[0], np.sort(knots), time[-1]]
+    if np.any(np.diff(nodes) <= 0):
+        return None
+    hats = np.stack([np.interp(time, nodes, e) for e in np.eye(nodes.size)], axis=1)
+    inv = np.linalg.pinv(hats.T @ hats)
+    c = inv @ hats.T @ depth
+    # the speed of each segment and its standard error
+    D = (np.eye(nodes.size, k=1) - np.eye(nodes.size))[:-1] / np.diff(nodes)[:, None]
+    speed = D @ c
+    se = sigma * np.sqrt(np.einsum("ij,jk,ik->i", D, inv, D))
+    still = np.abs(speed) <= KINK_Z * se
+    group = np.r_[0, np.cumsum(~still)]  # nodes joined by a still segment share a depth
+    merged = hats @ np.eye(group[-1] + 1)[group]
+    fitted = merged @ np.linalg.lstsq(merged, depth, rcond=None)[0]
+    moving = se[~still]
+    return np.asarray(knots), fitted, float(moving.max()) if moving.size else 0.0
+
+
+def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Smoothing]:
+    """A trial with its depth read for a rate that survives the sensor's noise.
+
+    Parameters
+    ----------
+    trial : Trial
+        One trial (depth [m]).
+    window : "auto", "raw" or int, keyword-only
+        ``"auto"``: constant-speed segments when they describe the depth, else the kernel
+        over the fewest samples whose rate noise is :data:`RATE_NOISE` of the trial's speed
+        (at most a tenth of its samples in the mud), and the depth as logged when it has no
+        noise to speak of; ``"raw"``: the depth as logged; an odd int: the kernel over that
+        many samples.
+
+    Returns
+    -------
+    Trial, Smoothing
+        The trial with the depth the model reads, and what was done.
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 4.0, 0.002)
+    >>> q = 0.01 * np.clip(t - 0.5, 0.0, 3.0) + np.random.default_rng(1).normal(0, 2e-5, t.size)
+    >>> tr, how = smooth_trial(Trial(t, q, 1e5 * np.clip(q, 0, None)))
+    >>> how.method, [round(a, 2) for a, _ in how.changes]
+    ('segments', [0.5, 3.5])
+    """
+    t = trial.time
+    q = np.asarray(trial.depth, dtype=float)
+    dt = float(np.median(np.diff(t)))
+    sigma = depth_noise(q)
+    speed = trial.speed
+    if window == "auto":
+        h_max = int(_MAX_WINDOW_FRACTION * np.count_nonzero(q > 0)) // 2
+        h = 0
+        while h < h_max and slope_noise(sigma, 2 * h + 2, dt) > RATE_NOISE * speed:
+            h += 1
+    else:
+        h = 0 if window == "raw" else (int(window) - 1) // 2
+    at = speed_changes(t, q, h, sigma, speed)
+    method, depth, rate = ("as logged", q, slope_noise(sigma, 2, dt))
+    changes = tuple((float(t[max(i - 1, 0)]), float(t[min(i + 1, t.size - 1)])) for i in at)
+    fitted = _segments(t, q, at, h + 1, sigma) if window == "auto" and sigma > 0 else None
+    if fitted is not None and _describes(q - fitted[1], sigma):
+        method, depth, rate = "segments", fitted[1], fitted[2]
+        changes = tuple((float(k), float(k)) for k in fitted[0])
+    elif h > 0:
+        method, depth, rate = "kernel", _kernel_smooth(q, h), slope_noise(sigma, 2 * h + 2, dt)
+        span = (h + 1) * dt
+        changes = tuple((float(t[i]) - span, float(t[i]) + span) for i in at)
+    how = Smoothing(trial.name, method, 2 * h + 1, dt, sigma, rate, speed, changes)
+    if depth is q:
+        return trial, how
+    read = Trial(
+        t,
+        depth,
+        trial.stress,
+        name=trial.name,
+        characteristic_length=trial.characteristic_length,
+        meta={**trial.meta, "depth": how.note()},
+    )
+    return read, how
+
+
+def _describes(residual: NDArray[np.float64], sigma: float) -> bool:
+    """Whether a fit's ``residual`` [m] is the depth's noise ``sigma`` [m] and no more: its
+    mean square within :data:`_NOISE_RATIO` of :math:`\\sigma^2` (the median estimate of
+    :func:`depth_noise` is itself a few percent off)."""
+    return float(np.mean(residual**2)) <= _NOISE_RATIO * sigma**2
+
+
+def check_window(window: object) -> int | str:
+    """The ``rate`` option of a fit: ``"auto"``, ``"raw"`` or an odd int >= 1 [samples]."""
+    if isinstance(window, str) and window in ("auto", "raw"):
+        return window
+    if isinstance(window, (int, np.integer)) and not isinstance(window, bool):
+        if window >= 1 and window % 2 == 1:
+            return int(window)
+    raise MudrftError(
+        f"rate must be 'auto', 'raw' or an odd number of samples >= 1 to smooth the depth "
+        f"over, got {window!r}"
+    )
+
+
+def smooth_dataset(
+    ds: IntrusionDataset, window: int | str = "auto"
+) -> tuple[IntrusionDataset, list[Smoothing], list[str]]:
+    """Every trial through :func:`smooth_trial`; returns the data, what was done to each
+    trial, and the warnings (a rate noise that biases the rate-dependent constants by more
+    than :data:`BIAS_WARNING`)."""
+    window = check_window(window)
+    trials, done, warnings_ = [], [], []
+    for tr in ds.trials:
+        new, how = smooth_trial(tr, window=window)
+        trials.append(new)
+        done.append(how)
+        if how.bias > BIAS_WARNING:
+            warnings_.append(
+                f"trial {tr.name!r}: the depth's noise ({1e3 * how.depth_noise:.3g} mm) leaves "
+                f"a rate noise of {1e3 * how.rate_noise:.3g} mm/s, "
+                f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
+                f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
+                "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
+                f"tau_leak) come out about {100 * how.bias:.2g} % too small"
+                + (
+                    "; rate='auto' reads the depth for a rate that survives it"
+                    if window == "raw"
+                    else ""
+                )
+            )
+    out = IntrusionDataset(
+        tuple(trials), direction=ds.direction, source=ds.source, notes=ds.notes, meta=dict(ds.meta)
+    )
+    return out, done, warnings_
