@@ -55,7 +55,8 @@ def test_a_plate_above_the_surface_feels_nothing_and_the_mud_forgets_the_air():
     """Exactly 0 above the surface; in the mud the same stress after 0 s, 0.1 s or 1 s of
     approach (the old plate_response differed by up to 699 Pa after 0.3 s in the air); and
     the stress simulate gives a flat foot along the same path."""
-    foot, mud = mudrft.feet.Flat(length=0.05, width=0.05), mudrft.paper_mud(0.25)
+    foot = mudrft.feet.Flat(length=0.05, width=0.05, height=0.04)  # a 30 mm plate test
+    mud = mudrft.paper_mud(0.25)
     L = mudrft.terrains.MudTerrain(mud).length(foot)
     in_mud = []
     for seconds in (0.0, 0.1, 1.0):
@@ -228,32 +229,24 @@ def _write_lab_files(ds, folder):
     return paths
 
 
-@pytest.mark.slow
 @pytest.mark.filterwarnings("default::mudrft._validation.CalibrationWarning")  # shown as lines
-def test_mudrft_calibrate_recovers_the_truth_from_lab_logs_over_seeds(tmp_path, capsys):
-    """Issue 39's must-show: logs with an approach from 5 mm above, a tare (an unzeroed
-    0.5 N sensor, subtracted from the samples above the surface), 0.02 mm of depth noise and
-    0.3 N of force noise, at 10, 20 and 40 mm/s: in at least 9 of 10 seeds every parameter
-    the fit reports identified lies within its robust 95 % interval, and those it cannot
-    identify are reported so (weak or not identified)."""
-    missed_by_seed, unidentified = {}, set()
-    for seed in range(10):
-        folder = tmp_path / f"seed{seed}"
-        folder.mkdir()
-        files = _write_lab_files(lab_log(seed, offset=0.5 / AREA), folder)
-        out = folder / "fit.json"
-        argv = ["calibrate", *files, "--area", "1600mm^2", "--length", "40mm"]
-        assert mudrft_main([*argv, "--zero", "subtract", "--quiet", "--out", str(out)]) == 0
-        warned = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
-        assert len(warned) == 1 and "fitting every 3rd sample" in warned[0]  # 500 Hz
-        fit = json.loads(out.read_text())
-        missed = []
-        for k in fit["free"]:
-            lo, hi = fit["robust_interval"][k]
-            if fit["identifiability"][k] != "identified":
-                unidentified.add(k)
-            elif not lo <= getattr(TRUE, k) <= hi:
-                missed.append(k)
-        missed_by_seed[seed] = missed
-    assert sum(not m for m in missed_by_seed.values()) >= 9, missed_by_seed
-    assert "tau_leak" in unidentified  # the leak is too fast to show in these tests
+def test_mudrft_calibrate_recovers_the_truth_from_a_lab_log(tmp_path, capsys):
+    """Issue 39's must-show, one seed: logs with an approach from 5 mm above, a tare (an
+    unzeroed 0.5 N sensor, subtracted from the samples above the surface), 0.02 mm of depth
+    noise and 0.3 N of force noise, at 10, 20 and 40 mm/s: every parameter the fit reports
+    identified lies within its robust 95 % interval, and the leak, too fast to show in these
+    tests, is reported not identified. The same over 10 seeds (9 of 10 covered) is a study,
+    benchmarks/bench_calibration_coverage.py, results in docs/performance.md."""
+    files = _write_lab_files(lab_log(0, offset=0.5 / AREA), tmp_path)
+    out = tmp_path / "fit.json"
+    argv = ["calibrate", *files, "--area", "1600mm^2", "--length", "40mm"]
+    assert mudrft_main([*argv, "--zero", "subtract", "--quiet", "--out", str(out)]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warned) == 1 and "fitting every 3rd sample" in warned[0]  # 500 Hz
+    fit = json.loads(out.read_text())
+    identified = [k for k in fit["free"] if fit["identifiability"][k] == "identified"]
+    assert len(identified) >= 3
+    for k in identified:
+        lo, hi = fit["robust_interval"][k]
+        assert lo <= getattr(TRUE, k) <= hi, (k, lo, hi)
+    assert fit["identifiability"]["tau_leak"] != "identified"
