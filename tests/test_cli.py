@@ -364,7 +364,7 @@ def test_a_mistyped_option_is_one_line_naming_the_command_and_the_closest_option
 ):
     """A new user's typo: argparse answered with the top-level usage and
     'mudrft: error: unrecognized arguments: --speeed 0.2' (not the command, no hint),
-    though every other mistake is one line 'mudrft COMMAND: error: ...' (D112)."""
+    though every other mistake is one line 'mudrft COMMAND: error: ...'."""
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SystemExit) as exc:
         main(args)
@@ -410,7 +410,7 @@ def test_a_mistyped_command_or_top_level_option_is_one_line_naming_the_closest(
 ):
     """'mudrft reproduc' answered with argparse's usage and 'argument COMMAND: invalid
     choice: ... (choose from ...)', and 'mudrft --foo' with the usage and 'unrecognized
-    arguments': the walls D112 removed from a command's options (D122). A command's own
+    arguments': the walls removed from a command's options. A command's own
     option before the command was 'unrecognized', with "did you mean '--quiet'?"."""
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SystemExit) as exc:
@@ -429,7 +429,7 @@ def _parameter_file(path, params):
 
 def test_simulate_takes_calibrated_parameter_files(tmp_path, capsys):
     """A user who ran 'mudrft calibrate --out fit.json' could not simulate with the fit:
-    simulate knew only the paper's rows (D111)."""
+    simulate knew only the paper's rows."""
     import mudrft
 
     v35 = mudrft.paper_parameters(0.35, "vertical")
@@ -448,7 +448,7 @@ def test_simulate_takes_calibrated_parameter_files(tmp_path, capsys):
 
 
 def test_compare_takes_a_calibrated_parameter_file_for_the_mud_only(tmp_path, capsys):
-    """``mudrft compare --vertical FIT.json`` runs the mud model on the fit (D111); the
+    """``mudrft compare --vertical FIT.json`` runs the mud model on the fit; the
     baselines keep their defaults (D59)."""
     import csv
 
@@ -548,7 +548,7 @@ def test_simulate_motion_options_that_do_not_go_together(tmp_path, capsys, args,
 
 
 def test_compare_runs_your_own_granular_medium_and_only_the_terrains_named(tmp_path, capsys):
-    """A terramechanics researcher's walkthrough (D132): ``--terrains`` picks the terrains and
+    """A terramechanics researcher's walkthrough: ``--terrains`` picks the terrains and
     ``--zeta``/``--rho-c``/``--mu-int``/``--mu-surf`` describe the sand; before, compare ran
     every terrain with the default media only."""
     import csv
@@ -610,7 +610,7 @@ def test_compare_warns_on_sand_coefficients_in_n_per_cm3(tmp_path, capsys):
 
 def test_compare_figures_of_a_subset_of_terrains(tmp_path, capsys):
     """``--terrains rigid`` (or any subset without mud and sand) wrote no figure: the S6
-    figure needed mud and granular RFT and the gait figure left rigid ground out (D132)."""
+    figure needed mud and granular RFT and the gait figure left rigid ground out."""
     pytest.importorskip("matplotlib")
     out = tmp_path / "rigid"
     args = ["compare", "--out", str(out), "--quiet", "--terrains", "rigid"]
@@ -620,7 +620,7 @@ def test_compare_figures_of_a_subset_of_terrains(tmp_path, capsys):
 
 
 def test_simulate_runs_a_baseline_terrain_with_your_own_medium(tmp_path, capsys):
-    """``mudrft simulate --terrain granular-rft --zeta ...`` (D132): before, simulate ran the
+    """``mudrft simulate --terrain granular-rft --zeta ...``: before, simulate ran the
     mud only, so a terramechanics researcher could not put the same gait on sand here."""
     import mudrft
 

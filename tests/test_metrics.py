@@ -20,7 +20,7 @@ def test_impulse_of_a_triangle_and_a_constant():
 @pytest.mark.parametrize("shape", [(7,), (7, 3), (1,), (1, 3)])
 def test_the_trapezoid_rule_is_scipys(shape):
     """mudrft's own trapezoid rule (numpy.trapezoid exists from numpy 2.0 only, numpy.trapz
-    is gone from 2.4; D149) equals scipy's, on uneven samples and per column; one sample
+    is gone from 2.4) equals scipy's, on uneven samples and per column; one sample
     integrates to zero."""
     from scipy.integrate import trapezoid
 

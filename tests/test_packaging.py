@@ -1,4 +1,4 @@
-"""The versions the package declares are the versions CI tests (decision D149).
+"""The versions the package declares are the versions CI tests.
 
 ``pyproject.toml`` promises numpy, scipy and trimesh from a floor on; CI's core-only run installs
 exactly those floors (``.ci/run``), so a use of a newer name (``numpy.trapezoid`` exists

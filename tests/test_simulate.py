@@ -305,7 +305,7 @@ def test_resampling_holds_each_samples_velocity_over_its_step():
 
 
 def test_a_weight_beyond_the_buried_foot_names_the_support_and_the_depth_searched():
-    """D118: "weight=200.0 N exceeds the static support of flat at depth 0.104 m" gave no
+    """Before: "weight=200.0 N exceeds the static support of flat at depth 0.104 m" gave no
     support to compare with and no reason for that depth (4 heights of a 26 mm foot), and
     read as "no balance", though a LoadControl run settles deeper."""
     foot, mud = mudrft.feet.Flat(), mudrft.paper_mud(0.25)
@@ -340,7 +340,7 @@ def test_results_and_trajectories_print_as_a_summary_not_their_arrays():
 
 
 def test_a_load_that_buries_the_foot_deeper_than_static_sinking_looks_warns():
-    """5,000 N on the flat foot sinks it metres deep; static_sinking refuses it (D118) and
+    """5,000 N on the flat foot sinks it metres deep; static_sinking refuses it and
     the dynamic run says the foot is buried (D26) and asks for the unit of the weight."""
     mud, foot = mudrft.paper_mud(0.25), mudrft.feet.Flat()
     with pytest.warns(PlausibilityWarning, match=r"deeper than the flat foot is tall.*in N") as w:

@@ -315,11 +315,11 @@ def test_the_last_silent_core_inputs_are_refused():
             constitutive.step(p, st, 0.1, 1.0, 0.01, seal=seal)
     with pytest.raises(MudrftError, match="seal must be finite"):
         constitutive.step(p, st, 0.1, 1.0, 0.01, seal=float("nan"))
-    with pytest.raises(MudrftError, match="state must be a ChannelState.*got NoneType"):
+    with pytest.raises(MudrftError, match=r"state must be a ChannelState.*got NoneType"):
         constitutive.step(p, None, 0.1, 1.0, 0.01)
     terrain = mudrft.MudTerrain(MUD)
     state = terrain.initial_state(FLAT, [0.0, 0.0, 0.0])
-    with pytest.raises(MudrftError, match="foot must be a mudrft foot.*got NoneType"):
+    with pytest.raises(MudrftError, match=r"foot must be a mudrft foot.*got NoneType"):
         terrain.step(None, state, [0.0, 0.0, -0.01], [0.0, 0.0, -0.1], 1e-3)
     with pytest.raises(MudrftError, match=r"a batch of n = 1000000000000 feet would need about"):
         BatchedMud(MUD, FLAT, 10**12)

@@ -5,7 +5,7 @@ mistake produces an error naming the argument, what was expected and what was
 given, instead of a NaN or a traceback from deep inside numpy. Messages show
 numbers as a user typed them (:func:`plain`: ``1.0``, not ``np.float64(1.0)``).
 
-The input limits of docs/model.md (decisions D100-D105) live here too, one helper
+The input limits of docs/model.md (decisions D100-D104) live here too, one helper
 per concern: :func:`check_samples` bounds the samples of a run,
 :func:`check_memory` refuses an allocation larger than :data:`memory_limit`,
 :func:`check_length` rejects absurd sizes and :func:`warn_implausible` warns
@@ -99,7 +99,7 @@ class PlausibilityWarning(UserWarning):
 
 class CalibrationWarning(UserWarning):
     """A fit ran but the user should know: its data were thinned, or the model does not
-    describe them (decision D110)."""
+    describe them."""
 
 
 def plain(value: object) -> str:

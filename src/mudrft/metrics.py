@@ -55,7 +55,7 @@ def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
 
     Written here, in the order of operations of ``numpy.trapezoid``, because that name
     exists from numpy 2.0 and its predecessor ``numpy.trapz`` is gone from numpy 2.4:
-    mudrft supports numpy 1.24 and later (D149).
+    mudrft supports numpy 1.24 and later.
     """
     dx = np.diff(x).reshape((-1,) + (1,) * (np.ndim(y) - 1))
     out: FloatOrArray = (dx * (y[1:] + y[:-1]) / 2.0).sum(axis=0)

@@ -546,8 +546,7 @@ def static_sinking(
     ------
     MudrftError
         If ``weight`` is not a positive number, or the foot cannot carry it even buried
-        :data:`BURIED_SEARCH` times its height; the message gives the support there
-        (decision D118).
+        :data:`BURIED_SEARCH` times its height; the message gives the support there.
     """
     from scipy.optimize import brentq
 

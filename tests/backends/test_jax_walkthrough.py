@@ -1,4 +1,4 @@
-"""What a learning researcher ran into with the JAX terrain step (D126-D128).
+"""What a learning researcher ran into with the JAX terrain step.
 
 Each test failed before its fix: inputs JAX read silently wrong (a position without its z,
 one dt per member of a vmapped batch, a mesh whose tip is not at the origin), concrete
@@ -40,7 +40,7 @@ def _path(n=40, dt=1e-3):
 
 def test_a_position_without_its_z_is_refused_not_read_as_depth():
     """JAX clips an out-of-range index: pos[..., 2] of a (..., 2) position read y as z and
-    the step ran (D126)."""
+    the step ran."""
     jp, st = mjax.to_jax(MUD), mjax.initial_terrain_state(np.zeros(3), LC)
     kw = dict(force_fn=_fn(), characteristic_length=LC)
     with pytest.raises(MudrftError, match=r"position must have shape \(\.\.\., 3\).*\(2,\)"):
@@ -60,7 +60,7 @@ def test_a_position_without_its_z_is_refused_not_read_as_depth():
 
 def test_batched_step_refuses_one_dt_per_member():
     """dt is shared (in_axes None): an array of N steps gave every member all N, an (N, N)
-    result (D126)."""
+    result."""
     p = mjax.to_jax(MUD.vertical)
     st = mjax.initial_state((4,))
     with pytest.raises(MudrftError, match=r"dt must be one step shared by the batch.*\(4,\)"):
@@ -74,7 +74,7 @@ def test_batched_step_refuses_one_dt_per_member():
 
 def test_mesh_force_refuses_vertices_whose_tip_is_not_at_the_origin():
     """The depth is the tip's: a mesh 1 cm above its origin gave forces off by 77 N of 92 on
-    the paper's gait, silently (D126)."""
+    the paper's gait, silently."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         m = mudrft.feet.SemiSphere().to_mesh(resolution=3)
@@ -119,7 +119,7 @@ def test_concrete_mistakes_raise_before_the_scan(case, match):
 
 @pytest.mark.parametrize("kind", ["flat", "semi-cylinder", "mesh from to_mesh"])
 def test_a_foot_passed_as_force_fn_is_the_foot_of_mudrft_simulate(kind):
-    """force_fn=foot gives the foot's own rule and L_c (D127): a mesh made with to_mesh
+    """force_fn=foot gives the foot's own rule and L_c: a mesh made with to_mesh
     loads its trailing faces, which partial(mesh_force, v, f) left out (35 N of 92 N off
     on the paper's gait)."""
     foot = mudrft.feet.SemiCylinder() if kind == "semi-cylinder" else FOOT
@@ -202,7 +202,7 @@ def test_a_traced_characteristic_length_is_a_design_variable():
 
 def test_mud_constants_are_the_terrain_constants_and_differentiable():
     """The constants the MJX coupling's constants= takes, from to_jax(mud), traceable: a
-    learning user had to rebuild them with tree_map and channel_constants (D127)."""
+    learning user had to rebuild them with tree_map and channel_constants."""
     got = mjax.mud_constants(mjax.to_jax(MUD))
     ref = mudrft.MudTerrain(MUD).constants
     for g, r in zip(got, ref, strict=True):

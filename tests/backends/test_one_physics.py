@@ -1,4 +1,4 @@
-"""Each equation lives in one place: every path runs the same functions (decision D80).
+"""Each equation lives in one place: every path runs the same functions.
 
 Two kinds of test: (1) patching the one constitutive step changes every path that claims to
 use it (the numpy reference, the single-foot float path of MudTerrain, batches, BatchedMud,
@@ -240,7 +240,7 @@ def test_sign_flip_and_rest_on_every_specialization():
             # the criterion of the property tests above: round-off relative to the terms'
             # magnitudes; the two stress states (s_th, sigma_s) [Pa] at the stresses' scale,
             # the rest (strains, xi, clocks) at 1. A result-relative 1e-13 failed with numpy
-            # 1.24's exp: s_th -129.5234707061 by 1.4e-11 Pa, terms of ~1e3 Pa (D149)
+            # 1.24's exp: s_th -129.5234707061 by 1.4e-11 Pa, terms of ~1e3 Pa
             scale = np.abs(ref.elastic) + np.abs(ref.thixotropic) + np.abs(ref.suction) + 1.0
             per_state = np.array([1.0, 1.0, 1.0, scale, scale, 1.0, 1.0])
             for fn in fns:

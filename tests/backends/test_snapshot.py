@@ -1,4 +1,4 @@
-"""Snapshots, copies and pickles of the stateful stepper BatchedMud (D143).
+"""Snapshots, copies and pickles of the stateful stepper BatchedMud.
 
 A planner saves the mud where the robot is, rolls out candidate futures and goes back. The
 continuation after a restore, a copy or a pickle must be the original's, bit for bit, and a
@@ -67,7 +67,7 @@ STEPPERS = [
 @pytest.mark.parametrize("how", COPIES)
 @pytest.mark.parametrize(("make", "backend"), STEPPERS)
 def test_a_copy_continues_as_the_original_and_does_not_share_its_state(make, backend, how):
-    # before D143: a deep copy or pickle of a numba stepper returned the force of the copy
+    # before: a deep copy or pickle of a numba stepper returned the force of the copy
     # time at every step (its output view still showed the original's array), a shallow
     # copy stepped the original's state, the JAX BatchedMud could not be pickled at all
     sim, n = make(backend)

@@ -145,7 +145,7 @@ def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
     tmp_path, capsys, monkeypatch
 ):
     """With --quiet the thinning warning read 'mudrft calibrate: warning: calibrate:
-    warning: ...'; without it, it came as a plain progress note (D110)."""
+    warning: ...'; without it, it came as a plain progress note."""
     import mudrft.calibration._options as options
 
     longest = max(len(t) for t in example_dataset("vertical").trials)
@@ -168,8 +168,8 @@ def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
 def test_strict_makes_a_fit_that_does_not_describe_the_data_exit_1_with_the_warning(
     tmp_path, capsys
 ):
-    """A fit that 'does not describe the data' (D110) exits 0, so a script could not fail
-    on it; --strict makes a warning exit status 1 with its message (D125). The default is
+    """A fit that 'does not describe the data' exits 0, so a script could not fail
+    on it; --strict makes a warning exit status 1 with its message. The default is
     unchanged, and the outputs are written as without --strict."""
     rng = np.random.default_rng(0)
     t = np.linspace(0.0, 1.0, 41)

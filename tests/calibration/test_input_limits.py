@@ -27,7 +27,7 @@ def plunge(true_vertical):
 def test_long_logs_are_thinned_to_the_target_with_a_warning(plunge, monkeypatch):
     monkeypatch.setattr(options, "FIT_SAMPLES", 50)  # a 1e6-row log against 2000, scaled down
     assert options.auto_decimate(plunge) == 5
-    # a Python warning (D110): the library's logger has only a NullHandler, so a logged
+    # a Python warning: the library's logger has only a NullHandler, so a logged
     # warning reached no one who called calibrate() without configuring logging
     with pytest.warns(CalibrationWarning) as record:
         fit = calibrate(plunge, groups="b", phases=False, max_nfev=3)
@@ -44,14 +44,14 @@ def test_long_logs_are_thinned_to_the_target_with_a_warning(plunge, monkeypatch)
     ("fit_samples", "words"), [(113, "every 2nd sample"), (76, "every 3rd"), (11, "every 21st")]
 )
 def test_the_thinning_warning_writes_english_ordinals(plunge, monkeypatch, fit_samples, words):
-    """It said 'fitting every 2th sample' (D110); 226 samples / fit_samples gives k."""
+    """It said 'fitting every 2th sample'; 226 samples / fit_samples gives k."""
     monkeypatch.setattr(options, "FIT_SAMPLES", fit_samples)
     with pytest.warns(CalibrationWarning, match=words):
         calibrate(plunge, groups="b", phases=False, max_nfev=1)
 
 
 def test_a_fit_that_does_not_describe_the_data_warns_in_python(plunge):
-    """The flag of a poor fit went to the logger only (silent in a script, D110)."""
+    """The flag of a poor fit went to the logger only (silent in a script)."""
     tr = plunge[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)  # the sign looks flipped: it is

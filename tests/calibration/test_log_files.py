@@ -238,7 +238,7 @@ def test_the_synthetic_flag_survives_an_hdf5_round_trip(tmp_path):
     assert back.synthetic
 
 
-# -- times in the wrong unit (D105) ------------------------------------------------------------
+# -- times in the wrong unit ------------------------------------------------------------
 def _ramp_log(rate_hz: float, speed: float, *, time_scale: float = 1.0, unit: str = "s") -> str:
     """A hold, an intrusion to 20 mm at ``speed`` [m/s], a hold: sampled at ``rate_hz``, its
     times multiplied by ``time_scale`` and labelled ``unit``; a little depth noise."""
@@ -322,7 +322,7 @@ def test_plausible_slow_or_fast_tests_read_quietly(tmp_path, rate_hz, speed):
 def test_a_column_with_its_rigs_own_name_is_told_the_names_mudrft_reads(tmp_path, header, message):
     """A new user's rig logs 'position [mm]' and 'load [N]': the error said only
     "expected e.g. 'depth [m]'", not which names are read, nor that the unit in the
-    header may stay as the rig logs it (D110's walkthrough)."""
+    header may stay as the rig logs it."""
     p = write(tmp_path, f"{header}\n0,0,0\n100,2,10\n")
     with pytest.raises(MudrftError) as exc:
         load_intrusion_csv(p, area=0.0025)

@@ -293,7 +293,7 @@ def test_a_non_positive_estimate_is_kept_out_of_to_parameters_with_a_warning():
 @pytest.mark.parametrize("kind", ["estimator", "classifier"])
 def test_a_stream_in_mm_warns_once_as_the_log_loader_does(kind):
     # depths in mm (30 for 30 mm) pass the hard 100 m limit; they warn once a stream
-    # (D105's plausible depth, as the log loader), and an SI stream does not warn
+    # (the plausible depth, as the log loader), and an SI stream does not warn
     import warnings
 
     from mudrft._validation import PlausibilityWarning

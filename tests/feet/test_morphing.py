@@ -460,7 +460,7 @@ def test_forces_at_the_balanced_deflection_are_the_resultant_and_it_checks_the_d
 
 def test_posed_is_refused_with_the_reason_and_where_a_tilted_morphing_foot_is_posed():
     """`foot.posed(rotation)` is listed as what every foot has; the morphing foot answered
-    AttributeError. Its pads move, so it has no rotated mesh: a clear refusal (D148)."""
+    AttributeError. Its pads move, so it has no rotated mesh: a clear refusal."""
     from scipy.spatial.transform import Rotation
 
     with pytest.raises(MudrftError, match=r"posed\(rotation\).*pads open and curl.*D60a"):

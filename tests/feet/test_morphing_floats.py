@@ -1,4 +1,4 @@
-"""The morphing foot on floats (D68d): what the compiled coupling runs equals the array path.
+"""The morphing foot on floats: what the compiled coupling runs equals the array path.
 
 The column balance on floats (:func:`balanced_deflection_on_floats`: the scan node by node,
 then bisection; one foot, and the compiled coupling) and the batch path (the scan on arrays,

@@ -375,7 +375,7 @@ def _distributed_version() -> tuple[int, int]:
 @pytest.mark.skipif(
     _distributed_version() < (2026, 7),
     reason="distributed before 2026.7 restarts a worker that fails to start until the "
-    "script is interrupted (each restart prints the error); measured on 2024.8-2026.3 (D149)",
+    "script is interrupted (each restart prints the error); measured on 2024.8-2026.3",
 )
 def test_an_unguarded_script_fails_with_the_main_guard_in_driver_and_worker(tmp_path):
     """The script of the README without ``if __name__ == "__main__":``, run for real."""

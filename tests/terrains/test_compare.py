@@ -102,7 +102,7 @@ def test_compare_runs_every_terrain_on_the_same_motion(box):
             tr,
         )
         # the same steps; numpy 1.26's SIMD loops may round an element by an ulp
-        # differently with the array's alignment (1.1e-16 N seen, D149): 1e-12 of the peak
+        # differently with the array's alignment (1.1e-16 N seen): 1e-12 of the peak
         peak = np.abs(ref.force).max()
         np.testing.assert_allclose(h.force, ref.force, rtol=0, atol=1e-12 * peak)
     with pytest.raises(MudrftError, match="unique"):
@@ -189,7 +189,7 @@ def test_compare_reports_progress_through_the_mudrft_logger_not_print(box, capsy
 
 
 def test_compare_takes_terrain_names_objects_and_muds_mixed(box):
-    # a terramechanics researcher's walkthrough (D131): switching terrains by name, the
+    # a terramechanics researcher's walkthrough: switching terrains by name, the
     # names of default_terrains; before, a name failed with "terrain names must be unique,
     # got ['str', 'str']" or "terrain must have initial_state() and step(), got str"
     plate = mudrft.plate_intrusion(depth=0.01, hold=0.0, dt=2e-3)
@@ -227,7 +227,7 @@ def test_compare_names_what_is_wrong_with_a_terrain(box):
 
 
 def test_figure_s6_draws_any_subset_and_does_not_claim_w25(box):
-    """A terramechanics researcher's walkthrough (D132): ``mudrft compare --terrains
+    """A terramechanics researcher's walkthrough: ``mudrft compare --terrains
     granular-rft,linear`` ran and then failed on the figure ('histories must include
     ['mud', 'granular-rft']'), and panel (a) labelled the mud 'W = 25 %' at any water
     content."""

@@ -313,7 +313,7 @@ def test_rft_force_is_lipschitz_in_the_facet_tilt(tilt, eps):
     assert np.abs(force(tilt + eps) - force(tilt)).max() <= bound
 
 
-# --- a terramechanics researcher's walkthrough (D130): units as RFT papers print them ---
+# --- a terramechanics researcher's walkthrough: units as RFT papers print them ---
 
 #: Li et al.'s (2013) fit for loosely packed poppy seeds as tabulated [N/cm^3] (D50).
 POPPY_LP_N_PER_CM3 = dict(

@@ -368,7 +368,7 @@ def test_use_registers_the_citation():
 
 
 def test_density_in_g_per_cm3_and_friction_in_degrees_warn():
-    # a terramechanics researcher's walkthrough (D130): 1.31 (g/cm^3) gave a medium 1000x
+    # a terramechanics researcher's walkthrough: 1.31 (g/cm^3) gave a medium 1000x
     # too soft and 22 (degrees) a cap that never acts, both silently
     with pytest.warns(PlausibilityWarning, match=r"rho_c is 1.31 kg/m\^3.*g/cm\^3"):
         GranularRFT3D(rho_c=1.31)

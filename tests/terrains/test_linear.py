@@ -60,7 +60,7 @@ def test_errors():
 
 
 def test_a_stiffness_in_the_units_papers_print_warns():
-    """D130 for the linear model: 1.09 (N/cm^3 or kPa/mm read as N/m^3) is a million times
+    """For the linear model: 1.09 (N/cm^3 or kPa/mm read as N/m^3) is a million times
     too soft and ran silently; the paper's mud (1.09e6) and stiff soils stay quiet."""
     from mudrft._validation import PlausibilityWarning
 

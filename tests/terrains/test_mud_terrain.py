@@ -72,13 +72,13 @@ def test_one_foot_on_floats_equals_a_batch_of_one_on_arrays():
     # libm and numpy's vectorized exp/tanh may differ by an ulp, and the ODE carries the
     # difference: 1e-12 of the run's peak force. (Of each step's own force it failed with
     # numpy 1.24 at first contact, 4.5e-15 N of 4.2e-4 N, where stresses of 1e4 Pa act on
-    # 0.5 um of depth; the largest gap over the run was 7e-12 N of 57 N, D149.)
+    # 0.5 um of depth; the largest gap over the run was 7e-12 N of 57 N.)
     gap = np.abs(np.array(f1) - np.array(fb))
     assert gap.max() <= 1e-12 * np.abs(fb).max(), np.unravel_index(gap.argmax(), gap.shape)
 
 
 def test_the_step_matches_its_tips_to_the_state_or_names_the_state():
-    """D144: a batch's state with one position (a planner trying one action on every
+    """A batch's state with one position (a planner trying one action on every
     candidate) raised numpy's "truth value of an array ... is ambiguous", and tips that
     do not broadcast with the state numpy's "operands could not be broadcast"."""
     foot = mudrft.feet.Flat()

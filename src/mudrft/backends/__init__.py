@@ -5,7 +5,7 @@
   (a batch of one foot with ``backend="numba"`` is the fast single-foot stepper for
   per-step coupling, a few microseconds a step);
 * it keeps its state inside: ``snapshot()`` copies it (a :class:`Snapshot`) and
-  ``restore(snapshot)`` puts it back, for a planner's rollouts (decision D143);
+  ``restore(snapshot)`` puts it back, for a planner's rollouts;
 * :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan over a
   trajectory and surface integration (optional extra ``jax``);
 * :mod:`mudrft.backends.numba`: the compiled loop over feet (numba, a core dependency),

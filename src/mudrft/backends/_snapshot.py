@@ -1,4 +1,4 @@
-"""Snapshots of the stateful stepper :class:`~mudrft.backends.BatchedMud`, for a controller or planner (decision D143).
+"""Snapshots of the stateful stepper :class:`~mudrft.backends.BatchedMud`, for a controller or planner.
 
 A planner saves the mud where the robot is, rolls out candidate futures from it and goes
 back: ``snap = sim.snapshot()``, ``sim.restore(snap)``. A snapshot is a copy made of
@@ -73,7 +73,7 @@ def frozen(value: FloatOrArray) -> FloatOrArray:
 
 
 class Restorable:
-    """Copies and pickles of a stepper through its snapshot (decision D143).
+    """Copies and pickles of a stepper through its snapshot.
 
     ``copy.copy``, ``copy.deepcopy`` and ``pickle`` give a stepper that shares the foot,
     the terrain and any compiled step (a pickle makes the step again from the arguments)

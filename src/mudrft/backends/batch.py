@@ -7,7 +7,7 @@ pose and velocity, and advances them together::
     forces = sim.step(position, velocity, dt)        # (N, 3) in, (N, 3) [N] out
 
 It runs the one terrain step (:func:`mudrft.terrains.mud.mud_step`) of
-:class:`mudrft.MudTerrain` on the whole batch (decision D71): the parameters are validated
+:class:`mudrft.MudTerrain` on the whole batch: the parameters are validated
 once (by the MudTerrain), the inputs are checked once per call, the foot's vectorized
 force rule is called without re-validation, and no Python loop runs over feet or facets.
 
@@ -228,7 +228,7 @@ class BatchedMud(Restorable):
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
             )
         self.backend = check_choice("backend", backend, BACKENDS)
-        self._args = (mud, foot, int(n), self.backend, options)  # to unpickle (D143)
+        self._args = (mud, foot, int(n), self.backend, options)  # to unpickle
         self.n = int(n)
         self.foot = foot
         base = as_mud_terrain(
@@ -399,9 +399,9 @@ class BatchedMud(Restorable):
             )
         return self.force
 
-    # -- snapshots (decision D143) ----------------------------------------------------------
+    # -- snapshots ----------------------------------------------------------
     def snapshot(self) -> Snapshot:
-        """Every foot's state after the last step, a copy to :meth:`restore` later (D143).
+        """Every foot's state after the last step, a copy to :meth:`restore` later.
 
         Returns
         -------
@@ -428,7 +428,7 @@ class BatchedMud(Restorable):
     def restore(self, snapshot: Snapshot) -> None:
         """Put every foot back into the state of ``snapshot`` (from :meth:`snapshot` of a
         ``BatchedMud`` of the same feet, any backend); the steps after it are those that
-        followed the snapshot, bit for bit on the same backend (D143). The snapshot of a
+        followed the snapshot, bit for bit on the same backend. The snapshot of a
         batch of one foot puts every foot into its state: candidate futures of one foot,
         stepped together."""
         n = (self.n,)

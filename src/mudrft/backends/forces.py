@@ -10,8 +10,8 @@ built from the feet's own element-wise rules, called with an array namespace ``x
 * :class:`~mudrft.feet.MeshFoot`: :func:`mudrft.feet.surface.integrate_prepared` on the
   foot's prepared triangles (the vector rule, any heading, no folding).
 
-Validation is left out on purpose: the batched hot loop validates its inputs once per call
-(decision D71) and a JAX tracer cannot be validated.
+Validation is left out on purpose: the batched hot loop validates its inputs once per call,
+and a JAX tracer cannot be validated.
 """
 
 from __future__ import annotations

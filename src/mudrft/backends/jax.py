@@ -443,7 +443,7 @@ def mesh_force(
     trailing : bool, keyword-only
         Passed on to ``integrate_triangles`` (load trailing faces too). Give the foot's
         own, ``trailing=foot.trailing``: a foot made with ``to_mesh`` has True, and the
-        default False gave it other forces (D126).
+        default False gave it other forces.
 
     Returns
     -------
@@ -469,7 +469,7 @@ def mesh_force(
             )
     if (
         not (is_tracer(vertices) or is_tracer(f)) and v.size and np.size(f)
-    ):  # the depth is the tip's (D126)
+    ):  # the depth is the tip's
         used = np.asarray(vertices, dtype=float)[np.unique(np.asarray(f))]
         low, size = float(used[:, 2].min()), float(np.ptp(used, axis=0).max())
         if abs(low) > 1e-9 * size:

@@ -40,7 +40,7 @@ def _xyz(name: str, value: JaxArrayLike, unit: str) -> Array:
     """``value`` as a float array of shape (..., 3): x, y, z. A concrete value is checked
     for NaN and infinity as well; a traced one (inside the caller's ``jit``) for its shape
     only. JAX clips an index out of range instead of raising, so without this check a
-    position of shape (..., 2) read its y as the depth (D126)."""
+    position of shape (..., 2) read its y as the depth."""
     jnp = _jnp()
     a = jnp.asarray(value if is_tracer(value) else check_finite(name, value), dtype=float)
     if a.shape[-1:] != (3,):
@@ -72,7 +72,7 @@ def foot_rule(
     A foot (or its ``force`` method, numpy) gives
     :func:`~mudrft.backends.forces.force_function` with the backend's safe namespace (and
     its own ``characteristic_length`` when none is given); a function is used as it is and
-    needs ``characteristic_length``. Errors name the argument (D127).
+    needs ``characteristic_length``. Errors name the argument.
     """
     owner = getattr(force_fn, "__self__", None)
     if isinstance(owner, Foot) and getattr(force_fn, "__name__", "") in (
@@ -264,7 +264,7 @@ def simulate(
     :func:`jax.jit` (``force_fn`` closed over) and differentiate it with respect to
     ``params``, the foot geometry in ``force_fn`` or the trajectory. Called outside
     ``jit``, every call traces and compiles its scan again (tenths of a second for 650
-    steps on a CPU, against about 2 ms for a jitted call): jit the function that calls it (D128).
+    steps on a CPU, against about 2 ms for a jitted call): jit the function that calls it.
 
     Parameters
     ----------

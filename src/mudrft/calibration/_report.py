@@ -60,7 +60,7 @@ class Reporter:
     @staticmethod
     def warn(message: str) -> None:
         """Something the user must see, whatever ``progress`` is: a
-        :class:`~mudrft._validation.CalibrationWarning` (decision D110). The ``mudrft``
+        :class:`~mudrft._validation.CalibrationWarning`. The ``mudrft``
         logger has only a ``NullHandler``, so a logged warning reached no script that had
         not configured logging; the command line shows each Python warning as one line
         ``mudrft calibrate: warning: ...``."""

@@ -309,7 +309,7 @@ class SampleStream:
                 )
         if not self.warned and (
             abs(q) > PLAUSIBLE_DEPTH[1] or abs(s) > PLAUSIBLE_PEAK_STRESS[1]
-        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns (D105)
+        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns
             big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
             self.warned = warn_implausible(
                 f"update: {'depth' if big_depth else 'stress'} of",

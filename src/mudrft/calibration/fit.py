@@ -20,7 +20,7 @@ least squares (variable projection), all grid points in one batched simulation.
 Standard errors come from the Jacobian at the optimum in log-parameters
 (:math:`\mathrm{cov}=s^2(J^TJ)^{-1}`), which makes them relative errors and keeps
 confidence intervals positive; each parameter gets an identifiability verdict
-(decision D44). See docs/model.md for the decisions D40-D49.
+(decision D44). See docs/model.md for the decisions D40-D48.
 """
 
 from __future__ import annotations

@@ -95,7 +95,7 @@ def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
 
     The command's own handler prints each line once: the ``mudrft`` logger does not pass
     its records on to the root logger meanwhile, whose handler (``logging.basicConfig``,
-    called by a library such as MJX's as it logs) would print each again (D146)."""
+    called by a library such as MJX's as it logs) would print each again."""
     had = any(getattr(h, "_mudrft_stderr", False) for h in logger.handlers)
     level, propagate = logger.level, logger.propagate
     logger.propagate = False
@@ -159,12 +159,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     -------
     int
         The exit status: 0 success, 1 a fit that did not converge or, with ``--strict``,
-        a command that warned (D125), 2 a user error, 130 interrupted (Ctrl-C), 143
+        a command that warned, 2 a user error, 130 interrupted (Ctrl-C), 143
         terminated (SIGTERM).
     """
     parser = build_parser()
     words = sys.argv[1:] if argv is None else list(argv)
-    parser.exit_on_error = False  # a mistyped command is one line, as an option is (D122)
+    parser.exit_on_error = False  # a mistyped command is one line, as an option is
     try:
         args, unknown = parser.parse_known_args(words)
     except argparse.ArgumentError as exc:
@@ -214,7 +214,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown: list[str]) -> None:
     """End a command line with a word the command (or ``mudrft`` itself, before any
     command) does not know: one line naming the command and the closest option, exit
-    status 2 (decisions D112, D122)."""
+    status 2."""
     commands = _subparsers(parser).choices
     if command is None:
         sub, prog, lists = parser, "mudrft", "the commands and options"
@@ -240,7 +240,7 @@ def _unknown_command(
     parser: argparse.ArgumentParser, words: list[str], exc: argparse.ArgumentError
 ) -> None:
     """A command that does not exist (``mudrft reproduc``): one line naming the closest
-    command, exit status 2, not argparse's usage and list of choices (decision D122)."""
+    command, exit status 2, not argparse's usage and list of choices."""
     if exc.argument_name != "COMMAND":
         parser.exit(2, f"mudrft: error: {_plain(str(exc))} (mudrft --help lists the options)\n")
     word = next((w for w in words if not w.startswith("-")), None)
@@ -262,7 +262,7 @@ def _options(parser: argparse.ArgumentParser) -> list[str]:
 
 def _did_you_mean(word: str, choices: list[str]) -> str:
     """``"; did you mean 'X'?"`` for the closest of ``choices`` (``difflib``, cutoff 0.6),
-    else ``""``: the one rule for a mistyped option or command (D112, D122)."""
+    else ``""``: the one rule for a mistyped option or command."""
     close = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
     return f"; did you mean {close[0]!r}?" if close else ""
 

@@ -1,7 +1,7 @@
 """The mud of a command: the paper's row at ``--water-content``, or fitted sets in its place.
 
 ``--vertical FIT.json`` and ``--horizontal FIT.json`` put a parameter set written by
-``mudrft calibrate --out`` in place of the paper's row of that direction (decision D111);
+``mudrft calibrate --out`` in place of the paper's row of that direction;
 the direction not given stays the paper's. Shared by ``mudrft simulate`` and ``mudrft walk``.
 """
 
@@ -26,13 +26,13 @@ def add_fit_options(p: argparse.ArgumentParser) -> None:
             f"--{d}",
             metavar="FIT.json",
             help=f"{d} parameter set from a file (mudrft calibrate --out, SI) in place of the "
-            f"paper's {d} row at --water-content (decision D111)",
+            f"paper's {d} row at --water-content",
         )
 
 
 def mud_from_options(args: argparse.Namespace) -> Mud:
     """The paper's mud at ``--water-content``, with a set from ``--vertical`` or
-    ``--horizontal`` in place of its row (decision D111); errors name the option."""
+    ``--horizontal`` in place of its row; errors name the option."""
     from ..calibration.persistence import load_parameters
     from ..parameters import Mud
 

@@ -52,7 +52,7 @@ def add_force(parser: argparse.ArgumentParser, what: str = "existing output file
 
 def add_strict(parser: argparse.ArgumentParser, what: str, *, refuses: str = "") -> None:
     """Add ``--strict``: a warning of the command makes its exit status 1 (``main`` acts on
-    it, decision D125); ``what`` says which warnings a script would fail on, ``refuses``
+    it); ``what`` says which warnings a script would fail on, ``refuses``
     what the command then refuses outright (an error, nothing written)."""
     text = (
         f"exit with status 1 if the command warns ({what}); the outputs are written as without it"

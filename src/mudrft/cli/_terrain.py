@@ -1,4 +1,4 @@
-"""Command-line options that choose terrains and describe a granular medium (D132).
+"""Command-line options that choose terrains and describe a granular medium.
 
 ``mudrft compare --terrains NAME,...`` and ``mudrft simulate --terrain NAME`` take the names
 of :data:`mudrft.baselines.TERRAIN_NAMES`; ``--zeta`` describes granular RFT's medium and

@@ -13,7 +13,7 @@ Progress goes to stderr, one line per stage; the parameter table to stdout. The 
 ``mudrft.calibration.load_parameters(path)``. An existing output file is never replaced
 without ``--force`` (``--overwrite`` is its deprecated old name). The exit status is 1 for a
 fit that did not converge and, with ``--strict``, for any warning (a fit that does not
-describe the data, D110, D125).
+describe the data).
 """
 
 from __future__ import annotations

@@ -145,7 +145,7 @@ def write_comparison(
         Allow a water content outside the tabulated rows (warns).
     mud : Mud, optional, keyword-only
         The mud model's parameters in place of the paper's at ``water_content`` (a
-        calibrated mud, decision D111); the baselines keep their defaults (D59).
+        calibrated mud); the baselines keep their defaults (D59).
     terrains : mapping of str to Terrain, optional, keyword-only
         The terrains to run, by name (default: every one of
         :func:`~mudrft.baselines.default_terrains`, ``mud`` replaced by ``mud`` if given).
@@ -216,7 +216,7 @@ def run(args: argparse.Namespace) -> int:
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
-    if depth > 1.0:  # 30 (mm) ran a 3 million-sample plate test for hours (D132)
+    if depth > 1.0:  # 30 (mm) ran a 3 million-sample plate test for hours
         raise MudrftError(
             f"--depth must be at most 1 m (it is in metres: 30 mm is 0.03), got {depth:g} m"
         )

@@ -132,7 +132,7 @@ def add_parser(
         "an extrapolated water content, a unit that looks wrong, ...",
         refuses="a foot pushed deeper than its own height",
     )
-    # the mud's own options and their defaults: given with a baseline they are refused (D132)
+    # the mud's own options and their defaults: given with a baseline they are refused
     mud = (
         "vertical",
         "horizontal",
@@ -171,7 +171,7 @@ def run(args: argparse.Namespace) -> int:
             thixotropy=args.thixotropy,
             clock=args.clock,
         )
-    else:  # a baseline: the mud's own options would be silently ignored (D132)
+    else:  # a baseline: the mud's own options would be silently ignored
         mud_only = {
             "--" + dest.replace("_", "-"): getattr(args, dest) != default
             for dest, default in args.mud_defaults.items()
@@ -187,7 +187,7 @@ def run(args: argparse.Namespace) -> int:
     if isinstance(motion, LoadControl) and isinstance(terrain, MudTerrain):
         try:
             static = static_sinking(foot, terrain.mud, motion.weight)
-        except MudrftError as exc:  # too heavy to balance (D118): say why, run anyway
+        except MudrftError as exc:  # too heavy to balance: say why, run anyway
             static = str(exc)
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)

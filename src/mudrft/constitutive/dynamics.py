@@ -259,7 +259,7 @@ def check_parameter_shapes(shapes: dict[str, tuple[int, ...]], sample: tuple[int
     """Each parameter field's shape must broadcast to one sample of ``gamma`` (``sample``):
     a run keeps one state per element of a sample. A mud's three channel sets (fields of
     shape (3,)) with one column of gamma ended in numpy's "setting an array element with a
-    sequence" (JAX: a scan carry mismatch) (D127)."""
+    sequence" (JAX: a scan carry mismatch)."""
     for name, shape in shapes.items():
         if np.broadcast_shapes(shape, sample) != sample:
             raise MudrftError(

@@ -4,7 +4,7 @@ r"""The constitutive step: the one definition of how a stress channel advances i
 it: :func:`mudrft.constitutive.step` (the validated reference), :class:`mudrft.MudTerrain`
 (one foot on Python floats, or a batch on numpy arrays), the JAX backend
 (``xp=jax.numpy``), calibration, and the numba backend, which compiles this very function
-on floats (decision D80). It is written in the element-wise subset of
+on floats. It is written in the element-wise subset of
 :mod:`mudrft._xp`: no validation, no shapes, no stacking.
 
 It selects one of two evaluations of the thixotropy and the suction by a static flag

@@ -112,7 +112,7 @@ class Design:
         from scipy.stats import qmc
 
         d, n = len(self.axes), int(self.n)  # type: ignore[arg-type]
-        # scipy names the generator rng= from 1.15 and seed= before (mudrft supports 1.10, D149)
+        # scipy names the generator rng= from 1.15 and seed= before (mudrft supports 1.10)
         key = "rng" if "rng" in inspect.signature(qmc.LatinHypercube).parameters else "seed"
         gen = {key: np.random.default_rng(self.seed)}
         if self.design == "lhs":

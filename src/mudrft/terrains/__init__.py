@@ -79,7 +79,7 @@ def as_terrain(terrain: MudParameterSets | Terrain) -> Terrain:
         return MudTerrain(terrain)
     if isinstance(terrain, Terrain) and not isinstance(terrain, type):
         return terrain
-    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes (D131)
+    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes
         raise MudrftError(
             "mud must be a Mud (mudrft.paper_mud) or a terrain object, got the string "
             f"{terrain!r}: write the terrain, e.g. mudrft.terrains.GranularRFT() "

@@ -314,13 +314,13 @@ class GranularRFT(FacetRFT):
         Scale of the medium [N/m^3]: the vertical stress per unit depth of a horizontal
         plate pushed straight down; default: loosely packed poppy seeds, 0.254 N/cm^3 =
         2.54e5 N/m^3 (:data:`GRANULAR_MEDIA`, decision D50). RFT papers print N/cm^3:
-        multiply by 1e6. A value below 1e3 N/m^3 warns (:data:`PLAUSIBLE_ZETA`, D130).
+        multiply by 1e6. A value below 1e3 N/m^3 warns (:data:`PLAUSIBLE_ZETA`).
     coefficients : FourierCoefficients
         2D fit, dimensionless and normalised to :math:`\alpha_z(0,\pi/2)=1`
         (:attr:`FourierCoefficients.plate`); default Li et al.'s generic one. The force is
         ``zeta`` times this fit, so a medium's own fit as Li et al. tabulate it (in N/cm^3,
         not normalised) goes through :meth:`from_coefficients`; unnormalised coefficients
-        given here warn (D130).
+        given here warn.
     extension : {"treers2021", "planar"}
         3D extension (decision D51).
     rest_speed : float
@@ -369,7 +369,7 @@ class GranularRFT(FacetRFT):
                 "coefficients must be a FourierCoefficients, "
                 f"got {type(self.coefficients).__name__}"
             )
-        # valid but most likely a unit mistake (D130): zeta in N/cm^3 as papers print it,
+        # valid but most likely a unit mistake: zeta in N/cm^3 as papers print it,
         # or a medium's own fit (N/cm^3, not normalised) multiplied by zeta once more
         warn_implausible(
             "GranularRFT: zeta is",
@@ -405,7 +405,7 @@ class GranularRFT(FacetRFT):
         Li et al.'s per-medium fits (their supplementary table) give
         :math:`A_{00}\dots D_{10}` of a medium in N/cm^3. The terrain keeps them exactly,
         as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)` converted to
-        N/m^3 and the coefficients divided by it (decision D130).
+        N/m^3 and the coefficients divided by it.
 
         Parameters
         ----------

@@ -64,7 +64,7 @@ GRAVITY = 9.81
 #: Width in :math:`n_z` of the blend across vertical walls [-] (decision D93).
 WALL_WIDTH = 1e-3
 
-#: Plausible bulk densities of a granular medium [kg/m^3]; below, most likely g/cm^3 (D130).
+#: Plausible bulk densities of a granular medium [kg/m^3]; below, most likely g/cm^3.
 PLAUSIBLE_RHO_C = (100.0, 1.0e4)
 
 
@@ -411,13 +411,13 @@ class GranularRFT3D(FacetRFT):
     rho_c : float
         Bulk density of the medium [kg/m^3] (packing fraction times grain density, not the
         grains' own density; default 1310, D95). A value below 100 kg/m^3 warns: g/cm^3
-        given as kg/m^3 (D130).
+        given as kg/m^3.
     mu_int : float
         Internal friction coefficient of the medium [-] (default 0.21, D95): a coefficient,
         :math:`\tan` of the internal friction angle, not the angle.
     mu_surf : float
         Intruder-surface friction coefficient of the cap [-] (default 0.4, D95): a
-        coefficient, not an angle (a value in (2, 90] warns as degrees, D130); a large
+        coefficient, not an angle (a value in (2, 90] warns as degrees); a large
         value (1e3) turns the cap off.
     gravity : float
         Gravitational acceleration [m/s^2] in :math:`\xi_n`.
@@ -460,7 +460,7 @@ class GranularRFT3D(FacetRFT):
         _set(self, "rho_c", check_positive("rho_c", self.rho_c, unit="kg/m^3"))
         try:
             _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
-        except MudrftError as exc:  # an angle in degrees is the usual mistake (D130)
+        except MudrftError as exc:  # an angle in degrees is the usual mistake
             raise MudrftError(
                 f"{exc}: mu_int is the internal friction coefficient, tan(angle) (30 degrees: 0.58)"
             ) from None
@@ -476,7 +476,7 @@ class GranularRFT3D(FacetRFT):
             )
         if not isinstance(self.name, str) or not self.name:
             raise MudrftError(f"name must be a non-empty string, got {self.name!r}")
-        # valid but most likely a unit mistake (D130)
+        # valid but most likely a unit mistake
         warn_implausible(
             "GranularRFT3D: rho_c is",
             self.rho_c,

@@ -5,7 +5,7 @@ The stress per unit depth on a small plate element of a granular medium is
 with the *generic* dimensionless fit :data:`LI2013_GENERIC` normalised to
 :math:`\alpha_z(0,\pi/2)=1` and :math:`\zeta` [N/m^3] the medium's scale
 (:data:`GRANULAR_MEDIA`). Li et al. print stresses per depth in N/cm^3; mudrft holds
-N/m^3 (decisions D50, D130 in ``docs/model.md``). :mod:`~mudrft.terrains.granular_rft`
+N/m^3 (decision D50 in ``docs/model.md``). :mod:`~mudrft.terrains.granular_rft`
 integrates the fit over a foot.
 """
 
@@ -111,7 +111,7 @@ DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
 
 #: Plausible scales of a granular medium [N/m^3] (1e-3 to 100 N/cm^3; Li et al.'s media lie
 #: near 0.1-1 N/cm^3). A zeta below it is most likely a value in N/cm^3, as RFT papers
-#: print it, given as N/m^3 (decision D130).
+#: print it, given as N/m^3.
 PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
 
 

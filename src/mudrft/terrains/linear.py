@@ -43,7 +43,7 @@ __all__ = [
     "fit_stiffness",
 ]
 
-#: Plausible stiffnesses per unit area [N/m^3], as the granular scale's (D130): the paper's mud
+#: Plausible stiffnesses per unit area [N/m^3], as the granular scale's: the paper's mud
 #: 1.09e6, granular media 1e5-1e6 (D50). Below, most likely N/cm^3 or kPa/mm read as N/m^3.
 PLAUSIBLE_STIFFNESS = (1.0e3, 1.0e9)
 
@@ -97,7 +97,7 @@ class LinearStiffness:
 
     def __post_init__(self) -> None:
         _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m^3"))
-        warn_implausible(  # valid but most likely a unit mistake (D130)
+        warn_implausible(  # valid but most likely a unit mistake
             "LinearStiffness: stiffness is",
             self.stiffness,
             PLAUSIBLE_STIFFNESS,

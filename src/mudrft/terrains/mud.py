@@ -7,7 +7,7 @@ re-enters fresh mud, the heading, and the three constitutive steps
 evaluation, decision D15). It is element-wise over any ``xp``
 (:mod:`mudrft._xp`), so :class:`MudTerrain` runs it on Python floats for one foot and on
 numpy arrays for a batch, the JAX backend with ``jax.numpy`` and the numba backend compiled
-on floats (decision D80). The foot then turns the channel stresses into a force.
+on floats. The foot then turns the channel stresses into a force.
 """
 
 from __future__ import annotations
@@ -328,7 +328,7 @@ def _motion_for_state(
     state: Any, pos: np.ndarray, vel: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tips of the shape of ``state``'s mud: one position for a batch's state is every tip's,
-    tips that do not broadcast with it are refused (D144: they raised numpy's "truth value
+    tips that do not broadcast with it are refused (they raised numpy's "truth value
     of an array ... is ambiguous" or "operands could not be broadcast")."""
     if not isinstance(state, MudState):
         raise MudrftError(

@@ -30,11 +30,11 @@ One concept a module (decisions D30-D39):
 * :mod:`.foot`: :class:`MorphingFoot`, the mechanism with the :class:`~mudrft.feet.base.Foot`
   interface of the mud terrain; :math:`L_c` is the square root of the spread footprint (D36);
 * :mod:`.row`: the foot's numbers as one named tuple of floats
-  (:class:`~.linkage.MorphingRow`), for compiled code (D68d).
+  (:class:`~.linkage.MorphingRow`), for compiled code.
 
-The equations of the force are element-wise code over ``xp`` (decision D80) that reads its
+The equations of the force are element-wise code over ``xp`` that reads its
 numbers by attribute, from the dataclasses or from one :class:`~.linkage.MorphingRow` of floats:
-numpy runs them on arrays, the compiled MuJoCo coupling on floats (D68d). The JAX backend
+numpy runs them on arrays, the compiled MuJoCo coupling on floats. The JAX backend
 does not trace the foot: the column balance selects its root by a data-dependent scan.
 """
 

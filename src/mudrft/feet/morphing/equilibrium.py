@@ -29,7 +29,7 @@ the defaults), which the grid does not resolve. Each bracket is then refined to
 :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m. Up to 16 moving elements (a
 single foot, the four nudged copies of the MuJoCo coupling) go one by one through
 :func:`balanced_deflection_on_floats`: the scan on Python floats, stopping at the first sign
-change, and bisection; the compiled coupling runs the same function with numba (D68d). More
+change, and bisection; the compiled coupling runs the same function with numba. More
 (a batched terrain step: thousands) evaluate :math:`R` on all nodes at once, walk them with
 the same rule on arrays, and refine every bracket in one call of
 :func:`scipy.optimize.elementwise.find_root` (Chandrupatla's method; ~2 ms a call whatever
@@ -127,7 +127,7 @@ def column_residual(
 ) -> XpArray:  # fmt: skip
     r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise.
 
-    The one definition of the column balance (D32), over ``xp`` (D80): ``g`` the dimensions
+    The one definition of the column balance (D32), over ``xp``: ``g`` the dimensions
     and ``spring`` the spring constants by attribute (dataclasses, or one
     :class:`~.linkage.MorphingRow` for both), ``pole_top`` [m] and ``branch`` of the linkage;
     deflection [m], depth [m], vertical channel stress [Pa].
@@ -373,7 +373,7 @@ def seal_factor(
     seal_length : float
         Rim lift :math:`g_s` over which the seal breaks [m], > 0.
     xp : module, keyword-only
-        Element-wise namespace (D80).
+        Element-wise namespace.
 
     Returns
     -------
@@ -403,7 +403,7 @@ def track_most_spread(
     most_spread : float or array_like
         Memory before the step [rad].
     xp : module, keyword-only
-        Element-wise namespace (D80).
+        Element-wise namespace.
     """
     return xp.where(depth > 0.0, xp.minimum(most_spread, pad_angle), pad_angle)
 
@@ -430,13 +430,13 @@ def held_deflection(
 def balanced_deflection_on_floats(
     m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
-    r""":func:`balanced_deflection` for one foot on floats (the compiled coupling, D68d).
+    r""":func:`balanced_deflection` for one foot on floats (the compiled coupling).
 
     The selection rule of D34 (:func:`_moving`, :func:`_scan_node`, :func:`_settle`, shared
     with the batch path) walked node by node to the first sign change, and the bracket
     refined to :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m by bisection
     (numba cannot call SciPy). Serves :func:`balanced_deflection` for up to 16 moving
-    elements, and the compiled coupling (D68d). ``m`` is a :class:`~.linkage.MorphingRow` (or
+    elements, and the compiled coupling. ``m`` is a :class:`~.linkage.MorphingRow` (or
     :func:`linkage_row`); depth [m], vertical stress [Pa], previous deflection [m];
     returns the deflection [m].
     """
@@ -476,7 +476,7 @@ def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
     sz: float, heading: float, retraction: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
-    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (D68d).
+    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats.
 
     The balanced (or locked) deflection, held by the pad-curl delay
     (:func:`held_deflection`), its pad angle, the force of the mud on the base and pads

@@ -206,12 +206,12 @@ class MorphingFoot(MorphingMechanism, Foot):
         """Not available for the morphing foot: raises :class:`~mudrft.MudrftError`.
 
         A rigid foot's ``posed`` is its rotated mesh; the morphing foot's pads open and curl
-        with the load, so no one rigid mesh stands for it (decision D148). Under a robot in
+        with the load, so no one rigid mesh stands for it. Under a robot in
         MuJoCo the coupling poses it at every step (decision D60a).
         """
         raise MudrftError(
             "MorphingFoot.posed(rotation): the morphing foot has no rotated "
-            "mesh, since its pads open and curl with the load (D148); the flat, "
+            "mesh, since its pads open and curl with the load; the flat, "
             "semi-cylindrical, semi-spherical and mesh feet have one. Under a robot in "
             "MuJoCo, mudrft.integrations.mujoco.attach poses the morphing foot at every "
             "step (docs/model.md D60a)"

@@ -207,7 +207,7 @@ def raw_pad_angle(
 ) -> XpArray:
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
 
-    Element-wise over ``xp`` (D80); ``g`` holds the dimensions by attribute (a
+    Element-wise over ``xp``; ``g`` holds the dimensions by attribute (a
     :class:`MorphingFootGeometry` or a :class:`MorphingRow`), ``pole_top`` [m] and
     ``branch`` (+1 or -1) come from :class:`Linkage`.
     """
@@ -383,7 +383,7 @@ class MorphingRow(NamedTuple):
     element-wise functions of :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
     :mod:`.equilibrium` read their numbers by attribute, so they run unchanged on the
     dataclasses (numpy) or on this named tuple (numba compiles named tuples of floats,
-    not dataclasses; D68d).
+    not dataclasses).
 
     ``lock`` is the locked deflection of the modes ``"expanded"`` and ``"retracted"``
     [m], or -1 for the free ``"morphing"`` mode (D37); ``curl_delay`` the time after the

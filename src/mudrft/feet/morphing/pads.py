@@ -15,10 +15,10 @@ stresses the plate rule of the paper's eq. (6)-(7), pad tilt :math:`\psi_1=\thet
 
 first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. All functions here
 are vectorized and unchecked: the foot (:mod:`.foot`) validates its inputs. Those of the
-force (:func:`pad_area` to :func:`morphing_force`) are element-wise code over ``xp``
-(D80): they read the dimensions by attribute, from a
+force (:func:`pad_area` to :func:`morphing_force`) are element-wise code over ``xp``: they
+read the dimensions by attribute, from a
 :class:`~.linkage.MorphingFootGeometry` or a :class:`~.linkage.MorphingRow`, so the compiled
-coupling runs them on floats (D68d).
+coupling runs them on floats.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-r"""The morphing foot as one row of floats, for code compiled on floats (D68d).
+r"""The morphing foot as one row of floats, for code compiled on floats.
 
 :func:`morphing_row` gathers every number of a :class:`~.foot.MorphingFoot`'s force into
 one :class:`~.linkage.MorphingRow` (the compiled coupling and ``mudrft.terrains.rows``

@@ -36,7 +36,7 @@ def spring_force(
 ) -> XpArray:
     """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31).
 
-    Element-wise over ``xp`` (D80); ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
+    Element-wise over ``xp``; ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
     ``series_stiffness`` and ``hard_stiffness`` [N/m] by attribute (a
     :class:`TwoStageSpring` or a :class:`~.linkage.MorphingRow`).
     """
