@@ -132,13 +132,19 @@ class Smoothing(NamedTuple):
         )
 
 
+#: Samples [-] below which :func:`depth_noise` cannot tell noise from motion: with a few
+#: samples, every second difference is a change of speed.
+NOISE_MIN_SAMPLES = 16
+
+
 def depth_noise(depth: NDArray[np.float64]) -> float:
     r"""Standard deviation of a logged depth's noise [m], from its second differences.
 
     :math:`1.4826\,\mathrm{median}|\Delta^2 q|/\sqrt6`: white noise of standard deviation
     :math:`\sigma` gives second differences of standard deviation :math:`\sqrt6\sigma`,
     while a motion at constant speed gives none and a change of speed a few outliers,
-    which the median ignores.
+    which the median ignores. Fewer than :data:`NOISE_MIN_SAMPLES` samples cannot tell
+    noise from motion and give 0.
 
     Examples
     --------
@@ -147,7 +153,7 @@ def depth_noise(depth: NDArray[np.float64]) -> float:
     1.0
     """
     d2 = np.diff(np.asarray(depth, dtype=float), 2)
-    if d2.size == 0:
+    if d2.size + 2 < NOISE_MIN_SAMPLES:
         return 0.0
     return 1.4826 * float(np.median(np.abs(d2))) / math.sqrt(6.0)
 
