@@ -340,7 +340,7 @@ def walk(
     mud : Mud or Terrain
         The mud.
     seconds : float, keyword-only
-        Simulated time [s].
+        Simulated time [s], at least one physics step ``dt``.
     dt : float, keyword-only
         Physics time step [s].
     speed : float, keyword-only
@@ -380,6 +380,10 @@ def walk(
         raise MudrftError(
             f"step_time must span at least {MIN_STEP_SAMPLES} physics steps (>= "
             f"{plain(MIN_STEP_SAMPLES * dt)} s at dt = {plain(dt)} s), got {plain(step_time)} s"
+        )
+    if seconds < dt:  # no step to walk: numpy's "zero-size array" came later
+        raise MudrftError(
+            f"seconds must be at least one physics step (dt = {plain(dt)} s), got {plain(seconds)} s"
         )
     check_samples(
         f"walk: {float(seconds):g} s at dt = {float(dt):g} s",
