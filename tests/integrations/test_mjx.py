@@ -227,7 +227,8 @@ def foot_batch():
         d = coupling.put_data()
         qvel = np.zeros((3, 6), dtype=np.float32)
         qvel[:, 2] = [-0.2, np.nan, -1e4 * MAX_SPEED]
-        batch = jax.tree_util.tree_map(lambda a: jax.numpy.stack([a] * 3), d).replace(qvel=qvel)
+        # numpy on the host: jax.numpy would compile a kernel per field of mjx.Data
+        batch = jax.tree_util.tree_map(lambda a: np.stack([a] * 3), d).replace(qvel=qvel)
 
     @mm.jit
     def first_step(d):
@@ -264,7 +265,7 @@ def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_
     coupling, batch, first_step = foot_batch
     with x64_context(False):
         st0 = first_step(batch)[0]
-    one = jax.tree_util.tree_map(lambda a: a[0], (batch, st0))
+    one = jax.tree_util.tree_map(lambda a: np.asarray(a)[0], (batch, st0))  # on the host
     assert one[0].qpos.dtype == np.float32
     with x64_context(True), pytest.raises(mudrft.MudrftError, match="d is float32 but JAX now"):
         coupling.rollout(*one, 3)
