@@ -14,7 +14,6 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 from __future__ import annotations
 
 from contextlib import AbstractContextManager
-from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -82,6 +81,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         **options: Any,
     ) -> None:
         from ..integrations.mjx import attach
+        from ..integrations.mjx._lazy import _jax
 
         def count(v: object) -> bool:
             return bool(not isinstance(v, bool) and isinstance(v, (int, np.integer)) and v >= 1)
@@ -110,7 +110,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.layout = walker_layout(self.config)
         lay = self.layout
         # the precision the robots are made in; every later call runs in it (D129)
-        self._x64 = bool(_jax_module().config.jax_enable_x64)
+        self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
             lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
             bottom=self.config.bottom,
@@ -210,12 +210,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         out = {k: np.asarray(v) for k, v in info.items()}
         return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
                 trunc, out)  # fmt: skip
-
-
-def _jax_module() -> ModuleType:
-    import jax
-
-    return jax
 
 
 def _precision(x64: bool) -> AbstractContextManager[None]:

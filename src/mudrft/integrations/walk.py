@@ -402,8 +402,6 @@ def walk(
         backend=choose_backend(backend, mud, foot), lookahead=lookahead,
     )  # fmt: skip
     coupling.reset(data)
-    qx = int(model.jnt_qposadr[model.joint("rootx").id])
-    qz = int(model.jnt_qposadr[model.joint("rootz").id])
     qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id
     z_start = float(data.xpos[torso, 2])
@@ -454,7 +452,6 @@ def walk(
             break
         if progress is not None and k % every == 0:
             progress(k / n)
-    _ = qx, qz
     rows = rows[: k + 1]
     table = {c: rows[:, i] for i, c in enumerate(WALK_COLUMNS)}
     weight = float(np.sum(model.body_mass) * -model.opt.gravity[2])
