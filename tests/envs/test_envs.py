@@ -65,43 +65,66 @@ def test_observation_holds_the_sinking_and_the_mud_force():
     assert 0.5 < reward < 1.5  # alive, standing still
 
 
-@pytest.mark.slow
-def test_a_vector_of_64_environments_steps_on_mjx():
+@pytest.fixture(scope="module")
+def vector_env():
+    """Four robots in float32 (MJX's default), two per water content: one compiled step
+    shared by the tests below."""
     pytest.importorskip("jax")
     if not mudrft.integrations.mjx.available():
         pytest.skip("mujoco-mjx is not installed (extra 'mjx')")
-    water = np.repeat([0.25, 0.45], 32)
-    envs = gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64, water_content=water)
+    with x64_context(False):
+        return gymnasium.make_vec(
+            "mudrft/MudWalker-v0", num_envs=4, water_content=[0.25, 0.25, 0.45, 0.45]
+        )
+
+
+@pytest.mark.slow
+def test_a_vector_of_environments_steps_on_mjx(vector_env):
+    envs = vector_env
     assert isinstance(envs, mudrft.envs.MudWalkerVectorEnv)
     obs, _ = envs.reset(seed=0)
-    assert obs.shape == (64, OBS_SIZE) and obs.dtype == np.float32
+    assert obs.shape == (4, OBS_SIZE) and obs.dtype == np.float32
     for _ in range(10):  # stand for 0.2 s
-        obs, reward, terminated, truncated, info = envs.step(np.zeros((64, 6)))
-    assert obs.shape == (64, OBS_SIZE) and np.all(np.isfinite(obs))
-    assert reward.shape == (64,) and not terminated.any() and not truncated.any()
+        obs, reward, terminated, truncated, info = envs.step(np.zeros((4, 6)))
+    assert obs.shape == (4, OBS_SIZE) and np.all(np.isfinite(obs))
+    assert reward.shape == (4,) and not terminated.any() and not truncated.any()
     sink = info["sinking [m]"].mean(axis=1)
     # each robot carries its own mud: the wetter mud lets the feet sink deeper
-    assert np.all(sink[32:] > sink[:32].max()), (sink[:32].max(), sink[32:].min())
+    assert np.all(sink[2:] > sink[:2].max()), (sink[:2].max(), sink[2:].min())
     obs, reward, terminated, truncated, info = envs.step(envs.action_space.sample())
     assert np.all(np.isfinite(obs)) and np.all(np.isfinite(reward))
 
 
 @pytest.mark.slow
-def test_the_vector_env_keeps_its_precision_when_the_process_switches_to_float64():
+def test_the_vector_env_keeps_its_precision_when_the_process_switches_to_float64(vector_env):
     """D129: made in float32, then mudrft.backends.jax switched the process to float64
     (its first call does, D70): the next step failed on 'lax.add requires arguments to
     have the same dtypes, got int32, int64'. The environment runs in its own precision."""
-    pytest.importorskip("jax")
-    if not mudrft.integrations.mjx.available():
-        pytest.skip("mujoco-mjx is not installed (extra 'mjx')")
+    envs = vector_env
     with x64_context(False):
-        envs = gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=2)
         envs.reset(seed=0)
-        first = envs.step(np.zeros((2, 6)))[0]
+        first = envs.step(np.zeros((4, 6)))[0]
     with x64_context(True):
-        obs, reward, terminated, _, _ = envs.step(np.zeros((2, 6)))
+        obs, reward, terminated, _, _ = envs.step(np.zeros((4, 6)))
         assert np.all(np.isfinite(obs)) and np.all(np.isfinite(reward)) and not terminated.any()
         assert envs.unwrapped._state[0].qpos.dtype == np.float32
         envs.reset(seed=0)
-        again = envs.step(np.zeros((2, 6)))[0]
+        again = envs.step(np.zeros((4, 6)))[0]
     np.testing.assert_array_equal(again, first)  # the same float32 program, seeded alike
+
+
+@pytest.mark.slow
+def test_an_unstable_robot_of_the_vector_env_ends_and_starts_anew(vector_env):
+    """Issue 43: a NaN in one robot's velocities ran on silently. It terminates with
+    info["unstable"], the others go on, and it starts anew on the next step."""
+    envs = vector_env
+    envs.reset(seed=0)
+    d, st = envs._state
+    envs._state = (d.replace(qvel=d.qvel.at[1].set(np.nan)), st)
+    obs, reward, terminated, _, info = envs.step(np.zeros((4, 6)))
+    np.testing.assert_array_equal(info["unstable"], [False, True, False, False])
+    np.testing.assert_array_equal(terminated, [False, True, False, False])
+    assert np.all(np.isfinite(obs)) and np.all(np.isfinite(reward))
+    obs, _, terminated, _, info = envs.step(np.zeros((4, 6)))
+    assert not info["unstable"].any() and not terminated.any() and np.all(np.isfinite(obs))
+    assert np.all(np.isfinite(np.asarray(envs._state[0].qvel)))

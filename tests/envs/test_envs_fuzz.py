@@ -83,6 +83,55 @@ def test_reset_without_options_still_works(env, options):
     assert obs.shape == (23,)
 
 
+@pytest.mark.parametrize(
+    ("seed", "message"),
+    [  # gymnasium.error.Error from inside Gymnasium's seeding
+        ("abc", r"seed must be None or an integer >= 0, got 'abc'"),
+        (-1, r"seed must be None or an integer >= 0, got -1"),
+        (1.5, r"got 1\.5"),
+        (True, r"got True"),
+    ],
+)
+def test_a_bad_seed_is_named(env, seed, message):
+    with pytest.raises(MudrftError, match=message):
+        env.reset(seed=seed)
+    first, _ = env.reset(seed=np.int64(3))  # Gymnasium refused numpy integers
+    np.testing.assert_array_equal(env.reset(seed=3)[0], first)
+
+
+def test_a_terminated_or_closed_environment_does_not_step():
+    """Gymnasium's contract: the raw environment stepped on after its episode ended, and
+    after close(). An unstable step (a NaN velocity, which MuJoCo reset with a printed
+    warning and the episode went on) terminates with info["unstable"]."""
+    env = mudrft.envs.MudWalkerEnv(backend="numpy")
+    env.reset(seed=0)
+    obs, _, terminated, _, info = env.step(np.zeros(6))
+    assert not terminated and info["unstable"] is False
+    env.data.qvel[3] = np.nan
+    obs, reward, terminated, _, info = env.step(np.zeros(6))
+    assert terminated and info["unstable"] is True and np.isfinite(reward)
+    assert np.all(np.isfinite(obs))
+    with pytest.raises(
+        MudrftError, match=r"the episode has terminated: call reset\(\) before step"
+    ):
+        env.step(np.zeros(6))
+    env.reset(seed=0)
+    env.step(np.zeros(6))  # a new episode steps
+    env.close()
+    for call in (lambda: env.step(np.zeros(6)), lambda: env.reset(seed=0)):
+        with pytest.raises(MudrftError, match=r"the environment is closed: make a new one"):
+            call()
+
+
+def test_human_rendering_without_pygame_names_what_is_missing(monkeypatch):
+    # gymnasium.error.DependencyNotInstalled from its HumanRendering wrapper, at reset
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pygame", None)  # as if not installed
+    with pytest.raises(MudrftError, match=r"render_mode='human' .* pygame, which is not installed"):
+        gymnasium.make("mudrft/MudWalker-v0", render_mode="human")
+
+
 def _vector_env_available() -> None:
     pytest.importorskip("jax")
     if not mudrft.integrations.mjx.available():
@@ -130,6 +179,12 @@ def test_vector_env_refuses_reset_options_before_compiling():
     np.testing.assert_array_equal(envs.water_content, [0.25, 0.35])
     with pytest.raises(MudrftError, match=r"options: reset takes none"):
         envs.reset(options={"water_content": 0.45})
+    with pytest.raises(MudrftError, match=r"seed must be None or an integer >= 0, got -1"):
+        envs.reset(seed=-1)
+    envs.close()
+    for call in (lambda: envs.step(np.zeros((2, 6))), lambda: envs.reset(seed=0)):
+        with pytest.raises(MudrftError, match=r"the environment is closed"):
+            call()
 
 
 @pytest.mark.parametrize(

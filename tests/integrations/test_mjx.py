@@ -212,23 +212,64 @@ def test_mjx_under_rk4_attaches_without_a_warning():
     mm.attach(m, "foot", MUD)
 
 
-def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened():
+@pytest.fixture(scope="module")
+def foot_batch():
+    """Three free box feet, soles 8 mm in the mud, in float32 (MJX's default), and their
+    first step, vmapped and compiled once: the first foot sinks at 0.2 m/s, the second has
+    NaN velocities, the third is thrown in at 1e6 m/s."""
+    xml = """<mujoco><option timestep="0.001"/><worldbody>
+      <body name="foot" pos="0 0 0.005"><freejoint/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
+    with x64_context(False):
+        coupling = mm.attach(mujoco.MjModel.from_xml_string(xml), "foot", MUD)
+        d = coupling.put_data()
+        qvel = np.zeros((3, 6), dtype=np.float32)
+        qvel[:, 2] = [-0.2, np.nan, -1e6]
+        # numpy on the host: jax.numpy would compile a kernel per field of mjx.Data
+        batch = jax.tree_util.tree_map(lambda a: np.stack([a] * 3), d).replace(qvel=qvel)
+
+    @mm.jit
+    def first_step(d):
+        st = jax.vmap(coupling.init)(d)
+        return st, *jax.vmap(coupling.step)(d, st)
+
+    return coupling, batch, first_step
+
+
+def test_an_unstable_robot_in_a_batch_is_flagged_and_its_mud_held(foot_batch):
+    """Issue 43: a NaN in qvel, or a body thrown in at -1e6 m/s, turned the whole state into
+    NaN without a word. The foot with NaN velocities and the one beyond MAX_SPEED are
+    flagged, keep their mud state and get no wrench; the sound one steps."""
+    from mudrft.integrations.mjx.physics import MAX_SPEED
+
+    assert MAX_SPEED < 1e6
+    _, batch, first_step = foot_batch
+    with x64_context(False):
+        st0, d1, st1, out = first_step(batch)
+    np.testing.assert_array_equal(out.unstable, [False, True, True])
+    assert float(out.force[0, 0, 2]) > 0.0 and np.all(np.isfinite(np.asarray(d1.qpos[0])))
+    for field in (out.force, out.torque, out.explicit_force):
+        assert np.all(np.asarray(field)[1:] == 0.0)
+    for before, after in zip(jax.tree_util.tree_leaves(st0), jax.tree_util.tree_leaves(st1), strict=True):  # fmt: skip
+        after = np.asarray(after)
+        assert np.all(np.isfinite(after))
+        np.testing.assert_array_equal(after[1:], np.asarray(before)[1:])  # held
+    np.testing.assert_array_equal(st1.has_prev, [1.0, 0.0, 0.0])  # the sound one stepped
+
+
+def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_batch):
     """D129: a robot made in float32, stepped after mudrft.backends.jax switched the
     process to float64 (its first call does, D70): the rollout's scan refused its carry
     ('carry[1].foot_xy has type float32[1,2] but ... float64'), and the vector environment
     failed on 'lax.add requires arguments to have the same dtypes, got int32, int64'. Now
     a MudrftError says what happened and what to do; in float32 it still runs."""
-    xml = """<mujoco><option timestep="0.001"/><worldbody>
-      <body name="foot" pos="0 0 0.005"><freejoint/>
-      <geom type="box" size="0.0325 0.04 0.013" mass="0.5"/></body></worldbody></mujoco>"""
-    m = mujoco.MjModel.from_xml_string(xml)
+    coupling, batch, first_step = foot_batch
     with x64_context(False):
-        coupling = mm.attach(m, "foot", MUD)
-        d0 = coupling.put_data()
-        st0 = mm.jit(coupling.init)(d0)
-    assert d0.qpos.dtype == np.float32
+        st0 = first_step(batch)[0]
+    one = jax.tree_util.tree_map(lambda a: np.asarray(a)[0], (batch, st0))  # on the host
+    assert one[0].qpos.dtype == np.float32
     with x64_context(True), pytest.raises(mudrft.MudrftError, match="d is float32 but JAX now"):
-        coupling.rollout(d0, st0, 3)
+        coupling.rollout(*one, 3)
     with x64_context(False):
-        _, st, out = coupling.rollout(d0, st0, 3)
-        assert st.foot_xy.dtype == np.float32 and float(out.depth[-1, 0]) > 0.005
+        _, _, st, out = first_step(batch)
+    assert st.foot_xy.dtype == np.float32 and float(out.depth[0, 0]) > 0.005

@@ -270,6 +270,16 @@ def test_cli_rejects_bad_input(tmp_path):
         W.walk(mudrft.feet.Flat(), MUD, seconds=1.0, dt=0.05)
 
 
+def test_a_walk_shorter_than_one_step_is_refused(tmp_path):
+    """``mudrft walk --seconds 1e-9`` raised numpy's "zero-size array" in walk.py."""
+    message = r"seconds must be at least one physics step \(dt = 0\.002 s\), got 1e-09 s"
+    with pytest.raises(mudrft.MudrftError, match=message):
+        walk_cli.run(_args(tmp_path, seconds=1e-9))
+    assert not (tmp_path / "run").exists()  # a failed run leaves nothing
+    with pytest.raises(mudrft.MudrftError, match=message):
+        W.walk(mudrft.feet.Flat(), MUD, seconds=1e-9, dt=2e-3)
+
+
 def test_a_step_of_a_few_physics_steps_is_refused():
     """walk(step_time=1e-6) ran and returned meaningless numbers (found by a CLI fuzz)."""
     with pytest.raises(mudrft.MudrftError, match=r"step_time must span at least 20 physics steps"):

@@ -46,7 +46,7 @@ def register_envs() -> None:
         return
     gymnasium.register(
         id="mudrft/MudWalker-v0",
-        entry_point="mudrft.envs.mud_walker:MudWalkerEnv",
+        entry_point="mudrft.envs.mud_walker:make_walker",
         vector_entry_point="mudrft.envs.vector:MudWalkerVectorEnv",
         max_episode_steps=1000,
     )

@@ -6,6 +6,7 @@ module is the Gymnasium wrapper around :func:`mudrft.integrations.mujoco.attach`
 
 from __future__ import annotations
 
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -16,9 +17,10 @@ from .._validation import MudrftError
 from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
+    NOT_RUNNING,
     OBS_SIZE,
     check_action,
-    check_reset_options,
+    check_reset,
     controls,
     healthy,
     observation,
@@ -29,7 +31,7 @@ from .walker import (
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = ["MudWalkerEnv"]
+__all__ = ["MudWalkerEnv", "make_walker"]
 
 
 class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
@@ -40,7 +42,8 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     backend : {"auto", "numpy", "numba"}, keyword-only
         Backend of the CPU coupling (``"auto"``: numba where installed).
     render_mode : None or "rgb_array", keyword-only
-        ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL).
+        ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL);
+        ``gymnasium.make(..., render_mode="human")`` shows it in a window (needs pygame).
     **options
         ``foot``, ``water_content`` [-], ``dt`` [s], ``frame_skip``,
         ``forward_reward_weight``, ``ctrl_cost_weight``, ``healthy_reward``,
@@ -67,7 +70,10 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
         gym = gymnasium
         if render_mode not in (None, "rgb_array"):
-            raise MudrftError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+            raise MudrftError(
+                f"render_mode must be None or 'rgb_array' ('human' through gymnasium.make), "
+                f"got {render_mode!r}"
+            )
         self.config = walker_config(options, own=("backend", "render_mode"))
         self.layout = walker_layout(self.config)
         self.render_mode = render_mode
@@ -86,7 +92,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._renderer: mujoco.Renderer | None = None
         self._depth = np.zeros(2)
         self._force = np.zeros((2, 3))
-        self._ready = False  # reset() not called yet
+        self._phase = "new"  # then "running", "ended" (terminated) or "closed"
 
     def _obs(self) -> NDArray[np.float32]:
         d = self.data
@@ -97,7 +103,9 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
-        check_reset_options(options)
+        seed = check_reset(seed, options)
+        if self._phase == "closed":
+            raise MudrftError(NOT_RUNNING["closed"])
         super().reset(seed=seed)
         lay, d, mj = self.layout, self.data, self._mj
         mj.mj_resetData(lay.model, d)
@@ -110,27 +118,39 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self.coupling.reset(d)
         self._depth = np.zeros(2)
         self._force = np.zeros((2, 3))
-        self._ready = True
+        self._phase = "running"
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 
     def step(
         self, action: ArrayLike
     ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
-        """One control step: ``frame_skip`` physics steps with the mud."""
-        lay, cfg, d = self.layout, self.config, self.data
-        if not self._ready:  # the robot lay at the origin, the coupling unset: a "fall"
-            raise MudrftError("call reset() before step()")
+        """One control step: ``frame_skip`` physics steps with the mud.
+
+        An unstable step (a state that is not finite, which MuJoCo resets with a warning,
+        or the coupling refused) terminates the episode with ``info["unstable"] = True``.
+        """
+        lay, cfg, d, mj = self.layout, self.config, self.data, self._mj
+        if self._phase != "running":  # before reset the robot lay at the origin, the mud unset
+            raise MudrftError(NOT_RUNNING[self._phase])
         a = check_action(action, (ACTION_SIZE,))
         x0 = float(d.qpos[lay.rootx])
         d.ctrl[:] = controls(lay, a, cfg.action_scale)
+        bad = [int(w) for w in (mj.mjtWarning.mjWARN_BADQPOS, mj.mjtWarning.mjWARN_BADQVEL,
+                                mj.mjtWarning.mjWARN_BADQACC)]  # fmt: skip
+        warned = int(d.warning.number[bad].sum())
         try:
             out = self.coupling.step(d, cfg.frame_skip)
             self._depth, self._force = np.array(out.depth), np.array(out.force)
-            ok = bool(healthy(lay, d.qpos))
-        except MudrftError:  # MuJoCo diverged: end the episode, keep the observation finite
-            ok = False
+            unstable = int(d.warning.number[bad].sum()) > warned or not (
+                np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()
+            )
+        except MudrftError:  # the coupling refused a diverged state
+            unstable = True
+        if unstable:  # keep the observation finite
             d.qpos[:] = np.nan_to_num(d.qpos)
             d.qvel[:] = 0.0
+        ok = not unstable and bool(healthy(lay, d.qpos))
+        self._phase = "running" if ok else "ended"
         x1 = float(d.qpos[lay.rootx])
         r = float(reward(cfg, x0, x1, a, float(ok)))
         info = {
@@ -138,6 +158,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
             "x_velocity": (x1 - x0) / (cfg.dt * cfg.frame_skip),
             "sinking [m]": self._depth.copy(),
             "mud_force [N]": self._force.copy(),
+            "unstable": unstable,
         }
         return self._obs(), r, not ok, False, info
 
@@ -158,7 +179,23 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         return np.asarray(self._renderer.render())
 
     def close(self) -> None:
-        """Release the offscreen renderer, if one was made."""
+        """Release the offscreen renderer, if one was made; the environment steps no more."""
+        self._phase = "closed"
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def make_walker(*, render_mode: str | None = None, **options: Any) -> gymnasium.Env:
+    """The registered entry point: :class:`MudWalkerEnv`, or with ``render_mode="human"``
+    its offscreen frames in a window (Gymnasium's ``HumanRendering``, which needs pygame;
+    without pygame Gymnasium failed at the first ``reset``)."""
+    if render_mode != "human":
+        return MudWalkerEnv(render_mode=render_mode, **options)
+    if importlib.util.find_spec("pygame") is None:
+        raise MudrftError(
+            "render_mode='human' shows the frames with pygame, which is not installed: "
+            "pip install pygame (Gymnasium's extra 'classic-control' has it), or use "
+            "render_mode='rgb_array'"
+        )
+    return gymnasium.wrappers.HumanRendering(MudWalkerEnv(render_mode="rgb_array", **options))

@@ -14,7 +14,6 @@ Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or direct
 from __future__ import annotations
 
 from contextlib import AbstractContextManager
-from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -25,9 +24,10 @@ from ..terrains import MudTerrain
 from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
+    NOT_RUNNING,
     OBS_SIZE,
     check_action,
-    check_reset_options,
+    check_reset,
     controls,
     healthy,
     observation,
@@ -81,6 +81,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         **options: Any,
     ) -> None:
         from ..integrations.mjx import attach
+        from ..integrations.mjx._lazy import _jax
 
         def count(v: object) -> bool:
             return bool(not isinstance(v, bool) and isinstance(v, (int, np.integer)) and v >= 1)
@@ -109,7 +110,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.layout = walker_layout(self.config)
         lay = self.layout
         # the precision the robots are made in; every later call runs in it (D129)
-        self._x64 = bool(_jax_module().config.jax_enable_x64)
+        self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
             lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
             bottom=self.config.bottom,
@@ -150,7 +151,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         import jax
 
-        check_reset_options(options)
+        seed = check_reset(seed, options)
+        if self.closed:
+            raise MudrftError(NOT_RUNNING["closed"])
         super().reset(seed=seed)
         if seed is not None or self._key is None:
             self._key = jax.random.key(int(self.np_random.integers(2**31)))
@@ -168,6 +171,10 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     ]:
         """One control step of every robot; robots that ended last step start anew.
 
+        A robot whose state is not finite, or whose foot moves faster than the MJX
+        coupling's bound (:data:`mudrft.integrations.mjx.physics.MAX_SPEED`), terminates
+        with ``info["unstable"]`` True; its mud is held meanwhile.
+
         Runs in the precision the environment was made in (float32 unless JAX computed in
         float64 then), even if the process has been switched since, as
         :mod:`mudrft.backends.jax` does on its first call (D70, D129).
@@ -182,8 +189,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     ]:
         import jax
 
-        if self._state is None:
-            raise MudrftError("call reset() before step()")
+        if self.closed or self._state is None:
+            raise MudrftError(NOT_RUNNING["closed" if self.closed else "new"])
         a = check_action(actions, (self.num_envs, ACTION_SIZE)).astype(np.float32)
         self._key, sub = jax.random.split(self._key)
         d, st = self._state
@@ -193,8 +200,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             done = jax.numpy.asarray(self._done)
             d, st, obs = self._fns["merge"](done, (d, st, obs), fresh)
             rew, term = np.where(self._done, 0.0, rew), np.asarray(term) & ~self._done
-            info = {k: np.where(self._done.reshape((-1,) + (1,) * (np.ndim(v) - 1)), 0.0, v)
-                    for k, v in info.items()}  # fmt: skip
+            info = {k: np.where(self._done.reshape((-1,) + (1,) * (np.ndim(v) - 1)),
+                                np.zeros_like(v), v) for k, v in info.items()}  # fmt: skip
         self._state = (d, st)
         term = np.asarray(term)
         self._steps = np.where(self._done, 0, self._steps + 1)
@@ -203,12 +210,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         out = {k: np.asarray(v) for k, v in info.items()}
         return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
                 trunc, out)  # fmt: skip
-
-
-def _jax_module() -> ModuleType:
-    import jax
-
-    return jax
 
 
 def _precision(x64: bool) -> AbstractContextManager[None]:
@@ -264,16 +265,17 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], tuple[jax.Array, jax.Array, jax.Array]]:
             dd, ss = carry
             dd, ss, out = cpl.step(dd, ss, consts)
-            return (dd, ss), (out.depth, out.force, out.finite)
+            return (dd, ss), (out.depth, out.force, ~out.unstable)
 
-        (d, st), (depth, force, finite) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
-        alive = healthy(lay, d.qpos, xp=jnp) & jnp.all(finite)
+        (d, st), (depth, force, stable) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
+        alive = healthy(lay, d.qpos, xp=jnp) & jnp.all(stable)
         r = reward(cfg, x0, d.qpos[lay.rootx], a, alive, xp=jnp)
         obs = jnp.nan_to_num(observation(lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp))
         info = {
             "x_velocity": (d.qpos[lay.rootx] - x0) / (cfg.dt * cfg.frame_skip),
             "sinking [m]": depth[-1],
             "mud_force [N]": force[-1],
+            "unstable": ~jnp.all(stable),
         }
         return d, st, obs, jnp.nan_to_num(r), ~alive, info
 

@@ -27,8 +27,10 @@ same on the CPU and in MJX, so that MJX compiles no collision and no constraint 
 ``healthy_reward`` while healthy (Gymnasium's Walker2d recipe).
 
 *End*: the episode terminates when the torso sinks below 60 % of its start height,
-pitches past 1 rad, or the state is not finite; the registered environments truncate at
-1000 control steps.
+pitches past 1 rad, or the state is not finite (then ``info["unstable"]`` is True); the
+registered environments truncate at 1000 control steps. ``step`` before ``reset``, after
+``close`` or (one robot) after the end raises a :class:`~mudrft.MudrftError`; the vector
+environment resets its ended robots itself.
 """
 
 from __future__ import annotations
@@ -59,11 +61,12 @@ __all__ = [
     "ACTION_SIZE",
     "FEET",
     "MAX_CONTROL_PERIOD",
+    "NOT_RUNNING",
     "OBS_SIZE",
     "WalkerConfig",
     "WalkerLayout",
     "check_action",
-    "check_reset_options",
+    "check_reset",
     "healthy",
     "observation",
     "reward",
@@ -224,14 +227,29 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     )
 
 
-def check_reset_options(options: object) -> None:
-    """The walker's ``reset`` takes no options: one given was ignored without a word (the
-    mud and the foot are set when the environment is made)."""
+def check_reset(seed: object, options: object) -> int | None:
+    """``reset``'s arguments: ``seed`` None or an integer >= 0 (others failed inside
+    Gymnasium's seeding), returned as a Python int; no ``options`` (one given was ignored
+    without a word: the mud and the foot are set when the environment is made)."""
     if options:
         raise MudrftError(
             f"options: reset takes none (the foot, the mud and the other options are set "
             f"when the environment is made), got {options!r}"
         )
+    if seed is None:
+        return None
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise MudrftError(f"seed must be None or an integer >= 0, got {seed!r}")
+    return int(seed)
+
+
+#: Why ``step`` is refused in each phase of an environment but "running" (Gymnasium's
+#: contract: no step before ``reset``, after the episode terminated, or after ``close``).
+NOT_RUNNING = {
+    "new": "call reset() before step()",
+    "ended": "the episode has terminated: call reset() before step()",
+    "closed": "the environment is closed: make a new one",
+}
 
 
 def check_action(action: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:

@@ -340,7 +340,7 @@ def walk(
     mud : Mud or Terrain
         The mud.
     seconds : float, keyword-only
-        Simulated time [s].
+        Simulated time [s], at least one physics step ``dt``.
     dt : float, keyword-only
         Physics time step [s].
     speed : float, keyword-only
@@ -381,6 +381,10 @@ def walk(
             f"step_time must span at least {MIN_STEP_SAMPLES} physics steps (>= "
             f"{plain(MIN_STEP_SAMPLES * dt)} s at dt = {plain(dt)} s), got {plain(step_time)} s"
         )
+    if seconds < dt:  # no step to walk: numpy's "zero-size array" came later
+        raise MudrftError(
+            f"seconds must be at least one physics step (dt = {plain(dt)} s), got {plain(seconds)} s"
+        )
     check_samples(
         f"walk: {float(seconds):g} s at dt = {float(dt):g} s",
         seconds / dt,
@@ -398,8 +402,6 @@ def walk(
         backend=choose_backend(backend, mud, foot), lookahead=lookahead,
     )  # fmt: skip
     coupling.reset(data)
-    qx = int(model.jnt_qposadr[model.joint("rootx").id])
-    qz = int(model.jnt_qposadr[model.joint("rootz").id])
     qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id
     z_start = float(data.xpos[torso, 2])
@@ -450,7 +452,6 @@ def walk(
             break
         if progress is not None and k % every == 0:
             progress(k / n)
-    _ = qx, qz
     rows = rows[: k + 1]
     table = {c: rows[:, i] for i, c in enumerate(WALK_COLUMNS)}
     weight = float(np.sum(model.body_mass) * -model.opt.gravity[2])

@@ -263,6 +263,9 @@ class MjxCoupling:
             After the step (same dtypes as the input, so it can be a scan carry).
         state : MjxMudState
         contact : MjxContact
+            Its ``unstable`` flag is True where the robot's state is not finite or a
+            foot moves faster than :data:`.physics.MAX_SPEED`; the mud state is then
+            held and no wrench applied (``jit`` cannot raise).
         """
         mjx = _mjx()
         _check_mjx_data(mjx, d)

@@ -49,7 +49,12 @@ if TYPE_CHECKING:
     from ..._typing import XpArray
     from ...constitutive.kernel import ChannelConstants
 
-__all__ = ["MjxContact", "MjxMudState", "Static", "initial_state", "mud_wrench"]
+__all__ = ["MAX_SPEED", "MjxContact", "MjxMudState", "Static", "initial_state", "mud_wrench"]
+
+#: A foot body's center of mass moving faster than this is unstable [m/s]: no robot walks
+#: or falls into mud at 100 m/s, a diverged simulation does (a body thrown in at 1e6 m/s
+#: turned the whole state into NaN).
+MAX_SPEED = 100.0
 
 
 class MjxMudState(NamedTuple):
@@ -103,6 +108,12 @@ class MjxContact(NamedTuple):
         Channel velocities where each channel acts [m/s].
     finite : array ()
         True when every component of the wrench is finite.
+    unstable : array ()
+        True when the robot's ``qpos`` or ``qvel`` is not finite, a foot body's center
+        of mass moves faster than :data:`MAX_SPEED`, or the wrench is not finite; the
+        step then holds the mud state and applies no wrench (``force``, ``torque`` and
+        ``explicit_force`` are zero), so that the NaN does not enter the mud. ``jit``
+        cannot raise: check this flag (the environments end the episode on it).
     """
 
     force: Any
@@ -113,6 +124,7 @@ class MjxContact(NamedTuple):
     tip: Any
     velocity: Any
     finite: Any
+    unstable: Any
 
 
 @dataclass(frozen=True, eq=False)
@@ -351,12 +363,19 @@ def mud_wrench(
         wv = xp.where(idle[..., None], 0.0, wv)  # no wrench, no damping: W w = 0 (D62d)
     else:
         wrench = w0
+    finite = xp.all(xp.isfinite(wrench))
+    fast = xp.any(xp.sum(tw[..., :3] ** 2, axis=-1) > MAX_SPEED**2)
+    unstable = ~(finite & xp.all(xp.isfinite(d.qpos)) & xp.all(xp.isfinite(d.qvel))) | fast
+    wrench, w0 = xp.where(unstable, 0.0, wrench), xp.where(unstable, 0.0, w0)
     xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)
     new_state = MjxMudState(mud, fxy, tip[..., :2], tw, wv, xp.ones_like(st.has_prev), tank)
+    new_state = _jax().tree_util.tree_map(
+        lambda new, old: xp.where(unstable, old, new), new_state, st
+    )  # an unstable robot's mud is held
     out = MjxContact(
         force=wrench[..., :3], torque=wrench[..., 3:], explicit_force=w0[..., :3], depth=depth,
         stress=stress, tip=xp.concatenate([tip[..., :2], low[..., 2:] + cfg.surface], -1),
-        velocity=vel, finite=xp.all(xp.isfinite(wrench)),
+        velocity=vel, finite=finite, unstable=unstable,
     )  # fmt: skip
     return xfrc, new_state, out
 
