@@ -8,9 +8,8 @@ functions of JAX arrays, so they jit, vmap over robots, scan over time and diffe
 * :meth:`MjxCoupling.step` -- one physics step with mud: ``fwd_position``,
   ``fwd_velocity``, the mud's wrench into ``xfrc_applied`` (:func:`.physics.mud_wrench`),
   then the rest of MJX's forward dynamics and its integrator, the order of ``mj_step1`` /
-  ``mj_step2`` of the CPU coupling; under RK4, the CPU coupling's RK4 step (D150):
-  the other forces' acceleration read from a forward pass and a free foot's wrench held
-  as a generalized force (:mod:`.rk4`, D165);
+  ``mj_step2`` of the CPU coupling, under MJX's Euler or implicitfast integrator (RK4,
+  which holds the wrench over four stages, is refused);
 * :meth:`MjxCoupling.rollout` -- ``n`` steps under :func:`jax.lax.scan`, with an optional
   control sequence.
 
@@ -47,7 +46,6 @@ from ..mujoco.pose import POSE_RESOLUTION
 from ..mujoco.stability import check_timestep
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
-from .rk4 import RK4Plan, held_step, twist_acceleration
 
 if TYPE_CHECKING:
     import jax.stages
@@ -121,7 +119,7 @@ class MjxCoupling:
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
     ) -> None:
-        mj = _mujoco()
+        _mujoco()  # a clear error if mujoco is missing
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
@@ -182,12 +180,7 @@ class MjxCoupling:
             quasi_static=terrain.quasi_static,
             restart=terrain.restart,
         )
-        if int(model.opt.integrator) == int(mj.mjtIntegrator.mjINT_IMPLICIT):
-            raise MudrftError(
-                "MJX has no 'implicit' integrator; use 'implicitfast', 'Euler' or 'RK4'"
-            )
-        # under RK4 the step holds the wrench the way RK4 integrates it (D165, as D150)
-        self._rk4 = RK4Plan(model, ids)
+        _check_integrator(model.opt.integrator)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
         self.mjx_model = _mjx().put_model(model)
         register("todorov2012mujoco")
@@ -273,14 +266,7 @@ class MjxCoupling:
             raise MudrftError(f"state must be an MjxMudState (coupling.init(d)), got {type(state).__name__}")  # fmt: skip
         mx = self.mjx_model if model is None else model
         d0 = d
-        if mx.opt.integrator == mjx.IntegratorType.RK4:  # D165: the CPU coupling's D150
-            ids = self._rk4.ids
-            d = mjx.forward(mx, d.replace(xfrc_applied=d.xfrc_applied.at[ids].set(0.0)))
-            acc = twist_acceleration(self._rk4, mx, d)
-            consts = self.constants if constants is None else constants
-            xfrc, state, out = mud_wrench(self.static, consts, mx, d, state, acc=acc)
-            d = held_step(self._rk4, mx, d, xfrc)
-            return _cast(d, d0), state, out
+        _check_integrator(mx.opt.integrator)
         d = mjx.fwd_position(mx, d)
         d = mjx.sensor_pos(mx, d)
         d = mjx.fwd_velocity(mx, d)
@@ -358,9 +344,21 @@ def _cast(d: mujoco.mjx.Data, d0: mujoco.mjx.Data) -> mujoco.mjx.Data:
     return out
 
 
+def _check_integrator(integrator: Any) -> None:
+    """Refuse MuJoCo's ``implicit`` (MJX has none) and ``RK4`` integrators: under RK4 the
+    mud's wrench is held over four stages, and a light foot spinning fast gained energy
+    from it; the coupling runs one scheme, Euler or implicitfast."""
+    name = getattr(integrator, "name", None) or _mujoco().mjtIntegrator(int(integrator)).name
+    if name.upper().replace("MJINT_", "") in ("IMPLICIT", "RK4"):
+        raise MudrftError(
+            f"the MJX coupling steps with the 'Euler' or 'implicitfast' integrator, got "
+            f"{name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
+        )
+
+
 def _finish(mjx: ModuleType, mx: mujoco.mjx.Model, d: mujoco.mjx.Data) -> mujoco.mjx.Data:
     """The rest of ``mjx.step`` after the velocity stage (``mj_step2``); Euler and
-    ``implicitfast`` (RK4 has its own step, D165)."""
+    ``implicitfast``."""
     it = mjx.IntegratorType
     d = mjx.fwd_actuation(mx, d)
     d = mjx.fwd_acceleration(mx, d)

@@ -276,8 +276,6 @@ def mud_wrench(
     mx: mjx.Model,
     d: mjx.Data,
     st: MjxMudState,
-    *,
-    acc: XpArray | None = None,
 ) -> tuple[jax.Array, MjxMudState, MjxContact]:
     """The wrench of the mud on every foot body, and the mud state after the step.
 
@@ -293,9 +291,6 @@ def mud_wrench(
         One robot after ``fwd_position`` and ``fwd_velocity``.
     st : MjxMudState
         State at the start of the step.
-    acc : array (nb, 6) or None, keyword-only
-        The twist acceleration of all other forces [m/s^2, rad/s^2], read from MJX (the
-        RK4 step, D165); None estimates it from the last step's twists (D62).
 
     Returns
     -------
@@ -355,8 +350,8 @@ def mud_wrench(
     if K is not None:
         W = _mobility(cfg, mx, d, com)
         g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
-        if acc is None:
-            acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
+        # the other forces' twist acceleration, from the last step's twists (D62)
+        acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
         wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
         wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
         idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
