@@ -113,15 +113,23 @@ class MudBatch:
         ``"numba"``: one compiled call per physics step for all feet of all robots
         (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
         round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
+    floor : {"warn", "below", "keep"}, keyword-only
+        A floor geom at or above the mud's surface (a plane, or a box at least 1 m wide,
+        welded to the world; gymnasium's models have one at z = 0) carries the feet in
+        place of the mud: ``"warn"`` says so, ``"below"`` lowers it to
+        :data:`~.options.BED_DEPTH` (0.5 m) under the surface, a rigid bed (the model is
+        changed in place), ``"keep"`` keeps it quietly.
 
     Warns
     -----
     PlausibilityWarning
-        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset).
+        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset);
+        a floor at or above the surface (``floor="warn"``).
 
     Raises
     ------
     MudrftError
+        At construction, for gravity not along -z (the mud's depth is measured along -z).
         From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
         which MuJoCo answers with a silent reset) or the wrench is not finite.
     """
@@ -144,13 +152,14 @@ class MudBatch:
         foot_geoms: Mapping[str, str | int] | None = None,
         backend: str = "numpy",
         lookahead: bool = False,
+        floor: str = "warn",
     ) -> None:
         mj = _mujoco()
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead,
+            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead, floor=floor,
         )  # fmt: skip
         bodies, feet_list = opts.bodies, opts.feet
         n = check_count("n", n)

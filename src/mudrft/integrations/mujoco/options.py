@@ -8,16 +8,19 @@ ignored).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._typing import FloatArray
 from ..._validation import (
     MudrftError,
     check_number,
     nonnegative_number,
     positive_number,
+    warn_plausibility,
 )
 
 if TYPE_CHECKING:
@@ -43,6 +46,7 @@ class AttachOptions(NamedTuple):
     resolution: int
     geoms: list[str | int | None]  # the foot's geom of each body, None: derived (D124)
     lookahead: bool = False  # read the other forces' acceleration ahead (D162)
+    floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
 
 
 def check_count(name: str, value: object) -> int:
@@ -68,6 +72,7 @@ def check_attach_options(
     resolution: object,
     foot_geoms: object = None,
     lookahead: object = False,
+    floor: object = "warn",
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
@@ -75,6 +80,9 @@ def check_attach_options(
 
     if not isinstance(model, _mujoco().MjModel):
         raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
+    check_gravity(model)
+    if floor not in FLOOR_CHOICES:
+        raise MudrftError(f"floor must be one of {FLOOR_CHOICES}, got {floor!r}")
     names = [bodies] if isinstance(bodies, str) else bodies
     if not isinstance(names, Sequence) or not all(isinstance(b, str) for b in names):
         raise MudrftError(f"bodies must be a body name or a list of names, got {bodies!r}")
@@ -111,7 +119,7 @@ def check_attach_options(
             "bottom_stiffness and bottom_damping shape the hard bottom; give its depth with "
             "bottom= (without it they would be ignored)"
         )
-    return AttachOptions(
+    opts = AttachOptions(
         geoms=_foot_geoms(foot_geoms, names),
         bodies=names,
         feet=feet_list,
@@ -123,7 +131,82 @@ def check_attach_options(
         mobility=str(mobility),
         resolution=check_count("resolution", resolution),
         lookahead=bool(lookahead),
+        floor=str(floor),
     )
+    check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
+    return opts
+
+
+def check_gravity(model: mujoco.MjModel) -> None:
+    """Refuse a model whose gravity is not along -z: the mud's surface is the plane z =
+    ``surface`` and its depth is measured along -z, so under any other gravity a robot falls
+    through mud that reports no depth. Zero gravity (a kinematic model) is accepted."""
+    g = np.asarray(model.opt.gravity, dtype=float)
+    norm = float(np.linalg.norm(g))
+    if norm > 0.0 and (g[2] >= 0.0 or math.hypot(g[0], g[1]) > 1e-6 * norm):
+        raise MudrftError(
+            f"the model's gravity must point along -z (the mud's surface is horizontal, its "
+            f"depth measured along -z), got {np.round(g, 6).tolist()} m/s^2; set "
+            '<option gravity="0 0 -9.81"/> and turn the robot instead'
+        )
+
+
+#: What ``attach(floor=...)`` does with a floor at or above the mud's surface.
+FLOOR_CHOICES = ("warn", "below", "keep")
+#: Where ``floor="below"`` moves such a floor: its top this far under the surface [m], a
+#: rigid bed deeper than the paper's feet sink at any water content (docs/guide/mujoco.md).
+BED_DEPTH = 0.5
+#: A box welded to the world is a floor when it is at least this wide in x and y [m].
+FLOOR_WIDTH = 1.0
+
+
+def floor_geoms(model: mujoco.MjModel) -> list[tuple[int, float]]:
+    """The floors of a model and the height of their tops [m]: colliding geoms welded to
+    the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    d = mj.MjData(model)
+    mj.mj_kinematics(model, d)
+    out = []
+    for g in range(model.ngeom):
+        collides = int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
+        if not collides or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
+            continue
+        t, R = int(model.geom_type[g]), np.asarray(d.geom_xmat[g]).reshape(3, 3)
+        if t == int(mj.mjtGeom.mjGEOM_PLANE) and R[2, 2] > 1.0 - 1e-9:
+            out.append((g, float(d.geom_xpos[g, 2])))
+        elif t == int(mj.mjtGeom.mjGEOM_BOX):
+            half = np.abs(R) @ np.asarray(model.geom_size[g], dtype=float)  # world half-extents
+            if min(half[0], half[1]) >= FLOOR_WIDTH / 2:
+                out.append((g, float(d.geom_xpos[g, 2] + half[2])))
+    return out
+
+
+def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
+    """Find a floor at or above the mud's surface (gymnasium's and dm_control's models have
+    one at z = 0): MuJoCo's contact with it would carry the feet the mud should carry.
+    ``floor="warn"`` says so, ``"below"`` lowers it to :data:`BED_DEPTH` under the surface
+    (the model is changed in place), ``"keep"`` leaves it."""
+    if floor == "keep":
+        return
+    for g, top in floor_geoms(model):
+        if top < surface - 1e-9:
+            continue
+        name = model.geom(g).name
+        label = f"geom {name!r}" if name else f"geom {g}"
+        if floor == "below":  # lowered along -z, in its (static) body's frame
+            b = int(model.geom_bodyid[g])
+            R = np.eye(3) if b == 0 else _body_rotation(model, b)
+            model.geom_pos[g] -= R.T @ np.array([0.0, 0.0, top - (surface - BED_DEPTH)])
+            model.geom_sameframe[g] = 0  # MuJoCo would place it at its body's frame still
+            continue
+        warn_plausibility(
+            f"{label} is a floor at z = {top:.4g} m, at or above the mud's surface (z = "
+            f"{surface:.4g} m): MuJoCo's contact with it carries the feet the mud should "
+            f"carry; pass floor='below' to move it {BED_DEPTH:g} m under the surface (a rigid "
+            "bed), remove it from the model, or pass floor='keep' to keep it"
+        )
 
 
 def _foot_geoms(foot_geoms: object, names: list[str]) -> list[str | int | None]:
@@ -143,6 +226,15 @@ def _foot_geoms(foot_geoms: object, names: list[str]) -> list[str | int | None]:
         if isinstance(geom, bool) or not isinstance(geom, (str, int, np.integer)):
             raise MudrftError(f"foot_geoms[{body!r}] must be a geom's name (or id), got {geom!r}")
     return [foot_geoms.get(b) for b in names]
+
+
+def _body_rotation(model: mujoco.MjModel, body: int) -> FloatArray:
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    d = mj.MjData(model)
+    mj.mj_kinematics(model, d)
+    return np.asarray(d.xmat[body]).reshape(3, 3)
 
 
 def check_data(model: mujoco.MjModel, data: object) -> None:
