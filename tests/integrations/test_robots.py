@@ -11,6 +11,7 @@ import importlib.util
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import mudrft
@@ -95,3 +96,54 @@ def test_a_floor_below_the_surface_or_small_does_not_warn():
 def test_floor_option_is_checked():
     with pytest.raises(MudrftError, match=r"floor must be one of \('warn', 'below', 'keep'\)"):
         attach(_with_floor(""), "foot", MUD, floor="remove")
+
+
+def _sprung_box(dt: float) -> object:
+    """A 0.3 kg box on a 5000 N/m vertical spring, resting on the mud (omega = 129 rad/s)."""
+    xml = f"""<mujoco><option timestep="{dt}"/><worldbody><body name="box" pos="0 0 0.013">
+      <joint name="z" type="slide" axis="0 0 1" stiffness="5000"/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="0.3"/></body></worldbody></mujoco>"""
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def test_a_spring_too_stiff_for_the_time_step_warns_at_attach_as_derived():
+    # omega dt < 1 (stability.check_spring_step): at 10 ms (omega dt = 1.29) the box
+    # reached |z| = 162 m without a word (issue 43); at 7.5 ms (0.97) it stays bounded
+    with pytest.warns(PlausibilityWarning, match=r"'z' .* 129\.1 rad/s.*timestep \* omega < 1"):
+        attach(_sprung_box(0.01), "box", MUD)
+    model = _sprung_box(0.0075)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coupling = attach(model, "box", MUD)
+    data = mujoco.MjData(model)
+    coupling.reset(data)
+    coupling.step(data, 300)
+    assert abs(data.qpos[0]) < 0.01  # bounded: the criterion is not too strict
+    model = _sprung_box(0.009)  # above it, the step diverges: the warning was needed
+    with pytest.warns(PlausibilityWarning):
+        coupling = attach(model, "box", MUD)
+    data = mujoco.MjData(model)
+    coupling.reset(data)
+    with pytest.raises(MudrftError, match=r"diverged at time"):
+        coupling.step(data, 300)
+
+
+@pytest.mark.parametrize("field", ["qpos", "qvel"])
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_a_non_finite_state_raises_naming_the_field(field, backend):
+    # MuJoCo answers it with a printed warning and a reset of the state
+    xml = """<mujoco><worldbody><body name="foot" pos="0 0 0.2"><freejoint/>
+      <geom type="box" size="0.0325 0.04 0.013" mass="1"/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    coupling = attach(model, "foot", MUD, backend=backend)
+    coupling.reset(data)
+    coupling.step(data, 3)
+    getattr(data, field)[4] = np.nan
+    with pytest.raises(MudrftError, match=rf"robot 0 is not finite: .* {field}\[4\]"):
+        coupling.step(data)
+    coupling.reset(data)  # a finite state steps on
+    coupling.step(data, 2)
+    getattr(data, field)[2] = np.inf
+    with pytest.raises(MudrftError, match=rf"{field}\[2\]"):
+        coupling.advance(data)

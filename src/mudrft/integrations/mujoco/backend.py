@@ -250,7 +250,9 @@ class CompiledCoupling:
                     flags[11], first = 1.0, False
                 for i, d in enumerate(datas):
                     step2(m, d)
-                    if warn[i].number != seen[i]:
+                    wq, wv, wa = warn[i]  # MuJoCo's bad qpos, qvel, qacc (it resets them)
+                    sq, sv, sa = seen[i]
+                    if wa.number != sa or wv.number != sv or wq.number != sq:
                         diverged(k + 1)
             b.time_steps += nstep
             b._has_prev = True

@@ -36,7 +36,7 @@ from .options import check_attach_options, check_count, check_data
 from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .rk4 import rk4_step, warn_rk4_apply
-from .stability import check_explicit_step, check_timestep, diverged_error
+from .stability import check_explicit_step, check_spring_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 if TYPE_CHECKING:
@@ -200,6 +200,8 @@ class MudBatch:
         self._timestep = check_timestep(model)  # reset checks again if it changed (D123)
         if not self.implicit:
             check_explicit_step(model, self.bodies, self.terrain)
+        else:
+            check_spring_step(model, self.bodies)
         nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))
@@ -211,8 +213,9 @@ class MudBatch:
         self._has_prev = False
         self._jac = np.zeros((nb, 6, model.nv))
         self._minv_jt = np.zeros((nb, 6, model.nv))
-        self._warnings = np.zeros(self.n, dtype=np.int64)
-        self._warn: list[mujoco.MjWarningStat] = []
+        # per robot MuJoCo's counters of a bad qpos, qvel and qacc (it resets such a state)
+        self._warn: list[tuple[mujoco.MjWarningStat, ...]] = []
+        self._warnings: list[list[int]] = []
         if backend not in ("numpy", "numba"):
             raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
         self.backend = backend
@@ -294,10 +297,15 @@ class MudBatch:
         self._has_prev = False
         self._wv_prev[:] = 0.0
         self._tank[:] = 0.0
-        mj_bad = int(mj.mjtWarning.mjWARN_BADQACC)
-        self._warn = [d.warning[mj_bad] for d in datas]
-        self._warnings = np.array([w.number for w in self._warn], dtype=np.int64)
+        W = mj.mjtWarning
+        bad = [int(w) for w in (W.mjWARN_BADQPOS, W.mjWARN_BADQVEL, W.mjWARN_BADQACC)]
+        # MuJoCo's reset of a bad state clears its counters, then counts 1: the coupling
+        # watches them from 0, and clears them again when it has raised
+        self._warn = [tuple(d.warning[k] for k in bad) for d in datas]
+        self._warnings = [[0, 0, 0] for _ in datas]
+        self._clear_warnings()
         self.last = None
+        self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
         if self._compiled is not None:
@@ -361,7 +369,10 @@ class MudBatch:
         Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
         does all three.
         """
-        return self._apply_now(self._check(datas))
+        datas = self._check(datas)
+        if self._warn:
+            self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
+        return self._apply_now(datas)
 
     def _apply_now(self, datas: list[mujoco.MjData]) -> MudContact:  # apply(): reading ahead (D162)
         return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
@@ -560,12 +571,21 @@ class MudBatch:
         self._loop(nstep)
         return self.last if contact else None
 
+    def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
+        for ws, seen in zip(self._warn, self._warnings, strict=True):
+            for w in ws:
+                w.number = 0
+            seen[:] = [0, 0, 0]
+
     def _check_diverged(self, datas: list[mujoco.MjData]) -> None:
-        """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
-        for i, w in enumerate(self._warn):
-            if w.number != self._warnings[i]:
-                self._warnings[i] = w.number
-                raise diverged_error(i, datas[i], self.last)
+        """Raise where MuJoCo met a non-finite qpos or qvel, or bad accelerations, this step
+        (it resets such a state and only prints a warning)."""
+        for i, ws in enumerate(self._warn):
+            for kind, w in enumerate(ws):
+                if w.number != self._warnings[i][kind]:
+                    self._clear_warnings()
+                    t = self.time_steps * float(self._opt.timestep)
+                    raise diverged_error(i, kind, w.lastinfo, t, self.last)
 
 
 def _hashable_repr(foot: Foot) -> bool:

@@ -36,6 +36,7 @@ __all__ = [
     "LARGEST_TIMESTEP",
     "SEARCHED_TIMESTEPS",
     "check_explicit_step",
+    "check_spring_step",
     "check_timestep",
     "diverged_error",
     "stability_limits",
@@ -181,17 +182,99 @@ def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> fl
     return dt
 
 
-def diverged_error(i: int, data: mujoco.MjData, last: MudContact | None) -> MudrftError:
-    """The error for robot ``i`` whose step MuJoCo reported bad accelerations in (it resets
-    such a state), with the mud's last wrench ``last`` (a MudContact or None)."""
+def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None:
+    r"""Warn if a spring in a foot's chain is too stiff for the model's time step.
+
+    The implicit step (D62) needs the acceleration the other forces give the foot; it
+    reads it from the last step, one step late. Where the mud's damping dominates
+    (:math:`r=\beta/(1+\beta)\to1`, :math:`\beta=\Delta t\,c/m`), a spring of
+    stiffness :math:`k` on a mass :math:`m` then moves as
+    :math:`x_{n+1}=(2-r-h)x_n-(1-r-hr)x_{n-1}`, :math:`h=\omega^2\Delta t^2`,
+    :math:`\omega^2=k/m`, whose roots lie in the unit circle for
+    :math:`h<2(2-r)/(1+r)`: at :math:`r=1`, for :math:`\omega\Delta t<1` (half of
+    MuJoCo's own limit of 2 without the mud). A 0.3 kg box on a 5000 N/m spring
+    (:math:`\omega=129` rad/s) stays bounded at 7.5 ms and diverges from 8 ms on.
+
+    The springs looked at are the joint stiffnesses and the position actuators
+    (``kp``, a joint transmission) on the degrees of freedom of each foot's chain, each
+    with the inverse inertia :math:`(M^{-1})_{jj}` at ``qpos0``:
+    :math:`\omega_j^2=k_j\,(M^{-1})_{jj}`. Above the limit:
+    :class:`~mudrft._validation.PlausibilityWarning`.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (its ``opt.timestep`` [s], joint stiffness [N/m, N m/rad], actuators).
+    bodies : sequence of BodyFoot
+        The coupled bodies.
+    """
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    k = np.zeros(model.nv)
+    for j in range(model.njnt):
+        t = int(model.jnt_type[j])
+        n = {int(mj.mjtJoint.mjJNT_FREE): 0, int(mj.mjtJoint.mjJNT_BALL): 3}.get(t, 1)
+        adr = int(model.jnt_dofadr[j])
+        k[adr : adr + n] += float(model.jnt_stiffness[j])
+    for a in range(model.nu):
+        kp = -float(model.actuator_biasprm[a, 1]) * float(model.actuator_gear[a, 0]) ** 2
+        if int(model.actuator_trntype[a]) == int(mj.mjtTrn.mjTRN_JOINT) and kp > 0:
+            j = int(model.actuator_trnid[a, 0])
+            if int(model.jnt_type[j]) in (int(mj.mjtJoint.mjJNT_HINGE), int(mj.mjtJoint.mjJNT_SLIDE)):  # fmt: skip
+                k[int(model.jnt_dofadr[j])] += kp
+    if not np.any(k > 0):
+        return
+    chain = np.zeros(model.nv, dtype=bool)
+    for b in bodies:
+        i = b.body_id
+        while i > 0:
+            adr, num = int(model.body_dofadr[i]), int(model.body_dofnum[i])
+            chain[adr : adr + num] = num > 0
+            i = int(model.body_parentid[i])
+    d = mj.MjData(model)
+    mj.mj_forward(model, d)
+    minv = np.zeros((model.nv, model.nv))
+    mj.mj_solveM(model, d, minv, np.eye(model.nv))
+    omega = np.sqrt(np.maximum(k * np.diag(minv), 0.0)) * chain
+    j = int(np.argmax(omega))
+    dt = float(model.opt.timestep)
+    if omega[j] * dt >= 1.0:
+        joint = int(model.dof_jntid[j])
+        name = model.joint(joint).name or f"joint {joint}"
+        warn_plausibility(
+            f"the spring on {name!r} ({plain(k[j])} N/m or N m/rad, with joint stiffness and "
+            f"position actuators) makes the chain oscillate at {omega[j]:.4g} rad/s, too fast "
+            f"for the time step: the mud coupling reads the other forces one step late and is "
+            f"stable only for timestep * omega < 1, here {omega[j] * dt:.3g} (timestep "
+            f"{plain(dt)} s); use a timestep below {1.0 / omega[j]:.2g} s"
+        )
+
+
+#: The state MuJoCo checks in each step, in the order of the coupling's counters.
+_CHECKED = ("qpos", "qvel", "qacc")
+
+
+def diverged_error(
+    i: int, kind: int, index: int, time: float, last: MudContact | None
+) -> MudrftError:
+    """The error for robot ``i`` in whose step MuJoCo found a non-finite or huge
+    ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2; at degree of freedom ``index``) and
+    reset the state, ``time`` [s] after the coupling's reset, with the mud's last wrench."""
+    field = _CHECKED[kind]
     force = None
     if last is not None:
         f = last.force
         force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
+    what = (
+        f"the state of robot {i} is not finite: MuJoCo found NaN, inf or a huge value in "
+        f"{field}[{index}] at time {time:.6g} s"
+        if kind < 2
+        else f"the simulation of robot {i} diverged at time {time:.6g} s: MuJoCo reported "
+        f"bad accelerations (qacc[{index}])"
+    )
     return MudrftError(
-        f"the simulation of robot {i} diverged at time {float(data.time):.6g} s: "
-        "MuJoCo reported bad accelerations (mjWARN_BADQACC) and reset the state; "
-        f"expected finite accelerations with the mud wrench "
-        f"{force} N "
-        "(reduce the time step, or check the model)"
+        f"{what} (since the coupling's reset) and reset the state "
+        f"(mjWARN_BAD{field.upper()}); expected finite values, with the mud wrench {force} N "
+        "(reduce the time step, check the model, or set a finite state)"
     )
