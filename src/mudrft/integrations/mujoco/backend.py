@@ -30,6 +30,7 @@ from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
 from .compiled import N_OUT, coupling_kernel, work_size
 from .contact import MudContact
+from .placement import coupled_tip, coupled_triangles
 
 if TYPE_CHECKING:
     import mujoco
@@ -172,9 +173,9 @@ class CompiledCoupling:
         # check_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
-        tris = [cast(FloatArray, b.triangles) for b in bodies]
-        self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id])] for b in bodies])
-        self.tip = np.ascontiguousarray([b.tip for b in bodies], dtype=float)
+        tris = [cast(FloatArray, coupled_triangles(b)) for b in bodies]
+        self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id]), int(b.ball)] for b in bodies])  # fmt: skip
+        self.tip = np.ascontiguousarray([coupled_tip(b) for b in bodies], dtype=float)
         self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
         sizes = [len(tri) for tri in tris]
         self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._progress import logger
 from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
@@ -33,7 +34,14 @@ from .implicit import (
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .lookahead import lookahead_apply, lookahead_step, reads_ahead
 from .options import check_attach_options, check_count, check_data
-from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
+from .placement import (
+    BodyFoot,
+    attached_foot,
+    coupled_tip,
+    describe,
+    group_triangles,
+    lowest_points,
+)
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .rk4 import rk4_step, warn_rk4_apply
 from .stability import check_explicit_step, check_spring_step, check_timestep, diverged_error
@@ -71,8 +79,11 @@ class MudBatch:
     ----------
     model : mujoco.MjModel
         The model shared by all robots.
-    bodies : sequence of str
-        Names of the bodies that touch the mud.
+    bodies : "auto", str, int or a sequence of them
+        The bodies that touch the mud, each by its name, the name of one of its geoms (that
+        geom is then its foot) or its id (a body without a name); ``"auto"`` finds the feet
+        (:func:`~.placement.auto_feet`: the lowest limbs) and logs what it chose, which
+        :attr:`feet` also tells.
     mud : Mud or Terrain
         The mud (:func:`mudrft.paper_mud`), a configured :class:`mudrft.MudTerrain`, or
         any terrain.
@@ -137,7 +148,7 @@ class MudBatch:
     def __init__(
         self,
         model: mujoco.MjModel,
-        bodies: Sequence[str],
+        bodies: str | int | Sequence[str | int],
         mud: Mud | Terrain,
         *,
         n: int = 1,
@@ -161,7 +172,7 @@ class MudBatch:
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
             resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead, floor=floor,
         )  # fmt: skip
-        bodies, feet_list = opts.bodies, opts.feet
+        feet_list = opts.feet
         n = check_count("n", n)
         self.model = model
         self._mj = mj
@@ -179,19 +190,21 @@ class MudBatch:
         self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
         self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
-        cache: dict[str | int, Foot] = {}
+        cache: dict[object, Foot] = {}
         placed = []
-        for b, f, g in zip(bodies, feet_list, opts.geoms, strict=True):
+        for b, f, g in zip(opts.bodies, feet_list, opts.geoms, strict=True):
             bf = attached_foot(model, b, f, resolution=opts.resolution, geom=g)
-            key = repr(bf.foot) if f is None else id(f)
-            foot = (
-                cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot
-            )
-            placed.append(BodyFoot(**{**bf.__dict__, "foot": foot}))
+            if f is None and _hashable_repr(bf.foot):
+                up = None if bf.upright is None else np.asarray(bf.upright).tobytes()
+                bf = BodyFoot(**{**bf.__dict__, "foot": cache.setdefault((repr(bf.foot), up, bf.ball), bf.foot)})  # fmt: skip
+            placed.append(bf)
         self.bodies: tuple[BodyFoot, ...] = tuple(placed)
+        if opts.auto:
+            logger.info("feet='auto' chose:\n  %s", "\n  ".join(self.feet))
         self._ids = np.array([b.body_id for b in self.bodies])
         self._roots = np.array(model.body_rootid)[self._ids]
-        self._tip = np.stack([b.tip for b in self.bodies])
+        self._ball = np.array([b.ball for b in self.bodies])
+        self._tip = np.stack([coupled_tip(b) for b in self.bodies])
         self._fwd = np.stack([b.forward for b in self.bodies])
         groups: dict[int, list[int]] = {}
         for i, placed_body in enumerate(self.bodies):
@@ -231,6 +244,11 @@ class MudBatch:
         self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
 
     @property
+    def feet(self) -> tuple[str, ...]:
+        """What each coupled body's foot is: its body, geoms and foot, one line each."""
+        return tuple(describe(self.model, b) for b in self.bodies)
+
+    @property
     def last(self) -> MudContact | None:
         """What the mud did in the last step (:class:`MudContact`), or ``None`` before it.
 
@@ -268,15 +286,17 @@ class MudBatch:
         self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
     ) -> tuple[ChannelGeometry, FloatArray]:
         groups = [
-            (tri, up, idx) for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
+            (tri, up, idx, bool(self._ball[idx[0]]))
+            for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
-        bare = [i for (tri, _, idx) in groups if tri is None for i in idx]
+        bare = [i for (tri, _, idx, _) in groups if tri is None for i in idx]
         low = None
         if bare:  # feet without a surface act at the lowest point of their geom
             low = tip.copy()
             low[:, bare] = lowest_points(
                 [self.bodies[i] for i in bare], X[:, bare], R[:, bare], tip[:, bare]
             )
+        X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
     # -- public API -------------------------------------------------------------------

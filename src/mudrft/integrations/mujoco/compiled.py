@@ -157,7 +157,8 @@ def _kernel(
 
     Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
     ximat, cvel, subtree_com, cdof, qLD, qLDiagInv, xfrc_applied; ``sizes`` = nbody, nv,
-    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root), tip/forward in the body frame,
+    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
+    forward in the body frame,
     posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
@@ -275,19 +276,31 @@ def _kernel(
             fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
             h = max(math.hypot(fw0, fw1), 1e-12)
             c, s = fw0 / h, fw1 / h
-            # the posed foot in the yaw frame (origin: center of mass horizontally, surface)
+            # the posed foot in the yaw frame (origin: center of mass horizontally, surface);
+            # a ball's triangles are upright about its center (``tip``) in every pose
+            ball = bodies[j, 2] != 0
             for i in range(3):
-                M[0, i] = c * R[i] + s * R[3 + i]
-                M[1, i] = -s * R[i] + c * R[3 + i]
-                M[2, i] = R[6 + i]
-            ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
+                if ball:
+                    M[0, i], M[1, i], M[2, i] = 0.0, 0.0, 0.0
+                    M[i, i] = 1.0
+                else:
+                    M[0, i] = c * R[i] + s * R[3 + i]
+                    M[1, i] = -s * R[i] + c * R[3 + i]
+                    M[2, i] = R[6 + i]
+            if ball:
+                ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
+            else:
+                ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
             sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
             _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
             depth = max(-geo[41], 0.0)
             upj = tri_up[up_adr[j] : up_adr[j + 1]]
-            _upright_area(upj, depth, aup)
-            for q in range(3):
-                ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
+            if ball:
+                ratio[0], ratio[1], ratio[2] = 1.0, 1.0, 1.0
+            else:
+                _upright_area(upj, depth, aup)
+                for q in range(3):
+                    ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
             # channel points relative to the center of mass, rows b_c, channel velocities
             E[0, 0], E[0, 1], E[1, 0], E[1, 1], E[2, 2] = c, s, -s, c, 1.0
             for q in range(3):

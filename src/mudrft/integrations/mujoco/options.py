@@ -35,7 +35,7 @@ BOTTOM_STIFFNESS, BOTTOM_DAMPING = 1e5, 2e3
 class AttachOptions(NamedTuple):
     """The checked options: body names, one foot (or None) per body, and the rest in SI."""
 
-    bodies: list[str]
+    bodies: list[int]  # body ids
     feet: list[Any]
     surface: float  # [m]
     bottom: float | None  # [m]
@@ -44,9 +44,10 @@ class AttachOptions(NamedTuple):
     implicit: bool
     mobility: str
     resolution: int
-    geoms: list[str | int | None]  # the foot's geom of each body, None: derived (D124)
+    geoms: list[Any]  # the foot's geom(s) of each body, None: derived (D124)
     lookahead: bool = False  # read the other forces' acceleration ahead (D162)
     floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
+    auto: bool = False  # the bodies were found by feet="auto"
 
 
 def check_count(name: str, value: object) -> int:
@@ -83,16 +84,21 @@ def check_attach_options(
     check_gravity(model)
     if floor not in FLOOR_CHOICES:
         raise MudrftError(f"floor must be one of {FLOOR_CHOICES}, got {floor!r}")
-    names = [bodies] if isinstance(bodies, str) else bodies
-    if not isinstance(names, Sequence) or not all(isinstance(b, str) for b in names):
-        raise MudrftError(f"bodies must be a body name or a list of names, got {bodies!r}")
-    names = list(names)
-    if not names:
+    from .placement import auto_feet, resolve_body
+
+    auto = isinstance(bodies, str) and bodies == "auto"
+    items = auto_feet(model) if auto else [bodies] if isinstance(bodies, (str, int)) else bodies
+    if not isinstance(items, Sequence) or isinstance(items, str):
+        raise MudrftError(
+            "bodies must be 'auto', a body's or geom's name or a body's id, or a list of them, "
+            f"got {bodies!r}"
+        )
+    if not items:
         raise MudrftError("bodies must name at least one body, got an empty list")
+    resolved = [resolve_body(model, b) for b in items]
+    names = [b for b, _ in resolved]
     if len(set(names)) != len(names):
-        raise MudrftError(f"bodies must be distinct, got {names}")
-    if "world" in names:
-        raise MudrftError("bodies cannot include 'world': the mud acts on a body that moves")
+        raise MudrftError(f"bodies must be distinct bodies, got {list(items)}")
     if feet is None or hasattr(feet, "contact_force"):
         feet_list = [feet] * len(names)
     else:
@@ -120,7 +126,7 @@ def check_attach_options(
             "bottom= (without it they would be ignored)"
         )
     opts = AttachOptions(
-        geoms=_foot_geoms(foot_geoms, names),
+        geoms=_foot_geoms(model, foot_geoms, resolved),
         bodies=names,
         feet=feet_list,
         surface=check_number("surface", surface, unit="m"),
@@ -132,6 +138,7 @@ def check_attach_options(
         resolution=check_count("resolution", resolution),
         lookahead=bool(lookahead),
         floor=str(floor),
+        auto=auto,
     )
     check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
     return opts
@@ -209,23 +216,40 @@ def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
         )
 
 
-def _foot_geoms(foot_geoms: object, names: list[str]) -> list[str | int | None]:
-    """``foot_geoms``, a mapping ``{body: geom name or id}``, as one entry per body."""
+def _foot_geoms(
+    model: mujoco.MjModel, foot_geoms: object, resolved: list[tuple[int, int | None]]
+) -> list[Any]:
+    """The foot's geom(s) of each body: from ``foot_geoms``, a mapping ``{body: geom, or a
+    list of geoms}`` (bodies and geoms by name or id), else the geom named in ``bodies``."""
+    ids = [b for b, _ in resolved]
+    out: list[Any] = [g for _, g in resolved]
     if foot_geoms is None:
-        return [None] * len(names)
+        return out
     if not isinstance(foot_geoms, Mapping):
+        first = model.body(ids[0]).name or ids[0]
         raise MudrftError(
             "foot_geoms must be a mapping {body: geom name}, e.g. "
-            f"foot_geoms={{{names[0]!r}: 'foot_geom'}}, got {foot_geoms!r}"
+            f"foot_geoms={{{first!r}: 'foot_geom'}}, got {foot_geoms!r}"
         )
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
     for body, geom in foot_geoms.items():
-        if body not in names:
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else body
+        if bid not in ids:
+            names = [model.body(i).name or i for i in ids]
             raise MudrftError(
                 f"foot_geoms names body {body!r}, which is not coupled; the bodies are {names}"
             )
-        if isinstance(geom, bool) or not isinstance(geom, (str, int, np.integer)):
-            raise MudrftError(f"foot_geoms[{body!r}] must be a geom's name (or id), got {geom!r}")
-    return [foot_geoms.get(b) for b in names]
+        many = isinstance(geom, Sequence) and not isinstance(geom, str)
+        for g in geom if many else [geom]:  # type: ignore[union-attr]
+            if isinstance(g, bool) or not isinstance(g, (str, int, np.integer)):
+                raise MudrftError(
+                    f"foot_geoms[{body!r}] must be a geom's name (or id), or a list of them, "
+                    f"got {geom!r}"
+                )
+        out[ids.index(int(bid))] = list(geom) if many else geom  # type: ignore[call-overload]
+    return out
 
 
 def _body_rotation(model: mujoco.MjModel, body: int) -> FloatArray:
