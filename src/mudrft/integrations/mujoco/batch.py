@@ -22,7 +22,7 @@ from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, check_compilable
+from .backend import CompiledCoupling, _not_compilable, check_compilable
 from .contact import MudContact, _central_point
 from .implicit import (
     channel_rows,
@@ -120,10 +120,13 @@ class MudBatch:
         data and a second ``mj_step2`` per step) instead of estimating them from the last
         step (default): a chain's actuators, constraints and Coriolis forces are then seen
         in the step they act.
-    backend : {"numpy", "numba"}, keyword-only
+    backend : {"auto", "numba", "numpy"}, keyword-only
         ``"numba"``: one compiled call per physics step for all feet of all robots
-        (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
-        round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
+        (:mod:`.compiled`; the mud and feet with a surface), equal to the numpy coupling to
+        round-off and some twenty times faster, compiled once per machine (about 15 s;
+        numba's disk cache loads it in a new process); ``"numpy"``: any terrain and foot,
+        the reference the tests compare with; ``"auto"`` (default): ``"numba"`` where it
+        applies.
     floor : {"warn", "below", "keep"}, keyword-only
         A floor geom at or above the mud's surface (a plane, or a box at least 1 m wide,
         welded to the world; gymnasium's models have one at z = 0) carries the feet in
@@ -161,7 +164,7 @@ class MudBatch:
         mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
-        backend: str = "numpy",
+        backend: str = "auto",
         lookahead: bool = False,
         floor: str = "warn",
     ) -> None:
@@ -229,8 +232,10 @@ class MudBatch:
         # per robot MuJoCo's counters of a bad qpos, qvel and qacc (it resets such a state)
         self._warn: list[tuple[mujoco.MjWarningStat, ...]] = []
         self._warnings: list[list[int]] = []
-        if backend not in ("numpy", "numba"):
-            raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
+        if backend not in ("auto", "numpy", "numba"):
+            raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
+        if backend == "auto":
+            backend = "numpy" if _not_compilable(self.terrain, self.bodies) else "numba"
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
         if backend == "numba":
