@@ -98,10 +98,10 @@ def test_floor_option_is_checked():
         attach(_with_floor(""), "foot", MUD, floor="remove")
 
 
-def _sprung_box(dt: float) -> object:
+def _sprung_box(dt: float, damping: float = 0.0) -> object:
     """A 0.3 kg box on a 5000 N/m vertical spring, resting on the mud (omega = 129 rad/s)."""
     xml = f"""<mujoco><option timestep="{dt}"/><worldbody><body name="box" pos="0 0 0.013">
-      <joint name="z" type="slide" axis="0 0 1" stiffness="5000"/>
+      <joint name="z" type="slide" axis="0 0 1" stiffness="5000" damping="{damping}"/>
       <geom type="box" size="0.0325 0.04 0.013" mass="0.3"/></body></worldbody></mujoco>"""
     return mujoco.MjModel.from_xml_string(xml)
 
@@ -109,7 +109,9 @@ def _sprung_box(dt: float) -> object:
 def test_a_spring_too_stiff_for_the_time_step_warns_at_attach_as_derived():
     # omega dt < 1 (stability.check_spring_step): at 10 ms (omega dt = 1.29) the box
     # reached |z| = 162 m without a word (issue 43); at 7.5 ms (0.97) it stays bounded
-    with pytest.warns(PlausibilityWarning, match=r"'z' .* 129\.1 rad/s.*timestep \* omega < 1"):
+    with pytest.warns(
+        PlausibilityWarning, match=r"'z' .* 129\.1 rad/s.*\(timestep \* omega\)\^2 < 1 \+ 2"
+    ):
         attach(_sprung_box(0.01), "box", MUD)
     model = _sprung_box(0.0075)
     with warnings.catch_warnings():
@@ -126,6 +128,17 @@ def test_a_spring_too_stiff_for_the_time_step_warns_at_attach_as_derived():
     coupling.reset(data)
     with pytest.raises(MudrftError, match=r"diverged at time"):
         coupling.step(data, 300)
+    # a damper (zeta = 0.3) holds it at 10 ms, not at 15 ms; the biped's over-damped
+    # servos at its largest step are quiet
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        attach(_sprung_box(0.01, damping=23.24), "box", MUD)
+        from mudrft.integrations.walk import BIPED_FEET, MAX_DT, biped_model
+
+        attach(biped_model(timestep=MAX_DT), list(BIPED_FEET), MUD)
+    with pytest.warns(PlausibilityWarning) as record:  # and the time step above 10 ms
+        attach(_sprung_box(0.015, damping=23.24), "box", MUD)
+    assert any("use a timestep below 0.014 s" in str(w.message) for w in record)
 
 
 @pytest.mark.parametrize("field", ["qpos", "qvel"])
