@@ -113,6 +113,11 @@ class BodyFoot:
     ball: bool = False
 
 
+#: Mesh resolution of a ball foot (72 facets for the hemisphere, against 288 at the
+#: coupling's :data:`~.pose.POSE_RESOLUTION`): it places the channels, not the force.
+BALL_RESOLUTION = 3
+
+
 def _reference_pose(model: mujoco.MjModel) -> mujoco.MjData:
     mj = _mujoco()
     d = mj.MjData(model)
@@ -266,7 +271,9 @@ def body_foot(
     fwd_b = Rb.T @ fwd_w
     up_b = Rb.T @ np.array([0.0, 0.0, 1.0])
     frame = np.stack([fwd_b, np.cross(up_b, fwd_b), up_b], axis=-1)  # foot axes (columns)
-    upright = foot_triangles(foot, resolution=resolution)
+    # a ball's force is the closed form (its posed and upright areas are equal): its mesh
+    # only places the channels' points and moments, which a coarse mesh does as well
+    upright = foot_triangles(foot, resolution=min(resolution, BALL_RESOLUTION) if ball else resolution)  # fmt: skip
     tri_b = None if upright is None else tip_b + upright @ frame.T
     return BodyFoot(
         body=name,
