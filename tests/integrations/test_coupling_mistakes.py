@@ -27,8 +27,9 @@ MUD = mudrft.paper_mud(0.25)
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"bodies": 3}, r"bodies must be a body name or a list of names, got 3"),
-        ({"bodies": ["foot", "world"]}, r"bodies cannot include 'world'"),
+        ({"bodies": 3}, r"body id must be in \[1, 1\], got 3"),
+        ({"bodies": 2.5}, r"bodies must be 'auto', a body's or geom's name or a body's id, or a"),
+        ({"bodies": ["foot", "world"]}, r"bodies cannot include the world \('world'\)"),
         ({"implicit": "no"}, r"implicit must be True or False, got 'no'"),
         ({"bottom_stiffness": 1e4}, r"give its depth with bottom="),
         ({"feet": "box"}, r"feet must be a foot \(mudrft.feet\), one per body"),

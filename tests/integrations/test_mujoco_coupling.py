@@ -362,7 +362,9 @@ def test_feet_derived_from_geoms():
 
 def test_bad_arguments_are_named():
     model = box_foot_model()
-    with pytest.raises(mudrft.MudrftError, match="'heel' is not in the model"):
+    with pytest.raises(
+        mudrft.MudrftError, match="'heel' is neither a body nor a geom of the model"
+    ):
         attach(model, "heel", MUD)
     with pytest.raises(mudrft.MudrftError, match=r"model must be a mujoco\.MjModel"):
         attach("model.xml", "foot", MUD)

@@ -31,14 +31,14 @@ def _leg(geoms: str) -> object:
     return mujoco.MjModel.from_xml_string(xml)
 
 
-def test_a_geom_name_given_for_a_body_names_the_body_to_give():
-    model = _leg('<geom name="FL_foot" type="sphere" size="0.025" mass="0.3"/>')
-    with pytest.raises(
-        MudrftError,
-        match=r"'FL_foot' is a geom, not a body: .*its body is 'calf' \(to make this geom the "
-        r"foot, name the body and the geom with foot_geoms=\{'calf': 'FL_foot'\}",
-    ):
-        attach(model, ["FL_foot"], MUD)
+def test_a_geom_name_names_its_body_with_that_geom_as_the_foot():
+    model = _leg(
+        """<geom name="FL_foot" type="sphere" size="0.025" mass="0.3"/>
+           <geom name="shin" type="box" size="0.02 0.02 0.02" pos="0 0 -0.03"/>"""
+    )
+    (placed,) = attach(model, ["FL_foot"], MUD).bodies
+    assert placed.body == "calf" and model.geom(placed.geom).name == "FL_foot"
+    assert isinstance(placed.foot, mudrft.feet.SemiSphere)  # not the lower box
 
 
 def test_a_body_without_a_geom_of_a_supported_type_names_its_geoms():
@@ -193,29 +193,25 @@ def test_foot_geoms_names_the_geom_that_is_the_foot_on_both_couplings():
         assert isinstance(placed.foot, mudrft.feet.SemiSphere) and placed.geom == toe
 
 
-def test_colliding_geoms_as_low_as_the_foot_warn_and_point_to_foot_geoms():
+def test_colliding_geoms_as_low_as_the_foot_are_one_foot_with_it():
+    # D124 warned and asked for foot_geoms; the foot is now their union (its hull)
     import warnings
 
-    from mudrft._validation import PlausibilityWarning
-
-    advice = (
-        r"body 'calf' has colliding geoms that reach as low as its foot, geom 'heel' "
-        r"\(within 1 mm\): geom 'toe'; .* foot_geoms=\{'calf': 'heel'\}"
-    )
     for toe_z in (0.0, 0.0009):
-        with pytest.warns(PlausibilityWarning, match=advice) as record:
-            attach(_two_soles(toe_z), "calf", MUD)
-        assert len(record) == 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        attach(_two_soles(), "calf", MUD, foot_geoms={"calf": "toe"})  # the user chose
-        attach(_two_soles(0.0011), "calf", MUD)  # the heel is the lowest, clearly
-        body_foot(_two_soles(), "calf")  # placing a foot to inspect it is no coupling
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            (placed,) = attach(_two_soles(toe_z), "calf", MUD).bodies
+        assert [_two_soles().geom(g).name for g in placed.geoms] == ["heel", "toe"]
+        assert isinstance(placed.foot, mudrft.feet.MeshFoot)
+    (placed,) = attach(_two_soles(), "calf", MUD, foot_geoms={"calf": "toe"}).bodies
+    assert isinstance(placed.foot, mudrft.feet.Flat)  # the user chose
+    (placed,) = attach(_two_soles(0.0011), "calf", MUD).bodies
+    assert isinstance(placed.foot, mudrft.feet.Flat)  # the heel is the lowest, clearly
     if importlib.util.find_spec("mujoco.mjx") is not None:
         from mudrft.integrations import mjx
 
-        with pytest.warns(PlausibilityWarning, match=advice):
-            mjx.attach(_two_soles(), "calf", MUD)
+        (placed,) = mjx.attach(_two_soles(), "calf", MUD).bodies
+        assert isinstance(placed.foot, mudrft.feet.MeshFoot) and len(placed.geoms) == 2
 
 
 @pytest.mark.parametrize(
@@ -226,7 +222,7 @@ def test_colliding_geoms_as_low_as_the_foot_warn_and_point_to_foot_geoms():
             {"thigh": "toe"},
             r"foot_geoms names body 'thigh', which is not coupled; the bodies are \['calf'\]",
         ),
-        ({"calf": True}, r"foot_geoms\['calf'\] must be a geom's name \(or id\), got True"),
+        ({"calf": True}, r"foot_geoms\['calf'\] must be a geom's name \(or id\), or a list"),
         (
             {"calf": "sole"},
             r"geom 'sole', named as the foot of body 'calf', is not in the model; the body's "

@@ -22,11 +22,12 @@ from typing import TYPE_CHECKING
 
 from ._gym import gymnasium
 from .mud_walker import MudWalkerEnv
+from .with_mud import WithMud, with_mud
 
 if TYPE_CHECKING:  # imported by __getattr__ on first use (jax, MJX)
     from .vector import MudWalkerVectorEnv
 
-__all__ = ["ENV_IDS", "MudWalkerEnv", "MudWalkerVectorEnv", "register_envs"]
+__all__ = ["ENV_IDS", "MudWalkerEnv", "MudWalkerVectorEnv", "WithMud", "register_envs", "with_mud"]
 
 #: The registered environment ids.
 ENV_IDS = ("mudrft/MudWalker-v0",)

@@ -10,7 +10,6 @@ stay valid: MuJoCo never reallocates them). :class:`~.batch.MudBatch` calls
 
 from __future__ import annotations
 
-import functools
 import time
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, TypeAlias, cast
@@ -19,7 +18,7 @@ import numba
 import numpy as np
 
 from ..._progress import logger
-from ..._typing import FloatArray, IndexArray
+from ..._typing import FloatArray
 from ..._validation import MudrftError
 from ...feet.mesh import MeshFoot
 from ...feet.morphing import MorphingFoot
@@ -28,8 +27,9 @@ from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
-from .compiled import N_OUT, coupling_kernel, work_size
+from .compiled import ARGS, N_OUT, coupling_kernel, pack, work_size
 from .contact import MudContact
+from .placement import coupled_tip, coupled_triangles
 
 if TYPE_CHECKING:
     import mujoco
@@ -44,23 +44,31 @@ if TYPE_CHECKING:
 #: The feet the kernel steps (:func:`check_compilable`).
 _KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
-__all__ = ["ARGS", "CompiledCoupling", "check_compilable", "choose_backend", "pack_arguments"]
+__all__ = ["CompiledCoupling", "check_compilable", "choose_backend"]
 
 
 def check_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> None:
     """Raise unless the numba backend supports this terrain and these feet."""
+    reason = _not_compilable(terrain, bodies)
+    if reason:
+        raise MudrftError(reason)
+
+
+def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
+    """Why the numba backend cannot step this terrain and these feet ("" if it can)."""
     if not isinstance(terrain, MudTerrain):
-        raise MudrftError(
+        return (
             f"backend='numba' needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}; "
             "use backend='numpy' for other terrains"
         )
     for b in bodies:
         if not _compilable_foot(b.foot) or b.triangles is None:
-            raise MudrftError(
+            return (
                 f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere), "
                 f"mesh feet (MeshFoot) and the MorphingFoot; body {b.body!r} has a "
                 f"{type(b.foot).__name__}: use backend='numpy'"
             )
+    return ""
 
 
 def _compilable_foot(foot: Foot | None) -> bool:
@@ -95,62 +103,6 @@ def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
     return "numba" if _compilable_foot(foot) and mud_ok else "numpy"
 
 
-#: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
-ARGS = (
-    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
-    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
-    ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
-    ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
-    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
-    ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 1),
-)  # fmt: skip
-
-
-@functools.cache
-def packed_arguments() -> Any:
-    """A numba ``jitclass`` holding the kernel's arrays, passed to the kernel as one argument.
-
-    Passing the 29 arrays one by one cost numba 2.5-4.5 us per call to type and unbox them
-    (a third of the coupling's cost for the biped); one jitclass instance costs a few tenths of a
-    microsecond (D68b). The instance shares the arrays' memory: writing them from Python
-    (the options, the state on reset) is seen by the kernel.
-    """
-    from numba.experimental import jitclass
-
-    kinds = {"i8": numba.int64, "f8": numba.float64}
-    spec = [(name, numba.types.Array(kinds[dt], nd, "C")) for name, dt, nd in ARGS]
-
-    class CouplingArrays:
-        def __init__(self, addr, sizes, model_i, dof_parentid, rownnz, rowadr, colind, mass,
-                     inertia, bodies, tip, fwd, tri_adr, tri_b, up_adr, tri_up, consts, cfg,
-                     geom, morph, opts, mud, fst, odo, tw_prev, wv_prev, tank, out, work):  # type: ignore[no-untyped-def]  # fmt: skip
-            self.addr, self.sizes, self.model_i = addr, sizes, model_i
-            self.dof_parentid, self.rownnz, self.rowadr = dof_parentid, rownnz, rowadr
-            self.colind, self.mass, self.inertia, self.bodies = colind, mass, inertia, bodies
-            self.tip, self.fwd, self.tri_adr, self.tri_b = tip, fwd, tri_adr, tri_b
-            self.up_adr, self.tri_up, self.consts, self.cfg = up_adr, tri_up, consts, cfg
-            self.geom, self.morph, self.opts, self.mud = geom, morph, opts, mud
-            self.fst, self.odo, self.tank = fst, odo, tank
-            self.tw_prev, self.wv_prev, self.out, self.work = tw_prev, wv_prev, out, work
-
-    return jitclass(spec)(CouplingArrays)
-
-
-def pack_arguments(arrays: dict[str, IndexArray | FloatArray]) -> Any:
-    """The kernel's arrays (by the names of :data:`ARGS`) in one :func:`packed_arguments`."""
-    args = []
-    for name, dt, nd in ARGS:
-        a = arrays[name]
-        if a.dtype != np.dtype(dt) or a.ndim != nd or not a.flags.c_contiguous:
-            raise MudrftError(
-                f"coupling array {name!r} must be C-contiguous {np.dtype(dt)} with {nd} "
-                f"dimensions, got {a.dtype} with shape {a.shape}"
-            )
-        args.append(a)
-    return packed_arguments()(*args)
-
-
 class CompiledCoupling:
     """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`."""
 
@@ -172,9 +124,9 @@ class CompiledCoupling:
         # check_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
-        tris = [cast(FloatArray, b.triangles) for b in bodies]
-        self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id])] for b in bodies])
-        self.tip = np.ascontiguousarray([b.tip for b in bodies], dtype=float)
+        tris = [cast(FloatArray, coupled_triangles(b)) for b in bodies]
+        self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id]), int(b.ball)] for b in bodies])  # fmt: skip
+        self.tip = np.ascontiguousarray([coupled_tip(b) for b in bodies], dtype=float)
         self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
         sizes = [len(tri) for tri in tris]
         self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
@@ -250,7 +202,9 @@ class CompiledCoupling:
                     flags[11], first = 1.0, False
                 for i, d in enumerate(datas):
                     step2(m, d)
-                    if warn[i].number != seen[i]:
+                    wq, wv, wa = warn[i]  # MuJoCo's bad qpos, qvel, qacc (it resets them)
+                    sq, sv, sa = seen[i]
+                    if wa.number != sa or wv.number != sv or wq.number != sq:
                         diverged(k + 1)
             b.time_steps += nstep
             b._has_prev = True
@@ -320,27 +274,35 @@ class CompiledCoupling:
     def _pack(self) -> None:
         """The kernel's arrays in one argument (after :meth:`reset`; the arrays never move)."""
         names = {"bodies": "ids"}
-        self._args = (pack_arguments({n: getattr(self, names.get(n, n)) for n, _, _ in ARGS}),)
+        arrays = []
+        for name, dt, nd in ARGS:
+            a = getattr(self, names.get(name, name))
+            if a.dtype != np.dtype(dt) or a.ndim != nd or not a.flags.c_contiguous:
+                raise MudrftError(
+                    f"coupling array {name!r} must be C-contiguous {np.dtype(dt)} with {nd} "
+                    f"dimensions, got {a.dtype} with shape {a.shape}"
+                )
+            arrays.append(a)
+        self._args = (pack(arrays),)
 
     def entry(self) -> Any:
-        """The kernel compiled for :attr:`_args`, as a function of that one argument that
-        skips the dispatcher's lookup of its type (a quarter of a microsecond per call,
-        D68b): the unchecked path of the step loop, which passes only ``_args`` (made at
-        :meth:`reset`, of the type compiled here)."""
+        """The kernel compiled for :attr:`_args` (loaded from the disk cache when it is
+        there), as a function of that one argument that skips the dispatcher's lookup of
+        its type (a quarter of a microsecond per call, D68b)."""
         (p,) = self._args
         return compile_once(self.kernel, (numba.typeof(p),))
 
 
 def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:
     """``kernel.compile(signature)`` (a numba dispatcher), saying so on the ``mudrft``
-    logger (INFO) when it compiles for the first time in this process: about 15 s on one
-    core, spent in the first ``reset`` of a coupling with ``backend="numba"`` (or of a
-    Gymnasium environment), which otherwise looked like a hang (D114)."""
+    logger (INFO) the first time in this process: about 15 s on one core the first time
+    on a machine (then numba's disk cache loads it), spent in the first ``reset`` of a
+    compiled coupling, which otherwise looked like a hang (D114)."""
     first = not kernel.signatures
     if first:
         logger.info(
-            "compiling the MuJoCo coupling with numba (backend='numba'; about 15 s, once "
-            "per process)"
+            "compiling the MuJoCo coupling with numba (backend='numba'; about 15 s the first "
+            "time, then loaded from numba's cache on disk in about a second)"
         )
     start = time.perf_counter()
     entry = kernel.compile(signature)

@@ -16,12 +16,13 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._progress import logger
 from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, check_compilable
+from .backend import CompiledCoupling, _not_compilable, check_compilable
 from .contact import MudContact, _central_point
 from .implicit import (
     channel_rows,
@@ -33,10 +34,17 @@ from .implicit import (
 from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
 from .lookahead import lookahead_apply, lookahead_step, reads_ahead
 from .options import check_attach_options, check_count, check_data
-from .placement import BodyFoot, attached_foot, group_triangles, lowest_points
+from .placement import (
+    BodyFoot,
+    attached_foot,
+    coupled_tip,
+    describe,
+    group_triangles,
+    lowest_points,
+)
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .rk4 import rk4_step, warn_rk4_apply
-from .stability import check_explicit_step, check_timestep, diverged_error
+from .stability import check_explicit_step, check_spring_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 if TYPE_CHECKING:
@@ -71,8 +79,11 @@ class MudBatch:
     ----------
     model : mujoco.MjModel
         The model shared by all robots.
-    bodies : sequence of str
-        Names of the bodies that touch the mud.
+    bodies : "auto", str, int or a sequence of them
+        The bodies that touch the mud, each by its name, the name of one of its geoms (that
+        geom is then its foot) or its id (a body without a name); ``"auto"`` finds the feet
+        (:func:`~.placement.auto_feet`: the lowest limbs) and logs what it chose, which
+        :attr:`feet` also tells.
     mud : Mud or Terrain
         The mud (:func:`mudrft.paper_mud`), a configured :class:`mudrft.MudTerrain`, or
         any terrain.
@@ -109,19 +120,30 @@ class MudBatch:
         data and a second ``mj_step2`` per step) instead of estimating them from the last
         step (default): a chain's actuators, constraints and Coriolis forces are then seen
         in the step they act.
-    backend : {"numpy", "numba"}, keyword-only
+    backend : {"auto", "numba", "numpy"}, keyword-only
         ``"numba"``: one compiled call per physics step for all feet of all robots
-        (:mod:`.compiled`; the mud and closed-form feet), equal to the numpy coupling to
-        round-off and some twenty times faster; ``"numpy"``: any terrain and foot.
+        (:mod:`.compiled`; the mud and feet with a surface), equal to the numpy coupling to
+        round-off and some twenty times faster, compiled once per machine (about 15 s;
+        numba's disk cache loads it in a new process); ``"numpy"``: any terrain and foot,
+        the reference the tests compare with; ``"auto"`` (default): ``"numba"`` where it
+        applies.
+    floor : {"warn", "below", "keep"}, keyword-only
+        A floor geom at or above the mud's surface (a plane, or a box at least 1 m wide,
+        welded to the world; gymnasium's models have one at z = 0) carries the feet in
+        place of the mud: ``"warn"`` says so, ``"below"`` lowers it to
+        :data:`~.options.BED_DEPTH` (0.5 m) under the surface, a rigid bed (the model is
+        changed in place), ``"keep"`` keeps it quietly.
 
     Warns
     -----
     PlausibilityWarning
-        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset).
+        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset);
+        a floor at or above the surface (``floor="warn"``).
 
     Raises
     ------
     MudrftError
+        At construction, for gravity not along -z (the mud's depth is measured along -z).
         From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
         which MuJoCo answers with a silent reset) or the wrench is not finite.
     """
@@ -129,7 +151,7 @@ class MudBatch:
     def __init__(
         self,
         model: mujoco.MjModel,
-        bodies: Sequence[str],
+        bodies: str | int | Sequence[str | int],
         mud: Mud | Terrain,
         *,
         n: int = 1,
@@ -142,17 +164,18 @@ class MudBatch:
         mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
-        backend: str = "numpy",
+        backend: str = "auto",
         lookahead: bool = False,
+        floor: str = "warn",
     ) -> None:
         mj = _mujoco()
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead,
+            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead, floor=floor,
         )  # fmt: skip
-        bodies, feet_list = opts.bodies, opts.feet
+        feet_list = opts.feet
         n = check_count("n", n)
         self.model = model
         self._mj = mj
@@ -170,19 +193,21 @@ class MudBatch:
         self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
         self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
-        cache: dict[str | int, Foot] = {}
+        cache: dict[object, Foot] = {}
         placed = []
-        for b, f, g in zip(bodies, feet_list, opts.geoms, strict=True):
+        for b, f, g in zip(opts.bodies, feet_list, opts.geoms, strict=True):
             bf = attached_foot(model, b, f, resolution=opts.resolution, geom=g)
-            key = repr(bf.foot) if f is None else id(f)
-            foot = (
-                cache.setdefault(key, bf.foot) if f is None and _hashable_repr(bf.foot) else bf.foot
-            )
-            placed.append(BodyFoot(**{**bf.__dict__, "foot": foot}))
+            if f is None and _hashable_repr(bf.foot):
+                up = None if bf.upright is None else np.asarray(bf.upright).tobytes()
+                bf = BodyFoot(**{**bf.__dict__, "foot": cache.setdefault((repr(bf.foot), up, bf.ball), bf.foot)})  # fmt: skip
+            placed.append(bf)
         self.bodies: tuple[BodyFoot, ...] = tuple(placed)
+        if opts.auto:
+            logger.info("feet='auto' chose:\n  %s", "\n  ".join(self.feet))
         self._ids = np.array([b.body_id for b in self.bodies])
         self._roots = np.array(model.body_rootid)[self._ids]
-        self._tip = np.stack([b.tip for b in self.bodies])
+        self._ball = np.array([b.ball for b in self.bodies])
+        self._tip = np.stack([coupled_tip(b) for b in self.bodies])
         self._fwd = np.stack([b.forward for b in self.bodies])
         groups: dict[int, list[int]] = {}
         for i, placed_body in enumerate(self.bodies):
@@ -191,6 +216,8 @@ class MudBatch:
         self._timestep = check_timestep(model)  # reset checks again if it changed (D123)
         if not self.implicit:
             check_explicit_step(model, self.bodies, self.terrain)
+        else:
+            check_spring_step(model, self.bodies)
         nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))
@@ -202,10 +229,13 @@ class MudBatch:
         self._has_prev = False
         self._jac = np.zeros((nb, 6, model.nv))
         self._minv_jt = np.zeros((nb, 6, model.nv))
-        self._warnings = np.zeros(self.n, dtype=np.int64)
-        self._warn: list[mujoco.MjWarningStat] = []
-        if backend not in ("numpy", "numba"):
-            raise MudrftError(f"backend must be 'numpy' or 'numba', got {backend!r}")
+        # per robot MuJoCo's counters of a bad qpos, qvel and qacc (it resets such a state)
+        self._warn: list[tuple[mujoco.MjWarningStat, ...]] = []
+        self._warnings: list[list[int]] = []
+        if backend not in ("auto", "numpy", "numba"):
+            raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
+        if backend == "auto":
+            backend = "numpy" if _not_compilable(self.terrain, self.bodies) else "numba"
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
         if backend == "numba":
@@ -217,6 +247,11 @@ class MudBatch:
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
+
+    @property
+    def feet(self) -> tuple[str, ...]:
+        """What each coupled body's foot is: its body, geoms and foot, one line each."""
+        return tuple(describe(self.model, b) for b in self.bodies)
 
     @property
     def last(self) -> MudContact | None:
@@ -256,15 +291,17 @@ class MudBatch:
         self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
     ) -> tuple[ChannelGeometry, FloatArray]:
         groups = [
-            (tri, up, idx) for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
+            (tri, up, idx, bool(self._ball[idx[0]]))
+            for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
-        bare = [i for (tri, _, idx) in groups if tri is None for i in idx]
+        bare = [i for (tri, _, idx, _) in groups if tri is None for i in idx]
         low = None
         if bare:  # feet without a surface act at the lowest point of their geom
             low = tip.copy()
             low[:, bare] = lowest_points(
                 [self.bodies[i] for i in bare], X[:, bare], R[:, bare], tip[:, bare]
             )
+        X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
     # -- public API -------------------------------------------------------------------
@@ -285,10 +322,15 @@ class MudBatch:
         self._has_prev = False
         self._wv_prev[:] = 0.0
         self._tank[:] = 0.0
-        mj_bad = int(mj.mjtWarning.mjWARN_BADQACC)
-        self._warn = [d.warning[mj_bad] for d in datas]
-        self._warnings = np.array([w.number for w in self._warn], dtype=np.int64)
+        W = mj.mjtWarning
+        bad = [int(w) for w in (W.mjWARN_BADQPOS, W.mjWARN_BADQVEL, W.mjWARN_BADQACC)]
+        # MuJoCo's reset of a bad state clears its counters, then counts 1: the coupling
+        # watches them from 0, and clears them again when it has raised
+        self._warn = [tuple(d.warning[k] for k in bad) for d in datas]
+        self._warnings = [[0, 0, 0] for _ in datas]
+        self._clear_warnings()
         self.last = None
+        self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
         if self._compiled is not None:
@@ -352,7 +394,10 @@ class MudBatch:
         Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
         does all three.
         """
-        return self._apply_now(self._check(datas))
+        datas = self._check(datas)
+        if self._warn:
+            self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
+        return self._apply_now(datas)
 
     def _apply_now(self, datas: list[mujoco.MjData]) -> MudContact:  # apply(): reading ahead (D162)
         return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
@@ -551,12 +596,21 @@ class MudBatch:
         self._loop(nstep)
         return self.last if contact else None
 
+    def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
+        for ws, seen in zip(self._warn, self._warnings, strict=True):
+            for w in ws:
+                w.number = 0
+            seen[:] = [0, 0, 0]
+
     def _check_diverged(self, datas: list[mujoco.MjData]) -> None:
-        """Raise where MuJoCo met bad accelerations this step (it resets such a state)."""
-        for i, w in enumerate(self._warn):
-            if w.number != self._warnings[i]:
-                self._warnings[i] = w.number
-                raise diverged_error(i, datas[i], self.last)
+        """Raise where MuJoCo met a non-finite qpos or qvel, or bad accelerations, this step
+        (it resets such a state and only prints a warning)."""
+        for i, ws in enumerate(self._warn):
+            for kind, w in enumerate(ws):
+                if w.number != self._warnings[i][kind]:
+                    self._clear_warnings()
+                    t = self.time_steps * float(self._opt.timestep)
+                    raise diverged_error(i, kind, w.lastinfo, t, self.last)
 
 
 def _hashable_repr(foot: Foot) -> bool:

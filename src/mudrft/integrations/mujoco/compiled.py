@@ -43,10 +43,10 @@ from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_heigh
 from ...terrains.rows import N_STATE, STATE_IN_MUD
 from .compiled_feet import _mud_force, _nudged_force, _upright_area
 from .implicit import secant_steps
-from .linalg import _borrow, _carve, _jacobian, _ld_solve, _ptr, _robot_step, carray
+from .linalg import _borrow, _carve, _iptr, _jacobian, _ld_solve, _ptr, _robot_step, carray
 from .pose import channel_weights
 
-__all__ = ["N_OUT", "WORK_FIXED", "coupling_kernel", "work_size"]
+__all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -157,7 +157,8 @@ def _kernel(
 
     Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
     ximat, cvel, subtree_com, cdof, qLD, qLDiagInv, xfrc_applied; ``sizes`` = nbody, nv,
-    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root), tip/forward in the body frame,
+    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
+    forward in the body frame,
     posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
@@ -180,7 +181,7 @@ def _kernel(
     # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest.
     # They and the arrays below are borrowed views (:func:`.linalg._borrow`): no reference
     # count to update on each view the loops take, nor numba's reshape helper per view;
-    # ``p`` of :func:`_kernel_packed` keeps the memory alive for the call.
+    # the caller of :func:`_kernel_packed` keeps the memory alive for the call.
     ntri = tri_b.shape[0]
     wa = work.ctypes.data
     FJ = _carve(wa, 0, (nb, 6, nv))
@@ -247,7 +248,7 @@ def _kernel(
     E[:, :] = 0.0
     bad = 0
     for k in range(n_rob):
-        xpos = carray(_ptr(addr[k, 0]), (nbody, 3))
+        xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
         xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
         xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
         ximat = carray(_ptr(addr[k, 3]), (nbody, 9))
@@ -275,19 +276,31 @@ def _kernel(
             fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
             h = max(math.hypot(fw0, fw1), 1e-12)
             c, s = fw0 / h, fw1 / h
-            # the posed foot in the yaw frame (origin: center of mass horizontally, surface)
+            # the posed foot in the yaw frame (origin: center of mass horizontally, surface);
+            # a ball's triangles are upright about its center (``tip``) in every pose
+            ball = bodies[j, 2] != 0
             for i in range(3):
-                M[0, i] = c * R[i] + s * R[3 + i]
-                M[1, i] = -s * R[i] + c * R[3 + i]
-                M[2, i] = R[6 + i]
-            ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
+                if ball:
+                    M[0, i], M[1, i], M[2, i] = 0.0, 0.0, 0.0
+                    M[i, i] = 1.0
+                else:
+                    M[0, i] = c * R[i] + s * R[3 + i]
+                    M[1, i] = -s * R[i] + c * R[3 + i]
+                    M[2, i] = R[6 + i]
+            if ball:
+                ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
+            else:
+                ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
             sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
             _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
             depth = max(-geo[41], 0.0)
             upj = tri_up[up_adr[j] : up_adr[j + 1]]
-            _upright_area(upj, depth, aup)
-            for q in range(3):
-                ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
+            if ball:
+                ratio[0], ratio[1], ratio[2] = 1.0, 1.0, 1.0
+            else:
+                _upright_area(upj, depth, aup)
+                for q in range(3):
+                    ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
             # channel points relative to the center of mass, rows b_c, channel velocities
             E[0, 0], E[0, 1], E[1, 0], E[1, 1], E[2, 2] = c, s, -s, c, 1.0
             for q in range(3):
@@ -473,18 +486,65 @@ def work_size(nv: int, ntri: int, nb: int) -> int:
     return 6 * ntri + WORK_FIXED + nb * (12 * nv + 118) + 72 * nb * nb
 
 
-def _kernel_packed(p: Any) -> int:  # p: a numba jitclass instance, its class made at run time
-    """:func:`_kernel` on the arrays of one :func:`.backend.packed_arguments` instance."""
+#: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
+ARGS = (
+    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
+    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
+    ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
+    ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
+    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
+    ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
+    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 1),
+)  # fmt: skip
+#: Where each argument's address and shape start in the packed array (:func:`pack`).
+OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
+
+
+def pack(arrays: list[Any]) -> IndexArray:
+    """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array: each one's
+    address and shape. One small array costs numba a fraction of a microsecond to pass,
+    where 29 arrays cost 2.5-4.5 us (D68b), and the kernel that takes it is cached on disk.
+    The caller keeps the arrays alive while the kernel may run."""
+    out: list[int] = []
+    for a in arrays:
+        out += [int(a.ctypes.data), *a.shape]
+    return np.array(out, dtype=np.int64)
+
+
+def _f1(p: IndexArray, k: int) -> FloatArray:
+    return carray(_ptr(p[k]), (p[k + 1],))  # type: ignore[call-arg]
+
+
+def _f2(p: IndexArray, k: int) -> FloatArray:
+    return carray(_ptr(p[k]), (p[k + 1], p[k + 2]))  # type: ignore[call-arg]
+
+
+def _f3(p: IndexArray, k: int) -> FloatArray:
+    return carray(_ptr(p[k]), (p[k + 1], p[k + 2], p[k + 3]))  # type: ignore[call-arg]
+
+
+def _i1(p: IndexArray, k: int) -> IndexArray:
+    return carray(_iptr(p[k]), (p[k + 1],))  # type: ignore[call-arg]
+
+
+def _i2(p: IndexArray, k: int) -> IndexArray:
+    return carray(_iptr(p[k]), (p[k + 1], p[k + 2]))  # type: ignore[call-arg]
+
+
+def _kernel_packed(p: IndexArray) -> int:
+    """:func:`_kernel` on the arrays packed by :func:`pack`."""
+    o = OFFSETS
     return _kernel(
-        p.addr, p.sizes, p.model_i, p.dof_parentid, p.rownnz, p.rowadr, p.colind, p.mass,
-        p.inertia, p.bodies, p.tip, p.fwd, p.tri_adr, p.tri_b, p.up_adr, p.tri_up, p.consts,
-        p.cfg, p.geom, p.morph, p.opts, p.mud, p.fst, p.odo, p.tw_prev, p.wv_prev, p.tank, p.out,
-        p.work,
+        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _i1(p, o[3]), _i1(p, o[4]), _i1(p, o[5]),
+        _i1(p, o[6]), _f1(p, o[7]), _f2(p, o[8]), _i2(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
+        _i1(p, o[12]), _f3(p, o[13]), _i1(p, o[14]), _f2(p, o[15]), _f2(p, o[16]),
+        _f2(p, o[17]), _f2(p, o[18]), _f2(p, o[19]), _f1(p, o[20]), _f3(p, o[21]),
+        _f3(p, o[22]), _f3(p, o[23]), _f3(p, o[24]), _f3(p, o[25]), _f1(p, o[26]),
+        _f3(p, o[27]), _f1(p, o[28]),
     )  # fmt: skip
 
 
 def coupling_kernel() -> Any:
-    """The compiled :func:`_kernel` (numba, :func:`mudrft._jit.jit`), taking the arrays
-    packed by :func:`.backend.pack_arguments`. Not cached on disk: the kernel reads MuJoCo's
-    memory through addresses known at run time."""
-    return jit(_kernel_packed, cache=False)
+    """The compiled :func:`_kernel` (numba, :func:`mudrft._jit.jit`, cached on disk), taking
+    the arrays packed by :func:`pack`."""
+    return jit(_kernel_packed)

@@ -29,7 +29,11 @@ class MudCoupling(MudBatch):
     """
 
     def __init__(
-        self, model: mujoco.MjModel, bodies: Sequence[str], mud: Mud | Terrain, **kw: Any
+        self,
+        model: mujoco.MjModel,
+        bodies: str | int | Sequence[str | int],
+        mud: Mud | Terrain,
+        **kw: Any,
     ) -> None:
         if "n" in kw:
             raise MudrftError("MudCoupling couples one MjData; use MudBatch(n=...) for many")
@@ -67,7 +71,7 @@ class MudCoupling(MudBatch):
 
 
 def attach(
-    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | Terrain, **kw: Any
+    model: mujoco.MjModel, bodies: str | int | Sequence[str | int], mud: Mud | Terrain, **kw: Any
 ) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
 
@@ -92,11 +96,16 @@ def attach(
     >>> bool(out.depth[0] > 0 and out.force[0, 2] > 0)
     True
     """
-    return MudCoupling(model, [bodies] if isinstance(bodies, str) else bodies, mud, **kw)
+    return MudCoupling(model, bodies, mud, **kw)
 
 
 def attach_batch(
-    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | Terrain, *, n: int, **kw: Any
+    model: mujoco.MjModel,
+    bodies: str | int | Sequence[str | int],
+    mud: Mud | Terrain,
+    *,
+    n: int,
+    **kw: Any,
 ) -> MudBatch:
     """Attach mud to named bodies of ``n`` robots of one model; see :class:`MudBatch`."""
-    return MudBatch(model, [bodies] if isinstance(bodies, str) else bodies, mud, n=n, **kw)
+    return MudBatch(model, bodies, mud, n=n, **kw)

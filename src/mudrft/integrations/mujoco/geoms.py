@@ -10,8 +10,9 @@ geom                          mudrft foot
 box                           ``Flat`` (its horizontal side closest to the world x axis
                               is the foot's width)
 horizontal capsule, cylinder  ``SemiCylinder`` along the geom axis (capsule caps neglected)
-sphere                        ``SemiSphere``
+sphere                        ``SemiSphere``, stepped as a full ball (upright in every pose)
 mesh                          ``MeshFoot`` of the mesh, its lowest point at the tip
+several as low as the lowest  ``MeshFoot`` of the convex hull of their union
 ============================  ==========================================================
 
 :func:`_support` gives the lowest point of a geom in any pose, the depth the coupling
@@ -64,17 +65,14 @@ def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) ->
     supported = [g for g in geoms if int(model.geom_type[g]) in _SUPPORTED_GEOMS(mj)]
     colliding = [g for g in supported if _collides(model, g)]
     for g in colliding or supported:
-        t = int(model.geom_type[g])
-        z = float(ref.geom_xpos[g, 2]) - float(model.geom_rbound[g])
-        if t != int(mj.mjtGeom.mjGEOM_MESH):
-            z = _support(model, ref, g)[2]
+        z = _support(model, ref, g)[2]
         if z < zbest:
             best, zbest = g, z
     return best
 
 
 #: Colliding geoms whose lowest points lie within this height of the foot geom's reach
-#: equally low [m]: the mud acts on one of them only, so the choice is the user's (D124).
+#: equally low [m]: they are one foot, the convex hull of their union.
 TIED_HEIGHT = 1e-3
 
 
@@ -139,6 +137,45 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
         "cannot turn into a foot; "
         "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
     )
+
+
+def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
+    """Points on the surface of geom ``g`` in pose ``d`` (world) [m] whose convex hull is
+    the geom: a box's corners, a mesh's vertices, a sphere, capsule or cylinder meshed."""
+    import trimesh
+
+    mj = _mujoco()
+    c, R = np.array(d.geom_xpos[g]), np.array(d.geom_xmat[g]).reshape(3, 3)
+    s, t = np.array(model.geom_size[g], dtype=float), int(model.geom_type[g])
+    G = mj.mjtGeom
+    if t == int(G.mjGEOM_BOX):
+        local = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * s
+    elif t == int(G.mjGEOM_SPHERE):
+        local = trimesh.creation.icosphere(subdivisions=1, radius=s[0]).vertices
+    elif t == int(G.mjGEOM_CAPSULE):
+        local = trimesh.creation.capsule(height=2 * s[1], radius=s[0], count=[8, 8]).vertices
+    elif t == int(G.mjGEOM_CYLINDER):
+        local = trimesh.creation.cylinder(radius=s[0], height=2 * s[1], sections=12).vertices
+    else:
+        local = _mesh_vertices(model, g)
+    return np.asarray(c + np.asarray(local, dtype=float) @ R.T, dtype=float)
+
+
+def hull_foot(
+    points: NDArray[np.float64], fwd_w: NDArray[np.float64]
+) -> tuple[feet.MeshFoot, NDArray[np.float64], NDArray[np.float64]]:
+    """The convex hull of world ``points`` [m] as a foot: a ``MeshFoot`` in the foot's
+    frame (x along ``fwd_w``, z up, tip at the origin), its tip in the world [m] and the
+    hull's vertices in the world [m]. Mud fills no gap between the geoms of one foot."""
+    import trimesh
+
+    hull = trimesh.convex.convex_hull(points)
+    v = np.asarray(hull.vertices, dtype=float)
+    zmin = v[:, 2].min()
+    low = v[v[:, 2] <= zmin + 1e-6 * max(float(np.ptp(v)), 1e-9)]
+    tip = np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), 0.5 * (low[:, 1].min() + low[:, 1].max()), zmin])  # fmt: skip
+    frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
+    return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip, v
 
 
 def _mesh_vertices(model: mujoco.MjModel, g: int) -> NDArray[np.float64]:

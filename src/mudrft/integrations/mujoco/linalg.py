@@ -209,6 +209,17 @@ def _ptr(typingctx: Any, address: Any) -> Any:
     return sig, codegen
 
 
+@intrinsic  # type: ignore[misc]
+def _iptr(typingctx: Any, address: Any) -> Any:
+    """An integer address as a numba ``int64*`` (compiled code only)."""
+    sig = nt.CPointer(nt.int64)(nt.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return builder.inttoptr(args[0], context.get_value_type(nt.CPointer(nt.int64)))
+
+    return sig, codegen
+
+
 carray = numba.carray
 
 
@@ -218,11 +229,11 @@ def _borrow(a: FloatArray) -> FloatArray:
     to a helper) skips numba's atomic reference updates (about 2.5 us of the walking
     biped's step, D68b). The caller keeps ``a`` alive while the view is used (the kernel's
     packed argument does, for the call)."""
-    return carray(_ptr(a.ctypes.data), a.shape)
+    return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 
 
 def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
     """A borrowed float64 view of ``shape`` starting ``offset`` floats after the address
     ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
     caller keeps the memory alive)."""
-    return carray(_ptr(base + 8 * offset), shape)
+    return carray(_ptr(base + 8 * offset), shape)  # type: ignore[call-arg]

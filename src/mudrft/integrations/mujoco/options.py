@@ -8,16 +8,19 @@ ignored).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..._typing import FloatArray
 from ..._validation import (
     MudrftError,
     check_number,
     nonnegative_number,
     positive_number,
+    warn_plausibility,
 )
 
 if TYPE_CHECKING:
@@ -32,7 +35,7 @@ BOTTOM_STIFFNESS, BOTTOM_DAMPING = 1e5, 2e3
 class AttachOptions(NamedTuple):
     """The checked options: body names, one foot (or None) per body, and the rest in SI."""
 
-    bodies: list[str]
+    bodies: list[int]  # body ids
     feet: list[Any]
     surface: float  # [m]
     bottom: float | None  # [m]
@@ -41,8 +44,10 @@ class AttachOptions(NamedTuple):
     implicit: bool
     mobility: str
     resolution: int
-    geoms: list[str | int | None]  # the foot's geom of each body, None: derived (D124)
+    geoms: list[Any]  # the foot's geom(s) of each body, None: derived (D124)
     lookahead: bool = False  # read the other forces' acceleration ahead (D162)
+    floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
+    auto: bool = False  # the bodies were found by feet="auto"
 
 
 def check_count(name: str, value: object) -> int:
@@ -68,6 +73,7 @@ def check_attach_options(
     resolution: object,
     foot_geoms: object = None,
     lookahead: object = False,
+    floor: object = "warn",
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
@@ -75,16 +81,24 @@ def check_attach_options(
 
     if not isinstance(model, _mujoco().MjModel):
         raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
-    names = [bodies] if isinstance(bodies, str) else bodies
-    if not isinstance(names, Sequence) or not all(isinstance(b, str) for b in names):
-        raise MudrftError(f"bodies must be a body name or a list of names, got {bodies!r}")
-    names = list(names)
-    if not names:
+    check_gravity(model)
+    if floor not in FLOOR_CHOICES:
+        raise MudrftError(f"floor must be one of {FLOOR_CHOICES}, got {floor!r}")
+    from .placement import auto_feet, resolve_body
+
+    auto = isinstance(bodies, str) and bodies == "auto"
+    items = auto_feet(model) if auto else [bodies] if isinstance(bodies, (str, int)) else bodies
+    if not isinstance(items, Sequence) or isinstance(items, str):
+        raise MudrftError(
+            "bodies must be 'auto', a body's or geom's name or a body's id, or a list of them, "
+            f"got {bodies!r}"
+        )
+    if not items:
         raise MudrftError("bodies must name at least one body, got an empty list")
+    resolved = [resolve_body(model, b) for b in items]
+    names = [b for b, _ in resolved]
     if len(set(names)) != len(names):
-        raise MudrftError(f"bodies must be distinct, got {names}")
-    if "world" in names:
-        raise MudrftError("bodies cannot include 'world': the mud acts on a body that moves")
+        raise MudrftError(f"bodies must be distinct bodies, got {list(items)}")
     if feet is None or hasattr(feet, "contact_force"):
         feet_list = [feet] * len(names)
     else:
@@ -111,8 +125,8 @@ def check_attach_options(
             "bottom_stiffness and bottom_damping shape the hard bottom; give its depth with "
             "bottom= (without it they would be ignored)"
         )
-    return AttachOptions(
-        geoms=_foot_geoms(foot_geoms, names),
+    opts = AttachOptions(
+        geoms=_foot_geoms(model, foot_geoms, resolved),
         bodies=names,
         feet=feet_list,
         surface=check_number("surface", surface, unit="m"),
@@ -123,26 +137,128 @@ def check_attach_options(
         mobility=str(mobility),
         resolution=check_count("resolution", resolution),
         lookahead=bool(lookahead),
+        floor=str(floor),
+        auto=auto,
     )
+    check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
+    return opts
 
 
-def _foot_geoms(foot_geoms: object, names: list[str]) -> list[str | int | None]:
-    """``foot_geoms``, a mapping ``{body: geom name or id}``, as one entry per body."""
+def check_gravity(model: mujoco.MjModel) -> None:
+    """Refuse a model whose gravity is not along -z: the mud's surface is the plane z =
+    ``surface`` and its depth is measured along -z, so under any other gravity a robot falls
+    through mud that reports no depth. Zero gravity (a kinematic model) is accepted."""
+    g = np.asarray(model.opt.gravity, dtype=float)
+    norm = float(np.linalg.norm(g))
+    if norm > 0.0 and (g[2] >= 0.0 or math.hypot(g[0], g[1]) > 1e-6 * norm):
+        raise MudrftError(
+            f"the model's gravity must point along -z (the mud's surface is horizontal, its "
+            f"depth measured along -z), got {np.round(g, 6).tolist()} m/s^2; set "
+            '<option gravity="0 0 -9.81"/> and turn the robot instead'
+        )
+
+
+#: What ``attach(floor=...)`` does with a floor at or above the mud's surface.
+FLOOR_CHOICES = ("warn", "below", "keep")
+#: Where ``floor="below"`` moves such a floor: its top this far under the surface [m], a
+#: rigid bed deeper than the paper's feet sink at any water content (docs/guide/mujoco.md).
+BED_DEPTH = 0.5
+#: A box welded to the world is a floor when it is at least this wide in x and y [m].
+FLOOR_WIDTH = 1.0
+
+
+def floor_geoms(model: mujoco.MjModel) -> list[tuple[int, float]]:
+    """The floors of a model and the height of their tops [m]: colliding geoms welded to
+    the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    d = mj.MjData(model)
+    mj.mj_kinematics(model, d)
+    out = []
+    for g in range(model.ngeom):
+        collides = int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
+        if not collides or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
+            continue
+        t, R = int(model.geom_type[g]), np.asarray(d.geom_xmat[g]).reshape(3, 3)
+        if t == int(mj.mjtGeom.mjGEOM_PLANE) and R[2, 2] > 1.0 - 1e-9:
+            out.append((g, float(d.geom_xpos[g, 2])))
+        elif t == int(mj.mjtGeom.mjGEOM_BOX):
+            half = np.abs(R) @ np.asarray(model.geom_size[g], dtype=float)  # world half-extents
+            if min(half[0], half[1]) >= FLOOR_WIDTH / 2:
+                out.append((g, float(d.geom_xpos[g, 2] + half[2])))
+    return out
+
+
+def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
+    """Find a floor at or above the mud's surface (gymnasium's and dm_control's models have
+    one at z = 0): MuJoCo's contact with it would carry the feet the mud should carry.
+    ``floor="warn"`` says so, ``"below"`` lowers it to :data:`BED_DEPTH` under the surface
+    (the model is changed in place), ``"keep"`` leaves it."""
+    if floor == "keep":
+        return
+    for g, top in floor_geoms(model):
+        if top < surface - 1e-9:
+            continue
+        name = model.geom(g).name
+        label = f"geom {name!r}" if name else f"geom {g}"
+        if floor == "below":  # lowered along -z, in its (static) body's frame
+            b = int(model.geom_bodyid[g])
+            R = np.eye(3) if b == 0 else _body_rotation(model, b)
+            model.geom_pos[g] -= R.T @ np.array([0.0, 0.0, top - (surface - BED_DEPTH)])
+            model.geom_sameframe[g] = 0  # MuJoCo would place it at its body's frame still
+            continue
+        warn_plausibility(
+            f"{label} is a floor at z = {top:.4g} m, at or above the mud's surface (z = "
+            f"{surface:.4g} m): MuJoCo's contact with it carries the feet the mud should "
+            f"carry; pass floor='below' to move it {BED_DEPTH:g} m under the surface (a rigid "
+            "bed), remove it from the model, or pass floor='keep' to keep it"
+        )
+
+
+def _foot_geoms(
+    model: mujoco.MjModel, foot_geoms: object, resolved: list[tuple[int, int | None]]
+) -> list[Any]:
+    """The foot's geom(s) of each body: from ``foot_geoms``, a mapping ``{body: geom, or a
+    list of geoms}`` (bodies and geoms by name or id), else the geom named in ``bodies``."""
+    ids = [b for b, _ in resolved]
+    out: list[Any] = [g for _, g in resolved]
     if foot_geoms is None:
-        return [None] * len(names)
+        return out
     if not isinstance(foot_geoms, Mapping):
+        first = model.body(ids[0]).name or ids[0]
         raise MudrftError(
             "foot_geoms must be a mapping {body: geom name}, e.g. "
-            f"foot_geoms={{{names[0]!r}: 'foot_geom'}}, got {foot_geoms!r}"
+            f"foot_geoms={{{first!r}: 'foot_geom'}}, got {foot_geoms!r}"
         )
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
     for body, geom in foot_geoms.items():
-        if body not in names:
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else body
+        if bid not in ids:
+            names = [model.body(i).name or i for i in ids]
             raise MudrftError(
                 f"foot_geoms names body {body!r}, which is not coupled; the bodies are {names}"
             )
-        if isinstance(geom, bool) or not isinstance(geom, (str, int, np.integer)):
-            raise MudrftError(f"foot_geoms[{body!r}] must be a geom's name (or id), got {geom!r}")
-    return [foot_geoms.get(b) for b in names]
+        many = isinstance(geom, Sequence) and not isinstance(geom, str)
+        for g in geom if many else [geom]:  # type: ignore[union-attr]
+            if isinstance(g, bool) or not isinstance(g, (str, int, np.integer)):
+                raise MudrftError(
+                    f"foot_geoms[{body!r}] must be a geom's name (or id), or a list of them, "
+                    f"got {geom!r}"
+                )
+        out[ids.index(int(bid))] = list(geom) if many else geom  # type: ignore[call-overload]
+    return out
+
+
+def _body_rotation(model: mujoco.MjModel, body: int) -> FloatArray:
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    d = mj.MjData(model)
+    mj.mj_kinematics(model, d)
+    return np.asarray(d.xmat[body]).reshape(3, 3)
 
 
 def check_data(model: mujoco.MjModel, data: object) -> None:

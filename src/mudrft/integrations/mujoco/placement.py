@@ -18,19 +18,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._typing import FloatArray, IndexArray
-from ..._validation import MudrftError, check_finite, warn_plausibility
+from ..._validation import MudrftError, check_finite, plain, warn_plausibility
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
 from .geoms import (
     _SUPPORTED_GEOMS,
-    TIED_HEIGHT,
+    _collides,
     _derived_foot,
     _lowest_geom,
     _mesh_vertices,
     _support,
     _tied_geoms,
     geom_label,
+    geom_points,
     geom_type_name,
+    hull_foot,
 )
 from .pose import POSE_RESOLUTION, foot_triangles
 
@@ -39,7 +41,18 @@ if TYPE_CHECKING:
 
     from ...feet.base import Foot
 
-__all__ = ["BodyFoot", "attached_foot", "body_foot", "group_triangles", "lowest_points"]
+__all__ = [
+    "BodyFoot",
+    "attached_foot",
+    "auto_feet",
+    "body_foot",
+    "coupled_tip",
+    "coupled_triangles",
+    "describe",
+    "group_triangles",
+    "lowest_points",
+    "resolve_body",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,6 +89,11 @@ class BodyFoot:
         The same triangles in the body frame [m].
     geom : int
         MuJoCo id of the geom the foot stands for (-1: none, the tip is a point).
+    geoms : tuple of int
+        Every geom of the foot (several: their convex hull is the foot).
+    ball : bool
+        A sphere geom's derived foot: the coupling steps it as a full ball, its triangles
+        upright about :attr:`center` whatever the body's pose (the same from every angle).
     """
 
     body: str
@@ -91,6 +109,13 @@ class BodyFoot:
     upright: NDArray[np.float64] | None = None
     triangles: NDArray[np.float64] | None = None
     geom: int = -1
+    geoms: tuple[int, ...] = ()
+    ball: bool = False
+
+
+#: Mesh resolution of a ball foot (72 facets for the hemisphere, against 288 at the
+#: coupling's :data:`~.pose.POSE_RESOLUTION`): it places the channels, not the force.
+BALL_RESOLUTION = 3
 
 
 def _reference_pose(model: mujoco.MjModel) -> mujoco.MjData:
@@ -105,6 +130,34 @@ def _body_geoms(model: mujoco.MjModel, body_id: int) -> list[int]:
     return list(range(adr, adr + num)) if adr >= 0 else []
 
 
+def resolve_body(model: mujoco.MjModel, item: object) -> tuple[int, int | None]:
+    """The body a foot is named by, and the geom when a geom is named: a body's name, a
+    geom's name (its body, with that geom as the foot) or a body's id (anonymous bodies)."""
+    mj = _mujoco()
+    if isinstance(item, str):
+        bid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, item))
+        gid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, item)) if bid < 0 else -1
+        if bid < 0 and gid < 0:
+            names = [model.body(i).name or i for i in range(1, model.nbody)]
+            raise MudrftError(
+                f"{item!r} is neither a body nor a geom of the model; its bodies are {names} "
+                "(a body's id reaches one without a name)"
+            )
+        bid = bid if bid >= 0 else int(model.geom_bodyid[gid])
+        if bid == 0:
+            raise MudrftError(
+                f"bodies cannot include the world ({item!r}): the mud acts on a body that moves"
+            )
+        return bid, (gid if gid >= 0 else None)
+    if isinstance(item, bool) or not isinstance(item, (int, np.integer)):
+        raise MudrftError(
+            f"a foot is named by a body's or geom's name or a body's id, got {item!r}"
+        )
+    if not 0 < int(item) < model.nbody:
+        raise MudrftError(f"body id must be in [1, {model.nbody - 1}], got {int(item)}")
+    return int(item), None
+
+
 def body_foot(
     model: mujoco.MjModel,
     body: str | int,
@@ -112,7 +165,7 @@ def body_foot(
     *,
     tip: ArrayLike | None = None,
     resolution: int = POSE_RESOLUTION,
-    geom: str | int | None = None,
+    geom: str | int | Sequence[str | int] | None = None,
 ) -> BodyFoot:
     """Place a mudrft foot on a body of a MuJoCo model.
 
@@ -121,55 +174,44 @@ def body_foot(
     model : mujoco.MjModel
         The model.
     body : str or int
-        Body name or id.
+        Body name or id, or a geom's name (its body, that geom the foot).
     foot : Foot or None
         The foot; ``None`` derives it from the body's lowest geom (of those that collide,
-        when it has any; D113): box -> ``Flat``,
-        horizontal cylinder or capsule -> ``SemiCylinder`` (capsule caps neglected),
-        sphere -> ``SemiSphere``, mesh -> ``MeshFoot``.
+        when it has any; D113): box -> ``Flat``, horizontal cylinder or capsule ->
+        ``SemiCylinder`` (capsule caps neglected), sphere -> ``SemiSphere`` stepped as a
+        full ball (the same in every pose), mesh -> ``MeshFoot``. Colliding geoms as low
+        as it (within :data:`~.geoms.TIED_HEIGHT`) are one foot with it: the ``MeshFoot``
+        of the convex hull of their union.
     tip : array_like (3,) or None, keyword-only
-        Tip in the body frame [m]; default the lowest point of that geom in the
-        reference pose (the body origin when the body has no geom).
+        Tip in the body frame [m]; default the lowest point of the foot in the reference
+        pose (the body origin when the body has no geom).
     resolution : int, keyword-only
         Mesh resolution of a curved closed-form foot's triangles (:func:`~.pose.foot_triangles`).
-    geom : str, int or None, keyword-only
-        The body's geom that is the foot (name or id), when the lowest colliding one is not
-        (D124); it must belong to the body and be a box, sphere, capsule, cylinder or mesh.
+    geom : str, int, sequence of them, or None, keyword-only
+        The body's geom (name or id) that is the foot, or geoms whose union is, when the
+        lowest colliding ones are not (D124); box, sphere, capsule, cylinder or mesh.
 
     Returns
     -------
     BodyFoot
     """
     mj = _mujoco()
-    if isinstance(body, str):
-        bid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body))
-        if bid < 0:
-            gid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, body))
-            if gid >= 0:  # the natural mix-up: the foot geom's name for its body's
-                owner = model.body(int(model.geom_bodyid[gid])).name
-                raise MudrftError(
-                    f"{body!r} is a geom, not a body: the mud acts on the bodies named, and "
-                    f"its body is {owner!r} (to make this geom the foot, name the body and "
-                    f"the geom with foot_geoms={{{owner!r}: {body!r}}}; the foot is otherwise "
-                    "derived from the body's lowest colliding geom, or given with feet=)"
-                )
-            names = [model.body(i).name for i in range(model.nbody)]
-            raise MudrftError(f"body {body!r} is not in the model; bodies are {names}")
-    else:
-        bid = int(body)
-        if not 0 < bid < model.nbody:
-            raise MudrftError(f"body id must be in [1, {model.nbody - 1}], got {bid}")
-    name = model.body(bid).name
+    bid, named = resolve_body(model, body)
+    name = model.body(bid).name or f"body {bid}"
     ref = _reference_pose(model)
     Rb = np.array(ref.xmat[bid]).reshape(3, 3)
     xb = np.array(ref.xpos[bid])
     fwd_w = np.array([1.0, 0.0, 0.0])
-    g = (
-        _lowest_geom(model, ref, _body_geoms(model, bid))
-        if geom is None
-        else _named_geom(model, name, bid, geom)
-    )
-    if g < 0:
+    spec = geom if geom is not None else named
+    if spec is None:
+        g = _lowest_geom(model, ref, _body_geoms(model, bid))
+        geoms = [g, *_tied_geoms(model, ref, _body_geoms(model, bid), g)] if g >= 0 else []
+    else:
+        many = not isinstance(spec, (str, int, np.integer))
+        items = list(spec) if many and isinstance(spec, Sequence) else [spec]
+        geoms = [_named_geom(model, name, bid, x) for x in items]  # type: ignore[arg-type]
+    ball = False
+    if not geoms:
         if foot is None and _body_geoms(model, bid):
             found = ", ".join(
                 f"{repr(model.geom(i).name) if model.geom(i).name else f'geom {i}'} "
@@ -186,19 +228,25 @@ def body_foot(
             )
         kind, center, axes, size, pts = "tip", np.zeros(3), np.eye(3), np.zeros(3), np.zeros((0, 3))
         low_w = xb if tip is None else xb + Rb @ check_finite("tip", tip)
+    elif len(geoms) > 1:  # one foot of several geoms: their convex hull
+        hull, low_w, verts = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]), fwd_w)  # fmt: skip
+        foot = hull if foot is None else foot
+        kind, center, axes, size = "points", np.zeros(3), np.eye(3), np.zeros(3)
+        pts = (verts - xb) @ Rb
+        if tip is not None:
+            low_w = xb + Rb @ check_finite("tip", tip)
     else:
+        g = geoms[0]
+        t = int(model.geom_type[g])
         if foot is None:
             foot, fwd_w = _derived_foot(model, ref, g, fwd_w)
-        elif int(model.geom_type[g]) in (
-            int(mj.mjtGeom.mjGEOM_CAPSULE),
-            int(mj.mjtGeom.mjGEOM_CYLINDER),
-        ):
+            ball = t == int(mj.mjtGeom.mjGEOM_SPHERE)
+        elif t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
             a = np.array(ref.geom_xmat[g]).reshape(3, 3)[:, 2]
             if math.hypot(a[0], a[1]) > 0.5:
                 fwd_w = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
                 fwd_w = fwd_w if fwd_w[0] >= 0 else -fwd_w
         low_w = _support(model, ref, g)
-        t = int(model.geom_type[g])
         Rg = np.array(ref.geom_xmat[g]).reshape(3, 3)
         center = Rb.T @ (np.array(ref.geom_xpos[g]) - xb)
         axes = Rb.T @ Rg
@@ -214,6 +262,7 @@ def body_foot(
         pts = center + _mesh_vertices(model, g) @ axes.T if kind == "points" else np.zeros((0, 3))
         if tip is not None:
             low_w = xb + Rb @ check_finite("tip", tip)
+            ball = False
     if not hasattr(foot, "contact_force") or not hasattr(foot, "characteristic_length"):
         raise MudrftError(
             f"foot for body {name!r} must be a mudrft foot (mudrft.feet), got {type(foot).__name__}"
@@ -222,7 +271,9 @@ def body_foot(
     fwd_b = Rb.T @ fwd_w
     up_b = Rb.T @ np.array([0.0, 0.0, 1.0])
     frame = np.stack([fwd_b, np.cross(up_b, fwd_b), up_b], axis=-1)  # foot axes (columns)
-    upright = foot_triangles(foot, resolution=resolution)
+    # a ball's force is the closed form (its posed and upright areas are equal): its mesh
+    # only places the channels' points and moments, which a coarse mesh does as well
+    upright = foot_triangles(foot, resolution=min(resolution, BALL_RESOLUTION) if ball else resolution)  # fmt: skip
     tri_b = None if upright is None else tip_b + upright @ frame.T
     return BodyFoot(
         body=name,
@@ -237,7 +288,9 @@ def body_foot(
         points=pts,
         upright=upright,
         triangles=tri_b,
-        geom=int(g),
+        geom=int(geoms[0]) if geoms else -1,
+        geoms=tuple(int(g) for g in geoms),
+        ball=ball,
     )
 
 
@@ -327,11 +380,25 @@ def lowest_points(
     return low
 
 
+def coupled_tip(b: BodyFoot) -> FloatArray:
+    """The point of ``b``'s body the coupling follows [m]: the tip, or a ball's center."""
+    return np.asarray(b.center if b.ball else b.tip, dtype=float)
+
+
+def coupled_triangles(b: BodyFoot) -> FloatArray | None:
+    """The triangles the coupling poses [m]: in the body frame, or for a ball upright about
+    its center (:attr:`BodyFoot.ball`, in the foot's yaw frame whatever the body's pose)."""
+    if b.ball and b.upright is not None:
+        return np.asarray(b.upright, dtype=float) - np.array([0.0, 0.0, float(b.size[0])])
+    return None if b.triangles is None else np.asarray(b.triangles, dtype=float)
+
+
 def group_triangles(
     bodies: Sequence[BodyFoot], idx: IndexArray
 ) -> tuple[FloatArray | None, PreparedTriangles | None]:
-    """Body-frame triangles (nb_g, m, 3, 3) and the prepared foot-frame ones of a foot type."""
-    tri = [bodies[i].triangles for i in idx]
+    """Posed triangles (nb_g, m, 3, 3) (:func:`coupled_triangles`) and the prepared
+    foot-frame ones of a foot type."""
+    tri = [coupled_triangles(bodies[i]) for i in idx]
     if any(t is None for t in tri):
         return None, None
     return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
@@ -343,34 +410,78 @@ def attached_foot(
     foot: Foot | None,
     *,
     resolution: int,
-    geom: str | int | None = None,
+    geom: str | int | Sequence[str | int] | None = None,
 ) -> BodyFoot:
-    """:func:`body_foot` for a coupling: a body welded to the world warns (D113), and so
-    does a foot derived from one of several colliding geoms that reach equally low (D124).
+    """:func:`body_foot` for a coupling: a body welded to the world warns (D113).
 
     The mud's force on a body with no joint between it and the world moves nothing, so a
     coupling that attaches to one is most likely a mistake (the foot's body named instead
-    of the leg's, a joint missing from the model). The mud acts on one geom of a body; when
-    others reach as low (within :data:`~.geoms.TIED_HEIGHT`), which one was the user's to
-    say, with ``foot_geoms``. Arguments as :func:`body_foot`.
+    of the leg's, a joint missing from the model). Arguments as :func:`body_foot`.
     """
     placed = body_foot(model, body, foot, resolution=resolution, geom=geom)
-    if geom is None and placed.geom >= 0:
-        tied = _tied_geoms(
-            model, _reference_pose(model), _body_geoms(model, placed.body_id), placed.geom
-        )
-        if tied:
-            label = model.geom(placed.geom).name or placed.geom
-            others = ", ".join(geom_label(model, g, body=False) for g in tied)
-            warn_plausibility(
-                f"body {placed.body!r} has colliding geoms that reach as low as its foot, "
-                f"{geom_label(model, placed.geom, body=False)} (within {TIED_HEIGHT * 1e3:g} "
-                f"mm): {others}; the mud acts on one geom of a body, so name the foot's with "
-                f"foot_geoms={{{placed.body!r}: {label!r}}} (or another of them)"
-            )
     if int(model.body_weldid[placed.body_id]) == 0:
         warn_plausibility(
             f"body {placed.body!r} is welded to the world (no joint between it and the world): "
             "the mud's force on it moves nothing; attach the mud to a body that can move"
         )
     return placed
+
+
+#: ``feet="auto"`` keeps the limbs whose lowest point lies within this fraction of the
+#: model's height above the lowest limb's, in the reference pose: the feet, not the hands.
+AUTO_REACH = 0.25
+
+
+def auto_feet(model: mujoco.MjModel) -> list[int]:
+    """The foot bodies of a model, as ``feet="auto"`` finds them.
+
+    Each leaf of the kinematic tree (a body without children) names its limb; the limb's
+    foot is the nearest body up the limb that has a colliding geom of a supported type.
+    Of those, the feet are the ones whose lowest point in the reference pose (``qpos0``) lies
+    within :data:`AUTO_REACH` of the model's height (its colliding geoms, top to bottom)
+    above the lowest: a humanoid's hands hang higher than its feet.
+    """
+    mj = _mujoco()
+    ref = _reference_pose(model)
+    parents = set(int(p) for p in model.body_parentid[1:])
+    kinds = _SUPPORTED_GEOMS(mj)
+    low: dict[int, float] = {}
+    for leaf in (b for b in range(1, model.nbody) if b not in parents):
+        b = leaf
+        while b > 0:
+            geoms = [
+                g for g in _body_geoms(model, b)
+                if int(model.geom_type[g]) in kinds and _collides(model, g)
+            ]  # fmt: skip
+            if geoms:
+                if int(model.body_weldid[b]) != 0:  # a body that moves
+                    low[b] = float(min(_support(model, ref, g)[2] for g in geoms))
+                break
+            b = int(model.body_parentid[b])
+    if not low:
+        raise MudrftError(
+            "feet='auto' found no limb with a colliding box, sphere, capsule, cylinder or mesh "
+            "geom on a body that moves; name the feet (body or geom names, or body ids)"
+        )
+    moving = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] != 0]
+    top = max(float(ref.geom_xpos[g, 2] + model.geom_rbound[g]) for g in moving)
+    bottom = min(low.values())
+    return sorted(b for b, z in low.items() if z <= bottom + AUTO_REACH * (top - bottom))
+
+
+def describe(model: mujoco.MjModel, placed: BodyFoot) -> str:
+    """One line on a placed foot: its body, its geoms and the foot they became."""
+    label = repr(placed.body) if model.body(placed.body_id).name else "(no name)"
+    geoms = ", ".join(geom_label(model, g, body=False) + f" ({geom_type_name(model, g)})" for g in placed.geoms)  # fmt: skip
+    f = placed.foot
+    if placed.ball:
+        what = f"a ball of radius {plain(float(placed.size[0]))} m"
+    elif len(placed.geoms) > 1:
+        what = "the convex hull of their union"
+    else:
+        what = "its foot"
+    ext = ""
+    if placed.upright is not None:
+        span = np.ptp(np.asarray(placed.upright).reshape(-1, 3), axis=0)
+        ext = ", " + " x ".join(f"{float(v):.3g}" for v in span) + " m"
+    return f"body {label} (id {placed.body_id}): {geoms or 'no geom'} -> {what}, {type(f).__name__}{ext}"

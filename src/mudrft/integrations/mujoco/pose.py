@@ -167,7 +167,7 @@ def upright_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np
 
 
 def posed_channels(
-    groups: Sequence[tuple[FloatArray | None, PreparedTriangles | None, NDArray[np.int_]]],
+    groups: Sequence[tuple[FloatArray | None, PreparedTriangles | None, NDArray[np.int_], bool]],
     X: FloatArray,
     R: FloatArray,
     C: FloatArray,
@@ -182,13 +182,14 @@ def posed_channels(
 
     Parameters
     ----------
-    groups : sequence of (triangles, upright, idx)
+    groups : sequence of (triangles, upright, idx, ball)
         Per foot type: the triangles of its bodies in their body frames (nb_g, m, 3, 3)
         [m] and the prepared triangles of the foot in its own frame
         (:func:`mudrft.feet.surface.prepare_triangles`), or ``None`` for a foot without a
-        surface, and the indices of its bodies.
+        surface, the indices of its bodies, and whether they are balls (their triangles
+        upright in the yaw frame about ``X``, :func:`.placement.coupled_triangles`).
     X, R, C : ndarray (N, nb, 3), (N, nb, 3, 3), (N, nb, 3)
-        Body origins [m], orientations [-] and centers of mass [m].
+        Body origins (a ball's center) [m], orientations [-] and centers of mass [m].
     cs : ndarray (N, nb, 2)
         Cosine and sine of each foot's yaw [-].
     surface : float
@@ -213,7 +214,7 @@ def posed_channels(
     c, s = cs[..., 0], cs[..., 1]
     # the yaw frame: x_yaw = R_z(-psi) (x - origin); the same order of operations as the
     # compiled coupling, so that both see bit-identical positions (D68a)
-    for tri_b, upright, idx in groups:
+    for tri_b, upright, idx, ball in groups:
         ci, si = c[:, idx], s[:, idx]
         if tri_b is None or upright is None:
             assert low is not None
@@ -226,7 +227,7 @@ def posed_channels(
             area[:, idx] = 1.0
             continue
         Rg = R[:, idx]
-        M = np.stack(
+        M = np.broadcast_to(np.eye(3), Rg.shape) if ball else np.stack(
             [ci[..., None] * Rg[..., 0, :] + si[..., None] * Rg[..., 1, :],
              -si[..., None] * Rg[..., 0, :] + ci[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
             axis=-2,
@@ -237,10 +238,10 @@ def posed_channels(
         )
         t = matvec(M[:, :, None, None], tri_b[None]) + shift[:, :, None, None, :]
         g = channel_geometry(t)
-        depth = np.maximum(-g.low[..., 2], 0.0)
-        up = upright_area(upright, depth)
         area[:, idx], point[:, idx], inertia[:, idx], lowest[:, idx] = g
-        ratio[:, idx] = np.where(up > 0.0, g.area / np.where(up > 0.0, up, 1.0), 0.0)
+        if not ball:  # a ball is upright in every pose: the ratio is 1
+            up = upright_area(upright, np.maximum(-g.low[..., 2], 0.0))
+            ratio[:, idx] = np.where(up > 0.0, g.area / np.where(up > 0.0, up, 1.0), 0.0)
     return ChannelGeometry(area, point, inertia, lowest), ratio
 
 

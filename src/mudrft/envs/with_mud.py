@@ -1,0 +1,133 @@
+"""Mud under any gymnasium MuJoCo environment: :func:`with_mud`.
+
+>>> import gymnasium, mudrft.envs
+>>> env = mudrft.envs.with_mud(gymnasium.make("Ant-v5"), feet="auto")  # doctest: +SKIP
+>>> obs, info = env.reset(seed=0)  # doctest: +SKIP
+>>> info["mud_depth"].shape  # doctest: +SKIP
+(4,)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, SupportsFloat
+
+import numpy as np
+
+from .._validation import MudrftError
+from ._gym import gymnasium
+
+if TYPE_CHECKING:
+    from ..integrations.mujoco import MudCoupling
+    from ..parameters import Mud
+    from ..terrains import Terrain
+
+__all__ = ["WithMud", "with_mud"]
+
+
+class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type: ignore[misc]
+    """A gymnasium MuJoCo environment stepped in mud (see :func:`with_mud`).
+
+    Attributes
+    ----------
+    coupling : MudCoupling
+        The mud under the environment's model (:func:`mudrft.integrations.mujoco.attach`).
+    """
+
+    def __init__(
+        self,
+        env: Any,
+        feet: str | int | Sequence[str | int] = "auto",
+        mud: Mud | Terrain | None = None,
+        *,
+        floor: str = "below",
+        **attach_options: Any,
+    ) -> None:
+        from .. import paper_mud
+        from ..integrations.mujoco import _mujoco, attach
+
+        gymnasium.utils.RecordConstructorArgs.__init__(
+            self, feet=feet, mud=mud, floor=floor, **attach_options
+        )
+        gymnasium.Wrapper.__init__(self, env)
+        base = env.unwrapped
+        if not all(hasattr(base, a) for a in ("model", "data", "_step_mujoco_simulation")):
+            raise MudrftError(
+                "env must be a gymnasium MuJoCo environment (gymnasium.envs.mujoco.MujocoEnv, "
+                f"e.g. gymnasium.make('Ant-v5')), got {type(base).__name__}"
+            )
+        self._mj = _mujoco()
+        mud = paper_mud(0.25) if mud is None else mud
+        self.coupling: MudCoupling = attach(base.model, feet, mud, floor=floor, **attach_options)
+        base._step_mujoco_simulation = self._simulate  # the environment's physics steps
+        self._unstable = False
+
+    def _simulate(self, ctrl: Any, n_frames: int) -> None:
+        base: Any = self.env.unwrapped
+        base.data.ctrl[:] = ctrl
+        self.coupling.advance(base.data, n_frames)
+        self._mj.mj_rnePostConstraint(base.model, base.data)
+
+    def _info(self, info: dict[str, Any]) -> dict[str, Any]:
+        last = self.coupling.last
+        n = len(self.coupling.bodies)
+        info["mud_force"] = np.zeros((n, 3)) if last is None else last.force.copy()
+        info["mud_depth"] = np.zeros(n) if last is None else last.depth.copy()
+        return info
+
+    def reset(self, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        """Reset the environment, then the mud under the feet in their new pose."""
+        obs, info = self.env.reset(**kwargs)
+        self.coupling.reset(self.env.unwrapped.data)  # type: ignore[attr-defined]
+        self._unstable = False
+        return obs, self._info(info)
+
+    def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
+        """Step the environment in mud; a state MuJoCo found non-finite ends the episode
+        with ``info["unstable"]`` (MuJoCo has reset it)."""
+        try:
+            obs, reward, terminated, truncated, info = self.env.step(action)
+        except MudrftError as exc:
+            if "MuJoCo" not in str(exc):
+                raise
+            obs = self.env.unwrapped._get_obs()  # type: ignore[attr-defined]
+            return obs, 0.0, True, False, self._info({"unstable": True, "error": str(exc)})
+        return obs, reward, terminated, truncated, self._info(info)
+
+
+def with_mud(
+    env: Any,
+    feet: str | int | Sequence[str | int] = "auto",
+    mud: Mud | Terrain | None = None,
+    *,
+    floor: str = "below",
+    **attach_options: Any,
+) -> WithMud:
+    """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
+
+    The environment's physics steps go through the mud coupling
+    (:func:`mudrft.integrations.mujoco.attach`); its observations, rewards and terminations
+    are its own. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N], the mud's force
+    on each foot (world frame), and ``"mud_depth"`` (nfeet,) [m].
+
+    Parameters
+    ----------
+    env : gymnasium.Env
+        A gymnasium MuJoCo environment (``gymnasium.make("Ant-v5")``), wrapped or not.
+    feet : "auto", str, int or a sequence of them
+        The feet: ``"auto"`` finds them (and logs what it chose), or bodies by name, by a
+        geom's name or by id (gymnasium's ant feet have no names).
+    mud : Mud, Terrain or None
+        The mud; ``None``: the paper's at 25 % water content.
+    floor : {"below", "warn", "keep"}, keyword-only
+        The model's floor at z = 0 is lowered to a bed 0.5 m under the surface (default;
+        the environment's model is changed in place); see ``attach``.
+    **attach_options
+        Passed to ``attach`` (``surface``, ``bottom``, ``backend``, ...).
+
+    Returns
+    -------
+    WithMud
+        The wrapped environment; ``.coupling`` is the mud coupling.
+    """
+    return WithMud(env, feet, mud, floor=floor, **attach_options)
