@@ -30,7 +30,7 @@ if TYPE_CHECKING:  # at run time every name loads on first use: `mudrft --help` 
 # would replace a lazy attribute once imported: the function is bound here (stdlib only)
 from .citations import citations
 
-__version__ = "0.1.0"
+__version__ = "0.3.0.dev0"
 
 _LAZY = {
     "constitutive": "mudrft.constitutive",
