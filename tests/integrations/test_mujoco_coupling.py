@@ -8,7 +8,6 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft._validation import PlausibilityWarning
 from mudrft.integrations.mujoco import MudBatch, attach, attach_batch, body_foot, stability_limits
 from mudrft.simulation import LoadControl, simulate, static_sinking
 
@@ -374,7 +373,7 @@ def test_rk4_integrator_is_refused():
     coupling.reset(data)
     assert coupling.step(data, 300).depth[0] > 5e-4  # implicit runs the same scheme
     model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
-    with pytest.raises(mudrft.MudrftError, match="set model.opt.integrator"):
+    with pytest.raises(mudrft.MudrftError, match=r"set model\.opt\.integrator"):
         coupling.reset(data)
 
 
