@@ -30,7 +30,7 @@ MUD = mudrft.paper_mud(0.25)
         ({"bodies": 3}, r"body id must be in \[1, 1\], got 3"),
         ({"bodies": 2.5}, r"bodies must be 'auto', a body's or geom's name or a body's id, or a"),
         ({"bodies": ["foot", "world"]}, r"bodies cannot include the world \('world'\)"),
-        ({"implicit": "no"}, r"implicit must be True or False, got 'no'"),
+        ({"implicit": "no"}, r"option implicit= was removed in mudrft 0.3: the coupling always"),
         ({"bottom_stiffness": 1e4}, r"give its depth with bottom="),
         ({"feet": "box"}, r"feet must be a foot \(mudrft.feet\), one per body"),
         ({"surface": [0.0, 0.0]}, r"surface must be a single number \[m\]"),

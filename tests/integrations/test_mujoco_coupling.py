@@ -8,7 +8,6 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft._validation import PlausibilityWarning
 from mudrft.integrations.mujoco import MudBatch, attach, attach_batch, body_foot, stability_limits
 from mudrft.simulation import LoadControl, simulate, static_sinking
 
@@ -20,10 +19,10 @@ MUD = mudrft.paper_mud(0.25)
 # ---------------------------------------------------------------------------------------
 # Forces: the coupling writes exactly what MudTerrain gives for the same motion
 # ---------------------------------------------------------------------------------------
-@pytest.mark.filterwarnings("ignore:implicit=False couples")  # driven kinematically
 @pytest.mark.parametrize("yaw", [0.0, 0.7, -2.5])
 def test_forces_equal_mudterrain_along_gait(yaw):
-    """Kinematic foot driven along mudrft.gait: xfrc_applied equals MudTerrain.step (D61, D65).
+    """Kinematic foot driven along mudrft.gait: the explicit force equals MudTerrain.step
+    (D61, D65).
 
     The yawed runs drive the foot along the gait rotated by ``yaw``; the force must be the
     rotated force of the unrotated foot (the foot frame turns with the body's yaw).
@@ -34,7 +33,7 @@ def test_forces_equal_mudterrain_along_gait(yaw):
     data = mujoco.MjData(model)
     c, s = np.cos(yaw), np.sin(yaw)
     rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    coupling = attach(model, "foot", MUD, implicit=False)
+    coupling = attach(model, "foot", MUD)
     assert (
         coupling.bodies[0].foot == mudrft.feet.Flat()
     )  # 65 x 80 x 26 mm box -> the paper's flat foot
@@ -48,9 +47,9 @@ def test_forces_equal_mudterrain_along_gait(yaw):
         data.qpos[:] = rot @ tr.position[k]
         data.qvel[:] = rot @ tr.velocity[k]
         mujoco.mj_forward(model, data)
-        coupling.apply(data)
+        contact = coupling.apply(data)
         state, out = terrain.step(foot, state, tr.position[k], tr.velocity[k], dt)
-        got.append(data.xfrc_applied[1, :3].copy())
+        got.append(contact.explicit_force[0])
         want.append(rot @ out.force)
     got, want = np.array(got), np.array(want)
     assert np.abs(want[:, 2]).max() > 50 and want[:, 2].min() < -5  # support and suction both occur
@@ -139,7 +138,6 @@ def test_torque_is_moment_about_center_of_mass():
     np.testing.assert_allclose(qacc_xfrc, data.qacc, rtol=1e-9, atol=1e-9)
 
 
-@pytest.mark.filterwarnings("ignore:implicit=False couples")  # driven kinematically
 def test_yawing_foot_in_mud_feels_no_spurious_drag():
     """Odometry in the foot frame (D65): a sphere spinning about the vertical axis through its
     tip, far from the world origin, has no horizontal displacement, so no horizontal force."""
@@ -148,7 +146,7 @@ def test_yawing_foot_in_mud_feels_no_spurious_drag():
         <geom type="sphere" size="0.03" mass="0.3"/></body></worldbody></mujoco>"""
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
-    coupling = attach(model, "foot", MUD, implicit=False)
+    coupling = attach(model, "foot", MUD)
     coupling.reset(data)
     fz = []
     for k in range(400):
@@ -194,11 +192,11 @@ def test_dropped_foot_settles_like_load_control(dt):
 # ---------------------------------------------------------------------------------------
 # Stability: the analysis predicts the explicit limit; the coupling stays inside it
 # ---------------------------------------------------------------------------------------
-def _drop_energy_rise(dt: float, implicit: bool, mass: float = 0.3, duration: float = 0.4) -> float:
+def _drop_energy_rise(dt: float, mass: float = 0.3, duration: float = 0.4) -> float:
     model = box_foot_model(mass=mass, dt=dt)
     data = mujoco.MjData(model)
     data.qvel[2] = -0.1
-    coupling = attach(model, "foot", MUD, implicit=implicit)
+    coupling = attach(model, "foot", MUD)
     coupling.reset(data)
     e0 = mechanical_energy(model, data)
     rise = -np.inf
@@ -211,21 +209,17 @@ def _drop_energy_rise(dt: float, implicit: bool, mass: float = 0.3, duration: fl
     return float(rise)
 
 
-def test_explicit_limit_is_the_viscous_limit():
-    """Explicit coupling: stable below dt = 2 m / c, injects energy above it (D62)."""
+def test_the_implicit_step_is_passive_above_the_explicit_limit():
+    """The coupling gains no energy at time steps above the explicit limit 2 m / c (D62)."""
     foot = mudrft.feet.Flat()
     lim = stability_limits(foot, MUD, mass=0.3, depth=1e-3)
     assert lim["dt_viscous"] < lim["dt_elastic"]  # the damper, not the spring, sets the limit
-    assert _drop_energy_rise(0.8 * lim["dt_viscous"], implicit=False) <= 1e-9  # round-off
-    with pytest.warns(
-        PlausibilityWarning, match=r"implicit=False .* stable only for dt < 0.000594 s"
-    ):
-        assert _drop_energy_rise(1.3 * lim["dt_viscous"], implicit=False) > 0.01  # grows to joules
-    assert _drop_energy_rise(1.3 * lim["dt_viscous"], implicit=True) <= 1e-9
+    for factor in (0.8, 1.3, 3.0):
+        assert _drop_energy_rise(factor * lim["dt_viscous"]) <= 1e-9  # round-off
 
 
-@pytest.mark.parametrize(("dt", "mobility"), [(1e-3, "chain"), (2e-3, "chain"), (2e-3, "body")])
-def test_no_energy_injected_through_intrusion_and_suction(dt, mobility):
+@pytest.mark.parametrize("dt", [1e-3, 2e-3])
+def test_no_energy_injected_through_intrusion_and_suction(dt):
     """A light foot on a spring is shot into the mud and pulled out against suction.
 
     Total mechanical energy (kinetic + gravity + spring, MuJoCo's own) never rises above its
@@ -238,7 +232,7 @@ def test_no_energy_injected_through_intrusion_and_suction(dt, mobility):
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     data.qvel[0] = -0.3
-    coupling = attach(model, "foot", MUD, mobility=mobility)
+    coupling = attach(model, "foot", MUD)
     coupling.reset(data)
     e0 = mechanical_energy(model, data)
     rise, fz_min = -np.inf, 0.0
@@ -304,23 +298,6 @@ def test_batch_equals_single_robots():
     assert batch.last.force.shape == (3, 1, 3)
 
 
-def test_body_mobility_is_exact_for_a_free_body():
-    """For a lone free body, the body's own mobility is the whole model's: same force."""
-    forces = []
-    for mobility in ("chain", "body"):
-        model = box_foot_model(mass=0.4, dt=2e-3, height=-0.004)  # starts 4 mm deep
-        data = mujoco.MjData(model)
-        data.qpos[3:7] = [0.99, 0.05, -0.08, 0.06]
-        data.qpos[3:7] /= np.linalg.norm(data.qpos[3:7])
-        data.qvel[:] = [0.05, 0.02, -0.1, 0.3, -0.2, 0.1]
-        coupling = attach(model, "foot", MUD, mobility=mobility)
-        coupling.reset(data)
-        out = coupling.step(data)
-        assert np.abs(out.force[0] - out.explicit_force[0]).max() > 1.0  # the mobility matters
-        forces.append(out.force[0])
-    np.testing.assert_allclose(forces[0], forces[1], rtol=1e-10)  # round-off
-
-
 def test_feet_derived_from_geoms():
     feet = mudrft.feet
     xml = """<mujoco><asset><mesh name="m" vertex="-0.03 -0.02 0  0.03 -0.02 0  0.03 0.02 0  -0.03 0.02 0
@@ -370,8 +347,11 @@ def test_bad_arguments_are_named():
         attach("model.xml", "foot", MUD)
     with pytest.raises(mudrft.MudrftError, match="bottom must be > 0"):
         attach(model, "foot", MUD, bottom=-0.1)
-    with pytest.raises(mudrft.MudrftError, match="mobility"):
-        attach(model, "foot", MUD, mobility="fast")
+    for name, value in (("implicit", False), ("mobility", "body"), ("lookahead", True)):
+        with pytest.raises(mudrft.MudrftError, match=f"option {name}= was removed in mudrft 0.3"):
+            attach(model, "foot", MUD, **{name: value})
+    with pytest.raises(mudrft.MudrftError, match="unexpected keyword argument 'surfase'"):
+        attach(model, "foot", MUD, surfase=0.1)
     coupling = attach(model, "foot", MUD)
     with pytest.raises(mudrft.MudrftError, match="reset"):
         coupling.step(mujoco.MjData(model))
@@ -380,20 +360,21 @@ def test_bad_arguments_are_named():
         batch.reset([mujoco.MjData(model)])
 
 
-def test_rk4_integrator_supported():
-    """RK4 has no split step: the coupling runs mj_forward + mj_step, the wrench held over
-    the stages the way RK4 integrates it (D150), without a warning."""
-    depths = {}
-    for integrator in ("Euler", "RK4"):
-        model = box_foot_model(mass=1.5, dt=1e-3)
-        model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
-        data = mujoco.MjData(model)
-        coupling = attach(model, "foot", MUD)
+def test_rk4_integrator_is_refused():
+    """The coupling runs one scheme, under Euler, implicitfast or implicit: RK4 is refused
+    at attach, and at reset if the model was switched to it after attach."""
+    model = box_foot_model(mass=1.5, dt=1e-3)
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    with pytest.raises(mudrft.MudrftError, match=r"'implicitfast' or 'implicit'.*mjINT_RK4"):
+        attach(model, "foot", MUD)
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICIT
+    coupling = attach(model, "foot", MUD)
+    data = mujoco.MjData(model)
+    coupling.reset(data)
+    assert coupling.step(data, 300).depth[0] > 5e-4  # implicit runs the same scheme
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    with pytest.raises(mudrft.MudrftError, match=r"set model\.opt\.integrator"):
         coupling.reset(data)
-        depths[integrator] = coupling.step(data, 600).depth[0]
-    assert depths["Euler"] > 5e-4
-    # both integrate the same held force; they differ by O(dt) (measured 0.03 %)
-    assert depths["RK4"] == pytest.approx(depths["Euler"], rel=0.01)
 
 
 def test_quasi_static_mud_damps_with_eta_inf_plus_eta_m():
@@ -407,18 +388,3 @@ def test_quasi_static_mud_damps_with_eta_inf_plus_eta_m():
     ratio = (float(p.eta_inf) + float(p.eta_m)) / float(p.eta_inf)
     assert fast["damping"] == pytest.approx(ode["damping"] * ratio, rel=1e-12)
     assert fast["dt_viscous"] == pytest.approx(ode["dt_viscous"] / ratio, rel=1e-12)
-
-
-def test_a_free_body_coupled_explicitly_above_its_limit_warns_at_attach():
-    """A free sphere (six degrees of freedom): implicit=False above 2 m / c warns once, at
-    attach; the default implicit coupling and a step below the limit do not."""
-    xml = """<mujoco><option timestep="{dt}"/><worldbody><body name="foot" pos="0 0 0.05">
-      <freejoint/><geom type="sphere" size="0.03" mass="0.3"/></body></worldbody></mujoco>"""
-    model = mujoco.MjModel.from_xml_string(xml.format(dt=1e-3))
-    with pytest.warns(PlausibilityWarning, match=r"body 'foot' explicitly: its 0.3 kg"):
-        attach(model, "foot", MUD, implicit=False)
-    attach(model, "foot", MUD)  # implicit: no warning (warnings are errors in the suite)
-    foot = attach(model, "foot", MUD).bodies[0].foot
-    limit = stability_limits(foot, MUD, mass=0.3, depth=foot.height)["dt_viscous"]
-    slow = mujoco.MjModel.from_xml_string(xml.format(dt=0.9 * limit))
-    attach(slow, "foot", MUD, implicit=False)

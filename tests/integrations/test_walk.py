@@ -57,8 +57,7 @@ def test_walk_converges_in_the_time_step(flat_runs):
     mujoco_at_least(3, 5),
     strict=True,
     reason="one-step overshoot at the stance switch at 2 ms from MuJoCo 3.5, whose "
-    "implicitfast drops a torque-saturated servo's implicit damping (D62d, D149, D152); "
-    "walk(lookahead=True) has no spike (D162)",
+    "implicitfast drops a torque-saturated servo's implicit damping (D62d, D149, D152)",
 )
 def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     """The largest suction is one sample: at 2 ms the first step after a stance switch
@@ -72,9 +71,7 @@ def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     574 and 570 N against 578 N at 1 ms, and the test passes (D149). The cause (D152):
     from 3.5 a servo at its torque limit has no velocity derivative in implicitfast's
     implicit step, and the spike is the step after the stance switch's saturated servos;
-    the largest suction on any other step is 562 N. With the servos' acceleration read
-    ahead (``lookahead=True``, D162) the spike is gone (test_lookahead.py), at a cost that
-    keeps it an option; this test keeps the default coupling."""
+    the largest suction on any other step is 562 N; at 1 ms there is no spike."""
     a, b = flat_runs[1e-3].summary, flat_runs[2e-3].summary
     assert b["max_suction [N]"] == pytest.approx(a["max_suction [N]"], rel=0.05)
 

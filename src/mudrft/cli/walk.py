@@ -58,7 +58,7 @@ def add_parser(
         "--bottom", type=float, default=0.15, help="depth of the rigid bed under the mud [m]"
     )
     p.add_argument(
-        "--explicit", action="store_true", help="explicit coupling (no stabilisation; for study)"
+        "--explicit", action="store_true", help="removed in 0.3 (the coupling is always implicit)"
     )
     p.add_argument(
         "--extrapolate", action="store_true", help="allow water contents outside 0.25-0.45"
@@ -81,6 +81,11 @@ def run(args: argparse.Namespace) -> int:
     """Walk the biped and write ``DIR``; returns the exit status (0)."""
     os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
 
+    if args.explicit:
+        raise MudrftError(
+            "--explicit was removed in mudrft 0.3: the walk's coupling always takes the "
+            "implicit step of the mud's damping; drop the flag"
+        )
     seconds = check_positive_option("--seconds", args.seconds, unit="s")
     dt = check_positive_option("--dt", args.dt, unit="s")
     step_time = check_positive_option("--step-time", args.step_time, unit="s")
@@ -117,7 +122,6 @@ def run(args: argparse.Namespace) -> int:
             speed=speed,
             step_time=step_time,
             bottom=bottom,
-            implicit=not args.explicit,
             frames=0 if args.no_render else 6,
             progress=None if args.quiet else Progress("walking"),
         )
@@ -158,7 +162,6 @@ def _compare(args: argparse.Namespace, mud: Mud | Terrain, **options: Any) -> in
         summaries = compare_feet(
             mud,
             progress=None if args.quiet else (lambda name: Progress(f"walking ({name})")(0.0)),
-            implicit=not args.explicit,
             **options,
         )
         write_compare(stage, summaries, mud_name=f"({mud.name})")

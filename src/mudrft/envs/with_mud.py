@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, SupportsFloat
 
 import numpy as np
 
+from .._progress import logger
 from .._validation import MudrftError
 from ._gym import gymnasium
 
@@ -58,6 +59,10 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
             )
         self._mj = _mujoco()
         mud = paper_mud(0.25) if mud is None else mud
+        rk4 = self._mj.mjtIntegrator.mjINT_RK4
+        if int(base.model.opt.integrator) == int(rk4):  # Ant's: the coupling refuses RK4
+            base.model.opt.integrator = self._mj.mjtIntegrator.mjINT_IMPLICITFAST
+            logger.info("with_mud: the model's RK4 integrator is now implicitfast")
         self.coupling: MudCoupling = attach(base.model, feet, mud, floor=floor, **attach_options)
         base._step_mujoco_simulation = self._simulate  # the environment's physics steps
         self._unstable = False
@@ -121,7 +126,9 @@ def with_mud(
         The mud; ``None``: the paper's at 25 % water content.
     floor : {"below", "warn", "keep"}, keyword-only
         The model's floor at z = 0 is lowered to a bed 0.5 m under the surface (default;
-        the environment's model is changed in place); see ``attach``.
+        the environment's model is changed in place); see ``attach``. A model that
+        integrates with RK4 (Ant's), which the coupling refuses, is switched to
+        ``implicitfast`` in place, and the switch is logged.
     **attach_options
         Passed to ``attach`` (``surface``, ``bottom``, ``backend``, ...).
 

@@ -325,11 +325,10 @@ def walk(
     speed: float = 0.1,
     step_time: float = 1.0,
     bottom: float = 0.15,
-    implicit: bool = True,
     backend: str = "auto",
     frames: int = 0,
     progress: Callable[[float], None] | None = None,
-    lookahead: bool = False,
+    **removed: object,
 ) -> WalkResult:
     """Walk the biped in mud for ``seconds`` and measure energy, sinking and suction.
 
@@ -349,8 +348,6 @@ def walk(
         Duration of a step [s], at least :data:`MIN_STEP_SAMPLES` physics steps.
     bottom : float, keyword-only
         Depth of the rigid bed under the mud [m].
-    implicit : bool, keyword-only
-        Stabilised coupling (default); see :class:`mudrft.integrations.mujoco.MudBatch`.
     backend : {"auto", "numpy", "numba"}, keyword-only
         The coupling's backend; ``"auto"``: the compiled one (D68a) where numba is
         installed and the foot is a closed form, else numpy.
@@ -359,17 +356,15 @@ def walk(
         ``MUJOCO_GL=egl``; silently none when rendering fails).
     progress : callable or None, keyword-only
         Called with the fraction done, about 20 times.
-    lookahead : bool, keyword-only
-        Read the servos' and other forces' acceleration from a look-ahead of MuJoCo's step
-        (D162; about twice the MuJoCo time): the 2 ms walk then has no suction spike after
-        the stance switch (D152). Default: the last step's estimate (D62).
 
     Returns
     -------
     WalkResult
     """
     from .mujoco import attach
+    from .mujoco.options import check_removed
 
+    check_removed("walk", removed)
     mj = _mujoco()
     check_positive("seconds", seconds, unit="s")
     check_positive("dt", dt, unit="s")
@@ -398,9 +393,8 @@ def walk(
     from .mujoco.backend import choose_backend
 
     coupling = attach(
-        model, list(BIPED_FEET), mud, feet=foot, implicit=implicit,
-        backend=choose_backend(backend, mud, foot), lookahead=lookahead,
-    )  # fmt: skip
+        model, list(BIPED_FEET), mud, feet=foot, backend=choose_backend(backend, mud, foot)
+    )
     coupling.reset(data)
     qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id
@@ -484,7 +478,6 @@ def walk(
         "min_torso_height [m]": float(table["z [m]"].min()),
         "foot": getattr(foot, "name", type(foot).__name__),
         "bottom [m]": float(bottom),
-        "implicit": bool(implicit),
     }
     if renderer is not None:
         renderer.close()

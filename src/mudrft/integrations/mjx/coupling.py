@@ -40,7 +40,7 @@ from ...feet.surface import prepare_triangles
 from ...terrains import as_terrain
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
-from ..mujoco.options import check_attach_options, check_count, check_data
+from ..mujoco.options import check_attach_options, check_count, check_data, check_removed
 from ..mujoco.placement import attached_foot
 from ..mujoco.pose import POSE_RESOLUTION
 from ..mujoco.stability import check_timestep
@@ -89,7 +89,7 @@ class MjxCoupling:
         Names of the bodies that touch the mud.
     mud : Mud or MudTerrain
         The mud (:func:`mudrft.paper_mud`) or a configured :class:`mudrft.MudTerrain`.
-    feet, surface, bottom, bottom_stiffness, bottom_damping, implicit, mobility, resolution, foot_geoms :
+    feet, surface, bottom, bottom_stiffness, bottom_damping, resolution, foot_geoms :
         keyword-only, as :class:`mudrft.integrations.mujoco.MudBatch`.
 
     Examples
@@ -114,17 +114,16 @@ class MjxCoupling:
         bottom: float | None = None,
         bottom_stiffness: float = 1e5,
         bottom_damping: float = 2e3,
-        implicit: bool = True,
-        mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
+        **removed: object,
     ) -> None:
         _mujoco()  # a clear error if mujoco is missing
+        check_removed("the MJX coupling", removed)
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
-            bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution, foot_geoms=foot_geoms,
+            bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         names, feet_list = opts.bodies, opts.feet
         terrain = as_terrain(mud)
@@ -165,14 +164,10 @@ class MjxCoupling:
             tip=np.stack([p.tip for p in placed]),
             forward=np.stack([p.forward for p in placed]),
             groups=tuple(built),
-            mass=np.array(model.body_mass, dtype=float)[ids],
-            inertia=np.array(model.body_inertia, dtype=float)[ids],
             surface=opts.surface,
             bottom=opts.bottom,
             bottom_stiffness=opts.bottom_stiffness,
             bottom_damping=opts.bottom_damping,
-            implicit=opts.implicit,
-            chain=opts.mobility == "chain",
             kappa=terrain.kappa,
             xi0=terrain.xi0,
             reset=terrain.reset_on_exit,

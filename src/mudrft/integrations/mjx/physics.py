@@ -147,14 +147,10 @@ class Static:
     tip: np.ndarray  # (nb, 3) body frame [m]
     forward: np.ndarray  # (nb, 3) body frame [-]
     groups: tuple[Group, ...]
-    mass: np.ndarray  # (nb,) [kg]
-    inertia: np.ndarray  # (nb, 3) principal [kg m^2]
     surface: float
     bottom: float | None
     bottom_stiffness: float
     bottom_damping: float
-    implicit: bool
-    chain: bool
     kappa: float
     xi0: float
     reset: bool
@@ -181,15 +177,6 @@ def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: XpArray) -> XpArray:
     """Mobility of the foot bodies' center-of-mass twists, (nb, nb, 6, 6) with the cross
     blocks (``kinematics.*_mobility``, D62d)."""
     xp = _xp()
-    if not cfg.chain:
-        Ri = d.ximat[cfg.ids].reshape(-1, 3, 3)
-        lin = xp.eye(3) / xp.asarray(cfg.mass)[:, None, None]
-        inv = 1.0 / np.maximum(cfg.inertia, 1e-12)
-        rot = xp.einsum("bij,bj,blj->bil", Ri, xp.asarray(inv), Ri)
-        z = xp.zeros_like(rot)
-        blocks = xp.concatenate([xp.concatenate([lin, z], -1), xp.concatenate([z, rot], -1)], -2)
-        eye = xp.eye(len(cfg.ids))  # each body moves alone: block-diagonal
-        return xp.einsum("ij,iab->ijab", eye, blocks)
     mjx = _mjx()
     rows = []
     for j, b in enumerate(cfg.ids):
@@ -246,13 +233,13 @@ def _force_and_derivative(
     st: MudChannels,
     pos: jax.Array,
     vel: jax.Array,
-    step: jax.Array | None,
+    step: jax.Array,
     dt: float | jax.Array,
 ) -> tuple[MudChannels, jax.Array, jax.Array, jax.Array]:
     """The mud step of four copies of the motion (D61, D63): ``implicit.force_and_derivative``."""
     xp = _xp()
     nudge = xp.asarray(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
-    vk = vel[None] + nudge[:, None, :] * step[None] if step is not None else vel[None]
+    vk = vel[None] + nudge[:, None, :] * step[None]
     n = vk.shape[0]
     st4 = _jax().tree_util.tree_map(lambda a: xp.broadcast_to(a, (n, *a.shape)), st)
     p4 = xp.broadcast_to(pos, vk.shape)
@@ -264,8 +251,6 @@ def _force_and_derivative(
     stress = xp.stack([sx, sy, sz], axis=-1)
     fk = g.force_fn(depth, stress, new.heading) * new.in_mud[..., None]
     new = _jax().tree_util.tree_map(lambda a: a[0], new)
-    if step is None:
-        return new, fk[0], xp.zeros_like(fk[0]), stress[0]
     jd = (xp.stack([fk[1, ..., 0], fk[2, ..., 1], fk[3, ..., 2]], axis=-1) - fk[0]) / step
     return new, fk[0], jd, stress[0]
 
@@ -321,23 +306,21 @@ def mud_wrench(
     )
     pos = xp.concatenate([fxy, low[..., 2:]], axis=-1)
     depth = xp.maximum(-pos[..., 2], 0.0)
-    step = secant_steps(vel, cfg.dv_min, xp=xp) if cfg.implicit else None
+    step = secant_steps(vel, cfg.dv_min, xp=xp)
     mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
     for g in cfg.groups:
         idx = g.idx
         new, fg, jg, sg = _force_and_derivative(
             cfg, g, consts, _take(st.mud, idx), pos[idx], vel[idx],
-            None if step is None else step[idx], dt,
+            step[idx], dt,
         )  # fmt: skip
         mud = _jax().tree_util.tree_map(lambda a, v, i=idx: a.at[i].set(v), mud, new)
         f_up, jd, stress = f_up.at[idx].set(fg), jd.at[idx].set(jg), stress.at[idx].set(sg)
     w0 = posed_wrench(ratio * f_up, b, xp=xp)
-    K = None
-    if cfg.implicit:
-        D = ratio * xp.minimum(jd, 0.0)
-        K = damping_matrix(D, b, area, yaw_inertia_to_world(inertia, cs, xp=xp), xp=xp)
-        spread = K - xp.einsum("...c,...ci,...cj->...ij", D, b, b)  # spin damping (D62a)
-        w0 = w0 + (spread @ tw[..., None])[..., 0]
+    D = ratio * xp.minimum(jd, 0.0)
+    K = damping_matrix(D, b, area, yaw_inertia_to_world(inertia, cs, xp=xp), xp=xp)
+    spread = K - xp.einsum("...c,...ci,...cj->...ij", D, b, b)  # spin damping (D62a)
+    w0 = w0 + (spread @ tw[..., None])[..., 0]
     if cfg.bottom is not None:  # a one-sided penalty on the lowest point (D67)
         lw = xp.stack([c * low[..., 0] - s * low[..., 1], s * low[..., 0] + c * low[..., 1],
                        low[..., 2] + cfg.surface - com[..., 2]], axis=-1)  # fmt: skip
@@ -345,19 +328,15 @@ def mud_wrench(
             lw, tw, depth - cfg.bottom, cfg.bottom_stiffness, cfg.bottom_damping, xp=xp
         )
         w0 = w0 + wb
-        K = None if K is None else K + kb
-    wv, tank = st.wv_prev, st.tank
-    if K is not None:
-        W = _mobility(cfg, mx, d, com)
-        g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
-        # the other forces' twist acceleration, from the last step's twists (D62)
-        acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
-        wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
-        wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
-        idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
-        wv = xp.where(idle[..., None], 0.0, wv)  # no wrench, no damping: W w = 0 (D62d)
-    else:
-        wrench = w0
+        K = K + kb
+    W = _mobility(cfg, mx, d, com)
+    g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
+    # the other forces' twist acceleration, from the last step's twists (D62)
+    acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
+    wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
+    wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
+    idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
+    wv = xp.where(idle[..., None], 0.0, wv)  # no wrench, no damping: W w = 0 (D62d)
     finite = xp.all(xp.isfinite(wrench))
     fast = xp.any(xp.sum(tw[..., :3] ** 2, axis=-1) > MAX_SPEED**2)
     unstable = ~(finite & xp.all(xp.isfinite(d.qpos)) & xp.all(xp.isfinite(d.qvel))) | fast

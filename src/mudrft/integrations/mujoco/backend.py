@@ -119,8 +119,6 @@ class CompiledCoupling:
         self.rownnz = np.asarray(m.M_rownnz, dtype=np.int64)
         self.rowadr = np.asarray(m.M_rowadr, dtype=np.int64)
         self.colind = np.asarray(m.M_colind, dtype=np.int64)
-        self.mass = np.asarray(m.body_mass, dtype=float)
-        self.inertia = np.ascontiguousarray(m.body_inertia, dtype=float)
         # check_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
@@ -153,7 +151,7 @@ class CompiledCoupling:
         self.addr = np.zeros((n, 10), dtype=np.int64)
         self.sizes = np.zeros(3, dtype=np.int64)
         self.datas: list[mujoco.MjData] = []
-        self.opts = np.zeros(12)
+        self.opts = np.zeros(10)
 
     def loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
         """The batch's step loop over ``datas``, as a closure over local names.
@@ -164,7 +162,7 @@ class CompiledCoupling:
         biped this Python bookkeeping would otherwise cost as much as the mud itself (D68b).
         """
         b = self.batch
-        m, opt, rk4 = b.model, b._opt, b._rk4
+        m = b.model
         step1, step2, kernel = b._mj.mj_step1, b._mj.mj_step2, self.entry()
         (args,) = self._args
         flags, contact = self.opts, self.contact
@@ -184,14 +182,7 @@ class CompiledCoupling:
                 "diverged (check the model, the time step and the mud parameters)"
             )
 
-        def generic(nstep: int) -> None:  # RK4: mj_step1/mj_step2 do not support it
-            out = b._step_generic(datas, nstep)
-            b.last = out if index is None else MudContact(*(a[index] for a in out))
-
         def loop(nstep: int) -> None:
-            if int(opt.integrator) == rk4 or b.lookahead:
-                generic(nstep)
-                return
             first = not b._has_prev
             for k in range(nstep):
                 for d in datas:
@@ -199,7 +190,7 @@ class CompiledCoupling:
                 if kernel(args):
                     fail(k + 1)
                 if first:  # has_prev: from now on the acceleration is a difference
-                    flags[11], first = 1.0, False
+                    flags[9], first = 1.0, False
                 for i, d in enumerate(datas):
                     step2(m, d)
                     wq, wv, wa = warn[i]  # MuJoCo's bad qpos, qvel, qacc (it resets them)
@@ -242,8 +233,8 @@ class CompiledCoupling:
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
         self.opts = np.array(
-            [float(m.opt.timestep), b.surface, float(b.implicit), float(b.mobility == "chain"),
-             bottom, b.bottom_stiffness, b.bottom_damping, b._dv_min, g[0], g[1], g[2], 0.0]
+            [float(m.opt.timestep), b.surface, bottom, b.bottom_stiffness, b.bottom_damping,
+             b._dv_min, g[0], g[1], g[2], 0.0]
         )  # fmt: skip
         self._pack()
 
@@ -257,18 +248,12 @@ class CompiledCoupling:
             o[..., 18], o[..., 19:22],
         ))  # fmt: skip
 
-    def apply(self, has_prev: bool, acc: FloatArray | None = None) -> int:
+    def apply(self, has_prev: bool) -> int:
         """One compiled step of every body of every robot, outputs in :attr:`out`; returns
-        the number of bodies whose wrench is not finite.
-
-        ``acc`` (N, nb, 6): the twist acceleration of all other forces [m/s^2, rad/s^2]
-        read from MuJoCo (the RK4 step, D150) in place of the last step's difference; the
-        kernel reads it from ``tw_prev`` (``opts[11] = 2``)."""
-        if acc is not None:
-            self.tw_prev[:] = acc
-        self.opts[11] = 2.0 if acc is not None else 1.0 if has_prev else 0.0
+        the number of bodies whose wrench is not finite."""
+        self.opts[9] = 1.0 if has_prev else 0.0
         bad = int(self.kernel(*self._args))
-        self.opts[11] = 1.0  # has a last step now: the compiled step loop's value (D151)
+        self.opts[9] = 1.0  # has a last step now: the compiled step loop's value (D151)
         return bad
 
     def _pack(self) -> None:

@@ -31,9 +31,14 @@ from .implicit import (
     passive_wrench,
     secant_steps,
 )
-from .kinematics import body_frames, body_mobility, chain_mobility, com_twist
-from .lookahead import lookahead_apply, lookahead_step, reads_ahead
-from .options import check_attach_options, check_count, check_data
+from .kinematics import body_frames, chain_mobility, com_twist
+from .options import (
+    check_attach_options,
+    check_count,
+    check_data,
+    check_integrator,
+    check_removed,
+)
 from .placement import (
     BodyFoot,
     attached_foot,
@@ -43,8 +48,7 @@ from .placement import (
     lowest_points,
 )
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
-from .rk4 import rk4_step, warn_rk4_apply
-from .stability import check_explicit_step, check_spring_step, check_timestep, diverged_error
+from .stability import check_spring_step, check_timestep, diverged_error
 from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 if TYPE_CHECKING:
@@ -64,7 +68,7 @@ class _Reading(NamedTuple):
     tip: FloatArray  # tip position [m] (N, nb, 3)
     cs: FloatArray  # cosine and sine of the foot's heading (yaw) (N, nb, 2)
     tw: FloatArray  # twist at the center of mass [m/s, rad/s] (N, nb, 6)
-    W: FloatArray | None  # mobility (N, nb, nb, 6, 6) for the implicit step, else None
+    W: FloatArray  # the robot's mobility (N, nb, nb, 6, 6) for the implicit step
     geo: ChannelGeometry  # the posed feet's channels (:func:`.pose.posed_channels`)
     ratio: FloatArray  # their areas over the upright foot's (N, nb, 3)
 
@@ -101,25 +105,11 @@ class MudBatch:
         Stiffness of that bottom [N/m] (explicit).
     bottom_damping : float, keyword-only
         Damping of that bottom [N s/m] (treated implicitly like the mud's).
-    implicit : bool, keyword-only
-        Apply the semi-implicit treatment of the velocity-dependent part (default).
-        ``False`` writes the explicit force, exactly what :class:`mudrft.MudTerrain` gives,
-        and warns when the timestep is above a foot's viscous limit (:func:`.stability.check_explicit_step`).
-    mobility : {"chain", "body"}, keyword-only
-        6x6 mobility :math:`W` of each foot body from the whole model (:math:`JM^{-1}J^T`,
-        default) or from the body alone (cheaper, an upper bound: more damping in
-        transients; exact for a free body).
     resolution : int, keyword-only
         Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
     foot_geoms : mapping or None, keyword-only
         ``{body: geom name}``: the geom that is a body's foot where its lowest colliding
         geom is not (D124); a body with several such geoms equally low warns without it.
-    lookahead : bool, keyword-only
-        Under Euler and ``implicitfast``, read the other forces' acceleration and the feet's
-        mobility from a look-ahead of MuJoCo's step (:mod:`.lookahead`, D162; a copy of the
-        data and a second ``mj_step2`` per step) instead of estimating them from the last
-        step (default): a chain's actuators, constraints and Coriolis forces are then seen
-        in the step they act.
     backend : {"auto", "numba", "numpy"}, keyword-only
         ``"numba"``: one compiled call per physics step for all feet of all robots
         (:mod:`.compiled`; the mud and feet with a surface), equal to the numpy coupling to
@@ -143,7 +133,11 @@ class MudBatch:
     Raises
     ------
     MudrftError
-        At construction, for gravity not along -z (the mud's depth is measured along -z).
+        At construction, for gravity not along -z (the mud's depth is measured along -z),
+        MuJoCo's RK4 integrator (the coupling steps under Euler, ``implicitfast`` or
+        ``implicit``), or an option of 0.2 that was removed (``implicit``, ``mobility``,
+        ``lookahead``: the coupling always takes the implicit step with the passivity
+        bound and the whole robot's mobility).
         From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
         which MuJoCo answers with a silent reset) or the wrench is not finite.
     """
@@ -160,38 +154,33 @@ class MudBatch:
         bottom: float | None = None,
         bottom_stiffness: float = 1e5,
         bottom_damping: float = 2e3,
-        implicit: bool = True,
-        mobility: str = "chain",
         resolution: int = POSE_RESOLUTION,
         foot_geoms: Mapping[str, str | int] | None = None,
         backend: str = "auto",
-        lookahead: bool = False,
         floor: str = "warn",
+        **removed: object,
     ) -> None:
         mj = _mujoco()
+        check_removed("attach", removed)
         opts = check_attach_options(
             model,
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
-            bottom_damping=bottom_damping, implicit=implicit, mobility=mobility,
-            resolution=resolution, foot_geoms=foot_geoms, lookahead=lookahead, floor=floor,
+            bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
+            floor=floor,
         )  # fmt: skip
+        check_integrator(model)
         feet_list = opts.feet
         n = check_count("n", n)
         self.model = model
         self._mj = mj
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
         self._checked_datas: list[mujoco.MjData] = []
-        self._rk4, self._rk4_warned = int(mj.mjtIntegrator.mjINT_RK4), False
-        self._given_acc: FloatArray | None = None  # RK4: what all other forces do (D150)
-        self.lookahead = opts.lookahead
-        self._scratch: list[mujoco.MjData] = []  # copies to read ahead in (D162)
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.terrain = as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
         self.surface, self.bottom = opts.surface, opts.bottom
         self.bottom_stiffness, self.bottom_damping = opts.bottom_stiffness, opts.bottom_damping
-        self.implicit, self.mobility = opts.implicit, opts.mobility
         # one foot object per identical geometry, so equal feet share one terrain call
         cache: dict[object, Foot] = {}
         placed = []
@@ -214,10 +203,7 @@ class MudBatch:
             groups.setdefault(id(placed_body.foot), []).append(i)
         self._groups = [(self.bodies[idx[0]].foot, np.array(idx)) for idx in groups.values()]
         self._timestep = check_timestep(model)  # reset checks again if it changed (D123)
-        if not self.implicit:
-            check_explicit_step(model, self.bodies, self.terrain)
-        else:
-            check_spring_step(model, self.bodies)
+        check_spring_step(model, self.bodies)
         nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
         self._foot_xy = np.zeros((self.n, nb, 2))
@@ -278,12 +264,7 @@ class MudBatch:
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
         tw = com_twist(V, S, C)
-        W = None
-        if self.implicit:
-            if self.mobility == "chain":
-                W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
-            else:
-                W = body_mobility(self.model, datas, self._ids)
+        W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
         geo, ratio = self._posed(X, R, C, tip, cs)
         return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
@@ -310,6 +291,7 @@ class MudBatch:
         mj = _mujoco()
         datas = self._check(datas)
         self._timestep = check_timestep(self.model, checked=self._timestep)
+        check_integrator(self.model)  # again: the model's options may have changed
         for d in datas:
             mj.mj_forward(self.model, d)
         k = self._read(datas)
@@ -334,7 +316,7 @@ class MudBatch:
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
         if self._compiled is not None:
-            self._compiled.opts[11] = 0.0
+            self._compiled.opts[9] = 0.0
             self._loop = self._compiled.loop(datas)
 
     def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
@@ -397,17 +379,11 @@ class MudBatch:
         datas = self._check(datas)
         if self._warn:
             self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
-        return self._apply_now(datas)
-
-    def _apply_now(self, datas: list[mujoco.MjData]) -> MudContact:  # apply(): reading ahead (D162)
-        return lookahead_apply(self, datas) if reads_ahead(self) else self._apply(datas)
+        return self._apply(datas)
 
     def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        rk4 = int(self._opt.integrator) == self._rk4
-        if rk4 and self._given_acc is None and not self._rk4_warned:  # apply(), not step()
-            self._rk4_warned = warn_rk4_apply()
         if self._compiled is not None:
             return self._apply_compiled()
         dt = float(self.model.opt.timestep)
@@ -430,30 +406,23 @@ class MudBatch:
         jd = np.zeros((N, nb, 3))
         stress = np.empty((N, nb, 3))
         depth = np.maximum(-pos[..., 2], 0.0)
-        step = secant_steps(vel, self._dv_min) if self.implicit else None
+        step = secant_steps(vel, self._dv_min)
         for gi, (foot, idx) in enumerate(self._groups):
             st = self._states[gi]
             pg, vg = (pos, vel) if len(idx) == nb else (pos[:, idx], vel[:, idx])
-            if step is not None:
-                sk = step if len(idx) == nb else step[:, idx]
-                new, f_up[:, idx], jd[:, idx], sg = force_and_derivative(
-                    self.terrain, foot, st, pg, vg, sk, dt
-                )
-            else:
-                new, out = self.terrain.step(foot, st, pg, vg, dt)
-                f_up[:, idx] = np.asarray(out.force)
-                sg = np.asarray(out.stress)
+            sk = step if len(idx) == nb else step[:, idx]
+            new, f_up[:, idx], jd[:, idx], sg = force_and_derivative(
+                self.terrain, foot, st, pg, vg, sk, dt
+            )
             self._states[gi] = new
             stress[:, idx] = sg
         ratio = k.ratio
         w0 = posed_wrench(ratio * f_up, b)
-        K = None
-        if self.implicit:
-            D = ratio * np.minimum(jd, 0.0)
-            K = damping_matrix(D, b, geo.area, yaw_inertia_to_world(geo.inertia, cs))
-            # the damping spread over the elements resists spin (D62a)
-            spread = K - np.einsum("...c,...ci,...cj->...ij", D, b, b)
-            w0 += (spread @ tw[..., None])[..., 0]
+        D = ratio * np.minimum(jd, 0.0)
+        K = damping_matrix(D, b, geo.area, yaw_inertia_to_world(geo.inertia, cs))
+        # the damping spread over the elements resists spin (D62a)
+        spread = K - np.einsum("...c,...ci,...cj->...ij", D, b, b)
+        w0 += (spread @ tw[..., None])[..., 0]
         if self.bottom is not None:  # a one-sided penalty on the lowest point (D67)
             lw = geo.low
             low = np.stack(
@@ -464,25 +433,18 @@ class MudBatch:
                 low, tw, depth - self.bottom, self.bottom_stiffness, self.bottom_damping
             )
             w0 += wb
-            if K is not None:
-                K += kb
-        if K is not None:
-            W = k.W
-            assert W is not None  # read when implicit, as K is made
-            if self._given_acc is not None:
-                acc = self._given_acc
-            elif self._has_prev:
-                acc = (tw - self._tw_prev) / dt - self._wv_prev
-            else:
-                acc = np.zeros_like(tw)
-                acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
-            wrench = implicit_wrench(w0, K, W, acc, dt)
-            wrench, self._tank, wv = passive_wrench(wrench, tw, W, acc, self._tank, dt)
-            # a foot with no wrench and no damping is not in the robot's system: W w = 0
-            idle = np.all(w0 == 0.0, axis=-1) & np.all(K == 0.0, axis=(-2, -1))
-            self._wv_prev = np.where(idle[..., None], 0.0, wv)
+            K += kb
+        W = k.W
+        if self._has_prev:  # the other forces' twist acceleration, from the last step (D62)
+            acc = (tw - self._tw_prev) / dt - self._wv_prev
         else:
-            wrench = w0
+            acc = np.zeros_like(tw)
+            acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
+        wrench = implicit_wrench(w0, K, W, acc, dt)
+        wrench, self._tank, wv = passive_wrench(wrench, tw, W, acc, self._tank, dt)
+        # a foot with no wrench and no damping is not in the robot's system: W w = 0
+        idle = np.all(w0 == 0.0, axis=-1) & np.all(K == 0.0, axis=(-2, -1))
+        self._wv_prev = np.where(idle[..., None], 0.0, wv)
         self._tw_prev = tw
         self._has_prev = True
         if not np.all(np.isfinite(wrench)):
@@ -507,18 +469,9 @@ class MudBatch:
         )
         return self.last
 
-    def _apply_given(self, datas: Sequence[mujoco.MjData], acc: FloatArray) -> MudContact:
-        """:meth:`_apply` with the twist acceleration ``acc`` (N, nb, 6) of all forces but
-        the mud's given (RK4, D150; read ahead, D162) instead of taken from the last step."""
-        self._given_acc = acc
-        try:
-            return self._apply(datas)
-        finally:
-            self._given_acc = None
-
     def _apply_compiled(self) -> MudContact:
         assert self._compiled is not None
-        bad = self._compiled.apply(self._has_prev, self._given_acc)
+        bad = self._compiled.apply(self._has_prev)
         self._has_prev = True
         if bad:
             raise MudrftError(
@@ -563,19 +516,13 @@ class MudBatch:
     def _step_generic(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
         mj = self._mj
         m = self.model
-        rk4 = int(self._opt.integrator) == self._rk4
         out = self.last
         for _ in range(int(nstep)):
-            if rk4:  # mj_step1/mj_step2 do not support RK4; the wrench is held (D150)
-                out = rk4_step(self, datas)
-            elif reads_ahead(self):  # the other forces' acceleration read ahead (D162)
-                out = lookahead_step(self, datas)
-            else:
-                for d in datas:
-                    mj.mj_step1(m, d)
-                out = self._apply(datas)
-                for d in datas:
-                    mj.mj_step2(m, d)
+            for d in datas:
+                mj.mj_step1(m, d)
+            out = self._apply(datas)
+            for d in datas:
+                mj.mj_step2(m, d)
             self._check_diverged(datas)
         assert out is not None
         return out

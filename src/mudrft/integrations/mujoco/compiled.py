@@ -146,7 +146,6 @@ def _kernel(
     addr: IndexArray, sizes: IndexArray,
     model_i: IndexArray, dof_parentid: IndexArray, rownnz: IndexArray, rowadr: IndexArray,
     colind: IndexArray,
-    mass: FloatArray, inertia: FloatArray,
     bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
     tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
     consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
@@ -162,9 +161,8 @@ def _kernel(
     posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
     kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
-    surface, implicit, chain, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z,
-    has_prev: 0 first step, 1 the last step's difference, 2 the acceleration given in
-    ``tw_prev``, D150). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
+    surface, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z, has_prev: 0 first step,
+    1 the last step's difference). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
     deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
     ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
     robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
@@ -172,9 +170,8 @@ def _kernel(
     Returns the number of bodies whose wrench is not finite.
     """
     dt, surface = opts[0], opts[1]
-    implicit, chain = opts[2] != 0.0, opts[3] != 0.0
-    bottom, kb, cb, dv_min = opts[4], opts[5], opts[6], opts[7]
-    has_prev, given = opts[11] != 0.0, opts[11] == 2.0
+    bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
+    has_prev = opts[9] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, nld = sizes[0], sizes[1], sizes[2]
     # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
@@ -220,11 +217,8 @@ def _kernel(
     b = _carve(wa, o + 27, (3, 6))
     K = _carve(wa, o + 45, (6, 6))
     o += 81
-    FWB, FK = (
-        _carve(wa, o, (nb, 6, 6)),
-        _carve(wa, o + 36 * nb, (nb, 6, 6)),
-    )
-    o += 72 * nb
+    FK = _carve(wa, o, (nb, 6, 6))
+    o += 36 * nb
     FW0, FACC, FTW, FWR, FWV = (
         _carve(wa, o, (nb, 6)),
         _carve(wa, o + 6 * nb, (nb, 6)),
@@ -244,14 +238,12 @@ def _kernel(
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
     consts, cfg, geom, morph = _borrow(consts), _borrow(cfg), _borrow(geom), _borrow(morph)
     tri_b, tri_up, tip, fwd = _borrow(tri_b), _borrow(tri_up), _borrow(tip), _borrow(fwd)
-    mass, inertia = _borrow(mass), _borrow(inertia)
     E[:, :] = 0.0
     bad = 0
     for k in range(n_rob):
         xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
         xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
         xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
-        ximat = carray(_ptr(addr[k, 3]), (nbody, 9))
         cvel = carray(_ptr(addr[k, 4]), (nbody, 6))
         subtree = carray(_ptr(addr[k, 5]), (nbody, 3))
         cdof = carray(_ptr(addr[k, 6]), (nv, 6))
@@ -329,7 +321,7 @@ def _kernel(
             for q in range(3):
                 F[q] = ratio[q] * r0[q]
                 D[q] = 0.0
-            if implicit and (was_in or depth > 0.0):
+            if was_in or depth > 0.0:
                 for q in range(3):
                     st = secant_steps(u[q], dv_min, pyfloat)
                     un[0], un[1], un[2] = u[0], u[1], u[2]
@@ -344,31 +336,30 @@ def _kernel(
                 fs[0], fs[1], fs[2] = frow[0], frow[1], frow[2]
             for i in range(6):
                 w0[i] = F[0] * b[0, i] + F[1] * b[1, i] + F[2] * b[2, i]
-            if implicit:
-                for i in range(6):
-                    for l in range(6):
-                        K[i, l] = (
-                            D[0] * b[0, i] * b[0, l]
-                            + D[1] * b[1, i] * b[1, l]
-                            + (D[2] * b[2, i] * b[2, l])
-                        )
-                spread[:, :] = 0.0
-                for q in range(3):
-                    pa = D[q] / geo[q] if geo[q] > 0.0 else 0.0
-                    if pa == 0.0:
-                        continue
-                    base = 12 + 9 * q
-                    for i in range(3):  # R_z J R_z^T
-                        for l in range(3):
-                            acc = 0.0
-                            for m1 in range(3):
-                                for m2 in range(3):
-                                    acc += E[m1, i] * geo[base + 3 * m1 + m2] * E[m2, l]
-                            spread[i, l] += pa * acc
-                for i in range(3):
+            for i in range(6):
+                for l in range(6):
+                    K[i, l] = (
+                        D[0] * b[0, i] * b[0, l]
+                        + D[1] * b[1, i] * b[1, l]
+                        + (D[2] * b[2, i] * b[2, l])
+                    )
+            spread[:, :] = 0.0
+            for q in range(3):
+                pa = D[q] / geo[q] if geo[q] > 0.0 else 0.0
+                if pa == 0.0:
+                    continue
+                base = 12 + 9 * q
+                for i in range(3):  # R_z J R_z^T
                     for l in range(3):
-                        K[3 + i, 3 + l] += spread[i, l]
-                        w0[3 + i] += spread[i, l] * tw[3 + l]
+                        acc = 0.0
+                        for m1 in range(3):
+                            for m2 in range(3):
+                                acc += E[m1, i] * geo[base + 3 * m1 + m2] * E[m2, l]
+                        spread[i, l] += pa * acc
+            for i in range(3):
+                for l in range(3):
+                    K[3 + i, 3 + l] += spread[i, l]
+                    w0[3 + i] += spread[i, l] * tw[3 + l]
             if bottom >= 0.0:  # rigid bottom on the lowest point (D67)
                 lx, ly = c * geo[39] - s * geo[40], s * geo[39] + c * geo[40]
                 bl[0], bl[1], bl[2], bl[3], bl[4], bl[5] = 0.0, 0.0, 1.0, ly, -lx, 0.0
@@ -380,9 +371,8 @@ def _kernel(
                 if pen > 0.0 and fb > 0.0:
                     for i in range(6):
                         w0[i] += fb * bl[i]
-                        if implicit:
-                            for l in range(6):
-                                K[i, l] -= cb * bl[i] * bl[l]
+                        for l in range(6):
+                            K[i, l] -= cb * bl[i] * bl[l]
             # keep what the robot's joint step needs (D62d); a foot with no wrench and no
             # damping (in the air) has nothing to solve
             idle = True
@@ -390,14 +380,12 @@ def _kernel(
                 FW0[j, i], FTW[j, i] = w0[i], tw[i]
                 idle = idle and w0[i] == 0.0
                 for l in range(6):
-                    FK[j, i, l] = K[i, l] if implicit else 0.0
+                    FK[j, i, l] = K[i, l]
                     idle = idle and FK[j, i, l] == 0.0
-                if given:  # RK4: what all other forces do, read from MuJoCo (D150)
-                    FACC[j, i] = tw_prev[k, j, i]
-                elif has_prev:
+                if has_prev:
                     FACC[j, i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
                 else:
-                    FACC[j, i] = opts[8 + i] if i < 3 else 0.0
+                    FACC[j, i] = opts[6 + i] if i < 3 else 0.0
             active += 0 if idle else 1
             FPOS[j] = -1.0 if idle else 0.0
             FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
@@ -412,42 +400,29 @@ def _kernel(
             r[18] = depth
             r[19], r[20], r[21] = r0[3], r0[4], r0[5]
         # the implicit step of all the robot's feet together, and its passivity bound
-        if implicit and active > 0:
+        if active > 0:
             for j in range(nb):
                 body = bodies[j, 0]
                 if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
                     continue
-                if chain:  # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
-                    _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
-                    for i in range(6):
-                        for d in range(nv):
-                            FM[j, i, d] = FJ[j, i, d]
-                    _ld_solve(FM[j], qld, qldinv, rownnz, rowadr, colind)
-                else:  # each body alone: diag(I/m, R I^-1 R^T)
-                    FWB[j, :, :] = 0.0
-                    Ri = ximat[body]
-                    for i in range(3):
-                        FWB[j, i, i] = 1.0 / mass[body]
-                        for l in range(3):
-                            acc = 0.0
-                            for d in range(3):
-                                acc += Ri[3 * i + d] / max(inertia[body, d], 1e-12) * Ri[3 * l + d]
-                            FWB[j, 3 + i, 3 + l] = acc
+                # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
+                _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
+                for i in range(6):
+                    for d in range(nv):
+                        FM[j, i, d] = FJ[j, i, d]
+                _ld_solve(FM[j], qld, qldinv, rownnz, rowadr, colind)
             tank[k] = _robot_step(
-                nb, nv, chain, dt, FJ, FM, FWB, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV,
-                tank[k],
-            )  # fmt: skip
+                nb, nv, dt, FJ, FM, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV, tank[k]
+            )
             for j in range(nb):
                 for i in range(6):
                     wv_prev[k, j, i] = FWV[j, i]
         else:
-            if implicit:
-                tank[k] = 0.0
+            tank[k] = 0.0
             for j in range(nb):
                 for i in range(6):
                     FWR[j, i] = FW0[j, i]
-                    if implicit:
-                        wv_prev[k, j, i] = 0.0
+                    wv_prev[k, j, i] = 0.0
         for j in range(nb):
             body = bodies[j, 0]
             wr, r = FWR[j], out[k, j]
@@ -481,16 +456,15 @@ WORK_FIXED = (57 + N_STATE) + 42 + 81
 def work_size(nv: int, ntri: int, nb: int) -> int:
     """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri`` posed
     triangles of all feet and ``nb`` foot bodies: per foot J and M^-1 J^T (12 nv), its
-    mobility, damping, wrenches, twists, center, place in the system and right-hand side
-    (118), the robot's joint system (72 nb)."""
-    return 6 * ntri + WORK_FIXED + nb * (12 * nv + 118) + 72 * nb * nb
+    damping, wrenches, twists, center, place in the system and right-hand side (76), the
+    robot's joint system (72 nb)."""
+    return 6 * ntri + WORK_FIXED + nb * (12 * nv + 76) + 72 * nb * nb
 
 
 #: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
 ARGS = (
     ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
-    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("mass", "f8", 1),
-    ("inertia", "f8", 2), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
+    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
@@ -536,11 +510,10 @@ def _kernel_packed(p: IndexArray) -> int:
     o = OFFSETS
     return _kernel(
         _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _i1(p, o[3]), _i1(p, o[4]), _i1(p, o[5]),
-        _i1(p, o[6]), _f1(p, o[7]), _f2(p, o[8]), _i2(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
-        _i1(p, o[12]), _f3(p, o[13]), _i1(p, o[14]), _f2(p, o[15]), _f2(p, o[16]),
-        _f2(p, o[17]), _f2(p, o[18]), _f2(p, o[19]), _f1(p, o[20]), _f3(p, o[21]),
-        _f3(p, o[22]), _f3(p, o[23]), _f3(p, o[24]), _f3(p, o[25]), _f1(p, o[26]),
-        _f3(p, o[27]), _f1(p, o[28]),
+        _i1(p, o[6]), _i2(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _i1(p, o[10]), _f3(p, o[11]),
+        _i1(p, o[12]), _f2(p, o[13]), _f2(p, o[14]), _f2(p, o[15]), _f2(p, o[16]),
+        _f2(p, o[17]), _f1(p, o[18]), _f3(p, o[19]), _f3(p, o[20]), _f3(p, o[21]),
+        _f3(p, o[22]), _f3(p, o[23]), _f1(p, o[24]), _f3(p, o[25]), _f1(p, o[26]),
     )  # fmt: skip
 
 

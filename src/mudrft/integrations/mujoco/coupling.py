@@ -46,7 +46,7 @@ class MudCoupling(MudBatch):
 
     def apply(self, data: mujoco.MjData) -> MudContact:  # type: ignore[override]
         """Advance the mud once and write ``data.xfrc_applied`` (after ``mj_step1``)."""
-        self.last = MudContact(*(a[0] for a in self._apply_now(self._check(data))))
+        self.last = MudContact(*(a[0] for a in self._apply(self._check(data))))
         return self.last
 
     def step(self, data: mujoco.MjData, nstep: int = 1) -> MudContact:  # type: ignore[override]

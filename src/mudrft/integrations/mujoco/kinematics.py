@@ -5,8 +5,7 @@ center of mass and angular velocity) per unit impulse of a wrench (force at the 
 of mass, torque), :math:`W = J M^{-1} J^T` with :math:`J` the body's 6 x nv Jacobian at
 its center of mass and :math:`M` the joint-space inertia. The coupling's semi-implicit step needs it
 (:class:`~mudrft.integrations.mujoco.MudBatch`, decision D62): :func:`chain_mobility`
-takes it from the whole model, :func:`body_mobility` from the body alone, as if the
-body were free (cheaper, and an upper bound: more damping in transients; exact for a free body).
+takes it from the whole model.
 
 Shapes: ``N`` robots (one ``MjData`` each), ``nb`` bodies; every array is in the world
 frame.
@@ -25,7 +24,7 @@ from ._lazy import _mujoco
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = ["body_frames", "body_mobility", "chain_mobility", "com_twist"]
+__all__ = ["body_frames", "chain_mobility", "com_twist"]
 
 
 def body_frames(
@@ -111,39 +110,6 @@ def chain_mobility(
             mj.mj_jac(model, d, jac[j, :3], jac[j, 3:], com[k, j], int(b))
             mj.mj_solveM(model, d, minv_jt[j], jac[j])
         W[k] = np.einsum("iav,jbv->ijab", jac, minv_jt)
-    return W
-
-
-def body_mobility(
-    model: mujoco.MjModel, datas: Sequence[mujoco.MjData], ids: IndexArray
-) -> FloatArray:
-    r"""Mobility of each body as if it were free: :math:`\operatorname{diag}(I/m, I_c^{-1})`.
-
-    Parameters
-    ----------
-    model : mujoco.MjModel
-        The model (body masses and principal inertias).
-    datas : sequence of mujoco.MjData
-        The ``N`` robots.
-    ids : ndarray of int (nb,)
-        Body ids.
-
-    Returns
-    -------
-    ndarray (N, nb, nb, 6, 6)
-        Mobility of the center-of-mass twists (see :func:`chain_mobility`), block-diagonal:
-        each body moves alone.
-    """
-    mass = np.array(model.body_mass)[ids]
-    inert = np.array(model.body_inertia)[ids]
-    N, nb = len(datas), len(ids)
-    Ri = np.stack([d.ximat for d in datas])[:, ids].reshape(N, nb, 3, 3)
-    W = np.zeros((N, nb, nb, 6, 6))
-    diag = np.arange(nb)
-    W[:, diag, diag, :3, :3] = np.eye(3) / mass[:, None, None]
-    W[:, diag, diag, 3:, 3:] = np.einsum(
-        "kbij,bj,kblj->kbil", Ri, 1.0 / np.maximum(inert, 1e-12), Ri
-    )
     return W
 
 

@@ -120,8 +120,7 @@ def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
 
 
 def _robot_step(
-    nb: int, nv: int, chain: bool, dt: float, FJ: FloatArray, FM: FloatArray, FWB: FloatArray,
-    FK: FloatArray, FW0: FloatArray, FACC: FloatArray, FTW: FloatArray, FPOS: FloatArray,
+    nb: int, nv: int, dt: float, FJ: FloatArray, FM: FloatArray, FK: FloatArray, FW0: FloatArray, FACC: FloatArray, FTW: FloatArray, FPOS: FloatArray,
     WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
     tank: float,
 ) -> float:  # fmt: skip
@@ -130,8 +129,7 @@ def _robot_step(
     The compiled form of :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
     (D62, D62c, D62d) for the feet with a wrench or damping (``FPOS[j] >= 0``; the others
     have no wrench, and their ``W w`` is 0 as in the numpy coupling): the mobility ``WF``
-    (6 m x 6 m) from each foot's ``FJ`` and ``FM`` = M^-1 J^T (``chain``) or its own block
-    ``FWB``; the system ``(I - dt K W) w = w0 + dt K a`` in ``AJ``, ``RJ``; the wrenches
+    (6 m x 6 m) from each foot's ``FJ`` and ``FM`` = M^-1 J^T; the system ``(I - dt K W) w = w0 + dt K a`` in ``AJ``, ``RJ``; the wrenches
     scaled by the bound into ``FWR`` and ``W w`` into ``FWV``. Returns the robot's tank
     after the step [J].
     """
@@ -152,11 +150,8 @@ def _robot_step(
             for a in range(6):
                 for c in range(a if i == j else 0, 6):
                     acc = 0.0
-                    if chain:
-                        for d in range(nv):
-                            acc += FJ[i, a, d] * FM[j, c, d]
-                    elif i == j:
-                        acc = FWB[i, a, c]
+                    for d in range(nv):
+                        acc += FJ[i, a, d] * FM[j, c, d]
                     WF[6 * pi + a, 6 * pj + c] = acc
                     WF[6 * pj + c, 6 * pi + a] = acc
     for i in range(nb):

@@ -1,9 +1,8 @@
 """The options of ``attach``, checked once for both couplings (CPU and MJX).
 
 Every mistake is a :class:`~mudrft.MudrftError` that names the option: a body name that is
-not a string, the world body, a foot list of the wrong length, a flag that is not a bool
-(``implicit="no"`` was read as True), ``bottom_stiffness`` without ``bottom`` (it was
-ignored).
+not a string, the world body, a foot list of the wrong length, ``bottom_stiffness`` without
+``bottom`` (it was ignored), an option of 0.2 that was removed (:data:`REMOVED`).
 """
 
 from __future__ import annotations
@@ -26,7 +25,14 @@ from ..._validation import (
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = ["AttachOptions", "check_attach_options", "check_count", "check_data"]
+__all__ = [
+    "AttachOptions",
+    "check_attach_options",
+    "check_count",
+    "check_data",
+    "check_integrator",
+    "check_removed",
+]
 
 #: Defaults of the hard bottom's penalty (D67): stiffness [N/m], damping [N s/m].
 BOTTOM_STIFFNESS, BOTTOM_DAMPING = 1e5, 2e3
@@ -41,11 +47,8 @@ class AttachOptions(NamedTuple):
     bottom: float | None  # [m]
     bottom_stiffness: float  # [N/m]
     bottom_damping: float  # [N s/m]
-    implicit: bool
-    mobility: str
     resolution: int
     geoms: list[Any]  # the foot's geom(s) of each body, None: derived (D124)
-    lookahead: bool = False  # read the other forces' acceleration ahead (D162)
     floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
     auto: bool = False  # the bodies were found by feet="auto"
 
@@ -68,11 +71,8 @@ def check_attach_options(
     bottom: object,
     bottom_stiffness: object,
     bottom_damping: object,
-    implicit: object,
-    mobility: object,
     resolution: object,
     foot_geoms: object = None,
-    lookahead: object = False,
     floor: object = "warn",
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
@@ -111,15 +111,6 @@ def check_attach_options(
             raise MudrftError(
                 f"feet must be one foot or one per body ({len(names)}), got {len(feet_list)}"
             )
-    if not isinstance(implicit, (bool, np.bool_)):
-        raise MudrftError(f"implicit must be True or False, got {implicit!r}")
-    if not isinstance(lookahead, (bool, np.bool_)):
-        raise MudrftError(
-            "lookahead must be True (read the other forces' acceleration from a look-ahead "
-            f"of MuJoCo's step) or False (estimate it from the last step), got {lookahead!r}"
-        )
-    if mobility not in ("chain", "body"):
-        raise MudrftError(f"mobility must be 'chain' or 'body', got {mobility!r}")
     if bottom is None and (bottom_stiffness != BOTTOM_STIFFNESS or bottom_damping != BOTTOM_DAMPING):  # fmt: skip
         raise MudrftError(
             "bottom_stiffness and bottom_damping shape the hard bottom; give its depth with "
@@ -133,15 +124,48 @@ def check_attach_options(
         bottom=None if bottom is None else positive_number("bottom", bottom, unit="m"),
         bottom_stiffness=nonnegative_number("bottom_stiffness", bottom_stiffness, unit="N/m"),
         bottom_damping=nonnegative_number("bottom_damping", bottom_damping, unit="N s/m"),
-        implicit=bool(implicit),
-        mobility=str(mobility),
         resolution=check_count("resolution", resolution),
-        lookahead=bool(lookahead),
         floor=str(floor),
         auto=auto,
     )
     check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
     return opts
+
+
+#: The options of 0.2 that were removed, and what the coupling does now.
+REMOVED = {
+    "implicit": "the coupling always takes the linearly implicit step of the mud's damping, "
+    "bounded so that the mud never gives back more energy than it took",
+    "mobility": "the coupling always uses the whole robot's mobility (the former mobility='chain')",
+    "lookahead": "the coupling estimates the other forces' acceleration from the last step",
+}
+
+
+def check_removed(coupling: str, kw: Mapping[str, object]) -> None:
+    """Refuse keyword arguments ``coupling`` does not take: a removed option (:data:`REMOVED`)
+    says what the coupling does now, any other names the options it takes."""
+    for name in kw:
+        if name in REMOVED:
+            raise MudrftError(
+                f"{coupling}'s option {name}= was removed in mudrft 0.3: {REMOVED[name]}; "
+                f"drop the argument"
+            )
+        raise MudrftError(f"{coupling} got an unexpected keyword argument {name!r}")
+
+
+def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling") -> None:
+    """Refuse MuJoCo's RK4 integrator: it evaluates the dynamics at four stage poses and
+    would hold the mud's wrench over them, which no longer keeps a light spinning foot
+    passive; the coupling runs one scheme, under Euler, ``implicitfast`` or ``implicit``."""
+    from ._lazy import _mujoco
+
+    mj = _mujoco()
+    it = mj.mjtIntegrator(int(model.opt.integrator))
+    if it == mj.mjtIntegrator.mjINT_RK4:
+        raise MudrftError(
+            f"{coupling} steps with the 'Euler', 'implicitfast' or 'implicit' integrator, got "
+            f"{it.name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
+        )
 
 
 def check_gravity(model: mujoco.MjModel) -> None:

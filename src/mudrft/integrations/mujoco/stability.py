@@ -28,14 +28,12 @@ from ...terrains.mud import MudTerrain, vertical_viscosity
 if TYPE_CHECKING:
     import mujoco
 
-    from ...terrains import Terrain
     from .contact import MudContact
     from .placement import BodyFoot
 
 __all__ = [
     "LARGEST_TIMESTEP",
     "SEARCHED_TIMESTEPS",
-    "check_explicit_step",
     "check_spring_step",
     "check_timestep",
     "diverged_error",
@@ -107,45 +105,6 @@ def stability_limits(
         "stiffness": k,
         "suction_damping": cs,
     }
-
-
-def check_explicit_step(
-    model: mujoco.MjModel, bodies: Sequence[BodyFoot], terrain: Terrain
-) -> None:
-    """Warn if ``implicit=False`` couples a foot explicitly above its viscous limit.
-
-    For each foot body the mass is the body's and what hangs from it (``body_subtreemass``,
-    the least a foot can move with; a leg adds more) and the damper is the mud's at the
-    foot's full height (its largest area). A model time step above ``dt_viscous`` of
-    :func:`stability_limits` feeds energy into the foot (docs/model.md, "Stability of the
-    explicit coupling"): :class:`~mudrft._validation.PlausibilityWarning`. Terrains other
-    than :class:`~mudrft.MudTerrain` are not checked.
-
-    Parameters
-    ----------
-    model : mujoco.MjModel
-        The model (its ``opt.timestep`` [s] and body masses [kg]).
-    bodies : sequence of BodyFoot
-        The coupled bodies (``body_id``, ``foot``).
-    terrain : Terrain
-        The coupling's terrain.
-    """
-    if not isinstance(terrain, MudTerrain):
-        return
-    dt = float(model.opt.timestep)
-    for b in bodies:
-        mass = float(model.body_subtreemass[b.body_id])
-        if not mass > 0:
-            continue
-        limit = stability_limits(b.foot, terrain, mass=mass, depth=float(b.foot.height))
-        if dt > limit["dt_viscous"]:
-            warn_plausibility(
-                f"implicit=False couples body {b.body!r} explicitly: its {plain(mass)} kg "
-                f"against the mud's {limit['damping']:.3g} N s/m damper is stable only for "
-                f"dt < {limit['dt_viscous']:.3g} s, and the model's timestep is {plain(dt)} s: "
-                "the mud may feed energy into the foot; keep implicit=True (the default) or "
-                f"use a timestep below {0.5 * limit['dt_viscous']:.2g} s"
-            )
 
 
 def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> float:
