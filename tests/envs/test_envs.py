@@ -97,7 +97,7 @@ def test_a_vector_of_environments_steps_on_mjx(vector_env):
 
 @pytest.mark.slow
 def test_the_vector_env_keeps_its_precision_when_the_process_switches_to_float64(vector_env):
-    """D129: made in float32, then mudrft.backends.jax switched the process to float64
+    """Made in float32, then mudrft.backends.jax switched the process to float64
     (its first call does, D70): the next step failed on 'lax.add requires arguments to
     have the same dtypes, got int32, int64'. The environment runs in its own precision."""
     envs = vector_env

@@ -16,7 +16,7 @@ def mujoco_at_least(major: int, minor: int) -> bool:
     """Whether the installed MuJoCo is ``major.minor`` or later (False without MuJoCo).
 
     Two findings of the suite appear only from a MuJoCo release on
-    (measured, D149): the 2 ms walk's suction spike from 3.5 (3.3.6 and 3.4.0 converge)."""
+    (measured): the 2 ms walk's suction spike from 3.5 (3.3.6 and 3.4.0 converge)."""
     if mujoco is None:
         return False
     parts = [int(p) for p in mujoco.__version__.split(".")[:2]]

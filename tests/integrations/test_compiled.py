@@ -96,7 +96,7 @@ def test_a_compiled_coupling_applied_once_then_stepped_equals_numpy():
     """``apply`` on the first step, ``step`` after it: the compiled coupling kept the first
     step's flag (no last step: the acceleration estimate is gravity alone) for as long as
     it ran, and the thrown leg's foot force differed from the numpy coupling's by up to
-    938 N (largest 615 N) within 0.4 s (D151). Now alike to 1e-9 of the largest force
+    938 N (largest 615 N) within 0.4 s. Now alike to 1e-9 of the largest force
     (measured 7e-12)."""
     forces = {}
     for backend in ("numpy", "numba"):
@@ -190,7 +190,7 @@ class _Dispatcher:
 
 
 def test_the_first_compilation_says_so_on_the_logger(caplog):
-    """The first reset of a numba coupling compiles for about 15 s; it was silent (D114)."""
+    """The first reset of a numba coupling compiles for about 15 s; it was silent."""
     from mudrft.integrations.mujoco.backend import compile_once
 
     with caplog.at_level("INFO", logger="mudrft"):

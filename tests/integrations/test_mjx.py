@@ -257,7 +257,7 @@ def test_an_unstable_robot_in_a_batch_is_flagged_and_its_mud_held(foot_batch):
 
 
 def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_batch):
-    """D129: a robot made in float32, stepped after mudrft.backends.jax switched the
+    """A robot made in float32, stepped after mudrft.backends.jax switched the
     process to float64 (its first call does, D70): the rollout's scan refused its carry
     ('carry[1].foot_xy has type float32[1,2] but ... float64'), and the vector environment
     failed on 'lax.add requires arguments to have the same dtypes, got int32, int64'. Now

@@ -117,7 +117,7 @@ def test_a_body_welded_to_the_world_warns_that_the_mud_moves_nothing():
 
 def test_a_timestep_far_above_the_checked_range_warns_once_at_attach_and_reset():
     # a model of one's own at 20 ms: a 1.5 kg box foot settles 2.8 times too deep there
-    # with a force alternating step by step; the couplings were checked at 0.5-5 ms (D62e)
+    # with a force alternating step by step; the couplings were checked at 0.5-5 ms
     # and the biped walks at up to 10 ms, which stay quiet (D123)
     import warnings
 

@@ -119,7 +119,7 @@ def test_free_foot_of_any_shape_never_gains_energy(shape, dt, tilt, spin, spin_r
     slide=st.tuples(st.floats(-0.7, 0.7), st.floats(-0.7, 0.7)),
 )
 def test_free_foot_on_the_compiled_coupling_never_gains_energy(shape, dt, tilt, spin, slide):
-    """The same release on backend="numba" (D68a, D68d), which ``"auto"`` picks for every
+    """The same release on backend="numba" (D68a), which ``"auto"`` picks for every
     one of these feet: kinetic + gravitational energy never rises above its start."""
     pytest.importorskip("numba")
     model, data, coupling = _release(

@@ -192,7 +192,7 @@ def test_the_sphere_the_search_found_gains_nothing_beyond_mujoco_alone(backend):
 
 
 def _spinning_flat_foot(backend: str):
-    """Seed 5738 of the search of D62e: a free 1 kg flat foot of small isotropic inertia
+    """Seed 5738 of the passivity search: a free 1 kg flat foot of small isotropic inertia
     (5.1e-6 kg m^2) spinning at 76 rad/s, 6 mm deep, at dt = 5 ms without gravity, under
     implicitfast (under RK4, which the coupling refuses, the held wrench gained 0.26 J)."""
     xml = """<mujoco><option timestep="0.005" gravity="0 0 0" integrator="implicitfast"/>
@@ -217,7 +217,7 @@ def _spinning_flat_foot(backend: str):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_light_free_flat_foot_spinning_fast_gains_no_energy(backend):
-    """The release of D62e that gained energy under RK4: under implicitfast the energy
+    """The release that gained energy under RK4: under implicitfast the energy
     never rises (tolerance round-off)."""
     model, data, coupling = _spinning_flat_foot(_backend(backend))
     rise, e0, wet = _rise(model, data, coupling, 0.3)

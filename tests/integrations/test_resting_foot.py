@@ -1,6 +1,6 @@
-"""A foot that comes to rest in the mud settles: no period-two oscillation (D115, D119).
+"""A foot that comes to rest in the mud settles: no period-two oscillation (D119).
 
-Found by a walkthrough with a robot of one's own (D115): after a sideways motion a resting
+Found by a walkthrough with a robot of one's own: after a sideways motion a resting
 foot kept alternating its force step by step. The swing was the suction switch
 :math:`H_\\nu` of eq. (1), which turns within :math:`\\nu L_c` (about 0.5 mm/s) of rest:
 the secant of D63 spanned the velocity change of the last mud wrench alone (0.15-0.23 m/s

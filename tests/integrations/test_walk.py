@@ -57,7 +57,7 @@ def test_walk_converges_in_the_time_step(flat_runs):
     mujoco_at_least(3, 5),
     strict=True,
     reason="one-step overshoot at the stance switch at 2 ms from MuJoCo 3.5, whose "
-    "implicitfast drops a torque-saturated servo's implicit damping (D62d, D149, D152)",
+    "implicitfast drops a torque-saturated servo's implicit damping (D62d, D152)",
 )
 def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     """The largest suction is one sample: at 2 ms the first step after a stance switch
@@ -68,7 +68,7 @@ def test_walk_max_suction_converges_in_the_time_step(flat_runs):
     -626 N, from +83 N the step before and -271 N after, 8 % above 1 ms (577 N). Strict: it
     fails once the coupling sees the actuators' change (the estimates tried and why none is
     built: D62d). The spike comes with MuJoCo 3.5: on 3.3.6 and 3.4.0 the 2 ms maximum is
-    574 and 570 N against 578 N at 1 ms, and the test passes (D149). The cause (D152):
+    574 and 570 N against 578 N at 1 ms, and the test passes. The cause (D152):
     from 3.5 a servo at its torque limit has no velocity derivative in implicitfast's
     implicit step, and the spike is the step after the stance switch's saturated servos;
     the largest suction on any other step is 562 N; at 1 ms there is no spike."""

@@ -109,7 +109,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.render_mode = None
         self.layout = walker_layout(self.config)
         lay = self.layout
-        # the precision the robots are made in; every later call runs in it (D129)
+        # the precision the robots are made in; every later call runs in it
         self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
             lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
@@ -177,7 +177,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
         Runs in the precision the environment was made in (float32 unless JAX computed in
         float64 then), even if the process has been switched since, as
-        :mod:`mudrft.backends.jax` does on its first call (D70, D129).
+        :mod:`mudrft.backends.jax` does on its first call (D70).
         """
         with _precision(self._x64):
             return self._step(actions)
@@ -216,7 +216,7 @@ def _precision(x64: bool) -> AbstractContextManager[None]:
     """A context in which JAX computes in float64 if ``x64``, else in float32: the robots'
     arrays and the compiled programs were made in one precision, and a process switched to
     the other in between (mudrft.backends.jax switches to float64, D70) made the next step
-    fail on 'lax.add requires arguments to have the same dtypes, got int32, int64' (D129)."""
+    fail on 'lax.add requires arguments to have the same dtypes, got int32, int64'."""
     from ..integrations.mjx._lazy import x64_context
 
     return x64_context(x64)

@@ -46,7 +46,7 @@ def x64_context(x64: bool) -> contextlib.AbstractContextManager[None]:
     """A context in which JAX computes in float64 if ``x64``, else in float32.
 
     ``jax.enable_x64`` from JAX 0.8, ``jax.experimental.enable_x64`` before it: mudrft
-    supports JAX from 0.5 (decision D149).
+    supports JAX from 0.5.
     """
     jax = _jax()
     context: Any = getattr(jax, "enable_x64", None)

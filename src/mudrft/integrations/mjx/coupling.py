@@ -385,7 +385,7 @@ def _check_mjx_data(mjx: ModuleType, d: object) -> None:
         )
     jax = _jax()
     x64 = bool(jax.config.jax_enable_x64)
-    if x64 and d.qpos.dtype == np.float32:  # D129
+    if x64 and d.qpos.dtype == np.float32:
         raise MudrftError(
             "d is float32 but JAX now computes in float64: it was made before the process "
             "was switched (mudrft.backends.jax does so on its first call, D70), and the "

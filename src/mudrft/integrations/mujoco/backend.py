@@ -159,7 +159,7 @@ class CompiledCoupling:
         Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
         a look at MuJoCo's warning counters; the batch's ``last`` is marked stale and built
         from the outputs only when read. Closure variables, not attribute lookups: on the
-        biped this Python bookkeeping would otherwise cost as much as the mud itself (D68b).
+        biped this Python bookkeeping would otherwise cost as much as the mud itself.
         """
         b = self.batch
         m = b.model
@@ -253,7 +253,7 @@ class CompiledCoupling:
         the number of bodies whose wrench is not finite."""
         self.opts[9] = 1.0 if has_prev else 0.0
         bad = int(self.kernel(*self._args))
-        self.opts[9] = 1.0  # has a last step now: the compiled step loop's value (D151)
+        self.opts[9] = 1.0  # has a last step now: the compiled step loop's value
         return bad
 
     def _pack(self) -> None:
@@ -273,7 +273,7 @@ class CompiledCoupling:
     def entry(self) -> Any:
         """The kernel compiled for :attr:`_args` (loaded from the disk cache when it is
         there), as a function of that one argument that skips the dispatcher's lookup of
-        its type (a quarter of a microsecond per call, D68b)."""
+        its type (a quarter of a microsecond per call)."""
         (p,) = self._args
         return compile_once(self.kernel, (numba.typeof(p),))
 
@@ -282,7 +282,7 @@ def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:
     """``kernel.compile(signature)`` (a numba dispatcher), saying so on the ``mudrft``
     logger (INFO) the first time in this process: about 15 s on one core the first time
     on a machine (then numba's disk cache loads it), spent in the first ``reset`` of a
-    compiled coupling, which otherwise looked like a hang (D114)."""
+    compiled coupling, which otherwise looked like a hang."""
     first = not kernel.signatures
     if first:
         logger.info(

@@ -244,7 +244,7 @@ class MudBatch:
         """What the mud did in the last step (:class:`MudContact`), or ``None`` before it.
 
         The compiled coupling builds it from its outputs when it is first read after a
-        step, so :meth:`advance` does not pay for it (D68b).
+        step, so :meth:`advance` does not pay for it.
         """
         if self._stale:
             assert self._compiled is not None
@@ -496,7 +496,7 @@ class MudBatch:
         """:meth:`step` without returning the contact: ``nstep`` physics steps of every
         robot; :attr:`last` still gives what the mud did in the last one, built when read.
 
-        The compiled coupling's cheapest loop (D68b): building a :class:`MudContact` costs
+        The compiled coupling's cheapest loop: building a :class:`MudContact` costs
         about a tenth of the biped's physics step, which a loop that does not read it every
         step need not pay.
         """
@@ -530,7 +530,7 @@ class MudBatch:
     def _step_compiled(
         self, datas: list[mujoco.MjData], nstep: int, *, contact: bool = True
     ) -> MudContact | None:
-        """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2`` (D68b);
+        """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2``;
         the contact of the last step, unless ``contact`` is false."""
         if self._loop is None or self._compiled is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")

@@ -14,7 +14,7 @@ every body of every robot what the numpy coupling does with arrays:
    one source, D119) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
    the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
    mesh foot's facets, or the morphing foot's column balance and force
-   (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`, D68d);
+   (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`);
 4. assembles the wrench and its damping (D62a); then, per robot, computes the mobility of
    its feet with the cross blocks from MuJoCo's ``cdof`` and the factorised mass matrix
    (``qLD``: the port of ``mj_jac`` and ``mj_solveLD``), solves the implicit step of all
@@ -166,7 +166,7 @@ def _kernel(
     deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
     ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
     robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
-    ``work`` (:func:`work_size`) the work arrays, allocated once (D68b).
+    ``work`` (:func:`work_size`) the work arrays, allocated once.
     Returns the number of bodies whose wrench is not finite.
     """
     dt, surface = opts[0], opts[1]
@@ -477,7 +477,7 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 def pack(arrays: list[Any]) -> IndexArray:
     """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array: each one's
     address and shape. One small array costs numba a fraction of a microsecond to pass,
-    where 29 arrays cost 2.5-4.5 us (D68b), and the kernel that takes it is cached on disk.
+    where 29 arrays cost 2.5-4.5 us, and the kernel that takes it is cached on disk.
     The caller keeps the arrays alive while the kernel may run."""
     out: list[int] = []
     for a in arrays:

@@ -1,4 +1,4 @@
-r"""The feet in the compiled coupling: their channel areas and the secant nudge (D63, D68d).
+r"""The feet in the compiled coupling: their channel areas and the secant nudge (D63).
 
 A foot's mud step and force is :func:`mudrft.terrains.rows.foot_step`, the compiled path
 of :class:`mudrft.MudTerrain`. Here: :func:`_nudged_force`, the one-channel step of a

@@ -52,7 +52,7 @@ class MudCoupling(MudBatch):
     def step(self, data: mujoco.MjData, nstep: int = 1) -> MudContact:  # type: ignore[override]
         """``nstep`` physics steps, the mud advanced once per step."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(self._nstep(nstep))  # the compiled loop (D68b)
+            self._loop(self._nstep(nstep))  # the compiled loop
             out = self.last
             assert out is not None
             return out
@@ -65,7 +65,7 @@ class MudCoupling(MudBatch):
     def advance(self, data: mujoco.MjData, nstep: int = 1) -> None:  # type: ignore[override]
         """``nstep`` physics steps without returning the contact (:attr:`last` has it)."""
         if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(self._nstep(nstep))  # the compiled loop (D68b)
+            self._loop(self._nstep(nstep))  # the compiled loop
         else:
             self.step(data, nstep)
 

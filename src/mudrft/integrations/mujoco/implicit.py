@@ -58,7 +58,7 @@ def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:
     foot that rests or creeps sees the switch's own slope. A secant that ends beyond rest
     on the far side of the switch (the rule of D63 before D119: the velocity change the
     last wrench made) has a slope far below the switch's, and a resting foot jumped across
-    the switch every step (the period-two oscillation of D115).
+    the switch every step (a period-two oscillation).
 
     Parameters
     ----------

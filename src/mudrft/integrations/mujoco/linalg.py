@@ -222,7 +222,7 @@ def _borrow(a: FloatArray) -> FloatArray:
     """A float64 C-contiguous array as a view without a reference count (``numba.carray``
     on its address): every view the kernel then takes of it (a row, a slice, an argument
     to a helper) skips numba's atomic reference updates (about 2.5 us of the walking
-    biped's step, D68b). The caller keeps ``a`` alive while the view is used (the kernel's
+    biped's step). The caller keeps ``a`` alive while the view is used (the kernel's
     packed argument does, for the call)."""
     return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 

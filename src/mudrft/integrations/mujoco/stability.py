@@ -40,7 +40,7 @@ __all__ = [
     "stability_limits",
 ]
 
-#: The time steps the passivity searches of the couplings covered [s] (docs/model.md D62e).
+#: The time steps the passivity searches of the couplings covered [s].
 SEARCHED_TIMESTEPS = (5e-4, 5e-3)
 #: The largest model time step a coupling takes without a warning [s] (decision D123): twice
 #: the searched range, the biped's largest step (``walk.MAX_DT``); at 20 ms a free 1.5 kg box
@@ -110,7 +110,7 @@ def stability_limits(
 def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> float:
     """Warn if the model's time step is far above those the coupling was checked at.
 
-    The passivity searches (docs/model.md D62e) ran at 0.5-5 ms (:data:`SEARCHED_TIMESTEPS`)
+    The passivity searches ran at 0.5-5 ms (:data:`SEARCHED_TIMESTEPS`)
     and the biped walks at up to 10 ms; above :data:`LARGEST_TIMESTEP` a foot that settles
     correctly at 1-10 ms sinks too deep and its force alternates from step to step (decision
     D123): :class:`~mudrft._validation.PlausibilityWarning`, naming the time step, the range
@@ -133,7 +133,7 @@ def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> fl
         lo, hi = SEARCHED_TIMESTEPS
         warn_plausibility(
             f"the model's timestep is {plain(dt)} s, far above those the mud coupling was "
-            f"checked at ({lo * 1e3:g}-{hi * 1e3:g} ms, docs/model.md D62e; up to "
+            f"checked at ({lo * 1e3:g}-{hi * 1e3:g} ms, docs/model.md up to "
             f"{LARGEST_TIMESTEP * 1e3:g} ms for the biped's walk): a foot may settle too "
             "deep and its force alternate from step to step; use a timestep of "
             f"{hi * 1e3:g} ms or less (MuJoCo's default is 2 ms)"
