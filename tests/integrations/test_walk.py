@@ -17,6 +17,8 @@ pytest.importorskip("mujoco")
 import mudrft.integrations.walk_compare
 from mudrft.cli import walk as walk_cli
 from mudrft.integrations import walk as W
+from mudrft.integrations.walk import walk
+from mudrft.trajectories import BuriedFootWarning
 
 from .conftest import mujoco, mujoco_at_least
 
@@ -137,8 +139,10 @@ def test_walk_energy_is_joint_torque_times_joint_velocity(flat_runs):
 
 
 def test_walk_compare_writes_table_claims_and_figure(tmp_path):
-    """``mudrft walk --compare``: every foot on the same mud, the paper's claims beside."""
-    assert walk_cli.run(_args(tmp_path, compare=True, seconds=1.2, step_time=0.5)) == 0
+    """``mudrft walk --compare``: every foot on the same mud, the paper's claims beside.
+    The flat foot sinks past its 26 mm height there, and the walk says so."""
+    with pytest.warns(BuriedFootWarning, match="walk: a foot sank .* deeper than the"):
+        assert walk_cli.run(_args(tmp_path, compare=True, seconds=1.2, step_time=0.5)) == 0
     out = tmp_path / "run"
     table = np.genfromtxt(out / "compare.csv", delimiter=",", names=True, dtype=None)
     assert [r[0].decode() if isinstance(r[0], bytes) else r[0] for r in table] == list(
@@ -226,6 +230,9 @@ def _args(tmp_path, **kw):
     return argparse.Namespace(**base)
 
 
+@pytest.mark.filterwarnings(
+    "ignore::mudrft.trajectories.BuriedFootWarning"
+)  # the biped sinks past 26 mm
 def test_cli_writes_outputs_and_refuses_to_overwrite(tmp_path):
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers(dest="command")
@@ -283,6 +290,9 @@ def test_a_step_of_a_few_physics_steps_is_refused():
         W.walk(mudrft.feet.Flat(), MUD, seconds=0.01, dt=1e-3, step_time=0.019)
 
 
+@pytest.mark.filterwarnings(
+    "ignore::mudrft.trajectories.BuriedFootWarning"
+)  # the biped sinks past 26 mm
 def test_walk_takes_a_calibrated_parameter_file(tmp_path):
     """``mudrft walk --vertical FIT.json`` walks on a fitted set (D111), as simulate does;
     the summary names the mud, and a softer fitted row sinks the feet deeper."""
@@ -296,3 +306,15 @@ def test_walk_takes_a_calibrated_parameter_file(tmp_path):
     assert paper["mud"] == "Chen 2026 mud, W = 25 %"
     assert fitted["mud"] == f"vertical {fit}, the rest of the paper's mud at W = 25 %"
     assert fitted["steps"] > 0 and fitted["mean_sinking [m]"] > paper["mean_sinking [m]"]
+
+
+def test_a_foot_sunk_past_its_height_in_a_walk_warns_once_and_strict_refuses_it():
+    """Issue 38: a walk whose feet sank deeper than they are tall said nothing. The
+    semi-sphere (26 mm tall) in W = 45 % mud sinks far past it: one warning a run, and
+    under ``strict=True`` an error."""
+    foot, mud = mudrft.feet.SemiSphere(), mudrft.paper_mud(0.45)
+    with pytest.warns(BuriedFootWarning) as record:
+        walk(foot, mud, seconds=0.5)
+    assert len([w for w in record if issubclass(w.category, BuriedFootWarning)]) == 1
+    with pytest.raises(mudrft.MudrftError, match="strict: walk: a foot sank"):
+        walk(foot, mud, seconds=0.5, strict=True)

@@ -13,7 +13,7 @@ from .._validation import MudrftError
 from ..io.atomic import json_text
 from ._common import Outputs, check_nonnegative_option, check_positive_option, logger, require_extra
 from ._mud import add_fit_options, mud_from_options
-from ._parser import add_foot_options, add_force, add_quiet, add_subcommand
+from ._parser import add_foot_options, add_force, add_quiet, add_strict, add_subcommand
 
 if TYPE_CHECKING:
     from ..parameters import Mud
@@ -73,6 +73,11 @@ def add_parser(
     )
     add_force(p, "existing results in DIR")
     add_quiet(p)
+    add_strict(
+        p,
+        "a foot sunk deeper than its height, ...",
+        refuses="a foot sunk deeper than its own height",
+    )
     p.set_defaults(func=run)
     return p
 
@@ -124,6 +129,7 @@ def run(args: argparse.Namespace) -> int:
             bottom=bottom,
             frames=0 if args.no_render else 6,
             progress=None if args.quiet else Progress("walking"),
+            strict=getattr(args, "strict", False),
         )
         s = res.summary
         s["water_content"] = float(args.water_content)

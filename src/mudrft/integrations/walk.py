@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
+from ..trajectories import check_unburied
 from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
     STEP_COLUMNS,
@@ -328,6 +329,7 @@ def walk(
     backend: str = "auto",
     frames: int = 0,
     progress: Callable[[float], None] | None = None,
+    strict: bool = False,
     **removed: object,
 ) -> WalkResult:
     """Walk the biped in mud for ``seconds`` and measure energy, sinking and suction.
@@ -356,6 +358,10 @@ def walk(
         ``MUJOCO_GL=egl``; silently none when rendering fails).
     progress : callable or None, keyword-only
         Called with the fraction done, about 20 times.
+    strict : bool, keyword-only
+        Raise a :class:`~mudrft.MudrftError` instead of warning
+        (:class:`~mudrft.trajectories.BuriedFootWarning`, once a run) when a foot sinks
+        deeper than it is tall.
 
     Returns
     -------
@@ -448,6 +454,15 @@ def walk(
             progress(k / n)
     rows = rows[: k + 1]
     table = {c: rows[:, i] for i, c in enumerate(WALK_COLUMNS)}
+    deepest = float(np.nanmax(rows[:, 4:6])) if rows.size else 0.0
+    check_unburied(
+        getattr(foot, "name", type(foot).__name__),
+        float(getattr(foot, "height", math.inf)),
+        deepest,
+        how="walk: a foot sank",
+        strict=bool(strict),
+        hint="; a firmer mud (lower water content) or a larger foot keeps it within its height",
+    )
     weight = float(np.sum(model.body_mass) * -model.opt.gravity[2])
     max_suction = float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min())))
     steps = _per_step(table, step_time)
