@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -28,7 +29,9 @@ MUD = mudrft.paper_mud(0.25)
 @pytest.fixture(scope="module")
 def flat_runs() -> dict[float, W.WalkResult]:
     """Ten seconds of walking with flat feet at dt = 1 ms and 2 ms."""
-    return {dt: W.walk(mudrft.feet.Flat(), MUD, seconds=10.0, dt=dt) for dt in (1e-3, 2e-3)}
+    with warnings.catch_warnings():  # the flat feet sink past their 26 mm in ten seconds
+        warnings.simplefilter("ignore", BuriedFootWarning)
+        return {dt: W.walk(mudrft.feet.Flat(), MUD, seconds=10.0, dt=dt) for dt in (1e-3, 2e-3)}
 
 
 @pytest.mark.parametrize("dt", [1e-3, 2e-3])
