@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 import pytest
@@ -13,11 +14,9 @@ from mudrft.constitutive.laws import f_n, f_n_extended, f_t, f_t_extended
 from mudrft.feet import Flat, SemiSphere
 from mudrft.feet.surface import (
     clip_below,
-    clip_elements,
     element_forces,
     integrate_triangles,
     integrate_wrench,
-    local_frame,
     prepare_triangles,
 )
 
@@ -66,12 +65,41 @@ def test_clipping_is_exact(seed: int, d: float) -> None:
             np.testing.assert_allclose(cen[k], c_ref, rtol=1e-9, atol=1e-9)
 
 
-def test_clip_elements_reports_depth() -> None:
+def test_clip_below_gives_the_submerged_centroid() -> None:
     tri = np.array([[[0, 0, 0], [1, 0, 1], [-1, 0, 1]]], dtype=float)
-    el = clip_elements(tri, 0.6)
+    area, cen = clip_below(prepare_triangles(tri), 0.6)
     # submerged triangle of height 0.6: centroid at z = 0.4, 0.2 below the surface
-    np.testing.assert_allclose(el.areas, [0.36])
-    np.testing.assert_allclose(el.depths, [0.2])
+    np.testing.assert_allclose(area, [0.36])
+    np.testing.assert_allclose(0.6 - cen[:, 2], [0.2])
+
+
+class LocalFrame(NamedTuple):
+    e1: np.ndarray
+    e2: np.ndarray
+    e3: np.ndarray
+    psi1: np.ndarray
+    psi2: np.ndarray
+    varphi: np.ndarray
+
+
+def local_frame(normals: np.ndarray, heading: float) -> LocalFrame:
+    """The paper's local plate frame (Sec. II-C) and angles of eq. (6), for unit normals (m, 3):
+    e1 = n x e3 / |.|, e2 = e3 x e1 the horizontal normal, psi1 from -e_z, psi2 from e2 to
+    the motion, varphi the azimuth of e2; e1, e2 zero for horizontal facets."""
+    n = np.asarray(normals)
+    r = np.hypot(n[:, 0], n[:, 1])
+    safe = np.where(r > 0, r, 1.0)
+    nx, ny = np.where(r > 0, n[:, 0] / safe, 0.0), np.where(r > 0, n[:, 1] / safe, 0.0)
+    zero = np.zeros_like(r)
+    ux, uy = math.cos(heading), math.sin(heading)
+    return LocalFrame(
+        e1=np.stack([ny, -nx, zero], axis=-1),
+        e2=np.stack([nx, ny, zero], axis=-1),
+        e3=np.stack([zero, zero, zero + 1.0], axis=-1),
+        psi1=np.arctan2(r, -n[:, 2]),
+        psi2=np.arctan2(nx * uy - ny * ux, nx * ux + ny * uy),
+        varphi=np.arctan2(ny, nx),
+    )
 
 
 @settings(max_examples=30, deadline=None)

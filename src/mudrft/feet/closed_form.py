@@ -1,15 +1,14 @@
 r"""The paper's three feet in closed form: flat, semi-cylindrical, semi-spherical (Sec. III-A).
 
-Each closed form is the paper's integral of eqs. (6)-(7) over the foot (supplementary
-Sec. II), corrected where the printed final differs from that integral (errata E20-E23 in
-``docs/model.md``; the printed finals are in :mod:`mudrft.feet.printed`). With :math:`z`
-the tip depth capped at the foot height :math:`H` (D26), :math:`\varphi` the heading
-folded into :math:`[0,\pi/2]`, :math:`\varphi_c=\pi/2-\varphi`,
+Each closed form is the integral of eqs. (6)-(7) over the foot (supplementary Sec. II),
+corrected where the printed final differs from it (errata E20-E23; the printed finals are
+the ``printed_*`` functions). With :math:`z` the tip depth capped at the height :math:`H`,
+:math:`\varphi` the heading folded into :math:`[0,\pi/2]`, :math:`\varphi_c=\pi/2-\varphi`,
 :math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`, every
-closed form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
+form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
 :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`. The ``*_coefficients``
-functions give :math:`(a_x,b_x,b_y,a_y,a_z)`, the ``*_forces`` functions the forces.
-All are vectorized (depth, stress and heading broadcast) and take ``xp``.
+functions give :math:`(a_x,b_x,b_y,a_y,a_z)` [m^2], the ``*_forces`` functions the first
+quadrant magnitudes [N]; all broadcast and take ``xp``.
 """
 
 from __future__ import annotations
@@ -18,10 +17,9 @@ import math
 
 import numpy as np
 
-from .._typing import Namespace, XpArray
+from .._typing import ArrayLike, FloatArray, FloatOrArray, Namespace, XpArray
 from ..constitutive.laws import f_n, f_t
 from .base import fold_heading, world_force
-from .printed import printed_semicylinder_fz, printed_semisphere_fxy, printed_semisphere_fz
 
 __all__ = [
     "closed_form_coefficients",
@@ -37,14 +35,16 @@ __all__ = [
     "semisphere_forces",
 ]
 
-#: Resolution of the mesh a closed-form foot uses for its surface elements and its center
-#: of pressure (segments from the tip to the rim; see :mod:`mudrft.feet.meshgen`).
+#: Segments from the tip to the rim of the mesh a closed-form foot uses for its surface
+#: elements and its center of pressure.
 DEFAULT_RESOLUTION = 48
+
+Coefficients = tuple[XpArray, XpArray, XpArray, XpArray, XpArray]
 
 
 def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
     r""":math:`\theta_c=\cos^{-1}(1-z/R)` [rad], with a zero derivative where the argument
-    is +-1, so that JAX gradients stay finite with the tip at the surface (D107)."""
+    is +-1 (finite JAX gradients with the tip at the surface, D107)."""
     x = xp.clip(1.0 - z / radius, -1.0, 1.0)
     inside = xp.abs(x) < 1.0
     edge = xp.where(x > 0.0, 0.0, math.pi)  # arccos(1) = 0, arccos(-1) = pi, exactly
@@ -53,27 +53,20 @@ def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
 
 def flat_coefficients(
     depth: XpArray, phi: XpArray, length: float, width: float, height: float, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    r"""Flat foot, eq. (12), as the coefficients of its linear form [m^2].
-
-    :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`, :math:`b_y=zLf_t(\varphi)`,
-    :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` (0 out of the mud), :math:`z` capped at H.
+) -> Coefficients:
+    r"""Flat foot, eq. (12): :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`,
+    :math:`b_y=zLf_t(\varphi)`, :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` [m^2].
 
     Parameters
     ----------
     depth : array_like
-        Tip depth [m].
+        Tip depth [m] (capped at ``height``; 0 gives :math:`a_z=0`).
     phi : array_like
         Heading :math:`\varphi` in [0, pi/2] [rad].
     length, width, height : float
         :math:`L` (along y), :math:`W` (along x) and height [m].
-    xp : module, keyword-only
-        Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    tuple
-        ``(a_x, b_x, b_y, a_y, a_z)`` [m^2].
+    xp : module, optional
+        Array namespace.
 
     Notes
     -----
@@ -100,9 +93,8 @@ def flat_coefficients(
 
 def semicylinder_coefficients(
     depth: XpArray, phi: XpArray, radius: float, width: float, height: float, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20), as coefficients [m^2].
-
+) -> Coefficients:
+    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20) [m^2]:
     :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
     :math:`b_x=WR(1-c)f_t(\varphi_c)`, :math:`a_y=WR(1-c)f_n(\varphi_c)`,
     :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`.
@@ -115,8 +107,8 @@ def semicylinder_coefficients(
         Heading from the cylinder axis (x), in [0, pi/2] [rad].
     radius, width, height : float
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
-    xp : module, keyword-only
-        Element-wise namespace.
+    xp : module, optional
+        Array namespace.
 
     Notes
     -----
@@ -153,9 +145,8 @@ def semicylinder_coefficients(
 
 def semisphere_coefficients(
     depth: XpArray, phi: XpArray, radius: float, height: float, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23), as coefficients [m^2].
-
+) -> Coefficients:
+    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23) [m^2]:
     :math:`a_x=\tfrac83R^2(\theta_c-sc)\cos\varphi`, :math:`a_y=\tfrac83R^2(\theta_c-sc)
     \sin\varphi`, no shear terms, :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)`.
 
@@ -167,8 +158,8 @@ def semisphere_coefficients(
         Heading in [0, pi/2] [rad].
     radius, height : float
         :math:`R` and cap height (<= R) [m].
-    xp : module, keyword-only
-        Element-wise namespace.
+    xp : module, optional
+        Array namespace.
 
     Notes
     -----
@@ -198,10 +189,10 @@ def semisphere_coefficients(
 
 def closed_form_coefficients(
     kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    """The coefficients [m^2] of the closed-form foot ``kind``, for compiled paths that
-    cannot hold a foot object: 0 flat ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2
-    semi-sphere ``(R, H, unused)`` [m] (a foot's ``kernel_geometry``); depth [m], phi [rad]."""
+) -> Coefficients:
+    """The coefficients [m^2] of the closed-form foot ``kind`` (a foot's ``kernel_geometry``):
+    0 flat ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``
+    [m]; depth [m], phi [rad]."""
     if kind == 0:
         return flat_coefficients(depth, phi, g0, g1, g2, xp=xp)
     if kind == 1:
@@ -221,16 +212,16 @@ def closed_form_force(
     heading: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
-    """World force ``(F_x, F_y, F_z)`` [N] of the closed-form foot ``kind``: the
-    coefficients at the folded heading, then the heading rule
-    (:func:`~mudrft.feet.base.world_force`). Depth [m], stresses [Pa], world heading [rad];
-    geometry as :func:`closed_form_coefficients` [m]."""
+    """World force ``(F_x, F_y, F_z)`` [N] of the closed-form foot ``kind``: the coefficients
+    at the folded heading, then the heading rule (:func:`~mudrft.feet.base.world_force`).
+    Depth [m], stresses [Pa], world heading [rad]; geometry as
+    :func:`closed_form_coefficients` [m]."""
     co = closed_form_coefficients(kind, g0, g1, g2, depth, fold_heading(heading, xp=xp), xp=xp)
     return world_force(co, sx, sy, sz, heading, xp=xp)
 
 
 def _magnitudes(coeffs: tuple[XpArray, ...], stress: XpArray, xp: Namespace) -> XpArray:
-    """Paper-style first-quadrant magnitudes (Fx, Fy, Fz) [N] from coefficients and stresses."""
+    """First-quadrant magnitudes (Fx, Fy, Fz) [N] from coefficients [m^2] and stresses [Pa]."""
     ax, bx, by, ay, az = coeffs
     s = xp.asarray(stress)
     sx, sy, sz = s[..., 0], s[..., 1], s[..., 2]
@@ -247,23 +238,9 @@ def flat_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    """Flat foot, eq. (12): first-quadrant force magnitudes (Fx, Fy, Fz) [N], shape (..., 3).
+    """Flat foot, eq. (12): magnitudes (Fx, Fy, Fz) [N] at tip depth [m], channel stresses
+    (..., 3) [Pa] and heading in [0, pi/2] [rad]; dimensions [m] as :func:`flat_coefficients`.
 
-    Parameters
-    ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``; 0 gives no force).
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa], positive when resisting.
-    heading : array_like
-        Heading :math:`\\varphi` in [0, pi/2] [rad].
-    length, width, height : float
-        :math:`L` (along y), :math:`W` (along x) and height [m].
-    xp : module, optional
-        Array namespace.
-
-    Examples
-    --------
     >>> f = flat_forces(0.01, [1e3, 0.0, 1e3], 0.0, length=0.08, width=0.065, height=0.026)
     >>> f.round(4).tolist()
     [0.8, 0.0, 5.2]
@@ -282,18 +259,9 @@ def semicylinder_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    """Semi-cylindrical foot, eq. (13) corrected (E20): magnitudes (Fx, Fy, Fz) [N].
+    """Semi-cylindrical foot, eq. (13) corrected (E20): magnitudes (Fx, Fy, Fz) [N]; arguments
+    as :func:`flat_forces`, dimensions [m] as :func:`semicylinder_coefficients`.
 
-    Parameters
-    ----------
-    depth, stress, heading, xp
-        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad] from the
-        cylinder axis (x), and the array namespace.
-    radius, width, height : float
-        :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
-
-    Examples
-    --------
     >>> kw = dict(radius=0.045, width=0.065, height=0.045)
     >>> f = semicylinder_forces(0.045, [0.0, 0.0, 1.0], 0.0, **kw)
     >>> round(float(f[2]) / (2 * 0.045 * 0.065), 6)  # half-cylinder: 2WR[1 - 1/3 + 2/3]
@@ -314,21 +282,45 @@ def semisphere_forces(
     height: float,
     xp: Namespace = np,
 ) -> XpArray:
-    """Semi-spherical foot (a cap), eq. (14) corrected (E21-E23): magnitudes (Fx, Fy, Fz) [N].
+    """Semi-spherical foot, eq. (14) corrected (E21-E23): magnitudes (Fx, Fy, Fz) [N];
+    arguments as :func:`flat_forces`, dimensions [m] as :func:`semisphere_coefficients`.
 
-    Parameters
-    ----------
-    depth, stress, heading, xp
-        Tip depth [m], channel stresses (..., 3) [Pa], heading in [0, pi/2] [rad], and the
-        array namespace.
-    radius, height : float
-        :math:`R` and cap height (<= R) [m].
-
-    Examples
-    --------
     >>> f = semisphere_forces(0.045, [1.0, 1.0, 1.0], 0.0, radius=0.045, height=0.045)
     >>> round(float(f[0]) / 0.045**2, 6), round(float(f[2]) / (np.pi * 0.045**2), 6)
     (4.18879, 1.678097)
     """
     co = semisphere_coefficients(xp.asarray(depth), xp.asarray(heading), radius, height, xp=xp)
     return _magnitudes(co, stress, xp)
+
+
+# -- the printed finals, kept to show the errata (E20-E23) ---------------------------------
+def printed_semicylinder_fz(
+    depth: ArrayLike, sz: FloatOrArray, *, radius: float, width: float
+) -> FloatOrArray:
+    r"""Printed eq. (13c): :math:`F_z=\tfrac13S_e(2+c^2)\sigma_z` [N] (see erratum E20)."""
+    th = _theta(np.asarray(depth, dtype=float), radius)
+    se = 2 * radius * width * np.sin(th)
+    return se / 3.0 * (2.0 + np.cos(th) ** 2) * sz
+
+
+def printed_semisphere_fz(depth: ArrayLike, sz: FloatOrArray, *, radius: float) -> FloatOrArray:
+    r"""Printed eq. (14b) final, with "2 + c^2" [N] (see erratum E21); needs depth > 0."""
+    th = _theta(np.asarray(depth, dtype=float), radius)
+    s, c = np.sin(th), np.cos(th)
+    se = math.pi * radius**2 * s**2
+    return se / 4.0 * (2 + c**2 + 2 * c**3 / s - 5 * c / s + 3 * th / s**2) * sz
+
+
+def printed_semisphere_fxy(
+    depth: ArrayLike, sx: FloatOrArray, sy: FloatOrArray, heading: FloatOrArray, *, radius: float
+) -> FloatArray:
+    r"""Printed eq. (14a): :math:`\tfrac{4S_e}{3\pi s}(\tfrac{2\theta_c}{s}-1)` (E22, E23) [N].
+
+    Returns ``(Fx, Fy)`` stacked on the last axis; equal to :math:`\tfrac13R^2(8\theta_c
+    -4\sin\theta_c)(\cos\varphi\,\sigma_x,\sin\varphi\,\sigma_y)`.
+    """
+    th = _theta(np.asarray(depth, dtype=float), radius)
+    s = np.sin(th)
+    se = math.pi * radius**2 * s**2
+    k = 4 * se / (3 * math.pi * s) * (2 * th / s - 1)
+    return np.stack([k * np.cos(heading) * sx, k * np.sin(heading) * sy], axis=-1)
