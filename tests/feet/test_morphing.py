@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from mudrft._validation import MudrftError
 from mudrft.feet import MorphingFoot, by_name
-from mudrft.feet.morphing import MorphingFootGeometry, TwoStageSpring
+from mudrft.feet.morphing import MorphingFootGeometry, TwoStageSpring, pads
 
 BALANCE_TOL = 1e-8  # [N]; the solver converges to 1e-10 N (see module docstring)
 FOOT = MorphingFoot()
@@ -87,7 +87,7 @@ def test_submerged_pad_area_grows_as_pads_spread(depth, d1, d2):
     # spreading (more deflection) lowers every pad point, so no part of a pad leaves the mud
     lo, hi = sorted((d1 * FOOT.stroke, d2 * FOOT.stroke))
     th_lo, th_hi = FOOT.pad_angle(lo), FOOT.pad_angle(hi)
-    assert FOOT._submerged_length(depth, th_hi) >= FOOT._submerged_length(depth, th_lo) - 1e-15
+    assert pads.submerged_length(G, depth, th_hi) >= pads.submerged_length(G, depth, th_lo) - 1e-15
 
 
 # -- springs ------------------------------------------------------------------------------------
@@ -193,7 +193,7 @@ def test_unique_root_where_the_residual_is_monotone():
     th = FOOT.pad_angle(d)
     full = G.pivot_height + G.pad_length
     for depth in (0.001, G.pivot_height, full, full + 0.02):
-        ratio = S.force(d) / FOOT._vertical_area(depth, th)
+        ratio = S.force(d) / pads.vertical_area(FOOT.geometry, depth, th)
         assert np.all(np.diff(ratio) > 0), depth
         for sz in np.linspace(100.0, 6e4, 7):
             roots = {

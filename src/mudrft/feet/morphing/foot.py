@@ -1,35 +1,57 @@
-r"""The passive morphing foot in the mud model: the Foot interface over its mechanism.
+r"""The passive morphing foot: its mechanism (checked views) and the Foot interface over it.
 
-:class:`MorphingFoot` is the :class:`~.mechanism.MorphingMechanism` (parameters, kinematics,
-springs, balance, drawing) plus what the mud terrain needs of a foot: forces at the balanced
-deflection (D32-D34), the internal state stepped in time with its seal memory and factor
-(D35), the characteristic length (D36), areas for normalised stresses (D38) and the center
-of pressure. The package docstring (:mod:`mudrft.feet.morphing`) summarises the model.
+:class:`MorphingFoot` validates the dimensions, springs and mode, gives the checked views
+of the mechanism (pad angle, spring on rigid ground, areas, column balance, drawing) and
+what the mud terrain needs of a foot: forces at the balanced deflection (D32-D34), the
+internal state stepped in time with its seal memory (D35), :math:`L_c` (D36) and areas
+(D38). The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
+:mod:`.equilibrium`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict
+from dataclasses import asdict, fields, replace
 from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._typing import FloatOrArray, RotationLike
-from ..._validation import MudrftError, check_length, check_nonnegative, positive_number
-from ..base import Foot
+from ..._validation import (
+    MudrftError,
+    check_choice,
+    check_finite,
+    check_in_range,
+    check_length,
+    check_nonnegative,
+    positive_number,
+)
+from ..base import Foot, SurfaceElements
 from ..base import check_resultant_inputs as _check_inputs
 from . import pads
-from .equilibrium import MorphingState, held_deflection, seal_factor, track_most_spread
-from .linkage import MorphingFootGeometry
-from .mechanism import MorphingMechanism
-from .springs import TwoStageSpring
+from .equilibrium import (
+    MorphingState,
+    balanced_deflection,
+    held_deflection,
+    residual,
+    seal_factor,
+    track_most_spread,
+)
+from .linkage import Linkage, MorphingFootGeometry
+from .springs import RigidGroundResponse, TwoStageSpring
 
-__all__ = ["MorphingFoot"]
+__all__ = ["MODES", "MorphingFoot"]
+
+#: Operating modes of the supplementary experiment (Sec. III-C, Fig. S4b).
+MODES = ("morphing", "expanded", "retracted")
+
+_GEOMETRY_FIELDS = {f.name for f in fields(MorphingFootGeometry)}
+_SPRING_FIELDS = {f.name for f in fields(TwoStageSpring)}
+_STROKE_SLACK = 1 + 1e-12  # deflections up to the stroke times this are accepted [-]
 
 
-class MorphingFoot(MorphingMechanism, Foot):
+class MorphingFoot(Foot):
     r"""The passive morphing foot (paper Sec. III-B, Fig. 6; supplementary Sec. III-C).
 
     Parameters
@@ -39,13 +61,12 @@ class MorphingFoot(MorphingMechanism, Foot):
     spring : TwoStageSpring, optional
         Column springs; default: soft 800 N/m over 7.5 mm, hard 6000 N/m (D31).
     mode : {"morphing", "expanded", "retracted"}, keyword-only
-        Free morphing (default), pads locked fully spread, or locked curled up.
+        Free morphing (default), pads locked fully spread, or locked curled up (D37).
     seal_length : float, keyword-only
         Rim lift :math:`g_s` over which curling pads break the cavity seal [m] (D35).
     curl_delay : float, keyword-only
-        Time after the retraction begins during which the pads stay spread [s] (D35). The
-        paper says the suction comes before the curl but gives no timing; 0, the default,
-        lets them curl the moment the retraction begins.
+        Time after the retraction begins during which the pads stay spread [s] (D35);
+        default 0, they curl the moment the retraction begins.
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the square root of the spread footprint (D36).
     **overrides
@@ -62,14 +83,15 @@ class MorphingFoot(MorphingMechanism, Foot):
     ----------
     .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
        Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. III-B and supplementary Figs. S3-S4; mudrft decisions D30-D39
-       (docs/model.md).
+       materials), Sec. III-B and supplementary Figs. S3-S4.
 
     Examples
     --------
     >>> foot = MorphingFoot()
     >>> round(foot.stroke * 1e3, 2), round(math.degrees(float(foot.pad_angle(foot.stroke))), 1)
     (11.89, 5.0)
+    >>> round(float(foot.spring_force(foot.stroke)), 1), round(float(foot.deflection_at(0.5)) * 1e3, 2)
+    (26.3, 8.06)
     >>> r = foot.rigid_ground([0.0, foot.stroke])
     >>> np.round(r.force, 1).tolist()
     [0.0, 26.3]
@@ -88,7 +110,29 @@ class MorphingFoot(MorphingMechanism, Foot):
         characteristic_length: float | None = None,
         **overrides: Any,
     ) -> None:
-        super().__init__(geometry, spring, mode=mode, **overrides)
+        g = geometry if geometry is not None else MorphingFootGeometry()
+        s = spring if spring is not None else TwoStageSpring()
+        if not isinstance(g, MorphingFootGeometry):
+            raise MudrftError(f"geometry must be a MorphingFootGeometry, got {type(g).__name__}")
+        if not isinstance(s, TwoStageSpring):
+            raise MudrftError(f"spring must be a TwoStageSpring, got {type(s).__name__}")
+        unknown = set(overrides) - _GEOMETRY_FIELDS - _SPRING_FIELDS
+        if unknown:
+            raise MudrftError(
+                f"unknown {type(self).__name__} parameter(s) {sorted(unknown)}; expected fields "
+                f"of MorphingFootGeometry {sorted(_GEOMETRY_FIELDS)} or "
+                f"TwoStageSpring {sorted(_SPRING_FIELDS)}"
+            )
+        self.geometry = replace(g, **{k: v for k, v in overrides.items() if k in _GEOMETRY_FIELDS})
+        self.spring = replace(s, **{k: v for k, v in overrides.items() if k in _SPRING_FIELDS})
+        self.mode = check_choice("mode", mode, MODES)
+        self._linkage = Linkage.from_geometry(self.geometry)
+        if self.spring.knee_deflection >= self.stroke:
+            raise MudrftError(
+                f"the soft stage must bottom out within the stroke {self.stroke!r} m: "
+                f"soft_travel*(1 + soft_stiffness/hard_stiffness) = "
+                f"{self.spring.knee_deflection!r} m"
+            )
         self.seal_length = positive_number("seal_length", seal_length, unit="m")
         self.curl_delay = float(check_nonnegative("curl_delay", curl_delay, unit="s"))
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
@@ -99,8 +143,138 @@ class MorphingFoot(MorphingMechanism, Foot):
         )
         self._lc_spread: float | None = None
 
-    # -- parameters --------------------------------------------------------------------------
+    # -- kinematics and springs --------------------------------------------------------------
+    @property
+    def linkage(self) -> Linkage:
+        """The resolved pad linkage (D30)."""
+        return self._linkage
 
+    @property
+    def stroke(self) -> float:
+        """Column deflection from curled up to fully spread [m] (set by the linkage)."""
+        return self._linkage.stroke
+
+    def _check_deflection(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        return check_in_range("deflection", deflection, 0.0, self.stroke * _STROKE_SLACK, unit="m")
+
+    def pad_angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Pad angle :math:`\\theta(\\delta)` from the horizontal [rad] at a column deflection
+        [m] in [0, stroke]: from ``retracted_angle`` down to ``expanded_angle`` (D30)."""
+        return self._linkage.angle(self._check_deflection(deflection))
+
+    def deflection_at(self, pad_angle: ArrayLike) -> NDArray[np.float64]:
+        """Inverse kinematics: column deflection [m] giving a pad angle [rad] in
+        [expanded_angle, retracted_angle]."""
+        g = self.geometry
+        th = check_in_range("pad_angle", pad_angle, g.expanded_angle, g.retracted_angle, unit="rad")
+        return self._linkage.deflection_at(th)
+
+    def spring_force(self, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Column spring force [N] at a deflection [m] in [0, stroke] (D31)."""
+        return np.asarray(self.spring.force(self._check_deflection(deflection)))
+
+    def rigid_ground(self, deflection: ArrayLike) -> RigidGroundResponse:
+        """Force, pad angle and stiffness against deflection [m] on rigid ground, where only
+        the tip touches and the load is the column spring's (paper Fig. S3a, b)."""
+        d = self._check_deflection(deflection)
+        return RigidGroundResponse(
+            deflection=d,
+            force=np.asarray(self.spring.force(d)),
+            pad_angle=self._linkage.angle(d),
+            stiffness=self.spring.stiffness(d),
+        )
+
+    def locked_deflection(self) -> float | None:
+        """Deflection the mode locks (stroke for expanded, 0 for retracted), None if free [m]."""
+        return {"morphing": None, "expanded": self.stroke, "retracted": 0.0}[self.mode]
+
+    def _shown_deflection(self, deflection: float | None) -> float:
+        """Deflection to draw [m]: the given one, else the locked one, else the stroke."""
+        if deflection is not None:
+            return float(deflection)
+        lock = self.locked_deflection()
+        return self.stroke if lock is None else lock
+
+    # -- areas and the balance with a given stress ---------------------------------------------
+    def effective_area(self, depth: ArrayLike, deflection: ArrayLike) -> NDArray[np.float64]:
+        """Effective vertical area :math:`A_z` [m^2], :math:`F_z=\\sigma_zA_z` (D33), at tip
+        depth [m] >= 0 and column deflection [m] in [0, stroke]."""
+        d = check_nonnegative("depth", depth, unit="m")
+        return pads.vertical_area(self.geometry, d, self.pad_angle(deflection))
+
+    def footprint_area(
+        self, deflection: ArrayLike, depth: ArrayLike | None = None
+    ) -> NDArray[np.float64]:
+        """Horizontal projection of the (submerged) base and pads [m^2] at a deflection [m],
+        to tip ``depth`` [m] (None: the whole foot)."""
+        th = self.pad_angle(deflection)
+        d = np.inf if depth is None else check_nonnegative("depth", depth, unit="m")
+        return pads.footprint_area(self.geometry, d, th)
+
+    def residual(
+        self, deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike
+    ) -> NDArray[np.float64]:
+        """Balance residual :math:`R=F_s(\\delta)-\\sigma_zA_z(d,\\theta(\\delta))` [N] (D32) at
+        a deflection [m] in [0, stroke], tip depth [m] >= 0 and vertical stress [Pa]."""
+        dd = self._check_deflection(deflection)
+        d = check_nonnegative("depth", depth, unit="m")
+        return residual(dd, d, check_finite("sz", sz), linkage=self._linkage, spring=self.spring)
+
+    def equilibrium(
+        self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
+    ) -> NDArray[np.float64]:
+        r"""Column deflection in balance with the mud [m] (D32, D34).
+
+        Solves :math:`F_s(\delta)=\sigma_zA_z(d,\theta(\delta))` on :math:`[0,\text{stroke}]`
+        with the end stops as complementarity; from ``previous`` the deflection moves in the
+        direction of the net force to the nearest root (hysteresis across a snap-through).
+
+        Parameters
+        ----------
+        depth, sz : float or array_like
+            Tip depth [m], >= 0; vertical channel stress [Pa] (> 0 support, < 0 suction).
+        previous : float or array_like, keyword-only
+            Deflection at the previous instant [m].
+        """
+        d = check_nonnegative("depth", depth, unit="m")
+        s = check_finite("sz", sz)
+        p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
+        return balanced_deflection(d, s, previous=p, linkage=self._linkage, spring=self.spring)
+
+    def _deflection(
+        self, depth: ArrayLike, sz: ArrayLike, previous: ArrayLike
+    ) -> NDArray[np.float64]:
+        lock = self.locked_deflection()
+        if lock is None:
+            return balanced_deflection(
+                depth, sz, previous=previous, linkage=self._linkage, spring=self.spring
+            )
+        return np.full(np.broadcast_shapes(np.shape(depth), np.shape(sz)), lock)
+
+    # -- drawing -----------------------------------------------------------------------------
+    def pad_corners(self, deflection: float | None = None) -> NDArray[np.float64]:
+        """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3): pivot-left,
+        pivot-right, rim-right, rim-left, at a deflection [m] (default the locked one, or
+        spread for the free foot)."""
+        th = float(self.pad_angle(self._shown_deflection(deflection)))
+        return pads.pad_corners(self.geometry, th)
+
+    def linkage_points(self, deflection: float) -> dict[str, NDArray[np.float64]]:
+        """Joints ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
+        rim) of one linkage in its (r, z) plane [m] at a deflection [m], for drawings."""
+        return self._linkage.points(float(self._check_deflection(deflection)))
+
+    def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
+        """Surface elements of the base, the column and both faces of every pad [m] (D159).
+
+        What a terrain that integrates elements (granular RFT) sees, at the pad angle of
+        ``deflection`` [m] (default as :meth:`pad_corners`): the foot does not morph on such
+        a terrain. ``strips``: elements along each pad face and up each wall [-].
+        """
+        th = float(self.pad_angle(self._shown_deflection(deflection)))
+        return pads.surface_elements(self.geometry, th, strips=strips)
+
+    # -- parameters --------------------------------------------------------------------------
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
@@ -155,16 +329,8 @@ class MorphingFoot(MorphingMechanism, Foot):
     def projected_areas(
         self, depth: ArrayLike, *, deflection: ArrayLike | None = None
     ) -> NDArray[np.float64]:
-        """Submerged areas projected along x, y, z [m^2], shape (..., 3) (D38).
-
-        Parameters
-        ----------
-        depth : float or array_like
-            Tip depth [m].
-        deflection : float or array_like or None, keyword-only
-            Column deflection [m]; default the locked one, or the spread foot for the free
-            morphing mode (the reference for the paper's normalised stresses).
-        """
+        """Submerged areas projected along x, y, z [m^2], shape (..., 3) (D38), at tip depth
+        [m] and deflection [m] (default the locked one, or the spread foot when free)."""
         g = self.geometry
         d = check_nonnegative("depth", depth, unit="m")
         if deflection is None:
@@ -177,38 +343,24 @@ class MorphingFoot(MorphingMechanism, Foot):
     def forces_at(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, deflection: ArrayLike
     ) -> NDArray[np.float64]:
-        """First-quadrant force magnitudes (Fx, Fy, Fz) [N] at a given deflection.
-
-        Parameters
-        ----------
-        depth, stress, heading
-            As in :meth:`resultant`: depth [m], stresses (..., 3) [Pa], heading [rad].
-        deflection : float or array_like
-            Column deflection [m], in [0, stroke].
-        """
+        """First-quadrant magnitudes (Fx, Fy, Fz) [N] at a given deflection [m]; the other
+        arguments as :meth:`resultant`."""
         d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         return pads.magnitudes(self.geometry, d, s, h, self.pad_angle(deflection))
 
     def resultant(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> NDArray[np.float64]:
-        """Magnitudes (Fx, Fy, Fz) [N] at the equilibrium deflection (loading from curled up).
-
-        The deflection is the first equilibrium met when the column is loaded from rest
+        """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest
         (``previous=0``, D34); :meth:`contact_force` follows the deflection in time instead.
-        See :meth:`Foot.resultant` for the arguments.
-        """
+        Arguments as :meth:`Foot.resultant`."""
         d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
 
     def posed(self, rotation: RotationLike) -> NoReturn:
-        """Not available for the morphing foot: raises :class:`~mudrft.MudrftError`.
-
-        A rigid foot's ``posed`` is its rotated mesh; the morphing foot's pads open and curl
-        with the load, so no one rigid mesh stands for it. Under a robot in
-        MuJoCo the coupling poses it at every step (decision D60a).
-        """
+        """Not available: the pads open and curl with the load, so no one rigid mesh stands
+        for the foot; raises :class:`~mudrft.MudrftError` (the MuJoCo coupling poses it)."""
         raise MudrftError(
             "MorphingFoot.posed(rotation): the morphing foot has no rotated "
             "mesh, since its pads open and curl with the load; the flat, "
@@ -227,16 +379,9 @@ class MorphingFoot(MorphingMechanism, Foot):
         )
 
     def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
-        r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
-
-        :math:`g` [m] is how far the pad rims have lifted (curled) since their most spread
-        position in the current contact; locked modes keep 1.
-
-        Parameters
-        ----------
-        foot_state : MorphingState or None
-            State from :meth:`contact_force`; None gives 1.0.
-        """
+        r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` the
+        lift of the pad rims since their most spread position in this contact (D35); 1.0
+        for ``None``."""
         if foot_state is None:
             return 1.0
         return seal_factor(
@@ -256,26 +401,13 @@ class MorphingFoot(MorphingMechanism, Foot):
         *,
         retraction: ArrayLike = 0.0,
     ) -> tuple[MorphingState, NDArray[np.float64]]:
-        """Solve the column balance for this step and return ``(state, force)`` [N] (D32, D34).
+        """Solve the column balance for this step; return ``(state, force)`` [N] (D32, D34).
 
-        The deflection moves from the previous one (``foot_state.deflection``) to the
-        balance with the current stresses, held for the first :attr:`curl_delay` seconds of
-        a retraction (:func:`~.equilibrium.held_deflection`); out of the mud (depth 0) the
-        column relaxes to 0 and the seal memory resets. Force in the world frame as in
-        :meth:`Foot.force`.
-
-        Parameters
-        ----------
-        foot_state : MorphingState or None
-            State after the previous step; None starts from :meth:`initial_foot_state`.
-        depth, stress, heading
-            Tip depth [m] >= 0, signed stresses (..., 3) [Pa], world heading [rad]
-            (checked by the caller, as in :meth:`Foot.force_unchecked`).
-        dt : float
-            Step [s]; unused, the balance is quasi-static.
-        retraction : float or array_like, keyword-only
-            Time since the retraction began, :math:`t-t_w` [s] (the mud's vertical suction
-            clock; 0 while not retracting).
+        The deflection moves from ``foot_state.deflection`` to the balance with the current
+        stresses, held for the first :attr:`curl_delay` seconds of a retraction; out of the
+        mud the seal memory resets. Depth [m], stresses (..., 3) [Pa] and world heading
+        [rad] are checked by the caller; ``dt`` [s] is unused (the balance is quasi-static);
+        ``retraction`` is the time since the retraction began [s] (0 while not retracting).
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()
@@ -297,11 +429,8 @@ class MorphingFoot(MorphingMechanism, Foot):
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> NDArray[np.float64]:
-        """Center of the vertical pressure in the foot frame [m], shape (..., 3).
-
-        On the axis by symmetry, at the height of the vertical-area-weighted centroid of the
-        submerged base (z = 0) and pad parts, at the loading-branch deflection.
-        """
+        """Center of the vertical pressure in the foot frame [m], shape (..., 3): on the axis,
+        at the height of the area-weighted centroid of the submerged base and pad parts."""
         d, s, _ = _check_inputs(depth, stress, heading, height=self.height)
         th = self._linkage.angle(self._deflection(d, s[..., 2], 0.0))
         z = pads.center_height(self.geometry, d, th)
