@@ -1,47 +1,27 @@
 r"""The column in balance with the mud, and the seal broken by curling pads (D32, D34, D35).
 
-*Load path* (D32). The trajectory prescribes the tip; the whole vertical mud force on the
-base and the pads passes through the column, so the deflection :math:`\delta` solves
+*Load path* (D32, an assumption: D160). The whole vertical mud force on the base and pads
+passes through the column, so the deflection :math:`\delta` solves
 
 .. math:: R(\delta) = F_s(\delta) - \sigma_zA_z\bigl(d, \theta(\delta)\bigr) = 0
           \quad\text{on}\quad [0, \delta_{max}],
 
-with the end stops as complementarity: :math:`\delta=0` where :math:`R(0)\ge0` (the mud does
-not push), :math:`\delta=\delta_{max}` where :math:`R(\delta_{max})\le0` (it pushes harder
-than the fully compressed springs). This load path is an assumption (D32, D160): by
-virtual work the drawn linkage would feed the pads' moment back to the column, and with the
-default dimensions that feedback exceeds the pads' load (factor 0.66 curled to 2.53 spread),
-so the mud would curl the pads instead of spreading them, against the paper's Fig. S4a.
+with the end stops as complementarity: :math:`\delta=0` where :math:`R(0)\ge0`,
+:math:`\delta=\delta_{max}` where :math:`R(\delta_{max})\le0`.
 
-*Root selection* (D34). Where pads dip into the surface as they spread, :math:`R` can have
-three roots (a snap-through). :func:`balanced_deflection` returns the root an overdamped
-column reaches: from the previous deflection it moves in the direction of the net force
-(:math:`R<0`: compress, :math:`R>0`: extend) to the first root or stop it meets. This gives
-hysteresis, and equals the unique root wherever :math:`R` is monotone.
+*Root selection* (D34). :math:`R` can have three roots (a snap-through). From the previous
+deflection the column moves in the direction of the net force (:math:`R<0`: compress) to
+the first root or stop it meets: hysteresis, and the unique root where :math:`R` is
+monotone. A scan over 33 nodes of the stroke selects the bracket (:func:`_scan_node`,
+:func:`_settle`, written once, element-wise); the bracket is refined to
+:math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m, by bisection on floats for up to
+16 moving elements (:func:`balanced_deflection_on_floats`, which the compiled coupling
+runs), else by one call of :func:`scipy.optimize.elementwise.find_root` for the whole batch
+(SciPy >= 1.15; older SciPy takes the float path).
 
-*Algorithm.* Elements balanced already, or pushed against the stop they rest on, stay
-(:func:`_moving`); the others walk the 33 nodes over the stroke from the previous deflection
-in the direction of motion and take the first sign change of :math:`R` as a bracket, or the
-stop where there is none (:func:`_scan_node`, :func:`_settle`: the selection rule, written
-once, element-wise). The scan, not the solver, selects the branch: the bracket holds the
-root to select and no other, unless three roots fall within one node spacing (0.37 mm for
-the defaults), which the grid does not resolve. Each bracket is then refined to
-:math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m. Up to 16 moving elements (a
-single foot, the four nudged copies of the MuJoCo coupling) go one by one through
-:func:`balanced_deflection_on_floats`: the scan on Python floats, stopping at the first sign
-change, and bisection; the compiled coupling runs the same function with numba. More
-(a batched terrain step: thousands) evaluate :math:`R` on all nodes at once, walk them with
-the same rule on arrays, and refine every bracket in one call of
-:func:`scipy.optimize.elementwise.find_root` (Chandrupatla's method; ~2 ms a call whatever
-the batch size, hence the threshold). Both stop within :math:`10^{-10}` N of the same root,
-so across the threshold deflections agree to :math:`10^{-12}` m. With SciPy older than
-1.15, which lacks ``find_root``, every element takes the float path.
-
-*Sealing* (D35). Curling pads break the seal of the cavity under the foot: the seal factor
-is :math:`1-\tanh(g/g_s)` with :math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad
-rims above their most spread position :math:`\theta_m` in the current contact. The pads curl as
-soon as the retraction lowers the mud's push, unless the foot's pad-curl delay holds them
-(:func:`held_deflection`).
+*Sealing* (D35). The seal factor is :math:`1-\tanh(g/g_s)`, with
+:math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad rims above their most spread
+position :math:`\theta_m` in the current contact (:func:`held_deflection`: the pad-curl delay).
 """
 
 from __future__ import annotations
@@ -65,8 +45,8 @@ if TYPE_CHECKING:
 
 
 def _find_root() -> Any:
-    """SciPy's ``find_root`` (SciPy >= 1.15), or None; imported on first use, since
-    ``scipy.optimize`` takes most of a second to import (tests may set ``find_root``)."""
+    """SciPy's ``find_root`` (SciPy >= 1.15) or None, imported on first use (slow to import;
+    tests may set ``find_root``)."""
     if "find_root" not in globals():
         try:
             from scipy.optimize.elementwise import find_root
@@ -103,17 +83,9 @@ _BISECTIONS = 64  # cap on the halvings of a bracket on floats (39 take 0.37 mm 
 
 
 class MorphingState(NamedTuple):
-    """Internal state of a morphing foot (scalars or arrays of one batch shape).
-
-    Attributes
-    ----------
-    deflection : ndarray
-        Column deflection :math:`\\delta` [m].
-    pad_angle : ndarray
-        Pad angle :math:`\\theta(\\delta)` [rad].
-    most_spread : ndarray
-        Smallest pad angle reached during the current contact [rad] (seal memory, D35).
-    """
+    """Internal state of a morphing foot (scalars or arrays of one batch shape): column
+    ``deflection`` [m], ``pad_angle`` [rad] and ``most_spread``, the smallest pad angle of
+    the current contact [rad] (seal memory, D35)."""
 
     deflection: NDArray[np.float64]
     pad_angle: NDArray[np.float64]
@@ -125,13 +97,10 @@ def column_residual(
     spring: TwoStageSpring | MorphingRow, deflection: XpArray, depth: XpArray, sz: XpArray,
     xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
-    r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise.
-
-    The one definition of the column balance (D32), over ``xp``: ``g`` the dimensions
-    and ``spring`` the spring constants by attribute (dataclasses, or one
-    :class:`~.linkage.MorphingRow` for both), ``pole_top`` [m] and ``branch`` of the linkage;
-    deflection [m], depth [m], vertical channel stress [Pa].
-    """
+    r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise
+    over ``xp`` (D32): ``g`` and ``spring`` hold the dimensions and spring constants by
+    attribute (dataclasses or one :class:`~.linkage.MorphingRow`), ``pole_top`` [m] and
+    ``branch`` come from the linkage; deflection [m], depth [m], vertical stress [Pa]."""
     theta = pad_angle(g, pole_top, branch, deflection, xp=xp)
     return spring_force(spring, deflection, xp=xp) - sz * vertical_area(g, depth, theta, xp=xp)
 
@@ -144,26 +113,9 @@ def residual(
     linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:
-    r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N] (unchecked).
-
-    Parameters
-    ----------
-    deflection : float or array_like
-        Column deflection [m], in [0, stroke].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    sz : float or array_like
-        Vertical channel stress [Pa] (> 0 support, < 0 suction).
-    linkage : Linkage, keyword-only
-        The pad kinematics.
-    spring : TwoStageSpring, keyword-only
-        The column springs.
-
-    Returns
-    -------
-    ndarray
-        :math:`R` [N]: > 0 where the springs push the column back open.
-    """
+    r"""Balance residual :math:`R` [N] of a linkage and spring (unchecked): > 0 where the
+    springs push the column back open; deflection [m] in [0, stroke], tip depth [m] >= 0,
+    vertical channel stress [Pa]."""
     d, s = np.asarray(depth, dtype=float), np.asarray(sz, dtype=float)
     x = np.asarray(deflection, dtype=float)
     g = linkage.geometry
@@ -207,28 +159,10 @@ def balanced_deflection(
     linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:
-    """Column deflection in balance with the mud [m], continued from ``previous`` (D34).
+    """Column deflection in balance with the mud [m], continued from ``previous`` [m] (D34).
 
-    Unchecked inner-loop path of :meth:`MorphingFoot.equilibrium`; see the module
-    docstring for the root selection and the solver.
-
-    Parameters
-    ----------
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    sz : float or array_like
-        Vertical channel stress [Pa], finite.
-    previous : float or array_like, keyword-only
-        Deflection at the previous instant [m] (clipped to [0, stroke]).
-    linkage : Linkage, keyword-only
-        The pad kinematics.
-    spring : TwoStageSpring, keyword-only
-        The column springs.
-
-    Returns
-    -------
-    ndarray
-        Deflection [m], of the broadcast shape of the inputs.
+    The unchecked path of :meth:`MorphingFoot.equilibrium` (module docstring: the root
+    selection): tip depth [m] >= 0, vertical stress [Pa]; the result has the broadcast shape.
     """
     d, s, p = np.broadcast_arrays(
         np.asarray(depth, float), np.asarray(sz, float), np.asarray(previous, float)
@@ -271,13 +205,12 @@ def _scan_node(
     up: XpArray, p: XpArray, x: XpArray, r: XpArray, lo: XpArray, flo: XpArray, hi: XpArray,
     fhi: XpArray, found: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
-    """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34).
+    """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34), element-wise.
 
-    The selection rule, element-wise: beyond ``p`` in the direction of motion (``up``:
-    compressing, R(p) < 0) and before the first root, a node where R keeps the sign of R(p)
-    becomes the near end of the bracket (``lo`` when compressing, ``hi`` when extending),
-    the first where it changes sign the far end, and the scan has ``found`` its bracket.
-    Returns ``(lo, flo, hi, fhi, found)``, ends [m] and their residuals [N].
+    Beyond ``p`` in the direction of motion (``up``: compressing) and before the first root,
+    a node where R keeps the sign of R(p) becomes the near end of the bracket, the first where
+    it changes sign the far end, and the scan has ``found`` its bracket. Returns ``(lo, flo,
+    hi, fhi, found)``, ends [m] and their residuals [N].
     """
     beyond = xp.where(found, False, xp.where(up, x > p, x < p))
     hit = beyond & xp.where(up, r >= 0.0, r <= 0.0)
@@ -362,26 +295,9 @@ def seal_factor(
 ) -> XpArray:
     r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
-    Parameters
-    ----------
-    pad_angle : float or array_like
-        Current pad angle :math:`\theta` [rad].
-    most_spread : float or array_like
-        Smallest pad angle of the current contact, :math:`\theta_m` [rad].
-    pad_length : float
-        :math:`\ell` [m].
-    seal_length : float
-        Rim lift :math:`g_s` over which the seal breaks [m], > 0.
-    xp : module, keyword-only
-        Element-wise namespace.
+    ``pad_angle`` :math:`\theta` and ``most_spread`` :math:`\theta_m` [rad], ``pad_length``
+    :math:`\ell` and ``seal_length`` :math:`g_s` [m]; 1 while the pads are at their most spread.
 
-    Returns
-    -------
-    ndarray
-        Factor in (0, 1] [-]: 1 while the pads are at their most spread.
-
-    Examples
-    --------
     >>> float(seal_factor(0.5, 0.5, pad_length=0.034, seal_length=0.002))
     1.0
     """
@@ -392,19 +308,8 @@ def seal_factor(
 def track_most_spread(
     depth: XpArray, pad_angle: XpArray, most_spread: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """Seal memory after a step: the smallest pad angle of the contact [rad] (D35).
-
-    Parameters
-    ----------
-    depth : float or array_like
-        Tip depth [m]; out of the mud (0) the memory resets to the current angle.
-    pad_angle : float or array_like
-        Pad angle after the step [rad].
-    most_spread : float or array_like
-        Memory before the step [rad].
-    xp : module, keyword-only
-        Element-wise namespace.
-    """
+    """Seal memory after a step: the smallest pad angle [rad] of the contact, reset to
+    ``pad_angle`` [rad] out of the mud (``depth`` [m] 0) (D35)."""
     return xp.where(depth > 0.0, xp.minimum(most_spread, pad_angle), pad_angle)
 
 
@@ -430,16 +335,9 @@ def held_deflection(
 def balanced_deflection_on_floats(
     m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
-    r""":func:`balanced_deflection` for one foot on floats (the compiled coupling).
-
-    The selection rule of D34 (:func:`_moving`, :func:`_scan_node`, :func:`_settle`, shared
-    with the batch path) walked node by node to the first sign change, and the bracket
-    refined to :math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m by bisection
-    (numba cannot call SciPy). Serves :func:`balanced_deflection` for up to 16 moving
-    elements, and the compiled coupling. ``m`` is a :class:`~.linkage.MorphingRow` (or
-    :func:`linkage_row`); depth [m], vertical stress [Pa], previous deflection [m];
-    returns the deflection [m].
-    """
+    r""":func:`balanced_deflection` for one foot on floats (and for the compiled coupling):
+    the scan of D34 node by node, then bisection; ``m`` a :class:`~.linkage.MorphingRow`,
+    depth [m], vertical stress [Pa], previous deflection [m]; returns the deflection [m]."""
     stroke = m.stroke
     p = xp.clip(previous, 0.0, stroke)
     r_p = column_residual(m, m.pole_top, m.branch, m, p, depth, sz, xp=xp)
@@ -476,15 +374,10 @@ def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
     sz: float, heading: float, retraction: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
-    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats.
-
-    The balanced (or locked) deflection, held by the pad-curl delay
-    (:func:`held_deflection`), its pad angle, the force of the mud on the base and pads
-    (:func:`~.pads.morphing_force`) and the seal memory, for a
-    :class:`~.linkage.MorphingRow` ``m``, the previous deflection [m] and memory [rad], depth
-    [m], signed stresses [Pa], world heading [rad] and the time since the retraction began
-    [s]. Returns ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)`` [N, m, rad].
-    """
+    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats, for a
+    :class:`~.linkage.MorphingRow` ``m``: previous deflection [m] and seal memory [rad], depth
+    [m], signed stresses [Pa], world heading [rad], time since the retraction began [s].
+    Returns ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)`` [N, m, rad]."""
     if m.lock >= 0.0:
         delta = m.lock
     else:

@@ -1,21 +1,17 @@
-r"""Dimensions and kinematics of the morphing foot's pad linkages (decision D30).
+r"""Dimensions and kinematics of the morphing foot's pad linkages (D30).
 
-Each of the :math:`N` pads is the lower link of a slider-crank: the pad pivots at
-:math:`A=(r_A, h_A)` on the rim of the base; its crank arm of length :math:`a`, at angle
-:math:`\theta+\beta` from the horizontal, carries the coupler joint :math:`C`; the coupler of
-length :math:`b` joins :math:`C` to the upper pole :math:`B=(r_B, z_{B0}-\delta)`, which the
-column carries down by its deflection :math:`\delta`. The pad angle :math:`\theta(\delta)`
-(0: spread flat, :math:`\pi/2`: pointing up) is the intersection of the circle of radius
-:math:`a` about :math:`A` with the circle of radius :math:`b` about :math:`B`:
+Each pad is the lower link of a slider-crank: it pivots at :math:`A=(r_A, h_A)` on the rim
+of the base; its crank arm of length :math:`a`, at :math:`\theta+\beta` from the
+horizontal, carries the coupler joint :math:`C`; the coupler of length :math:`b` joins
+:math:`C` to the upper pole :math:`B=(r_B, z_{B0}-\delta)`, carried down by the column
+deflection :math:`\delta`. The pad angle is a circle intersection,
 
 .. math:: \theta(\delta) = \operatorname{atan2}(\Delta z, \Delta r)
           \pm \arccos\frac{a^2 + |AB|^2 - b^2}{2a|AB|} - \beta,
           \qquad \Delta r = r_B - r_A,\ \Delta z = z_{B0} - \delta - h_A,
 
-with the sign (branch) that reproduces the design angles at both ends of the stroke. It is
-nearly linear in :math:`\delta` (paper Fig. S3a), within about 1.4 deg for the defaults.
-Frame: the foot frame of :mod:`mudrft.feet.base`, origin at the tip, z up; lengths in
-metres, angles in radians.
+with the branch that gives the design angles at both ends of the stroke; it is nearly
+linear in :math:`\delta` (paper Fig. S3a). Lengths in metres, angles in radians.
 """
 
 from __future__ import annotations
@@ -47,59 +43,43 @@ __all__ = [
 
 _DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
 
-
-#: Most pads a morphing foot may have [-]: each force evaluation sums over the pads one by
-#: one (``pads.py``), so a count of 10**6 hung a sweep point; the paper's foot has 8 (D30).
+#: Most pads a morphing foot may have [-] (every force sums over the pads one by one).
 MAX_PADS = 100
 
 
 @dataclass(frozen=True)
 class MorphingFootGeometry:
-    r"""Dimensions of the morphing foot's base, pads and linkage (SI, decision D30).
+    r"""Dimensions of the morphing foot's base, pads and linkage (SI, D30).
 
-    All lengths in metres, angles in radians. Defaults reconstruct a foot of the scale
-    of the paper's fixed feet (80 x 65 mm flat foot, R = 45 mm curved feet): about 96 mm
-    across when spread. The paper gives none of these numbers (D30). Neighbouring pads fit
-    side by side while ``w(s) <= 2 (base_radius + s cos(theta)) tan(pi / n_pads)`` along
-    them; the defaults' rims touch at 49 deg, so curled at 75 deg the pads overlap, and the
-    forces count each pad whole, as if the petals were layered (D160).
+    The defaults reconstruct a foot of the scale of the paper's fixed feet, about 96 mm across
+    when spread (the paper gives no numbers). Curled at 75 deg the defaults' pads overlap;
+    the forces count each pad whole (D160).
 
     Attributes
     ----------
     n_pads : int
-        Number of pads and linkages [-] (paper: eight).
-    base_radius : float
-        Radius of the central base pad (bottom of the column) [m]; the pad pivots sit on
-        its rim, :math:`r_A`.
-    pivot_height : float
-        Height of the pad pivots above the tip, :math:`h_A` [m] (base pad thickness).
-    column_radius : float
-        Radius of the column above the base [m] (horizontal drag only).
-    height : float
-        Height of the foot, tip to ankle [m].
-    pad_length : float
-        Pad length from its pivot to its rim, :math:`\ell` [m].
-    pad_inner_width, pad_outer_width : float
-        Widths of the trapezoidal pad at its pivot and at its rim [m].
-    crank_length : float
-        Distance from the pad pivot to the coupler joint on the lower link, :math:`a` [m].
-    crank_offset : float
-        Angle of the crank arm relative to the pad, :math:`\beta` [rad].
-    coupler_length : float
-        Length of the upper link (coupler), :math:`b` [m].
-    pole_radius : float
-        Radius of the upper poles on the upper column, :math:`r_B` [m].
-    retracted_angle : float
-        Pad angle with the column unloaded (curled up), :math:`\theta_r` [rad].
-    expanded_angle : float
-        Pad angle with the column fully compressed (spread), :math:`\theta_e` [rad].
+        Number of pads and linkages [-] (paper: eight; at most :data:`MAX_PADS`).
+    base_radius, pivot_height : float
+        Radius of the base pad, :math:`r_A`, and height of the pad pivots above the tip,
+        :math:`h_A` [m].
+    column_radius, height : float
+        Radius of the column above the base (horizontal drag only) and height of the foot [m].
+    pad_length, pad_inner_width, pad_outer_width : float
+        Pad length :math:`\ell` from pivot to rim, and the trapezoid's widths at pivot and rim [m].
+    crank_length, crank_offset : float
+        Pivot to coupler joint on the pad, :math:`a` [m], at :math:`\beta` [rad] from the pad.
+    coupler_length, pole_radius : float
+        Coupler length :math:`b` and radius of the upper poles :math:`r_B` [m].
+    retracted_angle, expanded_angle : float
+        Pad angle with the column unloaded (curled), :math:`\theta_r`, and fully compressed
+        (spread), :math:`\theta_e` [rad].
 
     Raises
     ------
     MudrftError
-        If a length is not positive, an angle is out of its range, the pads would not
-        curl (``retracted_angle <= expanded_angle``), the column is wider than the base or
-        not taller than the pivots.
+        For a length that is not positive, an angle out of range, pads that would not curl,
+        pads that overlap at their pivots, or a column wider than the base or not taller than
+        the pivots.
     """
 
     n_pads: int = 8
@@ -129,28 +109,14 @@ class MorphingFootGeometry:
                 f"n_pads must be at most {MAX_PADS} (the paper's foot has 8; every force sums "
                 f"over the pads one by one), got {self.n_pads!r}"
             )
-        for k in (
-            "base_radius",
-            "pivot_height",
-            "column_radius",
-            "height",
-            "pad_length",
-            "pad_inner_width",
-            "pad_outer_width",
-            "crank_length",
-            "coupler_length",
-        ):
+        lengths = ("base_radius", "pivot_height", "column_radius", "height", "pad_length",
+                   "pad_inner_width", "pad_outer_width", "crank_length", "coupler_length")  # fmt: skip
+        for k in lengths:
             object.__setattr__(self, k, check_length(k, getattr(self, k)))
-        object.__setattr__(
-            self,
-            "pole_radius",
-            nonnegative_number("pole_radius", self.pole_radius, unit="m"),
-        )
-        object.__setattr__(
-            self,
-            "crank_offset",
-            number_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad"),
-        )
+        pole = nonnegative_number("pole_radius", self.pole_radius, unit="m")
+        object.__setattr__(self, "pole_radius", pole)
+        beta = number_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad")
+        object.__setattr__(self, "crank_offset", beta)
         th_e = float(
             check_in_range("expanded_angle", self.expanded_angle, 0.0, 0.5 * math.pi, unit="rad")
         )
@@ -205,12 +171,9 @@ def raw_pad_angle(
     deflection: XpArray,
     xp: Namespace = np,
 ) -> XpArray:
-    """Pad angle [rad] of the circle intersection at a deflection [m], not clipped.
-
-    Element-wise over ``xp``; ``g`` holds the dimensions by attribute (a
-    :class:`MorphingFootGeometry` or a :class:`MorphingRow`), ``pole_top`` [m] and
-    ``branch`` (+1 or -1) come from :class:`Linkage`.
-    """
+    """Pad angle [rad] of the circle intersection at a deflection [m], not clipped,
+    element-wise; ``g`` holds the dimensions by attribute (:class:`MorphingFootGeometry` or
+    :class:`MorphingRow`), ``pole_top`` [m] and ``branch`` (+-1) come from :class:`Linkage`."""
     dr = g.pole_radius - g.base_radius
     dz = pole_top - deflection - g.pivot_height
     dist = xp.hypot(dr, dz)
@@ -226,35 +189,20 @@ def pad_angle(
     deflection: XpArray,
     xp: Namespace = np,
 ) -> XpArray:
-    """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (D30).
-
-    :func:`raw_pad_angle` clipped to [``expanded_angle``, ``retracted_angle``]; the one
-    definition that :meth:`Linkage.angle` and the compiled coupling run.
-    """
+    """Pad angle :math:`\\theta(\\delta)` [rad]: :func:`raw_pad_angle` clipped to
+    [``expanded_angle``, ``retracted_angle``] (D30)."""
     th = raw_pad_angle(g, pole_top, branch, deflection, xp=xp)
     return xp.clip(th, g.expanded_angle, g.retracted_angle)
 
 
 @dataclass(frozen=True)
 class Linkage:
-    r"""The resolved slider-crank of one pad: its stroke and its branch (decision D30).
+    r"""The resolved slider-crank of one pad (D30), made by :meth:`from_geometry`.
 
-    Make it with :meth:`from_geometry`, which checks that the coupler reaches the pole over
-    the whole pad travel and that the pole rises monotonically as the pads curl.
+    Attributes: ``geometry``; ``pole_top``, the height :math:`z_{B0}` of the upper pole with
+    the column unloaded [m]; ``stroke``, the deflection from curled up to spread [m];
+    ``branch``, the sign (+-1) of the circle intersection [-].
 
-    Attributes
-    ----------
-    geometry : MorphingFootGeometry
-        The dimensions it was built from.
-    pole_top : float
-        Height of the upper pole with the column unloaded, :math:`z_{B0}` [m].
-    stroke : float
-        Column deflection from curled up to fully spread [m].
-    branch : float
-        Sign (+1 or -1) of the circle intersection that gives the design angles [-].
-
-    Examples
-    --------
     >>> link = Linkage.from_geometry(MorphingFootGeometry())
     >>> round(link.stroke * 1e3, 2), round(math.degrees(float(link.angle(link.stroke))), 1)
     (11.89, 5.0)
@@ -267,23 +215,8 @@ class Linkage:
 
     @classmethod
     def from_geometry(cls, geometry: MorphingFootGeometry) -> Linkage:
-        """Resolve the linkage of ``geometry``.
-
-        Parameters
-        ----------
-        geometry : MorphingFootGeometry
-            Base, pad and linkage dimensions [m, rad].
-
-        Returns
-        -------
-        Linkage
-
-        Raises
-        ------
-        MudrftError
-            If the coupler is too short to reach the pole, or the pole does not rise
-            monotonically as the pads curl up.
-        """
+        """Resolve the linkage of ``geometry`` [m, rad]; a :class:`MudrftError` if the coupler
+        cannot reach the pole over the pad travel or the pole does not rise as the pads curl."""
         g = geometry
         th = np.linspace(g.expanded_angle, g.retracted_angle, _DESIGN_SAMPLES)
         phi = th + g.crank_offset
@@ -316,51 +249,20 @@ class Linkage:
         return np.asarray(raw_pad_angle(self.geometry, self.pole_top, self.branch, d))
 
     def angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
-        """Pad angle :math:`\\theta(\\delta)` [rad], clipped to the design range (unchecked).
-
-        Parameters
-        ----------
-        deflection : float or array_like
-            Column deflection [m], in [0, stroke] (not checked: an inner-loop path).
-
-        Returns
-        -------
-        ndarray
-            Pad angle [rad], from ``retracted_angle`` (0) to ``expanded_angle`` (stroke).
-        """
+        """Pad angle :math:`\\theta(\\delta)` [rad] at a deflection [m] in [0, stroke],
+        clipped to the design range (unchecked)."""
         d = np.asarray(deflection, dtype=float)
         return np.asarray(pad_angle(self.geometry, self.pole_top, self.branch, d))
 
     def deflection_at(self, pad_angle: ArrayLike) -> NDArray[np.float64]:
-        """Inverse kinematics: column deflection [m] that gives a pad angle [rad] (unchecked).
-
-        Parameters
-        ----------
-        pad_angle : float or array_like
-            Pad angle [rad], in [expanded_angle, retracted_angle].
-
-        Returns
-        -------
-        ndarray
-            Deflection [m], in [0, stroke].
-        """
+        """Inverse kinematics: deflection [m] in [0, stroke] giving a pad angle [rad]
+        (unchecked)."""
         zb = _pole_height(self.geometry, np.asarray(pad_angle, dtype=float))
         return np.clip(self.pole_top - zb, 0.0, self.stroke)
 
     def points(self, deflection: float) -> dict[str, NDArray[np.float64]]:
-        """Joint positions of one linkage in its (r, z) plane [m] at a deflection [m].
-
-        Parameters
-        ----------
-        deflection : float
-            Column deflection [m], in [0, stroke] (not checked).
-
-        Returns
-        -------
-        dict
-            ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
-            rim), each an ``(r, z)`` array [m].
-        """
+        """Joints ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
+        rim), each ``(r, z)`` [m], at a deflection [m] (unchecked)."""
         g = self.geometry
         th = float(self.angle(deflection))
         a = np.array([g.base_radius, g.pivot_height])
@@ -375,19 +277,11 @@ class Linkage:
 class MorphingRow(NamedTuple):
     """Every number of a :class:`~.foot.MorphingFoot`'s force, as floats [m, rad, N/m, N].
 
-    The dimensions of :class:`MorphingFootGeometry` (same names), the resolved
-    :class:`Linkage` (``pole_top``, ``stroke``, ``branch``), the
-    :class:`~.springs.TwoStageSpring`'s derived constants (same names as its properties),
-    the seal length, the locked deflection and the pad-curl delay (made by
-    :func:`~.row.morphing_row`). The
-    element-wise functions of :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
-    :mod:`.equilibrium` read their numbers by attribute, so they run unchanged on the
-    dataclasses (numpy) or on this named tuple (numba compiles named tuples of floats,
-    not dataclasses).
-
-    ``lock`` is the locked deflection of the modes ``"expanded"`` and ``"retracted"``
-    [m], or -1 for the free ``"morphing"`` mode (D37); ``curl_delay`` the time after the
-    retraction begins during which the pads do not curl [s] (D35).
+    The fields of :class:`MorphingFootGeometry`, of the :class:`Linkage` and the derived
+    constants of :class:`~.springs.TwoStageSpring` by the same names, the seal length [m],
+    ``lock`` (the locked deflection [m], or -1 for the free mode, D37) and ``curl_delay`` [s]
+    (D35). The element-wise functions read their numbers by attribute, so they run on the
+    dataclasses or on this tuple (numba compiles named tuples, not dataclasses).
     """
 
     base_radius: float

@@ -13,12 +13,11 @@ stresses the plate rule of the paper's eq. (6)-(7), pad tilt :math:`\psi_1=\thet
 .. math:: F_x = \sigma_xA_h(\varphi)\cos\varphi,\quad F_y = \sigma_yA_h(\varphi)\sin\varphi,
           \qquad A_h = A_{column}(d) + a_p(s)\sin\theta\sum_k|\cos(2\pi k/N-\varphi)|,
 
-first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. All functions here
-are vectorized and unchecked: the foot (:mod:`.foot`) validates its inputs. Those of the
-force (:func:`pad_area` to :func:`morphing_force`) are element-wise code over ``xp``: they
-read the dimensions by attribute, from a
-:class:`~.linkage.MorphingFootGeometry` or a :class:`~.linkage.MorphingRow`, so the compiled
-coupling runs them on floats.
+first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. Every function is
+vectorized and unchecked (:mod:`.foot` validates), with the foot dimensions ``g`` [m, rad]
+read by attribute; those of the force (:func:`pad_area` to :func:`morphing_force`) are
+element-wise over ``xp``, so the compiled coupling runs them on a
+:class:`~.linkage.MorphingRow` of floats.
 """
 
 from __future__ import annotations
@@ -56,17 +55,7 @@ _WALL_SEGMENTS = 16  # elements around the base rim and the column in surface_el
 
 
 def pad_area(g: MorphingFootGeometry | MorphingRow, length: XpArray, xp: Namespace = np) -> XpArray:
-    """Area of one pad from its pivot to a distance ``length`` along it [m^2].
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry or MorphingRow
-        Foot dimensions [m] (read by attribute).
-    length : float or array_like
-        Distance from the pivot along the pad [m], in [0, pad_length].
-    xp : module, keyword-only
-        Element-wise namespace (:mod:`mudrft._xp`).
-    """
+    """Area of one pad from its pivot to a distance ``length`` [m] along it [m^2]."""
     kappa = (g.pad_outer_width - g.pad_inner_width) / g.pad_length
     return g.pad_inner_width * length + 0.5 * kappa * length * length
 
@@ -74,19 +63,8 @@ def pad_area(g: MorphingFootGeometry | MorphingRow, length: XpArray, xp: Namespa
 def submerged_length(
     g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """Length of each pad below the mud surface, from its pivot [m].
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry or MorphingRow
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    theta : float or array_like
-        Pad angle [rad].
-    xp : module, keyword-only
-        Element-wise namespace.
-    """
+    """Length of each pad below the mud surface from its pivot [m], at tip ``depth`` [m] and
+    pad angle ``theta`` [rad]."""
     rise = depth - g.pivot_height
     s = xp.sin(theta)
     flat = s <= _FLAT
@@ -100,19 +78,8 @@ def submerged_length(
 def vertical_area(
     g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """Effective vertical area :math:`A_z` of the base and the pads [m^2] (D33).
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry or MorphingRow
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    theta : float or array_like
-        Pad angle [rad].
-    xp : module, keyword-only
-        Element-wise namespace.
-    """
+    """Effective vertical area :math:`A_z` of the base and pads [m^2] (D33) at tip ``depth``
+    [m] and pad angle ``theta`` [rad]."""
     base = xp.where(depth > 0.0, math.pi * g.base_radius * g.base_radius, 0.0)
     pad = pad_area(g, submerged_length(g, depth, theta, xp=xp), xp=xp)
     weight = f_n(theta, xp=xp) * xp.cos(theta) + f_t(theta, xp=xp) * xp.sin(theta)
@@ -126,21 +93,8 @@ def horizontal_area(
     heading: XpArray,
     xp: Namespace = np,
 ) -> XpArray:
-    """Submerged area projected normal to the heading, :math:`A_h` [m^2] (D33).
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry or MorphingRow
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    theta : float or array_like
-        Pad angle [rad].
-    heading : float or array_like
-        Heading of the motion from the x axis [rad].
-    xp : module, keyword-only
-        Element-wise namespace.
-    """
+    """Submerged area projected normal to the ``heading`` [rad], :math:`A_h` [m^2] (D33), at
+    tip ``depth`` [m] and pad angle ``theta`` [rad]."""
     col = 2.0 * g.base_radius * xp.clip(depth, 0.0, g.pivot_height) + 2.0 * g.column_radius * (
         xp.clip(depth - g.pivot_height, 0.0, g.height - g.pivot_height)
     )
@@ -155,17 +109,8 @@ def horizontal_area(
 def footprint_area(
     g: MorphingFootGeometry, depth: ArrayLike, theta: ArrayLike
 ) -> NDArray[np.float64]:
-    """Horizontal projection of the submerged base and pads [m^2] (D36, D38).
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0; ``inf`` counts the whole foot.
-    theta : float or array_like
-        Pad angle [rad].
-    """
+    """Horizontal projection of the submerged base and pads [m^2] (D36, D38) at tip
+    ``depth`` [m] (``inf``: the whole foot) and pad angle ``theta`` [rad]."""
     d = np.asarray(depth, dtype=float)
     base = np.where(d > 0, math.pi * g.base_radius**2, 0.0)
     whole = np.isinf(d)
@@ -180,12 +125,9 @@ def coefficients(
     phi: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
-    r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33).
-
-    :math:`F_x=A_h\cos\varphi\,\sigma_x`, :math:`F_y=A_h\sin\varphi\,\sigma_y`,
-    :math:`F_z=A_z\sigma_z` at the first-quadrant heading ``phi`` [rad]: the form
-    :func:`~mudrft.feet.base.world_force` turns into a world force (the heading rule, D9).
-    """
+    r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33) at the
+    first-quadrant heading ``phi`` [rad]: :math:`F_x=A_h\cos\varphi\,\sigma_x`,
+    :math:`F_y=A_h\sin\varphi\,\sigma_y`, :math:`F_z=A_z\sigma_z`."""
     ah = horizontal_area(g, depth, theta, phi, xp=xp)
     zero = 0.0 * ah
     return (ah * xp.cos(phi), zero, zero, ah * xp.sin(phi), vertical_area(g, depth, theta, xp=xp))
@@ -201,12 +143,9 @@ def morphing_force(
     heading: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
-    """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad].
-
-    :func:`coefficients` at the folded heading, then the heading rule
-    (:func:`~mudrft.feet.base.world_force`, D9): depth [m], signed stresses [Pa], world
-    heading [rad]. Written once, element-wise, for numpy and the compiled coupling.
-    """
+    """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad]:
+    :func:`coefficients` at the folded heading, then the heading rule (D9); depth [m], signed
+    stresses [Pa], world heading [rad]."""
     co = coefficients(g, depth, theta, fold_heading(heading, xp=xp), xp=xp)
     return world_force(co, sx, sy, sz, heading, xp=xp)
 
@@ -218,26 +157,8 @@ def magnitudes(
     heading: ArrayLike,
     theta: ArrayLike,
 ) -> NDArray[np.float64]:
-    """First-quadrant force magnitudes (Fx, Fy, Fz) [N] at a pad angle (D33).
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa].
-    heading : float or array_like
-        Heading in [0, pi/2] [rad].
-    theta : float or array_like
-        Pad angle [rad].
-
-    Returns
-    -------
-    ndarray, shape (..., 3)
-        (Fx, Fy, Fz) [N].
-    """
+    """First-quadrant magnitudes (Fx, Fy, Fz) [N] (D33) at tip ``depth`` [m], stresses
+    (..., 3) [Pa], ``heading`` in [0, pi/2] [rad] and pad angle ``theta`` [rad]."""
     s = np.asarray(stress, dtype=float)
     d = np.asarray(depth, dtype=float)
     ax, _, _, ay, az = coefficients(g, d, np.asarray(theta, float), np.asarray(heading, float))
@@ -248,20 +169,9 @@ def magnitudes(
 def center_height(
     g: MorphingFootGeometry, depth: ArrayLike, theta: ArrayLike
 ) -> NDArray[np.float64]:
-    """Height of the center of the vertical pressure above the tip [m].
-
-    The :math:`A_z`-weighted centroid of the submerged base (at z = 0) and pad parts; half
-    the submerged height when nothing is submerged.
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
-    depth : float or array_like
-        Tip depth [m], >= 0.
-    theta : float or array_like
-        Pad angle [rad].
-    """
+    """Height above the tip [m] of the center of the vertical pressure: the
+    :math:`A_z`-weighted centroid of the submerged base (z = 0) and pad parts, or half the
+    submerged height when nothing is submerged; tip ``depth`` [m], pad angle ``theta`` [rad]."""
     d, th = np.broadcast_arrays(np.asarray(depth, dtype=float), np.asarray(theta, dtype=float))
     length = submerged_length(g, d, th)
     kappa = (g.pad_outer_width - g.pad_inner_width) / g.pad_length
@@ -276,17 +186,8 @@ def center_height(
 
 
 def pad_corners(g: MorphingFootGeometry, theta: float) -> NDArray[np.float64]:
-    """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3).
-
-    Order: pivot-left, pivot-right, rim-right, rim-left.
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
-    theta : float
-        Pad angle [rad].
-    """
+    """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3), at pad angle
+    ``theta`` [rad]: pivot-left, pivot-right, rim-right, rim-left."""
     out = np.empty((g.n_pads, 4, 3))
     for k, a in enumerate(g.azimuths):
         er = np.array([math.cos(a), math.sin(a), 0.0])
@@ -305,23 +206,11 @@ def pad_corners(g: MorphingFootGeometry, theta: float) -> NDArray[np.float64]:
 def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> SurfaceElements:
     r"""Surface elements of the base, its rim, the column and both faces of the pads [m] (D159).
 
-    The base pad is one downward disk at the tip and a wall of radius ``base_radius`` up to
-    the pivots; the column a wall of radius ``column_radius`` from the pivots to the top;
-    each pad a thin plate with two faces, the lower one (outward normal
-    :math:`\sin\theta\,\hat e_r-\cos\theta\,\hat z`, the face that leads into the
-    mud) and the upper one (the opposite normal), ``strips`` elements each. The same body
-    as the mud model's areas (:func:`vertical_area`, :func:`horizontal_area`) and as the
-    MuJoCo coupling's triangles; a terrain that integrates elements (granular RFT) thus
-    loads the pads' lower faces on intrusion and their upper faces on extraction.
-
-    Parameters
-    ----------
-    g : MorphingFootGeometry
-        Foot dimensions [m].
-    theta : float
-        Pad angle [rad].
-    strips : int, keyword-only
-        Elements along each pad face and up each wall [-].
+    The base is a downward disk at the tip and a wall up to the pivots, the column a wall
+    above; each pad a thin plate with a lower face (normal :math:`\sin\theta\,\hat e_r-
+    \cos\theta\,\hat z`, leading into the mud) and an upper face, ``strips`` elements each,
+    at pad angle ``theta`` [rad]. A terrain that integrates elements (granular RFT) thus loads
+    the lower faces on intrusion and the upper ones on extraction.
     """
     edges = np.linspace(0.0, g.pad_length, strips + 1)
     areas_1 = np.diff(pad_area(g, edges))

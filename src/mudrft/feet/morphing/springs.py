@@ -34,12 +34,9 @@ __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 def spring_force(
     s: TwoStageSpring | MorphingRow, deflection: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31).
-
-    Element-wise over ``xp``; ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N],
-    ``series_stiffness`` and ``hard_stiffness`` [N/m] by attribute (a
-    :class:`TwoStageSpring` or a :class:`~.linkage.MorphingRow`).
-    """
+    """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31), element-wise;
+    ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N], ``series_stiffness`` and
+    ``hard_stiffness`` [N/m] by attribute."""
     d1 = s.knee_deflection
     return xp.where(
         deflection <= d1,
@@ -50,28 +47,12 @@ def spring_force(
 
 @dataclass(frozen=True)
 class TwoStageSpring:
-    """Two springs in series in a two-stage telescoping column (decision D31).
+    """Two springs in series in a two-stage telescoping column (D31; module docstring).
 
-    Both springs compress together (series stiffness :math:`k_sk_h/(k_s+k_h)`) until the
-    soft spring has compressed by ``soft_travel`` and its stage bottoms out; beyond, only
-    the hard spring compresses, up to the end stop of the linkage (the stroke).
+    Attributes: ``soft_stiffness`` :math:`k_s` [N/m]; ``hard_stiffness`` :math:`k_h` [N/m],
+    >= ``soft_stiffness``; ``soft_travel`` :math:`s_s`, the soft spring's compression when its
+    stage bottoms out [m]. All positive, else a :class:`MudrftError`.
 
-    Attributes
-    ----------
-    soft_stiffness : float
-        :math:`k_s` [N/m].
-    hard_stiffness : float
-        :math:`k_h` [N/m], >= ``soft_stiffness``.
-    soft_travel : float
-        Compression of the soft spring when its stage bottoms out, :math:`s_s` [m].
-
-    Raises
-    ------
-    MudrftError
-        If a field is not positive or the hard spring is softer than the soft one.
-
-    Examples
-    --------
     >>> s = TwoStageSpring()
     >>> round(s.series_stiffness, 1), round(s.knee_deflection * 1e3, 2), s.knee_force
     (705.9, 8.5, 6.0)
@@ -110,33 +91,11 @@ class TwoStageSpring:
         return self.soft_stiffness * self.soft_travel
 
     def force(self, deflection: ArrayLike) -> NDArray[np.float64]:
-        """Spring force [N] at a column deflection [m] (no end stops: see the linkage).
-
-        Parameters
-        ----------
-        deflection : float or array_like
-            Column deflection [m], >= 0.
-
-        Returns
-        -------
-        ndarray
-            :math:`F_s(\\delta)` [N].
-        """
+        """Spring force [N] at a column deflection [m] >= 0 (no end stops: see the linkage)."""
         return np.asarray(spring_force(self, np.asarray(deflection, dtype=float)))
 
     def deflection(self, force: ArrayLike) -> NDArray[np.float64]:
-        """Inverse of :meth:`force`: deflection [m] under a force [N].
-
-        Parameters
-        ----------
-        force : float or array_like
-            Spring force [N], >= 0.
-
-        Returns
-        -------
-        ndarray
-            Deflection [m].
-        """
+        """Inverse of :meth:`force`: deflection [m] under a force [N] >= 0."""
         f = np.asarray(force, dtype=float)
         f1 = self.knee_force
         return np.where(
@@ -146,40 +105,16 @@ class TwoStageSpring:
         )
 
     def stiffness(self, deflection: ArrayLike) -> NDArray[np.float64]:
-        """Tangent stiffness :math:`dF_s/d\\delta` [N/m] at a deflection [m].
-
-        The series stiffness below the knee, the hard spring's from the knee on.
-
-        Parameters
-        ----------
-        deflection : float or array_like
-            Column deflection [m], >= 0.
-
-        Returns
-        -------
-        ndarray
-            Stiffness [N/m].
-        """
+        """Tangent stiffness :math:`dF_s/d\\delta` [N/m] at a deflection [m]: the series
+        stiffness below the knee, the hard spring's from the knee on."""
         d = np.asarray(deflection, dtype=float)
         k = np.where(d < self.knee_deflection, self.series_stiffness, self.hard_stiffness)
         return np.asarray(k, dtype=float)
 
 
 class RigidGroundResponse(NamedTuple):
-    """Foot pressed on rigid ground (paper Fig. S3): all the load goes through the tip.
-
-    Attributes
-    ----------
-    deflection : ndarray
-        Column deflection [m].
-    force : ndarray
-        Vertical force [N] (spring law with its end stops).
-    pad_angle : ndarray
-        Pad angle [rad].
-    stiffness : ndarray
-        Tangent stiffness dF/d(deflection) [N/m]: the series stiffness below the knee,
-        the hard spring's above it.
-    """
+    """Foot pressed on rigid ground (paper Fig. S3), all the load through the tip:
+    ``deflection`` [m], ``force`` [N], ``pad_angle`` [rad] and tangent ``stiffness`` [N/m]."""
 
     deflection: NDArray[np.float64]
     force: NDArray[np.float64]
