@@ -59,25 +59,10 @@ CSV_COLUMNS = (
 
 @dataclass(frozen=True, eq=False)
 class History:
-    """A terrain's response along a trajectory.
-
-    Attributes
-    ----------
-    name : str
-        Terrain label.
-    time : ndarray (n,)
-        Times [s].
-    position, velocity : ndarray (n, 3)
-        Tip position [m] and velocity [m/s].
-    force : ndarray (n, 3)
-        Force of the terrain on the foot, world frame [N].
-    stress : ndarray (n, 3)
-        The terrain's own channel (or mean) stresses [Pa].
-    depth : ndarray (n,)
-        Tip depth [m].
-    area : ndarray (n,)
-        Submerged footprint :math:`A_z(d)` [m^2].
-    """
+    """A terrain's response along a trajectory: ``name``; ``time`` (n,) [s]; tip ``position``
+    (n, 3) [m] and ``velocity`` (n, 3) [m/s]; ``force`` of the terrain on the foot (n, 3) [N],
+    world frame; the terrain's own channel (or mean) ``stress`` (n, 3) [Pa]; tip ``depth`` (n,)
+    [m]; submerged footprint ``area`` :math:`A_z(d)` (n,) [m^2]."""
 
     name: str
     time: np.ndarray
@@ -98,6 +83,15 @@ class History:
         return int(self.time.size)
 
 
+def _check_foot_trajectory(foot: Any, trajectory: Any) -> None:
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(
+            f"trajectory must be a Trajectory (see mudrft.gait), got {type(trajectory).__name__}"
+        )
+    if not isinstance(foot, Foot):
+        raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
+
+
 def run_terrain(
     terrain: Terrain,
     foot: Foot,
@@ -107,44 +101,22 @@ def run_terrain(
 ) -> History:
     """Drive ``foot`` along ``trajectory`` through ``terrain`` and record the forces.
 
-    The force at sample ``i`` comes from the step that ends there (step ``t[i] - t[i-1]``;
-    the first step ``t[1] - t[0]``), decision D58.
+    The force at sample ``i`` comes from the step that ends there (the first step is
+    ``t[1] - t[0]``), D58. ``terrain`` is any :class:`mudrft.terrains.Terrain`;
+    ``progress(i, n)``, if given, is called every 500 samples.
 
-    Parameters
-    ----------
-    terrain : Terrain
-        Any object with ``initial_state(foot, position)`` and
-        ``step(foot, state, position, velocity, dt)`` (:class:`mudrft.terrains.Terrain`).
-    foot : Foot
-        The foot.
-    trajectory : Trajectory
-        Prescribed tip motion.
-    progress : callable or None, keyword-only
-        Called as ``progress(i, n)`` every 500 samples.
-
-    Returns
-    -------
-    History
-
-    Examples
-    --------
     >>> import mudrft
     >>> from mudrft.baselines import LinearStiffness
     >>> h = run_terrain(LinearStiffness(), mudrft.feet.Flat(), mudrft.plate_intrusion())
     >>> round(float(h.force[:, 2].max()), 1)      # k d A = 1.09e6 * 0.03 * 0.0052
     170.0
     """
-    if not isinstance(trajectory, Trajectory):
-        raise MudrftError(
-            f"trajectory must be a Trajectory (see mudrft.gait), got {type(trajectory).__name__}"
-        )
+    _check_foot_trajectory(foot, trajectory)
     if not (hasattr(terrain, "initial_state") and hasattr(terrain, "step")):
         raise MudrftError(
             "terrain must have initial_state() and step() (see mudrft.terrains), "
             f"got {type(terrain).__name__}"
         )
-    if not isinstance(foot, Foot):
-        raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
     t, pos, vel = trajectory.time, trajectory.position, trajectory.velocity
     n = t.size
     force = np.zeros((n, 3))
@@ -228,13 +200,11 @@ def compare(
     extrapolate : bool, keyword-only
         Allow a water content outside the tabulated rows for the default terrains (warns).
     progress : bool or callable, keyword-only
-        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger
-        (a stderr handler is attached when logging is not configured), a callable is called
-        with the fraction done.
+        Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger,
+        a callable with the fraction done.
     strict : bool, keyword-only
-        Raise a :class:`~mudrft.MudrftError` where the trajectory takes the foot deeper
-        than its own height, instead of warning once
-        (:class:`~mudrft.trajectories.BuriedFootWarning`, as :func:`mudrft.simulate`).
+        Refuse a trajectory that takes the foot deeper than its height, instead of warning
+        (:class:`~mudrft.trajectories.BuriedFootWarning`), as :func:`mudrft.simulate`.
 
     Returns
     -------
@@ -252,12 +222,7 @@ def compare(
     >>> list(compare(foot, plate, ["mud", GranularRFT(zeta=0.464e6, name="poppy-cp")]))
     ['mud', 'poppy-cp']
     """
-    if not isinstance(foot, Foot):
-        raise MudrftError(f"foot must be a Foot (see mudrft.feet), got {type(foot).__name__}")
-    if not isinstance(trajectory, Trajectory):
-        raise MudrftError(
-            f"trajectory must be a Trajectory (see mudrft.gait), got {type(trajectory).__name__}"
-        )
+    _check_foot_trajectory(foot, trajectory)
     if terrains is None:
         items = list(default_terrains(water_content, extrapolate=extrapolate).items())
     elif isinstance(terrains, str):
@@ -359,18 +324,9 @@ def write_csv(
     *,
     overwrite: bool = False,
 ) -> Path:
-    """Write histories to ``path`` in long format (:data:`CSV_COLUMNS`), one row per sample.
-
-    Parameters
-    ----------
-    runs : mapping
-        ``{trajectory label: {terrain name: History}}``, or one ``{terrain: History}``
-        (trajectory label ``""``).
-    path : str or Path
-        Output CSV.
-    overwrite : bool, keyword-only
-        Replace an existing file (default: refuse); the file is written atomically.
-    """
+    """Write histories to ``path`` in long format (:data:`CSV_COLUMNS`), one row per sample,
+    atomically; ``runs`` is ``{trajectory label: {terrain: History}}`` or one
+    ``{terrain: History}`` (label ``""``); an existing file is replaced only with ``overwrite``."""
     if not isinstance(runs, Mapping) or not runs:
         raise MudrftError(
             "runs must be a non-empty mapping {terrain: History} (compare's result) or "

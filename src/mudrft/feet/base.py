@@ -68,17 +68,8 @@ def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
 
 @dataclass(frozen=True, eq=False)
 class SurfaceElements:
-    """Surface elements of a foot: centroid, outward unit normal and area of each facet.
-
-    Attributes
-    ----------
-    centroids : ndarray, shape (m, 3)
-        Facet centroids in the foot frame [m].
-    normals : ndarray, shape (m, 3)
-        Outward unit normals [-].
-    areas : ndarray, shape (m,)
-        Facet areas [m^2].
-    """
+    """Surface elements of a foot in its frame: ``centroids`` (m, 3) [m], outward unit
+    ``normals`` (m, 3) [-] and ``areas`` (m,) [m^2]."""
 
     centroids: np.ndarray
     normals: np.ndarray
@@ -102,15 +93,13 @@ def first_quadrant(
     stress : array_like, shape (..., 3)
         Channel stresses [Pa], positive when they resist the motion.
     heading : array_like
-        World heading of the horizontal motion [rad]; broadcasts to the batch shape of
-        ``stress``.
+        World heading of the horizontal motion [rad], broadcasting to the batch shape.
 
     Returns
     -------
     tuple
-        ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into
-        [0, pi/2] [rad], and the signs (sx, sy) that map first-quadrant forces back to the
-        world (the forces are odd in the horizontal motion, decision D9).
+        ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into [0, pi/2]
+        [rad], and the signs (sx, sy) that map first-quadrant forces back to the world (D9).
     """
     s = check_finite("stress", stress)
     h = check_finite("heading", heading)
@@ -189,30 +178,12 @@ def world_force(
     heading: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:
-    r"""The heading rule (decision D9): world force from a closed form's coefficients [N].
-
-    The coefficients of the linear form (eqs. 12-14) are taken at the heading folded into
-    :math:`[0,\pi/2]` (:func:`fold_heading`); the quadrant of the heading gives the signs
-    (sgn 0 = +1):
+    r"""The heading rule (D9): world force [N] from a closed form's coefficients
+    ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] at the folded heading (:func:`fold_heading`), signed
+    stresses [Pa] and the world ``heading`` [rad] (sgn 0 = +1):
 
     .. math:: F_x=-\operatorname{sgn}(\cos h)\,(a_x\sigma_x+b_x\sigma_y),\quad
-              F_y=-\operatorname{sgn}(\sin h)\,(a_y\sigma_y+b_y\sigma_x)
-
-    Parameters
-    ----------
-    coefficients : tuple
-        ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] at the folded heading.
-    sx, sy, sz : array_like
-        Signed channel stresses [Pa].
-    heading : array_like
-        World heading of the horizontal motion [rad].
-    xp : module, keyword-only
-        Element-wise namespace.
-
-    Returns
-    -------
-    tuple
-        ``(F_x, F_y, F_z)`` [N], world frame.
+              F_y=-\operatorname{sgn}(\sin h)\,(a_y\sigma_y+b_y\sigma_x),\quad F_z=a_z\sigma_z
     """
     ax, bx, by, ay, az = coefficients
     cx = xp.where(xp.cos(heading) < 0.0, -1.0, 1.0)
@@ -225,26 +196,11 @@ def unfold_forces(
     stress: ArrayLike,
     heading: ArrayLike,
 ) -> FloatArray:
-    r"""World forces, for any heading, from a foot that only gives first-quadrant magnitudes:
-    the coefficients of the linear form read off ``magnitudes`` with unit stresses, then
-    :func:`world_force`.
-
-    Parameters
-    ----------
-    magnitudes : callable
-        ``magnitudes(stress_units, phi)`` returning paper-style (Fx, Fy, Fz) [N] for
-        stresses of shape (..., 2, 3), the rows (1, 0, sz) and (0, 1, sz), and folded
-        headings of shape (..., 1) [rad].
-    stress : ndarray (..., 3)
-        Stresses (sx, sy, sz) [Pa], horizontal ones measured along the motion.
-    heading : ndarray (...)
-        World heading of the horizontal motion [rad].
-
-    Returns
-    -------
-    ndarray (..., 3)
-        World-frame force [N].
-    """
+    r"""World forces (..., 3) [N], for any heading [rad], from a foot that gives only
+    first-quadrant magnitudes: the coefficients of the linear form read off
+    ``magnitudes(stress_units, phi)`` (stresses (..., 2, 3), the rows (1, 0, sz) and
+    (0, 1, sz), folded headings (..., 1) [rad]), then :func:`world_force`; ``stress``
+    (..., 3) [Pa] measured along the motion."""
     s = np.asarray(stress, dtype=float)
     h = np.asarray(heading, dtype=float)
     shape = np.broadcast_shapes(s.shape[:-1], h.shape)
@@ -281,7 +237,7 @@ class Foot(ABC):
 
     @abstractmethod
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """Paper-style resultant force magnitudes (Fx, Fy, Fz) [N].
+        """Paper-style resultant force magnitudes (Fx, Fy, Fz) [N], shape (..., 3).
 
         Parameters
         ----------
@@ -291,11 +247,6 @@ class Foot(ABC):
             Uniform channel stresses (sx, sy, sz) [Pa], positive when resisting the motion.
         heading : float or array
             Horizontal heading of the motion from the x axis [rad], in [0, pi/2].
-
-        Returns
-        -------
-        ndarray, shape (..., 3)
-            (Fx, Fy, Fz) [N]: magnitudes that resist the motion for positive stresses.
         """
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
@@ -319,22 +270,16 @@ class Foot(ABC):
         raise MudrftError(f"{type(self).__name__} does not provide surface elements")
 
     def force(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """World-frame force of the mud on the foot [N], for a heading in any quadrant.
+        """World-frame force of the mud on the foot [N], shape (..., 3), for any heading.
 
         Parameters
         ----------
         depth : float or array
-            Tip depth [m], >= 0 (0 means out of the mud: zero force).
+            Tip depth [m], >= 0 (0: out of the mud, no force).
         stress : array_like, shape (..., 3)
-            Signed channel stresses (sx, sy, sz) [Pa] (see module docstring).
+            Signed channel stresses (sx, sy, sz) [Pa] (module docstring).
         heading : float or array
             World heading of the horizontal motion [rad], any value.
-
-        Returns
-        -------
-        ndarray, shape (..., 3)
-            (Fx, Fy, Fz) [N]: horizontal components oppose the motion when the
-            stresses resist it; Fz > 0 is support, Fz < 0 suction.
         """
         d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
@@ -357,10 +302,8 @@ class Foot(ABC):
         heading: XpArray,
         xp: Namespace = np,
     ) -> tuple[XpArray, XpArray, XpArray]:
-        """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``.
-
-        Parameters are as :meth:`force`, with the stresses split into channels [Pa].
-        """
+        """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``;
+        parameters as :meth:`force`, the stresses split into channels [Pa]."""
         raise MudrftError(f"{type(self).__name__} has no element-wise force rule")
 
     def force_array(
@@ -393,11 +336,9 @@ class Foot(ABC):
         *,
         retraction: Any = 0.0,
     ) -> tuple[Any, np.ndarray]:
-        """Advance the foot's internal state and return ``(foot_state, force)`` [N].
-
-        Rigid feet return :meth:`force` unchanged; the morphing foot solves its spring
-        balance here, with ``retraction`` the time since the retraction began [s].
-        """
+        """Advance the foot's internal state; return ``(foot_state, force)`` [N]. Rigid feet
+        return :meth:`force`; the morphing foot solves its spring balance, ``retraction`` being
+        the time since the retraction began [s]."""
         return foot_state, self.force_unchecked(depth, stress, heading)
 
     def center_of_pressure(

@@ -128,15 +128,9 @@ def clip_constants(
 
 
 def submerged_area(
-    za: XpArray,
-    zb: XpArray,
-    zc: XpArray,
-    k_low: XpArray,
-    k_high: XpArray,
-    flat_area: XpArray,
-    depth: XpArray,
-    xp: Namespace = np,
-) -> XpArray:
+    za: XpArray, zb: XpArray, zc: XpArray, k_low: XpArray, k_high: XpArray,
+    flat_area: XpArray, depth: XpArray, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     r"""Exact area of a facet below the plane :math:`z=d` [m^2] (sorted heights [m]).
 
     Piecewise quadratic in the depth, written with clamps rather than branches:
@@ -150,39 +144,13 @@ def submerged_area(
 
 
 def clip_facet(
-    ax: XpArray,
-    ay: XpArray,
-    az: XpArray,
-    bx: XpArray,
-    by: XpArray,
-    bz: XpArray,
-    cx: XpArray,
-    cy: XpArray,
-    cz: XpArray,
-    k_low: XpArray,
-    k_high: XpArray,
-    flat_area: XpArray,
-    depth: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    r"""Exact area and centroid of the part of a facet below the plane :math:`z=d`.
-
-    Parameters
-    ----------
-    ax, ay, az, bx, by, bz, cx, cy, cz : array_like
-        Vertices sorted by height (:func:`sort_by_height`) [m].
-    k_low, k_high, flat_area : array_like
-        From :func:`clip_constants`.
-    depth : array_like
-        Height :math:`d` of the plane [m].
-    xp : module, keyword-only
-        Element-wise namespace.
-
-    Returns
-    -------
-    tuple
-        Submerged area [m^2] (:func:`submerged_area`) and the centroid ``(x, y, z)`` of the
-        submerged polygon (the facet's centroid where nothing is submerged) [m].
+    ax: XpArray, ay: XpArray, az: XpArray, bx: XpArray, by: XpArray, bz: XpArray,
+    cx: XpArray, cy: XpArray, cz: XpArray, k_low: XpArray, k_high: XpArray,
+    flat_area: XpArray, depth: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
+    r"""Exact area [m^2] and centroid ``(x, y, z)`` [m] of the part of a facet below the plane
+    :math:`z=d` (``depth`` [m]); the facet's centroid where nothing is submerged. Vertices
+    sorted by height (:func:`sort_by_height`) [m], constants from :func:`clip_constants`.
     """
     d = depth
     area = submerged_area(az, bz, cz, k_low, k_high, flat_area, d, xp=xp)
@@ -237,18 +205,9 @@ def facet_factors(
 
 
 def facet_force(
-    area: XpArray,
-    nh: XpArray,
-    hx: XpArray,
-    hy: XpArray,
-    wz: XpArray,
-    sqx: XpArray,
-    sqy: XpArray,
-    sz: XpArray,
-    fn: XpArray,
-    ft: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray]:
+    area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, sqx: XpArray,
+    sqy: XpArray, sz: XpArray, fn: XpArray, ft: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet (module docstring):
     ``area`` is :math:`dS` [m^2], ``nh, hx, hy, wz`` come from :func:`facet_frame`, the
     stresses [Pa] are measured along the motion, ``fn, ft`` come from :func:`facet_factors`."""

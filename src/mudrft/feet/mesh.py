@@ -66,15 +66,9 @@ class MeshWarning(UserWarning):
 
 
 def as_rotation_matrix(rotation: RotationLike) -> FloatArray:
-    """A proper rotation matrix (3, 3) from a matrix or a ``scipy.spatial.transform.Rotation``.
+    """A proper rotation matrix (3, 3) from an orthonormal matrix of determinant +1
+    (tolerance 1e-6) or a ``scipy.spatial.transform.Rotation``.
 
-    Parameters
-    ----------
-    rotation : array_like (3, 3) or Rotation
-        Orthonormal matrix with determinant +1 (tolerance 1e-6), or a scipy Rotation.
-
-    Examples
-    --------
     >>> as_rotation_matrix(np.eye(3)).tolist()[0]
     [1.0, 0.0, 0.0]
     """
@@ -165,44 +159,34 @@ class MeshFoot(Foot):
     r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
 
     Zero-area facets are dropped and an open mesh is accepted, each with a
-    :class:`MeshWarning`; a closed mesh wound inward is flipped; a closed mesh of separate
-    parts that overlap warns (:mod:`.meshparts`).
+    :class:`MeshWarning`; a closed mesh wound inward is flipped; separate closed parts that
+    overlap warn (:mod:`.meshparts`).
 
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
         Vertex coordinates [m] (z up), translated so that the lowest point is the tip at
-        the origin (see ``shift``).
+        the origin.
     faces : array_like, shape (m, 3)
         Vertex indices of each triangle; the winding (right-hand rule) gives the outward
         normal.
     trailing : bool, optional
         Let facets that trail the horizontal motion resist too (as the semi-sphere's closed
-        form does); default ``False``, leading facets only (decision D23).
+        form does); default ``False``, leading facets only (D23).
     name : str, optional
         Name used in reports.
 
     Attributes
     ----------
-    vertices : ndarray (n, 3)
-        Vertices in the foot frame [m].
-    faces : ndarray (m, 3)
-        Faces after dropping zero-area facets (and flipping the winding if it was inward).
+    vertices, faces : ndarray
+        Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
     shift : ndarray (3,)
-        Translation added to the given vertices to put the tip at the origin [m]: the tip is
-        the lowest vertex; its x, y are the mean of the faces' vertices no higher than the
-        lowest by more than 1e-9 times the bounding-box diagonal.
-    closed : bool
-        Whether the mesh is a closed 2-manifold.
-    flipped : bool
-        Whether the winding was reversed because the normals pointed inward.
+        Translation added to the given vertices [m]: the tip is the lowest vertex, its x, y
+        the mean of the vertices within 1e-9 of the bounding-box diagonal of the lowest.
+    closed, flipped : bool
+        Whether the mesh is a closed 2-manifold; whether its winding was reversed.
     dropped : int
         Number of zero-area facets dropped.
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eqs. (6)-(7), Sec. II-C.
 
     Examples
     --------
@@ -343,16 +327,13 @@ class MeshFoot(Foot):
         name : str, optional
             Name (default: the file name without extension).
         up : {"z", "y", "x", "-z", "-y", "-x"}, optional
-            The file's axis that points up, turned to +z by a rotation (a Y-up export:
-            ``"y"``); default ``"z"``, the mud's up.
+            The file's axis that points up, turned to +z (a Y-up export: ``"y"``).
 
         Raises
         ------
         MudrftError
-            Naming the file, if it is missing or unreadable, holds no triangles or NaN
-            coordinates, would need more memory than
-            :func:`~mudrft._validation.memory_limit`, or fails the checks of
-            :class:`MeshFoot`.
+            Naming the file, if it is missing, unreadable, empty, has NaN coordinates, needs more
+            memory than :func:`~mudrft._validation.memory_limit`, or fails :class:`MeshFoot`'s checks.
 
         Examples
         --------
@@ -479,10 +460,8 @@ class MeshFoot(Foot):
         *,
         point: ArrayLike | None = None,
     ) -> Wrench:
-        """Force [N], moment about ``point`` [N m] and center of pressure [m] (foot frame).
-
-        See :func:`mudrft.feet.surface.integrate_wrench`; ``point`` defaults to the tip.
-        """
+        """Force [N], moment about ``point`` [m] (default the tip) [N m] and center of pressure
+        [m], foot frame (:func:`mudrft.feet.surface.integrate_wrench`)."""
         d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         pt = np.zeros(3) if point is None else check_finite("point", point)
@@ -508,12 +487,9 @@ class MeshFoot(Foot):
         return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
-        r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping.
-
-        :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a
-        closed convex foot; the horizontal cut adds no x or y area) and
-        :math:`A_z=\sum\max(-n_z,0)dS` over the submerged parts of the facets.
-        """
+        r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping:
+        :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a closed
+        convex foot) and :math:`A_z=\sum\max(-n_z,0)dS` over the submerged facets."""
         d = check_nonnegative("depth", depth, unit="m")
         n = self._prep.normal
         weights = np.stack(

@@ -1,15 +1,8 @@
 r"""Closed triangle meshes of the paper's three feet, generated in code.
 
-Each function returns ``(vertices (n, 3) [m], faces (m, 3) int)``: a closed, consistently
-wound mesh with outward normals (right-hand rule), in the foot frame of the matching
-closed-form foot (tip at the origin, z up):
-
-* :func:`box_mesh`: the flat foot, x in [-W/2, W/2], y in [-L/2, L/2], z in [0, H];
-* :func:`semicylinder_mesh`: axis along x, cross-section the circular segment
-  :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)`, :math:`|\theta|\le\theta_H`, cut at z = H;
-* :func:`semisphere_mesh`: spherical cap of radius R and height H, flat top.
-
-Curved surfaces are inscribed polyhedra (vertices on the exact surface).
+Each function returns ``(vertices (n, 3) [m], faces (m, 3) int)``: a closed mesh wound
+outward, in the frame of the matching closed-form foot (tip at the origin, z up). Curved
+surfaces are inscribed polyhedra (vertices on the exact surface).
 """
 
 from __future__ import annotations
@@ -34,27 +27,9 @@ def _resolution(resolution: int) -> int:
 
 
 def rim_angle(radius: float, height: float) -> float:
-    r"""Angle :math:`\theta_H=\cos^{-1}(1-H/R)` [rad] from the tip to the rim of a curved foot.
+    r"""Angle :math:`\theta_H=\cos^{-1}(1-H/R)` [rad] from the tip to the rim of a curved foot
+    of radius :math:`R` and height :math:`H\le R` [m] (a taller one is refused).
 
-    Parameters
-    ----------
-    radius : float
-        :math:`R` [m], > 0.
-    height : float
-        :math:`H` [m], in (0, R].
-
-    Returns
-    -------
-    float
-        :math:`\theta_H` [rad], in (0, pi/2].
-
-    Raises
-    ------
-    MudrftError
-        If ``height`` > ``radius`` (a taller foot is not a circular cap).
-
-    Examples
-    --------
     >>> round(rim_angle(0.045, 0.045), 6)  # a full half-cylinder or hemisphere: pi/2
     1.570796
     """
@@ -81,26 +56,11 @@ def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nd
 def box_mesh(
     length: float, width: float, height: float, *, resolution: int = 1
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Closed box mesh of the flat foot.
+    """Closed box mesh of the flat foot: x in [-W/2, W/2], y in [-L/2, L/2], z in [0, H].
 
-    Parameters
-    ----------
-    length : float
-        :math:`L` along y [m].
-    width : float
-        :math:`W` along x [m].
-    height : float
-        Height along z [m].
-    resolution : int, optional
-        Grid divisions per edge (each face gets ``2 resolution^2`` triangles).
+    ``length`` :math:`L` (along y), ``width`` :math:`W` (along x) and ``height`` [m];
+    ``resolution``: grid divisions per edge (``2 resolution^2`` triangles a face).
 
-    Returns
-    -------
-    vertices : ndarray (n, 3) [m]
-    faces : ndarray (m, 3) int
-
-    Examples
-    --------
     >>> v, f = box_mesh(0.08, 0.065, 0.026, resolution=2)
     >>> v.shape, f.shape
     ((26, 3), (48, 3))
@@ -132,27 +92,11 @@ def box_mesh(
 def semicylinder_mesh(
     radius: float, width: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-cylindrical foot (axis along x).
+    r"""Closed mesh of the semi-cylindrical foot: axis along x (length ``width`` [m]),
+    cross-section :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)` cut flat at ``height``
+    [m] <= ``radius`` [m]; ``resolution`` arc segments from the tip to the rim, about
+    square elements.
 
-    Parameters
-    ----------
-    radius : float
-        :math:`R` [m].
-    width : float
-        Axis length :math:`W` along x [m].
-    height : float
-        Height [m], <= ``radius``.
-    resolution : int, optional
-        Arc segments from the tip (:math:`\theta=0`) to the rim (:math:`\theta_H`); the
-        curved surface has ``2 resolution`` segments across and about square elements.
-
-    Returns
-    -------
-    vertices : ndarray (n, 3) [m]
-    faces : ndarray (m, 3) int
-
-    Examples
-    --------
     >>> v, f = semicylinder_mesh(0.045, 0.065, 0.026, resolution=4)
     >>> bool(v[:, 2].min() == 0.0), round(float(v[:, 2].max()), 6)
     (True, 0.026)
@@ -193,25 +137,10 @@ def semicylinder_mesh(
 def semisphere_mesh(
     radius: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-spherical foot (spherical cap, flat top).
+    r"""Closed mesh of the semi-spherical foot: a cap of ``radius`` and ``height`` [m], flat
+    on top; ``resolution`` rings from the tip to the rim, each of ``4 resolution`` segments
+    (keeping the x and y mirror symmetries).
 
-    Parameters
-    ----------
-    radius : float
-        :math:`R` [m].
-    height : float
-        Cap height [m], <= ``radius``.
-    resolution : int, optional
-        Rings from the tip to the rim; each ring has ``4 resolution`` azimuthal segments
-        (a multiple of 4, so the mesh keeps the x and y mirror symmetries).
-
-    Returns
-    -------
-    vertices : ndarray (n, 3) [m]
-    faces : ndarray (m, 3) int
-
-    Examples
-    --------
     >>> v, f = semisphere_mesh(0.045, 0.026, resolution=4)
     >>> f.shape
     (128, 3)
