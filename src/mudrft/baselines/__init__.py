@@ -21,9 +21,6 @@ MuJoCo coupling and :func:`compare` take any of them:
 """
 
 from ..terrains.granular_rft import (
-    DEFAULT_ZETA,
-    GRANULAR_MEDIA,
-    LI2013_GENERIC,
     FourierCoefficients,
     GranularRFT,
     li2013_alpha,
@@ -47,9 +44,6 @@ from .compare import (
 __all__ = [
     "CSV_COLUMNS",
     "DEFAULT_STIFFNESS",
-    "DEFAULT_ZETA",
-    "GRANULAR_MEDIA",
-    "LI2013_GENERIC",
     "FourierCoefficients",
     "GranularRFT",
     "History",

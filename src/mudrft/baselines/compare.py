@@ -137,16 +137,8 @@ def run_terrain(
         )
     depth = trajectory.depth
     area = projected(foot, depth)[:, 2]
-    return History(
-        name=str(getattr(terrain, "name", type(terrain).__name__)),
-        time=t,
-        position=pos,
-        velocity=vel,
-        force=force,
-        stress=stress,
-        depth=depth,
-        area=area,
-    )
+    name = str(getattr(terrain, "name", type(terrain).__name__))
+    return History(name, t, pos, vel, force, stress, depth, area)
 
 
 #: Names of :func:`default_terrains`, in their order.
@@ -161,16 +153,8 @@ def default_terrains(
     ``water_content`` [-] selects the mud (``extrapolate`` as :func:`mudrft.paper_mud`);
     the baselines' defaults do not change with it (decision D59).
     """
-
     mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
-    terrains: list[Terrain] = [
-        mud,
-        GranularRFT(),
-        GranularRFT3D(),
-        LinearStiffness(),
-        MaxwellMud(),
-        RigidGround(),
-    ]
+    terrains = (mud, GranularRFT(), GranularRFT3D(), LinearStiffness(), MaxwellMud(), RigidGround())
     return {t.name: t for t in terrains}
 
 

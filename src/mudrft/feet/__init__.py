@@ -54,15 +54,9 @@ def by_name(
     name : str or path-like
         ``"flat"``, ``"semi-cylinder"``, ``"semi-sphere"``, ``"morphing"``, or a path ending
         in ``.stl``, ``.obj`` or ``.ply``.
-    unit : str or None, keyword-only
-        Length unit of a mesh file's coordinates (``"m"``, ``"mm"``, ``"cm"``, ``"in"``;
-        default metres); only for mesh files.
-    trailing : bool or None, keyword-only
-        Let a mesh foot's trailing facets resist too (:class:`MeshFoot`; default ``False``);
-        only for mesh files.
-    up : str or None, keyword-only
-        A mesh file's up axis (:meth:`MeshFoot.from_file`; default ``"z"``); only for mesh
-        files.
+    unit, trailing, up : keyword-only, mesh files only
+        As :meth:`MeshFoot.from_file`: the file's length unit (default ``"m"``), whether
+        trailing facets resist (default ``False``) and its up axis (default ``"z"``).
 
     Examples
     --------

@@ -9,6 +9,11 @@ form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
 :math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`. The ``*_coefficients``
 functions give :math:`(a_x,b_x,b_y,a_y,a_z)` [m^2], the ``*_forces`` functions the first
 quadrant magnitudes [N]; all broadcast and take ``xp``.
+
+References
+----------
+.. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
+   Terrains", eqs. (12)-(14) and supplementary Sec. II.
 """
 
 from __future__ import annotations
@@ -59,10 +64,8 @@ def flat_coefficients(
 
     Parameters
     ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``; 0 gives :math:`a_z=0`).
-    phi : array_like
-        Heading :math:`\varphi` in [0, pi/2] [rad].
+    depth, phi : array_like
+        Tip depth [m] (capped at ``height``; 0 gives :math:`a_z=0`); heading in [0, pi/2] [rad].
     length, width, height : float
         :math:`L` (along y), :math:`W` (along x) and height [m].
     xp : module, optional
@@ -75,11 +78,6 @@ def flat_coefficients(
 
        F_x=z\left[L f_n(\varphi)\sigma_x+W f_t(\varphi_c)\sigma_y\right],\quad
        F_y=z\left[L f_t(\varphi)\sigma_x+W f_n(\varphi_c)\sigma_y\right],\quad F_z=LW\sigma_z \tag{12}
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (12) and supplementary Sec. II-A.
     """
     z = xp.minimum(depth, height)
     phic = 0.5 * math.pi - phi
@@ -101,10 +99,8 @@ def semicylinder_coefficients(
 
     Parameters
     ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``).
-    phi : array_like
-        Heading from the cylinder axis (x), in [0, pi/2] [rad].
+    depth, phi : array_like
+        Tip depth [m] (capped at ``height``); heading from the axis (x) in [0, pi/2] [rad].
     radius, width, height : float
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
     xp : module, optional
@@ -118,11 +114,6 @@ def semicylinder_coefficients(
        \begin{aligned}F_x&=R^2(\theta_c-sc)\,f_n(\varphi)\sigma_x+WR(1-c)\,f_t(\varphi_c)\sigma_y,\\
        F_y&=R^2(\theta_c-sc)\,f_t(\varphi)\sigma_x+WR(1-c)\,f_n(\varphi_c)\sigma_y,\\
        F_z&=2WR\,\sigma_z\left[s-\tfrac{s^3}{3}+\tfrac{(1-c)^2(2+c)}{3}\right]\end{aligned} \tag{13}
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (13) and supplementary Sec. II-B (erratum E20 in eq. 13c).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
@@ -152,10 +143,8 @@ def semisphere_coefficients(
 
     Parameters
     ----------
-    depth : array_like
-        Tip depth [m] (capped at ``height``).
-    phi : array_like
-        Heading in [0, pi/2] [rad].
+    depth, phi : array_like
+        Tip depth [m] (capped at ``height``); heading in [0, pi/2] [rad].
     radius, height : float
         :math:`R` and cap height (<= R) [m].
     xp : module, optional
@@ -168,11 +157,6 @@ def semisphere_coefficients(
 
        F_x=\tfrac83R^2(\theta_c-sc)\cos\varphi\,\sigma_x,\quad F_y=\tfrac83R^2(\theta_c-sc)\sin\varphi\,\sigma_y,
        \quad F_z=\tfrac{S_e}{4}\left(2+2c^2+\tfrac{2c^3}{s}-\tfrac{5c}{s}+\tfrac{3\theta_c}{s^2}\right)\sigma_z \tag{14}
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (14) and supplementary Sec. II-C (errata E21-E23).
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)

@@ -37,17 +37,9 @@ CHUNK_PAIRS = 200_000
 
 
 class PartOverlap(NamedTuple):
-    """Two parts of a mesh, one with vertices inside or on the other.
-
-    Attributes
-    ----------
-    parts : int
-        Number of separate parts of the mesh.
-    inner, outer : int
-        The part (numbered from 1, by first facet) with a vertex inside or on ``outer``.
-    point : ndarray, shape (3,)
-        That vertex [m], in the coordinates given.
-    """
+    """Two parts of a mesh, one with a vertex inside or on the other: the number of
+    ``parts``, the ``inner`` and ``outer`` parts (numbered from 1 by first facet) and that
+    vertex, ``point`` (3,) [m]."""
 
     parts: int
     inner: int
@@ -56,21 +48,10 @@ class PartOverlap(NamedTuple):
 
 
 def winding_numbers(points: FloatArray, triangles: FloatArray) -> FloatArray:
-    """Generalized winding number of each point with respect to a closed surface [-].
-
-    Parameters
-    ----------
-    points : ndarray, shape (p, 3)
-        Points [m].
-    triangles : ndarray, shape (t, 3, 3)
-        The surface's facets [m], wound outward.
-
-    Returns
-    -------
-    ndarray, shape (p,)
-        1 inside, 0 outside, 1/2 on a flat face or its edges (up to round-off); -1 inside a
-        surface wound inward. A facet whose plane holds the point counts 0.
-    """
+    """Generalized winding number [-] of each of ``points`` (p, 3) [m] with respect to a
+    closed surface of ``triangles`` (t, 3, 3) [m], wound outward: 1 inside, 0 outside, 1/2 on
+    a face (up to round-off), -1 inside a surface wound inward; a facet whose plane holds the
+    point counts 0."""
     out = np.empty(len(points))
     step = max(1, CHUNK_PAIRS // max(len(triangles), 1))
     for s in range(0, len(points), step):
@@ -97,20 +78,10 @@ def overlapping_parts(
 ) -> PartOverlap | None:
     """The first pair of separate parts of a closed mesh that overlap or touch, if any.
 
-    Parameters
-    ----------
-    vertices : ndarray, shape (n, 3)
-        Vertex coordinates [m]; vertices at the same coordinates are one vertex.
-    faces : ndarray, shape (m, 3)
-        Facets, each closed part wound outward.
-    weld : ndarray, shape (n,), keyword-only
-        Each vertex's index among the distinct coordinates, if known; computed when None.
-
-    Returns
-    -------
-    PartOverlap or None
-        None for a mesh of one part, of parts apart from each other, or of more than
-        :data:`MAX_PARTS` parts (not checked).
+    ``vertices`` (n, 3) [m], vertices at the same coordinates being one; ``faces`` (m, 3),
+    each closed part wound outward; ``weld`` (n,), each vertex's index among the distinct
+    coordinates, if known. None for a mesh of one part, of parts apart, or of more than
+    :data:`MAX_PARTS` parts (not checked).
     """
     from scipy.sparse import coo_matrix  # heavy (0.5 s): imported for a closed mesh only
     from scipy.sparse.csgraph import connected_components

@@ -106,14 +106,8 @@ class _ClosedFormFoot(Foot):
         return self.force_array(*(np.asarray(a, dtype=float) for a in (depth, stress, heading)))
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
-        """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule.
-
-        Parameters
-        ----------
-        resolution : int, optional
-            Segments from the tip to the rim (curved feet) or divisions per edge (flat
-            foot) [-], >= 1.
-        """
+        """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule;
+        ``resolution``: segments from the tip to the rim, or divisions per edge (flat) [-]."""
         v, f = self._mesh_arrays(resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
 
@@ -140,10 +134,8 @@ class _ClosedFormFoot(Foot):
 
 @dataclass(frozen=True, eq=True)
 class Flat(_ClosedFormFoot):
-    """Rectangular flat foot (paper: 80 x 65 mm, 26 mm tall), eq. (12).
-
-    The length :math:`L` runs along y and the width :math:`W` along x (decision D20: the
-    face whose normal is x has area :math:`Lz` in eq. 12).
+    """Rectangular flat foot (paper: 80 x 65 mm, 26 mm tall), eq. (12); the face whose
+    normal is x has area :math:`Lz` (D20).
 
     Parameters
     ----------
@@ -153,11 +145,6 @@ class Flat(_ClosedFormFoot):
         :math:`W` [m], along x.
     height : float, optional
         Height of the plate [m]; deeper than this the foot is buried (decision D26).
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (12).
 
     Examples
     --------
@@ -197,8 +184,7 @@ class Flat(_ClosedFormFoot):
 class SemiCylinder(_ClosedFormFoot):
     """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13).
 
-    The cylinder axis runs along x (length :math:`W`); the cross-section is a circular
-    segment of radius :math:`R` and height ``height`` <= R, cut flat on top (decision D20).
+    The axis runs along x; the cross-section is a circular segment cut flat on top (D20).
 
     Parameters
     ----------
@@ -208,11 +194,6 @@ class SemiCylinder(_ClosedFormFoot):
         :math:`W` [m], along the axis (x).
     height : float, optional
         Height of the foot [m], <= ``radius``.
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (13).
 
     Examples
     --------
@@ -257,8 +238,7 @@ class SemiCylinder(_ClosedFormFoot):
 class SemiSphere(_ClosedFormFoot):
     """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14).
 
-    Its closed form counts the facets that trail the motion, so its mesh uses
-    ``trailing=True`` (decision D23).
+    Its closed form counts the facets that trail the motion, so its mesh does (D23).
 
     Parameters
     ----------
@@ -266,11 +246,6 @@ class SemiSphere(_ClosedFormFoot):
         :math:`R` [m].
     height : float, optional
         Cap height [m], <= ``radius``.
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", eq. (14).
 
     Examples
     --------
