@@ -24,11 +24,13 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 
 import mudrft
 from mudrft.baselines import (
@@ -40,11 +42,34 @@ from mudrft.baselines import (
     fit_stiffness,
     summarize,
 )
-from mudrft.baselines.plots import plot_gait, plot_rft_alpha, plot_s6
+from mudrft.baselines.plots import plot_gait, plot_s6
+from mudrft.terrains.granular_rft import li2013_alpha
 
 
 def log(msg: str) -> None:
     print(msg, file=sys.stderr)
+
+
+def plot_rft_alpha(*, resolution: int = 121) -> Any:
+    """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
+    b = np.linspace(-np.pi / 2, np.pi / 2, resolution)
+    g = np.linspace(-np.pi / 2, np.pi / 2, resolution)
+    B, G = np.meshgrid(b, g, indexing="xy")
+    ax_, az = li2013_alpha(B, G)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    lim = float(max(np.abs(az).max(), np.abs(ax_).max()))
+    for a, val, name in ((ax[0], az, "alpha_z (lift)"), (ax[1], ax_, "alpha_x (drag)")):
+        im = a.pcolormesh(
+            np.degrees(B), np.degrees(G), val, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto"
+        )
+        a.contour(np.degrees(B), np.degrees(G), val, levels=[0.0], colors="k", linewidths=0.8)
+        a.set(
+            xlabel="attack angle beta [deg]",
+            ylabel="intrusion angle gamma [deg] (90 = down)",
+            title=f"generic {name} [-] (Li et al. 2013)",
+        )
+        fig.colorbar(im, ax=a)
+    return fig
 
 
 def main(argv: list[str] | None = None) -> None:

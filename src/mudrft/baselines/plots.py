@@ -8,10 +8,9 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
-from ..terrains.granular_rft import li2013_alpha
 from .compare import History, normalized_loop
 
-__all__ = ["plot_gait", "plot_rft_alpha", "plot_s6"]
+__all__ = ["plot_gait", "plot_s6"]
 
 _STYLE = {
     "mud": {"color": "C0", "lw": 2.0},
@@ -128,27 +127,4 @@ def plot_gait(
     ax[0].legend(fontsize=8)
     if title:
         fig.suptitle(title)
-    return fig
-
-
-def plot_rft_alpha(*, resolution: int = 121) -> Any:
-    """Maps of Li et al.'s generic alpha_z and alpha_x over attack and intrusion angles."""
-    plt = _plt()
-    b = np.linspace(-np.pi / 2, np.pi / 2, resolution)
-    g = np.linspace(-np.pi / 2, np.pi / 2, resolution)
-    B, G = np.meshgrid(b, g, indexing="xy")
-    ax_, az = li2013_alpha(B, G)
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
-    lim = float(max(np.abs(az).max(), np.abs(ax_).max()))
-    for a, val, name in ((ax[0], az, "alpha_z (lift)"), (ax[1], ax_, "alpha_x (drag)")):
-        im = a.pcolormesh(
-            np.degrees(B), np.degrees(G), val, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto"
-        )
-        a.contour(np.degrees(B), np.degrees(G), val, levels=[0.0], colors="k", linewidths=0.8)
-        a.set(
-            xlabel="attack angle beta [deg]",
-            ylabel="intrusion angle gamma [deg] (90 = down)",
-            title=f"generic {name} [-] (Li et al. 2013)",
-        )
-        fig.colorbar(im, ax=a)
     return fig

@@ -101,20 +101,21 @@ def first_quadrant(
         ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into [0, pi/2]
         [rad], and the signs (sx, sy) that map first-quadrant forces back to the world (D9).
     """
-    s = check_finite("stress", stress)
+    s = _check_stress(stress)
     h = check_finite("heading", heading)
-    if s.shape[-1:] != (3,):
-        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
     if check_broadcast(**{STRESS_BATCH: s.shape[:-1]}, heading=h.shape) != s.shape[:-1]:
         raise MudrftError(
             f"heading (shape {h.shape}) must broadcast to stress's batch shape {s.shape[:-1]}"
         )
-    c, sn = np.cos(h), np.sin(h)
-    signs = np.empty((*np.shape(h), 2))
-    signs[..., 0] = np.where(c < 0, -1.0, 1.0)
-    signs[..., 1] = np.where(sn < 0, -1.0, 1.0)
-    phi = np.arctan2(np.abs(sn), np.abs(c))
-    return s.copy(), phi, signs
+    signs = np.stack([np.where(np.cos(h) < 0, -1.0, 1.0), np.where(np.sin(h) < 0, -1.0, 1.0)], -1)
+    return s.copy(), fold_heading(h), signs
+
+
+def _check_stress(stress: ArrayLike) -> FloatArray:
+    s = check_finite("stress", stress)
+    if s.shape[-1:] != (3,):
+        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
+    return s
 
 
 #: A tip depth beyond the larger of this [m] and :data:`PLAUSIBLE_DEPTH_HEIGHTS` times the
@@ -137,10 +138,7 @@ def check_depth_stress(
             "foot: a tip depth of", float(d.max()), (0.0, limit), unit="m",
             hint="depth is in metres (20 mm = 0.02)",
         )  # fmt: skip
-    s = check_finite("stress", stress)
-    if s.shape[-1:] != (3,):
-        raise MudrftError(f"stress must have shape (..., 3) [Pa], got shape {s.shape}")
-    return d, s
+    return d, _check_stress(stress)
 
 
 def check_resultant_inputs(

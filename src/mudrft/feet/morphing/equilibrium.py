@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -274,16 +274,13 @@ def _move(
     res = _find_root()(f, (a, b), args=(dd, ss), tolerances=tol)
     if not np.all(res.success):
         bad = int(np.flatnonzero(~res.success)[0])
-        _diverged(a[bad], b[bad], dd[bad], ss[bad], f"scipy status {int(res.status[bad])}")
+        raise MudrftError(
+            "the column balance did not converge: expected a root of R in "
+            f"[{plain(a[bad])}, {plain(b[bad])}] m at depth {plain(dd[bad])} m and sz "
+            f"{plain(ss[bad])} Pa, got scipy status {int(res.status[bad])}"
+        )
     out[open_] = res.x
     return np.asarray(out)
-
-
-def _diverged(a: float, b: float, d: float, s: float, why: str) -> NoReturn:
-    raise MudrftError(
-        "the column balance did not converge: expected a root of R in "
-        f"[{plain(a)}, {plain(b)}] m at depth {plain(d)} m and sz {plain(s)} Pa, got {why}"
-    )
 
 
 def seal_factor(

@@ -79,12 +79,6 @@ class MorphingFoot(Foot):
         For an unknown override, a bad mode or length, a linkage that cannot be built, or
         a soft stage that does not bottom out within the stroke.
 
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. III-B and supplementary Figs. S3-S4.
-
     Examples
     --------
     >>> foot = MorphingFoot()
@@ -223,19 +217,10 @@ class MorphingFoot(Foot):
     def equilibrium(
         self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
     ) -> NDArray[np.float64]:
-        r"""Column deflection in balance with the mud [m] (D32, D34).
-
-        Solves :math:`F_s(\delta)=\sigma_zA_z(d,\theta(\delta))` on :math:`[0,\text{stroke}]`
-        with the end stops as complementarity; from ``previous`` the deflection moves in the
-        direction of the net force to the nearest root (hysteresis across a snap-through).
-
-        Parameters
-        ----------
-        depth, sz : float or array_like
-            Tip depth [m], >= 0; vertical channel stress [Pa] (> 0 support, < 0 suction).
-        previous : float or array_like, keyword-only
-            Deflection at the previous instant [m].
-        """
+        r"""Column deflection [m] in balance with the mud, :math:`F_s(\delta)=\sigma_zA_z(d,
+        \theta(\delta))` with the end stops as complementarity (D32, D34), at tip ``depth``
+        [m] >= 0 and vertical stress ``sz`` [Pa]: from the ``previous`` deflection [m] it
+        moves with the net force to the nearest root (hysteresis across a snap-through)."""
         d = check_nonnegative("depth", depth, unit="m")
         s = check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")

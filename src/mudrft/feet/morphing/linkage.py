@@ -235,18 +235,12 @@ class Linkage:
         top, stroke = float(zb[-1]), float(zb[-1] - zb[0])
         ends = np.array([0.0, stroke])
         for sign in (1.0, -1.0):
-            link = cls(geometry=g, pole_top=top, stroke=stroke, branch=sign)
-            t = link.raw_angle(ends)
+            t = raw_pad_angle(g, top, sign, ends)
             if abs(t[0] - g.retracted_angle) < 1e-9 and abs(t[1] - g.expanded_angle) < 1e-9:
-                return link
+                return cls(geometry=g, pole_top=top, stroke=stroke, branch=sign)
         raise MudrftError(  # pragma: no cover - excluded by the monotonicity check above
             "could not resolve the linkage branch"
         )
-
-    def raw_angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
-        """Pad angle [rad] of the circle intersection at a deflection [m], not clipped."""
-        d = np.asarray(deflection, dtype=float)
-        return np.asarray(raw_pad_angle(self.geometry, self.pole_top, self.branch, d))
 
     def angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
         """Pad angle :math:`\\theta(\\delta)` [rad] at a deflection [m] in [0, stroke],
