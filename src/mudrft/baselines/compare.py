@@ -336,19 +336,8 @@ def write_csv(
             w.writerow(CSV_COLUMNS)
             for label, histories in nested.items():
                 for name, h in histories.items():
-                    sz = h.sigma_z
-                    for i in range(len(h)):
-                        w.writerow(
-                            [
-                                label,
-                                name,
-                                f"{h.time[i]:.6g}",
-                                *(f"{v:.6g}" for v in h.position[i]),
-                                f"{h.depth[i]:.6g}",
-                                *(f"{v:.6g}" for v in h.force[i]),
-                                f"{sz[i]:.6g}",
-                            ]
-                        )
+                    cols = np.column_stack([h.time, h.position, h.depth, h.force, h.sigma_z])
+                    w.writerows([label, name, *(f"{v:.6g}" for v in row)] for row in cols)
 
     return atomic_write(path, write, overwrite=overwrite, option="overwrite=True (--force)")
 

@@ -428,15 +428,14 @@ class MeshFoot(Foot):
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
         """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
-        shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
-        if math.prod(shape) <= max(1, CHUNK // len(self)):
-            return np.asarray(integrate_prepared(self._prep, d, s, h, trailing=self.trailing))
 
         def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray) -> np.ndarray:
             return np.asarray(integrate_prepared(self._prep, dd, ss, hh, trailing=self.trailing))
 
-        rows = _flat_rows(shape, d, s, h)
-        return np.asarray(in_chunks(block, len(self), *rows)).reshape((*shape, 3))
+        shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
+        if math.prod(shape) <= max(1, CHUNK // len(self)):
+            return block(d, s, h)
+        return in_chunks(block, len(self), *_flat_rows(shape, d, s, h)).reshape((*shape, 3))
 
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
