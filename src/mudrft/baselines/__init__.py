@@ -42,24 +42,8 @@ from .compare import (
 )
 
 __all__ = [
-    "CSV_COLUMNS",
-    "DEFAULT_STIFFNESS",
-    "FourierCoefficients",
-    "GranularRFT",
-    "History",
-    "LinearStiffness",
-    "MaxwellFit",
-    "MaxwellMud",
-    "RigidGround",
-    "compare",
-    "default_terrains",
-    "fit_maxwell",
-    "fit_stiffness",
-    "li2013_alpha",
-    "normalized_loop",
-    "rft_forces",
-    "run_terrain",
-    "summarize",
-    "treers_weights",
-    "write_csv",
-]
+    "CSV_COLUMNS", "DEFAULT_STIFFNESS", "FourierCoefficients", "GranularRFT", "History",
+    "LinearStiffness", "MaxwellFit", "MaxwellMud", "RigidGround", "compare", "default_terrains",
+    "fit_maxwell", "fit_stiffness", "li2013_alpha", "normalized_loop", "rft_forces", "run_terrain",
+    "summarize", "treers_weights", "write_csv"
+]  # fmt: skip

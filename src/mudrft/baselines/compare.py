@@ -30,16 +30,9 @@ from ..terrains.rigid import RigidGround
 from ..trajectories import Trajectory, check_unburied
 
 __all__ = [
-    "CSV_COLUMNS",
-    "TERRAIN_NAMES",
-    "History",
-    "compare",
-    "default_terrains",
-    "normalized_loop",
-    "run_terrain",
-    "summarize",
-    "write_csv",
-]
+    "CSV_COLUMNS", "TERRAIN_NAMES", "History", "compare", "default_terrains", "normalized_loop",
+    "run_terrain", "summarize", "write_csv"
+]  # fmt: skip
 
 #: Columns of ``compare.csv`` (long format: one row per terrain and sample).
 CSV_COLUMNS = (
@@ -177,12 +170,11 @@ def compare(
     trajectory : Trajectory
         Prescribed tip motion, e.g. :func:`mudrft.plate_intrusion` or :func:`mudrft.gait`.
     terrains : mapping name -> terrain, iterable of terrains or names, or None, optional
-        Terrain objects (``GranularRFT(zeta=...)``, a :class:`~mudrft.Mud`, ...) or names
-        of :func:`default_terrains`, mixed freely; default: all of them.
-    water_content : float, keyword-only
-        Mud water content [-] for the default terrains.
-    extrapolate : bool, keyword-only
-        Allow a water content outside the tabulated rows for the default terrains (warns).
+        Terrains (``GranularRFT(zeta=...)``, a :class:`~mudrft.Mud`, ...) or names of
+        :func:`default_terrains`, mixed freely; default: all of them.
+    water_content, extrapolate : keyword-only
+        Mud water content [-] of the default terrains, and whether it may lie outside the
+        tabulated rows (warns).
     progress : bool or callable, keyword-only
         Report the share of terrains run: ``True`` through the ``mudrft.progress`` logger,
         a callable with the fraction done.

@@ -17,17 +17,9 @@ from .mesh import MeshFoot, MeshWarning
 from .shapes import Flat, SemiCylinder, SemiSphere
 
 __all__ = [
-    "Flat",
-    "Foot",
-    "MeshFoot",
-    "MeshWarning",
-    "MorphingFoot",
-    "SemiCylinder",
-    "SemiSphere",
-    "SurfaceElements",
-    "by_name",
-    "first_quadrant",
-]
+    "Flat", "Foot", "MeshFoot", "MeshWarning", "MorphingFoot", "SemiCylinder", "SemiSphere",
+    "SurfaceElements", "by_name", "first_quadrant"
+]  # fmt: skip
 
 #: Names accepted by :func:`by_name` (besides mesh file paths).
 NAMES = ("flat", "semi-cylinder", "semi-sphere", "morphing")

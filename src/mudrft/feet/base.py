@@ -27,17 +27,9 @@ from .._validation import (
 )
 
 __all__ = [
-    "CHUNK",
-    "Foot",
-    "SurfaceElements",
-    "check_depth_stress",
-    "check_resultant_inputs",
-    "first_quadrant",
-    "fold_heading",
-    "in_chunks",
-    "unfold_forces",
-    "world_force",
-]
+    "CHUNK", "Foot", "SurfaceElements", "check_depth_stress", "check_resultant_inputs",
+    "first_quadrant", "fold_heading", "in_chunks", "unfold_forces", "world_force"
+]  # fmt: skip
 
 
 #: Facet evaluations per vectorized chunk when a batch of samples meets a surface of
@@ -268,17 +260,9 @@ class Foot(ABC):
         raise MudrftError(f"{type(self).__name__} does not provide surface elements")
 
     def force(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """World-frame force of the mud on the foot [N], shape (..., 3), for any heading.
-
-        Parameters
-        ----------
-        depth : float or array
-            Tip depth [m], >= 0 (0: out of the mud, no force).
-        stress : array_like, shape (..., 3)
-            Signed channel stresses (sx, sy, sz) [Pa] (module docstring).
-        heading : float or array
-            World heading of the horizontal motion [rad], any value.
-        """
+        """World-frame force of the mud on the foot [N], shape (..., 3): arguments as
+        :meth:`resultant`, with signed stresses [Pa] (module docstring) and a world heading
+        [rad] of any value."""
         d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         batch_shape(d, s, h)

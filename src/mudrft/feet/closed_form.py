@@ -27,18 +27,11 @@ from ..constitutive.laws import f_n, f_t
 from .base import fold_heading, world_force
 
 __all__ = [
-    "closed_form_coefficients",
-    "closed_form_force",
-    "flat_coefficients",
-    "flat_forces",
-    "printed_semicylinder_fz",
-    "printed_semisphere_fxy",
-    "printed_semisphere_fz",
-    "semicylinder_coefficients",
-    "semicylinder_forces",
-    "semisphere_coefficients",
-    "semisphere_forces",
-]
+    "closed_form_coefficients", "closed_form_force", "flat_coefficients", "flat_forces",
+    "printed_semicylinder_fz", "printed_semisphere_fxy", "printed_semisphere_fz",
+    "semicylinder_coefficients", "semicylinder_forces", "semisphere_coefficients",
+    "semisphere_forces"
+]  # fmt: skip
 
 #: Segments from the tip to the rim of the mesh a closed-form foot uses for its surface
 #: elements and its center of pressure.

@@ -26,18 +26,9 @@ import numpy as np
 from .._typing import Namespace, XpArray
 
 __all__ = [
-    "TOL",
-    "clip_constants",
-    "clip_facet",
-    "facet_factors",
-    "facet_force",
-    "facet_frame",
-    "fold_stresses",
-    "safe_div",
-    "safe_sqrt",
-    "sort_by_height",
-    "submerged_area",
-]
+    "TOL", "clip_constants", "clip_facet", "facet_factors", "facet_force", "facet_frame",
+    "fold_stresses", "safe_div", "safe_sqrt", "sort_by_height", "submerged_area"
+]  # fmt: skip
 
 #: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
 #: wall, with no vertical force.

@@ -44,7 +44,7 @@ from .surface import (
     submerged_area,
 )
 
-__all__ = ["CHUNK", "MeshFoot", "MeshWarning", "as_rotation_matrix"]
+__all__ = ["CHUNK", "MeshFoot", "MeshWarning"]
 
 #: Memory a mesh foot takes while it is built, per facet [bytes]; larger meshes than
 #: :func:`mudrft._validation.memory_limit` allows are refused.
@@ -65,13 +65,9 @@ class MeshWarning(UserWarning):
     """A mesh was accepted with a change or a caveat (dropped facets, open surface)."""
 
 
-def as_rotation_matrix(rotation: RotationLike) -> FloatArray:
-    """A proper rotation matrix (3, 3) from an orthonormal matrix of determinant +1
-    (tolerance 1e-6) or a ``scipy.spatial.transform.Rotation``.
-
-    >>> as_rotation_matrix(np.eye(3)).tolist()[0]
-    [1.0, 0.0, 0.0]
-    """
+def _rotation_matrix(rotation: RotationLike) -> FloatArray:
+    """A proper rotation matrix (3, 3) from a scipy Rotation or an orthonormal matrix of
+    determinant +1 (tolerance 1e-6)."""
     if hasattr(rotation, "as_matrix") and callable(rotation.as_matrix):
         m = np.asarray(rotation.as_matrix(), dtype=float)
         if m.shape != (3, 3):
@@ -392,7 +388,7 @@ class MeshFoot(Foot):
         >>> round(tilted.height, 3)  # the 80 mm length now stands vertical
         0.08
         """
-        r = as_rotation_matrix(rotation)
+        r = _rotation_matrix(rotation)
         new = object.__new__(type(self))
         new.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         new._set_geometry(self.vertices @ r.T, self.faces)

@@ -78,13 +78,10 @@ class _ClosedFormFoot(Foot):
         kind, g0, g1, g2 = self.kernel_geometry
         return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
 
-    def _forces(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """The closed form without validation (first-quadrant heading) [N]."""
-        return _magnitudes(self.coefficients(depth, heading), stress, np)
-
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
-        return self._forces(*_check_inputs(depth, stress, heading, height=self.height))
+        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
+        return _magnitudes(self.coefficients(d, h), s, np)
 
     def force_components(
         self,

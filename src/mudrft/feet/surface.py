@@ -27,16 +27,9 @@ from .facet import (
 from .facet import submerged_area as facet_submerged_area
 
 __all__ = [
-    "PreparedTriangles",
-    "Wrench",
-    "clip_below",
-    "element_forces",
-    "integrate_prepared",
-    "integrate_triangles",
-    "integrate_wrench",
-    "prepare_triangles",
-    "submerged_area",
-]
+    "PreparedTriangles", "Wrench", "clip_below", "element_forces", "integrate_prepared",
+    "integrate_triangles", "integrate_wrench", "prepare_triangles", "submerged_area"
+]  # fmt: skip
 
 
 class PreparedTriangles(NamedTuple):

@@ -26,11 +26,6 @@ from .linkage import Linkage, MorphingFootGeometry
 from .springs import RigidGroundResponse, TwoStageSpring
 
 __all__ = [
-    "MODES",
-    "Linkage",
-    "MorphingFoot",
-    "MorphingFootGeometry",
-    "MorphingState",
-    "RigidGroundResponse",
-    "TwoStageSpring",
-]
+    "MODES", "Linkage", "MorphingFoot", "MorphingFootGeometry", "MorphingState",
+    "RigidGroundResponse", "TwoStageSpring"
+]  # fmt: skip

@@ -63,17 +63,10 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
-    "MorphingState",
-    "balanced_deflection",
-    "balanced_deflection_on_floats",
-    "column_residual",
-    "contact_on_floats",
-    "held_deflection",
-    "linkage_row",
-    "residual",
-    "seal_factor",
-    "track_most_spread",
-]
+    "MorphingState", "balanced_deflection", "balanced_deflection_on_floats", "column_residual",
+    "contact_on_floats", "held_deflection", "linkage_row", "residual", "seal_factor",
+    "track_most_spread"
+]  # fmt: skip
 
 _GRID = 33  # nodes of the coarse bracketing grid over the stroke (D34)
 _FTOL = 1e-10  # force balance tolerance [N]

@@ -33,13 +33,8 @@ from ..._validation import (
 )
 
 __all__ = [
-    "MAX_PADS",
-    "Linkage",
-    "MorphingFootGeometry",
-    "MorphingRow",
-    "pad_angle",
-    "raw_pad_angle",
-]
+    "MAX_PADS", "Linkage", "MorphingFootGeometry", "MorphingRow", "pad_angle", "raw_pad_angle"
+]  # fmt: skip
 
 _DESIGN_SAMPLES = 721  # pad angles at which the linkage is checked for reach and monotonicity
 

@@ -37,18 +37,10 @@ if TYPE_CHECKING:
     from .linkage import MorphingRow
 
 __all__ = [
-    "center_height",
-    "coefficients",
-    "footprint_area",
-    "horizontal_area",
-    "magnitudes",
-    "morphing_force",
-    "pad_area",
-    "pad_corners",
-    "submerged_length",
-    "surface_elements",
-    "vertical_area",
-]
+    "center_height", "coefficients", "footprint_area", "horizontal_area", "magnitudes",
+    "morphing_force", "pad_area", "pad_corners", "submerged_length", "surface_elements",
+    "vertical_area"
+]  # fmt: skip
 
 _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot height [-]
 _WALL_SEGMENTS = 16  # elements around the base rim and the column in surface_elements [-]
