@@ -36,18 +36,9 @@ __all__ = [
 
 #: Columns of ``compare.csv`` (long format: one row per terrain and sample).
 CSV_COLUMNS = (
-    "trajectory",
-    "terrain",
-    "time [s]",
-    "x [m]",
-    "y [m]",
-    "z [m]",
-    "depth [m]",
-    "Fx [N]",
-    "Fy [N]",
-    "Fz [N]",
-    "sigma_z [Pa]",
-)
+    "trajectory", "terrain", "time [s]", "x [m]", "y [m]", "z [m]", "depth [m]", "Fx [N]",
+    "Fy [N]", "Fz [N]", "sigma_z [Pa]",
+)  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,15 +143,11 @@ def default_terrains(
 
 
 def compare(
-    foot: Foot,
-    trajectory: Trajectory,
-    terrains: Mapping[str, Terrain] | Iterable[Terrain] | None = None,
-    *,
-    water_content: float = 0.25,
-    extrapolate: bool = False,
-    progress: bool | Callable[[float], None] = False,
-    strict: bool = False,
-) -> dict[str, History]:
+    foot: Foot, trajectory: Trajectory,
+    terrains: Mapping[str, Terrain] | Iterable[Terrain] | None = None, *,
+    water_content: float = 0.25, extrapolate: bool = False,
+    progress: bool | Callable[[float], None] = False, strict: bool = False,
+) -> dict[str, History]:  # fmt: skip
     """Run several terrains on the same foot and trajectory.
 
     Parameters

@@ -34,17 +34,10 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
 
     (a) normalised force against normalised depth, mud against sand (granular RFT, and
-    3D-RFT when present);
-    (b) vertical stress :math:`F_z/A_z` against time and (c) against depth, for the
-    mud model, the Maxwell-type model and the linear model.
-
-    Parameters
-    ----------
-    plate : mapping name -> History
-        From :func:`mudrft.baselines.compare` on :func:`mudrft.plate_intrusion`. Each
-        panel shows those of its terrains that are present, or says none is.
-    sand : str, keyword-only
-        Name of the granular history.
+    3D-RFT when present); (b) vertical stress :math:`F_z/A_z` [Pa] against time and (c)
+    against depth, for the mud, Maxwell-type and linear models. ``plate`` is
+    :func:`mudrft.baselines.compare`'s result on :func:`mudrft.plate_intrusion` (each panel
+    shows the terrains present); ``sand`` names the granular history.
     """
     if not isinstance(plate, Mapping) or not plate:
         raise MudrftError("plate must be a non-empty mapping {terrain: History} (compare's result)")

@@ -42,8 +42,6 @@ def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
     evaluations (``n_facets`` per row) at a time; ``fn`` returns an array with the rows on
     its leading axis, or a tuple (a NamedTuple too) of such arrays.
 
-    Examples
-    --------
     >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
     (5, 3)
     """
@@ -276,14 +274,9 @@ class Foot(ABC):
         return unfold_forces(lambda su, ph: self.resultant(d[..., None], su, ph), stress, heading)
 
     def force_components(
-        self,
-        depth: XpArray,
-        sx: XpArray,
-        sy: XpArray,
-        sz: XpArray,
-        heading: XpArray,
+        self, depth: XpArray, sx: XpArray, sy: XpArray, sz: XpArray, heading: XpArray,
         xp: Namespace = np,
-    ) -> tuple[XpArray, XpArray, XpArray]:
+    ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
         """World force ``(F_x, F_y, F_z)`` [N] element-wise, for feet with ``elementwise``;
         parameters as :meth:`force`, the stresses split into channels [Pa]."""
         raise MudrftError(f"{type(self).__name__} has no element-wise force rule")
@@ -309,15 +302,9 @@ class Foot(ABC):
         return 1.0
 
     def contact_force(
-        self,
-        foot_state: Any,
-        depth: np.ndarray,
-        stress: np.ndarray,
-        heading: np.ndarray,
-        dt: float,
-        *,
-        retraction: Any = 0.0,
-    ) -> tuple[Any, np.ndarray]:
+        self, foot_state: Any, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray,
+        dt: float, *, retraction: Any = 0.0,
+    ) -> tuple[Any, np.ndarray]:  # fmt: skip
         """Advance the foot's internal state; return ``(foot_state, force)`` [N]. Rigid feet
         return :meth:`force`; the morphing foot solves its spring balance, ``retraction`` being
         the time since the retraction began [s]."""

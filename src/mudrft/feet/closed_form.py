@@ -178,17 +178,9 @@ def closed_form_coefficients(
 
 
 def closed_form_force(
-    kind: int,
-    g0: float,
-    g1: float,
-    g2: float,
-    depth: XpArray,
-    sx: XpArray,
-    sy: XpArray,
-    sz: XpArray,
-    heading: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray]:
+    kind: int, g0: float, g1: float, g2: float, depth: XpArray, sx: XpArray, sy: XpArray,
+    sz: XpArray, heading: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """World force ``(F_x, F_y, F_z)`` [N] of the closed-form foot ``kind``: the coefficients
     at the folded heading, then the heading rule (:func:`~mudrft.feet.base.world_force`).
     Depth [m], stresses [Pa], world heading [rad]; geometry as
@@ -206,15 +198,9 @@ def _magnitudes(coeffs: tuple[XpArray, ...], stress: XpArray, xp: Namespace) -> 
 
 
 def flat_forces(
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    length: float,
-    width: float,
-    height: float,
-    xp: Namespace = np,
-) -> XpArray:
+    depth: XpArray, stress: XpArray, heading: XpArray, *, length: float, width: float,
+    height: float, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     """Flat foot, eq. (12): magnitudes (Fx, Fy, Fz) [N] at tip depth [m], channel stresses
     (..., 3) [Pa] and heading in [0, pi/2] [rad]; dimensions [m] as :func:`flat_coefficients`.
 
@@ -227,15 +213,9 @@ def flat_forces(
 
 
 def semicylinder_forces(
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    radius: float,
-    width: float,
-    height: float,
-    xp: Namespace = np,
-) -> XpArray:
+    depth: XpArray, stress: XpArray, heading: XpArray, *, radius: float, width: float,
+    height: float, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     """Semi-cylindrical foot, eq. (13) corrected (E20): magnitudes (Fx, Fy, Fz) [N]; arguments
     as :func:`flat_forces`, dimensions [m] as :func:`semicylinder_coefficients`.
 
@@ -251,14 +231,9 @@ def semicylinder_forces(
 
 
 def semisphere_forces(
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    radius: float,
-    height: float,
+    depth: XpArray, stress: XpArray, heading: XpArray, *, radius: float, height: float,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Semi-spherical foot, eq. (14) corrected (E21-E23): magnitudes (Fx, Fy, Fz) [N];
     arguments as :func:`flat_forces`, dimensions [m] as :func:`semisphere_coefficients`.
 

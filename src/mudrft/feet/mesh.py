@@ -210,9 +210,7 @@ class MeshFoot(Foot):
             raise MudrftError(f"vertices must have shape (n, 3) with n >= 3, got shape {v.shape}")
         f = _check_faces(faces, v.shape[0])
         check_memory(
-            f"a mesh foot of {f.shape[0]} facets",
-            f.shape[0] * BYTES_PER_FACET,
-            hint=SIMPLIFY,
+            f"a mesh foot of {f.shape[0]} facets", f.shape[0] * BYTES_PER_FACET, hint=SIMPLIFY
         )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
@@ -301,14 +299,9 @@ class MeshFoot(Foot):
     # -- construction -----------------------------------------------------------------------
     @classmethod
     def from_file(
-        cls,
-        path: str | os.PathLike[str],
-        *,
-        unit: str = "m",
-        trailing: bool = False,
-        name: str | None = None,
-        up: str = "z",
-    ) -> MeshFoot:
+        cls, path: str | os.PathLike[str], *, unit: str = "m", trailing: bool = False,
+        name: str | None = None, up: str = "z",
+    ) -> MeshFoot:  # fmt: skip
         """Read a mesh file: STL (ASCII or binary), OBJ or PLY, through trimesh.
 
         Parameters
@@ -381,8 +374,6 @@ class MeshFoot(Foot):
         """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation) about the tip; the
         copy's tip is again its lowest point.
 
-        Examples
-        --------
         >>> from mudrft.feet import Flat
         >>> tilted = Flat().to_mesh(resolution=2).posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
         >>> round(tilted.height, 3)  # the 80 mm length now stands vertical

@@ -9,12 +9,8 @@ A point is inside or on a closed part when its generalized winding number,
 outside). Each facet's solid angle is that of Van Oosterom and Strackee (1983),
 :math:`\tan\frac{\Omega}{2}=\frac{\mathbf a\cdot(\mathbf b\times\mathbf c)}
 {abc+(\mathbf a\cdot\mathbf b)c+(\mathbf b\cdot\mathbf c)a+(\mathbf c\cdot\mathbf a)b}`
-with :math:`\mathbf a,\mathbf b,\mathbf c` the facet's corners from :math:`p`.
-
-References
-----------
-.. [1] A. van Oosterom and J. Strackee, "The solid angle of a plane triangle", IEEE
-   Transactions on Biomedical Engineering, BME-30(2), 125-126, 1983.
+with :math:`\mathbf a,\mathbf b,\mathbf c` the facet's corners from :math:`p` ("The solid
+angle of a plane triangle", IEEE Trans. Biomed. Eng. BME-30(2), 125-126, 1983).
 """
 
 from __future__ import annotations

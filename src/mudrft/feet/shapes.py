@@ -84,14 +84,9 @@ class _ClosedFormFoot(Foot):
         return _magnitudes(self.coefficients(d, h), s, np)
 
     def force_components(
-        self,
-        depth: XpArray,
-        sx: XpArray,
-        sy: XpArray,
-        sz: XpArray,
-        heading: XpArray,
+        self, depth: XpArray, sx: XpArray, sy: XpArray, sz: XpArray, heading: XpArray,
         xp: Namespace = np,
-    ) -> tuple[XpArray, XpArray, XpArray]:
+    ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
         kind, g0, g1, g2 = self.kernel_geometry
         return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)

@@ -140,14 +140,9 @@ def _facet_forces(
 
 
 def element_forces(
-    prepared: PreparedTriangles,
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    trailing: bool = False,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray]:
+    prepared: PreparedTriangles, depth: XpArray, stress: XpArray, heading: XpArray, *,
+    trailing: bool = False, xp: Namespace = np,
+) -> tuple[XpArray, XpArray]:  # fmt: skip
     """Force of the mud on each facet [N] (..., m, 3) and the centroid of its submerged
     polygon [m] (..., m, 3); arguments as in :func:`integrate_triangles`."""
     area, cen = clip_below(prepared, depth, xp=xp)
@@ -156,14 +151,9 @@ def element_forces(
 
 
 def integrate_prepared(
-    prepared: PreparedTriangles,
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    trailing: bool = False,
-    xp: Namespace = np,
-) -> XpArray:
+    prepared: PreparedTriangles, depth: XpArray, stress: XpArray, heading: XpArray, *,
+    trailing: bool = False, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     """:func:`integrate_triangles` on facets from :func:`prepare_triangles` [N]."""
     area = submerged_area(prepared, depth, xp=xp)
     f = _facet_forces(prepared, area, stress, heading, trailing, xp)
@@ -172,14 +162,9 @@ def integrate_prepared(
 
 
 def integrate_triangles(
-    triangles: XpArray,
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    trailing: bool = False,
-    xp: Namespace = np,
-) -> XpArray:
+    triangles: XpArray, depth: XpArray, stress: XpArray, heading: XpArray, *,
+    trailing: bool = False, xp: Namespace = np,
+) -> XpArray:  # fmt: skip
     r"""Force of the mud on a triangulated foot: the element rule integrated and summed.
 
     Parameters
@@ -229,20 +214,12 @@ def integrate_triangles(
 
 
 def integrate_wrench(
-    triangles: XpArray,
-    depth: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    *,
-    point: XpArray = None,
-    trailing: bool = False,
-    xp: Namespace = np,
-    prepared: PreparedTriangles | None = None,
-) -> Wrench:
+    triangles: XpArray, depth: XpArray, stress: XpArray, heading: XpArray, *, point: XpArray = None,
+    trailing: bool = False, xp: Namespace = np, prepared: PreparedTriangles | None = None,
+) -> Wrench:  # fmt: skip
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at the centroid of its submerged polygon. The center of
-    pressure (D24) is the point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf
+    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf
     F}`, :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to
     the :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
 

@@ -215,15 +215,9 @@ def _scan_node(
 
 
 def _settle(
-    up: XpArray,
-    found: XpArray,
-    lo: XpArray,
-    flo: XpArray,
-    hi: XpArray,
-    fhi: XpArray,
-    stroke: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray]:
+    up: XpArray, found: XpArray, lo: XpArray, flo: XpArray, hi: XpArray, fhi: XpArray,
+    stroke: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray]:  # fmt: skip
     """The deflection [m] a finished scan gives without refinement (the stop it runs onto
     when no root was found, an end of the bracket that balances already), and whether the
     bracket is open, to be refined (R(lo) < 0 < R(hi))."""

@@ -94,16 +94,10 @@ class MorphingFoot(Foot):
     """
 
     def __init__(
-        self,
-        geometry: MorphingFootGeometry | None = None,
-        spring: TwoStageSpring | None = None,
-        *,
-        mode: str = "morphing",
-        seal_length: float = 0.002,
-        curl_delay: float = 0.0,
-        characteristic_length: float | None = None,
-        **overrides: Any,
-    ) -> None:
+        self, geometry: MorphingFootGeometry | None = None, spring: TwoStageSpring | None = None, *,
+        mode: str = "morphing", seal_length: float = 0.002, curl_delay: float = 0.0,
+        characteristic_length: float | None = None, **overrides: Any,
+    ) -> None:  # fmt: skip
         g = geometry if geometry is not None else MorphingFootGeometry()
         s = spring if spring is not None else TwoStageSpring()
         if not isinstance(g, MorphingFootGeometry):
@@ -377,15 +371,9 @@ class MorphingFoot(Foot):
         )
 
     def contact_force(
-        self,
-        foot_state: MorphingState | None,
-        depth: ArrayLike,
-        stress: ArrayLike,
-        heading: ArrayLike,
-        dt: float,
-        *,
-        retraction: ArrayLike = 0.0,
-    ) -> tuple[MorphingState, NDArray[np.float64]]:
+        self, foot_state: MorphingState | None, depth: ArrayLike, stress: ArrayLike,
+        heading: ArrayLike, dt: float, *, retraction: ArrayLike = 0.0,
+    ) -> tuple[MorphingState, NDArray[np.float64]]:  # fmt: skip
         """Solve the column balance for this step; return ``(state, force)`` [N] (D32, D34).
 
         The deflection moves from ``foot_state.deflection`` to the balance with the current

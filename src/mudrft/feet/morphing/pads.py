@@ -126,15 +126,9 @@ def coefficients(
 
 
 def morphing_force(
-    g: MorphingFootGeometry | MorphingRow,
-    depth: XpArray,
-    theta: XpArray,
-    sx: XpArray,
-    sy: XpArray,
-    sz: XpArray,
-    heading: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray]:
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, sx: XpArray, sy: XpArray,
+    sz: XpArray, heading: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """World force ``(F_x, F_y, F_z)`` [N] of the base and pads at pad angle ``theta`` [rad]:
     :func:`coefficients` at the folded heading, then the heading rule (D9); depth [m], signed
     stresses [Pa], world heading [rad]."""
