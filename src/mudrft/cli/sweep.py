@@ -8,42 +8,34 @@ from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
 from ._common import Outputs, logger, require_extra, same_file, save_figure
-from ._parser import add_force, add_quiet, add_subcommand
+from ._parser import add_run_options, add_subcommand
 
 if TYPE_CHECKING:
     import xarray as xr
 
     from ..sweep.spec import SweepSpec
 
-__all__ = ["STORE", "TABLE", "add_parser", "run"]
-
 #: The resumable store in DIR (written chunk by chunk, kept when a run fails).
 STORE = "sweep.zarr"
 #: One row per point (parameters, metrics, error), written when the sweep completes.
 TABLE = "points.csv"
 
-DESCRIPTION = (
-    "Run a design sweep: the foot, mud and motion parameters of SPEC.toml over a grid or "
-    "a sample, every metric at every point: in this process while that is quicker than "
-    "starting a local Dask cluster, else on one (of --workers processes), or on the "
-    "cluster at --scheduler. Writes DIR/sweep.zarr chunk by chunk (a killed or damaged "
-    "run resumes with --resume and computes only the missing or damaged chunks), then "
-    "DIR/points.csv (one row per point) and, with --plot, DIR/METRIC.png maps. A point "
-    "that fails is recorded (NaN and its error), the rest completes, and the command "
-    "exits with 1. Needs "
-    "pip install 'mudrft[sweep]'. The spec format: examples/sweep_example.toml, README."
-)
 
-
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft sweep`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "sweep",
+        run,
         help="design sweeps on Dask -> DIR/sweep.zarr, points.csv, maps",
-        description=DESCRIPTION,
+        description="Run a design sweep: the foot, mud and motion parameters of SPEC.toml "
+        "over a grid or a sample, every metric at every point: in this process while that is "
+        "quicker than starting a local Dask cluster, else on one (of --workers processes), or "
+        "on the cluster at --scheduler. Writes DIR/sweep.zarr chunk by chunk (a killed or "
+        "damaged run resumes with --resume and computes only the missing or damaged chunks), "
+        "then DIR/points.csv (one row per point) and, with --plot, DIR/METRIC.png maps. A "
+        "point that fails is recorded (NaN and its error), the rest completes, and the command "
+        "exits with 1. Needs pip install 'mudrft[sweep]'. The spec format: "
+        "examples/sweep_example.toml, README.",
     )
     p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec (TOML)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -68,14 +60,11 @@ def add_parser(
         action="store_true",
         help="continue DIR/sweep.zarr (made from the same spec): compute only missing chunks",
     )
-    add_force(
+    add_run_options(
         p,
-        "existing outputs: without --resume DIR/sweep.zarr is started again; with --resume "
-        "it is kept and only points.csv and the maps are replaced",
+        force="existing outputs: without --resume DIR/sweep.zarr is started again; with "
+        "--resume it is kept and only points.csv and the maps are replaced",
     )
-    add_quiet(p)
-    p.set_defaults(func=run)
-    return p
 
 
 def _plot_metrics(spec: SweepSpec) -> tuple[str, ...]:
@@ -97,7 +86,7 @@ def _write_table(ds: xr.Dataset, path: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep and write ``DIR``; returns the exit status (0, or 1 if any point failed)."""
+    """Run the sweep and write ``DIR``; 1 if any point failed."""
     from ..sweep.spec import load_spec
 
     spec = load_spec(args.spec)
