@@ -22,17 +22,6 @@ from .claims import (
 )
 from .readings import Reading
 
-__all__ = [
-    "CLAIMS_COLUMNS",
-    "DEPTHS_COLUMNS",
-    "claims_block",
-    "depth_ranges",
-    "headline_count",
-    "write_claims_csv",
-    "write_depths_csv",
-    "write_report",
-]
-
 #: Columns of ``claims.csv``: one row per claim and reading.
 CLAIMS_COLUMNS = ("claim", "reading", "paper", "mudrft", "verdict", "summary", "headline")
 #: Columns of ``depths.csv``: one row per claim and stance depth (the headline reading).
@@ -109,9 +98,7 @@ def write_report(
     suction_ratios: dict[str, tuple[float, float | None]] | None = None,
     sinking: dict[str, float] | None = None,
 ) -> Path:
-    """Write ``report.md``: the headline and its range over the stance depths, the claims
-    against the depth, the morphing foot's claims with their assumptions, the matrix, the
-    readings.
+    """Write ``report.md`` and return its path.
 
     Parameters
     ----------
@@ -192,11 +179,7 @@ def write_report(
     for rd in readings:
         lines.append(f"* **{rd.key}** ({headline_count(cells[rd.key])}): {rd.title}. ")
         lines.append(f"  {rd.derivation}")
-    lines += [
-        "",
-        "## What each claim compares",
-        "",
-    ]
+    lines += ["", "## What each claim compares", ""]
     for claim in CLAIMS:
         lines.append(f"* **{claim.key}**: {claim.text}. mudrft compares: {claim.quantity}.")
     lines += ["", *_files()]
@@ -367,15 +350,8 @@ def _files() -> list[str]:
 
 
 def claims_block(report: str) -> str:
-    """The part of a ``report.md`` that docs/model.md quotes (Sec. 12, between its
-    ``claims`` markers): the headline's count, its range over the stance depths and its
-    table, the claims against the depth, and the matrix.
-
-    Parameters
-    ----------
-    report : str
-        The text of a ``report.md`` written by :func:`write_report`.
-    """
+    """The part of a ``report.md`` text that docs/model.md quotes: the headline's count,
+    range and table, the claims against the depth, and the matrix."""
     lines = report.splitlines()
     head = lines.index(next(x for x in lines if x.startswith("**") and "of 9 claims" in x))
     table = lines.index("| claim | the paper says | mudrft | verdict |", head)
