@@ -154,18 +154,11 @@ def run(args: argparse.Namespace) -> int:
     terrain: Terrain
     (chosen,) = terrain_names(args, args.terrain, "--terrain")  # and the media options
     if chosen == "mud":
-        terrain = MudTerrain(
-            mud_from_options(args),
-            thixotropy=args.thixotropy,
-            clock=args.clock,
-        )
+        terrain = MudTerrain(mud_from_options(args), thixotropy=args.thixotropy, clock=args.clock)
     else:  # a baseline: the mud's own options would be silently ignored
-        mud_only = {
-            "--" + dest.replace("_", "-"): getattr(args, dest) != default
-            for dest, default in args.mud_defaults.items()
-        }
-        for option, changed in mud_only.items():
-            if changed:
+        for dest, default in args.mud_defaults.items():
+            if getattr(args, dest) != default:
+                option = "--" + dest.replace("_", "-")
                 raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
         (terrain,) = terrains_from_options(
             args, args.terrain, "--terrain", water_content=0.25, mud=None
@@ -244,10 +237,8 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         duration = check_positive_option(
             "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
         )
-        return (
-            LoadControl(weight, duration=duration, dt=dt, ramp=ramp),
-            f"a load of {weight:g} N",
-        )
+        load = LoadControl(weight, duration=duration, dt=dt, ramp=ramp)
+        return load, f"a load of {weight:g} N"
     speed = check_positive_option(
         "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
     )

@@ -13,8 +13,6 @@ from ._parser import add_run_options, add_subcommand
 if TYPE_CHECKING:
     import xarray as xr
 
-    from ..sweep.spec import SweepSpec
-
 #: The resumable store in DIR (written chunk by chunk, kept when a run fails).
 STORE = "sweep.zarr"
 #: One row per point (parameters, metrics, error), written when the sweep completes.
@@ -67,10 +65,6 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     )
 
 
-def _plot_metrics(spec: SweepSpec) -> tuple[str, ...]:
-    return tuple(spec.plot.get("metrics", spec.metrics))
-
-
 def _write_table(ds: xr.Dataset, path: Path) -> None:
     """One row per point: swept parameters, fixed parameters, metrics, error."""
     ds = ds.drop_vars("done", errors="ignore")
@@ -107,7 +101,8 @@ def run(args: argparse.Namespace) -> int:
         raise MudrftError(
             f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
         )
-    names = [TABLE, *(f"{m}.png" for m in (_plot_metrics(spec) if args.plot else ()))]
+    maps = tuple(spec.plot.get("metrics", spec.metrics)) if args.plot else ()
+    names = [TABLE, *(f"{m}.png" for m in maps)]
     spec_path = Path(args.spec).resolve()
     restarts = args.force and not args.resume  # DIR/sweep.zarr is removed and made again
     if any(same_file(spec_path, out / n) for n in names) or (
@@ -119,14 +114,9 @@ def run(args: argparse.Namespace) -> int:
         )
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", out, names)
-        logger.info(
-            "mudrft sweep: %d points in %d chunks (%s design, motion %s) -> %s",
-            spec.n_points,
-            spec.n_chunks,
-            spec.design,
-            spec.motion,
-            store,
-        )
+        what = f"{spec.n_points} points in {spec.n_chunks} chunks ({spec.design} design"
+        logger.info("mudrft sweep: %s, motion %s) -> %s", what, spec.motion, store)
+        from ..sweep.plot import plot_maps
         from ..sweep.run import run_sweep
 
         ds = run_sweep(
@@ -139,8 +129,9 @@ def run(args: argparse.Namespace) -> int:
             progress=not args.quiet,
         )
         _write_table(ds, stage / TABLE)
-        if args.plot:
-            _write_maps(ds, spec, stage)
+        kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
+        for m in maps:
+            save_figure(plot_maps(ds, m, **kw), stage / f"{m}.png", dpi=110)
     failed = int(ds.attrs.get("failed_points", 0))
     print(f"{spec.n_points} points, {failed} failed; wrote {store}")
     errors = [e for e in ds["error"].values.ravel() if e]
@@ -152,20 +143,8 @@ def run(args: argparse.Namespace) -> int:
     for path in outputs.written:
         print(f"wrote {path}")
     if failed:
-        logger.error(
-            "mudrft sweep: error: %d of %d points failed (NaN metrics; each error in the 'error' "
-            "column of %s)",
-            failed,
-            spec.n_points,
-            out / TABLE,
-        )
+        what = f"{failed} of {spec.n_points} points failed"
+        where = f"the 'error' column of {out / TABLE}"
+        logger.error("mudrft sweep: error: %s (NaN metrics; each error in %s)", what, where)
         return 1
     return 0
-
-
-def _write_maps(ds: xr.Dataset, spec: SweepSpec, stage: Path) -> None:
-    from ..sweep.plot import plot_maps
-
-    kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
-    for m in _plot_metrics(spec):
-        save_figure(plot_maps(ds, m, **kw), stage / f"{m}.png", dpi=110)

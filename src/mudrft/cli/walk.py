@@ -101,26 +101,18 @@ def run(args: argparse.Namespace) -> int:
         )
 
     mud = mud_from_options(args)
+    options: dict[str, Any] = {"seconds": seconds, "dt": dt, "speed": speed, "step_time": step_time}
+    options["bottom"] = bottom
     if args.compare:
-        return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
-                        bottom=bottom)  # fmt: skip
+        return _compare(args, mud, **options)
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
         logger.info("mudrft walk: %s feet, %s, %g s at dt = %g s", foot.name, mud.name, seconds, dt)
         t0 = time.perf_counter()
-        res = W.walk(
-            foot,
-            mud,
-            seconds=seconds,
-            dt=dt,
-            speed=speed,
-            step_time=step_time,
-            bottom=bottom,
-            frames=0 if args.no_render else 6,
-            progress=None if args.quiet else Progress("walking"),
-            strict=getattr(args, "strict", False),
-        )
+        progress = None if args.quiet else Progress("walking")
+        frames, strict = (0 if args.no_render else 6), getattr(args, "strict", False)
+        res = W.walk(foot, mud, **options, frames=frames, progress=progress, strict=strict)
         s = res.summary
         s["water_content"] = float(args.water_content)
         s["mud"] = mud.name
@@ -149,12 +141,8 @@ def _compare(args: argparse.Namespace, mud: Mud | Terrain, **options: Any) -> in
 
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, COMPARE_FILES)
-        logger.info(
-            "mudrft walk --compare: %s, %g s at dt = %g s",
-            mud.name,
-            options["seconds"],
-            options["dt"],
-        )
+        what = f"{options['seconds']:g} s at dt = {options['dt']:g} s"
+        logger.info("mudrft walk --compare: %s, %s", mud.name, what)
         summaries = compare_feet(
             mud,
             progress=None if args.quiet else (lambda name: Progress(f"walking ({name})")(0.0)),
