@@ -174,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         require_plot_file("--plot", args.plot)
     opts = _check_options(args)
-    with Outputs(force=args.force) as outputs:
+    with Outputs(force=args.force or getattr(args, "overwrite", False)) as outputs:
         json_tmp = outputs.file("--out", args.out) if args.out else None
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
         ds = load_dataset(args.data if len(args.data) > 1 else args.data[0], **opts)

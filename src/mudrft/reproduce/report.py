@@ -4,6 +4,7 @@ readings x claims and the claims against the stance depth."""
 from __future__ import annotations
 
 import csv
+import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -45,11 +46,11 @@ def write_claims_csv(path: Path, cells: dict[str, list[Cell]]) -> Path:
     with open(path, "w", newline="") as fh:
         wr = csv.writer(fh)
         wr.writerow(CLAIMS_COLUMNS)
-        for key, row in cells.items():
-            for c in row:
-                wr.writerow(
-                    [c.claim, c.reading, c.paper, c.mudrft, c.verdict, c.short, key == first]
-                )
+        wr.writerows(
+            [c.claim, c.reading, c.paper, c.mudrft, c.verdict, c.short, key == first]
+            for key, row in cells.items()
+            for c in row
+        )
     return path
 
 
@@ -66,13 +67,8 @@ def write_depths_csv(path: Path, reading: Reading, by_depth: dict[float, list[Ce
 
 def depth_ranges(by_depth: dict[float, list[Cell]]) -> str:
     """The counts over the stance depths as ranges: "6 of 9 at 10-17 mm, 5 of 9 at 18-26 mm"."""
-    groups: list[tuple[int, list[float]]] = []
-    for depth in sorted(by_depth):
-        n = count(by_depth[depth])["agrees"]
-        if groups and groups[-1][0] == n:
-            groups[-1][1].append(depth)
-        else:
-            groups.append((n, [depth]))
+    counts = [(count(by_depth[d])["agrees"], d) for d in sorted(by_depth)]
+    groups = [(n, [d for _, d in g]) for n, g in itertools.groupby(counts, key=lambda t: t[0])]
     total = len(CLAIMS)
     return ", ".join(
         f"{n} of {total} at {_mm(ds[0])}" + (f"-{_mm(ds[-1])}" if len(ds) > 1 else "") + " mm"
