@@ -146,7 +146,7 @@ def test_help_shows_defaults(capsys, command, needle):
 
 def test_every_subcommand_has_the_house_help_layout_and_one_quiet_flag():
     """Subcommands register through cli._parser.add_subcommand (one place for the help
-    layout) and take --quiet from add_quiet (issue 12: it was written once per command)."""
+    layout) and take --quiet from add_run_options (issue 12: it was written once per command)."""
     from mudrft.cli import COMMANDS, build_parser
     from mudrft.cli._parser import HelpFormatter
 

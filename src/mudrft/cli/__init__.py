@@ -1,18 +1,10 @@
 """The ``mudrft`` command: one module per subcommand, each thin over the library.
 
-``mudrft --help`` lists the subcommands. Each module (:mod:`.params`, :mod:`.simulate`,
-:mod:`.reproduce`, :mod:`.calibrate`, :mod:`.compare`, :mod:`.walk`, :mod:`.sweep`,
-:mod:`.bench`) has
-``add_parser(subparsers)`` and ``run(args) -> int``; none imports a heavy optional
-package before it runs, so every subcommand shows in the help even when its extra is
-missing, and then fails with one line naming the extra to install.
-
-Every error that comes from a user mistake is printed as one line
-(``mudrft COMMAND: error: ...``) with exit status 2, no traceback; every warning of the
-library as one line ``mudrft COMMAND: warning: ...``. Notes and progress go
-to stderr through :mod:`logging` (logger ``"mudrft"``; ``--quiet`` keeps only warnings);
-a command's results (tables, metrics, ``wrote FILE``) go to stdout. Files are written
-all-or-nothing and never replaced without ``--force``.
+Each subcommand module has ``add_parser(subparsers)`` and ``run(args) -> int`` and imports
+no heavy package before it runs, so ``mudrft --help`` parses without the physics. A user
+mistake prints one line ``mudrft COMMAND: error: ...`` (exit status 2), a warning one line
+``mudrft COMMAND: warning: ...``; notes go to stderr through the ``mudrft`` logger, results
+to stdout.
 """
 
 from __future__ import annotations
@@ -37,27 +29,13 @@ __all__ = ["COMMANDS", "build_parser", "main"]
 
 #: The subcommands, in the order ``mudrft --help`` lists them.
 COMMANDS: dict[str, ModuleType] = {
-    "params": params,
-    "simulate": simulate,
-    "reproduce": reproduce,
-    "calibrate": calibrate,
-    "compare": compare,
-    "walk": walk,
-    "sweep": sweep,
-    "bench": bench,
+    m.__name__.rsplit(".", 1)[1]: m
+    for m in (params, simulate, reproduce, calibrate, compare, walk, sweep, bench)
 }
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``mudrft`` command, with every subcommand.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        Parsed arguments carry ``command`` (the subcommand's name) and ``func`` (its
-        ``run``).
-    """
-
+    """The parser of ``mudrft``; parsed arguments carry ``command`` and ``func`` (its ``run``)."""
     p = argparse.ArgumentParser(
         prog="mudrft",
         description="Forces of mud on robot feet (Chen et al. 2026 model).",
@@ -76,7 +54,7 @@ def _plain(message: str) -> str:
 
 
 class _CommandLines(logging.Formatter):
-    """Notes as they are; a warning of the library as ``mudrft COMMAND: warning: ...``."""
+    """Notes as they are; a warning as ``mudrft COMMAND: warning: ...``, also kept in ``warned``."""
 
     def __init__(self, prog: str) -> None:
         super().__init__("%(message)s")
@@ -90,12 +68,11 @@ class _CommandLines(logging.Formatter):
 
 
 @contextmanager
-def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
-    """Notes and progress to the current stderr for one command; restore logging after.
-
-    The command's own handler prints each line once: the ``mudrft`` logger does not pass
-    its records on to the root logger meanwhile, whose handler (``logging.basicConfig``,
-    called by a library such as MJX's as it logs) would print each again."""
+def _command_logging(quiet: bool, prog: str) -> Iterator[list[str]]:
+    """For one command: notes and progress to the current stderr (``--quiet``: warnings
+    only), Python warnings as log lines, and the warnings shown, for ``--strict``. The
+    ``mudrft`` logger does not propagate meanwhile, so a root handler (MJX's
+    ``logging.basicConfig``) does not print each line again."""
     had = any(getattr(h, "_mudrft_stderr", False) for h in logger.handlers)
     level, propagate = logger.level, logger.propagate
     logger.propagate = False
@@ -105,9 +82,23 @@ def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
     old_stream = None
     if isinstance(handler, logging.StreamHandler):
         old_stream = handler.setStream(sys.stderr)  # None if it already writes there
+    warned: list[str] = []
+
+    class Record(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            warned.append(_plain(record.getMessage()).removeprefix(f"{prog}: warning: "))
+
+    def show(message: Warning | str, *args: object, **kwargs: object) -> None:
+        logger.warning("%s: warning: %s", prog, _plain(str(message)))
+
+    recorder = Record(logging.WARNING)
     try:
-        yield
+        with warnings.catch_warnings():
+            warnings.showwarning = show
+            logger.addHandler(recorder)
+            yield warned
     finally:
+        logger.removeHandler(recorder)
         handler.flush()
         handler.setFormatter(old_format)
         if not had:
@@ -116,35 +107,6 @@ def _logging(quiet: bool, prog: str = "mudrft") -> Iterator[None]:
             handler.setStream(old_stream)
         logger.setLevel(level)
         logger.propagate = propagate
-
-
-@contextmanager
-def _warnings_as_lines(prog: str) -> Iterator[None]:
-    """Show each warning (a unit looks wrong, an extrapolation, ...) as one log line."""
-
-    def show(message: Warning | str, *args: object, **kwargs: object) -> None:
-        logger.warning("%s: warning: %s", prog, _plain(str(message)))
-
-    with warnings.catch_warnings():
-        warnings.showwarning = show
-        yield
-
-
-@contextmanager
-def _warned(prog: str) -> Iterator[list[str]]:
-    """The warnings a command shows (Python warnings and logged ones), for ``--strict``."""
-    warned: list[str] = []
-
-    class Record(logging.Handler):
-        def emit(self, record: logging.LogRecord) -> None:
-            warned.append(_plain(record.getMessage()).removeprefix(f"{prog}: warning: "))
-
-    handler = Record(logging.WARNING)
-    logger.addHandler(handler)
-    try:
-        yield warned
-    finally:
-        logger.removeHandler(handler)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -175,46 +137,44 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     prog = f"mudrft {args.command}"
-    with (
-        _logging(bool(getattr(args, "quiet", False)), prog),
-        _warnings_as_lines(prog),
-        signals_as_exceptions(),
-    ):
-        for note in getattr(args, "deprecations", ()):
-            logger.warning("%s: warning: %s", prog, note)
-        try:
-            with _warned(prog) as warned:
+    with _command_logging(bool(getattr(args, "quiet", False)), prog) as warned:
+        with signals_as_exceptions():
+            if getattr(args, "overwrite", False):  # calibrate's old name of --force
+                args.force = True
+                logger.warning("--overwrite is deprecated and will be removed; use --force")
+                warned.clear()  # not a warning of the run, for --strict
+            try:
                 code = int(args.func(args) or 0)
-            if getattr(args, "strict", False) and warned and code == 0:
-                more = f" (and {len(warned) - 1} more warnings)" if len(warned) > 1 else ""
-                _error(prog, f"--strict: the command warned: {warned[0]}{more}")
-                return 1
-            return code
-        except MudrftError as exc:
-            _error(prog, str(exc))
-        except ModuleNotFoundError as exc:
-            top = (exc.name or "").split(".")[0]
-            if top not in EXTRAS:
-                raise
-            _error(prog, f"needs the optional package {top}: pip install 'mudrft[{EXTRAS[top]}]'")
-        except FileNotFoundError as exc:
-            _error(prog, f"{exc.filename or exc}: no such file or directory")
-        except OSError as exc:
-            where = f"{exc.filename}: " if exc.filename else ""
-            _error(prog, f"{where}{exc.strerror or exc}")
-        except KeyboardInterrupt:
-            print(f"{prog}: interrupted", file=sys.stderr)
-            return 130
-        except Terminated:
-            print(f"{prog}: terminated", file=sys.stderr)
-            return 143
+                if getattr(args, "strict", False) and warned and code == 0:
+                    more = f" (and {len(warned) - 1} more warnings)" if len(warned) > 1 else ""
+                    _error(prog, f"--strict: the command warned: {warned[0]}{more}")
+                    return 1
+                return code
+            except MudrftError as exc:
+                _error(prog, str(exc))
+            except ModuleNotFoundError as exc:
+                top = (exc.name or "").split(".")[0]
+                if top not in EXTRAS:
+                    raise
+                extra = EXTRAS[top]
+                _error(prog, f"needs the optional package {top}: pip install 'mudrft[{extra}]'")
+            except FileNotFoundError as exc:
+                _error(prog, f"{exc.filename or exc}: no such file or directory")
+            except OSError as exc:
+                where = f"{exc.filename}: " if exc.filename else ""
+                _error(prog, f"{where}{exc.strerror or exc}")
+            except KeyboardInterrupt:
+                print(f"{prog}: interrupted", file=sys.stderr)
+                return 130
+            except Terminated:
+                print(f"{prog}: terminated", file=sys.stderr)
+                return 143
     return 2
 
 
 def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown: list[str]) -> None:
-    """End a command line with a word the command (or ``mudrft`` itself, before any
-    command) does not know: one line naming the command and the closest option, exit
-    status 2."""
+    """A word the command (or ``mudrft`` before any command) does not know: one line
+    naming the closest option, exit status 2."""
     commands = _subparsers(parser).choices
     if command is None:
         sub, prog, lists = parser, "mudrft", "the commands and options"
@@ -239,8 +199,7 @@ def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown:
 def _unknown_command(
     parser: argparse.ArgumentParser, words: list[str], exc: argparse.ArgumentError
 ) -> None:
-    """A command that does not exist (``mudrft reproduc``): one line naming the closest
-    command, exit status 2, not argparse's usage and list of choices."""
+    """A command that does not exist (``mudrft reproduc``): one line naming the closest."""
     if exc.argument_name != "COMMAND":
         parser.exit(2, f"mudrft: error: {_plain(str(exc))} (mudrft --help lists the options)\n")
     word = next((w for w in words if not w.startswith("-")), None)
@@ -261,8 +220,6 @@ def _options(parser: argparse.ArgumentParser) -> list[str]:
 
 
 def _did_you_mean(word: str, choices: list[str]) -> str:
-    """``"; did you mean 'X'?"`` for the closest of ``choices`` (``difflib``, cutoff 0.6),
-    else ``""``: the one rule for a mistyped option or command."""
     close = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
     return f"; did you mean {close[0]!r}?" if close else ""
 

@@ -1,12 +1,4 @@
-"""What the subcommands share: option checks, optional extras, safe outputs.
-
-Outputs are all-or-nothing (:class:`Outputs`). A command registers every file (or
-directory) it will write *before* it starts working, so that an existing output without
-``--force``, a directory that is a file, or a missing parent directory is reported at once.
-It writes in staging directories beside the targets; :meth:`Outputs.commit` then moves
-every file to its final name. When anything fails (also SIGTERM or Ctrl-C), the staging
-directories and the directories the command created are removed.
-"""
+"""What the subcommands share: option checks, optional extras, all-or-nothing outputs."""
 
 from __future__ import annotations
 
@@ -30,22 +22,6 @@ from ..io.atomic import move_into_place, regular_target, staging_directory
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from ..parameters import Mud
-
-__all__ = [
-    "EXTRAS",
-    "Outputs",
-    "check_finite_option",
-    "check_nonnegative_option",
-    "check_positive_option",
-    "logger",
-    "paper_mud_option",
-    "require_extra",
-    "require_plot_file",
-    "same_file",
-    "save_figure",
-]
-
 #: Optional packages and the extra of ``pip install 'mudrft[EXTRA]'`` that provides them.
 EXTRAS = {
     "matplotlib": "plot",
@@ -62,17 +38,8 @@ EXTRAS = {
 
 
 def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> ModuleType:
-    """Import an optional package, or fail with one line naming the extra to install.
-
-    Parameters
-    ----------
-    module : str
-        The package, a key of :data:`EXTRAS`.
-    needed_for : str
-        What needs it, for the message (``"mudrft walk"``, ``"--plot"``).
-    unless : str, optional
-        The option that does without it (``"--no-figures"``), named in the message.
-    """
+    """Import an optional package, or fail with one line naming the extra to install
+    (and ``unless``, the option that does without it)."""
     try:
         return importlib.import_module(module)
     except ImportError as exc:
@@ -84,15 +51,7 @@ def require_extra(module: str, *, needed_for: str, unless: str | None = None) ->
 
 
 def require_plot_file(option: str, path: str | Path) -> None:
-    """Check, before any work, that matplotlib is installed and can write ``path``'s format.
-
-    Parameters
-    ----------
-    option : str
-        The option that names the figure (``"--plot"``), for the message.
-    path : str or Path
-        The figure's file name; its suffix chooses the format (``.png``, ``.pdf``, ...).
-    """
+    """Check, before any work, that matplotlib can write ``path``'s format (its suffix)."""
     require_extra("matplotlib", needed_for=option)
     from matplotlib.figure import Figure
 
@@ -107,18 +66,7 @@ def require_plot_file(option: str, path: str | Path) -> None:
 
 
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> None:
-    """Write ``fig`` to ``path`` and close it, also when writing fails (pyplot keeps every
-    figure it made open, and its memory, until it is closed).
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-        A figure made through pyplot (``Result.plot``, ``plot_maps``, ...).
-    path : str or Path
-        The file; its suffix chooses the format.
-    dpi : int, keyword-only
-        Resolution of a raster format [dots per inch].
-    """
+    """Write ``fig`` to ``path`` [dpi: dots per inch] and close it, also when writing fails."""
     import matplotlib.pyplot as plt
 
     try:
@@ -137,33 +85,18 @@ def check_finite_option(option: str, value: float, *, unit: str = "") -> float:
 
 def check_positive_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0."""
-    return _compare(option, value, unit, ">")
+    v = check_finite_option(option, value, unit=unit)
+    if not v > 0:
+        raise MudrftError(f"{option} must be > 0{' ' + unit if unit else ''}, got {v:g}")
+    return v
 
 
 def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
-    return _compare(option, value, unit, ">=")
-
-
-def _compare(option: str, value: float, unit: str, sign: str) -> float:
     v = check_finite_option(option, value, unit=unit)
-    if not (v > 0 if sign == ">" else v >= 0):
-        raise MudrftError(f"{option} must be {sign} 0{' ' + unit if unit else ''}, got {v:g}")
+    if not v >= 0:
+        raise MudrftError(f"{option} must be >= 0{' ' + unit if unit else ''}, got {v:g}")
     return v
-
-
-def paper_mud_option(water_content: float, *, extrapolate: bool, labels: str = "table") -> Mud:
-    """The paper's mud at ``--water-content``; errors name the options, not the arguments."""
-    from ..parameters import paper_mud
-
-    check_finite_option("--water-content", water_content)
-    try:
-        return paper_mud(water_content, extrapolate=extrapolate, labels=labels)
-    except MudrftError as exc:
-        text = str(exc).replace("pass extrapolate=True", "pass --extrapolate")
-        if text.startswith("water_content "):
-            text = "--water-content " + text[len("water_content ") :]
-        raise MudrftError(text) from None
 
 
 def same_file(a: str | Path, b: str | Path) -> bool:
@@ -175,26 +108,13 @@ def same_file(a: str | Path, b: str | Path) -> bool:
 
 
 def _check_named(option: str, path: str | Path, expected: str) -> None:
-    """Refuse an empty output name: ``Path("")`` is the current directory, so ``--out ""``
-    (an unset shell variable, ``--out "$DIR"``) would write there unasked."""
+    """Refuse an empty name: ``--out "$UNSET"`` would write in the current directory."""
     if not os.fspath(path):
         raise MudrftError(f"{option}: expected {expected}, got an empty string")
 
 
-class _RenameFilter(logging.Filter):
-    """Show final names, not temporary ones, in the log lines written during a command."""
-
-    def __init__(self, names: dict[str, str]) -> None:
-        super().__init__()
-        self.names = names
-
-    def filter(self, record: logging.LogRecord) -> bool:
-        text = original = record.getMessage()
-        for tmp, final in self.names.items():
-            text = text.replace(tmp, final)
-        if text != original:
-            record.msg, record.args = text, ()
-        return True
+def _cannot_write(option: str, final: Path, exc: OSError) -> MudrftError:
+    return MudrftError(f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}")
 
 
 class Terminated(BaseException):
@@ -225,13 +145,10 @@ def _deliver(exc_type: type[BaseException]) -> None:
 
 @contextmanager
 def signals_as_exceptions() -> Iterator[None]:
-    """While a command runs, SIGTERM (``kill``, a batch system's time limit, ``timeout``)
-    raises :class:`Terminated` and SIGINT (Ctrl-C) ``KeyboardInterrupt``, unless an output
-    is being created, moved or removed (:func:`_signals_held`): then they are raised when
-    that ends. On the way out every output neither moved nor removed yet is removed (also
-    one whose ``with`` block the signal cut short before its cleanup began): a failed run
-    leaves nothing behind. A signal the caller ignores stays ignored. Only in the main
-    thread, where Python delivers signals."""
+    """While a command runs, SIGTERM raises :class:`Terminated` and SIGINT
+    ``KeyboardInterrupt`` (held while an output is created, moved or removed); on the way
+    out every output of the command not yet moved is removed. A signal the caller ignores
+    stays ignored. Main thread only, where Python delivers signals."""
     if not _main_thread():
         yield
         return
@@ -266,12 +183,9 @@ def signals_as_exceptions() -> Iterator[None]:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM back while an output is created and registered, or while
-    the outputs are moved or removed: a signal between the two would leave a file that no
-    cleanup knows about (the staging directory of a terminated run, seen on a busy CI
-    machine). A held signal is raised as the block ends. (A thread's signal mask cannot do
-    this: the kernel hands a process's signal to any thread that does not block it, and
-    Python then runs the handler in the main thread at once.)"""
+    """Hold SIGINT and SIGTERM back while an output is created and registered, or moved
+    or removed (a signal between the two would leave a file no cleanup knows about); a
+    held signal is raised as the block ends."""
     if not _main_thread():  # Python runs signal handlers in the main thread only
         yield
         return
@@ -287,17 +201,13 @@ def _signals_held() -> Iterator[None]:
 
 
 class Outputs:
-    """The files one command writes, written all-or-nothing.
+    """The files one command writes, all or nothing (``--force``: replace existing ones).
 
-    Use it as a context manager: on leaving the block normally every registered output is
-    moved to its final name; on an exception nothing of the command's stays behind. Each
-    output is written in a staging directory beside its target
-    (:func:`mudrft.io.atomic.staging_directory`, which also removes what killed runs left).
-
-    Parameters
-    ----------
-    force : bool, keyword-only
-        Replace existing outputs (the ``--force`` flag).
+    Each output is registered before the work starts (so an existing output, a missing
+    directory, ... is reported at once) and written in a staging directory beside its
+    target (:func:`mudrft.io.atomic.staging_directory`). Leaving the block moves every
+    output to its final name; an exception (also SIGTERM, Ctrl-C) removes the staging
+    directories and the directories the command created.
 
     Examples
     --------
@@ -317,19 +227,14 @@ class Outputs:
         self._stages: list[tuple[Path, Path, str]] = []
         self._files: list[tuple[Path, str]] = []  # the files announced, with their option
         self._made: list[Path] = []  # directories this command created, outermost first
-        self._filter = _RenameFilter({})
+        self._names: dict[str, str] = {}  # staging name -> final name, for the log lines
         self._registry: list[Outputs] | None = None  # the running command's, once entered
         #: The final paths, once :meth:`commit` has moved the outputs there.
         self.written: list[Path] = []
 
-    # -- registration -------------------------------------------------------------------
     def file(self, option: str, path: str | Path) -> Path:
-        """Register the output file ``path`` of ``option``; return the name to write to.
-
-        The directory of ``path`` must exist. The name returned is ``path``'s own name in
-        a staging directory beside it (so writers that look at its suffix, such as
-        matplotlib's ``savefig``, choose the right format).
-        """
+        """Register the output file ``path`` of ``option`` (its directory must exist);
+        return the name to write to, with ``path``'s own name (and suffix)."""
         _check_named(option, path, "a file name")
         final = regular_target(path, option)
         self._check_parents(option, final)
@@ -345,16 +250,12 @@ class Outputs:
                 raise MudrftError(f"{option} and {other_option} name the same file {str(final)!r}")
         self._files.append((final, option))
         staged = self._stage(option, final.parent) / final.name
-        self._filter.names[str(staged)] = str(final)
+        self._names[str(staged)] = str(final)
         return staged
 
     def directory(self, option: str, path: str | Path, names: Iterable[str]) -> Path:
-        """Register the output directory ``path``; return a staging directory to write in.
-
-        ``names`` are the files the command may write there; those that exist are an
-        error without ``--force``. ``path`` and its missing parents are created (and
-        removed again if the command fails).
-        """
+        """Register the output directory ``path`` (created with its parents if missing)
+        where the command may write ``names``; return a staging directory to write in."""
         _check_named(option, path, "a directory name")
         final = Path(path)
         self._check_parents(option, final)
@@ -365,12 +266,11 @@ class Outputs:
         with _signals_held():
             self._mkdirs(option, final)
         stage = self._stage(option, final)
-        self._filter.names[str(stage)] = str(final)
+        self._names[str(stage)] = str(final)
         return stage
 
     def _stage(self, option: str, final: Path) -> Path:
-        """A staging directory in ``final``, registered for the move or the cleanup (a
-        signal waits until it is: a signal between the two would leave it behind)."""
+        """A staging directory in ``final``, registered for the move or the cleanup."""
         with _signals_held():
             try:
                 stage = staging_directory(final)
@@ -381,7 +281,6 @@ class Outputs:
             self._stages.append((stage, final, option))
         return stage
 
-    # -- checks -------------------------------------------------------------------------
     def _check_free(self, option: str, path: Path) -> None:
         if path.exists() and not self.force:
             raise MudrftError(f"{option}: {str(path)!r} exists; pass --force to overwrite it")
@@ -409,9 +308,12 @@ class Outputs:
                 ) from exc
             self._made.append(p)
 
-    # -- the end ------------------------------------------------------------------------
     def commit(self) -> list[Path]:
-        """Move every output to its final name; return the final paths (also ``written``)."""
+        """Move every output to its final name; return the final paths (also ``written``).
+
+        A staged file whose target is elsewhere (a symbolic link to another directory or
+        file system, where a rename cannot reach) is first copied beside its target: every
+        copy is made before any output is moved."""
         moves = [
             (item, regular_target(final / item.name, option), option)
             for stage, final, option in list(self._stages)
@@ -419,26 +321,7 @@ class Outputs:
         ]
         for _, final, option in moves:  # also an output that was not announced
             self._check_free(option, final)
-        moves = self._beside_targets(moves)
-        for staged, final, option in moves:
-            try:
-                move_into_place(staged, final, overwrite=True, option=option)
-            except OSError as exc:
-                raise MudrftError(
-                    f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
-                ) from exc
-            self.written.append(final)
-        self._made = []
-        self.discard()
-        return self.written
-
-    def _beside_targets(self, moves: list[tuple[Path, Path, str]]) -> list[tuple[Path, Path, str]]:
-        """Each staged file copied next to its target where that is elsewhere (a symbolic
-        link in an output directory names a file in another directory, maybe on another
-        file system, where a rename cannot reach): every copy is made before any output
-        is moved, so a copy that fails leaves the outputs as they were."""
-        out = []
-        for staged, final, option in moves:
+        for k, (staged, final, option) in enumerate(moves):
             try:
                 same = os.path.samefile(staged.parent.parent, final.parent)
             except OSError:  # a link into a directory that is not there: _stage names it
@@ -448,12 +331,17 @@ class Outputs:
                 try:
                     shutil.copyfile(staged, near)
                 except OSError as exc:
-                    raise MudrftError(
-                        f"{option}: cannot write {str(final)!r}: {exc.strerror or exc}"
-                    ) from exc
-                staged = near
-            out.append((staged, final, option))
-        return out
+                    raise _cannot_write(option, final, exc) from exc
+                moves[k] = (near, final, option)
+        for staged, final, option in moves:
+            try:
+                move_into_place(staged, final, overwrite=True, option=option)
+            except OSError as exc:
+                raise _cannot_write(option, final, exc) from exc
+            self.written.append(final)
+        self._made = []
+        self.discard()
+        return self.written
 
     def discard(self) -> None:
         """Remove the staging directories and the directories this command created."""
@@ -466,20 +354,19 @@ class Outputs:
                 break
         self._stages, self._made = [], []
 
-    @contextmanager
-    def _renaming_logs(self) -> Iterator[None]:
-        handlers = [h for h in logger.handlers if not isinstance(h, logging.NullHandler)]
-        for h in handlers:
-            h.addFilter(self._filter)
-        try:
-            yield
-        finally:
-            for h in handlers:
-                h.removeFilter(self._filter)
+    def _rename(self, record: logging.LogRecord) -> bool:
+        """A log filter: final names, not staging ones, in the lines logged meanwhile."""
+        text = original = record.getMessage()
+        for tmp, final in self._names.items():
+            text = text.replace(tmp, final)
+        if text != original:
+            record.msg, record.args = text, ()
+        return True
 
     def __enter__(self) -> Outputs:
-        self._logs = self._renaming_logs()
-        self._logs.__enter__()
+        self._handlers = [h for h in logger.handlers if not isinstance(h, logging.NullHandler)]
+        for h in self._handlers:
+            h.addFilter(self._rename)
         self._registry = _Signals.commands[-1] if _Signals.commands and _main_thread() else None
         if self._registry is not None:
             self._registry.append(self)
@@ -506,4 +393,5 @@ class Outputs:
                     if self._registry is not None and self in self._registry:
                         self._registry.remove(self)
         finally:
-            self._logs.__exit__(None, None, None)
+            for h in self._handlers:
+                h.removeFilter(self._rename)

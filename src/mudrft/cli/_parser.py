@@ -1,29 +1,12 @@
-"""How a subcommand builds its parser: the help layout and the options several commands share.
-
-Each ``mudrft`` subcommand registers itself with :func:`add_subcommand` (the one place that
-gives it the house help layout, :class:`HelpFormatter`) and takes the shared options from
-here: ``--force`` (the one overwrite flag), ``--strict``, ``--quiet`` and the foot options.
-"""
+"""How a subcommand builds its parser: the help layout and the options several commands share."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 
-__all__ = [
-    "GAIT_SPEED",
-    "STANCE_DEPTH",
-    "HelpFormatter",
-    "add_foot_options",
-    "add_force",
-    "add_quiet",
-    "add_strict",
-    "add_subcommand",
-]
-
-
-#: The gait the subcommands share by default: its speed [m/s] and its deepest tip depth [m],
-#: ``mudrft.trajectories.STANCE_DEPTH`` (D10; written here so that ``--help`` needs no
-#: physics, and tested equal).
+#: The default gait of the subcommands: speed [m/s] and deepest tip depth [m] (as
+#: ``mudrft.trajectories.STANCE_DEPTH``; written here so that ``--help`` needs no physics).
 GAIT_SPEED = 0.2
 STANCE_DEPTH = 0.02
 
@@ -45,27 +28,47 @@ class HelpFormatter(argparse.HelpFormatter):
         return f"{text} (default: %(default)s)"
 
 
-def add_force(parser: argparse.ArgumentParser, what: str = "existing output files") -> None:
-    """Add the one overwrite flag, ``--force``, to a subcommand's parser."""
-    parser.add_argument("--force", action="store_true", help=f"overwrite {what}")
-
-
-def add_strict(parser: argparse.ArgumentParser, what: str, *, refuses: str = "") -> None:
-    """Add ``--strict``: a warning of the command makes its exit status 1 (``main`` acts on
-    it); ``what`` says which warnings a script would fail on, ``refuses``
-    what the command then refuses outright (an error, nothing written)."""
-    text = (
-        f"exit with status 1 if the command warns ({what}); the outputs are written as without it"
+def add_subcommand(
+    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+    name: str,
+    run: Callable[[argparse.Namespace], int],
+    *,
+    help: str,
+    description: str,
+) -> argparse.ArgumentParser:
+    """Register ``mudrft NAME`` (``run`` runs it) with the house help layout; its parser."""
+    p = subparsers.add_parser(
+        name, help=help, description=description, formatter_class=HelpFormatter
     )
-    if refuses:
-        text = f"refuse {refuses} (an error: nothing is written), and {text}"
-    parser.add_argument("--strict", action="store_true", help=text)
+    p.set_defaults(func=run)
+    return p
+
+
+def add_run_options(
+    parser: argparse.ArgumentParser,
+    *,
+    force: str | None = None,
+    strict: str | None = None,
+    refuses: str = "",
+) -> None:
+    """Add ``--force`` (overwrites ``force``), ``--quiet`` and ``--strict``: a warning
+    (``strict`` says which) makes the exit status 1, and ``refuses`` is refused outright."""
+    if force is not None:
+        parser.add_argument("--force", action="store_true", help=f"overwrite {force}")
+    parser.add_argument("--quiet", action="store_true", help="no progress output")
+    if strict is not None:
+        text = (
+            f"exit with status 1 if the command warns ({strict}); the outputs are written as "
+            "without it"
+        )
+        if refuses:
+            text = f"refuse {refuses} (an error: nothing is written), and {text}"
+        parser.add_argument("--strict", action="store_true", help=text)
 
 
 def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
-    """Add ``--foot`` (a built-in foot or a mesh file; required when ``default`` is None),
-    ``--unit`` (the mesh file's length unit), ``--up`` and ``--trailing`` to a subcommand's
-    parser."""
+    """Add ``--foot`` (required without ``default``), and a mesh file's ``--unit``,
+    ``--up`` and ``--trailing``."""
     parser.add_argument(
         "--foot",
         required=default is None,
@@ -95,41 +98,9 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
     )
 
 
-def add_subcommand(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-    name: str,
-    *,
-    help: str,
-    description: str,
-) -> argparse.ArgumentParser:
-    """Register ``mudrft NAME`` with the house help layout and return its parser.
-
-    Parameters
-    ----------
-    subparsers : argparse subparsers action
-        From :func:`mudrft.cli.build_parser`.
-    name : str
-        The subcommand.
-    help : str
-        One line for ``mudrft --help``.
-    description : str
-        The paragraph of ``mudrft NAME --help``.
-    """
-    return subparsers.add_parser(
-        name, help=help, description=description, formatter_class=HelpFormatter
-    )
-
-
 def add_evaluation_options(parser: argparse.ArgumentParser, *, what: str) -> None:
-    """Add ``--thixotropy`` and ``--clock``: how eqs. (3), (5) are evaluated (decision D15).
-
-    Parameters
-    ----------
-    parser : argparse.ArgumentParser
-        The subcommand's parser.
-    what : str
-        What ``--thixotropy`` does in this command (its help text).
-    """
+    """Add ``--thixotropy`` (``what``: its help) and ``--clock``: how eqs. (3), (5) are
+    evaluated (D15)."""
     parser.add_argument("--thixotropy", choices=["ode", "quasi-static"], default="ode", help=what)
     parser.add_argument(
         "--clock",
@@ -137,8 +108,3 @@ def add_evaluation_options(parser: argparse.ArgumentParser, *, what: str) -> Non
         default="contact",
         help="quasi-static only: clock of eq. (9) from first contact or from the retraction",
     )
-
-
-def add_quiet(parser: argparse.ArgumentParser) -> None:
-    """Add ``--quiet``: no progress output."""
-    parser.add_argument("--quiet", action="store_true", help="no progress output")

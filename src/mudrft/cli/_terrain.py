@@ -1,9 +1,6 @@
-"""Command-line options that choose terrains and describe a granular medium.
-
-``mudrft compare --terrains NAME,...`` and ``mudrft simulate --terrain NAME`` take the names
-of :data:`mudrft.baselines.TERRAIN_NAMES`; ``--zeta`` describes granular RFT's medium and
-``--rho-c``, ``--mu-int``, ``--mu-surf`` 3D-RFT's. The other baselines keep their defaults.
-"""
+"""The mud or terrain of a command: the paper's mud at ``--water-content``, fitted sets in
+its place (``--vertical``, ``--horizontal FIT.json``), or a baseline (``--terrain(s)``)
+with its medium (``--zeta``; ``--rho-c``, ``--mu-int``, ``--mu-surf``)."""
 
 from __future__ import annotations
 
@@ -11,16 +8,13 @@ import argparse
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import check_nonnegative_option, check_positive_option
+from ._common import check_finite_option, check_nonnegative_option, check_positive_option
 
 if TYPE_CHECKING:
     from ..parameters import Mud
     from ..terrains import Terrain
 
-__all__ = ["TERRAIN_NAMES", "add_terrain_options", "terrain_names", "terrains_from_options"]
-
-#: ``mudrft.baselines.TERRAIN_NAMES``, written here so that ``--help`` needs no physics
-#: (a test holds the two equal).
+#: ``mudrft.baselines.TERRAIN_NAMES``, written here so that ``--help`` needs no physics.
 TERRAIN_NAMES = ("mud", "granular-rft", "granular-rft3d", "linear", "maxwell", "rigid")
 
 #: Option -> (terrain it describes, unit for messages).
@@ -30,6 +24,59 @@ MEDIUM_OPTIONS = {
     "--mu-int": ("granular-rft3d", ""),
     "--mu-surf": ("granular-rft3d", ""),
 }
+
+
+def add_fit_options(p: argparse.ArgumentParser) -> None:
+    """Add ``--vertical FIT.json`` and ``--horizontal FIT.json``."""
+    for d in ("vertical", "horizontal"):
+        p.add_argument(
+            f"--{d}",
+            metavar="FIT.json",
+            help=f"{d} parameter set from a file (mudrft calibrate --out, SI) in place of the "
+            f"paper's {d} row at --water-content",
+        )
+
+
+def mud_from_options(args: argparse.Namespace) -> Mud:
+    """The paper's mud at ``--water-content``, with a set from ``--vertical`` or
+    ``--horizontal`` in place of its row; errors name the option."""
+    from ..calibration.persistence import load_parameters
+    from ..parameters import Mud, paper_mud
+
+    check_finite_option("--water-content", args.water_content)
+    try:
+        paper = paper_mud(
+            args.water_content,
+            extrapolate=args.extrapolate,
+            labels=getattr(args, "labels", "table"),
+        )
+    except MudrftError as exc:
+        text = str(exc).replace("pass extrapolate=True", "pass --extrapolate")
+        if text.startswith("water_content "):
+            text = "--water-content " + text[len("water_content ") :]
+        raise MudrftError(text) from None
+    sets, names = {}, []
+    for d in ("vertical", "horizontal"):
+        path = getattr(args, d)
+        if path is None:
+            sets[d] = getattr(paper, d)
+            continue
+        try:
+            params = load_parameters(path)
+        except MudrftError as exc:
+            raise MudrftError(f"--{d}: {exc}") from None
+        if params.direction not in ("", d):
+            raise MudrftError(
+                f"--{d}: {path!r} holds a {params.direction} parameter set, expected a {d} one "
+                "(were --vertical and --horizontal swapped?)"
+            )
+        sets[d] = params
+        names.append(f"{d} {path}")
+    if not names:
+        return paper
+    w = f"W = {100 * args.water_content:g} %"
+    name = ", ".join(names) + ("" if len(names) == 2 else f", the rest of the paper's mud at {w}")
+    return Mud(sets["vertical"], sets["horizontal"], paper.water_content, name=name)
 
 
 def add_terrain_options(parser: argparse.ArgumentParser, *, several: bool) -> None:
@@ -44,42 +91,24 @@ def add_terrain_options(parser: argparse.ArgumentParser, *, several: bool) -> No
         )
     else:
         parser.add_argument(
-            "--terrain",
-            default="mud",
-            metavar="NAME",
-            help=f"the terrain: {names}",
+            "--terrain", default="mud", metavar="NAME", help=f"the terrain: {names}"
         )
-    parser.add_argument(
-        "--zeta",
-        type=float,
-        default=None,
-        help="granular-rft: scale of the medium [N/m^3], the vertical stress per depth of a "
+    media = {
+        "--zeta": "granular-rft: scale of the medium [N/m^3], the vertical stress per depth of a "
         "horizontal plate (Li et al. print N/cm^3: 0.254 N/cm^3 is 2.54e5; default: loosely "
         "packed poppy seeds, 2.54e5)",
-    )
-    parser.add_argument(
-        "--rho-c",
-        type=float,
-        default=None,
-        help="granular-rft3d: bulk density of the medium [kg/m^3] (default: 1310)",
-    )
-    parser.add_argument(
-        "--mu-int",
-        type=float,
-        default=None,
-        help="granular-rft3d: internal friction coefficient [-], not an angle (default: 0.21)",
-    )
-    parser.add_argument(
-        "--mu-surf",
-        type=float,
-        default=None,
-        help="granular-rft3d: foot-surface friction coefficient [-], not an angle (default: 0.4)",
-    )
+        "--rho-c": "granular-rft3d: bulk density of the medium [kg/m^3] (default: 1310)",
+        "--mu-int": "granular-rft3d: internal friction coefficient [-], not an angle (default: 0.21)",
+        "--mu-surf": "granular-rft3d: foot-surface friction coefficient [-], not an angle "
+        "(default: 0.4)",
+    }
+    for option, text in media.items():
+        parser.add_argument(option, type=float, default=None, help=text)
 
 
 def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str]:
-    """Check the names in ``value`` (comma-separated for ``--terrains``) and the media
-    options; returns the names."""
+    """The names in ``value`` (comma-separated for ``--terrains``), checked with the media
+    options."""
     names = [n.strip() for n in str(value).split(",") if n.strip()]
     if not names or any(n not in TERRAIN_NAMES for n in names):
         many = " one or more of" if option == "--terrains" else " one of"
@@ -105,15 +134,10 @@ def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str
 
 
 def terrains_from_options(
-    args: argparse.Namespace,
-    value: str,
-    option: str,
-    *,
-    water_content: float,
-    mud: Mud | None,
+    args: argparse.Namespace, value: str, option: str, *, water_content: float, mud: Mud | None
 ) -> dict[str, Terrain]:
-    """The terrains named in ``value`` (:func:`terrain_names`), by name, with the media
-    options; the other baselines with their defaults (D59)."""
+    """The terrains named in ``value`` by name, with the media options; the other
+    baselines with their defaults (D59)."""
     from ..parameters import paper_mud
     from ..terrains import (
         GranularRFT,
@@ -124,17 +148,18 @@ def terrains_from_options(
         RigidGround,
     )
 
-    names = terrain_names(args, value, option)
     given = _media(args)
     extrapolate = bool(getattr(args, "extrapolate", False))
+    plain = {"linear": LinearStiffness, "maxwell": MaxwellMud, "rigid": RigidGround}
     out: dict[str, Terrain] = {}
-    for name in names:
+    for name in terrain_names(args, value, option):
         if name == "mud":
             out[name] = MudTerrain(
                 mud if mud is not None else paper_mud(water_content, extrapolate=extrapolate)
             )
-        elif name == "granular-rft" and given["--zeta"] is not None:
-            out[name] = GranularRFT(zeta=float(given["--zeta"]))
+        elif name == "granular-rft":
+            zeta = given["--zeta"]
+            out[name] = GranularRFT() if zeta is None else GranularRFT(zeta=float(zeta))
         elif name == "granular-rft3d":
             d = GranularRFT3D
             out[name] = GranularRFT3D(
@@ -143,12 +168,7 @@ def terrains_from_options(
                 mu_surf=d.mu_surf if given["--mu-surf"] is None else float(given["--mu-surf"]),
             )
         else:
-            out[name] = {
-                "granular-rft": GranularRFT,
-                "linear": LinearStiffness,
-                "maxwell": MaxwellMud,
-                "rigid": RigidGround,
-            }[name]()
+            out[name] = plain[name]()
     return out
 
 

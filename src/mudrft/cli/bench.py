@@ -1,9 +1,4 @@
-"""``mudrft bench``: the speed benchmarks of a source checkout, summarised on stdout.
-
-The benchmarks are not part of the installed library: they live in the checkout's
-``benchmarks/harness`` package (beside ``src/``), which :func:`load_harness` imports by
-path. From an installation without the checkout (a wheel), the command says so in one line.
-"""
+"""``mudrft bench``: the speed benchmarks of a source checkout (its ``benchmarks/harness``)."""
 
 from __future__ import annotations
 
@@ -16,20 +11,10 @@ from types import ModuleType
 from .._validation import MudrftError
 from ..io.atomic import json_text
 from ._common import Outputs, logger
-from ._parser import add_force, add_quiet, add_subcommand
-
-__all__ = ["HARNESS_MODULE", "add_parser", "harness_path", "load_harness", "run"]
+from ._parser import add_run_options, add_subcommand
 
 #: Name under which the harness package is registered in ``sys.modules``.
 HARNESS_MODULE = "mudrft_benchmarks_harness"
-
-DESCRIPTION = (
-    "Run the speed benchmarks (the machine's bandwidth and peak, the constitutive step, "
-    "mesh feet, batches of feet on every backend, one foot per step, simulate, the MuJoCo "
-    "overhead, robot-steps per second with mud at 1, 64 and 1,024 robots for the CPU coupling "
-    "and MJX, and a roofline estimate) and print a summary; --json writes every number. "
-    "Needs a source checkout: the benchmarks live in its benchmarks/ directory."
-)
 
 
 def harness_path() -> Path:
@@ -40,19 +25,8 @@ def harness_path() -> Path:
 
 
 def load_harness() -> ModuleType:
-    """Import the benchmark harness of the source checkout by path (once per process).
-
-    Returns
-    -------
-    module
-        The ``benchmarks/harness`` package (``run_benchmarks``, ``summary_lines``, ...).
-
-    Raises
-    ------
-    MudrftError
-        When this mudrft was not imported from a source checkout (installed from a wheel),
-        so that ``benchmarks/harness`` is not beside its ``src/`` directory.
-    """
+    """Import the benchmark harness of the source checkout by path (once per process);
+    a :class:`~mudrft.MudrftError` when mudrft was not installed from a checkout."""
     loaded = sys.modules.get(HARNESS_MODULE)
     if loaded is not None:
         return loaded
@@ -79,26 +53,26 @@ def load_harness() -> ModuleType:
     return module
 
 
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft bench`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "bench",
+        run,
         help="speed benchmarks (constitutive step, mesh, batches, one foot, MuJoCo)",
-        description=DESCRIPTION,
+        description="Run the speed benchmarks (the machine's bandwidth and peak, the "
+        "constitutive step, mesh feet, batches of feet on every backend, one foot per step, "
+        "simulate, the MuJoCo overhead, robot-steps per second with mud at 1, 64 and 1,024 "
+        "robots for the CPU coupling and MJX, and a roofline estimate) and print a summary; "
+        "--json writes every number. Needs a source checkout: the benchmarks live in its "
+        "benchmarks/ directory.",
     )
     p.add_argument("--quick", action="store_true", help="short run (minutes: MJX compiles)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE")
-    add_force(p, "--json FILE if it exists")
-    add_quiet(p)
-    p.set_defaults(func=run)
-    return p
+    add_run_options(p, force="--json FILE if it exists")
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the benchmarks, print the summary, write ``--json``; returns the exit status (0)."""
+    """Run the benchmarks, print the summary, write ``--json``."""
     harness = load_harness()
     with Outputs(force=args.force) as outputs:
         json_tmp = outputs.file("--json", args.json) if args.json is not None else None

@@ -1,26 +1,11 @@
-"""``mudrft calibrate``: fit the model to intrusion logs from the command line.
-
-::
-
-    mudrft calibrate DATA.csv [MORE.csv ...] --direction {vertical,horizontal}
-                     [--columns ROLE=NAME,...] [--area A] [--length L]
-                     [--groups b th s] [--starts K]
-                     [--clipped {exclude,keep}] [--zero {check,subtract}]
-                     --out fit.json [--force] [--plot fit.png] [--quiet] [--strict]
-
-Progress goes to stderr, one line per stage; the parameter table to stdout. The JSON
-(:meth:`mudrft.calibration.FitResult.to_json`) loads back with
-``mudrft.calibration.load_parameters(path)``. An existing output file is never replaced
-without ``--force`` (``--overwrite`` is its deprecated old name). The exit status is 1 for a
-fit that did not converge and, with ``--strict``, for any warning (a fit that does not
-describe the data).
-"""
+"""``mudrft calibrate``: fit the model to intrusion logs; the table to stdout, the fit to JSON
+(:meth:`mudrft.calibration.FitResult.to_json`). Exit status 1 for a fit that did not
+converge and, with ``--strict``, for any warning."""
 
 from __future__ import annotations
 
 import argparse
 import csv
-from collections.abc import Sequence
 from typing import Any
 
 from .._validation import MudrftError
@@ -34,51 +19,25 @@ from ._common import (
     same_file,
     save_figure,
 )
-from ._parser import add_evaluation_options, add_force, add_quiet, add_strict, add_subcommand
+from ._parser import add_evaluation_options, add_run_options, add_subcommand
 
-__all__ = ["add_parser", "run"]
-
-DESCRIPTION = (
-    "Fit the mud model (Chen et al. 2026) to plate-intrusion logs: bounded least squares, "
-    "phase by phase (intrusion, relaxation, retraction) then jointly; prints parameters "
-    "with standard errors, confidence intervals and an identifiability verdict, and writes "
-    "them as JSON. Columns: 'time', 'depth' and 'stress' or 'force' (or 'Fz'), each with "
-    "its unit as 'time [s]', 'Time (s)' or 'time in s' (ms, mm, kPa, N, ... are converted), "
-    "an optional 'trial' column, separated by commas, tabs or semicolons; --columns names "
-    "the columns a logger calls otherwise."
-)
 #: The roles --columns maps.
 ROLES = ("time", "depth", "stress", "force", "trial")
 
 
-class _DeprecatedForce(argparse.Action):
-    """An old name of ``--force``: sets it and leaves a deprecation note for ``main``."""
-
-    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
-        super().__init__(option_strings, dest, nargs=0, **kwargs)
-
-    def __call__(
-        self,
-        parser: argparse.ArgumentParser,
-        namespace: argparse.Namespace,
-        values: object,
-        option_string: str | None = None,
-    ) -> None:
-        namespace.force = True
-        notes = [*getattr(namespace, "deprecations", ())]
-        notes.append(f"{option_string} is deprecated and will be removed; use --force")
-        namespace.deprecations = notes
-
-
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft calibrate`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "calibrate",
+        run,
         help="fit the model to your own intrusion logs",
-        description=DESCRIPTION,
+        description="Fit the mud model (Chen et al. 2026) to plate-intrusion logs: bounded "
+        "least squares, phase by phase (intrusion, relaxation, retraction) then jointly; prints "
+        "parameters with standard errors, confidence intervals and an identifiability verdict, "
+        "and writes them as JSON. Columns: 'time', 'depth' and 'stress' or 'force' (or 'Fz'), "
+        "each with its unit as 'time [s]', 'Time (s)' or 'time in s' (ms, mm, kPa, N, ... are "
+        "converted), an optional 'trial' column, separated by commas, tabs or semicolons; "
+        "--columns names the columns a logger calls otherwise.",
     )
     p.add_argument("data", nargs="+", help="intrusion log(s): CSV, or HDF5 (.h5/.hdf5)")
     p.add_argument(
@@ -147,21 +106,16 @@ def add_parser(
         "the sensor's zero: warn when it is clearly off 0, or subtract it from each trial (D154)",
     )
     p.add_argument("--out", default=None, help="write the fit to this JSON file")
-    add_force(p, "--out and --plot if they exist")
-    p.add_argument(
-        "--overwrite", action=_DeprecatedForce, default=argparse.SUPPRESS, help=argparse.SUPPRESS
-    )
+    p.add_argument("--overwrite", action="store_true", help=argparse.SUPPRESS)  # old --force
     p.add_argument(
         "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
     )
-    add_quiet(p)
-    add_strict(
+    add_run_options(
         p,
-        "a fit that does not describe the data, a log thinned, units that look wrong, "
+        force="--out and --plot if they exist",
+        strict="a fit that does not describe the data, a log thinned, units that look wrong, "
         "a sensor saturated or not zeroed",
     )
-    p.set_defaults(func=run)
-    return p
 
 
 def parse_columns(text: str) -> dict[str, str]:
@@ -184,9 +138,8 @@ def parse_columns(text: str) -> dict[str, str]:
 
 
 def _check_options(args: argparse.Namespace) -> dict[str, Any]:
-    """Check the options before any file is read, naming them as the command line does
-    (the library names ``confidence_level``, ``characteristic_length``, and blames the data
-    file for a bad ``--area`` or ``--length``); return the loader's options, in SI."""
+    """The loader's options in SI, checked before any file is read and named as the
+    command line names them."""
     for option, value in (("--starts", args.starts), ("--decimate", args.decimate)):
         if value is not None and value < 1:
             raise MudrftError(f"{option} must be an integer >= 1, got {value}")
@@ -210,7 +163,7 @@ def _check_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Fit, print the table, write ``--out``/``--plot``; returns 0, or 1 if the fit failed."""
+    """Fit, print the table, write ``--out``/``--plot``; 1 if the fit failed."""
     from ..calibration.fit import calibrate
     from ..io import load_dataset
 
@@ -221,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         require_plot_file("--plot", args.plot)
     opts = _check_options(args)
-    with Outputs(force=args.force) as outputs:
+    with Outputs(force=args.force or getattr(args, "overwrite", False)) as outputs:
         json_tmp = outputs.file("--out", args.out) if args.out else None
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
         ds = load_dataset(args.data if len(args.data) > 1 else args.data[0], **opts)

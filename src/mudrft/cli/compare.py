@@ -1,11 +1,4 @@
-"""``mudrft compare``: the mud model against the baseline terrains (Figs. S5, S6).
-
-Runs the vertical plate test (``mudrft.plate_intrusion``) and one gait cycle
-(``mudrft.gait``) through the mud model and every baseline of :mod:`mudrft.baselines`,
-and writes ``DIR/compare.csv`` (long format, ``mudrft.baselines.CSV_COLUMNS``),
-``DIR/compare_summary.csv`` (peak support, suction, impulses, energy per run) and the
-figures ``DIR/compare_s6.png`` and ``DIR/compare_gait.png``.
-"""
+"""``mudrft compare``: the mud model against the baseline terrains (Figs. S5, S6)."""
 
 from __future__ import annotations
 
@@ -25,35 +18,13 @@ from ._common import (
     require_extra,
     save_figure,
 )
-from ._mud import add_fit_options, mud_from_options
-from ._parser import (
-    GAIT_SPEED,
-    STANCE_DEPTH,
-    add_foot_options,
-    add_force,
-    add_quiet,
-    add_strict,
-    add_subcommand,
-)
-from ._terrain import add_terrain_options, terrains_from_options
+from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
+from ._terrain import add_fit_options, add_terrain_options, mud_from_options, terrains_from_options
 
 if TYPE_CHECKING:
     from ..feet import Foot
     from ..parameters import Mud
     from ..terrains import Terrain
-
-__all__ = ["FILES", "add_parser", "run", "write_comparison"]
-
-DESCRIPTION = (
-    "Run the vertical plate test and one gait cycle through the mud model and the baseline "
-    "terrains (granular RFT, linear stiffness, Maxwell-type mud, rigid ground), and write "
-    "DIR/compare.csv (every sample, long format), DIR/compare_summary.csv (peak support, "
-    "suction, impulses and energy per run) and the figures DIR/compare_s6.png and "
-    "DIR/compare_gait.png (as in the paper's Figs. S5 and S6). --vertical/--horizontal "
-    "FIT.json put calibrated sets in the mud model; --terrains picks the terrains, and "
-    "--zeta, --rho-c, --mu-int, --mu-surf describe your own granular medium (the other "
-    "baselines keep their defaults)."
-)
 
 #: The files ``mudrft compare`` writes in its directory: key -> (name, is a figure).
 FILES = {
@@ -64,15 +35,20 @@ FILES = {
 }
 
 
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft compare`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "compare",
+        run,
         help="mud model vs granular RFT, linear, Maxwell-type and rigid ground -> DIR/compare.csv",
-        description=DESCRIPTION,
+        description="Run the vertical plate test and one gait cycle through the mud model and "
+        "the baseline terrains (granular RFT, linear stiffness, Maxwell-type mud, rigid "
+        "ground), and write DIR/compare.csv (every sample, long format), "
+        "DIR/compare_summary.csv (peak support, suction, impulses and energy per run) and the "
+        "figures DIR/compare_s6.png and DIR/compare_gait.png (as in the paper's Figs. S5 and "
+        "S6). --vertical/--horizontal FIT.json put calibrated sets in the mud model; "
+        "--terrains picks the terrains, and --zeta, --rho-c, --mu-int, --mu-surf describe your "
+        "own granular medium (the other baselines keep their defaults).",
     )
     add_foot_options(p, default="flat")
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
@@ -91,15 +67,12 @@ def add_parser(
         "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
     )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
-    add_force(p, "existing results in DIR")
-    add_quiet(p)
-    add_strict(
+    add_run_options(
         p,
-        "an extrapolated water content, a unit that looks wrong, ...",
+        force="existing results in DIR",
+        strict="an extrapolated water content, a unit that looks wrong, ...",
         refuses="a foot pushed deeper than its own height",
     )
-    p.set_defaults(func=run)
-    return p
 
 
 def write_comparison(
@@ -118,7 +91,7 @@ def write_comparison(
     terrains: Mapping[str, Terrain] | None = None,
     strict: bool = False,
 ) -> dict[str, Path]:
-    """Run and write what ``mudrft compare`` writes; all files or none.
+    """Run and write what ``mudrft compare`` writes in ``out``; all files or none.
 
     Parameters
     ----------
@@ -126,32 +99,15 @@ def write_comparison(
         The foot.
     out : str or Path
         Output directory (created, with its parents, if missing).
-    water_content : float, keyword-only
-        Mud water content [-].
-    speed : float, keyword-only
-        Gait speed [m/s].
-    depth : float, keyword-only
-        Plate intrusion depth and deepest gait depth [m] (default: the gait's stance,
-        ``mudrft.trajectories.STANCE_DEPTH``, as ``mudrft simulate`` and ``mudrft.gait``).
-    hold : float, keyword-only
-        Hold time of the plate test [s].
-    figures : bool, keyword-only
-        Write the PNG figures (needs matplotlib).
-    force : bool, keyword-only
-        Overwrite existing files.
-    quiet : bool, keyword-only
-        No progress lines on stderr.
-    extrapolate : bool, keyword-only
-        Allow a water content outside the tabulated rows (warns).
+    water_content, speed, depth, hold : float, keyword-only
+        Mud water content [-], gait speed [m/s], plate and gait depth [m], plate hold [s].
+    figures, force, quiet, extrapolate, strict : bool, keyword-only
+        Write the PNG figures; overwrite existing files; no progress lines; allow a water
+        content outside the tables (warns); refuse a depth deeper than the foot is tall.
     mud : Mud, optional, keyword-only
-        The mud model's parameters in place of the paper's at ``water_content`` (a
-        calibrated mud); the baselines keep their defaults (D59).
+        The mud model's parameters in place of the paper's (the baselines keep theirs, D59).
     terrains : mapping of str to Terrain, optional, keyword-only
-        The terrains to run, by name (default: every one of
-        :func:`~mudrft.baselines.default_terrains`, ``mud`` replaced by ``mud`` if given).
-    strict : bool, keyword-only
-        Refuse a depth deeper than the foot is tall (a :class:`~mudrft.MudrftError`
-        before anything runs) instead of warning.
+        The terrains by name (default: :func:`~mudrft.baselines.default_terrains`).
 
     Returns
     -------
@@ -169,21 +125,10 @@ def write_comparison(
     keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
     with Outputs(force=force) as outputs:
         stage = outputs.directory("--out", out, [FILES[k][0] for k in keys])
+        paths = {"plate": plate_intrusion(depth=depth, hold=hold), "gait": gait(speed, depth=depth)}
         runs = {
-            "plate": compare(
-                foot,
-                plate_intrusion(depth=depth, hold=hold),
-                terrains,
-                progress=not quiet,
-                strict=strict,
-            ),
-            "gait": compare(
-                foot,
-                gait(speed, depth=depth),
-                terrains,
-                progress=not quiet,
-                strict=strict,
-            ),
+            k: compare(foot, path, terrains, progress=not quiet, strict=strict)
+            for k, path in paths.items()
         }
         write_csv(runs, stage / FILES["csv"][0], overwrite=True)
         rows = [{"trajectory": k, **r} for k, h in runs.items() for r in summarize(h)]
@@ -198,20 +143,16 @@ def write_comparison(
 
             require_matplotlib()  # the Agg backend, before the first figure
             title = f"{foot.name} foot, one gait cycle at {speed:g} m/s"
-            makers = {
-                "s6": lambda: plot_s6(runs["plate"]),
-                # rigid ground's penalty spring dwarfs the others: left out unless alone
-                "gait": lambda: plot_gait(
-                    runs["gait"], title=title, exclude=("rigid",) if len(terrains) > 1 else ()
-                ),
-            }
-            for key, make in makers.items():
-                save_figure(make(), stage / FILES[key][0])
+            save_figure(plot_s6(runs["plate"]), stage / FILES["s6"][0])
+            # rigid ground's penalty spring dwarfs the others: left out unless alone
+            rigid = ("rigid",) if len(terrains) > 1 else ()
+            fig = plot_gait(runs["gait"], title=title, exclude=rigid)
+            save_figure(fig, stage / FILES["gait"][0])
     return {k: Path(out) / FILES[k][0] for k in keys}
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run ``mudrft compare`` with parsed arguments; returns the exit status (0)."""
+    """Run ``mudrft compare`` with parsed arguments."""
     from ..feet import by_name
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
@@ -225,8 +166,7 @@ def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
         warnings.simplefilter("ignore")
         mud = mud_from_options(args)
-    figures = not args.no_figures
-    if figures:
+    if not args.no_figures:
         require_extra(
             "matplotlib", needed_for="the figures of mudrft compare", unless="--no-figures"
         )
@@ -241,7 +181,7 @@ def run(args: argparse.Namespace) -> int:
         speed=speed,
         depth=depth,
         hold=hold,
-        figures=figures,
+        figures=not args.no_figures,
         force=args.force,
         quiet=args.quiet,
         extrapolate=args.extrapolate,

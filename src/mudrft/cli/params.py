@@ -6,29 +6,22 @@ import argparse
 
 from ._parser import add_subcommand
 
-__all__ = ["add_parser", "run"]
 
-DESCRIPTION = (
-    "List the parameter sets of Chen et al. (2026), Tables S1 (vertical) and S2 "
-    "(horizontal), converted to SI units, one row per tabulated water content. Rows whose "
-    "yield stress sigma_y does not satisfy the paper's own relation "
-    "sigma_y = (eta_m - eta_inf) * gamma_dot_c are flagged."
-)
-
-
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft params`` to an argparse subparsers object."""
-    p = add_subcommand(
-        subparsers, "params", help="list the built-in parameter sets", description=DESCRIPTION
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    add_subcommand(
+        subparsers,
+        "params",
+        run,
+        help="list the built-in parameter sets",
+        description="List the parameter sets of Chen et al. (2026), Tables S1 (vertical) and "
+        "S2 (horizontal), converted to SI units, one row per tabulated water content. Rows "
+        "whose yield stress sigma_y does not satisfy the paper's own relation "
+        "sigma_y = (eta_m - eta_inf) * gamma_dot_c are flagged.",
     )
-    p.set_defaults(func=run)
-    return p
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the parameter tables to stdout; returns the exit status (0)."""
+    """Print the parameter tables to stdout."""
     from ..parameters import DIRECTIONS, PARAMETER_UNITS, sigma_y_consistency, table_rows
     from ..parameters.chen2026 import TABLE_NAME
 

@@ -15,28 +15,28 @@ from ._common import (
     same_file,
     save_figure,
 )
-from ._mud import add_fit_options, mud_from_options
 from ._parser import (
     GAIT_SPEED,
     STANCE_DEPTH,
     add_evaluation_options,
     add_foot_options,
-    add_force,
-    add_quiet,
-    add_strict,
+    add_run_options,
     add_subcommand,
 )
-from ._terrain import add_terrain_options, terrain_names, terrains_from_options
+from ._terrain import (
+    add_fit_options,
+    add_terrain_options,
+    mud_from_options,
+    terrain_names,
+    terrains_from_options,
+)
 
 if TYPE_CHECKING:
     from ..simulation import LoadControl, Result
     from ..terrains import Terrain
     from ..trajectories import Trajectory
 
-__all__ = ["add_parser", "run"]
-
-#: The defaults of ``mudrft simulate`` beside the shared gait (``_parser.GAIT_SPEED``,
-#: ``STANCE_DEPTH``): the time over which ``--load`` rises [s] and the time simulated [s]
+#: ``--load``'s defaults: the time over which it rises [s] and the time simulated [s]
 #: (a ramped load creeps to the static depth in 10-30 s, D13).
 LOAD_RAMP = 1.0
 LOAD_DURATION = 30.0
@@ -56,13 +56,11 @@ DESCRIPTION = (
 )
 
 
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft simulate`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "simulate",
+        run,
         help="one stepping cycle of a foot in mud -> run.csv",
         description=DESCRIPTION,
     )
@@ -125,29 +123,19 @@ def add_parser(
     p.add_argument(
         "--extrapolate", action="store_true", help="allow water content outside 0.25-0.45 (warns)"
     )
-    add_force(p, "--out and --plot if they exist")
-    add_quiet(p)
-    add_strict(
+    add_run_options(
         p,
-        "an extrapolated water content, a unit that looks wrong, ...",
+        force="--out and --plot if they exist",
+        strict="an extrapolated water content, a unit that looks wrong, ...",
         refuses="a foot pushed deeper than its own height",
     )
     # the mud's own options and their defaults: given with a baseline they are refused
-    mud = (
-        "vertical",
-        "horizontal",
-        "thixotropy",
-        "clock",
-        "labels",
-        "water_content",
-        "extrapolate",
-    )
-    p.set_defaults(func=run, mud_defaults={dest: p.get_default(dest) for dest in mud})
-    return p
+    mud = ("vertical", "horizontal", "thixotropy", "clock", "labels", "water_content")
+    p.set_defaults(mud_defaults={d: p.get_default(d) for d in (*mud, "extrapolate")})
 
 
 def run(args: argparse.Namespace) -> int:
-    """Simulate, write ``--out`` (and ``--plot``); returns the exit status (0)."""
+    """Simulate, write ``--out`` (and ``--plot``), print the metrics."""
     from ..feet import by_name
     from ..simulation import LoadControl, simulate, static_sinking
     from ..terrains import MudTerrain
@@ -166,18 +154,11 @@ def run(args: argparse.Namespace) -> int:
     terrain: Terrain
     (chosen,) = terrain_names(args, args.terrain, "--terrain")  # and the media options
     if chosen == "mud":
-        terrain = MudTerrain(
-            mud_from_options(args),
-            thixotropy=args.thixotropy,
-            clock=args.clock,
-        )
+        terrain = MudTerrain(mud_from_options(args), thixotropy=args.thixotropy, clock=args.clock)
     else:  # a baseline: the mud's own options would be silently ignored
-        mud_only = {
-            "--" + dest.replace("_", "-"): getattr(args, dest) != default
-            for dest, default in args.mud_defaults.items()
-        }
-        for option, changed in mud_only.items():
-            if changed:
+        for dest, default in args.mud_defaults.items():
+            if getattr(args, dest) != default:
+                option = "--" + dest.replace("_", "-")
                 raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
         (terrain,) = terrains_from_options(
             args, args.terrain, "--terrain", water_content=0.25, mud=None
@@ -256,10 +237,8 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         duration = check_positive_option(
             "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
         )
-        return (
-            LoadControl(weight, duration=duration, dt=dt, ramp=ramp),
-            f"a load of {weight:g} N",
-        )
+        load = LoadControl(weight, duration=duration, dt=dt, ramp=ramp)
+        return load, f"a load of {weight:g} N"
     speed = check_positive_option(
         "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
     )

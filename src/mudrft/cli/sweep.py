@@ -8,42 +8,32 @@ from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
 from ._common import Outputs, logger, require_extra, same_file, save_figure
-from ._parser import add_force, add_quiet, add_subcommand
+from ._parser import add_run_options, add_subcommand
 
 if TYPE_CHECKING:
     import xarray as xr
-
-    from ..sweep.spec import SweepSpec
-
-__all__ = ["STORE", "TABLE", "add_parser", "run"]
 
 #: The resumable store in DIR (written chunk by chunk, kept when a run fails).
 STORE = "sweep.zarr"
 #: One row per point (parameters, metrics, error), written when the sweep completes.
 TABLE = "points.csv"
 
-DESCRIPTION = (
-    "Run a design sweep: the foot, mud and motion parameters of SPEC.toml over a grid or "
-    "a sample, every metric at every point: in this process while that is quicker than "
-    "starting a local Dask cluster, else on one (of --workers processes), or on the "
-    "cluster at --scheduler. Writes DIR/sweep.zarr chunk by chunk (a killed or damaged "
-    "run resumes with --resume and computes only the missing or damaged chunks), then "
-    "DIR/points.csv (one row per point) and, with --plot, DIR/METRIC.png maps. A point "
-    "that fails is recorded (NaN and its error), the rest completes, and the command "
-    "exits with 1. Needs "
-    "pip install 'mudrft[sweep]'. The spec format: examples/sweep_example.toml, README."
-)
 
-
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft sweep`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "sweep",
+        run,
         help="design sweeps on Dask -> DIR/sweep.zarr, points.csv, maps",
-        description=DESCRIPTION,
+        description="Run a design sweep: the foot, mud and motion parameters of SPEC.toml "
+        "over a grid or a sample, every metric at every point: in this process while that is "
+        "quicker than starting a local Dask cluster, else on one (of --workers processes), or "
+        "on the cluster at --scheduler. Writes DIR/sweep.zarr chunk by chunk (a killed or "
+        "damaged run resumes with --resume and computes only the missing or damaged chunks), "
+        "then DIR/points.csv (one row per point) and, with --plot, DIR/METRIC.png maps. A "
+        "point that fails is recorded (NaN and its error), the rest completes, and the command "
+        "exits with 1. Needs pip install 'mudrft[sweep]'. The spec format: "
+        "examples/sweep_example.toml, README.",
     )
     p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec (TOML)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -68,18 +58,11 @@ def add_parser(
         action="store_true",
         help="continue DIR/sweep.zarr (made from the same spec): compute only missing chunks",
     )
-    add_force(
+    add_run_options(
         p,
-        "existing outputs: without --resume DIR/sweep.zarr is started again; with --resume "
-        "it is kept and only points.csv and the maps are replaced",
+        force="existing outputs: without --resume DIR/sweep.zarr is started again; with "
+        "--resume it is kept and only points.csv and the maps are replaced",
     )
-    add_quiet(p)
-    p.set_defaults(func=run)
-    return p
-
-
-def _plot_metrics(spec: SweepSpec) -> tuple[str, ...]:
-    return tuple(spec.plot.get("metrics", spec.metrics))
 
 
 def _write_table(ds: xr.Dataset, path: Path) -> None:
@@ -97,7 +80,7 @@ def _write_table(ds: xr.Dataset, path: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep and write ``DIR``; returns the exit status (0, or 1 if any point failed)."""
+    """Run the sweep and write ``DIR``; 1 if any point failed."""
     from ..sweep.spec import load_spec
 
     spec = load_spec(args.spec)
@@ -118,7 +101,8 @@ def run(args: argparse.Namespace) -> int:
         raise MudrftError(
             f"--out: {str(store)!r} exists; pass --resume to continue it or --force to start again"
         )
-    names = [TABLE, *(f"{m}.png" for m in (_plot_metrics(spec) if args.plot else ()))]
+    maps = tuple(spec.plot.get("metrics", spec.metrics)) if args.plot else ()
+    names = [TABLE, *(f"{m}.png" for m in maps)]
     spec_path = Path(args.spec).resolve()
     restarts = args.force and not args.resume  # DIR/sweep.zarr is removed and made again
     if any(same_file(spec_path, out / n) for n in names) or (
@@ -130,14 +114,9 @@ def run(args: argparse.Namespace) -> int:
         )
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", out, names)
-        logger.info(
-            "mudrft sweep: %d points in %d chunks (%s design, motion %s) -> %s",
-            spec.n_points,
-            spec.n_chunks,
-            spec.design,
-            spec.motion,
-            store,
-        )
+        what = f"{spec.n_points} points in {spec.n_chunks} chunks ({spec.design} design"
+        logger.info("mudrft sweep: %s, motion %s) -> %s", what, spec.motion, store)
+        from ..sweep.plot import plot_maps
         from ..sweep.run import run_sweep
 
         ds = run_sweep(
@@ -150,8 +129,9 @@ def run(args: argparse.Namespace) -> int:
             progress=not args.quiet,
         )
         _write_table(ds, stage / TABLE)
-        if args.plot:
-            _write_maps(ds, spec, stage)
+        kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
+        for m in maps:
+            save_figure(plot_maps(ds, m, **kw), stage / f"{m}.png", dpi=110)
     failed = int(ds.attrs.get("failed_points", 0))
     print(f"{spec.n_points} points, {failed} failed; wrote {store}")
     errors = [e for e in ds["error"].values.ravel() if e]
@@ -163,20 +143,8 @@ def run(args: argparse.Namespace) -> int:
     for path in outputs.written:
         print(f"wrote {path}")
     if failed:
-        logger.error(
-            "mudrft sweep: error: %d of %d points failed (NaN metrics; each error in the 'error' "
-            "column of %s)",
-            failed,
-            spec.n_points,
-            out / TABLE,
-        )
+        what = f"{failed} of {spec.n_points} points failed"
+        where = f"the 'error' column of {out / TABLE}"
+        logger.error("mudrft sweep: error: %s (NaN metrics; each error in %s)", what, where)
         return 1
     return 0
-
-
-def _write_maps(ds: xr.Dataset, spec: SweepSpec, stage: Path) -> None:
-    from ..sweep.plot import plot_maps
-
-    kw = {k: spec.plot.get(k) for k in ("x", "y", "panels")}
-    for m in _plot_metrics(spec):
-        save_figure(plot_maps(ds, m, **kw), stage / f"{m}.png", dpi=110)

@@ -12,21 +12,12 @@ from .._progress import Progress
 from .._validation import MudrftError
 from ..io.atomic import json_text
 from ._common import Outputs, check_nonnegative_option, check_positive_option, logger, require_extra
-from ._mud import add_fit_options, mud_from_options
-from ._parser import add_foot_options, add_force, add_quiet, add_strict, add_subcommand
+from ._parser import add_foot_options, add_run_options, add_subcommand
+from ._terrain import add_fit_options, mud_from_options
 
 if TYPE_CHECKING:
     from ..parameters import Mud
     from ..terrains import Terrain
-
-__all__ = ["FILES", "add_parser", "run"]
-
-DESCRIPTION = (
-    "Walk a 10 kg planar biped in mud with the chosen foot and write DIR/walk.csv (per "
-    "physics step), DIR/steps.csv (per gait step), DIR/summary.json (fell, distance, energy "
-    "per step, mean sinking, max suction, ...), DIR/walk.png and, when offscreen rendering "
-    "works, DIR/frames.png. Needs MuJoCo: pip install 'mudrft[mujoco]'."
-)
 
 #: The files ``mudrft walk`` may write in its directory.
 FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
@@ -34,15 +25,17 @@ FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
 COMPARE_FILES = ("compare.csv", "claims.csv", "compare.json", "compare.png")
 
 
-def add_parser(
-    subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
-) -> argparse.ArgumentParser:
-    """Add ``mudrft walk`` to an argparse subparsers object."""
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
         subparsers,
         "walk",
+        run,
         help="a planar biped walking in mud (MuJoCo): walk.csv, summary.json, walk.png",
-        description=DESCRIPTION,
+        description="Walk a 10 kg planar biped in mud with the chosen foot and write "
+        "DIR/walk.csv (per physics step), DIR/steps.csv (per gait step), DIR/summary.json "
+        "(fell, distance, energy per step, mean sinking, max suction, ...), DIR/walk.png and, "
+        "when offscreen rendering works, DIR/frames.png. Needs MuJoCo: pip install "
+        "'mudrft[mujoco]'.",
     )
     add_foot_options(p, default="flat")
     p.add_argument(
@@ -71,19 +64,16 @@ def add_parser(
         "write DIR/compare.csv, DIR/claims.csv (the paper's claims beside the results), "
         "DIR/compare.json and DIR/compare.png (--foot is ignored)",
     )
-    add_force(p, "existing results in DIR")
-    add_quiet(p)
-    add_strict(
+    add_run_options(
         p,
-        "a foot sunk deeper than its height, ...",
+        force="existing results in DIR",
+        strict="a foot sunk deeper than its height, ...",
         refuses="a foot sunk deeper than its own height",
     )
-    p.set_defaults(func=run)
-    return p
 
 
 def run(args: argparse.Namespace) -> int:
-    """Walk the biped and write ``DIR``; returns the exit status (0)."""
+    """Walk the biped and write ``DIR``."""
     os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering where available
 
     if args.explicit:
@@ -111,26 +101,18 @@ def run(args: argparse.Namespace) -> int:
         )
 
     mud = mud_from_options(args)
+    options: dict[str, Any] = {"seconds": seconds, "dt": dt, "speed": speed, "step_time": step_time}
+    options["bottom"] = bottom
     if args.compare:
-        return _compare(args, mud, seconds=seconds, dt=dt, speed=speed, step_time=step_time,
-                        bottom=bottom)  # fmt: skip
+        return _compare(args, mud, **options)
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, FILES)
         logger.info("mudrft walk: %s feet, %s, %g s at dt = %g s", foot.name, mud.name, seconds, dt)
         t0 = time.perf_counter()
-        res = W.walk(
-            foot,
-            mud,
-            seconds=seconds,
-            dt=dt,
-            speed=speed,
-            step_time=step_time,
-            bottom=bottom,
-            frames=0 if args.no_render else 6,
-            progress=None if args.quiet else Progress("walking"),
-            strict=getattr(args, "strict", False),
-        )
+        progress = None if args.quiet else Progress("walking")
+        frames, strict = (0 if args.no_render else 6), getattr(args, "strict", False)
+        res = W.walk(foot, mud, **options, frames=frames, progress=progress, strict=strict)
         s = res.summary
         s["water_content"] = float(args.water_content)
         s["mud"] = mud.name
@@ -159,12 +141,8 @@ def _compare(args: argparse.Namespace, mud: Mud | Terrain, **options: Any) -> in
 
     with Outputs(force=args.force) as outputs:
         stage = outputs.directory("--out", args.out, COMPARE_FILES)
-        logger.info(
-            "mudrft walk --compare: %s, %g s at dt = %g s",
-            mud.name,
-            options["seconds"],
-            options["dt"],
-        )
+        what = f"{options['seconds']:g} s at dt = {options['dt']:g} s"
+        logger.info("mudrft walk --compare: %s, %s", mud.name, what)
         summaries = compare_feet(
             mud,
             progress=None if args.quiet else (lambda name: Progress(f"walking ({name})")(0.0)),

@@ -20,22 +20,6 @@ from ..feet import by_name
 from ..feet.base import Foot
 from .readings import Reading
 
-__all__ = [
-    "AGREES",
-    "CLAIMS",
-    "LOAD",
-    "PCT_TOL",
-    "RATIO_TOL",
-    "REQUIRED_RATIO",
-    "SPEED_AGREE",
-    "SPEED_PARTLY",
-    "Cell",
-    "Claim",
-    "evaluate",
-    "shape_crossovers",
-    "shape_factor",
-]
-
 #: Tolerance on the paper's percentages [percentage points]: its numbers come from three
 #: trials with visible scatter (Table II: relative RMSEs of 4-18 %).
 PCT_TOL = 10.0
@@ -60,19 +44,9 @@ LOAD = 49.0
 
 @dataclass(frozen=True)
 class Claim:
-    """One comparative claim of the paper.
-
-    Attributes
-    ----------
-    key : str
-        Short name (``claims.csv``).
-    text : str
-        The claim, close to the paper's words, with its source.
-    paper : str
-        The paper's value.
-    quantity : str
-        What mudrft compares, and why that quantity.
-    """
+    """One comparative claim of the paper: its ``key`` (``claims.csv``), ``text`` (close to
+    the paper's words, with its source), the ``paper``'s value, and the ``quantity``
+    mudrft compares."""
 
     key: str
     text: str
@@ -190,12 +164,9 @@ def shape_factor(foot: Foot, depth: float) -> float:
 
 
 def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
-    """Depths [m] where the shape factors of feet ``a`` and ``b`` cross.
-
-    Searched between 0 and the lower of the two heights (deeper, the closed forms hold the
-    factor of a buried foot, decision D26): sign changes of the difference on ``points``
-    depths, each refined with :func:`scipy.optimize.brentq` to 1e-9 m.
-    """
+    """Depths [m] where the shape factors of feet ``a`` and ``b`` cross, between 0 and
+    the lower of their heights: sign changes on ``points`` depths, refined with
+    :func:`scipy.optimize.brentq` to 1e-9 m."""
     from scipy.optimize import brentq
 
     top = min(float(getattr(a, "height", 1.0)), float(getattr(b, "height", 1.0)))
@@ -214,16 +185,14 @@ def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
 
 @functools.lru_cache(maxsize=1)
 def _paper_feet() -> tuple[dict[str, Foot], tuple[float, ...]]:
-    """The paper's three fixed feet and where the curved feet's shape factors cross [m]:
-    the same for every reading, so computed once."""
-
+    """The paper's three fixed feet and where the curved feet's shape factors cross [m]."""
     feet = {f: by_name(f) for f in FIXED}
     return feet, tuple(shape_crossovers(feet["semi-cylinder"], feet["semi-sphere"]))
 
 
 def _shape_argument(fixed: dict[str, dict[str, float]]) -> str:
-    """Why the curved feet's order is what it is: their shape factors at the peaks' depths
-    and where the factors cross (empty when the runs did not record the peaks' depths)."""
+    """The curved feet's shape factors at the peaks' depths and where they cross (empty
+    when the runs did not record the peaks' depths)."""
     if not all("peak_ns_depth" in m for m in fixed.values()):
         return ""
     feet, cross = _paper_feet()
@@ -281,17 +250,20 @@ def evaluate(
     w = reading.row(0.25)  # the reading's "25 %" mud
     cells: list[Cell] = []
 
-    def cell(claim: Claim, mudrft: str, verdict: str, short: str = "") -> None:
-        cells.append(Cell(claim.key, reading.key, claim.paper, mudrft, verdict, short or mudrft))
+    def cell(key: str, mudrft: str, verdict: str, short: str = "") -> None:
+        paper = next(c.paper for c in CLAIMS if c.key == key)
+        cells.append(Cell(key, reading.key, paper, mudrft, verdict, short or mudrft))
+
+    def skip(key: str, needs: str) -> None:
+        cell(key, f"{NOT_EVALUATED}: needs {needs}", NOT_EVALUATED)
 
     def at(foot: str, speed: float = v, row: float = w) -> dict[str, float] | None:
         return metrics(foot, speed, row) if foot in feet else None
 
-    c = {k.key: k for k in CLAIMS}
     base = {f: at(f) for f in (*FIXED, "morphing")}
     fixed = {f: m for f, m in base.items() if f in FIXED and m is not None}
     all_fixed = len(fixed) == len(FIXED)
-    missing = f"{NOT_EVALUATED}: needs the three fixed feet at W = 25 %"
+    missing = "the three fixed feet at W = 25 %"
 
     # shape-order (Fig. 10a)
     if all_fixed:
@@ -299,7 +271,7 @@ def evaluate(
         text = ", ".join(f"{f} {_kpa(ns[f])}" for f in FIXED) + _shape_argument(fixed)
         ok = ns["flat"] > ns["semi-cylinder"] > ns["semi-sphere"]
         short = "/".join(f"{ns[f] / 1e3:.1f}" for f in FIXED) + " kPa"
-        cell(c["shape-order"], text, _ok(ok), short)
+        cell("shape-order", text, _ok(ok), short)
         su = {f: fixed[f]["max_suction"] for f in FIXED}
         ok = max(su, key=su.__getitem__) == "flat" and min(su, key=su.__getitem__) == "semi-sphere"
         text = ", ".join(f"{f} {su[f]:.0f} N" for f in FIXED)
@@ -312,10 +284,10 @@ def evaluate(
             + f", the {max(ss, key=ss.__getitem__)} largest, the "
             + f"{min(ss, key=ss.__getitem__)} least"
         )
-        cell(c["suction-order"], text, _ok(ok), "/".join(f"{su[f]:.0f}" for f in FIXED) + " N")
+        cell("suction-order", text, _ok(ok), "/".join(f"{su[f]:.0f}" for f in FIXED) + " N")
     else:
-        cell(c["shape-order"], missing, NOT_EVALUATED)
-        cell(c["suction-order"], missing, NOT_EVALUATED)
+        skip("shape-order", missing)
+        skip("suction-order", missing)
 
     # speed (Fig. 10b)
     spreads = {}
@@ -328,9 +300,9 @@ def evaluate(
         worst = max(spreads.values())
         verdict = AGREES if worst < SPEED_AGREE else "partly" if worst < SPEED_PARTLY else "differs"
         text = "spread " + ", ".join(f"{f} {s:.0f} %" for f, s in spreads.items())
-        cell(c["speed"], text, verdict, f"spread <= {worst:.0f} %")
+        cell("speed", text, verdict, f"spread <= {worst:.0f} %")
     else:
-        cell(c["speed"], f"{NOT_EVALUATED}: needs two speeds or more", NOT_EVALUATED)
+        skip("speed", "two speeds or more")
 
     # water content (Fig. 10c)
     order = sorted(rows)
@@ -342,14 +314,11 @@ def evaluate(
             ok &= all(a > b for a, b in itertools.pairwise(pk))
             parts.append(f"{f}: " + " > ".join(f"{x / 1e3:.1f}" for x in pk))
         labels = "/".join(f"{reading.label(r) * 100:g}" for r in order)
-        cell(
-            c["water-content"],
-            f"W = {labels} %: " + "; ".join(parts) + " kPa",
-            _ok(ok),
-            "falls for every foot" if ok else "does not fall for every foot",
-        )
+        text = f"W = {labels} %: " + "; ".join(parts) + " kPa"
+        short = "falls for every foot" if ok else "does not fall for every foot"
+        cell("water-content", text, _ok(ok), short)
     else:
-        cell(c["water-content"], f"{NOT_EVALUATED}: needs two rows or more", NOT_EVALUATED)
+        skip("water-content", "two rows or more")
 
     # fixed-suction-ratio (Fig. 11c)
     if all_fixed:
@@ -365,39 +334,29 @@ def evaluate(
                 + "/".join(f"{r:.0f}" for r in by_force)
                 + " % (docs/model.md Sec. 12)"
             )
-        cell(
-            c["fixed-suction-ratio"],
-            text,
-            _ok(ok),
-            "/".join(f"{r:.0f}" for r in ratios.values()) + " %",
-        )
+        short = "/".join(f"{r:.0f}" for r in ratios.values()) + " %"
+        cell("fixed-suction-ratio", text, _ok(ok), short)
     else:
-        cell(c["fixed-suction-ratio"], missing, NOT_EVALUATED)
+        skip("fixed-suction-ratio", missing)
 
     morph = base["morphing"]
     if morph is not None:
         r = morph["max_suction"] / morph["peak_support"] * 100  # over its whole footprint (D38)
         text = f"{r:.0f} %"
         if morph.get("peak_ns"):  # over its spread pads' part in the mud at each depth
-            text += f" (over the part of its spread pads in the mud: {-morph['min_ns'] / morph['peak_ns'] * 100:.0f} %)"
-        cell(c["morphing-suction-ratio"], text, _ok(abs(r - 40) <= PCT_TOL), f"{r:.0f} %")
+            by_stress = -morph["min_ns"] / morph["peak_ns"] * 100
+            text += f" (over the part of its spread pads in the mud: {by_stress:.0f} %)"
+        cell("morphing-suction-ratio", text, _ok(abs(r - 40) <= PCT_TOL), f"{r:.0f} %")
     else:
-        cell(
-            c["morphing-suction-ratio"], f"{NOT_EVALUATED}: needs the morphing foot", NOT_EVALUATED
-        )
+        skip("morphing-suction-ratio", "the morphing foot")
 
     # morphing-vs-* (Fig. 13, the walking tests): the gait and the load-carrying stance
     held = {f: loaded(f) if loaded else None for f in ("flat", "semi-cylinder", "morphing")}
-    if morph is not None and "flat" in fixed and "semi-cylinder" in fixed:
-        for ref in ("semi-cylinder", "flat"):
-            cell(c[f"morphing-vs-{ref}"], *_versus(ref, morph, fixed, held))
-    else:
-        for ref in ("semi-cylinder", "flat"):
-            cell(
-                c[f"morphing-vs-{ref}"],
-                f"{NOT_EVALUATED}: needs the morphing, flat and semi-cylindrical feet",
-                NOT_EVALUATED,
-            )
+    for ref in ("semi-cylinder", "flat"):
+        if morph is not None and "flat" in fixed and "semi-cylinder" in fixed:
+            cell(f"morphing-vs-{ref}", *_versus(ref, morph, fixed, held))
+        else:
+            skip(f"morphing-vs-{ref}", "the morphing, flat and semi-cylindrical feet")
 
     # sinking (Fig. 12)
     sink = {f: sinking(f, w) for f in feet}
@@ -407,9 +366,9 @@ def evaluate(
         text = ", ".join(f"{f} {d * 1e3:.1f} mm" for f, d in depth.items())
         others = min(d for f, d in depth.items() if f != "morphing")
         short = f"morphing {depth['morphing'] * 1e3:.1f}, others >= {others * 1e3:.1f} mm"
-        cell(c["sinking"], text, _ok(ok), short)
+        cell("sinking", text, _ok(ok), short)
     else:
-        cell(c["sinking"], f"{NOT_EVALUATED}: needs the morphing foot and another", NOT_EVALUATED)
+        skip("sinking", "the morphing foot and another")
     return cells
 
 
@@ -423,8 +382,8 @@ def _versus(
     fixed: dict[str, dict[str, float]],
     held: dict[str, dict[str, float] | None],
 ) -> tuple[str, str, str]:
-    """``(text, verdict, short)`` of a morphing-vs-``ref`` claim: the morphing foot's
-    suction against ``ref``'s in the gait and, where run, with a load-carrying stance."""
+    """``(text, verdict, short)`` of a morphing-vs-``ref`` claim, in the gait and, where
+    run, with a load-carrying stance."""
     target = REDUCTIONS[ref][0]
     ratio = fixed["semi-cylinder"]["max_suction"] / fixed["flat"]["max_suction"]
     ds = (1 - morph["max_suction"] / fixed[ref]["max_suction"]) * 100

@@ -1,5 +1,5 @@
-"""Figures of ``mudrft reproduce`` (like the paper's Figs. 9, 10, 12 and 13, and the
-headline's verdicts against the stance depth)."""
+"""Figures of ``mudrft reproduce``: the paper's Figs. 9, 10, 12, 13, and the verdicts
+against the stance depth."""
 
 from __future__ import annotations
 
@@ -14,8 +14,6 @@ if TYPE_CHECKING:
     from ..simulation import Result
     from .claims import Cell
 
-__all__ = ["make_figures"]
-
 COLORS = {
     "flat": "tab:blue",
     "semi-cylinder": "tab:orange",
@@ -26,6 +24,12 @@ COLORS = {
 
 def _near(values: list[float], target: float) -> float:
     return min(values, key=lambda v: abs(v - target))
+
+
+def _save(plt: Any, fig: Any, path: Path) -> Path:
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
 
 
 def make_figures(
@@ -69,30 +73,25 @@ def make_figures(
         f"Forces over one stepping cycle, {v:g} m/s, W = {w * 100:g} % (cf. paper Fig. 9)",
         fontsize=10,
     )
-    paths.append(out / "fig09_forces.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(_save(plt, fig, out / "fig09_forces.png"))
 
     # Fig. 10: normalized vertical stress over the gait phase: feet, speeds, water contents
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.3), constrained_layout=True)
-    for f in fixed:
-        r = runs[(f, v, w)]
-        axes[0].plot(
-            r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, color=COLORS.get(f), label=f
-        )
-    axes[0].set_title("(a) foot shape")
     ref = "flat" if "flat" in feet else feet[0]
-    for s in speeds:
-        r = runs[(ref, s, w)]
-        axes[1].plot(r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, label=f"{s:g} m/s")
-    axes[1].set_title(f"(b) speed ({ref})")
-    for wc in water_contents:
-        r = runs[(ref, v, wc)]
-        axes[2].plot(
-            r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, label=f"W = {wc * 100:g} %"
-        )
-    axes[2].set_title(f"(c) water content ({ref})")
-    for ax in axes:
+    panels: dict[str, list[tuple[tuple[str, float, float], str, str | None]]] = {
+        "(a) foot shape": [((f, v, w), f, COLORS.get(f)) for f in fixed],
+        f"(b) speed ({ref})": [((ref, s, w), f"{s:g} m/s", None) for s in speeds],
+        f"(c) water content ({ref})": [
+            ((ref, v, wc), f"W = {wc * 100:g} %", None) for wc in water_contents
+        ],
+    }
+    for ax, (title, lines) in zip(axes, panels.items(), strict=True):
+        for key, label, color in lines:
+            r = runs[key]
+            ax.plot(
+                r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, color=color, label=label
+            )
+        ax.set_title(title)
         ax.axhline(0, color="0.75", lw=0.6)
         ax.set_xlabel("gait phase [-]")
         ax.legend(fontsize=8)
@@ -102,9 +101,7 @@ def make_figures(
         "unless varied (cf. paper Fig. 10)",
         fontsize=10,
     )
-    paths.append(out / "fig10_normalized.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(_save(plt, fig, out / "fig10_normalized.png"))
 
     # Fig. 12: vertical stress against depth (hysteresis) for every foot
     fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
@@ -118,9 +115,7 @@ def make_figures(
         f"Vertical stress vs depth, {v:g} m/s, W = {w * 100:g} % (cf. paper Fig. 12)", fontsize=10
     )
     ax.legend(fontsize=8)
-    paths.append(out / "fig12_hysteresis.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(_save(plt, fig, out / "fig12_hysteresis.png"))
 
     # Fig. 13: suction and energy bars, and a spider chart
     sel = {
@@ -164,9 +159,7 @@ def make_figures(
     ax3.set_title("(b) normalized by the largest foot (cf. Fig. 13b)", fontsize=10)
     ax3.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.35, -0.1))
     fig.suptitle(f"One stepping cycle, {v:g} m/s, W = {w * 100:g} %", fontsize=10)
-    paths.append(out / "fig13_suction_energy.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(_save(plt, fig, out / "fig13_suction_energy.png"))
     if by_depth:
         paths.append(_depth_figure(plt, out / "fig_depth_verdicts.png", by_depth, v, w))
     return paths
@@ -230,6 +223,4 @@ def _depth_figure(
         f"W = {water * 100:g} %",
         fontsize=10,
     )
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)

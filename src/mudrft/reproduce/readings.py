@@ -1,15 +1,9 @@
-"""Readings of the paper: the choices the paper leaves open, each justified by its own text.
+"""Readings of the paper: the choices it leaves open, each justified by its own text.
 
-A :class:`Reading` fixes what ``mudrft reproduce`` needs and the paper does not pin down:
-how eqs. (3) and (5) are evaluated (the paper's quasi-static closed forms or the ODEs, with
-or without the acceleration term), the clock of eq. (9), the gait's stance depth, which
-water-content labels the tables' rows carry, and when the morphing foot's pads curl.
-:data:`HEADLINE` is the paper's own evaluation; it was fixed from the text before any verdict
-was computed, and every other reading changes one choice of it (or restores mudrft's former
-defaults), so the matrix of readings x claims shows which choice decides which claim
-(docs/model.md, "The paper's claims"). The stance depth, which the paper does not give, is
-also a dimension of its own (:data:`STANCE_DEPTHS`), and the pad-curl delay a sensitivity
-(:data:`CURL_DELAYS`).
+A :class:`Reading` fixes how eqs. (3) and (5) are evaluated, the clock of eq. (9), the
+gait's stance depth, the water-content labels of the table rows and when the morphing
+foot's pads curl. :data:`HEADLINE` is the paper's own evaluation, fixed from the text
+before any verdict was computed; every other reading changes one choice of it.
 """
 
 from __future__ import annotations
@@ -21,8 +15,6 @@ from ..parameters import LABELLINGS, Mud, paper_mud
 from ..terrains import MudTerrain
 from ..trajectories import FOOT_HEIGHT, STANCE_DEPTH
 
-__all__ = ["CURL_DELAYS", "HEADLINE", "READINGS", "STANCE_DEPTHS", "Reading"]
-
 #: Stance depths of the depth dimension [m]: 10-26 mm by 1 mm, up to the fixed feet's height.
 STANCE_DEPTHS = tuple(mm / 1000 for mm in range(10, round(FOOT_HEIGHT * 1000) + 1))
 #: Pad-curl delays of the morphing foot's sensitivity [s]: 0-100 ms by 10 ms.
@@ -31,28 +23,11 @@ CURL_DELAYS = tuple(ms / 1000 for ms in range(0, 101, 10))
 
 @dataclass(frozen=True)
 class Reading:
-    """One reading of the paper (see module docstring).
-
-    Attributes
-    ----------
-    key : str
-        Short name, used in ``claims.csv``.
-    title : str
-        One line for the report.
-    thixotropy, clock : str
-        Evaluation of eqs. (3)-(5) (:class:`mudrft.MudTerrain`, decision D15).
-    acceleration : bool or None
-        ODE only: keep the acceleration term (decision D6).
-    depth : float
-        Stance depth of the gait [m] (decision D10).
-    labels : str
-        Water-content labels of the table rows (errata E6/E7).
-    curl_delay : float
-        The morphing foot's pad-curl delay [s] (decision D35; 0: the pads curl the moment
-        the retraction begins).
-    derivation : str
-        Why the paper supports it, with the sections and equations cited.
-    """
+    """One reading of the paper: its ``key`` (``claims.csv``) and one-line ``title``; the
+    evaluation ``thixotropy``, ``clock`` and ``acceleration`` (ODE only) of eqs. (3)-(5)
+    (D6, D15); the stance ``depth`` [m] (D10); the table rows' ``labels`` (E6/E7); the
+    morphing foot's ``curl_delay`` [s] (D35); and the ``derivation``: why the paper
+    supports it."""
 
     key: str
     title: str

@@ -4,6 +4,7 @@ readings x claims and the claims against the stance depth."""
 from __future__ import annotations
 
 import csv
+import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -21,17 +22,6 @@ from .claims import (
     count,
 )
 from .readings import Reading
-
-__all__ = [
-    "CLAIMS_COLUMNS",
-    "DEPTHS_COLUMNS",
-    "claims_block",
-    "depth_ranges",
-    "headline_count",
-    "write_claims_csv",
-    "write_depths_csv",
-    "write_report",
-]
 
 #: Columns of ``claims.csv``: one row per claim and reading.
 CLAIMS_COLUMNS = ("claim", "reading", "paper", "mudrft", "verdict", "summary", "headline")
@@ -56,11 +46,11 @@ def write_claims_csv(path: Path, cells: dict[str, list[Cell]]) -> Path:
     with open(path, "w", newline="") as fh:
         wr = csv.writer(fh)
         wr.writerow(CLAIMS_COLUMNS)
-        for key, row in cells.items():
-            for c in row:
-                wr.writerow(
-                    [c.claim, c.reading, c.paper, c.mudrft, c.verdict, c.short, key == first]
-                )
+        wr.writerows(
+            [c.claim, c.reading, c.paper, c.mudrft, c.verdict, c.short, key == first]
+            for key, row in cells.items()
+            for c in row
+        )
     return path
 
 
@@ -77,13 +67,8 @@ def write_depths_csv(path: Path, reading: Reading, by_depth: dict[float, list[Ce
 
 def depth_ranges(by_depth: dict[float, list[Cell]]) -> str:
     """The counts over the stance depths as ranges: "6 of 9 at 10-17 mm, 5 of 9 at 18-26 mm"."""
-    groups: list[tuple[int, list[float]]] = []
-    for depth in sorted(by_depth):
-        n = count(by_depth[depth])["agrees"]
-        if groups and groups[-1][0] == n:
-            groups[-1][1].append(depth)
-        else:
-            groups.append((n, [depth]))
+    counts = [(count(by_depth[d])["agrees"], d) for d in sorted(by_depth)]
+    groups = [(n, [d for _, d in g]) for n, g in itertools.groupby(counts, key=lambda t: t[0])]
     total = len(CLAIMS)
     return ", ".join(
         f"{n} of {total} at {_mm(ds[0])}" + (f"-{_mm(ds[-1])}" if len(ds) > 1 else "") + " mm"
@@ -109,9 +94,7 @@ def write_report(
     suction_ratios: dict[str, tuple[float, float | None]] | None = None,
     sinking: dict[str, float] | None = None,
 ) -> Path:
-    """Write ``report.md``: the headline and its range over the stance depths, the claims
-    against the depth, the morphing foot's claims with their assumptions, the matrix, the
-    readings.
+    """Write ``report.md`` and return its path.
 
     Parameters
     ----------
@@ -192,11 +175,7 @@ def write_report(
     for rd in readings:
         lines.append(f"* **{rd.key}** ({headline_count(cells[rd.key])}): {rd.title}. ")
         lines.append(f"  {rd.derivation}")
-    lines += [
-        "",
-        "## What each claim compares",
-        "",
-    ]
+    lines += ["", "## What each claim compares", ""]
     for claim in CLAIMS:
         lines.append(f"* **{claim.key}**: {claim.text}. mudrft compares: {claim.quantity}.")
     lines += ["", *_files()]
@@ -367,15 +346,8 @@ def _files() -> list[str]:
 
 
 def claims_block(report: str) -> str:
-    """The part of a ``report.md`` that docs/model.md quotes (Sec. 12, between its
-    ``claims`` markers): the headline's count, its range over the stance depths and its
-    table, the claims against the depth, and the matrix.
-
-    Parameters
-    ----------
-    report : str
-        The text of a ``report.md`` written by :func:`write_report`.
-    """
+    """The part of a ``report.md`` text that docs/model.md quotes: the headline's count,
+    range and table, the claims against the depth, and the matrix."""
     lines = report.splitlines()
     head = lines.index(next(x for x in lines if x.startswith("**") and "of 9 claims" in x))
     table = lines.index("| claim | the paper says | mudrft | verdict |", head)

@@ -1,19 +1,11 @@
-"""``mudrft reproduce``: the runs, the summary, the matrix of readings x claims.
+"""``mudrft reproduce``: the runs and ``summary.csv``.
 
-Runs every foot (flat, semi-cylinder, semi-sphere, morphing) through one stepping cycle
-(:func:`mudrft.gait`) at the paper's three gait speeds and the tabulated water contents
-under the headline reading (:data:`~mudrft.reproduce.readings.HEADLINE`), then the runs
-each other reading, each stance depth and each pad-curl delay needs for the nine claims
-(runs are shared where two give the same physics), and writes
-
-* ``summary.csv``: the headline reading, one row per foot x speed x water content
-  (columns in DESIGN.md);
-* ``claims.csv``: one row per claim and reading (``claim,reading,paper,mudrft,verdict``);
-* ``depths.csv``: one row per claim and stance depth, under the headline reading;
-* ``report.md``: the headline's "N of 9 claims" and its range over the stance depths, the
-  matrix and every reading's derivation;
-* figures like the paper's Figs. 9, 10, 12 and 13 (PNG), for the headline reading, and the
-  verdicts against the stance depth.
+Every foot goes through one stepping cycle (:func:`mudrft.gait`) at the paper's gait
+speeds and table rows under the headline reading, then through the runs each other
+reading, stance depth and pad-curl delay needs for the nine claims (shared where two give
+the same physics). :func:`reproduce` writes ``summary.csv`` (one row per foot x speed x
+water content, headline reading), ``claims.csv``, ``depths.csv``, ``report.md``
+(:mod:`.report`) and the figures (:mod:`.figures`).
 """
 
 from __future__ import annotations
@@ -40,17 +32,6 @@ from .readings import CURL_DELAYS, READINGS, STANCE_DEPTHS, Reading
 if TYPE_CHECKING:
     from ..feet.base import Foot
 
-__all__ = [
-    "FEET",
-    "FIGURES",
-    "LOAD",
-    "SUMMARY_COLUMNS",
-    "TABLES",
-    "WATER_CONTENTS",
-    "read_summary",
-    "reproduce",
-]
-
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
 
@@ -65,20 +46,11 @@ FIGURES = (
     "fig_depth_verdicts.png",
 )
 
+#: The columns of ``summary.csv``.
 SUMMARY_COLUMNS = (
-    "foot",
-    "speed [m/s]",
-    "water_content",
-    "peak_support [N]",
-    "max_suction [N]",
-    "impulse_x [N s]",
-    "impulse_y [N s]",
-    "impulse_z [N s]",
-    "energy [J]",
-    "sinking [m]",
-    "suction_ratio",
-    "peak_normalized_sz [Pa]",
-    "min_normalized_sz [Pa]",
+    *("foot", "speed [m/s]", "water_content", "peak_support [N]", "max_suction [N]"),
+    *("impulse_x [N s]", "impulse_y [N s]", "impulse_z [N s]", "energy [J]", "sinking [m]"),
+    *("suction_ratio", "peak_normalized_sz [Pa]", "min_normalized_sz [Pa]"),
     "normalized_suction_ratio",
 )
 
@@ -91,9 +63,7 @@ def _say(msg: str, quiet: bool) -> None:
 
 
 def _prepare_out(out: Path, force: bool, names: Sequence[str]) -> None:
-    """Check that ``out`` can take the files ``names``: every one that exists is refused
-    without ``force`` (a report.md of one's own is not replaced because summary.csv is
-    missing)."""
+    """Make ``out``; refuse, without ``force``, each of ``names`` that exists there."""
     if out.exists() and not out.is_dir():
         raise MudrftError(f"--out {str(out)!r} exists and is not a directory")
     taken = [n for n in names if (out / n).exists()]
@@ -137,10 +107,8 @@ class _Runs:
         return self._feet[name, curl_delay]
 
     @staticmethod
-    def key(
-        reading: Reading, foot: str, speed: float, row: float, depth: float | None = None
-    ) -> RunKey:
-        return (reading.run_key(foot, depth), foot, float(speed), float(row))
+    def key(rd: Reading, foot: str, speed: float, row: float, depth: float | None = None) -> RunKey:
+        return (rd.run_key(foot, depth), foot, float(speed), float(row))
 
     def run(
         self, reading: Reading, foot: str, speed: float, row: float, depth: float | None = None
@@ -169,16 +137,15 @@ class _Runs:
         return self.numbers.get(self.key(reading, foot, speed, row, depth))
 
     def sinking(self, reading: Reading, foot: str, row: float) -> float:
-        """Sinking under :data:`LOAD` on the row's relaxed mud [m] (independent of the
-        evaluation and the gait: the limit a ramped load creeps to, decision D13)."""
+        """Sinking under :data:`LOAD` on the row's relaxed mud [m] (D13)."""
         key = (foot, float(row))
         if key not in self._sinking:
             self._sinking[key] = static_sinking(self.foot(foot), reading.mud(row), LOAD)
         return self._sinking[key]
 
     def loaded(self, reading: Reading, foot: str, speed: float) -> dict[str, float] | None:
-        """The load-carrying stance: ``foot``'s gait at its own sinking depth under
-        :data:`LOAD`, on the reading's "25 %" row (None if not run)."""
+        """``foot``'s gait at its own sinking depth under :data:`LOAD`, on the reading's
+        "25 %" row: the load-carrying stance (None if not run)."""
         w = reading.row(0.25)
         return self.metrics(reading, foot, speed, w, self.sinking(reading, foot, w))
 
@@ -190,8 +157,8 @@ LOADED = ("flat", "semi-cylinder", "morphing")
 def _plan(
     reading: Reading, feet: Sequence[str], speeds: Sequence[float], rows: Sequence[float]
 ) -> list[tuple[str, float, float]]:
-    """The (foot, speed, row) runs the nine claims need under ``reading``, but the
-    load-carrying stance (:func:`_loaded_plan`)."""
+    """The (foot, speed, row) runs the nine claims need under ``reading`` (but the
+    load-carrying stance)."""
     v = _medium(speeds)
     w = reading.row(0.25)
     if not any(abs(w - r) < 1e-9 for r in rows):
@@ -237,18 +204,13 @@ def reproduce(
     water_contents : sequence of float, keyword-only
         Table rows by their printed water content [-] (0.25, 0.35, 0.45).
     readings : sequence of Reading, keyword-only
-        Readings of the matrix (:data:`~mudrft.reproduce.readings.READINGS`); the first is
-        the headline, which also makes ``summary.csv`` and the figures.
+        Readings of the matrix; the first is the headline (``summary.csv``, figures).
     depths : sequence of float, keyword-only
-        Stance depths [m] at which the headline's claims are also evaluated
-        (:data:`~mudrft.reproduce.readings.STANCE_DEPTHS`, 10-26 mm): ``depths.csv``.
+        Stance depths [m] at which the headline's claims are also evaluated (``depths.csv``).
     curl_delays : sequence of float, keyword-only
-        Pad-curl delays of the morphing foot [s] whose suction ratio the report gives
-        (:data:`~mudrft.reproduce.readings.CURL_DELAYS`, 0-100 ms).
-    figures : bool, keyword-only
-        Write the PNG figures (needs matplotlib).
-    quiet : bool, keyword-only
-        Do not print progress.
+        Pad-curl delays of the morphing foot [s] whose suction ratio the report gives.
+    figures, quiet : bool, keyword-only
+        Write the PNG figures (needs matplotlib); print no progress.
     dt : float, keyword-only
         Time step of the gait runs [s].
 
@@ -378,6 +340,20 @@ def _suction_ratios(
     return out
 
 
+#: ``summary.csv``'s columns read from a run's metrics, and the metric each holds.
+_FROM_METRICS = {
+    "peak_support [N]": "peak_support",
+    "max_suction [N]": "max_suction",
+    "impulse_x [N s]": "impulse_x",
+    "impulse_y [N s]": "impulse_y",
+    "impulse_z [N s]": "impulse_z",
+    "energy [J]": "energy",
+    "suction_ratio": "suction_ratio",
+    "peak_normalized_sz [Pa]": "peak_ns",
+    "min_normalized_sz [Pa]": "min_ns",
+}
+
+
 def _summary_rows(
     runs: _Runs,
     head: Reading,
@@ -391,26 +367,10 @@ def _summary_rows(
             sinking = runs.sinking(head, f, w)
             for v in speeds:
                 m = runs.numbers[runs.key(head, f, v, w)]  # every headline run was made
-                out.append(
-                    {
-                        "foot": f,
-                        "speed [m/s]": float(v),
-                        "water_content": head.label(w),
-                        "peak_support [N]": m["peak_support"],
-                        "max_suction [N]": m["max_suction"],
-                        "impulse_x [N s]": m["impulse_x"],
-                        "impulse_y [N s]": m["impulse_y"],
-                        "impulse_z [N s]": m["impulse_z"],
-                        "energy [J]": m["energy"],
-                        "sinking [m]": sinking,
-                        "suction_ratio": m["suction_ratio"],
-                        "peak_normalized_sz [Pa]": m["peak_ns"],
-                        "min_normalized_sz [Pa]": m["min_ns"],
-                        "normalized_suction_ratio": -m["min_ns"] / m["peak_ns"]
-                        if m["peak_ns"] > 0
-                        else 0.0,
-                    }
-                )
+                row = {"foot": f, "speed [m/s]": float(v), "water_content": head.label(w)}
+                row |= {col: m[key] for col, key in _FROM_METRICS.items()}
+                ratio = -m["min_ns"] / m["peak_ns"] if m["peak_ns"] > 0 else 0.0
+                out.append(row | {"sinking [m]": sinking, "normalized_suction_ratio": ratio})
     return out
 
 

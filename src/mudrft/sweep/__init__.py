@@ -1,21 +1,16 @@
 """Design sweeps: many feet, muds and motions, labelled xarray results in a resumable Zarr store.
 
-``mudrft.sweep`` is both this package and the function that runs a sweep
-(:func:`~mudrft.sweep.run.run_sweep`)::
+``mudrft.sweep`` is both this package and :func:`~mudrft.sweep.run.run_sweep`::
 
     import mudrft
     ds = mudrft.sweep("examples/sweep_example.toml", store="maps.zarr", progress=True)
     ds.max_suction.sel(speed=0.2).plot()
 
-A spec (:func:`load_spec`, a TOML file) names the swept parameters of the foot, the mud
-and the motion, a grid or a sample (Latin hypercube, Sobol), and the metrics. Points are
-cut into chunks; each chunk is one task (in this process, or on Dask) and one block of the
-store, written as it finishes and verified when read, so a killed or damaged sweep
-resumes without recomputing whole chunks. :func:`plot_maps` draws a metric over two
-parameters, one panel per value of a third; :func:`sensitivity` ranks parameters.
-
-Running a sweep needs the ``sweep`` extra (``pip install 'mudrft[sweep]'``: Dask, xarray,
-Zarr); importing this package loads none of them, and ``import mudrft`` does not import it.
+A spec (:func:`load_spec`) names the swept parameters of the foot, the mud and the
+motion, a grid or a sample, and the metrics. Each chunk of points is one task and one
+block of the store, verified when read (:func:`load_result`). :func:`plot_maps` draws a
+metric over two parameters; :func:`sensitivity` ranks them. Running a sweep needs
+``pip install 'mudrft[sweep]'``; importing this package loads none of it.
 """
 
 from __future__ import annotations

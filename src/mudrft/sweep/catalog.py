@@ -1,10 +1,8 @@
 """What a sweep can vary and measure: the parameters of the foot, the mud and the motion,
 each with its type, SI unit and allowed range, and the metrics.
 
-A parameter's name is its key in the spec (``[foot] radius = ...``) and its dimension or
-coordinate in the result, so a result reads ``ds.sel(radius=0.045, water_content=0.25)``.
-The range here is the one check of a value's range: a spec value outside it is refused
-before anything runs (the library checks again, with combinations, at each point).
+A parameter's name is its key in the spec and its coordinate in the result; a spec value
+outside its range is refused before anything runs.
 
 >>> PARAMETERS["radius"].unit, PARAMETERS["water_content"].section
 ('m', 'mud')
@@ -23,8 +21,6 @@ from typing import Any
 
 from .._validation import MudrftError
 from ..parameters.registry import EXTRAPOLATION_RANGE
-
-__all__ = ["FOOT_KINDS", "METRICS", "MOTIONS", "MOTION_KINDS", "PARAMETERS", "Metric", "Parameter"]
 
 _INT_LIMIT = 2**53  # integers an int64 coordinate and a float64 both hold exactly
 _OPS = {">": operator.gt, ">=": operator.ge, "<=": operator.le}

@@ -1,10 +1,9 @@
 """The points of a sweep and their chunks (one chunk = one task = one block of the store).
 
-A grid has one dimension per swept parameter; its chunks are blocks of about
-``points_per_task`` points, filled from the last dimension. A sample (Latin hypercube or
-scrambled Sobol, :mod:`scipy.stats.qmc`, seeded) has one dimension ``point``; its chunks
-are runs of points. The same spec gives the same points and chunks on any machine, so any
-cluster can resume any store.
+A grid has one dimension per swept parameter, cut into blocks of about
+``points_per_task`` points; a sample (Latin hypercube or scrambled Sobol,
+:mod:`scipy.stats.qmc`, seeded) has one dimension ``point``. The same spec gives the same
+points and chunks on any machine.
 
 >>> d = Design("grid", (Axis("a", "float", values=np.arange(5.0)),
 ...                     Axis("b", "float", values=np.arange(4.0))), points_per_task=3)
@@ -24,8 +23,6 @@ from itertools import product
 from typing import Any
 
 import numpy as np
-
-__all__ = ["AUTO_TASKS", "MAX_POINTS_PER_TASK", "Axis", "Design", "block"]
 
 #: With ``points_per_task`` unset, a sweep is cut into about this many tasks of at most
 #: ``MAX_POINTS_PER_TASK`` points (a few seconds of a closed-form foot's gaits).
@@ -47,7 +44,7 @@ class Axis:
     log: bool = False
 
     def as_json(self) -> dict[str, Any]:
-        """The axis as plain data (the spec's identity, the result's attributes)."""
+        """The axis as plain data."""
         out: dict[str, Any] = {"name": self.name, "kind": self.kind}
         if self.values is not None:
             out["values"] = [v.item() if hasattr(v, "item") else v for v in self.values]
@@ -151,14 +148,9 @@ class Design:
         return tuple(out)
 
     @property
-    def chunk_grid(self) -> tuple[int, ...]:
-        """Number of chunks along each dimension."""
-        return tuple(math.ceil(s / c) for s, c in zip(self.shape, self.chunks, strict=True))
-
-    @property
     def n_chunks(self) -> int:
         """Number of chunks (tasks)."""
-        return math.prod(self.chunk_grid)
+        return math.prod(math.ceil(s / c) for s, c in zip(self.shape, self.chunks, strict=True))
 
     def chunk_slices(self, i: int) -> tuple[slice, ...]:
         """The block of chunk ``i`` (C order over the chunk grid)."""

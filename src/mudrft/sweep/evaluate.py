@@ -1,11 +1,6 @@
 """One point of a sweep, and one chunk of points: plain functions of the library, no Dask.
 
-A task runs :func:`evaluate_chunk` on a worker (or in the calling process): it builds the
-foot, the mud and the motion of each point, runs :func:`mudrft.simulate` (or the MuJoCo
-walk) and keeps the requested metrics. A point that raises is recorded, not fatal: its
-metrics are NaN and its error is ``"ExceptionType: message"``. Warnings are collected per
-chunk, each distinct message once (warning capture is per process, so a worker runs one
-task at a time, as the local cluster's single-thread workers do).
+A point that raises is recorded, not fatal: NaN metrics and ``"ExceptionType: message"``.
 
 >>> import numpy as np
 >>> ctx = {"fixed": {"foot": "flat", "water_content": 0.25}, "motion": "gait",
@@ -32,28 +27,16 @@ from ..terrains import MudTerrain
 from ..trajectories import gait
 from .catalog import FOOT_KINDS, METRICS, MOTIONS, PARAMETERS
 
-__all__ = [
-    "ChunkResult",
-    "SweepContext",
-    "build_foot",
-    "build_mud",
-    "evaluate_chunk",
-    "evaluate_point",
-]
-
 
 class SweepContext(TypedDict):
-    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`), no Dask."""
+    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`): the
+    ``fixed`` parameters (SI; ``foot`` is the kind), the ``motion`` kind, the ``metrics``,
+    the calibrated ``mud_sets`` and the ``mesh`` foot of a mesh file."""
 
-    #: The fixed parameters by name (SI; ``foot`` is the foot kind).
     fixed: dict[str, Any]
-    #: ``"gait"``, ``"load"`` or ``"walk"``.
     motion: str
-    #: The metrics measured.
     metrics: tuple[str, ...]
-    #: Calibrated mud sets by name.
     mud_sets: dict[str, dict[str, Any]]
-    #: The mesh foot when the spec's foot is a mesh file.
     mesh: feet.MeshFoot | None
 
 
@@ -85,8 +68,9 @@ def build_foot(
     params = _section(values, "foot")
     if mesh is not None:
         return mesh
+    cache = {} if cache is None else cache
     key = (kind, tuple(sorted(params.items())))
-    if cache is not None and key in cache:
+    if key in cache:
         return cache[key]
     allowed = FOOT_KINDS[kind]
     extra = [k for k in params if k not in allowed]
@@ -94,8 +78,7 @@ def build_foot(
         raise MudrftError(f"the {kind} foot has no parameter {extra[0]!r}; its parameters are {', '.join(allowed)}")  # fmt: skip
     cls = {"flat": feet.Flat, "semi-cylinder": feet.SemiCylinder, "semi-sphere": feet.SemiSphere}
     foot = feet.MorphingFoot(**params) if kind == "morphing" else cls[kind](**params)
-    if cache is not None:
-        cache[key] = foot
+    cache[key] = foot
     return foot
 
 
@@ -104,8 +87,9 @@ def build_mud(
 ) -> MudTerrain:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
     params = _section(values, "mud")
+    cache = {} if cache is None else cache
     key = tuple(sorted(params.items()))
-    if cache is not None and key in cache:
+    if key in cache:
         return cache[key]
     if "mud_set" in params:
         entry = (mud_sets or {})[params["mud_set"]]
@@ -128,9 +112,7 @@ def build_mud(
 
         mud = Mud(scaled(mud.vertical), scaled(mud.horizontal), mud.water_content, mud.name)
     options = {k: params[k] for k in ("thixotropy", "clock", "xi0") if k in params}
-    terrain = MudTerrain(mud, **options)
-    if cache is not None:
-        cache[key] = terrain
+    cache[key] = terrain = MudTerrain(mud, **options)
     return terrain
 
 
@@ -141,8 +123,9 @@ def evaluate_point(
     ``point``'s swept ones; ``cache`` keeps the feet and muds a task has built."""
     values = {**context["fixed"], **point}
     motion = context["motion"]
-    foot = build_foot(values, mesh=context.get("mesh"), cache=None if cache is None else cache.setdefault("feet", {}))  # fmt: skip
-    mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=None if cache is None else cache.setdefault("muds", {}))  # fmt: skip
+    cache = {} if cache is None else cache
+    foot = build_foot(values, mesh=context.get("mesh"), cache=cache.setdefault("feet", {}))
+    mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=cache.setdefault("muds", {}))
     kw = {k: values[k] for k in MOTIONS[motion] if k in values}
     if motion == "walk":
         from ..integrations.walk import walk

@@ -14,8 +14,6 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["plot_maps", "sensitivity"]
-
 
 def _swept(ds: xr.Dataset) -> list[str]:
     """The grid's dimensions, or the sample's coordinates along ``point``."""
@@ -40,16 +38,19 @@ def _check(ds: xr.Dataset, metric: str, names: dict[str, str | None]) -> list[st
     return swept
 
 
-def _label(ds: xr.Dataset, name: str) -> str:
+def _unit(ds: xr.Dataset, name: str) -> str:
     unit = ds[name].attrs.get("units", "")
-    return f"{name} [{unit}]" if unit and unit != "-" else name
+    return unit if unit != "-" else ""
+
+
+def _label(ds: xr.Dataset, name: str) -> str:
+    return f"{name} [{_unit(ds, name)}]" if _unit(ds, name) else name
 
 
 def _value(ds: xr.Dataset, name: str, v: object) -> str:
-    """``name = value unit`` for a title (``speed = 0.13 m/s``; no unit for ``-``)."""
-    unit = ds[name].attrs.get("units", "")
+    """``name = value unit`` for a title (``speed = 0.13 m/s``)."""
     text = f"{v:g}" if isinstance(v, float | np.floating) else f"{v}"
-    return f"{name} = {text}" + (f" {unit}" if unit and unit != "-" else "")
+    return f"{name} = {text} {_unit(ds, name)}".rstrip()
 
 
 def _positions(values: np.ndarray) -> tuple[np.ndarray, list[str] | None]:
@@ -67,10 +68,8 @@ def plot_maps(
     panels: str | None = None,
     select: dict[str, Any] | None = None,
 ) -> Figure:
-    """Maps of ``metric`` over ``x`` and ``y``, one panel per value of ``panels``.
-
-    Failed points show grey. A sample's points are drawn coloured by the metric, one panel
-    per third of the ``panels`` parameter's range.
+    """Maps of ``metric`` over ``x`` and ``y``, one panel per value of ``panels`` (failed
+    points grey); a sample's points coloured by the metric, a panel per third of ``panels``.
 
     Parameters
     ----------
@@ -181,10 +180,9 @@ def _sample_maps(
 def sensitivity(ds: xr.Dataset, metric: str) -> list[tuple[str, float]]:
     """Rank the swept numeric parameters by their effect on ``metric``, largest first.
 
-    For a sample: Spearman's rank correlation between each parameter and the metric over
-    the points that ran (a monotone effect, in [-1, 1]). For a grid: the spread (max - min)
-    of the main effect, the metric averaged over every other dimension, in the metric's
-    unit.
+    For a sample: Spearman's rank correlation of each parameter with the metric over the
+    points that ran, in [-1, 1]. For a grid: the spread (max - min) of the main effect
+    (the metric averaged over every other dimension), in the metric's unit.
 
     Parameters
     ----------

@@ -1,10 +1,7 @@
-"""Run a sweep: chunks of points as tasks, in this process or on Dask, each chunk written to
-the store as it finishes.
+"""Run a sweep: chunks of points as tasks, in this process or on Dask.
 
-The calling process (the *driver*) makes the store and writes each chunk's block when its
-task returns, so workers need no access to the store and a cluster needs no shared file
-system. On Dask at most a few tasks per worker are in flight; the rest are submitted as
-others finish, so a sweep of 1e6 points holds only a window of its points in memory.
+The calling process writes each chunk to the store as its task returns, so workers need
+no shared file system; on Dask a window of a few tasks per worker is in flight.
 """
 
 from __future__ import annotations
@@ -34,13 +31,10 @@ if TYPE_CHECKING:
     import xarray as xr
     import zarr
 
-__all__ = ["CLUSTER_START_S", "SweepWarning", "run_sweep"]
-
 logger = logging.getLogger("mudrft.sweep")
 
-#: What a local cluster costs before it computes: starting its worker processes, importing
-#: mudrft in them, their first points, and closing it [s]: 4.2-5.7 s for two workers on two
-#: shared cores (``benchmarks/bench_sweep.py --startup``, ``cluster_cost_s``; docs/guide/sweep.md).
+#: What starting, warming and closing a local cluster costs [s] (4.2-5.7 s for two workers
+#: on two cores: ``benchmarks/bench_sweep.py --startup``).
 CLUSTER_START_S = 5.0
 
 
@@ -67,9 +61,7 @@ _MAIN_GUARD = (
 
 
 def _check_not_bootstrapping() -> None:
-    """Refuse a sweep started while a spawned worker imports its parent's main script (an
-    unguarded script would start the sweep again in every worker); multiprocessing marks
-    that phase with ``current_process()._inheriting``."""
+    """Refuse a sweep started while a spawned worker imports its parent's main script."""
     if getattr(multiprocessing.current_process(), "_inheriting", False):
         raise MudrftError(
             "mudrft.sweep was called while a new worker process was importing the script "
@@ -123,13 +115,9 @@ def _run_serial(
     *,
     cpus: int | None = None,
 ) -> list[int]:
-    """Run ``pending`` chunks here, in order; return those left to a cluster.
-
-    With ``cpus``, stop once the points left would take longer serially than a local
-    cluster of ``cpus`` workers takes to start and compute them: the time left at the last
-    chunk's rate is over ``CLUSTER_START_S * cpus / (cpus - 1)``. The first chunk, which
-    pays the process's warm-up, does not count.
-    """
+    """Run ``pending`` chunks here, in order; return those left to a cluster: with
+    ``cpus``, once the time left at the last chunk's rate (not the first's, which warms
+    up) is over ``CLUSTER_START_S * cpus / (cpus - 1)``."""
     for k, i in enumerate(pending):
         result = evaluate_chunk(context, spec.chunk_points(i))
         done(i, result)
@@ -193,52 +181,42 @@ def run_sweep(
 ) -> xr.Dataset:
     """Run a design sweep and return its labelled results (also ``mudrft.sweep(...)``).
 
+    With none of ``client``, ``scheduler`` and ``workers``, chunks run in this process
+    until the points left would take longer than a local cluster's start-up
+    (:data:`CLUSTER_START_S`); the rest run on a local cluster of one worker per CPU. A
+    script that may start one calls the sweep under ``if __name__ == "__main__":``.
+
     Parameters
     ----------
     spec : path-like, dict or SweepSpec
         The spec: a TOML file, a dict of the same shape, or :func:`load_spec`'s result.
     store : path-like, zarr store or None, keyword-only
-        Where results are written chunk by chunk (a ``.zarr`` directory). None keeps them
-        in memory (nothing to resume).
+        Where results are written chunk by chunk (a ``.zarr`` directory); None: in memory.
     client : distributed.Client or None, keyword-only
-        Run the tasks on this client (it is left open).
+        Run the tasks on this client (left open).
     scheduler : str or None, keyword-only
-        Address of a running Dask scheduler (``"tcp://host:8786"``), or ``"serial"`` to
-        run every chunk in this process without Dask.
+        A Dask scheduler's address (``"tcp://host:8786"``), or ``"serial"``: in this process.
     workers : int or None, keyword-only
-        Run on a local cluster of this many worker processes (one thread each).
-    resume : bool, keyword-only
-        Continue an existing store made from the same spec, computing only the chunks it
-        lacks and those found damaged (a missing store starts a new sweep).
-    overwrite : bool, keyword-only
-        Replace an existing store (only a mudrft sweep store is ever removed).
+        Run on a local cluster of this many worker processes.
+    resume, overwrite : bool, keyword-only
+        Continue a store made from the same spec, computing only the chunks it lacks or
+        has damaged; or replace it (only a mudrft sweep store is ever removed).
     progress : bool or callable, keyword-only
-        ``True`` logs a progress bar through the ``mudrft`` logger; a callable is called
-        with the fraction of points done.
+        ``True`` logs progress through the ``mudrft`` logger; a callable gets the fraction.
 
     Returns
     -------
     xarray.Dataset
         One dimension per swept parameter (or ``point`` for a sample), one variable per
-        metric, ``error``; units, the spec, the parameter sources and ``failed_points`` in
-        the attributes (:mod:`mudrft.sweep.store`). A point that raised has NaN metrics and
-        its ``error``, and is warned about (:class:`SweepWarning`).
+        metric, and ``error``: NaN metrics and the error where a point failed (warned
+        about, :class:`SweepWarning`); units, the spec and ``failed_points`` in the attributes.
 
     Raises
     ------
     MudrftError
-        For a bad spec, an existing store without ``resume``/``overwrite``, a store made
-        from another spec or whose metadata is gone, a missing optional package
-        (``pip install 'mudrft[sweep]'``), or a local cluster whose workers do not start.
-
-    Notes
-    -----
-    With none of ``client``, ``scheduler`` and ``workers``, chunks run in this process
-    until the points left would take longer than a local cluster's start-up
-    (:data:`CLUSTER_START_S`) would cost; the rest then run on a local cluster of one
-    worker per CPU (never with one CPU). A sweep of a few hundred closed-form gait points
-    thus starts no cluster. A script that may start one calls the sweep under
-    ``if __name__ == "__main__":`` (the workers import it).
+        For a bad spec or option, an existing store without ``resume`` or ``overwrite``, a
+        store of another spec or without its metadata, a missing optional package, or a
+        local cluster whose workers do not start.
     """
     _check_not_bootstrapping()
     spec = load_spec(spec)

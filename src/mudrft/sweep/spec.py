@@ -1,8 +1,5 @@
-"""The sweep spec: a TOML file (or a dict of the same shape) read into dataclasses.
-
-Every mistake is an error naming the key, before anything runs: an unknown section, key,
-parameter or metric, a value of the wrong type or outside its range, an empty range.
-``examples/sweep_example.toml`` shows every option.
+"""The sweep spec: a TOML file (or a dict of the same shape) read into dataclasses, every
+mistake an error naming the key before anything runs (``examples/sweep_example.toml``).
 
 >>> spec = load_spec({"foot": {"kind": "flat", "width": [0.05, 0.065]},
 ...                   "mud": {"water_content": {"low": 0.25, "high": 0.45, "num": 3}}})
@@ -22,7 +19,7 @@ import typing
 from collections.abc import Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal, TypeVar
+from typing import TYPE_CHECKING, Any, Literal, TypeVar, cast
 
 import numpy as np
 
@@ -35,8 +32,6 @@ from .design import Axis, Design
 
 if TYPE_CHECKING:
     from .evaluate import SweepContext
-
-__all__ = ["DESIGNS", "MAX_POINTS", "SweepSpec", "load_spec"]
 
 #: The designs of a sweep.
 DESIGNS = ("grid", "lhs", "sobol")
@@ -170,13 +165,10 @@ class SweepSpec(Design):
 
     def context(self) -> SweepContext:
         """What a task needs besides its points: plain data (and the mesh), no Dask."""
-        return {
-            "fixed": dict(self.fixed),
-            "motion": self.motion,
-            "metrics": self.metrics,
-            "mud_sets": self.mud_sets,
-            "mesh": self.mesh,
-        }
+        names = ("motion", "metrics", "mud_sets", "mesh")
+        return cast(
+            "SweepContext", {"fixed": dict(self.fixed)} | {k: getattr(self, k) for k in names}
+        )
 
     def parameter(self, name: str) -> Parameter:
         """The catalog entry of a parameter of this spec (a motion's own for motion names)."""
@@ -201,14 +193,8 @@ class SweepSpec(Design):
 
 def load_spec(spec: str | os.PathLike[str] | Mapping[str, Any] | SweepSpec) -> SweepSpec:
     """Read and check a sweep spec: a TOML file, a dict of the same shape
-    (``{"foot": {...}, "mud": {...}, ...}``) or a loaded spec (returned as is).
-
-    Raises
-    ------
-    MudrftError
-        For an unreadable or malformed file, an unknown section, key, parameter or metric,
-        a value of the wrong type or outside its range, an empty range, ... naming the key.
-    """
+    (``{"foot": {...}, "mud": {...}, ...}``) or a loaded spec (returned as is); a
+    :class:`~mudrft.MudrftError` naming the key for any mistake."""
     if isinstance(spec, SweepSpec):
         return spec
     if isinstance(spec, Mapping):

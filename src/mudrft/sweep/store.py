@@ -1,18 +1,11 @@
 """The result store: a labelled Dataset in Zarr v3, written a chunk at a time, verified
 when read.
 
-Layout (format 2): the result's dimensions and coordinates (README); one float64 variable
-per metric, ``error``, ``done`` (uint8, 1 once the point's chunk is stored) and
-``checksum`` (uint32 along ``chunk``: the CRC-32 of each chunk's metrics and errors);
-``units`` and ``long_name`` everywhere; the dataset's attributes hold the mudrft version,
-the spec and its identity hash, the design, the parameter sources, the names of every
-array (``arrays``, written last), ``complete`` and ``failed_points``.
-
-A chunk's metrics and errors are written first, then its checksum, then ``done``, each
-chunk file atomically (zarr-python), so a kill leaves every chunk whole or not done. A
-chunk ``done`` vouches for is trusted only when it decodes and matches its checksum; one
-overwritten, truncated, with bytes flipped or removed is *damaged*: :func:`load_result`
-names it, and a resumed sweep computes it again.
+Besides the metrics and ``error``, ``done`` (1 once a point's chunk is stored) and
+``checksum`` (the CRC-32 of each chunk's metrics and errors) are written after each
+chunk. A chunk ``done`` vouches for is trusted only when it decodes and matches its
+checksum; else it is *damaged*: :func:`load_result` names it, and a resumed sweep
+computes it again.
 """
 
 from __future__ import annotations
@@ -41,8 +34,6 @@ if TYPE_CHECKING:
 
 #: Where a sweep is stored: a ``.zarr`` directory path or a zarr store object.
 StoreLike: TypeAlias = "str | os.PathLike[str] | zarr.abc.store.Store"
-
-__all__ = ["FORMAT", "chunk_status", "create_store", "load_result", "open_store", "write_chunk"]
 
 #: Version of the store layout (attribute ``mudrft_sweep_format``); 2 added the checksums.
 FORMAT = 2
@@ -128,11 +119,8 @@ def _root_attrs(path: Path) -> dict[str, Any] | None:
 
 
 def create_store(store: StoreLike, spec: SweepSpec, *, overwrite: bool = False) -> zarr.Group:
-    """Create an empty store for ``spec`` (metadata and coordinates only); return its group.
-
-    ``store`` is a directory path (``.zarr``) or a zarr store object; an existing path is
-    an error unless ``overwrite``, and is removed only when it is a mudrft sweep store.
-    """
+    """Create an empty store for ``spec`` (a ``.zarr`` path or a zarr store); its group.
+    An existing path is replaced only with ``overwrite`` and only if it is a sweep store."""
     import zarr
 
     if isinstance(store, str | os.PathLike):
@@ -260,7 +248,7 @@ def write_chunk(group: zarr.Group, spec: SweepSpec, i: int, result: ChunkResult)
 
 
 def _read(group: zarr.Group) -> tuple[dict[str, np.ndarray], list[tuple[slice, ...]], dict[int, str]]:  # fmt: skip
-    """The metrics, errors, done flags and checksums, and the chunks that do not decode."""
+    """Every array, and the chunks that do not decode."""
     names = [*group.attrs["metrics"], "error", "done"]  # type: ignore[misc]
     first = _array(group, names[0])
     blocks = _blocks(first.shape, first.chunks)
@@ -285,18 +273,8 @@ def _read(group: zarr.Group) -> tuple[dict[str, np.ndarray], list[tuple[slice, .
 
 
 def chunk_status(group: zarr.Group) -> tuple[np.ndarray, dict[int, str], dict[str, np.ndarray]]:
-    """Which chunks are stored whole, which are damaged (and why), and the data read.
-
-    Returns
-    -------
-    done : ndarray of bool, shape (chunks,)
-        Chunks whose ``done`` is set and whose metrics and errors match their checksum.
-    damaged : dict
-        Chunk number -> what is wrong: it does not decode, it does not match its checksum
-        (changed or removed), or ``done`` is partly set or unset in a completed store.
-    data : dict
-        Every metric, ``error``, ``done`` and ``checksum`` as read (fill values where damaged).
-    """
+    """The chunks stored whole (bool, shape (chunks,)), the damaged ones (chunk -> why)
+    and every array as read (fill values where damaged)."""
     data, blocks, damaged = _read(group)
     complete = bool(group.attrs.get("complete"))
     done = np.zeros(len(blocks), dtype=bool)
@@ -327,7 +305,7 @@ def _points(ds: xr.Dataset, sl: tuple[slice, ...]) -> str:
 def load_result(
     store: StoreLike, *, keep_done: bool = False, on_damage: str = "raise"
 ) -> xr.Dataset:
-    """The sweep's Dataset from a store (loaded into memory, every chunk verified).
+    """The sweep's Dataset from a store, loaded into memory, every chunk verified.
 
     Parameters
     ----------
@@ -336,15 +314,15 @@ def load_result(
     keep_done : bool, keyword-only
         Keep the ``done`` variable (default: drop it when the sweep is complete).
     on_damage : {"raise", "mask"}, keyword-only
-        A damaged chunk (see :func:`chunk_status`) raises, or is returned masked: NaN
-        metrics, ``done`` 0 and an ``error`` saying it is damaged (attribute
-        ``damaged_chunks``). ``resume=True`` recomputes damaged chunks.
+        A damaged chunk (one that does not decode or match its checksum) raises, naming
+        it and its points, or is returned masked: NaN metrics, ``done`` 0 and an
+        ``error`` saying so (attribute ``damaged_chunks``).
 
     Raises
     ------
     MudrftError
         For a path that is not a sweep store, a store of another format or whose metadata
-        is gone, and (``on_damage="raise"``) damaged chunks, naming them and their points.
+        is gone, and damaged chunks (``on_damage="raise"``).
     """
     import xarray as xr
 
