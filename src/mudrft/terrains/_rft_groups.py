@@ -22,8 +22,7 @@ from .._validation import (
     set_number,
 )
 from ..feet.base import Foot, SurfaceElements
-from ._common import mean_stress, projected, tip_depth, tip_position
-from .base import TerrainOutput, check_motion
+from .base import TerrainOutput, check_motion, mean_stress, projected, tip_depth, tip_position
 
 __all__ = ["FacetRFT", "RFTState", "check_facets", "unit_vectors"]
 

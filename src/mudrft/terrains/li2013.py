@@ -1,12 +1,8 @@
 r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media.
 
-The stress per unit depth on a small plate element of a granular medium is
-:math:`\zeta\,\alpha^{fit}(\beta,\gamma)` (:class:`FourierCoefficients`, :func:`li2013_alpha`),
-with the *generic* dimensionless fit :data:`LI2013_GENERIC` normalised to
-:math:`\alpha_z(0,\pi/2)=1` and :math:`\zeta` [N/m^3] the medium's scale
-(:data:`GRANULAR_MEDIA`). Li et al. print stresses per depth in N/cm^3; mudrft holds
-N/m^3 (decision D50 in ``docs/model.md``). :mod:`~mudrft.terrains.granular_rft`
-integrates the fit over a foot.
+The stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)`:
+the generic fit :data:`LI2013_GENERIC`, normalised to :math:`\alpha_z(0,\pi/2)=1`, times the
+medium's scale :math:`\zeta` [N/m^3] (:data:`GRANULAR_MEDIA`; Li et al. print N/cm^3, D50).
 """
 
 from __future__ import annotations
@@ -39,10 +35,9 @@ class FourierCoefficients:
         \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
                     + D_{10}\sin 2\beta,
 
-    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle of the element (0: horizontal),
-    :math:`\gamma\in[-\pi/2,\pi/2]` the intrusion angle of its velocity below the
-    horizontal (:math:`\pi/2`: straight down). The units are those of the fit (the
-    generic fit is dimensionless, normalised to :math:`\alpha_z(0,\pi/2)=1`).
+    with :math:`\beta\in[-\pi/2,\pi/2]` the element's attack angle (0: horizontal) and
+    :math:`\gamma\in[-\pi/2,\pi/2]` its velocity's angle below the horizontal, in the
+    units of the fit.
     """
 
     A00: float
@@ -57,9 +52,7 @@ class FourierCoefficients:
 
     @property
     def plate(self) -> float:
-        r""":math:`\alpha_z(0,\pi/2)=A_{00}+A_{10}+B_{01}+B_{11}+B_{-11}`, the vertical stress
-        per unit depth of a horizontal plate pushed straight down, in the units of the fit
-        (1 for the generic fit).
+        r""":math:`\alpha_z(0,\pi/2)`, a horizontal plate pushed straight down (units of the fit).
 
         Examples
         --------

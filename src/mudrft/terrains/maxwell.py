@@ -44,8 +44,7 @@ from .._validation import (
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from ._common import area_z, kinematics, tip_depth, tip_position
-from .base import TerrainOutput
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
