@@ -109,10 +109,8 @@ def step(
         Constants of the model (SI); array fields broadcast with the state.
     state : ChannelState
         State at the start of the step.
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step [1/s].
+    gamma, gamma_dot : array_like
+        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
     dt : float or array_like
         Step length [s], > 0.
     seal : array_like, keyword-only
@@ -126,10 +124,8 @@ def step(
 
     Returns
     -------
-    state : ChannelState
-        State at the end of the step.
-    stress : ChannelStress
-        Stresses at the end of the step [Pa].
+    tuple of ChannelState, ChannelStress
+        State and stresses [Pa] at the end of the step.
 
     Notes
     -----

@@ -25,15 +25,12 @@ def xi_exact(
 
     Parameters
     ----------
-    t : array_like
-        Time since the start of the constant-rate motion [s].
-    gamma_dot : float
-        Rate [1/s].
+    t, gamma_dot : array_like
+        Time since the start of the constant-rate motion [s], and the rate [1/s].
     params : MudParameters
         Model constants.
     xi0 : float, keyword-only
-        Structure at t = 0 [-] (the paper uses 0).
-
+        Structure at t = 0 [-].
     """
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
     xi_ss = params.k_a * tau
@@ -61,22 +58,14 @@ def thixotropic_exact(
 
     Parameters
     ----------
-    t : array_like
-        Time since the start of motion [s].
-    gamma_dot : float
-        Constant rate [1/s].
+    t, gamma_dot : array_like
+        Time since the start of motion [s], and the constant rate [1/s].
     params : MudParameters
         Model constants.
     xi0 : float, keyword-only
         Initial structure [-].
     acceleration : bool, keyword-only
         Include the acceleration term.
-
-    Returns
-    -------
-    array
-        :math:`\sigma_{th}(t)` [Pa].
-
     """
     t = np.asarray(t, dtype=float)
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
@@ -101,10 +90,8 @@ def thixotropic_approx(
 
     Parameters
     ----------
-    t : array_like
-        Time since the start of motion [s].
-    gamma_dot : float
-        Constant rate [1/s].
+    t, gamma_dot : array_like
+        Time since the start of motion [s], and the constant rate [1/s].
     params : MudParameters
         Model constants.
 
@@ -114,7 +101,6 @@ def thixotropic_approx(
        :label: chen2026-eq-9
 
        \sigma_{th}=\left(1-e^{-t/\lambda}\right)\sigma_{th,ss} \tag{9}
-
     """
     t = np.asarray(t, dtype=float)
     return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
@@ -133,10 +119,8 @@ def suction_closed_form(
 
     Parameters
     ----------
-    dt : array_like
-        Time since retraction began, :math:`\Delta t=t-t_w` [s].
-    phi : float
-        Constant sealing state in [0, 1] [-].
+    dt, phi : array_like
+        Time since the retraction began, :math:`t-t_w` [s], and the sealing state [-].
     params : MudParameters
         Model constants.
     sigma_s0 : float, keyword-only
@@ -148,7 +132,6 @@ def suction_closed_form(
        :label: chen2026-eq-10
 
        \sigma_s=\left(1-e^{-a\Delta t}\right)\sigma_{s,ss},\qquad \Delta t=t-t_w \tag{10}
-
     """
     a = laws.suction_rate(phi, params.tau_build, params.tau_leak)
     ss = laws.suction_steady(phi, params.tau_build, params.tau_leak, params.sigma_y)

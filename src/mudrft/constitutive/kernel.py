@@ -96,14 +96,9 @@ def relaxation_convolution(
     lam, tau : array_like
         The two relaxation times [s], > 0.
     e_lam, e_tau : array_like
-        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-] (the caller has them).
-    xp : module, keyword-only
+        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-].
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    array_like
-        The factor [-], in [0, 1].
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
@@ -134,25 +129,21 @@ def channel_update(
         Model constants (SI), from :func:`channel_constants`.
     state : ChannelState
         State at the start of the step.
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step, held constant [1/s].
+    gamma, gamma_dot : array_like
+        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
     dt : float or array_like
         Step length [s], > 0.
     seal : array_like
-        Factor in [0, 1] multiplying the sealing state [-] (1: the foot can seal).
+        Factor in [0, 1] multiplying the sealing state [-].
     kappa : float
         1.0 keeps the acceleration term of :math:`f_\xi`, 0.0 drops it [-].
-    xp : module, keyword-only
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
 
     Returns
     -------
-    state : ChannelState
-        State at the end of the step.
-    stress : ChannelStress
-        Stresses at the end of the step [Pa].
+    tuple of ChannelState, ChannelStress
+        State and stresses [Pa] at the end of the step.
     """
     gw_new, direction, r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)

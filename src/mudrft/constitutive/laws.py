@@ -42,12 +42,8 @@ def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = n
 
     Parameters
     ----------
-    gamma : array_like
-        Dimensionless displacement [-].
-    alpha : array_like
-        Stiffness [Pa].
-    n : array_like
-        Exponent in (0, 1] [-].
+    gamma, alpha, n : array_like
+        Dimensionless displacement [-], stiffness [Pa], exponent in (0, 1] [-].
 
     Notes
     -----
@@ -74,10 +70,8 @@ def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Dimensionless rate along the intrusion direction [1/s].
-    nu : array_like
-        Switch width [1/s].
+    gamma_dot, nu : array_like
+        Dimensionless rate along the intrusion direction, and switch width [1/s].
 
     Notes
     -----
@@ -103,10 +97,8 @@ def sealing_printed(
 
     Parameters
     ----------
-    gamma, gamma0 : array_like
-        Dimensionless displacement and its value at the start of retraction [-].
-    epsilon : array_like
-        Width [-].
+    gamma, gamma0, epsilon : array_like
+        Displacement, its value at the start of retraction, and width [-].
     """
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
@@ -120,10 +112,8 @@ def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArra
 
     Parameters
     ----------
-    retraction : array_like
-        Dimensionless retraction :math:`r=|\gamma_w|-|\gamma|` since the deepest point [-].
-    epsilon : array_like
-        Width [-].
+    retraction, epsilon : array_like
+        Retraction :math:`r=|\gamma_w|-|\gamma|` since the deepest point, and width [-].
 
     Examples
     --------
@@ -138,10 +128,8 @@ def bed_contact(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> Xp
 
     Parameters
     ----------
-    retraction : array_like
-        Dimensionless retraction :math:`r` [-].
-    epsilon : array_like
-        Width [-].
+    retraction, epsilon : array_like
+        Retraction :math:`r` and width [-].
     """
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
@@ -151,10 +139,8 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> X
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    gamma_dot_c : array_like
-        Critical rate [1/s].
+    gamma_dot, gamma_dot_c : array_like
+        Rate and critical rate [1/s].
 
     Notes
     -----
@@ -177,12 +163,8 @@ def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    k_a : array_like
-        Aging rate [1/s].
-    k_r : array_like
-        Rejuvenation coefficient [-].
+    gamma_dot, k_a, k_r : array_like
+        Rate [1/s], aging rate [1/s], rejuvenation coefficient [-].
     """
     return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
 
@@ -198,12 +180,8 @@ def thixotropic_steady(
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    eta_inf, eta_m : array_like
-        Viscosities [Pa s].
-    gamma_dot_c : array_like
-        Critical rate [1/s].
+    gamma_dot, eta_inf, eta_m, gamma_dot_c : array_like
+        Rate [1/s], viscosities [Pa s], critical rate [1/s].
 
     Notes
     -----
@@ -263,14 +241,8 @@ def suction_steady_at_rate(
 
     Parameters
     ----------
-    phi : array_like
-        Sealing state [-].
-    rate : array_like
-        :math:`a` [1/s].
-    tau_build : array_like
-        Build-up time [s].
-    sigma_y : array_like
-        Yield stress [Pa].
+    phi, rate, tau_build, sigma_y : array_like
+        Sealing state [-], :math:`a` [1/s], build-up time [s], yield stress [Pa].
 
     Examples
     --------

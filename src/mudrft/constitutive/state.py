@@ -16,25 +16,21 @@ __all__ = ["ChannelState", "ChannelStress", "initial_state"]
 
 
 class ChannelState(NamedTuple):
-    """State of a stress channel after a step.
+    r"""State of a stress channel after a step.
 
     Attributes
     ----------
-    gamma : array
-        Dimensionless displacement at the end of the last step [-].
-    gamma_w : array
-        Deepest displacement of the current intrusion (retraction starts from it) [-].
+    gamma, gamma_w : array
+        Dimensionless displacement, and the deepest of the current intrusion [-].
     xi : array
         Structure parameter in [0, 1] [-].
     s_th : array
-        Lagged part of the thixotropic stress [Pa]:
-        :math:`\\sigma_{th}=\\kappa\\eta_\\infty\\dot\\gamma+s_{th}` (decision D6).
+        Lagged thixotropic stress [Pa]: :math:`\sigma_{th}=\kappa\eta_\infty\dot\gamma+s_{th}` (D6).
     sigma_s : array
-        Suction state of eq. (5) [Pa] (<= 0 for a downward intrusion).
-    clock : array
-        Time since first contact [s], the :math:`t` of eq. (9) (decision D15).
-    clock_w : array
-        Time since the current retraction began, :math:`t-t_w` of eq. (10) [s]; else 0.
+        Suction state of eq. (5) [Pa].
+    clock, clock_w : array
+        Time since first contact, :math:`t` of eq. (9), and since the retraction began,
+        :math:`t-t_w` of eq. (10) [s] (0 when not retracting).
     """
 
     gamma: XpArray
@@ -47,19 +43,9 @@ class ChannelState(NamedTuple):
 
 
 class ChannelStress(NamedTuple):
-    """Stresses of a channel at the end of a step, all in Pa.
-
-    Attributes
-    ----------
-    total : array
-        :math:`\\sigma_{tot}` of eq. (1).
-    elastic : array
-        Immediate resistance :math:`\\sigma_b` times the bed-contact factor.
-    thixotropic : array
-        :math:`\\sigma_{th}`.
-    suction : array
-        :math:`H_\\nu\\sigma_s`, the suction as it enters eq. (1).
-    """
+    r"""Stresses of a channel at the end of a step [Pa]: the ``total`` of eq. (1), the
+    ``elastic`` :math:`\sigma_b` times the bed contact, the ``thixotropic``
+    :math:`\sigma_{th}` and the ``suction`` :math:`H_\nu\sigma_s`."""
 
     total: XpArray
     elastic: XpArray

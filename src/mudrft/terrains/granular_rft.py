@@ -228,21 +228,20 @@ def rft_forces(
     per_element: bool = False,
     leading_width: float = LEADING_WIDTH,
 ) -> np.ndarray:
-    r"""Granular RFT force on a set of surface elements moving in one direction.
+    r"""Granular RFT force on surface elements moving in one direction.
 
     Parameters
     ----------
     normals : array_like, shape (m, 3)
-        Outward unit normals of the elements [-].
+        Outward normals of the elements [-].
     depths : array_like, shape (..., m)
-        Depth of each element's centroid below the surface [m]; elements with depth
-        <= 0 are out of the medium.
+        Depth of each element's centroid below the surface [m] (<= 0: out of the medium).
     areas : array_like, shape (m,)
         Element areas [m^2].
     direction : array_like, shape (..., 3)
-        Direction of motion [-] (normalised here; RFT is rate-independent).
+        Direction of motion [-].
     zeta : float, keyword-only
-        Scale of the medium [N/m^3] (the generic fit is dimensionless).
+        Scale of the medium [N/m^3].
     coefficients : FourierCoefficients, keyword-only
         2D fit of :math:`\alpha_{x,z}`.
     extension : {"treers2021", "planar"}, keyword-only
@@ -274,9 +273,8 @@ def rft_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT(FacetRFT):
-    r"""Granular resistive force theory (Li et al. 2013) as a terrain, for any foot.
-
-    Integrates :func:`rft_forces` over the foot's submerged surface elements.
+    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` over the foot's
+    submerged surface elements.
 
     Parameters
     ----------
@@ -324,7 +322,6 @@ class GranularRFT(FacetRFT):
     name: str = "granular-rft"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "zeta", check_positive("zeta", self.zeta, unit="N/m^3"))
         self._check_options(FourierCoefficients)
         check_choice("extension", self.extension, ("treers2021", "planar"))

@@ -1,9 +1,7 @@
 r"""3D resistive force theory of Agarwal, Goldman & Kamrin (PNAS 2023) as a terrain.
 
-Unlike :mod:`~mudrft.terrains.granular_rft` (Li et al.'s 2D fit carried to 3D by Treers
-et al.'s weights), 3D-RFT is fitted in 3D. A submerged surface element of outward unit
-normal :math:`\hat n` moving along the unit direction :math:`\hat v` at depth :math:`|z|`
-carries the force :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
+A submerged element of outward unit normal :math:`\hat n` moving along :math:`\hat v` at
+depth :math:`|z|` carries :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
 
 .. math::
 
@@ -134,16 +132,11 @@ def agarwal_xi(
     Parameters
     ----------
     rho_c : array_like
-        Density of the medium [kg/m^3], > 0.
+        Bulk density of the medium [kg/m^3].
     mu_int : array_like
-        Internal friction coefficient of the medium [-] (tangent of the friction angle), > 0.
+        Internal friction coefficient [-].
     gravity : float, keyword-only
         Gravitational acceleration [m/s^2].
-
-    Returns
-    -------
-    ndarray
-        :math:`\xi_n` [N/m^3], the scale of the generic response (decision D92).
 
     Examples
     --------
@@ -269,20 +262,20 @@ def rft3d_alpha(
     Parameters
     ----------
     normals : array_like, shape (m, 3)
-        Outward normals of the elements [-] (normalised here).
+        Outward normals of the elements [-].
     direction : array_like, shape (..., 3)
-        Direction of motion [-] (normalised here; 3D-RFT is rate-independent).
+        Direction of motion [-].
     mu_surf : float or None, keyword-only
         Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
     coefficients : PolynomialCoefficients, keyword-only
-        The fit (default :data:`AGARWAL2023`).
+        The fit.
     wall_width : float, keyword-only
-        Blend width across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+        Blend width across vertical walls in :math:`n_z` [-] (D93).
 
     Returns
     -------
     ndarray, shape (..., m, 3)
-        Force per unit :math:`\xi_n`, depth and area on each element, world frame [-].
+        Force per unit :math:`\xi_n`, depth and area, world frame [-].
 
     Examples
     --------
@@ -327,21 +320,13 @@ def rft3d_forces(
     leading_width: float = LEADING_WIDTH,
     wall_width: float = WALL_WIDTH,
 ) -> NDArray[np.float64]:
-    r"""3D-RFT force on surface elements moving in one direction [N].
-
-    :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on each element with centroid depth
-    :math:`|z|>0`, :math:`w` its leading weight (0 on trailing elements).
+    r"""3D-RFT force [N] :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on elements moving
+    in one direction, :math:`w` their leading weight.
 
     Parameters
     ----------
-    normals : array_like, shape (m, 3)
-        Outward normals [-].
-    depths : array_like, shape (..., m)
-        Depth of each centroid below the surface [m]; <= 0: out of the medium.
-    areas : array_like, shape (m,)
-        Element areas [m^2].
-    direction : array_like, shape (..., 3)
-        Direction of motion [-].
+    normals, depths, areas, direction : array_like
+        As :func:`~mudrft.terrains.granular_rft.rft_forces`.
     xi_n : float, keyword-only
         Material constant [N/m^3] (:func:`agarwal_xi`).
     mu_surf : float, keyword-only
@@ -353,11 +338,6 @@ def rft3d_forces(
     leading_width, wall_width : float, keyword-only
         Ramp widths [-] of :func:`~mudrft.terrains.granular_rft.leading_weight` (D53) and of
         the wall blend (D93).
-
-    Returns
-    -------
-    ndarray, shape (..., 3) or (..., m, 3)
-        Force of the medium on the elements, world frame [N].
 
     Examples
     --------
@@ -378,9 +358,8 @@ def rft3d_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT3D(FacetRFT):
-    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain, for any foot with elements.
-
-    Integrates :func:`rft3d_forces` over the foot's submerged surface elements.
+    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain: :func:`rft3d_forces` over the
+    foot's submerged surface elements.
 
     Parameters
     ----------
@@ -392,15 +371,11 @@ class GranularRFT3D(FacetRFT):
         Intruder-surface friction coefficient of the cap [-] (D95); (2, 90] warns as an
         angle in degrees; 1e3 turns the cap off.
     gravity : float
-        Gravitational acceleration [m/s^2] in :math:`\xi_n`.
+        Gravitational acceleration [m/s^2].
     coefficients : PolynomialCoefficients
         The cubic fits (default :data:`AGARWAL2023`, D91).
-    rest_speed : float
-        Below this speed [m/s] the last direction of motion is kept (as D52).
-    leading_width : float
-        Width of the leading-facet ramp [-] (D53); 0: the sharp rule.
-    wall_width : float
-        Width of the blend across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+    rest_speed, leading_width, wall_width : float
+        As :class:`~mudrft.terrains.GranularRFT` [m/s], [-]; the wall blend's width [-] (D93).
     name : str
         Label in reports.
 
@@ -428,7 +403,6 @@ class GranularRFT3D(FacetRFT):
     name: str = "granular-rft3d"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "rho_c", check_positive("rho_c", self.rho_c, unit="kg/m^3"))
         try:
             _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
