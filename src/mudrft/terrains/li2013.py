@@ -94,17 +94,14 @@ LI2013_GENERIC = FourierCoefficients(
     D10=0.088,
 )
 
-#: Scale zeta [N/m^3] of named granular media: alpha_z(0, pi/2) of Li et al.'s (2013)
-#: per-medium Fourier fits for loosely (LP) and closely (CP) packed poppy seeds,
-#: 0.254 and 0.464 N/cm^3 (decision D50).
+#: Scale zeta [N/m^3] of loosely and closely packed poppy seeds, alpha_z(0, pi/2) of Li et
+#: al.'s (2013) per-medium fits (decision D50).
 GRANULAR_MEDIA: dict[str, float] = {"poppy-lp": 0.254e6, "poppy-cp": 0.464e6}
 
 #: Default scale: loosely packed poppy seeds [N/m^3].
 DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
 
-#: Plausible scales of a granular medium [N/m^3] (1e-3 to 100 N/cm^3; Li et al.'s media lie
-#: near 0.1-1 N/cm^3). A zeta below it is most likely a value in N/cm^3, as RFT papers
-#: print it, given as N/m^3.
+#: Plausible scales of a granular medium [N/m^3]; below, most likely N/cm^3 read as N/m^3.
 PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
 
 
@@ -116,19 +113,17 @@ def li2013_alpha(
     Parameters
     ----------
     beta : array_like
-        Attack angle of the surface element [rad] (0: horizontal plate; the fit is
-        :math:`\pi`-periodic in ``beta``).
+        Attack angle of the element [rad] (0: horizontal plate).
     gamma : array_like
-        Intrusion angle of the velocity below the horizontal [rad], in
-        :math:`[-\pi/2, \pi/2]` (:math:`\pi/2`: straight down, :math:`-\pi/2`: straight up).
+        Angle of the velocity below the horizontal [rad], in :math:`[-\pi/2, \pi/2]`.
     coefficients : FourierCoefficients, keyword-only
         The fit (default: the generic one, dimensionless).
 
     Returns
     -------
     (ndarray, ndarray)
-        :math:`\alpha_x` (positive: resists motion along the element's horizontal
-        direction) and :math:`\alpha_z` (positive: lift), in the units of the fit.
+        :math:`\alpha_x` (positive: resists the motion) and :math:`\alpha_z` (positive:
+        lift), in the units of the fit.
 
     Examples
     --------

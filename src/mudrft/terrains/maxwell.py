@@ -335,9 +335,9 @@ def fit_maxwell(
     Parameters
     ----------
     trajectory : Trajectory
-        Vertical plate motion (tip depth and velocity used).
+        Vertical plate motion.
     stress : array_like, shape (n,)
-        Measured (or modelled) vertical stress [Pa] at the trajectory's samples.
+        Vertical stress [Pa] at the trajectory's samples.
     characteristic_length : float, keyword-only
         Plate :math:`L_c` [m].
     initial : MaxwellMud or None, keyword-only
