@@ -19,7 +19,6 @@ from .._typing import Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_characteristic_length,
-    check_finite,
     number_in_range,
     positive_number,
 )
@@ -32,7 +31,7 @@ from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..constitutive.state import ChannelState
 from ..feet.base import Foot
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
-from .base import TerrainOutput, check_motion
+from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
     "MudChannels",
@@ -398,9 +397,7 @@ class MudTerrain:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> MudState:
         """Undisturbed mud under a foot whose tip is at ``position`` (3,) or (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (..., 3) [m], got shape {pos.shape}")
+        pos = tip_position(position)
         lc = self.length(foot)
         if pos.shape == (3,):
             x, y, z = (float(v) for v in pos)
