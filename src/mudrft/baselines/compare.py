@@ -21,7 +21,7 @@ from ..feet.base import Foot
 from ..io.atomic import atomic_write
 from ..parameters import Mud, paper_mud
 from ..terrains import MudTerrain, Terrain
-from ..terrains._common import projected
+from ..terrains.base import projected
 from ..terrains.granular_rft import GranularRFT
 from ..terrains.granular_rft3d import GranularRFT3D
 from ..terrains.linear import LinearStiffness

@@ -1,15 +1,8 @@
 r"""Contact with the mud: when a channel feels the mud, and from which state (decision D11).
 
-One rule, used by :func:`mudrft.simulate` (through :func:`mudrft.terrains.mud.mud_step`), by
-:func:`mudrft.plate_response` and by the forward model of :func:`mudrft.calibrate`:
-
-* a tip touches the mud when its depth is positive (:func:`in_contact`); at or above the
-  surface it feels no stress;
-* the mud's memory starts at first contact: a channel that was out of the mud before a step
-  starts that step from undisturbed mud (:func:`enter`), whatever it did in the air;
-* the mud sees the motion of a step that starts or ends in it (:func:`contact_rate`).
-
-The functions are element-wise (:mod:`mudrft._xp`): numpy, JAX and numba run them alike.
+A tip touches the mud at positive depth (:func:`in_contact`); a channel that was out of the
+mud starts its step from undisturbed mud (:func:`enter`); the mud sees the motion of a step
+that starts or ends in it (:func:`contact_rate`). Element-wise (:mod:`mudrft._xp`).
 """
 
 from __future__ import annotations
@@ -23,12 +16,7 @@ __all__ = ["contact_rate", "enter", "in_contact"]
 
 
 def in_contact(depth: XpArray) -> XpArray:
-    """Whether a tip at ``depth`` touches the mud: depth > 0 (positive into the mud).
-
-    Parameters
-    ----------
-    depth : array_like
-        Depth below the surface [m], or the dimensionless displacement ``depth / L_c`` [-].
+    """Whether a tip at ``depth`` [m] (or ``depth / L_c`` [-]) touches the mud: depth > 0.
 
     Examples
     --------
@@ -39,19 +27,7 @@ def in_contact(depth: XpArray) -> XpArray:
 
 
 def enter(state: ChannelState, fresh: XpArray, xi0: XpArray, xp: Namespace = np) -> ChannelState:
-    """The channel state, undisturbed mud where ``fresh`` (the tip was out of the mud).
-
-    Parameters
-    ----------
-    state : ChannelState
-        State at the start of the step.
-    fresh : array_like of bool
-        Where the tip was out of the mud before the step.
-    xi0 : float
-        Structure of undisturbed mud [-] (decision D3).
-    xp : module
-        Element-wise namespace (:mod:`mudrft._xp`).
-    """
+    """``state``, with undisturbed mud (structure ``xi0`` [-]) where ``fresh`` (bool)."""
     return ChannelState(
         gamma=xp.where(fresh, 0.0, state.gamma),
         gamma_w=xp.where(fresh, 0.0, state.gamma_w),

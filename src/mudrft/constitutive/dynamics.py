@@ -1,12 +1,8 @@
 r"""Time stepping of the mud constitutive model, validated: :func:`step` and :func:`run`.
 
-:func:`step` checks its inputs and calls :func:`mudrft.constitutive.kernel.channel_step`,
-the one definition of the update: the exact exponential solution of eqs. (3) and (5) over a
-step (``thixotropy="ode"``), or the paper's quasi-static closed forms (9)-(11)
-(``thixotropy="quasi-static"``, decision D15). :func:`evaluation` validates that choice.
-
-``state, stress = step(params, state, gamma, gamma_dot, dt)`` serves a time loop,
-a MuJoCo loop, a batch (arrays everywhere) and, with ``xp=jax.numpy``, a JAX scan.
+Both check their inputs and call :func:`mudrft.constitutive.kernel.channel_step`, the one
+definition of the update: the ODEs (3) and (5) stepped exactly (``thixotropy="ode"``) or the
+paper's closed forms (9)-(11) (``thixotropy="quasi-static"``, decision D15).
 """
 
 from __future__ import annotations
@@ -40,11 +36,9 @@ __all__ = [
     "step",
 ]
 
-#: Evaluations of the thixotropy and suction (decision D15): the ODEs (3) and (5) stepped
-#: exactly, or the paper's quasi-static closed forms (9)-(11).
+#: Evaluations of the thixotropy and suction (decision D15).
 THIXOTROPY = ("ode", "quasi-static")
-#: Clock of eq. (9) in the quasi-static evaluation: from first contact, or restarted when
-#: the retraction begins (decision D15).
+#: Clock of eq. (9) in the quasi-static evaluation: from first contact, or the retraction.
 CLOCKS = ("contact", "retraction")
 
 
@@ -56,20 +50,13 @@ def evaluation(
     Parameters
     ----------
     thixotropy : {"ode", "quasi-static"}
-        ``"ode"`` steps eqs. (3) and (5); ``"quasi-static"`` evaluates the paper's closed
-        forms (9)-(11) at the current rate and displacement (decision D15).
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
     clock : {"contact", "retraction"}
-        Quasi-static only: the clock of eq. (9) runs from first contact, or restarts when
-        the retraction begins.
+        Quasi-static only: the clock of eq. (9) runs from first contact, or from the
+        start of the retraction.
     acceleration : bool or None
-        ODE only: keep the acceleration term (decision D6); None means True for the ODE.
-        Eq. (9) drops the term, so True is refused with ``"quasi-static"``.
-
-    Returns
-    -------
-    tuple
-        ``quasi_static`` (bool), ``restart`` (bool) and ``kappa`` (1.0 or 0.0) for
-        :func:`mudrft.constitutive.kernel.channel_step`.
+        ODE only: keep the acceleration term (decision D6); None means True for the ODE
+        (eq. 9 drops it, so True is refused with ``"quasi-static"``).
 
     Examples
     --------
@@ -114,45 +101,31 @@ def step(
     xp: Namespace = np,
     validate: bool = True,
 ) -> tuple[ChannelState, ChannelStress]:
-    r"""Advance one stress channel by ``dt`` and return the new state and stresses.
-
-    The rate is held constant over the step; ``gamma`` is the displacement at its
-    end. For a prescribed displacement history use ``gamma_dot = (gamma - state.gamma)/dt``
-    (what :func:`run` does); in a simulator pass the measured rate.
+    r"""Advance one stress channel by ``dt`` at a rate held constant over the step.
 
     Parameters
     ----------
     params : MudParameters
-        Constants of the model (SI). Fields may be arrays that broadcast with the state.
+        Constants of the model (SI); array fields broadcast with the state.
     state : ChannelState
         State at the start of the step.
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step [1/s].
+    gamma, gamma_dot : array_like
+        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
     dt : float or array_like
         Step length [s], > 0.
     seal : array_like, keyword-only
-        Factor in [0, 1] multiplying the sealing state (1: the foot can seal the cavity;
-        the morphing foot lowers it as its pads retract) [-].
-    acceleration : bool or None, keyword-only
-        Keep the :math:`\lambda\eta_\infty\ddot\gamma` term of :math:`f_\xi` (decision D6);
-        None keeps it in the ODE (the quasi-static evaluation has none).
-    thixotropy : {"ode", "quasi-static"}, keyword-only
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
-    clock : {"contact", "retraction"}, keyword-only
-        Quasi-static only: clock of eq. (9) (:func:`evaluation`).
+        Factor in [0, 1] multiplying the sealing state [-] (1: the foot can seal).
+    acceleration, thixotropy, clock : keyword-only
+        The evaluation (:func:`evaluation`; decisions D6, D15).
     xp : module, keyword-only
-        Array namespace (``numpy`` or ``jax.numpy``). No validation is done under JAX.
+        Array namespace (``numpy`` or ``jax.numpy``); no validation under JAX.
     validate : bool, keyword-only
-        Check the inputs (default). Inner loops that already validated pass False.
+        Check the inputs (default).
 
     Returns
     -------
-    state : ChannelState
-        State at the end of the step.
-    stress : ChannelStress
-        Stresses at the end of the step [Pa].
+    tuple of ChannelState, ChannelStress
+        State and stresses [Pa] at the end of the step.
 
     Notes
     -----
@@ -166,12 +139,6 @@ def step(
        :label: chen2026-eq-5
 
        \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(5), (9)-(11); mudrft decisions D2-D6, D15 (docs/model.md).
 
     Examples
     --------
@@ -187,8 +154,7 @@ def step(
         _check_state_and_seal(state, seal)
     c = kernel.channel_constants(params)
     if xp is np and _one_channel(c, state, gamma, gamma_dot, dt, seal):
-        # one channel: the same step on Python floats, faster than numpy on 0-d values;
-        # the results are numpy float64 scalars as on the numpy path
+        # one channel: the same step on Python floats (faster than numpy on 0-d values)
         g, gd, h, sl = float(gamma), float(gamma_dot), float(dt), float(seal)
         if validate and not (h > 0.0 and math.isfinite(h + g + gd)):
             _check(gamma, gamma_dot, dt)  # raises with the message of the array path
@@ -200,18 +166,7 @@ def step(
         return ChannelState(*map(np.float64, new)), ChannelStress(*map(np.float64, out))
     if validate and xp is np:
         _check(gamma, gamma_dot, dt)
-    return kernel.channel_step(
-        c,
-        state,
-        gamma,
-        gamma_dot,
-        dt,
-        seal,
-        kappa,
-        qs,
-        restart,
-        xp=xp,
-    )
+    return kernel.channel_step(c, state, gamma, gamma_dot, dt, seal, kappa, qs, restart, xp=xp)
 
 
 def _check_state_and_seal(state: object, seal: object) -> None:
@@ -256,10 +211,7 @@ class ChannelHistory(NamedTuple):
 
 
 def check_parameter_shapes(shapes: dict[str, tuple[int, ...]], sample: tuple[int, ...]) -> None:
-    """Each parameter field's shape must broadcast to one sample of ``gamma`` (``sample``):
-    a run keeps one state per element of a sample. A mud's three channel sets (fields of
-    shape (3,)) with one column of gamma ended in numpy's "setting an array element with a
-    sequence" (JAX: a scan carry mismatch)."""
+    """Refuse parameter fields (``shapes``) that do not broadcast to one sample of gamma."""
     for name, shape in shapes.items():
         if np.broadcast_shapes(shape, sample) != sample:
             raise MudrftError(
@@ -281,10 +233,7 @@ def run(
     clock: str = "contact",
     xi0: float = 0.0,
 ) -> ChannelHistory:
-    """Run one channel along a displacement history sampled at ``time``.
-
-    The displacement is taken as piecewise linear between samples, so the rate over
-    step ``k`` is ``(gamma[k] - gamma[k-1]) / (time[k] - time[k-1])``.
+    """Run one channel along a displacement history, piecewise linear between samples.
 
     Parameters
     ----------
@@ -298,10 +247,8 @@ def run(
         Initial state; default undisturbed mud with ``xi0`` and ``gamma[0]``.
     seal : array_like, keyword-only
         Sealing factor, scalar or shape (n, ...) [-].
-    acceleration : bool or None, keyword-only
-        Keep the acceleration term (decision D6); None: as :func:`step`.
-    thixotropy, clock : str, keyword-only
-        Evaluation of the thixotropy and suction (:func:`evaluation`, decision D15).
+    acceleration, thixotropy, clock : keyword-only
+        The evaluation (:func:`evaluation`; decisions D6, D15).
     xi0 : float, keyword-only
         Initial structure when ``state`` is not given [-].
 
@@ -309,12 +256,6 @@ def run(
     -------
     ChannelHistory
         Stresses [Pa] and structure at every sample (the first sample is the initial state).
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(5).
     """
     t = check_increasing("time", time)
     g = check_finite("gamma", gamma)
@@ -330,18 +271,15 @@ def run(
     consts = kernel.channel_constants(params)
     seal_arr = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
     st = state if state is not None else initial_state(g.shape[1:], xi0=xi0, gamma=g[0])
-    n = t.size
-    out = {k: np.zeros(g.shape) for k in ("total", "elastic", "thixotropic", "suction", "xi")}
+    out = {k: np.zeros(g.shape) for k in (*ChannelStress._fields, "xi")}
     out["xi"][0] = st.xi
     s_const = float(seal) if seal_arr is None else None
-    for k in range(1, n):
+    for k in range(1, t.size):
         dt = t[k] - t[k - 1]
         rate = (g[k] - g[k - 1]) / dt
         sk = s_const if seal_arr is None else seal_arr[k]
         st, s = kernel.channel_step(consts, st, g[k], rate, dt, sk, kappa, qs, restart)
-        out["total"][k] = s.total
-        out["elastic"][k] = s.elastic
-        out["thixotropic"][k] = s.thixotropic
-        out["suction"][k] = s.suction
+        for name, value in zip(ChannelStress._fields, s, strict=True):
+            out[name][k] = value
         out["xi"][k] = st.xi
     return ChannelHistory(time=t, gamma=g, **out)

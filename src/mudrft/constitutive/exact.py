@@ -1,7 +1,6 @@
-r"""The paper's closed-form solutions of eqs. (3) and (5) (eqs. 9-11, supplementary Sec. I).
+r"""The paper's closed-form solutions of eqs. (3) and (5): eqs. (9)-(11), supplementary Sec. I.
 
-They serve the tests (each is checked against a numerical ODE solution), the paper's own
-quasi-static evaluation, and users who want the formulas. The time stepping is in
+Each is checked in the tests against a numerical ODE solution; the time stepping is in
 :mod:`mudrft.constitutive.kernel`.
 """
 
@@ -20,27 +19,18 @@ __all__ = ["suction_closed_form", "thixotropic_approx", "thixotropic_exact", "xi
 def xi_exact(
     t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters, *, xi0: float = 0.0
 ) -> FloatOrArray:
-    r"""Structure parameter at constant rate: :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}`.
+    r"""Structure parameter at constant rate, :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}` [-].
 
-    The supplementary prints :math:`\xi(t)=(1-e^{t/\tau_\xi})\xi_{ss}` for
-    :math:`\xi_0=0`, whose exponent has a sign slip (erratum E3); this is the correct form.
+    The supplementary's :math:`(1-e^{t/\tau_\xi})\xi_{ss}` has a sign slip (erratum E3).
 
     Parameters
     ----------
-    t : array_like
-        Time since the start of the constant-rate motion [s].
-    gamma_dot : float
-        Rate [1/s].
+    t, gamma_dot : array_like
+        Time since the start of the constant-rate motion [s], and the rate [1/s].
     params : MudParameters
         Model constants.
     xi0 : float, keyword-only
-        Structure at t = 0 [-] (the paper uses 0).
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. I (erratum E3).
+        Structure at t = 0 [-].
     """
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
     xi_ss = params.k_a * tau
@@ -62,36 +52,20 @@ def thixotropic_exact(
     .. math:: \sigma_{th}=(1-e^{-t/\lambda})(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma
               +(e^{-t/\lambda}-e^{-t/\tau_\xi})\frac{\tau_\xi}{\tau_\xi-\lambda}\xi_{ss}\eta_m\dot\gamma .
 
-    This is what the supplementary prints (checked against ``solve_ivp`` in the tests).
-    Its claim that the second term vanishes for :math:`\tau_\xi\approx\lambda` is wrong
-    (erratum E5): the term tends to :math:`-(t/\lambda)e^{-t/\lambda}\xi_{ss}\eta_m\dot\gamma`.
-    Written here for any :math:`\xi_0`, any :math:`\tau_\xi` (including
-    :math:`\tau_\xi=\lambda`) and, with ``acceleration=True``, for a rate that jumps from
-    0 at t = 0 (the :math:`\ddot\gamma` impulse adds :math:`\eta_\infty\dot\gamma` at once).
+    The second term does not vanish for :math:`\tau_\xi\approx\lambda` (erratum E5). Here for
+    any :math:`\xi_0` and :math:`\tau_\xi`, and with ``acceleration=True`` for a rate that
+    jumps from 0 at t = 0 (adding :math:`\eta_\infty\dot\gamma` at once).
 
     Parameters
     ----------
-    t : array_like
-        Time since the start of motion [s].
-    gamma_dot : float
-        Constant rate [1/s].
+    t, gamma_dot : array_like
+        Time since the start of motion [s], and the constant rate [1/s].
     params : MudParameters
         Model constants.
     xi0 : float, keyword-only
         Initial structure [-].
     acceleration : bool, keyword-only
         Include the acceleration term.
-
-    Returns
-    -------
-    array
-        :math:`\sigma_{th}(t)` [Pa].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. I, eq. (S2) (erratum E5).
     """
     t = np.asarray(t, dtype=float)
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
@@ -112,11 +86,14 @@ def thixotropic_exact(
 def thixotropic_approx(
     t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters
 ) -> FloatOrArray:
-    r"""The paper's approximation, eq. (9): :math:`(1-e^{-t/\lambda})\sigma_{th,ss}` [Pa].
+    r"""The paper's approximation, eq. (9) [Pa]; exact only when :math:`\xi` starts steady (E5).
 
-    Exact only when :math:`\xi` starts at its steady value; the supplementary
-    justifies it by :math:`\tau_\xi\approx\lambda`, which does not remove the second
-    term of eq. (S2) (see docs/model.md, erratum E5, and the tests that measure the error).
+    Parameters
+    ----------
+    t, gamma_dot : array_like
+        Time since the start of motion [s], and the constant rate [1/s].
+    params : MudParameters
+        Model constants.
 
     Notes
     -----
@@ -124,12 +101,6 @@ def thixotropic_approx(
        :label: chen2026-eq-9
 
        \sigma_{th}=\left(1-e^{-t/\lambda}\right)\sigma_{th,ss} \tag{9}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (9).
     """
     t = np.asarray(t, dtype=float)
     return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
@@ -148,10 +119,8 @@ def suction_closed_form(
 
     Parameters
     ----------
-    dt : array_like
-        Time since retraction began, :math:`\Delta t=t-t_w` [s].
-    phi : float
-        Constant sealing state in [0, 1] [-].
+    dt, phi : array_like
+        Time since the retraction began, :math:`t-t_w` [s], and the sealing state [-].
     params : MudParameters
         Model constants.
     sigma_s0 : float, keyword-only
@@ -163,12 +132,6 @@ def suction_closed_form(
        :label: chen2026-eq-10
 
        \sigma_s=\left(1-e^{-a\Delta t}\right)\sigma_{s,ss},\qquad \Delta t=t-t_w \tag{10}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (10)-(11).
     """
     a = laws.suction_rate(phi, params.tau_build, params.tau_leak)
     ss = laws.suction_steady(phi, params.tau_build, params.tau_leak, params.sigma_y)

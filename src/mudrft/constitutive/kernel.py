@@ -1,25 +1,11 @@
 r"""The constitutive step: the one definition of how a stress channel advances in time.
 
-:func:`channel_step` is the only place where eqs. (1)-(5) are stepped. Every path calls
-it: :func:`mudrft.constitutive.step` (the validated reference), :class:`mudrft.MudTerrain`
-(one foot on Python floats, or a batch on numpy arrays), the JAX backend
-(``xp=jax.numpy``), calibration, and the numba backend, which compiles this very function
-on floats. It is written in the element-wise subset of
-:mod:`mudrft._xp`: no validation, no shapes, no stacking.
-
-It selects one of two evaluations of the thixotropy and the suction by a static flag
-(decision D15):
-
-* :func:`channel_update`, the ODE reading: eqs. (3) and (5) are linear in the state when
-  the rate is held constant over a step, so the update is their exact exponential
-  solution: unconditionally stable for every time constant in the tables at any step
-  size, and exact for inputs that are piecewise linear in time. The only approximation is
-  the sealing function, evaluated at the middle of the step (second order).
-* :func:`channel_update_quasi_static`, the paper's own evaluation (Sec. III-A): the closed
-  forms (9)-(11) at the current rate and displacement, with the acceleration term
-  dropped as eq. (9) drops it. Its only memory is two clocks: the time since first
-  contact (:math:`t` of eq. 9) and the time since the retraction began
-  (:math:`\Delta t=t-t_w` of eq. 10).
+:func:`channel_step` is the only place where eqs. (1)-(5) are stepped; every path (the
+validated :func:`mudrft.constitutive.step`, :class:`mudrft.MudTerrain`, JAX, numba,
+calibration) calls it. It is written in the element-wise subset of :mod:`mudrft._xp` and
+selects one of two evaluations (decision D15): :func:`channel_update`, the exact
+exponential solution of eqs. (3) and (5) at a rate held constant over the step, or
+:func:`channel_update_quasi_static`, the paper's closed forms (9)-(11) (Sec. III-A).
 """
 
 from __future__ import annotations
@@ -44,11 +30,10 @@ __all__ = [
 
 
 class ChannelConstants(NamedTuple):
-    """The numbers a channel step needs, as a pytree/tuple that numba and JAX can carry.
-
-    Fields are floats or arrays broadcasting with the channel state: ``alpha``,
+    """The numbers a channel step needs (a tuple numba and JAX can carry): ``alpha``,
     ``sigma_y`` [Pa]; ``n``, ``epsilon``, ``k_r`` [-]; ``lam``, ``tau_build``,
     ``tau_leak`` [s]; ``eta_m``, ``eta_inf`` [Pa s]; ``k_a`` [1/s]; ``nu`` [1/s].
+    Floats or arrays broadcasting with the channel state.
     """
 
     alpha: XpArray
@@ -71,8 +56,7 @@ def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxP
     Parameters
     ----------
     params : MudParameters or JaxParams
-        Any object with the fields of :class:`~mudrft.parameters.base.MudParameters`
-        (and ``k_a``, ``k_r``); arrays (a batch, or traced JAX values) pass through.
+        Fields of :class:`~mudrft.parameters.base.MudParameters` (floats or arrays).
 
     Examples
     --------
@@ -81,21 +65,7 @@ def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxP
     >>> c.lam, c.sigma_y
     (1.9, 7100.0)
     """
-    p = params
-    return ChannelConstants(
-        alpha=p.alpha,
-        n=p.n,
-        lam=p.lam,
-        eta_m=p.eta_m,
-        eta_inf=p.eta_inf,
-        k_a=p.k_a,
-        k_r=p.k_r,
-        tau_build=p.tau_build,
-        tau_leak=p.tau_leak,
-        epsilon=p.epsilon,
-        sigma_y=p.sigma_y,
-        nu=p.nu,
-    )
+    return ChannelConstants(*(getattr(params, f) for f in ChannelConstants._fields))
 
 
 def expm1_over_x(x: XpArray, xp: Namespace = np) -> XpArray:
@@ -108,20 +78,16 @@ def expm1_over_x(x: XpArray, xp: Namespace = np) -> XpArray:
 def relaxation_convolution(
     t: XpArray, lam: XpArray, tau: XpArray, e_lam: XpArray, e_tau: XpArray, xp: Namespace = np
 ) -> XpArray:
-    r"""How much of a drive that relaxes with time :math:`\tau` a stress that relaxes with
-    time :math:`\lambda` has taken up after ``t`` [-]: the factor of
-    :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2),
+    r"""The factor of :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2) [-]: how much of a
+    drive relaxing with :math:`\tau` a stress relaxing with :math:`\lambda` took up after ``t``.
 
     .. math::
         \frac{t}{\lambda}\,\frac{e^{-t/\tau}-e^{-t/\lambda}}{x}
         = \frac{t}{\lambda}\,e^{-t/\lambda}\,\frac{e^{x}-1}{x},\qquad
-        x = t\Big(\frac1\lambda-\frac1\tau\Big).
+        x = t\Big(\frac1\lambda-\frac1\tau\Big),
 
-    The right-hand form is exact near :math:`x=0` (:math:`\tau_\xi=\lambda`, erratum E5)
-    but overflows once :math:`x>709` (a relaxation much faster than the step and than the
-    structure: :math:`0\cdot\infty`, NaN on arrays, ``OverflowError`` on floats); the
-    left-hand form cancels near 0 and is exact beyond. So the right for :math:`x\le1`, the
-    left for :math:`x>1`.
+    the right-hand form for :math:`x\le1` (exact at :math:`\tau=\lambda`, erratum E5), the
+    left-hand one beyond (the right overflows past :math:`x=709`).
 
     Parameters
     ----------
@@ -130,14 +96,9 @@ def relaxation_convolution(
     lam, tau : array_like
         The two relaxation times [s], > 0.
     e_lam, e_tau : array_like
-        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-] (the caller has them).
-    xp : module, keyword-only
+        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-].
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    array_like
-        The factor [-], in [0, 1].
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
@@ -154,13 +115,12 @@ def channel_update(
     kappa: XpArray = 1.0,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
-    r"""Advance one stress channel by ``dt``; no validation (see :func:`mudrft.constitutive.step`).
+    r"""Advance one stress channel by ``dt``, exactly at a constant rate; no validation.
 
-    Structure (eq. 3b), exactly: :math:`\xi\leftarrow\xi_{ss}+(\xi-\xi_{ss})e^{-\Delta t/\tau_\xi}`.
-    Lagged thixotropic stress (eq. 3a, driven by :math:`A+B\xi(t)`), exactly; with the
-    acceleration term kept (``kappa = 1``, decision D6) the :math:`\lambda\eta_\infty\ddot\gamma`
-    impulse makes :math:`\sigma_{th}=\eta_\infty\dot\gamma+s_{th}`. Suction (eq. 5) exactly,
-    with the sealing state (decision D4) at mid-step. Total (eq. 1):
+    Structure (eq. 3b): :math:`\xi\leftarrow\xi_{ss}+(\xi-\xi_{ss})e^{-\Delta t/\tau_\xi}`;
+    lagged thixotropic stress (eq. 3a, supplementary eq. S2), with
+    :math:`\sigma_{th}=\eta_\infty\dot\gamma+s_{th}` when ``kappa = 1`` (decision D6);
+    suction (eq. 5) with the sealing state at mid-step (D4); total (eq. 1)
     :math:`\sigma_b(1-\phi_{end})+\sigma_{th}+H_\nu\sigma_s`.
 
     Parameters
@@ -169,25 +129,21 @@ def channel_update(
         Model constants (SI), from :func:`channel_constants`.
     state : ChannelState
         State at the start of the step.
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step, held constant [1/s].
+    gamma, gamma_dot : array_like
+        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
     dt : float or array_like
         Step length [s], > 0.
     seal : array_like
-        Factor in [0, 1] multiplying the sealing state [-] (1: the foot can seal).
+        Factor in [0, 1] multiplying the sealing state [-].
     kappa : float
         1.0 keeps the acceleration term of :math:`f_\xi`, 0.0 drops it [-].
-    xp : module, keyword-only
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
 
     Returns
     -------
-    state : ChannelState
-        State at the end of the step.
-    stress : ChannelStress
-        Stresses at the end of the step [Pa].
+    tuple of ChannelState, ChannelStress
+        State and stresses [Pa] at the end of the step.
     """
     gw_new, direction, r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
@@ -230,10 +186,7 @@ def channel_update_quasi_static(
     restart: bool = False,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
-    r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15).
-
-    Sec. III-A evaluates the stresses "by (2), (9) and (10)" at the current displacement
-    and rate, with the acceleration term dropped:
+    r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15):
 
     .. math::
         \sigma_{th} = (1-e^{-t/\lambda})\,(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma,\qquad
@@ -241,41 +194,13 @@ def channel_update_quasi_static(
         \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
         a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
 
-    with :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` (eq. 4), the sealing
-    state :math:`\phi` at the current retraction (decision D4, times ``seal``) and
-    :math:`\Delta t=t-t_w` the time since the retraction began. The clock :math:`t` of
-    eq. (9) runs from first contact (``restart=False``: eq. 9 is written in :math:`t`,
-    eq. 10 in :math:`t-t_w`) or restarts at :math:`t_w` (``restart=True``). The total is
-    eq. (1) with the bed-contact factor of decision D2 on :math:`\sigma_b`, as in
-    :func:`channel_update`. Only the clocks and the deepest point are state; the returned
-    state also holds :math:`\xi_{ss}`, :math:`\sigma_{th}` and :math:`\sigma_s`, for
-    inspection.
+    at the current rate and displacement, with :math:`\phi` at the current retraction (D4,
+    times ``seal``) and :math:`\Delta t=t-t_w` the time since the retraction began; the
+    clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``. Only
+    the clocks and the deepest point are state (the rest is returned for inspection).
 
-    Parameters
-    ----------
-    c : ChannelConstants
-        Model constants (SI), from :func:`channel_constants`.
-    state : ChannelState
-        State at the start of the step (its clocks and deepest point are used).
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate at the end of the step [1/s].
-    dt : float or array_like
-        Step length [s], > 0 (advances the clocks).
-    seal : array_like
-        Factor in [0, 1] multiplying the sealing state [-].
-    restart : bool
-        Restart the clock of eq. (9) when the retraction begins.
-    xp : module, keyword-only
-        Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    state : ChannelState
-        State at the end of the step.
-    stress : ChannelStress
-        Stresses at the end of the step [Pa].
+    Parameters and returns as :func:`channel_update`, with ``restart`` (bool) in place of
+    ``kappa``; ``gamma_dot`` [1/s] is the rate at the end of the step.
     """
     gw_new, direction, _r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
@@ -309,12 +234,8 @@ def channel_step(
     restart: bool = False,
     xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:
-    """One channel step in the selected evaluation (decision D15); no validation.
-
-    ``quasi_static`` and ``restart`` are static choices (Python bools; JAX must not trace
-    them): :func:`channel_update_quasi_static` with ``restart`` when ``quasi_static``, else
-    :func:`channel_update` with ``kappa``. Parameters and returns as those two.
-    """
+    """One channel step: :func:`channel_update_quasi_static` when ``quasi_static`` (a static
+    bool, as ``restart``), else :func:`channel_update`; no validation (decision D15)."""
     if quasi_static:
         return channel_update_quasi_static(c, state, gamma, gamma_dot, dt, seal, restart, xp=xp)
     return channel_update(c, state, gamma, gamma_dot, dt, seal, kappa, xp=xp)
@@ -329,14 +250,7 @@ def _stresses(
     r_end: XpArray,
     xp: Namespace = np,
 ) -> ChannelStress:
-    r"""The stresses at the end of a step, eq. (1), in both evaluations [Pa].
-
-    :math:`\sigma_b(\gamma)(1-\phi(r))` (eq. 2 with the bed-contact factor, decision D2)
-    :math:`+\,\sigma_{th}+H_\nu\,\sigma_s`, the suction switched on by the retraction
-    (eq. 5), from the step's new ``state`` (:math:`\gamma`, :math:`\sigma_s`), the
-    thixotropic stress ``sigma_th`` [Pa], the intrusion ``direction`` (+-1), the rate
-    ``gamma_dot`` [1/s] and the retraction ``r_end`` [-] at the end of the step.
-    """
+    r"""Eq. (1) at the end of a step [Pa]: :math:`\sigma_b(1-\phi)+\sigma_{th}+H_\nu\sigma_s`."""
     sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
         r_end, c.epsilon, xp=xp
     )
@@ -349,12 +263,8 @@ def _stresses(
 def _retraction(
     state: ChannelState, gamma: XpArray, gamma_dot: XpArray, xp: Namespace = np
 ) -> XpArray:
-    r"""Deepest point, intrusion direction, and the retraction from it at the step's ends.
-
-    Returns ``(gamma_w, direction, r_start, r_end)``: the deepest displacement of the
-    current intrusion [-], its sign (+-1), and :math:`r=|\gamma_w|-|\gamma|\ge0` before
-    and after the step [-]; a change of sign of the displacement starts a new intrusion.
-    """
+    r"""``(gamma_w, direction, r_start, r_end)``: deepest displacement [-], its sign, and
+    :math:`r=|\gamma_w|-|\gamma|` at the step's ends [-]; a sign change starts anew."""
     g_old, gw_old = state.gamma, state.gamma_w
     ag = xp.abs(gamma)
     agw = xp.abs(gw_old)
@@ -370,9 +280,6 @@ def _retraction(
 
 
 def _clocks(state: ChannelState, r_end: XpArray, dt: XpArray, xp: Namespace = np) -> XpArray:
-    r"""``(clock, clock_w)`` after the step [s]: time since first contact and since :math:`t_w`.
-
-    The retraction clock runs while the channel is retracted from its deepest point
-    (:math:`r>0`) and is 0 otherwise, so :math:`t_w` is where :math:`r` leaves 0.
-    """
+    r"""``(clock, clock_w)`` after the step [s]: since first contact, and since :math:`r`
+    left 0 (0 while not retracted)."""
     return state.clock + dt, xp.where(r_end > 0.0, state.clock_w + dt, 0.0)

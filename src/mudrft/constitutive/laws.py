@@ -1,10 +1,14 @@
 r"""Pure, vectorized stress laws of the mud model (Chen et al. 2026, eqs. 1-5, 7).
 
-Every function takes arrays (or floats) and broadcasts. The ``xp`` keyword selects
-the array namespace (``numpy`` by default, ``jax.numpy`` for the JAX backend).
-Dimensionless displacement :math:`\gamma=q/L_c` and rate :math:`\dot\gamma=\dot q/L_c`
-where :math:`q` [m] is the intrusion displacement and :math:`L_c` [m] the
-characteristic length.
+Every function broadcasts over arrays or floats; ``xp`` selects the array namespace
+(``numpy`` by default, ``jax.numpy``, or :data:`mudrft._xp.pyfloat`). The dimensionless
+displacement is :math:`\gamma=q/L_c` and its rate :math:`\dot\gamma=\dot q/L_c`, with
+:math:`q` [m] the intrusion displacement and :math:`L_c` [m] the characteristic length.
+
+References
+----------
+X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force Model for
+Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary materials).
 """
 
 from __future__ import annotations
@@ -34,24 +38,12 @@ __all__ = [
 
 
 def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Immediate (nonlinear elastic) resistance, eq. (2): :math:`\sigma_b=\alpha\gamma^n`.
-
-    Extended as an odd function, :math:`\alpha|\gamma|^n\operatorname{sgn}\gamma`, so the
-    same law serves horizontal channels whose displacement may be negative.
+    r"""Immediate (nonlinear elastic) resistance, eq. (2), odd in :math:`\gamma` [Pa].
 
     Parameters
     ----------
-    gamma : array_like
-        Dimensionless displacement [-].
-    alpha : array_like
-        Stiffness [Pa].
-    n : array_like
-        Exponent in (0, 1] [-].
-
-    Returns
-    -------
-    array
-        Stress [Pa].
+    gamma, alpha, n : array_like
+        Dimensionless displacement [-], stiffness [Pa], exponent in (0, 1] [-].
 
     Notes
     -----
@@ -60,11 +52,7 @@ def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = n
 
        \sigma_b=\alpha\gamma^n \tag{2}
 
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (2).
+    applied as :math:`\alpha|\gamma|^n\operatorname{sgn}\gamma`.
 
     Examples
     --------
@@ -78,16 +66,12 @@ def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = n
 
 
 def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Intrusion/retraction index of eq. (1): :math:`H_\nu=\tfrac12(1-\tanh(\dot\gamma/\nu))`.
-
-    About 0 while intruding (:math:`\dot\gamma\gg\nu`), about 1 while retracting.
+    r"""Intrusion/retraction index :math:`H_\nu` of eq. (1) [-]: about 0 intruding, 1 retracting.
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Dimensionless rate along the intrusion direction [1/s].
-    nu : array_like
-        Switch width [1/s].
+    gamma_dot, nu : array_like
+        Dimensionless rate along the intrusion direction, and switch width [1/s].
 
     Notes
     -----
@@ -96,12 +80,6 @@ def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
 
        \sigma_{tot}=\sigma_b+\sigma_{th}+H_\nu(\dot\gamma)\,\sigma_s,\qquad
        H_\nu(\dot\gamma)=\tfrac12\left(1-\tanh\frac{\dot\gamma}{\nu}\right) \tag{1}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (1).
 
     Examples
     --------
@@ -114,52 +92,28 @@ def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
 def sealing_printed(
     gamma: XpArray, gamma0: XpArray, epsilon: XpArray, xp: Namespace = np
 ) -> XpArray:
-    r"""The sealing function exactly as printed below eq. (5).
-
-    :math:`\phi_\varepsilon(\gamma)=\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))`.
-    Kept for reference and tests; the model uses :func:`sealing` (decision D4 in
-    docs/model.md explains why the printed form cannot be used as it stands).
+    r"""The sealing function as printed below eq. (5), for reference (the model uses
+    :func:`sealing`, decision D4): :math:`\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))` [-].
 
     Parameters
     ----------
-    gamma, gamma0 : array_like
-        Dimensionless displacement and its value at the start of retraction [-].
-    epsilon : array_like
-        Width [-].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. II-B, below eq. (5).
+    gamma, gamma0, epsilon : array_like
+        Displacement, its value at the start of retraction, and width [-].
     """
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
 
 def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Sealing state of the cavity used by the model (decision D4).
+    r"""Sealing state of the cavity, :math:`\phi=\tanh(\max(r,0)/\varepsilon)` [-] (decision D4).
 
-    :math:`\phi=\tanh(\max(r,0)/\varepsilon)` where :math:`r=|\gamma_w|-|\gamma|` is the
-    dimensionless retraction since the deepest point :math:`\gamma_w`. It is 0 while the
-    foot intrudes or rests on the bed (no cavity: pure leak), rises to 1 within a few
-    :math:`\varepsilon` of retraction (sealed cavity: suction builds toward
-    :math:`-\sigma_Y`) and falls back as the foot re-intrudes. It equals
-    :math:`2\phi_\varepsilon-1` of the printed form with :math:`\gamma_0=\gamma_w` and the
-    displacement counted along the retraction.
+    0 while the foot intrudes or rests on the bed (pure leak), 1 within a few
+    :math:`\varepsilon` of retraction (sealed: suction builds toward :math:`-\sigma_Y`).
+    Equals :math:`2\phi_\varepsilon-1` of the printed form with :math:`\gamma_0=\gamma_w`.
 
     Parameters
     ----------
-    retraction : array_like
-        Dimensionless retraction :math:`r` [-].
-    epsilon : array_like
-        Width [-].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (5) and the sealing function below it; mudrft decision D4
-       (docs/model.md).
+    retraction, epsilon : array_like
+        Retraction :math:`r=|\gamma_w|-|\gamma|` since the deepest point, and width [-].
 
     Examples
     --------
@@ -170,25 +124,12 @@ def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArra
 
 
 def bed_contact(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Fraction of the immediate resistance kept during retraction (decision D2).
-
-    :math:`1-\phi`: the foot leaves the compacted bed within a few :math:`\varepsilon` of
-    retraction, so :math:`\sigma_b` vanishes, as in the paper's own retraction
-    approximation (supplementary Sec. III-A) where :math:`\sigma_b` is absent.
+    r"""Fraction :math:`1-\phi` of :math:`\sigma_b` kept during retraction [-] (decision D2).
 
     Parameters
     ----------
-    retraction : array_like
-        Dimensionless retraction :math:`r` [-].
-    epsilon : array_like
-        Width [-].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (2) and supplementary Sec. III-A; mudrft decision D2
-       (docs/model.md).
+    retraction, epsilon : array_like
+        Retraction :math:`r` and width [-].
     """
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
@@ -198,10 +139,8 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> X
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    gamma_dot_c : array_like
-        Critical rate [1/s].
+    gamma_dot, gamma_dot_c : array_like
+        Rate and critical rate [1/s].
 
     Notes
     -----
@@ -210,12 +149,6 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> X
 
        \dot\xi=k_a(1-\xi)-k_r|\dot\gamma|\,\xi,\qquad
        \xi_{ss}=\frac{k_a}{k_a+k_r|\dot\gamma|}=\frac{\dot\gamma_c}{\dot\gamma_c+|\dot\gamma|} \tag{3b}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (3b) and the steady state below it.
 
     Examples
     --------
@@ -226,22 +159,12 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> X
 
 
 def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Time constant of the structure ODE, :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
+    r"""Time constant of eq. (3b), :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    k_a : array_like
-        Aging rate [1/s].
-    k_r : array_like
-        Rejuvenation coefficient [-].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. I.
+    gamma_dot, k_a, k_r : array_like
+        Rate [1/s], aging rate [1/s], rejuvenation coefficient [-].
     """
     return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
 
@@ -253,16 +176,12 @@ def thixotropic_steady(
     gamma_dot_c: XpArray,
     xp: Namespace = np,
 ) -> XpArray:
-    r"""Steady thixotropic stress, eq. (4): :math:`(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma` [Pa].
+    r"""Steady thixotropic stress, eq. (4) [Pa].
 
     Parameters
     ----------
-    gamma_dot : array_like
-        Rate [1/s].
-    eta_inf, eta_m : array_like
-        Viscosities [Pa s].
-    gamma_dot_c : array_like
-        Critical rate [1/s].
+    gamma_dot, eta_inf, eta_m, gamma_dot_c : array_like
+        Rate [1/s], viscosities [Pa s], critical rate [1/s].
 
     Notes
     -----
@@ -271,24 +190,13 @@ def thixotropic_steady(
 
        \sigma_{th,ss}=(\eta_\infty+\xi_{ss}\eta_m)\,\dot\gamma,\qquad
        \sigma_Y=(\eta_m-\eta_\infty)\,\dot\gamma_c \tag{4}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (4).
     """
     return (eta_inf + xi_steady(gamma_dot, gamma_dot_c, xp=xp) * eta_m) * gamma_dot
 
 
 def yield_stress(eta_m: XpArray, eta_inf: XpArray, gamma_dot_c: XpArray) -> XpArray:
-    r"""Yield stress from eq. (4): :math:`\sigma_Y=(\eta_m-\eta_\infty)\dot\gamma_c` [Pa].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (4); Tables S1 and S2 (erratum E2: the horizontal rows break it).
+    r"""Yield stress from eq. (4), :math:`\sigma_Y=(\eta_m-\eta_\infty)\dot\gamma_c` [Pa]
+    (erratum E2: the horizontal table rows break it).
 
     Examples
     --------
@@ -299,21 +207,14 @@ def yield_stress(eta_m: XpArray, eta_inf: XpArray, gamma_dot_c: XpArray) -> XpAr
 
 
 def suction_rate(phi: XpArray, tau_build: XpArray, tau_leak: XpArray) -> XpArray:
-    r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (11).
-    """
+    r"""Rate :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` of eq. (11) [1/s]."""
     return phi / tau_build + (1.0 - phi) / tau_leak
 
 
 def suction_steady(
     phi: XpArray, tau_build: XpArray, tau_leak: XpArray, sigma_y: XpArray
 ) -> XpArray:
-    r"""Steady suction, eq. (11): :math:`\sigma_{s,ss}=-\phi\sigma_Y/(a\tau_{build})` [Pa].
+    r"""Steady suction, eq. (11) [Pa].
 
     Notes
     -----
@@ -322,12 +223,6 @@ def suction_steady(
 
        \sigma_{s,ss}=-\frac{\phi}{a\,\tau_{build}}\sigma_Y,\qquad
        a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}} \tag{11}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (11).
 
     Examples
     --------
@@ -344,19 +239,10 @@ def suction_steady_at_rate(
 ) -> XpArray:
     r"""Eq. (11) at a given rate :math:`a`: :math:`-\phi\sigma_Y/(a\tau_{build})` [Pa].
 
-    The one definition of eq. (11): :func:`suction_steady` computes :math:`a` and calls it;
-    the constitutive step, which needs :math:`a` for its exponential anyway, passes its own.
-
     Parameters
     ----------
-    phi : array_like
-        Sealing state [-].
-    rate : array_like
-        :math:`a=\phi/\tau_{build}+(1-\phi)/\tau_{leak}` [1/s] (:func:`suction_rate`).
-    tau_build : array_like
-        Build-up time [s].
-    sigma_y : array_like
-        Yield stress [Pa].
+    phi, rate, tau_build, sigma_y : array_like
+        Sealing state [-], :math:`a` [1/s], build-up time [s], yield stress [Pa].
 
     Examples
     --------
@@ -367,7 +253,7 @@ def suction_steady_at_rate(
 
 
 def f_n(psi: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Normal scaling factor, Sec. II-C: :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
+    r"""Normal scaling factor of eq. (7), :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
 
     Notes
     -----
@@ -376,54 +262,24 @@ def f_n(psi: XpArray, xp: Namespace = np) -> XpArray:
 
        \sigma_v^i=f_i(\psi_1)\,\sigma_v,\quad \sigma_h^i=f_i(\psi_2)\,\sigma_h,\quad
        f_n(\psi)=\tfrac12(1+\cos2\psi),\quad f_t(\psi)=\tfrac12(1-\cos2\psi) \tag{7}
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (7).
     """
     return 0.5 * (1.0 + xp.cos(2.0 * psi))
 
 
 def f_t(psi: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Tangential scaling factor, Sec. II-C: :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-].
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eq. (7).
-    """
+    r"""Tangential scaling factor of eq. (7), :math:`f_t(\psi)=\tfrac12(1-\cos2\psi)` [-]."""
     return 0.5 * (1.0 - xp.cos(2.0 * psi))
 
 
 def f_n_extended(psi: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Normal factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
-
-    Equal to :math:`\cos\psi|\cos\psi|`: positive on faces that lead the motion,
-    negative on trailing faces.
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. II-C.
-    """
+    r""":math:`f_n` extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C),
+    :math:`\cos\psi|\cos\psi|` [-]: negative on trailing faces."""
     c = xp.cos(psi)
     return c * xp.abs(c)
 
 
 def f_t_extended(psi: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Tangential factor extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C).
-
-    Equal to :math:`\sin\psi|\sin\psi|` (odd in :math:`\psi`).
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. II-C.
-    """
+    r""":math:`f_t` extended to :math:`\psi\in[-\pi,\pi]` (supplementary Sec. II-C),
+    :math:`\sin\psi|\sin\psi|` [-] (odd in :math:`\psi`)."""
     s = xp.sin(psi)
     return s * xp.abs(s)

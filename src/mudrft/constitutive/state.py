@@ -1,8 +1,6 @@
-"""Explicit, immutable state of one stress channel (or a batch of channels).
+"""Explicit, immutable state of one stress channel (x, y or z) or a batch of them.
 
-A channel is one direction of motion of a plate or foot (x, y or z). Its state is
-a ``NamedTuple`` of arrays, so it is a JAX pytree without registration and can be
-carried through ``lax.scan``, stored per foot in a batch, or checkpointed.
+A ``NamedTuple`` of arrays: a JAX pytree without registration.
 """
 
 from __future__ import annotations
@@ -18,28 +16,21 @@ __all__ = ["ChannelState", "ChannelStress", "initial_state"]
 
 
 class ChannelState(NamedTuple):
-    """State of a stress channel after a step.
+    r"""State of a stress channel after a step.
 
     Attributes
     ----------
-    gamma : array
-        Dimensionless displacement at the end of the last step [-].
-    gamma_w : array
-        Deepest displacement of the current intrusion (retraction starts from it) [-].
+    gamma, gamma_w : array
+        Dimensionless displacement, and the deepest of the current intrusion [-].
     xi : array
         Structure parameter in [0, 1] [-].
     s_th : array
-        Lagged part of the thixotropic stress [Pa]. With the acceleration term kept,
-        :math:`\\sigma_{th}=\\eta_\\infty\\dot\\gamma+s_{th}` (decision D6); without it,
-        :math:`\\sigma_{th}=s_{th}`.
+        Lagged thixotropic stress [Pa]: :math:`\sigma_{th}=\kappa\eta_\infty\dot\gamma+s_{th}` (D6).
     sigma_s : array
-        Suction state of eq. (5) [Pa] (<= 0 for a downward intrusion).
-    clock : array
-        Time since the channel's mud was fresh, i.e. since first contact [s]: the
-        :math:`t` of eq. (9) in the quasi-static evaluation (decision D15). Default 0.
-    clock_w : array
-        Time since the current retraction began, :math:`\\Delta t=t-t_w` of eq. (10)
-        [s]; 0 while the channel is not retracting. Default 0.
+        Suction state of eq. (5) [Pa].
+    clock, clock_w : array
+        Time since first contact, :math:`t` of eq. (9), and since the retraction began,
+        :math:`t-t_w` of eq. (10) [s] (0 when not retracting).
     """
 
     gamma: XpArray
@@ -52,19 +43,9 @@ class ChannelState(NamedTuple):
 
 
 class ChannelStress(NamedTuple):
-    """Stresses of a channel at the end of a step, all in Pa.
-
-    Attributes
-    ----------
-    total : array
-        :math:`\\sigma_{tot}` of eq. (1).
-    elastic : array
-        Immediate resistance :math:`\\sigma_b` times the bed-contact factor.
-    thixotropic : array
-        :math:`\\sigma_{th}`.
-    suction : array
-        :math:`H_\\nu\\sigma_s`, the suction as it enters eq. (1).
-    """
+    r"""Stresses of a channel at the end of a step [Pa]: the ``total`` of eq. (1), the
+    ``elastic`` :math:`\sigma_b` times the bed contact, the ``thixotropic``
+    :math:`\sigma_{th}` and the ``suction`` :math:`H_\nu\sigma_s`."""
 
     total: XpArray
     elastic: XpArray
@@ -82,8 +63,7 @@ def initial_state(
     shape : tuple of int
         Batch shape of the state arrays.
     xi0 : float, keyword-only
-        Initial structure parameter in [0, 1] [-]. Default 0, as in the paper's closed
-        forms and its protocol, which blends the mud before every trial (decision D3).
+        Initial structure parameter in [0, 1] [-] (decision D3).
     gamma : float or array, keyword-only
         Initial dimensionless displacement [-].
 

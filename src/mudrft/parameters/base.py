@@ -1,9 +1,6 @@
-"""Typed, frozen parameter sets of the mud model (SI units).
-
-A :class:`MudParameters` holds the constants of eqs. (1)-(5) of Chen et al. (2026) for
-one loading direction; a :class:`Mud` pairs the vertical and horizontal sets of one mud.
-Fields may be arrays of a common broadcastable shape: a batch of muds.
-"""
+"""Typed, frozen parameter sets of the mud model (SI units): :class:`MudParameters` holds
+the constants of eqs. (1)-(5) for one direction (array fields: a batch), :class:`Mud` pairs
+the vertical and horizontal sets of one mud."""
 
 from __future__ import annotations
 
@@ -84,17 +81,15 @@ class MudParameters:
     sigma_y : float
         Yield stress :math:`\sigma_Y`, the limit of suction [Pa].
     nu : float, optional
-        Width of the intrusion/retraction switch :math:`H_\nu` [1/s]; the paper gives no
-        value: default 0.01 1/s (decision D5).
+        Width of the switch :math:`H_\nu` [1/s] (the paper gives none; decision D5).
     k_a : float or None, optional
-        Aging rate of the structure parameter [1/s]; ``None`` (default) means
-        :math:`k_a = 1/\lambda`, the paper's :math:`\tau_\xi\approx\lambda` (decision D3).
+        Aging rate of the structure [1/s]; ``None``: :math:`1/\lambda` (decision D3).
     source : str, optional
-        Where the numbers come from (paper, table and row, or "fit").
+        Where the numbers come from.
     water_content : float or None, optional
-        Volumetric water content the set describes [-], if known.
+        Volumetric water content [-], if known.
     direction : str, optional
-        ``"vertical"`` or ``"horizontal"`` (or ``""`` if not tied to a direction).
+        ``"vertical"``, ``"horizontal"`` or ``""``.
 
     Examples
     --------
@@ -162,9 +157,7 @@ class MudParameters:
         return (self.eta_m - self.eta_inf) * self.gamma_dot_c
 
     def replace(self, **changes: Any) -> MudParameters:
-        """Return a copy with some fields changed (validated again); a new ``lam`` also
-        moves ``k_a`` when it was the default :math:`1/\\lambda`, which
-        :func:`dataclasses.replace` would keep."""
+        """A copy with some fields changed (validated); a new ``lam`` moves a default ``k_a``."""
         default_k_a = np.all(np.isclose(np.asarray(self.k_a), 1.0 / np.asarray(self.lam)))
         if "lam" in changes and "k_a" not in changes and default_k_a:
             changes["k_a"] = None
@@ -223,18 +216,9 @@ class MudParameters:
 
 @dataclass(frozen=True, eq=False)
 class Mud:
-    """One mud: the vertical set drives the z stress channel, the horizontal set the x and y
-    channels (paper Sec. II-C); it can be passed to :func:`mudrft.simulate` as a terrain.
-
-    Parameters
-    ----------
-    vertical, horizontal : MudParameters
-        Parameter sets for vertical and horizontal intrusion.
-    water_content : float or None
-        Volumetric water content [-], if known.
-    name : str
-        Label used in reports.
-    """
+    """One mud, a terrain for :func:`mudrft.simulate`: the ``vertical`` set drives the z
+    channel, the ``horizontal`` set x and y (Sec. II-C); ``water_content`` [-] if known,
+    and a ``name`` for reports."""
 
     vertical: MudParameters
     horizontal: MudParameters

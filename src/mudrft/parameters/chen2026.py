@@ -1,13 +1,9 @@
 """Parameter tables of Chen et al. (2026), supplementary Tables S1 and S2.
 
-The numbers are transcribed exactly as printed, in the printed units, so that a
-reader can compare them with the paper line by line. They are converted to SI
-only when a :class:`~mudrft.parameters.base.MudParameters` is built.
-
-Units as printed: alpha, eta_m, eta_inf and sigma_Y in MPa (the viscosities are
-printed "MPa/s", which is dimensionally impossible for sigma = eta * gamma_dot;
-we read MPa s, erratum E1 in docs/model.md), lambda without a unit (read as s),
-gamma_dot_c in 1/s, tau_build and tau_leak in s, n and epsilon dimensionless.
+Transcribed as printed, in the printed units (converted to SI when a parameter set is
+built): alpha, eta_m, eta_inf and sigma_Y in MPa (the viscosities' printed "MPa/s" read as
+MPa s, erratum E1), lambda without a unit (read as s), gamma_dot_c in 1/s, tau_build and
+tau_leak in s.
 """
 
 from __future__ import annotations

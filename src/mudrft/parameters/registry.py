@@ -1,13 +1,9 @@
-"""The built-in parameter sets, with interpolation between table rows (decision D7).
+"""The paper's parameter sets, interpolated between table rows (decision D7).
 
-Between the tabulated water contents (25, 35 and 45 %) every constant is interpolated
-linearly in its logarithm, the exponent ``n`` linearly. Outside them a
-:class:`~mudrft._validation.MudrftError` is raised unless ``extrapolate=True``, which
-extends the end segments the same way, with a warning, to [15 %, 50 %].
-
-The rows have two labellings (errata E6/E7): ``labels="table"`` (default) as the tables
-print them (25, 35, 45 %), ``labels="text"`` as the paper's text names them (15, 25,
-35 %), so ``paper_mud(0.25, labels="text")`` is the middle row.
+Between the rows (25, 35, 45 %) each constant is interpolated linearly in its logarithm,
+``n`` linearly; ``extrapolate=True`` extends the end segments to [15 %, 50 %] with a
+warning. ``labels="text"`` names the rows as the paper's text does (15, 25, 35 %; errata
+E6/E7).
 """
 
 from __future__ import annotations
@@ -122,26 +118,18 @@ def paper_parameters(
     Parameters
     ----------
     water_content : float
-        Volumetric water content as a fraction [-]; the tables hold 0.25, 0.35 and 0.45,
-        values in between are interpolated.
+        Volumetric water content [-] in [0.25, 0.45] (rows 0.25, 0.35, 0.45).
     direction : {"vertical", "horizontal"}
         Which table: vertical (S1) or horizontal (S2) intrusion.
     extrapolate : bool, keyword-only
         Allow water contents in [0.15, 0.50] outside the tabulated rows (warns).
     labels : {"table", "text"}, keyword-only
-        How ``water_content`` names the rows (errata E6/E7): as the tables print them
-        (default), or as the text does (15/25/35 % for the rows printed 25/35/45 %).
+        Name the rows as the tables print them, or as the text does (errata E6/E7).
 
     Returns
     -------
     MudParameters
-        Frozen set in SI units with ``source`` naming table and row; its
-        ``water_content`` is the label asked for.
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", supplementary Tables S1 and S2.
+        Frozen set in SI units; ``source`` names table and row.
 
     Examples
     --------
@@ -180,13 +168,7 @@ def paper_mud(
     extrapolate : bool, keyword-only
         Allow [0.15, 0.50] with a warning.
     labels : {"table", "text"}, keyword-only
-        Read ``water_content`` as the tables label the rows (default: 25/35/45 %) or as
-        the text does (15/25/35 %, errata E6/E7; :func:`paper_parameters`).
-
-    References
-    ----------
-    .. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", supplementary Tables S1 and S2.
+        As :func:`paper_parameters`.
 
     Examples
     --------
@@ -212,11 +194,8 @@ def paper_mud(
 
 
 def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:
-    """Check every printed row against the paper's relation sigma_Y = (eta_m - eta_inf) gamma_dot_c.
-
-    A row is *consistent* when the interval of the right-hand side, over the rounding
-    intervals of the printed numbers (half a unit in their last digit), meets the interval
-    of the printed sigma_Y.
+    """Check every printed row against eq. (4), sigma_Y = (eta_m - eta_inf) gamma_dot_c: a
+    row is *consistent* when the two sides' rounding intervals (half a last digit) meet.
 
     Returns
     -------

@@ -10,12 +10,6 @@ Each is constructible with no arguments (documented defaults) and can be passed 
     mudrft.terrains.MaxwellMud()     # reconstruction of Chen et al. (AIM 2024)
     mudrft.terrains.RigidGround()
 
-Modules: :mod:`~mudrft.terrains.base` (the protocol and shared input checks),
-:mod:`~mudrft.terrains.mud` (the mud, :func:`~mudrft.terrains.mud.mud_step`),
-:mod:`~mudrft.terrains.granular_rft`, :mod:`~mudrft.terrains.granular_rft3d`,
-:mod:`~mudrft.terrains.linear`,
-:mod:`~mudrft.terrains.maxwell`, :mod:`~mudrft.terrains.rigid`.
-
 >>> from mudrft import terrains
 >>> [t.name for t in (terrains.Mud(), terrains.GranularRFT(), terrains.RigidGround())]
 ['mud', 'granular-rft', 'rigid']

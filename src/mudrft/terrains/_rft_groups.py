@@ -1,12 +1,9 @@
-r"""The terrain step of the granular RFTs: surface elements grouped by normal.
+r"""What the granular RFTs share: facet checks, the element integrand, the terrain step.
 
-Granular RFT's force on a foot is a sum over groups of elements that share a normal, each
-weighted by :math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)`; prefix sums over the elements
-sorted by height make that weight a binary search, exactly (no approximation). A step
-evaluates the response of the groups with :math:`W_k>0` only, the submerged ones, and
-reuses them while the direction of motion repeats (:class:`FacetRFT`).
-:func:`_element_forces` is the same integrand element by element, for the public
-``rft_forces`` and ``rft3d_forces``.
+The step groups a foot's elements by normal: group :math:`k` weighs
+:math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` at tip depth :math:`D`, a binary search in
+prefix sums over the elements sorted by height (exact). Only the submerged groups are
+evaluated, and their responses are reused while the direction of motion repeats.
 """
 
 from __future__ import annotations
@@ -16,12 +13,18 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import MudrftError
+from .._validation import (
+    MudrftError,
+    check_finite,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+    set_number,
+)
 from ..feet.base import Foot, SurfaceElements
-from ._common import mean_stress, projected, tip_depth, tip_position
-from .base import TerrainOutput, check_motion
+from .base import TerrainOutput, check_motion, mean_stress, projected, tip_depth, tip_position
 
-__all__ = ["FacetRFT", "RFTState"]  # users import them from mudrft.terrains.granular_rft
+__all__ = ["FacetRFT", "RFTState", "check_facets", "unit_vectors"]
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -29,14 +32,32 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
-def _check_elements(normals: np.ndarray, areas: np.ndarray, depths: np.ndarray) -> None:
-    """Refuse element arrays whose shapes disagree: normals (m, 3), areas (m,), depths (..., m)."""
-    m = normals.shape[:1]  # (m,) for a (m, 3) array
-    if normals.ndim != 2 or normals.shape[1] != 3 or areas.shape != m or depths.shape[-1:] != m:
+def unit_vectors(name: str, value: ArrayLike) -> np.ndarray:
+    """``value`` (..., 3), finite and nonzero, scaled to unit length [-]."""
+    v = check_finite(name, value)
+    if v.shape[-1:] != (3,):
+        raise MudrftError(f"{name} must have shape (..., 3), got shape {v.shape}")
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    if not np.all(norm > 0):
+        i = int(np.argmin(norm.ravel()))
+        raise MudrftError(f"{name} must be nonzero vectors, got {name}[{i}] = 0")
+    return v / norm  # type: ignore[no-any-return]
+
+
+def check_facets(
+    normals: ArrayLike, depths: ArrayLike, areas: ArrayLike, direction: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Unit normals (m, 3), depths (..., m) [m], areas (m,) [m^2], unit direction (..., 3)."""
+    n = unit_vectors("normals", normals)
+    a = check_nonnegative("areas", areas, unit="m^2")
+    d = check_finite("depths", depths)
+    v = unit_vectors("direction", direction)
+    if n.ndim != 2 or a.shape != n.shape[:1] or d.shape[-1:] != n.shape[:1]:
         raise MudrftError(
             "normals (m, 3), areas (m,) and depths (..., m) must agree, "
-            f"got shapes {normals.shape}, {areas.shape}, {depths.shape}"
+            f"got shapes {n.shape}, {a.shape}, {d.shape}"
         )
+    return n, d, a, v
 
 
 def _element_forces(
@@ -47,39 +68,15 @@ def _element_forces(
     *,
     per_element: bool,
 ) -> np.ndarray:
-    r"""RFT forces of surface elements, :math:`d\mathbf F_i=k\,\max(z_i,0)\,A_i\,\boldsymbol\alpha_i`.
-
-    Parameters
-    ----------
-    scale : float
-        Scale :math:`k` of the medium [N/m^3] (:math:`\zeta` of 2D RFT, :math:`\xi_n` of
-        3D-RFT).
-    depths : ndarray, shape (..., m)
-        Depth :math:`z_i` of each element's centroid below the surface [m]; elements at
-        depth <= 0 are out of the medium and carry no force.
-    areas : ndarray, shape (m,)
-        Element areas :math:`A_i` [m^2].
-    unit : ndarray, shape (..., m, 3)
-        Dimensionless response :math:`\boldsymbol\alpha_i` of each element to the
-        direction of motion [-] (leading weight included).
-    per_element : bool, keyword-only
-        Return every element's force (..., m, 3) instead of the sum (..., 3).
-
-    Returns
-    -------
-    ndarray, shape (..., 3) or (..., m, 3)
-        Force of the medium on the elements [N].
-    """
+    r"""Forces [N] :math:`d\mathbf F_i=k\,\max(z_i,0)\,A_i\,\boldsymbol\alpha_i` of elements at
+    depths (..., m) [m] with areas (m,) [m^2] and responses ``unit`` (..., m, 3) [-], for a
+    medium of scale ``scale`` [N/m^3]; summed over the elements unless ``per_element``."""
     forces = (scale * np.maximum(depths, 0.0) * areas)[..., None] * unit
     return forces if per_element else forces.sum(axis=-2)
 
 
 class _Prepared(NamedTuple):
-    r"""Surface elements grouped by normal and sorted by height, for fast integration.
-
-    The depth weight of group k, :math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` for a tip
-    depth :math:`D`, comes from prefix sums in O(log m): direction-independent.
-    """
+    """Surface elements grouped by normal and sorted by height (module docstring)."""
 
     normals: np.ndarray  # (k, 3) distinct unit normals
     keys: np.ndarray  # (m,) group + normalised height, sorted
@@ -119,15 +116,8 @@ def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
 
 
 class RFTState(NamedTuple):
-    """State of granular RFT under a foot.
-
-    Attributes
-    ----------
-    direction : ndarray (..., 3)
-        Last unit direction of motion, kept while the foot is at rest (decision D52).
-    elements : SurfaceElements
-        The foot's surface elements (foot frame, tip at the origin).
-    """
+    """State of granular RFT under a foot: the last unit ``direction`` of motion (..., 3),
+    kept at rest (decision D52), and the foot's surface ``elements`` (tip at the origin)."""
 
     direction: np.ndarray
     elements: SurfaceElements
@@ -137,16 +127,26 @@ class RFTState(NamedTuple):
 
 
 class FacetRFT:
-    """The terrain step shared by the granular RFTs: per-facet unit responses weighted by depth.
-
-    Subclasses provide ``rest_speed`` [m/s], ``scale`` [N/m^3] and
-    ``_unit_forces(normals, direction)`` (the dimensionless response of each facet group to a
-    unit direction of motion). A step evaluates it for the submerged groups only (most of
-    a foot's groups are out of the medium at a gait's depths) and keeps it while the
-    direction repeats (a foot at rest or pushed straight down).
-    """
+    """The terrain step of the granular RFTs. Subclasses provide ``rest_speed`` [m/s],
+    ``scale`` [N/m^3] and ``_unit_forces(normals, direction)``, the leading-weighted
+    response (..., k, 3) [-] of unit normals (k, 3) to a unit direction (..., 3)."""
 
     rest_speed: float
+    leading_width: float
+    coefficients: object
+
+    def _check_options(self, coefficients: type) -> None:
+        """Store ``rest_speed`` [m/s] and ``leading_width`` [-] as checked floats; check the
+        type of ``coefficients``."""
+        speed = check_positive("rest_speed", self.rest_speed, unit="m/s")
+        set_number(self, "rest_speed", speed)
+        width = check_in_range("leading_width", self.leading_width, 0.0, 1.0)
+        set_number(self, "leading_width", width)
+        if not isinstance(self.coefficients, coefficients):
+            raise MudrftError(
+                f"coefficients must be a {coefficients.__name__}, "
+                f"got {type(self.coefficients).__name__}"
+            )
 
     @property
     def scale(self) -> float:
@@ -166,11 +166,8 @@ class FacetRFT:
     def step(
         self, foot: Foot, state: RFTState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[RFTState, TerrainOutput]:
-        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s].
-
-        ``dt`` [s] is not used (RFT is rate-independent) but checked for the interface
-        (:func:`~mudrft.terrains.base.check_motion`).
-        """
+        """Force on the foot with its tip at ``position`` [m] moving at ``velocity`` [m/s];
+        ``dt`` [s] is checked but not used (RFT is rate-independent)."""
         pos, vel, _ = check_motion(position, velocity, dt)
         speed = np.linalg.norm(vel, axis=-1, keepdims=True)
         moving = speed > self.rest_speed
@@ -196,9 +193,9 @@ class FacetRFT:
         submerged: np.ndarray,
         cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Unit responses (..., k, 3) of the groups submerged anywhere in the batch
-        (``submerged`` (..., k)), zeros for the others (their weight is 0), and which groups
-        hold one (k,); those of ``cache`` are reused if its direction is ``direction``."""
+        """Responses (..., k, 3) of the groups ``submerged`` (..., k) anywhere in the batch
+        (zeros elsewhere) and which groups hold one (k,); reused from ``cache`` if its
+        direction is ``direction``."""
         need = np.any(submerged, axis=tuple(range(submerged.ndim - 1)))
         if (
             cache is not None

@@ -1,15 +1,13 @@
-r"""The terrain interface every terrain model implements, and its shared input checks.
+r"""The terrain interface every terrain model implements, and the helpers they share.
 
-Every terrain (the mud model of Chen et al. 2026 and the baselines) implements
-:class:`Terrain`, so :func:`mudrft.simulate`, the MuJoCo coupling and every comparison
-accept any of them::
+Every terrain (the mud model and the baselines) implements :class:`Terrain`, so
+:func:`mudrft.simulate`, the MuJoCo coupling and every comparison accept any of them::
 
     state = terrain.initial_state(foot, position)
     state, out = terrain.step(foot, state, position, velocity, dt)   # out.force [N]
 
-``position`` and ``velocity`` are those of the foot tip in the world frame, shape
-``(3,)`` or ``(..., 3)`` for a batch of feet [m], [m/s]. The step is explicit: it uses
-the motion over the step that ends at ``position``.
+``position`` [m] and ``velocity`` [m/s] are the foot tip's, shape ``(3,)`` or ``(..., 3)``
+for a batch; the step uses the motion over the step that ends at ``position``.
 """
 
 from __future__ import annotations
@@ -20,26 +18,19 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._typing import FloatArray
 from .._validation import MudrftError, check_finite
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
 
-__all__ = ["Terrain", "TerrainOutput", "check_motion"]
+__all__ = ["Terrain", "TerrainOutput", "check_motion", "kinematics", "tip_position"]
 
 
 class TerrainOutput(NamedTuple):
-    """What a terrain step returns.
-
-    Attributes
-    ----------
-    force : ndarray (..., 3)
-        Force of the terrain on the foot, world frame [N].
-    stress : ndarray (..., 3)
-        Channel stresses (sx, sy, sz) [Pa] where the model has them (zeros otherwise).
-    depth : ndarray (...)
-        Tip depth below the surface [m].
-    """
+    """What a terrain step returns: the ``force`` of the terrain on the foot (..., 3) [N],
+    the channel ``stress`` (sx, sy, sz) (..., 3) [Pa] (zeros where the model has none) and
+    the tip ``depth`` (...) [m]."""
 
     force: NDArray[np.float64]
     stress: NDArray[np.float64]
@@ -67,34 +58,31 @@ class Terrain(Protocol):
         ...
 
 
-def check_motion(
-    position: ArrayLike, velocity: ArrayLike, dt: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
-    """Validate the inputs of a terrain step, shared by every terrain.
-
-    Parameters
-    ----------
-    position : array_like, shape (3,) or (..., 3)
-        Tip position [m], finite.
-    velocity : array_like, same shape
-        Tip velocity [m/s], finite.
-    dt : float
-        Step [s], finite and > 0.
-
-    Returns
-    -------
-    position, velocity : ndarray
-        As float arrays.
-    dt : float
-    """
+def tip_position(position: ArrayLike) -> FloatArray:
+    """Validate a tip position [m]: finite, shape (3,) or (..., 3)."""
     pos = check_finite("position", position)
     if pos.shape[-1:] != (3,):
         raise MudrftError(f"position must have shape (3,) or (..., 3) [m], got shape {pos.shape}")
+    return pos
+
+
+def kinematics(position: ArrayLike, velocity: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Validate tip position [m] and velocity [m/s]: finite, shape (..., 3), same shape."""
+    pos = tip_position(position)
     vel = check_finite("velocity", velocity)
     if vel.shape != pos.shape:
         raise MudrftError(
             f"velocity must have the shape of position {pos.shape} [m/s], got shape {vel.shape}"
         )
+    return pos, vel
+
+
+def check_motion(
+    position: ArrayLike, velocity: ArrayLike, dt: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
+    """The inputs of a terrain step, validated: position [m] and velocity [m/s] as float
+    arrays (:func:`kinematics`), and ``dt`` [s], finite and > 0, as a float."""
+    pos, vel = kinematics(position, velocity)
     try:
         step = float(dt)
     except (TypeError, ValueError):
@@ -102,3 +90,25 @@ def check_motion(
     if not (math.isfinite(step) and step > 0.0):
         raise MudrftError(f"dt must be finite and > 0 s, got {step!r} s")
     return pos, vel, step
+
+
+def tip_depth(pos: np.ndarray) -> np.ndarray:
+    """Depth of the tip below the surface z = 0 [m], >= 0."""
+    return np.maximum(-pos[..., 2], 0.0)
+
+
+def projected(foot: Foot, depth: FloatArray) -> FloatArray:
+    """Projected areas (x, y, z) of the submerged foot [m^2], shape depth.shape + (3,)."""
+    return np.asarray(foot.projected_areas(depth), dtype=float).reshape((*np.shape(depth), 3))
+
+
+def area_z(foot: Foot, depth: FloatArray) -> FloatArray:
+    """Horizontal (z-projected) area of the submerged foot [m^2]."""
+    return projected(foot, depth)[..., 2]
+
+
+def mean_stress(force: np.ndarray, areas: np.ndarray) -> np.ndarray:
+    """``(-Fx/Ax, -Fy/Ay, Fz/Az)`` [Pa], the channels' sign convention; 0 where an area is 0."""
+    sign = np.array([-1.0, -1.0, 1.0])
+    safe = np.where(areas > 0, areas, 1.0)
+    return np.where(areas > 0, sign * force / safe, 0.0)

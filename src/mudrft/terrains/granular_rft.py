@@ -15,8 +15,7 @@ angle :math:`\beta` and the intrusion angle :math:`\gamma` (:func:`li2013_alpha`
 the velocity split into :math:`v_1` along :math:`\hat e_1` and :math:`v_{23}` in the
 :math:`(\hat e_2,\hat z)` plane, the sigmoid weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)`
 and :math:`\alpha_y=\alpha_x(0,0)`) is that of Treers, Cao & Stuart (RA-L 2021).
-Trailing elements carry nothing, so a foot pulled out of sand feels no suction
-(decisions D50-D53 in ``docs/model.md``).
+Trailing elements carry nothing: no suction (decisions D50-D53).
 """
 
 from __future__ import annotations
@@ -31,18 +30,14 @@ from .._validation import (
     MudrftError,
     check_choice,
     check_finite,
-    check_in_range,
-    check_nonnegative,
     check_positive,
     warn_implausible,
     warn_plausibility,
 )
-from .._validation import (
-    set_number as _set,
-)
+from .._validation import set_number as _set
 from ..citations import register
 from ..units import parse_unit
-from ._rft_groups import FacetRFT, RFTState, _check_elements, _element_forces, _unit
+from ._rft_groups import FacetRFT, RFTState, _element_forces, check_facets
 from .li2013 import (
     DEFAULT_ZETA,
     GRANULAR_MEDIA,
@@ -83,9 +78,9 @@ def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarra
 
     :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
     :math:`f_{23}(u)=\frac{\operatorname{atanh}(c u-d)+\operatorname{atanh} d}
-    {\operatorname{atanh}(c-d)+\operatorname{atanh} d}`, for the magnitudes of the
-    unit velocity's components along the plate's horizontal edge (:math:`v_1`) and in
-    its normal plane (:math:`v_{23}`); both are 0 at 0 and 1 at 1 (decision D51).
+    {\operatorname{atanh}(c-d)+\operatorname{atanh} d}` of the unit velocity's components
+    along the plate's horizontal edge (:math:`v_1`) and in its normal plane (:math:`v_{23}`),
+    normalised to 0 at 0 and 1 at 1 (decision D51).
 
     Examples
     --------
@@ -119,12 +114,8 @@ def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarr
     r"""Weight of a facet by how much it leads the motion (decision D53) [-].
 
     :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`: 0 on trailing and tangent facets,
-    1 on facets that lead by more than :math:`\delta`, linear between. RFT's rule (only
-    leading facets resist) is all-or-nothing; a facet whose normal is perpendicular to the
-    motion then switches on or off under a rounding error (the flat foot dragged along x:
-    0.54 N, tilted by 1e-9 rad: 8.9 N), which makes feet chatter in a physics engine and
-    breaks rotation invariance. The ramp makes the force Lipschitz in the pose; ``width=0``
-    gives the sharp reference rule.
+    1 on facets leading by more than :math:`\delta`, linear between, so that the force is
+    continuous in the pose; ``width=0`` gives RFT's sharp rule.
 
     Examples
     --------
@@ -142,12 +133,9 @@ def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarr
 def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
     r"""How much a facet counts as horizontal in the 3D extension (decision D51) [-].
 
-    Treers et al. treat a facet as horizontal when :math:`|n_z|\ge1-\delta`
-    (:math:`\delta=10^{-3}`) and then take its frame from the motion instead of its normal;
-    that switch made the force jump by a few per cent under a tilt of 1e-9 rad. The share
-    rises linearly from 0 at :math:`|n_z|=1-2\delta` to 1 at :math:`1-\delta`, and the force
-    is the same mix of the two frames' forces, so it is continuous in the tilt and equal to
-    the sharp rule outside that band (:math:`2.6^\circ` to :math:`3.6^\circ` from flat).
+    Treers et al.'s facet is horizontal (its frame taken from the motion) when
+    :math:`|n_z|\ge1-\delta`, :math:`\delta=10^{-3}`; the share rises linearly from 0 at
+    :math:`|n_z|=1-2\delta` to 1 there, and the force mixes the two frames' forces alike.
 
     Examples
     --------
@@ -167,8 +155,8 @@ def _frame_forces(
     coefficients: FourierCoefficients,
     extension: str,
 ) -> np.ndarray:
-    """Force per unit (depth x area) of facets ``nb`` moving along ``vd`` in the frame of the
-    horizontal direction ``e2`` (D51), before the leading weight, divided by zeta."""
+    """Force per unit depth, area and zeta of facets ``nb`` moving along ``vd`` in the frame of
+    the horizontal direction ``e2`` (D51), before the leading weight [-]."""
     z_hat = np.array([0.0, 0.0, 1.0])
     e1 = np.stack([e2[..., 1], -e2[..., 0], np.zeros(e2.shape[:-1])], axis=-1)  # e2 x z
     v1c = (vd * e1).sum(-1)
@@ -197,29 +185,23 @@ def _unit_forces(
     extension: str,
     leading_width: float = LEADING_WIDTH,
 ) -> np.ndarray:
-    """Force per unit (depth x area), divided by zeta, on elements of unit ``normals`` (k, 3).
-
-    ``direction`` (..., 3) is a unit vector; returns (..., k, 3), weighted by how much each
-    element leads (:func:`leading_weight`).
-    """
+    """Leading-weighted force per unit depth, area and zeta (..., k, 3) [-] of unit
+    ``normals`` (k, 3) moving along the unit ``direction`` (..., 3)."""
     vb = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
     nb = np.broadcast_to(normals, vb.shape)
     x_hat = np.array([1.0, 0.0, 0.0])
     vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
     nh_dir, nh_ok = _unit_horizontal(nb, x_hat)
-    # with neither a horizontal motion nor a horizontal normal (both <= 1e-9) e2 is the world
-    # x axis, which a rotation about z does not carry along: such a facet moves exactly
-    # vertically and is exactly horizontal (what remains is below 1e-9), so its force does not
-    # depend on the yaw (D53)
+    # neither a horizontal motion nor a horizontal normal: a purely vertical case whose
+    # force must not depend on the yaw (D53)
     axial = ~(vh_ok | nh_ok)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
     if extension == "planar":
         e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
         f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
     else:
-        # a (nearly) horizontal facet takes its frame from the motion, the others from their
-        # normal; with no horizontal motion, every facet from its normal (not a world axis),
-        # so the force rotates with foot and motion about z
+        # a (nearly) horizontal facet takes its frame from the motion, the others (and all,
+        # with no horizontal motion) from their normal
         share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
         e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
         f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
@@ -246,31 +228,28 @@ def rft_forces(
     per_element: bool = False,
     leading_width: float = LEADING_WIDTH,
 ) -> np.ndarray:
-    r"""Granular RFT force on a set of surface elements moving in one direction.
+    r"""Granular RFT force on surface elements moving in one direction.
 
     Parameters
     ----------
     normals : array_like, shape (m, 3)
-        Outward unit normals of the elements [-].
+        Outward normals of the elements [-].
     depths : array_like, shape (..., m)
-        Depth of each element's centroid below the surface [m]; elements with depth
-        <= 0 are out of the medium.
+        Depth of each element's centroid below the surface [m] (<= 0: out of the medium).
     areas : array_like, shape (m,)
         Element areas [m^2].
     direction : array_like, shape (..., 3)
-        Direction of motion [-] (normalised here; RFT is rate-independent).
+        Direction of motion [-].
     zeta : float, keyword-only
-        Scale of the medium [N/m^3] (the generic fit is dimensionless).
+        Scale of the medium [N/m^3].
     coefficients : FourierCoefficients, keyword-only
         2D fit of :math:`\alpha_{x,z}`.
     extension : {"treers2021", "planar"}, keyword-only
-        3D extension: Treers et al. (2021) (default) or the plain 2D RFT applied in
-        the vertical plane of the velocity (decision D51).
+        3D extension: Treers et al. (2021), or 2D RFT in the velocity's vertical plane (D51).
     per_element : bool, keyword-only
         Return the force of every element (..., m, 3) instead of the sum.
     leading_width : float, keyword-only
-        Width of the leading-facet ramp in :math:`\hat n\cdot\hat v` [-]; 0 for the sharp
-        rule (:func:`leading_weight`, decision D53).
+        Width of the leading-facet ramp [-] (:func:`leading_weight`, D53).
 
     Returns
     -------
@@ -287,45 +266,29 @@ def rft_forces(
     [0.0, 0.0, 0.508]
     """
     check_choice("extension", extension, ("treers2021", "planar"))
-    n = check_finite("normals", normals)
-    a = check_nonnegative("areas", areas, unit="m^2")
-    d = check_finite("depths", depths)
-    v = check_finite("direction", direction)
-    _check_elements(n, a, d)
-    if v.shape[-1:] != (3,) or not np.all(np.linalg.norm(v, axis=-1) > 0):
-        raise MudrftError(f"direction must be nonzero with shape (..., 3), got shape {v.shape}")
-    if not np.all(np.linalg.norm(n, axis=-1) > 0):
-        i = int(np.argmin(np.linalg.norm(n, axis=-1)))
-        raise MudrftError(f"normals must be nonzero vectors, got normals[{i}] = {n[i].tolist()}")
-    f = _unit_forces(_unit(n), _unit(v), coefficients, extension, leading_width)
+    n, d, a, v = check_facets(normals, depths, areas, direction)
+    f = _unit_forces(n, v, coefficients, extension, leading_width)
     return _element_forces(zeta, d, a, f, per_element=per_element)
 
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT(FacetRFT):
-    r"""Granular resistive force theory (Li et al. 2013) as a terrain, for any foot.
-
-    Integrates :func:`rft_forces` over the foot's surface elements (``foot.elements()``)
-    whose centroids lie below the surface z = 0, each at its own depth.
+    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` over the foot's
+    submerged surface elements.
 
     Parameters
     ----------
     zeta : float
-        Scale of the medium [N/m^3]: the vertical stress per unit depth of a horizontal
-        plate pushed straight down; default: loosely packed poppy seeds, 0.254 N/cm^3 =
-        2.54e5 N/m^3 (:data:`GRANULAR_MEDIA`, decision D50). RFT papers print N/cm^3:
-        multiply by 1e6. A value below 1e3 N/m^3 warns (:data:`PLAUSIBLE_ZETA`).
+        Scale of the medium [N/m^3]: the vertical stress per depth of a horizontal plate
+        pushed down; default loosely packed poppy seeds, 0.254 N/cm^3 (D50). A value
+        below 1e3 N/m^3 warns (N/cm^3 given as N/m^3, :data:`PLAUSIBLE_ZETA`).
     coefficients : FourierCoefficients
-        2D fit, dimensionless and normalised to :math:`\alpha_z(0,\pi/2)=1`
-        (:attr:`FourierCoefficients.plate`); default Li et al.'s generic one. The force is
-        ``zeta`` times this fit, so a medium's own fit as Li et al. tabulate it (in N/cm^3,
-        not normalised) goes through :meth:`from_coefficients`; unnormalised coefficients
-        given here warn.
+        2D fit normalised to :math:`\alpha_z(0,\pi/2)=1` (default Li et al.'s generic one);
+        a medium's own fit in N/cm^3 goes through :meth:`from_coefficients`.
     extension : {"treers2021", "planar"}
         3D extension (decision D51).
     rest_speed : float
-        Below this speed [m/s] the last direction of motion is kept, so sand at rest
-        keeps carrying a standing foot (decision D52).
+        Below this speed [m/s] the last direction of motion is kept (decision D52).
     leading_width : float
         Width of the leading-facet ramp [-] (:func:`leading_weight`, D53); 0 is the sharp rule.
     name : str
@@ -359,19 +322,10 @@ class GranularRFT(FacetRFT):
     name: str = "granular-rft"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "zeta", check_positive("zeta", self.zeta, unit="N/m^3"))
-        _set(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
-        _set(self, "leading_width", check_in_range("leading_width", self.leading_width, 0.0, 1.0))
+        self._check_options(FourierCoefficients)
         check_choice("extension", self.extension, ("treers2021", "planar"))
-        if not isinstance(self.coefficients, FourierCoefficients):
-            raise MudrftError(
-                "coefficients must be a FourierCoefficients, "
-                f"got {type(self.coefficients).__name__}"
-            )
-        # valid but most likely a unit mistake: zeta in N/cm^3 as papers print it,
-        # or a medium's own fit (N/cm^3, not normalised) multiplied by zeta once more
-        warn_implausible(
+        warn_implausible(  # valid but most likely a unit mistake
             "GranularRFT: zeta is",
             self.zeta,
             PLAUSIBLE_ZETA,
@@ -388,7 +342,7 @@ class GranularRFT(FacetRFT):
             )
         register("li2013terradynamics")
         if self.extension == "treers2021":
-            _try_register("treers2021granular")
+            register("treers2021granular")
 
     @classmethod
     def medium(cls, name: str, **kw: Any) -> GranularRFT:
@@ -400,12 +354,8 @@ class GranularRFT(FacetRFT):
     def from_coefficients(
         cls, coefficients: FourierCoefficients, *, unit: str = "N/cm^3", **kw: Any
     ) -> GranularRFT:
-        r"""RFT for a medium's own Fourier fit, in the units Li et al. (2013) tabulate.
-
-        Li et al.'s per-medium fits (their supplementary table) give
-        :math:`A_{00}\dots D_{10}` of a medium in N/cm^3. The terrain keeps them exactly,
-        as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)` converted to
-        N/m^3 and the coefficients divided by it.
+        r"""RFT for a medium's own Fourier fit as Li et al. (2013) tabulate it (N/cm^3), kept
+        exactly as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)`.
 
         Parameters
         ----------
@@ -466,11 +416,3 @@ class GranularRFT(FacetRFT):
         return _unit_forces(
             normals, direction, self.coefficients, self.extension, self.leading_width
         )
-
-
-def _try_register(key: str) -> None:
-    """Register a citation key if :mod:`mudrft.citations` knows it."""
-    try:
-        register(key)
-    except KeyError:
-        pass

@@ -1,9 +1,7 @@
 r"""3D resistive force theory of Agarwal, Goldman & Kamrin (PNAS 2023) as a terrain.
 
-Unlike :mod:`~mudrft.terrains.granular_rft` (Li et al.'s 2D fit carried to 3D by Treers
-et al.'s weights), 3D-RFT is fitted in 3D. A submerged surface element of outward unit
-normal :math:`\hat n` moving along the unit direction :math:`\hat v` at depth :math:`|z|`
-carries the force :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
+A submerged element of outward unit normal :math:`\hat n` moving along :math:`\hat v` at
+depth :math:`|z|` carries :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
 
 .. math::
 
@@ -12,13 +10,12 @@ carries the force :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
         \,\boldsymbol\alpha^{gen}_t\big],\qquad
     \xi_n = \rho_c\,g\,(894\mu_{int}^3 - 386\mu_{int}^2 + 89\mu_{int}),
 
-:math:`\boldsymbol\alpha^{gen}` the generic (dimensionless) response of the paper's
-cubic fit (:func:`agarwal_generic_alpha`), :math:`\boldsymbol\alpha^{gen}_{n,t}` its parts
-normal and tangent to the element, :math:`\mu_{surf}` the intruder-surface friction (the
-friction cap), :math:`\rho_c` [kg/m^3] and :math:`\mu_{int}` [-] the medium's density and
-internal friction. Only submerged leading elements carry force, weighted by the same
-continuous ramp as granular RFT (:func:`~mudrft.terrains.granular_rft.leading_weight`).
-Sources, coefficient provenance and decisions D90-D95: ``docs/model.md`` section 8.
+:math:`\boldsymbol\alpha^{gen}` the generic response of the paper's cubic fit
+(:func:`agarwal_generic_alpha`) with its parts normal and tangent to the element,
+:math:`\mu_{surf}` the intruder-surface friction, :math:`\rho_c` [kg/m^3] and
+:math:`\mu_{int}` [-] the medium's density and internal friction. Submerged leading elements
+carry force, weighted as in granular RFT (:func:`~mudrft.terrains.granular_rft.leading_weight`;
+decisions D90-D95).
 """
 
 from __future__ import annotations
@@ -33,7 +30,6 @@ from .._validation import (
     MudrftError,
     check_finite,
     check_in_range,
-    check_nonnegative,
     check_positive,
     number_in_range,
     positive_number,
@@ -42,7 +38,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from ._rft_groups import FacetRFT, _check_elements, _element_forces
+from ._rft_groups import FacetRFT, _element_forces, check_facets, unit_vectors
 from .granular_rft import LEADING_WIDTH, leading_weight
 
 __all__ = [
@@ -106,9 +102,7 @@ class PolynomialCoefficients:
         return terms @ self.table()
 
 
-#: Agarwal, Goldman & Kamrin (2023), supplementary coefficients as read from public
-#: implementations (decision D91: the four sources disagree on six entries; this is the
-#: reading two independent ones share).
+#: Agarwal, Goldman & Kamrin (2023), supplementary coefficients (decision D91).
 AGARWAL2023 = PolynomialCoefficients(
     c1=(
         0.00212, -0.02320, -0.20890, -0.43083, -0.00259, 0.48872, -0.00415, 0.07204,
@@ -138,16 +132,11 @@ def agarwal_xi(
     Parameters
     ----------
     rho_c : array_like
-        Density of the medium [kg/m^3], > 0.
+        Bulk density of the medium [kg/m^3].
     mu_int : array_like
-        Internal friction coefficient of the medium [-] (tangent of the friction angle), > 0.
+        Internal friction coefficient [-].
     gravity : float, keyword-only
         Gravitational acceleration [m/s^2].
-
-    Returns
-    -------
-    ndarray
-        :math:`\xi_n` [N/m^3], the scale of the generic response (decision D92).
 
     Examples
     --------
@@ -220,12 +209,8 @@ def _generic(
     coefficients: PolynomialCoefficients,
     wall_width: float,
 ) -> NDArray[np.float64]:
-    """Generic response (..., k, 3) of unit ``normals`` (k, 3) moving along unit ``direction``.
-
-    The frame-free form of :func:`agarwal_generic_alpha` (decision D90): the element's
-    downward normal is ``n`` below the horizontal and ``-n`` above it, blended linearly
-    over ``|n_z| < wall_width`` (D93).
-    """
+    """Generic response (..., k, 3) [-] of unit ``normals`` (k, 3) moving along the unit
+    ``direction`` (D90); the downward normal is blended across walls, ``|n_z| < wall_width`` (D93)."""
     nz = normals[:, 2]
     if wall_width > 0.0:
         w = np.clip(0.5 - nz / (2.0 * wall_width), 0.0, 1.0)  # weight of n_d = n
@@ -256,18 +241,6 @@ def _cap(
     return a_n + scale * a_t
 
 
-def _check_unit_vectors(
-    name: str, value: ArrayLike, ndim: int | None = None
-) -> NDArray[np.float64]:
-    arr = check_finite(name, value)
-    if arr.shape[-1:] != (3,) or (ndim is not None and arr.ndim != ndim):
-        want = "(m, 3)" if ndim == 2 else "(..., 3)"
-        raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
-    if not np.all(np.linalg.norm(arr, axis=-1) > 0):
-        raise MudrftError(f"{name} must be nonzero vectors, got a zero vector")
-    return arr / np.linalg.norm(arr, axis=-1, keepdims=True)
-
-
 def rft3d_alpha(
     normals: ArrayLike,
     direction: ArrayLike,
@@ -283,35 +256,36 @@ def rft3d_alpha(
         \boldsymbol\alpha^{gen} = f_1\,\hat n_d + f_2\,\hat v - f_3\,\hat z,\qquad
         x_1 = -v_z,\ x_2 = |n_z|,\ x_3 = \hat n_d\cdot\hat v,
 
-    with :math:`\hat n_d` the element's downward normal (:math:`\hat n` if :math:`n_z<0`,
-    :math:`-\hat n` if :math:`n_z>0`), which equals :func:`agarwal_generic_alpha` rotated to
+    with :math:`\hat n_d` the element's downward normal: :func:`agarwal_generic_alpha` in
     the world frame (decision D90). Leading or not is not checked here.
 
     Parameters
     ----------
     normals : array_like, shape (m, 3)
-        Outward normals of the elements [-] (normalised here).
+        Outward normals of the elements [-].
     direction : array_like, shape (..., 3)
-        Direction of motion [-] (normalised here; 3D-RFT is rate-independent).
+        Direction of motion [-].
     mu_surf : float or None, keyword-only
         Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
     coefficients : PolynomialCoefficients, keyword-only
-        The fit (default :data:`AGARWAL2023`).
+        The fit.
     wall_width : float, keyword-only
-        Blend width across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+        Blend width across vertical walls in :math:`n_z` [-] (D93).
 
     Returns
     -------
     ndarray, shape (..., m, 3)
-        Force per unit :math:`\xi_n`, depth and area on each element, world frame [-].
+        Force per unit :math:`\xi_n`, depth and area, world frame [-].
 
     Examples
     --------
     >>> rft3d_alpha([[0, 0, -1]], [0, 0, -1]).round(5) + 0.0     # flat plate pushed down
     array([[0.     , 0.     , 0.87574]])
     """
-    n = _check_unit_vectors("normals", normals, ndim=2)
-    v = _check_unit_vectors("direction", direction)
+    n = unit_vectors("normals", normals)
+    if n.ndim != 2:
+        raise MudrftError(f"normals must have shape (m, 3), got shape {n.shape}")
+    v = unit_vectors("direction", direction)
     check_in_range("wall_width", wall_width, 0.0, 1.0)
     alpha = _generic(n, v, coefficients, wall_width)
     if mu_surf is None:
@@ -346,21 +320,13 @@ def rft3d_forces(
     leading_width: float = LEADING_WIDTH,
     wall_width: float = WALL_WIDTH,
 ) -> NDArray[np.float64]:
-    r"""3D-RFT force on surface elements moving in one direction [N].
-
-    :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on each element with centroid depth
-    :math:`|z|>0`, :math:`w` its leading weight (0 on trailing elements).
+    r"""3D-RFT force [N] :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on elements moving
+    in one direction, :math:`w` their leading weight.
 
     Parameters
     ----------
-    normals : array_like, shape (m, 3)
-        Outward normals [-].
-    depths : array_like, shape (..., m)
-        Depth of each centroid below the surface [m]; <= 0: out of the medium.
-    areas : array_like, shape (m,)
-        Element areas [m^2].
-    direction : array_like, shape (..., 3)
-        Direction of motion [-].
+    normals, depths, areas, direction : array_like
+        As :func:`~mudrft.terrains.granular_rft.rft_forces`.
     xi_n : float, keyword-only
         Material constant [N/m^3] (:func:`agarwal_xi`).
     mu_surf : float, keyword-only
@@ -373,11 +339,6 @@ def rft3d_forces(
         Ramp widths [-] of :func:`~mudrft.terrains.granular_rft.leading_weight` (D53) and of
         the wall blend (D93).
 
-    Returns
-    -------
-    ndarray, shape (..., 3) or (..., m, 3)
-        Force of the medium on the elements, world frame [N].
-
     Examples
     --------
     A 10 cm^2 plate 2 cm deep pushed straight down: :math:`0.87574\,\xi_n|z|A`:
@@ -386,11 +347,7 @@ def rft3d_forces(
     >>> [round(float(c), 6) + 0.0 for c in f]
     [0.0, 0.0, 1.75148]
     """
-    n = _check_unit_vectors("normals", normals, ndim=2)
-    v = _check_unit_vectors("direction", direction)
-    a = check_nonnegative("areas", areas, unit="m^2")
-    d = check_finite("depths", depths)
-    _check_elements(n, a, d)
+    n, d, a, v = check_facets(normals, depths, areas, direction)
     xi = positive_number("xi_n", xi_n, unit="N/m^3")
     mu = number_in_range("mu_surf", mu_surf, 0.0, 1e3)
     check_in_range("leading_width", leading_width, 0.0, 1.0)
@@ -401,34 +358,24 @@ def rft3d_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT3D(FacetRFT):
-    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain, for any foot with elements.
-
-    Integrates :func:`rft3d_forces` over the foot's surface elements (``foot.elements()``)
-    whose centroids lie below z = 0, each at its own depth.
+    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain: :func:`rft3d_forces` over the
+    foot's submerged surface elements.
 
     Parameters
     ----------
     rho_c : float
-        Bulk density of the medium [kg/m^3] (packing fraction times grain density, not the
-        grains' own density; default 1310, D95). A value below 100 kg/m^3 warns: g/cm^3
-        given as kg/m^3.
+        Bulk density of the medium [kg/m^3] (D95); below 100 warns (g/cm^3 given as kg/m^3).
     mu_int : float
-        Internal friction coefficient of the medium [-] (default 0.21, D95): a coefficient,
-        :math:`\tan` of the internal friction angle, not the angle.
+        Internal friction coefficient [-], the tangent of the friction angle (D95).
     mu_surf : float
-        Intruder-surface friction coefficient of the cap [-] (default 0.4, D95): a
-        coefficient, not an angle (a value in (2, 90] warns as degrees); a large
-        value (1e3) turns the cap off.
+        Intruder-surface friction coefficient of the cap [-] (D95); (2, 90] warns as an
+        angle in degrees; 1e3 turns the cap off.
     gravity : float
-        Gravitational acceleration [m/s^2] in :math:`\xi_n`.
+        Gravitational acceleration [m/s^2].
     coefficients : PolynomialCoefficients
         The cubic fits (default :data:`AGARWAL2023`, D91).
-    rest_speed : float
-        Below this speed [m/s] the last direction of motion is kept (as D52).
-    leading_width : float
-        Width of the leading-facet ramp [-] (D53); 0: the sharp rule.
-    wall_width : float
-        Width of the blend across vertical walls in :math:`n_z` [-] (D93); 0: sharp.
+    rest_speed, leading_width, wall_width : float
+        As :class:`~mudrft.terrains.GranularRFT` [m/s], [-]; the wall blend's width [-] (D93).
     name : str
         Label in reports.
 
@@ -456,7 +403,6 @@ class GranularRFT3D(FacetRFT):
     name: str = "granular-rft3d"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "rho_c", check_positive("rho_c", self.rho_c, unit="kg/m^3"))
         try:
             _set(self, "mu_int", check_in_range("mu_int", self.mu_int, 1e-6, 2.0))
@@ -466,18 +412,11 @@ class GranularRFT3D(FacetRFT):
             ) from None
         _set(self, "mu_surf", check_in_range("mu_surf", self.mu_surf, 0.0, 1e3))
         _set(self, "gravity", check_positive("gravity", self.gravity, unit="m/s^2"))
-        _set(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
-        _set(self, "leading_width", check_in_range("leading_width", self.leading_width, 0.0, 1.0))
         _set(self, "wall_width", check_in_range("wall_width", self.wall_width, 0.0, 1.0))
-        if not isinstance(self.coefficients, PolynomialCoefficients):
-            raise MudrftError(
-                "coefficients must be a PolynomialCoefficients, "
-                f"got {type(self.coefficients).__name__}"
-            )
+        self._check_options(PolynomialCoefficients)
         if not isinstance(self.name, str) or not self.name:
             raise MudrftError(f"name must be a non-empty string, got {self.name!r}")
-        # valid but most likely a unit mistake
-        warn_implausible(
+        warn_implausible(  # valid but most likely a unit mistake
             "GranularRFT3D: rho_c is",
             self.rho_c,
             PLAUSIBLE_RHO_C,

@@ -1,12 +1,8 @@
 r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media.
 
-The stress per unit depth on a small plate element of a granular medium is
-:math:`\zeta\,\alpha^{fit}(\beta,\gamma)` (:class:`FourierCoefficients`, :func:`li2013_alpha`),
-with the *generic* dimensionless fit :data:`LI2013_GENERIC` normalised to
-:math:`\alpha_z(0,\pi/2)=1` and :math:`\zeta` [N/m^3] the medium's scale
-(:data:`GRANULAR_MEDIA`). Li et al. print stresses per depth in N/cm^3; mudrft holds
-N/m^3 (decision D50 in ``docs/model.md``). :mod:`~mudrft.terrains.granular_rft`
-integrates the fit over a foot.
+The stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)`:
+the generic fit :data:`LI2013_GENERIC`, normalised to :math:`\alpha_z(0,\pi/2)=1`, times the
+medium's scale :math:`\zeta` [N/m^3] (:data:`GRANULAR_MEDIA`; Li et al. print N/cm^3, D50).
 """
 
 from __future__ import annotations
@@ -39,10 +35,9 @@ class FourierCoefficients:
         \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
                     + D_{10}\sin 2\beta,
 
-    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle of the element (0: horizontal),
-    :math:`\gamma\in[-\pi/2,\pi/2]` the intrusion angle of its velocity below the
-    horizontal (:math:`\pi/2`: straight down). The units are those of the fit (the
-    generic fit is dimensionless, normalised to :math:`\alpha_z(0,\pi/2)=1`).
+    with :math:`\beta\in[-\pi/2,\pi/2]` the element's attack angle (0: horizontal) and
+    :math:`\gamma\in[-\pi/2,\pi/2]` its velocity's angle below the horizontal, in the
+    units of the fit.
     """
 
     A00: float
@@ -57,9 +52,7 @@ class FourierCoefficients:
 
     @property
     def plate(self) -> float:
-        r""":math:`\alpha_z(0,\pi/2)=A_{00}+A_{10}+B_{01}+B_{11}+B_{-11}`, the vertical stress
-        per unit depth of a horizontal plate pushed straight down, in the units of the fit
-        (1 for the generic fit).
+        r""":math:`\alpha_z(0,\pi/2)`, a horizontal plate pushed straight down (units of the fit).
 
         Examples
         --------
@@ -101,17 +94,14 @@ LI2013_GENERIC = FourierCoefficients(
     D10=0.088,
 )
 
-#: Scale zeta [N/m^3] of named granular media: alpha_z(0, pi/2) of Li et al.'s (2013)
-#: per-medium Fourier fits for loosely (LP) and closely (CP) packed poppy seeds,
-#: 0.254 and 0.464 N/cm^3 (decision D50).
+#: Scale zeta [N/m^3] of loosely and closely packed poppy seeds, alpha_z(0, pi/2) of Li et
+#: al.'s (2013) per-medium fits (decision D50).
 GRANULAR_MEDIA: dict[str, float] = {"poppy-lp": 0.254e6, "poppy-cp": 0.464e6}
 
 #: Default scale: loosely packed poppy seeds [N/m^3].
 DEFAULT_ZETA = GRANULAR_MEDIA["poppy-lp"]
 
-#: Plausible scales of a granular medium [N/m^3] (1e-3 to 100 N/cm^3; Li et al.'s media lie
-#: near 0.1-1 N/cm^3). A zeta below it is most likely a value in N/cm^3, as RFT papers
-#: print it, given as N/m^3.
+#: Plausible scales of a granular medium [N/m^3]; below, most likely N/cm^3 read as N/m^3.
 PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
 
 
@@ -123,19 +113,17 @@ def li2013_alpha(
     Parameters
     ----------
     beta : array_like
-        Attack angle of the surface element [rad] (0: horizontal plate; the fit is
-        :math:`\pi`-periodic in ``beta``).
+        Attack angle of the element [rad] (0: horizontal plate).
     gamma : array_like
-        Intrusion angle of the velocity below the horizontal [rad], in
-        :math:`[-\pi/2, \pi/2]` (:math:`\pi/2`: straight down, :math:`-\pi/2`: straight up).
+        Angle of the velocity below the horizontal [rad], in :math:`[-\pi/2, \pi/2]`.
     coefficients : FourierCoefficients, keyword-only
         The fit (default: the generic one, dimensionless).
 
     Returns
     -------
     (ndarray, ndarray)
-        :math:`\alpha_x` (positive: resists motion along the element's horizontal
-        direction) and :math:`\alpha_z` (positive: lift), in the units of the fit.
+        :math:`\alpha_x` (positive: resists the motion) and :math:`\alpha_z` (positive:
+        lift), in the units of the fit.
 
     Examples
     --------

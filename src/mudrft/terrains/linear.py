@@ -4,10 +4,9 @@ The vertical stress under the foot grows linearly with the tip depth :math:`d`,
 
 .. math:: \sigma_z = k\,d, \qquad F_z = \sigma_z\,A_z(d),
 
-with :math:`A_z(d)` the horizontal projected area of the submerged foot, so :math:`k`
-[Pa/m = N/m^3] is a stiffness per unit area (decision D54). The model is vertical
-only (1D, :math:`F_x=F_y=0`), elastic (the same force on loading and unloading at the
-same depth: no hysteresis, no relaxation, no suction) and rate-independent.
+with :math:`A_z(d)` the horizontal projected area of the submerged foot and :math:`k`
+[N/m^3] a stiffness per unit area (decision D54): vertical only, elastic (no hysteresis,
+relaxation or suction) and rate-independent.
 """
 
 from __future__ import annotations
@@ -29,8 +28,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from ._common import area_z, kinematics, tip_depth, tip_position
-from .base import TerrainOutput
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -43,14 +41,11 @@ __all__ = [
     "fit_stiffness",
 ]
 
-#: Plausible stiffnesses per unit area [N/m^3], as the granular scale's: the paper's mud
-#: 1.09e6, granular media 1e5-1e6 (D50). Below, most likely N/cm^3 or kPa/mm read as N/m^3.
+#: Plausible stiffnesses per unit area [N/m^3]; below, most likely N/cm^3 read as N/m^3.
 PLAUSIBLE_STIFFNESS = (1.0e3, 1.0e9)
 
-#: Default stiffness per unit area [N/m^3]: the least-squares fit (through the origin)
-#: of sigma = k d to the mudrft W = 25 % vertical plate stress over the intrusion of
-#: the reference plate test (30 mm at 20 mm/s, L_c = 50 mm); decision D54. The sources'
-#: own values could not be retrieved. :func:`fit_stiffness` re-derives it.
+#: Default stiffness per unit area [N/m^3]: :func:`fit_stiffness` of the mudrft W = 25 %
+#: vertical plate stress over the reference plate test's intrusion (decision D54).
 DEFAULT_STIFFNESS = 1.090e6
 
 
@@ -67,13 +62,10 @@ class LinearStiffness:
     Parameters
     ----------
     stiffness : float
-        :math:`k` [N/m^3]: vertical stress per unit tip depth (decision D54). A value
-        outside :data:`PLAUSIBLE_STIFFNESS` (1e3-1e9 N/m^3) warns: most likely N/cm^3 or
-        kPa/mm given as N/m^3.
+        :math:`k` [N/m^3], the vertical stress per unit tip depth (D54); outside
+        :data:`PLAUSIBLE_STIFFNESS` warns.
     unloading : {"elastic", "zero"}
-        ``"elastic"`` (default): the force follows :math:`k d` both ways (no
-        hysteresis); ``"zero"``: no force while the foot moves up (the sources' own
-        choice could not be checked; decision D54).
+        The force follows :math:`k d` both ways, or is 0 while the foot moves up (D54).
     name : str
         Label in reports.
 
@@ -81,9 +73,6 @@ class LinearStiffness:
     ----------
     .. [1] S. Godon, A. Ristolainen and M. Kruusmaa, "An Insight on Mud Behavior Upon
        Stepping", IEEE Robotics and Automation Letters, 2022.
-    .. [2] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. I and supplementary Fig. S6.
 
     Examples
     --------

@@ -1,27 +1,20 @@
 r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
 
-**This is a reconstruction, not a transcription.** The model of Chen et al. (AIM 2024,
-cited as [ChenAIM24] by Chen et al. 2026; very probably arXiv:2403.02617, "A
-Reduced-Order Resistive Force Model for Robotic Foot-Mud Interactions") could not be
-read offline. What the 2026 paper says of it fixes the structure used here (decision
-D55 in ``docs/model.md``):
+**A reconstruction, not a transcription** (decision D55): the AIM 2024 paper (very probably
+arXiv:2403.02617) could not be read offline; what Chen et al. 2026 say of it fixes the
+structure:
 
-* a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n` (the 2026 paper takes its
-  :math:`\sigma_b` from [ChenAIM24]);
-* a Maxwell element (spring :math:`G` and dashpot :math:`\eta_M=G\lambda_M` in series)
-  for the viscous stress and its relaxation at rest:
+* a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n`;
+* a Maxwell element (spring :math:`G`, dashpot :math:`\eta_M=G\lambda_M` in series),
   :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`;
-* suction as the output of an "artificial" second-order low-pass filter,
-  :math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, whose
-  input is the a-priori yield suction :math:`u=-\sigma_Y e^{-r/r_b}` while the foot
-  retracts (:math:`r=\gamma_{max}-\gamma`: retraction since the deepest point; the
-  suction lets go, "yields", over :math:`r_b`) and 0 otherwise;
-* 1D: only :math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)`, with :math:`\gamma=d/L_c`.
+* suction from a second-order low-pass filter,
+  :math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
+  :math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`)
+  and 0 otherwise;
+* 1D: :math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)`, :math:`\gamma=d/L_c`.
 
-:math:`\alpha` and :math:`n` are the paper's Table S1 (W = 25 %, vertical); the other
-constants were fitted by least squares (:func:`fit_maxwell`) to the mudrft W = 25 %
-vertical plate test (:func:`mudrft.plate_intrusion` defaults), since the source's
-values are unavailable.
+:math:`\alpha` and :math:`n` are Table S1's (W = 25 %, vertical); the rest were fitted
+(:func:`fit_maxwell`) to the mudrft W = 25 % vertical plate test.
 """
 
 from __future__ import annotations
@@ -35,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._progress import Progress, make_progress
+from .._typing import Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_characteristic_length,
@@ -47,18 +41,18 @@ from .._validation import (
 from .._validation import (
     set_number as _set,
 )
+from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from ._common import area_z, kinematics, tip_depth, tip_position
-from .base import TerrainOutput
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
-# α, n: Table S1, W = 25 %, vertical. The rest: fit_maxwell() on the reference plate test
-# (decision D55); re-derived by tests/terrains/test_maxwell.py.
+# α, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate test
+# (decision D55, re-derived by tests/terrains/test_maxwell.py).
 _DEFAULTS = {
     "alpha": 24e3,
     "n": 0.53,
@@ -72,21 +66,8 @@ _DEFAULTS = {
 
 
 class MaxwellState(NamedTuple):
-    """State of the Maxwell-type mud under a foot (arrays of the batch shape).
-
-    Attributes
-    ----------
-    sigma_m : ndarray
-        Maxwell-element stress [Pa].
-    suction : ndarray
-        Filtered suction stress :math:`\\sigma_s` [Pa] (<= 0 in use).
-    suction_rate : ndarray
-        Its time derivative [Pa/s].
-    gamma_max : ndarray
-        Deepest dimensionless depth reached since entering the mud [-].
-    in_mud : ndarray of bool
-        Whether the tip was below the surface after the last step.
-    """
+    """State under a foot: Maxwell stress ``sigma_m`` [Pa], filtered ``suction`` [Pa] and
+    its ``suction_rate`` [Pa/s], deepest ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
 
     sigma_m: np.ndarray
     suction: np.ndarray
@@ -98,14 +79,8 @@ class MaxwellState(NamedTuple):
 def _zoh(
     dt: float, omega: float, damping: float
 ) -> tuple[float, float, float, float, float, float]:
-    r"""Exact zero-order-hold discretisation of the second-order filter over ``dt`` [s].
-
-    For :math:`A=\begin{pmatrix}0&1\\-\omega^2&-2\zeta\omega\end{pmatrix}`,
-    :math:`\Phi=e^{A\,dt}=e^{-\zeta\omega dt}[(\cosh q\,dt+\zeta\omega\,\mathrm{sh})I
-    +\mathrm{sh}\,A]`
-    with :math:`q^2=\omega^2(\zeta^2-1)`, :math:`\mathrm{sh}=\sinh(q\,dt)/q`, and
-    :math:`\Gamma=A^{-1}(\Phi-I)B`. Returns ``(p00, p01, p10, p11, g0, g1)``.
-    """
+    r"""Exact zero-order hold of the suction filter over ``dt`` [s]: ``(p00, p01, p10, p11,
+    g0, g1)`` of :math:`\Phi=e^{A\,dt}` and :math:`\Gamma=A^{-1}(\Phi-I)B`."""
     a = damping * omega
     q = cmath.sqrt(omega * omega * (damping * damping - 1.0))
     qt = q * dt
@@ -154,9 +129,6 @@ class MaxwellMud:
     ----------
     .. [1] X. Chen, J. Yi and J. Shan, "A Reduced-Order Resistive Force Model for Robotic
        Foot-Mud Interactions", IEEE/ASME AIM 2024, arXiv:2403.02617.
-    .. [2] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Fig. S6.
 
     Examples
     --------
@@ -209,25 +181,19 @@ class MaxwellMud:
     def advance(
         self, state: MaxwellState, gamma: ArrayLike, gamma_dot: ArrayLike, dt: float
     ) -> tuple[MaxwellState, np.ndarray]:
-        """Advance the stresses over ``dt`` [s] at constant rate; return (state, stress [Pa]).
-
-        ``gamma`` [-] is the dimensionless depth at the end of the step, ``gamma_dot``
-        [1/s] the rate over it (positive downward). Out of the mud (gamma <= 0) the
-        state resets to undisturbed mud and the stress is 0 (as decision D11).
-        """
+        """Advance the stresses over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the
+        rate ``gamma_dot`` [1/s] (downward positive); return (state, stress [Pa]). Out of the
+        mud (gamma <= 0) the state resets and the stress is 0 (as decision D11)."""
         check_positive("dt", dt, unit="s")
         g = np.asarray(gamma, dtype=float)
         gd = np.asarray(gamma_dot, dtype=float)
         in_mud = g > 0
-        decay = np.exp(-dt / self.relaxation)
-        sigma_m = state.sigma_m * decay + self.modulus * self.relaxation * gd * (1.0 - decay)
-        gmax = np.maximum(state.gamma_max, g)
-        r = gmax - g
-        u = np.where(gd < 0, -self.sigma_y * np.exp(-r / self.release), 0.0)
-        p00, p01, p10, p11, g0, g1 = _zoh(float(dt), float(self.omega), float(self.damping))
-        s = p00 * state.suction + p01 * state.suction_rate + g0 * u
-        sd = p10 * state.suction + p11 * state.suction_rate + g1 * u
-        stress = np.where(in_mud, self.alpha * np.maximum(g, 0.0) ** self.n + sigma_m + s, 0.0)
+        hold = (np.exp(-dt / self.relaxation), *_zoh(float(dt), self.omega, self.damping))
+        sigma_m, s, sd, gmax, inside = _update(
+            _constants(self), state.sigma_m, state.suction, state.suction_rate,
+            state.gamma_max, g, gd, hold, np,
+        )  # fmt: skip
+        stress = np.where(in_mud, inside, 0.0)
         zero = np.zeros(np.shape(stress))
         new = MaxwellState(
             sigma_m=np.where(in_mud, sigma_m, zero),
@@ -288,25 +254,31 @@ class MaxwellMud:
         )
 
 
+def _constants(m: MaxwellMud) -> tuple[float, ...]:
+    return (m.alpha, m.n, m.modulus, m.relaxation, m.sigma_y, m.release)
+
+
+def _update(
+    m: tuple[float, ...], sm: XpArray, s: XpArray, sd: XpArray, gmax: XpArray, g: XpArray,
+    gd: XpArray, hold: tuple[XpArray, ...], xp: Namespace,
+) -> tuple[XpArray, ...]:  # fmt: skip
+    """One step at constant rate, element-wise: the new ``(sigma_m, suction, suction_rate,
+    gamma_max)`` and the stress in the mud [Pa]; ``hold`` is ``(exp(-dt/lambda_M), *_zoh)``."""
+    alpha, n, modulus, relaxation, sigma_y, release = m
+    decay, p00, p01, p10, p11, g0, g1 = hold
+    sm = sm * decay + modulus * relaxation * gd * (1.0 - decay)
+    gmax = xp.maximum(gmax, g)
+    u = xp.where(gd < 0, -sigma_y * xp.exp(-(gmax - g) / release), 0.0)
+    s, sd = p00 * s + p01 * sd + g0 * u, p10 * s + p11 * sd + g1 * u
+    return sm, s, sd, gmax, alpha * xp.maximum(g, 0.0) ** n + sm + s
+
+
 def _stress_history(
     model: MaxwellMud, time: np.ndarray, gamma: np.ndarray, gamma_dot: np.ndarray
 ) -> np.ndarray:
-    """Scalar fast path of :meth:`MaxwellMud.advance` along a history (plain floats).
-
-    Same arithmetic as ``advance``; tests check that both agree.
-    """
-    alpha, n, G, lam = (
-        float(model.alpha),
-        float(model.n),
-        float(model.modulus),
-        float(model.relaxation),
-    )
-    sy, om, zt, rb = (
-        float(model.sigma_y),
-        float(model.omega),
-        float(model.damping),
-        float(model.release),
-    )
+    """:meth:`MaxwellMud.advance` along a history, on Python floats (fast)."""
+    m = _constants(model)
+    lam, om, zt = model.relaxation, model.omega, model.damping
     t = [float(v) for v in time]
     gam = [float(v) for v in gamma]
     gdot = [float(v) for v in gamma_dot]
@@ -317,18 +289,14 @@ def _stress_history(
     for i in range(len(t)):
         dt = t[i] - t[i - 1] if i > 0 else t[1] - t[0]
         key = round(dt, 12)
-        c = cache.get(key)
-        if c is None:
-            c = cache[key] = (math.exp(-dt / lam), *_zoh(dt, om, zt))
-        decay, p00, p01, p10, p11, g0, g1 = c
+        hold = cache.get(key)
+        if hold is None:
+            hold = cache[key] = (math.exp(-dt / lam), *_zoh(dt, om, zt))
         g = gam[i]
         gd = gdot[i] if (g > 0 or was_in) else 0.0
-        sm = sm * decay + G * lam * gd * (1.0 - decay)
-        gmax = max(gmax, g)
-        u = -sy * math.exp(-(gmax - g) / rb) if gd < 0 else 0.0
-        s, sd = p00 * s + p01 * sd + g0 * u, p10 * s + p11 * sd + g1 * u
+        sm, s, sd, gmax, stress = _update(m, sm, s, sd, gmax, g, gd, hold, pyfloat)
         if g > 0:
-            out[i] = alpha * g**n + sm + s
+            out[i] = stress
             was_in = True
         else:
             sm = s = sd = gmax = 0.0
@@ -338,21 +306,8 @@ def _stress_history(
 
 @dataclass(frozen=True)
 class MaxwellFit:
-    """Result of :func:`fit_maxwell`.
-
-    Attributes
-    ----------
-    model : MaxwellMud
-        The fitted model.
-    rmse : float
-        Root-mean-square stress residual [Pa].
-    success : bool
-        Whether the optimiser reported convergence.
-    message : str
-        The optimiser's message.
-    nfev : int
-        Number of model evaluations.
-    """
+    """Result of :func:`fit_maxwell`: the fitted ``model``, the ``rmse`` of the stress [Pa],
+    the optimiser's ``success``, ``message`` and number of evaluations ``nfev``."""
 
     model: MaxwellMud
     rmse: float
@@ -374,23 +329,21 @@ def fit_maxwell(
 ) -> MaxwellFit:
     r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
 
-    :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``. Least squares
-    over the samples in the mud (depth > 0) on the log of the (positive) constants,
-    trust-region reflective.
+    :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``; least squares on
+    the logs of the constants over the samples in the mud.
 
     Parameters
     ----------
     trajectory : Trajectory
-        Vertical plate motion (tip depth and velocity used).
+        Vertical plate motion.
     stress : array_like, shape (n,)
-        Measured (or modelled) vertical stress [Pa] at the trajectory's samples.
+        Vertical stress [Pa] at the trajectory's samples.
     characteristic_length : float, keyword-only
         Plate :math:`L_c` [m].
     initial : MaxwellMud or None, keyword-only
         Starting point (default: :class:`MaxwellMud` defaults).
     progress : bool, keyword-only
-        Report one line per 20 evaluations of the residual through the ``mudrft.progress``
-        logger (a stderr handler is attached when logging is not configured).
+        Report every 20th evaluation through the ``mudrft.progress`` logger.
 
     Returns
     -------

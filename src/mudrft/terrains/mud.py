@@ -1,13 +1,10 @@
 r"""The mud model of Chen et al. (2026) as a terrain: the one terrain step, and its options.
 
 :func:`mud_step` is the only definition of how the mud under a foot advances: the tip's
-motion turned into the three channels' displacements and rates, the reset when the tip
-re-enters fresh mud, the heading, and the three constitutive steps
-(:func:`~mudrft.constitutive.kernel.channel_step`: the ODE or the paper's quasi-static
-evaluation, decision D15). It is element-wise over any ``xp``
-(:mod:`mudrft._xp`), so :class:`MudTerrain` runs it on Python floats for one foot and on
-numpy arrays for a batch, the JAX backend with ``jax.numpy`` and the numba backend compiled
-on floats. The foot then turns the channel stresses into a force.
+motion turned into the channels' displacements and rates, the reset on re-entry, the
+heading, and the constitutive steps (:func:`~mudrft.constitutive.kernel.channel_step`). It
+is element-wise over any ``xp`` (:mod:`mudrft._xp`): Python floats for one foot, numpy for
+a batch, ``jax.numpy``, and numba on floats. The foot turns the stresses into a force.
 """
 
 from __future__ import annotations
@@ -22,7 +19,6 @@ from .._typing import Namespace, XpArray
 from .._validation import (
     MudrftError,
     check_characteristic_length,
-    check_finite,
     number_in_range,
     positive_number,
 )
@@ -35,7 +31,7 @@ from ..constitutive.kernel import ChannelConstants, channel_constants
 from ..constitutive.state import ChannelState
 from ..feet.base import Foot
 from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
-from .base import TerrainOutput, check_motion
+from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
     "MudChannels",
@@ -51,11 +47,7 @@ __all__ = [
 
 
 def channel_parameters(mud: Mud) -> MudParameters:
-    """Stack (horizontal, horizontal, vertical) into one set for the x, y, z channels.
-
-    Each field gets a trailing axis of length 3 (x, y, z), as the JAX backend and the
-    calibration carry a foot's three channels.
-    """
+    """(horizontal, horizontal, vertical) stacked on a trailing axis of 3: the x, y, z channels."""
     h, v = mud.horizontal, mud.vertical
     fields: dict[str, Any] = {}
     for k in PARAMETER_UNITS:
@@ -66,14 +58,9 @@ def channel_parameters(mud: Mud) -> MudParameters:
 
 
 def vertical_viscosity(mud: Mud, *, quasi_static: bool = False) -> float:
-    r"""The vertical stress's instantaneous viscosity [Pa s], the largest of a batch.
-
-    :math:`\eta_\infty` (the rate term of :math:`\sigma_{th}`, decision D6), or
-    :math:`\eta_\infty+\eta_m` for the quasi-static evaluation: eq. (9) from rest, with
-    :math:`\xi_{ss}\to1` (D15). A foot of area :math:`A` feels it as a damper
-    :math:`c=\eta A/L_c`, which sets the explicit time-step limit :math:`2m/c` of
-    ``simulate``'s load control and of the MuJoCo coupling's ``stability_limits``.
-    """
+    r"""The vertical stress's instantaneous viscosity [Pa s], the largest of a batch:
+    :math:`\eta_\infty` (D6), or :math:`\eta_\infty+\eta_m` when ``quasi_static`` (D15). A foot of
+    area :math:`A` feels it as a damper :math:`\eta A/L_c` (explicit step limit :math:`2m/c`)."""
     eta = np.asarray(mud.vertical.eta_inf, dtype=float)
     if quasi_static:
         eta = eta + np.asarray(mud.vertical.eta_m, dtype=float)
@@ -86,15 +73,14 @@ class MudChannels(NamedTuple):
     Attributes
     ----------
     h, z : ChannelState
-        The two stress channels: horizontal (the displacement from the entry point, along
-        its line, Sec. II-C) and vertical (the depth).
+        The horizontal channel (displacement from the entry point along its line) and the
+        vertical one (the depth).
     entry_x, entry_y : float or array
-        Horizontal tip position where the foot entered the mud [m].
+        Tip position where the foot entered the mud [m].
     line : float or array
-        The line of the horizontal displacement through the entry point [rad], oriented as
-        the first motion on entry (the channel is odd along it).
+        Direction of the horizontal displacement's line through the entry point [rad].
     heading : float or array
-        The direction in which the horizontal stress acts [rad] (the feet's heading).
+        Direction in which the horizontal stress acts [rad].
     in_mud : float or array
         1.0 when the tip was below the surface after the last step, else 0.0.
     """
@@ -109,57 +95,29 @@ class MudChannels(NamedTuple):
 
 
 class MudState(NamedTuple):
-    """State of :class:`MudTerrain`: the channels and the foot mechanism's own state.
-
-    Attributes
-    ----------
-    channels : MudChannels
-        The mud under the foot (or under a batch of feet).
-    foot : Any
-        Internal state of the foot mechanism (the morphing foot), else None.
-    """
+    """State of :class:`MudTerrain`: the mud's ``channels`` (:class:`MudChannels`) and the
+    ``foot`` mechanism's own state (the morphing foot's, else None)."""
 
     channels: MudChannels
     foot: Any
 
 
 def mud_step(
-    ch: ConstantsPair,
-    st: MudChannels,
-    px: XpArray,
-    py: XpArray,
-    pz: XpArray,
-    vx: XpArray,
-    vy: XpArray,
-    vz: XpArray,
-    dt: XpArray,
-    lc: XpArray,
-    kappa: XpArray,
-    xi0: XpArray,
-    reset: bool,
-    heading_speed: XpArray,
-    seal: XpArray,
-    quasi_static: bool = False,
-    restart: bool = False,
-    xp: Namespace = np,
-) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:
+    ch: ConstantsPair, st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray,
+    vy: XpArray, vz: XpArray, dt: XpArray, lc: XpArray, kappa: XpArray, xi0: XpArray,
+    reset: bool, heading_speed: XpArray, seal: XpArray, quasi_static: bool = False,
+    restart: bool = False, xp: Namespace = np,
+) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
 
-    Two channels (Sec. II-C). Horizontal: the displacement from the entry point
-    :math:`(x_e,y_e)` along its line :math:`\hat{\mathbf l}`, :math:`\gamma_h=\pm|\mathbf r|/L_c`
-    with :math:`\mathbf r=(x-x_e,y-y_e)`, and its rate :math:`\hat{\mathbf l}\cdot\mathbf u_h/L_c`
-    (the paper's :math:`|\mathbf u_h|/L_c` while the tip moves straight away; negative when it
-    comes back: the retraction of the horizontal plate test). The line follows
-    :math:`\mathbf r` and keeps its orientation, so :math:`\gamma_h` turns negative when the
-    tip passes back through the entry point (the channel is odd, as the plate test's). The
-    motion across the line, :math:`u_t`, meets the viscous stress
-    :math:`\eta_\infty u_t/L_c` (D9a). The horizontal stress acts as one vector
-    :math:`\sigma_h\hat{\mathbf l}+\eta_\infty u_t/L_c\,\hat{\mathbf t}`: its magnitude in
-    ``sx`` and ``sy`` alike, its direction the heading (D9), so the law does not depend on
-    how the world axes point. Vertical: :math:`\gamma_z=d/L_c` with the tip depth
-    :math:`d=\max(-z,0)`, rate :math:`-\dot z/L_c` (0 out of the mud). When the tip was out
-    of the mud before the step and ``reset``, the channels start from undisturbed mud, the
-    entry point is where the tip crossed and the line the motion's direction (D11, D52).
+    Two channels (Sec. II-C). Horizontal: :math:`\gamma_h=\pm|\mathbf r|/L_c` with
+    :math:`\mathbf r` the tip's offset from the entry point, along the line
+    :math:`\hat{\mathbf l}` through it (oriented once, so :math:`\gamma_h` is odd), at rate
+    :math:`\hat{\mathbf l}\cdot\mathbf u_h/L_c`; the motion :math:`u_t` across the line meets
+    :math:`\eta_\infty u_t/L_c` (D9a), and the stress vector's magnitude goes to ``sx`` and
+    ``sy`` alike, its direction to the heading (D9). Vertical: :math:`\gamma_z=d/L_c`,
+    :math:`d=\max(-z,0)`, rate :math:`-\dot z/L_c` (0 out of the mud). A tip that was out of
+    the mud starts from undisturbed mud when ``reset`` (D11, D52).
 
     Parameters
     ----------
@@ -171,23 +129,18 @@ def mud_step(
         Tip position at the end of the step [m].
     vx, vy, vz : array_like
         Tip velocity over the step [m/s].
-    dt : float
-        Step [s].
-    lc : float
-        Characteristic length :math:`L_c` [m].
-    kappa : float
-        1.0 keeps the acceleration term (decision D6) [-].
-    xi0 : float
-        Structure of undisturbed mud [-].
+    dt, lc : float
+        Step [s] and characteristic length :math:`L_c` [m].
+    kappa, xi0 : float
+        1.0 keeps the acceleration term (D6) [-]; structure of undisturbed mud [-].
     reset : bool
         Reset the channels on re-entry (decision D11).
     heading_speed : float
         Below this horizontal speed the heading is kept [m/s].
     seal : array_like
-        Sealing factor of the vertical channel in [0, 1] [-] (the morphing foot).
+        Sealing factor of the vertical channel in [0, 1] [-].
     quasi_static, restart : bool
-        Static choice of the evaluation (decision D15): the paper's closed forms (9)-(11)
-        instead of the ODE, and the clock of eq. (9) restarted at the retraction.
+        Static choice of the evaluation (decision D15).
     xp : module, keyword-only
         Element-wise namespace (:mod:`mudrft._xp`).
 
@@ -195,8 +148,7 @@ def mud_step(
     -------
     state : MudChannels
     sx, sy, sz : array_like
-        Stresses [Pa] (0 out of the mud): the horizontal one in ``sx`` and ``sy`` alike,
-        measured along the heading (positive when it resists the displacement).
+        Stresses [Pa] (0 out of the mud); the horizontal one in ``sx`` and ``sy`` alike.
     depth : array_like
         Tip depth [m].
     """
@@ -216,9 +168,8 @@ def mud_step(
 def horizontal_stress(
     along: XpArray, across: XpArray, line: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray]:
-    r"""The horizontal stress vector :math:`\sigma_l\hat{\mathbf l}+\sigma_t\hat{\mathbf t}` as
-    its magnitude [Pa] and direction [rad] (D9a): ``along`` the line [Pa], ``across`` it
-    [Pa] (:math:`\hat{\mathbf t}` the line turned by +90 degrees), the line's angle [rad]."""
+    r"""Magnitude [Pa] and direction [rad] of :math:`\sigma_l\hat{\mathbf l}+\sigma_t\hat{\mathbf t}`
+    (D9a), from the stresses ``along`` and ``across`` [Pa] the ``line`` [rad]."""
     m2 = along * along + across * across
     nonzero = m2 > 0.0  # the root and the angle of safe values: finite JAX gradients at 0
     heading = line + xp.where(
@@ -231,9 +182,8 @@ def _channel_motion(
     st: MudChannels, px: XpArray, py: XpArray, pz: XpArray, vx: XpArray, vy: XpArray, vz: XpArray, dt: XpArray, lc: XpArray,
     xi0: XpArray, reset: bool, heading_speed: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, ...]:  # fmt: skip
-    """What :func:`mud_step` feeds the channels: their states (fresh on re-entry, D11), the
-    horizontal displacement and rate, the vertical ones, the entry point, the line, the
-    speed across it [m/s], the depth and whether in the mud (see :func:`mud_step`)."""
+    """What :func:`mud_step` feeds the channels: their states, displacements and rates, the
+    entry point, the line, the speed across it [m/s], the depth and whether in the mud."""
     depth = xp.maximum(-pz, 0.0)
     in_mud = in_contact(depth)
     was_in = st.in_mud > 0.5
@@ -265,10 +215,8 @@ def _channel_motion(
 def mud_heading(
     heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """The heading after a step at horizontal velocity ``(vx, vy)`` [m/s]: its direction
-    [rad] when faster than ``heading_speed`` [m/s], otherwise the last ``heading`` (D52)."""
-    # compared on the squared speed, arctan2 on safe values, so that JAX gradients stay
-    # finite when the foot does not move horizontally
+    """The direction [rad] of ``(vx, vy)`` [m/s] when faster than ``heading_speed`` [m/s],
+    else ``heading`` (D52); safe values keep JAX gradients finite."""
     moving = vx * vx + vy * vy > heading_speed * heading_speed
     return xp.where(
         moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), heading
@@ -281,10 +229,8 @@ def mud_channel_stress(
     heading_speed: XpArray, seal: XpArray, quasi_static: bool = False, restart: bool = False,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray]:  # fmt: skip
-    """The stress [Pa] that :func:`mud_step` returns in ``sx``, ``sy`` (``c`` 0 or 1: the
-    horizontal channel, with the heading [rad] of its state) or ``sz`` (``c`` 2, with the
-    line [rad]) for the same arguments, computed alone: a channel's stress depends on its own rate only, so a
-    derivative by one velocity component needs one channel step, not two (D63)."""
+    """The stress [Pa] :func:`mud_step` returns in ``sx``/``sy`` (``c`` 0 or 1, with the
+    heading [rad]) or ``sz`` (``c`` 2, with the line [rad]), one channel step alone (D63)."""
     chh, cz, gh, rh, gz, rz, _ex, _ey, line, ut, _depth, in_mud = _channel_motion(
         st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
@@ -327,9 +273,7 @@ def initial_channels(
 def _motion_for_state(
     state: Any, pos: np.ndarray, vel: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Tips of the shape of ``state``'s mud: one position for a batch's state is every tip's,
-    tips that do not broadcast with it are refused (they raised numpy's "truth value
-    of an array ... is ambiguous" or "operands could not be broadcast")."""
+    """Tips broadcast to the shape of ``state``'s mud; tips that do not broadcast are refused."""
     if not isinstance(state, MudState):
         raise MudrftError(
             "state must be the MudState of MudTerrain.initial_state or of the previous step, "
@@ -360,9 +304,8 @@ def _as_bool(name: str, value: Any) -> bool:
 class MudTerrain:
     r"""The mud model of Chen et al. (2026) as a terrain.
 
-    Three stress channels run the constitutive model: x and y with the horizontal
-    parameter set, z with the vertical one (:func:`mud_step`). The foot turns the stresses
-    into a force (closed forms or surface integration). Options are validated here, once.
+    x and y channels run the horizontal parameter set, z the vertical one
+    (:func:`mud_step`); the foot turns the stresses into a force.
 
     Parameters
     ----------
@@ -371,29 +314,17 @@ class MudTerrain:
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's own.
     acceleration : bool or None
-        Keep the acceleration term of the ODE (decision D6). None (default): True for
-        ``thixotropy="ode"``, False for ``"quasi-static"`` (eq. 9 drops it; True is refused).
+        Keep the acceleration term of the ODE (decision D6); None: True for the ODE.
     thixotropy : {"ode", "quasi-static"}
-        How the thixotropic and suction stresses are evaluated (decision D15): ``"ode"``
-        (default) steps eqs. (3) and (5); ``"quasi-static"`` is the paper's own evaluation,
-        the closed forms (9)-(11) at the current rate and displacement (Sec. III-A).
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
     clock : {"contact", "retraction"}
-        Quasi-static only: the clock of eq. (9) runs from first contact (default, as eq. 9
-        is written in :math:`t` and eq. 10 in :math:`t-t_w`) or restarts when the
-        retraction begins.
+        Quasi-static only: the clock of eq. (9) runs from first contact or the retraction.
     reset_on_exit : bool
-        When the tip leaves the mud, reset the channels to undisturbed mud, so the next
-        step lands in fresh mud (decision D11). Default True.
+        Land in undisturbed mud after the tip left it (decision D11).
     xi0 : float
         Structure of undisturbed mud, in [0, 1] [-].
     heading_speed : float
         Below this horizontal speed [m/s] the last heading is kept; > 0.
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(7); mudrft decisions D1-D15 (docs/model.md).
 
     Examples
     --------
@@ -428,7 +359,6 @@ class MudTerrain:
         object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
         object.__setattr__(self, "xi0", number_in_range("xi0", self.xi0, 0.0, 1.0))
         hs = positive_number("heading_speed", self.heading_speed, unit="m/s")
-        check_finite("heading_speed", hs)
         object.__setattr__(self, "heading_speed", hs)
         if not isinstance(self.name, str):
             raise MudrftError(f"name must be a string, got {self.name!r}")
@@ -467,9 +397,7 @@ class MudTerrain:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> MudState:
         """Undisturbed mud under a foot whose tip is at ``position`` (3,) or (..., 3) [m]."""
-        pos = check_finite("position", position)
-        if pos.shape[-1:] != (3,):
-            raise MudrftError(f"position must have shape (..., 3) [m], got shape {pos.shape}")
+        pos = tip_position(position)
         lc = self.length(foot)
         if pos.shape == (3,):
             x, y, z = (float(v) for v in pos)
@@ -482,11 +410,8 @@ class MudTerrain:
     def step(
         self, foot: Foot, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MudState, TerrainOutput]:
-        """Advance the mud under the foot by ``dt`` [s]; see :class:`~mudrft.terrains.Terrain`.
-
-        Inputs are validated (:func:`~mudrft.terrains.base.check_motion`);
-        :meth:`step_unchecked` is the same without, for loops that validated once.
-        """
+        """Advance the mud under the foot by ``dt`` [s] (:class:`~mudrft.terrains.Terrain`);
+        validated, unlike :meth:`step_unchecked`."""
         if not isinstance(foot, Foot):
             raise MudrftError(
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
@@ -509,20 +434,9 @@ class MudTerrain:
             x, y, z = pos.tolist()
             u, v, w = vel.tolist()
             ch, sx, sy, sz, depth = mud_step(
-                self.constants,
-                state.channels,
-                x,
-                y,
-                z,
-                u,
-                v,
-                w,
-                float(dt),
-                *common,
-                float(seal),
-                *flags,
-                pyfloat,
-            )
+                self.constants, state.channels, x, y, z, u, v, w, float(dt), *common,
+                float(seal), *flags, pyfloat,
+            )  # fmt: skip
             if foot.elementwise and state.foot is None:
                 f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
                 out = TerrainOutput(
@@ -535,19 +449,9 @@ class MudTerrain:
             heading, depth_a, inside = ch.heading, np.asarray(depth, dtype=float), ch.in_mud
         else:
             ch, sx, sy, sz, depth_a = mud_step(
-                self.constants,
-                state.channels,
-                pos[..., 0],
-                pos[..., 1],
-                pos[..., 2],
-                vel[..., 0],
-                vel[..., 1],
-                vel[..., 2],
-                dt,
-                *common,
-                seal,
-                *flags,
-            )
+                self.constants, state.channels, pos[..., 0], pos[..., 1], pos[..., 2],
+                vel[..., 0], vel[..., 1], vel[..., 2], dt, *common, seal, *flags,
+            )  # fmt: skip
             stress = np.stack([sx, sy, sz], axis=-1)
             heading, inside = ch.heading, ch.in_mud
         foot_state, force = foot.contact_force(

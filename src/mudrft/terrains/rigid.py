@@ -10,10 +10,8 @@ force is Coulomb friction regularised by a tanh over a slip speed :math:`v_s`,
 
 .. math:: \mathbf F_t = -\mu F_z \tanh(|\mathbf v_t|/v_s)\,\mathbf v_t/|\mathbf v_t|.
 
-Defaults (decision D56): :math:`k=10^5` N/m (a 500 N load sinks 5 mm),
-:math:`c=2\sqrt{k\,m_{ref}}=632.5` N s/m (critical damping for :math:`m_{ref}=1` kg),
-so that an explicit (semi-implicit Euler) step of 1 ms is stable for any effective mass
-of 0.5 kg or more; :math:`\mu=0.6`, :math:`v_s=0.01` m/s.
+Defaults (decision D56): :math:`k=10^5` N/m, :math:`c=2\sqrt{k\cdot1\,\mathrm{kg}}=632.5`
+N s/m (a 1 ms explicit step is stable from 0.5 kg), :math:`\mu=0.6`, :math:`v_s=0.01` m/s.
 """
 
 from __future__ import annotations
@@ -26,8 +24,7 @@ from numpy.typing import ArrayLike
 
 from .._validation import check_nonnegative, check_positive
 from .._validation import set_number as _set
-from ._common import kinematics, mean_stress, projected, tip_depth, tip_position
-from .base import TerrainOutput
+from .base import TerrainOutput, kinematics, mean_stress, projected, tip_depth, tip_position
 
 if TYPE_CHECKING:
     from ..feet.base import Foot

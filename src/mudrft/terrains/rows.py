@@ -1,28 +1,19 @@
 r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain`.
 
-One foot's mud (:class:`~mudrft.terrains.mud.MudChannels`) is a row of :data:`N_STATE`
-floats, its parameters a row of :data:`N_CONST`, its options a row of seven and its shape a
-geometry row, so that a loop over time steps and feet (:func:`run`) takes a handful of
-arrays and numba compiles it (:func:`mudrft._jit.jit`): :func:`mudrft.simulate` runs a
-closed-form or morphing foot through it, :class:`mudrft.backends.BatchedMud` runs N feet
-(``backend="numba"``) and the MuJoCo coupling steps its feet with :func:`foot_step`. What is
-written here is bookkeeping; the physics is :func:`~mudrft.terrains.mud.mud_step` and the
-feet's own force rules, called with ``xp=pyfloat`` (:mod:`mudrft._xp`).
+A foot's mud is a row of :data:`N_STATE` floats, its parameters a row of :data:`N_CONST`,
+its options a row of seven and its shape a geometry row, so that numba compiles the loop
+over time steps and feet (:func:`run`, :func:`mudrft._jit.jit`). The physics is
+:func:`~mudrft.terrains.mud.mud_step` and the feet's force rules with ``xp=pyfloat``.
 
-Rows:
-
-* state (``N_STATE``): the horizontal and vertical channels (7 each: gamma, gamma_w, xi,
-  s_th, sigma_s, clock, clock_w), entry x, entry y, line, heading, in_mud;
-* constants (``N_CONST``): the horizontal then the vertical
-  :class:`~mudrft.constitutive.kernel.ChannelConstants`;
+* state: the horizontal and vertical channels (7 each, :class:`ChannelState`), entry x,
+  entry y, line, heading, in_mud;
+* constants: the horizontal then the vertical :class:`ChannelConstants`;
 * options (:func:`config_row`): L_c [m], kappa, xi0, reset, heading_speed [m/s],
   quasi_static, restart;
-* geometry (:func:`foot_rows`): ``(kind, g0, g1, g2)``, kind 0-2 a closed form
-  (:func:`~mudrft.feet.closed_form.closed_form_force`), 3 a mesh foot (``g0``: trailing),
-  4 the morphing foot; the mesh foot's prepared facets (m, 10) and the morphing foot's
-  :class:`~mudrft.feet.morphing.row.MorphingRow`;
-* the foot's own state (``N_FOOT``): deflection [m], pad angle [rad], most spread [rad]
-  (the morphing foot; unused by the others);
+* geometry (:func:`foot_rows`): ``(kind, g0, g1, g2)``, kind 0-2 a closed form, 3 a mesh
+  foot (``g0``: trailing, with its facets (m, 10)), 4 the morphing foot (its
+  :class:`~mudrft.feet.morphing.row.MorphingRow`);
+* foot state (``N_FOOT``): deflection [m], pad angle [rad], most spread [rad];
 * output (``N_OUT``): force (3) [N], stress (3) [Pa], depth [m].
 """
 
@@ -117,8 +108,7 @@ def channels_of_rows(rows: FloatArray) -> MudChannels:
 
 
 def compilable(foot: Foot) -> bool:
-    """Whether :func:`foot_rows` describes ``foot``: a closed form, a mesh foot or the
-    morphing foot (the kinds of :mod:`mudrft.feet` except user-made subclasses)."""
+    """Whether :func:`foot_rows` describes ``foot`` (a closed form, mesh or morphing foot)."""
     from ..feet.mesh import MeshFoot
     from ..feet.morphing import MorphingFoot
     from ..feet.shapes import Flat, SemiCylinder, SemiSphere
@@ -127,11 +117,8 @@ def compilable(foot: Foot) -> bool:
 
 
 def foot_rows(foot: Foot) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """``(geometry (4,), facets (m, 10), morphing row, foot state (N_FOOT,))`` of a foot.
-
-    The morphing row and the foot state are zeros for feet other than the morphing foot,
-    the facets an empty (0, 10) array for feet other than a mesh foot.
-    """
+    """``(geometry (4,), facets (m, 10), morphing row, foot state (N_FOOT,))`` of a foot;
+    zeros (or no facets) where the foot has none."""
     from ..feet.mesh import MeshFoot
     from ..feet.morphing import MorphingFoot
 
@@ -192,8 +179,7 @@ def mesh_force(
     up: FloatArray, depth: float, sx: float, sy: float, sz: float, heading: float,
     trailing: bool,
 ) -> tuple[float, float, float]:  # fmt: skip
-    """Force of the mud on a mesh foot [N]: the element rule (eqs. 6-7) summed over its
-    prepared facets ``up`` (:func:`upright_rows`), as ``MeshFoot.force`` does."""
+    """Force of the mud on a mesh foot [N]: eqs. (6)-(7) summed over its facets ``up``."""
     sqx, sqy, ux, uy = fold_stresses(sx, sy, heading, pyfloat)
     fx, fy, fz = 0.0, 0.0, 0.0
     for f in range(up.shape[0]):
@@ -214,13 +200,9 @@ def foot_step(
     vy: float, vz: float, dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray,
     mrow: FloatArray, fs: FloatArray, row: FloatArray, frow: FloatArray,
 ) -> tuple[float, float, float, float, float, float, float]:  # fmt: skip
-    """One mud step of one foot: :meth:`mudrft.MudTerrain.step_unchecked` on rows.
-
-    Reads the state row ``s`` and foot state ``fs`` (not modified) and the constants row
-    ``r`` of ``c``; writes the new state to ``row`` (N_STATE) and ``frow`` (N_FOOT); returns
-    ``(fx, fy, fz, sx, sy, sz, depth)`` [N, Pa, m], zero force and stress out of the mud. A
-    morphing foot's seal (of its previous state) scales the vertical suction.
-    """
+    """One mud step of one foot, :meth:`mudrft.MudTerrain.step_unchecked` on rows: reads
+    ``s``, ``fs`` and row ``r`` of ``c``, writes the new states to ``row`` and ``frow``, returns
+    ``(fx, fy, fz, sx, sy, sz, depth)`` [N, Pa, m]."""
     m = morphing_at(mrow)
     seal = 1.0
     if geom[0] == MORPHING:
@@ -259,10 +241,9 @@ def run(
 ) -> None:  # fmt: skip
     """T steps of N feet of one shape: ``pos``, ``vel`` (T, N, 3) [m, m/s], ``dts`` (T,) [s].
 
-    ``c`` (1 or N, N_CONST) (one mud for all feet, or one each), ``st`` (N, N_STATE) and
-    ``fst`` (N, N_FOOT) are updated in place, ``out`` (T, N, N_OUT) receives each step's
-    force, stress and depth. A step that is not finite stops the run: its output row holds
-    NaN in the force and the states are those before it (the caller reports it).
+    ``c`` (1 or N, N_CONST), ``st`` (N, N_STATE) and ``fst`` (N, N_FOOT) are updated in
+    place, ``out`` (T, N, N_OUT) receives the outputs. A step that is not finite stops the
+    run with NaN in its force and the states before it.
     """
     n = pos.shape[1]
     stride = 0 if c.shape[0] == 1 else 1
@@ -285,10 +266,9 @@ def run(
 def along_path(
     terrain: MudTerrain, foot: Foot, position: FloatArray, velocity: FloatArray, dts: FloatArray
 ) -> FloatArray | None:
-    """One foot in the mud along a path, compiled: the output rows (T, N_OUT) of the steps
-    to ``position[1:]`` [m] at ``velocity[1:]`` [m/s] with steps ``dts`` (T,) [s], from
-    undisturbed mud at ``position[0]``; None when the foot or the mud has no rows (a
-    foot of another kind, parameter fields that are arrays)."""
+    """The compiled output rows (T, N_OUT) of one foot stepping from undisturbed mud at
+    ``position[0]`` to ``position[1:]`` [m] at ``velocity[1:]`` [m/s], steps ``dts`` (T,) [s];
+    None when the foot or the mud has no rows."""
     from .._jit import jit
 
     if not compilable(foot) or any(
