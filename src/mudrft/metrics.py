@@ -1,8 +1,7 @@
 r"""The paper's metrics on force histories (Sec. IV-B, Table II, Figs. 10-13).
 
-All functions take sampled histories (time [s], force [N], position or depth [m])
-and integrate with the trapezoidal rule, which is exact for the piecewise-linear
-signals the simulator produces between samples.
+All functions take sampled histories (time [s], force [N], depth [m]) and integrate with
+the trapezoidal rule, exact for the piecewise-linear signals between samples.
 """
 
 from __future__ import annotations
@@ -32,9 +31,8 @@ __all__ = [
 class Metrics(dict[str, float]):
     """The metrics of a run (:meth:`mudrft.Result.metrics`), a dict.
 
-    ``sinking`` is a settled depth under a load, so a prescribed motion has none: its
-    deepest depth is ``max_depth``. Reading ``["sinking"]`` of a prescribed motion, as
-    mudrft 0.1 wrote it, gives ``max_depth`` with a :class:`DeprecationWarning`.
+    ``["sinking"]`` of a prescribed motion gives ``max_depth`` with a
+    :class:`DeprecationWarning`: ``sinking`` is the settled depth under a load.
     """
 
     def __missing__(self, key: str) -> float:
@@ -51,19 +49,15 @@ class Metrics(dict[str, float]):
 
 
 def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
-    """Trapezoidal integral of ``y`` (samples along axis 0) over the 1-D ``x``.
-
-    Written here, in the order of operations of ``numpy.trapezoid``, because that name
-    exists from numpy 2.0 and its predecessor ``numpy.trapz`` is gone from numpy 2.4:
-    mudrft supports numpy 1.24 and later.
-    """
+    """Trapezoidal integral of ``y`` (samples along axis 0) over ``x``, as
+    ``numpy.trapezoid`` (numpy >= 2.0) computes it."""
     dx = np.diff(x).reshape((-1,) + (1,) * (np.ndim(y) - 1))
     out: FloatOrArray = (dx * (y[1:] + y[:-1]) / 2.0).sum(axis=0)
     return out
 
 
 def _history(name: str, value: ArrayLike) -> FloatArray:
-    """A finite 1-D history with at least one sample (one component: ``Fz``, a depth)."""
+    """A finite 1-D history with at least one sample."""
     arr = check_shape(name, value, (None,))
     if arr.size == 0:
         raise MudrftError(f"{name} must hold at least one sample, got an empty array")
@@ -88,9 +82,7 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
 
     .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
 
-    The paper does not define its normalisation; we divide by the peak-to-peak range
-    of the measured signal, which is defined for signals that cross zero (suction)
-    (decision D12).
+    Normalised by the peak-to-peak range of the measured signal (decision D12).
 
     Parameters
     ----------
@@ -118,7 +110,7 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
             f"predicted and measured must differ by less than the largest float, got a range "
             f"of {span!r}"
         )
-    # normalised before it is squared: forces above about 1e150 overflowed the squares
+    # normalised before it is squared (no overflow)
     return float(np.sqrt(np.mean(rel * rel)))
 
 
@@ -170,15 +162,9 @@ def peak_support(force_z: ArrayLike) -> float:
 def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
 
-    ``force`` is the force of the mud on the foot [N] and ``velocity`` the foot velocity
-    [m/s], with mudrft's convention (decision D13b): ``velocity[k]`` is the rate over the
-    step that ends at ``time[k]``, the rate :func:`~mudrft.simulate` integrates. So
-    :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`, the
-    trapezoidal work along the path the samples describe (for a closed
-    intrusion-retraction cycle the area of the force-displacement hysteresis loop, >= 0
-    for a dissipative terrain). A trapezoid on :math:`\mathbf F\cdot\mathbf v` instead
-    gave the rate of a motion to the rest before it: 92 J for a 3.6 J slide after a 1 s
-    rest sampled at its ends.
+    ``force`` is the force of the mud on the foot [N]; ``velocity[k]`` [m/s] is the rate over
+    the step that ends at ``time[k]`` (decision D13b), so
+    :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`.
 
     Examples
     --------
@@ -206,8 +192,6 @@ def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
         raise MudrftError(f"final must be True or False, got {final!r}")
     d = _history("depth", depth)
     if np.any(d < 0):
-        # a depth is >= 0 below the surface; the tip's z (result.position[:, 2]) is <= 0
-        # there, and its maximum read 0 sinking for a foot that sank
         raise MudrftError(
             f"depth must be >= 0 m (the depth below the surface, result.depth), got "
             f"{float(d.min())!r} m: was the tip's z given instead?"
@@ -218,7 +202,7 @@ def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
 def cycle_metrics(
     time: FloatArray, force: FloatArray, velocity: FloatArray, depth: FloatArray, *, load: bool
 ) -> Metrics:
-    """The paper's metrics of one run (checked histories, as a :class:`~mudrft.Result` holds).
+    """The paper's metrics of one run (unchecked histories, as a :class:`~mudrft.Result` holds).
 
     Parameters
     ----------
@@ -235,9 +219,8 @@ def cycle_metrics(
     -------
     Metrics
         ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
-        ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
-        ``max_depth`` [m] (the deepest tip depth: a gait's stance depth), ``suction_ratio``
-        [-] (max suction / peak support); under a load ``sinking`` [m], the settled depth.
+        ``impulse_z`` [N s], ``energy`` [J] (work of the foot against the terrain),
+        ``max_depth`` [m], ``suction_ratio`` [-]; under a load ``sinking`` [m].
     """
     imp = impulse(time, force)
     peak, suction = peak_support(force[:, 2]), max_suction(force[:, 2])
@@ -273,7 +256,7 @@ def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:
     a = check_finite("areas", areas)
     if f.shape != a.shape:
         raise MudrftError(f"force and areas must have the same shape, got {f.shape} and {a.shape}")
-    if np.any(a < 0):  # an area is >= 0; a negative one read as 0 stress without a word
+    if np.any(a < 0):
         raise MudrftError(f"areas must be >= 0 m^2, got {float(a.min())!r} m^2")
     safe = np.where(a > 0, a, 1.0)
     return np.where(a > 0, f / safe, 0.0)

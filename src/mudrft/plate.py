@@ -24,8 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response", "plate_steps"]
 
-#: Characteristic length of the paper's plates [m]. The paper does not give the plate
-#: size; 50 mm fits its 28 x 23 cm container (decision D1 in docs/model.md).
+#: Characteristic length of the paper's plates [m], not given by the paper (decision D1).
 DEFAULT_PLATE_LENGTH = 0.05
 
 
@@ -105,16 +104,13 @@ def plate_response(
 
     Notes
     -----
-    A vertical plate feels the mud only while its displacement is positive, and the mud's
-    memory starts at first contact (:mod:`mudrft.constitutive.contact`, as in
-    :func:`mudrft.simulate`): the stress is exactly 0 above the surface, and motion there
-    does not change the stress in the mud.
+    A vertical plate feels the mud only while its displacement is positive; the mud's
+    memory starts at first contact, as in :func:`mudrft.simulate`.
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. IV-A and supplementary Fig. S2 (plate tests).
+    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", 2026, Sec. IV-A and supplementary Fig. S2 (plate tests).
 
     Examples
     --------
@@ -194,13 +190,9 @@ def plate_steps(
     contact: bool,
     shape: tuple[int, ...] | None = None,
 ) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:
-    """The steps of a plate channel along a displacement history (no validation).
-
-    The one loop of :func:`plate_response` and of the calibration's forward model. With
-    ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``, and
-    each entry into the mud starts from undisturbed mud (:mod:`mudrft.constitutive.contact`,
-    the rule of :func:`mudrft.terrains.mud.mud_step`); without it (a horizontal plate) it is
-    in the mud throughout.
+    """The steps of a plate channel along a displacement history (no validation): the loop
+    of :func:`plate_response` and of the calibration. With ``contact`` (a vertical plate)
+    the plate feels the mud only while ``gamma > 0``, each entry starting from undisturbed mud.
 
     Parameters
     ----------

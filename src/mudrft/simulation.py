@@ -73,9 +73,7 @@ class LoadControl:
     leg_damping : float, keyword-only
         Damping of the spring leg [N s/m].
     foot_mass : float, keyword-only
-        Mass of the foot when a spring leg is used [kg]. The mud's viscous term acts on
-        it like a damper :math:`c\approx\eta_\infty A/L_c`; the explicit coupling needs
-        ``dt < 2 foot_mass / c`` (about 1e-3 s for the paper's feet with 0.5 kg).
+        Mass of the foot when a spring leg is used [kg].
     duration : float, keyword-only
         Simulated time [s].
     dt : float, keyword-only
@@ -87,10 +85,8 @@ class LoadControl:
     Notes
     -----
     The coupling is explicit: the terrain force of the previous step drives the masses.
-    The mud's viscous term acts like a damper :math:`c\approx\eta_\infty A_z/L_c`
-    (:math:`(\eta_\infty+\eta_m)A_z/L_c` in the quasi-static evaluation, whose eq. (9) has
-    no lag), so the moving mass must satisfy ``dt < 2 m / c``; :func:`simulate` checks this
-    for the paper's mud and raises with a suggested ``dt`` when it does not hold.
+    The mud acts like a damper :math:`c\approx\eta_\infty A_z/L_c`, so the moving mass
+    must satisfy ``dt < 2 m / c``; :func:`simulate` raises with a suggested ``dt`` otherwise.
     """
 
     weight: float
@@ -103,21 +99,19 @@ class LoadControl:
     ramp: float = 0.0
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list passed, or failed formatting a message)
-        _set(self, "weight", check_positive("weight", self.weight, unit="N"))
-        if self.mass is not None:
-            _set(self, "mass", check_positive("mass", self.mass, unit="kg"))
-        if self.leg_stiffness is not None:
-            _set(
-                self,
-                "leg_stiffness",
-                check_positive("leg_stiffness", self.leg_stiffness, unit="N/m"),
-            )
-        _set(self, "leg_damping", check_nonnegative("leg_damping", self.leg_damping, unit="N s/m"))
-        _set(self, "foot_mass", check_positive("foot_mass", self.foot_mass, unit="kg"))
-        _set(self, "duration", check_positive("duration", self.duration, unit="s"))
-        _set(self, "dt", check_positive("dt", self.dt, unit="s"))
-        _set(self, "ramp", check_nonnegative("ramp", self.ramp, unit="s"))
+        for name, unit, check in (
+            ("weight", "N", check_positive),
+            ("mass", "kg", check_positive),
+            ("leg_stiffness", "N/m", check_positive),
+            ("leg_damping", "N s/m", check_nonnegative),
+            ("foot_mass", "kg", check_positive),
+            ("duration", "s", check_positive),
+            ("dt", "s", check_positive),
+            ("ramp", "s", check_nonnegative),
+        ):
+            value = getattr(self, name)
+            if value is not None or name not in ("mass", "leg_stiffness"):
+                _set(self, name, check(name, value, unit=unit))
         check_samples(
             f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
             self.duration / self.dt + 1,
@@ -168,9 +162,7 @@ class Result:
     meta: dict = field(default_factory=dict)
 
     def metrics(self) -> _m.Metrics:
-        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`): a dict of
-        ``peak_support``, ``max_suction`` [N], ``impulse_x/y/z`` [N s], ``energy`` [J],
-        ``max_depth`` [m], ``suction_ratio`` [-], and under load control ``sinking`` [m]."""
+        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`)."""
         load = bool(self.meta.get("load_control"))
         return _m.cycle_metrics(self.time, self.force, self.velocity, self.depth, load=load)
 
@@ -183,12 +175,8 @@ class Result:
         return _m.normalized_stress(self.force, self.areas)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
-        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``.
-
-        Written atomically (a temporary file in the same directory, then moved into
-        place): a failure leaves neither a partial file nor a temporary one. Refuses to
-        replace an existing file unless ``overwrite=True``.
-        """
+        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``, atomically;
+        an existing file only with ``overwrite=True``."""
         data = np.column_stack([self.time, self.position, self.force])
 
         def write(tmp: Path) -> None:
@@ -237,8 +225,6 @@ class Result:
 def _resample(traj: Trajectory, dt: float) -> Trajectory:
     span = float(traj.time[-1] - traj.time[0])
     if span < MIN_GAIT_STEPS * dt * (1.0 - 1e-9):
-        # coarser, the resampled path jumps over the stance or the retraction: a 0.65 s
-        # gait cycle at dt = 0.3 s kept 3 samples and lost its suction without a word
         raise MudrftError(
             f"dt = {plain(dt)} s cuts the {span:.3g} s trajectory into fewer than "
             f"{MIN_GAIT_STEPS} steps; use dt <= {span / MIN_GAIT_STEPS:.3g} s"
@@ -253,8 +239,7 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
     if t[-1] < traj.time[-1] - 1e-12:
         t = np.append(t, traj.time[-1])
     pos = np.stack([np.interp(t, traj.time, traj.position[:, i]) for i in range(3)], 1)
-    # a sample's velocity holds over the step that ends there (D13b): a new sample inside
-    # (t[k-1], t[k]] takes velocity[k] (interpolating it halved a step's rate next to a rest)
+    # a sample's velocity holds over the step that ends there (D13b)
     k = np.minimum(np.searchsorted(traj.time, t, side="left"), traj.time.size - 1)
     vel = traj.velocity[k]
     return Trajectory(time=t, position=pos, velocity=vel, name=traj.name, meta=traj.meta)
@@ -278,8 +263,6 @@ def simulate(
 ) -> Result:
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
 
-    Which evaluation of the mud to use: docs/guide/evaluations.md.
-
     Parameters
     ----------
     foot : Foot
@@ -294,12 +277,11 @@ def simulate(
         trajectory's duration / :data:`~mudrft.trajectories.MIN_GAIT_STEPS`. Ignored for
         load control, which has its own ``dt``.
     progress : bool or callable, keyword-only
-        ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
-        is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
+        ``True`` logs progress through the ``mudrft`` logger; a callable is called as
         ``progress(fraction)`` with the fraction done.
     strict : bool, keyword-only
-        Raise a :class:`~mudrft.MudrftError` instead of warning once that the foot goes
-        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, D26).
+        Raise a :class:`~mudrft.MudrftError` instead of warning that the foot goes deeper
+        than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`).
 
     Returns
     -------
@@ -389,8 +371,7 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
         )
     if load.leg_stiffness is not None:
         _check_leg_stability(load, c)
-    # alpha (d/L)^n is infinitely stiff at d = 0 (n < 1): a light load balances so close to
-    # the surface that the explicit step chatters; the secant stiffness over 1 % more depth
+    # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
     try:
         d_eq = static_sinking(foot, mud, load.weight, characteristic_length=lc)
         stiffness = (_static_support(foot, mud, lc)(1.01 * d_eq) - load.weight) / (0.01 * d_eq)
@@ -410,14 +391,9 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
 
 
 def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
-    r"""Refuse a spring leg the explicit step cannot integrate (it diverged to NaN).
-
-    The step is semi-implicit Euler; for one oscillator :math:`m\ddot x=-kx-c\dot x` it is
-    stable while :math:`2ch/m+kh^2/m<4`. The leg's spring and damper act on the relative
-    motion of body and foot (reduced mass :math:`\mu`), the mud's damper on the foot, so
-    with :math:`\rho=c_{mud}/m_f+c_{leg}/\mu` and :math:`\omega^2=k/\mu` the step must
-    satisfy :math:`\omega^2h^2+2\rho h<4`. Refused above 0.8 of that bound, as the mud's.
-    """
+    r"""Refuse a spring leg the semi-implicit Euler step cannot integrate: stable while
+    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`,
+    :math:`\omega^2=k/\mu` (:math:`\mu` the reduced mass); refused above 0.8 of it."""
     mf, mb = load.foot_mass, load.body_mass
     mu = mf * mb / (mf + mb)
     rate = c_mud / mf + load.leg_damping / mu
@@ -498,9 +474,8 @@ def _simulate_load(
 
 
 def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
-    """The static (fully relaxed, no suction) vertical support ``F_z(d)`` [N] of ``foot``
-    at tip depth ``d`` [m]: :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot (checked
-    arguments)."""
+    """The static vertical support ``F_z(d)`` [N] at tip depth ``d`` [m]:
+    :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot."""
     p = mud.vertical
 
     def force(d: float) -> float:
@@ -519,12 +494,9 @@ def static_sinking(
 ) -> float:
     r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
 
-    At rest the thixotropic stress relaxes to zero and no suction acts, so the
-    balance is :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`.
-    Solved by bracketing (support is increasing in depth) down to
-    :data:`BURIED_SEARCH` times the foot's height. A depth beyond the foot's height
-    means a buried foot (decision D26: the foot's force saturates, the stress keeps
-    growing with depth, and the mud on the leg above it is not modelled).
+    At rest the thixotropic stress relaxes to zero and no suction acts, so the balance is
+    :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`, solved down to
+    :data:`BURIED_SEARCH` times the foot's height.
 
     Parameters
     ----------
@@ -545,8 +517,7 @@ def static_sinking(
     Raises
     ------
     MudrftError
-        If ``weight`` is not a positive number, or the foot cannot carry it even buried
-        :data:`BURIED_SEARCH` times its height; the message gives the support there.
+        If the foot cannot carry ``weight`` even buried :data:`BURIED_SEARCH` times its height.
     """
     from scipy.optimize import brentq
 
@@ -574,9 +545,7 @@ def static_sinking(
             "the model does not count (decision D26), would carry part of the load. Is the "
             "weight in newtons (a mass of m kg weighs 9.81 m N)?"
         )
-    # the support grows as d^n from 0, so a light load can balance far below a nanometre
-    # (1 N on the flat foot at W = 35 %: scipy's bracket error from a fixed 1e-9 m);
-    # solved in log(d), to a relative precision, down to the smallest normal double
+    # a light load can balance far below a nanometre: solved in log(d)
     lo = hi * 1e-12
     while support(lo) > 0:
         if lo < 1e-300:

@@ -39,7 +39,7 @@ __all__ = [
 
 _ATTRS = {
     "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
-    "Snapshot": ("mudrft.backends._snapshot", "Snapshot"),
+    "Snapshot": ("mudrft.backends.batch", "Snapshot"),
 }
 _MODULES = {"batch", "forces", "jax", "numba"}
 
