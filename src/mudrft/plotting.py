@@ -1,9 +1,5 @@
-"""Matplotlib figures (optional extra ``plot``; matplotlib is imported lazily).
-
-The figures read a run's arrays by attribute (:class:`RunArrays`, :class:`PlateArrays`), so
-this module sits below :mod:`mudrft.simulation` and :mod:`mudrft.plate`, whose ``plot``
-methods call it.
-"""
+"""Matplotlib figures (optional extra ``plot``), drawn from a run's arrays by attribute, so
+that :mod:`mudrft.simulation` and :mod:`mudrft.plate` call this module and not back."""
 
 from __future__ import annotations
 
@@ -61,8 +57,7 @@ class PlateArrays(Protocol):
 
 
 def require_matplotlib() -> ModuleType:
-    """Import matplotlib.pyplot with the Agg backend when no display is set; return the
-    ``matplotlib.pyplot`` module."""
+    """``matplotlib.pyplot``, with the Agg backend when no display is set."""
     try:
         import matplotlib
 
@@ -75,8 +70,7 @@ def require_matplotlib() -> ModuleType:
 
 
 def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
-    """``(figure, left, right)``: a new figure of two panels side by side when ``axes`` is
-    None, else the first two of the caller's axes and their figure."""
+    """``(figure, left, right)``: a new figure, or the first two of the caller's ``axes``."""
     if axes is None:
         fig, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     else:

@@ -1,8 +1,5 @@
-"""``mudrft/MudWalker-v0``: one biped walking in mud, MuJoCo on the CPU with the CPU coupling.
-
-See :mod:`mudrft.envs.walker` for the robot, action, observation, reward and end; this
-module is the Gymnasium wrapper around :func:`mudrft.integrations.mujoco.attach`.
-"""
+"""``mudrft/MudWalker-v0``: one biped walking in mud, MuJoCo on the CPU with the CPU coupling
+(the robot, action, observation, reward and end: :mod:`mudrft.envs.walker`)."""
 
 from __future__ import annotations
 
@@ -124,11 +121,8 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     def step(
         self, action: ArrayLike
     ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
-        """One control step: ``frame_skip`` physics steps with the mud.
-
-        An unstable step (a state that is not finite, which MuJoCo resets with a warning,
-        or the coupling refused) terminates the episode with ``info["unstable"] = True``.
-        """
+        """One control step: ``frame_skip`` physics steps with the mud; an unstable step
+        terminates the episode with ``info["unstable"] = True``."""
         lay, cfg, d, mj = self.layout, self.config, self.data, self._mj
         if self._phase != "running":  # before reset the robot lay at the origin, the mud unset
             raise MudrftError(NOT_RUNNING[self._phase])
@@ -188,8 +182,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
 def make_walker(*, render_mode: str | None = None, **options: Any) -> gymnasium.Env:
     """The registered entry point: :class:`MudWalkerEnv`, or with ``render_mode="human"``
-    its offscreen frames in a window (Gymnasium's ``HumanRendering``, which needs pygame;
-    without pygame Gymnasium failed at the first ``reset``)."""
+    its frames in a window (Gymnasium's ``HumanRendering``, which needs pygame)."""
     if render_mode != "human":
         return MudWalkerEnv(render_mode=render_mode, **options)
     if importlib.util.find_spec("pygame") is None:

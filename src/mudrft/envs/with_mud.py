@@ -27,13 +27,8 @@ __all__ = ["WithMud", "with_mud"]
 
 
 class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type: ignore[misc]
-    """A gymnasium MuJoCo environment stepped in mud (see :func:`with_mud`).
-
-    Attributes
-    ----------
-    coupling : MudCoupling
-        The mud under the environment's model (:func:`mudrft.integrations.mujoco.attach`).
-    """
+    """A gymnasium MuJoCo environment stepped in mud (:func:`with_mud`); ``coupling`` is
+    the mud under its model."""
 
     def __init__(
         self,
@@ -110,10 +105,8 @@ def with_mud(
 ) -> WithMud:
     """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
 
-    The environment's physics steps go through the mud coupling
-    (:func:`mudrft.integrations.mujoco.attach`); its observations, rewards and terminations
-    are its own. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N], the mud's force
-    on each foot (world frame), and ``"mud_depth"`` (nfeet,) [m].
+    The physics steps go through :func:`mudrft.integrations.mujoco.attach`; each step's
+    ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world frame) and ``"mud_depth"`` (nfeet,) [m].
 
     Parameters
     ----------
@@ -125,10 +118,8 @@ def with_mud(
     mud : Mud, Terrain or None
         The mud; ``None``: the paper's at 25 % water content.
     floor : {"below", "warn", "keep"}, keyword-only
-        The model's floor at z = 0 is lowered to a bed 0.5 m under the surface (default;
-        the environment's model is changed in place); see ``attach``. A model that
-        integrates with RK4 (Ant's), which the coupling refuses, is switched to
-        ``implicitfast`` in place, and the switch is logged.
+        ``"below"`` lowers the model's floor to a bed 0.5 m under the surface, in place
+        (see ``attach``). An RK4 model (Ant's) is switched to ``implicitfast``, logged.
     **attach_options
         Passed to ``attach`` (``surface``, ``bottom``, ``backend``, ...).
 
