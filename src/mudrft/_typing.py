@@ -14,18 +14,9 @@ if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
 __all__ = [
-    "ArrayLike",
-    "BoolArray",
-    "FloatArray",
-    "FloatOrArray",
-    "IndexArray",
-    "IntArray",
-    "NDArray",
-    "Namespace",
-    "PathLike",
-    "RotationLike",
-    "XpArray",
-]
+    "ArrayLike", "BoolArray", "FloatArray", "FloatOrArray", "IndexArray", "IntArray", "NDArray",
+    "Namespace", "PathLike", "RotationLike", "XpArray",
+]  # fmt: skip
 
 #: A float64 array (forces [N], positions [m], stresses [Pa], ...).
 FloatArray: TypeAlias = NDArray[np.float64]

@@ -16,16 +16,9 @@ from ._typing import FloatArray, FloatOrArray
 from ._validation import MudrftError, check_finite, check_increasing, check_shape
 
 __all__ = [
-    "Metrics",
-    "cycle_metrics",
-    "energy",
-    "impulse",
-    "max_suction",
-    "normalized_stress",
-    "peak_support",
-    "relative_rmse",
-    "sinking_depth",
-]
+    "Metrics", "cycle_metrics", "energy", "impulse", "max_suction", "normalized_stress",
+    "peak_support", "relative_rmse", "sinking_depth",
+]  # fmt: skip
 
 
 class Metrics(dict[str, float]):
@@ -78,19 +71,13 @@ def _forces(name: str, value: ArrayLike, samples: int) -> FloatArray:
 
 
 def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
-    r"""Relative root-mean-square error [-] (Table II reports it in %).
+    r"""Relative root-mean-square error [-] of ``predicted`` against ``measured``, 1-D
+    histories on the same samples [any unit] (Table II reports it in %).
 
     .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
 
-    Normalised by the peak-to-peak range of the measured signal (decision D12).
+    The normalisation by the measured range is decision D12.
 
-    Parameters
-    ----------
-    predicted, measured : array_like, shape (n,)
-        Histories on the same samples [any unit].
-
-    Examples
-    --------
     >>> round(relative_rmse([0.0, 1.0, 2.0], [0.0, 1.0, 3.0]), 6)
     0.19245
     """
@@ -115,17 +102,9 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
 
 
 def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
-    r"""Impulse per axis :math:`\int F\,dt` [N s].
+    r"""Impulse per axis :math:`\int F\,dt` [N s] of ``force`` (n,) or (n, 3) [N] at the
+    increasing ``time`` (n,) [s].
 
-    Parameters
-    ----------
-    time : array_like, shape (n,)
-        Increasing times [s].
-    force : array_like, shape (n,) or (n, 3)
-        Force history [N].
-
-    Examples
-    --------
     >>> impulse([0.0, 1.0, 2.0], [[0, 0, 0], [1, 2, 3], [0, 0, 0]])
     array([1., 2., 3.])
     """
@@ -135,12 +114,9 @@ def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
 
 
 def max_suction(force_z: ArrayLike) -> float:
-    """Maximum suction: magnitude (>= 0) of the most negative vertical force [N].
+    """Maximum suction: magnitude (>= 0) of the most negative vertical force ``force_z``
+    (n,) [N] (``result.force[:, 2]``).
 
-    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
-
-    Examples
-    --------
     >>> max_suction([1.0, -3.0, 2.0]), max_suction([1.0, 2.0])
     (3.0, 0.0)
     """
@@ -149,10 +125,7 @@ def max_suction(force_z: ArrayLike) -> float:
 
 
 def peak_support(force_z: ArrayLike) -> float:
-    """Largest upward vertical force [N] (0 if never positive).
-
-    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
-    """
+    """Largest upward vertical force of ``force_z`` (n,) [N], 0 if never positive."""
     if np.asarray(force_z).dtype == bool:  # a mask (force > 0) given for the force
         raise MudrftError("force_z must be the vertical force [N], got a boolean array")
     f = _history("force_z", force_z)
@@ -163,11 +136,9 @@ def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
 
     ``force`` is the force of the mud on the foot [N]; ``velocity[k]`` [m/s] is the rate over
-    the step that ends at ``time[k]`` (decision D13b), so
+    the step that ends at ``time[k]`` [s] (decision D13b), so
     :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`.
 
-    Examples
-    --------
     >>> # a constant 10 N resisting a 1 m/s motion for 2 s costs 20 J
     >>> energy([0.0, 2.0], [[-10, 0, 0], [-10, 0, 0]], [[1, 0, 0], [1, 0, 0]])
     20.0
@@ -183,11 +154,8 @@ def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
 
 
 def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
-    """Sinking depth [m]: the deepest tip depth, or the last one with ``final=True``.
-
-    Under load control the last depth is the equilibrium sinking (paper Fig. 12).
-    ``depth`` is the tip's depth below the surface, shape (n,) [m] (``result.depth``).
-    """
+    """The deepest tip ``depth`` (n,) [m] (``result.depth``), or the last with ``final=True``
+    (under load control, the equilibrium sinking of Fig. 12)."""
     if not isinstance(final, (bool, np.bool_)):  # final="no" is true
         raise MudrftError(f"final must be True or False, got {final!r}")
     d = _history("depth", depth)
@@ -202,25 +170,13 @@ def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
 def cycle_metrics(
     time: FloatArray, force: FloatArray, velocity: FloatArray, depth: FloatArray, *, load: bool
 ) -> Metrics:
-    """The paper's metrics of one run (unchecked histories, as a :class:`~mudrft.Result` holds).
+    """The paper's metrics of one run from unchecked histories, as a :class:`~mudrft.Result`
+    holds them: ``time`` [s], ``force`` [N] and ``velocity`` [m/s] (n, 3), ``depth`` [m].
 
-    Parameters
-    ----------
-    time : ndarray, shape (n,)
-        Times [s].
-    force, velocity : ndarray, shape (n, 3)
-        Force of the terrain on the foot [N] and tip velocity [m/s].
-    depth : ndarray, shape (n,)
-        Tip depth [m].
-    load : bool, keyword-only
-        A run under a load (:class:`~mudrft.LoadControl`): it also has ``sinking``.
-
-    Returns
-    -------
-    Metrics
-        ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
-        ``impulse_z`` [N s], ``energy`` [J] (work of the foot against the terrain),
-        ``max_depth`` [m], ``suction_ratio`` [-]; under a load ``sinking`` [m].
+    Returns ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
+    ``impulse_z`` [N s], ``energy`` [J] (work of the foot against the terrain),
+    ``max_depth`` [m], ``suction_ratio`` [-]; with ``load`` (a :class:`~mudrft.LoadControl`
+    run) also ``sinking`` [m], the settled depth.
     """
     imp = impulse(time, force)
     peak, suction = peak_support(force[:, 2]), max_suction(force[:, 2])
@@ -240,18 +196,8 @@ def cycle_metrics(
 
 
 def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:
-    r"""Force divided by the matching cross-section area, as in Figs. 10-12 [Pa].
-
-    :math:`\bar\sigma_i=F_i/A_i`, with :math:`A_x, A_y` the submerged areas projected along
-    x and y and :math:`A_z` the footprint. Zero where the area is zero.
-
-    Parameters
-    ----------
-    force : array_like, shape (n, 3)
-        Forces [N].
-    areas : array_like, shape (n, 3)
-        Areas [m^2].
-    """
+    r"""Force (n, 3) [N] divided by the matching cross-section ``areas`` (n, 3) [m^2], as in
+    Figs. 10-12 [Pa]: :math:`\bar\sigma_i=F_i/A_i`, zero where the area is zero."""
     f = check_finite("force", force)
     a = check_finite("areas", areas)
     if f.shape != a.shape:

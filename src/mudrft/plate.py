@@ -30,24 +30,10 @@ DEFAULT_PLATE_LENGTH = 0.05
 
 @dataclass(frozen=True, eq=False)
 class PlateResult:
-    """Stress on a plate along a plate test.
-
-    Attributes
-    ----------
-    time : ndarray (n,)
-        Times [s].
-    displacement : ndarray (n,)
-        Intrusion displacement of the plate [m].
-    stress : ndarray (n,)
-        Total stress sigma_tot along the motion [Pa] (eq. 1).
-    normal, tangential : ndarray (n,)
-        Normal and tangential stress on the tilted plate, f_n(angle)*sigma and
-        f_t(angle)*sigma [Pa] (eq. 7).
-    elastic, thixotropic, suction : ndarray (n,)
-        The three terms of eq. (1) [Pa].
-    xi : ndarray (n,)
-        Structure parameter [-].
-    """
+    """Stress on a plate along a plate test, each field (n,): ``time`` [s],
+    ``displacement`` [m], the total ``stress`` along the motion (eq. 1), its ``normal`` and
+    ``tangential`` parts on the tilted plate (eq. 7), the terms ``elastic``,
+    ``thixotropic`` and ``suction`` of eq. (1) [Pa], and the structure ``xi`` [-]."""
 
     time: np.ndarray
     displacement: np.ndarray
@@ -90,13 +76,13 @@ def plate_response(
     trajectory : Trajectory
         A plate test; its ``meta["displacement"]`` (or the tip depth) is the intrusion [m].
     params : MudParameters or Mud
-        A parameter set, or a Mud from which the set matching the test direction is taken.
+        A parameter set, or a Mud (the set of the test's direction is used).
     characteristic_length : float, keyword-only
-        Plate characteristic length L_c [m].
+        Plate characteristic length :math:`L_c` [m].
     acceleration : bool or None, keyword-only
         Keep the acceleration term of f_xi (decision D6); None keeps it in the ODE.
     thixotropy : {"ode", "quasi-static"}, keyword-only
-        Step eqs. (3) and (5), or evaluate the paper's closed forms (9)-(11) (decision D15).
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
     clock : {"contact", "retraction"}, keyword-only
         Quasi-static only: the clock of eq. (9) (decision D15).
     xi0 : float, keyword-only
@@ -106,11 +92,6 @@ def plate_response(
     -----
     A vertical plate feels the mud only while its displacement is positive; the mud's
     memory starts at first contact, as in :func:`mudrft.simulate`.
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, Sec. IV-A and supplementary Fig. S2 (plate tests).
 
     Examples
     --------
@@ -191,36 +172,14 @@ def plate_steps(
     shape: tuple[int, ...] | None = None,
 ) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:
     """The steps of a plate channel along a displacement history (no validation): the loop
-    of :func:`plate_response` and of the calibration. With ``contact`` (a vertical plate)
-    the plate feels the mud only while ``gamma > 0``, each entry starting from undisturbed mud.
+    of :func:`plate_response` and of the calibration.
 
-    Parameters
-    ----------
-    consts : ChannelConstants
-        Model constants (SI); arrays broadcast with ``shape``.
-    gamma : ndarray, shape (n, ...)
-        Dimensionless displacement at the samples [-].
-    rate : ndarray, shape (n - 1, ...)
-        Rate over each step [1/s].
-    dt : ndarray, shape (n - 1, ...)
-        Step lengths [s], > 0.
-    kappa, quasi_static, restart : keyword-only
-        Evaluation of the model, from :func:`mudrft.constitutive.dynamics.evaluation`.
-    xi0 : float, keyword-only
-        Structure of undisturbed mud [-].
-    contact : bool, keyword-only
-        Apply the contact rule (vertical plates).
-    shape : tuple of int, optional, keyword-only
-        Shape of the channel state; default ``gamma.shape[1:]``.
-
-    Yields
-    ------
-    state : ChannelState
-        State after step ``k`` (k = 1 ... n-1).
-    stress : ChannelStress
-        Stresses at sample ``k`` [Pa], to be read only where ``inside``.
-    inside : ndarray of bool
-        Whether the plate is in the mud at sample ``k``.
+    ``gamma`` (n, ...) [-] at the samples, ``rate`` [1/s] and ``dt`` [s] (n - 1, ...) over
+    the steps; ``kappa``, ``quasi_static``, ``restart`` from
+    :func:`mudrft.constitutive.dynamics.evaluation`; ``xi0`` [-] the undisturbed structure.
+    With ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``,
+    each entry starting from undisturbed mud. Yields, for k = 1 ... n-1, the state, the
+    stresses [Pa] (valid where ``inside``) and ``inside``, whether the plate is in the mud.
     """
     inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
     g = np.where(inside, gamma, 0.0) if contact else gamma

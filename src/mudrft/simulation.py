@@ -56,11 +56,11 @@ G = 9.80665  # standard gravity [m/s^2]
 class LoadControl:
     r"""A foot driven by a load instead of a prescribed motion.
 
-    A body of mass ``mass`` carrying ``weight`` rests on the foot. Without a leg spring
-    the foot is rigidly attached: :math:`m\ddot z = F_z - W`. With ``leg_stiffness`` the
-    body sits on a spring-damper leg above a light foot (``foot_mass``), and both masses
-    are integrated. The foot starts with its tip at the surface, at rest, and settles to
-    an equilibrium sinking depth. Horizontal motion is not driven (x = y = 0).
+    A body of ``mass`` carrying ``weight`` rests on the foot, rigidly
+    (:math:`m\ddot z = F_z - W`) or, with ``leg_stiffness``, on a spring-damper leg above
+    a foot of ``foot_mass``. The foot starts at rest with its tip at the surface and settles
+    to its sinking depth; x = y = 0. The coupling is explicit, so ``dt`` must resolve the
+    mud's damping: :func:`simulate` raises with a suggested ``dt`` otherwise.
 
     Parameters
     ----------
@@ -79,14 +79,7 @@ class LoadControl:
     dt : float, keyword-only
         Time step [s].
     ramp : float, keyword-only
-        Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at
-        once (the foot then overshoots and compacts the mud below the static depth).
-
-    Notes
-    -----
-    The coupling is explicit: the terrain force of the previous step drives the masses.
-    The mud acts like a damper :math:`c\approx\eta_\infty A_z/L_c`, so the moving mass
-    must satisfy ``dt < 2 m / c``; :func:`simulate` raises with a suggested ``dt`` otherwise.
+        Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at once.
     """
 
     weight: float
@@ -140,12 +133,10 @@ class Result:
         Channel stresses (sx, sy, sz) [Pa] (zeros for terrains without channels).
     depth : ndarray (n,)
         Tip depth [m].
-    foot : str
-        Foot name.
-    terrain : str
-        Terrain name.
-    areas : ndarray (n, 3)
-        Submerged areas projected along x, y and z [m^2] (for normalised stresses).
+    foot, terrain : str
+        Names.
+    areas : ndarray (n, 3) or None
+        Submerged areas projected along x, y and z [m^2].
     meta : dict
         Run settings (load control, trajectory name, ...).
     """
@@ -194,18 +185,9 @@ class Result:
             import pandas as pd
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_pandas needs pandas: pip install 'mudrft[pandas]'") from exc
-        cols = dict(
-            zip(CSV_COLUMNS, np.column_stack([self.time, self.position, self.force]).T, strict=True)
-        )
-        cols.update(
-            {
-                "sx [Pa]": self.stress[:, 0],
-                "sy [Pa]": self.stress[:, 1],
-                "sz [Pa]": self.stress[:, 2],
-                "depth [m]": self.depth,
-            }
-        )
-        return pd.DataFrame(cols)
+        data = np.column_stack([self.time, self.position, self.force, self.stress, self.depth])
+        columns = [*CSV_COLUMNS, "sx [Pa]", "sy [Pa]", "sz [Pa]", "depth [m]"]
+        return pd.DataFrame(data, columns=columns)
 
     def plot(self, *, axes: AxesArg = None) -> Figure:
         """Forces against time and Fz against depth (needs matplotlib)."""
@@ -289,9 +271,8 @@ def simulate(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(7) and (12)-(14).
+    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", 2026, eqs. (1)-(7) and (12)-(14).
     """
     if not isinstance(foot, Foot):
         raise MudrftError(
@@ -314,8 +295,7 @@ def simulate(
     how = f"{tr.name}: the tip goes"
     check_unburied(foot.name, foot.height, float(tr.depth.max()), how=how, strict=strict)
     n = len(tr)
-    force = np.zeros((n, 3))
-    stress = np.zeros((n, 3))
+    force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     pos, vel, dts = tr.position, tr.velocity, np.diff(tr.time)
     rows = along_path(terrain, foot, pos, vel, dts) if isinstance(terrain, MudTerrain) else None
     if rows is not None:  # the mud under a foot of mudrft.feet, compiled (terrains.rows)
@@ -335,19 +315,11 @@ def simulate(
         raise MudrftError(
             "the simulation produced non-finite forces; check the terrain parameters and dt"
         )
-    depth = tr.depth
+    meta = {"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}}
     return Result(
-        time=tr.time,
-        position=tr.position,
-        velocity=tr.velocity,
-        force=force,
-        stress=stress,
-        depth=depth,
-        foot=foot.name,
-        terrain=getattr(terrain, "name", ""),
-        areas=_areas(foot, depth),
-        meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}},
-    )
+        tr.time, tr.position, tr.velocity, force, stress, tr.depth, foot.name,
+        getattr(terrain, "name", ""), _areas(foot, tr.depth), meta,
+    )  # fmt: skip
 
 
 def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -> None:
@@ -418,10 +390,8 @@ def _simulate_load(
     n = int(np.ceil(load.duration / dt)) + 1
     t = dt * np.arange(n)
     m = load.body_mass
-    zf = np.zeros(n)  # foot tip height
-    vf = np.zeros(n)
-    force = np.zeros((n, 3))
-    stress = np.zeros((n, 3))
+    zf, vf = np.zeros(n), np.zeros(n)  # foot tip height and velocity
+    force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     spring = load.leg_stiffness is not None
     zb, vb = 0.0, 0.0  # body displacement from its rest position over an unloaded leg
     z, v = 0.0, 0.0
@@ -459,18 +429,11 @@ def _simulate_load(
     )  # fmt: skip
     how = f"under {plain(load.weight)} N the tip sank"
     check_unburied(foot.name, foot.height, float(depth.max()), how=how, strict=strict, hint=hint)
+    meta = {"load_control": True, "weight": load.weight, "mass": m}
     return Result(
-        time=t,
-        position=pos,
-        velocity=vel,
-        force=force,
-        stress=stress,
-        depth=depth,
-        foot=foot.name,
-        terrain=getattr(terrain, "name", ""),
-        areas=_areas(foot, depth),
-        meta={"load_control": True, "weight": load.weight, "mass": m},
-    )
+        t, pos, vel, force, stress, depth, foot.name, getattr(terrain, "name", ""),
+        _areas(foot, depth), meta,
+    )  # fmt: skip
 
 
 def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
@@ -496,7 +459,7 @@ def static_sinking(
 
     At rest the thixotropic stress relaxes to zero and no suction acts, so the balance is
     :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`, solved down to
-    :data:`BURIED_SEARCH` times the foot's height.
+    :data:`BURIED_SEARCH` times the foot's height (deeper, a :class:`~mudrft.MudrftError`).
 
     Parameters
     ----------
@@ -513,11 +476,6 @@ def static_sinking(
     -------
     float
         Tip depth [m] below the mud surface (> 0).
-
-    Raises
-    ------
-    MudrftError
-        If the foot cannot carry ``weight`` even buried :data:`BURIED_SEARCH` times its height.
     """
     from scipy.optimize import brentq
 

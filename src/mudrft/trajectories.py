@@ -26,17 +26,9 @@ from ._validation import (
 )
 
 __all__ = [
-    "FOOT_HEIGHT",
-    "GAIT_SPEEDS",
-    "MIN_GAIT_STEPS",
-    "STANCE_DEPTH",
-    "STRIDE_LENGTH",
-    "BuriedFootWarning",
-    "Trajectory",
-    "check_unburied",
-    "gait",
-    "plate_intrusion",
-]
+    "FOOT_HEIGHT", "GAIT_SPEEDS", "MIN_GAIT_STEPS", "STANCE_DEPTH", "STRIDE_LENGTH",
+    "BuriedFootWarning", "Trajectory", "check_unburied", "gait", "plate_intrusion",
+]  # fmt: skip
 
 #: The paper's gait speeds [m/s] (Sec. IV-A).
 GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
@@ -104,21 +96,9 @@ def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
 
 @dataclass(frozen=True, eq=False)
 class Trajectory:
-    """Path of the foot tip in the world frame.
-
-    Attributes
-    ----------
-    time : ndarray, shape (n,)
-        Strictly increasing times [s].
-    position : ndarray, shape (n, 3)
-        Tip position [m]; z < 0 is below the mud surface.
-    velocity : ndarray, shape (n, 3)
-        Tip velocity [m/s].
-    name : str
-        Label for reports.
-    meta : dict
-        Protocol parameters (e.g. plate angle [rad], direction).
-    """
+    """Path of the foot tip in the world frame: strictly increasing ``time`` (n,) [s],
+    ``position`` (n, 3) [m] (z < 0 below the mud surface), ``velocity`` (n, 3) [m/s], a
+    ``name`` and the protocol's ``meta`` (plate angle [rad], direction, ...)."""
 
     time: np.ndarray
     position: np.ndarray
@@ -198,17 +178,15 @@ def plate_intrusion(
     Parameters
     ----------
     depth : float
-        Intrusion displacement [m] (vertical: depth below the surface; horizontal:
-        travel through the mud).
+        Intrusion displacement [m] (vertical: below the surface; horizontal: travel).
     speed : float
         Intrusion and retraction speed [m/s].
     hold : float
         Time at rest between intrusion and retraction [s].
     angle : float
-        Penetration angle of the plate [rad], 0 to pi/2 (the paper uses 0, 22.5, 45,
-        67.5 and 90 deg): the angle between plate normal and motion, psi_1 or psi_2.
+        Penetration angle of the plate [rad], 0 to pi/2: between plate normal and motion.
     direction : {"vertical", "horizontal"}
-        Vertical (VI, along -z) or horizontal (HI, along +x) intrusion.
+        Vertical (along -z) or horizontal (along +x) intrusion.
     dt : float, keyword-only
         Sample spacing [s].
     rest : float, keyword-only
@@ -217,8 +195,7 @@ def plate_intrusion(
     Returns
     -------
     Trajectory
-        With ``meta = {"angle", "direction", "depth", "speed", "hold", "t_retract"}``
-        and the intrusion displacement in ``meta["displacement"]`` [m].
+        With ``meta`` holding the protocol and the intrusion ``"displacement"`` [m].
 
     References
     ----------
@@ -299,38 +276,26 @@ def gait(
     r"""One stepping cycle of the foot tip at a gait speed (half stance, half swing).
 
     The paper gives the gait speeds but not the foot path (decision D10). The cycle lasts
-    :math:`T=\text{stride}/\text{speed}`; with phase :math:`s=t/T`:
-
-    * stance, :math:`s\in[0,\tfrac12]`: the tip sinks from the surface to ``depth`` along
-      :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)`;
-    * swing, :math:`s\in[\tfrac12,1]`: it is pulled out and lifted to ``lift`` above
-      the surface along :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))`;
-    * horizontally it slips forward by ``slip * stride`` (:math:`x=\rho S(1-\cos\pi s)/2`) and
-      sways sideways and back by ``sway * stride`` (:math:`y=\rho_y S\sin(\pi s)/2`), so both
-      horizontal channels see intrusion and retraction.
-
-    Each sample's velocity is the rate of the step that ends there
-    (:meth:`Trajectory.from_positions`).
+    :math:`T=S/v` (stride over speed); with phase :math:`s=t/T` the tip sinks to depth
+    :math:`D` along :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)` in the stance
+    (:math:`s\le\tfrac12`), is pulled out and lifted to :math:`h` along
+    :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))` in the swing, and slips forward
+    and sways sideways, :math:`x=\rho S(1-\cos\pi s)/2`, :math:`y=\rho_y S\sin(\pi s)/2`.
 
     Parameters
     ----------
     speed : float
         Gait speed [m/s].
     depth : float, keyword-only
-        Deepest tip depth [m] (:data:`STANCE_DEPTH`, 20 mm).
+        Deepest tip depth [m].
     stride : float, keyword-only
         Stride length [m].
     slip, sway : float, keyword-only
-        Forward slip and lateral sway in mud as fractions of the stride [-].
+        Forward slip and lateral sway as fractions of the stride [-].
     lift : float, keyword-only
         Height of the tip above the surface at the end of the swing [m].
     dt : float, keyword-only
-        Sample spacing [s]; at most :math:`T/20` (:data:`MIN_GAIT_STEPS` steps a cycle).
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, Sec. IV (gait speeds).
+        Sample spacing [s]; at most :math:`T/20` (:data:`MIN_GAIT_STEPS`).
 
     Examples
     --------

@@ -20,14 +20,9 @@ if TYPE_CHECKING:
     from jax import Array
 
 __all__ = [
-    "JaxParams",
-    "enable_x64",
-    "from_jax",
-    "initial_state",
-    "is_tracer",
-    "safe_namespace",
+    "JaxParams", "enable_x64", "from_jax", "initial_state", "is_tracer", "safe_namespace",
     "to_jax",
-]
+]  # fmt: skip
 
 
 def enable_x64() -> ModuleType:

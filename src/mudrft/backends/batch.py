@@ -132,22 +132,9 @@ def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
 
 
 def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameters:
-    """Channel parameters (x, y, z) for N feet: fields of shape (3,) if shared, else (N, 3).
+    """Channel parameters (x, y, z) of ``mud`` (one Mud or ``n`` muds) for ``n`` feet,
+    validated: fields of shape (3,) if shared, else (n, 3).
 
-    Parameters
-    ----------
-    mud : Mud or sequence of Mud
-        One mud for all feet (its fields scalars or arrays of shape (N,)), or N muds.
-    n : int
-        Number of feet.
-
-    Returns
-    -------
-    MudParameters
-        Validated, with a trailing channel axis of 3.
-
-    Examples
-    --------
     >>> import mudrft
     >>> muds = [mudrft.paper_mud(w) for w in (0.25, 0.3, 0.35)]
     >>> batched_channel_parameters(muds, 3).alpha.shape
@@ -208,12 +195,6 @@ class BatchedMud:
 
     Attributes
     ----------
-    n : int
-        Number of feet.
-    params : MudParameters
-        Channel parameters, fields of shape (3,) or (N, 3).
-    terrain : MudTerrain
-        The mud of the batch (fields scalars or of shape (N,)) with its validated options.
     force, stress : ndarray (N, 3)
         Force [N] and channel stresses [Pa] of the last step.
     depth : ndarray (N,)
@@ -379,19 +360,9 @@ class BatchedMud:
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` and return the forces of the mud on them.
 
-        Parameters
-        ----------
-        position : array_like, shape (N, 3)
-            Tip positions at the end of the step [m] (world frame, z up, surface z = 0).
-        velocity : array_like, shape (N, 3)
-            Tip velocities [m/s].
-        dt : float
-            Step [s], > 0.
-
-        Returns
-        -------
-        ndarray, shape (N, 3)
-            Forces [N] (world frame; also in :attr:`force`).
+        ``position`` [m] (world frame, at the end of the step) and ``velocity`` [m/s] have
+        shape (N, 3) or (3,); ``dt`` [s] > 0. Returns the forces (N, 3) [N], also in
+        :attr:`force`.
         """
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)

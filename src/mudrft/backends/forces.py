@@ -22,25 +22,9 @@ ForceRule: TypeAlias = Callable[[XpArray, XpArray, XpArray], XpArray]
 
 
 def force_function(foot: Foot, xp: Namespace = np) -> ForceRule | None:
-    """``f(depth, stress, heading) -> world force (..., 3)`` [N] for a rigid foot, or None.
+    """``f(depth, stress, heading) -> world force (..., 3)`` [N] of a rigid foot on the array
+    namespace ``xp``, or None for feet without a vectorized rule (the morphing foot).
 
-    Closed-form feet give :meth:`~mudrft.feet.base.Foot.force_array`, a
-    :class:`~mudrft.feet.MeshFoot` :func:`mudrft.feet.surface.integrate_prepared`.
-
-    Parameters
-    ----------
-    foot : Foot
-        A foot of :mod:`mudrft.feet`.
-    xp : module
-        Array namespace (``numpy`` or ``jax.numpy``).
-
-    Returns
-    -------
-    callable or None
-        None for feet without a vectorized rule (the morphing foot).
-
-    Examples
-    --------
     >>> import mudrft
     >>> f = force_function(mudrft.feet.Flat())
     >>> f(0.01, [1e3, 1e3, 1e3], 0.0).round(3).tolist()

@@ -159,30 +159,13 @@ def step(
 ) -> tuple[ChannelState, ChannelStress]:
     """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`).
 
-    Concrete inputs are checked; traced ones (inside the caller's ``jit``) cannot be.
-
-    Parameters
-    ----------
-    params : JaxParams
-        From :func:`to_jax`; fields broadcast with the state.
-    state : ChannelState
-        State at the start of the step.
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step [1/s].
-    dt : float or array_like
-        Step [s], > 0.
-    seal : array_like, keyword-only
-        Sealing factor in [0, 1] [-].
-    acceleration, thixotropy, clock : keyword-only
-        Evaluation (:func:`mudrft.constitutive.dynamics.evaluation`); static under jit.
-
-    Returns
-    -------
-    state : ChannelState
-    stress : ChannelStress
-        Stresses [Pa].
+    ``params`` from :func:`to_jax` broadcast with the ``state``; ``gamma`` is the
+    dimensionless displacement at the end of the step [-], ``gamma_dot`` the rate over it
+    [1/s], ``dt`` the step [s] > 0 and ``seal`` the sealing factor in [0, 1] [-];
+    ``acceleration``, ``thixotropy`` and ``clock`` choose the evaluation
+    (:func:`mudrft.constitutive.dynamics.evaluation`) and are static under jit. Concrete
+    inputs are checked; traced ones (inside the caller's ``jit``) cannot be. Returns the
+    new :class:`~mudrft.constitutive.state.ChannelState` and the stresses [Pa].
     """
     check_params(params)
     _check_state(state, "initial_state(...)")
@@ -215,11 +198,7 @@ def batched_step(
     g = jnp.asarray(gamma, dtype=float)
     if g.ndim == 0:
         raise MudrftError("gamma must have a leading batch axis (N, ...), got a scalar")
-    s = (
-        jnp.ones_like(g)
-        if seal is None
-        else jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
-    )
+    s = jnp.broadcast_to(jnp.asarray(1.0 if seal is None else seal, dtype=float), g.shape)
     n = g.shape[0]
     if jnp.ndim(dt):
         raise MudrftError(
@@ -241,12 +220,7 @@ def batched_step(
                 f"per member of the batch), got shape {jnp.shape(f)}"
             )
     p = JaxParams(
-        *(
-            jnp.broadcast_to(jnp.asarray(f, dtype=float), (n, *jnp.shape(f)[1:]))
-            if jnp.ndim(f)
-            else jnp.full((n,), f)
-            for f in params
-        )
+        *(jnp.broadcast_to(jnp.asarray(f, float), (n, *jnp.shape(f)[1:])) for f in params)
     )
     return _compiled()["vstep"](
         p, state, g, jnp.asarray(gamma_dot, dtype=float), dt, s, acceleration, thixotropy, clock
@@ -265,32 +239,15 @@ def run(
     clock: str = "contact",
     xi0: float = 0.0,
 ) -> ChannelHistory:
-    """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`.
+    """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`,
+    differentiable with respect to ``params``, ``gamma`` and ``state``.
 
-    Differentiable with respect to ``params``, ``gamma`` and ``state``.
+    ``time`` (n,) are strictly increasing times [s] and ``gamma`` (n, ...) the
+    dimensionless displacement at them [-]; ``state`` defaults to undisturbed mud with
+    structure ``xi0`` [-] at ``gamma[0]``; ``seal`` [-] is a scalar or of shape (n, ...);
+    the other options as :func:`step`. Returns a
+    :class:`~mudrft.constitutive.dynamics.ChannelHistory` of JAX arrays.
 
-    Parameters
-    ----------
-    params : JaxParams
-        Model constants (:func:`to_jax`).
-    time : array_like, shape (n,)
-        Strictly increasing times [s].
-    gamma : array_like, shape (n,) or (n, ...)
-        Dimensionless displacement at the samples [-].
-    state : ChannelState, optional, keyword-only
-        Initial state; default undisturbed mud with ``xi0`` [-] and ``gamma[0]``.
-    seal : array_like, keyword-only
-        Sealing factor, scalar or shape (n, ...) [-].
-    acceleration, thixotropy, clock, xi0 : keyword-only
-        As :func:`step`; ``xi0`` [-] when ``state`` is None.
-
-    Returns
-    -------
-    ChannelHistory
-        Same fields as the numpy version, as JAX arrays.
-
-    Examples
-    --------
     >>> import numpy as np, mudrft
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> h = run(to_jax(mudrft.paper_parameters(0.25)), t, 0.2 * t)
@@ -317,13 +274,12 @@ def run(
     dynamics.check_parameter_shapes(
         {k: jnp.shape(f) for k, f in zip(JaxParams._fields, params, strict=True)}, g.shape[1:]
     )
+    z = jnp.zeros(g.shape[1:])
     if state is None:
-        z = jnp.zeros(g.shape[1:])
         state = ChannelState(
             gamma=g[0] + z, gamma_w=g[0] + z, xi=z + xi0, s_th=z, sigma_s=z, clock=z, clock_w=z
         )
     else:  # a state built without clocks carries them as Python zeros: give them its shape
-        z = jnp.zeros(g.shape[1:])
         state = state._replace(clock=z + state.clock, clock_w=z + state.clock_w)
     sl = jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
     total, el, th, su, xi = _compiled()["run"](
@@ -343,28 +299,14 @@ def mesh_force(
     *,
     trailing: bool = False,
 ) -> Array:
-    """Force of the mud on a triangulated foot (differentiable in ``vertices``):
-    :func:`mudrft.feet.surface.integrate_triangles` on ``vertices[faces]``.
+    """Force of the mud on a triangulated foot [N], (..., 3) in the world frame,
+    differentiable in ``vertices``: :func:`mudrft.feet.surface.integrate_triangles` on
+    ``vertices[faces]``.
 
-    Parameters
-    ----------
-    vertices : array_like, shape (v, 3)
-        Vertices in the foot frame, tip (lowest point) at z = 0 [m].
-    faces : array_like of int, shape (m, 3)
-        Triangles, counter-clockwise seen from outside.
-    depth : float or array
-        Tip depth [m].
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa].
-    heading : float or array
-        Horizontal heading of the motion [rad].
-    trailing : bool, keyword-only
-        Load trailing faces too; give the foot's own, ``foot.trailing``.
-
-    Returns
-    -------
-    array, shape (..., 3)
-        Force in the world frame [N].
+    ``vertices`` (v, 3) are in the foot frame with the tip at z = 0 [m]; ``faces`` (m, 3)
+    integer triangles, counter-clockwise seen from outside; ``depth`` the tip depth [m];
+    ``stress`` (..., 3) the channel stresses [Pa]; ``heading`` the horizontal heading of the
+    motion [rad]; ``trailing`` loads trailing faces too (give the foot's ``foot.trailing``).
     """
     jnp = _jnp()
     v = jnp.asarray(vertices, dtype=float)

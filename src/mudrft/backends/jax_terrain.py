@@ -145,7 +145,7 @@ def terrain_step(
     Parameters
     ----------
     params : JaxParams
-        Channel parameters with a trailing axis of 3 (``to_jax(mud)``).
+        Channel parameters, ``to_jax(mud)``.
     state : MudChannels
         From :func:`initial_terrain_state` or a previous step.
     position, velocity : array_like, shape (..., 3)
@@ -154,9 +154,7 @@ def terrain_step(
         Step [s], > 0.
     force_fn : Foot or callable, keyword-only
         A rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or mesh), or
-        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with
-        ``jax.numpy`` (for gradients by a mesh's vertices, ``lambda d, s, h:
-        mesh_force(v, foot.faces, d, s, h, trailing=foot.trailing)``).
+        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with ``jax.numpy``.
     characteristic_length : float, keyword-only
         :math:`L_c` [m]; default the foot's (needed with a function). May be traced.
     acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
@@ -218,29 +216,14 @@ def simulate(
     thixotropy: str = "ode",
     clock: str = "contact",
 ) -> tuple[Array, Array, Array]:
-    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`.
+    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`, sampled as
+    :func:`mudrft.simulate`: ``time`` (n,) [s], ``position`` [m] and ``velocity`` [m/s]
+    (n, ..., 3); the options as :func:`terrain_step`.
 
-    Same sampling as :func:`mudrft.simulate`. Traceable and differentiable with respect to
-    ``params``, the foot geometry in ``force_fn`` or the trajectory; outside ``jit`` every
-    call compiles its scan again, so jit the function that calls it.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Channel parameters (``to_jax(mud)``).
-    time : array_like, shape (n,)
-        Strictly increasing times [s] (checked when concrete).
-    position, velocity : array_like, shape (n, ..., 3)
-        Tip position [m] and velocity [m/s] at the samples.
-    force_fn, characteristic_length : keyword-only
-        As :func:`terrain_step`.
-    acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
-        As :func:`terrain_step`.
-
-    Returns
-    -------
-    force, stress, depth : arrays of shape (n, ..., 3), (n, ..., 3), (n, ...)
-        The first sample is the initial state (zero force).
+    Traceable and differentiable by ``params``, the foot geometry in ``force_fn`` or the
+    trajectory; outside ``jit`` every call compiles its scan again, so jit its caller.
+    Returns ``force`` [N] and ``stress`` [Pa] (n, ..., 3) and ``depth`` [m] (n, ...), the
+    first sample the initial state (zero force).
     """
     jax = enable_x64()
     jnp = _jnp()

@@ -50,21 +50,10 @@ if TYPE_CHECKING:
     from ..parameters.base import Mud
 
 __all__ = [
-    "ACTION_SIZE",
-    "FEET",
-    "MAX_CONTROL_PERIOD",
-    "NOT_RUNNING",
-    "OBS_SIZE",
-    "WalkerConfig",
-    "WalkerLayout",
-    "check_action",
-    "check_reset",
-    "healthy",
-    "observation",
-    "reward",
-    "walker_config",
-    "walker_layout",
-]
+    "ACTION_SIZE", "FEET", "MAX_CONTROL_PERIOD", "NOT_RUNNING", "OBS_SIZE", "WalkerConfig",
+    "WalkerLayout", "check_action", "check_reset", "healthy", "observation", "reward",
+    "walker_config", "walker_layout",
+]  # fmt: skip
 
 #: Foot shapes by name (the paper's feet that both couplings support).
 FEET = ("flat", "semi-cylinder", "semi-sphere")
