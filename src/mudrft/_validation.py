@@ -161,12 +161,8 @@ def check_shape(name: str, value: object, shape: tuple[int | None, ...]) -> np.n
         s is None or s == a for s, a in zip(shape, arr.shape, strict=False)
     )
     if not ok:
-        want = (
-            "("
-            + ", ".join("n" if s is None else str(s) for s in shape)
-            + ("," if len(shape) == 1 else "")
-            + ")"
-        )
+        dims = ", ".join("n" if s is None else str(s) for s in shape)
+        want = f"({dims}{',' if len(shape) == 1 else ''})"
         raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
     return arr
 
@@ -312,13 +308,9 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
     """
     out = {k: check_length(k, v) for k, v in sizes.items()}
     name = max(out, key=out.__getitem__)
-    warn_implausible(
-        f"{what}: its largest dimension, {name}, is",
-        out[name],
-        PLAUSIBLE_FOOT_SIZE,
-        unit="m",
-        hint="sizes are in metres (45 mm is 0.045)",
-    )
+    hint = "sizes are in metres (45 mm is 0.045)"
+    what = f"{what}: its largest dimension, {name}, is"
+    warn_implausible(what, out[name], PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return out
 
 
@@ -326,24 +318,16 @@ def check_characteristic_length(what: str, value: object) -> float:
     """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warns if
     it is not a plausible foot size (a length in mm read as m)."""
     v = check_length("characteristic_length", value)
+    hint = "it is in metres (50 mm is 0.05)"
     warn_implausible(
-        f"{what}: characteristic_length is",
-        v,
-        PLAUSIBLE_FOOT_SIZE,
-        unit="m",
-        hint="it is in metres (50 mm is 0.05)",
+        f"{what}: characteristic_length is", v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint
     )
     return v
 
 
 def warn_implausible(
-    what: str,
-    value: float,
-    plausible: tuple[float, float],
-    *,
-    unit: str,
-    hint: str,
-) -> bool:
+    what: str, value: float, plausible: tuple[float, float], *, unit: str, hint: str,
+) -> bool:  # fmt: skip
     """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible`` (both
     in ``unit``): valid, but more likely a unit mistake. ``what`` and ``hint`` are for the
     message. Returns whether it warned."""

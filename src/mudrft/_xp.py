@@ -21,22 +21,9 @@ __all__ = ["ELEMENTWISE", "pyfloat"]
 
 #: Names of the element-wise functions the physics may call on ``xp``.
 ELEMENTWISE = (
-    "where",
-    "abs",
-    "sign",
-    "maximum",
-    "minimum",
-    "exp",
-    "expm1",
-    "tanh",
-    "cos",
-    "sin",
-    "arccos",
-    "arctan2",
-    "hypot",
-    "sqrt",
-    "clip",
-)
+    "where", "abs", "sign", "maximum", "minimum", "exp", "expm1", "tanh", "cos", "sin",
+    "arccos", "arctan2", "hypot", "sqrt", "clip",
+)  # fmt: skip
 
 abs = abs  # the builtin, as a name of this namespace
 

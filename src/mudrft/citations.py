@@ -34,15 +34,9 @@ def reset() -> None:
 
 
 def citations(*, bibtex: bool = True) -> list[str]:
-    """The works the current process relied on, in the order first used.
+    """The works the current process relied on, in the order first used: BibTeX entries, or
+    their keys with ``bibtex=False``.
 
-    Parameters
-    ----------
-    bibtex : bool, keyword-only
-        Return full BibTeX entries (default) or just the keys.
-
-    Examples
-    --------
     >>> import mudrft
     >>> _ = mudrft.paper_parameters(0.25)
     >>> "chen2026mud" in mudrft.citations(bibtex=False)

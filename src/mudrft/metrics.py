@@ -181,15 +181,11 @@ def cycle_metrics(
     imp = impulse(time, force)
     peak, suction = peak_support(force[:, 2]), max_suction(force[:, 2])
     out = Metrics(
-        peak_support=peak,
-        max_suction=suction,
-        impulse_x=float(imp[0]),
-        impulse_y=float(imp[1]),
-        impulse_z=float(imp[2]),
-        energy=energy(time, force, velocity),
-        max_depth=sinking_depth(depth),
+        peak_support=peak, max_suction=suction,
+        impulse_x=float(imp[0]), impulse_y=float(imp[1]), impulse_z=float(imp[2]),
+        energy=energy(time, force, velocity), max_depth=sinking_depth(depth),
         suction_ratio=suction / peak if peak > 0 else 0.0,
-    )
+    )  # fmt: skip
     if load:
         out["sinking"] = sinking_depth(depth, final=True)
     return out

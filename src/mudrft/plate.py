@@ -60,15 +60,10 @@ class PlateResult:
 
 
 def plate_response(
-    trajectory: Trajectory,
-    params: MudParameters | Mud,
-    *,
-    characteristic_length: float = DEFAULT_PLATE_LENGTH,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-    xi0: float = 0.0,
-) -> PlateResult:
+    trajectory: Trajectory, params: MudParameters | Mud, *,
+    characteristic_length: float = DEFAULT_PLATE_LENGTH, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact", xi0: float = 0.0,
+) -> PlateResult:  # fmt: skip
     """Stress on a plate driven along ``trajectory`` (from :func:`mudrft.plate_intrusion`).
 
     Parameters
@@ -130,47 +125,25 @@ def plate_response(
     out = np.zeros((5, t.size))
     out[4, 0] = xi0
     steps = plate_steps(
-        channel_constants(p),
-        gamma,
-        np.diff(gamma) / np.diff(t),
-        np.diff(t),
-        kappa=kappa,
-        quasi_static=qs,
-        restart=restart,
-        xi0=xi0,
-        contact=direction == "vertical",
-    )
+        channel_constants(p), gamma, np.diff(gamma) / np.diff(t), np.diff(t), kappa=kappa,
+        quasi_static=qs, restart=restart, xi0=xi0, contact=direction == "vertical",
+    )  # fmt: skip
     for k, (st, stress, inside) in enumerate(steps, start=1):
         out[:4, k] = np.where(inside, stress, 0.0)
         out[4, k] = st.xi
     total, el, th, su, xi = out
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
-        time=t,
-        displacement=q,
-        stress=total,
-        normal=laws.f_n(angle) * total,
-        tangential=laws.f_t(angle) * total,
-        elastic=el,
-        thixotropic=th,
-        suction=su,
-        xi=xi,
-    )
+        time=t, displacement=q, stress=total, normal=laws.f_n(angle) * total,
+        tangential=laws.f_t(angle) * total, elastic=el, thixotropic=th, suction=su, xi=xi,
+    )  # fmt: skip
 
 
 def plate_steps(
-    consts: ChannelConstants,
-    gamma: NDArray[np.float64],
-    rate: NDArray[np.float64],
-    dt: NDArray[np.float64],
-    *,
-    kappa: float,
-    quasi_static: bool,
-    restart: bool,
-    xi0: float,
-    contact: bool,
-    shape: tuple[int, ...] | None = None,
-) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:
+    consts: ChannelConstants, gamma: NDArray[np.float64], rate: NDArray[np.float64],
+    dt: NDArray[np.float64], *, kappa: float, quasi_static: bool, restart: bool, xi0: float,
+    contact: bool, shape: tuple[int, ...] | None = None,
+) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:  # fmt: skip
     """The steps of a plate channel along a displacement history (no validation): the loop
     of :func:`plate_response` and of the calibration.
 

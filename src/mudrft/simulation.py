@@ -235,14 +235,10 @@ def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
 
 
 def simulate(
-    foot: Foot,
-    mud: Mud | Terrain,
-    trajectory: Trajectory | LoadControl,
-    *,
-    dt: float | None = None,
-    progress: bool | Callable[[float], None] = False,
+    foot: Foot, mud: Mud | Terrain, trajectory: Trajectory | LoadControl, *,
+    dt: float | None = None, progress: bool | Callable[[float], None] = False,
     strict: bool = False,
-) -> Result:
+) -> Result:  # fmt: skip
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
 
     Parameters

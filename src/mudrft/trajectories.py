@@ -49,14 +49,8 @@ class BuriedFootWarning(PlausibilityWarning):
 
 
 def check_unburied(
-    foot: str,
-    height: float,
-    depth: float,
-    *,
-    how: str,
-    strict: bool,
-    hint: str | None = None,
-) -> None:
+    foot: str, height: float, depth: float, *, how: str, strict: bool, hint: str | None = None,
+) -> None:  # fmt: skip
     """Warn (:class:`BuriedFootWarning`), or raise under ``strict``, when the deepest tip
     ``depth`` [m] exceeds the foot's ``height`` [m]; ``foot``, ``how`` (what pushed it
     there) and ``hint`` are for the message."""
@@ -164,15 +158,9 @@ class Trajectory:
 
 
 def plate_intrusion(
-    depth: float = 0.03,
-    speed: float = 0.02,
-    hold: float = 1.0,
-    angle: float = 0.0,
-    direction: str = "vertical",
-    *,
-    dt: float = 1e-3,
-    rest: float = 0.5,
-) -> Trajectory:
+    depth: float = 0.03, speed: float = 0.02, hold: float = 1.0, angle: float = 0.0,
+    direction: str = "vertical", *, dt: float = 1e-3, rest: float = 0.5,
+) -> Trajectory:  # fmt: skip
     """The paper's plate test (E1-E4): intrude at constant speed, hold, retract at the same speed.
 
     Parameters
@@ -250,29 +238,19 @@ def plate_intrusion(
     else:
         pos[:, 0], vel[:, 0] = q, qd
     meta = {
-        "angle": float(angle),
-        "direction": direction,
-        "depth": float(depth),
-        "speed": float(speed),
-        "hold": float(hold),
-        "t_retract": float(t_in + hold),
+        "angle": float(angle), "direction": direction, "depth": float(depth),
+        "speed": float(speed), "hold": float(hold), "t_retract": float(t_in + hold),
         "displacement": q,
-    }
+    }  # fmt: skip
     return Trajectory(
         time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta
     )
 
 
 def gait(
-    speed: float = 0.2,
-    *,
-    depth: float = STANCE_DEPTH,
-    stride: float = STRIDE_LENGTH,
-    slip: float = 0.3,
-    sway: float = 0.15,
-    lift: float = 0.02,
-    dt: float = 1e-3,
-) -> Trajectory:
+    speed: float = 0.2, *, depth: float = STANCE_DEPTH, stride: float = STRIDE_LENGTH,
+    slip: float = 0.3, sway: float = 0.15, lift: float = 0.02, dt: float = 1e-3,
+) -> Trajectory:  # fmt: skip
     r"""One stepping cycle of the foot tip at a gait speed (half stance, half swing).
 
     The paper gives the gait speeds but not the foot path (decision D10). The cycle lasts

@@ -54,21 +54,10 @@ BYTES_PER_FOOT = 2048
 
 
 class Snapshot(NamedTuple):
-    """The state of a :class:`BatchedMud` after a step, as ``snapshot()`` returns it.
-
-    Attributes
-    ----------
-    state : MudState
-        The mud under the feet (:class:`~mudrft.terrains.mud.MudChannels` of read-only
-        arrays of shape (N,), which also step on in :meth:`mudrft.MudTerrain.step`) and
-        the foot mechanism's state (None for the rigid feet).
-    force : ndarray (3,) or (N, 3)
-        Force of the mud on the foot (feet) at the last step [N].
-    stress : ndarray (3,) or (N, 3)
-        Channel stresses (sx, sy, sz) at the last step [Pa].
-    depth : float or ndarray (N,)
-        Tip depth after the last step [m].
-    """
+    """The state of a :class:`BatchedMud` after a step, as ``snapshot()`` returns it:
+    ``state``, the mud under the feet (read-only arrays of shape (N,), which also step on in
+    :meth:`mudrft.MudTerrain.step`) and the foot mechanism's state (None for rigid feet);
+    ``force`` [N] and ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) of the last step."""
 
     state: MudState
     force: NDArray[np.float64]
@@ -174,31 +163,24 @@ def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
 
 
 class BatchedMud:
-    """N feet of one shape in mud, advanced together (see the module docstring).
+    """N feet of one shape in mud, advanced together (see the module docstring); after each
+    step ``force`` [N], ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) hold its outputs.
 
     Parameters
     ----------
     mud : Mud, sequence of Mud, or MudTerrain
-        The mud of every foot: one shared Mud, a Mud with array fields of shape (N,), a list
-        of N muds, or a :class:`mudrft.MudTerrain` (its mud and options are used).
+        One shared Mud, a Mud with fields of shape (N,), N muds, or a
+        :class:`mudrft.MudTerrain` (its mud and options).
     foot : Foot
         The foot shape shared by the batch.
     n : int
         Number of feet N.
     position : array_like, shape (N, 3) or (3,), keyword-only
-        Initial tip positions [m]; default (0, 0, 0) (on the surface).
+        Initial tip positions [m]; default (0, 0, 0).
     backend : {"numpy", "numba", "jax"}, keyword-only
-        Kernel (see module docstring). Default "numpy".
+        Kernel (see the module docstring).
     **options
-        Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m], ...); not
-        with a MudTerrain, which carries its own.
-
-    Attributes
-    ----------
-    force, stress : ndarray (N, 3)
-        Force [N] and channel stresses [Pa] of the last step.
-    depth : ndarray (N,)
-        Tip depths [m] after the last step.
+        Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m], ...).
 
     Examples
     --------
@@ -213,15 +195,9 @@ class BatchedMud:
     """
 
     def __init__(
-        self,
-        mud: Mud | MudTerrain | Sequence[Mud],
-        foot: Foot,
-        n: int,
-        *,
-        position: ArrayLike | None = None,
-        backend: str = "numpy",
-        **options: Any,
-    ) -> None:
+        self, mud: Mud | MudTerrain | Sequence[Mud], foot: Foot, n: int, *,
+        position: ArrayLike | None = None, backend: str = "numpy", **options: Any,
+    ) -> None:  # fmt: skip
 
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise MudrftError(f"n must be an integer >= 1 (number of feet), got {n!r}")

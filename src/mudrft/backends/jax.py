@@ -146,17 +146,10 @@ def _check_concrete(gamma: object, gamma_dot: object, dt: object, seal: object) 
 
 
 def step(
-    params: JaxParams,
-    state: ChannelState,
-    gamma: JaxArrayLike,
-    gamma_dot: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    seal: JaxArrayLike = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[ChannelState, ChannelStress]:
+    params: JaxParams, state: ChannelState, gamma: JaxArrayLike, gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike, *, seal: JaxArrayLike = 1.0, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`).
 
     ``params`` from :func:`to_jax` broadcast with the ``state``; ``gamma`` is the
@@ -176,17 +169,10 @@ def step(
 
 
 def batched_step(
-    params: JaxParams,
-    state: ChannelState,
-    gamma: JaxArrayLike,
-    gamma_dot: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    seal: JaxArrayLike | None = None,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[ChannelState, ChannelStress]:
+    params: JaxParams, state: ChannelState, gamma: JaxArrayLike, gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike, *, seal: JaxArrayLike | None = None, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     """:func:`step` mapped with :func:`jax.vmap` over a leading axis of N channels.
 
     ``params``, ``state``, ``gamma`` [-], ``gamma_dot`` [1/s] and ``seal`` [-] (default
@@ -228,17 +214,11 @@ def batched_step(
 
 
 def run(
-    params: JaxParams,
-    time: JaxArrayLike,
-    gamma: JaxArrayLike,
-    *,
-    state: ChannelState | None = None,
-    seal: JaxArrayLike = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
+    params: JaxParams, time: JaxArrayLike, gamma: JaxArrayLike, *,
+    state: ChannelState | None = None, seal: JaxArrayLike = 1.0,
+    acceleration: bool | None = None, thixotropy: str = "ode", clock: str = "contact",
     xi0: float = 0.0,
-) -> ChannelHistory:
+) -> ChannelHistory:  # fmt: skip
     """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`,
     differentiable with respect to ``params``, ``gamma`` and ``state``.
 
@@ -291,14 +271,9 @@ def run(
 
 
 def mesh_force(
-    vertices: JaxArrayLike,
-    faces: JaxArrayLike,
-    depth: JaxArrayLike,
-    stress: JaxArrayLike,
-    heading: JaxArrayLike,
-    *,
-    trailing: bool = False,
-) -> Array:
+    vertices: JaxArrayLike, faces: JaxArrayLike, depth: JaxArrayLike, stress: JaxArrayLike,
+    heading: JaxArrayLike, *, trailing: bool = False,
+) -> Array:  # fmt: skip
     """Force of the mud on a triangulated foot [N], (..., 3) in the world frame,
     differentiable in ``vertices``: :func:`mudrft.feet.surface.integrate_triangles` on
     ``vertices[faces]``.

@@ -66,11 +66,8 @@ def foot_rule(
 ) -> tuple[ForceRule, float]:
     """The force rule and :math:`L_c` [m] of :func:`terrain_step`: a foot (or its
     ``force`` method) gives its own rule and length; a function needs the length."""
-    owner = getattr(force_fn, "__self__", None)
-    if isinstance(owner, Foot) and getattr(force_fn, "__name__", "") in (
-        "force",
-        "force_unchecked",
-    ):
+    owner, name = getattr(force_fn, "__self__", None), getattr(force_fn, "__name__", "")
+    if isinstance(owner, Foot) and name in ("force", "force_unchecked"):
         force_fn = owner  # foot.force is numpy: the foot's own rule instead
     if isinstance(force_fn, Foot):
         fn = force_function(force_fn, xp=safe_namespace())
@@ -124,21 +121,12 @@ def initial_terrain_state(
 
 
 def terrain_step(
-    params: JaxParams,
-    state: MudChannels,
-    position: JaxArrayLike,
-    velocity: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    force_fn: Foot | ForceRule,
-    characteristic_length: float | None = None,
-    acceleration: bool | None = None,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[MudChannels, tuple[Array, Array, Array]]:
+    params: JaxParams, state: MudChannels, position: JaxArrayLike, velocity: JaxArrayLike,
+    dt: JaxArrayLike, *, force_fn: Foot | ForceRule,
+    characteristic_length: float | None = None, acceleration: bool | None = None,
+    reset_on_exit: bool = True, xi0: float = 0.0, heading_speed: float = 1e-6,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[MudChannels, tuple[Array, Array, Array]]:  # fmt: skip
     """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX:
     :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy``, then the foot's force rule.
 
@@ -202,20 +190,11 @@ def terrain_step(
 
 
 def simulate(
-    params: JaxParams,
-    time: JaxArrayLike,
-    position: JaxArrayLike,
-    velocity: JaxArrayLike,
-    *,
-    force_fn: Foot | ForceRule,
-    characteristic_length: float | None = None,
-    acceleration: bool | None = None,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[Array, Array, Array]:
+    params: JaxParams, time: JaxArrayLike, position: JaxArrayLike, velocity: JaxArrayLike, *,
+    force_fn: Foot | ForceRule, characteristic_length: float | None = None,
+    acceleration: bool | None = None, reset_on_exit: bool = True, xi0: float = 0.0,
+    heading_speed: float = 1e-6, thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[Array, Array, Array]:  # fmt: skip
     """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`, sampled as
     :func:`mudrft.simulate`: ``time`` (n,) [s], ``position`` [m] and ``velocity`` [m/s]
     (n, ..., 3); the options as :func:`terrain_step`.

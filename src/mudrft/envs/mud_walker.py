@@ -34,21 +34,10 @@ __all__ = ["MudWalkerEnv", "make_walker"]
 class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     """The planar biped walking in mud (Gymnasium ``Env``; id ``mudrft/MudWalker-v0``).
 
-    Parameters
-    ----------
-    backend : {"auto", "numpy", "numba"}, keyword-only
-        Backend of the CPU coupling (``"auto"``: numba where installed).
-    render_mode : None or "rgb_array", keyword-only
-        ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL);
-        ``gymnasium.make(..., render_mode="human")`` shows it in a window (needs pygame).
-    **options
-        ``foot``, ``water_content`` [-], ``dt`` [s], ``frame_skip``,
-        ``forward_reward_weight``, ``ctrl_cost_weight``, ``healthy_reward``,
-        ``action_scale``, ``reset_noise_scale``, ``bottom`` [m]: as
-        :class:`~mudrft.envs.walker.WalkerConfig`.
+    ``backend`` is the CPU coupling's (``"auto"``: numba where installed);
+    ``render_mode="rgb_array"`` renders the side camera offscreen (OpenGL needed); the
+    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s.
 
-    Examples
-    --------
     >>> import gymnasium, mudrft.envs
     >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-sphere", water_content=0.35)
     >>> obs, info = env.reset(seed=0)

@@ -46,20 +46,9 @@ __all__ = ["MudWalkerVectorEnv"]
 
 
 class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
-    """``num_envs`` planar bipeds in mud stepped together with MJX.
-
-    Parameters
-    ----------
-    num_envs : int
-        Number of robots.
-    max_episode_steps : int, keyword-only
-        Control steps after which a sub-environment is truncated.
-    water_content : float or sequence of float, keyword-only
-        One water content for all robots, or one per robot [-].
-    foot, dt, frame_skip, forward_reward_weight, ctrl_cost_weight, healthy_reward,
-    action_scale, reset_noise_scale, bottom : keyword-only
-        As :class:`~mudrft.envs.walker.WalkerConfig`.
-    """
+    """``num_envs`` planar bipeds in mud stepped together with MJX, truncated after
+    ``max_episode_steps`` control steps; ``water_content`` [-] is one for all robots or one
+    per robot; the other options are :class:`~mudrft.envs.walker.WalkerConfig`'s."""
 
     metadata = {  # noqa: RUF012 (Gymnasium's attribute)
         "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
@@ -67,14 +56,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     }
 
     def __init__(
-        self,
-        num_envs: int = 64,
-        *,
-        max_episode_steps: int = 1000,
-        water_content: ArrayLike = 0.25,
-        render_mode: str | None = None,
-        **options: Any,
-    ) -> None:
+        self, num_envs: int = 64, *, max_episode_steps: int = 1000,
+        water_content: ArrayLike = 0.25, render_mode: str | None = None, **options: Any,
+    ) -> None:  # fmt: skip
         from ..integrations.mjx import attach
         from ..integrations.mjx._lazy import _jax
 

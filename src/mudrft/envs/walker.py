@@ -68,24 +68,12 @@ _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "ri
 class WalkerConfig:
     """Options of the mud walker, validated here once.
 
-    Parameters
-    ----------
-    foot : {"flat", "semi-cylinder", "semi-sphere"} or Foot
-        Shape of both feet (a closed-form or mesh foot of :mod:`mudrft.feet`).
-    water_content : float
-        Water content of the paper's mud, 0.25-0.45 [-] (:func:`mudrft.paper_mud`).
-    dt : float
-        Physics time step [s].
-    frame_skip : int
-        Physics steps per control step.
-    forward_reward_weight, ctrl_cost_weight, healthy_reward : float
-        Reward terms (see the module docstring).
-    action_scale : float
-        Joint target range about the standing pose [rad].
-    reset_noise_scale : float
-        Half-width of the uniform noise on the joint angles [rad] and velocities at reset.
-    bottom : float
-        Depth of the rigid bed under the mud [m].
+    ``foot``: ``"flat"``, ``"semi-cylinder"``, ``"semi-sphere"`` or a mudrft foot;
+    ``water_content`` [-] of the paper's mud; ``dt`` the physics step [s]; ``frame_skip``
+    physics steps per control step; ``forward_reward_weight``, ``ctrl_cost_weight``,
+    ``healthy_reward`` the reward terms; ``action_scale`` the joint target range about the
+    standing pose [rad]; ``reset_noise_scale`` the half-width of the reset noise on joint
+    angles [rad] and velocities; ``bottom`` the depth of the rigid bed under the mud [m].
     """
 
     foot: str | Foot = "flat"
@@ -188,22 +176,16 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     jq = np.array([model.jnt_qposadr[model.joint(n).id] for n in _JOINTS])
     jd = np.array([model.jnt_dofadr[model.joint(n).id] for n in _JOINTS])
     torso = int(model.body("torso").id)
+    qadr = {n: int(model.jnt_qposadr[model.joint(n).id]) for n in ("rootx", "rootz", "rooty")}
     return WalkerLayout(
-        model=model,
-        qpos0=np.array(data.qpos),
-        ctrl0=np.array(data.qpos[jq]),
+        model=model, qpos0=np.array(data.qpos), ctrl0=np.array(data.qpos[jq]),
         ctrl_low=np.array(model.actuator_ctrlrange[:, 0]),
-        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]),
-        joint_qadr=jq,
-        joint_dadr=jd,
-        rootx=int(model.jnt_qposadr[model.joint("rootx").id]),
-        rootz=int(model.jnt_qposadr[model.joint("rootz").id]),
-        pitch=int(model.jnt_qposadr[model.joint("rooty").id]),
-        torso=torso,
+        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]), joint_qadr=jq, joint_dadr=jd,
+        rootx=qadr["rootx"], rootz=qadr["rootz"], pitch=qadr["rooty"], torso=torso,
         torso_z0=float(data.xpos[torso, 2]),
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
-    )
+    )  # fmt: skip
 
 
 def check_reset(seed: object, options: object) -> int | None:
@@ -251,13 +233,9 @@ def controls(lay: WalkerLayout, action: XpArray, scale: float, xp: Namespace = n
 
 
 def observation(
-    lay: WalkerLayout,
-    qpos: XpArray,
-    qvel: XpArray,
-    depth: XpArray,
-    force: XpArray,
+    lay: WalkerLayout, qpos: XpArray, qvel: XpArray, depth: XpArray, force: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """The observation (..., 23) of the module docstring from the state and the mud's
     last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]."""
     z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
@@ -279,13 +257,9 @@ def healthy(lay: WalkerLayout, qpos: XpArray, xp: Namespace = np) -> XpArray:
 
 
 def reward(
-    cfg: WalkerConfig,
-    x_before: XpArray,
-    x_after: XpArray,
-    action: XpArray,
-    alive: XpArray,
+    cfg: WalkerConfig, x_before: XpArray, x_after: XpArray, action: XpArray, alive: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Forward speed times its weight, minus the control cost, plus the healthy reward."""
     speed = (x_after - x_before) / (cfg.dt * cfg.frame_skip)
     cost = cfg.ctrl_cost_weight * xp.sum(xp.clip(action, -1.0, 1.0) ** 2, axis=-1)

@@ -31,14 +31,9 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
     the mud under its model."""
 
     def __init__(
-        self,
-        env: Any,
-        feet: str | int | Sequence[str | int] = "auto",
-        mud: Mud | Terrain | None = None,
-        *,
-        floor: str = "below",
-        **attach_options: Any,
-    ) -> None:
+        self, env: Any, feet: str | int | Sequence[str | int] = "auto",
+        mud: Mud | Terrain | None = None, *, floor: str = "below", **attach_options: Any,
+    ) -> None:  # fmt: skip
         from .. import paper_mud
         from ..integrations.mujoco import _mujoco, attach
 
@@ -96,36 +91,17 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
 
 
 def with_mud(
-    env: Any,
-    feet: str | int | Sequence[str | int] = "auto",
-    mud: Mud | Terrain | None = None,
-    *,
-    floor: str = "below",
-    **attach_options: Any,
-) -> WithMud:
+    env: Any, feet: str | int | Sequence[str | int] = "auto", mud: Mud | Terrain | None = None,
+    *, floor: str = "below", **attach_options: Any,
+) -> WithMud:  # fmt: skip
     """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
 
-    The physics steps go through :func:`mudrft.integrations.mujoco.attach`; each step's
-    ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world frame) and ``"mud_depth"`` (nfeet,) [m].
-
-    Parameters
-    ----------
-    env : gymnasium.Env
-        A gymnasium MuJoCo environment (``gymnasium.make("Ant-v5")``), wrapped or not.
-    feet : "auto", str, int or a sequence of them
-        The feet: ``"auto"`` finds them (and logs what it chose), or bodies by name, by a
-        geom's name or by id (gymnasium's ant feet have no names).
-    mud : Mud, Terrain or None
-        The mud; ``None``: the paper's at 25 % water content.
-    floor : {"below", "warn", "keep"}, keyword-only
-        ``"below"`` lowers the model's floor to a bed 0.5 m under the surface, in place
-        (see ``attach``). An RK4 model (Ant's) is switched to ``implicitfast``, logged.
-    **attach_options
-        Passed to ``attach`` (``surface``, ``bottom``, ``backend``, ...).
-
-    Returns
-    -------
-    WithMud
-        The wrapped environment; ``.coupling`` is the mud coupling.
+    The physics steps go through :func:`mudrft.integrations.mujoco.attach`, which takes
+    ``feet`` (``"auto"``, or bodies by name, geom name or id), ``mud`` (default the paper's
+    at 25 % water content), ``floor`` (``"below"`` lowers the model's floor to a bed under
+    the surface, in place) and ``attach_options``. An RK4 model (Ant's) is switched to
+    ``implicitfast``. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world
+    frame) and ``"mud_depth"`` (nfeet,) [m]. Returns the wrapped environment, whose
+    ``.coupling`` is the mud coupling.
     """
     return WithMud(env, feet, mud, floor=floor, **attach_options)
