@@ -308,9 +308,11 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
     """
     out = {k: check_length(k, v) for k, v in sizes.items()}
     name = max(out, key=out.__getitem__)
-    hint = "sizes are in metres (45 mm is 0.045)"
-    what = f"{what}: its largest dimension, {name}, is"
-    warn_implausible(what, out[name], PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
+    label, hint = (
+        f"{what}: its largest dimension, {name}, is",
+        "sizes are in metres (45 mm is 0.045)",
+    )
+    warn_implausible(label, out[name], PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return out
 
 

@@ -1,20 +1,11 @@
-r"""Batched evaluation: one call advances N independent feet in mud.
+r"""Batched evaluation: :class:`BatchedMud` advances N feet of one shape, each with its own
+mud, state and motion, by the one terrain step of :class:`mudrft.MudTerrain`.
 
-:class:`BatchedMud` holds N feet of one shape, each with its own mud parameters, state,
-pose and velocity, and advances them together with the one terrain step of
-:class:`mudrft.MudTerrain`::
-
-    sim = BatchedMud(mud, mudrft.feet.Flat(), n=10_000)
-    forces = sim.step(position, velocity, dt)        # (N, 3) in, (N, 3) [N] out
-
-Backends: ``"numpy"`` (default, any foot), ``"numba"`` (the same step compiled,
-multi-threaded from :data:`~mudrft.backends.numba.PARALLEL_MIN` feet on; a batch of one is
-the fast single-foot stepper), ``"jax"`` (:func:`mudrft.backends.jax.terrain_step` under
-:func:`jax.jit`; closed-form and mesh feet).
-
-A planner saves the mud with ``snap = sim.snapshot()``, rolls out candidate futures and
-goes back with ``sim.restore(snap)``; a snapshot is made of read-only arrays, so it restores
-any number of times to a bit-identical continuation.
+Backends: ``"numpy"`` (any foot), ``"numba"`` (compiled, multi-threaded from
+:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on; a batch of one is the fast single-foot
+stepper), ``"jax"`` (:func:`mudrft.backends.jax.terrain_step` under :func:`jax.jit`;
+closed-form and mesh feet). ``snapshot()`` and ``restore()`` save and restore the mud, for
+a planner's rollouts: bit-identical continuations, any number of times.
 """
 
 from __future__ import annotations
@@ -198,7 +189,6 @@ class BatchedMud:
         self, mud: Mud | MudTerrain | Sequence[Mud], foot: Foot, n: int, *,
         position: ArrayLike | None = None, backend: str = "numpy", **options: Any,
     ) -> None:  # fmt: skip
-
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise MudrftError(f"n must be an integer >= 1 (number of feet), got {n!r}")
         check_memory(

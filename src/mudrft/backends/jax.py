@@ -89,11 +89,9 @@ def _compiled() -> dict[str, Any]:
         p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array,
         acceleration: bool | None, thixotropy: str, clock: str,
     ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
-        def member(
-            p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array
-        ) -> tuple[ChannelState, ChannelStress]:
-            return one_step(p, st, g, gd, dt, seal, acceleration, thixotropy, clock)
-
+        member = functools.partial(
+            one_step, acceleration=acceleration, thixotropy=thixotropy, clock=clock
+        )
         return jax.vmap(member, in_axes=(0, 0, 0, 0, None, 0))(p, st, g, gd, dt, seal)  # type: ignore[no-any-return]
 
     vstep_jit = jax.jit(vstep, static_argnames=static)

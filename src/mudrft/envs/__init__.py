@@ -8,8 +8,6 @@ CPU), ``gymnasium.make_vec(..., num_envs=N)`` :class:`MudWalkerVectorEnv` (MJX, 
 >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="flat", water_content=0.25)
 >>> env.spec.max_episode_steps
 1000
-
-``gymnasium.make("mudrft.envs:mudrft/MudWalker-v0")`` imports this package itself.
 """
 
 from __future__ import annotations

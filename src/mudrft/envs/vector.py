@@ -8,7 +8,6 @@ compiles (tens of seconds on a CPU). ``gymnasium.make_vec("mudrft/MudWalker-v0",
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -122,7 +121,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
-        with _precision(self._x64):
+        from ..integrations.mjx._lazy import x64_context
+
+        with x64_context(self._x64):  # the precision the robots were made in
             return self._reset(seed=seed, options=options)
 
     def _reset(
@@ -154,7 +155,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         :data:`mudrft.integrations.mjx.physics.MAX_SPEED`, terminates with
         ``info["unstable"]``. Runs in the precision the environment was made in.
         """
-        with _precision(self._x64):
+        from ..integrations.mjx._lazy import x64_context
+
+        with x64_context(self._x64):  # the precision the robots were made in
             return self._step(actions)
 
     def _step(
@@ -185,14 +188,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         out = {k: np.asarray(v) for k, v in info.items()}
         return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
                 trunc, out)  # fmt: skip
-
-
-def _precision(x64: bool) -> AbstractContextManager[None]:
-    """A context in which JAX computes in float64 if ``x64``, else in float32 (the robots'
-    precision, whatever the process was switched to since)."""
-    from ..integrations.mjx._lazy import x64_context
-
-    return x64_context(x64)
 
 
 def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
