@@ -32,21 +32,11 @@ from .citations import citations
 
 __version__ = "0.3.0.dev0"
 
-_LAZY = {
-    "constitutive": "mudrft.constitutive",
-    "parameters": "mudrft.parameters",
-    "units": "mudrft.units",
-    "feet": "mudrft.feet",
-    "terrains": "mudrft.terrains",
-    "baselines": "mudrft.baselines",
-    "calibration": "mudrft.calibration",
-    "integrations": "mudrft.integrations",
-    "backends": "mudrft.backends",
-    "metrics": "mudrft.metrics",
-    "io": "mudrft.io",
-    "plotting": "mudrft.plotting",
-    "sweep": "mudrft.sweep",  # callable: mudrft.sweep(spec, ...) runs a design sweep
-}
+_LAZY = {  # submodules; mudrft.sweep is also callable: mudrft.sweep(spec, ...)
+    name: f"mudrft.{name}"
+    for name in ("constitutive", "parameters", "units", "feet", "terrains", "baselines",
+                 "calibration", "integrations", "backends", "metrics", "io", "plotting", "sweep")
+}  # fmt: skip
 #: Names loaded on first use, by module.
 _FROM = {
     "mudrft._validation": ("MudrftError",),
@@ -62,44 +52,13 @@ _FROM = {
 _LAZY_ATTRS = {name: (module, name) for module, names in _FROM.items() for name in names}
 
 __all__ = [  # the lazy names below, spelled out for readers and linters
-    "GAIT_SPEEDS",
-    "BatchedMud",
-    "LoadControl",
-    "Mud",
-    "MudParameters",
-    "MudTerrain",
-    "MudrftError",
-    "PlateResult",
-    "Result",
-    "Terrain",
-    "TerrainOutput",
-    "Trajectory",
-    "__version__",
-    "backends",
-    "baselines",
-    "calibrate",
-    "calibration",
-    "citations",
-    "constitutive",
-    "data_path",
-    "feet",
-    "gait",
-    "integrations",
-    "io",
-    "load_parameters",
-    "metrics",
-    "paper_mud",
-    "paper_parameters",
-    "parameters",
-    "plate_intrusion",
-    "plate_response",
-    "plotting",
-    "simulate",
-    "static_sinking",
-    "sweep",
-    "terrains",
-    "units",
-]
+    "GAIT_SPEEDS", "BatchedMud", "LoadControl", "Mud", "MudParameters", "MudTerrain",
+    "MudrftError", "PlateResult", "Result", "Terrain", "TerrainOutput", "Trajectory",
+    "__version__", "backends", "baselines", "calibrate", "calibration", "citations",
+    "constitutive", "data_path", "feet", "gait", "integrations", "io", "load_parameters",
+    "metrics", "paper_mud", "paper_parameters", "parameters", "plate_intrusion",
+    "plate_response", "plotting", "simulate", "static_sinking", "sweep", "terrains", "units",
+]  # fmt: skip
 
 
 def __getattr__(name: str) -> Any:

@@ -1,25 +1,11 @@
-r"""The one physics compiled with numba: the whole adapter.
+r"""The one physics compiled with numba, as written: nothing reads, rewrites or runs its source.
 
-numba compiles mudrft's own functions as they are written; nothing here reads, rewrites or
-executes their source. What it needs, and what :func:`jit` gives it:
-
-* **Which functions to compile.** A compiled function may only call functions numba knows.
-  :func:`jit` registers with :func:`numba.extending.register_jitable` every plain function
-  of mudrft that the entry point reaches through its global names (the names its code
-  object uses, followed into the modules it calls through, such as ``laws.tau_xi``), and
-  every function of the float namespace :mod:`mudrft._xp`.
-* **What** ``xp`` **means.** The physics takes its array namespace as its last parameter.
-  numba cannot take a module as an argument from Python, so the entry points (the drivers
-  of :mod:`mudrft.terrains.rows`) pass the module :data:`mudrft._xp.pyfloat` by its global
-  name: a namespace bound at compile time.
-* **A cache that knows its sources.** Compilations are cached on disk (numba's
-  ``cache=True``), so a new process loads them in a fraction of a second. numba checks only
-  the file of the entry point; the stamp used here covers the source of every function the
-  entry point reaches, so editing ``constitutive/laws.py`` recompiles what inlines it. If
-  numba's cache locators change shape, caching is switched off rather than risk a stale
-  compilation.
-
-``NUMBA_DISABLE_JIT=1`` runs every entry point as plain Python (numba's own switch).
+:func:`jit` registers with :func:`numba.extending.register_jitable` every mudrft function an
+entry point reaches through its global names, and the float namespace :mod:`mudrft._xp`,
+which the entry points (:mod:`mudrft.terrains.rows`) bind to ``xp`` by its global name.
+Compilations are cached on disk, stamped with the source of every function reached, so
+editing ``constitutive/laws.py`` recompiles what inlines it. ``NUMBA_DISABLE_JIT=1`` runs
+the entry points as plain Python.
 """
 
 from __future__ import annotations
@@ -40,12 +26,8 @@ def _is_mudrft_function(obj: object) -> bool:
 
 
 def reached_functions(entry: Callable[..., Any]) -> list[types.FunctionType]:
-    """The mudrft functions ``entry`` reaches by its global names, ``entry`` first.
-
-    A global naming a mudrft function is followed; a global naming a mudrft module is
-    followed into the attributes the code uses (``kernel.channel_step``). Names that are
-    locals (``xp.where``) are not globals and are not followed.
-    """
+    """The mudrft functions ``entry`` reaches by its global names (and the attributes it
+    uses of mudrft modules, ``kernel.channel_step``), ``entry`` first."""
     seen: dict[types.FunctionType, None] = {}
     todo = [entry]
     while todo:
@@ -92,23 +74,8 @@ _SOURCES: dict[Any, tuple[str, ...]] = {}
 
 
 def jit(entry: Callable[..., Any], *, parallel: bool = False, cache: bool = True) -> Any:
-    """``entry`` compiled by numba (lazily, per argument types), cached on disk.
-
-    Parameters
-    ----------
-    entry : function
-        A driver on floats and float arrays whose callees are mudrft functions written on
-        an ``xp`` namespace (see the module docstring).
-    parallel : bool, keyword-only
-        Compile ``numba.prange`` loops multi-threaded.
-    cache : bool, keyword-only
-        Cache the compilation on disk (off for entry points that read run-time addresses).
-
-    Returns
-    -------
-    numba dispatcher
-        Calls compile on first use (seconds, once per machine thanks to the cache).
-    """
+    """``entry``, a driver on floats and float arrays, compiled by numba on first call;
+    ``parallel`` compiles ``numba.prange`` loops multi-threaded, ``cache`` caches on disk."""
     return _jit(entry, parallel, cache)
 
 
@@ -134,7 +101,7 @@ _CACHE_OK = True
 
 
 def _stamp(files: tuple[str, ...]) -> str:
-    """A digest of the contents of ``files`` (the freshness of a compilation)."""
+    """A digest of the contents of ``files``."""
     h = hashlib.sha256()
     for f in files:
         h.update(f.encode())
@@ -143,8 +110,8 @@ def _stamp(files: tuple[str, ...]) -> str:
 
 
 def _install_locators(numba: types.ModuleType) -> None:
-    """Put locators first in numba's list that stamp a mudrft entry point's cache with all
-    its sources; other functions are left to numba's own locators."""
+    """Put first in numba's list locators that stamp an entry point's cache with all its
+    sources (caching goes off if numba's caching changed shape)."""
     global _CACHE_OK
     try:
         from numba.core import caching

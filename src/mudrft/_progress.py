@@ -1,10 +1,5 @@
-"""Logging and progress: the one mechanism every long job (simulate, reproduce, calibration,
-sweeps, benchmarks) reports through.
-
-mudrft logs to ``logging.getLogger("mudrft")`` and its children and never prints from the
-library. A library user sees nothing unless they configure logging (or pass
-``progress=True`` to a long job, which attaches a stderr handler if none is there); the
-command line attaches one at start (:func:`enable_stderr_logging`).
+"""Logging and progress of long jobs, through ``logging.getLogger("mudrft")``: silent
+unless logging is configured or a job gets ``progress=True``; the CLI logs to stderr.
 
 >>> p = Progress("demo", enabled=False)
 >>> p(0.5); p.last
@@ -26,18 +21,7 @@ _HANDLER_FLAG = "_mudrft_stderr"
 
 
 def enable_stderr_logging(level: int = logging.INFO) -> logging.Handler:
-    """Attach (once) a plain stderr handler to the ``mudrft`` logger and set its level.
-
-    Parameters
-    ----------
-    level : int
-        Logging level, e.g. ``logging.INFO`` (progress and notes) or ``logging.WARNING``.
-
-    Returns
-    -------
-    logging.Handler
-        The handler (the existing one when called again).
-    """
+    """Attach (once) a plain stderr handler to the ``mudrft`` logger at ``level``; return it."""
     for h in logger.handlers:
         if getattr(h, _HANDLER_FLAG, False):
             logger.setLevel(level)
@@ -51,19 +35,8 @@ def enable_stderr_logging(level: int = logging.INFO) -> logging.Handler:
 
 
 class Progress:
-    """Report the progress of a long job as whole percentages, at most every ``step`` %.
-
-    Call the object with the fraction done in [0, 1]; a line ``"label: 40 %"`` goes to the
-    ``mudrft.progress`` logger at INFO level when ``enabled``.
-
-    Parameters
-    ----------
-    label : str
-        What is running.
-    enabled : bool, keyword-only
-        Report at all (a disabled reporter only tracks ``last``).
-    step : int, keyword-only
-        Smallest change in percent worth a line [%].
+    """Report the progress of the job ``label``: called with the fraction done in [0, 1], it
+    logs ``"label: 40 %"`` to ``mudrft.progress`` at most every ``step`` % (when ``enabled``).
     """
 
     def __init__(self, label: str, *, enabled: bool = True, step: int = 10) -> None:
@@ -89,11 +62,8 @@ class Progress:
 def make_progress(
     progress: bool | Callable[[float], None] | None, label: str
 ) -> Callable[[float], None] | None:
-    """Turn a user's ``progress=`` argument into a reporter, or None.
-
-    ``True`` gives a :class:`Progress` (and a stderr handler if logging is not configured),
-    a callable is used as it is (called with the fraction done), ``False``/``None`` gives None.
-    """
+    """A user's ``progress=`` as a reporter: ``True`` a :class:`Progress` (logging to stderr
+    if logging is not configured), a callable as it is, ``False``/``None`` None."""
     if progress is True:
         if not any(not isinstance(h, logging.NullHandler) for h in logger.handlers) and not (
             logging.getLogger().handlers

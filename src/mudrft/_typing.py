@@ -1,18 +1,5 @@
-"""Type aliases for arrays, and the shape conventions they carry.
-
-Annotations only: nothing here converts or checks a value at run time.
-
-- An input a user may give as a number, a list or an array is :data:`ArrayLike`; the
-  public function validates it (:mod:`mudrft._validation`) into a float array.
-- A float array the library returns is :data:`FloatArray` (``float64``). Its shape is
-  stated in the docstring: ``(3,)`` for one force or position, ``(n, 3)`` for a history
-  of ``n`` samples, ``(..., 3)`` for a batch of feet.
-- A value that is a float for one foot and an array for a batch is :data:`FloatOrArray`.
-- A path is :data:`PathLike`.
-- Code written once over an array namespace ``xp`` (numpy, jax.numpy or the float
-  namespace of :mod:`mudrft._xp`) types its values :data:`XpArray` and the namespace
-  :data:`Namespace`: both are ``Any`` underneath, since a float, a numpy array and a JAX
-  array or tracer share no static type, but the names say what an argument is.
+"""Type aliases for arrays (annotations only). Shapes are stated in docstrings: ``(3,)`` for
+one force, ``(n, 3)`` for a history, ``(..., 3)`` for a batch of feet.
 """
 
 from __future__ import annotations
@@ -27,18 +14,9 @@ if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
 __all__ = [
-    "ArrayLike",
-    "BoolArray",
-    "FloatArray",
-    "FloatOrArray",
-    "IndexArray",
-    "IntArray",
-    "NDArray",
-    "Namespace",
-    "PathLike",
-    "RotationLike",
-    "XpArray",
-]
+    "ArrayLike", "BoolArray", "FloatArray", "FloatOrArray", "IndexArray", "IntArray", "NDArray",
+    "Namespace", "PathLike", "RotationLike", "XpArray",
+]  # fmt: skip
 
 #: A float64 array (forces [N], positions [m], stresses [Pa], ...).
 FloatArray: TypeAlias = NDArray[np.float64]
@@ -55,8 +33,7 @@ FloatOrArray: TypeAlias = float | NDArray[np.float64]
 PathLike: TypeAlias = str | os.PathLike[str]
 #: A rotation: a proper 3x3 matrix (array_like) or a ``scipy.spatial.transform.Rotation``.
 RotationLike: TypeAlias = "ArrayLike | Rotation"
-#: A value of code written once over ``xp``: a float, a numpy array, or a JAX array or
-#: tracer (``Any`` underneath; see the module docstring).
+#: A value of code written once over ``xp``: a float, a numpy or a JAX array (``Any``).
 XpArray: TypeAlias = Any
 #: An array namespace: numpy, ``jax.numpy`` or ``mudrft._xp.pyfloat`` (``Any`` underneath).
 Namespace: TypeAlias = Any

@@ -1,15 +1,6 @@
-"""Shared argument checks that fail early with a precise message.
-
-Every public function validates its inputs with these helpers so that a user
-mistake produces an error naming the argument, what was expected and what was
-given, instead of a NaN or a traceback from deep inside numpy. Messages show
-numbers as a user typed them (:func:`plain`: ``1.0``, not ``np.float64(1.0)``).
-
-The input limits of docs/model.md (decisions D100-D104) live here too, one helper
-per concern: :func:`check_samples` bounds the samples of a run,
-:func:`check_memory` refuses an allocation larger than :data:`memory_limit`,
-:func:`check_length` rejects absurd sizes and :func:`warn_implausible` warns
-about values that look like a unit mistake.
+"""Shared argument checks: an error names the argument, what was expected and what was
+given. Also the input limits (samples, memory, sizes) and warnings for values that look
+like a unit mistake.
 """
 
 from __future__ import annotations
@@ -24,45 +15,13 @@ from collections.abc import Iterable
 import numpy as np
 from numpy.typing import DTypeLike
 
-__all__ = [
-    "LENGTH_LIMITS",
-    "MAX_SAMPLES",
-    "MEMORY_LIMIT",
-    "PLAUSIBLE_FOOT_SIZE",
-    "MudrftError",
-    "PlausibilityWarning",
-    "as_array",
-    "check_characteristic_length",
-    "check_choice",
-    "check_dimensions",
-    "check_finite",
-    "check_in_range",
-    "check_increasing",
-    "check_length",
-    "check_memory",
-    "check_nonnegative",
-    "check_positive",
-    "check_samples",
-    "check_shape",
-    "format_bytes",
-    "memory_limit",
-    "nonnegative_number",
-    "number_in_range",
-    "plain",
-    "plain_text",
-    "positive_number",
-    "set_number",
-    "warn_implausible",
-]
-
-#: Most samples one run may hold: a trajectory, a load-controlled run, a walk (D100).
+#: Most samples one run may hold: a trajectory, a load-controlled run, a walk.
 MAX_SAMPLES = 5_000_000
-#: Default of :func:`memory_limit` [bytes]; the environment variable
-#: ``MUDRFT_MEMORY_LIMIT`` (bytes, e.g. ``16e9``) overrides it (D101).
+#: Default of :func:`memory_limit` [bytes]; ``MUDRFT_MEMORY_LIMIT`` overrides it.
 MEMORY_LIMIT = 4 * 1024**3
-#: Sizes a foot dimension may have at all [m]; outside, an error (D103).
+#: Sizes a foot dimension may have at all [m]; outside, an error.
 LENGTH_LIMITS = (1e-6, 100.0)
-#: Overall sizes of a plausible robot foot [m]; outside, a :class:`PlausibilityWarning` (D103).
+#: Overall sizes of a plausible robot foot [m]; outside, a :class:`PlausibilityWarning`.
 PLAUSIBLE_FOOT_SIZE = (1e-3, 1.0)
 
 
@@ -70,22 +29,12 @@ _NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)_?\d*\(([^()
 
 
 def plain_text(message: str) -> str:
-    """``message`` with numpy scalar reprs made plain (``np.float64(1.0)`` reads ``1.0``).
-
-    Examples
-    --------
-    >>> plain_text("dt = np.float64(0.001) s")
-    'dt = 0.001 s'
-    """
+    """``message`` with numpy scalar reprs made plain (``np.float64(1.0)`` reads ``1.0``)."""
     return _NUMPY_REPR.sub(r"\1", message)
 
 
 class MudrftError(ValueError):
-    """A user-facing error raised for invalid input (a ``ValueError``).
-
-    Its message shows numbers plainly: a numpy scalar repr that slipped into it
-    (``np.float64(1.0)``) reads ``1.0``.
-    """
+    """A user-facing error raised for invalid input (a ``ValueError``), numbers shown plainly."""
 
     def __init__(self, *args: object) -> None:
         if args and isinstance(args[0], str):
@@ -98,15 +47,12 @@ class PlausibilityWarning(UserWarning):
 
 
 class CalibrationWarning(UserWarning):
-    """A fit ran but the user should know: its data were thinned, or the model does not
-    describe them."""
+    """A fit ran, but its data were thinned or the model does not describe them."""
 
 
 def plain(value: object) -> str:
     """``value`` as a message shows it: plain numbers, arrays by their shape.
 
-    Examples
-    --------
     >>> plain(np.float64(1.0)), plain(np.int64(3)), plain(True), plain("a"), plain(np.zeros(2))
     ('1.0', '3', 'True', "'a'", 'an array of shape (2,)')
     """
@@ -133,11 +79,8 @@ def _describe(value: object) -> str:
 
 
 def as_array(name: str, value: object, *, dtype: DTypeLike = float) -> np.ndarray:
-    """Convert ``value`` to a float array, or raise naming ``name``.
-
-    A string, a bare ``True``/``False`` or ``None`` is refused: none is a number (numpy
-    reads ``None`` as NaN, and the message then spoke of a NaN the user never gave).
-    """
+    """``value`` as a float array, or an error naming ``name`` (strings, booleans and None
+    are refused)."""
     if value is None:
         raise MudrftError(f"{name} must be a number or an array of numbers, got None")
     if isinstance(value, str):
@@ -218,12 +161,8 @@ def check_shape(name: str, value: object, shape: tuple[int | None, ...]) -> np.n
         s is None or s == a for s, a in zip(shape, arr.shape, strict=False)
     )
     if not ok:
-        want = (
-            "("
-            + ", ".join("n" if s is None else str(s) for s in shape)
-            + ("," if len(shape) == 1 else "")
-            + ")"
-        )
+        dims = ", ".join("n" if s is None else str(s) for s in shape)
+        want = f"({dims}{',' if len(shape) == 1 else ''})"
         raise MudrftError(f"{name} must have shape {want}, got shape {arr.shape}")
     return arr
 
@@ -245,8 +184,6 @@ def check_increasing(name: str, value: object) -> np.ndarray:
 def format_bytes(nbytes: float) -> str:
     """A byte count for a message, in binary units.
 
-    Examples
-    --------
     >>> format_bytes(969 * 1024**3), format_bytes(512)
     ('969 GiB', '512 B')
     """
@@ -259,11 +196,8 @@ def format_bytes(nbytes: float) -> str:
 
 
 def memory_limit() -> float:
-    """Largest allocation mudrft makes without refusing [bytes] (D101).
-
-    ``MUDRFT_MEMORY_LIMIT`` in the environment (a number of bytes, e.g. ``16e9``)
-    overrides :data:`MEMORY_LIMIT`.
-    """
+    """Largest allocation mudrft makes without refusing [bytes]: ``MUDRFT_MEMORY_LIMIT`` in
+    the environment, else :data:`MEMORY_LIMIT`."""
     text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
     if not text:
         return float(MEMORY_LIMIT)
@@ -280,17 +214,8 @@ def memory_limit() -> float:
 
 
 def check_memory(what: str, nbytes: float, *, hint: str) -> None:
-    """Refuse, before allocating, work estimated to need more than :func:`memory_limit`.
-
-    Parameters
-    ----------
-    what : str
-        The work, for the message (``"a mesh of 3e+07 facets"``).
-    nbytes : float
-        Estimated memory [bytes].
-    hint : str
-        How to make the work smaller, for the message.
-    """
+    """Refuse, before allocating, ``what`` (for the message) estimated to need ``nbytes``
+    [bytes], more than :func:`memory_limit`; ``hint`` says how to make it smaller."""
     limit = memory_limit()
     if not nbytes <= limit:  # also catches NaN
         raise MudrftError(
@@ -301,31 +226,10 @@ def check_memory(what: str, nbytes: float, *, hint: str) -> None:
 
 
 def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float = 200.0) -> int:
-    """The number of samples of a run as an int, or an error if it exceeds :data:`MAX_SAMPLES`.
+    """``ceil(count)`` samples of a run, or an error if above :data:`MAX_SAMPLES`.
 
-    Call it with the count computed from the inputs, before any array is allocated.
-
-    Parameters
-    ----------
-    what : str
-        How the count arises, for the message (``"gait: stride/speed/dt"``).
-    count : float
-        Number of samples [-] (may be huge, infinite or NaN).
-    hint : str
-        How to ask for fewer samples (``"use a larger dt"``).
-    bytes_per_sample : float, keyword-only
-        Memory one sample takes [bytes], for the message (a simulated sample holds
-        about 25 float64 values).
-
-    Returns
-    -------
-    int
-        ``ceil(count)``.
-
-    Examples
-    --------
-    >>> check_samples("t/dt", 1000.0, hint="use a larger dt")
-    1000
+    ``what`` says how the count arises and ``hint`` how to ask for fewer, for the message;
+    ``bytes_per_sample`` [bytes] estimates the memory. Call it before allocating.
     """
     if not count <= MAX_SAMPLES:  # also catches NaN
         raise MudrftError(
@@ -336,14 +240,7 @@ def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float
 
 
 def check_broadcast(**shapes: tuple[int, ...]) -> tuple[int, ...]:
-    """The broadcast of the named shapes, or an error that gives each argument's shape
-    (not numpy's message from deep inside a formula).
-
-    Examples
-    --------
-    >>> check_broadcast(depth=(2,), heading=())
-    (2,)
-    """
+    """The broadcast of the named shapes, or an error that gives each argument's shape."""
     try:
         return np.broadcast_shapes(*shapes.values())
     except ValueError:
@@ -352,16 +249,7 @@ def check_broadcast(**shapes: tuple[int, ...]) -> tuple[int, ...]:
 
 
 def check_number(name: str, value: object, *, unit: str = "") -> float:
-    """One finite number as a float; an array or a sequence names the argument.
-
-    ``value`` is usually the result of :func:`check_positive` (or a sibling) on the user's
-    input, so its range is already checked; ``unit`` is for the message.
-
-    Examples
-    --------
-    >>> check_number("speed", 0.2)
-    0.2
-    """
+    """One finite number as a float; an array or a sequence is refused, naming ``name``."""
     arr = value if isinstance(value, np.ndarray) else as_array(name, value)
     if arr.ndim:
         u = f" [{unit}]" if unit else ""
@@ -373,60 +261,34 @@ def check_number(name: str, value: object, *, unit: str = "") -> float:
 
 
 def positive_number(name: str, value: object, *, unit: str = "") -> float:
-    """One finite number > 0 as a float: :func:`check_number`, then :func:`check_positive`.
-
-    ``unit`` is the argument's SI unit, for the messages. A sequence or an array is refused
-    as such (``got an array of shape (2,)``) before its entries are looked at.
-
-    Examples
-    --------
-    >>> positive_number("dt", 1e-3, unit="s")
-    0.001
-    """
+    """One finite number > 0 as a float (``unit`` for the messages)."""
     v = check_number(name, value, unit=unit)
     check_positive(name, v, unit=unit)
     return v
 
 
 def nonnegative_number(name: str, value: object, *, unit: str = "") -> float:
-    """One finite number >= 0 as a float: :func:`check_number`, then :func:`check_nonnegative`."""
+    """One finite number >= 0 as a float."""
     v = check_number(name, value, unit=unit)
     check_nonnegative(name, v, unit=unit)
     return v
 
 
 def number_in_range(name: str, value: object, low: float, high: float, *, unit: str = "") -> float:
-    """One finite number in ``[low, high]`` as a float: :func:`check_number`, then
-    :func:`check_in_range`."""
+    """One finite number in ``[low, high]`` as a float."""
     v = check_number(name, value, unit=unit)
     check_in_range(name, v, low, high, unit=unit)
     return v
 
 
 def set_number(obj: object, name: str, value: object) -> None:
-    """Store ``value``, already range-checked, as the float field ``name`` of the frozen
-    dataclass ``obj``; an array or a sequence is refused, naming the field
-    (:func:`check_number`). For an option that is one number, such as a terrain's
-    stiffness: a list passed its range check and failed later inside numpy.
-    """
+    """Store ``value`` (range-checked) as the float field ``name`` of the frozen dataclass
+    ``obj``; an array or a sequence is refused, naming the field."""
     object.__setattr__(obj, name, check_number(name, value))
 
 
 def check_length(name: str, value: object) -> float:
-    """A size [m] as a float: finite, not a boolean, within :data:`LENGTH_LIMITS`.
-
-    Parameters
-    ----------
-    name : str
-        The argument, for the message.
-    value : float
-        The size [m].
-
-    Examples
-    --------
-    >>> check_length("radius", 0.045)
-    0.045
-    """
+    """A size [m] as a float, within :data:`LENGTH_LIMITS`; errors name ``name``."""
     v = positive_number(name, value, unit="m")
     low, high = LENGTH_LIMITS
     if not low <= v <= high:
@@ -438,93 +300,39 @@ def check_length(name: str, value: object) -> float:
 
 
 def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
-    """Check the dimensions of a foot [m] with :func:`check_length`; warn if the largest is
-    not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
+    """The foot ``what``'s dimensions ``sizes`` [m] as floats (:func:`check_length`); warns
+    if the largest is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
 
-    Parameters
-    ----------
-    what : str
-        The foot, for the message (``"Flat"``).
-    **sizes : float
-        The dimensions by name [m].
-
-    Returns
-    -------
-    dict of str to float
-        The dimensions as floats [m].
-
-    Examples
-    --------
     >>> check_dimensions("Flat", length=0.08, width=0.065)
     {'length': 0.08, 'width': 0.065}
     """
     out = {k: check_length(k, v) for k, v in sizes.items()}
     name = max(out, key=out.__getitem__)
-    warn_implausible(
+    label, hint = (
         f"{what}: its largest dimension, {name}, is",
-        out[name],
-        PLAUSIBLE_FOOT_SIZE,
-        unit="m",
-        hint="sizes are in metres (45 mm is 0.045)",
+        "sizes are in metres (45 mm is 0.045)",
     )
+    warn_implausible(label, out[name], PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return out
 
 
 def check_characteristic_length(what: str, value: object) -> float:
-    """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warn if it
-    is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`, a length in mm read as m).
-
-    The model's displacement and rate are depth and speed divided by :math:`L_c`, so one
-    in mm (45 for 0.045) makes both a thousand times smaller, and the stresses with them,
-    without a word (decision D103).
-
-    Examples
-    --------
-    >>> check_characteristic_length("MudTerrain", 0.05)
-    0.05
-    """
+    """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warns if
+    it is not a plausible foot size (a length in mm read as m)."""
     v = check_length("characteristic_length", value)
+    hint = "it is in metres (50 mm is 0.05)"
     warn_implausible(
-        f"{what}: characteristic_length is",
-        v,
-        PLAUSIBLE_FOOT_SIZE,
-        unit="m",
-        hint="it is in metres (50 mm is 0.05)",
+        f"{what}: characteristic_length is", v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint
     )
     return v
 
 
 def warn_implausible(
-    what: str,
-    value: float,
-    plausible: tuple[float, float],
-    *,
-    unit: str,
-    hint: str,
-) -> bool:
-    """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible``.
-
-    For values that are valid but more likely a unit mistake (a depth column in mm
-    labelled m, a mesh file in mm read as metres).
-
-    Parameters
-    ----------
-    what : str
-        The quantity, for the message (``"column 'depth [m]' reaches"``).
-    value : float
-        The suspicious value, in ``unit``.
-    plausible : (float, float)
-        Range of plausible values, in ``unit``.
-    unit : str, keyword-only
-        Unit of ``value`` and ``plausible``.
-    hint : str, keyword-only
-        How to state the unit, for the message.
-
-    Returns
-    -------
-    bool
-        Whether it warned.
-    """
+    what: str, value: float, plausible: tuple[float, float], *, unit: str, hint: str,
+) -> bool:  # fmt: skip
+    """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible`` (both
+    in ``unit``): valid, but more likely a unit mistake. ``what`` and ``hint`` are for the
+    message. Returns whether it warned."""
     low, high = plausible
     v = float(value)
     if low <= v <= high:
@@ -538,16 +346,13 @@ def warn_implausible(
     return True
 
 
-def warn_plausibility(message: str) -> None:
-    """Warn with a :class:`PlausibilityWarning` that names the user's line: for input that
-    is valid but more likely a mistake (see :func:`warn_implausible` for a value out of
-    range)."""
-    warnings.warn(plain_text(message), PlausibilityWarning, stacklevel=_caller_level())
+def warn_plausibility(message: str, category: type[Warning] = PlausibilityWarning) -> None:
+    """Warn with ``category`` at the user's line."""
+    warnings.warn(plain_text(message), category, stacklevel=_caller_level())
 
 
 def _caller_level() -> int:
-    """The ``stacklevel`` of the first caller outside mudrft, so a warning names the user's
-    line (Python 3.11 has no ``skip_file_prefixes``)."""
+    """The ``stacklevel`` of the first caller outside mudrft (3.11 has no ``skip_file_prefixes``)."""
     frame, level = sys._getframe(2), 2
     while frame.f_back is not None and _in_mudrft(frame.f_globals.get("__name__")):
         frame, level = frame.f_back, level + 1

@@ -1,17 +1,9 @@
-r"""Array namespaces the one physics runs on, and the namespace for one foot on floats.
+r"""The array namespace for one foot on Python floats (:data:`pyfloat`), also what
+:mod:`mudrft._jit` compiles with numba.
 
-Every equation of the model is written once, as element-wise code over an array namespace
-``xp``, its last parameter: ``numpy`` for the reference and for batches, ``jax.numpy`` for
-the JAX backend, and this module itself (:data:`pyfloat`) for one foot on Python floats,
-which is also what :mod:`mudrft._jit` compiles with numba.
-
-The element-wise subset the physics may use is what every namespace here provides:
-``where abs sign maximum minimum exp expm1 tanh cos sin arccos arctan2 hypot sqrt clip``,
-arithmetic and comparisons, and ``|``, ``&``, ``~`` on booleans. No stacking, no
-reductions, no shapes: those belong to the callers.
-
-``xp`` is a positional-or-keyword parameter, not keyword-only, because numba cannot bind
-keyword-only arguments of the functions it compiles.
+The physics is element-wise code over ``xp`` (numpy, ``jax.numpy`` or this module), its
+last parameter (positional: numba cannot bind keyword-only arguments), using only
+:data:`ELEMENTWISE`, arithmetic, comparisons and ``| & ~``.
 
 >>> pyfloat.where(1.0 > 0.0, 2.0, 3.0), pyfloat.maximum(-1.0, 0.0)
 (2.0, 0.0)
@@ -29,22 +21,9 @@ __all__ = ["ELEMENTWISE", "pyfloat"]
 
 #: Names of the element-wise functions the physics may call on ``xp``.
 ELEMENTWISE = (
-    "where",
-    "abs",
-    "sign",
-    "maximum",
-    "minimum",
-    "exp",
-    "expm1",
-    "tanh",
-    "cos",
-    "sin",
-    "arccos",
-    "arctan2",
-    "hypot",
-    "sqrt",
-    "clip",
-)
+    "where", "abs", "sign", "maximum", "minimum", "exp", "expm1", "tanh", "cos", "sin",
+    "arccos", "arctan2", "hypot", "sqrt", "clip",
+)  # fmt: skip
 
 abs = abs  # the builtin, as a name of this namespace
 
@@ -75,8 +54,7 @@ def clip(x: float, lo: float, hi: float) -> float:
 
 
 def exp(x: float) -> float:
-    """``e**x`` with numpy's overflow to inf instead of :class:`OverflowError`
-    (``math.exp`` overflows just above log(DBL_MAX) = 709.782712893384)."""
+    """``e**x``, inf on overflow as numpy's (``math.exp`` raises above log(DBL_MAX))."""
     return math.inf if x > 709.782712893384 else math.exp(x)
 
 

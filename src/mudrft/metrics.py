@@ -1,8 +1,7 @@
 r"""The paper's metrics on force histories (Sec. IV-B, Table II, Figs. 10-13).
 
-All functions take sampled histories (time [s], force [N], position or depth [m])
-and integrate with the trapezoidal rule, which is exact for the piecewise-linear
-signals the simulator produces between samples.
+All functions take sampled histories (time [s], force [N], depth [m]) and integrate with
+the trapezoidal rule, exact for the piecewise-linear signals between samples.
 """
 
 from __future__ import annotations
@@ -17,24 +16,16 @@ from ._typing import FloatArray, FloatOrArray
 from ._validation import MudrftError, check_finite, check_increasing, check_shape
 
 __all__ = [
-    "Metrics",
-    "cycle_metrics",
-    "energy",
-    "impulse",
-    "max_suction",
-    "normalized_stress",
-    "peak_support",
-    "relative_rmse",
-    "sinking_depth",
-]
+    "Metrics", "cycle_metrics", "energy", "impulse", "max_suction", "normalized_stress",
+    "peak_support", "relative_rmse", "sinking_depth",
+]  # fmt: skip
 
 
 class Metrics(dict[str, float]):
     """The metrics of a run (:meth:`mudrft.Result.metrics`), a dict.
 
-    ``sinking`` is a settled depth under a load, so a prescribed motion has none: its
-    deepest depth is ``max_depth``. Reading ``["sinking"]`` of a prescribed motion, as
-    mudrft 0.1 wrote it, gives ``max_depth`` with a :class:`DeprecationWarning`.
+    ``["sinking"]`` of a prescribed motion gives ``max_depth`` with a
+    :class:`DeprecationWarning`: ``sinking`` is the settled depth under a load.
     """
 
     def __missing__(self, key: str) -> float:
@@ -51,19 +42,15 @@ class Metrics(dict[str, float]):
 
 
 def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
-    """Trapezoidal integral of ``y`` (samples along axis 0) over the 1-D ``x``.
-
-    Written here, in the order of operations of ``numpy.trapezoid``, because that name
-    exists from numpy 2.0 and its predecessor ``numpy.trapz`` is gone from numpy 2.4:
-    mudrft supports numpy 1.24 and later.
-    """
+    """Trapezoidal integral of ``y`` (samples along axis 0) over ``x``, as
+    ``numpy.trapezoid`` (numpy >= 2.0) computes it."""
     dx = np.diff(x).reshape((-1,) + (1,) * (np.ndim(y) - 1))
     out: FloatOrArray = (dx * (y[1:] + y[:-1]) / 2.0).sum(axis=0)
     return out
 
 
 def _history(name: str, value: ArrayLike) -> FloatArray:
-    """A finite 1-D history with at least one sample (one component: ``Fz``, a depth)."""
+    """A finite 1-D history with at least one sample."""
     arr = check_shape(name, value, (None,))
     if arr.size == 0:
         raise MudrftError(f"{name} must hold at least one sample, got an empty array")
@@ -84,21 +71,13 @@ def _forces(name: str, value: ArrayLike, samples: int) -> FloatArray:
 
 
 def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
-    r"""Relative root-mean-square error [-] (Table II reports it in %).
+    r"""Relative root-mean-square error [-] of ``predicted`` against ``measured``, 1-D
+    histories on the same samples [any unit] (Table II reports it in %).
 
     .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
 
-    The paper does not define its normalisation; we divide by the peak-to-peak range
-    of the measured signal, which is defined for signals that cross zero (suction)
-    (decision D12).
+    The normalisation by the measured range is decision D12.
 
-    Parameters
-    ----------
-    predicted, measured : array_like, shape (n,)
-        Histories on the same samples [any unit].
-
-    Examples
-    --------
     >>> round(relative_rmse([0.0, 1.0, 2.0], [0.0, 1.0, 3.0]), 6)
     0.19245
     """
@@ -118,22 +97,14 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
             f"predicted and measured must differ by less than the largest float, got a range "
             f"of {span!r}"
         )
-    # normalised before it is squared: forces above about 1e150 overflowed the squares
+    # normalised before it is squared (no overflow)
     return float(np.sqrt(np.mean(rel * rel)))
 
 
 def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
-    r"""Impulse per axis :math:`\int F\,dt` [N s].
+    r"""Impulse per axis :math:`\int F\,dt` [N s] of ``force`` (n,) or (n, 3) [N] at the
+    increasing ``time`` (n,) [s].
 
-    Parameters
-    ----------
-    time : array_like, shape (n,)
-        Increasing times [s].
-    force : array_like, shape (n,) or (n, 3)
-        Force history [N].
-
-    Examples
-    --------
     >>> impulse([0.0, 1.0, 2.0], [[0, 0, 0], [1, 2, 3], [0, 0, 0]])
     array([1., 2., 3.])
     """
@@ -143,12 +114,9 @@ def impulse(time: ArrayLike, force: ArrayLike) -> FloatArray:
 
 
 def max_suction(force_z: ArrayLike) -> float:
-    """Maximum suction: magnitude (>= 0) of the most negative vertical force [N].
+    """Maximum suction: magnitude (>= 0) of the most negative vertical force ``force_z``
+    (n,) [N] (``result.force[:, 2]``).
 
-    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
-
-    Examples
-    --------
     >>> max_suction([1.0, -3.0, 2.0]), max_suction([1.0, 2.0])
     (3.0, 0.0)
     """
@@ -157,10 +125,7 @@ def max_suction(force_z: ArrayLike) -> float:
 
 
 def peak_support(force_z: ArrayLike) -> float:
-    """Largest upward vertical force [N] (0 if never positive).
-
-    ``force_z`` is the vertical component, shape (n,) [N] (``result.force[:, 2]``).
-    """
+    """Largest upward vertical force of ``force_z`` (n,) [N], 0 if never positive."""
     if np.asarray(force_z).dtype == bool:  # a mask (force > 0) given for the force
         raise MudrftError("force_z must be the vertical force [N], got a boolean array")
     f = _history("force_z", force_z)
@@ -170,18 +135,10 @@ def peak_support(force_z: ArrayLike) -> float:
 def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     r"""Work the foot does against the mud, :math:`W=-\int \mathbf F\cdot\mathbf v\,dt` [J].
 
-    ``force`` is the force of the mud on the foot [N] and ``velocity`` the foot velocity
-    [m/s], with mudrft's convention (decision D13b): ``velocity[k]`` is the rate over the
-    step that ends at ``time[k]``, the rate :func:`~mudrft.simulate` integrates. So
-    :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`, the
-    trapezoidal work along the path the samples describe (for a closed
-    intrusion-retraction cycle the area of the force-displacement hysteresis loop, >= 0
-    for a dissipative terrain). A trapezoid on :math:`\mathbf F\cdot\mathbf v` instead
-    gave the rate of a motion to the rest before it: 92 J for a 3.6 J slide after a 1 s
-    rest sampled at its ends.
+    ``force`` is the force of the mud on the foot [N]; ``velocity[k]`` [m/s] is the rate over
+    the step that ends at ``time[k]`` [s] (decision D13b), so
+    :math:`W=-\sum_k \tfrac12(\mathbf F_{k-1}+\mathbf F_k)\cdot\mathbf v_k\,\Delta t_k`.
 
-    Examples
-    --------
     >>> # a constant 10 N resisting a 1 m/s motion for 2 s costs 20 J
     >>> energy([0.0, 2.0], [[-10, 0, 0], [-10, 0, 0]], [[1, 0, 0], [1, 0, 0]])
     20.0
@@ -197,17 +154,12 @@ def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
 
 
 def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
-    """Sinking depth [m]: the deepest tip depth, or the last one with ``final=True``.
-
-    Under load control the last depth is the equilibrium sinking (paper Fig. 12).
-    ``depth`` is the tip's depth below the surface, shape (n,) [m] (``result.depth``).
-    """
+    """The deepest tip ``depth`` (n,) [m] (``result.depth``), or the last with ``final=True``
+    (under load control, the equilibrium sinking of Fig. 12)."""
     if not isinstance(final, (bool, np.bool_)):  # final="no" is true
         raise MudrftError(f"final must be True or False, got {final!r}")
     d = _history("depth", depth)
     if np.any(d < 0):
-        # a depth is >= 0 below the surface; the tip's z (result.position[:, 2]) is <= 0
-        # there, and its maximum read 0 sinking for a foot that sank
         raise MudrftError(
             f"depth must be >= 0 m (the depth below the surface, result.depth), got "
             f"{float(d.min())!r} m: was the tip's z given instead?"
@@ -218,62 +170,35 @@ def sinking_depth(depth: ArrayLike, *, final: bool = False) -> float:
 def cycle_metrics(
     time: FloatArray, force: FloatArray, velocity: FloatArray, depth: FloatArray, *, load: bool
 ) -> Metrics:
-    """The paper's metrics of one run (checked histories, as a :class:`~mudrft.Result` holds).
+    """The paper's metrics of one run from unchecked histories, as a :class:`~mudrft.Result`
+    holds them: ``time`` [s], ``force`` [N] and ``velocity`` [m/s] (n, 3), ``depth`` [m].
 
-    Parameters
-    ----------
-    time : ndarray, shape (n,)
-        Times [s].
-    force, velocity : ndarray, shape (n, 3)
-        Force of the terrain on the foot [N] and tip velocity [m/s].
-    depth : ndarray, shape (n,)
-        Tip depth [m].
-    load : bool, keyword-only
-        A run under a load (:class:`~mudrft.LoadControl`): it also has ``sinking``.
-
-    Returns
-    -------
-    Metrics
-        ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
-        ``impulse_z`` [N s], ``energy`` [J] (work done by the foot against the terrain),
-        ``max_depth`` [m] (the deepest tip depth: a gait's stance depth), ``suction_ratio``
-        [-] (max suction / peak support); under a load ``sinking`` [m], the settled depth.
+    Returns ``peak_support`` [N], ``max_suction`` [N] (>= 0), ``impulse_x``, ``impulse_y``,
+    ``impulse_z`` [N s], ``energy`` [J] (work of the foot against the terrain),
+    ``max_depth`` [m], ``suction_ratio`` [-]; with ``load`` (a :class:`~mudrft.LoadControl`
+    run) also ``sinking`` [m], the settled depth.
     """
     imp = impulse(time, force)
     peak, suction = peak_support(force[:, 2]), max_suction(force[:, 2])
     out = Metrics(
-        peak_support=peak,
-        max_suction=suction,
-        impulse_x=float(imp[0]),
-        impulse_y=float(imp[1]),
-        impulse_z=float(imp[2]),
-        energy=energy(time, force, velocity),
-        max_depth=sinking_depth(depth),
+        peak_support=peak, max_suction=suction,
+        impulse_x=float(imp[0]), impulse_y=float(imp[1]), impulse_z=float(imp[2]),
+        energy=energy(time, force, velocity), max_depth=sinking_depth(depth),
         suction_ratio=suction / peak if peak > 0 else 0.0,
-    )
+    )  # fmt: skip
     if load:
         out["sinking"] = sinking_depth(depth, final=True)
     return out
 
 
 def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:
-    r"""Force divided by the matching cross-section area, as in Figs. 10-12 [Pa].
-
-    :math:`\bar\sigma_i=F_i/A_i`, with :math:`A_x, A_y` the submerged areas projected along
-    x and y and :math:`A_z` the footprint. Zero where the area is zero.
-
-    Parameters
-    ----------
-    force : array_like, shape (n, 3)
-        Forces [N].
-    areas : array_like, shape (n, 3)
-        Areas [m^2].
-    """
+    r"""Force (n, 3) [N] divided by the matching cross-section ``areas`` (n, 3) [m^2], as in
+    Figs. 10-12 [Pa]: :math:`\bar\sigma_i=F_i/A_i`, zero where the area is zero."""
     f = check_finite("force", force)
     a = check_finite("areas", areas)
     if f.shape != a.shape:
         raise MudrftError(f"force and areas must have the same shape, got {f.shape} and {a.shape}")
-    if np.any(a < 0):  # an area is >= 0; a negative one read as 0 stress without a word
+    if np.any(a < 0):
         raise MudrftError(f"areas must be >= 0 m^2, got {float(a.min())!r} m^2")
     safe = np.where(a > 0, a, 1.0)
     return np.where(a > 0, f / safe, 0.0)

@@ -24,31 +24,16 @@ if TYPE_CHECKING:
 
 __all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response", "plate_steps"]
 
-#: Characteristic length of the paper's plates [m]. The paper does not give the plate
-#: size; 50 mm fits its 28 x 23 cm container (decision D1 in docs/model.md).
+#: Characteristic length of the paper's plates [m], not given by the paper (decision D1).
 DEFAULT_PLATE_LENGTH = 0.05
 
 
 @dataclass(frozen=True, eq=False)
 class PlateResult:
-    """Stress on a plate along a plate test.
-
-    Attributes
-    ----------
-    time : ndarray (n,)
-        Times [s].
-    displacement : ndarray (n,)
-        Intrusion displacement of the plate [m].
-    stress : ndarray (n,)
-        Total stress sigma_tot along the motion [Pa] (eq. 1).
-    normal, tangential : ndarray (n,)
-        Normal and tangential stress on the tilted plate, f_n(angle)*sigma and
-        f_t(angle)*sigma [Pa] (eq. 7).
-    elastic, thixotropic, suction : ndarray (n,)
-        The three terms of eq. (1) [Pa].
-    xi : ndarray (n,)
-        Structure parameter [-].
-    """
+    """Stress on a plate along a plate test, each field (n,): ``time`` [s],
+    ``displacement`` [m], the total ``stress`` along the motion (eq. 1), its ``normal`` and
+    ``tangential`` parts on the tilted plate (eq. 7), the terms ``elastic``,
+    ``thixotropic`` and ``suction`` of eq. (1) [Pa], and the structure ``xi`` [-]."""
 
     time: np.ndarray
     displacement: np.ndarray
@@ -75,15 +60,10 @@ class PlateResult:
 
 
 def plate_response(
-    trajectory: Trajectory,
-    params: MudParameters | Mud,
-    *,
-    characteristic_length: float = DEFAULT_PLATE_LENGTH,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-    xi0: float = 0.0,
-) -> PlateResult:
+    trajectory: Trajectory, params: MudParameters | Mud, *,
+    characteristic_length: float = DEFAULT_PLATE_LENGTH, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact", xi0: float = 0.0,
+) -> PlateResult:  # fmt: skip
     """Stress on a plate driven along ``trajectory`` (from :func:`mudrft.plate_intrusion`).
 
     Parameters
@@ -91,13 +71,13 @@ def plate_response(
     trajectory : Trajectory
         A plate test; its ``meta["displacement"]`` (or the tip depth) is the intrusion [m].
     params : MudParameters or Mud
-        A parameter set, or a Mud from which the set matching the test direction is taken.
+        A parameter set, or a Mud (the set of the test's direction is used).
     characteristic_length : float, keyword-only
-        Plate characteristic length L_c [m].
+        Plate characteristic length :math:`L_c` [m].
     acceleration : bool or None, keyword-only
         Keep the acceleration term of f_xi (decision D6); None keeps it in the ODE.
     thixotropy : {"ode", "quasi-static"}, keyword-only
-        Step eqs. (3) and (5), or evaluate the paper's closed forms (9)-(11) (decision D15).
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
     clock : {"contact", "retraction"}, keyword-only
         Quasi-static only: the clock of eq. (9) (decision D15).
     xi0 : float, keyword-only
@@ -105,16 +85,8 @@ def plate_response(
 
     Notes
     -----
-    A vertical plate feels the mud only while its displacement is positive, and the mud's
-    memory starts at first contact (:mod:`mudrft.constitutive.contact`, as in
-    :func:`mudrft.simulate`): the stress is exactly 0 above the surface, and motion there
-    does not change the stress in the mud.
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. IV-A and supplementary Fig. S2 (plate tests).
+    A vertical plate feels the mud only while its displacement is positive; the mud's
+    memory starts at first contact, as in :func:`mudrft.simulate`.
 
     Examples
     --------
@@ -153,82 +125,34 @@ def plate_response(
     out = np.zeros((5, t.size))
     out[4, 0] = xi0
     steps = plate_steps(
-        channel_constants(p),
-        gamma,
-        np.diff(gamma) / np.diff(t),
-        np.diff(t),
-        kappa=kappa,
-        quasi_static=qs,
-        restart=restart,
-        xi0=xi0,
-        contact=direction == "vertical",
-    )
+        channel_constants(p), gamma, np.diff(gamma) / np.diff(t), np.diff(t), kappa=kappa,
+        quasi_static=qs, restart=restart, xi0=xi0, contact=direction == "vertical",
+    )  # fmt: skip
     for k, (st, stress, inside) in enumerate(steps, start=1):
         out[:4, k] = np.where(inside, stress, 0.0)
         out[4, k] = st.xi
     total, el, th, su, xi = out
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
-        time=t,
-        displacement=q,
-        stress=total,
-        normal=laws.f_n(angle) * total,
-        tangential=laws.f_t(angle) * total,
-        elastic=el,
-        thixotropic=th,
-        suction=su,
-        xi=xi,
-    )
+        time=t, displacement=q, stress=total, normal=laws.f_n(angle) * total,
+        tangential=laws.f_t(angle) * total, elastic=el, thixotropic=th, suction=su, xi=xi,
+    )  # fmt: skip
 
 
 def plate_steps(
-    consts: ChannelConstants,
-    gamma: NDArray[np.float64],
-    rate: NDArray[np.float64],
-    dt: NDArray[np.float64],
-    *,
-    kappa: float,
-    quasi_static: bool,
-    restart: bool,
-    xi0: float,
-    contact: bool,
-    shape: tuple[int, ...] | None = None,
-) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:
-    """The steps of a plate channel along a displacement history (no validation).
+    consts: ChannelConstants, gamma: NDArray[np.float64], rate: NDArray[np.float64],
+    dt: NDArray[np.float64], *, kappa: float, quasi_static: bool, restart: bool, xi0: float,
+    contact: bool, shape: tuple[int, ...] | None = None,
+) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:  # fmt: skip
+    """The steps of a plate channel along a displacement history (no validation): the loop
+    of :func:`plate_response` and of the calibration.
 
-    The one loop of :func:`plate_response` and of the calibration's forward model. With
-    ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``, and
-    each entry into the mud starts from undisturbed mud (:mod:`mudrft.constitutive.contact`,
-    the rule of :func:`mudrft.terrains.mud.mud_step`); without it (a horizontal plate) it is
-    in the mud throughout.
-
-    Parameters
-    ----------
-    consts : ChannelConstants
-        Model constants (SI); arrays broadcast with ``shape``.
-    gamma : ndarray, shape (n, ...)
-        Dimensionless displacement at the samples [-].
-    rate : ndarray, shape (n - 1, ...)
-        Rate over each step [1/s].
-    dt : ndarray, shape (n - 1, ...)
-        Step lengths [s], > 0.
-    kappa, quasi_static, restart : keyword-only
-        Evaluation of the model, from :func:`mudrft.constitutive.dynamics.evaluation`.
-    xi0 : float, keyword-only
-        Structure of undisturbed mud [-].
-    contact : bool, keyword-only
-        Apply the contact rule (vertical plates).
-    shape : tuple of int, optional, keyword-only
-        Shape of the channel state; default ``gamma.shape[1:]``.
-
-    Yields
-    ------
-    state : ChannelState
-        State after step ``k`` (k = 1 ... n-1).
-    stress : ChannelStress
-        Stresses at sample ``k`` [Pa], to be read only where ``inside``.
-    inside : ndarray of bool
-        Whether the plate is in the mud at sample ``k``.
+    ``gamma`` (n, ...) [-] at the samples, ``rate`` [1/s] and ``dt`` [s] (n - 1, ...) over
+    the steps; ``kappa``, ``quasi_static``, ``restart`` from
+    :func:`mudrft.constitutive.dynamics.evaluation`; ``xi0`` [-] the undisturbed structure.
+    With ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``,
+    each entry starting from undisturbed mud. Yields, for k = 1 ... n-1, the state, the
+    stresses [Pa] (valid where ``inside``) and ``inside``, whether the plate is in the mud.
     """
     inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
     g = np.where(inside, gamma, 0.0) if contact else gamma

@@ -1,15 +1,11 @@
-"""Matplotlib figures (optional extra ``plot``; matplotlib is imported lazily).
-
-The figures read a run's arrays by attribute (:class:`RunArrays`, :class:`PlateArrays`), so
-this module sits below :mod:`mudrft.simulation` and :mod:`mudrft.plate`, whose ``plot``
-methods call it.
-"""
+"""Matplotlib figures (optional extra ``plot``). They read a run's arrays by attribute, so
+that :mod:`mudrft.simulation` and :mod:`mudrft.plate` call this module and not back."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from types import ModuleType
-from typing import TYPE_CHECKING, Protocol, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,47 +18,11 @@ if TYPE_CHECKING:
 #: None for a new figure (the type of :meth:`mudrft.Result.plot`'s ``axes``).
 AxesArg: TypeAlias = "Sequence[Axes] | NDArray[np.object_] | None"
 
-__all__ = ["PlateArrays", "RunArrays", "plot_plate", "plot_result", "require_matplotlib"]
-
-
-class RunArrays(Protocol):
-    """What :func:`plot_result` draws, as :class:`mudrft.Result` has it: ``time`` (n,) [s],
-    ``force`` (n, 3) [N], ``depth`` (n,) [m] and the ``foot`` and ``terrain`` names."""
-
-    @property
-    def time(self) -> np.ndarray: ...
-    @property
-    def force(self) -> np.ndarray: ...
-    @property
-    def depth(self) -> np.ndarray: ...
-    @property
-    def foot(self) -> str: ...
-    @property
-    def terrain(self) -> str: ...
-
-
-class PlateArrays(Protocol):
-    """What :func:`plot_plate` draws, as :class:`mudrft.PlateResult` has it: ``time`` [s],
-    ``displacement`` [m], the ``stress`` [Pa] and its terms ``elastic``, ``thixotropic``,
-    ``suction`` [Pa], each (n,)."""
-
-    @property
-    def time(self) -> np.ndarray: ...
-    @property
-    def displacement(self) -> np.ndarray: ...
-    @property
-    def stress(self) -> np.ndarray: ...
-    @property
-    def elastic(self) -> np.ndarray: ...
-    @property
-    def thixotropic(self) -> np.ndarray: ...
-    @property
-    def suction(self) -> np.ndarray: ...
+__all__ = ["plot_plate", "plot_result", "require_matplotlib"]
 
 
 def require_matplotlib() -> ModuleType:
-    """Import matplotlib.pyplot with the Agg backend when no display is set; return the
-    ``matplotlib.pyplot`` module."""
+    """``matplotlib.pyplot``, with the Agg backend when no display is set."""
     try:
         import matplotlib
 
@@ -75,8 +35,7 @@ def require_matplotlib() -> ModuleType:
 
 
 def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
-    """``(figure, left, right)``: a new figure of two panels side by side when ``axes`` is
-    None, else the first two of the caller's axes and their figure."""
+    """``(figure, left, right)``: a new figure, or the first two of the caller's ``axes``."""
     if axes is None:
         fig, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     else:
@@ -85,9 +44,10 @@ def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
     return fig, a0, a1
 
 
-def plot_plate(result: PlateArrays, ax: AxesArg = None) -> Figure:
-    """Stress against time and against displacement for a plate test (kPa, mm), new or in
-    the first two of the caller's axes ``ax``."""
+def plot_plate(result: Any, ax: AxesArg = None) -> Figure:
+    """A plate test's (:class:`mudrft.PlateResult`) stress and its terms [Pa] against time
+    [s] and the stress against displacement [m] (drawn in kPa and mm), new or in the
+    caller's axes ``ax``."""
     fig, a0, a1 = _two_panels(ax)
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
     a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
@@ -104,8 +64,9 @@ def plot_plate(result: PlateArrays, ax: AxesArg = None) -> Figure:
     return fig
 
 
-def plot_result(result: RunArrays, axes: AxesArg = None) -> Figure:
-    """Forces against time, and vertical force against depth, for a :class:`~mudrft.Result`."""
+def plot_result(result: Any, axes: AxesArg = None) -> Figure:
+    """Forces [N] of a :class:`mudrft.Result` against time [s], and the vertical force
+    against depth [m] (drawn in mm), new or in the caller's ``axes``."""
     fig, a0, a1 = _two_panels(axes)
     for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
         a0.plot(result.time, result.force[:, i], lw=1.3, label=lab)

@@ -56,11 +56,11 @@ G = 9.80665  # standard gravity [m/s^2]
 class LoadControl:
     r"""A foot driven by a load instead of a prescribed motion.
 
-    A body of mass ``mass`` carrying ``weight`` rests on the foot. Without a leg spring
-    the foot is rigidly attached: :math:`m\ddot z = F_z - W`. With ``leg_stiffness`` the
-    body sits on a spring-damper leg above a light foot (``foot_mass``), and both masses
-    are integrated. The foot starts with its tip at the surface, at rest, and settles to
-    an equilibrium sinking depth. Horizontal motion is not driven (x = y = 0).
+    A body of ``mass`` carrying ``weight`` rests on the foot, rigidly
+    (:math:`m\ddot z = F_z - W`) or, with ``leg_stiffness``, on a spring-damper leg above
+    a foot of ``foot_mass``. The foot starts at rest with its tip at the surface and settles
+    to its sinking depth; x = y = 0. The coupling is explicit, so ``dt`` must resolve the
+    mud's damping: :func:`simulate` raises with a suggested ``dt`` otherwise.
 
     Parameters
     ----------
@@ -73,24 +73,13 @@ class LoadControl:
     leg_damping : float, keyword-only
         Damping of the spring leg [N s/m].
     foot_mass : float, keyword-only
-        Mass of the foot when a spring leg is used [kg]. The mud's viscous term acts on
-        it like a damper :math:`c\approx\eta_\infty A/L_c`; the explicit coupling needs
-        ``dt < 2 foot_mass / c`` (about 1e-3 s for the paper's feet with 0.5 kg).
+        Mass of the foot when a spring leg is used [kg].
     duration : float, keyword-only
         Simulated time [s].
     dt : float, keyword-only
         Time step [s].
     ramp : float, keyword-only
-        Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at
-        once (the foot then overshoots and compacts the mud below the static depth).
-
-    Notes
-    -----
-    The coupling is explicit: the terrain force of the previous step drives the masses.
-    The mud's viscous term acts like a damper :math:`c\approx\eta_\infty A_z/L_c`
-    (:math:`(\eta_\infty+\eta_m)A_z/L_c` in the quasi-static evaluation, whose eq. (9) has
-    no lag), so the moving mass must satisfy ``dt < 2 m / c``; :func:`simulate` checks this
-    for the paper's mud and raises with a suggested ``dt`` when it does not hold.
+        Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at once.
     """
 
     weight: float
@@ -103,21 +92,19 @@ class LoadControl:
     ramp: float = 0.0
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list passed, or failed formatting a message)
-        _set(self, "weight", check_positive("weight", self.weight, unit="N"))
-        if self.mass is not None:
-            _set(self, "mass", check_positive("mass", self.mass, unit="kg"))
-        if self.leg_stiffness is not None:
-            _set(
-                self,
-                "leg_stiffness",
-                check_positive("leg_stiffness", self.leg_stiffness, unit="N/m"),
-            )
-        _set(self, "leg_damping", check_nonnegative("leg_damping", self.leg_damping, unit="N s/m"))
-        _set(self, "foot_mass", check_positive("foot_mass", self.foot_mass, unit="kg"))
-        _set(self, "duration", check_positive("duration", self.duration, unit="s"))
-        _set(self, "dt", check_positive("dt", self.dt, unit="s"))
-        _set(self, "ramp", check_nonnegative("ramp", self.ramp, unit="s"))
+        for name, unit, check in (
+            ("weight", "N", check_positive),
+            ("mass", "kg", check_positive),
+            ("leg_stiffness", "N/m", check_positive),
+            ("leg_damping", "N s/m", check_nonnegative),
+            ("foot_mass", "kg", check_positive),
+            ("duration", "s", check_positive),
+            ("dt", "s", check_positive),
+            ("ramp", "s", check_nonnegative),
+        ):
+            value = getattr(self, name)
+            if value is not None or name not in ("mass", "leg_stiffness"):
+                _set(self, name, check(name, value, unit=unit))
         check_samples(
             f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
             self.duration / self.dt + 1,
@@ -146,12 +133,10 @@ class Result:
         Channel stresses (sx, sy, sz) [Pa] (zeros for terrains without channels).
     depth : ndarray (n,)
         Tip depth [m].
-    foot : str
-        Foot name.
-    terrain : str
-        Terrain name.
-    areas : ndarray (n, 3)
-        Submerged areas projected along x, y and z [m^2] (for normalised stresses).
+    foot, terrain : str
+        Names.
+    areas : ndarray (n, 3) or None
+        Submerged areas projected along x, y and z [m^2].
     meta : dict
         Run settings (load control, trajectory name, ...).
     """
@@ -168,9 +153,7 @@ class Result:
     meta: dict = field(default_factory=dict)
 
     def metrics(self) -> _m.Metrics:
-        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`): a dict of
-        ``peak_support``, ``max_suction`` [N], ``impulse_x/y/z`` [N s], ``energy`` [J],
-        ``max_depth`` [m], ``suction_ratio`` [-], and under load control ``sinking`` [m]."""
+        """The paper's metrics of this run (:func:`mudrft.metrics.cycle_metrics`)."""
         load = bool(self.meta.get("load_control"))
         return _m.cycle_metrics(self.time, self.force, self.velocity, self.depth, load=load)
 
@@ -183,12 +166,8 @@ class Result:
         return _m.normalized_stress(self.force, self.areas)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
-        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``.
-
-        Written atomically (a temporary file in the same directory, then moved into
-        place): a failure leaves neither a partial file nor a temporary one. Refuses to
-        replace an existing file unless ``overwrite=True``.
-        """
+        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``, atomically;
+        an existing file only with ``overwrite=True``."""
         data = np.column_stack([self.time, self.position, self.force])
 
         def write(tmp: Path) -> None:
@@ -206,18 +185,9 @@ class Result:
             import pandas as pd
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_pandas needs pandas: pip install 'mudrft[pandas]'") from exc
-        cols = dict(
-            zip(CSV_COLUMNS, np.column_stack([self.time, self.position, self.force]).T, strict=True)
-        )
-        cols.update(
-            {
-                "sx [Pa]": self.stress[:, 0],
-                "sy [Pa]": self.stress[:, 1],
-                "sz [Pa]": self.stress[:, 2],
-                "depth [m]": self.depth,
-            }
-        )
-        return pd.DataFrame(cols)
+        data = np.column_stack([self.time, self.position, self.force, self.stress, self.depth])
+        columns = [*CSV_COLUMNS, "sx [Pa]", "sy [Pa]", "sz [Pa]", "depth [m]"]
+        return pd.DataFrame(data, columns=columns)
 
     def plot(self, *, axes: AxesArg = None) -> Figure:
         """Forces against time and Fz against depth (needs matplotlib)."""
@@ -237,8 +207,6 @@ class Result:
 def _resample(traj: Trajectory, dt: float) -> Trajectory:
     span = float(traj.time[-1] - traj.time[0])
     if span < MIN_GAIT_STEPS * dt * (1.0 - 1e-9):
-        # coarser, the resampled path jumps over the stance or the retraction: a 0.65 s
-        # gait cycle at dt = 0.3 s kept 3 samples and lost its suction without a word
         raise MudrftError(
             f"dt = {plain(dt)} s cuts the {span:.3g} s trajectory into fewer than "
             f"{MIN_GAIT_STEPS} steps; use dt <= {span / MIN_GAIT_STEPS:.3g} s"
@@ -253,8 +221,7 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
     if t[-1] < traj.time[-1] - 1e-12:
         t = np.append(t, traj.time[-1])
     pos = np.stack([np.interp(t, traj.time, traj.position[:, i]) for i in range(3)], 1)
-    # a sample's velocity holds over the step that ends there (D13b): a new sample inside
-    # (t[k-1], t[k]] takes velocity[k] (interpolating it halved a step's rate next to a rest)
+    # a sample's velocity holds over the step that ends there (D13b)
     k = np.minimum(np.searchsorted(traj.time, t, side="left"), traj.time.size - 1)
     vel = traj.velocity[k]
     return Trajectory(time=t, position=pos, velocity=vel, name=traj.name, meta=traj.meta)
@@ -268,17 +235,11 @@ def _areas(foot: Foot, depth: np.ndarray) -> np.ndarray | None:
 
 
 def simulate(
-    foot: Foot,
-    mud: Mud | Terrain,
-    trajectory: Trajectory | LoadControl,
-    *,
-    dt: float | None = None,
-    progress: bool | Callable[[float], None] = False,
+    foot: Foot, mud: Mud | Terrain, trajectory: Trajectory | LoadControl, *,
+    dt: float | None = None, progress: bool | Callable[[float], None] = False,
     strict: bool = False,
-) -> Result:
+) -> Result:  # fmt: skip
     """Run a foot through a terrain along a prescribed motion or under a prescribed load.
-
-    Which evaluation of the mud to use: docs/guide/evaluations.md.
 
     Parameters
     ----------
@@ -294,12 +255,11 @@ def simulate(
         trajectory's duration / :data:`~mudrft.trajectories.MIN_GAIT_STEPS`. Ignored for
         load control, which has its own ``dt``.
     progress : bool or callable, keyword-only
-        ``True`` reports progress through the ``mudrft`` logger (to stderr unless logging
-        is configured otherwise; see :mod:`mudrft._progress`); a callable is called as
+        ``True`` logs progress through the ``mudrft`` logger; a callable is called as
         ``progress(fraction)`` with the fraction done.
     strict : bool, keyword-only
-        Raise a :class:`~mudrft.MudrftError` instead of warning once that the foot goes
-        deeper than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`, D26).
+        Raise a :class:`~mudrft.MudrftError` instead of warning that the foot goes deeper
+        than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`).
 
     Returns
     -------
@@ -307,9 +267,8 @@ def simulate(
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(7) and (12)-(14).
+    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", 2026, eqs. (1)-(7) and (12)-(14).
     """
     if not isinstance(foot, Foot):
         raise MudrftError(
@@ -332,8 +291,7 @@ def simulate(
     how = f"{tr.name}: the tip goes"
     check_unburied(foot.name, foot.height, float(tr.depth.max()), how=how, strict=strict)
     n = len(tr)
-    force = np.zeros((n, 3))
-    stress = np.zeros((n, 3))
+    force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     pos, vel, dts = tr.position, tr.velocity, np.diff(tr.time)
     rows = along_path(terrain, foot, pos, vel, dts) if isinstance(terrain, MudTerrain) else None
     if rows is not None:  # the mud under a foot of mudrft.feet, compiled (terrains.rows)
@@ -353,19 +311,11 @@ def simulate(
         raise MudrftError(
             "the simulation produced non-finite forces; check the terrain parameters and dt"
         )
-    depth = tr.depth
+    meta = {"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}}
     return Result(
-        time=tr.time,
-        position=tr.position,
-        velocity=tr.velocity,
-        force=force,
-        stress=stress,
-        depth=depth,
-        foot=foot.name,
-        terrain=getattr(terrain, "name", ""),
-        areas=_areas(foot, depth),
-        meta={"trajectory": tr.name, **{k: v for k, v in tr.meta.items() if np.ndim(v) == 0}},
-    )
+        tr.time, tr.position, tr.velocity, force, stress, tr.depth, foot.name,
+        getattr(terrain, "name", ""), _areas(foot, tr.depth), meta,
+    )  # fmt: skip
 
 
 def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -> None:
@@ -389,8 +339,7 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
         )
     if load.leg_stiffness is not None:
         _check_leg_stability(load, c)
-    # alpha (d/L)^n is infinitely stiff at d = 0 (n < 1): a light load balances so close to
-    # the surface that the explicit step chatters; the secant stiffness over 1 % more depth
+    # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
     try:
         d_eq = static_sinking(foot, mud, load.weight, characteristic_length=lc)
         stiffness = (_static_support(foot, mud, lc)(1.01 * d_eq) - load.weight) / (0.01 * d_eq)
@@ -410,14 +359,9 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
 
 
 def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
-    r"""Refuse a spring leg the explicit step cannot integrate (it diverged to NaN).
-
-    The step is semi-implicit Euler; for one oscillator :math:`m\ddot x=-kx-c\dot x` it is
-    stable while :math:`2ch/m+kh^2/m<4`. The leg's spring and damper act on the relative
-    motion of body and foot (reduced mass :math:`\mu`), the mud's damper on the foot, so
-    with :math:`\rho=c_{mud}/m_f+c_{leg}/\mu` and :math:`\omega^2=k/\mu` the step must
-    satisfy :math:`\omega^2h^2+2\rho h<4`. Refused above 0.8 of that bound, as the mud's.
-    """
+    r"""Refuse a spring leg the semi-implicit Euler step cannot integrate: stable while
+    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`,
+    :math:`\omega^2=k/\mu` (:math:`\mu` the reduced mass); refused above 0.8 of it."""
     mf, mb = load.foot_mass, load.body_mass
     mu = mf * mb / (mf + mb)
     rate = c_mud / mf + load.leg_damping / mu
@@ -442,10 +386,8 @@ def _simulate_load(
     n = int(np.ceil(load.duration / dt)) + 1
     t = dt * np.arange(n)
     m = load.body_mass
-    zf = np.zeros(n)  # foot tip height
-    vf = np.zeros(n)
-    force = np.zeros((n, 3))
-    stress = np.zeros((n, 3))
+    zf, vf = np.zeros(n), np.zeros(n)  # foot tip height and velocity
+    force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     spring = load.leg_stiffness is not None
     zb, vb = 0.0, 0.0  # body displacement from its rest position over an unloaded leg
     z, v = 0.0, 0.0
@@ -483,24 +425,16 @@ def _simulate_load(
     )  # fmt: skip
     how = f"under {plain(load.weight)} N the tip sank"
     check_unburied(foot.name, foot.height, float(depth.max()), how=how, strict=strict, hint=hint)
+    meta = {"load_control": True, "weight": load.weight, "mass": m}
     return Result(
-        time=t,
-        position=pos,
-        velocity=vel,
-        force=force,
-        stress=stress,
-        depth=depth,
-        foot=foot.name,
-        terrain=getattr(terrain, "name", ""),
-        areas=_areas(foot, depth),
-        meta={"load_control": True, "weight": load.weight, "mass": m},
-    )
+        t, pos, vel, force, stress, depth, foot.name, getattr(terrain, "name", ""),
+        _areas(foot, depth), meta,
+    )  # fmt: skip
 
 
 def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
-    """The static (fully relaxed, no suction) vertical support ``F_z(d)`` [N] of ``foot``
-    at tip depth ``d`` [m]: :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot (checked
-    arguments)."""
+    """The static vertical support ``F_z(d)`` [N] at tip depth ``d`` [m]:
+    :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot."""
     p = mud.vertical
 
     def force(d: float) -> float:
@@ -519,12 +453,9 @@ def static_sinking(
 ) -> float:
     r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
 
-    At rest the thixotropic stress relaxes to zero and no suction acts, so the
-    balance is :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`.
-    Solved by bracketing (support is increasing in depth) down to
-    :data:`BURIED_SEARCH` times the foot's height. A depth beyond the foot's height
-    means a buried foot (decision D26: the foot's force saturates, the stress keeps
-    growing with depth, and the mud on the leg above it is not modelled).
+    At rest the thixotropic stress relaxes to zero and no suction acts, so the balance is
+    :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`, solved down to
+    :data:`BURIED_SEARCH` times the foot's height (deeper, a :class:`~mudrft.MudrftError`).
 
     Parameters
     ----------
@@ -541,12 +472,6 @@ def static_sinking(
     -------
     float
         Tip depth [m] below the mud surface (> 0).
-
-    Raises
-    ------
-    MudrftError
-        If ``weight`` is not a positive number, or the foot cannot carry it even buried
-        :data:`BURIED_SEARCH` times its height; the message gives the support there.
     """
     from scipy.optimize import brentq
 
@@ -574,9 +499,7 @@ def static_sinking(
             "the model does not count (decision D26), would carry part of the load. Is the "
             "weight in newtons (a mass of m kg weighs 9.81 m N)?"
         )
-    # the support grows as d^n from 0, so a light load can balance far below a nanometre
-    # (1 N on the flat foot at W = 35 %: scipy's bracket error from a fixed 1e-9 m);
-    # solved in log(d), to a relative precision, down to the smallest normal double
+    # a light load can balance far below a nanometre: solved in log(d)
     lo = hi * 1e-12
     while support(lo) > 0:
         if lo < 1e-300:

@@ -7,7 +7,6 @@ z = 0, so the tip depth is ``max(-z, 0)``.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,31 +14,21 @@ import numpy as np
 from ._validation import (
     MudrftError,
     PlausibilityWarning,
-    _caller_level,
     check_choice,
     check_finite,
     check_increasing,
     check_samples,
     nonnegative_number,
     number_in_range,
-    plain_text,
     positive_number,
     warn_implausible,
     warn_plausibility,
 )
 
 __all__ = [
-    "FOOT_HEIGHT",
-    "GAIT_SPEEDS",
-    "MIN_GAIT_STEPS",
-    "STANCE_DEPTH",
-    "STRIDE_LENGTH",
-    "BuriedFootWarning",
-    "Trajectory",
-    "check_unburied",
-    "gait",
-    "plate_intrusion",
-]
+    "FOOT_HEIGHT", "GAIT_SPEEDS", "MIN_GAIT_STEPS", "STANCE_DEPTH", "STRIDE_LENGTH",
+    "BuriedFootWarning", "Trajectory", "check_unburied", "gait", "plate_intrusion",
+]  # fmt: skip
 
 #: The paper's gait speeds [m/s] (Sec. IV-A).
 GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
@@ -47,48 +36,24 @@ GAIT_SPEEDS = {"slow": 0.13, "medium": 0.20, "fast": 0.26}
 STRIDE_LENGTH = 0.13
 #: Height of the paper's three fixed feet, :math:`h_F` = 26 mm (Sec. IV-A) [m].
 FOOT_HEIGHT = 0.026
-#: Deepest tip depth of :func:`gait` [m] (decision D10), the one default stance of
-#: ``mudrft simulate``, ``compare``, ``sweep`` and the API: within :data:`FOOT_HEIGHT`, as the
-#: closed forms (12)-(14) assume a foot that is not buried, and deeper than the static
-#: sinking of the paper's fixed feet under 49 N (12-19 mm), as a stepping foot's would be.
+#: Deepest tip depth of :func:`gait` [m] (decision D10): within :data:`FOOT_HEIGHT`, as the
+#: closed forms (12)-(14) assume a foot that is not buried.
 STANCE_DEPTH = 0.02
-#: Fewest steps of ``dt`` :func:`gait` accepts in one cycle [-]: coarser, the stance and the
-#: retraction are a handful of samples each and suction, impulse and sinking lose meaning.
+#: Fewest steps of ``dt`` :func:`gait` accepts in one cycle [-].
 MIN_GAIT_STEPS = 20
 
 
 class BuriedFootWarning(PlausibilityWarning):
     """A foot was pushed deeper than its own height: the mud closes over its top, which the
-    model does not describe (the leg above the foot carries nothing, decision D26)."""
+    model does not describe (decision D26)."""
 
 
 def check_unburied(
-    foot: str,
-    height: float,
-    depth: float,
-    *,
-    how: str,
-    strict: bool,
-    hint: str | None = None,
-) -> None:
-    """Warn once (:class:`BuriedFootWarning`), or raise under ``strict``, when a foot's
-    tip goes deeper than the foot is tall.
-
-    Parameters
-    ----------
-    foot : str
-        The foot's name, for the message.
-    height : float
-        The foot's height above its tip [m].
-    depth : float
-        The deepest tip depth of the run [m].
-    how : str
-        What pushed it there ("the tip goes", "under 49 N the tip sank"), for the message.
-    strict : bool
-        Raise a :class:`~mudrft.MudrftError` instead of warning.
-    hint : str, keyword-only
-        Appended to the message (default: for a prescribed motion).
-    """
+    foot: str, height: float, depth: float, *, how: str, strict: bool, hint: str | None = None,
+) -> None:  # fmt: skip
+    """Warn (:class:`BuriedFootWarning`), or raise under ``strict``, when the deepest tip
+    ``depth`` [m] exceeds the foot's ``height`` [m]; ``foot``, ``how`` (what pushed it
+    there) and ``hint`` are for the message."""
     if not depth > height * (1 + 1e-9):
         return
     if hint is None:
@@ -100,25 +65,18 @@ def check_unburied(
     )
     if strict:
         raise MudrftError(f"strict: {message}")
-    warnings.warn(plain_text(message), BuriedFootWarning, stacklevel=_caller_level())
+    warn_plausibility(message, BuriedFootWarning)
 
 
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
-    """Warn when the velocity [m/s] is not the rate of the position [m].
-
-    Over each interval the mean velocity, the position change over the step, lies between
-    the velocities at its ends when the velocity is monotone there (a corner of a
-    piecewise-linear path included); the distance outside that range, summed over the
-    intervals that reach into the mud, must stay below a quarter of the path's extent. A flipped sign or a velocity in mm/s
-    breaks it at once: the force then answers a motion the position never makes (a tip
-    going down at +5 m/s met 5 kN of suction).
-    """
+    """Warn when the velocity [m/s] is not the rate of the position [m]: the step's mean
+    velocity must lie between the velocities at its ends, up to a quarter of the path's
+    extent summed over the steps in the mud (a flipped sign or mm/s breaks it)."""
     dt = np.diff(t)[:, None]
     dp = np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
     off = np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)
-    # in the air (z >= 0 at both ends) the mud sees neither: a path may jump there, as two
-    # strokes put end to end do when the foot goes back to its start
+    # in the air (z >= 0 at both ends) a path may jump
     off = off[(p[:-1, 2] < 0.0) | (p[1:, 2] < 0.0)].sum(axis=0)  # per axis [m]
     axis = int(np.argmax(off))
     extent = float(np.ptp(p, axis=0).max())
@@ -132,21 +90,9 @@ def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
 
 @dataclass(frozen=True, eq=False)
 class Trajectory:
-    """Path of the foot tip in the world frame.
-
-    Attributes
-    ----------
-    time : ndarray, shape (n,)
-        Strictly increasing times [s].
-    position : ndarray, shape (n, 3)
-        Tip position [m]; z < 0 is below the mud surface.
-    velocity : ndarray, shape (n, 3)
-        Tip velocity [m/s].
-    name : str
-        Label for reports.
-    meta : dict
-        Protocol parameters (e.g. plate angle [rad], direction).
-    """
+    """Path of the foot tip in the world frame: strictly increasing ``time`` (n,) [s],
+    ``position`` (n, 3) [m] (z < 0 below the mud surface), ``velocity`` (n, 3) [m/s], a
+    ``name`` and the protocol's ``meta`` (plate angle [rad], direction, ...)."""
 
     time: np.ndarray
     position: np.ndarray
@@ -185,13 +131,9 @@ class Trajectory:
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
         """Build a trajectory from sampled positions [m] at ``time`` [s].
 
-        The velocity of sample k is the rate of the path over the step that ends there,
-        (p_k - p_{k-1}) / (t_k - t_{k-1}) [m/s] (sample 0 takes the first step's): the
-        rate :func:`~mudrft.simulate` integrates over that step, so the piecewise-linear
-        path through the samples is followed exactly, as :func:`~mudrft.constitutive.run`
-        does. (A central difference gave a sample at the end of a long rest the rate of
-        the motion after it, applied over the whole rest: a force of 173 N where the
-        mud had relaxed to about 0.)
+        The velocity of sample k is the rate over the step that ends there,
+        (p_k - p_{k-1}) / (t_k - t_{k-1}) [m/s] (sample 0 takes the first step's), the rate
+        :func:`~mudrft.simulate` integrates over that step.
         """
         t = check_increasing("time", time)
         p = check_finite("position", position)
@@ -216,31 +158,23 @@ class Trajectory:
 
 
 def plate_intrusion(
-    depth: float = 0.03,
-    speed: float = 0.02,
-    hold: float = 1.0,
-    angle: float = 0.0,
-    direction: str = "vertical",
-    *,
-    dt: float = 1e-3,
-    rest: float = 0.5,
-) -> Trajectory:
+    depth: float = 0.03, speed: float = 0.02, hold: float = 1.0, angle: float = 0.0,
+    direction: str = "vertical", *, dt: float = 1e-3, rest: float = 0.5,
+) -> Trajectory:  # fmt: skip
     """The paper's plate test (E1-E4): intrude at constant speed, hold, retract at the same speed.
 
     Parameters
     ----------
     depth : float
-        Intrusion displacement [m] (vertical: depth below the surface; horizontal:
-        travel through the mud).
+        Intrusion displacement [m] (vertical: below the surface; horizontal: travel).
     speed : float
         Intrusion and retraction speed [m/s].
     hold : float
         Time at rest between intrusion and retraction [s].
     angle : float
-        Penetration angle of the plate [rad], 0 to pi/2 (the paper uses 0, 22.5, 45,
-        67.5 and 90 deg): the angle between plate normal and motion, psi_1 or psi_2.
+        Penetration angle of the plate [rad], 0 to pi/2: between plate normal and motion.
     direction : {"vertical", "horizontal"}
-        Vertical (VI, along -z) or horizontal (HI, along +x) intrusion.
+        Vertical (along -z) or horizontal (along +x) intrusion.
     dt : float, keyword-only
         Sample spacing [s].
     rest : float, keyword-only
@@ -249,14 +183,12 @@ def plate_intrusion(
     Returns
     -------
     Trajectory
-        With ``meta = {"angle", "direction", "depth", "speed", "hold", "t_retract"}``
-        and the intrusion displacement in ``meta["displacement"]`` [m].
+        With ``meta`` holding the protocol and the intrusion ``"displacement"`` [m].
 
     References
     ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. IV-A, Table I (plate tests).
+    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
+       Terrains", 2026, Sec. IV-A, Table I (plate tests).
 
     Examples
     --------
@@ -264,7 +196,6 @@ def plate_intrusion(
     >>> round(float(tr.depth.max()), 4), round(tr.duration, 3)
     (0.03, 4.5)
     """
-    # one number each (a list failed inside numpy)
     depth, speed, dt = (
         positive_number(name, val, unit=unit)
         for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
@@ -287,15 +218,14 @@ def plate_intrusion(
     )
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
-    # include the corners exactly so the piecewise-linear input is exact
+    # the corners exactly, so the piecewise-linear input is exact
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
     q = np.where(
         t < t_in,
         speed * t,
         np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
     )
-    # each corner sample carries the rate of the step that ends there (the rate simulate
-    # integrates over it): the deepest sample is still intruding
+    # each sample carries the rate of the step that ends there
     qd = np.where(
         t <= t_in,
         speed,
@@ -308,69 +238,42 @@ def plate_intrusion(
     else:
         pos[:, 0], vel[:, 0] = q, qd
     meta = {
-        "angle": float(angle),
-        "direction": direction,
-        "depth": float(depth),
-        "speed": float(speed),
-        "hold": float(hold),
-        "t_retract": float(t_in + hold),
+        "angle": float(angle), "direction": direction, "depth": float(depth),
+        "speed": float(speed), "hold": float(hold), "t_retract": float(t_in + hold),
         "displacement": q,
-    }
+    }  # fmt: skip
     return Trajectory(
         time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta
     )
 
 
 def gait(
-    speed: float = 0.2,
-    *,
-    depth: float = STANCE_DEPTH,
-    stride: float = STRIDE_LENGTH,
-    slip: float = 0.3,
-    sway: float = 0.15,
-    lift: float = 0.02,
-    dt: float = 1e-3,
-) -> Trajectory:
+    speed: float = 0.2, *, depth: float = STANCE_DEPTH, stride: float = STRIDE_LENGTH,
+    slip: float = 0.3, sway: float = 0.15, lift: float = 0.02, dt: float = 1e-3,
+) -> Trajectory:  # fmt: skip
     r"""One stepping cycle of the foot tip at a gait speed (half stance, half swing).
 
-    The paper gives the gait speeds (slow 0.13, medium 0.2, fast 0.26 m/s) but not
-    the foot path, so this one is documented here (decision D10). The cycle lasts
-    :math:`T=\text{stride}/\text{speed}`; with phase :math:`s=t/T`:
-
-    * stance, :math:`s\in[0,\tfrac12]`: the tip sinks from the surface to ``depth`` along
-      :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)`; the default 20 mm keeps the paper's feet
-      (:math:`h_F` = 26 mm, Sec. IV-A) from being buried, which eqs. (12)-(14) assume;
-    * swing, :math:`s\in[\tfrac12,1]`: it is pulled out and lifted to ``lift`` above
-      the surface along :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))`;
-    * horizontally it slips forward by ``slip * stride`` (:math:`x=\rho S(1-\cos\pi s)/2`) and
-      sways sideways and back by ``sway * stride`` (:math:`y=\rho_y S\sin(\pi s)/2`), so both
-      horizontal channels see intrusion and retraction.
-
-    Each sample's velocity is the rate of the step that ends there,
-    :math:`(p_k-p_{k-1})/\Delta t` (:meth:`Trajectory.from_positions`, decision D13b): the
-    rate :func:`~mudrft.simulate` holds over that step.
+    The paper gives the gait speeds but not the foot path (decision D10). The cycle lasts
+    :math:`T=S/v` (stride over speed); with phase :math:`s=t/T` the tip sinks to depth
+    :math:`D` along :math:`d=\tfrac{D}{2}(1-\cos 2\pi s)` in the stance
+    (:math:`s\le\tfrac12`), is pulled out and lifted to :math:`h` along
+    :math:`z=-D+\tfrac{D+h}{2}(1-\cos 2\pi(s-\tfrac12))` in the swing, and slips forward
+    and sways sideways, :math:`x=\rho S(1-\cos\pi s)/2`, :math:`y=\rho_y S\sin(\pi s)/2`.
 
     Parameters
     ----------
     speed : float
         Gait speed [m/s].
     depth : float, keyword-only
-        Deepest tip depth [m] (:data:`STANCE_DEPTH`, 20 mm).
+        Deepest tip depth [m].
     stride : float, keyword-only
         Stride length [m].
     slip, sway : float, keyword-only
-        Forward slip and lateral sway in mud as fractions of the stride [-].
+        Forward slip and lateral sway as fractions of the stride [-].
     lift : float, keyword-only
         Height of the tip above the surface at the end of the swing [m].
     dt : float, keyword-only
-        Sample spacing [s]; at most :math:`T/20` (:data:`MIN_GAIT_STEPS` steps a cycle).
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), Sec. IV (gait speeds 0.13, 0.2 and 0.26 m/s); mudrft decision D10
-       (docs/model.md).
+        Sample spacing [s]; at most :math:`T/20` (:data:`MIN_GAIT_STEPS`).
 
     Examples
     --------
@@ -378,7 +281,6 @@ def gait(
     >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
     (0.65, 0.02)
     """
-    # one number each (a list of speeds is a sweep: mudrft.sweep, or a loop)
     speed, depth, stride, dt = (
         positive_number(name, val, unit=unit)
         for name, val, unit in (
@@ -392,7 +294,7 @@ def gait(
         ("a lift of", lift, (0.0, 1.0), "m", "lift is in metres (10 mm = 0.01)"),
         ("a stride of", stride, (0.0, 5.0), "m", "stride is in metres (130 mm = 0.13)"),
         ("a speed of", speed, (0.0, 10.0), "m/s", "speed is in m/s (200 mm/s = 0.2)"),
-    ):  # lengths in mm or a speed in mm/s read as SI: valid, but surely a unit mistake
+    ):
         warn_implausible(f"gait: {what}", value, plausible, unit=unit, hint=hint)
     T = stride / speed
     check_samples(
@@ -418,9 +320,6 @@ def gait(
     x = 0.5 * slip * stride * (1 - np.cos(np.pi * s))
     y = 0.5 * sway * stride * np.sin(np.pi * s)
     meta = {"speed": float(speed), "period": T, "depth": float(depth), "stride": float(stride)}
-    # each sample's velocity is the rate of the step that ends there (D13b), not the path's
-    # analytic derivative, which lags it by a dt / 2 and made a spring's cycle work 1 % of
-    # its stored energy instead of 0 (D133)
     return Trajectory.from_positions(
         t, np.stack([x, y, z], 1), name=f"gait {speed:g} m/s", meta=meta
     )

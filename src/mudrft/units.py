@@ -36,11 +36,9 @@ SCALE: dict[str, dict[str, float]] = {
 
 
 def parse_unit(quantity: str, unit: str) -> float:
-    """Return the factor [SI/unit] that converts ``unit`` (``"mm"``, ``"kPa"``) of
-    ``quantity`` (a key of :data:`SCALE`: ``"time"``, ``"length"``, ...) to SI.
+    """The factor [SI/unit] that converts ``unit`` (``"mm"``) of ``quantity`` (a key of
+    :data:`SCALE`: ``"time"``, ``"length"``, ...) to SI.
 
-    Examples
-    --------
     >>> parse_unit("length", "mm")
     0.001
     """
@@ -61,8 +59,6 @@ def parse_unit(quantity: str, unit: str) -> float:
 def to_si(value: float, quantity: str, unit: str) -> float:
     """Convert ``value`` given in ``unit`` of ``quantity`` to SI (:func:`parse_unit`).
 
-    Examples
-    --------
     >>> to_si(0.024, "stress", "MPa")
     24000.0
     """
@@ -73,19 +69,9 @@ _QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\
 
 
 def parse_quantity(name: str, text: str, quantity: str) -> float:
-    """A number with an optional unit, as typed on a command line, in SI.
+    """``text``, a number with an optional unit as typed on a command line (``"40 mm"``; a
+    bare number is SI), in SI; ``name`` (``"--length"``) is for the messages.
 
-    Parameters
-    ----------
-    name : str
-        What the text is given as (``"--area"``), for the messages.
-    text : str
-        ``"1600mm^2"``, ``"40 mm"``, or a bare number, read in SI (``"0.0016"``).
-    quantity : str
-        One of the keys of :data:`SCALE` (``"area"``, ``"length"``, ...).
-
-    Examples
-    --------
     >>> parse_quantity("--length", "40mm", "length"), parse_quantity("--area", "0.0016", "area")
     (0.04, 0.0016)
     """

@@ -1,20 +1,10 @@
-"""Fast and differentiable backends of the mud model.
+"""Fast and differentiable backends of the mud model; they hold no physics of their own.
 
-* :class:`BatchedMud` (:mod:`mudrft.backends.batch`): N feet, each with its own mud, state
-  and motion, advanced by one call (numpy, numba or JAX kernels);
-  (a batch of one foot with ``backend="numba"`` is the fast single-foot stepper for
-  per-step coupling, a few microseconds a step);
-* it keeps its state inside: ``snapshot()`` copies it (a :class:`Snapshot`) and
-  ``restore(snapshot)`` puts it back, for a planner's rollouts;
-* :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan over a
-  trajectory and surface integration (optional extra ``jax``);
-* :mod:`mudrft.backends.numba`: the compiled loop over feet (numba, a core dependency),
-  multi-threaded for large batches.
-
-The backends hold no physics: each equation is written once, element-wise over an array
-namespace, in the core; a backend runs it on its arrays or compiles it (:mod:`mudrft._jit`).
-
-Heavy optional dependencies load on first use. See docs/model.md.
+* :class:`BatchedMud`: N feet, each with its own mud, state and motion, advanced by one call
+  (numpy, numba or JAX); ``snapshot()`` and ``restore()`` for a planner's rollouts;
+* :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan and surface
+  integration (optional extra ``jax``);
+* :mod:`mudrft.backends.numba`: the compiled loop over feet.
 
 >>> import mudrft.backends as mb
 >>> mb.available()[0]
@@ -27,19 +17,11 @@ import importlib
 import importlib.util
 from typing import Any
 
-__all__ = [
-    "BatchedMud",
-    "Snapshot",
-    "available",
-    "batch",
-    "forces",
-    "jax",
-    "numba",
-]
+__all__ = ["BatchedMud", "Snapshot", "available", "batch", "forces", "jax", "numba"]
 
 _ATTRS = {
     "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
-    "Snapshot": ("mudrft.backends._snapshot", "Snapshot"),
+    "Snapshot": ("mudrft.backends.batch", "Snapshot"),
 }
 _MODULES = {"batch", "forces", "jax", "numba"}
 

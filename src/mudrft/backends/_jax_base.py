@@ -1,8 +1,5 @@
-"""Shared pieces of the JAX backend: float64 set-up, parameters as a pytree, safe namespace.
-
-See :mod:`mudrft.backends.jax` (the public module); this module is its foundation, so that
-:mod:`mudrft.backends.jax_terrain` can build on it without an import cycle.
-"""
+"""Foundation of the JAX backend (:mod:`mudrft.backends.jax`): float64, parameters as a
+pytree, the safe namespace."""
 
 from __future__ import annotations
 
@@ -23,24 +20,13 @@ if TYPE_CHECKING:
     from jax import Array
 
 __all__ = [
-    "JaxParams",
-    "enable_x64",
-    "from_jax",
-    "initial_state",
-    "is_tracer",
-    "safe_namespace",
+    "JaxParams", "enable_x64", "from_jax", "initial_state", "is_tracer", "safe_namespace",
     "to_jax",
-]
+]  # fmt: skip
 
 
 def enable_x64() -> ModuleType:
-    """Import jax, switch it to 64-bit floats (decision D70) and return the module.
-
-    Raises
-    ------
-    ImportError
-        If jax is not installed, with the command that installs it.
-    """
+    """Import jax, switch it to 64-bit floats (decision D70) and return the module."""
     try:
         import jax
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -51,8 +37,7 @@ def enable_x64() -> ModuleType:
 
 
 def is_tracer(x: object) -> bool:
-    """Whether ``x`` is a JAX tracer (inside ``jit``, ``grad``, ``vmap``...): its values
-    cannot be checked, only its static shape and dtype."""
+    """Whether ``x`` is a JAX tracer, whose values cannot be checked."""
     return isinstance(x, enable_x64().core.Tracer)
 
 
@@ -64,16 +49,13 @@ def _jnp() -> ModuleType:
 
 
 class JaxParams(NamedTuple):
-    """Parameters of the mud model as a JAX pytree (same names and units as MudParameters).
+    """Parameters of the mud model as a JAX pytree (names and units of MudParameters).
 
-    Every field is a float64 array: ``alpha`` [Pa], ``n`` [-], ``lam`` [s], ``eta_m``,
-    ``eta_inf`` [Pa s], ``gamma_dot_c`` [1/s], ``tau_build``, ``tau_leak`` [s],
-    ``epsilon`` [-], ``sigma_y`` [Pa], ``nu`` [1/s], ``k_a`` [1/s]. Fields may carry a batch
-    (leading axes) and, for the three channels of a foot, a trailing axis of 3 (x, y, z).
-
-    ``k_a`` is a field of its own: differentiating with respect to ``lam`` does not move
-    ``k_a``; use :meth:`with_default_k_a` to tie it to ``1/lam`` (decision D8) inside a
-    differentiated function (decision D72).
+    Float64 arrays ``alpha`` [Pa], ``n`` [-], ``lam`` [s], ``eta_m``, ``eta_inf`` [Pa s],
+    ``gamma_dot_c`` [1/s], ``tau_build``, ``tau_leak`` [s], ``epsilon`` [-], ``sigma_y``
+    [Pa], ``nu`` [1/s], ``k_a`` [1/s], with optional batch axes and, for a foot's x, y, z
+    channels, a trailing axis of 3. ``k_a`` does not follow ``lam`` under differentiation:
+    :meth:`with_default_k_a` ties it to ``1/lam`` (decision D72).
     """
 
     alpha: XpArray
@@ -100,25 +82,11 @@ class JaxParams(NamedTuple):
 
 
 def to_jax(params: MudParameters | Mud) -> JaxParams:
-    """Convert a parameter set, or a mud's three channel sets, into a :class:`JaxParams`.
+    """A parameter set, or a Mud's x, y, z channel sets (a trailing axis of 3), as a
+    :class:`JaxParams` of float64 JAX arrays.
 
-    Parameters
-    ----------
-    params : MudParameters or Mud
-        One set (fields keep their shape), or a Mud: its (horizontal, horizontal,
-        vertical) sets for the x, y, z channels of a foot (trailing axis of 3, as
-        :func:`mudrft.terrains.channel_parameters`).
-
-    Returns
-    -------
-    JaxParams
-        float64 JAX arrays.
-
-    Examples
-    --------
     >>> import mudrft
-    >>> p = to_jax(mudrft.paper_mud(0.25))
-    >>> p.alpha.shape
+    >>> to_jax(mudrft.paper_mud(0.25)).alpha.shape
     (3,)
     """
 
@@ -133,9 +101,8 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
 
 
 def check_params(params: object, *, channels: bool = False) -> None:
-    """``params`` must be a :class:`JaxParams` (from :func:`to_jax`); with ``channels``, the
-    mud's three channel sets (a trailing axis of 3, ``to_jax(mud)``). Works on traced
-    values (it reads the type and the static shape only)."""
+    """``params`` must be a :class:`JaxParams`; with ``channels``, ``to_jax(mud)`` (a
+    trailing axis of 3). Reads the type and the static shape only."""
     if not isinstance(params, JaxParams):
         raise MudrftError(
             f"params must be a JaxParams (mudrft.backends.jax.to_jax(...)), got {type(params).__name__}"
@@ -148,15 +115,8 @@ def check_params(params: object, *, channels: bool = False) -> None:
 
 
 def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
-    """Convert a :class:`JaxParams` back into a validated :class:`MudParameters`.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Concrete (not traced) parameters.
-    **meta
-        ``source``, ``water_content``, ``direction`` passed on to MudParameters.
-    """
+    """Concrete :class:`JaxParams` back into a validated :class:`MudParameters`; ``meta``
+    (``source``, ``water_content``, ``direction``) is passed on."""
     fields: dict[str, FloatOrArray] = {}
     for k in PARAMETER_UNITS:
         a = np.asarray(getattr(params, k), dtype=float)
@@ -167,33 +127,17 @@ def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
 def initial_state(
     shape: tuple[int, ...] = (), *, xi0: float = 0.0, gamma: ArrayLike = 0.0
 ) -> ChannelState:
-    """Undisturbed channel state as JAX arrays (see :func:`mudrft.constitutive.initial_state`).
-
-    Parameters
-    ----------
-    shape : tuple of int
-        Batch shape.
-    xi0 : float, keyword-only
-        Initial structure in [0, 1] [-].
-    gamma : float or array, keyword-only
-        Initial displacement [-].
-    """
+    """Undisturbed channel state of batch ``shape`` as JAX arrays, with structure ``xi0``
+    [-] and displacement ``gamma`` [-] (:func:`mudrft.constitutive.initial_state`)."""
 
     jnp = _jnp()
     return ChannelState(*(jnp.asarray(a) for a in np_initial(shape, xi0=xi0, gamma=gamma)))
 
 
 class _SafeNamespace:
-    """``jax.numpy`` with a square root whose derivative at 0 is 0 instead of infinite.
-
-    The surface rule takes square roots of sums of squares (facet area, horizontal part of a
-    normal) that are exactly 0 for horizontal facets; ``jnp.sqrt`` has an infinite derivative
-    there, and 0 x inf poisons every gradient with NaN even when the facet carries no load.
-    The value is unchanged; the derivative at 0 becomes 0, a valid one-sided choice for the
-    norms involved (decision D74). Likewise ``arccos`` (the curved feet's
-    :math:`\theta_c=\\cos^{-1}(1-z/R)`) gets a zero derivative at +-1, where it is infinite:
-    at the surface (z = 0) and at the rim.
-    """
+    """``jax.numpy`` whose ``sqrt`` has derivative 0 at 0 and ``arccos`` derivative 0 at
+    +-1 instead of infinite, so that unloaded facets do not poison gradients with NaN
+    (decision D74); values are unchanged."""
 
     def __init__(self, jnp: ModuleType) -> None:
         self._jnp = jnp
@@ -217,5 +161,6 @@ class _SafeNamespace:
 
 @functools.cache
 def safe_namespace() -> _SafeNamespace:
-    """The array namespace the JAX backend gives the feet's rules (see ``_SafeNamespace``)."""
+    """The array namespace the JAX backend gives the feet's rules (``jax.numpy``, safe
+    ``sqrt`` and ``arccos`` derivatives)."""
     return _SafeNamespace(_jnp())

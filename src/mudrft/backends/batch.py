@@ -1,48 +1,26 @@
-r"""Batched evaluation: one call advances N independent feet in mud.
+r"""Batched evaluation: :class:`BatchedMud` advances N feet of one shape, each with its own
+mud, state and motion, by the one terrain step of :class:`mudrft.MudTerrain`.
 
-:class:`BatchedMud` holds N feet of one shape, each with its own mud parameters, state,
-pose and velocity, and advances them together::
-
-    sim = BatchedMud(mud, mudrft.feet.Flat(), n=10_000)
-    forces = sim.step(position, velocity, dt)        # (N, 3) in, (N, 3) [N] out
-
-It runs the one terrain step (:func:`mudrft.terrains.mud.mud_step`) of
-:class:`mudrft.MudTerrain` on the whole batch: the parameters are validated
-once (by the MudTerrain), the inputs are checked once per call, the foot's vectorized
-force rule is called without re-validation, and no Python loop runs over feet or facets.
-
-Backends:
-
-``"numpy"`` (default)
-    :meth:`mudrft.MudTerrain.step_unchecked` on arrays; any foot.
-``"numba"``
-    The same step compiled (:mod:`mudrft.terrains.rows`, :mod:`mudrft.backends.numba`),
-    with the loop over feet in compiled code (multi-threaded from
-    :data:`~mudrft.backends.numba.PARALLEL_MIN` feet on); every foot of :mod:`mudrft.feet`.
-    A batch of one foot is the fast single-foot stepper for per-step coupling (a few
-    microseconds a step).
-``"jax"``
-    :func:`mudrft.backends.jax.terrain_step` (the same step with ``xp=jax.numpy``) compiled
-    with :func:`jax.jit`; closed-form and
-    mesh feet; the state stays on the JAX device (GPU if JAX has one).
-
-Per-foot parameters: give a :class:`~mudrft.parameters.base.Mud` whose parameter fields are
-arrays of shape (N,), or a list of N muds (stacked with
-:meth:`~mudrft.parameters.base.MudParameters.stack`).
+Backends: ``"numpy"`` (any foot), ``"numba"`` (compiled, multi-threaded from
+:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on; a batch of one is the fast single-foot
+stepper), ``"jax"`` (:func:`mudrft.backends.jax.terrain_step` under :func:`jax.jit`;
+closed-form and mesh feet). ``snapshot()`` and ``restore()`` save and restore the mud, for
+a planner's rollouts: bit-identical continuations, any number of times.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import replace
-from types import ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple, Self
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._typing import FloatOrArray
 from .._validation import (
     MudrftError,
     check_choice,
@@ -53,47 +31,90 @@ from .._validation import (
 from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters
-from ..terrains.mud import MudState
-from ._snapshot import (
-    Restorable,
-    Snapshot,
-    check_snapshot,
-    copy_foot_state,
-    frozen,
-    map_leaves,
-)
+from ..terrains.mud import MudChannels, MudState
 
 if TYPE_CHECKING:
     from jax import Array
 
-    from .forces import ForceRule
-
-__all__ = ["BACKENDS", "BatchedMud", "as_mud_terrain", "batched_channel_parameters", "batched_mud"]
+__all__ = ["BACKENDS", "BatchedMud", "Snapshot", "batched_channel_parameters", "batched_mud"]
 
 #: Backends of :class:`BatchedMud`.
 BACKENDS = ("numpy", "numba", "jax")
-#: Memory a foot of a batch needs at most [bytes]: its state, parameters and outputs, and the
-#: temporaries of a step on numpy arrays (about 200 arrays of one float a foot).
+#: Memory a foot of a batch needs at most [bytes] (state, outputs, numpy temporaries).
 BYTES_PER_FOOT = 2048
 
 
+class Snapshot(NamedTuple):
+    """The state of a :class:`BatchedMud` after a step, as ``snapshot()`` returns it:
+    ``state``, the mud under the feet (read-only arrays of shape (N,), which also step on in
+    :meth:`mudrft.MudTerrain.step`) and the foot mechanism's state (None for rigid feet);
+    ``force`` [N] and ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) of the last step."""
+
+    state: MudState
+    force: NDArray[np.float64]
+    stress: NDArray[np.float64]
+    depth: FloatOrArray
+
+
+def _map_leaves(fn: Any, tree: Any) -> Any:
+    """``fn`` applied to every leaf of nested named tuples."""
+    if isinstance(tree, tuple) and hasattr(tree, "_fields"):
+        return type(tree)(*(_map_leaves(fn, v) for v in tree))
+    return fn(tree)
+
+
+def _leaves(tree: Any) -> list[Any]:
+    if isinstance(tree, tuple) and hasattr(tree, "_fields"):
+        return [leaf for v in tree for leaf in _leaves(v)]
+    return [tree]
+
+
+def _frozen(value: Any) -> Any:
+    """A read-only float copy of an array (a Python float stays as it is)."""
+    if isinstance(value, float):
+        return value
+    out = np.array(value, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+def _copy_foot_state(foot_state: Any) -> Any:
+    """An independent copy of a foot mechanism's state (None for rigid feet)."""
+    if foot_state is None:
+        return None
+    if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
+        return _map_leaves(_frozen, foot_state)
+    return copy.deepcopy(foot_state)
+
+
+def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
+    """The channels of ``snapshot`` for feet of shape ``batch``; a snapshot of one foot
+    (shape () or (1,)) is broadcast to every foot."""
+    if not isinstance(snapshot, Snapshot) or not isinstance(snapshot.state, MudState):
+        raise MudrftError(
+            f"snapshot must be what BatchedMud.snapshot() returned, got {type(snapshot).__name__}"
+        )
+    ch = snapshot.state.channels
+    shapes = {np.shape(leaf) for leaf in _leaves(ch)}
+    if len(shapes) == 1 and shapes < {(), (1,)}:
+        (one,) = shapes
+        ch = _map_leaves(lambda v: np.broadcast_to(v, batch), ch)
+    else:
+        one = batch
+    outputs = {np.shape(snapshot.force), np.shape(snapshot.stress)}
+    if shapes != {one} or outputs != {(*one, 3)} or np.shape(snapshot.depth) != one:
+        raise MudrftError(
+            f"snapshot must hold the mud under BatchedMud's feet (state arrays of shape {batch}"
+            f", or () for one foot), "
+            f"got state arrays of shape(s) {sorted(shapes)}: a snapshot of another stepper?"
+        )
+    return ch
+
+
 def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameters:
-    """Channel parameters (x, y, z) for N feet: fields of shape (3,) if shared, else (N, 3).
+    """Channel parameters (x, y, z) of ``mud`` (one Mud or ``n`` muds) for ``n`` feet,
+    validated: fields of shape (3,) if shared, else (n, 3).
 
-    Parameters
-    ----------
-    mud : Mud or sequence of Mud
-        One mud for all feet (its fields scalars or arrays of shape (N,)), or N muds.
-    n : int
-        Number of feet.
-
-    Returns
-    -------
-    MudParameters
-        Validated, with a trailing channel axis of 3.
-
-    Examples
-    --------
     >>> import mudrft
     >>> muds = [mudrft.paper_mud(w) for w in (0.25, 0.3, 0.35)]
     >>> batched_channel_parameters(muds, 3).alpha.shape
@@ -103,15 +124,8 @@ def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameter
 
 
 def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
-    """One Mud for N feet: fields scalars (shared) or arrays of shape (N,) (one set per foot).
-
-    Parameters
-    ----------
-    mud : Mud or sequence of Mud
-        One mud for all feet (its fields scalars or arrays of shape (N,)), or N muds.
-    n : int
-        Number of feet.
-    """
+    """One Mud for ``n`` feet from one Mud or ``n`` muds: fields scalars (shared) or arrays
+    of shape (n,) (one set per foot)."""
     if isinstance(mud, Mud):
         out = mud
     elif (
@@ -139,61 +153,25 @@ def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
     return out
 
 
-def as_mud_terrain(mud: Mud | MudTerrain, **options: Any) -> MudTerrain:
-    """A :class:`~mudrft.MudTerrain` (returned as is) or a Mud wrapped with ``options``.
-
-    The options (``characteristic_length``, ``acceleration``, ...) are validated by
-    MudTerrain. A MudTerrain carries its own options, so giving more is an error (they
-    were ignored), as is an option MudTerrain does not have.
-    """
-    known = [f.name for f in dataclasses.fields(MudTerrain) if f.name != "mud"]
-    unknown = sorted(set(options) - set(known))
-    if unknown:
-        raise MudrftError(f"unknown mud option(s) {unknown}; the options are {known}")
-    if isinstance(mud, MudTerrain):
-        if options:
-            raise MudrftError(
-                f"{sorted(options)} cannot be set here: mud is a MudTerrain, which carries "
-                "its own options; set them there (MudTerrain(mud, ...)) or pass the Mud"
-            )
-        return mud
-    return MudTerrain(mud, **options)
-
-
-class BatchedMud(Restorable):
-    """N feet of one shape in mud, advanced together (see module docstring).
+class BatchedMud:
+    """N feet of one shape in mud, advanced together (see the module docstring); after each
+    step ``force`` [N], ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) hold its outputs.
 
     Parameters
     ----------
     mud : Mud, sequence of Mud, or MudTerrain
-        The mud of every foot: one shared Mud, a Mud with array fields of shape (N,), a list
-        of N muds, or a :class:`mudrft.MudTerrain` (its mud and options are used).
+        One shared Mud, a Mud with fields of shape (N,), N muds, or a
+        :class:`mudrft.MudTerrain` (its mud and options).
     foot : Foot
         The foot shape shared by the batch.
     n : int
         Number of feet N.
     position : array_like, shape (N, 3) or (3,), keyword-only
-        Initial tip positions [m]; default (0, 0, 0) (on the surface).
+        Initial tip positions [m]; default (0, 0, 0).
     backend : {"numpy", "numba", "jax"}, keyword-only
-        Kernel (see module docstring). Default "numpy".
+        Kernel (see the module docstring).
     **options
-        Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m],
-        ``acceleration``, ``thixotropy``, ``clock``, ``reset_on_exit``, ``xi0``,
-        ``heading_speed``). A MudTerrain carries its own options, so giving any with
-        one is an error (:class:`~mudrft.MudrftError`).
-
-    Attributes
-    ----------
-    n : int
-        Number of feet.
-    params : MudParameters
-        Channel parameters, fields of shape (3,) or (N, 3).
-    terrain : MudTerrain
-        The mud of the batch (fields scalars or of shape (N,)) with its validated options.
-    force, stress : ndarray (N, 3)
-        Force [N] and channel stresses [Pa] of the last step.
-    depth : ndarray (N,)
-        Tip depths [m] after the last step.
+        Options of :class:`mudrft.MudTerrain` (``characteristic_length`` [m], ...).
 
     Examples
     --------
@@ -208,16 +186,9 @@ class BatchedMud(Restorable):
     """
 
     def __init__(
-        self,
-        mud: Mud | MudTerrain | Sequence[Mud],
-        foot: Foot,
-        n: int,
-        *,
-        position: ArrayLike | None = None,
-        backend: str = "numpy",
-        **options: Any,
-    ) -> None:
-
+        self, mud: Mud | MudTerrain | Sequence[Mud], foot: Foot, n: int, *,
+        position: ArrayLike | None = None, backend: str = "numpy", **options: Any,
+    ) -> None:  # fmt: skip
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise MudrftError(f"n must be an integer >= 1 (number of feet), got {n!r}")
         check_memory(
@@ -231,16 +202,28 @@ class BatchedMud(Restorable):
         self._args = (mud, foot, int(n), self.backend, options)  # to unpickle
         self.n = int(n)
         self.foot = foot
-        base = as_mud_terrain(
-            mud if isinstance(mud, MudTerrain | Mud) else batched_mud(mud, self.n), **options
-        )
+        if not isinstance(mud, MudTerrain | Mud):
+            mud = batched_mud(mud, self.n)
+        known = [f.name for f in dataclasses.fields(MudTerrain) if f.name != "mud"]
+        unknown = sorted(set(options) - set(known))
+        if unknown:
+            raise MudrftError(f"unknown mud option(s) {unknown}; the options are {known}")
+        if isinstance(mud, MudTerrain):
+            if options:
+                raise MudrftError(
+                    f"{sorted(options)} cannot be set here: mud is a MudTerrain, which carries "
+                    "its own options; set them there (MudTerrain(mud, ...)) or pass the Mud"
+                )
+            base = mud
+        else:
+            base = MudTerrain(mud, **options)
         self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
-        # one foot on numpy: MudTerrain's step on Python floats (the same one definition,
-        # without ~100 small-array operations per step; docs/performance.md)
+        # one foot on numpy: MudTerrain's step on Python floats (docs/performance.md)
         self._one: MudTerrain | None = None
         if self.backend == "numpy" and self.n == 1:
-            one = mud[0] if isinstance(mud, Sequence) and len(mud) == 1 else base.mud
+            given = self._args[0]
+            one = given[0] if isinstance(given, Sequence) and len(given) == 1 else base.mud
             if isinstance(one, Mud) and one.vertical.shape == one.horizontal.shape == ():
                 self._one = replace(base, mud=one)
         self.characteristic_length = self.terrain.length(foot)
@@ -273,40 +256,28 @@ class BatchedMud(Restorable):
                     f"backend 'jax' supports the flat, semi-cylinder, semi-sphere and mesh feet, "
                     f"got {type(self.foot).__name__}; use backend='numpy'"
                 )
-            self._jax_setup(mjax, fn)
+            jax = mjax.enable_x64()
+            from jax.flatten_util import ravel_pytree
 
-    def _jax_setup(self, mjax: ModuleType, fn: ForceRule) -> None:
-        jax = mjax.enable_x64()
-        jp = mjax.to_jax(self.params)
-        t = self.terrain
-        opts = {
-            "force_fn": fn,
-            "characteristic_length": self.characteristic_length,
-            "acceleration": t.acceleration,
-            "thixotropy": t.thixotropy,
-            "clock": t.clock,
-            "reset_on_exit": t.reset_on_exit,
-            "xi0": t.xi0,
-            "heading_speed": t.heading_speed,
-        }
+            jp, t, lc = mjax.to_jax(self.params), self.terrain, self.characteristic_length
+            names = ("acceleration", "thixotropy", "clock", "reset_on_exit", "xi0", "heading_speed")
+            opts = {k: getattr(t, k) for k in names}
+            # the state crosses the jit boundary as one flat array (dispatch costs per leaf)
+            st0 = mjax.initial_terrain_state(np.zeros((self.n, 3)), lc, xi0=t.xi0)
+            unravel = ravel_pytree(st0)[1]
 
-        from jax.flatten_util import ravel_pytree
+            def one(
+                flat: Array, pos: Array, vel: Array, dt: float
+            ) -> tuple[Array, tuple[Array, Array, Array]]:
+                st, out = mjax.terrain_step(
+                    jp, unravel(flat), pos, vel, dt, force_fn=fn, characteristic_length=lc, **opts
+                )
+                return ravel_pytree(st)[0], out
 
-        # the state crosses the jit boundary as one flat array: jit dispatch costs per leaf,
-        # and the terrain state has 25 (docs/performance.md)
-        n, lc, xi0 = self.n, self.characteristic_length, t.xi0
-        _, unravel = ravel_pytree(mjax.initial_terrain_state(np.zeros((n, 3)), lc, xi0=xi0))
-
-        def one(
-            flat: Array, pos: Array, vel: Array, dt: float
-        ) -> tuple[Array, tuple[Array, Array, Array]]:
-            st, out = mjax.terrain_step(jp, unravel(flat), pos, vel, dt, **opts)
-            return ravel_pytree(st)[0], out
-
-        self._jax_step = jax.jit(one)
-        self._jax_ravel = lambda st: ravel_pytree(st)[0]
-        self._jax_unravel = unravel
-        self._mjax = mjax
+            self._jax_step = jax.jit(one)
+            self._jax_ravel = lambda st: ravel_pytree(st)[0]
+            self._jax_unravel = unravel
+            self._mjax = mjax
 
     # -- state ----------------------------------------------------------------------------
     def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
@@ -355,19 +326,9 @@ class BatchedMud(Restorable):
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` and return the forces of the mud on them.
 
-        Parameters
-        ----------
-        position : array_like, shape (N, 3)
-            Tip positions at the end of the step [m] (world frame, z up, surface z = 0).
-        velocity : array_like, shape (N, 3)
-            Tip velocities [m/s].
-        dt : float
-            Step [s], > 0.
-
-        Returns
-        -------
-        ndarray, shape (N, 3)
-            Forces [N] (world frame; also in :attr:`force`).
+        ``position`` [m] (world frame, at the end of the step) and ``velocity`` [m/s] have
+        shape (N, 3) or (3,); ``dt`` [s] > 0. Returns the forces (N, 3) [N], also in
+        :attr:`force`.
         """
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
@@ -401,43 +362,37 @@ class BatchedMud(Restorable):
 
     # -- snapshots ----------------------------------------------------------
     def snapshot(self) -> Snapshot:
-        """Every foot's state after the last step, a copy to :meth:`restore` later.
-
-        Returns
-        -------
-        Snapshot
-            The mud under the feet (read-only arrays of shape (N,), the same on every
-            backend), the foot mechanism's state, and :attr:`force` [N], :attr:`stress`
-            [Pa] and :attr:`depth` [m]; no later step changes it.
-        """
+        """Every foot's state after the last step (the same on every backend), a read-only
+        copy to :meth:`restore` later."""
         foot_state = None
         if self.backend == "numba":
-            from ..terrains.rows import channels_of_rows
+            from ..feet.morphing.equilibrium import MorphingState
+            from ..terrains.rows import MORPHING, channels_of_rows
 
-            ch = channels_of_rows(self._st)
-            foot_state = self._foot_state_of_rows()
+            ch, f = channels_of_rows(self._st), self._fst
+            if self._geom[0] == MORPHING:
+                foot_state = MorphingState(
+                    deflection=f[:, 0], pad_angle=f[:, 1], most_spread=f[:, 2]
+                )
         elif self.backend == "jax":
             ch = self._jax_unravel(self._jst)
         else:
             ch, foot_state = self._state.channels, self._state.foot
         n = (self.n,)
-        ch = map_leaves(lambda v: frozen(np.broadcast_to(np.asarray(v, dtype=float), n)), ch)
-        state = MudState(channels=ch, foot=copy_foot_state(foot_state))
-        return Snapshot(state, frozen(self.force), frozen(self.stress), frozen(self.depth))
+        ch = _map_leaves(lambda v: _frozen(np.broadcast_to(np.asarray(v, dtype=float), n)), ch)
+        state = MudState(channels=ch, foot=_copy_foot_state(foot_state))
+        return Snapshot(state, _frozen(self.force), _frozen(self.stress), _frozen(self.depth))
 
     def restore(self, snapshot: Snapshot) -> None:
-        """Put every foot back into the state of ``snapshot`` (from :meth:`snapshot` of a
-        ``BatchedMud`` of the same feet, any backend); the steps after it are those that
-        followed the snapshot, bit for bit on the same backend. The snapshot of a
-        batch of one foot puts every foot into its state: candidate futures of one foot,
-        stepped together."""
+        """Put every foot back into the state of ``snapshot`` (of a ``BatchedMud`` of the same
+        feet, any backend); a snapshot of one foot puts every foot into its state."""
         n = (self.n,)
-        ch = check_snapshot(snapshot, n, "BatchedMud", one_for_all=True)
-        foot_state = copy_foot_state(snapshot.state.foot)
+        ch = _check_snapshot(snapshot, n)
+        foot_state = _copy_foot_state(snapshot.state.foot)
         if self.backend == "numba":
             from ..terrains.rows import N_OUT, state_rows
 
-            # fresh arrays (the compiled step writes into them): a copy must not share them
+            # fresh arrays: the compiled step writes into them
             self._st, self._out = state_rows(ch), np.zeros((1, self.n, N_OUT))
             self._fst = np.tile(self._fst0, (self.n, 1))
             if foot_state is not None:
@@ -447,28 +402,30 @@ class BatchedMud(Restorable):
         elif self.backend == "jax":
             self._jst = self._jax_ravel(ch)
         elif self._one is not None:
-            self._state = MudState(channels=map_leaves(lambda v: float(v[0]), ch), foot=foot_state)
+            self._state = MudState(channels=_map_leaves(lambda v: float(v[0]), ch), foot=foot_state)
         else:
             self._state = MudState(channels=ch, foot=foot_state)
         self.force = np.array(np.broadcast_to(snapshot.force, (*n, 3)), dtype=float)
         self.stress = np.array(np.broadcast_to(snapshot.stress, (*n, 3)), dtype=float)
         self.depth = np.array(np.broadcast_to(snapshot.depth, n), dtype=float)
 
-    def _foot_state_of_rows(self) -> Any:
-        """The morphing foot's :class:`~mudrft.feet.morphing.equilibrium.MorphingState` of
-        the compiled rows (None for other feet)."""
-        from ..terrains.rows import MORPHING
+    # copies and pickles own their state (a snapshot, restored) and share the rest
+    def __copy__(self) -> Self:
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.restore(self.snapshot())
+        return new
 
-        if self._geom[0] != MORPHING:
-            return None
-        from ..feet.morphing.equilibrium import MorphingState
+    def __deepcopy__(self, memo: dict[int, Any]) -> Self:
+        return self.__copy__()
 
-        f = self._fst
-        return MorphingState(deflection=f[:, 0], pad_angle=f[:, 1], most_spread=f[:, 2])
+    def __getstate__(self) -> dict[str, Any]:
+        return {"args": self._args, "snapshot": self.snapshot()}
 
-    def _init_args(self) -> tuple[tuple[Any, ...], dict[str, Any]]:
-        mud, foot, n, backend, options = self._args
-        return (mud, foot, n), {"backend": backend, **options}
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        mud, foot, n, backend, options = state["args"]
+        self.__init__(mud, foot, n, backend=backend, **options)  # type: ignore[misc]
+        self.restore(state["snapshot"])
 
     def __repr__(self) -> str:
         return f"BatchedMud(n={self.n}, foot={self.foot!r}, backend={self.backend!r})"

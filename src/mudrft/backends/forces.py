@@ -1,18 +1,5 @@
-"""Force functions of the feet for the batched and JAX backends: no validation, any ``xp``.
-
-:func:`force_function` turns a foot into ``f(depth, stress, heading) -> force`` (world frame,
-signed stresses, any heading, shapes broadcasting as in :meth:`mudrft.feet.base.Foot.force`)
-built from the feet's own element-wise rules, called with an array namespace ``xp``:
-
-* closed-form feet (:class:`~mudrft.feet.Flat`, :class:`~mudrft.feet.SemiCylinder`,
-  :class:`~mudrft.feet.SemiSphere`): :meth:`~mudrft.feet.base.Foot.force_array`
-  (the closed form and the heading rule, decision D9);
-* :class:`~mudrft.feet.MeshFoot`: :func:`mudrft.feet.surface.integrate_prepared` on the
-  foot's prepared triangles (the vector rule, any heading, no folding).
-
-Validation is left out on purpose: the batched hot loop validates its inputs once per call,
-and a JAX tracer cannot be validated.
-"""
+"""Force rules of the feet for the batched and JAX backends, on any ``xp``, unvalidated
+(a JAX tracer cannot be validated)."""
 
 from __future__ import annotations
 
@@ -35,29 +22,14 @@ ForceRule: TypeAlias = Callable[[XpArray, XpArray, XpArray], XpArray]
 
 
 def force_function(foot: Foot, xp: Namespace = np) -> ForceRule | None:
-    """``f(depth, stress, heading) -> world force (..., 3)`` [N] for a rigid foot, or None.
+    """``f(depth, stress, heading) -> world force (..., 3)`` [N] of a rigid foot on the array
+    namespace ``xp``, or None for feet without a vectorized rule (the morphing foot).
 
-    Parameters
-    ----------
-    foot : Foot
-        A foot of :mod:`mudrft.feet`.
-    xp : module, keyword-only
-        Array namespace (``numpy`` or ``jax.numpy``).
-
-    Returns
-    -------
-    callable or None
-        None for feet without a vectorized rule here (e.g. the morphing foot, whose state
-        needs :meth:`~mudrft.feet.base.Foot.contact_force`).
-
-    Examples
-    --------
     >>> import mudrft
     >>> f = force_function(mudrft.feet.Flat())
     >>> f(0.01, [1e3, 1e3, 1e3], 0.0).round(3).tolist()
     [-1.45, -0.0, 5.2]
     """
-
     if getattr(foot, "elementwise", False) and foot.initial_foot_state() is None:
 
         def rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:

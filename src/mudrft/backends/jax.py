@@ -1,26 +1,12 @@
 r"""JAX backend: jit-compiled, vmapped and differentiable versions of the mud model.
 
-Optional extra ``jax`` (``pip install 'mudrft[jax]'``); ``jax`` is imported on the first
-call of a function of this module, not at import time. The backend reuses the library's
-own update rules with ``xp=jax.numpy`` instead of rewriting them:
-
-* :func:`step` is :func:`mudrft.constitutive.dynamics.step` compiled with :func:`jax.jit`;
-  :func:`batched_step` maps it over a leading batch axis with :func:`jax.vmap` (one set of
-  parameters, one state and one input per foot);
-* :func:`run` is :func:`mudrft.constitutive.dynamics.run` as a :func:`jax.lax.scan`;
-* :func:`mesh_force` integrates a triangulated foot with
-  :func:`mudrft.feet.surface.integrate_triangles` (``xp=jax.numpy``), differentiable with
-  respect to the vertices;
-* :func:`terrain_step` and :func:`simulate` are :class:`mudrft.MudTerrain` (three channels
-  per foot, entry point, reset on exit, heading) for a rigid foot given as a force function.
-
-Parameters cannot travel as :class:`~mudrft.parameters.base.MudParameters` (its fields are
-validated with numpy, which a tracer cannot pass), so :func:`to_jax` converts them into a
-:class:`JaxParams` pytree with the same attribute names, including ``k_r``.
-
-Precision: the first call of any function here switches JAX to 64-bit floats
-(``jax.config.update("jax_enable_x64", True)``, a process-wide JAX setting; decision D70),
-so results agree with the numpy backend to rounding.
+Optional extra ``jax``, imported on first call. The library's own update rules run with
+``xp=jax.numpy``: :func:`step` and :func:`run` are :func:`mudrft.constitutive.dynamics.step`
+under :func:`jax.jit` and :func:`jax.lax.scan`, :func:`batched_step` maps the step with
+:func:`jax.vmap`, :func:`mesh_force` integrates a triangulated foot (differentiable in its
+vertices), and :func:`terrain_step` and :func:`simulate` are :class:`mudrft.MudTerrain` for
+a rigid foot. Parameters travel as a :class:`JaxParams` pytree (:func:`to_jax`). The first
+call switches JAX to 64-bit floats process-wide (decision D70).
 
 Examples
 --------
@@ -74,43 +60,24 @@ if TYPE_CHECKING:
     from jax.typing import ArrayLike as JaxArrayLike
 
 __all__ = [
-    "JaxParams",
-    "TerrainState",
-    "batched_step",
-    "enable_x64",
-    "from_jax",
-    "initial_state",
-    "initial_terrain_state",
-    "mesh_force",
-    "mud_constants",
-    "run",
-    "safe_namespace",
-    "simulate",
-    "step",
-    "terrain_step",
-    "to_jax",
-]
+    "JaxParams", "TerrainState", "batched_step", "enable_x64", "from_jax", "initial_state",
+    "initial_terrain_state", "mesh_force", "mud_constants", "run", "safe_namespace",
+    "simulate", "step", "terrain_step", "to_jax",
+]  # fmt: skip
 
 
 @functools.cache
 def _compiled() -> dict[str, Any]:
-    """Build the jit-compiled functions once (jax is imported here)."""
+    """The jit-compiled functions, built once."""
     jax = enable_x64()
     import jax.numpy as jnp
 
     static = ("acceleration", "thixotropy", "clock")
 
     def one_step(
-        p: JaxParams,
-        st: ChannelState,
-        g: Array,
-        gd: Array,
-        dt: Array,
-        seal: Array,
-        acceleration: bool | None,
-        thixotropy: str,
-        clock: str,
-    ) -> tuple[ChannelState, ChannelStress]:
+        p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array,
+        acceleration: bool | None, thixotropy: str, clock: str,
+    ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
         return dynamics.step(
             p, st, g, gd, dt, seal=seal, acceleration=acceleration,  # type: ignore[arg-type]
             thixotropy=thixotropy, clock=clock, xp=jnp,
@@ -119,35 +86,20 @@ def _compiled() -> dict[str, Any]:
     step_jit = jax.jit(one_step, static_argnames=static)
 
     def vstep(
-        p: JaxParams,
-        st: ChannelState,
-        g: Array,
-        gd: Array,
-        dt: Array,
-        seal: Array,
-        acceleration: bool | None,
-        thixotropy: str,
-        clock: str,
-    ) -> tuple[ChannelState, ChannelStress]:
-        def member(
-            p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array
-        ) -> tuple[ChannelState, ChannelStress]:
-            return one_step(p, st, g, gd, dt, seal, acceleration, thixotropy, clock)
-
+        p: JaxParams, st: ChannelState, g: Array, gd: Array, dt: Array, seal: Array,
+        acceleration: bool | None, thixotropy: str, clock: str,
+    ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
+        member = functools.partial(
+            one_step, acceleration=acceleration, thixotropy=thixotropy, clock=clock
+        )
         return jax.vmap(member, in_axes=(0, 0, 0, 0, None, 0))(p, st, g, gd, dt, seal)  # type: ignore[no-any-return]
 
     vstep_jit = jax.jit(vstep, static_argnames=static)
 
     def run_impl(
-        p: JaxParams,
-        t: Array,
-        g: Array,
-        st0: ChannelState,
-        seal: Array,
-        acceleration: bool | None,
-        thixotropy: str,
-        clock: str,
-    ) -> tuple[Array, Array, Array, Array, Array]:
+        p: JaxParams, t: Array, g: Array, st0: ChannelState, seal: Array,
+        acceleration: bool | None, thixotropy: str, clock: str,
+    ) -> tuple[Array, Array, Array, Array, Array]:  # fmt: skip
         dts = t[1:] - t[:-1]
         dts_b = dts.reshape(dts.shape + (1,) * (g.ndim - 1))
         rates = (g[1:] - g[:-1]) / dts_b
@@ -168,7 +120,6 @@ def _compiled() -> dict[str, Any]:
     run_jit = jax.jit(run_impl, static_argnames=static)
 
     def mesh_impl(v: Array, f: Array, d: Array, s: Array, h: Array, trailing: bool) -> Array:
-
         return integrate_triangles(v[f], d, s, h, trailing=trailing, xp=safe_namespace())
 
     mesh_jit = jax.jit(mesh_impl, static_argnames=("trailing",))
@@ -182,7 +133,7 @@ def _check_state(state: ChannelState, made_by: str) -> None:
 
 
 def _check_concrete(gamma: object, gamma_dot: object, dt: object, seal: object) -> None:
-    """The checks of :func:`mudrft.constitutive.step` on the inputs that are not traced."""
+    """The checks of :func:`mudrft.constitutive.step` on the concrete inputs."""
     for name, value in (("gamma", gamma), ("gamma_dot", gamma_dot)):
         if not is_tracer(value):
             check_finite(name, value)
@@ -193,50 +144,19 @@ def _check_concrete(gamma: object, gamma_dot: object, dt: object, seal: object) 
 
 
 def step(
-    params: JaxParams,
-    state: ChannelState,
-    gamma: JaxArrayLike,
-    gamma_dot: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    seal: JaxArrayLike = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[ChannelState, ChannelStress]:
-    """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`, ``xp=jax.numpy``).
+    params: JaxParams, state: ChannelState, gamma: JaxArrayLike, gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike, *, seal: JaxArrayLike = 1.0, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
+    """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`).
 
-    Parameters
-    ----------
-    params : JaxParams
-        From :func:`to_jax`; fields broadcast with the state.
-    state : ChannelState
-        State at the start of the step (JAX or numpy arrays).
-    gamma : array_like
-        Dimensionless displacement at the end of the step [-].
-    gamma_dot : array_like
-        Dimensionless rate over the step [1/s].
-    dt : float or array_like
-        Step [s], > 0.
-    seal : array_like, keyword-only
-        Sealing factor in [0, 1] [-].
-    acceleration : bool or None, keyword-only
-        Keep the acceleration term (decision D6); static under jit.
-    thixotropy, clock : str, keyword-only
-        Evaluation (:func:`mudrft.constitutive.dynamics.evaluation`, decision D15); static.
-
-    Returns
-    -------
-    state : ChannelState
-        New state (JAX arrays).
-    stress : ChannelStress
-        Stresses [Pa].
-
-    Notes
-    -----
-    Concrete inputs are checked (``dt`` > 0, finite ``gamma`` and ``gamma_dot``, ``seal`` in
-    [0, 1]); inside the caller's own ``jax.jit`` they are tracers, whose values cannot be
-    checked: there a bad value gives NaN, as any JAX function does.
+    ``params`` from :func:`to_jax` broadcast with the ``state``; ``gamma`` is the
+    dimensionless displacement at the end of the step [-], ``gamma_dot`` the rate over it
+    [1/s], ``dt`` the step [s] > 0 and ``seal`` the sealing factor in [0, 1] [-];
+    ``acceleration``, ``thixotropy`` and ``clock`` choose the evaluation
+    (:func:`mudrft.constitutive.dynamics.evaluation`) and are static under jit. Concrete
+    inputs are checked; traced ones (inside the caller's ``jit``) cannot be. Returns the
+    new :class:`~mudrft.constitutive.state.ChannelState` and the stresses [Pa].
     """
     check_params(params)
     _check_state(state, "initial_state(...)")
@@ -247,51 +167,22 @@ def step(
 
 
 def batched_step(
-    params: JaxParams,
-    state: ChannelState,
-    gamma: JaxArrayLike,
-    gamma_dot: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    seal: JaxArrayLike | None = None,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[ChannelState, ChannelStress]:
-    """:func:`step` mapped with :func:`jax.vmap` over a leading axis of N independent channels.
+    params: JaxParams, state: ChannelState, gamma: JaxArrayLike, gamma_dot: JaxArrayLike,
+    dt: JaxArrayLike, *, seal: JaxArrayLike | None = None, acceleration: bool | None = None,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
+    """:func:`step` mapped with :func:`jax.vmap` over a leading axis of N channels.
 
-    Parameters
-    ----------
-    params : JaxParams
-        Fields of shape ``(N, ...)``: one parameter set per member of the batch.
-    state : ChannelState
-        Fields of shape ``(N, ...)``.
-    gamma, gamma_dot : array_like, shape (N, ...)
-        Displacement [-] and rate [1/s] per member.
-    dt : float
-        Step shared by the batch [s], a scalar.
-    seal : array_like, shape (N, ...), keyword-only
-        Sealing factor per member [-]; default ones.
-    acceleration : bool or None, keyword-only
-        Keep the acceleration term (decision D6).
-    thixotropy, clock : str, keyword-only
-        Evaluation (decision D15), as :func:`step`.
-
-    Returns
-    -------
-    state, stress
-        As :func:`step`, with the leading batch axis.
+    ``params``, ``state``, ``gamma`` [-], ``gamma_dot`` [1/s] and ``seal`` [-] (default
+    ones) have a leading axis N (parameters may also be scalars); ``dt`` [s] is one number
+    shared by the batch. Other options and the returns as :func:`step`.
     """
     check_params(params)
     jnp = _jnp()
     g = jnp.asarray(gamma, dtype=float)
     if g.ndim == 0:
         raise MudrftError("gamma must have a leading batch axis (N, ...), got a scalar")
-    s = (
-        jnp.ones_like(g)
-        if seal is None
-        else jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
-    )
+    s = jnp.broadcast_to(jnp.asarray(1.0 if seal is None else seal, dtype=float), g.shape)
     n = g.shape[0]
     if jnp.ndim(dt):
         raise MudrftError(
@@ -313,12 +204,7 @@ def batched_step(
                 f"per member of the batch), got shape {jnp.shape(f)}"
             )
     p = JaxParams(
-        *(
-            jnp.broadcast_to(jnp.asarray(f, dtype=float), (n, *jnp.shape(f)[1:]))
-            if jnp.ndim(f)
-            else jnp.full((n,), f)
-            for f in params
-        )
+        *(jnp.broadcast_to(jnp.asarray(f, float), (n, *jnp.shape(f)[1:])) for f in params)
     )
     return _compiled()["vstep"](
         p, state, g, jnp.asarray(gamma_dot, dtype=float), dt, s, acceleration, thixotropy, clock
@@ -326,47 +212,20 @@ def batched_step(
 
 
 def run(
-    params: JaxParams,
-    time: JaxArrayLike,
-    gamma: JaxArrayLike,
-    *,
-    state: ChannelState | None = None,
-    seal: JaxArrayLike = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
+    params: JaxParams, time: JaxArrayLike, gamma: JaxArrayLike, *,
+    state: ChannelState | None = None, seal: JaxArrayLike = 1.0,
+    acceleration: bool | None = None, thixotropy: str = "ode", clock: str = "contact",
     xi0: float = 0.0,
-) -> ChannelHistory:
-    """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`.
+) -> ChannelHistory:  # fmt: skip
+    """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`,
+    differentiable with respect to ``params``, ``gamma`` and ``state``.
 
-    Differentiable with respect to ``params``, ``gamma`` and ``state``.
+    ``time`` (n,) are strictly increasing times [s] and ``gamma`` (n, ...) the
+    dimensionless displacement at them [-]; ``state`` defaults to undisturbed mud with
+    structure ``xi0`` [-] at ``gamma[0]``; ``seal`` [-] is a scalar or of shape (n, ...);
+    the other options as :func:`step`. Returns a
+    :class:`~mudrft.constitutive.dynamics.ChannelHistory` of JAX arrays.
 
-    Parameters
-    ----------
-    params : JaxParams
-        Model constants (:func:`to_jax`).
-    time : array_like, shape (n,)
-        Strictly increasing times [s] (checked when concrete).
-    gamma : array_like, shape (n,) or (n, ...)
-        Dimensionless displacement at the samples [-].
-    state : ChannelState, optional, keyword-only
-        Initial state; default undisturbed mud with ``xi0`` and ``gamma[0]``.
-    seal : array_like, keyword-only
-        Sealing factor, scalar or shape (n, ...) [-].
-    acceleration : bool or None, keyword-only
-        Keep the acceleration term (decision D6).
-    thixotropy, clock : str, keyword-only
-        Evaluation (decision D15), as :func:`step`.
-    xi0 : float, keyword-only
-        Initial structure when ``state`` is None [-].
-
-    Returns
-    -------
-    ChannelHistory
-        Same fields as the numpy version, as JAX arrays.
-
-    Examples
-    --------
     >>> import numpy as np, mudrft
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> h = run(to_jax(mudrft.paper_parameters(0.25)), t, 0.2 * t)
@@ -393,13 +252,12 @@ def run(
     dynamics.check_parameter_shapes(
         {k: jnp.shape(f) for k, f in zip(JaxParams._fields, params, strict=True)}, g.shape[1:]
     )
+    z = jnp.zeros(g.shape[1:])
     if state is None:
-        z = jnp.zeros(g.shape[1:])
         state = ChannelState(
             gamma=g[0] + z, gamma_w=g[0] + z, xi=z + xi0, s_th=z, sigma_s=z, clock=z, clock_w=z
         )
     else:  # a state built without clocks carries them as Python zeros: give them its shape
-        z = jnp.zeros(g.shape[1:])
         state = state._replace(clock=z + state.clock, clock_w=z + state.clock_w)
     sl = jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
     total, el, th, su, xi = _compiled()["run"](
@@ -410,53 +268,26 @@ def run(
     )
 
 
-# ---------------------------------------------------------------------------------------
-# surface integration and the terrain step
-# ---------------------------------------------------------------------------------------
 def mesh_force(
-    vertices: JaxArrayLike,
-    faces: JaxArrayLike,
-    depth: JaxArrayLike,
-    stress: JaxArrayLike,
-    heading: JaxArrayLike,
-    *,
-    trailing: bool = False,
-) -> Array:
-    """Force of the mud on a triangulated foot, in JAX (differentiable in ``vertices``).
+    vertices: JaxArrayLike, faces: JaxArrayLike, depth: JaxArrayLike, stress: JaxArrayLike,
+    heading: JaxArrayLike, *, trailing: bool = False,
+) -> Array:  # fmt: skip
+    """Force of the mud on a triangulated foot [N], (..., 3) in the world frame,
+    differentiable in ``vertices``: :func:`mudrft.feet.surface.integrate_triangles` on
+    ``vertices[faces]``.
 
-    Calls :func:`mudrft.feet.surface.integrate_triangles` with ``xp=jax.numpy`` on the
-    triangles ``vertices[faces]``.
-
-    Parameters
-    ----------
-    vertices : array_like, shape (v, 3)
-        Vertices in the foot frame, tip (lowest point) at z = 0 [m] (checked when
-        concrete; :attr:`mudrft.feet.MeshFoot.vertices` are).
-    faces : array_like of int, shape (m, 3)
-        Triangles, counter-clockwise seen from outside.
-    depth : float or array
-        Tip depth [m].
-    stress : array_like, shape (..., 3)
-        Channel stresses (sx, sy, sz) [Pa].
-    heading : float or array
-        Horizontal heading of the motion [rad].
-    trailing : bool, keyword-only
-        Passed on to ``integrate_triangles`` (load trailing faces too). Give the foot's
-        own, ``trailing=foot.trailing``: a foot made with ``to_mesh`` has True, and the
-        default False gave it other forces.
-
-    Returns
-    -------
-    array, shape (..., 3)
-        Force in the world frame [N].
+    ``vertices`` (v, 3) are in the foot frame with the tip at z = 0 [m]; ``faces`` (m, 3)
+    integer triangles, counter-clockwise seen from outside; ``depth`` the tip depth [m];
+    ``stress`` (..., 3) the channel stresses [Pa]; ``heading`` the horizontal heading of the
+    motion [rad]; ``trailing`` loads trailing faces too (give the foot's ``foot.trailing``).
     """
     jnp = _jnp()
     v = jnp.asarray(vertices, dtype=float)
     if v.ndim != 2 or v.shape[1] != 3:
         raise MudrftError(f"vertices must have shape (v, 3) [m], got shape {v.shape}")
-    if is_tracer(faces):  # traced faces: the caller's own program; shape checks only
+    if is_tracer(faces):
         f = faces
-    else:  # concrete faces (the usual case): indices JAX would clip or wrap silently
+    else:  # JAX would clip or wrap bad indices silently
         f = np.asarray(faces)
         if f.ndim != 2 or f.shape[1] != 3 or f.dtype.kind not in "iu":
             raise MudrftError(
@@ -467,9 +298,7 @@ def mesh_force(
                 f"faces must index the {v.shape[0]} vertices (0 to {v.shape[0] - 1}), got "
                 f"{int(f.min())} to {int(f.max())}"
             )
-    if (
-        not (is_tracer(vertices) or is_tracer(f)) and v.size and np.size(f)
-    ):  # the depth is the tip's
+    if not (is_tracer(vertices) or is_tracer(f)) and v.size and np.size(f):
         used = np.asarray(vertices, dtype=float)[np.unique(np.asarray(f))]
         low, size = float(used[:, 2].min()), float(np.ptp(used, axis=0).max())
         if abs(low) > 1e-9 * size:

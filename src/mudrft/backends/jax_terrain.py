@@ -37,10 +37,7 @@ TerrainState = MudChannels
 
 
 def _xyz(name: str, value: JaxArrayLike, unit: str) -> Array:
-    """``value`` as a float array of shape (..., 3): x, y, z. A concrete value is checked
-    for NaN and infinity as well; a traced one (inside the caller's ``jit``) for its shape
-    only. JAX clips an index out of range instead of raising, so without this check a
-    position of shape (..., 2) read its y as the depth."""
+    """``value`` as a float array of shape (..., 3), checked (a traced one for its shape)."""
     jnp = _jnp()
     a = jnp.asarray(value if is_tracer(value) else check_finite(name, value), dtype=float)
     if a.shape[-1:] != (3,):
@@ -51,8 +48,8 @@ def _xyz(name: str, value: JaxArrayLike, unit: str) -> Array:
     return a
 
 
-def _length(characteristic_length: float) -> float:  # or traced, typed float as in terrain_step
-    """:math:`L_c` [m], checked when concrete (a traced one is the caller's design variable)."""
+def _length(characteristic_length: float) -> float:
+    """:math:`L_c` [m], checked when concrete."""
     if isinstance(characteristic_length, Foot):
         raise MudrftError(
             "characteristic_length must be a length [m], got a "
@@ -67,19 +64,11 @@ def _length(characteristic_length: float) -> float:  # or traced, typed float as
 def foot_rule(
     force_fn: Foot | ForceRule, characteristic_length: float | None
 ) -> tuple[ForceRule, float]:
-    """The force rule and :math:`L_c` [m] of :func:`terrain_step` from its arguments.
-
-    A foot (or its ``force`` method, numpy) gives
-    :func:`~mudrft.backends.forces.force_function` with the backend's safe namespace (and
-    its own ``characteristic_length`` when none is given); a function is used as it is and
-    needs ``characteristic_length``. Errors name the argument.
-    """
-    owner = getattr(force_fn, "__self__", None)
-    if isinstance(owner, Foot) and getattr(force_fn, "__name__", "") in (
-        "force",
-        "force_unchecked",
-    ):
-        force_fn = owner  # foot.force is numpy (and validates): the foot's own rule instead
+    """The force rule and :math:`L_c` [m] of :func:`terrain_step`: a foot (or its
+    ``force`` method) gives its own rule and length; a function needs the length."""
+    owner, name = getattr(force_fn, "__self__", None), getattr(force_fn, "__name__", "")
+    if isinstance(owner, Foot) and name in ("force", "force_unchecked"):
+        force_fn = owner  # foot.force is numpy: the foot's own rule instead
     if isinstance(force_fn, Foot):
         fn = force_function(force_fn, xp=safe_namespace())
         if fn is None:
@@ -106,21 +95,11 @@ def foot_rule(
 
 
 def mud_constants(params: JaxParams) -> tuple[ChannelConstants, ChannelConstants]:
-    """The mud's ``(horizontal, vertical)`` channel constants from its three channel sets.
+    """The mud's ``(horizontal, vertical)`` channel constants from ``params = to_jax(mud)``.
 
     What the terrain step and the MJX coupling run on (``constants=`` of
-    :meth:`mudrft.integrations.mjx.MjxCoupling.step` and ``rollout``); traceable, so a
-    function of ``params`` can be differentiated by the mud's parameters.
-
-    Parameters
-    ----------
-    params : JaxParams
-        ``to_jax(mud)``: fields with a trailing axis of 3 (x, y, z).
-
-    Returns
-    -------
-    (ChannelConstants, ChannelConstants)
-        Of the x channel (the horizontal set) and of the z channel (the vertical set).
+    :meth:`mudrft.integrations.mjx.MjxCoupling.step`); traceable, so differentiable by the
+    mud's parameters.
     """
     check_params(params, channels=True)
     tree_map = enable_x64().tree_util.tree_map
@@ -132,17 +111,8 @@ def mud_constants(params: JaxParams) -> tuple[ChannelConstants, ChannelConstants
 def initial_terrain_state(
     position: JaxArrayLike, characteristic_length: float, *, xi0: float = 0.0
 ) -> MudChannels:
-    """Undisturbed mud under tips at ``position`` (..., 3) [m], as JAX arrays.
-
-    Parameters
-    ----------
-    position : array_like, shape (..., 3)
-        Tip positions [m].
-    characteristic_length : float
-        :math:`L_c` [m].
-    xi0 : float, keyword-only
-        Structure of undisturbed mud [-].
-    """
+    """Undisturbed mud (structure ``xi0`` [-]) under tips at ``position`` (..., 3) [m], for
+    a foot of ``characteristic_length`` [m], as JAX arrays."""
     jnp = _jnp()
     pos = _xyz("position", position, "m")
     depth = jnp.maximum(-pos[..., 2], 0.0)
@@ -151,30 +121,19 @@ def initial_terrain_state(
 
 
 def terrain_step(
-    params: JaxParams,
-    state: MudChannels,
-    position: JaxArrayLike,
-    velocity: JaxArrayLike,
-    dt: JaxArrayLike,
-    *,
-    force_fn: Foot | ForceRule,
-    characteristic_length: float | None = None,
-    acceleration: bool | None = None,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[MudChannels, tuple[Array, Array, Array]]:
-    """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX.
-
-    It is :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy`` (the one terrain step),
-    followed by the foot's force function.
+    params: JaxParams, state: MudChannels, position: JaxArrayLike, velocity: JaxArrayLike,
+    dt: JaxArrayLike, *, force_fn: Foot | ForceRule,
+    characteristic_length: float | None = None, acceleration: bool | None = None,
+    reset_on_exit: bool = True, xi0: float = 0.0, heading_speed: float = 1e-6,
+    thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[MudChannels, tuple[Array, Array, Array]]:  # fmt: skip
+    """One step of :class:`mudrft.MudTerrain` for a rigid foot, traceable by JAX:
+    :func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy``, then the foot's force rule.
 
     Parameters
     ----------
     params : JaxParams
-        Channel parameters with a trailing axis of 3 (``to_jax(mud)``).
+        Channel parameters, ``to_jax(mud)``.
     state : MudChannels
         From :func:`initial_terrain_state` or a previous step.
     position, velocity : array_like, shape (..., 3)
@@ -182,24 +141,12 @@ def terrain_step(
     dt : float
         Step [s], > 0.
     force_fn : Foot or callable, keyword-only
-        The foot: a rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or
-        mesh; :func:`~mudrft.backends.forces.force_function` with the backend's namespace),
-        or ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with
-        ``jax.numpy``. For gradients by a mesh's vertices, ``lambda d, s, h: mesh_force(v,
-        foot.faces, d, s, h, trailing=foot.trailing)``: ``mesh_force`` does not know the
-        foot, and a foot made with ``to_mesh`` loads its trailing faces.
+        A rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or mesh), or
+        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with ``jax.numpy``.
     characteristic_length : float, keyword-only
-        :math:`L_c` [m]; default the foot's when ``force_fn`` is a foot (needed with a
-        function). May be traced (a design variable).
+        :math:`L_c` [m]; default the foot's (needed with a function). May be traced.
     acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
-        As :class:`mudrft.MudTerrain` (static under jit: Python values, not traced).
-
-    Raises
-    ------
-    MudrftError
-        For a position or velocity not of shape (..., 3), a state made for another batch,
-        and, when the values are concrete (not traced), NaN or infinite inputs and
-        ``dt <= 0``.
+        As :class:`mudrft.MudTerrain` (static under jit).
 
     Returns
     -------
@@ -243,46 +190,19 @@ def terrain_step(
 
 
 def simulate(
-    params: JaxParams,
-    time: JaxArrayLike,
-    position: JaxArrayLike,
-    velocity: JaxArrayLike,
-    *,
-    force_fn: Foot | ForceRule,
-    characteristic_length: float | None = None,
-    acceleration: bool | None = None,
-    reset_on_exit: bool = True,
-    xi0: float = 0.0,
-    heading_speed: float = 1e-6,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-) -> tuple[Array, Array, Array]:
-    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`.
+    params: JaxParams, time: JaxArrayLike, position: JaxArrayLike, velocity: JaxArrayLike, *,
+    force_fn: Foot | ForceRule, characteristic_length: float | None = None,
+    acceleration: bool | None = None, reset_on_exit: bool = True, xi0: float = 0.0,
+    heading_speed: float = 1e-6, thixotropy: str = "ode", clock: str = "contact",
+) -> tuple[Array, Array, Array]:  # fmt: skip
+    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`, sampled as
+    :func:`mudrft.simulate`: ``time`` (n,) [s], ``position`` [m] and ``velocity`` [m/s]
+    (n, ..., 3); the options as :func:`terrain_step`.
 
-    Same sampling as :func:`mudrft.simulate`: the state starts at ``position[0]`` and step
-    ``k`` ends at sample ``k`` with ``dt = time[k] - time[k-1]``. Traceable: wrap it in
-    :func:`jax.jit` (``force_fn`` closed over) and differentiate it with respect to
-    ``params``, the foot geometry in ``force_fn`` or the trajectory. Called outside
-    ``jit``, every call traces and compiles its scan again (tenths of a second for 650
-    steps on a CPU, against about 2 ms for a jitted call): jit the function that calls it.
-
-    Parameters
-    ----------
-    params : JaxParams
-        Channel parameters (``to_jax(mud)``).
-    time : array_like, shape (n,)
-        Strictly increasing times [s] (checked when concrete).
-    position, velocity : array_like, shape (n, ..., 3)
-        Tip position [m] and velocity [m/s] at the samples.
-    force_fn, characteristic_length, acceleration, reset_on_exit, xi0, heading_speed :
-        As :func:`terrain_step`.
-    thixotropy, clock :
-        As :func:`terrain_step`.
-
-    Returns
-    -------
-    force, stress, depth : arrays of shape (n, ..., 3), (n, ..., 3), (n, ...)
-        The first sample is the initial state (zero force).
+    Traceable and differentiable by ``params``, the foot geometry in ``force_fn`` or the
+    trajectory; outside ``jit`` every call compiles its scan again, so jit its caller.
+    Returns ``force`` [N] and ``stress`` [Pa] (n, ..., 3) and ``depth`` [m] (n, ...), the
+    first sample the initial state (zero force).
     """
     jax = enable_x64()
     jnp = _jnp()
@@ -305,20 +225,11 @@ def simulate(
     ) -> tuple[MudChannels, tuple[Array, Array, Array]]:
         p, v, dt = inp
         return terrain_step(
-            params,
-            st,
-            p,
-            v,
-            dt,
-            force_fn=force_fn,
-            characteristic_length=characteristic_length,
-            acceleration=acceleration,
-            reset_on_exit=reset_on_exit,
-            xi0=xi0,
-            heading_speed=heading_speed,
-            thixotropy=thixotropy,
-            clock=clock,
-        )
+            params, st, p, v, dt, force_fn=force_fn,
+            characteristic_length=characteristic_length, acceleration=acceleration,
+            reset_on_exit=reset_on_exit, xi0=xi0, heading_speed=heading_speed,
+            thixotropy=thixotropy, clock=clock,
+        )  # fmt: skip
 
     _, (f, s, d) = jax.lax.scan(body, st0, (pos[1:], vel[1:], t[1:] - t[:-1]))
     zf = jnp.zeros((1, *f.shape[1:]))

@@ -1,12 +1,6 @@
-r"""numba backend: N feet advanced by one compiled call, multi-threaded for large batches.
-
-The one physics is compiled by :func:`mudrft._jit.jit` (numba compiling mudrft's own
-functions, with ``xp`` bound to the float namespace); the loop over time steps and feet is
-:func:`mudrft.terrains.rows.run`. This module adds the multi-threaded variant of that loop,
-for batches of :data:`PARALLEL_MIN` feet or more, and picks between the two.
-
-Every foot of :mod:`mudrft.feet` runs here: the closed forms, mesh feet and the morphing
-foot (:func:`mudrft.terrains.rows.foot_rows`).
+r"""numba backend: the compiled loop over feet (:func:`mudrft.terrains.rows.run`, compiled by
+:func:`mudrft._jit.jit`), multi-threaded from :data:`PARALLEL_MIN` feet on. Every foot of
+:mod:`mudrft.feet` runs here.
 """
 
 from __future__ import annotations

@@ -1,19 +1,13 @@
-"""Gymnasium environments: a walker in mud (optional extra ``rl``).
+"""Gymnasium environments (optional extra ``rl``), registered on import.
 
-Importing this package registers, under ids that start with ``mudrft/``:
-
-* ``mudrft/MudWalker-v0`` -- the project's planar biped walking in the paper's mud
-  (:mod:`mudrft.envs.walker`), options ``foot`` and ``water_content`` among others;
-  ``gymnasium.make`` gives :class:`MudWalkerEnv` (MuJoCo on the CPU, the CPU coupling),
-  ``gymnasium.make_vec(..., num_envs=N)`` gives :class:`MudWalkerVectorEnv` (MJX, the MJX
-  coupling, all robots in one compiled call; needs the ``mjx`` extra).
+``mudrft/MudWalker-v0`` is the planar biped walking in the paper's mud
+(:mod:`mudrft.envs.walker`): ``gymnasium.make`` gives :class:`MudWalkerEnv` (MuJoCo on the
+CPU), ``gymnasium.make_vec(..., num_envs=N)`` :class:`MudWalkerVectorEnv` (MJX, extra ``mjx``).
 
 >>> import gymnasium, mudrft.envs
 >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="flat", water_content=0.25)
 >>> env.spec.max_episode_steps
 1000
-
-``gymnasium.make("mudrft.envs:mudrft/MudWalker-v0")`` imports this package itself.
 """
 
 from __future__ import annotations

@@ -1,8 +1,5 @@
-"""``mudrft/MudWalker-v0``: one biped walking in mud, MuJoCo on the CPU with the CPU coupling.
-
-See :mod:`mudrft.envs.walker` for the robot, action, observation, reward and end; this
-module is the Gymnasium wrapper around :func:`mudrft.integrations.mujoco.attach`.
-"""
+"""``mudrft/MudWalker-v0``: one biped walking in mud, MuJoCo on the CPU with the CPU coupling
+(the robot, action, observation, reward and end: :mod:`mudrft.envs.walker`)."""
 
 from __future__ import annotations
 
@@ -37,21 +34,10 @@ __all__ = ["MudWalkerEnv", "make_walker"]
 class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     """The planar biped walking in mud (Gymnasium ``Env``; id ``mudrft/MudWalker-v0``).
 
-    Parameters
-    ----------
-    backend : {"auto", "numpy", "numba"}, keyword-only
-        Backend of the CPU coupling (``"auto"``: numba where installed).
-    render_mode : None or "rgb_array", keyword-only
-        ``"rgb_array"`` renders the side camera offscreen (needs a working OpenGL);
-        ``gymnasium.make(..., render_mode="human")`` shows it in a window (needs pygame).
-    **options
-        ``foot``, ``water_content`` [-], ``dt`` [s], ``frame_skip``,
-        ``forward_reward_weight``, ``ctrl_cost_weight``, ``healthy_reward``,
-        ``action_scale``, ``reset_noise_scale``, ``bottom`` [m]: as
-        :class:`~mudrft.envs.walker.WalkerConfig`.
+    ``backend`` is the CPU coupling's (``"auto"``: numba where installed);
+    ``render_mode="rgb_array"`` renders the side camera offscreen (OpenGL needed); the
+    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s.
 
-    Examples
-    --------
     >>> import gymnasium, mudrft.envs
     >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-sphere", water_content=0.35)
     >>> obs, info = env.reset(seed=0)
@@ -124,11 +110,8 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     def step(
         self, action: ArrayLike
     ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
-        """One control step: ``frame_skip`` physics steps with the mud.
-
-        An unstable step (a state that is not finite, which MuJoCo resets with a warning,
-        or the coupling refused) terminates the episode with ``info["unstable"] = True``.
-        """
+        """One control step: ``frame_skip`` physics steps with the mud; an unstable step
+        terminates the episode with ``info["unstable"] = True``."""
         lay, cfg, d, mj = self.layout, self.config, self.data, self._mj
         if self._phase != "running":  # before reset the robot lay at the origin, the mud unset
             raise MudrftError(NOT_RUNNING[self._phase])
@@ -188,8 +171,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
 def make_walker(*, render_mode: str | None = None, **options: Any) -> gymnasium.Env:
     """The registered entry point: :class:`MudWalkerEnv`, or with ``render_mode="human"``
-    its offscreen frames in a window (Gymnasium's ``HumanRendering``, which needs pygame;
-    without pygame Gymnasium failed at the first ``reset``)."""
+    its frames in a window (Gymnasium's ``HumanRendering``, which needs pygame)."""
     if render_mode != "human":
         return MudWalkerEnv(render_mode=render_mode, **options)
     if importlib.util.find_spec("pygame") is None:

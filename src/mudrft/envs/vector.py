@@ -1,19 +1,13 @@
-"""``mudrft/MudWalker-v0`` vectorized: many bipeds in mud at once, MJX with the MJX coupling.
+"""``mudrft/MudWalker-v0`` vectorized: many bipeds in mud, one jit-compiled MJX call a step.
 
-:class:`MudWalkerVectorEnv` is a :class:`gymnasium.vector.VectorEnv` whose ``step`` is one
-jit-compiled call for all robots: the MJX coupling's step (:mod:`mudrft.integrations.mjx`)
-scanned over ``frame_skip`` physics steps and vmapped over the robots, with each robot's
-mud state carried from call to call, and the walker's observation, reward and end
-(:mod:`mudrft.envs.walker`, the same functions as the CPU environment). Sub-environments
-reset themselves on the step after they end (Gymnasium's next-step autoreset). The first
-step compiles (tens of seconds on a CPU); later steps reuse the compiled program.
-
-Get it with ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)`` or directly.
+The MJX coupling's step is scanned over ``frame_skip`` physics steps and vmapped over the
+robots, with the walker's observation, reward and end of :mod:`mudrft.envs.walker`.
+Sub-environments reset on the step after they end (next-step autoreset). The first step
+compiles (tens of seconds on a CPU). ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)``.
 """
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -51,20 +45,9 @@ __all__ = ["MudWalkerVectorEnv"]
 
 
 class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
-    """``num_envs`` planar bipeds in mud stepped together with MJX.
-
-    Parameters
-    ----------
-    num_envs : int
-        Number of robots.
-    max_episode_steps : int, keyword-only
-        Control steps after which a sub-environment is truncated.
-    water_content : float or sequence of float, keyword-only
-        One water content for all robots, or one per robot [-].
-    foot, dt, frame_skip, forward_reward_weight, ctrl_cost_weight, healthy_reward,
-    action_scale, reset_noise_scale, bottom : keyword-only
-        As :class:`~mudrft.envs.walker.WalkerConfig`.
-    """
+    """``num_envs`` planar bipeds in mud stepped together with MJX, truncated after
+    ``max_episode_steps`` control steps; ``water_content`` [-] is one for all robots or one
+    per robot; the other options are :class:`~mudrft.envs.walker.WalkerConfig`'s."""
 
     metadata = {  # noqa: RUF012 (Gymnasium's attribute)
         "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
@@ -72,14 +55,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     }
 
     def __init__(
-        self,
-        num_envs: int = 64,
-        *,
-        max_episode_steps: int = 1000,
-        water_content: ArrayLike = 0.25,
-        render_mode: str | None = None,
-        **options: Any,
-    ) -> None:
+        self, num_envs: int = 64, *, max_episode_steps: int = 1000,
+        water_content: ArrayLike = 0.25, render_mode: str | None = None, **options: Any,
+    ) -> None:  # fmt: skip
         from ..integrations.mjx import attach
         from ..integrations.mjx._lazy import _jax
 
@@ -143,7 +121,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
-        with _precision(self._x64):
+        from ..integrations.mjx._lazy import x64_context
+
+        with x64_context(self._x64):  # the precision the robots were made in
             return self._reset(seed=seed, options=options)
 
     def _reset(
@@ -171,15 +151,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     ]:
         """One control step of every robot; robots that ended last step start anew.
 
-        A robot whose state is not finite, or whose foot moves faster than the MJX
-        coupling's bound (:data:`mudrft.integrations.mjx.physics.MAX_SPEED`), terminates
-        with ``info["unstable"]`` True; its mud is held meanwhile.
-
-        Runs in the precision the environment was made in (float32 unless JAX computed in
-        float64 then), even if the process has been switched since, as
-        :mod:`mudrft.backends.jax` does on its first call (D70).
+        A robot whose state is not finite, or whose foot moves faster than
+        :data:`mudrft.integrations.mjx.physics.MAX_SPEED`, terminates with
+        ``info["unstable"]``. Runs in the precision the environment was made in.
         """
-        with _precision(self._x64):
+        from ..integrations.mjx._lazy import x64_context
+
+        with x64_context(self._x64):  # the precision the robots were made in
             return self._step(actions)
 
     def _step(
@@ -212,18 +190,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 trunc, out)  # fmt: skip
 
 
-def _precision(x64: bool) -> AbstractContextManager[None]:
-    """A context in which JAX computes in float64 if ``x64``, else in float32: the robots'
-    arrays and the compiled programs were made in one precision, and a process switched to
-    the other in between (mudrft.backends.jax switches to float64, D70) made the next step
-    fail on 'lax.add requires arguments to have the same dtypes, got int32, int64'."""
-    from ..integrations.mjx._lazy import x64_context
-
-    return x64_context(x64)
-
-
 def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
-    """The jit-compiled reset and step of all robots (jax imported here)."""
+    """The jit-compiled reset and step of all robots."""
     import jax
     import jax.numpy as jnp
 

@@ -1,14 +1,9 @@
 r"""The mud walker: the project's planar biped in mud, its observation, reward and end.
 
-One definition for both environments: :class:`~mudrft.envs.MudWalkerEnv` (one robot,
-MuJoCo on the CPU with the CPU coupling) and :class:`~mudrft.envs.MudWalkerVectorEnv`
-(many robots, MJX with the MJX coupling) call :func:`observation`, :func:`reward` and
-:func:`healthy` below with ``xp`` = numpy or ``jax.numpy``.
-
-The robot is :func:`mudrft.integrations.walk.biped_model` (10 kg, torso on a planarizing
-boom, hip, knee and ankle PD servos) with MuJoCo's contacts switched off: the rigid bed
-under the mud is the coupling's one-sided penalty on each foot's lowest point (D67), the
-same on the CPU and in MJX, so that MJX compiles no collision and no constraint solver.
+One definition, with ``xp`` = numpy or ``jax.numpy``, for :class:`~mudrft.envs.MudWalkerEnv`
+(one robot, MuJoCo on the CPU) and :class:`~mudrft.envs.MudWalkerVectorEnv` (many, MJX).
+The robot is :func:`mudrft.integrations.walk.biped_model` (10 kg, hip, knee and ankle PD
+servos) with MuJoCo's contacts off: the bed under the mud is the coupling's (D67).
 
 *Action* (6,) in [-1, 1]: joint targets of the servos, ``stand + action_scale * action``
 [rad] (hips, knees, ankles; left then right), clipped to the servos' ranges.
@@ -26,11 +21,8 @@ same on the CPU and in MJX, so that MJX compiles no collision and no constraint 
 ``forward_reward_weight``, minus ``ctrl_cost_weight`` times the squared action, plus
 ``healthy_reward`` while healthy (Gymnasium's Walker2d recipe).
 
-*End*: the episode terminates when the torso sinks below 60 % of its start height,
-pitches past 1 rad, or the state is not finite (then ``info["unstable"]`` is True); the
-registered environments truncate at 1000 control steps. ``step`` before ``reset``, after
-``close`` or (one robot) after the end raises a :class:`~mudrft.MudrftError`; the vector
-environment resets its ended robots itself.
+*End*: the torso sinks below 60 % of its start height, pitches past 1 rad, or the state
+is not finite (``info["unstable"]``); truncation at 1000 control steps.
 """
 
 from __future__ import annotations
@@ -58,27 +50,15 @@ if TYPE_CHECKING:
     from ..parameters.base import Mud
 
 __all__ = [
-    "ACTION_SIZE",
-    "FEET",
-    "MAX_CONTROL_PERIOD",
-    "NOT_RUNNING",
-    "OBS_SIZE",
-    "WalkerConfig",
-    "WalkerLayout",
-    "check_action",
-    "check_reset",
-    "healthy",
-    "observation",
-    "reward",
-    "walker_config",
-    "walker_layout",
-]
+    "ACTION_SIZE", "FEET", "MAX_CONTROL_PERIOD", "NOT_RUNNING", "OBS_SIZE", "WalkerConfig",
+    "WalkerLayout", "check_action", "check_reset", "healthy", "observation", "reward",
+    "walker_config", "walker_layout",
+]  # fmt: skip
 
 #: Foot shapes by name (the paper's feet that both couplings support).
 FEET = ("flat", "semi-cylinder", "semi-sphere")
 OBS_SIZE = 23
-#: Longest time one action may be held, ``frame_skip * dt`` [s]: the walker falls sooner, and
-#: ``frame_skip=10**9`` made one step run for hours.
+#: Longest time one action may be held, ``frame_skip * dt`` [s]: the walker falls sooner.
 MAX_CONTROL_PERIOD = 1.0
 ACTION_SIZE = 6
 _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
@@ -88,24 +68,12 @@ _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "ri
 class WalkerConfig:
     """Options of the mud walker, validated here once.
 
-    Parameters
-    ----------
-    foot : {"flat", "semi-cylinder", "semi-sphere"} or Foot
-        Shape of both feet (a closed-form or mesh foot of :mod:`mudrft.feet`).
-    water_content : float
-        Water content of the paper's mud, 0.25-0.45 [-] (:func:`mudrft.paper_mud`).
-    dt : float
-        Physics time step [s].
-    frame_skip : int
-        Physics steps per control step.
-    forward_reward_weight, ctrl_cost_weight, healthy_reward : float
-        Reward terms (see the module docstring).
-    action_scale : float
-        Joint target range about the standing pose [rad].
-    reset_noise_scale : float
-        Half-width of the uniform noise on the joint angles [rad] and velocities at reset.
-    bottom : float
-        Depth of the rigid bed under the mud [m].
+    ``foot``: ``"flat"``, ``"semi-cylinder"``, ``"semi-sphere"`` or a mudrft foot;
+    ``water_content`` [-] of the paper's mud; ``dt`` the physics step [s]; ``frame_skip``
+    physics steps per control step; ``forward_reward_weight``, ``ctrl_cost_weight``,
+    ``healthy_reward`` the reward terms; ``action_scale`` the joint target range about the
+    standing pose [rad]; ``reset_noise_scale`` the half-width of the reset noise on joint
+    angles [rad] and velocities; ``bottom`` the depth of the rigid bed under the mud [m].
     """
 
     foot: str | Foot = "flat"
@@ -164,9 +132,8 @@ class WalkerConfig:
 
 
 def walker_config(options: dict[str, Any], *, own: tuple[str, ...] = ()) -> WalkerConfig:
-    """``WalkerConfig(**options)``; an unknown option is named with the known ones (it was
-    Python's "WalkerConfig.__init__() got an unexpected keyword argument", from
-    ``gymnasium.make``). ``own`` are the environment's own keywords, for the message."""
+    """``WalkerConfig(**options)``; an unknown option is named with the known ones and
+    ``own``, the environment's own keywords."""
     known = list(dict.fromkeys([*own, *(f.name for f in fields(WalkerConfig))]))
     for key in options:
         if key not in known:
@@ -209,28 +176,21 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     jq = np.array([model.jnt_qposadr[model.joint(n).id] for n in _JOINTS])
     jd = np.array([model.jnt_dofadr[model.joint(n).id] for n in _JOINTS])
     torso = int(model.body("torso").id)
+    qadr = {n: int(model.jnt_qposadr[model.joint(n).id]) for n in ("rootx", "rootz", "rooty")}
     return WalkerLayout(
-        model=model,
-        qpos0=np.array(data.qpos),
-        ctrl0=np.array(data.qpos[jq]),
+        model=model, qpos0=np.array(data.qpos), ctrl0=np.array(data.qpos[jq]),
         ctrl_low=np.array(model.actuator_ctrlrange[:, 0]),
-        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]),
-        joint_qadr=jq,
-        joint_dadr=jd,
-        rootx=int(model.jnt_qposadr[model.joint("rootx").id]),
-        rootz=int(model.jnt_qposadr[model.joint("rootz").id]),
-        pitch=int(model.jnt_qposadr[model.joint("rooty").id]),
-        torso=torso,
+        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]), joint_qadr=jq, joint_dadr=jd,
+        rootx=qadr["rootx"], rootz=qadr["rootz"], pitch=qadr["rooty"], torso=torso,
         torso_z0=float(data.xpos[torso, 2]),
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
-    )
+    )  # fmt: skip
 
 
 def check_reset(seed: object, options: object) -> int | None:
-    """``reset``'s arguments: ``seed`` None or an integer >= 0 (others failed inside
-    Gymnasium's seeding), returned as a Python int; no ``options`` (one given was ignored
-    without a word: the mud and the foot are set when the environment is made)."""
+    """``reset``'s ``seed`` (None or an integer >= 0) as a Python int; no ``options`` (the
+    mud and the foot are set when the environment is made)."""
     if options:
         raise MudrftError(
             f"options: reset takes none (the foot, the mud and the other options are set "
@@ -243,8 +203,7 @@ def check_reset(seed: object, options: object) -> int | None:
     return int(seed)
 
 
-#: Why ``step`` is refused in each phase of an environment but "running" (Gymnasium's
-#: contract: no step before ``reset``, after the episode terminated, or after ``close``).
+#: Why ``step`` is refused in each phase of an environment but "running".
 NOT_RUNNING = {
     "new": "call reset() before step()",
     "ended": "the episode has terminated: call reset() before step()",
@@ -253,8 +212,7 @@ NOT_RUNNING = {
 
 
 def check_action(action: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
-    """The action as a float array of exactly ``shape``, finite; an error naming it
-    otherwise (a NaN action gave a NaN reward and the episode went on)."""
+    """The action as a finite float array of exactly ``shape``."""
     if np.iscomplexobj(action):  # numpy would drop the imaginary part with a warning
         raise MudrftError(f"action must be real numbers of shape {shape}, got complex values")
     try:
@@ -275,13 +233,9 @@ def controls(lay: WalkerLayout, action: XpArray, scale: float, xp: Namespace = n
 
 
 def observation(
-    lay: WalkerLayout,
-    qpos: XpArray,
-    qvel: XpArray,
-    depth: XpArray,
-    force: XpArray,
+    lay: WalkerLayout, qpos: XpArray, qvel: XpArray, depth: XpArray, force: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """The observation (..., 23) of the module docstring from the state and the mud's
     last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]."""
     z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
@@ -303,13 +257,9 @@ def healthy(lay: WalkerLayout, qpos: XpArray, xp: Namespace = np) -> XpArray:
 
 
 def reward(
-    cfg: WalkerConfig,
-    x_before: XpArray,
-    x_after: XpArray,
-    action: XpArray,
-    alive: XpArray,
+    cfg: WalkerConfig, x_before: XpArray, x_after: XpArray, action: XpArray, alive: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Forward speed times its weight, minus the control cost, plus the healthy reward."""
     speed = (x_after - x_before) / (cfg.dt * cfg.frame_skip)
     cost = cfg.ctrl_cost_weight * xp.sum(xp.clip(action, -1.0, 1.0) ** 2, axis=-1)

@@ -27,23 +27,13 @@ __all__ = ["WithMud", "with_mud"]
 
 
 class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type: ignore[misc]
-    """A gymnasium MuJoCo environment stepped in mud (see :func:`with_mud`).
-
-    Attributes
-    ----------
-    coupling : MudCoupling
-        The mud under the environment's model (:func:`mudrft.integrations.mujoco.attach`).
-    """
+    """A gymnasium MuJoCo environment stepped in mud (:func:`with_mud`); ``coupling`` is
+    the mud under its model."""
 
     def __init__(
-        self,
-        env: Any,
-        feet: str | int | Sequence[str | int] = "auto",
-        mud: Mud | Terrain | None = None,
-        *,
-        floor: str = "below",
-        **attach_options: Any,
-    ) -> None:
+        self, env: Any, feet: str | int | Sequence[str | int] = "auto",
+        mud: Mud | Terrain | None = None, *, floor: str = "below", **attach_options: Any,
+    ) -> None:  # fmt: skip
         from .. import paper_mud
         from ..integrations.mujoco import _mujoco, attach
 
@@ -101,40 +91,17 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
 
 
 def with_mud(
-    env: Any,
-    feet: str | int | Sequence[str | int] = "auto",
-    mud: Mud | Terrain | None = None,
-    *,
-    floor: str = "below",
-    **attach_options: Any,
-) -> WithMud:
+    env: Any, feet: str | int | Sequence[str | int] = "auto", mud: Mud | Terrain | None = None,
+    *, floor: str = "below", **attach_options: Any,
+) -> WithMud:  # fmt: skip
     """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
 
-    The environment's physics steps go through the mud coupling
-    (:func:`mudrft.integrations.mujoco.attach`); its observations, rewards and terminations
-    are its own. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N], the mud's force
-    on each foot (world frame), and ``"mud_depth"`` (nfeet,) [m].
-
-    Parameters
-    ----------
-    env : gymnasium.Env
-        A gymnasium MuJoCo environment (``gymnasium.make("Ant-v5")``), wrapped or not.
-    feet : "auto", str, int or a sequence of them
-        The feet: ``"auto"`` finds them (and logs what it chose), or bodies by name, by a
-        geom's name or by id (gymnasium's ant feet have no names).
-    mud : Mud, Terrain or None
-        The mud; ``None``: the paper's at 25 % water content.
-    floor : {"below", "warn", "keep"}, keyword-only
-        The model's floor at z = 0 is lowered to a bed 0.5 m under the surface (default;
-        the environment's model is changed in place); see ``attach``. A model that
-        integrates with RK4 (Ant's), which the coupling refuses, is switched to
-        ``implicitfast`` in place, and the switch is logged.
-    **attach_options
-        Passed to ``attach`` (``surface``, ``bottom``, ``backend``, ...).
-
-    Returns
-    -------
-    WithMud
-        The wrapped environment; ``.coupling`` is the mud coupling.
+    The physics steps go through :func:`mudrft.integrations.mujoco.attach`, which takes
+    ``feet`` (``"auto"``, or bodies by name, geom name or id), ``mud`` (default the paper's
+    at 25 % water content), ``floor`` (``"below"`` lowers the model's floor to a bed under
+    the surface, in place) and ``attach_options``. An RK4 model (Ant's) is switched to
+    ``implicitfast``. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world
+    frame) and ``"mud_depth"`` (nfeet,) [m]. Returns the wrapped environment, whose
+    ``.coupling`` is the mud coupling.
     """
     return WithMud(env, feet, mud, floor=floor, **attach_options)
