@@ -26,6 +26,7 @@ from .._validation import MudrftError
 __all__ = [
     "STAGING_PREFIX",
     "atomic_write",
+    "finite_or_none",
     "json_text",
     "move_into_place",
     "regular_target",
@@ -214,11 +215,12 @@ def atomic_write(
     return p
 
 
-def _finite_or_none(obj: Any) -> Any:
+def finite_or_none(obj: Any) -> Any:
+    """``obj`` with every NaN or infinite number (nested in dicts, lists) replaced by None."""
     if isinstance(obj, dict):
-        return {k: _finite_or_none(v) for k, v in obj.items()}
+        return {k: finite_or_none(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_finite_or_none(v) for v in obj]
+        return [finite_or_none(v) for v in obj]
     if isinstance(obj, bool) or obj is None or isinstance(obj, (int, str)):
         return obj
     try:
@@ -238,4 +240,4 @@ def json_text(obj: Any, *, indent: int | None = 2) -> str:
     >>> json_text({"energy [J]": float("nan"), "steps": 0}, indent=None)
     '{"energy [J]": null, "steps": 0}\n'
     """
-    return json.dumps(_finite_or_none(obj), indent=indent, allow_nan=False) + "\n"
+    return json.dumps(finite_or_none(obj), indent=indent, allow_nan=False) + "\n"
