@@ -1,29 +1,11 @@
-r"""Online estimation: recursive least squares and stream classification, O(1) per sample.
+r"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46).
 
-The supplementary (Sec. III-A) notes that two simplifications make the model linear
-in its most important parameters, so that they can be identified online:
-
-* intrusion, with :math:`\dot\gamma\gg\dot\gamma_c` (:math:`\xi_{ss}\approx0`):
-  :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`;
-* retraction, with a sealed cavity (:math:`\phi=1`) and the bed left behind:
-  :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`
-  (suction negative in mudrft's convention), :math:`\Delta t` the time since the
-  retraction began.
-
-:class:`OnlineEstimator` runs one recursive least-squares (RLS) filter with
-exponential forgetting on the intrusion samples for :math:`(\alpha,\eta_\infty)`
-(``n`` fixed) and a bank of two-parameter RLS filters on the retraction samples for
-:math:`(\sigma_Y,\eta_\infty)`, one per value of :math:`\tau_{build}` on a log grid;
-the bank member with the smallest discounted prediction error gives
-:math:`\tau_{build}` (refined by a parabola through its neighbours in
-:math:`\ln\tau`), decision D46. Each sample costs a fixed number of small numpy
-operations; nothing is refitted.
-
-Because the simplifications drop the lagged thixotropic stress, the estimates are
-*apparent* values: on data from the full model (or real mud) they differ from the
-model constants by the thixotropic share of the stress (documented in docs/model.md).
-:class:`StreamClassifier` (:mod:`.classification`, importable from here too) avoids that
-bias by comparing whole candidate models.
+The model is linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y` once its other constants
+are fixed, and the supplementary's simplifications (Sec. III-A) make it linear in the
+intrusion and retraction samples too; :class:`OnlineEstimator` runs a bank of filters, one
+per value of :math:`\tau_{build}` on a log grid, and reads the best. The simplified
+(``model="paper"``) estimates are *apparent* values: they absorb the lagged thixotropic
+stress. :class:`StreamClassifier` (:mod:`.classification`) compares whole models instead.
 """
 
 from __future__ import annotations
@@ -77,28 +59,21 @@ _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 class OnlineEstimator:
     r"""Recursive least squares with forgetting of the linear constants and tau_build.
 
-    Feed samples one at a time with :meth:`update` (at controller rate: a fixed number
-    of small numpy operations per sample, no refit) and read :attr:`estimate`.
-
-    Two regressor models (decision D46):
+    Feed samples with :meth:`update` (a fixed number of small numpy operations each, no
+    refit) and read :attr:`estimate`. Two regressor models (decision D46):
 
     ``model="exact"`` (default)
-        The full model is *exactly* linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`
-        once the other constants are fixed (every term of eq. 1 is proportional to
-        one of them). The estimator runs the model's step alongside the stream to
-        compute these four regressors, with :math:`n,\lambda,\dot\gamma_c,\varepsilon,
-        \tau_{leak}` from ``prior`` and one filter per :math:`\tau_{build}` on a grid.
-        Unbiased when the prior's nonlinear constants are right.
+        The full model, stepped alongside the stream, gives the regressors of
+        :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior``;
+        unbiased when the prior's nonlinear constants are right.
     ``model="paper"``
         The supplementary's approximations (Sec. III-A): intrusion
         :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`, retraction
-        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`.
-        Needs only ``n``, but gives *apparent* values (the lagged thixotropic stress is
-        absorbed into them).
+        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`;
+        needs only ``n`` but gives apparent values.
 
-    In both, the filter of the :math:`\tau_{build}` grid with the smallest discounted
-    a-priori prediction error is selected and refined by a parabola in
-    :math:`\ln\tau_{build}`.
+    In both, one filter runs per :math:`\tau_{build}` of a grid; the one with the smallest
+    discounted prediction error is read, refined by a parabola in :math:`\ln\tau_{build}`.
 
     Parameters
     ----------
@@ -197,14 +172,12 @@ class OnlineEstimator:
         self._consts = channel_constants(self._basis_params)
 
     def rebase(self, prior: MudParameters) -> None:
-        """Start again around another prior: new fixed constants, new starting values,
-        memory cleared.
+        """Start again around another prior, memory cleared.
 
         Parameters
         ----------
         prior : MudParameters
-            A single set [SI], e.g. the best candidate of a :class:`StreamClassifier`
-            after the mud changed.
+            A single set [SI], e.g. a :class:`StreamClassifier`'s best after the mud changed.
         """
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
@@ -245,7 +218,6 @@ class OnlineEstimator:
         else:
             self._state = initial_state((G * 5,))
 
-    # ------------------------------------------------------------------------------------
     def update(self, time: float, depth: float, stress: float) -> OnlineEstimate:
         """Add one sample and return the current estimates.
 
@@ -306,9 +278,7 @@ class OnlineEstimator:
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
         if not np.any(np.abs(phi) > 0):
             return
-        # the suction regressor is exactly 0 until the plate retracts: until then every
-        # filter of the bank is the same, sigma_y is the prior's and the tau_build "chosen"
-        # is the grid's first value (0.02 s), which the estimate must not report
+        # until the plate retracts the suction regressor is 0: nothing tells sigma_y
         self._suction_seen = self._suction_seen or bool(np.any(phi[:, 3] != 0))
         self._update_bank(phi * (self._scale / self._S), s)
 
@@ -333,18 +303,8 @@ class OnlineEstimator:
             self._update_bank(phi, s)
 
     def _update_bank(self, phi: NDArray[np.float64], s: float) -> None:
-        """One forgetting RLS step of every filter of the bank, and its bookkeeping.
-
-        The step and the discounted sums behind the standard errors (D138) are the same for
-        both models; only the regressors differ.
-
-        Parameters
-        ----------
-        phi : ndarray, shape (G, 2) or (G, 4)
-            Regressors of each filter, already scaled by ``self._scale / self._S`` [-].
-        s : float
-            Measured stress [Pa] (divided here by the stress scale ``self._S``).
-        """
+        """One step of every filter of the bank with regressors ``phi`` (G, p) [-] (scaled)
+        and the measured stress ``s`` [Pa], and the discounted sums of its errors (D138)."""
         G = self.tau_grid.size
         self._theta, self._P, dv = rls_update(
             self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
@@ -384,7 +344,6 @@ class OnlineEstimator:
             )
         return [self.update(a, b, c) for a, b, c in zip(t, q, s, strict=True)]
 
-    # ------------------------------------------------------------------------------------
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
@@ -435,11 +394,9 @@ class OnlineEstimator:
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
         """``base`` (default the prior) with the estimated fields replaced.
 
-        Estimates not yet available, or not positive, keep the base value; a
-        non-positive estimate warns (a :class:`~mudrft.calibration.CalibrationWarning`
-        naming it), since the least-squares estimates are unconstrained and one at or below
-        0 says the prior's fixed constants (``n``, ``lam``, ``gamma_dot_c``, ``epsilon``,
-        ``tau_leak``) do not describe this mud (D46).
+        Estimates not yet available, or not positive, keep the base value; a non-positive
+        one warns (:class:`~mudrft.calibration.CalibrationWarning`): the prior's fixed
+        constants do not describe this mud.
 
         Parameters
         ----------
