@@ -42,10 +42,9 @@ class OnlineEstimate(NamedTuple):
     eta_m : float or None
         Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
     sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample has
-        informed it (the intrusion and the hold say nothing of the suction).
+        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample.
     tau_build : float or None
-        Suction build-up time [s]; ``None`` until a retraction sample, as ``sigma_y``.
+        Suction build-up time [s]; ``None`` until a retraction sample.
     n : float
         Exponent used (fixed) [-].
     updates : int
@@ -53,10 +52,8 @@ class OnlineEstimate(NamedTuple):
     phase : str
         Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
     standard_error : dict
-        Standard error of each estimate that is not ``None`` [its unit], from the filter's
-        covariance and the noise of its prediction errors; ``inf`` while too few samples
-        inform it (decision D138). An estimate within a few standard errors of its last
-        value has settled; one whose error stays large is not informed by the motion.
+        Standard error of each estimate that is not ``None`` [its unit]; ``inf`` while too
+        few samples inform it (decision D138).
     """
 
     alpha: float | None

@@ -11,12 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import (
-    MudrftError,
-    check_characteristic_length,
-    check_choice,
-    positive_number,
-)
+from .._validation import MudrftError, check_characteristic_length, check_choice, positive_number
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset

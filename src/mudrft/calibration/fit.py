@@ -90,33 +90,28 @@ def calibrate(
     groups : str or sequence of str, keyword-only
         What to fit: ``"all"`` (default), group names ``"b"`` (:math:`\alpha, n`),
         ``"th"`` (:math:`\lambda,\eta_m,\eta_\infty,\dot\gamma_c`), ``"s"``
-        (:math:`\tau_{build},\tau_{leak},\varepsilon,\sigma_Y`) or parameter names.
-        The others stay at their initial values. ``nu`` and ``k_a`` are never fitted
-        (:math:`k_a=1/\lambda` follows :math:`\lambda`, decisions D8, D41).
+        (:math:`\tau_{build},\tau_{leak},\varepsilon,\sigma_Y`) or parameter names;
+        ``nu`` and ``k_a`` are never fitted (decisions D8, D41).
     initial : MudParameters, optional, keyword-only
-        Starting values and values of the fixed parameters. Default: the paper row of
-        the direction that best matches the data after rescaling its free linear
-        parameters (decision D43); those not fitted keep the row's values.
+        Starting values and values of the parameters not fitted. Default: the paper row
+        that best matches the data once its free linear parameters are rescaled (D43).
     fixed : dict, optional, keyword-only
         Parameters to hold at given SI values (removed from the free set).
     bounds : dict, optional, keyword-only
         ``{name: (low, high)}`` in SI, overriding :data:`DEFAULT_BOUNDS`.
     phases : bool, keyword-only
-        Run the three phase stages before the joint fit (default). ``False`` goes
-        straight to the joint fit from ``initial``.
+        Run the three phase stages before the joint fit (default).
     starts : int, keyword-only
-        Multi-start: number of best grid points refined in each phase stage (>= 1).
+        Number of best grid points refined in each phase stage (>= 1).
     max_nfev : int, keyword-only
         Evaluations allowed to each least-squares solve.
     confidence_level : float, keyword-only
         Level of the confidence intervals, in (0, 1).
     acceleration : bool or None, keyword-only
         Keep the acceleration term of :math:`f_\xi` (decision D6); None keeps it in the ODE.
-    thixotropy : {"ode", "quasi-static"}, keyword-only
-        Fit the ODE model (default) or the paper's quasi-static closed forms (9)-(11)
-        (decision D15), as :class:`mudrft.MudTerrain`.
-    clock : {"contact", "retraction"}, keyword-only
-        Quasi-static only: the clock of eq. (9) (decision D15).
+    thixotropy, clock : str, keyword-only
+        The ODE model (``"ode"``, default) or the paper's quasi-static closed forms
+        (``"quasi-static"``) and its clock (decision D15), as :class:`mudrft.MudTerrain`.
     xi0 : float, keyword-only
         Initial structure of the mud in every trial [-] (decision D3: 0).
     progress : bool or callable, keyword-only
@@ -163,12 +158,6 @@ def calibrate(
     parameter is *identified* if its robust relative standard error
     :math:`\mathrm{se}(\ln p)\le 0.05` and it is not at a bound, *weak* up to 0.5, *not
     identified* beyond, or at a bound (D44).
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), supplementary Sec. III (identification of the mud constants).
 
     Examples
     --------

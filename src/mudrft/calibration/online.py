@@ -44,13 +44,7 @@ from ._rls import (
 )
 from .classification import Classification, StreamClassifier, classify
 
-__all__ = [
-    "Classification",
-    "OnlineEstimate",
-    "OnlineEstimator",
-    "StreamClassifier",
-    "classify",
-]
+__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
@@ -223,12 +217,8 @@ class OnlineEstimator:
 
         Parameters
         ----------
-        time : float
-            Sample time [s], strictly increasing.
-        depth : float
-            Intrusion displacement [m].
-        stress : float
-            Measured stress resisting the intrusion [Pa] (force / plate area).
+        time, depth, stress : float
+            Sample time [s] (increasing), intrusion displacement [m], measured stress [Pa].
 
         Returns
         -------
@@ -322,12 +312,8 @@ class OnlineEstimator:
 
         Parameters
         ----------
-        time : array_like, shape (n,)
-            Sample times [s], strictly increasing.
-        depth : array_like, shape (n,)
-            Intrusion displacements [m].
-        stress : array_like, shape (n,)
-            Measured stresses [Pa].
+        time, depth, stress : array_like, shape (n,)
+            Sample times [s] (increasing), displacements [m], measured stresses [Pa].
 
         Returns
         -------
