@@ -16,6 +16,7 @@ from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
 __all__ = [
     "MAX_STRESS",
+    "Filters",
     "OnlineEstimate",
     "Sample",
     "SampleStream",
@@ -93,6 +94,30 @@ def rls_update(
     if np.any(over):
         P = P * np.where(over, p_max / tr, 1.0)[..., None, None]
     return theta, P, lam * err * err / denom
+
+
+class Filters:
+    """A bank of ``members`` forgetting RLS filters (factor ``lam``) on normalised
+    quantities, starting at 1 with variances ``var0`` [-], and the discounted sums behind
+    their standard errors (D138)."""
+
+    def __init__(self, members: int, var0: NDArray[np.float64], lam: float) -> None:
+        self.theta = np.ones((members, var0.size))
+        self.P = np.tile(np.diag(var0), (members, 1, 1))
+        self.M = np.zeros_like(self.P)
+        self.cost = np.zeros(members)
+        self.weight = self.weight2 = 0.0
+        self.count = 0
+        self.lam, self.p_max = lam, float(var0.sum())
+
+    def step(self, phi: NDArray[np.float64], y: NDArray[np.float64]) -> None:
+        """One sample: regressors ``phi`` (members, p) and measurements ``y`` (members,)."""
+        self.theta, self.P, dv = rls_update(self.theta, self.P, phi, y, self.lam, self.p_max)
+        self.M = square_weighted(self.M, phi, self.lam)
+        self.cost = self.lam * self.cost + dv
+        self.weight = self.lam * self.weight + 1.0
+        self.weight2 = self.lam**2 * self.weight2 + 1.0
+        self.count += 1
 
 
 def refined_argmin(e: NDArray[np.float64]) -> float:

@@ -14,7 +14,7 @@ import warnings
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from .._validation import (
     CalibrationWarning,
@@ -33,14 +33,13 @@ from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS
 from ._rls import (
+    Filters,
     OnlineEstimate,
     Sample,
     SampleStream,
     bank_errors,
     filter_errors,
     refined_argmin,
-    rls_update,
-    square_weighted,
 )
 from .classification import Classification, StreamClassifier, classify
 
@@ -188,13 +187,7 @@ class OnlineEstimator:
         # every entry is O(1), which keeps the covariance update accurate in float64
         self._scale = np.array([float(getattr(p, k)) for k in self._names])
         self._S = float(max(p.alpha, p.sigma_y))
-        var0 = np.full(self._scale.size, self.initial_scale**2)
-        self._p_max = float(var0.sum())
-        self._theta = np.ones((G, self._scale.size))
-        self._P = np.tile(np.diag(var0), (G, 1, 1))
-        self._M = np.zeros_like(self._P)  # for the standard errors (D138)
-        self._err = np.zeros(G)
-        self._weight = self._weight2 = 0.0  # discounted counts of the bank's samples (D138)
+        self._bank = Filters(G, np.full(self._scale.size, self.initial_scale**2), self.forgetting)
         self._updates = 0
         self._suction_seen = False  # a sample has excited the suction regressor
         self._stream.reset()
@@ -203,12 +196,7 @@ class OnlineEstimator:
         self._phase = "out"
         if self.model == "paper":
             self._scale_i = np.array([float(p.alpha), float(p.eta_inf)])
-            self._th_i = np.ones(2)
-            self._P_i = np.diag(np.full(2, self.initial_scale**2))
-            self._pi_max = float(np.trace(self._P_i))
-            self._M_i = np.zeros((2, 2))
-            self._n_i = 0
-            self._err_i, self._weight_i = 0.0, 0.0
+            self._intrusion = Filters(1, np.full(2, self.initial_scale**2), self.forgetting)
         else:
             self._state = initial_state((G * 5,))
 
@@ -270,18 +258,13 @@ class OnlineEstimator:
             return
         # until the plate retracts the suction regressor is 0: nothing tells sigma_y
         self._suction_seen = self._suction_seen or bool(np.any(phi[:, 3] != 0))
-        self._update_bank(phi * (self._scale / self._S), s)
+        self._bank.step(phi * (self._scale / self._S), np.full(G, s / self._S))
+        self._updates += 1
 
     def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
         if self._phase == "intrusion":
-            phi = np.array([g**self.n, gd]) * (self._scale_i / self._S)
-            self._th_i, self._P_i, dv = rls_update(
-                self._th_i, self._P_i, phi, s / self._S, self.forgetting, self._pi_max
-            )
-            self._M_i = square_weighted(self._M_i, phi, self.forgetting)
-            self._err_i = self.forgetting * self._err_i + float(dv)
-            self._weight_i = self.forgetting * self._weight_i + 1.0
-            self._n_i += 1
+            phi = np.array([[g**self.n, gd]]) * (self._scale_i / self._S)
+            self._intrusion.step(phi, np.array([s / self._S]))
             self._updates += 1
         elif self._phase == "retraction" and self._gamma_w - g >= self.retraction_skip:
             assert self._t_w is not None
@@ -290,20 +273,8 @@ class OnlineEstimator:
                 [-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)), np.full(G, gd)], axis=-1
             ) * (self._scale / self._S)
             self._suction_seen = True
-            self._update_bank(phi, s)
-
-    def _update_bank(self, phi: NDArray[np.float64], s: float) -> None:
-        """One step of every filter of the bank with regressors ``phi`` (G, p) [-] (scaled)
-        and the measured stress ``s`` [Pa], and the discounted sums of its errors (D138)."""
-        G = self.tau_grid.size
-        self._theta, self._P, dv = rls_update(
-            self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
-        )
-        self._M = square_weighted(self._M, phi, self.forgetting)
-        self._err = self.forgetting * self._err + dv
-        self._weight = self.forgetting * self._weight + 1.0
-        self._weight2 = self.forgetting**2 * self._weight2 + 1.0
-        self._updates += 1
+            self._bank.step(phi, np.full(G, s / self._S))
+            self._updates += 1
 
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
@@ -337,34 +308,28 @@ class OnlineEstimator:
             ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
         )
         se: dict[str, float] = {}
-        have_bank = np.any(self._err > 0)
-        if have_bank:
-            x = refined_argmin(self._err)
+        b = self._bank
+        if np.any(b.cost > 0):
+            x = refined_argmin(b.cost)
             lg = np.log(self.tau_grid)
             tau = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
             est["tau_build"] = tau
             i0 = min(int(np.floor(x)), lg.size - 2)
             w = x - i0
-            th = (1.0 - w) * self._theta[i0] + w * self._theta[i0 + 1]  # linear in ln(tau)
-            th = th * self._scale
-            for k, v in zip(self._names, th, strict=True):
-                est[k] = float(v)
-            se_b, se_log = bank_errors(
-                self._theta, self._P, self._M, self._err, self._weight, self._weight2, x, lg
-            )
+            th = ((1.0 - w) * b.theta[i0] + w * b.theta[i0 + 1]) * self._scale  # linear in ln(tau)
+            est.update(zip(self._names, th.tolist(), strict=True))
+            se_b, se_log = bank_errors(b.theta, b.P, b.M, b.cost, b.weight, b.weight2, x, lg)
             se.update(zip(self._names, (se_b * self._scale).tolist(), strict=True))
             se["tau_build"] = tau * se_log  # delta method, as the offline fit
         if not self._suction_seen:  # no retraction yet: nothing tells sigma_y or tau_build
             est["sigma_y"] = est["tau_build"] = None
         if self.model == "paper":
             est["eta_inf"] = None
-            if self._n_i >= 2:
-                a, e = self._th_i * self._scale_i
-                est["alpha"], est["eta_inf"] = float(a), float(e)
-                se_i = (
-                    filter_errors(self._P_i, self._M_i, self._err_i, self._weight_i) * self._scale_i
-                )
-                se["alpha"], se["eta_inf"] = (float(v) for v in se_i)
+            f = self._intrusion
+            if f.count >= 2:
+                est["alpha"], est["eta_inf"] = (f.theta[0] * self._scale_i).tolist()
+                se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
+                se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
             alpha=est["alpha"],
             eta_inf=est["eta_inf"],
