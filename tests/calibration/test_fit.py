@@ -19,8 +19,8 @@ from mudrft.calibration import (
     load_parameters,
     synthetic_dataset,
 )
-from mudrft.calibration._problem import PHASES, Packed, segment
-from mudrft.calibration.fit import FIT_PARAMETERS, IDENTIFIED_SE
+from mudrft.calibration._problem import FIT_PARAMETERS, PHASES, pack, segment
+from mudrft.calibration.uncertainty import IDENTIFIED_SE
 from mudrft.constitutive import run
 from mudrft.parameters import PARAMETER_UNITS
 
@@ -33,7 +33,7 @@ def test_packed_simulation_equals_plate_response(true_vertical):
     plate_response (constitutive.run in the mud, 0 out of it) on every trial, for a batch
     of two parameter sets."""
     ds = synthetic_dataset(true_vertical, speeds=(0.01, 0.04), noise=0.0, dt=0.02)
-    pk = Packed.from_dataset(ds, nu=true_vertical.nu, k_a=None, acceleration=True, xi0=0.0)
+    pk = pack(ds, true_vertical, acceleration=True, xi0=0.0)
     other = true_vertical.replace(alpha=1e4, lam=0.7, tau_build=0.9)
     vals = {k: np.array([getattr(true_vertical, k), getattr(other, k)]) for k in FIT_PARAMETERS}
     sim = pk.simulate(vals)

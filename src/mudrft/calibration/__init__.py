@@ -6,24 +6,9 @@
 True
 
 Offline: :func:`calibrate` returns a :class:`FitResult` (parameters, standard errors,
-confidence intervals, correlation, identifiability verdicts, RMSE, status, trace).
-Online: :class:`OnlineEstimator` (recursive least squares with forgetting of the
-paper's linear-in-parameter combinations) and :class:`StreamClassifier` (which
-known parameter set a stream resembles). Data: :mod:`mudrft.io`.
-
-Modules, one concept each:
-
-* :mod:`.fit`: :func:`calibrate`, the driver: checked inputs, stages, the result;
-* :mod:`.stages`: start, phase-by-phase and joint stages, uncertainty at the optimum;
-* :mod:`._engine`: bounded least squares in log-parameters with variable projection;
-* :mod:`._problem`: trials packed for batched simulation, phases of a trial;
-* :mod:`._options`: parameter groups, bounds, accepted datasets, decimation;
-* :mod:`.sensors`: a saturated or unzeroed force sensor in a log (D153, D154);
-* :mod:`.uncertainty`: covariance, intervals, identifiability verdicts (D44);
-* :mod:`.result`, :mod:`.persistence`, :mod:`._plot`: :class:`FitResult`, JSON files, figure;
-* :mod:`.online`, :mod:`._rls`: the recursive estimator (D46);
-* :mod:`.classification`: which known mud the data resemble (D47);
-* :mod:`.synthetic`: the synthetic example data.
+intervals, identifiability verdicts, RMSE, trace). Online: :class:`OnlineEstimator`
+(recursive least squares with forgetting, D46) and :class:`StreamClassifier` (which known
+parameter set a stream resembles, D47). Data: :mod:`mudrft.io`.
 """
 
 from .._validation import CalibrationWarning

@@ -1,18 +1,6 @@
-r"""The solver of a calibration: bounded least squares in log-parameters with variable
-projection (internal).
-
-:class:`Engine` holds the current parameter values of one fit, its bounds, trace and
-evaluation count, and offers the three operations the stages of
-:func:`~mudrft.calibration.calibrate` are made of:
-
-* :meth:`Engine.grid_start`: score a grid of candidate points in one batched simulation,
-  the parameters the model is linear in (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`)
-  solved exactly at each by non-negative least squares;
-* :meth:`Engine.fit`: bounded nonlinear least squares (trust-region reflective) in
-  log-parameters, optionally with the linear parameters projected out;
-* :meth:`Engine.jacobian`: residuals and central-difference Jacobian at the optimum, for
-  the uncertainty.
-"""
+r"""The solver of a calibration (internal): bounded least squares in log-parameters, the
+parameters the model is linear in (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved
+exactly by non-negative least squares (variable projection)."""
 
 from __future__ import annotations
 
@@ -35,19 +23,8 @@ Values = dict[str, NDArray[np.float64]]
 
 
 class Engine:
-    """Bookkeeping of one calibration: current values, bounds, trace, evaluation count.
-
-    Parameters
-    ----------
-    packed : Packed
-        The data, packed for batched simulation.
-    values : dict
-        Starting value of every parameter of ``FIT_PARAMETERS`` [SI].
-    bounds : dict
-        ``{name: (low, high)}`` [SI] of every parameter.
-    trace_limit : int
-        Most evaluations kept in :attr:`trace`.
-    """
+    """One calibration: the packed data, current values and bounds of every parameter
+    [SI], the trace (at most ``trace_limit`` evaluations) and the evaluation count."""
 
     def __init__(
         self,
@@ -88,20 +65,13 @@ class Engine:
                 }
             )
 
-    # ---- variable projection ----------------------------------------------------------
     def project(
         self, R: NDArray[np.float64], lin: list[str], keep: dict[str, float] | None = None
     ) -> tuple[NDArray[np.float64], list[float]]:
-        """Solve the linear parameters exactly from a basis simulation.
-
-        ``R`` (m, 1 + nl) holds the weighted residuals with every parameter of ``lin`` set
-        to 1 (column 0) and with parameter j set to 2 (column 1 + j). The model is linear
-        in each of them, so column differences are their basis functions. Returns the
-        residuals at the non-negative least-squares solution (clipped to the bounds) and
-        the solution. A parameter the samples do not depend on (a zero basis, e.g. sigma_y
-        on data without a retraction) keeps its value in ``keep`` (default the current values):
-        the data say nothing of it, and the solver's 0 would have put it on its lower bound.
-        """
+        """Residuals at the exact (non-negative, clipped) solution of the linear ``lin``,
+        and the solution, from ``R`` (m, 1 + nl): residuals with every one of them 1
+        (column 0) and with parameter j at 2 (column 1 + j). One the samples do not depend
+        on keeps its value in ``keep`` (default the current values)."""
         from scipy.optimize import nnls
 
         if not lin:
@@ -143,13 +113,8 @@ class Engine:
         candidates: list[dict[str, float]],
         starts: int,
     ) -> list[tuple[float, dict[str, float]]]:
-        """Score candidate points, the linear free parameters of each solved exactly.
-
-        Every candidate fixes some parameters (the others keep their current values);
-        the free parameters the model is linear in are then set by non-negative least
-        squares (variable projection). All candidates run in one batched simulation.
-        Returns the ``starts`` best ``(cost, point)`` pairs.
-        """
+        """The ``starts`` best ``(cost, point)`` of the candidate points, the linear free
+        parameters of each solved exactly; all in one batched simulation."""
         lin = [k for k in free if k in LINEAR_PARAMETERS]
         cands = candidates or [{}]
         G, nl = len(cands), len(lin)
@@ -175,7 +140,6 @@ class Engine:
         scored.sort(key=lambda t: t[0])
         return scored[: max(1, starts)]
 
-    # ---- least squares in log-parameters --------------------------------------------
     def fit(
         self,
         stage: str,
@@ -185,14 +149,9 @@ class Engine:
         start: dict[str, float] | None = None,
         project: tuple[str, ...] = (),
     ) -> tuple[float, OptimizeResult | None]:
-        """Bounded least squares over ``free`` in log-parameters (trust-region reflective).
-
-        With ``project``, those linear parameters are not solver variables: each
-        evaluation solves them exactly (variable projection), which removes the
-        valleys along which a linear and a nonlinear parameter trade off. Returns the
-        cost and the :func:`scipy.optimize.least_squares` solution (None when only
-        linear parameters were free: one projection solved them).
-        """
+        """Bounded least squares over ``free`` in log-parameters, the linear ones among
+        ``project`` solved exactly at each evaluation; the cost and the solver's result
+        (None when only linear parameters were free)."""
         from scipy.optimize import least_squares
 
         base = {**self.values, **(start or {})}
@@ -272,12 +231,8 @@ class Engine:
 
 
 class _LogObjective:
-    """Residuals and forward-difference Jacobian of one solve, in log-parameters.
-
-    Both come from one batched simulation of the point and its ``k`` neighbours (a
-    batch of ``1 + k`` parameter sets costs about as much as one: the time loop
-    dominates), cached for the solver's following Jacobian call.
-    """
+    """Residuals and forward-difference Jacobian of one solve in log-parameters, from one
+    batched simulation of the point and its neighbours (cached for the ``jac`` call)."""
 
     def __init__(
         self,

@@ -1,17 +1,12 @@
-"""What a fit may free, within which bounds, and on which data (internal).
-
-The first stage of :func:`~mudrft.calibration.calibrate`: parameter groups and their
-aliases, default bounds, the dataset a fit accepts (a dataset, a trial, a path or a list
-of them) and its thinning (``decimate``), and the checks of the count options. Every
-check raises a :class:`~mudrft._validation.MudrftError` naming the argument, what was
-expected and what was given.
-"""
+"""What a fit may free, within which bounds, and on which data (internal): the checks of
+:func:`~mudrft.calibration.calibrate`'s options."""
 
 from __future__ import annotations
 
 import math
 import os
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from typing import Any, cast
 
 import numpy as np
@@ -64,9 +59,7 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
 }
 
 
-#: Target number of samples per trial of a fit: longer logs are thinned to about this many
-#: unless ``decimate`` is given (decision D104). The fit time grows with the samples per trial:
-#: 2000 samples fit in tens of seconds, 1e6 did not in 600 s.
+#: Samples per trial a fit thins longer logs to unless ``decimate`` is given (D104) [-].
 FIT_SAMPLES = 2000
 
 
@@ -85,15 +78,7 @@ def auto_decimate(ds: IntrusionDataset) -> int:
 
 
 def check_determined(samples: int, free: Sequence[str]) -> None:
-    """Refuse a fit with no more fitted samples than free parameters (decision D104).
-
-    Parameters
-    ----------
-    samples : int
-        Samples the fit uses (those while the plate is in the mud, decision D42) [-].
-    free : sequence of str
-        The free parameters.
-    """
+    """Refuse a fit with no more fitted ``samples`` than ``free`` parameters (D104)."""
     if samples <= len(free):
         raise MudrftError(
             f"calibrate: {samples} fitted sample(s) cannot determine {len(free)} free "
@@ -127,18 +112,8 @@ def _group_members(name: object) -> tuple[str, ...]:
 
 
 def resolve_groups(groups: str | Iterable[str] | None) -> tuple[str, ...]:
-    """The parameters named by ``groups`` (group names, aliases or parameter names).
-
-    Parameters
-    ----------
-    groups : str, sequence of str or None
-        ``"all"``/None, a space- or comma-separated string, or a sequence of names.
-
-    Returns
-    -------
-    tuple of str
-        The selected parameters, in the order of ``FIT_PARAMETERS``.
-    """
+    """The parameters named by ``groups`` (``"all"``/None, group names, aliases or parameter
+    names, as a sequence or a space- or comma-separated string), in fitting order."""
     if groups is None or groups == "all":
         names: Iterable[object] = ("b", "th", "s")
     elif isinstance(groups, str):
@@ -182,7 +157,6 @@ def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
     out = dict(fixed or {})
     for k in out:
         _check_name("fixed", k)
-        # one number each (a list failed inside the fit; the string "1" was read as 1 Pa)
         out[k] = check_number(f"fixed[{k!r}]", check_finite(f"fixed[{k!r}]", out[k]))
     return out
 
@@ -202,16 +176,8 @@ def as_dataset(
     data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object],
     **load_options: Any,
 ) -> IntrusionDataset:
-    """The data of a fit as one :class:`~mudrft.io.IntrusionDataset`.
-
-    Parameters
-    ----------
-    data : IntrusionDataset, Trial, path, or a list of one kind of them
-        Datasets are merged, trials joined, paths loaded with
-        :func:`mudrft.io.load_dataset`.
-    **load_options
-        ``area`` [m^2], ``characteristic_length`` [m], ... for the loader.
-    """
+    """The data of a fit as one dataset: datasets merged, trials joined, paths loaded with
+    :func:`mudrft.io.load_dataset` and ``load_options`` (``area`` [m^2], ...)."""
     kind = _kind(data)
     items = [data] if kind is not None or not isinstance(data, Sequence) else list(data)
     kinds = {_kind(d) for d in items}
@@ -238,29 +204,13 @@ def as_dataset(
 
 
 def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:
-    """Every ``k``-th sample of each trial, plus its deepest and last samples.
-
-    Parameters
-    ----------
-    ds : IntrusionDataset
-        The data.
-    k : int
-        Keep one sample in ``k`` [-], >= 1.
-    """
+    """Every ``k``-th sample of each trial, plus its deepest and last samples."""
     trials = []
     for tr in ds.trials:
         n = len(tr)
         keep = np.unique(np.r_[np.arange(0, n, k), int(np.argmax(tr.depth)), n - 1])
+        meta = {**tr.meta, "decimated": k}
         trials.append(
-            Trial(
-                tr.time[keep],
-                tr.depth[keep],
-                tr.stress[keep],
-                name=tr.name,
-                characteristic_length=tr.characteristic_length,
-                meta={**tr.meta, "decimated": k},
-            )
+            replace(tr, time=tr.time[keep], depth=tr.depth[keep], stress=tr.stress[keep], meta=meta)
         )
-    return IntrusionDataset(
-        tuple(trials), direction=ds.direction, source=ds.source, notes=ds.notes, meta=dict(ds.meta)
-    )
+    return replace(ds, trials=tuple(trials))

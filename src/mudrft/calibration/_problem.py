@@ -1,11 +1,5 @@
-"""Packed, batched evaluation of the mud model on the trials of a dataset (internal).
-
-All trials are simulated together: arrays of shape ``(n_max, T)`` for ``T`` trials,
-padded at the end (a padded step repeats the last sample, never read back). A
-batch of ``B`` parameter sets (a Jacobian, a grid of starting points) is run in
-the same pass, so one call of :func:`mudrft.constitutive.kernel.channel_step` per time step
-advances ``B x T`` channels.
-"""
+"""The trials of a dataset packed for batched simulation (internal): arrays ``(n_max, T)``
+padded at the end, run for a batch of ``B`` parameter sets in one pass."""
 
 from __future__ import annotations
 
@@ -59,12 +53,9 @@ SEGMENT_TOLERANCE = 0.01
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
     """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud.
 
-    The deepest point is ``q_max = max q`` (positive into the mud). Intrusion runs until
-    the displacement first comes within ``tolerance * q_max`` of it, the hold until it
-    last leaves that band, the retraction until the displacement is back within the band
-    around the surface; later samples are "out" (decision D42). Samples of a vertical
-    trial before its first contact are "intrusion" here; the fit leaves them out as it
-    leaves out every sample above the surface (:class:`Packed`).
+    Intrusion runs until the depth first comes within ``tolerance`` of its deepest, the
+    hold until it last leaves that band, the retraction until the depth is back within the
+    band around the surface; later samples are "out" (decision D42).
     """
     q = np.asarray(trial.depth, dtype=float)
     i_peak = int(np.argmax(q))
@@ -86,15 +77,8 @@ def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray
 
 @dataclass
 class Packed:
-    """Trials padded into ``(n_max, T)`` arrays, with phase codes and trial weights.
-
-    ``contact`` (vertical trials): the plate feels the mud only below the surface, from
-    undisturbed mud at first contact (:func:`mudrft.plate.plate_steps`); samples above the
-    surface are simulated (their stress is 0) but not fitted: they serve the sensor's zero
-    check and tare (:mod:`.sensors`). Nor is the first sample in the mud after each entry:
-    the viscous stress appears at once on contact, so its stress depends on whether the
-    plate had reached the surface, which a depth's noise blurs.
-    """
+    """Trials padded into ``(n_max, T)`` arrays (:func:`pack`), with phase codes, the fitted
+    samples (``valid``) and each trial's weight (1 / its stress range in the mud) [1/Pa]."""
 
     time: np.ndarray
     gamma: np.ndarray
@@ -115,85 +99,6 @@ class Packed:
     clock: str = "contact"
     contact: bool = True
 
-    @classmethod
-    def from_dataset(
-        cls,
-        dataset: IntrusionDataset,
-        *,
-        nu: float,
-        k_a: float | None,
-        acceleration: bool,
-        xi0: float,
-        thixotropy: str = "ode",
-        clock: str = "contact",
-        exclude: Sequence[NDArray[np.bool_]] | None = None,
-        direction: str | None = None,
-    ) -> Packed:
-        trials = dataset.trials
-        contact = (direction or dataset.direction) == "vertical"
-        T = len(trials)
-        n_max = max(len(t) for t in trials)
-        time = np.zeros((n_max, T))
-        gamma = np.zeros((n_max, T))
-        data = np.zeros((n_max, T))
-        valid = np.zeros((n_max, T), dtype=bool)
-        phase = np.full((n_max, T), -1, dtype=np.int8)
-        weight = np.zeros(T)
-        lengths = np.zeros(T, dtype=int)
-        for j, tr in enumerate(trials):
-            n = len(tr)
-            ph = segment(tr)
-            t = tr.time - tr.time[0]
-            dt_last = t[-1] - t[-2]
-            time[:n, j] = t
-            time[n:, j] = t[-1] + dt_last * np.arange(1, n_max - n + 1)
-            gamma[:n, j] = tr.gamma
-            gamma[n:, j] = tr.gamma[-1]
-            data[:n, j] = tr.stress
-            phase[:n, j] = ph
-            valid[:n, j] = ph != PHASES["out"]
-            if contact:  # above the surface: no mud stress, nothing to fit; nor on entry
-                inside = in_contact(tr.depth)
-                valid[:n, j] &= inside & np.r_[False, inside[:-1]]
-            if exclude is not None:  # a saturated sensor's samples (decision D153)
-                valid[:n, j] &= ~np.asarray(exclude[j], dtype=bool)
-            if not np.any(ph == PHASES["intrusion"]) or float(np.max(tr.depth)) <= 0:
-                raise MudrftError(
-                    f"trial {tr.name!r} has no intrusion (depth never increases); "
-                    "a calibration trial must intrude into the mud"
-                )
-            fitted = tr.stress[valid[:n, j]]
-            span = float(np.ptp(fitted)) if fitted.size else 0.0
-            if not span > 0:
-                raise MudrftError(
-                    f"trial {tr.name!r}: the stress is the same ({float(tr.stress[0]):.4g} Pa) "
-                    f"at every sample in the mud ({fitted.size} samples); the model has "
-                    "nothing to fit: is this the stress column of an intrusion log?"
-                )
-            weight[j] = 1.0 / span
-            lengths[j] = n
-        dt = np.diff(time, axis=0)
-        rate = np.diff(gamma, axis=0) / dt
-        return cls(
-            time=time,
-            gamma=gamma,
-            rate=rate,
-            dt=dt,
-            data=data,
-            valid=valid,
-            phase=phase,
-            weight=weight,
-            lengths=lengths,
-            names=tuple(t.name for t in trials),
-            nu=nu,
-            k_a=k_a,
-            acceleration=acceleration,
-            xi0=xi0,
-            thixotropy=thixotropy,
-            clock=clock,
-            contact=contact,
-        )
-
     @property
     def n_trials(self) -> int:
         return int(self.data.shape[1])
@@ -210,11 +115,8 @@ class Packed:
         return MudParameters(**fields, nu=self.nu, k_a=self.k_a)
 
     def simulate(self, values: Mapping[str, ArrayLike], upto: int | None = None) -> np.ndarray:
-        """Total stress, shape (upto, B, T) [Pa], for a batch of parameter values.
-
-        Non-finite results (only possible at absurd parameter values) are returned as
-        +inf so that the caller can reject the point.
-        """
+        """Total stress, shape (upto, B, T) [Pa], for a batch of parameter values; a
+        non-finite one (at absurd values) is +inf, for the caller to reject."""
         n = self.data.shape[0] if upto is None else int(upto)
         p = self.parameters(values)
         B = int(np.asarray(values["alpha"]).size)
@@ -222,8 +124,6 @@ class Packed:
         out = np.zeros((n, B, T))
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
-            # the plate's one loop without per-step validation: the inputs were validated
-            # once when the data were packed, the options by calibrate()
             qs, restart = self.thixotropy == "quasi-static", self.clock == "retraction"
             steps = plate_steps(
                 channel_constants(p),
@@ -269,6 +169,10 @@ def pack(
 ) -> Packed:
     """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
 
+    A vertical plate (``direction``, default the dataset's) feels the mud only below the
+    surface, from undisturbed mud at first contact: samples above it, and the first sample
+    after each entry (whose stress a depth's noise blurs), are simulated but not fitted.
+
     Parameters
     ----------
     ds : IntrusionDataset
@@ -276,30 +180,71 @@ def pack(
     p : MudParameters
         A single set; its ``nu`` [1/s] is kept, its ``k_a`` [1/s] too unless it is the
         default ``1/lam`` (then it follows each fitted ``lam``, decision D8).
-    acceleration : bool, keyword-only
-        Keep the acceleration term (decision D6; ignored by the quasi-static evaluation).
-    xi0 : float, keyword-only
-        Initial structure of every trial [-].
-    thixotropy, clock : str, keyword-only
-        Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
+    acceleration, xi0, thixotropy, clock : keyword-only
+        The model's evaluation, as :func:`~mudrft.calibration.calibrate`.
     exclude : sequence of bool arrays, optional, keyword-only
-        Per trial, samples left out of the fit (a saturated sensor's, decision D153); they
-        are still simulated, the model's input being the depth.
+        Per trial, samples left out of the fit.
     direction : {"vertical", "horizontal"}, optional, keyword-only
-        The tests' direction (default the dataset's); a vertical plate is in the mud only
-        below the surface.
+        The tests' direction.
     """
+    trials = ds.trials
+    contact = (direction or ds.direction) == "vertical"
+    T, n_max = len(trials), max(len(t) for t in trials)
+    time, gamma, data = np.zeros((n_max, T)), np.zeros((n_max, T)), np.zeros((n_max, T))
+    valid = np.zeros((n_max, T), dtype=bool)
+    phase = np.full((n_max, T), -1, dtype=np.int8)
+    weight, lengths = np.zeros(T), np.zeros(T, dtype=int)
+    for j, tr in enumerate(trials):
+        n = len(tr)
+        ph = segment(tr)
+        t = tr.time - tr.time[0]
+        time[:n, j] = t
+        time[n:, j] = t[-1] + (t[-1] - t[-2]) * np.arange(1, n_max - n + 1)
+        gamma[:n, j] = tr.gamma
+        gamma[n:, j] = tr.gamma[-1]
+        data[:n, j] = tr.stress
+        phase[:n, j] = ph
+        valid[:n, j] = ph != PHASES["out"]
+        if contact:  # above the surface: no mud stress, nothing to fit; nor on entry
+            inside = in_contact(tr.depth)
+            valid[:n, j] &= inside & np.r_[False, inside[:-1]]
+        if exclude is not None:
+            valid[:n, j] &= ~np.asarray(exclude[j], dtype=bool)
+        if not np.any(ph == PHASES["intrusion"]) or float(np.max(tr.depth)) <= 0:
+            raise MudrftError(
+                f"trial {tr.name!r} has no intrusion (depth never increases); "
+                "a calibration trial must intrude into the mud"
+            )
+        fitted = tr.stress[valid[:n, j]]
+        span = float(np.ptp(fitted)) if fitted.size else 0.0
+        if not span > 0:
+            raise MudrftError(
+                f"trial {tr.name!r}: the stress is the same ({float(tr.stress[0]):.4g} Pa) "
+                f"at every sample in the mud ({fitted.size} samples); the model has "
+                "nothing to fit: is this the stress column of an intrusion log?"
+            )
+        weight[j] = 1.0 / span
+        lengths[j] = n
+    dt = np.diff(time, axis=0)
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
-    return Packed.from_dataset(
-        ds,
+    return Packed(
+        time=time,
+        gamma=gamma,
+        rate=np.diff(gamma, axis=0) / dt,
+        dt=dt,
+        data=data,
+        valid=valid,
+        phase=phase,
+        weight=weight,
+        lengths=lengths,
+        names=tuple(t.name for t in trials),
         nu=float(p.nu),
         k_a=None if tied else float(p.k_a),
         acceleration=acceleration,
         xi0=xi0,
         thixotropy=thixotropy,
         clock=clock,
-        exclude=exclude,
-        direction=direction,
+        contact=contact,
     )
 
 

@@ -1,11 +1,5 @@
-"""Notes and progress of a fit (internal).
-
-Notes (the start, each stage, the end) go to the ``mudrft.calibration`` logger at INFO
-level; nothing is printed. ``progress=True`` makes them visible on stderr and adds
-``calibrate: NN %`` lines, through :func:`mudrft._progress.make_progress`, the one
-progress mechanism of the library. A callable ``progress`` receives each note line (a
-str), as the command line and the examples use it.
-"""
+"""Notes and progress of a fit (internal): notes go to the ``mudrft.calibration`` logger,
+or to a callable ``progress``; ``progress=True`` shows them with the percent done."""
 
 from __future__ import annotations
 
@@ -22,18 +16,8 @@ logger = logging.getLogger("mudrft.calibration")
 
 
 class Reporter:
-    """Where a fit reports: notes to the logger (and a line callable), fractions done.
-
-    Parameters
-    ----------
-    progress : bool, callable or None
-        ``True``: notes shown on stderr and progress in percent; a callable: called with
-        each note line; ``False``/``None``: notes only to the logger.
-    label : str, keyword-only
-        Name of the job in the progress lines.
-    steps : int, keyword-only
-        Number of :meth:`step` calls that make the whole job [-].
-    """
+    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s); the
+    job is called ``label`` and made of ``steps`` calls of :meth:`step`."""
 
     def __init__(
         self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
@@ -60,10 +44,7 @@ class Reporter:
     @staticmethod
     def warn(message: str) -> None:
         """Something the user must see, whatever ``progress`` is: a
-        :class:`~mudrft._validation.CalibrationWarning`. The ``mudrft``
-        logger has only a ``NullHandler``, so a logged warning reached no script that had
-        not configured logging; the command line shows each Python warning as one line
-        ``mudrft calibrate: warning: ...``."""
+        :class:`~mudrft._validation.CalibrationWarning`."""
         warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
 
     def step(self) -> None:

@@ -1,12 +1,5 @@
-r"""Recursive least squares with forgetting, for banks of filters, and the stream of samples
-it reads, and the estimate it gives (:class:`OnlineEstimate`, public from
-:mod:`mudrft.calibration`) (internal).
-
-:func:`rls_update` advances any number of independent filters (a bank: one per value of
-a grid) by one sample; :func:`refined_argmin` picks the best bank member between grid
-points; :class:`SampleStream` checks each sample of a stream and gives the step from the
-previous one (decision D46).
-"""
+"""Recursive least squares with forgetting for banks of filters, the checked stream of
+samples they read, and the estimate they give (:class:`OnlineEstimate`) (internal, D46)."""
 
 from __future__ import annotations
 
@@ -23,6 +16,7 @@ from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
 __all__ = [
     "MAX_STRESS",
+    "Filters",
     "OnlineEstimate",
     "Sample",
     "SampleStream",
@@ -33,8 +27,7 @@ __all__ = [
     "square_weighted",
 ]
 
-#: Largest stress magnitude a streamed sample may have [Pa]: far above any mud (a few
-#: hundred kPa) and any material; 1e300 overflowed the filters' squared errors to inf.
+#: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
 MAX_STRESS = 1e12
 
 
@@ -50,10 +43,9 @@ class OnlineEstimate(NamedTuple):
     eta_m : float or None
         Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
     sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample has
-        informed it (the intrusion and the hold say nothing of the suction).
+        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample.
     tau_build : float or None
-        Suction build-up time [s]; ``None`` until a retraction sample, as ``sigma_y``.
+        Suction build-up time [s]; ``None`` until a retraction sample.
     n : float
         Exponent used (fixed) [-].
     updates : int
@@ -61,10 +53,8 @@ class OnlineEstimate(NamedTuple):
     phase : str
         Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
     standard_error : dict
-        Standard error of each estimate that is not ``None`` [its unit], from the filter's
-        covariance and the noise of its prediction errors; ``inf`` while too few samples
-        inform it (decision D138). An estimate within a few standard errors of its last
-        value has settled; one whose error stays large is not informed by the motion.
+        Standard error of each estimate that is not ``None`` [its unit]; ``inf`` while too
+        few samples inform it (decision D138).
     """
 
     alpha: float | None
@@ -86,33 +76,12 @@ def rls_update(
     lam: float,
     p_max: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    r"""One RLS step with exponential forgetting, for a bank of filters.
-
-    Parameters
-    ----------
-    theta : ndarray, shape (..., p)
-        Estimates of each filter [-] (normalised).
-    P : ndarray, shape (..., p, p)
-        Covariances [-].
-    phi : ndarray, shape (..., p)
-        Regressors of the sample [-].
-    y : array_like, shape (...)
-        Measurement [-].
-    lam : float
-        Forgetting factor in (0, 1] [-].
-    p_max : float
-        Cap of the trace of ``P``, so that directions the data do not excite cannot wind
-        up (decision D46) [-].
-
-    Returns
-    -------
-    theta, P : ndarray
-        Updated estimates and covariances.
-    increment : ndarray, shape (...)
-        Increment of the weighted least-squares cost,
-        :math:`\lambda e^2/(\lambda+\phi^TP\phi)` with :math:`e` the a-priori error (so
-        that :math:`V_k=\lambda V_{k-1}+\text{increment}` is the minimised cost).
-    """
+    r"""One RLS step with forgetting factor ``lam`` of a bank of filters: estimates
+    ``theta`` (..., p), covariances ``P`` (..., p, p), regressors ``phi`` (..., p) and
+    measurement ``y`` (...), all normalised [-]; the trace of ``P`` is capped at ``p_max``
+    so that directions the data do not excite cannot wind up. Returns the new ``theta``
+    and ``P`` and the cost's increment :math:`\lambda e^2/(\lambda+\phi^TP\phi)`,
+    :math:`e` the a-priori error."""
     Pphi = np.einsum("...ij,...j->...i", P, phi)
     denom = lam + np.einsum("...i,...i->...", phi, Pphi)
     K = Pphi / denom[..., None]
@@ -125,6 +94,30 @@ def rls_update(
     if np.any(over):
         P = P * np.where(over, p_max / tr, 1.0)[..., None, None]
     return theta, P, lam * err * err / denom
+
+
+class Filters:
+    """A bank of ``members`` forgetting RLS filters (factor ``lam``) on normalised
+    quantities, starting at 1 with variances ``var0`` [-], and the discounted sums behind
+    their standard errors (D138)."""
+
+    def __init__(self, members: int, var0: NDArray[np.float64], lam: float) -> None:
+        self.theta = np.ones((members, var0.size))
+        self.P = np.tile(np.diag(var0), (members, 1, 1))
+        self.M = np.zeros_like(self.P)
+        self.cost = np.zeros(members)
+        self.weight = self.weight2 = 0.0
+        self.count = 0
+        self.lam, self.p_max = lam, float(var0.sum())
+
+    def step(self, phi: NDArray[np.float64], y: NDArray[np.float64]) -> None:
+        """One sample: regressors ``phi`` (members, p) and measurements ``y`` (members,)."""
+        self.theta, self.P, dv = rls_update(self.theta, self.P, phi, y, self.lam, self.p_max)
+        self.M = square_weighted(self.M, phi, self.lam)
+        self.cost = self.lam * self.cost + dv
+        self.weight = self.lam * self.weight + 1.0
+        self.weight2 = self.lam**2 * self.weight2 + 1.0
+        self.count += 1
 
 
 def refined_argmin(e: NDArray[np.float64]) -> float:
@@ -150,27 +143,10 @@ def square_weighted(
 def filter_errors(
     P: NDArray[np.float64], M: NDArray[np.float64], cost: float, weight: float
 ) -> NDArray[np.float64]:
-    r"""Standard errors of one filter's estimates [-] (normalised, as ``P``).
-
-    With forgetting the estimate is a weighted least-squares one, weights
-    :math:`\lambda_f^{k-i}`, so its covariance is the sandwich :math:`s^2PMP`
-    (:math:`P` the filter's covariance, :math:`M` from :func:`square_weighted`), not
-    :math:`s^2P`, which overstates the error by about :math:`\sqrt{1+\lambda_f}`. The
-    noise variance is :math:`s^2=V/(w-p)`, from the discounted cost :math:`V` and the
-    discounted count of samples :math:`w=\sum\lambda_f^{k-i}` (decision D138); ``inf``
-    while :math:`w\le p`.
-
-    Parameters
-    ----------
-    P : ndarray, shape (p, p)
-        Covariance of the filter [-].
-    M : ndarray, shape (p, p)
-        Its square-weighted regressor products [-].
-    cost : float
-        Its discounted least-squares cost :math:`V` [-].
-    weight : float
-        Discounted count of its samples :math:`w` [-].
-    """
+    r"""Standard errors [-] of one filter's estimates: the sandwich :math:`s^2PMP` of a
+    weighted least-squares estimate (``M`` from :func:`square_weighted`), with
+    :math:`s^2=V/(w-p)` from the discounted ``cost`` :math:`V` and count ``weight``
+    :math:`w` (decision D138); ``inf`` while :math:`w\le p`."""
     p = P.shape[-1]
     if weight <= p:
         return np.full(p, np.inf)
@@ -187,45 +163,16 @@ def bank_errors(
     x: float,
     log_grid: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], float]:
-    r"""Standard errors of a bank's estimates read at ``x`` [grid steps], and of the log of
-    the grid's value there.
+    r"""Standard errors [-] of a bank's estimates read at ``x`` [grid steps], and of the
+    log of the grid value there (decision D138).
 
-    The grid value's log-error is the profile's: the cost :math:`V(u)`, :math:`u` the log
-    of the grid value, rises by the noise variance :math:`s^2` at
-    :math:`\delta=\sqrt{2s^2/V''}`, with :math:`V''` the parabola through the best member
-    and its neighbours (``inf`` at the grid's ends or without curvature), times
-    :math:`\sqrt{w_2/w}`, the sandwich's factor of :func:`filter_errors` for samples of
-    equal information (the profile of a weighted cost is as much too wide). Each estimate's
-    error adds, to the best member's own (:func:`filter_errors`), its change along the grid
-    times that log-error (delta method): a trade-off with the grid value widens it; with
-    the log-error infinite, half its range over the whole grid is added instead (decision
-    D138).
-
-    Parameters
-    ----------
-    theta : ndarray, shape (G, p)
-        Estimates of each member [-].
-    P : ndarray, shape (G, p, p)
-        Covariances [-].
-    M : ndarray, shape (G, p, p)
-        Square-weighted regressor products (:func:`square_weighted`) [-].
-    cost : ndarray, shape (G,)
-        Discounted costs :math:`V` [-].
-    weight : float
-        Discounted count of the samples [-].
-    weight2 : float
-        Their count discounted by the squared factor, :math:`\sum\lambda_f^{2(k-i)}` [-].
-    x : float
-        Where the estimates are read, from :func:`refined_argmin` [grid steps].
-    log_grid : ndarray, shape (G,)
-        Log of the grid values, increasing [-].
-
-    Returns
-    -------
-    se : ndarray, shape (p,)
-        Standard errors of the estimates [-] (normalised, as ``theta``).
-    se_log : float
-        Standard error of the log of the grid value [-].
+    The log-error is the profile's: the cost rises by the noise variance :math:`s^2` at
+    :math:`\sqrt{2s^2/V''}`, :math:`V''` the curvature of the parabola through the best
+    member and its neighbours, times :math:`\sqrt{w_2/w}` (``weight2`` over ``weight``);
+    ``inf`` at the grid's ends or without curvature. Each estimate's error adds, to the
+    best member's own, its change along the grid times that log-error, or half its range
+    over the grid when the log-error is infinite. ``theta`` (G, p), ``P`` and ``M``
+    (G, p, p) and ``cost`` (G,) are the members', ``log_grid`` (G,) increasing.
     """
     G, p = theta.shape
     i = round(x)
@@ -248,23 +195,9 @@ def bank_errors(
 
 
 class Sample(NamedTuple):
-    """One checked sample of a stream and the step from the previous one.
-
-    Attributes
-    ----------
-    time : float
-        Sample time [s].
-    gamma : float
-        Dimensionless displacement :math:`q/L_c` [-].
-    stress : float
-        Measured stress [Pa].
-    dt : float or None
-        Time since the previous sample [s]; None for the first sample.
-    rate : float or None
-        Mean :math:`\\dot\\gamma` since the previous sample [1/s]; None for the first.
-    previous_time : float or None
-        Time of the previous sample [s]; None for the first.
-    """
+    """One checked sample: time [s], :math:`\\gamma=q/L_c` [-], stress [Pa], and the step
+    from the previous sample (None for the first): ``dt`` [s], mean ``rate`` [1/s] and
+    ``previous_time`` [s]."""
 
     time: float
     gamma: float
@@ -275,13 +208,8 @@ class Sample(NamedTuple):
 
 
 class SampleStream:
-    """The last sample of a stream; checks each new one (finite, time increasing).
-
-    Parameters
-    ----------
-    characteristic_length : float
-        Plate length :math:`L_c` [m] (already checked > 0).
-    """
+    """The last sample of a stream of plate length ``characteristic_length`` [m] (checked);
+    checks each new one (finite, plausible, time increasing)."""
 
     def __init__(self, characteristic_length: float) -> None:
         self.L = float(characteristic_length)

@@ -1,12 +1,6 @@
-r"""Which known mud a log or a stream resembles: offline and per-sample classification.
-
-Every candidate parameter set (the paper's rows, sets interpolated at given water
-contents, or the user's own) runs the full model on the data; the residuals give a
-Gaussian likelihood of each candidate and, with equal priors, its probability.
-:func:`classify` does this for an offline dataset in one batched simulation;
-:class:`StreamClassifier` for a stream, one batched constitutive step per sample, over a
-sliding (exponentially weighted) window (decision D47).
-"""
+"""Which known mud a log (:func:`classify`) or a stream (:class:`StreamClassifier`)
+resembles: every candidate set runs the full model on the data, and its residuals give a
+Gaussian likelihood and, with equal priors, a probability (decision D47)."""
 
 from __future__ import annotations
 
@@ -17,12 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import (
-    MudrftError,
-    check_characteristic_length,
-    check_choice,
-    positive_number,
-)
+from .._validation import MudrftError, check_characteristic_length, check_choice, positive_number
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset
@@ -33,15 +22,6 @@ from ._problem import FIT_PARAMETERS, PHASES, Packed, pack, values_of
 from ._rls import SampleStream
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
-
-
-def _user_sets(candidates: MudParameters | Sequence[MudParameters]) -> list[MudParameters]:
-    """The user's candidate sets, each checked to be a single parameter set."""
-    cands = [candidates] if isinstance(candidates, MudParameters) else list(candidates)
-    for i, c in enumerate(cands):
-        if not isinstance(c, MudParameters) or c.shape != ():
-            raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
-    return cands
 
 
 def _candidates(
@@ -58,7 +38,10 @@ def _candidates(
         cands = [paper_parameters(float(w), direction) for w in ws]
         default: list[Any] = [float(w) for w in ws]
     else:
-        cands = _user_sets(candidates)
+        cands = [candidates] if isinstance(candidates, MudParameters) else list(candidates)
+        for i, c in enumerate(cands):
+            if not isinstance(c, MudParameters) or c.shape != ():
+                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
         default = [c.source or f"set {i}" for i, c in enumerate(cands)]
     labs = default if labels is None else list(labels)
     if len(labs) != len(cands):
@@ -89,13 +72,9 @@ class Classification:
     ----------
     labels : tuple
         Candidate labels (water contents for the paper's rows).
-    relative_rmse : ndarray
-        Relative RMSE of each candidate over all fitted samples [-] (decision D12).
-    log_likelihood : ndarray
-        Gaussian log-likelihood of each candidate's residuals [-] (noise variance:
-        ``noise`` if given, else the best candidate's mean squared residual).
-    probabilities : ndarray
-        Posterior probabilities with equal priors [-].
+    relative_rmse, log_likelihood, probabilities : ndarray
+        Of each candidate over the fitted samples [-]: relative RMSE (decision D12),
+        Gaussian log-likelihood, and probability with equal priors.
     best : object
         Label of the most likely candidate.
     """
@@ -132,10 +111,8 @@ def classify(
     direction: str | None = None,
     noise: float | None = None,
 ) -> Classification:
-    """Which known parameter set (paper row or user list) an offline dataset resembles.
-
-    Every candidate runs the full model on every trial (one batched simulation); the
-    residuals (each trial divided by its stress range) give a Gaussian likelihood.
+    """Which known parameter set (paper row or user list) an offline dataset resembles,
+    from the residuals of each trial relative to its stress range.
 
     Parameters
     ----------
@@ -187,11 +164,9 @@ def classify(
 class StreamClassifier:
     """Which known parameter set a stream of samples most resembles, updated per sample.
 
-    Each candidate's full model runs alongside the stream (one batched constitutive
-    step per sample for all candidates); squared residuals are discounted with a
-    forgetting factor ``1 - 1/window`` (a sliding window of about ``window``
-    samples) and turned into Gaussian log-likelihoods (decision D47). When the plate
-    leaves the mud the candidates' states are reset (decision D11).
+    Each candidate's model runs alongside the stream (one batched step per sample); the
+    squared residuals are discounted by ``1 - 1/window`` (decision D47); the states start
+    again when the plate leaves the mud (D11).
 
     Parameters
     ----------
@@ -256,16 +231,13 @@ class StreamClassifier:
         self._inside = False
 
     def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample; return the label of the most likely candidate.
+        """Add one sample (time [s], increasing; depth [m]; stress [Pa]); return the label
+        of the most likely candidate.
 
         Parameters
         ----------
-        time : float
-            Sample time [s], strictly increasing.
-        depth : float
-            Intrusion displacement [m].
-        stress : float
-            Measured stress resisting the intrusion [Pa].
+        time, depth, stress : float
+            The sample [s, m, Pa].
         """
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)
@@ -273,8 +245,7 @@ class StreamClassifier:
             self._state = initial_state((K,), gamma=x.gamma)
             return self.best
         if not in_contact(x.gamma):
-            # at or above the surface: no mud stress (as plate_response) and nothing to
-            # compare; the next intrusion starts afresh (D11)
+            # above the surface: nothing to compare; the next intrusion starts afresh (D11)
             if self._inside:
                 self._state = initial_state((K,), gamma=x.gamma)
                 self._inside = False

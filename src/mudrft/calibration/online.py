@@ -1,29 +1,11 @@
-r"""Online estimation: recursive least squares and stream classification, O(1) per sample.
+r"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46).
 
-The supplementary (Sec. III-A) notes that two simplifications make the model linear
-in its most important parameters, so that they can be identified online:
-
-* intrusion, with :math:`\dot\gamma\gg\dot\gamma_c` (:math:`\xi_{ss}\approx0`):
-  :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`;
-* retraction, with a sealed cavity (:math:`\phi=1`) and the bed left behind:
-  :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`
-  (suction negative in mudrft's convention), :math:`\Delta t` the time since the
-  retraction began.
-
-:class:`OnlineEstimator` runs one recursive least-squares (RLS) filter with
-exponential forgetting on the intrusion samples for :math:`(\alpha,\eta_\infty)`
-(``n`` fixed) and a bank of two-parameter RLS filters on the retraction samples for
-:math:`(\sigma_Y,\eta_\infty)`, one per value of :math:`\tau_{build}` on a log grid;
-the bank member with the smallest discounted prediction error gives
-:math:`\tau_{build}` (refined by a parabola through its neighbours in
-:math:`\ln\tau`), decision D46. Each sample costs a fixed number of small numpy
-operations; nothing is refitted.
-
-Because the simplifications drop the lagged thixotropic stress, the estimates are
-*apparent* values: on data from the full model (or real mud) they differ from the
-model constants by the thixotropic share of the stress (documented in docs/model.md).
-:class:`StreamClassifier` (:mod:`.classification`, importable from here too) avoids that
-bias by comparing whole candidate models.
+The model is linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y` once its other constants
+are fixed, and the supplementary's simplifications (Sec. III-A) make it linear in the
+intrusion and retraction samples too; :class:`OnlineEstimator` runs a bank of filters, one
+per value of :math:`\tau_{build}` on a log grid, and reads the best. The simplified
+(``model="paper"``) estimates are *apparent* values: they absorb the lagged thixotropic
+stress. :class:`StreamClassifier` (:mod:`.classification`) compares whole models instead.
 """
 
 from __future__ import annotations
@@ -32,7 +14,7 @@ import warnings
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from .._validation import (
     CalibrationWarning,
@@ -51,24 +33,17 @@ from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS
 from ._rls import (
+    Filters,
     OnlineEstimate,
     Sample,
     SampleStream,
     bank_errors,
     filter_errors,
     refined_argmin,
-    rls_update,
-    square_weighted,
 )
 from .classification import Classification, StreamClassifier, classify
 
-__all__ = [
-    "Classification",
-    "OnlineEstimate",
-    "OnlineEstimator",
-    "StreamClassifier",
-    "classify",
-]
+__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
@@ -77,28 +52,21 @@ _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 class OnlineEstimator:
     r"""Recursive least squares with forgetting of the linear constants and tau_build.
 
-    Feed samples one at a time with :meth:`update` (at controller rate: a fixed number
-    of small numpy operations per sample, no refit) and read :attr:`estimate`.
-
-    Two regressor models (decision D46):
+    Feed samples with :meth:`update` (a fixed number of small numpy operations each, no
+    refit) and read :attr:`estimate`. Two regressor models (decision D46):
 
     ``model="exact"`` (default)
-        The full model is *exactly* linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`
-        once the other constants are fixed (every term of eq. 1 is proportional to
-        one of them). The estimator runs the model's step alongside the stream to
-        compute these four regressors, with :math:`n,\lambda,\dot\gamma_c,\varepsilon,
-        \tau_{leak}` from ``prior`` and one filter per :math:`\tau_{build}` on a grid.
-        Unbiased when the prior's nonlinear constants are right.
+        The full model, stepped alongside the stream, gives the regressors of
+        :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior``;
+        unbiased when the prior's nonlinear constants are right.
     ``model="paper"``
         The supplementary's approximations (Sec. III-A): intrusion
         :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`, retraction
-        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`.
-        Needs only ``n``, but gives *apparent* values (the lagged thixotropic stress is
-        absorbed into them).
+        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`;
+        needs only ``n`` but gives apparent values.
 
-    In both, the filter of the :math:`\tau_{build}` grid with the smallest discounted
-    a-priori prediction error is selected and refined by a parabola in
-    :math:`\ln\tau_{build}`.
+    In both, one filter runs per :math:`\tau_{build}` of a grid; the one with the smallest
+    discounted prediction error is read, refined by a parabola in :math:`\ln\tau_{build}`.
 
     Parameters
     ----------
@@ -197,14 +165,12 @@ class OnlineEstimator:
         self._consts = channel_constants(self._basis_params)
 
     def rebase(self, prior: MudParameters) -> None:
-        """Start again around another prior: new fixed constants, new starting values,
-        memory cleared.
+        """Start again around another prior, memory cleared.
 
         Parameters
         ----------
         prior : MudParameters
-            A single set [SI], e.g. the best candidate of a :class:`StreamClassifier`
-            after the mud changed.
+            A single set [SI], e.g. a :class:`StreamClassifier`'s best after the mud changed.
         """
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
@@ -221,13 +187,7 @@ class OnlineEstimator:
         # every entry is O(1), which keeps the covariance update accurate in float64
         self._scale = np.array([float(getattr(p, k)) for k in self._names])
         self._S = float(max(p.alpha, p.sigma_y))
-        var0 = np.full(self._scale.size, self.initial_scale**2)
-        self._p_max = float(var0.sum())
-        self._theta = np.ones((G, self._scale.size))
-        self._P = np.tile(np.diag(var0), (G, 1, 1))
-        self._M = np.zeros_like(self._P)  # for the standard errors (D138)
-        self._err = np.zeros(G)
-        self._weight = self._weight2 = 0.0  # discounted counts of the bank's samples (D138)
+        self._bank = Filters(G, np.full(self._scale.size, self.initial_scale**2), self.forgetting)
         self._updates = 0
         self._suction_seen = False  # a sample has excited the suction regressor
         self._stream.reset()
@@ -236,27 +196,17 @@ class OnlineEstimator:
         self._phase = "out"
         if self.model == "paper":
             self._scale_i = np.array([float(p.alpha), float(p.eta_inf)])
-            self._th_i = np.ones(2)
-            self._P_i = np.diag(np.full(2, self.initial_scale**2))
-            self._pi_max = float(np.trace(self._P_i))
-            self._M_i = np.zeros((2, 2))
-            self._n_i = 0
-            self._err_i, self._weight_i = 0.0, 0.0
+            self._intrusion = Filters(1, np.full(2, self.initial_scale**2), self.forgetting)
         else:
             self._state = initial_state((G * 5,))
 
-    # ------------------------------------------------------------------------------------
     def update(self, time: float, depth: float, stress: float) -> OnlineEstimate:
         """Add one sample and return the current estimates.
 
         Parameters
         ----------
-        time : float
-            Sample time [s], strictly increasing.
-        depth : float
-            Intrusion displacement [m].
-        stress : float
-            Measured stress resisting the intrusion [Pa] (force / plate area).
+        time, depth, stress : float
+            Sample time [s] (increasing), intrusion displacement [m], measured stress [Pa].
 
         Returns
         -------
@@ -306,22 +256,15 @@ class OnlineEstimator:
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
         if not np.any(np.abs(phi) > 0):
             return
-        # the suction regressor is exactly 0 until the plate retracts: until then every
-        # filter of the bank is the same, sigma_y is the prior's and the tau_build "chosen"
-        # is the grid's first value (0.02 s), which the estimate must not report
+        # until the plate retracts the suction regressor is 0: nothing tells sigma_y
         self._suction_seen = self._suction_seen or bool(np.any(phi[:, 3] != 0))
-        self._update_bank(phi * (self._scale / self._S), s)
+        self._bank.step(phi * (self._scale / self._S), np.full(G, s / self._S))
+        self._updates += 1
 
     def _update_paper(self, t: float, g: float, gd: float, s: float) -> None:
         if self._phase == "intrusion":
-            phi = np.array([g**self.n, gd]) * (self._scale_i / self._S)
-            self._th_i, self._P_i, dv = rls_update(
-                self._th_i, self._P_i, phi, s / self._S, self.forgetting, self._pi_max
-            )
-            self._M_i = square_weighted(self._M_i, phi, self.forgetting)
-            self._err_i = self.forgetting * self._err_i + float(dv)
-            self._weight_i = self.forgetting * self._weight_i + 1.0
-            self._n_i += 1
+            phi = np.array([[g**self.n, gd]]) * (self._scale_i / self._S)
+            self._intrusion.step(phi, np.array([s / self._S]))
             self._updates += 1
         elif self._phase == "retraction" and self._gamma_w - g >= self.retraction_skip:
             assert self._t_w is not None
@@ -330,30 +273,8 @@ class OnlineEstimator:
                 [-(1.0 - np.exp(-(t - self._t_w) / self.tau_grid)), np.full(G, gd)], axis=-1
             ) * (self._scale / self._S)
             self._suction_seen = True
-            self._update_bank(phi, s)
-
-    def _update_bank(self, phi: NDArray[np.float64], s: float) -> None:
-        """One forgetting RLS step of every filter of the bank, and its bookkeeping.
-
-        The step and the discounted sums behind the standard errors (D138) are the same for
-        both models; only the regressors differ.
-
-        Parameters
-        ----------
-        phi : ndarray, shape (G, 2) or (G, 4)
-            Regressors of each filter, already scaled by ``self._scale / self._S`` [-].
-        s : float
-            Measured stress [Pa] (divided here by the stress scale ``self._S``).
-        """
-        G = self.tau_grid.size
-        self._theta, self._P, dv = rls_update(
-            self._theta, self._P, phi, np.full(G, s / self._S), self.forgetting, self._p_max
-        )
-        self._M = square_weighted(self._M, phi, self.forgetting)
-        self._err = self.forgetting * self._err + dv
-        self._weight = self.forgetting * self._weight + 1.0
-        self._weight2 = self.forgetting**2 * self._weight2 + 1.0
-        self._updates += 1
+            self._bank.step(phi, np.full(G, s / self._S))
+            self._updates += 1
 
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
@@ -362,12 +283,8 @@ class OnlineEstimator:
 
         Parameters
         ----------
-        time : array_like, shape (n,)
-            Sample times [s], strictly increasing.
-        depth : array_like, shape (n,)
-            Intrusion displacements [m].
-        stress : array_like, shape (n,)
-            Measured stresses [Pa].
+        time, depth, stress : array_like, shape (n,)
+            Sample times [s] (increasing), displacements [m], measured stresses [Pa].
 
         Returns
         -------
@@ -384,7 +301,6 @@ class OnlineEstimator:
             )
         return [self.update(a, b, c) for a, b, c in zip(t, q, s, strict=True)]
 
-    # ------------------------------------------------------------------------------------
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
@@ -392,34 +308,28 @@ class OnlineEstimator:
             ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
         )
         se: dict[str, float] = {}
-        have_bank = np.any(self._err > 0)
-        if have_bank:
-            x = refined_argmin(self._err)
+        b = self._bank
+        if np.any(b.cost > 0):
+            x = refined_argmin(b.cost)
             lg = np.log(self.tau_grid)
             tau = float(np.exp(np.interp(x, np.arange(lg.size), lg)))
             est["tau_build"] = tau
             i0 = min(int(np.floor(x)), lg.size - 2)
             w = x - i0
-            th = (1.0 - w) * self._theta[i0] + w * self._theta[i0 + 1]  # linear in ln(tau)
-            th = th * self._scale
-            for k, v in zip(self._names, th, strict=True):
-                est[k] = float(v)
-            se_b, se_log = bank_errors(
-                self._theta, self._P, self._M, self._err, self._weight, self._weight2, x, lg
-            )
+            th = ((1.0 - w) * b.theta[i0] + w * b.theta[i0 + 1]) * self._scale  # linear in ln(tau)
+            est.update(zip(self._names, th.tolist(), strict=True))
+            se_b, se_log = bank_errors(b.theta, b.P, b.M, b.cost, b.weight, b.weight2, x, lg)
             se.update(zip(self._names, (se_b * self._scale).tolist(), strict=True))
             se["tau_build"] = tau * se_log  # delta method, as the offline fit
         if not self._suction_seen:  # no retraction yet: nothing tells sigma_y or tau_build
             est["sigma_y"] = est["tau_build"] = None
         if self.model == "paper":
             est["eta_inf"] = None
-            if self._n_i >= 2:
-                a, e = self._th_i * self._scale_i
-                est["alpha"], est["eta_inf"] = float(a), float(e)
-                se_i = (
-                    filter_errors(self._P_i, self._M_i, self._err_i, self._weight_i) * self._scale_i
-                )
-                se["alpha"], se["eta_inf"] = (float(v) for v in se_i)
+            f = self._intrusion
+            if f.count >= 2:
+                est["alpha"], est["eta_inf"] = (f.theta[0] * self._scale_i).tolist()
+                se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
+                se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
             alpha=est["alpha"],
             eta_inf=est["eta_inf"],
@@ -435,11 +345,9 @@ class OnlineEstimator:
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
         """``base`` (default the prior) with the estimated fields replaced.
 
-        Estimates not yet available, or not positive, keep the base value; a
-        non-positive estimate warns (a :class:`~mudrft.calibration.CalibrationWarning`
-        naming it), since the least-squares estimates are unconstrained and one at or below
-        0 says the prior's fixed constants (``n``, ``lam``, ``gamma_dot_c``, ``epsilon``,
-        ``tau_leak``) do not describe this mud (D46).
+        Estimates not yet available, or not positive, keep the base value; a non-positive
+        one warns (:class:`~mudrft.calibration.CalibrationWarning`): the prior's fixed
+        constants do not describe this mud.
 
         Parameters
         ----------

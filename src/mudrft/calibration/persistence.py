@@ -1,9 +1,5 @@
-"""Fitted parameters on disk: read a fit JSON, or a plain JSON object of SI fields.
-
-Writing is :meth:`~mudrft.calibration.FitResult.to_json` (atomic, never replacing a
-file without ``overwrite=True``); reading a parameter set for use anywhere in the
-library is :func:`load_parameters`.
-"""
+"""Fitted parameters on disk: read a fit JSON (:meth:`~mudrft.calibration.FitResult.to_json`)
+or a plain JSON object of SI fields."""
 
 from __future__ import annotations
 
@@ -20,8 +16,7 @@ __all__ = ["load_parameters", "parameters_from_json", "read_json"]
 
 
 def read_json(p: Path) -> dict[str, Any]:
-    """The JSON object in file ``p``; a precise error for a missing, unreadable or
-    malformed file (line and column) or for JSON that is not an object."""
+    """The JSON object in file ``p``; an error names what is wrong (line and column)."""
     try:
         text = p.read_text(encoding="utf-8-sig")  # a byte-order mark, as CSV logs allow
     except FileNotFoundError as exc:
@@ -46,21 +41,9 @@ _PLAIN_META = ("direction", "source", "units", "format", "version")
 
 
 def parameters_from_json(data: dict[str, Any], *, where: str) -> MudParameters:
-    """The parameter set of a fit dict (its ``"parameters"``) or of a plain dict of SI fields.
-
-    Refused, naming the key: a ``"format"`` other than ``"mudrft-fit"``, a newer
-    ``"version"``, a ``"units"`` entry other than the field's SI unit (the values are
-    read as SI; a file in MPa would load 10^6 times too soft), an unknown field (a
-    misspelled ``"Nu"`` would leave ``nu`` at its default), and a value that is not one
-    number (a file holds one set).
-
-    Parameters
-    ----------
-    data : dict
-        Parsed JSON.
-    where : str, keyword-only
-        Where the data come from (a path), named in errors and in the set's ``source``.
-    """
+    """The parameter set of a fit dict (its ``"parameters"``) or of a plain dict of SI
+    fields, read from ``where`` (named in errors); refused, naming the key: another
+    format, a newer version, a unit that is not SI, an unknown field, or not one number."""
     fmt, version = data.get("format", FIT_FORMAT), data.get("version", FIT_VERSION)
     if fmt != FIT_FORMAT:
         raise MudrftError(f"{where}: format {fmt!r} is not a mudrft parameter or fit file")

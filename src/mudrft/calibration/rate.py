@@ -1,38 +1,22 @@
-r"""The rate of a logged depth: estimated to survive the sensor's noise, not fitted where
-the speed changes.
+r"""The rate of a logged depth, read to survive the sensor's noise and not fitted where the
+speed changes.
 
-The model's rate over a step is the difference of two depths over the step. A logged depth
-carries the sensor's noise :math:`\sigma_q`, and the difference multiplies it by
-:math:`\sqrt2/\Delta t`: 0.02 mm at 500 Hz is 14 mm/s of noise on a 10 mm/s test. A fit
-then takes the noise for motion, and errors in its input bias every rate-dependent
-constant towards zero (:math:`\eta_\infty`, :math:`\eta_m`, :math:`\lambda`, ...), by
-the fraction :math:`x^2/(1+x^2)` for a rate noise :math:`x` times the speed. The noise also
-moves the deepest point of a hold, and the model reads each rise of it followed by a fall
-as a retraction that unseals the bed: with :math:`\varepsilon L_c` = 0.64 mm, 0.02 mm of
-noise cost 400 Pa of the support during a hold.
-
-:func:`smooth_trial` estimates :math:`\sigma_q` from the log (:func:`depth_noise`) and
-
-* finds where the speed changes (:func:`speed_changes`): the least-squares slopes before
-  and after each sample, over the fewest samples that bring their noise to
-  :data:`RATE_NOISE` of the trial's speed, differ by more than :data:`KINK_Z` standard
-  errors;
-* fits the depth as constant-speed segments between those changes (a linear spline,
-  :func:`scipy.interpolate.make_lsq_spline`, each change placed where the lines of its two
-  segments meet), as a plate rig moves: exact rates, exactly still holds. If the depth is
-  not that (its residual exceeds the noise), it is smoothed instead with a local-linear
-  (Savitzky-Golay) kernel over the same window: a moving average with parabolic weights,
-  exact at constant speed, whose differences are least-squares slopes.
-
-No depth log says when within a sampling interval the speed changed, and the stress after
-that interval answers a rate the log does not give: the samples whose step spans a change
-of speed (:meth:`Smoothing.excluded`) are not fitted.
+The model's rate is the difference of two depths over a step, which multiplies the
+depth's noise :math:`\sigma_q` by :math:`\sqrt2/\Delta t` (0.02 mm at 500 Hz is 14 mm/s on
+a 10 mm/s test) and biases every rate-dependent constant towards zero by
+:math:`x^2/(1+x^2)`, :math:`x` the rate noise over the speed. :func:`smooth_trial`
+estimates :math:`\sigma_q` (:func:`depth_noise`), finds where the speed changes
+(:func:`speed_changes`), and fits the depth as constant-speed segments between them, as a
+plate rig moves; a depth that is not that is smoothed with a local-linear (Savitzky-Golay)
+kernel instead. Samples whose step spans a change of speed are not fitted
+(:meth:`Smoothing.excluded`).
 """
 
 from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -65,33 +49,15 @@ KINK_Z = 5.0
 BIAS_WARNING = 0.01
 #: The window is at most this fraction of the trial's samples in the mud [-].
 _MAX_WINDOW_FRACTION = 0.1
-#: Constant-speed segments describe a depth whose residual's mean square is at most this
-#: many times the noise's (a curved motion leaves much more) [-].
+#: Segments describe a depth whose residual's mean square is at most this times the noise's.
 _NOISE_RATIO = 1.3
 
 
 class Smoothing(NamedTuple):
-    """How the depth of one trial was read.
-
-    Attributes
-    ----------
-    name : str
-        The trial.
-    method : str
-        ``"as logged"``, ``"segments"`` (constant-speed segments) or ``"kernel"``.
-    window : int
-        Samples of the slopes that found the changes of speed, or of the kernel [-].
-    dt : float
-        Median sampling interval [s].
-    depth_noise : float
-        Estimated noise of the logged depth, :math:`\\sigma_q` [m].
-    rate_noise : float
-        Noise of the rate as the model reads it [m/s] (the largest over the segments).
-    speed : float
-        The trial's speed through the mud [m/s].
-    changes : tuple of (float, float)
-        Where the speed changes: the time span [s] in which the change lies.
-    """
+    """How the depth of trial ``name`` was read: ``method`` (``"as logged"``,
+    ``"segments"`` or ``"kernel"``), the ``window`` of the slopes or kernel [samples], the
+    median step ``dt`` [s], the depth's noise [m], the rate's noise [m/s], the trial's
+    ``speed`` [m/s], and the time spans [s] in which the speed ``changes``."""
 
     name: str
     method: str
@@ -138,13 +104,9 @@ NOISE_MIN_SAMPLES = 16
 
 
 def depth_noise(depth: NDArray[np.float64]) -> float:
-    r"""Standard deviation of a logged depth's noise [m], from its second differences.
-
-    :math:`1.4826\,\mathrm{median}|\Delta^2 q|/\sqrt6`: white noise of standard deviation
-    :math:`\sigma` gives second differences of standard deviation :math:`\sqrt6\sigma`,
-    while a motion at constant speed gives none and a change of speed a few outliers,
-    which the median ignores. Fewer than :data:`NOISE_MIN_SAMPLES` samples cannot tell
-    noise from motion and give 0.
+    r"""Standard deviation of a logged depth's noise [m],
+    :math:`1.4826\,\mathrm{median}|\Delta^2 q|/\sqrt6` (a change of speed is an outlier
+    the median ignores); 0 for fewer than :data:`NOISE_MIN_SAMPLES` samples.
 
     Examples
     --------
@@ -191,13 +153,9 @@ def speed_changes(
     sigma: float,
     speed: float,
 ) -> list[int]:
-    """The samples where the speed changes.
-
-    At each sample the least-squares slopes of the ``h + 1`` samples before it and after it
-    (``h`` = ``half_width``, at least 1; both include it) are compared; a group of samples
-    where they differ by more than :data:`KINK_Z` standard errors and :data:`RATE_NOISE` of
-    ``speed`` [m/s] (noise ``sigma`` [m]) is one change, at its largest difference.
-    """
+    """The samples where the speed changes: where the least-squares slopes of the
+    ``half_width + 1`` samples before and after differ by more than :data:`KINK_Z` standard
+    errors (depth noise ``sigma`` [m]) and :data:`RATE_NOISE` of ``speed`` [m/s]."""
     n = depth.size
     k = max(half_width, 1) + 1
     if n < 2 * k + 1:
@@ -217,16 +175,11 @@ def speed_changes(
 def _segments(
     time: NDArray[np.float64], depth: NDArray[np.float64], at: list[int], margin: int, sigma: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float] | None:
-    """Constant-speed segments between the changes ``at`` (sample indices).
-
-    Each change is placed where the lines of its two segments meet (each line fitted
-    ``margin`` samples clear of its ends); the depth is then fitted by least squares as the
-    continuous piecewise-linear function with those corners, a segment whose speed is within
-    :data:`KINK_Z` standard errors of 0 held exactly still (a drift of microns in a hold
-    reads as a retraction that unseals the bed). Returns the change times [s], the fitted
-    depth [m] at ``time`` and the largest standard error of a moving segment's speed [m/s]
-    (noise ``sigma`` [m]); None if a segment is too short to fit.
-    """
+    """The depth [m] fitted as continuous constant-speed segments between the changes
+    ``at`` (sample indices), each placed where the lines of its two segments meet, a
+    segment within :data:`KINK_Z` standard errors of still held exactly still; returns the
+    change times [s], the fitted depth [m] and the largest standard error of a moving
+    segment's speed [m/s]; None if a segment is too short to fit."""
     bounds = [0, *at, depth.size - 1]
     lines = []
     for a, b in itertools.pairwise(bounds):
@@ -311,21 +264,11 @@ def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Sm
     how = Smoothing(trial.name, method, 2 * h + 1, dt, sigma, rate, speed, changes)
     if depth is q:
         return trial, how
-    read = Trial(
-        t,
-        depth,
-        trial.stress,
-        name=trial.name,
-        characteristic_length=trial.characteristic_length,
-        meta={**trial.meta, "depth": how.note()},
-    )
-    return read, how
+    return replace(trial, depth=depth, meta={**trial.meta, "depth": how.note()}), how
 
 
 def _describes(residual: NDArray[np.float64], sigma: float) -> bool:
-    """Whether a fit's ``residual`` [m] is the depth's noise ``sigma`` [m] and no more: its
-    mean square within :data:`_NOISE_RATIO` of :math:`\\sigma^2` (the median estimate of
-    :func:`depth_noise` is itself a few percent off)."""
+    """Whether a fit's ``residual`` [m] is the depth's noise ``sigma`` [m] and no more."""
     return float(np.mean(residual**2)) <= _NOISE_RATIO * sigma**2
 
 
@@ -345,9 +288,9 @@ def check_window(window: object) -> int | str:
 def smooth_dataset(
     ds: IntrusionDataset, window: int | str = "auto"
 ) -> tuple[IntrusionDataset, list[Smoothing], list[str]]:
-    """Every trial through :func:`smooth_trial`; returns the data, what was done to each
-    trial, and the warnings (a rate noise that biases the rate-dependent constants by more
-    than :data:`BIAS_WARNING`)."""
+    """Every trial through :func:`smooth_trial`: the data, what was done to each trial, and
+    the warnings (a rate noise that biases the rate-dependent constants more than
+    :data:`BIAS_WARNING`)."""
     window = check_window(window)
     trials, done, warnings_ = [], [], []
     for tr in ds.trials:
@@ -368,7 +311,4 @@ def smooth_dataset(
                     else ""
                 )
             )
-    out = IntrusionDataset(
-        tuple(trials), direction=ds.direction, source=ds.source, notes=ds.notes, meta=dict(ds.meta)
-    )
-    return out, done, warnings_
+    return replace(ds, trials=tuple(trials)), done, warnings_

@@ -1,14 +1,7 @@
-r"""The outcome of a calibration: :class:`FitResult` and its :class:`StageReport` entries.
-
-A :class:`FitResult` holds the fitted :class:`~mudrft.MudParameters`, their standard
-errors, confidence intervals, correlation and identifiability verdicts, the fit quality
-(relative RMSE, noise), the solver status and a trace of every evaluation. It predicts
-and plots the fitted data, and saves to / loads from JSON.
-"""
+"""The outcome of a calibration: :class:`FitResult` and its :class:`StageReport` entries."""
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from collections.abc import Sequence
@@ -20,11 +13,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..io import IntrusionDataset, atomic_write
+from ..io import IntrusionDataset, atomic_write, json_text
+from ..io.atomic import finite_or_none
+from ..io.dataset import OVERWRITE_OPTION
 from ..parameters.base import PARAMETER_UNITS, MudParameters
 from ._options import as_dataset
-from ._plot import plot_fit
-from ._problem import FIT_PARAMETERS, pack, values_of
+from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .rate import check_window, smooth_dataset
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, outlying_trials
@@ -57,8 +51,7 @@ class StageReport:
     free : tuple of str
         Parameters freed in the stage.
     simulations : int
-        Batched simulations of all trials run in the stage (a batch holds a grid of
-        starting points, or a point and its finite-difference neighbours).
+        Batched simulations of all trials run in the stage.
     cost : float
         Half the sum of squared weighted residuals of the stage's samples [-].
     seconds : float
@@ -86,21 +79,20 @@ class FitResult:
     free : tuple of str
         Fitted parameters; the others were held fixed.
     standard_error : dict
-        Absolute standard error of each parameter [its SI unit] (``inf`` where the
-        data do not constrain it, ``0`` for fixed ones), from the delta method
-        :math:`\mathrm{se}(p)=p\,\mathrm{se}(\ln p)`.
+        Standard error of each parameter [its SI unit], :math:`p\,\mathrm{se}(\ln p)`
+        (``inf`` where the data do not constrain it, ``0`` for fixed ones).
     relative_standard_error : dict
         :math:`\mathrm{se}(\ln p)` [-], the relative error for small values.
     confidence_interval : dict
-        ``(low, high)`` [SI] at ``confidence_level``:
-        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds. It covers
-        the noise only: it assumes the model exact and the residuals independent.
+        ``(low, high)`` [SI] at ``confidence_level``,
+        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds: the noise's
+        only (the model exact, the residuals independent).
     confidence_level : float
         Two-sided level of the intervals [-].
     robust_standard_error, robust_interval : dict
         Relative error [-] and ``(low, high)`` [SI] that admit model error (residuals
-        correlated in time, :mod:`~mudrft.calibration.uncertainty`), never narrower than the
-        noise's; the intervals hold for all free parameters at once. The verdicts use them.
+        correlated in time), never narrower than the noise's; the intervals hold for all
+        free parameters at once. The verdicts use them.
     correlation : ndarray, shape (k, k)
         Correlation matrix of the log-parameters, in the order of ``free``.
     identifiability : dict
@@ -119,8 +111,7 @@ class FitResult:
     stages : tuple of StageReport
         One entry per stage.
     trace : tuple of dict
-        Every model evaluation: ``{"stage", "evaluation", "cost", "parameters"}``
-        (like ``mujoco.minimize``'s trace).
+        Every model evaluation: ``{"stage", "evaluation", "cost", "parameters"}``.
     direction : str
         Loading direction of the data.
     bounds : dict
@@ -136,9 +127,8 @@ class FitResult:
     dataset : IntrusionDataset or None
         The data that were fitted (not saved to JSON).
     data_warnings : tuple of str
-        What the checks of the log's sensor found before the fit: a saturated sensor's
-        trial (decision D153), an unzeroed one (D154), a depth too noisy for the rate
-        (:mod:`~mudrft.calibration.rate`); shown by :meth:`summary`.
+        What the checks of the log found before the fit: a saturated or unzeroed sensor, a
+        depth too noisy for the rate.
     rate : str or int
         How the rate came from the logged depth (the ``rate`` option of :func:`calibrate`).
     depth_notes : tuple of str
@@ -191,9 +181,8 @@ class FitResult:
         return tuple(str(i + 1) for i in range(n))
 
     def outlying_trials(self) -> str | None:
-        """The warning naming the trials that fit much worse than the others (rule D139:
-        :func:`~mudrft.calibration.uncertainty.outlying_trials`), or None; None without the
-        dataset (a fit loaded from JSON)."""
+        """The warning naming the trials that fit much worse than the others (rule D139), or
+        None (also without the dataset)."""
         ds = self.dataset
         if ds is None or len(ds.trials) != len(self.trial_relative_rmse):
             return None
@@ -257,7 +246,6 @@ class FitResult:
             f"identified={list(self.identified())})"
         )
 
-    # -- prediction and plots ---------------------------------------------------------
     def predict(self, dataset: IntrusionDataset | None = None) -> list[NDArray[np.float64]]:
         """Model stress [Pa] at the samples of each trial.
 
@@ -296,7 +284,7 @@ class FitResult:
         *,
         axes: Sequence[Axes] | NDArray[np.object_] | None = None,
     ) -> Figure:
-        """Fit against data: stress against time, one panel per trial (needs matplotlib).
+        """Stress [kPa] against time [s], data and fit, one panel per trial (needs matplotlib).
 
         Parameters
         ----------
@@ -309,74 +297,102 @@ class FitResult:
         -------
         matplotlib.figure.Figure
         """
+        from ..plotting import require_matplotlib
+
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("plot needs a dataset: pass the data this fit was made from")
+        plt = require_matplotlib()
+        if axes is None:
+            size = (3.6 * len(ds) + 0.6, 3.2)
+            fig, axes = plt.subplots(
+                1, len(ds), figsize=size, squeeze=False, constrained_layout=True
+            )
+        else:
+            fig = np.ravel(axes)[0].figure  # type: ignore[arg-type]
+        axs = np.ravel(axes)  # type: ignore[arg-type]
+        for j, (tr, yp) in enumerate(zip(ds.trials, self.predict(ds), strict=True)):
+            ax = axs[j]
+            used = segment(tr) != PHASES["out"]
+            ax.plot(tr.time[used], tr.stress[used] / 1e3, ".", ms=2.5, color="0.55", label="data")
+            if not used.all():
+                label = "not fitted (out of the mud)"
+                ax.plot(
+                    tr.time[~used], tr.stress[~used] / 1e3, "x", ms=4, color="0.55", label=label
+                )
+            ax.plot(tr.time[used], yp[used] / 1e3, "C3", lw=1.5, label="fit")
+            ax.axhline(0.0, color="0.8", lw=0.6)
+            ax.set_title(f"{tr.name}: {1e3 * tr.speed:.3g} mm/s", fontsize=9)
+            ax.set_xlabel("time [s]")
+            if j == 0:
+                ax.set_ylabel("stress [kPa]")
+                ax.legend(fontsize=8, loc="lower left")
         title = f"calibration ({self.direction}); relative RMSE {100 * self.relative_rmse:.2f} %"
-        return plot_fit(ds, self.predict(ds), title=title, axes=axes)
+        fig.suptitle(title, fontsize=10)
+        return fig
 
-    # -- persistence --------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict (SI values with the field names of :class:`~mudrft.MudParameters`)."""
-
-        def num(x: float) -> float | None:
-            return float(x) if math.isfinite(float(x)) else None
-
-        corr = [[num(c) for c in row] for row in np.asarray(self.correlation, dtype=float)]
-        return {
-            "format": FIT_FORMAT,
-            "version": FIT_VERSION,
-            "direction": self.direction,
-            "parameters": self.parameters.as_dict(),
-            "units": dict(PARAMETER_UNITS),
-            "free": list(self.free),
-            "standard_error": {k: num(v) for k, v in self.standard_error.items()},
-            "relative_standard_error": {k: num(v) for k, v in self.relative_standard_error.items()},
-            "confidence_interval": {
-                k: [num(a), num(b)] for k, (a, b) in self.confidence_interval.items()
-            },
-            "confidence_level": self.confidence_level,
-            "robust_standard_error": {k: num(v) for k, v in self.robust_standard_error.items()},
-            "robust_interval": {k: [num(a), num(b)] for k, (a, b) in self.robust_interval.items()},
-            "correlation": {"parameters": list(self.free), "matrix": corr},
-            "identifiability": dict(self.identifiability),
-            "identifiability_rule": (
-                f"identified: robust relative SE <= {IDENTIFIED_SE}; weak: <= "
-                f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
-                "(Jacobian rank-deficient) or at a bound"
-            ),
-            "relative_rmse": self.relative_rmse,
-            "trial_relative_rmse": list(self.trial_relative_rmse),
-            "noise": self.noise,
-            "status": self.status,
-            "message": self.message,
-            "condition_number": num(self.condition_number),
-            "acceleration": self.acceleration,
-            "thixotropy": self.thixotropy,
-            "clock": self.clock,
-            "xi0": self.xi0,
-            "data_warnings": list(self.data_warnings),
-            "rate": self.rate,
-            "depth_notes": list(self.depth_notes),
-            "bounds": {k: list(v) for k, v in self.bounds.items()},
-            "stages": [asdict(s) | {"free": list(s.free)} for s in self.stages],
-            "trace": [dict(t) for t in self.trace],
-            "data": None
-            if self.dataset is None
-            else {
+        """JSON-ready dict (SI values with the field names of :class:`~mudrft.MudParameters`;
+        an infinite or undefined number is None)."""
+        data = None
+        if self.dataset is not None:
+            trials = [t.name for t in self.dataset.trials]
+            data = {
                 "source": self.dataset.source,
-                "trials": [t.name for t in self.dataset.trials],
+                "trials": trials,
                 "synthetic": self.dataset.synthetic,
-            },
-        }
+            }
+        return finite_or_none(
+            {
+                "format": FIT_FORMAT,
+                "version": FIT_VERSION,
+                "direction": self.direction,
+                "parameters": self.parameters.as_dict(),
+                "units": dict(PARAMETER_UNITS),
+                "free": list(self.free),
+                "standard_error": self.standard_error,
+                "relative_standard_error": self.relative_standard_error,
+                "confidence_interval": self.confidence_interval,
+                "confidence_level": self.confidence_level,
+                "robust_standard_error": self.robust_standard_error,
+                "robust_interval": self.robust_interval,
+                "correlation": {
+                    "parameters": list(self.free),
+                    "matrix": np.asarray(self.correlation, dtype=float).tolist(),
+                },
+                "identifiability": dict(self.identifiability),
+                "identifiability_rule": (
+                    f"identified: robust relative SE <= {IDENTIFIED_SE}; weak: <= "
+                    f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
+                    "(Jacobian rank-deficient) or at a bound"
+                ),
+                "relative_rmse": self.relative_rmse,
+                "trial_relative_rmse": self.trial_relative_rmse,
+                "noise": self.noise,
+                "status": self.status,
+                "message": self.message,
+                "condition_number": self.condition_number,
+                "acceleration": self.acceleration,
+                "thixotropy": self.thixotropy,
+                "clock": self.clock,
+                "xi0": self.xi0,
+                "data_warnings": self.data_warnings,
+                "rate": self.rate,
+                "depth_notes": self.depth_notes,
+                "bounds": self.bounds,
+                "stages": [asdict(s) for s in self.stages],
+                "trace": self.trace,
+                "data": data,
+            }
+        )
 
     def to_json(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Save to JSON, atomically; never replaces an existing file unless ``overwrite=True``.
+        """Save to JSON atomically; an existing file is replaced only with ``overwrite=True``.
 
         Parameters
         ----------
         path : str or path-like
-            Output file (written through :func:`mudrft.io.atomic_write`).
+            Output file.
         overwrite : bool, keyword-only
             Replace an existing file.
 
@@ -385,59 +401,47 @@ class FitResult:
         Path
             The file written.
         """
-        text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
-        return atomic_write(
-            path, text + "\n", overwrite=overwrite, option="overwrite=True (CLI: --force)"
-        )
+        text = json_text(self.to_dict(), indent=1)
+        return atomic_write(path, text, overwrite=overwrite, option=OVERWRITE_OPTION)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], *, where: str = "fit") -> FitResult:
-        """Rebuild a result from :meth:`to_dict` output (without the dataset).
+        """Rebuild a result (without its dataset) from :meth:`to_dict` output, read from
+        ``where`` (named in errors)."""
 
-        Parameters
-        ----------
-        data : dict
-            Output of :meth:`to_dict` (SI values).
-        where : str, keyword-only
-            Where the data come from (a path), named in errors.
-        """
+        def f(x: Any) -> float:
+            return float("inf") if x is None else float(x)
+
         try:
             params = parameters_from_json(data, where=where)
             if not isinstance(data["free"], list):  # a string would read as its letters
                 raise MudrftError(f"{where}: free must be a list of names, got {data['free']!r}")
             free = tuple(data["free"])
-
-            def f(x: Any) -> float:
-                return float("inf") if x is None else float(x)
-
             se = {k: f(v) for k, v in data["standard_error"].items()}
             rse = {k: f(v) for k, v in data["relative_standard_error"].items()}
             ci = {k: (f(a), f(b)) for k, (a, b) in data["confidence_interval"].items()}
             # files written before the robust errors (issue 39) have none: the noise's
             rrse = {k: f(v) for k, v in data.get("robust_standard_error", {}).items()} or rse
             rci = {k: (f(a), f(b)) for k, (a, b) in data.get("robust_interval", {}).items()} or ci
-            for key, per_free in (
-                ("standard_error", se),
-                ("relative_standard_error", rse),
-                ("confidence_interval", ci),
-                ("robust_standard_error", rrse),
-                ("robust_interval", rci),
-                ("identifiability", data["identifiability"]),
-            ):
-                if set(per_free) != set(FIT_PARAMETERS):
+            verdicts = dict(data["identifiability"])
+            per_parameter: dict[str, dict[str, Any]] = {
+                "standard_error": se,
+                "relative_standard_error": rse,
+                "confidence_interval": ci,
+                "robust_standard_error": rrse,
+                "robust_interval": rci,
+                "identifiability": verdicts,
+            }
+            for key, entries in per_parameter.items():
+                if set(entries) != set(FIT_PARAMETERS):
                     raise MudrftError(
                         f"{where}: {key} must have one entry per parameter "
-                        f"{list(FIT_PARAMETERS)}, got {list(per_free)}"
+                        f"{list(FIT_PARAMETERS)}, got {list(entries)}"
                     )
             if not set(free) <= set(FIT_PARAMETERS):
                 raise MudrftError(f"{where}: free must name parameters of {list(FIT_PARAMETERS)}")
-            corr = np.array(
-                [
-                    [np.nan if c is None else c for c in row]
-                    for row in data["correlation"]["matrix"]
-                ],
-                dtype=float,
-            )
+            matrix = data["correlation"]["matrix"]
+            corr = np.array([[np.nan if c is None else c for c in row] for row in matrix], float)
             stages = tuple(
                 StageReport(
                     s["name"],
@@ -452,12 +456,7 @@ class FitResult:
             return cls(
                 parameters=params,
                 free=free,
-                standard_error=se,
-                relative_standard_error=rse,
-                confidence_interval=ci,
-                confidence_level=float(data["confidence_level"]),
                 correlation=corr.reshape(len(free), len(free)),
-                identifiability=dict(data["identifiability"]),
                 relative_rmse=float(data["relative_rmse"]),
                 trial_relative_rmse=tuple(float(x) for x in data["trial_relative_rmse"]),
                 noise=float(data["noise"]),
@@ -472,11 +471,11 @@ class FitResult:
                 thixotropy=str(data.get("thixotropy", "ode")),
                 clock=str(data.get("clock", "contact")),
                 xi0=float(data.get("xi0", 0.0)),
+                confidence_level=float(data["confidence_level"]),
                 data_warnings=tuple(str(w) for w in data.get("data_warnings", [])),
-                robust_standard_error=rrse,
-                robust_interval=rci,
                 rate=check_window(data.get("rate", "auto")),
                 depth_notes=tuple(str(w) for w in data.get("depth_notes", [])),
+                **per_parameter,  # type: ignore[arg-type]
             )
         except MudrftError:
             raise
@@ -487,12 +486,6 @@ class FitResult:
 
     @classmethod
     def from_json(cls, path: str | os.PathLike[str]) -> FitResult:
-        """Load a result saved by :meth:`to_json`.
-
-        Parameters
-        ----------
-        path : str or path-like
-            The JSON file.
-        """
+        """Load a result saved by :meth:`to_json` from the JSON file ``path``."""
         p = Path(os.fspath(path))
         return cls.from_dict(read_json(p), where=str(p))

@@ -1,16 +1,6 @@
-r"""The stages of a calibration: start, phase by phase, joint, uncertainty at the optimum.
-
-Each stage works on one :class:`~mudrft.calibration._engine.Engine` (the current values,
-bounds and trace) and returns a :class:`~mudrft.calibration.StageReport`:
-
-1. **start** (:func:`start_engine`): the paper row of the data's direction that fits
-   best after its linear parameters are rescaled (decision D43), or the user's set;
-2. **intrusion**, **relaxation**, **retraction** (:func:`phase_stage`): each group on
-   the samples of its phase, from the best points of a small grid (:data:`STAGES`);
-3. **joint** (:func:`joint_stage`): every free parameter on every sample;
-4. the residuals and Jacobian at the optimum give the uncertainty
-   (:func:`uncertainty_at_optimum`).
-"""
+r"""The stages of a calibration on one :class:`~._engine.Engine`: start (the best rescaled
+paper row, decision D43, or the user's set), one stage per phase group, joint, and the
+uncertainty at the optimum (decision D41)."""
 
 from __future__ import annotations
 
@@ -22,12 +12,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..io import IntrusionDataset
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
 from ._engine import Engine
 from ._options import check_determined
-from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, pack
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed
 from ._report import Reporter
 from .result import StageReport
 from .uncertainty import Uncertainty, at_bound, uncertainty
@@ -47,21 +36,8 @@ __all__ = [
 
 
 class Stage(NamedTuple):
-    """One phase stage: the samples it fits and the parameters it frees.
-
-    Attributes
-    ----------
-    name : str
-        Stage name.
-    phases : tuple of int
-        Phase codes (:data:`~mudrft.calibration._problem.PHASES`) of the fitted samples.
-    own : tuple of str
-        The group's parameters; the stage runs if any of them is free.
-    linear : tuple of str
-        Linear parameters its samples also depend on (re-solved exactly in the stage).
-    grid : dict
-        Starting values [SI] of some nonlinear parameters, combined as a grid.
-    """
+    """A phase stage: its name, the phases it fits, its group (``own``; it runs if one is
+    free), the linear parameters it re-solves, and a grid of starting values [SI]."""
 
     name: str
     phases: tuple[int, ...]
@@ -109,10 +85,8 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
 def _paper_start(
     engine: Engine, direction: str, reporter: Reporter, free: tuple[str, ...]
 ) -> dict[str, float]:
-    """The paper row (of the data's direction) that fits best after its free linear
-    parameters are rescaled by non-negative least squares; all rows in one batched
-    simulation (decision D43). The linear parameters not fitted keep the row's values: a
-    rescaled one would be fitted to the data at the start and then reported "fixed"."""
+    """The paper row of ``direction`` that fits best once its free linear parameters are
+    rescaled (decision D43); those not fitted keep the row's values."""
     rows = table_rows(direction)
     ws = sorted(rows)
     cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
@@ -129,7 +103,7 @@ def _paper_start(
 
 
 def start_engine(
-    ds: IntrusionDataset,
+    packed: Packed,
     base: MudParameters,
     *,
     from_paper: bool,
@@ -137,51 +111,12 @@ def start_engine(
     free: tuple[str, ...],
     fixed: dict[str, float],
     bounds: dict[str, tuple[float, float]],
-    acceleration: bool,
-    xi0: float,
     trace_limit: int,
     reporter: Reporter,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-    exclude: list[NDArray[np.bool_]] | None = None,
 ) -> tuple[Engine, StageReport]:
-    """Pack the data and set the starting point: the "start" stage.
-
-    Parameters
-    ----------
-    ds : IntrusionDataset
-        The data (checked when packed).
-    base : MudParameters
-        Starting values and values of the parameters not fitted [SI].
-    from_paper : bool, keyword-only
-        Start from the best rescaled paper row instead of ``base``'s fitted fields.
-    direction : str, keyword-only
-        Direction of the paper rows.
-    free, fixed, bounds : keyword-only
-        Free parameters, held values [SI], bounds [SI].
-    acceleration, xi0, trace_limit : keyword-only
-        As for :func:`~mudrft.calibration.calibrate`.
-    reporter : Reporter, keyword-only
-        Where notes go.
-    thixotropy, clock : str, keyword-only
-        Evaluation of the model (decision D15), as for :func:`~mudrft.calibration.calibrate`.
-    exclude : list of bool arrays, optional, keyword-only
-        Per trial, samples left out of the fit (a saturated sensor's, decision D153).
-    """
+    """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
+    row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
     t0 = time.perf_counter()
-    try:
-        packed = pack(
-            ds,
-            base,
-            acceleration=acceleration,
-            xi0=xi0,
-            thixotropy=thixotropy,
-            clock=clock,
-            exclude=exclude,
-            direction=direction,
-        )
-    except MudrftError as exc:
-        raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
     check_determined(int(np.count_nonzero(packed.valid)), free)
     engine = Engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
@@ -218,11 +153,8 @@ def _message(sol: OptimizeResult | None) -> str:
 def phase_stage(
     engine: Engine, stage: Stage, free: tuple[str, ...], *, starts: int, max_nfev: int
 ) -> StageReport | None:
-    """Fit one group on the samples of its phase; None if the stage has nothing to do.
-
-    The ``starts`` best points of the stage's grid (linear parameters solved exactly
-    at each) are refined by bounded least squares; the best result is kept.
-    """
+    """Fit one group on the samples of its phase from the ``starts`` best points of its
+    grid; None if the stage has nothing to do."""
     if not any(k in free for k in stage.own):
         return None  # none of the stage's own group is fitted
     stage_free = tuple(
@@ -258,12 +190,8 @@ def status(sol: OptimizeResult | None) -> str:
 
 
 def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tuple[StageReport, str]:
-    """Every free parameter on every sample; returns the report and the solver status.
-
-    The linear parameters are first projected out, then the result is polished with
-    every free parameter a solver variable (same optimum; it checks that the projected
-    solution is a stationary point of the full problem).
-    """
+    """Every free parameter on every sample, the linear ones projected out, then polished
+    with all of them solver variables; returns the report and the solver status."""
     t0, n0 = time.perf_counter(), engine.packed.simulations
     mask = engine.packed.mask(ALL_PHASES)
     cost, sol = engine.fit("joint", mask, free, max_nfev, project=free)
@@ -278,20 +206,8 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
 def uncertainty_at_optimum(
     engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
 ) -> Uncertainty:
-    """Standard errors, intervals and verdicts at the engine's current values.
-
-    Parameters
-    ----------
-    engine : Engine
-        At the optimum.
-    free : tuple of str
-        The fitted parameters.
-    level : float
-        Confidence level of the intervals, in (0, 1) [-].
-    tare : tuple of float, optional, keyword-only
-        Standard error [Pa] of the sensor zero subtracted from each trial, if any: an error
-        shared by all of a trial's samples, added to the robust errors.
-    """
+    """Standard errors, intervals and verdicts at the engine's values, at ``level`` [-];
+    ``tare`` is the standard error [Pa] of each trial's subtracted sensor zero."""
     mask = engine.packed.mask(ALL_PHASES)
     r, J = engine.jacobian(mask, free)
     bound = at_bound(engine.values, free, engine.bounds)

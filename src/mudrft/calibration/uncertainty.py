@@ -1,34 +1,17 @@
-r"""Uncertainty of a fit: covariance in log-parameters, intervals and identifiability.
+r"""Uncertainty of a fit: covariances of the log-parameters, intervals, identifiability.
 
-From the weighted residuals :math:`r` and the Jacobian :math:`J` in log-parameters at
-the optimum, two covariances:
-
-* **noise only** (:func:`log_covariance`): :math:`s^2(J^TJ)^{+}` with
-  :math:`s^2=\|r\|^2/(m-k)`, right when the model is exact and the residuals are
-  independent noise of one size;
-* **robust** (:func:`robust_log_covariance`): the sandwich
-  :math:`(J^TJ)^{+}\,\Omega\,(J^TJ)^{+}`, with :math:`\Omega` the long-run covariance of
-  the scores :math:`J_ir_i` of each trial (Newey and West, Bartlett weights, the lag
-  chosen from the residuals' autocorrelation by Andrews' rule), trials independent. It
-  takes the residuals as they are: a model slightly off leaves residuals correlated in
-  time, which widen it, where the noise-only errors stay as narrow as the noise.
-
-Directions of :math:`J^TJ` whose eigenvalue is below :math:`10^{-10}` of the largest count
-as unconstrained, and every parameter loading on them gets an infinite error. The standard
-errors of the log-parameters are relative errors, which keeps the intervals
-:math:`p\exp(\pm t_q\,\mathrm{se}(\ln p))` positive. Each free parameter gets an
-identifiability verdict from the larger of its two errors (rule D44), and a trial that
-fits much worse than the others is named (rule D139). The noise-only intervals are each
-parameter's own; the robust ones hold for all free parameters at once (Bonferroni), as a
-statement that every fitted constant lies in its interval needs.
+From the weighted residuals :math:`r` and the Jacobian :math:`J` in log-parameters at the
+optimum: the noise-only covariance :math:`s^2(J^TJ)^{+}`, :math:`s^2=\|r\|^2/(m-k)`, and a
+robust one (:func:`robust_log_covariance`) that admits residuals correlated in time, as a
+model slightly off leaves them. Directions of :math:`J^TJ` with an eigenvalue below
+:math:`10^{-10}` of the largest are unconstrained: every parameter loading on them gets an
+infinite error. Intervals are :math:`p\exp(\pm t_q\,\mathrm{se}(\ln p))`; the verdicts
+(rule D44) use the robust errors.
 
 References
 ----------
-.. [1] W. K. Newey and K. D. West, "A simple, positive semi-definite, heteroskedasticity and
-   autocorrelation consistent covariance matrix", Econometrica 55(3), 703-708, 1987.
-.. [2] D. W. K. Andrews, "Heteroskedasticity and autocorrelation consistent covariance
-   matrix estimation", Econometrica 59(3), 817-858, 1991 (the AR(1) plug-in bandwidth of
-   the Bartlett kernel, eq. 6.2 and Sec. 6).
+.. [1] W. K. Newey and K. D. West, Econometrica 55(3), 703-708, 1987.
+.. [2] D. W. K. Andrews, Econometrica 59(3), 817-858, 1991 (eq. 6.2 and Sec. 6).
 """
 
 from __future__ import annotations
@@ -47,11 +30,9 @@ __all__ = [
     "NOT_IDENTIFIED_SE",
     "OUTLYING_TRIAL_FLOOR",
     "OUTLYING_TRIAL_RATIO",
-    "LogCovariance",
     "Uncertainty",
     "at_bound",
     "interval",
-    "log_covariance",
     "outlying_trials",
     "robust_log_covariance",
     "uncertainty",
@@ -69,56 +50,12 @@ _RANK_TOLERANCE = 1e-10
 _AT_BOUND = 1e-3
 
 
-class LogCovariance(NamedTuple):
-    """Covariance of the log-parameters at an optimum.
-
-    Attributes
-    ----------
-    se_log : ndarray, shape (k,)
-        Standard error of each log-parameter [-] (``inf`` where unconstrained).
-    correlation : ndarray, shape (k, k)
-        Correlation matrix [-].
-    s2 : float
-        Residual variance :math:`\\|r\\|^2/(m-k)` [-].
-    dof : int
-        Degrees of freedom :math:`\\max(m-k, 1)`.
-    condition_number : float
-        Condition number of the scaled Jacobian [-].
-    """
-
-    se_log: NDArray[np.float64]
-    correlation: NDArray[np.float64]
-    s2: float
-    dof: int
-    condition_number: float
-
-
 class Uncertainty(NamedTuple):
-    """Per-parameter uncertainty of a fit (every parameter of ``FIT_PARAMETERS``).
-
-    Attributes
-    ----------
-    se, rse : dict
-        Absolute [SI] and relative [-] standard errors, noise only (0 for fixed parameters).
-    ci : dict
-        ``(low, high)`` interval [SI], noise only, clipped to the bounds.
-    robust_rse : dict
-        Relative standard errors that admit model error [-]: the larger of the robust
-        (sandwich) and the noise-only ones.
-    robust_ci : dict
-        ``(low, high)`` interval [SI] from ``robust_rse``, clipped to the bounds, for all
-        free parameters at once: each at level ``1 - (1 - level)/k`` for ``k`` free
-        parameters (Bonferroni), so that together they hold at ``level``.
-    verdict : dict
-        ``"identified"``, ``"weak"``, ``"not identified"`` or ``"fixed"``, from
-        ``robust_rse``.
-    corr : ndarray, shape (k, k)
-        Correlation of the free log-parameters [-].
-    noise : float
-        Standard deviation of the weighted residuals [-].
-    cond : float
-        Condition number of the scaled Jacobian [-].
-    """
+    """Per-parameter uncertainty of a fit, as :class:`~mudrft.calibration.FitResult` holds
+    it: noise-only standard errors (absolute [SI], relative [-]) and intervals [SI]; robust
+    relative errors (never below the noise's) and intervals that hold for all free
+    parameters at once (Bonferroni); verdicts; the correlation, residual noise [-] and
+    condition number of the free log-parameters."""
 
     se: dict[str, float]
     rse: dict[str, float]
@@ -131,31 +68,12 @@ class Uncertainty(NamedTuple):
     cond: float
 
 
-def log_covariance(r: NDArray[np.float64], J: NDArray[np.float64]) -> LogCovariance:
-    """Covariance of the log-parameters from residuals ``r`` (m,) and Jacobian ``J`` (m, k).
-
-    The normal matrix is scaled to unit diagonal before its eigen-decomposition, so that
-    the rank test does not depend on the parameters' units.
-    """
-    m, k = J.shape
-    dof = max(m - k, 1)
-    s2 = float(r @ r) / dof
-    inv, loose, cond = _scaled_inverse(J)
-    cov = s2 * inv
-    se_log = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-    se_log[loose] = np.inf
-    sd = np.where(np.isfinite(se_log) & (se_log > 0), se_log, 1.0)
-    corr = cov / np.outer(sd, sd)
-    np.fill_diagonal(corr, 1.0)
-    corr = np.clip(corr, -1.0, 1.0)
-    return LogCovariance(se_log, corr, s2, dof, cond)
-
-
 def _scaled_inverse(
     J: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
-    """:math:`(J^TJ)^{+}` on the directions the data constrain, the parameters that load on
-    the others, and the condition number of the scaled Jacobian (see :func:`log_covariance`)."""
+    """:math:`(J^TJ)^{+}` on the directions the data constrain (scaled to unit diagonal, so
+    that the rank test ignores units), the parameters loading on the others, and the
+    condition number of the scaled Jacobian."""
     F = J.T @ J
     d = np.sqrt(np.diag(F))
     d_safe = np.where(d > 0, d, 1.0)
@@ -192,23 +110,10 @@ def robust_log_covariance(
     covariance of the scores :math:`J_ir_i` within each trial (Bartlett weights over
     :func:`bartlett_lag` lags), trials independent, times :math:`m/(m-k)`; plus, for an
     error :math:`s_j` shared by every sample of trial :math:`j` (a subtracted sensor zero),
-    :math:`s_j^2\,g_jg_j^T` with :math:`g_j=A^{+}J^T1_j` (the delta method).
-
-    Parameters
-    ----------
-    r : ndarray, shape (m,)
-        Weighted residuals [-].
-    J : ndarray, shape (m, k)
-        Jacobian of ``r`` in the log-parameters [-].
-    trial : ndarray of int, shape (m,)
-        The trial of each residual; the residuals of a trial are in time order.
-    shift : ndarray, shape (trials,), optional
-        Standard error of an error shared by all of a trial's residuals [-].
-
-    Returns
-    -------
-    ndarray, shape (k,)
-        Standard errors (``inf`` where the data do not constrain a parameter).
+    :math:`s_j^2\,g_jg_j^T` with :math:`g_j=A^{+}J^T1_j` (the delta method), ``shift``
+    holding :math:`s_j`. ``r`` (m,) are the weighted residuals, ``J`` (m, k) their Jacobian,
+    ``trial`` (m,) the trial of each (in time order within a trial); ``inf`` where the data
+    do not constrain a parameter.
     """
     m, k = J.shape
     inv, loose, _ = _scaled_inverse(J)
@@ -268,39 +173,28 @@ def uncertainty(
     trial: NDArray[np.intp] | None = None,
     shift: NDArray[np.float64] | None = None,
 ) -> Uncertainty:
-    """Standard errors, intervals and verdicts of every parameter at an optimum.
-
-    Parameters
-    ----------
-    r : ndarray, shape (m,)
-        Weighted residuals [-].
-    J : ndarray, shape (m, k)
-        Jacobian of ``r`` in the log of the ``free`` parameters [-].
-    free : tuple of str
-        The fitted parameters, in the column order of ``J``.
-    bound : dict
-        Whether each free parameter sits at a bound (:func:`at_bound`).
-    level : float
-        Two-sided confidence level of the intervals, in (0, 1) [-].
-    values : dict
-        Value of every parameter [SI].
-    bounds : dict
-        Bounds of the free parameters [SI].
-    trial : ndarray of int, shape (m,), optional
-        The trial of each residual, in time order within a trial (default: one trial).
-    shift : ndarray, optional
-        Per trial, the standard error of an error its residuals share [-]
-        (:func:`robust_log_covariance`).
-    """
+    """Standard errors, intervals at ``level`` [-] and verdicts of every parameter at an
+    optimum, from the weighted residuals ``r`` (m,) and their Jacobian ``J`` (m, k) in the
+    log of the ``free`` parameters; ``bound`` (:func:`at_bound`), ``values`` [SI] and
+    ``bounds`` [SI] by name; ``trial`` and ``shift`` as :func:`robust_log_covariance`
+    (default one trial)."""
     from scipy.stats import t as student_t
 
-    cov = log_covariance(r, J)
+    m, k = J.shape
+    dof = max(m - k, 1)
+    s2 = float(r @ r) / dof
+    inv, loose, cond = _scaled_inverse(J)
+    cov = s2 * inv
+    se_log = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    se_log[loose] = np.inf
+    sd = np.where(np.isfinite(se_log) & (se_log > 0), se_log, 1.0)
+    corr = np.clip(cov / np.outer(sd, sd), -1.0, 1.0)
+    np.fill_diagonal(corr, 1.0)
     robust = robust_log_covariance(
         r, J, np.zeros(r.size, dtype=np.intp) if trial is None else trial, shift
     )
-    q = float(student_t.ppf(0.5 + level / 2.0, cov.dof))
-    # the robust intervals hold for every free parameter at once (Bonferroni)
-    q_all = float(student_t.ppf(1.0 - (1.0 - level) / (2.0 * len(free)), cov.dof))
+    q = float(student_t.ppf(0.5 + level / 2.0, dof))
+    q_all = float(student_t.ppf(1.0 - (1.0 - level) / (2.0 * len(free)), dof))  # Bonferroni
     se, rse, ci, rrse, rci, verdicts = {}, {}, {}, {}, {}, {}
     for name in FIT_PARAMETERS:
         v = values[name]
@@ -309,7 +203,7 @@ def uncertainty(
             ci[name] = rci[name] = (v, v)
             continue
         i = free.index(name)
-        e, er = float(cov.se_log[i]), max(float(cov.se_log[i]), float(robust[i]))
+        e, er = float(se_log[i]), max(float(se_log[i]), float(robust[i]))
         rse[name], rrse[name] = e, er
         se[name] = v * e if math.isfinite(e) else math.inf
         # at a bound the interval is the bounds (rule D44): the optimum lies past the bound,
@@ -317,17 +211,7 @@ def uncertainty(
         ci[name] = bounds[name] if bound[name] else interval(v, e, q, bounds[name])
         rci[name] = bounds[name] if bound[name] else interval(v, er, q_all, bounds[name])
         verdicts[name] = verdict(er, bound[name])
-    return Uncertainty(
-        se,
-        rse,
-        ci,
-        rrse,
-        rci,
-        verdicts,
-        cov.correlation,
-        math.sqrt(cov.s2),
-        cov.condition_number,
-    )
+    return Uncertainty(se, rse, ci, rrse, rci, verdicts, corr, math.sqrt(s2), cond)
 
 
 #: A trial whose RMSE exceeds this many times the median of the others', relative to its
@@ -341,17 +225,10 @@ OUTLYING_TRIAL_FLOOR = 0.002
 def outlying_trials(
     rmse: Sequence[float], ranges: Sequence[float], names: Sequence[str]
 ) -> str | None:
-    """The warning for trials that fit much worse than the others, or None (D139).
-
-    With three trials or more, a trial whose relative RMSE [-] and whose RMSE in pascals
-    (relative RMSE times its stress range ``ranges`` [Pa]) are both above
-    :data:`OUTLYING_TRIAL_RATIO` times the median of the other trials' is named. Both, so
-    that neither a sensor noise of equal size in pascals (larger relative to a slow trial's
-    smaller range) nor one of equal relative size flags a good trial; a bad run stands out
-    in both: one whose depth zero was 3 mm off, among three good ones, pulled ``alpha``,
-    ``n`` and ``sigma_y`` off by up to 21 % with intervals that excluded the truth, at a
-    mean relative RMSE of 2.2 %. A trial within :data:`OUTLYING_TRIAL_FLOOR` is not named.
-    """
+    """The warning naming the trials that fit much worse than the others, or None (D139):
+    with three trials or more, those whose relative RMSE [-] and RMSE in pascals (times
+    their stress ``ranges`` [Pa]) both exceed :data:`OUTLYING_TRIAL_RATIO` times the median
+    of the others', unless below :data:`OUTLYING_TRIAL_FLOOR`."""
     if len(rmse) < 3:
         return None
     absolute = [r * g for r, g in zip(rmse, ranges, strict=True)]

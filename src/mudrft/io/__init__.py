@@ -1,42 +1,20 @@
 r"""Intrusion logs and foot paths: read them from CSV or HDF5 in SI, write them atomically.
 
-A log holds one or more *trials* (one intrusion-hold-retraction each), with the columns
-``time``, ``depth`` (the intrusion displacement) and either ``stress`` or a force. Each
-column name carries its unit as the logger wrote it, ``time [ms]``, ``Time (ms)`` or
-``time in ms``, and values are converted to SI on load (:mod:`mudrft.units`). A force is
-turned into a stress with the plate area, ``stress = force / area``; the dimensionless
-displacement of the model is ``gamma = depth / L_c`` with the characteristic length
-``L_c``. Fields are separated by commas, tabs or semicolons (found from the header).
-
-A CSV log (``#`` lines are comments; ``# key: value`` comments are metadata)::
+A log holds one or more *trials* (one intrusion-hold-retraction each; a ``trial`` column
+tells them apart) with the columns ``time`` (or ``t``), ``depth`` (or ``displacement``,
+positive into the mud) and ``stress`` (or ``sigma``) or a force (``Fz``, ``force``, ``F``:
+the force resisting the intrusion; ``stress = force / area``). Each name carries its unit
+as the logger wrote it, ``time [ms]``, ``Time (ms)`` or ``time in ms`` (converted to SI by
+:mod:`mudrft.units`); other names are mapped with ``columns=`` (CLI ``--columns``). Fields
+are separated by commas, tabs or semicolons; ``# key: value`` lines are metadata::
 
     # direction: vertical
     # characteristic_length [m]: 0.05
     trial,time [s],depth [mm],stress [kPa]
     slow,0.00,0.0,0.0
-    slow,0.01,0.1,1.9
-    ...
-
-Recognised columns (names are case-insensitive; others are mapped with ``columns=``,
-CLI ``--columns``, or ignored and listed in ``IntrusionDataset.meta``):
-
-==========================  ==================  ===============================
-column                      quantity            units understood
-==========================  ==================  ===============================
-``time``, ``t``             time                s, ms, us, min
-``depth``, ``displacement`` length              m, cm, mm, um, in
-``stress``, ``sigma``       stress              Pa, kPa, MPa, N/m^2
-``Fz``, ``force``, ``F``    force               N, kN, mN
-``trial`` (no unit)         label of the trial  any text
-==========================  ==================  ===============================
-
-The force is the force of the mud on the plate *resisting the intrusion* (positive while
-intruding, negative under suction); for a vertical test that is the world ``Fz`` (D40).
 
 Every problem in a file raises :class:`~mudrft._validation.MudrftError` naming the file,
-the line and the column. The loaders never write; the writers write atomically and
-refuse to replace an existing file unless ``overwrite=True`` (:func:`atomic_write`).
-Names load on first use, so that the writer does not bring the readers along.
+the line and the column. Writers refuse to replace a file unless ``overwrite=True``.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""From a log's resolved columns to trials, shared by the CSV and HDF5 loaders (internal)."""
+"""From a log's resolved columns to trials, for the CSV and HDF5 loaders (internal)."""
 
 from __future__ import annotations
 
@@ -29,9 +29,8 @@ __all__ = [
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
-#: Plausible ranges of a plate or foot test, outside which a log warns of a unit mistake:
-#: deepest intrusion [m], peak stress [Pa], plate area [m^2], intrusion speed [m/s] (a
-#: speed below the range warns only in a log sampled at most every SLOW_SAMPLING [s]).
+#: Plausible deepest intrusion [m], peak stress [Pa], plate area [m^2] and speed [m/s] (a
+#: slow speed warns only in a log sampled at most every SLOW_SAMPLING [s]).
 PLAUSIBLE_DEPTH = (1e-3, 1.0)
 PLAUSIBLE_PEAK_STRESS = (100.0, 1e7)
 PLAUSIBLE_AREA = (1e-6, 1.0)
@@ -46,8 +45,8 @@ Locate = Callable[[int | None, str | None], str]
 def check_roles(
     path: str, where: str, columns: dict[str, Column], names: Sequence[str], *, direction: str
 ) -> None:
-    """Refuse columns that make no intrusion log: a time, a depth, and a stress or a force
-    are needed; a force named ``Fz`` is refused for a horizontal test."""
+    """Refuse columns that make no intrusion log (a time, a depth, a stress or a force; no
+    ``Fz`` in a horizontal test)."""
     named = {r: [repr({"fz": "Fz", "f": "F"}.get(k, k)) for k, v in LOG_COLUMNS.items() if v == r]
              for r in ("time", "depth", "stress", "force")}  # fmt: skip
     words = {r: f"{', '.join(n[:-1])} or {n[-1]}" for r, n in named.items()}
@@ -119,8 +118,8 @@ def resolve_plate(
     area: float | None,
     need_area: bool,
 ) -> tuple[float, float | None, str]:
-    """Plate length [m], area [m^2] (None if unknown and not needed), and where the length
-    came from: the caller's argument, else the file's metadata, else 50 mm (D1)."""
+    """Plate length [m] (the argument's, else the file's, else 50 mm, D1), area [m^2] (None
+    if unknown and not needed), and where the length came from."""
     try:
         if characteristic_length is not None:
             L = positive_number("characteristic_length", characteristic_length, unit="m")
@@ -158,24 +157,9 @@ def build_trials(
     L: float,
     A: float | None,
 ) -> tuple[Trial, ...]:
-    """One :class:`Trial` per label, in order of first appearance (one for all samples
-    when there are no labels).
-
-    Parameters
-    ----------
-    path : str
-        The file, for errors.
-    columns : dict
-        ``time`` [s], ``depth`` [m] and ``stress`` [Pa] or ``force`` [N], in SI.
-    labels : sequence of str or None
-        Trial label of each sample.
-    locate : callable
-        Where a sample of a column stands in the file (:data:`Locate`).
-    L : float, keyword-only
-        Plate characteristic length [m].
-    A : float or None, keyword-only
-        Plate area [m^2], needed if there is no stress column.
-    """
+    """One :class:`Trial` per label of the samples (in order; one for all without labels)
+    from the ``columns`` ``time`` [s], ``depth`` [m] and ``stress`` [Pa] or ``force`` [N],
+    with plate length ``L`` [m] and area ``A`` [m^2]; ``locate`` names places in ``path``."""
     time, depth = columns["time"], columns["depth"]
     if not time.size:
         raise fail(path, locate(None, "time"), "holds no samples; a trial needs at least 2")
@@ -246,9 +230,8 @@ def _unit_hint(label: str, units: str) -> str:
 def check_plausible(
     path: str, trials: Sequence[Trial], labels: dict[str, str], *, area: float | None
 ) -> None:
-    """Warn (:class:`~mudrft._validation.PlausibilityWarning`) where the units of the
-    trials read from ``path`` look wrong (the ``PLAUSIBLE_*`` ranges); ``labels`` are the
-    column names by role, ``area`` the plate area [m^2] when a force was logged."""
+    """Warn where the units of the trials look wrong (the ``PLAUSIBLE_*`` ranges);
+    ``labels`` are the column names by role, ``area`` the plate area [m^2] of a force."""
     if not trials:
         return
     _check_speed(path, trials, labels.get("time", "time"))

@@ -1,11 +1,6 @@
-"""Writing files atomically: the one way mudrft writes a file it produces.
-
-A file is written in a private staging directory beside its target
-(:func:`tempfile.mkdtemp`), then moved into place: a reader never sees a half-written
-file, a failure leaves nothing behind, and an existing file is replaced only with
-``overwrite=True``. The staging a killed run leaves is removed by the next run that
-stages in the same directory (:func:`remove_stale_staging`).
-"""
+"""Writing files atomically: staged in a private directory beside the target, then moved
+into place; a failure leaves nothing, an existing file is replaced only with
+``overwrite=True``, and what a killed run staged is removed by the next run."""
 
 from __future__ import annotations
 
@@ -26,6 +21,7 @@ from .._validation import MudrftError
 __all__ = [
     "STAGING_PREFIX",
     "atomic_write",
+    "finite_or_none",
     "json_text",
     "move_into_place",
     "regular_target",
@@ -45,11 +41,8 @@ _STARTED = time.time()
 
 
 def regular_target(path: str | os.PathLike[str], option: str = "path") -> Path:
-    """The file that writing ``path`` replaces: a symbolic link's target, else ``path``.
-
-    Refuses a pipe, a device or a socket, which an atomic write would replace by a file;
-    ``option`` is how the caller's API names the output, for the message (``"--out"``).
-    """
+    """The file that writing ``path`` replaces (a symbolic link's target); refuses a pipe,
+    a device or a socket. ``option`` names the output in the message (``"--out"``)."""
     p = Path(os.fspath(path))
     if p.is_symlink():
         p = Path(os.path.realpath(p))
@@ -113,9 +106,8 @@ def remove_stale_staging(directory: str | os.PathLike[str]) -> list[Path]:
 
 
 def staging_directory(directory: str | os.PathLike[str]) -> Path:
-    """A new private directory in ``directory`` to write outputs in before they are moved
-    into place (:func:`move_into_place`); stale ones of killed runs are removed first.
-    Raises :class:`OSError` if ``directory`` is missing or not writable."""
+    """A new private directory in ``directory`` to stage outputs in (stale ones of killed
+    runs removed first); :class:`OSError` if ``directory`` is not writable."""
     remove_stale_staging(directory)
     prefix = f"{STAGING_PREFIX}{os.getpid()}-"
     return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=directory))
@@ -123,8 +115,7 @@ def staging_directory(directory: str | os.PathLike[str]) -> Path:
 
 def move_into_place(staged: Path, target: Path, *, overwrite: bool, option: str) -> None:
     """Move ``staged`` to ``target`` in one step; without ``overwrite`` only if ``target``
-    does not exist at that moment. Raises :class:`MudrftError` if it does, :class:`OSError`
-    if the move fails."""
+    does not exist (else :class:`MudrftError`)."""
     if overwrite:
         os.replace(staged, target)
         return
@@ -214,11 +205,12 @@ def atomic_write(
     return p
 
 
-def _finite_or_none(obj: Any) -> Any:
+def finite_or_none(obj: Any) -> Any:
+    """``obj`` with every NaN or infinite number (nested in dicts, lists) replaced by None."""
     if isinstance(obj, dict):
-        return {k: _finite_or_none(v) for k, v in obj.items()}
+        return {k: finite_or_none(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_finite_or_none(v) for v in obj]
+        return [finite_or_none(v) for v in obj]
     if isinstance(obj, bool) or obj is None or isinstance(obj, (int, str)):
         return obj
     try:
@@ -229,13 +221,12 @@ def _finite_or_none(obj: Any) -> Any:
 
 
 def json_text(obj: Any, *, indent: int | None = 2) -> str:
-    r"""Standard JSON for ``obj`` (nested dicts and lists of numbers, numpy numbers too,
-    strings, booleans and None), ending in a newline; every NaN or infinite number is
-    written as ``null``. ``indent`` as :func:`json.dumps`.
+    r"""Standard JSON for ``obj`` ending in a newline, every NaN or infinite number written
+    as ``null`` (:func:`finite_or_none`); ``indent`` as :func:`json.dumps`.
 
     Examples
     --------
     >>> json_text({"energy [J]": float("nan"), "steps": 0}, indent=None)
     '{"energy [J]": null, "steps": 0}\n'
     """
-    return json.dumps(_finite_or_none(obj), indent=indent, allow_nan=False) + "\n"
+    return json.dumps(finite_or_none(obj), indent=indent, allow_nan=False) + "\n"

@@ -1,10 +1,6 @@
-"""Column names with units: the one resolver of what a column of a file holds, in SI.
-
-Every table mudrft reads (a CSV log's header, an HDF5 log's dataset names, a foot's path)
-goes through :func:`resolve_columns`. A name carries its unit as a logger writes it,
-``depth [mm]``, ``Depth (mm)`` or ``depth in mm``; the name is looked up (case-insensitive)
-in the file kind's aliases, or given by the caller (``columns={"depth": "Position (mm)"}``).
-"""
+"""Column names with units (``depth [mm]``, ``Depth (mm)``, ``depth in mm``): the one
+resolver of what a column of a table holds (:func:`resolve_columns`), for CSV and HDF5
+logs and foot paths alike."""
 
 from __future__ import annotations
 
@@ -101,7 +97,7 @@ def split_label(text: str) -> tuple[str, str | None]:
 
 
 class Column(NamedTuple):
-    """A recognised column: position, name as written, role and factor to SI [SI/unit]."""
+    """A recognised column: position, name as written, role and factor to SI."""
 
     position: int
     label: str
@@ -112,8 +108,7 @@ class Column(NamedTuple):
 def _mapped(
     path: str, names: Sequence[str], columns: Mapping[str, str], roles: set[str]
 ) -> dict[str, tuple[int, str | None]]:
-    """The caller's ``columns`` (role -> name): role -> (position, unit given with the name
-    when the file's name has none)."""
+    """The caller's ``columns`` (role -> name): role -> (position, unit given with it)."""
     out: dict[str, tuple[int, str | None]] = {}
     keys = [n.strip().lower() for n in names]
     for role, label in columns.items():
@@ -153,26 +148,14 @@ def resolve_columns(
     units: Sequence[str | None] | None = None,
     require_units: bool = True,
 ) -> dict[str, Column]:
-    """What each named column holds: role -> :class:`Column` (``"trial"``: factor 1).
+    """What each of the ``names`` of a table in ``path`` holds: role -> :class:`Column`.
 
-    Parameters
-    ----------
-    path : str
-        The file, for errors.
-    names : sequence of str
-        Column names as written: ``"time [ms]"``, ``"Depth (mm)"``, ``"trial"``, ...
-    aliases : mapping, keyword-only
-        Name (lower case, without unit) -> role: :data:`LOG_COLUMNS` or :data:`PATH_COLUMNS`.
-    locate : callable, keyword-only
-        ``locate(j)`` is the place of column ``j`` in the file, for errors.
-    columns : mapping, optional, keyword-only
-        Role -> column name as written, for names the aliases do not know; a unit may come
-        with the name (``{"depth": "Position [mm]"}``) when the file states none.
-    units : sequence, optional, keyword-only
-        Units given apart from the names (HDF5 ``unit`` attributes); one that differs from
-        the unit in the name is refused.
-    require_units : bool, keyword-only
-        Refuse a column without a unit (True), or read it as SI (False).
+    A name is looked up, without its unit and case, in ``aliases`` (name -> role), or
+    mapped by the caller's ``columns`` (role -> name as written; a unit may come with it,
+    ``{"depth": "Position [mm]"}``, when the file states none). ``units`` are given apart
+    from the names (HDF5 ``unit`` attributes) and must agree with them; ``locate(j)`` is
+    the place of column ``j`` for errors; without ``require_units`` a column without a
+    unit is read as SI.
     """
     roles = set(aliases.values())
     chosen = _mapped(path, names, columns or {}, roles)

@@ -147,14 +147,8 @@ def _metadata(table: Table, lineno: int, comment: str) -> None:
 
 
 def read_table(path: str | os.PathLike[str]) -> Table:
-    """Read a text table: notes and metadata, the header, the rows (cells as text).
-
-    Raises
-    ------
-    MudrftError
-        Naming the file and the line: no such file, not UTF-8 text, no header, a row whose
-        field count is not the header's, malformed quoting, metadata given twice.
-    """
+    """Read a text table: notes and metadata, the header, the rows (cells as text); a
+    :class:`MudrftError` names the file and the line of any problem."""
     p = Path(os.fspath(path))
     table = Table(str(p))
     for lineno, line in enumerate(re.split(r"\r\n|\r|\n", _text(p)), start=1):
@@ -207,24 +201,23 @@ def load_intrusion_csv(
     Parameters
     ----------
     path : str or path-like
-        The file (read only; it is never modified).
+        The file (never modified).
     area : float, optional, keyword-only
-        Plate area [m^2], needed when the file logs a force instead of a stress; overrides
-        a ``# area [m^2]: ...`` line.
+        Plate area [m^2], needed for a force log; overrides a ``# area [m^2]: ...`` line.
     characteristic_length : float, optional, keyword-only
-        Plate characteristic length :math:`L_c` [m]; overrides a
-        ``# characteristic_length [m]: ...`` line; default 0.05 m (D1).
+        Plate length :math:`L_c` [m]; overrides a ``# characteristic_length [m]: ...``
+        line; default 0.05 m (D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
         Loading direction; overrides a ``# direction: ...`` line; default vertical.
     columns : mapping, optional, keyword-only
         Role (``time``, ``depth``, ``stress``, ``force``, ``trial``) -> the column's name as
-        the logger wrote it, for names mudrft does not know (``{"depth": "Pos (mm)"}``).
+        written, for names mudrft does not know (``{"depth": "Pos (mm)"}``).
 
     Returns
     -------
     IntrusionDataset
-        One :class:`Trial` per distinct value of the ``trial`` column (in order of first
-        appearance), or a single trial if there is no such column.
+        One :class:`Trial` per value of the ``trial`` column (in order of appearance), or
+        a single trial.
 
     Raises
     ------
@@ -329,14 +322,14 @@ def load_dataset(
 def save_intrusion_csv(
     dataset: IntrusionDataset, path: str | os.PathLike[str], *, overwrite: bool = False
 ) -> Path:
-    """Write a dataset as CSV in SI units: :meth:`IntrusionDataset.to_csv`, checked.
+    """Write a dataset as CSV in SI units, atomically (:meth:`IntrusionDataset.to_csv`).
 
     Parameters
     ----------
     dataset : IntrusionDataset
         The data.
     path : str or path-like
-        Output file; written atomically.
+        Output file.
     overwrite : bool, keyword-only
         Replace an existing file (default: refuse).
     """

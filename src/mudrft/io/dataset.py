@@ -32,7 +32,6 @@ __all__ = [
     "OVERWRITE_OPTION",
     "IntrusionDataset",
     "Trial",
-    "csv_text",
     "intrusion_speed",
 ]
 
@@ -42,10 +41,9 @@ OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
 
 @dataclass(frozen=True, eq=False)
 class Trial:
-    """One intrusion test: displacement and stress sampled in time (SI).
-
-    Data already in memory reach :func:`mudrft.calibrate` as one ``Trial`` per test,
-    gathered in an :class:`IntrusionDataset`.
+    """One intrusion test: displacement and stress sampled in time (SI), as
+    :func:`mudrft.calibrate` takes data already in memory (gathered in an
+    :class:`IntrusionDataset`).
 
     Parameters
     ----------
@@ -89,7 +87,7 @@ class Trial:
             object.__setattr__(self, attr, a)
         object.__setattr__(self, "time", t)
         d = self.depth
-        if float(np.max(d)) <= 0.0 < -float(np.min(d)):  # fitted, it converged at the bounds
+        if float(np.max(d)) <= 0.0 < -float(np.min(d)):
             raise MudrftError(
                 f"trial {self.name!r}: depth is never positive (it reaches "
                 f"{float(np.min(d)):.3g} m); mudrft measures it into the mud, positive while "
@@ -203,9 +201,8 @@ class IntrusionDataset:
 
     @property
     def synthetic(self) -> bool:
-        """True if the file says its data are synthetic: a ``synthetic`` entry in ``meta``
-        or a note ``synthetic: ...`` whose value is not a no (``no``, ``false``, ``0``,
-        ``none``, empty, ``not ...``)."""
+        """True if ``meta`` or a note says ``synthetic: ...`` with a value that is not a no
+        (``no``, ``false``, ``0``, ``none``, empty, ``not ...``)."""
         said = [self.meta["synthetic"]] if "synthetic" in self.meta else []
         lines = [line.strip() for note in self.notes for line in note.splitlines()]
         said += [x.partition(":")[2] for x in lines if x.lower().startswith("synthetic:")]
@@ -242,8 +239,7 @@ class IntrusionDataset:
 
     def to_csv(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
         """Write the dataset as CSV in SI units, its notes and metadata as ``#`` comments,
-        atomically (:func:`~mudrft.io.atomic_write`); it loads back with
-        :func:`~mudrft.io.load_intrusion_csv`.
+        atomically; it loads back with :func:`~mudrft.io.load_intrusion_csv`.
 
         Parameters
         ----------
@@ -257,7 +253,36 @@ class IntrusionDataset:
         Path
             The file written.
         """
-        return atomic_write(path, csv_text(self), overwrite=overwrite, option=OVERWRITE_OPTION)
+        names = [tr.name for tr in self.trials]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:  # their rows would read back as one trial
+            raise MudrftError(
+                f"a CSV file tells trials apart by name; several trials are named {twice}: "
+                "rename them (IntrusionDataset.merge does)"
+            )
+        lengths = {tr.characteristic_length for tr in self.trials}
+        if len(lengths) != 1:
+            raise MudrftError(
+                "a CSV file holds one characteristic length for all trials; got "
+                f"{sorted(lengths)}; save the trials in separate files"
+            )
+        buf = io.StringIO()
+        for note in self.notes:
+            for line in note.splitlines() or [""]:  # one comment a line
+                # the plate and direction are written once below, not as a file's own lines
+                if not re.match(r"\s*(direction|characteristic_length|area)\b", line, re.I):
+                    buf.write(f"# {line}\n")
+        buf.write(f"# direction: {self.direction}\n")
+        buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
+        buf.write("trial,time [s],depth [m],stress [Pa]\n")
+        # labels quoted ("#1" would read as a comment), numbers as their shortest repr
+        rows = csv.writer(buf, quoting=csv.QUOTE_NONNUMERIC, lineterminator="\n")
+        for tr in self.trials:
+            label = " ".join(tr.name.split())  # the reader splits lines first: no line breaks
+            columns = (tr.time.tolist(), tr.depth.tolist(), tr.stress.tolist())
+            rows.writerows((label, *row) for row in zip(*columns, strict=True))
+        text = buf.getvalue()
+        return atomic_write(path, text, overwrite=overwrite, option=OVERWRITE_OPTION)
 
     def __len__(self) -> int:
         return len(self.trials)
@@ -278,8 +303,7 @@ class IntrusionDataset:
 
 def intrusion_speed(time: ArrayLike, depth: ArrayLike) -> float:
     """A trial's speed through the mud [m/s]: the rate of its first intrusion from 10 % to
-    90 % of its deepest depth (robust to noise, approach, holds and retraction); 0 for a
-    trial that never goes deeper than 0. Times [s], depths [m].
+    90 % of its deepest depth [m] (0 if never below 0), over ``time`` [s].
 
     Examples
     --------
@@ -302,45 +326,3 @@ def intrusion_speed(time: ArrayLike, depth: ArrayLike) -> float:
 def _says_yes(value: object) -> bool:
     text = str(value).strip().lower()
     return text not in ("", "no", "false", "0", "none") and not text.startswith("not ")
-
-
-def csv_text(dataset: IntrusionDataset) -> str:
-    """The CSV text of a dataset in SI units, its notes and metadata as ``#`` comments.
-
-    Raises
-    ------
-    MudrftError
-        If the trials have different characteristic lengths (a file holds one).
-    """
-    names = [tr.name for tr in dataset.trials]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:  # their rows would read back as one trial
-        raise MudrftError(
-            f"a CSV file tells trials apart by name; several trials are named {twice}: "
-            "rename them (IntrusionDataset.merge does)"
-        )
-    lengths = {tr.characteristic_length for tr in dataset.trials}
-    if len(lengths) != 1:
-        raise MudrftError(
-            "a CSV file holds one characteristic length for all trials; got "
-            f"{sorted(lengths)}; save the trials in separate files"
-        )
-    buf = io.StringIO()
-    for note in dataset.notes:
-        for line in note.splitlines() or [""]:  # a note of several lines: one comment each
-            # the plate and direction are written once below, not as a file's own lines
-            if not re.match(r"\s*(direction|characteristic_length|area)\b", line, re.I):
-                buf.write(f"# {line}\n")
-    buf.write(f"# direction: {dataset.direction}\n")
-    buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
-    buf.write("trial,time [s],depth [m],stress [Pa]\n")
-    # the label quoted ("#1" would read as a comment, "a,b" as two fields); the numbers as
-    # Python's shortest repr, which reads back to the same float
-    rows = csv.writer(buf, quoting=csv.QUOTE_NONNUMERIC, lineterminator="\n")
-    for tr in dataset.trials:
-        label = " ".join(tr.name.split())  # the reader splits lines first: no line breaks
-        rows.writerows(
-            (label, t, q, s)
-            for t, q, s in zip(tr.time.tolist(), tr.depth.tolist(), tr.stress.tolist(), strict=True)
-        )
-    return buf.getvalue()

@@ -1,18 +1,12 @@
 """Intrusion logs as HDF5 (optional extra ``h5py``): load and save.
 
-Layout: one group per trial (in sorted order; its label is its ``trial`` attribute if it has
-one, as :func:`save_intrusion_hdf5` writes, else the group's name), or the datasets
-directly in the root for a single trial, never both. Each dataset is a 1-D column of real
-numbers named like a CSV header (``"time [ms]"``), or by the bare name with its unit in a
-``unit`` (or ``units``) attribute (a unit in both places must agree); names and units are
-resolved by :mod:`.columns` as for a CSV log. Root attributes ``direction``,
-``characteristic_length`` [m], ``area`` [m^2] (a key may carry its unit:
-``"area [cm^2]"``; the value is one number) and ``synthetic`` / ``notes`` play the part
-of the CSV header comments.
-
-Anything else (a dataset not 1-D or not real, log columns both in the root and in
-groups, nested groups, a ``trial`` dataset, file-wide attributes on a group, a broken
-link) is refused with a :class:`~mudrft._validation.MudrftError` naming the place.
+Layout: one group per trial (labelled by its ``trial`` attribute, else its name), or the
+datasets of a single trial in the root, never both. Each dataset is a 1-D column of real
+numbers named like a CSV header (``"time [ms]"``), or by the bare name with a ``unit`` (or
+``units``) attribute. Root attributes ``direction``, ``characteristic_length`` [m],
+``area`` [m^2] (a key may carry its unit: ``"area [cm^2]"``), ``synthetic`` and ``notes``
+play the part of the CSV header comments. Anything else (nested groups, a ``trial``
+dataset, file-wide attributes on a group, a broken link) is refused, naming the place.
 """
 
 from __future__ import annotations
@@ -210,8 +204,8 @@ def _read_group(
     columns: Mapping[str, str] | None,
     attrs: h5py.AttributeManager | None = None,
 ) -> tuple[Columns, dict[str, str], Locate]:
-    """The columns of one trial (a group, or the root when ``gname`` is None) in SI, their
-    labels by role, and where a sample stands in the file."""
+    """The columns of one trial (a group, or the root) in SI, their labels by role, and
+    where a sample stands in the file."""
     prefix = f"{gname}/" if gname else ""
     place = f"group '{gname}'" if gname else "root group"
     for key in attrs if attrs is not None else ():
@@ -332,24 +326,15 @@ def load_intrusion_hdf5(
     direction: str | None = None,
     columns: Mapping[str, str] | None = None,
 ) -> IntrusionDataset:
-    """Load an intrusion log from HDF5 (needs the optional ``h5py``; layout in the module
-    docstring).
+    """Load an intrusion log from HDF5 (needs ``h5py``; layout in :mod:`mudrft.io.hdf5_log`).
 
     Parameters
     ----------
     path : str or path-like
         The HDF5 file (opened read-only).
-    area : float, optional, keyword-only
-        Plate area [m^2], needed when the file logs a force; overrides the ``area``
-        attribute.
-    characteristic_length : float, optional, keyword-only
-        Plate characteristic length [m]; overrides the ``characteristic_length``
-        attribute; default 0.05 m (D1).
-    direction : {"vertical", "horizontal"}, optional, keyword-only
-        Loading direction; overrides the ``direction`` attribute; default vertical.
-    columns : mapping, optional, keyword-only
-        Role -> dataset name, for names mudrft does not know (as
-        :func:`~mudrft.io.load_intrusion_csv`).
+    area, characteristic_length, direction, columns : optional, keyword-only
+        As :func:`~mudrft.io.load_intrusion_csv` (plate area [m^2], length [m]); they
+        override the root attributes of the same names.
 
     Returns
     -------
@@ -408,14 +393,14 @@ def _write_hdf5(h5py: ModuleType, dataset: IntrusionDataset, length: float, path
 def save_intrusion_hdf5(
     dataset: IntrusionDataset, path: str | os.PathLike[str], *, overwrite: bool = False
 ) -> Path:
-    """Write a dataset to HDF5 in SI units, one group per trial (read by load_intrusion_hdf5).
+    """Write a dataset to HDF5 in SI units, one group per trial, atomically.
 
     Parameters
     ----------
     dataset : IntrusionDataset
         The data.
     path : str or path-like
-        Output file; written atomically.
+        Output file.
     overwrite : bool, keyword-only
         Replace an existing file (default: refuse).
 

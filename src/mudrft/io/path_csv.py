@@ -1,22 +1,5 @@
 """Foot paths as CSV: :func:`load_path_csv` reads the path of a foot's tip as a
-:class:`~mudrft.Trajectory` for :func:`mudrft.simulate`.
-
-A measured path (motion capture, a robot's log) or a path written by hand::
-
-    # tip of the front-left foot, trial 3
-    time [ms],x [mm],z [mm]
-    0,0,5
-    10,1.2,-0.8
-    ...
-
-The header names each column with its unit (``x [mm]``, ``x (mm)`` or ``x in mm``; SI when
-none is given). ``time`` (or ``t``) and ``z`` are required: ``z`` is the tip's height in
-the world frame, negative below the mud surface; a ``depth`` column (positive below the
-surface) may stand in for it. ``x`` and ``y`` are 0 when absent. Measured forces ``Fx``,
-``Fy``, ``Fz`` (of the mud on the foot) are kept in ``trajectory.meta["measured_force"]``
-[N], so the CSV that ``mudrft simulate --out`` writes reads back as the path it ran, with
-its forces. Other columns are ignored; ``#`` lines are notes.
-"""
+:class:`~mudrft.Trajectory` for :func:`mudrft.simulate`."""
 
 from __future__ import annotations
 
@@ -38,10 +21,22 @@ __all__ = ["PATH_COLUMNS", "load_path_csv"]
 def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -> Trajectory:
     """Read a foot tip's path from a CSV file, as a trajectory to simulate.
 
+    The header names each column with its unit (``x [mm]``, ``x (mm)`` or ``x in mm``; SI
+    when none is given)::
+
+        time [ms],x [mm],z [mm]
+        0,0,5
+        10,1.2,-0.8
+
+    ``time`` and ``z`` (the tip's height, negative below the mud surface; or ``depth``,
+    positive below it) are required, ``x`` and ``y`` are 0 when absent; forces ``Fx``,
+    ``Fy``, ``Fz`` [N] are kept, so that the CSV ``mudrft simulate --out`` writes reads
+    back as the path it ran. Other columns are ignored; ``#`` lines are notes.
+
     Parameters
     ----------
     path : str or path-like
-        The CSV file (layout in the module docstring).
+        The CSV file.
     columns : mapping, optional, keyword-only
         Role (``time``, ``x``, ``y``, ``z``, ``depth``, ``Fx``, ``Fy``, ``Fz``) -> the
         column's name as written, for names mudrft does not know.
@@ -63,9 +58,7 @@ def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -
     Raises
     ------
     MudrftError
-        Naming the file, line and column: no such file or header, a missing ``time`` or
-        ``z`` column, ``z`` and ``depth`` both given, an unknown unit, a cell that is not
-        a finite number, fewer than two rows, or times that do not increase.
+        Naming the file, line and column of any problem.
 
     Warns
     -----
