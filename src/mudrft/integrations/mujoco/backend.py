@@ -29,6 +29,7 @@ from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
 from .compiled import ARGS, N_OUT, coupling_kernel, pack, work_size
 from .contact import MudContact
+from .linalg import mujoco_functions
 from .placement import coupled_tip, coupled_triangles
 
 if TYPE_CHECKING:
@@ -110,15 +111,6 @@ class CompiledCoupling:
         m = batch.model
         self.batch = batch
         self.kernel = coupling_kernel()
-        self.model_i = np.ascontiguousarray(
-            np.stack(
-                [m.body_dofadr, m.body_dofnum, m.body_parentid, m.body_rootid], axis=-1
-            ).astype(np.int64)
-        )
-        self.dof_parentid = np.asarray(m.dof_parentid, dtype=np.int64)
-        self.rownnz = np.asarray(m.M_rownnz, dtype=np.int64)
-        self.rowadr = np.asarray(m.M_rowadr, dtype=np.int64)
-        self.colind = np.asarray(m.M_colind, dtype=np.int64)
         # check_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
@@ -148,8 +140,8 @@ class CompiledCoupling:
         self.tank = np.zeros(n)  # energy the mud may give each robot back [J] (D62c, D62d)
         self.out = np.zeros((n, nb, N_OUT))
         self.work = np.zeros(work_size(m.nv, len(self.tri_b), nb))
-        self.addr = np.zeros((n, 10), dtype=np.int64)
-        self.sizes = np.zeros(3, dtype=np.int64)
+        self.addr = np.zeros((n, 7), dtype=np.int64)
+        self.sizes = np.array([m.nbody, m.nv, m._address, *mujoco_functions()], dtype=np.int64)
         self.datas: list[mujoco.MjData] = []
         self.opts = np.zeros(10)
 
@@ -219,8 +211,7 @@ class CompiledCoupling:
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
         self.tank[:] = 0.0
-        fields = ("xpos", "xmat", "xipos", "ximat", "cvel", "subtree_com", "cdof", "qLD",
-                  "qLDiagInv", "xfrc_applied")  # fmt: skip
+        fields = ("xpos", "xmat", "xipos", "cvel", "subtree_com", "xfrc_applied")
         self.datas = list(datas)  # keep them alive: the kernel reads their memory
         for k, d in enumerate(datas):
             for i, f in enumerate(fields):
@@ -228,8 +219,8 @@ class CompiledCoupling:
                 if a.dtype != np.float64 or not a.flags.c_contiguous:
                     raise MudrftError(f"MjData.{f} must be contiguous float64 for backend='numba'")
                 self.addr[k, i] = a.ctypes.data
+            self.addr[k, 6] = d._address
         m = b.model
-        self.sizes[:] = (m.nbody, m.nv, len(datas[0].qLD))
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
         self.opts = np.array(

@@ -16,8 +16,8 @@ every body of every robot what the numpy coupling does with arrays:
    mesh foot's facets, or the morphing foot's column balance and force
    (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`);
 4. assembles the wrench and its damping (D62a); then, per robot, computes the mobility of
-   its feet with the cross blocks from MuJoCo's ``cdof`` and the factorised mass matrix
-   (``qLD``: the port of ``mj_jac`` and ``mj_solveLD``), solves the implicit step of all
+   its feet with the cross blocks with MuJoCo's own ``mj_jac`` and ``mj_solveM`` (called
+   through their C symbols, :mod:`.linalg`), solves the implicit step of all
    its feet together (D62, D62d) and bounds their work by the robot's tank (D62c; both in
    :func:`.linalg._robot_step`, with :func:`~.implicit.passivity_scale` compiled from its
    one source) and writes ``xfrc_applied``.
@@ -43,7 +43,7 @@ from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_heigh
 from ...terrains.rows import N_STATE, STATE_IN_MUD
 from .compiled_feet import _mud_force, _nudged_force, _upright_area
 from .implicit import secant_steps
-from .linalg import _borrow, _carve, _iptr, _jacobian, _ld_solve, _ptr, _robot_step, carray
+from .linalg import _borrow, _carve, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
 from .pose import channel_weights
 
 __all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
@@ -143,10 +143,7 @@ def _geometry(
 
 
 def _kernel(
-    addr: IndexArray, sizes: IndexArray,
-    model_i: IndexArray, dof_parentid: IndexArray, rownnz: IndexArray, rowadr: IndexArray,
-    colind: IndexArray,
-    bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
+    addr: IndexArray, sizes: IndexArray, bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
     tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
     consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
@@ -155,8 +152,8 @@ def _kernel(
     """One coupling step of every body of every robot (see the module docstring).
 
     Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
-    ximat, cvel, subtree_com, cdof, qLD, qLDiagInv, xfrc_applied; ``sizes`` = nbody, nv,
-    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
+    cvel, subtree_com, xfrc_applied) and of its ``mjData``; ``sizes`` = (nbody, nv, the
+    ``mjModel``'s address, ``mj_jac``'s and ``mj_solveM``'s). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
     forward in the body frame,
     posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
     ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
@@ -173,7 +170,7 @@ def _kernel(
     bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
     has_prev = opts[9] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
-    nbody, nv, nld = sizes[0], sizes[1], sizes[2]
+    nbody, nv, mptr, jac_fn, solve_fn = sizes[0], sizes[1], sizes[2], sizes[3], sizes[4]
     # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
     # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest.
     # They and the arrays below are borrowed views (:func:`.linalg._borrow`): no reference
@@ -244,12 +241,10 @@ def _kernel(
         xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
         xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
         xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
-        cvel = carray(_ptr(addr[k, 4]), (nbody, 6))
-        subtree = carray(_ptr(addr[k, 5]), (nbody, 3))
-        cdof = carray(_ptr(addr[k, 6]), (nv, 6))
-        qld = carray(_ptr(addr[k, 7]), (nld,))
-        qldinv = carray(_ptr(addr[k, 8]), (nv,))
-        xfrc = carray(_ptr(addr[k, 9]), (nbody, 6))
+        cvel = carray(_ptr(addr[k, 3]), (nbody, 6))
+        subtree = carray(_ptr(addr[k, 4]), (nbody, 3))
+        xfrc = carray(_ptr(addr[k, 5]), (nbody, 6))
+        dptr = addr[k, 6]
         active = 0
         for j in range(nb):
             body, root = bodies[j, 0], bodies[j, 1]
@@ -406,11 +401,12 @@ def _kernel(
                 if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
                     continue
                 # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
-                _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
+                jp = FJ[j].ctypes.data
+                _mj_jac(jac_fn, mptr, dptr, jp, jp + 24 * nv, FC[j].ctypes.data, body)
                 for i in range(6):
                     for d in range(nv):
                         FM[j, i, d] = FJ[j, i, d]
-                _ld_solve(FM[j], qld, qldinv, rownnz, rowadr, colind)
+                _mj_solve_m(solve_fn, mptr, dptr, FM[j].ctypes.data, 6)
             tank[k] = _robot_step(
                 nb, nv, dt, FJ, FM, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV, tank[k]
             )
@@ -463,8 +459,7 @@ def work_size(nv: int, ntri: int, nb: int) -> int:
 
 #: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
 ARGS = (
-    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
-    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
+    ("addr", "i8", 2), ("sizes", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
@@ -509,11 +504,10 @@ def _kernel_packed(p: IndexArray) -> int:
     """:func:`_kernel` on the arrays packed by :func:`pack`."""
     o = OFFSETS
     return _kernel(
-        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _i1(p, o[3]), _i1(p, o[4]), _i1(p, o[5]),
-        _i1(p, o[6]), _i2(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _i1(p, o[10]), _f3(p, o[11]),
-        _i1(p, o[12]), _f2(p, o[13]), _f2(p, o[14]), _f2(p, o[15]), _f2(p, o[16]),
-        _f2(p, o[17]), _f1(p, o[18]), _f3(p, o[19]), _f3(p, o[20]), _f3(p, o[21]),
-        _f3(p, o[22]), _f3(p, o[23]), _f1(p, o[24]), _f3(p, o[25]), _f1(p, o[26]),
+        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _f2(p, o[3]), _f2(p, o[4]), _i1(p, o[5]),
+        _f3(p, o[6]), _i1(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
+        _f2(p, o[12]), _f1(p, o[13]), _f3(p, o[14]), _f3(p, o[15]), _f3(p, o[16]),
+        _f3(p, o[17]), _f3(p, o[18]), _f1(p, o[19]), _f3(p, o[20]), _f1(p, o[21]),
     )  # fmt: skip
 
 
