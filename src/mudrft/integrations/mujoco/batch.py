@@ -24,6 +24,7 @@ from ...terrains import as_terrain
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, _not_compilable, check_compilable
 from .contact import MudContact, _central_point
+from .geoms import _support
 from .implicit import (
     channel_rows,
     force_and_derivative,
@@ -45,7 +46,6 @@ from .placement import (
     coupled_tip,
     describe,
     group_triangles,
-    lowest_points,
 )
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .stability import check_spring_step, check_timestep, diverged_error
@@ -233,6 +233,7 @@ class MudBatch:
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
+        self._reset_with: object = None  # the argument of reset(), stepped by the compiled loop
 
     @property
     def feet(self) -> tuple[str, ...]:
@@ -265,23 +266,25 @@ class MudBatch:
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
         tw = com_twist(V, S, C)
         W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
-        geo, ratio = self._posed(X, R, C, tip, cs)
+        geo, ratio = self._posed(datas, X, R, C, tip, cs)
         return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
     def _posed(
-        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
-    ) -> tuple[ChannelGeometry, FloatArray]:
+        self, datas: Sequence[mujoco.MjData], X: FloatArray, R: FloatArray, C: FloatArray,
+        tip: FloatArray, cs: FloatArray,
+    ) -> tuple[ChannelGeometry, FloatArray]:  # fmt: skip
         groups = [
             (tri, up, idx, bool(self._ball[idx[0]]))
             for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
         bare = [i for (tri, _, idx, _) in groups if tri is None for i in idx]
         low = None
-        if bare:  # feet without a surface act at the lowest point of their geom
+        if bare:  # feet without a surface act at the lowest point of their geoms
             low = tip.copy()
-            low[:, bare] = lowest_points(
-                [self.bodies[i] for i in bare], X[:, bare], R[:, bare], tip[:, bare]
-            )
+            for i in (i for i in bare if self.bodies[i].geoms):
+                for k, d in enumerate(datas):
+                    pts = [_support(self.model, d, g) for g in self.bodies[i].geoms]
+                    low[k, i] = min(pts, key=lambda p: float(p[2]))
         X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
@@ -289,6 +292,7 @@ class MudBatch:
     def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:
         """Start with undisturbed mud under the feet in their current pose (calls mj_forward)."""
         mj = _mujoco()
+        self._reset_with = datas if isinstance(datas, self._mj.MjData) else None
         datas = self._check(datas)
         self._timestep = check_timestep(self.model, checked=self._timestep)
         check_integrator(self.model)  # again: the model's options may have changed
@@ -371,21 +375,21 @@ class MudBatch:
         return out
 
     def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
-        """Advance the mud once and write ``xfrc_applied`` for the current state.
-
-        Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
-        does all three.
-        """
+        """Advance the mud once and write ``xfrc_applied``: after ``mj_step1`` (or
+        ``mj_forward``), before ``mj_step2``; :meth:`step` does all three."""
         datas = self._check(datas)
         if self._warn:
             self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
-        return self._apply(datas)
+        self._apply(datas)
+        assert self.last is not None
+        return self.last
 
-    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact:
+    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact | None:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
         if self._compiled is not None:
-            return self._apply_compiled()
+            self._apply_compiled()
+            return None
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
         geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
@@ -457,19 +461,22 @@ class MudBatch:
         self.time_steps += 1
         force, torque = wrench[..., :3], wrench[..., 3:]
         pz = com + rel[..., 2, :]
-        self.last = MudContact(
-            force=force,
-            explicit_force=w0[..., :3],
-            torque=torque,
-            point=_central_point(force, torque, com, pz),
-            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
-            velocity=vel,
-            depth=depth,
-            stress=stress,
+        self.last = _robot(
+            self._single,
+            MudContact(
+                force=force,
+                explicit_force=w0[..., :3],
+                torque=torque,
+                point=_central_point(force, torque, com, pz),
+                tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+                velocity=vel,
+                depth=depth,
+                stress=stress,
+            ),
         )
         return self.last
 
-    def _apply_compiled(self) -> MudContact:
+    def _apply_compiled(self) -> None:
         assert self._compiled is not None
         bad = self._compiled.apply(self._has_prev)
         self._has_prev = True
@@ -479,8 +486,7 @@ class MudBatch:
                 "(check the model, the time step and the mud parameters)"
             )
         self.time_steps += 1
-        self.last = self._compiled.contact()
-        return self.last
+        self._stale = True
 
     def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
@@ -490,58 +496,33 @@ class MudBatch:
         MudrftError
             When MuJoCo reports bad accelerations (it would reset the state silently).
         """
-        return self._step(self._check(datas), self._nstep(nstep))
+        self.advance(datas, nstep)
+        assert self.last is not None
+        return self.last
 
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
-        """:meth:`step` without returning the contact: ``nstep`` physics steps of every
-        robot; :attr:`last` still gives what the mud did in the last one, built when read.
-
-        The compiled coupling's cheapest loop: building a :class:`MudContact` costs
-        about a tenth of the biped's physics step, which a loop that does not read it every
-        step need not pay.
-        """
+        """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
+        if self._loop is not None and datas is self._reset_with:  # the common, cheap case
+            self._loop(self._nstep(nstep))
+            return
         datas, nstep = self._check(datas), self._nstep(nstep)
-        if self._compiled is not None:
-            self._step_compiled(datas, nstep, contact=False)
-        else:
-            self._step_generic(datas, nstep)
-
-    def _step(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
-        if self._compiled is not None:
-            out = self._step_compiled(datas, int(nstep))
-            assert out is not None
-            return out
-        return self._step_generic(datas, nstep)
-
-    def _step_generic(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
-        mj = self._mj
-        m = self.model
-        out = self.last
-        for _ in range(int(nstep)):
-            for d in datas:
-                mj.mj_step1(m, d)
-            out = self._apply(datas)
-            for d in datas:
-                mj.mj_step2(m, d)
-            self._check_diverged(datas)
-        assert out is not None
-        return out
-
-    def _step_compiled(
-        self, datas: list[mujoco.MjData], nstep: int, *, contact: bool = True
-    ) -> MudContact | None:
-        """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2``;
-        the contact of the last step, unless ``contact`` is false."""
-        if self._loop is None or self._compiled is None:
+        if self._compiled is None:
+            for _ in range(nstep):
+                for d in datas:
+                    self._mj.mj_step1(self.model, d)
+                self._apply(datas)
+                for d in datas:
+                    self._mj.mj_step2(self.model, d)
+                self._check_diverged(datas)
+            return
+        if self._loop is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        reset = self._compiled.datas
-        if len(datas) != len(reset) or any(a is not b for a, b in zip(datas, reset, strict=True)):
+        if any(a is not b for a, b in zip(datas, self._compiled.datas, strict=True)):
             raise MudrftError(
                 "backend='numba' steps the MjData given to reset(); got another MjData "
                 "(call reset(data) with it first)"
             )
         self._loop(nstep)
-        return self.last if contact else None
 
     def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
         for ws, seen in zip(self._warn, self._warnings, strict=True):
@@ -558,6 +539,11 @@ class MudBatch:
                     self._clear_warnings()
                     t = self.time_steps * float(self._opt.timestep)
                     raise diverged_error(i, kind, w.lastinfo, t, self.last)
+
+
+def _robot(single: bool, c: MudContact) -> MudContact:
+    """``c`` of robot 0 alone where the coupling has one (:class:`MudCoupling`)."""
+    return MudContact(*(a[0] for a in c)) if single else c
 
 
 def _hashable_repr(foot: Foot) -> bool:
