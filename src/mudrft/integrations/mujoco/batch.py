@@ -1,12 +1,9 @@
 r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 
-Every step reads the kinematics of all robots (:mod:`.kinematics`), clips each foot in
-its current pose by the mud surface (:mod:`.pose`), steps the terrain once per foot type
-for all robots and bodies together, assembles the wrench of the posed foot
-(:mod:`.wrench`), stabilises it with the linearly implicit step of its dissipative part in
-the six degrees of freedom of the body and bounds its work by what the mud has taken
-(decisions D60a-D63 in docs/model.md, summarised in :mod:`mudrft.integrations.mujoco`),
-writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
+Each step reads all robots (:mod:`.kinematics`), poses the feet (:mod:`.pose`), steps the
+terrain once per foot type, assembles the wrench (:mod:`.wrench`), takes its implicit
+step with the passivity bound (:mod:`.implicit`), writes ``xfrc_applied`` and checks
+that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:`.backend`).
 """
 
 from __future__ import annotations
@@ -22,7 +19,7 @@ from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, _not_compilable, check_compilable
+from .backend import CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
 from .geoms import _support
 from .implicit import (
@@ -76,70 +73,55 @@ class _Reading(NamedTuple):
 class MudBatch:
     """Mud under named bodies of ``n`` MjData of one model, vectorized across robots.
 
-    Every step reads the kinematics of all robots, calls the terrain once per foot type
-    for all robots and bodies together, and writes ``xfrc_applied`` of each MjData.
-
     Parameters
     ----------
     model : mujoco.MjModel
         The model shared by all robots.
     bodies : "auto", str, int or a sequence of them
-        The bodies that touch the mud, each by its name, the name of one of its geoms (that
-        geom is then its foot) or its id (a body without a name); ``"auto"`` finds the feet
-        (:func:`~.placement.auto_feet`: the lowest limbs) and logs what it chose, which
-        :attr:`feet` also tells.
+        The bodies that touch the mud, each by its name, the name of one of its geoms (then
+        its foot) or its id (a body without a name); ``"auto"`` finds the feet
+        (:func:`~.placement.auto_feet`) and logs them (:attr:`feet`).
     mud : Mud or Terrain
-        The mud (:func:`mudrft.paper_mud`), a configured :class:`mudrft.MudTerrain`, or
-        any terrain.
-    n : int, keyword-only
+        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, or any terrain.
+    n : int
         Number of robots.
-    feet : Foot, sequence of Foot or None, keyword-only
+    feet : Foot, sequence of Foot or None
         Foot of every body (one for all, or one per body); ``None`` derives each from the
-        body's geoms (see :func:`body_foot`).
-    surface : float, keyword-only
+        body's geoms (:func:`body_foot`).
+    surface : float
         Height of the mud surface in the world [m].
-    bottom : float or None, keyword-only
-        Depth of a rigid bottom below the surface [m] (a one-sided penalty on the lowest
-        point of the foot), or ``None`` for bottomless mud.
-    bottom_stiffness : float, keyword-only
-        Stiffness of that bottom [N/m] (explicit).
-    bottom_damping : float, keyword-only
-        Damping of that bottom [N s/m] (treated implicitly like the mud's).
-    resolution : int, keyword-only
-        Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
-    foot_geoms : mapping or None, keyword-only
-        ``{body: geom name}``: the geom that is a body's foot where its lowest colliding
-        geom is not (D124); a body with several such geoms equally low warns without it.
-    backend : {"auto", "numba", "numpy"}, keyword-only
-        ``"numba"``: one compiled call per physics step for all feet of all robots
-        (:mod:`.compiled`; the mud and feet with a surface), equal to the numpy coupling to
-        round-off and some twenty times faster, compiled once per machine (about 15 s;
-        numba's disk cache loads it in a new process); ``"numpy"``: any terrain and foot,
-        the reference the tests compare with; ``"auto"`` (default): ``"numba"`` where it
-        applies.
-    floor : {"warn", "below", "keep"}, keyword-only
-        A floor geom at or above the mud's surface (a plane, or a box at least 1 m wide,
-        welded to the world; gymnasium's models have one at z = 0) carries the feet in
-        place of the mud: ``"warn"`` says so, ``"below"`` lowers it to
-        :data:`~.options.BED_DEPTH` (0.5 m) under the surface, a rigid bed (the model is
-        changed in place), ``"keep"`` keeps it quietly.
+    bottom : float or None
+        Depth of a rigid bottom below the surface [m], or ``None`` for bottomless mud.
+    bottom_stiffness : float
+        Stiffness of that bottom [N/m].
+    bottom_damping : float
+        Damping of that bottom [N s/m] (treated implicitly).
+    resolution : int
+        Mesh resolution of curved closed-form feet (D60a).
+    foot_geoms : mapping or None
+        ``{body: geom name, or a list of them}``: a body's foot geoms where its lowest
+        colliding geoms are not (D124).
+    backend : {"auto", "numba", "numpy"}
+        ``"numba"``: one compiled call per step for all feet (the mud, feet with a surface),
+        cached on disk; ``"numpy"``: any terrain and foot, the reference the tests compare
+        with; ``"auto"``: ``"numba"`` where it applies.
+    floor : {"warn", "below", "keep"}
+        A floor geom at or above the mud's surface carries the feet in place of the mud:
+        ``"warn"`` says so, ``"below"`` lowers it :data:`~.options.BED_DEPTH` (0.5 m) under
+        the surface (the model is changed in place), ``"keep"`` keeps it quietly.
 
     Warns
     -----
     PlausibilityWarning
-        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset);
-        a floor at or above the surface (``floor="warn"``).
+        A body welded to the world (D113); a timestep above 10 ms (D123); a floor at or
+        above the surface (``floor="warn"``).
 
     Raises
     ------
     MudrftError
-        At construction, for gravity not along -z (the mud's depth is measured along -z),
-        MuJoCo's RK4 integrator (the coupling steps under Euler, ``implicitfast`` or
-        ``implicit``), or an option of 0.2 that was removed (``implicit``, ``mobility``,
-        ``lookahead``: the coupling always takes the implicit step with the passivity
-        bound and the whole robot's mobility).
-        From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
-        which MuJoCo answers with a silent reset) or the wrench is not finite.
+        For gravity not along -z, MuJoCo's RK4 integrator, or an option of 0.2 that was
+        removed (``implicit``, ``mobility``, ``lookahead``); from :meth:`step` when MuJoCo
+        reports a diverged simulation or the wrench is not finite.
     """
 
     def __init__(
@@ -220,12 +202,14 @@ class MudBatch:
         self._warnings: list[list[int]] = []
         if backend not in ("auto", "numpy", "numba"):
             raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
+        why = _not_compilable(self.terrain, self.bodies)
         if backend == "auto":
-            backend = "numpy" if _not_compilable(self.terrain, self.bodies) else "numba"
+            backend = "numpy" if why else "numba"
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
         if backend == "numba":
-            check_compilable(self.terrain, self.bodies)
+            if why:
+                raise MudrftError(why)
             self._compiled = CompiledCoupling(self)
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self._last: MudContact | None = None

@@ -1,32 +1,14 @@
 r"""The compiled coupling: one numba call per physics step for all feet of all robots (D68a).
 
-:class:`~mudrft.integrations.mujoco.MudBatch` with ``backend="numba"`` runs, between
-``mj_step1`` and ``mj_step2``, one compiled call (:func:`coupling_kernel`) that does for
-every body of every robot what the numpy coupling does with arrays:
-
-1. reads the body's pose and twist from MuJoCo's arrays (``xpos``, ``xmat``, ``xipos``,
-   ``cvel``, ``subtree_com``);
-2. clips the foot's triangles in their current pose and sums the channel weights, points
-   and second moments (D60a) with the feet's own element-wise facet rules
-   (:mod:`mudrft.feet.facet`) and :func:`~.pose.channel_weights`;
-3. steps the mud with the motion and each channel once more with its rate nudged toward
-   rest (the secants of D63, their steps :func:`~.implicit.secant_steps` compiled from its
-   one source, D119) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
-   the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
-   mesh foot's facets, or the morphing foot's column balance and force
-   (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`);
-4. assembles the wrench and its damping (D62a); then, per robot, computes the mobility of
-   its feet with the cross blocks with MuJoCo's own ``mj_jac`` and ``mj_solveM`` (called
-   through their C symbols, :mod:`.linalg`), solves the implicit step of all
-   its feet together (D62, D62d) and bounds their work by the robot's tank (D62c; both in
-   :func:`.linalg._robot_step`, with :func:`~.implicit.passivity_scale` compiled from its
-   one source) and writes ``xfrc_applied``.
-
-The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
-one source by :func:`mudrft._jit.jit`, with ``xp`` bound to :mod:`mudrft._xp`; what is
-written here is the coupling's own bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
-arrays, and the test ``test_compiled_coupling_equals_numpy`` keeps the two equal (1e-9 over
-a 2 s walk of the biped).
+:func:`_kernel` does for every body what the numpy coupling does with arrays: reads its
+pose and twist from MuJoCo's arrays, clips the posed foot (:func:`_geometry`), steps the
+mud and its secants toward rest (D63) with the terrain's one foot step
+(:func:`mudrft.terrains.rows.foot_step`), assembles the wrench and its damping (D62a),
+then per robot takes the mobility from MuJoCo's own ``mj_jac`` and ``mj_solveM``
+(:mod:`.linalg`), solves the implicit step of all its feet with the passivity bound
+(D62-D62d) and writes ``xfrc_applied``. The physics is compiled from its one source
+(:func:`mudrft._jit.jit`); ``test_compiled_coupling_equals_numpy_along_a_walk`` keeps the
+bookkeeping here equal to the numpy coupling's.
 """
 
 from __future__ import annotations
@@ -61,10 +43,9 @@ def _geometry(
     scratch: FloatArray,
     out: FloatArray,
 ) -> None:
-    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`).
-
-    ``out`` = (A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3)), 42 floats; ``v`` (9)
-    and ``scratch`` (m, 6) (weights, centroid of each facet) are work arrays.
+    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`)
+    into ``out``: A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3); ``v`` (9) and
+    ``scratch`` (m, 6) are work arrays.
     """
     m = tri.shape[0]
     for q in range(12):
@@ -149,22 +130,18 @@ def _kernel(
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
 ) -> int:  # fmt: skip
-    """One coupling step of every body of every robot (see the module docstring).
+    """One coupling step of every body of every robot; the number of non-finite wrenches.
 
-    Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
-    cvel, subtree_com, xfrc_applied) and of its ``mjData``; ``sizes`` = (nbody, nv, the
-    ``mjModel``'s address, ``mj_jac``'s and ``mj_solveM``'s). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
-    forward in the body frame,
-    posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
-    ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
-    kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
-    surface, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z, has_prev: 0 first step,
-    1 the last step's difference). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
-    deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
-    ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
-    robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
-    ``work`` (:func:`work_size`) the work arrays, allocated once.
-    Returns the number of bodies whose wrench is not finite.
+    Per robot ``k``: ``addr[k]`` = addresses of xpos, xmat, xipos, cvel, subtree_com,
+    xfrc_applied and the ``mjData``; ``sizes`` = (nbody, nv, the ``mjModel``'s address,
+    ``mj_jac``'s, ``mj_solveM``'s). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip and
+    forward axis in the body frame, its triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]`` and
+    upright facet rows ``tri_up[up_adr[j]:up_adr[j+1]]``, mud constants, ``cfg``, ``geom``
+    (kind, g0, g1, g2), ``morph``. ``opts`` = (dt, surface, bottom (< 0: none), k_b, c_b,
+    dv_min, gravity (3), has_prev). State updated in place, per robot and body: ``mud``,
+    ``fst`` (a morphing foot's deflection, pad angle, seal memory), ``odo`` (foot-frame and
+    world xy), ``tw_prev``, ``wv_prev``, and ``tank`` per robot (D62c); outputs ``out``
+    (N, nb, N_OUT); ``work`` (:func:`work_size`).
     """
     dt, surface = opts[0], opts[1]
     bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
@@ -450,10 +427,9 @@ WORK_FIXED = (57 + N_STATE) + 42 + 81
 
 
 def work_size(nv: int, ntri: int, nb: int) -> int:
-    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri`` posed
-    triangles of all feet and ``nb`` foot bodies: per foot J and M^-1 J^T (12 nv), its
-    damping, wrenches, twists, center, place in the system and right-hand side (76), the
-    robot's joint system (72 nb)."""
+    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri``
+    triangles and ``nb`` foot bodies.
+    """
     return 6 * ntri + WORK_FIXED + nb * (12 * nv + 76) + 72 * nb * nb
 
 
@@ -470,10 +446,10 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 
 
 def pack(arrays: list[Any]) -> IndexArray:
-    """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array: each one's
-    address and shape. One small array costs numba a fraction of a microsecond to pass,
-    where 29 arrays cost 2.5-4.5 us, and the kernel that takes it is cached on disk.
-    The caller keeps the arrays alive while the kernel may run."""
+    """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array of each one's
+    address and shape: one argument costs numba far less to pass than 22. The caller keeps
+    the arrays alive.
+    """
     out: list[int] = []
     for a in arrays:
         out += [int(a.ctypes.data), *a.shape]
@@ -512,6 +488,5 @@ def _kernel_packed(p: IndexArray) -> int:
 
 
 def coupling_kernel() -> Any:
-    """The compiled :func:`_kernel` (numba, :func:`mudrft._jit.jit`, cached on disk), taking
-    the arrays packed by :func:`pack`."""
+    """The compiled :func:`_kernel` on :func:`pack`'s array (cached on disk)."""
     return jit(_kernel_packed)

@@ -1,10 +1,5 @@
-r"""The feet in the compiled coupling: their channel areas and the secant nudge (D63).
-
-A foot's mud step and force is :func:`mudrft.terrains.rows.foot_step`, the compiled path
-of :class:`mudrft.MudTerrain`. Here: :func:`_nudged_force`, the one-channel step of a
-secant nudge (D63), and :func:`_upright_area`, the upright foot's channel areas from its
-facet rows (:func:`mudrft.terrains.rows.upright_rows`). Plain Python on floats, compiled
-into the kernel (:func:`.compiled.coupling_kernel`) with ``xp`` bound to
+r"""The feet in the compiled coupling: channel areas of the upright foot, and the secant
+nudge (D63); compiled into :func:`.compiled.coupling_kernel` with ``xp`` bound to
 :mod:`mudrft._xp`.
 """
 
@@ -40,10 +35,8 @@ FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
 
 def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
-    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`).
-
-    ``up`` (m, 10): per prepared facet z_a, z_b, z_c, k_low, k_high, flat_area, n_h, h_x,
-    h_y, w_z (:func:`~mudrft.terrains.rows.upright_rows`).
+    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`)
+    from its facet rows ``up`` (:func:`~mudrft.terrains.rows.upright_rows`) into ``a``.
     """
     a[0], a[1], a[2] = 0.0, 0.0, 0.0
     for f in range(up.shape[0]):
@@ -71,13 +64,10 @@ def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatA
                   dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray, r0: FootStep,
                   mrow: FloatArray, fs: FloatArray, row: FloatArray,
                   frow: FloatArray) -> float:  # fmt: skip
-    """Force component ``q`` [N] of the mud step from state row ``s`` when only channel
-    ``q``'s rate differs from the step that returned ``r0`` (:func:`_mud_force`): the one
-    channel is stepped (:func:`~mudrft.terrains.mud.mud_channel_stress`, with the heading of
-    that step for a horizontal nudge, the step's own, ``row``, for a vertical one), and the
-    other stresses are ``r0``'s (D63). A morphing foot
-    balances its column again for a vertical nudge; a horizontal one leaves the balance,
-    which depends on the vertical stress only, at ``frow``'s pad angle."""
+    """Force component ``q`` [N] of the mud step when only channel ``q``'s rate
+    differs from the step that returned ``r0`` (D63): that channel stepped alone, the other
+    stresses ``r0``'s; a morphing foot balances its column again for a vertical nudge.
+    """
     m = morphing_at(mrow)
     seal = 1.0
     if geom[0] == MORPHING:

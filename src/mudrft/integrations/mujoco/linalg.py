@@ -55,14 +55,12 @@ def _robot_step(
     WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
     tank: float,
 ) -> float:  # fmt: skip
-    """One robot's implicit step of all its feet together and its passivity bound, on floats.
+    """One robot's implicit step of all its feet together and its passivity bound.
 
-    The compiled form of :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
-    (D62, D62c, D62d) for the feet with a wrench or damping (``FPOS[j] >= 0``; the others
-    have no wrench, and their ``W w`` is 0 as in the numpy coupling): the mobility ``WF``
-    (6 m x 6 m) from each foot's ``FJ`` and ``FM`` = M^-1 J^T; the system ``(I - dt K W) w = w0 + dt K a`` in ``AJ``, ``RJ``; the wrenches
-    scaled by the bound into ``FWR`` and ``W w`` into ``FWV``. Returns the robot's tank
-    after the step [J].
+    The compiled :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
+    (D62-D62d) for the feet with ``FPOS[j] >= 0``: the mobility ``WF`` from ``FJ`` and
+    ``FM`` = M^-1 J^T, the system in ``AJ``, ``RJ``, the scaled wrenches into ``FWR`` and
+    ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
     """
     m = 0
     for j in range(nb):
@@ -211,16 +209,12 @@ def _mj_solve_m(typingctx: Any, fn: Any, m: Any, d: Any, x: Any, n: Any) -> Any:
 
 
 def _borrow(a: FloatArray) -> FloatArray:
-    """A float64 C-contiguous array as a view without a reference count (``numba.carray``
-    on its address): every view the kernel then takes of it (a row, a slice, an argument
-    to a helper) skips numba's atomic reference updates (about 2.5 us of the walking
-    biped's step). The caller keeps ``a`` alive while the view is used (the kernel's
-    packed argument does, for the call)."""
+    """A float64 C-contiguous array as a view without a reference count (numba's
+    reference updates cost microseconds a step); the caller keeps ``a`` alive.
+    """
     return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 
 
 def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
-    """A borrowed float64 view of ``shape`` starting ``offset`` floats after the address
-    ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
-    caller keeps the memory alive)."""
+    """A borrowed float64 view of ``shape``, ``offset`` floats after address ``base``."""
     return carray(_ptr(base + 8 * offset), shape)  # type: ignore[call-arg]
