@@ -33,48 +33,22 @@ __all__ = [
 
 
 def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:
-    r"""Velocity steps of the secant derivative, from each channel's velocity to rest (D63, D119).
+    r"""Velocity steps [m/s] of the secant derivative toward rest (D63, D119), element-wise.
 
-    The step is :math:`-u`; a velocity within ``dv_min`` of rest steps by ``dv_min`` across
-    it, so a resting or creeping foot sees the suction switch's own slope. Element-wise.
-
-    Parameters
-    ----------
-    vel : array_like
-        Channel velocities [m/s].
-    dv_min : float
-        Smallest step [m/s] (> 0).
-    xp : module
-        Element-wise namespace (numpy, ``jax.numpy``, or floats for the compiled coupling).
-
-    Returns
-    -------
-    array_like
-        Steps of the channel velocities [m/s], never 0.
+    The step is :math:`-u` for channel velocities ``vel`` [m/s]; within ``dv_min`` [m/s] of
+    rest it is ``dv_min`` across it, so a resting foot sees the suction switch's own slope.
+    ``xp``: numpy, ``jax.numpy`` or floats (the compiled coupling).
     """
     across = xp.where(vel > 0.0, -dv_min, dv_min)
     return xp.where(xp.abs(vel) > dv_min, -vel, across)
 
 
 def channel_rows(cs: FloatArray, rel: FloatArray, xp: Namespace = np) -> FloatArray:
-    r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
+    r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` (N, nb, 3, 6) of the channels.
 
-    :math:`b_c\cdot\xi` is the velocity along channel axis :math:`\mathbf e_c` of the point
-    :math:`\mathbf r_c` for the twist :math:`\xi`; :math:`f\,b_c` is the wrench of a force
-    :math:`f\mathbf e_c` there.
-
-    Parameters
-    ----------
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
-    rel : ndarray (N, nb, 3, 3)
-        Point of each channel (row c) relative to the center of mass, world frame [m].
-    xp : module
-        Array namespace.
-
-    Returns
-    -------
-    ndarray (N, nb, 3, 6)
+    ``cs`` (N, nb, 2): cosine and sine of each foot's yaw; ``rel`` (N, nb, 3, 3): each
+    channel's point relative to the center of mass [m]. :math:`b_c\cdot\xi` is that point's
+    velocity along :math:`\mathbf e_c`; :math:`f\,b_c` the wrench of a force :math:`f\mathbf e_c` there.
     """
     c, s = cs[..., 0], cs[..., 1]
     z, o = xp.zeros_like(c), xp.ones_like(c)
@@ -93,36 +67,12 @@ def force_and_derivative(
     step: FloatArray,
     dt: float,
 ) -> tuple[Any, FloatArray, FloatArray, FloatArray]:
-    r"""Step the terrain, and the diagonal velocity derivative of its force, in one call.
+    r"""Step the terrain and the diagonal velocity derivative of its force in one call (D61, D63).
 
-    The terrain steps four copies of the motion: as given, and with each velocity component
-    in turn increased by ``step`` (D61, D63).
-
-    Parameters
-    ----------
-    terrain : Terrain
-        The terrain.
-    foot : Foot
-        The foot.
-    state : terrain state
-        State for the ``(N, nb)`` tips.
-    pos, vel : ndarray (N, nb, 3)
-        Tip positions [m] and velocities [m/s] in the foot frame.
-    step : ndarray (N, nb, 3)
-        Secant steps [m/s] (:func:`secant_steps`).
-    dt : float
-        Time step [s].
-
-    Returns
-    -------
-    new_state : terrain state
-        State after the unperturbed step.
-    force : ndarray (N, nb, 3)
-        Force in the foot frame [N].
-    derivative : ndarray (N, nb, 3)
-        :math:`\partial F_i/\partial v_i` [N s/m].
-    stress : ndarray (N, nb, 3)
-        Channel stresses [Pa].
+    Four copies of the motion (tip positions ``pos`` [m] and velocities ``vel`` [m/s] in the
+    foot frame, (N, nb, 3)): as given, and each velocity component raised by ``step`` [m/s].
+    Returns the new state, the force [N], :math:`\partial F_i/\partial v_i` [N s/m] and the
+    channel stresses [Pa].
     """
     vk = np.repeat(vel[None], 4, axis=0)
     vk[1, ..., 0] += step[..., 0]
@@ -144,28 +94,10 @@ def implicit_wrench(
 
     .. math:: w=(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)
 
-    over the ``6 nb`` stacked wrenches, :math:`K` block-diagonal, :math:`W_{ij}=J_iM^{-1}J_j^T`.
-
-    Parameters
-    ----------
-    w0 : ndarray (N, nb, 6)
-        Explicit wrench (force at the center of mass [N], torque [N m]), world frame.
-    K : ndarray (N, nb, 6, 6)
-        Damping of each wrench in its body's twist (D62a) [N s/m, N s, N m s].
-    W : ndarray (N, nb, nb, 6, 6)
-        Mobility: block ``(i, j)`` maps body ``j``'s wrench to body ``i``'s twist rate
-        [1/kg, 1/(kg m), 1/(kg m^2)].
-    acc : ndarray (N, nb, 6)
-        Twist acceleration from all other forces [m/s^2, rad/s^2].
-    dt : float
-        Time step [s].
-    xp : module
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
-
-    Returns
-    -------
-    ndarray (N, nb, 6)
-        Wrenches to apply [N, N m].
+    ``w0`` (N, nb, 6): explicit wrenches [N, N m]; ``K`` (N, nb, 6, 6): their damping (D62a);
+    ``W`` (N, nb, nb, 6, 6): the mobility, block ``(i, j)`` :math:`J_iM^{-1}J_j^T`; ``acc``
+    (N, nb, 6): twist acceleration from all other forces [m/s^2, rad/s^2]; ``dt`` [s].
+    Returns the wrenches to apply (N, nb, 6) [N, N m].
     """
     nb = w0.shape[-2]
     KW = xp.einsum("...iab,...ijbc->...iajc", K, W)  # K_i W_ij, rows (i, a), columns (j, c)
@@ -181,21 +113,9 @@ def passivity_scale(
 ) -> XpArray:
     r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
 
-    Parameters
-    ----------
-    work_lin : array_like
-        :math:`l`, the linear part of the wrench's work over the step [J].
-    work_quad : array_like
-        :math:`q\ge0`, its quadratic part [J].
-    tank : array_like
-        :math:`T\ge0`, the energy the mud has taken and may give back [J].
-    xp : module
-        Element-wise namespace (numpy, ``jax.numpy``, or floats for the compiled coupling).
-
-    Returns
-    -------
-    array_like
-        The scale :math:`s` [-].
+    ``work_lin`` :math:`l` and ``work_quad`` :math:`q\ge0` [J]: the linear and quadratic
+    parts of the wrench's work over the step; ``tank`` :math:`T\ge0` [J]: the energy the mud
+    has taken and may give back. Element-wise in ``xp``.
     """
     full = work_lin + work_quad <= tank
     disc = xp.sqrt(xp.maximum(work_lin * work_lin + 4.0 * work_quad * tank, 0.0))
@@ -220,34 +140,10 @@ def passive_wrench(
 
     The work of :math:`s\,w` over the step is :math:`s\,l+s^2q`, with
     :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and :math:`q=\tfrac{\Delta t^2}{2}w^TWw`
-    summed over the robot's feet; :math:`s` is :func:`passivity_scale`, and the tank gives up
-    that work (it empties when no foot has a wrench).
-
-    Parameters
-    ----------
-    wrench : ndarray (..., nb, 6)
-        Wrenches of the implicit step [N, N m].
-    tw : ndarray (..., nb, 6)
-        Body twists at the start of the step [m/s, rad/s].
-    W : ndarray (..., nb, nb, 6, 6)
-        Mobility (see :func:`implicit_wrench`).
-    acc : ndarray (..., nb, 6)
-        Twist accelerations from all other forces [m/s^2, rad/s^2].
-    tank : ndarray (...)
-        Energy the mud has taken from the robot and may give back [J].
-    dt : float
-        Time step [s].
-    xp : module
-        Array namespace.
-
-    Returns
-    -------
-    wrench : ndarray (..., nb, 6)
-        The scaled wrenches [N, N m].
-    tank : ndarray (...)
-        The tank after the step [J].
-    wv : ndarray (..., nb, 6)
-        :math:`W\,s\,w`, the twist rate the applied wrenches make [m/s^2, rad/s^2].
+    summed over the feet; :math:`s` is :func:`passivity_scale`. ``wrench``, ``tw``
+    (twists [m/s, rad/s]) and ``acc`` are (..., nb, 6), ``W`` as in :func:`implicit_wrench`,
+    ``tank`` (...) [J]. Returns the scaled wrenches, the tank after the step (0 when no foot
+    has a wrench) and :math:`W\,s\,w` [m/s^2, rad/s^2].
     """
     Ww = xp.einsum("...ijab,...jb->...ia", W, wrench)
     lin = dt * xp.sum(wrench * (tw + 0.5 * dt * acc), axis=(-2, -1))

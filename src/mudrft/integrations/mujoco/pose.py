@@ -82,18 +82,9 @@ def channel_weights(
 
 
 def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
-    """Channel weights, centroids and second moments of the part of triangles below z = 0.
-
-    Parameters
-    ----------
-    triangles : ndarray (..., m, 3, 3)
-        Triangles in the foot's yaw frame, heights from the mud surface [m]; outward winding.
-    xp : module
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
-
-    Returns
-    -------
-    ChannelGeometry
+    """Channel weights, centroids and second moments of the part of ``triangles``
+    (..., m, 3, 3) below z = 0 (the foot's yaw frame, heights from the mud surface [m],
+    outward winding).
     """
     tri = xp.asarray(triangles, dtype=float) if xp is np else triangles
     prep = prepare_triangles(tri, xp=xp)
@@ -142,32 +133,15 @@ def posed_channels(
     surface: float,
     low: FloatArray | None = None,
 ) -> tuple[ChannelGeometry, FloatArray]:
-    """Channel geometry of every posed foot, and its ratio to the upright foot (D60a).
+    """Channel geometry of every posed foot, and its ratio :math:`A_c/A_c^{up}` to the
+    upright foot at the same depth (D60a; 0 where the upright foot has none).
 
-    Lengths are in the foot's yaw frame, origin at the body's center of mass horizontally
-    and at the mud surface vertically.
-
-    Parameters
-    ----------
-    groups : sequence of (triangles, upright, idx, ball)
-        Per foot type: the triangles in the body frames (nb_g, m, 3, 3) [m] and the prepared
-        upright ones, or ``None`` for a foot without a surface; its bodies' indices; whether
-        they are balls (triangles upright about ``X``).
-    X, R, C : ndarray (N, nb, 3), (N, nb, 3, 3), (N, nb, 3)
-        Body origins (a ball's center) [m], orientations [-], centers of mass [m].
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
-    surface : float
-        Height of the mud surface [m].
-    low : ndarray (N, nb, 3) or None
-        Lowest points [m] of the feet without a surface, where every channel acts.
-
-    Returns
-    -------
-    geometry : ChannelGeometry
-        Shapes (N, nb, ...).
-    ratio : ndarray (N, nb, 3)
-        :math:`A_c/A_c^{up}` against the upright foot at the same depth (0 where it has none).
+    Lengths in the foot's yaw frame, origin at the center of mass horizontally and at the
+    mud surface vertically. ``groups``: per foot type, the triangles in the body frames (or
+    None: no surface), the prepared upright ones, the bodies' indices and whether they are
+    balls; ``X``, ``R``, ``C``: body origins (a ball's center) [m], orientations, centers of
+    mass [m]; ``cs``: each foot's yaw cosine and sine; ``surface`` [m]; ``low``: lowest
+    points [m] of the feet without a surface, where all channels act.
     """
     N, nb = X.shape[:2]
     area, ratio = np.zeros((N, nb, 3)), np.ones((N, nb, 3))

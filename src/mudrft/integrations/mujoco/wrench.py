@@ -35,25 +35,11 @@ def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, xp: Namespace = np
 def damping_matrix(
     D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, xp: Namespace = np
 ) -> FloatArray:
-    r"""Damping of the wrench in the body twist, :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)`.
+    r"""Damping :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)` (N, nb, 6, 6) of the wrench.
 
-    Parameters
-    ----------
-    D : ndarray (N, nb, 3)
-        Velocity derivative of each channel's force, :math:`\le0` [N s/m].
-    b : ndarray (N, nb, 3, 6)
-        Channel rows (:func:`~.implicit.channel_rows`).
-    area : ndarray (N, nb, 3)
-        Channel weights :math:`A_c` [m^2].
-    inertia_w : ndarray (N, nb, 3, 3, 3)
-        :math:`\mathbf J_c` in the world frame [m^4].
-    xp : module
-        Array namespace.
-
-    Returns
-    -------
-    ndarray (N, nb, 6, 6)
-        Symmetric, negative semi-definite [N s/m, N s, N m s].
+    ``D`` (N, nb, 3): each channel force's velocity derivative, :math:`\le0` [N s/m]; ``b``:
+    channel rows (:func:`~.implicit.channel_rows`); ``area``: :math:`A_c` [m^2];
+    ``inertia_w``: :math:`\mathbf J_c` in the world frame [m^4].
     """
     K = xp.einsum("...c,...ci,...cj->...ij", D, b, b)
     per_area = xp.where(area > 0.0, D / xp.where(area > 0.0, area, 1.0), 0.0)
@@ -81,25 +67,10 @@ def bottom_wrench(
 ) -> tuple[FloatArray, FloatArray]:
     r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).
 
-    Parameters
-    ----------
-    low : ndarray (N, nb, 3)
-        Lowest point relative to the center of mass, world frame [m].
-    tw : ndarray (N, nb, 6)
-        Body twist [m/s, rad/s].
-    pen : ndarray (N, nb)
-        Penetration below the bottom [m] (> 0 in contact).
-    stiffness, damping : float
-        :math:`k` [N/m], :math:`c` [N s/m].
-    xp : module
-        Array namespace.
-
-    Returns
-    -------
-    wrench : ndarray (N, nb, 6)
-        Explicit wrench [N, N m].
-    K : ndarray (N, nb, 6, 6)
-        Its damping (:math:`-c\,b b^T`), for the implicit step.
+    ``low`` (N, nb, 3): the lowest point relative to the center of mass [m]; ``tw``: body
+    twists [m/s, rad/s]; ``pen`` (N, nb): penetration below the bottom [m]; ``stiffness``
+    :math:`k` [N/m], ``damping`` :math:`c` [N s/m]. Returns the wrench [N, N m] and its
+    damping :math:`-c\,b b^T` for the implicit step.
     """
     ez = xp.broadcast_to(xp.asarray([0.0, 0.0, 1.0]), low.shape)
     b = xp.concatenate([ez, xp.cross(low, ez)], axis=-1)
