@@ -17,10 +17,18 @@ import numpy as np
 
 from ...feet.surface import PreparedTriangles
 from ...terrains.mud import MudChannels, initial_channels, mud_step
-from ..mujoco.implicit import channel_rows, implicit_wrench, passive_wrench, secant_steps
+from ..mujoco.implicit import (
+    bottom_wrench,
+    channel_rows,
+    damping_matrix,
+    implicit_wrench,
+    passive_wrench,
+    posed_wrench,
+    secant_steps,
+    yaw_inertia_to_world,
+)
 from ..mujoco.kinematics import com_twist
 from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
-from ..mujoco.wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 from ._lazy import _jax, _mjx, _xp
 
 if TYPE_CHECKING:

@@ -1,7 +1,7 @@
 r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 
 Each step reads all robots (:mod:`.kinematics`), poses the feet (:mod:`.pose`), steps the
-terrain once per foot type, assembles the wrench (:mod:`.wrench`), takes its implicit
+terrain once per foot type, assembles the wrench and takes its implicit
 step with the passivity bound (:mod:`.implicit`), writes ``xfrc_applied`` and checks
 that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:`.backend`).
 """
@@ -23,11 +23,15 @@ from .backend import CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
 from .geoms import _support
 from .implicit import (
+    bottom_wrench,
     channel_rows,
+    damping_matrix,
     force_and_derivative,
     implicit_wrench,
     passive_wrench,
+    posed_wrench,
     secant_steps,
+    yaw_inertia_to_world,
 )
 from .kinematics import body_frames, chain_mobility, com_twist
 from .options import (
@@ -46,7 +50,6 @@ from .placement import (
 )
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .stability import check_spring_step, check_timestep, diverged_error
-from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 if TYPE_CHECKING:
     import mujoco

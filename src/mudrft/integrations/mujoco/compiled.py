@@ -14,21 +14,45 @@ bookkeeping here equal to the numpy coupling's.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from ..._jit import jit
 from ..._typing import FloatArray, IndexArray
 from ..._xp import pyfloat
-from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_height
-from ...terrains.rows import N_STATE, STATE_IN_MUD
-from .compiled_feet import _mud_force, _nudged_force, _upright_area
+from ...feet.closed_form import closed_form_force
+from ...feet.facet import (
+    clip_constants,
+    clip_facet,
+    facet_frame,
+    sort_by_height,
+    submerged_area,
+)
+from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
+from ...feet.morphing.pads import morphing_force
+from ...terrains.mud import mud_channel_stress
+from ...terrains.rows import (
+    MESH,
+    MORPHING,
+    N_STATE,
+    STATE_HEADING,
+    STATE_IN_MUD,
+    STATE_RETRACTION,
+    channels_at,
+    constants_at,
+    foot_step,
+    mesh_force,
+    morphing_at,
+)
 from .implicit import secant_steps
 from .linalg import _borrow, _carve, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
 from .pose import channel_weights
 
 __all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
+
+#: What a foot step returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
+FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -121,6 +145,61 @@ def _geometry(
             out[base + 7] += w * q2 * q1
             out[base + 8] += w * q2 * q2
     out[39], out[40], out[41] = lx, ly, lowz
+
+
+def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
+    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`)
+    from its facet rows ``up`` (:func:`~mudrft.terrains.rows.upright_rows`) into ``a``.
+    """
+    a[0], a[1], a[2] = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # above the surface
+            continue
+        sub = submerged_area(r[0], r[1], r[2], r[3], r[4], r[5], depth, pyfloat)
+        w0, w1, w2 = channel_weights(sub, r[6], r[7], r[8], r[9], pyfloat)
+        a[0] += w0
+        a[1] += w1
+        a[2] += w2
+
+
+def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray,
+                  dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray, r0: FootStep,
+                  mrow: FloatArray, fs: FloatArray, row: FloatArray,
+                  frow: FloatArray) -> float:  # fmt: skip
+    """Force component ``q`` [N] of the mud step when only channel ``q``'s rate
+    differs from the step that returned ``r0`` (D63): that channel stepped alone, the other
+    stresses ``r0``'s; a morphing foot balances its column again for a vertical nudge.
+    """
+    m = morphing_at(mrow)
+    seal = 1.0
+    if geom[0] == MORPHING:
+        seal = seal_factor(fs[1], fs[2], m.pad_length, m.seal_length, pyfloat)
+    sq, heading = mud_channel_stress(
+        q, (constants_at(c, 0, 0), constants_at(c, 0, 12)), channels_at(s), p[0], p[1], p[2],
+        u[0], u[1], u[2], dt, cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], seal,
+        cfg[5] != 0.0, cfg[6] != 0.0, pyfloat,
+    )  # fmt: skip
+    sx = sq if q < 2 else r0[3]  # the one horizontal stress, in both components
+    sy = sq if q < 2 else r0[4]
+    sz = sq if q == 2 else r0[5]
+    if q == 2:
+        heading = row[STATE_HEADING]
+    depth = r0[6]
+    if geom[0] == MESH:
+        fx, fy, fz = mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
+    elif geom[0] == MORPHING and q == 2:  # the morphing foot, its column balanced again
+        fx, fy, fz, _, _, _ = contact_on_floats(
+            m, fs[0], fs[2], depth, sx, sy, sz, heading, row[STATE_RETRACTION], pyfloat
+        )
+    elif geom[0] == MORPHING:  # the morphing foot at the balance of the step
+        fx, fy, fz = morphing_force(m, depth, frow[1], sx, sy, sz, heading, pyfloat)
+    else:  # a closed form
+        fx, fy, fz = closed_form_force(
+            int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, heading, pyfloat
+        )
+    inside = 1.0 if depth > 0.0 else 0.0
+    return (fx if q == 0 else (fy if q == 1 else fz)) * inside
 
 
 def _kernel(
@@ -289,7 +368,10 @@ def _kernel(
             # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
             cj = consts[j : j + 1]
             fs, mrow = fst[k, j], morph[j]
-            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row, mrow, fs, frow)
+            r0 = foot_step(
+                cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
+                upj, mrow, fs, row, frow,
+            )  # fmt: skip
             for q in range(3):
                 F[q] = ratio[q] * r0[q]
                 D[q] = 0.0

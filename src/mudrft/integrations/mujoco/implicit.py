@@ -1,4 +1,9 @@
-r"""The linearly implicit step of the mud's dissipative part, in six dimensions (D62).
+r"""The wrench of the mud on a posed foot, and its linearly implicit step (D60a, D62).
+
+The terrain's force :math:`F^{up}` on the upright foot at the posed foot's depth is scaled
+per channel by :math:`\rho_c=A_c/A_c^{up}` and acts at the channel's point (:mod:`.pose`),
+:math:`w_0=\sum_c \rho_cF^{up}_c\,b_c` with :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)`;
+the coupling applies
 
 .. math:: w = (I - \Delta t\,K\,W)^{-1}\,(w_0 + \Delta t\,K\,a),
 
@@ -23,12 +28,16 @@ if TYPE_CHECKING:
     from ...terrains import Terrain
 
 __all__ = [
+    "bottom_wrench",
     "channel_rows",
+    "damping_matrix",
     "force_and_derivative",
     "implicit_wrench",
     "passive_wrench",
     "passivity_scale",
+    "posed_wrench",
     "secant_steps",
+    "yaw_inertia_to_world",
 ]
 
 
@@ -153,6 +162,68 @@ def passive_wrench(
     left = xp.maximum(tank - (s * lin + s * s * quad), 0.0)
     scale = s[..., None, None]
     return scale * wrench, xp.where(idle, 0.0, left), scale * Ww
+
+
+def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, xp: Namespace = np) -> FloatArray:
+    r"""Second moments :math:`\mathbf J_c` (N, nb, 3, 3, 3) [m^4] from the
+    foot's yaw frame (cosine and sine ``cs``) to the world frame.
+    """
+    c, s = cs[..., 0], cs[..., 1]
+    z, o = xp.zeros_like(c), xp.ones_like(c)
+    rz = xp.stack(
+        [xp.stack([c, -s, z], -1), xp.stack([s, c, z], -1), xp.stack([z, z, o], -1)], axis=-2
+    )
+    return xp.einsum("...ij,...cjk,...lk->...cil", rz, inertia, rz)
+
+
+def damping_matrix(
+    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, xp: Namespace = np
+) -> FloatArray:
+    r"""Damping :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)` (N, nb, 6, 6) of the wrench.
+
+    ``D`` (N, nb, 3): each channel force's velocity derivative, :math:`\le0` [N s/m]; ``b``:
+    channel rows (:func:`~.implicit.channel_rows`); ``area``: :math:`A_c` [m^2];
+    ``inertia_w``: :math:`\mathbf J_c` in the world frame [m^4].
+    """
+    K = xp.einsum("...c,...ci,...cj->...ij", D, b, b)
+    per_area = xp.where(area > 0.0, D / xp.where(area > 0.0, area, 1.0), 0.0)
+    spin = xp.einsum("...c,...cij->...ij", per_area, inertia_w)  # on the rotation block
+    zero = xp.zeros_like(spin)
+    return K + xp.concatenate(
+        [xp.concatenate([zero, zero], axis=-1), xp.concatenate([zero, spin], axis=-1)], axis=-2
+    )
+
+
+def posed_wrench(F: FloatArray, b: FloatArray, xp: Namespace = np) -> FloatArray:
+    r"""The wrench :math:`\sum_c F_c b_c` (N, nb, 6) [N, N m] of channel forces ``F`` [N]
+    acting on rows ``b``.
+    """
+    return xp.einsum("...c,...ci->...i", F, b)
+
+
+def bottom_wrench(
+    low: FloatArray,
+    tw: FloatArray,
+    pen: FloatArray,
+    stiffness: float,
+    damping: float,
+    xp: Namespace = np,
+) -> tuple[FloatArray, FloatArray]:
+    r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).
+
+    ``low`` (N, nb, 3): the lowest point relative to the center of mass [m]; ``tw``: body
+    twists [m/s, rad/s]; ``pen`` (N, nb): penetration below the bottom [m]; ``stiffness``
+    :math:`k` [N/m], ``damping`` :math:`c` [N s/m]. Returns the wrench [N, N m] and its
+    damping :math:`-c\,b b^T` for the implicit step.
+    """
+    ez = xp.broadcast_to(xp.asarray([0.0, 0.0, 1.0]), low.shape)
+    b = xp.concatenate([ez, xp.cross(low, ez)], axis=-1)
+    vz = xp.einsum("...i,...i->...", b, tw)
+    f = stiffness * pen - damping * vz
+    on = (pen > 0) & (f > 0)
+    wrench = xp.where(on, f, 0.0)[..., None] * b
+    K = -xp.where(on, damping, 0.0)[..., None, None] * (b[..., :, None] * b[..., None, :])
+    return wrench, K
 
 
 def _tree_map(fn: Callable[..., Any], tree: object) -> Any:
