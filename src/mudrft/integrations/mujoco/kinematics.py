@@ -33,16 +33,11 @@ def body_frames(
     S : ndarray (N, nb, 3)
         Center of mass of each body's root subtree [m].
     """
-    if len(datas) == 1:
-        d = datas[0]
-        X, R, C = d.xpos[ids][None], d.xmat[ids].reshape(1, -1, 3, 3), d.xipos[ids][None]
-        V, S = d.cvel[ids][None], d.subtree_com[roots][None]
-    else:
-        X = np.stack([d.xpos for d in datas])[:, ids]
-        R = np.stack([d.xmat for d in datas])[:, ids].reshape(len(datas), -1, 3, 3)
-        C = np.stack([d.xipos for d in datas])[:, ids]
-        V = np.stack([d.cvel for d in datas])[:, ids]
-        S = np.stack([d.subtree_com for d in datas])[:, roots]
+    X = np.stack([d.xpos for d in datas])[:, ids]
+    R = np.stack([d.xmat for d in datas])[:, ids].reshape(len(datas), -1, 3, 3)
+    C = np.stack([d.xipos for d in datas])[:, ids]
+    V = np.stack([d.cvel for d in datas])[:, ids]
+    S = np.stack([d.subtree_com for d in datas])[:, roots]
     return X, R, C, V, S
 
 
