@@ -46,7 +46,7 @@ from ...terrains.rows import (
     morphing_at,
 )
 from .implicit import secant_steps
-from .linalg import _borrow, _carve, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
+from .linalg import _borrow, _cut, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
 from .pose import channel_weights
 
 __all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
@@ -227,66 +227,45 @@ def _kernel(
     has_prev = opts[9] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
     nbody, nv, mptr, jac_fn, solve_fn = sizes[0], sizes[1], sizes[2], sizes[3], sizes[4]
-    # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
-    # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest.
-    # They and the arrays below are borrowed views (:func:`.linalg._borrow`): no reference
-    # count to update on each view the loops take, nor numba's reshape helper per view;
-    # the caller of :func:`_kernel_packed` keeps the memory alive for the call.
+    # work arrays, carved from ``work`` in the order :func:`work_size` counts them, and the
+    # arrays below: borrowed views (:func:`.linalg._borrow`), no reference counts to update
     ntri = tri_b.shape[0]
-    wa = work.ctypes.data
-    FJ = _carve(wa, 0, (nb, 6, nv))
-    FM = _carve(wa, 6 * nb * nv, (nb, 6, nv))
-    o = 12 * nb * nv
-    scratch = _carve(wa, o, (ntri, 6))
-    o += 6 * ntri
-    geo, aup, v, row, frow = (
-        _carve(wa, o, (42,)),
-        _carve(wa, o + 42, (3,)),
-        _carve(wa, o + 45, (9,)),
-        _carve(wa, o + 54, (N_STATE,)),
-        _carve(wa, o + 54 + N_STATE, (3,)),
-    )
-    o += 57 + N_STATE
-    tw, tipw, sh, ratio = (
-        _carve(wa, o, (6,)),
-        _carve(wa, o + 6, (3,)),
-        _carve(wa, o + 9, (3,)),
-        _carve(wa, o + 12, (3,)),
-    )
-    u, un, pos, F, D = (
-        _carve(wa, o + 15, (3,)),
-        _carve(wa, o + 18, (3,)),
-        _carve(wa, o + 21, (3,)),
-        _carve(wa, o + 24, (3,)),
-        _carve(wa, o + 27, (3,)),
-    )
-    w0, bl = _carve(wa, o + 30, (6,)), _carve(wa, o + 36, (6,))
-    o += 42
-    M, E, spread = (
-        _carve(wa, o, (3, 3)),
-        _carve(wa, o + 9, (3, 3)),
-        _carve(wa, o + 18, (3, 3)),
-    )
-    b = _carve(wa, o + 27, (3, 6))
-    K = _carve(wa, o + 45, (6, 6))
-    o += 81
-    FK = _carve(wa, o, (nb, 6, 6))
-    o += 36 * nb
-    FW0, FACC, FTW, FWR, FWV = (
-        _carve(wa, o, (nb, 6)),
-        _carve(wa, o + 6 * nb, (nb, 6)),
-        _carve(wa, o + 12 * nb, (nb, 6)),
-        _carve(wa, o + 18 * nb, (nb, 6)),
-        _carve(wa, o + 24 * nb, (nb, 6)),
-    )
-    FC = _carve(wa, o + 30 * nb, (nb, 3))
-    FPOS = _carve(wa, o + 33 * nb, (nb,))
-    RJ = _carve(wa, o + 34 * nb, (6 * nb,))
-    o += 40 * nb
-    WF, AJ = (
-        _carve(wa, o, (6 * nb, 6 * nb)),
-        _carve(wa, o + 36 * nb * nb, (6 * nb, 6 * nb)),
-    )
+    at = work.ctypes.data
+    FJ, at = _cut(at, (nb, 6, nv))
+    FM, at = _cut(at, (nb, 6, nv))
+    scratch, at = _cut(at, (ntri, 6))
+    geo, at = _cut(at, (42,))
+    aup, at = _cut(at, (3,))
+    v, at = _cut(at, (9,))
+    row, at = _cut(at, (N_STATE,))
+    frow, at = _cut(at, (3,))
+    tw, at = _cut(at, (6,))
+    tipw, at = _cut(at, (3,))
+    sh, at = _cut(at, (3,))
+    ratio, at = _cut(at, (3,))
+    u, at = _cut(at, (3,))
+    un, at = _cut(at, (3,))
+    pos, at = _cut(at, (3,))
+    F, at = _cut(at, (3,))
+    D, at = _cut(at, (3,))
+    w0, at = _cut(at, (6,))
+    bl, at = _cut(at, (6,))
+    M, at = _cut(at, (3, 3))
+    E, at = _cut(at, (3, 3))
+    spread, at = _cut(at, (3, 3))
+    b, at = _cut(at, (3, 6))
+    K, at = _cut(at, (6, 6))
+    FK, at = _cut(at, (nb, 6, 6))
+    FW0, at = _cut(at, (nb, 6))
+    FACC, at = _cut(at, (nb, 6))
+    FTW, at = _cut(at, (nb, 6))
+    FWR, at = _cut(at, (nb, 6))
+    FWV, at = _cut(at, (nb, 6))
+    FC, at = _cut(at, (nb, 3))
+    FPOS, at = _cut(at, (nb,))
+    RJ, at = _cut(at, (6 * nb,))
+    WF, at = _cut(at, (6 * nb, 6 * nb))
+    AJ, at = _cut(at, (6 * nb, 6 * nb))
     mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
     consts, cfg, geom, morph = _borrow(consts), _borrow(cfg), _borrow(geom), _borrow(morph)

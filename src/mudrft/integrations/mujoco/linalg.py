@@ -24,7 +24,7 @@ from ..._typing import FloatArray
 from ..._xp import pyfloat
 from .implicit import passivity_scale
 
-__all__ = ["_borrow", "_carve", "_mj_jac", "_mj_solve_m", "_robot_step", "mujoco_functions"]
+__all__ = ["_borrow", "_cut", "_mj_jac", "_mj_solve_m", "_robot_step", "mujoco_functions"]
 
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
@@ -215,6 +215,10 @@ def _borrow(a: FloatArray) -> FloatArray:
     return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 
 
-def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
-    """A borrowed float64 view of ``shape``, ``offset`` floats after address ``base``."""
-    return carray(_ptr(base + 8 * offset), shape)  # type: ignore[call-arg]
+def _cut(address: int, shape: tuple[int, ...]) -> tuple[FloatArray, int]:
+    """A borrowed float64 view of ``shape`` at ``address`` (the kernel's work array, carved
+    into its parts; as :func:`_borrow`), and the address after it."""
+    n = 1
+    for k in shape:
+        n *= k
+    return carray(_ptr(address), shape), address + 8 * n  # type: ignore[call-arg]
