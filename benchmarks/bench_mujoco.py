@@ -1,14 +1,14 @@
-"""Cost of the mud coupling in MuJoCo (thin script; the benchmark lives in the package).
+"""Cost of the mud coupling in MuJoCo (thin script over the harness).
 
 ``python benchmarks/bench_mujoco.py [--seconds S] [--json FILE]``; see
-:mod:`mudrft.integrations.benchmark`. ``mudrft bench`` runs the same function.
+``benchmarks/harness/mujoco_cost.py``. ``mudrft bench`` runs the same function.
 """
 
 from __future__ import annotations
 
 import sys
 
-from mudrft.integrations.benchmark import main, mujoco_overhead_ratio
+from harness.mujoco_cost import main, mujoco_overhead_ratio
 
 __all__ = ["main", "mujoco_overhead_ratio"]
 

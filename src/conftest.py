@@ -46,7 +46,6 @@ MODULE_EXTRAS: dict[str, tuple[str, ...]] = {
     "mudrft.backends.jax_terrain": ("jax",),
     "mudrft.integrations.mujoco": ("mujoco",),
     "mudrft.integrations.walk": ("mujoco",),
-    "mudrft.integrations.benchmark": ("mujoco",),
     "mudrft.integrations.mjx": ("mujoco", "jax", "mujoco.mjx"),
     "mudrft.envs": ("mujoco", "gymnasium"),
 }

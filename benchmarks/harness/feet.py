@@ -8,8 +8,7 @@
 * ``bench_single_foot``: one flat foot per step through ``MudTerrain.step`` (Python floats),
   :class:`mudrft.backends.BatchedMud` of one foot on numba, and
   :func:`mudrft.simulate` of the paper's gait divided by its number of steps;
-* ``bench_mujoco``: ``mujoco_overhead_ratio`` from
-  :func:`mudrft.integrations.benchmark.mujoco_overhead_ratio`.
+* ``bench_mujoco``: ``mujoco_overhead_ratio`` from :func:`.mujoco_cost.mujoco_overhead_ratio`.
 """
 
 from __future__ import annotations
@@ -163,9 +162,9 @@ def bench_mujoco(quick: bool, progress: Progress) -> dict[str, Any]:
     """
     if not have("mujoco"):
         return {"ratio": None, "note": "mujoco is not installed"}
-    where = "mudrft.integrations.benchmark.mujoco_overhead_ratio"
+    where = "benchmarks/harness/mujoco_cost.py: mujoco_overhead_ratio"
     try:
-        from mudrft.integrations.benchmark import mujoco_overhead_ratio
+        from .mujoco_cost import mujoco_overhead_ratio
 
         res = mujoco_overhead_ratio(seconds=0.5 if quick else 2.0)
     except Exception as exc:  # a broken optional benchmark must not sink the others

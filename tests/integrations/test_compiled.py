@@ -9,38 +9,12 @@ import mudrft
 
 pytest.importorskip("mujoco")
 from mudrft.integrations.mujoco import attach
-from mudrft.integrations.mujoco.compiled import _jacobian, _ld_solve
 from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
 from .conftest import mechanical_energy, mujoco, thrown_leg
 
 MUD = mudrft.paper_mud(0.25)
 _MESH = mudrft.feet.SemiSphere().to_mesh(resolution=8)  # a mesh foot of 512 facets
-
-
-def test_mobility_port_equals_mujoco():
-    """The ports of mj_jac and mj_solveLD (run here as plain Python) equal MuJoCo's."""
-    model = biped_model(mudrft.feet.Flat())
-    data = mujoco.MjData(model)
-    GaitController(model).initial_pose(data)
-    data.qpos[3:] += np.linspace(-0.3, 0.3, model.nq - 3)
-    data.qvel[:] = np.linspace(-1.0, 1.0, model.nv)
-    mujoco.mj_step1(model, data)
-    body = model.body("left_foot").id
-    point = data.xipos[body] + [0.01, -0.02, 0.005]
-    model_i = np.stack(
-        [model.body_dofadr, model.body_dofnum, model.body_parentid, model.body_rootid], -1
-    )
-    jac = np.empty((6, model.nv))
-    _jacobian(jac, body, point, model_i, model.dof_parentid, data.cdof, data.subtree_com)
-    jp, jr = np.empty((3, model.nv)), np.empty((3, model.nv))
-    mujoco.mj_jac(model, data, jp, jr, point, body)
-    np.testing.assert_allclose(jac, np.vstack([jp, jr]), rtol=0, atol=1e-14)
-    want = np.empty_like(jac)
-    mujoco.mj_solveM(model, data, want, jac)
-    got = jac.copy()  # the six rows together, as the kernel solves them
-    _ld_solve(got, data.qLD, data.qLDiagInv, model.M_rownnz, model.M_rowadr, model.M_colind)
-    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 @pytest.mark.parametrize("foot", ["flat", "semi-cylinder", "semi-sphere", "mesh", "morphing"])

@@ -1,12 +1,8 @@
 """Couplings of the mud model with simulators (optional extras, imported lazily).
 
-* :mod:`mudrft.integrations.mujoco`: mud under named bodies of any MuJoCo model
-  (:func:`~mudrft.integrations.mujoco.attach`, :class:`~mudrft.integrations.mujoco.MudBatch`);
-* :mod:`mudrft.integrations.mjx`: the same coupling in MJX on JAX (jit, vmap over robots,
-  gradients; :func:`~mudrft.integrations.mjx.attach`);
-* :mod:`mudrft.integrations.walk`: a planar biped walking in mud and ``mudrft walk``.
-
-Importing this package does not import MuJoCo; the names below load it on first use.
+:mod:`mudrft.integrations.mujoco` (mud under bodies of any MuJoCo model),
+:mod:`mudrft.integrations.mjx` (the same in MJX on JAX) and
+:mod:`mudrft.integrations.walk` (a planar biped walking in mud, ``mudrft walk``).
 """
 
 from __future__ import annotations

@@ -1,24 +1,15 @@
 r"""A small planar biped walking in mud, and the ``mudrft walk`` command.
 
-The biped (``assets/biped.xml``, 10 kg) has a torso on a planarizing boom (slide x,
-slide z, pitch hinge with a soft spring standing for the boom's pitch stiffness) and two
-legs with hip, knee and ankle pitch joints driven by torque-limited PD servos. Its feet are the
-paper's foot size; :func:`biped_model` swaps the foot geom for the shape of the simulated
-foot (visual and rigid bed only: the mud force comes from the mudrft foot).
+The biped (``assets/biped.xml``, 10 kg) has a torso on a planarizing boom and two legs
+with hip, knee and ankle pitch joints driven by torque-limited PD servos;
+:func:`biped_model` gives its feet the simulated foot's shape (visual and rigid bed only).
+:class:`GaitController` (D69) tracks a periodic gait: each ankle follows a stance line or a
+swing arc relative to the hip, the foot kept level. The biped falls only if its legs fold
+(torso below half its start height) or the torso pitches past 1 rad.
 
-The controller (:class:`GaitController`, decision D69) is joint PD tracking (MuJoCo
-position servos, damping implicit in ``implicitfast``) of a
-periodic gait: each leg's ankle follows, relative to the hip, a stance line (the foot
-moves back by one step length at constant height) or a swing arc (first lifted out of
-the mud, then brought forward, then set down); the ankle keeps the foot level. With the
-torso pitch held by the boom, a stance leg in mud is a fully actuated two-link chain, so
-the biped cannot tip over; it falls only if its legs fold (torso height below half its
-start) or the torso pitches past 1 rad.
-
-``mudrft walk --foot F --water-content W --seconds T --out DIR`` writes ``DIR/walk.csv``
-(one row per physics step), ``DIR/steps.csv`` (one row per gait step),
-``DIR/summary.json`` and ``DIR/walk.png``, and, when offscreen rendering works,
-``DIR/frames.png``.
+``mudrft walk --foot F --water-content W --seconds T --out DIR`` writes ``DIR/walk.csv``,
+``DIR/steps.csv``, ``DIR/summary.json``, ``DIR/walk.png`` and, where offscreen rendering
+works, ``DIR/frames.png``.
 """
 
 from __future__ import annotations
@@ -148,11 +139,7 @@ def _foot_mesh(foot: Foot | None) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def _leg_ik(x: float, z: float) -> tuple[float, float]:
-    """Hip and knee angles that put the ankle at (x, z) relative to the hip [rad].
-
-    Hinges turn about +y, so a positive hip angle swings the leg backward (-x); the
-    knee bends with positive angles (ankle behind the knee).
-    """
+    """Hip and knee angles [rad] that put the ankle at (x, z) [m] relative to the hip."""
     r2 = x * x + z * z
     c2 = (r2 - THIGH**2 - SHANK**2) / (2 * THIGH * SHANK)
     q2 = math.acos(min(max(c2, -1.0), 1.0))
@@ -239,11 +226,9 @@ class GaitController:
     ) -> tuple[np.ndarray, int, int]:
         """Joint targets [rad] at time ``t`` [s], the gait step index and the stance leg (0 left).
 
-        ``pitch`` is the torso pitch [rad], ``hip_z`` the hip height [m] and ``ankle_z``
-        the ankle heights [m] (world), so heights are held relative to the mud surface:
-        the stance leg extends as its foot sinks, keeping the hip ``hip_height + ankle
-        height`` above the surface, and the swing foot rises from where it is to ``lift``
-        above the surface and lands on the surface.
+        ``pitch``: torso pitch [rad]; ``hip_z``: hip height [m]; ``ankle_z``: ankle heights [m].
+        Heights are held relative to the mud surface: the stance leg extends as its foot sinks,
+        and the swing foot rises to ``lift`` above the surface and lands on it.
         """
         k = int(t // self.step_time)
         s = t / self.step_time - k
@@ -465,7 +450,7 @@ def walk(
     )
     weight = float(np.sum(model.body_mass) * -model.opt.gravity[2])
     max_suction = float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min())))
-    steps = _per_step(table, step_time)
+    steps = _per_step(table)
     n_steps = len(steps["step"])
     summary = {
         "fell": bool(fell),

@@ -1,12 +1,10 @@
 """Every foot on the same mud: the biped's walk metrics side by side, with the paper's claims.
 
-:func:`compare_feet` walks the biped (:func:`mudrft.integrations.walk.walk`) with each foot
-on the same mud for the same time; :func:`compare_claims` sets the walking results beside
-what the paper claims for the feet (Chen et al. 2026, Sec. IV-B and Figs. 12-13: those are
-plate and gait-trajectory experiments, not a walking robot, so the verdict is about the
-direction and the size of the difference); :func:`write_compare` writes
-``compare.csv`` (one row per foot), ``claims.csv`` (one row per claim), ``compare.json`` and
-``compare.png``. ``mudrft walk --compare --out DIR`` calls it (decision D69a).
+:func:`compare_feet` walks the biped with each foot on the same mud; :func:`compare_claims`
+sets the results beside the paper's claims on the feet (Sec. IV-B, Figs. 12-13: plate and
+gait experiments, so the verdict is about direction and size); :func:`write_compare` writes
+``compare.csv``, ``claims.csv``, ``compare.json`` and ``compare.png`` (``mudrft walk
+--compare``, D69a).
 """
 
 from __future__ import annotations
@@ -110,11 +108,9 @@ def _finite(*values: float) -> bool:
 def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]:
     """The paper's claims on the feet beside the walking results.
 
-    Returns one dict per claim with ``claim``, ``paper``, ``mudrft`` and ``verdict``
-    (``agrees`` when the walk shows the same ordering or a reduction within 15 points of
-    the paper's, ``same direction`` when only the sign agrees, else ``differs``;
-    ``undetermined`` when a number it needs is undefined: a walk too short for one
-    complete gait step has no per-step energy or sinking).
+    One dict per claim with ``claim``, ``paper``, ``mudrft`` and ``verdict``: ``agrees``
+    (same ordering, or a reduction within 15 points of the paper's), ``same direction``,
+    ``differs``, or ``undetermined`` (a walk too short for one complete gait step).
     """
     rows: list[dict[str, str]] = []
     if "morphing" in summaries:

@@ -1,11 +1,4 @@
-"""What a biped walk returns and writes: its tables, the CSV files, the plot, the images.
-
-:func:`mudrft.integrations.walk.walk` returns a :class:`WalkResult`: a table with one row
-per physics step (:data:`WALK_COLUMNS`), from which :func:`_per_step` makes one row per
-gait step (:data:`STEP_COLUMNS`); ``mudrft walk`` writes both as CSV (:func:`_write_csv`),
-draws them (:func:`plot_walk`, needs matplotlib) and saves offscreen-rendered frames side
-by side (:func:`save_strip`).
-"""
+"""What a biped walk returns and writes: its tables, the CSV files, the plot, the images."""
 
 from __future__ import annotations
 
@@ -98,30 +91,12 @@ def _renderer(model: mujoco.MjModel) -> mujoco.Renderer | None:
         return None
 
 
-def _per_step(
-    table: dict[str, NDArray[np.float64]], step_time: float
-) -> dict[str, NDArray[np.float64]]:
-    r"""Energy, stance-foot sinking, suction and advance of every complete gait step.
-
-    Parameters
-    ----------
-    table : dict of str -> ndarray (n,)
-        Per physics step, keys :data:`WALK_COLUMNS` (``step`` numbers the gait steps;
-        even steps stand on the left foot).
-    step_time : float
-        Duration of a gait step [s] (unused: the ``step`` column marks the steps).
-
-    Returns
-    -------
-    dict of str -> ndarray (m,)
-        Keys :data:`STEP_COLUMNS`: ``energy [J]`` positive work of the joint servos
-        (:math:`\sum_j\max(\tau_j\dot q_j,0)\,\Delta t`), ``absolute_work [J]``
-        (:math:`\sum_j|\tau_j\dot q_j|\,\Delta t`), ``sinking [m]`` deepest stance-foot
-        depth, ``max_suction [N]`` largest downward mud force on either foot, ``slip [m]``
-        horizontal travel of the stance foot while it is in the mud, ``shank_in_mud`` 1 when
-        the stance foot sank deeper than :data:`ANKLE_HEIGHT` (the shank then meets mud that
-        is not modelled), ``advance [m]`` torso advance, for each complete step (the last
-        one, maybe cut short, is left out).
+def _per_step(table: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.float64]]:
+    r"""Per complete gait step (``step`` column; even steps stand on the left foot),
+    :data:`STEP_COLUMNS`: ``energy [J]`` the servos' positive work
+    (:math:`\sum_j\max(\tau_j\dot q_j,0)\,\Delta t`), ``absolute_work [J]``, ``sinking [m]``
+    deepest stance-foot depth, ``max_suction [N]``, ``slip [m]`` of the stance foot in the mud,
+    ``shank_in_mud`` (deeper than :data:`ANKLE_HEIGHT`) and ``advance [m]`` of the torso.
     """
     t = table["time [s]"]
     step = table["step"].astype(int)
@@ -165,11 +140,8 @@ def _write_csv(path: Path, table: dict[str, NDArray[np.float64]], columns: tuple
 
 
 def plot_walk(result: WalkResult, path: Path) -> Path:
-    """Plot a walk against time: torso motion, foot sinking, mud forces, joint work (PNG).
-
-    Panels: torso x and z [m], foot sinking [mm], vertical mud force on each foot [N]
-    (< 0: suction) and joint work [J], against time [s]. Needs matplotlib; returns
-    ``path``.
+    """Plot a walk against time (PNG at ``path``, returned): torso x and z [m], foot
+    sinking [mm], vertical mud force per foot [N] (< 0: suction), joint work [J]. Needs matplotlib.
     """
     import matplotlib
 
@@ -210,10 +182,7 @@ def plot_walk(result: WalkResult, path: Path) -> Path:
 
 
 def save_strip(frames: list[NDArray[np.uint8]], path: Path) -> Path | None:
-    """Save rendered RGB frames (each ``(height, width, 3)``) side by side as one PNG.
-
-    Returns the path, or None when there are no frames (needs matplotlib otherwise).
-    """
+    """Save RGB frames side by side as one PNG; the path, or None without frames."""
     if not frames:
         return None
     import matplotlib

@@ -1,13 +1,8 @@
 r"""Mud under MuJoCo bodies in MJX: the CPU coupling's step, run through JAX.
 
-:func:`attach` makes an :class:`MjxCoupling` for named bodies of any MJCF model. Its
-:meth:`~MjxCoupling.step` is a pure function of an ``mjx.Data`` and the mud state
-(:class:`MjxMudState`): MJX's position and velocity stages, then the mud's wrench
-(:func:`.physics.mud_wrench`: the posed foot, the one terrain step
-:func:`mudrft.terrains.mud.mud_step` with ``xp=jax.numpy``, the linearly implicit
-treatment of the dissipative part in six dimensions, D62), then the rest of MJX's step.
-It jit-compiles, vmaps over robots, scans over time with each robot's mud state carried in
-the loop, and differentiates end to end where MJX does::
+:func:`attach` makes an :class:`MjxCoupling`; its :meth:`~MjxCoupling.step` is a pure
+function of an ``mjx.Data`` and the mud state (:class:`MjxMudState`) that jit-compiles,
+vmaps over robots, scans over time and differentiates where MJX does::
 
     import jax, mudrft
     from mudrft.integrations import mjx as mm
@@ -17,11 +12,7 @@ the loop, and differentiates end to end where MJX does::
     d, state, contact = coupling.rollout(d, coupling.init(d), 500)
     many = jax.vmap(coupling.step)                   # a batch of robots
 
-Optional extra ``mjx`` (``pip install 'mudrft[mjx]'``: jax and the ``mujoco-mjx`` that
-matches the installed ``mujoco``). Importing this package imports neither.
-
-Modules: :mod:`.physics` (the pure step of one robot), :mod:`.coupling` (the coupling
-object, its step, rollout and data), :mod:`._lazy` (imports).
+Optional extra ``mjx`` (jax and the ``mujoco-mjx`` matching ``mujoco``).
 """
 
 from __future__ import annotations

@@ -18,11 +18,7 @@ if TYPE_CHECKING:
 
 @functools.cache
 def _mjx() -> ModuleType:
-    """Import ``mujoco.mjx`` lazily with a helpful message.
-
-    MJX 3.17 prints to stdout when its optional Warp backend is missing; that line is
-    swallowed here so that ``mudrft bench --json -`` and the like keep a clean stdout.
-    """
+    """Import ``mujoco.mjx`` lazily with a helpful message (and a quiet stdout)."""
     try:
         with contextlib.redirect_stdout(io.StringIO()):
             from mujoco import mjx
@@ -43,11 +39,7 @@ def _jax() -> ModuleType:
 
 
 def x64_context(x64: bool) -> contextlib.AbstractContextManager[None]:
-    """A context in which JAX computes in float64 if ``x64``, else in float32.
-
-    ``jax.enable_x64`` from JAX 0.8, ``jax.experimental.enable_x64`` before it: mudrft
-    supports JAX from 0.5.
-    """
+    """A context in which JAX computes in float64 if ``x64``, else in float32."""
     jax = _jax()
     context: Any = getattr(jax, "enable_x64", None)
     if context is None:  # older JAX has it in jax.experimental only
@@ -59,11 +51,8 @@ def x64_context(x64: bool) -> contextlib.AbstractContextManager[None]:
 
 @functools.cache
 def _xp() -> _SafeNamespace:
-    """``jax.numpy`` with the gradient-safe square root and arccos of the JAX backend.
-
-    The same namespace :func:`mudrft.backends.jax.safe_namespace` gives the feet's rules,
-    made here without switching JAX to 64-bit floats: the MJX coupling runs in the
-    precision JAX is configured for (decision D81).
+    """``jax.numpy`` with the JAX backend's gradient-safe square root and arccos, in the
+    precision JAX is configured for (D81).
     """
     _jax()
     import jax.numpy as jnp

@@ -1,27 +1,15 @@
 r"""Mud under named bodies of an MJX model: :class:`MjxCoupling` and :func:`attach`.
 
-The coupling is made once from a ``mujoco.MjModel`` (the feet are placed and checked with
-the CPU coupling's own :func:`~mudrft.integrations.mujoco.body_foot`); its methods are pure
-functions of JAX arrays, so they jit, vmap over robots, scan over time and differentiate:
+The coupling is made once from a ``mujoco.MjModel`` (feet placed by the CPU coupling's
+:func:`~mudrft.integrations.mujoco.body_foot`); :meth:`MjxCoupling.init`,
+:meth:`~MjxCoupling.step` (``fwd_position``, ``fwd_velocity``, the mud's wrench, the rest
+of MJX's step; Euler or implicitfast) and :meth:`~MjxCoupling.rollout` are pure functions
+of JAX arrays that jit, vmap, scan and differentiate. The mud constants are an argument,
+so each robot of a batch may carry its own water content and gradients flow to them.
 
-* :meth:`MjxCoupling.init` -- undisturbed mud under the feet of an ``mjx.Data``;
-* :meth:`MjxCoupling.step` -- one physics step with mud: ``fwd_position``,
-  ``fwd_velocity``, the mud's wrench into ``xfrc_applied`` (:func:`.physics.mud_wrench`),
-  then the rest of MJX's forward dynamics and its integrator, the order of ``mj_step1`` /
-  ``mj_step2`` of the CPU coupling, under MJX's Euler or implicitfast integrator (RK4,
-  which holds the wrench over four stages, is refused);
-* :meth:`MjxCoupling.rollout` -- ``n`` steps under :func:`jax.lax.scan`, with an optional
-  control sequence.
-
-The mud constants are an argument (default: the coupling's mud), so a batch of robots may
-carry a water content each, and gradients flow to them.
-
-Precision (decision D81): the coupling computes in the precision JAX is configured for when
-it is traced, float32 unless ``jax_enable_x64`` is on (the JAX backend of mudrft turns it
-on process-wide; MJX's own default is float32). Over 0.5 s of the standing biped it follows
-the CPU coupling's joint positions to 2e-5 in float64 and float32 alike, the feet's depths to
-2e-6 m (float64) and 6e-6 m (float32), and it is as stable (tests/integrations/test_mjx.py);
-the floor is the elastic law's sensitivity at zero displacement, not the port (D81).
+The coupling computes in the precision JAX is configured for (D81); over 0.5 s of the
+standing biped it follows the CPU coupling's joints to 2e-5 and depths to 6e-6 m
+(tests/integrations/test_mjx.py).
 """
 
 from __future__ import annotations
@@ -237,23 +225,19 @@ class MjxCoupling:
         state : MjxMudState
             From :meth:`init` or the last step.
         constants : (ChannelConstants, ChannelConstants) or None
-            Mud constants (default :attr:`constants`); traced arrays are welcome:
-            ``mudrft.backends.jax.mud_constants(p)`` of ``p = to_jax(mud)`` makes them, to
-            differentiate by the mud's parameters (reverse mode needs a model without
-            MuJoCo constraints, whose solver is a ``while_loop``; ``jax.jacfwd`` works with
-            them).
-        model : mjx.Model or None, keyword-only
+            Mud constants (default :attr:`constants`); traced arrays
+            (``mudrft.backends.jax.mud_constants``) to differentiate by the mud's parameters.
+        model : mjx.Model or None
             Default :attr:`mjx_model`.
 
         Returns
         -------
         d : mjx.Data
-            After the step (same dtypes as the input, so it can be a scan carry).
+            After the step, in the input's dtypes.
         state : MjxMudState
         contact : MjxContact
-            Its ``unstable`` flag is True where the robot's state is not finite or a
-            foot moves faster than :data:`.physics.MAX_SPEED`; the mud state is then
-            held and no wrench applied (``jit`` cannot raise).
+            ``unstable`` is True where the state is not finite or a foot moves faster than
+            :data:`.physics.MAX_SPEED`; the mud state is then held and no wrench applied.
         """
         mjx = _mjx()
         _check_mjx_data(mjx, d)
@@ -282,21 +266,9 @@ class MjxCoupling:
     ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
         """``n`` steps under :func:`jax.lax.scan`, jit-compiled once per shape.
 
-        Parameters
-        ----------
-        d, state, constants :
-            As :meth:`step` (one robot; vmap this method for many).
-        n : int
-            Number of steps (static).
-        ctrl : array (n, nu) or None, keyword-only
-            Controls of each step; None keeps ``d.ctrl``.
-
-        Returns
-        -------
-        d, state :
-            After the last step.
-        contact : MjxContact
-            Every field with a leading axis of ``n``.
+        ``d``, ``state``, ``constants`` as :meth:`step`; ``ctrl`` (n, nu): the controls of each
+        step (None keeps ``d.ctrl``). Returns the data and state after the last step and the
+        contacts, each with a leading axis of ``n``.
         """
         n = check_count("n", n)
         if ctrl is not None:
@@ -340,9 +312,7 @@ def _cast(d: mujoco.mjx.Data, d0: mujoco.mjx.Data) -> mujoco.mjx.Data:
 
 
 def _check_integrator(integrator: Any) -> None:
-    """Refuse MuJoCo's ``implicit`` (MJX has none) and ``RK4`` integrators: under RK4 the
-    mud's wrench is held over four stages, and a light foot spinning fast gained energy
-    from it; the coupling runs one scheme, Euler or implicitfast."""
+    """Refuse MuJoCo's ``implicit`` (MJX has none) and ``RK4`` integrators."""
     name = getattr(integrator, "name", None) or _mujoco().mjtIntegrator(int(integrator)).name
     if name.upper().replace("MJINT_", "") in ("IMPLICIT", "RK4"):
         raise MudrftError(
@@ -352,8 +322,7 @@ def _check_integrator(integrator: Any) -> None:
 
 
 def _finish(mjx: ModuleType, mx: mujoco.mjx.Model, d: mujoco.mjx.Data) -> mujoco.mjx.Data:
-    """The rest of ``mjx.step`` after the velocity stage (``mj_step2``); Euler and
-    ``implicitfast``."""
+    """The rest of ``mjx.step`` after the velocity stage (``mj_step2``)."""
     it = mjx.IntegratorType
     d = mjx.fwd_actuation(mx, d)
     d = mjx.fwd_acceleration(mx, d)
@@ -377,8 +346,7 @@ def attach(
 
 
 def _check_mjx_data(mjx: ModuleType, d: object) -> None:
-    """``d`` must be an ``mjx.Data`` (a CPU ``MjData`` failed deep inside MJX), in the
-    precision JAX computes in now (a static dtype: checked under ``jit`` too)."""
+    """``d`` must be an ``mjx.Data`` in the precision JAX computes in now."""
     if not isinstance(d, mjx.Data):
         raise MudrftError(
             f"d must be an mjx.Data (coupling.put_data(data) makes one), got {type(d).__name__}"

@@ -2,29 +2,10 @@ r"""One coupling step of the mud under the feet of one MJX robot, as a pure JAX 
 
 :func:`mud_wrench` is what :class:`~mudrft.integrations.mujoco.MudBatch` does between
 ``mj_step1`` and ``mj_step2``, for an MJX ``Data`` after ``fwd_position`` and
-``fwd_velocity``, written as a pure function of (model, data, mud state) so that
-:func:`jax.jit`, :func:`jax.vmap`, :func:`jax.lax.scan` and :func:`jax.grad` apply:
-
-1. read each foot body's frame and twist (``xpos``, ``xmat``, ``xipos``, ``cvel``,
-   ``subtree_com``) and the mobility :math:`W_{ij}=J_iM^{-1}J_j^T` of the feet, cross
-   blocks included (``mjx.jac``, ``mjx.full_m``; D62d);
-2. clip the foot's triangles in their current pose by the mud surface and sum the channel
-   weights, points and second moments (:func:`~mudrft.integrations.mujoco.pose.channel_geometry`
-   with ``xp=jax.numpy``, which runs the feet's own facet rules, D60a);
-3. step the mud four times from the same state, the motion and the three secant nudges
-   (D63), with the one terrain step :func:`mudrft.terrains.mud.mud_step` and the foot's
-   own force rule (:func:`mudrft.backends.forces.force_function`), keeping the first;
-4. assemble the wrench and its damping (D62a) and solve the linearly implicit step of the
-   dissipative part (D62) for all the feet together (D62d), and bound their work by the
-   robot's tank (D62c), with the CPU
-   coupling's own functions
-   (:mod:`~mudrft.integrations.mujoco.wrench`, :mod:`~mudrft.integrations.mujoco.implicit`)
-   called with ``xp=jax.numpy``.
-
-What is written here is bookkeeping on arrays (frames, odometry, indices), the same as the
-numpy coupling's; the physics and the 6x6 algebra are the one definition.
-
-Shapes: ``nb`` bodies of one robot; a batch of robots is a :func:`jax.vmap` of it.
+``fwd_velocity``, so that :func:`jax.jit`, :func:`jax.vmap`, :func:`jax.lax.scan` and
+:func:`jax.grad` apply. The posed feet, the mud step, the wrench, its implicit step and
+the passivity bound are the CPU coupling's own functions called with ``xp=jax.numpy``;
+the mobility comes from ``mjx.jac`` and ``mjx.full_m``. Shapes: ``nb`` bodies of one robot.
 """
 
 from __future__ import annotations
@@ -36,10 +17,18 @@ import numpy as np
 
 from ...feet.surface import PreparedTriangles
 from ...terrains.mud import MudChannels, initial_channels, mud_step
-from ..mujoco.implicit import channel_rows, implicit_wrench, passive_wrench, secant_steps
+from ..mujoco.implicit import (
+    bottom_wrench,
+    channel_rows,
+    damping_matrix,
+    implicit_wrench,
+    passive_wrench,
+    posed_wrench,
+    secant_steps,
+    yaw_inertia_to_world,
+)
 from ..mujoco.kinematics import com_twist
 from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
-from ..mujoco.wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 from ._lazy import _jax, _mjx, _xp
 
 if TYPE_CHECKING:
@@ -174,8 +163,7 @@ def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
 
 
 def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: XpArray) -> XpArray:
-    """Mobility of the foot bodies' center-of-mass twists, (nb, nb, 6, 6) with the cross
-    blocks (``kinematics.*_mobility``, D62d)."""
+    """Mobility (nb, nb, 6, 6) of the foot bodies' center-of-mass twists (D62d)."""
     xp = _xp()
     mjx = _mjx()
     rows = []
@@ -236,7 +224,9 @@ def _force_and_derivative(
     step: jax.Array,
     dt: float | jax.Array,
 ) -> tuple[MudChannels, jax.Array, jax.Array, jax.Array]:
-    """The mud step of four copies of the motion (D61, D63): ``implicit.force_and_derivative``."""
+    """The mud step of four copies of the motion (D61, D63), as
+    :func:`~mudrft.integrations.mujoco.implicit.force_and_derivative`.
+    """
     xp = _xp()
     nudge = xp.asarray(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
     vk = vel[None] + nudge[:, None, :] * step[None]
@@ -262,27 +252,9 @@ def mud_wrench(
     d: mjx.Data,
     st: MjxMudState,
 ) -> tuple[jax.Array, MjxMudState, MjxContact]:
-    """The wrench of the mud on every foot body, and the mud state after the step.
-
-    Parameters
-    ----------
-    cfg : Static
-        Placement of the feet and options (:class:`~mudrft.integrations.mjx.MjxCoupling`).
-    consts : (ChannelConstants, ChannelConstants)
-        Horizontal and vertical channel constants (floats or traced arrays).
-    mx : mjx.Model
-        The model.
-    d : mjx.Data
-        One robot after ``fwd_position`` and ``fwd_velocity``.
-    st : MjxMudState
-        State at the start of the step.
-
-    Returns
-    -------
-    xfrc : array (nbody, 6)
-        ``xfrc_applied`` with the mud's wrench on the foot bodies [N, N m].
-    state : MjxMudState
-    contact : MjxContact
+    """``(xfrc_applied, state, contact)``: the mud's wrench on every foot body [N, N m]
+    for robot ``d`` (after ``fwd_position`` and ``fwd_velocity``) from state ``st``, with the
+    feet's placement ``cfg`` and the (horizontal, vertical) channel constants ``consts``.
     """
     xp = _xp()
     dt = mx.opt.timestep
@@ -355,9 +327,8 @@ def mud_wrench(
 
 
 def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
-    """Undisturbed mud under the feet in their current pose (``MudBatch.reset``).
-
-    ``d`` needs the kinematics of its ``qpos`` (``mjx.kinematics`` and ``mjx.com_pos``).
+    """Undisturbed mud under the feet of ``d`` (after ``mjx.kinematics`` and
+    ``mjx.com_pos``) in their current pose.
     """
     xp = _xp()
     k = _frames(cfg, d)

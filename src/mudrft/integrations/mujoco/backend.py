@@ -1,11 +1,8 @@
-"""The numba backend of the coupling: arrays for :func:`.compiled.coupling_kernel` (D68a).
+"""The numba backend of the coupling: the arrays of :func:`.compiled.coupling_kernel` (D68a).
 
-:class:`CompiledCoupling` holds what the compiled kernel needs: the model's tree and
-mass-matrix sparsity, each body's foot (triangles, tip, forward axis, mud constants,
-closed form), the state of the mud under every foot as rows of floats
-(:func:`mudrft.backends.numba.state_rows`), and views of every ``MjData``'s arrays (views
-stay valid: MuJoCo never reallocates them). :class:`~.batch.MudBatch` calls
-:meth:`CompiledCoupling.apply` once per physics step.
+:class:`CompiledCoupling` holds the feet (triangles, tip, forward axis, mud constants),
+the mud's state as rows of floats, and the addresses of every ``MjData``'s arrays (MuJoCo
+never moves them).
 """
 
 from __future__ import annotations
@@ -29,6 +26,7 @@ from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
 from .compiled import ARGS, N_OUT, coupling_kernel, pack, work_size
 from .contact import MudContact
+from .linalg import mujoco_functions
 from .placement import coupled_tip, coupled_triangles
 
 if TYPE_CHECKING:
@@ -41,17 +39,10 @@ if TYPE_CHECKING:
     from .batch import MudBatch
     from .placement import BodyFoot
 
-#: The feet the kernel steps (:func:`check_compilable`).
+#: The feet the kernel steps (:func:`_not_compilable`).
 _KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
-__all__ = ["CompiledCoupling", "check_compilable", "choose_backend"]
-
-
-def check_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> None:
-    """Raise unless the numba backend supports this terrain and these feet."""
-    reason = _not_compilable(terrain, bodies)
-    if reason:
-        raise MudrftError(reason)
+__all__ = ["CompiledCoupling", "choose_backend"]
 
 
 def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
@@ -77,8 +68,9 @@ def _compilable_foot(foot: Foot | None) -> bool:
 
 
 def _geometry_row(foot: _KernelFoot) -> list[float]:
-    """``(kind, g0, g1, g2)`` of a foot for the kernel: a closed form's, (3, trailing, 0, 0)
-    for a mesh foot, (4, 0, 0, 0) for the morphing foot (its numbers: :func:`_morph_row`)."""
+    """``(kind, g0, g1, g2)`` of a foot: a closed form's, (3, trailing, 0, 0) for a
+    mesh foot, (4, 0, 0, 0) for the morphing foot.
+    """
     if isinstance(foot, MeshFoot):
         return [3.0, float(foot.trailing), 0.0, 0.0]
     if isinstance(foot, MorphingFoot):
@@ -94,9 +86,7 @@ def _morph_row(foot: Foot) -> FloatArray:
 
 
 def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
-    """``"numba"`` or ``"numpy"`` for ``backend="auto"``: the compiled coupling where numba
-    is installed, the terrain is the mud and the foot a closed form or a mesh; otherwise as
-    given."""
+    """``"numba"`` or ``"numpy"`` for ``backend="auto"``; any other ``backend`` as given."""
     if backend != "auto":
         return backend
     mud_ok = isinstance(mud, Mud | MudTerrain)
@@ -110,16 +100,7 @@ class CompiledCoupling:
         m = batch.model
         self.batch = batch
         self.kernel = coupling_kernel()
-        self.model_i = np.ascontiguousarray(
-            np.stack(
-                [m.body_dofadr, m.body_dofnum, m.body_parentid, m.body_rootid], axis=-1
-            ).astype(np.int64)
-        )
-        self.dof_parentid = np.asarray(m.dof_parentid, dtype=np.int64)
-        self.rownnz = np.asarray(m.M_rownnz, dtype=np.int64)
-        self.rowadr = np.asarray(m.M_rowadr, dtype=np.int64)
-        self.colind = np.asarray(m.M_colind, dtype=np.int64)
-        # check_compilable has made sure of the mud, a surface on every foot and feet the
+        # _not_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
         tris = [cast(FloatArray, coupled_triangles(b)) for b in bodies]
@@ -148,18 +129,14 @@ class CompiledCoupling:
         self.tank = np.zeros(n)  # energy the mud may give each robot back [J] (D62c, D62d)
         self.out = np.zeros((n, nb, N_OUT))
         self.work = np.zeros(work_size(m.nv, len(self.tri_b), nb))
-        self.addr = np.zeros((n, 10), dtype=np.int64)
-        self.sizes = np.zeros(3, dtype=np.int64)
+        self.addr = np.zeros((n, 7), dtype=np.int64)
+        self.sizes = np.array([m.nbody, m.nv, m._address, *mujoco_functions()], dtype=np.int64)
         self.datas: list[mujoco.MjData] = []
         self.opts = np.zeros(10)
 
     def loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
-        """The batch's step loop over ``datas``, as a closure over local names.
-
-        Per physics step the Python work is ``mj_step1``, one compiled call, ``mj_step2`` and
-        a look at MuJoCo's warning counters; the batch's ``last`` is marked stale and built
-        from the outputs only when read. Closure variables, not attribute lookups: on the
-        biped this Python bookkeeping would otherwise cost as much as the mud itself.
+        """The batch's step loop over ``datas``: ``mj_step1``, one compiled call,
+        ``mj_step2`` and a look at MuJoCo's warning counters per step, over closure variables.
         """
         b = self.batch
         m = b.model
@@ -219,8 +196,7 @@ class CompiledCoupling:
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
         self.tank[:] = 0.0
-        fields = ("xpos", "xmat", "xipos", "ximat", "cvel", "subtree_com", "cdof", "qLD",
-                  "qLDiagInv", "xfrc_applied")  # fmt: skip
+        fields = ("xpos", "xmat", "xipos", "cvel", "subtree_com", "xfrc_applied")
         self.datas = list(datas)  # keep them alive: the kernel reads their memory
         for k, d in enumerate(datas):
             for i, f in enumerate(fields):
@@ -228,8 +204,8 @@ class CompiledCoupling:
                 if a.dtype != np.float64 or not a.flags.c_contiguous:
                     raise MudrftError(f"MjData.{f} must be contiguous float64 for backend='numba'")
                 self.addr[k, i] = a.ctypes.data
+            self.addr[k, 6] = d._address
         m = b.model
-        self.sizes[:] = (m.nbody, m.nv, len(datas[0].qLD))
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
         self.opts = np.array(
@@ -239,8 +215,9 @@ class CompiledCoupling:
         self._pack()
 
     def contact(self, index: int | None = None) -> MudContact:
-        """The outputs of the last :meth:`apply` as a :class:`MudContact` (copies), of every
-        robot, or of robot ``index`` only."""
+        """The last outputs as a :class:`MudContact` (copies), of every robot
+        or of robot ``index``.
+        """
         o = self.out.copy() if index is None else self.out[index].copy()
         # tuple.__new__: the named tuple's own __new__ takes keywords and costs a microsecond
         return tuple.__new__(MudContact, (
@@ -249,40 +226,27 @@ class CompiledCoupling:
         ))  # fmt: skip
 
     def apply(self, has_prev: bool) -> int:
-        """One compiled step of every body of every robot, outputs in :attr:`out`; returns
-        the number of bodies whose wrench is not finite."""
+        """One compiled step of every robot; the number of non-finite wrenches."""
         self.opts[9] = 1.0 if has_prev else 0.0
         bad = int(self.kernel(*self._args))
         self.opts[9] = 1.0  # has a last step now: the compiled step loop's value
         return bad
 
     def _pack(self) -> None:
-        """The kernel's arrays in one argument (after :meth:`reset`; the arrays never move)."""
-        names = {"bodies": "ids"}
-        arrays = []
-        for name, dt, nd in ARGS:
-            a = getattr(self, names.get(name, name))
-            if a.dtype != np.dtype(dt) or a.ndim != nd or not a.flags.c_contiguous:
-                raise MudrftError(
-                    f"coupling array {name!r} must be C-contiguous {np.dtype(dt)} with {nd} "
-                    f"dimensions, got {a.dtype} with shape {a.shape}"
-                )
-            arrays.append(a)
+        """The kernel's arrays in one argument (the arrays never move)."""
+        arrays = [getattr(self, "ids" if name == "bodies" else name) for name, _, _ in ARGS]
+        for a, (name, dt, nd) in zip(arrays, ARGS, strict=True):
+            assert a.dtype == np.dtype(dt) and a.ndim == nd and a.flags.c_contiguous, name
         self._args = (pack(arrays),)
 
     def entry(self) -> Any:
-        """The kernel compiled for :attr:`_args` (loaded from the disk cache when it is
-        there), as a function of that one argument that skips the dispatcher's lookup of
-        its type (a quarter of a microsecond per call)."""
+        """The kernel compiled (or loaded from the disk cache) for :attr:`_args`."""
         (p,) = self._args
         return compile_once(self.kernel, (numba.typeof(p),))
 
 
 def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:
-    """``kernel.compile(signature)`` (a numba dispatcher), saying so on the ``mudrft``
-    logger (INFO) the first time in this process: about 15 s on one core the first time
-    on a machine (then numba's disk cache loads it), spent in the first ``reset`` of a
-    compiled coupling, which otherwise looked like a hang."""
+    """``kernel.compile(signature)``, logged (INFO) the first time in a process."""
     first = not kernel.signatures
     if first:
         logger.info(

@@ -1,12 +1,9 @@
 r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 
-Every step reads the kinematics of all robots (:mod:`.kinematics`), clips each foot in
-its current pose by the mud surface (:mod:`.pose`), steps the terrain once per foot type
-for all robots and bodies together, assembles the wrench of the posed foot
-(:mod:`.wrench`), stabilises it with the linearly implicit step of its dissipative part in
-the six degrees of freedom of the body and bounds its work by what the mud has taken
-(decisions D60a-D63 in docs/model.md, summarised in :mod:`mudrft.integrations.mujoco`),
-writes ``xfrc_applied`` and checks that MuJoCo did not diverge.
+Each step reads all robots (:mod:`.kinematics`), poses the feet (:mod:`.pose`), steps the
+terrain once per foot type, assembles the wrench and takes its implicit
+step with the passivity bound (:mod:`.implicit`), writes ``xfrc_applied`` and checks
+that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:`.backend`).
 """
 
 from __future__ import annotations
@@ -22,14 +19,19 @@ from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, _not_compilable, check_compilable
+from .backend import CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
+from .geoms import _support
 from .implicit import (
+    bottom_wrench,
     channel_rows,
+    damping_matrix,
     force_and_derivative,
     implicit_wrench,
     passive_wrench,
+    posed_wrench,
     secant_steps,
+    yaw_inertia_to_world,
 )
 from .kinematics import body_frames, chain_mobility, com_twist
 from .options import (
@@ -45,11 +47,9 @@ from .placement import (
     coupled_tip,
     describe,
     group_triangles,
-    lowest_points,
 )
 from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
 from .stability import check_spring_step, check_timestep, diverged_error
-from .wrench import bottom_wrench, damping_matrix, posed_wrench, yaw_inertia_to_world
 
 if TYPE_CHECKING:
     import mujoco
@@ -76,70 +76,55 @@ class _Reading(NamedTuple):
 class MudBatch:
     """Mud under named bodies of ``n`` MjData of one model, vectorized across robots.
 
-    Every step reads the kinematics of all robots, calls the terrain once per foot type
-    for all robots and bodies together, and writes ``xfrc_applied`` of each MjData.
-
     Parameters
     ----------
     model : mujoco.MjModel
         The model shared by all robots.
     bodies : "auto", str, int or a sequence of them
-        The bodies that touch the mud, each by its name, the name of one of its geoms (that
-        geom is then its foot) or its id (a body without a name); ``"auto"`` finds the feet
-        (:func:`~.placement.auto_feet`: the lowest limbs) and logs what it chose, which
-        :attr:`feet` also tells.
+        The bodies that touch the mud, each by its name, the name of one of its geoms (then
+        its foot) or its id (a body without a name); ``"auto"`` finds the feet
+        (:func:`~.placement.auto_feet`) and logs them (:attr:`feet`).
     mud : Mud or Terrain
-        The mud (:func:`mudrft.paper_mud`), a configured :class:`mudrft.MudTerrain`, or
-        any terrain.
-    n : int, keyword-only
+        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, or any terrain.
+    n : int
         Number of robots.
-    feet : Foot, sequence of Foot or None, keyword-only
+    feet : Foot, sequence of Foot or None
         Foot of every body (one for all, or one per body); ``None`` derives each from the
-        body's geoms (see :func:`body_foot`).
-    surface : float, keyword-only
+        body's geoms (:func:`body_foot`).
+    surface : float
         Height of the mud surface in the world [m].
-    bottom : float or None, keyword-only
-        Depth of a rigid bottom below the surface [m] (a one-sided penalty on the lowest
-        point of the foot), or ``None`` for bottomless mud.
-    bottom_stiffness : float, keyword-only
-        Stiffness of that bottom [N/m] (explicit).
-    bottom_damping : float, keyword-only
-        Damping of that bottom [N s/m] (treated implicitly like the mud's).
-    resolution : int, keyword-only
-        Mesh resolution of curved closed-form feet for the posed-foot geometry (D60a).
-    foot_geoms : mapping or None, keyword-only
-        ``{body: geom name}``: the geom that is a body's foot where its lowest colliding
-        geom is not (D124); a body with several such geoms equally low warns without it.
-    backend : {"auto", "numba", "numpy"}, keyword-only
-        ``"numba"``: one compiled call per physics step for all feet of all robots
-        (:mod:`.compiled`; the mud and feet with a surface), equal to the numpy coupling to
-        round-off and some twenty times faster, compiled once per machine (about 15 s;
-        numba's disk cache loads it in a new process); ``"numpy"``: any terrain and foot,
-        the reference the tests compare with; ``"auto"`` (default): ``"numba"`` where it
-        applies.
-    floor : {"warn", "below", "keep"}, keyword-only
-        A floor geom at or above the mud's surface (a plane, or a box at least 1 m wide,
-        welded to the world; gymnasium's models have one at z = 0) carries the feet in
-        place of the mud: ``"warn"`` says so, ``"below"`` lowers it to
-        :data:`~.options.BED_DEPTH` (0.5 m) under the surface, a rigid bed (the model is
-        changed in place), ``"keep"`` keeps it quietly.
+    bottom : float or None
+        Depth of a rigid bottom below the surface [m], or ``None`` for bottomless mud.
+    bottom_stiffness : float
+        Stiffness of that bottom [N/m].
+    bottom_damping : float
+        Damping of that bottom [N s/m] (treated implicitly).
+    resolution : int
+        Mesh resolution of curved closed-form feet (D60a).
+    foot_geoms : mapping or None
+        ``{body: geom name, or a list of them}``: a body's foot geoms where its lowest
+        colliding geoms are not (D124).
+    backend : {"auto", "numba", "numpy"}
+        ``"numba"``: one compiled call per step for all feet (the mud, feet with a surface),
+        cached on disk; ``"numpy"``: any terrain and foot, the reference the tests compare
+        with; ``"auto"``: ``"numba"`` where it applies.
+    floor : {"warn", "below", "keep"}
+        A floor geom at or above the mud's surface carries the feet in place of the mud:
+        ``"warn"`` says so, ``"below"`` lowers it :data:`~.options.BED_DEPTH` (0.5 m) under
+        the surface (the model is changed in place), ``"keep"`` keeps it quietly.
 
     Warns
     -----
     PlausibilityWarning
-        A body welded to the world (D113); a timestep above 10 ms (D123; again at reset);
-        a floor at or above the surface (``floor="warn"``).
+        A body welded to the world (D113); a timestep above 10 ms (D123); a floor at or
+        above the surface (``floor="warn"``).
 
     Raises
     ------
     MudrftError
-        At construction, for gravity not along -z (the mud's depth is measured along -z),
-        MuJoCo's RK4 integrator (the coupling steps under Euler, ``implicitfast`` or
-        ``implicit``), or an option of 0.2 that was removed (``implicit``, ``mobility``,
-        ``lookahead``: the coupling always takes the implicit step with the passivity
-        bound and the whole robot's mobility).
-        From :meth:`step` when MuJoCo reports a diverged simulation (bad accelerations,
-        which MuJoCo answers with a silent reset) or the wrench is not finite.
+        For gravity not along -z, MuJoCo's RK4 integrator, or an option of 0.2 that was
+        removed (``implicit``, ``mobility``, ``lookahead``); from :meth:`step` when MuJoCo
+        reports a diverged simulation or the wrench is not finite.
     """
 
     def __init__(
@@ -220,12 +205,14 @@ class MudBatch:
         self._warnings: list[list[int]] = []
         if backend not in ("auto", "numpy", "numba"):
             raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
+        why = _not_compilable(self.terrain, self.bodies)
         if backend == "auto":
-            backend = "numpy" if _not_compilable(self.terrain, self.bodies) else "numba"
+            backend = "numpy" if why else "numba"
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
         if backend == "numba":
-            check_compilable(self.terrain, self.bodies)
+            if why:
+                raise MudrftError(why)
             self._compiled = CompiledCoupling(self)
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self._last: MudContact | None = None
@@ -233,6 +220,7 @@ class MudBatch:
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
+        self._reset_with: object = None  # the argument of reset(), stepped by the compiled loop
 
     @property
     def feet(self) -> tuple[str, ...]:
@@ -265,23 +253,25 @@ class MudBatch:
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
         tw = com_twist(V, S, C)
         W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
-        geo, ratio = self._posed(X, R, C, tip, cs)
+        geo, ratio = self._posed(datas, X, R, C, tip, cs)
         return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
 
     def _posed(
-        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
-    ) -> tuple[ChannelGeometry, FloatArray]:
+        self, datas: Sequence[mujoco.MjData], X: FloatArray, R: FloatArray, C: FloatArray,
+        tip: FloatArray, cs: FloatArray,
+    ) -> tuple[ChannelGeometry, FloatArray]:  # fmt: skip
         groups = [
             (tri, up, idx, bool(self._ball[idx[0]]))
             for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
         bare = [i for (tri, _, idx, _) in groups if tri is None for i in idx]
         low = None
-        if bare:  # feet without a surface act at the lowest point of their geom
+        if bare:  # feet without a surface act at the lowest point of their geoms
             low = tip.copy()
-            low[:, bare] = lowest_points(
-                [self.bodies[i] for i in bare], X[:, bare], R[:, bare], tip[:, bare]
-            )
+            for i in (i for i in bare if self.bodies[i].geoms):
+                for k, d in enumerate(datas):
+                    pts = [_support(self.model, d, g) for g in self.bodies[i].geoms]
+                    low[k, i] = min(pts, key=lambda p: float(p[2]))
         X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
         return posed_channels(groups, X, R, C, cs, self.surface, low)
 
@@ -289,6 +279,7 @@ class MudBatch:
     def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:
         """Start with undisturbed mud under the feet in their current pose (calls mj_forward)."""
         mj = _mujoco()
+        self._reset_with = datas if isinstance(datas, self._mj.MjData) else None
         datas = self._check(datas)
         self._timestep = check_timestep(self.model, checked=self._timestep)
         check_integrator(self.model)  # again: the model's options may have changed
@@ -371,21 +362,21 @@ class MudBatch:
         return out
 
     def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
-        """Advance the mud once and write ``xfrc_applied`` for the current state.
-
-        Call after ``mj_step1`` (or ``mj_forward``) and before ``mj_step2``; :meth:`step`
-        does all three.
-        """
+        """Advance the mud once and write ``xfrc_applied``: after ``mj_step1`` (or
+        ``mj_forward``), before ``mj_step2``; :meth:`step` does all three."""
         datas = self._check(datas)
         if self._warn:
             self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
-        return self._apply(datas)
+        self._apply(datas)
+        assert self.last is not None
+        return self.last
 
-    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact:
+    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact | None:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
         if self._compiled is not None:
-            return self._apply_compiled()
+            self._apply_compiled()
+            return None
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
         geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
@@ -457,19 +448,22 @@ class MudBatch:
         self.time_steps += 1
         force, torque = wrench[..., :3], wrench[..., 3:]
         pz = com + rel[..., 2, :]
-        self.last = MudContact(
-            force=force,
-            explicit_force=w0[..., :3],
-            torque=torque,
-            point=_central_point(force, torque, com, pz),
-            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
-            velocity=vel,
-            depth=depth,
-            stress=stress,
+        self.last = _robot(
+            self._single,
+            MudContact(
+                force=force,
+                explicit_force=w0[..., :3],
+                torque=torque,
+                point=_central_point(force, torque, com, pz),
+                tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+                velocity=vel,
+                depth=depth,
+                stress=stress,
+            ),
         )
         return self.last
 
-    def _apply_compiled(self) -> MudContact:
+    def _apply_compiled(self) -> None:
         assert self._compiled is not None
         bad = self._compiled.apply(self._has_prev)
         self._has_prev = True
@@ -479,8 +473,7 @@ class MudBatch:
                 "(check the model, the time step and the mud parameters)"
             )
         self.time_steps += 1
-        self.last = self._compiled.contact()
-        return self.last
+        self._stale = True
 
     def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
@@ -490,58 +483,33 @@ class MudBatch:
         MudrftError
             When MuJoCo reports bad accelerations (it would reset the state silently).
         """
-        return self._step(self._check(datas), self._nstep(nstep))
+        self.advance(datas, nstep)
+        assert self.last is not None
+        return self.last
 
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
-        """:meth:`step` without returning the contact: ``nstep`` physics steps of every
-        robot; :attr:`last` still gives what the mud did in the last one, built when read.
-
-        The compiled coupling's cheapest loop: building a :class:`MudContact` costs
-        about a tenth of the biped's physics step, which a loop that does not read it every
-        step need not pay.
-        """
+        """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
+        if self._loop is not None and datas is self._reset_with:  # the common, cheap case
+            self._loop(self._nstep(nstep))
+            return
         datas, nstep = self._check(datas), self._nstep(nstep)
-        if self._compiled is not None:
-            self._step_compiled(datas, nstep, contact=False)
-        else:
-            self._step_generic(datas, nstep)
-
-    def _step(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
-        if self._compiled is not None:
-            out = self._step_compiled(datas, int(nstep))
-            assert out is not None
-            return out
-        return self._step_generic(datas, nstep)
-
-    def _step_generic(self, datas: list[mujoco.MjData], nstep: int) -> MudContact:
-        mj = self._mj
-        m = self.model
-        out = self.last
-        for _ in range(int(nstep)):
-            for d in datas:
-                mj.mj_step1(m, d)
-            out = self._apply(datas)
-            for d in datas:
-                mj.mj_step2(m, d)
-            self._check_diverged(datas)
-        assert out is not None
-        return out
-
-    def _step_compiled(
-        self, datas: list[mujoco.MjData], nstep: int, *, contact: bool = True
-    ) -> MudContact | None:
-        """The compiled coupling's steps: ``mj_step1``, one compiled call, ``mj_step2``;
-        the contact of the last step, unless ``contact`` is false."""
-        if self._loop is None or self._compiled is None:
+        if self._compiled is None:
+            for _ in range(nstep):
+                for d in datas:
+                    self._mj.mj_step1(self.model, d)
+                self._apply(datas)
+                for d in datas:
+                    self._mj.mj_step2(self.model, d)
+                self._check_diverged(datas)
+            return
+        if self._loop is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        reset = self._compiled.datas
-        if len(datas) != len(reset) or any(a is not b for a, b in zip(datas, reset, strict=True)):
+        if any(a is not b for a, b in zip(datas, self._compiled.datas, strict=True)):
             raise MudrftError(
                 "backend='numba' steps the MjData given to reset(); got another MjData "
                 "(call reset(data) with it first)"
             )
         self._loop(nstep)
-        return self.last if contact else None
 
     def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
         for ws, seen in zip(self._warn, self._warnings, strict=True):
@@ -558,6 +526,11 @@ class MudBatch:
                     self._clear_warnings()
                     t = self.time_steps * float(self._opt.timestep)
                     raise diverged_error(i, kind, w.lastinfo, t, self.last)
+
+
+def _robot(single: bool, c: MudContact) -> MudContact:
+    """``c`` of robot 0 alone where the coupling has one (:class:`MudCoupling`)."""
+    return MudContact(*(a[0] for a in c)) if single else c
 
 
 def _hashable_repr(foot: Foot) -> bool:

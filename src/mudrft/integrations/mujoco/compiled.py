@@ -1,52 +1,58 @@
 r"""The compiled coupling: one numba call per physics step for all feet of all robots (D68a).
 
-:class:`~mudrft.integrations.mujoco.MudBatch` with ``backend="numba"`` runs, between
-``mj_step1`` and ``mj_step2``, one compiled call (:func:`coupling_kernel`) that does for
-every body of every robot what the numpy coupling does with arrays:
-
-1. reads the body's pose and twist from MuJoCo's arrays (``xpos``, ``xmat``, ``xipos``,
-   ``cvel``, ``subtree_com``);
-2. clips the foot's triangles in their current pose and sums the channel weights, points
-   and second moments (D60a) with the feet's own element-wise facet rules
-   (:mod:`mudrft.feet.facet`) and :func:`~.pose.channel_weights`;
-3. steps the mud with the motion and each channel once more with its rate nudged toward
-   rest (the secants of D63, their steps :func:`~.implicit.secant_steps` compiled from its
-   one source, D119) with the terrain's one step (:func:`mudrft.terrains.mud.mud_step`) and
-   the foot's force: a closed form (:func:`mudrft.feet.closed_form.closed_form_force`), a
-   mesh foot's facets, or the morphing foot's column balance and force
-   (:func:`mudrft.feet.morphing.equilibrium.contact_on_floats`);
-4. assembles the wrench and its damping (D62a); then, per robot, computes the mobility of
-   its feet with the cross blocks from MuJoCo's ``cdof`` and the factorised mass matrix
-   (``qLD``: the port of ``mj_jac`` and ``mj_solveLD``), solves the implicit step of all
-   its feet together (D62, D62d) and bounds their work by the robot's tank (D62c; both in
-   :func:`.linalg._robot_step`, with :func:`~.implicit.passivity_scale` compiled from its
-   one source) and writes ``xfrc_applied``.
-
-The physics (mud step, closed forms, facet rules, the morphing foot) is compiled from its
-one source by :func:`mudrft._jit.jit`, with ``xp`` bound to :mod:`mudrft._xp`; what is
-written here is the coupling's own bookkeeping on floats (frames, sums, the 6x6 algebra), which the numpy coupling does with
-arrays, and the test ``test_compiled_coupling_equals_numpy`` keeps the two equal (1e-9 over
-a 2 s walk of the biped).
+:func:`_kernel` does for every body what the numpy coupling does with arrays: reads its
+pose and twist from MuJoCo's arrays, clips the posed foot (:func:`_geometry`), steps the
+mud and its secants toward rest (D63) with the terrain's one foot step
+(:func:`mudrft.terrains.rows.foot_step`), assembles the wrench and its damping (D62a),
+then per robot takes the mobility from MuJoCo's own ``mj_jac`` and ``mj_solveM``
+(:mod:`.linalg`), solves the implicit step of all its feet with the passivity bound
+(D62-D62d) and writes ``xfrc_applied``. The physics is compiled from its one source
+(:func:`mudrft._jit.jit`); ``test_compiled_coupling_equals_numpy_along_a_walk`` keeps the
+bookkeeping here equal to the numpy coupling's.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from ..._jit import jit
 from ..._typing import FloatArray, IndexArray
 from ..._xp import pyfloat
-from ...feet.facet import clip_constants, clip_facet, facet_frame, sort_by_height
-from ...terrains.rows import N_STATE, STATE_IN_MUD
-from .compiled_feet import _mud_force, _nudged_force, _upright_area
+from ...feet.closed_form import closed_form_force
+from ...feet.facet import (
+    clip_constants,
+    clip_facet,
+    facet_frame,
+    sort_by_height,
+    submerged_area,
+)
+from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
+from ...feet.morphing.pads import morphing_force
+from ...terrains.mud import mud_channel_stress
+from ...terrains.rows import (
+    MESH,
+    MORPHING,
+    N_STATE,
+    STATE_HEADING,
+    STATE_IN_MUD,
+    STATE_RETRACTION,
+    channels_at,
+    constants_at,
+    foot_step,
+    mesh_force,
+    morphing_at,
+)
 from .implicit import secant_steps
-from .linalg import _borrow, _carve, _iptr, _jacobian, _ld_solve, _ptr, _robot_step, carray
+from .linalg import _borrow, _cut, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
 from .pose import channel_weights
 
 __all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
+
+#: What a foot step returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
+FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
 #: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
 #: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
@@ -61,10 +67,9 @@ def _geometry(
     scratch: FloatArray,
     out: FloatArray,
 ) -> None:
-    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`).
-
-    ``out`` = (A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3)), 42 floats; ``v`` (9)
-    and ``scratch`` (m, 6) (weights, centroid of each facet) are work arrays.
+    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`)
+    into ``out``: A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3); ``v`` (9) and
+    ``scratch`` (m, 6) are work arrays.
     """
     m = tri.shape[0]
     for q in range(12):
@@ -142,98 +147,125 @@ def _geometry(
     out[39], out[40], out[41] = lx, ly, lowz
 
 
+def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
+    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`)
+    from its facet rows ``up`` (:func:`~mudrft.terrains.rows.upright_rows`) into ``a``.
+    """
+    a[0], a[1], a[2] = 0.0, 0.0, 0.0
+    for f in range(up.shape[0]):
+        r = up[f]
+        if r[0] >= depth:  # above the surface
+            continue
+        sub = submerged_area(r[0], r[1], r[2], r[3], r[4], r[5], depth, pyfloat)
+        w0, w1, w2 = channel_weights(sub, r[6], r[7], r[8], r[9], pyfloat)
+        a[0] += w0
+        a[1] += w1
+        a[2] += w2
+
+
+def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatArray,
+                  dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray, r0: FootStep,
+                  mrow: FloatArray, fs: FloatArray, row: FloatArray,
+                  frow: FloatArray) -> float:  # fmt: skip
+    """Force component ``q`` [N] of the mud step when only channel ``q``'s rate
+    differs from the step that returned ``r0`` (D63): that channel stepped alone, the other
+    stresses ``r0``'s; a morphing foot balances its column again for a vertical nudge.
+    """
+    m = morphing_at(mrow)
+    seal = 1.0
+    if geom[0] == MORPHING:
+        seal = seal_factor(fs[1], fs[2], m.pad_length, m.seal_length, pyfloat)
+    sq, heading = mud_channel_stress(
+        q, (constants_at(c, 0, 0), constants_at(c, 0, 12)), channels_at(s), p[0], p[1], p[2],
+        u[0], u[1], u[2], dt, cfg[0], cfg[1], cfg[2], cfg[3] != 0.0, cfg[4], seal,
+        cfg[5] != 0.0, cfg[6] != 0.0, pyfloat,
+    )  # fmt: skip
+    sx = sq if q < 2 else r0[3]  # the one horizontal stress, in both components
+    sy = sq if q < 2 else r0[4]
+    sz = sq if q == 2 else r0[5]
+    if q == 2:
+        heading = row[STATE_HEADING]
+    depth = r0[6]
+    if geom[0] == MESH:
+        fx, fy, fz = mesh_force(up, depth, sx, sy, sz, heading, geom[1] != 0.0)
+    elif geom[0] == MORPHING and q == 2:  # the morphing foot, its column balanced again
+        fx, fy, fz, _, _, _ = contact_on_floats(
+            m, fs[0], fs[2], depth, sx, sy, sz, heading, row[STATE_RETRACTION], pyfloat
+        )
+    elif geom[0] == MORPHING:  # the morphing foot at the balance of the step
+        fx, fy, fz = morphing_force(m, depth, frow[1], sx, sy, sz, heading, pyfloat)
+    else:  # a closed form
+        fx, fy, fz = closed_form_force(
+            int(geom[0]), geom[1], geom[2], geom[3], depth, sx, sy, sz, heading, pyfloat
+        )
+    inside = 1.0 if depth > 0.0 else 0.0
+    return (fx if q == 0 else (fy if q == 1 else fz)) * inside
+
+
 def _kernel(
-    addr: IndexArray, sizes: IndexArray,
-    model_i: IndexArray, dof_parentid: IndexArray, rownnz: IndexArray, rowadr: IndexArray,
-    colind: IndexArray,
-    bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
+    addr: IndexArray, sizes: IndexArray, bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
     tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
     consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
 ) -> int:  # fmt: skip
-    """One coupling step of every body of every robot (see the module docstring).
+    """One coupling step of every body of every robot; the number of non-finite wrenches.
 
-    Per robot ``k``: the addresses of MuJoCo's arrays ``addr[k]`` (xpos, xmat, xipos,
-    ximat, cvel, subtree_com, cdof, qLD, qLDiagInv, xfrc_applied; ``sizes`` = nbody, nv,
-    len(qLD)). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip (a ball's center) and
-    forward in the body frame,
-    posed triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]``, prepared upright facets
-    ``tri_up[up_adr[j]:up_adr[j+1]]`` (:func:`upright_rows`), mud constants, ``cfg`` (L_c,
-    kappa, xi0, reset, heading_speed, quasi-static, restart), ``geom`` (kind, g0, g1, g2). ``opts`` = (dt,
-    surface, bottom (< 0: none), k_b, c_b, dv_min, g_x, g_y, g_z, has_prev: 0 first step,
-    1 the last step's difference). State ``mud`` (N, nb, N_STATE), ``fst`` (N, nb, 3: a morphing foot's
-    deflection, pad angle, seal memory), ``odo`` (N, nb, 4: foot-frame xy, world xy),
-    ``tw_prev``, ``wv_prev`` (N, nb, 6) and ``tank`` (N: the energy the mud may give each
-    robot back, D62c, D62d) updated in place; ``out`` (N, nb, N_OUT);
-    ``work`` (:func:`work_size`) the work arrays, allocated once.
-    Returns the number of bodies whose wrench is not finite.
+    Per robot ``k``: ``addr[k]`` = addresses of xpos, xmat, xipos, cvel, subtree_com,
+    xfrc_applied and the ``mjData``; ``sizes`` = (nbody, nv, the ``mjModel``'s address,
+    ``mj_jac``'s, ``mj_solveM``'s). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip and
+    forward axis in the body frame, its triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]`` and
+    upright facet rows ``tri_up[up_adr[j]:up_adr[j+1]]``, mud constants, ``cfg``, ``geom``
+    (kind, g0, g1, g2), ``morph``. ``opts`` = (dt, surface, bottom (< 0: none), k_b, c_b,
+    dv_min, gravity (3), has_prev). State updated in place, per robot and body: ``mud``,
+    ``fst`` (a morphing foot's deflection, pad angle, seal memory), ``odo`` (foot-frame and
+    world xy), ``tw_prev``, ``wv_prev``, and ``tank`` per robot (D62c); outputs ``out``
+    (N, nb, N_OUT); ``work`` (:func:`work_size`).
     """
     dt, surface = opts[0], opts[1]
     bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
     has_prev = opts[9] != 0.0
     n_rob, nb = mud.shape[0], mud.shape[1]
-    nbody, nv, nld = sizes[0], sizes[1], sizes[2]
-    # work arrays: views of ``work`` (allocating them cost a microsecond per call): per
-    # foot J, M^-1 J^T (the robot's joint step, D62d), then 6 ntri, WORK_FIXED, the rest.
-    # They and the arrays below are borrowed views (:func:`.linalg._borrow`): no reference
-    # count to update on each view the loops take, nor numba's reshape helper per view;
-    # the caller of :func:`_kernel_packed` keeps the memory alive for the call.
+    nbody, nv, mptr, jac_fn, solve_fn = sizes[0], sizes[1], sizes[2], sizes[3], sizes[4]
+    # work arrays, carved from ``work`` in the order :func:`work_size` counts them, and the
+    # arrays below: borrowed views (:func:`.linalg._borrow`), no reference counts to update
     ntri = tri_b.shape[0]
-    wa = work.ctypes.data
-    FJ = _carve(wa, 0, (nb, 6, nv))
-    FM = _carve(wa, 6 * nb * nv, (nb, 6, nv))
-    o = 12 * nb * nv
-    scratch = _carve(wa, o, (ntri, 6))
-    o += 6 * ntri
-    geo, aup, v, row, frow = (
-        _carve(wa, o, (42,)),
-        _carve(wa, o + 42, (3,)),
-        _carve(wa, o + 45, (9,)),
-        _carve(wa, o + 54, (N_STATE,)),
-        _carve(wa, o + 54 + N_STATE, (3,)),
-    )
-    o += 57 + N_STATE
-    tw, tipw, sh, ratio = (
-        _carve(wa, o, (6,)),
-        _carve(wa, o + 6, (3,)),
-        _carve(wa, o + 9, (3,)),
-        _carve(wa, o + 12, (3,)),
-    )
-    u, un, pos, F, D = (
-        _carve(wa, o + 15, (3,)),
-        _carve(wa, o + 18, (3,)),
-        _carve(wa, o + 21, (3,)),
-        _carve(wa, o + 24, (3,)),
-        _carve(wa, o + 27, (3,)),
-    )
-    w0, bl = _carve(wa, o + 30, (6,)), _carve(wa, o + 36, (6,))
-    o += 42
-    M, E, spread = (
-        _carve(wa, o, (3, 3)),
-        _carve(wa, o + 9, (3, 3)),
-        _carve(wa, o + 18, (3, 3)),
-    )
-    b = _carve(wa, o + 27, (3, 6))
-    K = _carve(wa, o + 45, (6, 6))
-    o += 81
-    FK = _carve(wa, o, (nb, 6, 6))
-    o += 36 * nb
-    FW0, FACC, FTW, FWR, FWV = (
-        _carve(wa, o, (nb, 6)),
-        _carve(wa, o + 6 * nb, (nb, 6)),
-        _carve(wa, o + 12 * nb, (nb, 6)),
-        _carve(wa, o + 18 * nb, (nb, 6)),
-        _carve(wa, o + 24 * nb, (nb, 6)),
-    )
-    FC = _carve(wa, o + 30 * nb, (nb, 3))
-    FPOS = _carve(wa, o + 33 * nb, (nb,))
-    RJ = _carve(wa, o + 34 * nb, (6 * nb,))
-    o += 40 * nb
-    WF, AJ = (
-        _carve(wa, o, (6 * nb, 6 * nb)),
-        _carve(wa, o + 36 * nb * nb, (6 * nb, 6 * nb)),
-    )
+    at = work.ctypes.data
+    FJ, at = _cut(at, (nb, 6, nv))
+    FM, at = _cut(at, (nb, 6, nv))
+    scratch, at = _cut(at, (ntri, 6))
+    geo, at = _cut(at, (42,))
+    aup, at = _cut(at, (3,))
+    v, at = _cut(at, (9,))
+    row, at = _cut(at, (N_STATE,))
+    frow, at = _cut(at, (3,))
+    tw, at = _cut(at, (6,))
+    tipw, at = _cut(at, (3,))
+    sh, at = _cut(at, (3,))
+    ratio, at = _cut(at, (3,))
+    u, at = _cut(at, (3,))
+    un, at = _cut(at, (3,))
+    pos, at = _cut(at, (3,))
+    F, at = _cut(at, (3,))
+    D, at = _cut(at, (3,))
+    w0, at = _cut(at, (6,))
+    bl, at = _cut(at, (6,))
+    M, at = _cut(at, (3, 3))
+    E, at = _cut(at, (3, 3))
+    spread, at = _cut(at, (3, 3))
+    b, at = _cut(at, (3, 6))
+    K, at = _cut(at, (6, 6))
+    FK, at = _cut(at, (nb, 6, 6))
+    FW0, at = _cut(at, (nb, 6))
+    FACC, at = _cut(at, (nb, 6))
+    FTW, at = _cut(at, (nb, 6))
+    FWR, at = _cut(at, (nb, 6))
+    FWV, at = _cut(at, (nb, 6))
+    FC, at = _cut(at, (nb, 3))
+    FPOS, at = _cut(at, (nb,))
+    RJ, at = _cut(at, (6 * nb,))
+    WF, at = _cut(at, (6 * nb, 6 * nb))
+    AJ, at = _cut(at, (6 * nb, 6 * nb))
     mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
     consts, cfg, geom, morph = _borrow(consts), _borrow(cfg), _borrow(geom), _borrow(morph)
@@ -244,12 +276,10 @@ def _kernel(
         xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
         xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
         xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
-        cvel = carray(_ptr(addr[k, 4]), (nbody, 6))
-        subtree = carray(_ptr(addr[k, 5]), (nbody, 3))
-        cdof = carray(_ptr(addr[k, 6]), (nv, 6))
-        qld = carray(_ptr(addr[k, 7]), (nld,))
-        qldinv = carray(_ptr(addr[k, 8]), (nv,))
-        xfrc = carray(_ptr(addr[k, 9]), (nbody, 6))
+        cvel = carray(_ptr(addr[k, 3]), (nbody, 6))
+        subtree = carray(_ptr(addr[k, 4]), (nbody, 3))
+        xfrc = carray(_ptr(addr[k, 5]), (nbody, 6))
+        dptr = addr[k, 6]
         active = 0
         for j in range(nb):
             body, root = bodies[j, 0], bodies[j, 1]
@@ -317,7 +347,10 @@ def _kernel(
             # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
             cj = consts[j : j + 1]
             fs, mrow = fst[k, j], morph[j]
-            r0 = _mud_force(cj, mud[k, j], pos, u, dt, cfg[j], geom[j], upj, row, mrow, fs, frow)
+            r0 = foot_step(
+                cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
+                upj, mrow, fs, row, frow,
+            )  # fmt: skip
             for q in range(3):
                 F[q] = ratio[q] * r0[q]
                 D[q] = 0.0
@@ -406,11 +439,12 @@ def _kernel(
                 if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
                     continue
                 # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
-                _jacobian(FJ[j], body, FC[j], model_i, dof_parentid, cdof, subtree)
+                jp = FJ[j].ctypes.data
+                _mj_jac(jac_fn, mptr, dptr, jp, jp + 24 * nv, FC[j].ctypes.data, body)
                 for i in range(6):
                     for d in range(nv):
                         FM[j, i, d] = FJ[j, i, d]
-                _ld_solve(FM[j], qld, qldinv, rownnz, rowadr, colind)
+                _mj_solve_m(solve_fn, mptr, dptr, FM[j].ctypes.data, 6)
             tank[k] = _robot_step(
                 nb, nv, dt, FJ, FM, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV, tank[k]
             )
@@ -454,17 +488,15 @@ WORK_FIXED = (57 + N_STATE) + 42 + 81
 
 
 def work_size(nv: int, ntri: int, nb: int) -> int:
-    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri`` posed
-    triangles of all feet and ``nb`` foot bodies: per foot J and M^-1 J^T (12 nv), its
-    damping, wrenches, twists, center, place in the system and right-hand side (76), the
-    robot's joint system (72 nb)."""
+    """Length of the kernel's ``work`` array for ``nv`` degrees of freedom, ``ntri``
+    triangles and ``nb`` foot bodies.
+    """
     return 6 * ntri + WORK_FIXED + nb * (12 * nv + 76) + 72 * nb * nb
 
 
 #: The kernel's arguments: (name, dtype, ndim), in the order of :func:`_kernel`.
 ARGS = (
-    ("addr", "i8", 2), ("sizes", "i8", 1), ("model_i", "i8", 2), ("dof_parentid", "i8", 1),
-    ("rownnz", "i8", 1), ("rowadr", "i8", 1), ("colind", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
+    ("addr", "i8", 2), ("sizes", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
@@ -475,10 +507,10 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 
 
 def pack(arrays: list[Any]) -> IndexArray:
-    """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array: each one's
-    address and shape. One small array costs numba a fraction of a microsecond to pass,
-    where 29 arrays cost 2.5-4.5 us, and the kernel that takes it is cached on disk.
-    The caller keeps the arrays alive while the kernel may run."""
+    """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array of each one's
+    address and shape: one argument costs numba far less to pass than 22. The caller keeps
+    the arrays alive.
+    """
     out: list[int] = []
     for a in arrays:
         out += [int(a.ctypes.data), *a.shape]
@@ -509,15 +541,13 @@ def _kernel_packed(p: IndexArray) -> int:
     """:func:`_kernel` on the arrays packed by :func:`pack`."""
     o = OFFSETS
     return _kernel(
-        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _i1(p, o[3]), _i1(p, o[4]), _i1(p, o[5]),
-        _i1(p, o[6]), _i2(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _i1(p, o[10]), _f3(p, o[11]),
-        _i1(p, o[12]), _f2(p, o[13]), _f2(p, o[14]), _f2(p, o[15]), _f2(p, o[16]),
-        _f2(p, o[17]), _f1(p, o[18]), _f3(p, o[19]), _f3(p, o[20]), _f3(p, o[21]),
-        _f3(p, o[22]), _f3(p, o[23]), _f1(p, o[24]), _f3(p, o[25]), _f1(p, o[26]),
+        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _f2(p, o[3]), _f2(p, o[4]), _i1(p, o[5]),
+        _f3(p, o[6]), _i1(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
+        _f2(p, o[12]), _f1(p, o[13]), _f3(p, o[14]), _f3(p, o[15]), _f3(p, o[16]),
+        _f3(p, o[17]), _f3(p, o[18]), _f1(p, o[19]), _f3(p, o[20]), _f1(p, o[21]),
     )  # fmt: skip
 
 
 def coupling_kernel() -> Any:
-    """The compiled :func:`_kernel` (numba, :func:`mudrft._jit.jit`, cached on disk), taking
-    the arrays packed by :func:`pack`."""
+    """The compiled :func:`_kernel` on :func:`pack`'s array (cached on disk)."""
     return jit(_kernel_packed)

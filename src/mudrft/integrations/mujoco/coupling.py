@@ -1,9 +1,4 @@
-"""Mud under named bodies of one MuJoCo model: :func:`attach` and :class:`MudCoupling`.
-
-:class:`MudCoupling` is :class:`~mudrft.integrations.mujoco.MudBatch` for one ``MjData``,
-with outputs of shape ``(nbody, ...)``; :func:`attach_batch` makes a batch of ``n``
-robots.
-"""
+"""Mud under bodies of one MuJoCo model: :func:`attach`, :func:`attach_batch`."""
 
 from __future__ import annotations
 
@@ -11,7 +6,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..._validation import MudrftError
-from .batch import MudBatch, MudContact
+from .batch import MudBatch
 
 if TYPE_CHECKING:
     import mujoco
@@ -23,10 +18,8 @@ __all__ = ["MudCoupling", "attach", "attach_batch"]
 
 
 class MudCoupling(MudBatch):
-    """Mud under named bodies of one MuJoCo model and one MjData (see :class:`MudBatch`).
-
-    Outputs in :attr:`last` have shape ``(nbody, ...)``.
-    """
+    """:class:`MudBatch` of one MjData; its methods take the MjData, and outputs in
+    :attr:`last` have shape ``(nbody, ...)``."""
 
     def __init__(
         self,
@@ -40,47 +33,11 @@ class MudCoupling(MudBatch):
         super().__init__(model, bodies, mud, n=1, **kw)
         self._single = True
 
-    def reset(self, data: mujoco.MjData) -> None:  # type: ignore[override]
-        """Start with undisturbed mud under the feet in their current pose."""
-        super().reset([data])
-
-    def apply(self, data: mujoco.MjData) -> MudContact:  # type: ignore[override]
-        """Advance the mud once and write ``data.xfrc_applied`` (after ``mj_step1``)."""
-        self.last = MudContact(*(a[0] for a in self._apply(self._check(data))))
-        return self.last
-
-    def step(self, data: mujoco.MjData, nstep: int = 1) -> MudContact:  # type: ignore[override]
-        """``nstep`` physics steps, the mud advanced once per step."""
-        if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(self._nstep(nstep))  # the compiled loop
-            out = self.last
-            assert out is not None
-            return out
-        out = self._step(self._check(data), self._nstep(nstep))
-        if out.depth.ndim == 2:  # (1, nbody): the batch's shape; the compiled path gives (nbody,)
-            out = MudContact(*(a[0] for a in out))
-        self.last = out
-        return out
-
-    def advance(self, data: mujoco.MjData, nstep: int = 1) -> None:  # type: ignore[override]
-        """``nstep`` physics steps without returning the contact (:attr:`last` has it)."""
-        if self._loop is not None and data is self._compiled.datas[0]:  # type: ignore[union-attr]
-            self._loop(self._nstep(nstep))  # the compiled loop
-        else:
-            self.step(data, nstep)
-
 
 def attach(
     model: mujoco.MjModel, bodies: str | int | Sequence[str | int], mud: Mud | Terrain, **kw: Any
 ) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
-
-    References
-    ----------
-    .. [1] X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force
-       Model for Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary
-       materials), eqs. (1)-(7).
-    .. [2] mudrft's model chapter (docs/model.md), Sec. 10, decisions D60-D68.
 
     Examples
     --------

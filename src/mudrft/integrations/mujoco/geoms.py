@@ -1,23 +1,9 @@
 r"""Feet from MuJoCo geoms: the lowest point of a geom, and the mudrft foot it stands for.
 
-A body's foot is derived from its geom that reaches lowest in the model's reference pose,
-among the geoms that collide (a visual-only geom, contype and conaffinity 0, only when the
-body has no other; :func:`_lowest_geom`):
-
-============================  ==========================================================
-geom                          mudrft foot
-============================  ==========================================================
-box                           ``Flat`` (its horizontal side closest to the world x axis
-                              is the foot's width)
-horizontal capsule, cylinder  ``SemiCylinder`` along the geom axis (capsule caps neglected)
-sphere                        ``SemiSphere``, stepped as a full ball (upright in every pose)
-mesh                          ``MeshFoot`` of the mesh, its lowest point at the tip
-several as low as the lowest  ``MeshFoot`` of the convex hull of their union
-============================  ==========================================================
-
-:func:`_support` gives the lowest point of a geom in any pose, the depth the coupling
-reads every step (:func:`mudrft.integrations.mujoco.placement.lowest_points` is its
-batched form).
+A body's foot is derived from its colliding geom that reaches lowest in the reference
+pose: box -> ``Flat``, horizontal capsule or cylinder -> ``SemiCylinder`` (capsule caps
+neglected), sphere -> ``SemiSphere`` (stepped as a full ball), mesh -> ``MeshFoot``;
+several as low -> ``MeshFoot`` of the convex hull of their union.
 """
 
 from __future__ import annotations
@@ -51,15 +37,14 @@ def geom_type_name(model: mujoco.MjModel, g: int) -> str:
 
 
 def _collides(model: mujoco.MjModel, g: int) -> bool:
-    """Whether geom ``g`` takes part in collisions (a visual-only geom has contype and
-    conaffinity 0)."""
+    """Whether geom ``g`` takes part in collisions."""
     return bool(int(model.geom_contype[g]) or int(model.geom_conaffinity[g]))
 
 
 def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) -> int:
-    """The geom reaching lowest in the reference pose (mesh/box/sphere/capsule/cylinder),
-    among the geoms that collide when the body has any (D113): a visual-only mesh that
-    reaches below the collision geom is not the foot."""
+    """The supported geom reaching lowest in the reference pose, among the colliding
+    ones when there are any (D113).
+    """
     mj = _mujoco()
     best, zbest = -1, math.inf
     supported = [g for g in geoms if int(model.geom_type[g]) in _SUPPORTED_GEOMS(mj)]
@@ -77,8 +62,7 @@ TIED_HEIGHT = 1e-3
 
 
 def _tied_geoms(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int], g: int) -> list[int]:
-    """The other colliding geoms of a supported type that reach as low as geom ``g`` in the
-    reference pose (within :data:`TIED_HEIGHT`)."""
+    """The other colliding supported geoms as low as geom ``g`` (:data:`TIED_HEIGHT`)."""
     mj = _mujoco()
     low = _support(model, ref, g)[2]
     return [
@@ -140,8 +124,7 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
 
 
 def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
-    """Points on the surface of geom ``g`` in pose ``d`` (world) [m] whose convex hull is
-    the geom: a box's corners, a mesh's vertices, a sphere, capsule or cylinder meshed."""
+    """Points (world) [m] whose convex hull is geom ``g`` in pose ``d``."""
     import trimesh
 
     mj = _mujoco()
@@ -164,9 +147,9 @@ def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.f
 def hull_foot(
     points: NDArray[np.float64], fwd_w: NDArray[np.float64]
 ) -> tuple[feet.MeshFoot, NDArray[np.float64], NDArray[np.float64]]:
-    """The convex hull of world ``points`` [m] as a foot: a ``MeshFoot`` in the foot's
-    frame (x along ``fwd_w``, z up, tip at the origin), its tip in the world [m] and the
-    hull's vertices in the world [m]. Mud fills no gap between the geoms of one foot."""
+    """The convex hull of world ``points`` [m] as a ``MeshFoot`` (x along ``fwd_w``, z
+    up, tip at the origin), its tip [m] and the hull's vertices [m], both in the world.
+    """
     import trimesh
 
     hull = trimesh.convex.convex_hull(points)

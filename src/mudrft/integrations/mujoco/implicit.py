@@ -1,28 +1,17 @@
-r"""The linearly implicit treatment of the mud's dissipative part, in six dimensions (D62).
+r"""The wrench of the mud on a posed foot, and its linearly implicit step (D60a, D62).
 
-An explicit step of the damper-like part of the mud force, :math:`c\approx\eta_\infty
-A/L_c`, is stable only for :math:`\Delta t<2m/c`
-(:func:`~mudrft.integrations.mujoco.stability_limits`); the same damper acting at a lever
-arm on a light foot that can rotate is stiffer still (:math:`c\,r^2/I`). The coupling
-applies the wrench the mud would exert at the *end* of the step, linearised in the body
-twist :math:`\xi=(\mathbf v,\boldsymbol\omega)` (velocity of the center of mass, angular
-velocity):
+The terrain's force :math:`F^{up}` on the upright foot at the posed foot's depth is scaled
+per channel by :math:`\rho_c=A_c/A_c^{up}` and acts at the channel's point (:mod:`.pose`),
+:math:`w_0=\sum_c \rho_cF^{up}_c\,b_c` with :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)`;
+the coupling applies
 
 .. math:: w = (I - \Delta t\,K\,W)^{-1}\,(w_0 + \Delta t\,K\,a),
 
-with :math:`w_0` the explicit wrench, :math:`W` the 6x6 mobility of the body
-(:mod:`~mudrft.integrations.mujoco.kinematics`), :math:`a` the twist acceleration from
-all other forces and :math:`K` the symmetric, negative semi-definite damping of the
-wrench (D62a): each channel's velocity derivative :math:`D_c\le0` acting at the channel's
-point, :math:`D_c\,b_cb_c^T` (:func:`channel_rows`), plus the same damping spread over the
-submerged elements, :math:`(D_c/A_c)\mathbf J_c` on the rotation. :func:`force_and_derivative`
-gets :math:`D_c` from one batched terrain call by secant differences, with the steps of
-:func:`secant_steps` (D63); :func:`implicit_wrench` solves for :math:`w`;
-:func:`passive_wrench` then scales it so that its work over the step never exceeds the
-energy the mud has taken from the foot (D62c).
-
-Shapes: ``N`` robots, ``nb`` bodies (or the bodies of one foot type); ``cs`` holds the
-cosine and sine of each foot's yaw.
+with :math:`w_0` the explicit wrench, :math:`W` the mobility, :math:`a` the twist
+acceleration from all other forces and :math:`K` the symmetric negative semi-definite
+damping of the wrench (D62a), from secant derivatives (D63); :func:`passive_wrench` then
+bounds its work by the energy the mud has taken (D62c). Shapes: ``N`` robots, ``nb``
+bodies; ``cs`` holds the cosine and sine of each foot's yaw.
 """
 
 from __future__ import annotations
@@ -39,67 +28,36 @@ if TYPE_CHECKING:
     from ...terrains import Terrain
 
 __all__ = [
+    "bottom_wrench",
     "channel_rows",
+    "damping_matrix",
     "force_and_derivative",
     "implicit_wrench",
     "passive_wrench",
     "passivity_scale",
+    "posed_wrench",
     "secant_steps",
+    "yaw_inertia_to_world",
 ]
 
 
 def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:
-    r"""Velocity steps of the secant derivative: from each channel's velocity to rest (D63, D119).
+    r"""Velocity steps [m/s] of the secant derivative toward rest (D63, D119), element-wise.
 
-    Element-wise: the step is :math:`-u`, so that the secant spans the mud's force between
-    the channel velocity :math:`u` and rest, where the suction switch :math:`H_\nu` of
-    eq. (1) turns within :math:`\nu L_c` (about 0.5 mm/s); a velocity within ``dv_min`` of
-    rest steps by ``dv_min`` across it (away from its sign; up from exactly 0), so that a
-    foot that rests or creeps sees the switch's own slope. A secant that ends beyond rest
-    on the far side of the switch (the rule of D63 before D119: the velocity change the
-    last wrench made) has a slope far below the switch's, and a resting foot jumped across
-    the switch every step (a period-two oscillation).
-
-    Parameters
-    ----------
-    vel : array_like
-        Channel velocities [m/s].
-    dv_min : float
-        Smallest step [m/s] (> 0).
-    xp : module, keyword-only
-        Element-wise namespace (numpy, ``jax.numpy`` for the MJX coupling, or floats for
-        the compiled coupling).
-
-    Returns
-    -------
-    array_like
-        Steps of the channel velocities [m/s], never 0.
+    The step is :math:`-u` for channel velocities ``vel`` [m/s]; within ``dv_min`` [m/s] of
+    rest it is ``dv_min`` across it, so a resting foot sees the suction switch's own slope.
+    ``xp``: numpy, ``jax.numpy`` or floats (the compiled coupling).
     """
     across = xp.where(vel > 0.0, -dv_min, dv_min)
     return xp.where(xp.abs(vel) > dv_min, -vel, across)
 
 
 def channel_rows(cs: FloatArray, rel: FloatArray, xp: Namespace = np) -> FloatArray:
-    r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` of the three channels.
+    r"""Rows :math:`b_c=(\mathbf e_c,\ \mathbf r_c\times\mathbf e_c)` (N, nb, 3, 6) of the channels.
 
-    :math:`b_c\cdot\xi` is the velocity along the channel's axis :math:`\mathbf e_c` (the
-    foot's yaw frame in the world) of the point :math:`\mathbf r_c` (relative to the center
-    of mass) for the body twist :math:`\xi=(\mathbf v,\boldsymbol\omega)`, and
-    :math:`f\,b_c` is the wrench (force, moment about the center of mass) of a force
-    :math:`f\mathbf e_c` applied there.
-
-    Parameters
-    ----------
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
-    rel : ndarray (N, nb, 3, 3)
-        Point of each channel relative to the center of mass, world frame (row c) [m].
-    xp : module, keyword-only
-        Array namespace.
-
-    Returns
-    -------
-    ndarray (N, nb, 3, 6)
+    ``cs`` (N, nb, 2): cosine and sine of each foot's yaw; ``rel`` (N, nb, 3, 3): each
+    channel's point relative to the center of mass [m]. :math:`b_c\cdot\xi` is that point's
+    velocity along :math:`\mathbf e_c`; :math:`f\,b_c` the wrench of a force :math:`f\mathbf e_c` there.
     """
     c, s = cs[..., 0], cs[..., 1]
     z, o = xp.zeros_like(c), xp.ones_like(c)
@@ -118,38 +76,12 @@ def force_and_derivative(
     step: FloatArray,
     dt: float,
 ) -> tuple[Any, FloatArray, FloatArray, FloatArray]:
-    """Step the terrain, and the diagonal velocity derivative of its force, in one call.
+    r"""Step the terrain and the diagonal velocity derivative of its force in one call (D61, D63).
 
-    The terrain steps four copies of the motion in one batched call: as given, and with
-    each velocity component in turn increased by ``step`` (D61, D63).
-
-    Parameters
-    ----------
-    terrain : Terrain
-        The terrain (its ``step``).
-    foot : Foot
-        The foot.
-    state : terrain state
-        State for the ``(N, nb)`` tips.
-    pos : ndarray (N, nb, 3)
-        Tip positions in the foot frame [m].
-    vel : ndarray (N, nb, 3)
-        Tip velocities in the foot frame [m/s].
-    step : ndarray (N, nb, 3)
-        Secant steps [m/s] (:func:`secant_steps`).
-    dt : float
-        Time step [s].
-
-    Returns
-    -------
-    new_state : terrain state
-        State after the step of the unperturbed motion.
-    force : ndarray (N, nb, 3)
-        Force in the foot frame [N].
-    derivative : ndarray (N, nb, 3)
-        :math:`\\partial F_i/\\partial v_i` [N s/m].
-    stress : ndarray (N, nb, 3)
-        Channel stresses [Pa].
+    Four copies of the motion (tip positions ``pos`` [m] and velocities ``vel`` [m/s] in the
+    foot frame, (N, nb, 3)): as given, and each velocity component raised by ``step`` [m/s].
+    Returns the new state, the force [N], :math:`\partial F_i/\partial v_i` [N s/m] and the
+    channel stresses [Pa].
     """
     vk = np.repeat(vel[None], 4, axis=0)
     vk[1, ..., 0] += step[..., 0]
@@ -169,33 +101,12 @@ def implicit_wrench(
 ) -> FloatArray:
     r"""The linearly implicit wrenches of one robot's feet, solved together (D62, D62d).
 
-    :math:`w=(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)` with :math:`w` the
-    wrenches of all ``nb`` foot bodies stacked (``6 nb`` entries), :math:`K` their damping,
-    block-diagonal, and :math:`W` the robot's mobility with its cross blocks
-    :math:`W_{ij}=J_iM^{-1}J_j^T` (how body ``j``'s wrench moves body ``i``): every foot's
-    damping sees the twist all the feet's wrenches give it at the end of the step.
+    .. math:: w=(I - \Delta t\,K\,W)^{-1}(w_0 + \Delta t\,K\,a)
 
-    Parameters
-    ----------
-    w0 : ndarray (N, nb, 6)
-        Explicit wrench (force at the center of mass [N], torque [N m]), world frame.
-    K : ndarray (N, nb, 6, 6)
-        Symmetric, negative semi-definite damping of each wrench in its body's twist (D62a).
-    W : ndarray (N, nb, nb, 6, 6)
-        Mobility: block ``(i, j)`` maps body ``j``'s wrench to the change of body ``i``'s
-        twist per unit time and impulse (block-diagonal for bodies that cannot move each
-        other).
-    acc : ndarray (N, nb, 6)
-        Twist acceleration from all forces but the mud's [m/s^2, rad/s^2].
-    dt : float
-        Time step [s].
-    xp : module, keyword-only
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
-
-    Returns
-    -------
-    ndarray (N, nb, 6)
-        Wrenches to apply [N, N m].
+    ``w0`` (N, nb, 6): explicit wrenches [N, N m]; ``K`` (N, nb, 6, 6): their damping (D62a);
+    ``W`` (N, nb, nb, 6, 6): the mobility, block ``(i, j)`` :math:`J_iM^{-1}J_j^T`; ``acc``
+    (N, nb, 6): twist acceleration from all other forces [m/s^2, rad/s^2]; ``dt`` [s].
+    Returns the wrenches to apply (N, nb, 6) [N, N m].
     """
     nb = w0.shape[-2]
     KW = xp.einsum("...iab,...ijbc->...iajc", K, W)  # K_i W_ij, rows (i, a), columns (j, c)
@@ -211,23 +122,9 @@ def passivity_scale(
 ) -> XpArray:
     r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
 
-    Element-wise; :math:`q\ge0` and :math:`T\ge0`, so :math:`s=0` always satisfies it.
-
-    Parameters
-    ----------
-    work_lin : array_like
-        :math:`l`, the work the wrench would do on the body over the step, linear part [J].
-    work_quad : array_like
-        :math:`q\ge0`, its quadratic part [J].
-    tank : array_like
-        :math:`T\ge0`, the energy the mud has taken from the body and may give back [J].
-    xp : module, keyword-only
-        Element-wise namespace (numpy, ``jax.numpy``, or floats for the compiled coupling).
-
-    Returns
-    -------
-    array_like
-        The scale :math:`s` of the wrench [-].
+    ``work_lin`` :math:`l` and ``work_quad`` :math:`q\ge0` [J]: the linear and quadratic
+    parts of the wrench's work over the step; ``tank`` :math:`T\ge0` [J]: the energy the mud
+    has taken and may give back. Element-wise in ``xp``.
     """
     full = work_lin + work_quad <= tank
     disc = xp.sqrt(xp.maximum(work_lin * work_lin + 4.0 * work_quad * tank, 0.0))
@@ -248,44 +145,14 @@ def passive_wrench(
     dt: float,
     xp: Namespace = np,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    r"""Scale one robot's wrenches so that the mud never gives it more energy than it took (D62c).
+    r"""Scale one robot's wrenches so the mud never gives it more energy than it took (D62c).
 
-    The work of wrenches :math:`s\,w` held over the step on bodies of twists :math:`\xi`,
-    mobility :math:`W` (cross blocks included, D62d) and acceleration :math:`a` from all
-    other forces, at the middle twist :math:`\xi+\tfrac{\Delta t}{2}(a+sWw)` of the step,
-    is :math:`s\,l+s^2q` with :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and
-    :math:`q=\tfrac{\Delta t^2}{2}w^TWw\ge0`, summed over the robot's feet. The tank
-    :math:`T\ge0` holds the energy the mud has taken from the robot since its feet last had
-    no wrench; the wrenches are scaled by the largest :math:`s\le1`
-    (:func:`passivity_scale`) whose work stays within it, and the tank gives up that work.
-    A robot with no wrench on any foot (out of the mud) empties the tank.
-
-    Parameters
-    ----------
-    wrench : ndarray (..., nb, 6)
-        Wrenches of the implicit step (:func:`implicit_wrench`) [N, N m].
-    tw : ndarray (..., nb, 6)
-        Body twists at the start of the step [m/s, rad/s].
-    W : ndarray (..., nb, nb, 6, 6)
-        Mobility of the body twists (see :func:`implicit_wrench`).
-    acc : ndarray (..., nb, 6)
-        Twist accelerations from all other forces [m/s^2, rad/s^2].
-    tank : ndarray (...)
-        Energy the mud has taken from the robot and may give back [J].
-    dt : float
-        Time step [s].
-    xp : module, keyword-only
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
-
-    Returns
-    -------
-    wrench : ndarray (..., nb, 6)
-        The scaled wrenches [N, N m].
-    tank : ndarray (...)
-        The tank after the step [J].
-    wv : ndarray (..., nb, 6)
-        :math:`W\,s\,w`, the change of each twist per unit time the applied wrenches make
-        [m/s^2, rad/s^2] (the next step's estimate of :math:`a` subtracts it).
+    The work of :math:`s\,w` over the step is :math:`s\,l+s^2q`, with
+    :math:`l=\Delta t\,w\cdot(\xi+\tfrac{\Delta t}{2}a)` and :math:`q=\tfrac{\Delta t^2}{2}w^TWw`
+    summed over the feet; :math:`s` is :func:`passivity_scale`. ``wrench``, ``tw``
+    (twists [m/s, rad/s]) and ``acc`` are (..., nb, 6), ``W`` as in :func:`implicit_wrench`,
+    ``tank`` (...) [J]. Returns the scaled wrenches, the tank after the step (0 when no foot
+    has a wrench) and :math:`W\,s\,w` [m/s^2, rad/s^2].
     """
     Ww = xp.einsum("...ijab,...jb->...ia", W, wrench)
     lin = dt * xp.sum(wrench * (tw + 0.5 * dt * acc), axis=(-2, -1))
@@ -295,6 +162,68 @@ def passive_wrench(
     left = xp.maximum(tank - (s * lin + s * s * quad), 0.0)
     scale = s[..., None, None]
     return scale * wrench, xp.where(idle, 0.0, left), scale * Ww
+
+
+def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, xp: Namespace = np) -> FloatArray:
+    r"""Second moments :math:`\mathbf J_c` (N, nb, 3, 3, 3) [m^4] from the
+    foot's yaw frame (cosine and sine ``cs``) to the world frame.
+    """
+    c, s = cs[..., 0], cs[..., 1]
+    z, o = xp.zeros_like(c), xp.ones_like(c)
+    rz = xp.stack(
+        [xp.stack([c, -s, z], -1), xp.stack([s, c, z], -1), xp.stack([z, z, o], -1)], axis=-2
+    )
+    return xp.einsum("...ij,...cjk,...lk->...cil", rz, inertia, rz)
+
+
+def damping_matrix(
+    D: FloatArray, b: FloatArray, area: FloatArray, inertia_w: FloatArray, xp: Namespace = np
+) -> FloatArray:
+    r"""Damping :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)` (N, nb, 6, 6) of the wrench.
+
+    ``D`` (N, nb, 3): each channel force's velocity derivative, :math:`\le0` [N s/m]; ``b``:
+    channel rows (:func:`~.implicit.channel_rows`); ``area``: :math:`A_c` [m^2];
+    ``inertia_w``: :math:`\mathbf J_c` in the world frame [m^4].
+    """
+    K = xp.einsum("...c,...ci,...cj->...ij", D, b, b)
+    per_area = xp.where(area > 0.0, D / xp.where(area > 0.0, area, 1.0), 0.0)
+    spin = xp.einsum("...c,...cij->...ij", per_area, inertia_w)  # on the rotation block
+    zero = xp.zeros_like(spin)
+    return K + xp.concatenate(
+        [xp.concatenate([zero, zero], axis=-1), xp.concatenate([zero, spin], axis=-1)], axis=-2
+    )
+
+
+def posed_wrench(F: FloatArray, b: FloatArray, xp: Namespace = np) -> FloatArray:
+    r"""The wrench :math:`\sum_c F_c b_c` (N, nb, 6) [N, N m] of channel forces ``F`` [N]
+    acting on rows ``b``.
+    """
+    return xp.einsum("...c,...ci->...i", F, b)
+
+
+def bottom_wrench(
+    low: FloatArray,
+    tw: FloatArray,
+    pen: FloatArray,
+    stiffness: float,
+    damping: float,
+    xp: Namespace = np,
+) -> tuple[FloatArray, FloatArray]:
+    r"""Rigid bottom: :math:`F_z=\max(0,k\,p-c\,\dot z)` on the lowest point (D67).
+
+    ``low`` (N, nb, 3): the lowest point relative to the center of mass [m]; ``tw``: body
+    twists [m/s, rad/s]; ``pen`` (N, nb): penetration below the bottom [m]; ``stiffness``
+    :math:`k` [N/m], ``damping`` :math:`c` [N s/m]. Returns the wrench [N, N m] and its
+    damping :math:`-c\,b b^T` for the implicit step.
+    """
+    ez = xp.broadcast_to(xp.asarray([0.0, 0.0, 1.0]), low.shape)
+    b = xp.concatenate([ez, xp.cross(low, ez)], axis=-1)
+    vz = xp.einsum("...i,...i->...", b, tw)
+    f = stiffness * pen - damping * vz
+    on = (pen > 0) & (f > 0)
+    wrench = xp.where(on, f, 0.0)[..., None] * b
+    K = -xp.where(on, damping, 0.0)[..., None, None] * (b[..., :, None] * b[..., None, :])
+    return wrench, K
 
 
 def _tree_map(fn: Callable[..., Any], tree: object) -> Any:
@@ -310,7 +239,7 @@ def _tree_map(fn: Callable[..., Any], tree: object) -> Any:
 
 
 def _batched(x: ArrayLike, batch: tuple[int, ...], k: int) -> np.ndarray:
-    """Leaf of a terrain state with ``k`` copies along a new leading axis, batch-shaped."""
+    """A terrain state's leaf with ``k`` copies along a new leading axis."""
     a = np.asarray(x)
     if a.shape[: len(batch)] != batch:
         a = np.broadcast_to(a, batch + a.shape)

@@ -1,99 +1,30 @@
-"""MuJoCo's tree Jacobian and sparse mass-matrix solve, on floats, for the compiled coupling.
+"""The compiled coupling's linear algebra, and MuJoCo's own functions called from it.
 
-:func:`_jacobian` is ``mj_jac`` (the 6 x nv Jacobian of a point's velocity and the body's
-angular velocity, from ``cdof``) and :func:`_ld_solve` is ``mj_solveLD`` (``x <- M^-1 x``
-for each row of ``x``, from the factor ``qLD``, ``qLDiagInv`` in MuJoCo's compressed rows
-``M_rownnz``, ``M_rowadr``, ``M_colind``); :func:`_robot_step` solves the implicit step of
-one robot's feet together and bounds its work (:func:`_solve_n`, D62d). They are plain
-Python (``test_mobility_port_equals_mujoco`` runs them against MuJoCo's own functions) and
-are compiled with the kernel (:mod:`.compiled`). :func:`_ptr` turns the address of a
-MuJoCo array into a pointer the kernel reads with ``numba.carray``; :func:`_borrow` makes
-such a view of one of the kernel's own arrays.
+:func:`_mj_jac` and :func:`_mj_solve_m` call MuJoCo's ``mj_jac`` and ``mj_solveM`` through
+their C symbols, at addresses the kernel gets as integers (:func:`mujoco_functions`), so the
+compiled kernel stays cached on disk across processes. :func:`_robot_step` solves the
+implicit step of one robot's feet together and bounds its work (:func:`_solve_n`, D62d).
+:func:`_ptr` turns the address of an array into a pointer the kernel reads with
+``numba.carray``; :func:`_borrow` makes such a view of one of the kernel's own arrays.
 """
 
 from __future__ import annotations
 
+import ctypes
+import functools
+from pathlib import Path
 from typing import Any
 
 import numba
+from llvmlite import ir
 from numba import types as nt
 from numba.extending import intrinsic
 
-from ..._typing import FloatArray, IndexArray
+from ..._typing import FloatArray
 from ..._xp import pyfloat
 from .implicit import passivity_scale
 
-__all__ = [
-    "_borrow",
-    "_carve",
-    "_jacobian",
-    "_ld_solve",
-    "_robot_step",
-    "_solve_n",
-]
-
-
-def _ld_solve(
-    x: FloatArray,
-    qld: FloatArray,
-    qldinv: FloatArray,
-    rownnz: IndexArray,
-    rowadr: IndexArray,
-    colind: IndexArray,
-) -> None:
-    """In place x <- M^-1 x for each row of ``x`` (r, nv) from MuJoCo's sparse L^T D L
-    factor (``mj_solveLD``).
-
-    The rows are solved together, each with ``mj_solveLD``'s operations in its order (a
-    row's values are those of solving it alone): one call and one walk of the sparse rows
-    for the six rows of a foot's Jacobian instead of six.
-    """
-    r, nv = x.shape
-    for i in range(nv - 1, 0, -1):
-        if rownnz[i] == 1:
-            continue
-        start = rowadr[i]
-        for k in range(r):
-            xi = x[k, i]
-            if xi != 0.0:
-                for adr in range(start, start + rownnz[i] - 1):
-                    x[k, colind[adr]] -= qld[adr] * xi
-    for k in range(r):
-        for i in range(nv):
-            x[k, i] *= qldinv[i]
-    for i in range(1, nv):
-        if rownnz[i] == 1:
-            continue
-        start = rowadr[i]
-        for k in range(r):
-            acc = 0.0
-            for adr in range(start, start + rownnz[i] - 1):
-                acc += qld[adr] * x[k, colind[adr]]
-            x[k, i] -= acc
-
-
-def _jacobian(jac: FloatArray, body: int, point: FloatArray, model_i: IndexArray,
-              dof_parentid: IndexArray, cdof: FloatArray, subtree_com: FloatArray,
-              ) -> None:  # fmt: skip
-    """6 x nv Jacobian of (velocity of ``point``, angular velocity) of ``body`` (``mj_jac``)."""
-    jac[:, :] = 0.0
-    b = body
-    while b > 0 and model_i[b, 1] == 0:  # body_dofnum
-        b = model_i[b, 2]  # body_parentid
-    if b == 0:
-        return
-    i = model_i[b, 0] + model_i[b, 1] - 1  # body_dofadr + body_dofnum - 1
-    root = model_i[b, 3]
-    ox = point[0] - subtree_com[root, 0]
-    oy = point[1] - subtree_com[root, 1]
-    oz = point[2] - subtree_com[root, 2]
-    while i >= 0:
-        wx, wy, wz = cdof[i, 0], cdof[i, 1], cdof[i, 2]
-        jac[0, i] = cdof[i, 3] + (wy * oz - wz * oy)
-        jac[1, i] = cdof[i, 4] + (wz * ox - wx * oz)
-        jac[2, i] = cdof[i, 5] + (wx * oy - wy * ox)
-        jac[3, i], jac[4, i], jac[5, i] = wx, wy, wz
-        i = dof_parentid[i]
+__all__ = ["_borrow", "_cut", "_mj_jac", "_mj_solve_m", "_robot_step", "mujoco_functions"]
 
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
@@ -124,14 +55,12 @@ def _robot_step(
     WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
     tank: float,
 ) -> float:  # fmt: skip
-    """One robot's implicit step of all its feet together and its passivity bound, on floats.
+    """One robot's implicit step of all its feet together and its passivity bound.
 
-    The compiled form of :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
-    (D62, D62c, D62d) for the feet with a wrench or damping (``FPOS[j] >= 0``; the others
-    have no wrench, and their ``W w`` is 0 as in the numpy coupling): the mobility ``WF``
-    (6 m x 6 m) from each foot's ``FJ`` and ``FM`` = M^-1 J^T; the system ``(I - dt K W) w = w0 + dt K a`` in ``AJ``, ``RJ``; the wrenches
-    scaled by the bound into ``FWR`` and ``W w`` into ``FWV``. Returns the robot's tank
-    after the step [J].
+    The compiled :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
+    (D62-D62d) for the feet with ``FPOS[j] >= 0``: the mobility ``WF`` from ``FJ`` and
+    ``FM`` = M^-1 J^T, the system in ``AJ``, ``RJ``, the scaled wrenches into ``FWR`` and
+    ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
     """
     m = 0
     for j in range(nb):
@@ -218,17 +147,78 @@ def _iptr(typingctx: Any, address: Any) -> Any:
 carray = numba.carray
 
 
+@functools.cache
+def mujoco_functions() -> tuple[int, int]:
+    """Addresses of ``mj_jac`` and ``mj_solveM`` in the MuJoCo library the ``mujoco``
+    package ships (``libmujoco.so.*``, ``mujoco.dll`` or ``libmujoco.*.dylib`` next to it)."""
+    from ._lazy import _mujoco
+
+    here = Path(str(_mujoco().__file__)).parent
+    found = [p for p in here.iterdir() if p.name.startswith(("libmujoco.", "mujoco.dll"))]
+    if not found:
+        raise ImportError(f"the MuJoCo library was not found in {here}")
+    lib = ctypes.CDLL(str(found[0]))
+    jac, solve = (ctypes.cast(f, ctypes.c_void_p).value for f in (lib.mj_jac, lib.mj_solveM))
+    return int(jac or 0), int(solve or 0)
+
+
+def _call(builder: Any, fn: Any, ret: Any, args: list[tuple[Any, Any]]) -> None:
+    """Call the C function at address ``fn`` with ``args``: (value, LLVM type) pairs."""
+    fnty = ir.FunctionType(ret, [t for _, t in args])
+    f = builder.inttoptr(fn, fnty.as_pointer())
+    builder.call(
+        f, [builder.inttoptr(v, t) if isinstance(t, ir.PointerType) else v for v, t in args]
+    )
+
+
+_VOID_P = ir.IntType(8).as_pointer()
+_DOUBLE_P = ir.DoubleType().as_pointer()
+
+
+@intrinsic  # type: ignore[misc]
+def _mj_jac(typingctx: Any, fn: Any, m: Any, d: Any, jacp: Any, jacr: Any, point: Any,
+            body: Any) -> Any:  # fmt: skip
+    """``mj_jac(m, d, jacp, jacr, point, body)`` at address ``fn``, every argument an int64
+    (an address, or the body's id; compiled code only)."""
+    sig = nt.void(nt.int64, nt.int64, nt.int64, nt.int64, nt.int64, nt.int64, nt.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        fn, m, d, jacp, jacr, point, body = args
+        i32 = ir.IntType(32)
+        _call(builder, fn, ir.VoidType(), [(m, _VOID_P), (d, _VOID_P), (jacp, _DOUBLE_P),
+              (jacr, _DOUBLE_P), (point, _DOUBLE_P), (builder.trunc(body, i32), i32)])  # fmt: skip
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic  # type: ignore[misc]
+def _mj_solve_m(typingctx: Any, fn: Any, m: Any, d: Any, x: Any, n: Any) -> Any:
+    """``mj_solveM(m, d, x, x, n)`` at address ``fn``: ``x <- M^-1 x`` for ``n`` rows of nv
+    floats at ``x``, in place (compiled code only)."""
+    sig = nt.void(nt.int64, nt.int64, nt.int64, nt.int64, nt.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        fn, m, d, x, n = args
+        i32 = ir.IntType(32)
+        _call(builder, fn, ir.VoidType(), [(m, _VOID_P), (d, _VOID_P), (x, _DOUBLE_P),
+              (x, _DOUBLE_P), (builder.trunc(n, i32), i32)])  # fmt: skip
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
 def _borrow(a: FloatArray) -> FloatArray:
-    """A float64 C-contiguous array as a view without a reference count (``numba.carray``
-    on its address): every view the kernel then takes of it (a row, a slice, an argument
-    to a helper) skips numba's atomic reference updates (about 2.5 us of the walking
-    biped's step). The caller keeps ``a`` alive while the view is used (the kernel's
-    packed argument does, for the call)."""
+    """A float64 C-contiguous array as a view without a reference count (numba's
+    reference updates cost microseconds a step); the caller keeps ``a`` alive.
+    """
     return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 
 
-def _carve(base: int, offset: int, shape: tuple[int, ...]) -> FloatArray:
-    """A borrowed float64 view of ``shape`` starting ``offset`` floats after the address
-    ``base`` (the kernel's work array, carved into its parts; as :func:`_borrow`, the
-    caller keeps the memory alive)."""
-    return carray(_ptr(base + 8 * offset), shape)  # type: ignore[call-arg]
+def _cut(address: int, shape: tuple[int, ...]) -> tuple[FloatArray, int]:
+    """A borrowed float64 view of ``shape`` at ``address`` (the kernel's work array, carved
+    into its parts; as :func:`_borrow`), and the address after it."""
+    n = 1
+    for k in shape:
+        n *= k
+    return carray(_ptr(address), shape), address + 8 * n  # type: ignore[call-arg]

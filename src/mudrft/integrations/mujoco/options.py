@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..._typing import FloatArray
 from ..._validation import (
     MudrftError,
     check_number,
@@ -191,14 +190,12 @@ BED_DEPTH = 0.5
 FLOOR_WIDTH = 1.0
 
 
-def floor_geoms(model: mujoco.MjModel) -> list[tuple[int, float]]:
-    """The floors of a model and the height of their tops [m]: colliding geoms welded to
-    the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
+def floor_geoms(model: mujoco.MjModel, d: mujoco.MjData) -> list[tuple[int, float]]:
+    """The floors of a model in pose ``d`` and the height of their tops [m]: colliding geoms
+    welded to the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
     from ._lazy import _mujoco
 
     mj = _mujoco()
-    d = mj.MjData(model)
-    mj.mj_kinematics(model, d)
     out = []
     for g in range(model.ngeom):
         collides = int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
@@ -221,14 +218,17 @@ def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
     (the model is changed in place), ``"keep"`` leaves it."""
     if floor == "keep":
         return
-    for g, top in floor_geoms(model):
+    from .placement import _reference_pose
+
+    d = _reference_pose(model)
+    for g, top in floor_geoms(model, d):
         if top < surface - 1e-9:
             continue
         name = model.geom(g).name
         label = f"geom {name!r}" if name else f"geom {g}"
         if floor == "below":  # lowered along -z, in its (static) body's frame
             b = int(model.geom_bodyid[g])
-            R = np.eye(3) if b == 0 else _body_rotation(model, b)
+            R = np.asarray(d.xmat[b]).reshape(3, 3)
             model.geom_pos[g] -= R.T @ np.array([0.0, 0.0, top - (surface - BED_DEPTH)])
             model.geom_sameframe[g] = 0  # MuJoCo would place it at its body's frame still
             continue
@@ -274,15 +274,6 @@ def _foot_geoms(
                 )
         out[ids.index(int(bid))] = list(geom) if many else geom  # type: ignore[call-overload]
     return out
-
-
-def _body_rotation(model: mujoco.MjModel, body: int) -> FloatArray:
-    from ._lazy import _mujoco
-
-    mj = _mujoco()
-    d = mj.MjData(model)
-    mj.mj_kinematics(model, d)
-    return np.asarray(d.xmat[body]).reshape(3, 3)
 
 
 def check_data(model: mujoco.MjModel, data: object) -> None:

@@ -1,10 +1,7 @@
 """A mudrft foot placed on a body of a MuJoCo model: which foot, where its tip is.
 
-:func:`body_foot` finds a body, derives its foot from the lowest geom when none is
-given (:mod:`mudrft.integrations.mujoco.geoms`), and stores in a :class:`BodyFoot` what
-the coupling needs every step: the tip and the forward axis in the body frame, and the
-geom data from which :func:`lowest_points` finds the lowest point of the foot in its
-current pose.
+:func:`body_foot` finds a body, derives its foot from its lowest geoms when none is given
+(:mod:`.geoms`), and stores in a :class:`BodyFoot` what the coupling needs every step.
 """
 
 from __future__ import annotations
@@ -50,7 +47,6 @@ __all__ = [
     "coupled_triangles",
     "describe",
     "group_triangles",
-    "lowest_points",
     "resolve_body",
 ]
 
@@ -70,10 +66,10 @@ class BodyFoot:
     tip : ndarray (3,)
         Tip (lowest point of the foot in the reference pose) in the body frame [m].
     forward : ndarray (3,)
-        The foot's x axis in the body frame [-] (horizontal in the reference pose).
+        The foot's x axis in the body frame [-].
     kind : str
-        How the lowest point is found in the current pose: ``"box"``, ``"sphere"``,
-        ``"capsule"``, ``"cylinder"``, ``"points"`` (mesh vertices) or ``"tip"``.
+        The foot geom's kind: ``"box"``, ``"sphere"``, ``"capsule"``, ``"cylinder"``,
+        ``"points"`` (a mesh, or several geoms) or ``"tip"`` (no geom).
     center : ndarray (3,)
         Geom center in the body frame [m].
     axes : ndarray (3, 3)
@@ -83,17 +79,15 @@ class BodyFoot:
     points : ndarray (k, 3)
         Mesh vertices in the body frame [m] (``kind == "points"``).
     upright : ndarray (m, 3, 3) or None
-        Triangles of the foot in its own frame (:func:`~.pose.foot_triangles`) [m]; None
-        for a foot without a surface.
+        Triangles of the foot in its own frame [m]; None for a foot without a surface.
     triangles : ndarray (m, 3, 3) or None
         The same triangles in the body frame [m].
     geom : int
-        MuJoCo id of the geom the foot stands for (-1: none, the tip is a point).
+        MuJoCo id of the foot's geom (-1: none).
     geoms : tuple of int
         Every geom of the foot (several: their convex hull is the foot).
     ball : bool
-        A sphere geom's derived foot: the coupling steps it as a full ball, its triangles
-        upright about :attr:`center` whatever the body's pose (the same from every angle).
+        A sphere geom's derived foot, stepped as a full ball (the same from every angle).
     """
 
     body: str
@@ -176,20 +170,16 @@ def body_foot(
     body : str or int
         Body name or id, or a geom's name (its body, that geom the foot).
     foot : Foot or None
-        The foot; ``None`` derives it from the body's lowest geom (of those that collide,
-        when it has any; D113): box -> ``Flat``, horizontal cylinder or capsule ->
-        ``SemiCylinder`` (capsule caps neglected), sphere -> ``SemiSphere`` stepped as a
-        full ball (the same in every pose), mesh -> ``MeshFoot``. Colliding geoms as low
-        as it (within :data:`~.geoms.TIED_HEIGHT`) are one foot with it: the ``MeshFoot``
-        of the convex hull of their union.
-    tip : array_like (3,) or None, keyword-only
-        Tip in the body frame [m]; default the lowest point of the foot in the reference
-        pose (the body origin when the body has no geom).
-    resolution : int, keyword-only
-        Mesh resolution of a curved closed-form foot's triangles (:func:`~.pose.foot_triangles`).
-    geom : str, int, sequence of them, or None, keyword-only
-        The body's geom (name or id) that is the foot, or geoms whose union is, when the
-        lowest colliding ones are not (D124); box, sphere, capsule, cylinder or mesh.
+        The foot; ``None`` derives it from the body's lowest colliding geom (D113): box ->
+        ``Flat``, horizontal cylinder or capsule -> ``SemiCylinder``, sphere ->
+        ``SemiSphere`` stepped as a full ball, mesh -> ``MeshFoot``; geoms as low as it
+        (within :data:`~.geoms.TIED_HEIGHT`) make one ``MeshFoot``, the convex hull of their union.
+    tip : array_like (3,) or None
+        Tip in the body frame [m]; default the lowest point of the foot in the reference pose.
+    resolution : int
+        Mesh resolution of a curved closed-form foot's triangles.
+    geom : str, int, sequence of them, or None
+        The geom (name or id) that is the foot, or geoms whose union is (D124).
 
     Returns
     -------
@@ -322,72 +312,15 @@ def _named_geom(model: mujoco.MjModel, body: str, bid: int, geom: str | int) -> 
     return g
 
 
-def lowest_points(
-    bodies: Sequence[BodyFoot],
-    X: NDArray[np.float64],
-    R: NDArray[np.float64],
-    tip: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """Lowest point of each foot geom in its current pose, for many robots at once.
-
-    The batched form of :func:`~mudrft.integrations.mujoco.geoms._support`, from the
-    geom data that :func:`body_foot` stored in each :class:`BodyFoot`.
-
-    Parameters
-    ----------
-    bodies : sequence of BodyFoot
-        The ``nb`` placed feet.
-    X : ndarray (N, nb, 3)
-        Body origins in the world [m].
-    R : ndarray (N, nb, 3, 3)
-        Body orientations (body to world) [-].
-    tip : ndarray (N, nb, 3)
-        Tips in the world [m]; the answer for bodies of kind ``"tip"``.
-
-    Returns
-    -------
-    ndarray (N, nb, 3)
-        Lowest points in the world [m].
-    """
-    low = tip.copy()
-    for j, b in enumerate(bodies):
-        if b.kind == "tip":
-            continue
-        Rj = R[:, j]
-        c = X[:, j] + Rj @ b.center
-        G = Rj @ b.axes  # geom axes in the world, (N, 3, 3)
-        s = b.size
-        if b.kind == "box":
-            u = G[:, 2, :]
-            sg = -np.where(np.abs(u) > 1e-9, np.sign(u), 0.0)
-            low[:, j] = c + (G @ (sg * s)[..., None])[..., 0]
-        elif b.kind == "sphere":
-            low[:, j] = c - [0.0, 0.0, s[0]]
-        elif b.kind in ("capsule", "cylinder"):
-            a = G[:, :, 2]
-            az = a[:, 2:3]
-            end = c - np.where(np.abs(az) > 1e-9, np.sign(az), 0.0) * s[1] * a
-            if b.kind == "capsule":
-                low[:, j] = end - [0.0, 0.0, s[0]]
-            else:
-                perp = np.array([0.0, 0.0, 1.0]) - az * a
-                nrm = np.linalg.norm(perp, axis=-1, keepdims=True)
-                low[:, j] = end - s[0] * perp / np.maximum(nrm, 1e-12) * (nrm > 1e-9)
-        else:
-            pts = X[:, j, None, :] + b.points @ np.swapaxes(Rj, -1, -2)
-            i = np.argmin(pts[..., 2], axis=1)
-            low[:, j] = pts[np.arange(len(i)), i]
-    return low
-
-
 def coupled_tip(b: BodyFoot) -> FloatArray:
     """The point of ``b``'s body the coupling follows [m]: the tip, or a ball's center."""
     return np.asarray(b.center if b.ball else b.tip, dtype=float)
 
 
 def coupled_triangles(b: BodyFoot) -> FloatArray | None:
-    """The triangles the coupling poses [m]: in the body frame, or for a ball upright about
-    its center (:attr:`BodyFoot.ball`, in the foot's yaw frame whatever the body's pose)."""
+    """The triangles the coupling poses [m]: in the body frame, or a ball's
+    upright about its center.
+    """
     if b.ball and b.upright is not None:
         return np.asarray(b.upright, dtype=float) - np.array([0.0, 0.0, float(b.size[0])])
     return None if b.triangles is None else np.asarray(b.triangles, dtype=float)
@@ -396,8 +329,7 @@ def coupled_triangles(b: BodyFoot) -> FloatArray | None:
 def group_triangles(
     bodies: Sequence[BodyFoot], idx: IndexArray
 ) -> tuple[FloatArray | None, PreparedTriangles | None]:
-    """Posed triangles (nb_g, m, 3, 3) (:func:`coupled_triangles`) and the prepared
-    foot-frame ones of a foot type."""
+    """Posed triangles (nb_g, m, 3, 3) and the prepared upright ones of a foot type."""
     tri = [coupled_triangles(bodies[i]) for i in idx]
     if any(t is None for t in tri):
         return None, None
@@ -412,12 +344,7 @@ def attached_foot(
     resolution: int,
     geom: str | int | Sequence[str | int] | None = None,
 ) -> BodyFoot:
-    """:func:`body_foot` for a coupling: a body welded to the world warns (D113).
-
-    The mud's force on a body with no joint between it and the world moves nothing, so a
-    coupling that attaches to one is most likely a mistake (the foot's body named instead
-    of the leg's, a joint missing from the model). Arguments as :func:`body_foot`.
-    """
+    """:func:`body_foot` for a coupling; a body welded to the world warns (D113)."""
     placed = body_foot(model, body, foot, resolution=resolution, geom=geom)
     if int(model.body_weldid[placed.body_id]) == 0:
         warn_plausibility(
@@ -435,11 +362,9 @@ AUTO_REACH = 0.25
 def auto_feet(model: mujoco.MjModel) -> list[int]:
     """The foot bodies of a model, as ``feet="auto"`` finds them.
 
-    Each leaf of the kinematic tree (a body without children) names its limb; the limb's
-    foot is the nearest body up the limb that has a colliding geom of a supported type.
-    Of those, the feet are the ones whose lowest point in the reference pose (``qpos0``) lies
-    within :data:`AUTO_REACH` of the model's height (its colliding geoms, top to bottom)
-    above the lowest: a humanoid's hands hang higher than its feet.
+    Each leaf body names a limb; its foot is the nearest body up the limb with a colliding
+    geom of a supported type. The feet are those whose lowest point in ``qpos0`` lies within
+    :data:`AUTO_REACH` of the model's height above the lowest (a humanoid's hands hang higher).
     """
     mj = _mujoco()
     ref = _reference_pose(model)

@@ -1,28 +1,15 @@
 r"""The posed foot: its triangles, and where each channel of the mud acts on them (D60a).
 
-The mud model gives three channel stresses for the foot as a whole (Chen et al. 2026,
-eq. 1); the foot turns them into a force with the element rule of eqs. (6)-(7) integrated
-over its submerged surface (:mod:`mudrft.feet.surface`). A foot that is tilted or spinning
-is loaded where it is actually submerged: a tilted flat foot on one edge. The coupling
-therefore clips the foot's triangles, **in their current pose**, by the mud surface, and
-reads from the submerged elements, for each channel :math:`c\in\{x,y,z\}` of the foot
-frame (the foot's yaw frame, :math:`z` up), the element weights
+The coupling clips the foot's triangles in their current pose by the mud surface and
+reads, per channel :math:`c\in\{x,y,z\}` of the foot's yaw frame, the element weights
 
 .. math:: w_{x}=|\mathbf n_h|\hat n_x^2\,dS,\quad w_{y}=|\mathbf n_h|\hat n_y^2\,dS,\quad
           w_{z}=(\cos^3\psi_1+\sin^3\psi_1)\,dS\ (n_z<0),
 
-with which the channel's stress enters the element forces (the element stress
-:math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y\hat n_y^2` on the projected area
-:math:`|\mathbf n_h|dS`, and the vertical weight of eq. 6). Their sums :math:`A_c`, their
-centroids :math:`\mathbf p_c` (where channel :math:`c` acts and where its velocity is
-read) and the second moments
-:math:`\mathbf J_c=\sum_i w_{ic}\,(\mathbf r_i\times\mathbf e_c)(\mathbf r_i\times\mathbf e_c)^T`,
-:math:`\mathbf r_i=\mathbf c_i-\mathbf p_c`, are what
-:class:`~mudrft.integrations.mujoco.MudBatch` needs (:class:`ChannelGeometry`).
-
-:func:`foot_triangles` gives the triangles of any foot in its own frame: a mesh foot's
-own, a closed-form foot's mesh (``to_mesh``; the flat foot's 12 triangles are exact), and
-for the morphing foot its base disk, column and pads (thin plates) at the spread pad angle.
+their sums :math:`A_c`, centroids :math:`\mathbf p_c` (where the channel acts and its
+velocity is read) and second moments
+:math:`\mathbf J_c=\sum_i w_{ic}\,(\mathbf r_i\times\mathbf e_c)(\mathbf r_i\times\mathbf e_c)^T`
+(:class:`ChannelGeometry`).
 """
 
 from __future__ import annotations
@@ -63,19 +50,16 @@ _SEGMENTS = 16
 
 
 class ChannelGeometry(NamedTuple):
-    """Where the three channels act on the submerged part of a posed foot.
-
-    Shapes with batch ``...`` (robots, bodies); every length in the frame of the
-    triangles given to :func:`channel_geometry`.
+    r"""Where the three channels act on the submerged part of a posed foot.
 
     Attributes
     ----------
     area : ndarray (..., 3)
-        :math:`A_c=\\sum_i w_{ic}` of the x, y and z channels [m^2].
+        :math:`A_c` of the x, y and z channels [m^2].
     point : ndarray (..., 3, 3)
-        :math:`\\mathbf p_c` (row ``c``) [m]; the lowest point where :math:`A_c=0`.
+        :math:`\mathbf p_c` (row ``c``) [m]; the lowest point where :math:`A_c=0`.
     inertia : ndarray (..., 3, 3, 3)
-        :math:`\\mathbf J_c` (``[..., c, :, :]``) [m^4].
+        :math:`\mathbf J_c` (``[..., c, :, :]``) [m^4].
     low : ndarray (..., 3)
         Lowest vertex [m].
     """
@@ -89,31 +73,18 @@ class ChannelGeometry(NamedTuple):
 def channel_weights(
     area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, xp: Namespace = np
 ) -> tuple[XpArray, XpArray, XpArray]:
-    r"""Weights :math:`(w_x, w_y, w_z)` of a submerged facet's channels [m^2], element-wise.
-
-    :math:`w_x=|\mathbf n_h|\hat n_x^2\,dS`, :math:`w_y=|\mathbf n_h|\hat n_y^2\,dS`,
-    :math:`w_z=w_{eq.6}\,dS` from the submerged area ``area`` [m^2] and the facet's
-    :math:`|\mathbf n_h|`, :math:`\hat n_x`, :math:`\hat n_y` and vertical weight [-]
-    (:func:`mudrft.feet.facet.facet_frame`).
+    r"""Weights :math:`(w_x, w_y, w_z)` [m^2] of a facet with submerged area ``area``
+    [m^2] and :math:`|\mathbf n_h|`, :math:`\hat n_x`, :math:`\hat n_y`, vertical weight [-]
+    (:func:`mudrft.feet.facet.facet_frame`); element-wise.
     """
     a = area * nh
     return a * hx * hx, a * hy * hy, area * wz
 
 
 def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
-    """Channel weights, centroids and second moments of the part of triangles below z = 0.
-
-    Parameters
-    ----------
-    triangles : ndarray (..., m, 3, 3)
-        Triangles in the foot's yaw frame, heights measured from the mud surface [m]
-        (submerged below 0); outward winding.
-    xp : module, keyword-only
-        Array namespace (numpy, or ``jax.numpy`` for the MJX coupling).
-
-    Returns
-    -------
-    ChannelGeometry
+    """Channel weights, centroids and second moments of the part of ``triangles``
+    (..., m, 3, 3) below z = 0 (the foot's yaw frame, heights from the mud surface [m],
+    outward winding).
     """
     tri = xp.asarray(triangles, dtype=float) if xp is np else triangles
     prep = prepare_triangles(tri, xp=xp)
@@ -144,21 +115,8 @@ def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeomet
 
 
 def upright_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> FloatArray:
-    """Channel weights :math:`A_c` of the upright foot with its tip at ``depth`` [m].
-
-    Parameters
-    ----------
-    prepared : PreparedTriangles
-        The foot's triangles in its own frame, prepared once.
-    depth : ndarray (...)
-        Tip depth [m].
-    xp : module, keyword-only
-        Array namespace.
-
-    Returns
-    -------
-    ndarray (..., 3)
-        [m^2].
+    """Channel weights :math:`A_c` [m^2] (..., 3) of the upright foot (its prepared
+    triangles) with its tip at ``depth`` [m].
     """
     p = prepared
     d = (np.asarray(depth, dtype=float) if xp is np else depth)[..., None]
@@ -175,36 +133,15 @@ def posed_channels(
     surface: float,
     low: FloatArray | None = None,
 ) -> tuple[ChannelGeometry, FloatArray]:
-    """Channel geometry of every posed foot, and its ratio to the upright foot (D60a).
+    """Channel geometry of every posed foot, and its ratio :math:`A_c/A_c^{up}` to the
+    upright foot at the same depth (D60a; 0 where the upright foot has none).
 
-    Lengths are in the foot's yaw frame with the origin at the body's center of mass
-    horizontally and at the mud surface vertically.
-
-    Parameters
-    ----------
-    groups : sequence of (triangles, upright, idx, ball)
-        Per foot type: the triangles of its bodies in their body frames (nb_g, m, 3, 3)
-        [m] and the prepared triangles of the foot in its own frame
-        (:func:`mudrft.feet.surface.prepare_triangles`), or ``None`` for a foot without a
-        surface, the indices of its bodies, and whether they are balls (their triangles
-        upright in the yaw frame about ``X``, :func:`.placement.coupled_triangles`).
-    X, R, C : ndarray (N, nb, 3), (N, nb, 3, 3), (N, nb, 3)
-        Body origins (a ball's center) [m], orientations [-] and centers of mass [m].
-    cs : ndarray (N, nb, 2)
-        Cosine and sine of each foot's yaw [-].
-    surface : float
-        Height of the mud surface [m].
-    low : ndarray (N, nb, 3) or None
-        Lowest points in the world [m] of the feet without a surface: every channel acts
-        there, with weight 1 and ratio 1.
-
-    Returns
-    -------
-    geometry : ChannelGeometry
-        Shapes (N, nb, ...).
-    ratio : ndarray (N, nb, 3)
-        :math:`A_c/A_c^{up}`, the upright foot at the same depth of its lowest point
-        (0 where the upright foot has no weight).
+    Lengths in the foot's yaw frame, origin at the center of mass horizontally and at the
+    mud surface vertically. ``groups``: per foot type, the triangles in the body frames (or
+    None: no surface), the prepared upright ones, the bodies' indices and whether they are
+    balls; ``X``, ``R``, ``C``: body origins (a ball's center) [m], orientations, centers of
+    mass [m]; ``cs``: each foot's yaw cosine and sine; ``surface`` [m]; ``low``: lowest
+    points [m] of the feet without a surface, where all channels act.
     """
     N, nb = X.shape[:2]
     area, ratio = np.zeros((N, nb, 3)), np.ones((N, nb, 3))
@@ -246,12 +183,7 @@ def posed_channels(
 
 
 def matvec(R: FloatArray, v: FloatArray) -> FloatArray:
-    r""":math:`R v` over the last axes, summed in a fixed order, ((R0 v0 + R1 v1) + R2 v2).
-
-    The compiled coupling sums in the same order, so both see bit-identical positions: the
-    elastic law :math:`\alpha\gamma^n` with :math:`n<1` turns a round-off difference of
-    1e-16 in a displacement into a stress difference of 1 % (D68a).
-    """
+    r""":math:`R v` over the last axes, summed in the compiled coupling's order (D68a)."""
     return (R[..., 0] * v[..., 0, None] + R[..., 1] * v[..., 1, None]) + R[..., 2] * v[..., 2, None]
 
 
@@ -264,21 +196,11 @@ def rowdot(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def foot_triangles(foot: Foot, *, resolution: int = POSE_RESOLUTION) -> FloatArray | None:
-    """Triangles of a foot in its own frame (tip at the origin, z up), shape (m, 3, 3) [m].
+    """Triangles (m, 3, 3) [m] of a foot in its own frame (tip at the origin, z up).
 
-    Parameters
-    ----------
-    foot : Foot
-        A mesh foot (its own triangles), a closed-form foot (its mesh; the flat foot's at
-        resolution 1, which is exact), the morphing foot (:func:`morphing_triangles`), or
-        any object with ``to_mesh()`` or ``triangles``.
-    resolution : int, keyword-only
-        Mesh resolution of curved closed-form feet.
-
-    Returns
-    -------
-    ndarray (m, 3, 3) or None
-        None when the foot has no surface (the coupling then acts at its lowest point).
+    A mesh foot's own, a closed-form foot's mesh at ``resolution`` (the flat foot's exact 12),
+    the morphing foot's (:func:`morphing_triangles`); None for a foot without a surface (the
+    coupling then acts at its lowest point).
     """
 
     if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):  # a MorphingFoot
@@ -292,22 +214,8 @@ def foot_triangles(foot: Foot, *, resolution: int = POSE_RESOLUTION) -> FloatArr
 
 
 def morphing_triangles(foot: MorphingFoot, *, segments: int = _SEGMENTS) -> FloatArray:
-    """The morphing foot as triangles: base disk, column wall and pads at the spread angle.
-
-    The pads are thin plates (both faces), at the pad angle the foot is drawn with
-    (``pad_corners()``: spread for the free foot, the locked angle otherwise).
-
-    Parameters
-    ----------
-    foot : MorphingFoot
-        The foot.
-    segments : int, keyword-only
-        Segments of the base disk and the column.
-
-    Returns
-    -------
-    ndarray (m, 3, 3)
-        Triangles in the foot frame [m].
+    """The morphing foot as triangles (m, 3, 3) [m]: base disk, column wall
+    and pads (thin plates) at the angle ``pad_corners()`` draws; ``segments`` around the disk.
     """
     g = foot.geometry
     a = np.linspace(0.0, 2.0 * math.pi, segments + 1)

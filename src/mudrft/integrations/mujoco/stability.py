@@ -1,11 +1,4 @@
-r"""How large a time step an explicit coupling of a foot with mud can take.
-
-The mud force on a foot linearised about a depth is a damper (the viscous part), a
-spring (the elastic part) and a second damper where the suction switch turns on;
-:func:`stability_limits` gives the explicit time-step limit of each. They explain why
-:class:`~mudrft.integrations.mujoco.MudBatch` treats the velocity-dependent part
-semi-implicitly (docs/model.md, decisions D61-D64).
-"""
+r"""Time-step limits of a foot in mud, and the coupling's checks of a model's time step."""
 
 from __future__ import annotations
 
@@ -53,21 +46,16 @@ def stability_limits(
 ) -> dict[str, float]:
     r"""Largest explicit time steps of a foot of effective mass ``mass`` in mud.
 
-    Linearising the vertical mud force about a tip at ``depth``:
-
-    * viscous part, a damper :math:`c=\eta_\infty A_z/L_c` (:math:`\eta_\infty+\eta_m`
-      for a terrain with ``thixotropy="quasi-static"``: eq. (9) from rest, decision D15):
-      explicit Euler is stable for :math:`\Delta t<2m/c` (``dt_viscous``);
-    * elastic part, a spring :math:`k=\alpha n\gamma^{n-1}A_z/L_c` (infinite at
-      :math:`\gamma\to0` for :math:`n<1`): symplectic Euler is stable for
-      :math:`\Delta t<2\sqrt{m/k}` (``dt_elastic``);
-    * suction switch, a damper :math:`c_s=\sigma_Y A_z/(2\nu L_c)` at full suction
-      (``dt_suction`` = :math:`2m/c_s`).
+    Linearising the vertical mud force about a tip at ``depth``: the viscous damper
+    :math:`c=\eta_\infty A_z/L_c` (:math:`\eta_\infty+\eta_m` for ``thixotropy="quasi-static"``,
+    D15), stable for :math:`\Delta t<2m/c`; the elastic spring
+    :math:`k=\alpha n\gamma^{n-1}A_z/L_c`, stable for :math:`\Delta t<2\sqrt{m/k}`; the
+    suction switch's damper :math:`c_s=\sigma_Y A_z/(2\nu L_c)`, stable for :math:`\Delta t<2m/c_s`.
 
     Parameters
     ----------
     foot : Foot
-        The foot (its ``projected_areas`` and ``characteristic_length``).
+        The foot.
     mud : Mud or MudTerrain
         The mud (vertical set).
     mass : float
@@ -108,25 +96,8 @@ def stability_limits(
 
 
 def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> float:
-    """Warn if the model's time step is far above those the coupling was checked at.
-
-    The passivity searches ran at 0.5-5 ms (:data:`SEARCHED_TIMESTEPS`)
-    and the biped walks at up to 10 ms; above :data:`LARGEST_TIMESTEP` a foot that settles
-    correctly at 1-10 ms sinks too deep and its force alternates from step to step (decision
-    D123): :class:`~mudrft._validation.PlausibilityWarning`, naming the time step, the range
-    checked and the advice.
-
-    Parameters
-    ----------
-    model : mujoco.MjModel
-        The model (its ``opt.timestep`` [s]).
-    checked : float or None, keyword-only
-        The time step checked last [s]; the same step again does not warn again.
-
-    Returns
-    -------
-    float
-        The time step checked [s] (a coupling checks again only when it changes).
+    """Warn if the model's time step exceeds :data:`LARGEST_TIMESTEP` (D123),
+    unless it is ``checked`` [s], the step checked last; returns the step [s].
     """
     dt = float(model.opt.timestep)
     if dt > LARGEST_TIMESTEP and dt != checked:
@@ -144,32 +115,10 @@ def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> fl
 def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None:
     r"""Warn if a spring in a foot's chain is too stiff for the model's time step.
 
-    The implicit step (D62) needs the acceleration the other forces give the foot; it
-    reads it from the last step, one step late. Where the mud's damping dominates (a foot
-    in mud), a spring of stiffness :math:`k` with a damper :math:`c` that MuJoCo integrates
-    implicitly, on a mass :math:`m`, then multiplies the foot's velocity each step by
-
-    .. math:: \lambda = rac{\gamma\Delta t-\omega^2\Delta t^2}{1+\gamma\Delta t},
-       \quad \omega^2=k/m,\ \gamma=c/m,
-
-    stable for :math:`\omega^2\Delta t^2<1+2\gamma\Delta t` (undamped: :math:`\omega\Delta
-    t<1`, half of MuJoCo's own limit without the mud). A 0.3 kg box on a 5000 N/m spring
-    (:math:`\omega=129` rad/s) stays bounded at 7.5 ms and diverges from 8 ms on; with a
-    damper of :math:`\zeta=0.3` it holds at 10 ms and diverges at 15 ms, as the bound says.
-
-    The springs are the joint stiffnesses and position actuators (``kp``, joint
-    transmission) on the degrees of freedom of each foot's chain; the dampers the joint
-    damping, and the actuators' ``kv`` under the implicit integrators; each with the
-    inverse inertia :math:`(M^{-1})_{jj}` at ``qpos0`` for :math:`1/m`. Above the bound:
-    :class:`~mudrft._validation.PlausibilityWarning`.
-
-    Parameters
-    ----------
-    model : mujoco.MjModel
-        The model (its ``opt.timestep`` [s], joint stiffness [N/m, N m/rad] and damping
-        [N s/m, N m s/rad], actuators).
-    bodies : sequence of BodyFoot
-        The coupled bodies.
+    The implicit step reads the other forces' acceleration one step late; a spring
+    :math:`\omega^2=k/m` with damping :math:`\gamma=c/m` (joint stiffness, position
+    actuators, joint damping) is then stable only for
+    :math:`\omega^2\Delta t^2<1+2\gamma\Delta t`, with :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
     """
     from ._lazy import _mujoco
 
@@ -228,9 +177,8 @@ _CHECKED = ("qpos", "qvel", "qacc")
 def diverged_error(
     i: int, kind: int, index: int, time: float, last: MudContact | None
 ) -> MudrftError:
-    """The error for robot ``i`` in whose step MuJoCo found a non-finite or huge
-    ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2; at degree of freedom ``index``) and
-    reset the state, ``time`` [s] after the coupling's reset, with the mud's last wrench."""
+    """The error for robot ``i`` whose ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2)
+    MuJoCo found bad at degree of freedom ``index`` and reset, ``time`` [s] after reset."""
     field = _CHECKED[kind]
     force = None
     if last is not None:

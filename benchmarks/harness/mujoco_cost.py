@@ -1,7 +1,6 @@
 """Cost of the mud coupling in MuJoCo: the biped with and without mud, in one run.
 
-``python -m mudrft.integrations.benchmark [--seconds S] [--json FILE]`` (or
-``benchmarks/bench_mujoco.py``) prints steps per second of
+``python benchmarks/bench_mujoco.py [--seconds S] [--json FILE]`` prints steps per second of
 the biped (``mudrft.integrations.walk``) walking
 
 * on rigid ground (a floor at the mud surface, plain ``mj_step``): the physics step;
@@ -192,7 +191,7 @@ def mujoco_overhead_ratio(
         ``steps_per_second_physics``, ``steps_per_second_mud``; ``feet``: per foot the
         same; ``batch``: per robot count the same numbers per robot; ``machine``.
     """
-    from .mujoco.backend import choose_backend
+    from mudrft.integrations.mujoco.backend import choose_backend
 
     steps = max(round(seconds / dt), 10)
     backend = choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.Flat())
