@@ -197,6 +197,7 @@ def test_force_log_gives_the_same_fit_as_stress(tmp_path, vertical_data, true_ve
         ({"starts": 0}, "starts"),
         ({"confidence_level": 1.5}, "confidence_level"),
         ({"direction": "diagonal"}, "direction"),
+        ({"direction": ""}, r"direction must be one of \['vertical', 'horizontal'\], got ''"),
         ({"fixed": dict.fromkeys(FIT_PARAMETERS, 1.0)}, "nothing to fit"),
     ],
 )

@@ -163,11 +163,46 @@ class Engine:
         hi = np.log([self.bounds[k][1] for k in names])
         x0 = np.clip(np.log([base[k] for k in names]), lo, hi)
         x0 = np.minimum(np.maximum(x0, lo + 1e-12), hi - 1e-12)
-        objective = _LogObjective(self, stage, mask, names, lin, base, hi)
+        upto = self.packed.upto(mask)
+        k = len(names)
+        last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
+        linear_at: dict[bytes, list[float]] = {}
+
+        def values_at(X: NDArray[np.float64]) -> Values:
+            """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
+            out = {p: np.full(X.shape[0], base[p]) for p in FIT_PARAMETERS}
+            out.update({p: np.exp(X[:, i]) for i, p in enumerate(names)})
+            return out
+
+        def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+            """Residuals (m,) and forward-difference Jacobian (m, k) at the log-point ``x``,
+            from one batched simulation of it and its neighbours (the last one cached)."""
+            key = x.tobytes()
+            if last and last[0][0] == key:
+                return last[0][1], last[0][2]
+            X = np.repeat(x[None, :], 1 + k, axis=0)
+            h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
+            X[1 + np.arange(k), np.arange(k)] += h
+            sim = self.packed.simulate(self.basis(values_at(X), lin), upto)
+            R = self.packed.residuals(sim, mask).reshape(-1, 1 + k, 1 + len(lin))
+            cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
+            r = cols[0][0]
+            if not np.all(np.isfinite(r)):
+                r = np.full_like(r, 1e6)
+            J = np.stack([c[0] for c in cols[1:]], axis=1)
+            J = (J - r[:, None]) / h[None, :]
+            J[~np.isfinite(J)] = 0.0
+            last[:] = [(key, r, J)]
+            linear_at[key] = cols[0][1]
+            point = {p: float(v[0]) for p, v in values_at(x[None, :]).items()}
+            point.update(zip(lin, cols[0][1], strict=True))
+            self.record(stage, 0.5 * float(r @ r), point)
+            return r, J
+
         sol = least_squares(
-            objective.residuals,
+            lambda x: evaluate(x)[0],
             x0,
-            jac=objective.jacobian,
+            jac=lambda x: evaluate(x)[1],
             bounds=(lo, hi),
             method="trf",
             x_scale=1.0,
@@ -177,10 +212,11 @@ class Engine:
             gtol=1e-10,
         )
         self.values.update(base)
-        for i, k in enumerate(names):
-            self.values[k] = float(np.exp(sol.x[i]))
+        self.values.update({p: float(np.exp(sol.x[i])) for i, p in enumerate(names)})
         if lin:
-            self.values.update(zip(lin, objective.linear_solution(sol.x), strict=True))
+            if sol.x.tobytes() not in linear_at:
+                evaluate(sol.x)
+            self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
         return float(sol.cost), sol
 
     def _solve_linear(
@@ -228,76 +264,3 @@ class Engine:
         R = self.packed.residuals(sim, mask)
         J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
         return R[:, 0], J
-
-
-class _LogObjective:
-    """Residuals and forward-difference Jacobian of one solve in log-parameters, from one
-    batched simulation of the point and its neighbours (cached for the ``jac`` call)."""
-
-    def __init__(
-        self,
-        engine: Engine,
-        stage: str,
-        mask: NDArray[np.bool_],
-        names: list[str],
-        lin: list[str],
-        base: dict[str, float],
-        hi: NDArray[np.float64],
-    ) -> None:
-        self.engine = engine
-        self.stage = stage
-        self.mask = mask
-        self.names = names
-        self.lin = lin
-        self.base = base
-        self.hi = hi
-        self.upto = engine.packed.upto(mask)
-        self._cache: tuple[bytes, NDArray[np.float64], NDArray[np.float64]] | None = None
-        self._linear_at: dict[bytes, list[float]] = {}
-
-    def values_at(self, X: NDArray[np.float64]) -> Values:
-        """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
-        B = X.shape[0]
-        out = {k: np.full(B, self.base[k]) for k in FIT_PARAMETERS}
-        for i, k in enumerate(self.names):
-            out[k] = np.exp(X[:, i])
-        return out
-
-    def evaluate(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Residuals (m,) and Jacobian (m, k) at the log-point ``x``."""
-        key = x.tobytes()
-        if self._cache is not None and self._cache[0] == key:
-            return self._cache[1], self._cache[2]
-        eng, lin, n_free = self.engine, self.lin, len(self.names)
-        X = np.repeat(x[None, :], 1 + n_free, axis=0)
-        h = np.where(x + _FD_STEP > self.hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
-        X[1 + np.arange(n_free), np.arange(n_free)] += h
-        sim = eng.packed.simulate(eng.basis(self.values_at(X), lin), self.upto)
-        R = eng.packed.residuals(sim, self.mask).reshape(-1, 1 + n_free, 1 + len(lin))
-        cols = [eng.project(R[:, i, :], lin, self.base) for i in range(1 + n_free)]
-        r = cols[0][0]
-        if not np.all(np.isfinite(r)):
-            r = np.full_like(r, 1e6)
-        J = np.stack([c[0] for c in cols[1:]], axis=1)
-        J = (J - r[:, None]) / h[None, :]
-        J[~np.isfinite(J)] = 0.0
-        self._cache = (key, r, J)
-        self._linear_at[key] = cols[0][1]
-        point = {k: float(v[0]) for k, v in self.values_at(x[None, :]).items()}
-        point.update(zip(lin, cols[0][1], strict=True))
-        eng.record(self.stage, 0.5 * float(r @ r), point)
-        return r, J
-
-    def residuals(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Weighted residuals at ``x`` (the solver's ``fun``)."""
-        return self.evaluate(x)[0]
-
-    def jacobian(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Jacobian at ``x`` (the solver's ``jac``)."""
-        return self.evaluate(x)[1]
-
-    def linear_solution(self, x: NDArray[np.float64]) -> list[float]:
-        """The projected linear parameters at ``x`` [SI]."""
-        if x.tobytes() not in self._linear_at:
-            self.evaluate(x)
-        return self._linear_at[x.tobytes()]

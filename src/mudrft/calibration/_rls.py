@@ -9,7 +9,7 @@ from types import MappingProxyType
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from .._validation import LENGTH_LIMITS, MudrftError, warn_implausible
 from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
@@ -23,8 +23,6 @@ __all__ = [
     "bank_errors",
     "filter_errors",
     "refined_argmin",
-    "rls_update",
-    "square_weighted",
 ]
 
 #: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
@@ -68,34 +66,6 @@ class OnlineEstimate(NamedTuple):
     standard_error: Mapping[str, float] = MappingProxyType({})  # read-only: one shared default
 
 
-def rls_update(
-    theta: NDArray[np.float64],
-    P: NDArray[np.float64],
-    phi: NDArray[np.float64],
-    y: ArrayLike,
-    lam: float,
-    p_max: float,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    r"""One RLS step with forgetting factor ``lam`` of a bank of filters: estimates
-    ``theta`` (..., p), covariances ``P`` (..., p, p), regressors ``phi`` (..., p) and
-    measurement ``y`` (...), all normalised [-]; the trace of ``P`` is capped at ``p_max``
-    so that directions the data do not excite cannot wind up. Returns the new ``theta``
-    and ``P`` and the cost's increment :math:`\lambda e^2/(\lambda+\phi^TP\phi)`,
-    :math:`e` the a-priori error."""
-    Pphi = np.einsum("...ij,...j->...i", P, phi)
-    denom = lam + np.einsum("...i,...i->...", phi, Pphi)
-    K = Pphi / denom[..., None]
-    err = y - np.einsum("...i,...i->...", phi, theta)
-    theta = theta + K * err[..., None]
-    P = (P - K[..., :, None] * Pphi[..., None, :]) / lam
-    P = 0.5 * (P + np.swapaxes(P, -1, -2))  # keep symmetric against round-off
-    tr = np.trace(P, axis1=-2, axis2=-1)
-    over = tr > p_max
-    if np.any(over):
-        P = P * np.where(over, p_max / tr, 1.0)[..., None, None]
-    return theta, P, lam * err * err / denom
-
-
 class Filters:
     """A bank of ``members`` forgetting RLS filters (factor ``lam``) on normalised
     quantities, starting at 1 with variances ``var0`` [-], and the discounted sums behind
@@ -111,10 +81,26 @@ class Filters:
         self.lam, self.p_max = lam, float(var0.sum())
 
     def step(self, phi: NDArray[np.float64], y: NDArray[np.float64]) -> None:
-        """One sample: regressors ``phi`` (members, p) and measurements ``y`` (members,)."""
-        self.theta, self.P, dv = rls_update(self.theta, self.P, phi, y, self.lam, self.p_max)
-        self.M = square_weighted(self.M, phi, self.lam)
-        self.cost = self.lam * self.cost + dv
+        r"""One RLS step with forgetting :math:`\lambda` on a sample: regressors ``phi``
+        (members, p) and measurements ``y`` (members,) [-]. The trace of ``P`` is capped so
+        that directions the data do not excite cannot wind up; the cost grows by
+        :math:`\lambda e^2/(\lambda+\phi^TP\phi)`, :math:`e` the a-priori error, and
+        :math:`M_k=\lambda^2M_{k-1}+\phi\phi^T`."""
+        lam, P = self.lam, self.P
+        Pphi = np.einsum("...ij,...j->...i", P, phi)
+        denom = lam + np.einsum("...i,...i->...", phi, Pphi)
+        K = Pphi / denom[..., None]
+        err = y - np.einsum("...i,...i->...", phi, self.theta)
+        self.theta = self.theta + K * err[..., None]
+        P = (P - K[..., :, None] * Pphi[..., None, :]) / lam
+        P = 0.5 * (P + np.swapaxes(P, -1, -2))  # keep symmetric against round-off
+        tr = np.trace(P, axis1=-2, axis2=-1)
+        over = tr > self.p_max
+        if np.any(over):
+            P = P * np.where(over, self.p_max / tr, 1.0)[..., None, None]
+        self.P = P
+        self.M = lam * lam * self.M + phi[..., :, None] * phi[..., None, :]
+        self.cost = lam * self.cost + lam * err * err / denom
         self.weight = self.lam * self.weight + 1.0
         self.weight2 = self.lam**2 * self.weight2 + 1.0
         self.count += 1
@@ -131,20 +117,11 @@ def refined_argmin(e: NDArray[np.float64]) -> float:
     return float(i)
 
 
-def square_weighted(
-    M: NDArray[np.float64], phi: NDArray[np.float64], lam: float
-) -> NDArray[np.float64]:
-    r"""``M`` advanced by one sample: :math:`M_k=\lambda^2M_{k-1}+\phi\phi^T`, the
-    regressors' outer products weighted by the squared forgetting weights (shapes as
-    :func:`rls_update`'s ``P`` and ``phi``) [-]."""
-    return lam * lam * M + phi[..., :, None] * phi[..., None, :]
-
-
 def filter_errors(
     P: NDArray[np.float64], M: NDArray[np.float64], cost: float, weight: float
 ) -> NDArray[np.float64]:
     r"""Standard errors [-] of one filter's estimates: the sandwich :math:`s^2PMP` of a
-    weighted least-squares estimate (``M`` from :func:`square_weighted`), with
+    weighted least-squares estimate (``M`` from :meth:`Filters.step`), with
     :math:`s^2=V/(w-p)` from the discounted ``cost`` :math:`V` and count ``weight``
     :math:`w` (decision D138); ``inf`` while :math:`w\le p`."""
     p = P.shape[-1]

@@ -15,6 +15,7 @@ from .._validation import MudrftError, check_characteristic_length, check_choice
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset
+from ..io._build import DIRECTIONS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
@@ -142,7 +143,7 @@ def classify(
     """
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
-    d = check_choice("direction", direction or dataset.direction, ("vertical", "horizontal"))
+    d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
     cands, labs = _candidates(candidates, labels, water_contents, d)
     packed, sim = _simulate(dataset, cands)
     mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))

@@ -443,14 +443,7 @@ class FitResult:
             matrix = data["correlation"]["matrix"]
             corr = np.array([[np.nan if c is None else c for c in row] for row in matrix], float)
             stages = tuple(
-                StageReport(
-                    s["name"],
-                    tuple(s["free"]),
-                    int(s["simulations"]),
-                    float(s["cost"]),
-                    float(s["seconds"]),
-                    s.get("message", ""),
-                )
+                StageReport(**{**s, "free": tuple(s["free"]), "cost": f(s["cost"])})
                 for s in data.get("stages", [])
             )
             return cls(

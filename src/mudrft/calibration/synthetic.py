@@ -23,6 +23,7 @@ from .._validation import (
     positive_number,
 )
 from ..io import IntrusionDataset, Trial, load_intrusion_csv, save_intrusion_csv
+from ..io._build import DIRECTIONS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH, plate_response
@@ -144,8 +145,8 @@ def synthetic_dataset(
         for name, v, u in (("stress_noise", stress_noise, "Pa"), ("depth_noise", depth_noise, "m"))
     )
     offset = check_number("offset", offset, unit="Pa")
-    d = direction or params.direction or "vertical"
-    check_choice("direction", d, ("vertical", "horizontal"))
+    default = params.direction or "vertical"
+    d = check_choice("direction", default if direction is None else direction, DIRECTIONS)
     lab = nonnegative_number("approach", approach, unit="m") > 0 or (
         nonnegative_number("tare", tare, unit="s") > 0
     )
@@ -258,7 +259,7 @@ def example_dataset(
     >>> ds.synthetic, len(ds)
     (True, 3)
     """
-    check_choice("direction", direction, ("vertical", "horizontal"))
+    check_choice("direction", direction, DIRECTIONS)
     key = (direction, float(water_content))
     if key not in EXAMPLE_FILES:
         raise MudrftError(
