@@ -127,14 +127,6 @@ def _main_thread() -> bool:
     return threading.current_thread() is threading.main_thread()
 
 
-def _deliver(exc_type: type[BaseException]) -> None:
-    """Raise ``exc_type`` now, or once the outputs' bookkeeping is consistent again."""
-    if _Signals.held:
-        _Signals.pending = _Signals.pending or exc_type
-    else:
-        raise exc_type
-
-
 @contextmanager
 def signals_as_exceptions() -> Iterator[None]:
     """While a command runs, SIGTERM raises :class:`Terminated` and SIGINT
@@ -145,19 +137,21 @@ def signals_as_exceptions() -> Iterator[None]:
         yield
         return
 
-    def terminate(signum: int, frame: object) -> None:
-        _deliver(Terminated)
-
-    def interrupt(signum: int, frame: object) -> None:
-        _deliver(KeyboardInterrupt)
+    def deliver(signum: int, frame: object) -> None:
+        """Raise now, or once the outputs' bookkeeping is consistent again."""
+        exc_type = Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+        if _Signals.held:
+            _Signals.pending = _Signals.pending or exc_type
+        else:
+            raise exc_type
 
     mine: list[Outputs] = []
     _Signals.commands.append(mine)
     previous: dict[int, Any] = {}
-    for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
+    for signum in (signal.SIGTERM, signal.SIGINT):
         # a background job starts with SIGINT ignored: kept so, as Python itself does
         if signal.getsignal(signum) is not signal.SIG_IGN:
-            previous[signum] = signal.signal(signum, handler)
+            previous[signum] = signal.signal(signum, deliver)
     try:
         yield
     finally:
