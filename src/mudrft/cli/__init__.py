@@ -59,12 +59,16 @@ class _CommandLines(logging.Formatter):
     def __init__(self, prog: str) -> None:
         super().__init__("%(message)s")
         self.prog = prog
+        self.warned: list[str] = []
 
     def format(self, record: logging.LogRecord) -> str:
         text = super().format(record)
-        if record.levelno >= logging.WARNING and not text.startswith(f"{self.prog}: "):
-            return f"{self.prog}: warning: {_plain(text)}"
-        return text
+        if record.levelno < logging.WARNING:
+            return text
+        self.warned.append(_plain(record.getMessage()).removeprefix(f"{self.prog}: warning: "))
+        return (
+            text if text.startswith(f"{self.prog}: ") else f"{self.prog}: warning: {_plain(text)}"
+        )
 
 
 @contextmanager
@@ -78,27 +82,20 @@ def _command_logging(quiet: bool, prog: str) -> Iterator[list[str]]:
     logger.propagate = False
     handler = enable_stderr_logging(logging.WARNING if quiet else logging.INFO)
     old_format = handler.formatter
-    handler.setFormatter(_CommandLines(prog))
+    lines = _CommandLines(prog)
+    handler.setFormatter(lines)
     old_stream = None
     if isinstance(handler, logging.StreamHandler):
         old_stream = handler.setStream(sys.stderr)  # None if it already writes there
-    warned: list[str] = []
-
-    class Record(logging.Handler):
-        def emit(self, record: logging.LogRecord) -> None:
-            warned.append(_plain(record.getMessage()).removeprefix(f"{prog}: warning: "))
 
     def show(message: Warning | str, *args: object, **kwargs: object) -> None:
         logger.warning("%s: warning: %s", prog, _plain(str(message)))
 
-    recorder = Record(logging.WARNING)
     try:
         with warnings.catch_warnings():
             warnings.showwarning = show
-            logger.addHandler(recorder)
-            yield warned
+            yield lines.warned
     finally:
-        logger.removeHandler(recorder)
         handler.flush()
         handler.setFormatter(old_format)
         if not had:

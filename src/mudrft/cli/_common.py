@@ -83,20 +83,18 @@ def check_finite_option(option: str, value: float, *, unit: str = "") -> float:
     return float(value)
 
 
-def check_positive_option(option: str, value: float, *, unit: str = "") -> float:
-    """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0."""
+def check_positive_option(option: str, value: float, *, unit: str = "", ge: bool = False) -> float:
+    """Return ``value`` as a float; raise naming ``option`` unless it is finite and > 0
+    (``ge``: >= 0)."""
     v = check_finite_option(option, value, unit=unit)
-    if not v > 0:
-        raise MudrftError(f"{option} must be > 0{' ' + unit if unit else ''}, got {v:g}")
+    if not (v >= 0 if ge else v > 0):
+        raise MudrftError(f"{option} must be {'>=' if ge else '>'} 0{' ' + unit if unit else ''}, got {v:g}")  # fmt: skip
     return v
 
 
 def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
     """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
-    v = check_finite_option(option, value, unit=unit)
-    if not v >= 0:
-        raise MudrftError(f"{option} must be >= 0{' ' + unit if unit else ''}, got {v:g}")
-    return v
+    return check_positive_option(option, value, unit=unit, ge=True)
 
 
 def same_file(a: str | Path, b: str | Path) -> bool:
@@ -105,12 +103,6 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return Path(a).resolve() == Path(b).resolve()
     except (OSError, RuntimeError):  # unresolvable (3.11 raises RuntimeError on a link loop)
         return False
-
-
-def _check_named(option: str, path: str | Path, expected: str) -> None:
-    """Refuse an empty name: ``--out "$UNSET"`` would write in the current directory."""
-    if not os.fspath(path):
-        raise MudrftError(f"{option}: expected {expected}, got an empty string")
 
 
 def _cannot_write(option: str, final: Path, exc: OSError) -> MudrftError:
@@ -135,14 +127,6 @@ def _main_thread() -> bool:
     return threading.current_thread() is threading.main_thread()
 
 
-def _deliver(exc_type: type[BaseException]) -> None:
-    """Raise ``exc_type`` now, or once the outputs' bookkeeping is consistent again."""
-    if _Signals.held:
-        _Signals.pending = _Signals.pending or exc_type
-    else:
-        raise exc_type
-
-
 @contextmanager
 def signals_as_exceptions() -> Iterator[None]:
     """While a command runs, SIGTERM raises :class:`Terminated` and SIGINT
@@ -153,19 +137,21 @@ def signals_as_exceptions() -> Iterator[None]:
         yield
         return
 
-    def terminate(signum: int, frame: object) -> None:
-        _deliver(Terminated)
-
-    def interrupt(signum: int, frame: object) -> None:
-        _deliver(KeyboardInterrupt)
+    def deliver(signum: int, frame: object) -> None:
+        """Raise now, or once the outputs' bookkeeping is consistent again."""
+        exc_type = Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+        if _Signals.held:
+            _Signals.pending = _Signals.pending or exc_type
+        else:
+            raise exc_type
 
     mine: list[Outputs] = []
     _Signals.commands.append(mine)
     previous: dict[int, Any] = {}
-    for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
+    for signum in (signal.SIGTERM, signal.SIGINT):
         # a background job starts with SIGINT ignored: kept so, as Python itself does
         if signal.getsignal(signum) is not signal.SIG_IGN:
-            previous[signum] = signal.signal(signum, handler)
+            previous[signum] = signal.signal(signum, deliver)
     try:
         yield
     finally:
@@ -235,7 +221,8 @@ class Outputs:
     def file(self, option: str, path: str | Path) -> Path:
         """Register the output file ``path`` of ``option`` (its directory must exist);
         return the name to write to, with ``path``'s own name (and suffix)."""
-        _check_named(option, path, "a file name")
+        if not os.fspath(path):  # ``--out "$UNSET"`` would write in the current directory
+            raise MudrftError(f"{option}: expected a file name, got an empty string")
         final = regular_target(path, option)
         self._check_parents(option, final)
         if not final.parent.is_dir():
@@ -256,7 +243,8 @@ class Outputs:
     def directory(self, option: str, path: str | Path, names: Iterable[str]) -> Path:
         """Register the output directory ``path`` (created with its parents if missing)
         where the command may write ``names``; return a staging directory to write in."""
-        _check_named(option, path, "a directory name")
+        if not os.fspath(path):
+            raise MudrftError(f"{option}: expected a directory name, got an empty string")
         final = Path(path)
         self._check_parents(option, final)
         if final.exists() and not final.is_dir():

@@ -148,27 +148,27 @@ def terrains_from_options(
         RigidGround,
     )
 
-    given = _media(args)
     extrapolate = bool(getattr(args, "extrapolate", False))
-    plain = {"linear": LinearStiffness, "maxwell": MaxwellMud, "rigid": RigidGround}
+    baselines = {
+        "granular-rft": GranularRFT,
+        "granular-rft3d": GranularRFT3D,
+        "linear": LinearStiffness,
+        "maxwell": MaxwellMud,
+        "rigid": RigidGround,
+    }
     out: dict[str, Terrain] = {}
     for name in terrain_names(args, value, option):
         if name == "mud":
             out[name] = MudTerrain(
                 mud if mud is not None else paper_mud(water_content, extrapolate=extrapolate)
             )
-        elif name == "granular-rft":
-            zeta = given["--zeta"]
-            out[name] = GranularRFT() if zeta is None else GranularRFT(zeta=float(zeta))
-        elif name == "granular-rft3d":
-            d = GranularRFT3D
-            out[name] = GranularRFT3D(
-                rho_c=d.rho_c if given["--rho-c"] is None else float(given["--rho-c"]),
-                mu_int=d.mu_int if given["--mu-int"] is None else float(given["--mu-int"]),
-                mu_surf=d.mu_surf if given["--mu-surf"] is None else float(given["--mu-surf"]),
-            )
-        else:
-            out[name] = plain[name]()
+        else:  # the media options given for this terrain, as its keywords
+            kw = {
+                o[2:].replace("-", "_"): float(v)
+                for o, v in _media(args).items()
+                if v is not None and MEDIUM_OPTIONS[o][0] == name
+            }
+            out[name] = baselines[name](**kw)
     return out
 
 

@@ -53,6 +53,15 @@ def _value(ds: xr.Dataset, name: str, v: object) -> str:
     return f"{name} = {text} {_unit(ds, name)}".rstrip()
 
 
+def _panels(plt: ModuleType, n: int, values: np.ndarray) -> tuple[Figure, Any, tuple[float, float]]:
+    """A row of ``n`` panels, and the colour range of the finite ``values``."""
+    fig, axes = plt.subplots(
+        1, n, figsize=(3.6 * n + 1.2, 3.4), squeeze=False, layout="constrained"
+    )
+    finite = values[np.isfinite(values)]
+    return fig, axes, ((finite.min(), finite.max()) if finite.size else (0.0, 1.0))
+
+
 def _positions(values: np.ndarray) -> tuple[np.ndarray, list[str] | None]:
     if values.dtype.kind in "fiu":
         return values.astype(float), None
@@ -112,11 +121,7 @@ def plot_maps(
         held[key] = value
     da = ds[metric].sel(held) if held else ds[metric]
     values = list(ds[panels].values) if panels else [None]
-    fig, axes = plt.subplots(
-        1, len(values), figsize=(3.6 * len(values) + 1.2, 3.4), squeeze=False, layout="constrained"
-    )
-    finite = da.values[np.isfinite(da.values)]
-    vmin, vmax = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
+    fig, axes, (vmin, vmax) = _panels(plt, len(values), da.values)
     px, xt = _positions(ds[x].values)
     mesh = None
     for ax, v in zip(axes[0], values, strict=True):
@@ -156,11 +161,7 @@ def _sample_maps(
             (f"{panels} in [{lo:.3g}, {hi:.3g}]", (p >= lo) & (p <= hi if k == 2 else p < hi))
             for k, (lo, hi) in enumerate(pairwise(edges))
         ]
-    fig, axes = plt.subplots(
-        1, len(groups), figsize=(3.6 * len(groups) + 1.2, 3.4), squeeze=False, layout="constrained"
-    )
-    finite = m[np.isfinite(m)]
-    vmin, vmax = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
+    fig, axes, (vmin, vmax) = _panels(plt, len(groups), m)
     sc = None
     for ax, (title, mask) in zip(axes[0], groups, strict=True):
         xv = ds[x].values[mask]

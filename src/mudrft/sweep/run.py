@@ -60,15 +60,6 @@ _MAIN_GUARD = (
 )
 
 
-def _check_not_bootstrapping() -> None:
-    """Refuse a sweep started while a spawned worker imports its parent's main script."""
-    if getattr(multiprocessing.current_process(), "_inheriting", False):
-        raise MudrftError(
-            "mudrft.sweep was called while a new worker process was importing the script "
-            f"that started it: {_MAIN_GUARD}"
-        )
-
-
 @contextmanager
 def _client(
     client: distributed.Client | None, scheduler: str | None, workers: int | None
@@ -115,9 +106,8 @@ def _run_serial(
     *,
     cpus: int | None = None,
 ) -> list[int]:
-    """Run ``pending`` chunks here, in order; return those left to a cluster: with
-    ``cpus``, once the time left at the last chunk's rate (not the first's, which warms
-    up) is over ``CLUSTER_START_S * cpus / (cpus - 1)``."""
+    """Run ``pending`` chunks here; with ``cpus``, return the rest once they would take
+    longer than ``CLUSTER_START_S * cpus / (cpus - 1)`` at the last chunk's rate."""
     for k, i in enumerate(pending):
         result = evaluate_chunk(context, spec.chunk_points(i))
         done(i, result)
@@ -218,7 +208,11 @@ def run_sweep(
         store of another spec or without its metadata, a missing optional package, or a
         local cluster whose workers do not start.
     """
-    _check_not_bootstrapping()
+    if getattr(multiprocessing.current_process(), "_inheriting", False):  # a spawned worker
+        raise MudrftError(
+            "mudrft.sweep was called while a new worker process was importing the script "
+            f"that started it: {_MAIN_GUARD}"
+        )
     spec = load_spec(spec)
     for module in ("xarray", "zarr", "dask"):
         _require(module)
@@ -232,7 +226,21 @@ def run_sweep(
         raise MudrftError("workers (CLI: --workers) sets the size of a local cluster; it cannot go with client or scheduler (--scheduler)")  # fmt: skip
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
         raise MudrftError(f"workers (CLI: --workers) must be an integer >= 1, got {workers!r}")
-    _check_options(store, client, resume=resume, overwrite=overwrite, progress=progress)
+    for name, flag in (("resume", resume), ("overwrite", overwrite)):
+        if not isinstance(flag, bool):
+            raise MudrftError(f"{name} must be True or False, got {flag!r}")
+    if not (isinstance(progress, bool) or progress is None or callable(progress)):
+        raise MudrftError(f"progress must be True, False or a callable f(fraction), got {progress!r}")  # fmt: skip
+    if isinstance(store, str | os.PathLike):
+        if not os.fspath(store):
+            raise MudrftError("store must be the path of a .zarr directory, got an empty string")
+    elif store is not None:
+        from zarr.abc.store import Store
+
+        if not isinstance(store, Store):
+            raise MudrftError(f"store must be the path of a .zarr directory, a zarr store or None, got {type(store).__name__}: {store!r}")  # fmt: skip
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise MudrftError(f"client must be a distributed.Client, got {type(client).__name__}: {client!r}")  # fmt: skip
     group, pending, created = _prepare(store, spec, resume=resume, overwrite=overwrite)
     report = make_progress(progress, "sweep")
     n_done = spec.n_points - sum(math.prod(spec.chunk_shape(i)) for i in pending)
@@ -284,26 +292,6 @@ def run_sweep(
         )  # fmt: skip
         warnings.warn(f"{head}; the first error: {first}", SweepWarning, stacklevel=2)
     return ds
-
-
-def _check_options(store: object, client: object, **flags: object) -> None:
-    """The options zarr or Dask would fail on deep inside (or take silently), named."""
-    for name in ("resume", "overwrite"):
-        if not isinstance(flags[name], bool):
-            raise MudrftError(f"{name} must be True or False, got {flags[name]!r}")
-    progress = flags["progress"]
-    if not (isinstance(progress, bool) or progress is None or callable(progress)):
-        raise MudrftError(f"progress must be True, False or a callable f(fraction), got {progress!r}")  # fmt: skip
-    if isinstance(store, str | os.PathLike):
-        if not os.fspath(store):
-            raise MudrftError("store must be the path of a .zarr directory, got an empty string")
-    elif store is not None:
-        from zarr.abc.store import Store
-
-        if not isinstance(store, Store):
-            raise MudrftError(f"store must be the path of a .zarr directory, a zarr store or None, got {type(store).__name__}: {store!r}")  # fmt: skip
-    if client is not None and not callable(getattr(client, "submit", None)):
-        raise MudrftError(f"client must be a distributed.Client, got {type(client).__name__}: {client!r}")  # fmt: skip
 
 
 def _prepare(

@@ -236,7 +236,14 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
     motion_kind = motion.pop("kind", "gait")
     if motion_kind not in MOTION_KINDS:
         raise MudrftError(f"[motion] kind must be one of {', '.join(MOTION_KINDS)}, got {motion_kind!r}")  # fmt: skip
-    metrics = _metrics(opts.metrics, motion_kind, "[sweep] metrics") or tuple(METRICS[motion_kind])
+    known = tuple(METRICS[motion_kind])
+    chosen = [opts.metrics] if isinstance(opts.metrics, str) else opts.metrics or []
+    for v in chosen:
+        if v not in known:
+            raise MudrftError(f"[sweep] metrics: unknown metric {v!r} for motion {motion_kind!r}; expected {', '.join(known)}")  # fmt: skip
+    if len(set(chosen)) != len(chosen):
+        raise MudrftError(f"[sweep] metrics lists a metric twice: {opts.metrics!r}")
+    metrics = tuple(chosen) or known
 
     fixed: dict[str, Any] = {}
     axes: list[Axis] = []
@@ -288,19 +295,6 @@ def _resolve(data: dict[str, Any], *, text: str, where: str, base: Path) -> Swee
             f"split it into several sweeps"
         )
     return spec
-
-
-def _metrics(value: list[str] | str | None, motion: str, where: str) -> tuple[str, ...]:
-    if value is None:
-        return ()
-    names = [value] if isinstance(value, str) else value
-    known = tuple(METRICS[motion])
-    for v in names:
-        if v not in known:
-            raise MudrftError(f"{where}: unknown metric {v!r} for motion {motion!r}; expected {', '.join(known)}")  # fmt: skip
-    if len(set(names)) != len(names):
-        raise MudrftError(f"{where} lists a metric twice: {value!r}")
-    return tuple(names)
 
 
 def _foot_kind(
