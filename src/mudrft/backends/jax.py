@@ -47,13 +47,7 @@ from ._jax_base import (
     safe_namespace,
     to_jax,
 )
-from .jax_terrain import (
-    TerrainState,
-    initial_terrain_state,
-    mud_constants,
-    simulate,
-    terrain_step,
-)
+from .jax_terrain import TerrainState, initial_terrain_state, mud_constants, simulate, terrain_step
 
 if TYPE_CHECKING:
     from jax import Array

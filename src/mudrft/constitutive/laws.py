@@ -170,11 +170,7 @@ def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -
 
 
 def thixotropic_steady(
-    gamma_dot: XpArray,
-    eta_inf: XpArray,
-    eta_m: XpArray,
-    gamma_dot_c: XpArray,
-    xp: Namespace = np,
+    gamma_dot: XpArray, eta_inf: XpArray, eta_m: XpArray, gamma_dot_c: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""Steady thixotropic stress, eq. (4) [Pa].
 

@@ -253,8 +253,4 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
 
         return jax.tree_util.tree_map(pick, new, fresh)
 
-    return {
-        "reset": jit(jax.vmap(reset_one)),
-        "step": jit(jax.vmap(step_one)),
-        "merge": jit(merge),
-    }
+    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}

@@ -13,13 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._typing import FloatOrArray
-from .._validation import (
-    MudrftError,
-    check_broadcast,
-    check_finite,
-    check_number,
-    check_positive,
-)
+from .._validation import MudrftError, check_broadcast, check_finite, check_number, check_positive
 
 __all__ = ["PARAMETER_UNITS", "POSITIVE_FIELDS", "Mud", "MudParameters"]
 
