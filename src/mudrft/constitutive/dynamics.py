@@ -27,14 +27,8 @@ from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
 
 __all__ = [
-    "CLOCKS",
-    "THIXOTROPY",
-    "ChannelHistory",
-    "check_parameter_shapes",
-    "evaluation",
-    "run",
-    "step",
-]
+    "CLOCKS", "THIXOTROPY", "ChannelHistory", "check_parameter_shapes", "evaluation", "run", "step",
+]  # fmt: skip
 
 #: Evaluations of the thixotropy and suction (decision D15).
 THIXOTROPY = ("ode", "quasi-static")

@@ -19,14 +19,9 @@ from . import laws
 from .state import ChannelState, ChannelStress
 
 __all__ = [
-    "ChannelConstants",
-    "channel_constants",
-    "channel_step",
-    "channel_update",
-    "channel_update_quasi_static",
-    "expm1_over_x",
-    "relaxation_convolution",
-]
+    "ChannelConstants", "channel_constants", "channel_step", "channel_update",
+    "channel_update_quasi_static", "expm1_over_x", "relaxation_convolution",
+]  # fmt: skip
 
 
 class ChannelConstants(NamedTuple):

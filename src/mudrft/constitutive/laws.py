@@ -18,23 +18,10 @@ import numpy as np
 from .._typing import Namespace, XpArray
 
 __all__ = [
-    "bed_contact",
-    "elastic_stress",
-    "f_n",
-    "f_n_extended",
-    "f_t",
-    "f_t_extended",
-    "sealing",
-    "sealing_printed",
-    "suction_rate",
-    "suction_steady",
-    "suction_steady_at_rate",
-    "switch",
-    "tau_xi",
-    "thixotropic_steady",
-    "xi_steady",
-    "yield_stress",
-]
+    "bed_contact", "elastic_stress", "f_n", "f_n_extended", "f_t", "f_t_extended", "sealing",
+    "sealing_printed", "suction_rate", "suction_steady", "suction_steady_at_rate", "switch",
+    "tau_xi", "thixotropic_steady", "xi_steady", "yield_stress",
+]  # fmt: skip
 
 
 def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = np) -> XpArray:
