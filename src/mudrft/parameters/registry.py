@@ -101,12 +101,9 @@ def _interpolate(direction: str, w: float) -> dict[str, float]:
 
 
 def paper_parameters(
-    water_content: float = 0.25,
-    direction: str = "vertical",
-    *,
-    extrapolate: bool = False,
+    water_content: float = 0.25, direction: str = "vertical", *, extrapolate: bool = False,
     labels: str = "table",
-) -> MudParameters:
+) -> MudParameters:  # fmt: skip
     """One parameter set of Chen et al. (2026), converted to SI.
 
     Parameters
