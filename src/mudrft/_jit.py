@@ -73,14 +73,10 @@ _registered: set[Any] = set()
 _SOURCES: dict[Any, tuple[str, ...]] = {}
 
 
+@functools.cache
 def jit(entry: Callable[..., Any], *, parallel: bool = False, cache: bool = True) -> Any:
     """``entry``, a driver on floats and float arrays, compiled by numba on first call;
     ``parallel`` compiles ``numba.prange`` loops multi-threaded, ``cache`` caches on disk."""
-    return _jit(entry, parallel, cache)
-
-
-@functools.cache
-def _jit(entry: Callable[..., Any], parallel: bool, cache: bool) -> Any:
     numba = _numba()
     from numba.extending import register_jitable
 

@@ -188,11 +188,11 @@ def format_bytes(nbytes: float) -> str:
     ('969 GiB', '512 B')
     """
     n = float(nbytes)
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
-        if n < 1024 or unit == "PiB":
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if n < 1024:
             return f"{n:.3g} {unit}"
         n /= 1024
-    raise AssertionError("unreachable")  # pragma: no cover
+    return f"{n:.3g} PiB"
 
 
 def memory_limit() -> float:
@@ -308,10 +308,8 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
     """
     out = {k: check_length(k, v) for k, v in sizes.items()}
     name = max(out, key=out.__getitem__)
-    label, hint = (
-        f"{what}: its largest dimension, {name}, is",
-        "sizes are in metres (45 mm is 0.045)",
-    )
+    label = f"{what}: its largest dimension, {name}, is"
+    hint = "sizes are in metres (45 mm is 0.045)"
     warn_implausible(label, out[name], PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return out
 

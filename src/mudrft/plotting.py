@@ -50,17 +50,15 @@ def plot_plate(result: Any, ax: AxesArg = None) -> Figure:
     caller's axes ``ax``."""
     fig, a0, a1 = _two_panels(ax)
     a0.plot(result.time, result.stress / 1e3, "k", lw=1.6, label=r"$\sigma_{tot}$")
-    a0.plot(result.time, result.elastic / 1e3, "--", lw=1, label=r"$\sigma_b$")
-    a0.plot(result.time, result.thixotropic / 1e3, "--", lw=1, label=r"$\sigma_{th}$")
-    a0.plot(result.time, result.suction / 1e3, "--", lw=1, label=r"$H_\nu\sigma_s$")
+    for term, label in (("elastic", r"$\sigma_b$"), ("thixotropic", r"$\sigma_{th}$"),
+                        ("suction", r"$H_\nu\sigma_s$")):  # fmt: skip
+        a0.plot(result.time, getattr(result, term) / 1e3, "--", lw=1, label=label)
     a0.axhline(0, color="0.7", lw=0.6)
-    a0.set_xlabel("time [s]")
-    a0.set_ylabel("stress [kPa]")
+    a0.set(xlabel="time [s]", ylabel="stress [kPa]")
     a0.legend(fontsize=8, ncol=2)
     a1.plot(result.displacement * 1e3, result.stress / 1e3, "k", lw=1.4)
     a1.axhline(0, color="0.7", lw=0.6)
-    a1.set_xlabel("intrusion displacement [mm]")
-    a1.set_ylabel("stress [kPa]")
+    a1.set(xlabel="intrusion displacement [mm]", ylabel="stress [kPa]")
     return fig
 
 
@@ -71,12 +69,10 @@ def plot_result(result: Any, axes: AxesArg = None) -> Figure:
     for i, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
         a0.plot(result.time, result.force[:, i], lw=1.3, label=lab)
     a0.axhline(0, color="0.7", lw=0.6)
-    a0.set_xlabel("time [s]")
-    a0.set_ylabel("force [N]")
+    a0.set(xlabel="time [s]", ylabel="force [N]")
     a0.legend(fontsize=8)
     a0.set_title(f"{result.foot} in {result.terrain}", fontsize=9)
     a1.plot(result.depth * 1e3, result.force[:, 2], "k", lw=1.3)
     a1.axhline(0, color="0.7", lw=0.6)
-    a1.set_xlabel("tip depth [mm]")
-    a1.set_ylabel("$F_z$ [N]")
+    a1.set(xlabel="tip depth [mm]", ylabel="$F_z$ [N]")
     return fig

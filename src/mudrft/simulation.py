@@ -285,9 +285,7 @@ def simulate(
             f"trajectory must be a Trajectory (mudrft.gait, mudrft.plate_intrusion) or a LoadControl, "
             f"got {type(trajectory).__name__}"
         )
-    tr = (
-        _resample(trajectory, positive_number("dt", dt, unit="s")) if dt is not None else trajectory
-    )
+    tr = trajectory if dt is None else _resample(trajectory, positive_number("dt", dt, unit="s"))
     how = f"{tr.name}: the tip goes"
     check_unburied(foot.name, foot.height, float(tr.depth.max()), how=how, strict=strict)
     n = len(tr)

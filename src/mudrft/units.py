@@ -7,12 +7,9 @@ import re
 
 from ._validation import MudrftError
 
-__all__ = ["KPA", "MM", "MPA", "MS", "SCALE", "parse_quantity", "parse_unit", "to_si"]
+__all__ = ["MPA", "SCALE", "parse_quantity", "parse_unit", "to_si"]
 
 MPA = 1.0e6  #: 1 MPa in Pa
-KPA = 1.0e3  #: 1 kPa in Pa
-MM = 1.0e-3  #: 1 mm in m
-MS = 1.0e-3  #: 1 ms in s
 
 #: Factor that converts a value in the given unit to SI, grouped by quantity.
 SCALE: dict[str, dict[str, float]] = {

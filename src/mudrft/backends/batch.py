@@ -21,13 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._typing import FloatOrArray
-from .._validation import (
-    MudrftError,
-    check_choice,
-    check_finite,
-    check_memory,
-    positive_number,
-)
+from .._validation import MudrftError, check_choice, check_finite, check_memory, positive_number
 from ..feet.base import Foot
 from ..parameters.base import Mud, MudParameters
 from ..terrains import MudTerrain, channel_parameters

@@ -47,13 +47,7 @@ from ._jax_base import (
     safe_namespace,
     to_jax,
 )
-from .jax_terrain import (
-    TerrainState,
-    initial_terrain_state,
-    mud_constants,
-    simulate,
-    terrain_step,
-)
+from .jax_terrain import TerrainState, initial_terrain_state, mud_constants, simulate, terrain_step
 
 if TYPE_CHECKING:
     from jax import Array
@@ -132,17 +126,6 @@ def _check_state(state: ChannelState, made_by: str) -> None:
         raise MudrftError(f"state must be a ChannelState ({made_by}), got {type(state).__name__}")
 
 
-def _check_concrete(gamma: object, gamma_dot: object, dt: object, seal: object) -> None:
-    """The checks of :func:`mudrft.constitutive.step` on the concrete inputs."""
-    for name, value in (("gamma", gamma), ("gamma_dot", gamma_dot)):
-        if not is_tracer(value):
-            check_finite(name, value)
-    if not is_tracer(dt):
-        check_positive("dt", dt, unit="s")
-    if not is_tracer(seal):
-        check_in_range("seal", seal, 0.0, 1.0)
-
-
 def step(
     params: JaxParams, state: ChannelState, gamma: JaxArrayLike, gamma_dot: JaxArrayLike,
     dt: JaxArrayLike, *, seal: JaxArrayLike = 1.0, acceleration: bool | None = None,
@@ -160,7 +143,13 @@ def step(
     """
     check_params(params)
     _check_state(state, "initial_state(...)")
-    _check_concrete(gamma, gamma_dot, dt, seal)
+    for name, value in (("gamma", gamma), ("gamma_dot", gamma_dot)):
+        if not is_tracer(value):
+            check_finite(name, value)
+    if not is_tracer(dt):
+        check_positive("dt", dt, unit="s")
+    if not is_tracer(seal):
+        check_in_range("seal", seal, 0.0, 1.0)
     return _compiled()["step"](  # type: ignore[no-any-return]
         params, state, gamma, gamma_dot, dt, seal, acceleration, thixotropy, clock
     )

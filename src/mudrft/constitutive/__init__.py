@@ -14,18 +14,7 @@ from .kernel import ChannelConstants, channel_constants, channel_update
 from .state import ChannelState, ChannelStress, initial_state
 
 __all__ = [
-    "ChannelConstants",
-    "ChannelHistory",
-    "ChannelState",
-    "ChannelStress",
-    "channel_constants",
-    "channel_update",
-    "initial_state",
-    "laws",
-    "run",
-    "step",
-    "suction_closed_form",
-    "thixotropic_approx",
-    "thixotropic_exact",
-    "xi_exact",
-]
+    "ChannelConstants", "ChannelHistory", "ChannelState", "ChannelStress", "channel_constants",
+    "channel_update", "initial_state", "laws", "run", "step", "suction_closed_form",
+    "thixotropic_approx", "thixotropic_exact", "xi_exact",
+]  # fmt: skip

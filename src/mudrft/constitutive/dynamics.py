@@ -27,14 +27,8 @@ from . import kernel
 from .state import ChannelState, ChannelStress, initial_state
 
 __all__ = [
-    "CLOCKS",
-    "THIXOTROPY",
-    "ChannelHistory",
-    "check_parameter_shapes",
-    "evaluation",
-    "run",
-    "step",
-]
+    "CLOCKS", "THIXOTROPY", "ChannelHistory", "check_parameter_shapes", "evaluation", "run", "step",
+]  # fmt: skip
 
 #: Evaluations of the thixotropy and suction (decision D15).
 THIXOTROPY = ("ode", "quasi-static")
@@ -88,19 +82,10 @@ def evaluation(
 
 
 def step(
-    params: MudParameters,
-    state: ChannelState,
-    gamma: XpArray,
-    gamma_dot: XpArray,
-    dt: XpArray,
-    *,
-    seal: XpArray = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-    xp: Namespace = np,
-    validate: bool = True,
-) -> tuple[ChannelState, ChannelStress]:
+    params: MudParameters, state: ChannelState, gamma: XpArray, gamma_dot: XpArray, dt: XpArray, *,
+    seal: XpArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
+    clock: str = "contact", xp: Namespace = np, validate: bool = True,
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""Advance one stress channel by ``dt`` at a rate held constant over the step.
 
     Parameters
@@ -222,17 +207,10 @@ def check_parameter_shapes(shapes: dict[str, tuple[int, ...]], sample: tuple[int
 
 
 def run(
-    params: MudParameters,
-    time: ArrayLike,
-    gamma: ArrayLike,
-    *,
-    state: ChannelState | None = None,
-    seal: FloatOrArray = 1.0,
-    acceleration: bool | None = None,
-    thixotropy: str = "ode",
-    clock: str = "contact",
-    xi0: float = 0.0,
-) -> ChannelHistory:
+    params: MudParameters, time: ArrayLike, gamma: ArrayLike, *, state: ChannelState | None = None,
+    seal: FloatOrArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
+    clock: str = "contact", xi0: float = 0.0,
+) -> ChannelHistory:  # fmt: skip
     """Run one channel along a displacement history, piecewise linear between samples.
 
     Parameters

@@ -38,13 +38,9 @@ def xi_exact(
 
 
 def thixotropic_exact(
-    t: ArrayLike,
-    gamma_dot: FloatOrArray,
-    params: MudParameters,
-    *,
-    xi0: float = 0.0,
+    t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters, *, xi0: float = 0.0,
     acceleration: bool = False,
-) -> FloatOrArray:
+) -> FloatOrArray:  # fmt: skip
     r"""Thixotropic stress at constant rate from rest, supplementary eq. (S2), exact.
 
     For :math:`\xi(0)=0` and :math:`\ddot\gamma=0`:

@@ -19,14 +19,9 @@ from . import laws
 from .state import ChannelState, ChannelStress
 
 __all__ = [
-    "ChannelConstants",
-    "channel_constants",
-    "channel_step",
-    "channel_update",
-    "channel_update_quasi_static",
-    "expm1_over_x",
-    "relaxation_convolution",
-]
+    "ChannelConstants", "channel_constants", "channel_step", "channel_update",
+    "channel_update_quasi_static", "expm1_over_x", "relaxation_convolution",
+]  # fmt: skip
 
 
 class ChannelConstants(NamedTuple):
@@ -106,15 +101,9 @@ def relaxation_convolution(
 
 
 def channel_update(
-    c: ChannelConstants,
-    state: ChannelState,
-    gamma: XpArray,
-    gamma_dot: XpArray,
-    dt: XpArray,
-    seal: XpArray = 1.0,
-    kappa: XpArray = 1.0,
-    xp: Namespace = np,
-) -> tuple[ChannelState, ChannelStress]:
+    c: ChannelConstants, state: ChannelState, gamma: XpArray, gamma_dot: XpArray, dt: XpArray,
+    seal: XpArray = 1.0, kappa: XpArray = 1.0, xp: Namespace = np,
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""Advance one stress channel by ``dt``, exactly at a constant rate; no validation.
 
     Structure (eq. 3b): :math:`\xi\leftarrow\xi_{ss}+(\xi-\xi_{ss})e^{-\Delta t/\tau_\xi}`;
@@ -177,15 +166,9 @@ def channel_update(
 
 
 def channel_update_quasi_static(
-    c: ChannelConstants,
-    state: ChannelState,
-    gamma: XpArray,
-    gamma_dot: XpArray,
-    dt: XpArray,
-    seal: XpArray = 1.0,
-    restart: bool = False,
-    xp: Namespace = np,
-) -> tuple[ChannelState, ChannelStress]:
+    c: ChannelConstants, state: ChannelState, gamma: XpArray, gamma_dot: XpArray, dt: XpArray,
+    seal: XpArray = 1.0, restart: bool = False, xp: Namespace = np,
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15):
 
     .. math::
@@ -223,17 +206,10 @@ def channel_update_quasi_static(
 
 
 def channel_step(
-    c: ChannelConstants,
-    state: ChannelState,
-    gamma: XpArray,
-    gamma_dot: XpArray,
-    dt: XpArray,
-    seal: XpArray = 1.0,
-    kappa: XpArray = 1.0,
-    quasi_static: bool = False,
-    restart: bool = False,
+    c: ChannelConstants, state: ChannelState, gamma: XpArray, gamma_dot: XpArray, dt: XpArray,
+    seal: XpArray = 1.0, kappa: XpArray = 1.0, quasi_static: bool = False, restart: bool = False,
     xp: Namespace = np,
-) -> tuple[ChannelState, ChannelStress]:
+) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     """One channel step: :func:`channel_update_quasi_static` when ``quasi_static`` (a static
     bool, as ``restart``), else :func:`channel_update`; no validation (decision D15)."""
     if quasi_static:
@@ -242,14 +218,9 @@ def channel_step(
 
 
 def _stresses(
-    c: ChannelConstants,
-    state: ChannelState,
-    sigma_th: XpArray,
-    direction: XpArray,
-    gamma_dot: XpArray,
-    r_end: XpArray,
-    xp: Namespace = np,
-) -> ChannelStress:
+    c: ChannelConstants, state: ChannelState, sigma_th: XpArray, direction: XpArray,
+    gamma_dot: XpArray, r_end: XpArray, xp: Namespace = np,
+) -> ChannelStress:  # fmt: skip
     r"""Eq. (1) at the end of a step [Pa]: :math:`\sigma_b(1-\phi)+\sigma_{th}+H_\nu\sigma_s`."""
     sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
         r_end, c.epsilon, xp=xp

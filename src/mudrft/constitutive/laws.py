@@ -18,23 +18,10 @@ import numpy as np
 from .._typing import Namespace, XpArray
 
 __all__ = [
-    "bed_contact",
-    "elastic_stress",
-    "f_n",
-    "f_n_extended",
-    "f_t",
-    "f_t_extended",
-    "sealing",
-    "sealing_printed",
-    "suction_rate",
-    "suction_steady",
-    "suction_steady_at_rate",
-    "switch",
-    "tau_xi",
-    "thixotropic_steady",
-    "xi_steady",
-    "yield_stress",
-]
+    "bed_contact", "elastic_stress", "f_n", "f_n_extended", "f_t", "f_t_extended", "sealing",
+    "sealing_printed", "suction_rate", "suction_steady", "suction_steady_at_rate", "switch",
+    "tau_xi", "thixotropic_steady", "xi_steady", "yield_stress",
+]  # fmt: skip
 
 
 def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = np) -> XpArray:
@@ -170,11 +157,7 @@ def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -
 
 
 def thixotropic_steady(
-    gamma_dot: XpArray,
-    eta_inf: XpArray,
-    eta_m: XpArray,
-    gamma_dot_c: XpArray,
-    xp: Namespace = np,
+    gamma_dot: XpArray, eta_inf: XpArray, eta_m: XpArray, gamma_dot_c: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""Steady thixotropic stress, eq. (4) [Pa].
 

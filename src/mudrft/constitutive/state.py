@@ -75,12 +75,4 @@ def initial_state(
     check_in_range("xi0", xi0, 0.0, 1.0)
     z = np.zeros(shape)
     g = np.broadcast_to(np.asarray(gamma, dtype=float), shape).copy()
-    return ChannelState(
-        gamma=g,
-        gamma_w=g.copy(),
-        xi=z + xi0,
-        s_th=z.copy(),
-        sigma_s=z.copy(),
-        clock=z.copy(),
-        clock_w=z.copy(),
-    )
+    return ChannelState(g, g.copy(), z + xi0, z.copy(), z.copy(), z.copy(), z.copy())

@@ -121,24 +121,19 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
-        from ..integrations.mjx._lazy import x64_context
-
-        with x64_context(self._x64):  # the precision the robots were made in
-            return self._reset(seed=seed, options=options)
-
-    def _reset(
-        self, *, seed: int | None, options: dict[str, Any] | None
-    ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         import jax
+
+        from ..integrations.mjx._lazy import x64_context
 
         seed = check_reset(seed, options)
         if self.closed:
             raise MudrftError(NOT_RUNNING["closed"])
         super().reset(seed=seed)
-        if seed is not None or self._key is None:
-            self._key = jax.random.key(int(self.np_random.integers(2**31)))
-        self._key, sub = jax.random.split(self._key)
-        d, st, obs = self._fns["reset"](jax.random.split(sub, self.num_envs))
+        with x64_context(self._x64):  # the precision the robots were made in
+            if seed is not None or self._key is None:
+                self._key = jax.random.key(int(self.np_random.integers(2**31)))
+            self._key, sub = jax.random.split(self._key)
+            d, st, obs = self._fns["reset"](jax.random.split(sub, self.num_envs))
         self._state = (d, st)
         self._steps[:] = 0
         self._done[:] = False
@@ -155,31 +150,24 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         :data:`mudrft.integrations.mjx.physics.MAX_SPEED`, terminates with
         ``info["unstable"]``. Runs in the precision the environment was made in.
         """
-        from ..integrations.mjx._lazy import x64_context
-
-        with x64_context(self._x64):  # the precision the robots were made in
-            return self._step(actions)
-
-    def _step(
-        self, actions: ArrayLike
-    ) -> tuple[
-        NDArray[np.float32], NDArray[np.float64], BoolArray, BoolArray, dict[str, NDArray[Any]]
-    ]:
         import jax
+
+        from ..integrations.mjx._lazy import x64_context
 
         if self.closed or self._state is None:
             raise MudrftError(NOT_RUNNING["closed" if self.closed else "new"])
         a = check_action(actions, (self.num_envs, ACTION_SIZE)).astype(np.float32)
-        self._key, sub = jax.random.split(self._key)
-        d, st = self._state
-        d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants)
-        if self._done.any():  # next-step autoreset of the robots that ended last step
-            fresh = self._fns["reset"](jax.random.split(sub, self.num_envs))
-            done = jax.numpy.asarray(self._done)
-            d, st, obs = self._fns["merge"](done, (d, st, obs), fresh)
-            rew, term = np.where(self._done, 0.0, rew), np.asarray(term) & ~self._done
-            info = {k: np.where(self._done.reshape((-1,) + (1,) * (np.ndim(v) - 1)),
-                                np.zeros_like(v), v) for k, v in info.items()}  # fmt: skip
+        with x64_context(self._x64):  # the precision the robots were made in
+            self._key, sub = jax.random.split(self._key)
+            d, st = self._state
+            d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants)
+            if self._done.any():  # next-step autoreset of the robots that ended last step
+                fresh = self._fns["reset"](jax.random.split(sub, self.num_envs))
+                done = jax.numpy.asarray(self._done)
+                d, st, obs = self._fns["merge"](done, (d, st, obs), fresh)
+                rew, term = np.where(self._done, 0.0, rew), np.asarray(term) & ~self._done
+                info = {k: np.where(self._done.reshape((-1,) + (1,) * (np.ndim(v) - 1)),
+                                    np.zeros_like(v), v) for k, v in info.items()}  # fmt: skip
         self._state = (d, st)
         term = np.asarray(term)
         self._steps = np.where(self._done, 0, self._steps + 1)
@@ -253,8 +241,4 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
 
         return jax.tree_util.tree_map(pick, new, fresh)
 
-    return {
-        "reset": jit(jax.vmap(reset_one)),
-        "step": jit(jax.vmap(step_one)),
-        "merge": jit(merge),
-    }
+    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}

@@ -13,15 +13,6 @@ from .registry import (
 )
 
 __all__ = [
-    "DIRECTIONS",
-    "EXTRAPOLATION_RANGE",
-    "LABELLINGS",
-    "PARAMETER_UNITS",
-    "WATER_CONTENT_RANGE",
-    "Mud",
-    "MudParameters",
-    "paper_mud",
-    "paper_parameters",
-    "sigma_y_consistency",
-    "table_rows",
-]
+    "DIRECTIONS", "EXTRAPOLATION_RANGE", "LABELLINGS", "PARAMETER_UNITS", "WATER_CONTENT_RANGE",
+    "Mud", "MudParameters", "paper_mud", "paper_parameters", "sigma_y_consistency", "table_rows",
+]  # fmt: skip

@@ -13,31 +13,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._typing import FloatOrArray
-from .._validation import (
-    MudrftError,
-    check_broadcast,
-    check_finite,
-    check_number,
-    check_positive,
-)
+from .._validation import MudrftError, check_broadcast, check_finite, check_number, check_positive
 
 __all__ = ["PARAMETER_UNITS", "POSITIVE_FIELDS", "Mud", "MudParameters"]
 
 #: SI unit of every field of :class:`MudParameters`.
 PARAMETER_UNITS: dict[str, str] = {
-    "alpha": "Pa",
-    "n": "-",
-    "lam": "s",
-    "eta_m": "Pa s",
-    "eta_inf": "Pa s",
-    "gamma_dot_c": "1/s",
-    "tau_build": "s",
-    "tau_leak": "s",
-    "epsilon": "-",
-    "sigma_y": "Pa",
-    "nu": "1/s",
-    "k_a": "1/s",
-}
+    "alpha": "Pa", "n": "-", "lam": "s", "eta_m": "Pa s", "eta_inf": "Pa s", "gamma_dot_c": "1/s",
+    "tau_build": "s", "tau_leak": "s", "epsilon": "-", "sigma_y": "Pa", "nu": "1/s", "k_a": "1/s",
+}  # fmt: skip
 
 #: Fields that must be strictly positive: every field of :class:`MudParameters`.
 POSITIVE_FIELDS = tuple(PARAMETER_UNITS)

@@ -16,21 +16,7 @@ __all__ = ["CITATION_KEY", "COLUMNS", "HORIZONTAL", "PRINTED_UNITS", "TABLE_NAME
 
 CITATION_KEY: Final = "chen2026mud"
 
-#: Column names of the tables, in the order printed.
-COLUMNS: Final = (
-    "alpha",
-    "n",
-    "lam",
-    "eta_m",
-    "eta_inf",
-    "gamma_dot_c",
-    "tau_build",
-    "tau_leak",
-    "epsilon",
-    "sigma_y",
-)
-
-#: Unit of each column as printed, and the factor to SI.
+#: Unit of each column as printed (in the order printed), and the factor to SI.
 PRINTED_UNITS: Final = {
     "alpha": ("MPa", MPA),
     "n": ("-", 1.0),
@@ -43,6 +29,9 @@ PRINTED_UNITS: Final = {
     "epsilon": ("-", 1.0),
     "sigma_y": ("MPa", MPA),
 }
+
+#: Column names of the tables, in the order printed.
+COLUMNS: Final = tuple(PRINTED_UNITS)
 
 TABLE_NAME: Final = {
     "vertical": "supplementary Table S1 (vertical intrusion)",

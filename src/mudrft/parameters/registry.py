@@ -19,15 +19,9 @@ from . import chen2026
 from .base import Mud, MudParameters, check_water_content
 
 __all__ = [
-    "DIRECTIONS",
-    "EXTRAPOLATION_RANGE",
-    "LABELLINGS",
-    "WATER_CONTENT_RANGE",
-    "paper_mud",
-    "paper_parameters",
-    "sigma_y_consistency",
-    "table_rows",
-]
+    "DIRECTIONS", "EXTRAPOLATION_RANGE", "LABELLINGS", "WATER_CONTENT_RANGE", "paper_mud",
+    "paper_parameters", "sigma_y_consistency", "table_rows",
+]  # fmt: skip
 
 DIRECTIONS = ("vertical", "horizontal")
 WATER_CONTENT_RANGE = (0.25, 0.45)
@@ -107,12 +101,9 @@ def _interpolate(direction: str, w: float) -> dict[str, float]:
 
 
 def paper_parameters(
-    water_content: float = 0.25,
-    direction: str = "vertical",
-    *,
-    extrapolate: bool = False,
+    water_content: float = 0.25, direction: str = "vertical", *, extrapolate: bool = False,
     labels: str = "table",
-) -> MudParameters:
+) -> MudParameters:  # fmt: skip
     """One parameter set of Chen et al. (2026), converted to SI.
 
     Parameters
