@@ -196,22 +196,20 @@ def _unit_forces(
     # force must not depend on the yaw (D53)
     axial = ~(vh_ok | nh_ok)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
+    # planar: the frame of the motion where it has a horizontal part; treers2021: a (nearly)
+    # horizontal facet takes its frame from the motion, the others (and all, with no
+    # horizontal motion) from their normal
     if extension == "planar":
-        e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
-        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
+        share = np.where(vh_ok, 1.0, 0.0)
     else:
-        # a (nearly) horizontal facet takes its frame from the motion, the others (and all,
-        # with no horizontal motion) from their normal
         share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
-        e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
-        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
-        band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
-        if np.any(band):
-            fh = _frame_forces(
-                nb[band], vd[band], vh_dir[band], axial[band], coefficients, extension
-            )
-            h = share[band][:, None]
-            f[band] = (1.0 - h) * f[band] + h * fh
+    e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
+    f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
+    band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
+    if np.any(band):
+        fh = _frame_forces(nb[band], vd[band], vh_dir[band], axial[band], coefficients, extension)
+        h = share[band][:, None]
+        f[band] = (1.0 - h) * f[band] + h * fh
     w = leading_weight((nb * vb).sum(-1), leading_width)
     return w[..., None] * f
 

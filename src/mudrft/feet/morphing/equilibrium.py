@@ -1,27 +1,11 @@
 r"""The column in balance with the mud, and the seal broken by curling pads (D32, D34, D35).
 
-*Load path* (D32, an assumption: D160). The whole vertical mud force on the base and pads
-passes through the column, so the deflection :math:`\delta` solves
-
-.. math:: R(\delta) = F_s(\delta) - \sigma_zA_z\bigl(d, \theta(\delta)\bigr) = 0
-          \quad\text{on}\quad [0, \delta_{max}],
-
-with the end stops as complementarity: :math:`\delta=0` where :math:`R(0)\ge0`,
-:math:`\delta=\delta_{max}` where :math:`R(\delta_{max})\le0`.
-
-*Root selection* (D34). :math:`R` can have three roots (a snap-through). From the previous
-deflection the column moves in the direction of the net force (:math:`R<0`: compress) to
-the first root or stop it meets: hysteresis, and the unique root where :math:`R` is
-monotone. A scan over 33 nodes of the stroke selects the bracket (:func:`_scan_node`,
-:func:`_settle`, written once, element-wise); the bracket is refined to
-:math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m, by bisection on floats for up to
-16 moving elements (:func:`balanced_deflection_on_floats`, which the compiled coupling
-runs), else by one call of :func:`scipy.optimize.elementwise.find_root` for the whole batch
-(SciPy >= 1.15; older SciPy takes the float path).
-
-*Sealing* (D35). The seal factor is :math:`1-\tanh(g/g_s)`, with
-:math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad rims above their most spread
-position :math:`\theta_m` in the current contact (:func:`held_deflection`: the pad-curl delay).
+The deflection :math:`\delta` solves
+:math:`R(\delta)=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))=0` on :math:`[0,\delta_{max}]`,
+the end stops as complementarity; from the previous deflection the column moves with the net force to the first root or stop it meets (D34): a scan over
+33 nodes brackets it, then bisection on floats (up to 16 moving elements) or SciPy's
+``find_root`` (a batch) refines it to :math:`|R|\le10^{-10}` N. The seal factor is
+:math:`1-\tanh(g/g_s)`, :math:`g` the lift of the pad rims since their most spread (D35).
 """
 
 from __future__ import annotations

@@ -276,9 +276,7 @@ class MorphingFoot(Foot):
             "curl_delay": self.curl_delay,
             "characteristic_length": self._lc,
         }
-        for k in tuple(kw):
-            if k in changes:
-                kw[k] = changes.pop(k)
+        kw.update({k: changes.pop(k) for k in tuple(kw) if k in changes})
         return MorphingFoot(self.geometry, self.spring, **kw, **changes)
 
     def as_dict(self) -> dict[str, float | int | str]:
