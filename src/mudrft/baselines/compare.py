@@ -261,10 +261,9 @@ def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
         raise MudrftError(
             f"histories must be a mapping {{terrain: History}}, got {_what(histories)}"
         )
-    for name, h in histories.items():
-        _check_history(f"histories[{name!r}]", h)
     rows = []
     for name, h in histories.items():
+        _check_history(f"histories[{name!r}]", h)
         imp = metrics.impulse(h.time, h.force)
         rows.append(
             {

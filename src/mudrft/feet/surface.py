@@ -219,9 +219,10 @@ def integrate_wrench(
 ) -> Wrench:  # fmt: skip
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf
-    F}`, :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to
-    the :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
+    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the
+    point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf F}`,
+    :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to the
+    :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
 
     Parameters
     ----------
