@@ -102,13 +102,9 @@ class RigidGround:
         vt = vel[..., :2]
         speed = np.linalg.norm(vt, axis=-1, keepdims=True)
         unit = np.where(speed > 0, vt / np.where(speed > 0, speed, 1.0), 0.0)
-        ft = (
-            0.0 - self.friction * fn[..., None] * np.tanh(speed / self.slip_speed) * unit
-        )  # no -0.0
+        slip = np.tanh(speed / self.slip_speed)
+        ft = 0.0 - self.friction * fn[..., None] * slip * unit  # 0.0 - : no -0.0
         force = np.concatenate([ft, fn[..., None]], axis=-1)
-        stress = (
-            np.zeros_like(force) if foot is None else mean_stress(force, projected(foot, depth))
-        )
-        return RigidState(in_contact=contact), TerrainOutput(
-            force=force, stress=stress, depth=depth
-        )
+        areas = np.zeros_like(force) if foot is None else projected(foot, depth)
+        out = TerrainOutput(force=force, stress=mean_stress(force, areas), depth=depth)
+        return RigidState(in_contact=contact), out

@@ -216,12 +216,8 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
         zm = 0.5 * (zs[1:] + zs[:-1])
         cen.append((radius * er_w[:, None, :] + zm[None, :, None] * ez).reshape(-1, 3))
         nor.append(np.repeat(er_w, strips, axis=0))
-        ar.append(
-            np.full(
-                _WALL_SEGMENTS * strips,
-                2.0 * math.pi * radius * (z1 - z0) / (_WALL_SEGMENTS * strips),
-            )
-        )
+        area = 2.0 * math.pi * radius * (z1 - z0) / (_WALL_SEGMENTS * strips)
+        ar.append(np.full(_WALL_SEGMENTS * strips, area))
     for a in g.azimuths:
         er = np.array([math.cos(a), math.sin(a), 0.0])
         p = (g.base_radius * er + g.pivot_height * ez)[None, :] + mids[:, None] * (
