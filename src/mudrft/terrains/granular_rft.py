@@ -48,20 +48,10 @@ from .li2013 import (
 )
 
 __all__ = [
-    "DEFAULT_ZETA",
-    "GRANULAR_MEDIA",
-    "LEADING_WIDTH",
-    "LI2013_GENERIC",
-    "PLAUSIBLE_ZETA",
-    "FourierCoefficients",
-    "GranularRFT",
-    "RFTState",
-    "horizontal_share",
-    "leading_weight",
-    "li2013_alpha",
-    "rft_forces",
-    "treers_weights",
-]
+    "DEFAULT_ZETA", "GRANULAR_MEDIA", "LEADING_WIDTH", "LI2013_GENERIC", "PLAUSIBLE_ZETA",
+    "FourierCoefficients", "GranularRFT", "RFTState", "horizontal_share", "leading_weight",
+    "li2013_alpha", "rft_forces", "treers_weights"
+]  # fmt: skip
 
 
 # Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|

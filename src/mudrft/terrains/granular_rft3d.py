@@ -42,17 +42,9 @@ from ._rft_groups import FacetRFT, _element_forces, check_facets, unit_vectors
 from .granular_rft import LEADING_WIDTH, leading_weight
 
 __all__ = [
-    "AGARWAL2023",
-    "GRAVITY",
-    "PLAUSIBLE_RHO_C",
-    "WALL_WIDTH",
-    "GranularRFT3D",
-    "PolynomialCoefficients",
-    "agarwal_generic_alpha",
-    "agarwal_xi",
-    "rft3d_alpha",
-    "rft3d_forces",
-]
+    "AGARWAL2023", "GRAVITY", "PLAUSIBLE_RHO_C", "WALL_WIDTH", "GranularRFT3D",
+    "PolynomialCoefficients", "agarwal_generic_alpha", "agarwal_xi", "rft3d_alpha", "rft3d_forces"
+]  # fmt: skip
 
 #: Standard gravity used by the material constant [m/s^2] (the value the sources use).
 GRAVITY = 9.81

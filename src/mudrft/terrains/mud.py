@@ -34,16 +34,9 @@ from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
 from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
-    "MudChannels",
-    "MudState",
-    "MudTerrain",
-    "channel_parameters",
-    "initial_channels",
-    "mud_channel_stress",
-    "mud_heading",
-    "mud_step",
-    "vertical_viscosity",
-]
+    "MudChannels", "MudState", "MudTerrain", "channel_parameters", "initial_channels",
+    "mud_channel_stress", "mud_heading", "mud_step", "vertical_viscosity"
+]  # fmt: skip
 
 
 def channel_parameters(mud: Mud) -> MudParameters:
