@@ -431,13 +431,9 @@ class MeshFoot(Foot):
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
     def wrench(
-        self,
-        depth: ArrayLike,
-        stress: ArrayLike,
-        heading: ArrayLike,
-        *,
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, *,
         point: ArrayLike | None = None,
-    ) -> Wrench:
+    ) -> Wrench:  # fmt: skip
         """Force [N], moment about ``point`` [m] (default the tip) [N m] and center of pressure
         [m], foot frame (:func:`mudrft.feet.surface.integrate_wrench`)."""
         d, s = check_depth_stress(depth, stress, height=self.height)

@@ -122,13 +122,9 @@ def clip_below(
 
 
 def _facet_forces(
-    p: PreparedTriangles,
-    area: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    trailing: bool,
+    p: PreparedTriangles, area: XpArray, stress: XpArray, heading: XpArray, trailing: bool,
     xp: Namespace,
-) -> tuple[XpArray, XpArray, XpArray]:
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """The force components (..., m) [N] on facets of submerged ``area`` [m^2]."""
     s = xp.asarray(stress)
     sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], xp.asarray(heading), xp=xp)

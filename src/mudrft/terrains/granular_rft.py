@@ -138,13 +138,9 @@ def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
 
 
 def _frame_forces(
-    nb: np.ndarray,
-    vd: np.ndarray,
-    e2: np.ndarray,
-    axial: np.ndarray,
-    coefficients: FourierCoefficients,
-    extension: str,
-) -> np.ndarray:
+    nb: np.ndarray, vd: np.ndarray, e2: np.ndarray, axial: np.ndarray,
+    coefficients: FourierCoefficients, extension: str,
+) -> np.ndarray:  # fmt: skip
     """Force per unit depth, area and zeta of facets ``nb`` moving along ``vd`` in the frame of
     the horizontal direction ``e2`` (D51), before the leading weight [-]."""
     z_hat = np.array([0.0, 0.0, 1.0])
@@ -169,12 +165,9 @@ def _frame_forces(
 
 
 def _unit_forces(
-    normals: np.ndarray,
-    direction: np.ndarray,
-    coefficients: FourierCoefficients,
-    extension: str,
+    normals: np.ndarray, direction: np.ndarray, coefficients: FourierCoefficients, extension: str,
     leading_width: float = LEADING_WIDTH,
-) -> np.ndarray:
+) -> np.ndarray:  # fmt: skip
     """Leading-weighted force per unit depth, area and zeta (..., k, 3) [-] of unit
     ``normals`` (k, 3) moving along the unit ``direction`` (..., 3)."""
     vb = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
@@ -205,17 +198,10 @@ def _unit_forces(
 
 
 def rft_forces(
-    normals: ArrayLike,
-    depths: ArrayLike,
-    areas: ArrayLike,
-    direction: ArrayLike,
-    *,
-    zeta: float = DEFAULT_ZETA,
-    coefficients: FourierCoefficients = LI2013_GENERIC,
-    extension: str = "treers2021",
-    per_element: bool = False,
-    leading_width: float = LEADING_WIDTH,
-) -> np.ndarray:
+    normals: ArrayLike, depths: ArrayLike, areas: ArrayLike, direction: ArrayLike, *,
+    zeta: float = DEFAULT_ZETA, coefficients: FourierCoefficients = LI2013_GENERIC,
+    extension: str = "treers2021", per_element: bool = False, leading_width: float = LEADING_WIDTH,
+) -> np.ndarray:  # fmt: skip
     r"""Granular RFT force on surface elements moving in one direction.
 
     Parameters

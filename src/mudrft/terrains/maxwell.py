@@ -320,13 +320,9 @@ _FIT_FIELDS = ("modulus", "relaxation", "sigma_y", "omega", "release")
 
 
 def fit_maxwell(
-    trajectory: Trajectory,
-    stress: ArrayLike,
-    *,
-    characteristic_length: float = 0.05,
-    initial: MaxwellMud | None = None,
-    progress: bool = False,
-) -> MaxwellFit:
+    trajectory: Trajectory, stress: ArrayLike, *, characteristic_length: float = 0.05,
+    initial: MaxwellMud | None = None, progress: bool = False,
+) -> MaxwellFit:  # fmt: skip
     r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
 
     :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``; least squares on

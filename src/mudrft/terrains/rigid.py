@@ -84,13 +84,9 @@ class RigidGround:
         return RigidState(in_contact=tip_depth(pos) > 0)
 
     def step(
-        self,
-        foot: Foot | None,
-        state: RigidState,
-        position: ArrayLike,
-        velocity: ArrayLike,
+        self, foot: Foot | None, state: RigidState, position: ArrayLike, velocity: ArrayLike,
         dt: float,
-    ) -> tuple[RigidState, TerrainOutput]:
+    ) -> tuple[RigidState, TerrainOutput]:  # fmt: skip
         """Contact force at tip ``position`` [m] moving at ``velocity`` [m/s]; ``dt`` [s] unused."""
         check_positive("dt", dt, unit="s")
         pos, vel = kinematics(position, velocity)

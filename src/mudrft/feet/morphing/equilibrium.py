@@ -83,13 +83,9 @@ def column_residual(
 
 
 def residual(
-    deflection: ArrayLike,
-    depth: ArrayLike,
-    sz: ArrayLike,
-    *,
-    linkage: Linkage,
+    deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike, *, linkage: Linkage,
     spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+) -> NDArray[np.float64]:  # fmt: skip
     r"""Balance residual :math:`R` [N] of a linkage and spring (unchecked): > 0 where the
     springs push the column back open; deflection [m] in [0, stroke], tip depth [m] >= 0,
     vertical channel stress [Pa]."""
@@ -101,12 +97,9 @@ def residual(
 
 @functools.lru_cache(maxsize=64)
 def linkage_row(
-    linkage: Linkage,
-    spring: TwoStageSpring,
-    seal_length: float = 1.0,
-    lock: float = -1.0,
+    linkage: Linkage, spring: TwoStageSpring, seal_length: float = 1.0, lock: float = -1.0,
     curl_delay: float = 0.0,
-) -> MorphingRow:
+) -> MorphingRow:  # fmt: skip
     """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1,
     pad-curl delay [s]); cached, for :func:`balanced_deflection` on floats."""
@@ -129,13 +122,9 @@ def linkage_row(
 
 
 def balanced_deflection(
-    depth: ArrayLike,
-    sz: ArrayLike,
-    *,
-    previous: ArrayLike,
-    linkage: Linkage,
+    depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike, linkage: Linkage,
     spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+) -> NDArray[np.float64]:  # fmt: skip
     """Column deflection in balance with the mud [m], continued from ``previous`` [m] (D34).
 
     The unchecked path of :meth:`MorphingFoot.equilibrium` (module docstring: the root
@@ -210,13 +199,9 @@ def _settle(
 
 
 def _move(
-    d: NDArray[np.float64],
-    s: NDArray[np.float64],
-    p: NDArray[np.float64],
-    r_p: NDArray[np.float64],
-    linkage: Linkage,
-    spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+    d: NDArray[np.float64], s: NDArray[np.float64], p: NDArray[np.float64],
+    r_p: NDArray[np.float64], linkage: Linkage, spring: TwoStageSpring,
+) -> NDArray[np.float64]:  # fmt: skip
     """The moving elements of a batch: the scan on arrays, the brackets refined by
     ``find_root`` in one call."""
     stroke = linkage.stroke
@@ -255,12 +240,9 @@ def _move(
 
 
 def seal_factor(
-    pad_angle: ArrayLike,
-    most_spread: ArrayLike,
-    pad_length: float,
-    seal_length: float,
+    pad_angle: ArrayLike, most_spread: ArrayLike, pad_length: float, seal_length: float,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
     ``pad_angle`` :math:`\theta` and ``most_spread`` :math:`\theta_m` [rad], ``pad_length``
@@ -282,12 +264,9 @@ def track_most_spread(
 
 
 def held_deflection(
-    deflection: XpArray,
-    previous: XpArray,
-    retraction: XpArray,
-    curl_delay: float,
+    deflection: XpArray, previous: XpArray, retraction: XpArray, curl_delay: float,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     r"""The column deflection [m] after the pad-curl delay (D35): for the first ``curl_delay``
     [s] of a retraction (``retraction``, the mud's :math:`t-t_w` [s], 0 while not retracting)
     the column may compress but not extend, so the pads do not curl; else ``deflection``, the

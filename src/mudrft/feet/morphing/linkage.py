@@ -156,12 +156,9 @@ def _pole_height(g: MorphingFootGeometry, theta: NDArray[np.float64]) -> NDArray
 
 
 def raw_pad_angle(
-    g: MorphingFootGeometry | MorphingRow,
-    pole_top: XpArray,
-    branch: XpArray,
-    deflection: XpArray,
+    g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray, deflection: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped,
     element-wise; ``g`` holds the dimensions by attribute (:class:`MorphingFootGeometry` or
     :class:`MorphingRow`), ``pole_top`` [m] and ``branch`` (+-1) come from :class:`Linkage`."""
@@ -174,12 +171,9 @@ def raw_pad_angle(
 
 
 def pad_angle(
-    g: MorphingFootGeometry | MorphingRow,
-    pole_top: XpArray,
-    branch: XpArray,
-    deflection: XpArray,
+    g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray, deflection: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Pad angle :math:`\\theta(\\delta)` [rad]: :func:`raw_pad_angle` clipped to
     [``expanded_angle``, ``retracted_angle``] (D30)."""
     th = raw_pad_angle(g, pole_top, branch, deflection, xp=xp)
