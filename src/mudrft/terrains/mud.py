@@ -16,12 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._typing import Namespace, XpArray
-from .._validation import (
-    MudrftError,
-    check_characteristic_length,
-    number_in_range,
-    positive_number,
-)
+from .._validation import MudrftError, check_characteristic_length, number_in_range, positive_number
 from .._xp import pyfloat
 from ..citations import register
 from ..constitutive import kernel
