@@ -375,10 +375,4 @@ def fit_maxwell(
     sol = least_squares(resid, x0, method="trf", x_scale=1.0, diff_step=1e-4)
     model = m0.replace(**dict(zip(_FIT_FIELDS, np.exp(sol.x), strict=True)))
     rmse = float(np.sqrt(np.mean(sol.fun**2)))
-    return MaxwellFit(
-        model=model,
-        rmse=rmse,
-        success=bool(sol.success),
-        message=str(sol.message),
-        nfev=int(sol.nfev),
-    )
+    return MaxwellFit(model, rmse, bool(sol.success), str(sol.message), int(sol.nfev))
