@@ -173,12 +173,7 @@ class FacetRFT:
         force = self.scale * np.einsum("...k,...kc->...c", w, unit)
         depth = tip_depth(pos)
         stress = mean_stress(force, projected(foot, depth))
-        new = RFTState(
-            direction=direction,
-            elements=state.elements,
-            prepared=pr,
-            cache=(direction, unit, known),
-        )
+        new = RFTState(direction, state.elements, pr, cache=(direction, unit, known))
         return new, TerrainOutput(force=force, stress=stress, depth=depth)
 
     def _responses(

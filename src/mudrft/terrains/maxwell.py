@@ -195,14 +195,8 @@ class MaxwellMud:
         )  # fmt: skip
         stress = np.where(in_mud, inside, 0.0)
         zero = np.zeros(np.shape(stress))
-        new = MaxwellState(
-            sigma_m=np.where(in_mud, sigma_m, zero),
-            suction=np.where(in_mud, s, zero),
-            suction_rate=np.where(in_mud, sd, zero),
-            gamma_max=np.where(in_mud, gmax, zero),
-            in_mud=in_mud,
-        )
-        return new, stress
+        sigma_m, s, sd, gmax = (np.where(in_mud, v, zero) for v in (sigma_m, s, sd, gmax))
+        return MaxwellState(sigma_m, s, sd, gmax, in_mud), stress  # reset out of the mud
 
     def step(
         self, foot: Foot, state: MaxwellState, position: ArrayLike, velocity: ArrayLike, dt: float
