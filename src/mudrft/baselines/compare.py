@@ -77,12 +77,9 @@ def _check_foot_trajectory(foot: Any, trajectory: Any) -> None:
 
 
 def run_terrain(
-    terrain: Terrain,
-    foot: Foot,
-    trajectory: Trajectory,
-    *,
+    terrain: Terrain, foot: Foot, trajectory: Trajectory, *,
     progress: Callable[[int, int], None] | None = None,
-) -> History:
+) -> History:  # fmt: skip
     """Drive ``foot`` along ``trajectory`` through ``terrain`` and record the forces.
 
     The force at sample ``i`` comes from the step that ends there (the first step is
@@ -261,10 +258,9 @@ def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
         raise MudrftError(
             f"histories must be a mapping {{terrain: History}}, got {_what(histories)}"
         )
-    for name, h in histories.items():
-        _check_history(f"histories[{name!r}]", h)
     rows = []
     for name, h in histories.items():
+        _check_history(f"histories[{name!r}]", h)
         imp = metrics.impulse(h.time, h.force)
         rows.append(
             {
@@ -282,11 +278,9 @@ def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
 
 
 def write_csv(
-    runs: Mapping[str, Mapping[str, History]] | Mapping[str, History],
-    path: str | Path,
-    *,
+    runs: Mapping[str, Mapping[str, History]] | Mapping[str, History], path: str | Path, *,
     overwrite: bool = False,
-) -> Path:
+) -> Path:  # fmt: skip
     """Write histories to ``path`` in long format (:data:`CSV_COLUMNS`), one row per sample,
     atomically; ``runs`` is ``{trajectory label: {terrain: History}}`` or one
     ``{terrain: History}`` (label ``""``); an existing file is replaced only with ``overwrite``."""

@@ -33,12 +33,9 @@ def __getattr__(name: str) -> Any:
 
 
 def by_name(
-    name: str | os.PathLike[str],
-    *,
-    unit: str | None = None,
-    trailing: bool | None = None,
+    name: str | os.PathLike[str], *, unit: str | None = None, trailing: bool | None = None,
     up: str | None = None,
-) -> Foot:
+) -> Foot:  # fmt: skip
     """The foot called ``name`` with the paper's dimensions, or a mesh foot read from a file.
 
     Parameters

@@ -159,13 +159,9 @@ def fold_heading(heading: XpArray, xp: Namespace = np) -> XpArray:
 
 
 def world_force(
-    coefficients: tuple[XpArray, XpArray, XpArray, XpArray, XpArray],
-    sx: XpArray,
-    sy: XpArray,
-    sz: XpArray,
-    heading: XpArray,
-    xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray]:
+    coefficients: tuple[XpArray, XpArray, XpArray, XpArray, XpArray], sx: XpArray, sy: XpArray,
+    sz: XpArray, heading: XpArray, xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     r"""The heading rule (D9): world force [N] from a closed form's coefficients
     ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] at the folded heading (:func:`fold_heading`), signed
     stresses [Pa] and the world ``heading`` [rad] (sgn 0 = +1):

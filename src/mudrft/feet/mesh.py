@@ -134,23 +134,6 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.nd
     return closed, int(np.sum(dcount > 1)), welded
 
 
-def _warn_overlapping_parts(
-    name: str, vertices: np.ndarray, faces: np.ndarray, weld: np.ndarray
-) -> None:
-    """Warn when separate closed parts overlap or touch (:mod:`.meshparts`)."""
-    hit = overlapping_parts(vertices, faces, weld=weld)
-    if hit is not None:
-        warnings.warn(
-            f"MeshFoot {name!r}: the mesh is {hit.parts} separate closed parts, and the "
-            f"vertex ({', '.join(f'{c:.4g}' for c in hit.point)}) m of part {hit.inner} lies "
-            f"inside or on part {hit.outer}: the facets where parts overlap or touch count as "
-            "if mud reached them, so the forces come out too large. Merge the parts into one "
-            "surface (a boolean union in CAD, or trimesh.boolean.union) before loading",
-            MeshWarning,
-            stacklevel=3,
-        )
-
-
 class MeshFoot(Foot):
     r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
 
@@ -255,7 +238,18 @@ class MeshFoot(Foot):
             if volume < 0:
                 f = f[:, ::-1].copy()
                 self.flipped = True
-            _warn_overlapping_parts(self.name, v, f, weld)
+            hit = overlapping_parts(v, f, weld=weld)
+            if hit is not None:
+                warnings.warn(
+                    f"MeshFoot {self.name!r}: the mesh is {hit.parts} separate closed parts, and "
+                    f"the vertex ({', '.join(f'{c:.4g}' for c in hit.point)}) m of part "
+                    f"{hit.inner} lies inside or on part {hit.outer}: the facets where parts "
+                    "overlap or touch count as if mud reached them, so the forces come out too "
+                    "large. Merge the parts into one surface (a boolean union in CAD, or "
+                    "trimesh.boolean.union) before loading",
+                    MeshWarning,
+                    stacklevel=2,
+                )
         self._set_geometry(v, f)
         self._check_plan_area(
             "If the mesh is open, its normals may point inward (the winding of an open mesh "
@@ -345,8 +339,6 @@ class MeshFoot(Foot):
                 f"({type(unit).__name__})"
             )
         scale = parse_unit("length", unit)
-        if not isinstance(trailing, bool | np.bool_):
-            raise MudrftError(f"trailing must be True or False, got {trailing!r}")
         if not isinstance(up, str) or up not in UP_AXES:
             raise MudrftError(f"up must be the file's up axis, one of {list(UP_AXES)}, got {up!r}")
         p = os.fspath(path)
@@ -439,13 +431,9 @@ class MeshFoot(Foot):
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
     def wrench(
-        self,
-        depth: ArrayLike,
-        stress: ArrayLike,
-        heading: ArrayLike,
-        *,
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, *,
         point: ArrayLike | None = None,
-    ) -> Wrench:
+    ) -> Wrench:  # fmt: skip
         """Force [N], moment about ``point`` [m] (default the tip) [N m] and center of pressure
         [m], foot frame (:func:`mudrft.feet.surface.integrate_wrench`)."""
         d, s = check_depth_stress(depth, stress, height=self.height)

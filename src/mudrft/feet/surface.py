@@ -122,13 +122,9 @@ def clip_below(
 
 
 def _facet_forces(
-    p: PreparedTriangles,
-    area: XpArray,
-    stress: XpArray,
-    heading: XpArray,
-    trailing: bool,
+    p: PreparedTriangles, area: XpArray, stress: XpArray, heading: XpArray, trailing: bool,
     xp: Namespace,
-) -> tuple[XpArray, XpArray, XpArray]:
+) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """The force components (..., m) [N] on facets of submerged ``area`` [m^2]."""
     s = xp.asarray(stress)
     sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], xp.asarray(heading), xp=xp)
@@ -219,9 +215,10 @@ def integrate_wrench(
 ) -> Wrench:  # fmt: skip
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf
-    F}`, :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to
-    the :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
+    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the
+    point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf F}`,
+    :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to the
+    :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
 
     Parameters
     ----------

@@ -31,21 +31,10 @@ from .mud import MudState, MudTerrain, channel_parameters, mud_step
 from .rigid import RigidGround
 
 __all__ = [
-    "GranularRFT",
-    "GranularRFT3D",
-    "LinearStiffness",
-    "MaxwellMud",
-    "Mud",
-    "MudState",
-    "MudTerrain",
-    "RigidGround",
-    "Terrain",
-    "TerrainOutput",
-    "as_terrain",
-    "channel_parameters",
-    "check_motion",
-    "mud_step",
-]
+    "GranularRFT", "GranularRFT3D", "LinearStiffness", "MaxwellMud", "Mud", "MudState",
+    "MudTerrain", "RigidGround", "Terrain", "TerrainOutput", "as_terrain", "channel_parameters",
+    "check_motion", "mud_step"
+]  # fmt: skip
 
 
 def Mud(water_content: float | MudParameterSets = 0.25, **kw: Any) -> MudTerrain:

@@ -61,13 +61,8 @@ def check_facets(
 
 
 def _element_forces(
-    scale: float,
-    depths: np.ndarray,
-    areas: np.ndarray,
-    unit: np.ndarray,
-    *,
-    per_element: bool,
-) -> np.ndarray:
+    scale: float, depths: np.ndarray, areas: np.ndarray, unit: np.ndarray, *, per_element: bool,
+) -> np.ndarray:  # fmt: skip
     r"""Forces [N] :math:`d\mathbf F_i=k\,\max(z_i,0)\,A_i\,\boldsymbol\alpha_i` of elements at
     depths (..., m) [m] with areas (m,) [m^2] and responses ``unit`` (..., m, 3) [-], for a
     medium of scale ``scale`` [N/m^3]; summed over the elements unless ``per_element``."""
@@ -178,21 +173,13 @@ class FacetRFT:
         force = self.scale * np.einsum("...k,...kc->...c", w, unit)
         depth = tip_depth(pos)
         stress = mean_stress(force, projected(foot, depth))
-        new = RFTState(
-            direction=direction,
-            elements=state.elements,
-            prepared=pr,
-            cache=(direction, unit, known),
-        )
+        new = RFTState(direction, state.elements, pr, cache=(direction, unit, known))
         return new, TerrainOutput(force=force, stress=stress, depth=depth)
 
     def _responses(
-        self,
-        pr: _Prepared,
-        direction: np.ndarray,
-        submerged: np.ndarray,
+        self, pr: _Prepared, direction: np.ndarray, submerged: np.ndarray,
         cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
-    ) -> tuple[np.ndarray, np.ndarray]:
+    ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
         """Responses (..., k, 3) of the groups ``submerged`` (..., k) anywhere in the batch
         (zeros elsewhere) and which groups hold one (k,); reused from ``cache`` if its
         direction is ``direction``."""

@@ -48,20 +48,10 @@ from .li2013 import (
 )
 
 __all__ = [
-    "DEFAULT_ZETA",
-    "GRANULAR_MEDIA",
-    "LEADING_WIDTH",
-    "LI2013_GENERIC",
-    "PLAUSIBLE_ZETA",
-    "FourierCoefficients",
-    "GranularRFT",
-    "RFTState",
-    "horizontal_share",
-    "leading_weight",
-    "li2013_alpha",
-    "rft_forces",
-    "treers_weights",
-]
+    "DEFAULT_ZETA", "GRANULAR_MEDIA", "LEADING_WIDTH", "LI2013_GENERIC", "PLAUSIBLE_ZETA",
+    "FourierCoefficients", "GranularRFT", "RFTState", "horizontal_share", "leading_weight",
+    "li2013_alpha", "rft_forces", "treers_weights"
+]  # fmt: skip
 
 
 # Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|
@@ -148,13 +138,9 @@ def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
 
 
 def _frame_forces(
-    nb: np.ndarray,
-    vd: np.ndarray,
-    e2: np.ndarray,
-    axial: np.ndarray,
-    coefficients: FourierCoefficients,
-    extension: str,
-) -> np.ndarray:
+    nb: np.ndarray, vd: np.ndarray, e2: np.ndarray, axial: np.ndarray,
+    coefficients: FourierCoefficients, extension: str,
+) -> np.ndarray:  # fmt: skip
     """Force per unit depth, area and zeta of facets ``nb`` moving along ``vd`` in the frame of
     the horizontal direction ``e2`` (D51), before the leading weight [-]."""
     z_hat = np.array([0.0, 0.0, 1.0])
@@ -179,12 +165,9 @@ def _frame_forces(
 
 
 def _unit_forces(
-    normals: np.ndarray,
-    direction: np.ndarray,
-    coefficients: FourierCoefficients,
-    extension: str,
+    normals: np.ndarray, direction: np.ndarray, coefficients: FourierCoefficients, extension: str,
     leading_width: float = LEADING_WIDTH,
-) -> np.ndarray:
+) -> np.ndarray:  # fmt: skip
     """Leading-weighted force per unit depth, area and zeta (..., k, 3) [-] of unit
     ``normals`` (k, 3) moving along the unit ``direction`` (..., 3)."""
     vb = np.broadcast_to(direction[..., None, :], direction.shape[:-1] + normals.shape)
@@ -196,38 +179,29 @@ def _unit_forces(
     # force must not depend on the yaw (D53)
     axial = ~(vh_ok | nh_ok)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
+    # planar: the frame of the motion where it has a horizontal part; treers2021: a (nearly)
+    # horizontal facet takes its frame from the motion, the others (and all, with no
+    # horizontal motion) from their normal
     if extension == "planar":
-        e2 = np.where(vh_ok[..., None], vh_dir, nh_dir)
-        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
+        share = np.where(vh_ok, 1.0, 0.0)
     else:
-        # a (nearly) horizontal facet takes its frame from the motion, the others (and all,
-        # with no horizontal motion) from their normal
         share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
-        e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
-        f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
-        band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
-        if np.any(band):
-            fh = _frame_forces(
-                nb[band], vd[band], vh_dir[band], axial[band], coefficients, extension
-            )
-            h = share[band][:, None]
-            f[band] = (1.0 - h) * f[band] + h * fh
+    e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
+    f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
+    band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
+    if np.any(band):
+        fh = _frame_forces(nb[band], vd[band], vh_dir[band], axial[band], coefficients, extension)
+        h = share[band][:, None]
+        f[band] = (1.0 - h) * f[band] + h * fh
     w = leading_weight((nb * vb).sum(-1), leading_width)
     return w[..., None] * f
 
 
 def rft_forces(
-    normals: ArrayLike,
-    depths: ArrayLike,
-    areas: ArrayLike,
-    direction: ArrayLike,
-    *,
-    zeta: float = DEFAULT_ZETA,
-    coefficients: FourierCoefficients = LI2013_GENERIC,
-    extension: str = "treers2021",
-    per_element: bool = False,
-    leading_width: float = LEADING_WIDTH,
-) -> np.ndarray:
+    normals: ArrayLike, depths: ArrayLike, areas: ArrayLike, direction: ArrayLike, *,
+    zeta: float = DEFAULT_ZETA, coefficients: FourierCoefficients = LI2013_GENERIC,
+    extension: str = "treers2021", per_element: bool = False, leading_width: float = LEADING_WIDTH,
+) -> np.ndarray:  # fmt: skip
     r"""Granular RFT force on surface elements moving in one direction.
 
     Parameters

@@ -42,17 +42,9 @@ from ._rft_groups import FacetRFT, _element_forces, check_facets, unit_vectors
 from .granular_rft import LEADING_WIDTH, leading_weight
 
 __all__ = [
-    "AGARWAL2023",
-    "GRAVITY",
-    "PLAUSIBLE_RHO_C",
-    "WALL_WIDTH",
-    "GranularRFT3D",
-    "PolynomialCoefficients",
-    "agarwal_generic_alpha",
-    "agarwal_xi",
-    "rft3d_alpha",
-    "rft3d_forces",
-]
+    "AGARWAL2023", "GRAVITY", "PLAUSIBLE_RHO_C", "WALL_WIDTH", "GranularRFT3D",
+    "PolynomialCoefficients", "agarwal_generic_alpha", "agarwal_xi", "rft3d_alpha", "rft3d_forces"
+]  # fmt: skip
 
 #: Standard gravity used by the material constant [m/s^2] (the value the sources use).
 GRAVITY = 9.81
@@ -150,12 +142,9 @@ def agarwal_xi(
 
 
 def agarwal_generic_alpha(
-    beta: ArrayLike,
-    gamma: ArrayLike,
-    psi: ArrayLike,
-    *,
+    beta: ArrayLike, gamma: ArrayLike, psi: ArrayLike, *,
     coefficients: PolynomialCoefficients = AGARWAL2023,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
     r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-].
 
     .. math::
@@ -204,11 +193,9 @@ def _generic_for(
 
 
 def _generic(
-    normals: NDArray[np.float64],
-    direction: NDArray[np.float64],
-    coefficients: PolynomialCoefficients,
-    wall_width: float,
-) -> NDArray[np.float64]:
+    normals: NDArray[np.float64], direction: NDArray[np.float64],
+    coefficients: PolynomialCoefficients, wall_width: float,
+) -> NDArray[np.float64]:  # fmt: skip
     """Generic response (..., k, 3) [-] of unit ``normals`` (k, 3) moving along the unit
     ``direction`` (D90); the downward normal is blended across walls, ``|n_z| < wall_width`` (D93)."""
     nz = normals[:, 2]
@@ -242,13 +229,9 @@ def _cap(
 
 
 def rft3d_alpha(
-    normals: ArrayLike,
-    direction: ArrayLike,
-    *,
-    mu_surf: float | None = None,
-    coefficients: PolynomialCoefficients = AGARWAL2023,
-    wall_width: float = WALL_WIDTH,
-) -> NDArray[np.float64]:
+    normals: ArrayLike, direction: ArrayLike, *, mu_surf: float | None = None,
+    coefficients: PolynomialCoefficients = AGARWAL2023, wall_width: float = WALL_WIDTH,
+) -> NDArray[np.float64]:  # fmt: skip
     r"""Generic 3D-RFT response of elements, world frame, optionally friction-capped [-].
 
     .. math::
@@ -294,13 +277,9 @@ def rft3d_alpha(
 
 
 def _unit_forces(
-    normals: NDArray[np.float64],
-    direction: NDArray[np.float64],
-    coefficients: PolynomialCoefficients,
-    mu_surf: float,
-    leading_width: float,
-    wall_width: float,
-) -> NDArray[np.float64]:
+    normals: NDArray[np.float64], direction: NDArray[np.float64],
+    coefficients: PolynomialCoefficients, mu_surf: float, leading_width: float, wall_width: float,
+) -> NDArray[np.float64]:  # fmt: skip
     """Capped response (..., k, 3) of unit ``normals`` weighted by how much each leads."""
     alpha = _cap(_generic(normals, direction, coefficients, wall_width), normals, mu_surf)
     lead = leading_weight((normals * direction[..., None, :]).sum(-1), leading_width)
@@ -308,18 +287,10 @@ def _unit_forces(
 
 
 def rft3d_forces(
-    normals: ArrayLike,
-    depths: ArrayLike,
-    areas: ArrayLike,
-    direction: ArrayLike,
-    *,
-    xi_n: float,
-    mu_surf: float,
-    coefficients: PolynomialCoefficients = AGARWAL2023,
-    per_element: bool = False,
-    leading_width: float = LEADING_WIDTH,
-    wall_width: float = WALL_WIDTH,
-) -> NDArray[np.float64]:
+    normals: ArrayLike, depths: ArrayLike, areas: ArrayLike, direction: ArrayLike, *, xi_n: float,
+    mu_surf: float, coefficients: PolynomialCoefficients = AGARWAL2023, per_element: bool = False,
+    leading_width: float = LEADING_WIDTH, wall_width: float = WALL_WIDTH,
+) -> NDArray[np.float64]:  # fmt: skip
     r"""3D-RFT force [N] :math:`d\mathbf F = w\,\boldsymbol\alpha\,|z|\,dA` on elements moving
     in one direction, :math:`w` their leading weight.
 

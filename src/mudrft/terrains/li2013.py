@@ -15,13 +15,9 @@ from numpy.typing import ArrayLike
 from .._validation import check_broadcast, check_finite
 
 __all__ = [
-    "DEFAULT_ZETA",
-    "GRANULAR_MEDIA",
-    "LI2013_GENERIC",
-    "PLAUSIBLE_ZETA",
-    "FourierCoefficients",
-    "li2013_alpha",
-]
+    "DEFAULT_ZETA", "GRANULAR_MEDIA", "LI2013_GENERIC", "PLAUSIBLE_ZETA", "FourierCoefficients",
+    "li2013_alpha"
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -83,16 +79,9 @@ class FourierCoefficients:
 
 #: Li, Zhang & Goldman (2013), generic coefficients (dimensionless; alpha_z(0, pi/2) = 1).
 LI2013_GENERIC = FourierCoefficients(
-    A00=0.206,
-    A10=0.169,
-    B01=0.358,
-    B11=0.212,
-    Bm11=0.055,
-    C01=0.253,
-    C11=-0.124,
-    Cm11=0.007,
-    D10=0.088,
-)
+    A00=0.206, A10=0.169, B01=0.358, B11=0.212, Bm11=0.055,  # alpha_z
+    C01=0.253, C11=-0.124, Cm11=0.007, D10=0.088,  # alpha_x
+)  # fmt: skip
 
 #: Scale zeta [N/m^3] of loosely and closely packed poppy seeds, alpha_z(0, pi/2) of Li et
 #: al.'s (2013) per-medium fits (decision D50).

@@ -34,12 +34,8 @@ if TYPE_CHECKING:
     from ..feet.base import Foot
 
 __all__ = [
-    "DEFAULT_STIFFNESS",
-    "PLAUSIBLE_STIFFNESS",
-    "LinearState",
-    "LinearStiffness",
-    "fit_stiffness",
-]
+    "DEFAULT_STIFFNESS", "PLAUSIBLE_STIFFNESS", "LinearState", "LinearStiffness", "fit_stiffness"
+]  # fmt: skip
 
 #: Plausible stiffnesses per unit area [N/m^3]; below, most likely N/cm^3 read as N/m^3.
 PLAUSIBLE_STIFFNESS = (1.0e3, 1.0e9)

@@ -195,14 +195,8 @@ class MaxwellMud:
         )  # fmt: skip
         stress = np.where(in_mud, inside, 0.0)
         zero = np.zeros(np.shape(stress))
-        new = MaxwellState(
-            sigma_m=np.where(in_mud, sigma_m, zero),
-            suction=np.where(in_mud, s, zero),
-            suction_rate=np.where(in_mud, sd, zero),
-            gamma_max=np.where(in_mud, gmax, zero),
-            in_mud=in_mud,
-        )
-        return new, stress
+        sigma_m, s, sd, gmax = (np.where(in_mud, v, zero) for v in (sigma_m, s, sd, gmax))
+        return MaxwellState(sigma_m, s, sd, gmax, in_mud), stress  # reset out of the mud
 
     def step(
         self, foot: Foot, state: MaxwellState, position: ArrayLike, velocity: ArrayLike, dt: float
@@ -320,13 +314,9 @@ _FIT_FIELDS = ("modulus", "relaxation", "sigma_y", "omega", "release")
 
 
 def fit_maxwell(
-    trajectory: Trajectory,
-    stress: ArrayLike,
-    *,
-    characteristic_length: float = 0.05,
-    initial: MaxwellMud | None = None,
-    progress: bool = False,
-) -> MaxwellFit:
+    trajectory: Trajectory, stress: ArrayLike, *, characteristic_length: float = 0.05,
+    initial: MaxwellMud | None = None, progress: bool = False,
+) -> MaxwellFit:  # fmt: skip
     r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
 
     :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``; least squares on
@@ -379,10 +369,4 @@ def fit_maxwell(
     sol = least_squares(resid, x0, method="trf", x_scale=1.0, diff_step=1e-4)
     model = m0.replace(**dict(zip(_FIT_FIELDS, np.exp(sol.x), strict=True)))
     rmse = float(np.sqrt(np.mean(sol.fun**2)))
-    return MaxwellFit(
-        model=model,
-        rmse=rmse,
-        success=bool(sol.success),
-        message=str(sol.message),
-        nfev=int(sol.nfev),
-    )
+    return MaxwellFit(model, rmse, bool(sol.success), str(sol.message), int(sol.nfev))

@@ -16,12 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._typing import Namespace, XpArray
-from .._validation import (
-    MudrftError,
-    check_characteristic_length,
-    number_in_range,
-    positive_number,
-)
+from .._validation import MudrftError, check_characteristic_length, number_in_range, positive_number
 from .._xp import pyfloat
 from ..citations import register
 from ..constitutive import kernel
@@ -34,16 +29,9 @@ from ..parameters.base import PARAMETER_UNITS, Mud, MudParameters
 from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
-    "MudChannels",
-    "MudState",
-    "MudTerrain",
-    "channel_parameters",
-    "initial_channels",
-    "mud_channel_stress",
-    "mud_heading",
-    "mud_step",
-    "vertical_viscosity",
-]
+    "MudChannels", "MudState", "MudTerrain", "channel_parameters", "initial_channels",
+    "mud_channel_stress", "mud_heading", "mud_step", "vertical_viscosity"
+]  # fmt: skip
 
 
 def channel_parameters(mud: Mud) -> MudParameters:
@@ -294,12 +282,6 @@ def _motion_for_state(
     return pos, vel
 
 
-def _as_bool(name: str, value: Any) -> bool:
-    if not isinstance(value, bool | np.bool_):
-        raise MudrftError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
-
-
 @dataclass(frozen=True, eq=False)
 class MudTerrain:
     r"""The mud model of Chen et al. (2026) as a terrain.
@@ -356,7 +338,9 @@ class MudTerrain:
         qs, restart, kappa = evaluation(self.thixotropy, self.clock, self.acceleration)
         object.__setattr__(self, "acceleration", kappa == 1.0)
         object.__setattr__(self, "_flags", (qs, restart))
-        object.__setattr__(self, "reset_on_exit", _as_bool("reset_on_exit", self.reset_on_exit))
+        if not isinstance(self.reset_on_exit, bool | np.bool_):
+            raise MudrftError(f"reset_on_exit must be True or False, got {self.reset_on_exit!r}")
+        object.__setattr__(self, "reset_on_exit", bool(self.reset_on_exit))
         object.__setattr__(self, "xi0", number_in_range("xi0", self.xi0, 0.0, 1.0))
         hs = positive_number("heading_speed", self.heading_speed, unit="m/s")
         object.__setattr__(self, "heading_speed", hs)

@@ -84,13 +84,9 @@ class RigidGround:
         return RigidState(in_contact=tip_depth(pos) > 0)
 
     def step(
-        self,
-        foot: Foot | None,
-        state: RigidState,
-        position: ArrayLike,
-        velocity: ArrayLike,
+        self, foot: Foot | None, state: RigidState, position: ArrayLike, velocity: ArrayLike,
         dt: float,
-    ) -> tuple[RigidState, TerrainOutput]:
+    ) -> tuple[RigidState, TerrainOutput]:  # fmt: skip
         """Contact force at tip ``position`` [m] moving at ``velocity`` [m/s]; ``dt`` [s] unused."""
         check_positive("dt", dt, unit="s")
         pos, vel = kinematics(position, velocity)
@@ -102,13 +98,9 @@ class RigidGround:
         vt = vel[..., :2]
         speed = np.linalg.norm(vt, axis=-1, keepdims=True)
         unit = np.where(speed > 0, vt / np.where(speed > 0, speed, 1.0), 0.0)
-        ft = (
-            0.0 - self.friction * fn[..., None] * np.tanh(speed / self.slip_speed) * unit
-        )  # no -0.0
+        slip = np.tanh(speed / self.slip_speed)
+        ft = 0.0 - self.friction * fn[..., None] * slip * unit  # 0.0 - : no -0.0
         force = np.concatenate([ft, fn[..., None]], axis=-1)
-        stress = (
-            np.zeros_like(force) if foot is None else mean_stress(force, projected(foot, depth))
-        )
-        return RigidState(in_contact=contact), TerrainOutput(
-            force=force, stress=stress, depth=depth
-        )
+        areas = np.zeros_like(force) if foot is None else projected(foot, depth)
+        out = TerrainOutput(force=force, stress=mean_stress(force, areas), depth=depth)
+        return RigidState(in_contact=contact), out

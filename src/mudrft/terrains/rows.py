@@ -40,25 +40,10 @@ if TYPE_CHECKING:
     from .mud import MudTerrain
 
 __all__ = [
-    "MESH",
-    "MORPHING",
-    "N_CONST",
-    "N_FOOT",
-    "N_OUT",
-    "N_STATE",
-    "STATE_HEADING",
-    "STATE_IN_MUD",
-    "STATE_RETRACTION",
-    "channels_of_rows",
-    "compilable",
-    "config_row",
-    "constant_row",
-    "foot_rows",
-    "foot_step",
-    "run",
-    "state_rows",
-    "upright_rows",
-]
+    "MESH", "MORPHING", "N_CONST", "N_FOOT", "N_OUT", "N_STATE", "STATE_HEADING", "STATE_IN_MUD",
+    "STATE_RETRACTION", "channels_of_rows", "compilable", "config_row", "constant_row", "foot_rows",
+    "foot_step", "run", "state_rows", "upright_rows"
+]  # fmt: skip
 
 N_CHANNEL = len(ChannelState._fields)
 N_STATE = 2 * N_CHANNEL + 5

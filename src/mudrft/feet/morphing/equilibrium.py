@@ -1,27 +1,11 @@
 r"""The column in balance with the mud, and the seal broken by curling pads (D32, D34, D35).
 
-*Load path* (D32, an assumption: D160). The whole vertical mud force on the base and pads
-passes through the column, so the deflection :math:`\delta` solves
-
-.. math:: R(\delta) = F_s(\delta) - \sigma_zA_z\bigl(d, \theta(\delta)\bigr) = 0
-          \quad\text{on}\quad [0, \delta_{max}],
-
-with the end stops as complementarity: :math:`\delta=0` where :math:`R(0)\ge0`,
-:math:`\delta=\delta_{max}` where :math:`R(\delta_{max})\le0`.
-
-*Root selection* (D34). :math:`R` can have three roots (a snap-through). From the previous
-deflection the column moves in the direction of the net force (:math:`R<0`: compress) to
-the first root or stop it meets: hysteresis, and the unique root where :math:`R` is
-monotone. A scan over 33 nodes of the stroke selects the bracket (:func:`_scan_node`,
-:func:`_settle`, written once, element-wise); the bracket is refined to
-:math:`|R|\le10^{-10}` N or a width of :math:`10^{-15}` m, by bisection on floats for up to
-16 moving elements (:func:`balanced_deflection_on_floats`, which the compiled coupling
-runs), else by one call of :func:`scipy.optimize.elementwise.find_root` for the whole batch
-(SciPy >= 1.15; older SciPy takes the float path).
-
-*Sealing* (D35). The seal factor is :math:`1-\tanh(g/g_s)`, with
-:math:`g=\ell(\sin\theta-\sin\theta_m)` [m] the lift of the pad rims above their most spread
-position :math:`\theta_m` in the current contact (:func:`held_deflection`: the pad-curl delay).
+The deflection :math:`\delta` solves
+:math:`R(\delta)=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))=0` on :math:`[0,\delta_{max}]`,
+the end stops as complementarity; from the previous deflection the column moves with the net force to the first root or stop it meets (D34): a scan over
+33 nodes brackets it, then bisection on floats (up to 16 moving elements) or SciPy's
+``find_root`` (a batch) refines it to :math:`|R|\le10^{-10}` N. The seal factor is
+:math:`1-\tanh(g/g_s)`, :math:`g` the lift of the pad rims since their most spread (D35).
 """
 
 from __future__ import annotations
@@ -99,13 +83,9 @@ def column_residual(
 
 
 def residual(
-    deflection: ArrayLike,
-    depth: ArrayLike,
-    sz: ArrayLike,
-    *,
-    linkage: Linkage,
+    deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike, *, linkage: Linkage,
     spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+) -> NDArray[np.float64]:  # fmt: skip
     r"""Balance residual :math:`R` [N] of a linkage and spring (unchecked): > 0 where the
     springs push the column back open; deflection [m] in [0, stroke], tip depth [m] >= 0,
     vertical channel stress [Pa]."""
@@ -117,12 +97,9 @@ def residual(
 
 @functools.lru_cache(maxsize=64)
 def linkage_row(
-    linkage: Linkage,
-    spring: TwoStageSpring,
-    seal_length: float = 1.0,
-    lock: float = -1.0,
+    linkage: Linkage, spring: TwoStageSpring, seal_length: float = 1.0, lock: float = -1.0,
     curl_delay: float = 0.0,
-) -> MorphingRow:
+) -> MorphingRow:  # fmt: skip
     """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1,
     pad-curl delay [s]); cached, for :func:`balanced_deflection` on floats."""
@@ -145,13 +122,9 @@ def linkage_row(
 
 
 def balanced_deflection(
-    depth: ArrayLike,
-    sz: ArrayLike,
-    *,
-    previous: ArrayLike,
-    linkage: Linkage,
+    depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike, linkage: Linkage,
     spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+) -> NDArray[np.float64]:  # fmt: skip
     """Column deflection in balance with the mud [m], continued from ``previous`` [m] (D34).
 
     The unchecked path of :meth:`MorphingFoot.equilibrium` (module docstring: the root
@@ -226,13 +199,9 @@ def _settle(
 
 
 def _move(
-    d: NDArray[np.float64],
-    s: NDArray[np.float64],
-    p: NDArray[np.float64],
-    r_p: NDArray[np.float64],
-    linkage: Linkage,
-    spring: TwoStageSpring,
-) -> NDArray[np.float64]:
+    d: NDArray[np.float64], s: NDArray[np.float64], p: NDArray[np.float64],
+    r_p: NDArray[np.float64], linkage: Linkage, spring: TwoStageSpring,
+) -> NDArray[np.float64]:  # fmt: skip
     """The moving elements of a batch: the scan on arrays, the brackets refined by
     ``find_root`` in one call."""
     stroke = linkage.stroke
@@ -271,12 +240,9 @@ def _move(
 
 
 def seal_factor(
-    pad_angle: ArrayLike,
-    most_spread: ArrayLike,
-    pad_length: float,
-    seal_length: float,
+    pad_angle: ArrayLike, most_spread: ArrayLike, pad_length: float, seal_length: float,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` (D35).
 
     ``pad_angle`` :math:`\theta` and ``most_spread`` :math:`\theta_m` [rad], ``pad_length``
@@ -298,12 +264,9 @@ def track_most_spread(
 
 
 def held_deflection(
-    deflection: XpArray,
-    previous: XpArray,
-    retraction: XpArray,
-    curl_delay: float,
+    deflection: XpArray, previous: XpArray, retraction: XpArray, curl_delay: float,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     r"""The column deflection [m] after the pad-curl delay (D35): for the first ``curl_delay``
     [s] of a retraction (``retraction``, the mud's :math:`t-t_w` [s], 0 while not retracting)
     the column may compress but not extend, so the pads do not curl; else ``deflection``, the

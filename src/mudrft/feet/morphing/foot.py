@@ -124,11 +124,8 @@ class MorphingFoot(Foot):
         self.seal_length = positive_number("seal_length", seal_length, unit="m")
         self.curl_delay = float(check_nonnegative("curl_delay", curl_delay, unit="s"))
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
-        self._lc = (
-            None
-            if characteristic_length is None
-            else check_length("characteristic_length", characteristic_length)
-        )
+        lc = characteristic_length
+        self._lc = None if lc is None else check_length("characteristic_length", lc)
         self._lc_spread: float | None = None
 
     # -- kinematics and springs --------------------------------------------------------------
@@ -276,9 +273,7 @@ class MorphingFoot(Foot):
             "curl_delay": self.curl_delay,
             "characteristic_length": self._lc,
         }
-        for k in tuple(kw):
-            if k in changes:
-                kw[k] = changes.pop(k)
+        kw.update({k: changes.pop(k) for k in tuple(kw) if k in changes})
         return MorphingFoot(self.geometry, self.spring, **kw, **changes)
 
     def as_dict(self) -> dict[str, float | int | str]:

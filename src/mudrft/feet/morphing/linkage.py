@@ -112,18 +112,14 @@ class MorphingFootGeometry:
         object.__setattr__(self, "pole_radius", pole)
         beta = number_in_range("crank_offset", self.crank_offset, -math.pi, math.pi, unit="rad")
         object.__setattr__(self, "crank_offset", beta)
-        th_e = float(
-            check_in_range("expanded_angle", self.expanded_angle, 0.0, 0.5 * math.pi, unit="rad")
-        )
-        th_r = float(
-            check_in_range("retracted_angle", self.retracted_angle, 0.0, 0.5 * math.pi, unit="rad")
-        )
+        for k in ("expanded_angle", "retracted_angle"):
+            angle = float(check_in_range(k, getattr(self, k), 0.0, 0.5 * math.pi, unit="rad"))
+            object.__setattr__(self, k, angle)
+        th_e, th_r = self.expanded_angle, self.retracted_angle
         if not th_r > th_e:
             raise MudrftError(
                 f"retracted_angle must exceed expanded_angle = {th_e!r} rad, got {th_r!r} rad"
             )
-        object.__setattr__(self, "expanded_angle", th_e)
-        object.__setattr__(self, "retracted_angle", th_r)
         if self.column_radius > self.base_radius:
             raise MudrftError(
                 f"column_radius must be <= base_radius = {self.base_radius!r} m, "
@@ -160,12 +156,9 @@ def _pole_height(g: MorphingFootGeometry, theta: NDArray[np.float64]) -> NDArray
 
 
 def raw_pad_angle(
-    g: MorphingFootGeometry | MorphingRow,
-    pole_top: XpArray,
-    branch: XpArray,
-    deflection: XpArray,
+    g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray, deflection: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Pad angle [rad] of the circle intersection at a deflection [m], not clipped,
     element-wise; ``g`` holds the dimensions by attribute (:class:`MorphingFootGeometry` or
     :class:`MorphingRow`), ``pole_top`` [m] and ``branch`` (+-1) come from :class:`Linkage`."""
@@ -178,12 +171,9 @@ def raw_pad_angle(
 
 
 def pad_angle(
-    g: MorphingFootGeometry | MorphingRow,
-    pole_top: XpArray,
-    branch: XpArray,
-    deflection: XpArray,
+    g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray, deflection: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Pad angle :math:`\\theta(\\delta)` [rad]: :func:`raw_pad_angle` clipped to
     [``expanded_angle``, ``retracted_angle``] (D30)."""
     th = raw_pad_angle(g, pole_top, branch, deflection, xp=xp)

@@ -79,12 +79,9 @@ def vertical_area(
 
 
 def horizontal_area(
-    g: MorphingFootGeometry | MorphingRow,
-    depth: XpArray,
-    theta: XpArray,
-    heading: XpArray,
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, heading: XpArray,
     xp: Namespace = np,
-) -> XpArray:
+) -> XpArray:  # fmt: skip
     """Submerged area projected normal to the ``heading`` [rad], :math:`A_h` [m^2] (D33), at
     tip ``depth`` [m] and pad angle ``theta`` [rad]."""
     col = 2.0 * g.base_radius * xp.clip(depth, 0.0, g.pivot_height) + 2.0 * g.column_radius * (
@@ -111,12 +108,9 @@ def footprint_area(
 
 
 def coefficients(
-    g: MorphingFootGeometry | MorphingRow,
-    depth: XpArray,
-    theta: XpArray,
-    phi: XpArray,
+    g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, phi: XpArray,
     xp: Namespace = np,
-) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33) at the
     first-quadrant heading ``phi`` [rad]: :math:`F_x=A_h\cos\varphi\,\sigma_x`,
     :math:`F_y=A_h\sin\varphi\,\sigma_y`, :math:`F_z=A_z\sigma_z`."""
@@ -137,12 +131,9 @@ def morphing_force(
 
 
 def magnitudes(
-    g: MorphingFootGeometry,
-    depth: ArrayLike,
-    stress: ArrayLike,
-    heading: ArrayLike,
+    g: MorphingFootGeometry, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike,
     theta: ArrayLike,
-) -> NDArray[np.float64]:
+) -> NDArray[np.float64]:  # fmt: skip
     """First-quadrant magnitudes (Fx, Fy, Fz) [N] (D33) at tip ``depth`` [m], stresses
     (..., 3) [Pa], ``heading`` in [0, pi/2] [rad] and pad angle ``theta`` [rad]."""
     s = np.asarray(stress, dtype=float)
@@ -216,12 +207,8 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
         zm = 0.5 * (zs[1:] + zs[:-1])
         cen.append((radius * er_w[:, None, :] + zm[None, :, None] * ez).reshape(-1, 3))
         nor.append(np.repeat(er_w, strips, axis=0))
-        ar.append(
-            np.full(
-                _WALL_SEGMENTS * strips,
-                2.0 * math.pi * radius * (z1 - z0) / (_WALL_SEGMENTS * strips),
-            )
-        )
+        area = 2.0 * math.pi * radius * (z1 - z0) / (_WALL_SEGMENTS * strips)
+        ar.append(np.full(_WALL_SEGMENTS * strips, area))
     for a in g.azimuths:
         er = np.array([math.cos(a), math.sin(a), 0.0])
         p = (g.base_radius * er + g.pivot_height * ez)[None, :] + mids[:, None] * (
