@@ -339,6 +339,8 @@ class MeshFoot(Foot):
                 f"({type(unit).__name__})"
             )
         scale = parse_unit("length", unit)
+        if not isinstance(trailing, bool | np.bool_):  # before reading a file that may be large
+            raise MudrftError(f"trailing must be True or False, got {trailing!r}")
         if not isinstance(up, str) or up not in UP_AXES:
             raise MudrftError(f"up must be the file's up axis, one of {list(UP_AXES)}, got {up!r}")
         p = os.fspath(path)
