@@ -181,6 +181,7 @@ def test_run_refuses_numpy_parameters_and_channel_sets_without_channels():
     np.testing.assert_allclose(np.asarray(h.total), ref.total, rtol=1e-11, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_a_traced_characteristic_length_is_a_design_variable():
     """L_c [m] may be traced (it is checked only when concrete): its derivative through a
     simulated path equals a central difference."""

@@ -108,6 +108,7 @@ def test_patching_the_constitutive_step_changes_the_jax_path(patched):
     assert float(stress[2]) > SENTINEL - 1e4
 
 
+@pytest.mark.slow
 def test_patching_the_constitutive_step_changes_the_mjx_path(patched):
     """The MJX coupling traces the one step: two channels, stresses shifted (D68c)."""
     mujoco = pytest.importorskip("mujoco")

@@ -27,6 +27,8 @@ from mudrft.feet.meshgen import box_mesh
 REPO = Path(__file__).resolve().parents[2]
 GUIDE = sorted((REPO / "docs" / "guide").glob("*.md"))
 PAGES = [REPO / "README.md", REPO / "docs" / "getting-started.md", *GUIDE]
+# the pages whose examples compile JAX and MJX for minutes run with the slow tests (CI runs them)
+SLOW_PAGES = ("jax.md", "mujoco.md")
 BLOCK = re.compile(r"^(<!-- snippet: not run \((?P<why>[^)]*)\) -->\n)?```python\n(?P<code>.*?)^```", re.S | re.M)  # fmt: skip
 # what an optional import needs: a block importing the module is run only when it is there
 EXTRAS = ("matplotlib", "mujoco", "jax", "gymnasium", "dask", "distributed", "xarray", "zarr")
@@ -98,7 +100,11 @@ def test_every_page_has_examples_and_the_markers_are_well_formed():
     assert total == fences >= 20  # every python fence is found, marked or not
 
 
-@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+@pytest.mark.parametrize(
+    "page",
+    [pytest.param(p, marks=pytest.mark.slow) if p.name in SLOW_PAGES else p for p in PAGES],
+    ids=lambda p: p.name,
+)
 def test_the_examples_of_a_page_run(page, scratch):
     found = blocks(page)
     if not found:

@@ -231,6 +231,7 @@ def test_batch_broadcasting_matches_loop() -> None:
     np.testing.assert_allclose(out[1], alone, rtol=1e-12, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_runs_under_jax() -> None:
     jax = pytest.importorskip("jax")
     jnp = jax.numpy
