@@ -272,3 +272,45 @@ def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_
     with x64_context(False):
         _, _, st, out = first_step(batch)
     assert st.foot_xy.dtype == np.float32 and float(out.depth[0, 0]) > 0.005
+
+
+def test_an_mjx_sphere_foot_is_a_full_ball_whatever_the_calf_tilt():
+    """Issue 41: a sphere foot is a ball, the same from every angle. MJX modelled it as a
+    hemisphere fixed to the calf, so its support changed with the calf's tilt. A calf
+    whose ball's center stands 10 mm above the mud's surface, upright, pitched 40 degrees
+    and rolled 80 degrees about that center: the same depth and force in every pose."""
+    xml = """<mujoco><option timestep="0.001"/><worldbody>
+      <body name="calf" pos="0 0 0.11"><freejoint/>
+      <geom type="capsule" fromto="0 0 0 0 0 0.1" size="0.01" contype="0" conaffinity="0"
+       mass="0.3"/>
+      <geom name="ball" type="sphere" pos="0 0 -0.1" size="0.02" mass="0.2"/>
+      </body></worldbody></mujoco>"""
+    m = mujoco.MjModel.from_xml_string(xml)
+    center = np.array([0.0, 0.0, 0.01])
+    with x64_context(True):
+        coupling = mm.attach(m, "calf", MUD)
+        assert coupling.bodies[0].ball
+        datas = []
+        for euler in ((0.0, 0.0, 0.0), (0.0, 40.0, 0.0), (80.0, 0.0, 0.0)):
+            d = mujoco.MjData(m)
+            q = np.zeros(4)
+            mujoco.mju_euler2Quat(q, np.radians(euler), "xyz")
+            R = np.zeros(9)
+            mujoco.mju_quat2Mat(R, q)
+            d.qpos[:3] = center + R.reshape(3, 3) @ [0.0, 0.0, 0.1]
+            d.qpos[3:7] = q
+            mujoco.mj_forward(m, d)
+            assert d.geom_xpos[1] == pytest.approx(center, abs=1e-12)
+            datas.append(coupling.put_data(d))
+        batch = jax.tree_util.tree_map(lambda *a: np.stack(a), *datas)
+
+        @mm.jit
+        def first_step(d):
+            st = jax.vmap(coupling.init)(d)
+            return jax.vmap(coupling.step)(d, st)[2]
+
+        out = first_step(batch)
+    depth, force = np.asarray(out.depth)[:, 0], np.asarray(out.explicit_force)[:, 0]
+    np.testing.assert_allclose(depth, 0.02 - center[2], atol=1e-12)  # radius 0.02 m
+    assert force[0, 2] > 0.0
+    np.testing.assert_allclose(force, np.broadcast_to(force[0], force.shape), rtol=1e-9, atol=1e-9)

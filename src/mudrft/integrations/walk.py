@@ -381,11 +381,7 @@ def walk(
     data = mj.MjData(model)
     ctrl = GaitController(model, speed=speed, step_time=step_time)
     ctrl.initial_pose(data)
-    from .mujoco.backend import choose_backend
-
-    coupling = attach(
-        model, list(BIPED_FEET), mud, feet=foot, backend=choose_backend(backend, mud, foot)
-    )
+    coupling = attach(model, list(BIPED_FEET), mud, feet=foot, backend=backend)
     coupling.reset(data)
     qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id

@@ -29,7 +29,7 @@ from ...terrains import as_terrain
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data, check_removed
-from ..mujoco.placement import attached_foot
+from ..mujoco.placement import attached_foot, coupled_tip, coupled_triangles
 from ..mujoco.pose import POSE_RESOLUTION
 from ..mujoco.stability import check_timestep
 from ._lazy import _jax, _mjx, _xp, jit
@@ -123,23 +123,23 @@ class MjxCoupling:
             attached_foot(model, b, f, resolution=opts.resolution, geom=g)
             for b, f, g in zip(names, feet_list, opts.geoms, strict=True)
         ]
-        groups: dict[str, list[int]] = {}
+        groups: dict[tuple[str, bool], list[int]] = {}
         for i, p in enumerate(placed):  # equal feet (same parameters) share one mud call
             if p.triangles is None:
                 raise MudrftError(f"body {p.body!r} has a foot without a surface")
-            groups.setdefault(repr(p.foot) if "=" in repr(p.foot) else str(id(p.foot)), []).append(
-                i
-            )
+            key = repr(p.foot) if "=" in repr(p.foot) else str(id(p.foot))
+            groups.setdefault((key, p.ball), []).append(i)
         built = []
-        for idx in groups.values():
+        for (_, ball), idx in groups.items():
             foot = placed[idx[0]].foot
             built.append(
                 Group(
                     idx=np.array(idx),
                     lc=float(terrain.length(foot)),
                     force_fn=_force_rule(foot),
-                    triangles=np.stack([np.asarray(placed[i].triangles) for i in idx]),
+                    triangles=np.stack([np.asarray(coupled_triangles(placed[i])) for i in idx]),
                     upright=prepare_triangles(np.asarray(placed[idx[0]].upright, dtype=float)),
+                    ball=ball,
                 )
             )
         ids = np.array([p.body_id for p in placed])
@@ -149,7 +149,8 @@ class MjxCoupling:
         self.static = Static(
             ids=ids,
             roots=np.array(model.body_rootid)[ids],
-            tip=np.stack([p.tip for p in placed]),
+            tip=np.stack([coupled_tip(p) for p in placed]),
+            ball=np.array([p.ball for p in placed]),
             forward=np.stack([p.forward for p in placed]),
             groups=tuple(built),
             surface=opts.surface,

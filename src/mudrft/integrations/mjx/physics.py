@@ -17,18 +17,9 @@ import numpy as np
 
 from ...feet.surface import PreparedTriangles
 from ...terrains.mud import MudChannels, initial_channels, mud_step
-from ..mujoco.implicit import (
-    bottom_wrench,
-    channel_rows,
-    damping_matrix,
-    implicit_wrench,
-    passive_wrench,
-    posed_wrench,
-    secant_steps,
-    yaw_inertia_to_world,
-)
+from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
 from ..mujoco.kinematics import com_twist
-from ..mujoco.pose import channel_geometry, matvec, rowdot, upright_area
+from ..mujoco.pose import ChannelGeometry, matvec, posed_channels
 from ._lazy import _jax, _mjx, _xp
 
 if TYPE_CHECKING:
@@ -123,8 +114,9 @@ class Group:
     idx: np.ndarray
     lc: float
     force_fn: Any
-    triangles: np.ndarray  # (nb_g, m, 3, 3) in the body frames [m]
+    triangles: np.ndarray  # (nb_g, m, 3, 3) in the body frames (a ball's: about its center) [m]
     upright: PreparedTriangles  # the foot in its own frame
+    ball: bool = False  # a sphere geom's foot, the same from every angle
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,8 +125,9 @@ class Static:
 
     ids: np.ndarray
     roots: np.ndarray
-    tip: np.ndarray  # (nb, 3) body frame [m]
+    tip: np.ndarray  # (nb, 3) body frame, a ball's center [m]
     forward: np.ndarray  # (nb, 3) body frame [-]
+    ball: np.ndarray  # (nb,) bool
     groups: tuple[Group, ...]
     surface: float
     bottom: float | None
@@ -156,6 +149,7 @@ def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
     X, R, C = d.xpos[ids], d.xmat[ids].reshape(-1, 3, 3), d.xipos[ids]
     V, S = d.cvel[ids], d.subtree_com[roots]
     tip = X + matvec(R, xp.asarray(cfg.tip))
+    X = xp.where(xp.asarray(cfg.ball)[:, None], tip, X)  # a ball's center
     fw = matvec(R, xp.asarray(cfg.forward))
     h = xp.maximum(xp.hypot(fw[..., 0], fw[..., 1]), 1e-12)
     cs = xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)
@@ -179,35 +173,12 @@ def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: XpArray) -> XpArray:
     return xp.einsum("iav,jvb->ijab", J, minv_jt)  # (nb, nb, 6, 6), cross blocks (D62d)
 
 
-def _posed(
-    cfg: Static, k: dict[str, XpArray]
-) -> tuple[tuple[XpArray, XpArray, XpArray, XpArray], XpArray]:
+def _posed(cfg: Static, k: dict[str, XpArray]) -> tuple[ChannelGeometry, XpArray]:
     """Channel geometry of each posed foot and its ratio to the upright foot (D60a)."""
-    xp = _xp()
-    X, R, C, cs = k["X"], k["R"], k["C"], k["cs"]
-    parts: list[tuple[XpArray, ...]] = []
-    order = np.concatenate([g.idx for g in cfg.groups])
-    for g in cfg.groups:
-        idx = g.idx
-        c, s = cs[idx, 0], cs[idx, 1]
-        Rg = R[idx]
-        M = xp.stack(
-            [c[..., None] * Rg[..., 0, :] + s[..., None] * Rg[..., 1, :],
-             -s[..., None] * Rg[..., 0, :] + c[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
-            axis=-2,
-        )  # fmt: skip
-        o = X[idx] - xp.concatenate([C[idx, :2], xp.full((len(idx), 1), cfg.surface)], -1)
-        shift = xp.stack([c * o[..., 0] + s * o[..., 1], -s * o[..., 0] + c * o[..., 1],
-                          o[..., 2]], -1)  # fmt: skip
-        t = matvec(M[:, None, None], xp.asarray(g.triangles)) + shift[:, None, None, :]
-        geo = channel_geometry(t, xp=xp)
-        depth = xp.maximum(-geo.low[..., 2], 0.0)
-        up = upright_area(PreparedTriangles(*(xp.asarray(a) for a in g.upright)), depth, xp=xp)
-        ratio = xp.where(up > 0.0, geo.area / xp.where(up > 0.0, up, 1.0), 0.0)
-        parts.append((*geo, ratio))
-    inv = np.argsort(order)
-    cat = [xp.concatenate([p[i] for p in parts], axis=0)[inv] for i in range(5)]
-    return (cat[0], cat[1], cat[2], cat[3]), cat[4]
+    groups = [(g.triangles, g.upright, g.idx, g.ball) for g in cfg.groups]
+    X, R, C, cs = (k[n][None] for n in ("X", "R", "C", "cs"))
+    geo, ratio = posed_channels(groups, X, R, C, cs, cfg.surface, xp=_xp())
+    return ChannelGeometry(*(a[0] for a in geo)), ratio[0]
 
 
 def _take(tree: MudChannels, idx: np.ndarray) -> MudChannels:
@@ -259,24 +230,11 @@ def mud_wrench(
     xp = _xp()
     dt = mx.opt.timestep
     k = _frames(cfg, d)
-    (area, point, inertia, low), ratio = _posed(cfg, k)
+    geo, ratio = _posed(cfg, k)
     cs, tw, com, tip = k["cs"], k["tw"], k["C"], k["tip"]
-    c, s = cs[..., 0], cs[..., 1]
-    rel = xp.stack(
-        [c[..., None] * point[..., 0] - s[..., None] * point[..., 1],
-         s[..., None] * point[..., 0] + c[..., None] * point[..., 1],
-         point[..., 2] + (cfg.surface - com[..., None, 2])], axis=-1,
-    )  # fmt: skip
-    b = channel_rows(cs, rel, xp=xp)
-    vel = rowdot(b, tw[..., None, :])
-    # odometry of the tip in the foot frame (D65)
-    was_in = (st.mud.in_mud > 0.5)[..., None]
-    xy = xp.where(was_in, tip[..., :2] - st.world_xy, tip[..., :2])
-    base = xp.where(was_in, st.foot_xy, 0.0)
-    fxy = base + xp.stack(
-        [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
-    )
-    pos = xp.concatenate([fxy, low[..., 2:]], axis=-1)
+    _rel, b, vel = channel_motion(cs, geo.point, com, tw, cfg.surface, xp=xp)
+    fxy = foot_odometry(cs, tip[..., :2], st.mud.in_mud > 0.5, st.world_xy, st.foot_xy, xp=xp)
+    pos = xp.concatenate([fxy, geo.low[..., 2:]], axis=-1)
     depth = xp.maximum(-pos[..., 2], 0.0)
     step = secant_steps(vel, cfg.dv_min, xp=xp)
     mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
@@ -288,27 +246,15 @@ def mud_wrench(
         )  # fmt: skip
         mud = _jax().tree_util.tree_map(lambda a, v, i=idx: a.at[i].set(v), mud, new)
         f_up, jd, stress = f_up.at[idx].set(fg), jd.at[idx].set(jg), stress.at[idx].set(sg)
-    w0 = posed_wrench(ratio * f_up, b, xp=xp)
-    D = ratio * xp.minimum(jd, 0.0)
-    K = damping_matrix(D, b, area, yaw_inertia_to_world(inertia, cs, xp=xp), xp=xp)
-    spread = K - xp.einsum("...c,...ci,...cj->...ij", D, b, b)  # spin damping (D62a)
-    w0 = w0 + (spread @ tw[..., None])[..., 0]
-    if cfg.bottom is not None:  # a one-sided penalty on the lowest point (D67)
-        lw = xp.stack([c * low[..., 0] - s * low[..., 1], s * low[..., 0] + c * low[..., 1],
-                       low[..., 2] + cfg.surface - com[..., 2]], axis=-1)  # fmt: skip
-        wb, kb = bottom_wrench(
-            lw, tw, depth - cfg.bottom, cfg.bottom_stiffness, cfg.bottom_damping, xp=xp
-        )
-        w0 = w0 + wb
-        K = K + kb
     W = _mobility(cfg, mx, d, com)
     g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
     # the other forces' twist acceleration, from the last step's twists (D62)
     acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
-    wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
-    wrench, tank, wv = passive_wrench(wrench, tw, W, acc, st.tank, dt, xp=xp)
-    idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
-    wv = xp.where(idle[..., None], 0.0, wv)  # no wrench, no damping: W w = 0 (D62d)
+    wrench, w0, tank, wv = applied_wrench(
+        ratio, f_up, jd, b, geo, cs, tw, com, depth, W, acc, st.tank, dt,
+        surface=cfg.surface, bottom=cfg.bottom, stiffness=cfg.bottom_stiffness,
+        damping=cfg.bottom_damping, xp=xp,
+    )  # fmt: skip
     finite = xp.all(xp.isfinite(wrench))
     fast = xp.any(xp.sum(tw[..., :3] ** 2, axis=-1) > MAX_SPEED**2)
     unstable = ~(finite & xp.all(xp.isfinite(d.qpos)) & xp.all(xp.isfinite(d.qvel))) | fast
@@ -320,7 +266,7 @@ def mud_wrench(
     )  # an unstable robot's mud is held
     out = MjxContact(
         force=wrench[..., :3], torque=wrench[..., 3:], explicit_force=w0[..., :3], depth=depth,
-        stress=stress, tip=xp.concatenate([tip[..., :2], low[..., 2:] + cfg.surface], -1),
+        stress=stress, tip=xp.concatenate([tip[..., :2], geo.low[..., 2:] + cfg.surface], -1),
         velocity=vel, finite=finite, unstable=unstable,
     )  # fmt: skip
     return xfrc, new_state, out
@@ -332,11 +278,8 @@ def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
     """
     xp = _xp()
     k = _frames(cfg, d)
-    (_a, _p, _i, low), _r = _posed(cfg, k)
-    cs, tip = k["cs"], k["tip"]
-    c, s = cs[..., 0], cs[..., 1]
-    xy = tip[..., :2]
-    fxy = xp.stack([c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1)
+    low, tip = _posed(cfg, k)[0].low, k["tip"]
+    fxy = foot_odometry(k["cs"], tip[..., :2], xp=xp)
     depth = xp.maximum(-low[..., 2], 0.0)
     lc = np.zeros(len(cfg.ids))
     for g in cfg.groups:

@@ -23,15 +23,11 @@ from .backend import CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
 from .geoms import _support
 from .implicit import (
-    bottom_wrench,
-    channel_rows,
-    damping_matrix,
+    applied_wrench,
+    channel_motion,
+    foot_odometry,
     force_and_derivative,
-    implicit_wrench,
-    passive_wrench,
-    posed_wrench,
     secant_steps,
-    yaw_inertia_to_world,
 )
 from .kinematics import body_frames, chain_mobility, com_twist
 from .options import (
@@ -48,7 +44,7 @@ from .placement import (
     describe,
     group_triangles,
 )
-from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels, rowdot
+from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels
 from .stability import check_spring_step, check_timestep, diverged_error
 
 if TYPE_CHECKING:
@@ -329,30 +325,11 @@ class MudBatch:
         self._checked_datas = datas  # held, so that their ids stay theirs
         return datas
 
-    @staticmethod
-    def _nstep(nstep: object) -> int:
-        return check_count("nstep", nstep)
-
     def _foot_position(self, k: _Reading, *, fresh: bool) -> FloatArray:
         """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
-        c, s = k.cs[..., 0], k.cs[..., 1]
-        tip = k.tip
-        if fresh:
-            xy = tip[..., :2]
-            fxy = np.stack(
-                [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
-            )
-        else:
-            # odometry in the foot frame: a yawing foot sees no jump in its position (D65);
-            # out of the mud the position restarts from the rotated world position
-            was_in = self._in_mud()[..., None]
-            xy = np.where(was_in, tip[..., :2] - self._world_xy, tip[..., :2])
-            base = np.where(was_in, self._foot_xy, 0.0)
-            fxy = base + np.stack(
-                [c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1
-            )
-        self._foot_xy = fxy
-        return np.concatenate([fxy, k.geo.low[..., 2:]], axis=-1)
+        was_in = None if fresh else self._in_mud()
+        self._foot_xy = foot_odometry(k.cs, k.tip[..., :2], was_in, self._world_xy, self._foot_xy)
+        return np.concatenate([self._foot_xy, k.geo.low[..., 2:]], axis=-1)
 
     def _in_mud(self) -> BoolArray:
         out = np.zeros((self.n, len(self.bodies)), dtype=bool)
@@ -380,16 +357,7 @@ class MudBatch:
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
         geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
-        c, s = cs[..., 0], cs[..., 1]
-        # channel points relative to the center of mass, world frame
-        p = geo.point
-        rel = np.stack(
-            [c[..., None] * p[..., 0] - s[..., None] * p[..., 1],
-             s[..., None] * p[..., 0] + c[..., None] * p[..., 1],
-             p[..., 2] + (self.surface - com[..., None, 2])], axis=-1,
-        )  # fmt: skip
-        b = channel_rows(cs, rel)
-        vel = rowdot(b, tw[..., None, :])  # channel velocities at their points
+        rel, b, vel = channel_motion(cs, geo.point, com, tw, self.surface)
         pos = self._foot_position(k, fresh=False)
         self._world_xy = k.tip[..., :2]
         N, nb = pos.shape[:2]
@@ -407,35 +375,16 @@ class MudBatch:
             )
             self._states[gi] = new
             stress[:, idx] = sg
-        ratio = k.ratio
-        w0 = posed_wrench(ratio * f_up, b)
-        D = ratio * np.minimum(jd, 0.0)
-        K = damping_matrix(D, b, geo.area, yaw_inertia_to_world(geo.inertia, cs))
-        # the damping spread over the elements resists spin (D62a)
-        spread = K - np.einsum("...c,...ci,...cj->...ij", D, b, b)
-        w0 += (spread @ tw[..., None])[..., 0]
-        if self.bottom is not None:  # a one-sided penalty on the lowest point (D67)
-            lw = geo.low
-            low = np.stack(
-                [c * lw[..., 0] - s * lw[..., 1], s * lw[..., 0] + c * lw[..., 1],
-                 lw[..., 2] + self.surface - com[..., 2]], axis=-1,
-            )  # fmt: skip
-            wb, kb = bottom_wrench(
-                low, tw, depth - self.bottom, self.bottom_stiffness, self.bottom_damping
-            )
-            w0 += wb
-            K += kb
-        W = k.W
         if self._has_prev:  # the other forces' twist acceleration, from the last step (D62)
             acc = (tw - self._tw_prev) / dt - self._wv_prev
         else:
             acc = np.zeros_like(tw)
             acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
-        wrench = implicit_wrench(w0, K, W, acc, dt)
-        wrench, self._tank, wv = passive_wrench(wrench, tw, W, acc, self._tank, dt)
-        # a foot with no wrench and no damping is not in the robot's system: W w = 0
-        idle = np.all(w0 == 0.0, axis=-1) & np.all(K == 0.0, axis=(-2, -1))
-        self._wv_prev = np.where(idle[..., None], 0.0, wv)
+        wrench, w0, self._tank, self._wv_prev = applied_wrench(
+            k.ratio, f_up, jd, b, geo, cs, tw, com, depth, k.W, acc, self._tank, dt,
+            surface=self.surface, bottom=self.bottom, stiffness=self.bottom_stiffness,
+            damping=self.bottom_damping,
+        )  # fmt: skip
         self._tw_prev = tw
         self._has_prev = True
         if not np.all(np.isfinite(wrench)):
@@ -448,19 +397,17 @@ class MudBatch:
         self.time_steps += 1
         force, torque = wrench[..., :3], wrench[..., 3:]
         pz = com + rel[..., 2, :]
-        self.last = _robot(
-            self._single,
-            MudContact(
-                force=force,
-                explicit_force=w0[..., :3],
-                torque=torque,
-                point=_central_point(force, torque, com, pz),
-                tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
-                velocity=vel,
-                depth=depth,
-                stress=stress,
-            ),
+        c = MudContact(
+            force=force,
+            explicit_force=w0[..., :3],
+            torque=torque,
+            point=_central_point(force, torque, com, pz),
+            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
+            velocity=vel,
+            depth=depth,
+            stress=stress,
         )
+        self.last = MudContact(*(a[0] for a in c)) if self._single else c  # MudCoupling: robot 0
         return self.last
 
     def _apply_compiled(self) -> None:
@@ -490,9 +437,9 @@ class MudBatch:
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
         if self._loop is not None and datas is self._reset_with:  # the common, cheap case
-            self._loop(self._nstep(nstep))
+            self._loop(check_count("nstep", nstep))
             return
-        datas, nstep = self._check(datas), self._nstep(nstep)
+        datas, nstep = self._check(datas), check_count("nstep", nstep)
         if self._compiled is None:
             for _ in range(nstep):
                 for d in datas:
@@ -526,11 +473,6 @@ class MudBatch:
                     self._clear_warnings()
                     t = self.time_steps * float(self._opt.timestep)
                     raise diverged_error(i, kind, w.lastinfo, t, self.last)
-
-
-def _robot(single: bool, c: MudContact) -> MudContact:
-    """``c`` of robot 0 alone where the coupling has one (:class:`MudCoupling`)."""
-    return MudContact(*(a[0] for a in c)) if single else c
 
 
 def _hashable_repr(foot: Foot) -> bool:

@@ -106,16 +106,7 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
         return end - (s[0] * perp / nrm if nrm > 1e-9 else 0.0)
     if t == int(mj.mjtGeom.mjGEOM_MESH):
         v = _mesh_vertices(model, g)
-        w = c + v @ R.T
-        zmin = w[:, 2].min()
-        low = w[w[:, 2] <= zmin + 1e-6 * max(float(model.geom_rbound[g]), 1e-9)]
-        return np.array(
-            [
-                0.5 * (low[:, 0].min() + low[:, 0].max()),
-                0.5 * (low[:, 1].min() + low[:, 1].max()),
-                zmin,
-            ]
-        )
+        return _lowest_center(c + v @ R.T, max(float(model.geom_rbound[g]), 1e-9))
     raise MudrftError(
         f"{geom_label(model, g)} has type {geom_type_name(model, g)}, which mudrft "
         "cannot turn into a foot; "
@@ -154,11 +145,16 @@ def hull_foot(
 
     hull = trimesh.convex.convex_hull(points)
     v = np.asarray(hull.vertices, dtype=float)
-    zmin = v[:, 2].min()
-    low = v[v[:, 2] <= zmin + 1e-6 * max(float(np.ptp(v)), 1e-9)]
-    tip = np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), 0.5 * (low[:, 1].min() + low[:, 1].max()), zmin])  # fmt: skip
+    tip = _lowest_center(v, max(float(np.ptp(v)), 1e-9))
     frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
     return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip, v
+
+
+def _lowest_center(points: NDArray[np.float64], size: float) -> NDArray[np.float64]:
+    """The center of the box around the lowest of ``points`` (within ``1e-6 size``) [m]."""
+    zmin = points[:, 2].min()
+    low = points[points[:, 2] <= zmin + 1e-6 * size]
+    return np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), 0.5 * (low[:, 1].min() + low[:, 1].max()), zmin])  # fmt: skip
 
 
 def _mesh_vertices(model: mujoco.MjModel, g: int) -> NDArray[np.float64]:

@@ -22,15 +22,19 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from ..._typing import ArrayLike, FloatArray, Namespace, XpArray
+from .pose import ChannelGeometry, rowdot
 
 if TYPE_CHECKING:
     from ...feet.base import Foot
     from ...terrains import Terrain
 
 __all__ = [
+    "applied_wrench",
     "bottom_wrench",
+    "channel_motion",
     "channel_rows",
     "damping_matrix",
+    "foot_odometry",
     "force_and_derivative",
     "implicit_wrench",
     "passive_wrench",
@@ -65,6 +69,43 @@ def channel_rows(cs: FloatArray, rel: FloatArray, xp: Namespace = np) -> FloatAr
         [xp.stack([c, s, z], -1), xp.stack([-s, c, z], -1), xp.stack([z, z, o], -1)], axis=-2
     )
     return xp.concatenate([E, xp.cross(rel, E)], axis=-1)
+
+
+def channel_motion(
+    cs: XpArray, point: XpArray, com: XpArray, tw: XpArray, surface: float, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray]:
+    """Each channel's point relative to the center of mass ``com`` [m] (world frame), its
+    row :math:`b_c` and its velocity [m/s], from the points ``point`` in the yaw frame
+    (:class:`~.pose.ChannelGeometry`) [m] and the twists ``tw`` [m/s, rad/s].
+    """
+    c, s = cs[..., 0], cs[..., 1]
+    rel = xp.stack(
+        [c[..., None] * point[..., 0] - s[..., None] * point[..., 1],
+         s[..., None] * point[..., 0] + c[..., None] * point[..., 1],
+         point[..., 2] + (surface - com[..., None, 2])], axis=-1,
+    )  # fmt: skip
+    b = channel_rows(cs, rel, xp=xp)
+    return rel, b, rowdot(b, tw[..., None, :])
+
+
+def foot_odometry(
+    cs: XpArray,
+    tip_xy: XpArray,
+    was_in: XpArray | None = None,
+    world_xy: XpArray | None = None,
+    foot_xy: XpArray | None = None,
+    xp: Namespace = np,
+) -> XpArray:
+    """The tip's horizontal position in the foot frame [m] (D65): the rotated world
+    position ``tip_xy`` [m], or where the foot was in the mud (``was_in``) the last one,
+    ``foot_xy``, plus the rotated move since ``world_xy`` [m]: a yawing foot sees no jump.
+    """
+    c, s = cs[..., 0], cs[..., 1]
+    xy = tip_xy
+    if was_in is not None:
+        xy = xp.where(was_in[..., None], tip_xy - world_xy, tip_xy)
+    fxy = xp.stack([c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1)
+    return fxy if was_in is None else xp.where(was_in[..., None], foot_xy, 0.0) + fxy
 
 
 def force_and_derivative(
@@ -162,6 +203,56 @@ def passive_wrench(
     left = xp.maximum(tank - (s * lin + s * s * quad), 0.0)
     scale = s[..., None, None]
     return scale * wrench, xp.where(idle, 0.0, left), scale * Ww
+
+
+def applied_wrench(
+    ratio: XpArray,
+    f_up: XpArray,
+    jd: XpArray,
+    b: XpArray,
+    geo: ChannelGeometry,
+    cs: XpArray,
+    tw: XpArray,
+    com: XpArray,
+    depth: XpArray,
+    W: XpArray,
+    acc: XpArray,
+    tank: XpArray,
+    dt: float,
+    *,
+    surface: float,
+    bottom: float | None,
+    stiffness: float,
+    damping: float,
+    xp: Namespace = np,
+) -> tuple[XpArray, XpArray, XpArray, XpArray]:
+    r"""The wrench the coupling applies: the posed foot's (D60a) with its spin damping
+    (D62a) and the rigid bottom (D67), its implicit step and passivity bound (D62-D62d).
+
+    ``ratio``, ``f_up`` [N], ``jd`` [N s/m] (N, nb, 3): :math:`A_c/A_c^{up}`, the upright
+    foot's force and its velocity derivative; ``b``: channel rows; ``geo``: the posed feet;
+    ``com`` [m], ``depth`` [m], ``tank`` [J]; ``W``, ``acc``, ``dt`` as
+    :func:`implicit_wrench`; ``bottom`` [m] (None: none), ``stiffness`` [N/m], ``damping``
+    [N s/m]. Returns the wrench, the explicit wrench :math:`w_0`, the tank after the step
+    and :math:`W w` (0 for a foot with no wrench and no damping) [m/s^2, rad/s^2].
+    """
+    D = ratio * xp.minimum(jd, 0.0)
+    K = damping_matrix(D, b, geo.area, yaw_inertia_to_world(geo.inertia, cs, xp=xp), xp=xp)
+    # the damping spread over the elements resists spin (D62a)
+    spread = K - xp.einsum("...c,...ci,...cj->...ij", D, b, b)
+    w0 = posed_wrench(ratio * f_up, b, xp=xp) + (spread @ tw[..., None])[..., 0]
+    if bottom is not None:  # a one-sided penalty on the lowest point (D67)
+        c, s, lw = cs[..., 0], cs[..., 1], geo.low
+        low = xp.stack(
+            [c * lw[..., 0] - s * lw[..., 1], s * lw[..., 0] + c * lw[..., 1],
+             lw[..., 2] + surface - com[..., 2]], axis=-1,
+        )  # fmt: skip
+        wb, kb = bottom_wrench(low, tw, depth - bottom, stiffness, damping, xp=xp)
+        w0, K = w0 + wb, K + kb
+    wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
+    wrench, tank, wv = passive_wrench(wrench, tw, W, acc, tank, dt, xp=xp)
+    idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
+    return wrench, w0, tank, xp.where(idle[..., None], 0.0, wv)
 
 
 def yaw_inertia_to_world(inertia: FloatArray, cs: FloatArray, xp: Namespace = np) -> FloatArray:

@@ -69,16 +69,4 @@ def com_twist(V: FloatArray, S: FloatArray, C: FloatArray, xp: Namespace = np) -
     [m], from MuJoCo's ``cvel`` ``V`` taken at the root subtree centers ``S`` [m].
     """
     w = V[..., :3]
-    return xp.concatenate([V[..., 3:] + _cross(w, C - S, xp), w], axis=-1)
-
-
-def _cross(a: FloatArray, b: FloatArray, xp: Namespace = np) -> FloatArray:
-    """Cross product along the last axis."""
-    return xp.stack(
-        [
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ],
-        axis=-1,
-    )
+    return xp.concatenate([V[..., 3:] + xp.cross(w, C - S), w], axis=-1)

@@ -126,59 +126,65 @@ def upright_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np
 
 def posed_channels(
     groups: Sequence[tuple[FloatArray | None, PreparedTriangles | None, NDArray[np.int_], bool]],
-    X: FloatArray,
-    R: FloatArray,
-    C: FloatArray,
-    cs: FloatArray,
+    X: XpArray,
+    R: XpArray,
+    C: XpArray,
+    cs: XpArray,
     surface: float,
     low: FloatArray | None = None,
-) -> tuple[ChannelGeometry, FloatArray]:
+    xp: Namespace = np,
+) -> tuple[ChannelGeometry, XpArray]:
     """Channel geometry of every posed foot, and its ratio :math:`A_c/A_c^{up}` to the
     upright foot at the same depth (D60a; 0 where the upright foot has none).
 
     Lengths in the foot's yaw frame, origin at the center of mass horizontally and at the
     mud surface vertically. ``groups``: per foot type, the triangles in the body frames (or
     None: no surface), the prepared upright ones, the bodies' indices and whether they are
-    balls; ``X``, ``R``, ``C``: body origins (a ball's center) [m], orientations, centers of
-    mass [m]; ``cs``: each foot's yaw cosine and sine; ``surface`` [m]; ``low``: lowest
-    points [m] of the feet without a surface, where all channels act.
+    balls; ``X``, ``R``, ``C`` (N, nb, ...): body origins (a ball's center) [m],
+    orientations, centers of mass [m]; ``cs``: each foot's yaw cosine and sine; ``surface``
+    [m]; ``low``: lowest points [m] of the feet without a surface, where all channels act.
+    A ball's triangles are upright about its center in every pose, its ratio 1.
     """
     N, nb = X.shape[:2]
-    area, ratio = np.zeros((N, nb, 3)), np.ones((N, nb, 3))
-    point, inertia = np.zeros((N, nb, 3, 3)), np.zeros((N, nb, 3, 3, 3))
-    lowest = np.zeros((N, nb, 3))
-    origin = np.concatenate([C[..., :2], np.full((N, nb, 1), float(surface))], axis=-1)
+    origin = xp.concatenate([C[..., :2], xp.full((N, nb, 1), float(surface))], axis=-1)
     c, s = cs[..., 0], cs[..., 1]
-    # the yaw frame: x_yaw = R_z(-psi) (x - origin); the same order of operations as the
-    # compiled coupling, so that both see bit-identical positions (D68a)
+
+    def yaw(d: XpArray, ci: XpArray, si: XpArray) -> XpArray:  # R_z(-psi) d
+        return xp.stack(
+            [ci * d[..., 0] + si * d[..., 1], -si * d[..., 0] + ci * d[..., 1], d[..., 2]], -1
+        )
+
+    # the same order of operations as the compiled coupling, so that both see
+    # bit-identical positions (D68a)
+    parts = []
     for tri_b, upright, idx, ball in groups:
         ci, si = c[:, idx], s[:, idx]
         if tri_b is None or upright is None:
             assert low is not None
-            d = low[:, idx] - origin[:, idx]
-            rel = np.stack(
-                [ci * d[..., 0] + si * d[..., 1], -si * d[..., 0] + ci * d[..., 1], d[..., 2]], -1
-            )
-            lowest[:, idx] = rel
-            point[:, idx] = rel[..., None, :]
-            area[:, idx] = 1.0
+            rel = yaw(low[:, idx] - origin[:, idx], ci, si)
+            ones = np.ones(rel.shape)
+            pts = np.broadcast_to(rel[..., None, :], (*rel.shape, 3))
+            parts.append((ones, pts, np.zeros((*rel.shape, 3, 3)), rel, ones))
             continue
         Rg = R[:, idx]
-        M = np.broadcast_to(np.eye(3), Rg.shape) if ball else np.stack(
+        M = xp.broadcast_to(xp.eye(3), Rg.shape) if ball else xp.stack(
             [ci[..., None] * Rg[..., 0, :] + si[..., None] * Rg[..., 1, :],
              -si[..., None] * Rg[..., 0, :] + ci[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
             axis=-2,
         )  # fmt: skip
-        o = X[:, idx] - origin[:, idx]
-        shift = np.stack(
-            [ci * o[..., 0] + si * o[..., 1], -si * o[..., 0] + ci * o[..., 1], o[..., 2]], -1
-        )
-        t = matvec(M[:, :, None, None], tri_b[None]) + shift[:, :, None, None, :]
-        g = channel_geometry(t)
-        area[:, idx], point[:, idx], inertia[:, idx], lowest[:, idx] = g
+        shift = yaw(X[:, idx] - origin[:, idx], ci, si)
+        t = matvec(M[:, :, None, None], xp.asarray(tri_b)[None]) + shift[:, :, None, None, :]
+        g = channel_geometry(t, xp=xp)
+        ratio = xp.ones_like(g.area)
         if not ball:  # a ball is upright in every pose: the ratio is 1
-            up = upright_area(upright, np.maximum(-g.low[..., 2], 0.0))
-            ratio[:, idx] = np.where(up > 0.0, g.area / np.where(up > 0.0, up, 1.0), 0.0)
+            up_tri = PreparedTriangles(*(xp.asarray(a) for a in upright))
+            up = upright_area(up_tri, xp.maximum(-g.low[..., 2], 0.0), xp=xp)
+            ratio = xp.where(up > 0.0, g.area / xp.where(up > 0.0, up, 1.0), 0.0)
+        parts.append((*g, ratio))
+    inv = np.argsort(np.concatenate([idx for _, _, idx, _ in groups]))
+    area, point, inertia, lowest, ratio = (
+        xp.concatenate([p[i] for p in parts], axis=1)[:, inv] for i in range(5)
+    )
     return ChannelGeometry(area, point, inertia, lowest), ratio
 
 
