@@ -18,7 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-__all__ = ["jit", "reached_functions"]
+__all__ = ["jit", "jit_callback", "reached_functions"]
 
 
 def _is_mudrft_function(obj: object) -> bool:
@@ -73,10 +73,8 @@ _registered: set[Any] = set()
 _SOURCES: dict[Any, tuple[str, ...]] = {}
 
 
-@functools.cache
-def jit(entry: Callable[..., Any], *, parallel: bool = False, cache: bool = True) -> Any:
-    """``entry``, a driver on floats and float arrays, compiled by numba on first call;
-    ``parallel`` compiles ``numba.prange`` loops multi-threaded, ``cache`` caches on disk."""
+def _register(entry: Callable[..., Any]) -> types.ModuleType:
+    """Make what ``entry`` reaches callable from numba, and stamp its cache; numba."""
     numba = _numba()
     from numba.extending import register_jitable
 
@@ -89,8 +87,25 @@ def jit(entry: Callable[..., Any], *, parallel: bool = False, cache: bool = True
             _registered.add(fn)
     files = {inspect.getfile(fn) for fn in functions} | {inspect.getfile(_xp)}
     _SOURCES[entry] = tuple(sorted(files))
+    return numba
+
+
+@functools.cache
+def jit(entry: Callable[..., Any], *, parallel: bool = False, cache: bool = True) -> Any:
+    """``entry``, a driver on floats and float arrays, compiled by numba on first call;
+    ``parallel`` compiles ``numba.prange`` loops multi-threaded, ``cache`` caches on disk."""
+    numba = _register(entry)
     options = {"cache": cache and _CACHE_OK, "parallel": parallel}
     return numba.njit(error_model="numpy", nogil=True, **options)(entry)
+
+
+@functools.cache
+def jit_callback(entry: Callable[..., Any]) -> Any:
+    """``entry(m, d)`` compiled now as a C callback ``void(int64, int64)`` (two
+    addresses, such as MuJoCo's ``mjcb_passive``), cached on disk as :func:`jit`."""
+    numba = _register(entry)
+    signature = numba.types.void(numba.types.int64, numba.types.int64)
+    return numba.cfunc(signature, cache=_CACHE_OK, error_model="numpy")(entry)
 
 
 _CACHE_OK = True

@@ -152,26 +152,20 @@ def test_advance_is_step_without_the_contact_and_last_is_read_when_asked(backend
     assert not np.array_equal(held.tip, one_a.last.tip)
 
 
-class _Dispatcher:
-    """Stands for a numba dispatcher: its compiled signatures and ``compile``."""
-
-    def __init__(self, signatures):
-        self.signatures = list(signatures)
-
-    def compile(self, signature):
-        self.signatures.append(signature)
-        return "entry"
-
-
-def test_the_first_compilation_says_so_on_the_logger(caplog):
+def test_the_first_compilation_says_so_on_the_logger(caplog, monkeypatch):
     """The first reset of a numba coupling compiles for about 15 s; it was silent."""
-    from mudrft.integrations.mujoco.backend import compile_once
+    from types import SimpleNamespace
 
+    from mudrft.integrations.mujoco import callback as backend
+
+    made = []
+    monkeypatch.setattr(backend, "_CALLBACK", [None])
+    monkeypatch.setattr(backend, "jit_callback", lambda f: made.append(1) or SimpleNamespace(ctypes="cb"))  # fmt: skip
     with caplog.at_level("INFO", logger="mudrft"):
-        assert compile_once(_Dispatcher([]), ("sig",)) == "entry"
+        assert backend.callback() == "cb"
     assert "compiling the MuJoCo coupling with numba" in caplog.text
     assert "compiled the MuJoCo coupling in" in caplog.text
     caplog.clear()
     with caplog.at_level("INFO", logger="mudrft"):
-        assert compile_once(_Dispatcher([("sig",)]), ("sig",)) == "entry"
-    assert caplog.text == ""
+        assert backend.callback() == "cb"
+    assert caplog.text == "" and made == [1]

@@ -7,11 +7,11 @@ never moves them).
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any, TypeAlias, cast
+import ctypes
+import weakref
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, TypeAlias, cast
 
-import numba
 import numpy as np
 
 from ..._progress import logger
@@ -24,7 +24,8 @@ from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
-from .compiled import ARGS, N_OUT, coupling_kernel, pack, work_size
+from .callback import callback, clock_size, install, register, unregister
+from .compiled import ARGS, N_OUT, pack, work_size
 from .contact import MudContact
 from .linalg import mujoco_functions
 from .placement import coupled_tip, coupled_triangles
@@ -94,12 +95,14 @@ def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
 
 
 class CompiledCoupling:
-    """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`."""
+    """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`, stepped
+    by MuJoCo's passive callback (:func:`install`) for every ``MjData`` given to
+    :meth:`reset`."""
 
     def __init__(self, batch: MudBatch) -> None:
         m = batch.model
         self.batch = batch
-        self.kernel = coupling_kernel()
+        self.callback = callback()
         # _not_compilable has made sure of the mud, a surface on every foot and feet the
         # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
@@ -128,62 +131,24 @@ class CompiledCoupling:
         self.wv_prev = np.zeros((n, nb, 6))
         self.tank = np.zeros(n)  # energy the mud may give each robot back [J] (D62c, D62d)
         self.out = np.zeros((n, nb, N_OUT))
-        self.work = np.zeros(work_size(m.nv, len(self.tri_b), nb))
+        self.work = np.zeros((n, work_size(m.nv, len(self.tri_b), nb)))  # one per thread
+        self.clock = np.zeros((n, clock_size(nb)))
         self.addr = np.zeros((n, 7), dtype=np.int64)
         self.sizes = np.array([m.nbody, m.nv, m._address, *mujoco_functions()], dtype=np.int64)
+        self.opts = np.zeros(9)
+        arrays = [getattr(self, "ids" if name == "bodies" else name) for name, _, _ in ARGS]
+        for a, (name, dt, nd) in zip(arrays, ARGS, strict=True):
+            assert a.dtype == np.dtype(dt) and a.ndim == nd and a.flags.c_contiguous, name
+        self.packed = pack(arrays)  # the arrays never move: written in place from now on
         self.datas: list[mujoco.MjData] = []
-        self.opts = np.zeros(10)
-
-    def loop(self, datas: list[mujoco.MjData]) -> Callable[[int], None]:
-        """The batch's step loop over ``datas``: ``mj_step1``, one compiled call,
-        ``mj_step2`` and a look at MuJoCo's warning counters per step, over closure variables.
-        """
-        b = self.batch
-        m = b.model
-        step1, step2, kernel = b._mj.mj_step1, b._mj.mj_step2, self.entry()
-        (args,) = self._args
-        flags, contact = self.opts, self.contact
-        warn, seen = b._warn, b._warnings
-        index = 0 if b._single else None
-
-        def diverged(steps: int) -> None:
-            b.time_steps += steps
-            b.last = contact(index)
-            b._check_diverged(datas)
-
-        def fail(steps: int) -> None:
-            b.time_steps += steps
-            b.last = contact(index)
-            raise MudrftError(
-                "the mud coupling produced a non-finite force; the simulation "
-                "diverged (check the model, the time step and the mud parameters)"
-            )
-
-        def loop(nstep: int) -> None:
-            first = not b._has_prev
-            for k in range(nstep):
-                for d in datas:
-                    step1(m, d)
-                if kernel(args):
-                    fail(k + 1)
-                if first:  # has_prev: from now on the acceleration is a difference
-                    flags[9], first = 1.0, False
-                for i, d in enumerate(datas):
-                    step2(m, d)
-                    wq, wv, wa = warn[i]  # MuJoCo's bad qpos, qvel, qacc (it resets them)
-                    sq, sv, sa = seen[i]
-                    if wa.number != sa or wv.number != sv or wq.number != sq:
-                        diverged(k + 1)
-            b.time_steps += nstep
-            b._has_prev = True
-            b._stale = True
-
-        return loop
+        self._rows: list[tuple[int, ...]] = []
+        weakref.finalize(self, unregister, self._rows)
 
     def reset(
         self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
     ) -> None:
-        """Mud rows from the numpy coupling's initial states; odometry from ``pos``."""
+        """Mud rows from the numpy coupling's initial states; odometry from ``pos``; the
+        callback installed and ``datas`` registered with it."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
             rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
@@ -196,6 +161,9 @@ class CompiledCoupling:
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
         self.tank[:] = 0.0
+        self.out[:] = 0.0
+        self.clock[:] = 0.0
+        self.clock[:, 1] = np.nan  # no step yet
         fields = ("xpos", "xmat", "xipos", "cvel", "subtree_com", "xfrc_applied")
         self.datas = list(datas)  # keep them alive: the kernel reads their memory
         for k, d in enumerate(datas):
@@ -208,11 +176,27 @@ class CompiledCoupling:
         m = b.model
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
-        self.opts = np.array(
-            [float(m.opt.timestep), b.surface, bottom, b.bottom_stiffness, b.bottom_damping,
-             b._dv_min, g[0], g[1], g[2], 0.0]
+        self.opts[:] = (
+            float(m.opt.timestep), b.surface, bottom, b.bottom_stiffness, b.bottom_damping,
+            b._dv_min, g[0], g[1], g[2],
         )  # fmt: skip
-        self._pack()
+        p, size = int(self.packed.ctypes.data), len(self.packed)
+        entries = [(d._address, p, size, k, _time_address(d)) for k, d in enumerate(datas)]
+        install(b._mj)
+        register(entries, self._rows)
+
+    def check(self) -> None:
+        """Raise if the callback is no longer MuJoCo's, or a wrench was not finite."""
+        if self.batch._mj.get_mjcb_passive() is not callback():
+            raise MudrftError(
+                "mujoco.set_mjcb_passive was called after reset(): the mud coupling runs in "
+                "MuJoCo's passive callback; call reset(data) again to reinstall it"
+            )
+        if self.out[..., 22].any():
+            raise MudrftError(
+                "the mud coupling produced a non-finite force; the simulation diverged "
+                "(check the model, the time step and the mud parameters)"
+            )
 
     def contact(self, index: int | None = None) -> MudContact:
         """The last outputs as a :class:`MudContact` (copies), of every robot
@@ -225,36 +209,20 @@ class CompiledCoupling:
             o[..., 18], o[..., 19:22],
         ))  # fmt: skip
 
-    def apply(self, has_prev: bool) -> int:
-        """One compiled step of every robot; the number of non-finite wrenches."""
-        self.opts[9] = 1.0 if has_prev else 0.0
-        bad = int(self.kernel(*self._args))
-        self.opts[9] = 1.0  # has a last step now: the compiled step loop's value
-        return bad
 
-    def _pack(self) -> None:
-        """The kernel's arrays in one argument (the arrays never move)."""
-        arrays = [getattr(self, "ids" if name == "bodies" else name) for name, _, _ in ARGS]
-        for a, (name, dt, nd) in zip(arrays, ARGS, strict=True):
-            assert a.dtype == np.dtype(dt) and a.ndim == nd and a.flags.c_contiguous, name
-        self._args = (pack(arrays),)
-
-    def entry(self) -> Any:
-        """The kernel compiled (or loaded from the disk cache) for :attr:`_args`."""
-        (p,) = self._args
-        return compile_once(self.kernel, (numba.typeof(p),))
-
-
-def compile_once(kernel: Any, signature: tuple[Any, ...]) -> Any:
-    """``kernel.compile(signature)``, logged (INFO) the first time in a process."""
-    first = not kernel.signatures
-    if first:
-        logger.info(
-            "compiling the MuJoCo coupling with numba (backend='numba'; about 15 s the first "
-            "time, then loaded from numba's cache on disk in about a second)"
-        )
-    start = time.perf_counter()
-    entry = kernel.compile(signature)
-    if first:
-        logger.info("compiled the MuJoCo coupling in %.1f s", time.perf_counter() - start)
-    return entry
+def _time_address(d: mujoco.MjData) -> int:
+    """The address of ``d.time`` (the double before ``d.energy`` in ``mjData``), checked;
+    0 where this MuJoCo lays it out otherwise (then the feet's state alone tells a call
+    repeated at the same time, :func:`.compiled.robot_step`)."""
+    address = int(d.energy.ctypes.data) - 8
+    cell = ctypes.c_double.from_address(address)
+    saved = d.time
+    try:
+        for probe in (0.3183098861837907, 2.718281828459045):
+            d.time = probe
+            if cell.value != probe:
+                logger.warning("mjData.time not found: repeated calls are told by the feet's state")
+                return 0
+    finally:
+        d.time = saved
+    return address

@@ -8,7 +8,7 @@ that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -212,11 +212,9 @@ class MudBatch:
             self._compiled = CompiledCoupling(self)
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self._last: MudContact | None = None
-        self._stale = False  # the compiled outputs are newer than _last (built on demand)
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
-        self._loop: Callable[[int], None] | None = None  # the compiled step loop, made by reset()
-        self._reset_with: object = None  # the argument of reset(), stepped by the compiled loop
+        self._reset_with: object = None  # the argument of reset(), checked once
 
     @property
     def feet(self) -> tuple[str, ...]:
@@ -227,18 +225,17 @@ class MudBatch:
     def last(self) -> MudContact | None:
         """What the mud did in the last step (:class:`MudContact`), or ``None`` before it.
 
-        The compiled coupling builds it from its outputs when it is first read after a
-        step, so :meth:`advance` does not pay for it.
+        The compiled coupling builds it from its outputs when it is read, also after a
+        plain ``mujoco.mj_step``.
         """
-        if self._stale:
-            assert self._compiled is not None
-            self._last = self._compiled.contact(0 if self._single else None)
-            self._stale = False
-        return self._last
+        c = self._compiled
+        if c is None:
+            return self._last
+        return c.contact(0 if self._single else None) if c.clock[:, 0].any() else None
 
     @last.setter
     def last(self, value: MudContact | None) -> None:
-        self._last, self._stale = value, False
+        self._last = value
 
     # -- reading MuJoCo ---------------------------------------------------------------
     def _read(self, datas: Sequence[mujoco.MjData]) -> _Reading:
@@ -302,9 +299,6 @@ class MudBatch:
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
-        if self._compiled is not None:
-            self._compiled.opts[9] = 0.0
-            self._loop = self._compiled.loop(datas)
 
     def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):
@@ -351,8 +345,12 @@ class MudBatch:
     def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact | None:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        if self._compiled is not None:
-            self._apply_compiled()
+        if self._compiled is not None:  # MuJoCo's passive callback steps the mud
+            self._compiled.check()
+            for d in datas:
+                self._mj.mj_passive(self.model, d)
+            self._compiled.check()
+            self.time_steps += 1
             return None
         dt = float(self.model.opt.timestep)
         k = self._read(datas)
@@ -410,18 +408,6 @@ class MudBatch:
         self.last = MudContact(*(a[0] for a in c)) if self._single else c  # MudCoupling: robot 0
         return self.last
 
-    def _apply_compiled(self) -> None:
-        assert self._compiled is not None
-        bad = self._compiled.apply(self._has_prev)
-        self._has_prev = True
-        if bad:
-            raise MudrftError(
-                "the mud coupling produced a non-finite force; the simulation diverged "
-                "(check the model, the time step and the mud parameters)"
-            )
-        self.time_steps += 1
-        self._stale = True
-
     def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
 
@@ -436,10 +422,11 @@ class MudBatch:
 
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
-        if self._loop is not None and datas is self._reset_with:  # the common, cheap case
-            self._loop(check_count("nstep", nstep))
-            return
-        datas, nstep = self._check(datas), check_count("nstep", nstep)
+        if datas is not self._reset_with or self._reset_with is None:
+            datas = self._check(datas)
+        else:
+            datas = self._checked_datas
+        nstep = check_count("nstep", nstep)
         if self._compiled is None:
             for _ in range(nstep):
                 for d in datas:
@@ -449,14 +436,26 @@ class MudBatch:
                     self._mj.mj_step2(self.model, d)
                 self._check_diverged(datas)
             return
-        if self._loop is None:
+        c = self._compiled
+        if not c.datas:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        if any(a is not b for a, b in zip(datas, self._compiled.datas, strict=True)):
+        if any(a is not b for a, b in zip(datas, c.datas, strict=True)):
             raise MudrftError(
                 "backend='numba' steps the MjData given to reset(); got another MjData "
                 "(call reset(data) with it first)"
             )
-        self._loop(nstep)
+        c.check()
+        step, m, warn, seen = self._mj.mj_step, self.model, self._warn, self._warnings
+        for _ in range(nstep):
+            for i, d in enumerate(datas):
+                step(m, d)  # the passive callback steps the mud inside
+                wq, wv, wa = warn[i]  # MuJoCo's bad qpos, qvel, qacc (it resets them)
+                sq, sv, sa = seen[i]
+                if wa.number != sa or wv.number != sv or wq.number != sq:
+                    self.time_steps += 1
+                    self._check_diverged(datas)
+            self.time_steps += 1
+        c.check()
 
     def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
         for ws, seen in zip(self._warn, self._warnings, strict=True):

@@ -18,7 +18,6 @@ from typing import Any, TypeAlias
 
 import numpy as np
 
-from ..._jit import jit
 from ..._typing import FloatArray, IndexArray
 from ..._xp import pyfloat
 from ...feet.closed_form import closed_form_force
@@ -46,10 +45,19 @@ from ...terrains.rows import (
     morphing_at,
 )
 from .implicit import secant_steps
-from .linalg import _borrow, _cut, _iptr, _mj_jac, _mj_solve_m, _ptr, _robot_step, carray
+from .linalg import (
+    _borrow,
+    _cut,
+    _iptr,
+    _mj_jac,
+    _mj_solve_m,
+    _ptr,
+    _robot_step,
+    carray,
+)
 from .pose import channel_weights
 
-__all__ = ["ARGS", "N_OUT", "WORK_FIXED", "coupling_kernel", "pack", "work_size"]
+__all__ = ["ARGS", "N_OUT", "OFFSETS", "WORK_FIXED", "pack", "work_size"]
 
 #: What a foot step returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
 FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
@@ -208,8 +216,9 @@ def _kernel(
     consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
+    clock: FloatArray, k: int,
 ) -> int:  # fmt: skip
-    """One coupling step of every body of every robot; the number of non-finite wrenches.
+    """One coupling step of every body of robot ``k``; the number of non-finite wrenches.
 
     Per robot ``k``: ``addr[k]`` = addresses of xpos, xmat, xipos, cvel, subtree_com,
     xfrc_applied and the ``mjData``; ``sizes`` = (nbody, nv, the ``mjModel``'s address,
@@ -217,20 +226,21 @@ def _kernel(
     forward axis in the body frame, its triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]`` and
     upright facet rows ``tri_up[up_adr[j]:up_adr[j+1]]``, mud constants, ``cfg``, ``geom``
     (kind, g0, g1, g2), ``morph``. ``opts`` = (dt, surface, bottom (< 0: none), k_b, c_b,
-    dv_min, gravity (3), has_prev). State updated in place, per robot and body: ``mud``,
+    dv_min, gravity (3)); ``clock[k, 0]``: the robot has a last step. State updated in
+    place, per robot and body: ``mud``,
     ``fst`` (a morphing foot's deflection, pad angle, seal memory), ``odo`` (foot-frame and
     world xy), ``tw_prev``, ``wv_prev``, and ``tank`` per robot (D62c); outputs ``out``
-    (N, nb, N_OUT); ``work`` (:func:`work_size`).
+    (N, nb, N_OUT); ``work`` (N, :func:`work_size`).
     """
     dt, surface = opts[0], opts[1]
     bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
-    has_prev = opts[9] != 0.0
-    n_rob, nb = mud.shape[0], mud.shape[1]
+    has_prev = clock[k, 0] != 0.0
+    nb = mud.shape[1]
     nbody, nv, mptr, jac_fn, solve_fn = sizes[0], sizes[1], sizes[2], sizes[3], sizes[4]
     # work arrays, carved from ``work`` in the order :func:`work_size` counts them, and the
     # arrays below: borrowed views (:func:`.linalg._borrow`), no reference counts to update
     ntri = tri_b.shape[0]
-    at = work.ctypes.data
+    at = work.ctypes.data + 8 * k * work.shape[1]
     FJ, at = _cut(at, (nb, 6, nv))
     FM, at = _cut(at, (nb, 6, nv))
     scratch, at = _cut(at, (ntri, 6))
@@ -272,212 +282,210 @@ def _kernel(
     tri_b, tri_up, tip, fwd = _borrow(tri_b), _borrow(tri_up), _borrow(tip), _borrow(fwd)
     E[:, :] = 0.0
     bad = 0
-    for k in range(n_rob):
-        xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
-        xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
-        xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
-        cvel = carray(_ptr(addr[k, 3]), (nbody, 6))
-        subtree = carray(_ptr(addr[k, 4]), (nbody, 3))
-        xfrc = carray(_ptr(addr[k, 5]), (nbody, 6))
-        dptr = addr[k, 6]
-        active = 0
-        for j in range(nb):
-            body, root = bodies[j, 0], bodies[j, 1]
-            X, R, C = xpos[body], xmat[body], xipos[body]
-            V, S = cvel[body], subtree[root]
-            # twist at the center of mass
-            dx, dy, dz = C[0] - S[0], C[1] - S[1], C[2] - S[2]
-            tw[0] = V[3] + (V[1] * dz - V[2] * dy)
-            tw[1] = V[4] + (V[2] * dx - V[0] * dz)
-            tw[2] = V[5] + (V[0] * dy - V[1] * dx)
-            tw[3], tw[4], tw[5] = V[0], V[1], V[2]
-            for i in range(3):
-                tipw[i] = X[i] + (R[3 * i] * tip[j, 0] + R[3 * i + 1] * tip[j, 1]
-                                  + R[3 * i + 2] * tip[j, 2])  # fmt: skip
-            fw0 = R[0] * fwd[j, 0] + R[1] * fwd[j, 1] + R[2] * fwd[j, 2]
-            fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
-            h = max(math.hypot(fw0, fw1), 1e-12)
-            c, s = fw0 / h, fw1 / h
-            # the posed foot in the yaw frame (origin: center of mass horizontally, surface);
-            # a ball's triangles are upright about its center (``tip``) in every pose
-            ball = bodies[j, 2] != 0
-            for i in range(3):
-                if ball:
-                    M[0, i], M[1, i], M[2, i] = 0.0, 0.0, 0.0
-                    M[i, i] = 1.0
-                else:
-                    M[0, i] = c * R[i] + s * R[3 + i]
-                    M[1, i] = -s * R[i] + c * R[3 + i]
-                    M[2, i] = R[6 + i]
+    xpos = carray(_ptr(addr[k, 0]), (nbody, 3))  # type: ignore[call-arg]
+    xmat = carray(_ptr(addr[k, 1]), (nbody, 9))
+    xipos = carray(_ptr(addr[k, 2]), (nbody, 3))
+    cvel = carray(_ptr(addr[k, 3]), (nbody, 6))
+    subtree = carray(_ptr(addr[k, 4]), (nbody, 3))
+    xfrc = carray(_ptr(addr[k, 5]), (nbody, 6))
+    dptr = addr[k, 6]
+    active = 0
+    for j in range(nb):
+        body, root = bodies[j, 0], bodies[j, 1]
+        X, R, C = xpos[body], xmat[body], xipos[body]
+        V, S = cvel[body], subtree[root]
+        # twist at the center of mass
+        dx, dy, dz = C[0] - S[0], C[1] - S[1], C[2] - S[2]
+        tw[0] = V[3] + (V[1] * dz - V[2] * dy)
+        tw[1] = V[4] + (V[2] * dx - V[0] * dz)
+        tw[2] = V[5] + (V[0] * dy - V[1] * dx)
+        tw[3], tw[4], tw[5] = V[0], V[1], V[2]
+        for i in range(3):
+            tipw[i] = X[i] + (R[3 * i] * tip[j, 0] + R[3 * i + 1] * tip[j, 1]
+                              + R[3 * i + 2] * tip[j, 2])  # fmt: skip
+        fw0 = R[0] * fwd[j, 0] + R[1] * fwd[j, 1] + R[2] * fwd[j, 2]
+        fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
+        h = max(math.hypot(fw0, fw1), 1e-12)
+        c, s = fw0 / h, fw1 / h
+        # the posed foot in the yaw frame (origin: center of mass horizontally, surface);
+        # a ball's triangles are upright about its center (``tip``) in every pose
+        ball = bodies[j, 2] != 0
+        for i in range(3):
             if ball:
-                ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
+                M[0, i], M[1, i], M[2, i] = 0.0, 0.0, 0.0
+                M[i, i] = 1.0
             else:
-                ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
-            sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
-            _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
-            depth = max(-geo[41], 0.0)
-            upj = tri_up[up_adr[j] : up_adr[j + 1]]
-            if ball:
-                ratio[0], ratio[1], ratio[2] = 1.0, 1.0, 1.0
-            else:
-                _upright_area(upj, depth, aup)
-                for q in range(3):
-                    ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
-            # channel points relative to the center of mass, rows b_c, channel velocities
-            E[0, 0], E[0, 1], E[1, 0], E[1, 1], E[2, 2] = c, s, -s, c, 1.0
-            for q in range(3):
-                px, py, pz = geo[3 + 3 * q], geo[4 + 3 * q], geo[5 + 3 * q]
-                rx, ry, rz = c * px - s * py, s * px + c * py, pz + (surface - C[2])
-                ex, ey, ez = E[q, 0], E[q, 1], E[q, 2]
-                b[q, 0], b[q, 1], b[q, 2] = ex, ey, ez
-                b[q, 3], b[q, 4], b[q, 5] = ry * ez - rz * ey, rz * ex - rx * ez, rx * ey - ry * ex
-                acc = 0.0
-                for i in range(6):
-                    acc += b[q, i] * tw[i]
-                u[q] = acc
-            # odometry of the tip in the foot frame (D65)
-            o = odo[k, j]
-            was_in = mud[k, j, STATE_IN_MUD] > 0.5
-            xy0 = tipw[0] - o[2] if was_in else tipw[0]
-            xy1 = tipw[1] - o[3] if was_in else tipw[1]
-            b0 = o[0] if was_in else 0.0
-            b1 = o[1] if was_in else 0.0
-            pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
-            o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
-            # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
-            cj = consts[j : j + 1]
-            fs, mrow = fst[k, j], morph[j]
-            r0 = foot_step(
-                cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
-                upj, mrow, fs, row, frow,
-            )  # fmt: skip
-            for q in range(3):
-                F[q] = ratio[q] * r0[q]
-                D[q] = 0.0
-            if was_in or depth > 0.0:
-                for q in range(3):
-                    st = secant_steps(u[q], dv_min, pyfloat)
-                    un[0], un[1], un[2] = u[0], u[1], u[2]
-                    un[q] += st
-                    fq = _nudged_force(
-                        q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, row, frow
-                    )
-                    D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
-            for i in range(N_STATE):
-                mud[k, j, i] = row[i]
-            if geom[j, 0] == 4.0:
-                fs[0], fs[1], fs[2] = frow[0], frow[1], frow[2]
-            for i in range(6):
-                w0[i] = F[0] * b[0, i] + F[1] * b[1, i] + F[2] * b[2, i]
-            for i in range(6):
-                for l in range(6):
-                    K[i, l] = (
-                        D[0] * b[0, i] * b[0, l]
-                        + D[1] * b[1, i] * b[1, l]
-                        + (D[2] * b[2, i] * b[2, l])
-                    )
-            spread[:, :] = 0.0
-            for q in range(3):
-                pa = D[q] / geo[q] if geo[q] > 0.0 else 0.0
-                if pa == 0.0:
-                    continue
-                base = 12 + 9 * q
-                for i in range(3):  # R_z J R_z^T
-                    for l in range(3):
-                        acc = 0.0
-                        for m1 in range(3):
-                            for m2 in range(3):
-                                acc += E[m1, i] * geo[base + 3 * m1 + m2] * E[m2, l]
-                        spread[i, l] += pa * acc
-            for i in range(3):
-                for l in range(3):
-                    K[3 + i, 3 + l] += spread[i, l]
-                    w0[3 + i] += spread[i, l] * tw[3 + l]
-            if bottom >= 0.0:  # rigid bottom on the lowest point (D67)
-                lx, ly = c * geo[39] - s * geo[40], s * geo[39] + c * geo[40]
-                bl[0], bl[1], bl[2], bl[3], bl[4], bl[5] = 0.0, 0.0, 1.0, ly, -lx, 0.0
-                vz = 0.0
-                for i in range(6):
-                    vz += bl[i] * tw[i]
-                pen = depth - bottom
-                fb = kb * pen - cb * vz
-                if pen > 0.0 and fb > 0.0:
-                    for i in range(6):
-                        w0[i] += fb * bl[i]
-                        for l in range(6):
-                            K[i, l] -= cb * bl[i] * bl[l]
-            # keep what the robot's joint step needs (D62d); a foot with no wrench and no
-            # damping (in the air) has nothing to solve
-            idle = True
-            for i in range(6):
-                FW0[j, i], FTW[j, i] = w0[i], tw[i]
-                idle = idle and w0[i] == 0.0
-                for l in range(6):
-                    FK[j, i, l] = K[i, l]
-                    idle = idle and FK[j, i, l] == 0.0
-                if has_prev:
-                    FACC[j, i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
-                else:
-                    FACC[j, i] = opts[6 + i] if i < 3 else 0.0
-            active += 0 if idle else 1
-            FPOS[j] = -1.0 if idle else 0.0
-            FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
-            # outputs that do not depend on the applied wrench (the central point: provisional)
-            r = out[k, j]
-            r[3], r[4], r[5] = w0[0], w0[1], w0[2]
-            r[9] = C[0] + (c * geo[9] - s * geo[10])
-            r[10] = C[1] + (s * geo[9] + c * geo[10])
-            r[11] = C[2] + (geo[11] + (surface - C[2]))
-            r[12], r[13], r[14] = tipw[0], tipw[1], geo[41] + surface
-            r[15], r[16], r[17] = u[0], u[1], u[2]
-            r[18] = depth
-            r[19], r[20], r[21] = r0[3], r0[4], r0[5]
-        # the implicit step of all the robot's feet together, and its passivity bound
-        if active > 0:
-            for j in range(nb):
-                body = bodies[j, 0]
-                if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
-                    continue
-                # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
-                jp = FJ[j].ctypes.data
-                _mj_jac(jac_fn, mptr, dptr, jp, jp + 24 * nv, FC[j].ctypes.data, body)
-                for i in range(6):
-                    for d in range(nv):
-                        FM[j, i, d] = FJ[j, i, d]
-                _mj_solve_m(solve_fn, mptr, dptr, FM[j].ctypes.data, 6)
-            tank[k] = _robot_step(
-                nb, nv, dt, FJ, FM, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV, tank[k]
-            )
-            for j in range(nb):
-                for i in range(6):
-                    wv_prev[k, j, i] = FWV[j, i]
+                M[0, i] = c * R[i] + s * R[3 + i]
+                M[1, i] = -s * R[i] + c * R[3 + i]
+                M[2, i] = R[6 + i]
+        if ball:
+            ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
         else:
-            tank[k] = 0.0
-            for j in range(nb):
+            ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
+        sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
+        _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
+        depth = max(-geo[41], 0.0)
+        upj = tri_up[up_adr[j] : up_adr[j + 1]]
+        if ball:
+            ratio[0], ratio[1], ratio[2] = 1.0, 1.0, 1.0
+        else:
+            _upright_area(upj, depth, aup)
+            for q in range(3):
+                ratio[q] = geo[q] / aup[q] if aup[q] > 0.0 else 0.0
+        # channel points relative to the center of mass, rows b_c, channel velocities
+        E[0, 0], E[0, 1], E[1, 0], E[1, 1], E[2, 2] = c, s, -s, c, 1.0
+        for q in range(3):
+            px, py, pz = geo[3 + 3 * q], geo[4 + 3 * q], geo[5 + 3 * q]
+            rx, ry, rz = c * px - s * py, s * px + c * py, pz + (surface - C[2])
+            ex, ey, ez = E[q, 0], E[q, 1], E[q, 2]
+            b[q, 0], b[q, 1], b[q, 2] = ex, ey, ez
+            b[q, 3], b[q, 4], b[q, 5] = ry * ez - rz * ey, rz * ex - rx * ez, rx * ey - ry * ex
+            acc = 0.0
+            for i in range(6):
+                acc += b[q, i] * tw[i]
+            u[q] = acc
+        # odometry of the tip in the foot frame (D65)
+        o = odo[k, j]
+        was_in = mud[k, j, STATE_IN_MUD] > 0.5
+        xy0 = tipw[0] - o[2] if was_in else tipw[0]
+        xy1 = tipw[1] - o[3] if was_in else tipw[1]
+        b0 = o[0] if was_in else 0.0
+        b1 = o[1] if was_in else 0.0
+        pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
+        o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
+        # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
+        cj = consts[j : j + 1]
+        fs, mrow = fst[k, j], morph[j]
+        r0 = foot_step(
+            cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
+            upj, mrow, fs, row, frow,
+        )  # fmt: skip
+        for q in range(3):
+            F[q] = ratio[q] * r0[q]
+            D[q] = 0.0
+        if was_in or depth > 0.0:
+            for q in range(3):
+                st = secant_steps(u[q], dv_min, pyfloat)
+                un[0], un[1], un[2] = u[0], u[1], u[2]
+                un[q] += st
+                fq = _nudged_force(
+                    q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, row, frow
+                )
+                D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
+        for i in range(N_STATE):
+            mud[k, j, i] = row[i]
+        if geom[j, 0] == 4.0:
+            fs[0], fs[1], fs[2] = frow[0], frow[1], frow[2]
+        for i in range(6):
+            w0[i] = F[0] * b[0, i] + F[1] * b[1, i] + F[2] * b[2, i]
+        for i in range(6):
+            for l in range(6):
+                K[i, l] = (
+                    D[0] * b[0, i] * b[0, l] + D[1] * b[1, i] * b[1, l] + (D[2] * b[2, i] * b[2, l])
+                )
+        spread[:, :] = 0.0
+        for q in range(3):
+            pa = D[q] / geo[q] if geo[q] > 0.0 else 0.0
+            if pa == 0.0:
+                continue
+            base = 12 + 9 * q
+            for i in range(3):  # R_z J R_z^T
+                for l in range(3):
+                    acc = 0.0
+                    for m1 in range(3):
+                        for m2 in range(3):
+                            acc += E[m1, i] * geo[base + 3 * m1 + m2] * E[m2, l]
+                    spread[i, l] += pa * acc
+        for i in range(3):
+            for l in range(3):
+                K[3 + i, 3 + l] += spread[i, l]
+                w0[3 + i] += spread[i, l] * tw[3 + l]
+        if bottom >= 0.0:  # rigid bottom on the lowest point (D67)
+            lx, ly = c * geo[39] - s * geo[40], s * geo[39] + c * geo[40]
+            bl[0], bl[1], bl[2], bl[3], bl[4], bl[5] = 0.0, 0.0, 1.0, ly, -lx, 0.0
+            vz = 0.0
+            for i in range(6):
+                vz += bl[i] * tw[i]
+            pen = depth - bottom
+            fb = kb * pen - cb * vz
+            if pen > 0.0 and fb > 0.0:
                 for i in range(6):
-                    FWR[j, i] = FW0[j, i]
-                    wv_prev[k, j, i] = 0.0
+                    w0[i] += fb * bl[i]
+                    for l in range(6):
+                        K[i, l] -= cb * bl[i] * bl[l]
+        # keep what the robot's joint step needs (D62d); a foot with no wrench and no
+        # damping (in the air) has nothing to solve
+        idle = True
+        for i in range(6):
+            FW0[j, i], FTW[j, i] = w0[i], tw[i]
+            idle = idle and w0[i] == 0.0
+            for l in range(6):
+                FK[j, i, l] = K[i, l]
+                idle = idle and FK[j, i, l] == 0.0
+            if has_prev:
+                FACC[j, i] = (tw[i] - tw_prev[k, j, i]) / dt - wv_prev[k, j, i]
+            else:
+                FACC[j, i] = opts[6 + i] if i < 3 else 0.0
+        active += 0 if idle else 1
+        FPOS[j] = -1.0 if idle else 0.0
+        FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
+        # outputs that do not depend on the applied wrench (the central point: provisional)
+        r = out[k, j]
+        r[3], r[4], r[5] = w0[0], w0[1], w0[2]
+        r[9] = C[0] + (c * geo[9] - s * geo[10])
+        r[10] = C[1] + (s * geo[9] + c * geo[10])
+        r[11] = C[2] + (geo[11] + (surface - C[2]))
+        r[12], r[13], r[14] = tipw[0], tipw[1], geo[41] + surface
+        r[15], r[16], r[17] = u[0], u[1], u[2]
+        r[18] = depth
+        r[19], r[20], r[21] = r0[3], r0[4], r0[5]
+    # the implicit step of all the robot's feet together, and its passivity bound
+    if active > 0:
         for j in range(nb):
             body = bodies[j, 0]
-            wr, r = FWR[j], out[k, j]
-            finite = True
+            if FPOS[j] < 0.0:  # no wrench: no row in the robot's system
+                continue
+            # J and M^-1 J^T of every foot in the mud (the cross blocks, D62d)
+            jp = FJ[j].ctypes.data
+            _mj_jac(jac_fn, mptr, dptr, jp, jp + 24 * nv, FC[j].ctypes.data, body)
             for i in range(6):
-                tw_prev[k, j, i] = FTW[j, i]
-                finite = finite and math.isfinite(wr[i])
-                xfrc[body, i] = wr[i]
-            for i in range(3):
-                r[i], r[6 + i] = wr[i], wr[3 + i]
-            f2 = wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]
-            if f2 > 1e-300:  # the central axis' point nearest to the provisional one
-                C = FC[j]
-                cx = wr[1] * wr[5] - wr[2] * wr[4]
-                cy = wr[2] * wr[3] - wr[0] * wr[5]
-                cz = wr[0] * wr[4] - wr[1] * wr[3]
-                r0x, r0y, r0z = C[0] + cx / f2, C[1] + cy / f2, C[2] + cz / f2
-                tt = ((r[9] - r0x) * wr[0] + (r[10] - r0y) * wr[1] + (r[11] - r0z) * wr[2]) / f2
-                r[9], r[10], r[11] = r0x + tt * wr[0], r0y + tt * wr[1], r0z + tt * wr[2]
-            r[22] = 0.0 if finite else 1.0
-            bad += 0 if finite else 1
+                for d in range(nv):
+                    FM[j, i, d] = FJ[j, i, d]
+            _mj_solve_m(solve_fn, mptr, dptr, FM[j].ctypes.data, 6)
+        tank[k] = _robot_step(
+            nb, nv, dt, FJ, FM, FK, FW0, FACC, FTW, FPOS, WF, AJ, RJ, FWR, FWV, tank[k]
+        )
+        for j in range(nb):
+            for i in range(6):
+                wv_prev[k, j, i] = FWV[j, i]
+    else:
+        tank[k] = 0.0
+        for j in range(nb):
+            for i in range(6):
+                FWR[j, i] = FW0[j, i]
+                wv_prev[k, j, i] = 0.0
+    for j in range(nb):
+        body = bodies[j, 0]
+        wr, r = FWR[j], out[k, j]
+        finite = True
+        for i in range(6):
+            tw_prev[k, j, i] = FTW[j, i]
+            finite = finite and math.isfinite(wr[i])
+            xfrc[body, i] = wr[i]
+        for i in range(3):
+            r[i], r[6 + i] = wr[i], wr[3 + i]
+        f2 = wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]
+        if f2 > 1e-300:  # the central axis' point nearest to the provisional one
+            C = FC[j]
+            cx = wr[1] * wr[5] - wr[2] * wr[4]
+            cy = wr[2] * wr[3] - wr[0] * wr[5]
+            cz = wr[0] * wr[4] - wr[1] * wr[3]
+            r0x, r0y, r0z = C[0] + cx / f2, C[1] + cy / f2, C[2] + cz / f2
+            tt = ((r[9] - r0x) * wr[0] + (r[10] - r0y) * wr[1] + (r[11] - r0z) * wr[2]) / f2
+            r[9], r[10], r[11] = r0x + tt * wr[0], r0y + tt * wr[1], r0z + tt * wr[2]
+        r[22] = 0.0 if finite else 1.0
+        bad += 0 if finite else 1
+    clock[k, 0] = 1.0
     return bad
 
 
@@ -500,7 +508,7 @@ ARGS = (
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 1),
+    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2),
 )  # fmt: skip
 #: Where each argument's address and shape start in the packed array (:func:`pack`).
 OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
@@ -508,7 +516,7 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 
 def pack(arrays: list[Any]) -> IndexArray:
     """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array of each one's
-    address and shape: one argument costs numba far less to pass than 22. The caller keeps
+    address and shape: one argument costs numba far less to pass than 23. The caller keeps
     the arrays alive.
     """
     out: list[int] = []
@@ -535,19 +543,3 @@ def _i1(p: IndexArray, k: int) -> IndexArray:
 
 def _i2(p: IndexArray, k: int) -> IndexArray:
     return carray(_iptr(p[k]), (p[k + 1], p[k + 2]))  # type: ignore[call-arg]
-
-
-def _kernel_packed(p: IndexArray) -> int:
-    """:func:`_kernel` on the arrays packed by :func:`pack`."""
-    o = OFFSETS
-    return _kernel(
-        _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _f2(p, o[3]), _f2(p, o[4]), _i1(p, o[5]),
-        _f3(p, o[6]), _i1(p, o[7]), _f2(p, o[8]), _f2(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
-        _f2(p, o[12]), _f1(p, o[13]), _f3(p, o[14]), _f3(p, o[15]), _f3(p, o[16]),
-        _f3(p, o[17]), _f3(p, o[18]), _f1(p, o[19]), _f3(p, o[20]), _f1(p, o[21]),
-    )  # fmt: skip
-
-
-def coupling_kernel() -> Any:
-    """The compiled :func:`_kernel` on :func:`pack`'s array (cached on disk)."""
-    return jit(_kernel_packed)

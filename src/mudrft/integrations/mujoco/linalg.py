@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import numba
+from llvmlite import binding as llvm
 from llvmlite import ir
 from numba import types as nt
 from numba.extending import intrinsic
@@ -24,7 +25,10 @@ from ..._typing import FloatArray
 from ..._xp import pyfloat
 from .implicit import passivity_scale
 
-__all__ = ["_borrow", "_cut", "_mj_jac", "_mj_solve_m", "_robot_step", "mujoco_functions"]
+__all__ = [
+    "REGISTRY", "_borrow", "_chain", "_cut", "_mj_jac", "_mj_solve_m", "_registry", "_robot_step",
+    "mujoco_functions",
+]  # fmt: skip
 
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
@@ -203,6 +207,45 @@ def _mj_solve_m(typingctx: Any, fn: Any, m: Any, d: Any, x: Any, n: Any) -> Any:
         i32 = ir.IntType(32)
         _call(builder, fn, ir.VoidType(), [(m, _VOID_P), (d, _VOID_P), (x, _DOUBLE_P),
               (x, _DOUBLE_P), (builder.trunc(n, i32), i32)])  # fmt: skip
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+#: The cell that holds the address of the passive callback's registry (0: none). Compiled
+#: code reads it through the symbol :data:`REGISTRY_SYMBOL`, which stays valid across
+#: processes (numba's disk cache), where an address baked into the code would not.
+REGISTRY = ctypes.c_int64(0)
+REGISTRY_SYMBOL = "mudrft_mjcb_passive_registry"
+llvm.add_symbol(REGISTRY_SYMBOL, ctypes.addressof(REGISTRY))
+
+
+@intrinsic  # type: ignore[misc]
+def _registry(typingctx: Any) -> Any:
+    """The value of :data:`REGISTRY` (compiled code only)."""
+    sig = nt.int64()
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        module = builder.module
+        try:
+            cell = module.get_global(REGISTRY_SYMBOL)
+        except KeyError:
+            cell = ir.GlobalVariable(module, ir.IntType(64), name=REGISTRY_SYMBOL)
+            cell.linkage = "external"
+        return builder.load(cell)
+
+    return sig, codegen
+
+
+@intrinsic  # type: ignore[misc]
+def _chain(typingctx: Any, fn: Any, m: Any, d: Any) -> Any:
+    """Call the MuJoCo callback ``void(const mjModel*, mjData*)`` at address ``fn``
+    (compiled code only)."""
+    sig = nt.void(nt.int64, nt.int64, nt.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        fn, m, d = args
+        _call(builder, fn, ir.VoidType(), [(m, _VOID_P), (d, _VOID_P)])
         return context.get_dummy_value()
 
     return sig, codegen
