@@ -15,7 +15,6 @@ from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
 
-__all__ = ["Engine"]
 
 _FD_STEP = 1e-6  # forward-difference step in log-parameters
 

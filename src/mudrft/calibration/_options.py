@@ -15,20 +15,6 @@ from .._validation import MudrftError, check_finite, check_number, plain
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
-__all__ = [
-    "DEFAULT_BOUNDS",
-    "FIT_SAMPLES",
-    "GROUPS",
-    "as_dataset",
-    "auto_decimate",
-    "check_count",
-    "check_determined",
-    "resolve_bounds",
-    "resolve_fixed",
-    "resolve_groups",
-    "thin_trials",
-]
-
 #: Parameter groups of the supplementary Sec. III-A, as fitted here (decision D41):
 #: sigma_Y, which the paper derives from Pi_th, is fitted with the suction group because
 #: the model uses the printed sigma_Y (erratum E2) and it sets the suction plateau.

@@ -17,28 +17,9 @@ from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
 from ..plate import plate_steps
 
-__all__ = [
-    "FIT_PARAMETERS",
-    "LINEAR_PARAMETERS",
-    "PHASES",
-    "Packed",
-    "pack",
-    "segment",
-    "values_of",
-]
-
 #: Parameters a fit can free (nu and k_a are never fitted: decision D41).
-FIT_PARAMETERS = (
-    "alpha",
-    "n",
-    "lam",
-    "eta_m",
-    "eta_inf",
-    "gamma_dot_c",
-    "tau_build",
-    "tau_leak",
-    "epsilon",
-    "sigma_y",
+FIT_PARAMETERS = tuple(
+    "alpha n lam eta_m eta_inf gamma_dot_c tau_build tau_leak epsilon sigma_y".split()
 )
 #: Parameters the model is exactly linear in (each term of eq. 1 is proportional to one).
 LINEAR_PARAMETERS = ("alpha", "eta_inf", "eta_m", "sigma_y")

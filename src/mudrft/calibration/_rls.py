@@ -14,17 +14,6 @@ from numpy.typing import NDArray
 from .._validation import LENGTH_LIMITS, MudrftError, warn_implausible
 from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 
-__all__ = [
-    "MAX_STRESS",
-    "Filters",
-    "OnlineEstimate",
-    "Sample",
-    "SampleStream",
-    "bank_errors",
-    "filter_errors",
-    "refined_argmin",
-]
-
 #: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
 MAX_STRESS = 1e12
 

@@ -1,11 +1,5 @@
-r"""Offline calibration: fit the mud model to intrusion logs, with uncertainty.
-
-:func:`calibrate` fits the constants of eqs. (1)-(5) of Chen et al. (2026) by bounded
-least squares in log-parameters (:func:`scipy.optimize.least_squares`), phase by phase
-(intrusion, relaxation, retraction; :mod:`.stages`) and then jointly, the parameters the
-model is linear in solved exactly at each step (variable projection, :mod:`._engine`).
-See docs/model.md for the decisions D40-D48.
-"""
+"""Offline calibration: fit the mud model to intrusion logs by bounded least squares in
+log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)."""
 
 from __future__ import annotations
 
@@ -259,7 +253,6 @@ def calibrate(
         direction=d,
         source=f"fit: {ds.source or 'data'} ({len(ds)} trials)",
     )
-    # relative RMSE of each trial over its fitted samples (decision D12)
     sim = packed.simulate(values_of(params, batch=1))[:, 0, :]
     trmse = []
     for j, n in enumerate(packed.lengths):

@@ -1,15 +1,7 @@
-r"""The rate of a logged depth, read to survive the sensor's noise and not fitted where the
-speed changes.
-
-The model's rate is the difference of two depths over a step, which multiplies the
-depth's noise :math:`\sigma_q` by :math:`\sqrt2/\Delta t` (0.02 mm at 500 Hz is 14 mm/s on
-a 10 mm/s test) and biases every rate-dependent constant towards zero by
-:math:`x^2/(1+x^2)`, :math:`x` the rate noise over the speed. :func:`smooth_trial`
-estimates :math:`\sigma_q` (:func:`depth_noise`), finds where the speed changes
-(:func:`speed_changes`), and fits the depth as constant-speed segments between them, as a
-plate rig moves; a depth that is not that is smoothed with a local-linear (Savitzky-Golay)
-kernel instead. Samples whose step spans a change of speed are not fitted
-(:meth:`Smoothing.excluded`).
+r"""The rate of a logged depth, read to survive the sensor's noise (which biases every
+rate-dependent constant towards zero by :math:`x^2/(1+x^2)`, :math:`x` the rate noise over
+the speed): :func:`smooth_trial` fits the depth as constant-speed segments, or smooths it
+with a local-linear kernel; samples whose step spans a change of speed are not fitted.
 """
 
 from __future__ import annotations

@@ -24,16 +24,6 @@ from .uncertainty import Uncertainty, at_bound, uncertainty
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
 
-__all__ = [
-    "ALL_PHASES",
-    "STAGES",
-    "Stage",
-    "joint_stage",
-    "phase_stage",
-    "start_engine",
-    "uncertainty_at_optimum",
-]
-
 
 class Stage(NamedTuple):
     """A phase stage: its name, the phases it fits, its group (``own``; it runs if one is

@@ -79,11 +79,8 @@ def synthetic_dataset(
     """Plate tests simulated with known parameters plus noise (synthetic data).
 
     One trial per speed: intrude to ``depth``, hold, retract at the same speed
-    (:func:`mudrft.plate_intrusion`), with Gaussian noise of ``noise`` times the trial's
-    stress range plus ``stress_noise``. With ``approach`` or ``tare`` > 0 (vertical tests)
-    the log is a lab logger's: the plate rests ``tare`` seconds at ``approach`` above the
-    surface, moves down, intrudes, holds, retracts back to ``approach`` and rests
-    ``rest`` seconds, sampled every ``dt`` (the model stepped exactly through the corners).
+    (:func:`mudrft.plate_intrusion`); with ``approach`` or ``tare`` > 0 (vertical tests) the
+    plate starts and ends above the surface, as a lab logger records it.
 
     Parameters
     ----------

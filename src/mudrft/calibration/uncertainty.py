@@ -25,20 +25,6 @@ from numpy.typing import NDArray
 
 from ._problem import FIT_PARAMETERS
 
-__all__ = [
-    "IDENTIFIED_SE",
-    "NOT_IDENTIFIED_SE",
-    "OUTLYING_TRIAL_FLOOR",
-    "OUTLYING_TRIAL_RATIO",
-    "Uncertainty",
-    "at_bound",
-    "interval",
-    "outlying_trials",
-    "robust_log_covariance",
-    "uncertainty",
-    "verdict",
-]
-
 #: Relative standard error at or below which a parameter counts as identified (D44).
 IDENTIFIED_SE = 0.05
 #: Relative standard error above which a parameter counts as not identified (D44).

@@ -1,9 +1,5 @@
-r"""Time stepping of the mud constitutive model, validated: :func:`step` and :func:`run`.
-
-Both check their inputs and call :func:`mudrft.constitutive.kernel.channel_step`, the one
-definition of the update: the ODEs (3) and (5) stepped exactly (``thixotropy="ode"``) or the
-paper's closed forms (9)-(11) (``thixotropy="quasi-static"``, decision D15).
-"""
+"""Validated time stepping of one stress channel: :func:`step` and :func:`run`, over
+:func:`mudrft.constitutive.kernel.channel_step`."""
 
 from __future__ import annotations
 
