@@ -1,7 +1,6 @@
 """Baseline terrain models to compare the mud model with (supplementary Sec. III-D).
 
-Every model implements :class:`mudrft.terrains.Terrain`, so :func:`mudrft.simulate`, the
-MuJoCo coupling and :func:`compare` take any of them:
+Every model is a :class:`mudrft.terrains.Terrain`:
 
 * :class:`GranularRFT` -- granular resistive force theory (Li et al. 2013) in 3D
   (Treers et al. 2021), for any foot with surface elements;

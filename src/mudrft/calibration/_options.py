@@ -15,9 +15,8 @@ from .._validation import MudrftError, check_finite, check_number, plain
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
-#: Parameter groups of the supplementary Sec. III-A, as fitted here (decision D41):
-#: sigma_Y, which the paper derives from Pi_th, is fitted with the suction group because
-#: the model uses the printed sigma_Y (erratum E2) and it sets the suction plateau.
+#: Parameter groups of the supplementary Sec. III-A; sigma_Y is fitted with the suction
+#: group (decision D41).
 GROUPS: dict[str, tuple[str, ...]] = {
     "b": ("alpha", "n"),
     "th": ("lam", "eta_m", "eta_inf", "gamma_dot_c"),

@@ -148,11 +148,9 @@ def pack(
     exclude: Sequence[NDArray[np.bool_]] | None = None,
     direction: str | None = None,
 ) -> Packed:
-    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
-
-    A vertical plate (``direction``, default the dataset's) feels the mud only below the
-    surface, from undisturbed mud at first contact: samples above it, and the first sample
-    after each entry (whose stress a depth's noise blurs), are simulated but not fitted.
+    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``;
+    a vertical plate's samples above the surface, and the first after each entry, are
+    simulated but not fitted.
 
     Parameters
     ----------

@@ -246,7 +246,8 @@ def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Sm
     method, depth, rate = ("as logged", q, slope_noise(sigma, 2, dt))
     changes = tuple((float(t[max(i - 1, 0)]), float(t[min(i + 1, t.size - 1)])) for i in at)
     fitted = _segments(t, q, at, h + 1, sigma) if window == "auto" and sigma > 0 else None
-    if fitted is not None and _describes(q - fitted[1], sigma):
+    # segments describe a depth whose residual is the depth's noise and no more
+    if fitted is not None and np.mean((q - fitted[1]) ** 2) <= _NOISE_RATIO * sigma**2:
         method, depth, rate = "segments", fitted[1], fitted[2]
         changes = tuple((float(k), float(k)) for k in fitted[0])
     elif h > 0:
@@ -257,11 +258,6 @@ def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Sm
     if depth is q:
         return trial, how
     return replace(trial, depth=depth, meta={**trial.meta, "depth": how.note()}), how
-
-
-def _describes(residual: NDArray[np.float64], sigma: float) -> bool:
-    """Whether a fit's ``residual`` [m] is the depth's noise ``sigma`` [m] and no more."""
-    return float(np.mean(residual**2)) <= _NOISE_RATIO * sigma**2
 
 
 def check_window(window: object) -> int | str:

@@ -85,19 +85,16 @@ class FitResult:
         :math:`\mathrm{se}(\ln p)` [-], the relative error for small values.
     confidence_interval : dict
         ``(low, high)`` [SI] at ``confidence_level``,
-        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds: the noise's
-        only (the model exact, the residuals independent).
+        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds (noise only).
     confidence_level : float
         Two-sided level of the intervals [-].
     robust_standard_error, robust_interval : dict
-        Relative error [-] and ``(low, high)`` [SI] that admit model error (residuals
-        correlated in time), never narrower than the noise's; the intervals hold for all
-        free parameters at once. The verdicts use them.
+        Relative error [-] and ``(low, high)`` [SI] that admit model error, jointly for all
+        free parameters; the verdicts use them.
     correlation : ndarray, shape (k, k)
         Correlation matrix of the log-parameters, in the order of ``free``.
     identifiability : dict
-        Verdict per parameter: ``"identified"``, ``"weak"``, ``"not identified"``
-        or ``"fixed"`` (rule D44 on ``robust_standard_error``, see :func:`calibrate`).
+        ``"identified"``, ``"weak"``, ``"not identified"`` or ``"fixed"`` (rule D44).
     relative_rmse : float
         Mean over trials of the relative RMSE (RMSE / peak-to-peak, decision D12) [-].
     trial_relative_rmse : tuple of float
@@ -127,12 +124,11 @@ class FitResult:
     dataset : IntrusionDataset or None
         The data that were fitted (not saved to JSON).
     data_warnings : tuple of str
-        What the checks of the log found before the fit: a saturated or unzeroed sensor, a
-        depth too noisy for the rate.
+        What the checks of the log found before the fit.
     rate : str or int
         How the rate came from the logged depth (the ``rate`` option of :func:`calibrate`).
     depth_notes : tuple of str
-        Per trial, how its depth was read: noise, segments or window, rate noise.
+        Per trial, how its depth was read.
     """
 
     parameters: MudParameters
@@ -181,8 +177,7 @@ class FitResult:
         return tuple(str(i + 1) for i in range(n))
 
     def outlying_trials(self) -> str | None:
-        """The warning naming the trials that fit much worse than the others (rule D139), or
-        None (also without the dataset)."""
+        """The warning naming the trials that fit much worse than the others, or None."""
         ds = self.dataset
         if ds is None or len(ds.trials) != len(self.trial_relative_rmse):
             return None
@@ -253,8 +248,7 @@ class FitResult:
         ----------
         dataset : IntrusionDataset, optional
             Trials to predict (SI), their depth read with the fit's ``rate`` option; default
-            the fitted data. The stress is exactly 0 while a vertical plate is above the
-            surface.
+            the fitted data.
 
         Returns
         -------
@@ -334,13 +328,13 @@ class FitResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (SI values with the field names of :class:`~mudrft.MudParameters`;
         an infinite or undefined number is None)."""
+        ds = self.dataset
         data = None
-        if self.dataset is not None:
-            trials = [t.name for t in self.dataset.trials]
+        if ds is not None:
             data = {
-                "source": self.dataset.source,
-                "trials": trials,
-                "synthetic": self.dataset.synthetic,
+                "source": ds.source,
+                "trials": [t.name for t in ds.trials],
+                "synthetic": ds.synthetic,
             }
         return finite_or_none(
             {

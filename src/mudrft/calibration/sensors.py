@@ -92,12 +92,9 @@ class Offset(NamedTuple):
 
 
 def stress_offset(trial: Trial) -> Offset:
-    r"""The stress a trial logs while the plate is out of the mud, and whether it is an offset.
-
-    Out of the mud is depth <= 0 [m] (at or above the surface): the model's stress is 0
-    there (decision D42), so a median clearly off 0 is the sensor's zero. Its standard error
-    is :math:`1.25\,\hat s/\sqrt{m}` with :math:`\hat s` the scaled median absolute deviation
-    of the ``m`` samples.
+    r"""The stress a trial logs while the plate is out of the mud (depth <= 0 [m]), and
+    whether it is an offset; its standard error is :math:`1.25\,\hat s/\sqrt{m}`,
+    :math:`\hat s` the scaled median absolute deviation of the ``m`` samples.
 
     Parameters
     ----------

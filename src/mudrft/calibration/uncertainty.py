@@ -1,12 +1,7 @@
 r"""Uncertainty of a fit: covariances of the log-parameters, intervals, identifiability.
 
-From the weighted residuals :math:`r` and the Jacobian :math:`J` in log-parameters at the
-optimum: the noise-only covariance :math:`s^2(J^TJ)^{+}`, :math:`s^2=\|r\|^2/(m-k)`, and a
-robust one (:func:`robust_log_covariance`) that admits residuals correlated in time, as a
-model slightly off leaves them. Directions of :math:`J^TJ` with an eigenvalue below
-:math:`10^{-10}` of the largest are unconstrained: every parameter loading on them gets an
-infinite error. Intervals are :math:`p\exp(\pm t_q\,\mathrm{se}(\ln p))`; the verdicts
-(rule D44) use the robust errors.
+The noise-only covariance is :math:`s^2(J^TJ)^{+}`, :math:`s^2=\|r\|^2/(m-k)`; the robust
+one (:func:`robust_log_covariance`) admits residuals correlated in time.
 
 References
 ----------
@@ -38,9 +33,7 @@ _AT_BOUND = 1e-3
 
 class Uncertainty(NamedTuple):
     """Per-parameter uncertainty of a fit, as :class:`~mudrft.calibration.FitResult` holds
-    it: noise-only standard errors (absolute [SI], relative [-]) and intervals [SI]; robust
-    relative errors (never below the noise's) and intervals that hold for all free
-    parameters at once (Bonferroni); verdicts; the correlation, residual noise [-] and
+    it (errors [SI] and [-], intervals [SI]), with the correlation, residual noise [-] and
     condition number of the free log-parameters."""
 
     se: dict[str, float]
@@ -192,8 +185,7 @@ def uncertainty(
         e, er = float(se_log[i]), max(float(se_log[i]), float(robust[i]))
         rse[name], rrse[name] = e, er
         se[name] = v * e if math.isfinite(e) else math.inf
-        # at a bound the interval is the bounds (rule D44): the optimum lies past the bound,
-        # so the linearised interval around the bound value would be a confident wrong range
+        # at a bound the interval is the bounds (rule D44): the optimum may lie past it
         ci[name] = bounds[name] if bound[name] else interval(v, e, q, bounds[name])
         rci[name] = bounds[name] if bound[name] else interval(v, er, q_all, bounds[name])
         verdicts[name] = verdict(er, bound[name])
@@ -201,10 +193,9 @@ def uncertainty(
 
 
 #: A trial whose RMSE exceeds this many times the median of the others', relative to its
-#: range and in pascals alike, is flagged as fitting worse than the rest (decision D139) [-].
+#: range and in pascals alike, fits worse than the rest (decision D139) [-] ...
 OUTLYING_TRIAL_RATIO = 2.0
-#: ... unless its relative RMSE is below this: such a trial fits well whatever the others
-#: do (noise-free logs fit to a few 0.01 %, the ratios then only compare round-off) [-].
+#: ... unless its relative RMSE is below this [-].
 OUTLYING_TRIAL_FLOOR = 0.002
 
 

@@ -1,10 +1,5 @@
-"""The paper's parameter sets, interpolated between table rows (decision D7).
-
-Between the rows (25, 35, 45 %) each constant is interpolated linearly in its logarithm,
-``n`` linearly; ``extrapolate=True`` extends the end segments to [15 %, 50 %] with a
-warning. ``labels="text"`` names the rows as the paper's text does (15, 25, 35 %; errata
-E6/E7).
-"""
+"""The paper's parameter sets, interpolated between table rows (decision D7): linearly in
+the logarithm of each constant, ``n`` linearly."""
 
 from __future__ import annotations
 
