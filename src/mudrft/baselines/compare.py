@@ -261,9 +261,7 @@ def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
                 "terrain": name,
                 "peak_support [N]": metrics.peak_support(h.force[:, 2]),
                 "max_suction [N]": metrics.max_suction(h.force[:, 2]),
-                "impulse_x [N s]": float(imp[0]),
-                "impulse_y [N s]": float(imp[1]),
-                "impulse_z [N s]": float(imp[2]),
+                **{f"impulse_{c} [N s]": float(v) for c, v in zip("xyz", imp, strict=True)},
                 "energy [J]": metrics.energy(h.time, h.force, h.velocity),
                 "peak_sigma_z [Pa]": float(np.max(h.sigma_z)),
             }

@@ -240,10 +240,8 @@ def calibrate(
         source=f"fit: {ds.source or 'data'} ({len(ds)} trials)",
     )
     sim = packed.simulate(values_of(params, batch=1))[:, 0, :]
-    trmse = []
-    for j, n in enumerate(packed.lengths):
-        m = packed.valid[:n, j]
-        trmse.append(relative_rmse(sim[:n, j][m], packed.data[:n, j][m]))
+    per_trial = zip(sim.T, packed.data.T, packed.valid.T, strict=True)
+    trmse = [relative_rmse(s[m], d[m]) for s, d, m in per_trial]
     fit = FitResult(
         parameters=params,
         free=free,
@@ -305,7 +303,6 @@ def _prepare(
     """The data as fitted: depth smoothed, sensor zeroed, thinned; the samples left out of
     each trial, the warnings, and the standard error [Pa] of each subtracted zero."""
     ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
-    # the sensor's zero on every sample: the tare's error is then as small as the log allows
     ds, tare, warned, notes = check_zero(ds, zero=zero, direction=direction)
     k = decimate
     if k is None:

@@ -321,11 +321,7 @@ class OnlineEstimator:
                 se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
                 se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
-            alpha=est["alpha"],
-            eta_inf=est["eta_inf"],
-            eta_m=est["eta_m"],
-            sigma_y=est["sigma_y"],
-            tau_build=est["tau_build"],
+            **est,
             n=self.n,
             updates=self._updates,
             phase=self._phase,

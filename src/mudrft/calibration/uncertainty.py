@@ -85,14 +85,11 @@ def robust_log_covariance(
     shift: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     r"""Standard errors [-] of the log-parameters that admit model error: the sandwich
-    :math:`A^{+}\Omega A^{+}`, :math:`A=J^TJ`, with :math:`\Omega` the Newey-West long-run
-    covariance of the scores :math:`J_ir_i` within each trial (Bartlett weights over
-    :func:`bartlett_lag` lags), trials independent, times :math:`m/(m-k)`; plus, for an
-    error :math:`s_j` shared by every sample of trial :math:`j` (a subtracted sensor zero),
-    :math:`s_j^2\,g_jg_j^T` with :math:`g_j=A^{+}J^T1_j` (the delta method), ``shift``
-    holding :math:`s_j`. ``r`` (m,) are the weighted residuals, ``J`` (m, k) their Jacobian,
-    ``trial`` (m,) the trial of each (in time order within a trial); ``inf`` where the data
-    do not constrain a parameter.
+    :math:`A^{+}\Omega A^{+}`, :math:`A=J^TJ`, :math:`\Omega` the Newey-West covariance of
+    the scores within each trial, times :math:`m/(m-k)`, plus :math:`s_j^2g_jg_j^T`,
+    :math:`g_j=A^{+}J^T1_j`, for an error ``shift[j]`` shared by trial :math:`j` (a
+    subtracted sensor zero). ``r`` (m,) weighted residuals, ``J`` (m, k) their Jacobian,
+    ``trial`` (m,) the trial of each, in time order within a trial.
     """
     m, k = J.shape
     inv, loose, _ = _scaled_inverse(J)

@@ -168,10 +168,8 @@ def channel_update_quasi_static(
         \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
         a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
 
-    at the current rate and displacement, with :math:`\phi` at the current retraction (D4,
-    times ``seal``) and :math:`\Delta t=t-t_w` the time since the retraction began; the
-    clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``. Only
-    the clocks and the deepest point are state (the rest is returned for inspection).
+    with :math:`\phi` at the current retraction (times ``seal``) and :math:`\Delta t=t-t_w`;
+    the clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``.
 
     Parameters and returns as :func:`channel_update`, with ``restart`` (bool) in place of
     ``kappa``; ``gamma_dot`` [1/s] is the rate at the end of the step.

@@ -124,7 +124,6 @@ class MudParameters:
                 f"direction must be 'vertical', 'horizontal' or '', got {self.direction!r}"
             )
 
-    # -- derived quantities -------------------------------------------------------------
     @property
     def k_r(self) -> FloatOrArray:
         """Rejuvenation coefficient :math:`k_r = k_a/\\dot\\gamma_c` [-]."""
