@@ -61,7 +61,6 @@ class Packed:
     """Trials padded into ``(n_max, T)`` arrays (:func:`pack`), with phase codes, the fitted
     samples (``valid``) and each trial's weight (1 / its stress range in the mud) [1/Pa]."""
 
-    time: np.ndarray
     gamma: np.ndarray
     rate: np.ndarray
     dt: np.ndarray
@@ -70,7 +69,6 @@ class Packed:
     phase: np.ndarray
     weight: np.ndarray
     lengths: np.ndarray
-    names: tuple[str, ...]
     nu: float
     k_a: float | None
     acceleration: bool
@@ -207,7 +205,6 @@ def pack(
     dt = np.diff(time, axis=0)
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed(
-        time=time,
         gamma=gamma,
         rate=np.diff(gamma, axis=0) / dt,
         dt=dt,
@@ -216,7 +213,6 @@ def pack(
         phase=phase,
         weight=weight,
         lengths=lengths,
-        names=tuple(t.name for t in trials),
         nu=float(p.nu),
         k_a=None if tied else float(p.k_a),
         acceleration=acceleration,

@@ -152,10 +152,9 @@ def classify(
     m = R.shape[0]
     nv = None if noise is None else positive_number("noise", noise) ** 2
     ll, prob = _softmax_loglik(sse, m, nv)
-    rrmse = np.sqrt(sse / m)
     return Classification(
         labels=tuple(labs),
-        relative_rmse=rrmse,
+        relative_rmse=np.sqrt(sse / m),
         log_likelihood=ll,
         probabilities=prob,
         best=labs[int(np.argmax(ll))],

@@ -134,11 +134,6 @@ class MudParameters:
         """Elastic modulus :math:`G_m=\\eta_m/\\lambda` [Pa]."""
         return self.eta_m / self.lam
 
-    @property
-    def sigma_y_relation(self) -> FloatOrArray:
-        """Yield stress from the paper's relation (4): :math:`(\\eta_m-\\eta_\\infty)\\dot\\gamma_c` [Pa]."""
-        return (self.eta_m - self.eta_inf) * self.gamma_dot_c
-
     def replace(self, **changes: Any) -> MudParameters:
         """A copy with some fields changed (validated); a new ``lam`` moves a default ``k_a``."""
         default_k_a = np.all(np.isclose(np.asarray(self.k_a), 1.0 / np.asarray(self.lam)))
