@@ -18,19 +18,6 @@ from scipy import ndimage
 from .._validation import MudrftError
 from ..io import IntrusionDataset, Trial
 
-__all__ = [
-    "KINK_Z",
-    "RATE_NOISE",
-    "Smoothing",
-    "check_window",
-    "depth_noise",
-    "rate_bias",
-    "slope_noise",
-    "smooth_dataset",
-    "smooth_trial",
-    "speed_changes",
-]
-
 #: The smoothing window is chosen for a rate noise of at most this fraction of the trial's
 #: speed [-]; the bias it leaves on the rate-dependent constants is about its square.
 RATE_NOISE = 0.01

@@ -38,6 +38,15 @@ POOR_FIT_HINT = (
     "signs (depth and stress positive while the plate intrudes), the plate area, the "
     "characteristic length and the direction"
 )
+#: Fields of :class:`FitResult` written to JSON as they are, in the file's order.
+_ERROR_FIELDS = tuple(
+    "standard_error relative_standard_error confidence_interval confidence_level "
+    "robust_standard_error robust_interval".split()
+)
+_PLAIN_FIELDS = tuple(
+    "relative_rmse trial_relative_rmse noise status message condition_number acceleration "
+    "thixotropy clock xi0 data_warnings rate depth_notes bounds".split()
+)
 
 
 @dataclass(frozen=True)
@@ -344,12 +353,7 @@ class FitResult:
                 "parameters": self.parameters.as_dict(),
                 "units": dict(PARAMETER_UNITS),
                 "free": list(self.free),
-                "standard_error": self.standard_error,
-                "relative_standard_error": self.relative_standard_error,
-                "confidence_interval": self.confidence_interval,
-                "confidence_level": self.confidence_level,
-                "robust_standard_error": self.robust_standard_error,
-                "robust_interval": self.robust_interval,
+                **{k: getattr(self, k) for k in _ERROR_FIELDS},
                 "correlation": {
                     "parameters": list(self.free),
                     "matrix": np.asarray(self.correlation, dtype=float).tolist(),
@@ -360,20 +364,7 @@ class FitResult:
                     f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
                     "(Jacobian rank-deficient) or at a bound"
                 ),
-                "relative_rmse": self.relative_rmse,
-                "trial_relative_rmse": self.trial_relative_rmse,
-                "noise": self.noise,
-                "status": self.status,
-                "message": self.message,
-                "condition_number": self.condition_number,
-                "acceleration": self.acceleration,
-                "thixotropy": self.thixotropy,
-                "clock": self.clock,
-                "xi0": self.xi0,
-                "data_warnings": self.data_warnings,
-                "rate": self.rate,
-                "depth_notes": self.depth_notes,
-                "bounds": self.bounds,
+                **{k: getattr(self, k) for k in _PLAIN_FIELDS},
                 "stages": [asdict(s) for s in self.stages],
                 "trace": self.trace,
                 "data": data,

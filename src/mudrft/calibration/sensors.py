@@ -15,17 +15,6 @@ from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset, Trial
 from ._problem import PHASES, segment
 
-__all__ = [
-    "CLIPPED_SAMPLES",
-    "OFFSET_FRACTION",
-    "OFFSET_SAMPLES",
-    "Offset",
-    "check_clipped",
-    "check_zero",
-    "clipped_samples",
-    "stress_offset",
-]
-
 #: Fewest samples in the mud at exactly a trial's extreme stress that make a saturated
 #: sensor's flat top (D153) [-]; a noisy signal repeats its extreme almost never.
 CLIPPED_SAMPLES = 5
