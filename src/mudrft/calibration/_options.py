@@ -118,9 +118,7 @@ def _check_name(option: str, name: str) -> None:
         )
 
 
-def resolve_bounds(
-    bounds: dict[str, tuple[float, float]] | None,
-) -> dict[str, tuple[float, float]]:
+def resolve_bounds(bounds: dict[str, tuple[float, float]] | None) -> dict[str, tuple[float, float]]:
     """:data:`DEFAULT_BOUNDS` with the user's ``{name: (low, high)}`` [SI] applied."""
     out = dict(DEFAULT_BOUNDS)
     for k, v in (bounds or {}).items():
@@ -158,8 +156,7 @@ def _kind(x: object) -> str | None:
 
 
 def as_dataset(
-    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object],
-    **load_options: Any,
+    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object], **load_options: Any
 ) -> IntrusionDataset:
     """The data of a fit as one dataset: datasets merged, trials joined, paths loaded with
     :func:`mudrft.io.load_dataset` and ``load_options`` (``area`` [m^2], ...)."""

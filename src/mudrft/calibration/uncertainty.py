@@ -47,9 +47,7 @@ class Uncertainty(NamedTuple):
     cond: float
 
 
-def _scaled_inverse(
-    J: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
+def _scaled_inverse(J: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
     """:math:`(J^TJ)^{+}` on the directions the data constrain (scaled to unit diagonal, so
     that the rank test ignores units), the parameters loading on the others, and the
     condition number of the scaled Jacobian."""
