@@ -53,8 +53,7 @@ class Smoothing(NamedTuple):
         return rate_bias(self.rate_noise, self.speed)
 
     def excluded(self, time: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Samples at ``time`` [s] whose step, or the step before it, spans a change of
-        speed: their stress answers a rate the log does not give."""
+        """Samples at ``time`` [s] whose step, or the step before it, spans a change of speed."""
         t = np.asarray(time, dtype=float)
         out = np.zeros(t.size, dtype=bool)
         for a, b in self.changes:
@@ -77,8 +76,7 @@ class Smoothing(NamedTuple):
         )
 
 
-#: Samples [-] below which :func:`depth_noise` cannot tell noise from motion: with a few
-#: samples, every second difference is a change of speed.
+#: Samples [-] below which :func:`depth_noise` cannot tell noise from motion.
 NOISE_MIN_SAMPLES = 16
 
 

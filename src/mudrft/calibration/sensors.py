@@ -16,7 +16,7 @@ from ..io import IntrusionDataset, Trial
 from ._problem import PHASES, segment
 
 #: Fewest samples in the mud at exactly a trial's extreme stress that make a saturated
-#: sensor's flat top (D153) [-]; a noisy signal repeats its extreme almost never.
+#: sensor's flat top (D153) [-].
 CLIPPED_SAMPLES = 5
 #: Samples within this fraction of the stress range of the extreme are at it [-].
 _AT_EXTREME = 1e-9

@@ -34,12 +34,11 @@ def _table(direction: str) -> dict[float, tuple[float, ...]]:
 
 def table_rows(direction: str) -> dict[float, dict[str, float]]:
     """The printed rows of one table, in SI, keyed by water content [-]."""
-    out = {}
-    for w, row in _table(direction).items():
-        out[w] = {
-            c: v * chen2026.PRINTED_UNITS[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)
-        }
-    return out
+    units = chen2026.PRINTED_UNITS
+    return {
+        w: {c: v * units[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)}
+        for w, row in _table(direction).items()
+    }
 
 
 def _check_water_content(water_content: object, extrapolate: bool, shift: float = 0.0) -> float:
