@@ -265,6 +265,7 @@ def smooth_dataset(
     the warnings (a rate noise that biases the rate-dependent constants more than
     :data:`BIAS_WARNING`)."""
     window = check_window(window)
+    hint = "; rate='auto' reads the depth for a rate that survives it" if window == "raw" else ""
     trials, done, warnings_ = [], [], []
     for tr in ds.trials:
         new, how = smooth_trial(tr, window=window)
@@ -277,11 +278,6 @@ def smooth_dataset(
                 f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
                 f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
                 "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
-                f"tau_leak) come out about {100 * how.bias:.2g} % too small"
-                + (
-                    "; rate='auto' reads the depth for a rate that survives it"
-                    if window == "raw"
-                    else ""
-                )
+                f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
             )
     return replace(ds, trials=tuple(trials)), done, warnings_

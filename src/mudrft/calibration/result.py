@@ -319,10 +319,8 @@ class FitResult:
             used = segment(tr) != PHASES["out"]
             ax.plot(tr.time[used], tr.stress[used] / 1e3, ".", ms=2.5, color="0.55", label="data")
             if not used.all():
-                label = "not fitted (out of the mud)"
-                ax.plot(
-                    tr.time[~used], tr.stress[~used] / 1e3, "x", ms=4, color="0.55", label=label
-                )
+                out = {"ms": 4, "color": "0.55", "label": "not fitted (out of the mud)"}
+                ax.plot(tr.time[~used], tr.stress[~used] / 1e3, "x", **out)
             ax.plot(tr.time[used], yp[used] / 1e3, "C3", lw=1.5, label="fit")
             ax.axhline(0.0, color="0.8", lw=0.6)
             ax.set_title(f"{tr.name}: {1e3 * tr.speed:.3g} mm/s", fontsize=9)
