@@ -1,16 +1,11 @@
 """Baseline terrain models to compare the mud model with (supplementary Sec. III-D).
 
-Every model implements :class:`mudrft.terrains.Terrain`, so :func:`mudrft.simulate`, the
-MuJoCo coupling and :func:`compare` take any of them:
+Every model is a :class:`mudrft.terrains.Terrain`:
 
-* :class:`GranularRFT` -- granular resistive force theory (Li et al. 2013) in 3D
-  (Treers et al. 2021), for any foot with surface elements;
-* :class:`~mudrft.terrains.GranularRFT3D` -- the 3D resistive force theory of Agarwal
-  et al. (2023), for any foot with surface elements;
-* :class:`LinearStiffness` -- the linear mud stiffness of Godon et al. (2022) and
-  Liu et al. (2023), 1D vertical;
-* :class:`MaxwellMud` -- a documented *reconstruction* of the Maxwell-type mud model of
-  Chen et al. (AIM 2024), 1D vertical;
+* :class:`GranularRFT` -- granular RFT (Li et al. 2013) in 3D (Treers et al. 2021);
+* :class:`~mudrft.terrains.GranularRFT3D` -- the 3D-RFT of Agarwal et al. (2023);
+* :class:`LinearStiffness` -- linear mud stiffness (Godon et al. 2022, Liu et al. 2023);
+* :class:`MaxwellMud` -- a *reconstruction* of the Maxwell-type mud of Chen et al. (AIM 2024);
 * :class:`RigidGround` -- penalty contact with regularised Coulomb friction.
 
 >>> import mudrft

@@ -1,8 +1,4 @@
-r"""Run any terrain along a trajectory and compare terrains (supplementary Figs. S5, S6).
-
-Every history has the vertical stress :math:`\bar\sigma_z=F_z/A_z(d)` (force over the
-submerged footprint), so models with and without channel stresses compare alike.
-"""
+"""Run any terrain along a trajectory and compare terrains (supplementary Figs. S5, S6)."""
 
 from __future__ import annotations
 
@@ -82,9 +78,8 @@ def run_terrain(
 ) -> History:  # fmt: skip
     """Drive ``foot`` along ``trajectory`` through ``terrain`` and record the forces.
 
-    The force at sample ``i`` comes from the step that ends there (the first step is
-    ``t[1] - t[0]``), D58. ``terrain`` is any :class:`mudrft.terrains.Terrain`;
-    ``progress(i, n)``, if given, is called every 500 samples.
+    The force at sample ``i`` comes from the step that ends there (D58); ``progress(i, n)``,
+    if given, is called every 500 samples.
 
     >>> import mudrft
     >>> from mudrft.baselines import LinearStiffness
@@ -131,8 +126,7 @@ def default_terrains(
 ) -> dict[str, Terrain]:
     """The mud model and the five baselines with their defaults, by name (:data:`TERRAIN_NAMES`).
 
-    ``water_content`` [-] selects the mud (``extrapolate`` as :func:`mudrft.paper_mud`);
-    the baselines' defaults do not change with it (decision D59).
+    ``water_content`` [-] selects the mud (``extrapolate`` as :func:`mudrft.paper_mud`).
     """
     mud = MudTerrain(paper_mud(water_content, extrapolate=extrapolate))
     terrains = (mud, GranularRFT(), GranularRFT3D(), LinearStiffness(), MaxwellMud(), RigidGround())
@@ -235,7 +229,7 @@ def _terrain(label: str, value: Any, water_content: float, extrapolate: bool) ->
             f"{label} must be a terrain object, got the class {value.__name__} "
             f"(write {value.__name__}() with its options)"
         )
-    if isinstance(value, Mud):  # the paper's mud or a calibrated one, as simulate takes it
+    if isinstance(value, Mud):
         return MudTerrain(value)
     if not isinstance(value, Terrain):
         raise MudrftError(
@@ -267,9 +261,7 @@ def summarize(histories: Mapping[str, History]) -> list[dict[str, Any]]:
                 "terrain": name,
                 "peak_support [N]": metrics.peak_support(h.force[:, 2]),
                 "max_suction [N]": metrics.max_suction(h.force[:, 2]),
-                "impulse_x [N s]": float(imp[0]),
-                "impulse_y [N s]": float(imp[1]),
-                "impulse_z [N s]": float(imp[2]),
+                **{f"impulse_{c} [N s]": float(v) for c, v in zip("xyz", imp, strict=True)},
                 "energy [J]": metrics.energy(h.time, h.force, h.velocity),
                 "peak_sigma_z [Pa]": float(np.max(h.sigma_z)),
             }

@@ -33,11 +33,10 @@ def _plt() -> Any:
 def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
 
-    (a) normalised force against normalised depth, mud against sand (granular RFT, and
-    3D-RFT when present); (b) vertical stress :math:`F_z/A_z` [Pa] against time and (c)
-    against depth, for the mud, Maxwell-type and linear models. ``plate`` is
-    :func:`mudrft.baselines.compare`'s result on :func:`mudrft.plate_intrusion` (each panel
-    shows the terrains present); ``sand`` names the granular history.
+    (a) normalised force against normalised depth, mud against sand; (b) vertical stress
+    :math:`F_z/A_z` [Pa] against time and (c) against depth. ``plate`` is
+    :func:`mudrft.baselines.compare`'s result on :func:`mudrft.plate_intrusion`; ``sand``
+    names the granular history.
     """
     if not isinstance(plate, Mapping) or not plate:
         raise MudrftError("plate must be a non-empty mapping {terrain: History} (compare's result)")
@@ -101,8 +100,7 @@ def plot_gait(
 ) -> Any:
     """Fig. S5-style figure: Fx, Fy, Fz over one gait cycle for the terrains given.
 
-    ``exclude`` drops terrains by name: by default rigid ground, whose force on a
-    prescribed path into it is only its penalty spring's.
+    ``exclude`` drops terrains by name (by default rigid ground: only a penalty spring).
     """
     shown = {k: v for k, v in gait.items() if k not in exclude}
     if not shown:

@@ -5,10 +5,8 @@
 >>> data.synthetic
 True
 
-Offline: :func:`calibrate` returns a :class:`FitResult` (parameters, standard errors,
-intervals, identifiability verdicts, RMSE, trace). Online: :class:`OnlineEstimator`
-(recursive least squares with forgetting, D46) and :class:`StreamClassifier` (which known
-parameter set a stream resembles, D47). Data: :mod:`mudrft.io`.
+Offline: :func:`calibrate` returns a :class:`FitResult`. Online: :class:`OnlineEstimator`
+and :class:`StreamClassifier`. Data: :mod:`mudrft.io`.
 """
 
 from .._validation import CalibrationWarning

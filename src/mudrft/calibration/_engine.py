@@ -15,7 +15,6 @@ from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
 
-__all__ = ["Engine"]
 
 _FD_STEP = 1e-6  # forward-difference step in log-parameters
 
@@ -56,14 +55,9 @@ class Engine:
         """Count one evaluation and keep it in the trace (up to ``trace_limit``)."""
         self.evaluations += 1
         if len(self.trace) < self.trace_limit:
-            self.trace.append(
-                {
-                    "stage": stage,
-                    "evaluation": self.evaluations,
-                    "cost": float(cost),
-                    "parameters": {k: float(v) for k, v in values.items()},
-                }
-            )
+            point = {k: float(v) for k, v in values.items()}
+            entry = {"stage": stage, "evaluation": self.evaluations, "cost": float(cost)}
+            self.trace.append({**entry, "parameters": point})
 
     def project(
         self, R: NDArray[np.float64], lin: list[str], keep: dict[str, float] | None = None

@@ -15,23 +15,8 @@ from .._validation import MudrftError, check_finite, check_number, plain
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
-__all__ = [
-    "DEFAULT_BOUNDS",
-    "FIT_SAMPLES",
-    "GROUPS",
-    "as_dataset",
-    "auto_decimate",
-    "check_count",
-    "check_determined",
-    "resolve_bounds",
-    "resolve_fixed",
-    "resolve_groups",
-    "thin_trials",
-]
-
-#: Parameter groups of the supplementary Sec. III-A, as fitted here (decision D41):
-#: sigma_Y, which the paper derives from Pi_th, is fitted with the suction group because
-#: the model uses the printed sigma_Y (erratum E2) and it sets the suction plateau.
+#: Parameter groups of the supplementary Sec. III-A; sigma_Y is fitted with the suction
+#: group (decision D41).
 GROUPS: dict[str, tuple[str, ...]] = {
     "b": ("alpha", "n"),
     "th": ("lam", "eta_m", "eta_inf", "gamma_dot_c"),
@@ -133,9 +118,7 @@ def _check_name(option: str, name: str) -> None:
         )
 
 
-def resolve_bounds(
-    bounds: dict[str, tuple[float, float]] | None,
-) -> dict[str, tuple[float, float]]:
+def resolve_bounds(bounds: dict[str, tuple[float, float]] | None) -> dict[str, tuple[float, float]]:
     """:data:`DEFAULT_BOUNDS` with the user's ``{name: (low, high)}`` [SI] applied."""
     out = dict(DEFAULT_BOUNDS)
     for k, v in (bounds or {}).items():
@@ -173,8 +156,7 @@ def _kind(x: object) -> str | None:
 
 
 def as_dataset(
-    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object],
-    **load_options: Any,
+    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object], **load_options: Any
 ) -> IntrusionDataset:
     """The data of a fit as one dataset: datasets merged, trials joined, paths loaded with
     :func:`mudrft.io.load_dataset` and ``load_options`` (``area`` [m^2], ...)."""

@@ -17,28 +17,9 @@ from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
 from ..plate import plate_steps
 
-__all__ = [
-    "FIT_PARAMETERS",
-    "LINEAR_PARAMETERS",
-    "PHASES",
-    "Packed",
-    "pack",
-    "segment",
-    "values_of",
-]
-
 #: Parameters a fit can free (nu and k_a are never fitted: decision D41).
-FIT_PARAMETERS = (
-    "alpha",
-    "n",
-    "lam",
-    "eta_m",
-    "eta_inf",
-    "gamma_dot_c",
-    "tau_build",
-    "tau_leak",
-    "epsilon",
-    "sigma_y",
+FIT_PARAMETERS = tuple(
+    "alpha n lam eta_m eta_inf gamma_dot_c tau_build tau_leak epsilon sigma_y".split()
 )
 #: Parameters the model is exactly linear in (each term of eq. 1 is proportional to one).
 LINEAR_PARAMETERS = ("alpha", "eta_inf", "eta_m", "sigma_y")
@@ -80,7 +61,6 @@ class Packed:
     """Trials padded into ``(n_max, T)`` arrays (:func:`pack`), with phase codes, the fitted
     samples (``valid``) and each trial's weight (1 / its stress range in the mud) [1/Pa]."""
 
-    time: np.ndarray
     gamma: np.ndarray
     rate: np.ndarray
     dt: np.ndarray
@@ -89,7 +69,6 @@ class Packed:
     phase: np.ndarray
     weight: np.ndarray
     lengths: np.ndarray
-    names: tuple[str, ...]
     nu: float
     k_a: float | None
     acceleration: bool
@@ -167,11 +146,9 @@ def pack(
     exclude: Sequence[NDArray[np.bool_]] | None = None,
     direction: str | None = None,
 ) -> Packed:
-    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``.
-
-    A vertical plate (``direction``, default the dataset's) feels the mud only below the
-    surface, from undisturbed mud at first contact: samples above it, and the first sample
-    after each entry (whose stress a depth's noise blurs), are simulated but not fitted.
+    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``;
+    a vertical plate's samples above the surface, and the first after each entry, are
+    simulated but not fitted.
 
     Parameters
     ----------
@@ -228,7 +205,6 @@ def pack(
     dt = np.diff(time, axis=0)
     tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed(
-        time=time,
         gamma=gamma,
         rate=np.diff(gamma, axis=0) / dt,
         dt=dt,
@@ -237,7 +213,6 @@ def pack(
         phase=phase,
         weight=weight,
         lengths=lengths,
-        names=tuple(t.name for t in trials),
         nu=float(p.nu),
         k_a=None if tied else float(p.k_a),
         acceleration=acceleration,

@@ -10,8 +10,6 @@ from collections.abc import Callable
 from .._progress import make_progress
 from .._validation import CalibrationWarning, MudrftError, _caller_level
 
-__all__ = ["Reporter", "logger", "ordinal"]
-
 logger = logging.getLogger("mudrft.calibration")
 
 

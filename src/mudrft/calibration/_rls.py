@@ -1,5 +1,5 @@
-"""Recursive least squares with forgetting for banks of filters, the checked stream of
-samples they read, and the estimate they give (:class:`OnlineEstimate`) (internal, D46)."""
+"""Banks of recursive least-squares filters with forgetting, the checked stream of samples
+they read, and :class:`OnlineEstimate` (internal, D46)."""
 
 from __future__ import annotations
 
@@ -13,17 +13,6 @@ from numpy.typing import NDArray
 
 from .._validation import LENGTH_LIMITS, MudrftError, warn_implausible
 from ..io._build import PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
-
-__all__ = [
-    "MAX_STRESS",
-    "Filters",
-    "OnlineEstimate",
-    "Sample",
-    "SampleStream",
-    "bank_errors",
-    "filter_errors",
-    "refined_argmin",
-]
 
 #: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
 MAX_STRESS = 1e12
@@ -81,11 +70,8 @@ class Filters:
         self.lam, self.p_max = lam, float(var0.sum())
 
     def step(self, phi: NDArray[np.float64], y: NDArray[np.float64]) -> None:
-        r"""One RLS step with forgetting :math:`\lambda` on a sample: regressors ``phi``
-        (members, p) and measurements ``y`` (members,) [-]. The trace of ``P`` is capped so
-        that directions the data do not excite cannot wind up; the cost grows by
-        :math:`\lambda e^2/(\lambda+\phi^TP\phi)`, :math:`e` the a-priori error, and
-        :math:`M_k=\lambda^2M_{k-1}+\phi\phi^T`."""
+        """One RLS step on regressors ``phi`` (members, p) and measurements ``y``
+        (members,) [-]; the trace of ``P`` is capped against wind-up."""
         lam, P = self.lam, self.P
         Pphi = np.einsum("...ij,...j->...i", P, phi)
         denom = lam + np.einsum("...i,...i->...", phi, Pphi)
@@ -141,15 +127,9 @@ def bank_errors(
     log_grid: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], float]:
     r"""Standard errors [-] of a bank's estimates read at ``x`` [grid steps], and of the
-    log of the grid value there (decision D138).
-
-    The log-error is the profile's: the cost rises by the noise variance :math:`s^2` at
-    :math:`\sqrt{2s^2/V''}`, :math:`V''` the curvature of the parabola through the best
-    member and its neighbours, times :math:`\sqrt{w_2/w}` (``weight2`` over ``weight``);
-    ``inf`` at the grid's ends or without curvature. Each estimate's error adds, to the
-    best member's own, its change along the grid times that log-error, or half its range
-    over the grid when the log-error is infinite. ``theta`` (G, p), ``P`` and ``M``
-    (G, p, p) and ``cost`` (G,) are the members', ``log_grid`` (G,) increasing.
+    log of the grid value there (decision D138): the profile's, where the cost rises by
+    the noise variance :math:`s^2`; ``inf`` at the grid's ends or without curvature.
+    ``theta`` (G, p), ``P`` and ``M`` (G, p, p), ``cost`` (G,), ``log_grid`` (G,).
     """
     G, p = theta.shape
     i = round(x)
@@ -157,9 +137,7 @@ def bank_errors(
     se_log = math.inf
     if 0 < i < G - 1 and weight > p:
         h0, h1 = log_grid[i] - log_grid[i - 1], log_grid[i + 1] - log_grid[i]
-        curv = (
-            2.0 * ((cost[i + 1] - cost[i]) / h1 - (cost[i] - cost[i - 1]) / h0) / (h0 + h1)
-        )  # the second derivative of the parabola through the three
+        curv = 2.0 * ((cost[i + 1] - cost[i]) / h1 - (cost[i] - cost[i - 1]) / h0) / (h0 + h1)
         if curv > 0:
             s2 = float(cost[i]) / (weight - p)
             se_log = math.sqrt(2.0 * s2 / float(curv) * weight2 / weight)

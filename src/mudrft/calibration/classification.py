@@ -152,10 +152,9 @@ def classify(
     m = R.shape[0]
     nv = None if noise is None else positive_number("noise", noise) ** 2
     ll, prob = _softmax_loglik(sse, m, nv)
-    rrmse = np.sqrt(sse / m)
     return Classification(
         labels=tuple(labs),
-        relative_rmse=rrmse,
+        relative_rmse=np.sqrt(sse / m),
         log_likelihood=ll,
         probabilities=prob,
         best=labs[int(np.argmax(ll))],
@@ -165,9 +164,7 @@ def classify(
 class StreamClassifier:
     """Which known parameter set a stream of samples most resembles, updated per sample.
 
-    Each candidate's model runs alongside the stream (one batched step per sample); the
-    squared residuals are discounted by ``1 - 1/window`` (decision D47); the states start
-    again when the plate leaves the mud (D11).
+    The squared residuals of each candidate's model are discounted by ``1 - 1/window``.
 
     Parameters
     ----------
@@ -232,13 +229,12 @@ class StreamClassifier:
         self._inside = False
 
     def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample (time [s], increasing; depth [m]; stress [Pa]); return the label
-        of the most likely candidate.
+        """Add one sample; return the label of the most likely candidate.
 
         Parameters
         ----------
         time, depth, stress : float
-            The sample [s, m, Pa].
+            The sample: time [s] (increasing), depth [m], stress [Pa].
         """
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)

@@ -1,11 +1,5 @@
-r"""Offline calibration: fit the mud model to intrusion logs, with uncertainty.
-
-:func:`calibrate` fits the constants of eqs. (1)-(5) of Chen et al. (2026) by bounded
-least squares in log-parameters (:func:`scipy.optimize.least_squares`), phase by phase
-(intrusion, relaxation, retraction; :mod:`.stages`) and then jointly, the parameters the
-model is linear in solved exactly at each step (variable projection, :mod:`._engine`).
-See docs/model.md for the decisions D40-D48.
-"""
+"""Offline calibration: fit the mud model to intrusion logs by bounded least squares in
+log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)."""
 
 from __future__ import annotations
 
@@ -82,11 +76,10 @@ def calibrate(
     Parameters
     ----------
     dataset : IntrusionDataset, Trial, path or list of them
-        The data: one or several trials (several speeds, repetitions), fitted jointly.
-        A path (CSV, or HDF5 by suffix) is loaded with :func:`mudrft.io.load_dataset`.
+        One or several trials, fitted jointly; a path (CSV, or HDF5 by suffix) is loaded
+        with :func:`mudrft.io.load_dataset`.
     direction : {"vertical", "horizontal"}, optional
-        Loading direction; default the dataset's. It selects the paper rows used to
-        start the fit and is stored in the fitted parameters.
+        Loading direction; default the dataset's.
     groups : str or sequence of str, keyword-only
         What to fit: ``"all"`` (default), group names ``"b"`` (:math:`\alpha, n`),
         ``"th"`` (:math:`\lambda,\eta_m,\eta_\infty,\dot\gamma_c`), ``"s"``
@@ -115,41 +108,29 @@ def calibrate(
     xi0 : float, keyword-only
         Initial structure of the mud in every trial [-] (decision D3: 0).
     progress : bool or callable, keyword-only
-        Notes (one line per stage) go to the ``mudrft.calibration`` logger; ``True`` shows
-        them on stderr with the progress in percent; a callable receives each line.
+        Notes go to the ``mudrft.calibration`` logger; ``True`` shows them on stderr with
+        the progress; a callable receives each line.
     area, characteristic_length : float, optional, keyword-only
         Plate area [m^2] and length [m] when ``dataset`` is a path to load.
     trace_limit : int, keyword-only
         Most evaluations kept in ``trace``.
     decimate : int or None, keyword-only
         Keep every ``decimate``-th sample of each trial (and its deepest and last samples);
-        1 fits every sample. Default: trials longer than 2000 samples are thinned to about
-        that many, with a warning naming the factor (decision D104).
+        default: trials longer than 2000 samples are thinned to about that many (warns).
     clipped : {"exclude", "keep"}, keyword-only
-        A trial with 5 samples or more at exactly its extreme stress is a saturated sensor:
-        it is named by a :class:`~mudrft.calibration.CalibrationWarning`, and ``"exclude"``
-        leaves those samples out of the fit; ``"keep"`` fits them (decision D153).
+        Leave out or fit the samples of a saturated sensor (5 or more at exactly a trial's
+        extreme stress; warns either way, decision D153).
     zero : {"check", "subtract"}, keyword-only
-        The stress [Pa] while a vertical plate is out of the mud (depth <= 0) is the
-        sensor's zero: ``"check"`` warns when its median is clearly off 0, ``"subtract"``
-        subtracts each trial's median (at least 5 such samples needed) (decision D154).
+        Warn when the stress [Pa] of a vertical plate out of the mud is clearly off 0, or
+        subtract each trial's median there (decision D154).
     rate : "auto", "raw" or int, keyword-only
         How the model's rate comes from the logged depth (:mod:`.rate`): ``"auto"``
-        smooths a noisy depth for a rate noise of 1 % of the speed, ``"raw"`` differences
-        the logged depths, an odd int smooths over that many samples. Samples whose rate
-        spans a change of speed are not fitted; what was done is in ``fit.depth_notes``.
+        smooths a noisy depth, ``"raw"`` differences the logged depths, an odd int smooths
+        over that many samples.
 
     Returns
     -------
     FitResult
-        Parameters, standard errors, confidence intervals, correlation, verdicts, RMSE,
-        status and trace.
-
-    Raises
-    ------
-    MudrftError
-        For invalid arguments or data, and for a fit with no more fitted samples than
-        free parameters.
 
     Notes
     -----
@@ -171,7 +152,6 @@ def calibrate(
     """
     t_start = time.perf_counter()
     acceleration = evaluation(thixotropy, clock, acceleration)[2] == 1.0
-    # the options, checked before any work
     xi0 = number_in_range("xi0", xi0, 0.0, 1.0)
     if not isinstance(phases, (bool, np.bool_)):
         raise MudrftError(f"phases must be True or False, got {phases!r}")
@@ -259,12 +239,9 @@ def calibrate(
         direction=d,
         source=f"fit: {ds.source or 'data'} ({len(ds)} trials)",
     )
-    # relative RMSE of each trial over its fitted samples (decision D12)
     sim = packed.simulate(values_of(params, batch=1))[:, 0, :]
-    trmse = []
-    for j, n in enumerate(packed.lengths):
-        m = packed.valid[:n, j]
-        trmse.append(relative_rmse(sim[:n, j][m], packed.data[:n, j][m]))
+    per_trial = zip(sim.T, packed.data.T, packed.valid.T, strict=True)
+    trmse = [relative_rmse(s[m], d[m]) for s, d, m in per_trial]
     fit = FitResult(
         parameters=params,
         free=free,
@@ -326,7 +303,6 @@ def _prepare(
     """The data as fitted: depth smoothed, sensor zeroed, thinned; the samples left out of
     each trial, the warnings, and the standard error [Pa] of each subtracted zero."""
     ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
-    # the sensor's zero on every sample: the tare's error is then as small as the log allows
     ds, tare, warned, notes = check_zero(ds, zero=zero, direction=direction)
     k = decimate
     if k is None:

@@ -1,12 +1,4 @@
-r"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46).
-
-The model is linear in :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y` once its other constants
-are fixed, and the supplementary's simplifications (Sec. III-A) make it linear in the
-intrusion and retraction samples too; :class:`OnlineEstimator` runs a bank of filters, one
-per value of :math:`\tau_{build}` on a log grid, and reads the best. The simplified
-(``model="paper"``) estimates are *apparent* values: they absorb the lagged thixotropic
-stress. :class:`StreamClassifier` (:mod:`.classification`) compares whole models instead.
-"""
+"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46)."""
 
 from __future__ import annotations
 
@@ -52,8 +44,7 @@ _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 class OnlineEstimator:
     r"""Recursive least squares with forgetting of the linear constants and tau_build.
 
-    Feed samples with :meth:`update` (a fixed number of small numpy operations each, no
-    refit) and read :attr:`estimate`. Two regressor models (decision D46):
+    Feed samples with :meth:`update` and read :attr:`estimate`. Two regressor models:
 
     ``model="exact"`` (default)
         The full model, stepped alongside the stream, gives the regressors of
@@ -183,8 +174,7 @@ class OnlineEstimator:
         """Forget every sample (back to the prior)."""
         G = self.tau_grid.size
         p = self.prior
-        # the filters run on normalised quantities (parameters / prior value, stress / S):
-        # every entry is O(1), which keeps the covariance update accurate in float64
+        # normalised quantities (parameters / prior, stress / S) keep the filters accurate
         self._scale = np.array([float(getattr(p, k)) for k in self._names])
         self._S = float(max(p.alpha, p.sigma_y))
         self._bank = Filters(G, np.full(self._scale.size, self.initial_scale**2), self.forgetting)
@@ -331,11 +321,7 @@ class OnlineEstimator:
                 se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
                 se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
-            alpha=est["alpha"],
-            eta_inf=est["eta_inf"],
-            eta_m=est["eta_m"],
-            sigma_y=est["sigma_y"],
-            tau_build=est["tau_build"],
+            **est,
             n=self.n,
             updates=self._updates,
             phase=self._phase,
@@ -343,11 +329,8 @@ class OnlineEstimator:
         )
 
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
-        """``base`` (default the prior) with the estimated fields replaced.
-
-        Estimates not yet available, or not positive, keep the base value; a non-positive
-        one warns (:class:`~mudrft.calibration.CalibrationWarning`): the prior's fixed
-        constants do not describe this mud.
+        """``base`` (default the prior) with the estimated fields replaced; an estimate
+        not yet available, or not positive, keeps the base value (the latter warns).
 
         Parameters
         ----------

@@ -1,15 +1,7 @@
-r"""The rate of a logged depth, read to survive the sensor's noise and not fitted where the
-speed changes.
-
-The model's rate is the difference of two depths over a step, which multiplies the
-depth's noise :math:`\sigma_q` by :math:`\sqrt2/\Delta t` (0.02 mm at 500 Hz is 14 mm/s on
-a 10 mm/s test) and biases every rate-dependent constant towards zero by
-:math:`x^2/(1+x^2)`, :math:`x` the rate noise over the speed. :func:`smooth_trial`
-estimates :math:`\sigma_q` (:func:`depth_noise`), finds where the speed changes
-(:func:`speed_changes`), and fits the depth as constant-speed segments between them, as a
-plate rig moves; a depth that is not that is smoothed with a local-linear (Savitzky-Golay)
-kernel instead. Samples whose step spans a change of speed are not fitted
-(:meth:`Smoothing.excluded`).
+r"""The rate of a logged depth, read to survive the sensor's noise (which biases every
+rate-dependent constant towards zero by :math:`x^2/(1+x^2)`, :math:`x` the rate noise over
+the speed): :func:`smooth_trial` fits the depth as constant-speed segments, or smooths it
+with a local-linear kernel; samples whose step spans a change of speed are not fitted.
 """
 
 from __future__ import annotations
@@ -25,19 +17,6 @@ from scipy import ndimage
 
 from .._validation import MudrftError
 from ..io import IntrusionDataset, Trial
-
-__all__ = [
-    "KINK_Z",
-    "RATE_NOISE",
-    "Smoothing",
-    "check_window",
-    "depth_noise",
-    "rate_bias",
-    "slope_noise",
-    "smooth_dataset",
-    "smooth_trial",
-    "speed_changes",
-]
 
 #: The smoothing window is chosen for a rate noise of at most this fraction of the trial's
 #: speed [-]; the bias it leaves on the rate-dependent constants is about its square.
@@ -74,8 +53,7 @@ class Smoothing(NamedTuple):
         return rate_bias(self.rate_noise, self.speed)
 
     def excluded(self, time: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Samples at ``time`` [s] whose step, or the step before it, spans a change of
-        speed: their stress answers a rate the log does not give."""
+        """Samples at ``time`` [s] whose step, or the step before it, spans a change of speed."""
         t = np.asarray(time, dtype=float)
         out = np.zeros(t.size, dtype=bool)
         for a, b in self.changes:
@@ -98,8 +76,7 @@ class Smoothing(NamedTuple):
         )
 
 
-#: Samples [-] below which :func:`depth_noise` cannot tell noise from motion: with a few
-#: samples, every second difference is a change of speed.
+#: Samples [-] below which :func:`depth_noise` cannot tell noise from motion.
 NOISE_MIN_SAMPLES = 16
 
 
@@ -254,7 +231,8 @@ def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Sm
     method, depth, rate = ("as logged", q, slope_noise(sigma, 2, dt))
     changes = tuple((float(t[max(i - 1, 0)]), float(t[min(i + 1, t.size - 1)])) for i in at)
     fitted = _segments(t, q, at, h + 1, sigma) if window == "auto" and sigma > 0 else None
-    if fitted is not None and _describes(q - fitted[1], sigma):
+    # segments describe a depth whose residual is the depth's noise and no more
+    if fitted is not None and np.mean((q - fitted[1]) ** 2) <= _NOISE_RATIO * sigma**2:
         method, depth, rate = "segments", fitted[1], fitted[2]
         changes = tuple((float(k), float(k)) for k in fitted[0])
     elif h > 0:
@@ -265,11 +243,6 @@ def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Sm
     if depth is q:
         return trial, how
     return replace(trial, depth=depth, meta={**trial.meta, "depth": how.note()}), how
-
-
-def _describes(residual: NDArray[np.float64], sigma: float) -> bool:
-    """Whether a fit's ``residual`` [m] is the depth's noise ``sigma`` [m] and no more."""
-    return float(np.mean(residual**2)) <= _NOISE_RATIO * sigma**2
 
 
 def check_window(window: object) -> int | str:
@@ -292,6 +265,7 @@ def smooth_dataset(
     the warnings (a rate noise that biases the rate-dependent constants more than
     :data:`BIAS_WARNING`)."""
     window = check_window(window)
+    hint = "; rate='auto' reads the depth for a rate that survives it" if window == "raw" else ""
     trials, done, warnings_ = [], [], []
     for tr in ds.trials:
         new, how = smooth_trial(tr, window=window)
@@ -304,11 +278,6 @@ def smooth_dataset(
                 f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
                 f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
                 "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
-                f"tau_leak) come out about {100 * how.bias:.2g} % too small"
-                + (
-                    "; rate='auto' reads the depth for a rate that survives it"
-                    if window == "raw"
-                    else ""
-                )
+                f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
             )
     return replace(ds, trials=tuple(trials)), done, warnings_

@@ -38,6 +38,15 @@ POOR_FIT_HINT = (
     "signs (depth and stress positive while the plate intrudes), the plate area, the "
     "characteristic length and the direction"
 )
+#: Fields of :class:`FitResult` written to JSON as they are, in the file's order.
+_ERROR_FIELDS = tuple(
+    "standard_error relative_standard_error confidence_interval confidence_level "
+    "robust_standard_error robust_interval".split()
+)
+_PLAIN_FIELDS = tuple(
+    "relative_rmse trial_relative_rmse noise status message condition_number acceleration "
+    "thixotropy clock xi0 data_warnings rate depth_notes bounds".split()
+)
 
 
 @dataclass(frozen=True)
@@ -85,19 +94,16 @@ class FitResult:
         :math:`\mathrm{se}(\ln p)` [-], the relative error for small values.
     confidence_interval : dict
         ``(low, high)`` [SI] at ``confidence_level``,
-        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds: the noise's
-        only (the model exact, the residuals independent).
+        :math:`p\exp(\pm t_{q}\,\mathrm{se}(\ln p))`, clipped to the bounds (noise only).
     confidence_level : float
         Two-sided level of the intervals [-].
     robust_standard_error, robust_interval : dict
-        Relative error [-] and ``(low, high)`` [SI] that admit model error (residuals
-        correlated in time), never narrower than the noise's; the intervals hold for all
-        free parameters at once. The verdicts use them.
+        Relative error [-] and ``(low, high)`` [SI] that admit model error, jointly for all
+        free parameters; the verdicts use them.
     correlation : ndarray, shape (k, k)
         Correlation matrix of the log-parameters, in the order of ``free``.
     identifiability : dict
-        Verdict per parameter: ``"identified"``, ``"weak"``, ``"not identified"``
-        or ``"fixed"`` (rule D44 on ``robust_standard_error``, see :func:`calibrate`).
+        ``"identified"``, ``"weak"``, ``"not identified"`` or ``"fixed"`` (rule D44).
     relative_rmse : float
         Mean over trials of the relative RMSE (RMSE / peak-to-peak, decision D12) [-].
     trial_relative_rmse : tuple of float
@@ -127,12 +133,11 @@ class FitResult:
     dataset : IntrusionDataset or None
         The data that were fitted (not saved to JSON).
     data_warnings : tuple of str
-        What the checks of the log found before the fit: a saturated or unzeroed sensor, a
-        depth too noisy for the rate.
+        What the checks of the log found before the fit.
     rate : str or int
         How the rate came from the logged depth (the ``rate`` option of :func:`calibrate`).
     depth_notes : tuple of str
-        Per trial, how its depth was read: noise, segments or window, rate noise.
+        Per trial, how its depth was read.
     """
 
     parameters: MudParameters
@@ -181,8 +186,7 @@ class FitResult:
         return tuple(str(i + 1) for i in range(n))
 
     def outlying_trials(self) -> str | None:
-        """The warning naming the trials that fit much worse than the others (rule D139), or
-        None (also without the dataset)."""
+        """The warning naming the trials that fit much worse than the others, or None."""
         ds = self.dataset
         if ds is None or len(ds.trials) != len(self.trial_relative_rmse):
             return None
@@ -253,8 +257,7 @@ class FitResult:
         ----------
         dataset : IntrusionDataset, optional
             Trials to predict (SI), their depth read with the fit's ``rate`` option; default
-            the fitted data. The stress is exactly 0 while a vertical plate is above the
-            surface.
+            the fitted data.
 
         Returns
         -------
@@ -316,10 +319,8 @@ class FitResult:
             used = segment(tr) != PHASES["out"]
             ax.plot(tr.time[used], tr.stress[used] / 1e3, ".", ms=2.5, color="0.55", label="data")
             if not used.all():
-                label = "not fitted (out of the mud)"
-                ax.plot(
-                    tr.time[~used], tr.stress[~used] / 1e3, "x", ms=4, color="0.55", label=label
-                )
+                out = {"ms": 4, "color": "0.55", "label": "not fitted (out of the mud)"}
+                ax.plot(tr.time[~used], tr.stress[~used] / 1e3, "x", **out)
             ax.plot(tr.time[used], yp[used] / 1e3, "C3", lw=1.5, label="fit")
             ax.axhline(0.0, color="0.8", lw=0.6)
             ax.set_title(f"{tr.name}: {1e3 * tr.speed:.3g} mm/s", fontsize=9)
@@ -334,13 +335,13 @@ class FitResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (SI values with the field names of :class:`~mudrft.MudParameters`;
         an infinite or undefined number is None)."""
+        ds = self.dataset
         data = None
-        if self.dataset is not None:
-            trials = [t.name for t in self.dataset.trials]
+        if ds is not None:
             data = {
-                "source": self.dataset.source,
-                "trials": trials,
-                "synthetic": self.dataset.synthetic,
+                "source": ds.source,
+                "trials": [t.name for t in ds.trials],
+                "synthetic": ds.synthetic,
             }
         return finite_or_none(
             {
@@ -350,12 +351,7 @@ class FitResult:
                 "parameters": self.parameters.as_dict(),
                 "units": dict(PARAMETER_UNITS),
                 "free": list(self.free),
-                "standard_error": self.standard_error,
-                "relative_standard_error": self.relative_standard_error,
-                "confidence_interval": self.confidence_interval,
-                "confidence_level": self.confidence_level,
-                "robust_standard_error": self.robust_standard_error,
-                "robust_interval": self.robust_interval,
+                **{k: getattr(self, k) for k in _ERROR_FIELDS},
                 "correlation": {
                     "parameters": list(self.free),
                     "matrix": np.asarray(self.correlation, dtype=float).tolist(),
@@ -366,20 +362,7 @@ class FitResult:
                     f"{NOT_IDENTIFIED_SE}; not identified: larger, infinite "
                     "(Jacobian rank-deficient) or at a bound"
                 ),
-                "relative_rmse": self.relative_rmse,
-                "trial_relative_rmse": self.trial_relative_rmse,
-                "noise": self.noise,
-                "status": self.status,
-                "message": self.message,
-                "condition_number": self.condition_number,
-                "acceleration": self.acceleration,
-                "thixotropy": self.thixotropy,
-                "clock": self.clock,
-                "xi0": self.xi0,
-                "data_warnings": self.data_warnings,
-                "rate": self.rate,
-                "depth_notes": self.depth_notes,
-                "bounds": self.bounds,
+                **{k: getattr(self, k) for k in _PLAIN_FIELDS},
                 "stages": [asdict(s) for s in self.stages],
                 "trace": self.trace,
                 "data": data,

@@ -15,19 +15,8 @@ from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset, Trial
 from ._problem import PHASES, segment
 
-__all__ = [
-    "CLIPPED_SAMPLES",
-    "OFFSET_FRACTION",
-    "OFFSET_SAMPLES",
-    "Offset",
-    "check_clipped",
-    "check_zero",
-    "clipped_samples",
-    "stress_offset",
-]
-
 #: Fewest samples in the mud at exactly a trial's extreme stress that make a saturated
-#: sensor's flat top (D153) [-]; a noisy signal repeats its extreme almost never.
+#: sensor's flat top (D153) [-].
 CLIPPED_SAMPLES = 5
 #: Samples within this fraction of the stress range of the extreme are at it [-].
 _AT_EXTREME = 1e-9
@@ -92,12 +81,9 @@ class Offset(NamedTuple):
 
 
 def stress_offset(trial: Trial) -> Offset:
-    r"""The stress a trial logs while the plate is out of the mud, and whether it is an offset.
-
-    Out of the mud is depth <= 0 [m] (at or above the surface): the model's stress is 0
-    there (decision D42), so a median clearly off 0 is the sensor's zero. Its standard error
-    is :math:`1.25\,\hat s/\sqrt{m}` with :math:`\hat s` the scaled median absolute deviation
-    of the ``m`` samples.
+    r"""The stress a trial logs while the plate is out of the mud (depth <= 0 [m]), and
+    whether it is an offset; its standard error is :math:`1.25\,\hat s/\sqrt{m}`,
+    :math:`\hat s` the scaled median absolute deviation of the ``m`` samples.
 
     Parameters
     ----------

@@ -1,6 +1,5 @@
-r"""The stages of a calibration on one :class:`~._engine.Engine`: start (the best rescaled
-paper row, decision D43, or the user's set), one stage per phase group, joint, and the
-uncertainty at the optimum (decision D41)."""
+"""The stages of a calibration on one :class:`~._engine.Engine`: start, one stage per phase
+group, joint, and the uncertainty at the optimum (decisions D41, D43)."""
 
 from __future__ import annotations
 
@@ -23,16 +22,6 @@ from .uncertainty import Uncertainty, at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
-
-__all__ = [
-    "ALL_PHASES",
-    "STAGES",
-    "Stage",
-    "joint_stage",
-    "phase_stage",
-    "start_engine",
-    "uncertainty_at_optimum",
-]
 
 
 class Stage(NamedTuple):
@@ -182,13 +171,6 @@ def phase_stage(
     )
 
 
-def status(sol: OptimizeResult | None) -> str:
-    """``"converged"``, ``"max_evaluations"`` or ``"failed"`` from a solver result."""
-    if sol is None or sol.status > 0:
-        return "converged"
-    return "max_evaluations" if sol.status == 0 else "failed"
-
-
 def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tuple[StageReport, str]:
     """Every free parameter on every sample, the linear ones projected out, then polished
     with all of them solver variables; returns the report and the solver status."""
@@ -198,9 +180,10 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     cost, sol_full = engine.fit("joint", mask, free, max_nfev)
     sol = sol_full if sol_full is not None else sol
     sims = engine.packed.simulations - n0
-    # _message, not sol.message: fit returns None when no solver variable is left
     report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, _message(sol))
-    return report, status(sol)
+    if sol is None or sol.status > 0:
+        return report, "converged"
+    return report, "max_evaluations" if sol.status == 0 else "failed"
 
 
 def uncertainty_at_optimum(

@@ -29,14 +29,6 @@ from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH, plate_response
 from ..trajectories import Trajectory, plate_intrusion
 
-__all__ = [
-    "EXAMPLE_FILES",
-    "EXAMPLE_SETTINGS",
-    "example_dataset",
-    "synthetic_dataset",
-    "write_example_files",
-]
-
 #: Shipped example files: (direction, water content) -> file name in ``mudrft/data``.
 EXAMPLE_FILES: dict[tuple[str, float], str] = {
     ("vertical", 0.25): "synthetic_plate_vertical_w25.csv",
@@ -45,14 +37,9 @@ EXAMPLE_FILES: dict[tuple[str, float], str] = {
 }
 
 #: Settings with which the example files were generated (see examples/make_calibration_figures.py).
-EXAMPLE_SETTINGS: dict[str, Any] = {
-    "speeds": (0.01, 0.02, 0.04),
-    "depth": 0.03,
-    "hold": 1.0,
-    "dt": 0.025,
-    "noise": 0.01,
-    "seed": 2026,
-}
+EXAMPLE_SETTINGS: dict[str, Any] = dict(
+    speeds=(0.01, 0.02, 0.04), depth=0.03, hold=1.0, dt=0.025, noise=0.01, seed=2026
+)
 
 
 def synthetic_dataset(
@@ -79,11 +66,8 @@ def synthetic_dataset(
     """Plate tests simulated with known parameters plus noise (synthetic data).
 
     One trial per speed: intrude to ``depth``, hold, retract at the same speed
-    (:func:`mudrft.plate_intrusion`), with Gaussian noise of ``noise`` times the trial's
-    stress range plus ``stress_noise``. With ``approach`` or ``tare`` > 0 (vertical tests)
-    the log is a lab logger's: the plate rests ``tare`` seconds at ``approach`` above the
-    surface, moves down, intrudes, holds, retracts back to ``approach`` and rests
-    ``rest`` seconds, sampled every ``dt`` (the model stepped exactly through the corners).
+    (:func:`mudrft.plate_intrusion`); with ``approach`` or ``tare`` > 0 (vertical tests) the
+    plate starts and ends above the surface, as a lab logger records it.
 
     Parameters
     ----------

@@ -1,12 +1,7 @@
 r"""Uncertainty of a fit: covariances of the log-parameters, intervals, identifiability.
 
-From the weighted residuals :math:`r` and the Jacobian :math:`J` in log-parameters at the
-optimum: the noise-only covariance :math:`s^2(J^TJ)^{+}`, :math:`s^2=\|r\|^2/(m-k)`, and a
-robust one (:func:`robust_log_covariance`) that admits residuals correlated in time, as a
-model slightly off leaves them. Directions of :math:`J^TJ` with an eigenvalue below
-:math:`10^{-10}` of the largest are unconstrained: every parameter loading on them gets an
-infinite error. Intervals are :math:`p\exp(\pm t_q\,\mathrm{se}(\ln p))`; the verdicts
-(rule D44) use the robust errors.
+The noise-only covariance is :math:`s^2(J^TJ)^{+}`, :math:`s^2=\|r\|^2/(m-k)`; the robust
+one (:func:`robust_log_covariance`) admits residuals correlated in time.
 
 References
 ----------
@@ -25,20 +20,6 @@ from numpy.typing import NDArray
 
 from ._problem import FIT_PARAMETERS
 
-__all__ = [
-    "IDENTIFIED_SE",
-    "NOT_IDENTIFIED_SE",
-    "OUTLYING_TRIAL_FLOOR",
-    "OUTLYING_TRIAL_RATIO",
-    "Uncertainty",
-    "at_bound",
-    "interval",
-    "outlying_trials",
-    "robust_log_covariance",
-    "uncertainty",
-    "verdict",
-]
-
 #: Relative standard error at or below which a parameter counts as identified (D44).
 IDENTIFIED_SE = 0.05
 #: Relative standard error above which a parameter counts as not identified (D44).
@@ -52,9 +33,7 @@ _AT_BOUND = 1e-3
 
 class Uncertainty(NamedTuple):
     """Per-parameter uncertainty of a fit, as :class:`~mudrft.calibration.FitResult` holds
-    it: noise-only standard errors (absolute [SI], relative [-]) and intervals [SI]; robust
-    relative errors (never below the noise's) and intervals that hold for all free
-    parameters at once (Bonferroni); verdicts; the correlation, residual noise [-] and
+    it (errors [SI] and [-], intervals [SI]), with the correlation, residual noise [-] and
     condition number of the free log-parameters."""
 
     se: dict[str, float]
@@ -68,9 +47,7 @@ class Uncertainty(NamedTuple):
     cond: float
 
 
-def _scaled_inverse(
-    J: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
+def _scaled_inverse(J: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
     """:math:`(J^TJ)^{+}` on the directions the data constrain (scaled to unit diagonal, so
     that the rank test ignores units), the parameters loading on the others, and the
     condition number of the scaled Jacobian."""
@@ -106,14 +83,11 @@ def robust_log_covariance(
     shift: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     r"""Standard errors [-] of the log-parameters that admit model error: the sandwich
-    :math:`A^{+}\Omega A^{+}`, :math:`A=J^TJ`, with :math:`\Omega` the Newey-West long-run
-    covariance of the scores :math:`J_ir_i` within each trial (Bartlett weights over
-    :func:`bartlett_lag` lags), trials independent, times :math:`m/(m-k)`; plus, for an
-    error :math:`s_j` shared by every sample of trial :math:`j` (a subtracted sensor zero),
-    :math:`s_j^2\,g_jg_j^T` with :math:`g_j=A^{+}J^T1_j` (the delta method), ``shift``
-    holding :math:`s_j`. ``r`` (m,) are the weighted residuals, ``J`` (m, k) their Jacobian,
-    ``trial`` (m,) the trial of each (in time order within a trial); ``inf`` where the data
-    do not constrain a parameter.
+    :math:`A^{+}\Omega A^{+}`, :math:`A=J^TJ`, :math:`\Omega` the Newey-West covariance of
+    the scores within each trial, times :math:`m/(m-k)`, plus :math:`s_j^2g_jg_j^T`,
+    :math:`g_j=A^{+}J^T1_j`, for an error ``shift[j]`` shared by trial :math:`j` (a
+    subtracted sensor zero). ``r`` (m,) weighted residuals, ``J`` (m, k) their Jacobian,
+    ``trial`` (m,) the trial of each, in time order within a trial.
     """
     m, k = J.shape
     inv, loose, _ = _scaled_inverse(J)
@@ -206,8 +180,7 @@ def uncertainty(
         e, er = float(se_log[i]), max(float(se_log[i]), float(robust[i]))
         rse[name], rrse[name] = e, er
         se[name] = v * e if math.isfinite(e) else math.inf
-        # at a bound the interval is the bounds (rule D44): the optimum lies past the bound,
-        # so the linearised interval around the bound value would be a confident wrong range
+        # at a bound the interval is the bounds (rule D44): the optimum may lie past it
         ci[name] = bounds[name] if bound[name] else interval(v, e, q, bounds[name])
         rci[name] = bounds[name] if bound[name] else interval(v, er, q_all, bounds[name])
         verdicts[name] = verdict(er, bound[name])
@@ -215,10 +188,9 @@ def uncertainty(
 
 
 #: A trial whose RMSE exceeds this many times the median of the others', relative to its
-#: range and in pascals alike, is flagged as fitting worse than the rest (decision D139) [-].
+#: range and in pascals alike, fits worse than the rest (decision D139) [-] ...
 OUTLYING_TRIAL_RATIO = 2.0
-#: ... unless its relative RMSE is below this: such a trial fits well whatever the others
-#: do (noise-free logs fit to a few 0.01 %, the ratios then only compare round-off) [-].
+#: ... unless its relative RMSE is below this [-].
 OUTLYING_TRIAL_FLOOR = 0.002
 
 

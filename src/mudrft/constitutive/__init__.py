@@ -1,11 +1,5 @@
-"""The mud constitutive model: pure laws, explicit state, one time step, exact solutions.
-
-* :mod:`~mudrft.constitutive.laws`: the pure stress laws of eqs. (1)-(5), (7);
-* :mod:`~mudrft.constitutive.kernel`: :func:`channel_update`, the one definition of the
-  time step every path runs (numpy, Python floats, JAX, numba);
-* :mod:`~mudrft.constitutive.dynamics`: the validated :func:`step` and :func:`run`;
-* :mod:`~mudrft.constitutive.exact`: the paper's closed-form solutions (eqs. 9-11).
-"""
+"""The mud constitutive model: pure laws (:mod:`~mudrft.constitutive.laws`), explicit state,
+one time step (:mod:`~mudrft.constitutive.kernel`), exact solutions (eqs. 9-11)."""
 
 from . import laws
 from .dynamics import ChannelHistory, run, step

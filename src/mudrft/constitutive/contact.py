@@ -1,9 +1,4 @@
-r"""Contact with the mud: when a channel feels the mud, and from which state (decision D11).
-
-A tip touches the mud at positive depth (:func:`in_contact`); a channel that was out of the
-mud starts its step from undisturbed mud (:func:`enter`); the mud sees the motion of a step
-that starts or ends in it (:func:`contact_rate`). Element-wise (:mod:`mudrft._xp`).
-"""
+"""Contact with the mud: when a channel feels the mud, and from which state (decision D11)."""
 
 from __future__ import annotations
 

@@ -1,9 +1,5 @@
-r"""Time stepping of the mud constitutive model, validated: :func:`step` and :func:`run`.
-
-Both check their inputs and call :func:`mudrft.constitutive.kernel.channel_step`, the one
-definition of the update: the ODEs (3) and (5) stepped exactly (``thixotropy="ode"``) or the
-paper's closed forms (9)-(11) (``thixotropy="quasi-static"``, decision D15).
-"""
+"""Validated time stepping of one stress channel: :func:`step` and :func:`run`, over
+:func:`mudrft.constitutive.kernel.channel_step`."""
 
 from __future__ import annotations
 
@@ -136,7 +132,12 @@ def step(
     """
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     if validate and xp is np:
-        _check_state_and_seal(state, seal)
+        if not isinstance(state, ChannelState):
+            raise MudrftError(
+                "state must be a ChannelState (mudrft.constitutive.initial_state(), or the "
+                f"state a step returned), got {type(state).__name__}"
+            )
+        check_in_range("seal", seal, 0.0, 1.0)
     c = kernel.channel_constants(params)
     if xp is np and _one_channel(c, state, gamma, gamma_dot, dt, seal):
         # one channel: the same step on Python floats (faster than numpy on 0-d values)
@@ -152,16 +153,6 @@ def step(
     if validate and xp is np:
         _check(gamma, gamma_dot, dt)
     return kernel.channel_step(c, state, gamma, gamma_dot, dt, seal, kappa, qs, restart, xp=xp)
-
-
-def _check_state_and_seal(state: object, seal: object) -> None:
-    """``state`` a :class:`ChannelState`; ``seal`` [-] finite, in [0, 1]."""
-    if not isinstance(state, ChannelState):
-        raise MudrftError(
-            "state must be a ChannelState (mudrft.constitutive.initial_state(), or the state "
-            f"a step returned), got {type(state).__name__}"
-        )
-    check_in_range("seal", seal, 0.0, 1.0)
 
 
 def _check(gamma: object, gamma_dot: object, dt: object) -> None:

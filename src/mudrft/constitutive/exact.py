@@ -1,8 +1,4 @@
-r"""The paper's closed-form solutions of eqs. (3) and (5): eqs. (9)-(11), supplementary Sec. I.
-
-Each is checked in the tests against a numerical ODE solution; the time stepping is in
-:mod:`mudrft.constitutive.kernel`.
-"""
+"""The paper's closed-form solutions of eqs. (3) and (5): eqs. (9)-(11), supplementary Sec. I."""
 
 from __future__ import annotations
 

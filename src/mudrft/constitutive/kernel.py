@@ -1,12 +1,6 @@
-r"""The constitutive step: the one definition of how a stress channel advances in time.
-
-:func:`channel_step` is the only place where eqs. (1)-(5) are stepped; every path (the
-validated :func:`mudrft.constitutive.step`, :class:`mudrft.MudTerrain`, JAX, numba,
-calibration) calls it. It is written in the element-wise subset of :mod:`mudrft._xp` and
-selects one of two evaluations (decision D15): :func:`channel_update`, the exact
-exponential solution of eqs. (3) and (5) at a rate held constant over the step, or
-:func:`channel_update_quasi_static`, the paper's closed forms (9)-(11) (Sec. III-A).
-"""
+r"""The constitutive step, :func:`channel_step`: the one definition of how a stress channel
+advances in time (eqs. 1-5, or the closed forms 9-11, decision D15), in the element-wise
+subset of :mod:`mudrft._xp`."""
 
 from __future__ import annotations
 
@@ -25,11 +19,9 @@ __all__ = [
 
 
 class ChannelConstants(NamedTuple):
-    """The numbers a channel step needs (a tuple numba and JAX can carry): ``alpha``,
-    ``sigma_y`` [Pa]; ``n``, ``epsilon``, ``k_r`` [-]; ``lam``, ``tau_build``,
-    ``tau_leak`` [s]; ``eta_m``, ``eta_inf`` [Pa s]; ``k_a`` [1/s]; ``nu`` [1/s].
-    Floats or arrays broadcasting with the channel state.
-    """
+    """The numbers a channel step needs, floats or arrays: ``alpha``, ``sigma_y`` [Pa];
+    ``n``, ``epsilon``, ``k_r`` [-]; ``lam``, ``tau_build``, ``tau_leak`` [s]; ``eta_m``,
+    ``eta_inf`` [Pa s]; ``k_a``, ``nu`` [1/s]."""
 
     alpha: XpArray
     n: XpArray
@@ -144,8 +136,7 @@ def channel_update(
     e_tau = xp.exp(-dt / tau)
     xi_new = xi_ss + (xi - xi_ss) * e_tau
 
-    # lagged thixotropic stress, eq. (3a) driven by A + B xi(t): exact (supplementary eq. S2
-    # generalised to any xi(0) and to tau_xi == lambda)
+    # lagged thixotropic stress, eq. (3a) driven by A + B xi(t): exact (eq. S2, any xi(0))
     a_drive = (1.0 - kappa) * c.eta_inf * gamma_dot
     b_drive = c.eta_m * gamma_dot
     e_lam = xp.exp(-dt / c.lam)
@@ -177,10 +168,8 @@ def channel_update_quasi_static(
         \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
         a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
 
-    at the current rate and displacement, with :math:`\phi` at the current retraction (D4,
-    times ``seal``) and :math:`\Delta t=t-t_w` the time since the retraction began; the
-    clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``. Only
-    the clocks and the deepest point are state (the rest is returned for inspection).
+    with :math:`\phi` at the current retraction (times ``seal``) and :math:`\Delta t=t-t_w`;
+    the clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``.
 
     Parameters and returns as :func:`channel_update`, with ``restart`` (bool) in place of
     ``kappa``; ``gamma_dot`` [1/s] is the rate at the end of the step.

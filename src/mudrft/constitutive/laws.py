@@ -4,11 +4,6 @@ Every function broadcasts over arrays or floats; ``xp`` selects the array namesp
 (``numpy`` by default, ``jax.numpy``, or :data:`mudrft._xp.pyfloat`). The dimensionless
 displacement is :math:`\gamma=q/L_c` and its rate :math:`\dot\gamma=\dot q/L_c`, with
 :math:`q` [m] the intrusion displacement and :math:`L_c` [m] the characteristic length.
-
-References
-----------
-X. Chen, L. Wang, X. Huang, J. Shan, Y. Shen and J. Yi, "A Foot Resistive Force Model for
-Legged Locomotion on Muddy Terrains", 2026 (preprint with supplementary materials).
 """
 
 from __future__ import annotations

@@ -1,7 +1,4 @@
-"""Explicit, immutable state of one stress channel (x, y or z) or a batch of them.
-
-A ``NamedTuple`` of arrays: a JAX pytree without registration.
-"""
+"""Explicit, immutable state of one stress channel (x, y or z) or a batch of them."""
 
 from __future__ import annotations
 

@@ -124,7 +124,6 @@ class MudParameters:
                 f"direction must be 'vertical', 'horizontal' or '', got {self.direction!r}"
             )
 
-    # -- derived quantities -------------------------------------------------------------
     @property
     def k_r(self) -> FloatOrArray:
         """Rejuvenation coefficient :math:`k_r = k_a/\\dot\\gamma_c` [-]."""
@@ -134,11 +133,6 @@ class MudParameters:
     def G_m(self) -> FloatOrArray:
         """Elastic modulus :math:`G_m=\\eta_m/\\lambda` [Pa]."""
         return self.eta_m / self.lam
-
-    @property
-    def sigma_y_relation(self) -> FloatOrArray:
-        """Yield stress from the paper's relation (4): :math:`(\\eta_m-\\eta_\\infty)\\dot\\gamma_c` [Pa]."""
-        return (self.eta_m - self.eta_inf) * self.gamma_dot_c
 
     def replace(self, **changes: Any) -> MudParameters:
         """A copy with some fields changed (validated); a new ``lam`` moves a default ``k_a``."""

@@ -1,10 +1,5 @@
-"""The paper's parameter sets, interpolated between table rows (decision D7).
-
-Between the rows (25, 35, 45 %) each constant is interpolated linearly in its logarithm,
-``n`` linearly; ``extrapolate=True`` extends the end segments to [15 %, 50 %] with a
-warning. ``labels="text"`` names the rows as the paper's text does (15, 25, 35 %; errata
-E6/E7).
-"""
+"""The paper's parameter sets, interpolated between table rows (decision D7): linearly in
+the logarithm of each constant, ``n`` linearly."""
 
 from __future__ import annotations
 
@@ -39,12 +34,11 @@ def _table(direction: str) -> dict[float, tuple[float, ...]]:
 
 def table_rows(direction: str) -> dict[float, dict[str, float]]:
     """The printed rows of one table, in SI, keyed by water content [-]."""
-    out = {}
-    for w, row in _table(direction).items():
-        out[w] = {
-            c: v * chen2026.PRINTED_UNITS[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)
-        }
-    return out
+    units = chen2026.PRINTED_UNITS
+    return {
+        w: {c: v * units[c][1] for c, v in zip(chen2026.COLUMNS, row, strict=True)}
+        for w, row in _table(direction).items()
+    }
 
 
 def _check_water_content(water_content: object, extrapolate: bool, shift: float = 0.0) -> float:
