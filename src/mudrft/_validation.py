@@ -112,24 +112,23 @@ def check_finite(name: str, value: object) -> np.ndarray:
     return arr
 
 
+def _check_bound(name: str, value: object, unit: str, *, strict: bool) -> np.ndarray:
+    arr = check_finite(name, value)
+    if not np.all(arr > 0 if strict else arr >= 0):
+        u = f" {unit}" if unit else ""
+        op = ">" if strict else ">="
+        raise MudrftError(f"{name} must be {op} 0{u}, got {float(arr.min())!r}")
+    return arr
+
+
 def check_positive(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is > 0."""
-    arr = check_finite(name, value)
-    if not np.all(arr > 0):
-        worst = arr.min() if arr.ndim else arr
-        raise MudrftError(f"{name} must be > 0{(' ' + unit) if unit else ''}, got {float(worst)!r}")
-    return arr
+    return _check_bound(name, value, unit, strict=True)
 
 
 def check_nonnegative(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is >= 0."""
-    arr = check_finite(name, value)
-    if not np.all(arr >= 0):
-        worst = arr.min() if arr.ndim else arr
-        raise MudrftError(
-            f"{name} must be >= 0{(' ' + unit) if unit else ''}, got {float(worst)!r}"
-        )
-    return arr
+    return _check_bound(name, value, unit, strict=False)
 
 
 def check_in_range(
@@ -282,8 +281,8 @@ def number_in_range(name: str, value: object, low: float, high: float, *, unit: 
 
 
 def set_number(obj: object, name: str, value: object) -> None:
-    """Store ``value`` (range-checked) as the float field ``name`` of the frozen dataclass
-    ``obj``; an array or a sequence is refused, naming the field."""
+    """Store ``value`` as the float field ``name`` of the frozen dataclass ``obj``; an array
+    or a sequence is refused, naming the field."""
     object.__setattr__(obj, name, check_number(name, value))
 
 
@@ -352,10 +351,6 @@ def warn_plausibility(message: str, category: type[Warning] = PlausibilityWarnin
 def _caller_level() -> int:
     """The ``stacklevel`` of the first caller outside mudrft (3.11 has no ``skip_file_prefixes``)."""
     frame, level = sys._getframe(2), 2
-    while frame.f_back is not None and _in_mudrft(frame.f_globals.get("__name__")):
+    while frame.f_back is not None and f"{frame.f_globals.get('__name__')}.".startswith("mudrft."):
         frame, level = frame.f_back, level + 1
     return level
-
-
-def _in_mudrft(module: object) -> bool:
-    return isinstance(module, str) and (module == "mudrft" or module.startswith("mudrft."))

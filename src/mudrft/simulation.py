@@ -169,14 +169,12 @@ class Result:
         """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``, atomically;
         an existing file only with ``overwrite=True``."""
         data = np.column_stack([self.time, self.position, self.force])
-
-        def write(tmp: Path) -> None:
-            np.savetxt(
-                tmp, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g"
-            )
-
+        head = ",".join(CSV_COLUMNS)
         return atomic_write(
-            path, write, overwrite=overwrite, option="overwrite=True (CLI: --force)"
+            path,
+            lambda tmp: np.savetxt(tmp, data, delimiter=",", header=head, comments="", fmt="%.9g"),
+            overwrite=overwrite,
+            option="overwrite=True (CLI: --force)",
         )
 
     def to_pandas(self) -> pd.DataFrame:
@@ -387,11 +385,8 @@ def _simulate_load(
     zf, vf = np.zeros(n), np.zeros(n)  # foot tip height and velocity
     force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     spring = load.leg_stiffness is not None
-    zb, vb = 0.0, 0.0  # body displacement from its rest position over an unloaded leg
-    z, v = 0.0, 0.0
-    state = terrain.initial_state(foot, np.array([0.0, 0.0, 0.0]))
-    every = max(n // 20, 1)
-    f_prev = 0.0
+    zb = vb = z = v = 0.0  # body (from its rest over an unloaded leg) and foot
+    state, every, f_prev = terrain.initial_state(foot, np.zeros(3)), max(n // 20, 1), 0.0
     for k in range(1, n):
         W = load.weight * (min(t[k] / load.ramp, 1.0) if load.ramp > 0 else 1.0)
         # semi-implicit Euler with the terrain force of the previous step (explicit coupling)
@@ -415,8 +410,8 @@ def _simulate_load(
         zf[k], vf[k] = z, v
         if report is not None and k % every == 0:
             report(k / (n - 1))
-    pos = np.column_stack([np.zeros(n), np.zeros(n), zf])
-    vel = np.column_stack([np.zeros(n), np.zeros(n), vf])
+    pos, vel = np.zeros((n, 3)), np.zeros((n, 3))
+    pos[:, 2], vel[:, 2] = zf, vf
     depth = np.maximum(-zf, 0.0)
     hint = "; a lighter load or a larger foot stays within it" + (
         ". Is the weight in N (m kg weigh 9.81 m N)?" if depth.max() > BURIED_SEARCH * foot.height else ""

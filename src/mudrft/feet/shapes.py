@@ -1,8 +1,6 @@
-r"""The paper's three feet as objects: :class:`Flat`, :class:`SemiCylinder`, :class:`SemiSphere`.
+r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`).
 
-Their forces are the closed forms of :mod:`mudrft.feet.closed_form` (eqs. 12-14 of the
-paper, with errata E20-E23); their surfaces are meshes (:mod:`mudrft.feet.meshgen`) for the
-center of pressure and the posed (tilted) foot.
+The meshes give the center of pressure and the posed (tilted) foot.
 """
 
 from __future__ import annotations
@@ -66,6 +64,14 @@ class _ClosedFormFoot(Foot):
         dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
         for k, v in check_dimensions(type(self).__name__, **dims).items():
             object.__setattr__(self, k, v)
+        if hasattr(self, "radius"):  # the curved feet: "semi-cylinder", "semi-sphere"
+            _check_height(self.name[5:], self.radius, self.height)
+
+    def _segment(self, depth: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Submerged height ``z`` [m], rim angle [rad] and circular segment area [m^2]."""
+        z = np.minimum(check_nonnegative("depth", depth, unit="m"), self.height)
+        th = _theta(z, self.radius)  # type: ignore[attr-defined]
+        return z, th, self.radius**2 * (th - np.sin(th) * np.cos(th))  # type: ignore[attr-defined]
 
     @property
     def kernel_geometry(self) -> tuple[int, float, float, float]:
@@ -149,7 +155,6 @@ class Flat(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "flat"  # type: ignore[misc]
-    trailing: ClassVar[bool] = False
 
     @property
     def characteristic_length(self) -> float:
@@ -197,11 +202,6 @@ class SemiCylinder(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-cylinder"  # type: ignore[misc]
-    trailing: ClassVar[bool] = False
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_height("cylinder", self.radius, self.height)
 
     @property
     def characteristic_length(self) -> float:
@@ -216,10 +216,7 @@ class SemiCylinder(_ClosedFormFoot):
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
-        d = check_nonnegative("depth", depth, unit="m")
-        z = np.minimum(d, self.height)
-        th = _theta(z, self.radius)
-        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        z, th, seg = self._segment(depth)
         return np.stack([seg, self.width * z, 2 * self.radius * self.width * np.sin(th)], axis=-1)
 
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
@@ -250,10 +247,6 @@ class SemiSphere(_ClosedFormFoot):
     name: ClassVar[str] = "semi-sphere"  # type: ignore[misc]
     trailing: ClassVar[bool] = True
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_height("sphere", self.radius, self.height)
-
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{\\pi}R\\sin\\theta_H`, the top cross-section (D27) [m]."""
@@ -267,10 +260,7 @@ class SemiSphere(_ClosedFormFoot):
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
-        d = check_nonnegative("depth", depth, unit="m")
-        z = np.minimum(d, self.height)
-        th = _theta(z, self.radius)
-        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        _, th, seg = self._segment(depth)
         return np.stack([seg, seg, math.pi * (self.radius * np.sin(th)) ** 2], axis=-1)
 
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:

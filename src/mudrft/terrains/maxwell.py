@@ -1,8 +1,6 @@
 r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
 
-**A reconstruction, not a transcription** (decision D55): the AIM 2024 paper (very probably
-arXiv:2403.02617) could not be read offline; what Chen et al. 2026 say of it fixes the
-structure:
+A reconstruction from what Chen et al. 2026 say of it (decision D55):
 
 * a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n`;
 * a Maxwell element (spring :math:`G`, dashpot :math:`\eta_M=G\lambda_M` in series),
@@ -38,9 +36,7 @@ from .._validation import (
     check_positive,
     positive_number,
 )
-from .._validation import (
-    set_number as _set,
-)
+from .._validation import set_number as _set
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
@@ -50,20 +46,6 @@ if TYPE_CHECKING:
     from ..feet.base import Foot
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
-
-# α, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate test
-# (decision D55, re-derived by tests/terrains/test_maxwell.py).
-_DEFAULTS = {
-    "alpha": 24e3,
-    "n": 0.53,
-    "modulus": 9.283e4,
-    "relaxation": 0.2017,
-    "sigma_y": 2.247e4,
-    "omega": 62.50,
-    "damping": 1.0 / np.sqrt(2.0),
-    "release": 1.471,
-}
-
 
 class MaxwellState(NamedTuple):
     """State under a foot: Maxwell stress ``sigma_m`` [Pa], filtered ``suction`` [Pa] and
@@ -137,19 +119,20 @@ class MaxwellMud:
     (24000.0, 0.53)
     """
 
-    alpha: float = _DEFAULTS["alpha"]
-    n: float = _DEFAULTS["n"]
-    modulus: float = _DEFAULTS["modulus"]
-    relaxation: float = _DEFAULTS["relaxation"]
-    sigma_y: float = _DEFAULTS["sigma_y"]
-    omega: float = _DEFAULTS["omega"]
-    damping: float = _DEFAULTS["damping"]
-    release: float = _DEFAULTS["release"]
+    # alpha, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate
+    # test (decision D55, re-derived by tests/terrains/test_maxwell.py)
+    alpha: float = 24e3
+    n: float = 0.53
+    modulus: float = 9.283e4
+    relaxation: float = 0.2017
+    sigma_y: float = 2.247e4
+    omega: float = 62.50
+    damping: float = 1.0 / np.sqrt(2.0)
+    release: float = 1.471
     characteristic_length: float | None = None
     name: str = "maxwell"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         for f in ("alpha", "modulus", "relaxation", "omega", "damping", "release"):
             _set(self, f, check_positive(f, getattr(self, f)))
         _set(self, "sigma_y", check_nonnegative("sigma_y", self.sigma_y, unit="Pa"))
