@@ -47,6 +47,7 @@ if TYPE_CHECKING:
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
+
 class MaxwellState(NamedTuple):
     """State under a foot: Maxwell stress ``sigma_m`` [Pa], filtered ``suction`` [Pa] and
     its ``suction_rate`` [Pa/s], deepest ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
