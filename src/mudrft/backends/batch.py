@@ -224,7 +224,6 @@ class BatchedMud:
         self._setup_backend()
         self.reset(np.zeros(3) if position is None else position)
 
-    # -- set-up ---------------------------------------------------------------------------
     def _setup_backend(self) -> None:
         if self.backend == "numba":
             from ..terrains import rows
@@ -273,7 +272,6 @@ class BatchedMud:
             self._jax_unravel = unravel
             self._mjax = mjax
 
-    # -- state ----------------------------------------------------------------------------
     def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
         if (  # the usual case, checked in a few microseconds (per-step coupling)
             type(value) is np.ndarray
@@ -316,7 +314,6 @@ class BatchedMud:
             self._fst = np.tile(self._fst0, (n, 1))
             self._out = np.zeros((1, n, N_OUT))
 
-    # -- stepping -------------------------------------------------------------------------
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` and return the forces of the mud on them.
 
@@ -354,7 +351,6 @@ class BatchedMud:
             )
         return self.force
 
-    # -- snapshots ----------------------------------------------------------
     def snapshot(self) -> Snapshot:
         """Every foot's state after the last step (the same on every backend), a read-only
         copy to :meth:`restore` later."""

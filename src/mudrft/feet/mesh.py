@@ -290,7 +290,6 @@ class MeshFoot(Foot):
         n, a = self._prep.normal, self._prep.area
         self._plan_area = float(np.sum(a * np.clip(-n[:, 2], 0.0, None)))
 
-    # -- construction -----------------------------------------------------------------------
     @classmethod
     def from_file(
         cls, path: str | os.PathLike[str], *, unit: str = "m", trailing: bool = False,
@@ -383,7 +382,6 @@ class MeshFoot(Foot):
         )
         return new
 
-    # -- Foot interface ---------------------------------------------------------------------
     @property
     def height(self) -> float:
         """Height of the mesh above its tip [m]."""

@@ -72,7 +72,6 @@ class RigidGround:
     name: str = "rigid"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m"))
         _set(self, "damping", check_nonnegative("damping", self.damping, unit="N s/m"))
         _set(self, "friction", check_nonnegative("friction", self.friction))

@@ -1,11 +1,6 @@
-r"""The passive morphing foot: its mechanism (checked views) and the Foot interface over it.
+r"""The passive morphing foot: checked views of its mechanism and the Foot interface over it.
 
-:class:`MorphingFoot` validates the dimensions, springs and mode, gives the checked views
-of the mechanism (pad angle, spring on rigid ground, areas, column balance, drawing) and
-what the mud terrain needs of a foot: forces at the balanced deflection (D32-D34), the
-internal state stepped in time with its seal memory (D35), :math:`L_c` (D36) and areas
-(D38). The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
-:mod:`.equilibrium`.
+The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and :mod:`.equilibrium`.
 """
 
 from __future__ import annotations
@@ -73,12 +68,6 @@ class MorphingFoot(Foot):
         Any field of :class:`MorphingFootGeometry` or :class:`TwoStageSpring` by name,
         e.g. ``pad_length=0.04`` [m] or ``hard_stiffness=12000.0`` [N/m].
 
-    Raises
-    ------
-    MudrftError
-        For an unknown override, a bad mode or length, a linkage that cannot be built, or
-        a soft stage that does not bottom out within the stroke.
-
     Examples
     --------
     >>> foot = MorphingFoot()
@@ -128,7 +117,6 @@ class MorphingFoot(Foot):
         self._lc = None if lc is None else check_length("characteristic_length", lc)
         self._lc_spread: float | None = None
 
-    # -- kinematics and springs --------------------------------------------------------------
     @property
     def linkage(self) -> Linkage:
         """The resolved pad linkage (D30)."""
@@ -180,7 +168,6 @@ class MorphingFoot(Foot):
         lock = self.locked_deflection()
         return self.stroke if lock is None else lock
 
-    # -- areas and the balance with a given stress ---------------------------------------------
     def effective_area(self, depth: ArrayLike, deflection: ArrayLike) -> NDArray[np.float64]:
         """Effective vertical area :math:`A_z` [m^2], :math:`F_z=\\sigma_zA_z` (D33), at tip
         depth [m] >= 0 and column deflection [m] in [0, stroke]."""
@@ -227,7 +214,6 @@ class MorphingFoot(Foot):
             )
         return np.full(np.broadcast_shapes(np.shape(depth), np.shape(sz)), lock)
 
-    # -- drawing -----------------------------------------------------------------------------
     def pad_corners(self, deflection: float | None = None) -> NDArray[np.float64]:
         """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3): pivot-left,
         pivot-right, rim-right, rim-left, at a deflection [m] (default the locked one, or
@@ -250,7 +236,6 @@ class MorphingFoot(Foot):
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.surface_elements(self.geometry, th, strips=strips)
 
-    # -- parameters --------------------------------------------------------------------------
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
@@ -273,8 +258,7 @@ class MorphingFoot(Foot):
             "curl_delay": self.curl_delay,
             "characteristic_length": self._lc,
         }
-        kw.update({k: changes.pop(k) for k in tuple(kw) if k in changes})
-        return MorphingFoot(self.geometry, self.spring, **kw, **changes)
+        return MorphingFoot(self.geometry, self.spring, **(kw | changes))
 
     def as_dict(self) -> dict[str, float | int | str]:
         """All parameters, SI, as a flat dict."""
@@ -299,7 +283,6 @@ class MorphingFoot(Foot):
     def __hash__(self) -> int:
         return hash(tuple(sorted(self.as_dict().items())))
 
-    # -- the Foot interface ------------------------------------------------------------------
     def projected_areas(
         self, depth: ArrayLike, *, deflection: ArrayLike | None = None
     ) -> NDArray[np.float64]:
@@ -358,12 +341,8 @@ class MorphingFoot(Foot):
         for ``None``."""
         if foot_state is None:
             return 1.0
-        return seal_factor(
-            foot_state.pad_angle,
-            foot_state.most_spread,
-            pad_length=self.geometry.pad_length,
-            seal_length=self.seal_length,
-        )
+        g_s, length = self.seal_length, self.geometry.pad_length
+        return seal_factor(foot_state.pad_angle, foot_state.most_spread, length, g_s)
 
     def contact_force(
         self, foot_state: MorphingState | None, depth: ArrayLike, stress: ArrayLike,

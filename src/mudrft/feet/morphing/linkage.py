@@ -68,13 +68,6 @@ class MorphingFootGeometry:
     retracted_angle, expanded_angle : float
         Pad angle with the column unloaded (curled), :math:`\theta_r`, and fully compressed
         (spread), :math:`\theta_e` [rad].
-
-    Raises
-    ------
-    MudrftError
-        For a length that is not positive, an angle out of range, pads that would not curl,
-        pads that overlap at their pivots, or a column wider than the base or not taller than
-        the pivots.
     """
 
     n_pads: int = 8
