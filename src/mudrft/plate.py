@@ -144,15 +144,12 @@ def plate_steps(
     dt: NDArray[np.float64], *, kappa: float, quasi_static: bool, restart: bool, xi0: float,
     contact: bool, shape: tuple[int, ...] | None = None,
 ) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:  # fmt: skip
-    """The steps of a plate channel along a displacement history (no validation): the loop
-    of :func:`plate_response` and of the calibration.
+    """The steps of a plate channel along a history (unchecked; also the calibration's loop).
 
     ``gamma`` (n, ...) [-] at the samples, ``rate`` [1/s] and ``dt`` [s] (n - 1, ...) over
-    the steps; ``kappa``, ``quasi_static``, ``restart`` from
-    :func:`mudrft.constitutive.dynamics.evaluation`; ``xi0`` [-] the undisturbed structure.
-    With ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``,
-    each entry starting from undisturbed mud. Yields, for k = 1 ... n-1, the state, the
-    stresses [Pa] (valid where ``inside``) and ``inside``, whether the plate is in the mud.
+    the steps, flags from :func:`mudrft.constitutive.dynamics.evaluation`, undisturbed
+    structure ``xi0`` [-]; with ``contact`` the plate feels the mud only while ``gamma > 0``.
+    Yields, for k = 1 ... n-1, the state, the stresses [Pa] and whether in the mud.
     """
     inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
     g = np.where(inside, gamma, 0.0) if contact else gamma

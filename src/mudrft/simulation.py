@@ -54,13 +54,9 @@ G = 9.80665  # standard gravity [m/s^2]
 
 @dataclass(frozen=True, eq=False)
 class LoadControl:
-    r"""A foot driven by a load instead of a prescribed motion.
-
-    A body of ``mass`` carrying ``weight`` rests on the foot, rigidly
-    (:math:`m\ddot z = F_z - W`) or, with ``leg_stiffness``, on a spring-damper leg above
-    a foot of ``foot_mass``. The foot starts at rest with its tip at the surface and settles
-    to its sinking depth; x = y = 0. The coupling is explicit, so ``dt`` must resolve the
-    mud's damping: :func:`simulate` raises with a suggested ``dt`` otherwise.
+    r"""A foot driven by a load: a body rests on it rigidly (:math:`m\ddot z = F_z - W`) or on a
+    spring-damper leg, from rest at the surface (x = y = 0). The coupling is explicit:
+    :func:`simulate` refuses a ``dt`` that does not resolve the mud's damping.
 
     Parameters
     ----------
@@ -166,8 +162,7 @@ class Result:
         return _m.normalized_stress(self.force, self.areas)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
-        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``, atomically;
-        an existing file only with ``overwrite=True``."""
+        """Write :data:`CSV_COLUMNS` to ``path`` atomically; overwrite only with ``overwrite``."""
         data = np.column_stack([self.time, self.position, self.force])
         head = ",".join(CSV_COLUMNS)
         return atomic_write(

@@ -1,9 +1,4 @@
-r"""Prescribed motions: the paper's plate tests E1-E4 and a stepping gait cycle.
-
-A :class:`Trajectory` is the path of a foot's tip (its lowest point) in the world
-frame: sample times [s], positions [m] and velocities [m/s]. The mud surface is
-z = 0, so the tip depth is ``max(-z, 0)``.
-"""
+r"""Prescribed motions of the foot's tip: the paper's plate tests E1-E4 and a gait cycle."""
 
 from __future__ import annotations
 
@@ -52,8 +47,7 @@ def check_unburied(
     foot: str, height: float, depth: float, *, how: str, strict: bool, hint: str | None = None,
 ) -> None:  # fmt: skip
     """Warn (:class:`BuriedFootWarning`), or raise under ``strict``, when the deepest tip
-    ``depth`` [m] exceeds the foot's ``height`` [m]; ``foot``, ``how`` (what pushed it
-    there) and ``hint`` are for the message."""
+    ``depth`` [m] exceeds the foot's ``height`` [m]; the other arguments word the message."""
     if not depth > height * (1 + 1e-9):
         return
     if hint is None:
@@ -69,9 +63,8 @@ def check_unburied(
 
 
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
-    """Warn when the velocity [m/s] is not the rate of the position [m]: the step's mean
-    velocity must lie between the velocities at its ends, up to a quarter of the path's
-    extent summed over the steps in the mud (a flipped sign or mm/s breaks it)."""
+    """Warn when the velocity [m/s] is not the rate of the position [m] (a flipped sign, mm/s):
+    each step's mean velocity must lie between its ends', up to a quarter of the extent."""
     dt = np.diff(t)[:, None]
     dp = np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
@@ -129,12 +122,8 @@ class Trajectory:
 
     @classmethod
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
-        """Build a trajectory from sampled positions [m] at ``time`` [s].
-
-        The velocity of sample k is the rate over the step that ends there,
-        (p_k - p_{k-1}) / (t_k - t_{k-1}) [m/s] (sample 0 takes the first step's), the rate
-        :func:`~mudrft.simulate` integrates over that step.
-        """
+        """A trajectory of positions [m] at ``time`` [s]; the velocity of sample k is the rate
+        over the step that ends there [m/s] (sample 0 takes the first step's)."""
         t = check_increasing("time", time)
         p = check_finite("position", position)
         if p.shape != (t.size, 3):
@@ -218,15 +207,13 @@ def plate_intrusion(
     )
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
-    # the corners exactly, so the piecewise-linear input is exact
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
     q = np.where(
         t < t_in,
         speed * t,
         np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
     )
-    # each sample carries the rate of the step that ends there
-    qd = np.where(
+    qd = np.where(  # each sample carries the rate of the step that ends there
         t <= t_in,
         speed,
         np.where(t <= t_in + hold, 0.0, np.where(t <= 2 * t_in + hold, -speed, 0.0)),

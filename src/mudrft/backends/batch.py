@@ -1,11 +1,8 @@
-r"""Batched evaluation: :class:`BatchedMud` advances N feet of one shape, each with its own
-mud, state and motion, by the one terrain step of :class:`mudrft.MudTerrain`.
+r""":class:`BatchedMud` advances N feet of one shape, each with its own mud, state and motion.
 
 Backends: ``"numpy"`` (any foot), ``"numba"`` (compiled, multi-threaded from
-:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on; a batch of one is the fast single-foot
-stepper), ``"jax"`` (:func:`mudrft.backends.jax.terrain_step` under :func:`jax.jit`;
-closed-form and mesh feet). ``snapshot()`` and ``restore()`` save and restore the mud, for
-a planner's rollouts: bit-identical continuations, any number of times.
+:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on), ``"jax"`` (closed-form and mesh feet,
+under :func:`jax.jit`). ``snapshot()`` and ``restore()`` give bit-identical continuations.
 """
 
 from __future__ import annotations
@@ -39,10 +36,9 @@ BYTES_PER_FOOT = 2048
 
 
 class Snapshot(NamedTuple):
-    """The state of a :class:`BatchedMud` after a step, as ``snapshot()`` returns it:
-    ``state``, the mud under the feet (read-only arrays of shape (N,), which also step on in
-    :meth:`mudrft.MudTerrain.step`) and the foot mechanism's state (None for rigid feet);
-    ``force`` [N] and ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) of the last step."""
+    """A :class:`BatchedMud` after a step: ``state`` (read-only (N,) arrays, also a
+    :class:`~mudrft.terrains.mud.MudState`), ``force`` [N], ``stress`` [Pa] (N, 3), ``depth``
+    [m] (N,)."""
 
     state: MudState
     force: NDArray[np.float64]
@@ -57,7 +53,7 @@ def _map_leaves(fn: Any, tree: Any) -> Any:
     return fn(tree)
 
 
-def _leaves(tree: Any) -> list[Any]:
+def _leaves(tree: Any) -> list[Any]:  # the leaves of nested named tuples
     if isinstance(tree, tuple) and hasattr(tree, "_fields"):
         return [leaf for v in tree for leaf in _leaves(v)]
     return [tree]
@@ -213,8 +209,7 @@ class BatchedMud:
             base = MudTerrain(mud, **options)
         self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
-        # one foot on numpy: MudTerrain's step on Python floats (docs/performance.md)
-        self._one: MudTerrain | None = None
+        self._one: MudTerrain | None = None  # one foot on numpy: the step on Python floats
         if self.backend == "numpy" and self.n == 1:
             given = self._args[0]
             one = given[0] if isinstance(given, Sequence) and len(given) == 1 else base.mud
@@ -315,12 +310,8 @@ class BatchedMud:
             self._out = np.zeros((1, n, N_OUT))
 
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
-        """Advance every foot by ``dt`` and return the forces of the mud on them.
-
-        ``position`` [m] (world frame, at the end of the step) and ``velocity`` [m/s] have
-        shape (N, 3) or (3,); ``dt`` [s] > 0. Returns the forces (N, 3) [N], also in
-        :attr:`force`.
-        """
+        """Advance every foot by ``dt`` [s] to ``position`` [m] at ``velocity`` [m/s] ((N, 3) or
+        (3,)); return the forces of the mud on them (N, 3) [N], also in :attr:`force`."""
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
         if not (type(dt) is float and 0.0 < dt < math.inf):

@@ -1,9 +1,5 @@
-r"""A foot of any shape, given as a triangle mesh: forces by surface-element integration.
-
-:class:`MeshFoot` checks a mesh (decision D25), puts it in the foot frame (lowest point at
-the origin) and integrates the element rule of :mod:`mudrft.feet.surface` over it, each
-facet clipped exactly by the mud surface. Mesh files (STL, OBJ, PLY) are read through
-trimesh (:mod:`mudrft.feet.meshfile`).
+r"""A foot of any shape, given as a triangle mesh: the element rule of
+:mod:`mudrft.feet.surface` integrated over it, each facet clipped exactly by the mud surface.
 """
 
 from __future__ import annotations
@@ -46,8 +42,7 @@ from .surface import (
 
 __all__ = ["CHUNK", "MeshFoot", "MeshWarning"]
 
-#: Memory a mesh foot takes while it is built, per facet [bytes]; larger meshes than
-#: :func:`mudrft._validation.memory_limit` allows are refused.
+#: Memory a mesh foot takes while it is built, per facet [bytes].
 BYTES_PER_FACET = 512
 
 #: Rotations that turn a file's up axis to +z (proper rotations; ``from_file(up=)``).
@@ -66,8 +61,7 @@ class MeshWarning(UserWarning):
 
 
 def _rotation_matrix(rotation: RotationLike) -> FloatArray:
-    """A proper rotation matrix (3, 3) from a scipy Rotation or an orthonormal matrix of
-    determinant +1 (tolerance 1e-6)."""
+    """A (3, 3) rotation matrix from a scipy Rotation or a proper orthonormal matrix."""
     if hasattr(rotation, "as_matrix") and callable(rotation.as_matrix):
         m = np.asarray(rotation.as_matrix(), dtype=float)
         if m.shape != (3, 3):
@@ -135,11 +129,8 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.nd
 
 
 class MeshFoot(Foot):
-    r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
-
-    Zero-area facets are dropped and an open mesh is accepted, each with a
-    :class:`MeshWarning`; a closed mesh wound inward is flipped; separate closed parts that
-    overlap warn (:mod:`.meshparts`).
+    r"""A foot given by a triangle mesh (decision D25): zero-area facets are dropped and an open
+    mesh is accepted (a :class:`MeshWarning` each), a closed mesh wound inward is flipped.
 
     Parameters
     ----------
@@ -160,8 +151,7 @@ class MeshFoot(Foot):
     vertices, faces : ndarray
         Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
     shift : ndarray (3,)
-        Translation added to the given vertices [m]: the tip is the lowest vertex, its x, y
-        the mean of the vertices within 1e-9 of the bounding-box diagonal of the lowest.
+        Translation added to the given vertices [m], so that the tip is at the origin.
     closed, flipped : bool
         Whether the mesh is a closed 2-manifold; whether its winding was reversed.
     dropped : int
@@ -264,7 +254,7 @@ class MeshFoot(Foot):
             )
 
     def _check_plan_area(self, hint: str) -> None:
-        """Refuse a foot with no downward-facing area: its characteristic length would be 0."""
+        """Refuse a foot with no downward-facing area (its :math:`L_c` would be 0)."""
         total = float(np.sum(self._prep.area))
         if not (self._plan_area > 1e-12 * total and self.characteristic_length > 0):
             raise MudrftError(

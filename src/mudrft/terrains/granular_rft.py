@@ -54,13 +54,10 @@ __all__ = [
 ]  # fmt: skip
 
 
-# Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|
-# (tanh) and f23 over |v23| (atanh), normalised here to 0 at 0 and 1 at 1.
+# Treers et al. (2021) sigmoid fits of the 3D weights (D51): f1 (tanh), f23 (atanh)
 _TREERS_F1 = (3.62263982880971, 1.60910808139526)
 _TREERS_F23 = (1.61146827229181, 0.973746396532650)
-# a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance), and
-# in part between 1 - 2e-3 and 1 - 1e-3 (horizontal_share)
-_HORIZONTAL_TOL = 1e-3
+_HORIZONTAL_TOL = 1e-3  # Treers et al.'s tolerance on |n_z| (horizontal_share)
 
 
 def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -175,13 +172,9 @@ def _unit_forces(
     x_hat = np.array([1.0, 0.0, 0.0])
     vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
     nh_dir, nh_ok = _unit_horizontal(nb, x_hat)
-    # neither a horizontal motion nor a horizontal normal: a purely vertical case whose
-    # force must not depend on the yaw (D53)
-    axial = ~(vh_ok | nh_ok)
+    axial = ~(vh_ok | nh_ok)  # purely vertical: the force must not depend on the yaw (D53)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
-    # planar: the frame of the motion where it has a horizontal part; treers2021: a (nearly)
-    # horizontal facet takes its frame from the motion, the others (and all, with no
-    # horizontal motion) from their normal
+    # the frame of the motion (planar; treers2021: on nearly horizontal facets) or the normal
     if extension == "planar":
         share = np.where(vh_ok, 1.0, 0.0)
     else:

@@ -165,9 +165,8 @@ class MaxwellMud:
     def advance(
         self, state: MaxwellState, gamma: ArrayLike, gamma_dot: ArrayLike, dt: float
     ) -> tuple[MaxwellState, np.ndarray]:
-        """Advance the stresses over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the
-        rate ``gamma_dot`` [1/s] (downward positive); return (state, stress [Pa]). Out of the
-        mud (gamma <= 0) the state resets and the stress is 0 (as decision D11)."""
+        """Advance over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the rate
+        ``gamma_dot`` [1/s] (down > 0); return (state, stress [Pa]), reset out of the mud."""
         check_positive("dt", dt, unit="s")
         g = np.asarray(gamma, dtype=float)
         gd = np.asarray(gamma_dot, dtype=float)
@@ -301,10 +300,8 @@ def fit_maxwell(
     trajectory: Trajectory, stress: ArrayLike, *, characteristic_length: float = 0.05,
     initial: MaxwellMud | None = None, progress: bool = False,
 ) -> MaxwellFit:  # fmt: skip
-    r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
-
-    :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``; least squares on
-    the logs of the constants over the samples in the mud.
+    r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` (least squares on their logs, over the
+    samples in the mud) to a vertical stress history; :math:`\alpha, n, \zeta_s` are kept.
 
     Parameters
     ----------
