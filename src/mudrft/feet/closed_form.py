@@ -52,8 +52,7 @@ def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
 def flat_coefficients(
     depth: XpArray, phi: XpArray, length: float, width: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Flat foot, eq. (12): :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`,
-    :math:`b_y=zLf_t(\varphi)`, :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` [m^2].
+    r"""Flat foot, eq. (12): the coefficients [m^2] (:math:`a_z=LW` once submerged).
 
     Parameters
     ----------
@@ -85,10 +84,7 @@ def flat_coefficients(
 def semicylinder_coefficients(
     depth: XpArray, phi: XpArray, radius: float, width: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20) [m^2]:
-    :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
-    :math:`b_x=WR(1-c)f_t(\varphi_c)`, :math:`a_y=WR(1-c)f_n(\varphi_c)`,
-    :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`.
+    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20): the coefficients [m^2].
 
     Parameters
     ----------
@@ -130,9 +126,8 @@ def semicylinder_coefficients(
 def semisphere_coefficients(
     depth: XpArray, phi: XpArray, radius: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23) [m^2]:
-    :math:`a_x=\tfrac83R^2(\theta_c-sc)\cos\varphi`, :math:`a_y=\tfrac83R^2(\theta_c-sc)
-    \sin\varphi`, no shear terms, :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)`.
+    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23): the coefficients [m^2], with
+    :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)` and no shear terms.
 
     Parameters
     ----------

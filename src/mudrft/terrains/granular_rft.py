@@ -61,13 +61,11 @@ _HORIZONTAL_TOL = 1e-3  # Treers et al.'s tolerance on |n_z| (horizontal_share)
 
 
 def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    r"""Treers et al.'s (2021) weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)` [-].
-
-    :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
+    r"""Treers et al.'s (2021) weights [-]: :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
     :math:`f_{23}(u)=\frac{\operatorname{atanh}(c u-d)+\operatorname{atanh} d}
     {\operatorname{atanh}(c-d)+\operatorname{atanh} d}` of the unit velocity's components
     along the plate's horizontal edge (:math:`v_1`) and in its normal plane (:math:`v_{23}`),
-    normalised to 0 at 0 and 1 at 1 (decision D51).
+    normalised to 0 at 0 and 1 at 1 (D51).
 
     Examples
     --------
@@ -98,11 +96,9 @@ LEADING_WIDTH = 1e-3
 
 
 def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarray:
-    r"""Weight of a facet by how much it leads the motion (decision D53) [-].
-
-    :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`: 0 on trailing and tangent facets,
-    1 on facets leading by more than :math:`\delta`, linear between, so that the force is
-    continuous in the pose; ``width=0`` gives RFT's sharp rule.
+    r"""Weight [-] of a facet by how much it leads the motion (D53),
+    :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`, continuous in the pose; ``width=0``
+    gives RFT's sharp rule.
 
     Examples
     --------
@@ -118,11 +114,9 @@ def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarr
 
 
 def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
-    r"""How much a facet counts as horizontal in the 3D extension (decision D51) [-].
-
-    Treers et al.'s facet is horizontal (its frame taken from the motion) when
-    :math:`|n_z|\ge1-\delta`, :math:`\delta=10^{-3}`; the share rises linearly from 0 at
-    :math:`|n_z|=1-2\delta` to 1 there, and the force mixes the two frames' forces alike.
+    r"""How much a facet counts as horizontal in the 3D extension (D51) [-]: 1 from Treers et
+    al.'s :math:`|n_z|\ge1-\delta`, :math:`\delta=10^{-3}`, down linearly to 0 at
+    :math:`1-2\delta`; the force mixes the two frames' forces alike.
 
     Examples
     --------
@@ -225,9 +219,6 @@ def rft_forces(
 
     Examples
     --------
-    A 1 cm^2 horizontal plate, 2 cm deep, pushed straight down into loose poppy seeds
-    (:math:`F_z=\zeta\,|z|\,A`):
-
     >>> f = rft_forces([[0, 0, -1]], [0.02], [1e-4], [0, 0, -1], zeta=0.254e6)
     >>> [round(float(v), 6) + 0.0 for v in f]
     [0.0, 0.0, 0.508]
@@ -240,8 +231,7 @@ def rft_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT(FacetRFT):
-    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` over the foot's
-    submerged surface elements.
+    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` on the foot.
 
     Parameters
     ----------
@@ -321,8 +311,8 @@ class GranularRFT(FacetRFT):
     def from_coefficients(
         cls, coefficients: FourierCoefficients, *, unit: str = "N/cm^3", **kw: Any
     ) -> GranularRFT:
-        r"""RFT for a medium's own Fourier fit as Li et al. (2013) tabulate it (N/cm^3), kept
-        exactly as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)`.
+        r"""RFT for a medium's own Fourier fit (as Li et al. 2013 tabulate it), kept exactly as
+        :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)`.
 
         Parameters
         ----------
@@ -335,8 +325,6 @@ class GranularRFT(FacetRFT):
 
         Examples
         --------
-        Loosely packed poppy seeds, as tabulated (N/cm^3):
-
         >>> lp = FourierCoefficients(A00=0.051, A10=0.047, B01=0.083, B11=0.053, Bm11=0.020,
         ...                          C01=0.057, C11=-0.026, Cm11=0.0, D10=0.025)
         >>> rft = GranularRFT.from_coefficients(lp, unit="N/cm^3")
@@ -379,7 +367,6 @@ class GranularRFT(FacetRFT):
         return float(self.zeta)
 
     def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
-        """Leading-weighted response (..., k, 3) of this terrain's options, divided by zeta [-]."""
         return _unit_forces(
             normals, direction, self.coefficients, self.extension, self.leading_width
         )

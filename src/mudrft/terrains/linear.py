@@ -1,12 +1,9 @@
 r"""Linear-stiffness mud: the "conventional linear model" of Godon et al. 2022, Liu et al. 2023.
 
-The vertical stress under the foot grows linearly with the tip depth :math:`d`,
-
 .. math:: \sigma_z = k\,d, \qquad F_z = \sigma_z\,A_z(d),
 
-with :math:`A_z(d)` the horizontal projected area of the submerged foot and :math:`k`
-[N/m^3] a stiffness per unit area (decision D54): vertical only, elastic (no hysteresis,
-relaxation or suction) and rate-independent.
+with :math:`d` the tip depth, :math:`A_z(d)` the horizontal projected area of the submerged
+foot and :math:`k` [N/m^3] a stiffness per unit area (decision D54): vertical only.
 """
 
 from __future__ import annotations
@@ -95,10 +92,8 @@ class LinearStiffness:
         register("liu2023ral")
 
     def stress(self, depth: ArrayLike) -> FloatArray:
-        """Vertical stress at tip depth ``depth`` [m], in Pa.
+        """Vertical stress [Pa] at tip depth ``depth`` [m].
 
-        Examples
-        --------
         >>> float(LinearStiffness(stiffness=1e6).stress(0.02))
         20000.0
         """

@@ -49,8 +49,8 @@ __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
 
 class MaxwellState(NamedTuple):
-    """State under a foot: Maxwell stress ``sigma_m`` [Pa], filtered ``suction`` [Pa] and
-    its ``suction_rate`` [Pa/s], deepest ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
+    """Maxwell stress ``sigma_m`` [Pa], ``suction`` [Pa], ``suction_rate`` [Pa/s], deepest
+    ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
 
     sigma_m: np.ndarray
     suction: np.ndarray
@@ -283,8 +283,8 @@ def _stress_history(
 
 @dataclass(frozen=True)
 class MaxwellFit:
-    """Result of :func:`fit_maxwell`: the fitted ``model``, the ``rmse`` of the stress [Pa],
-    the optimiser's ``success``, ``message`` and number of evaluations ``nfev``."""
+    """:func:`fit_maxwell`'s ``model``, stress ``rmse`` [Pa] and the optimiser's ``success``,
+    ``message`` and ``nfev``."""
 
     model: MaxwellMud
     rmse: float

@@ -1,12 +1,9 @@
 r"""Rigid ground: penalty contact with regularised Coulomb friction.
 
-The ground is the half-space z < 0. At the foot tip (its lowest point) the penetration
-:math:`d=\max(-z,0)` and its rate :math:`\dot d=-v_z` give the normal force
+At the tip's penetration :math:`d=\max(-z,0)`, rate :math:`\dot d=-v_z`, slip speed
+:math:`v_s`:
 
 .. math:: F_z = \max(k\,d + c\,\dot d,\ 0) \quad (d>0), \qquad F_z = 0 \quad (d = 0),
-
-clipped at zero, so the ground never pulls (no adhesion, no suction). The tangential
-force is Coulomb friction regularised by a tanh over a slip speed :math:`v_s`,
 
 .. math:: \mathbf F_t = -\mu F_z \tanh(|\mathbf v_t|/v_s)\,\mathbf v_t/|\mathbf v_t|.
 
