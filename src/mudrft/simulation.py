@@ -330,8 +330,7 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
         )
     if load.leg_stiffness is not None:
         _check_leg_stability(load, c)
-    # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
-    try:
+    try:  # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
         d_eq = static_sinking(foot, mud, load.weight, characteristic_length=lc)
         stiffness = (_static_support(foot, mud, lc)(1.01 * d_eq) - load.weight) / (0.01 * d_eq)
     except (MudrftError, ZeroDivisionError, FloatingPointError):
@@ -350,9 +349,8 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
 
 
 def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
-    r"""Refuse a spring leg the semi-implicit Euler step cannot integrate: stable while
-    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`,
-    :math:`\omega^2=k/\mu` (:math:`\mu` the reduced mass); refused above 0.8 of it."""
+    r"""Refuse a leg the semi-implicit Euler step cannot integrate (above 0.8 of the limit of
+    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`, :math:`\omega^2=k/\mu`)."""
     mf, mb = load.foot_mass, load.body_mass
     mu = mf * mb / (mf + mb)
     rate = c_mud / mf + load.leg_damping / mu
@@ -384,13 +382,11 @@ def _simulate_load(
     state, every, f_prev = terrain.initial_state(foot, np.zeros(3)), max(n // 20, 1), 0.0
     for k in range(1, n):
         W = load.weight * (min(t[k] / load.ramp, 1.0) if load.ramp > 0 else 1.0)
-        # semi-implicit Euler with the terrain force of the previous step (explicit coupling)
-        if not spring:
+        if not spring:  # semi-implicit Euler, the terrain force of the previous step
             a = (f_prev - W) / m
             v = v + a * dt
             z = z + v * dt
         else:
-            # leg extension e = zb - z (0 at rest); the spring-damper pulls body and foot together
             k_leg = float(load.leg_stiffness)  # type: ignore[arg-type]
             f_leg = k_leg * (zb - z) + load.leg_damping * (vb - v)
             vb = vb + (-W - f_leg) / m * dt
@@ -421,8 +417,7 @@ def _simulate_load(
 
 
 def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
-    """The static vertical support ``F_z(d)`` [N] at tip depth ``d`` [m]:
-    :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot."""
+    """The static support ``F_z(d)`` [N] at tip depth ``d`` [m], :math:`\\alpha (d/L_c)^n`."""
     p = mud.vertical
 
     def force(d: float) -> float:
@@ -439,11 +434,8 @@ BURIED_SEARCH = 4.0
 def static_sinking(
     foot: Foot, mud: Mud, weight: float, *, characteristic_length: float | None = None
 ) -> float:
-    r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
-
-    At rest the thixotropic stress relaxes to zero and no suction acts, so the balance is
-    :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`, solved down to
-    :data:`BURIED_SEARCH` times the foot's height (deeper, a :class:`~mudrft.MudrftError`).
+    r"""Depth [m] where the fully relaxed support :math:`F_z(d,\,\alpha(d/L_c)^n)` equals
+    ``weight``, searched down to :data:`BURIED_SEARCH` times the foot's height.
 
     Parameters
     ----------
@@ -487,8 +479,7 @@ def static_sinking(
             "the model does not count (decision D26), would carry part of the load. Is the "
             "weight in newtons (a mass of m kg weighs 9.81 m N)?"
         )
-    # a light load can balance far below a nanometre: solved in log(d)
-    lo = hi * 1e-12
+    lo = hi * 1e-12  # a light load can balance far below a nanometre: solved in log(d)
     while support(lo) > 0:
         if lo < 1e-300:
             return lo

@@ -195,10 +195,8 @@ class MorphingFoot(Foot):
     def equilibrium(
         self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
     ) -> NDArray[np.float64]:
-        r"""Column deflection [m] in balance with the mud, :math:`F_s(\delta)=\sigma_zA_z(d,
-        \theta(\delta))` with the end stops as complementarity (D32, D34), at tip ``depth``
-        [m] >= 0 and vertical stress ``sz`` [Pa]: from the ``previous`` deflection [m] it
-        moves with the net force to the nearest root (hysteresis across a snap-through)."""
+        r"""Column deflection [m] in balance with the mud (D32, D34) at tip ``depth`` [m] >= 0
+        and vertical stress ``sz`` [Pa], reached from the ``previous`` deflection [m]."""
         d = check_nonnegative("depth", depth, unit="m")
         s = check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
@@ -227,12 +225,9 @@ class MorphingFoot(Foot):
         return self._linkage.points(float(self._check_deflection(deflection)))
 
     def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
-        """Surface elements of the base, the column and both faces of every pad [m] (D159).
-
-        What a terrain that integrates elements (granular RFT) sees, at the pad angle of
-        ``deflection`` [m] (default as :meth:`pad_corners`): the foot does not morph on such
-        a terrain. ``strips``: elements along each pad face and up each wall [-].
-        """
+        """Surface elements of the base, the column and both faces of every pad [m] (D159), at
+        ``deflection`` [m] (default as :meth:`pad_corners`; the foot does not morph on an
+        element terrain); ``strips``: elements along each pad face and up each wall [-]."""
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.surface_elements(self.geometry, th, strips=strips)
 
@@ -308,16 +303,14 @@ class MorphingFoot(Foot):
     def resultant(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> NDArray[np.float64]:
-        """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest
-        (``previous=0``, D34); :meth:`contact_force` follows the deflection in time instead.
-        Arguments as :meth:`Foot.resultant`."""
+        """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest (D34);
+        arguments as :meth:`Foot.resultant`."""
         d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
 
     def posed(self, rotation: RotationLike) -> NoReturn:
-        """Not available: the pads open and curl with the load, so no one rigid mesh stands
-        for the foot; raises :class:`~mudrft.MudrftError` (the MuJoCo coupling poses it)."""
+        """Not available (the pads move with the load): raises :class:`~mudrft.MudrftError`."""
         raise MudrftError(
             "MorphingFoot.posed(rotation): the morphing foot has no rotated "
             "mesh, since its pads open and curl with the load; the flat, "
@@ -350,11 +343,8 @@ class MorphingFoot(Foot):
     ) -> tuple[MorphingState, NDArray[np.float64]]:  # fmt: skip
         """Solve the column balance for this step; return ``(state, force)`` [N] (D32, D34).
 
-        The deflection moves from ``foot_state.deflection`` to the balance with the current
-        stresses, held for the first :attr:`curl_delay` seconds of a retraction; out of the
-        mud the seal memory resets. Depth [m], stresses (..., 3) [Pa] and world heading
-        [rad] are checked by the caller; ``dt`` [s] is unused (the balance is quasi-static);
-        ``retraction`` is the time since the retraction began [s] (0 while not retracting).
+        Depth [m], stresses (..., 3) [Pa] and world heading [rad] are checked by the caller;
+        ``dt`` [s] is unused (quasi-static); ``retraction``: time since it began [s] (or 0).
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()
