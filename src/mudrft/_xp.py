@@ -1,8 +1,5 @@
-r"""The array namespace for one foot on Python floats (:data:`pyfloat`), also what
-:mod:`mudrft._jit` compiles with numba.
-
-The physics is element-wise code over ``xp`` (numpy, ``jax.numpy`` or this module), its
-last parameter (positional: numba cannot bind keyword-only arguments), using only
+r"""The array namespace for one foot on Python floats (:data:`pyfloat`), also what numba
+compiles. The physics takes ``xp`` as its last, positional parameter and uses only
 :data:`ELEMENTWISE`, arithmetic, comparisons and ``| & ~``.
 
 >>> pyfloat.where(1.0 > 0.0, 2.0, 3.0), pyfloat.maximum(-1.0, 0.0)

@@ -1,8 +1,6 @@
 r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
 
-The rules :mod:`mudrft.feet.surface` applies to every facet, written once on the facet's
-coordinates as element-wise code over ``xp``: numpy runs them on arrays of facets, JAX
-with ``jax.numpy``, and numba compiles them on floats for the MuJoCo coupling.
+Element-wise code over ``xp``, applied by :mod:`mudrft.feet.surface` to every facet.
 
 For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
 horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times

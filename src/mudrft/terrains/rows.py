@@ -1,9 +1,7 @@
 r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain`.
 
-A foot's mud is a row of :data:`N_STATE` floats, its parameters a row of :data:`N_CONST`,
-its options a row of seven and its shape a geometry row, so that numba compiles the loop
-over time steps and feet (:func:`run`, :func:`mudrft._jit.jit`). The physics is
-:func:`~mudrft.terrains.mud.mud_step` and the feet's force rules with ``xp=pyfloat``.
+Rows of floats that numba compiles the loop over time steps and feet on (:func:`run`);
+the physics is :func:`~mudrft.terrains.mud.mud_step` and the feet's rules on floats.
 
 * state: the horizontal and vertical channels (7 each, :class:`ChannelState`), entry x,
   entry y, line, heading, in_mud;
