@@ -1,7 +1,5 @@
-"""Shared argument checks: an error names the argument, what was expected and what was
-given. Also the input limits (samples, memory, sizes) and warnings for values that look
-like a unit mistake.
-"""
+"""Shared argument checks (the error names the argument, what was expected and what was
+given), input limits, and warnings for values that look like a unit mistake."""
 
 from __future__ import annotations
 
@@ -195,8 +193,7 @@ def format_bytes(nbytes: float) -> str:
 
 
 def memory_limit() -> float:
-    """Largest allocation mudrft makes without refusing [bytes]: ``MUDRFT_MEMORY_LIMIT`` in
-    the environment, else :data:`MEMORY_LIMIT`."""
+    """Largest allocation mudrft makes [bytes]: ``MUDRFT_MEMORY_LIMIT``, else the default."""
     text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
     if not text:
         return float(MEMORY_LIMIT)
@@ -213,8 +210,7 @@ def memory_limit() -> float:
 
 
 def check_memory(what: str, nbytes: float, *, hint: str) -> None:
-    """Refuse, before allocating, ``what`` (for the message) estimated to need ``nbytes``
-    [bytes], more than :func:`memory_limit`; ``hint`` says how to make it smaller."""
+    """Refuse ``what`` if it needs ``nbytes`` [bytes], more than :func:`memory_limit`."""
     limit = memory_limit()
     if not nbytes <= limit:  # also catches NaN
         raise MudrftError(
@@ -225,11 +221,8 @@ def check_memory(what: str, nbytes: float, *, hint: str) -> None:
 
 
 def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float = 200.0) -> int:
-    """``ceil(count)`` samples of a run, or an error if above :data:`MAX_SAMPLES`.
-
-    ``what`` says how the count arises and ``hint`` how to ask for fewer, for the message;
-    ``bytes_per_sample`` [bytes] estimates the memory. Call it before allocating.
-    """
+    """``ceil(count)`` samples of a run, or an error if above :data:`MAX_SAMPLES` (``what``
+    and ``hint`` word it; ``bytes_per_sample`` [bytes] estimates the memory)."""
     if not count <= MAX_SAMPLES:  # also catches NaN
         raise MudrftError(
             f"{what} = {float(count):.3g} samples, more than the {MAX_SAMPLES:.0e} one run may "
@@ -299,8 +292,8 @@ def check_length(name: str, value: object) -> float:
 
 
 def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
-    """The foot ``what``'s dimensions ``sizes`` [m] as floats (:func:`check_length`); warns
-    if the largest is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
+    """The foot ``what``'s ``sizes`` [m] as floats (:func:`check_length`); an implausible
+    largest one warns.
 
     >>> check_dimensions("Flat", length=0.08, width=0.065)
     {'length': 0.08, 'width': 0.065}
@@ -314,8 +307,7 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
 
 
 def check_characteristic_length(what: str, value: object) -> float:
-    """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warns if
-    it is not a plausible foot size (a length in mm read as m)."""
+    """A characteristic length :math:`L_c` [m] as a float; an implausible one warns."""
     v = check_length("characteristic_length", value)
     hint = "it is in metres (50 mm is 0.05)"
     warn_implausible(
@@ -327,9 +319,8 @@ def check_characteristic_length(what: str, value: object) -> float:
 def warn_implausible(
     what: str, value: float, plausible: tuple[float, float], *, unit: str, hint: str,
 ) -> bool:  # fmt: skip
-    """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible`` (both
-    in ``unit``): valid, but more likely a unit mistake. ``what`` and ``hint`` are for the
-    message. Returns whether it warned."""
+    """Warn (:class:`PlausibilityWarning`) and return True if ``value`` is outside
+    ``plausible`` (both in ``unit``): valid, but more likely a unit mistake."""
     low, high = plausible
     v = float(value)
     if low <= v <= high:
