@@ -30,10 +30,9 @@ DEFAULT_PLATE_LENGTH = 0.05
 
 @dataclass(frozen=True, eq=False)
 class PlateResult:
-    """Stress on a plate along a plate test, each field (n,): ``time`` [s],
-    ``displacement`` [m], the total ``stress`` along the motion (eq. 1), its ``normal`` and
-    ``tangential`` parts on the tilted plate (eq. 7), the terms ``elastic``,
-    ``thixotropic`` and ``suction`` of eq. (1) [Pa], and the structure ``xi`` [-]."""
+    """A plate test, each field (n,): ``time`` [s], ``displacement`` [m], the ``stress``
+    (eq. 1), its ``normal`` and ``tangential`` parts (eq. 7), its terms ``elastic``,
+    ``thixotropic``, ``suction`` [Pa], and the structure ``xi`` [-]."""
 
     time: np.ndarray
     displacement: np.ndarray
@@ -82,11 +81,6 @@ def plate_response(
         Quasi-static only: the clock of eq. (9) (decision D15).
     xi0 : float, keyword-only
         Initial structure parameter [-].
-
-    Notes
-    -----
-    A vertical plate feels the mud only while its displacement is positive; the mud's
-    memory starts at first contact, as in :func:`mudrft.simulate`.
 
     Examples
     --------

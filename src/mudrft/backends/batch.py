@@ -69,7 +69,7 @@ def _frozen(value: Any) -> Any:
 
 
 def _copy_foot_state(foot_state: Any) -> Any:
-    """An independent copy of a foot mechanism's state (None for rigid feet)."""
+    """An independent copy of a foot mechanism's state."""
     if foot_state is None:
         return None
     if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
@@ -78,8 +78,7 @@ def _copy_foot_state(foot_state: Any) -> Any:
 
 
 def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
-    """The channels of ``snapshot`` for feet of shape ``batch``; a snapshot of one foot
-    (shape () or (1,)) is broadcast to every foot."""
+    """The channels of ``snapshot`` for feet of shape ``batch`` (one foot's broadcast)."""
     if not isinstance(snapshot, Snapshot) or not isinstance(snapshot.state, MudState):
         raise MudrftError(
             f"snapshot must be what BatchedMud.snapshot() returned, got {type(snapshot).__name__}"
@@ -102,8 +101,7 @@ def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
 
 
 def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameters:
-    """Channel parameters (x, y, z) of ``mud`` (one Mud or ``n`` muds) for ``n`` feet,
-    validated: fields of shape (3,) if shared, else (n, 3).
+    """Channel parameters (x, y, z) of one Mud or ``n`` muds for ``n`` feet: (3,) or (n, 3).
 
     >>> import mudrft
     >>> muds = [mudrft.paper_mud(w) for w in (0.25, 0.3, 0.35)]
@@ -144,8 +142,8 @@ def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
 
 
 class BatchedMud:
-    """N feet of one shape in mud, advanced together (see the module docstring); after each
-    step ``force`` [N], ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) hold its outputs.
+    """N feet of one shape in mud, advanced together; ``force`` [N], ``stress`` [Pa] (N, 3)
+    and ``depth`` [m] (N,) hold the last step's outputs.
 
     Parameters
     ----------
@@ -343,8 +341,7 @@ class BatchedMud:
         return self.force
 
     def snapshot(self) -> Snapshot:
-        """Every foot's state after the last step (the same on every backend), a read-only
-        copy to :meth:`restore` later."""
+        """Every foot's state after the last step, a read-only copy to :meth:`restore` later."""
         foot_state = None
         if self.backend == "numba":
             from ..feet.morphing.equilibrium import MorphingState
@@ -365,15 +362,14 @@ class BatchedMud:
         return Snapshot(state, _frozen(self.force), _frozen(self.stress), _frozen(self.depth))
 
     def restore(self, snapshot: Snapshot) -> None:
-        """Put every foot back into the state of ``snapshot`` (of a ``BatchedMud`` of the same
-        feet, any backend); a snapshot of one foot puts every foot into its state."""
+        """Put every foot back into the state of ``snapshot`` (of the same feet, any backend, or
+        of one foot)."""
         n = (self.n,)
         ch = _check_snapshot(snapshot, n)
         foot_state = _copy_foot_state(snapshot.state.foot)
         if self.backend == "numba":
             from ..terrains.rows import N_OUT, state_rows
 
-            # fresh arrays: the compiled step writes into them
             self._st, self._out = state_rows(ch), np.zeros((1, self.n, N_OUT))
             self._fst = np.tile(self._fst0, (self.n, 1))
             if foot_state is not None:

@@ -159,8 +159,6 @@ class MeshFoot(Foot):
 
     Examples
     --------
-    A downward-facing unit square (an open mesh: a warning says so):
-
     >>> import warnings
     >>> v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
     >>> with warnings.catch_warnings():
@@ -301,16 +299,8 @@ class MeshFoot(Foot):
         up : {"z", "y", "x", "-z", "-y", "-x"}, optional
             The file's axis that points up, turned to +z (a Y-up export: ``"y"``).
 
-        Raises
-        ------
-        MudrftError
-            Naming the file, if it is missing, unreadable, empty, has NaN coordinates, needs more
-            memory than :func:`~mudrft._validation.memory_limit`, or fails :class:`MeshFoot`'s checks.
-
         Examples
         --------
-        The example foot shipped with mudrft (:func:`mudrft.data_path`), in millimetres:
-
         >>> import mudrft
         >>> foot = MeshFoot.from_file(mudrft.data_path("foot.stl"), unit="mm")
         >>> foot.name, round(foot.height, 3)
@@ -354,8 +344,7 @@ class MeshFoot(Foot):
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
     def posed(self, rotation: RotationLike) -> MeshFoot:
-        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation) about the tip; the
-        copy's tip is again its lowest point.
+        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), tip at its lowest point.
 
         >>> from mudrft.feet import Flat
         >>> tilted = Flat().to_mesh(resolution=2).posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
@@ -409,13 +398,12 @@ class MeshFoot(Foot):
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """:meth:`Foot.force` without validation [N]; any heading, no folding, so asymmetric
-        meshes are exact."""
+        """:meth:`Foot.force` without validation [N]; any heading, no folding."""
         return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2]: ``(-Fx, -Fy,
-        Fz)`` of the integrated force (an asymmetric foot may give a negative side one)."""
+        """Paper-style magnitudes ``(-Fx, -Fy, Fz)`` [N] of the integrated force, heading in
+        [0, pi/2] (an asymmetric foot may give a negative one)."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
@@ -451,9 +439,8 @@ class MeshFoot(Foot):
         return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
-        r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping:
-        :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a closed
-        convex foot) and :math:`A_z=\sum\max(-n_z,0)dS` over the submerged facets."""
+        r"""Submerged areas projected along x, y and z [m^2] (..., 3): :math:`\tfrac12\sum|n_x|dS`,
+        :math:`\tfrac12\sum|n_y|dS` and :math:`\sum\max(-n_z,0)dS` over the clipped facets."""
         d = check_nonnegative("depth", depth, unit="m")
         n = self._prep.normal
         weights = np.stack(

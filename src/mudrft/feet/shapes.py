@@ -33,8 +33,7 @@ PAPER_HEIGHT = 0.026
 
 
 def _check_height(shape: str, radius: float, height: float) -> None:
-    """Refuse a curved foot taller than its radius; at the default height, say how to make
-    a smaller foot."""
+    """Refuse a curved foot taller than its radius."""
     if height <= radius:
         return
     hint = (
@@ -52,7 +51,6 @@ def _check_height(shape: str, radius: float, height: float) -> None:
 class _ClosedFormFoot(Foot):
     """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
 
-    #: whether the matching mesh rule lets trailing facets resist (decision D23)
     trailing: ClassVar[bool] = False
     elementwise: ClassVar[bool] = True
 
@@ -104,8 +102,8 @@ class _ClosedFormFoot(Foot):
         return self.force_array(*(np.asarray(a, dtype=float) for a in (depth, stress, heading)))
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
-        """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule;
-        ``resolution``: segments from the tip to the rim, or divisions per edge (flat) [-]."""
+        """This foot as a closed :class:`MeshFoot`; ``resolution``: segments from tip to rim,
+        or divisions per edge (flat) [-]."""
         v, f = self._mesh_arrays(resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
 
@@ -179,9 +177,8 @@ class Flat(_ClosedFormFoot):
 
 @dataclass(frozen=True, eq=True)
 class SemiCylinder(_ClosedFormFoot):
-    """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13).
-
-    The axis runs along x; the cross-section is a circular segment cut flat on top (D20).
+    """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13): axis along x,
+    a circular segment cut flat on top (D20).
 
     Parameters
     ----------
@@ -225,9 +222,8 @@ class SemiCylinder(_ClosedFormFoot):
 
 @dataclass(frozen=True, eq=True)
 class SemiSphere(_ClosedFormFoot):
-    """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14).
-
-    Its closed form counts the facets that trail the motion, so its mesh does (D23).
+    """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14); its
+    closed form counts the facets that trail the motion, so its mesh does (D23).
 
     Parameters
     ----------
