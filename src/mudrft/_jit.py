@@ -93,7 +93,6 @@ _CACHE_OK = True
 
 
 def _stamp(files: tuple[str, ...]) -> str:
-    """A digest of the contents of ``files``."""
     h = hashlib.sha256()
     for f in files:
         h.update(f.encode())

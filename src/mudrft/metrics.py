@@ -47,7 +47,6 @@ def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
 
 
 def _history(name: str, value: ArrayLike) -> FloatArray:
-    """A finite 1-D history with at least one sample."""
     arr = check_shape(name, value, (None,))
     if arr.size == 0:
         raise MudrftError(f"{name} must hold at least one sample, got an empty array")

@@ -69,7 +69,6 @@ def _frozen(value: Any) -> Any:
 
 
 def _copy_foot_state(foot_state: Any) -> Any:
-    """An independent copy of a foot mechanism's state."""
     if foot_state is None:
         return None
     if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):

@@ -56,7 +56,6 @@ __all__ = [
 
 @functools.cache
 def _compiled() -> dict[str, Any]:
-    """The jit-compiled functions, built once."""
     jax = enable_x64()
     import jax.numpy as jnp
 
@@ -115,7 +114,6 @@ def _compiled() -> dict[str, Any]:
 
 
 def _check_state(state: ChannelState, made_by: str) -> None:
-    """``state`` must be a :class:`ChannelState`; the message says how to make one."""
     if not isinstance(state, ChannelState):
         raise MudrftError(f"state must be a ChannelState ({made_by}), got {type(state).__name__}")
 

@@ -252,7 +252,6 @@ class MeshFoot(Foot):
             )
 
     def _check_plan_area(self, hint: str) -> None:
-        """Refuse a foot with no downward-facing area (its :math:`L_c` would be 0)."""
         total = float(np.sum(self._prep.area))
         if not (self._plan_area > 1e-12 * total and self.characteristic_length > 0):
             raise MudrftError(

@@ -48,7 +48,6 @@ def _grid_faces(ids: np.ndarray) -> np.ndarray:
 
 
 def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Drop unreferenced vertices and renumber."""
     used, inv = np.unique(faces, return_inverse=True)
     return vertices[used], inv.reshape(faces.shape)
 

@@ -33,7 +33,6 @@ PAPER_HEIGHT = 0.026
 
 
 def _check_height(shape: str, radius: float, height: float) -> None:
-    """Refuse a curved foot taller than its radius."""
     if height <= radius:
         return
     hint = (

@@ -26,7 +26,6 @@ __all__ = ["FacetRFT", "RFTState", "check_facets", "unit_vectors"]
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    """Rows of ``v`` (..., 3) scaled to unit length [-]."""
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
@@ -128,7 +127,6 @@ class FacetRFT:
     coefficients: object
 
     def _check_options(self, coefficients: type) -> None:
-        """Check ``rest_speed`` [m/s], ``leading_width`` [-] and the ``coefficients`` type."""
         speed = check_positive("rest_speed", self.rest_speed, unit="m/s")
         set_number(self, "rest_speed", speed)
         width = check_in_range("leading_width", self.leading_width, 0.0, 1.0)
