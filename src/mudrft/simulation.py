@@ -232,7 +232,8 @@ def simulate(
     dt: float | None = None, progress: bool | Callable[[float], None] = False,
     strict: bool = False,
 ) -> Result:  # fmt: skip
-    """Run a foot through a terrain along a prescribed motion or under a prescribed load.
+    """Run a foot through a terrain along a prescribed motion or under a prescribed load
+    (Chen et al. 2026, eqs. 1-7 and 12-14).
 
     Parameters
     ----------
@@ -257,11 +258,6 @@ def simulate(
     Returns
     -------
     Result
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, eqs. (1)-(7) and (12)-(14).
     """
     if not isinstance(foot, Foot):
         raise MudrftError(

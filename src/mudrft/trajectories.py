@@ -150,7 +150,7 @@ def plate_intrusion(
     depth: float = 0.03, speed: float = 0.02, hold: float = 1.0, angle: float = 0.0,
     direction: str = "vertical", *, dt: float = 1e-3, rest: float = 0.5,
 ) -> Trajectory:  # fmt: skip
-    """The paper's plate test (E1-E4): intrude at constant speed, hold, retract at the same speed.
+    """The paper's plate test (E1-E4, Sec. IV-A): intrude, hold, retract at the same speed.
 
     Parameters
     ----------
@@ -173,11 +173,6 @@ def plate_intrusion(
     -------
     Trajectory
         With ``meta`` holding the protocol and the intrusion ``"displacement"`` [m].
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, Sec. IV-A, Table I (plate tests).
 
     Examples
     --------

@@ -102,6 +102,12 @@ def area_z(foot: Foot, depth: FloatArray) -> FloatArray:
     return projected(foot, depth)[..., 2]
 
 
+def vertical_output(fz: np.ndarray, sz: np.ndarray, depth: np.ndarray) -> TerrainOutput:
+    """The output of a vertical-only terrain: force ``fz`` [N] and stress ``sz`` [Pa] on z."""
+    zeros = np.zeros_like(fz)
+    return TerrainOutput(np.stack([zeros, zeros, fz], -1), np.stack([zeros, zeros, sz], -1), depth)
+
+
 def mean_stress(force: np.ndarray, areas: np.ndarray) -> np.ndarray:
     """``(-Fx/Ax, -Fy/Ay, Fz/Az)`` [Pa], the channels' sign convention; 0 where an area is 0."""
     sign = np.array([-1.0, -1.0, 1.0])

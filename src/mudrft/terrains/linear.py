@@ -25,7 +25,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -115,11 +115,8 @@ class LinearStiffness:
         sz = self.stress(depth)
         if self.unloading == "zero":
             sz = np.where(vel[..., 2] > 0, 0.0, sz)
-        fz = sz * area_z(foot, depth)
-        zeros = np.zeros_like(fz)
-        force = np.stack([zeros, zeros, fz], axis=-1)
-        stress = np.stack([zeros, zeros, np.where(depth > 0, sz, 0.0)], axis=-1)
-        return LinearState(in_mud=depth > 0), TerrainOutput(force=force, stress=stress, depth=depth)
+        out = vertical_output(sz * area_z(foot, depth), np.where(depth > 0, sz, 0.0), depth)
+        return LinearState(in_mud=depth > 0), out
 
 
 def fit_stiffness(depth: ArrayLike, stress: ArrayLike) -> float:

@@ -40,7 +40,7 @@ from .._validation import set_number as _set
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -191,13 +191,7 @@ class MaxwellMud:
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)
-        fz = sz * area_z(foot, depth)
-        zeros = np.zeros_like(fz)
-        return new, TerrainOutput(
-            force=np.stack([zeros, zeros, fz], -1),
-            stress=np.stack([zeros, zeros, sz], -1),
-            depth=depth,
-        )
+        return new, vertical_output(sz * area_z(foot, depth), sz, depth)
 
     def response(
         self, trajectory: Trajectory, *, characteristic_length: float = 0.05
@@ -223,12 +217,14 @@ class MaxwellMud:
         >>> bool(s.max() > 0 > s.min())
         True
         """
-        if not isinstance(trajectory, Trajectory):
-            raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
-        lc = positive_number("characteristic_length", characteristic_length, unit="m")
-        return _stress_history(
-            self, trajectory.time, trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
-        )
+        return _stress_history(self, trajectory.time, *_gammas(trajectory, characteristic_length))
+
+
+def _gammas(trajectory: Trajectory, characteristic_length: float) -> tuple[np.ndarray, ...]:
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+    lc = positive_number("characteristic_length", characteristic_length, unit="m")
+    return trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
 
 
 def _constants(m: MaxwellMud) -> tuple[float, ...]:
@@ -322,17 +318,13 @@ def fit_maxwell(
     """
     from scipy.optimize import least_squares
 
-    if not isinstance(trajectory, Trajectory):
-        raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+    g, gd = _gammas(trajectory, characteristic_length)
     s = check_finite("stress", stress)
     if s.shape != trajectory.time.shape:
         raise MudrftError(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
-    lc = positive_number("characteristic_length", characteristic_length, unit="m")
     m0 = initial or MaxwellMud()
-    g = trajectory.depth / lc
-    gd = -trajectory.velocity[:, 2] / lc
     inside = g > 0  # out of the mud both models give 0 as terrains (decision D11)
     if not np.any(inside):
         raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")
