@@ -70,10 +70,8 @@ class LoadControl:
         Damping of the spring leg [N s/m].
     foot_mass : float, keyword-only
         Mass of the foot when a spring leg is used [kg].
-    duration : float, keyword-only
-        Simulated time [s].
-    dt : float, keyword-only
-        Time step [s].
+    duration, dt : float, keyword-only
+        Simulated time and time step [s].
     ramp : float, keyword-only
         Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at once.
     """

@@ -154,10 +154,9 @@ def plate_intrusion(
 
     Parameters
     ----------
-    depth : float
-        Intrusion displacement [m] (vertical: below the surface; horizontal: travel).
-    speed : float
-        Intrusion and retraction speed [m/s].
+    depth, speed : float
+        Intrusion displacement [m] (vertical: below the surface; horizontal: travel) and
+        speed, also of the retraction [m/s].
     hold : float
         Time at rest between intrusion and retraction [s].
     angle : float
@@ -246,10 +245,8 @@ def gait(
     ----------
     speed : float
         Gait speed [m/s].
-    depth : float, keyword-only
-        Deepest tip depth [m].
-    stride : float, keyword-only
-        Stride length [m].
+    depth, stride : float, keyword-only
+        Deepest tip depth and stride length [m].
     slip, sway : float, keyword-only
         Forward slip and lateral sway as fractions of the stride [-].
     lift : float, keyword-only

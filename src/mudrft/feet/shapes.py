@@ -134,10 +134,8 @@ class Flat(_ClosedFormFoot):
 
     Parameters
     ----------
-    length : float, optional
-        :math:`L` [m], along y.
-    width : float, optional
-        :math:`W` [m], along x.
+    length, width : float, optional
+        :math:`L` along y and :math:`W` along x [m].
     height : float, optional
         Height of the plate [m]; deeper than this the foot is buried (decision D26).
 
@@ -181,10 +179,8 @@ class SemiCylinder(_ClosedFormFoot):
 
     Parameters
     ----------
-    radius : float, optional
-        :math:`R` [m].
-    width : float, optional
-        :math:`W` [m], along the axis (x).
+    radius, width : float, optional
+        :math:`R` and the length along the axis (x) :math:`W` [m].
     height : float, optional
         Height of the foot [m], <= ``radius``.
 

@@ -123,10 +123,8 @@ def agarwal_xi(
 
     Parameters
     ----------
-    rho_c : array_like
-        Bulk density of the medium [kg/m^3].
-    mu_int : array_like
-        Internal friction coefficient [-].
+    rho_c, mu_int : array_like
+        Bulk density [kg/m^3] and internal friction coefficient [-] of the medium.
     gravity : float, keyword-only
         Gravitational acceleration [m/s^2].
 

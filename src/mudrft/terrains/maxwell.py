@@ -85,24 +85,18 @@ class MaxwellMud:
 
     Parameters
     ----------
-    alpha : float
-        Stiffness of the nonlinear spring [Pa].
-    n : float
-        Its exponent, in (0, 1] [-].
-    modulus : float
-        Spring :math:`G` of the Maxwell element [Pa].
-    relaxation : float
-        Relaxation time :math:`\lambda_M=\eta_M/G` [s].
+    alpha, n : float
+        Stiffness [Pa] and exponent in (0, 1] [-] of the nonlinear spring.
+    modulus, relaxation : float
+        Spring :math:`G` [Pa] and relaxation time :math:`\lambda_M=\eta_M/G` [s] of the
+        Maxwell element.
     sigma_y : float
         Yield suction :math:`\sigma_Y` fed to the filter [Pa].
-    omega : float
-        Natural frequency :math:`\omega_s` of the suction filter [rad/s].
-    damping : float
-        Damping ratio :math:`\zeta_s` of the suction filter [-] (default
-        :math:`1/\sqrt2`, not fitted).
+    omega, damping : float
+        Natural frequency :math:`\omega_s` [rad/s] and damping ratio :math:`\zeta_s` [-]
+        (default :math:`1/\sqrt2`, not fitted) of the suction filter.
     release : float
-        Retraction :math:`r_b` over which the suction input lets go [-] (in units of
-        :math:`L_c`).
+        Retraction :math:`r_b` over which the suction input lets go [-] (in :math:`L_c`).
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's.
     name : str

@@ -41,14 +41,11 @@ class RigidGround:
 
     Parameters
     ----------
-    stiffness : float
-        Penalty stiffness :math:`k` [N/m].
-    damping : float
-        Penalty damping :math:`c` [N s/m].
-    friction : float
-        Coulomb friction coefficient :math:`\mu` [-] (0: frictionless).
-    slip_speed : float
-        Regularisation speed :math:`v_s` of the friction law [m/s].
+    stiffness, damping : float
+        Penalty stiffness :math:`k` [N/m] and damping :math:`c` [N s/m].
+    friction, slip_speed : float
+        Coulomb friction coefficient :math:`\mu` [-] (0: frictionless) and its
+        regularisation speed :math:`v_s` [m/s].
     name : str
         Label in reports.
 

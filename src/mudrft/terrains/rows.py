@@ -1,7 +1,5 @@
-r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain`.
-
-Rows of floats that numba compiles the loop over time steps and feet on (:func:`run`);
-the physics is :func:`~mudrft.terrains.mud.mud_step` and the feet's rules on floats.
+r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain` (numba
+compiles :func:`run` over time steps and feet; the physics is :func:`~.mud.mud_step`).
 
 * state: the horizontal and vertical channels (7 each, :class:`ChannelState`), entry x,
   entry y, line, heading, in_mud;
