@@ -26,7 +26,6 @@ abs = abs  # the builtin, as a name of this namespace
 
 
 def where(cond: bool, a: float, b: float) -> float:
-    """``a`` if ``cond`` else ``b``."""
     return a if cond else b
 
 
@@ -36,17 +35,14 @@ def sign(x: float) -> float:
 
 
 def maximum(a: float, b: float) -> float:
-    """The larger of ``a`` and ``b``."""
     return a if a >= b else b
 
 
 def minimum(a: float, b: float) -> float:
-    """The smaller of ``a`` and ``b``."""
     return a if a <= b else b
 
 
 def clip(x: float, lo: float, hi: float) -> float:
-    """``x`` limited to ``[lo, hi]``."""
     return lo if x < lo else (hi if x > hi else x)
 
 

@@ -202,18 +202,11 @@ def plate_intrusion(
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
-    q = np.where(
-        t < t_in,
-        speed * t,
-        np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
-    )
-    qd = np.where(  # each sample carries the rate of the step that ends there
-        t <= t_in,
-        speed,
-        np.where(t <= t_in + hold, 0.0, np.where(t <= 2 * t_in + hold, -speed, 0.0)),
-    )
-    pos = np.zeros((t.size, 3))
-    vel = np.zeros((t.size, 3))
+    out = np.maximum(depth - speed * (t - t_in - hold), 0.0)
+    q = np.select([t < t_in, t < t_in + hold], [speed * t, depth], out)
+    # each sample carries the rate of the step that ends there
+    qd = np.select([t <= t_in, t <= t_in + hold, t <= 2 * t_in + hold], [speed, 0.0, -speed], 0.0)
+    pos, vel = np.zeros((t.size, 3)), np.zeros((t.size, 3))
     if direction == "vertical":
         pos[:, 2], vel[:, 2] = -q, -qd
     else:

@@ -83,8 +83,8 @@ def first_quadrant(
     Returns
     -------
     tuple
-        ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into [0, pi/2]
-        [rad], and the signs (sx, sy) that map first-quadrant forces back to the world (D9).
+        ``(stress_q, phi, signs)``: the stresses (a copy), the folded heading [rad] and the
+        signs (sx, sy) that map first-quadrant forces back to the world (D9).
     """
     s = _check_stress(stress)
     h = check_finite("heading", heading)
