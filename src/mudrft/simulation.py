@@ -252,10 +252,6 @@ def simulate(
     strict : bool, keyword-only
         Raise a :class:`~mudrft.MudrftError` instead of warning that the foot goes deeper
         than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`).
-
-    Returns
-    -------
-    Result
     """
     if not isinstance(foot, Foot):
         raise MudrftError(

@@ -305,10 +305,6 @@ def fit_maxwell(
         Starting point (default: :class:`MaxwellMud` defaults).
     progress : bool, keyword-only
         Report every 20th evaluation through the ``mudrft.progress`` logger.
-
-    Returns
-    -------
-    MaxwellFit
     """
     from scipy.optimize import least_squares
 
