@@ -242,9 +242,8 @@ class Foot(ABC):
         raise MudrftError(f"{type(self).__name__} does not provide surface elements")
 
     def force(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """World-frame force of the mud on the foot [N], shape (..., 3): arguments as
-        :meth:`resultant`, with signed stresses [Pa] (module docstring) and a world heading
-        [rad] of any value."""
+        """World-frame force of the mud on the foot [N] (..., 3): arguments as :meth:`resultant`,
+        with signed stresses [Pa] and any world heading [rad]."""
         d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         batch_shape(d, s, h)

@@ -83,9 +83,8 @@ def residual(
     deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike, *, linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:  # fmt: skip
-    r"""Balance residual :math:`R` [N] of a linkage and spring (unchecked): > 0 where the
-    springs push the column back open; deflection [m] in [0, stroke], tip depth [m] >= 0,
-    vertical channel stress [Pa]."""
+    r"""Balance residual :math:`R` [N] (> 0: the springs push the column open), unchecked, at
+    a deflection [m], tip depth [m] and vertical stress [Pa]."""
     d, s = np.asarray(depth, dtype=float), np.asarray(sz, dtype=float)
     x = np.asarray(deflection, dtype=float)
     g = linkage.geometry
@@ -271,9 +270,8 @@ def held_deflection(
 def balanced_deflection_on_floats(
     m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
-    r""":func:`balanced_deflection` for one foot on floats (and for the compiled coupling):
-    the scan of D34 node by node, then bisection; ``m`` a :class:`~.linkage.MorphingRow`,
-    depth [m], vertical stress [Pa], previous deflection [m]; returns the deflection [m]."""
+    r""":func:`balanced_deflection` [m] for one foot on floats, ``m`` a
+    :class:`~.linkage.MorphingRow`: depth [m], vertical stress [Pa], previous deflection [m]."""
     stroke = m.stroke
     p = xp.clip(previous, 0.0, stroke)
     r_p = column_residual(m, m.pole_top, m.branch, m, p, depth, sz, xp=xp)
@@ -310,10 +308,8 @@ def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
     sz: float, heading: float, retraction: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
-    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats, for a
-    :class:`~.linkage.MorphingRow` ``m``: previous deflection [m] and seal memory [rad], depth
-    [m], signed stresses [Pa], world heading [rad], time since the retraction began [s].
-    Returns ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)`` [N, m, rad]."""
+    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (arguments as there, ``m``
+    a :class:`~.linkage.MorphingRow`): ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)``."""
     if m.lock >= 0.0:
         delta = m.lock
     else:

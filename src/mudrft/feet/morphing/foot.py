@@ -213,9 +213,8 @@ class MorphingFoot(Foot):
         return np.full(np.broadcast_shapes(np.shape(depth), np.shape(sz)), lock)
 
     def pad_corners(self, deflection: float | None = None) -> NDArray[np.float64]:
-        """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3): pivot-left,
-        pivot-right, rim-right, rim-left, at a deflection [m] (default the locked one, or
-        spread for the free foot)."""
+        """Pad corners (pivot-left, pivot-right, rim-right, rim-left) in the foot frame [m],
+        (n_pads, 4, 3), at a deflection [m] (default the locked one, or spread)."""
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.pad_corners(self.geometry, th)
 
