@@ -429,10 +429,8 @@ def static_sinking(
 
     Parameters
     ----------
-    foot : Foot
-        A foot.
-    mud : Mud
-        The mud (its vertical set is used).
+    foot, mud : Foot, Mud
+        A foot and the mud (its vertical set is used).
     weight : float
         Load [N].
     characteristic_length : float or None, keyword-only

@@ -1,8 +1,7 @@
 r"""Closed triangle meshes of the paper's three feet, generated in code.
 
-Each function returns ``(vertices (n, 3) [m], faces (m, 3) int)``: a closed mesh wound
-outward, in the frame of the matching closed-form foot (tip at the origin, z up). Curved
-surfaces are inscribed polyhedra (vertices on the exact surface).
+Each returns ``(vertices (n, 3) [m], faces (m, 3))``, wound outward, tip at the origin;
+curved surfaces are inscribed polyhedra.
 """
 
 from __future__ import annotations
@@ -55,10 +54,8 @@ def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nd
 def box_mesh(
     length: float, width: float, height: float, *, resolution: int = 1
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Closed box mesh of the flat foot: x in [-W/2, W/2], y in [-L/2, L/2], z in [0, H].
-
-    ``length`` :math:`L` (along y), ``width`` :math:`W` (along x) and ``height`` [m];
-    ``resolution``: grid divisions per edge (``2 resolution^2`` triangles a face).
+    """Closed box mesh of the flat foot, ``length`` [m] along y, ``width`` [m] along x,
+    ``height`` [m] up; ``resolution``: grid divisions per edge.
 
     >>> v, f = box_mesh(0.08, 0.065, 0.026, resolution=2)
     >>> v.shape, f.shape
@@ -91,10 +88,8 @@ def box_mesh(
 def semicylinder_mesh(
     radius: float, width: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-cylindrical foot: axis along x (length ``width`` [m]),
-    cross-section :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)` cut flat at ``height``
-    [m] <= ``radius`` [m]; ``resolution`` arc segments from the tip to the rim, about
-    square elements.
+    r"""Closed mesh of the semi-cylindrical foot: axis along x (length ``width`` [m]), a circle
+    of ``radius`` [m] cut flat at ``height`` [m]; ``resolution`` arc segments tip to rim.
 
     >>> v, f = semicylinder_mesh(0.045, 0.065, 0.026, resolution=4)
     >>> bool(v[:, 2].min() == 0.0), round(float(v[:, 2].max()), 6)
@@ -136,9 +131,8 @@ def semicylinder_mesh(
 def semisphere_mesh(
     radius: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-spherical foot: a cap of ``radius`` and ``height`` [m], flat
-    on top; ``resolution`` rings from the tip to the rim, each of ``4 resolution`` segments
-    (keeping the x and y mirror symmetries).
+    r"""Closed mesh of the semi-spherical foot, a cap of ``radius`` and ``height`` [m];
+    ``resolution`` rings from tip to rim, of ``4 resolution`` segments each.
 
     >>> v, f = semisphere_mesh(0.045, 0.026, resolution=4)
     >>> f.shape

@@ -236,18 +236,16 @@ class GranularRFT(FacetRFT):
     Parameters
     ----------
     zeta : float
-        Scale of the medium [N/m^3]: the vertical stress per depth of a horizontal plate
-        pushed down; default loosely packed poppy seeds, 0.254 N/cm^3 (D50). A value
-        below 1e3 N/m^3 warns (N/cm^3 given as N/m^3, :data:`PLAUSIBLE_ZETA`).
+        Scale of the medium [N/m^3], the vertical stress per depth of a horizontal plate;
+        default loosely packed poppy seeds, 0.254 N/cm^3 (D50); below 1e3 N/m^3 warns.
     coefficients : FourierCoefficients
         2D fit normalised to :math:`\alpha_z(0,\pi/2)=1` (default Li et al.'s generic one);
         a medium's own fit in N/cm^3 goes through :meth:`from_coefficients`.
     extension : {"treers2021", "planar"}
         3D extension (decision D51).
-    rest_speed : float
-        Below this speed [m/s] the last direction of motion is kept (decision D52).
-    leading_width : float
-        Width of the leading-facet ramp [-] (:func:`leading_weight`, D53); 0 is the sharp rule.
+    rest_speed, leading_width : float
+        Below ``rest_speed`` [m/s] the last direction is kept (D52); width of the
+        leading-facet ramp [-] (:func:`leading_weight`, D53), 0 the sharp rule.
     name : str
         Label in reports.
 

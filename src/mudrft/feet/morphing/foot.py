@@ -60,8 +60,7 @@ class MorphingFoot(Foot):
     seal_length : float, keyword-only
         Rim lift :math:`g_s` over which curling pads break the cavity seal [m] (D35).
     curl_delay : float, keyword-only
-        Time after the retraction begins during which the pads stay spread [s] (D35);
-        default 0, they curl the moment the retraction begins.
+        Time after the retraction begins during which the pads stay spread [s] (D35).
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the square root of the spread footprint (D36).
     **overrides
