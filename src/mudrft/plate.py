@@ -75,10 +75,8 @@ def plate_response(
         Plate characteristic length :math:`L_c` [m].
     acceleration : bool or None, keyword-only
         Keep the acceleration term of f_xi (decision D6); None keeps it in the ODE.
-    thixotropy : {"ode", "quasi-static"}, keyword-only
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
-    clock : {"contact", "retraction"}, keyword-only
-        Quasi-static only: the clock of eq. (9) (decision D15).
+    thixotropy, clock : str, keyword-only
+        As :class:`mudrft.MudTerrain` (decision D15).
     xi0 : float, keyword-only
         Initial structure parameter [-].
 

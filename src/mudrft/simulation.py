@@ -117,16 +117,12 @@ class Result:
 
     Attributes
     ----------
-    time : ndarray (n,)
-        Times [s].
+    time, depth : ndarray (n,)
+        Times [s] and tip depth [m].
     position, velocity : ndarray (n, 3)
         Tip position [m] and velocity [m/s] in the world frame.
-    force : ndarray (n, 3)
-        Force of the terrain on the foot [N].
-    stress : ndarray (n, 3)
-        Channel stresses (sx, sy, sz) [Pa] (zeros for terrains without channels).
-    depth : ndarray (n,)
-        Tip depth [m].
+    force, stress : ndarray (n, 3)
+        Force of the terrain on the foot [N]; channel stresses [Pa] (or zeros).
     foot, terrain : str
         Names.
     areas : ndarray (n, 3) or None

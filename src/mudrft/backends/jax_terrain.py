@@ -134,10 +134,10 @@ def terrain_step(
     dt : float
         Step [s], > 0.
     force_fn : Foot or callable, keyword-only
-        A rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or mesh), or
-        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with ``jax.numpy``.
+        A rigid foot of :mod:`mudrft.feet`, or ``force_fn(depth, stress, heading) -> force
+        (..., 3)`` [N] written with ``jax.numpy``.
     characteristic_length : float, keyword-only
-        :math:`L_c` [m]; default the foot's (needed with a function). May be traced.
+        :math:`L_c` [m], may be traced; default the foot's (needed with a function).
     acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
         As :class:`mudrft.MudTerrain` (static under jit).
 

@@ -135,14 +135,12 @@ class MeshFoot(Foot):
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
-        Vertex coordinates [m] (z up), translated so that the lowest point is the tip at
-        the origin.
+        Vertex coordinates [m] (z up), translated to put the lowest point at the origin.
     faces : array_like, shape (m, 3)
-        Vertex indices of each triangle; the winding (right-hand rule) gives the outward
-        normal.
+        Vertex indices of each triangle, wound outward (right-hand rule).
     trailing : bool, optional
         Let facets that trail the horizontal motion resist too (as the semi-sphere's closed
-        form does); default ``False``, leading facets only (D23).
+        form does; D23).
     name : str, optional
         Name used in reports.
 
@@ -151,11 +149,10 @@ class MeshFoot(Foot):
     vertices, faces : ndarray
         Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
     shift : ndarray (3,)
-        Translation added to the given vertices [m], so that the tip is at the origin.
-    closed, flipped : bool
-        Whether the mesh is a closed 2-manifold; whether its winding was reversed.
-    dropped : int
-        Number of zero-area facets dropped.
+        Translation added to the given vertices [m].
+    closed, flipped, dropped : bool, bool, int
+        Whether the mesh is a closed 2-manifold, whether its winding was reversed, and the
+        number of zero-area facets dropped.
 
     Examples
     --------

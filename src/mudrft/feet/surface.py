@@ -169,8 +169,7 @@ def integrate_triangles(
     heading : array_like, shape (...)
         Heading of the horizontal motion from the x axis [rad], any angle.
     trailing : bool, optional
-        Let facets that trail the motion resist too (the sphere's derivation); default
-        ``False``, leading facets only (the flat and semi-cylindrical feet's), D23.
+        Let facets that trail the motion resist too (the sphere's derivation, D23).
     xp : module, optional
         Array namespace (``numpy``, ``jax.numpy``).
 
@@ -193,8 +192,6 @@ def integrate_triangles(
 
     Examples
     --------
-    A 1 m x 1 m downward-facing square at any positive depth carries sz x 1 m^2:
-
     >>> sq = np.array([[[0, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [1, 0, 0]]], float)
     >>> integrate_triangles(sq, 0.01, [0.0, 0.0, 5.0], 0.0).tolist()
     [0.0, 0.0, 5.0]

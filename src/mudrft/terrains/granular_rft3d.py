@@ -300,7 +300,7 @@ def rft3d_forces(
     mu_surf : float, keyword-only
         Intruder-surface friction coefficient of the cap [-].
     coefficients : PolynomialCoefficients, keyword-only
-        The fit.
+        The fit (default :data:`AGARWAL2023`).
     per_element : bool, keyword-only
         Return every element's force (..., m, 3) instead of the sum (..., 3).
     leading_width, wall_width : float, keyword-only

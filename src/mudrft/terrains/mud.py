@@ -277,10 +277,9 @@ class MudTerrain:
         :math:`L_c` [m]; ``None`` uses the foot's own.
     acceleration : bool or None
         Keep the acceleration term of the ODE (decision D6); None: True for the ODE.
-    thixotropy : {"ode", "quasi-static"}
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
-    clock : {"contact", "retraction"}
-        Quasi-static only: the clock of eq. (9) runs from first contact or the retraction.
+    thixotropy, clock : {"ode", "quasi-static"}, {"contact", "retraction"}
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (D15), their clock
+        (eq. 9) running from first contact or from the retraction.
     reset_on_exit : bool
         Land in undisturbed mud after the tip left it (decision D11).
     xi0 : float
