@@ -252,6 +252,13 @@ def check_number(name: str, value: object, *, unit: str = "") -> float:
     return v
 
 
+def positive_int(name: str, value: object, *, what: str = "") -> int:
+    """A count >= 1 as an int (booleans refused); ``what`` says what it counts."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise MudrftError(f"{name} must be an integer >= 1{what}, got {value!r}")
+    return int(value)
+
+
 def positive_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number > 0 as a float (``unit`` for the messages)."""
     v = check_number(name, value, unit=unit)

@@ -10,19 +10,9 @@ import math
 
 import numpy as np
 
-from .._validation import MudrftError, check_length
+from .._validation import MudrftError, check_length, positive_int
 
 __all__ = ["box_mesh", "rim_angle", "semicylinder_mesh", "semisphere_mesh"]
-
-
-def _resolution(resolution: int) -> int:
-    if (
-        isinstance(resolution, bool)
-        or not isinstance(resolution, int | np.integer)
-        or resolution < 1
-    ):
-        raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
-    return int(resolution)
 
 
 def rim_angle(radius: float, height: float) -> float:
@@ -64,7 +54,7 @@ def box_mesh(
     length, width, height = (
         check_length(k, v) for k, v in (("length", length), ("width", width), ("height", height))
     )
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
     ys = np.linspace(-0.5 * length, 0.5 * length, n + 1)
     zs = np.linspace(0.0, height, n + 1)
@@ -99,7 +89,7 @@ def semicylinder_mesh(
         check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
     tm = rim_angle(radius, height)
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     th = np.linspace(-tm, tm, 2 * n + 1)
     ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
     za[[0, -1]] = height  # the rim lies exactly on the top plane
@@ -140,7 +130,7 @@ def semisphere_mesh(
     """
     radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
     tm = rim_angle(radius, height)
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     na = 4 * n
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na

@@ -30,6 +30,7 @@ from ..._validation import (
     check_length,
     nonnegative_number,
     number_in_range,
+    positive_int,
 )
 
 __all__ = [
@@ -83,12 +84,7 @@ class MorphingFootGeometry:
     expanded_angle: float = math.radians(5.0)
 
     def __post_init__(self) -> None:
-        if (
-            not isinstance(self.n_pads, (int, np.integer))
-            or isinstance(self.n_pads, bool)
-            or self.n_pads < 1
-        ):
-            raise MudrftError(f"n_pads must be an integer >= 1, got {self.n_pads!r}")
+        positive_int("n_pads", self.n_pads)
         if self.n_pads > MAX_PADS:
             raise MudrftError(
                 f"n_pads must be at most {MAX_PADS} (the paper's foot has 8; every force sums "
