@@ -1,9 +1,5 @@
-"""mudrft: the 3D force mud exerts on a robot foot.
-
-An implementation of the foot-mud resistive force model of Chen et al. (2026):
-nonlinear elastic resistance, thixotropic viscoelastic stress with a structure
-parameter, and suction with build-up, leak and sealing, integrated over the
-surface of any foot. SI units throughout.
+"""mudrft: the 3D force mud exerts on a robot foot (Chen et al. 2026's resistive force
+model, integrated over the surface of any foot). SI units throughout.
 
 >>> import mudrft
 >>> mud = mudrft.paper_mud(water_content=0.25)

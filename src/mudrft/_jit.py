@@ -1,11 +1,7 @@
 r"""The one physics compiled with numba, as written: nothing reads, rewrites or runs its source.
 
-:func:`jit` registers with :func:`numba.extending.register_jitable` every mudrft function an
-entry point reaches through its global names, and the float namespace :mod:`mudrft._xp`,
-which the entry points (:mod:`mudrft.terrains.rows`) bind to ``xp`` by its global name.
-Compilations are cached on disk, stamped with the source of every function reached, so
-editing ``constitutive/laws.py`` recompiles what inlines it. ``NUMBA_DISABLE_JIT=1`` runs
-the entry points as plain Python.
+:func:`jit` registers every mudrft function an entry point reaches by its global names (and
+:mod:`mudrft._xp`) as jitable; the disk cache is stamped with all their source files.
 """
 
 from __future__ import annotations
@@ -112,7 +108,6 @@ _CACHE_OK = True
 
 
 def _stamp(files: tuple[str, ...]) -> str:
-    """A digest of the contents of ``files``."""
     h = hashlib.sha256()
     for f in files:
         h.update(f.encode())

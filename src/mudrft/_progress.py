@@ -1,5 +1,4 @@
-"""Logging and progress of long jobs, through ``logging.getLogger("mudrft")``: silent
-unless logging is configured or a job gets ``progress=True``; the CLI logs to stderr.
+"""Logging and progress of long jobs through the ``mudrft`` logger (silent unless configured).
 
 >>> p = Progress("demo", enabled=False)
 >>> p(0.5); p.last
@@ -35,9 +34,7 @@ def enable_stderr_logging(level: int = logging.INFO) -> logging.Handler:
 
 
 class Progress:
-    """Report the progress of the job ``label``: called with the fraction done in [0, 1], it
-    logs ``"label: 40 %"`` to ``mudrft.progress`` at most every ``step`` % (when ``enabled``).
-    """
+    """Called with the fraction done in [0, 1], log ``"label: 40 %"`` every ``step`` %."""
 
     def __init__(self, label: str, *, enabled: bool = True, step: int = 10) -> None:
         self.label = label
@@ -62,8 +59,7 @@ class Progress:
 def make_progress(
     progress: bool | Callable[[float], None] | None, label: str
 ) -> Callable[[float], None] | None:
-    """A user's ``progress=`` as a reporter: ``True`` a :class:`Progress` (logging to stderr
-    if logging is not configured), a callable as it is, ``False``/``None`` None."""
+    """A user's ``progress=`` as a reporter: True a :class:`Progress`, a callable as it is."""
     if progress is True:
         if not any(not isinstance(h, logging.NullHandler) for h in logger.handlers) and not (
             logging.getLogger().handlers

@@ -1,7 +1,5 @@
-"""Shared argument checks: an error names the argument, what was expected and what was
-given. Also the input limits (samples, memory, sizes) and warnings for values that look
-like a unit mistake.
-"""
+"""Shared argument checks (the error names the argument, what was expected and what was
+given), input limits, and warnings for values that look like a unit mistake."""
 
 from __future__ import annotations
 
@@ -112,24 +110,23 @@ def check_finite(name: str, value: object) -> np.ndarray:
     return arr
 
 
+def _check_bound(name: str, value: object, unit: str, *, strict: bool) -> np.ndarray:
+    arr = check_finite(name, value)
+    if not np.all(arr > 0 if strict else arr >= 0):
+        u = f" {unit}" if unit else ""
+        op = ">" if strict else ">="
+        raise MudrftError(f"{name} must be {op} 0{u}, got {float(arr.min())!r}")
+    return arr
+
+
 def check_positive(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is > 0."""
-    arr = check_finite(name, value)
-    if not np.all(arr > 0):
-        worst = arr.min() if arr.ndim else arr
-        raise MudrftError(f"{name} must be > 0{(' ' + unit) if unit else ''}, got {float(worst)!r}")
-    return arr
+    return _check_bound(name, value, unit, strict=True)
 
 
 def check_nonnegative(name: str, value: object, *, unit: str = "") -> np.ndarray:
     """Return ``value`` as a finite float array; raise unless every entry is >= 0."""
-    arr = check_finite(name, value)
-    if not np.all(arr >= 0):
-        worst = arr.min() if arr.ndim else arr
-        raise MudrftError(
-            f"{name} must be >= 0{(' ' + unit) if unit else ''}, got {float(worst)!r}"
-        )
-    return arr
+    return _check_bound(name, value, unit, strict=False)
 
 
 def check_in_range(
@@ -196,8 +193,7 @@ def format_bytes(nbytes: float) -> str:
 
 
 def memory_limit() -> float:
-    """Largest allocation mudrft makes without refusing [bytes]: ``MUDRFT_MEMORY_LIMIT`` in
-    the environment, else :data:`MEMORY_LIMIT`."""
+    """Largest allocation mudrft makes [bytes]: ``MUDRFT_MEMORY_LIMIT``, else the default."""
     text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
     if not text:
         return float(MEMORY_LIMIT)
@@ -214,8 +210,7 @@ def memory_limit() -> float:
 
 
 def check_memory(what: str, nbytes: float, *, hint: str) -> None:
-    """Refuse, before allocating, ``what`` (for the message) estimated to need ``nbytes``
-    [bytes], more than :func:`memory_limit`; ``hint`` says how to make it smaller."""
+    """Refuse ``what`` if it needs ``nbytes`` [bytes], more than :func:`memory_limit`."""
     limit = memory_limit()
     if not nbytes <= limit:  # also catches NaN
         raise MudrftError(
@@ -226,11 +221,8 @@ def check_memory(what: str, nbytes: float, *, hint: str) -> None:
 
 
 def check_samples(what: str, count: float, *, hint: str, bytes_per_sample: float = 200.0) -> int:
-    """``ceil(count)`` samples of a run, or an error if above :data:`MAX_SAMPLES`.
-
-    ``what`` says how the count arises and ``hint`` how to ask for fewer, for the message;
-    ``bytes_per_sample`` [bytes] estimates the memory. Call it before allocating.
-    """
+    """``ceil(count)`` samples of a run, or an error if above :data:`MAX_SAMPLES` (``what``
+    and ``hint`` word it; ``bytes_per_sample`` [bytes] estimates the memory)."""
     if not count <= MAX_SAMPLES:  # also catches NaN
         raise MudrftError(
             f"{what} = {float(count):.3g} samples, more than the {MAX_SAMPLES:.0e} one run may "
@@ -260,6 +252,13 @@ def check_number(name: str, value: object, *, unit: str = "") -> float:
     return v
 
 
+def positive_int(name: str, value: object, *, what: str = "") -> int:
+    """A count >= 1 as an int (booleans refused); ``what`` says what it counts."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise MudrftError(f"{name} must be an integer >= 1{what}, got {value!r}")
+    return int(value)
+
+
 def positive_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number > 0 as a float (``unit`` for the messages)."""
     v = check_number(name, value, unit=unit)
@@ -282,8 +281,8 @@ def number_in_range(name: str, value: object, low: float, high: float, *, unit: 
 
 
 def set_number(obj: object, name: str, value: object) -> None:
-    """Store ``value`` (range-checked) as the float field ``name`` of the frozen dataclass
-    ``obj``; an array or a sequence is refused, naming the field."""
+    """Store ``value`` as the float field ``name`` of the frozen dataclass ``obj``; an array
+    or a sequence is refused, naming the field."""
     object.__setattr__(obj, name, check_number(name, value))
 
 
@@ -300,8 +299,8 @@ def check_length(name: str, value: object) -> float:
 
 
 def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
-    """The foot ``what``'s dimensions ``sizes`` [m] as floats (:func:`check_length`); warns
-    if the largest is not a plausible foot size (:data:`PLAUSIBLE_FOOT_SIZE`).
+    """The foot ``what``'s ``sizes`` [m] as floats (:func:`check_length`); an implausible
+    largest one warns.
 
     >>> check_dimensions("Flat", length=0.08, width=0.065)
     {'length': 0.08, 'width': 0.065}
@@ -315,8 +314,7 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
 
 
 def check_characteristic_length(what: str, value: object) -> float:
-    """A characteristic length :math:`L_c` [m] as a float (:func:`check_length`); warns if
-    it is not a plausible foot size (a length in mm read as m)."""
+    """A characteristic length :math:`L_c` [m] as a float; an implausible one warns."""
     v = check_length("characteristic_length", value)
     hint = "it is in metres (50 mm is 0.05)"
     warn_implausible(
@@ -328,9 +326,8 @@ def check_characteristic_length(what: str, value: object) -> float:
 def warn_implausible(
     what: str, value: float, plausible: tuple[float, float], *, unit: str, hint: str,
 ) -> bool:  # fmt: skip
-    """Warn with a :class:`PlausibilityWarning` if ``value`` is outside ``plausible`` (both
-    in ``unit``): valid, but more likely a unit mistake. ``what`` and ``hint`` are for the
-    message. Returns whether it warned."""
+    """Warn (:class:`PlausibilityWarning`) and return True if ``value`` is outside
+    ``plausible`` (both in ``unit``): valid, but more likely a unit mistake."""
     low, high = plausible
     v = float(value)
     if low <= v <= high:
@@ -352,10 +349,6 @@ def warn_plausibility(message: str, category: type[Warning] = PlausibilityWarnin
 def _caller_level() -> int:
     """The ``stacklevel`` of the first caller outside mudrft (3.11 has no ``skip_file_prefixes``)."""
     frame, level = sys._getframe(2), 2
-    while frame.f_back is not None and _in_mudrft(frame.f_globals.get("__name__")):
+    while frame.f_back is not None and f"{frame.f_globals.get('__name__')}.".startswith("mudrft."):
         frame, level = frame.f_back, level + 1
     return level
-
-
-def _in_mudrft(module: object) -> bool:
-    return isinstance(module, str) and (module == "mudrft" or module.startswith("mudrft."))

@@ -1,8 +1,5 @@
-r"""The array namespace for one foot on Python floats (:data:`pyfloat`), also what
-:mod:`mudrft._jit` compiles with numba.
-
-The physics is element-wise code over ``xp`` (numpy, ``jax.numpy`` or this module), its
-last parameter (positional: numba cannot bind keyword-only arguments), using only
+r"""The array namespace for one foot on Python floats (:data:`pyfloat`), also what numba
+compiles. The physics takes ``xp`` as its last, positional parameter and uses only
 :data:`ELEMENTWISE`, arithmetic, comparisons and ``| & ~``.
 
 >>> pyfloat.where(1.0 > 0.0, 2.0, 3.0), pyfloat.maximum(-1.0, 0.0)
@@ -29,7 +26,6 @@ abs = abs  # the builtin, as a name of this namespace
 
 
 def where(cond: bool, a: float, b: float) -> float:
-    """``a`` if ``cond`` else ``b``."""
     return a if cond else b
 
 
@@ -39,17 +35,14 @@ def sign(x: float) -> float:
 
 
 def maximum(a: float, b: float) -> float:
-    """The larger of ``a`` and ``b``."""
     return a if a >= b else b
 
 
 def minimum(a: float, b: float) -> float:
-    """The smaller of ``a`` and ``b``."""
     return a if a <= b else b
 
 
 def clip(x: float, lo: float, hi: float) -> float:
-    """``x`` limited to ``[lo, hi]``."""
     return lo if x < lo else (hi if x > hi else x)
 
 

@@ -22,11 +22,8 @@ __all__ = [
 
 
 class Metrics(dict[str, float]):
-    """The metrics of a run (:meth:`mudrft.Result.metrics`), a dict.
-
-    ``["sinking"]`` of a prescribed motion gives ``max_depth`` with a
-    :class:`DeprecationWarning`: ``sinking`` is the settled depth under a load.
-    """
+    """The metrics of a run (:meth:`mudrft.Result.metrics`), a dict; ``["sinking"]`` of a
+    prescribed motion gives ``max_depth`` with a :class:`DeprecationWarning`."""
 
     def __missing__(self, key: str) -> float:
         if key == "sinking" and "max_depth" in self:
@@ -50,7 +47,6 @@ def _trapz(y: FloatArray, x: FloatArray) -> FloatOrArray:
 
 
 def _history(name: str, value: ArrayLike) -> FloatArray:
-    """A finite 1-D history with at least one sample."""
     arr = check_shape(name, value, (None,))
     if arr.size == 0:
         raise MudrftError(f"{name} must hold at least one sample, got an empty array")
@@ -72,11 +68,9 @@ def _forces(name: str, value: ArrayLike, samples: int) -> FloatArray:
 
 def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
     r"""Relative root-mean-square error [-] of ``predicted`` against ``measured``, 1-D
-    histories on the same samples [any unit] (Table II reports it in %).
+    histories on the same samples [any unit] (Table II, in %); normalised as decision D12:
 
     .. math:: e=\frac{\sqrt{\tfrac1N\sum_k(\hat F_k-F_k)^2}}{\max_k F_k-\min_k F_k}
-
-    The normalisation by the measured range is decision D12.
 
     >>> round(relative_rmse([0.0, 1.0, 2.0], [0.0, 1.0, 3.0]), 6)
     0.19245
@@ -97,7 +91,6 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
             f"predicted and measured must differ by less than the largest float, got a range "
             f"of {span!r}"
         )
-    # normalised before it is squared (no overflow)
     return float(np.sqrt(np.mean(rel * rel)))
 
 

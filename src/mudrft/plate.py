@@ -30,10 +30,9 @@ DEFAULT_PLATE_LENGTH = 0.05
 
 @dataclass(frozen=True, eq=False)
 class PlateResult:
-    """Stress on a plate along a plate test, each field (n,): ``time`` [s],
-    ``displacement`` [m], the total ``stress`` along the motion (eq. 1), its ``normal`` and
-    ``tangential`` parts on the tilted plate (eq. 7), the terms ``elastic``,
-    ``thixotropic`` and ``suction`` of eq. (1) [Pa], and the structure ``xi`` [-]."""
+    """A plate test, each field (n,): ``time`` [s], ``displacement`` [m], the ``stress``
+    (eq. 1), its ``normal`` and ``tangential`` parts (eq. 7), its terms ``elastic``,
+    ``thixotropic``, ``suction`` [Pa], and the structure ``xi`` [-]."""
 
     time: np.ndarray
     displacement: np.ndarray
@@ -76,17 +75,10 @@ def plate_response(
         Plate characteristic length :math:`L_c` [m].
     acceleration : bool or None, keyword-only
         Keep the acceleration term of f_xi (decision D6); None keeps it in the ODE.
-    thixotropy : {"ode", "quasi-static"}, keyword-only
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
-    clock : {"contact", "retraction"}, keyword-only
-        Quasi-static only: the clock of eq. (9) (decision D15).
+    thixotropy, clock : str, keyword-only
+        As :class:`mudrft.MudTerrain` (decision D15).
     xi0 : float, keyword-only
         Initial structure parameter [-].
-
-    Notes
-    -----
-    A vertical plate feels the mud only while its displacement is positive; the mud's
-    memory starts at first contact, as in :func:`mudrft.simulate`.
 
     Examples
     --------
@@ -144,15 +136,12 @@ def plate_steps(
     dt: NDArray[np.float64], *, kappa: float, quasi_static: bool, restart: bool, xi0: float,
     contact: bool, shape: tuple[int, ...] | None = None,
 ) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:  # fmt: skip
-    """The steps of a plate channel along a displacement history (no validation): the loop
-    of :func:`plate_response` and of the calibration.
+    """The steps of a plate channel along a history (unchecked; also the calibration's loop).
 
     ``gamma`` (n, ...) [-] at the samples, ``rate`` [1/s] and ``dt`` [s] (n - 1, ...) over
-    the steps; ``kappa``, ``quasi_static``, ``restart`` from
-    :func:`mudrft.constitutive.dynamics.evaluation`; ``xi0`` [-] the undisturbed structure.
-    With ``contact`` (a vertical plate) the plate feels the mud only while ``gamma > 0``,
-    each entry starting from undisturbed mud. Yields, for k = 1 ... n-1, the state, the
-    stresses [Pa] (valid where ``inside``) and ``inside``, whether the plate is in the mud.
+    the steps, flags from :func:`mudrft.constitutive.dynamics.evaluation`, undisturbed
+    structure ``xi0`` [-]; with ``contact`` the plate feels the mud only while ``gamma > 0``.
+    Yields, for k = 1 ... n-1, the state, the stresses [Pa] and whether in the mud.
     """
     inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
     g = np.where(inside, gamma, 0.0) if contact else gamma

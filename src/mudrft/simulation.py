@@ -54,13 +54,9 @@ G = 9.80665  # standard gravity [m/s^2]
 
 @dataclass(frozen=True, eq=False)
 class LoadControl:
-    r"""A foot driven by a load instead of a prescribed motion.
-
-    A body of ``mass`` carrying ``weight`` rests on the foot, rigidly
-    (:math:`m\ddot z = F_z - W`) or, with ``leg_stiffness``, on a spring-damper leg above
-    a foot of ``foot_mass``. The foot starts at rest with its tip at the surface and settles
-    to its sinking depth; x = y = 0. The coupling is explicit, so ``dt`` must resolve the
-    mud's damping: :func:`simulate` raises with a suggested ``dt`` otherwise.
+    r"""A foot driven by a load: a body rests on it rigidly (:math:`m\ddot z = F_z - W`) or on a
+    spring-damper leg, from rest at the surface (x = y = 0). The coupling is explicit:
+    :func:`simulate` refuses a ``dt`` that does not resolve the mud's damping.
 
     Parameters
     ----------
@@ -74,10 +70,8 @@ class LoadControl:
         Damping of the spring leg [N s/m].
     foot_mass : float, keyword-only
         Mass of the foot when a spring leg is used [kg].
-    duration : float, keyword-only
-        Simulated time [s].
-    dt : float, keyword-only
-        Time step [s].
+    duration, dt : float, keyword-only
+        Simulated time and time step [s].
     ramp : float, keyword-only
         Time over which the load rises linearly from 0 to ``weight`` [s]; 0 applies it at once.
     """
@@ -123,16 +117,12 @@ class Result:
 
     Attributes
     ----------
-    time : ndarray (n,)
-        Times [s].
+    time, depth : ndarray (n,)
+        Times [s] and tip depth [m].
     position, velocity : ndarray (n, 3)
         Tip position [m] and velocity [m/s] in the world frame.
-    force : ndarray (n, 3)
-        Force of the terrain on the foot [N].
-    stress : ndarray (n, 3)
-        Channel stresses (sx, sy, sz) [Pa] (zeros for terrains without channels).
-    depth : ndarray (n,)
-        Tip depth [m].
+    force, stress : ndarray (n, 3)
+        Force of the terrain on the foot [N]; channel stresses [Pa] (or zeros).
     foot, terrain : str
         Names.
     areas : ndarray (n, 3) or None
@@ -166,17 +156,14 @@ class Result:
         return _m.normalized_stress(self.force, self.areas)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
-        """Write ``time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]`` to ``path``, atomically;
-        an existing file only with ``overwrite=True``."""
+        """Write :data:`CSV_COLUMNS` to ``path`` atomically; overwrite only with ``overwrite``."""
         data = np.column_stack([self.time, self.position, self.force])
-
-        def write(tmp: Path) -> None:
-            np.savetxt(
-                tmp, data, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.9g"
-            )
-
+        head = ",".join(CSV_COLUMNS)
         return atomic_write(
-            path, write, overwrite=overwrite, option="overwrite=True (CLI: --force)"
+            path,
+            lambda tmp: np.savetxt(tmp, data, delimiter=",", header=head, comments="", fmt="%.9g"),
+            overwrite=overwrite,
+            option="overwrite=True (CLI: --force)",
         )
 
     def to_pandas(self) -> pd.DataFrame:
@@ -239,7 +226,8 @@ def simulate(
     dt: float | None = None, progress: bool | Callable[[float], None] = False,
     strict: bool = False,
 ) -> Result:  # fmt: skip
-    """Run a foot through a terrain along a prescribed motion or under a prescribed load.
+    """Run a foot through a terrain along a prescribed motion or under a prescribed load
+    (Chen et al. 2026, eqs. 1-7 and 12-14).
 
     Parameters
     ----------
@@ -260,15 +248,6 @@ def simulate(
     strict : bool, keyword-only
         Raise a :class:`~mudrft.MudrftError` instead of warning that the foot goes deeper
         than its own height (:class:`~mudrft.trajectories.BuriedFootWarning`).
-
-    Returns
-    -------
-    Result
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, eqs. (1)-(7) and (12)-(14).
     """
     if not isinstance(foot, Foot):
         raise MudrftError(
@@ -337,8 +316,7 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
         )
     if load.leg_stiffness is not None:
         _check_leg_stability(load, c)
-    # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
-    try:
+    try:  # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
         d_eq = static_sinking(foot, mud, load.weight, characteristic_length=lc)
         stiffness = (_static_support(foot, mud, lc)(1.01 * d_eq) - load.weight) / (0.01 * d_eq)
     except (MudrftError, ZeroDivisionError, FloatingPointError):
@@ -357,9 +335,8 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
 
 
 def _check_leg_stability(load: LoadControl, c_mud: float) -> None:
-    r"""Refuse a spring leg the semi-implicit Euler step cannot integrate: stable while
-    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`,
-    :math:`\omega^2=k/\mu` (:math:`\mu` the reduced mass); refused above 0.8 of it."""
+    r"""Refuse a leg the semi-implicit Euler step cannot integrate (above 0.8 of the limit of
+    :math:`\omega^2h^2+2\rho h<4`, :math:`\rho=c_{mud}/m_f+c_{leg}/\mu`, :math:`\omega^2=k/\mu`)."""
     mf, mb = load.foot_mass, load.body_mass
     mu = mf * mb / (mf + mb)
     rate = c_mud / mf + load.leg_damping / mu
@@ -387,20 +364,15 @@ def _simulate_load(
     zf, vf = np.zeros(n), np.zeros(n)  # foot tip height and velocity
     force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     spring = load.leg_stiffness is not None
-    zb, vb = 0.0, 0.0  # body displacement from its rest position over an unloaded leg
-    z, v = 0.0, 0.0
-    state = terrain.initial_state(foot, np.array([0.0, 0.0, 0.0]))
-    every = max(n // 20, 1)
-    f_prev = 0.0
+    zb = vb = z = v = 0.0  # body (from its rest over an unloaded leg) and foot
+    state, every, f_prev = terrain.initial_state(foot, np.zeros(3)), max(n // 20, 1), 0.0
     for k in range(1, n):
         W = load.weight * (min(t[k] / load.ramp, 1.0) if load.ramp > 0 else 1.0)
-        # semi-implicit Euler with the terrain force of the previous step (explicit coupling)
-        if not spring:
+        if not spring:  # semi-implicit Euler, the terrain force of the previous step
             a = (f_prev - W) / m
             v = v + a * dt
             z = z + v * dt
         else:
-            # leg extension e = zb - z (0 at rest); the spring-damper pulls body and foot together
             k_leg = float(load.leg_stiffness)  # type: ignore[arg-type]
             f_leg = k_leg * (zb - z) + load.leg_damping * (vb - v)
             vb = vb + (-W - f_leg) / m * dt
@@ -415,8 +387,8 @@ def _simulate_load(
         zf[k], vf[k] = z, v
         if report is not None and k % every == 0:
             report(k / (n - 1))
-    pos = np.column_stack([np.zeros(n), np.zeros(n), zf])
-    vel = np.column_stack([np.zeros(n), np.zeros(n), vf])
+    pos, vel = np.zeros((n, 3)), np.zeros((n, 3))
+    pos[:, 2], vel[:, 2] = zf, vf
     depth = np.maximum(-zf, 0.0)
     hint = "; a lighter load or a larger foot stays within it" + (
         ". Is the weight in N (m kg weigh 9.81 m N)?" if depth.max() > BURIED_SEARCH * foot.height else ""
@@ -431,8 +403,7 @@ def _simulate_load(
 
 
 def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
-    """The static vertical support ``F_z(d)`` [N] at tip depth ``d`` [m]:
-    :math:`\\sigma_b = \\alpha (d/L_c)^n` over the foot."""
+    """The static support ``F_z(d)`` [N] at tip depth ``d`` [m], :math:`\\alpha (d/L_c)^n`."""
     p = mud.vertical
 
     def force(d: float) -> float:
@@ -449,18 +420,13 @@ BURIED_SEARCH = 4.0
 def static_sinking(
     foot: Foot, mud: Mud, weight: float, *, characteristic_length: float | None = None
 ) -> float:
-    r"""Depth at which the static (fully relaxed) mud support equals ``weight`` [m].
-
-    At rest the thixotropic stress relaxes to zero and no suction acts, so the balance is
-    :math:`F_z(d,\,\sigma_b(d))=W` with :math:`\sigma_b=\alpha(d/L_c)^n`, solved down to
-    :data:`BURIED_SEARCH` times the foot's height (deeper, a :class:`~mudrft.MudrftError`).
+    r"""Depth [m] where the fully relaxed support :math:`F_z(d,\,\alpha(d/L_c)^n)` equals
+    ``weight``, searched down to :data:`BURIED_SEARCH` times the foot's height.
 
     Parameters
     ----------
-    foot : Foot
-        A foot.
-    mud : Mud
-        The mud (its vertical set is used).
+    foot, mud : Foot, Mud
+        A foot and the mud (its vertical set is used).
     weight : float
         Load [N].
     characteristic_length : float or None, keyword-only
@@ -497,8 +463,7 @@ def static_sinking(
             "the model does not count (decision D26), would carry part of the load. Is the "
             "weight in newtons (a mass of m kg weighs 9.81 m N)?"
         )
-    # a light load can balance far below a nanometre: solved in log(d)
-    lo = hi * 1e-12
+    lo = hi * 1e-12  # a light load can balance far below a nanometre: solved in log(d)
     while support(lo) > 0:
         if lo < 1e-300:
             return lo

@@ -1,9 +1,4 @@
-r"""Prescribed motions: the paper's plate tests E1-E4 and a stepping gait cycle.
-
-A :class:`Trajectory` is the path of a foot's tip (its lowest point) in the world
-frame: sample times [s], positions [m] and velocities [m/s]. The mud surface is
-z = 0, so the tip depth is ``max(-z, 0)``.
-"""
+r"""Prescribed motions of the foot's tip: the paper's plate tests E1-E4 and a gait cycle."""
 
 from __future__ import annotations
 
@@ -52,8 +47,7 @@ def check_unburied(
     foot: str, height: float, depth: float, *, how: str, strict: bool, hint: str | None = None,
 ) -> None:  # fmt: skip
     """Warn (:class:`BuriedFootWarning`), or raise under ``strict``, when the deepest tip
-    ``depth`` [m] exceeds the foot's ``height`` [m]; ``foot``, ``how`` (what pushed it
-    there) and ``hint`` are for the message."""
+    ``depth`` [m] exceeds the foot's ``height`` [m]; the other arguments word the message."""
     if not depth > height * (1 + 1e-9):
         return
     if hint is None:
@@ -69,9 +63,8 @@ def check_unburied(
 
 
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
-    """Warn when the velocity [m/s] is not the rate of the position [m]: the step's mean
-    velocity must lie between the velocities at its ends, up to a quarter of the path's
-    extent summed over the steps in the mud (a flipped sign or mm/s breaks it)."""
+    """Warn when the velocity [m/s] is not the rate of the position [m] (a flipped sign, mm/s):
+    each step's mean velocity must lie between its ends', up to a quarter of the extent."""
     dt = np.diff(t)[:, None]
     dp = np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
@@ -129,12 +122,8 @@ class Trajectory:
 
     @classmethod
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
-        """Build a trajectory from sampled positions [m] at ``time`` [s].
-
-        The velocity of sample k is the rate over the step that ends there,
-        (p_k - p_{k-1}) / (t_k - t_{k-1}) [m/s] (sample 0 takes the first step's), the rate
-        :func:`~mudrft.simulate` integrates over that step.
-        """
+        """A trajectory of positions [m] at ``time`` [s]; the velocity of sample k is the rate
+        over the step that ends there [m/s] (sample 0 takes the first step's)."""
         t = check_increasing("time", time)
         p = check_finite("position", position)
         if p.shape != (t.size, 3):
@@ -161,14 +150,13 @@ def plate_intrusion(
     depth: float = 0.03, speed: float = 0.02, hold: float = 1.0, angle: float = 0.0,
     direction: str = "vertical", *, dt: float = 1e-3, rest: float = 0.5,
 ) -> Trajectory:  # fmt: skip
-    """The paper's plate test (E1-E4): intrude at constant speed, hold, retract at the same speed.
+    """The paper's plate test (E1-E4, Sec. IV-A): intrude, hold, retract at the same speed.
 
     Parameters
     ----------
-    depth : float
-        Intrusion displacement [m] (vertical: below the surface; horizontal: travel).
-    speed : float
-        Intrusion and retraction speed [m/s].
+    depth, speed : float
+        Intrusion displacement [m] (vertical: below the surface; horizontal: travel) and
+        speed, also of the retraction [m/s].
     hold : float
         Time at rest between intrusion and retraction [s].
     angle : float
@@ -184,11 +172,6 @@ def plate_intrusion(
     -------
     Trajectory
         With ``meta`` holding the protocol and the intrusion ``"displacement"`` [m].
-
-    References
-    ----------
-    .. [1] Chen et al., "A Foot Resistive Force Model for Legged Locomotion on Muddy
-       Terrains", 2026, Sec. IV-A, Table I (plate tests).
 
     Examples
     --------
@@ -218,21 +201,12 @@ def plate_intrusion(
     )
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
-    # the corners exactly, so the piecewise-linear input is exact
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
-    q = np.where(
-        t < t_in,
-        speed * t,
-        np.where(t < t_in + hold, depth, np.maximum(depth - speed * (t - t_in - hold), 0.0)),
-    )
+    out = np.maximum(depth - speed * (t - t_in - hold), 0.0)
+    q = np.select([t < t_in, t < t_in + hold], [speed * t, depth], out)
     # each sample carries the rate of the step that ends there
-    qd = np.where(
-        t <= t_in,
-        speed,
-        np.where(t <= t_in + hold, 0.0, np.where(t <= 2 * t_in + hold, -speed, 0.0)),
-    )
-    pos = np.zeros((t.size, 3))
-    vel = np.zeros((t.size, 3))
+    qd = np.select([t <= t_in, t <= t_in + hold, t <= 2 * t_in + hold], [speed, 0.0, -speed], 0.0)
+    pos, vel = np.zeros((t.size, 3)), np.zeros((t.size, 3))
     if direction == "vertical":
         pos[:, 2], vel[:, 2] = -q, -qd
     else:
@@ -264,10 +238,8 @@ def gait(
     ----------
     speed : float
         Gait speed [m/s].
-    depth : float, keyword-only
-        Deepest tip depth [m].
-    stride : float, keyword-only
-        Stride length [m].
+    depth, stride : float, keyword-only
+        Deepest tip depth and stride length [m].
     slip, sway : float, keyword-only
         Forward slip and lateral sway as fractions of the stride [-].
     lift : float, keyword-only

@@ -1,10 +1,5 @@
-"""Fast and differentiable backends of the mud model; they hold no physics of their own.
-
-* :class:`BatchedMud`: N feet, each with its own mud, state and motion, advanced by one call
-  (numpy, numba or JAX); ``snapshot()`` and ``restore()`` for a planner's rollouts;
-* :mod:`mudrft.backends.jax`: jit-compiled, vmapped, differentiable step, scan and surface
-  integration (optional extra ``jax``);
-* :mod:`mudrft.backends.numba`: the compiled loop over feet.
+"""Fast and differentiable backends of the mud model (:class:`BatchedMud`,
+:mod:`mudrft.backends.jax`, :mod:`mudrft.backends.numba`); no physics of their own.
 
 >>> import mudrft.backends as mb
 >>> mb.available()[0]

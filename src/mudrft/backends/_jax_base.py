@@ -49,14 +49,9 @@ def _jnp() -> ModuleType:
 
 
 class JaxParams(NamedTuple):
-    """Parameters of the mud model as a JAX pytree (names and units of MudParameters).
-
-    Float64 arrays ``alpha`` [Pa], ``n`` [-], ``lam`` [s], ``eta_m``, ``eta_inf`` [Pa s],
-    ``gamma_dot_c`` [1/s], ``tau_build``, ``tau_leak`` [s], ``epsilon`` [-], ``sigma_y``
-    [Pa], ``nu`` [1/s], ``k_a`` [1/s], with optional batch axes and, for a foot's x, y, z
-    channels, a trailing axis of 3. ``k_a`` does not follow ``lam`` under differentiation:
-    :meth:`with_default_k_a` ties it to ``1/lam`` (decision D72).
-    """
+    """Parameters of the mud model as a JAX pytree of float64 arrays (the names and units of
+    MudParameters; for x, y, z channels a trailing axis of 3). ``k_a`` does not follow
+    ``lam`` under differentiation: :meth:`with_default_k_a` ties it (decision D72)."""
 
     alpha: XpArray
     n: XpArray
@@ -89,7 +84,6 @@ def to_jax(params: MudParameters | Mud) -> JaxParams:
     >>> to_jax(mudrft.paper_mud(0.25)).alpha.shape
     (3,)
     """
-
     jnp = _jnp()
     if isinstance(params, Mud):
         params = channel_parameters(params)
@@ -129,7 +123,6 @@ def initial_state(
 ) -> ChannelState:
     """Undisturbed channel state of batch ``shape`` as JAX arrays, with structure ``xi0``
     [-] and displacement ``gamma`` [-] (:func:`mudrft.constitutive.initial_state`)."""
-
     jnp = _jnp()
     return ChannelState(*(jnp.asarray(a) for a in np_initial(shape, xi0=xi0, gamma=gamma)))
 

@@ -1,11 +1,8 @@
-r"""Batched evaluation: :class:`BatchedMud` advances N feet of one shape, each with its own
-mud, state and motion, by the one terrain step of :class:`mudrft.MudTerrain`.
+r""":class:`BatchedMud` advances N feet of one shape, each with its own mud, state and motion.
 
 Backends: ``"numpy"`` (any foot), ``"numba"`` (compiled, multi-threaded from
-:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on; a batch of one is the fast single-foot
-stepper), ``"jax"`` (:func:`mudrft.backends.jax.terrain_step` under :func:`jax.jit`;
-closed-form and mesh feet). ``snapshot()`` and ``restore()`` save and restore the mud, for
-a planner's rollouts: bit-identical continuations, any number of times.
+:data:`~mudrft.backends.numba.PARALLEL_MIN` feet on), ``"jax"`` (closed-form and mesh feet,
+under :func:`jax.jit`). ``snapshot()`` and ``restore()`` give bit-identical continuations.
 """
 
 from __future__ import annotations
@@ -39,10 +36,9 @@ BYTES_PER_FOOT = 2048
 
 
 class Snapshot(NamedTuple):
-    """The state of a :class:`BatchedMud` after a step, as ``snapshot()`` returns it:
-    ``state``, the mud under the feet (read-only arrays of shape (N,), which also step on in
-    :meth:`mudrft.MudTerrain.step`) and the foot mechanism's state (None for rigid feet);
-    ``force`` [N] and ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) of the last step."""
+    """A :class:`BatchedMud` after a step: ``state`` (read-only (N,) arrays, also a
+    :class:`~mudrft.terrains.mud.MudState`), ``force`` [N], ``stress`` [Pa] (N, 3), ``depth``
+    [m] (N,)."""
 
     state: MudState
     force: NDArray[np.float64]
@@ -57,7 +53,7 @@ def _map_leaves(fn: Any, tree: Any) -> Any:
     return fn(tree)
 
 
-def _leaves(tree: Any) -> list[Any]:
+def _leaves(tree: Any) -> list[Any]:  # the leaves of nested named tuples
     if isinstance(tree, tuple) and hasattr(tree, "_fields"):
         return [leaf for v in tree for leaf in _leaves(v)]
     return [tree]
@@ -73,7 +69,6 @@ def _frozen(value: Any) -> Any:
 
 
 def _copy_foot_state(foot_state: Any) -> Any:
-    """An independent copy of a foot mechanism's state (None for rigid feet)."""
     if foot_state is None:
         return None
     if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
@@ -82,8 +77,7 @@ def _copy_foot_state(foot_state: Any) -> Any:
 
 
 def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
-    """The channels of ``snapshot`` for feet of shape ``batch``; a snapshot of one foot
-    (shape () or (1,)) is broadcast to every foot."""
+    """The channels of ``snapshot`` for feet of shape ``batch`` (one foot's broadcast)."""
     if not isinstance(snapshot, Snapshot) or not isinstance(snapshot.state, MudState):
         raise MudrftError(
             f"snapshot must be what BatchedMud.snapshot() returned, got {type(snapshot).__name__}"
@@ -106,8 +100,7 @@ def _check_snapshot(snapshot: object, batch: tuple[int, ...]) -> MudChannels:
 
 
 def batched_channel_parameters(mud: Mud | Sequence[Mud], n: int) -> MudParameters:
-    """Channel parameters (x, y, z) of ``mud`` (one Mud or ``n`` muds) for ``n`` feet,
-    validated: fields of shape (3,) if shared, else (n, 3).
+    """Channel parameters (x, y, z) of one Mud or ``n`` muds for ``n`` feet: (3,) or (n, 3).
 
     >>> import mudrft
     >>> muds = [mudrft.paper_mud(w) for w in (0.25, 0.3, 0.35)]
@@ -148,8 +141,8 @@ def batched_mud(mud: Mud | Sequence[Mud], n: int) -> Mud:
 
 
 class BatchedMud:
-    """N feet of one shape in mud, advanced together (see the module docstring); after each
-    step ``force`` [N], ``stress`` [Pa] (N, 3) and ``depth`` [m] (N,) hold its outputs.
+    """N feet of one shape in mud, advanced together; ``force`` [N], ``stress`` [Pa] (N, 3)
+    and ``depth`` [m] (N,) hold the last step's outputs.
 
     Parameters
     ----------
@@ -213,8 +206,7 @@ class BatchedMud:
             base = MudTerrain(mud, **options)
         self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
-        # one foot on numpy: MudTerrain's step on Python floats (docs/performance.md)
-        self._one: MudTerrain | None = None
+        self._one: MudTerrain | None = None  # one foot on numpy: the step on Python floats
         if self.backend == "numpy" and self.n == 1:
             given = self._args[0]
             one = given[0] if isinstance(given, Sequence) and len(given) == 1 else base.mud
@@ -224,7 +216,6 @@ class BatchedMud:
         self._setup_backend()
         self.reset(np.zeros(3) if position is None else position)
 
-    # -- set-up ---------------------------------------------------------------------------
     def _setup_backend(self) -> None:
         if self.backend == "numba":
             from ..terrains import rows
@@ -273,7 +264,6 @@ class BatchedMud:
             self._jax_unravel = unravel
             self._mjax = mjax
 
-    # -- state ----------------------------------------------------------------------------
     def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
         if (  # the usual case, checked in a few microseconds (per-step coupling)
             type(value) is np.ndarray
@@ -316,14 +306,9 @@ class BatchedMud:
             self._fst = np.tile(self._fst0, (n, 1))
             self._out = np.zeros((1, n, N_OUT))
 
-    # -- stepping -------------------------------------------------------------------------
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
-        """Advance every foot by ``dt`` and return the forces of the mud on them.
-
-        ``position`` [m] (world frame, at the end of the step) and ``velocity`` [m/s] have
-        shape (N, 3) or (3,); ``dt`` [s] > 0. Returns the forces (N, 3) [N], also in
-        :attr:`force`.
-        """
+        """Advance every foot by ``dt`` [s] to ``position`` [m] at ``velocity`` [m/s] ((N, 3) or
+        (3,)); return the forces of the mud on them (N, 3) [N], also in :attr:`force`."""
         pos = self._inputs("position", position)
         vel = self._inputs("velocity", velocity)
         if not (type(dt) is float and 0.0 < dt < math.inf):
@@ -354,10 +339,8 @@ class BatchedMud:
             )
         return self.force
 
-    # -- snapshots ----------------------------------------------------------
     def snapshot(self) -> Snapshot:
-        """Every foot's state after the last step (the same on every backend), a read-only
-        copy to :meth:`restore` later."""
+        """Every foot's state after the last step, a read-only copy to :meth:`restore` later."""
         foot_state = None
         if self.backend == "numba":
             from ..feet.morphing.equilibrium import MorphingState
@@ -378,15 +361,14 @@ class BatchedMud:
         return Snapshot(state, _frozen(self.force), _frozen(self.stress), _frozen(self.depth))
 
     def restore(self, snapshot: Snapshot) -> None:
-        """Put every foot back into the state of ``snapshot`` (of a ``BatchedMud`` of the same
-        feet, any backend); a snapshot of one foot puts every foot into its state."""
+        """Put every foot back into the state of ``snapshot`` (of the same feet, any backend, or
+        of one foot)."""
         n = (self.n,)
         ch = _check_snapshot(snapshot, n)
         foot_state = _copy_foot_state(snapshot.state.foot)
         if self.backend == "numba":
             from ..terrains.rows import N_OUT, state_rows
 
-            # fresh arrays: the compiled step writes into them
             self._st, self._out = state_rows(ch), np.zeros((1, self.n, N_OUT))
             self._fst = np.tile(self._fst0, (self.n, 1))
             if foot_state is not None:

@@ -1,12 +1,6 @@
-r"""JAX backend: jit-compiled, vmapped and differentiable versions of the mud model.
-
-Optional extra ``jax``, imported on first call. The library's own update rules run with
-``xp=jax.numpy``: :func:`step` and :func:`run` are :func:`mudrft.constitutive.dynamics.step`
-under :func:`jax.jit` and :func:`jax.lax.scan`, :func:`batched_step` maps the step with
-:func:`jax.vmap`, :func:`mesh_force` integrates a triangulated foot (differentiable in its
-vertices), and :func:`terrain_step` and :func:`simulate` are :class:`mudrft.MudTerrain` for
-a rigid foot. Parameters travel as a :class:`JaxParams` pytree (:func:`to_jax`). The first
-call switches JAX to 64-bit floats process-wide (decision D70).
+r"""JAX backend (optional extra ``jax``): the library's own rules with ``xp=jax.numpy``, jitted,
+vmapped and differentiable. Parameters travel as a :class:`JaxParams` pytree
+(:func:`to_jax`); the first call switches JAX to 64-bit floats process-wide (decision D70).
 
 Examples
 --------
@@ -62,7 +56,6 @@ __all__ = [
 
 @functools.cache
 def _compiled() -> dict[str, Any]:
-    """The jit-compiled functions, built once."""
     jax = enable_x64()
     import jax.numpy as jnp
 
@@ -121,7 +114,6 @@ def _compiled() -> dict[str, Any]:
 
 
 def _check_state(state: ChannelState, made_by: str) -> None:
-    """``state`` must be a :class:`ChannelState`; the message says how to make one."""
     if not isinstance(state, ChannelState):
         raise MudrftError(f"state must be a ChannelState ({made_by}), got {type(state).__name__}")
 
@@ -133,13 +125,10 @@ def step(
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     """Jit-compiled constitutive step (:func:`mudrft.constitutive.dynamics.step`).
 
-    ``params`` from :func:`to_jax` broadcast with the ``state``; ``gamma`` is the
-    dimensionless displacement at the end of the step [-], ``gamma_dot`` the rate over it
-    [1/s], ``dt`` the step [s] > 0 and ``seal`` the sealing factor in [0, 1] [-];
-    ``acceleration``, ``thixotropy`` and ``clock`` choose the evaluation
-    (:func:`mudrft.constitutive.dynamics.evaluation`) and are static under jit. Concrete
-    inputs are checked; traced ones (inside the caller's ``jit``) cannot be. Returns the
-    new :class:`~mudrft.constitutive.state.ChannelState` and the stresses [Pa].
+    ``params`` (:func:`to_jax`) broadcast with the ``state``; ``gamma`` [-] at the end of the
+    step, ``gamma_dot`` [1/s] over it, ``dt`` [s] > 0, ``seal`` in [0, 1] [-]; the static
+    options as :func:`mudrft.constitutive.dynamics.evaluation`. Concrete inputs are checked,
+    traced ones cannot be. Returns the new state and the stresses [Pa].
     """
     check_params(params)
     _check_state(state, "initial_state(...)")
@@ -209,11 +198,9 @@ def run(
     """:func:`mudrft.constitutive.dynamics.run` as a compiled :func:`jax.lax.scan`,
     differentiable with respect to ``params``, ``gamma`` and ``state``.
 
-    ``time`` (n,) are strictly increasing times [s] and ``gamma`` (n, ...) the
-    dimensionless displacement at them [-]; ``state`` defaults to undisturbed mud with
-    structure ``xi0`` [-] at ``gamma[0]``; ``seal`` [-] is a scalar or of shape (n, ...);
-    the other options as :func:`step`. Returns a
-    :class:`~mudrft.constitutive.dynamics.ChannelHistory` of JAX arrays.
+    ``time`` (n,) [s] increasing, ``gamma`` (n, ...) [-]; ``state`` defaults to undisturbed
+    mud (structure ``xi0`` [-]) at ``gamma[0]``; ``seal`` [-] a scalar or (n, ...); the other
+    options as :func:`step`. Returns a :class:`~mudrft.constitutive.dynamics.ChannelHistory`.
 
     >>> import numpy as np, mudrft
     >>> t = np.linspace(0.0, 1.0, 11)
@@ -261,14 +248,11 @@ def mesh_force(
     vertices: JaxArrayLike, faces: JaxArrayLike, depth: JaxArrayLike, stress: JaxArrayLike,
     heading: JaxArrayLike, *, trailing: bool = False,
 ) -> Array:  # fmt: skip
-    """Force of the mud on a triangulated foot [N], (..., 3) in the world frame,
-    differentiable in ``vertices``: :func:`mudrft.feet.surface.integrate_triangles` on
-    ``vertices[faces]``.
+    """Force of the mud on a triangulated foot [N] (..., 3), differentiable in ``vertices``:
+    :func:`mudrft.feet.surface.integrate_triangles` on ``vertices[faces]``.
 
-    ``vertices`` (v, 3) are in the foot frame with the tip at z = 0 [m]; ``faces`` (m, 3)
-    integer triangles, counter-clockwise seen from outside; ``depth`` the tip depth [m];
-    ``stress`` (..., 3) the channel stresses [Pa]; ``heading`` the horizontal heading of the
-    motion [rad]; ``trailing`` loads trailing faces too (give the foot's ``foot.trailing``).
+    ``vertices`` (v, 3) [m] with the tip at z = 0, integer ``faces`` (m, 3) wound outward,
+    tip ``depth`` [m], ``stress`` (..., 3) [Pa], ``heading`` [rad]; ``trailing`` as the foot's.
     """
     jnp = _jnp()
     v = jnp.asarray(vertices, dtype=float)

@@ -1,7 +1,4 @@
-"""The mud's one terrain step under JAX: :func:`terrain_step` and a scanned :func:`simulate`.
-
-Part of the JAX backend (:mod:`mudrft.backends.jax` re-exports every name).
-"""
+"""The mud's terrain step under JAX (re-exported by :mod:`mudrft.backends.jax`)."""
 
 from __future__ import annotations
 
@@ -95,12 +92,8 @@ def foot_rule(
 
 
 def mud_constants(params: JaxParams) -> tuple[ChannelConstants, ChannelConstants]:
-    """The mud's ``(horizontal, vertical)`` channel constants from ``params = to_jax(mud)``.
-
-    What the terrain step and the MJX coupling run on (``constants=`` of
-    :meth:`mudrft.integrations.mjx.MjxCoupling.step`); traceable, so differentiable by the
-    mud's parameters.
-    """
+    """The mud's ``(horizontal, vertical)`` channel constants from ``params = to_jax(mud)``
+    (``constants=`` of :meth:`mudrft.integrations.mjx.MjxCoupling.step`); traceable."""
     check_params(params, channels=True)
     tree_map = enable_x64().tree_util.tree_map
     hor = channel_constants(tree_map(lambda a: a[..., 0], params))
@@ -141,10 +134,10 @@ def terrain_step(
     dt : float
         Step [s], > 0.
     force_fn : Foot or callable, keyword-only
-        A rigid foot of :mod:`mudrft.feet` (flat, semi-cylinder, semi-sphere or mesh), or
-        ``force_fn(depth, stress, heading) -> force (..., 3)`` [N] written with ``jax.numpy``.
+        A rigid foot of :mod:`mudrft.feet`, or ``force_fn(depth, stress, heading) -> force
+        (..., 3)`` [N] written with ``jax.numpy``.
     characteristic_length : float, keyword-only
-        :math:`L_c` [m]; default the foot's (needed with a function). May be traced.
+        :math:`L_c` [m], may be traced; default the foot's (needed with a function).
     acceleration, reset_on_exit, xi0, heading_speed, thixotropy, clock : keyword-only
         As :class:`mudrft.MudTerrain` (static under jit).
 
@@ -195,14 +188,10 @@ def simulate(
     acceleration: bool | None = None, reset_on_exit: bool = True, xi0: float = 0.0,
     heading_speed: float = 1e-6, thixotropy: str = "ode", clock: str = "contact",
 ) -> tuple[Array, Array, Array]:  # fmt: skip
-    """Run :func:`terrain_step` along a trajectory with :func:`jax.lax.scan`, sampled as
-    :func:`mudrft.simulate`: ``time`` (n,) [s], ``position`` [m] and ``velocity`` [m/s]
-    (n, ..., 3); the options as :func:`terrain_step`.
-
-    Traceable and differentiable by ``params``, the foot geometry in ``force_fn`` or the
-    trajectory; outside ``jit`` every call compiles its scan again, so jit its caller.
-    Returns ``force`` [N] and ``stress`` [Pa] (n, ..., 3) and ``depth`` [m] (n, ...), the
-    first sample the initial state (zero force).
+    """Run :func:`terrain_step` along ``time`` (n,) [s], ``position`` [m] and ``velocity``
+    [m/s] (n, ..., 3) with :func:`jax.lax.scan` (differentiable; jit the caller, or every
+    call compiles again); options as :func:`terrain_step`. Returns ``force`` [N], ``stress``
+    [Pa] (n, ..., 3) and ``depth`` [m] (n, ...), sample 0 the initial state (zero force).
     """
     jax = enable_x64()
     jnp = _jnp()

@@ -25,8 +25,7 @@ __all__ = [
 NAMES = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 
 
-def __getattr__(name: str) -> Any:
-    # the morphing foot loads on first use
+def __getattr__(name: str) -> Any:  # the morphing foot loads on first use
     if name == "MorphingFoot":
         return importlib.import_module(".morphing", __name__).MorphingFoot
     raise AttributeError(f"module 'mudrft.feet' has no attribute {name!r}")

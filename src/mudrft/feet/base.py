@@ -1,10 +1,8 @@
 r"""The foot interface shared by closed-form feet, mesh feet and the morphing foot.
 
-A foot's frame has its origin at its lowest point (the *tip*) and z up; ``depth`` is the
-depth of the tip below the mud surface [m], >= 0. The mud gives three signed channel
-stresses :math:`(\sigma_x,\sigma_y,\sigma_z)` [Pa]: :math:`\sigma_z>0` is support,
-:math:`\sigma_z<0` suction, horizontal stresses are positive when they resist the
-motion. Forces are those of the mud on the foot, in the world frame [N].
+A foot's frame has its origin at its lowest point (the *tip*), z up; ``depth`` [m] >= 0 is
+the tip's below the mud surface. Channel stresses [Pa]: :math:`\sigma_z>0` support,
+horizontal ones positive when they resist the motion. Forces: the mud's on the foot [N].
 """
 
 from __future__ import annotations
@@ -32,15 +30,13 @@ __all__ = [
 ]  # fmt: skip
 
 
-#: Facet evaluations per vectorized chunk when a batch of samples meets a surface of
-#: facets: temporaries stay in cache and memory does not grow with samples x facets.
+#: Facet evaluations per vectorized chunk of samples x facets (bounded memory).
 CHUNK = 1 << 16
 
 
 def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
-    """``fn(*rows)`` over the leading axis of ``rows``, about :data:`CHUNK` facet
-    evaluations (``n_facets`` per row) at a time; ``fn`` returns an array with the rows on
-    its leading axis, or a tuple (a NamedTuple too) of such arrays.
+    """``fn(*rows)`` over the leading axis of ``rows``, about :data:`CHUNK` facet evaluations
+    (``n_facets`` a row) at a time; ``fn`` returns an array, or a (named) tuple of arrays.
 
     >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
     (5, 3)
@@ -69,7 +65,6 @@ class SurfaceElements:
         return int(self.areas.shape[0])
 
 
-#: How a shape message names a stress array's batch shape (its last axis of 3 left out).
 STRESS_BATCH = "stress (its last axis, 3, aside)"
 
 
@@ -88,8 +83,8 @@ def first_quadrant(
     Returns
     -------
     tuple
-        ``(stress_q, phi, signs)``: the stresses (a copy), the heading folded into [0, pi/2]
-        [rad], and the signs (sx, sy) that map first-quadrant forces back to the world (D9).
+        ``(stress_q, phi, signs)``: the stresses (a copy), the folded heading [rad] and the
+        signs (sx, sy) that map first-quadrant forces back to the world (D9).
     """
     s = _check_stress(stress)
     h = check_finite("heading", heading)
@@ -108,8 +103,7 @@ def _check_stress(stress: ArrayLike) -> FloatArray:
     return s
 
 
-#: A tip depth beyond the larger of this [m] and :data:`PLAUSIBLE_DEPTH_HEIGHTS` times the
-#: foot's height warns as a likely unit mistake (a depth in mm read as m).
+#: A tip depth beyond this [m] and this many foot heights warns (mm read as m?).
 PLAUSIBLE_DEPTH = 1.0
 PLAUSIBLE_DEPTH_HEIGHTS = 10.0
 
@@ -117,10 +111,8 @@ PLAUSIBLE_DEPTH_HEIGHTS = 10.0
 def check_depth_stress(
     depth: ArrayLike, stress: ArrayLike, *, height: float
 ) -> tuple[FloatArray, FloatArray]:
-    """Validate a tip depth [m] (>= 0) and channel stresses (..., 3) [Pa] given to a foot of
-    ``height`` [m]; return them as float arrays. A depth deeper than
-    ``max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * height)`` warns
-    (:class:`~mudrft._validation.PlausibilityWarning`)."""
+    """A tip depth [m] (>= 0) and channel stresses (..., 3) [Pa] given to a foot of ``height``
+    [m], validated, as float arrays; an implausibly deep tip warns."""
     d = check_nonnegative("depth", depth, unit="m")
     if d.size:
         limit = max(PLAUSIBLE_DEPTH, PLAUSIBLE_DEPTH_HEIGHTS * float(height))
@@ -134,9 +126,8 @@ def check_depth_stress(
 def check_resultant_inputs(
     depth: ArrayLike, stress: ArrayLike, heading: ArrayLike, *, height: float
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Validate the arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa],
-    first-quadrant heading [rad]) for a foot of ``height`` [m] (:func:`check_depth_stress`)
-    and return them as float arrays."""
+    """The arguments of :meth:`Foot.resultant` (depth [m], stress (..., 3) [Pa], heading in
+    [0, pi/2] [rad]) for a foot of ``height`` [m], validated, as float arrays."""
     d, s = check_depth_stress(depth, stress, height=height)
     h = check_in_range("heading", heading, 0.0, 0.5 * np.pi, unit="rad")
     batch_shape(d, s, h)
@@ -180,11 +171,9 @@ def unfold_forces(
     stress: ArrayLike,
     heading: ArrayLike,
 ) -> FloatArray:
-    r"""World forces (..., 3) [N], for any heading [rad], from a foot that gives only
-    first-quadrant magnitudes: the coefficients of the linear form read off
-    ``magnitudes(stress_units, phi)`` (stresses (..., 2, 3), the rows (1, 0, sz) and
-    (0, 1, sz), folded headings (..., 1) [rad]), then :func:`world_force`; ``stress``
-    (..., 3) [Pa] measured along the motion."""
+    r"""World forces (..., 3) [N] for any heading [rad] from first-quadrant ``magnitudes``
+    (stresses (..., 2, 3), folded headings (..., 1)): the linear form's coefficients read off
+    unit stresses, then :func:`world_force`; ``stress`` (..., 3) [Pa]."""
     s = np.asarray(stress, dtype=float)
     h = np.asarray(heading, dtype=float)
     shape = np.broadcast_shapes(s.shape[:-1], h.shape)
@@ -206,7 +195,6 @@ class Foot(ABC):
 
     name: str = "foot"
     #: whether :meth:`force_components` gives the world force element-wise on any ``xp``
-    #: (closed-form feet): then the mud runs a single foot on Python floats
     elementwise: ClassVar[bool] = False
 
     @property
@@ -254,9 +242,8 @@ class Foot(ABC):
         raise MudrftError(f"{type(self).__name__} does not provide surface elements")
 
     def force(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """World-frame force of the mud on the foot [N], shape (..., 3): arguments as
-        :meth:`resultant`, with signed stresses [Pa] (module docstring) and a world heading
-        [rad] of any value."""
+        """World-frame force of the mud on the foot [N] (..., 3): arguments as :meth:`resultant`,
+        with signed stresses [Pa] and any world heading [rad]."""
         d, s = check_depth_stress(depth, stress, height=self.height)
         h = check_finite("heading", heading)
         batch_shape(d, s, h)
@@ -288,7 +275,6 @@ class Foot(ABC):
         )
         return xp.stack(xp.broadcast_arrays(*f), axis=-1)
 
-    # -- hooks for feet with internal state (the morphing foot overrides them) --------------
     def initial_foot_state(self) -> Any:
         """Internal state of the foot mechanism (``None`` for rigid feet)."""
         return None
@@ -301,9 +287,8 @@ class Foot(ABC):
         self, foot_state: Any, depth: np.ndarray, stress: np.ndarray, heading: np.ndarray,
         dt: float, *, retraction: Any = 0.0,
     ) -> tuple[Any, np.ndarray]:  # fmt: skip
-        """Advance the foot's internal state; return ``(foot_state, force)`` [N]. Rigid feet
-        return :meth:`force`; the morphing foot solves its spring balance, ``retraction`` being
-        the time since the retraction began [s]."""
+        """Advance the foot's internal state; return ``(foot_state, force)`` [N] (rigid feet:
+        :meth:`force`); ``retraction``: time since the retraction began [s]."""
         return foot_state, self.force_unchecked(depth, stress, heading)
 
     def center_of_pressure(

@@ -1,19 +1,11 @@
 r"""The paper's three feet in closed form: flat, semi-cylindrical, semi-spherical (Sec. III-A).
 
-Each closed form is the integral of eqs. (6)-(7) over the foot (supplementary Sec. II),
-corrected where the printed final differs from it (errata E20-E23; the printed finals are
-the ``printed_*`` functions). With :math:`z` the tip depth capped at the height :math:`H`,
-:math:`\varphi` the heading folded into :math:`[0,\pi/2]`, :math:`\varphi_c=\pi/2-\varphi`,
-:math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`, every
-form is linear in the stresses: :math:`F_x=a_x\sigma_x+b_x\sigma_y`,
-:math:`F_y=b_y\sigma_x+a_y\sigma_y`, :math:`F_z=a_z\sigma_z`. The ``*_coefficients``
-functions give :math:`(a_x,b_x,b_y,a_y,a_z)` [m^2], the ``*_forces`` functions the first
-quadrant magnitudes [N]; all broadcast and take ``xp``.
-
-References
-----------
-.. [1] Chen et al. (2026), "A Foot Resistive Force Model for Legged Locomotion on Muddy
-   Terrains", eqs. (12)-(14) and supplementary Sec. II.
+Each is the integral of eqs. (6)-(7) over the foot (supplementary Sec. II), corrected where
+the printed final differs (errata E20-E23; ``printed_*``). With :math:`z` the tip depth capped at the height,
+:math:`\varphi` the folded heading, :math:`\varphi_c=\pi/2-\varphi`,
+:math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`:
+:math:`F_x=a_x\sigma_x+b_x\sigma_y`, :math:`F_y=b_y\sigma_x+a_y\sigma_y`,
+:math:`F_z=a_z\sigma_z`, coefficients [m^2] from ``*_coefficients``.
 """
 
 from __future__ import annotations
@@ -33,8 +25,7 @@ __all__ = [
     "semisphere_forces"
 ]  # fmt: skip
 
-#: Segments from the tip to the rim of the mesh a closed-form foot uses for its surface
-#: elements and its center of pressure.
+#: Segments from tip to rim of a closed-form foot's mesh (elements, center of pressure).
 DEFAULT_RESOLUTION = 48
 
 Coefficients = tuple[XpArray, XpArray, XpArray, XpArray, XpArray]
@@ -52,8 +43,7 @@ def _theta(z: XpArray, radius: float, xp: Namespace = np) -> XpArray:
 def flat_coefficients(
     depth: XpArray, phi: XpArray, length: float, width: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Flat foot, eq. (12): :math:`a_x=zLf_n(\varphi)`, :math:`b_x=zWf_t(\varphi_c)`,
-    :math:`b_y=zLf_t(\varphi)`, :math:`a_y=zWf_n(\varphi_c)`, :math:`a_z=LW` [m^2].
+    r"""Flat foot, eq. (12): the coefficients [m^2] (:math:`a_z=LW` once submerged).
 
     Parameters
     ----------
@@ -85,10 +75,7 @@ def flat_coefficients(
 def semicylinder_coefficients(
     depth: XpArray, phi: XpArray, radius: float, width: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20) [m^2]:
-    :math:`a_x=R^2(\theta_c-sc)f_n(\varphi)`, :math:`b_y=R^2(\theta_c-sc)f_t(\varphi)`,
-    :math:`b_x=WR(1-c)f_t(\varphi_c)`, :math:`a_y=WR(1-c)f_n(\varphi_c)`,
-    :math:`a_z=2WR[s-s^3/3+2/3-c+c^3/3]`.
+    r"""Semi-cylindrical foot, eq. (13) with :math:`F_z` corrected (E20): the coefficients [m^2].
 
     Parameters
     ----------
@@ -130,9 +117,8 @@ def semicylinder_coefficients(
 def semisphere_coefficients(
     depth: XpArray, phi: XpArray, radius: float, height: float, xp: Namespace = np
 ) -> Coefficients:
-    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23) [m^2]:
-    :math:`a_x=\tfrac83R^2(\theta_c-sc)\cos\varphi`, :math:`a_y=\tfrac83R^2(\theta_c-sc)
-    \sin\varphi`, no shear terms, :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)`.
+    r"""Semi-spherical foot (a cap), eq. (14) corrected (E21-E23): the coefficients [m^2], with
+    :math:`a_z=2\pi R^2\int_0^{\theta_c}(\cos^3\sin+\sin^4)` and no shear terms.
 
     Parameters
     ----------
@@ -167,9 +153,8 @@ def semisphere_coefficients(
 def closed_form_coefficients(
     kind: int, g0: float, g1: float, g2: float, depth: XpArray, phi: XpArray, xp: Namespace = np
 ) -> Coefficients:
-    """The coefficients [m^2] of the closed-form foot ``kind`` (a foot's ``kernel_geometry``):
-    0 flat ``(L, W, H)``, 1 semi-cylinder ``(R, W, H)``, 2 semi-sphere ``(R, H, unused)``
-    [m]; depth [m], phi [rad]."""
+    """The coefficients [m^2] of the closed-form foot ``kind``: 0 flat ``(L, W, H)``, 1
+    semi-cylinder ``(R, W, H)``, 2 semi-sphere ``(R, H, -)`` [m]; depth [m], phi [rad]."""
     if kind == 0:
         return flat_coefficients(depth, phi, g0, g1, g2, xp=xp)
     if kind == 1:
@@ -181,10 +166,8 @@ def closed_form_force(
     kind: int, g0: float, g1: float, g2: float, depth: XpArray, sx: XpArray, sy: XpArray,
     sz: XpArray, heading: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
-    """World force ``(F_x, F_y, F_z)`` [N] of the closed-form foot ``kind``: the coefficients
-    at the folded heading, then the heading rule (:func:`~mudrft.feet.base.world_force`).
-    Depth [m], stresses [Pa], world heading [rad]; geometry as
-    :func:`closed_form_coefficients` [m]."""
+    """World force [N] of the closed-form foot ``kind`` (:func:`closed_form_coefficients`,
+    then :func:`~mudrft.feet.base.world_force`); depth [m], stresses [Pa], heading [rad]."""
     co = closed_form_coefficients(kind, g0, g1, g2, depth, fold_heading(heading, xp=xp), xp=xp)
     return world_force(co, sx, sy, sz, heading, xp=xp)
 

@@ -1,8 +1,6 @@
 r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
 
-The rules :mod:`mudrft.feet.surface` applies to every facet, written once on the facet's
-coordinates as element-wise code over ``xp``: numpy runs them on arrays of facets, JAX
-with ``jax.numpy``, and numba compiles them on floats for the MuJoCo coupling.
+Element-wise code over ``xp``, applied by :mod:`mudrft.feet.surface` to every facet.
 
 For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
 horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times
@@ -184,9 +182,8 @@ def facet_factors(
     hx: XpArray, hy: XpArray, ux: XpArray, uy: XpArray, trailing: bool, xp: Namespace = np
 ) -> tuple[XpArray, XpArray]:
     r"""The factors :math:`(\tilde f_n, \tilde f_t)` [-] of eq. (7) of a facet with unit
-    horizontal normal ``(hx, hy)`` for a motion ``(ux, uy)``: on every facet with
-    ``trailing`` (D23), else on leading facets only (:math:`\psi_2\in(-\pi/2,\pi/2]`), 0
-    elsewhere."""
+    horizontal normal ``(hx, hy)`` for a motion ``(ux, uy)``; 0 on trailing facets unless
+    ``trailing`` (D23)."""
     cos2 = hx * ux + hy * uy  # cos(psi2)
     sin2 = hx * uy - hy * ux  # sin(psi2) = t . u with t = e_z x e2
     if trailing:
@@ -199,8 +196,7 @@ def facet_force(
     area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, sqx: XpArray,
     sqy: XpArray, sz: XpArray, fn: XpArray, ft: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
-    """Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet (module docstring):
-    ``area`` is :math:`dS` [m^2], ``nh, hx, hy, wz`` come from :func:`facet_frame`, the
-    stresses [Pa] are measured along the motion, ``fn, ft`` come from :func:`facet_factors`."""
+    """Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet of area :math:`dS` [m^2],
+    weights of :func:`facet_frame` and :func:`facet_factors`, stresses [Pa]."""
     se = -nh * area * (sqx * hx * hx + sqy * hy * hy)  # -sigma_e |n_h| dS
     return se * (fn * hx - ft * hy), se * (fn * hy + ft * hx), wz * sz * area

@@ -1,9 +1,5 @@
-r"""A foot of any shape, given as a triangle mesh: forces by surface-element integration.
-
-:class:`MeshFoot` checks a mesh (decision D25), puts it in the foot frame (lowest point at
-the origin) and integrates the element rule of :mod:`mudrft.feet.surface` over it, each
-facet clipped exactly by the mud surface. Mesh files (STL, OBJ, PLY) are read through
-trimesh (:mod:`mudrft.feet.meshfile`).
+r"""A foot of any shape, given as a triangle mesh: the element rule of
+:mod:`mudrft.feet.surface` integrated over it, each facet clipped exactly by the mud surface.
 """
 
 from __future__ import annotations
@@ -46,8 +42,7 @@ from .surface import (
 
 __all__ = ["CHUNK", "MeshFoot", "MeshWarning"]
 
-#: Memory a mesh foot takes while it is built, per facet [bytes]; larger meshes than
-#: :func:`mudrft._validation.memory_limit` allows are refused.
+#: Memory a mesh foot takes while it is built, per facet [bytes].
 BYTES_PER_FACET = 512
 
 #: Rotations that turn a file's up axis to +z (proper rotations; ``from_file(up=)``).
@@ -66,8 +61,7 @@ class MeshWarning(UserWarning):
 
 
 def _rotation_matrix(rotation: RotationLike) -> FloatArray:
-    """A proper rotation matrix (3, 3) from a scipy Rotation or an orthonormal matrix of
-    determinant +1 (tolerance 1e-6)."""
+    """A (3, 3) rotation matrix from a scipy Rotation or a proper orthonormal matrix."""
     if hasattr(rotation, "as_matrix") and callable(rotation.as_matrix):
         m = np.asarray(rotation.as_matrix(), dtype=float)
         if m.shape != (3, 3):
@@ -135,23 +129,18 @@ def _topology(vertices: np.ndarray, faces: np.ndarray) -> tuple[bool, int, np.nd
 
 
 class MeshFoot(Foot):
-    r"""A foot given by a triangle mesh; forces by exact clipped surface-element integration.
-
-    Zero-area facets are dropped and an open mesh is accepted, each with a
-    :class:`MeshWarning`; a closed mesh wound inward is flipped; separate closed parts that
-    overlap warn (:mod:`.meshparts`).
+    r"""A foot given by a triangle mesh (decision D25): zero-area facets are dropped and an open
+    mesh is accepted (a :class:`MeshWarning` each), a closed mesh wound inward is flipped.
 
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
-        Vertex coordinates [m] (z up), translated so that the lowest point is the tip at
-        the origin.
+        Vertex coordinates [m] (z up), translated to put the lowest point at the origin.
     faces : array_like, shape (m, 3)
-        Vertex indices of each triangle; the winding (right-hand rule) gives the outward
-        normal.
+        Vertex indices of each triangle, wound outward (right-hand rule).
     trailing : bool, optional
         Let facets that trail the horizontal motion resist too (as the semi-sphere's closed
-        form does); default ``False``, leading facets only (D23).
+        form does; D23).
     name : str, optional
         Name used in reports.
 
@@ -160,17 +149,13 @@ class MeshFoot(Foot):
     vertices, faces : ndarray
         Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
     shift : ndarray (3,)
-        Translation added to the given vertices [m]: the tip is the lowest vertex, its x, y
-        the mean of the vertices within 1e-9 of the bounding-box diagonal of the lowest.
-    closed, flipped : bool
-        Whether the mesh is a closed 2-manifold; whether its winding was reversed.
-    dropped : int
-        Number of zero-area facets dropped.
+        Translation added to the given vertices [m].
+    closed, flipped, dropped : bool, bool, int
+        Whether the mesh is a closed 2-manifold, whether its winding was reversed, and the
+        number of zero-area facets dropped.
 
     Examples
     --------
-    A downward-facing unit square (an open mesh: a warning says so):
-
     >>> import warnings
     >>> v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
     >>> with warnings.catch_warnings():
@@ -264,7 +249,6 @@ class MeshFoot(Foot):
             )
 
     def _check_plan_area(self, hint: str) -> None:
-        """Refuse a foot with no downward-facing area: its characteristic length would be 0."""
         total = float(np.sum(self._prep.area))
         if not (self._plan_area > 1e-12 * total and self.characteristic_length > 0):
             raise MudrftError(
@@ -290,7 +274,6 @@ class MeshFoot(Foot):
         n, a = self._prep.normal, self._prep.area
         self._plan_area = float(np.sum(a * np.clip(-n[:, 2], 0.0, None)))
 
-    # -- construction -----------------------------------------------------------------------
     @classmethod
     def from_file(
         cls, path: str | os.PathLike[str], *, unit: str = "m", trailing: bool = False,
@@ -312,16 +295,8 @@ class MeshFoot(Foot):
         up : {"z", "y", "x", "-z", "-y", "-x"}, optional
             The file's axis that points up, turned to +z (a Y-up export: ``"y"``).
 
-        Raises
-        ------
-        MudrftError
-            Naming the file, if it is missing, unreadable, empty, has NaN coordinates, needs more
-            memory than :func:`~mudrft._validation.memory_limit`, or fails :class:`MeshFoot`'s checks.
-
         Examples
         --------
-        The example foot shipped with mudrft (:func:`mudrft.data_path`), in millimetres:
-
         >>> import mudrft
         >>> foot = MeshFoot.from_file(mudrft.data_path("foot.stl"), unit="mm")
         >>> foot.name, round(foot.height, 3)
@@ -365,8 +340,7 @@ class MeshFoot(Foot):
             raise MudrftError(f"the mesh file {p!r}: {exc}") from exc
 
     def posed(self, rotation: RotationLike) -> MeshFoot:
-        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation) about the tip; the
-        copy's tip is again its lowest point.
+        """A copy rotated by ``rotation`` (3x3 matrix or scipy Rotation), tip at its lowest point.
 
         >>> from mudrft.feet import Flat
         >>> tilted = Flat().to_mesh(resolution=2).posed([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
@@ -383,7 +357,6 @@ class MeshFoot(Foot):
         )
         return new
 
-    # -- Foot interface ---------------------------------------------------------------------
     @property
     def height(self) -> float:
         """Height of the mesh above its tip [m]."""
@@ -421,13 +394,12 @@ class MeshFoot(Foot):
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> FloatArray:
-        """:meth:`Foot.force` without validation [N]; any heading, no folding, so asymmetric
-        meshes are exact."""
+        """:meth:`Foot.force` without validation [N]; any heading, no folding."""
         return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
-        """Paper-style magnitudes (Fx, Fy, Fz) [N] for a heading in [0, pi/2]: ``(-Fx, -Fy,
-        Fz)`` of the integrated force (an asymmetric foot may give a negative side one)."""
+        """Paper-style magnitudes ``(-Fx, -Fy, Fz)`` [N] of the integrated force, heading in
+        [0, pi/2] (an asymmetric foot may give a negative one)."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         f = self._integrate(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
@@ -463,9 +435,8 @@ class MeshFoot(Foot):
         return np.asarray(self.wrench(depth, stress, heading).center_of_pressure)
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
-        r"""Submerged areas projected along x, y and z [m^2], shape (..., 3), with clipping:
-        :math:`A_x=\tfrac12\sum|n_x|dS`, :math:`A_y=\tfrac12\sum|n_y|dS` (exact for a closed
-        convex foot) and :math:`A_z=\sum\max(-n_z,0)dS` over the submerged facets."""
+        r"""Submerged areas projected along x, y and z [m^2] (..., 3): :math:`\tfrac12\sum|n_x|dS`,
+        :math:`\tfrac12\sum|n_y|dS` and :math:`\sum\max(-n_z,0)dS` over the clipped facets."""
         d = check_nonnegative("depth", depth, unit="m")
         n = self._prep.normal
         weights = np.stack(

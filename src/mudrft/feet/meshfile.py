@@ -78,14 +78,8 @@ def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def read_mesh(path: str) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (n, 3) [the file's unit] and faces (m, 3) of the mesh file ``path``.
-
-    Raises
-    ------
-    MudrftError
-        Naming the file: more memory than the limit, a file trimesh cannot read, no
-        triangles, NaN or infinite coordinates.
-    """
+    """Vertices (n, 3) [the file's unit] and faces (m, 3) of the mesh file ``path``; errors
+    name the file."""
     ext = os.path.splitext(path)[1].lower()
     try:
         size = os.path.getsize(path)

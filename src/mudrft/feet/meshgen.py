@@ -1,8 +1,7 @@
 r"""Closed triangle meshes of the paper's three feet, generated in code.
 
-Each function returns ``(vertices (n, 3) [m], faces (m, 3) int)``: a closed mesh wound
-outward, in the frame of the matching closed-form foot (tip at the origin, z up). Curved
-surfaces are inscribed polyhedra (vertices on the exact surface).
+Each returns ``(vertices (n, 3) [m], faces (m, 3))``, wound outward, tip at the origin;
+curved surfaces are inscribed polyhedra.
 """
 
 from __future__ import annotations
@@ -11,19 +10,9 @@ import math
 
 import numpy as np
 
-from .._validation import MudrftError, check_length
+from .._validation import MudrftError, check_length, positive_int
 
 __all__ = ["box_mesh", "rim_angle", "semicylinder_mesh", "semisphere_mesh"]
-
-
-def _resolution(resolution: int) -> int:
-    if (
-        isinstance(resolution, bool)
-        or not isinstance(resolution, int | np.integer)
-        or resolution < 1
-    ):
-        raise MudrftError(f"resolution must be an integer >= 1, got {resolution!r}")
-    return int(resolution)
 
 
 def rim_angle(radius: float, height: float) -> float:
@@ -48,7 +37,6 @@ def _grid_faces(ids: np.ndarray) -> np.ndarray:
 
 
 def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Drop unreferenced vertices and renumber."""
     used, inv = np.unique(faces, return_inverse=True)
     return vertices[used], inv.reshape(faces.shape)
 
@@ -56,10 +44,8 @@ def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nd
 def box_mesh(
     length: float, width: float, height: float, *, resolution: int = 1
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Closed box mesh of the flat foot: x in [-W/2, W/2], y in [-L/2, L/2], z in [0, H].
-
-    ``length`` :math:`L` (along y), ``width`` :math:`W` (along x) and ``height`` [m];
-    ``resolution``: grid divisions per edge (``2 resolution^2`` triangles a face).
+    """Closed box mesh of the flat foot, ``length`` [m] along y, ``width`` [m] along x,
+    ``height`` [m] up; ``resolution``: grid divisions per edge.
 
     >>> v, f = box_mesh(0.08, 0.065, 0.026, resolution=2)
     >>> v.shape, f.shape
@@ -68,7 +54,7 @@ def box_mesh(
     length, width, height = (
         check_length(k, v) for k, v in (("length", length), ("width", width), ("height", height))
     )
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
     ys = np.linspace(-0.5 * length, 0.5 * length, n + 1)
     zs = np.linspace(0.0, height, n + 1)
@@ -92,10 +78,8 @@ def box_mesh(
 def semicylinder_mesh(
     radius: float, width: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-cylindrical foot: axis along x (length ``width`` [m]),
-    cross-section :math:`y=R\sin\theta`, :math:`z=R(1-\cos\theta)` cut flat at ``height``
-    [m] <= ``radius`` [m]; ``resolution`` arc segments from the tip to the rim, about
-    square elements.
+    r"""Closed mesh of the semi-cylindrical foot: axis along x (length ``width`` [m]), a circle
+    of ``radius`` [m] cut flat at ``height`` [m]; ``resolution`` arc segments tip to rim.
 
     >>> v, f = semicylinder_mesh(0.045, 0.065, 0.026, resolution=4)
     >>> bool(v[:, 2].min() == 0.0), round(float(v[:, 2].max()), 6)
@@ -105,7 +89,7 @@ def semicylinder_mesh(
         check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
     tm = rim_angle(radius, height)
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     th = np.linspace(-tm, tm, 2 * n + 1)
     ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
     za[[0, -1]] = height  # the rim lies exactly on the top plane
@@ -137,9 +121,8 @@ def semicylinder_mesh(
 def semisphere_mesh(
     radius: float, height: float, *, resolution: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Closed mesh of the semi-spherical foot: a cap of ``radius`` and ``height`` [m], flat
-    on top; ``resolution`` rings from the tip to the rim, each of ``4 resolution`` segments
-    (keeping the x and y mirror symmetries).
+    r"""Closed mesh of the semi-spherical foot, a cap of ``radius`` and ``height`` [m];
+    ``resolution`` rings from tip to rim, of ``4 resolution`` segments each.
 
     >>> v, f = semisphere_mesh(0.045, 0.026, resolution=4)
     >>> f.shape
@@ -147,7 +130,7 @@ def semisphere_mesh(
     """
     radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
     tm = rim_angle(radius, height)
-    n = _resolution(resolution)
+    n = positive_int("resolution", resolution)
     na = 4 * n
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na

@@ -1,8 +1,7 @@
 r"""Separate parts of a closed mesh that overlap: a sole and its cleats exported unmerged.
 
-The element rule integrates every facet as if mud touched it, so facets where parts
-overlap or touch make the forces too large. :func:`overlapping_parts` finds such parts;
-:class:`~mudrft.feet.MeshFoot` warns (decision D136).
+Facets where parts overlap or touch count as if mud touched them, so the forces come out
+too large: :class:`~mudrft.feet.MeshFoot` warns (decision D136).
 
 A point is inside or on a closed part when its generalized winding number,
 :math:`w(p)=\frac1{4\pi}\sum_t\Omega_t(p)`, is above 1/4 (1 inside, 1/2 on a face, 0
@@ -61,8 +60,7 @@ def winding_numbers(points: FloatArray, triangles: FloatArray) -> FloatArray:
             + np.einsum("...i,...i->...", b, c) * la
             + np.einsum("...i,...i->...", c, a) * lb
         )
-        # a point in a facet's plane (on the facet or outside it) sees it at 0 solid angle:
-        # arctan2 would give +-pi inside it by the sign of a rounded zero
+        # a point in a facet's plane sees it at 0 (arctan2 could give +-pi: a rounded zero)
         flat = np.abs(num) <= 1e-12 * la * lb * lc
         angle = np.where(flat, 0.0, np.arctan2(num, den))
         out[s : s + step] = angle.sum(axis=1) / (2.0 * np.pi)

@@ -1,8 +1,6 @@
-r"""The paper's three feet as objects: :class:`Flat`, :class:`SemiCylinder`, :class:`SemiSphere`.
+r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`).
 
-Their forces are the closed forms of :mod:`mudrft.feet.closed_form` (eqs. 12-14 of the
-paper, with errata E20-E23); their surfaces are meshes (:mod:`mudrft.feet.meshgen`) for the
-center of pressure and the posed (tilted) foot.
+The meshes give the center of pressure and the posed (tilted) foot.
 """
 
 from __future__ import annotations
@@ -35,8 +33,6 @@ PAPER_HEIGHT = 0.026
 
 
 def _check_height(shape: str, radius: float, height: float) -> None:
-    """Refuse a curved foot taller than its radius; at the default height, say how to make
-    a smaller foot."""
     if height <= radius:
         return
     hint = (
@@ -54,7 +50,6 @@ def _check_height(shape: str, radius: float, height: float) -> None:
 class _ClosedFormFoot(Foot):
     """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
 
-    #: whether the matching mesh rule lets trailing facets resist (decision D23)
     trailing: ClassVar[bool] = False
     elementwise: ClassVar[bool] = True
 
@@ -66,6 +61,14 @@ class _ClosedFormFoot(Foot):
         dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
         for k, v in check_dimensions(type(self).__name__, **dims).items():
             object.__setattr__(self, k, v)
+        if hasattr(self, "radius"):  # the curved feet: "semi-cylinder", "semi-sphere"
+            _check_height(self.name[5:], self.radius, self.height)
+
+    def _segment(self, depth: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Submerged height ``z`` [m], rim angle [rad] and circular segment area [m^2]."""
+        z = np.minimum(check_nonnegative("depth", depth, unit="m"), self.height)
+        th = _theta(z, self.radius)  # type: ignore[attr-defined]
+        return z, th, self.radius**2 * (th - np.sin(th) * np.cos(th))  # type: ignore[attr-defined]
 
     @property
     def kernel_geometry(self) -> tuple[int, float, float, float]:
@@ -98,8 +101,8 @@ class _ClosedFormFoot(Foot):
         return self.force_array(*(np.asarray(a, dtype=float) for a in (depth, stress, heading)))
 
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
-        """A closed triangle mesh of this foot, as a :class:`MeshFoot` with the same rule;
-        ``resolution``: segments from the tip to the rim, or divisions per edge (flat) [-]."""
+        """This foot as a closed :class:`MeshFoot`; ``resolution``: segments from tip to rim,
+        or divisions per edge (flat) [-]."""
         v, f = self._mesh_arrays(resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
 
@@ -131,10 +134,8 @@ class Flat(_ClosedFormFoot):
 
     Parameters
     ----------
-    length : float, optional
-        :math:`L` [m], along y.
-    width : float, optional
-        :math:`W` [m], along x.
+    length, width : float, optional
+        :math:`L` along y and :math:`W` along x [m].
     height : float, optional
         Height of the plate [m]; deeper than this the foot is buried (decision D26).
 
@@ -149,7 +150,6 @@ class Flat(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "flat"  # type: ignore[misc]
-    trailing: ClassVar[bool] = False
 
     @property
     def characteristic_length(self) -> float:
@@ -174,16 +174,13 @@ class Flat(_ClosedFormFoot):
 
 @dataclass(frozen=True, eq=True)
 class SemiCylinder(_ClosedFormFoot):
-    """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13).
-
-    The axis runs along x; the cross-section is a circular segment cut flat on top (D20).
+    """Semi-cylindrical foot (paper: R = 45 mm, W = 65 mm, 26 mm tall), eq. (13): axis along x,
+    a circular segment cut flat on top (D20).
 
     Parameters
     ----------
-    radius : float, optional
-        :math:`R` [m].
-    width : float, optional
-        :math:`W` [m], along the axis (x).
+    radius, width : float, optional
+        :math:`R` and the length along the axis (x) :math:`W` [m].
     height : float, optional
         Height of the foot [m], <= ``radius``.
 
@@ -197,11 +194,6 @@ class SemiCylinder(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-cylinder"  # type: ignore[misc]
-    trailing: ClassVar[bool] = False
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_height("cylinder", self.radius, self.height)
 
     @property
     def characteristic_length(self) -> float:
@@ -216,10 +208,7 @@ class SemiCylinder(_ClosedFormFoot):
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
-        d = check_nonnegative("depth", depth, unit="m")
-        z = np.minimum(d, self.height)
-        th = _theta(z, self.radius)
-        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        z, th, seg = self._segment(depth)
         return np.stack([seg, self.width * z, 2 * self.radius * self.width * np.sin(th)], axis=-1)
 
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
@@ -228,9 +217,8 @@ class SemiCylinder(_ClosedFormFoot):
 
 @dataclass(frozen=True, eq=True)
 class SemiSphere(_ClosedFormFoot):
-    """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14).
-
-    Its closed form counts the facets that trail the motion, so its mesh does (D23).
+    """Semi-spherical foot, a spherical cap (paper: R = 45 mm, 26 mm tall), eq. (14); its
+    closed form counts the facets that trail the motion, so its mesh does (D23).
 
     Parameters
     ----------
@@ -250,10 +238,6 @@ class SemiSphere(_ClosedFormFoot):
     name: ClassVar[str] = "semi-sphere"  # type: ignore[misc]
     trailing: ClassVar[bool] = True
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_height("sphere", self.radius, self.height)
-
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{\\pi}R\\sin\\theta_H`, the top cross-section (D27) [m]."""
@@ -267,10 +251,7 @@ class SemiSphere(_ClosedFormFoot):
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
-        d = check_nonnegative("depth", depth, unit="m")
-        z = np.minimum(d, self.height)
-        th = _theta(z, self.radius)
-        seg = self.radius**2 * (th - np.sin(th) * np.cos(th))
+        _, th, seg = self._segment(depth)
         return np.stack([seg, seg, math.pi * (self.radius * np.sin(th)) ** 2], axis=-1)
 
     def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:

@@ -1,10 +1,8 @@
 r"""Surface-element integration of the 3D force law (Chen et al. 2026, eqs. 6-7) on triangles.
 
-Triangles are in the foot frame (tip at :math:`z=0`, z up); the mud surface is the plane
-:math:`z=d` (the tip ``depth``), which clips each triangle exactly. The rule of one facet is
-:mod:`mudrft.feet.facet`. Every function takes an ``xp`` namespace (numpy or jax.numpy).
-Shapes: ``triangles`` (..., m, 3, 3) [m], ``depth`` (...) [m], ``stress`` (..., 3) [Pa],
-``heading`` (...) [rad]; leading batch dimensions broadcast.
+Triangles (..., m, 3, 3) [m] are in the foot frame (tip at :math:`z=0`, z up), clipped
+exactly by the mud surface :math:`z=d` (the tip ``depth``); the rule of one facet is
+:mod:`mudrft.feet.facet`. Every function takes an ``xp`` namespace; batch axes broadcast.
 """
 
 from __future__ import annotations
@@ -33,13 +31,10 @@ __all__ = [
 
 
 class PreparedTriangles(NamedTuple):
-    """Per-facet data independent of depth, stress and heading (:func:`prepare_triangles`).
-
-    ``lo, mid, hi`` (..., m, 3): vertices sorted by height [m]; ``normal`` (..., m, 3):
-    outward unit normal [-]; ``area`` [m^2]; ``k_low, k_high, flat_area``: the clipping
-    constants of :func:`~mudrft.feet.facet.clip_constants`; ``nh, hx, hy, wz``: the weights
-    of :func:`~mudrft.feet.facet.facet_frame` [-]; ``za, zb, zc``: sorted heights [m].
-    """
+    """Per-facet data independent of depth, stress and heading (:func:`prepare_triangles`):
+    vertices ``lo, mid, hi`` sorted by height [m], outward unit ``normal`` [-], ``area``
+    [m^2], clipping constants (:func:`~mudrft.feet.facet.clip_constants`), the weights of
+    :func:`~mudrft.feet.facet.facet_frame` [-] and sorted heights ``za, zb, zc`` [m]."""
 
     lo: XpArray
     mid: XpArray
@@ -174,8 +169,7 @@ def integrate_triangles(
     heading : array_like, shape (...)
         Heading of the horizontal motion from the x axis [rad], any angle.
     trailing : bool, optional
-        Let facets that trail the motion resist too (the sphere's derivation); default
-        ``False``, leading facets only (the flat and semi-cylindrical feet's), D23.
+        Let facets that trail the motion resist too (the sphere's derivation, D23).
     xp : module, optional
         Array namespace (``numpy``, ``jax.numpy``).
 
@@ -198,8 +192,6 @@ def integrate_triangles(
 
     Examples
     --------
-    A 1 m x 1 m downward-facing square at any positive depth carries sz x 1 m^2:
-
     >>> sq = np.array([[[0, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [1, 0, 0]]], float)
     >>> integrate_triangles(sq, 0.01, [0.0, 0.0, 5.0], 0.0).tolist()
     [0.0, 0.0, 5.0]
@@ -215,10 +207,9 @@ def integrate_wrench(
 ) -> Wrench:  # fmt: skip
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at its submerged centroid. The center of pressure (D24) is the
-    point of the wrench's central axis :math:`\mathbf r_0+t\hat{\mathbf F}`,
-    :math:`\mathbf r_0=\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2`, nearest to the
-    :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
+    Each facet's force acts at its submerged centroid; the center of pressure (D24) is the
+    point of the central axis :math:`\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2+t\mathbf F`
+    nearest to the :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
 
     Parameters
     ----------

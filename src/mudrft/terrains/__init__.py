@@ -1,14 +1,5 @@
-"""All terrain models behind one interface (:class:`Terrain`): the mud model and the baselines.
-
-Each is constructible with no arguments (documented defaults) and can be passed to
-:func:`mudrft.simulate` in place of the mud::
-
-    mudrft.terrains.Mud()            # the mud model of Chen et al. 2026, W = 25 %
-    mudrft.terrains.GranularRFT()    # granular RFT, loosely packed poppy seeds
-    mudrft.terrains.GranularRFT3D()  # 3D-RFT of Agarwal et al. 2023
-    mudrft.terrains.LinearStiffness()
-    mudrft.terrains.MaxwellMud()     # reconstruction of Chen et al. (AIM 2024)
-    mudrft.terrains.RigidGround()
+"""All terrain models behind one interface (:class:`Terrain`), each constructible with no
+arguments and accepted by :func:`mudrft.simulate` in place of the mud.
 
 >>> from mudrft import terrains
 >>> [t.name for t in (terrains.Mud(), terrains.GranularRFT(), terrains.RigidGround())]
@@ -62,7 +53,7 @@ def as_terrain(terrain: MudParameterSets | Terrain) -> Terrain:
         return MudTerrain(terrain)
     if isinstance(terrain, Terrain) and not isinstance(terrain, type):
         return terrain
-    if isinstance(terrain, str):  # a name, as mudrft.baselines.compare takes
+    if isinstance(terrain, str):
         raise MudrftError(
             "mud must be a Mud (mudrft.paper_mud) or a terrain object, got the string "
             f"{terrain!r}: write the terrain, e.g. mudrft.terrains.GranularRFT() "

@@ -1,9 +1,7 @@
 r"""What the granular RFTs share: facet checks, the element integrand, the terrain step.
 
 The step groups a foot's elements by normal: group :math:`k` weighs
-:math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` at tip depth :math:`D`, a binary search in
-prefix sums over the elements sorted by height (exact). Only the submerged groups are
-evaluated, and their responses are reused while the direction of motion repeats.
+:math:`W_k(D)=\sum_{i\in k,\,h_i<D}A_i(D-h_i)` at tip depth :math:`D` (prefix sums).
 """
 
 from __future__ import annotations
@@ -28,7 +26,6 @@ __all__ = ["FacetRFT", "RFTState", "check_facets", "unit_vectors"]
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    """Rows of ``v`` (..., 3) scaled to unit length [-]."""
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
@@ -63,9 +60,9 @@ def check_facets(
 def _element_forces(
     scale: float, depths: np.ndarray, areas: np.ndarray, unit: np.ndarray, *, per_element: bool,
 ) -> np.ndarray:  # fmt: skip
-    r"""Forces [N] :math:`d\mathbf F_i=k\,\max(z_i,0)\,A_i\,\boldsymbol\alpha_i` of elements at
-    depths (..., m) [m] with areas (m,) [m^2] and responses ``unit`` (..., m, 3) [-], for a
-    medium of scale ``scale`` [N/m^3]; summed over the elements unless ``per_element``."""
+    r"""Forces [N] :math:`k\,\max(z_i,0)\,A_i\,\boldsymbol\alpha_i` of elements at depths (..., m)
+    [m], areas (m,) [m^2], responses ``unit`` (..., m, 3) [-], scale ``k`` [N/m^3]; summed
+    unless ``per_element``."""
     forces = (scale * np.maximum(depths, 0.0) * areas)[..., None] * unit
     return forces if per_element else forces.sum(axis=-2)
 
@@ -111,8 +108,8 @@ def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
 
 
 class RFTState(NamedTuple):
-    """State of granular RFT under a foot: the last unit ``direction`` of motion (..., 3),
-    kept at rest (decision D52), and the foot's surface ``elements`` (tip at the origin)."""
+    """The last unit ``direction`` of motion (..., 3), kept at rest (D52), and the foot's
+    surface ``elements``."""
 
     direction: np.ndarray
     elements: SurfaceElements
@@ -122,17 +119,14 @@ class RFTState(NamedTuple):
 
 
 class FacetRFT:
-    """The terrain step of the granular RFTs. Subclasses provide ``rest_speed`` [m/s],
-    ``scale`` [N/m^3] and ``_unit_forces(normals, direction)``, the leading-weighted
-    response (..., k, 3) [-] of unit normals (k, 3) to a unit direction (..., 3)."""
+    """The terrain step of the granular RFTs; subclasses provide ``rest_speed`` [m/s],
+    ``scale`` [N/m^3] and ``_unit_forces(normals, direction)`` (..., k, 3) [-]."""
 
     rest_speed: float
     leading_width: float
     coefficients: object
 
     def _check_options(self, coefficients: type) -> None:
-        """Store ``rest_speed`` [m/s] and ``leading_width`` [-] as checked floats; check the
-        type of ``coefficients``."""
         speed = check_positive("rest_speed", self.rest_speed, unit="m/s")
         set_number(self, "rest_speed", speed)
         width = check_in_range("leading_width", self.leading_width, 0.0, 1.0)
@@ -180,9 +174,8 @@ class FacetRFT:
         self, pr: _Prepared, direction: np.ndarray, submerged: np.ndarray,
         cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
     ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-        """Responses (..., k, 3) of the groups ``submerged`` (..., k) anywhere in the batch
-        (zeros elsewhere) and which groups hold one (k,); reused from ``cache`` if its
-        direction is ``direction``."""
+        """Responses (..., k, 3) of the groups ``submerged`` anywhere in the batch and which
+        groups hold one (k,), reusing ``cache`` of the same ``direction``."""
         need = np.any(submerged, axis=tuple(range(submerged.ndim - 1)))
         if (
             cache is not None

@@ -1,13 +1,10 @@
-r"""The terrain interface every terrain model implements, and the helpers they share.
-
-Every terrain (the mud model and the baselines) implements :class:`Terrain`, so
-:func:`mudrft.simulate`, the MuJoCo coupling and every comparison accept any of them::
+r"""The terrain interface every terrain model implements, and the helpers they share::
 
     state = terrain.initial_state(foot, position)
     state, out = terrain.step(foot, state, position, velocity, dt)   # out.force [N]
 
-``position`` [m] and ``velocity`` [m/s] are the foot tip's, shape ``(3,)`` or ``(..., 3)``
-for a batch; the step uses the motion over the step that ends at ``position``.
+``position`` [m] and ``velocity`` [m/s] (over the step that ends there) are the tip's,
+``(3,)`` or ``(..., 3)``.
 """
 
 from __future__ import annotations
@@ -28,9 +25,8 @@ __all__ = ["Terrain", "TerrainOutput", "check_motion", "kinematics", "tip_positi
 
 
 class TerrainOutput(NamedTuple):
-    """What a terrain step returns: the ``force`` of the terrain on the foot (..., 3) [N],
-    the channel ``stress`` (sx, sy, sz) (..., 3) [Pa] (zeros where the model has none) and
-    the tip ``depth`` (...) [m]."""
+    """A terrain step's ``force`` on the foot (..., 3) [N], channel ``stress`` (..., 3) [Pa]
+    (zeros where the model has none) and tip ``depth`` (...) [m]."""
 
     force: NDArray[np.float64]
     stress: NDArray[np.float64]
@@ -46,7 +42,6 @@ class Terrain(Protocol):
         """Short name of the model (a frozen field of every terrain: read-only here)."""
         ...
 
-    # the state is each terrain's own (a NamedTuple of arrays, or None): Any here
     def initial_state(self, foot: Foot, position: ArrayLike) -> Any:
         """State before the first step, for a foot whose tip is at ``position`` [m]."""
         ...
@@ -80,8 +75,8 @@ def kinematics(position: ArrayLike, velocity: ArrayLike) -> tuple[FloatArray, Fl
 def check_motion(
     position: ArrayLike, velocity: ArrayLike, dt: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
-    """The inputs of a terrain step, validated: position [m] and velocity [m/s] as float
-    arrays (:func:`kinematics`), and ``dt`` [s], finite and > 0, as a float."""
+    """A terrain step's position [m], velocity [m/s] (:func:`kinematics`) and ``dt`` [s] > 0,
+    validated."""
     pos, vel = kinematics(position, velocity)
     try:
         step = float(dt)
@@ -105,6 +100,12 @@ def projected(foot: Foot, depth: FloatArray) -> FloatArray:
 def area_z(foot: Foot, depth: FloatArray) -> FloatArray:
     """Horizontal (z-projected) area of the submerged foot [m^2]."""
     return projected(foot, depth)[..., 2]
+
+
+def vertical_output(fz: np.ndarray, sz: np.ndarray, depth: np.ndarray) -> TerrainOutput:
+    """The output of a vertical-only terrain: force ``fz`` [N] and stress ``sz`` [Pa] on z."""
+    zeros = np.zeros_like(fz)
+    return TerrainOutput(np.stack([zeros, zeros, fz], -1), np.stack([zeros, zeros, sz], -1), depth)
 
 
 def mean_stress(force: np.ndarray, areas: np.ndarray) -> np.ndarray:

@@ -54,23 +54,18 @@ __all__ = [
 ]  # fmt: skip
 
 
-# Treers et al. (2021) sigmoid fits of the 3D weights (decision D51): f1 over |v1|
-# (tanh) and f23 over |v23| (atanh), normalised here to 0 at 0 and 1 at 1.
+# Treers et al. (2021) sigmoid fits of the 3D weights (D51): f1 (tanh), f23 (atanh)
 _TREERS_F1 = (3.62263982880971, 1.60910808139526)
 _TREERS_F23 = (1.61146827229181, 0.973746396532650)
-# a facet is treated as horizontal when |n_z| >= 1 - 1e-3 (Treers et al.'s tolerance), and
-# in part between 1 - 2e-3 and 1 - 1e-3 (horizontal_share)
-_HORIZONTAL_TOL = 1e-3
+_HORIZONTAL_TOL = 1e-3  # Treers et al.'s tolerance on |n_z| (horizontal_share)
 
 
 def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    r"""Treers et al.'s (2021) weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)` [-].
-
-    :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
+    r"""Treers et al.'s (2021) weights [-]: :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
     :math:`f_{23}(u)=\frac{\operatorname{atanh}(c u-d)+\operatorname{atanh} d}
     {\operatorname{atanh}(c-d)+\operatorname{atanh} d}` of the unit velocity's components
     along the plate's horizontal edge (:math:`v_1`) and in its normal plane (:math:`v_{23}`),
-    normalised to 0 at 0 and 1 at 1 (decision D51).
+    normalised to 0 at 0 and 1 at 1 (D51).
 
     Examples
     --------
@@ -101,11 +96,9 @@ LEADING_WIDTH = 1e-3
 
 
 def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarray:
-    r"""Weight of a facet by how much it leads the motion (decision D53) [-].
-
-    :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`: 0 on trailing and tangent facets,
-    1 on facets leading by more than :math:`\delta`, linear between, so that the force is
-    continuous in the pose; ``width=0`` gives RFT's sharp rule.
+    r"""Weight [-] of a facet by how much it leads the motion (D53),
+    :math:`w=\min(\max(\hat n\cdot\hat v/\delta,0),1)`, continuous in the pose; ``width=0``
+    gives RFT's sharp rule.
 
     Examples
     --------
@@ -121,11 +114,9 @@ def leading_weight(n_dot_v: ArrayLike, width: float = LEADING_WIDTH) -> np.ndarr
 
 
 def horizontal_share(nz: ArrayLike, tol: float = _HORIZONTAL_TOL) -> np.ndarray:
-    r"""How much a facet counts as horizontal in the 3D extension (decision D51) [-].
-
-    Treers et al.'s facet is horizontal (its frame taken from the motion) when
-    :math:`|n_z|\ge1-\delta`, :math:`\delta=10^{-3}`; the share rises linearly from 0 at
-    :math:`|n_z|=1-2\delta` to 1 there, and the force mixes the two frames' forces alike.
+    r"""How much a facet counts as horizontal in the 3D extension (D51) [-]: 1 from Treers et
+    al.'s :math:`|n_z|\ge1-\delta`, :math:`\delta=10^{-3}`, down linearly to 0 at
+    :math:`1-2\delta`; the force mixes the two frames' forces alike.
 
     Examples
     --------
@@ -175,13 +166,9 @@ def _unit_forces(
     x_hat = np.array([1.0, 0.0, 0.0])
     vh_dir, vh_ok = _unit_horizontal(vb, x_hat)
     nh_dir, nh_ok = _unit_horizontal(nb, x_hat)
-    # neither a horizontal motion nor a horizontal normal: a purely vertical case whose
-    # force must not depend on the yaw (D53)
-    axial = ~(vh_ok | nh_ok)
+    axial = ~(vh_ok | nh_ok)  # purely vertical: the force must not depend on the yaw (D53)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
-    # planar: the frame of the motion where it has a horizontal part; treers2021: a (nearly)
-    # horizontal facet takes its frame from the motion, the others (and all, with no
-    # horizontal motion) from their normal
+    # the frame of the motion (planar; treers2021: on nearly horizontal facets) or the normal
     if extension == "planar":
         share = np.where(vh_ok, 1.0, 0.0)
     else:
@@ -232,9 +219,6 @@ def rft_forces(
 
     Examples
     --------
-    A 1 cm^2 horizontal plate, 2 cm deep, pushed straight down into loose poppy seeds
-    (:math:`F_z=\zeta\,|z|\,A`):
-
     >>> f = rft_forces([[0, 0, -1]], [0.02], [1e-4], [0, 0, -1], zeta=0.254e6)
     >>> [round(float(v), 6) + 0.0 for v in f]
     [0.0, 0.0, 0.508]
@@ -247,24 +231,21 @@ def rft_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT(FacetRFT):
-    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` over the foot's
-    submerged surface elements.
+    r"""Granular RFT (Li et al. 2013) as a terrain: :func:`rft_forces` on the foot.
 
     Parameters
     ----------
     zeta : float
-        Scale of the medium [N/m^3]: the vertical stress per depth of a horizontal plate
-        pushed down; default loosely packed poppy seeds, 0.254 N/cm^3 (D50). A value
-        below 1e3 N/m^3 warns (N/cm^3 given as N/m^3, :data:`PLAUSIBLE_ZETA`).
+        Scale of the medium [N/m^3], the vertical stress per depth of a horizontal plate;
+        default loosely packed poppy seeds, 0.254 N/cm^3 (D50); below 1e3 N/m^3 warns.
     coefficients : FourierCoefficients
         2D fit normalised to :math:`\alpha_z(0,\pi/2)=1` (default Li et al.'s generic one);
         a medium's own fit in N/cm^3 goes through :meth:`from_coefficients`.
     extension : {"treers2021", "planar"}
         3D extension (decision D51).
-    rest_speed : float
-        Below this speed [m/s] the last direction of motion is kept (decision D52).
-    leading_width : float
-        Width of the leading-facet ramp [-] (:func:`leading_weight`, D53); 0 is the sharp rule.
+    rest_speed, leading_width : float
+        Below ``rest_speed`` [m/s] the last direction is kept (D52); width of the
+        leading-facet ramp [-] (:func:`leading_weight`, D53), 0 the sharp rule.
     name : str
         Label in reports.
 
@@ -328,8 +309,8 @@ class GranularRFT(FacetRFT):
     def from_coefficients(
         cls, coefficients: FourierCoefficients, *, unit: str = "N/cm^3", **kw: Any
     ) -> GranularRFT:
-        r"""RFT for a medium's own Fourier fit as Li et al. (2013) tabulate it (N/cm^3), kept
-        exactly as :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)`.
+        r"""RFT for a medium's own Fourier fit (as Li et al. 2013 tabulate it), kept exactly as
+        :math:`\zeta\,\alpha^{norm}` with :math:`\zeta=\alpha_z(0,\pi/2)`.
 
         Parameters
         ----------
@@ -342,8 +323,6 @@ class GranularRFT(FacetRFT):
 
         Examples
         --------
-        Loosely packed poppy seeds, as tabulated (N/cm^3):
-
         >>> lp = FourierCoefficients(A00=0.051, A10=0.047, B01=0.083, B11=0.053, Bm11=0.020,
         ...                          C01=0.057, C11=-0.026, Cm11=0.0, D10=0.025)
         >>> rft = GranularRFT.from_coefficients(lp, unit="N/cm^3")
@@ -386,7 +365,6 @@ class GranularRFT(FacetRFT):
         return float(self.zeta)
 
     def _unit_forces(self, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
-        """Leading-weighted response (..., k, 3) of this terrain's options, divided by zeta [-]."""
         return _unit_forces(
             normals, direction, self.coefficients, self.extension, self.leading_width
         )

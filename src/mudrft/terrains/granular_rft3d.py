@@ -123,10 +123,8 @@ def agarwal_xi(
 
     Parameters
     ----------
-    rho_c : array_like
-        Bulk density of the medium [kg/m^3].
-    mu_int : array_like
-        Internal friction coefficient [-].
+    rho_c, mu_int : array_like
+        Bulk density [kg/m^3] and internal friction coefficient [-] of the medium.
     gravity : float, keyword-only
         Gravitational acceleration [m/s^2].
 
@@ -170,8 +168,7 @@ def agarwal_generic_alpha(
 
     Examples
     --------
-    A horizontal plate pushed straight down: :math:`-\sum_k(c_1^k+c_2^k+c_3^k)`, not 1 (D92):
-
+    >>> # a horizontal plate pushed straight down: -sum_k (c1 + c2 + c3), not 1 (D92)
     >>> [round(float(a), 5) + 0.0 for a in agarwal_generic_alpha(0.0, np.pi / 2, 0.0)]
     [0.0, 0.0, 0.87574]
     """
@@ -240,7 +237,7 @@ def rft3d_alpha(
         x_1 = -v_z,\ x_2 = |n_z|,\ x_3 = \hat n_d\cdot\hat v,
 
     with :math:`\hat n_d` the element's downward normal: :func:`agarwal_generic_alpha` in
-    the world frame (decision D90). Leading or not is not checked here.
+    the world frame (D90), leading or not.
 
     Parameters
     ----------
@@ -303,7 +300,7 @@ def rft3d_forces(
     mu_surf : float, keyword-only
         Intruder-surface friction coefficient of the cap [-].
     coefficients : PolynomialCoefficients, keyword-only
-        The fit.
+        The fit (default :data:`AGARWAL2023`).
     per_element : bool, keyword-only
         Return every element's force (..., m, 3) instead of the sum (..., 3).
     leading_width, wall_width : float, keyword-only
@@ -312,8 +309,6 @@ def rft3d_forces(
 
     Examples
     --------
-    A 10 cm^2 plate 2 cm deep pushed straight down: :math:`0.87574\,\xi_n|z|A`:
-
     >>> f = rft3d_forces([[0, 0, -1]], [0.02], [1e-3], [0, 0, -1], xi_n=1e5, mu_surf=0.4)
     >>> [round(float(c), 6) + 0.0 for c in f]
     [0.0, 0.0, 1.75148]
@@ -329,8 +324,7 @@ def rft3d_forces(
 
 @dataclass(frozen=True, eq=False)
 class GranularRFT3D(FacetRFT):
-    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain: :func:`rft3d_forces` over the
-    foot's submerged surface elements.
+    r"""3D-RFT (Agarwal, Goldman & Kamrin 2023) as a terrain: :func:`rft3d_forces` on the foot.
 
     Parameters
     ----------
@@ -421,6 +415,5 @@ class GranularRFT3D(FacetRFT):
     def _unit_forces(
         self, normals: NDArray[np.float64], direction: NDArray[np.float64]
     ) -> NDArray[np.float64]:
-        """Capped, leading-weighted response (..., k, 3) of this terrain's options [-]."""
         c, mu, lw, ww = self.coefficients, float(self.mu_surf), self.leading_width, self.wall_width
         return _unit_forces(normals, direction, c, mu, lw, ww)

@@ -31,9 +31,8 @@ class FourierCoefficients:
         \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
                     + D_{10}\sin 2\beta,
 
-    with :math:`\beta\in[-\pi/2,\pi/2]` the element's attack angle (0: horizontal) and
-    :math:`\gamma\in[-\pi/2,\pi/2]` its velocity's angle below the horizontal, in the
-    units of the fit.
+    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle (0: horizontal) and
+    :math:`\gamma\in[-\pi/2,\pi/2]` the velocity's angle below the horizontal.
     """
 
     A00: float
@@ -50,8 +49,6 @@ class FourierCoefficients:
     def plate(self) -> float:
         r""":math:`\alpha_z(0,\pi/2)`, a horizontal plate pushed straight down (units of the fit).
 
-        Examples
-        --------
         >>> round(LI2013_GENERIC.plate, 12)
         1.0
         """
@@ -111,8 +108,7 @@ def li2013_alpha(
     Returns
     -------
     (ndarray, ndarray)
-        :math:`\alpha_x` (positive: resists the motion) and :math:`\alpha_z` (positive:
-        lift), in the units of the fit.
+        :math:`\alpha_x` (> 0 resists the motion), :math:`\alpha_z` (> 0 lifts), fit units.
 
     Examples
     --------

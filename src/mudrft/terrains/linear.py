@@ -1,12 +1,9 @@
 r"""Linear-stiffness mud: the "conventional linear model" of Godon et al. 2022, Liu et al. 2023.
 
-The vertical stress under the foot grows linearly with the tip depth :math:`d`,
-
 .. math:: \sigma_z = k\,d, \qquad F_z = \sigma_z\,A_z(d),
 
-with :math:`A_z(d)` the horizontal projected area of the submerged foot and :math:`k`
-[N/m^3] a stiffness per unit area (decision D54): vertical only, elastic (no hysteresis,
-relaxation or suction) and rate-independent.
+with :math:`d` the tip depth, :math:`A_z(d)` the horizontal projected area of the submerged
+foot and :math:`k` [N/m^3] a stiffness per unit area (decision D54): vertical only.
 """
 
 from __future__ import annotations
@@ -28,7 +25,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -95,10 +92,8 @@ class LinearStiffness:
         register("liu2023ral")
 
     def stress(self, depth: ArrayLike) -> FloatArray:
-        """Vertical stress at tip depth ``depth`` [m], in Pa.
+        """Vertical stress [Pa] at tip depth ``depth`` [m].
 
-        Examples
-        --------
         >>> float(LinearStiffness(stiffness=1e6).stress(0.02))
         20000.0
         """
@@ -120,11 +115,8 @@ class LinearStiffness:
         sz = self.stress(depth)
         if self.unloading == "zero":
             sz = np.where(vel[..., 2] > 0, 0.0, sz)
-        fz = sz * area_z(foot, depth)
-        zeros = np.zeros_like(fz)
-        force = np.stack([zeros, zeros, fz], axis=-1)
-        stress = np.stack([zeros, zeros, np.where(depth > 0, sz, 0.0)], axis=-1)
-        return LinearState(in_mud=depth > 0), TerrainOutput(force=force, stress=stress, depth=depth)
+        out = vertical_output(sz * area_z(foot, depth), np.where(depth > 0, sz, 0.0), depth)
+        return LinearState(in_mud=depth > 0), out
 
 
 def fit_stiffness(depth: ArrayLike, stress: ArrayLike) -> float:

@@ -1,8 +1,6 @@
 r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
 
-**A reconstruction, not a transcription** (decision D55): the AIM 2024 paper (very probably
-arXiv:2403.02617) could not be read offline; what Chen et al. 2026 say of it fixes the
-structure:
+A reconstruction from what Chen et al. 2026 say of it (decision D55):
 
 * a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n`;
 * a Maxwell element (spring :math:`G`, dashpot :math:`\eta_M=G\lambda_M` in series),
@@ -38,36 +36,21 @@ from .._validation import (
     check_positive,
     positive_number,
 )
-from .._validation import (
-    set_number as _set,
-)
+from .._validation import set_number as _set
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position
+from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
 
 __all__ = ["MaxwellFit", "MaxwellMud", "MaxwellState", "fit_maxwell"]
 
-# α, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate test
-# (decision D55, re-derived by tests/terrains/test_maxwell.py).
-_DEFAULTS = {
-    "alpha": 24e3,
-    "n": 0.53,
-    "modulus": 9.283e4,
-    "relaxation": 0.2017,
-    "sigma_y": 2.247e4,
-    "omega": 62.50,
-    "damping": 1.0 / np.sqrt(2.0),
-    "release": 1.471,
-}
-
 
 class MaxwellState(NamedTuple):
-    """State under a foot: Maxwell stress ``sigma_m`` [Pa], filtered ``suction`` [Pa] and
-    its ``suction_rate`` [Pa/s], deepest ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
+    """Maxwell stress ``sigma_m`` [Pa], ``suction`` [Pa], ``suction_rate`` [Pa/s], deepest
+    ``gamma_max`` [-] since entry, ``in_mud`` (bool)."""
 
     sigma_m: np.ndarray
     suction: np.ndarray
@@ -102,24 +85,18 @@ class MaxwellMud:
 
     Parameters
     ----------
-    alpha : float
-        Stiffness of the nonlinear spring [Pa].
-    n : float
-        Its exponent, in (0, 1] [-].
-    modulus : float
-        Spring :math:`G` of the Maxwell element [Pa].
-    relaxation : float
-        Relaxation time :math:`\lambda_M=\eta_M/G` [s].
+    alpha, n : float
+        Stiffness [Pa] and exponent in (0, 1] [-] of the nonlinear spring.
+    modulus, relaxation : float
+        Spring :math:`G` [Pa] and relaxation time :math:`\lambda_M=\eta_M/G` [s] of the
+        Maxwell element.
     sigma_y : float
         Yield suction :math:`\sigma_Y` fed to the filter [Pa].
-    omega : float
-        Natural frequency :math:`\omega_s` of the suction filter [rad/s].
-    damping : float
-        Damping ratio :math:`\zeta_s` of the suction filter [-] (default
-        :math:`1/\sqrt2`, not fitted).
+    omega, damping : float
+        Natural frequency :math:`\omega_s` [rad/s] and damping ratio :math:`\zeta_s` [-]
+        (default :math:`1/\sqrt2`, not fitted) of the suction filter.
     release : float
-        Retraction :math:`r_b` over which the suction input lets go [-] (in units of
-        :math:`L_c`).
+        Retraction :math:`r_b` over which the suction input lets go [-] (in :math:`L_c`).
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's.
     name : str
@@ -137,19 +114,20 @@ class MaxwellMud:
     (24000.0, 0.53)
     """
 
-    alpha: float = _DEFAULTS["alpha"]
-    n: float = _DEFAULTS["n"]
-    modulus: float = _DEFAULTS["modulus"]
-    relaxation: float = _DEFAULTS["relaxation"]
-    sigma_y: float = _DEFAULTS["sigma_y"]
-    omega: float = _DEFAULTS["omega"]
-    damping: float = _DEFAULTS["damping"]
-    release: float = _DEFAULTS["release"]
+    # alpha, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate
+    # test (decision D55, re-derived by tests/terrains/test_maxwell.py)
+    alpha: float = 24e3
+    n: float = 0.53
+    modulus: float = 9.283e4
+    relaxation: float = 0.2017
+    sigma_y: float = 2.247e4
+    omega: float = 62.50
+    damping: float = 1.0 / np.sqrt(2.0)
+    release: float = 1.471
     characteristic_length: float | None = None
     name: str = "maxwell"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         for f in ("alpha", "modulus", "relaxation", "omega", "damping", "release"):
             _set(self, f, check_positive(f, getattr(self, f)))
         _set(self, "sigma_y", check_nonnegative("sigma_y", self.sigma_y, unit="Pa"))
@@ -181,9 +159,8 @@ class MaxwellMud:
     def advance(
         self, state: MaxwellState, gamma: ArrayLike, gamma_dot: ArrayLike, dt: float
     ) -> tuple[MaxwellState, np.ndarray]:
-        """Advance the stresses over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the
-        rate ``gamma_dot`` [1/s] (downward positive); return (state, stress [Pa]). Out of the
-        mud (gamma <= 0) the state resets and the stress is 0 (as decision D11)."""
+        """Advance over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the rate
+        ``gamma_dot`` [1/s] (down > 0); return (state, stress [Pa]), reset out of the mud."""
         check_positive("dt", dt, unit="s")
         g = np.asarray(gamma, dtype=float)
         gd = np.asarray(gamma_dot, dtype=float)
@@ -208,13 +185,7 @@ class MaxwellMud:
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)
-        fz = sz * area_z(foot, depth)
-        zeros = np.zeros_like(fz)
-        return new, TerrainOutput(
-            force=np.stack([zeros, zeros, fz], -1),
-            stress=np.stack([zeros, zeros, sz], -1),
-            depth=depth,
-        )
+        return new, vertical_output(sz * area_z(foot, depth), sz, depth)
 
     def response(
         self, trajectory: Trajectory, *, characteristic_length: float = 0.05
@@ -240,12 +211,14 @@ class MaxwellMud:
         >>> bool(s.max() > 0 > s.min())
         True
         """
-        if not isinstance(trajectory, Trajectory):
-            raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
-        lc = positive_number("characteristic_length", characteristic_length, unit="m")
-        return _stress_history(
-            self, trajectory.time, trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
-        )
+        return _stress_history(self, trajectory.time, *_gammas(trajectory, characteristic_length))
+
+
+def _gammas(trajectory: Trajectory, characteristic_length: float) -> tuple[np.ndarray, ...]:
+    if not isinstance(trajectory, Trajectory):
+        raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+    lc = positive_number("characteristic_length", characteristic_length, unit="m")
+    return trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
 
 
 def _constants(m: MaxwellMud) -> tuple[float, ...]:
@@ -300,8 +273,8 @@ def _stress_history(
 
 @dataclass(frozen=True)
 class MaxwellFit:
-    """Result of :func:`fit_maxwell`: the fitted ``model``, the ``rmse`` of the stress [Pa],
-    the optimiser's ``success``, ``message`` and number of evaluations ``nfev``."""
+    """:func:`fit_maxwell`'s ``model``, stress ``rmse`` [Pa] and the optimiser's ``success``,
+    ``message`` and ``nfev``."""
 
     model: MaxwellMud
     rmse: float
@@ -317,10 +290,8 @@ def fit_maxwell(
     trajectory: Trajectory, stress: ArrayLike, *, characteristic_length: float = 0.05,
     initial: MaxwellMud | None = None, progress: bool = False,
 ) -> MaxwellFit:  # fmt: skip
-    r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` to a vertical stress history.
-
-    :math:`\alpha`, :math:`n` and :math:`\zeta_s` are kept from ``initial``; least squares on
-    the logs of the constants over the samples in the mud.
+    r"""Fit :math:`G, \lambda_M, \sigma_Y, \omega_s, r_b` (least squares on their logs, over the
+    samples in the mud) to a vertical stress history; :math:`\alpha, n, \zeta_s` are kept.
 
     Parameters
     ----------
@@ -334,24 +305,16 @@ def fit_maxwell(
         Starting point (default: :class:`MaxwellMud` defaults).
     progress : bool, keyword-only
         Report every 20th evaluation through the ``mudrft.progress`` logger.
-
-    Returns
-    -------
-    MaxwellFit
     """
     from scipy.optimize import least_squares
 
-    if not isinstance(trajectory, Trajectory):
-        raise MudrftError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+    g, gd = _gammas(trajectory, characteristic_length)
     s = check_finite("stress", stress)
     if s.shape != trajectory.time.shape:
         raise MudrftError(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
-    lc = positive_number("characteristic_length", characteristic_length, unit="m")
     m0 = initial or MaxwellMud()
-    g = trajectory.depth / lc
-    gd = -trajectory.velocity[:, 2] / lc
     inside = g > 0  # out of the mud both models give 0 as terrains (decision D11)
     if not np.any(inside):
         raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")

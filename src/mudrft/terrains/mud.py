@@ -1,10 +1,5 @@
-r"""The mud model of Chen et al. (2026) as a terrain: the one terrain step, and its options.
-
-:func:`mud_step` is the only definition of how the mud under a foot advances: the tip's
-motion turned into the channels' displacements and rates, the reset on re-entry, the
-heading, and the constitutive steps (:func:`~mudrft.constitutive.kernel.channel_step`). It
-is element-wise over any ``xp`` (:mod:`mudrft._xp`): Python floats for one foot, numpy for
-a batch, ``jax.numpy``, and numba on floats. The foot turns the stresses into a force.
+r"""The mud model of Chen et al. (2026) as a terrain: :func:`mud_step`, the one definition of
+how the mud under a foot advances (element-wise over any ``xp``), and its options.
 """
 
 from __future__ import annotations
@@ -47,8 +42,7 @@ def channel_parameters(mud: Mud) -> MudParameters:
 
 def vertical_viscosity(mud: Mud, *, quasi_static: bool = False) -> float:
     r"""The vertical stress's instantaneous viscosity [Pa s], the largest of a batch:
-    :math:`\eta_\infty` (D6), or :math:`\eta_\infty+\eta_m` when ``quasi_static`` (D15). A foot of
-    area :math:`A` feels it as a damper :math:`\eta A/L_c` (explicit step limit :math:`2m/c`)."""
+    :math:`\eta_\infty` (D6), or :math:`\eta_\infty+\eta_m` when ``quasi_static`` (D15)."""
     eta = np.asarray(mud.vertical.eta_inf, dtype=float)
     if quasi_static:
         eta = eta + np.asarray(mud.vertical.eta_m, dtype=float)
@@ -56,22 +50,10 @@ def vertical_viscosity(mud: Mud, *, quasi_static: bool = False) -> float:
 
 
 class MudChannels(NamedTuple):
-    """State of the mud under one foot (floats) or a batch (arrays of one shape).
-
-    Attributes
-    ----------
-    h, z : ChannelState
-        The horizontal channel (displacement from the entry point along its line) and the
-        vertical one (the depth).
-    entry_x, entry_y : float or array
-        Tip position where the foot entered the mud [m].
-    line : float or array
-        Direction of the horizontal displacement's line through the entry point [rad].
-    heading : float or array
-        Direction in which the horizontal stress acts [rad].
-    in_mud : float or array
-        1.0 when the tip was below the surface after the last step, else 0.0.
-    """
+    """State of the mud under one foot (floats) or a batch (arrays of one shape): the
+    horizontal and vertical channels ``h``, ``z``, the ``entry_x``, ``entry_y`` of the tip
+    [m], the ``line`` of the horizontal displacement and the ``heading`` of its stress [rad],
+    and ``in_mud`` (1.0 or 0.0)."""
 
     h: ChannelState
     z: ChannelState
@@ -284,10 +266,8 @@ def _motion_for_state(
 
 @dataclass(frozen=True, eq=False)
 class MudTerrain:
-    r"""The mud model of Chen et al. (2026) as a terrain.
-
-    x and y channels run the horizontal parameter set, z the vertical one
-    (:func:`mud_step`); the foot turns the stresses into a force.
+    r"""The mud model of Chen et al. (2026) as a terrain (:func:`mud_step`): x and y channels
+    run the horizontal parameter set, z the vertical one.
 
     Parameters
     ----------
@@ -297,10 +277,9 @@ class MudTerrain:
         :math:`L_c` [m]; ``None`` uses the foot's own.
     acceleration : bool or None
         Keep the acceleration term of the ODE (decision D6); None: True for the ODE.
-    thixotropy : {"ode", "quasi-static"}
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (decision D15).
-    clock : {"contact", "retraction"}
-        Quasi-static only: the clock of eq. (9) runs from first contact or the retraction.
+    thixotropy, clock : {"ode", "quasi-static"}, {"contact", "retraction"}
+        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (D15), their clock
+        (eq. 9) running from first contact or from the retraction.
     reset_on_exit : bool
         Land in undisturbed mud after the tip left it (decision D11).
     xi0 : float
@@ -413,8 +392,7 @@ class MudTerrain:
         seal = foot.seal_factor(state.foot)
         common = (self.length(foot), self.kappa, self.xi0, self.reset_on_exit, self.heading_speed)
         flags = (self.quasi_static, self.restart)
-        if pos.shape == (3,) and np.ndim(seal) == 0:
-            # one foot: the same step on Python floats (no numpy call overhead)
+        if pos.shape == (3,) and np.ndim(seal) == 0:  # one foot: the step on Python floats
             x, y, z = pos.tolist()
             u, v, w = vel.tolist()
             ch, sx, sy, sz, depth = mud_step(

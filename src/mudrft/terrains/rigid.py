@@ -1,12 +1,9 @@
 r"""Rigid ground: penalty contact with regularised Coulomb friction.
 
-The ground is the half-space z < 0. At the foot tip (its lowest point) the penetration
-:math:`d=\max(-z,0)` and its rate :math:`\dot d=-v_z` give the normal force
+At the tip's penetration :math:`d=\max(-z,0)`, rate :math:`\dot d=-v_z`, slip speed
+:math:`v_s`:
 
 .. math:: F_z = \max(k\,d + c\,\dot d,\ 0) \quad (d>0), \qquad F_z = 0 \quad (d = 0),
-
-clipped at zero, so the ground never pulls (no adhesion, no suction). The tangential
-force is Coulomb friction regularised by a tanh over a slip speed :math:`v_s`,
 
 .. math:: \mathbf F_t = -\mu F_z \tanh(|\mathbf v_t|/v_s)\,\mathbf v_t/|\mathbf v_t|.
 
@@ -44,14 +41,11 @@ class RigidGround:
 
     Parameters
     ----------
-    stiffness : float
-        Penalty stiffness :math:`k` [N/m].
-    damping : float
-        Penalty damping :math:`c` [N s/m].
-    friction : float
-        Coulomb friction coefficient :math:`\mu` [-] (0: frictionless).
-    slip_speed : float
-        Regularisation speed :math:`v_s` of the friction law [m/s].
+    stiffness, damping : float
+        Penalty stiffness :math:`k` [N/m] and damping :math:`c` [N s/m].
+    friction, slip_speed : float
+        Coulomb friction coefficient :math:`\mu` [-] (0: frictionless) and its
+        regularisation speed :math:`v_s` [m/s].
     name : str
         Label in reports.
 
@@ -72,7 +66,6 @@ class RigidGround:
     name: str = "rigid"
 
     def __post_init__(self) -> None:
-        # one number each, stored as floats (a list failed inside simulate)
         _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m"))
         _set(self, "damping", check_nonnegative("damping", self.damping, unit="N s/m"))
         _set(self, "friction", check_nonnegative("friction", self.friction))

@@ -1,9 +1,5 @@
-r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain`.
-
-A foot's mud is a row of :data:`N_STATE` floats, its parameters a row of :data:`N_CONST`,
-its options a row of seven and its shape a geometry row, so that numba compiles the loop
-over time steps and feet (:func:`run`, :func:`mudrft._jit.jit`). The physics is
-:func:`~mudrft.terrains.mud.mud_step` and the feet's force rules with ``xp=pyfloat``.
+r"""Feet in mud as rows of floats: the compiled path of :class:`~mudrft.MudTerrain` (numba
+compiles :func:`run` over time steps and feet; the physics is :func:`~.mud.mud_step`).
 
 * state: the horizontal and vertical channels (7 each, :class:`ChannelState`), entry x,
   entry y, line, heading, in_mud;
@@ -185,9 +181,8 @@ def foot_step(
     vy: float, vz: float, dt: float, cfg: FloatArray, geom: FloatArray, up: FloatArray,
     mrow: FloatArray, fs: FloatArray, row: FloatArray, frow: FloatArray,
 ) -> tuple[float, float, float, float, float, float, float]:  # fmt: skip
-    """One mud step of one foot, :meth:`mudrft.MudTerrain.step_unchecked` on rows: reads
-    ``s``, ``fs`` and row ``r`` of ``c``, writes the new states to ``row`` and ``frow``, returns
-    ``(fx, fy, fz, sx, sy, sz, depth)`` [N, Pa, m]."""
+    """:meth:`mudrft.MudTerrain.step_unchecked` of one foot on rows (new states into ``row``,
+    ``frow``): ``(fx, fy, fz, sx, sy, sz, depth)`` [N, Pa, m]."""
     m = morphing_at(mrow)
     seal = 1.0
     if geom[0] == MORPHING:
@@ -251,9 +246,8 @@ def run(
 def along_path(
     terrain: MudTerrain, foot: Foot, position: FloatArray, velocity: FloatArray, dts: FloatArray
 ) -> FloatArray | None:
-    """The compiled output rows (T, N_OUT) of one foot stepping from undisturbed mud at
-    ``position[0]`` to ``position[1:]`` [m] at ``velocity[1:]`` [m/s], steps ``dts`` (T,) [s];
-    None when the foot or the mud has no rows."""
+    """The compiled output rows (T, N_OUT) of one foot from undisturbed mud along ``position``
+    [m], ``velocity`` [m/s] and steps ``dts`` (T,) [s]; None without rows."""
     from .._jit import jit
 
     if not compilable(foot) or any(

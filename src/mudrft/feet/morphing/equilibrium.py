@@ -1,11 +1,10 @@
 r"""The column in balance with the mud, and the seal broken by curling pads (D32, D34, D35).
 
-The deflection :math:`\delta` solves
-:math:`R(\delta)=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))=0` on :math:`[0,\delta_{max}]`,
-the end stops as complementarity; from the previous deflection the column moves with the net force to the first root or stop it meets (D34): a scan over
-33 nodes brackets it, then bisection on floats (up to 16 moving elements) or SciPy's
-``find_root`` (a batch) refines it to :math:`|R|\le10^{-10}` N. The seal factor is
-:math:`1-\tanh(g/g_s)`, :math:`g` the lift of the pad rims since their most spread (D35).
+The deflection :math:`\delta` solves :math:`R(\delta)=F_s(\delta)-\sigma_zA_z(d,
+\theta(\delta))=0` on :math:`[0,\delta_{max}]`, the end stops as complementarity: from the
+previous deflection the column moves with the net force to the first root or stop (D34),
+bracketed by a scan over 33 nodes, refined to :math:`|R|\le10^{-10}` N by bisection on
+floats (up to 16 moving elements) or SciPy's ``find_root``.
 """
 
 from __future__ import annotations
@@ -29,8 +28,7 @@ if TYPE_CHECKING:
 
 
 def _find_root() -> Any:
-    """SciPy's ``find_root`` (SciPy >= 1.15) or None, imported on first use (slow to import;
-    tests may set ``find_root``)."""
+    """SciPy's ``find_root`` (SciPy >= 1.15) or None, imported on first use (tests set it)."""
     if "find_root" not in globals():
         try:
             from scipy.optimize.elementwise import find_root
@@ -74,10 +72,9 @@ def column_residual(
     spring: TwoStageSpring | MorphingRow, deflection: XpArray, depth: XpArray, sz: XpArray,
     xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
-    r"""Balance residual :math:`R=F_s(\delta)-\sigma_zA_z(d,\theta(\delta))` [N], element-wise
-    over ``xp`` (D32): ``g`` and ``spring`` hold the dimensions and spring constants by
-    attribute (dataclasses or one :class:`~.linkage.MorphingRow`), ``pole_top`` [m] and
-    ``branch`` come from the linkage; deflection [m], depth [m], vertical stress [Pa]."""
+    r"""Balance residual :math:`R` [N] (D32), element-wise: ``g`` and ``spring`` by attribute
+    (dataclasses or a :class:`~.linkage.MorphingRow`), ``pole_top`` [m] and ``branch`` of the
+    linkage; deflection [m], depth [m], vertical stress [Pa]."""
     theta = pad_angle(g, pole_top, branch, deflection, xp=xp)
     return spring_force(spring, deflection, xp=xp) - sz * vertical_area(g, depth, theta, xp=xp)
 
@@ -86,9 +83,8 @@ def residual(
     deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike, *, linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:  # fmt: skip
-    r"""Balance residual :math:`R` [N] of a linkage and spring (unchecked): > 0 where the
-    springs push the column back open; deflection [m] in [0, stroke], tip depth [m] >= 0,
-    vertical channel stress [Pa]."""
+    r"""Balance residual :math:`R` [N] (> 0: the springs push the column open), unchecked, at
+    a deflection [m], tip depth [m] and vertical stress [Pa]."""
     d, s = np.asarray(depth, dtype=float), np.asarray(sz, dtype=float)
     x = np.asarray(deflection, dtype=float)
     g = linkage.geometry
@@ -125,11 +121,8 @@ def balanced_deflection(
     depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike, linkage: Linkage,
     spring: TwoStageSpring,
 ) -> NDArray[np.float64]:  # fmt: skip
-    """Column deflection in balance with the mud [m], continued from ``previous`` [m] (D34).
-
-    The unchecked path of :meth:`MorphingFoot.equilibrium` (module docstring: the root
-    selection): tip depth [m] >= 0, vertical stress [Pa]; the result has the broadcast shape.
-    """
+    """Column deflection [m] in balance with the mud from ``previous`` [m] (D34), unchecked:
+    tip depth [m] >= 0, vertical stress [Pa]; the result has the broadcast shape."""
     d, s, p = np.broadcast_arrays(
         np.asarray(depth, float), np.asarray(sz, float), np.asarray(previous, float)
     )
@@ -171,12 +164,9 @@ def _scan_node(
     up: XpArray, p: XpArray, x: XpArray, r: XpArray, lo: XpArray, flo: XpArray, hi: XpArray,
     fhi: XpArray, found: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
-    """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34), element-wise.
-
-    Beyond ``p`` in the direction of motion (``up``: compressing) and before the first root,
-    a node where R keeps the sign of R(p) becomes the near end of the bracket, the first where
-    it changes sign the far end, and the scan has ``found`` its bracket. Returns ``(lo, flo,
-    hi, fhi, found)``, ends [m] and their residuals [N].
+    """One node ``x`` [m] (residual ``r`` [N]) of the scan from ``p`` [m] (D34), element-wise:
+    beyond ``p`` (``up``: compressing), a node where R keeps its sign is the near end of the
+    bracket, the first where it changes the far end. Returns ``(lo, flo, hi, fhi, found)``.
     """
     beyond = xp.where(found, False, xp.where(up, x > p, x < p))
     hit = beyond & xp.where(up, r >= 0.0, r <= 0.0)
@@ -202,8 +192,7 @@ def _move(
     d: NDArray[np.float64], s: NDArray[np.float64], p: NDArray[np.float64],
     r_p: NDArray[np.float64], linkage: Linkage, spring: TwoStageSpring,
 ) -> NDArray[np.float64]:  # fmt: skip
-    """The moving elements of a batch: the scan on arrays, the brackets refined by
-    ``find_root`` in one call."""
+    """The moving elements of a batch: the scan on arrays, then ``find_root`` in one call."""
     stroke = linkage.stroke
     nodes = np.linspace(0.0, stroke, _GRID)
     r_n = residual(nodes[None, :], d[:, None], s[:, None], linkage=linkage, spring=spring)
@@ -267,10 +256,9 @@ def held_deflection(
     deflection: XpArray, previous: XpArray, retraction: XpArray, curl_delay: float,
     xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
-    r"""The column deflection [m] after the pad-curl delay (D35): for the first ``curl_delay``
-    [s] of a retraction (``retraction``, the mud's :math:`t-t_w` [s], 0 while not retracting)
-    the column may compress but not extend, so the pads do not curl; else ``deflection``, the
-    step's balance [m]. ``previous`` is the deflection after the previous step [m].
+    r"""The deflection [m] after the pad-curl delay (D35): for the first ``curl_delay`` [s] of a
+    retraction (``retraction``: :math:`t-t_w` [s], or 0) the column may not extend from
+    ``previous`` [m]; else ``deflection``, the step's balance [m].
 
     >>> float(held_deflection(0.004, 0.011, 0.02, 0.05)), float(held_deflection(0.004, 0.011, 0.06, 0.05))
     (0.011, 0.004)
@@ -282,9 +270,8 @@ def held_deflection(
 def balanced_deflection_on_floats(
     m: MorphingRow, depth: float, sz: float, previous: float, xp: Namespace = pyfloat
 ) -> float:
-    r""":func:`balanced_deflection` for one foot on floats (and for the compiled coupling):
-    the scan of D34 node by node, then bisection; ``m`` a :class:`~.linkage.MorphingRow`,
-    depth [m], vertical stress [Pa], previous deflection [m]; returns the deflection [m]."""
+    r""":func:`balanced_deflection` [m] for one foot on floats, ``m`` a
+    :class:`~.linkage.MorphingRow`: depth [m], vertical stress [Pa], previous deflection [m]."""
     stroke = m.stroke
     p = xp.clip(previous, 0.0, stroke)
     r_p = column_residual(m, m.pole_top, m.branch, m, p, depth, sz, xp=xp)
@@ -321,10 +308,8 @@ def contact_on_floats(
     m: MorphingRow, deflection: float, most_spread: float, depth: float, sx: float, sy: float,
     sz: float, heading: float, retraction: float, xp: Namespace = pyfloat,
 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
-    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats, for a
-    :class:`~.linkage.MorphingRow` ``m``: previous deflection [m] and seal memory [rad], depth
-    [m], signed stresses [Pa], world heading [rad], time since the retraction began [s].
-    Returns ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)`` [N, m, rad]."""
+    """One foot's :meth:`~.foot.MorphingFoot.contact_force` on floats (arguments as there, ``m``
+    a :class:`~.linkage.MorphingRow`): ``(F_x, F_y, F_z, deflection, pad_angle, most_spread)``."""
     if m.lock >= 0.0:
         delta = m.lock
     else:

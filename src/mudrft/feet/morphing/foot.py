@@ -1,11 +1,6 @@
-r"""The passive morphing foot: its mechanism (checked views) and the Foot interface over it.
+r"""The passive morphing foot: checked views of its mechanism and the Foot interface over it.
 
-:class:`MorphingFoot` validates the dimensions, springs and mode, gives the checked views
-of the mechanism (pad angle, spring on rigid ground, areas, column balance, drawing) and
-what the mud terrain needs of a foot: forces at the balanced deflection (D32-D34), the
-internal state stepped in time with its seal memory (D35), :math:`L_c` (D36) and areas
-(D38). The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and
-:mod:`.equilibrium`.
+The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and :mod:`.equilibrium`.
 """
 
 from __future__ import annotations
@@ -65,19 +60,12 @@ class MorphingFoot(Foot):
     seal_length : float, keyword-only
         Rim lift :math:`g_s` over which curling pads break the cavity seal [m] (D35).
     curl_delay : float, keyword-only
-        Time after the retraction begins during which the pads stay spread [s] (D35);
-        default 0, they curl the moment the retraction begins.
+        Time after the retraction begins during which the pads stay spread [s] (D35).
     characteristic_length : float or None, keyword-only
         :math:`L_c` [m]; default the square root of the spread footprint (D36).
     **overrides
         Any field of :class:`MorphingFootGeometry` or :class:`TwoStageSpring` by name,
         e.g. ``pad_length=0.04`` [m] or ``hard_stiffness=12000.0`` [N/m].
-
-    Raises
-    ------
-    MudrftError
-        For an unknown override, a bad mode or length, a linkage that cannot be built, or
-        a soft stage that does not bottom out within the stroke.
 
     Examples
     --------
@@ -128,7 +116,6 @@ class MorphingFoot(Foot):
         self._lc = None if lc is None else check_length("characteristic_length", lc)
         self._lc_spread: float | None = None
 
-    # -- kinematics and springs --------------------------------------------------------------
     @property
     def linkage(self) -> Linkage:
         """The resolved pad linkage (D30)."""
@@ -180,7 +167,6 @@ class MorphingFoot(Foot):
         lock = self.locked_deflection()
         return self.stroke if lock is None else lock
 
-    # -- areas and the balance with a given stress ---------------------------------------------
     def effective_area(self, depth: ArrayLike, deflection: ArrayLike) -> NDArray[np.float64]:
         """Effective vertical area :math:`A_z` [m^2], :math:`F_z=\\sigma_zA_z` (D33), at tip
         depth [m] >= 0 and column deflection [m] in [0, stroke]."""
@@ -208,10 +194,8 @@ class MorphingFoot(Foot):
     def equilibrium(
         self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
     ) -> NDArray[np.float64]:
-        r"""Column deflection [m] in balance with the mud, :math:`F_s(\delta)=\sigma_zA_z(d,
-        \theta(\delta))` with the end stops as complementarity (D32, D34), at tip ``depth``
-        [m] >= 0 and vertical stress ``sz`` [Pa]: from the ``previous`` deflection [m] it
-        moves with the net force to the nearest root (hysteresis across a snap-through)."""
+        r"""Column deflection [m] in balance with the mud (D32, D34) at tip ``depth`` [m] >= 0
+        and vertical stress ``sz`` [Pa], reached from the ``previous`` deflection [m]."""
         d = check_nonnegative("depth", depth, unit="m")
         s = check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
@@ -227,11 +211,9 @@ class MorphingFoot(Foot):
             )
         return np.full(np.broadcast_shapes(np.shape(depth), np.shape(sz)), lock)
 
-    # -- drawing -----------------------------------------------------------------------------
     def pad_corners(self, deflection: float | None = None) -> NDArray[np.float64]:
-        """Corners of every pad in the foot frame [m], shape (n_pads, 4, 3): pivot-left,
-        pivot-right, rim-right, rim-left, at a deflection [m] (default the locked one, or
-        spread for the free foot)."""
+        """Pad corners (pivot-left, pivot-right, rim-right, rim-left) in the foot frame [m],
+        (n_pads, 4, 3), at a deflection [m] (default the locked one, or spread)."""
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.pad_corners(self.geometry, th)
 
@@ -241,16 +223,12 @@ class MorphingFoot(Foot):
         return self._linkage.points(float(self._check_deflection(deflection)))
 
     def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
-        """Surface elements of the base, the column and both faces of every pad [m] (D159).
-
-        What a terrain that integrates elements (granular RFT) sees, at the pad angle of
-        ``deflection`` [m] (default as :meth:`pad_corners`): the foot does not morph on such
-        a terrain. ``strips``: elements along each pad face and up each wall [-].
-        """
+        """Surface elements of the base, the column and both faces of every pad [m] (D159), at
+        ``deflection`` [m] (default as :meth:`pad_corners`; the foot does not morph on an
+        element terrain); ``strips``: elements along each pad face and up each wall [-]."""
         th = float(self.pad_angle(self._shown_deflection(deflection)))
         return pads.surface_elements(self.geometry, th, strips=strips)
 
-    # -- parameters --------------------------------------------------------------------------
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
@@ -273,8 +251,7 @@ class MorphingFoot(Foot):
             "curl_delay": self.curl_delay,
             "characteristic_length": self._lc,
         }
-        kw.update({k: changes.pop(k) for k in tuple(kw) if k in changes})
-        return MorphingFoot(self.geometry, self.spring, **kw, **changes)
+        return MorphingFoot(self.geometry, self.spring, **(kw | changes))
 
     def as_dict(self) -> dict[str, float | int | str]:
         """All parameters, SI, as a flat dict."""
@@ -299,7 +276,6 @@ class MorphingFoot(Foot):
     def __hash__(self) -> int:
         return hash(tuple(sorted(self.as_dict().items())))
 
-    # -- the Foot interface ------------------------------------------------------------------
     def projected_areas(
         self, depth: ArrayLike, *, deflection: ArrayLike | None = None
     ) -> NDArray[np.float64]:
@@ -325,16 +301,14 @@ class MorphingFoot(Foot):
     def resultant(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
     ) -> NDArray[np.float64]:
-        """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest
-        (``previous=0``, D34); :meth:`contact_force` follows the deflection in time instead.
-        Arguments as :meth:`Foot.resultant`."""
+        """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest (D34);
+        arguments as :meth:`Foot.resultant`."""
         d, s, h = _check_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
 
     def posed(self, rotation: RotationLike) -> NoReturn:
-        """Not available: the pads open and curl with the load, so no one rigid mesh stands
-        for the foot; raises :class:`~mudrft.MudrftError` (the MuJoCo coupling poses it)."""
+        """Not available (the pads move with the load): raises :class:`~mudrft.MudrftError`."""
         raise MudrftError(
             "MorphingFoot.posed(rotation): the morphing foot has no rotated "
             "mesh, since its pads open and curl with the load; the flat, "
@@ -358,12 +332,8 @@ class MorphingFoot(Foot):
         for ``None``."""
         if foot_state is None:
             return 1.0
-        return seal_factor(
-            foot_state.pad_angle,
-            foot_state.most_spread,
-            pad_length=self.geometry.pad_length,
-            seal_length=self.seal_length,
-        )
+        g_s, length = self.seal_length, self.geometry.pad_length
+        return seal_factor(foot_state.pad_angle, foot_state.most_spread, length, g_s)
 
     def contact_force(
         self, foot_state: MorphingState | None, depth: ArrayLike, stress: ArrayLike,
@@ -371,11 +341,8 @@ class MorphingFoot(Foot):
     ) -> tuple[MorphingState, NDArray[np.float64]]:  # fmt: skip
         """Solve the column balance for this step; return ``(state, force)`` [N] (D32, D34).
 
-        The deflection moves from ``foot_state.deflection`` to the balance with the current
-        stresses, held for the first :attr:`curl_delay` seconds of a retraction; out of the
-        mud the seal memory resets. Depth [m], stresses (..., 3) [Pa] and world heading
-        [rad] are checked by the caller; ``dt`` [s] is unused (the balance is quasi-static);
-        ``retraction`` is the time since the retraction began [s] (0 while not retracting).
+        Depth [m], stresses (..., 3) [Pa] and world heading [rad] are checked by the caller;
+        ``dt`` [s] is unused (quasi-static); ``retraction``: time since it began [s] (or 0).
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()

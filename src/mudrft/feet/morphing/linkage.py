@@ -30,6 +30,7 @@ from ..._validation import (
     check_length,
     nonnegative_number,
     number_in_range,
+    positive_int,
 )
 
 __all__ = [
@@ -44,11 +45,8 @@ MAX_PADS = 100
 
 @dataclass(frozen=True)
 class MorphingFootGeometry:
-    r"""Dimensions of the morphing foot's base, pads and linkage (SI, D30).
-
-    The defaults reconstruct a foot of the scale of the paper's fixed feet, about 96 mm across
-    when spread (the paper gives no numbers). Curled at 75 deg the defaults' pads overlap;
-    the forces count each pad whole (D160).
+    r"""Dimensions of the morphing foot's base, pads and linkage (SI); the defaults reconstruct
+    a foot about 96 mm across when spread (D30; curled, their pads overlap: D160).
 
     Attributes
     ----------
@@ -68,13 +66,6 @@ class MorphingFootGeometry:
     retracted_angle, expanded_angle : float
         Pad angle with the column unloaded (curled), :math:`\theta_r`, and fully compressed
         (spread), :math:`\theta_e` [rad].
-
-    Raises
-    ------
-    MudrftError
-        For a length that is not positive, an angle out of range, pads that would not curl,
-        pads that overlap at their pivots, or a column wider than the base or not taller than
-        the pivots.
     """
 
     n_pads: int = 8
@@ -93,12 +84,7 @@ class MorphingFootGeometry:
     expanded_angle: float = math.radians(5.0)
 
     def __post_init__(self) -> None:
-        if (
-            not isinstance(self.n_pads, (int, np.integer))
-            or isinstance(self.n_pads, bool)
-            or self.n_pads < 1
-        ):
-            raise MudrftError(f"n_pads must be an integer >= 1, got {self.n_pads!r}")
+        positive_int("n_pads", self.n_pads)
         if self.n_pads > MAX_PADS:
             raise MudrftError(
                 f"n_pads must be at most {MAX_PADS} (the paper's foot has 8; every force sums "
@@ -125,9 +111,7 @@ class MorphingFootGeometry:
                 f"column_radius must be <= base_radius = {self.base_radius!r} m, "
                 f"got {self.column_radius!r} m"
             )
-        # the pads' pivot edges, tangent to the base rim, must not overlap: at most the sides
-        # of the regular n-gon around the rim (this also bounds n_pads, D30)
-        if self.n_pads >= 3:
+        if self.n_pads >= 3:  # pivot edges at most the sides of the n-gon around the rim
             fit = 2.0 * self.base_radius * math.tan(math.pi / self.n_pads)
             if self.pad_inner_width > fit:
                 raise MudrftError(
@@ -159,9 +143,8 @@ def raw_pad_angle(
     g: MorphingFootGeometry | MorphingRow, pole_top: XpArray, branch: XpArray, deflection: XpArray,
     xp: Namespace = np,
 ) -> XpArray:  # fmt: skip
-    """Pad angle [rad] of the circle intersection at a deflection [m], not clipped,
-    element-wise; ``g`` holds the dimensions by attribute (:class:`MorphingFootGeometry` or
-    :class:`MorphingRow`), ``pole_top`` [m] and ``branch`` (+-1) come from :class:`Linkage`."""
+    """Unclipped pad angle [rad] at a deflection [m], element-wise; ``g`` by attribute,
+    ``pole_top`` [m] and ``branch`` (+-1) from :class:`Linkage`."""
     dr = g.pole_radius - g.base_radius
     dz = pole_top - deflection - g.pivot_height
     dist = xp.hypot(dr, dz)
@@ -182,11 +165,8 @@ def pad_angle(
 
 @dataclass(frozen=True)
 class Linkage:
-    r"""The resolved slider-crank of one pad (D30), made by :meth:`from_geometry`.
-
-    Attributes: ``geometry``; ``pole_top``, the height :math:`z_{B0}` of the upper pole with
-    the column unloaded [m]; ``stroke``, the deflection from curled up to spread [m];
-    ``branch``, the sign (+-1) of the circle intersection [-].
+    r"""The resolved slider-crank of one pad (D30): ``geometry``, ``pole_top`` :math:`z_{B0}`
+    [m], ``stroke`` from curled up to spread [m] and ``branch`` (+-1) [-].
 
     >>> link = Linkage.from_geometry(MorphingFootGeometry())
     >>> round(link.stroke * 1e3, 2), round(math.degrees(float(link.angle(link.stroke))), 1)
@@ -200,8 +180,7 @@ class Linkage:
 
     @classmethod
     def from_geometry(cls, geometry: MorphingFootGeometry) -> Linkage:
-        """Resolve the linkage of ``geometry`` [m, rad]; a :class:`MudrftError` if the coupler
-        cannot reach the pole over the pad travel or the pole does not rise as the pads curl."""
+        """Resolve the linkage of ``geometry`` [m, rad] (it must reach and be monotone)."""
         g = geometry
         th = np.linspace(g.expanded_angle, g.retracted_angle, _DESIGN_SAMPLES)
         phi = th + g.crank_offset
@@ -254,14 +233,9 @@ class Linkage:
 
 
 class MorphingRow(NamedTuple):
-    """Every number of a :class:`~.foot.MorphingFoot`'s force, as floats [m, rad, N/m, N].
-
-    The fields of :class:`MorphingFootGeometry`, of the :class:`Linkage` and the derived
-    constants of :class:`~.springs.TwoStageSpring` by the same names, the seal length [m],
-    ``lock`` (the locked deflection [m], or -1 for the free mode, D37) and ``curl_delay`` [s]
-    (D35). The element-wise functions read their numbers by attribute, so they run on the
-    dataclasses or on this tuple (numba compiles named tuples, not dataclasses).
-    """
+    """Every number of a :class:`~.foot.MorphingFoot`'s force, as floats [m, rad, N/m, N]:
+    the geometry's, linkage's and spring's fields by name, the seal length [m], ``lock`` (the
+    locked deflection [m], or -1, D37) and ``curl_delay`` [s] (D35)."""
 
     base_radius: float
     pivot_height: float

@@ -13,11 +13,8 @@ stresses the plate rule of the paper's eq. (6)-(7), pad tilt :math:`\psi_1=\thet
 .. math:: F_x = \sigma_xA_h(\varphi)\cos\varphi,\quad F_y = \sigma_yA_h(\varphi)\sin\varphi,
           \qquad A_h = A_{column}(d) + a_p(s)\sin\theta\sum_k|\cos(2\pi k/N-\varphi)|,
 
-first-quadrant magnitudes as in :meth:`mudrft.feet.base.Foot.resultant`. Every function is
-vectorized and unchecked (:mod:`.foot` validates), with the foot dimensions ``g`` [m, rad]
-read by attribute; those of the force (:func:`pad_area` to :func:`morphing_force`) are
-element-wise over ``xp``, so the compiled coupling runs them on a
-:class:`~.linkage.MorphingRow` of floats.
+first-quadrant magnitudes. Unchecked (:mod:`.foot` validates), dimensions ``g`` [m, rad]
+by attribute; the force's functions are element-wise over ``xp``.
 """
 
 from __future__ import annotations
@@ -181,14 +178,8 @@ def pad_corners(g: MorphingFootGeometry, theta: float) -> NDArray[np.float64]:
 
 
 def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> SurfaceElements:
-    r"""Surface elements of the base, its rim, the column and both faces of the pads [m] (D159).
-
-    The base is a downward disk at the tip and a wall up to the pivots, the column a wall
-    above; each pad a thin plate with a lower face (normal :math:`\sin\theta\,\hat e_r-
-    \cos\theta\,\hat z`, leading into the mud) and an upper face, ``strips`` elements each,
-    at pad angle ``theta`` [rad]. A terrain that integrates elements (granular RFT) thus loads
-    the lower faces on intrusion and the upper ones on extraction.
-    """
+    r"""Surface elements of the base, its rim, the column and both faces of the pads [m] (D159),
+    ``strips`` elements each, at pad angle ``theta`` [rad]."""
     edges = np.linspace(0.0, g.pad_length, strips + 1)
     areas_1 = np.diff(pad_area(g, edges))
     mids = 0.5 * (edges[1:] + edges[:-1])

@@ -1,10 +1,4 @@
-r"""The morphing foot as one row of floats, for code compiled on floats.
-
-:func:`morphing_row` gathers every number of a :class:`~.foot.MorphingFoot`'s force into
-one :class:`~.linkage.MorphingRow` (the compiled coupling and ``mudrft.terrains.rows``
-pass it to the element-wise functions of the foot); :func:`row_array` is the same as a
-float array.
-"""
+r"""The morphing foot as one :class:`~.linkage.MorphingRow` of floats, for compiled code."""
 
 from __future__ import annotations
 

@@ -1,17 +1,12 @@
 r"""The morphing foot's two-stage spring column (decision D31, paper Fig. S3b).
 
-The column telescopes in two stages with a soft spring :math:`k_s` and a hard spring
-:math:`k_h` in series. Both compress together, with the series stiffness
-:math:`k_sk_h/(k_s+k_h)`, until the soft spring has compressed by :math:`s_s` and its stage
-bottoms out at the *knee*; beyond it only the hard spring compresses:
+A soft spring :math:`k_s` and a hard spring :math:`k_h` in series; the soft stage bottoms
+out at the *knee*, after a compression :math:`s_s` of the soft spring:
 
 .. math:: F_s(\delta) = \begin{cases}
           \dfrac{k_sk_h}{k_s+k_h}\,\delta, & \delta \le \delta_1 = s_s(1 + k_s/k_h),\\[1ex]
           k_ss_s + k_h(\delta - \delta_1), & \delta > \delta_1.
           \end{cases}
-
-The end stops at :math:`\delta=0` and at the stroke belong to the linkage
-(:mod:`.linkage`); the balance with the mud (:mod:`.equilibrium`) treats them.
 """
 
 from __future__ import annotations
