@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING
 from .._validation import MudrftError
 from ._common import (
     Outputs,
-    check_nonnegative_option,
     check_positive_option,
     logger,
     require_plot_file,
@@ -231,8 +230,8 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         return load_path_csv(args.path), f"path {args.path}"
     if args.load is not None:
         weight = check_positive_option("--load", args.load, unit="N")
-        ramp = check_nonnegative_option(
-            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s"
+        ramp = check_positive_option(
+            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s", ge=True
         )
         duration = check_positive_option(
             "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
