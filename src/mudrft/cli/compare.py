@@ -10,13 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import (
-    Outputs,
-    check_finite_option,
-    check_positive_option,
-    require_extra,
-    save_figure,
-)
+from ._common import Outputs, check_finite_option, check_positive_option, require_extra, save_figure
 from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
 from ._terrain import add_fit_options, add_terrain_options, mud_from_options, terrains_from_options
 

@@ -90,9 +90,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "0 drops it at once, and the foot overshoots, D13)",
     )
     p.add_argument(
-        "--duration",
-        type=float,
-        help=f"--load only: simulated time [s] (default: {LOAD_DURATION})",
+        "--duration", type=float, help=f"--load only: simulated time [s] (default: {LOAD_DURATION})"
     )
     p.add_argument("--speed", type=float, help=f"gait speed [m/s] (default: {GAIT_SPEED})")
     p.add_argument(
