@@ -92,11 +92,6 @@ def check_positive_option(option: str, value: float, *, unit: str = "", ge: bool
     return v
 
 
-def check_nonnegative_option(option: str, value: float, *, unit: str = "") -> float:
-    """Return ``value`` as a float; raise naming ``option`` unless it is finite and >= 0."""
-    return check_positive_option(option, value, unit=unit, ge=True)
-
-
 def same_file(a: str | Path, b: str | Path) -> bool:
     """Whether two paths name the same file (after resolving links and ``..``)."""
     try:
@@ -114,9 +109,9 @@ class Terminated(BaseException):
 
 
 class _Signals:
-    """The command's signal bookkeeping (main thread only)."""
+    """The command's signal bookkeeping (main thread only): while ``held`` is above zero a
+    signal waits in ``pending`` (:func:`_signals_held`)."""
 
-    #: While above zero, a signal waits (:func:`_signals_held`); the one that waits.
     held = 0
     pending: type[BaseException] | None = None
     #: Per running command (innermost last), its outputs not yet moved or removed.

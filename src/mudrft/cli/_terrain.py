@@ -8,7 +8,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import check_finite_option, check_nonnegative_option, check_positive_option
+from ._common import check_finite_option, check_positive_option
 
 if TYPE_CHECKING:
     from ..parameters import Mud
@@ -125,7 +125,7 @@ def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str
             continue
         owner, unit = MEDIUM_OPTIONS[opt]
         if opt == "--mu-surf":  # 0: a frictionless foot
-            check_nonnegative_option(opt, v)
+            check_positive_option(opt, v, ge=True)
         else:
             check_positive_option(opt, v, unit=unit)
         if owner not in names:

@@ -10,14 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import (
-    Outputs,
-    check_finite_option,
-    check_nonnegative_option,
-    check_positive_option,
-    require_extra,
-    save_figure,
-)
+from ._common import Outputs, check_finite_option, check_positive_option, require_extra, save_figure
 from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
 from ._terrain import add_fit_options, add_terrain_options, mud_from_options, terrains_from_options
 
@@ -161,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
         raise MudrftError(
             f"--depth must be at most 1 m (it is in metres: 30 mm is 0.03), got {depth:g} m"
         )
-    hold = check_nonnegative_option("--hold", args.hold, unit="s")
+    hold = check_positive_option("--hold", args.hold, unit="s", ge=True)
     water_content = check_finite_option("--water-content", args.water_content)
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
         warnings.simplefilter("ignore")

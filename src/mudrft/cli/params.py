@@ -33,15 +33,10 @@ def run(args: argparse.Namespace) -> int:
         checks = {c["water_content"]: c for c in sigma_y_consistency(d)}
         for w, row in table_rows(d).items():
             vals = [f"{w * 100:>13g}%"] + [f"{row[n]:>14.6g}" for n in names]
-            flag = (
-                ""
-                if checks[w]["consistent"]
-                else (
-                    "   (sigma_y violates (eta_m-eta_inf)*gamma_dot_c = "
-                    f"{checks[w]['sigma_y_relation']:.4g} Pa)"
-                )
-            )
-            print("  " + "  ".join(vals) + flag)
+            if not checks[w]["consistent"]:
+                rel = checks[w]["sigma_y_relation"]
+                vals.append(f" (sigma_y violates (eta_m-eta_inf)*gamma_dot_c = {rel:.4g} Pa)")
+            print("  " + "  ".join(vals))
         print()
     print("Between rows the sets are interpolated (log-linear); see docs/model.md, decision D7.")
     print(

@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING
 from .._validation import MudrftError
 from ._common import (
     Outputs,
-    check_nonnegative_option,
     check_positive_option,
     logger,
     require_plot_file,
@@ -91,9 +90,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "0 drops it at once, and the foot overshoots, D13)",
     )
     p.add_argument(
-        "--duration",
-        type=float,
-        help=f"--load only: simulated time [s] (default: {LOAD_DURATION})",
+        "--duration", type=float, help=f"--load only: simulated time [s] (default: {LOAD_DURATION})"
     )
     p.add_argument("--speed", type=float, help=f"gait speed [m/s] (default: {GAIT_SPEED})")
     p.add_argument(
@@ -231,8 +228,8 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
         return load_path_csv(args.path), f"path {args.path}"
     if args.load is not None:
         weight = check_positive_option("--load", args.load, unit="N")
-        ramp = check_nonnegative_option(
-            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s"
+        ramp = check_positive_option(
+            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s", ge=True
         )
         duration = check_positive_option(
             "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 from .._progress import Progress
 from .._validation import MudrftError
 from ..io.atomic import json_text
-from ._common import Outputs, check_nonnegative_option, check_positive_option, logger, require_extra
+from ._common import Outputs, check_positive_option, logger, require_extra
 from ._parser import add_foot_options, add_run_options, add_subcommand
 from ._terrain import add_fit_options, mud_from_options
 
@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     dt = check_positive_option("--dt", args.dt, unit="s")
     step_time = check_positive_option("--step-time", args.step_time, unit="s")
     bottom = check_positive_option("--bottom", args.bottom, unit="m")
-    speed = check_nonnegative_option("--speed", args.speed, unit="m/s")
+    speed = check_positive_option("--speed", args.speed, unit="m/s", ge=True)
     require_extra("mujoco", needed_for="mudrft walk")
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
     from ..feet import by_name

@@ -98,7 +98,6 @@ class WalkerConfig:
         mudrft.paper_mud(
             check_number("water_content", check_finite("water_content", self.water_content))
         )
-        # one number each: a list was a TypeError (dt) or broadcast into the reward and noise
         object.__setattr__(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")

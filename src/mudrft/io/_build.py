@@ -14,19 +14,6 @@ from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
 from .dataset import DEFAULT_PLATE_LENGTH, Trial, intrusion_speed
 
-__all__ = [
-    "DIRECTIONS",
-    "PLAUSIBLE_AREA",
-    "PLAUSIBLE_DEPTH",
-    "PLAUSIBLE_PEAK_STRESS",
-    "PLAUSIBLE_SPEED",
-    "build_trials",
-    "check_plausible",
-    "check_roles",
-    "resolve_direction",
-    "resolve_plate",
-]
-
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
 #: Plausible deepest intrusion [m], peak stress [Pa], plate area [m^2] and speed [m/s] (a

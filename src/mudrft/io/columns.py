@@ -27,42 +27,23 @@ __all__ = [
 
 #: An intrusion log's column names (lower case) -> role.
 LOG_COLUMNS = {
-    "time": "time",
-    "t": "time",
-    "depth": "depth",
-    "displacement": "depth",
-    "stress": "stress",
-    "sigma": "stress",
-    "fz": "force",
-    "force": "force",
-    "f": "force",
+    **dict.fromkeys(("time", "t"), "time"),
+    **dict.fromkeys(("depth", "displacement"), "depth"),
+    **dict.fromkeys(("stress", "sigma"), "stress"),
+    **dict.fromkeys(("fz", "force", "f"), "force"),
     "trial": "trial",
 }
 #: A foot path's column names (lower case) -> role (:func:`mudrft.io.load_path_csv`).
 PATH_COLUMNS = {
-    "time": "time",
-    "t": "time",
-    "x": "x",
-    "y": "y",
-    "z": "z",
-    "depth": "depth",
-    "fx": "Fx",
-    "fy": "Fy",
-    "fz": "Fz",
+    **dict.fromkeys(("time", "t"), "time"),
+    **{k: k for k in ("x", "y", "z", "depth")},
+    **{f"f{a}": f"F{a}" for a in "xyz"},
 }
 #: Role -> the quantity of its unit (a key of :data:`mudrft.units.SCALE`); None: no unit.
 QUANTITY: dict[str, str | None] = {
-    "time": "time",
-    "depth": "length",
-    "stress": "stress",
-    "force": "force",
-    "trial": None,
-    "x": "length",
-    "y": "length",
-    "z": "length",
-    "Fx": "force",
-    "Fy": "force",
-    "Fz": "force",
+    **dict(time="time", depth="length", stress="stress", force="force", trial=None),
+    **dict.fromkeys(("x", "y", "z"), "length"),
+    **dict.fromkeys(("Fx", "Fy", "Fz"), "force"),
 }
 #: An intrusion log's column name (lower case) -> (role, quantity).
 COLUMN_ALIASES = {k: (r, QUANTITY[r]) for k, r in LOG_COLUMNS.items() if r != "trial"}

@@ -140,13 +140,7 @@ def make_figures(
     ax1.set_ylabel("max suction [N] (colour)")
     ax2.set_ylabel("energy [J] (grey)")
     ax1.set_title("(a) suction and energy (cf. Fig. 13a)", fontsize=10)
-    keys = [
-        "impulse_x [N s]",
-        "impulse_y [N s]",
-        "impulse_z [N s]",
-        "max_suction [N]",
-        "energy [J]",
-    ]
+    keys = [*(f"impulse_{a} [N s]" for a in "xyz"), "max_suction [N]", "energy [J]"]
     labels = ["impulse |I_x|", "impulse |I_y|", "impulse |I_z|", "max suction", "energy"]
     ang = np.linspace(0, 2 * np.pi, len(keys), endpoint=False)
     ax3 = fig.add_subplot(1, 2, 2, projection="polar")
