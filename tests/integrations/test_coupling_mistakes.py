@@ -77,6 +77,7 @@ def test_nstep_must_be_a_count(backend, nstep):
     assert coupling.step(d, 3).depth.shape == (1,)
 
 
+@pytest.mark.slow  # compiles MJX: CI runs it as its own step
 def test_mjx_refuses_a_cpu_mjdata_a_nan_state_and_a_wrong_rollout():
     pytest.importorskip("jax")
     from mudrft.integrations import mjx as mm

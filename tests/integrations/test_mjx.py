@@ -93,6 +93,7 @@ def test_mjx_follows_the_cpu_coupling_and_stays_stable(cpu_reference, dtype):
         assert float(np.abs(np.asarray(dx.qvel)).max()) < 0.05  # at rest, no chatter
 
 
+@pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_gradient_through_a_rollout_equals_finite_differences():
     """d(height after 40 ms)/d(initial sink speed) of a free foot shot into the mud:
     reverse mode through MJX, the mud and the implicit step, against central differences."""
@@ -189,6 +190,7 @@ def _rolling_shadow_rise(*, bound: bool) -> tuple[float, float]:
     return float(energy.max() - start), start
 
 
+@pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_mjx_keeps_the_passivity_bound():
     """D62c on MJX: the rolling release gains nothing with the bound (tolerance: round-off
     in float64). The release gained energy under the old direction-split horizontal law;
@@ -235,6 +237,7 @@ def foot_batch():
     return coupling, batch, first_step
 
 
+@pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_an_unstable_robot_in_a_batch_is_flagged_and_its_mud_held(foot_batch):
     """Issue 43: a NaN in qvel, or a body thrown in at -1e6 m/s, turned the whole state into
     NaN without a word. The foot with NaN velocities and the one beyond MAX_SPEED are
@@ -256,6 +259,7 @@ def test_an_unstable_robot_in_a_batch_is_flagged_and_its_mud_held(foot_batch):
     np.testing.assert_array_equal(st1.has_prev, [1.0, 0.0, 0.0])  # the sound one stepped
 
 
+@pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_batch):
     """A robot made in float32, stepped after mudrft.backends.jax switched the
     process to float64 (its first call does, D70): the rollout's scan refused its carry
@@ -274,6 +278,7 @@ def test_a_float32_robot_after_the_switch_to_float64_is_told_what_happened(foot_
     assert st.foot_xy.dtype == np.float32 and float(out.depth[0, 0]) > 0.005
 
 
+@pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_an_mjx_sphere_foot_is_a_full_ball_whatever_the_calf_tilt():
     """Issue 41: a sphere foot is a ball, the same from every angle. MJX modelled it as a
     hemisphere fixed to the calf, so its support changed with the calf's tilt. A calf

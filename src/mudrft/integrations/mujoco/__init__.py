@@ -1,7 +1,8 @@
 r"""Mud under MuJoCo bodies: read the foot motion, step the mud once, write the wrench.
 
 :func:`attach` puts mud under bodies of any MJCF model; each gets a mudrft foot, derived
-from its geoms or given. Every physics step (between ``mj_step1`` and ``mj_step2``) the
+from its geoms or given. Every physics step (inside ``mj_step``, as MuJoCo's passive
+callback, :mod:`.callback`; ``backend="numpy"``: between ``mj_step1`` and ``mj_step2``) the
 coupling clips each foot in its current pose by the mud surface (:mod:`.pose`), steps the
 mud once, and writes into ``data.xfrc_applied`` the wrench the mud would exert at the end
 of the step, linearised in the body twist (the linearly implicit step of its damping,
@@ -11,9 +12,8 @@ robot more energy than it took (D62c)::
     import mujoco, mudrft
     from mudrft.integrations.mujoco import attach
     coupling = attach(model, ["left_foot", "right_foot"], mudrft.paper_mud(0.25))
-    coupling.reset(data)
-    for _ in range(1000):
-        coupling.step(data)            # mj_step1, mud, mj_step2
+    coupling.reset(data)               # installs the mud in MuJoCo's step
+    mujoco.mj_step(model, data, 1000)  # or coupling.step(data, 1000), checked per step
 
 .. math:: w = (I - \Delta t\,K\,W)^{-1}\,(w_0 + \Delta t\,K\,a),
 

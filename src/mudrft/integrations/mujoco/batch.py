@@ -334,7 +334,8 @@ class MudBatch:
 
     def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
         """Advance the mud once and write ``xfrc_applied``: after ``mj_step1`` (or
-        ``mj_forward``), before ``mj_step2``; :meth:`step` does all three."""
+        ``mj_forward``), before ``mj_step2``; :meth:`step` does all three. (The compiled
+        coupling has done so in ``mj_step1`` already: this repeats that step.)"""
         datas = self._check(datas)
         if self._warn:
             self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
