@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ctypes
 import gc
+import weakref
 
 import numpy as np
 import pytest
@@ -52,7 +53,7 @@ def test_plain_mj_step_forward_and_rollout_step_the_mud_as_coupling_step_does():
         mujoco.mj_step(model_b, data_b)
         mujoco.mj_forward(model_b, data_b)
         mujoco.mj_forward(model_b, data_b)
-    model_c, data_c, coupling_c = _sliding_foot()
+    model_c, data_c, _ = _sliding_foot()
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     start = np.zeros(mujoco.mj_stateSize(model_c, spec))
     mujoco.mj_getState(model_c, data_c, start, spec)
@@ -75,7 +76,7 @@ def test_two_models_in_one_process_each_step_their_own_mud():
         model, data, _ = _sliding_foot(mass, mud)
         mujoco.mj_step(model, data, 200)
         alone.append(data.qpos.copy())
-    (m1, d1, c1), (m2, d2, c2) = _sliding_foot(1.5, MUD), _sliding_foot(3.0, wet)
+    (m1, d1, _), (m2, d2, _) = _sliding_foot(1.5, MUD), _sliding_foot(3.0, wet)
     for _ in range(200):
         mujoco.mj_step(m1, d1)
         mujoco.mj_step(m2, d2)
@@ -101,7 +102,7 @@ def test_a_compiled_user_callback_is_chained_and_a_python_one_refused():
 
 
 def test_a_callback_replaced_after_reset_is_named_at_the_next_step():
-    model, data, coupling = _sliding_foot()
+    _, data, coupling = _sliding_foot()
     coupling.step(data, 5)
     mujoco.set_mjcb_passive(None)
     with pytest.raises(MudrftError, match=r"set_mjcb_passive was called after reset"):
@@ -110,13 +111,40 @@ def test_a_callback_replaced_after_reset_is_named_at_the_next_step():
     coupling.step(data, 5)
 
 
-def test_a_coupling_let_go_leaves_its_mjdata_without_mud():
-    """Once the coupling is collected, the callback no longer steps its MjData."""
+def test_a_coupling_let_go_keeps_its_mud_until_detached():
+    """A coupling nobody holds still steps its MjData in plain ``mj_step`` (the mud does
+    not vanish mid-run when Python collects it); ``detach`` takes the mud out."""
     model, data, coupling = _sliding_foot()
     coupling.step(data, 50)
-    assert np.any(data.xfrc_applied[1] != 0.0)
+    held = weakref.ref(coupling)
     del coupling
     gc.collect()
     data.xfrc_applied[:] = 0.0
+    mujoco.mj_step(model, data, 5)
+    assert np.any(data.xfrc_applied[1] != 0.0) and held() is not None
+    held().detach()
+    gc.collect()
+    assert held() is None  # detached, nothing holds it any more
+    data.xfrc_applied[:] = 0.0
     mujoco.mj_step(model, data, 50)
     np.testing.assert_array_equal(data.xfrc_applied, 0.0)
+
+
+def test_without_mujocos_library_auto_runs_on_numpy_and_says_so(monkeypatch):
+    """The compiled coupling calls MuJoCo's C library; where it cannot be found,
+    ``backend="auto"`` warns and steps on numpy, ``backend="numba"`` says why not."""
+    from mudrft.integrations.mujoco import backend
+
+    def missing():
+        raise ImportError("the MuJoCo library was not found in /nowhere")
+
+    monkeypatch.setattr(backend, "mujoco_functions", missing)
+    model = box_foot_model()
+    with pytest.warns(RuntimeWarning, match=r"library, which was not found.*runs on numpy"):
+        coupling = attach(model, "foot", MUD)
+    assert coupling.backend == "numpy"
+    data = mujoco.MjData(model)
+    coupling.reset(data)
+    assert coupling.step(data, 20).depth[0] >= 0.0
+    with pytest.raises(MudrftError, match=r"MuJoCo's own library, which was not found"):
+        attach(model, "foot", MUD, backend="numba")

@@ -162,8 +162,10 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         return np.asarray(self._renderer.render())
 
     def close(self) -> None:
-        """Release the offscreen renderer, if one was made; the environment steps no more."""
+        """Release the offscreen renderer, if one was made, and the mud coupling's hold on
+        MuJoCo's step; the environment steps no more."""
         self._phase = "closed"
+        self.coupling.detach()
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None

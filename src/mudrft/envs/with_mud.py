@@ -77,6 +77,11 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
         self._unstable = False
         return obs, self._info(info)
 
+    def close(self) -> None:
+        """Take the mud out of MuJoCo's step, then close the environment."""
+        self.coupling.detach()
+        super().close()
+
     def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         """Step the environment in mud; a state MuJoCo found non-finite ends the episode
         with ``info["unstable"]`` (MuJoCo has reset it)."""

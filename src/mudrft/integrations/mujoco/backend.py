@@ -8,7 +8,6 @@ never moves them).
 from __future__ import annotations
 
 import ctypes
-import weakref
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, TypeAlias, cast
 
@@ -53,6 +52,10 @@ def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
             f"backend='numba' needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}; "
             "use backend='numpy' for other terrains"
         )
+    try:
+        mujoco_functions()
+    except ImportError as exc:
+        return f"backend='numba' calls MuJoCo's own library, which was not found ({exc})"
     for b in bodies:
         if not _compilable_foot(b.foot) or b.triangles is None:
             return (
@@ -142,7 +145,6 @@ class CompiledCoupling:
         self.packed = pack(arrays)  # the arrays never move: written in place from now on
         self.datas: list[mujoco.MjData] = []
         self._rows: list[tuple[int, ...]] = []
-        weakref.finalize(self, unregister, self._rows)
 
     def reset(
         self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
@@ -183,7 +185,12 @@ class CompiledCoupling:
         p, size = int(self.packed.ctypes.data), len(self.packed)
         entries = [(d._address, p, size, k, _time_address(d)) for k, d in enumerate(datas)]
         install(b._mj)
-        register(entries, self._rows)
+        register(entries, self._rows, self)
+
+    def detach(self) -> None:
+        """Take the mud out of MuJoCo's step for the MjData of the last :meth:`reset`."""
+        unregister(self._rows)
+        self.datas = []
 
     def check(self) -> None:
         """Raise if the callback is no longer MuJoCo's, or a wrench was not finite."""

@@ -8,6 +8,7 @@ that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -204,6 +205,8 @@ class MudBatch:
         why = _not_compilable(self.terrain, self.bodies)
         if backend == "auto":
             backend = "numpy" if why else "numba"
+            if "MuJoCo's own library" in why:
+                warnings.warn(f"{why}: the coupling runs on numpy (slower)", RuntimeWarning, stacklevel=3)  # fmt: skip
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
         if backend == "numba":
@@ -299,6 +302,13 @@ class MudBatch:
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
+
+    def detach(self) -> None:
+        """Take the mud out of MuJoCo's step: the compiled coupling stays in the MjData given
+        to :meth:`reset` (and keeps this coupling alive) until ``detach``, or until another
+        coupling's ``reset`` takes that MjData; :meth:`reset` attaches it again."""
+        if self._compiled is not None:
+            self._compiled.detach()
 
     def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):

@@ -126,8 +126,11 @@ def passive(m: int, d: int) -> None:
 
 #: The compiled callback's ctypes object, as given to ``mujoco.set_mjcb_passive``.
 _CALLBACK: list[Any] = [None]
-#: mjData address -> its registry row (:data:`.compiled.N_REGISTRY` integers).
+#: mjData address -> its registry row (:data:`N_REGISTRY` integers), and the coupling that
+#: owns the row, held alive while it is registered (the MjData keeps its mud until
+#: ``detach`` or another coupling's ``reset`` with it).
 _ROWS: dict[int, tuple[int, ...]] = {}
+_OWNERS: dict[int, Any] = {}
 #: The callback chained to (held alive) and the last registries published (a callback
 #: running in another thread may still read the one before).
 _CHAINED: list[Any] = [None]
@@ -181,13 +184,14 @@ def _publish() -> None:
     REGISTRY.value = int(reg.ctypes.data)
 
 
-def register(rows: Sequence[tuple[int, ...]], mine: list[tuple[int, ...]]) -> None:
-    """Replace the rows ``mine`` (a coupling's) with ``rows``; publish if they changed."""
+def register(rows: Sequence[tuple[int, ...]], mine: list[tuple[int, ...]], owner: Any) -> None:
+    """Replace the rows ``mine`` of ``owner`` (a coupling) with ``rows``; publish if they
+    changed."""
     if list(rows) == mine and all(_ROWS.get(r[0]) == r for r in rows):
         return
     unregister(mine, publish=False)
     for r in rows:
-        _ROWS[r[0]] = r
+        _ROWS[r[0]], _OWNERS[r[0]] = r, owner
     mine[:] = list(rows)
     _publish()
 
@@ -196,7 +200,7 @@ def unregister(mine: list[tuple[int, ...]], publish: bool = True) -> None:
     """Remove a coupling's rows (where another coupling has not taken the MjData since)."""
     for r in mine:
         if _ROWS.get(r[0]) == r:
-            del _ROWS[r[0]]
+            del _ROWS[r[0]], _OWNERS[r[0]]
     mine.clear()
     if publish:
         _publish()
