@@ -42,7 +42,15 @@ if TYPE_CHECKING:
 #: The feet the kernel steps (:func:`_not_compilable`).
 _KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
-__all__ = ["CompiledCoupling", "choose_backend"]
+__all__ = ["NON_FINITE", "NO_LIBRARY", "CompiledCoupling", "choose_backend"]
+
+#: Why a step raised: a wrench that is not finite.
+NON_FINITE = (
+    "the mud coupling produced a non-finite force; the simulation diverged "
+    "(check the model, the time step and the mud parameters)"
+)
+#: The start of :func:`_not_compilable`'s answer where MuJoCo's C library is missing.
+NO_LIBRARY = "backend='numba' calls MuJoCo's own library"
 
 
 def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
@@ -55,7 +63,7 @@ def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     try:
         mujoco_functions()
     except ImportError as exc:
-        return f"backend='numba' calls MuJoCo's own library, which was not found ({exc})"
+        return f"{NO_LIBRARY}, which was not found ({exc})"
     for b in bodies:
         if not _compilable_foot(b.foot) or b.triangles is None:
             return (
@@ -194,16 +202,13 @@ class CompiledCoupling:
 
     def check(self) -> None:
         """Raise if the callback is no longer MuJoCo's, or a wrench was not finite."""
-        if self.batch._mj.get_mjcb_passive() is not callback():
+        if self.batch._mj.get_mjcb_passive() is not self.callback:
             raise MudrftError(
                 "mujoco.set_mjcb_passive was called after reset(): the mud coupling runs in "
                 "MuJoCo's passive callback; call reset(data) again to reinstall it"
             )
         if self.out[..., 22].any():
-            raise MudrftError(
-                "the mud coupling produced a non-finite force; the simulation diverged "
-                "(check the model, the time step and the mud parameters)"
-            )
+            raise MudrftError(NON_FINITE)
 
     def contact(self, index: int | None = None) -> MudContact:
         """The last outputs as a :class:`MudContact` (copies), of every robot

@@ -20,7 +20,7 @@ from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, _not_compilable
+from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
 from .geoms import _support
 from .implicit import (
@@ -205,7 +205,7 @@ class MudBatch:
         why = _not_compilable(self.terrain, self.bodies)
         if backend == "auto":
             backend = "numpy" if why else "numba"
-            if "MuJoCo's own library" in why:
+            if why.startswith(NO_LIBRARY):
                 warnings.warn(f"{why}: the coupling runs on numpy (slower)", RuntimeWarning, stacklevel=3)  # fmt: skip
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
@@ -397,10 +397,7 @@ class MudBatch:
         self._tw_prev = tw
         self._has_prev = True
         if not np.all(np.isfinite(wrench)):
-            raise MudrftError(
-                "the mud coupling produced a non-finite force; the simulation diverged "
-                "(check the model, the time step and the mud parameters)"
-            )
+            raise MudrftError(NON_FINITE)
         for i, d in enumerate(datas):
             d.xfrc_applied[self._ids] = wrench[i]
         self.time_steps += 1
