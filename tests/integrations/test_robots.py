@@ -248,6 +248,54 @@ def test_a_ball_foot_is_the_same_from_every_angle(backend):
     np.testing.assert_allclose(forces, [forces[0]] * len(forces), rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.parametrize("height", [0.019, 0.015, 0.004, 0.0, -0.01, 0.03])
+def test_a_balls_channels_are_the_integrals_of_its_weights(height):
+    # Gauss-Legendre over the angle against adaptive quadrature over the lower hemisphere
+    # (1e-10: quad's own tolerance), and against the clipped mesh the other feet use, which
+    # converges to it at second order (its flats)
+    from scipy import integrate
+
+    from mudrft.integrations.mujoco.pose import ball_channels, channel_geometry
+
+    r = 0.02
+    low = height - r
+    top = 2.0 * np.arcsin(np.sqrt(np.clip(-low / (2.0 * r), 0.0, 0.5)))  # where it cuts
+
+    def quad(f):
+        return integrate.dblquad(f, 0.0, top, 0.0, 2.0 * np.pi, epsabs=0.0, epsrel=1e-12)[0]
+
+    def wx(p, d):
+        return r * r * np.sin(d) ** 2 * np.cos(p) ** 2
+
+    def wz(p, d):
+        return r * r * (np.cos(d) ** 3 + np.sin(d) ** 3) * np.sin(d)
+
+    def z(d):
+        return low + r * (1.0 - np.cos(d))
+
+    got = ball_channels(r, height)
+    ah, az = quad(wx), quad(wz)
+    if ah == 0.0:
+        assert got == (0.0, 0.0, low, low, 0.0, 0.0, 0.0)
+        return
+    zh = quad(lambda p, d: wx(p, d) * z(d)) / ah
+    zz = quad(lambda p, d: wz(p, d) * z(d)) / az
+    ry2 = lambda p, d: (r * np.sin(d) * np.sin(p)) ** 2  # noqa: E731
+    want = (
+        ah, az, zh, zz, quad(lambda p, d: wx(p, d) * (z(d) - zh) ** 2),
+        quad(lambda p, d: wx(p, d) * ry2(p, d)), quad(lambda p, d: wz(p, d) * ry2(p, d)),
+    )  # fmt: skip
+    np.testing.assert_allclose(got, want, rtol=1e-10)
+    errors = []
+    for resolution in (64, 128):
+        tri = mudrft.feet.SemiSphere(radius=r, height=r).to_mesh(resolution=resolution).triangles
+        g = channel_geometry(np.asarray(tri) + np.array([0.0, 0.0, low]))
+        mesh = (g.area[0], g.area[2], g.point[0, 2], g.point[2, 2], g.inertia[0, 1, 1],
+                g.inertia[0, 2, 2], g.inertia[2, 0, 0])  # fmt: skip
+        errors.append(np.max(np.abs(np.divide(mesh, got) - 1.0)))
+    assert errors[1] < 4e-3 and errors[1] < errors[0] / 3.5  # second order in the mesh size
+
+
 def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
     # W = 35 %: the rear feet crept to 372 mm in 20 s as hemispheres frozen at the calf's
     # qpos0 tilt; as full balls they stay within 20 % of the 1-D load model's depth

@@ -55,7 +55,7 @@ from .linalg import (
     _robot_step,
     carray,
 )
-from .pose import channel_weights
+from .pose import ball_channels, channel_weights
 
 __all__ = ["ARGS", "N_OUT", "OFFSETS", "WORK_FIXED", "pack", "work_size"]
 
@@ -153,6 +153,19 @@ def _geometry(
             out[base + 7] += w * q2 * q1
             out[base + 8] += w * q2 * q2
     out[39], out[40], out[41] = lx, ly, lowz
+
+
+def _ball_geometry(radius: float, sh: FloatArray, out: FloatArray) -> None:
+    """:func:`_geometry` of a ball of ``radius`` [m] centered at ``sh`` [m]
+    (:func:`.pose.ball_channels`)."""
+    ah, az, zh, zz, jhz, jhh, jz = ball_channels(radius, sh[2], pyfloat)
+    for q in range(42):
+        out[q] = 0.0
+    out[0], out[1], out[2] = ah, ah, az
+    for c in range(3):
+        out[3 + 3 * c], out[4 + 3 * c], out[5 + 3 * c] = sh[0], sh[1], zz if c == 2 else zh
+    out[16], out[20], out[21], out[29], out[30], out[34] = jhz, jhh, jhz, jhh, jz, jz
+    out[39], out[40], out[41] = sh[0], sh[1], sh[2] - radius
 
 
 def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
@@ -308,22 +321,21 @@ def _kernel(
         h = max(math.hypot(fw0, fw1), 1e-12)
         c, s = fw0 / h, fw1 / h
         # the posed foot in the yaw frame (origin: center of mass horizontally, surface);
-        # a ball's triangles are upright about its center (``tip``) in every pose
+        # a ball (centered at ``tip``) is the same in every pose
         ball = bodies[j, 2] != 0
         for i in range(3):
-            if ball:
-                M[0, i], M[1, i], M[2, i] = 0.0, 0.0, 0.0
-                M[i, i] = 1.0
-            else:
-                M[0, i] = c * R[i] + s * R[3 + i]
-                M[1, i] = -s * R[i] + c * R[3 + i]
-                M[2, i] = R[6 + i]
+            M[0, i] = c * R[i] + s * R[3 + i]
+            M[1, i] = -s * R[i] + c * R[3 + i]
+            M[2, i] = R[6 + i]
         if ball:
             ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
         else:
             ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
         sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
-        _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
+        if ball:
+            _ball_geometry(geom[j, 1], sh, geo)
+        else:
+            _geometry(tri_b[tri_adr[j] : tri_adr[j + 1]], M, sh, v, scratch, geo)
         depth = max(-geo[41], 0.0)
         upj = tri_up[up_adr[j] : up_adr[j + 1]]
         if ball:

@@ -107,8 +107,8 @@ class BodyFoot:
     ball: bool = False
 
 
-#: Mesh resolution of a ball foot (72 facets for the hemisphere, against 288 at the
-#: coupling's :data:`~.pose.POSE_RESOLUTION`): it places the channels, not the force.
+#: Mesh resolution of a ball foot (72 facets for the hemisphere): coarse, since the
+#: coupling integrates a ball's channels exactly (:func:`.pose.ball_channels`).
 BALL_RESOLUTION = 3
 
 
@@ -261,8 +261,8 @@ def body_foot(
     fwd_b = Rb.T @ fwd_w
     up_b = Rb.T @ np.array([0.0, 0.0, 1.0])
     frame = np.stack([fwd_b, np.cross(up_b, fwd_b), up_b], axis=-1)  # foot axes (columns)
-    # a ball's force is the closed form (its posed and upright areas are equal): its mesh
-    # only places the channels' points and moments, which a coarse mesh does as well
+    # a ball's force is the closed form and its channels are integrated exactly: its mesh
+    # can be coarse
     upright = foot_triangles(foot, resolution=min(resolution, BALL_RESOLUTION) if ball else resolution)  # fmt: skip
     tri_b = None if upright is None else tip_b + upright @ frame.T
     return BodyFoot(

@@ -32,6 +32,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ChannelGeometry",
+    "ball_channels",
     "channel_geometry",
     "channel_weights",
     "foot_triangles",
@@ -47,6 +48,9 @@ __all__ = [
 POSE_RESOLUTION = 6
 #: Segments of the morphing foot's base disk and column.
 _SEGMENTS = 16
+#: Gauss-Legendre nodes on [-1, 1] and weights of :func:`ball_channels` (exact to round-off
+#: for its integrands, trigonometric polynomials of degree 6 on at most a quarter turn).
+_GL_X, _GL_W = (tuple(float(v) for v in a) for a in np.polynomial.legendre.leggauss(16))
 
 
 class ChannelGeometry(NamedTuple):
@@ -79,6 +83,53 @@ def channel_weights(
     """
     a = area * nh
     return a * hx * hx, a * hy * hy, area * wz
+
+
+def ball_channels(
+    radius: XpArray, height: XpArray, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray, XpArray, XpArray]:
+    r"""The channels of a ball of ``radius`` [m] whose center is ``height`` [m] above the
+    mud surface: the lower hemisphere below the surface, integrated exactly (D60a).
+
+    With :math:`\delta` the angle from the lowest point and :math:`u=2R\sin^2(\delta/2)`
+    the height above it, per unit :math:`d\delta`: :math:`w_x=w_y=\pi R^2\sin^2\delta`,
+    :math:`w_z=2\pi R^2(\cos^3\delta+\sin^3\delta)\sin\delta`; the centroids lie on the
+    vertical through the center. Gauss-Legendre quadrature over
+    :math:`\delta\in[0,\min(\delta_s,\pi/2)]`, :math:`\delta_s` where the surface cuts.
+
+    Returns
+    -------
+    tuple
+        ``(A_h, A_z, z_h, z_z, J_hz, J_hh, J_z)``: :math:`A_x=A_y` and :math:`A_z` [m^2],
+        the centroids' heights above the surface [m] (the lowest point's where the area is
+        0), and the nonzero second moments [m^4]: :math:`J_{x,yy}=J_{y,xx}` (about the
+        centroid's height), :math:`J_{x,zz}=J_{y,zz}` and :math:`J_{z,xx}=J_{z,yy}`.
+    """
+    low = height - radius
+    q = xp.clip(-low / (2.0 * radius), 0.0, 0.5)  # sin^2(delta_s / 2), at most a quarter turn
+    half = xp.arctan2(xp.sqrt(q), xp.sqrt(1.0 - q))  # delta_s / 2
+    ah, az, mh, mz = 0.0 * low, 0.0 * low, 0.0 * low, 0.0 * low
+    for i in range(16):
+        d = half * (1.0 + _GL_X[i])
+        s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
+        u = 2.0 * radius * sh * sh
+        wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
+        wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
+        ah, az, mh, mz = ah + wh, az + wz, mh + wh * u, mz + wz * u
+    uh = xp.where(ah > 0.0, mh / xp.where(ah > 0.0, ah, 1.0), 0.0)
+    uz = xp.where(az > 0.0, mz / xp.where(az > 0.0, az, 1.0), 0.0)
+    jhz, jhh, jz = 0.0 * low, 0.0 * low, 0.0 * low
+    for i in range(16):
+        d = half * (1.0 + _GL_X[i])
+        s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
+        u = 2.0 * radius * sh * sh
+        wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
+        wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
+        rs = radius * s
+        jhz = jhz + wh * (u - uh) * (u - uh)
+        jhh = jhh + 0.25 * wh * rs * rs
+        jz = jz + 0.5 * wz * rs * rs
+    return ah, az, low + uh, low + uz, jhz, jhh, jz
 
 
 def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
@@ -166,26 +217,47 @@ def posed_channels(
             pts = np.broadcast_to(rel[..., None, :], (*rel.shape, 3))
             parts.append((ones, pts, np.zeros((*rel.shape, 3, 3)), rel, ones))
             continue
+        shift = yaw(X[:, idx] - origin[:, idx], ci, si)
+        if ball:  # the same from every angle: integrated exactly, ratio 1
+            parts.append(_ball_parts(-np.min(np.asarray(tri_b)[..., 2], axis=(-1, -2)), shift, xp))
+            continue
         Rg = R[:, idx]
-        M = xp.broadcast_to(xp.eye(3), Rg.shape) if ball else xp.stack(
+        M = xp.stack(
             [ci[..., None] * Rg[..., 0, :] + si[..., None] * Rg[..., 1, :],
              -si[..., None] * Rg[..., 0, :] + ci[..., None] * Rg[..., 1, :], Rg[..., 2, :]],
             axis=-2,
         )  # fmt: skip
-        shift = yaw(X[:, idx] - origin[:, idx], ci, si)
         t = matvec(M[:, :, None, None], xp.asarray(tri_b)[None]) + shift[:, :, None, None, :]
         g = channel_geometry(t, xp=xp)
-        ratio = xp.ones_like(g.area)
-        if not ball:  # a ball is upright in every pose: the ratio is 1
-            up_tri = PreparedTriangles(*(xp.asarray(a) for a in upright))
-            up = upright_area(up_tri, xp.maximum(-g.low[..., 2], 0.0), xp=xp)
-            ratio = xp.where(up > 0.0, g.area / xp.where(up > 0.0, up, 1.0), 0.0)
+        up_tri = PreparedTriangles(*(xp.asarray(a) for a in upright))
+        up = upright_area(up_tri, xp.maximum(-g.low[..., 2], 0.0), xp=xp)
+        ratio = xp.where(up > 0.0, g.area / xp.where(up > 0.0, up, 1.0), 0.0)
         parts.append((*g, ratio))
     inv = np.argsort(np.concatenate([idx for _, _, idx, _ in groups]))
     area, point, inertia, lowest, ratio = (
         xp.concatenate([p[i] for p in parts], axis=1)[:, inv] for i in range(5)
     )
     return ChannelGeometry(area, point, inertia, lowest), ratio
+
+
+def _ball_parts(
+    radius: FloatArray, center: XpArray, xp: Namespace
+) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:
+    """:func:`posed_channels`' arrays for balls of ``radius`` (nb,) [m] with centers
+    ``center`` (N, nb, 3) [m] in their yaw frames: area, points, moments, lowest point, ratio.
+    """
+    x, y, h = center[..., 0], center[..., 1], center[..., 2]
+    ah, az, zh, zz, jhz, jhh, jz = ball_channels(xp.asarray(radius), h, xp=xp)
+    o = xp.zeros_like(ah)
+    area = xp.stack([ah, ah, az], -1)
+    point = xp.stack([xp.stack([x, y, z], -1) for z in (zh, zh, zz)], -2)
+
+    def diag(a: XpArray, b: XpArray, c: XpArray) -> XpArray:
+        return xp.stack([a, b, c], -1)[..., None] * xp.eye(3)
+
+    inertia = xp.stack([diag(o, jhz, jhh), diag(jhz, o, jhh), diag(jz, jz, o)], -3)
+    low = xp.stack([x, y, h - xp.asarray(radius)], -1)
+    return area, point, inertia, low, xp.ones_like(area)
 
 
 def matvec(R: FloatArray, v: FloatArray) -> FloatArray:
