@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -10,19 +9,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._validation import MudrftError, check_characteristic_length, check_finite, number_in_range
+from ._xp import pyfloat
 from .constitutive import laws
-from .constitutive.contact import contact_rate, enter, in_contact
 from .constitutive.dynamics import evaluation
 from .constitutive.kernel import ChannelConstants, channel_constants, channel_step
-from .constitutive.state import ChannelState, ChannelStress, initial_state
+from .constitutive.state import ChannelState
 from .parameters.base import Mud, MudParameters
 from .plotting import AxesArg, plot_plate
+from .terrains.rows import constants_at
 from .trajectories import Trajectory
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_response", "plate_steps"]
+__all__ = ["DEFAULT_PLATE_LENGTH", "PlateResult", "plate_history", "plate_response"]
 
 #: Characteristic length of the paper's plates [m], not given by the paper (decision D1).
 DEFAULT_PLATE_LENGTH = 0.05
@@ -113,17 +113,13 @@ def plate_response(
         )
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     number_in_range("xi0", xi0, 0.0, 1.0)
-    gamma = q / L
-    out = np.zeros((5, t.size))
-    out[4, 0] = xi0
-    steps = plate_steps(
-        channel_constants(p), gamma, np.diff(gamma) / np.diff(t), np.diff(t), kappa=kappa,
-        quasi_static=qs, restart=restart, xi0=xi0, contact=direction == "vertical",
+    gamma = (q / L)[:, None]
+    out = plate_history(
+        channel_constants(p), gamma, np.diff(gamma, axis=0) / np.diff(t)[:, None],
+        np.diff(t)[:, None], kappa=kappa, quasi_static=qs, restart=restart, xi0=xi0,
+        contact=direction == "vertical",
     )  # fmt: skip
-    for k, (st, stress, inside) in enumerate(steps, start=1):
-        out[:4, k] = np.where(inside, stress, 0.0)
-        out[4, k] = st.xi
-    total, el, th, su, xi = out
+    total, el, th, su, xi = out[:, 0, 0].T
     angle = float(trajectory.meta.get("angle", 0.0))
     return PlateResult(
         time=t, displacement=q, stress=total, normal=laws.f_n(angle) * total,
@@ -131,27 +127,58 @@ def plate_response(
     )  # fmt: skip
 
 
-def plate_steps(
+def _plate_run(
+    c: NDArray[np.float64], gamma: NDArray[np.float64], rate: NDArray[np.float64],
+    dt: NDArray[np.float64], kappa: float, quasi_static: bool, restart: bool, xi0: float,
+    contact: bool, out: NDArray[np.float64],
+) -> None:  # fmt: skip
+    """:func:`plate_history` on floats, compiled: constant rows ``c`` (B T, 12), ``gamma``
+    (n, T), ``rate`` and ``dt`` (n - 1, T), outputs into ``out`` (n, B, T, 5)."""
+    n, T = gamma.shape
+    for b in range(out.shape[1]):
+        for t in range(T):
+            ch = constants_at(c, b * T + t, 0)
+            inside = gamma[0, t] > 0.0 or not contact  # in_contact
+            g = gamma[0, t] if inside else 0.0
+            st = ChannelState(g, g, xi0, 0.0, 0.0, 0.0, 0.0)
+            out[0, b, t, 4] = xi0
+            for k in range(1, n):
+                now = gamma[k, t] > 0.0 or not contact
+                if not inside:  # entering undisturbed mud (enter)
+                    st = ChannelState(0.0, 0.0, xi0, 0.0, 0.0, 0.0, 0.0)
+                r = rate[k - 1, t] if inside or now else 0.0  # contact_rate
+                g = gamma[k, t] if now else 0.0
+                st, stress = channel_step(
+                    ch, st, g, r, dt[k - 1, t], 1.0, kappa, quasi_static, restart, pyfloat
+                )
+                o = out[k, b, t]
+                if now:
+                    o[0], o[1], o[2], o[3] = stress
+                o[4] = st.xi
+                inside = now
+
+
+def plate_history(
     consts: ChannelConstants, gamma: NDArray[np.float64], rate: NDArray[np.float64],
     dt: NDArray[np.float64], *, kappa: float, quasi_static: bool, restart: bool, xi0: float,
-    contact: bool, shape: tuple[int, ...] | None = None,
-) -> Iterator[tuple[ChannelState, ChannelStress, NDArray[np.bool_]]]:  # fmt: skip
-    """The steps of a plate channel along a history (unchecked; also the calibration's loop).
+    contact: bool, batch: int = 1,
+) -> NDArray[np.float64]:  # fmt: skip
+    """A plate channel along a history (unchecked; also the calibration's model).
 
-    ``gamma`` (n, ...) [-] at the samples, ``rate`` [1/s] and ``dt`` [s] (n - 1, ...) over
-    the steps, flags from :func:`mudrft.constitutive.dynamics.evaluation`, undisturbed
-    structure ``xi0`` [-]; with ``contact`` the plate feels the mud only while ``gamma > 0``.
-    Yields, for k = 1 ... n-1, the state, the stresses [Pa] and whether in the mud.
+    ``gamma`` (n, T) [-] at the samples of T histories, ``rate`` [1/s] and ``dt`` [s]
+    (n - 1, T) over the steps, ``consts`` broadcasting to (batch, T), flags from
+    :func:`mudrft.constitutive.dynamics.evaluation`, undisturbed structure ``xi0`` [-]; with
+    ``contact`` the plate feels the mud only while ``gamma > 0``. Returns (n, batch, T, 5):
+    the total, elastic, thixotropic and suction stresses [Pa] (0 out of the mud) and the
+    structure [-] at each sample, compiled from the one channel step.
     """
-    inside = in_contact(gamma) if contact else np.ones(gamma.shape, dtype=bool)
-    g = np.where(inside, gamma, 0.0) if contact else gamma
-    r = contact_rate(rate, inside[:-1], inside[1:]) if contact else rate
-    st = initial_state(gamma.shape[1:] if shape is None else shape, xi0=xi0, gamma=g[0])
-    for k in range(1, gamma.shape[0]):
-        fresh = ~inside[k - 1]
-        if fresh.any():
-            st = enter(st, fresh, xi0)
-        st, stress = channel_step(
-            consts, st, g[k], r[k - 1], dt[k - 1], 1.0, kappa, quasi_static, restart
-        )
-        yield st, stress, inside[k]
+    from ._jit import jit
+
+    n, T = gamma.shape
+    rows = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (batch, T)) for v in consts], -1)
+    c = np.ascontiguousarray(rows.reshape(batch * T, -1))
+    out = np.zeros((n, batch, T, 5))
+    steps = [np.ascontiguousarray(np.broadcast_to(a, (n - 1, T)), dtype=float) for a in (rate, dt)]
+    g = np.ascontiguousarray(gamma, dtype=float)
+    jit(_plate_run)(c, g, *steps, float(kappa), bool(quasi_static), bool(restart), float(xi0), bool(contact), out)  # fmt: skip
+    return out

@@ -46,9 +46,11 @@ def test_packed_simulation_equals_plate_response(true_vertical):
             )
             ref = mudrft.plate_response(path, p).stress
             inside = tr.depth > 0
-            np.testing.assert_array_equal(ref[inside], run(p, tr.time, tr.gamma).total[inside])
-            # same arithmetic up to the order of operations: 1e-9 relative to the range
-            np.testing.assert_allclose(sim[: len(tr), b, j], ref, rtol=0, atol=1e-9 * np.ptp(ref))
+            # the compiled channel step against numpy's: the same arithmetic, but numpy's
+            # exp and the C library's may differ in the last bit (1e-13 of the range)
+            numpy = run(p, tr.time, tr.gamma).total[inside]
+            np.testing.assert_allclose(ref[inside], numpy, rtol=0, atol=1e-13 * np.ptp(ref))
+            np.testing.assert_array_equal(sim[: len(tr), b, j], ref)  # one compiled loop
 
 
 def test_segment_finds_the_protocol_corners():

@@ -15,7 +15,7 @@ from ..constitutive import channel_constants
 from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset, Trial
 from ..parameters.base import MudParameters
-from ..plate import plate_steps
+from ..plate import plate_history
 
 #: Parameters a fit can free (nu and k_a are never fitted: decision D41).
 FIT_PARAMETERS = tuple(
@@ -99,25 +99,14 @@ class Packed:
         n = self.data.shape[0] if upto is None else int(upto)
         p = self.parameters(values)
         B = int(np.asarray(values["alpha"]).size)
-        T = self.n_trials
-        out = np.zeros((n, B, T))
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
             qs, restart = self.thixotropy == "quasi-static", self.clock == "retraction"
-            steps = plate_steps(
-                channel_constants(p),
-                self.gamma[:n],
-                self.rate[: n - 1],
-                self.dt[: n - 1],
-                kappa=1.0 if self.acceleration and not qs else 0.0,
-                quasi_static=qs,
-                restart=restart,
-                xi0=self.xi0,
-                contact=self.contact,
-                shape=(B, T),
-            )
-            for k, (_, stress, inside) in enumerate(steps, start=1):
-                out[k] = np.where(inside, stress.total, 0.0)
+            out = plate_history(
+                channel_constants(p), self.gamma[:n], self.rate[: n - 1], self.dt[: n - 1],
+                kappa=1.0 if self.acceleration and not qs else 0.0, quasi_static=qs,
+                restart=restart, xi0=self.xi0, contact=self.contact, batch=B,
+            )[..., 0]  # fmt: skip
         bad = ~np.isfinite(out)
         if np.any(bad):
             out[bad] = np.inf
