@@ -12,7 +12,7 @@ from .._progress import logger
 from .._validation import MudrftError, check_choice, plain, positive_number, warn_implausible
 from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
-from .dataset import DEFAULT_PLATE_LENGTH, Trial, intrusion_speed
+from .dataset import DEFAULT_PLATE_LENGTH, IntrusionDataset, Trial, intrusion_speed
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
@@ -27,6 +27,7 @@ SLOW_SAMPLING = 0.01
 #: Where sample ``i`` (None: the whole column) of a role's column (None: of the trial)
 #: stands in the file: ``"line 12, column 'time [s]'"``.
 Locate = Callable[[int | None, str | None], str]
+Columns = dict[str, NDArray[np.float64]]
 
 
 def check_roles(
@@ -38,13 +39,15 @@ def check_roles(
              for r in ("time", "depth", "stress", "force")}  # fmt: skip
     words = {r: f"{', '.join(n[:-1])} or {n[-1]}" for r, n in named.items()}
     how = "name it with columns={'ROLE': 'NAME'} (CLI: --columns ROLE=NAME)"
-    for need in ("time", "depth"):
+    units = [split_label(label)[1] for label in names]
+    for need, quantity in (("time", "time"), ("depth", "length")):
         if need not in columns:
+            like = next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
             raise fail(
                 path,
                 where,
                 f"no {need} column; name it {words[need]}, with its unit (e.g. "
-                f"'{need} [{_unit_like(need, names)}]'), or {how.replace('ROLE', need)}; "
+                f"'{need} [{like}]'), or {how.replace('ROLE', need)}; "
                 f"got {list(names)!r}",
             )
     if "stress" not in columns and "force" not in columns:
@@ -64,13 +67,6 @@ def check_roles(
                 "'Fz' is the vertical force but the test is horizontal; name the column "
                 "'force [N]' (the force resisting the intrusion)",
             )
-
-
-def _unit_like(role: str, names: Sequence[str]) -> str:
-    """The unit of the first column in a unit of the role's quantity, else the SI unit."""
-    quantity = {"time": "time", "depth": "length"}[role]
-    units = [split_label(label)[1] for label in names]
-    return next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -135,9 +131,34 @@ def resolve_plate(
     return L, A, src
 
 
+def assemble(
+    path: str,
+    parts: Sequence[tuple[Columns, Sequence[str] | None, Locate]],
+    labels: dict[str, str],
+    *,
+    direction: str,
+    notes: Sequence[str],
+    meta: dict[str, Any],
+    **plate: float | None,
+) -> IntrusionDataset:
+    """The dataset of a log from its ``parts`` (the arguments of :func:`build_trials` but
+    the plate), the column ``labels`` by role and :func:`resolve_plate`'s ``plate``
+    arguments, its units checked (:func:`check_plausible`)."""
+    need_area = any("stress" not in columns for columns, _, _ in parts)
+    L, A, source = resolve_plate(path, need_area=need_area, **plate)  # type: ignore[arg-type]
+    trials = [tr for part in parts for tr in build_trials(path, *part, L=L, A=A)]
+    check_plausible(path, trials, labels, area=A)
+    meta = {**meta, "characteristic_length_source": source}
+    if A is not None:
+        meta["area"] = A
+    return IntrusionDataset(
+        tuple(trials), direction=direction, source=path, notes=tuple(notes), meta=meta
+    )
+
+
 def build_trials(
     path: str,
-    columns: dict[str, NDArray[np.float64]],
+    columns: Columns,
     labels: Sequence[str] | None,
     locate: Locate,
     *,

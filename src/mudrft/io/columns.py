@@ -14,17 +14,6 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..units import parse_unit
 
-__all__ = [
-    "COLUMN_ALIASES",
-    "LOG_COLUMNS",
-    "PATH_COLUMNS",
-    "Column",
-    "fail",
-    "resolve_columns",
-    "split_label",
-    "to_si",
-]
-
 #: An intrusion log's column names (lower case) -> role.
 LOG_COLUMNS = {
     **dict.fromkeys(("time", "t"), "time"),

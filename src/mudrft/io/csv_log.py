@@ -21,12 +21,10 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError
 from ..units import parse_unit
-from ._build import build_trials, check_plausible, check_roles, resolve_direction, resolve_plate
+from ._build import assemble, check_roles, resolve_direction
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import IntrusionDataset
 from .hdf5_log import load_intrusion_hdf5
-
-__all__ = ["HDF5_SUFFIXES", "Table", "load_dataset", "load_intrusion_csv", "read_table"]
 
 #: File suffixes read as HDF5 by :func:`load_dataset`; every other file is read as CSV.
 HDF5_SUFFIXES = (".h5", ".hdf5", ".hdf")
@@ -255,28 +253,27 @@ def load_intrusion_csv(
             i = labels.index("")
             spot = f"line {table.lines[i]}, column {roles['trial'].position + 1} ('trial')"
             raise fail(where, spot, "empty trial label")
-    L, A, source = resolve_plate(
-        where,
-        meta_len=table.fixed.get("characteristic_length", (0, None))[1],
-        meta_area=table.fixed.get("area", (0, None))[1],
-        characteristic_length=characteristic_length,
-        area=area,
-        need_area="stress" not in roles,
-    )
 
     def sample(i: int | None, role: str | None) -> str:
         col = "" if role is None else f"column {roles[role].label!r}"
         return col if i is None else f"line {table.lines[i]}" + (f", {col}" if col else "")
 
-    trials = build_trials(where, values, labels, sample, L=L, A=A)
-    names = {r: c.label for r, c in roles.items()}
-    check_plausible(where, trials, names, area=A)
     used = {c.position for c in roles.values()}
-    ignored = [h.strip() for j, h in enumerate(header) if j not in used]
-    meta = {**table.meta, "characteristic_length_source": source, "ignored_columns": ignored}
-    if A is not None:
-        meta["area"] = A
-    return IntrusionDataset(trials, direction=d, source=where, notes=tuple(table.notes), meta=meta)
+    return assemble(
+        where,
+        [(values, labels, sample)],
+        {r: c.label for r, c in roles.items()},
+        direction=d,
+        notes=table.notes,
+        meta={
+            **table.meta,
+            "ignored_columns": [h.strip() for j, h in enumerate(header) if j not in used],
+        },
+        meta_len=table.fixed.get("characteristic_length", (0, None))[1],
+        meta_area=table.fixed.get("area", (0, None))[1],
+        characteristic_length=characteristic_length,
+        area=area,
+    )
 
 
 def load_dataset(

@@ -27,14 +27,6 @@ from .._validation import (
 from ..plate import DEFAULT_PLATE_LENGTH
 from .atomic import atomic_write
 
-__all__ = [
-    "DEFAULT_PLATE_LENGTH",
-    "OVERWRITE_OPTION",
-    "IntrusionDataset",
-    "Trial",
-    "intrusion_speed",
-]
-
 #: How the writers of this package name the permission to replace a file, in errors.
 OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
 
