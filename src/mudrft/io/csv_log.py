@@ -1,10 +1,8 @@
 """Logs as text tables: :func:`read_table` (the one CSV reader), :func:`load_intrusion_csv`,
 :func:`save_intrusion_csv` and :func:`load_dataset` (CSV or HDF5, by suffix).
 
-A table is UTF-8 text. ``#`` lines are notes, ``# key: value`` notes metadata. The first
-other line is the header; its fields are separated by commas, tabs or semicolons,
-whichever it holds most of (a semicolon- or tab-separated file may use a decimal comma).
-"""
+``#`` lines are notes, ``# key: value`` notes metadata; the header's fields are separated
+by commas, tabs or semicolons, whichever it holds most of."""
 
 from __future__ import annotations
 

@@ -313,7 +313,7 @@ def _foot_kind(
         if not isinstance(up, str) or up not in UP_AXES:
             axes_ = ", ".join(f'"{a}"' for a in UP_AXES)
             raise MudrftError(f"[foot] up must be the mesh file's up axis, a string, one of {axes_} (y for a y-up export), got {up!r}")  # fmt: skip
-        path = Path(kind) if Path(kind).is_absolute() else base / kind
+        path = base / kind  # an absolute kind replaces base
         try:
             mesh = MeshFoot.from_file(path, unit=unit, up=up)
         except MudrftError as exc:
@@ -345,7 +345,7 @@ def _mud_set(where: str, entry: object, base: Path) -> dict[str, Any]:
     sources = []
     for d in ("vertical", "horizontal"):
         name = getattr(files, d)
-        path = Path(name) if Path(name).is_absolute() else base / name
+        path = base / name
         try:
             p = load_parameters(path)
         except FileNotFoundError:
