@@ -58,21 +58,19 @@ class Table:
             cells = [c.replace(",", ".") for c in cells]
         try:
             raw = np.array(cells, dtype=float)
-        except ValueError:
-            i, why = next(((i, _why(c)) for i, c in enumerate(cells) if _why(c)), (0, "?"))
-            raise fail(self.path, locate(i), why) from None
+        except ValueError:  # name the first cell that is no number
+            raw = np.empty(len(cells))
+            for i, c in enumerate(cells):
+                try:
+                    raw[i] = float(c)
+                except ValueError:
+                    why = (
+                        f"cannot read {c[:40]!r} as a number"
+                        if c
+                        else "empty cell, expected a number"
+                    )
+                    raise fail(self.path, locate(i), why) from None
         return to_si(self.path, raw, col, locate_row=locate)
-
-
-def _why(cell: str) -> str:
-    """Why a cell is no number ('' if it is one)."""
-    if not cell:
-        return "empty cell, expected a number"
-    try:
-        float(cell)
-    except ValueError:
-        return f"cannot read {cell[:40]!r} as a number"
-    return ""
 
 
 def _text(p: Path) -> str:

@@ -198,7 +198,9 @@ class IntrusionDataset:
         said = [self.meta["synthetic"]] if "synthetic" in self.meta else []
         lines = [line.strip() for note in self.notes for line in note.splitlines()]
         said += [x.partition(":")[2] for x in lines if x.lower().startswith("synthetic:")]
-        return any(_says_yes(v) for v in said)
+        said = [str(v).strip().lower() for v in said]
+        no = ("", "no", "false", "0", "none")
+        return any(v not in no and not v.startswith("not ") for v in said)
 
     @property
     def speeds(self) -> list[float]:
@@ -313,8 +315,3 @@ def intrusion_speed(time: ArrayLike, depth: ArrayLike) -> float:
     if i10 >= i90:
         return 0.0
     return float((d[i90] - d[i10]) / (t[i90] - t[i10]))
-
-
-def _says_yes(value: object) -> bool:
-    text = str(value).strip().lower()
-    return text not in ("", "no", "false", "0", "none") and not text.startswith("not ")

@@ -29,6 +29,7 @@ from ..feet.mesh import UP_AXES
 from ..units import SCALE
 from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, MOTIONS, PARAMETERS, Parameter
 from .design import Axis, Design
+from .plot import check_names
 
 if TYPE_CHECKING:
     from .evaluate import SweepContext
@@ -430,17 +431,9 @@ def _add(
 
 
 def _plot(plot: PlotOptions, axes: list[Axis], metrics: tuple[str, ...]) -> dict[str, Any]:
-    names = [a.name for a in axes]
-    out: dict[str, Any] = {}
-    for key in ("x", "y", "panels"):
-        value = getattr(plot, key)
-        if value is not None and value not in names:
-            raise MudrftError(f"[plot] {key} must be a swept parameter ({', '.join(names) or 'none'}), got {value!r}")  # fmt: skip
-        if value is not None:
-            for other, v in out.items():
-                if v == value:
-                    raise MudrftError(f"[plot] {other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
-            out[key] = value
+    names = {k: getattr(plot, k) for k in ("x", "y", "panels")}
+    check_names(names, [a.name for a in axes], "[plot] ")
+    out: dict[str, Any] = {k: v for k, v in names.items() if v is not None}
     if plot.metrics is not None:
         chosen = [plot.metrics] if isinstance(plot.metrics, str) else plot.metrics
         if any(m not in metrics for m in chosen):
