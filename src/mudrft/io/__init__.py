@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .atomic import atomic_write, json_text
-    from .columns import COLUMN_ALIASES
     from .csv_log import load_dataset, load_intrusion_csv, save_intrusion_csv
     from .dataset import IntrusionDataset, Trial
     from .hdf5_log import load_intrusion_hdf5, save_intrusion_hdf5
@@ -21,7 +20,6 @@ if TYPE_CHECKING:
 
 _FROM = {
     "atomic": ("atomic_write", "json_text"),
-    "columns": ("COLUMN_ALIASES",),
     "csv_log": ("load_dataset", "load_intrusion_csv", "save_intrusion_csv"),
     "dataset": ("IntrusionDataset", "Trial"),
     "hdf5_log": ("load_intrusion_hdf5", "save_intrusion_hdf5"),
@@ -30,7 +28,6 @@ _FROM = {
 _MODULE = {name: module for module, names in _FROM.items() for name in names}
 
 __all__ = [
-    "COLUMN_ALIASES",
     "IntrusionDataset",
     "Trial",
     "atomic_write",

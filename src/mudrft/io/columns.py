@@ -34,8 +34,6 @@ QUANTITY: dict[str, str | None] = {
     **dict.fromkeys(("x", "y", "z"), "length"),
     **dict.fromkeys(("Fx", "Fy", "Fz"), "force"),
 }
-#: An intrusion log's column name (lower case) -> (role, quantity).
-COLUMN_ALIASES = {k: (r, QUANTITY[r]) for k, r in LOG_COLUMNS.items() if r != "trial"}
 #: SI units, as a header writes them.
 SI_UNIT = {"length": "m", "area": "m^2", "time": "s", "force": "N", "stress": "Pa"}
 

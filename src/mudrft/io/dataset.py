@@ -231,6 +231,16 @@ class IntrusionDataset:
             tuple(trials), direction=self.direction, source=src, notes=notes, meta=dict(self.meta)
         )
 
+    def _one_length(self, fmt: str) -> float:
+        """The trials' characteristic length [m], which a ``fmt`` file holds once."""
+        lengths = {tr.characteristic_length for tr in self.trials}
+        if len(lengths) != 1:
+            raise MudrftError(
+                f"a {fmt} file holds one characteristic length for all trials; got "
+                f"{sorted(lengths)}; save the trials in separate files"
+            )
+        return lengths.pop()
+
     def to_csv(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
         """Write the dataset as CSV in SI units, its notes and metadata as ``#`` comments,
         atomically; it loads back with :func:`~mudrft.io.load_intrusion_csv`.
@@ -254,12 +264,7 @@ class IntrusionDataset:
                 f"a CSV file tells trials apart by name; several trials are named {twice}: "
                 "rename them (IntrusionDataset.merge does)"
             )
-        lengths = {tr.characteristic_length for tr in self.trials}
-        if len(lengths) != 1:
-            raise MudrftError(
-                "a CSV file holds one characteristic length for all trials; got "
-                f"{sorted(lengths)}; save the trials in separate files"
-            )
+        length = self._one_length("CSV")
         buf = io.StringIO()
         for note in self.notes:
             for line in note.splitlines() or [""]:  # one comment a line
@@ -267,7 +272,7 @@ class IntrusionDataset:
                 if not re.match(r"\s*(direction|characteristic_length|area)\b", line, re.I):
                     buf.write(f"# {line}\n")
         buf.write(f"# direction: {self.direction}\n")
-        buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
+        buf.write(f"# characteristic_length [m]: {length!r}\n")
         buf.write("trial,time [s],depth [m],stress [Pa]\n")
         # labels quoted ("#1" would read as a comment), numbers as their shortest repr
         rows = csv.writer(buf, quoting=csv.QUOTE_NONNUMERIC, lineterminator="\n")

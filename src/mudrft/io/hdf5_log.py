@@ -391,12 +391,7 @@ def save_intrusion_hdf5(
     h5py = _require_h5py()
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
-    lengths = {tr.characteristic_length for tr in dataset.trials}
-    if len(lengths) != 1:
-        raise MudrftError(
-            f"save_intrusion_hdf5 needs one characteristic length, got {sorted(lengths)}"
-        )
-    length = lengths.pop()
+    length = dataset._one_length("HDF5")
     return atomic_write(
         path,
         lambda tmp: _write_hdf5(h5py, dataset, length, tmp),
