@@ -92,28 +92,35 @@ def resolve_direction(path: str, given: str | None, from_file: str | None, where
     return file_direction or "vertical"
 
 
-def resolve_plate(
+def assemble(
     path: str,
+    parts: Sequence[tuple[Columns, Sequence[str] | None, Locate]],
+    labels: dict[str, str],
     *,
+    direction: str,
+    notes: Sequence[str],
+    meta: dict[str, Any],
     meta_len: float | None,
     meta_area: float | None,
     characteristic_length: float | None,
     area: float | None,
-    need_area: bool,
-) -> tuple[float, float | None, str]:
-    """Plate length [m] (the argument's, else the file's, else 50 mm, D1), area [m^2] (None
-    if unknown and not needed), and where the length came from."""
+) -> IntrusionDataset:
+    """The dataset of a log from its ``parts`` (the arguments of :func:`build_trials` but
+    the plate) and column ``labels`` by role, its units checked (:func:`check_plausible`).
+    The plate length [m] is the argument's, else the file's (``meta_len``), else 50 mm
+    (D1); the area [m^2] the argument's, else the file's (needed for a force)."""
     try:
         if characteristic_length is not None:
             L = positive_number("characteristic_length", characteristic_length, unit="m")
-            src = "argument"
+            source = "argument"
         elif meta_len is not None:
-            L, src = meta_len, "file header"
+            L, source = meta_len, "file header"
         else:
-            L, src = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
+            L, source = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
         A = positive_number("area", area, unit="m^2") if area is not None else meta_area
     except MudrftError as exc:
         raise MudrftError(f"{path}: {exc}") from None
+    meta = {**meta, "characteristic_length_source": source}
     if A is not None:
         warn_implausible(
             f"{path}: the plate area is",
@@ -123,37 +130,16 @@ def resolve_plate(
             hint="it is in m^2 (20 cm^2 is 0.002; CLI: --area 20cm^2); a file's value without "
             "a unit is read as m^2",
         )
-    if need_area and A is None:
+        meta["area"] = A
+    elif any("stress" not in columns for columns, _, _ in parts):
         raise MudrftError(
             f"{path}: the file logs a force but no plate area is known; pass area=... [m^2] "
             "(CLI: --area, e.g. 1600mm^2) or add a header line '# area [m^2]: ...'"
         )
-    return L, A, src
-
-
-def assemble(
-    path: str,
-    parts: Sequence[tuple[Columns, Sequence[str] | None, Locate]],
-    labels: dict[str, str],
-    *,
-    direction: str,
-    notes: Sequence[str],
-    meta: dict[str, Any],
-    **plate: float | None,
-) -> IntrusionDataset:
-    """The dataset of a log from its ``parts`` (the arguments of :func:`build_trials` but
-    the plate), the column ``labels`` by role and :func:`resolve_plate`'s ``plate``
-    arguments, its units checked (:func:`check_plausible`)."""
-    need_area = any("stress" not in columns for columns, _, _ in parts)
-    L, A, source = resolve_plate(path, need_area=need_area, **plate)  # type: ignore[arg-type]
     trials = [tr for part in parts for tr in build_trials(path, *part, L=L, A=A)]
     check_plausible(path, trials, labels, area=A)
-    meta = {**meta, "characteristic_length_source": source}
-    if A is not None:
-        meta["area"] = A
-    return IntrusionDataset(
-        tuple(trials), direction=direction, source=path, notes=tuple(notes), meta=meta
-    )
+    notes = tuple(notes)
+    return IntrusionDataset(tuple(trials), direction=direction, source=path, notes=notes, meta=meta)
 
 
 def build_trials(
