@@ -226,8 +226,6 @@ def check_plausible(
 ) -> None:
     """Warn where the units of the trials look wrong (the ``PLAUSIBLE_*`` ranges);
     ``labels`` are the column names by role, ``area`` the plate area [m^2] of a force."""
-    if not trials:
-        return
     _check_speed(path, trials, labels.get("time", "time"))
     depth = max(float(np.max(np.abs(t.depth))) for t in trials)
     if depth > 0:

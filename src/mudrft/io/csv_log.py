@@ -231,14 +231,17 @@ def load_intrusion_csv(
     """
     table = read_table(path)
     where, header = table.path, table.header
-
-    def locate(j: int) -> str:
-        return f"line {table.header_line}, column {j + 1}"
-
-    roles = resolve_columns(where, header, aliases=LOG_COLUMNS, locate=locate, columns=columns)
+    head = f"line {table.header_line}"
+    roles = resolve_columns(
+        where,
+        header,
+        aliases=LOG_COLUMNS,
+        locate=lambda j: f"{head}, column {j + 1}",
+        columns=columns,
+    )
     line = table.fixed.get("direction", (0, None))
     d = resolve_direction(where, direction, line[1], f"line {line[0]}")
-    check_roles(where, f"line {table.header_line}", roles, header, direction=d)
+    check_roles(where, head, roles, header, direction=d)
     if not table.rows:
         raise fail(where, "", "has a header but no data rows")
     values = {r: table.column(c) for r, c in roles.items() if r != "trial"}
