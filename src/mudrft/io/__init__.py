@@ -1,20 +1,9 @@
-r"""Intrusion logs and foot paths: read them from CSV or HDF5 in SI, write them atomically.
+"""Intrusion logs and foot paths: read them from CSV or HDF5 in SI, write them atomically.
 
-A log holds one or more *trials* (one intrusion-hold-retraction each; a ``trial`` column
-tells them apart) with the columns ``time`` (or ``t``), ``depth`` (or ``displacement``,
-positive into the mud) and ``stress`` (or ``sigma``) or a force (``Fz``, ``force``, ``F``:
-the force resisting the intrusion; ``stress = force / area``). Each name carries its unit
-as the logger wrote it, ``time [ms]``, ``Time (ms)`` or ``time in ms`` (converted to SI by
-:mod:`mudrft.units`); other names are mapped with ``columns=`` (CLI ``--columns``). Fields
-are separated by commas, tabs or semicolons; ``# key: value`` lines are metadata::
-
-    # direction: vertical
-    # characteristic_length [m]: 0.05
-    trial,time [s],depth [mm],stress [kPa]
-    slow,0.00,0.0,0.0
-
-Every problem in a file raises :class:`~mudrft._validation.MudrftError` naming the file,
-the line and the column. Writers refuse to replace a file unless ``overwrite=True``.
+A log holds one or more trials (a ``trial`` column tells them apart) with the columns
+``time``, ``depth`` and ``stress`` or a force, each named with its unit (``time [ms]``);
+the format is described in docs/guide/calibrate.md. Every problem in a file raises
+:class:`~mudrft._validation.MudrftError` naming the file, the line and the column.
 """
 
 from __future__ import annotations
@@ -24,7 +13,6 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .atomic import atomic_write, json_text
-    from .columns import COLUMN_ALIASES
     from .csv_log import load_dataset, load_intrusion_csv, save_intrusion_csv
     from .dataset import IntrusionDataset, Trial
     from .hdf5_log import load_intrusion_hdf5, save_intrusion_hdf5
@@ -32,7 +20,6 @@ if TYPE_CHECKING:
 
 _FROM = {
     "atomic": ("atomic_write", "json_text"),
-    "columns": ("COLUMN_ALIASES",),
     "csv_log": ("load_dataset", "load_intrusion_csv", "save_intrusion_csv"),
     "dataset": ("IntrusionDataset", "Trial"),
     "hdf5_log": ("load_intrusion_hdf5", "save_intrusion_hdf5"),
@@ -41,7 +28,6 @@ _FROM = {
 _MODULE = {name: module for module, names in _FROM.items() for name in names}
 
 __all__ = [
-    "COLUMN_ALIASES",
     "IntrusionDataset",
     "Trial",
     "atomic_write",

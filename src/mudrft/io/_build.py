@@ -12,7 +12,7 @@ from .._progress import logger
 from .._validation import MudrftError, check_choice, plain, positive_number, warn_implausible
 from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
-from .dataset import DEFAULT_PLATE_LENGTH, Trial, intrusion_speed
+from .dataset import DEFAULT_PLATE_LENGTH, IntrusionDataset, Trial, intrusion_speed
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
@@ -27,6 +27,7 @@ SLOW_SAMPLING = 0.01
 #: Where sample ``i`` (None: the whole column) of a role's column (None: of the trial)
 #: stands in the file: ``"line 12, column 'time [s]'"``.
 Locate = Callable[[int | None, str | None], str]
+Columns = dict[str, NDArray[np.float64]]
 
 
 def check_roles(
@@ -38,13 +39,15 @@ def check_roles(
              for r in ("time", "depth", "stress", "force")}  # fmt: skip
     words = {r: f"{', '.join(n[:-1])} or {n[-1]}" for r, n in named.items()}
     how = "name it with columns={'ROLE': 'NAME'} (CLI: --columns ROLE=NAME)"
-    for need in ("time", "depth"):
+    units = [split_label(label)[1] for label in names]
+    for need, quantity in (("time", "time"), ("depth", "length")):
         if need not in columns:
+            like = next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
             raise fail(
                 path,
                 where,
                 f"no {need} column; name it {words[need]}, with its unit (e.g. "
-                f"'{need} [{_unit_like(need, names)}]'), or {how.replace('ROLE', need)}; "
+                f"'{need} [{like}]'), or {how.replace('ROLE', need)}; "
                 f"got {list(names)!r}",
             )
     if "stress" not in columns and "force" not in columns:
@@ -64,13 +67,6 @@ def check_roles(
                 "'Fz' is the vertical force but the test is horizontal; name the column "
                 "'force [N]' (the force resisting the intrusion)",
             )
-
-
-def _unit_like(role: str, names: Sequence[str]) -> str:
-    """The unit of the first column in a unit of the role's quantity, else the SI unit."""
-    quantity = {"time": "time", "depth": "length"}[role]
-    units = [split_label(label)[1] for label in names]
-    return next((u for u in units if u in SCALE[quantity]), SI_UNIT[quantity])
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -96,28 +92,35 @@ def resolve_direction(path: str, given: str | None, from_file: str | None, where
     return file_direction or "vertical"
 
 
-def resolve_plate(
+def assemble(
     path: str,
+    parts: Sequence[tuple[Columns, Sequence[str] | None, Locate]],
+    labels: dict[str, str],
     *,
+    direction: str,
+    notes: Sequence[str],
+    meta: dict[str, Any],
     meta_len: float | None,
     meta_area: float | None,
     characteristic_length: float | None,
     area: float | None,
-    need_area: bool,
-) -> tuple[float, float | None, str]:
-    """Plate length [m] (the argument's, else the file's, else 50 mm, D1), area [m^2] (None
-    if unknown and not needed), and where the length came from."""
+) -> IntrusionDataset:
+    """The dataset of a log from its ``parts`` (the arguments of :func:`build_trials` but
+    the plate) and column ``labels`` by role, its units checked (:func:`check_plausible`).
+    The plate length [m] is the argument's, else the file's (``meta_len``), else 50 mm
+    (D1); the area [m^2] the argument's, else the file's (needed for a force)."""
     try:
         if characteristic_length is not None:
             L = positive_number("characteristic_length", characteristic_length, unit="m")
-            src = "argument"
+            source = "argument"
         elif meta_len is not None:
-            L, src = meta_len, "file header"
+            L, source = meta_len, "file header"
         else:
-            L, src = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
+            L, source = DEFAULT_PLATE_LENGTH, "default (decision D1: 50 mm)"
         A = positive_number("area", area, unit="m^2") if area is not None else meta_area
     except MudrftError as exc:
         raise MudrftError(f"{path}: {exc}") from None
+    meta = {**meta, "characteristic_length_source": source}
     if A is not None:
         warn_implausible(
             f"{path}: the plate area is",
@@ -127,17 +130,21 @@ def resolve_plate(
             hint="it is in m^2 (20 cm^2 is 0.002; CLI: --area 20cm^2); a file's value without "
             "a unit is read as m^2",
         )
-    if need_area and A is None:
+        meta["area"] = A
+    elif any("stress" not in columns for columns, _, _ in parts):
         raise MudrftError(
             f"{path}: the file logs a force but no plate area is known; pass area=... [m^2] "
             "(CLI: --area, e.g. 1600mm^2) or add a header line '# area [m^2]: ...'"
         )
-    return L, A, src
+    trials = [tr for part in parts for tr in build_trials(path, *part, L=L, A=A)]
+    check_plausible(path, trials, labels, area=A)
+    notes = tuple(notes)
+    return IntrusionDataset(tuple(trials), direction=direction, source=path, notes=notes, meta=meta)
 
 
 def build_trials(
     path: str,
-    columns: dict[str, NDArray[np.float64]],
+    columns: Columns,
     labels: Sequence[str] | None,
     locate: Locate,
     *,
@@ -219,8 +226,6 @@ def check_plausible(
 ) -> None:
     """Warn where the units of the trials look wrong (the ``PLAUSIBLE_*`` ranges);
     ``labels`` are the column names by role, ``area`` the plate area [m^2] of a force."""
-    if not trials:
-        return
     _check_speed(path, trials, labels.get("time", "time"))
     depth = max(float(np.max(np.abs(t.depth))) for t in trials)
     if depth > 0:

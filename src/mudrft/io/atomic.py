@@ -18,17 +18,6 @@ from typing import Any
 from .._progress import logger
 from .._validation import MudrftError
 
-__all__ = [
-    "STAGING_PREFIX",
-    "atomic_write",
-    "finite_or_none",
-    "json_text",
-    "move_into_place",
-    "regular_target",
-    "remove_stale_staging",
-    "staging_directory",
-]
-
 Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
 #: How the staging directories of mudrft begin: ``.mudrft-PID-XXXXXXXX.tmp``.

@@ -14,17 +14,6 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..units import parse_unit
 
-__all__ = [
-    "COLUMN_ALIASES",
-    "LOG_COLUMNS",
-    "PATH_COLUMNS",
-    "Column",
-    "fail",
-    "resolve_columns",
-    "split_label",
-    "to_si",
-]
-
 #: An intrusion log's column names (lower case) -> role.
 LOG_COLUMNS = {
     **dict.fromkeys(("time", "t"), "time"),
@@ -45,8 +34,6 @@ QUANTITY: dict[str, str | None] = {
     **dict.fromkeys(("x", "y", "z"), "length"),
     **dict.fromkeys(("Fx", "Fy", "Fz"), "force"),
 }
-#: An intrusion log's column name (lower case) -> (role, quantity).
-COLUMN_ALIASES = {k: (r, QUANTITY[r]) for k, r in LOG_COLUMNS.items() if r != "trial"}
 #: SI units, as a header writes them.
 SI_UNIT = {"length": "m", "area": "m^2", "time": "s", "force": "N", "stress": "Pa"}
 

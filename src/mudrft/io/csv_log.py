@@ -1,10 +1,8 @@
 """Logs as text tables: :func:`read_table` (the one CSV reader), :func:`load_intrusion_csv`,
 :func:`save_intrusion_csv` and :func:`load_dataset` (CSV or HDF5, by suffix).
 
-A table is UTF-8 text. ``#`` lines are notes, ``# key: value`` notes metadata. The first
-other line is the header; its fields are separated by commas, tabs or semicolons,
-whichever it holds most of (a semicolon- or tab-separated file may use a decimal comma).
-"""
+``#`` lines are notes, ``# key: value`` notes metadata; the header's fields are separated
+by commas, tabs or semicolons, whichever it holds most of."""
 
 from __future__ import annotations
 
@@ -21,12 +19,10 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError
 from ..units import parse_unit
-from ._build import build_trials, check_plausible, check_roles, resolve_direction, resolve_plate
+from ._build import assemble, check_roles, resolve_direction
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import IntrusionDataset
 from .hdf5_log import load_intrusion_hdf5
-
-__all__ = ["HDF5_SUFFIXES", "Table", "load_dataset", "load_intrusion_csv", "read_table"]
 
 #: File suffixes read as HDF5 by :func:`load_dataset`; every other file is read as CSV.
 HDF5_SUFFIXES = (".h5", ".hdf5", ".hdf")
@@ -62,21 +58,19 @@ class Table:
             cells = [c.replace(",", ".") for c in cells]
         try:
             raw = np.array(cells, dtype=float)
-        except ValueError:
-            i, why = next(((i, _why(c)) for i, c in enumerate(cells) if _why(c)), (0, "?"))
-            raise fail(self.path, locate(i), why) from None
+        except ValueError:  # name the first cell that is no number
+            raw = np.empty(len(cells))
+            for i, c in enumerate(cells):
+                try:
+                    raw[i] = float(c)
+                except ValueError:
+                    why = (
+                        f"cannot read {c[:40]!r} as a number"
+                        if c
+                        else "empty cell, expected a number"
+                    )
+                    raise fail(self.path, locate(i), why) from None
         return to_si(self.path, raw, col, locate_row=locate)
-
-
-def _why(cell: str) -> str:
-    """Why a cell is no number ('' if it is one)."""
-    if not cell:
-        return "empty cell, expected a number"
-    try:
-        float(cell)
-    except ValueError:
-        return f"cannot read {cell[:40]!r} as a number"
-    return ""
 
 
 def _text(p: Path) -> str:
@@ -237,14 +231,17 @@ def load_intrusion_csv(
     """
     table = read_table(path)
     where, header = table.path, table.header
-
-    def locate(j: int) -> str:
-        return f"line {table.header_line}, column {j + 1}"
-
-    roles = resolve_columns(where, header, aliases=LOG_COLUMNS, locate=locate, columns=columns)
+    head = f"line {table.header_line}"
+    roles = resolve_columns(
+        where,
+        header,
+        aliases=LOG_COLUMNS,
+        locate=lambda j: f"{head}, column {j + 1}",
+        columns=columns,
+    )
     line = table.fixed.get("direction", (0, None))
     d = resolve_direction(where, direction, line[1], f"line {line[0]}")
-    check_roles(where, f"line {table.header_line}", roles, header, direction=d)
+    check_roles(where, head, roles, header, direction=d)
     if not table.rows:
         raise fail(where, "", "has a header but no data rows")
     values = {r: table.column(c) for r, c in roles.items() if r != "trial"}
@@ -255,28 +252,27 @@ def load_intrusion_csv(
             i = labels.index("")
             spot = f"line {table.lines[i]}, column {roles['trial'].position + 1} ('trial')"
             raise fail(where, spot, "empty trial label")
-    L, A, source = resolve_plate(
-        where,
-        meta_len=table.fixed.get("characteristic_length", (0, None))[1],
-        meta_area=table.fixed.get("area", (0, None))[1],
-        characteristic_length=characteristic_length,
-        area=area,
-        need_area="stress" not in roles,
-    )
 
     def sample(i: int | None, role: str | None) -> str:
         col = "" if role is None else f"column {roles[role].label!r}"
         return col if i is None else f"line {table.lines[i]}" + (f", {col}" if col else "")
 
-    trials = build_trials(where, values, labels, sample, L=L, A=A)
-    names = {r: c.label for r, c in roles.items()}
-    check_plausible(where, trials, names, area=A)
     used = {c.position for c in roles.values()}
-    ignored = [h.strip() for j, h in enumerate(header) if j not in used]
-    meta = {**table.meta, "characteristic_length_source": source, "ignored_columns": ignored}
-    if A is not None:
-        meta["area"] = A
-    return IntrusionDataset(trials, direction=d, source=where, notes=tuple(table.notes), meta=meta)
+    return assemble(
+        where,
+        [(values, labels, sample)],
+        {r: c.label for r, c in roles.items()},
+        direction=d,
+        notes=table.notes,
+        meta={
+            **table.meta,
+            "ignored_columns": [h.strip() for j, h in enumerate(header) if j not in used],
+        },
+        meta_len=table.fixed.get("characteristic_length", (0, None))[1],
+        meta_area=table.fixed.get("area", (0, None))[1],
+        characteristic_length=characteristic_length,
+        area=area,
+    )
 
 
 def load_dataset(

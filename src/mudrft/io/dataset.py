@@ -27,14 +27,6 @@ from .._validation import (
 from ..plate import DEFAULT_PLATE_LENGTH
 from .atomic import atomic_write
 
-__all__ = [
-    "DEFAULT_PLATE_LENGTH",
-    "OVERWRITE_OPTION",
-    "IntrusionDataset",
-    "Trial",
-    "intrusion_speed",
-]
-
 #: How the writers of this package name the permission to replace a file, in errors.
 OVERWRITE_OPTION = "overwrite=True (CLI: --force)"
 
@@ -206,7 +198,9 @@ class IntrusionDataset:
         said = [self.meta["synthetic"]] if "synthetic" in self.meta else []
         lines = [line.strip() for note in self.notes for line in note.splitlines()]
         said += [x.partition(":")[2] for x in lines if x.lower().startswith("synthetic:")]
-        return any(_says_yes(v) for v in said)
+        said = [str(v).strip().lower() for v in said]
+        no = ("", "no", "false", "0", "none")
+        return any(v not in no and not v.startswith("not ") for v in said)
 
     @property
     def speeds(self) -> list[float]:
@@ -237,6 +231,16 @@ class IntrusionDataset:
             tuple(trials), direction=self.direction, source=src, notes=notes, meta=dict(self.meta)
         )
 
+    def _one_length(self, fmt: str) -> float:
+        """The trials' characteristic length [m], which a ``fmt`` file holds once."""
+        lengths = {tr.characteristic_length for tr in self.trials}
+        if len(lengths) != 1:
+            raise MudrftError(
+                f"a {fmt} file holds one characteristic length for all trials; got "
+                f"{sorted(lengths)}; save the trials in separate files"
+            )
+        return lengths.pop()
+
     def to_csv(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
         """Write the dataset as CSV in SI units, its notes and metadata as ``#`` comments,
         atomically; it loads back with :func:`~mudrft.io.load_intrusion_csv`.
@@ -260,12 +264,7 @@ class IntrusionDataset:
                 f"a CSV file tells trials apart by name; several trials are named {twice}: "
                 "rename them (IntrusionDataset.merge does)"
             )
-        lengths = {tr.characteristic_length for tr in self.trials}
-        if len(lengths) != 1:
-            raise MudrftError(
-                "a CSV file holds one characteristic length for all trials; got "
-                f"{sorted(lengths)}; save the trials in separate files"
-            )
+        length = self._one_length("CSV")
         buf = io.StringIO()
         for note in self.notes:
             for line in note.splitlines() or [""]:  # one comment a line
@@ -273,7 +272,7 @@ class IntrusionDataset:
                 if not re.match(r"\s*(direction|characteristic_length|area)\b", line, re.I):
                     buf.write(f"# {line}\n")
         buf.write(f"# direction: {self.direction}\n")
-        buf.write(f"# characteristic_length [m]: {lengths.pop()!r}\n")
+        buf.write(f"# characteristic_length [m]: {length!r}\n")
         buf.write("trial,time [s],depth [m],stress [Pa]\n")
         # labels quoted ("#1" would read as a comment), numbers as their shortest repr
         rows = csv.writer(buf, quoting=csv.QUOTE_NONNUMERIC, lineterminator="\n")
@@ -321,8 +320,3 @@ def intrusion_speed(time: ArrayLike, depth: ArrayLike) -> float:
     if i10 >= i90:
         return 0.0
     return float((d[i90] - d[i10]) / (t[i90] - t[i10]))
-
-
-def _says_yes(value: object) -> bool:
-    text = str(value).strip().lower()
-    return text not in ("", "no", "false", "0", "none") and not text.startswith("not ")

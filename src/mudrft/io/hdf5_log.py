@@ -22,24 +22,15 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError, plain
 from ..units import parse_unit
-from ._build import (
-    Locate,
-    build_trials,
-    check_plausible,
-    check_roles,
-    resolve_direction,
-    resolve_plate,
-)
+from ._build import Columns, Locate, assemble, check_roles, resolve_direction
 from .atomic import atomic_write
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
-from .dataset import OVERWRITE_OPTION, IntrusionDataset, Trial
+from .dataset import OVERWRITE_OPTION, IntrusionDataset
 
 if TYPE_CHECKING:  # h5py is an optional extra; at run time it is imported on use
     import h5py
 
-__all__ = ["load_intrusion_hdf5", "save_intrusion_hdf5"]
 
-Columns = dict[str, NDArray[np.float64]]
 Table = tuple[str, Columns, dict[str, str], Locate]
 
 #: Attributes read from the root only: they hold for every trial of the file.
@@ -108,12 +99,8 @@ def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> f
 
 
 def _notes(attrs: dict[str, Any]) -> list[str]:
-    notes = []
-    for key in ("notes", "synthetic"):
-        if key in attrs:
-            v = _text(attrs[key])
-            notes.append(f"{key}: {v}" if key == "synthetic" else str(v))
-    return notes
+    notes = [str(_text(attrs["notes"]))] if "notes" in attrs else []
+    return notes + ([f"synthetic: {_text(attrs['synthetic'])}"] if "synthetic" in attrs else [])
 
 
 def _broken_link(h5py: ModuleType, group: h5py.Group, key: str, exc: BaseException) -> str:
@@ -281,11 +268,7 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
         raw = np.asarray(dataset[()], dtype=float)
     except (OSError, TypeError, ValueError) as exc:
         raise fail(path, loc, f"cannot be read ({_first_line(exc)})") from None
-
-    def locate_row(i: int) -> str:
-        return f"{loc}, row {i}"
-
-    return to_si(path, raw, col, locate_row=locate_row)
+    return to_si(path, raw, col, locate_row=lambda i: f"{loc}, row {i}")
 
 
 def _open(h5py: ModuleType, p: Path) -> h5py.File:
@@ -357,23 +340,19 @@ def load_intrusion_hdf5(
             where, direction, _text(attrs.get("direction")), "attribute 'direction'"
         )
         tables = _read_file(h5py, where, fh, d, columns)
-    L, A, lsrc = resolve_plate(
+    parts = [(cols, [name] * cols["time"].size, sample) for name, cols, _, sample in tables]
+    return assemble(
         where,
+        parts,
+        tables[0][2],
+        direction=d,
+        notes=_notes(attrs),
+        meta={},
         meta_len=meta_len,
         meta_area=meta_area,
         characteristic_length=characteristic_length,
         area=area,
-        need_area=any("stress" not in cols for _, cols, _, _ in tables),
     )
-    trials: list[Trial] = []
-    for gname, cols, _, sample in tables:
-        trials += build_trials(where, cols, [gname] * cols["time"].size, sample, L=L, A=A)
-    check_plausible(where, trials, tables[0][2], area=A)
-    meta: dict[str, Any] = {"characteristic_length_source": lsrc}
-    if A is not None:
-        meta["area"] = A
-    notes = tuple(_notes(attrs))
-    return IntrusionDataset(tuple(trials), direction=d, source=where, notes=notes, meta=meta)
 
 
 def _write_hdf5(h5py: ModuleType, dataset: IntrusionDataset, length: float, path: Path) -> None:
@@ -412,12 +391,7 @@ def save_intrusion_hdf5(
     h5py = _require_h5py()
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
-    lengths = {tr.characteristic_length for tr in dataset.trials}
-    if len(lengths) != 1:
-        raise MudrftError(
-            f"save_intrusion_hdf5 needs one characteristic length, got {sorted(lengths)}"
-        )
-    length = lengths.pop()
+    length = dataset._one_length("HDF5")
     return atomic_write(
         path,
         lambda tmp: _write_hdf5(h5py, dataset, length, tmp),

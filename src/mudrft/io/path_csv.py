@@ -15,8 +15,6 @@ from ..trajectories import Trajectory
 from .columns import PATH_COLUMNS, fail, resolve_columns
 from .csv_log import read_table
 
-__all__ = ["PATH_COLUMNS", "load_path_csv"]
-
 
 def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -> Trajectory:
     """Read a foot tip's path from a CSV file, as a trajectory to simulate.
@@ -49,12 +47,6 @@ def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -
         (:meth:`Trajectory.from_positions`), named after the file; the file's force
         columns [N] by name in ``meta["measured_force"]`` (``{"Fz": array}``), if any.
 
-    Examples
-    --------
-    >>> import mudrft
-    >>> path = mudrft.io.load_path_csv("tip.csv")  # doctest: +SKIP
-    >>> mudrft.simulate(mudrft.feet.Flat(), mudrft.paper_mud(0.25), path)  # doctest: +SKIP
-
     Raises
     ------
     MudrftError
@@ -75,7 +67,7 @@ def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -
         columns=columns,
         require_units=False,
     )
-    missing = [r for r in ("time",) if r not in found]
+    missing = [] if "time" in found else ["time"]
     if "z" not in found and "depth" not in found:
         missing.append("z (or depth)")
     if missing:

@@ -47,7 +47,7 @@ class Axis:
         """The axis as plain data."""
         out: dict[str, Any] = {"name": self.name, "kind": self.kind}
         if self.values is not None:
-            out["values"] = [v.item() if hasattr(v, "item") else v for v in self.values]
+            out["values"] = self.values.tolist()
         if self.low is not None:
             out.update(low=self.low, high=self.high, log=self.log)
         return out
@@ -66,10 +66,6 @@ def block(shape: tuple[int, ...], chunks: tuple[int, ...], i: int) -> tuple[slic
     """The block of chunk ``i`` of an array of ``shape`` cut into ``chunks`` (C order)."""
     index = np.unravel_index(int(i), [math.ceil(s / c) for s, c in zip(shape, chunks, strict=True)])  # fmt: skip
     return tuple(slice(int(k) * c, min((int(k) + 1) * c, s)) for k, c, s in zip(index, chunks, shape, strict=True))  # fmt: skip
-
-
-def _plain(v: object) -> object:
-    return v.item() if isinstance(v, np.generic) else v
 
 
 @dataclass(frozen=True, eq=False)
@@ -165,7 +161,7 @@ class Design:
         sl = self.chunk_slices(i)
         if self.design == "grid":
             names = [a.name for a in self.axes]
-            cols = [[_plain(v) for v in a.values[s]] for a, s in zip(self.axes, sl, strict=True)]  # type: ignore[index]
+            cols = [a.values[s].tolist() for a, s in zip(self.axes, sl, strict=True)]  # type: ignore[index]
             return [dict(zip(names, combo, strict=True)) for combo in product(*cols)]
-        cols2 = {k: [_plain(v) for v in arr[sl[0]]] for k, arr in self.sample.items()}
-        return [{k: cols2[k][j] for k in cols2} for j in range(sl[0].stop - sl[0].start)]
+        cols2 = {k: arr[sl[0]].tolist() for k, arr in self.sample.items()}
+        return [dict(zip(cols2, row, strict=True)) for row in zip(*cols2.values(), strict=True)]

@@ -131,13 +131,11 @@ def evaluate_point(
         from ..integrations.walk import walk
 
         found = walk(foot, mud, **kw).summary  # keys with units: "distance [m]", ...
+    elif motion == "gait":
+        speed = kw.pop("speed", 0.2)
+        found = simulate(foot, mud, gait(speed, **kw)).metrics()
     else:
-        if motion == "gait":
-            speed = kw.pop("speed", 0.2)
-            result = simulate(foot, mud, gait(speed, **kw))
-        else:
-            result = simulate(foot, mud, LoadControl(**kw))
-        found = result.metrics()
+        found = simulate(foot, mud, LoadControl(**kw)).metrics()
     return {name: float(found[METRICS[motion][name].key]) for name in context["metrics"]}
 
 

@@ -22,19 +22,23 @@ def _swept(ds: xr.Dataset) -> list[str]:
     return [str(d) for d in ds.dims]
 
 
+def check_names(names: dict[str, str | None], swept: list[str], where: str = "") -> None:
+    """Refuse map parameters (``x``, ``y``, ``panels``) not swept, or one given twice."""
+    given = [(k, v) for k, v in names.items() if v is not None]
+    for i, (key, value) in enumerate(given):
+        if value not in swept:
+            raise MudrftError(f"{where}{key} must be a swept parameter ({', '.join(swept) or 'none'}), got {value!r}")  # fmt: skip
+        for other, v in given[:i]:
+            if v == value:
+                raise MudrftError(f"{where}{other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
+
+
 def _check(ds: xr.Dataset, metric: str, names: dict[str, str | None]) -> list[str]:
     if metric not in ds.data_vars or metric in ("error", "done"):
         known = [str(v) for v in ds.data_vars if v not in ("error", "done")]
         raise MudrftError(f"metric must be one of {', '.join(known)}, got {metric!r}")
     swept = _swept(ds)
-    for key, value in names.items():
-        if value is not None and value not in swept:
-            raise MudrftError(f"{key} must be a swept parameter ({', '.join(swept)}), got {value!r}")  # fmt: skip
-    given = [(k, v) for k, v in names.items() if v is not None]
-    for i, (key, value) in enumerate(given):
-        for other, v in given[:i]:
-            if v == value:
-                raise MudrftError(f"{other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
+    check_names(names, swept)
     return swept
 
 

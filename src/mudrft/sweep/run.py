@@ -265,7 +265,6 @@ def run_sweep(
                 cpus = (os.cpu_count() or 1) if auto else None
                 pending = _run_serial(spec, context, pending, finished, cpus=cpus)
             if pending:
-                _require("distributed")
                 with _client(client, scheduler, workers) as c:
                     _run_dask(c, spec, context, pending, finished)
         except BaseException:

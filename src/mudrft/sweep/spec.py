@@ -29,6 +29,7 @@ from ..feet.mesh import UP_AXES
 from ..units import SCALE
 from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, MOTIONS, PARAMETERS, Parameter
 from .design import Axis, Design
+from .plot import check_names
 
 if TYPE_CHECKING:
     from .evaluate import SweepContext
@@ -313,7 +314,7 @@ def _foot_kind(
         if not isinstance(up, str) or up not in UP_AXES:
             axes_ = ", ".join(f'"{a}"' for a in UP_AXES)
             raise MudrftError(f"[foot] up must be the mesh file's up axis, a string, one of {axes_} (y for a y-up export), got {up!r}")  # fmt: skip
-        path = Path(kind) if Path(kind).is_absolute() else base / kind
+        path = base / kind  # an absolute kind replaces base
         try:
             mesh = MeshFoot.from_file(path, unit=unit, up=up)
         except MudrftError as exc:
@@ -345,7 +346,7 @@ def _mud_set(where: str, entry: object, base: Path) -> dict[str, Any]:
     sources = []
     for d in ("vertical", "horizontal"):
         name = getattr(files, d)
-        path = Path(name) if Path(name).is_absolute() else base / name
+        path = base / name
         try:
             p = load_parameters(path)
         except FileNotFoundError:
@@ -430,17 +431,9 @@ def _add(
 
 
 def _plot(plot: PlotOptions, axes: list[Axis], metrics: tuple[str, ...]) -> dict[str, Any]:
-    names = [a.name for a in axes]
-    out: dict[str, Any] = {}
-    for key in ("x", "y", "panels"):
-        value = getattr(plot, key)
-        if value is not None and value not in names:
-            raise MudrftError(f"[plot] {key} must be a swept parameter ({', '.join(names) or 'none'}), got {value!r}")  # fmt: skip
-        if value is not None:
-            for other, v in out.items():
-                if v == value:
-                    raise MudrftError(f"[plot] {other} and {key} are both {value!r}; a map needs a different parameter for each")  # fmt: skip
-            out[key] = value
+    names = {k: getattr(plot, k) for k in ("x", "y", "panels")}
+    check_names(names, [a.name for a in axes], "[plot] ")
+    out: dict[str, Any] = {k: v for k, v in names.items() if v is not None}
     if plot.metrics is not None:
         chosen = [plot.metrics] if isinstance(plot.metrics, str) else plot.metrics
         if any(m not in metrics for m in chosen):

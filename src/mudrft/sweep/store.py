@@ -1,12 +1,6 @@
 """The result store: a labelled Dataset in Zarr v3, written a chunk at a time, verified
-when read.
-
-Besides the metrics and ``error``, ``done`` (1 once a point's chunk is stored) and
-``checksum`` (the CRC-32 of each chunk's metrics and errors) are written after each
-chunk. A chunk ``done`` vouches for is trusted only when it decodes and matches its
-checksum; else it is *damaged*: :func:`load_result` names it, and a resumed sweep
-computes it again.
-"""
+when read: a chunk is trusted only when it decodes and matches its ``checksum`` (CRC-32);
+else it is *damaged*, named by :func:`load_result` and computed again on resume."""
 
 from __future__ import annotations
 
