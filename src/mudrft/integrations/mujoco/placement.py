@@ -15,17 +15,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._typing import FloatArray, IndexArray
-from ..._validation import MudrftError, check_finite, plain, warn_plausibility
+from ..._validation import MudrftError, check_finite, plain, positive_number, warn_plausibility
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
 from .geoms import (
     _SUPPORTED_GEOMS,
+    CUT_HEIGHT,
     _collides,
     _derived_foot,
     _lowest_geom,
     _mesh_vertices,
     _support,
     _tied_geoms,
+    cut_foot,
     geom_label,
     geom_points,
     geom_type_name,
@@ -88,6 +90,9 @@ class BodyFoot:
         Every geom of the foot (several: their convex hull is the foot).
     ball : bool
         A sphere geom's derived foot, stepped as a full ball (the same from every angle).
+    uncut : float or None
+        The derived foot's height before it was cut (:func:`~.geoms.cut_foot`) [m]; None
+        when it was not.
     """
 
     body: str
@@ -105,6 +110,7 @@ class BodyFoot:
     geom: int = -1
     geoms: tuple[int, ...] = ()
     ball: bool = False
+    uncut: float | None = None
 
 
 #: Mesh resolution of a ball foot (72 facets for the hemisphere): coarse, since the
@@ -160,6 +166,7 @@ def body_foot(
     tip: ArrayLike | None = None,
     resolution: int = POSE_RESOLUTION,
     geom: str | int | Sequence[str | int] | None = None,
+    cut_height: float | None = CUT_HEIGHT,
 ) -> BodyFoot:
     """Place a mudrft foot on a body of a MuJoCo model.
 
@@ -174,18 +181,27 @@ def body_foot(
         ``Flat``, horizontal cylinder or capsule -> ``SemiCylinder``, sphere ->
         ``SemiSphere`` stepped as a full ball, mesh -> ``MeshFoot``; geoms as low as it
         (within :data:`~.geoms.TIED_HEIGHT`) make one ``MeshFoot``, the convex hull of their union.
+        A derived box, mesh or hull foot taller than ``cut_height`` keeps its part below it.
     tip : array_like (3,) or None
         Tip in the body frame [m]; default the lowest point of the foot in the reference pose.
     resolution : int
         Mesh resolution of a curved closed-form foot's triangles.
     geom : str, int, sequence of them, or None
         The geom (name or id) that is the foot, or geoms whose union is (D124).
+    cut_height : float or None
+        A derived foot taller than this [m] is cut this high above its tip
+        (:data:`~.geoms.CUT_HEIGHT`, 0.1 m, by default); None keeps it whole. ``attach``
+        cuts at the default: give it ``body_foot(model, body, cut_height=h).foot`` as the
+        foot to cut elsewhere.
 
     Returns
     -------
     BodyFoot
     """
     mj = _mujoco()
+    if cut_height is not None:
+        cut_height = positive_number("cut_height", cut_height, unit="m")
+    derived = foot is None
     bid, named = resolve_body(model, body)
     name = model.body(bid).name or f"body {bid}"
     ref = _reference_pose(model)
@@ -253,6 +269,10 @@ def body_foot(
         if tip is not None:
             low_w = xb + Rb @ check_finite("tip", tip)
             ball = False
+    uncut = None
+    if derived and not ball:
+        whole, foot = foot, cut_foot(foot, cut_height)
+        uncut = float(whole.height) if foot is not whole else None
     if not hasattr(foot, "contact_force") or not hasattr(foot, "characteristic_length"):
         raise MudrftError(
             f"foot for body {name!r} must be a mudrft foot (mudrft.feet), got {type(foot).__name__}"
@@ -281,6 +301,7 @@ def body_foot(
         geom=int(geoms[0]) if geoms else -1,
         geoms=tuple(int(g) for g in geoms),
         ball=ball,
+        uncut=uncut,
     )
 
 
@@ -405,6 +426,8 @@ def describe(model: mujoco.MjModel, placed: BodyFoot) -> str:
         what = "the convex hull of their union"
     else:
         what = "its foot"
+    if placed.uncut is not None:
+        what += f", its lowest {float(f.height):.3g} m of {placed.uncut:.3g} m (cut_height)"
     ext = ""
     if placed.upright is not None:
         span = np.ptp(np.asarray(placed.upright).reshape(-1, 3), axis=0)
