@@ -284,6 +284,8 @@ def test_a_balls_channels_are_the_integrals_of_its_weights(height):
     assert errors[1] < 4e-3 and errors[1] < errors[0] / 3.5  # second order in the mesh size
 
 
+# the balls settle at about 23.5 mm, just past their 23 mm radius: buried, as warned
+@pytest.mark.filterwarnings("ignore::mudrft.trajectories.BuriedFootWarning")
 def test_go1_standing_settles_near_the_load_model_and_stops_creeping():
     # W = 35 %: the rear feet crept to 372 mm in 20 s as hemispheres frozen at the calf's
     # qpos0 tilt; as full balls they stay within 20 % of the 1-D load model's depth

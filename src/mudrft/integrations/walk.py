@@ -383,6 +383,7 @@ def walk(
     ctrl.initial_pose(data)
     coupling = attach(model, list(BIPED_FEET), mud, feet=foot, backend=backend)
     coupling.reset(data)
+    coupling._buried[:] = True  # the walk warns of a buried foot itself (strict refuses)
     qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id
     z_start = float(data.xpos[torso, 2])

@@ -19,6 +19,7 @@ from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
+from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
 from .contact import MudContact, _central_point
@@ -56,6 +57,12 @@ if TYPE_CHECKING:
     from ...terrains import Terrain
 
 __all__ = ["MudBatch", "MudContact"]
+
+#: What the warning of a buried foot advises (:meth:`MudBatch._check_buried`).
+BURIED_HINT = (
+    "; a firmer mud (lower water content), a bed (attach's bottom= [m] below the surface) "
+    "or a taller foot keeps it within its height"
+)
 
 
 class _Reading(NamedTuple):
@@ -114,7 +121,9 @@ class MudBatch:
     -----
     PlausibilityWarning
         A body welded to the world (D113); a timestep above 10 ms (D123); a floor at or
-        above the surface (``floor="warn"``).
+        above the surface (``floor="warn"``); from :meth:`step`, :meth:`advance` and
+        :attr:`last`, a foot deeper than its own height
+        (:class:`~mudrft.trajectories.BuriedFootWarning`, once a foot until :meth:`reset`).
 
     Raises
     ------
@@ -179,6 +188,9 @@ class MudBatch:
         self._roots = np.array(model.body_rootid)[self._ids]
         self._ball = np.array([b.ball for b in self.bodies])
         self._tip = np.stack([coupled_tip(b) for b in self.bodies])
+        # the depth [m] past which a foot is buried (check_unburied's margin), and which warned
+        self._too_deep = np.array([float(b.foot.height) for b in self.bodies]) * (1 + 1e-9)
+        self._buried = np.zeros(len(self.bodies), dtype=bool)
         self._fwd = np.stack([b.forward for b in self.bodies])
         groups: dict[int, list[int]] = {}
         for i, placed_body in enumerate(self.bodies):
@@ -209,10 +221,12 @@ class MudBatch:
                 warnings.warn(f"{why}: the coupling runs on numpy (slower)", RuntimeWarning, stacklevel=3)  # fmt: skip
         self.backend = backend
         self._compiled: CompiledCoupling | None = None
+        self._depth: FloatArray = np.zeros((self.n, nb))  # the compiled coupling's depths [m]
         if backend == "numba":
             if why:
                 raise MudrftError(why)
             self._compiled = CompiledCoupling(self)
+            self._depth = self._compiled.out[..., 18]  # a view: the kernel writes in place
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
         self._last: MudContact | None = None
         self.time_steps = 0
@@ -234,7 +248,10 @@ class MudBatch:
         c = self._compiled
         if c is None:
             return self._last
-        return c.contact(0 if self._single else None) if c.clock[:, 0].any() else None
+        if not c.clock[:, 0].any():
+            return None
+        self._check_buried(self._depth)  # plain mj_step has not checked
+        return c.contact(0 if self._single else None)
 
     @last.setter
     def last(self, value: MudContact | None) -> None:
@@ -299,6 +316,7 @@ class MudBatch:
         self._warnings = [[0, 0, 0] for _ in datas]
         self._clear_warnings()
         self.last = None
+        self._buried[:] = False
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
@@ -361,6 +379,7 @@ class MudBatch:
             for d in datas:
                 self._mj.mj_passive(self.model, d)
             self._compiled.check()
+            self._check_buried(self._depth)
             self.time_steps += 1
             return None
         dt = float(self.model.opt.timestep)
@@ -414,6 +433,7 @@ class MudBatch:
             stress=stress,
         )
         self.last = MudContact(*(a[0] for a in c)) if self._single else c  # MudCoupling: robot 0
+        self._check_buried(depth)
         return self.last
 
     def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
@@ -464,6 +484,23 @@ class MudBatch:
                     self._check_diverged(datas)
             self.time_steps += 1
         c.check()
+        self._check_buried(self._depth)
+
+    def _check_buried(self, depth: FloatArray) -> None:
+        """Warn once a foot until :meth:`reset` where its ``depth`` (n, nb) [m] exceeds its
+        height: the mud then reaches the leg, which the model does not describe (D26)."""
+        over = depth > self._too_deep
+        if not over.any():
+            return
+        for j in np.flatnonzero(over.any(axis=0) & ~self._buried):
+            self._buried[j] = True
+            b, i = self.bodies[j], int(np.argmax(depth[:, j]))
+            name = repr(b.body) if b.body else f"id {b.body_id}"
+            robot = "" if self.n == 1 else f" of robot {i}"
+            check_unburied(
+                type(b.foot).__name__, float(b.foot.height), float(depth[i, j]),
+                how=f"mud coupling: body {name}{robot} sank", strict=False, hint=BURIED_HINT,
+            )  # fmt: skip
 
     def _clear_warnings(self) -> None:  # in place: the compiled loop holds the lists
         for ws, seen in zip(self._warn, self._warnings, strict=True):
