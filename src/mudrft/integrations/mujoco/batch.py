@@ -316,7 +316,6 @@ class MudBatch:
         self._warnings = [[0, 0, 0] for _ in datas]
         self._clear_warnings()
         self.last = None
-        self._buried[:] = False
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
@@ -487,8 +486,9 @@ class MudBatch:
         self._check_buried(self._depth)
 
     def _check_buried(self, depth: FloatArray) -> None:
-        """Warn once a foot until :meth:`reset` where its ``depth`` (n, nb) [m] exceeds its
-        height: the mud then reaches the leg, which the model does not describe (D26)."""
+        """Warn once a foot (in the coupling's life: not every episode) where its ``depth``
+        (n, nb) [m] exceeds its height: the mud then reaches the leg, which the model does
+        not describe (D26)."""
         over = depth > self._too_deep
         if not over.any():
             return
