@@ -334,8 +334,13 @@ def test_feet_derived_from_geoms():
     assert isinstance(mesh.foot, feet.MeshFoot)
     assert mesh.foot.height == pytest.approx(0.01, abs=1e-9)
     assert mesh.foot.projected_areas(0.005)[2] == pytest.approx(0.06 * 0.04, rel=1e-6)
-    with pytest.raises(mudrft.MudrftError, match="not horizontal"):
-        body_foot(model, "upright")
+    # a standing cylinder (r 20 mm, 60 mm long) is its meshed convex hull, tip at its base
+    up = body_foot(model, "upright")
+    assert isinstance(up.foot, feet.MeshFoot) and up.kind == "points"
+    assert up.foot.height == pytest.approx(0.06, abs=1e-9)
+    np.testing.assert_allclose(up.tip, [0, 0, -0.03], atol=1e-12)
+    disk = np.pi * 0.02**2 * 16 / (2 * np.pi) * np.sin(2 * np.pi / 16)  # its 16-gon
+    assert up.foot.projected_areas(0.01)[2] == pytest.approx(disk, rel=1e-9)
     with pytest.raises(mudrft.MudrftError, match="no geom"):
         body_foot(model, "nothing")
     explicit = body_foot(model, "nothing", feet.SemiSphere())

