@@ -137,8 +137,7 @@ def callback() -> Any:
 
 
 def install(mj: Any) -> None:
-    """Make the compiled coupling MuJoCo's passive callback, chained to the one set before
-    (a compiled one: a Python callback cannot be called from compiled code)."""
+    """Make the compiled coupling MuJoCo's passive callback, chained to the one set before."""
     ours = callback()
     current = mj.get_mjcb_passive()
     if current is ours:

@@ -52,8 +52,7 @@ __all__ = ["ARGS", "N_OUT", "OFFSETS", "WORK_FIXED", "pack", "work_size"]
 #: What a foot step returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
 FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
-#: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
-#: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
+#: Floats per body in the output row: the fields of :class:`.contact.MudContact`, a status.
 N_OUT = 23
 
 
@@ -500,9 +499,7 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 
 def pack(arrays: list[Any]) -> IndexArray:
     """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array of each one's
-    address and shape: one argument costs numba far less to pass than 23. The caller keeps
-    the arrays alive.
-    """
+    address and shape (one argument for numba to pass); the caller keeps them alive."""
     out: list[int] = []
     for a in arrays:
         out += [int(a.ctypes.data), *a.shape]

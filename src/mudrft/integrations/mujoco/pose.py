@@ -5,8 +5,7 @@ Per channel :math:`c\in\{x,y,z\}` of the foot's yaw frame, the submerged element
 .. math:: w_{x}=|\mathbf n_h|\hat n_x^2\,dS,\quad w_{y}=|\mathbf n_h|\hat n_y^2\,dS,\quad
           w_{z}=(\cos^3\psi_1+\sin^3\psi_1)\,dS\ (n_z<0),
 
-their sums :math:`A_c`, centroids :math:`\mathbf p_c` (where the channel acts and its
-velocity is read) and second moments
+their sums :math:`A_c`, centroids :math:`\mathbf p_c` and second moments
 :math:`\mathbf J_c=\sum_i w_{ic}\,(\mathbf r_i\times\mathbf e_c)(\mathbf r_i\times\mathbf e_c)^T`
 (:class:`ChannelGeometry`).
 """
