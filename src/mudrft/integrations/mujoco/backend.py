@@ -1,9 +1,4 @@
-"""The numba backend of the coupling: the arrays of :func:`.compiled.coupling_kernel` (D68a).
-
-:class:`CompiledCoupling` holds the feet (triangles, tip, forward axis, mud constants),
-the mud's state as rows of floats, and the addresses of every ``MjData``'s arrays (MuJoCo
-never moves them).
-"""
+"""The numba backend of the coupling: the arrays of the compiled kernel (D68a)."""
 
 from __future__ import annotations
 
@@ -90,13 +85,6 @@ def _geometry_row(foot: _KernelFoot) -> list[float]:
     return [float(v) for v in foot.kernel_geometry]
 
 
-def _morph_row(foot: Foot) -> FloatArray:
-    """A morphing foot's :class:`~mudrft.feet.morphing.row.MorphingRow`; zeros for others."""
-    if isinstance(foot, MorphingFoot):
-        return row_array(foot)
-    return np.zeros(len(MorphingRow._fields))
-
-
 def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
     """``"numba"`` or ``"numpy"`` for ``backend="auto"``; any other ``backend`` as given."""
     if backend != "auto":
@@ -106,16 +94,12 @@ def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
 
 
 class CompiledCoupling:
-    """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`, stepped
-    by MuJoCo's passive callback (:func:`install`) for every ``MjData`` given to
-    :meth:`reset`."""
+    """Arrays and state of the compiled coupling of one :class:`~.batch.MudBatch`."""
 
     def __init__(self, batch: MudBatch) -> None:
         m = batch.model
         self.batch = batch
         self.callback = callback()
-        # _not_compilable has made sure of the mud, a surface on every foot and feet the
-        # kernel knows: the casts below say so to the type checker
         bodies = batch.bodies
         tris = [cast(FloatArray, coupled_triangles(b)) for b in bodies]
         self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id]), int(b.ball)] for b in bodies])  # fmt: skip
@@ -133,7 +117,11 @@ class CompiledCoupling:
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
-        self.morph = np.ascontiguousarray([_morph_row(b.foot) for b in bodies], dtype=float)
+        no_morph = np.zeros(len(MorphingRow._fields))
+        morph = [
+            row_array(b.foot) if isinstance(b.foot, MorphingFoot) else no_morph for b in bodies
+        ]
+        self.morph = np.ascontiguousarray(morph, dtype=float)
         n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
         self.fst = np.zeros((n, nb, 3))  # morphing feet: deflection, pad angle, seal memory
@@ -157,8 +145,8 @@ class CompiledCoupling:
     def reset(
         self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
     ) -> None:
-        """Mud rows from the numpy coupling's initial states; odometry from ``pos``; the
-        callback installed and ``datas`` registered with it."""
+        """Start from the numpy coupling's ``states`` and tip positions ``pos`` [m], and
+        register ``datas`` with the callback."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
             rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
@@ -224,8 +212,7 @@ class CompiledCoupling:
 
 def _time_address(d: mujoco.MjData) -> int:
     """The address of ``d.time`` (the double before ``d.energy`` in ``mjData``), checked;
-    0 where this MuJoCo lays it out otherwise (then the feet's state alone tells a call
-    repeated at the same time, :func:`.compiled.robot_step`)."""
+    0 where this MuJoCo lays it out otherwise."""
     address = int(d.energy.ctypes.data) - 8
     cell = ctypes.c_double.from_address(address)
     saved = d.time

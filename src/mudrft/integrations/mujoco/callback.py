@@ -1,11 +1,5 @@
-"""MuJoCo's passive callback (``mjcb_passive``): the compiled coupling inside ``mj_step``.
-
-:func:`passive`, compiled as a C callback, finds the robot whose ``mjData`` MuJoCo passes
-in a registry of the couplings' ``MjData`` and runs its coupling step
-(:func:`robot_step`), then the callback it replaced. So users step with plain
-``mj_step``, ``mj_forward``, ``mujoco.rollout`` or the viewer; several models and
-couplings share the one callback. The registry's address reaches compiled code through a
-symbol (:data:`.linalg.REGISTRY`), so the compiled callback stays cached on disk.
+"""MuJoCo's passive callback (``mjcb_passive``): the compiled coupling inside ``mj_step``,
+shared by every coupling through a registry of their ``MjData`` (:data:`.linalg.REGISTRY`).
 """
 
 from __future__ import annotations
@@ -42,9 +36,8 @@ KEPT = ("mud", "fst", "odo", "tw_prev", "wv_prev")
 
 def clock_size(nb: int) -> int:
     """Length of a robot's ``clock`` row for ``nb`` feet: has a last step, the time of the
-    last call [s], the kept has-a-last-step and tank [J], each foot's pose and velocity at
-    the last call (18), and the kept state (:data:`KEPT`).
-    """
+    last call [s], the kept has-a-last-step and tank [J], each foot's pose and velocity
+    (18), and the kept state (:data:`KEPT`)."""
     return 4 + nb * 18 + nb * (N_STATE + 3 + 4 + 6 + 6)
 
 
@@ -62,10 +55,8 @@ def _keep(row: FloatArray, at: int, a: FloatArray, back: bool) -> int:
 
 def robot_step(p: IndexArray, k: int, now: float) -> int:
     """:func:`_kernel` for robot ``k`` on the arrays packed by :func:`pack`, at MuJoCo's
-    time ``now`` [s]: a call steps the mud on, but a call again at the same time and
-    state (``mj_forward`` after ``mj_step``, :meth:`~.MudBatch.apply` after ``mj_step1``)
-    steps again from the state before, so it gives the same wrench. The number of
-    non-finite wrenches.
+    time ``now`` [s]; a call again at the same time and state steps again from the state
+    before (the same wrench). The number of non-finite wrenches.
     """
     o = OFFSETS
     clock, tank = _f2(p, o[22]), _f1(p, o[19])
@@ -103,12 +94,8 @@ N_REGISTRY = 5
 
 
 def passive(m: int, d: int) -> None:
-    """MuJoCo's passive callback (``mjcb_passive``): the coupling step of the robot whose
-    ``mjData`` is at ``d``, then the callback it replaced, if any.
-
-    The registry (:data:`.linalg.REGISTRY`) is (count, chained callback's address), then
-    ``count`` rows of :data:`N_REGISTRY` integers.
-    """
+    """The coupling step of the robot whose ``mjData`` is at ``d``, then the callback
+    replaced. The registry: (count, chained callback's address), ``count`` rows."""
     r: int = _registry()  # type: ignore[call-arg]
     if r == 0:
         return
@@ -126,13 +113,10 @@ def passive(m: int, d: int) -> None:
 
 #: The compiled callback's ctypes object, as given to ``mujoco.set_mjcb_passive``.
 _CALLBACK: list[Any] = [None]
-#: mjData address -> its registry row (:data:`N_REGISTRY` integers), and the coupling that
-#: owns the row, held alive while it is registered (the MjData keeps its mud until
-#: ``detach`` or another coupling's ``reset`` with it).
+#: mjData address -> its registry row, and the coupling that owns it (held alive).
 _ROWS: dict[int, tuple[int, ...]] = {}
 _OWNERS: dict[int, Any] = {}
-#: The callback chained to (held alive) and the last registries published (a callback
-#: running in another thread may still read the one before).
+#: The callback chained to and the last registries published (another thread may read one).
 _CHAINED: list[Any] = [None]
 _PUBLISHED: list[IndexArray] = []
 
@@ -153,8 +137,7 @@ def callback() -> Any:
 
 
 def install(mj: Any) -> None:
-    """Make the compiled coupling MuJoCo's passive callback, chained to the one set before
-    (a compiled one: a Python callback cannot be called from compiled code)."""
+    """Make the compiled coupling MuJoCo's passive callback, chained to the one set before."""
     ours = callback()
     current = mj.get_mjcb_passive()
     if current is ours:

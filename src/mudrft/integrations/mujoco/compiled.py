@@ -1,15 +1,5 @@
-r"""The compiled coupling: one numba call per physics step for all feet of all robots (D68a).
-
-:func:`_kernel` does for every body what the numpy coupling does with arrays: reads its
-pose and twist from MuJoCo's arrays, clips the posed foot (:func:`_geometry`), steps the
-mud and its secants toward rest (D63) with the terrain's one foot step
-(:func:`mudrft.terrains.rows.foot_step`), assembles the wrench and its damping (D62a),
-then per robot takes the mobility from MuJoCo's own ``mj_jac`` and ``mj_solveM``
-(:mod:`.linalg`), solves the implicit step of all its feet with the passivity bound
-(D62-D62d) and writes ``xfrc_applied``. The physics is compiled from its one source
-(:func:`mudrft._jit.jit`); ``test_compiled_coupling_equals_numpy_along_a_walk`` keeps the
-bookkeeping here equal to the numpy coupling's.
-"""
+"""The compiled coupling: one numba call per physics step for all feet of a robot (D68a),
+the numpy coupling's steps on floats in the same order of operations."""
 
 from __future__ import annotations
 
@@ -62,8 +52,7 @@ __all__ = ["ARGS", "N_OUT", "OFFSETS", "WORK_FIXED", "pack", "work_size"]
 #: What a foot step returns: force fx, fy, fz [N], stresses sx, sy, sz [Pa], depth [m].
 FootStep: TypeAlias = tuple[float, float, float, float, float, float, float]
 
-#: Floats per body in the output row: force (3), explicit force (3), torque (3), point (3),
-#: tip (3), channel velocities (3), depth (1), stresses (3), status (1).
+#: Floats per body in the output row: the fields of :class:`.contact.MudContact`, a status.
 N_OUT = 23
 
 
@@ -106,18 +95,12 @@ def _geometry(
         w0, w1, w2 = channel_weights(sub, nh, hx, hy, wz, pyfloat)
         scratch[f, 0], scratch[f, 1], scratch[f, 2] = w0, w1, w2
         scratch[f, 3], scratch[f, 4], scratch[f, 5] = cx, cy, cz
-        out[0] += w0
-        out[1] += w1
-        out[2] += w2
-        out[3] += w0 * cx
-        out[4] += w0 * cy
-        out[5] += w0 * cz
-        out[6] += w1 * cx
-        out[7] += w1 * cy
-        out[8] += w1 * cz
-        out[9] += w2 * cx
-        out[10] += w2 * cy
-        out[11] += w2 * cz
+        for c in range(3):
+            w = scratch[f, c]
+            out[c] += w
+            out[3 + 3 * c] += w * cx
+            out[4 + 3 * c] += w * cy
+            out[5 + 3 * c] += w * cz
     for c in range(3):
         a = out[c]
         if a > 0.0:
@@ -136,22 +119,15 @@ def _geometry(
             rx = scratch[f, 3] - out[3 + 3 * c]
             ry = scratch[f, 4] - out[4 + 3 * c]
             rz = scratch[f, 5] - out[5 + 3 * c]
-            if c == 0:
-                q0, q1, q2 = 0.0, rz, -ry
+            if c == 0:  # r x e_c
+                v[0], v[1], v[2] = 0.0, rz, -ry
             elif c == 1:
-                q0, q1, q2 = -rz, 0.0, rx
+                v[0], v[1], v[2] = -rz, 0.0, rx
             else:
-                q0, q1, q2 = ry, -rx, 0.0
-            base = 12 + 9 * c
-            out[base + 0] += w * q0 * q0
-            out[base + 1] += w * q0 * q1
-            out[base + 2] += w * q0 * q2
-            out[base + 3] += w * q1 * q0
-            out[base + 4] += w * q1 * q1
-            out[base + 5] += w * q1 * q2
-            out[base + 6] += w * q2 * q0
-            out[base + 7] += w * q2 * q1
-            out[base + 8] += w * q2 * q2
+                v[0], v[1], v[2] = ry, -rx, 0.0
+            for a in range(3):
+                for e in range(3):
+                    out[12 + 9 * c + 3 * a + e] += w * v[a] * v[e]
     out[39], out[40], out[41] = lx, ly, lowz
 
 
@@ -233,17 +209,12 @@ def _kernel(
 ) -> int:  # fmt: skip
     """One coupling step of every body of robot ``k``; the number of non-finite wrenches.
 
-    Per robot ``k``: ``addr[k]`` = addresses of xpos, xmat, xipos, cvel, subtree_com,
-    xfrc_applied and the ``mjData``; ``sizes`` = (nbody, nv, the ``mjModel``'s address,
-    ``mj_jac``'s, ``mj_solveM``'s). Per body ``j``: ``bodies[j]`` = (id, root, ball), tip and
-    forward axis in the body frame, its triangles ``tri_b[tri_adr[j]:tri_adr[j+1]]`` and
-    upright facet rows ``tri_up[up_adr[j]:up_adr[j+1]]``, mud constants, ``cfg``, ``geom``
-    (kind, g0, g1, g2), ``morph``. ``opts`` = (dt, surface, bottom (< 0: none), k_b, c_b,
-    dv_min, gravity (3)); ``clock[k, 0]``: the robot has a last step. State updated in
-    place, per robot and body: ``mud``,
-    ``fst`` (a morphing foot's deflection, pad angle, seal memory), ``odo`` (foot-frame and
-    world xy), ``tw_prev``, ``wv_prev``, and ``tank`` per robot (D62c); outputs ``out``
-    (N, nb, N_OUT); ``work`` (N, :func:`work_size`).
+    ``addr[k]``: addresses of xpos, xmat, xipos, cvel, subtree_com, xfrc_applied and the
+    ``mjData``; ``sizes``: (nbody, nv, addresses of the ``mjModel``, ``mj_jac``, ``mj_solveM``);
+    ``bodies[j]``: (id, root, ball); body ``j``'s triangles are
+    ``tri_b[tri_adr[j]:tri_adr[j+1]]``, its upright rows likewise; ``opts``: (dt, surface,
+    bottom (< 0: none), k_b, c_b, dv_min, gravity (3)). ``mud``, ``fst``, ``odo``,
+    ``tw_prev``, ``wv_prev`` and ``tank`` are updated in place; ``out``: (N, nb, N_OUT).
     """
     dt, surface = opts[0], opts[1]
     bottom, kb, cb, dv_min = opts[2], opts[3], opts[4], opts[5]
@@ -528,9 +499,7 @@ OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
 
 def pack(arrays: list[Any]) -> IndexArray:
     """The kernel's arrays (in the order of :data:`ARGS`) as one int64 array of each one's
-    address and shape: one argument costs numba far less to pass than 23. The caller keeps
-    the arrays alive.
-    """
+    address and shape (one argument for numba to pass); the caller keeps them alive."""
     out: list[int] = []
     for a in arrays:
         out += [int(a.ctypes.data), *a.shape]

@@ -1,7 +1,4 @@
-r"""What the coupling reads from MuJoCo: body frames, twists, and the 6x6 mobility.
-
-Shapes: ``N`` robots (one ``MjData`` each), ``nb`` bodies; world frame throughout.
-"""
+"""What the coupling reads from MuJoCo (world frame): body frames, twists, the mobility."""
 
 from __future__ import annotations
 

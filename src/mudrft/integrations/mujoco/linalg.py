@@ -1,12 +1,5 @@
-"""The compiled coupling's linear algebra, and MuJoCo's own functions called from it.
-
-:func:`_mj_jac` and :func:`_mj_solve_m` call MuJoCo's ``mj_jac`` and ``mj_solveM`` through
-their C symbols, at addresses the kernel gets as integers (:func:`mujoco_functions`), so the
-compiled kernel stays cached on disk across processes. :func:`_robot_step` solves the
-implicit step of one robot's feet together and bounds its work (:func:`_solve_n`, D62d).
-:func:`_ptr` turns the address of an array into a pointer the kernel reads with
-``numba.carray``; :func:`_borrow` makes such a view of one of the kernel's own arrays.
-"""
+"""The compiled coupling's linear algebra, and MuJoCo's C functions called from it at
+addresses passed as integers (so the compiled kernel stays cached on disk)."""
 
 from __future__ import annotations
 
@@ -59,12 +52,9 @@ def _robot_step(
     WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
     tank: float,
 ) -> float:  # fmt: skip
-    """One robot's implicit step of all its feet together and its passivity bound.
-
-    The compiled :func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench`
-    (D62-D62d) for the feet with ``FPOS[j] >= 0``: the mobility ``WF`` from ``FJ`` and
-    ``FM`` = M^-1 J^T, the system in ``AJ``, ``RJ``, the scaled wrenches into ``FWR`` and
-    ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
+    """:func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench` (D62-D62d)
+    of the feet with ``FPOS[j] >= 0``, the mobility ``WF`` from ``FJ`` and ``FM`` = M^-1 J^T:
+    wrenches into ``FWR``, ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
     """
     m = 0
     for j in range(nb):
@@ -212,9 +202,8 @@ def _mj_solve_m(typingctx: Any, fn: Any, m: Any, d: Any, x: Any, n: Any) -> Any:
     return sig, codegen
 
 
-#: The cell that holds the address of the passive callback's registry (0: none). Compiled
-#: code reads it through the symbol :data:`REGISTRY_SYMBOL`, which stays valid across
-#: processes (numba's disk cache), where an address baked into the code would not.
+#: The address of the passive callback's registry (0: none), read by compiled code through
+#: the symbol :data:`REGISTRY_SYMBOL` (an address baked into cached code would go stale).
 REGISTRY = ctypes.c_int64(0)
 REGISTRY_SYMBOL = "mudrft_mjcb_passive_registry"
 llvm.add_symbol(REGISTRY_SYMBOL, ctypes.addressof(REGISTRY))
@@ -252,15 +241,13 @@ def _chain(typingctx: Any, fn: Any, m: Any, d: Any) -> Any:
 
 
 def _borrow(a: FloatArray) -> FloatArray:
-    """A float64 C-contiguous array as a view without a reference count (numba's
-    reference updates cost microseconds a step); the caller keeps ``a`` alive.
-    """
+    """A view of float64 C-contiguous ``a`` without a reference count; the caller keeps
+    ``a`` alive."""
     return carray(_ptr(a.ctypes.data), a.shape)  # type: ignore[call-arg]
 
 
 def _cut(address: int, shape: tuple[int, ...]) -> tuple[FloatArray, int]:
-    """A borrowed float64 view of ``shape`` at ``address`` (the kernel's work array, carved
-    into its parts; as :func:`_borrow`), and the address after it."""
+    """A borrowed float64 view of ``shape`` at ``address``, and the address after it."""
     n = 1
     for k in shape:
         n *= k

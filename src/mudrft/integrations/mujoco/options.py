@@ -1,9 +1,4 @@
-"""The options of ``attach``, checked once for both couplings (CPU and MJX).
-
-Every mistake is a :class:`~mudrft.MudrftError` that names the option: a body name that is
-not a string, the world body, a foot list of the wrong length, ``bottom_stiffness`` without
-``bottom`` (it was ignored), an option of 0.2 that was removed (:data:`REMOVED`).
-"""
+"""The options of ``attach``, checked once for both couplings (CPU and MJX)."""
 
 from __future__ import annotations
 
@@ -153,9 +148,8 @@ def check_removed(coupling: str, kw: Mapping[str, object]) -> None:
 
 
 def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling") -> None:
-    """Refuse MuJoCo's RK4 integrator: it evaluates the dynamics at four stage poses and
-    would hold the mud's wrench over them, which no longer keeps a light spinning foot
-    passive; the coupling runs one scheme, under Euler, ``implicitfast`` or ``implicit``."""
+    """Refuse MuJoCo's RK4 integrator: holding the mud's wrench over its four stages does
+    not keep a light spinning foot passive."""
     from ._lazy import _mujoco
 
     mj = _mujoco()
@@ -168,9 +162,8 @@ def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling
 
 
 def check_gravity(model: mujoco.MjModel) -> None:
-    """Refuse a model whose gravity is not along -z: the mud's surface is the plane z =
-    ``surface`` and its depth is measured along -z, so under any other gravity a robot falls
-    through mud that reports no depth. Zero gravity (a kinematic model) is accepted."""
+    """Refuse a model whose gravity is not along -z (the mud's depth is measured along -z);
+    zero gravity is accepted."""
     g = np.asarray(model.opt.gravity, dtype=float)
     norm = float(np.linalg.norm(g))
     if norm > 0.0 and (g[2] >= 0.0 or math.hypot(g[0], g[1]) > 1e-6 * norm):
@@ -183,8 +176,7 @@ def check_gravity(model: mujoco.MjModel) -> None:
 
 #: What ``attach(floor=...)`` does with a floor at or above the mud's surface.
 FLOOR_CHOICES = ("warn", "below", "keep")
-#: Where ``floor="below"`` moves such a floor: its top this far under the surface [m], a
-#: rigid bed deeper than the paper's feet sink at any water content (docs/guide/mujoco.md).
+#: How far under the surface ``floor="below"`` moves such a floor's top [m].
 BED_DEPTH = 0.5
 #: A box welded to the world is a floor when it is at least this wide in x and y [m].
 FLOOR_WIDTH = 1.0
@@ -212,10 +204,9 @@ def floor_geoms(model: mujoco.MjModel, d: mujoco.MjData) -> list[tuple[int, floa
 
 
 def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
-    """Find a floor at or above the mud's surface (gymnasium's and dm_control's models have
-    one at z = 0): MuJoCo's contact with it would carry the feet the mud should carry.
-    ``floor="warn"`` says so, ``"below"`` lowers it to :data:`BED_DEPTH` under the surface
-    (the model is changed in place), ``"keep"`` leaves it."""
+    """Handle a floor at or above the mud's surface ``surface`` [m]: ``floor="warn"`` warns,
+    ``"below"`` lowers it to :data:`BED_DEPTH` under the surface (in place), ``"keep"``
+    leaves it."""
     if floor == "keep":
         return
     from .placement import _reference_pose
@@ -277,8 +268,7 @@ def _foot_geoms(
 
 
 def check_data(model: mujoco.MjModel, data: object) -> None:
-    """``data`` must be a ``mujoco.MjData`` of ``model``: one made for another model
-    coupled the wrong bodies, or crashed inside MuJoCo (a segmentation fault)."""
+    """Refuse ``data`` unless it is a ``mujoco.MjData`` of ``model``."""
     from ._lazy import _mujoco
 
     if not isinstance(data, _mujoco().MjData):

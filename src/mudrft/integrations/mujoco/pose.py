@@ -1,13 +1,11 @@
 r"""The posed foot: its triangles, and where each channel of the mud acts on them (D60a).
 
-The coupling clips the foot's triangles in their current pose by the mud surface and
-reads, per channel :math:`c\in\{x,y,z\}` of the foot's yaw frame, the element weights
+Per channel :math:`c\in\{x,y,z\}` of the foot's yaw frame, the submerged elements weigh
 
 .. math:: w_{x}=|\mathbf n_h|\hat n_x^2\,dS,\quad w_{y}=|\mathbf n_h|\hat n_y^2\,dS,\quad
           w_{z}=(\cos^3\psi_1+\sin^3\psi_1)\,dS\ (n_z<0),
 
-their sums :math:`A_c`, centroids :math:`\mathbf p_c` (where the channel acts and its
-velocity is read) and second moments
+their sums :math:`A_c`, centroids :math:`\mathbf p_c` and second moments
 :math:`\mathbf J_c=\sum_i w_{ic}\,(\mathbf r_i\times\mathbf e_c)(\mathbf r_i\times\mathbf e_c)^T`
 (:class:`ChannelGeometry`).
 """
@@ -91,11 +89,8 @@ def ball_channels(
     r"""The channels of a ball of ``radius`` [m] whose center is ``height`` [m] above the
     mud surface: the lower hemisphere below the surface, integrated exactly (D60a).
 
-    With :math:`\delta` the angle from the lowest point and :math:`u=2R\sin^2(\delta/2)`
-    the height above it, per unit :math:`d\delta`: :math:`w_x=w_y=\pi R^2\sin^2\delta`,
-    :math:`w_z=2\pi R^2(\cos^3\delta+\sin^3\delta)\sin\delta`; the centroids lie on the
-    vertical through the center. Gauss-Legendre quadrature over
-    :math:`\delta\in[0,\min(\delta_s,\pi/2)]`, :math:`\delta_s` where the surface cuts.
+    Per unit :math:`d\delta` (:math:`\delta` from the lowest point):
+    :math:`w_x=w_y=\pi R^2\sin^2\delta`, :math:`w_z=2\pi R^2(\cos^3\delta+\sin^3\delta)\sin\delta`.
 
     Returns
     -------
@@ -191,10 +186,9 @@ def posed_channels(
     Lengths in the foot's yaw frame, origin at the center of mass horizontally and at the
     mud surface vertically. ``groups``: per foot type, the triangles in the body frames (or
     None: no surface), the prepared upright ones, the bodies' indices and whether they are
-    balls; ``X``, ``R``, ``C`` (N, nb, ...): body origins (a ball's center) [m],
-    orientations, centers of mass [m]; ``cs``: each foot's yaw cosine and sine; ``surface``
-    [m]; ``low``: lowest points [m] of the feet without a surface, where all channels act.
-    A ball's triangles are upright about its center in every pose, its ratio 1.
+    balls; ``X``, ``R``, ``C`` (N, nb, ...): body origins [m], orientations, centers of
+    mass [m]; ``cs``: yaw cosine and sine; ``surface`` [m]; ``low``: lowest points [m] of
+    the feet without a surface.
     """
     N, nb = X.shape[:2]
     origin = xp.concatenate([C[..., :2], xp.full((N, nb, 1), float(surface))], axis=-1)
@@ -205,8 +199,7 @@ def posed_channels(
             [ci * d[..., 0] + si * d[..., 1], -si * d[..., 0] + ci * d[..., 1], d[..., 2]], -1
         )
 
-    # the same order of operations as the compiled coupling, so that both see
-    # bit-identical positions (D68a)
+    # the compiled coupling's order of operations (D68a)
     parts = []
     for tri_b, upright, idx, ball in groups:
         ci, si = c[:, idx], s[:, idx]
@@ -274,12 +267,8 @@ def rowdot(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def foot_triangles(foot: Foot, *, resolution: int = POSE_RESOLUTION) -> FloatArray | None:
-    """Triangles (m, 3, 3) [m] of a foot in its own frame (tip at the origin, z up).
-
-    A mesh foot's own, a closed-form foot's mesh at ``resolution`` (the flat foot's exact 12),
-    the morphing foot's (:func:`morphing_triangles`); None for a foot without a surface (the
-    coupling then acts at its lowest point).
-    """
+    """Triangles (m, 3, 3) [m] of a foot in its own frame (tip at the origin, z up), a
+    closed form's at ``resolution``; None for a foot without a surface."""
 
     if hasattr(foot, "pad_corners") and hasattr(foot, "geometry"):  # a MorphingFoot
         return morphing_triangles(cast("MorphingFoot", foot))

@@ -35,9 +35,7 @@ __all__ = [
 
 #: The time steps the passivity searches of the couplings covered [s].
 SEARCHED_TIMESTEPS = (5e-4, 5e-3)
-#: The largest model time step a coupling takes without a warning [s] (decision D123): twice
-#: the searched range, the biped's largest step (``walk.MAX_DT``); at 20 ms a free 1.5 kg box
-#: foot settled 2.8 times too deep with a force alternating step by step.
+#: The largest model time step a coupling takes without a warning [s] (D123).
 LARGEST_TIMESTEP = 0.01
 
 
@@ -113,12 +111,9 @@ def check_timestep(model: mujoco.MjModel, *, checked: float | None = None) -> fl
 
 
 def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None:
-    r"""Warn if a spring in a foot's chain is too stiff for the model's time step.
-
-    The implicit step reads the other forces' acceleration one step late; a spring
-    :math:`\omega^2=k/m` with damping :math:`\gamma=c/m` (joint stiffness, position
-    actuators, joint damping) is then stable only for
-    :math:`\omega^2\Delta t^2<1+2\gamma\Delta t`, with :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
+    r"""Warn if a spring in a foot's chain is too stiff for the model's time step:
+    :math:`\omega^2\Delta t^2<1+2\gamma\Delta t` must hold, :math:`\omega^2=k/m`,
+    :math:`\gamma=c/m`, :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
     """
     from ._lazy import _mujoco
 
