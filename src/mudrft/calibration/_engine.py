@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, Packed, basis
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
@@ -86,19 +86,6 @@ class Engine:
         ]
         return rest + E @ np.asarray(c), c
 
-    def basis(self, vals: Values, lin: list[str]) -> Values:
-        """Expand each column of ``vals`` into 1 + len(lin) columns for :meth:`project`."""
-        nl = len(lin)
-        if not nl:
-            return vals
-        P = int(np.asarray(vals["alpha"]).size)
-        out = {k: np.repeat(np.asarray(v, dtype=float), 1 + nl) for k, v in vals.items()}
-        for j, k in enumerate(lin):
-            v = np.ones((P, 1 + nl))
-            v[:, 1 + j] = 2.0
-            out[k] = v.ravel()
-        return out
-
     def grid_start(
         self,
         stage: str,
@@ -117,7 +104,7 @@ class Engine:
             for k in {k for c in cands for k in c}
         }
         upto = self.packed.upto(mask)
-        sim = self.packed.simulate(self.basis(self.batch(over, G), lin), upto)
+        sim = self.packed.simulate(basis(self.batch(over, G), lin), upto)
         res = self.packed.residuals(sim, mask).reshape(-1, G, 1 + nl)  # (m, G, 1+nl)
         scored = []
         for g in range(G):
@@ -177,7 +164,7 @@ class Engine:
             X = np.repeat(x[None, :], 1 + k, axis=0)
             h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
             X[1 + np.arange(k), np.arange(k)] += h
-            sim = self.packed.simulate(self.basis(values_at(X), lin), upto)
+            sim = self.packed.simulate(basis(values_at(X), lin), upto)
             R = self.packed.residuals(sim, mask).reshape(-1, 1 + k, 1 + len(lin))
             cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
             r = cols[0][0]
@@ -218,7 +205,7 @@ class Engine:
     ) -> float:
         """Only linear parameters free: one projection solves them; returns the cost."""
         self.values.update(base)
-        sim = self.packed.simulate(self.basis(self.batch({}, 1), lin), self.packed.upto(mask))
+        sim = self.packed.simulate(basis(self.batch({}, 1), lin), self.packed.upto(mask))
         R = self.packed.residuals(sim, mask).reshape(-1, 1, 1 + len(lin))
         r, c = self.project(R[:, 0, :], lin)
         self.values.update(zip(lin, c, strict=True))

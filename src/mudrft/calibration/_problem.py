@@ -203,7 +203,6 @@ def pack(
         weight[j] = 1.0 / span
         lengths[j] = n
     dt = np.diff(time, axis=0)
-    tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed(
         gamma=gamma,
         rate=np.diff(gamma, axis=0) / dt,
@@ -214,13 +213,30 @@ def pack(
         weight=weight,
         lengths=lengths,
         nu=float(p.nu),
-        k_a=None if tied else float(p.k_a),
+        k_a=free_k_a(p),
         acceleration=acceleration,
         xi0=xi0,
         thixotropy=thixotropy,
         clock=clock,
         contact=contact,
     )
+
+
+def free_k_a(p: MudParameters) -> float | None:
+    """``p.k_a`` [1/s], or None where it is the default ``1/lam`` (it then follows ``lam``)."""
+    return None if np.isclose(float(p.k_a), 1.0 / float(p.lam)) else float(p.k_a)
+
+
+def basis(vals: Mapping[str, ArrayLike], lin: Sequence[str]) -> dict[str, Any]:
+    """Each column of ``vals`` expanded into ``1 + len(lin)`` columns: the ``lin``
+    parameters all 1, then each in turn 2 (the regressors of the linear parameters)."""
+    P = int(np.asarray(vals["alpha"]).size)
+    out = {k: np.repeat(np.asarray(v, dtype=float), 1 + len(lin)) for k, v in vals.items()}
+    for j, k in enumerate(lin):
+        v = np.ones((P, 1 + len(lin)))
+        v[:, 1 + j] = 2.0
+        out[k] = v.ravel()
+    return out
 
 
 def values_of(p: MudParameters, *, batch: int) -> dict[str, NDArray[np.float64]]:

@@ -19,7 +19,7 @@ from ..io._build import DIRECTIONS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, pack, values_of
+from ._problem import FIT_PARAMETERS, PHASES, Packed, free_k_a, pack, values_of
 from ._rls import SampleStream
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
@@ -93,8 +93,7 @@ def _simulate(
     """Total stress [Pa] of every candidate on every trial, shape (n, K, T): one batched
     simulation, or one per candidate when they differ in ``nu`` or ``k_a``."""
     packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
-    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
-    if tied and len({float(c.nu) for c in cands}) == 1:
+    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
         vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
         return packed, packed.simulate(vals)
     sims = [

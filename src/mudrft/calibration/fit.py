@@ -3,14 +3,24 @@ log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)
 
 from __future__ import annotations
 
+import logging
 import os
 import time
+import warnings
 from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import MudrftError, check_choice, check_in_range, number_in_range
+from .._progress import make_progress
+from .._validation import (
+    CalibrationWarning,
+    MudrftError,
+    _caller_level,
+    check_choice,
+    check_in_range,
+    number_in_range,
+)
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
 from ..io._build import DIRECTIONS
@@ -18,8 +28,6 @@ from ..metrics import relative_rmse
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ._options import (
-    DEFAULT_BOUNDS,
-    GROUPS,
     as_dataset,
     auto_decimate,
     check_count,
@@ -29,10 +37,8 @@ from ._options import (
     thin_trials,
 )
 from ._problem import FIT_PARAMETERS, pack, values_of
-from ._report import Reporter, ordinal
-from .persistence import load_parameters
 from .rate import Smoothing, check_window, smooth_dataset
-from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult, StageReport
+from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
 from .stages import (
     STAGES,
@@ -43,7 +49,9 @@ from .stages import (
     uncertainty_at_optimum,
 )
 
-__all__ = ["DEFAULT_BOUNDS", "GROUPS", "FitResult", "StageReport", "calibrate", "load_parameters"]
+__all__ = ["calibrate"]
+
+logger = logging.getLogger("mudrft.calibration")
 
 
 def calibrate(
@@ -168,12 +176,8 @@ def calibrate(
     check_in_range("confidence_level", confidence_level, 1e-6, 1 - 1e-9)
     check_count("starts", starts)
     check_count("max_nfev", max_nfev)
-    if initial is not None and not isinstance(initial, MudParameters):
-        raise MudrftError(f"initial must be a MudParameters, got {type(initial).__name__}")
-    if initial is not None and initial.shape != ():
-        raise MudrftError(
-            f"initial must be a single parameter set, got a batch of shape {initial.shape}"
-        )
+    if initial is not None and (not isinstance(initial, MudParameters) or initial.shape != ()):
+        raise MudrftError(f"initial must be a single MudParameters, got {initial!r}")
     selected = resolve_groups(groups)
     bnds = resolve_bounds(bounds)
     held = resolve_fixed(fixed)
@@ -215,15 +219,13 @@ def calibrate(
         fixed=held,
         bounds=bnds,
         trace_limit=trace_limit,
-        reporter=reporter,
+        note=reporter.note,
     )
     reporter.step()
     stages = [start]
     for stage in STAGES:
-        report = (
-            phase_stage(engine, stage, free, starts=starts, max_nfev=max_nfev) if phases else None
-        )
-        if report is not None:
+        report = phases and phase_stage(engine, stage, free, starts=starts, max_nfev=max_nfev)
+        if report:
             stages.append(report)
             reporter.note(stage_note(report))
         reporter.step()
@@ -328,3 +330,55 @@ def _prepare(
         exclude = [m | c for m, c in zip(exclude, clip, strict=True)]
     errors = None if tare is None else tuple(off.error for off in tare)
     return ds, smoothing, exclude, tuple(warned + rate_warnings), errors
+
+
+class Reporter:
+    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s); the
+    job is called ``label`` and made of ``steps`` calls of :meth:`step`."""
+
+    def __init__(
+        self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
+    ) -> None:
+        if progress is True:
+            self._lines: Callable[[str], object] | None = None
+            self._fraction = make_progress(True, label)
+        elif progress is None or progress is False:
+            self._lines, self._fraction = None, None
+        elif callable(progress):
+            self._lines, self._fraction = progress, None
+        else:
+            raise MudrftError(f"progress must be True, False, None or a callable, got {progress!r}")
+        self._steps = max(int(steps), 1)
+        self._done = 0
+
+    def note(self, message: str) -> None:
+        """Pass one line to the line callable, or log it when there is none (never both)."""
+        if self._lines is not None:
+            self._lines(message)
+        else:
+            logger.info("%s", message)
+
+    @staticmethod
+    def warn(message: str) -> None:
+        """Something the user must see, whatever ``progress`` is: a
+        :class:`~mudrft._validation.CalibrationWarning`."""
+        warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
+
+    def step(self) -> None:
+        """One more step of the job is done."""
+        self._done = min(self._done + 1, self._steps)
+        if self._fraction is not None:
+            self._fraction(self._done / self._steps)
+
+
+def ordinal(k: int) -> str:
+    """``2`` -> ``"2nd"``, ``11`` -> ``"11th"``, ``21`` -> ``"21st"``.
+
+    Examples
+    --------
+    >>> [ordinal(k) for k in (1, 2, 3, 4, 11, 12, 13, 21, 102)]
+    ['1st', '2nd', '3rd', '4th', '11th', '12th', '13th', '21st', '102nd']
+    """
+    if 10 <= k % 100 <= 20:
+        return f"{k}th"
+    return f"{k}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(k % 10, 'th') }"

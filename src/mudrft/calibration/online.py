@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import warnings
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,7 +22,7 @@ from ..constitutive.contact import in_contact
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS
+from ._problem import basis, free_k_a, values_of
 from ._rls import (
     Filters,
     OnlineEstimate,
@@ -33,10 +32,8 @@ from ._rls import (
     filter_errors,
     refined_argmin,
 )
-from .classification import Classification, StreamClassifier, classify
 
-__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
-
+__all__ = ["OnlineEstimate", "OnlineEstimator"]
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 
@@ -140,20 +137,10 @@ class OnlineEstimator:
     def _build_basis(self) -> None:
         if self.model != "exact":
             return
-        G = self.tau_grid.size
-        vals: dict[str, Any] = {  # keyword arguments of MudParameters
-            k: np.repeat(float(getattr(self.prior, k)), G * 5) for k in FIT_PARAMETERS
-        }
-        vals["tau_build"] = np.repeat(self.tau_grid, 5)
-        for j, k in enumerate(_EXACT):
-            col = np.ones((G, 5))
-            col[:, 1 + j] = 2.0
-            vals[k] = col.ravel()
-        tied = bool(np.isclose(float(self.prior.k_a), 1.0 / float(self.prior.lam)))
-        self._basis_params = MudParameters(
-            **vals, nu=float(self.prior.nu), k_a=None if tied else float(self.prior.k_a)
-        )
-        self._consts = channel_constants(self._basis_params)
+        vals = values_of(self.prior, batch=self.tau_grid.size)
+        vals["tau_build"] = self.tau_grid
+        p = MudParameters(**basis(vals, _EXACT), nu=float(self.prior.nu), k_a=free_k_a(self.prior))
+        self._consts = channel_constants(p)
 
     def rebase(self, prior: MudParameters) -> None:
         """Start again around another prior, memory cleared.

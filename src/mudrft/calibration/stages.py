@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
@@ -16,7 +17,6 @@ from ..parameters.registry import table_rows
 from ._engine import Engine
 from ._options import check_determined
 from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed
-from ._report import Reporter
 from .result import StageReport
 from .uncertainty import Uncertainty, at_bound, uncertainty
 
@@ -72,7 +72,7 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
 
 
 def _paper_start(
-    engine: Engine, direction: str, reporter: Reporter, free: tuple[str, ...]
+    engine: Engine, direction: str, note: Callable[[str], object], free: tuple[str, ...]
 ) -> dict[str, float]:
     """The paper row of ``direction`` that fits best once its free linear parameters are
     rescaled (decision D43); those not fitted keep the row's values."""
@@ -84,7 +84,7 @@ def _paper_start(
     cost, point = engine.grid_start("start", mask, lin, cands, len(cands))[0]
     nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
     w = next(w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear))
-    reporter.note(
+    note(
         f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
         f"(free linear parameters rescaled), cost {cost:.4g}"
     )
@@ -101,7 +101,7 @@ def start_engine(
     fixed: dict[str, float],
     bounds: dict[str, tuple[float, float]],
     trace_limit: int,
-    reporter: Reporter,
+    note: Callable[[str], object],
 ) -> tuple[Engine, StageReport]:
     """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
     row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
@@ -111,7 +111,7 @@ def start_engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )
     if from_paper:
-        engine.values.update(_paper_start(engine, direction, reporter, free))
+        engine.values.update(_paper_start(engine, direction, note, free))
     engine.values.update({k: float(v) for k, v in fixed.items()})
     for k in free:
         engine.values[k] = engine.clip(k, engine.values[k])
