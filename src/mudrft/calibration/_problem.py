@@ -146,23 +146,10 @@ def pack(
     exclude: Sequence[NDArray[np.bool_]] | None = None,
     direction: str | None = None,
 ) -> Packed:
-    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``;
-    a vertical plate's samples above the surface, and the first after each entry, are
-    simulated but not fitted.
-
-    Parameters
-    ----------
-    ds : IntrusionDataset
-        The data.
-    p : MudParameters
-        A single set; its ``nu`` [1/s] is kept, its ``k_a`` [1/s] too unless it is the
-        default ``1/lam`` (then it follows each fitted ``lam``, decision D8).
-    acceleration, xi0, thixotropy, clock : keyword-only
-        The model's evaluation, as :func:`~mudrft.calibration.calibrate`.
-    exclude : sequence of bool arrays, optional, keyword-only
-        Per trial, samples left out of the fit.
-    direction : {"vertical", "horizontal"}, optional, keyword-only
-        The tests' direction.
+    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` [1/s] and
+    ``k_a`` [1/s] (:func:`free_k_a`); ``exclude`` marks, per trial, samples left out of the
+    fit; a vertical plate's samples above the surface, and the first after each entry, are
+    simulated but not fitted. The other options are :func:`~mudrft.calibration.calibrate`'s.
     """
     trials = ds.trials
     contact = (direction or ds.direction) == "vertical"

@@ -20,7 +20,7 @@ from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS, PHASES, Packed, free_k_a, pack, values_of
-from ._rls import SampleStream
+from .online import SampleStream
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
 

@@ -1,12 +1,16 @@
-"""The stages of a calibration on one :class:`~._engine.Engine`: start, one stage per phase
-group, joint, and the uncertainty at the optimum (decisions D41, D43)."""
+r"""The solver of a calibration (internal) and its stages: start, one stage per phase
+group, joint, and the uncertainty at the optimum (decisions D41, D43). Bounded least
+squares in log-parameters, the parameters the model is linear in
+(:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved exactly by non-negative least squares
+(variable projection)."""
 
 from __future__ import annotations
 
 import itertools
+import math
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,14 +18,243 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
-from ._engine import Engine
 from ._options import check_determined
-from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
 from .uncertainty import Uncertainty, at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
+
+_FD_STEP = 1e-6  # forward-difference step in log-parameters
+
+Values = dict[str, NDArray[np.float64]]
+
+
+class Engine:
+    """One calibration: the packed data, current values and bounds of every parameter
+    [SI], the trace (at most ``trace_limit`` evaluations) and the evaluation count."""
+
+    def __init__(
+        self,
+        packed: Packed,
+        values: dict[str, float],
+        bounds: dict[str, tuple[float, float]],
+        trace_limit: int,
+    ) -> None:
+        self.packed = packed
+        self.values = dict(values)
+        self.bounds = bounds
+        self.trace: list[dict[str, Any]] = []
+        self.trace_limit = trace_limit
+        self.evaluations = 0
+
+    def batch(self, overrides: dict[str, NDArray[np.float64]], size: int) -> Values:
+        """A batch of ``size`` parameter sets: the current values, with per-column overrides."""
+        out = {k: np.full(size, v) for k, v in self.values.items()}
+        for k, arr in overrides.items():
+            out[k] = np.broadcast_to(np.asarray(arr, dtype=float), (size,)).copy()
+        return out
+
+    def clip(self, name: str, v: float) -> float:
+        """``v`` [SI] clipped to the bounds of ``name``."""
+        lo, hi = self.bounds[name]
+        return float(min(max(v, lo), hi))
+
+    def record(self, stage: str, cost: float, values: dict[str, float]) -> None:
+        """Count one evaluation and keep it in the trace (up to ``trace_limit``)."""
+        self.evaluations += 1
+        if len(self.trace) < self.trace_limit:
+            point = {k: float(v) for k, v in values.items()}
+            entry = {"stage": stage, "evaluation": self.evaluations, "cost": float(cost)}
+            self.trace.append({**entry, "parameters": point})
+
+    def project(
+        self, R: NDArray[np.float64], lin: list[str], keep: dict[str, float] | None = None
+    ) -> tuple[NDArray[np.float64], list[float]]:
+        """Residuals at the exact (non-negative, clipped) solution of the linear ``lin``,
+        and the solution, from ``R`` (m, 1 + nl): residuals with every one of them 1
+        (column 0) and with parameter j at 2 (column 1 + j). One the samples do not depend
+        on keeps its value in ``keep`` (default the current values)."""
+        from scipy.optimize import nnls
+
+        if not lin:
+            return R[:, 0], []
+        E = R[:, 1:] - R[:, :1]  # weighted basis of each linear parameter
+        rest = R[:, 0] - E.sum(axis=1)  # weighted (everything else - data)
+        scale = np.linalg.norm(E, axis=0)
+        seen = scale > 0
+        scale[~seen] = 1.0
+        try:
+            coef, _ = nnls(E / scale, -rest, maxiter=50 * E.shape[1])
+        except RuntimeError:  # pragma: no cover - nnls iteration limit
+            coef = np.zeros(E.shape[1])
+        held = self.values if keep is None else keep
+        c = [
+            self.clip(k, float(v)) if s else float(held[k])
+            for k, v, s in zip(lin, coef / scale, seen, strict=True)
+        ]
+        return rest + E @ np.asarray(c), c
+
+    def grid_start(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        candidates: list[dict[str, float]],
+        starts: int,
+    ) -> list[tuple[float, dict[str, float]]]:
+        """The ``starts`` best ``(cost, point)`` of the candidate points, the linear free
+        parameters of each solved exactly; all in one batched simulation."""
+        lin = [k for k in free if k in LINEAR_PARAMETERS]
+        cands = candidates or [{}]
+        G, nl = len(cands), len(lin)
+        over = {
+            k: np.array([c.get(k, self.values[k]) for c in cands])
+            for k in {k for c in cands for k in c}
+        }
+        upto = self.packed.upto(mask)
+        sim = self.packed.simulate(basis(self.batch(over, G), lin), upto)
+        res = self.packed.residuals(sim, mask).reshape(-1, G, 1 + nl)  # (m, G, 1+nl)
+        scored = []
+        for g in range(G):
+            if not np.all(np.isfinite(res[:, g, :])):
+                continue
+            point = {k: float(v) for k, v in cands[g].items()}
+            r, coef = self.project(res[:, g, :], lin, {**self.values, **cands[g]})
+            point.update(zip(lin, coef, strict=True))
+            cost = 0.5 * float(r @ r)
+            scored.append((cost, point))
+            self.record(stage + " grid", cost, {**self.values, **point})
+        if not scored:
+            return [(math.inf, {})]
+        scored.sort(key=lambda t: t[0])
+        return scored[: max(1, starts)]
+
+    def fit(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        max_nfev: int,
+        start: dict[str, float] | None = None,
+        project: tuple[str, ...] = (),
+    ) -> tuple[float, OptimizeResult | None]:
+        """Bounded least squares over ``free`` in log-parameters, the linear ones among
+        ``project`` solved exactly at each evaluation; the cost and the solver's result
+        (None when only linear parameters were free)."""
+        from scipy.optimize import least_squares
+
+        base = {**self.values, **(start or {})}
+        lin = [k for k in project if k in LINEAR_PARAMETERS]
+        names = [k for k in free if k not in lin]
+        if not names:
+            return self._solve_linear(stage, mask, lin, base), None
+        lo = np.log([self.bounds[k][0] for k in names])
+        hi = np.log([self.bounds[k][1] for k in names])
+        x0 = np.clip(np.log([base[k] for k in names]), lo, hi)
+        x0 = np.minimum(np.maximum(x0, lo + 1e-12), hi - 1e-12)
+        upto = self.packed.upto(mask)
+        k = len(names)
+        last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
+        linear_at: dict[bytes, list[float]] = {}
+
+        def values_at(X: NDArray[np.float64]) -> Values:
+            """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
+            out = {p: np.full(X.shape[0], base[p]) for p in FIT_PARAMETERS}
+            out.update({p: np.exp(X[:, i]) for i, p in enumerate(names)})
+            return out
+
+        def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+            """Residuals (m,) and forward-difference Jacobian (m, k) at the log-point ``x``,
+            from one batched simulation of it and its neighbours (the last one cached)."""
+            key = x.tobytes()
+            if last and last[0][0] == key:
+                return last[0][1], last[0][2]
+            X = np.repeat(x[None, :], 1 + k, axis=0)
+            h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
+            X[1 + np.arange(k), np.arange(k)] += h
+            sim = self.packed.simulate(basis(values_at(X), lin), upto)
+            R = self.packed.residuals(sim, mask).reshape(-1, 1 + k, 1 + len(lin))
+            cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
+            r = cols[0][0]
+            if not np.all(np.isfinite(r)):
+                r = np.full_like(r, 1e6)
+            J = np.stack([c[0] for c in cols[1:]], axis=1)
+            J = (J - r[:, None]) / h[None, :]
+            J[~np.isfinite(J)] = 0.0
+            last[:] = [(key, r, J)]
+            linear_at[key] = cols[0][1]
+            point = {p: float(v[0]) for p, v in values_at(x[None, :]).items()}
+            point.update(zip(lin, cols[0][1], strict=True))
+            self.record(stage, 0.5 * float(r @ r), point)
+            return r, J
+
+        sol = least_squares(
+            lambda x: evaluate(x)[0],
+            x0,
+            jac=lambda x: evaluate(x)[1],
+            bounds=(lo, hi),
+            method="trf",
+            x_scale=1.0,
+            max_nfev=max_nfev,
+            xtol=1e-10,
+            ftol=1e-10,
+            gtol=1e-10,
+        )
+        self.values.update(base)
+        self.values.update({p: float(np.exp(sol.x[i])) for i, p in enumerate(names)})
+        if lin:
+            if sol.x.tobytes() not in linear_at:
+                evaluate(sol.x)
+            self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
+        return float(sol.cost), sol
+
+    def _solve_linear(
+        self, stage: str, mask: NDArray[np.bool_], lin: list[str], base: dict[str, float]
+    ) -> float:
+        """Only linear parameters free: one projection solves them; returns the cost."""
+        self.values.update(base)
+        sim = self.packed.simulate(basis(self.batch({}, 1), lin), self.packed.upto(mask))
+        R = self.packed.residuals(sim, mask).reshape(-1, 1, 1 + len(lin))
+        r, c = self.project(R[:, 0, :], lin)
+        self.values.update(zip(lin, c, strict=True))
+        self.record(stage, 0.5 * float(r @ r), self.values)
+        return 0.5 * float(r @ r)
+
+    def cost(self, mask: NDArray[np.bool_]) -> float:
+        """Half the sum of squared weighted residuals at the current values [-]."""
+        sim = self.packed.simulate(self.batch({}, 1), self.packed.upto(mask))
+        r = self.packed.residuals(sim, mask)[:, 0]
+        return 0.5 * float(r @ r)
+
+    def jacobian(
+        self, mask: NDArray[np.bool_], free: tuple[str, ...]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Residuals and Jacobian in log-parameters at the current values: central
+        differences, shifted inside the bounds for a parameter that sits on one."""
+        names = list(free)
+        k = len(names)
+        h = 1e-4
+        over = {}
+        lo_s, hi_s = np.zeros(k), np.zeros(k)
+        for i, name in enumerate(names):
+            x = math.log(self.values[name])
+            lo_b, hi_b = (math.log(b) for b in self.bounds[name])
+            a, b = x - h, x + h
+            if b > hi_b:
+                a, b = hi_b - 2 * h, hi_b
+            elif a < lo_b:
+                a, b = lo_b, lo_b + 2 * h
+            lo_s[i], hi_s[i] = a, b
+            col = np.full(1 + 2 * k, self.values[name])
+            col[1 + 2 * i] = math.exp(b)
+            col[2 + 2 * i] = math.exp(a)
+            over[name] = col
+        sim = self.packed.simulate(self.batch(over, 1 + 2 * k))
+        R = self.packed.residuals(sim, mask)
+        J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
+        return R[:, 0], J
 
 
 class Stage(NamedTuple):
