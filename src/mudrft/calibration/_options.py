@@ -11,7 +11,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_number, plain
+from .._validation import MudrftError, check_finite, check_number
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
@@ -71,13 +71,6 @@ def check_determined(samples: int, free: Sequence[str]) -> None:
             "(samples after the plate is back at the surface do not count): give a longer "
             "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
         )
-
-
-def check_count(name: str, value: object) -> int:
-    """``value`` as an int, or an error if it is not an integer >= 1 [-]."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise MudrftError(f"{name} must be an integer >= 1, got {plain(value)}")
-    return int(value)
 
 
 def _group_members(name: object) -> tuple[str, ...]:

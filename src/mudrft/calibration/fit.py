@@ -20,6 +20,7 @@ from .._validation import (
     check_choice,
     check_in_range,
     number_in_range,
+    positive_int,
 )
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
@@ -30,7 +31,6 @@ from ..parameters.registry import paper_parameters
 from ._options import (
     as_dataset,
     auto_decimate,
-    check_count,
     resolve_bounds,
     resolve_fixed,
     resolve_groups,
@@ -172,10 +172,10 @@ def calibrate(
     clipped = check_choice("clipped", clipped, ("exclude", "keep"))
     zero = check_choice("zero", zero, ("check", "subtract"))
     rate = check_window(rate)
-    k = None if decimate is None else check_count("decimate", decimate)
+    k = None if decimate is None else positive_int("decimate", decimate)
     check_in_range("confidence_level", confidence_level, 1e-6, 1 - 1e-9)
-    check_count("starts", starts)
-    check_count("max_nfev", max_nfev)
+    positive_int("starts", starts)
+    positive_int("max_nfev", max_nfev)
     if initial is not None and (not isinstance(initial, MudParameters) or initial.shape != ()):
         raise MudrftError(f"initial must be a single MudParameters, got {initial!r}")
     selected = resolve_groups(groups)
