@@ -10,7 +10,6 @@ import warnings
 from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
 from .._progress import make_progress
 from .._validation import (
@@ -37,7 +36,7 @@ from ._options import (
     thin_trials,
 )
 from ._problem import FIT_PARAMETERS, pack, values_of
-from .rate import Smoothing, check_window, smooth_dataset
+from .rate import check_window, smooth_dataset
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
 from .stages import (
@@ -188,7 +187,29 @@ def calibrate(
 
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
     d = check_choice("direction", ds.direction if direction is None else direction, DIRECTIONS)
-    ds, smoothing, exclude, warned, tare = _prepare(ds, d, reporter, k, clipped, zero, rate)
+    ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
+    ds, tare, warned, notes = check_zero(ds, zero=zero, direction=d)
+    if k is None:
+        k = auto_decimate(ds)
+        if k > 1:
+            longest = max(len(t) for t in ds.trials)
+            reporter.warn(
+                f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
+                f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
+                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
+            )
+    if k > 1:
+        ds = thin_trials(ds, k)
+    clip, clip_warnings = check_clipped(ds, clipped=clipped)
+    warned += clip_warnings + rate_warnings
+    for line in notes:
+        reporter.note(line)
+    for line in warned:
+        reporter.warn(line)
+    # samples whose step spans a change of speed are not fitted (module rate)
+    exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
+    if clip is not None:
+        exclude = [m | c for m, c in zip(exclude, clip, strict=True)]
     depth_notes = tuple(h.note() for h in smoothing if h.method != "as logged" or h.depth_noise)
     reporter.note(
         f"calibrate: {len(ds)} trial(s), {sum(len(t) for t in ds.trials)} samples, "
@@ -233,7 +254,8 @@ def calibrate(
     stages.append(joint)
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
-    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare)
+    tare_se = None if tare is None else tuple(off.error for off in tare)
+    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare_se)
     params = MudParameters(
         **{k: engine.values[k] for k in FIT_PARAMETERS},
         nu=packed.nu,
@@ -247,30 +269,22 @@ def calibrate(
     fit = FitResult(
         parameters=params,
         free=free,
-        standard_error=unc.se,
-        relative_standard_error=unc.rse,
-        confidence_interval=unc.ci,
         confidence_level=float(confidence_level),
-        robust_standard_error=unc.robust_rse,
-        robust_interval=unc.robust_ci,
-        correlation=unc.corr,
-        identifiability=unc.verdict,
+        **unc,
         relative_rmse=float(np.mean(trmse)),
         trial_relative_rmse=tuple(float(x) for x in trmse),
-        noise=unc.noise,
         status=status,
         message=str(joint.message),
         stages=tuple(stages),
         trace=tuple(engine.trace),
         direction=d,
         bounds={k: bnds[k] for k in free},
-        condition_number=unc.cond,
         acceleration=bool(acceleration),
         xi0=float(xi0),
         dataset=ds,
         thixotropy=packed.thixotropy,
         clock=packed.clock,
-        data_warnings=warned,
+        data_warnings=tuple(warned),
         rate=rate,
         depth_notes=depth_notes,
     )
@@ -285,51 +299,6 @@ def calibrate(
     )
     reporter.step()
     return fit
-
-
-def _prepare(
-    ds: IntrusionDataset,
-    direction: str,
-    reporter: Reporter,
-    decimate: int | None,
-    clipped: str,
-    zero: str,
-    rate: int | str,
-) -> tuple[
-    IntrusionDataset,
-    list[Smoothing],
-    list[NDArray[np.bool_]],
-    tuple[str, ...],
-    tuple[float, ...] | None,
-]:
-    """The data as fitted: depth smoothed, sensor zeroed, thinned; the samples left out of
-    each trial, the warnings, and the standard error [Pa] of each subtracted zero."""
-    ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
-    ds, tare, warned, notes = check_zero(ds, zero=zero, direction=direction)
-    k = decimate
-    if k is None:
-        k = auto_decimate(ds)
-        if k > 1:
-            longest = max(len(t) for t in ds.trials)
-            reporter.warn(
-                f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
-                f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
-                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
-            )
-    if k > 1:
-        ds = thin_trials(ds, k)
-    clip, clip_warnings = check_clipped(ds, clipped=clipped)
-    warned += clip_warnings
-    for line in notes:
-        reporter.note(line)
-    for line in warned + rate_warnings:
-        reporter.warn(line)
-    # samples whose step spans a change of speed are not fitted (module rate)
-    exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
-    if clip is not None:
-        exclude = [m | c for m, c in zip(exclude, clip, strict=True)]
-    errors = None if tare is None else tuple(off.error for off in tare)
-    return ds, smoothing, exclude, tuple(warned + rate_warnings), errors
 
 
 class Reporter:

@@ -10,6 +10,7 @@ import itertools
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -21,7 +22,7 @@ from ..parameters.registry import table_rows
 from ._options import check_determined
 from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
-from .uncertainty import Uncertainty, at_bound, uncertainty
+from .uncertainty import at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
@@ -31,23 +32,17 @@ _FD_STEP = 1e-6  # forward-difference step in log-parameters
 Values = dict[str, NDArray[np.float64]]
 
 
+@dataclass
 class Engine:
     """One calibration: the packed data, current values and bounds of every parameter
     [SI], the trace (at most ``trace_limit`` evaluations) and the evaluation count."""
 
-    def __init__(
-        self,
-        packed: Packed,
-        values: dict[str, float],
-        bounds: dict[str, tuple[float, float]],
-        trace_limit: int,
-    ) -> None:
-        self.packed = packed
-        self.values = dict(values)
-        self.bounds = bounds
-        self.trace: list[dict[str, Any]] = []
-        self.trace_limit = trace_limit
-        self.evaluations = 0
+    packed: Packed
+    values: dict[str, float]
+    bounds: dict[str, tuple[float, float]]
+    trace_limit: int
+    trace: list[dict[str, Any]] = field(default_factory=list)
+    evaluations: int = 0
 
     def batch(self, overrides: dict[str, NDArray[np.float64]], size: int) -> Values:
         """A batch of ``size`` parameter sets: the current values, with per-column overrides."""
@@ -421,7 +416,7 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
 
 def uncertainty_at_optimum(
     engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
-) -> Uncertainty:
+) -> dict[str, Any]:
     """Standard errors, intervals and verdicts at the engine's values, at ``level`` [-];
     ``tare`` is the standard error [Pa] of each trial's subtracted sensor zero."""
     mask = engine.packed.mask(ALL_PHASES)
