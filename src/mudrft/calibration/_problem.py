@@ -78,10 +78,6 @@ class Packed:
     clock: str = "contact"
     contact: bool = True
 
-    @property
-    def n_trials(self) -> int:
-        return int(self.data.shape[1])
-
     def mask(self, phases: tuple[int, ...]) -> np.ndarray:
         """Samples (n_max, T) of the given phases (and valid)."""
         return self.valid & np.isin(self.phase, phases)
@@ -99,7 +95,7 @@ class Packed:
         n = self.data.shape[0] if upto is None else int(upto)
         p = self.parameters(values)
         B = int(np.asarray(values["alpha"]).size)
-        T = self.n_trials
+        T = self.data.shape[1]
         out = np.zeros((n, B, T))
         self.simulations += 1
         with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):

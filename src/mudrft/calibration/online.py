@@ -36,13 +36,7 @@ from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
 from ._problem import FIT_PARAMETERS, PHASES, Packed, basis, free_k_a, pack, values_of
 
-__all__ = [
-    "Classification",
-    "OnlineEstimate",
-    "OnlineEstimator",
-    "StreamClassifier",
-    "classify",
-]
+__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
 
 #: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
 MAX_STRESS = 1e12
@@ -208,10 +202,6 @@ class SampleStream:
     def push(self, time: float, depth: float, stress: float) -> Sample:
         """Check one sample (time [s], depth [m], stress [Pa]) and step to it."""
         t, q, s = _number("time", time), _number("depth", depth), _number("stress", stress)
-        if not (math.isfinite(t) and math.isfinite(q) and math.isfinite(s)):
-            raise MudrftError(
-                f"update needs finite time, depth and stress, got {time!r}, {depth!r}, {stress!r}"
-            )
         for what, given, v, limit, unit in (
             ("stress", stress, s, MAX_STRESS, "Pa"), ("depth", depth, q, LENGTH_LIMITS[1], "m")
         ):  # fmt: skip
@@ -250,15 +240,18 @@ class SampleStream:
 
 
 def _number(name: str, value: Any) -> float:
-    """``float(value)`` for a sample, or an error naming it (a string, None, a list)."""
+    """``float(value)`` for a sample, or an error naming it (a string, None, a list, nan)."""
     if isinstance(value, str | bytes | bool) or value is None:
         raise MudrftError(f"update: {name} must be a number, got {value!r}")
     try:
-        return float(value)
+        v = float(value)
     except (TypeError, ValueError):
         raise MudrftError(
             f"update: {name} must be a number, got {type(value).__name__} {value!r}"
         ) from None
+    if not math.isfinite(v):
+        raise MudrftError(f"update: {name} must be finite, got {value!r}")
+    return v
 
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
