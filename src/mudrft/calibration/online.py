@@ -38,6 +38,7 @@ from ._problem import FIT_PARAMETERS, PHASES, Packed, basis, free_k_a, pack, val
 
 __all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
 
+_EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 #: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
 MAX_STRESS = 1e12
 
@@ -141,30 +142,23 @@ def filter_errors(
 
 
 def bank_errors(
-    theta: NDArray[np.float64],
-    P: NDArray[np.float64],
-    M: NDArray[np.float64],
-    cost: NDArray[np.float64],
-    weight: float,
-    weight2: float,
-    x: float,
-    log_grid: NDArray[np.float64],
+    bank: Filters, x: float, log_grid: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], float]:
     r"""Standard errors [-] of a bank's estimates read at ``x`` [grid steps], and of the
     log of the grid value there (decision D138): the profile's, where the cost rises by
     the noise variance :math:`s^2`; ``inf`` at the grid's ends or without curvature.
-    ``theta`` (G, p), ``P`` and ``M`` (G, p, p), ``cost`` (G,), ``log_grid`` (G,).
     """
+    theta, cost, weight = bank.theta, bank.cost, bank.weight
     G, p = theta.shape
     i = round(x)
-    se = filter_errors(P[i], M[i], float(cost[i]), weight)
+    se = filter_errors(bank.P[i], bank.M[i], float(cost[i]), weight)
     se_log = math.inf
     if 0 < i < G - 1 and weight > p:
         h0, h1 = log_grid[i] - log_grid[i - 1], log_grid[i + 1] - log_grid[i]
         curv = 2.0 * ((cost[i + 1] - cost[i]) / h1 - (cost[i] - cost[i - 1]) / h0) / (h0 + h1)
         if curv > 0:
             s2 = float(cost[i]) / (weight - p)
-            se_log = math.sqrt(2.0 * s2 / float(curv) * weight2 / weight)
+            se_log = math.sqrt(2.0 * s2 / float(curv) * bank.weight2 / weight)
     if math.isfinite(se_log):
         slope = (theta[i + 1] - theta[i - 1]) / (log_grid[i + 1] - log_grid[i - 1])
         spread = slope * se_log
@@ -252,9 +246,6 @@ def _number(name: str, value: Any) -> float:
     if not math.isfinite(v):
         raise MudrftError(f"update: {name} must be finite, got {value!r}")
     return v
-
-
-_EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 
 
 class OnlineEstimator:
@@ -486,9 +477,7 @@ class OnlineEstimator:
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
-        est: dict[str, float | None] = dict.fromkeys(
-            ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
-        )
+        est: dict[str, float | None] = dict.fromkeys((*_EXACT, "tau_build"))
         se: dict[str, float] = {}
         b = self._bank
         if np.any(b.cost > 0):
@@ -500,7 +489,7 @@ class OnlineEstimator:
             w = x - i0
             th = ((1.0 - w) * b.theta[i0] + w * b.theta[i0 + 1]) * self._scale  # linear in ln(tau)
             est.update(zip(self._names, th.tolist(), strict=True))
-            se_b, se_log = bank_errors(b.theta, b.P, b.M, b.cost, b.weight, b.weight2, x, lg)
+            se_b, se_log = bank_errors(b, x, lg)
             se.update(zip(self._names, (se_b * self._scale).tolist(), strict=True))
             se["tau_build"] = tau * se_log  # delta method, as the offline fit
         if not self._suction_seen:  # no retraction yet: nothing tells sigma_y or tau_build
@@ -535,7 +524,7 @@ class OnlineEstimator:
         est = self.estimate
         changes: dict[str, float] = {"n": self.n}
         kept = []
-        for k in ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build"):
+        for k in (*_EXACT, "tau_build"):
             v = getattr(est, k)
             if v is not None and v > 0:
                 changes[k] = v
