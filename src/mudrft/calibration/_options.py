@@ -62,17 +62,6 @@ def auto_decimate(ds: IntrusionDataset) -> int:
     return max(1, math.ceil(longest / FIT_SAMPLES))
 
 
-def check_determined(samples: int, free: Sequence[str]) -> None:
-    """Refuse a fit with no more fitted ``samples`` than ``free`` parameters (D104)."""
-    if samples <= len(free):
-        raise MudrftError(
-            f"calibrate: {samples} fitted sample(s) cannot determine {len(free)} free "
-            f"parameter(s) {list(free)}; a fit needs more samples than free parameters "
-            "(samples after the plate is back at the surface do not count): give a longer "
-            "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
-        )
-
-
 def _group_members(name: object) -> tuple[str, ...]:
     if not isinstance(name, str):
         raise MudrftError(f"groups must be names, got {name!r}")

@@ -1,22 +1,17 @@
-"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46), and
-which known mud a log (:func:`classify`) or a stream (:class:`StreamClassifier`) resembles:
-every candidate set runs the full model on the data, and its residuals give a Gaussian
-likelihood and, with equal priors, a probability (decision D47)."""
+"""Online estimation by recursive least squares with forgetting, O(1) per sample (D46)."""
 
 from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import (
-    LENGTH_LIMITS,
     CalibrationWarning,
     MudrftError,
     check_characteristic_length,
@@ -25,22 +20,18 @@ from .._validation import (
     check_shape,
     number_in_range,
     positive_number,
-    warn_implausible,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
-from ..io import IntrusionDataset
-from ..io._build import DIRECTIONS, PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, basis, free_k_a, pack, values_of
+from ._problem import basis, free_k_a, values_of
+from .classification import SampleStream
 
-__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
+__all__ = ["OnlineEstimate", "OnlineEstimator"]
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
-#: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
-MAX_STRESS = 1e12
 
 
 class OnlineEstimate(NamedTuple):
@@ -128,17 +119,15 @@ def refined_argmin(e: NDArray[np.float64]) -> float:
     return float(i)
 
 
-def filter_errors(
-    P: NDArray[np.float64], M: NDArray[np.float64], cost: float, weight: float
-) -> NDArray[np.float64]:
-    r"""Standard errors [-] of one filter's estimates: the sandwich :math:`s^2PMP` of a
-    weighted least-squares estimate (``M`` from :meth:`Filters.step`), with
-    :math:`s^2=V/(w-p)` from the discounted ``cost`` :math:`V` and count ``weight``
+def filter_errors(bank: Filters, i: int) -> NDArray[np.float64]:
+    r"""Standard errors [-] of the estimates of member ``i`` of a bank: the sandwich
+    :math:`s^2PMP` of a weighted least-squares estimate (``M`` from :meth:`Filters.step`),
+    with :math:`s^2=V/(w-p)` from the discounted cost :math:`V` and count ``weight``
     :math:`w` (decision D138); ``inf`` while :math:`w\le p`."""
-    p = P.shape[-1]
-    if weight <= p:
+    P, M, p = bank.P[i], bank.M[i], bank.P.shape[-1]
+    if bank.weight <= p:
         return np.full(p, np.inf)
-    return np.sqrt(cost / (weight - p) * np.clip(np.diagonal(P @ M @ P), 0.0, None))
+    return np.sqrt(bank.cost[i] / (bank.weight - p) * np.clip(np.diagonal(P @ M @ P), 0.0, None))
 
 
 def bank_errors(
@@ -151,7 +140,7 @@ def bank_errors(
     theta, cost, weight = bank.theta, bank.cost, bank.weight
     G, p = theta.shape
     i = round(x)
-    se = filter_errors(bank.P[i], bank.M[i], float(cost[i]), weight)
+    se = filter_errors(bank, i)
     se_log = math.inf
     if 0 < i < G - 1 and weight > p:
         h0, h1 = log_grid[i] - log_grid[i - 1], log_grid[i + 1] - log_grid[i]
@@ -165,87 +154,6 @@ def bank_errors(
     else:  # the grid value is anywhere on the grid (or beyond it)
         spread = 0.5 * np.ptp(theta, axis=0)
     return np.sqrt(se**2 + spread**2), se_log
-
-
-class Sample(NamedTuple):
-    """One checked sample: time [s], :math:`\\gamma=q/L_c` [-], stress [Pa], and the step
-    from the previous sample (None for the first): ``dt`` [s], mean ``rate`` [1/s] and
-    ``previous_time`` [s]."""
-
-    time: float
-    gamma: float
-    stress: float
-    dt: float | None = None
-    rate: float | None = None
-    previous_time: float | None = None
-
-
-class SampleStream:
-    """The last sample of a stream of plate length ``characteristic_length`` [m] (checked);
-    checks each new one (finite, plausible, time increasing)."""
-
-    def __init__(self, characteristic_length: float) -> None:
-        self.L = float(characteristic_length)
-        self.last: tuple[float, float] | None = None
-        self.warned = False  # one plausibility warning a stream, not one a sample
-
-    def reset(self) -> None:
-        """Forget the previous sample."""
-        self.last = None
-
-    def push(self, time: float, depth: float, stress: float) -> Sample:
-        """Check one sample (time [s], depth [m], stress [Pa]) and step to it."""
-        t, q, s = _number("time", time), _number("depth", depth), _number("stress", stress)
-        for what, given, v, limit, unit in (
-            ("stress", stress, s, MAX_STRESS, "Pa"), ("depth", depth, q, LENGTH_LIMITS[1], "m")
-        ):  # fmt: skip
-            if abs(v) > limit:
-                raise MudrftError(
-                    f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud "
-                    f"test reaches it: a unit mistake?), got {given!r}"
-                )
-        if not self.warned and (
-            abs(q) > PLAUSIBLE_DEPTH[1] or abs(s) > PLAUSIBLE_PEAK_STRESS[1]
-        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns
-            big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
-            self.warned = warn_implausible(
-                f"update: {'depth' if big_depth else 'stress'} of",
-                abs(q) if big_depth else abs(s),
-                PLAUSIBLE_DEPTH if big_depth else PLAUSIBLE_PEAK_STRESS,
-                unit="m" if big_depth else "Pa",
-                hint="stream SI values (depth in m, stress in Pa, time in s); "
-                "this warning is shown once a stream",
-            )
-        g = q / self.L
-        if self.last is None:
-            self.last = (t, g)
-            return Sample(t, g, s)
-        t0, g0 = self.last
-        if not t > t0:
-            raise MudrftError(
-                f"update: time must increase between updates, got {t!r} [s] after {t0!r} [s]; "
-                "a trial whose clock starts again: add the previous trial's last time to its "
-                "times (the estimates carry on), or call reset() first (they start again from "
-                "the prior)"
-            )
-        dt = t - t0
-        self.last = (t, g)
-        return Sample(t, g, s, dt, (g - g0) / dt, t0)
-
-
-def _number(name: str, value: Any) -> float:
-    """``float(value)`` for a sample, or an error naming it (a string, None, a list, nan)."""
-    if isinstance(value, str | bytes | bool) or value is None:
-        raise MudrftError(f"update: {name} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise MudrftError(
-            f"update: {name} must be a number, got {type(value).__name__} {value!r}"
-        ) from None
-    if not math.isfinite(v):
-        raise MudrftError(f"update: {name} must be finite, got {value!r}")
-    return v
 
 
 class OnlineEstimator:
@@ -499,7 +407,7 @@ class OnlineEstimator:
             f = self._intrusion
             if f.count >= 2:
                 est["alpha"], est["eta_inf"] = (f.theta[0] * self._scale_i).tolist()
-                se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
+                se_i = filter_errors(f, 0) * self._scale_i
                 se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
             **est,
@@ -551,258 +459,3 @@ class OnlineEstimator:
             f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
             f"tau_build={f(e.tau_build)}, updates={e.updates})"
         )
-
-
-def _candidates(
-    candidates: MudParameters | Sequence[MudParameters] | None,
-    labels: Sequence[Any] | None,
-    water_contents: ArrayLike | None,
-    direction: str,
-) -> tuple[list[MudParameters], list[Any]]:
-    """The candidate sets and their labels (default: water contents [-] or sources), checked."""
-    if candidates is not None and water_contents is not None:
-        raise MudrftError("give either candidates or water_contents, not both")
-    if candidates is None:
-        ws = [0.25, 0.35, 0.45] if water_contents is None else list(np.atleast_1d(water_contents))
-        cands = [paper_parameters(float(w), direction) for w in ws]
-        default: list[Any] = [float(w) for w in ws]
-    else:
-        cands = [candidates] if isinstance(candidates, MudParameters) else list(candidates)
-        for i, c in enumerate(cands):
-            if not isinstance(c, MudParameters) or c.shape != ():
-                raise MudrftError(f"candidates[{i}] must be a single MudParameters, got {c!r}")
-        default = [c.source or f"set {i}" for i, c in enumerate(cands)]
-    labs = default if labels is None else list(labels)
-    if len(labs) != len(cands):
-        raise MudrftError(
-            f"labels must have one entry per candidate ({len(cands)}), got {len(labs)}"
-        )
-    if len(cands) < 1:
-        raise MudrftError("candidates must hold at least one MudParameters")
-    return cands, labs
-
-
-def _softmax_loglik(
-    sse: NDArray[np.float64], count: float, noise_var: float | None
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors)."""
-    if noise_var is None:
-        noise_var = max(float(np.min(sse)) / max(count, 1.0), 1e-300)
-    ll = -0.5 * sse / noise_var
-    p = np.exp(ll - ll.max())
-    return ll, p / p.sum()
-
-
-@dataclass(frozen=True)
-class Classification:
-    """Which candidate parameter set a dataset most resembles.
-
-    Attributes
-    ----------
-    labels : tuple
-        Candidate labels (water contents for the paper's rows).
-    relative_rmse, log_likelihood, probabilities : ndarray
-        Of each candidate over the fitted samples [-]: relative RMSE (decision D12),
-        Gaussian log-likelihood, and probability with equal priors.
-    best : object
-        Label of the most likely candidate.
-    """
-
-    labels: tuple
-    relative_rmse: NDArray[np.float64]
-    log_likelihood: NDArray[np.float64]
-    probabilities: NDArray[np.float64]
-    best: Any
-
-
-def _simulate(
-    dataset: IntrusionDataset, cands: list[MudParameters]
-) -> tuple[Packed, NDArray[np.float64]]:
-    """Total stress [Pa] of every candidate on every trial, shape (n, K, T): one batched
-    simulation, or one per candidate when they differ in ``nu`` or ``k_a``."""
-    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
-    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
-        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
-        return packed, packed.simulate(vals)
-    sims = [
-        pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1)) for c in cands
-    ]
-    return packed, np.concatenate(sims, axis=1)
-
-
-def classify(
-    dataset: IntrusionDataset,
-    candidates: Sequence[MudParameters] | None = None,
-    *,
-    labels: Sequence[Any] | None = None,
-    water_contents: ArrayLike | None = None,
-    direction: str | None = None,
-    noise: float | None = None,
-) -> Classification:
-    """Which known parameter set (paper row or user list) an offline dataset resembles,
-    from the residuals of each trial relative to its stress range.
-
-    Parameters
-    ----------
-    dataset : IntrusionDataset
-        The data.
-    candidates : sequence of MudParameters, optional
-        Candidate sets; default the paper's rows (W = 25, 35, 45 %) of the direction.
-    labels : sequence, optional, keyword-only
-        Label of each candidate (default: the water contents, or the sources).
-    water_contents : array_like, optional, keyword-only
-        Paper sets interpolated at these water contents [-] as candidates.
-    direction : {"vertical", "horizontal"}, optional, keyword-only
-        Default the dataset's.
-    noise : float, optional, keyword-only
-        Standard deviation of the residuals relative to each trial's range [-];
-        default estimated from the best candidate.
-
-    Returns
-    -------
-    Classification
-
-    Examples
-    --------
-    >>> from mudrft.calibration import example_dataset
-    >>> classify(example_dataset("vertical")).best
-    0.25
-    """
-    if not isinstance(dataset, IntrusionDataset):
-        raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
-    d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
-    cands, labs = _candidates(candidates, labels, water_contents, d)
-    packed, sim = _simulate(dataset, cands)
-    mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
-    R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
-    sse = np.sum(R**2, axis=0)
-    m = R.shape[0]
-    nv = None if noise is None else positive_number("noise", noise) ** 2
-    ll, prob = _softmax_loglik(sse, m, nv)
-    return Classification(
-        labels=tuple(labs),
-        relative_rmse=np.sqrt(sse / m),
-        log_likelihood=ll,
-        probabilities=prob,
-        best=labs[int(np.argmax(ll))],
-    )
-
-
-class StreamClassifier:
-    """Which known parameter set a stream of samples most resembles, updated per sample.
-
-    The squared residuals of each candidate's model are discounted by ``1 - 1/window``.
-
-    Parameters
-    ----------
-    candidates : sequence of MudParameters, optional
-        Candidate sets; default the paper's rows (or ``water_contents``) of ``direction``.
-    labels : sequence, optional, keyword-only
-        Labels of the candidates.
-    water_contents : array_like, optional, keyword-only
-        Paper sets interpolated at these water contents [-].
-    direction : {"vertical", "horizontal"}, keyword-only
-        Direction of the paper rows.
-    characteristic_length : float, keyword-only
-        Plate length [m].
-    window : float, keyword-only
-        Effective window length [samples] (> 1).
-    noise : float, optional, keyword-only
-        Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
-
-    Examples
-    --------
-    >>> import mudrft
-    >>> tr = mudrft.plate_intrusion(depth=0.03, speed=0.02, hold=0.5, dt=0.01)
-    >>> res = mudrft.plate_response(tr, mudrft.paper_parameters(0.35))
-    >>> clf = StreamClassifier()
-    >>> for t, q, s in zip(tr.time, res.displacement, res.stress):
-    ...     _ = clf.update(t, q, s)
-    >>> clf.best
-    0.35
-    """
-
-    def __init__(
-        self,
-        candidates: Sequence[MudParameters] | None = None,
-        *,
-        labels: Sequence[Any] | None = None,
-        water_contents: ArrayLike | None = None,
-        direction: str = "vertical",
-        characteristic_length: float = DEFAULT_PLATE_LENGTH,
-        window: float = 200.0,
-        noise: float | None = None,
-    ) -> None:
-        check_choice("direction", direction, ("vertical", "horizontal"))
-        self.candidates, self.labels = _candidates(candidates, labels, water_contents, direction)
-        self.L = check_characteristic_length("StreamClassifier", characteristic_length)
-        w = positive_number("window", window)
-        if w <= 1.0:
-            raise MudrftError(f"window must exceed 1 sample, got {window!r}")
-        self.decay = 1.0 - 1.0 / w
-        self.noise = None if noise is None else positive_number("noise", noise, unit="Pa")
-        self.params = MudParameters.stack(self.candidates)
-        self._consts = channel_constants(self.params)
-        self._stream = SampleStream(self.L)
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the stream."""
-        K = len(self.candidates)
-        self._state = initial_state((K,))
-        self._sse = np.zeros(K)
-        self._count = 0.0
-        self._stream.reset()
-        self._inside = False
-
-    def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample; return the label of the most likely candidate.
-
-        Parameters
-        ----------
-        time, depth, stress : float
-            The sample: time [s] (increasing), depth [m], stress [Pa].
-        """
-        x = self._stream.push(time, depth, stress)
-        K = len(self.candidates)
-        if x.dt is None or x.rate is None:  # the first sample: a starting point only
-            self._state = initial_state((K,), gamma=x.gamma)
-            return self.best
-        if not in_contact(x.gamma):
-            # above the surface: nothing to compare; the next intrusion starts afresh (D11)
-            if self._inside:
-                self._state = initial_state((K,), gamma=x.gamma)
-                self._inside = False
-            return self.best
-        self._inside = True
-        gv, gdv = np.full(K, x.gamma), np.full(K, x.rate)
-        self._state, model = channel_update(self._consts, self._state, gv, gdv, x.dt)
-        r = x.stress - np.asarray(model.total)
-        self._sse = self.decay * self._sse + r * r
-        self._count = self.decay * self._count + 1.0
-        return self.best
-
-    @property
-    def log_likelihood(self) -> NDArray[np.float64]:
-        """Gaussian log-likelihood of each candidate over the window [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[0]
-
-    @property
-    def probabilities(self) -> NDArray[np.float64]:
-        """Posterior probability of each candidate (equal priors) [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[1]
-
-    @property
-    def rmse(self) -> NDArray[np.float64]:
-        """Windowed RMS residual of each candidate [Pa]."""
-        return np.sqrt(self._sse / max(self._count, 1e-300))
-
-    @property
-    def best(self) -> Any:
-        """Label of the most likely candidate (the first one before any sample)."""
-        return self.labels[int(np.argmin(self._sse))]
-
-    def __repr__(self) -> str:
-        return f"StreamClassifier(labels={self.labels!r}, best={self.best!r})"

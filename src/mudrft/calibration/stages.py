@@ -19,7 +19,6 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
-from ._options import check_determined
 from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
 from .uncertainty import at_bound, uncertainty
@@ -334,7 +333,14 @@ def start_engine(
     """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
     row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
     t0 = time.perf_counter()
-    check_determined(int(np.count_nonzero(packed.valid)), free)
+    samples = int(np.count_nonzero(packed.valid))
+    if samples <= len(free):
+        raise MudrftError(
+            f"calibrate: {samples} fitted sample(s) cannot determine {len(free)} free "
+            f"parameter(s) {list(free)}; a fit needs more samples than free parameters "
+            "(samples after the plate is back at the surface do not count): give a longer "
+            "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
+        )
     engine = Engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )
