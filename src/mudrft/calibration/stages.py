@@ -298,26 +298,6 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
     )
 
 
-def _paper_start(
-    engine: Engine, direction: str, note: Callable[[str], object], free: tuple[str, ...]
-) -> dict[str, float]:
-    """The paper row of ``direction`` that fits best once its free linear parameters are
-    rescaled (decision D43); those not fitted keep the row's values."""
-    rows = table_rows(direction)
-    ws = sorted(rows)
-    cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
-    mask = engine.packed.mask(ALL_PHASES)
-    lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
-    cost, point = engine.grid_start("start", mask, lin, cands, len(cands))[0]
-    nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
-    w = next(w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear))
-    note(
-        f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
-        f"(free linear parameters rescaled), cost {cost:.4g}"
-    )
-    return point
-
-
 def start_engine(
     packed: Packed,
     base: MudParameters,
@@ -344,8 +324,21 @@ def start_engine(
     engine = Engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )
-    if from_paper:
-        engine.values.update(_paper_start(engine, direction, note, free))
+    if from_paper:  # the paper row that fits best, its free linear parameters rescaled (D43)
+        rows = table_rows(direction)
+        ws = sorted(rows)
+        cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
+        lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
+        cost, point = engine.grid_start("start", packed.mask(ALL_PHASES), lin, cands, len(ws))[0]
+        nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
+        w = next(
+            w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear)
+        )
+        note(
+            f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
+            f"(free linear parameters rescaled), cost {cost:.4g}"
+        )
+        engine.values.update(point)
     engine.values.update({k: float(v) for k, v in fixed.items()})
     for k in free:
         engine.values[k] = engine.clip(k, engine.values[k])
