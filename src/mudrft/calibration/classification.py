@@ -28,7 +28,7 @@ from ..io._build import DIRECTIONS, PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, free_k_a, pack, values_of
+from ._problem import FIT_PARAMETERS, PHASES, free_k_a, pack, values_of
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
 
@@ -179,21 +179,6 @@ class Classification:
     best: Any
 
 
-def _simulate(
-    dataset: IntrusionDataset, cands: list[MudParameters]
-) -> tuple[Packed, NDArray[np.float64]]:
-    """Total stress [Pa] of every candidate on every trial, shape (n, K, T): one batched
-    simulation, or one per candidate when they differ in ``nu`` or ``k_a``."""
-    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
-    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
-        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
-        return packed, packed.simulate(vals)
-    sims = [
-        pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1)) for c in cands
-    ]
-    return packed, np.concatenate(sims, axis=1)
-
-
 def classify(
     dataset: IntrusionDataset,
     candidates: Sequence[MudParameters] | None = None,
@@ -236,7 +221,18 @@ def classify(
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
     cands, labs = _candidates(candidates, labels, water_contents, d)
-    packed, sim = _simulate(dataset, cands)
+    # one batched simulation, or one per candidate when they differ in nu or k_a: (n, K, T)
+    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
+    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
+        sim = packed.simulate({k: np.array([getattr(c, k) for c in cands]) for k in FIT_PARAMETERS})
+    else:
+        sim = np.concatenate(
+            [
+                pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1))
+                for c in cands
+            ],
+            axis=1,
+        )
     mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
     R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
     sse = np.sum(R**2, axis=0)

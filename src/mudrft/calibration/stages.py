@@ -352,16 +352,6 @@ def start_engine(
     return engine, StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
 
 
-def _grid(engine: Engine, stage: Stage, free: tuple[str, ...]) -> list[dict[str, float]]:
-    """The stage's grid of starting points (with the current values added), in bounds."""
-    axes = {
-        k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
-        for k, v in stage.grid.items()
-        if k in free
-    }
-    return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
-
-
 def _message(sol: OptimizeResult | None) -> str:
     return "linear parameters solved exactly" if sol is None else str(sol.message)
 
@@ -382,9 +372,13 @@ def phase_stage(
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
     best: tuple[float, dict[str, float], OptimizeResult | None] | None = None
-    starting = engine.grid_start(
-        stage.name, mask, stage_free, _grid(engine, stage, stage_free), starts
-    )
+    axes = {  # the stage's grid of starting points, in bounds, with the current values
+        k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
+        for k, v in stage.grid.items()
+        if k in stage_free
+    }
+    grid = [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
+    starting = engine.grid_start(stage.name, mask, stage_free, grid, starts)
     for _, point in starting:
         engine.values = dict(saved)
         c, sol = engine.fit(stage.name, mask, stage_free, max_nfev, start=point, project=stage_free)
