@@ -371,10 +371,9 @@ class OnlineEstimator:
         -------
         list of OnlineEstimate
         """
-        t, q, s = (
-            check_shape(name, value, (None,))
-            for name, value in (("time", time), ("depth", depth), ("stress", stress))
-        )
+        t = check_shape("time", time, (None,))
+        q = check_shape("depth", depth, (None,))
+        s = check_shape("stress", stress, (None,))
         if not (t.size == q.size == s.size):
             raise MudrftError(
                 f"time, depth and stress must have the same length, got "
