@@ -11,7 +11,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from .._validation import MudrftError, check_finite, check_number, plain
+from .._validation import MudrftError, check_finite, check_number
 from ..io import IntrusionDataset, Trial, load_dataset
 from ._problem import FIT_PARAMETERS
 
@@ -60,24 +60,6 @@ def auto_decimate(ds: IntrusionDataset) -> int:
     """
     longest = max(len(t) for t in ds.trials)
     return max(1, math.ceil(longest / FIT_SAMPLES))
-
-
-def check_determined(samples: int, free: Sequence[str]) -> None:
-    """Refuse a fit with no more fitted ``samples`` than ``free`` parameters (D104)."""
-    if samples <= len(free):
-        raise MudrftError(
-            f"calibrate: {samples} fitted sample(s) cannot determine {len(free)} free "
-            f"parameter(s) {list(free)}; a fit needs more samples than free parameters "
-            "(samples after the plate is back at the surface do not count): give a longer "
-            "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
-        )
-
-
-def check_count(name: str, value: object) -> int:
-    """``value`` as an int, or an error if it is not an integer >= 1 [-]."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise MudrftError(f"{name} must be an integer >= 1, got {plain(value)}")
-    return int(value)
 
 
 def _group_members(name: object) -> tuple[str, ...]:
@@ -144,43 +126,33 @@ def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
     return out
 
 
-_KINDS: tuple[tuple[type | tuple[type, ...], str], ...] = (
-    (IntrusionDataset, "dataset"),
-    (Trial, "trial"),
-    ((str, os.PathLike), "path"),
-)
-
-
-def _kind(x: object) -> str | None:
-    return next((kind for cls, kind in _KINDS if isinstance(x, cls)), None)
-
-
 def as_dataset(
     data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object], **load_options: Any
 ) -> IntrusionDataset:
     """The data of a fit as one dataset: datasets merged, trials joined, paths loaded with
     :func:`mudrft.io.load_dataset` and ``load_options`` (``area`` [m^2], ...)."""
-    kind = _kind(data)
-    items = [data] if kind is not None or not isinstance(data, Sequence) else list(data)
-    kinds = {_kind(d) for d in items}
-    if not items or len(kinds) != 1 or None in kinds:
+    kinds: tuple[type | tuple[type, ...], ...] = (IntrusionDataset, Trial, (str, os.PathLike))
+    one = isinstance(data, kinds) or not isinstance(data, Sequence)
+    items = [data] if one else list(data)  # type: ignore[arg-type]
+    found = {next((i for i, c in enumerate(kinds) if isinstance(x, c)), None) for x in items}
+    if not items or len(found) != 1 or None in found:
         raise MudrftError(
             "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
             f"got {type(data).__name__}"
         )
     given = sorted(k for k, v in load_options.items() if v is not None)
-    if given and kinds != {"path"}:  # they describe how to read a file; a dataset has them
+    if given and found != {2}:  # they describe how to read a file; a dataset has them
         raise MudrftError(
             f"{' and '.join(given)} apply to a log read from a path; this dataset is already "
             "loaded (its trials carry their characteristic_length, and stress, not force): "
             "leave them out, or pass the file's path"
         )
-    if kind == "dataset":
-        return data  # type: ignore[return-value]
-    if kinds == {"path"}:
-        return load_dataset(data if kind else items, **load_options)  # type: ignore[arg-type]
-    if kinds == {"trial"}:
-        return IntrusionDataset(tuple(items))
+    if isinstance(data, IntrusionDataset):
+        return data
+    if found == {2}:
+        return load_dataset(data if one else items, **load_options)  # type: ignore[arg-type]
+    if found == {1}:
+        return IntrusionDataset(tuple(items))  # type: ignore[arg-type]
     datasets = cast(list[IntrusionDataset], items)
     return datasets[0].merge(*datasets[1:])
 

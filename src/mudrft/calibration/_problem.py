@@ -78,10 +78,6 @@ class Packed:
     clock: str = "contact"
     contact: bool = True
 
-    @property
-    def n_trials(self) -> int:
-        return int(self.data.shape[1])
-
     def mask(self, phases: tuple[int, ...]) -> np.ndarray:
         """Samples (n_max, T) of the given phases (and valid)."""
         return self.valid & np.isin(self.phase, phases)
@@ -135,23 +131,10 @@ def pack(
     exclude: Sequence[NDArray[np.bool_]] | None = None,
     direction: str | None = None,
 ) -> Packed:
-    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` and ``k_a``;
-    a vertical plate's samples above the surface, and the first after each entry, are
-    simulated but not fitted.
-
-    Parameters
-    ----------
-    ds : IntrusionDataset
-        The data.
-    p : MudParameters
-        A single set; its ``nu`` [1/s] is kept, its ``k_a`` [1/s] too unless it is the
-        default ``1/lam`` (then it follows each fitted ``lam``, decision D8).
-    acceleration, xi0, thixotropy, clock : keyword-only
-        The model's evaluation, as :func:`~mudrft.calibration.calibrate`.
-    exclude : sequence of bool arrays, optional, keyword-only
-        Per trial, samples left out of the fit.
-    direction : {"vertical", "horizontal"}, optional, keyword-only
-        The tests' direction.
+    """The trials of ``ds`` packed for parameter sets that share ``p``'s ``nu`` [1/s] and
+    ``k_a`` [1/s] (:func:`free_k_a`); ``exclude`` marks, per trial, samples left out of the
+    fit; a vertical plate's samples above the surface, and the first after each entry, are
+    simulated but not fitted. The other options are :func:`~mudrft.calibration.calibrate`'s.
     """
     trials = ds.trials
     contact = (direction or ds.direction) == "vertical"
@@ -192,7 +175,6 @@ def pack(
         weight[j] = 1.0 / span
         lengths[j] = n
     dt = np.diff(time, axis=0)
-    tied = bool(np.isclose(float(p.k_a), 1.0 / float(p.lam)))
     return Packed(
         gamma=gamma,
         rate=np.diff(gamma, axis=0) / dt,
@@ -203,13 +185,30 @@ def pack(
         weight=weight,
         lengths=lengths,
         nu=float(p.nu),
-        k_a=None if tied else float(p.k_a),
+        k_a=free_k_a(p),
         acceleration=acceleration,
         xi0=xi0,
         thixotropy=thixotropy,
         clock=clock,
         contact=contact,
     )
+
+
+def free_k_a(p: MudParameters) -> float | None:
+    """``p.k_a`` [1/s], or None where it is the default ``1/lam`` (it then follows ``lam``)."""
+    return None if np.isclose(float(p.k_a), 1.0 / float(p.lam)) else float(p.k_a)
+
+
+def basis(vals: Mapping[str, ArrayLike], lin: Sequence[str]) -> dict[str, Any]:
+    """Each column of ``vals`` expanded into ``1 + len(lin)`` columns: the ``lin``
+    parameters all 1, then each in turn 2 (the regressors of the linear parameters)."""
+    P = int(np.asarray(vals["alpha"]).size)
+    out = {k: np.repeat(np.asarray(v, dtype=float), 1 + len(lin)) for k, v in vals.items()}
+    for j, k in enumerate(lin):
+        v = np.ones((P, 1 + len(lin)))
+        v[:, 1 + j] = 2.0
+        out[k] = v.ravel()
+    return out
 
 
 def values_of(p: MudParameters, *, batch: int) -> dict[str, NDArray[np.float64]]:

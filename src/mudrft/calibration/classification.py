@@ -1,28 +1,120 @@
 """Which known mud a log (:func:`classify`) or a stream (:class:`StreamClassifier`)
 resembles: every candidate set runs the full model on the data, and its residuals give a
-Gaussian likelihood and, with equal priors, a probability (decision D47)."""
+Gaussian likelihood and, with equal priors, a probability (decision D47); and the checked
+stream of samples that it and :class:`~mudrft.calibration.OnlineEstimator` read."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError, check_characteristic_length, check_choice, positive_number
+from .._validation import (
+    LENGTH_LIMITS,
+    MudrftError,
+    check_characteristic_length,
+    check_choice,
+    positive_number,
+    warn_implausible,
+)
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
 from ..io import IntrusionDataset
-from ..io._build import DIRECTIONS
+from ..io._build import DIRECTIONS, PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, Packed, pack, values_of
-from ._rls import SampleStream
+from ._problem import FIT_PARAMETERS, PHASES, free_k_a, pack, values_of
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
+
+#: Largest stress magnitude a streamed sample may have [Pa] (1e300 overflowed the filters).
+MAX_STRESS = 1e12
+
+
+class Sample(NamedTuple):
+    """One checked sample: time [s], :math:`\\gamma=q/L_c` [-], stress [Pa], and the step
+    from the previous sample (None for the first): ``dt`` [s], mean ``rate`` [1/s] and
+    ``previous_time`` [s]."""
+
+    time: float
+    gamma: float
+    stress: float
+    dt: float | None = None
+    rate: float | None = None
+    previous_time: float | None = None
+
+
+class SampleStream:
+    """The last sample of a stream of plate length ``characteristic_length`` [m] (checked);
+    checks each new one (finite, plausible, time increasing)."""
+
+    def __init__(self, characteristic_length: float) -> None:
+        self.L = float(characteristic_length)
+        self.last: tuple[float, float] | None = None
+        self.warned = False  # one plausibility warning a stream, not one a sample
+
+    def reset(self) -> None:
+        """Forget the previous sample."""
+        self.last = None
+
+    def push(self, time: float, depth: float, stress: float) -> Sample:
+        """Check one sample (time [s], depth [m], stress [Pa]) and step to it."""
+        t, q, s = _number("time", time), _number("depth", depth), _number("stress", stress)
+        for what, given, v, limit, unit in (
+            ("stress", stress, s, MAX_STRESS, "Pa"), ("depth", depth, q, LENGTH_LIMITS[1], "m")
+        ):  # fmt: skip
+            if abs(v) > limit:
+                raise MudrftError(
+                    f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud "
+                    f"test reaches it: a unit mistake?), got {given!r}"
+                )
+        if not self.warned and (
+            abs(q) > PLAUSIBLE_DEPTH[1] or abs(s) > PLAUSIBLE_PEAK_STRESS[1]
+        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns
+            big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
+            self.warned = warn_implausible(
+                f"update: {'depth' if big_depth else 'stress'} of",
+                abs(q) if big_depth else abs(s),
+                PLAUSIBLE_DEPTH if big_depth else PLAUSIBLE_PEAK_STRESS,
+                unit="m" if big_depth else "Pa",
+                hint="stream SI values (depth in m, stress in Pa, time in s); "
+                "this warning is shown once a stream",
+            )
+        g = q / self.L
+        if self.last is None:
+            self.last = (t, g)
+            return Sample(t, g, s)
+        t0, g0 = self.last
+        if not t > t0:
+            raise MudrftError(
+                f"update: time must increase between updates, got {t!r} [s] after {t0!r} [s]; "
+                "a trial whose clock starts again: add the previous trial's last time to its "
+                "times (the estimates carry on), or call reset() first (they start again from "
+                "the prior)"
+            )
+        dt = t - t0
+        self.last = (t, g)
+        return Sample(t, g, s, dt, (g - g0) / dt, t0)
+
+
+def _number(name: str, value: Any) -> float:
+    """``float(value)`` for a sample, or an error naming it (a string, None, a list, nan)."""
+    if isinstance(value, str | bytes | bool) or value is None:
+        raise MudrftError(f"update: {name} must be a number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise MudrftError(
+            f"update: {name} must be a number, got {type(value).__name__} {value!r}"
+        ) from None
+    if not math.isfinite(v):
+        raise MudrftError(f"update: {name} must be finite, got {value!r}")
+    return v
 
 
 def _candidates(
@@ -87,22 +179,6 @@ class Classification:
     best: Any
 
 
-def _simulate(
-    dataset: IntrusionDataset, cands: list[MudParameters]
-) -> tuple[Packed, NDArray[np.float64]]:
-    """Total stress [Pa] of every candidate on every trial, shape (n, K, T): one batched
-    simulation, or one per candidate when they differ in ``nu`` or ``k_a``."""
-    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
-    tied = all(np.isclose(float(c.k_a), 1.0 / float(c.lam)) for c in cands)
-    if tied and len({float(c.nu) for c in cands}) == 1:
-        vals = {k: np.array([float(getattr(c, k)) for c in cands]) for k in FIT_PARAMETERS}
-        return packed, packed.simulate(vals)
-    sims = [
-        pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1)) for c in cands
-    ]
-    return packed, np.concatenate(sims, axis=1)
-
-
 def classify(
     dataset: IntrusionDataset,
     candidates: Sequence[MudParameters] | None = None,
@@ -145,7 +221,18 @@ def classify(
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
     cands, labs = _candidates(candidates, labels, water_contents, d)
-    packed, sim = _simulate(dataset, cands)
+    # one batched simulation, or one per candidate when they differ in nu or k_a: (n, K, T)
+    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
+    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
+        sim = packed.simulate({k: np.array([getattr(c, k) for c in cands]) for k in FIT_PARAMETERS})
+    else:
+        sim = np.concatenate(
+            [
+                pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1))
+                for c in cands
+            ],
+            axis=1,
+        )
     mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
     R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
     sse = np.sum(R**2, axis=0)

@@ -3,14 +3,24 @@ log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)
 
 from __future__ import annotations
 
+import logging
 import os
 import time
+import warnings
 from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
-from .._validation import MudrftError, check_choice, check_in_range, number_in_range
+from .._progress import make_progress
+from .._validation import (
+    CalibrationWarning,
+    MudrftError,
+    _caller_level,
+    check_choice,
+    check_in_range,
+    number_in_range,
+    positive_int,
+)
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
 from ..io._build import DIRECTIONS
@@ -18,21 +28,16 @@ from ..metrics import relative_rmse
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ._options import (
-    DEFAULT_BOUNDS,
-    GROUPS,
     as_dataset,
     auto_decimate,
-    check_count,
     resolve_bounds,
     resolve_fixed,
     resolve_groups,
     thin_trials,
 )
 from ._problem import FIT_PARAMETERS, pack, values_of
-from ._report import Reporter, ordinal
-from .persistence import load_parameters
-from .rate import Smoothing, check_window, smooth_dataset
-from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult, StageReport
+from .rate import check_window, smooth_dataset
+from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
 from .stages import (
     STAGES,
@@ -43,7 +48,9 @@ from .stages import (
     uncertainty_at_optimum,
 )
 
-__all__ = ["DEFAULT_BOUNDS", "GROUPS", "FitResult", "StageReport", "calibrate", "load_parameters"]
+__all__ = ["calibrate"]
+
+logger = logging.getLogger("mudrft.calibration")
 
 
 def calibrate(
@@ -164,16 +171,12 @@ def calibrate(
     clipped = check_choice("clipped", clipped, ("exclude", "keep"))
     zero = check_choice("zero", zero, ("check", "subtract"))
     rate = check_window(rate)
-    k = None if decimate is None else check_count("decimate", decimate)
+    k = None if decimate is None else positive_int("decimate", decimate)
     check_in_range("confidence_level", confidence_level, 1e-6, 1 - 1e-9)
-    check_count("starts", starts)
-    check_count("max_nfev", max_nfev)
-    if initial is not None and not isinstance(initial, MudParameters):
-        raise MudrftError(f"initial must be a MudParameters, got {type(initial).__name__}")
-    if initial is not None and initial.shape != ():
-        raise MudrftError(
-            f"initial must be a single parameter set, got a batch of shape {initial.shape}"
-        )
+    positive_int("starts", starts)
+    positive_int("max_nfev", max_nfev)
+    if initial is not None and (not isinstance(initial, MudParameters) or initial.shape != ()):
+        raise MudrftError(f"initial must be a single MudParameters, got {initial!r}")
     selected = resolve_groups(groups)
     bnds = resolve_bounds(bounds)
     held = resolve_fixed(fixed)
@@ -184,7 +187,29 @@ def calibrate(
 
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
     d = check_choice("direction", ds.direction if direction is None else direction, DIRECTIONS)
-    ds, smoothing, exclude, warned, tare = _prepare(ds, d, reporter, k, clipped, zero, rate)
+    ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
+    ds, tare, warned, notes = check_zero(ds, zero=zero, direction=d)
+    if k is None:
+        k = auto_decimate(ds)
+        if k > 1:
+            longest = max(len(t) for t in ds.trials)
+            reporter.warn(
+                f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
+                f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
+                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
+            )
+    if k > 1:
+        ds = thin_trials(ds, k)
+    clip, clip_warnings = check_clipped(ds, clipped=clipped)
+    warned += clip_warnings + rate_warnings
+    for line in notes:
+        reporter.note(line)
+    for line in warned:
+        reporter.warn(line)
+    # samples whose step spans a change of speed are not fitted (module rate)
+    exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
+    if clip is not None:
+        exclude = [m | c for m, c in zip(exclude, clip, strict=True)]
     depth_notes = tuple(h.note() for h in smoothing if h.method != "as logged" or h.depth_noise)
     reporter.note(
         f"calibrate: {len(ds)} trial(s), {sum(len(t) for t in ds.trials)} samples, "
@@ -215,15 +240,13 @@ def calibrate(
         fixed=held,
         bounds=bnds,
         trace_limit=trace_limit,
-        reporter=reporter,
+        note=reporter.note,
     )
     reporter.step()
     stages = [start]
     for stage in STAGES:
-        report = (
-            phase_stage(engine, stage, free, starts=starts, max_nfev=max_nfev) if phases else None
-        )
-        if report is not None:
+        report = phases and phase_stage(engine, stage, free, starts=starts, max_nfev=max_nfev)
+        if report:
             stages.append(report)
             reporter.note(stage_note(report))
         reporter.step()
@@ -231,7 +254,8 @@ def calibrate(
     stages.append(joint)
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
-    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare)
+    tare_se = None if tare is None else tuple(off.error for off in tare)
+    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare_se)
     params = MudParameters(
         **{k: engine.values[k] for k in FIT_PARAMETERS},
         nu=packed.nu,
@@ -245,30 +269,22 @@ def calibrate(
     fit = FitResult(
         parameters=params,
         free=free,
-        standard_error=unc.se,
-        relative_standard_error=unc.rse,
-        confidence_interval=unc.ci,
         confidence_level=float(confidence_level),
-        robust_standard_error=unc.robust_rse,
-        robust_interval=unc.robust_ci,
-        correlation=unc.corr,
-        identifiability=unc.verdict,
+        **unc,
         relative_rmse=float(np.mean(trmse)),
         trial_relative_rmse=tuple(float(x) for x in trmse),
-        noise=unc.noise,
         status=status,
         message=str(joint.message),
         stages=tuple(stages),
         trace=tuple(engine.trace),
         direction=d,
         bounds={k: bnds[k] for k in free},
-        condition_number=unc.cond,
         acceleration=bool(acceleration),
         xi0=float(xi0),
         dataset=ds,
         thixotropy=packed.thixotropy,
         clock=packed.clock,
-        data_warnings=warned,
+        data_warnings=tuple(warned),
         rate=rate,
         depth_notes=depth_notes,
     )
@@ -285,46 +301,53 @@ def calibrate(
     return fit
 
 
-def _prepare(
-    ds: IntrusionDataset,
-    direction: str,
-    reporter: Reporter,
-    decimate: int | None,
-    clipped: str,
-    zero: str,
-    rate: int | str,
-) -> tuple[
-    IntrusionDataset,
-    list[Smoothing],
-    list[NDArray[np.bool_]],
-    tuple[str, ...],
-    tuple[float, ...] | None,
-]:
-    """The data as fitted: depth smoothed, sensor zeroed, thinned; the samples left out of
-    each trial, the warnings, and the standard error [Pa] of each subtracted zero."""
-    ds, smoothing, rate_warnings = smooth_dataset(ds, rate)
-    ds, tare, warned, notes = check_zero(ds, zero=zero, direction=direction)
-    k = decimate
-    if k is None:
-        k = auto_decimate(ds)
-        if k > 1:
-            longest = max(len(t) for t in ds.trials)
-            reporter.warn(
-                f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
-                f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
-                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
-            )
-    if k > 1:
-        ds = thin_trials(ds, k)
-    clip, clip_warnings = check_clipped(ds, clipped=clipped)
-    warned += clip_warnings
-    for line in notes:
-        reporter.note(line)
-    for line in warned + rate_warnings:
-        reporter.warn(line)
-    # samples whose step spans a change of speed are not fitted (module rate)
-    exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
-    if clip is not None:
-        exclude = [m | c for m, c in zip(exclude, clip, strict=True)]
-    errors = None if tare is None else tuple(off.error for off in tare)
-    return ds, smoothing, exclude, tuple(warned + rate_warnings), errors
+class Reporter:
+    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s); the
+    job is called ``label`` and made of ``steps`` calls of :meth:`step`."""
+
+    def __init__(
+        self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
+    ) -> None:
+        if progress is True:
+            self._lines: Callable[[str], object] | None = None
+            self._fraction = make_progress(True, label)
+        elif progress is None or progress is False:
+            self._lines, self._fraction = None, None
+        elif callable(progress):
+            self._lines, self._fraction = progress, None
+        else:
+            raise MudrftError(f"progress must be True, False, None or a callable, got {progress!r}")
+        self._steps = max(int(steps), 1)
+        self._done = 0
+
+    def note(self, message: str) -> None:
+        """Pass one line to the line callable, or log it when there is none (never both)."""
+        if self._lines is not None:
+            self._lines(message)
+        else:
+            logger.info("%s", message)
+
+    @staticmethod
+    def warn(message: str) -> None:
+        """Something the user must see, whatever ``progress`` is: a
+        :class:`~mudrft._validation.CalibrationWarning`."""
+        warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
+
+    def step(self) -> None:
+        """One more step of the job is done."""
+        self._done = min(self._done + 1, self._steps)
+        if self._fraction is not None:
+            self._fraction(self._done / self._steps)
+
+
+def ordinal(k: int) -> str:
+    """``2`` -> ``"2nd"``, ``11`` -> ``"11th"``, ``21`` -> ``"21st"``.
+
+    Examples
+    --------
+    >>> [ordinal(k) for k in (1, 2, 3, 4, 11, 12, 13, 21, 102)]
+    ['1st', '2nd', '3rd', '4th', '11th', '12th', '13th', '21st', '102nd']
+    """
+    if 10 <= k % 100 <= 20:
+        return f"{k}th"
+    return f"{k}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(k % 10, 'th') }"

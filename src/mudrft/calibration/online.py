@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import math
 import warnings
-from typing import Any
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .._validation import (
     CalibrationWarning,
@@ -23,22 +26,134 @@ from ..constitutive.contact import in_contact
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS
-from ._rls import (
-    Filters,
-    OnlineEstimate,
-    Sample,
-    SampleStream,
-    bank_errors,
-    filter_errors,
-    refined_argmin,
-)
-from .classification import Classification, StreamClassifier, classify
+from ._problem import basis, free_k_a, values_of
+from .classification import SampleStream
 
-__all__ = ["Classification", "OnlineEstimate", "OnlineEstimator", "StreamClassifier", "classify"]
-
+__all__ = ["OnlineEstimate", "OnlineEstimator"]
 
 _EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
+
+
+class OnlineEstimate(NamedTuple):
+    """Current estimates of :class:`OnlineEstimator` (SI; ``None`` until informed).
+
+    Attributes
+    ----------
+    alpha : float or None
+        Stiffness :math:`\\alpha` [Pa].
+    eta_inf : float or None
+        Viscosity :math:`\\eta_\\infty` [Pa s].
+    eta_m : float or None
+        Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
+    sigma_y : float or None
+        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample.
+    tau_build : float or None
+        Suction build-up time [s]; ``None`` until a retraction sample.
+    n : float
+        Exponent used (fixed) [-].
+    updates : int
+        Samples used so far.
+    phase : str
+        Phase of the last sample: ``"intrusion"``, ``"retraction"``, ``"hold"`` or ``"out"``.
+    standard_error : dict
+        Standard error of each estimate that is not ``None`` [its unit]; ``inf`` while too
+        few samples inform it (decision D138).
+    """
+
+    alpha: float | None
+    eta_inf: float | None
+    eta_m: float | None
+    sigma_y: float | None
+    tau_build: float | None
+    n: float
+    updates: int
+    phase: str
+    standard_error: Mapping[str, float] = MappingProxyType({})  # read-only: one shared default
+
+
+class Filters:
+    """A bank of ``members`` forgetting RLS filters (factor ``lam``) on normalised
+    quantities, starting at 1 with variances ``var0`` [-], and the discounted sums behind
+    their standard errors (D138)."""
+
+    def __init__(self, members: int, var0: NDArray[np.float64], lam: float) -> None:
+        self.theta = np.ones((members, var0.size))
+        self.P = np.tile(np.diag(var0), (members, 1, 1))
+        self.M = np.zeros_like(self.P)
+        self.cost = np.zeros(members)
+        self.weight = self.weight2 = 0.0
+        self.count = 0
+        self.lam, self.p_max = lam, float(var0.sum())
+
+    def step(self, phi: NDArray[np.float64], y: NDArray[np.float64]) -> None:
+        """One RLS step on regressors ``phi`` (members, p) and measurements ``y``
+        (members,) [-]; the trace of ``P`` is capped against wind-up."""
+        lam, P = self.lam, self.P
+        Pphi = np.einsum("...ij,...j->...i", P, phi)
+        denom = lam + np.einsum("...i,...i->...", phi, Pphi)
+        K = Pphi / denom[..., None]
+        err = y - np.einsum("...i,...i->...", phi, self.theta)
+        self.theta = self.theta + K * err[..., None]
+        P = (P - K[..., :, None] * Pphi[..., None, :]) / lam
+        P = 0.5 * (P + np.swapaxes(P, -1, -2))  # keep symmetric against round-off
+        tr = np.trace(P, axis1=-2, axis2=-1)
+        over = tr > self.p_max
+        if np.any(over):
+            P = P * np.where(over, self.p_max / tr, 1.0)[..., None, None]
+        self.P = P
+        self.M = lam * lam * self.M + phi[..., :, None] * phi[..., None, :]
+        self.cost = lam * self.cost + lam * err * err / denom
+        self.weight = self.lam * self.weight + 1.0
+        self.weight2 = self.lam**2 * self.weight2 + 1.0
+        self.count += 1
+
+
+def refined_argmin(e: NDArray[np.float64]) -> float:
+    """Index of the smallest of ``e``, refined by the vertex of the parabola through it and
+    its neighbours (within half a grid step) [grid steps]."""
+    i = int(np.argmin(e))
+    if 0 < i < e.size - 1:
+        den = e[i - 1] - 2 * e[i] + e[i + 1]
+        if den > 0:
+            return i + float(np.clip(0.5 * (e[i - 1] - e[i + 1]) / den, -0.5, 0.5))
+    return float(i)
+
+
+def filter_errors(bank: Filters, i: int) -> NDArray[np.float64]:
+    r"""Standard errors [-] of the estimates of member ``i`` of a bank: the sandwich
+    :math:`s^2PMP` of a weighted least-squares estimate (``M`` from :meth:`Filters.step`),
+    with :math:`s^2=V/(w-p)` from the discounted cost :math:`V` and count ``weight``
+    :math:`w` (decision D138); ``inf`` while :math:`w\le p`."""
+    P, M, p = bank.P[i], bank.M[i], bank.P.shape[-1]
+    if bank.weight <= p:
+        return np.full(p, np.inf)
+    return np.sqrt(bank.cost[i] / (bank.weight - p) * np.clip(np.diagonal(P @ M @ P), 0.0, None))
+
+
+def bank_errors(
+    bank: Filters, x: float, log_grid: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], float]:
+    r"""Standard errors [-] of a bank's estimates read at ``x`` [grid steps], and of the
+    log of the grid value there (decision D138): the profile's, where the cost rises by
+    the noise variance :math:`s^2`; ``inf`` at the grid's ends or without curvature.
+    """
+    theta, cost, weight = bank.theta, bank.cost, bank.weight
+    G, p = theta.shape
+    i = round(x)
+    se = filter_errors(bank, i)
+    se_log = math.inf
+    if 0 < i < G - 1 and weight > p:
+        h0, h1 = log_grid[i] - log_grid[i - 1], log_grid[i + 1] - log_grid[i]
+        curv = 2.0 * ((cost[i + 1] - cost[i]) / h1 - (cost[i] - cost[i - 1]) / h0) / (h0 + h1)
+        if curv > 0:
+            s2 = float(cost[i]) / (weight - p)
+            se_log = math.sqrt(2.0 * s2 / float(curv) * bank.weight2 / weight)
+    if math.isfinite(se_log):
+        slope = (theta[i + 1] - theta[i - 1]) / (log_grid[i + 1] - log_grid[i - 1])
+        spread = slope * se_log
+    else:  # the grid value is anywhere on the grid (or beyond it)
+        spread = 0.5 * np.ptp(theta, axis=0)
+    return np.sqrt(se**2 + spread**2), se_log
 
 
 class OnlineEstimator:
@@ -120,7 +235,6 @@ class OnlineEstimator:
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.L = check_characteristic_length("OnlineEstimator", characteristic_length)
         self.n = number_in_range("n", prior.n if n is None else n, 1e-3, 1.0)
-        self.prior = prior.replace(n=self.n) if n is not None else prior
         self.forgetting = number_in_range("forgetting", forgetting, 0.5, 1.0)
         grid = np.geomspace(0.02, 5.0, 25) if tau_build_grid is None else tau_build_grid
         g = check_positive("tau_build_grid", grid, unit="s")
@@ -129,31 +243,12 @@ class OnlineEstimator:
         self.tau_grid = np.sort(g)
         self.rate_threshold = positive_number("rate_threshold", rate_threshold, unit="1/s")
         if retraction_skip is None:
-            retraction_skip = 3.0 * float(self.prior.epsilon)
+            retraction_skip = 3.0 * float(prior.epsilon)
         self.retraction_skip = number_in_range("retraction_skip", retraction_skip, 0.0, 10.0)
         self.initial_scale = positive_number("initial_scale", initial_scale)
         self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
         self._stream = SampleStream(self.L)
-        self._build_basis()
-        self.reset()
-
-    def _build_basis(self) -> None:
-        if self.model != "exact":
-            return
-        G = self.tau_grid.size
-        vals: dict[str, Any] = {  # keyword arguments of MudParameters
-            k: np.repeat(float(getattr(self.prior, k)), G * 5) for k in FIT_PARAMETERS
-        }
-        vals["tau_build"] = np.repeat(self.tau_grid, 5)
-        for j, k in enumerate(_EXACT):
-            col = np.ones((G, 5))
-            col[:, 1 + j] = 2.0
-            vals[k] = col.ravel()
-        tied = bool(np.isclose(float(self.prior.k_a), 1.0 / float(self.prior.lam)))
-        self._basis_params = MudParameters(
-            **vals, nu=float(self.prior.nu), k_a=None if tied else float(self.prior.k_a)
-        )
-        self._consts = channel_constants(self._basis_params)
+        self.rebase(prior.replace(n=self.n) if n is not None else prior)
 
     def rebase(self, prior: MudParameters) -> None:
         """Start again around another prior, memory cleared.
@@ -165,9 +260,12 @@ class OnlineEstimator:
         """
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
-        self.prior = prior
-        self.n = float(prior.n)
-        self._build_basis()
+        self.prior, self.n = prior, float(prior.n)
+        if self.model == "exact":
+            vals = values_of(prior, batch=self.tau_grid.size)
+            vals["tau_build"] = self.tau_grid
+            p = MudParameters(**basis(vals, _EXACT), nu=float(prior.nu), k_a=free_k_a(prior))
+            self._consts = channel_constants(p)
         self.reset()
 
     def reset(self) -> None:
@@ -208,30 +306,24 @@ class OnlineEstimator:
             if self.model == "exact":
                 self._state = initial_state((self.tau_grid.size * 5,), gamma=x.gamma)
             return self.estimate
-        self._phase = self._phase_of(x.gamma, x.rate)
-        self._track_intrusion(x)
-        if self.model == "exact":
-            self._update_exact(x.gamma, x.rate, x.dt, x.stress)
+        if not in_contact(x.gamma):
+            self._phase = "out"  # at or above the surface: no mud stress (as plate_response)
+        elif abs(x.rate) <= self.rate_threshold:
+            self._phase = "hold"
         else:
-            self._update_paper(x.time, x.gamma, x.rate, x.stress)
-        return self.estimate
-
-    def _phase_of(self, g: float, gd: float) -> str:
-        """Phase of a sample from its displacement [-] and rate [1/s]."""
-        if not in_contact(g):
-            return "out"  # at or above the surface: no mud stress (as plate_response)
-        if gd > self.rate_threshold:
-            return "intrusion"
-        return "retraction" if gd < -self.rate_threshold else "hold"
-
-    def _track_intrusion(self, x: Sample) -> None:
-        """Deepest point of the current intrusion and the time its retraction began."""
+            self._phase = "intrusion" if x.rate > 0 else "retraction"
+        # the deepest point of the current intrusion and the time its retraction began
         if self._phase == "intrusion" and x.gamma >= self._gamma_w:
             self._gamma_w, self._t_w = x.gamma, None
         if self._phase == "retraction" and self._t_w is None:
             self._t_w = x.previous_time  # retraction began at the previous sample
         if self._phase == "out":
             self._gamma_w, self._t_w = 0.0, None
+        if self.model == "exact":
+            self._update_exact(x.gamma, x.rate, x.dt, x.stress)
+        else:
+            self._update_paper(x.time, x.gamma, x.rate, x.stress)
+        return self.estimate
 
     def _update_exact(self, g: float, gd: float, dt: float, s: float) -> None:
         G = self.tau_grid.size
@@ -239,8 +331,7 @@ class OnlineEstimator:
             # out of the mud: no stress to learn from; the next intrusion starts afresh (D11)
             self._state = initial_state((G * 5,), gamma=g)
             return
-        gv = np.full(G * 5, g)
-        gdv = np.full(G * 5, gd)
+        gv, gdv = np.full(G * 5, g), np.full(G * 5, gd)
         self._state, stress = channel_update(self._consts, self._state, gv, gdv, dt)
         tot = np.asarray(stress.total).reshape(G, 5)
         phi = tot[:, 1:] - tot[:, :1]  # exact regressors of alpha, eta_inf, eta_m, sigma_y
@@ -280,10 +371,9 @@ class OnlineEstimator:
         -------
         list of OnlineEstimate
         """
-        t, q, s = (
-            check_shape(name, value, (None,))
-            for name, value in (("time", time), ("depth", depth), ("stress", stress))
-        )
+        t = check_shape("time", time, (None,))
+        q = check_shape("depth", depth, (None,))
+        s = check_shape("stress", stress, (None,))
         if not (t.size == q.size == s.size):
             raise MudrftError(
                 f"time, depth and stress must have the same length, got "
@@ -294,9 +384,7 @@ class OnlineEstimator:
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
-        est: dict[str, float | None] = dict.fromkeys(
-            ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build")
-        )
+        est: dict[str, float | None] = dict.fromkeys((*_EXACT, "tau_build"))
         se: dict[str, float] = {}
         b = self._bank
         if np.any(b.cost > 0):
@@ -308,7 +396,7 @@ class OnlineEstimator:
             w = x - i0
             th = ((1.0 - w) * b.theta[i0] + w * b.theta[i0 + 1]) * self._scale  # linear in ln(tau)
             est.update(zip(self._names, th.tolist(), strict=True))
-            se_b, se_log = bank_errors(b.theta, b.P, b.M, b.cost, b.weight, b.weight2, x, lg)
+            se_b, se_log = bank_errors(b, x, lg)
             se.update(zip(self._names, (se_b * self._scale).tolist(), strict=True))
             se["tau_build"] = tau * se_log  # delta method, as the offline fit
         if not self._suction_seen:  # no retraction yet: nothing tells sigma_y or tau_build
@@ -318,7 +406,7 @@ class OnlineEstimator:
             f = self._intrusion
             if f.count >= 2:
                 est["alpha"], est["eta_inf"] = (f.theta[0] * self._scale_i).tolist()
-                se_i = filter_errors(f.P[0], f.M[0], float(f.cost[0]), f.weight) * self._scale_i
+                se_i = filter_errors(f, 0) * self._scale_i
                 se["alpha"], se["eta_inf"] = se_i.tolist()
         return OnlineEstimate(
             **est,
@@ -343,7 +431,7 @@ class OnlineEstimator:
         est = self.estimate
         changes: dict[str, float] = {"n": self.n}
         kept = []
-        for k in ("alpha", "eta_inf", "eta_m", "sigma_y", "tau_build"):
+        for k in (*_EXACT, "tau_build"):
             v = getattr(est, k)
             if v is not None and v > 0:
                 changes[k] = v

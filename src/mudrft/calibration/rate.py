@@ -49,8 +49,11 @@ class Smoothing(NamedTuple):
 
     @property
     def bias(self) -> float:
-        """Relative bias of the rate-dependent constants from the rate's noise [-]."""
-        return rate_bias(self.rate_noise, self.speed)
+        """Relative bias [-] of the rate-dependent constants from the rate's noise: the
+        attenuation :math:`x^2/(1+x^2)` of errors in the variables, :math:`x` the rate's
+        noise over the speed."""
+        x2 = (self.rate_noise / self.speed) ** 2 if self.speed > 0 else 0.0
+        return x2 / (1.0 + x2)
 
     def excluded(self, time: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Samples at ``time`` [s] whose step, or the step before it, spans a change of speed."""
@@ -102,13 +105,6 @@ def slope_noise(sigma: float, samples: int, dt: float) -> float:
     [m], ``dt`` [s] apart: :math:`\\sigma\\sqrt{12/(m(m^2-1))}/\\Delta t`."""
     m = max(int(samples), 2)
     return sigma * math.sqrt(12.0 / (m * (m * m - 1))) / dt
-
-
-def rate_bias(noise: float, speed: float) -> float:
-    """Relative bias [-] of the rate-dependent constants from a rate ``noise`` [m/s] at a
-    ``speed`` [m/s]: the attenuation :math:`x^2/(1+x^2)` of errors in the variables."""
-    x2 = (noise / speed) ** 2 if speed > 0 else 0.0
-    return x2 / (1.0 + x2)
 
 
 def _kernel_smooth(depth: NDArray[np.float64], half_width: int) -> NDArray[np.float64]:

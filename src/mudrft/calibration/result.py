@@ -308,9 +308,7 @@ class FitResult:
         plt = require_matplotlib()
         if axes is None:
             size = (3.6 * len(ds) + 0.6, 3.2)
-            fig, axes = plt.subplots(
-                1, len(ds), figsize=size, squeeze=False, constrained_layout=True
-            )
+            fig, axes = plt.subplots(1, len(ds), figsize=size, squeeze=False, layout="constrained")
         else:
             fig = np.ravel(axes)[0].figure  # type: ignore[arg-type]
         axs = np.ravel(axes)  # type: ignore[arg-type]

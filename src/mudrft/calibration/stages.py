@@ -1,11 +1,17 @@
-"""The stages of a calibration on one :class:`~._engine.Engine`: start, one stage per phase
-group, joint, and the uncertainty at the optimum (decisions D41, D43)."""
+r"""The solver of a calibration (internal) and its stages: start, one stage per phase
+group, joint, and the uncertainty at the optimum (decisions D41, D43). Bounded least
+squares in log-parameters, the parameters the model is linear in
+(:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved exactly by non-negative least squares
+(variable projection)."""
 
 from __future__ import annotations
 
 import itertools
+import math
 import time
-from typing import TYPE_CHECKING, NamedTuple
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -13,15 +19,236 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
-from ._engine import Engine
-from ._options import check_determined
-from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed
-from ._report import Reporter
+from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
-from .uncertainty import Uncertainty, at_bound, uncertainty
+from .uncertainty import at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
+
+_FD_STEP = 1e-6  # forward-difference step in log-parameters
+
+Values = dict[str, NDArray[np.float64]]
+
+
+@dataclass
+class Engine:
+    """One calibration: the packed data, current values and bounds of every parameter
+    [SI], the trace (at most ``trace_limit`` evaluations) and the evaluation count."""
+
+    packed: Packed
+    values: dict[str, float]
+    bounds: dict[str, tuple[float, float]]
+    trace_limit: int
+    trace: list[dict[str, Any]] = field(default_factory=list)
+    evaluations: int = 0
+
+    def batch(self, overrides: dict[str, NDArray[np.float64]], size: int) -> Values:
+        """A batch of ``size`` parameter sets: the current values, with per-column overrides."""
+        out = {k: np.full(size, v) for k, v in self.values.items()}
+        for k, arr in overrides.items():
+            out[k] = np.broadcast_to(np.asarray(arr, dtype=float), (size,)).copy()
+        return out
+
+    def clip(self, name: str, v: float) -> float:
+        """``v`` [SI] clipped to the bounds of ``name``."""
+        lo, hi = self.bounds[name]
+        return float(min(max(v, lo), hi))
+
+    def record(self, stage: str, cost: float, values: dict[str, float]) -> None:
+        """Count one evaluation and keep it in the trace (up to ``trace_limit``)."""
+        self.evaluations += 1
+        if len(self.trace) < self.trace_limit:
+            point = {k: float(v) for k, v in values.items()}
+            entry = {"stage": stage, "evaluation": self.evaluations, "cost": float(cost)}
+            self.trace.append({**entry, "parameters": point})
+
+    def project(
+        self, R: NDArray[np.float64], lin: list[str], keep: dict[str, float] | None = None
+    ) -> tuple[NDArray[np.float64], list[float]]:
+        """Residuals at the exact (non-negative, clipped) solution of the linear ``lin``,
+        and the solution, from ``R`` (m, 1 + nl): residuals with every one of them 1
+        (column 0) and with parameter j at 2 (column 1 + j). One the samples do not depend
+        on keeps its value in ``keep`` (default the current values)."""
+        from scipy.optimize import nnls
+
+        if not lin:
+            return R[:, 0], []
+        E = R[:, 1:] - R[:, :1]  # weighted basis of each linear parameter
+        rest = R[:, 0] - E.sum(axis=1)  # weighted (everything else - data)
+        scale = np.linalg.norm(E, axis=0)
+        seen = scale > 0
+        scale[~seen] = 1.0
+        try:
+            coef, _ = nnls(E / scale, -rest, maxiter=50 * E.shape[1])
+        except RuntimeError:  # pragma: no cover - nnls iteration limit
+            coef = np.zeros(E.shape[1])
+        held = self.values if keep is None else keep
+        c = [
+            self.clip(k, float(v)) if s else float(held[k])
+            for k, v, s in zip(lin, coef / scale, seen, strict=True)
+        ]
+        return rest + E @ np.asarray(c), c
+
+    def grid_start(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        candidates: list[dict[str, float]],
+        starts: int,
+    ) -> list[tuple[float, dict[str, float]]]:
+        """The ``starts`` best ``(cost, point)`` of the candidate points, the linear free
+        parameters of each solved exactly; all in one batched simulation."""
+        lin = [k for k in free if k in LINEAR_PARAMETERS]
+        cands = candidates or [{}]
+        G, nl = len(cands), len(lin)
+        over = {
+            k: np.array([c.get(k, self.values[k]) for c in cands])
+            for k in {k for c in cands for k in c}
+        }
+        upto = self.packed.upto(mask)
+        sim = self.packed.simulate(basis(self.batch(over, G), lin), upto)
+        res = self.packed.residuals(sim, mask).reshape(-1, G, 1 + nl)  # (m, G, 1+nl)
+        scored = []
+        for g in range(G):
+            if not np.all(np.isfinite(res[:, g, :])):
+                continue
+            point = {k: float(v) for k, v in cands[g].items()}
+            r, coef = self.project(res[:, g, :], lin, {**self.values, **cands[g]})
+            point.update(zip(lin, coef, strict=True))
+            cost = 0.5 * float(r @ r)
+            scored.append((cost, point))
+            self.record(stage + " grid", cost, {**self.values, **point})
+        if not scored:
+            return [(math.inf, {})]
+        scored.sort(key=lambda t: t[0])
+        return scored[: max(1, starts)]
+
+    def fit(
+        self,
+        stage: str,
+        mask: NDArray[np.bool_],
+        free: tuple[str, ...],
+        max_nfev: int,
+        start: dict[str, float] | None = None,
+        project: tuple[str, ...] = (),
+    ) -> tuple[float, OptimizeResult | None]:
+        """Bounded least squares over ``free`` in log-parameters, the linear ones among
+        ``project`` solved exactly at each evaluation; the cost and the solver's result
+        (None when only linear parameters were free)."""
+        from scipy.optimize import least_squares
+
+        base = {**self.values, **(start or {})}
+        lin = [k for k in project if k in LINEAR_PARAMETERS]
+        names = [k for k in free if k not in lin]
+        if not names:
+            return self._solve_linear(stage, mask, lin, base), None
+        lo = np.log([self.bounds[k][0] for k in names])
+        hi = np.log([self.bounds[k][1] for k in names])
+        x0 = np.clip(np.log([base[k] for k in names]), lo, hi)
+        x0 = np.minimum(np.maximum(x0, lo + 1e-12), hi - 1e-12)
+        upto = self.packed.upto(mask)
+        k = len(names)
+        last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
+        linear_at: dict[bytes, list[float]] = {}
+
+        def values_at(X: NDArray[np.float64]) -> Values:
+            """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
+            out = {p: np.full(X.shape[0], base[p]) for p in FIT_PARAMETERS}
+            out.update({p: np.exp(X[:, i]) for i, p in enumerate(names)})
+            return out
+
+        def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+            """Residuals (m,) and forward-difference Jacobian (m, k) at the log-point ``x``,
+            from one batched simulation of it and its neighbours (the last one cached)."""
+            key = x.tobytes()
+            if last and last[0][0] == key:
+                return last[0][1], last[0][2]
+            X = np.repeat(x[None, :], 1 + k, axis=0)
+            h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
+            X[1 + np.arange(k), np.arange(k)] += h
+            sim = self.packed.simulate(basis(values_at(X), lin), upto)
+            R = self.packed.residuals(sim, mask).reshape(-1, 1 + k, 1 + len(lin))
+            cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
+            r = cols[0][0]
+            if not np.all(np.isfinite(r)):
+                r = np.full_like(r, 1e6)
+            J = np.stack([c[0] for c in cols[1:]], axis=1)
+            J = (J - r[:, None]) / h[None, :]
+            J[~np.isfinite(J)] = 0.0
+            last[:] = [(key, r, J)]
+            linear_at[key] = cols[0][1]
+            point = {p: float(v[0]) for p, v in values_at(x[None, :]).items()}
+            point.update(zip(lin, cols[0][1], strict=True))
+            self.record(stage, 0.5 * float(r @ r), point)
+            return r, J
+
+        sol = least_squares(
+            lambda x: evaluate(x)[0],
+            x0,
+            jac=lambda x: evaluate(x)[1],
+            bounds=(lo, hi),
+            method="trf",
+            x_scale=1.0,
+            max_nfev=max_nfev,
+            xtol=1e-10,
+            ftol=1e-10,
+            gtol=1e-10,
+        )
+        self.values.update(base)
+        self.values.update({p: float(np.exp(sol.x[i])) for i, p in enumerate(names)})
+        if lin:
+            if sol.x.tobytes() not in linear_at:
+                evaluate(sol.x)
+            self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
+        return float(sol.cost), sol
+
+    def _solve_linear(
+        self, stage: str, mask: NDArray[np.bool_], lin: list[str], base: dict[str, float]
+    ) -> float:
+        """Only linear parameters free: one projection solves them; returns the cost."""
+        self.values.update(base)
+        sim = self.packed.simulate(basis(self.batch({}, 1), lin), self.packed.upto(mask))
+        R = self.packed.residuals(sim, mask).reshape(-1, 1, 1 + len(lin))
+        r, c = self.project(R[:, 0, :], lin)
+        self.values.update(zip(lin, c, strict=True))
+        self.record(stage, 0.5 * float(r @ r), self.values)
+        return 0.5 * float(r @ r)
+
+    def cost(self, mask: NDArray[np.bool_]) -> float:
+        """Half the sum of squared weighted residuals at the current values [-]."""
+        sim = self.packed.simulate(self.batch({}, 1), self.packed.upto(mask))
+        r = self.packed.residuals(sim, mask)[:, 0]
+        return 0.5 * float(r @ r)
+
+    def jacobian(
+        self, mask: NDArray[np.bool_], free: tuple[str, ...]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Residuals and Jacobian in log-parameters at the current values: central
+        differences, shifted inside the bounds for a parameter that sits on one."""
+        names = list(free)
+        k = len(names)
+        h = 1e-4
+        over = {}
+        lo_s, hi_s = np.zeros(k), np.zeros(k)
+        for i, name in enumerate(names):
+            x = math.log(self.values[name])
+            lo_b, hi_b = (math.log(b) for b in self.bounds[name])
+            a, b = x - h, x + h
+            if b > hi_b:
+                a, b = hi_b - 2 * h, hi_b
+            elif a < lo_b:
+                a, b = lo_b, lo_b + 2 * h
+            lo_s[i], hi_s[i] = a, b
+            col = np.full(1 + 2 * k, self.values[name])
+            col[1 + 2 * i] = math.exp(b)
+            col[2 + 2 * i] = math.exp(a)
+            over[name] = col
+        sim = self.packed.simulate(self.batch(over, 1 + 2 * k))
+        R = self.packed.residuals(sim, mask)
+        J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
+        return R[:, 0], J
 
 
 class Stage(NamedTuple):
@@ -71,26 +298,6 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
     )
 
 
-def _paper_start(
-    engine: Engine, direction: str, reporter: Reporter, free: tuple[str, ...]
-) -> dict[str, float]:
-    """The paper row of ``direction`` that fits best once its free linear parameters are
-    rescaled (decision D43); those not fitted keep the row's values."""
-    rows = table_rows(direction)
-    ws = sorted(rows)
-    cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
-    mask = engine.packed.mask(ALL_PHASES)
-    lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
-    cost, point = engine.grid_start("start", mask, lin, cands, len(cands))[0]
-    nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
-    w = next(w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear))
-    reporter.note(
-        f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
-        f"(free linear parameters rescaled), cost {cost:.4g}"
-    )
-    return point
-
-
 def start_engine(
     packed: Packed,
     base: MudParameters,
@@ -101,17 +308,37 @@ def start_engine(
     fixed: dict[str, float],
     bounds: dict[str, tuple[float, float]],
     trace_limit: int,
-    reporter: Reporter,
+    note: Callable[[str], object],
 ) -> tuple[Engine, StageReport]:
     """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
     row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
     t0 = time.perf_counter()
-    check_determined(int(np.count_nonzero(packed.valid)), free)
+    samples = int(np.count_nonzero(packed.valid))
+    if samples <= len(free):
+        raise MudrftError(
+            f"calibrate: {samples} fitted sample(s) cannot determine {len(free)} free "
+            f"parameter(s) {list(free)}; a fit needs more samples than free parameters "
+            "(samples after the plate is back at the surface do not count): give a longer "
+            "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
+        )
     engine = Engine(
         packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
     )
-    if from_paper:
-        engine.values.update(_paper_start(engine, direction, reporter, free))
+    if from_paper:  # the paper row that fits best, its free linear parameters rescaled (D43)
+        rows = table_rows(direction)
+        ws = sorted(rows)
+        cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
+        lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
+        cost, point = engine.grid_start("start", packed.mask(ALL_PHASES), lin, cands, len(ws))[0]
+        nonlinear = [k for k in FIT_PARAMETERS if k not in LINEAR_PARAMETERS]
+        w = next(
+            w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear)
+        )
+        note(
+            f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
+            f"(free linear parameters rescaled), cost {cost:.4g}"
+        )
+        engine.values.update(point)
     engine.values.update({k: float(v) for k, v in fixed.items()})
     for k in free:
         engine.values[k] = engine.clip(k, engine.values[k])
@@ -123,16 +350,6 @@ def start_engine(
     cost = engine.cost(packed.mask(ALL_PHASES))
     message = "paper row" if from_paper else "initial"
     return engine, StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
-
-
-def _grid(engine: Engine, stage: Stage, free: tuple[str, ...]) -> list[dict[str, float]]:
-    """The stage's grid of starting points (with the current values added), in bounds."""
-    axes = {
-        k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
-        for k, v in stage.grid.items()
-        if k in free
-    }
-    return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
 
 
 def _message(sol: OptimizeResult | None) -> str:
@@ -155,9 +372,13 @@ def phase_stage(
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
     best: tuple[float, dict[str, float], OptimizeResult | None] | None = None
-    starting = engine.grid_start(
-        stage.name, mask, stage_free, _grid(engine, stage, stage_free), starts
-    )
+    axes = {  # the stage's grid of starting points, in bounds, with the current values
+        k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
+        for k, v in stage.grid.items()
+        if k in stage_free
+    }
+    grid = [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
+    starting = engine.grid_start(stage.name, mask, stage_free, grid, starts)
     for _, point in starting:
         engine.values = dict(saved)
         c, sol = engine.fit(stage.name, mask, stage_free, max_nfev, start=point, project=stage_free)
@@ -188,7 +409,7 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
 
 def uncertainty_at_optimum(
     engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
-) -> Uncertainty:
+) -> dict[str, Any]:
     """Standard errors, intervals and verdicts at the engine's values, at ``level`` [-];
     ``tare`` is the standard error [Pa] of each trial's subtracted sensor zero."""
     mask = engine.packed.mask(ALL_PHASES)

@@ -124,10 +124,8 @@ def synthetic_dataset(
     if sp.ndim != 1 or sp.size == 0:
         raise MudrftError(f"speeds must be a non-empty list of speeds [m/s], got {speeds!r}")
     check_nonnegative("noise", noise)
-    sd_stress, sd_depth = (
-        nonnegative_number(name, v, unit=u)
-        for name, v, u in (("stress_noise", stress_noise, "Pa"), ("depth_noise", depth_noise, "m"))
-    )
+    sd_stress = nonnegative_number("stress_noise", stress_noise, unit="Pa")
+    sd_depth = nonnegative_number("depth_noise", depth_noise, unit="m")
     offset = check_number("offset", offset, unit="Pa")
     default = params.direction or "vertical"
     d = check_choice("direction", default if direction is None else direction, DIRECTIONS)
@@ -196,10 +194,7 @@ def _lab_path(
 ) -> tuple[Trajectory, NDArray[np.intp]]:
     """A vertical plate test as a logger samples it (every ``dt`` [s], plus the path's
     corners) and the indices of the logged samples in it (arguments in SI)."""
-    depth, dt = (
-        positive_number(k, v, unit="m" if k == "depth" else "s")
-        for k, v in (("depth", depth), ("dt", dt))
-    )
+    depth, dt = positive_number("depth", depth, unit="m"), positive_number("dt", dt, unit="s")
     hold, rest = (nonnegative_number(k, v, unit="s") for k, v in (("hold", hold), ("rest", rest)))
     t_in = depth / speed
     t_air = approach / speed

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,22 +29,6 @@ NOT_IDENTIFIED_SE = 0.5
 _RANK_TOLERANCE = 1e-10
 #: Distance in log-parameter from a bound within which a parameter is at the bound.
 _AT_BOUND = 1e-3
-
-
-class Uncertainty(NamedTuple):
-    """Per-parameter uncertainty of a fit, as :class:`~mudrft.calibration.FitResult` holds
-    it (errors [SI] and [-], intervals [SI]), with the correlation, residual noise [-] and
-    condition number of the free log-parameters."""
-
-    se: dict[str, float]
-    rse: dict[str, float]
-    ci: dict[str, tuple[float, float]]
-    robust_rse: dict[str, float]
-    robust_ci: dict[str, tuple[float, float]]
-    verdict: dict[str, str]
-    corr: NDArray[np.float64]
-    noise: float
-    cond: float
 
 
 def _scaled_inverse(J: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
@@ -146,8 +130,9 @@ def uncertainty(
     bounds: dict[str, tuple[float, float]],
     trial: NDArray[np.intp] | None = None,
     shift: NDArray[np.float64] | None = None,
-) -> Uncertainty:
-    """Standard errors, intervals at ``level`` [-] and verdicts of every parameter at an
+) -> dict[str, Any]:
+    """The :class:`~mudrft.calibration.FitResult` fields of the uncertainty (errors,
+    intervals at ``level`` [-], verdicts, correlation, noise, condition number) at an
     optimum, from the weighted residuals ``r`` (m,) and their Jacobian ``J`` (m, k) in the
     log of the ``free`` parameters; ``bound`` (:func:`at_bound`), ``values`` [SI] and
     ``bounds`` [SI] by name; ``trial`` and ``shift`` as :func:`robust_log_covariance`
@@ -184,7 +169,17 @@ def uncertainty(
         ci[name] = bounds[name] if bound[name] else interval(v, e, q, bounds[name])
         rci[name] = bounds[name] if bound[name] else interval(v, er, q_all, bounds[name])
         verdicts[name] = verdict(er, bound[name])
-    return Uncertainty(se, rse, ci, rrse, rci, verdicts, corr, math.sqrt(s2), cond)
+    return {
+        "standard_error": se,
+        "relative_standard_error": rse,
+        "confidence_interval": ci,
+        "robust_standard_error": rrse,
+        "robust_interval": rci,
+        "identifiability": verdicts,
+        "correlation": corr,
+        "noise": math.sqrt(s2),
+        "condition_number": cond,
+    }
 
 
 #: A trial whose RMSE exceeds this many times the median of the others', relative to its
