@@ -105,26 +105,29 @@ def ball_channels(
     half = xp.arctan2(xp.sqrt(q), xp.sqrt(1.0 - q))  # delta_s / 2
     ah, az, mh, mz = 0.0 * low, 0.0 * low, 0.0 * low, 0.0 * low
     for i in range(16):
-        d = half * (1.0 + _GL_X[i])
-        s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
-        u = 2.0 * radius * sh * sh
-        wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
-        wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
+        u, wh, wz, _ = _ball_node(i, half, radius, xp)
         ah, az, mh, mz = ah + wh, az + wz, mh + wh * u, mz + wz * u
     uh = xp.where(ah > 0.0, mh / xp.where(ah > 0.0, ah, 1.0), 0.0)
     uz = xp.where(az > 0.0, mz / xp.where(az > 0.0, az, 1.0), 0.0)
     jhz, jhh, jz = 0.0 * low, 0.0 * low, 0.0 * low
     for i in range(16):
-        d = half * (1.0 + _GL_X[i])
-        s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
-        u = 2.0 * radius * sh * sh
-        wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
-        wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
-        rs = radius * s
+        u, wh, wz, rs = _ball_node(i, half, radius, xp)
         jhz = jhz + wh * (u - uh) * (u - uh)
         jhh = jhh + 0.25 * wh * rs * rs
         jz = jz + 0.5 * wz * rs * rs
     return ah, az, low + uh, low + uz, jhz, jhh, jz
+
+
+def _ball_node(
+    i: int, half: XpArray, radius: XpArray, xp: Namespace
+) -> tuple[XpArray, XpArray, XpArray, XpArray]:
+    """:func:`ball_channels`' node ``i``: its height above the lowest point [m], its
+    weights ``w_h``, ``w_z`` [m^2] and its distance from the vertical axis [m]."""
+    d = half * (1.0 + _GL_X[i])
+    s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
+    wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
+    wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
+    return 2.0 * radius * sh * sh, wh, wz, radius * s
 
 
 def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
