@@ -56,11 +56,17 @@ def plot_fit(out: Path, tests, truth, fitted, start) -> Path:
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
     for ax, (t, g, s), speed in zip(axes, tests, (10, 40), strict=True):
         ax.plot(t, s / 1e3, ".", ms=2, color="0.6", label="synthetic data (1 % noise)")
-        for params, label, style in ((start, "start", "C3--"), (fitted, "fit (L-BFGS-B + jax.grad)", "C0-")):
+        for params, label, style in (
+            (start, "start", "C3--"),
+            (fitted, "fit (L-BFGS-B + jax.grad)", "C0-"),
+        ):
             stress = np.where(g > 0, np.asarray(mjax.run(mjax.to_jax(params), t, g).total), 0.0)
             ax.plot(t, stress / 1e3, style, lw=1.2, label=label)
-        ax.set(xlabel="time [s]", ylabel="vertical stress [kPa]",
-               title=f"plate test at {speed} mm/s, W = 25 %")
+        ax.set(
+            xlabel="time [s]",
+            ylabel="vertical stress [kPa]",
+            title=f"plate test at {speed} mm/s, W = 25 %",
+        )
         ax.legend(fontsize=8)
     path = out / "jax_gradient_calibration.png"
     fig.savefig(path, dpi=110)
@@ -71,7 +77,9 @@ def plot_fit(out: Path, tests, truth, fitted, start) -> Path:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Gradient-based calibration with the JAX backend.")
     ap.add_argument("--out", default=None, help="also draw the fit into this folder")
-    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    ap.add_argument(
+        "--quick", action="store_true", help="accepted for the docs build (already quick)"
+    )
     args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     jax = mjax.enable_x64()
     jnp = jax.numpy
@@ -97,9 +105,12 @@ def main(argv: list[str] | None = None) -> int:
     def fun(x):
         v, g = value_and_grad(jnp.asarray(x))
         calls.append(float(v))
-        print(f"  evaluation {len(calls):2d}: loss {float(v):.3e}, "
-              f"alpha {start['alpha'] * np.exp(x[0]):8.0f} Pa, "
-              f"eta_inf {start['eta_inf'] * np.exp(x[1]):8.0f} Pa s", file=sys.stderr)
+        print(
+            f"  evaluation {len(calls):2d}: loss {float(v):.3e}, "
+            f"alpha {start['alpha'] * np.exp(x[0]):8.0f} Pa, "
+            f"eta_inf {start['eta_inf'] * np.exp(x[1]):8.0f} Pa s",
+            file=sys.stderr,
+        )
         return float(v), np.asarray(g, dtype=float)
 
     t0 = time.perf_counter()
@@ -107,12 +118,18 @@ def main(argv: list[str] | None = None) -> int:
     elapsed = time.perf_counter() - t0
     alpha = start["alpha"] * np.exp(res.x[0])
     eta_inf = start["eta_inf"] * np.exp(res.x[1])
-    print(f"L-BFGS-B: {res.message} after {res.nit} iterations, {len(calls)} evaluations, "
-          f"{elapsed:.2f} s (including compilation)")
-    print(f"alpha   : start {start['alpha']:9.0f}  fit {alpha:9.0f}  truth {truth.alpha:9.0f} Pa "
-          f"({100 * (alpha / truth.alpha - 1):+.2f} %)")
-    print(f"eta_inf : start {start['eta_inf']:9.0f}  fit {eta_inf:9.0f}  "
-          f"truth {truth.eta_inf:9.0f} Pa s ({100 * (eta_inf / truth.eta_inf - 1):+.2f} %)")
+    print(
+        f"L-BFGS-B: {res.message} after {res.nit} iterations, {len(calls)} evaluations, "
+        f"{elapsed:.2f} s (including compilation)"
+    )
+    print(
+        f"alpha   : start {start['alpha']:9.0f}  fit {alpha:9.0f}  truth {truth.alpha:9.0f} Pa "
+        f"({100 * (alpha / truth.alpha - 1):+.2f} %)"
+    )
+    print(
+        f"eta_inf : start {start['eta_inf']:9.0f}  fit {eta_inf:9.0f}  "
+        f"truth {truth.eta_inf:9.0f} Pa s ({100 * (eta_inf / truth.eta_inf - 1):+.2f} %)"
+    )
     ok = abs(alpha / truth.alpha - 1) < 0.02 and abs(eta_inf / truth.eta_inf - 1) < 0.05
     print("recovered within 2 % (alpha) and 5 % (eta_inf)" if ok else "NOT recovered")
     if args.out:

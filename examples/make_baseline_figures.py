@@ -73,9 +73,13 @@ def plot_rft_alpha(*, resolution: int = 121) -> Any:
 
 
 def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description="Figures of the baselines (docs/figures/baselines_*.png).")
+    ap = argparse.ArgumentParser(
+        description="Figures of the baselines (docs/figures/baselines_*.png)."
+    )
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
-    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    ap.add_argument(
+        "--quick", action="store_true", help="accepted for the docs build (already quick)"
+    )
     args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     OUT = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     OUT.mkdir(parents=True, exist_ok=True)

@@ -71,7 +71,9 @@ def water_content_figure(out: Path) -> Path:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Figures of the plate test (docs/figures/core_*.png).")
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
-    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    ap.add_argument(
+        "--quick", action="store_true", help="accepted for the docs build (already quick)"
+    )
     args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     out = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"
     out.mkdir(parents=True, exist_ok=True)

@@ -206,7 +206,9 @@ def meshes(plt, out: str) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Figures of the feet (docs/figures/feet_*.png).")
     ap.add_argument("--out", default=os.path.join("docs", "figures"), help="output folder")
-    ap.add_argument("--quick", action="store_true", help="accepted for the docs build (already quick)")
+    ap.add_argument(
+        "--quick", action="store_true", help="accepted for the docs build (already quick)"
+    )
     args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     import matplotlib
 

@@ -320,8 +320,11 @@ def replace_between(text: str, tag: str, body: str) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Figures and tables of the morphing foot.")
     ap.add_argument("--out", default=None, help="output folder (default docs/figures)")
-    ap.add_argument("--quick", action="store_true",
-                    help="no sensitivity table; print the feet table, leave docs/model.md alone")
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="no sensitivity table; print the feet table, leave docs/model.md alone",
+    )
     args = ap.parse_args([] if argv is None else argv)  # None: the defaults
     global FIG
     FIG = Path(args.out) if args.out else Path(__file__).resolve().parents[1] / "docs" / "figures"

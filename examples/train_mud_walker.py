@@ -26,7 +26,9 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description="Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps.")
+    ap = argparse.ArgumentParser(
+        description="Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps."
+    )
     ap.add_argument("--steps", type=int, default=4096, help="control steps of training")
     ap.add_argument("--foot", default="flat", help="flat, semi-cylinder or semi-sphere")
     ap.add_argument("--water-content", type=float, default=0.25)

@@ -47,8 +47,13 @@ def walk_feet(out: Path, seconds: float, dt: float, frames: bool = True) -> dict
     runs = {}
     for name in FEET:
         print(f"walking with {name} feet ...", file=sys.stderr, flush=True)
-        runs[name] = W.walk(mudrft.feet.by_name(name), mud, seconds=seconds, dt=dt,
-                            frames=6 if name == "flat" and frames else 0)
+        runs[name] = W.walk(
+            mudrft.feet.by_name(name),
+            mud,
+            seconds=seconds,
+            dt=dt,
+            frames=6 if name == "flat" and frames else 0,
+        )
         print(f"  {runs[name].summary}", file=sys.stderr)
     fig = plt.figure(figsize=(11, 7.5))
     gs = fig.add_gridspec(3, 4)
@@ -64,16 +69,23 @@ def walk_feet(out: Path, seconds: float, dt: float, frames: bool = True) -> dict
     ax_f.axhline(0, color="k", lw=0.5)
     ax_f.set_ylabel("left foot mud $F_z$ [N]\n(< 0: suction)")
     ax_f.set_xlabel("time [s]")
-    keys = (("distance [m]", 1.0, "distance [m]"), ("energy_per_step [J]", 1.0, "joint work per step [J]"),
-            ("mean_sinking [m]", 1e3, "mean sinking [mm]"), ("max_suction [N]", 1.0, "max suction [N]"))
+    keys = (
+        ("distance [m]", 1.0, "distance [m]"),
+        ("energy_per_step [J]", 1.0, "joint work per step [J]"),
+        ("mean_sinking [m]", 1e3, "mean sinking [mm]"),
+        ("max_suction [N]", 1.0, "max suction [N]"),
+    )
     for i, (key, scale, label) in enumerate(keys):
         ax = fig.add_subplot(gs[2, i])
         vals = [scale * runs[n].summary[key] for n in FEET]
         ax.bar(range(len(FEET)), vals, color=[f"C{j}" for j in range(len(FEET))])
         ax.set_xticks(range(len(FEET)), [n.replace("semi-", "semi-\n") for n in FEET], fontsize=7)
         ax.set_title(label, fontsize=9)
-    fig.suptitle(f"10 kg planar biped walking in mud (W = 25 %), {seconds:g} s at dt = {dt * 1e3:g} ms, "
-                 "0.1 m/s command", fontsize=10)
+    fig.suptitle(
+        f"10 kg planar biped walking in mud (W = 25 %), {seconds:g} s at dt = {dt * 1e3:g} ms, "
+        "0.1 m/s command",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(out / "mujoco_walk_feet.png", dpi=110)
     plt.close(fig)
@@ -110,13 +122,17 @@ def _spring_foot_energy(dt: float, duration: float = 1.2) -> tuple[np.ndarray, n
 
 
 def stability(out: Path) -> None:
-    lim = stability_limits(mudrft.feet.Flat(), mudrft.paper_mud(0.25), mass=0.3, depth=1e-3)["dt_viscous"]
+    lim = stability_limits(mudrft.feet.Flat(), mudrft.paper_mud(0.25), mass=0.3, depth=1e-3)[
+        "dt_viscous"
+    ]
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     # the coupling's implicit step, below and above the explicit step's limit 2m/c
-    cases = [(0.8 * lim, f"dt = 0.8 x 2m/c = {0.8 * lim * 1e3:.2f} ms", "C0"),
-             (1.3 * lim, f"dt = 1.3 x 2m/c = {1.3 * lim * 1e3:.2f} ms", "C3"),
-             (1e-3, "dt = 1 ms", "C2"),
-             (2e-3, "dt = 2 ms", "k")]
+    cases = [
+        (0.8 * lim, f"dt = 0.8 x 2m/c = {0.8 * lim * 1e3:.2f} ms", "C0"),
+        (1.3 * lim, f"dt = 1.3 x 2m/c = {1.3 * lim * 1e3:.2f} ms", "C3"),
+        (1e-3, "dt = 1 ms", "C2"),
+        (2e-3, "dt = 2 ms", "k"),
+    ]
     for dt, label, col in cases:
         t, e = _spring_foot_energy(dt)
         ax[0].plot(t, e, col, label=label, lw=1)
@@ -128,14 +144,18 @@ def stability(out: Path) -> None:
     ax[0].legend(fontsize=7)
     ax[1].set_xlabel("time [s]")
     ax[1].set_ylabel("energy gained above the start [J] (log; 1e-9 = none)")
-    ax[1].set_title(f"0.3 kg foot on a spring, into mud and out: 2m/c = {lim * 1e3:.2f} ms", fontsize=9)
+    ax[1].set_title(
+        f"0.3 kg foot on a spring, into mud and out: 2m/c = {lim * 1e3:.2f} ms", fontsize=9
+    )
     fig.tight_layout()
     fig.savefig(out / "mujoco_stability.png", dpi=110)
     plt.close(fig)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="A biped walking in mud, and the coupling's stability.")
+    parser = argparse.ArgumentParser(
+        description="A biped walking in mud, and the coupling's stability."
+    )
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--dt", type=float, default=2e-3)
     parser.add_argument("--out", default=None, help="output folder (default docs/figures)")
@@ -147,9 +167,11 @@ def main(argv: list[str] | None = None) -> int:
     seconds = min(args.seconds, 3.0) if args.quick else args.seconds
     summaries = walk_feet(out, seconds, args.dt, frames=not args.quick)
     for name, s in summaries.items():
-        print(f"{name:14s} fell={s['fell']!s:5s} distance={s['distance [m]']:.3f} m  "
-              f"energy/step={s['energy_per_step [J]']:.2f} J  sinking={1e3 * s['mean_sinking [m]']:.1f} mm  "
-              f"max suction={s['max_suction [N]']:.1f} N")
+        print(
+            f"{name:14s} fell={s['fell']!s:5s} distance={s['distance [m]']:.3f} m  "
+            f"energy/step={s['energy_per_step [J]']:.2f} J  sinking={1e3 * s['mean_sinking [m]']:.1f} mm  "
+            f"max suction={s['max_suction [N]']:.1f} N"
+        )
     return 0
 
 
