@@ -318,3 +318,28 @@ def test_the_compiled_path_reaches_the_one_definition_of_every_equation():
         pads.morphing_force,
     ):
         assert fn in reached, fn.__qualname__
+
+
+def test_a_processs_first_short_runs_are_interpreted_and_equal_the_compiled_ones(tmp_path):
+    """A fresh process runs its first WARM_UP_STEPS steps without importing numba (the
+    first ``simulate`` then takes well under a second); the forces are the compiled path's
+    to round-off (the same operations on the same floats; 1e-12 of the largest force)."""
+    import subprocess
+    import sys
+
+    feet = "(mudrft.feet.SemiCylinder(), mudrft.feet.MorphingFoot())"
+    code = (
+        "import sys, numpy, mudrft\n"
+        f"for i, f in enumerate({feet}):\n"
+        "    r = mudrft.simulate(f, mudrft.paper_mud(0.35), mudrft.gait(speed=0.2))\n"
+        "    numpy.save(f'{sys.argv[1]}/{i}.npy', r.force)\n"
+        "print('numba' in sys.modules)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path)], capture_output=True, text=True, check=True
+    )
+    assert done.stdout.strip() == "False"
+    for i, foot in enumerate((mudrft.feet.SemiCylinder(), mudrft.feet.MorphingFoot())):
+        ref = mudrft.simulate(foot, mudrft.paper_mud(0.35), mudrft.gait(speed=0.2)).force
+        got = np.load(tmp_path / f"{i}.npy")
+        assert np.all(np.abs(got - ref) <= 1e-12 * np.abs(ref).max()), foot.name

@@ -45,8 +45,9 @@ def _run_parallel(
             )  # fmt: skip
             o[0], o[1], o[2], o[3], o[4], o[5], o[6] = fx, fy, fz, sx, sy, sz, depth
             if np.isfinite(fx + fy + fz):
-                st[i, :] = row
-                fst[i, :] = frow
+                for q in range(N_STATE):  # as in rows.run: no slice assignment
+                    st[i, q] = row[q]
+                fst[i, 0], fst[i, 1], fst[i, 2] = frow[0], frow[1], frow[2]
             else:
                 bad += 1
         if bad:

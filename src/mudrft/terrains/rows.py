@@ -239,8 +239,9 @@ def run(
             o[0], o[1], o[2], o[3], o[4], o[5], o[6] = fx, fy, fz, sx, sy, sz, depth
             if not np.isfinite(fx + fy + fz):
                 return
-            st[i, :] = row
-            fst[i, :] = frow
+            for q in range(N_STATE):  # no slice assignment: numba's shape check
+                st[i, q] = row[q]  # formats its error message, 4 s more to compile
+            fst[i, 0], fst[i, 1], fst[i, 2] = frow[0], frow[1], frow[2]
 
 
 def along_path(
@@ -248,7 +249,7 @@ def along_path(
 ) -> FloatArray | None:
     """The compiled output rows (T, N_OUT) of one foot from undisturbed mud along ``position``
     [m], ``velocity`` [m/s] and steps ``dts`` (T,) [s]; None without rows."""
-    from .._jit import jit
+    from .._jit import jit_or_interpreted
 
     if not compilable(foot) or any(
         np.ndim(v) for v in (*terrain.constants[0], *terrain.constants[1])
@@ -262,7 +263,7 @@ def along_path(
     vel = np.ascontiguousarray(velocity[1:, None, :], dtype=float)
     out = np.zeros((len(pos), 1, N_OUT))
     dt = np.ascontiguousarray(dts, dtype=float)
-    jit(run)(
+    jit_or_interpreted(run, len(pos))(
         c, st, fst.reshape(1, -1), pos, vel, dt, config_row(terrain, foot), geom, up, mrow, out
     )
     return out[:, 0]
