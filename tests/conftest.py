@@ -30,7 +30,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("MUDRFT_FAST_COMPILE", "1")
 # the tests compare numba's compilation of the physics with its other paths: no run goes
 # through the interpreted warm-up here (its own test runs it in a fresh process)
-import mudrft._jit  # noqa: E402
+import mudrft._jit
 
 mudrft._jit.WARM_UP_STEPS = 0
 try:  # matplotlib is an optional extra; where it is installed, it draws off screen
