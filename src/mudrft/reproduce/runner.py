@@ -1,12 +1,6 @@
-"""``mudrft reproduce``: the runs and ``summary.csv``.
-
-Every foot goes through one stepping cycle (:func:`mudrft.gait`) at the paper's gait
-speeds and table rows under the headline reading, then through the runs each other
-reading, stance depth and pad-curl delay needs for the nine claims (shared where two give
-the same physics). :func:`reproduce` writes ``summary.csv`` (one row per foot x speed x
-water content, headline reading), ``claims.csv``, ``depths.csv``, ``report.md``
-(:mod:`.report`) and the figures (:mod:`.figures`).
-"""
+"""``mudrft reproduce``: the runs, shared where two readings give the same physics, and
+``summary.csv``; :func:`reproduce` also writes the tables of :mod:`.report` and the figures
+of :mod:`.figures`."""
 
 from __future__ import annotations
 
