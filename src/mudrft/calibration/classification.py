@@ -38,15 +38,13 @@ MAX_STRESS = 1e12
 
 class Sample(NamedTuple):
     """One checked sample: time [s], :math:`\\gamma=q/L_c` [-], stress [Pa], and the step
-    from the previous sample (None for the first): ``dt`` [s], mean ``rate`` [1/s] and
-    ``previous_time`` [s]."""
+    from the previous sample, ``(dt [s], mean rate [1/s], previous time [s])`` (None for the
+    first)."""
 
     time: float
     gamma: float
     stress: float
-    dt: float | None = None
-    rate: float | None = None
-    previous_time: float | None = None
+    step: tuple[float, float, float] | None
 
 
 class SampleStream:
@@ -88,7 +86,7 @@ class SampleStream:
         g = q / self.L
         if self.last is None:
             self.last = (t, g)
-            return Sample(t, g, s)
+            return Sample(t, g, s, None)
         t0, g0 = self.last
         if not t > t0:
             raise MudrftError(
@@ -99,7 +97,7 @@ class SampleStream:
             )
         dt = t - t0
         self.last = (t, g)
-        return Sample(t, g, s, dt, (g - g0) / dt, t0)
+        return Sample(t, g, s, (dt, (g - g0) / dt, t0))
 
 
 def _number(name: str, value: Any) -> float:
@@ -325,9 +323,10 @@ class StreamClassifier:
         """
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)
-        if x.dt is None or x.rate is None:  # the first sample: a starting point only
+        if x.step is None:  # the first sample: a starting point only
             self._state = initial_state((K,), gamma=x.gamma)
             return self.best
+        dt, rate, _ = x.step
         if not in_contact(x.gamma):
             # above the surface: nothing to compare; the next intrusion starts afresh (D11)
             if self._inside:
@@ -335,8 +334,8 @@ class StreamClassifier:
                 self._inside = False
             return self.best
         self._inside = True
-        gv, gdv = np.full(K, x.gamma), np.full(K, x.rate)
-        self._state, model = channel_update(self._consts, self._state, gv, gdv, x.dt)
+        gv, gdv = np.full(K, x.gamma), np.full(K, rate)
+        self._state, model = channel_update(self._consts, self._state, gv, gdv, dt)
         r = x.stress - np.asarray(model.total)
         self._sse = self.decay * self._sse + r * r
         self._count = self.decay * self._count + 1.0

@@ -301,28 +301,29 @@ class OnlineEstimator:
         OnlineEstimate
         """
         x = self._stream.push(time, depth, stress)
-        if x.dt is None or x.rate is None:  # the first sample: a starting point only
+        if x.step is None:  # the first sample: a starting point only
             self._phase = "out" if x.gamma <= 0 else "hold"
             if self.model == "exact":
                 self._state = initial_state((self.tau_grid.size * 5,), gamma=x.gamma)
             return self.estimate
+        dt, rate, previous_time = x.step
         if not in_contact(x.gamma):
             self._phase = "out"  # at or above the surface: no mud stress (as plate_response)
-        elif abs(x.rate) <= self.rate_threshold:
+        elif abs(rate) <= self.rate_threshold:
             self._phase = "hold"
         else:
-            self._phase = "intrusion" if x.rate > 0 else "retraction"
+            self._phase = "intrusion" if rate > 0 else "retraction"
         # the deepest point of the current intrusion and the time its retraction began
         if self._phase == "intrusion" and x.gamma >= self._gamma_w:
             self._gamma_w, self._t_w = x.gamma, None
         if self._phase == "retraction" and self._t_w is None:
-            self._t_w = x.previous_time  # retraction began at the previous sample
+            self._t_w = previous_time  # retraction began at the previous sample
         if self._phase == "out":
             self._gamma_w, self._t_w = 0.0, None
         if self.model == "exact":
-            self._update_exact(x.gamma, x.rate, x.dt, x.stress)
+            self._update_exact(x.gamma, rate, dt, x.stress)
         else:
-            self._update_paper(x.time, x.gamma, x.rate, x.stress)
+            self._update_paper(x.time, x.gamma, rate, x.stress)
         return self.estimate
 
     def _update_exact(self, g: float, gd: float, dt: float, s: float) -> None:

@@ -21,7 +21,7 @@ from ._options import as_dataset
 from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .rate import check_window, smooth_dataset
-from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, outlying_trials
+from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, PER_PARAMETER, outlying_trials
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -405,14 +405,9 @@ class FitResult:
             rrse = {k: f(v) for k, v in data.get("robust_standard_error", {}).items()} or rse
             rci = {k: (f(a), f(b)) for k, (a, b) in data.get("robust_interval", {}).items()} or ci
             verdicts = dict(data["identifiability"])
-            per_parameter: dict[str, dict[str, Any]] = {
-                "standard_error": se,
-                "relative_standard_error": rse,
-                "confidence_interval": ci,
-                "robust_standard_error": rrse,
-                "robust_interval": rci,
-                "identifiability": verdicts,
-            }
+            per_parameter: dict[str, dict[str, Any]] = dict(
+                zip(PER_PARAMETER, (se, rse, ci, rrse, rci, verdicts), strict=True)
+            )
             for key, entries in per_parameter.items():
                 if set(entries) != set(FIT_PARAMETERS):
                     raise MudrftError(

@@ -20,6 +20,11 @@ from numpy.typing import NDArray
 
 from ._problem import FIT_PARAMETERS
 
+#: The per-parameter entries of a fit (:class:`~mudrft.calibration.FitResult` fields).
+PER_PARAMETER = tuple(
+    "standard_error relative_standard_error confidence_interval robust_standard_error "
+    "robust_interval identifiability".split()
+)
 #: Relative standard error at or below which a parameter counts as identified (D44).
 IDENTIFIED_SE = 0.05
 #: Relative standard error above which a parameter counts as not identified (D44).
@@ -170,12 +175,7 @@ def uncertainty(
         rci[name] = bounds[name] if bound[name] else interval(v, er, q_all, bounds[name])
         verdicts[name] = verdict(er, bound[name])
     return {
-        "standard_error": se,
-        "relative_standard_error": rse,
-        "confidence_interval": ci,
-        "robust_standard_error": rrse,
-        "robust_interval": rci,
-        "identifiability": verdicts,
+        **dict(zip(PER_PARAMETER, (se, rse, ci, rrse, rci, verdicts), strict=True)),
         "correlation": corr,
         "noise": math.sqrt(s2),
         "condition_number": cond,

@@ -172,7 +172,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _unrecognized(parser: argparse.ArgumentParser, command: str | None, unknown: list[str]) -> None:
     """A word the command (or ``mudrft`` before any command) does not know: one line
     naming the closest option, exit status 2."""
-    commands = _subparsers(parser).choices
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
     if command is None:
         sub, prog, lists = parser, "mudrft", "the commands and options"
     else:
@@ -206,10 +206,6 @@ def _unknown_command(
         else _plain(str(exc))
     )
     parser.exit(2, f"mudrft: error: {what} (mudrft --help lists the commands)\n")
-
-
-def _subparsers(parser: argparse.ArgumentParser) -> argparse._SubParsersAction:
-    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
 
 
 def _options(parser: argparse.ArgumentParser) -> list[str]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -28,6 +29,26 @@ SLOW_SAMPLING = 0.01
 #: stands in the file: ``"line 12, column 'time [s]'"``.
 Locate = Callable[[int | None, str | None], str]
 Columns = dict[str, NDArray[np.float64]]
+
+
+def file_bytes(p: Path, kind: str, *, max_bytes: int | None = None) -> bytes:
+    """The bytes of ``p`` (none with ``max_bytes=0``: only checked readable); an error naming
+    ``p`` for a directory, a missing or unreadable file, or one over ``max_bytes``; ``kind``
+    names what was expected ("a CSV file")."""
+    where = str(p)
+    try:
+        if p.is_dir():
+            raise fail(where, "", f"is a directory, expected {kind}")
+        if max_bytes and p.stat().st_size > max_bytes:
+            raise fail(where, "", f"is larger than {max_bytes} bytes, too large for CSV (use HDF5)")
+        with open(p, "rb") as fh:  # read only: a loader never writes its input
+            return fh.read(max_bytes) if max_bytes != 0 else b""
+    except FileNotFoundError:
+        raise fail(where, "", "no such file") from None
+    except PermissionError:
+        raise fail(where, "", "permission denied (cannot read the file)") from None
+    except OSError as exc:
+        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from None
 
 
 def check_roles(

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError
 from ..units import parse_unit
-from ._build import assemble, check_roles, resolve_direction
+from ._build import assemble, check_roles, file_bytes, resolve_direction
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import IntrusionDataset
 from .hdf5_log import load_intrusion_hdf5
@@ -76,20 +76,7 @@ class Table:
 def _text(p: Path) -> str:
     """The text of a file; precise errors for a missing, binary or non-UTF-8 one."""
     where = str(p)
-    try:
-        if p.is_dir():
-            raise fail(where, "", "is a directory, expected a CSV file")
-        if p.stat().st_size > _MAX_BYTES:
-            raise fail(
-                where, "", f"is larger than {_MAX_BYTES} bytes, too large for CSV (use HDF5)"
-            )
-        raw = p.read_bytes()  # read only: the loader never writes the input
-    except FileNotFoundError:
-        raise fail(where, "", "no such file") from None
-    except PermissionError:
-        raise fail(where, "", "permission denied (cannot read the file)") from None
-    except OSError as exc:
-        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from None
+    raw = file_bytes(p, "a CSV file", max_bytes=_MAX_BYTES)
     if b"\x00" in raw:
         line = raw[: raw.index(b"\x00")].count(b"\n") + 1
         raise fail(

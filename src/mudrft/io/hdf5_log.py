@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from .._validation import MudrftError, plain
 from ..units import parse_unit
-from ._build import Columns, Locate, assemble, check_roles, resolve_direction
+from ._build import Columns, Locate, assemble, check_roles, file_bytes, resolve_direction
 from .atomic import atomic_write
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
 from .dataset import OVERWRITE_OPTION, IntrusionDataset
@@ -96,11 +96,6 @@ def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> f
     if not (np.isfinite(v) and v > 0):
         raise fail(path, where, f"must be > 0 and finite, got {plain(v)} (SI)")
     return v
-
-
-def _notes(attrs: dict[str, Any]) -> list[str]:
-    notes = [str(_text(attrs["notes"]))] if "notes" in attrs else []
-    return notes + ([f"synthetic: {_text(attrs['synthetic'])}"] if "synthetic" in attrs else [])
 
 
 def _broken_link(h5py: ModuleType, group: h5py.Group, key: str, exc: BaseException) -> str:
@@ -274,17 +269,7 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
 def _open(h5py: ModuleType, p: Path) -> h5py.File:
     """The file opened read-only, or an error that says why it cannot be."""
     where = str(p)
-    if p.is_dir():
-        raise fail(where, "", "is a directory, expected an HDF5 file")
-    try:
-        with open(p, "rb"):
-            pass
-    except FileNotFoundError:
-        raise fail(where, "", "no such file") from None
-    except PermissionError:
-        raise fail(where, "", "permission denied (cannot read the file)") from None
-    except OSError as exc:
-        raise fail(where, "", f"cannot be read ({exc.strerror or exc})") from None
+    file_bytes(p, "an HDF5 file", max_bytes=0)
     try:
         return h5py.File(p, "r")
     except OSError as exc:
@@ -341,12 +326,14 @@ def load_intrusion_hdf5(
         )
         tables = _read_file(h5py, where, fh, d, columns)
     parts = [(cols, [name] * cols["time"].size, sample) for name, cols, _, sample in tables]
+    notes = [str(_text(attrs["notes"]))] if "notes" in attrs else []
+    notes += [f"synthetic: {_text(attrs['synthetic'])}"] if "synthetic" in attrs else []
     return assemble(
         where,
         parts,
         tables[0][2],
         direction=d,
-        notes=_notes(attrs),
+        notes=notes,
         meta={},
         meta_len=meta_len,
         meta_area=meta_area,

@@ -214,8 +214,9 @@ def _shape_argument(fixed: dict[str, dict[str, float]]) -> str:
     return text
 
 
-def _kpa(x: float) -> str:
-    return f"{x / 1e3:.1f} kPa"
+def medium_speed(speeds: Sequence[float]) -> float:
+    """The speed of the claims [m/s]: the one nearest the paper's medium 0.2 m/s."""
+    return min(speeds, key=lambda s: abs(s - 0.2))
 
 
 def evaluate(
@@ -246,7 +247,7 @@ def evaluate(
         load-carrying stance, the gait at the foot's own static depth under :data:`LOAD`
         (medium speed, the reading's "25 %" row), or None.
     """
-    v = min(speeds, key=lambda s: abs(s - 0.2))
+    v = medium_speed(speeds)
     w = reading.row(0.25)  # the reading's "25 %" mud
     cells: list[Cell] = []
 
@@ -268,7 +269,7 @@ def evaluate(
     # shape-order (Fig. 10a)
     if all_fixed:
         ns = {f: fixed[f]["peak_ns"] for f in FIXED}
-        text = ", ".join(f"{f} {_kpa(ns[f])}" for f in FIXED) + _shape_argument(fixed)
+        text = ", ".join(f"{f} {ns[f] / 1e3:.1f} kPa" for f in FIXED) + _shape_argument(fixed)
         ok = ns["flat"] > ns["semi-cylinder"] > ns["semi-sphere"]
         short = "/".join(f"{ns[f] / 1e3:.1f}" for f in FIXED) + " kPa"
         cell("shape-order", text, _ok(ok), short)
@@ -417,12 +418,7 @@ def _change(reduction: float) -> str:
 
 def count(cells: Sequence[Cell]) -> dict[str, int]:
     """``{"agrees": n, "failed": n, "not evaluated": n, "total": 9}``."""
-    out = {"agrees": 0, "failed": 0, "not evaluated": 0, "total": len(cells)}
-    for cl in cells:
-        if cl.verdict == AGREES:
-            out["agrees"] += 1
-        elif cl.verdict == NOT_EVALUATED:
-            out["not evaluated"] += 1
-        else:
-            out["failed"] += 1
-    return out
+    verdicts = [c.verdict for c in cells]
+    agrees, skipped = verdicts.count(AGREES), verdicts.count(NOT_EVALUATED)
+    failed = len(cells) - agrees - skipped
+    return {"agrees": agrees, "failed": failed, "not evaluated": skipped, "total": len(cells)}

@@ -1,12 +1,6 @@
-"""``mudrft reproduce``: the runs and ``summary.csv``.
-
-Every foot goes through one stepping cycle (:func:`mudrft.gait`) at the paper's gait
-speeds and table rows under the headline reading, then through the runs each other
-reading, stance depth and pad-curl delay needs for the nine claims (shared where two give
-the same physics). :func:`reproduce` writes ``summary.csv`` (one row per foot x speed x
-water content, headline reading), ``claims.csv``, ``depths.csv``, ``report.md``
-(:mod:`.report`) and the figures (:mod:`.figures`).
-"""
+"""``mudrft reproduce``: the runs, shared where two readings give the same physics, and
+``summary.csv``; :func:`reproduce` also writes the tables of :mod:`.report` and the figures
+of :mod:`.figures`."""
 
 from __future__ import annotations
 
@@ -26,7 +20,7 @@ from .._validation import MudrftError
 from ..feet import MorphingFoot, by_name
 from ..simulation import Result, simulate, static_sinking
 from ..trajectories import GAIT_SPEEDS, BuriedFootWarning, gait
-from .claims import FIXED, LOAD, Cell, evaluate
+from .claims import FIXED, LOAD, Cell, evaluate, medium_speed
 from .readings import CURL_DELAYS, READINGS, STANCE_DEPTHS, Reading
 
 if TYPE_CHECKING:
@@ -159,7 +153,7 @@ def _plan(
 ) -> list[tuple[str, float, float]]:
     """The (foot, speed, row) runs the nine claims need under ``reading`` (but the
     load-carrying stance)."""
-    v = _medium(speeds)
+    v = medium_speed(speeds)
     w = reading.row(0.25)
     if not any(abs(w - r) < 1e-9 for r in rows):
         return []
@@ -168,11 +162,6 @@ def _plan(
     out += [(f, s, w) for f in fixed for s in speeds]
     out += [(f, v, r) for f in fixed for r in rows]
     return list(dict.fromkeys(out))
-
-
-def _medium(speeds: Sequence[float]) -> float:
-    """The speed of the claims [m/s]: the one nearest the paper's medium 0.2 m/s."""
-    return min(speeds, key=lambda s: abs(s - 0.2))
 
 
 def reproduce(
@@ -237,7 +226,7 @@ def reproduce(
     head = readings[0]
     at_depth = {float(d): head.at_depth(float(d)) for d in depths}
     delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
-    v = _medium(speeds) if speeds else 0.0
+    v = medium_speed(speeds) if speeds else 0.0
     tasks: list[Task] = [(head, f, float(s), w, None) for w in rows_w for f in feet for s in speeds]
     for rd in (*readings, *at_depth.values()):
         tasks += [(rd, *t, None) for t in _plan(rd, feet, speeds, rows_w)]
