@@ -30,27 +30,9 @@ from .synthetic import EXAMPLE_FILES, example_dataset, synthetic_dataset
 RecursiveEstimator = OnlineEstimator
 
 __all__ = [
-    "DEFAULT_BOUNDS",
-    "EXAMPLE_FILES",
-    "GROUPS",
-    "CalibrationWarning",
-    "Classification",
-    "FitResult",
-    "IntrusionDataset",
-    "OnlineEstimate",
-    "OnlineEstimator",
-    "RecursiveEstimator",
-    "StageReport",
-    "StreamClassifier",
-    "Trial",
-    "calibrate",
-    "classify",
-    "example_dataset",
-    "load_dataset",
-    "load_intrusion_csv",
-    "load_intrusion_hdf5",
-    "load_parameters",
-    "save_intrusion_csv",
-    "save_intrusion_hdf5",
-    "synthetic_dataset",
-]
+    "DEFAULT_BOUNDS", "EXAMPLE_FILES", "GROUPS", "CalibrationWarning", "Classification",
+    "FitResult", "IntrusionDataset", "OnlineEstimate", "OnlineEstimator", "RecursiveEstimator",
+    "StageReport", "StreamClassifier", "Trial", "calibrate", "classify", "example_dataset",
+    "load_dataset", "load_intrusion_csv", "load_intrusion_hdf5", "load_parameters",
+    "save_intrusion_csv", "save_intrusion_hdf5", "synthetic_dataset",
+]  # fmt: skip

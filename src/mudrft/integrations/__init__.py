@@ -11,18 +11,9 @@ import importlib
 from typing import Any
 
 __all__ = [
-    "MudBatch",
-    "MudContact",
-    "MudCoupling",
-    "attach",
-    "attach_batch",
-    "biped_model",
-    "body_foot",
-    "mjx",
-    "mujoco",
-    "stability_limits",
-    "walk",
-]
+    "MudBatch", "MudContact", "MudCoupling", "attach", "attach_batch", "biped_model", "body_foot",
+    "mjx", "mujoco", "stability_limits", "walk",
+]  # fmt: skip
 
 _ATTRS = {
     "MudBatch": "mudrft.integrations.mujoco",

@@ -23,31 +23,17 @@ if TYPE_CHECKING:
     from ..terrains import Terrain
 
 __all__ = [
-    "COMPARE_COLUMNS",
-    "FEET",
-    "UNDETERMINED",
-    "compare_claims",
-    "compare_feet",
-    "write_compare",
-]
+    "COMPARE_COLUMNS", "FEET", "UNDETERMINED", "compare_claims", "compare_feet", "write_compare",
+]  # fmt: skip
 
 #: The feet compared, by :func:`mudrft.feet.by_name`.
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 #: Columns of ``compare.csv`` (keys of the walk summary), with units.
 COMPARE_COLUMNS = (
-    "foot",
-    "fell",
-    "distance [m]",
-    "mean_speed [m/s]",
-    "steps",
-    "energy_per_step [J]",
-    "absolute_work_per_step [J]",
-    "mean_sinking [m]",
-    "max_suction [N]",
-    "max_suction_over_weight",
-    "mean_slip [m]",
-    "shank_in_mud_steps",
-)
+    "foot", "fell", "distance [m]", "mean_speed [m/s]", "steps", "energy_per_step [J]",
+    "absolute_work_per_step [J]", "mean_sinking [m]", "max_suction [N]", "max_suction_over_weight",
+    "mean_slip [m]", "shank_in_mud_steps",
+)  # fmt: skip
 #: The paper's claims on the feet: (morphing vs reference, suction lower by [%], energy
 #: lower by [%]) from Fig. 13.
 _FIG13 = (("flat", 32.0, 26.0), ("semi-cylinder", 57.0, 44.0))

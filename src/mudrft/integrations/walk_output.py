@@ -15,46 +15,20 @@ if TYPE_CHECKING:
     import mujoco
 
 __all__ = [
-    "ANKLE_HEIGHT",
-    "STEP_COLUMNS",
-    "WALK_COLUMNS",
-    "WalkResult",
-    "plot_walk",
-    "save_strip",
-]
+    "ANKLE_HEIGHT", "STEP_COLUMNS", "WALK_COLUMNS", "WalkResult", "plot_walk", "save_strip",
+]  # fmt: skip
 
 #: Columns of the per-physics-step table (``walk.csv``), with units.
 WALK_COLUMNS = (
-    "time [s]",
-    "x [m]",
-    "z [m]",
-    "pitch [rad]",
-    "left_depth [m]",
-    "right_depth [m]",
-    "left_Fx [N]",
-    "left_Fz [N]",
-    "right_Fx [N]",
-    "right_Fz [N]",
-    "joint_power [W]",
-    "joint_energy [J]",
-    "joint_abs_energy [J]",
-    "left_x [m]",
-    "right_x [m]",
-    "step",
-)
+    "time [s]", "x [m]", "z [m]", "pitch [rad]", "left_depth [m]", "right_depth [m]",
+    "left_Fx [N]", "left_Fz [N]", "right_Fx [N]", "right_Fz [N]", "joint_power [W]",
+    "joint_energy [J]", "joint_abs_energy [J]", "left_x [m]", "right_x [m]", "step",
+)  # fmt: skip
 #: Columns of the per-gait-step table (``steps.csv``), with units.
 STEP_COLUMNS = (
-    "step",
-    "t_start [s]",
-    "stance",
-    "energy [J]",
-    "absolute_work [J]",
-    "sinking [m]",
-    "max_suction [N]",
-    "slip [m]",
-    "shank_in_mud",
-    "advance [m]",
-)
+    "step", "t_start [s]", "stance", "energy [J]", "absolute_work [J]", "sinking [m]",
+    "max_suction [N]", "slip [m]", "shank_in_mud", "advance [m]",
+)  # fmt: skip
 #: Height of the shank's lower end (the ankle) above the sole [m]: deeper than this the
 #: shank is in the mud, whose force on it the coupling does not model.
 ANKLE_HEIGHT = 0.04

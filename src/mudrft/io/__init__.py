@@ -28,17 +28,9 @@ _FROM = {
 _MODULE = {name: module for module, names in _FROM.items() for name in names}
 
 __all__ = [
-    "IntrusionDataset",
-    "Trial",
-    "atomic_write",
-    "json_text",
-    "load_dataset",
-    "load_intrusion_csv",
-    "load_intrusion_hdf5",
-    "load_path_csv",
-    "save_intrusion_csv",
-    "save_intrusion_hdf5",
-]
+    "IntrusionDataset", "Trial", "atomic_write", "json_text", "load_dataset", "load_intrusion_csv",
+    "load_intrusion_hdf5", "load_path_csv", "save_intrusion_csv", "save_intrusion_hdf5",
+]  # fmt: skip
 
 
 def __getattr__(name: str) -> Any:

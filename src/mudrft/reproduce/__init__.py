@@ -14,20 +14,7 @@ from .readings import CURL_DELAYS, HEADLINE, READINGS, STANCE_DEPTHS, Reading
 from .runner import FEET, SUMMARY_COLUMNS, WATER_CONTENTS, read_summary, reproduce
 
 __all__ = [
-    "CLAIMS",
-    "CURL_DELAYS",
-    "FEET",
-    "HEADLINE",
-    "LOAD",
-    "READINGS",
-    "REQUIRED_RATIO",
-    "STANCE_DEPTHS",
-    "SUMMARY_COLUMNS",
-    "WATER_CONTENTS",
-    "Cell",
-    "Claim",
-    "Reading",
-    "evaluate",
-    "read_summary",
-    "reproduce",
-]
+    "CLAIMS", "CURL_DELAYS", "FEET", "HEADLINE", "LOAD", "READINGS", "REQUIRED_RATIO",
+    "STANCE_DEPTHS", "SUMMARY_COLUMNS", "WATER_CONTENTS", "Cell", "Claim", "Reading", "evaluate",
+    "read_summary", "reproduce",
+]  # fmt: skip

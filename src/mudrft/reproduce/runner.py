@@ -33,12 +33,9 @@ WATER_CONTENTS = (0.25, 0.35, 0.45)
 TABLES = ("summary.csv", "claims.csv", "depths.csv", "report.md")
 #: The figures it writes there (``figures=True``).
 FIGURES = (
-    "fig09_forces.png",
-    "fig10_normalized.png",
-    "fig12_hysteresis.png",
-    "fig13_suction_energy.png",
+    "fig09_forces.png", "fig10_normalized.png", "fig12_hysteresis.png", "fig13_suction_energy.png",
     "fig_depth_verdicts.png",
-)
+)  # fmt: skip
 
 #: The columns of ``summary.csv``.
 SUMMARY_COLUMNS = (

@@ -30,20 +30,9 @@ if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = [
-    "DESIGNS",
-    "FOOT_KINDS",
-    "METRICS",
-    "MOTION_KINDS",
-    "PARAMETERS",
-    "Axis",
-    "SweepSpec",
-    "SweepWarning",
-    "load_result",
-    "load_spec",
-    "plot_maps",
-    "run_sweep",
-    "sensitivity",
-]
+    "DESIGNS", "FOOT_KINDS", "METRICS", "MOTION_KINDS", "PARAMETERS", "Axis", "SweepSpec",
+    "SweepWarning", "load_result", "load_spec", "plot_maps", "run_sweep", "sensitivity",
+]  # fmt: skip
 
 
 class _CallableModule(types.ModuleType):

@@ -21,15 +21,9 @@ if TYPE_CHECKING:
     from ...terrains import Terrain
 
 __all__ = [
-    "applied_wrench",
-    "channel_motion",
-    "foot_odometry",
-    "force_and_derivative",
-    "implicit_wrench",
-    "passive_wrench",
-    "passivity_scale",
-    "secant_steps",
-]
+    "applied_wrench", "channel_motion", "foot_odometry", "force_and_derivative", "implicit_wrench",
+    "passive_wrench", "passivity_scale", "secant_steps",
+]  # fmt: skip
 
 
 def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:

@@ -29,17 +29,9 @@ if TYPE_CHECKING:
     from ...feet.morphing import MorphingFoot
 
 __all__ = [
-    "ChannelGeometry",
-    "ball_channels",
-    "channel_geometry",
-    "channel_weights",
-    "foot_triangles",
-    "matvec",
-    "morphing_triangles",
-    "posed_channels",
-    "rowdot",
-    "upright_area",
-]
+    "ChannelGeometry", "ball_channels", "channel_geometry", "channel_weights", "foot_triangles",
+    "matvec", "morphing_triangles", "posed_channels", "rowdot", "upright_area",
+]  # fmt: skip
 
 
 #: Mesh resolution of the curved closed-form feet in the coupling (segments tip to rim).
