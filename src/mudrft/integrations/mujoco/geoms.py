@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -43,19 +42,9 @@ def _collides(model: mujoco.MjModel, g: int) -> bool:
     return bool(int(model.geom_contype[g]) or int(model.geom_conaffinity[g]))
 
 
-def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) -> int:
-    """The supported geom reaching lowest in the reference pose, among the colliding
-    ones when there are any (D113).
-    """
-    mj = _mujoco()
-    best, zbest = -1, math.inf
-    supported = [g for g in geoms if int(model.geom_type[g]) in _SUPPORTED_GEOMS(mj)]
-    colliding = [g for g in supported if _collides(model, g)]
-    for g in colliding or supported:
-        z = _support(model, ref, g)[2]
-        if z < zbest:
-            best, zbest = g, z
-    return best
+def _supported(model: mujoco.MjModel, g: int) -> bool:
+    """Whether geom ``g`` is a box, sphere, capsule, cylinder or mesh."""
+    return geom_type_name(model, g) in ("box", "sphere", "capsule", "cylinder", "mesh")
 
 
 #: Colliding geoms whose lowest points lie within this height of the foot geom's reach
@@ -63,26 +52,16 @@ def _lowest_geom(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) ->
 TIED_HEIGHT = 1e-3
 
 
-def _tied_geoms(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int], g: int) -> list[int]:
-    """The other colliding supported geoms as low as geom ``g`` (:data:`TIED_HEIGHT`)."""
-    mj = _mujoco()
-    low = _support(model, ref, g)[2]
-    return [
-        o
-        for o in geoms
-        if o != g
-        and int(model.geom_type[o]) in _SUPPORTED_GEOMS(mj)
-        and _collides(model, o)
-        and _support(model, ref, o)[2] <= low + TIED_HEIGHT
-    ]
-
-
-def _SUPPORTED_GEOMS(mj: ModuleType) -> tuple[int, ...]:
-    G = mj.mjtGeom
-    return tuple(
-        int(t)
-        for t in (G.mjGEOM_BOX, G.mjGEOM_SPHERE, G.mjGEOM_CAPSULE, G.mjGEOM_CYLINDER, G.mjGEOM_MESH)
-    )
+def lowest_geoms(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) -> list[int]:
+    """The supported geom reaching lowest in the reference pose (among the colliding ones
+    when there are any, D113), then the other colliding ones as low (:data:`TIED_HEIGHT`)."""
+    supported = [g for g in geoms if _supported(model, g)]
+    colliding = [g for g in supported if _collides(model, g)]
+    if not supported:
+        return []
+    low = {g: float(_support(model, ref, g)[2]) for g in colliding or supported}
+    g = min(low, key=low.__getitem__)
+    return [g, *(o for o in colliding if o != g and low[o] <= low[g] + TIED_HEIGHT)]
 
 
 def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
@@ -145,17 +124,16 @@ def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.f
 
 def hull_foot(
     points: NDArray[np.float64], fwd_w: NDArray[np.float64]
-) -> tuple[feet.MeshFoot, NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[feet.MeshFoot, NDArray[np.float64]]:
     """The convex hull of world ``points`` [m] as a ``MeshFoot`` (x along ``fwd_w``, z
-    up, tip at the origin), its tip [m] and the hull's vertices [m], both in the world.
-    """
+    up, tip at the origin), and its tip in the world [m]."""
     import trimesh
 
     hull = trimesh.convex.convex_hull(points)
     v = np.asarray(hull.vertices, dtype=float)
     tip = _lowest_center(v, max(float(np.ptp(v)), 1e-9))
     frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
-    return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip, v
+    return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip
 
 
 #: A derived foot taller than this keeps only its part this high above its tip [m]: Spot's
@@ -246,15 +224,7 @@ def _derived_foot(
         a = a if a @ fwd_w >= 0 else -a
         # SemiCylinder: axis along x; capsule caps are neglected (documented)
         return feet.SemiCylinder(radius=s[0], width=2 * s[1], height=s[0]), a
-    if t == int(mj.mjtGeom.mjGEOM_MESH):
-        v = _mesh_vertices(model, g) @ R.T
-        low = _support(model, ref, g) - np.array(ref.geom_xpos[g])
-        ex = fwd_w
-        ey = np.cross([0.0, 0.0, 1.0], ex)
-        frame = np.stack([ex, ey, [0.0, 0.0, 1.0]])  # rows: foot axes in the world
-        return feet.MeshFoot((v - low) @ frame.T, _mesh_faces(model, g)), fwd_w
-    raise MudrftError(
-        f"{geom_label(model, g)} has type {geom_type_name(model, g)}, which mudrft "
-        "cannot turn into a foot; "
-        "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
-    )
+    v = _mesh_vertices(model, g) @ R.T  # a mesh (the types were checked where g was chosen)
+    low = _support(model, ref, g) - np.array(ref.geom_xpos[g])
+    frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
+    return feet.MeshFoot((v - low) @ frame.T, _mesh_faces(model, g)), fwd_w

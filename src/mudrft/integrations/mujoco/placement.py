@@ -19,19 +19,17 @@ from ..._validation import MudrftError, check_finite, plain, positive_number, wa
 from ...feet.surface import PreparedTriangles, prepare_triangles
 from ._lazy import _mujoco
 from .geoms import (
-    _SUPPORTED_GEOMS,
     CUT_HEIGHT,
     _collides,
     _derived_foot,
-    _lowest_geom,
-    _mesh_vertices,
     _support,
-    _tied_geoms,
+    _supported,
     cut_foot,
     geom_label,
     geom_points,
     geom_type_name,
     hull_foot,
+    lowest_geoms,
     standing,
 )
 from .pose import POSE_RESOLUTION, foot_triangles
@@ -75,12 +73,8 @@ class BodyFoot:
         ``"points"`` (a mesh, or several geoms) or ``"tip"`` (no geom).
     center : ndarray (3,)
         Geom center in the body frame [m].
-    axes : ndarray (3, 3)
-        Geom axes (columns) in the body frame [-].
     size : ndarray (3,)
         Geom size as MuJoCo defines it [m].
-    points : ndarray (k, 3)
-        Mesh vertices in the body frame [m] (``kind == "points"``).
     upright : ndarray (m, 3, 3) or None
         Triangles of the foot in its own frame [m]; None for a foot without a surface.
     triangles : ndarray (m, 3, 3) or None
@@ -103,9 +97,7 @@ class BodyFoot:
     forward: NDArray[np.float64]
     kind: str
     center: NDArray[np.float64]
-    axes: NDArray[np.float64]
     size: NDArray[np.float64]
-    points: NDArray[np.float64]
     upright: NDArray[np.float64] | None = None
     triangles: NDArray[np.float64] | None = None
     geom: int = -1
@@ -212,8 +204,7 @@ def body_foot(
     fwd_w = np.array([1.0, 0.0, 0.0])
     spec = geom if geom is not None else named
     if spec is None:
-        g = _lowest_geom(model, ref, _body_geoms(model, bid))
-        geoms = [g, *_tied_geoms(model, ref, _body_geoms(model, bid), g)] if g >= 0 else []
+        geoms = lowest_geoms(model, ref, _body_geoms(model, bid))
     else:
         many = not isinstance(spec, (str, int, np.integer))
         items = list(spec) if many and isinstance(spec, Sequence) else [spec]
@@ -234,13 +225,12 @@ def body_foot(
             raise MudrftError(
                 f"body {name!r} has no geom to derive a foot from; pass the foot explicitly"
             )
-        kind, center, axes, size, pts = "tip", np.zeros(3), np.eye(3), np.zeros(3), np.zeros((0, 3))
+        kind, center, size = "tip", np.zeros(3), np.zeros(3)
         low_w = xb if tip is None else xb + Rb @ check_finite("tip", tip)
     elif len(geoms) > 1 or (foot is None and standing(model, ref, geoms[0])):  # a meshed hull
-        hull, low_w, verts = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]), fwd_w)  # fmt: skip
+        hull, low_w = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]), fwd_w)  # fmt: skip
         foot = hull if foot is None else foot
-        kind, center, axes, size = "points", np.zeros(3), np.eye(3), np.zeros(3)
-        pts = (verts - xb) @ Rb
+        kind, center, size = "points", np.zeros(3), np.zeros(3)
         if tip is not None:
             low_w = xb + Rb @ check_finite("tip", tip)
     else:
@@ -255,19 +245,9 @@ def body_foot(
                 fwd_w = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
                 fwd_w = fwd_w if fwd_w[0] >= 0 else -fwd_w
         low_w = _support(model, ref, g)
-        Rg = np.array(ref.geom_xmat[g]).reshape(3, 3)
         center = Rb.T @ (np.array(ref.geom_xpos[g]) - xb)
-        axes = Rb.T @ Rg
         size = np.array(model.geom_size[g], dtype=float)
-        kinds = {
-            int(mj.mjtGeom.mjGEOM_BOX): "box",
-            int(mj.mjtGeom.mjGEOM_SPHERE): "sphere",
-            int(mj.mjtGeom.mjGEOM_CAPSULE): "capsule",
-            int(mj.mjtGeom.mjGEOM_CYLINDER): "cylinder",
-            int(mj.mjtGeom.mjGEOM_MESH): "points",
-        }
-        kind = kinds[t]
-        pts = center + _mesh_vertices(model, g) @ axes.T if kind == "points" else np.zeros((0, 3))
+        kind = geom_type_name(model, g).replace("mesh", "points")
         if tip is not None:
             low_w = xb + Rb @ check_finite("tip", tip)
             ball = False
@@ -295,9 +275,7 @@ def body_foot(
         forward=fwd_b,
         kind=kind,
         center=center,
-        axes=axes,
         size=size,
-        points=pts,
         upright=upright,
         triangles=tri_b,
         geom=int(geoms[0]) if geoms else -1,
@@ -327,7 +305,7 @@ def _named_geom(model: mujoco.MjModel, body: str, bid: int, geom: str | int) -> 
             f"{geom_label(model, g)}, named as the foot of body {body!r}, is not one of its "
             f"geoms: {names}"
         )
-    if int(model.geom_type[g]) not in _SUPPORTED_GEOMS(mj):
+    if not _supported(model, g):
         raise MudrftError(
             f"{geom_label(model, g)}, named as the foot, has type {geom_type_name(model, g)}, "
             "which mudrft cannot turn into a foot; use a box, sphere, capsule, cylinder or mesh"
@@ -389,18 +367,15 @@ def auto_feet(model: mujoco.MjModel) -> list[int]:
     geom of a supported type. The feet are those whose lowest point in ``qpos0`` lies within
     :data:`AUTO_REACH` of the model's height above the lowest (a humanoid's hands hang higher).
     """
-    mj = _mujoco()
     ref = _reference_pose(model)
     parents = set(int(p) for p in model.body_parentid[1:])
-    kinds = _SUPPORTED_GEOMS(mj)
     low: dict[int, float] = {}
     for leaf in (b for b in range(1, model.nbody) if b not in parents):
         b = leaf
         while b > 0:
             geoms = [
-                g for g in _body_geoms(model, b)
-                if int(model.geom_type[g]) in kinds and _collides(model, g)
-            ]  # fmt: skip
+                g for g in _body_geoms(model, b) if _supported(model, g) and _collides(model, g)
+            ]
             if geoms:
                 if int(model.body_weldid[b]) != 0:  # a body that moves
                     low[b] = float(min(_support(model, ref, g)[2] for g in geoms))
