@@ -69,8 +69,6 @@ def _frozen(value: Any) -> Any:
 
 
 def _copy_foot_state(foot_state: Any) -> Any:
-    if foot_state is None:
-        return None
     if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
         return _map_leaves(_frozen, foot_state)
     return copy.deepcopy(foot_state)

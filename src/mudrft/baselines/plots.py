@@ -69,12 +69,9 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
         if name in plate:
             h = plate[name]
             ax[1].plot(h.time, h.sigma_z / 1e3, label=labels[name], **_STYLE[name])
-            inside = h.depth > 0
+            mud = np.where(h.depth > 0, 1.0, np.nan)  # the stress-depth loop in the mud only
             ax[2].plot(
-                np.where(inside, h.depth * 1e3, np.nan),
-                np.where(inside, h.sigma_z / 1e3, np.nan),
-                label=labels[name],
-                **_STYLE[name],
+                h.depth * 1e3 * mud, h.sigma_z / 1e3 * mud, label=labels[name], **_STYLE[name]
             )
     for a in ax[1:]:
         a.axhline(0, color="k", lw=0.5)

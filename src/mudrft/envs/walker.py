@@ -39,6 +39,7 @@ from .._validation import (
     check_finite,
     check_number,
     nonnegative_number,
+    positive_int,
     positive_number,
     set_number,
 )
@@ -101,9 +102,7 @@ class WalkerConfig:
         object.__setattr__(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")
-        fs = self.frame_skip
-        if isinstance(fs, bool) or not isinstance(fs, (int, np.integer)) or fs < 1:
-            raise MudrftError(f"frame_skip must be an integer >= 1, got {fs!r}")
+        fs = positive_int("frame_skip", self.frame_skip)
         if fs * self.dt > MAX_CONTROL_PERIOD:
             raise MudrftError(
                 f"frame_skip must hold an action for at most {MAX_CONTROL_PERIOD:g} s "

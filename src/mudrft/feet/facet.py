@@ -1,6 +1,5 @@
-r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
-
-Element-wise code over ``xp``, applied by :mod:`mudrft.feet.surface` to every facet.
+r"""One triangle of a foot, element-wise over ``xp``: its frame for eq. (6) and its clip by the
+mud surface (:mod:`mudrft.feet.surface` applies it to every facet).
 
 For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
 horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times

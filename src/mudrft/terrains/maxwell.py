@@ -114,8 +114,7 @@ class MaxwellMud:
     (24000.0, 0.53)
     """
 
-    # alpha, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate
-    # test (decision D55, re-derived by tests/terrains/test_maxwell.py)
+    # alpha, n: Table S1; the rest fit_maxwell() (re-derived by tests/terrains/test_maxwell.py)
     alpha: float = 24e3
     n: float = 0.53
     modulus: float = 9.283e4
@@ -246,9 +245,7 @@ def _stress_history(
     """:meth:`MaxwellMud.advance` along a history, on Python floats (fast)."""
     m = _constants(model)
     lam, om, zt = model.relaxation, model.omega, model.damping
-    t = [float(v) for v in time]
-    gam = [float(v) for v in gamma]
-    gdot = [float(v) for v in gamma_dot]
+    t, gam, gdot = (np.asarray(a, dtype=float).tolist() for a in (time, gamma, gamma_dot))
     out = np.zeros(len(t))
     sm = s = sd = gmax = 0.0
     was_in = gam[0] > 0
@@ -315,7 +312,7 @@ def fit_maxwell(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
     m0 = initial or MaxwellMud()
-    inside = g > 0  # out of the mud both models give 0 as terrains (decision D11)
+    inside = g > 0  # out of the mud both models give 0 as terrains
     if not np.any(inside):
         raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")
     x0 = np.log([getattr(m0, f) for f in _FIT_FIELDS])

@@ -61,17 +61,9 @@ def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> FloatArray:
 
 def config_row(terrain: MudTerrain, foot: Foot) -> FloatArray:
     """The options row of a :class:`~mudrft.MudTerrain` for a foot (see module docstring)."""
-    return np.array(
-        [
-            terrain.length(foot),
-            terrain.kappa,
-            terrain.xi0,
-            float(terrain.reset_on_exit),
-            terrain.heading_speed,
-            float(terrain.quasi_static),
-            float(terrain.restart),
-        ]
-    )
+    t = terrain
+    flags = [float(t.reset_on_exit), t.heading_speed, float(t.quasi_static), float(t.restart)]
+    return np.array([t.length(foot), t.kappa, t.xi0, *flags])
 
 
 def state_rows(ch: MudChannels) -> FloatArray:

@@ -1,7 +1,5 @@
-r"""The passive morphing foot: checked views of its mechanism and the Foot interface over it.
-
-The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and :mod:`.equilibrium`.
-"""
+r"""The passive morphing foot: the Foot interface over its mechanism (:mod:`.linkage`,
+:mod:`.springs`, :mod:`.pads`, :mod:`.equilibrium`), with checked views of it."""
 
 from __future__ import annotations
 
