@@ -183,10 +183,8 @@ def plate_intrusion(
         positive_number(name, val, unit=unit)
         for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
     )  # fmt: skip
-    hold, rest = (
-        nonnegative_number(name, val, unit="s")
-        for name, val in (("hold", hold), ("rest", rest))
-    )  # fmt: skip
+    hold = nonnegative_number("hold", hold, unit="s")
+    rest = nonnegative_number("rest", rest, unit="s")
     angle = number_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")  # fmt: skip
     check_choice("direction", direction, ("vertical", "horizontal"))
     warn_implausible(

@@ -317,8 +317,7 @@ class MorphingFoot(Foot):
 
     def initial_foot_state(self) -> MorphingState:
         """Column unloaded, or locked (D37); the seal memory at the current pad angle."""
-        lock = self.locked_deflection()
-        delta = 0.0 if lock is None else lock
+        delta = self.locked_deflection() or 0.0
         th = float(self._linkage.angle(delta))
         return MorphingState(
             deflection=np.asarray(delta), pad_angle=np.asarray(th), most_spread=np.asarray(th)
