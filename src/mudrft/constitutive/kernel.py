@@ -176,9 +176,7 @@ def channel_update_quasi_static(
     """
     gw_new, direction, _r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
-    t9 = clock
-    if restart:
-        t9 = xp.where(clock_w > 0.0, clock_w, clock)
+    t9 = xp.where(clock_w > 0.0, clock_w, clock) if restart else clock
     gamma_dot_c = c.k_a / c.k_r
     # eq. (9) with eq. (4); 1 - exp(-t/lambda) written as -expm1(-t/lambda)
     sigma_th = -xp.expm1(-t9 / c.lam) * laws.thixotropic_steady(
@@ -226,8 +224,7 @@ def _retraction(
     r"""``(gamma_w, direction, r_start, r_end)``: deepest displacement [-], its sign, and
     :math:`r=|\gamma_w|-|\gamma|` at the step's ends [-]; a sign change starts anew."""
     g_old, gw_old = state.gamma, state.gamma_w
-    ag = xp.abs(gamma)
-    agw = xp.abs(gw_old)
+    ag, agw = xp.abs(gamma), xp.abs(gw_old)
     flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
     deeper = (ag >= agw) | flipped
     gw_new = xp.where(deeper, gamma, gw_old)

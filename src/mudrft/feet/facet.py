@@ -24,7 +24,7 @@ from .._typing import Namespace, XpArray
 
 __all__ = [
     "TOL", "clip_constants", "clip_facet", "facet_factors", "facet_force", "facet_frame",
-    "fold_stresses", "safe_div", "safe_sqrt", "sort_by_height", "submerged_area"
+    "safe_div", "safe_sqrt", "sort_by_height", "submerged_area"
 ]  # fmt: skip
 
 #: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
@@ -167,14 +167,6 @@ def clip_facet(
         xp.where(one_low, y1, xp.where(two_low, y2, fy)),
         xp.where(one_low, z1, xp.where(two_low, z2, fz)),
     )
-
-
-def fold_stresses(
-    sx: XpArray, sy: XpArray, heading: XpArray, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    """The horizontal stresses [Pa], as given, and the direction of the motion:
-    ``(sx, sy, cos h, sin h)``."""
-    return sx, sy, xp.cos(heading), xp.sin(heading)
 
 
 def facet_factors(

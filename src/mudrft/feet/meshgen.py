@@ -29,10 +29,8 @@ def rim_angle(radius: float, height: float) -> float:
 
 def _grid_faces(ids: np.ndarray) -> np.ndarray:
     """Triangles of a structured grid of vertex ids (nu+1, nv+1); normal along du x dv."""
-    a = ids[:-1, :-1].ravel()
-    b = ids[1:, :-1].ravel()
-    c = ids[1:, 1:].ravel()
-    d = ids[:-1, 1:].ravel()
+    a, b = ids[:-1, :-1].ravel(), ids[1:, :-1].ravel()
+    c, d = ids[1:, 1:].ravel(), ids[:-1, 1:].ravel()
     return np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)])
 
 
@@ -58,10 +56,9 @@ def box_mesh(
     xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
     ys = np.linspace(-0.5 * length, 0.5 * length, n + 1)
     zs = np.linspace(0.0, height, n + 1)
-    lattice = np.arange((n + 1) ** 3).reshape(n + 1, n + 1, n + 1)  # (i, j, k) -> id
+    L = np.arange((n + 1) ** 3).reshape(n + 1, n + 1, n + 1)  # (i, j, k) -> id
     gx, gy, gz = np.meshgrid(xs, ys, zs, indexing="ij")
     allv = np.stack([gx.ravel(), gy.ravel(), gz.ravel()], -1)
-    L = lattice
     # each face as ids[u, v] with du x dv pointing outward
     grids = [
         L[:, :, 0].T,  # bottom: du = +y, dv = +x  -> -z
@@ -105,13 +102,9 @@ def semicylinder_mesh(
     base = curved.shape[0]
     # end caps: fan from an interior point; arc order is counterclockwise in (y, z)
     for sign, i_x in ((1.0, nx), (-1.0, 0)):
-        centre = np.array([[sign * 0.5 * width, 0.0, 0.5 * height]])
-        ring = ids[i_x]
-        nxt = np.roll(ring, -1)
-        c = np.full(na, base)
-        tri = np.stack([c, ring, nxt], -1) if sign > 0 else np.stack([c, nxt, ring], -1)
-        faces.append(tri)
-        verts.append(centre)
+        ring, nxt, c = ids[i_x], np.roll(ids[i_x], -1), np.full(na, base)
+        faces.append(np.stack([c, ring, nxt], -1) if sign > 0 else np.stack([c, nxt, ring], -1))
+        verts.append(np.array([[sign * 0.5 * width, 0.0, 0.5 * height]]))
         base += 1
     # top: strip between the two rims, du = +x, dv = +y
     faces.append(_grid_faces(np.stack([ids[:, 0], ids[:, -1]], -1)))
@@ -134,8 +127,7 @@ def semisphere_mesh(
     na = 4 * n
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na
-    r = radius * np.sin(th)
-    z = radius * (1.0 - np.cos(th))
+    r, z = radius * np.sin(th), radius * (1.0 - np.cos(th))
     z[-1] = height
     rings = np.stack(
         [(r[:, None] * np.cos(ph)).ravel(), (r[:, None] * np.sin(ph)).ravel(), np.repeat(z, na)], -1

@@ -18,7 +18,6 @@ from .facet import (
     facet_factors,
     facet_force,
     facet_frame,
-    fold_stresses,
     safe_div,
     sort_by_height,
 )
@@ -121,13 +120,10 @@ def _facet_forces(
     xp: Namespace,
 ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """The force components (..., m) [N] on facets of submerged ``area`` [m^2]."""
-    s = xp.asarray(stress)
-    sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], xp.asarray(heading), xp=xp)
-    fn, ft = facet_factors(p.hx, p.hy, ux[..., None], uy[..., None], trailing, xp=xp)
-    sz = s[..., 2][..., None]
-    return facet_force(
-        area, p.nh, p.hx, p.hy, p.wz, sqx[..., None], sqy[..., None], sz, fn, ft, xp=xp
-    )
+    s, h = xp.asarray(stress), xp.asarray(heading)[..., None]
+    fn, ft = facet_factors(p.hx, p.hy, xp.cos(h), xp.sin(h), trailing, xp=xp)
+    sx, sy, sz = (s[..., k][..., None] for k in range(3))
+    return facet_force(area, p.nh, p.hx, p.hy, p.wz, sx, sy, sz, fn, ft, xp=xp)
 
 
 def element_forces(

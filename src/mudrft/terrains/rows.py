@@ -25,7 +25,7 @@ from .._xp import pyfloat
 from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
 from ..feet.closed_form import closed_form_force
-from ..feet.facet import facet_factors, facet_force, fold_stresses, submerged_area
+from ..feet.facet import facet_factors, facet_force, submerged_area
 from ..feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ..feet.morphing.row import MorphingRow, row_array
 from ..feet.surface import PreparedTriangles
@@ -153,7 +153,7 @@ def mesh_force(
     trailing: bool,
 ) -> tuple[float, float, float]:  # fmt: skip
     """Force of the mud on a mesh foot [N]: eqs. (6)-(7) summed over its facets ``up``."""
-    sqx, sqy, ux, uy = fold_stresses(sx, sy, heading, pyfloat)
+    ux, uy = pyfloat.cos(heading), pyfloat.sin(heading)
     fx, fy, fz = 0.0, 0.0, 0.0
     for f in range(up.shape[0]):
         r = up[f]
@@ -161,7 +161,7 @@ def mesh_force(
             continue
         sub = submerged_area(r[0], r[1], r[2], r[3], r[4], r[5], depth, pyfloat)
         fn, ft = facet_factors(r[7], r[8], ux, uy, trailing, pyfloat)
-        a, b, c = facet_force(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft, pyfloat)
+        a, b, c = facet_force(sub, r[6], r[7], r[8], r[9], sx, sy, sz, fn, ft, pyfloat)
         fx += a
         fy += b
         fz += c
