@@ -88,13 +88,12 @@ def as_array(name: str, value: object, *, dtype: DTypeLike = float) -> np.ndarra
     if isinstance(value, (bool, np.bool_)):
         raise MudrftError(f"{name} must be a number, got the boolean {bool(value)}")
     try:
-        arr = np.asarray(value, dtype=dtype)
+        return np.asarray(value, dtype=dtype)
     except (TypeError, ValueError) as exc:
         raise MudrftError(
             f"{name} must be a number or an array of numbers, got {type(value).__name__}: "
             f"{_describe(value)}"
         ) from exc
-    return arr
 
 
 def check_finite(name: str, value: object) -> np.ndarray:

@@ -283,8 +283,7 @@ class BatchedMud:
         """Put every foot above undisturbed mud with its tip at ``position`` (N, 3) or (3,) [m]."""
         pos = np.array(self._inputs("position", position))
         n = self.n
-        self.force = np.zeros((n, 3))
-        self.stress = np.zeros((n, 3))
+        self.force, self.stress = np.zeros((n, 3)), np.zeros((n, 3))
         self.depth = np.maximum(-pos[:, 2], 0.0)
         if self.backend == "jax":
             self._jst = self._jax_ravel(

@@ -226,8 +226,7 @@ class Foot(ABC):
         tip ``depth`` [m], to normalise forces into stresses (paper Figs. 10-12)."""
         d = check_nonnegative("depth", depth, unit="m")
         el = self.elements()
-        z = el.centroids[:, 2]
-        n = el.normals
+        z, n = el.centroids[:, 2], el.normals
         weights = el.areas[:, None] * np.stack(
             [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0, None)], axis=-1
         )

@@ -215,8 +215,7 @@ class MeshFoot(Foot):
                 f"MeshFoot: dropped {self.dropped} zero-area facet(s)", MeshWarning, stacklevel=2
             )
             f = f[~zero]
-        self.closed = closed
-        self.flipped = False
+        self.closed, self.flipped = closed, False
         if closed:
             tri = v[f]
             volume = float(np.sum(tri[:, 0] * np.cross(tri[:, 1], tri[:, 2]))) / 6.0

@@ -25,7 +25,7 @@ from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
     "MudChannels", "MudState", "MudTerrain", "channel_parameters", "initial_channels",
-    "mud_channel_stress", "mud_heading", "mud_step", "vertical_viscosity"
+    "mud_channel_stress", "mud_step", "vertical_viscosity"
 ]  # fmt: skip
 
 
@@ -165,7 +165,9 @@ def _channel_motion(
         cz = enter(cz, fresh, xi0, xp)
         ex = xp.where(fresh, px - vx * dt, ex)
         ey = xp.where(fresh, py - vy * dt, ey)
-        last = xp.where(fresh, mud_heading(last, vx, vy, heading_speed, xp), last)
+        moving = vx * vx + vy * vy > heading_speed * heading_speed  # else keep it (D52)
+        turn = xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0))
+        last = xp.where(fresh & moving, turn, last)
     rx, ry = px - ex, py - ey
     r2 = rx * rx + ry * ry
     away = r2 > 0.0  # roots and angles of safe values: finite JAX gradients at the entry
@@ -180,17 +182,6 @@ def _channel_motion(
     ut = lx * vy - ly * vx  # the speed across the line [m/s]
     gdz = contact_rate(-vz / lc, was_in, in_mud, xp)
     return chh, cz, gamma_h, rate_h, depth / lc, gdz, ex, ey, line, ut, depth, in_mud
-
-
-def mud_heading(
-    heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, xp: Namespace = np
-) -> XpArray:
-    """The direction [rad] of ``(vx, vy)`` [m/s] when faster than ``heading_speed`` [m/s],
-    else ``heading`` (D52); safe values keep JAX gradients finite."""
-    moving = vx * vx + vy * vy > heading_speed * heading_speed
-    return xp.where(
-        moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), heading
-    )
 
 
 def mud_channel_stress(
