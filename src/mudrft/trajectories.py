@@ -108,9 +108,8 @@ class Trajectory:
             raise MudrftError(f"name must be a string, got {self.name!r}")
         if not isinstance(self.meta, dict):
             raise MudrftError(f"meta must be a dict, got {type(self.meta).__name__}")
-        object.__setattr__(self, "time", t)
-        object.__setattr__(self, "position", p)
-        object.__setattr__(self, "velocity", v)
+        for name, value in (("time", t), ("position", p), ("velocity", v)):
+            object.__setattr__(self, name, value)
         _check_velocity(t, p, v)
 
     def __repr__(self) -> str:
@@ -179,10 +178,9 @@ def plate_intrusion(
     >>> round(float(tr.depth.max()), 4), round(tr.duration, 3)
     (0.03, 4.5)
     """
-    depth, speed, dt = (
-        positive_number(name, val, unit=unit)
-        for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
-    )  # fmt: skip
+    depth = positive_number("depth", depth, unit="m")
+    speed = positive_number("speed", speed, unit="m/s")
+    dt = positive_number("dt", dt, unit="s")
     hold = nonnegative_number("hold", hold, unit="s")
     rest = nonnegative_number("rest", rest, unit="s")
     angle = number_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")  # fmt: skip
@@ -251,12 +249,10 @@ def gait(
     >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
     (0.65, 0.02)
     """
-    speed, depth, stride, dt = (
-        positive_number(name, val, unit=unit)
-        for name, val, unit in (
-            ("speed", speed, "m/s"), ("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")
-        )
-    )  # fmt: skip
+    speed = positive_number("speed", speed, unit="m/s")
+    depth = positive_number("depth", depth, unit="m")
+    stride = positive_number("stride", stride, unit="m")
+    dt = positive_number("dt", dt, unit="s")
     slip, sway = (number_in_range(n, v, 0.0, 1.0) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
     lift = nonnegative_number("lift", lift, unit="m")
     for what, value, plausible, unit, hint in (

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..plotting import require_matplotlib
 from .compare import History, normalized_loop
 
 __all__ = ["plot_gait", "plot_s6"]
@@ -22,14 +23,6 @@ _STYLE = {
 }
 
 
-def _plt() -> Any:
-    try:
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover
-        raise MudrftError("plotting needs matplotlib: pip install 'mudrft[plot]'") from exc
-    return plt
-
-
 def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
 
@@ -40,7 +33,7 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """
     if not isinstance(plate, Mapping) or not plate:
         raise MudrftError("plate must be a non-empty mapping {terrain: History} (compare's result)")
-    plt = _plt()
+    plt = require_matplotlib()
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 4.0), constrained_layout=True)
     loops = (
         ("mud", "mud (this model)"),  # its water content is the run's, not always 25 %
@@ -102,7 +95,7 @@ def plot_gait(
     shown = {k: v for k, v in gait.items() if k not in exclude}
     if not shown:
         raise MudrftError("gait must hold at least one History that is not excluded")
-    plt = _plt()
+    plt = require_matplotlib()
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 3.8), constrained_layout=True)
     for name, h in shown.items():
         phase = (h.time - h.time[0]) / (h.time[-1] - h.time[0]) * 100
