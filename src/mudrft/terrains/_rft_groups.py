@@ -127,8 +127,7 @@ class FacetRFT:
     coefficients: object
 
     def _check_options(self, coefficients: type) -> None:
-        speed = check_positive("rest_speed", self.rest_speed, unit="m/s")
-        set_number(self, "rest_speed", speed)
+        set_number(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
         width = check_in_range("leading_width", self.leading_width, 0.0, 1.0)
         set_number(self, "leading_width", width)
         if not isinstance(self.coefficients, coefficients):
@@ -177,11 +176,7 @@ class FacetRFT:
         """Responses (..., k, 3) of the groups ``submerged`` anywhere in the batch and which
         groups hold one (k,), reusing ``cache`` of the same ``direction``."""
         need = np.any(submerged, axis=tuple(range(submerged.ndim - 1)))
-        if (
-            cache is not None
-            and cache[0].shape == direction.shape
-            and np.array_equal(cache[0], direction)
-        ):
+        if cache is not None and np.array_equal(cache[0], direction):  # False for another shape
             unit, known = cache[1], cache[2]
         else:
             unit = np.zeros((*direction.shape[:-1], need.size, 3))

@@ -169,10 +169,7 @@ def _unit_forces(
     axial = ~(vh_ok | nh_ok)  # purely vertical: the force must not depend on the yaw (D53)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
     # the frame of the motion (planar; treers2021: on nearly horizontal facets) or the normal
-    if extension == "planar":
-        share = np.where(vh_ok, 1.0, 0.0)
-    else:
-        share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
+    share = np.where(vh_ok, 1.0 if extension == "planar" else horizontal_share(nb[..., 2]), 0.0)
     e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
     f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
     band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
