@@ -79,7 +79,10 @@ def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangl
     za, zb, zc = srt[2], srt[5], srt[8]
     k_low, k_high, flat_area = clip_constants(za, zb, zc, area, xp=xp)
     return PreparedTriangles(
-        *(xp.stack(srt[i : i + 3], axis=-1) for i in (0, 3, 6)), xp.stack([nx, ny, nz], axis=-1),
+        xp.stack(srt[0:3], axis=-1),
+        xp.stack(srt[3:6], axis=-1),
+        xp.stack(srt[6:9], axis=-1),
+        xp.stack([nx, ny, nz], axis=-1),
         area, k_low, k_high, nh, hx, hy, wz, za, zb, zc, flat_area,
     )  # fmt: skip
 
