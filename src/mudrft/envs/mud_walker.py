@@ -72,10 +72,9 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
             m, list(self.layout.bodies), self.config.mud, feet=foot, bottom=self.config.bottom,
             backend=choose_backend(backend, self.config.mud, foot),
         )  # fmt: skip
-        self.action_space = gymnasium.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
-        self.observation_space = gymnasium.spaces.Box(
-            -np.inf, np.inf, (OBS_SIZE,), dtype=np.float32
-        )
+        box = gymnasium.spaces.Box
+        self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
+        self.observation_space = box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
         self._renderer: mujoco.Renderer | None = None
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
         self._phase = "new"  # then "running", "ended" (terminated) or "closed"

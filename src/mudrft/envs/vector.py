@@ -93,16 +93,11 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                                     for i in range(len(per_value[0][k]))))
             for k in range(2)
         )  # fmt: skip
-        self.single_action_space = gymnasium.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
-        self.action_space = gymnasium.vector.utils.batch_space(
-            self.single_action_space, self.num_envs
-        )
-        self.single_observation_space = gymnasium.spaces.Box(
-            -np.inf, np.inf, (OBS_SIZE,), np.float32
-        )
-        self.observation_space = gymnasium.vector.utils.batch_space(
-            self.single_observation_space, self.num_envs
-        )
+        box, batch = gymnasium.spaces.Box, gymnasium.vector.utils.batch_space
+        self.single_action_space = box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
+        self.action_space = batch(self.single_action_space, self.num_envs)
+        self.single_observation_space = box(-np.inf, np.inf, (OBS_SIZE,), np.float32)
+        self.observation_space = batch(self.single_observation_space, self.num_envs)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._done = np.zeros(self.num_envs, dtype=bool)
         self._state: Any = None
