@@ -123,8 +123,7 @@ class Trajectory:
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
         """A trajectory of positions [m] at ``time`` [s]; the velocity of sample k is the rate
         over the step that ends there [m/s] (sample 0 takes the first step's)."""
-        t = check_increasing("time", time)
-        p = check_finite("position", position)
+        t, p = check_increasing("time", time), check_finite("position", position)
         if p.shape != (t.size, 3):
             raise MudrftError(f"position must have shape ({t.size}, 3), got {p.shape}")
         rate = np.diff(p, axis=0) / np.diff(t)[:, None]

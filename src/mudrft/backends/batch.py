@@ -306,8 +306,7 @@ class BatchedMud:
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` [s] to ``position`` [m] at ``velocity`` [m/s] ((N, 3) or
         (3,)); return the forces of the mud on them (N, 3) [N], also in :attr:`force`."""
-        pos = self._inputs("position", position)
-        vel = self._inputs("velocity", velocity)
+        pos, vel = self._inputs("position", position), self._inputs("velocity", velocity)
         if not (type(dt) is float and 0.0 < dt < math.inf):
             dt = positive_number("dt", dt, unit="s")
         if self.backend == "numba":

@@ -223,8 +223,7 @@ def run(
             )
     if not is_tracer(xi0):
         check_in_range("xi0", xi0, 0.0, 1.0)
-    t = jnp.asarray(time, dtype=float)
-    g = jnp.asarray(gamma, dtype=float)
+    t, g = jnp.asarray(time, dtype=float), jnp.asarray(gamma, dtype=float)
     dynamics.check_parameter_shapes(
         {k: jnp.shape(f) for k, f in zip(JaxParams._fields, params, strict=True)}, g.shape[1:]
     )

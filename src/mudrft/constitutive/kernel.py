@@ -137,8 +137,7 @@ def channel_update(
     xi_new = xi_ss + (xi - xi_ss) * e_tau
 
     # lagged thixotropic stress, eq. (3a) driven by A + B xi(t): exact (eq. S2, any xi(0))
-    a_drive = (1.0 - kappa) * c.eta_inf * gamma_dot
-    b_drive = c.eta_m * gamma_dot
+    a_drive, b_drive = (1.0 - kappa) * c.eta_inf * gamma_dot, c.eta_m * gamma_dot
     e_lam = xp.exp(-dt / c.lam)
     conv = relaxation_convolution(dt, c.lam, tau, e_lam, e_tau, xp=xp)
     s_new = (

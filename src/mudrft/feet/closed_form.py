@@ -64,10 +64,8 @@ def flat_coefficients(
     """
     z = xp.minimum(depth, height)
     phic = 0.5 * math.pi - phi
-    ax = z * length * f_n(phi, xp=xp)
-    by = z * length * f_t(phi, xp=xp)
-    bx = z * width * f_t(phic, xp=xp)
-    ay = z * width * f_n(phic, xp=xp)
+    ax, by = z * length * f_n(phi, xp=xp), z * length * f_t(phi, xp=xp)
+    bx, ay = z * width * f_t(phic, xp=xp), z * width * f_n(phic, xp=xp)
     az = xp.where(depth > 0, length * width, 0.0)
     return ax, bx, by, ay, az
 

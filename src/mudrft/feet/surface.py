@@ -89,8 +89,7 @@ def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangl
 
 def submerged_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> XpArray:
     """Exact submerged area of each facet [m^2], shape (..., m), at tip ``depth`` [m]."""
-    p = prepared
-    d = xp.asarray(depth)[..., None]
+    p, d = prepared, xp.asarray(depth)[..., None]
     return facet_submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
 
 
@@ -105,8 +104,7 @@ def clip_below(
     >>> float(a[0]), c[0].round(4).tolist()
     (0.25, [0.0, 0.0, 0.3333])
     """
-    p = prepared
-    d = xp.asarray(depth)[..., None]
+    p, d = prepared, xp.asarray(depth)[..., None]
     a, b, c = p.lo, p.mid, p.hi
     area, cx, cy, cz = clip_facet(
         a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2],

@@ -70,12 +70,9 @@ def _zoh(
     ch = cmath.cosh(qt).real
     sh = (cmath.sinh(qt) / q).real if abs(qt) > 1e-8 else dt * (1.0 + (qt * qt).real / 6.0)
     e = math.exp(-a * dt)
-    p00 = e * (ch + a * sh)
-    p01 = e * sh
-    p10 = -e * omega * omega * sh
-    p11 = e * (ch - a * sh)
-    g0 = -2.0 * a * p01 - (p11 - 1.0)
-    g1 = omega * omega * p01
+    p00, p01 = e * (ch + a * sh), e * sh
+    p10, p11 = -e * omega * omega * sh, e * (ch - a * sh)
+    g0, g1 = -2.0 * a * p01 - (p11 - 1.0), omega * omega * p01
     return p00, p01, p10, p11, g0, g1
 
 
@@ -161,8 +158,7 @@ class MaxwellMud:
         """Advance over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the rate
         ``gamma_dot`` [1/s] (down > 0); return (state, stress [Pa]), reset out of the mud."""
         check_positive("dt", dt, unit="s")
-        g = np.asarray(gamma, dtype=float)
-        gd = np.asarray(gamma_dot, dtype=float)
+        g, gd = np.asarray(gamma, dtype=float), np.asarray(gamma_dot, dtype=float)
         in_mud = g > 0
         hold = (np.exp(-dt / self.relaxation), *_zoh(float(dt), self.omega, self.damping))
         sigma_m, s, sd, gmax, inside = _update(

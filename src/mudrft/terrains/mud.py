@@ -34,8 +34,7 @@ def channel_parameters(mud: Mud) -> MudParameters:
     h, v = mud.horizontal, mud.vertical
     fields: dict[str, Any] = {}
     for k in PARAMETER_UNITS:
-        a, b = np.asarray(getattr(h, k), dtype=float), np.asarray(getattr(v, k), dtype=float)
-        a, b = np.broadcast_arrays(a, b)
+        a, b = np.broadcast_arrays(*(np.asarray(getattr(p, k), dtype=float) for p in (h, v)))
         fields[k] = np.stack([a, a, b], axis=-1)
     return MudParameters(**fields, source=f"channels of {mud.name}")
 
@@ -161,10 +160,8 @@ def _channel_motion(
     ex, ey, last = st.entry_x, st.entry_y, st.line
     if reset:
         fresh = st.in_mud < 0.5
-        chh = enter(chh, fresh, xi0, xp)
-        cz = enter(cz, fresh, xi0, xp)
-        ex = xp.where(fresh, px - vx * dt, ex)
-        ey = xp.where(fresh, py - vy * dt, ey)
+        chh, cz = enter(chh, fresh, xi0, xp), enter(cz, fresh, xi0, xp)
+        ex, ey = xp.where(fresh, px - vx * dt, ex), xp.where(fresh, py - vy * dt, ey)
         moving = vx * vx + vy * vy > heading_speed * heading_speed  # else keep it (D52)
         turn = xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0))
         last = xp.where(fresh & moving, turn, last)
@@ -378,8 +375,7 @@ class MudTerrain:
         self, foot: Foot, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MudState, TerrainOutput]:
         """:meth:`step` without validation (finite (..., 3) inputs and dt > 0 assumed)."""
-        pos = np.asarray(position, dtype=float)
-        vel = np.asarray(velocity, dtype=float)
+        pos, vel = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
         seal = foot.seal_factor(state.foot)
         common = (self.length(foot), self.kappa, self.xi0, self.reset_on_exit, self.heading_speed)
         flags = (self.quasi_static, self.restart)

@@ -219,8 +219,7 @@ def run(
     """
     n = pos.shape[1]
     stride = 0 if c.shape[0] == 1 else 1
-    row = np.empty(N_STATE)
-    frow = np.empty(N_FOOT)
+    row, frow = np.empty(N_STATE), np.empty(N_FOOT)
     for t in range(pos.shape[0]):
         for i in range(n):
             o = out[t, i]

@@ -194,8 +194,7 @@ class MorphingFoot(Foot):
     ) -> NDArray[np.float64]:
         r"""Column deflection [m] in balance with the mud (D32, D34) at tip ``depth`` [m] >= 0
         and vertical stress ``sz`` [Pa], reached from the ``previous`` deflection [m]."""
-        d = check_nonnegative("depth", depth, unit="m")
-        s = check_finite("sz", sz)
+        d, s = check_nonnegative("depth", depth, unit="m"), check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
         return balanced_deflection(d, s, previous=p, linkage=self._linkage, spring=self.spring)
 
@@ -343,8 +342,7 @@ class MorphingFoot(Foot):
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()
-        d = np.asarray(depth, dtype=float)
-        s = np.asarray(stress, dtype=float)
+        d, s = np.asarray(depth, dtype=float), np.asarray(stress, dtype=float)
         delta = self._deflection(d, s[..., 2], foot_state.deflection)
         if self.curl_delay > 0.0 and self.mode == "morphing":
             delta = held_deflection(delta, foot_state.deflection, retraction, self.curl_delay)

@@ -145,8 +145,7 @@ def raw_pad_angle(
 ) -> XpArray:  # fmt: skip
     """Unclipped pad angle [rad] at a deflection [m], element-wise; ``g`` by attribute,
     ``pole_top`` [m] and ``branch`` (+-1) from :class:`Linkage`."""
-    dr = g.pole_radius - g.base_radius
-    dz = pole_top - deflection - g.pivot_height
+    dr, dz = g.pole_radius - g.base_radius, pole_top - deflection - g.pivot_height
     dist = xp.hypot(dr, dz)
     a, b = g.crank_length, g.coupler_length
     c = (a * a + dist * dist - b * b) / (2.0 * a * dist)

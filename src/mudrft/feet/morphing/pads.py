@@ -133,8 +133,7 @@ def magnitudes(
 ) -> NDArray[np.float64]:  # fmt: skip
     """First-quadrant magnitudes (Fx, Fy, Fz) [N] (D33) at tip ``depth`` [m], stresses
     (..., 3) [Pa], ``heading`` in [0, pi/2] [rad] and pad angle ``theta`` [rad]."""
-    s = np.asarray(stress, dtype=float)
-    d = np.asarray(depth, dtype=float)
+    s, d = np.asarray(stress, dtype=float), np.asarray(depth, dtype=float)
     ax, _, _, ay, az = coefficients(g, d, np.asarray(theta, float), np.asarray(heading, float))
     fx, fy, fz = ax * s[..., 0], ay * s[..., 1], az * s[..., 2]
     return np.stack(np.broadcast_arrays(fx, fy, fz), axis=-1)
