@@ -136,8 +136,7 @@ def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     20.0
     """
     t = check_increasing("time", time)
-    f = _forces("force", force, t.size)
-    v = check_finite("velocity", velocity)
+    f, v = _forces("force", force, t.size), check_finite("velocity", velocity)
     if v.shape != f.shape:
         raise MudrftError(f"velocity must have the shape of force {f.shape}, got shape {v.shape}")
     mean_force = 0.5 * (f[1:] + f[:-1])

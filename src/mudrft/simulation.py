@@ -375,8 +375,7 @@ def _simulate_load(
         else:
             k_leg = float(load.leg_stiffness)  # type: ignore[arg-type]
             f_leg = k_leg * (zb - z) + load.leg_damping * (vb - v)
-            vb = vb + (-W - f_leg) / m * dt
-            v = v + (f_prev + f_leg) / load.foot_mass * dt
+            vb, v = vb + (-W - f_leg) / m * dt, v + (f_prev + f_leg) / load.foot_mass * dt
             zb, z = zb + vb * dt, z + v * dt
         if not (math.isfinite(z) and math.isfinite(v)):  # before the terrain names its input
             raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")

@@ -65,8 +65,7 @@ def check_unburied(
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
     """Warn when the velocity [m/s] is not the rate of the position [m] (a flipped sign, mm/s):
     each step's mean velocity must lie between its ends', up to a quarter of the extent."""
-    dt = np.diff(t)[:, None]
-    dp = np.diff(p, axis=0)
+    dt, dp = np.diff(t)[:, None], np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
     off = np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)
     # in the air (z >= 0 at both ends) a path may jump

@@ -85,8 +85,7 @@ def semicylinder_mesh(
     radius, width, height = (
         check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
-    tm = rim_angle(radius, height)
-    n = positive_int("resolution", resolution)
+    tm, n = rim_angle(radius, height), positive_int("resolution", resolution)
     th = np.linspace(-tm, tm, 2 * n + 1)
     ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
     za[[0, -1]] = height  # the rim lies exactly on the top plane
@@ -97,8 +96,7 @@ def semicylinder_mesh(
     gx, gt = np.meshgrid(xs, np.arange(na), indexing="ij")
     curved = np.stack([gx.ravel(), ya[gt.ravel()], za[gt.ravel()]], -1)
     ids = np.arange(curved.shape[0]).reshape(nx + 1, na)  # ids[i_x, j_theta]
-    faces = [_grid_faces(ids.T)]
-    verts = [curved]
+    faces, verts = [_grid_faces(ids.T)], [curved]
     base = curved.shape[0]
     # end caps: fan from an interior point; arc order is counterclockwise in (y, z)
     for sign, i_x in ((1.0, nx), (-1.0, 0)):
@@ -122,8 +120,7 @@ def semisphere_mesh(
     (128, 3)
     """
     radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
-    tm = rim_angle(radius, height)
-    n = positive_int("resolution", resolution)
+    tm, n = rim_angle(radius, height), positive_int("resolution", resolution)
     na = 4 * n
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na

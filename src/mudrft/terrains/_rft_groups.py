@@ -102,8 +102,7 @@ def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
     frac = np.clip((depth[..., None] - pr.h0) / pr.span, 0.0, 1.0 - 1e-12)
     query = np.arange(k) + frac  # (..., k)
     j = np.searchsorted(pr.keys, query.ravel(), side="left").reshape(query.shape)
-    area = pr.cum_a[j] - pr.cum_a[pr.start]
-    moment = pr.cum_ah[j] - pr.cum_ah[pr.start]
+    area, moment = pr.cum_a[j] - pr.cum_a[pr.start], pr.cum_ah[j] - pr.cum_ah[pr.start]
     return np.maximum(depth[..., None] * area - moment, 0.0)
 
 

@@ -141,8 +141,7 @@ def _frame_forces(
     s = (v23 * e2).sum(-1)
     e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
     n_along = np.where(axial, 0.0, (nb * e2m).sum(-1))
-    beta = np.arctan2(nb[..., 2], n_along) + np.pi / 2
-    gamma = -np.arctan2(v23[..., 2], np.abs(s))
+    beta, gamma = np.arctan2(nb[..., 2], n_along) + np.pi / 2, -np.arctan2(v23[..., 2], np.abs(s))
     ax, az = coefficients.alpha(beta, gamma)
     if extension == "planar":
         return -ax[..., None] * e2m + az[..., None] * z_hat  # type: ignore[no-any-return]

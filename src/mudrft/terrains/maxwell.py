@@ -175,8 +175,7 @@ class MaxwellMud:
     ) -> tuple[MaxwellState, TerrainOutput]:
         """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
         pos, vel = kinematics(position, velocity)
-        lc = self._lc(foot)
-        depth = tip_depth(pos)
+        lc, depth = self._lc(foot), tip_depth(pos)
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)

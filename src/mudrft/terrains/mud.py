@@ -174,8 +174,7 @@ def _channel_motion(
         away, xp.arctan2(side * xp.where(away, ry, 0.0), side * xp.where(away, rx, 1.0)), last
     )
     lx, ly = xp.cos(line), xp.sin(line)
-    rate_h = (lx * vx + ly * vy) / lc
-    gamma_h = xp.where(away, side * r, 0.0) / lc
+    rate_h, gamma_h = (lx * vx + ly * vy) / lc, xp.where(away, side * r, 0.0) / lc
     ut = lx * vy - ly * vx  # the speed across the line [m/s]
     gdz = contact_rate(-vz / lc, was_in, in_mud, xp)
     return chh, cz, gamma_h, rate_h, depth / lc, gdz, ex, ey, line, ut, depth, in_mud

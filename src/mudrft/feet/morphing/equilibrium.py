@@ -192,8 +192,7 @@ def _move(
     r_n = np.where(up[:, None], r_n, r_n[:, ::-1])  # in the direction of motion
     lo, flo, hi, fhi, found = p, r_p, p, r_p, np.zeros(d.size, dtype=bool)
     for k in range(_GRID):
-        x = _node(k, up, stroke)
-        r = r_n[:, k]
+        x, r = _node(k, up, stroke), r_n[:, k]
         lo, flo, hi, fhi, found = _scan_node(up, p, x, r, lo, flo, hi, fhi, found)
         if found.all():
             break  # the remaining nodes change nothing

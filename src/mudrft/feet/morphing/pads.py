@@ -182,8 +182,7 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
     edges = np.linspace(0.0, g.pad_length, strips + 1)
     areas_1 = np.diff(pad_area(g, edges))
     mids = 0.5 * (edges[1:] + edges[:-1])
-    cen = [np.array([[0.0, 0.0, 0.0]])]
-    nor = [np.array([[0.0, 0.0, -1.0]])]
+    cen, nor = [np.array([[0.0, 0.0, 0.0]])], [np.array([[0.0, 0.0, -1.0]])]
     ar = [np.array([math.pi * g.base_radius**2])]
     ez = np.array([0.0, 0.0, 1.0])
     # walls: the base pad's rim up to the pivots, the column above them (outward normals)
