@@ -99,10 +99,9 @@ class LoadControl:
             value = getattr(self, name)
             if value is not None or name not in ("mass", "leg_stiffness"):
                 _set(self, name, check(name, value, unit=unit))
+        what = f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s"
         check_samples(
-            f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
-            self.duration / self.dt + 1,
-            hint="use a larger dt or a shorter duration",
+            what, self.duration / self.dt + 1, hint="use a larger dt or a shorter duration"
         )
 
     @property
@@ -198,11 +197,8 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
             f"dt = {plain(dt)} s cuts the {span:.3g} s trajectory into fewer than "
             f"{MIN_GAIT_STEPS} steps; use dt <= {span / MIN_GAIT_STEPS:.3g} s"
         )
-    check_samples(
-        f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s",
-        span / dt + 2,
-        hint="use a larger dt",
-    )
+    what = f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s"
+    check_samples(what, span / dt + 2, hint="use a larger dt")
     n = int(np.floor(span / dt + 1e-9)) + 1
     t = traj.time[0] + dt * np.arange(n)
     if t[-1] < traj.time[-1] - 1e-12:

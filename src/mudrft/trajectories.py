@@ -188,11 +188,8 @@ def plate_intrusion(
     )  # fmt: skip
     t_in = depth / speed
     t_total = 2 * t_in + hold + rest
-    check_samples(
-        f"plate_intrusion: a {t_total:.3g} s test at dt = {float(dt):g} s",
-        t_total / dt + 1,
-        hint="use a larger dt",
-    )
+    what = f"plate_intrusion: a {t_total:.3g} s test at dt = {float(dt):g} s"
+    check_samples(what, t_total / dt + 1, hint="use a larger dt")
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
@@ -261,17 +258,13 @@ def gait(
     ):
         warn_implausible(f"gait: {what}", value, plausible, unit=unit, hint=hint)
     T = stride / speed
-    check_samples(
-        f"gait: one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s) "
-        f"at dt = {float(dt):g} s",
-        T / dt + 1,
-        hint="use a larger dt or a higher speed",
-    )
+    cycle = f"one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s)"
+    faster = "use a larger dt or a higher speed"
+    check_samples(f"gait: {cycle} at dt = {float(dt):g} s", T / dt + 1, hint=faster)
     if not T / dt >= MIN_GAIT_STEPS:
         raise MudrftError(
-            f"gait: dt = {float(dt):g} s cuts one {T:.3g} s cycle (stride {float(stride):g} m / "
-            f"speed {float(speed):g} m/s) into {T / dt:.3g} steps; at least {MIN_GAIT_STEPS} "
-            f"are needed: use dt <= {T / MIN_GAIT_STEPS:.3g} s or a lower speed"
+            f"gait: dt = {float(dt):g} s cuts {cycle} into {T / dt:.3g} steps; at least "
+            f"{MIN_GAIT_STEPS} are needed: use dt <= {T / MIN_GAIT_STEPS:.3g} s or a lower speed"
         )
     n = int(np.ceil(T / dt)) + 1
     t = np.linspace(0.0, T, n)

@@ -242,12 +242,8 @@ class MorphingFoot(Foot):
 
     def replace(self, **changes: Any) -> MorphingFoot:
         """A copy with some parameters changed (geometry or spring fields, mode, ...)."""
-        kw: dict[str, Any] = {
-            "mode": self.mode,
-            "seal_length": self.seal_length,
-            "curl_delay": self.curl_delay,
-            "characteristic_length": self._lc,
-        }
+        kw: dict[str, Any] = {"mode": self.mode, "seal_length": self.seal_length}
+        kw.update(curl_delay=self.curl_delay, characteristic_length=self._lc)
         return MorphingFoot(self.geometry, self.spring, **(kw | changes))
 
     def as_dict(self) -> dict[str, float | int | str]:
