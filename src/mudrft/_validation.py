@@ -315,10 +315,8 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
 def check_characteristic_length(what: str, value: object) -> float:
     """A characteristic length :math:`L_c` [m] as a float; an implausible one warns."""
     v = check_length("characteristic_length", value)
-    hint = "it is in metres (50 mm is 0.05)"
-    warn_implausible(
-        f"{what}: characteristic_length is", v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint
-    )
+    label, hint = f"{what}: characteristic_length is", "it is in metres (50 mm is 0.05)"
+    warn_implausible(label, v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return v
 
 

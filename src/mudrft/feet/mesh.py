@@ -189,15 +189,12 @@ class MeshFoot(Foot):
         diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
         if diag == 0.0:
             raise MudrftError("vertices must not all coincide: the mesh is degenerate (zero size)")
-        warn_implausible(
-            f"MeshFoot {self.name!r}: the mesh is",
-            float(np.ptp(vu, axis=0).max()),
-            PLAUSIBLE_FOOT_SIZE,
-            unit="m across",
-            hint="if its coordinates are not in metres, state their unit: "
-            "MeshFoot.from_file(path, unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the "
-            "vertices to metres",
+        hint = (
+            "if its coordinates are not in metres, state their unit: MeshFoot.from_file(path, "
+            "unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the vertices to metres"
         )
+        what, size = f"MeshFoot {self.name!r}: the mesh is", float(np.ptp(vu, axis=0).max())
+        warn_implausible(what, size, PLAUSIBLE_FOOT_SIZE, unit="m across", hint=hint)
         closed, wrong, weld = _topology(v, f)
         if wrong:
             raise MudrftError(

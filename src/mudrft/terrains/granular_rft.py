@@ -276,13 +276,8 @@ class GranularRFT(FacetRFT):
         _set(self, "zeta", check_positive("zeta", self.zeta, unit="N/m^3"))
         self._check_options(FourierCoefficients)
         check_choice("extension", self.extension, ("treers2021", "planar"))
-        warn_implausible(  # valid but most likely a unit mistake
-            "GranularRFT: zeta is",
-            self.zeta,
-            PLAUSIBLE_ZETA,
-            unit="N/m^3",
-            hint="zeta is in N/m^3; RFT papers print N/cm^3 (0.254 N/cm^3 = 2.54e5 N/m^3)",
-        )
+        hint = "zeta is in N/m^3; RFT papers print N/cm^3 (0.254 N/cm^3 = 2.54e5 N/m^3)"
+        warn_implausible("GranularRFT: zeta is", self.zeta, PLAUSIBLE_ZETA, unit="N/m^3", hint=hint)
         plate = self.coefficients.plate
         if not abs(plate - 1.0) <= 0.01:
             warn_plausibility(
