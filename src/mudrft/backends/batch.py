@@ -286,11 +286,8 @@ class BatchedMud:
         self.force, self.stress = np.zeros((n, 3)), np.zeros((n, 3))
         self.depth = np.maximum(-pos[:, 2], 0.0)
         if self.backend == "jax":
-            self._jst = self._jax_ravel(
-                self._mjax.initial_terrain_state(
-                    pos, self.characteristic_length, xi0=self.terrain.xi0
-                )
-            )
+            lc, xi0 = self.characteristic_length, self.terrain.xi0
+            self._jst = self._jax_ravel(self._mjax.initial_terrain_state(pos, lc, xi0=xi0))
             return
         if self._one is not None:
             self._state = self._one.initial_state(self.foot, pos[0])

@@ -136,11 +136,6 @@ def semisphere_mesh(
     pole = np.stack([np.zeros(na, int), ids[0, k1], ids[0]], -1)
     a, b = ids[:-1], ids[1:]  # ring j and j+1
     ak, bk = a[:, k1], b[:, k1]
-    quads = np.concatenate(
-        [
-            np.stack([a.ravel(), bk.ravel(), b.ravel()], -1),
-            np.stack([a.ravel(), ak.ravel(), bk.ravel()], -1),
-        ]
-    )
+    quads = np.concatenate([np.stack([a, bk, b], -1), np.stack([a, ak, bk], -1)]).reshape(-1, 3)
     cap = np.stack([np.full(na, top), ids[-1], ids[-1, k1]], -1)
     return verts, np.concatenate([pole, quads, cap])

@@ -166,13 +166,9 @@ def paper_mud(
         h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate, labels=labels)
     if caught:
         warnings.warn(str(caught[0].message), UserWarning, stacklevel=2)
-    return Mud(
-        vertical=v,
-        horizontal=h,
-        water_content=v.water_content,
-        name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %"
-        + ("" if labels == "table" else f" ({labels} labels)"),
-    )
+    name = f"Chen 2026 mud, W = {float(water_content) * 100:g} %"
+    name += "" if labels == "table" else f" ({labels} labels)"
+    return Mud(vertical=v, horizontal=h, water_content=v.water_content, name=name)
 
 
 def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:

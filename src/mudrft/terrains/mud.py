@@ -216,15 +216,8 @@ def initial_channels(
             gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero, clock=zero, clock_w=zero
         )
 
-    return MudChannels(
-        h=fresh(zero),
-        z=fresh(depth / lc),
-        entry_x=px + zero,
-        entry_y=py + zero,
-        line=zero,
-        heading=zero,
-        in_mud=xp.where(in_contact(depth), 1.0, 0.0),
-    )
+    inside = xp.where(in_contact(depth), 1.0, 0.0)
+    return MudChannels(fresh(zero), fresh(depth / lc), px + zero, py + zero, zero, zero, inside)
 
 
 def _motion_for_state(

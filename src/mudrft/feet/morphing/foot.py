@@ -147,12 +147,8 @@ class MorphingFoot(Foot):
         """Force, pad angle and stiffness against deflection [m] on rigid ground, where only
         the tip touches and the load is the column spring's (paper Fig. S3a, b)."""
         d = self._check_deflection(deflection)
-        return RigidGroundResponse(
-            deflection=d,
-            force=np.asarray(self.spring.force(d)),
-            pad_angle=self._linkage.angle(d),
-            stiffness=self.spring.stiffness(d),
-        )
+        force, angle = np.asarray(self.spring.force(d)), self._linkage.angle(d)
+        return RigidGroundResponse(d, force, angle, self.spring.stiffness(d))
 
     def locked_deflection(self) -> float | None:
         """Deflection the mode locks (stroke for expanded, 0 for retracted), None if free [m]."""
