@@ -207,9 +207,8 @@ def plate_intrusion(
         "speed": float(speed), "hold": float(hold), "t_retract": float(t_in + hold),
         "displacement": q,
     }  # fmt: skip
-    return Trajectory(
-        time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta
-    )
+    name = f"plate {direction} intrusion"
+    return Trajectory(time=t, position=pos, velocity=vel, name=name, meta=meta)
 
 
 def gait(

@@ -341,9 +341,7 @@ class BatchedMud:
 
             ch, f = channels_of_rows(self._st), self._fst
             if self._geom[0] == MORPHING:
-                foot_state = MorphingState(
-                    deflection=f[:, 0], pad_angle=f[:, 1], most_spread=f[:, 2]
-                )
+                foot_state = MorphingState(f[:, 0], f[:, 1], f[:, 2])
         elif self.backend == "jax":
             ch = self._jax_unravel(self._jst)
         else:

@@ -94,9 +94,8 @@ def thixotropic_approx(
        \sigma_{th}=\left(1-e^{-t/\lambda}\right)\sigma_{th,ss} \tag{9}
     """
     t = np.asarray(t, dtype=float)
-    return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
-        gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c
-    )
+    steady = laws.thixotropic_steady(gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c)
+    return (1.0 - np.exp(-t / params.lam)) * steady
 
 
 def suction_closed_form(

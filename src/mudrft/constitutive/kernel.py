@@ -178,9 +178,8 @@ def channel_update_quasi_static(
     t9 = xp.where(clock_w > 0.0, clock_w, clock) if restart else clock
     gamma_dot_c = c.k_a / c.k_r
     # eq. (9) with eq. (4); 1 - exp(-t/lambda) written as -expm1(-t/lambda)
-    sigma_th = -xp.expm1(-t9 / c.lam) * laws.thixotropic_steady(
-        gamma_dot, c.eta_inf, c.eta_m, gamma_dot_c, xp=xp
-    )
+    sigma_ss = laws.thixotropic_steady(gamma_dot, c.eta_inf, c.eta_m, gamma_dot_c, xp=xp)
+    sigma_th = -xp.expm1(-t9 / c.lam) * sigma_ss
     # eqs. (10)-(11) at the current sealing state
     phi = seal * laws.sealing(r_end, c.epsilon, xp=xp)
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
@@ -208,13 +207,10 @@ def _stresses(
     gamma_dot: XpArray, r_end: XpArray, xp: Namespace = np,
 ) -> ChannelStress:  # fmt: skip
     r"""Eq. (1) at the end of a step [Pa]: :math:`\sigma_b(1-\phi)+\sigma_{th}+H_\nu\sigma_s`."""
-    sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
-        r_end, c.epsilon, xp=xp
-    )
+    bed = laws.bed_contact(r_end, c.epsilon, xp=xp)
+    sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * bed
     suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * state.sigma_s
-    return ChannelStress(
-        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
-    )
+    return ChannelStress(sigma_b + sigma_th + suction, sigma_b, sigma_th, suction)
 
 
 def _retraction(

@@ -96,9 +96,8 @@ class WalkerConfig:
                 raise MudrftError(f"foot must be one of {FEET} or a mudrft foot, got {self.foot!r}")
         elif not hasattr(self.foot, "contact_force"):
             raise MudrftError(f"foot must be a name or a mudrft foot, got {self.foot!r}")
-        mudrft.paper_mud(
-            check_number("water_content", check_finite("water_content", self.water_content))
-        )
+        w = check_number("water_content", check_finite("water_content", self.water_content))
+        mudrft.paper_mud(w)  # a water content the paper's tables cover
         object.__setattr__(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")

@@ -212,9 +212,7 @@ def initial_channels(
     zero = 0.0 * depth
 
     def fresh(g: XpArray) -> ChannelState:
-        return ChannelState(
-            gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero, clock=zero, clock_w=zero
-        )
+        return ChannelState(g, g, zero + xi0, zero, zero, zero, zero)
 
     inside = xp.where(in_contact(depth), 1.0, 0.0)
     return MudChannels(fresh(zero), fresh(depth / lc), px + zero, py + zero, zero, zero, inside)

@@ -310,9 +310,7 @@ class MorphingFoot(Foot):
         """Column unloaded, or locked (D37); the seal memory at the current pad angle."""
         delta = self.locked_deflection() or 0.0
         th = float(self._linkage.angle(delta))
-        return MorphingState(
-            deflection=np.asarray(delta), pad_angle=np.asarray(th), most_spread=np.asarray(th)
-        )
+        return MorphingState(np.asarray(delta), np.asarray(th), np.asarray(th))
 
     def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
         r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` the
@@ -344,9 +342,7 @@ class MorphingFoot(Foot):
         force = np.stack(np.broadcast_arrays(*f), axis=-1)
         th_b = np.broadcast_to(th, d.shape) if np.ndim(th) < d.ndim else th
         most = track_most_spread(d, th_b, foot_state.most_spread)
-        return MorphingState(
-            deflection=np.asarray(delta), pad_angle=np.asarray(th_b), most_spread=most
-        ), force
+        return MorphingState(np.asarray(delta), np.asarray(th_b), most), force
 
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike

@@ -208,6 +208,4 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
             cen.append(p)
             nor.append(np.tile(normal, (strips, 1)))
             ar.append(areas_1)
-    return SurfaceElements(
-        centroids=np.concatenate(cen), normals=np.concatenate(nor), areas=np.concatenate(ar)
-    )
+    return SurfaceElements(np.concatenate(cen), np.concatenate(nor), np.concatenate(ar))
