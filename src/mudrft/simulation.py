@@ -274,8 +274,7 @@ def simulate(
         step = getattr(terrain, "step_unchecked", terrain.step)
         for k in range(1, n):
             state, out = step(foot, state, pos[k], vel[k], float(dts[k - 1]))
-            force[k] = out.force
-            stress[k] = out.stress
+            force[k], stress[k] = out.force, out.stress
             if report is not None and k % every == 0:
                 report(k / (n - 1))
     if report is not None and rows is not None:
@@ -377,8 +376,7 @@ def _simulate_load(
             raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")
         state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
         f_prev = float(out.force[2])
-        force[k] = out.force
-        stress[k] = out.stress
+        force[k], stress[k] = out.force, out.stress
         zf[k], vf[k] = z, v
         if report is not None and k % every == 0:
             report(k / (n - 1))

@@ -276,6 +276,5 @@ def gait(
     x = 0.5 * slip * stride * (1 - np.cos(np.pi * s))
     y = 0.5 * sway * stride * np.sin(np.pi * s)
     meta = {"speed": float(speed), "period": T, "depth": float(depth), "stride": float(stride)}
-    return Trajectory.from_positions(
-        t, np.stack([x, y, z], 1), name=f"gait {speed:g} m/s", meta=meta
-    )
+    path = np.stack([x, y, z], 1)
+    return Trajectory.from_positions(t, path, name=f"gait {speed:g} m/s", meta=meta)

@@ -312,9 +312,8 @@ class BatchedMud:
                 np.ascontiguousarray(vel)[None], np.array([dt]), self._cfg, self._geom,
                 self._up, self._mrow, self._out,
             )  # fmt: skip
-            self.force = self._out[0, :, 0:3].copy()
-            self.stress = self._out[0, :, 3:6].copy()
-            self.depth = self._out[0, :, 6].copy()
+            o = self._out[0]
+            self.force, self.stress, self.depth = o[:, 0:3].copy(), o[:, 3:6].copy(), o[:, 6].copy()
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)

@@ -100,8 +100,7 @@ def run_terrain(
     for i in range(n):
         dt = float(t[i] - t[i - 1]) if i > 0 else float(t[1] - t[0])
         state, out = terrain.step(foot, state, pos[i], vel[i], dt)
-        force[i] = out.force
-        stress[i] = out.stress
+        force[i], stress[i] = out.force, out.stress
         if progress is not None and (i % 500 == 0 or i == n - 1):
             progress(i + 1, n)
     if not np.all(np.isfinite(force)):

@@ -1,7 +1,5 @@
-r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`).
-
-The meshes give the center of pressure and the posed (tilted) foot.
-"""
+r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`),
+which give the center of pressure and the posed (tilted) foot."""
 
 from __future__ import annotations
 

@@ -127,10 +127,8 @@ def paper_parameters(
     w = _check_water_content(water_content, extrapolate, shift)
     values = _interpolate(direction, w)
     table = chen2026.TABLE_NAME[direction]
-    if w in _table(direction):
-        source = f"Chen et al. 2026, {table}, row W = {w * 100:g} %"
-    else:
-        source = f"Chen et al. 2026, {table}, interpolated at W = {w * 100:g} %"
+    row = "row" if w in _table(direction) else "interpolated at"
+    source = f"Chen et al. 2026, {table}, {row} W = {w * 100:g} %"
     label = w if shift == 0.0 else round(w + shift, 10)
     if labels != "table":
         source += f" (the text's W = {label * 100:g} %, errata E6/E7)"

@@ -254,12 +254,11 @@ def _stress_history(
         g = gam[i]
         gd = gdot[i] if (g > 0 or was_in) else 0.0
         sm, s, sd, gmax, stress = _update(m, sm, s, sd, gmax, g, gd, hold, pyfloat)
-        if g > 0:
+        was_in = g > 0
+        if was_in:
             out[i] = stress
-            was_in = True
         else:
             sm = s = sd = gmax = 0.0
-            was_in = False
     return out
 
 

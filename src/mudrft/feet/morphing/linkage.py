@@ -223,9 +223,8 @@ class Linkage:
         g = self.geometry
         th = float(self.angle(deflection))
         a = np.array([g.base_radius, g.pivot_height])
-        c = a + g.crank_length * np.array(
-            [math.cos(th + g.crank_offset), math.sin(th + g.crank_offset)]
-        )
+        phi = th + g.crank_offset
+        c = a + g.crank_length * np.array([math.cos(phi), math.sin(phi)])
         b = np.array([g.pole_radius, self.pole_top - deflection])
         p = a + g.pad_length * np.array([math.cos(th), math.sin(th)])
         return {"A": a, "C": c, "B": b, "P": p}
