@@ -76,8 +76,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
         self.config = self.configs[float(w.flat[0])]
         self.render_mode = None
-        self.layout = walker_layout(self.config)
-        lay = self.layout
+        self.layout = lay = walker_layout(self.config)
         # the precision the robots are made in; every later call runs in it
         self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(

@@ -96,11 +96,8 @@ def _check_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
     if f.shape[0] == 0:
         raise MudrftError("faces must contain at least one triangle, got an empty array")
     if not np.issubdtype(f.dtype, np.integer):
-        if (
-            not np.issubdtype(f.dtype, np.floating)
-            or not np.all(np.isfinite(f))
-            or np.any(f != np.round(f))
-        ):
+        ok = np.issubdtype(f.dtype, np.floating) and np.all(np.isfinite(f))
+        if not (ok and np.all(f == np.round(f))):
             raise MudrftError(f"faces must hold integer vertex indices, got dtype {f.dtype}")
         f = f.astype(np.int64)
     bad = (f < 0) | (f >= n_vertices)

@@ -145,8 +145,7 @@ class FacetRFT:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> RFTState:
         """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        el = foot.elements()
+        pos, el = tip_position(position), foot.elements()
         direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
         return RFTState(direction=direction, elements=el, prepared=_prepare(el))
 

@@ -100,8 +100,7 @@ class LinearStiffness:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> LinearState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        return LinearState(in_mud=tip_depth(pos) > 0)
+        return LinearState(in_mud=tip_depth(tip_position(position)) > 0)
 
     def step(
         self, foot: Foot, state: LinearState, position: ArrayLike, velocity: ArrayLike, dt: float

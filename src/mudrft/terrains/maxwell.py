@@ -147,8 +147,7 @@ class MaxwellMud:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> MaxwellState:
         """Undisturbed mud under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        depth = tip_depth(pos)
+        depth = tip_depth(tip_position(position))
         z = np.zeros(depth.shape)
         return MaxwellState(z, z.copy(), z.copy(), depth / self._lc(foot), depth > 0)
 
