@@ -14,10 +14,15 @@ from .._jit import jit
 from .._typing import FloatArray
 from ..terrains.rows import N_FOOT, N_STATE, foot_step, run
 
-__all__ = ["PARALLEL_MIN", "feet_loop"]
+__all__ = ["PARALLEL_MIN", "available", "feet_loop"]
 
 #: Batches at least this large use the multi-threaded loop (smaller ones: one thread).
 PARALLEL_MIN = 4096
+
+
+def available() -> bool:
+    """Whether numba can be imported (it is a core dependency of mudrft)."""
+    return True
 
 
 def _run_parallel(
