@@ -136,8 +136,7 @@ class _SafeNamespace:
         return getattr(self._jnp, name)
 
     def sqrt(self, x: Array | float) -> Array:
-        jnp = self._jnp
-        pos = x > 0
+        jnp, pos = self._jnp, x > 0
         return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
     def arccos(self, x: Array | float) -> Array:

@@ -185,8 +185,7 @@ class BatchedMud:
             )
         self.backend = check_choice("backend", backend, BACKENDS)
         self._args = (mud, foot, int(n), self.backend, options)  # to unpickle
-        self.n = int(n)
-        self.foot = foot
+        self.n, self.foot = int(n), foot
         if not isinstance(mud, MudTerrain | Mud):
             mud = batched_mud(mud, self.n)
         known = [f.name for f in dataclasses.fields(MudTerrain) if f.name != "mud"]

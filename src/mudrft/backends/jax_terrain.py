@@ -108,8 +108,7 @@ def initial_terrain_state(
     a foot of ``characteristic_length`` [m], as JAX arrays."""
     jnp = _jnp()
     pos = _xyz("position", position, "m")
-    depth = jnp.maximum(-pos[..., 2], 0.0)
-    lc = _length(characteristic_length)
+    depth, lc = jnp.maximum(-pos[..., 2], 0.0), _length(characteristic_length)
     return initial_channels(pos[..., 0], pos[..., 1], depth, lc, xi0, xp=jnp)
 
 

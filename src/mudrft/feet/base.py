@@ -41,8 +41,7 @@ def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
     >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
     (5, 3)
     """
-    n = rows[0].shape[0]
-    step = max(1, CHUNK // max(int(n_facets), 1))
+    n, step = rows[0].shape[0], max(1, CHUNK // max(int(n_facets), 1))
     if n <= step:
         return fn(*rows)
     parts = [fn(*(r[i : i + step] for r in rows)) for i in range(0, n, step)]

@@ -179,8 +179,7 @@ class MeshFoot(Foot):
         )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
-        self.name = str(name)
-        self.trailing = bool(trailing)
+        self.name, self.trailing = str(name), bool(trailing)
         used = np.unique(f)
         vu = v[used]
         diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))

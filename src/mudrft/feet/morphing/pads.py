@@ -153,8 +153,7 @@ def center_height(
     sbar = np.where(area > 0, moment / np.where(area > 0, area, 1.0), 0.0)
     wp = g.n_pads * area * (f_n(th) * np.cos(th) + f_t(th) * np.sin(th))
     wb = np.where(d > 0, math.pi * g.base_radius**2, 0.0)
-    zp = g.pivot_height + sbar * np.sin(th)
-    tot = wp + wb
+    zp, tot = g.pivot_height + sbar * np.sin(th), wp + wb
     return np.where(tot > 0, wp * zp / np.where(tot > 0, tot, 1.0), 0.5 * np.minimum(d, g.height))
 
 
