@@ -14,6 +14,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from . import _xp
+
 __all__ = ["WARM_UP_STEPS", "jit", "jit_callback", "jit_or_interpreted", "reached_functions"]
 
 
@@ -54,8 +56,6 @@ def _numba() -> types.ModuleType:
     import numba
     from numba.extending import register_jitable
 
-    from . import _xp
-
     for name in _xp.ELEMENTWISE:
         obj = getattr(_xp, name)
         if inspect.isfunction(obj):
@@ -73,8 +73,6 @@ def _register(entry: Callable[..., Any]) -> types.ModuleType:
     """Make what ``entry`` reaches callable from numba, and stamp its cache; numba."""
     numba = _numba()
     from numba.extending import register_jitable
-
-    from . import _xp
 
     functions = reached_functions(entry)
     for fn in functions[1:]:
@@ -123,14 +121,6 @@ def jit_callback(entry: Callable[..., Any]) -> Any:
 _CACHE_OK = True
 
 
-def _stamp(files: tuple[str, ...]) -> str:
-    h = hashlib.sha256()
-    for f in files:
-        h.update(f.encode())
-        h.update(Path(f).read_bytes())
-    return h.hexdigest()
-
-
 def _install_locators(numba: types.ModuleType) -> None:
     """Put first in numba's list locators that stamp an entry point's cache with all its
     sources (caching goes off if numba's caching changed shape)."""
@@ -160,7 +150,11 @@ def _install_locators(numba: types.ModuleType) -> None:
                 return self
 
             def get_source_stamp(self) -> str:
-                return _stamp(self._mudrft_sources)
+                h = hashlib.sha256()
+                for f in self._mudrft_sources:
+                    h.update(f.encode())
+                    h.update(Path(f).read_bytes())
+                return h.hexdigest()
 
         Locator.__name__ = f"Mudrft{base.__name__}"
         return Locator

@@ -37,9 +37,7 @@ class Progress:
     """Called with the fraction done in [0, 1], log ``"label: 40 %"`` every ``step`` %."""
 
     def __init__(self, label: str, *, enabled: bool = True, step: int = 10) -> None:
-        self.label = label
-        self.enabled = enabled
-        self.step = int(step)
+        self.label, self.enabled, self.step = label, enabled, int(step)
         self.last = -self.step
         self._log = logging.getLogger("mudrft.progress")
 

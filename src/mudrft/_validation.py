@@ -88,13 +88,12 @@ def as_array(name: str, value: object, *, dtype: DTypeLike = float) -> np.ndarra
     if isinstance(value, (bool, np.bool_)):
         raise MudrftError(f"{name} must be a number, got the boolean {bool(value)}")
     try:
-        arr = np.asarray(value, dtype=dtype)
+        return np.asarray(value, dtype=dtype)
     except (TypeError, ValueError) as exc:
         raise MudrftError(
             f"{name} must be a number or an array of numbers, got {type(value).__name__}: "
             f"{_describe(value)}"
         ) from exc
-    return arr
 
 
 def check_finite(name: str, value: object) -> np.ndarray:
@@ -316,10 +315,8 @@ def check_dimensions(what: str, **sizes: object) -> dict[str, float]:
 def check_characteristic_length(what: str, value: object) -> float:
     """A characteristic length :math:`L_c` [m] as a float; an implausible one warns."""
     v = check_length("characteristic_length", value)
-    hint = "it is in metres (50 mm is 0.05)"
-    warn_implausible(
-        f"{what}: characteristic_length is", v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint
-    )
+    label, hint = f"{what}: characteristic_length is", "it is in metres (50 mm is 0.05)"
+    warn_implausible(label, v, PLAUSIBLE_FOOT_SIZE, unit="m", hint=hint)
     return v
 
 

@@ -8,14 +8,10 @@ from pathlib import Path
 
 __all__ = ["BIBTEX", "citations", "register", "reset"]
 
+_BIB = (Path(__file__).parent / "data" / "citations.bib").read_text(encoding="utf-8")
 #: BibTeX entries of the works mudrft implements or compares with, by key.
 BIBTEX: dict[str, str] = {
-    m[1]: m[0]
-    for m in re.finditer(
-        r"^@\w+\{([^,\n]+),.*?^\}$",
-        (Path(__file__).parent / "data" / "citations.bib").read_text(encoding="utf-8"),
-        re.MULTILINE | re.DOTALL,
-    )
+    m[1]: m[0] for m in re.finditer(r"^@\w+\{([^,\n]+),.*?^\}$", _BIB, re.MULTILINE | re.DOTALL)
 }
 
 _used: dict[str, None] = {}

@@ -75,8 +75,7 @@ def relative_rmse(predicted: ArrayLike, measured: ArrayLike) -> float:
     >>> round(relative_rmse([0.0, 1.0, 2.0], [0.0, 1.0, 3.0]), 6)
     0.19245
     """
-    p = check_finite("predicted", predicted)
-    m = check_finite("measured", measured)
+    p, m = check_finite("predicted", predicted), check_finite("measured", measured)
     if p.shape != m.shape or p.ndim != 1 or p.size < 2:
         raise MudrftError(
             f"predicted and measured must be 1-D with the same length >= 2, got shapes {p.shape} and {m.shape}"
@@ -137,8 +136,7 @@ def energy(time: ArrayLike, force: ArrayLike, velocity: ArrayLike) -> float:
     20.0
     """
     t = check_increasing("time", time)
-    f = _forces("force", force, t.size)
-    v = check_finite("velocity", velocity)
+    f, v = _forces("force", force, t.size), check_finite("velocity", velocity)
     if v.shape != f.shape:
         raise MudrftError(f"velocity must have the shape of force {f.shape}, got shape {v.shape}")
     mean_force = 0.5 * (f[1:] + f[:-1])
@@ -187,8 +185,7 @@ def cycle_metrics(
 def normalized_stress(force: ArrayLike, areas: ArrayLike) -> FloatArray:
     r"""Force (n, 3) [N] divided by the matching cross-section ``areas`` (n, 3) [m^2], as in
     Figs. 10-12 [Pa]: :math:`\bar\sigma_i=F_i/A_i`, zero where the area is zero."""
-    f = check_finite("force", force)
-    a = check_finite("areas", areas)
+    f, a = check_finite("force", force), check_finite("areas", areas)
     if f.shape != a.shape:
         raise MudrftError(f"force and areas must have the same shape, got {f.shape} and {a.shape}")
     if np.any(a < 0):

@@ -99,10 +99,9 @@ class LoadControl:
             value = getattr(self, name)
             if value is not None or name not in ("mass", "leg_stiffness"):
                 _set(self, name, check(name, value, unit=unit))
+        what = f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s"
         check_samples(
-            f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s",
-            self.duration / self.dt + 1,
-            hint="use a larger dt or a shorter duration",
+            what, self.duration / self.dt + 1, hint="use a larger dt or a shorter duration"
         )
 
     @property
@@ -198,11 +197,8 @@ def _resample(traj: Trajectory, dt: float) -> Trajectory:
             f"dt = {plain(dt)} s cuts the {span:.3g} s trajectory into fewer than "
             f"{MIN_GAIT_STEPS} steps; use dt <= {span / MIN_GAIT_STEPS:.3g} s"
         )
-    check_samples(
-        f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s",
-        span / dt + 2,
-        hint="use a larger dt",
-    )
+    what = f"simulate: the {span:.3g} s trajectory resampled at dt = {dt:g} s"
+    check_samples(what, span / dt + 2, hint="use a larger dt")
     n = int(np.floor(span / dt + 1e-9)) + 1
     t = traj.time[0] + dt * np.arange(n)
     if t[-1] < traj.time[-1] - 1e-12:
@@ -278,8 +274,7 @@ def simulate(
         step = getattr(terrain, "step_unchecked", terrain.step)
         for k in range(1, n):
             state, out = step(foot, state, pos[k], vel[k], float(dts[k - 1]))
-            force[k] = out.force
-            stress[k] = out.stress
+            force[k], stress[k] = out.force, out.stress
             if report is not None and k % every == 0:
                 report(k / (n - 1))
     if report is not None and rows is not None:
@@ -375,15 +370,13 @@ def _simulate_load(
         else:
             k_leg = float(load.leg_stiffness)  # type: ignore[arg-type]
             f_leg = k_leg * (zb - z) + load.leg_damping * (vb - v)
-            vb = vb + (-W - f_leg) / m * dt
-            v = v + (f_prev + f_leg) / load.foot_mass * dt
+            vb, v = vb + (-W - f_leg) / m * dt, v + (f_prev + f_leg) / load.foot_mass * dt
             zb, z = zb + vb * dt, z + v * dt
         if not (math.isfinite(z) and math.isfinite(v)):  # before the terrain names its input
             raise MudrftError("load-controlled simulation diverged; reduce LoadControl.dt")
         state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
         f_prev = float(out.force[2])
-        force[k] = out.force
-        stress[k] = out.stress
+        force[k], stress[k] = out.force, out.stress
         zf[k], vf[k] = z, v
         if report is not None and k % every == 0:
             report(k / (n - 1))

@@ -65,8 +65,7 @@ def check_unburied(
 def _check_velocity(t: np.ndarray, p: np.ndarray, v: np.ndarray) -> None:
     """Warn when the velocity [m/s] is not the rate of the position [m] (a flipped sign, mm/s):
     each step's mean velocity must lie between its ends', up to a quarter of the extent."""
-    dt = np.diff(t)[:, None]
-    dp = np.diff(p, axis=0)
+    dt, dp = np.diff(t)[:, None], np.diff(p, axis=0)
     lo, hi = np.minimum(v[:-1], v[1:]) * dt, np.maximum(v[:-1], v[1:]) * dt
     off = np.maximum(lo - dp, 0.0) + np.maximum(dp - hi, 0.0)
     # in the air (z >= 0 at both ends) a path may jump
@@ -108,9 +107,8 @@ class Trajectory:
             raise MudrftError(f"name must be a string, got {self.name!r}")
         if not isinstance(self.meta, dict):
             raise MudrftError(f"meta must be a dict, got {type(self.meta).__name__}")
-        object.__setattr__(self, "time", t)
-        object.__setattr__(self, "position", p)
-        object.__setattr__(self, "velocity", v)
+        for name, value in (("time", t), ("position", p), ("velocity", v)):
+            object.__setattr__(self, name, value)
         _check_velocity(t, p, v)
 
     def __repr__(self) -> str:
@@ -124,8 +122,7 @@ class Trajectory:
     def from_positions(cls, time: np.ndarray, position: np.ndarray, **kw: object) -> Trajectory:
         """A trajectory of positions [m] at ``time`` [s]; the velocity of sample k is the rate
         over the step that ends there [m/s] (sample 0 takes the first step's)."""
-        t = check_increasing("time", time)
-        p = check_finite("position", position)
+        t, p = check_increasing("time", time), check_finite("position", position)
         if p.shape != (t.size, 3):
             raise MudrftError(f"position must have shape ({t.size}, 3), got {p.shape}")
         rate = np.diff(p, axis=0) / np.diff(t)[:, None]
@@ -179,14 +176,11 @@ def plate_intrusion(
     >>> round(float(tr.depth.max()), 4), round(tr.duration, 3)
     (0.03, 4.5)
     """
-    depth, speed, dt = (
-        positive_number(name, val, unit=unit)
-        for name, val, unit in (("depth", depth, "m"), ("speed", speed, "m/s"), ("dt", dt, "s"))
-    )  # fmt: skip
-    hold, rest = (
-        nonnegative_number(name, val, unit="s")
-        for name, val in (("hold", hold), ("rest", rest))
-    )  # fmt: skip
+    depth = positive_number("depth", depth, unit="m")
+    speed = positive_number("speed", speed, unit="m/s")
+    dt = positive_number("dt", dt, unit="s")
+    hold = nonnegative_number("hold", hold, unit="s")
+    rest = nonnegative_number("rest", rest, unit="s")
     angle = number_in_range("angle", angle, 0.0, np.pi / 2, unit="rad")  # fmt: skip
     check_choice("direction", direction, ("vertical", "horizontal"))
     warn_implausible(
@@ -194,11 +188,8 @@ def plate_intrusion(
     )  # fmt: skip
     t_in = depth / speed
     t_total = 2 * t_in + hold + rest
-    check_samples(
-        f"plate_intrusion: a {t_total:.3g} s test at dt = {float(dt):g} s",
-        t_total / dt + 1,
-        hint="use a larger dt",
-    )
+    what = f"plate_intrusion: a {t_total:.3g} s test at dt = {float(dt):g} s"
+    check_samples(what, t_total / dt + 1, hint="use a larger dt")
     n = int(np.ceil(t_total / dt)) + 1
     t = np.linspace(0.0, t_total, n)
     t = np.unique(np.concatenate([t, [t_in, t_in + hold, 2 * t_in + hold]]))
@@ -216,9 +207,8 @@ def plate_intrusion(
         "speed": float(speed), "hold": float(hold), "t_retract": float(t_in + hold),
         "displacement": q,
     }  # fmt: skip
-    return Trajectory(
-        time=t, position=pos, velocity=vel, name=f"plate {direction} intrusion", meta=meta
-    )
+    name = f"plate {direction} intrusion"
+    return Trajectory(time=t, position=pos, velocity=vel, name=name, meta=meta)
 
 
 def gait(
@@ -253,12 +243,10 @@ def gait(
     >>> round(tr.duration, 3), round(float(tr.depth.max()), 4)
     (0.65, 0.02)
     """
-    speed, depth, stride, dt = (
-        positive_number(name, val, unit=unit)
-        for name, val, unit in (
-            ("speed", speed, "m/s"), ("depth", depth, "m"), ("stride", stride, "m"), ("dt", dt, "s")
-        )
-    )  # fmt: skip
+    speed = positive_number("speed", speed, unit="m/s")
+    depth = positive_number("depth", depth, unit="m")
+    stride = positive_number("stride", stride, unit="m")
+    dt = positive_number("dt", dt, unit="s")
     slip, sway = (number_in_range(n, v, 0.0, 1.0) for n, v in (("slip", slip), ("sway", sway)))  # fmt: skip
     lift = nonnegative_number("lift", lift, unit="m")
     for what, value, plausible, unit, hint in (
@@ -269,17 +257,13 @@ def gait(
     ):
         warn_implausible(f"gait: {what}", value, plausible, unit=unit, hint=hint)
     T = stride / speed
-    check_samples(
-        f"gait: one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s) "
-        f"at dt = {float(dt):g} s",
-        T / dt + 1,
-        hint="use a larger dt or a higher speed",
-    )
+    cycle = f"one {T:.3g} s cycle (stride {float(stride):g} m / speed {float(speed):g} m/s)"
+    faster = "use a larger dt or a higher speed"
+    check_samples(f"gait: {cycle} at dt = {float(dt):g} s", T / dt + 1, hint=faster)
     if not T / dt >= MIN_GAIT_STEPS:
         raise MudrftError(
-            f"gait: dt = {float(dt):g} s cuts one {T:.3g} s cycle (stride {float(stride):g} m / "
-            f"speed {float(speed):g} m/s) into {T / dt:.3g} steps; at least {MIN_GAIT_STEPS} "
-            f"are needed: use dt <= {T / MIN_GAIT_STEPS:.3g} s or a lower speed"
+            f"gait: dt = {float(dt):g} s cuts {cycle} into {T / dt:.3g} steps; at least "
+            f"{MIN_GAIT_STEPS} are needed: use dt <= {T / MIN_GAIT_STEPS:.3g} s or a lower speed"
         )
     n = int(np.ceil(T / dt)) + 1
     t = np.linspace(0.0, T, n)
@@ -292,6 +276,5 @@ def gait(
     x = 0.5 * slip * stride * (1 - np.cos(np.pi * s))
     y = 0.5 * sway * stride * np.sin(np.pi * s)
     meta = {"speed": float(speed), "period": T, "depth": float(depth), "stride": float(stride)}
-    return Trajectory.from_positions(
-        t, np.stack([x, y, z], 1), name=f"gait {speed:g} m/s", meta=meta
-    )
+    path = np.stack([x, y, z], 1)
+    return Trajectory.from_positions(t, path, name=f"gait {speed:g} m/s", meta=meta)

@@ -14,10 +14,7 @@ from typing import Any
 
 __all__ = ["BatchedMud", "Snapshot", "available", "batch", "forces", "jax", "numba"]
 
-_ATTRS = {
-    "BatchedMud": ("mudrft.backends.batch", "BatchedMud"),
-    "Snapshot": ("mudrft.backends.batch", "Snapshot"),
-}
+_ATTRS = {name: ("mudrft.backends.batch", name) for name in ("BatchedMud", "Snapshot")}
 _MODULES = {"batch", "forces", "jax", "numba"}
 
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._typing import ArrayLike, FloatOrArray, XpArray
+from .._typing import ArrayLike, XpArray
 from .._validation import MudrftError
 from ..constitutive.state import ChannelState
 from ..constitutive.state import initial_state as np_initial
@@ -111,11 +111,8 @@ def check_params(params: object, *, channels: bool = False) -> None:
 def from_jax(params: JaxParams, **meta: Any) -> MudParameters:
     """Concrete :class:`JaxParams` back into a validated :class:`MudParameters`; ``meta``
     (``source``, ``water_content``, ``direction``) is passed on."""
-    fields: dict[str, FloatOrArray] = {}
-    for k in PARAMETER_UNITS:
-        a = np.asarray(getattr(params, k), dtype=float)
-        fields[k] = float(a) if a.ndim == 0 else a
-    return MudParameters(**fields, **meta)  # type: ignore[arg-type]
+    fields = {k: np.asarray(getattr(params, k), dtype=float) for k in PARAMETER_UNITS}
+    return MudParameters(**fields, **meta)  # type: ignore[arg-type]  # 0-d fields: floats
 
 
 def initial_state(
@@ -139,8 +136,7 @@ class _SafeNamespace:
         return getattr(self._jnp, name)
 
     def sqrt(self, x: Array | float) -> Array:
-        jnp = self._jnp
-        pos = x > 0
+        jnp, pos = self._jnp, x > 0
         return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
     def arccos(self, x: Array | float) -> Array:

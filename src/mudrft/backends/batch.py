@@ -69,8 +69,6 @@ def _frozen(value: Any) -> Any:
 
 
 def _copy_foot_state(foot_state: Any) -> Any:
-    if foot_state is None:
-        return None
     if isinstance(foot_state, tuple) and hasattr(foot_state, "_fields"):
         return _map_leaves(_frozen, foot_state)
     return copy.deepcopy(foot_state)
@@ -187,8 +185,7 @@ class BatchedMud:
             )
         self.backend = check_choice("backend", backend, BACKENDS)
         self._args = (mud, foot, int(n), self.backend, options)  # to unpickle
-        self.n = int(n)
-        self.foot = foot
+        self.n, self.foot = int(n), foot
         if not isinstance(mud, MudTerrain | Mud):
             mud = batched_mud(mud, self.n)
         known = [f.name for f in dataclasses.fields(MudTerrain) if f.name != "mud"]
@@ -285,15 +282,11 @@ class BatchedMud:
         """Put every foot above undisturbed mud with its tip at ``position`` (N, 3) or (3,) [m]."""
         pos = np.array(self._inputs("position", position))
         n = self.n
-        self.force = np.zeros((n, 3))
-        self.stress = np.zeros((n, 3))
+        self.force, self.stress = np.zeros((n, 3)), np.zeros((n, 3))
         self.depth = np.maximum(-pos[:, 2], 0.0)
         if self.backend == "jax":
-            self._jst = self._jax_ravel(
-                self._mjax.initial_terrain_state(
-                    pos, self.characteristic_length, xi0=self.terrain.xi0
-                )
-            )
+            lc, xi0 = self.characteristic_length, self.terrain.xi0
+            self._jst = self._jax_ravel(self._mjax.initial_terrain_state(pos, lc, xi0=xi0))
             return
         if self._one is not None:
             self._state = self._one.initial_state(self.foot, pos[0])
@@ -309,8 +302,7 @@ class BatchedMud:
     def step(self, position: ArrayLike, velocity: ArrayLike, dt: float) -> NDArray[np.float64]:
         """Advance every foot by ``dt`` [s] to ``position`` [m] at ``velocity`` [m/s] ((N, 3) or
         (3,)); return the forces of the mud on them (N, 3) [N], also in :attr:`force`."""
-        pos = self._inputs("position", position)
-        vel = self._inputs("velocity", velocity)
+        pos, vel = self._inputs("position", position), self._inputs("velocity", velocity)
         if not (type(dt) is float and 0.0 < dt < math.inf):
             dt = positive_number("dt", dt, unit="s")
         if self.backend == "numba":
@@ -319,9 +311,8 @@ class BatchedMud:
                 np.ascontiguousarray(vel)[None], np.array([dt]), self._cfg, self._geom,
                 self._up, self._mrow, self._out,
             )  # fmt: skip
-            self.force = self._out[0, :, 0:3].copy()
-            self.stress = self._out[0, :, 3:6].copy()
-            self.depth = self._out[0, :, 6].copy()
+            o = self._out[0]
+            self.force, self.stress, self.depth = o[:, 0:3].copy(), o[:, 3:6].copy(), o[:, 6].copy()
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
@@ -348,9 +339,7 @@ class BatchedMud:
 
             ch, f = channels_of_rows(self._st), self._fst
             if self._geom[0] == MORPHING:
-                foot_state = MorphingState(
-                    deflection=f[:, 0], pad_angle=f[:, 1], most_spread=f[:, 2]
-                )
+                foot_state = MorphingState(f[:, 0], f[:, 1], f[:, 2])
         elif self.backend == "jax":
             ch = self._jax_unravel(self._jst)
         else:

@@ -223,25 +223,20 @@ def run(
             )
     if not is_tracer(xi0):
         check_in_range("xi0", xi0, 0.0, 1.0)
-    t = jnp.asarray(time, dtype=float)
-    g = jnp.asarray(gamma, dtype=float)
+    t, g = jnp.asarray(time, dtype=float), jnp.asarray(gamma, dtype=float)
     dynamics.check_parameter_shapes(
         {k: jnp.shape(f) for k, f in zip(JaxParams._fields, params, strict=True)}, g.shape[1:]
     )
     z = jnp.zeros(g.shape[1:])
     if state is None:
-        state = ChannelState(
-            gamma=g[0] + z, gamma_w=g[0] + z, xi=z + xi0, s_th=z, sigma_s=z, clock=z, clock_w=z
-        )
+        state = ChannelState(g[0] + z, g[0] + z, z + xi0, z, z, z, z)
     else:  # a state built without clocks carries them as Python zeros: give them its shape
         state = state._replace(clock=z + state.clock, clock_w=z + state.clock_w)
     sl = jnp.broadcast_to(jnp.asarray(seal, dtype=float), g.shape)
     total, el, th, su, xi = _compiled()["run"](
         params, t, g, state, sl, acceleration, thixotropy, clock
     )
-    return ChannelHistory(
-        time=t, gamma=g, total=total, elastic=el, thixotropic=th, suction=su, xi=xi
-    )
+    return ChannelHistory(t, g, total, el, th, su, xi)
 
 
 def mesh_force(

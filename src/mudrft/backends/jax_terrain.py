@@ -108,8 +108,7 @@ def initial_terrain_state(
     a foot of ``characteristic_length`` [m], as JAX arrays."""
     jnp = _jnp()
     pos = _xyz("position", position, "m")
-    depth = jnp.maximum(-pos[..., 2], 0.0)
-    lc = _length(characteristic_length)
+    depth, lc = jnp.maximum(-pos[..., 2], 0.0), _length(characteristic_length)
     return initial_channels(pos[..., 0], pos[..., 1], depth, lc, xi0, xp=jnp)
 
 
@@ -150,10 +149,8 @@ def terrain_step(
     check_params(params, channels=True)
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     fn, lc = foot_rule(force_fn, characteristic_length)
-    jax = enable_x64()
-    jnp = _jnp()
-    pos = _xyz("position", position, "m")
-    vel = _xyz("velocity", velocity, "m/s")
+    jax, jnp = enable_x64(), _jnp()
+    pos, vel = _xyz("position", position, "m"), _xyz("velocity", velocity, "m/s")
     if not is_tracer(dt):
         check_positive("dt", dt, unit="s")
     batch = jnp.shape(state.in_mud)
@@ -193,8 +190,7 @@ def simulate(
     call compiles again); options as :func:`terrain_step`. Returns ``force`` [N], ``stress``
     [Pa] (n, ..., 3) and ``depth`` [m] (n, ...), sample 0 the initial state (zero force).
     """
-    jax = enable_x64()
-    jnp = _jnp()
+    jax, jnp = enable_x64(), _jnp()
     if not is_tracer(time):
         time = check_increasing("time", time)
     t = jnp.asarray(time, dtype=float)

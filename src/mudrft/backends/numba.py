@@ -36,8 +36,7 @@ def _run_parallel(
     for t in range(pos.shape[0]):
         bad = 0
         for i in numba.prange(n):
-            row = np.empty(N_STATE)
-            frow = np.empty(N_FOOT)
+            row, frow = np.empty(N_STATE), np.empty(N_FOOT)
             o = out[t, i]
             fx, fy, fz, sx, sy, sz, depth = foot_step(
                 c, i * stride, st[i], pos[t, i, 0], pos[t, i, 1], pos[t, i, 2], vel[t, i, 0],

@@ -95,14 +95,12 @@ def run_terrain(
         )
     t, pos, vel = trajectory.time, trajectory.position, trajectory.velocity
     n = t.size
-    force = np.zeros((n, 3))
-    stress = np.zeros((n, 3))
+    force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     state = terrain.initial_state(foot, pos[0])
     for i in range(n):
         dt = float(t[i] - t[i - 1]) if i > 0 else float(t[1] - t[0])
         state, out = terrain.step(foot, state, pos[i], vel[i], dt)
-        force[i] = out.force
-        stress[i] = out.stress
+        force[i], stress[i] = out.force, out.stress
         if progress is not None and (i % 500 == 0 or i == n - 1):
             progress(i + 1, n)
     if not np.all(np.isfinite(force)):
@@ -112,9 +110,8 @@ def run_terrain(
             f"at t = {plain(t[bad])} s"
         )
     depth = trajectory.depth
-    area = projected(foot, depth)[:, 2]
     name = str(getattr(terrain, "name", type(terrain).__name__))
-    return History(name, t, pos, vel, force, stress, depth, area)
+    return History(name, t, pos, vel, force, stress, depth, projected(foot, depth)[:, 2])
 
 
 #: Names of :func:`default_terrains`, in their order.
@@ -196,13 +193,8 @@ def compare(
             items.append((str(getattr(t, "name", type(t).__name__)), t))
     if not items:
         raise MudrftError("terrains must name at least one terrain, got none")
-    check_unburied(
-        foot.name,
-        foot.height,
-        float(trajectory.depth.max()),
-        how=f"{trajectory.name}: the tip goes",
-        strict=bool(strict),
-    )
+    how, deepest = f"{trajectory.name}: the tip goes", float(trajectory.depth.max())
+    check_unburied(foot.name, foot.height, deepest, how=how, strict=bool(strict))
     names = [k for k, _ in items]
     if len(set(names)) != len(names):
         raise MudrftError(f"terrain names must be unique, got {names}")
@@ -317,8 +309,6 @@ def _what(value: Any) -> str:
 def normalized_loop(history: History) -> tuple[np.ndarray, np.ndarray]:
     """Fig. S6a axes: depth over its maximum and F_z over max |F_z| [-]."""
     _check_history("history", history)
-    d = history.depth
-    f = history.force[:, 2]
-    dmax = float(d.max())
-    fmax = float(np.abs(f).max())
+    d, f = history.depth, history.force[:, 2]
+    dmax, fmax = float(d.max()), float(np.abs(f).max())
     return (d / dmax if dmax > 0 else d.copy()), (f / fmax if fmax > 0 else f.copy())

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import MudrftError
+from ..plotting import require_matplotlib
 from .compare import History, normalized_loop
 
 __all__ = ["plot_gait", "plot_s6"]
@@ -22,14 +23,6 @@ _STYLE = {
 }
 
 
-def _plt() -> Any:
-    try:
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover
-        raise MudrftError("plotting needs matplotlib: pip install 'mudrft[plot]'") from exc
-    return plt
-
-
 def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """Fig. S6-style figure from a vertical plate test; returns the matplotlib Figure.
 
@@ -40,7 +33,7 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
     """
     if not isinstance(plate, Mapping) or not plate:
         raise MudrftError("plate must be a non-empty mapping {terrain: History} (compare's result)")
-    plt = _plt()
+    plt = require_matplotlib()
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 4.0), constrained_layout=True)
     loops = (
         ("mud", "mud (this model)"),  # its water content is the run's, not always 25 %
@@ -69,12 +62,9 @@ def plot_s6(plate: Mapping[str, History], *, sand: str = "granular-rft") -> Any:
         if name in plate:
             h = plate[name]
             ax[1].plot(h.time, h.sigma_z / 1e3, label=labels[name], **_STYLE[name])
-            inside = h.depth > 0
+            mud = np.where(h.depth > 0, 1.0, np.nan)  # the stress-depth loop in the mud only
             ax[2].plot(
-                np.where(inside, h.depth * 1e3, np.nan),
-                np.where(inside, h.sigma_z / 1e3, np.nan),
-                label=labels[name],
-                **_STYLE[name],
+                h.depth * 1e3 * mud, h.sigma_z / 1e3 * mud, label=labels[name], **_STYLE[name]
             )
     for a in ax[1:]:
         a.axhline(0, color="k", lw=0.5)
@@ -105,7 +95,7 @@ def plot_gait(
     shown = {k: v for k, v in gait.items() if k not in exclude}
     if not shown:
         raise MudrftError("gait must hold at least one History that is not excluded")
-    plt = _plt()
+    plt = require_matplotlib()
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 3.8), constrained_layout=True)
     for name, h in shown.items():
         phase = (h.time - h.time[0]) / (h.time[-1] - h.time[0]) * 100

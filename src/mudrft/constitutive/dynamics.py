@@ -226,8 +226,7 @@ def run(
     ChannelHistory
         Stresses [Pa] and structure at every sample (the first sample is the initial state).
     """
-    t = check_increasing("time", time)
-    g = check_finite("gamma", gamma)
+    t, g = check_increasing("time", time), check_finite("gamma", gamma)
     if g.shape[:1] != t.shape:
         raise MudrftError(
             f"gamma must have the same length as time along its first axis, got gamma shape "

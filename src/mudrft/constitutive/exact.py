@@ -64,8 +64,7 @@ def thixotropic_exact(
     xi_ss = params.k_a * tau
     lam = params.lam
     kappa = 1.0 if acceleration else 0.0
-    A = (1.0 - kappa) * params.eta_inf * gamma_dot
-    B = params.eta_m * gamma_dot
+    A, B = (1.0 - kappa) * params.eta_inf * gamma_dot, params.eta_m * gamma_dot
     e_lam = np.exp(-t / lam)
     conv = relaxation_convolution(t, lam, tau, e_lam, np.exp(-t / tau))
     return (
@@ -95,9 +94,8 @@ def thixotropic_approx(
        \sigma_{th}=\left(1-e^{-t/\lambda}\right)\sigma_{th,ss} \tag{9}
     """
     t = np.asarray(t, dtype=float)
-    return (1.0 - np.exp(-t / params.lam)) * laws.thixotropic_steady(
-        gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c
-    )
+    steady = laws.thixotropic_steady(gamma_dot, params.eta_inf, params.eta_m, params.gamma_dot_c)
+    return (1.0 - np.exp(-t / params.lam)) * steady
 
 
 def suction_closed_form(

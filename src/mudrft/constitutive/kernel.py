@@ -137,8 +137,7 @@ def channel_update(
     xi_new = xi_ss + (xi - xi_ss) * e_tau
 
     # lagged thixotropic stress, eq. (3a) driven by A + B xi(t): exact (eq. S2, any xi(0))
-    a_drive = (1.0 - kappa) * c.eta_inf * gamma_dot
-    b_drive = c.eta_m * gamma_dot
+    a_drive, b_drive = (1.0 - kappa) * c.eta_inf * gamma_dot, c.eta_m * gamma_dot
     e_lam = xp.exp(-dt / c.lam)
     conv = relaxation_convolution(dt, c.lam, tau, e_lam, e_tau, xp=xp)
     s_new = (
@@ -176,14 +175,11 @@ def channel_update_quasi_static(
     """
     gw_new, direction, _r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
-    t9 = clock
-    if restart:
-        t9 = xp.where(clock_w > 0.0, clock_w, clock)
+    t9 = xp.where(clock_w > 0.0, clock_w, clock) if restart else clock
     gamma_dot_c = c.k_a / c.k_r
     # eq. (9) with eq. (4); 1 - exp(-t/lambda) written as -expm1(-t/lambda)
-    sigma_th = -xp.expm1(-t9 / c.lam) * laws.thixotropic_steady(
-        gamma_dot, c.eta_inf, c.eta_m, gamma_dot_c, xp=xp
-    )
+    sigma_ss = laws.thixotropic_steady(gamma_dot, c.eta_inf, c.eta_m, gamma_dot_c, xp=xp)
+    sigma_th = -xp.expm1(-t9 / c.lam) * sigma_ss
     # eqs. (10)-(11) at the current sealing state
     phi = seal * laws.sealing(r_end, c.epsilon, xp=xp)
     a = laws.suction_rate(phi, c.tau_build, c.tau_leak)
@@ -211,13 +207,10 @@ def _stresses(
     gamma_dot: XpArray, r_end: XpArray, xp: Namespace = np,
 ) -> ChannelStress:  # fmt: skip
     r"""Eq. (1) at the end of a step [Pa]: :math:`\sigma_b(1-\phi)+\sigma_{th}+H_\nu\sigma_s`."""
-    sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * laws.bed_contact(
-        r_end, c.epsilon, xp=xp
-    )
+    bed = laws.bed_contact(r_end, c.epsilon, xp=xp)
+    sigma_b = laws.elastic_stress(state.gamma, c.alpha, c.n, xp=xp) * bed
     suction = laws.switch(direction * gamma_dot, c.nu, xp=xp) * state.sigma_s
-    return ChannelStress(
-        total=sigma_b + sigma_th + suction, elastic=sigma_b, thixotropic=sigma_th, suction=suction
-    )
+    return ChannelStress(sigma_b + sigma_th + suction, sigma_b, sigma_th, suction)
 
 
 def _retraction(
@@ -226,8 +219,7 @@ def _retraction(
     r"""``(gamma_w, direction, r_start, r_end)``: deepest displacement [-], its sign, and
     :math:`r=|\gamma_w|-|\gamma|` at the step's ends [-]; a sign change starts anew."""
     g_old, gw_old = state.gamma, state.gamma_w
-    ag = xp.abs(gamma)
-    agw = xp.abs(gw_old)
+    ag, agw = xp.abs(gamma), xp.abs(gw_old)
     flipped = xp.sign(gamma) * xp.sign(gw_old) < 0
     deeper = (ag >= agw) | flipped
     gw_new = xp.where(deeper, gamma, gw_old)

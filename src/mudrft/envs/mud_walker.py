@@ -54,7 +54,6 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         from ..integrations.mujoco.backend import choose_backend
         from .walker import walker_layout
 
-        gym = gymnasium
         if render_mode not in (None, "rgb_array"):
             raise MudrftError(
                 f"render_mode must be None or 'rgb_array' ('human' through gymnasium.make), "
@@ -73,11 +72,11 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
             m, list(self.layout.bodies), self.config.mud, feet=foot, bottom=self.config.bottom,
             backend=choose_backend(backend, self.config.mud, foot),
         )  # fmt: skip
-        self.action_space = gym.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
-        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
+        box = gymnasium.spaces.Box
+        self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
+        self.observation_space = box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
         self._renderer: mujoco.Renderer | None = None
-        self._depth = np.zeros(2)
-        self._force = np.zeros((2, 3))
+        self._depth, self._force = np.zeros(2), np.zeros((2, 3))
         self._phase = "new"  # then "running", "ended" (terminated) or "closed"
 
     def _obs(self) -> NDArray[np.float32]:
@@ -102,8 +101,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         d.ctrl[:] = lay.ctrl0
         mj.mj_forward(lay.model, d)
         self.coupling.reset(d)
-        self._depth = np.zeros(2)
-        self._force = np.zeros((2, 3))
+        self._depth, self._force = np.zeros(2), np.zeros((2, 3))
         self._phase = "running"
         return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
 

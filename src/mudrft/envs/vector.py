@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 import numpy as np
 
 from .._typing import ArrayLike, BoolArray, NDArray
-from .._validation import MudrftError, as_array, check_memory
+from .._validation import MudrftError, as_array, check_memory, positive_int
 from ..terrains import MudTerrain
 from ._gym import gymnasium
 from .walker import (
@@ -61,15 +61,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         from ..integrations.mjx import attach
         from ..integrations.mjx._lazy import _jax
 
-        def count(v: object) -> bool:
-            return bool(not isinstance(v, bool) and isinstance(v, (int, np.integer)) and v >= 1)
-
-        if not count(num_envs):
-            raise MudrftError(f"num_envs must be an integer >= 1, got {num_envs!r}")
-        if not count(max_episode_steps):
-            raise MudrftError(
-                f"max_episode_steps must be an integer >= 1, got {max_episode_steps!r}"
-            )
+        self.num_envs = positive_int("num_envs", num_envs)
+        self.max_episode_steps = positive_int("max_episode_steps", max_episode_steps)
         if render_mode is not None:
             raise MudrftError("the vector environment does not render; use MudWalkerEnv")
         w = as_array("water_content", water_content)
@@ -82,11 +75,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         values, which = np.unique(w, return_inverse=True) if w.ndim else (w.reshape(1), None)
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
         self.config = self.configs[float(w.flat[0])]
-        self.num_envs = int(num_envs)
-        self.max_episode_steps = int(max_episode_steps)
         self.render_mode = None
-        self.layout = walker_layout(self.config)
-        lay = self.layout
+        self.layout = lay = walker_layout(self.config)
         # the precision the robots are made in; every later call runs in it
         self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
@@ -102,16 +92,11 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                                     for i in range(len(per_value[0][k]))))
             for k in range(2)
         )  # fmt: skip
-        self.single_action_space = gymnasium.spaces.Box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
-        self.action_space = gymnasium.vector.utils.batch_space(
-            self.single_action_space, self.num_envs
-        )
-        self.single_observation_space = gymnasium.spaces.Box(
-            -np.inf, np.inf, (OBS_SIZE,), np.float32
-        )
-        self.observation_space = gymnasium.vector.utils.batch_space(
-            self.single_observation_space, self.num_envs
-        )
+        box, batch = gymnasium.spaces.Box, gymnasium.vector.utils.batch_space
+        self.single_action_space = box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
+        self.action_space = batch(self.single_action_space, self.num_envs)
+        self.single_observation_space = box(-np.inf, np.inf, (OBS_SIZE,), np.float32)
+        self.observation_space = batch(self.single_observation_space, self.num_envs)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._done = np.zeros(self.num_envs, dtype=bool)
         self._state: Any = None

@@ -39,6 +39,7 @@ from .._validation import (
     check_finite,
     check_number,
     nonnegative_number,
+    positive_int,
     positive_number,
     set_number,
 )
@@ -95,15 +96,12 @@ class WalkerConfig:
                 raise MudrftError(f"foot must be one of {FEET} or a mudrft foot, got {self.foot!r}")
         elif not hasattr(self.foot, "contact_force"):
             raise MudrftError(f"foot must be a name or a mudrft foot, got {self.foot!r}")
-        mudrft.paper_mud(
-            check_number("water_content", check_finite("water_content", self.water_content))
-        )
+        w = check_number("water_content", check_finite("water_content", self.water_content))
+        mudrft.paper_mud(w)  # a water content the paper's tables cover
         object.__setattr__(self, "dt", positive_number("dt", self.dt, unit="s"))
         if self.dt > 5e-3:
             raise MudrftError(f"dt must be <= 0.005 s for the walker, got {self.dt!r}")
-        fs = self.frame_skip
-        if isinstance(fs, bool) or not isinstance(fs, (int, np.integer)) or fs < 1:
-            raise MudrftError(f"frame_skip must be an integer >= 1, got {fs!r}")
+        fs = positive_int("frame_skip", self.frame_skip)
         if fs * self.dt > MAX_CONTROL_PERIOD:
             raise MudrftError(
                 f"frame_skip must hold an action for at most {MAX_CONTROL_PERIOD:g} s "

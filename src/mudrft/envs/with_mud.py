@@ -64,8 +64,7 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
         self._mj.mj_rnePostConstraint(base.model, base.data)
 
     def _info(self, info: dict[str, Any]) -> dict[str, Any]:
-        last = self.coupling.last
-        n = len(self.coupling.bodies)
+        last, n = self.coupling.last, len(self.coupling.bodies)
         info["mud_force"] = np.zeros((n, 3)) if last is None else last.force.copy()
         info["mud_depth"] = np.zeros(n) if last is None else last.depth.copy()
         return info

@@ -55,12 +55,8 @@ def by_name(
     if isinstance(name, os.PathLike) or is_path:
         if not os.path.exists(name):  # named as the foot (CLI: --foot), not the reader's path
             raise MudrftError(f"foot (CLI: --foot) {os.fspath(name)!r}: no such mesh file")
-        return MeshFoot.from_file(
-            name,
-            unit="m" if unit is None else unit,
-            trailing=bool(trailing),
-            up="z" if up is None else up,
-        )
+        unit, up = ("m" if unit is None else unit), ("z" if up is None else up)
+        return MeshFoot.from_file(name, unit=unit, trailing=bool(trailing), up=up)
     for option, given, why in (
         ("unit", unit, "the named feet have the paper's dimensions in metres"),
         ("trailing", trailing, "the named feet's closed forms fix which facets resist (D23)"),

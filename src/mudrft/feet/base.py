@@ -41,8 +41,7 @@ def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
     >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
     (5, 3)
     """
-    n = rows[0].shape[0]
-    step = max(1, CHUNK // max(int(n_facets), 1))
+    n, step = rows[0].shape[0], max(1, CHUNK // max(int(n_facets), 1))
     if n <= step:
         return fn(*rows)
     parts = [fn(*(r[i : i + step] for r in rows)) for i in range(0, n, step)]
@@ -86,8 +85,7 @@ def first_quadrant(
         ``(stress_q, phi, signs)``: the stresses (a copy), the folded heading [rad] and the
         signs (sx, sy) that map first-quadrant forces back to the world (D9).
     """
-    s = _check_stress(stress)
-    h = check_finite("heading", heading)
+    s, h = _check_stress(stress), check_finite("heading", heading)
     if check_broadcast(**{STRESS_BATCH: s.shape[:-1]}, heading=h.shape) != s.shape[:-1]:
         raise MudrftError(
             f"heading (shape {h.shape}) must broadcast to stress's batch shape {s.shape[:-1]}"
@@ -161,8 +159,7 @@ def world_force(
               F_y=-\operatorname{sgn}(\sin h)\,(a_y\sigma_y+b_y\sigma_x),\quad F_z=a_z\sigma_z
     """
     ax, bx, by, ay, az = coefficients
-    cx = xp.where(xp.cos(heading) < 0.0, -1.0, 1.0)
-    cy = xp.where(xp.sin(heading) < 0.0, -1.0, 1.0)
+    cx, cy = xp.where(xp.cos(heading) < 0.0, -1.0, 1.0), xp.where(xp.sin(heading) < 0.0, -1.0, 1.0)
     return -cx * (ax * sx + bx * sy), -cy * (ay * sy + by * sx), az * sz
 
 
@@ -174,12 +171,10 @@ def unfold_forces(
     r"""World forces (..., 3) [N] for any heading [rad] from first-quadrant ``magnitudes``
     (stresses (..., 2, 3), folded headings (..., 1)): the linear form's coefficients read off
     unit stresses, then :func:`world_force`; ``stress`` (..., 3) [Pa]."""
-    s = np.asarray(stress, dtype=float)
-    h = np.asarray(heading, dtype=float)
+    s, h = np.asarray(stress, dtype=float), np.asarray(heading, dtype=float)
     shape = np.broadcast_shapes(s.shape[:-1], h.shape)
     units = np.zeros((*shape, 2, 3))
-    units[..., 0, 0] = 1.0
-    units[..., 1, 1] = 1.0
+    units[..., [0, 1], [0, 1]] = 1.0  # unit sx, then unit sy
     units[..., :, 2] = np.broadcast_to(s[..., 2], shape)[..., None]
     phi = np.broadcast_to(fold_heading(h), shape)[..., None]
     m = np.asarray(magnitudes(units, phi), dtype=float)
@@ -226,8 +221,7 @@ class Foot(ABC):
         tip ``depth`` [m], to normalise forces into stresses (paper Figs. 10-12)."""
         d = check_nonnegative("depth", depth, unit="m")
         el = self.elements()
-        z = el.centroids[:, 2]
-        n = el.normals
+        z, n = el.centroids[:, 2], el.normals
         weights = el.areas[:, None] * np.stack(
             [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0, None)], axis=-1
         )

@@ -64,10 +64,8 @@ def flat_coefficients(
     """
     z = xp.minimum(depth, height)
     phic = 0.5 * math.pi - phi
-    ax = z * length * f_n(phi, xp=xp)
-    by = z * length * f_t(phi, xp=xp)
-    bx = z * width * f_t(phic, xp=xp)
-    ay = z * width * f_n(phic, xp=xp)
+    ax, by = z * length * f_n(phi, xp=xp), z * length * f_t(phi, xp=xp)
+    bx, ay = z * width * f_t(phic, xp=xp), z * width * f_n(phic, xp=xp)
     az = xp.where(depth > 0, length * width, 0.0)
     return ax, bx, by, ay, az
 
@@ -97,8 +95,7 @@ def semicylinder_coefficients(
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
-    s = xp.sin(th)
-    c = xp.cos(th)
+    s, c = xp.sin(th), xp.cos(th)
     phic = 0.5 * math.pi - phi
     seg = radius * radius * (th - s * c)  # end-cap segment area (x projection)
     side = width * radius * (1.0 - c)  # = W z (y projection)
@@ -139,8 +136,7 @@ def semisphere_coefficients(
     """
     z = xp.minimum(depth, height)
     th = _theta(z, radius, xp=xp)
-    s = xp.sin(th)
-    c = xp.cos(th)
+    s, c = xp.sin(th), xp.cos(th)
     side = 8.0 / 3.0 * radius * radius * (th - s * c)
     u = z / radius  # = 1 - c, exact
     # int_0^tc (cos^3 sin + sin^4); 1 - c^4 = (1 - c)(1 + c)(1 + c^2)

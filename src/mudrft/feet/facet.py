@@ -1,6 +1,5 @@
-r"""One triangle of a foot, element-wise: its frame for eq. (6) and its clip by the mud surface.
-
-Element-wise code over ``xp``, applied by :mod:`mudrft.feet.surface` to every facet.
+r"""One triangle of a foot, element-wise over ``xp``: its frame for eq. (6) and its clip by the
+mud surface (:mod:`mudrft.feet.surface` applies it to every facet).
 
 For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
 horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times
@@ -25,7 +24,7 @@ from .._typing import Namespace, XpArray
 
 __all__ = [
     "TOL", "clip_constants", "clip_facet", "facet_factors", "facet_force", "facet_frame",
-    "fold_stresses", "safe_div", "safe_sqrt", "sort_by_height", "submerged_area"
+    "safe_div", "safe_sqrt", "sort_by_height", "submerged_area"
 ]  # fmt: skip
 
 #: Tolerance on unit-vector components [-]: a facet with :math:`|n_z|\le` this is a vertical
@@ -108,8 +107,7 @@ def clip_constants(
     only the lowest vertex submerged and ``area - k_high (z_c - d)^2`` with two [-];
     ``flat_area`` is the area of a facet with no height span (below 1e-100 m), else 0 [m^2].
     """
-    span1 = (zb - za) * (zc - za)
-    span2 = (zc - za) * (zc - zb)
+    span1, span2 = (zb - za) * (zc - za), (zc - za) * (zc - zb)
     k_low = safe_div(area, xp.where(span1 > 1e-200, span1, 0.0), xp=xp)
     k_high = safe_div(area, xp.where(span2 > 1e-200, span2, 0.0), xp=xp)
     flat_area = xp.where((span1 > 1e-200) | (span2 > 1e-200), 0.0, area)
@@ -145,10 +143,8 @@ def clip_facet(
     area = submerged_area(az, bz, cz, k_low, k_high, flat_area, d, xp=xp)
     one_low = (d > az) & (d <= bz)  # only the lowest vertex submerged: a small triangle
     two_low = (d > bz) & (d < cz)  # two submerged: the facet minus a top triangle
-    t_ab = safe_div(d - az, bz - az, xp=xp)
-    t_ac = safe_div(d - az, cz - az, xp=xp)
-    s_ca = safe_div(cz - d, cz - az, xp=xp)
-    s_cb = safe_div(cz - d, cz - bz, xp=xp)
+    t_ab, t_ac = safe_div(d - az, bz - az, xp=xp), safe_div(d - az, cz - az, xp=xp)
+    s_ca, s_cb = safe_div(cz - d, cz - az, xp=xp), safe_div(cz - d, cz - bz, xp=xp)
     top = s_ca * s_cb
     rest = 1.0 - top
     # one vertex below: triangle (A, A + t_ab (B-A), A + t_ac (C-A))
@@ -168,14 +164,6 @@ def clip_facet(
         xp.where(one_low, y1, xp.where(two_low, y2, fy)),
         xp.where(one_low, z1, xp.where(two_low, z2, fz)),
     )
-
-
-def fold_stresses(
-    sx: XpArray, sy: XpArray, heading: XpArray, xp: Namespace = np
-) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    """The horizontal stresses [Pa], as given, and the direction of the motion:
-    ``(sx, sy, cos h, sin h)``."""
-    return sx, sy, xp.cos(heading), xp.sin(heading)
 
 
 def facet_factors(

@@ -96,11 +96,8 @@ def _check_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
     if f.shape[0] == 0:
         raise MudrftError("faces must contain at least one triangle, got an empty array")
     if not np.issubdtype(f.dtype, np.integer):
-        if (
-            not np.issubdtype(f.dtype, np.floating)
-            or not np.all(np.isfinite(f))
-            or np.any(f != np.round(f))
-        ):
+        ok = np.issubdtype(f.dtype, np.floating) and np.all(np.isfinite(f))
+        if not (ok and np.all(f == np.round(f))):
             raise MudrftError(f"faces must hold integer vertex indices, got dtype {f.dtype}")
         f = f.astype(np.int64)
     bad = (f < 0) | (f >= n_vertices)
@@ -182,22 +179,18 @@ class MeshFoot(Foot):
         )
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
-        self.name = str(name)
-        self.trailing = bool(trailing)
+        self.name, self.trailing = str(name), bool(trailing)
         used = np.unique(f)
         vu = v[used]
         diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
         if diag == 0.0:
             raise MudrftError("vertices must not all coincide: the mesh is degenerate (zero size)")
-        warn_implausible(
-            f"MeshFoot {self.name!r}: the mesh is",
-            float(np.ptp(vu, axis=0).max()),
-            PLAUSIBLE_FOOT_SIZE,
-            unit="m across",
-            hint="if its coordinates are not in metres, state their unit: "
-            "MeshFoot.from_file(path, unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the "
-            "vertices to metres",
+        hint = (
+            "if its coordinates are not in metres, state their unit: MeshFoot.from_file(path, "
+            "unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the vertices to metres"
         )
+        what, size = f"MeshFoot {self.name!r}: the mesh is", float(np.ptp(vu, axis=0).max())
+        warn_implausible(what, size, PLAUSIBLE_FOOT_SIZE, unit="m across", hint=hint)
         closed, wrong, weld = _topology(v, f)
         if wrong:
             raise MudrftError(
@@ -215,8 +208,7 @@ class MeshFoot(Foot):
                 f"MeshFoot: dropped {self.dropped} zero-area facet(s)", MeshWarning, stacklevel=2
             )
             f = f[~zero]
-        self.closed = closed
-        self.flipped = False
+        self.closed, self.flipped = closed, False
         if closed:
             tri = v[f]
             volume = float(np.sum(tri[:, 0] * np.cross(tri[:, 1], tri[:, 2]))) / 6.0

@@ -1,9 +1,5 @@
-"""Mesh files (STL, OBJ, PLY) read through trimesh, their memory bounded before parsing.
-
-The memory reading a file and building its foot take is checked against
-:func:`mudrft._validation.memory_limit` before trimesh parses it: a binary STL's from the
-facet count in its header, any other file's from its size.
-"""
+"""Mesh files (STL, OBJ, PLY) read through trimesh, their memory bounded before parsing
+(a binary STL's from the facet count in its header, any other file's from its size)."""
 
 from __future__ import annotations
 

@@ -29,10 +29,8 @@ def rim_angle(radius: float, height: float) -> float:
 
 def _grid_faces(ids: np.ndarray) -> np.ndarray:
     """Triangles of a structured grid of vertex ids (nu+1, nv+1); normal along du x dv."""
-    a = ids[:-1, :-1].ravel()
-    b = ids[1:, :-1].ravel()
-    c = ids[1:, 1:].ravel()
-    d = ids[:-1, 1:].ravel()
+    a, b = ids[:-1, :-1].ravel(), ids[1:, :-1].ravel()
+    c, d = ids[1:, 1:].ravel(), ids[:-1, 1:].ravel()
     return np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)])
 
 
@@ -58,10 +56,9 @@ def box_mesh(
     xs = np.linspace(-0.5 * width, 0.5 * width, n + 1)
     ys = np.linspace(-0.5 * length, 0.5 * length, n + 1)
     zs = np.linspace(0.0, height, n + 1)
-    lattice = np.arange((n + 1) ** 3).reshape(n + 1, n + 1, n + 1)  # (i, j, k) -> id
+    L = np.arange((n + 1) ** 3).reshape(n + 1, n + 1, n + 1)  # (i, j, k) -> id
     gx, gy, gz = np.meshgrid(xs, ys, zs, indexing="ij")
     allv = np.stack([gx.ravel(), gy.ravel(), gz.ravel()], -1)
-    L = lattice
     # each face as ids[u, v] with du x dv pointing outward
     grids = [
         L[:, :, 0].T,  # bottom: du = +y, dv = +x  -> -z
@@ -88,8 +85,7 @@ def semicylinder_mesh(
     radius, width, height = (
         check_length(k, v) for k, v in (("radius", radius), ("width", width), ("height", height))
     )
-    tm = rim_angle(radius, height)
-    n = positive_int("resolution", resolution)
+    tm, n = rim_angle(radius, height), positive_int("resolution", resolution)
     th = np.linspace(-tm, tm, 2 * n + 1)
     ya, za = radius * np.sin(th), radius * (1.0 - np.cos(th))
     za[[0, -1]] = height  # the rim lies exactly on the top plane
@@ -100,18 +96,13 @@ def semicylinder_mesh(
     gx, gt = np.meshgrid(xs, np.arange(na), indexing="ij")
     curved = np.stack([gx.ravel(), ya[gt.ravel()], za[gt.ravel()]], -1)
     ids = np.arange(curved.shape[0]).reshape(nx + 1, na)  # ids[i_x, j_theta]
-    faces = [_grid_faces(ids.T)]
-    verts = [curved]
+    faces, verts = [_grid_faces(ids.T)], [curved]
     base = curved.shape[0]
     # end caps: fan from an interior point; arc order is counterclockwise in (y, z)
     for sign, i_x in ((1.0, nx), (-1.0, 0)):
-        centre = np.array([[sign * 0.5 * width, 0.0, 0.5 * height]])
-        ring = ids[i_x]
-        nxt = np.roll(ring, -1)
-        c = np.full(na, base)
-        tri = np.stack([c, ring, nxt], -1) if sign > 0 else np.stack([c, nxt, ring], -1)
-        faces.append(tri)
-        verts.append(centre)
+        ring, nxt, c = ids[i_x], np.roll(ids[i_x], -1), np.full(na, base)
+        faces.append(np.stack([c, ring, nxt], -1) if sign > 0 else np.stack([c, nxt, ring], -1))
+        verts.append(np.array([[sign * 0.5 * width, 0.0, 0.5 * height]]))
         base += 1
     # top: strip between the two rims, du = +x, dv = +y
     faces.append(_grid_faces(np.stack([ids[:, 0], ids[:, -1]], -1)))
@@ -129,13 +120,11 @@ def semisphere_mesh(
     (128, 3)
     """
     radius, height = (check_length(k, v) for k, v in (("radius", radius), ("height", height)))
-    tm = rim_angle(radius, height)
-    n = positive_int("resolution", resolution)
+    tm, n = rim_angle(radius, height), positive_int("resolution", resolution)
     na = 4 * n
     th = np.linspace(0.0, tm, n + 1)[1:]
     ph = 2.0 * math.pi * np.arange(na) / na
-    r = radius * np.sin(th)
-    z = radius * (1.0 - np.cos(th))
+    r, z = radius * np.sin(th), radius * (1.0 - np.cos(th))
     z[-1] = height
     rings = np.stack(
         [(r[:, None] * np.cos(ph)).ravel(), (r[:, None] * np.sin(ph)).ravel(), np.repeat(z, na)], -1
@@ -147,11 +136,6 @@ def semisphere_mesh(
     pole = np.stack([np.zeros(na, int), ids[0, k1], ids[0]], -1)
     a, b = ids[:-1], ids[1:]  # ring j and j+1
     ak, bk = a[:, k1], b[:, k1]
-    quads = np.concatenate(
-        [
-            np.stack([a.ravel(), bk.ravel(), b.ravel()], -1),
-            np.stack([a.ravel(), ak.ravel(), bk.ravel()], -1),
-        ]
-    )
+    quads = np.concatenate([np.stack([a, bk, b], -1), np.stack([a, ak, bk], -1)]).reshape(-1, 3)
     cap = np.stack([np.full(na, top), ids[-1], ids[-1, k1]], -1)
     return verts, np.concatenate([pole, quads, cap])

@@ -103,8 +103,7 @@ def overlapping_parts(
         for outer in parts:
             if outer == inner:
                 continue
-            near = np.all((pts >= lows[outer]) & (pts <= highs[outer]), axis=1)
-            cand = pts[near]
+            cand = pts[np.all((pts >= lows[outer]) & (pts <= highs[outer]), axis=1)]
             if cand.size == 0:
                 continue
             if len(cand) > MAX_POINTS:

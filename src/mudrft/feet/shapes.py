@@ -1,7 +1,5 @@
-r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`).
-
-The meshes give the center of pressure and the posed (tilted) foot.
-"""
+r"""The paper's three feet: closed forms (:mod:`.closed_form`) and meshes (:mod:`.meshgen`),
+which give the center of pressure and the posed (tilted) foot."""
 
 from __future__ import annotations
 
@@ -32,21 +30,6 @@ __all__ = ["Flat", "SemiCylinder", "SemiSphere"]
 PAPER_HEIGHT = 0.026
 
 
-def _check_height(shape: str, radius: float, height: float) -> None:
-    if height <= radius:
-        return
-    hint = (
-        f" (the default height, the paper's {PAPER_HEIGHT * 1e3:g} mm, is taller than this "
-        f"foot: give height <= radius, e.g. height={radius!r} for a full half-{shape}; in a "
-        "sweep, fix or sweep height in [foot])"
-        if height == PAPER_HEIGHT
-        else ""
-    )
-    raise MudrftError(
-        f"height must be <= radius = {radius} m for a semi-{shape}, got {height} m{hint}"
-    )
-
-
 class _ClosedFormFoot(Foot):
     """Shared behaviour of the closed-form feet (mesh, elements, pose, center of pressure)."""
 
@@ -61,8 +44,19 @@ class _ClosedFormFoot(Foot):
         dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
         for k, v in check_dimensions(type(self).__name__, **dims).items():
             object.__setattr__(self, k, v)
-        if hasattr(self, "radius"):  # the curved feet: "semi-cylinder", "semi-sphere"
-            _check_height(self.name[5:], self.radius, self.height)
+        r, h = getattr(self, "radius", math.inf), self.height  # the curved feet have a radius
+        if h > r:
+            shape = self.name[5:]  # "cylinder", "sphere"
+            hint = (
+                f" (the default height, the paper's {PAPER_HEIGHT * 1e3:g} mm, is taller than this "
+                f"foot: give height <= radius, e.g. height={r!r} for a full half-{shape}; in a "
+                "sweep, fix or sweep height in [foot])"
+                if h == PAPER_HEIGHT
+                else ""
+            )
+            raise MudrftError(
+                f"height must be <= radius = {r} m for a semi-{shape}, got {h} m{hint}"
+            )
 
     def _segment(self, depth: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Submerged height ``z`` [m], rim angle [rad] and circular segment area [m^2]."""

@@ -18,7 +18,6 @@ from .facet import (
     facet_factors,
     facet_force,
     facet_frame,
-    fold_stresses,
     safe_div,
     sort_by_height,
 )
@@ -90,8 +89,7 @@ def prepare_triangles(triangles: XpArray, xp: Namespace = np) -> PreparedTriangl
 
 def submerged_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np) -> XpArray:
     """Exact submerged area of each facet [m^2], shape (..., m), at tip ``depth`` [m]."""
-    p = prepared
-    d = xp.asarray(depth)[..., None]
+    p, d = prepared, xp.asarray(depth)[..., None]
     return facet_submerged_area(p.za, p.zb, p.zc, p.k_low, p.k_high, p.flat_area, d, xp=xp)
 
 
@@ -106,8 +104,7 @@ def clip_below(
     >>> float(a[0]), c[0].round(4).tolist()
     (0.25, [0.0, 0.0, 0.3333])
     """
-    p = prepared
-    d = xp.asarray(depth)[..., None]
+    p, d = prepared, xp.asarray(depth)[..., None]
     a, b, c = p.lo, p.mid, p.hi
     area, cx, cy, cz = clip_facet(
         a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2],
@@ -121,13 +118,10 @@ def _facet_forces(
     xp: Namespace,
 ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
     """The force components (..., m) [N] on facets of submerged ``area`` [m^2]."""
-    s = xp.asarray(stress)
-    sqx, sqy, ux, uy = fold_stresses(s[..., 0], s[..., 1], xp.asarray(heading), xp=xp)
-    fn, ft = facet_factors(p.hx, p.hy, ux[..., None], uy[..., None], trailing, xp=xp)
-    sz = s[..., 2][..., None]
-    return facet_force(
-        area, p.nh, p.hx, p.hy, p.wz, sqx[..., None], sqy[..., None], sz, fn, ft, xp=xp
-    )
+    s, h = xp.asarray(stress), xp.asarray(heading)[..., None]
+    fn, ft = facet_factors(p.hx, p.hy, xp.cos(h), xp.sin(h), trailing, xp=xp)
+    sx, sy, sz = (s[..., k][..., None] for k in range(3))
+    return facet_force(area, p.nh, p.hx, p.hy, p.wz, sx, sy, sz, fn, ft, xp=xp)
 
 
 def element_forces(

@@ -21,7 +21,6 @@ __all__ = [
 DIRECTIONS = ("vertical", "horizontal")
 WATER_CONTENT_RANGE = (0.25, 0.45)
 EXTRAPOLATION_RANGE = (0.15, 0.50)
-_LINEAR_FIELDS = ("n",)
 #: The two labellings of the table rows and what each adds to a printed water content to
 #: give its label [-] (errata E6/E7): the tables' own, and the text's (15/25/35 %).
 LABELLINGS = {"table": 0.0, "text": -0.10}
@@ -83,14 +82,12 @@ def _interpolate(direction: str, w: float) -> dict[str, float]:
     w0, w1 = ws[i], ws[i + 1]
     t = (w - w0) / (w1 - w0)
     out = {}
-    for c in chen2026.COLUMNS:
+    for c in chen2026.COLUMNS:  # n linearly, kept valid when extrapolating; the rest in log
         a, b = rows[w0][c], rows[w1][c]
-        if c in _LINEAR_FIELDS:
-            v = a + t * (b - a)
-            v = min(max(v, 0.02), 1.0)  # keep the exponent valid when extrapolating
+        if c == "n":
+            out[c] = min(max(a + t * (b - a), 0.02), 1.0)
         else:
-            v = math.exp(math.log(a) + t * (math.log(b) - math.log(a)))
-        out[c] = v
+            out[c] = math.exp(math.log(a) + t * (math.log(b) - math.log(a)))
     return out
 
 
@@ -130,10 +127,8 @@ def paper_parameters(
     w = _check_water_content(water_content, extrapolate, shift)
     values = _interpolate(direction, w)
     table = chen2026.TABLE_NAME[direction]
-    if w in _table(direction):
-        source = f"Chen et al. 2026, {table}, row W = {w * 100:g} %"
-    else:
-        source = f"Chen et al. 2026, {table}, interpolated at W = {w * 100:g} %"
+    row = "row" if w in _table(direction) else "interpolated at"
+    source = f"Chen et al. 2026, {table}, {row} W = {w * 100:g} %"
     label = w if shift == 0.0 else round(w + shift, 10)
     if labels != "table":
         source += f" (the text's W = {label * 100:g} %, errata E6/E7)"
@@ -169,13 +164,9 @@ def paper_mud(
         h = paper_parameters(water_content, "horizontal", extrapolate=extrapolate, labels=labels)
     if caught:
         warnings.warn(str(caught[0].message), UserWarning, stacklevel=2)
-    return Mud(
-        vertical=v,
-        horizontal=h,
-        water_content=v.water_content,
-        name=f"Chen 2026 mud, W = {float(water_content) * 100:g} %"
-        + ("" if labels == "table" else f" ({labels} labels)"),
-    )
+    name = f"Chen 2026 mud, W = {float(water_content) * 100:g} %"
+    name += "" if labels == "table" else f" ({labels} labels)"
+    return Mud(vertical=v, horizontal=h, water_content=v.water_content, name=name)
 
 
 def sigma_y_consistency(direction: str) -> list[dict[str, float | bool]]:

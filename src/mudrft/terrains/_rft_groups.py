@@ -102,8 +102,7 @@ def _group_weights(pr: _Prepared, depth: np.ndarray) -> np.ndarray:
     frac = np.clip((depth[..., None] - pr.h0) / pr.span, 0.0, 1.0 - 1e-12)
     query = np.arange(k) + frac  # (..., k)
     j = np.searchsorted(pr.keys, query.ravel(), side="left").reshape(query.shape)
-    area = pr.cum_a[j] - pr.cum_a[pr.start]
-    moment = pr.cum_ah[j] - pr.cum_ah[pr.start]
+    area, moment = pr.cum_a[j] - pr.cum_a[pr.start], pr.cum_ah[j] - pr.cum_ah[pr.start]
     return np.maximum(depth[..., None] * area - moment, 0.0)
 
 
@@ -127,8 +126,7 @@ class FacetRFT:
     coefficients: object
 
     def _check_options(self, coefficients: type) -> None:
-        speed = check_positive("rest_speed", self.rest_speed, unit="m/s")
-        set_number(self, "rest_speed", speed)
+        set_number(self, "rest_speed", check_positive("rest_speed", self.rest_speed, unit="m/s"))
         width = check_in_range("leading_width", self.leading_width, 0.0, 1.0)
         set_number(self, "leading_width", width)
         if not isinstance(self.coefficients, coefficients):
@@ -147,8 +145,7 @@ class FacetRFT:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> RFTState:
         """Undisturbed medium under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        el = foot.elements()
+        pos, el = tip_position(position), foot.elements()
         direction = np.broadcast_to(np.array([0.0, 0.0, -1.0]), pos.shape).copy()
         return RFTState(direction=direction, elements=el, prepared=_prepare(el))
 
@@ -177,11 +174,7 @@ class FacetRFT:
         """Responses (..., k, 3) of the groups ``submerged`` anywhere in the batch and which
         groups hold one (k,), reusing ``cache`` of the same ``direction``."""
         need = np.any(submerged, axis=tuple(range(submerged.ndim - 1)))
-        if (
-            cache is not None
-            and cache[0].shape == direction.shape
-            and np.array_equal(cache[0], direction)
-        ):
+        if cache is not None and np.array_equal(cache[0], direction):  # False for another shape
             unit, known = cache[1], cache[2]
         else:
             unit = np.zeros((*direction.shape[:-1], need.size, 3))

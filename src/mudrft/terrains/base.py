@@ -63,8 +63,7 @@ def tip_position(position: ArrayLike) -> FloatArray:
 
 def kinematics(position: ArrayLike, velocity: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Validate tip position [m] and velocity [m/s]: finite, shape (..., 3), same shape."""
-    pos = tip_position(position)
-    vel = check_finite("velocity", velocity)
+    pos, vel = tip_position(position), check_finite("velocity", velocity)
     if vel.shape != pos.shape:
         raise MudrftError(
             f"velocity must have the shape of position {pos.shape} [m/s], got shape {vel.shape}"

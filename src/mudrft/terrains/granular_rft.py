@@ -141,8 +141,7 @@ def _frame_forces(
     s = (v23 * e2).sum(-1)
     e2m = np.where((s < 0)[..., None], -e2, e2)  # mirror so the velocity points along +e2
     n_along = np.where(axial, 0.0, (nb * e2m).sum(-1))
-    beta = np.arctan2(nb[..., 2], n_along) + np.pi / 2
-    gamma = -np.arctan2(v23[..., 2], np.abs(s))
+    beta, gamma = np.arctan2(nb[..., 2], n_along) + np.pi / 2, -np.arctan2(v23[..., 2], np.abs(s))
     ax, az = coefficients.alpha(beta, gamma)
     if extension == "planar":
         return -ax[..., None] * e2m + az[..., None] * z_hat  # type: ignore[no-any-return]
@@ -169,10 +168,7 @@ def _unit_forces(
     axial = ~(vh_ok | nh_ok)  # purely vertical: the force must not depend on the yaw (D53)
     vd = np.where(axial[..., None], vb * np.array([0.0, 0.0, 1.0]), vb)
     # the frame of the motion (planar; treers2021: on nearly horizontal facets) or the normal
-    if extension == "planar":
-        share = np.where(vh_ok, 1.0, 0.0)
-    else:
-        share = np.where(vh_ok, horizontal_share(nb[..., 2]), 0.0)
+    share = np.where(vh_ok, 1.0 if extension == "planar" else horizontal_share(nb[..., 2]), 0.0)
     e2 = np.where((share >= 1.0)[..., None], vh_dir, nh_dir)
     f = _frame_forces(nb, vd, e2, axial, coefficients, extension)
     band = (share > 0.0) & (share < 1.0)  # both frames, mixed (few facets)
@@ -280,13 +276,8 @@ class GranularRFT(FacetRFT):
         _set(self, "zeta", check_positive("zeta", self.zeta, unit="N/m^3"))
         self._check_options(FourierCoefficients)
         check_choice("extension", self.extension, ("treers2021", "planar"))
-        warn_implausible(  # valid but most likely a unit mistake
-            "GranularRFT: zeta is",
-            self.zeta,
-            PLAUSIBLE_ZETA,
-            unit="N/m^3",
-            hint="zeta is in N/m^3; RFT papers print N/cm^3 (0.254 N/cm^3 = 2.54e5 N/m^3)",
-        )
+        hint = "zeta is in N/m^3; RFT papers print N/cm^3 (0.254 N/cm^3 = 2.54e5 N/m^3)"
+        warn_implausible("GranularRFT: zeta is", self.zeta, PLAUSIBLE_ZETA, unit="N/m^3", hint=hint)
         plate = self.coefficients.plate
         if not abs(plate - 1.0) <= 0.01:
             warn_plausibility(

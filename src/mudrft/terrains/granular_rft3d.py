@@ -381,13 +381,9 @@ class GranularRFT3D(FacetRFT):
         self._check_options(PolynomialCoefficients)
         if not isinstance(self.name, str) or not self.name:
             raise MudrftError(f"name must be a non-empty string, got {self.name!r}")
-        warn_implausible(  # valid but most likely a unit mistake
-            "GranularRFT3D: rho_c is",
-            self.rho_c,
-            PLAUSIBLE_RHO_C,
-            unit="kg/m^3",
-            hint="rho_c is the bulk density in kg/m^3 (1.31 g/cm^3 = 1310 kg/m^3)",
-        )
+        what = "GranularRFT3D: rho_c is"
+        hint = "rho_c is the bulk density in kg/m^3 (1.31 g/cm^3 = 1310 kg/m^3)"
+        warn_implausible(what, self.rho_c, PLAUSIBLE_RHO_C, unit="kg/m^3", hint=hint)
         if 2.0 < self.mu_surf <= 90.0:
             warn_plausibility(
                 f"GranularRFT3D: mu_surf = {self.mu_surf:g} looks like a friction angle in "

@@ -56,8 +56,7 @@ class FourierCoefficients:
 
     def alpha(self, beta: ArrayLike, gamma: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """``(alpha_x, alpha_z)`` at attack angle ``beta`` and intrusion angle ``gamma`` [rad]."""
-        b2 = 2.0 * np.asarray(beta, dtype=float)
-        g = np.asarray(gamma, dtype=float)
+        b2, g = 2.0 * np.asarray(beta, dtype=float), np.asarray(gamma, dtype=float)
         az = (
             self.A00
             + self.A10 * np.cos(b2)
@@ -116,7 +115,6 @@ def li2013_alpha(
     >>> round(float(ax), 12), round(float(az), 3)
     (0.0, 1.0)
     """
-    b = check_finite("beta", beta)
-    g = check_finite("gamma", gamma)
+    b, g = check_finite("beta", beta), check_finite("gamma", gamma)
     check_broadcast(beta=b.shape, gamma=g.shape)
     return coefficients.alpha(b, g)

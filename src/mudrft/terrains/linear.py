@@ -79,14 +79,12 @@ class LinearStiffness:
 
     def __post_init__(self) -> None:
         _set(self, "stiffness", check_positive("stiffness", self.stiffness, unit="N/m^3"))
-        warn_implausible(  # valid but most likely a unit mistake
-            "LinearStiffness: stiffness is",
-            self.stiffness,
-            PLAUSIBLE_STIFFNESS,
-            unit="N/m^3",
-            hint="stiffness is the stress per depth in N/m^3 = Pa/m (1 N/cm^3 = 1 kPa/mm = "
-            "1e6 N/m^3; the paper's mud: 1.09e6)",
+        what = "LinearStiffness: stiffness is"
+        hint = (
+            "stiffness is the stress per depth in N/m^3 = Pa/m (1 N/cm^3 = 1 kPa/mm = 1e6 N/m^3;"
+            " the paper's mud: 1.09e6)"
         )
+        warn_implausible(what, self.stiffness, PLAUSIBLE_STIFFNESS, unit="N/m^3", hint=hint)
         check_choice("unloading", self.unloading, ("elastic", "zero"))
         register("godon2022ral")
         register("liu2023ral")
@@ -102,8 +100,7 @@ class LinearStiffness:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> LinearState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        return LinearState(in_mud=tip_depth(pos) > 0)
+        return LinearState(in_mud=tip_depth(tip_position(position)) > 0)
 
     def step(
         self, foot: Foot, state: LinearState, position: ArrayLike, velocity: ArrayLike, dt: float

@@ -70,12 +70,9 @@ def _zoh(
     ch = cmath.cosh(qt).real
     sh = (cmath.sinh(qt) / q).real if abs(qt) > 1e-8 else dt * (1.0 + (qt * qt).real / 6.0)
     e = math.exp(-a * dt)
-    p00 = e * (ch + a * sh)
-    p01 = e * sh
-    p10 = -e * omega * omega * sh
-    p11 = e * (ch - a * sh)
-    g0 = -2.0 * a * p01 - (p11 - 1.0)
-    g1 = omega * omega * p01
+    p00, p01 = e * (ch + a * sh), e * sh
+    p10, p11 = -e * omega * omega * sh, e * (ch - a * sh)
+    g0, g1 = -2.0 * a * p01 - (p11 - 1.0), omega * omega * p01
     return p00, p01, p10, p11, g0, g1
 
 
@@ -114,8 +111,7 @@ class MaxwellMud:
     (24000.0, 0.53)
     """
 
-    # alpha, n: Table S1, W = 25 %, vertical; the rest fit_maxwell() on the reference plate
-    # test (decision D55, re-derived by tests/terrains/test_maxwell.py)
+    # alpha, n: Table S1; the rest fit_maxwell() (re-derived by tests/terrains/test_maxwell.py)
     alpha: float = 24e3
     n: float = 0.53
     modulus: float = 9.283e4
@@ -151,8 +147,7 @@ class MaxwellMud:
 
     def initial_state(self, foot: Foot, position: ArrayLike) -> MaxwellState:
         """Undisturbed mud under a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        depth = tip_depth(pos)
+        depth = tip_depth(tip_position(position))
         z = np.zeros(depth.shape)
         return MaxwellState(z, z.copy(), z.copy(), depth / self._lc(foot), depth > 0)
 
@@ -162,8 +157,7 @@ class MaxwellMud:
         """Advance over ``dt`` [s] to the dimensionless depth ``gamma`` [-] at the rate
         ``gamma_dot`` [1/s] (down > 0); return (state, stress [Pa]), reset out of the mud."""
         check_positive("dt", dt, unit="s")
-        g = np.asarray(gamma, dtype=float)
-        gd = np.asarray(gamma_dot, dtype=float)
+        g, gd = np.asarray(gamma, dtype=float), np.asarray(gamma_dot, dtype=float)
         in_mud = g > 0
         hold = (np.exp(-dt / self.relaxation), *_zoh(float(dt), self.omega, self.damping))
         sigma_m, s, sd, gmax, inside = _update(
@@ -180,8 +174,7 @@ class MaxwellMud:
     ) -> tuple[MaxwellState, TerrainOutput]:
         """Advance by ``dt`` [s] to a tip at ``position`` [m] moving at ``velocity`` [m/s]."""
         pos, vel = kinematics(position, velocity)
-        lc = self._lc(foot)
-        depth = tip_depth(pos)
+        lc, depth = self._lc(foot), tip_depth(pos)
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)
@@ -246,9 +239,7 @@ def _stress_history(
     """:meth:`MaxwellMud.advance` along a history, on Python floats (fast)."""
     m = _constants(model)
     lam, om, zt = model.relaxation, model.omega, model.damping
-    t = [float(v) for v in time]
-    gam = [float(v) for v in gamma]
-    gdot = [float(v) for v in gamma_dot]
+    t, gam, gdot = (np.asarray(a, dtype=float).tolist() for a in (time, gamma, gamma_dot))
     out = np.zeros(len(t))
     sm = s = sd = gmax = 0.0
     was_in = gam[0] > 0
@@ -262,12 +253,11 @@ def _stress_history(
         g = gam[i]
         gd = gdot[i] if (g > 0 or was_in) else 0.0
         sm, s, sd, gmax, stress = _update(m, sm, s, sd, gmax, g, gd, hold, pyfloat)
-        if g > 0:
+        was_in = g > 0
+        if was_in:
             out[i] = stress
-            was_in = True
         else:
             sm = s = sd = gmax = 0.0
-            was_in = False
     return out
 
 
@@ -315,7 +305,7 @@ def fit_maxwell(
             f"stress must have shape {trajectory.time.shape} to match the trajectory, got {s.shape}"
         )
     m0 = initial or MaxwellMud()
-    inside = g > 0  # out of the mud both models give 0 as terrains (decision D11)
+    inside = g > 0  # out of the mud both models give 0 as terrains
     if not np.any(inside):
         raise MudrftError("the trajectory never enters the mud (depth > 0); nothing to fit")
     x0 = np.log([getattr(m0, f) for f in _FIT_FIELDS])

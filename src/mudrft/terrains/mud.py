@@ -25,7 +25,7 @@ from .base import TerrainOutput, check_motion, tip_position
 
 __all__ = [
     "MudChannels", "MudState", "MudTerrain", "channel_parameters", "initial_channels",
-    "mud_channel_stress", "mud_heading", "mud_step", "vertical_viscosity"
+    "mud_channel_stress", "mud_step", "vertical_viscosity"
 ]  # fmt: skip
 
 
@@ -34,8 +34,7 @@ def channel_parameters(mud: Mud) -> MudParameters:
     h, v = mud.horizontal, mud.vertical
     fields: dict[str, Any] = {}
     for k in PARAMETER_UNITS:
-        a, b = np.asarray(getattr(h, k), dtype=float), np.asarray(getattr(v, k), dtype=float)
-        a, b = np.broadcast_arrays(a, b)
+        a, b = np.broadcast_arrays(*(np.asarray(getattr(p, k), dtype=float) for p in (h, v)))
         fields[k] = np.stack([a, a, b], axis=-1)
     return MudParameters(**fields, source=f"channels of {mud.name}")
 
@@ -161,11 +160,11 @@ def _channel_motion(
     ex, ey, last = st.entry_x, st.entry_y, st.line
     if reset:
         fresh = st.in_mud < 0.5
-        chh = enter(chh, fresh, xi0, xp)
-        cz = enter(cz, fresh, xi0, xp)
-        ex = xp.where(fresh, px - vx * dt, ex)
-        ey = xp.where(fresh, py - vy * dt, ey)
-        last = xp.where(fresh, mud_heading(last, vx, vy, heading_speed, xp), last)
+        chh, cz = enter(chh, fresh, xi0, xp), enter(cz, fresh, xi0, xp)
+        ex, ey = xp.where(fresh, px - vx * dt, ex), xp.where(fresh, py - vy * dt, ey)
+        moving = vx * vx + vy * vy > heading_speed * heading_speed  # else keep it (D52)
+        turn = xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0))
+        last = xp.where(fresh & moving, turn, last)
     rx, ry = px - ex, py - ey
     r2 = rx * rx + ry * ry
     away = r2 > 0.0  # roots and angles of safe values: finite JAX gradients at the entry
@@ -175,22 +174,10 @@ def _channel_motion(
         away, xp.arctan2(side * xp.where(away, ry, 0.0), side * xp.where(away, rx, 1.0)), last
     )
     lx, ly = xp.cos(line), xp.sin(line)
-    rate_h = (lx * vx + ly * vy) / lc
-    gamma_h = xp.where(away, side * r, 0.0) / lc
+    rate_h, gamma_h = (lx * vx + ly * vy) / lc, xp.where(away, side * r, 0.0) / lc
     ut = lx * vy - ly * vx  # the speed across the line [m/s]
     gdz = contact_rate(-vz / lc, was_in, in_mud, xp)
     return chh, cz, gamma_h, rate_h, depth / lc, gdz, ex, ey, line, ut, depth, in_mud
-
-
-def mud_heading(
-    heading: XpArray, vx: XpArray, vy: XpArray, heading_speed: XpArray, xp: Namespace = np
-) -> XpArray:
-    """The direction [rad] of ``(vx, vy)`` [m/s] when faster than ``heading_speed`` [m/s],
-    else ``heading`` (D52); safe values keep JAX gradients finite."""
-    moving = vx * vx + vy * vy > heading_speed * heading_speed
-    return xp.where(
-        moving, xp.arctan2(xp.where(moving, vy, 0.0), xp.where(moving, vx, 1.0)), heading
-    )
 
 
 def mud_channel_stress(
@@ -225,19 +212,10 @@ def initial_channels(
     zero = 0.0 * depth
 
     def fresh(g: XpArray) -> ChannelState:
-        return ChannelState(
-            gamma=g, gamma_w=g, xi=zero + xi0, s_th=zero, sigma_s=zero, clock=zero, clock_w=zero
-        )
+        return ChannelState(g, g, zero + xi0, zero, zero, zero, zero)
 
-    return MudChannels(
-        h=fresh(zero),
-        z=fresh(depth / lc),
-        entry_x=px + zero,
-        entry_y=py + zero,
-        line=zero,
-        heading=zero,
-        in_mud=xp.where(in_contact(depth), 1.0, 0.0),
-    )
+    inside = xp.where(in_contact(depth), 1.0, 0.0)
+    return MudChannels(fresh(zero), fresh(depth / lc), px + zero, py + zero, zero, zero, inside)
 
 
 def _motion_for_state(
@@ -387,8 +365,7 @@ class MudTerrain:
         self, foot: Foot, state: MudState, position: ArrayLike, velocity: ArrayLike, dt: float
     ) -> tuple[MudState, TerrainOutput]:
         """:meth:`step` without validation (finite (..., 3) inputs and dt > 0 assumed)."""
-        pos = np.asarray(position, dtype=float)
-        vel = np.asarray(velocity, dtype=float)
+        pos, vel = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
         seal = foot.seal_factor(state.foot)
         common = (self.length(foot), self.kappa, self.xi0, self.reset_on_exit, self.heading_speed)
         flags = (self.quasi_static, self.restart)

@@ -73,8 +73,7 @@ class RigidGround:
 
     def initial_state(self, foot: Foot | None, position: ArrayLike) -> RigidState:
         """State for a foot whose tip is at ``position`` (..., 3) [m]."""
-        pos = tip_position(position)
-        return RigidState(in_contact=tip_depth(pos) > 0)
+        return RigidState(in_contact=tip_depth(tip_position(position)) > 0)
 
     def step(
         self, foot: Foot | None, state: RigidState, position: ArrayLike, velocity: ArrayLike,

@@ -25,7 +25,7 @@ from .._xp import pyfloat
 from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
 from ..feet.closed_form import closed_form_force
-from ..feet.facet import facet_factors, facet_force, fold_stresses, submerged_area
+from ..feet.facet import facet_factors, facet_force, submerged_area
 from ..feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ..feet.morphing.row import MorphingRow, row_array
 from ..feet.surface import PreparedTriangles
@@ -61,17 +61,9 @@ def constant_row(hor: ChannelConstants, ver: ChannelConstants) -> FloatArray:
 
 def config_row(terrain: MudTerrain, foot: Foot) -> FloatArray:
     """The options row of a :class:`~mudrft.MudTerrain` for a foot (see module docstring)."""
-    return np.array(
-        [
-            terrain.length(foot),
-            terrain.kappa,
-            terrain.xi0,
-            float(terrain.reset_on_exit),
-            terrain.heading_speed,
-            float(terrain.quasi_static),
-            float(terrain.restart),
-        ]
-    )
+    t = terrain
+    flags = [float(t.reset_on_exit), t.heading_speed, float(t.quasi_static), float(t.restart)]
+    return np.array([t.length(foot), t.kappa, t.xi0, *flags])
 
 
 def state_rows(ch: MudChannels) -> FloatArray:
@@ -161,7 +153,7 @@ def mesh_force(
     trailing: bool,
 ) -> tuple[float, float, float]:  # fmt: skip
     """Force of the mud on a mesh foot [N]: eqs. (6)-(7) summed over its facets ``up``."""
-    sqx, sqy, ux, uy = fold_stresses(sx, sy, heading, pyfloat)
+    ux, uy = pyfloat.cos(heading), pyfloat.sin(heading)
     fx, fy, fz = 0.0, 0.0, 0.0
     for f in range(up.shape[0]):
         r = up[f]
@@ -169,7 +161,7 @@ def mesh_force(
             continue
         sub = submerged_area(r[0], r[1], r[2], r[3], r[4], r[5], depth, pyfloat)
         fn, ft = facet_factors(r[7], r[8], ux, uy, trailing, pyfloat)
-        a, b, c = facet_force(sub, r[6], r[7], r[8], r[9], sqx, sqy, sz, fn, ft, pyfloat)
+        a, b, c = facet_force(sub, r[6], r[7], r[8], r[9], sx, sy, sz, fn, ft, pyfloat)
         fx += a
         fy += b
         fz += c
@@ -227,8 +219,7 @@ def run(
     """
     n = pos.shape[1]
     stride = 0 if c.shape[0] == 1 else 1
-    row = np.empty(N_STATE)
-    frow = np.empty(N_FOOT)
+    row, frow = np.empty(N_STATE), np.empty(N_FOOT)
     for t in range(pos.shape[0]):
         for i in range(n):
             o = out[t, i]

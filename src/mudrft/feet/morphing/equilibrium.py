@@ -102,18 +102,10 @@ def linkage_row(
     g = linkage.geometry
     # every field of the geometry (a field the row lacks fails below, instead of vanishing)
     values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
-    values.update(
-        pole_top=linkage.pole_top,
-        stroke=linkage.stroke,
-        branch=linkage.branch,
-        series_stiffness=spring.series_stiffness,
-        hard_stiffness=spring.hard_stiffness,
-        knee_deflection=spring.knee_deflection,
-        knee_force=spring.knee_force,
-        seal_length=seal_length,
-        lock=lock,
-        curl_delay=curl_delay,
-    )
+    values.update({k: getattr(linkage, k) for k in ("pole_top", "stroke", "branch")})
+    knees = ("series_stiffness", "hard_stiffness", "knee_deflection", "knee_force")
+    values.update({k: getattr(spring, k) for k in knees})
+    values.update(seal_length=seal_length, lock=lock, curl_delay=curl_delay)
     return MorphingRow(**{k: float(v) for k, v in values.items()})
 
 
@@ -200,8 +192,7 @@ def _move(
     r_n = np.where(up[:, None], r_n, r_n[:, ::-1])  # in the direction of motion
     lo, flo, hi, fhi, found = p, r_p, p, r_p, np.zeros(d.size, dtype=bool)
     for k in range(_GRID):
-        x = _node(k, up, stroke)
-        r = r_n[:, k]
+        x, r = _node(k, up, stroke), r_n[:, k]
         lo, flo, hi, fhi, found = _scan_node(up, p, x, r, lo, flo, hi, fhi, found)
         if found.all():
             break  # the remaining nodes change nothing

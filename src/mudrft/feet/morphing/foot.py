@@ -1,7 +1,5 @@
-r"""The passive morphing foot: checked views of its mechanism and the Foot interface over it.
-
-The physics is in :mod:`.linkage`, :mod:`.springs`, :mod:`.pads` and :mod:`.equilibrium`.
-"""
+r"""The passive morphing foot: the Foot interface over its mechanism (:mod:`.linkage`,
+:mod:`.springs`, :mod:`.pads`, :mod:`.equilibrium`), with checked views of it."""
 
 from __future__ import annotations
 
@@ -149,12 +147,8 @@ class MorphingFoot(Foot):
         """Force, pad angle and stiffness against deflection [m] on rigid ground, where only
         the tip touches and the load is the column spring's (paper Fig. S3a, b)."""
         d = self._check_deflection(deflection)
-        return RigidGroundResponse(
-            deflection=d,
-            force=np.asarray(self.spring.force(d)),
-            pad_angle=self._linkage.angle(d),
-            stiffness=self.spring.stiffness(d),
-        )
+        force, angle = np.asarray(self.spring.force(d)), self._linkage.angle(d)
+        return RigidGroundResponse(d, force, angle, self.spring.stiffness(d))
 
     def locked_deflection(self) -> float | None:
         """Deflection the mode locks (stroke for expanded, 0 for retracted), None if free [m]."""
@@ -196,8 +190,7 @@ class MorphingFoot(Foot):
     ) -> NDArray[np.float64]:
         r"""Column deflection [m] in balance with the mud (D32, D34) at tip ``depth`` [m] >= 0
         and vertical stress ``sz`` [Pa], reached from the ``previous`` deflection [m]."""
-        d = check_nonnegative("depth", depth, unit="m")
-        s = check_finite("sz", sz)
+        d, s = check_nonnegative("depth", depth, unit="m"), check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
         return balanced_deflection(d, s, previous=p, linkage=self._linkage, spring=self.spring)
 
@@ -245,12 +238,8 @@ class MorphingFoot(Foot):
 
     def replace(self, **changes: Any) -> MorphingFoot:
         """A copy with some parameters changed (geometry or spring fields, mode, ...)."""
-        kw: dict[str, Any] = {
-            "mode": self.mode,
-            "seal_length": self.seal_length,
-            "curl_delay": self.curl_delay,
-            "characteristic_length": self._lc,
-        }
+        kw: dict[str, Any] = {"mode": self.mode, "seal_length": self.seal_length}
+        kw.update(curl_delay=self.curl_delay, characteristic_length=self._lc)
         return MorphingFoot(self.geometry, self.spring, **(kw | changes))
 
     def as_dict(self) -> dict[str, float | int | str]:
@@ -319,12 +308,9 @@ class MorphingFoot(Foot):
 
     def initial_foot_state(self) -> MorphingState:
         """Column unloaded, or locked (D37); the seal memory at the current pad angle."""
-        lock = self.locked_deflection()
-        delta = 0.0 if lock is None else lock
+        delta = self.locked_deflection() or 0.0
         th = float(self._linkage.angle(delta))
-        return MorphingState(
-            deflection=np.asarray(delta), pad_angle=np.asarray(th), most_spread=np.asarray(th)
-        )
+        return MorphingState(np.asarray(delta), np.asarray(th), np.asarray(th))
 
     def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
         r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` the
@@ -346,8 +332,7 @@ class MorphingFoot(Foot):
         """
         if foot_state is None:
             foot_state = self.initial_foot_state()
-        d = np.asarray(depth, dtype=float)
-        s = np.asarray(stress, dtype=float)
+        d, s = np.asarray(depth, dtype=float), np.asarray(stress, dtype=float)
         delta = self._deflection(d, s[..., 2], foot_state.deflection)
         if self.curl_delay > 0.0 and self.mode == "morphing":
             delta = held_deflection(delta, foot_state.deflection, retraction, self.curl_delay)
@@ -357,9 +342,7 @@ class MorphingFoot(Foot):
         force = np.stack(np.broadcast_arrays(*f), axis=-1)
         th_b = np.broadcast_to(th, d.shape) if np.ndim(th) < d.ndim else th
         most = track_most_spread(d, th_b, foot_state.most_spread)
-        return MorphingState(
-            deflection=np.asarray(delta), pad_angle=np.asarray(th_b), most_spread=most
-        ), force
+        return MorphingState(np.asarray(delta), np.asarray(th_b), most), force
 
     def center_of_pressure(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike

@@ -145,8 +145,7 @@ def raw_pad_angle(
 ) -> XpArray:  # fmt: skip
     """Unclipped pad angle [rad] at a deflection [m], element-wise; ``g`` by attribute,
     ``pole_top`` [m] and ``branch`` (+-1) from :class:`Linkage`."""
-    dr = g.pole_radius - g.base_radius
-    dz = pole_top - deflection - g.pivot_height
+    dr, dz = g.pole_radius - g.base_radius, pole_top - deflection - g.pivot_height
     dist = xp.hypot(dr, dz)
     a, b = g.crank_length, g.coupler_length
     c = (a * a + dist * dist - b * b) / (2.0 * a * dist)
@@ -224,9 +223,8 @@ class Linkage:
         g = self.geometry
         th = float(self.angle(deflection))
         a = np.array([g.base_radius, g.pivot_height])
-        c = a + g.crank_length * np.array(
-            [math.cos(th + g.crank_offset), math.sin(th + g.crank_offset)]
-        )
+        phi = th + g.crank_offset
+        c = a + g.crank_length * np.array([math.cos(phi), math.sin(phi)])
         b = np.array([g.pole_radius, self.pole_top - deflection])
         p = a + g.pad_length * np.array([math.cos(th), math.sin(th)])
         return {"A": a, "C": c, "B": b, "P": p}

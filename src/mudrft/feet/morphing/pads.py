@@ -133,8 +133,7 @@ def magnitudes(
 ) -> NDArray[np.float64]:  # fmt: skip
     """First-quadrant magnitudes (Fx, Fy, Fz) [N] (D33) at tip ``depth`` [m], stresses
     (..., 3) [Pa], ``heading`` in [0, pi/2] [rad] and pad angle ``theta`` [rad]."""
-    s = np.asarray(stress, dtype=float)
-    d = np.asarray(depth, dtype=float)
+    s, d = np.asarray(stress, dtype=float), np.asarray(depth, dtype=float)
     ax, _, _, ay, az = coefficients(g, d, np.asarray(theta, float), np.asarray(heading, float))
     fx, fy, fz = ax * s[..., 0], ay * s[..., 1], az * s[..., 2]
     return np.stack(np.broadcast_arrays(fx, fy, fz), axis=-1)
@@ -154,8 +153,7 @@ def center_height(
     sbar = np.where(area > 0, moment / np.where(area > 0, area, 1.0), 0.0)
     wp = g.n_pads * area * (f_n(th) * np.cos(th) + f_t(th) * np.sin(th))
     wb = np.where(d > 0, math.pi * g.base_radius**2, 0.0)
-    zp = g.pivot_height + sbar * np.sin(th)
-    tot = wp + wb
+    zp, tot = g.pivot_height + sbar * np.sin(th), wp + wb
     return np.where(tot > 0, wp * zp / np.where(tot > 0, tot, 1.0), 0.5 * np.minimum(d, g.height))
 
 
@@ -183,8 +181,7 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
     edges = np.linspace(0.0, g.pad_length, strips + 1)
     areas_1 = np.diff(pad_area(g, edges))
     mids = 0.5 * (edges[1:] + edges[:-1])
-    cen = [np.array([[0.0, 0.0, 0.0]])]
-    nor = [np.array([[0.0, 0.0, -1.0]])]
+    cen, nor = [np.array([[0.0, 0.0, 0.0]])], [np.array([[0.0, 0.0, -1.0]])]
     ar = [np.array([math.pi * g.base_radius**2])]
     ez = np.array([0.0, 0.0, 1.0])
     # walls: the base pad's rim up to the pivots, the column above them (outward normals)
@@ -210,6 +207,4 @@ def surface_elements(g: MorphingFootGeometry, theta: float, *, strips: int) -> S
             cen.append(p)
             nor.append(np.tile(normal, (strips, 1)))
             ar.append(areas_1)
-    return SurfaceElements(
-        centroids=np.concatenate(cen), normals=np.concatenate(nor), areas=np.concatenate(ar)
-    )
+    return SurfaceElements(np.concatenate(cen), np.concatenate(nor), np.concatenate(ar))

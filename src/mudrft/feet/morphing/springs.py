@@ -71,9 +71,8 @@ class TwoStageSpring:
     @property
     def series_stiffness(self) -> float:
         """Stiffness of the first stage, :math:`k_sk_h/(k_s+k_h)` [N/m]."""
-        return (
-            self.soft_stiffness * self.hard_stiffness / (self.soft_stiffness + self.hard_stiffness)
-        )
+        ks, kh = self.soft_stiffness, self.hard_stiffness
+        return ks * kh / (ks + kh)
 
     @property
     def knee_deflection(self) -> float:
@@ -103,8 +102,7 @@ class TwoStageSpring:
         """Tangent stiffness :math:`dF_s/d\\delta` [N/m] at a deflection [m]: the series
         stiffness below the knee, the hard spring's from the knee on."""
         d = np.asarray(deflection, dtype=float)
-        k = np.where(d < self.knee_deflection, self.series_stiffness, self.hard_stiffness)
-        return np.asarray(k, dtype=float)
+        return np.where(d < self.knee_deflection, self.series_stiffness, self.hard_stiffness)
 
 
 class RigidGroundResponse(NamedTuple):
