@@ -443,9 +443,11 @@ class MudBatch:
         MudrftError
             When MuJoCo reports bad accelerations (it would reset the state silently).
         """
-        self.advance(datas, nstep)
-        assert self.last is not None
-        return self.last
+        self.advance(datas, nstep)  # checks for a buried foot: read the contact directly
+        if self._compiled is not None:
+            return self._compiled.contact(0 if self._single else None)
+        assert self._last is not None
+        return self._last
 
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
