@@ -334,6 +334,7 @@ def test_suction_constants_are_not_reported_before_the_plate_retracts(model):
     assert (p.sigma_y, p.tau_build) == (P25.sigma_y, P25.tau_build)
 
 
+@pytest.mark.study
 def test_online_standard_errors_are_honest_over_noise_seeds():
     """The estimate reports a standard error for each constant it informs (D138); over 20
     noise seeds the truth lies within 1.96 of them about 95 % of the time and the errors
