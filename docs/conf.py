@@ -78,9 +78,6 @@ numpydoc_validation_exclude = {
     r"\.__init__$",
     r"\.__call__$",
     r"\.__repr__$",
-    # documents the names its **options pass on to MudTerrain one by one (PR02 reads them
-    # as parameters of its own); the docstring is right as it stands
-    r"^mudrft\.backends\.FastMudFoot$",
 }
 
 # -- gallery (examples/*.py) -----------------------------------------------------------
