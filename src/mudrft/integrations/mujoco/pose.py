@@ -95,31 +95,22 @@ def ball_channels(
     low = height - radius
     q = xp.clip(-low / (2.0 * radius), 0.0, 0.5)  # sin^2(delta_s / 2), at most a quarter turn
     half = xp.arctan2(xp.sqrt(q), xp.sqrt(1.0 - q))  # delta_s / 2
-    ah, az, mh, mz = 0.0 * low, 0.0 * low, 0.0 * low, 0.0 * low
+    # one pass over the nodes: the sums of w, w u, w u^2 and w r^2 (u from the lowest point,
+    # r from the axis); J_hz = sum w_h u^2 - A_h u_h^2 loses under a digit, as u starts at 0
+    ah = az = mh = mz = m2h = jhh = jz = 0.0 * low
     for i in range(16):
-        u, wh, wz, _ = _ball_node(i, half, radius, xp)
+        e = 0.5 * half * (1.0 + _GL_X[i])  # half the node's angle
+        sh, ch = xp.sin(e), xp.cos(e)
+        s, c, u = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh, 2.0 * radius * sh * sh
+        wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
+        wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
+        r2 = radius * radius * s * s
         ah, az, mh, mz = ah + wh, az + wz, mh + wh * u, mz + wz * u
+        m2h, jhh, jz = m2h + wh * u * u, jhh + 0.25 * wh * r2, jz + 0.5 * wz * r2
     uh = xp.where(ah > 0.0, mh / xp.where(ah > 0.0, ah, 1.0), 0.0)
     uz = xp.where(az > 0.0, mz / xp.where(az > 0.0, az, 1.0), 0.0)
-    jhz, jhh, jz = 0.0 * low, 0.0 * low, 0.0 * low
-    for i in range(16):
-        u, wh, wz, rs = _ball_node(i, half, radius, xp)
-        jhz = jhz + wh * (u - uh) * (u - uh)
-        jhh = jhh + 0.25 * wh * rs * rs
-        jz = jz + 0.5 * wz * rs * rs
+    jhz = xp.maximum(m2h - ah * uh * uh, 0.0)
     return ah, az, low + uh, low + uz, jhz, jhh, jz
-
-
-def _ball_node(
-    i: int, half: XpArray, radius: XpArray, xp: Namespace
-) -> tuple[XpArray, XpArray, XpArray, XpArray]:
-    """:func:`ball_channels`' node ``i``: its height above the lowest point [m], its
-    weights ``w_h``, ``w_z`` [m^2] and its distance from the vertical axis [m]."""
-    d = half * (1.0 + _GL_X[i])
-    s, c, sh = xp.sin(d), xp.cos(d), xp.sin(0.5 * d)
-    wh = (half * _GL_W[i]) * (math.pi * radius * radius) * s * s
-    wz = (half * _GL_W[i]) * (2.0 * math.pi * radius * radius) * (c * c * c + s * s * s) * s
-    return 2.0 * radius * sh * sh, wh, wz, radius * s
 
 
 def channel_geometry(triangles: FloatArray, xp: Namespace = np) -> ChannelGeometry:
