@@ -27,17 +27,18 @@ __all__ = [
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
     """In place b <- A^-1 b (n x n, Gaussian elimination with partial pivoting; A destroyed)."""
     for k in range(n):
-        p = k
+        p, big = k, abs(A[k, k])
         for r in range(k + 1, n):
-            if abs(A[r, k]) > abs(A[p, k]):
-                p = r
+            if abs(A[r, k]) > big:
+                p, big = r, abs(A[r, k])
         if p != k:
             for j in range(n):
                 A[k, j], A[p, j] = A[p, j], A[k, j]
             b[k], b[p] = b[p], b[k]
+        inv = 1.0 / A[k, k]
         for r in range(k + 1, n):
-            f = A[r, k] / A[k, k]
-            for j in range(k, n):
+            f = A[r, k] * inv
+            for j in range(k + 1, n):
                 A[r, j] -= f * A[k, j]
             b[r] -= f * b[k]
     for k in range(n - 1, -1, -1):
@@ -70,24 +71,33 @@ def _robot_step(
             if FPOS[j] < 0.0:
                 continue
             pj = int(FPOS[j])
-            for a in range(6):
-                for c in range(a if i == j else 0, 6):
-                    acc = 0.0
-                    for d in range(nv):
-                        acc += FJ[i, a, d] * FM[j, c, d]
-                    WF[6 * pi + a, 6 * pj + c] = acc
-                    WF[6 * pj + c, 6 * pi + a] = acc
-    for i in range(nb):
+            for a in range(6):  # six independent sums, not one chain of additions
+                w0 = w1 = w2 = w3 = w4 = w5 = 0.0
+                for d in range(nv):
+                    x = FJ[i, a, d]
+                    w0 += x * FM[j, 0, d]
+                    w1 += x * FM[j, 1, d]
+                    w2 += x * FM[j, 2, d]
+                    w3 += x * FM[j, 3, d]
+                    w4 += x * FM[j, 4, d]
+                    w5 += x * FM[j, 5, d]
+                row = 6 * pi + a
+                for c, acc in enumerate((w0, w1, w2, w3, w4, w5)):
+                    WF[row, 6 * pj + c] = acc
+                    WF[6 * pj + c, row] = acc
+    for i in range(nb):  # A = I - dt K W, row by row; the right side w0 + dt K a
         if FPOS[i] < 0.0:
             continue
         pi = int(FPOS[i])
         for a in range(6):
             row = 6 * pi + a
             for col in range(n):
-                kw = 0.0
-                for d in range(6):
-                    kw += FK[i, a, d] * WF[6 * pi + d, col]
-                AJ[row, col] = (1.0 if row == col else 0.0) - dt * kw
+                AJ[row, col] = 0.0
+            for d in range(6):
+                f = -dt * FK[i, a, d]
+                for col in range(n):
+                    AJ[row, col] += f * WF[6 * pi + d, col]
+            AJ[row, row] += 1.0
             ka = 0.0
             for d in range(6):
                 ka += FK[i, a, d] * FACC[i, d]
