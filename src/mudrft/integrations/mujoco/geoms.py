@@ -10,6 +10,7 @@ box foot taller than :data:`CUT_HEIGHT` keeps only its part below it (:func:`cut
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from typing import TYPE_CHECKING
 
@@ -66,56 +67,53 @@ def lowest_geoms(model: mujoco.MjModel, ref: mujoco.MjData, geoms: list[int]) ->
 
 def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
     """Lowest point (world) of geom ``g`` in pose ``d`` (ties resolved to the center)."""
-    mj = _mujoco()
     c = np.array(d.geom_xpos[g])
     R = np.array(d.geom_xmat[g]).reshape(3, 3)
     s = np.array(model.geom_size[g])
-    t = int(model.geom_type[g])
-    u = R[2]  # z component of each geom axis
-    if t == int(mj.mjtGeom.mjGEOM_BOX):
-        sg = -np.where(np.abs(u) > 1e-9, np.sign(u), 0.0)
-        return c + R @ (sg * s)
-    if t == int(mj.mjtGeom.mjGEOM_SPHERE):
+    kind = geom_type_name(model, g)
+    if kind == "box":
+        u = R[2]  # z component of each geom axis
+        return c - R @ (np.where(np.abs(u) > 1e-9, np.sign(u), 0.0) * s)
+    if kind == "sphere":
         return c - np.array([0.0, 0.0, s[0]])
-    if t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
+    if kind in ("capsule", "cylinder"):
         a = R[:, 2]
         end = c - (s[1] * np.sign(a[2]) if abs(a[2]) > 1e-9 else 0.0) * a
-        if t == int(mj.mjtGeom.mjGEOM_CAPSULE):
+        if kind == "capsule":
             return end - np.array([0.0, 0.0, s[0]])
         perp = np.array([0.0, 0.0, 1.0]) - a[2] * a
         nrm = np.linalg.norm(perp)
         return end - (s[0] * perp / nrm if nrm > 1e-9 else 0.0)
-    if t == int(mj.mjtGeom.mjGEOM_MESH):
+    if kind == "mesh":
         v = _mesh_vertices(model, g)
         return _lowest_center(c + v @ R.T, max(float(model.geom_rbound[g]), 1e-9))
     raise MudrftError(
-        f"{geom_label(model, g)} has type {geom_type_name(model, g)}, which mudrft "
-        "cannot turn into a foot; "
+        f"{geom_label(model, g)} has type {kind}, which mudrft cannot turn into a foot; "
         "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
     )
 
 
-#: A sphere in a hull, as its six extreme points along the axes and eight between them
-#: [-]: the hull of a union of spheres keeps their exact extents (G1's sole: 18 x 7 x 1 cm)
-#: with few facets, and the coupling clips every facet at every step.
-SPHERE_POINTS = np.concatenate([np.eye(3), -np.eye(3), np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) / math.sqrt(3.0)])  # fmt: skip
+#: The corners of the cube [-1, 1]^3 [-].
+_CORNERS = np.array(list(itertools.product((-1.0, 1.0), repeat=3)))
+
+#: A sphere in a hull: its six extreme points along the axes and eight between them [-].
+#: The hull of a union of spheres keeps their exact extents with few facets.
+SPHERE_POINTS = np.concatenate([np.eye(3), -np.eye(3), _CORNERS / math.sqrt(3.0)])
 
 
 def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.float64]:
     """Points (world) [m] whose convex hull is geom ``g`` in pose ``d``."""
     import trimesh
 
-    mj = _mujoco()
     c, R = np.array(d.geom_xpos[g]), np.array(d.geom_xmat[g]).reshape(3, 3)
-    s, t = np.array(model.geom_size[g], dtype=float), int(model.geom_type[g])
-    G = mj.mjtGeom
-    if t == int(G.mjGEOM_BOX):
-        local = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * s
-    elif t == int(G.mjGEOM_SPHERE):
+    s, kind = np.array(model.geom_size[g], dtype=float), geom_type_name(model, g)
+    if kind == "box":
+        local = _CORNERS * s
+    elif kind == "sphere":
         local = s[0] * SPHERE_POINTS
-    elif t == int(G.mjGEOM_CAPSULE):
+    elif kind == "capsule":
         local = trimesh.creation.capsule(height=2 * s[1], radius=s[0], count=[4, 16]).vertices
-    elif t == int(G.mjGEOM_CYLINDER):
+    elif kind == "cylinder":
         local = trimesh.creation.cylinder(radius=s[0], height=2 * s[1], sections=16).vertices
     else:
         local = _mesh_vertices(model, g)
@@ -136,11 +134,9 @@ def hull_foot(
     return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip
 
 
-#: A derived foot taller than this keeps only its part this high above its tip [m]: Spot's
-#: lower leg (384 mm) would otherwise be all foot. A standing legged robot's foot settles
-#: 20-30 mm deep in the paper's mud (Go1 at 35 % water: 21.5 mm by the 1-D load model), so
-#: 0.1 m is deeper than the mud reaches a robot that still walks; a foot sunk past it is
-#: stuck, whatever is above.
+#: A derived foot taller than this keeps only its part this high above its tip [m] (a
+#: lower leg that is one geom is not all foot). A legged robot's foot settles 20-30 mm deep
+#: in the paper's mud; one sunk past 0.1 m is stuck, whatever is above.
 CUT_HEIGHT = 0.1
 
 
@@ -173,8 +169,8 @@ def cut_foot(foot: feet.Foot, height: float | None) -> feet.Foot:
 def _lowest_center(points: NDArray[np.float64], size: float) -> NDArray[np.float64]:
     """The center of the box around the lowest of ``points`` (within ``1e-6 size``) [m]."""
     zmin = points[:, 2].min()
-    low = points[points[:, 2] <= zmin + 1e-6 * size]
-    return np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), 0.5 * (low[:, 1].min() + low[:, 1].max()), zmin])  # fmt: skip
+    low = points[points[:, 2] <= zmin + 1e-6 * size, :2]
+    return np.array([*(0.5 * (low.min(axis=0) + low.max(axis=0))), zmin])
 
 
 def _mesh_vertices(model: mujoco.MjModel, g: int) -> NDArray[np.float64]:
@@ -193,37 +189,31 @@ def standing(model: mujoco.MjModel, ref: mujoco.MjData, g: int) -> bool:
     """Whether geom ``g`` is a capsule or cylinder whose axis rises more than 30 degrees
     from the horizontal in pose ``ref``: its foot is then its meshed convex hull, not a
     ``SemiCylinder``."""
-    mj = _mujoco()
-    if int(model.geom_type[g]) not in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):  # fmt: skip
-        return False
-    return abs(float(np.array(ref.geom_xmat[g]).reshape(3, 3)[2, 2])) > 0.5
+    rod = geom_type_name(model, g) in ("capsule", "cylinder")
+    return rod and abs(float(ref.geom_xmat[g][8])) > 0.5  # the axis's z component
 
 
 def _derived_foot(
     model: mujoco.MjModel, ref: mujoco.MjData, g: int, fwd_w: NDArray[np.float64]
 ) -> tuple[feet.Foot, NDArray[np.float64]]:
-    """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose)."""
-    mj = _mujoco()
-    t = int(model.geom_type[g])
+    """mudrft foot for geom ``g`` and the foot's forward axis in the world (reference pose);
+    ``fwd_w`` is the body's forward axis (a lying capsule's or cylinder's: along its axis)."""
+    kind = geom_type_name(model, g)
     R = np.array(ref.geom_xmat[g]).reshape(3, 3)
     s = np.array(model.geom_size[g], dtype=float)
-    if t == int(mj.mjtGeom.mjGEOM_BOX):
+    if kind == "box":
         up = int(np.argmax(np.abs(R[2])))
         hor = [i for i in range(3) if i != up]
         ix = max(hor, key=lambda i: abs(float(R[:, i] @ fwd_w)))
         iy = hor[0] if hor[1] == ix else hor[1]
         ax = R[:, ix] * (1.0 if R[:, ix] @ fwd_w >= 0 else -1.0)
         # Flat: width W along x, length L along y (decision D20 of the feet)
-        foot = feet.Flat(length=2 * s[iy], width=2 * s[ix], height=2 * s[up])
-        return foot, ax
-    if t == int(mj.mjtGeom.mjGEOM_SPHERE):
+        return feet.Flat(length=2 * s[iy], width=2 * s[ix], height=2 * s[up]), ax
+    if kind == "sphere":
         return feet.SemiSphere(radius=s[0], height=s[0]), fwd_w
-    if t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
-        a = R[:, 2]  # lying (standing ones are meshed: :func:`standing`)
-        a = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
-        a = a if a @ fwd_w >= 0 else -a
+    if kind in ("capsule", "cylinder"):  # lying (standing ones are meshed: :func:`standing`)
         # SemiCylinder: axis along x; capsule caps are neglected (documented)
-        return feet.SemiCylinder(radius=s[0], width=2 * s[1], height=s[0]), a
+        return feet.SemiCylinder(radius=s[0], width=2 * s[1], height=s[0]), fwd_w
     v = _mesh_vertices(model, g) @ R.T  # a mesh (the types were checked where g was chosen)
     low = _support(model, ref, g) - np.array(ref.geom_xpos[g])
     frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])

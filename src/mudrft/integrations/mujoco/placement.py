@@ -171,11 +171,10 @@ def body_foot(
         Body name or id, or a geom's name (its body, that geom the foot).
     foot : Foot or None
         The foot; ``None`` derives it from the body's lowest colliding geom (D113): box ->
-        ``Flat``, horizontal cylinder or capsule -> ``SemiCylinder`` (a standing one: the
-        ``MeshFoot`` of its convex hull), sphere ->
-        ``SemiSphere`` stepped as a full ball, mesh -> ``MeshFoot``; geoms as low as it
-        (within :data:`~.geoms.TIED_HEIGHT`) make one ``MeshFoot``, the convex hull of their union.
-        A derived box, mesh or hull foot taller than ``cut_height`` keeps its part below it.
+        ``Flat``, lying capsule or cylinder -> ``SemiCylinder``, sphere -> ``SemiSphere``
+        (stepped as a full ball), mesh -> ``MeshFoot``, standing capsule or cylinder ->
+        ``MeshFoot`` of its convex hull. Geoms as low as it (within
+        :data:`~.geoms.TIED_HEIGHT`) make one ``MeshFoot``, the convex hull of their union.
     tip : array_like (3,) or None
         Tip in the body frame [m]; default the lowest point of the foot in the reference pose.
     resolution : int
@@ -183,7 +182,7 @@ def body_foot(
     geom : str, int, sequence of them, or None
         The geom (name or id) that is the foot, or geoms whose union is (D124).
     cut_height : float or None
-        A derived foot taller than this [m] is cut this high above its tip
+        A derived box, mesh or hull foot taller than this [m] is cut this high above its tip
         (:data:`~.geoms.CUT_HEIGHT`, 0.1 m, by default); None keeps it whole. ``attach``
         cuts at the default: give it ``body_foot(model, body, cut_height=h).foot`` as the
         foot to cut elsewhere.
@@ -192,7 +191,6 @@ def body_foot(
     -------
     BodyFoot
     """
-    mj = _mujoco()
     if cut_height is not None:
         cut_height = positive_number("cut_height", cut_height, unit="m")
     derived = foot is None
@@ -225,32 +223,30 @@ def body_foot(
             raise MudrftError(
                 f"body {name!r} has no geom to derive a foot from; pass the foot explicitly"
             )
-        kind, center, size = "tip", np.zeros(3), np.zeros(3)
-        low_w = xb if tip is None else xb + Rb @ check_finite("tip", tip)
+        kind, center, size, low_w = "tip", np.zeros(3), np.zeros(3), xb
     elif len(geoms) > 1 or (foot is None and standing(model, ref, geoms[0])):  # a meshed hull
-        hull, low_w = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]), fwd_w)  # fmt: skip
+        points = np.concatenate([geom_points(model, ref, g) for g in geoms])
+        hull, low_w = hull_foot(points, fwd_w)
         foot = hull if foot is None else foot
         kind, center, size = "points", np.zeros(3), np.zeros(3)
-        if tip is not None:
-            low_w = xb + Rb @ check_finite("tip", tip)
     else:
         g = geoms[0]
-        t = int(model.geom_type[g])
+        kind = geom_type_name(model, g)
+        if kind in ("capsule", "cylinder"):  # forward along a lying one's axis
+            a = ref.geom_xmat[g].reshape(3, 3)[:, 2]  # its axis
+            h = math.hypot(a[0], a[1])
+            if h > 0.5:
+                fwd_w = np.array([a[0], a[1], 0.0]) / h * (1.0 if a[0] >= 0 else -1.0)
         if foot is None:
             foot, fwd_w = _derived_foot(model, ref, g, fwd_w)
-            ball = t == int(mj.mjtGeom.mjGEOM_SPHERE)
-        elif t in (int(mj.mjtGeom.mjGEOM_CAPSULE), int(mj.mjtGeom.mjGEOM_CYLINDER)):
-            a = np.array(ref.geom_xmat[g]).reshape(3, 3)[:, 2]
-            if math.hypot(a[0], a[1]) > 0.5:
-                fwd_w = np.array([a[0], a[1], 0.0]) / math.hypot(a[0], a[1])
-                fwd_w = fwd_w if fwd_w[0] >= 0 else -fwd_w
+            ball = kind == "sphere"
         low_w = _support(model, ref, g)
         center = Rb.T @ (np.array(ref.geom_xpos[g]) - xb)
         size = np.array(model.geom_size[g], dtype=float)
-        kind = geom_type_name(model, g).replace("mesh", "points")
-        if tip is not None:
-            low_w = xb + Rb @ check_finite("tip", tip)
-            ball = False
+        kind = kind.replace("mesh", "points")
+    if tip is not None:
+        low_w = xb + Rb @ check_finite("tip", tip)
+        ball = False
     uncut = None
     if derived and not ball:
         whole, foot = foot, cut_foot(foot, cut_height)
@@ -263,9 +259,9 @@ def body_foot(
     fwd_b = Rb.T @ fwd_w
     up_b = Rb.T @ np.array([0.0, 0.0, 1.0])
     frame = np.stack([fwd_b, np.cross(up_b, fwd_b), up_b], axis=-1)  # foot axes (columns)
-    # a ball's force is the closed form and its channels are integrated exactly: its mesh
-    # can be coarse
-    upright = foot_triangles(foot, resolution=min(resolution, BALL_RESOLUTION) if ball else resolution)  # fmt: skip
+    if ball:
+        resolution = min(resolution, BALL_RESOLUTION)
+    upright = foot_triangles(foot, resolution=resolution)
     tri_b = None if upright is None else tip_b + upright @ frame.T
     return BodyFoot(
         body=name,
@@ -395,16 +391,15 @@ def auto_feet(model: mujoco.MjModel) -> list[int]:
 def describe(model: mujoco.MjModel, placed: BodyFoot) -> str:
     """One line on a placed foot: its body, its geoms and the foot they became."""
     label = repr(placed.body) if model.body(placed.body_id).name else "(no name)"
-    geoms = ", ".join(geom_label(model, g, body=False) + f" ({geom_type_name(model, g)})" for g in placed.geoms)  # fmt: skip
+    geoms = ", ".join(
+        f"{geom_label(model, g, body=False)} ({geom_type_name(model, g)})" for g in placed.geoms
+    )
     f = placed.foot
     if placed.ball:
         what = f"a ball of radius {plain(float(placed.size[0]))} m"
     elif len(placed.geoms) > 1:
         what = "the convex hull of their union"
-    elif placed.kind == "points" and geom_type_name(model, placed.geoms[0]) in (
-        "capsule",
-        "cylinder",
-    ):
+    elif placed.kind == "points" and geom_type_name(model, placed.geoms[0]) != "mesh":
         what = "its convex hull, meshed (it stands)"
     else:
         what = "its foot"
