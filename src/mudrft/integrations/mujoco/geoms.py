@@ -85,7 +85,7 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
         nrm = np.linalg.norm(perp)
         return end - (s[0] * perp / nrm if nrm > 1e-9 else 0.0)
     if kind == "mesh":
-        v = _mesh_vertices(model, g)
+        v = _mesh(model, g)[0]
         return _lowest_center(c + v @ R.T, max(float(model.geom_rbound[g]), 1e-9))
     raise MudrftError(
         f"{geom_label(model, g)} has type {kind}, which mudrft cannot turn into a foot; "
@@ -116,22 +116,19 @@ def geom_points(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.f
     elif kind == "cylinder":
         local = trimesh.creation.cylinder(radius=s[0], height=2 * s[1], sections=16).vertices
     else:
-        local = _mesh_vertices(model, g)
+        local = _mesh(model, g)[0]
     return np.asarray(c + np.asarray(local, dtype=float) @ R.T, dtype=float)
 
 
-def hull_foot(
-    points: NDArray[np.float64], fwd_w: NDArray[np.float64]
-) -> tuple[feet.MeshFoot, NDArray[np.float64]]:
-    """The convex hull of world ``points`` [m] as a ``MeshFoot`` (x along ``fwd_w``, z
-    up, tip at the origin), and its tip in the world [m]."""
+def hull_foot(points: NDArray[np.float64]) -> tuple[feet.MeshFoot, NDArray[np.float64]]:
+    """The convex hull of world ``points`` [m] as a ``MeshFoot`` (world axes, tip at the
+    origin), and its tip in the world [m]."""
     import trimesh
 
     hull = trimesh.convex.convex_hull(points)
     v = np.asarray(hull.vertices, dtype=float)
     tip = _lowest_center(v, max(float(np.ptp(v)), 1e-9))
-    frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
-    return feet.MeshFoot((v - tip) @ frame.T, np.asarray(hull.faces)), tip
+    return feet.MeshFoot(v - tip, np.asarray(hull.faces)), tip
 
 
 #: A derived foot taller than this keeps only its part this high above its tip [m] (a
@@ -173,16 +170,13 @@ def _lowest_center(points: NDArray[np.float64], size: float) -> NDArray[np.float
     return np.array([*(0.5 * (low.min(axis=0) + low.max(axis=0))), zmin])
 
 
-def _mesh_vertices(model: mujoco.MjModel, g: int) -> NDArray[np.float64]:
+def _mesh(model: mujoco.MjModel, g: int) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
+    """The vertices (geom frame) [m] and faces of mesh geom ``g``."""
     m = int(model.geom_dataid[g])
-    adr, num = int(model.mesh_vertadr[m]), int(model.mesh_vertnum[m])
-    return np.array(model.mesh_vert[adr : adr + num], dtype=float)
-
-
-def _mesh_faces(model: mujoco.MjModel, g: int) -> NDArray[np.int_]:
-    m = int(model.geom_dataid[g])
-    adr, num = int(model.mesh_faceadr[m]), int(model.mesh_facenum[m])
-    return np.array(model.mesh_face[adr : adr + num], dtype=int)
+    v, f = int(model.mesh_vertadr[m]), int(model.mesh_faceadr[m])
+    vertices = model.mesh_vert[v : v + int(model.mesh_vertnum[m])]
+    faces = model.mesh_face[f : f + int(model.mesh_facenum[m])]
+    return np.array(vertices, dtype=float), np.array(faces, dtype=int)
 
 
 def standing(model: mujoco.MjModel, ref: mujoco.MjData, g: int) -> bool:
@@ -214,7 +208,7 @@ def _derived_foot(
     if kind in ("capsule", "cylinder"):  # lying (standing ones are meshed: :func:`standing`)
         # SemiCylinder: axis along x; capsule caps are neglected (documented)
         return feet.SemiCylinder(radius=s[0], width=2 * s[1], height=s[0]), fwd_w
-    v = _mesh_vertices(model, g) @ R.T  # a mesh (the types were checked where g was chosen)
+    v, f = _mesh(model, g)  # a mesh (the types were checked where g was chosen)
     low = _support(model, ref, g) - np.array(ref.geom_xpos[g])
     frame = np.stack([fwd_w, np.cross([0.0, 0.0, 1.0], fwd_w), [0.0, 0.0, 1.0]])
-    return feet.MeshFoot((v - low) @ frame.T, _mesh_faces(model, g)), fwd_w
+    return feet.MeshFoot((v @ R.T - low) @ frame.T, f), fwd_w

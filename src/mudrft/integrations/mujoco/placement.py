@@ -204,8 +204,7 @@ def body_foot(
     if spec is None:
         geoms = lowest_geoms(model, ref, _body_geoms(model, bid))
     else:
-        many = not isinstance(spec, (str, int, np.integer))
-        items = list(spec) if many and isinstance(spec, Sequence) else [spec]
+        items = list(spec) if isinstance(spec, Sequence) and not isinstance(spec, str) else [spec]
         geoms = [_named_geom(model, name, bid, x) for x in items]  # type: ignore[arg-type]
     ball = False
     if not geoms:
@@ -225,8 +224,7 @@ def body_foot(
             )
         kind, center, size, low_w = "tip", np.zeros(3), np.zeros(3), xb
     elif len(geoms) > 1 or (foot is None and standing(model, ref, geoms[0])):  # a meshed hull
-        points = np.concatenate([geom_points(model, ref, g) for g in geoms])
-        hull, low_w = hull_foot(points, fwd_w)
+        hull, low_w = hull_foot(np.concatenate([geom_points(model, ref, g) for g in geoms]))
         foot = hull if foot is None else foot
         kind, center, size = "points", np.zeros(3), np.zeros(3)
     else:
