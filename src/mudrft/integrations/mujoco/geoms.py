@@ -1,10 +1,5 @@
-r"""Feet from MuJoCo geoms: the lowest point of a geom, and the mudrft foot it stands for.
-
-A body's foot is derived from its colliding geom that reaches lowest in the reference
-pose: box -> ``Flat``, horizontal capsule or cylinder -> ``SemiCylinder`` (capsule caps
-neglected), sphere -> ``SemiSphere`` (stepped as a full ball), mesh -> ``MeshFoot``;
-several as low -> ``MeshFoot`` of the convex hull of their union. A derived mesh, hull or
-box foot taller than :data:`CUT_HEIGHT` keeps only its part below it (:func:`cut_foot`).
+"""Feet from MuJoCo geoms: the lowest point of a geom, and the mudrft foot it stands for
+(the rules: :func:`.placement.body_foot`); a tall derived foot is cut (:func:`cut_foot`).
 """
 
 from __future__ import annotations
