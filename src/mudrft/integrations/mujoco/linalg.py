@@ -83,8 +83,9 @@ def _robot_step(
                     w5 += x * FM[j, 5, d]
                 row = 6 * pi + a
                 for c, acc in enumerate((w0, w1, w2, w3, w4, w5)):
-                    WF[row, 6 * pj + c] = acc
-                    WF[6 * pj + c, row] = acc
+                    if i != j or c >= a:  # a diagonal block: its upper half, mirrored
+                        WF[row, 6 * pj + c] = acc
+                        WF[6 * pj + c, row] = acc
     for i in range(nb):  # A = I - dt K W, row by row; the right side w0 + dt K a
         if FPOS[i] < 0.0:
             continue
