@@ -1,7 +1,8 @@
 r"""The one physics compiled with numba, as written: nothing reads, rewrites or runs its source.
 
 :func:`jit` registers every mudrft function an entry point reaches by its global names (and
-:mod:`mudrft._xp`) as jitable; the disk cache is stamped with all their source files.
+:mod:`mudrft._xp`) as jitable; the disk cache is stamped with all their source files and
+this one (its compile options).
 """
 
 from __future__ import annotations
@@ -79,7 +80,8 @@ def _register(entry: Callable[..., Any]) -> types.ModuleType:
         if fn not in _registered:
             register_jitable(fn)
             _registered.add(fn)
-    files = {inspect.getfile(fn) for fn in functions} | {inspect.getfile(_xp)}
+    # this file too: its compile options are part of the machine code, not of the index
+    files = {inspect.getfile(fn) for fn in functions} | {inspect.getfile(_xp), __file__}
     _SOURCES[entry] = tuple(sorted(files))
     return numba
 

@@ -8,6 +8,8 @@ the numpy reference to rounding, so the equivalence tests test compilation, not 
 
 from __future__ import annotations
 
+import inspect
+
 import numpy as np
 import pytest
 from _backend_support import channel_inputs, parameter_sets, wandering_path
@@ -318,6 +320,19 @@ def test_the_compiled_path_reaches_the_one_definition_of_every_equation():
         pads.morphing_force,
     ):
         assert fn in reached, fn.__qualname__
+
+
+def test_the_disk_cache_is_stamped_with_every_source_and_the_compile_options():
+    """numba's cache index keys on the entry's signature, not on the compile options: the
+    stamp covers every source file the entry reaches, _xp, and _jit itself (where the
+    options are), so that editing any of them compiles again."""
+    import mudrft._jit as J
+    from mudrft.terrains import mud, rows
+
+    J._register(rows.run)
+    stamped = set(J._SOURCES[rows.run])
+    for module in (rows, mud, kernel, J._xp, J):
+        assert inspect.getfile(module) in stamped, module.__name__
 
 
 def test_a_processs_first_short_runs_are_interpreted_and_equal_the_compiled_ones(tmp_path):
