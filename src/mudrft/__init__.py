@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # at run time every name loads on first use: `mudrft --help` 
     from .plate import PlateResult, plate_response
     from .simulation import LoadControl, Result, simulate, static_sinking
     from .terrains import MudTerrain, Terrain, TerrainOutput
+    from .terrains.field import MudField
     from .trajectories import GAIT_SPEEDS, Trajectory, gait, plate_intrusion
 
 # the function mudrft.citations() shares its name with the module mudrft.citations, which
@@ -43,12 +44,13 @@ _FROM = {
     "mudrft.plate": ("PlateResult", "plate_response"),
     "mudrft.simulation": ("LoadControl", "Result", "simulate", "static_sinking"),
     "mudrft.terrains": ("MudTerrain", "Terrain", "TerrainOutput"),
+    "mudrft.terrains.field": ("MudField",),
     "mudrft.trajectories": ("GAIT_SPEEDS", "Trajectory", "gait", "plate_intrusion"),
 }
 _LAZY_ATTRS = {name: (module, name) for module, names in _FROM.items() for name in names}
 
 __all__ = [  # the lazy names below, spelled out for readers and linters
-    "GAIT_SPEEDS", "BatchedMud", "LoadControl", "Mud", "MudParameters", "MudTerrain",
+    "GAIT_SPEEDS", "BatchedMud", "LoadControl", "Mud", "MudField", "MudParameters", "MudTerrain",
     "MudrftError", "PlateResult", "Result", "Terrain", "TerrainOutput", "Trajectory",
     "__version__", "backends", "baselines", "calibrate", "calibration", "citations",
     "constitutive", "data_path", "feet", "gait", "integrations", "io", "load_parameters",

@@ -16,8 +16,9 @@ from ...feet.morphing import MorphingFoot
 from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
+from ...terrains.field import uniform
 from ...terrains.mud import MudTerrain
-from ...terrains.rows import N_STATE, config_row, constant_row, state_rows, upright_rows
+from ...terrains.rows import N_STATE, config_row, state_rows, upright_rows
 from .callback import callback, clock_size, install, register, unregister
 from .compiled import ARGS, N_OUT, pack, work_size
 from .contact import MudContact
@@ -112,9 +113,8 @@ class CompiledCoupling:
         self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
         self.tri_up = np.ascontiguousarray(np.concatenate(ups))
         t = cast(MudTerrain, batch.terrain)
-        self.consts = np.ascontiguousarray(
-            np.broadcast_to(constant_row(*t.constants), (len(bodies), 24))
-        )
+        grid, self.cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
+        self.rows = np.ascontiguousarray(np.broadcast_to(rows, (batch.n, *rows.shape)))
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))
@@ -134,7 +134,8 @@ class CompiledCoupling:
         self.clock = np.zeros((n, clock_size(nb)))
         self.addr = np.zeros((n, 7), dtype=np.int64)
         self.sizes = np.array([m.nbody, m.nv, m._address, *mujoco_functions()], dtype=np.int64)
-        self.opts = np.zeros(9)
+        self.opts = np.zeros(14)
+        self.opts[9:] = grid
         arrays = [getattr(self, "ids" if name == "bodies" else name) for name, _, _ in ARGS]
         for a, (name, dt, nd) in zip(arrays, ARGS, strict=True):
             assert a.dtype == np.dtype(dt) and a.ndim == nd and a.flags.c_contiguous, name
@@ -174,7 +175,7 @@ class CompiledCoupling:
         m = b.model
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
-        self.opts[:] = (
+        self.opts[:9] = (
             float(m.opt.timestep), b.surface, bottom, b.bottom_stiffness, b.bottom_damping,
             b._dv_min, g[0], g[1], g[2],
         )  # fmt: skip

@@ -19,6 +19,7 @@ from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
+from ...terrains.field import MudField
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
@@ -88,8 +89,9 @@ class MudBatch:
         The bodies that touch the mud, each by its name, the name of one of its geoms (then
         its foot) or its id (a body without a name); ``"auto"`` finds the feet
         (:func:`~.placement.auto_feet`) and logs them (:attr:`feet`).
-    mud : Mud or Terrain
-        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, or any terrain.
+    mud : Mud, Terrain or MudField
+        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, any terrain, or
+        patches of mud and rigid ground (:class:`~mudrft.terrains.field.MudField`).
     n : int
         Number of robots.
     feet : Foot, sequence of Foot or None
@@ -137,7 +139,7 @@ class MudBatch:
         self,
         model: mujoco.MjModel,
         bodies: str | int | Sequence[str | int],
-        mud: Mud | Terrain,
+        mud: Mud | Terrain | MudField,
         *,
         n: int = 1,
         feet: Foot | Sequence[Foot | None] | None = None,
@@ -167,7 +169,8 @@ class MudBatch:
         self._checked: tuple[int, ...] = ()  # ids of the MjData checked last (see _check)
         self._checked_datas: list[mujoco.MjData] = []
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
-        self.terrain = as_terrain(mud)
+        self.field = mud if isinstance(mud, MudField) else None
+        self.terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
         self.surface, self.bottom = opts.surface, opts.bottom
@@ -215,6 +218,8 @@ class MudBatch:
         if backend not in ("auto", "numpy", "numba"):
             raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
         why = _not_compilable(self.terrain, self.bodies)
+        if self.field is not None and (backend == "numpy" or why):
+            raise MudrftError(f"a MudField runs on backend='numba' only; {why or 'got numpy'}")
         if backend == "auto":
             backend = "numpy" if why else "numba"
             if why.startswith(NO_LIBRARY):

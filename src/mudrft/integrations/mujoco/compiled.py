@@ -20,10 +20,12 @@ from ...feet.facet import (
 )
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
+from ...terrains.field import field_row
 from ...terrains.mud import mud_channel_stress
 from ...terrains.rows import (
     MESH,
     MORPHING,
+    N_CONST,
     N_STATE,
     STATE_HEADING,
     STATE_IN_MUD,
@@ -202,10 +204,10 @@ def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatA
 def _kernel(
     addr: IndexArray, sizes: IndexArray, bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
     tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
-    consts: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
+    rows: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
-    clock: FloatArray, k: int,
+    clock: FloatArray, cells: IndexArray, k: int,
 ) -> int:  # fmt: skip
     """One coupling step of every body of robot ``k``; the number of non-finite wrenches.
 
@@ -213,7 +215,8 @@ def _kernel(
     ``mjData``; ``sizes``: (nbody, nv, addresses of the ``mjModel``, ``mj_jac``, ``mj_solveM``);
     ``bodies[j]``: (id, root, ball); body ``j``'s triangles are
     ``tri_b[tri_adr[j]:tri_adr[j+1]]``, its upright rows likewise; ``opts``: (dt, surface,
-    bottom (< 0: none), k_b, c_b, dv_min, gravity (3)). ``mud``, ``fst``, ``odo``,
+    bottom (< 0: none), k_b, c_b, dv_min, gravity (3), the field's grid (5)); ``rows[k]`` and
+    ``cells``: robot ``k``'s field (:func:`~mudrft.terrains.field.field_row`). ``mud``, ``fst``, ``odo``,
     ``tw_prev``, ``wv_prev`` and ``tank`` are updated in place; ``out``: (N, nb, N_OUT).
     """
     dt, surface = opts[0], opts[1]
@@ -231,6 +234,7 @@ def _kernel(
     geo, at = _cut(at, (42,))
     aup, at = _cut(at, (3,))
     v, at = _cut(at, (9,))
+    cj, at = _cut(at, (1, N_CONST))
     row, at = _cut(at, (N_STATE,))
     frow, at = _cut(at, (3,))
     tw, at = _cut(at, (6,))
@@ -262,7 +266,7 @@ def _kernel(
     AJ, at = _cut(at, (6 * nb, 6 * nb))
     mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
-    consts, cfg, geom, morph = _borrow(consts), _borrow(cfg), _borrow(geom), _borrow(morph)
+    cfg, geom, morph, rk = _borrow(cfg), _borrow(geom), _borrow(morph), _borrow(rows[k])
     tri_b, tri_up, tip, fwd = _borrow(tri_b), _borrow(tri_up), _borrow(tip), _borrow(fwd)
     E[:, :] = 0.0
     bad = 0
@@ -336,15 +340,16 @@ def _kernel(
         b1 = o[1] if was_in else 0.0
         pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
         o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
-        # the mud, and the secant derivative toward rest (D63, D119); out of the mud every force is 0
-        cj = consts[j : j + 1]
+        # the mud under the tip (its share: the rest is rigid ground), and the secant
+        # derivative toward rest (D63, D119); out of the mud every force is 0
+        share = field_row(tipw[0], tipw[1], opts[9:14], cells, rk, cj[0])
         fs, mrow = fst[k, j], morph[j]
         r0 = foot_step(
             cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
             upj, mrow, fs, row, frow,
         )  # fmt: skip
         for q in range(3):
-            F[q] = ratio[q] * r0[q]
+            F[q] = share * ratio[q] * r0[q]
             D[q] = 0.0
         if was_in or depth > 0.0:
             for q in range(3):
@@ -354,7 +359,7 @@ def _kernel(
                 fq = _nudged_force(
                     q, cj, mud[k, j], pos, un, dt, cfg[j], geom[j], upj, r0, mrow, fs, row, frow
                 )
-                D[q] = ratio[q] * min((fq - r0[q]) / st, 0.0)
+                D[q] = share * ratio[q] * min((fq - r0[q]) / st, 0.0)
         for i in range(N_STATE):
             mud[k, j, i] = row[i]
         if geom[j, 0] == 4.0:
@@ -475,7 +480,7 @@ def _kernel(
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
 #: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
 #: a state row and a morphing foot's state row (3); tw ... bl (42); M, E, spread, b, K (81).
-WORK_FIXED = (57 + N_STATE) + 42 + 81
+WORK_FIXED = (57 + N_CONST + N_STATE) + 42 + 81
 
 
 def work_size(nv: int, ntri: int, nb: int) -> int:
@@ -489,9 +494,9 @@ def work_size(nv: int, ntri: int, nb: int) -> int:
 ARGS = (
     ("addr", "i8", 2), ("sizes", "i8", 1), ("bodies", "i8", 2), ("tip", "f8", 2), ("fwd", "f8", 2),
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
-    ("consts", "f8", 2), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
+    ("rows", "f8", 3), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2),
+    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2), ("cells", "i8", 2),
 )  # fmt: skip
 #: Where each argument's address and shape start in the packed array (:func:`pack`).
 OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))

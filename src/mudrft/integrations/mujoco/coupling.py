@@ -13,6 +13,7 @@ if TYPE_CHECKING:
 
     from ...parameters import Mud
     from ...terrains import Terrain
+    from ...terrains.field import MudField
 
 __all__ = ["MudCoupling", "attach", "attach_batch"]
 
@@ -25,7 +26,7 @@ class MudCoupling(MudBatch):
         self,
         model: mujoco.MjModel,
         bodies: str | int | Sequence[str | int],
-        mud: Mud | Terrain,
+        mud: Mud | Terrain | MudField,
         **kw: Any,
     ) -> None:
         if "n" in kw:
@@ -35,7 +36,10 @@ class MudCoupling(MudBatch):
 
 
 def attach(
-    model: mujoco.MjModel, bodies: str | int | Sequence[str | int], mud: Mud | Terrain, **kw: Any
+    model: mujoco.MjModel,
+    bodies: str | int | Sequence[str | int],
+    mud: Mud | Terrain | MudField,
+    **kw: Any,
 ) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
 
@@ -59,7 +63,7 @@ def attach(
 def attach_batch(
     model: mujoco.MjModel,
     bodies: str | int | Sequence[str | int],
-    mud: Mud | Terrain,
+    mud: Mud | Terrain | MudField,
     *,
     n: int,
     **kw: Any,

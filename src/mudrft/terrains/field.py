@@ -1,0 +1,228 @@
+r"""A field of mud: patches of different mud, and rigid ground, on the plane of the surface.
+
+The plane is cut into a grid of cells, each holding one region; a region is a mud (its
+constants) or rigid ground, where the mud gives no force and MuJoCo's own contact acts.
+A foot whose tip is at :math:`(x, y)` feels the average of the regions over the square
+of side :math:`b` (the border width) centered there: weight :math:`w_r` of region
+:math:`r` is the share of the square it covers. The constants are the mud regions'
+weighted mean, and the force is scaled by the mud's share :math:`m=\sum_{mud}w_r`.
+Both are continuous in position, so a foot crossing a border feels no jump; its mud state
+(structure, suction) goes on across the border, as the mud under it would.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from os import PathLike
+from typing import Any
+
+import numpy as np
+
+from .._typing import FloatArray, IndexArray
+from .._validation import MudrftError, plain, positive_number
+from ..parameters.base import Mud
+from .mud import MudTerrain
+from .rows import N_CONST, constant_row
+
+__all__ = ["RIGID", "MudField", "field_row"]
+
+#: The region value of rigid ground.
+RIGID = "rigid"
+
+
+def _overlap(t: float, t0: float, h: float, half: float, i: int) -> float:
+    """Share [-] of ``[t - half, t + half]`` in cell ``i`` of cells of width ``h`` from ``t0``."""
+    lo = max(t0 + i * h, t - half)
+    hi = min(t0 + (i + 1) * h, t + half)
+    return max(hi - lo, 0.0) / (2.0 * half)
+
+
+def field_row(
+    x: float, y: float, grid: FloatArray, cells: IndexArray, rows: FloatArray, out: FloatArray
+) -> float:
+    """Blend into ``out`` (N_CONST,) the mud constants under a tip at ``(x, y)`` [m]; return
+    the mud's share [-] (see the module docstring).
+
+    ``grid``: ``(x0, y0, hx, hy, b)`` [m], the grid's corner, cell sizes and border width
+    (``0 < b <= min(hx, hy)``); ``cells`` (ny, nx): the region of each cell (outside the
+    grid, the nearest cell's); ``rows`` (R, N_CONST + 1): each region's constants and
+    1 for mud, 0 for rigid ground (its constants: any mud's).
+    """
+    x0, y0, hx, hy, half = grid[0], grid[1], grid[2], grid[3], 0.5 * grid[4]
+    ny, nx = cells.shape[0], cells.shape[1]
+    ix = math.floor((x - half - x0) / hx)
+    iy = math.floor((y - half - y0) / hy)
+    for q in range(N_CONST):
+        out[q] = 0.0
+    wm, wr, first, mixed = 0.0, 0.0, -1, False  # mud and rigid weights
+    for a in range(2):
+        wy = _overlap(y, y0, hy, half, iy + a)
+        for c in range(2):
+            w = wy * _overlap(x, x0, hx, half, ix + c)
+            r = cells[min(max(iy + a, 0), ny - 1), min(max(ix + c, 0), nx - 1)]
+            if w <= 0.0:
+                continue
+            if rows[r, N_CONST] == 0.0:
+                wr += w
+                continue
+            wm += w
+            mixed = mixed or (first >= 0 and r != first)
+            first = r if first < 0 else first
+            for q in range(N_CONST):
+                out[q] += w * rows[r, q]
+    if not mixed:  # one mud (or none: any mud's constants, no force), to the bit
+        for q in range(N_CONST):
+            out[q] = rows[max(first, 0), q]
+    else:
+        for q in range(N_CONST):
+            out[q] /= wm
+    return 1.0 if wr == 0.0 else wm / (wm + wr)
+
+
+def _terrain(name: str, value: object) -> MudTerrain | None:
+    if isinstance(value, str) and value == RIGID:
+        return None
+    if isinstance(value, MudTerrain):
+        return value
+    if isinstance(value, Mud):
+        return MudTerrain(value)
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        from ..parameters.registry import paper_mud
+
+        return MudTerrain(paper_mud(float(value)))
+    raise MudrftError(
+        f"region {name!r} must be a water content [-], a Mud, a MudTerrain or {RIGID!r}, "
+        f"got {value!r}"
+    )
+
+
+@dataclass(frozen=True)
+class MudField:
+    """Patches of mud and rigid ground on the surface, for :func:`~mudrft.integrations.mujoco.attach`.
+
+    Parameters
+    ----------
+    regions : mapping
+        ``{name: region}``: a water content [-] (:func:`mudrft.paper_mud`), a
+        :class:`~mudrft.Mud` (from :func:`mudrft.paper_mud` or ``mudrft calibrate``), a
+        :class:`~mudrft.MudTerrain` or ``"rigid"``. Mud terrains share their options
+        (evaluation, characteristic length, ...); at least one region is mud.
+    cells : sequence of sequences of str
+        Region names, ``cells[j][i]`` the cell from ``origin + (i hx, j hy)`` to
+        ``origin + ((i+1) hx, (j+1) hy)``; outside the grid the nearest cell holds.
+        A string row is split on white space: ``["wet dry", "rock wet"]``.
+    cell_size : float or (float, float)
+        Cell sizes ``hx``, ``hy`` [m].
+    origin : (float, float)
+        World position of the grid's corner [m].
+    border : float
+        Width [m] over which a foot crossing a border blends the regions, in
+        ``(0, min(hx, hy)]``.
+
+    Examples
+    --------
+    >>> import mudrft
+    >>> f = MudField({"firm": 0.25, "soft": 0.35}, ["firm soft"], cell_size=0.5)
+    >>> f.names, f.cells.tolist()
+    (('firm', 'soft'), [[0, 1]])
+    >>> share, c = f.blend(0.5, 0.3)  # on the border: half of each
+    >>> rows = f.arrays()[2]
+    >>> share, bool(c[0] == (rows[0, 0] + rows[1, 0]) / 2)
+    (1.0, True)
+    """
+
+    regions: Mapping[str, object]
+    cells: Any
+    cell_size: float | tuple[float, float] = 1.0
+    origin: tuple[float, float] = (0.0, 0.0)
+    border: float = 0.05
+    terrains: tuple[MudTerrain | None, ...] = field(init=False, repr=False)
+    names: tuple[str, ...] = field(init=False, repr=False)
+    grid: FloatArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.regions, Mapping) or not self.regions:
+            raise MudrftError(f"regions must be a non-empty mapping {{name: mud}}, got {self.regions!r}")  # fmt: skip
+        names = tuple(str(k) for k in self.regions)
+        terrains = tuple(_terrain(k, v) for k, v in zip(names, self.regions.values(), strict=True))
+        muds = [t for t in terrains if t is not None]
+        if not muds:
+            raise MudrftError("regions: at least one region must be mud, got only rigid ground")
+        for n, t in zip(names, terrains, strict=True):
+            if t is not None and _options(t) != _options(muds[0]):
+                raise MudrftError(
+                    f"region {n!r}: its MudTerrain options differ from the first mud's; the regions "
+                    "of a field share them (evaluation, characteristic length, ...)"
+                )
+        rows = [r.split() if isinstance(r, str) else list(r) for r in self.cells]
+        if not rows or not rows[0] or any(len(r) != len(rows[0]) for r in rows):
+            raise MudrftError(f"cells must be a non-empty grid of rows of equal length, got {self.cells!r}")  # fmt: skip
+        index = {n: i for i, n in enumerate(names)}
+        unknown = sorted({str(c) for r in rows for c in r} - set(index))
+        if unknown:
+            raise MudrftError(f"cells name regions {unknown} that regions does not define ({list(names)})")  # fmt: skip
+        size = self.cell_size
+        hx, hy = (size, size) if isinstance(size, int | float) else tuple(size)
+        hx, hy = positive_number("cell_size", hx, unit="m"), positive_number("cell_size", hy, unit="m")  # fmt: skip
+        b = positive_number("border", self.border, unit="m")
+        if b > min(hx, hy):
+            raise MudrftError(f"border must be at most the cell size ({plain(min(hx, hy))} m), got {plain(b)} m")  # fmt: skip
+        x0, y0 = (float(v) for v in self.origin)
+        if not (math.isfinite(x0) and math.isfinite(y0)):
+            raise MudrftError(f"origin must be two finite numbers [m], got {self.origin!r}")
+        cells = np.array([[index[str(c)] for c in r] for r in rows], dtype=np.int64)
+        object.__setattr__(self, "cells", cells)
+        object.__setattr__(self, "names", names)
+        object.__setattr__(self, "terrains", terrains)
+        object.__setattr__(self, "grid", np.array([x0, y0, hx, hy, b]))
+
+    @classmethod
+    def from_toml(cls, path: str | PathLike[str]) -> MudField:
+        """A field from a TOML file: ``cell_size``, ``origin``, ``border`` and ``cells`` at
+        the top, the regions in a ``[regions]`` table (water contents or ``"rigid"``)."""
+        try:
+            with open(path, "rb") as fh:
+                spec = tomllib.load(fh)
+        except (OSError, tomllib.TOMLDecodeError) as exc:
+            raise MudrftError(f"{path}: cannot be read as a field spec ({exc})") from None
+        extra = sorted(set(spec) - {"regions", "cells", "cell_size", "origin", "border"})
+        if extra or "regions" not in spec or "cells" not in spec:
+            raise MudrftError(
+                f"{path}: a field spec has regions and cells (and cell_size, origin, border); "
+                f"got keys {sorted(spec)}"
+            )
+        return cls(**spec)
+
+    @property
+    def terrain(self) -> MudTerrain:
+        """The first mud region: the options (and initial state) every mud region shares."""
+        return next(t for t in self.terrains if t is not None)
+
+    def arrays(self) -> tuple[FloatArray, IndexArray, FloatArray]:
+        """``(grid, cells, rows)`` of :func:`field_row`: rows (R, N_CONST + 1), each
+        region's constants and its mud flag (rigid ground: the first mud's constants)."""
+        first = constant_row(*self.terrain.constants)
+        rows = np.array([
+            [*(first if t is None else constant_row(*t.constants)), 0.0 if t is None else 1.0]
+            for t in self.terrains
+        ])  # fmt: skip
+        return self.grid, self.cells, rows
+
+    def blend(self, x: float, y: float) -> tuple[float, FloatArray]:
+        """The mud's share [-] and the constants (N_CONST,) a tip at ``(x, y)`` [m] feels."""
+        out = np.zeros(N_CONST)
+        return field_row(float(x), float(y), *self.arrays(), out), out
+
+
+def _options(t: MudTerrain) -> tuple[object, ...]:
+    return (t.characteristic_length, t.acceleration, t.reset_on_exit, t.xi0, t.heading_speed,
+            t.thixotropy, t.clock)  # fmt: skip
+
+
+def uniform(terrain: MudTerrain) -> tuple[FloatArray, IndexArray, FloatArray]:
+    """The field arrays ``(grid, cells, rows)`` of one mud everywhere."""
+    rows = np.append(constant_row(*terrain.constants), 1.0)[None]
+    return np.array([0.0, 0.0, 1.0, 1.0, 1.0]), np.zeros((1, 1), dtype=np.int64), rows

@@ -1,0 +1,134 @@
+"""Patches of mud and rigid ground under a MuJoCo model (:class:`~mudrft.terrains.field.MudField`):
+each foot feels the region under it, a border blends continuously, and crossing one never
+gives a free foot energy."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+from mudrft._validation import MudrftError
+from mudrft.terrains.field import MudField
+
+pytest.importorskip("mujoco")
+pytest.importorskip("numba")
+from mudrft.integrations.mujoco import attach
+
+from .conftest import box_foot_model, energy_rise, kinematic_foot_model, mujoco
+
+with warnings.catch_warnings():  # W = 15 % lies outside the paper's table: extrapolated
+    warnings.simplefilter("ignore")
+    FIRM = mudrft.paper_mud(0.15, extrapolate=True)
+SOFT = mudrft.paper_mud(0.35)
+BORDER = 0.05
+
+
+def _field(to: str) -> MudField:
+    """Firm mud for x < 0, ``to`` (soft mud or rigid ground) for x > 0."""
+    regions = {"firm": FIRM, "soft": SOFT, "rigid": "rigid"}
+    return MudField(regions, [f"firm {to}"], cell_size=1.0, origin=(-1.0, -0.5), border=BORDER)
+
+
+def test_a_one_region_field_steps_as_the_mud_to_the_bit():
+    runs = []
+    for mud in (SOFT, MudField({"soft": SOFT}, ["soft"])):
+        model = box_foot_model(height=0.005)
+        data = mujoco.MjData(model)
+        data.qvel[0] = 0.2
+        coupling = attach(model, "foot", mud)
+        coupling.reset(data)
+        for _ in range(400):
+            mujoco.mj_step(model, data)
+        runs.append(np.concatenate([data.qpos, data.qvel, coupling.last.force[0]]))
+    assert np.array_equal(runs[0], runs[1])
+
+
+@pytest.mark.parametrize(("y", "share", "mud"), [(-0.4, 1.0, FIRM), (0.4, 1.0, SOFT), (0.0, 0.5, FIRM)])  # fmt: skip
+def test_a_foot_feels_the_region_under_it(y, share, mud):
+    """A kinematic foot along the gait (in x and z) inside one region feels that mud
+    exactly as MudTerrain does; near the border of mud and rigid ground (y = 0: half of
+    each; the gait strays 10 mm in y), the mud's share of it."""
+    tr = mudrft.gait(speed=0.2)
+    dt = float(tr.time[1] - tr.time[0])
+    model = kinematic_foot_model(dt=dt)
+    data = mujoco.MjData(model)
+    regions = {"firm": FIRM, "soft": SOFT, "rigid": "rigid"}
+    cells = ["firm", "rigid" if share < 1 else "soft"]  # rows: y < 0, then y > 0
+    field = MudField(regions, cells, cell_size=1.0, origin=(-0.5, -1.0), border=BORDER)
+    coupling = attach(model, "foot", field)
+    terrain, foot = mudrft.MudTerrain(mud), mudrft.feet.Flat()
+    at = tr.position + np.array([0.0, y, 0.0])
+    state = terrain.initial_state(foot, tr.position[0])
+    data.qpos[:] = at[0]
+    coupling.reset(data)
+    got, want = [], []
+    for k in range(1, len(tr)):
+        data.qpos[:], data.qvel[:] = at[k], tr.velocity[k]
+        mujoco.mj_forward(model, data)
+        got.append(coupling.apply(data).explicit_force[0])
+        state, out = terrain.step(foot, state, tr.position[k], tr.velocity[k], dt)
+        want.append(field.blend(*at[k, :2])[0] * out.force)
+    got, want = np.array(got), np.array(want)
+    assert np.abs(want[:, 2]).max() > 20  # the foot carries load
+    assert field.blend(*at[0, :2])[0] == share
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * np.abs(want).max())
+
+
+def test_the_force_changes_smoothly_across_a_border():
+    """A foot dragged 10 mm deep at 0.5 m/s from firm into soft mud: the horizontal force
+    moves from firm's to soft's over the border (50 mm, 100 steps of 1 ms), not in one
+    step; no step changes it by more than a twentieth of the whole change."""
+    model = kinematic_foot_model(dt=1e-3)
+    data = mujoco.MjData(model)
+    coupling = attach(model, "foot", _field("soft"))
+    start = np.array([-0.1, 0.0, -0.01])  # the sole 10 mm deep
+    data.qpos[:] = start
+    coupling.reset(data)
+    fx = []
+    for k in range(1, 401):
+        data.qpos[:], data.qvel[:] = start + np.array([5e-4 * k, 0.0, 0.0]), [0.5, 0.0, 0.0]
+        mujoco.mj_forward(model, data)
+        fx.append(coupling.apply(data).explicit_force[0, 0])
+    fx = np.array(fx)
+    whole = abs(fx[150] - fx[-1])  # x = -25 mm (firm, steady) and +100 mm (soft)
+    assert whole > 1.0
+    assert np.abs(np.diff(fx[150:])).max() < whole / 20
+
+
+@settings(max_examples=4, deadline=None)
+@given(angle=st.floats(-70.0, 70.0), speed=st.floats(0.3, 1.0))
+@pytest.mark.parametrize("dt", [1e-3, 2e-3])
+@pytest.mark.parametrize("to", ["soft", "rigid"])
+def test_a_free_foot_crossing_a_border_gains_no_energy(to, dt, angle, speed):
+    """A free box foot (isotropic inertia, so MuJoCo's step alone keeps its energy) lands
+    at ``speed`` [m/s] ``angle`` [deg] off the border's normal, 20 mm before the border
+    from firm mud into soft mud or onto rigid ground (a floor box, MuJoCo's contact):
+    its mechanical energy never rises above the start."""
+    floor = '<geom type="box" size="1 1 0.5" pos="1 0 -0.5"/>' if to == "rigid" else ""
+    xml = f"""<mujoco><option timestep="{dt}"/><worldbody>{floor}
+      <body name="foot" pos="-0.02 0 0.012"><freejoint/>
+        <inertial pos="0 0 0" mass="1.0" diaginertia="6e-4 6e-4 6e-4"/>
+        <geom type="box" size="0.03 0.04 0.01" mass="0"/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    field = _field(to)
+    coupling = attach(model, "foot", field, floor="keep")
+    coupling.reset(data)
+    a = np.radians(angle)
+    data.qvel[:3] = [speed * np.cos(a), speed * np.sin(a), -0.2]
+    before = field.blend(*data.qpos[:2])
+    rise, e0 = energy_rise(model, data, lambda: mujoco.mj_step(model, data), int(0.4 / dt))
+    after = field.blend(*data.qpos[:2])
+    assert not (before[0] == after[0] and np.array_equal(before[1], after[1]))  # it moved on
+    assert rise <= 1e-12 * e0
+
+
+def test_a_field_needs_the_compiled_coupling():
+    model = box_foot_model()
+    with pytest.raises(MudrftError, match="a MudField runs on backend='numba' only"):
+        attach(model, "foot", _field("soft"), backend="numpy")

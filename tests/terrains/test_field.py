@@ -1,0 +1,124 @@
+"""A field of mud (:class:`~mudrft.terrains.field.MudField`): what a foot at a point
+feels is the area average of the regions over the border square, continuous in position."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudrft
+from mudrft._validation import MudrftError
+from mudrft.terrains.field import MudField
+from mudrft.terrains.rows import constant_row
+
+with warnings.catch_warnings():  # W = 15 % lies outside the paper's table: extrapolated
+    warnings.simplefilter("ignore")
+    FIRM = mudrft.paper_mud(0.15, extrapolate=True)
+FIELD = MudField(
+    {"firm": FIRM, "soft": 0.35, "rock": "rigid", "wet": 0.45},
+    ["firm soft rock", "wet firm soft"],
+    cell_size=(0.4, 0.3),
+    origin=(-0.5, -0.2),
+    border=0.1,
+)
+
+
+def _sampled(x: float, y: float, n: int = 400) -> tuple[float, np.ndarray]:
+    """The mud's share and constants at (x, y) by midpoint quadrature of the square (n x n
+    points): each point takes its cell's region, outside the grid the nearest cell's."""
+    grid, cells, rows = FIELD.arrays()
+    x0, y0, hx, hy, b = grid
+    t = (np.arange(n) + 0.5) / n - 0.5
+    px, py = np.meshgrid(x + b * t, y + b * t)
+    ix = np.clip(np.floor((px - x0) / hx).astype(int), 0, cells.shape[1] - 1)
+    iy = np.clip(np.floor((py - y0) / hy).astype(int), 0, cells.shape[0] - 1)
+    r = cells[iy, ix].ravel()
+    mud = rows[r, -1] > 0
+    share = mud.mean()
+    const = rows[r[mud], :-1].mean(axis=0) if mud.any() else rows[0, :-1]
+    return float(share), const
+
+
+@settings(max_examples=60)
+@given(st.floats(-1.0, 1.0), st.floats(-0.6, 0.8))
+def test_a_tip_feels_the_area_average_of_the_regions_over_the_border_square(x, y):
+    """Against quadrature of the square: 400 midpoints a side put each straight border
+    within half a sample, so a share is off by at most 1/400 per border crossed (two at
+    most); the mean constants by those errors times the regions' spread, over the share."""
+    share, const = FIELD.blend(x, y)
+    s_ref, c_ref = _sampled(x, y)
+    assert share == pytest.approx(s_ref, abs=2 / 400)
+    if share > 0.01:  # the mean of the mud regions, weighted as their shares
+        spread = np.ptp(FIELD.arrays()[2][:, :-1], axis=0)
+        assert np.all(np.abs(const - c_ref) <= 4 / 400 / share * spread + 1e-12 * np.abs(c_ref))
+
+
+@settings(max_examples=60)
+@given(st.floats(-1.0, 1.0), st.floats(-0.6, 0.8), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0))
+def test_the_blend_is_continuous_in_position(x, y, dx, dy):
+    """Lipschitz: the share moves by at most (|dx| + |dy|) / border (each axis' overlap
+    moves by |d| / b), so a foot crossing a border feels no jump."""
+    h = 1e-3
+    a, _ = FIELD.blend(x, y)
+    b, _ = FIELD.blend(x + h * dx, y + h * dy)
+    assert abs(a - b) <= h * (abs(dx) + abs(dy)) / 0.1 * (1 + 1e-9) + 1e-15
+
+
+def test_one_mud_is_that_mud_to_the_bit_and_rigid_ground_has_none():
+    share, const = FIELD.blend(-0.3, -0.1)  # inside the firm cell
+    assert share == 1.0
+    assert np.array_equal(const, constant_row(*mudrft.MudTerrain(FIRM).constants))
+    assert FIELD.blend(0.5, -0.1)[0] == 0.0  # the rock cell
+    assert FIELD.blend(3.0, -0.1)[0] == 0.0  # beyond it: the nearest cell's
+    assert FIELD.blend(0.3, -0.1)[0] == pytest.approx(0.5)  # on the soft-rock border
+
+
+def test_a_toml_spec_gives_the_same_field(tmp_path):
+    spec = tmp_path / "field.toml"
+    spec.write_text(
+        "cell_size = [0.4, 0.3]\norigin = [-0.5, -0.2]\nborder = 0.1\n"
+        'cells = ["soft rock", "wet soft"]\n[regions]\nsoft = 0.35\nrock = "rigid"\nwet = 0.45\n'
+    )
+    f = MudField.from_toml(spec)
+    assert f.names == ("soft", "rock", "wet")
+    assert f.cells.tolist() == [[0, 1], [2, 0]]
+    assert np.array_equal(f.grid, [-0.5, -0.2, 0.4, 0.3, 0.1])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"regions": {}}, "regions must be a non-empty mapping"),
+        ({"regions": {"a": "rigid"}, "cells": ["a"]}, "at least one region must be mud"),
+        ({"regions": {"a": "sand"}}, "region 'a' must be a water content"),
+        ({"cells": ["a b", "a"]}, "rows of equal length"),
+        ({"cells": ["a c"]}, "cells name regions ['c']"),
+        ({"border": 0.5}, "border must be at most the cell size (0.4 m), got 0.5 m"),
+        ({"border": 0.0}, "border must be > 0"),
+        ({"cell_size": -1.0}, "cell_size must be > 0"),
+        ({"origin": (np.nan, 0.0)}, "origin must be two finite numbers"),
+        (
+            {"regions": {"a": 0.3, "b": mudrft.MudTerrain(mudrft.paper_mud(0.3), xi0=0.5)}},
+            "region 'b': its MudTerrain options differ",
+        ),
+    ],
+)
+def test_a_wrong_field_is_refused_naming_the_argument(kwargs, message):
+    args = {"regions": {"a": 0.3, "b": 0.4}, "cells": ["a b"], "cell_size": 0.4, **kwargs}
+    with pytest.raises(MudrftError) as err:
+        MudField(**args)
+    assert message in str(err.value)
+
+
+def test_a_wrong_toml_spec_is_refused_naming_the_file(tmp_path):
+    spec = tmp_path / "field.toml"
+    spec.write_text('cells = ["a"]\nsize = 1\n[regions]\na = 0.3\n')
+    with pytest.raises(MudrftError, match=r"field.toml: a field spec has regions and cells"):
+        MudField.from_toml(spec)
+    spec.write_text("cells = [")
+    with pytest.raises(MudrftError, match="cannot be read as a field spec"):
+        MudField.from_toml(spec)
