@@ -132,3 +132,35 @@ def test_a_field_needs_the_compiled_coupling():
     model = box_foot_model()
     with pytest.raises(MudrftError, match="a MudField runs on backend='numba' only"):
         attach(model, "foot", _field("soft"), backend="numpy")
+
+
+def test_each_robot_steps_on_its_own_drawn_field():
+    """Two robots of a batch, each on its own draw of one field (``use_field``), step as
+    two single couplings on those fields, to the bit."""
+    from mudrft.integrations.mujoco import attach_batch
+
+    field = MudField({"a": 0.25, "b": 0.35, "r": "rigid"}, ["a b", "b r"], cell_size=0.05)
+    draws = [field.randomized(seed, water_content=(0.25, 0.45), layout=True) for seed in (1, 2)]
+    assert not np.array_equal(draws[0].arrays()[2], draws[1].arrays()[2])
+
+    def run(datas, coupling):
+        for d in datas:
+            d.qvel[:2] = [0.3, 0.1]
+        coupling.reset(datas)
+        for _ in range(300):
+            for d in datas:
+                mujoco.mj_step(coupling.model, d)
+        return np.array([np.concatenate([d.qpos, d.qvel]) for d in datas])
+
+    model = box_foot_model(height=0.002)
+    batch = attach_batch(model, "foot", field, n=2)
+    for i, f in enumerate(draws):
+        batch.use_field(f, robot=i)
+    together = run([mujoco.MjData(model) for _ in range(2)], batch)
+    for i, f in enumerate(draws):
+        one = run([mujoco.MjData(model)], attach(box_foot_model(height=0.002), "foot", f))
+        np.testing.assert_array_equal(together[i], one[0])
+    with pytest.raises(MudrftError, match=r"field must have the coupling's shape: \(2, 2\) cells"):
+        batch.use_field(MudField({"a": 0.3}, ["a a a"], cell_size=0.05))
+    with pytest.raises(MudrftError, match=r"robot must be None or an index in \[0, 2\)"):
+        batch.use_field(field, robot=2)

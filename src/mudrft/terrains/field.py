@@ -12,6 +12,7 @@ Both are continuous in position, so a foot crossing a border feels no jump; its 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
@@ -27,7 +28,7 @@ from ..parameters.base import Mud
 from .mud import MudTerrain
 from .rows import N_CONST, constant_row
 
-__all__ = ["RIGID", "MudField", "field_row"]
+__all__ = ["RIGID", "MudField", "field_row", "same_options", "uniform"]
 
 #: The region value of rigid ground.
 RIGID = "rigid"
@@ -99,7 +100,7 @@ def _terrain(name: str, value: object) -> MudTerrain | None:
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MudField:
     """Patches of mud and rigid ground on the surface, for :func:`~mudrft.integrations.mujoco.attach`.
 
@@ -152,7 +153,7 @@ class MudField:
         if not muds:
             raise MudrftError("regions: at least one region must be mud, got only rigid ground")
         for n, t in zip(names, terrains, strict=True):
-            if t is not None and _options(t) != _options(muds[0]):
+            if t is not None and not same_options(t, muds[0]):
                 raise MudrftError(
                     f"region {n!r}: its MudTerrain options differ from the first mud's; the regions "
                     "of a field share them (evaluation, characteristic length, ...)"
@@ -211,15 +212,83 @@ class MudField:
         ])  # fmt: skip
         return self.grid, self.cells, rows
 
+    def randomized(
+        self,
+        seed: int | np.random.Generator,
+        *,
+        water_content: tuple[float, float] | None = None,
+        scale: Mapping[str, tuple[float, float]] | None = None,
+        layout: bool = False,
+    ) -> MudField:
+        """A field drawn from this one, the same for the same ``seed`` (for an environment's
+        reset; the shape, and so a compiled MJX step, stays this field's).
+
+        Parameters
+        ----------
+        seed : int or numpy.random.Generator
+            The draw's seed.
+        water_content : (float, float) or None, keyword-only
+            Each mud region becomes :func:`mudrft.paper_mud` at a water content [-] drawn
+            uniformly from this range (outside 0.25-0.45 the paper's table is extrapolated,
+            down to 0.15 and up to 0.50); None keeps the regions' muds.
+        scale : mapping or None, keyword-only
+            ``{parameter: (low, high)}``: each mud region's parameter (of
+            :class:`~mudrft.MudParameters`, both directions) times a factor drawn
+            log-uniformly from the range [-].
+        layout : bool, keyword-only
+            Each cell draws its region uniformly from the field's regions.
+        """
+        import warnings
+
+        from ..parameters.base import MudParameters
+        from ..parameters.registry import paper_mud
+
+        rng = np.random.default_rng(seed)
+        regions: dict[str, object] = {}
+        for name, t in zip(self.names, self.terrains, strict=True):
+            if t is None:
+                regions[name] = RIGID
+                continue
+            mud = t.mud
+            if water_content is not None:
+                lo, hi = (float(v) for v in water_content)
+                if not 0.15 <= lo <= hi <= 0.5:
+                    raise MudrftError(f"water_content must be (low, high) within [0.15, 0.5], got {water_content!r}")  # fmt: skip
+                with warnings.catch_warnings():  # the range was the caller's choice
+                    warnings.simplefilter("ignore")
+                    mud = paper_mud(float(rng.uniform(lo, hi)), extrapolate=True)
+            for key, (lo, hi) in (scale or {}).items():
+                if key not in MudParameters.__dataclass_fields__ or not 0 < lo <= hi:
+                    raise MudrftError(f"scale must map MudParameters fields to (low, high) > 0, got {key!r}: {(lo, hi)!r}")  # fmt: skip
+                f = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+                mud = type(mud)(
+                    mud.vertical.replace(**{key: getattr(mud.vertical, key) * f}),
+                    mud.horizontal.replace(**{key: getattr(mud.horizontal, key) * f}),
+                    mud.water_content, mud.name,
+                )  # fmt: skip
+            regions[name] = dataclasses.replace(t, mud=mud)
+        cells = self.cells
+        if layout:
+            cells = rng.integers(0, len(self.names), size=cells.shape)
+            if not any(self.terrains[i] is not None for i in np.unique(cells)):
+                cells.flat[0] = self.names.index(next(n for n, t in zip(self.names, self.terrains, strict=True) if t is not None))  # fmt: skip
+        grid = self.grid
+        return MudField(
+            regions, [[self.names[i] for i in row] for row in cells],
+            (float(grid[2]), float(grid[3])), (float(grid[0]), float(grid[1])), float(grid[4]),
+        )  # fmt: skip
+
     def blend(self, x: float, y: float) -> tuple[float, FloatArray]:
         """The mud's share [-] and the constants (N_CONST,) a tip at ``(x, y)`` [m] feels."""
         out = np.zeros(N_CONST)
         return field_row(float(x), float(y), *self.arrays(), out), out
 
 
-def _options(t: MudTerrain) -> tuple[object, ...]:
-    return (t.characteristic_length, t.acceleration, t.reset_on_exit, t.xi0, t.heading_speed,
-            t.thixotropy, t.clock)  # fmt: skip
+def same_options(a: MudTerrain, b: object) -> bool:
+    """Whether mud terrains ``a`` and ``b`` share their options (all but the mud)."""
+    names = ("characteristic_length", "acceleration", "reset_on_exit", "xi0", "heading_speed",
+             "thixotropy", "clock")  # fmt: skip
+    return isinstance(b, MudTerrain) and all(getattr(a, k) == getattr(b, k) for k in names)
 
 
 def uniform(terrain: MudTerrain) -> tuple[FloatArray, IndexArray, FloatArray]:

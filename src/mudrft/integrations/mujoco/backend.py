@@ -9,14 +9,14 @@ from typing import TYPE_CHECKING, TypeAlias, cast
 import numpy as np
 
 from ..._progress import logger
-from ..._typing import FloatArray
+from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError
 from ...feet.mesh import MeshFoot
 from ...feet.morphing import MorphingFoot
 from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
 from ...parameters.base import Mud
-from ...terrains.field import uniform
+from ...terrains.field import MudField, uniform
 from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, state_rows, upright_rows
 from .callback import callback, clock_size, install, register, unregister
@@ -113,8 +113,11 @@ class CompiledCoupling:
         self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
         self.tri_up = np.ascontiguousarray(np.concatenate(ups))
         t = cast(MudTerrain, batch.terrain)
-        grid, self.cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
-        self.rows = np.ascontiguousarray(np.broadcast_to(rows, (batch.n, *rows.shape)))
+        grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
+        n = batch.n
+        self.grids = np.ascontiguousarray(np.broadcast_to(grid, (n, *grid.shape)))
+        self.cells = np.ascontiguousarray(np.broadcast_to(cells, (n, *cells.shape)))
+        self.rows = np.ascontiguousarray(np.broadcast_to(rows, (n, *rows.shape)))
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))
@@ -134,8 +137,7 @@ class CompiledCoupling:
         self.clock = np.zeros((n, clock_size(nb)))
         self.addr = np.zeros((n, 7), dtype=np.int64)
         self.sizes = np.array([m.nbody, m.nv, m._address, *mujoco_functions()], dtype=np.int64)
-        self.opts = np.zeros(14)
-        self.opts[9:] = grid
+        self.opts = np.zeros(9)
         arrays = [getattr(self, "ids" if name == "bodies" else name) for name, _, _ in ARGS]
         for a, (name, dt, nd) in zip(arrays, ARGS, strict=True):
             assert a.dtype == np.dtype(dt) and a.ndim == nd and a.flags.c_contiguous, name
@@ -175,7 +177,7 @@ class CompiledCoupling:
         m = b.model
         bottom = -1.0 if b.bottom is None else b.bottom
         g = np.asarray(m.opt.gravity, dtype=float)
-        self.opts[:9] = (
+        self.opts[:] = (
             float(m.opt.timestep), b.surface, bottom, b.bottom_stiffness, b.bottom_damping,
             b._dv_min, g[0], g[1], g[2],
         )  # fmt: skip
@@ -183,6 +185,16 @@ class CompiledCoupling:
         entries = [(d._address, p, size, k, _time_address(d)) for k, d in enumerate(datas)]
         install(b._mj)
         register(entries, self._rows, self)
+
+    def use_field(self, field: MudField, robots: IndexArray) -> None:
+        """Robots ``robots`` step on ``field`` from now on (its arrays' shapes: the coupling's)."""
+        grid, cells, rows = field.arrays()
+        if cells.shape != self.cells.shape[1:] or rows.shape != self.rows.shape[1:]:
+            raise MudrftError(
+                f"field must have the coupling's shape: {self.cells.shape[1:]} cells and "
+                f"{self.rows.shape[1]} regions, got {cells.shape} cells and {rows.shape[0]} regions"
+            )
+        self.grids[robots], self.cells[robots], self.rows[robots] = grid, cells, rows
 
     def detach(self) -> None:
         """Take the mud out of MuJoCo's step for the MjData of the last :meth:`reset`."""

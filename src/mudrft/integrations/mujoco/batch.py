@@ -19,7 +19,7 @@ from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
-from ...terrains.field import MudField
+from ...terrains.field import MudField, same_options
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
@@ -324,6 +324,21 @@ class MudBatch:
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
+
+    def use_field(self, field: MudField, robot: int | None = None) -> None:
+        """Step robot ``robot`` (None: every robot) on ``field`` from the next step on: a
+        field of the shape of the one given to ``attach`` (the same grid of cells and number
+        of regions) and its mud options, such as :meth:`MudField.randomized` draws. Call it
+        before :meth:`reset` for a new episode; the feet's mud state goes on."""
+        if self.field is None or self._compiled is None:
+            raise MudrftError("use_field needs a coupling attached to a MudField (compiled)")
+        if not isinstance(field, MudField):
+            raise MudrftError(f"field must be a MudField, got {type(field).__name__}")
+        if not same_options(field.terrain, self.terrain):
+            raise MudrftError("field's MudTerrain options differ from the attached field's")
+        if robot is not None and not (isinstance(robot, int) and 0 <= robot < self.n):
+            raise MudrftError(f"robot must be None or an index in [0, {self.n}), got {robot!r}")
+        self._compiled.use_field(field, np.arange(self.n) if robot is None else np.array([robot]))
 
     def detach(self) -> None:
         """Take the mud out of MuJoCo's step: the compiled coupling stays in the MjData given

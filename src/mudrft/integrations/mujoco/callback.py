@@ -16,7 +16,7 @@ from ..._progress import logger
 from ..._typing import FloatArray, IndexArray
 from ..._validation import MudrftError
 from ...terrains.rows import N_STATE
-from .compiled import OFFSETS, _f1, _f2, _f3, _i1, _i2, _kernel
+from .compiled import OFFSETS, _f1, _f2, _f3, _i1, _i2, _i3, _kernel
 from .linalg import REGISTRY, _chain, _iptr, _ptr, _registry, carray
 
 __all__ = [
@@ -78,7 +78,7 @@ def robot_step(p: IndexArray, k: int, now: float) -> int:
         _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _f2(p, o[3]), _f2(p, o[4]), _i1(p, o[5]),
         _f3(p, o[6]), _i1(p, o[7]), _f2(p, o[8]), _f3(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
         _f2(p, o[12]), _f1(p, o[13]), kept[0], kept[1], kept[2], kept[3], kept[4], tank,
-        _f3(p, o[20]), _f2(p, o[21]), clock, _i2(p, o[23]), k,
+        _f3(p, o[20]), _f2(p, o[21]), clock, _i3(p, o[23]), _f2(p, o[24]), k,
     )  # fmt: skip
 
 

@@ -207,7 +207,7 @@ def _kernel(
     rows: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
-    clock: FloatArray, cells: IndexArray, k: int,
+    clock: FloatArray, cells: IndexArray, grids: FloatArray, k: int,
 ) -> int:  # fmt: skip
     """One coupling step of every body of robot ``k``; the number of non-finite wrenches.
 
@@ -215,8 +215,8 @@ def _kernel(
     ``mjData``; ``sizes``: (nbody, nv, addresses of the ``mjModel``, ``mj_jac``, ``mj_solveM``);
     ``bodies[j]``: (id, root, ball); body ``j``'s triangles are
     ``tri_b[tri_adr[j]:tri_adr[j+1]]``, its upright rows likewise; ``opts``: (dt, surface,
-    bottom (< 0: none), k_b, c_b, dv_min, gravity (3), the field's grid (5)); ``rows[k]`` and
-    ``cells``: robot ``k``'s field (:func:`~mudrft.terrains.field.field_row`). ``mud``, ``fst``, ``odo``,
+    bottom (< 0: none), k_b, c_b, dv_min, gravity (3)); ``grids[k]``, ``cells[k]`` and
+    ``rows[k]``: robot ``k``'s field (:func:`~mudrft.terrains.field.field_row`). ``mud``, ``fst``, ``odo``,
     ``tw_prev``, ``wv_prev`` and ``tank`` are updated in place; ``out``: (N, nb, N_OUT).
     """
     dt, surface = opts[0], opts[1]
@@ -342,7 +342,7 @@ def _kernel(
         o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
         # the mud under the tip (its share: the rest is rigid ground), and the secant
         # derivative toward rest (D63, D119); out of the mud every force is 0
-        share = field_row(tipw[0], tipw[1], opts[9:14], cells, rk, cj[0])
+        share = field_row(tipw[0], tipw[1], grids[k], cells[k], rk, cj[0])
         fs, mrow = fst[k, j], morph[j]
         r0 = foot_step(
             cj, 0, mud[k, j], pos[0], pos[1], pos[2], u[0], u[1], u[2], dt, cfg[j], geom[j],
@@ -496,7 +496,8 @@ ARGS = (
     ("tri_adr", "i8", 1), ("tri_b", "f8", 3), ("up_adr", "i8", 1), ("tri_up", "f8", 2),
     ("rows", "f8", 3), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
-    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2), ("cells", "i8", 2),
+    ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2), ("cells", "i8", 3),
+    ("grids", "f8", 2),
 )  # fmt: skip
 #: Where each argument's address and shape start in the packed array (:func:`pack`).
 OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
@@ -529,3 +530,7 @@ def _i1(p: IndexArray, k: int) -> IndexArray:
 
 def _i2(p: IndexArray, k: int) -> IndexArray:
     return carray(_iptr(p[k]), (p[k + 1], p[k + 2]))  # type: ignore[call-arg]
+
+
+def _i3(p: IndexArray, k: int) -> IndexArray:
+    return carray(_iptr(p[k]), (p[k + 1], p[k + 2], p[k + 3]))  # type: ignore[call-arg]
