@@ -15,7 +15,7 @@ from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     NOT_RUNNING,
-    OBS_SIZE,
+    OBS_SIZES,
     check_action,
     check_reset,
     controls,
@@ -36,7 +36,9 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
 
     ``backend`` is the CPU coupling's (``"auto"``: numba where installed);
     ``render_mode="rgb_array"`` renders the side camera offscreen (OpenGL needed); the
-    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s.
+    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s: a ``field`` of
+    patches of mud, drawn anew at each reset with ``randomize``, proprioceptive
+    observations, rigid ground. ``info`` holds each foot's sinking and mud force.
 
     >>> import gymnasium, mudrft.envs
     >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-sphere", water_content=0.35)
@@ -67,27 +69,35 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._mj = _mujoco()
         m = self.layout.model
         self.data = self._mj.MjData(m)
-        foot = self.config.foot_object
-        self.coupling = attach(
-            m, list(self.layout.bodies), self.config.mud, feet=foot, bottom=self.config.bottom,
-            backend=choose_backend(backend, self.config.mud, foot),
+        cfg = self.config
+        foot = cfg.foot_object
+        fielded = cfg.field is not None or cfg.randomize is not None
+        mud = cfg.mud_field if fielded else cfg.mud
+        self.field = mud if fielded else None
+        self.coupling = None if cfg.ground == "rigid" else attach(
+            m, list(self.layout.bodies), mud, feet=foot, bottom=cfg.bottom,
+            backend=choose_backend(backend, cfg.mud, foot),
         )  # fmt: skip
         box = gymnasium.spaces.Box
         self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
-        self.observation_space = box(-np.inf, np.inf, (OBS_SIZE,), dtype=np.float32)
+        size = OBS_SIZES[cfg.observe]
+        self.observation_space = box(-np.inf, np.inf, (size,), dtype=np.float32)
         self._renderer: mujoco.Renderer | None = None
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
         self._phase = "new"  # then "running", "ended" (terminated) or "closed"
 
     def _obs(self) -> NDArray[np.float32]:
         d = self.data
-        o = observation(self.layout, d.qpos, d.qvel, self._depth, self._force)
+        o = observation(
+            self.layout, d.qpos, d.qvel, self._depth, self._force, observe=self.config.observe
+        )
         return np.asarray(o, dtype=np.float32)
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
-        """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities."""
+        """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities
+        (and draw the field anew with ``randomize``, from ``seed``)."""
         seed = check_reset(seed, options)
         if self._phase == "closed":
             raise MudrftError(NOT_RUNNING["closed"])
@@ -100,10 +110,15 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         d.qvel[:] = self.np_random.uniform(-noise, noise, lay.model.nv)
         d.ctrl[:] = lay.ctrl0
         mj.mj_forward(lay.model, d)
-        self.coupling.reset(d)
+        cfg = self.config
+        if cfg.randomize is not None and self.coupling is not None:
+            self.field = cfg.mud_field.randomized(self.np_random, **cfg.randomize)
+            self.coupling.use_field(self.field)
+        if self.coupling is not None:
+            self.coupling.reset(d)
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
         self._phase = "running"
-        return self._obs(), {"x_position": float(d.qpos[lay.rootx])}
+        return self._obs(), {"x_position": float(d.qpos[lay.rootx]), "field": self.field}
 
     def step(
         self, action: ArrayLike
@@ -120,8 +135,11 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
                                 mj.mjtWarning.mjWARN_BADQACC)]  # fmt: skip
         warned = int(d.warning.number[bad].sum())
         try:
-            out = self.coupling.step(d, cfg.frame_skip)
-            self._depth, self._force = np.array(out.depth), np.array(out.force)
+            if self.coupling is None:  # rigid ground: MuJoCo's contact alone
+                mj.mj_step(lay.model, d, nstep=cfg.frame_skip)
+            else:
+                out = self.coupling.step(d, cfg.frame_skip)
+                self._depth, self._force = np.array(out.depth), np.array(out.force)
             unstable = int(d.warning.number[bad].sum()) > warned or not (
                 np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()
             )
@@ -163,7 +181,8 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         """Release the offscreen renderer, if one was made, and the mud coupling's hold on
         MuJoCo's step; the environment steps no more."""
         self._phase = "closed"
-        self.coupling.detach()
+        if self.coupling is not None:
+            self.coupling.detach()
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None

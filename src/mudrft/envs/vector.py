@@ -19,7 +19,7 @@ from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     NOT_RUNNING,
-    OBS_SIZE,
+    OBS_SIZES,
     check_action,
     check_reset,
     controls,
@@ -75,6 +75,12 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         values, which = np.unique(w, return_inverse=True) if w.ndim else (w.reshape(1), None)
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
         self.config = self.configs[float(w.flat[0])]
+        cfg = self.config
+        if cfg.field is not None or cfg.randomize is not None or cfg.ground != "mud":
+            raise MudrftError(
+                "the vector (MJX) walker takes water_content per robot; field, randomize and "
+                "ground='rigid' are MudWalkerEnv's (the CPU coupling)"
+            )
         self.render_mode = None
         self.layout = lay = walker_layout(self.config)
         # the precision the robots are made in; every later call runs in it
@@ -95,7 +101,9 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         box, batch = gymnasium.spaces.Box, gymnasium.vector.utils.batch_space
         self.single_action_space = box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
         self.action_space = batch(self.single_action_space, self.num_envs)
-        self.single_observation_space = box(-np.inf, np.inf, (OBS_SIZE,), np.float32)
+        self.single_observation_space = box(
+            -np.inf, np.inf, (OBS_SIZES[self.config.observe],), np.float32
+        )
         self.observation_space = batch(self.single_observation_space, self.num_envs)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._done = np.zeros(self.num_envs, dtype=bool)
@@ -193,7 +201,13 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         d = d0.replace(qpos=qpos, qvel=qvel)
         st = cpl.init(d)
         z = jnp.zeros((2,), d0.qpos.dtype)
-        return d, st, observation(lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp)
+        return (
+            d,
+            st,
+            observation(
+                lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp, observe=env.config.observe
+            ),
+        )
 
     def step_one(
         d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
@@ -211,7 +225,11 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         (d, st), (depth, force, stable) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
         alive = healthy(lay, d.qpos, xp=jnp) & jnp.all(stable)
         r = reward(cfg, x0, d.qpos[lay.rootx], a, alive, xp=jnp)
-        obs = jnp.nan_to_num(observation(lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp))
+        obs = jnp.nan_to_num(
+            observation(
+                lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp, observe=env.config.observe
+            )
+        )
         info = {
             "x_velocity": (d.qpos[lay.rootx] - x0) / (cfg.dt * cfg.frame_skip),
             "sinking [m]": depth[-1],

@@ -8,13 +8,14 @@ servos) with MuJoCo's contacts off: the bed under the mud is the coupling's (D67
 *Action* (6,) in [-1, 1]: joint targets of the servos, ``stand + action_scale * action``
 [rad] (hips, knees, ankles; left then right), clipped to the servos' ranges.
 
-*Observation* (23,) float32:
+*Observation* (23,) float32 (``observe="privileged"``), or its first 17 entries, what the
+robot senses of itself (``observe="proprioceptive"``):
 
 ====== =====================================================================
 0-7    torso height above its start [m], torso pitch [rad], six joint angles [rad]
 8-16   the nine joint velocities [m/s, rad/s], clipped to +-10
 17-18  sinking of each foot (depth of its lowest point) [cm]
-19-22  mud force on each foot, (F_x, F_z) over the robot's weight [-]
+19-22  mud force on each foot, (F_x, F_z) over the robot's weight [-] (suction: F_z < 0)
 ====== =====================================================================
 
 *Reward* per control step: forward speed of the torso [m/s] times
@@ -28,6 +29,8 @@ is not finite (``info["unstable"]``); truncation at 1000 control steps.
 from __future__ import annotations
 
 import difflib
+import os
+from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
@@ -36,6 +39,7 @@ import numpy as np
 from .._typing import ArrayLike, Namespace, XpArray
 from .._validation import (
     MudrftError,
+    check_choice,
     check_finite,
     check_number,
     nonnegative_number,
@@ -47,11 +51,13 @@ from .._validation import (
 if TYPE_CHECKING:
     import mujoco
 
+    import mudrft
+
     from ..feet.base import Foot
     from ..parameters.base import Mud
 
 __all__ = [
-    "ACTION_SIZE", "FEET", "MAX_CONTROL_PERIOD", "NOT_RUNNING", "OBS_SIZE", "WalkerConfig",
+    "ACTION_SIZE", "FEET", "MAX_CONTROL_PERIOD", "NOT_RUNNING", "OBS_SIZE", "OBS_SIZES", "WalkerConfig",
     "WalkerLayout", "check_action", "check_reset", "healthy", "observation", "reward",
     "walker_config", "walker_layout",
 ]  # fmt: skip
@@ -59,6 +65,8 @@ __all__ = [
 #: Foot shapes by name (the paper's feet that both couplings support).
 FEET = ("flat", "semi-cylinder", "semi-sphere")
 OBS_SIZE = 23
+#: The observation's length by ``observe``.
+OBS_SIZES = {"privileged": OBS_SIZE, "proprioceptive": 17}
 #: Longest time one action may be held, ``frame_skip * dt`` [s]: the walker falls sooner.
 MAX_CONTROL_PERIOD = 1.0
 ACTION_SIZE = 6
@@ -74,7 +82,13 @@ class WalkerConfig:
     physics steps per control step; ``forward_reward_weight``, ``ctrl_cost_weight``,
     ``healthy_reward`` the reward terms; ``action_scale`` the joint target range about the
     standing pose [rad]; ``reset_noise_scale`` the half-width of the reset noise on joint
-    angles [rad] and velocities; ``bottom`` the depth of the rigid bed under the mud [m].
+    angles [rad] and velocities; ``bottom`` the depth of the rigid bed under the mud [m];
+    ``field`` a :class:`~mudrft.MudField` (or the path of its TOML spec) in place of the
+    one mud of ``water_content``; ``randomize`` the keywords of
+    :meth:`~mudrft.MudField.randomized`, a new draw of the field at each reset (from the
+    reset's seed); ``observe`` ``"privileged"`` or ``"proprioceptive"`` (the module
+    docstring); ``ground`` ``"mud"``, or ``"rigid"``: MuJoCo's contact with a floor at the
+    surface and no mud (to train a policy for comparison).
     """
 
     foot: str | Foot = "flat"
@@ -87,6 +101,10 @@ class WalkerConfig:
     action_scale: float = 0.5
     reset_noise_scale: float = 5e-3
     bottom: float = 0.15
+    field: Any = None
+    randomize: Any = None
+    observe: str = "privileged"
+    ground: str = "mud"
 
     def __post_init__(self) -> None:
         import mudrft
@@ -112,6 +130,33 @@ class WalkerConfig:
         object.__setattr__(self, "action_scale", positive_number("action_scale", self.action_scale, unit="rad"))  # fmt: skip
         object.__setattr__(self, "reset_noise_scale", nonnegative_number("reset_noise_scale", self.reset_noise_scale, unit="rad"))  # fmt: skip
         object.__setattr__(self, "bottom", positive_number("bottom", self.bottom, unit="m"))
+        check_choice("observe", self.observe, OBS_SIZES)
+        check_choice("ground", self.ground, ("mud", "rigid"))
+        f = self.field
+        if f is not None and not isinstance(f, mudrft.MudField):
+            if not isinstance(f, str | os.PathLike):
+                raise MudrftError(f"field must be a MudField or the path of its TOML spec, got {f!r}")  # fmt: skip
+            object.__setattr__(self, "field", mudrft.MudField.from_toml(f))
+        if self.field is not None and any(t is None for t in self.field.terrains):
+            raise MudrftError(
+                "field: the walker has no MuJoCo contact in the mud (its bed is the coupling's), "
+                "so its field takes mud regions only, got rigid ground"
+            )
+        if self.randomize is not None:
+            if not isinstance(self.randomize, Mapping):
+                raise MudrftError(f"randomize must be a mapping of MudField.randomized's keywords, got {self.randomize!r}")  # fmt: skip
+            self.mud_field.randomized(0, **self.randomize)  # its keywords, checked now
+        if self.ground == "rigid" and (self.field is not None or self.randomize is not None):
+            raise MudrftError("ground='rigid' has no mud: field and randomize must be None")
+
+    @property
+    def mud_field(self) -> mudrft.MudField:
+        """The field: :attr:`field`, or the one mud of :attr:`water_content` everywhere."""
+        import mudrft
+
+        if self.field is not None:
+            return self.field  # type: ignore[no-any-return]
+        return mudrft.MudField({"mud": self.mud}, ["mud"], cell_size=1.0, border=1.0)
 
     @property
     def foot_object(self) -> Foot:
@@ -161,13 +206,17 @@ class WalkerLayout:
 
 
 def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
-    """Build the biped for ``cfg`` (contacts off: the bed is the coupling's, D67)."""
+    """Build the biped for ``cfg`` (contacts off: the bed is the coupling's, D67; on rigid
+    ground, the bed is at the surface and MuJoCo's contact holds the feet)."""
     from ..integrations.mujoco import _mujoco
     from ..integrations.walk import BIPED_FEET, GaitController, biped_model
 
     mj = _mujoco()
     model = biped_model(None, bottom=float(cfg.bottom), timestep=float(cfg.dt))
-    model.opt.disableflags |= int(mj.mjtDisableBit.mjDSBL_CONTACT)
+    if cfg.ground == "rigid":
+        model.geom_pos[model.geom("bottom").id, 2] = 0.0
+    else:
+        model.opt.disableflags |= int(mj.mjtDisableBit.mjDSBL_CONTACT)
     data = mj.MjData(model)
     GaitController(model).initial_pose(data)
     jq = np.array([model.jnt_qposadr[model.joint(n).id] for n in _JOINTS])
@@ -231,14 +280,17 @@ def controls(lay: WalkerLayout, action: XpArray, scale: float, xp: Namespace = n
 
 def observation(
     lay: WalkerLayout, qpos: XpArray, qvel: XpArray, depth: XpArray, force: XpArray,
-    xp: Namespace = np,
+    xp: Namespace = np, *, observe: str = "privileged",
 ) -> XpArray:  # fmt: skip
     """The observation (..., 23) of the module docstring from the state and the mud's
-    last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]."""
+    last contact: ``depth`` (..., 2) [m], ``force`` (..., 2, 3) [N]; (..., 17) for
+    ``observe="proprioceptive"``."""
     z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
     pitch = qpos[..., lay.pitch : lay.pitch + 1]
     joints = qpos[..., lay.joint_qadr]
     f = force[..., :, (0, 2)] / lay.weight
+    if observe == "proprioceptive":
+        return xp.concatenate([z, pitch, joints, xp.clip(qvel, -10.0, 10.0)], axis=-1)
     return xp.concatenate(
         [z, pitch, joints, xp.clip(qvel, -10.0, 10.0), depth / 0.01,
          f.reshape(*f.shape[:-2], 4)], axis=-1,

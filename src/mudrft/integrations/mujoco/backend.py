@@ -115,9 +115,9 @@ class CompiledCoupling:
         t = cast(MudTerrain, batch.terrain)
         grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
         n = batch.n
-        self.grids = np.ascontiguousarray(np.broadcast_to(grid, (n, *grid.shape)))
-        self.cells = np.ascontiguousarray(np.broadcast_to(cells, (n, *cells.shape)))
-        self.rows = np.ascontiguousarray(np.broadcast_to(rows, (n, *rows.shape)))
+        self.grids = np.array(np.broadcast_to(grid, (n, *grid.shape)))  # copies: written
+        self.cells = np.array(np.broadcast_to(cells, (n, *cells.shape)))  # by use_field
+        self.rows = np.array(np.broadcast_to(rows, (n, *rows.shape)))
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))

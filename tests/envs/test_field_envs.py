@@ -1,0 +1,85 @@
+"""The mud walker on a field of mud drawn anew each episode, on rigid ground, and with
+proprioceptive observations (issue 42)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import mudrft
+
+pytest.importorskip("gymnasium")
+pytest.importorskip("mujoco")
+pytest.importorskip("numba")
+from gymnasium.utils.env_checker import check_env
+
+from mudrft._validation import MudrftError
+from mudrft.envs import MudWalkerEnv
+
+FIELD = mudrft.MudField(
+    {"firm": 0.25, "soft": 0.35}, ["firm soft firm soft"], cell_size=0.5, origin=(-0.25, -5.0)
+)
+DRAW = {"water_content": (0.15, 0.35), "layout": True}
+
+
+def test_each_episode_draws_its_field_from_the_seed():
+    env = MudWalkerEnv(field=FIELD, randomize=DRAW, observe="proprioceptive")
+    with warnings.catch_warnings():  # unbounded Box, as MuJoCo's own envs
+        warnings.simplefilter("ignore", UserWarning)
+        check_env(env, skip_render_check=True)
+    rows = []
+    for seed in (3, 3, 4):
+        obs, info = env.reset(seed=seed)
+        assert obs.shape == (17,)
+        rows.append(info["field"].arrays()[2])
+        assert env.coupling._compiled.rows[0].tolist() == rows[-1].tolist()  # what steps
+    assert np.array_equal(rows[0], rows[1]) and not np.array_equal(rows[0], rows[2])
+    for _ in range(20):
+        obs, _, terminated, _, info = env.step(np.zeros(6))
+        assert not terminated
+    assert np.all(info["sinking [m]"] > 0.0)  # standing in the drawn mud
+    env.close()
+
+
+def test_a_field_of_one_mud_walks_as_that_mud():
+    runs = []
+    for kw in ({"water_content": 0.25}, {"field": mudrft.MudField({"m": 0.25}, ["m"])}):
+        env = MudWalkerEnv(**kw)
+        env.reset(seed=0)
+        for _ in range(30):
+            obs, *_ = env.step(np.full(6, 0.2))
+        runs.append(obs)
+        env.close()
+    np.testing.assert_array_equal(runs[0], runs[1])
+
+
+def test_on_rigid_ground_the_walker_stands_on_the_floor():
+    env = MudWalkerEnv(ground="rigid")
+    assert env.coupling is None
+    obs, _ = env.reset(seed=0)
+    for _ in range(50):  # 1 s
+        obs, _, terminated, _, info = env.step(np.zeros(6))
+    assert not terminated
+    assert abs(obs[0]) < 0.005  # the torso within 5 mm of its start height
+    assert np.all(info["sinking [m]"] == 0.0) and np.all(obs[17:] == 0.0)
+    env.close()
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"observe": "all"}, "observe must be one of ['privileged', 'proprioceptive']"),
+        ({"ground": "ice"}, "ground must be one of ['mud', 'rigid']"),
+        ({"field": 3}, "field must be a MudField or the path of its TOML spec"),
+        ({"field": mudrft.MudField({"m": 0.3, "r": "rigid"}, ["m r"])}, "mud regions only"),
+        ({"randomize": {"wet": (0.2, 0.3)}}, "unexpected keyword argument 'wet'"),
+        ({"randomize": {"water_content": (0.1, 0.3)}}, "water_content must be (low, high) within"),
+        ({"ground": "rigid", "field": FIELD}, "ground='rigid' has no mud"),
+    ],
+)
+def test_a_wrong_field_option_is_refused(options, message):
+    with pytest.raises((MudrftError, TypeError)) as err:
+        MudWalkerEnv(**options)
+    assert message in str(err.value)
