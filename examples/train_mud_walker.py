@@ -1,74 +1,220 @@
 """
-Training PPO on the mud walker (Gymnasium)
-==========================================
+Training PPO on the mud walker across fields of mud
+===================================================
 
-Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps: the wiring.
+Train the mud walker (``mudrft/MudWalker-v0``, the project's planar biped) with
+Stable-Baselines3's PPO twice: once on fields of mud patches from W = 15 % to 35 %, drawn
+anew each episode, and once on rigid ground. Then compare the two policies on the same
+held-out fields (drawn from seeds no training episode used): success rate (1 m forward
+without falling in 10 s), forward speed, cost of transport, sinking and suction per step.
 
-``mudrft/MudWalker-v0`` is the project's planar biped in the paper's mud (W = 25 %, flat
-feet; :mod:`mudrft.envs.walker`). This script trains Stable-Baselines3's PPO on it for
-``--steps`` control steps (default 4096, about 80 s of simulated walking), then runs the
-policy for one deterministic episode of 200 steps and prints the return, the distance and
-the mean sinking. It shows that the environment plugs into a standard RL library; it does
-not train long enough to reach a gait.
+Both policies see only the robot's own state (``observe="proprioceptive"``), so they differ
+only in the ground they trained on. The script writes ``DIR/results.csv`` and
+``DIR/results.md`` (the comparison), ``DIR/curves.csv`` and ``DIR/curves.png`` (the
+held-out return against training steps) and ``DIR/run.json`` (the command, wall time,
+machine and versions); it refuses an existing ``DIR`` file without ``--force``.
 
 Run: ``pip install 'mudrft[rl-train]'`` (gymnasium, Stable-Baselines3, torch), then
-``python examples/train_mud_walker.py [--steps 4096] [--foot flat] [--water-content 0.25]``.
-About 30 s on 2 CPU cores (the first step compiles the numba coupling).
+``python examples/train_mud_walker.py --out DIR [--steps 300000]``. ``--steps 2048
+--eval-every 1024 --eval-episodes 1 --episode-steps 50`` is the smoke setting the tests run.
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
+import io
+import json
+import os
+import platform
 import sys
 import time
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+#: The training field: eight 0.5 m patches along the walk, each drawn at W = 15-35 % (and
+#: the layout shuffled) every episode; beyond the grid the nearest patch holds.
+PATCHES = {"a": 0.25, "b": 0.35}
+CELLS = ["a b a b a b a b"]
+DRAW = {"water_content": (0.15, 0.35), "layout": True}
+#: Held-out fields come from these seeds on; training draws from the episodes' own seeds.
+HELD_OUT_SEED = 10_000
+#: Success: this far forward [m] without falling within an evaluation episode.
+SUCCESS_DISTANCE = 1.0
+COLUMNS = (
+    "trained_on", "episodes", "success_rate", "forward_speed [m/s]", "cost_of_transport [-]",
+    "sinking_per_step [mm]", "suction_per_step [N]", "max_suction [N]", "return",
+)  # fmt: skip
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(
-        description="Train PPO (Stable-Baselines3) on the mud walker for a few thousand steps."
-    )
-    ap.add_argument("--steps", type=int, default=4096, help="control steps of training")
-    ap.add_argument("--foot", default="flat", help="flat, semi-cylinder or semi-sphere")
-    ap.add_argument("--water-content", type=float, default=0.25)
-    ap.add_argument("--seed", type=int, default=0)
-    args = ap.parse_args(argv)
 
+def make_env(ground: str, episode_steps: int) -> Any:
     import gymnasium
+
+    import mudrft
+    from mudrft.envs import MudWalkerEnv
+
+    if ground == "rigid":
+        env = MudWalkerEnv(ground="rigid", observe="proprioceptive")
+    else:
+        field = mudrft.MudField(PATCHES, CELLS, cell_size=0.5, origin=(-0.25, -5.0))
+        env = MudWalkerEnv(field=field, randomize=DRAW, observe="proprioceptive")
+    return gymnasium.wrappers.TimeLimit(env, max_episode_steps=episode_steps)
+
+
+def evaluate(model: Any, episodes: int, episode_steps: int) -> dict[str, float]:
+    """The policy, deterministic, on ``episodes`` held-out fields of mud."""
+    env = make_env("mud", episode_steps)
+    walker = env.unwrapped
+    lay, cfg = walker.layout, walker.config
+    period = cfg.dt * cfg.frame_skip
+    rows = []
+    for k in range(episodes):
+        obs, info = env.reset(seed=HELD_OUT_SEED + k)
+        x0, ret, work, sink, suction, n = info["x_position"], 0.0, 0.0, [], [], 0
+        fell = False
+        for n in range(1, episode_steps + 1):  # noqa: B007 (n: the steps walked)
+            action, _ = model.predict(obs, deterministic=True)
+            obs, reward, terminated, truncated, info = env.step(action)
+            d = walker.data
+            power = d.actuator_force * d.qvel[lay.joint_dadr]  # sampled once a control step
+            work += float(np.maximum(power, 0.0).sum()) * period
+            sink.append(1e3 * float(np.mean(info["sinking [m]"])))
+            suction.append(float(np.maximum(-info["mud_force [N]"][:, 2], 0.0).max()))
+            ret += float(reward)
+            if terminated or truncated:
+                fell = terminated
+                break
+        dist = info["x_position"] - x0
+        cot = work / (lay.weight * dist) if dist > 0.05 else float("nan")
+        rows.append((not fell and dist >= SUCCESS_DISTANCE, dist / (n * period), cot,
+                     np.mean(sink), np.mean(suction), np.max(suction), ret))  # fmt: skip
+    env.close()
+    a = np.array(rows, dtype=float)
+    with np.errstate(invalid="ignore"):
+        cot = float(np.nanmean(a[:, 2])) if np.isfinite(a[:, 2]).any() else float("nan")
+    return {
+        "episodes": episodes, "success_rate": a[:, 0].mean(), "forward_speed [m/s]": a[:, 1].mean(),
+        "cost_of_transport [-]": cot, "sinking_per_step [mm]": a[:, 3].mean(),
+        "suction_per_step [N]": a[:, 4].mean(), "max_suction [N]": a[:, 5].max(),
+        "return": a[:, 6].mean(),
+    }  # fmt: skip
+
+
+def train(
+    ground: str, args: argparse.Namespace
+) -> tuple[dict[str, float], list[tuple[int, float]]]:
+    """Train on ``ground`` (``"mud"`` or ``"rigid"``); the held-out results and the curve."""
     import torch
     from stable_baselines3 import PPO
 
-    import mudrft.envs  # noqa: F401  (registers mudrft/MudWalker-v0)
-
     torch.set_num_threads(1)  # small networks: threads cost more than they give
-    t0 = time.perf_counter()
-    env = gymnasium.make(
-        "mudrft/MudWalker-v0", foot=args.foot, water_content=args.water_content,
-        max_episode_steps=200,
-    )  # fmt: skip
+    env = make_env(ground, args.episode_steps)
     model = PPO(
-        "MlpPolicy", env, n_steps=1024, batch_size=128, n_epochs=5, learning_rate=3e-4,
-        policy_kwargs={"net_arch": [64, 64]}, seed=args.seed, verbose=0, device="cpu",
+        "MlpPolicy", env, n_steps=min(1024, args.eval_every), batch_size=128, n_epochs=5,
+        learning_rate=3e-4, policy_kwargs={"net_arch": [64, 64]}, seed=args.seed, verbose=0,
+        device="cpu",
     )  # fmt: skip
-    model.learn(total_timesteps=args.steps)
-    t_train = time.perf_counter() - t0
-
-    obs, info = env.reset(seed=args.seed + 1)
-    x0, ret, sink = info["x_position"], 0.0, []
-    for _ in range(200):
-        action, _ = model.predict(obs, deterministic=True)
-        obs, reward, terminated, truncated, info = env.step(action)
-        ret += float(reward)
-        sink.append(float(np.mean(info["sinking [m]"])))
-        if terminated or truncated:
-            break
-    print(
-        f"trained {args.steps} steps in {t_train:.1f} s; one episode: return {ret:.1f}, "
-        f"distance {info['x_position'] - x0:+.3f} m, mean sinking {1e3 * np.mean(sink):.1f} mm",
-        file=sys.stderr,
-    )
+    curve = []
+    while model.num_timesteps < args.steps:
+        model.learn(args.eval_every, reset_num_timesteps=False)
+        held = evaluate(model, args.eval_episodes, args.episode_steps)
+        curve.append((int(model.num_timesteps), held["return"]))
+        print(f"{ground}: {model.num_timesteps} steps, held-out return {held['return']:.1f}",
+              file=sys.stderr)  # fmt: skip
     env.close()
+    return {"trained_on": ground, **held}, curve
+
+
+def _csv(rows: list[dict[str, Any]] | list[tuple[Any, ...]], header: tuple[str, ...]) -> str:
+    out = io.StringIO()
+    w = csv.writer(out, lineterminator="\n")
+    w.writerow(header)
+    for r in rows:
+        w.writerow([r[c] for c in header] if isinstance(r, dict) else r)
+    return out.getvalue()
+
+
+def _table(results: list[dict[str, Any]]) -> str:
+    def cell(v: Any) -> str:
+        return f"{v:.3g}" if isinstance(v, float) else str(v)
+
+    lines = ["| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
+    lines += ["| " + " | ".join(cell(r[c]) for c in COLUMNS) + " |" for r in results]
+    return "\n".join(lines) + "\n"
+
+
+def _curves(curves: dict[str, list[tuple[int, float]]]) -> bytes:
+    """The held-out return against training steps, as PNG bytes."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.0, 3.2))
+    for ground, c in curves.items():
+        a = np.array(c, dtype=float)
+        ax.plot(a[:, 0], a[:, 1], marker="o", label=f"trained on {ground}")
+    ax.set_xlabel("training steps (control steps)")
+    ax.set_ylabel("return on held-out mud fields")
+    ax.legend()
+    fig.tight_layout()
+    png = io.BytesIO()
+    fig.savefig(png, format="png", dpi=120)
+    plt.close(fig)
+    return png.getvalue()
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument("--out", required=True, help="output directory DIR")
+    ap.add_argument("--steps", type=int, default=300_000, help="control steps of training, each")
+    ap.add_argument("--eval-every", type=int, default=25_000, help="control steps between evaluations")  # fmt: skip
+    ap.add_argument("--eval-episodes", type=int, default=10, help="held-out fields per evaluation")
+    ap.add_argument("--episode-steps", type=int, default=500, help="control steps of an episode (50 a second)")  # fmt: skip
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--force", action="store_true", help="replace existing results in DIR")
+    args = ap.parse_args(argv)
+    for name in ("steps", "eval_every", "eval_episodes", "episode_steps"):
+        if getattr(args, name) < 1:
+            ap.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
+    out = Path(args.out)
+    names = ("results.csv", "results.md", "curves.csv", "curves.png", "run.json")
+    taken = [n for n in names if (out / n).exists()]
+    if taken and not args.force:
+        ap.error(f"{out}: {', '.join(taken)} exist; pass --force to replace them")
+
+    import matplotlib  # before training: every output is made before any is written
+    import stable_baselines3
+    import torch
+
+    import mudrft
+    from mudrft.io.atomic import atomic_write
+
+    matplotlib.use("Agg")
+    t0 = time.perf_counter()
+    results, curves = [], {}
+    for ground in ("mud", "rigid"):
+        r, curves[ground] = train(ground, args)
+        results.append(r)
+    wall = time.perf_counter() - t0
+    png = _curves(curves)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = [(g, s, v) for g, c in curves.items() for s, v in c]
+    run = {
+        "command": "python examples/train_mud_walker.py " + " ".join(sys.argv[1:] if argv is None else argv),
+        "wall_time [s]": round(wall, 1), "machine": f"{platform.processor() or platform.machine()}, "
+        f"{os.cpu_count()} CPUs, {platform.system()}", "python": platform.python_version(),
+        "mudrft": mudrft.__version__, "stable_baselines3": stable_baselines3.__version__,
+        "torch": torch.__version__,
+    }  # fmt: skip
+    force = "--force"
+    atomic_write(out / "results.csv", _csv(results, COLUMNS), overwrite=args.force, option=force)
+    atomic_write(out / "results.md", _table(results), overwrite=args.force, option=force)
+    atomic_write(out / "curves.csv", _csv(rows, ("trained_on", "steps", "held_out_return")),
+                 overwrite=args.force, option=force)  # fmt: skip
+    atomic_write(out / "curves.png", png, overwrite=args.force, option=force)
+    atomic_write(out / "run.json", json.dumps(run, indent=2) + "\n", overwrite=args.force, option=force)  # fmt: skip
+    print(_table(results), end="")
+    print(f"{wall:.0f} s; results in {out}", file=sys.stderr)
     return 0
 
 

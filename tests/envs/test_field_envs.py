@@ -83,3 +83,23 @@ def test_a_wrong_field_option_is_refused(options, message):
     with pytest.raises((MudrftError, TypeError)) as err:
         MudWalkerEnv(**options)
     assert message in str(err.value)
+
+
+def test_a_curriculum_orders_fields_and_gives_them_at_reset():
+    from mudrft.envs.curriculum import by_difficulty, difficulty
+
+    fields = [FIELD.randomized(seed, water_content=(0.25, 0.45)) for seed in range(4)]
+    ordered = by_difficulty(fields)
+    hard = [difficulty(f) for f in ordered]
+    assert hard == sorted(hard) and hard[0] < hard[-1]
+    wet = mudrft.MudField({"firm": 0.45, "soft": 0.45}, [["firm"] * 4], cell_size=0.5)
+    assert difficulty(wet) > difficulty(FIELD)  # wetter mud sinks deeper
+    env = MudWalkerEnv(field=FIELD)
+    for f in ordered:
+        _, info = env.reset(seed=0, options={"field": f})
+        assert info["field"] is f
+        assert env.coupling._compiled.rows[0].tolist() == f.arrays()[2].tolist()
+    with pytest.raises(MudrftError, match="options: reset takes none"):
+        env.reset(options={"field": FIELD, "speed": 1})
+    with pytest.raises(MudrftError, match="needs an environment made with field= or randomize="):
+        MudWalkerEnv().reset(options={"field": FIELD})

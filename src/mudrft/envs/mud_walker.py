@@ -96,8 +96,16 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
-        """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities
-        (and draw the field anew with ``randomize``, from ``seed``)."""
+        """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities;
+        the field is ``options={"field": f}`` (a curriculum's next, of the shape of the
+        environment's), else drawn anew with ``randomize`` from ``seed``."""
+        given = None
+        if isinstance(options, dict) and set(options) == {"field"}:  # a curriculum's next field
+            given, options = options["field"], None
+            if self.field is None:
+                raise MudrftError(
+                    "options={'field': ...} needs an environment made with field= or randomize="
+                )
         seed = check_reset(seed, options)
         if self._phase == "closed":
             raise MudrftError(NOT_RUNNING["closed"])
@@ -111,9 +119,10 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         d.ctrl[:] = lay.ctrl0
         mj.mj_forward(lay.model, d)
         cfg = self.config
-        if cfg.randomize is not None and self.coupling is not None:
-            self.field = cfg.mud_field.randomized(self.np_random, **cfg.randomize)
-            self.coupling.use_field(self.field)
+        if self.coupling is not None and (given is not None or cfg.randomize is not None):
+            field = given or cfg.mud_field.randomized(self.np_random, **cfg.randomize)
+            self.coupling.use_field(field)
+            self.field = field
         if self.coupling is not None:
             self.coupling.reset(d)
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))

@@ -1,0 +1,45 @@
+"""The training example (examples/train_mud_walker.py) in its smoke setting: PPO on fields
+of mud and on rigid ground, compared on held-out fields (issue 42)."""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("stable_baselines3")
+pytest.importorskip("mujoco")
+pytest.importorskip("numba")
+
+EXAMPLE = Path(__file__).parents[2] / "examples" / "train_mud_walker.py"
+SMOKE = ["--steps", "256", "--eval-every", "128", "--eval-episodes", "1", "--episode-steps", "20"]
+
+
+def _example():
+    spec = importlib.util.spec_from_file_location("train_mud_walker", EXAMPLE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # torch's and SB3's own
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_the_smoke_setting_trains_both_policies_and_compares_them(tmp_path, capsys):
+    ex = _example()
+    assert ex.main(["--out", str(tmp_path), *SMOKE]) == 0
+    rows = list(csv.DictReader((tmp_path / "results.csv").open()))
+    assert [r["trained_on"] for r in rows] == ["mud", "rigid"]
+    for r in rows:
+        assert 0.0 <= float(r["success_rate"]) <= 1.0
+        assert float(r["sinking_per_step [mm]"]) > 0.0  # evaluated in the mud, both of them
+    curve = list(csv.DictReader((tmp_path / "curves.csv").open()))
+    assert [int(c["steps"]) for c in curve] == [128, 256] * 2  # one PPO rollout an evaluation
+    run = json.loads((tmp_path / "run.json").read_text())
+    assert run["wall_time [s]"] > 0 and "CPUs" in run["machine"]
+    assert (tmp_path / "curves.png").stat().st_size > 1000
+    assert "| mud |" in capsys.readouterr().out
+    with pytest.raises(SystemExit):  # no overwrite without --force
+        ex.main(["--out", str(tmp_path), *SMOKE])
