@@ -122,3 +122,20 @@ def test_a_wrong_toml_spec_is_refused_naming_the_file(tmp_path):
     spec.write_text("cells = [")
     with pytest.raises(MudrftError, match="cannot be read as a field spec"):
         MudField.from_toml(spec)
+
+
+@settings(max_examples=30)
+@given(st.lists(st.tuples(st.floats(-1.0, 1.0), st.floats(-0.6, 0.8)), min_size=1, max_size=20))
+def test_the_array_blend_is_the_kernels_to_round_off(points):
+    """field_blend (numpy, JAX) accumulates by region, field_row (the compiled kernel) by
+    cell: the same sums in another order, so equal to a few ulps; one mud, to the bit."""
+    from mudrft.terrains.field import field_blend
+
+    xy = np.array(points)
+    share, const = field_blend(xy[:, 0], xy[:, 1], *FIELD.arrays())
+    for (x, y), s, c in zip(xy, share, const, strict=True):
+        s1, c1 = FIELD.blend(x, y)
+        assert s == pytest.approx(s1, abs=1e-15)
+        np.testing.assert_allclose(c, c1, rtol=1e-14)
+        if s1 == 1.0 and any(np.array_equal(c1, r[:-1]) for r in FIELD.arrays()[2]):
+            assert np.array_equal(c, c1)

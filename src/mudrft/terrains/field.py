@@ -22,23 +22,35 @@ from typing import Any
 
 import numpy as np
 
-from .._typing import FloatArray, IndexArray
+from .._typing import FloatArray, IndexArray, Namespace, XpArray
 from .._validation import MudrftError, plain, positive_number
+from .._xp import pyfloat
 from ..parameters.base import Mud
 from .mud import MudTerrain
 from .rows import N_CONST, constant_row
 
-__all__ = ["RIGID", "MudField", "field_row", "same_options", "uniform"]
+__all__ = [
+    "RIGID",
+    "MudField",
+    "cell_overlap",
+    "field_blend",
+    "field_row",
+    "same_options",
+    "uniform",
+]
 
 #: The region value of rigid ground.
 RIGID = "rigid"
 
 
-def _overlap(t: float, t0: float, h: float, half: float, i: int) -> float:
-    """Share [-] of ``[t - half, t + half]`` in cell ``i`` of cells of width ``h`` from ``t0``."""
-    lo = max(t0 + i * h, t - half)
-    hi = min(t0 + (i + 1) * h, t + half)
-    return max(hi - lo, 0.0) / (2.0 * half)
+def cell_overlap(
+    t: XpArray, t0: float, h: float, half: float, i: XpArray, xp: Namespace
+) -> XpArray:
+    """Share [-] of ``[t - half, t + half]`` in cell ``i`` of cells of width ``h`` from
+    ``t0`` [m], element-wise."""
+    lo = xp.maximum(t0 + i * h, t - half)
+    hi = xp.minimum(t0 + (i + 1) * h, t + half)
+    return xp.maximum(hi - lo, 0.0) / (2.0 * half)
 
 
 def field_row(
@@ -60,9 +72,9 @@ def field_row(
         out[q] = 0.0
     wm, wr, first, mixed = 0.0, 0.0, -1, False  # mud and rigid weights
     for a in range(2):
-        wy = _overlap(y, y0, hy, half, iy + a)
+        wy = cell_overlap(y, y0, hy, half, iy + a, pyfloat)
         for c in range(2):
-            w = wy * _overlap(x, x0, hx, half, ix + c)
+            w = wy * cell_overlap(x, x0, hx, half, ix + c, pyfloat)
             r = cells[min(max(iy + a, 0), ny - 1), min(max(ix + c, 0), nx - 1)]
             if w <= 0.0:
                 continue
@@ -282,6 +294,34 @@ class MudField:
         """The mud's share [-] and the constants (N_CONST,) a tip at ``(x, y)`` [m] feels."""
         out = np.zeros(N_CONST)
         return field_row(float(x), float(y), *self.arrays(), out), out
+
+
+def field_blend(
+    x: XpArray, y: XpArray, grid: XpArray, cells: XpArray, rows: XpArray, xp: Namespace = np
+) -> tuple[XpArray, XpArray]:
+    """:func:`field_row` on arrays (numpy or JAX): tips at ``x``, ``y`` (...) [m] give the
+    mud's share (...) [-] and the constants (..., N_CONST)."""
+    x0, y0, hx, hy, half = grid[0], grid[1], grid[2], grid[3], 0.5 * grid[4]
+    ny, nx = cells.shape
+    ix = xp.floor((x - half - x0) / hx)
+    iy = xp.floor((y - half - y0) / hy)
+    regions = xp.arange(rows.shape[0])
+    weight = 0.0
+    for a in range(2):
+        wy = cell_overlap(y, y0, hy, half, iy + a, xp)
+        j = xp.clip(iy + a, 0, ny - 1).astype(int)
+        for c in range(2):
+            w = wy * cell_overlap(x, x0, hx, half, ix + c, xp)
+            r = cells[j, xp.clip(ix + c, 0, nx - 1).astype(int)]
+            weight = weight + w[..., None] * (r[..., None] == regions)  # (..., R)
+    mud = rows[:, N_CONST]
+    wm_r = weight * mud
+    wm, wr = xp.sum(wm_r, axis=-1), xp.sum(weight * (1.0 - mud), axis=-1)
+    share = xp.where(wr == 0.0, 1.0, wm / xp.where(wr == 0.0, 1.0, wm + wr))
+    blended = (wm_r @ rows[:, :N_CONST]) / xp.where(wm > 0.0, wm, 1.0)[..., None]
+    one = rows[xp.argmax(wm_r, axis=-1), :N_CONST]  # one mud (or none: the first row)
+    single = xp.sum(wm_r > 0.0, axis=-1) <= 1
+    return share, xp.where(single[..., None], one, blended)
 
 
 def same_options(a: MudTerrain, b: object) -> bool:

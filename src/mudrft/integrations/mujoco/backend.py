@@ -115,9 +115,10 @@ class CompiledCoupling:
         t = cast(MudTerrain, batch.terrain)
         grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
         n = batch.n
-        self.grids = np.array(np.broadcast_to(grid, (n, *grid.shape)))  # copies: written
-        self.cells = np.array(np.broadcast_to(cells, (n, *cells.shape)))  # by use_field
-        self.rows = np.array(np.broadcast_to(rows, (n, *rows.shape)))
+        # one copy a robot, C-contiguous and written in place by use_field
+        self.grids, self.cells, self.rows = (
+            np.repeat(a[None], n, axis=0) for a in (grid, cells, rows)
+        )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))
