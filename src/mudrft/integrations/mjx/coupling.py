@@ -26,6 +26,7 @@ from ...citations import register
 from ...feet.mesh import MeshFoot
 from ...feet.surface import prepare_triangles
 from ...terrains import as_terrain
+from ...terrains.field import MudField, same_options
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
 from ..mujoco.options import check_attach_options, check_count, check_data, check_removed
@@ -49,6 +50,8 @@ if TYPE_CHECKING:
 
 #: The mud's (horizontal, vertical) channel constants: floats, or traced arrays.
 Constants: TypeAlias = "tuple[ChannelConstants, ChannelConstants]"
+#: A field's ``(grid, cells, rows)`` (:meth:`MjxCoupling.field_arrays`).
+FieldArrays: TypeAlias = "tuple[Array, Array, Array]"
 
 __all__ = ["MjxCoupling", "attach"]
 
@@ -75,8 +78,10 @@ class MjxCoupling:
         The model (the coupling also holds its MJX copy, :attr:`mjx_model`).
     bodies : sequence of str
         Names of the bodies that touch the mud.
-    mud : Mud or MudTerrain
-        The mud (:func:`mudrft.paper_mud`) or a configured :class:`mudrft.MudTerrain`.
+    mud : Mud, MudTerrain or MudField
+        The mud (:func:`mudrft.paper_mud`), a configured :class:`mudrft.MudTerrain`, or a
+        field of patches (:class:`mudrft.MudField`; each robot of a batch may step on its own
+        draw, :meth:`field_arrays`).
     feet, surface, bottom, bottom_stiffness, bottom_damping, resolution, foot_geoms :
         keyword-only, as :class:`mudrft.integrations.mujoco.MudBatch`.
 
@@ -95,7 +100,7 @@ class MjxCoupling:
         self,
         model: mujoco.MjModel,
         bodies: Sequence[str] | str,
-        mud: Mud | MudTerrain,
+        mud: Mud | MudTerrain | MudField,
         *,
         feet: Foot | Sequence[Foot | None] | None = None,
         surface: float = 0.0,
@@ -114,7 +119,8 @@ class MjxCoupling:
             bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         names, feet_list = opts.bodies, opts.feet
-        terrain = as_terrain(mud)
+        self.field = mud if isinstance(mud, MudField) else None
+        terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         if not isinstance(terrain, MudTerrain):
             raise MudrftError(
                 f"the MJX coupling needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}"
@@ -176,6 +182,27 @@ class MjxCoupling:
         horizontal, vertical = (type(c)(*(float(v) for v in c)) for c in self.terrain.constants)
         return horizontal, vertical
 
+    def field_arrays(self, field: MudField | None = None) -> FieldArrays:
+        """``field`` (default: the attached one) as the JAX arrays ``(grid, cells, rows)``
+        that :meth:`step` takes; a field of the attached field's shape, so that a compiled
+        step serves it (stack them for a batch)."""
+        if self.field is None:
+            raise MudrftError("field_arrays needs a coupling attached to a MudField")
+        f = self.field if field is None else field
+        if not isinstance(f, MudField):
+            raise MudrftError(f"field must be a MudField, got {type(f).__name__}")
+        if not same_options(f.terrain, self.terrain):
+            raise MudrftError("field's MudTerrain options differ from the attached field's")
+        grid, cells, rows = f.arrays()
+        _, cells0, rows0 = self.field.arrays()
+        if cells.shape != cells0.shape or rows.shape != rows0.shape:
+            raise MudrftError(
+                f"field must have the attached field's shape: {cells0.shape} cells and "
+                f"{rows0.shape[0]} regions, got {cells.shape} cells and {rows.shape[0]} regions"
+            )
+        xp = _xp()
+        return xp.asarray(grid), xp.asarray(cells), xp.asarray(rows)
+
     def put_data(self, data: mujoco.MjData | None = None) -> mujoco.mjx.Data:
         """An ``mjx.Data`` of ``data`` (default: a fresh ``MjData`` of the model)."""
         mj = _mujoco()
@@ -202,12 +229,15 @@ class MjxCoupling:
         constants: Constants | None = None,
         *,
         model: mujoco.mjx.Model | None = None,
+        field: FieldArrays | None = None,
     ) -> tuple[Array, MjxMudState, MjxContact]:
         """``(xfrc_applied, state, contact)`` for ``d`` after ``fwd_position`` and
         ``fwd_velocity`` (see :func:`.physics.mud_wrench`)."""
         mx = self.mjx_model if model is None else model
         consts = self.constants if constants is None else constants
-        return mud_wrench(self.static, consts, mx, d, state)
+        if field is None and self.field is not None:
+            field = self.field_arrays()
+        return mud_wrench(self.static, consts, mx, d, state, field)
 
     def step(
         self,
@@ -216,6 +246,7 @@ class MjxCoupling:
         constants: Constants | None = None,
         *,
         model: mujoco.mjx.Model | None = None,
+        field: FieldArrays | None = None,
     ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
         """One physics step with the mud (jittable, vmappable, differentiable).
 
@@ -230,6 +261,9 @@ class MjxCoupling:
             (``mudrft.backends.jax.mud_constants``) to differentiate by the mud's parameters.
         model : mjx.Model or None
             Default :attr:`mjx_model`.
+        field : (grid, cells, rows) or None
+            The field under this robot (:meth:`field_arrays`; traced, so one compilation
+            serves every field of the shape); default the attached field, if any.
 
         Returns
         -------
@@ -251,7 +285,7 @@ class MjxCoupling:
         d = mjx.sensor_pos(mx, d)
         d = mjx.fwd_velocity(mx, d)
         d = mjx.sensor_vel(mx, d)
-        xfrc, state, out = self.wrench(d, state, constants, model=mx)
+        xfrc, state, out = self.wrench(d, state, constants, model=mx, field=field)
         d = d.replace(xfrc_applied=xfrc)
         d = _finish(mjx, mx, d)
         return _cast(d, d0), state, out
@@ -264,10 +298,11 @@ class MjxCoupling:
         *,
         ctrl: ArrayLike | None = None,
         constants: Constants | None = None,
+        field: FieldArrays | None = None,
     ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
         """``n`` steps under :func:`jax.lax.scan`, jit-compiled once per shape.
 
-        ``d``, ``state``, ``constants`` as :meth:`step`; ``ctrl`` (n, nu): the controls of each
+        ``d``, ``state``, ``constants``, ``field`` as :meth:`step`; ``ctrl`` (n, nu): the controls of each
         step (None keeps ``d.ctrl``). Returns the data and state after the last step and the
         contacts, each with a leading axis of ``n``.
         """
@@ -278,7 +313,7 @@ class MjxCoupling:
                 raise MudrftError(
                     f"ctrl must have shape (n, nu) = ({n}, {self.model.nu}), got {shape}"
                 )
-        return self._rollout_jit(d, state, n, ctrl, constants)
+        return self._rollout_jit(d, state, n, ctrl, constants, field)
 
     @functools.cached_property
     def _rollout_jit(self) -> jax.stages.Wrapped:
@@ -290,6 +325,7 @@ class MjxCoupling:
             n: int,
             ctrl: Array | None,
             constants: Constants | None,
+            field: FieldArrays | None,
         ) -> tuple[mujoco.mjx.Data, MjxMudState, MjxContact]:
             def body(
                 carry: tuple[mujoco.mjx.Data, MjxMudState], u: Array | None
@@ -297,7 +333,7 @@ class MjxCoupling:
                 dd, st = carry
                 if u is not None:
                     dd = dd.replace(ctrl=u)
-                dd, st, out = self.step(dd, st, constants)
+                dd, st, out = self.step(dd, st, constants, field=field)
                 return (dd, st), out
 
             (d, state), out = jax.lax.scan(body, (d, state), ctrl, length=n)
@@ -340,7 +376,10 @@ def _finish(mjx: ModuleType, mx: mujoco.mjx.Model, d: mujoco.mjx.Data) -> mujoco
 
 
 def attach(
-    model: mujoco.MjModel, bodies: Sequence[str] | str, mud: Mud | MudTerrain, **kw: Any
+    model: mujoco.MjModel,
+    bodies: Sequence[str] | str,
+    mud: Mud | MudTerrain | MudField,
+    **kw: Any,
 ) -> MjxCoupling:
     """Attach mud to named bodies of a MuJoCo model for MJX; see :class:`MjxCoupling`."""
     return MjxCoupling(model, bodies, mud, **kw)

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ...feet.surface import PreparedTriangles
+from ...terrains.field import field_blend
 from ...terrains.mud import MudChannels, initial_channels, mud_step
 from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
 from ..mujoco.kinematics import com_twist
@@ -222,16 +223,24 @@ def mud_wrench(
     mx: mjx.Model,
     d: mjx.Data,
     st: MjxMudState,
+    field: tuple[XpArray, XpArray, XpArray] | None = None,
 ) -> tuple[jax.Array, MjxMudState, MjxContact]:
     """``(xfrc_applied, state, contact)``: the mud's wrench on every foot body [N, N m]
     for robot ``d`` (after ``fwd_position`` and ``fwd_velocity``) from state ``st``, with the
-    feet's placement ``cfg`` and the (horizontal, vertical) channel constants ``consts``.
+    feet's placement ``cfg`` and the (horizontal, vertical) channel constants ``consts``,
+    or, where ``field`` (``MudField.arrays()``) is given, the field's under each tip
+    (:func:`~mudrft.terrains.field.field_blend`: constants, and the mud's share of the force).
     """
     xp = _xp()
     dt = mx.opt.timestep
     k = _frames(cfg, d)
     geo, ratio = _posed(cfg, k)
     cs, tw, com, tip = k["cs"], k["tw"], k["C"], k["tip"]
+    share = None
+    if field is not None:  # per foot: the mud under its tip
+        share, c = field_blend(tip[..., 0], tip[..., 1], *field, xp=xp)
+        h, v = consts
+        consts = (type(h)(*(c[..., i] for i in range(12))), type(v)(*(c[..., 12 + i] for i in range(12))))  # fmt: skip
     _rel, b, vel = channel_motion(cs, geo.point, com, tw, cfg.surface, xp=xp)
     fxy = foot_odometry(cs, tip[..., :2], st.mud.in_mud > 0.5, st.world_xy, st.foot_xy, xp=xp)
     pos = xp.concatenate([fxy, geo.low[..., 2:]], axis=-1)
@@ -240,12 +249,15 @@ def mud_wrench(
     mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
     for g in cfg.groups:
         idx = g.idx
+        cg = consts if field is None else _jax().tree_util.tree_map(lambda a, i=idx: a[i], consts)
         new, fg, jg, sg = _force_and_derivative(
-            cfg, g, consts, _take(st.mud, idx), pos[idx], vel[idx],
+            cfg, g, cg, _take(st.mud, idx), pos[idx], vel[idx],
             step[idx], dt,
         )  # fmt: skip
         mud = _jax().tree_util.tree_map(lambda a, v, i=idx: a.at[i].set(v), mud, new)
         f_up, jd, stress = f_up.at[idx].set(fg), jd.at[idx].set(jg), stress.at[idx].set(sg)
+    if share is not None:  # rigid ground carries the rest (MuJoCo's contact)
+        f_up, jd = f_up * share[..., None], jd * share[..., None]
     W = _mobility(cfg, mx, d, com)
     g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
     # the other forces' twist acceleration, from the last step's twists (D62)
