@@ -9,7 +9,10 @@ step of one robot. Measured in one run:
   ``backend="numba"`` where numba is installed) over N ``MjData``;
 * ``mjx_mud``: :class:`mudrft.integrations.mjx.MjxCoupling`, ``jit(vmap(scan(step)))``
   over N robots, ``steps`` physics steps per call;
-* ``mjx_no_mud``: the same program with ``mjx.step`` alone (MJX's own figure).
+* ``mjx_no_mud``: the same program with ``mjx.step`` alone (MJX's own figure);
+* ``mjx_field`` (:func:`bench_fields`): MJX with mud, each robot on its own draw of a field
+  of 0.5 m patches along the walk (W = 15-35 %, layout shuffled), the fields traced
+  arguments: a second set of draws reuses the compilation.
 
 MJX runs in float32 (MJX's default; the harness switches JAX's 64-bit mode off for it) on
 ``jax.devices()[0]`` (a CPU where the machine has no GPU). Compile times are reported
@@ -23,7 +26,7 @@ from typing import Any
 
 from ._timing import Progress, have, say
 
-__all__ = ["ROBOT_COUNTS", "bench_robots"]
+__all__ = ["ROBOT_COUNTS", "bench_fields", "bench_robots"]
 
 ROBOT_COUNTS = (1, 64, 1024)
 
@@ -65,17 +68,32 @@ def _cpu(lay: Any, n: int, seconds: float) -> dict[str, float]:
     return {"robot_steps_per_s": n * steps / dt, "backend": batch.backend}
 
 
-def _mjx(lay: Any, n: int, steps: int, repeat: int, mud: bool) -> dict[str, float]:
+#: The field of :func:`bench_fields`: patches along the walk, drawn per robot.
+FIELD_CELLS = ["a b a b a b a b"]
+FIELD_DRAW = {"water_content": (0.15, 0.35), "layout": True}
+
+
+def _field() -> Any:
+    import mudrft
+
+    return mudrft.MudField({"a": 0.25, "b": 0.35}, FIELD_CELLS, cell_size=0.5, origin=(-0.25, -5.0))  # fmt: skip
+
+
+def _mjx(
+    lay: Any, n: int, steps: int, repeat: int, mud: bool, field: bool = False
+) -> dict[str, Any]:
     import jax
     import jax.numpy as jnp
     import mujoco
+    import numpy as np
 
     import mudrft
     from mudrft.integrations import mjx as mm
     from mudrft.integrations.mjx._lazy import _mjx as load_mjx
 
     mjx = load_mjx()
-    cpl = mm.attach(lay.model, list(lay.bodies), mudrft.paper_mud(0.25), bottom=0.15)
+    ground = _field() if field else mudrft.paper_mud(0.25)
+    cpl = mm.attach(lay.model, list(lay.bodies), ground, bottom=0.15)
     d = mujoco.MjData(lay.model)
     d.qpos[:] = lay.qpos0
     d.ctrl[:] = lay.ctrl0
@@ -85,11 +103,15 @@ def _mjx(lay: Any, n: int, steps: int, repeat: int, mud: bool) -> dict[str, floa
     batch = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (n, *a.shape)), (d0, st0))
     mx = cpl.mjx_model
 
-    def run(carry: Any) -> Any:
+    def draws(first: int) -> Any:  # a field per robot, stacked
+        arrays = [cpl.field_arrays(_field().randomized(first + i, **FIELD_DRAW)) for i in range(n)]  # fmt: skip
+        return tuple(np.stack(a) for a in zip(*arrays, strict=True))
+
+    def run(carry: Any, fields: Any = None) -> Any:
         def body(c: Any, _: Any) -> Any:
             dd, st = c
             if mud:
-                dd, st, _o = cpl.step(dd, st)
+                dd, st, _o = cpl.step(dd, st, field=fields)
             else:
                 dd = jax.tree_util.tree_map(
                     lambda new, old: new.astype(old.dtype), mjx.step(mx, dd), dd
@@ -99,20 +121,22 @@ def _mjx(lay: Any, n: int, steps: int, repeat: int, mud: bool) -> dict[str, floa
         return jax.lax.scan(body, carry, None, length=steps)[0]
 
     fn = jax.jit(jax.vmap(run))
+    args = (draws(0),) if field else ()
     t0 = time.perf_counter()
-    carry = jax.block_until_ready(fn(batch))
+    carry = jax.block_until_ready(fn(batch, *args))
     compile_s = time.perf_counter() - t0
     times = []
-    for _ in range(repeat):
+    for k in range(repeat):
+        if field:  # new draws each call: the same compiled program
+            args = (draws(n * (k + 1)),)
         t0 = time.perf_counter()
-        carry = jax.block_until_ready(fn(carry))
+        carry = jax.block_until_ready(fn(carry, *args))
         times.append(time.perf_counter() - t0)
     finite = bool(jnp.all(jnp.isfinite(carry[0].qpos)))
-    return {
-        "robot_steps_per_s": n * steps / min(times),
-        "compile_s": compile_s,
-        "finite": finite,
-    }
+    out = {"robot_steps_per_s": n * steps / min(times), "compile_s": compile_s, "finite": finite}
+    if field:
+        out["compilations"] = int(fn._cache_size())  # 1: the draws reused the first
+    return out
 
 
 def bench_robots(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -146,4 +170,24 @@ def bench_robots(quick: bool, progress: Progress) -> dict[str, Any]:
             for n in ROBOT_COUNTS:
                 res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, mud)
                 say(progress, f"  robots, MJX {'with' if mud else 'without'} mud, N={n}: done")
+    return res
+
+
+def bench_fields(quick: bool, progress: Progress) -> dict[str, Any]:
+    """MJX with mud on one mud and on a field drawn per robot, at :data:`ROBOT_COUNTS`
+    robots (module docstring): ``mjx_mud`` and ``mjx_field``, ``{N: {...}}``."""
+    if not (have("mujoco") and have("jax") and have("mujoco.mjx")):
+        return {"note": "mujoco, jax or mujoco-mjx is not installed"}
+    import jax
+
+    lay = _layout()
+    res: dict[str, Any] = {"robot": "walker biped, flat feet, dt = 2 ms", "dtype": "float32"}
+    with jax.enable_x64(False):
+        res["device"] = str(jax.devices()[0])
+        steps = 50 if quick else 200
+        for key, field in (("mjx_mud", False), ("mjx_field", True)):
+            res[key] = {}
+            for n in ROBOT_COUNTS:
+                res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, True, field)
+                say(progress, f"  robots, MJX {key}, N={n}: {res[key][str(n)]}")
     return res

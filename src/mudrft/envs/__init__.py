@@ -3,6 +3,8 @@
 ``mudrft/MudWalker-v0`` is the planar biped walking in the paper's mud
 (:mod:`mudrft.envs.walker`): ``gymnasium.make`` gives :class:`MudWalkerEnv` (MuJoCo on the
 CPU), ``gymnasium.make_vec(..., num_envs=N)`` :class:`MudWalkerVectorEnv` (MJX, extra ``mjx``).
+``mudrft/MudGo1-v0`` is Menagerie's Unitree Go1 in mud (:mod:`mudrft.envs.go1`, extra
+``robots``). Both take a field of mud patches drawn anew each episode.
 
 >>> import gymnasium, mudrft.envs
 >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="flat", water_content=0.25)
@@ -15,16 +17,20 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ._gym import gymnasium
+from .go1 import MudGo1Env
 from .mud_walker import MudWalkerEnv
 from .with_mud import WithMud, with_mud
 
 if TYPE_CHECKING:  # imported by __getattr__ on first use (jax, MJX)
     from .vector import MudWalkerVectorEnv
 
-__all__ = ["ENV_IDS", "MudWalkerEnv", "MudWalkerVectorEnv", "WithMud", "register_envs", "with_mud"]
+__all__ = [
+    "ENV_IDS", "MudGo1Env", "MudWalkerEnv", "MudWalkerVectorEnv", "WithMud", "register_envs",
+    "with_mud",
+]  # fmt: skip
 
 #: The registered environment ids.
-ENV_IDS = ("mudrft/MudWalker-v0",)
+ENV_IDS = ("mudrft/MudWalker-v0", "mudrft/MudGo1-v0")
 
 
 def __getattr__(name: str) -> type[MudWalkerVectorEnv]:
@@ -44,6 +50,9 @@ def register_envs() -> None:
         entry_point="mudrft.envs.mud_walker:make_walker",
         vector_entry_point="mudrft.envs.vector:MudWalkerVectorEnv",
         max_episode_steps=1000,
+    )
+    gymnasium.register(
+        id="mudrft/MudGo1-v0", entry_point="mudrft.envs.go1:MudGo1Env", max_episode_steps=1000
     )
 
 

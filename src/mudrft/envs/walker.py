@@ -139,8 +139,8 @@ class WalkerConfig:
             object.__setattr__(self, "field", mudrft.MudField.from_toml(f))
         if self.field is not None and any(t is None for t in self.field.terrains):
             raise MudrftError(
-                "field: the walker has no MuJoCo contact in the mud (its bed is the coupling's), "
-                "so its field takes mud regions only, got rigid ground"
+                "field: the environments' bed lies under the mud (the walker's is the coupling's, "
+                "Go1's floor is lowered), so their field takes mud regions only, got rigid ground"
             )
         if self.randomize is not None:
             if not isinstance(self.randomize, Mapping):
