@@ -139,3 +139,26 @@ def test_the_array_blend_is_the_kernels_to_round_off(points):
         np.testing.assert_allclose(c, c1, rtol=1e-14)
         if s1 == 1.0 and any(np.array_equal(c1, r[:-1]) for r in FIELD.arrays()[2]):
             assert np.array_equal(c, c1)
+
+
+def test_polygons_are_rasterized_on_cell_centers():
+    pytest.importorskip("matplotlib")
+    tri = [(0.2, 0.2), (0.8, 0.2), (0.5, 0.8)]
+    f = MudField.from_polygons(
+        {"firm": 0.25, "pool": 0.45, "rock": "rigid"},
+        [("pool", tri), ("rock", [(0.9, 0.0), (1.0, 0.0), (1.0, 1.0), (0.9, 1.0)])],
+        outside="firm", bounds=(0.0, 0.0, 1.0, 1.0), cell_size=0.1,
+    )  # fmt: skip
+    assert f.cells.shape == (10, 10) and np.array_equal(f.grid, [0.0, 0.0, 0.1, 0.1, 0.1])
+    from matplotlib.path import Path
+
+    for j in range(10):
+        for i in range(10):
+            center = (0.1 * i + 0.05, 0.1 * j + 0.05)
+            want = "rock" if i == 9 else ("pool" if Path(tri).contains_point(center) else "firm")
+            assert f.names[f.cells[j, i]] == want
+    with pytest.raises(MudrftError, match=r"polygons\[0\] \('pool'\) must be three or more"):
+        MudField.from_polygons({"a": 0.3, "pool": 0.4}, [("pool", [(0, 0), (1, 1)])],
+                               outside="a", bounds=(0, 0, 1, 1), cell_size=0.5)  # fmt: skip
+    with pytest.raises(MudrftError, match="bounds must be"):
+        MudField.from_polygons({"a": 0.3}, [], outside="a", bounds=(0, 0, 0, 1), cell_size=0.5)

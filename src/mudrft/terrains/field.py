@@ -15,14 +15,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from typing import Any
 
 import numpy as np
 
-from .._typing import FloatArray, IndexArray, Namespace, XpArray
+from .._typing import ArrayLike, FloatArray, IndexArray, Namespace, XpArray
 from .._validation import MudrftError, plain, positive_number
 from .._xp import pyfloat
 from ..parameters.base import Mud
@@ -208,6 +208,43 @@ class MudField:
                 f"got keys {sorted(spec)}"
             )
         return cls(**spec)
+
+    @classmethod
+    def from_polygons(
+        cls,
+        regions: Mapping[str, object],
+        polygons: Sequence[tuple[str, ArrayLike]],
+        *,
+        outside: str,
+        bounds: tuple[float, float, float, float],
+        cell_size: float,
+        border: float | None = None,
+    ) -> MudField:
+        """A field from polygons, rasterized on cells of ``cell_size`` [m]: each cell takes
+        the region of the last polygon (``(name, vertices (k, 2) [m])``) that holds its
+        center, else ``outside``; ``bounds`` ``(x0, y0, x1, y1)`` [m]. A border thus follows
+        the cells, within ``cell_size`` of the polygon's edge; ``border`` defaults to
+        ``cell_size``. Needs matplotlib (extra ``plot``) for the point-in-polygon test.
+        """
+        try:
+            from matplotlib.path import Path
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("MudField.from_polygons needs matplotlib: pip install 'mudrft[plot]'") from exc  # fmt: skip
+        h = positive_number("cell_size", cell_size, unit="m")
+        x0, y0, x1, y1 = (float(v) for v in bounds)
+        if not (x1 > x0 and y1 > y0):
+            raise MudrftError(f"bounds must be (x0, y0, x1, y1) with x1 > x0 and y1 > y0 [m], got {bounds!r}")  # fmt: skip
+        nx, ny = max(round((x1 - x0) / h), 1), max(round((y1 - y0) / h), 1)
+        cx, cy = np.meshgrid(x0 + h * (np.arange(nx) + 0.5), y0 + h * (np.arange(ny) + 0.5))
+        centers = np.column_stack([cx.ravel(), cy.ravel()])
+        names = np.full(len(centers), outside, dtype=object)
+        for i, (name, vertices) in enumerate(polygons):
+            v = np.asarray(vertices, dtype=float)
+            if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3 or not np.all(np.isfinite(v)):
+                raise MudrftError(f"polygons[{i}] ({name!r}) must be three or more finite (x, y) vertices [m], got shape {v.shape}")  # fmt: skip
+            names[Path(v).contains_points(centers)] = name
+        cells = names.reshape(ny, nx).tolist()
+        return cls(regions, cells, h, (x0, y0), h if border is None else border)
 
     @property
     def terrain(self) -> MudTerrain:
