@@ -96,6 +96,8 @@ def test_a_toml_spec_gives_the_same_field(tmp_path):
         ({"regions": {"a": "rigid"}, "cells": ["a"]}, "at least one region must be mud"),
         ({"regions": {"a": "sand"}}, "region 'a' must be a water content"),
         ({"cells": ["a b", "a"]}, "rows of equal length"),
+        ({"cells": 3}, "cells must be a non-empty grid of rows"),
+        ({"cells": [1, 2]}, "cells must be a non-empty grid of rows"),
         ({"cells": ["a c"]}, "cells name regions ['c']"),
         ({"border": 0.5}, "border must be at most the cell size (0.4 m), got 0.5 m"),
         ({"border": 0.0}, "border must be > 0"),

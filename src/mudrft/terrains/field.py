@@ -170,7 +170,10 @@ class MudField:
                     f"region {n!r}: its MudTerrain options differ from the first mud's; the regions "
                     "of a field share them (evaluation, characteristic length, ...)"
                 )
-        rows = [r.split() if isinstance(r, str) else list(r) for r in self.cells]
+        try:
+            rows = [r.split() if isinstance(r, str) else list(r) for r in self.cells]
+        except TypeError:
+            rows = []
         if not rows or not rows[0] or any(len(r) != len(rows[0]) for r in rows):
             raise MudrftError(f"cells must be a non-empty grid of rows of equal length, got {self.cells!r}")  # fmt: skip
         index = {n: i for i, n in enumerate(names)}
