@@ -18,10 +18,11 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="50 steps a call, 2 repeats")
     ap.add_argument("--json", help="write the results to this file")
+    ap.add_argument("--robots", type=int, nargs="*", help="robot counts (default 1 64 1024)")
     args = ap.parse_args(argv)
     res = {
         "machine": machine_info(),
-        **bench_fields(args.quick, lambda m: print(m, file=sys.stderr)),
+        **bench_fields(args.quick, lambda m: print(m, file=sys.stderr), args.robots),
     }
     text = json.dumps(res, indent=2)
     if args.json:

@@ -173,9 +173,11 @@ def bench_robots(quick: bool, progress: Progress) -> dict[str, Any]:
     return res
 
 
-def bench_fields(quick: bool, progress: Progress) -> dict[str, Any]:
-    """MJX with mud on one mud and on a field drawn per robot, at :data:`ROBOT_COUNTS`
-    robots (module docstring): ``mjx_mud`` and ``mjx_field``, ``{N: {...}}``."""
+def bench_fields(quick: bool, progress: Progress, robots: Any = None) -> dict[str, Any]:
+    """MJX with mud on one mud and on a field drawn per robot, at ``robots`` (default
+    :data:`ROBOT_COUNTS`) robots (module docstring): ``mjx_mud`` and ``mjx_field``,
+    ``{N: {...}}``. (A run of several MJX programs in one process has stalled with no CPU
+    use; one count a process avoids that.)"""
     if not (have("mujoco") and have("jax") and have("mujoco.mjx")):
         return {"note": "mujoco, jax or mujoco-mjx is not installed"}
     import jax
@@ -187,7 +189,7 @@ def bench_fields(quick: bool, progress: Progress) -> dict[str, Any]:
         steps = 50 if quick else 200
         for key, field in (("mjx_mud", False), ("mjx_field", True)):
             res[key] = {}
-            for n in ROBOT_COUNTS:
+            for n in robots or ROBOT_COUNTS:
                 res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, True, field)
                 say(progress, f"  robots, MJX {key}, N={n}: {res[key][str(n)]}")
     return res
