@@ -479,7 +479,8 @@ def _kernel(
 
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
 #: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
-#: a state row and a morphing foot's state row (3); tw ... bl (42); M, E, spread, b, K (81).
+#: the foot's constants (N_CONST), a state row and a morphing foot's state row (3); tw ... bl
+#: (42); M, E, spread, b, K (81).
 WORK_FIXED = (57 + N_CONST + N_STATE) + 42 + 81
 
 
