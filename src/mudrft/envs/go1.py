@@ -56,7 +56,11 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         Half-range of the servo targets about ``home`` [rad].
     forward_reward_weight, ctrl_cost_weight, healthy_reward : float
         The reward's terms.
+    render_mode : None
+        The environment does not render.
 
+    Examples
+    --------
     >>> import gymnasium, mudrft.envs
     >>> env = gymnasium.make("mudrft/MudGo1-v0", water_content=0.3)  # doctest: +SKIP
     """
