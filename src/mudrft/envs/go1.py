@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
 from ._gym import gymnasium
-from .walker import NOT_RUNNING, check_action, check_reset
+from .walker import NOT_RUNNING, check_action, check_reset, next_field
 
 __all__ = ["MudGo1Env"]
 
@@ -124,9 +124,7 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand Go1 in its ``home`` pose with its feet at the surface; the field is
         ``options={"field": f}``, else drawn with ``randomize`` from ``seed``."""
-        given = None
-        if isinstance(options, dict) and set(options) == {"field"}:
-            given, options = options["field"], None
+        given, options = next_field(options)  # a curriculum's next field
         seed = check_reset(seed, options)
         if self._phase == "closed":
             raise MudrftError(NOT_RUNNING["closed"])

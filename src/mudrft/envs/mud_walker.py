@@ -20,6 +20,7 @@ from .walker import (
     check_reset,
     controls,
     healthy,
+    next_field,
     observation,
     reward,
     walker_config,
@@ -99,13 +100,11 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities;
         the field is ``options={"field": f}`` (a curriculum's next, of the shape of the
         environment's), else drawn anew with ``randomize`` from ``seed``."""
-        given = None
-        if isinstance(options, dict) and set(options) == {"field"}:  # a curriculum's next field
-            given, options = options["field"], None
-            if self.field is None:
-                raise MudrftError(
-                    "options={'field': ...} needs an environment made with field= or randomize="
-                )
+        given, options = next_field(options)  # a curriculum's next field
+        if given is not None and self.field is None:
+            raise MudrftError(
+                "options={'field': ...} needs an environment made with field= or randomize="
+            )
         seed = check_reset(seed, options)
         if self._phase == "closed":
             raise MudrftError(NOT_RUNNING["closed"])

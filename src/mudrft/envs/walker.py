@@ -234,6 +234,14 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     )  # fmt: skip
 
 
+def next_field(options: dict[str, Any] | None) -> tuple[Any, dict[str, Any] | None]:
+    """``reset(options={"field": f})``: a curriculum's next field ``f``, and the options
+    left for :func:`check_reset` (``(None, options)`` for anything else)."""
+    if isinstance(options, dict) and set(options) == {"field"}:
+        return options["field"], None
+    return None, options
+
+
 def check_reset(seed: object, options: object) -> int | None:
     """``reset``'s ``seed`` (None or an integer >= 0) as a Python int; no ``options`` (the
     mud and the foot are set when the environment is made)."""

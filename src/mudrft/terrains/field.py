@@ -366,8 +366,7 @@ def field_blend(
 
 def same_options(a: MudTerrain, b: object) -> bool:
     """Whether mud terrains ``a`` and ``b`` share their options (all but the mud)."""
-    names = ("characteristic_length", "acceleration", "reset_on_exit", "xi0", "heading_speed",
-             "thixotropy", "clock")  # fmt: skip
+    names = [f.name for f in dataclasses.fields(MudTerrain) if f.init and f.name not in ("mud", "name")]  # fmt: skip
     return isinstance(b, MudTerrain) and all(getattr(a, k) == getattr(b, k) for k in names)
 
 

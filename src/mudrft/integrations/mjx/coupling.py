@@ -173,6 +173,9 @@ class MjxCoupling:
         _check_integrator(model.opt.integrator)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
         self.mjx_model = _mjx().put_model(model)
+        self._field_arrays: FieldArrays | None = None
+        if self.field is not None:  # made once: an eager step would rebuild them every call
+            self._field_arrays = self.field_arrays()
         register("todorov2012mujoco")
 
     # -- data and constants -----------------------------------------------------------
@@ -188,6 +191,8 @@ class MjxCoupling:
         step serves it (stack them for a batch)."""
         if self.field is None:
             raise MudrftError("field_arrays needs a coupling attached to a MudField")
+        if field is None and self._field_arrays is not None:
+            return self._field_arrays
         f = self.field if field is None else field
         if not isinstance(f, MudField):
             raise MudrftError(f"field must be a MudField, got {type(f).__name__}")
