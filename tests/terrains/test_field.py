@@ -164,3 +164,40 @@ def test_polygons_are_rasterized_on_cell_centers():
                                outside="a", bounds=(0, 0, 1, 1), cell_size=0.5)  # fmt: skip
     with pytest.raises(MudrftError, match="bounds must be"):
         MudField.from_polygons({"a": 0.3}, [], outside="a", bounds=(0, 0, 0, 1), cell_size=0.5)
+
+
+UNEVEN = MudField(
+    {"a": 0.25}, ["a a", "a a"], cell_size=0.2, origin=(-0.1, 0.3),
+    heights=np.random.default_rng(5).normal(0.0, 0.02, (4, 6)),
+)  # fmt: skip
+
+
+@settings(max_examples=50, deadline=None)
+@given(x=st.floats(-0.3, 0.5), y=st.floats(0.1, 0.9), dx=st.floats(-1.0, 1.0), dy=st.floats(-1.0, 1.0))  # fmt: skip
+def test_an_uneven_surface_is_continuous_and_its_slope_is_the_heights_derivative(x, y, dx, dy):
+    """The surface (triangles between the 6 x 4 samples, the edge's height outside) has no
+    jump anywhere: a step of 1 um changes the height by at most the steepest slope times
+    it; and the slope it reports is the central difference of the height where both
+    points lie on one plane (the same normal), to round-off."""
+    e = 1e-6 / max(np.hypot(dx, dy), 1e-9)
+    (h0, n0), (h1, n1) = UNEVEN.height(x, y), UNEVEN.height(x + e * dx, y + e * dy)
+    steepest = np.abs(np.diff(UNEVEN.heights, axis=0)).max() / (0.4 / 3) + np.abs(np.diff(UNEVEN.heights, axis=1)).max() / (0.4 / 5)  # fmt: skip
+    assert abs(h1 - h0) <= steepest * 1e-6 * (1 + 1e-9)
+    assert np.isclose(np.linalg.norm(n0), 1.0) and n0[2] > 0
+    if np.array_equal(n0, n1) and np.array_equal(UNEVEN.height(x - e * dx, y - e * dy)[1], n0):
+        h2 = UNEVEN.height(x - e * dx, y - e * dy)[0]
+        slope = -(n0[0] * dx * e + n0[1] * dy * e) / n0[2]  # the plane's rise over the step
+        assert abs((h1 - h2) / 2 - slope) <= 1e-12
+
+
+def test_heights_sit_on_the_grids_nodes_and_come_from_toml(tmp_path):
+    """Sample (j, i) is the height at node i along x and j along y; outside the grid the
+    edge's height holds, level; a TOML spec takes ``heights`` as rows."""
+    f = MudField({"a": 0.25}, ["a a"], cell_size=0.5, origin=(1.0, 2.0), heights=[[0.0, 0.1, 0.2], [0.3, 0.4, 0.5]])  # fmt: skip
+    for (i, j), want in {(0, 0): 0.0, (2, 0): 0.2, (1, 1): 0.4, (2, 1): 0.5}.items():
+        assert f.height(1.0 + 0.5 * i, 2.0 + 0.5 * j)[0] == pytest.approx(want, abs=1e-15)
+    h, n = f.height(5.0, 9.0)  # beyond the far corner
+    assert h == pytest.approx(0.5) and np.array_equal(n, [0.0, 0.0, 1.0])
+    spec = tmp_path / "field.toml"
+    spec.write_text('cells = ["a a"]\ncell_size = 0.5\norigin = [1.0, 2.0]\nheights = [[0.0, 0.1, 0.2], [0.3, 0.4, 0.5]]\n[regions]\na = 0.25\n')  # fmt: skip
+    assert np.array_equal(MudField.from_toml(spec).heights, f.heights)

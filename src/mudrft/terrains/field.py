@@ -8,6 +8,11 @@ of side :math:`b` (the border width) centered there: weight :math:`w_r` of regio
 weighted mean, and the force is scaled by the mud's share :math:`m=\sum_{mud}w_r`.
 Both are continuous in position, so a foot crossing a border feels no jump; its mud state
 (structure, suction) goes on across the border, as the mud under it would.
+
+The surface may be uneven: heights sampled on a regular grid of nodes over the cells'
+rectangle, two planar triangles a cell as in a MuJoCo heightfield (:func:`surface_at`;
+outside the rectangle the edge's height holds). Under each foot the coupling steps the mud in the frame of the surface's
+tangent plane at the tip, so depth is measured along the surface normal.
 """
 
 from __future__ import annotations
@@ -35,7 +40,9 @@ __all__ = [
     "cell_overlap",
     "field_blend",
     "field_row",
+    "plane_frame",
     "same_options",
+    "surface_at",
     "uniform",
 ]
 
@@ -95,6 +102,47 @@ def field_row(
     return 1.0 if wr == 0.0 else wm / (wm + wr)
 
 
+def surface_at(
+    x: float, y: float, grid: FloatArray, ny: int, nx: int, heights: FloatArray
+) -> tuple[float, float, float]:
+    """The surface's height [m] (over the coupling's ``surface``) and slopes dh/dx, dh/dy
+    [-] at ``(x, y)`` [m]. ``heights`` (nyh, nxh) are sampled at the nodes of the rectangle
+    of ``ny`` x ``nx`` cells of ``grid`` (:func:`field_row`); between them the surface is
+    MuJoCo's heightfield's: two planar triangles a cell, split along the diagonal from the
+    lower-left node; outside the rectangle the edge's height, with no slope across it.
+    One sample is a flat surface at that height."""
+    nyh, nxh = heights.shape[0], heights.shape[1]
+    if nyh == 1 and nxh == 1:
+        return heights[0, 0], 0.0, 0.0
+    dx, dy = grid[2] * nx / (nxh - 1), grid[3] * ny / (nyh - 1)  # node spacings [m]
+    u, v = (x - grid[0]) / dx, (y - grid[1]) / dy
+    in_x, in_y = 0.0 <= u <= nxh - 1, 0.0 <= v <= nyh - 1
+    u, v = min(max(u, 0.0), nxh - 1.0), min(max(v, 0.0), nyh - 1.0)
+    i, j = min(math.floor(u), nxh - 2), min(math.floor(v), nyh - 2)
+    fx, fy = u - i, v - j
+    h00, h01 = heights[j, i], heights[j, i + 1]
+    h10, h11 = heights[j + 1, i], heights[j + 1, i + 1]
+    if fx >= fy:  # the triangle of nodes (i, j), (i + 1, j), (i + 1, j + 1)
+        sx, sy = h01 - h00, h11 - h01
+    else:  # (i, j), (i, j + 1), (i + 1, j + 1)
+        sx, sy = h11 - h10, h10 - h00
+    h = h00 + fx * sx + fy * sy
+    return h, sx / dx if in_x else 0.0, sy / dy if in_y else 0.0
+
+
+def plane_frame(gx: float, gy: float) -> tuple[float, ...]:
+    """The frame of a plane of slopes dh/dx = ``gx``, dh/dy = ``gy`` [-]: the rows of the
+    rotation from world to it (9 values), its x axis ``t1`` in the world's xz plane, then
+    ``t2``, then the upward unit normal ``n``; the identity for a level plane."""
+    a, c = math.sqrt(1.0 + gx * gx), math.sqrt(1.0 + gx * gx + gy * gy)
+    ac = a * c
+    return (
+        1.0 / a, 0.0, gx / a,
+        -gx * gy / ac, (1.0 + gx * gx) / ac, gy / ac,
+        -gx / c, -gy / c, 1.0 / c,
+    )  # fmt: skip
+
+
 def _terrain(name: str, value: object) -> MudTerrain | None:
     if isinstance(value, str) and value == RIGID:
         return None
@@ -134,6 +182,11 @@ class MudField:
     border : float
         Width [m] over which a foot crossing a border blends the regions, in
         ``(0, min(hx, hy)]``.
+    heights : array_like (nyh, nxh) or None
+        The surface's height [m] over the coupling's ``surface`` at ``nxh`` x ``nyh``
+        (each at least 2) evenly spaced nodes from the grid's corner to its far corner,
+        ``heights[j][i]`` at ``x`` node ``i`` and ``y`` node ``j``, between them MuJoCo's
+        heightfield's triangles (:func:`surface_at`); None: a plane. :meth:`from_hfield` reads a MuJoCo heightfield.
 
     Examples
     --------
@@ -152,6 +205,7 @@ class MudField:
     cell_size: float | tuple[float, float] = 1.0
     origin: tuple[float, float] = (0.0, 0.0)
     border: float = 0.05
+    heights: Any = None
     terrains: tuple[MudTerrain | None, ...] = field(init=False, repr=False)
     names: tuple[str, ...] = field(init=False, repr=False)
     grid: FloatArray = field(init=False, repr=False)
@@ -190,6 +244,10 @@ class MudField:
         if not (math.isfinite(x0) and math.isfinite(y0)):
             raise MudrftError(f"origin must be two finite numbers [m], got {self.origin!r}")
         cells = np.array([[index[str(c)] for c in r] for r in rows], dtype=np.int64)
+        h = np.zeros((1, 1)) if self.heights is None else np.array(self.heights, dtype=float)
+        if h.shape != (1, 1) and (h.ndim != 2 or min(h.shape) < 2 or not np.all(np.isfinite(h))):
+            raise MudrftError(f"heights must be None or finite heights [m] on a grid of at least 2 x 2 nodes, got shape {h.shape}")  # fmt: skip
+        object.__setattr__(self, "heights", h)
         object.__setattr__(self, "cells", cells)
         object.__setattr__(self, "names", names)
         object.__setattr__(self, "terrains", terrains)
@@ -204,10 +262,11 @@ class MudField:
                 spec = tomllib.load(fh)
         except (OSError, tomllib.TOMLDecodeError) as exc:
             raise MudrftError(f"{path}: cannot be read as a field spec ({exc})") from None
-        extra = sorted(set(spec) - {"regions", "cells", "cell_size", "origin", "border"})
+        extra = sorted(set(spec) - {"regions", "cells", "cell_size", "origin", "border", "heights"})
         if extra or "regions" not in spec or "cells" not in spec:
             raise MudrftError(
-                f"{path}: a field spec has regions and cells (and cell_size, origin, border); "
+                f"{path}: a field spec has regions and cells (and cell_size, origin, border, "
+                "heights); "
                 f"got keys {sorted(spec)}"
             )
         return cls(**spec)
@@ -248,6 +307,54 @@ class MudField:
             names[Path(v).contains_points(centers)] = name
         cells = names.reshape(ny, nx).tolist()
         return cls(regions, cells, h, (x0, y0), h if border is None else border)
+
+    @classmethod
+    def from_hfield(
+        cls,
+        model: Any,
+        geom: str | int,
+        regions: Mapping[str, object],
+        cells: Any = None,
+        *,
+        surface: float = 0.0,
+        border: float | None = None,
+    ) -> MudField:
+        """A field on a MuJoCo heightfield: the surface of ``model``'s hfield geom ``geom``
+        (name or id; not rotated), its heights taken over ``surface`` [m], the coupling's
+        ``surface``. ``cells`` as in :class:`MudField` over the heightfield's rectangle
+        (None: the first region everywhere); ``border`` [m] defaults to the smaller cell
+        size. The geom stays in the model: where the mud is, it must not collide
+        (``contype="0" conaffinity="0"``), or MuJoCo's contact carries the feet.
+        """
+        import mujoco
+
+        g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom) if isinstance(geom, str) else int(geom)  # fmt: skip
+        if not 0 <= g < model.ngeom or model.geom_type[g] != mujoco.mjtGeom.mjGEOM_HFIELD:
+            raise MudrftError(f"geom must name a heightfield geom (type hfield) of the model, got {geom!r}")  # fmt: skip
+        d = mujoco.MjData(model)
+        mujoco.mj_kinematics(model, d)
+        if not np.allclose(d.geom_xmat[g], np.eye(3).ravel()):
+            raise MudrftError(f"the heightfield geom {geom!r} is rotated; mudrft takes an upright, unrotated one")  # fmt: skip
+        h = int(model.geom_dataid[g])
+        nrow, ncol, adr = int(model.hfield_nrow[h]), int(model.hfield_ncol[h]), int(model.hfield_adr[h])  # fmt: skip
+        rx, ry, top = (float(v) for v in model.hfield_size[h][:3])
+        data = np.asarray(model.hfield_data[adr : adr + nrow * ncol], dtype=float).reshape(nrow, ncol)  # fmt: skip
+        x, y, z = (float(v) for v in d.geom_xpos[g])
+        cells = [[next(iter(regions))]] if cells is None else cells
+        try:
+            ny, nx = len(cells), len(cells[0].split() if isinstance(cells[0], str) else cells[0])
+        except (TypeError, IndexError):
+            ny, nx = 0, 0  # refused by MudField with its own message
+        hx, hy = 2.0 * rx / max(nx, 1), 2.0 * ry / max(ny, 1)
+        border = min(hx, hy) if border is None else border
+        return cls(regions, cells, (hx, hy), (x - rx, y - ry), border, z - surface + top * data)
+
+    def height(self, x: float, y: float) -> tuple[float, FloatArray]:
+        """The surface's height [m] over the coupling's ``surface`` at ``(x, y)`` [m], and
+        its upward unit normal (3,) [-] (:func:`surface_at`)."""
+        ny, nx = self.cells.shape
+        h, gx, gy = surface_at(float(x), float(y), self.grid, ny, nx, self.heights)
+        return float(h), np.array([-gx, -gy, 1.0]) / math.sqrt(1.0 + gx * gx + gy * gy)
 
     @property
     def terrain(self) -> MudTerrain:
@@ -328,6 +435,7 @@ class MudField:
         return MudField(
             regions, [[self.names[i] for i in row] for row in cells],
             (float(grid[2]), float(grid[3])), (float(grid[0]), float(grid[1])), float(grid[4]),
+            self.heights,
         )  # fmt: skip
 
     def blend(self, x: float, y: float) -> tuple[float, FloatArray]:

@@ -114,10 +114,11 @@ class CompiledCoupling:
         self.tri_up = np.ascontiguousarray(np.concatenate(ups))
         t = cast(MudTerrain, batch.terrain)
         grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
+        heights = np.zeros((1, 1)) if batch.field is None else batch.field.heights
         n = batch.n
         # one copy a robot, C-contiguous and written in place by use_field
-        self.grids, self.cells, self.rows = (
-            np.repeat(a[None], n, axis=0) for a in (grid, cells, rows)
+        self.grids, self.cells, self.rows, self.hts = (
+            np.repeat(a[None], n, axis=0) for a in (grid, cells, rows, heights)
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
         self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
@@ -129,7 +130,7 @@ class CompiledCoupling:
         n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
         self.fst = np.zeros((n, nb, 3))  # morphing feet: deflection, pad angle, seal memory
-        self.odo = np.zeros((n, nb, 4))
+        self.odo = np.zeros((n, nb, 5))  # foot-frame x, y [m], world tip x, y, z [m]
         self.tw_prev = np.zeros((n, nb, 6))
         self.wv_prev = np.zeros((n, nb, 6))
         self.tank = np.zeros(n)  # energy the mud may give each robot back [J] (D62c, D62d)
@@ -159,7 +160,7 @@ class CompiledCoupling:
                 for i, v in enumerate(st.foot):
                     self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))
         self.odo[..., :2] = pos[..., :2]
-        self.odo[..., 2:] = b._world_xy
+        self.odo[..., 2:] = b._world_tip
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
         self.tank[:] = 0.0
@@ -190,12 +191,15 @@ class CompiledCoupling:
     def use_field(self, field: MudField, robots: IndexArray) -> None:
         """Robots ``robots`` step on ``field`` from now on (its arrays' shapes: the coupling's)."""
         grid, cells, rows = field.arrays()
-        if cells.shape != self.cells.shape[1:] or rows.shape != self.rows.shape[1:]:
+        h = field.heights
+        if cells.shape != self.cells.shape[1:] or rows.shape != self.rows.shape[1:] or h.shape != self.hts.shape[1:]:  # fmt: skip
             raise MudrftError(
-                f"field must have the coupling's shape: {self.cells.shape[1:]} cells and "
-                f"{self.rows.shape[1]} regions, got {cells.shape} cells and {rows.shape[0]} regions"
+                f"field must have the coupling's shape: {self.cells.shape[1:]} cells, "
+                f"{self.rows.shape[1]} regions and {self.hts.shape[1:]} heights, got "
+                f"{cells.shape} cells, {rows.shape[0]} regions and {h.shape} heights"
             )
         self.grids[robots], self.cells[robots], self.rows[robots] = grid, cells, rows
+        self.hts[robots] = h
 
     def detach(self) -> None:
         """Take the mud out of MuJoCo's step for the MjData of the last :meth:`reset`."""

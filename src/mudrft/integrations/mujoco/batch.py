@@ -19,7 +19,7 @@ from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
-from ...terrains.field import MudField, same_options
+from ...terrains.field import MudField, plane_frame, same_options, surface_at
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
@@ -266,13 +266,37 @@ class MudBatch:
     def _read(self, datas: Sequence[mujoco.MjData]) -> _Reading:
         X, R, C, V, S = body_frames(datas, self._ids, self._roots)
         tip = X + matvec(R, self._tip)
-        fw = matvec(R, self._fwd)
-        h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
-        cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
         tw = com_twist(V, S, C)
         W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
-        geo, ratio = self._posed(datas, X, R, C, tip, cs)
+        Xp, Rp, Cp, tp = X, R, C, tip
+        if self.field is not None and self.field.heights.any():  # an uneven field (compiled)
+            Xp, Rp, Cp, tp = self._on_planes(X, R, C, tip)
+        fw = matvec(Rp, self._fwd)
+        h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
+        cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
+        geo, ratio = self._posed(datas, Xp, Rp, Cp, tp, cs)
         return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
+
+    def _on_planes(
+        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """The bodies posed as the compiled kernel poses each foot on an uneven field: in the
+        frame of the tangent plane under its tip, rotated about the surface point P there
+        and moved down to ``surface`` (:func:`.compiled._about`)."""
+        assert self.field is not None
+        f = self.field
+        ny, nx = f.cells.shape
+        Q, P = np.empty((*tip.shape[:2], 3, 3)), tip.copy()
+        for i in np.ndindex(*tip.shape[:2]):
+            hs, gx, gy = surface_at(tip[i][0], tip[i][1], f.grid, ny, nx, f.heights)
+            Q[i] = np.reshape(plane_frame(gx, gy), (3, 3))
+            P[i][2] = self.surface + hs
+        down = np.stack([P[..., 0], P[..., 1], np.full(P.shape[:2], self.surface)], axis=-1)
+
+        def about(a: FloatArray) -> FloatArray:
+            return matvec(Q, a - P) + down
+
+        return about(X), Q @ R, about(C), about(tip)
 
     def _posed(
         self, datas: Sequence[mujoco.MjData], X: FloatArray, R: FloatArray, C: FloatArray,
@@ -309,6 +333,7 @@ class MudBatch:
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
         self._world_xy = k.tip[..., :2]
         if self._compiled is not None:
+            self._world_tip = k.tip.copy()
             self._compiled.reset(datas, self._states, pos)
         self._has_prev = False
         self._wv_prev[:] = 0.0

@@ -32,7 +32,7 @@ def clock_size(nb: int) -> int:
     """Length of a robot's ``clock`` row for ``nb`` feet: has a last step, the time of the
     last call [s], the kept has-a-last-step and tank [J], each foot's pose and velocity
     (18), and the kept state (:data:`KEPT`)."""
-    return 4 + nb * 18 + nb * (N_STATE + 3 + 4 + 6 + 6)
+    return 4 + nb * 18 + nb * (N_STATE + 3 + 5 + 6 + 6)
 
 
 def _keep(row: FloatArray, at: int, a: FloatArray, back: bool) -> int:
@@ -78,7 +78,7 @@ def robot_step(p: IndexArray, k: int, now: float) -> int:
         _i2(p, o[0]), _i1(p, o[1]), _i2(p, o[2]), _f2(p, o[3]), _f2(p, o[4]), _i1(p, o[5]),
         _f3(p, o[6]), _i1(p, o[7]), _f2(p, o[8]), _f3(p, o[9]), _f2(p, o[10]), _f2(p, o[11]),
         _f2(p, o[12]), _f1(p, o[13]), kept[0], kept[1], kept[2], kept[3], kept[4], tank,
-        _f3(p, o[20]), _f2(p, o[21]), clock, _i3(p, o[23]), _f2(p, o[24]), k,
+        _f3(p, o[20]), _f2(p, o[21]), clock, _i3(p, o[23]), _f2(p, o[24]), _f3(p, o[25]), k,
     )  # fmt: skip
 
 

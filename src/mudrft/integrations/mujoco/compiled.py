@@ -20,7 +20,7 @@ from ...feet.facet import (
 )
 from ...feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ...feet.morphing.pads import morphing_force
-from ...terrains.field import field_row
+from ...terrains.field import field_row, plane_frame, surface_at
 from ...terrains.mud import mud_channel_stress
 from ...terrains.rows import (
     MESH,
@@ -201,13 +201,47 @@ def _nudged_force(q: int, c: FloatArray, s: FloatArray, p: FloatArray, u: FloatA
     return (fx if q == 0 else (fy if q == 1 else fz)) * inside
 
 
+def _about(
+    Q: FloatArray, p: FloatArray, x: float, y: float, z: float, surface: float, out: FloatArray
+) -> None:
+    """``out`` = Q (p - P) + P' [m]: ``p`` rotated by ``Q`` about P = (x, y, z) and moved
+    down to P' = (x, y, surface)."""
+    ex, ey, ez = p[0] - x, p[1] - y, p[2] - z
+    out[0] = x + (Q[0, 0] * ex + Q[0, 1] * ey + Q[0, 2] * ez)
+    out[1] = y + (Q[1, 0] * ex + Q[1, 1] * ey + Q[1, 2] * ez)
+    out[2] = surface + (Q[2, 0] * ex + Q[2, 1] * ey + Q[2, 2] * ez)
+
+
+def _back(Q: FloatArray, w: FloatArray, K: FloatArray, KB: FloatArray) -> None:
+    """A wrench ``w`` (6) and a 6 x 6 ``K`` from the frame of ``Q`` to the world, in place:
+    w <- B^T w, K <- B^T K B, B = diag(Q, Q); ``KB`` a work array."""
+    for h in range(2):
+        a0, a1, a2 = w[3 * h], w[3 * h + 1], w[3 * h + 2]
+        for i in range(3):
+            w[3 * h + i] = Q[0, i] * a0 + Q[1, i] * a1 + Q[2, i] * a2
+    for i in range(6):
+        for l in range(6):
+            acc = 0.0
+            hl = 3 * (l // 3)
+            for m in range(3):
+                acc += K[i, hl + m] * Q[m, l - hl]
+            KB[i, l] = acc
+    for i in range(6):
+        hi = 3 * (i // 3)
+        for l in range(6):
+            acc = 0.0
+            for m in range(3):
+                acc += Q[m, i - hi] * KB[hi + m, l]
+            K[i, l] = acc
+
+
 def _kernel(
     addr: IndexArray, sizes: IndexArray, bodies: IndexArray, tip: FloatArray, fwd: FloatArray, tri_adr: IndexArray,
     tri_b: FloatArray, up_adr: IndexArray, tri_up: FloatArray,
     rows: FloatArray, cfg: FloatArray, geom: FloatArray, morph: FloatArray, opts: FloatArray,
     mud: FloatArray, fst: FloatArray, odo: FloatArray, tw_prev: FloatArray,
     wv_prev: FloatArray, tank: FloatArray, out: FloatArray, work: FloatArray,
-    clock: FloatArray, cells: IndexArray, grids: FloatArray, k: int,
+    clock: FloatArray, cells: IndexArray, grids: FloatArray, hts: FloatArray, k: int,
 ) -> int:  # fmt: skip
     """One coupling step of every body of robot ``k``; the number of non-finite wrenches.
 
@@ -216,7 +250,8 @@ def _kernel(
     ``bodies[j]``: (id, root, ball); body ``j``'s triangles are
     ``tri_b[tri_adr[j]:tri_adr[j+1]]``, its upright rows likewise; ``opts``: (dt, surface,
     bottom (< 0: none), k_b, c_b, dv_min, gravity (3)); ``grids[k]``, ``cells[k]`` and
-    ``rows[k]``: robot ``k``'s field (:func:`~mudrft.terrains.field.field_row`). ``mud``, ``fst``, ``odo``,
+    ``rows[k]``: robot ``k``'s field (:func:`~mudrft.terrains.field.field_row`), ``hts[k]``
+    its surface's heights (:func:`~mudrft.terrains.field.surface_at`). ``mud``, ``fst``, ``odo``,
     ``tw_prev``, ``wv_prev`` and ``tank`` are updated in place; ``out``: (N, nb, N_OUT).
     """
     dt, surface = opts[0], opts[1]
@@ -264,6 +299,13 @@ def _kernel(
     RJ, at = _cut(at, (6 * nb,))
     WF, at = _cut(at, (6 * nb, 6 * nb))
     AJ, at = _cut(at, (6 * nb, 6 * nb))
+    Q, at = _cut(at, (3, 3))
+    Xq, at = _cut(at, (3,))
+    Cq, at = _cut(at, (3,))
+    Rq, at = _cut(at, (9,))
+    twq, at = _cut(at, (6,))
+    tipq, at = _cut(at, (3,))
+    KB, at = _cut(at, (6, 6))
     mud, fst, odo, out = _borrow(mud), _borrow(fst), _borrow(odo), _borrow(out)
     tw_prev, wv_prev, tank = _borrow(tw_prev), _borrow(wv_prev), _borrow(tank)
     cfg, geom, morph, rk = _borrow(cfg), _borrow(geom), _borrow(morph), _borrow(rows[k])
@@ -277,6 +319,7 @@ def _kernel(
     subtree = carray(_ptr(addr[k, 4]), (nbody, 3))
     xfrc = carray(_ptr(addr[k, 5]), (nbody, 6))
     dptr = addr[k, 6]
+    ny, nx = cells.shape[1], cells.shape[2]
     active = 0
     for j in range(nb):
         body, root = bodies[j, 0], bodies[j, 1]
@@ -291,6 +334,25 @@ def _kernel(
         for i in range(3):
             tipw[i] = X[i] + (R[3 * i] * tip[j, 0] + R[3 * i + 1] * tip[j, 1]
                               + R[3 * i + 2] * tip[j, 2])  # fmt: skip
+        # an uneven surface: the foot posed in the frame of the tangent plane under its tip,
+        # rotated about the surface point P there and moved down to the plane z = surface
+        hs, gx, gy = surface_at(tipw[0], tipw[1], grids[k], ny, nx, hts[k])
+        tilted = hs != 0.0 or gx != 0.0 or gy != 0.0
+        twl, tipl = tw, tipw
+        if tilted:
+            q = plane_frame(gx, gy)
+            for i in range(9):
+                Q[i // 3, i % 3] = q[i]
+            ps = surface + hs
+            _about(Q, X, tipw[0], tipw[1], ps, surface, Xq)
+            _about(Q, C, tipw[0], tipw[1], ps, surface, Cq)
+            _about(Q, tipw, tipw[0], tipw[1], ps, surface, tipq)
+            for i in range(3):
+                for l in range(3):
+                    Rq[3 * i + l] = Q[i, 0] * R[l] + Q[i, 1] * R[3 + l] + Q[i, 2] * R[6 + l]
+                twq[i] = Q[i, 0] * tw[0] + Q[i, 1] * tw[1] + Q[i, 2] * tw[2]
+                twq[3 + i] = Q[i, 0] * tw[3] + Q[i, 1] * tw[4] + Q[i, 2] * tw[5]
+            X, C, R, twl, tipl = Xq, Cq, Rq, twq, tipq
         fw0 = R[0] * fwd[j, 0] + R[1] * fwd[j, 1] + R[2] * fwd[j, 2]
         fw1 = R[3] * fwd[j, 0] + R[4] * fwd[j, 1] + R[5] * fwd[j, 2]
         h = max(math.hypot(fw0, fw1), 1e-12)
@@ -303,7 +365,7 @@ def _kernel(
             M[1, i] = -s * R[i] + c * R[3 + i]
             M[2, i] = R[6 + i]
         if ball:
-            ox, oy, oz = tipw[0] - C[0], tipw[1] - C[1], tipw[2] - surface
+            ox, oy, oz = tipl[0] - C[0], tipl[1] - C[1], tipl[2] - surface
         else:
             ox, oy, oz = X[0] - C[0], X[1] - C[1], X[2] - surface
         sh[0], sh[1], sh[2] = c * ox + s * oy, -s * ox + c * oy, oz
@@ -329,17 +391,23 @@ def _kernel(
             b[q, 3], b[q, 4], b[q, 5] = ry * ez - rz * ey, rz * ex - rx * ez, rx * ey - ry * ex
             acc = 0.0
             for i in range(6):
-                acc += b[q, i] * tw[i]
+                acc += b[q, i] * twl[i]
             u[q] = acc
-        # odometry of the tip in the foot frame (D65)
+        # odometry of the tip in the foot frame (D65): its world motion, in the plane's frame
         o = odo[k, j]
         was_in = mud[k, j, STATE_IN_MUD] > 0.5
         xy0 = tipw[0] - o[2] if was_in else tipw[0]
         xy1 = tipw[1] - o[3] if was_in else tipw[1]
+        if tilted:
+            xy2 = tipw[2] - o[4] if was_in else tipw[2]
+            xy0, xy1 = (
+                Q[0, 0] * xy0 + Q[0, 1] * xy1 + Q[0, 2] * xy2,
+                Q[1, 0] * xy0 + Q[1, 1] * xy1 + Q[1, 2] * xy2,
+            )
         b0 = o[0] if was_in else 0.0
         b1 = o[1] if was_in else 0.0
         pos[0], pos[1], pos[2] = b0 + (c * xy0 + s * xy1), b1 + (c * xy1 - s * xy0), geo[41]
-        o[0], o[1], o[2], o[3] = pos[0], pos[1], tipw[0], tipw[1]
+        o[0], o[1], o[2], o[3], o[4] = pos[0], pos[1], tipw[0], tipw[1], tipw[2]
         # the mud under the tip (its share: the rest is rigid ground), and the secant
         # derivative toward rest (D63, D119); out of the mud every force is 0
         share = field_row(tipw[0], tipw[1], grids[k], cells[k], rk, cj[0])
@@ -387,13 +455,13 @@ def _kernel(
         for i in range(3):
             for l in range(3):
                 K[3 + i, 3 + l] += spread[i, l]
-                w0[3 + i] += spread[i, l] * tw[3 + l]
+                w0[3 + i] += spread[i, l] * twl[3 + l]
         if bottom >= 0.0:  # rigid bottom on the lowest point (D67)
             lx, ly = c * geo[39] - s * geo[40], s * geo[39] + c * geo[40]
             bl[0], bl[1], bl[2], bl[3], bl[4], bl[5] = 0.0, 0.0, 1.0, ly, -lx, 0.0
             vz = 0.0
             for i in range(6):
-                vz += bl[i] * tw[i]
+                vz += bl[i] * twl[i]
             pen = depth - bottom
             fb = kb * pen - cb * vz
             if pen > 0.0 and fb > 0.0:
@@ -401,6 +469,8 @@ def _kernel(
                     w0[i] += fb * bl[i]
                     for l in range(6):
                         K[i, l] -= cb * bl[i] * bl[l]
+        if tilted:  # back to the world: w0 <- B^T w0, K <- B^T K B, B = diag(Q, Q)
+            _back(Q, w0, K, KB)
         # keep what the robot's joint step needs (D62d); a foot with no wrench and no
         # damping (in the air) has nothing to solve
         idle = True
@@ -416,14 +486,21 @@ def _kernel(
                 FACC[j, i] = opts[6 + i] if i < 3 else 0.0
         active += 0 if idle else 1
         FPOS[j] = -1.0 if idle else 0.0
-        FC[j, 0], FC[j, 1], FC[j, 2] = C[0], C[1], C[2]
+        FC[j, 0], FC[j, 1], FC[j, 2] = xipos[body, 0], xipos[body, 1], xipos[body, 2]
         # outputs that do not depend on the applied wrench (the central point: provisional)
         r = out[k, j]
         r[3], r[4], r[5] = w0[0], w0[1], w0[2]
         r[9] = C[0] + (c * geo[9] - s * geo[10])
         r[10] = C[1] + (s * geo[9] + c * geo[10])
         r[11] = C[2] + (geo[11] + (surface - C[2]))
-        r[12], r[13], r[14] = tipw[0], tipw[1], geo[41] + surface
+        r[12], r[13], r[14] = tipl[0], tipl[1], geo[41] + surface
+        if tilted:  # the points back to the world
+            ps = surface + hs
+            for a in (9, 12):
+                ex, ey, ez = r[a] - tipw[0], r[a + 1] - tipw[1], r[a + 2] - surface
+                r[a] = tipw[0] + Q[0, 0] * ex + Q[1, 0] * ey + Q[2, 0] * ez
+                r[a + 1] = tipw[1] + Q[0, 1] * ex + Q[1, 1] * ey + Q[2, 1] * ez
+                r[a + 2] = ps + Q[0, 2] * ex + Q[1, 2] * ey + Q[2, 2] * ez
         r[15], r[16], r[17] = u[0], u[1], u[2]
         r[18] = depth
         r[19], r[20], r[21] = r0[3], r0[4], r0[5]
@@ -480,8 +557,8 @@ def _kernel(
 #: Floats of the kernel's work arrays beyond those that grow with the model (see
 #: :func:`work_size`), in the three groups :func:`_kernel` carves in order: geo, aup, v (54),
 #: the foot's constants (N_CONST), a state row and a morphing foot's state row (3); tw ... bl
-#: (42); M, E, spread, b, K (81).
-WORK_FIXED = (57 + N_CONST + N_STATE) + 42 + 81
+#: (42); M, E, spread, b, K (81); Q, Xq, Cq, Rq, twq, tipq, KB (69).
+WORK_FIXED = (57 + N_CONST + N_STATE) + 42 + 81 + 69
 
 
 def work_size(nv: int, ntri: int, nb: int) -> int:
@@ -498,7 +575,7 @@ ARGS = (
     ("rows", "f8", 3), ("cfg", "f8", 2), ("geom", "f8", 2), ("morph", "f8", 2),
     ("opts", "f8", 1), ("mud", "f8", 3), ("fst", "f8", 3), ("odo", "f8", 3), ("tw_prev", "f8", 3), ("wv_prev", "f8", 3),
     ("tank", "f8", 1), ("out", "f8", 3), ("work", "f8", 2), ("clock", "f8", 2), ("cells", "i8", 3),
-    ("grids", "f8", 2),
+    ("grids", "f8", 2), ("hts", "f8", 3),
 )  # fmt: skip
 #: Where each argument's address and shape start in the packed array (:func:`pack`).
 OFFSETS = tuple(sum(1 + nd for _, _, nd in ARGS[:i]) for i in range(len(ARGS)))
