@@ -25,6 +25,8 @@ FIT_PARAMETERS = tuple(
 LINEAR_PARAMETERS = ("alpha", "eta_inf", "eta_m", "sigma_y")
 #: Phase codes of :func:`segment`.
 PHASES = {"intrusion": 0, "hold": 1, "retraction": 2, "out": 3}
+#: Phases whose samples a fit reads (all but "out").
+ALL_PHASES = (PHASES["intrusion"], PHASES["hold"], PHASES["retraction"])
 
 #: Fraction of the deepest displacement within which the plate counts as at the bottom
 #: (hold) or back at the surface (out), decision D42.
@@ -103,21 +105,16 @@ class Packed:
                 kappa=1.0 if self.acceleration and not qs else 0.0, quasi_static=qs,
                 restart=restart, xi0=self.xi0, contact=self.contact, batch=B,
             )[..., 0]  # fmt: skip
-        bad = ~np.isfinite(out)
-        if np.any(bad):
-            out[bad] = np.inf
+        out[~np.isfinite(out)] = np.inf
         return out
 
-    def residuals(self, sim: np.ndarray, mask: np.ndarray) -> np.ndarray:
-        """Weighted residuals (model - data)/span over the masked samples, shape (m, B)."""
-        n = sim.shape[0]
-        m = mask[:n]
-        diff = (sim - self.data[:n, None, :]) * self.weight[None, None, :]
-        return diff.transpose(0, 2, 1)[m]  # (m, B)
-
-    def upto(self, mask: np.ndarray) -> int:
-        rows = np.nonzero(mask.any(axis=1))[0]
-        return int(rows[-1]) + 1 if rows.size else 1
+    def residuals(self, values: Mapping[str, ArrayLike], mask: np.ndarray) -> np.ndarray:
+        """Weighted residuals (model - data)/span of a batch of parameter values over the
+        masked samples, shape (m, B), simulated up to the last of them."""
+        rows = np.flatnonzero(mask.any(axis=1))
+        n = int(rows[-1]) + 1 if rows.size else 1
+        diff = (self.simulate(values, n) - self.data[:n, None, :]) * self.weight[None, None, :]
+        return diff.transpose(0, 2, 1)[mask[:n]]  # (m, B)
 
 
 def pack(

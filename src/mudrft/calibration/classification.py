@@ -28,7 +28,7 @@ from ..io._build import DIRECTIONS, PLAUSIBLE_DEPTH, PLAUSIBLE_PEAK_STRESS
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import FIT_PARAMETERS, PHASES, free_k_a, pack, values_of
+from ._problem import ALL_PHASES, FIT_PARAMETERS, free_k_a, pack
 
 __all__ = ["Classification", "StreamClassifier", "classify"]
 
@@ -145,12 +145,12 @@ def _candidates(
 
 
 def _softmax_loglik(
-    sse: NDArray[np.float64], count: float, noise_var: float | None
+    sse: NDArray[np.float64], count: float, noise: float | None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors)."""
-    if noise_var is None:
-        noise_var = max(float(np.min(sse)) / max(count, 1.0), 1e-300)
-    ll = -0.5 * sse / noise_var
+    """Gaussian log-likelihoods of the residual sums and the probabilities (equal priors),
+    for a noise standard deviation ``noise`` (default the best candidate's RMS)."""
+    var = max(float(np.min(sse)) / max(count, 1.0), 1e-300) if noise is None else noise**2
+    ll = -0.5 * sse / var
     p = np.exp(ll - ll.max())
     return ll, p / p.sum()
 
@@ -219,24 +219,22 @@ def classify(
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
     cands, labs = _candidates(candidates, labels, water_contents, d)
-    # one batched simulation, or one per candidate when they differ in nu or k_a: (n, K, T)
-    packed = pack(dataset, cands[0], acceleration=True, xi0=0.0)
-    if all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1:
-        sim = packed.simulate({k: np.array([getattr(c, k) for c in cands]) for k in FIT_PARAMETERS})
-    else:
-        sim = np.concatenate(
-            [
-                pack(dataset, c, acceleration=True, xi0=0.0).simulate(values_of(c, batch=1))
-                for c in cands
-            ],
-            axis=1,
-        )
-    mask = packed.mask((PHASES["intrusion"], PHASES["hold"], PHASES["retraction"]))
-    R = packed.residuals(sim, mask)  # (m, K), relative to each trial's range
+    mask = pack(dataset, cands[0], acceleration=True, xi0=0.0).mask(ALL_PHASES)
+    # residuals (m, K) relative to each trial's range, from one batched simulation, or one
+    # per candidate when they differ in nu or k_a
+    same = all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1
+    R = np.concatenate(
+        [
+            pack(dataset, g[0], acceleration=True, xi0=0.0).residuals(
+                {k: np.array([getattr(c, k) for c in g]) for k in FIT_PARAMETERS}, mask
+            )
+            for g in ([cands] if same else [[c] for c in cands])
+        ],
+        axis=1,
+    )
     sse = np.sum(R**2, axis=0)
     m = R.shape[0]
-    nv = None if noise is None else positive_number("noise", noise) ** 2
-    ll, prob = _softmax_loglik(sse, m, nv)
+    ll, prob = _softmax_loglik(sse, m, None if noise is None else positive_number("noise", noise))
     return Classification(
         labels=tuple(labs),
         relative_rmse=np.sqrt(sse / m),
@@ -344,14 +342,12 @@ class StreamClassifier:
     @property
     def log_likelihood(self) -> NDArray[np.float64]:
         """Gaussian log-likelihood of each candidate over the window [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[0]
+        return _softmax_loglik(self._sse, self._count, self.noise)[0]
 
     @property
     def probabilities(self) -> NDArray[np.float64]:
         """Posterior probability of each candidate (equal priors) [-]."""
-        nv = None if self.noise is None else self.noise**2
-        return _softmax_loglik(self._sse, self._count, nv)[1]
+        return _softmax_loglik(self._sse, self._count, self.noise)[1]
 
     @property
     def rmse(self) -> NDArray[np.float64]:

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
-from ._problem import FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
+from ._problem import ALL_PHASES, FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
 from .uncertainty import at_bound, uncertainty
 
@@ -107,9 +107,7 @@ class Engine:
             k: np.array([c.get(k, self.values[k]) for c in cands])
             for k in {k for c in cands for k in c}
         }
-        upto = self.packed.upto(mask)
-        sim = self.packed.simulate(basis(self.batch(over, G), lin), upto)
-        res = self.packed.residuals(sim, mask).reshape(-1, G, 1 + nl)  # (m, G, 1+nl)
+        res = self.packed.residuals(basis(self.batch(over, G), lin), mask).reshape(-1, G, 1 + nl)
         scored = []
         for g in range(G):
             if not np.all(np.isfinite(res[:, g, :])):
@@ -146,9 +144,7 @@ class Engine:
             return self._solve_linear(stage, mask, lin, base), None
         lo = np.log([self.bounds[k][0] for k in names])
         hi = np.log([self.bounds[k][1] for k in names])
-        x0 = np.clip(np.log([base[k] for k in names]), lo, hi)
-        x0 = np.minimum(np.maximum(x0, lo + 1e-12), hi - 1e-12)
-        upto = self.packed.upto(mask)
+        x0 = np.clip(np.log([base[k] for k in names]), lo + 1e-12, hi - 1e-12)
         k = len(names)
         last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
         linear_at: dict[bytes, list[float]] = {}
@@ -168,8 +164,8 @@ class Engine:
             X = np.repeat(x[None, :], 1 + k, axis=0)
             h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
             X[1 + np.arange(k), np.arange(k)] += h
-            sim = self.packed.simulate(basis(values_at(X), lin), upto)
-            R = self.packed.residuals(sim, mask).reshape(-1, 1 + k, 1 + len(lin))
+            R = self.packed.residuals(basis(values_at(X), lin), mask)
+            R = R.reshape(-1, 1 + k, 1 + len(lin))
             cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
             r = cols[0][0]
             if not np.all(np.isfinite(r)):
@@ -209,17 +205,15 @@ class Engine:
     ) -> float:
         """Only linear parameters free: one projection solves them; returns the cost."""
         self.values.update(base)
-        sim = self.packed.simulate(basis(self.batch({}, 1), lin), self.packed.upto(mask))
-        R = self.packed.residuals(sim, mask).reshape(-1, 1, 1 + len(lin))
-        r, c = self.project(R[:, 0, :], lin)
+        R = self.packed.residuals(basis(self.batch({}, 1), lin), mask)
+        r, c = self.project(R, lin)
         self.values.update(zip(lin, c, strict=True))
         self.record(stage, 0.5 * float(r @ r), self.values)
         return 0.5 * float(r @ r)
 
     def cost(self, mask: NDArray[np.bool_]) -> float:
         """Half the sum of squared weighted residuals at the current values [-]."""
-        sim = self.packed.simulate(self.batch({}, 1), self.packed.upto(mask))
-        r = self.packed.residuals(sim, mask)[:, 0]
+        r = self.packed.residuals(self.batch({}, 1), mask)[:, 0]
         return 0.5 * float(r @ r)
 
     def jacobian(
@@ -245,8 +239,7 @@ class Engine:
             col[1 + 2 * i] = math.exp(b)
             col[2 + 2 * i] = math.exp(a)
             over[name] = col
-        sim = self.packed.simulate(self.batch(over, 1 + 2 * k))
-        R = self.packed.residuals(sim, mask)
+        R = self.packed.residuals(self.batch(over, 1 + 2 * k), mask)
         J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
         return R[:, 0], J
 
@@ -286,8 +279,6 @@ STAGES: tuple[Stage, ...] = (
         {"tau_build": np.geomspace(0.03, 3.0, 7), "epsilon": np.geomspace(0.003, 0.3, 5)},
     ),
 )
-#: Phases whose samples the joint stage fits (all but "out").
-ALL_PHASES = (PHASES["intrusion"], PHASES["hold"], PHASES["retraction"])
 
 
 def stage_note(report: StageReport, suffix: str = "") -> str:
@@ -371,20 +362,18 @@ def phase_stage(
         return None
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
-    best: tuple[float, dict[str, float], OptimizeResult | None] | None = None
     axes = {  # the stage's grid of starting points, in bounds, with the current values
         k: np.unique(np.append(np.clip(v, *engine.bounds[k]), engine.values[k]))
         for k, v in stage.grid.items()
         if k in stage_free
     }
     grid = [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
-    starting = engine.grid_start(stage.name, mask, stage_free, grid, starts)
-    for _, point in starting:
+    runs = []
+    for _, point in engine.grid_start(stage.name, mask, stage_free, grid, starts):
         engine.values = dict(saved)
         c, sol = engine.fit(stage.name, mask, stage_free, max_nfev, start=point, project=stage_free)
-        if best is None or c < best[0]:
-            best = (c, dict(engine.values), sol)
-    assert best is not None
+        runs.append((c, dict(engine.values), sol))
+    best = min(runs, key=lambda run: run[0])  # the first of equal costs
     engine.values = best[1]
     sims = engine.packed.simulations - n0
     return StageReport(
