@@ -205,10 +205,6 @@ def classify(
         Standard deviation of the residuals relative to each trial's range [-];
         default estimated from the best candidate.
 
-    Returns
-    -------
-    Classification
-
     Examples
     --------
     >>> from mudrft.calibration import example_dataset

@@ -135,10 +135,6 @@ def calibrate(
         smooths a noisy depth, ``"raw"`` differences the logged depths, an odd int smooths
         over that many samples.
 
-    Returns
-    -------
-    FitResult
-
     Notes
     -----
     Residuals of each trial are divided by the trial's peak-to-peak stress (decision D45);

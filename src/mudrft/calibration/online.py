@@ -242,9 +242,8 @@ class OnlineEstimator:
             raise MudrftError(f"tau_build_grid must hold at least 3 times [s], got {grid!r}")
         self.tau_grid = np.sort(g)
         self.rate_threshold = positive_number("rate_threshold", rate_threshold, unit="1/s")
-        if retraction_skip is None:
-            retraction_skip = 3.0 * float(prior.epsilon)
-        self.retraction_skip = number_in_range("retraction_skip", retraction_skip, 0.0, 10.0)
+        skip = 3.0 * float(prior.epsilon) if retraction_skip is None else retraction_skip
+        self.retraction_skip = number_in_range("retraction_skip", skip, 0.0, 10.0)
         self.initial_scale = positive_number("initial_scale", initial_scale)
         self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
         self._stream = SampleStream(self.L)
@@ -295,10 +294,6 @@ class OnlineEstimator:
         ----------
         time, depth, stress : float
             Sample time [s] (increasing), intrusion displacement [m], measured stress [Pa].
-
-        Returns
-        -------
-        OnlineEstimate
         """
         x = self._stream.push(time, depth, stress)
         if x.step is None:  # the first sample: a starting point only
@@ -367,10 +362,6 @@ class OnlineEstimator:
         ----------
         time, depth, stress : array_like, shape (n,)
             Sample times [s] (increasing), displacements [m], measured stresses [Pa].
-
-        Returns
-        -------
-        list of OnlineEstimate
         """
         t = check_shape("time", time, (None,))
         q = check_shape("depth", depth, (None,))

@@ -105,10 +105,6 @@ def load_parameters(path: str | os.PathLike[str]) -> MudParameters:
     ----------
     path : str or path-like
         The JSON file.
-
-    Returns
-    -------
-    MudParameters
     """
     p = Path(os.fspath(path))
     return parameters_from_json(read_json(p), where=str(p))

@@ -111,8 +111,6 @@ def _kernel_smooth(depth: NDArray[np.float64], half_width: int) -> NDArray[np.fl
     """The depth [m] averaged with parabolic weights over ``2h+1`` samples, so that the
     difference of two neighbours is the least-squares slope of the ``2h+2`` samples around
     them; the ends are extended by odd reflection (a constant speed stays exact)."""
-    if half_width == 0:
-        return depth
     i = np.arange(-half_width, half_width + 1, dtype=float)
     w = (half_width + 0.5) ** 2 - i * i
     padded = np.pad(depth, half_width, mode="reflect", reflect_type="odd")

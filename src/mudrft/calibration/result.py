@@ -295,10 +295,6 @@ class FitResult:
             Data to plot (SI); default the fitted data.
         axes : array of matplotlib Axes, optional, keyword-only
             One per trial; default a new figure.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
         """
         from ..plotting import require_matplotlib
 

@@ -92,9 +92,7 @@ def robust_log_covariance(
     for j, s_j in enumerate(() if shift is None else shift):
         g = inv @ J[trial == j].sum(axis=0)
         cov += s_j**2 * np.outer(g, g)
-    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-    se[loose] = np.inf
-    return se
+    return np.where(loose, np.inf, np.sqrt(np.clip(np.diag(cov), 0.0, None)))
 
 
 def interval(v: float, e: float, q: float, bounds: tuple[float, float]) -> tuple[float, float]:
@@ -133,15 +131,14 @@ def uncertainty(
     level: float,
     values: dict[str, float],
     bounds: dict[str, tuple[float, float]],
-    trial: NDArray[np.intp] | None = None,
-    shift: NDArray[np.float64] | None = None,
+    trial: NDArray[np.intp],
+    shift: NDArray[np.float64] | None,
 ) -> dict[str, Any]:
     """The :class:`~mudrft.calibration.FitResult` fields of the uncertainty (errors,
     intervals at ``level`` [-], verdicts, correlation, noise, condition number) at an
     optimum, from the weighted residuals ``r`` (m,) and their Jacobian ``J`` (m, k) in the
     log of the ``free`` parameters; ``bound`` (:func:`at_bound`), ``values`` [SI] and
-    ``bounds`` [SI] by name; ``trial`` and ``shift`` as :func:`robust_log_covariance`
-    (default one trial)."""
+    ``bounds`` [SI] by name; ``trial`` and ``shift`` as :func:`robust_log_covariance`."""
     from scipy.stats import t as student_t
 
     m, k = J.shape
@@ -149,14 +146,11 @@ def uncertainty(
     s2 = float(r @ r) / dof
     inv, loose, cond = _scaled_inverse(J)
     cov = s2 * inv
-    se_log = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-    se_log[loose] = np.inf
+    se_log = np.where(loose, np.inf, np.sqrt(np.clip(np.diag(cov), 0.0, None)))
     sd = np.where(np.isfinite(se_log) & (se_log > 0), se_log, 1.0)
     corr = np.clip(cov / np.outer(sd, sd), -1.0, 1.0)
     np.fill_diagonal(corr, 1.0)
-    robust = robust_log_covariance(
-        r, J, np.zeros(r.size, dtype=np.intp) if trial is None else trial, shift
-    )
+    robust = robust_log_covariance(r, J, trial, shift)
     q = float(student_t.ppf(0.5 + level / 2.0, dof))
     q_all = float(student_t.ppf(1.0 - (1.0 - level) / (2.0 * len(free)), dof))  # Bonferroni
     se, rse, ci, rrse, rci, verdicts = {}, {}, {}, {}, {}, {}

@@ -304,10 +304,6 @@ def load_intrusion_hdf5(
         As :func:`~mudrft.io.load_intrusion_csv` (plate area [m^2], length [m]); they
         override the root attributes of the same names.
 
-    Returns
-    -------
-    IntrusionDataset
-
     Raises
     ------
     MudrftError
