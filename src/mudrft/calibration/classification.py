@@ -247,12 +247,8 @@ class StreamClassifier:
 
     Parameters
     ----------
-    candidates : sequence of MudParameters, optional
-        Candidate sets; default the paper's rows (or ``water_contents``) of ``direction``.
-    labels : sequence, optional, keyword-only
-        Labels of the candidates.
-    water_contents : array_like, optional, keyword-only
-        Paper sets interpolated at these water contents [-].
+    candidates, labels, water_contents : optional
+        As :func:`classify`; the paper's rows are those of ``direction``.
     direction : {"vertical", "horizontal"}, keyword-only
         Direction of the paper rows.
     characteristic_length : float, keyword-only

@@ -49,9 +49,8 @@ class Smoothing(NamedTuple):
 
     @property
     def bias(self) -> float:
-        """Relative bias [-] of the rate-dependent constants from the rate's noise: the
-        attenuation :math:`x^2/(1+x^2)` of errors in the variables, :math:`x` the rate's
-        noise over the speed."""
+        """Relative bias [-] of the rate-dependent constants from the rate's noise, the
+        attenuation of errors in the variables (in the module's docstring)."""
         x2 = (self.rate_noise / self.speed) ** 2 if self.speed > 0 else 0.0
         return x2 / (1.0 + x2)
 

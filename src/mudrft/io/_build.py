@@ -13,7 +13,7 @@ from .._progress import logger
 from .._validation import MudrftError, check_choice, plain, positive_number, warn_implausible
 from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
-from .dataset import DEFAULT_PLATE_LENGTH, IntrusionDataset, Trial, intrusion_speed
+from .dataset import DEFAULT_PLATE_LENGTH, IntrusionDataset, Trial
 
 #: Loading directions of a test.
 DIRECTIONS = ("vertical", "horizontal")
@@ -80,14 +80,14 @@ def check_roles(
             f"; got {list(names)!r}",
         )
     force = columns.get("force")
-    if "stress" not in columns and force and force.label.lower().startswith("fz"):
-        if direction == "horizontal":
-            raise fail(
-                path,
-                where,
-                "'Fz' is the vertical force but the test is horizontal; name the column "
-                "'force [N]' (the force resisting the intrusion)",
-            )
+    fz = "stress" not in columns and force and force.label.lower().startswith("fz")
+    if fz and direction == "horizontal":
+        raise fail(
+            path,
+            where,
+            "'Fz' is the vertical force but the test is horizontal; name the column "
+            "'force [N]' (the force resisting the intrusion)",
+        )
 
 
 def resolve_direction(path: str, given: str | None, from_file: str | None, where: str) -> str:
@@ -159,8 +159,7 @@ def assemble(
         )
     trials = [tr for part in parts for tr in build_trials(path, *part, L=L, A=A)]
     check_plausible(path, trials, labels, area=A)
-    notes = tuple(notes)
-    return IntrusionDataset(tuple(trials), direction=direction, source=path, notes=notes, meta=meta)
+    return IntrusionDataset(tuple(trials), direction, path, tuple(notes), meta)
 
 
 def build_trials(
@@ -274,23 +273,21 @@ def check_plausible(
 
 
 def _check_speed(path: str, trials: Sequence[Trial], label: str) -> None:
-    speeds = [(intrusion_speed(t.time, t.depth), t) for t in trials]
-    speeds = [(v, t) for v, t in speeds if v > 0]
-    if not speeds:
+    fast, trial = max(((t.speed, t) for t in trials), key=lambda vt: vt[0])
+    if not fast > 0:
         return
-    fast, trial = max(speeds, key=lambda vt: vt[0])
     stated = split_label(label)[1] or "s"
-    what = f"{path}: the intrusion (10 % to 90 % of the deepest depth) runs at"
+    step = float(np.median(np.diff(trial.time)))
     if fast > PLAUSIBLE_SPEED[1]:
         larger = {"us": "ms or s", "ms": "s"}.get(stated, "")
         hint = (_unit_hint(label, larger) + "; or " if larger else "") + "check the depth unit"
-        warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
-        return
-    step = float(np.median(np.diff(trial.time)))
-    if step >= SLOW_SAMPLING:
+    elif step >= SLOW_SAMPLING:
         smaller = {"ms": "us", "us": ""}.get(stated, "ms")
         hint = f"samples {plain(step)} s apart (read as {stated})" + (
             "; " + _unit_hint(label, smaller) if smaller else ""
         )
         hint += "; if the test really is this slow, ignore this warning"
-        warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
+    else:
+        return
+    what = f"{path}: the intrusion (10 % to 90 % of the deepest depth) runs at"
+    warn_implausible(what, fast, PLAUSIBLE_SPEED, unit="m/s", hint=hint)
