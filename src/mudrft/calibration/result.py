@@ -397,7 +397,7 @@ class FitResult:
             se = {k: f(v) for k, v in data["standard_error"].items()}
             rse = {k: f(v) for k, v in data["relative_standard_error"].items()}
             ci = {k: (f(a), f(b)) for k, (a, b) in data["confidence_interval"].items()}
-            # files written before the robust errors (issue 39) have none: the noise's
+            # a file without robust errors: the noise's
             rrse = {k: f(v) for k, v in data.get("robust_standard_error", {}).items()} or rse
             rci = {k: (f(a), f(b)) for k, (a, b) in data.get("robust_interval", {}).items()} or ci
             verdicts = dict(data["identifiability"])

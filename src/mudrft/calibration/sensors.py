@@ -138,21 +138,17 @@ def check_zero(
     """
     offsets = [stress_offset(tr) for tr in ds.trials]
     if zero == "check":
-        return (
-            ds,
-            None,
-            [
-                f"trial {tr.name!r}: the stress is {off.value:.4g} Pa "
-                f"({100 * off.fraction:.1f} % of the trial's range) while the plate is out of the "
-                f"mud ({off.samples} samples at depth <= 0, where the model's stress is 0): a force "
-                "sensor that was not zeroed? An offset biases every constant; zero the sensor, or "
-                "pass zero='subtract' (CLI --zero subtract) to subtract each trial's stress out "
-                "of the mud (decision D154)"
-                for tr, off in zip(ds.trials, offsets, strict=True)
-                if direction == "vertical" and off.significant
-            ],
-            [],
-        )
+        warned = [
+            f"trial {tr.name!r}: the stress is {off.value:.4g} Pa "
+            f"({100 * off.fraction:.1f} % of the trial's range) while the plate is out of the "
+            f"mud ({off.samples} samples at depth <= 0, where the model's stress is 0): a force "
+            "sensor that was not zeroed? An offset biases every constant; zero the sensor, or "
+            "pass zero='subtract' (CLI --zero subtract) to subtract each trial's stress out "
+            "of the mud (decision D154)"
+            for tr, off in zip(ds.trials, offsets, strict=True)
+            if direction == "vertical" and off.significant
+        ]
+        return ds, None, warned, []
     if direction != "vertical":
         raise MudrftError(
             "zero='subtract' needs a vertical test, whose plate leaves the mud (depth <= 0); "

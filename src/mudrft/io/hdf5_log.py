@@ -268,12 +268,11 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
 
 def _open(h5py: ModuleType, p: Path) -> h5py.File:
     """The file opened read-only, or an error that says why it cannot be."""
-    where = str(p)
     file_bytes(p, "an HDF5 file", max_bytes=0)
     try:
         return h5py.File(p, "r")
     except OSError as exc:
-        raise fail(where, "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
+        raise fail(str(p), "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
 
 
 def _root_attrs(path: str, fh: h5py.File) -> dict[str, Any]:
