@@ -14,9 +14,6 @@ from typing import Any
 
 __all__ = ["BatchedMud", "Snapshot", "available", "batch", "forces", "jax", "numba"]
 
-_ATTRS = {name: ("mudrft.backends.batch", name) for name in ("BatchedMud", "Snapshot")}
-_MODULES = {"batch", "forces", "jax", "numba"}
-
 
 def available() -> list[str]:
     """The backends usable here: ``"numpy"`` always, ``"numba"`` and ``"jax"`` if installed."""
@@ -24,10 +21,9 @@ def available() -> list[str]:
 
 
 def __getattr__(name: str) -> Any:
-    if name in _ATTRS:
-        mod, attr = _ATTRS[name]
-        return getattr(importlib.import_module(mod), attr)
-    if name in _MODULES:
+    if name in ("BatchedMud", "Snapshot"):
+        return getattr(importlib.import_module(f"{__name__}.batch"), name)
+    if name in ("batch", "forces", "jax", "numba"):
         return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'mudrft.backends' has no attribute {name!r}")
 

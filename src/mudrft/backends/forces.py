@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeAlias
 
@@ -31,17 +32,8 @@ def force_function(foot: Foot, xp: Namespace = np) -> ForceRule | None:
     [-1.45, -0.0, 5.2]
     """
     if getattr(foot, "elementwise", False) and foot.initial_foot_state() is None:
-
-        def rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:
-            return foot.force_array(d, s, h, xp=xp)
-
-        return rule
+        return functools.partial(foot.force_array, xp=xp)
     if isinstance(foot, MeshFoot) and type(foot).force_unchecked is MeshFoot.force_unchecked:
         prep = PreparedTriangles(*(xp.asarray(a) for a in foot._prep))
-        trailing = foot.trailing
-
-        def mesh_rule(d: XpArray, s: XpArray, h: XpArray) -> XpArray:
-            return integrate_prepared(prep, d, s, h, trailing=trailing, xp=xp)
-
-        return mesh_rule
+        return functools.partial(integrate_prepared, prep, trailing=foot.trailing, xp=xp)
     return None
