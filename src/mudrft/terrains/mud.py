@@ -376,26 +376,20 @@ class MudTerrain:
                 self.constants, state.channels, x, y, z, u, v, w, float(dt), *common,
                 float(seal), *flags, pyfloat,
             )  # fmt: skip
+            stress = np.array([sx, sy, sz])
             if foot.elementwise and state.foot is None:
                 f = foot.force_components(depth, sx, sy, sz, ch.heading, xp=pyfloat)
-                out = TerrainOutput(
-                    force=np.array(f) * ch.in_mud,
-                    stress=np.array([sx, sy, sz]),
-                    depth=np.asarray(depth, dtype=float),
-                )
+                out = TerrainOutput(np.array(f) * ch.in_mud, stress, np.asarray(depth, dtype=float))
                 return MudState(channels=ch, foot=None), out
-            stress = np.array([sx, sy, sz])
-            heading, depth_a, inside = ch.heading, np.asarray(depth, dtype=float), ch.in_mud
         else:
-            ch, sx, sy, sz, depth_a = mud_step(
+            ch, sx, sy, sz, depth = mud_step(
                 self.constants, state.channels, pos[..., 0], pos[..., 1], pos[..., 2],
                 vel[..., 0], vel[..., 1], vel[..., 2], dt, *common, seal, *flags,
             )  # fmt: skip
             stress = np.stack([sx, sy, sz], axis=-1)
-            heading, inside = ch.heading, ch.in_mud
+        d = np.asarray(depth, dtype=float)
         foot_state, force = foot.contact_force(
-            state.foot, depth_a, stress, heading, dt, retraction=ch.z.clock_w
+            state.foot, d, stress, ch.heading, dt, retraction=ch.z.clock_w
         )
-        force = force * np.asarray(inside)[..., None]
-        out = TerrainOutput(force=force, stress=stress, depth=depth_a)
+        out = TerrainOutput(force * np.asarray(ch.in_mud)[..., None], stress, d)
         return MudState(channels=ch, foot=foot_state), out
