@@ -102,13 +102,9 @@ def semicylinder_coefficients(
     # 2/3 - c + c^3/3 = (1 - c)^2 (2 + c)/3 with 1 - c = z/R: no cancellation near z = 0
     u = z / radius
     az = 2.0 * width * radius * (s - s * s * s / 3.0 + u * u * (2.0 + c) / 3.0)
-    return (
-        seg * f_n(phi, xp=xp),
-        side * f_t(phic, xp=xp),
-        seg * f_t(phi, xp=xp),
-        side * f_n(phic, xp=xp),
-        az,
-    )
+    ax, by = seg * f_n(phi, xp=xp), seg * f_t(phi, xp=xp)
+    bx, ay = side * f_t(phic, xp=xp), side * f_n(phic, xp=xp)
+    return ax, bx, by, ay, az
 
 
 def semisphere_coefficients(

@@ -85,8 +85,7 @@ def residual(
 ) -> NDArray[np.float64]:  # fmt: skip
     r"""Balance residual :math:`R` [N] (> 0: the springs push the column open), unchecked, at
     a deflection [m], tip depth [m] and vertical stress [Pa]."""
-    d, s = np.asarray(depth, dtype=float), np.asarray(sz, dtype=float)
-    x = np.asarray(deflection, dtype=float)
+    x, d, s = (np.asarray(a, dtype=float) for a in (deflection, depth, sz))
     g = linkage.geometry
     return np.asarray(column_residual(g, linkage.pole_top, linkage.branch, spring, x, d, s))
 

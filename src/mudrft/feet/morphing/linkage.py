@@ -182,8 +182,7 @@ class Linkage:
         """Resolve the linkage of ``geometry`` [m, rad] (it must reach and be monotone)."""
         g = geometry
         th = np.linspace(g.expanded_angle, g.retracted_angle, _DESIGN_SAMPLES)
-        phi = th + g.crank_offset
-        rc = g.base_radius + g.crank_length * np.cos(phi)
+        rc = g.base_radius + g.crank_length * np.cos(th + g.crank_offset)
         if np.any(g.coupler_length**2 - (rc - g.pole_radius) ** 2 <= 0):
             raise MudrftError(
                 f"coupler_length = {g.coupler_length!r} m is too short to reach the upper pole "
