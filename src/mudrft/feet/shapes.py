@@ -36,9 +36,6 @@ class _ClosedFormFoot(Foot):
     trailing: ClassVar[bool] = False
     elementwise: ClassVar[bool] = True
 
-    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
-        raise NotImplementedError
-
     def __post_init__(self) -> None:
         """Check the dimensions [m] and keep them as floats."""
         dims = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
@@ -97,7 +94,9 @@ class _ClosedFormFoot(Foot):
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """This foot as a closed :class:`MeshFoot`; ``resolution``: segments from tip to rim,
         or divisions per edge (flat) [-]."""
-        v, f = self._mesh_arrays(resolution)
+        kind, g0, g1, g2 = self.kernel_geometry  # sizes as closed_form_coefficients takes them
+        sizes = (g0, g1) if kind == 2 else (g0, g1, g2)
+        v, f = (box_mesh, semicylinder_mesh, semisphere_mesh)[kind](*sizes, resolution=resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
 
     @cached_property
@@ -162,9 +161,6 @@ class Flat(_ClosedFormFoot):
         az = np.where(d > 0, self.length * self.width, 0.0)
         return np.stack([self.length * z, self.width * z, az], axis=-1)
 
-    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
-        return box_mesh(self.length, self.width, self.height, resolution=resolution)
-
 
 @dataclass(frozen=True, eq=True)
 class SemiCylinder(_ClosedFormFoot):
@@ -205,9 +201,6 @@ class SemiCylinder(_ClosedFormFoot):
         z, th, seg = self._segment(depth)
         return np.stack([seg, self.width * z, 2 * self.radius * self.width * np.sin(th)], axis=-1)
 
-    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
-        return semicylinder_mesh(self.radius, self.width, self.height, resolution=resolution)
-
 
 @dataclass(frozen=True, eq=True)
 class SemiSphere(_ClosedFormFoot):
@@ -247,6 +240,3 @@ class SemiSphere(_ClosedFormFoot):
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""
         _, th, seg = self._segment(depth)
         return np.stack([seg, seg, math.pi * (self.radius * np.sin(th)) ** 2], axis=-1)
-
-    def _mesh_arrays(self, resolution: int) -> tuple[np.ndarray, np.ndarray]:
-        return semisphere_mesh(self.radius, self.height, resolution=resolution)
