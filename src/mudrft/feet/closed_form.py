@@ -5,7 +5,8 @@ the printed final differs (errata E20-E23; ``printed_*``). With :math:`z` the ti
 :math:`\varphi` the folded heading, :math:`\varphi_c=\pi/2-\varphi`,
 :math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`:
 :math:`F_x=a_x\sigma_x+b_x\sigma_y`, :math:`F_y=b_y\sigma_x+a_y\sigma_y`,
-:math:`F_z=a_z\sigma_z`, coefficients [m^2] from ``*_coefficients``.
+:math:`F_z=a_z\sigma_z`, coefficients [m^2] from ``*_coefficients``; those and
+``*_forces`` take the array namespace ``xp`` (numpy by default).
 """
 
 from __future__ import annotations
@@ -51,8 +52,6 @@ def flat_coefficients(
         Tip depth [m] (capped at ``height``; 0 gives :math:`a_z=0`); heading in [0, pi/2] [rad].
     length, width, height : float
         :math:`L` (along y), :math:`W` (along x) and height [m].
-    xp : module, optional
-        Array namespace.
 
     Notes
     -----
@@ -81,8 +80,6 @@ def semicylinder_coefficients(
         Tip depth [m] (capped at ``height``); heading from the axis (x) in [0, pi/2] [rad].
     radius, width, height : float
         :math:`R`, :math:`W` (axis length, along x) and height (<= R) [m].
-    xp : module, optional
-        Array namespace.
 
     Notes
     -----
@@ -119,8 +116,6 @@ def semisphere_coefficients(
         Tip depth [m] (capped at ``height``); heading in [0, pi/2] [rad].
     radius, height : float
         :math:`R` and cap height (<= R) [m].
-    xp : module, optional
-        Array namespace.
 
     Notes
     -----

@@ -2,7 +2,8 @@ r"""Surface-element integration of the 3D force law (Chen et al. 2026, eqs. 6-7)
 
 Triangles (..., m, 3, 3) [m] are in the foot frame (tip at :math:`z=0`, z up), clipped
 exactly by the mud surface :math:`z=d` (the tip ``depth``); the rule of one facet is
-:mod:`mudrft.feet.facet`. Every function takes an ``xp`` namespace; batch axes broadcast.
+:mod:`mudrft.feet.facet`. Every function takes an ``xp`` namespace (``numpy`` by default,
+``jax.numpy``); batch axes broadcast.
 """
 
 from __future__ import annotations
@@ -164,8 +165,6 @@ def integrate_triangles(
         Heading of the horizontal motion from the x axis [rad], any angle.
     trailing : bool, optional
         Let facets that trail the motion resist too (the sphere's derivation, D23).
-    xp : module, optional
-        Array namespace (``numpy``, ``jax.numpy``).
 
     Returns
     -------
@@ -209,7 +208,7 @@ def integrate_wrench(
     ----------
     triangles : array_like, shape (..., m, 3, 3)
         Triangles in the foot frame [m] (ignored when ``prepared`` is given).
-    depth, stress, heading, trailing, xp
+    depth, stress, heading, trailing
         As in :func:`integrate_triangles`: depth [m], stresses [Pa], heading [rad].
     point : array_like, shape (..., 3), optional
         Reference point for the moment, in the foot frame [m]; default the tip.
