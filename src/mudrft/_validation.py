@@ -3,12 +3,14 @@ given), input limits, and warnings for values that look like a unit mistake."""
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import re
 import sys
 import warnings
 from collections.abc import Iterable
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import DTypeLike
@@ -46,6 +48,34 @@ class PlausibilityWarning(UserWarning):
 
 class CalibrationWarning(UserWarning):
     """A fit ran, but its data were thinned or the model does not describe them."""
+
+
+#: Optional packages and the extra of ``pip install 'mudrft[EXTRA]'`` that provides them.
+EXTRAS = {
+    "matplotlib": "plot",
+    "mujoco": "mujoco",
+    "jax": "jax",
+    "numba": "numba",
+    "pandas": "pandas",
+    "h5py": "hdf5",
+    "dask": "sweep",
+    "distributed": "sweep",
+    "xarray": "sweep",
+    "zarr": "sweep",
+}
+
+
+def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> ModuleType:
+    """Import an optional package, or fail with one line naming the extra to install
+    (and ``unless``, the option that does without it)."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise MudrftError(
+            f"{needed_for} needs the optional package {module}, which is not installed: "
+            f"pip install 'mudrft[{EXTRAS.get(module, module)}]'"
+            + (f", or pass {unless}" if unless else "")
+        ) from exc
 
 
 def plain(value: object) -> str:

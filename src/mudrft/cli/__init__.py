@@ -20,9 +20,9 @@ from types import ModuleType
 
 from .. import __version__
 from .._progress import enable_stderr_logging, logger
-from .._validation import MudrftError, plain_text
+from .._validation import EXTRAS, MudrftError, plain_text
 from . import bench, calibrate, compare, params, reproduce, simulate, sweep, walk
-from ._common import EXTRAS, Terminated, signals_as_exceptions
+from ._common import Terminated, signals_as_exceptions
 from ._parser import HelpFormatter
 
 __all__ = ["COMMANDS", "build_parser", "main"]

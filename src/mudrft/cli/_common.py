@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 import logging
 import math
 import os
@@ -12,42 +11,15 @@ import threading
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from types import ModuleType, TracebackType
+from types import TracebackType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._progress import logger
-from .._validation import MudrftError
+from .._validation import MudrftError, require_extra
 from ..io.atomic import move_into_place, regular_target, staging_directory
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-#: Optional packages and the extra of ``pip install 'mudrft[EXTRA]'`` that provides them.
-EXTRAS = {
-    "matplotlib": "plot",
-    "mujoco": "mujoco",
-    "jax": "jax",
-    "numba": "numba",
-    "pandas": "pandas",
-    "h5py": "hdf5",
-    "dask": "sweep",
-    "distributed": "sweep",
-    "xarray": "sweep",
-    "zarr": "sweep",
-}
-
-
-def require_extra(module: str, *, needed_for: str, unless: str | None = None) -> ModuleType:
-    """Import an optional package, or fail with one line naming the extra to install
-    (and ``unless``, the option that does without it)."""
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise MudrftError(
-            f"{needed_for} needs the optional package {module}, which is not installed: "
-            f"pip install 'mudrft[{EXTRAS.get(module, module)}]'"
-            + (f", or pass {unless}" if unless else "")
-        ) from exc
 
 
 def require_plot_file(option: str, path: str | Path) -> None:

@@ -6,7 +6,6 @@ no shared file system; on Dask a window of a few tasks per worker is in flight.
 
 from __future__ import annotations
 
-import importlib
 import logging
 import math
 import multiprocessing
@@ -15,13 +14,12 @@ import shutil
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._progress import make_progress
-from .._validation import MudrftError
+from .._validation import MudrftError, require_extra
 from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
 from .store import StoreLike, chunk_status, create_store, load_result, open_store, write_chunk
@@ -42,17 +40,6 @@ class SweepWarning(UserWarning):
     """A warning raised at some points of a sweep (reported once per distinct message)."""
 
 
-def _require(module: str) -> ModuleType:
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        extra = "mujoco" if module == "mujoco" else "sweep"
-        raise MudrftError(
-            f"mudrft.sweep needs the optional package {module}, which is not installed: "
-            f"pip install 'mudrft[{extra}]'"
-        ) from exc
-
-
 _MAIN_GUARD = (
     "each worker process of the local cluster starts by importing the script that started "
     "the sweep, so a script must call mudrft.sweep(...) under 'if __name__ == \"__main__\":' "
@@ -68,7 +55,7 @@ def _client(
     if client is not None:
         yield client
         return
-    distributed = _require("distributed")
+    distributed = require_extra("distributed", needed_for="mudrft.sweep")
     if scheduler:
         try:
             connected = distributed.Client(scheduler)
@@ -215,9 +202,9 @@ def run_sweep(
         )
     spec = load_spec(spec)
     for module in ("xarray", "zarr", "dask"):
-        _require(module)
+        require_extra(module, needed_for="mudrft.sweep")
     if spec.motion == "walk":
-        _require("mujoco")
+        require_extra("mujoco", needed_for="mudrft.sweep")
     if client is not None and scheduler is not None:
         raise MudrftError("give client or scheduler, not both")
     if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
