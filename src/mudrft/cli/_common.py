@@ -337,14 +337,9 @@ class Outputs:
             with _signals_held():  # a signal now is taken after the move or the cleanup
                 try:
                     if exc_type is None:
-                        try:
-                            self.commit()
-                        except BaseException:
-                            self.discard()
-                            raise
-                    else:
-                        self.discard()
+                        self.commit()
                 finally:
+                    self.discard()  # after a commit there is nothing left to remove
                     if self._registry is not None and self in self._registry:
                         self._registry.remove(self)
         finally:
