@@ -169,18 +169,14 @@ def shape_crossovers(a: Foot, b: Foot, *, points: int = 400) -> list[float]:
     :func:`scipy.optimize.brentq` to 1e-9 m."""
     from scipy.optimize import brentq
 
+    def gap(d: float) -> float:
+        return shape_factor(a, d) - shape_factor(b, d)
+
     top = min(float(getattr(a, "height", 1.0)), float(getattr(b, "height", 1.0)))
     grid = np.linspace(top / points, top, points)
-    diff = np.array([shape_factor(a, d) - shape_factor(b, d) for d in grid])
+    diff = np.array([gap(d) for d in grid])
     cuts = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
-    return [
-        float(
-            brentq(
-                lambda d: shape_factor(a, d) - shape_factor(b, d), grid[i], grid[i + 1], xtol=1e-9
-            )
-        )
-        for i in cuts
-    ]
+    return [float(brentq(gap, grid[i], grid[i + 1], xtol=1e-9)) for i in cuts]
 
 
 @functools.lru_cache(maxsize=1)
