@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
@@ -108,6 +107,7 @@ def write_comparison(
         The paths written, by key of :data:`FILES`.
     """
     from ..baselines.compare import compare, default_terrains, summarize, write_csv
+    from ..reproduce.runner import write_rows
     from ..terrains import MudTerrain
     from ..trajectories import gait, plate_intrusion
 
@@ -125,11 +125,7 @@ def write_comparison(
         }
         write_csv(runs, stage / FILES["csv"][0], overwrite=True)
         rows = [{"trajectory": k, **r} for k, h in runs.items() for r in summarize(h)]
-        with (stage / FILES["summary"][0]).open("w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+        write_rows(stage / FILES["summary"][0], rows, list(rows[0]))
         if figures:
             from ..baselines.plots import plot_gait, plot_s6
             from ..plotting import require_matplotlib

@@ -244,7 +244,7 @@ def reproduce(
         )
         runs.run(rd, f, s, w, d)
     rows = _summary_rows(runs, head, feet, speeds, rows_w)
-    _write_summary(outp / "summary.csv", rows)
+    write_rows(outp / "summary.csv", rows, SUMMARY_COLUMNS)
     _say(f"wrote {outp / 'summary.csv'} ({len(rows)} rows)", quiet)
 
     def cells_of(rd: Reading) -> list[Cell]:
@@ -360,9 +360,10 @@ def _summary_rows(
     return out
 
 
-def _write_summary(path: Path, rows: list[dict[str, Any]]) -> None:
+def write_rows(path: Path, rows: list[dict[str, Any]], columns: Sequence[str]) -> None:
+    """Write ``rows`` to the CSV file ``path`` under ``columns``, floats to 6 digits."""
     with open(path, "w", newline="") as fh:
-        wr = csv.DictWriter(fh, fieldnames=list(SUMMARY_COLUMNS))
+        wr = csv.DictWriter(fh, fieldnames=list(columns))
         wr.writeheader()
         for r in rows:
             wr.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
