@@ -26,8 +26,12 @@ MEDIUM_OPTIONS = {
 }
 
 
-def add_fit_options(p: argparse.ArgumentParser) -> None:
-    """Add ``--vertical FIT.json`` and ``--horizontal FIT.json``."""
+def add_mud_options(
+    p: argparse.ArgumentParser, *, water: str = "water content W [-], 0.25 to 0.45"
+) -> None:
+    """Add ``--water-content`` (``water``: its help), ``--vertical FIT.json`` and
+    ``--horizontal FIT.json``."""
+    p.add_argument("--water-content", type=float, default=0.25, help=water)
     for d in ("vertical", "horizontal"):
         p.add_argument(
             f"--{d}",

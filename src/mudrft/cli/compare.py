@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from .._validation import MudrftError
 from ._common import Outputs, check_finite_option, check_positive_option, require_extra, save_figure
 from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
-from ._terrain import add_fit_options, add_terrain_options, mud_from_options, terrains_from_options
+from ._terrain import add_mud_options, add_terrain_options, mud_from_options, terrains_from_options
 
 if TYPE_CHECKING:
     from ..feet import Foot
@@ -44,8 +44,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     )
     add_foot_options(p, default="flat")
     p.add_argument("--out", default="mudrft-compare", help="output directory DIR")
-    p.add_argument("--water-content", type=float, default=0.25, help="mud water content W [-]")
-    add_fit_options(p)
+    add_mud_options(p, water="mud water content W [-]")
     p.add_argument("--speed", type=float, default=GAIT_SPEED, help="gait speed [m/s]")
     p.add_argument(
         "--depth",

@@ -23,7 +23,7 @@ from ._parser import (
     add_subcommand,
 )
 from ._terrain import (
-    add_fit_options,
+    add_mud_options,
     add_terrain_options,
     mud_from_options,
     terrain_names,
@@ -64,10 +64,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         description=DESCRIPTION,
     )
     add_foot_options(p)
-    p.add_argument(
-        "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
-    )
-    add_fit_options(p)
+    add_mud_options(p)
     p.add_argument(
         "--path",
         metavar="PATH.csv",

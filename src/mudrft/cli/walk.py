@@ -13,7 +13,7 @@ from .._validation import MudrftError
 from ..io.atomic import json_text
 from ._common import Outputs, check_positive_option, logger, require_extra
 from ._parser import add_foot_options, add_run_options, add_subcommand
-from ._terrain import add_fit_options, mud_from_options
+from ._terrain import add_mud_options, mud_from_options
 
 if TYPE_CHECKING:
     from ..parameters import Mud
@@ -38,10 +38,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "'mudrft[mujoco]'.",
     )
     add_foot_options(p, default="flat")
-    p.add_argument(
-        "--water-content", type=float, default=0.25, help="water content W [-], 0.25 to 0.45"
-    )
-    add_fit_options(p)
+    add_mud_options(p)
     p.add_argument("--seconds", type=float, default=10.0, help="simulated time [s]")
     p.add_argument("--out", required=True, help="output directory DIR")
     p.add_argument("--dt", type=float, default=1e-3, help="physics time step [s]")
