@@ -50,13 +50,8 @@ def make_figures(
 
     # Fig. 9: forces against time for the fixed feet at medium speed, W = 25 %
     fixed = [f for f in feet if f != "morphing"]
-    fig, axes = plt.subplots(
-        max(len(fixed), 1),
-        3,
-        figsize=(10, 2.4 * max(len(fixed), 1)),
-        squeeze=False,
-        constrained_layout=True,
-    )
+    n = max(len(fixed), 1)
+    fig, axes = plt.subplots(n, 3, figsize=(10, 2.4 * n), squeeze=False, constrained_layout=True)
     for i, f in enumerate(fixed):
         r = runs[(f, v, w)]
         for j, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
