@@ -221,25 +221,21 @@ def _motion(args: argparse.Namespace, dt: float) -> tuple[Trajectory | LoadContr
     from ..simulation import LoadControl
     from ..trajectories import gait
 
+    def option(name: str, default: float, unit: str, *, ge: bool = False) -> float:
+        given = getattr(args, name)
+        value = default if given is None else given
+        return check_positive_option(f"--{name}", value, unit=unit, ge=ge)
+
     if args.path is not None:
         return load_path_csv(args.path), f"path {args.path}"
     if args.load is not None:
         weight = check_positive_option("--load", args.load, unit="N")
-        ramp = check_positive_option(
-            "--ramp", LOAD_RAMP if args.ramp is None else args.ramp, unit="s", ge=True
-        )
-        duration = check_positive_option(
-            "--duration", LOAD_DURATION if args.duration is None else args.duration, unit="s"
-        )
+        ramp = option("ramp", LOAD_RAMP, "s", ge=True)
+        duration = option("duration", LOAD_DURATION, "s")
         load = LoadControl(weight, duration=duration, dt=dt, ramp=ramp)
         return load, f"a load of {weight:g} N"
-    speed = check_positive_option(
-        "--speed", GAIT_SPEED if args.speed is None else args.speed, unit="m/s"
-    )
-    depth = check_positive_option(
-        "--depth", STANCE_DEPTH if args.depth is None else args.depth, unit="m"
-    )
-    return gait(speed, depth=depth, dt=dt), f"{speed:g} m/s gait"
+    speed = option("speed", GAIT_SPEED, "m/s")
+    return gait(speed, depth=option("depth", STANCE_DEPTH, "m"), dt=dt), f"{speed:g} m/s gait"
 
 
 def _print_against_measured(res: Result, path: Trajectory) -> None:
