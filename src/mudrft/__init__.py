@@ -60,7 +60,6 @@ __all__ = [  # the lazy names below, spelled out for readers and linters
 
 
 def __getattr__(name: str) -> Any:
-    # submodules and heavier entry points load on first use, keeping `import mudrft` light
     if name in _LAZY:
         return importlib.import_module(_LAZY[name])
     if name in _LAZY_ATTRS:
