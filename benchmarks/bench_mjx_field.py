@@ -19,10 +19,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="50 steps a call, 2 repeats")
     ap.add_argument("--json", help="write the results to this file")
     ap.add_argument("--robots", type=int, nargs="*", help="robot counts (default 1 64 1024)")
+    ap.add_argument(
+        "--chunk", type=int, default=0,
+        help="vmap this many robots at a time inside the one jitted call (lax.map over the "
+        "groups); 0: all at once",
+    )  # fmt: skip
     args = ap.parse_args(argv)
     res = {
         "machine": machine_info(),
-        **bench_fields(args.quick, lambda m: print(m, file=sys.stderr), args.robots),
+        **bench_fields(args.quick, lambda m: print(m, file=sys.stderr), args.robots, args.chunk),
     }
     text = json.dumps(res, indent=2)
     if args.json:

@@ -80,8 +80,10 @@ def _field() -> Any:
 
 
 def _mjx(
-    lay: Any, n: int, steps: int, repeat: int, mud: bool, field: bool = False
+    lay: Any, n: int, steps: int, repeat: int, mud: bool, field: bool = False, chunk: int = 0
 ) -> dict[str, Any]:
+    """Robot-steps per second of ``n`` robots vmapped in one jitted call; ``chunk`` > 0
+    runs them as ``n / chunk`` vmapped groups in sequence (``lax.map``), still one call."""
     import jax
     import jax.numpy as jnp
     import mujoco
@@ -121,6 +123,19 @@ def _mjx(
         return jax.lax.scan(body, carry, None, length=steps)[0]
 
     fn = jax.jit(jax.vmap(run))
+    if chunk and n > chunk:  # groups of chunk robots, one after the other, in one program
+        if n % chunk:
+            raise ValueError(f"robots ({n}) must be a multiple of chunk ({chunk})")
+
+        def grouped(carry: Any, fields: Any = None) -> Any:
+            def split(a: Any) -> Any:
+                return a.reshape(n // chunk, chunk, *a.shape[1:])
+
+            xs = jax.tree_util.tree_map(split, (carry, fields))
+            out = jax.lax.map(lambda x: jax.vmap(run)(*x) if field else jax.vmap(run)(x[0]), xs)
+            return jax.tree_util.tree_map(lambda a: a.reshape(n, *a.shape[2:]), out)
+
+        fn = jax.jit(grouped)
     args = (draws(0),) if field else ()
     t0 = time.perf_counter()
     carry = jax.block_until_ready(fn(batch, *args))
@@ -173,7 +188,9 @@ def bench_robots(quick: bool, progress: Progress) -> dict[str, Any]:
     return res
 
 
-def bench_fields(quick: bool, progress: Progress, robots: Any = None) -> dict[str, Any]:
+def bench_fields(
+    quick: bool, progress: Progress, robots: Any = None, chunk: int = 0
+) -> dict[str, Any]:
     """MJX with mud on one mud and on a field drawn per robot, at ``robots`` (default
     :data:`ROBOT_COUNTS`) robots (module docstring): ``mjx_mud`` and ``mjx_field``,
     ``{N: {...}}``. (A run of several MJX programs in one process has stalled with no CPU
@@ -190,6 +207,7 @@ def bench_fields(quick: bool, progress: Progress, robots: Any = None) -> dict[st
         for key, field in (("mjx_mud", False), ("mjx_field", True)):
             res[key] = {}
             for n in robots or ROBOT_COUNTS:
-                res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, True, field)
+                res[key][str(n)] = _mjx(lay, n, steps, 2 if quick else 3, True, field, chunk)
+                res[key][str(n)]["chunk"] = chunk if chunk and n > chunk else n
                 say(progress, f"  robots, MJX {key}, N={n}: {res[key][str(n)]}")
     return res
