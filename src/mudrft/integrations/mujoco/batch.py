@@ -282,7 +282,7 @@ class MudBatch:
     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """The bodies posed as the compiled kernel poses each foot on an uneven field: in the
         frame of the tangent plane under its tip, rotated about the surface point P there
-        and moved down to ``surface`` (:func:`.compiled._about`)."""
+        and moved down to ``surface`` (:func:`.linalg._about`)."""
         assert self.field is not None
         f = self.field
         ny, nx = f.cells.shape

@@ -19,7 +19,7 @@ from ..._xp import pyfloat
 from .implicit import passivity_scale
 
 __all__ = [
-    "REGISTRY", "_borrow", "_chain", "_cut", "_mj_jac", "_mj_solve_m", "_registry", "_robot_step",
+    "REGISTRY", "_about", "_back", "_borrow", "_chain", "_cut", "_mj_jac", "_mj_solve_m", "_registry", "_robot_step",
     "mujoco_functions",
 ]  # fmt: skip
 
@@ -46,6 +46,40 @@ def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
         for j in range(k + 1, n):
             acc -= A[k, j] * b[j]
         b[k] = acc / A[k, k]
+
+
+def _about(
+    Q: FloatArray, p: FloatArray, x: float, y: float, z: float, surface: float, out: FloatArray
+) -> None:
+    """``out`` = Q (p - P) + P' [m]: ``p`` rotated by ``Q`` about P = (x, y, z) and moved
+    down to P' = (x, y, surface)."""
+    ex, ey, ez = p[0] - x, p[1] - y, p[2] - z
+    out[0] = x + (Q[0, 0] * ex + Q[0, 1] * ey + Q[0, 2] * ez)
+    out[1] = y + (Q[1, 0] * ex + Q[1, 1] * ey + Q[1, 2] * ez)
+    out[2] = surface + (Q[2, 0] * ex + Q[2, 1] * ey + Q[2, 2] * ez)
+
+
+def _back(Q: FloatArray, w: FloatArray, K: FloatArray, KB: FloatArray) -> None:
+    """A wrench ``w`` (6) and a 6 x 6 ``K`` from the frame of ``Q`` to the world, in place:
+    w <- B^T w, K <- B^T K B, B = diag(Q, Q); ``KB`` a work array."""
+    for h in range(2):
+        a0, a1, a2 = w[3 * h], w[3 * h + 1], w[3 * h + 2]
+        for i in range(3):
+            w[3 * h + i] = Q[0, i] * a0 + Q[1, i] * a1 + Q[2, i] * a2
+    for i in range(6):
+        for l in range(6):
+            acc = 0.0
+            hl = 3 * (l // 3)
+            for m in range(3):
+                acc += K[i, hl + m] * Q[m, l - hl]
+            KB[i, l] = acc
+    for i in range(6):
+        hi = 3 * (i // 3)
+        for l in range(6):
+            acc = 0.0
+            for m in range(3):
+                acc += Q[m, i - hi] * KB[hi + m, l]
+            K[i, l] = acc
 
 
 def _robot_step(
