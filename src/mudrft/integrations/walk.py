@@ -36,9 +36,6 @@ from .walk_output import (
     plot_walk,
     save_strip,
 )
-from .walk_output import (
-    _write_csv as _write_csv,  # re-exported for mudrft.cli.walk
-)
 
 if TYPE_CHECKING:
     import mujoco
@@ -149,9 +146,10 @@ def _leg_ik(x: float, z: float) -> tuple[float, float]:
     return q1, q2
 
 
-def _smooth(s: float) -> float:
-    s = min(max(s, 0.0), 1.0)
-    return s * s * (3 - 2 * s)
+def _ease(a: float, b: float, s: float, start: float, end: float) -> float:
+    """From ``a`` to ``b`` along a smoothstep as ``s`` goes from ``start`` to ``end``."""
+    u = min(max((s - start) / (end - start), 0.0), 1.0)
+    return a + (b - a) * (u * u * (3 - 2 * u))
 
 
 @dataclass
@@ -235,8 +233,9 @@ class GaitController:
         s = t / self.step_time - k
         stance = k % 2  # step 0: right leg swings, left leg stands
         if k != self._step:  # new step: remember where each ankle starts
-            if self._step >= 0:
-                self._start = [self._x_end(leg, self._step) for leg in (0, 1)]
+            if self._step >= 0:  # each ankle ends the last step where the gait put it
+                end = 0.5 * self.step_length(self._step)
+                self._start = [-end if leg == self._step % 2 else end for leg in (0, 1)]
             self._z0 = list(ankle_z)
             self._step = k
         half = 0.5 * self.step_length(k)
@@ -251,29 +250,18 @@ class GaitController:
                 z = ankle_z[leg] - hip_world
             else:
                 # weight shift, slow pull-out, forward swing, set-down (fractions of the step)
-                x = x0 + (half - x0) * _smooth(
-                    (s - self.phases[1]) / (self.phases[3] - self.phases[1])
-                )
-                zw = (
-                    self._z0[leg]
-                    + (top - self._z0[leg])
-                    * _smooth((s - self.phases[0]) / (self.phases[2] - self.phases[0]))
-                    if s < self.phases[2]
-                    else top
-                    + (land - top)
-                    * _smooth((s - self.phases[2]) / (self.phases[4] - self.phases[2]))
-                )
-                z = zw - hip_z
+                p = self.phases
+                x = _ease(x0, half, s, p[1], p[3])
+                if s < p[2]:
+                    z = _ease(self._z0[leg], top, s, p[0], p[2]) - hip_z
+                else:
+                    z = _ease(top, land, s, p[2], p[4]) - hip_z
             r = math.hypot(x, z)
             if r > 0.99 * (THIGH + SHANK):  # keep the knee bent
                 x, z = x * 0.99 * (THIGH + SHANK) / r, z * 0.99 * (THIGH + SHANK) / r
             q1, q2 = _leg_ik(x, z)
             q[3 * leg : 3 * leg + 3] = (q1, q2, -(q1 + q2) - pitch)
         return q, k, stance
-
-    def _x_end(self, leg: int, k: int) -> float:
-        half = 0.5 * self.step_length(k)
-        return -half if leg == k % 2 else half
 
     def __call__(self, data: mujoco.MjData) -> tuple[int, int]:
         """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
@@ -415,24 +403,10 @@ def walk(
                 float(data.xpos[torso, 2]),
                 float(data.qpos[qp]),
             )
-            rows[k] = (
-                data.time,
-                x,
-                z,
-                pitch,
-                out.depth[0],
-                out.depth[1],
-                out.force[0, 0],
-                out.force[0, 2],
-                out.force[1, 0],
-                out.force[1, 2],
-                power,
-                energy,
-                abs_energy,
-                out.tip[0, 0],
-                out.tip[1, 0],
-                step,
-            )
+            rows[k, :4] = data.time, x, z, pitch
+            rows[k, 4:6] = out.depth[:2]
+            rows[k, 6:10] = out.force[:2, (0, 2)].ravel()  # left Fx, Fz, right Fx, Fz
+            rows[k, 10:] = power, energy, abs_energy, out.tip[0, 0], out.tip[1, 0], step
             if k in marks and renderer is not None:
                 renderer.update_scene(data, camera="side")
                 images.append(renderer.render().copy())
@@ -456,19 +430,20 @@ def walk(
     max_suction = float(max(0.0, -min(table["left_Fz [N]"].min(), table["right_Fz [N]"].min())))
     steps = _per_step(table)
     n_steps = len(steps["step"])
+
+    def mean(column: str) -> float:  # over the complete gait steps, NaN without one
+        return float(np.mean(steps[column])) if n_steps else math.nan
+
+    x_end = table["x [m]"][-1]
     summary = {
         "fell": bool(fell),
-        "distance [m]": float(table["x [m]"][-1] - x_start)
-        if math.isfinite(table["x [m]"][-1])
-        else float("nan"),
-        "energy_per_step [J]": float(np.mean(steps["energy [J]"])) if n_steps else float("nan"),
-        "absolute_work_per_step [J]": float(np.mean(steps["absolute_work [J]"]))
-        if n_steps
-        else float("nan"),
-        "mean_slip [m]": float(np.mean(steps["slip [m]"])) if n_steps else float("nan"),
-        "shank_in_mud_steps": int(np.sum(steps["shank_in_mud"])) if n_steps else 0,
+        "distance [m]": float(x_end - x_start) if math.isfinite(x_end) else math.nan,
+        "energy_per_step [J]": mean("energy [J]"),
+        "absolute_work_per_step [J]": mean("absolute_work [J]"),
+        "mean_slip [m]": mean("slip [m]"),
+        "shank_in_mud_steps": int(np.sum(steps["shank_in_mud"])),
         "weight [N]": weight,
-        "mean_sinking [m]": float(np.mean(steps["sinking [m]"])) if n_steps else float("nan"),
+        "mean_sinking [m]": mean("sinking [m]"),
         "max_suction [N]": max_suction,
         "max_suction_over_weight": max_suction / weight,
         "steps": n_steps,
@@ -476,9 +451,7 @@ def walk(
         "dt [s]": float(dt),
         "speed_command [m/s]": float(speed),
         "step_time [s]": float(step_time),
-        "mean_speed [m/s]": float(
-            (table["x [m]"][-1] - x_start) / max(table["time [s]"][-1], 1e-12)
-        ),
+        "mean_speed [m/s]": float((x_end - x_start) / max(table["time [s]"][-1], 1e-12)),
         "min_torso_height [m]": float(table["z [m]"].min()),
         "foot": getattr(foot, "name", type(foot).__name__),
         "bottom [m]": float(bottom),

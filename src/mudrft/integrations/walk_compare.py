@@ -186,10 +186,9 @@ def write_compare(
 def _plot(
     path: Path, summaries: dict[str, dict[str, Any]], claims: list[dict[str, str]], title: str
 ) -> None:
-    import matplotlib
+    from ..plotting import require_matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = require_matplotlib()
 
     feet = list(summaries)
     panels = (

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..plotting import require_matplotlib
 from .mujoco._lazy import _mujoco
 
 if TYPE_CHECKING:
@@ -83,18 +84,15 @@ def _per_step(table: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.flo
         stance = k % 2
         side = "left" if stance == 0 else "right"
         first = int(np.argmax(sel))
-        e = table["joint_energy [J]"][sel]
-        e0 = table["joint_energy [J]"][first - 1] if first > 0 else 0.0
-        a = table["joint_abs_energy [J]"][sel]
-        a0 = table["joint_abs_energy [J]"][first - 1] if first > 0 else 0.0
+        e, a = table["joint_energy [J]"], table["joint_abs_energy [J]"]
         depth = table[f"{side}_depth [m]"][sel]
         x_in = table[f"{side}_x [m]"][sel][depth > 0]
         fz = np.minimum(table["left_Fz [N]"][sel], table["right_Fz [N]"][sel])
         out["step"].append(k)
         out["t_start [s]"].append(float(t[sel][0]))
         out["stance"].append(stance)
-        out["energy [J]"].append(float(e[-1] - e0))
-        out["absolute_work [J]"].append(float(a[-1] - a0))
+        out["energy [J]"].append(float(e[sel][-1] - (e[first - 1] if first > 0 else 0.0)))
+        out["absolute_work [J]"].append(float(a[sel][-1] - (a[first - 1] if first > 0 else 0.0)))
         out["sinking [m]"].append(float(depth.max()))
         out["max_suction [N]"].append(float(max(0.0, -fz.min())))
         out["slip [m]"].append(float(x_in.max() - x_in.min()) if len(x_in) else 0.0)
@@ -105,11 +103,7 @@ def _per_step(table: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.flo
 
 def _write_csv(path: Path, table: dict[str, NDArray[np.float64]], columns: tuple[str, ...]) -> None:
     """Write ``table`` as CSV: a header of ``columns`` (units in brackets), one row each."""
-    data = (
-        np.column_stack([table[c] for c in columns])
-        if len(table[columns[0]])
-        else np.zeros((0, len(columns)))
-    )
+    data = np.column_stack([table[c] for c in columns])  # (0, len(columns)) when empty
     np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.9g")
 
 
@@ -117,10 +111,7 @@ def plot_walk(result: WalkResult, path: Path) -> Path:
     """Plot a walk against time (PNG at ``path``, returned): torso x and z [m], foot
     sinking [mm], vertical mud force per foot [N] (< 0: suction), joint work [J]. Needs matplotlib.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = require_matplotlib()
 
     tb = result.table
     t = tb["time [s]"]
@@ -159,10 +150,7 @@ def save_strip(frames: list[NDArray[np.uint8]], path: Path) -> Path | None:
     """Save RGB frames side by side as one PNG; the path, or None without frames."""
     if not frames:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = require_matplotlib()
 
     plt.imsave(path, np.concatenate(frames, axis=1))
     return path

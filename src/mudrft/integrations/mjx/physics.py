@@ -297,13 +297,5 @@ def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
     for g in cfg.groups:
         lc[g.idx] = g.lc
     mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.xi0, xp=xp)
-    zero6 = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype)
-    return MjxMudState(
-        mud,
-        fxy,
-        tip[..., :2],
-        zero6,
-        zero6,
-        xp.zeros((), dtype=tip.dtype),
-        xp.zeros((), dtype=tip.dtype),
-    )
+    zero6, zero = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype), xp.zeros((), dtype=tip.dtype)
+    return MjxMudState(mud, fxy, tip[..., :2], zero6, zero6, zero, zero)
