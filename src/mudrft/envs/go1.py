@@ -25,10 +25,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+import mudrft
+
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
 from ._gym import gymnasium
-from .walker import NOT_RUNNING, check_action, check_reset, next_field
+from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, next_field
 
 __all__ = ["MudGo1Env"]
 
@@ -73,10 +75,7 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         forward_reward_weight: float = 1.0, ctrl_cost_weight: float = 1e-3,
         healthy_reward: float = 1.0, render_mode: str | None = None,
     ) -> None:  # fmt: skip
-        import mudrft
-
         from ..integrations.mujoco import _mujoco, attach, menagerie_scene
-        from .walker import WalkerConfig
 
         if render_mode is not None:
             raise MudrftError(f"render_mode must be None for the Go1 environment, got {render_mode!r}")  # fmt: skip

@@ -24,6 +24,7 @@ from .walker import (
     observation,
     reward,
     walker_config,
+    walker_layout,
 )
 
 if TYPE_CHECKING:
@@ -55,7 +56,6 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     ) -> None:
         from ..integrations.mujoco import _mujoco, attach
         from ..integrations.mujoco.backend import choose_backend
-        from .walker import walker_layout
 
         if render_mode not in (None, "rgb_array"):
             raise MudrftError(

@@ -14,6 +14,9 @@ import numpy as np
 
 from .._typing import ArrayLike, BoolArray, NDArray
 from .._validation import MudrftError, as_array, check_memory, positive_int
+from ..integrations.mjx import attach, jit
+from ..integrations.mjx._lazy import _jax, x64_context
+from ..integrations.mujoco import _mujoco
 from ..terrains import MudTerrain
 from ._gym import gymnasium
 from .walker import (
@@ -58,9 +61,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self, num_envs: int = 64, *, max_episode_steps: int = 1000,
         water_content: ArrayLike = 0.25, render_mode: str | None = None, **options: Any,
     ) -> None:  # fmt: skip
-        from ..integrations.mjx import attach
-        from ..integrations.mjx._lazy import _jax
-
         self.num_envs = positive_int("num_envs", num_envs)
         self.max_episode_steps = positive_int("max_episode_steps", max_episode_steps)
         if render_mode is not None:
@@ -116,8 +116,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         """Stand every robot 1 mm above the mud with noise on joints and velocities."""
         import jax
 
-        from ..integrations.mjx._lazy import x64_context
-
         seed = check_reset(seed, options)
         if self.closed:
             raise MudrftError(NOT_RUNNING["closed"])
@@ -144,8 +142,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         ``info["unstable"]``. Runs in the precision the environment was made in.
         """
         import jax
-
-        from ..integrations.mjx._lazy import x64_context
 
         if self.closed or self._state is None:
             raise MudrftError(NOT_RUNNING["closed" if self.closed else "new"])
@@ -176,9 +172,6 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
     import jax
     import jax.numpy as jnp
 
-    from ..integrations.mjx import jit
-    from ..integrations.mujoco import _mujoco
-
     mj = _mujoco()
     lay, cfg, cpl = env.layout, env.config, env.coupling
     data = mj.MjData(lay.model)
@@ -191,7 +184,7 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         f"num_envs = {env.num_envs} robots", 3.0 * per_env * env.num_envs,
         hint="use fewer environments (num_envs)",
     )  # fmt: skip
-    nv, noise = lay.model.nv, cfg.reset_noise_scale
+    nv, noise, observe = lay.model.nv, cfg.reset_noise_scale, cfg.observe
     jq = lay.joint_qadr
 
     def reset_one(key: jax.Array) -> Robots:
@@ -199,15 +192,9 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         qpos = d0.qpos.at[jq].add(jax.random.uniform(k1, (len(jq),), d0.qpos.dtype, -noise, noise))
         qvel = jax.random.uniform(k2, (nv,), d0.qvel.dtype, -noise, noise)
         d = d0.replace(qpos=qpos, qvel=qvel)
-        st = cpl.init(d)
         z = jnp.zeros((2,), d0.qpos.dtype)
-        return (
-            d,
-            st,
-            observation(
-                lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp, observe=env.config.observe
-            ),
-        )
+        obs = observation(lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp, observe=observe)
+        return d, cpl.init(d), obs
 
     def step_one(
         d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
@@ -225,11 +212,8 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
         (d, st), (depth, force, stable) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
         alive = healthy(lay, d.qpos, xp=jnp) & jnp.all(stable)
         r = reward(cfg, x0, d.qpos[lay.rootx], a, alive, xp=jnp)
-        obs = jnp.nan_to_num(
-            observation(
-                lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp, observe=env.config.observe
-            )
-        )
+        obs = observation(lay, d.qpos, d.qvel, depth[-1], force[-1], xp=jnp, observe=observe)
+        obs = jnp.nan_to_num(obs)
         info = {
             "x_velocity": (d.qpos[lay.rootx] - x0) / (cfg.dt * cfg.frame_skip),
             "sinking [m]": depth[-1],

@@ -36,6 +36,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+import mudrft
+
 from .._typing import ArrayLike, Namespace, XpArray
 from .._validation import (
     MudrftError,
@@ -50,8 +52,6 @@ from .._validation import (
 
 if TYPE_CHECKING:
     import mujoco
-
-    import mudrft
 
     from ..feet.base import Foot
     from ..parameters.base import Mud
@@ -107,8 +107,6 @@ class WalkerConfig:
     ground: str = "mud"
 
     def __post_init__(self) -> None:
-        import mudrft
-
         if isinstance(self.foot, str):
             if self.foot not in FEET:
                 raise MudrftError(f"foot must be one of {FEET} or a mudrft foot, got {self.foot!r}")
@@ -152,8 +150,6 @@ class WalkerConfig:
     @property
     def mud_field(self) -> mudrft.MudField:
         """The field: :attr:`field`, or the one mud of :attr:`water_content` everywhere."""
-        import mudrft
-
         if self.field is not None:
             return self.field  # type: ignore[no-any-return]
         return mudrft.MudField({"mud": self.mud}, ["mud"], cell_size=1.0, border=1.0)
@@ -161,15 +157,11 @@ class WalkerConfig:
     @property
     def foot_object(self) -> Foot:
         """The mudrft foot."""
-        import mudrft
-
         return mudrft.feet.by_name(self.foot) if isinstance(self.foot, str) else self.foot
 
     @property
     def mud(self) -> Mud:
         """The paper's mud at :attr:`water_content`."""
-        import mudrft
-
         return mudrft.paper_mud(float(self.water_content))
 
 
@@ -295,14 +287,11 @@ def observation(
     ``observe="proprioceptive"``."""
     z = qpos[..., lay.rootz : lay.rootz + 1] - lay.qpos0[lay.rootz]
     pitch = qpos[..., lay.pitch : lay.pitch + 1]
-    joints = qpos[..., lay.joint_qadr]
-    f = force[..., :, (0, 2)] / lay.weight
-    if observe == "proprioceptive":
-        return xp.concatenate([z, pitch, joints, xp.clip(qvel, -10.0, 10.0)], axis=-1)
-    return xp.concatenate(
-        [z, pitch, joints, xp.clip(qvel, -10.0, 10.0), depth / 0.01,
-         f.reshape(*f.shape[:-2], 4)], axis=-1,
-    )  # fmt: skip
+    parts = [z, pitch, qpos[..., lay.joint_qadr], xp.clip(qvel, -10.0, 10.0)]
+    if observe == "privileged":
+        f = force[..., :, (0, 2)] / lay.weight
+        parts += [depth / 0.01, f.reshape(*f.shape[:-2], 4)]
+    return xp.concatenate(parts, axis=-1)
 
 
 def healthy(lay: WalkerLayout, qpos: XpArray, xp: Namespace = np) -> XpArray:

@@ -55,7 +55,6 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
             logger.info("with_mud: the model's RK4 integrator is now implicitfast")
         self.coupling: MudCoupling = attach(base.model, feet, mud, floor=floor, **attach_options)
         base._step_mujoco_simulation = self._simulate  # the environment's physics steps
-        self._unstable = False
 
     def _simulate(self, ctrl: Any, n_frames: int) -> None:
         base: Any = self.env.unwrapped
@@ -73,7 +72,6 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
         """Reset the environment, then the mud under the feet in their new pose."""
         obs, info = self.env.reset(**kwargs)
         self.coupling.reset(self.env.unwrapped.data)  # type: ignore[attr-defined]
-        self._unstable = False
         return obs, self._info(info)
 
     def close(self) -> None:

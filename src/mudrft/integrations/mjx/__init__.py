@@ -17,31 +17,9 @@ Optional extra ``mjx`` (jax and the ``mujoco-mjx`` matching ``mujoco``).
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:  # what __getattr__ imports on first use, named for type checkers
-    from ._lazy import available, jit
-    from .coupling import MjxCoupling, attach
-    from .physics import MjxContact, MjxMudState
+# importing these modules imports neither jax nor mujoco: _lazy does on first use
+from ._lazy import available, jit
+from .coupling import MjxCoupling, attach
+from .physics import MjxContact, MjxMudState
 
 __all__ = ["MjxContact", "MjxCoupling", "MjxMudState", "attach", "available", "jit"]
-
-_ATTRS = {
-    "MjxContact": "physics",
-    "MjxMudState": "physics",
-    "MjxCoupling": "coupling",
-    "attach": "coupling",
-    "available": "_lazy",
-    "jit": "_lazy",
-}
-
-
-def __getattr__(name: str) -> object:
-    if name in _ATTRS:
-        return getattr(importlib.import_module(f"{__name__}.{_ATTRS[name]}"), name)
-    raise AttributeError(f"module 'mudrft.integrations.mjx' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))

@@ -163,12 +163,7 @@ class MjxCoupling:
             bottom=opts.bottom,
             bottom_stiffness=opts.bottom_stiffness,
             bottom_damping=opts.bottom_damping,
-            kappa=terrain.kappa,
-            xi0=terrain.xi0,
-            reset=terrain.reset_on_exit,
-            heading_speed=terrain.heading_speed,
-            quasi_static=terrain.quasi_static,
-            restart=terrain.restart,
+            terrain=terrain,
         )
         _check_integrator(model.opt.integrator)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step

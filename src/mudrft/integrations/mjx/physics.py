@@ -17,7 +17,7 @@ import numpy as np
 
 from ...feet.surface import PreparedTriangles
 from ...terrains.field import field_blend
-from ...terrains.mud import MudChannels, initial_channels, mud_step
+from ...terrains.mud import MudChannels, MudTerrain, initial_channels, mud_step
 from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
 from ..mujoco.kinematics import com_twist
 from ..mujoco.pose import ChannelGeometry, matvec, posed_channels
@@ -134,12 +134,7 @@ class Static:
     bottom: float | None
     bottom_stiffness: float
     bottom_damping: float
-    kappa: float
-    xi0: float
-    reset: bool
-    heading_speed: float
-    quasi_static: bool
-    restart: bool
+    terrain: MudTerrain  # its options (all but the mud's constants)
     dv_min: float = 1e-4
 
 
@@ -182,7 +177,8 @@ def _posed(cfg: Static, k: dict[str, XpArray]) -> tuple[ChannelGeometry, XpArray
     return ChannelGeometry(*(a[0] for a in geo)), ratio[0]
 
 
-def _take(tree: MudChannels, idx: np.ndarray) -> MudChannels:
+def _take(tree: Any, idx: Any) -> Any:
+    """Every leaf of a pytree (mud state, constants) indexed by ``idx``."""
     return _jax().tree_util.tree_map(lambda a: a[idx], tree)
 
 
@@ -204,15 +200,15 @@ def _force_and_derivative(
     vk = vel[None] + nudge[:, None, :] * step[None]
     n = vk.shape[0]
     st4 = _jax().tree_util.tree_map(lambda a: xp.broadcast_to(a, (n, *a.shape)), st)
-    p4 = xp.broadcast_to(pos, vk.shape)
+    p4, t = xp.broadcast_to(pos, vk.shape), cfg.terrain
     new, sx, sy, sz, depth = mud_step(
         consts, st4, p4[..., 0], p4[..., 1], p4[..., 2], vk[..., 0], vk[..., 1], vk[..., 2], dt,
-        g.lc, cfg.kappa, cfg.xi0, cfg.reset, cfg.heading_speed, 1.0, cfg.quasi_static,
-        cfg.restart, xp=xp,
+        g.lc, t.kappa, t.xi0, t.reset_on_exit, t.heading_speed, 1.0, t.quasi_static, t.restart,
+        xp=xp,
     )  # fmt: skip
     stress = xp.stack([sx, sy, sz], axis=-1)
     fk = g.force_fn(depth, stress, new.heading) * new.in_mud[..., None]
-    new = _jax().tree_util.tree_map(lambda a: a[0], new)
+    new = _take(new, 0)
     jd = (xp.stack([fk[1, ..., 0], fk[2, ..., 1], fk[3, ..., 2]], axis=-1) - fk[0]) / step
     return new, fk[0], jd, stress[0]
 
@@ -249,7 +245,7 @@ def mud_wrench(
     mud, f_up, jd, stress = st.mud, xp.zeros_like(pos), xp.zeros_like(pos), xp.zeros_like(pos)
     for g in cfg.groups:
         idx = g.idx
-        cg = consts if field is None else _jax().tree_util.tree_map(lambda a, i=idx: a[i], consts)
+        cg = consts if field is None else _take(consts, idx)
         new, fg, jg, sg = _force_and_derivative(
             cfg, g, cg, _take(st.mud, idx), pos[idx], vel[idx],
             step[idx], dt,
@@ -296,6 +292,6 @@ def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
     lc = np.zeros(len(cfg.ids))
     for g in cfg.groups:
         lc[g.idx] = g.lc
-    mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.xi0, xp=xp)
+    mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.terrain.xi0, xp=xp)
     zero6, zero = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype), xp.zeros((), dtype=tip.dtype)
     return MjxMudState(mud, fxy, tip[..., :2], zero6, zero6, zero, zero)
