@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -182,12 +182,6 @@ class GaitController:
     surface: float = 0.0
     ramp_steps: int = 2
     phases: tuple[float, float, float, float, float] = (0.1, 0.4, 0.6, 0.85, 0.95)
-    _qadr: np.ndarray = field(init=False, repr=False)
-    _dadr: np.ndarray = field(init=False, repr=False)
-    _pitch: int = field(init=False, repr=False)
-    _start: list[float] = field(init=False, repr=False)
-    _z0: list[float] = field(init=False, repr=False)
-    _step: int = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         check_nonnegative("speed", self.speed, unit="m/s")
@@ -356,7 +350,7 @@ def walk(
             f"step_time must span at least {MIN_STEP_SAMPLES} physics steps (>= "
             f"{plain(MIN_STEP_SAMPLES * dt)} s at dt = {plain(dt)} s), got {plain(step_time)} s"
         )
-    if seconds < dt:  # no step to walk: numpy's "zero-size array" came later
+    if seconds < dt:  # no step to walk
         raise MudrftError(
             f"seconds must be at least one physics step (dt = {plain(dt)} s), got {plain(seconds)} s"
         )
@@ -372,16 +366,12 @@ def walk(
     ctrl.initial_pose(data)
     coupling = attach(model, list(BIPED_FEET), mud, feet=foot, backend=backend)
     coupling.reset(data)
-    qp = int(model.jnt_qposadr[model.joint("rooty").id])
     torso = model.body("torso").id
     z_start = float(data.xpos[torso, 2])
     x_start = float(data.xpos[torso, 0])
-    dadr = ctrl._dadr
     rows = np.zeros((n, len(WALK_COLUMNS)))
     renderer = _renderer(model) if frames > 0 else None
-    marks = (
-        set(np.linspace(0, n - 1, frames).astype(int).tolist()) if renderer is not None else set()
-    )
+    marks = set(np.linspace(0, n - 1, frames).astype(int).tolist())  # the frames' steps
     images: list[np.ndarray] = []
     energy = abs_energy = 0.0
     fell = False
@@ -394,20 +384,17 @@ def walk(
             step, _stance = ctrl(data)
             out = coupling.step(data)
             # joint torques times joint velocities, joint by joint (D69)
-            pj = data.actuator_force * data.qvel[dadr]
+            pj = data.actuator_force * data.qvel[ctrl._dadr]
             power = float(pj.sum())
             energy += float(np.maximum(pj, 0.0).sum()) * dt
             abs_energy += float(np.abs(pj).sum()) * dt
-            x, z, pitch = (
-                float(data.xpos[torso, 0]),
-                float(data.xpos[torso, 2]),
-                float(data.qpos[qp]),
-            )
+            x, z = data.xpos[torso, (0, 2)].tolist()
+            pitch = float(data.qpos[ctrl._pitch])
             rows[k, :4] = data.time, x, z, pitch
             rows[k, 4:6] = out.depth[:2]
             rows[k, 6:10] = out.force[:2, (0, 2)].ravel()  # left Fx, Fz, right Fx, Fz
             rows[k, 10:] = power, energy, abs_energy, out.tip[0, 0], out.tip[1, 0], step
-            if k in marks and renderer is not None:
+            if renderer is not None and k in marks:
                 renderer.update_scene(data, camera="side")
                 images.append(renderer.render().copy())
             if not (math.isfinite(z) and math.isfinite(x)) or z < 0.5 * z_start or abs(pitch) > 1.0:

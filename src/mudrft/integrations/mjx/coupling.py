@@ -1,15 +1,11 @@
 r"""Mud under named bodies of an MJX model: :class:`MjxCoupling` and :func:`attach`.
 
-The coupling is made once from a ``mujoco.MjModel`` (feet placed by the CPU coupling's
-:func:`~mudrft.integrations.mujoco.body_foot`); :meth:`MjxCoupling.init`,
-:meth:`~MjxCoupling.step` (``fwd_position``, ``fwd_velocity``, the mud's wrench, the rest
-of MJX's step; Euler or implicitfast) and :meth:`~MjxCoupling.rollout` are pure functions
-of JAX arrays that jit, vmap, scan and differentiate. The mud constants are an argument,
-so each robot of a batch may carry its own water content and gradients flow to them.
-
-The coupling computes in the precision JAX is configured for (D81); over 0.5 s of the
-standing biped it follows the CPU coupling's joints to 2e-5 and depths to 6e-6 m
-(tests/integrations/test_mjx.py).
+Feet are placed by the CPU coupling's :func:`~mudrft.integrations.mujoco.body_foot`;
+:meth:`~MjxCoupling.step` runs ``fwd_position``, ``fwd_velocity``, the mud's wrench and the
+rest of MJX's step (Euler or implicitfast). The mud constants are an argument, so each robot
+of a batch may carry its own water content and gradients flow to them. In the precision JAX
+is configured for (D81), over 0.5 s of the standing biped the coupling follows the CPU
+coupling's joints to 2e-5 and depths to 6e-6 m (tests/integrations/test_mjx.py).
 """
 
 from __future__ import annotations
@@ -271,8 +267,7 @@ class MjxCoupling:
             After the step, in the input's dtypes.
         state : MjxMudState
         contact : MjxContact
-            ``unstable`` is True where the state is not finite or a foot moves faster than
-            :data:`.physics.MAX_SPEED`; the mud state is then held and no wrench applied.
+            Its ``unstable`` flag: the mud state was held and no wrench applied.
         """
         mjx = _mjx()
         _check_mjx_data(mjx, d)
