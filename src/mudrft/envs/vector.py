@@ -82,28 +82,23 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 "ground='rigid' are MudWalkerEnv's (the CPU coupling)"
             )
         self.render_mode = None
-        self.layout = lay = walker_layout(self.config)
+        self.layout = lay = walker_layout(cfg)
         # the precision the robots are made in; every later call runs in it
         self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
-            lay.model, list(lay.bodies), self.config.mud, feet=self.config.foot_object,
-            bottom=self.config.bottom,
-        )  # fmt: skip
+            lay.model, list(lay.bodies), cfg.mud, feet=cfg.foot_object, bottom=cfg.bottom
+        )
         self._fns = _compiled(self)  # checks the memory of num_envs robots first
         self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
         which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
         per_value = [MudTerrain(self.configs[float(v)].mud).constants for v in values]
-        self._constants = tuple(
-            type(per_value[0][k])(*(np.array([c[k][i] for c in per_value], dtype=float)[which]
-                                    for i in range(len(per_value[0][k]))))
-            for k in range(2)
-        )  # fmt: skip
+        self._constants = _jax().tree_util.tree_map(  # each constant, one per robot
+            lambda *c: np.array(c, dtype=float)[which], *per_value
+        )
         box, batch = gymnasium.spaces.Box, gymnasium.vector.utils.batch_space
         self.single_action_space = box(-1.0, 1.0, (ACTION_SIZE,), np.float32)
         self.action_space = batch(self.single_action_space, self.num_envs)
-        self.single_observation_space = box(
-            -np.inf, np.inf, (OBS_SIZES[self.config.observe],), np.float32
-        )
+        self.single_observation_space = box(-np.inf, np.inf, (OBS_SIZES[cfg.observe],), np.float32)
         self.observation_space = batch(self.single_observation_space, self.num_envs)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._done = np.zeros(self.num_envs, dtype=bool)
