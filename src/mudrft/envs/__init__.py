@@ -21,7 +21,7 @@ from .go1 import MudGo1Env
 from .mud_walker import MudWalkerEnv
 from .with_mud import WithMud, with_mud
 
-if TYPE_CHECKING:  # imported by __getattr__ on first use (jax, MJX)
+if TYPE_CHECKING:  # imported by __getattr__ on first use (the MJX coupling)
     from .vector import MudWalkerVectorEnv
 
 __all__ = [
@@ -34,7 +34,7 @@ ENV_IDS = ("mudrft/MudWalker-v0", "mudrft/MudGo1-v0")
 
 
 def __getattr__(name: str) -> type[MudWalkerVectorEnv]:
-    if name == "MudWalkerVectorEnv":  # imports jax and MJX only when asked for
+    if name == "MudWalkerVectorEnv":  # imports the MJX coupling only when asked for
         from .vector import MudWalkerVectorEnv
 
         return MudWalkerVectorEnv

@@ -114,7 +114,6 @@ class MjxCoupling:
             bodies, feet, surface=surface, bottom=bottom, bottom_stiffness=bottom_stiffness,
             bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
-        names, feet_list = opts.bodies, opts.feet
         self.field = mud if isinstance(mud, MudField) else None
         terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         if not isinstance(terrain, MudTerrain):
@@ -123,7 +122,7 @@ class MjxCoupling:
             )
         placed = [
             attached_foot(model, b, f, resolution=opts.resolution, geom=g)
-            for b, f, g in zip(names, feet_list, opts.geoms, strict=True)
+            for b, f, g in zip(opts.bodies, opts.feet, opts.geoms, strict=True)
         ]
         groups: dict[tuple[str, bool], list[int]] = {}
         for i, p in enumerate(placed):  # equal feet (same parameters) share one mud call
