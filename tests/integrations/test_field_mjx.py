@@ -73,10 +73,19 @@ def test_each_robot_steps_on_its_own_field_as_the_cpu_coupling_does():
         assert run._cache_size() == 1
 
 
-def test_field_arrays_refuses_another_shape():
+def test_field_arrays_refuses_another_shape_and_uneven_ground():
     with x64_context(False):
         coupling = mm.attach(box_foot_model(), "foot", FIELD)
         with pytest.raises(mudrft.MudrftError, match=r"field must have the attached field's shape"):
             coupling.field_arrays(mudrft.MudField({"m": 0.3}, ["m"]))
         with pytest.raises(mudrft.MudrftError, match="needs a coupling attached to a MudField"):
             mm.attach(box_foot_model(), "foot", mudrft.paper_mud(0.3)).field_arrays()
+        uneven = mudrft.MudField({"m": 0.3}, ["m"], heights=[[0.0, 0.01], [0.0, 0.01]])
+        with pytest.raises(mudrft.MudrftError, match="on a level surface only"):
+            mm.attach(box_foot_model(), "foot", uneven)
+        hilly = mudrft.MudField(
+            FIELD.regions, ["firm soft", "rock firm"], cell_size=0.04, origin=(-0.04, -0.04),
+            border=0.02, heights=[[0.0, 0.01], [0.0, 0.01]],
+        )  # fmt: skip
+        with pytest.raises(mudrft.MudrftError, match="on a level surface only"):
+            coupling.field_arrays(hilly)

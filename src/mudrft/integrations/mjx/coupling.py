@@ -65,6 +65,16 @@ def _force_rule(foot: Foot) -> ForceRule:
     return fn
 
 
+def _level(field: MudField) -> None:
+    """Refuse a field whose surface is not level: MJX steps mud on a plane only."""
+    if field.heights.any():
+        raise MudrftError(
+            "the MJX coupling steps a MudField on a level surface only; this field has "
+            "heights (an uneven surface): use the CPU coupling (mudrft.integrations.mujoco."
+            "attach), or a field without heights"
+        )
+
+
 class MjxCoupling:
     """Mud under named bodies of one MuJoCo model, stepped with MJX.
 
@@ -115,6 +125,8 @@ class MjxCoupling:
             bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         self.field = mud if isinstance(mud, MudField) else None
+        if self.field is not None:
+            _level(self.field)
         terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         if not isinstance(terrain, MudTerrain):
             raise MudrftError(
@@ -188,6 +200,7 @@ class MjxCoupling:
             raise MudrftError(f"field must be a MudField, got {type(f).__name__}")
         if not same_options(f.terrain, self.terrain):
             raise MudrftError("field's MudTerrain options differ from the attached field's")
+        _level(f)
         grid, cells, rows = f.arrays()
         _, cells0, rows0 = self.field.arrays()
         if cells.shape != cells0.shape or rows.shape != rows0.shape:
