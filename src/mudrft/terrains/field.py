@@ -43,6 +43,7 @@ __all__ = [
     "plane_frame",
     "same_options",
     "surface_at",
+    "surface_blend",
     "uniform",
 ]
 
@@ -102,15 +103,27 @@ def field_row(
     return 1.0 if wr == 0.0 else wm / (wm + wr)
 
 
+def _triangle(
+    h00: XpArray, h01: XpArray, h10: XpArray, h11: XpArray, fx: XpArray, fy: XpArray, xp: Namespace
+) -> tuple[XpArray, XpArray, XpArray]:
+    """Height and rises per node spacing in x and y of a cell of corner heights ``h00``
+    (lower left), ``h01`` (lower right), ``h10``, ``h11`` [m] at fractions ``fx``, ``fy``
+    [-]: MuJoCo's heightfield, two planar triangles split along the diagonal from the lower
+    left node. Element-wise."""
+    lower = fx >= fy  # the triangle of the nodes (0, 0), (1, 0), (1, 1)
+    sx = xp.where(lower, h01 - h00, h11 - h10)
+    sy = xp.where(lower, h11 - h01, h10 - h00)
+    return h00 + fx * sx + fy * sy, sx, sy
+
+
 def surface_at(
     x: float, y: float, grid: FloatArray, ny: int, nx: int, heights: FloatArray
 ) -> tuple[float, float, float]:
     """The surface's height [m] (over the coupling's ``surface``) and slopes dh/dx, dh/dy
     [-] at ``(x, y)`` [m]. ``heights`` (nyh, nxh) are sampled at the nodes of the rectangle
     of ``ny`` x ``nx`` cells of ``grid`` (:func:`field_row`); between them the surface is
-    MuJoCo's heightfield's: two planar triangles a cell, split along the diagonal from the
-    lower-left node; outside the rectangle the edge's height, with no slope across it.
-    One sample is a flat surface at that height."""
+    MuJoCo's heightfield's (:func:`_triangle`); outside the rectangle the edge's height,
+    with no slope across it. One sample is a flat surface at that height."""
     nyh, nxh = heights.shape[0], heights.shape[1]
     if nyh == 1 and nxh == 1:
         return heights[0, 0], 0.0, 0.0
@@ -119,25 +132,41 @@ def surface_at(
     in_x, in_y = 0.0 <= u <= nxh - 1, 0.0 <= v <= nyh - 1
     u, v = min(max(u, 0.0), nxh - 1.0), min(max(v, 0.0), nyh - 1.0)
     i, j = min(math.floor(u), nxh - 2), min(math.floor(v), nyh - 2)
-    fx, fy = u - i, v - j
-    h00, h01 = heights[j, i], heights[j, i + 1]
-    h10, h11 = heights[j + 1, i], heights[j + 1, i + 1]
-    if fx >= fy:  # the triangle of nodes (i, j), (i + 1, j), (i + 1, j + 1)
-        sx, sy = h01 - h00, h11 - h01
-    else:  # (i, j), (i, j + 1), (i + 1, j + 1)
-        sx, sy = h11 - h10, h10 - h00
-    h = h00 + fx * sx + fy * sy
+    h, sx, sy = _triangle(
+        heights[j, i], heights[j, i + 1], heights[j + 1, i], heights[j + 1, i + 1],
+        u - i, v - j, pyfloat,
+    )  # fmt: skip
     return h, sx / dx if in_x else 0.0, sy / dy if in_y else 0.0
 
 
-def plane_frame(gx: float, gy: float) -> tuple[float, ...]:
+def surface_blend(
+    x: XpArray, y: XpArray, grid: XpArray, ny: int, nx: int, heights: XpArray, xp: Namespace = np
+) -> tuple[XpArray, XpArray, XpArray]:
+    """:func:`surface_at` on arrays (numpy or JAX) of points ``x``, ``y`` (...) [m]; the
+    heights at least 2 x 2 nodes."""
+    nyh, nxh = heights.shape
+    dx, dy = grid[2] * nx / (nxh - 1), grid[3] * ny / (nyh - 1)
+    u, v = (x - grid[0]) / dx, (y - grid[1]) / dy
+    in_x, in_y = (u >= 0.0) & (u <= nxh - 1), (v >= 0.0) & (v <= nyh - 1)
+    u, v = xp.clip(u, 0.0, nxh - 1.0), xp.clip(v, 0.0, nyh - 1.0)
+    i = xp.minimum(xp.floor(u), nxh - 2).astype(int)
+    j = xp.minimum(xp.floor(v), nyh - 2).astype(int)
+    h, sx, sy = _triangle(
+        heights[j, i], heights[j, i + 1], heights[j + 1, i], heights[j + 1, i + 1],
+        u - i, v - j, xp,
+    )  # fmt: skip
+    return h, xp.where(in_x, sx / dx, 0.0), xp.where(in_y, sy / dy, 0.0)
+
+
+def plane_frame(gx: XpArray, gy: XpArray, xp: Namespace = pyfloat) -> tuple[XpArray, ...]:
     """The frame of a plane of slopes dh/dx = ``gx``, dh/dy = ``gy`` [-]: the rows of the
     rotation from world to it (9 values), its x axis ``t1`` in the world's xz plane, then
-    ``t2``, then the upward unit normal ``n``; the identity for a level plane."""
-    a, c = math.sqrt(1.0 + gx * gx), math.sqrt(1.0 + gx * gx + gy * gy)
+    ``t2``, then the upward unit normal ``n``; the identity for a level plane. Element-wise."""
+    a, c = xp.sqrt(1.0 + gx * gx), xp.sqrt(1.0 + gx * gx + gy * gy)
     ac = a * c
+    zero = 0.0 * gx + 0.0  # (not -0.0)
     return (
-        1.0 / a, 0.0, gx / a,
+        1.0 / a, zero, gx / a,
         -gx * gy / ac, (1.0 + gx * gx) / ac, gy / ac,
         -gx / c, -gy / c, 1.0 / c,
     )  # fmt: skip

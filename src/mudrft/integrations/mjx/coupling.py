@@ -46,8 +46,8 @@ if TYPE_CHECKING:
 
 #: The mud's (horizontal, vertical) channel constants: floats, or traced arrays.
 Constants: TypeAlias = "tuple[ChannelConstants, ChannelConstants]"
-#: A field's ``(grid, cells, rows)`` (:meth:`MjxCoupling.field_arrays`).
-FieldArrays: TypeAlias = "tuple[Array, Array, Array]"
+#: A field's ``(grid, cells, rows, heights)`` (:meth:`MjxCoupling.field_arrays`).
+FieldArrays: TypeAlias = "tuple[Array, Array, Array, Array]"
 
 __all__ = ["MjxCoupling", "attach"]
 
@@ -63,16 +63,6 @@ def _force_rule(foot: Foot) -> ForceRule:
             "(mudrft.integrations.mujoco.attach) for it"
         )
     return fn
-
-
-def _level(field: MudField) -> None:
-    """Refuse a field whose surface is not level: MJX steps mud on a plane only."""
-    if field.heights.any():
-        raise MudrftError(
-            "the MJX coupling steps a MudField on a level surface only; this field has "
-            "heights (an uneven surface): use the CPU coupling (mudrft.integrations.mujoco."
-            "attach), or a field without heights"
-        )
 
 
 class MjxCoupling:
@@ -125,8 +115,6 @@ class MjxCoupling:
             bottom_damping=bottom_damping, resolution=resolution, foot_geoms=foot_geoms,
         )  # fmt: skip
         self.field = mud if isinstance(mud, MudField) else None
-        if self.field is not None:
-            _level(self.field)
         terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         if not isinstance(terrain, MudTerrain):
             raise MudrftError(
@@ -171,6 +159,7 @@ class MjxCoupling:
             bottom_stiffness=opts.bottom_stiffness,
             bottom_damping=opts.bottom_damping,
             terrain=terrain,
+            uneven=bool(self.field is not None and self.field.heights.any()),
         )
         _check_integrator(model.opt.integrator)
         check_timestep(model)  # as the CPU coupling (D123); put_model fixes the step
@@ -188,9 +177,9 @@ class MjxCoupling:
         return horizontal, vertical
 
     def field_arrays(self, field: MudField | None = None) -> FieldArrays:
-        """``field`` (default: the attached one) as the JAX arrays ``(grid, cells, rows)``
-        that :meth:`step` takes; a field of the attached field's shape, so that a compiled
-        step serves it (stack them for a batch)."""
+        """``field`` (default: the attached one) as the JAX arrays ``(grid, cells, rows,
+        heights)`` that :meth:`step` takes; a field of the attached field's shape, so that a
+        compiled step serves it (stack them for a batch)."""
         if self.field is None:
             raise MudrftError("field_arrays needs a coupling attached to a MudField")
         if field is None and self._field_arrays is not None:
@@ -200,16 +189,17 @@ class MjxCoupling:
             raise MudrftError(f"field must be a MudField, got {type(f).__name__}")
         if not same_options(f.terrain, self.terrain):
             raise MudrftError("field's MudTerrain options differ from the attached field's")
-        _level(f)
         grid, cells, rows = f.arrays()
         _, cells0, rows0 = self.field.arrays()
-        if cells.shape != cells0.shape or rows.shape != rows0.shape:
+        h, h0 = f.heights, self.field.heights
+        if cells.shape != cells0.shape or rows.shape != rows0.shape or h.shape != h0.shape:
             raise MudrftError(
-                f"field must have the attached field's shape: {cells0.shape} cells and "
-                f"{rows0.shape[0]} regions, got {cells.shape} cells and {rows.shape[0]} regions"
+                f"field must have the attached field's shape: {cells0.shape} cells, "
+                f"{rows0.shape[0]} regions and {h0.shape} heights, got {cells.shape} cells, "
+                f"{rows.shape[0]} regions and {h.shape} heights"
             )
         xp = _xp()
-        return xp.asarray(grid), xp.asarray(cells), xp.asarray(rows)
+        return xp.asarray(grid), xp.asarray(cells), xp.asarray(rows), xp.asarray(h)
 
     def put_data(self, data: mujoco.MjData | None = None) -> mujoco.mjx.Data:
         """An ``mjx.Data`` of ``data`` (default: a fresh ``MjData`` of the model)."""
@@ -223,12 +213,15 @@ class MjxCoupling:
         return _mjx().put_data(self.model, data)
 
     # -- pure functions ---------------------------------------------------------------
-    def init(self, d: mujoco.mjx.Data) -> MjxMudState:
-        """Undisturbed mud under the feet of ``d`` in their current pose (jittable)."""
+    def init(self, d: mujoco.mjx.Data, *, field: FieldArrays | None = None) -> MjxMudState:
+        """Undisturbed mud under the feet of ``d`` in their current pose (jittable), on
+        ``field`` (:meth:`field_arrays`; default the attached field) where it is uneven."""
         mjx = _mjx()
         _check_mjx_data(mjx, d)
         mx = self.mjx_model
-        return initial_state(self.static, mjx.com_pos(mx, mjx.kinematics(mx, d)))
+        if field is None and self.field is not None:
+            field = self.field_arrays()
+        return initial_state(self.static, mjx.com_pos(mx, mjx.kinematics(mx, d)), field)
 
     def wrench(
         self,
@@ -269,7 +262,7 @@ class MjxCoupling:
             (``mudrft.backends.jax.mud_constants``) to differentiate by the mud's parameters.
         model : mjx.Model or None
             Default :attr:`mjx_model`.
-        field : (grid, cells, rows) or None
+        field : (grid, cells, rows, heights) or None
             The field under this robot (:meth:`field_arrays`; traced, so one compilation
             serves every field of the shape); default the attached field, if any.
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ...feet.surface import PreparedTriangles
-from ...terrains.field import field_blend
+from ...terrains.field import field_blend, plane_frame, surface_blend
 from ...terrains.mud import MudChannels, MudTerrain, initial_channels, mud_step
 from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
 from ..mujoco.kinematics import com_twist
@@ -47,7 +47,7 @@ class MjxMudState(NamedTuple):
         The mud under each foot, arrays of shape (nb,).
     foot_xy : array (nb, 2)
         Tip odometry in the foot frame [m] (D65).
-    world_xy : array (nb, 2)
+    world_tip : array (nb, 3)
         Tip position in the world at the last step [m].
     tw_prev : array (nb, 6)
         Body twist at the last step [m/s, rad/s].
@@ -61,7 +61,7 @@ class MjxMudState(NamedTuple):
 
     mud: MudChannels
     foot_xy: Any
-    world_xy: Any
+    world_tip: Any
     tw_prev: Any
     wv_prev: Any
     has_prev: Any
@@ -136,6 +136,7 @@ class Static:
     bottom_damping: float
     terrain: MudTerrain  # its options (all but the mud's constants)
     dv_min: float = 1e-4
+    uneven: bool = False  # a field with heights: each foot turned onto its surface (D175)
 
 
 def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
@@ -150,6 +151,33 @@ def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
     h = xp.maximum(xp.hypot(fw[..., 0], fw[..., 1]), 1e-12)
     cs = xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)
     return {"X": X, "R": R, "C": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C, xp=xp)}
+
+
+def _on_planes(
+    cfg: Static, k: dict[str, XpArray], field: tuple[XpArray, ...]
+) -> tuple[dict[str, XpArray], XpArray, XpArray, XpArray]:
+    """:func:`_frames` of each foot in the frame of the surface's tangent plane under its tip,
+    rotated about the surface point P there and moved to ``surface`` (P'), as the compiled
+    kernel (``linalg._about``); and the frames (nb, 3, 3), P and P' [m]."""
+    xp = _xp()
+    grid, cells, _, heights = field
+    tip = k["tip"]
+    ny, nx = cells.shape
+    hs, gx, gy = surface_blend(tip[..., 0], tip[..., 1], grid, ny, nx, heights, xp=xp)
+    Q = xp.stack(plane_frame(gx, gy, xp), axis=-1).reshape(*gx.shape, 3, 3)
+    level = xp.full(hs.shape, cfg.surface, dtype=tip.dtype)
+    P = xp.stack([tip[..., 0], tip[..., 1], level + hs], axis=-1)
+    Pd = xp.stack([tip[..., 0], tip[..., 1], level], axis=-1)
+    R = Q @ k["R"]
+    fw = matvec(R, xp.asarray(cfg.forward))
+    h = xp.maximum(xp.hypot(fw[..., 0], fw[..., 1]), 1e-12)
+    tw = k["tw"]
+    local = {
+        "X": matvec(Q, k["X"] - P) + Pd, "R": R, "C": matvec(Q, k["C"] - P) + Pd,
+        "tip": matvec(Q, tip - P) + Pd, "cs": xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1),
+        "tw": xp.concatenate([matvec(Q, tw[..., :3]), matvec(Q, tw[..., 3:])], axis=-1),
+    }  # fmt: skip
+    return local, Q, P, Pd
 
 
 def _mobility(cfg: Static, mx: mjx.Model, d: mjx.Data, C: XpArray) -> XpArray:
@@ -219,26 +247,32 @@ def mud_wrench(
     mx: mjx.Model,
     d: mjx.Data,
     st: MjxMudState,
-    field: tuple[XpArray, XpArray, XpArray] | None = None,
+    field: tuple[XpArray, XpArray, XpArray, XpArray] | None = None,
 ) -> tuple[jax.Array, MjxMudState, MjxContact]:
     """``(xfrc_applied, state, contact)``: the mud's wrench on every foot body [N, N m]
     for robot ``d`` (after ``fwd_position`` and ``fwd_velocity``) from state ``st``, with the
     feet's placement ``cfg`` and the (horizontal, vertical) channel constants ``consts``,
-    or, where ``field`` (``MudField.arrays()``) is given, the field's under each tip
-    (:func:`~mudrft.terrains.field.field_blend`: constants, and the mud's share of the force).
+    or, where ``field`` (``MjxCoupling.field_arrays``: grid, cells, rows, heights) is given,
+    the field's under each tip (:func:`~mudrft.terrains.field.field_blend`: constants, and
+    the mud's share of the force), on its uneven surface where ``cfg.uneven`` (D175).
     """
     xp = _xp()
     dt = mx.opt.timestep
     k = _frames(cfg, d)
+    world_tip, world_tw, world_com, Q = k["tip"], k["tw"], k["C"], None
+    odo_tip, odo_last = world_tip[..., :2], st.world_tip[..., :2]
+    if cfg.uneven and field is not None:  # each foot on the tangent plane under its tip
+        k, Q, P, Pd = _on_planes(cfg, k, field)
+        odo_tip, odo_last = matvec(Q, world_tip)[..., :2], matvec(Q, st.world_tip)[..., :2]
     geo, ratio = _posed(cfg, k)
     cs, tw, com, tip = k["cs"], k["tw"], k["C"], k["tip"]
     share = None
     if field is not None:  # per foot: the mud under its tip
-        share, c = field_blend(tip[..., 0], tip[..., 1], *field, xp=xp)
+        share, c = field_blend(world_tip[..., 0], world_tip[..., 1], *field[:3], xp=xp)
         h, v = consts
         consts = (type(h)(*(c[..., i] for i in range(12))), type(v)(*(c[..., 12 + i] for i in range(12))))  # fmt: skip
     _rel, b, vel = channel_motion(cs, geo.point, com, tw, cfg.surface, xp=xp)
-    fxy = foot_odometry(cs, tip[..., :2], st.mud.in_mud > 0.5, st.world_xy, st.foot_xy, xp=xp)
+    fxy = foot_odometry(cs, odo_tip, st.mud.in_mud > 0.5, odo_last, st.foot_xy, xp=xp)
     pos = xp.concatenate([fxy, geo.low[..., 2:]], axis=-1)
     depth = xp.maximum(-pos[..., 2], 0.0)
     step = secant_steps(vel, cfg.dv_min, xp=xp)
@@ -254,44 +288,53 @@ def mud_wrench(
         f_up, jd, stress = f_up.at[idx].set(fg), jd.at[idx].set(jg), stress.at[idx].set(sg)
     if share is not None:  # rigid ground carries the rest (MuJoCo's contact)
         f_up, jd = f_up * share[..., None], jd * share[..., None]
-    W = _mobility(cfg, mx, d, com)
+    W = _mobility(cfg, mx, d, world_com)
     g0 = xp.concatenate([mx.opt.gravity, xp.zeros(3)]) + xp.zeros_like(tw)
     # the other forces' twist acceleration, from the last step's twists (D62)
-    acc = xp.where(st.has_prev > 0.5, (tw - st.tw_prev) / dt - st.wv_prev, g0)
+    acc = xp.where(st.has_prev > 0.5, (world_tw - st.tw_prev) / dt - st.wv_prev, g0)
     wrench, w0, tank, wv = applied_wrench(
         ratio, f_up, jd, b, geo, cs, tw, com, depth, W, acc, st.tank, dt,
         surface=cfg.surface, bottom=cfg.bottom, stiffness=cfg.bottom_stiffness,
-        damping=cfg.bottom_damping, xp=xp,
+        damping=cfg.bottom_damping, frame=Q, world_tw=world_tw, xp=xp,
     )  # fmt: skip
     finite = xp.all(xp.isfinite(wrench))
-    fast = xp.any(xp.sum(tw[..., :3] ** 2, axis=-1) > MAX_SPEED**2)
+    fast = xp.any(xp.sum(world_tw[..., :3] ** 2, axis=-1) > MAX_SPEED**2)
     unstable = ~(finite & xp.all(xp.isfinite(d.qpos)) & xp.all(xp.isfinite(d.qvel))) | fast
     wrench, w0 = xp.where(unstable, 0.0, wrench), xp.where(unstable, 0.0, w0)
     xfrc = d.xfrc_applied.at[cfg.ids].set(wrench)
-    new_state = MjxMudState(mud, fxy, tip[..., :2], tw, wv, xp.ones_like(st.has_prev), tank)
+    new_state = MjxMudState(mud, fxy, world_tip, world_tw, wv, xp.ones_like(st.has_prev), tank)
     new_state = _jax().tree_util.tree_map(
         lambda new, old: xp.where(unstable, old, new), new_state, st
     )  # an unstable robot's mud is held
+    low = xp.concatenate([tip[..., :2], geo.low[..., 2:] + cfg.surface], -1)
+    if Q is not None:  # back to the world
+        low = P + xp.einsum("...ji,...j->...i", Q, low - Pd)
     out = MjxContact(
         force=wrench[..., :3], torque=wrench[..., 3:], explicit_force=w0[..., :3], depth=depth,
-        stress=stress, tip=xp.concatenate([tip[..., :2], geo.low[..., 2:] + cfg.surface], -1),
-        velocity=vel, finite=finite, unstable=unstable,
+        stress=stress, tip=low, velocity=vel, finite=finite, unstable=unstable,
     )  # fmt: skip
     return xfrc, new_state, out
 
 
-def initial_state(cfg: Static, d: mjx.Data) -> MjxMudState:
+def initial_state(
+    cfg: Static, d: mjx.Data, field: tuple[XpArray, ...] | None = None
+) -> MjxMudState:
     """Undisturbed mud under the feet of ``d`` (after ``mjx.kinematics`` and
-    ``mjx.com_pos``) in their current pose.
+    ``mjx.com_pos``) in their current pose, on ``field`` (its arrays) where it is uneven.
     """
     xp = _xp()
     k = _frames(cfg, d)
-    low, tip = _posed(cfg, k)[0].low, k["tip"]
-    fxy = foot_odometry(k["cs"], tip[..., :2], xp=xp)
+    tip = k["tip"]
+    xy = tip[..., :2]
+    if cfg.uneven and field is not None:
+        k, Q, _, _ = _on_planes(cfg, k, field)
+        xy = matvec(Q, tip)[..., :2]
+    low = _posed(cfg, k)[0].low
+    fxy = foot_odometry(k["cs"], xy, xp=xp)
     depth = xp.maximum(-low[..., 2], 0.0)
     lc = np.zeros(len(cfg.ids))
     for g in cfg.groups:
         lc[g.idx] = g.lc
     mud = initial_channels(fxy[..., 0], fxy[..., 1], depth, xp.asarray(lc), cfg.terrain.xi0, xp=xp)
     zero6, zero = xp.zeros((len(cfg.ids), 6), dtype=tip.dtype), xp.zeros((), dtype=tip.dtype)
-    return MjxMudState(mud, fxy, tip[..., :2], zero6, zero6, zero, zero)
+    return MjxMudState(mud, fxy, tip, zero6, zero6, zero, zero)

@@ -308,7 +308,7 @@ def _kernel(
         tilted = hs != 0.0 or gx != 0.0 or gy != 0.0
         twl, tipl = tw, tipw
         if tilted:
-            q = plane_frame(gx, gy)
+            q = plane_frame(gx, gy, pyfloat)
             for i in range(9):
                 Q[i // 3, i % 3] = q[i]
             ps = surface + hs

@@ -192,10 +192,15 @@ def applied_wrench(
     bottom: float | None,
     stiffness: float,
     damping: float,
+    frame: XpArray | None = None,
+    world_tw: XpArray | None = None,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray]:
     r"""The wrench the coupling applies: the posed foot's (D60a) with its spin damping
     (D62a) and the rigid bottom (D67), its implicit step and passivity bound (D62-D62d).
+    On uneven ground (D175) the feet are posed in their surface frames ``frame`` (..., nb,
+    3, 3), rows the frame's axes, ``tw`` and ``com`` in them: the explicit wrench and its
+    damping are turned back to the world, where the robot's step takes ``world_tw``.
 
     The damping is :math:`K=\sum_c D_c(b_cb_c^T+\mathbf J_c/A_c)`, :math:`D_c\le0` the
     channel force's velocity derivative; the rigid bottom pushes the lowest point with
@@ -239,6 +244,14 @@ def applied_wrench(
         on = (pen > 0) & (f > 0)
         w0 = w0 + xp.where(on, f, 0.0)[..., None] * bl
         K = K - xp.where(on, damping, 0.0)[..., None, None] * (bl[..., :, None] * bl[..., None, :])
+    if frame is not None:  # back to the world: w0 <- B^T w0, K <- B^T K B, B = diag(Q, Q)
+        z3 = xp.zeros_like(frame)
+        B = xp.concatenate(
+            [xp.concatenate([frame, z3], axis=-1), xp.concatenate([z3, frame], axis=-1)], axis=-2
+        )
+        w0 = xp.einsum("...ji,...j->...i", B, w0)
+        K = xp.einsum("...ji,...jk,...kl->...il", B, K, B)
+        tw = world_tw
     wrench = implicit_wrench(w0, K, W, acc, dt, xp=xp)
     wrench, tank, wv = passive_wrench(wrench, tw, W, acc, tank, dt, xp=xp)
     idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
