@@ -29,6 +29,21 @@ FIELD = mudrft.MudField(
 DRAWS = [FIELD.randomized(seed, water_content=(0.25, 0.45), layout=True) for seed in range(4)]
 
 
+def _on_cpu(model, draws, start_data, steps=300):
+    """The compiled CPU coupling's qpos after ``steps`` steps from ``start_data()`` on
+    each field of ``draws`` (n, nq)."""
+    out = []
+    for f in draws:
+        d = start_data()
+        c = attach(model, "foot", f)
+        c.reset(d)
+        for _ in range(steps):
+            mujoco.mj_step(model, d)
+        out.append(d.qpos.copy())
+        c.detach()
+    return np.array(out)
+
+
 @pytest.mark.slow  # compiles MJX for tens of seconds: CI runs it as its own step
 def test_each_robot_steps_on_its_own_field_as_the_cpu_coupling_does():
     """Four box feet sliding at 0.3 m/s across their fields' borders, each on its own
@@ -36,16 +51,13 @@ def test_each_robot_steps_on_its_own_field_as_the_cpu_coupling_does():
     the same draw: positions to 1e-6 m over 0.3 s (the CPU couplings of numpy and numba
     part by 1e-6 in 0.5 s, D68a); a second set of draws reuses the compilation."""
     model = box_foot_model(height=0.002)
-    cpu = []
-    for f in DRAWS:
+
+    def start_data():
         d = mujoco.MjData(model)
         d.qvel[:2] = [0.3, 0.2]
-        c = attach(model, "foot", f)
-        c.reset(d)
-        for _ in range(300):
-            mujoco.mj_step(model, d)
-        cpu.append(d.qpos.copy())
-        c.detach()
+        return d
+
+    cpu = _on_cpu(model, DRAWS, start_data)
     with x64_context(True):
         coupling = mm.attach(model, "foot", FIELD)
         d0 = mujoco.MjData(model)
@@ -65,7 +77,7 @@ def test_each_robot_steps_on_its_own_field_as_the_cpu_coupling_does():
         run = mm.jit(jax.vmap(one))
         (out_d, _), _ = run(batch, states, tuple(fields))
         got = np.asarray(out_d.qpos)
-        assert np.abs(got - np.array(cpu)).max() < 1e-6
+        assert np.abs(got - cpu).max() < 1e-6
         assert np.ptp(got[:, 2]) > 1e-4  # the fields differ, and so do the sinkings
         again = [FIELD.randomized(seed, layout=True) for seed in range(4, 8)]
         fields = [np.stack(a) for a in zip(*(coupling.field_arrays(f) for f in again), strict=True)]  # fmt: skip
@@ -111,16 +123,7 @@ def test_on_uneven_ground_mjx_steps_as_the_cpu_coupling_does():
         d.qpos[2], d.qvel[:2] = start, [0.3, 0.2]
         return d
 
-    cpu = []
-    for f in draws:
-        d = start_data()
-        c = attach(model, "foot", f)
-        c.reset(d)
-        for _ in range(300):
-            mujoco.mj_step(model, d)
-        cpu.append(d.qpos.copy())
-        c.detach()
-    cpu = np.array(cpu)
+    cpu = _on_cpu(model, draws, start_data)
     with x64_context(True):
         coupling = mm.attach(model, "foot", BUMPY)
         dx = coupling.put_data(start_data())
