@@ -1,5 +1,5 @@
-"""The mud walker on a field of mud drawn anew each episode, on rigid ground, and with
-proprioceptive observations (issue 42)."""
+"""The mud walker on a field of mud drawn anew each episode, with rigid cells, on rigid
+ground, and with proprioceptive observations (issue 42)."""
 
 from __future__ import annotations
 
@@ -67,13 +67,47 @@ def test_on_rigid_ground_the_walker_stands_on_the_floor():
     env.close()
 
 
+ROCK = mudrft.MudField(
+    {"mud": 0.3, "rock": "rigid"}, ["rock mud"], cell_size=0.5, origin=(-0.25, -1.0), border=0.05
+)  # the walker starts at x = 0, on the rock; the rock and the mud reach on beyond the grid
+
+
+def test_on_a_rigid_cell_the_walker_stands_on_its_box_and_the_draws_move_the_boxes():
+    """A field of rock and mud: on the rock the biped stands on the cell's box by MuJoCo's
+    contact, as on rigid ground (the torso within 1 mm of rigid ground's, the mud's force
+    0); each reset's draw of the layout makes exactly its rigid cells' boxes collide."""
+    heights = []
+    for env in (MudWalkerEnv(field=ROCK), MudWalkerEnv(ground="rigid")):
+        env.reset(seed=0)
+        for _ in range(30):
+            _, _, terminated, _, info = env.step(np.zeros(6))
+        assert not terminated and env.data.ncon > 0
+        assert np.all(info["mud_force [N]"] == 0.0)
+        heights.append(float(env.data.qpos[env.layout.rootz]))
+        with warnings.catch_warnings():  # unbounded Box, as MuJoCo's own envs
+            warnings.simplefilter("ignore", UserWarning)
+            check_env(env, skip_render_check=True)
+        env.close()
+    assert abs(heights[0] - heights[1]) < 1e-3
+    env = MudWalkerEnv(field=ROCK, randomize={"layout": True})
+    m = env.layout.model
+    seen = set()
+    for seed in range(6):
+        _, info = env.reset(seed=seed)
+        rigid = [info["field"].terrains[r] is None for r in info["field"].cells[0]]
+        boxes = [bool(m.geom_contype[m.geom(f"mudrft_rigid_cell_0_{i}").id]) for i in range(2)]
+        assert boxes == rigid
+        seen.add(tuple(rigid))
+    assert len(seen) > 1  # the draws moved the rock
+    env.close()
+
+
 @pytest.mark.parametrize(
     ("options", "message"),
     [
         ({"observe": "all"}, "observe must be one of ['privileged', 'proprioceptive']"),
         ({"ground": "ice"}, "ground must be one of ['mud', 'rigid']"),
         ({"field": 3}, "field must be a MudField or the path of its TOML spec"),
-        ({"field": mudrft.MudField({"m": 0.3, "r": "rigid"}, ["m r"])}, "mud regions only"),
         ({"randomize": {"wet": (0.2, 0.3)}}, "unexpected keyword argument 'wet'"),
         ({"randomize": {"water_content": (0.1, 0.3)}}, "water_content must be (low, high) within"),
         ({"ground": "rigid", "field": FIELD}, "ground='rigid' has no mud"),

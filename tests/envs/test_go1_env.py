@@ -14,6 +14,7 @@ pytest.importorskip("gymnasium")
 pytest.importorskip("mujoco")
 pytest.importorskip("numba")
 import gymnasium
+import mujoco
 from gymnasium.utils.env_checker import check_env
 
 import mudrft.envs  # registers the environments
@@ -57,5 +58,27 @@ def test_go1_proprioceptive_observation_and_wrong_options():
     env.close()
     with pytest.raises(mudrft.MudrftError, match="observe must be one of"):
         mudrft.envs.MudGo1Env(observe="all")
-    with pytest.raises(mudrft.MudrftError, match="mud regions only"):
-        mudrft.envs.MudGo1Env(field=mudrft.MudField({"m": 0.3, "r": "rigid"}, ["m r"]))
+
+
+def test_go1_on_a_rigid_cell_stands_as_on_its_own_floor():
+    """A field of rock and mud (Go1 starts on the rock): its feet rest on the cell's box by
+    MuJoCo's contact, as deep as on Menagerie's own floor (its soft contact lets a ball
+    sink about 13 mm; within 1 mm of that), with no mud force."""
+    rock = mudrft.MudField({"mud": 0.3, "rock": "rigid"}, ["rock mud"], cell_size=0.5, origin=(-0.25, -1.0))  # fmt: skip
+    env = mudrft.envs.MudGo1Env(field=rock, observe="privileged")
+    env.reset(seed=0)
+    for _ in range(30):
+        _, _, terminated, _, info = env.step(np.zeros(env.model.nu))
+    assert not terminated and np.all(info["mud_force [N]"] == 0.0)
+    m, d = env.model, env.data
+    box = m.geom("mudrft_rigid_cell_0_0").id
+    dist = [c.dist for c in d.contact[: d.ncon] if box in (c.geom1, c.geom2)]
+    assert len(dist) == 4
+    bare_model = mujoco.MjModel.from_xml_path(str(menagerie_scene("unitree_go1")))
+    bare = mujoco.MjData(bare_model)
+    mujoco.mj_resetDataKeyframe(bare_model, bare, 0)
+    bare.ctrl[:] = bare_model.key_ctrl[0]
+    mujoco.mj_step(bare_model, bare, 300)
+    floor = [c.dist for c in bare.contact[: bare.ncon]]
+    assert abs(np.mean(dist) - np.mean(floor)) < 1e-3
+    env.close()

@@ -164,3 +164,31 @@ def test_each_robot_steps_on_its_own_drawn_field():
         batch.use_field(MudField({"a": 0.3}, ["a a a"], cell_size=0.05))
     with pytest.raises(MudrftError, match=r"robot must be None or an index in \[0, 2\)"):
         batch.use_field(field, robot=2)
+
+
+def test_rigid_cells_are_boxes_that_collide_where_the_field_is_rigid():
+    """``add_rigid_cells`` puts a box under each cell, the edge cells reaching beyond the
+    grid as the field's nearest-cell rule does; ``set_rigid_cells`` makes the rigid ones
+    collide. A box foot dropped on the rock rests on it by MuJoCo's contact (within 1 mm of
+    the surface, no mud force); dropped on the mud, 0.3 m away, it sinks into the mud."""
+    from mudrft.integrations.mujoco import add_rigid_cells, set_rigid_cells
+
+    field = MudField({"mud": SOFT, "rock": "rigid"}, ["rock mud"], cell_size=0.2, origin=(-0.1, -0.1))  # fmt: skip
+    depth = {}
+    for x in (0.0, 0.3):
+        spec = mujoco.MjSpec.from_string(f"""<mujoco><worldbody><body name="foot" pos="{x} 0 0.02">
+          <freejoint/><geom type="box" size="0.03 0.04 0.01" mass="3"/></body></worldbody></mujoco>""")  # fmt: skip
+        add_rigid_cells(spec, field)
+        model = spec.compile()
+        assert set_rigid_cells(model, field) == 1
+        data = mujoco.MjData(model)
+        coupling = attach(model, "foot", field)
+        coupling.reset(data)
+        mujoco.mj_step(model, data, nstep=500)
+        depth[x] = float(coupling.last.depth[0])
+        if x == 0.0:
+            assert data.ncon > 0 and np.all(coupling.last.force == 0.0)
+    assert depth[0.0] < 1e-3 and depth[0.3] > 2e-3
+    far = mujoco.MjModel.from_xml_string("<mujoco><worldbody/></mujoco>")
+    with pytest.raises(MudrftError, match=r"no box for cell \(0, 0\) of the field"):
+        set_rigid_cells(far, field)

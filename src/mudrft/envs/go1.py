@@ -30,7 +30,7 @@ import mudrft
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
 from ._gym import gymnasium
-from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, next_field
+from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, has_rigid, next_field
 
 __all__ = ["MudGo1Env"]
 
@@ -46,8 +46,10 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
     water_content : float
         Water content [-] of the paper's mud, where no ``field`` is given.
     field : MudField, str or None
-        Patches of mud (:class:`~mudrft.MudField`, or its TOML spec's path; mud regions
-        only: the floor lies under the mud).
+        Patches of mud and rigid ground (:class:`~mudrft.MudField`, or its TOML spec's
+        path): the floor lies under the mud, and a box under each cell carries the feet by
+        MuJoCo's contact where the cell is rigid
+        (:func:`~mudrft.integrations.mujoco.add_rigid_cells`).
     randomize : mapping or None
         Keywords of :meth:`~mudrft.MudField.randomized`: a new field each reset, from its seed.
     observe : {"proprioceptive", "privileged"}
@@ -75,20 +77,32 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         forward_reward_weight: float = 1.0, ctrl_cost_weight: float = 1e-3,
         healthy_reward: float = 1.0, render_mode: str | None = None,
     ) -> None:  # fmt: skip
-        from ..integrations.mujoco import _mujoco, attach, menagerie_scene
+        from ..integrations.mujoco import (
+            _mujoco,
+            add_rigid_cells,
+            attach,
+            menagerie_scene,
+            set_rigid_cells,
+        )
 
         if render_mode is not None:
             raise MudrftError(f"render_mode must be None for the Go1 environment, got {render_mode!r}")  # fmt: skip
         check_choice("observe", observe, GO1_OBS)
-        # the field's checks are the walker's (mud regions only, randomize's keywords)
+        # the field's checks are the walker's (regions, randomize's keywords)
         cfg = WalkerConfig(water_content=water_content, field=field, randomize=randomize)
         self.randomize, self.observe = randomize, observe
         self.frame_skip = positive_int("frame_skip", frame_skip)
         self.action_scale = positive_number("action_scale", action_scale, unit="rad")
         self.weights = tuple(float(w) for w in (forward_reward_weight, ctrl_cost_weight, healthy_reward))  # fmt: skip
         self._mj = mj = _mujoco()
-        self.model = m = mj.MjModel.from_xml_path(str(menagerie_scene("unitree_go1")))
         self.base_field = cfg.mud_field
+        self._rigid = has_rigid(self.base_field)
+        spec = mj.MjSpec.from_file(str(menagerie_scene("unitree_go1")))
+        if self._rigid:  # a box under each cell: MuJoCo's contact on the rigid ones
+            add_rigid_cells(spec, self.base_field)
+        self.model = m = spec.compile()
+        if self._rigid:
+            set_rigid_cells(m, self.base_field)
         self.field: mudrft.MudField = self.base_field
         self.coupling = attach(m, "auto", self.field, floor="below")
         self.data = mj.MjData(m)
@@ -131,6 +145,10 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         if given is not None or self.randomize is not None:
             self.field = given or self.base_field.randomized(self.np_random, **self.randomize)
             self.coupling.use_field(self.field)
+            if self._rigid:
+                from ..integrations.mujoco import set_rigid_cells
+
+                set_rigid_cells(self.model, self.field)
         m, d, mj = self.model, self.data, self._mj
         mj.mj_resetDataKeyframe(m, d, 0)
         d.ctrl[:] = self._home_ctrl

@@ -19,6 +19,7 @@ from .walker import (
     check_action,
     check_reset,
     controls,
+    has_rigid,
     healthy,
     next_field,
     observation,
@@ -122,6 +123,10 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
             field = given or cfg.mud_field.randomized(self.np_random, **cfg.randomize)
             self.coupling.use_field(field)
             self.field = field
+            if has_rigid(cfg.mud_field):  # the rigid cells' boxes follow the draw
+                from ..integrations.mujoco import set_rigid_cells
+
+                set_rigid_cells(lay.model, field)
         if self.coupling is not None:
             self.coupling.reset(d)
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))

@@ -84,7 +84,8 @@ class WalkerConfig:
     standing pose [rad]; ``reset_noise_scale`` the half-width of the reset noise on joint
     angles [rad] and velocities; ``bottom`` the depth of the rigid bed under the mud [m];
     ``field`` a :class:`~mudrft.MudField` (or the path of its TOML spec) in place of the
-    one mud of ``water_content``; ``randomize`` the keywords of
+    one mud of ``water_content``, its rigid cells boxes MuJoCo's contact holds the feet on
+    (:func:`~mudrft.integrations.mujoco.add_rigid_cells`); ``randomize`` the keywords of
     :meth:`~mudrft.MudField.randomized`, a new draw of the field at each reset (from the
     reset's seed); ``observe`` ``"privileged"`` or ``"proprioceptive"`` (the module
     docstring); ``ground`` ``"mud"``, or ``"rigid"``: MuJoCo's contact with a floor at the
@@ -135,11 +136,6 @@ class WalkerConfig:
             if not isinstance(f, str | os.PathLike):
                 raise MudrftError(f"field must be a MudField or the path of its TOML spec, got {f!r}")  # fmt: skip
             object.__setattr__(self, "field", mudrft.MudField.from_toml(f))
-        if self.field is not None and any(t is None for t in self.field.terrains):
-            raise MudrftError(
-                "field: the environments' bed lies under the mud (the walker's is the coupling's, "
-                "Go1's floor is lowered), so their field takes mud regions only, got rigid ground"
-            )
         if self.randomize is not None:
             if not isinstance(self.randomize, Mapping):
                 raise MudrftError(f"randomize must be a mapping of MudField.randomized's keywords, got {self.randomize!r}")  # fmt: skip
@@ -198,16 +194,20 @@ class WalkerLayout:
 
 
 def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
-    """Build the biped for ``cfg`` (contacts off: the bed is the coupling's, D67; on rigid
-    ground, the bed is at the surface and MuJoCo's contact holds the feet)."""
+    """Build the biped for ``cfg`` (contacts off: the bed is the coupling's, D67; a field
+    with rigid regions: the feet touch the boxes of its rigid cells; on rigid ground, the
+    bed is at the surface and MuJoCo's contact holds the feet)."""
     from ..integrations.mujoco import _mujoco
     from ..integrations.walk import BIPED_FEET, GaitController, biped_model
 
     mj = _mujoco()
-    model = biped_model(None, bottom=float(cfg.bottom), timestep=float(cfg.dt))
+    rigid = cfg.ground == "mud" and cfg.field is not None and has_rigid(cfg.field)
+    model = biped_model(
+        None, bottom=float(cfg.bottom), timestep=float(cfg.dt), field=cfg.field if rigid else None
+    )
     if cfg.ground == "rigid":
         model.geom_pos[model.geom("bottom").id, 2] = 0.0
-    else:
+    elif not rigid:  # rigid cells: the feet's contact with their boxes (add_rigid_cells)
         model.opt.disableflags |= int(mj.mjtDisableBit.mjDSBL_CONTACT)
     data = mj.MjData(model)
     GaitController(model).initial_pose(data)
@@ -224,6 +224,11 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
     )  # fmt: skip
+
+
+def has_rigid(field: mudrft.MudField) -> bool:
+    """Whether ``field`` has a rigid region (a draw of its layout may put it anywhere)."""
+    return any(t is None for t in field.terrains)
 
 
 def next_field(options: dict[str, Any] | None) -> tuple[Any, dict[str, Any] | None]:

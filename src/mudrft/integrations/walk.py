@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     from ..feet.base import Foot
     from ..parameters.base import Mud
     from ..terrains import Terrain
+    from ..terrains.field import MudField
 
 __all__ = [
     "BIPED_FEET",
@@ -76,7 +77,12 @@ def biped_path() -> Path:
 
 
 def biped_model(
-    foot: Foot | None = None, *, bottom: float = 0.15, surface: float = 0.0, timestep: float = 1e-3
+    foot: Foot | None = None,
+    *,
+    bottom: float = 0.15,
+    surface: float = 0.0,
+    timestep: float = 1e-3,
+    field: MudField | None = None,
 ) -> mujoco.MjModel:
     """The biped as a ``mujoco.MjModel``, with feet shaped like ``foot``.
 
@@ -92,6 +98,11 @@ def biped_model(
         Height of the mud surface [m].
     timestep : float, keyword-only
         Physics time step [s].
+    field : MudField or None, keyword-only
+        A field with rigid regions: a box under each of its cells
+        (:func:`~mudrft.integrations.mujoco.add_rigid_cells`), the rigid ones colliding
+        with the feet, and the bed no longer a MuJoCo contact (the coupling's ``bottom=``
+        carries the feet there).
 
     Returns
     -------
@@ -119,6 +130,16 @@ def biped_model(
                 g.type = mj.mjtGeom.mjGEOM_MESH
                 g.meshname = "foot_mesh"
                 g.pos = [0.0, 0.0, -ANKLE]
+    if field is not None and any(t is None for t in field.terrains):
+        from .mujoco.rigid import add_rigid_cells, set_rigid_cells
+
+        add_rigid_cells(spec, field, surface=float(surface))
+        for g in spec.geoms:
+            if g.name == "bottom":
+                g.conaffinity = 0  # the coupling's bottom= is the bed
+        model = spec.compile()
+        set_rigid_cells(model, field)
+        return model
     return spec.compile()
 
 

@@ -23,15 +23,18 @@ from .coupling import MudCoupling, attach, attach_batch
 from .menagerie import menagerie_scene
 from .placement import BodyFoot as BodyFoot
 from .placement import body_foot
+from .rigid import add_rigid_cells, set_rigid_cells
 from .stability import stability_limits
 
 __all__ = [
     "MudBatch",
     "MudContact",
     "MudCoupling",
+    "add_rigid_cells",
     "attach",
     "attach_batch",
     "body_foot",
     "menagerie_scene",
+    "set_rigid_cells",
     "stability_limits",
 ]

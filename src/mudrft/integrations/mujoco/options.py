@@ -189,9 +189,13 @@ def floor_geoms(model: mujoco.MjModel, d: mujoco.MjData) -> list[tuple[int, floa
 
     mj = _mujoco()
     out = []
+    from .rigid import RIGID_CELL
+
     for g in range(model.ngeom):
         collides = int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
         if not collides or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
+            continue
+        if model.geom(g).name.startswith(RIGID_CELL):  # a field's rigid cell, not a floor
             continue
         t, R = int(model.geom_type[g]), np.asarray(d.geom_xmat[g]).reshape(3, 3)
         if t == int(mj.mjtGeom.mjGEOM_PLANE) and R[2, 2] > 1.0 - 1e-9:
