@@ -137,3 +137,41 @@ def test_a_curriculum_orders_fields_and_gives_them_at_reset():
         env.reset(options={"field": FIELD, "speed": 1})
     with pytest.raises(MudrftError, match="needs an environment made with field= or randomize="):
         MudWalkerEnv().reset(options={"field": FIELD})
+
+
+@pytest.mark.slow  # compiles the MJX walker for about a minute: CI runs it as its own step
+def test_the_vector_walker_steps_each_robot_on_its_own_draw_and_draws_anew_at_autoreset():
+    """``gymnasium.make_vec`` with a field and ``randomize``: each of four robots steps on
+    its own draw (the same draws from the same seed), the wetter draws sink deeper, and
+    the robots that end draw new fields at their autoreset; rigid cells are refused."""
+    pytest.importorskip("jax")
+    if not mudrft.integrations.mjx.available():
+        pytest.skip("mujoco-mjx is not installed (extra 'mjx')")
+    import gymnasium
+
+    from mudrft.integrations.mjx._lazy import x64_context
+
+    one_mud = mudrft.MudField({"m": 0.3}, ["m"])
+    with x64_context(False):
+        envs = gymnasium.make_vec(
+            "mudrft/MudWalker-v0", num_envs=4, field=one_mud,
+            randomize={"water_content": (0.2, 0.45)}, max_episode_steps=12,
+        )  # fmt: skip
+    envs.reset(seed=5)
+    first = [f.terrains[0].mud.water_content for f in envs.fields]
+    envs.reset(seed=5)
+    assert [f.terrains[0].mud.water_content for f in envs.fields] == first
+    assert len(set(first)) == 4
+    for _ in range(12):  # 0.24 s: then every robot is truncated
+        obs, _, terminated, truncated, info = envs.step(np.zeros((4, 6)))
+    assert np.all(np.isfinite(obs)) and not terminated.any() and truncated.all()
+    sink = info["sinking [m]"].mean(axis=1)
+    order = np.argsort(first)
+    assert sink[order[-1]] > sink[order[0]]  # the wettest draw sinks deeper than the driest
+    envs.step(np.zeros((4, 6)))  # the autoreset: new draws
+    again = [f.terrains[0].mud.water_content for f in envs.fields]
+    assert all(a != b for a, b in zip(first, again, strict=True))
+    envs.close()
+    rock = mudrft.MudField({"m": 0.3, "r": "rigid"}, ["m r"])
+    with pytest.raises(MudrftError, match="steps mud regions only"):
+        gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=2, field=rock)

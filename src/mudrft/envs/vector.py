@@ -2,8 +2,11 @@
 
 The MJX coupling's step is scanned over ``frame_skip`` physics steps and vmapped over the
 robots, with the walker's observation, reward and end of :mod:`mudrft.envs.walker`.
-Sub-environments reset on the step after they end (next-step autoreset). The first step
-compiles (tens of seconds on a CPU). ``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)``.
+Sub-environments reset on the step after they end (next-step autoreset). With a ``field``
+(and ``randomize``), each robot steps on its own draw of the field, drawn anew (from the
+environment's seed) whenever it resets, passed to the compiled step as traced arrays. The
+first step compiles (tens of seconds on a CPU).
+``gymnasium.make_vec("mudrft/MudWalker-v0", num_envs=64)``.
 """
 
 from __future__ import annotations
@@ -50,7 +53,9 @@ __all__ = ["MudWalkerVectorEnv"]
 class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
     """``num_envs`` planar bipeds in mud stepped together with MJX, truncated after
     ``max_episode_steps`` control steps; ``water_content`` [-] is one for all robots or one
-    per robot; the other options are :class:`~mudrft.envs.walker.WalkerConfig`'s."""
+    per robot, or ``field`` and ``randomize`` a field each (mud regions: the MJX walker has
+    no boxes for rigid cells); the other options are
+    :class:`~mudrft.envs.walker.WalkerConfig`'s."""
 
     metadata = {  # noqa: RUF012 (Gymnasium's attribute)
         "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
@@ -76,18 +81,26 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
         self.config = self.configs[float(w.flat[0])]
         cfg = self.config
-        if cfg.field is not None or cfg.randomize is not None or cfg.ground != "mud":
+        fielded = cfg.field is not None or cfg.randomize is not None
+        if cfg.ground != "mud" or (fielded and w.ndim):
             raise MudrftError(
-                "the vector (MJX) walker takes water_content per robot; field, randomize and "
-                "ground='rigid' are MudWalkerEnv's (the CPU coupling)"
+                "the vector (MJX) walker takes water_content per robot, or a field (and "
+                "randomize); ground='rigid' is MudWalkerEnv's (the CPU coupling)"
             )
+        if fielded and any(t is None for t in cfg.mud_field.terrains):
+            raise MudrftError(
+                "field: the vector (MJX) walker steps mud regions only (rigid cells need "
+                "MuJoCo's contact with their boxes: MudWalkerEnv)"
+            )
+        self.base_field = cfg.mud_field if fielded else None
         self.render_mode = None
         self.layout = lay = walker_layout(cfg)
         # the precision the robots are made in; every later call runs in it
         self._x64 = bool(_jax().config.jax_enable_x64)
         self.coupling = attach(
-            lay.model, list(lay.bodies), cfg.mud, feet=cfg.foot_object, bottom=cfg.bottom
-        )
+            lay.model, list(lay.bodies), self.base_field or cfg.mud, feet=cfg.foot_object,
+            bottom=cfg.bottom,
+        )  # fmt: skip
         self._fns = _compiled(self)  # checks the memory of num_envs robots first
         self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
         which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
@@ -104,6 +117,21 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self._done = np.zeros(self.num_envs, dtype=bool)
         self._state: Any = None
         self._key: Any = None
+        self._fields: Any = None  # each robot's field arrays (stacked), where fielded
+        self.fields: list[Any] = []  # each robot's MudField
+
+    def _draw(self, which: NDArray[Any]) -> None:
+        """Robots ``which`` (bool, num_envs) step on a new draw of the field from now on."""
+        cfg, base = self.config, self.base_field
+        if base is None:
+            return
+        if not self.fields:
+            self.fields = [base] * self.num_envs
+        for i in np.flatnonzero(which):
+            if cfg.randomize is not None:
+                self.fields[i] = base.randomized(self.np_random, **cfg.randomize)
+        arrays = [self.coupling.field_arrays(f) for f in self.fields]
+        self._fields = tuple(np.stack(a) for a in zip(*arrays, strict=True))
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -119,7 +147,8 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             if seed is not None or self._key is None:
                 self._key = jax.random.key(int(self.np_random.integers(2**31)))
             self._key, sub = jax.random.split(self._key)
-            d, st, obs = self._fns["reset"](jax.random.split(sub, self.num_envs))
+            self._draw(np.ones(self.num_envs, dtype=bool))
+            d, st, obs = self._fns["reset"](jax.random.split(sub, self.num_envs), self._fields)
         self._state = (d, st)
         self._steps[:] = 0
         self._done[:] = False
@@ -144,9 +173,11 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         with x64_context(self._x64):  # the precision the robots were made in
             self._key, sub = jax.random.split(self._key)
             d, st = self._state
-            d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants)
+            if self._done.any():  # their new fields, before the step that resets them
+                self._draw(self._done)
+            d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants, self._fields)
             if self._done.any():  # next-step autoreset of the robots that ended last step
-                fresh = self._fns["reset"](jax.random.split(sub, self.num_envs))
+                fresh = self._fns["reset"](jax.random.split(sub, self.num_envs), self._fields)
                 done = jax.numpy.asarray(self._done)
                 d, st, obs = self._fns["merge"](done, (d, st, obs), fresh)
                 rew, term = np.where(self._done, 0.0, rew), np.asarray(term) & ~self._done
@@ -182,17 +213,17 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
     nv, noise, observe = lay.model.nv, cfg.reset_noise_scale, cfg.observe
     jq = lay.joint_qadr
 
-    def reset_one(key: jax.Array) -> Robots:
+    def reset_one(key: jax.Array, fld: Any) -> Robots:
         k1, k2 = jax.random.split(key)
         qpos = d0.qpos.at[jq].add(jax.random.uniform(k1, (len(jq),), d0.qpos.dtype, -noise, noise))
         qvel = jax.random.uniform(k2, (nv,), d0.qvel.dtype, -noise, noise)
         d = d0.replace(qpos=qpos, qvel=qvel)
         z = jnp.zeros((2,), d0.qpos.dtype)
         obs = observation(lay, qpos, qvel, z, jnp.zeros((2, 3), z.dtype), xp=jnp, observe=observe)
-        return d, cpl.init(d), obs
+        return d, cpl.init(d, field=fld), obs
 
     def step_one(
-        d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants
+        d: mujoco.mjx.Data, st: MjxMudState, a: jax.Array, consts: Constants, fld: Any
     ) -> tuple[mujoco.mjx.Data, MjxMudState, jax.Array, jax.Array, jax.Array, dict[str, jax.Array]]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
@@ -201,7 +232,7 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
             carry: tuple[mujoco.mjx.Data, MjxMudState], _: None
         ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], tuple[jax.Array, jax.Array, jax.Array]]:
             dd, ss = carry
-            dd, ss, out = cpl.step(dd, ss, consts)
+            dd, ss, out = cpl.step(dd, ss, consts, field=fld)
             return (dd, ss), (out.depth, out.force, ~out.unstable)
 
         (d, st), (depth, force, stable) = jax.lax.scan(body, (d, st), None, length=cfg.frame_skip)
