@@ -170,6 +170,7 @@ class MudBatch:
         self._checked_datas: list[mujoco.MjData] = []
         self._opt = model.opt  # a view of the model's options (reading model.opt makes one)
         self.field = mud if isinstance(mud, MudField) else None
+        self._fields: list[MudField | None] = [self.field] * int(n)  # each robot's (use_field)
         self.terrain = mud.terrain if isinstance(mud, MudField) else as_terrain(mud)
         register("todorov2012mujoco")
         self.n = int(n)
@@ -269,7 +270,7 @@ class MudBatch:
         tw = com_twist(V, S, C)
         W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
         Xp, Rp, Cp, tp = X, R, C, tip
-        if self.field is not None and self.field.heights.any():  # an uneven field (compiled)
+        if any(f is not None and f.heights.any() for f in self._fields):  # uneven (compiled)
             Xp, Rp, Cp, tp = self._on_planes(X, R, C, tip)
         fw = matvec(Rp, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
@@ -283,11 +284,11 @@ class MudBatch:
         """The bodies posed as the compiled kernel poses each foot on an uneven field: in the
         frame of the tangent plane under its tip, rotated about the surface point P there
         and moved down to ``surface`` (:func:`.linalg._about`)."""
-        assert self.field is not None
-        f = self.field
-        ny, nx = f.cells.shape
         Q, P = np.empty((*tip.shape[:2], 3, 3)), tip.copy()
         for i in np.ndindex(*tip.shape[:2]):
+            f = self._fields[i[0]]  # robot i[0]'s field
+            assert f is not None
+            ny, nx = f.cells.shape
             hs, gx, gy = surface_at(tip[i][0], tip[i][1], f.grid, ny, nx, f.heights)
             Q[i] = np.reshape(plane_frame(gx, gy), (3, 3))
             P[i][2] = self.surface + hs
@@ -363,7 +364,10 @@ class MudBatch:
             raise MudrftError("field's MudTerrain options differ from the attached field's")
         if robot is not None and not (isinstance(robot, int) and 0 <= robot < self.n):
             raise MudrftError(f"robot must be None or an index in [0, {self.n}), got {robot!r}")
-        self._compiled.use_field(field, np.arange(self.n) if robot is None else np.array([robot]))
+        robots = np.arange(self.n) if robot is None else np.array([robot])
+        self._compiled.use_field(field, robots)
+        for k in robots:
+            self._fields[int(k)] = field
 
     def detach(self) -> None:
         """Take the mud out of MuJoCo's step: the compiled coupling stays in the MjData given
