@@ -30,7 +30,7 @@ import mudrft
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
 from ._gym import gymnasium
-from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, has_rigid, next_field
+from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, next_field
 
 __all__ = ["MudGo1Env"]
 
@@ -96,7 +96,7 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         self.weights = tuple(float(w) for w in (forward_reward_weight, ctrl_cost_weight, healthy_reward))  # fmt: skip
         self._mj = mj = _mujoco()
         self.base_field = cfg.mud_field
-        self._rigid = has_rigid(self.base_field)
+        self._rigid = self.base_field.has_rigid
         spec = mj.MjSpec.from_file(str(menagerie_scene("unitree_go1")))
         if self._rigid:  # a box under each cell: MuJoCo's contact on the rigid ones
             add_rigid_cells(spec, self.base_field)

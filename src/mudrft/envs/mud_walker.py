@@ -19,7 +19,6 @@ from .walker import (
     check_action,
     check_reset,
     controls,
-    has_rigid,
     healthy,
     next_field,
     observation,
@@ -123,7 +122,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
             field = given or cfg.mud_field.randomized(self.np_random, **cfg.randomize)
             self.coupling.use_field(field)
             self.field = field
-            if has_rigid(cfg.mud_field):  # the rigid cells' boxes follow the draw
+            if cfg.mud_field.has_rigid:  # the rigid cells' boxes follow the draw
                 from ..integrations.mujoco import set_rigid_cells
 
                 set_rigid_cells(lay.model, field)

@@ -87,7 +87,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 "the vector (MJX) walker takes water_content per robot, or a field (and "
                 "randomize); ground='rigid' is MudWalkerEnv's (the CPU coupling)"
             )
-        if fielded and any(t is None for t in cfg.mud_field.terrains):
+        if fielded and cfg.mud_field.has_rigid:
             raise MudrftError(
                 "field: the vector (MJX) walker steps mud regions only (rigid cells need "
                 "MuJoCo's contact with their boxes: MudWalkerEnv)"
@@ -125,13 +125,16 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         cfg, base = self.config, self.base_field
         if base is None:
             return
-        if not self.fields:
+        if self._fields is None:  # every robot on the field until its first draw
             self.fields = [base] * self.num_envs
+            one = self.coupling.field_arrays()
+            self._fields = tuple(np.repeat(np.asarray(a)[None], self.num_envs, 0) for a in one)
+        if cfg.randomize is None:
+            return
         for i in np.flatnonzero(which):
-            if cfg.randomize is not None:
-                self.fields[i] = base.randomized(self.np_random, **cfg.randomize)
-        arrays = [self.coupling.field_arrays(f) for f in self.fields]
-        self._fields = tuple(np.stack(a) for a in zip(*arrays, strict=True))
+            self.fields[i] = base.randomized(self.np_random, **cfg.randomize)
+            for stacked, a in zip(self._fields, self.coupling.field_arrays(self.fields[i]), strict=True):  # fmt: skip
+                stacked[i] = np.asarray(a)
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None

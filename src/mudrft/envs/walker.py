@@ -201,7 +201,7 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     from ..integrations.walk import BIPED_FEET, GaitController, biped_model
 
     mj = _mujoco()
-    rigid = cfg.ground == "mud" and cfg.field is not None and has_rigid(cfg.field)
+    rigid = cfg.ground == "mud" and cfg.field is not None and cfg.field.has_rigid
     model = biped_model(
         None, bottom=float(cfg.bottom), timestep=float(cfg.dt), field=cfg.field if rigid else None
     )
@@ -224,11 +224,6 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
     )  # fmt: skip
-
-
-def has_rigid(field: mudrft.MudField) -> bool:
-    """Whether ``field`` has a rigid region (a draw of its layout may put it anywhere)."""
-    return any(t is None for t in field.terrains)
 
 
 def next_field(options: dict[str, Any] | None) -> tuple[Any, dict[str, Any] | None]:

@@ -130,7 +130,7 @@ def biped_model(
                 g.type = mj.mjtGeom.mjGEOM_MESH
                 g.meshname = "foot_mesh"
                 g.pos = [0.0, 0.0, -ANKLE]
-    if field is not None and any(t is None for t in field.terrains):
+    if field is not None and field.has_rigid:
         from .mujoco.rigid import add_rigid_cells, set_rigid_cells
 
         add_rigid_cells(spec, field, surface=float(surface))

@@ -386,6 +386,11 @@ class MudField:
         return float(h), np.array([-gx, -gy, 1.0]) / math.sqrt(1.0 + gx * gx + gy * gy)
 
     @property
+    def has_rigid(self) -> bool:
+        """Whether a region is rigid ground (a draw of the layout may put it in any cell)."""
+        return any(t is None for t in self.terrains)
+
+    @property
     def terrain(self) -> MudTerrain:
         """The first mud region: the options (and initial state) every mud region shares."""
         return next(t for t in self.terrains if t is not None)

@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from ...feet.surface import PreparedTriangles
-from ...terrains.field import field_blend, plane_frame, surface_blend
+from ...terrains.field import field_blend, surface_blend
 from ...terrains.mud import MudChannels, MudTerrain, initial_channels, mud_step
 from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
 from ..mujoco.kinematics import com_twist
-from ..mujoco.pose import ChannelGeometry, matvec, posed_channels
+from ..mujoco.pose import ChannelGeometry, matvec, on_planes, posed_channels
 from ._lazy import _jax, _mjx, _xp
 
 if TYPE_CHECKING:
@@ -156,25 +156,20 @@ def _frames(cfg: Static, d: mjx.Data) -> dict[str, XpArray]:
 def _on_planes(
     cfg: Static, k: dict[str, XpArray], field: tuple[XpArray, ...]
 ) -> tuple[dict[str, XpArray], XpArray, XpArray, XpArray]:
-    """:func:`_frames` of each foot in the frame of the surface's tangent plane under its tip,
-    rotated about the surface point P there and moved to ``surface`` (P'), as the compiled
-    kernel (``linalg._about``); and the frames (nb, 3, 3), P and P' [m]."""
+    """:func:`_frames` of each foot on the tangent plane of ``field``'s surface under its tip
+    (:func:`~mudrft.integrations.mujoco.pose.on_planes`); and the frames (nb, 3, 3), P and
+    P' [m]."""
     xp = _xp()
     grid, cells, _, heights = field
-    tip = k["tip"]
+    tip, tw = k["tip"], k["tw"]
     ny, nx = cells.shape
-    hs, gx, gy = surface_blend(tip[..., 0], tip[..., 1], grid, ny, nx, heights, xp=xp)
-    Q = xp.stack(plane_frame(gx, gy, xp), axis=-1).reshape(*gx.shape, 3, 3)
-    level = xp.full(hs.shape, cfg.surface, dtype=tip.dtype)
-    P = xp.stack([tip[..., 0], tip[..., 1], level + hs], axis=-1)
-    Pd = xp.stack([tip[..., 0], tip[..., 1], level], axis=-1)
-    R = Q @ k["R"]
+    slope = surface_blend(tip[..., 0], tip[..., 1], grid, ny, nx, heights, xp=xp)
+    X, R, C, tip_l, Q, P, Pd = on_planes(k["X"], k["R"], k["C"], tip, *slope, cfg.surface, xp=xp)
     fw = matvec(R, xp.asarray(cfg.forward))
     h = xp.maximum(xp.hypot(fw[..., 0], fw[..., 1]), 1e-12)
-    tw = k["tw"]
     local = {
-        "X": matvec(Q, k["X"] - P) + Pd, "R": R, "C": matvec(Q, k["C"] - P) + Pd,
-        "tip": matvec(Q, tip - P) + Pd, "cs": xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1),
+        "X": X, "R": R, "C": C, "tip": tip_l,
+        "cs": xp.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1),
         "tw": xp.concatenate([matvec(Q, tw[..., :3]), matvec(Q, tw[..., 3:])], axis=-1),
     }  # fmt: skip
     return local, Q, P, Pd

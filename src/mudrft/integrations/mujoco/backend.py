@@ -148,10 +148,11 @@ class CompiledCoupling:
         self._rows: list[tuple[int, ...]] = []
 
     def reset(
-        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray
-    ) -> None:
-        """Start from the numpy coupling's ``states`` and tip positions ``pos`` [m], and
-        register ``datas`` with the callback."""
+        self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray,
+        tips: FloatArray,
+    ) -> None:  # fmt: skip
+        """Start from the numpy coupling's ``states``, tip positions ``pos`` in the foot
+        frames and ``tips`` in the world [m], and register ``datas`` with the callback."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
             rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
@@ -160,7 +161,7 @@ class CompiledCoupling:
                 for i, v in enumerate(st.foot):
                     self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))
         self.odo[..., :2] = pos[..., :2]
-        self.odo[..., 2:] = b._world_tip
+        self.odo[..., 2:] = tips
         self.tw_prev[:] = 0.0
         self.wv_prev[:] = 0.0
         self.tank[:] = 0.0

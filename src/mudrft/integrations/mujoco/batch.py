@@ -19,7 +19,7 @@ from ..._typing import BoolArray, FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
-from ...terrains.field import MudField, plane_frame, same_options, surface_at
+from ...terrains.field import MudField, same_options, surface_at
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
@@ -47,7 +47,7 @@ from .placement import (
     describe,
     group_triangles,
 )
-from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, posed_channels
+from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, on_planes, posed_channels
 from .stability import check_spring_step, check_timestep, diverged_error
 
 if TYPE_CHECKING:
@@ -281,23 +281,17 @@ class MudBatch:
     def _on_planes(
         self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray
     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """The bodies posed as the compiled kernel poses each foot on an uneven field: in the
-        frame of the tangent plane under its tip, rotated about the surface point P there
-        and moved down to ``surface`` (:func:`.linalg._about`)."""
-        Q, P = np.empty((*tip.shape[:2], 3, 3)), tip.copy()
+        """The bodies posed as the compiled kernel poses each foot on its robot's uneven
+        field (:func:`.pose.on_planes`)."""
+        slope = np.empty((3, *tip.shape[:2]))  # height [m], dh/dx, dh/dy under each tip
         for i in np.ndindex(*tip.shape[:2]):
             f = self._fields[i[0]]  # robot i[0]'s field
             assert f is not None
             ny, nx = f.cells.shape
-            hs, gx, gy = surface_at(tip[i][0], tip[i][1], f.grid, ny, nx, f.heights)
-            Q[i] = np.reshape(plane_frame(gx, gy), (3, 3))
-            P[i][2] = self.surface + hs
-        down = np.stack([P[..., 0], P[..., 1], np.full(P.shape[:2], self.surface)], axis=-1)
-
-        def about(a: FloatArray) -> FloatArray:
-            return matvec(Q, a - P) + down
-
-        return about(X), Q @ R, about(C), about(tip)
+            slope[(slice(None), *i)] = surface_at(tip[i][0], tip[i][1], f.grid, ny, nx, f.heights)  # fmt: skip
+        hs, gx, gy = slope
+        X, R, C, tip = on_planes(X, R, C, tip, hs, gx, gy, self.surface)[:4]
+        return X, R, C, tip
 
     def _posed(
         self, datas: Sequence[mujoco.MjData], X: FloatArray, R: FloatArray, C: FloatArray,
@@ -334,8 +328,7 @@ class MudBatch:
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
         self._world_xy = k.tip[..., :2]
         if self._compiled is not None:
-            self._world_tip = k.tip.copy()
-            self._compiled.reset(datas, self._states, pos)
+            self._compiled.reset(datas, self._states, pos, k.tip)
         self._has_prev = False
         self._wv_prev[:] = 0.0
         self._tank[:] = 0.0

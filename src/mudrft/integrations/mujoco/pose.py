@@ -23,6 +23,7 @@ from ..._typing import FloatArray, Namespace, XpArray
 from ...feet import Flat
 from ...feet.facet import submerged_area
 from ...feet.surface import PreparedTriangles, clip_below, prepare_triangles
+from ...terrains.field import plane_frame
 
 if TYPE_CHECKING:
     from ...feet.base import Foot
@@ -30,7 +31,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ChannelGeometry", "ball_channels", "channel_geometry", "channel_weights", "foot_triangles",
-    "matvec", "morphing_triangles", "posed_channels", "rowdot", "upright_area",
+    "matvec", "morphing_triangles", "on_planes", "posed_channels", "rowdot", "upright_area",
 ]  # fmt: skip
 
 
@@ -242,6 +243,34 @@ def _ball_parts(
 def matvec(R: FloatArray, v: FloatArray) -> FloatArray:
     r""":math:`R v` over the last axes, summed in the compiled coupling's order (D68a)."""
     return (R[..., 0] * v[..., 0, None] + R[..., 1] * v[..., 1, None]) + R[..., 2] * v[..., 2, None]
+
+
+def on_planes(
+    X: XpArray,
+    R: XpArray,
+    C: XpArray,
+    tip: XpArray,
+    hs: XpArray,
+    gx: XpArray,
+    gy: XpArray,
+    surface: float,
+    xp: Namespace = np,
+) -> tuple[XpArray, ...]:
+    """Bodies posed on the surface's tangent planes under their tips (D175), as the compiled
+    kernel poses them (``linalg._about``): the plane of slopes ``gx``, ``gy`` [-] through
+    P = (tip x, tip y, ``surface`` + ``hs``) [m] turned level by its frame Q (rows: its axes,
+    :func:`~mudrft.terrains.field.plane_frame`) about P and moved down to P' = (tip x,
+    tip y, ``surface``). ``X``, ``C``, ``tip`` (..., 3) [m], ``R`` (..., 3, 3); returns them
+    posed, then Q, P and P'."""
+    Q = xp.stack(plane_frame(gx, gy, xp), axis=-1).reshape(*gx.shape, 3, 3)
+    level = 0.0 * hs + surface
+    P = xp.stack([tip[..., 0], tip[..., 1], level + hs], axis=-1)
+    Pd = xp.stack([tip[..., 0], tip[..., 1], level], axis=-1)
+
+    def about(a: XpArray) -> XpArray:
+        return matvec(Q, a - P) + Pd
+
+    return about(X), Q @ R, about(C), about(tip), Q, P, Pd
 
 
 def rowdot(a: FloatArray, b: FloatArray) -> FloatArray:
