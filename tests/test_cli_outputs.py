@@ -313,6 +313,36 @@ def test_a_signal_that_cuts_the_cleanup_short_still_leaves_nothing(tmp_path, cap
     assert listing(tmp_path) == []
 
 
+@pytest.mark.skipif(not hasattr(signal, "SIGTERM") or os.name == "nt", reason="POSIX signals")
+@pytest.mark.parametrize(("signame", "status"), [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_python_swallows_still_ends_the_command(
+    tmp_path, capsys, monkeypatch, signame, status
+):
+    """A signal whose handler runs inside ``__del__`` (or a weakref callback, as an import's
+    module lock has): Python prints "Exception ignored" and goes on. The command must not
+    then finish and write its outputs: it ends with the signal's status, leaving nothing."""
+    import mudrft.simulation
+
+    class Signals:
+        def __del__(self):
+            signal.raise_signal(getattr(signal, signame))  # its handler runs inside __del__
+
+    simulate = mudrft.simulation.simulate
+
+    def simulated(*args, **kwargs):
+        Signals()  # collected at once, mid-run: Python ignores the handler's exception
+        return simulate(*args, **kwargs)
+
+    ignored = []  # what Python reports as "Exception ignored in ..."
+    monkeypatch.setattr(sys, "unraisablehook", lambda u: ignored.append(u.exc_type))
+    monkeypatch.setattr(mudrft.simulation, "simulate", simulated)
+    with _default_signal_handlers():
+        code, _, err = run(capsys, "simulate", "--foot", "flat", *FAST, "--out", tmp_path / "r.csv")
+    assert len(ignored) == 1  # the situation under test did arise
+    assert code == status, err
+    assert listing(tmp_path) == []
+
+
 @contextmanager
 def _default_signal_handlers():
     before = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}

@@ -22,7 +22,7 @@ from .. import __version__
 from .._progress import enable_stderr_logging, logger
 from .._validation import EXTRAS, MudrftError, plain_text
 from . import bench, calibrate, compare, params, reproduce, simulate, sweep, walk
-from ._common import Terminated, signals_as_exceptions
+from ._common import Terminated, raise_swallowed, signals_as_exceptions
 from ._parser import HelpFormatter
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -142,6 +142,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 warned.clear()  # not a warning of the run, for --strict
             try:
                 code = int(args.func(args) or 0)
+                raise_swallowed()
                 if getattr(args, "strict", False) and warned and code == 0:
                     more = f" (and {len(warned) - 1} more warnings)" if len(warned) > 1 else ""
                     _error(prog, f"--strict: the command warned: {warned[0]}{more}")

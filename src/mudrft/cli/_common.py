@@ -86,6 +86,10 @@ class _Signals:
 
     held = 0
     pending: type[BaseException] | None = None
+    #: The first signal delivered during the command: Python ignores an exception a
+    #: handler raises inside a weakref callback or ``__del__``, so the end of the
+    #: command (:func:`raise_swallowed`) raises it again rather than finish as if none came.
+    received: type[BaseException] | None = None
     #: Per running command (innermost last), its outputs not yet moved or removed.
     commands: ClassVar[list[list[Outputs]]] = []
 
@@ -107,6 +111,7 @@ def signals_as_exceptions() -> Iterator[None]:
     def deliver(signum: int, frame: object) -> None:
         """Raise now, or once the outputs' bookkeeping is consistent again."""
         exc_type = Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+        _Signals.received = _Signals.received or exc_type
         if _Signals.held:
             _Signals.pending = _Signals.pending or exc_type
         else:
@@ -114,6 +119,7 @@ def signals_as_exceptions() -> Iterator[None]:
 
     mine: list[Outputs] = []
     _Signals.commands.append(mine)
+    _Signals.received = None
     previous: dict[int, Any] = {}
     for signum in (signal.SIGTERM, signal.SIGINT):
         # a background job starts with SIGINT ignored: kept so, as Python itself does
@@ -131,7 +137,15 @@ def signals_as_exceptions() -> Iterator[None]:
                 signal.signal(restored, before)
         finally:
             _Signals.held -= 1
-            _Signals.pending = None
+            _Signals.pending = _Signals.received = None
+
+
+def raise_swallowed() -> None:
+    """Raise a signal delivered during the command whose exception Python ignored (it
+    came while a weakref callback or ``__del__`` ran), so the command does not finish,
+    and commit its outputs, as if it had not been terminated."""
+    if _Signals.received is not None and _main_thread():
+        raise _Signals.received
 
 
 @contextmanager
@@ -337,6 +351,7 @@ class Outputs:
             with _signals_held():  # a signal now is taken after the move or the cleanup
                 try:
                     if exc_type is None:
+                        raise_swallowed()
                         self.commit()
                 finally:
                     self.discard()  # after a commit there is nothing left to remove
