@@ -7,6 +7,7 @@ import math
 import os
 import shutil
 import signal
+import sys
 import threading
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -117,9 +118,16 @@ def signals_as_exceptions() -> Iterator[None]:
         else:
             raise exc_type
 
+    def unraisable(u: Any) -> None:
+        """Python's "Exception ignored" report, quiet for our own signal's exception
+        (:func:`raise_swallowed` raises it again)."""
+        if not (isinstance(u.exc_value, Terminated | KeyboardInterrupt) and _Signals.received):
+            hook(u)
+
     mine: list[Outputs] = []
     _Signals.commands.append(mine)
     _Signals.received = None
+    hook, sys.unraisablehook = sys.unraisablehook, unraisable
     previous: dict[int, Any] = {}
     for signum in (signal.SIGTERM, signal.SIGINT):
         # a background job starts with SIGINT ignored: kept so, as Python itself does
@@ -135,6 +143,7 @@ def signals_as_exceptions() -> Iterator[None]:
             _Signals.commands = [c for c in _Signals.commands if c is not mine]
             for restored, before in previous.items():
                 signal.signal(restored, before)
+            sys.unraisablehook = hook
         finally:
             _Signals.held -= 1
             _Signals.pending = _Signals.received = None
