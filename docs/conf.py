@@ -86,7 +86,7 @@ sphinx_gallery_conf = {
     "gallery_dirs": "auto_examples",
     # run every example but the RL training one: it needs the 'rl-train' extra (torch), which
     # the docs build does not install; the gallery shows its code without running it
-    "filename_pattern": r"(?<!train_mud_walker)\.py$",
+    "filename_pattern": r"(?<!train_mud_walker)(?<!train_mud_walker_brax)\.py$",
     "ignore_pattern": r"__init__\.py",
     "reset_argv": "mudrft_docs.gallery_argv",  # --quick --out <folder of this build>
     "image_scrapers": ("mudrft_docs.png_scraper",),

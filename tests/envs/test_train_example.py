@@ -1,5 +1,6 @@
-"""The training example (examples/train_mud_walker.py) in its smoke setting: PPO on fields
-of mud and on rigid ground, compared on held-out fields (issue 42)."""
+"""The training examples in their smoke settings: examples/train_mud_walker.py (PPO on
+fields of mud and on rigid ground, compared on held-out fields, issue 42) and
+examples/train_mud_walker_brax.py (Brax's PPO on the MJX walker; extra ``rl-brax``)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,6 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("stable_baselines3")
 pytest.importorskip("mujoco")
 pytest.importorskip("numba")
 
@@ -28,6 +28,7 @@ def _example():
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")  # torch's and SB3's own
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_the_smoke_setting_trains_both_policies_and_compares_them(tmp_path, capsys):
+    pytest.importorskip("stable_baselines3")
     ex = _example()
     assert ex.main(["--out", str(tmp_path), *SMOKE]) == 0
     rows = list(csv.DictReader((tmp_path / "results.csv").open()))
@@ -43,3 +44,27 @@ def test_the_smoke_setting_trains_both_policies_and_compares_them(tmp_path, caps
     assert "| mud |" in capsys.readouterr().out
     with pytest.raises(SystemExit):  # no overwrite without --force
         ex.main(["--out", str(tmp_path), *SMOKE])
+
+
+BRAX_EXAMPLE = EXAMPLE.with_name("train_mud_walker_brax.py")
+BRAX_SMOKE = ["--steps", "640", "--num-envs", "8", "--episode-steps", "20", "--evals", "2"]
+
+
+@pytest.mark.slow  # Brax's PPO and the MJX walker compile for about a minute on a CPU
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+def test_the_brax_example_trains_the_mjx_walker(tmp_path):
+    pytest.importorskip("brax")
+    pytest.importorskip("mujoco.mjx")
+    spec = importlib.util.spec_from_file_location("train_mud_walker_brax", BRAX_EXAMPLE)
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    assert ex.main(["--out", str(tmp_path), *BRAX_SMOKE]) == 0
+    curve = list(csv.DictReader((tmp_path / "curves.csv").open()))
+    assert [int(c["steps"]) for c in curve] == [0, 640]  # an evaluation before and after
+    for c in curve:  # an episode of 20 control steps: at most 20 x (1 + 5 x speed)
+        assert 0.0 < float(c["eval_return"]) < 20 * (1 + 5 * 2.0)
+        assert abs(float(c["eval_forward_speed [m/s]"])) < 2.0
+    run = json.loads((tmp_path / "run.json").read_text())
+    assert run["wall_time [s]"] > 0 and run["device"].startswith("cpu")
+    with pytest.raises(SystemExit):  # no overwrite without --force
+        ex.main(["--out", str(tmp_path), *BRAX_SMOKE])

@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 #: Every robot's (mjx.Data, mud state, observation): what reset makes and merge picks from.
 Robots: TypeAlias = "tuple[mujoco.mjx.Data, MjxMudState, jax.Array]"
 
-__all__ = ["MudWalkerVectorEnv"]
+__all__ = ["MudWalkerVectorEnv", "robot_functions"]
 
 
 class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
@@ -105,7 +105,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
         which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
         per_value = [MudTerrain(self.configs[float(v)].mud).constants for v in values]
-        self._constants = _jax().tree_util.tree_map(  # each constant, one per robot
+        self.constants = _jax().tree_util.tree_map(  # each constant, one per robot
             lambda *c: np.array(c, dtype=float)[which], *per_value
         )
         box, batch = gymnasium.spaces.Box, gymnasium.vector.utils.batch_space
@@ -178,7 +178,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             d, st = self._state
             if self._done.any():  # their new fields, before the step that resets them
                 self._draw(self._done)
-            d, st, obs, rew, term, info = self._fns["step"](d, st, a, self._constants, self._fields)
+            d, st, obs, rew, term, info = self._fns["step"](d, st, a, self.constants, self._fields)
             if self._done.any():  # next-step autoreset of the robots that ended last step
                 fresh = self._fns["reset"](jax.random.split(sub, self.num_envs), self._fields)
                 done = jax.numpy.asarray(self._done)
@@ -198,6 +198,24 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
 
 def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
     """The jit-compiled reset and step of all robots."""
+    import jax
+
+    reset_one, step_one, merge = robot_functions(env)
+    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}
+
+
+def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
+    """One robot's pure JAX functions, to vmap and jit (as the environment does) or to wrap
+    for another training library (``examples/train_mud_walker_brax.py``):
+
+    * ``reset_one(key, field) -> (mjx.Data, mud state, observation)``;
+    * ``step_one(data, mud state, action, constants, field) -> (data, mud state,
+      observation, reward, terminated, info)``, one control step (``frame_skip`` physics
+      steps), ``constants`` as :attr:`MudWalkerVectorEnv.constants` holds them (a row per robot),
+      ``field`` the robot's field arrays (:meth:`MjxCoupling.field_arrays`, or ``None``);
+    * ``merge(done, robots, fresh)``: the fresh robots where ``done``.
+
+    Checks first that the state of ``env.num_envs`` robots fits in memory."""
     import jax
     import jax.numpy as jnp
 
@@ -257,4 +275,4 @@ def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
 
         return jax.tree_util.tree_map(pick, new, fresh)
 
-    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}
+    return reset_one, step_one, merge
