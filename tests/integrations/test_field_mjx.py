@@ -143,3 +143,59 @@ def test_on_uneven_ground_mjx_steps_as_the_cpu_coupling_does():
     assert np.abs(got - cpu).max() < 1e-6
     tilt = np.degrees(2 * np.arccos(np.clip(np.abs(cpu[:, 3]), 0.0, 1.0)))
     assert tilt.max() > 1.0 and np.asarray(depth).max() > 1e-3
+
+
+@pytest.mark.slow  # compiles MJX (its box-box contact too) for tens of seconds
+def test_rigid_cells_hold_a_foot_in_mjx_as_on_the_cpu():
+    """The field's rigid cells as boxes (``add_rigid_cells``, ``set_rigid_cells`` before
+    the model goes to MJX): a box foot dropped on the rock rests on it by MJX's contact
+    with no mud force, 0.1 mm into it, as on the CPU (to 1e-6 m; measured: under 1e-8 m. MJX's
+    box-box contact and solver are not MuJoCo's code); one dropped on the mud beside it,
+    in the same vmapped rollout, sinks into the mud as on the CPU (to 1e-6 m)."""
+    from mudrft.integrations.mujoco import add_rigid_cells, set_rigid_cells
+
+    field = mudrft.MudField({"mud": 0.35, "rock": "rigid"}, ["rock mud"], cell_size=0.2, origin=(-0.1, -0.1))  # fmt: skip
+    spec = mujoco.MjSpec.from_string("""<mujoco><worldbody><body name="foot" pos="0 0 0.02">
+      <freejoint/><geom type="box" size="0.03 0.04 0.01" mass="3"/></body></worldbody></mujoco>""")  # fmt: skip
+    add_rigid_cells(spec, field)
+    model = spec.compile()
+    set_rigid_cells(model, field)
+    starts = (0.0, 0.3)  # over the rock, over the mud
+
+    def start_data(x):
+        d = mujoco.MjData(model)
+        d.qpos[0] = x
+        return d
+
+    cpu, cpu_force = [], []
+    for x in starts:
+        d = start_data(x)
+        c = attach(model, "foot", field)
+        c.reset(d)
+        mujoco.mj_step(model, d, nstep=300)
+        cpu.append(d.qpos.copy())
+        cpu_force.append(c.last.force[0].copy())
+        c.detach()
+    cpu = np.array(cpu)
+    assert np.all(cpu_force[0] == 0.0) and cpu_force[1][2] > 0.0
+    with x64_context(True):
+        coupling = mm.attach(model, "foot", field)
+        datas = [coupling.put_data(start_data(x)) for x in starts]
+        batch = jax.tree_util.tree_map(lambda *a: np.stack(a), *datas)
+        states = jax.vmap(coupling.init)(batch)
+
+        def one(d, s):
+            def body(carry, _):
+                d, s, out = coupling.step(*carry)
+                return (d, s), out.force
+
+            return jax.lax.scan(body, (d, s), None, length=300)
+
+        (out_d, _), force = mm.jit(jax.vmap(one))(batch, states)
+        got, force = np.asarray(out_d.qpos), np.asarray(force)
+    rock, mud = 0, 1
+    assert np.all(force[rock] == 0.0) and force[mud, -1, 0, 2] > 0.0  # (robot, step, foot, xyz)
+    top = 0.0 + 0.01  # the rock's top is the surface; the foot's center 10 mm above it
+    assert abs(got[rock, 2] - top) < 1e-3 and abs(got[rock, 2] - cpu[rock, 2]) < 1e-6
+    assert np.abs(got[mud] - cpu[mud]).max() < 1e-6
+    assert cpu[mud, 2] < top - 2e-3  # it sank into the mud
