@@ -175,8 +175,11 @@ def test_a_killed_sweep_resumes_without_recomputing_finished_chunks(tmp_path, mo
     (tmp_path / "spec.toml").write_text(KILL_SPEC)
     spec = load_spec(tmp_path / "spec.toml")
     store = tmp_path / "s.zarr"
-    code = (
-        "import mudrft\n"
+    code = (  # each point takes at least 0.2 s, so the sweep cannot end between two polls
+        "import time, mudrft\n"
+        "from mudrft.sweep import evaluate\n"
+        "point = evaluate.evaluate_point\n"
+        "evaluate.evaluate_point = lambda *a, **k: (time.sleep(0.2), point(*a, **k))[1]\n"
         f"mudrft.sweep({str(tmp_path / 'spec.toml')!r}, store={str(store)!r}, scheduler='serial')\n"
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])}  # fmt: skip
