@@ -128,6 +128,7 @@ def train(
     """Train on ``ground`` (``"mud"`` or ``"rigid"``); the held-out results and the curve."""
     import torch
     from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
     torch.set_num_threads(1)  # small networks: threads cost more than they give
@@ -138,6 +139,7 @@ def train(
         "MlpPolicy", env, n_steps=n_steps, batch_size=64, n_epochs=10, learning_rate=3e-4,
         policy_kwargs={"net_arch": [64, 64]}, seed=args.seed, verbose=0, device="cpu",
     )  # fmt: skip
+    model.set_logger(Logger(None, []))  # SB3's own would leave a folder in the temp directory
     curve = []
     while model.num_timesteps < args.steps:
         model.learn(args.eval_every, reset_num_timesteps=False)

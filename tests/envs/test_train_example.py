@@ -27,10 +27,18 @@ def _example():
 
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")  # torch's and SB3's own
 @pytest.mark.filterwarnings("ignore::UserWarning")
-def test_the_smoke_setting_trains_both_policies_and_compares_them(tmp_path, capsys):
+def test_the_smoke_setting_trains_both_policies_and_compares_them(tmp_path, capsys, monkeypatch):
     pytest.importorskip("stable_baselines3")
+    import tempfile
+
+    scratch = tmp_path / "tmp"  # SB3's default logger made a folder in the temp directory
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
     ex = _example()
-    assert ex.main(["--out", str(tmp_path), *SMOKE]) == 0
+    out = tmp_path / "out"
+    assert ex.main(["--out", str(out), *SMOKE]) == 0
+    assert [p.name for p in scratch.iterdir() if p.name.startswith("SB3-")] == []  # (torch caches)
+    tmp_path = out
     rows = list(csv.DictReader((tmp_path / "results.csv").open()))
     assert [r["trained_on"] for r in rows] == ["mud", "rigid"]
     for r in rows:
