@@ -148,10 +148,13 @@ def test_on_uneven_ground_mjx_steps_as_the_cpu_coupling_does():
 @pytest.mark.slow  # compiles MJX (its box-box contact too) for tens of seconds
 def test_rigid_cells_hold_a_foot_in_mjx_as_on_the_cpu():
     """The field's rigid cells as boxes (``add_rigid_cells``, ``set_rigid_cells`` before
-    the model goes to MJX): a box foot dropped on the rock rests on it by MJX's contact
-    with no mud force, 0.1 mm into it, as on the CPU (to 1e-6 m; measured: under 1e-8 m. MJX's
-    box-box contact and solver are not MuJoCo's code); one dropped on the mud beside it,
-    in the same vmapped rollout, sinks into the mud as on the CPU (to 1e-6 m)."""
+    the model goes to MJX): a box foot dropped on the rock comes to rest on it by MJX's
+    contact, with no mud force, as it does on the CPU by MuJoCo's; one dropped on the mud
+    beside it, in the same vmapped rollout, sinks into the mud as on the CPU (to 1e-6 m).
+
+    How deep each engine's soft contact lets the box into the rock is MuJoCo's, not the
+    coupling's: MuJoCo 4.0 and its MJX agree to 1e-8 m, MuJoCo 3.3.6's C box-box contact
+    rests 0.11 mm deeper than its MJX. So each is held to within 0.5 mm of the rock's top."""
     from mudrft.integrations.mujoco import add_rigid_cells, set_rigid_cells
 
     field = mudrft.MudField({"mud": 0.35, "rock": "rigid"}, ["rock mud"], cell_size=0.2, origin=(-0.1, -0.1))  # fmt: skip
@@ -195,7 +198,8 @@ def test_rigid_cells_hold_a_foot_in_mjx_as_on_the_cpu():
         got, force = np.asarray(out_d.qpos), np.asarray(force)
     rock, mud = 0, 1
     assert np.all(force[rock] == 0.0) and force[mud, -1, 0, 2] > 0.0  # (robot, step, foot, xyz)
-    top = 0.0 + 0.01  # the rock's top is the surface; the foot's center 10 mm above it
-    assert abs(got[rock, 2] - top) < 1e-3 and abs(got[rock, 2] - cpu[rock, 2]) < 1e-6
     assert np.abs(got[mud] - cpu[mud]).max() < 1e-6
+    top = 0.0 + 0.01  # the rock's top is the surface; the foot's center 10 mm above it
+    assert abs(got[rock, 2] - top) < 5e-4 and abs(cpu[rock, 2] - top) < 5e-4
+    assert np.abs(np.asarray(out_d.qvel)[rock]).max() < 1e-3  # at rest on it
     assert cpu[mud, 2] < top - 2e-3  # it sank into the mud
