@@ -211,7 +211,7 @@ def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
     * ``reset_one(key, field) -> (mjx.Data, mud state, observation)``;
     * ``step_one(data, mud state, action, constants, field) -> (data, mud state,
       observation, reward, terminated, info)``, one control step (``frame_skip`` physics
-      steps), ``constants`` as :attr:`MudWalkerVectorEnv.constants` holds them (a row per robot),
+      steps); ``constants`` is one robot's row of :attr:`MudWalkerVectorEnv.constants`,
       ``field`` the robot's field arrays (:meth:`MjxCoupling.field_arrays`, or ``None``);
     * ``merge(done, robots, fresh)``: the fresh robots where ``done``.
 
