@@ -160,26 +160,24 @@ def mujoco_overhead_ratio(
     """Wall time per biped step with mud over without: the cost of the coupling.
 
     The headline ``mujoco_overhead_ratio`` is the biped with the paper's flat foot and the
-    compiled coupling (``backend="numba"`` where numba is installed, D68a), stepped with
+    compiled coupling (D68a), stepped with
     ``advance`` (the wrench written, the contact built only when read);
     ``ratio_with_contact`` steps it with ``step``, which returns a :class:`MudContact`
     every step. ``feet``
-    reports the same for a 512-facet mesh foot (compiled too) and the morphing foot (numpy
-    coupling); ``batch`` the ratio per robot for batches of robots (one compiled call for
+    reports the same for a 512-facet mesh foot and the morphing foot; ``batch`` the ratio per robot for batches of robots (one compiled call for
     all of them).
 
     Parameters
     ----------
     seconds : float
-        Simulated time per measurement [s] (each is repeated three times; the numpy
-        coupling's runs use a tenth of it).
+        Simulated time per measurement [s] (each is repeated three times; the other feet's
+        runs use a tenth of it).
     batch : tuple of int, keyword-only
         Robot counts for the batched measurement (:class:`MudBatch`); empty to skip.
     dt : float, keyword-only
         Physics time step [s].
     feet : tuple of str, keyword-only
-        Other feet to report: ``"mesh"``, ``"morphing"``, ``"morphing-numpy"`` and
-        ``"flat-numpy"`` (those two with the numpy coupling).
+        Other feet to report: ``"mesh"``, ``"morphing"``.
 
     Returns
     -------
@@ -191,10 +189,8 @@ def mujoco_overhead_ratio(
         ``steps_per_second_physics``, ``steps_per_second_mud``; ``feet``: per foot the
         same; ``batch``: per robot count the same numbers per robot; ``machine``.
     """
-    from mudrft.integrations.mujoco.backend import choose_backend
-
     steps = max(round(seconds / dt), 10)
-    backend = choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.Flat())
+    backend = "numba"
     t_phys, t_mud, t_contact = _triple(1, steps=steps, dt=dt, repeats=5, backend=backend)
     out: dict[str, Any] = {
         "seconds": float(seconds),
@@ -215,13 +211,8 @@ def mujoco_overhead_ratio(
         },
     }
     others = {
-        "mesh": (_mesh_foot, choose_backend("auto", mudrft.paper_mud(0.25), _mesh_foot())),
-        "morphing": (
-            mudrft.feet.MorphingFoot,
-            choose_backend("auto", mudrft.paper_mud(0.25), mudrft.feet.MorphingFoot()),
-        ),
-        "morphing-numpy": (mudrft.feet.MorphingFoot, "numpy"),
-        "flat-numpy": (lambda: mudrft.feet.Flat(), "numpy"),
+        "mesh": (_mesh_foot, "numba"),
+        "morphing": (mudrft.feet.MorphingFoot, "numba"),
     }
     for name in feet:
         make, be = others[name]

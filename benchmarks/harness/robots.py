@@ -42,7 +42,6 @@ def _cpu(lay: Any, n: int, seconds: float) -> dict[str, float]:
 
     import mudrft
     from mudrft.integrations.mujoco import attach_batch
-    from mudrft.integrations.mujoco.backend import choose_backend
 
     foot = mudrft.feet.Flat()
     mud = mudrft.paper_mud(0.25)
@@ -54,7 +53,6 @@ def _cpu(lay: Any, n: int, seconds: float) -> dict[str, float]:
         datas.append(d)
     batch = attach_batch(
         lay.model, list(lay.bodies), mud, n=n, feet=foot, bottom=0.15,
-        backend=choose_backend("auto", mud, foot),
     )  # fmt: skip
     batch.reset(datas)
     batch.step(datas, 2)  # warm-up (compiles the numba kernel once)

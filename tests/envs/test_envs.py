@@ -44,15 +44,15 @@ def test_the_walker_is_registered_with_its_options():
 def test_check_env_passes():
     from gymnasium.utils.env_checker import check_env
 
-    env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-cylinder", backend="numpy")
-    probe = gymnasium.make("mudrft/MudWalker-v0", backend="numpy", render_mode="rgb_array")
+    env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-cylinder")
+    probe = gymnasium.make("mudrft/MudWalker-v0", render_mode="rgb_array")
     probe.reset(seed=0)
     with pytest.warns(UserWarning, match="infinity"):  # unbounded Box, as MuJoCo's own envs
         check_env(env.unwrapped, skip_render_check=not _renders(probe))
 
 
 def test_observation_holds_the_sinking_and_the_mud_force():
-    env = gymnasium.make("mudrft/MudWalker-v0", backend="numpy")
+    env = gymnasium.make("mudrft/MudWalker-v0")
     obs, _ = env.reset(seed=1)
     assert obs.shape == (OBS_SIZE,) and obs.dtype == np.float32
     assert np.all(obs[17:] == 0.0)  # not in the mud yet

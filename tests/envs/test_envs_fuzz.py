@@ -60,12 +60,12 @@ def test_an_unknown_option_is_named_with_the_known_ones():
 
 @pytest.fixture(scope="module")
 def env():
-    return mudrft.envs.MudWalkerEnv(backend="numpy")
+    return mudrft.envs.MudWalkerEnv()
 
 
 def test_step_before_reset_is_refused(env):
     # it returned reward 0 and terminated=True: the robot at the origin, the mud unset
-    fresh = mudrft.envs.MudWalkerEnv(backend="numpy")
+    fresh = mudrft.envs.MudWalkerEnv()
     with pytest.raises(MudrftError, match=r"call reset\(\) before step\(\)"):
         fresh.step(np.zeros(6))
 
@@ -103,7 +103,7 @@ def test_a_terminated_or_closed_environment_does_not_step():
     """Gymnasium's contract: the raw environment stepped on after its episode ended, and
     after close(). An unstable step (a NaN velocity, which MuJoCo reset with a printed
     warning and the episode went on) terminates with info["unstable"]."""
-    env = mudrft.envs.MudWalkerEnv(backend="numpy")
+    env = mudrft.envs.MudWalkerEnv()
     env.reset(seed=0)
     obs, _, terminated, _, info = env.step(np.zeros(6))
     assert not terminated and info["unstable"] is False

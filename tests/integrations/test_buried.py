@@ -9,9 +9,9 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach, attach_batch
 from mudrft.trajectories import BuriedFootWarning
 
+from ._reference import attach, attach_batch
 from .conftest import box_foot_model, mujoco
 
 #: A 20 x 20 x 10 mm box of 5 kg in the wettest mud: it sinks past its 10 mm within 0.1 s.

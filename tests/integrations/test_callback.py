@@ -15,8 +15,7 @@ import mudrft
 from mudrft import MudrftError
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
-
+from ._reference import attach
 from .conftest import box_foot_model, mujoco
 
 MUD = mudrft.paper_mud(0.25)
@@ -130,9 +129,9 @@ def test_a_coupling_let_go_keeps_its_mud_until_detached():
     np.testing.assert_array_equal(data.xfrc_applied, 0.0)
 
 
-def test_without_mujocos_library_auto_runs_on_numpy_and_says_so(monkeypatch):
-    """The compiled coupling calls MuJoCo's C library; where it cannot be found,
-    ``backend="auto"`` warns and steps on numpy, ``backend="numba"`` says why not."""
+def test_without_mujocos_library_attach_says_why(monkeypatch):
+    """The coupling calls MuJoCo's C library; where it cannot be found, ``attach`` says
+    so, whichever backend is named."""
     from mudrft.integrations.mujoco import backend
 
     def missing():
@@ -140,11 +139,7 @@ def test_without_mujocos_library_auto_runs_on_numpy_and_says_so(monkeypatch):
 
     monkeypatch.setattr(backend, "mujoco_functions", missing)
     model = box_foot_model()
-    with pytest.warns(RuntimeWarning, match=r"library, which was not found.*runs on numpy"):
-        coupling = attach(model, "foot", MUD)
-    assert coupling.backend == "numpy"
-    data = mujoco.MjData(model)
-    coupling.reset(data)
-    assert coupling.step(data, 20).depth[0] >= 0.0
+    with pytest.raises(MudrftError, match=r"MuJoCo's own library, which was not found"):
+        attach(model, "foot", MUD)
     with pytest.raises(MudrftError, match=r"MuJoCo's own library, which was not found"):
         attach(model, "foot", MUD, backend="numba")

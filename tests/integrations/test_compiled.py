@@ -8,9 +8,9 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
 from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
+from ._reference import attach
 from .conftest import mechanical_energy, mujoco, thrown_leg
 
 MUD = mudrft.paper_mud(0.25)
@@ -117,7 +117,7 @@ def test_advance_is_step_without_the_contact_and_last_is_read_when_asked(backend
     """``advance`` moves the robot exactly as ``step`` does; ``last`` after it is the contact
     ``step`` returns for the same steps, built from the newest step whenever it is read
     (never a stale one), for one robot and for a batch of two."""
-    from mudrft.integrations.mujoco import attach_batch
+    from ._reference import attach_batch
 
     model = biped_model(mudrft.feet.Flat())
     ctrl = GaitController(model)

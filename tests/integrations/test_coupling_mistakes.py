@@ -16,9 +16,9 @@ import mudrft
 from mudrft._validation import MudrftError
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach, attach_batch
 from mudrft.integrations.walk import biped_model
 
+from ._reference import attach, attach_batch
 from .conftest import box_foot_model, mujoco
 
 MUD = mudrft.paper_mud(0.25)

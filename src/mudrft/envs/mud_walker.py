@@ -36,7 +36,7 @@ __all__ = ["MudWalkerEnv", "make_walker"]
 class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     """The planar biped walking in mud (Gymnasium ``Env``; id ``mudrft/MudWalker-v0``).
 
-    ``backend`` is the CPU coupling's (``"auto"``: numba where installed);
+    ``backend`` is the CPU coupling's (``"auto"`` or ``"numba"``: the compiled one);
     ``render_mode="rgb_array"`` renders the side camera offscreen (OpenGL needed); the
     other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s: a ``field`` of
     patches of mud, drawn anew at each reset with ``randomize``, proprioceptive
@@ -55,7 +55,6 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self, *, backend: str = "auto", render_mode: str | None = None, **options: Any
     ) -> None:
         from ..integrations.mujoco import _mujoco, attach
-        from ..integrations.mujoco.backend import choose_backend
 
         if render_mode not in (None, "rgb_array"):
             raise MudrftError(
@@ -77,7 +76,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self.field = mud if fielded else None
         self.coupling = None if cfg.ground == "rigid" else attach(
             m, list(self.layout.bodies), mud, feet=foot, bottom=cfg.bottom,
-            backend=choose_backend(backend, cfg.mud, foot),
+            backend=backend,
         )  # fmt: skip
         box = gymnasium.spaces.Box
         self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)

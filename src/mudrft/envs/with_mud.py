@@ -21,7 +21,7 @@ from ._gym import gymnasium
 if TYPE_CHECKING:
     from ..integrations.mujoco import MudCoupling
     from ..parameters import Mud
-    from ..terrains import Terrain
+    from ..terrains import MudTerrain
 
 __all__ = ["WithMud", "with_mud"]
 
@@ -32,7 +32,7 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
 
     def __init__(
         self, env: Any, feet: str | int | Sequence[str | int] = "auto",
-        mud: Mud | Terrain | None = None, *, floor: str = "below", **attach_options: Any,
+        mud: Mud | MudTerrain | None = None, *, floor: str = "below", **attach_options: Any,
     ) -> None:  # fmt: skip
         from .. import paper_mud
         from ..integrations.mujoco import _mujoco, attach
@@ -93,7 +93,7 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
 
 
 def with_mud(
-    env: Any, feet: str | int | Sequence[str | int] = "auto", mud: Mud | Terrain | None = None,
+    env: Any, feet: str | int | Sequence[str | int] = "auto", mud: Mud | MudTerrain | None = None,
     *, floor: str = "below", **attach_options: Any,
 ) -> WithMud:  # fmt: skip
     """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).

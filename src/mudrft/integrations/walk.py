@@ -42,7 +42,7 @@ if TYPE_CHECKING:
 
     from ..feet.base import Foot
     from ..parameters.base import Mud
-    from ..terrains import Terrain
+    from ..terrains import MudTerrain
     from ..terrains.field import MudField
 
 __all__ = [
@@ -308,7 +308,7 @@ class GaitController:
 
 def walk(
     foot: Foot,
-    mud: Mud | Terrain,
+    mud: Mud | MudTerrain,
     *,
     seconds: float = 10.0,
     dt: float = 1e-3,
@@ -327,7 +327,7 @@ def walk(
     ----------
     foot : Foot
         The foot on both legs (any mudrft foot, including ``MorphingFoot``).
-    mud : Mud or Terrain
+    mud : Mud or MudTerrain
         The mud.
     seconds : float, keyword-only
         Simulated time [s], at least one physics step ``dt``.
@@ -339,9 +339,8 @@ def walk(
         Duration of a step [s], at least :data:`MIN_STEP_SAMPLES` physics steps.
     bottom : float, keyword-only
         Depth of the rigid bed under the mud [m].
-    backend : {"auto", "numpy", "numba"}, keyword-only
-        The coupling's backend; ``"auto"``: the compiled one (D68a) where numba is
-        installed and the foot is a closed form, else numpy.
+    backend : {"auto", "numba"}, keyword-only
+        The coupling's backend: the compiled one (D68a) either way.
     frames : int, keyword-only
         Number of offscreen images to render along the walk (needs a working OpenGL, e.g.
         ``MUJOCO_GL=egl``; silently none when rendering fails).

@@ -20,7 +20,7 @@ from ..io.atomic import json_text
 
 if TYPE_CHECKING:
     from ..parameters.base import Mud
-    from ..terrains import Terrain
+    from ..terrains import MudTerrain
 
 __all__ = [
     "COMPARE_COLUMNS", "FEET", "UNDETERMINED", "compare_claims", "compare_feet", "write_compare",
@@ -40,7 +40,7 @@ _FIG13 = (("flat", 32.0, 26.0), ("semi-cylinder", 57.0, 44.0))
 
 
 def compare_feet(
-    mud: Mud | Terrain,
+    mud: Mud | MudTerrain,
     *,
     seconds: float = 10.0,
     dt: float = 1e-3,
@@ -52,7 +52,7 @@ def compare_feet(
 
     Parameters
     ----------
-    mud : Mud or Terrain
+    mud : Mud or MudTerrain
         The mud, the same for every foot.
     seconds, dt : float, keyword-only
         Simulated time and physics step [s].

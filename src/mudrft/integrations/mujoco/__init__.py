@@ -1,9 +1,8 @@
 r"""Mud under MuJoCo bodies: read the foot motion, step the mud once, write the wrench.
 
 :func:`attach` puts mud under bodies of any MJCF model; each gets a mudrft foot, derived
-from its geoms or given. Every physics step (inside ``mj_step``; ``backend="numpy"``:
-between ``mj_step1`` and ``mj_step2``) the coupling writes into ``data.xfrc_applied`` the
-mud's wrench, linearly implicit in the body twist (D62-D62d) and bounded so that the mud
+from its geoms or given. Every physics step (inside ``mj_step``, from MuJoCo's passive
+callback) the coupling writes into ``data.xfrc_applied`` the mud's wrench, linearly implicit in the body twist (D62-D62d) and bounded so that the mud
 never gives the robot more energy than it took (D62c)::
 
     import mujoco, mudrft

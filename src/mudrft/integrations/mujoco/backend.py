@@ -1,4 +1,4 @@
-"""The numba backend of the coupling: the arrays of the compiled kernel (D68a)."""
+"""The compiled coupling's arrays (D68a): what the kernel reads and writes each step."""
 
 from __future__ import annotations
 
@@ -15,7 +15,6 @@ from ...feet.mesh import MeshFoot
 from ...feet.morphing import MorphingFoot
 from ...feet.morphing.row import MorphingRow, row_array
 from ...feet.surface import prepare_triangles
-from ...parameters.base import Mud
 from ...terrains.field import MudField, uniform
 from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, state_rows, upright_rows
@@ -35,26 +34,26 @@ if TYPE_CHECKING:
     from .batch import MudBatch
     from .placement import BodyFoot
 
-#: The feet the kernel steps (:func:`_not_compilable`).
+#: The feet the kernel steps (:func:`not_compilable`).
 _KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
-__all__ = ["NON_FINITE", "NO_LIBRARY", "CompiledCoupling", "choose_backend"]
+__all__ = ["NON_FINITE", "NO_LIBRARY", "CompiledCoupling", "not_compilable"]
 
 #: Why a step raised: a wrench that is not finite.
 NON_FINITE = (
     "the mud coupling produced a non-finite force; the simulation diverged "
     "(check the model, the time step and the mud parameters)"
 )
-#: The start of :func:`_not_compilable`'s answer where MuJoCo's C library is missing.
-NO_LIBRARY = "backend='numba' calls MuJoCo's own library"
+#: The start of :func:`not_compilable`'s answer where MuJoCo's C library is missing.
+NO_LIBRARY = "the MuJoCo coupling calls MuJoCo's own library"
 
 
-def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
-    """Why the numba backend cannot step this terrain and these feet ("" if it can)."""
+def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
+    """Why the compiled coupling cannot step this terrain and these feet ("" if it can)."""
     if not isinstance(terrain, MudTerrain):
         return (
-            f"backend='numba' needs the mud (a Mud or MudTerrain), got {type(terrain).__name__}; "
-            "use backend='numpy' for other terrains"
+            f"the MuJoCo coupling steps the mud (a Mud, MudTerrain or MudField), got "
+            f"{type(terrain).__name__}; other terrains run through mudrft.simulate"
         )
     try:
         mujoco_functions()
@@ -63,9 +62,9 @@ def _not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     for b in bodies:
         if not _compilable_foot(b.foot) or b.triangles is None:
             return (
-                f"backend='numba' supports closed-form feet (Flat, SemiCylinder, SemiSphere), "
+                f"the MuJoCo coupling takes closed-form feet (Flat, SemiCylinder, SemiSphere), "
                 f"mesh feet (MeshFoot) and the MorphingFoot; body {b.body!r} has a "
-                f"{type(b.foot).__name__}: use backend='numpy'"
+                f"{type(b.foot).__name__}: give its surface as a MeshFoot"
             )
     return ""
 
@@ -84,14 +83,6 @@ def _geometry_row(foot: _KernelFoot) -> list[float]:
     if isinstance(foot, MorphingFoot):
         return [4.0, 0.0, 0.0, 0.0]
     return [float(v) for v in foot.kernel_geometry]
-
-
-def choose_backend(backend: str, mud: Mud | Terrain, foot: Foot | None) -> str:
-    """``"numba"`` or ``"numpy"`` for ``backend="auto"``; any other ``backend`` as given."""
-    if backend != "auto":
-        return backend
-    mud_ok = isinstance(mud, Mud | MudTerrain)
-    return "numba" if _compilable_foot(foot) and mud_ok else "numpy"
 
 
 class CompiledCoupling:
@@ -151,7 +142,7 @@ class CompiledCoupling:
         self, datas: Sequence[mujoco.MjData], states: Sequence[MudState], pos: FloatArray,
         tips: FloatArray,
     ) -> None:  # fmt: skip
-        """Start from the numpy coupling's ``states``, tip positions ``pos`` in the foot
+        """Start from the terrain's ``states``, tip positions ``pos`` in the foot
         frames and ``tips`` in the world [m], and register ``datas`` with the callback."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
@@ -174,7 +165,7 @@ class CompiledCoupling:
             for i, f in enumerate(fields):
                 a = getattr(d, f)
                 if a.dtype != np.float64 or not a.flags.c_contiguous:
-                    raise MudrftError(f"MjData.{f} must be contiguous float64 for backend='numba'")
+                    raise MudrftError(f"MjData.{f} must be contiguous float64 for the mud coupling")
                 self.addr[k, i] = a.ctypes.data
             self.addr[k, 6] = d._address
         m = b.model

@@ -1,38 +1,32 @@
 r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 
-Each step reads all robots (:mod:`.kinematics`), poses the feet (:mod:`.pose`), steps the
-terrain once per foot type, assembles the wrench and takes its implicit
-step with the passivity bound (:mod:`.implicit`), writes ``xfrc_applied`` and checks
-that MuJoCo did not diverge; the mud and feet with a surface run compiled (:mod:`.backend`).
+Each physics step, MuJoCo's passive callback (:mod:`.callback`) runs the compiled kernel
+(:mod:`.compiled`) for every robot: it reads the feet's pose and twist, steps their mud,
+takes the implicit step of the wrench with the passivity bound and writes ``xfrc_applied``.
+:class:`MudBatch` places the feet, starts the mud (:meth:`MudBatch.reset`, with the array
+form of the pose in :mod:`.pose`) and checks each step that MuJoCo did not diverge.
 """
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..._progress import logger
-from ..._typing import BoolArray, FloatArray
+from ..._typing import FloatArray
 from ..._validation import MudrftError
 from ...citations import register
 from ...terrains import as_terrain
 from ...terrains.field import MudField, same_options, surface_at
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
-from .backend import NO_LIBRARY, NON_FINITE, CompiledCoupling, _not_compilable
-from .contact import MudContact, _central_point
+from .backend import CompiledCoupling, not_compilable
+from .contact import MudContact
 from .geoms import _support
-from .implicit import (
-    applied_wrench,
-    channel_motion,
-    foot_odometry,
-    force_and_derivative,
-    secant_steps,
-)
-from .kinematics import body_frames, chain_mobility, com_twist
+from .implicit import foot_odometry
+from .kinematics import body_frames
 from .options import (
     check_attach_options,
     check_count,
@@ -55,7 +49,7 @@ if TYPE_CHECKING:
 
     from ...feet.base import Foot
     from ...parameters import Mud
-    from ...terrains import Terrain
+    from ...terrains import MudTerrain
 
 __all__ = ["MudBatch", "MudContact"]
 
@@ -64,18 +58,6 @@ BURIED_HINT = (
     "; a firmer mud (lower water content), a bed (attach's bottom= [m] below the surface) "
     "or a taller foot keeps it within its height"
 )
-
-
-class _Reading(NamedTuple):
-    """What a step reads of the robots (:meth:`MudBatch._read`), shapes (N, nb, ...)."""
-
-    com: FloatArray  # each body's center of mass [m], world frame (N, nb, 3)
-    tip: FloatArray  # tip position [m] (N, nb, 3)
-    cs: FloatArray  # cosine and sine of the foot's heading (yaw) (N, nb, 2)
-    tw: FloatArray  # twist at the center of mass [m/s, rad/s] (N, nb, 6)
-    W: FloatArray  # the robot's mobility (N, nb, nb, 6, 6) for the implicit step
-    geo: ChannelGeometry  # the posed feet's channels (:func:`.pose.posed_channels`)
-    ratio: FloatArray  # their areas over the upright foot's (N, nb, 3)
 
 
 class MudBatch:
@@ -89,9 +71,9 @@ class MudBatch:
         The bodies that touch the mud, each by its name, the name of one of its geoms (then
         its foot) or its id (a body without a name); ``"auto"`` finds the feet
         (:func:`~.placement.auto_feet`) and logs them (:attr:`feet`).
-    mud : Mud, Terrain or MudField
-        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, any terrain, or
-        patches of mud and rigid ground (:class:`~mudrft.terrains.field.MudField`).
+    mud : Mud, MudTerrain or MudField
+        The mud (:func:`mudrft.paper_mud`), a :class:`mudrft.MudTerrain`, or patches of mud
+        and rigid ground (:class:`~mudrft.terrains.field.MudField`).
     n : int
         Number of robots.
     feet : Foot, sequence of Foot or None
@@ -110,10 +92,8 @@ class MudBatch:
     foot_geoms : mapping or None
         ``{body: geom name, or a list of them}``: a body's foot geoms where its lowest
         colliding geoms are not (D124).
-    backend : {"auto", "numba", "numpy"}
-        ``"numba"``: one compiled call per step for all feet (the mud, feet with a surface),
-        cached on disk; ``"numpy"``: any terrain and foot, the reference the tests compare
-        with; ``"auto"``: ``"numba"`` where it applies.
+    backend : {"auto", "numba"}
+        The compiled coupling, either way (kept for 0.2's callers; ``"numpy"`` was removed).
     floor : {"warn", "below", "keep"}
         A floor geom at or above the mud's surface carries the feet in place of the mud:
         ``"warn"`` says so, ``"below"`` lowers it :data:`~.options.BED_DEPTH` (0.5 m) under
@@ -139,7 +119,7 @@ class MudBatch:
         self,
         model: mujoco.MjModel,
         bodies: str | int | Sequence[str | int],
-        mud: Mud | Terrain | MudField,
+        mud: Mud | MudTerrain | MudField,
         *,
         n: int = 1,
         feet: Foot | Sequence[Foot | None] | None = None,
@@ -202,39 +182,21 @@ class MudBatch:
         self._groups = [(self.bodies[idx[0]].foot, np.array(idx)) for idx in groups.values()]
         self._timestep = check_timestep(model)  # reset checks again if it changed (D123)
         check_spring_step(model, self.bodies)
-        nb = len(self.bodies)
         self._states: list[Any] = [None] * len(self._groups)
-        self._foot_xy = np.zeros((self.n, nb, 2))
-        self._world_xy = np.zeros((self.n, nb, 2))
         self._pose = [group_triangles(self.bodies, idx) for _, idx in self._groups]
-        self._tw_prev = np.zeros((self.n, nb, 6))
-        self._wv_prev = np.zeros((self.n, nb, 6))
-        self._tank = np.zeros(self.n)  # energy the mud may give each robot back [J] (D62c)
-        self._has_prev = False
-        self._jac = np.zeros((nb, 6, model.nv))
-        self._minv_jt = np.zeros((nb, 6, model.nv))
         # per robot MuJoCo's counters of a bad qpos, qvel and qacc (it resets such a state)
         self._warn: list[tuple[mujoco.MjWarningStat, ...]] = []
         self._warnings: list[list[int]] = []
-        if backend not in ("auto", "numpy", "numba"):
-            raise MudrftError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
-        why = _not_compilable(self.terrain, self.bodies)
-        if self.field is not None and (backend == "numpy" or why):
-            raise MudrftError(f"a MudField runs on backend='numba' only; {why or 'got numpy'}")
-        if backend == "auto":
-            backend = "numpy" if why else "numba"
-            if why.startswith(NO_LIBRARY):
-                warnings.warn(f"{why}: the coupling runs on numpy (slower)", RuntimeWarning, stacklevel=3)  # fmt: skip
-        self.backend = backend
-        self._compiled: CompiledCoupling | None = None
-        self._depth: FloatArray = np.zeros((self.n, nb))  # the compiled coupling's depths [m]
-        if backend == "numba":
-            if why:
-                raise MudrftError(why)
-            self._compiled = CompiledCoupling(self)
-            self._depth = self._compiled.out[..., 18]  # a view: the kernel writes in place
+        if backend not in ("auto", "numba"):
+            why = " (the numpy coupling was removed in 0.3)" if backend == "numpy" else ""
+            raise MudrftError(f"backend must be 'auto' or 'numba', got {backend!r}{why}")
+        why = not_compilable(self.terrain, self.bodies)
+        if why:
+            raise MudrftError(why)
+        self.backend = "numba"
+        self._compiled = CompiledCoupling(self)
+        self._depth = self._compiled.out[..., 18]  # a view: the kernel writes in place
         self._dv_min = 1e-4  # smallest secant step in velocity [m/s] (D63)
-        self._last: MudContact | None = None
         self.time_steps = 0
         self._single = False  # MudCoupling: outputs of shape (nbody, ...)
         self._reset_with: object = None  # the argument of reset(), checked once
@@ -252,31 +214,24 @@ class MudBatch:
         plain ``mujoco.mj_step``.
         """
         c = self._compiled
-        if c is None:
-            return self._last
         if not c.clock[:, 0].any():
             return None
         self._check_buried(self._depth)  # plain mj_step has not checked
         return c.contact(0 if self._single else None)
 
-    @last.setter
-    def last(self, value: MudContact | None) -> None:
-        self._last = value
-
     # -- reading MuJoCo ---------------------------------------------------------------
-    def _read(self, datas: Sequence[mujoco.MjData]) -> _Reading:
-        X, R, C, V, S = body_frames(datas, self._ids, self._roots)
+    def _read(self, datas: Sequence[mujoco.MjData]) -> tuple[FloatArray, FloatArray]:
+        """Each foot's tip [m] in the world and in the foot's frame (odometry), (N, nb, 3)."""
+        X, R, C = body_frames(datas, self._ids)
         tip = X + matvec(R, self._tip)
-        tw = com_twist(V, S, C)
-        W = chain_mobility(self.model, datas, self._ids, C, self._jac, self._minv_jt)
         Xp, Rp, Cp, tp = X, R, C, tip
         if any(f is not None and f.heights.any() for f in self._fields):  # uneven (compiled)
             Xp, Rp, Cp, tp = self._on_planes(X, R, C, tip)
         fw = matvec(Rp, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
-        geo, ratio = self._posed(datas, Xp, Rp, Cp, tp, cs)
-        return _Reading(com=C, tip=tip, cs=cs, tw=tw, W=W, geo=geo, ratio=ratio)
+        geo = self._posed(datas, Xp, Rp, Cp, tp, cs)[0]
+        return tip, np.concatenate([foot_odometry(cs, tip[..., :2]), geo.low[..., 2:]], axis=-1)
 
     def _on_planes(
         self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray
@@ -322,16 +277,10 @@ class MudBatch:
         check_integrator(self.model)  # again: the model's options may have changed
         for d in datas:
             mj.mj_forward(self.model, d)
-        k = self._read(datas)
-        pos = self._foot_position(k, fresh=True)
+        tip, pos = self._read(datas)
         for gi, (foot, idx) in enumerate(self._groups):
             self._states[gi] = self.terrain.initial_state(foot, pos[:, idx])
-        self._world_xy = k.tip[..., :2]
-        if self._compiled is not None:
-            self._compiled.reset(datas, self._states, pos, k.tip)
-        self._has_prev = False
-        self._wv_prev[:] = 0.0
-        self._tank[:] = 0.0
+        self._compiled.reset(datas, self._states, pos, tip)
         W = mj.mjtWarning
         bad = [int(w) for w in (W.mjWARN_BADQPOS, W.mjWARN_BADQVEL, W.mjWARN_BADQACC)]
         # MuJoCo's reset of a bad state clears its counters, then counts 1: the coupling
@@ -339,7 +288,6 @@ class MudBatch:
         self._warn = [tuple(d.warning[k] for k in bad) for d in datas]
         self._warnings = [[0, 0, 0] for _ in datas]
         self._clear_warnings()
-        self.last = None
         self.time_steps = 0
         for d in datas:
             d.xfrc_applied[self._ids] = 0.0
@@ -349,8 +297,8 @@ class MudBatch:
         field of the shape of the one given to ``attach`` (the same grid of cells and number
         of regions) and its mud options, such as :meth:`MudField.randomized` draws. Call it
         before :meth:`reset` for a new episode; the feet's mud state goes on."""
-        if self.field is None or self._compiled is None:
-            raise MudrftError("use_field needs a coupling attached to a MudField (compiled)")
+        if self.field is None:
+            raise MudrftError("use_field needs a coupling attached to a MudField")
         if not isinstance(field, MudField):
             raise MudrftError(f"field must be a MudField, got {type(field).__name__}")
         if not same_options(field.terrain, self.terrain):
@@ -366,8 +314,7 @@ class MudBatch:
         """Take the mud out of MuJoCo's step: the compiled coupling stays in the MjData given
         to :meth:`reset` (and keeps this coupling alive) until ``detach``, or until another
         coupling's ``reset`` takes that MjData; :meth:`reset` attaches it again."""
-        if self._compiled is not None:
-            self._compiled.detach()
+        self._compiled.detach()
 
     def _check(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> list[mujoco.MjData]:
         if isinstance(datas, self._mj.MjData):
@@ -388,94 +335,22 @@ class MudBatch:
         self._checked_datas = datas  # held, so that their ids stay theirs
         return datas
 
-    def _foot_position(self, k: _Reading, *, fresh: bool) -> FloatArray:
-        """Tip position in the foot frame: horizontal odometry, and minus the depth (D65)."""
-        was_in = None if fresh else self._in_mud()
-        self._foot_xy = foot_odometry(k.cs, k.tip[..., :2], was_in, self._world_xy, self._foot_xy)
-        return np.concatenate([self._foot_xy, k.geo.low[..., 2:]], axis=-1)
-
-    def _in_mud(self) -> BoolArray:
-        out = np.zeros((self.n, len(self.bodies)), dtype=bool)
-        for (_, idx), st in zip(self._groups, self._states, strict=True):
-            im = getattr(st, "in_mud", None)
-            out[:, idx] = np.broadcast_to(im, (self.n, len(idx))) if im is not None else True
-        return out
-
     def apply(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> MudContact:
-        """Advance the mud once and write ``xfrc_applied``: after ``mj_step1`` (or
-        ``mj_forward``), before ``mj_step2``; :meth:`step` does all three. (The compiled
-        coupling has done so in ``mj_step1`` already: this repeats that step.)"""
+        """Advance the mud once and write ``xfrc_applied`` after ``mj_step1`` (or
+        ``mj_forward``), before ``mj_step2``. MuJoCo's passive callback has done so in
+        ``mj_step1`` already: this repeats that step, with the same result."""
         datas = self._check(datas)
         if self._warn:
             self._check_diverged(datas)  # mj_step1 met a non-finite state and reset it
-        self._apply(datas)
-        assert self.last is not None
-        return self.last
-
-    def _apply(self, datas: Sequence[mujoco.MjData]) -> MudContact | None:
         if self._states[0] is None:
             raise MudrftError("call reset(data) before stepping the mud coupling")
-        if self._compiled is not None:  # MuJoCo's passive callback steps the mud
-            self._compiled.check()
-            for d in datas:
-                self._mj.mj_passive(self.model, d)
-            self._compiled.check()
-            self._check_buried(self._depth)
-            self.time_steps += 1
-            return None
-        dt = float(self.model.opt.timestep)
-        k = self._read(datas)
-        geo, cs, tw, com = k.geo, k.cs, k.tw, k.com
-        rel, b, vel = channel_motion(cs, geo.point, com, tw, self.surface)
-        pos = self._foot_position(k, fresh=False)
-        self._world_xy = k.tip[..., :2]
-        N, nb = pos.shape[:2]
-        f_up = np.empty((N, nb, 3))
-        jd = np.zeros((N, nb, 3))
-        stress = np.empty((N, nb, 3))
-        depth = np.maximum(-pos[..., 2], 0.0)
-        step = secant_steps(vel, self._dv_min)
-        for gi, (foot, idx) in enumerate(self._groups):
-            st = self._states[gi]
-            pg, vg = (pos, vel) if len(idx) == nb else (pos[:, idx], vel[:, idx])
-            sk = step if len(idx) == nb else step[:, idx]
-            new, f_up[:, idx], jd[:, idx], sg = force_and_derivative(
-                self.terrain, foot, st, pg, vg, sk, dt
-            )
-            self._states[gi] = new
-            stress[:, idx] = sg
-        if self._has_prev:  # the other forces' twist acceleration, from the last step (D62)
-            acc = (tw - self._tw_prev) / dt - self._wv_prev
-        else:
-            acc = np.zeros_like(tw)
-            acc[..., :3] = np.asarray(self.model.opt.gravity, dtype=float)
-        wrench, w0, self._tank, self._wv_prev = applied_wrench(
-            k.ratio, f_up, jd, b, geo, cs, tw, com, depth, k.W, acc, self._tank, dt,
-            surface=self.surface, bottom=self.bottom, stiffness=self.bottom_stiffness,
-            damping=self.bottom_damping,
-        )  # fmt: skip
-        self._tw_prev = tw
-        self._has_prev = True
-        if not np.all(np.isfinite(wrench)):
-            raise MudrftError(NON_FINITE)
-        for i, d in enumerate(datas):
-            d.xfrc_applied[self._ids] = wrench[i]
+        self._compiled.check()
+        for d in datas:
+            self._mj.mj_passive(self.model, d)
+        self._compiled.check()
+        self._check_buried(self._depth)
         self.time_steps += 1
-        force, torque = wrench[..., :3], wrench[..., 3:]
-        pz = com + rel[..., 2, :]
-        c = MudContact(
-            force=force,
-            explicit_force=w0[..., :3],
-            torque=torque,
-            point=_central_point(force, torque, com, pz),
-            tip=np.concatenate([k.tip[..., :2], (geo.low[..., 2:] + self.surface)], axis=-1),
-            velocity=vel,
-            depth=depth,
-            stress=stress,
-        )
-        self.last = MudContact(*(a[0] for a in c)) if self._single else c  # MudCoupling: robot 0
-        self._check_buried(depth)
-        return self.last
+        return self._compiled.contact(0 if self._single else None)
 
     def step(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> MudContact:
         """``nstep`` physics steps of every robot, the mud advanced once per step.
@@ -486,10 +361,7 @@ class MudBatch:
             When MuJoCo reports bad accelerations (it would reset the state silently).
         """
         self.advance(datas, nstep)  # checks for a buried foot: read the contact directly
-        if self._compiled is not None:
-            return self._compiled.contact(0 if self._single else None)
-        assert self._last is not None
-        return self._last
+        return self._compiled.contact(0 if self._single else None)
 
     def advance(self, datas: mujoco.MjData | Sequence[mujoco.MjData], nstep: int = 1) -> None:
         """:meth:`step` without returning the contact (:attr:`last` builds it when read)."""
@@ -498,21 +370,12 @@ class MudBatch:
         else:
             datas = self._checked_datas
         nstep = check_count("nstep", nstep)
-        if self._compiled is None:
-            for _ in range(nstep):
-                for d in datas:
-                    self._mj.mj_step1(self.model, d)
-                self._apply(datas)
-                for d in datas:
-                    self._mj.mj_step2(self.model, d)
-                self._check_diverged(datas)
-            return
         c = self._compiled
         if not c.datas:
             raise MudrftError("call reset(data) before stepping the mud coupling")
         if any(a is not b for a, b in zip(datas, c.datas, strict=True)):
             raise MudrftError(
-                "backend='numba' steps the MjData given to reset(); got another MjData "
+                "the mud coupling steps the MjData given to reset(); got another MjData "
                 "(call reset(data) with it first)"
             )
         c.check()

@@ -142,7 +142,7 @@ def install(mj: Any) -> None:
             f"mujoco's mjcb_passive is a Python callable ({current!r}); the mud coupling "
             "runs in that callback and can chain only to a compiled one (a ctypes function "
             "pointer, such as a numba cfunc's .ctypes): unset it with "
-            "mujoco.set_mjcb_passive(None), or use backend='numpy'"
+            "mujoco.set_mjcb_passive(None)"
         )
     _CHAINED[0] = current
     _publish()

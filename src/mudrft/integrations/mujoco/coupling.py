@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     import mujoco
 
     from ...parameters import Mud
-    from ...terrains import Terrain
+    from ...terrains import MudTerrain
     from ...terrains.field import MudField
 
 __all__ = ["MudCoupling", "attach", "attach_batch"]
@@ -26,7 +26,7 @@ class MudCoupling(MudBatch):
         self,
         model: mujoco.MjModel,
         bodies: str | int | Sequence[str | int],
-        mud: Mud | Terrain | MudField,
+        mud: Mud | MudTerrain | MudField,
         **kw: Any,
     ) -> None:
         if "n" in kw:
@@ -38,7 +38,7 @@ class MudCoupling(MudBatch):
 def attach(
     model: mujoco.MjModel,
     bodies: str | int | Sequence[str | int],
-    mud: Mud | Terrain | MudField,
+    mud: Mud | MudTerrain | MudField,
     **kw: Any,
 ) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
@@ -63,7 +63,7 @@ def attach(
 def attach_batch(
     model: mujoco.MjModel,
     bodies: str | int | Sequence[str | int],
-    mud: Mud | Terrain | MudField,
+    mud: Mud | MudTerrain | MudField,
     *,
     n: int,
     **kw: Any,

@@ -8,20 +8,15 @@ Shapes: ``N`` robots, ``nb`` bodies; ``cs``: the cosine and sine of each foot's 
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, cast
+from typing import cast
 
 import numpy as np
 
-from ..._typing import ArrayLike, FloatArray, Namespace, XpArray
+from ..._typing import FloatArray, Namespace, XpArray
 from .pose import ChannelGeometry, rowdot
 
-if TYPE_CHECKING:
-    from ...feet.base import Foot
-    from ...terrains import Terrain
-
 __all__ = [
-    "applied_wrench", "channel_motion", "foot_odometry", "force_and_derivative", "implicit_wrench",
+    "applied_wrench", "channel_motion", "foot_odometry", "implicit_wrench",
     "passive_wrench", "passivity_scale", "secant_steps",
 ]  # fmt: skip
 
@@ -72,38 +67,6 @@ def foot_odometry(
         xy = xp.where(was_in[..., None], tip_xy - world_xy, tip_xy)
     fxy = xp.stack([c * xy[..., 0] + s * xy[..., 1], c * xy[..., 1] - s * xy[..., 0]], axis=-1)
     return fxy if was_in is None else xp.where(was_in[..., None], foot_xy, 0.0) + fxy
-
-
-def force_and_derivative(
-    terrain: Terrain,
-    foot: Foot,
-    state: Any,
-    pos: FloatArray,
-    vel: FloatArray,
-    step: FloatArray,
-    dt: float,
-) -> tuple[Any, FloatArray, FloatArray, FloatArray]:
-    r"""Step the terrain, with each velocity component of ``vel`` [m/s] also raised by
-    ``step`` [m/s] (D61, D63); ``pos`` [m], (N, nb, 3), foot frame. Returns the new state,
-    the force [N], :math:`\partial F_i/\partial v_i` [N s/m] and the stresses [Pa].
-    """
-    vk = np.repeat(vel[None], 4, axis=0)
-    vk[1, ..., 0] += step[..., 0]
-    vk[2, ..., 1] += step[..., 1]
-    vk[3, ..., 2] += step[..., 2]
-    batch = pos.shape[:-1]
-
-    def four(x: ArrayLike) -> np.ndarray:  # a state leaf, broadcast to the batch, 4 copies
-        a = np.asarray(x)
-        a = a if a.shape[: len(batch)] == batch else np.broadcast_to(a, batch + a.shape)
-        return np.repeat(a[None], 4, axis=0)
-
-    stk = _tree_map(four, state)
-    new, out = terrain.step(foot, stk, np.broadcast_to(pos, vk.shape), vk, dt)
-    new = _tree_map(lambda x: x[0] if np.ndim(x) else x, new)
-    fk = np.asarray(out.force)
-    jd = (np.stack([fk[1, ..., 0], fk[2, ..., 1], fk[3, ..., 2]], axis=-1) - fk[0]) / step
-    return new, fk[0], jd, np.asarray(out.stress)[0]
 
 
 def implicit_wrench(
@@ -256,15 +219,3 @@ def applied_wrench(
     wrench, tank, wv = passive_wrench(wrench, tw, W, acc, tank, dt, xp=xp)
     idle = xp.all(w0 == 0.0, axis=-1) & xp.all(K == 0.0, axis=(-2, -1))
     return wrench, w0, tank, xp.where(idle[..., None], 0.0, wv)
-
-
-def _tree_map(fn: Callable[..., Any], tree: object) -> Any:
-    if tree is None:
-        return None
-    if isinstance(tree, tuple) and hasattr(tree, "_fields"):
-        return type(tree)(*(_tree_map(fn, t) for t in tree))
-    if isinstance(tree, (tuple, list)):
-        return type(tree)(_tree_map(fn, t) for t in tree)
-    if isinstance(tree, dict):
-        return {k: _tree_map(fn, v) for k, v in tree.items()}
-    return fn(tree)
