@@ -4,8 +4,8 @@
 default :class:`mudrft.feet.MorphingFoot`,
 
 * one foot, from curled (deflection 0) at 20 mm and 30 kPa (the float walk);
-* the numpy coupling's four nudged copies of one foot (three identical, the vertical
-  nudge distinct: 30 kPa x (1 + 1e-6));
+* the secant derivative's four nudged copies of one foot, as the MJX coupling steps
+  them (three identical, the vertical nudge distinct: 30 kPa x (1 + 1e-6));
 * 1,000 feet at random depths 5-25 mm and stresses 5-40 kPa (the array scan and
   ``find_root``; seed 0);
 * ``mudrft.simulate`` of the morphing foot along the paper's gait at 0.2 m/s, W = 25 %.
