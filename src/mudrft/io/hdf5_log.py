@@ -266,25 +266,6 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
     return to_si(path, raw, col, locate_row=lambda i: f"{loc}, row {i}")
 
 
-def _open(h5py: ModuleType, p: Path) -> h5py.File:
-    """The file opened read-only, or an error that says why it cannot be."""
-    file_bytes(p, "an HDF5 file", max_bytes=0)
-    try:
-        return h5py.File(p, "r")
-    except OSError as exc:
-        raise fail(str(p), "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
-
-
-def _root_attrs(path: str, fh: h5py.File) -> dict[str, Any]:
-    attrs = {}
-    for k in fh.attrs:
-        try:
-            attrs[k] = fh.attrs[k]
-        except (OSError, TypeError, ValueError) as exc:
-            raise fail(path, f"attribute {k!r}", f"cannot be read ({_first_line(exc)})") from None
-    return attrs
-
-
 def load_intrusion_hdf5(
     path: str | os.PathLike[str],
     *,
@@ -312,8 +293,19 @@ def load_intrusion_hdf5(
     h5py = _require_h5py()
     p = Path(os.fspath(path))
     where = str(p)
-    with _open(h5py, p) as fh:
-        attrs = _root_attrs(where, fh)
+    file_bytes(p, "an HDF5 file", max_bytes=0)
+    try:
+        fh = h5py.File(p, "r")
+    except OSError as exc:
+        raise fail(where, "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
+    with fh:
+        attrs = {}
+        for k in fh.attrs:
+            try:
+                attrs[k] = fh.attrs[k]
+            except (OSError, TypeError, ValueError) as exc:
+                why = f"cannot be read ({_first_line(exc)})"
+                raise fail(where, f"attribute {k!r}", why) from None
         meta_len = _plate_attr(where, attrs, "characteristic_length", "length")
         meta_area = _plate_attr(where, attrs, "area", "area")
         d = resolve_direction(
