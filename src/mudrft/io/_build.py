@@ -202,11 +202,8 @@ def build_trials(
         steps = np.diff(t)
         if not np.all(steps > 0):
             k = int(np.argmax(steps <= 0)) + 1
-            hint = (
-                ""
-                if labels is not None
-                else "; to log several trials in one file add a 'trial' column"
-            )
+            hint = "; to log several trials in one file add a 'trial' column"
+            hint = "" if labels is not None else hint
             raise fail(
                 path,
                 locate(int(idx[k]), "time"),

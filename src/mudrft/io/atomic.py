@@ -70,9 +70,8 @@ def remove_stale_staging(directory: str | os.PathLike[str]) -> list[Path]:
     except OSError:
         return removed
     for entry in entries:
-        name = entry.name
-        staged = _STAGED.fullmatch(name)
-        if not (staged or _LEGACY.fullmatch(name)):
+        staged = _STAGED.fullmatch(entry.name)
+        if not (staged or _LEGACY.fullmatch(entry.name)):
             continue
         try:
             if entry.stat(follow_symlinks=False).st_mtime >= _STARTED:

@@ -150,8 +150,18 @@ def resolve_columns(
             continue
         unit = mapped_unit or split_label(names[j])[1]
         given = units[j] if units else None
-        if unit is not None and given:
-            _same_unit(path, locate(j), quantity, unit, given)
+        if unit is not None and given:  # refuse a unit attribute that is not the name's
+            try:
+                same = parse_unit(quantity, given) == parse_unit(quantity, unit)
+            except MudrftError as exc:
+                raise fail(path, locate(j), f"its unit attribute or name: {exc}") from None
+            if not same:
+                raise fail(
+                    path,
+                    locate(j),
+                    f"the name gives the unit {unit!r} but the unit attribute says {given!r}; "
+                    "remove one or make them agree",
+                )
         unit = unit or given or None
         if unit is None and require_units:
             raise fail(
@@ -166,21 +176,6 @@ def resolve_columns(
             raise fail(path, locate(j), f"column {names[j].strip()!r}: {exc}") from None
         out[role] = Column(j, names[j].strip(), role, factor)
     return out
-
-
-def _same_unit(path: str, where: str, quantity: str, unit: str, given: str) -> None:
-    """Refuse a unit attribute that is not the unit in the name."""
-    try:
-        same = parse_unit(quantity, given) == parse_unit(quantity, unit)
-    except MudrftError as exc:
-        raise fail(path, where, f"its unit attribute or name: {exc}") from None
-    if not same:
-        raise fail(
-            path,
-            where,
-            f"the name gives the unit {unit!r} but the unit attribute says {given!r}; "
-            "remove one or make them agree",
-        )
 
 
 def to_si(

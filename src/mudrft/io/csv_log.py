@@ -64,11 +64,8 @@ class Table:
                 try:
                     raw[i] = float(c)
                 except ValueError:
-                    why = (
-                        f"cannot read {c[:40]!r} as a number"
-                        if c
-                        else "empty cell, expected a number"
-                    )
+                    why = f"cannot read {c[:40]!r} as a number"
+                    why = why if c else "empty cell, expected a number"
                     raise fail(self.path, locate(i), why) from None
         return to_si(self.path, raw, col, locate_row=locate)
 
@@ -142,10 +139,9 @@ def read_table(path: str | os.PathLike[str]) -> Table:
             fields = {d: len(next(csv.reader([line], delimiter=d))) for d in _DELIMITERS}
             table.delimiter = max(_DELIMITERS, key=fields.__getitem__)  # ties: the comma
         try:
-            reader = csv.reader(
-                [line], delimiter=table.delimiter, skipinitialspace=True, strict=True
+            record = next(
+                csv.reader([line], delimiter=table.delimiter, skipinitialspace=True, strict=True)
             )
-            record = next(reader)
         except csv.Error as exc:
             raise fail(table.path, f"line {lineno}", f"malformed CSV ({exc})") from None
         if not table.header:

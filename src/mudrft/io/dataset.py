@@ -280,8 +280,7 @@ class IntrusionDataset:
             label = " ".join(tr.name.split())  # the reader splits lines first: no line breaks
             columns = (tr.time.tolist(), tr.depth.tolist(), tr.stress.tolist())
             rows.writerows((label, *row) for row in zip(*columns, strict=True))
-        text = buf.getvalue()
-        return atomic_write(path, text, overwrite=overwrite, option=OVERWRITE_OPTION)
+        return atomic_write(path, buf.getvalue(), overwrite=overwrite, option=OVERWRITE_OPTION)
 
     def __len__(self) -> int:
         return len(self.trials)

@@ -98,22 +98,6 @@ def _plate_attr(path: str, attrs: dict[str, Any], name: str, quantity: str) -> f
     return v
 
 
-def _broken_link(h5py: ModuleType, group: h5py.Group, key: str, exc: BaseException) -> str:
-    """Why the member ``key`` of ``group`` cannot be opened."""
-    try:
-        link = group.get(key, getlink=True)
-    except (KeyError, OSError, RuntimeError):  # pragma: no cover - a damaged file
-        link = None
-    if isinstance(link, h5py.SoftLink):
-        return f"is a soft link to {link.path!r}, which is not in the file"
-    if isinstance(link, h5py.ExternalLink):
-        return (
-            f"is an external link to {link.filename!r} (object {link.path!r}), which "
-            f"cannot be opened ({_first_line(exc)})"
-        )
-    return f"cannot be opened ({_first_line(exc)})"
-
-
 def _members(
     h5py: ModuleType, path: str, group: h5py.Group, prefix: str
 ) -> dict[str, h5py.HLObject]:
@@ -123,7 +107,18 @@ def _members(
         try:
             out[key] = group[key]
         except (KeyError, OSError, RuntimeError) as exc:
-            raise fail(path, f"link '{prefix}{key}'", _broken_link(h5py, group, key, exc)) from None
+            why = f"cannot be opened ({_first_line(exc)})"
+            try:
+                link = group.get(key, getlink=True)
+            except (KeyError, OSError, RuntimeError):  # pragma: no cover - a damaged file
+                link = None
+            if isinstance(link, h5py.SoftLink):
+                why = f"is a soft link to {link.path!r}, which is not in the file"
+            elif isinstance(link, h5py.ExternalLink):
+                why = (
+                    f"is an external link to {link.filename!r} (object {link.path!r}), which {why}"
+                )
+            raise fail(path, f"link '{prefix}{key}'", why) from None
     return out
 
 
@@ -266,25 +261,6 @@ def _column_values(path: str, dataset: h5py.Dataset, col: Column, loc: str) -> N
     return to_si(path, raw, col, locate_row=lambda i: f"{loc}, row {i}")
 
 
-def _open(h5py: ModuleType, p: Path) -> h5py.File:
-    """The file opened read-only, or an error that says why it cannot be."""
-    file_bytes(p, "an HDF5 file", max_bytes=0)
-    try:
-        return h5py.File(p, "r")
-    except OSError as exc:
-        raise fail(str(p), "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
-
-
-def _root_attrs(path: str, fh: h5py.File) -> dict[str, Any]:
-    attrs = {}
-    for k in fh.attrs:
-        try:
-            attrs[k] = fh.attrs[k]
-        except (OSError, TypeError, ValueError) as exc:
-            raise fail(path, f"attribute {k!r}", f"cannot be read ({_first_line(exc)})") from None
-    return attrs
-
-
 def load_intrusion_hdf5(
     path: str | os.PathLike[str],
     *,
@@ -312,8 +288,19 @@ def load_intrusion_hdf5(
     h5py = _require_h5py()
     p = Path(os.fspath(path))
     where = str(p)
-    with _open(h5py, p) as fh:
-        attrs = _root_attrs(where, fh)
+    file_bytes(p, "an HDF5 file", max_bytes=0)
+    try:
+        fh = h5py.File(p, "r")
+    except OSError as exc:
+        raise fail(where, "", f"is not a readable HDF5 file ({_first_line(exc)})") from None
+    with fh:
+        attrs = {}
+        for k in fh.attrs:
+            try:
+                attrs[k] = fh.attrs[k]
+            except (OSError, TypeError, ValueError) as exc:
+                why = f"cannot be read ({_first_line(exc)})"
+                raise fail(where, f"attribute {k!r}", why) from None
         meta_len = _plate_attr(where, attrs, "characteristic_length", "length")
         meta_area = _plate_attr(where, attrs, "area", "area")
         d = resolve_direction(
@@ -335,20 +322,6 @@ def load_intrusion_hdf5(
         characteristic_length=characteristic_length,
         area=area,
     )
-
-
-def _write_hdf5(h5py: ModuleType, dataset: IntrusionDataset, length: float, path: Path) -> None:
-    with h5py.File(path, "w") as fh:
-        fh.attrs["direction"] = dataset.direction
-        fh.attrs["characteristic_length"] = length
-        if dataset.notes:
-            fh.attrs["notes"] = "\n".join(dataset.notes)
-        for i, tr in enumerate(dataset.trials):
-            g = fh.create_group(f"{i:03d}_{tr.name}".replace("/", "_"))  # in order, no '/'
-            g.attrs["trial"] = tr.name  # the label as it is, read back by the loader
-            g.create_dataset("time [s]", data=tr.time)
-            g.create_dataset("depth [m]", data=tr.depth)
-            g.create_dataset("stress [Pa]", data=tr.stress)
 
 
 def save_intrusion_hdf5(
@@ -374,9 +347,18 @@ def save_intrusion_hdf5(
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     length = dataset._one_length("HDF5")
-    return atomic_write(
-        path,
-        lambda tmp: _write_hdf5(h5py, dataset, length, tmp),
-        overwrite=overwrite,
-        option=OVERWRITE_OPTION,
-    )
+
+    def write(tmp: Path) -> None:
+        with h5py.File(tmp, "w") as fh:
+            fh.attrs["direction"] = dataset.direction
+            fh.attrs["characteristic_length"] = length
+            if dataset.notes:
+                fh.attrs["notes"] = "\n".join(dataset.notes)
+            for i, tr in enumerate(dataset.trials):
+                g = fh.create_group(f"{i:03d}_{tr.name}".replace("/", "_"))  # in order, no '/'
+                g.attrs["trial"] = tr.name  # the label as it is, read back by the loader
+                g.create_dataset("time [s]", data=tr.time)
+                g.create_dataset("depth [m]", data=tr.depth)
+                g.create_dataset("stress [Pa]", data=tr.stress)
+
+    return atomic_write(path, write, overwrite=overwrite, option=OVERWRITE_OPTION)

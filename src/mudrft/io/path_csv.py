@@ -19,17 +19,10 @@ from .csv_log import read_table
 def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -> Trajectory:
     """Read a foot tip's path from a CSV file, as a trajectory to simulate.
 
-    The header names each column with its unit (``x [mm]``, ``x (mm)`` or ``x in mm``; SI
-    when none is given)::
-
-        time [ms],x [mm],z [mm]
-        0,0,5
-        10,1.2,-0.8
-
     ``time`` and ``z`` (the tip's height, negative below the mud surface; or ``depth``,
-    positive below it) are required, ``x`` and ``y`` are 0 when absent; forces ``Fx``,
-    ``Fy``, ``Fz`` [N] are kept, so that the CSV ``mudrft simulate --out`` writes reads
-    back as the path it ran. Other columns are ignored; ``#`` lines are notes.
+    positive below it) are required, ``x`` and ``y`` are 0 when absent, forces ``Fx``,
+    ``Fy``, ``Fz`` [N] are kept; each column is named with its unit (``x [mm]``; SI when
+    none), as docs/guide/forces.md shows. Other columns are ignored; ``#`` lines are notes.
 
     Parameters
     ----------

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._progress import make_progress
-from .._validation import MudrftError, require_extra
+from .._validation import MudrftError, positive_int, require_extra
 from .evaluate import ChunkResult, SweepContext, evaluate_chunk
 from .spec import SweepSpec, load_spec
 from .store import StoreLike, chunk_status, create_store, load_result, open_store, write_chunk
@@ -211,8 +211,8 @@ def run_sweep(
         raise MudrftError(f"scheduler (CLI: --scheduler) must be a Dask scheduler address such as 'tcp://host:8786', or 'serial', got {scheduler!r}")  # fmt: skip
     if workers is not None and (client is not None or scheduler is not None):
         raise MudrftError("workers (CLI: --workers) sets the size of a local cluster; it cannot go with client or scheduler (--scheduler)")  # fmt: skip
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):  # fmt: skip
-        raise MudrftError(f"workers (CLI: --workers) must be an integer >= 1, got {workers!r}")
+    if workers is not None:
+        workers = positive_int("workers (CLI: --workers)", workers)
     for name, flag in (("resume", resume), ("overwrite", overwrite)):
         if not isinstance(flag, bool):
             raise MudrftError(f"{name} must be True or False, got {flag!r}")

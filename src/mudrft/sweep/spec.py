@@ -345,8 +345,7 @@ def _mud_set(where: str, entry: object, base: Path) -> dict[str, Any]:
     out: dict[str, Any] = {}
     sources = []
     for d in ("vertical", "horizontal"):
-        name = getattr(files, d)
-        path = base / name
+        path = base / getattr(files, d)
         try:
             p = load_parameters(path)
         except FileNotFoundError:

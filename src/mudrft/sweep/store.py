@@ -241,38 +241,31 @@ def write_chunk(group: zarr.Group, spec: SweepSpec, i: int, result: ChunkResult)
     _array(group, "done")[sl] = np.ones(shape, dtype=np.uint8)
 
 
-def _read(group: zarr.Group) -> tuple[dict[str, np.ndarray], list[tuple[slice, ...]], dict[int, str]]:  # fmt: skip
-    """Every array, and the chunks that do not decode."""
-    names = [*group.attrs["metrics"], "error", "done"]  # type: ignore[misc]
-    first = _array(group, names[0])
-    blocks = _blocks(first.shape, first.chunks)
-    data: dict[str, np.ndarray] = {}
-    bad: dict[int, str] = {}
-    for name in [*names, "checksum"]:
-        arr = _array(group, name)
-        try:
-            data[name] = np.asarray(arr[...])
-            continue
-        except Exception:  # any failure to decode is damage: found chunk by chunk below
-            pass
-        out = np.full(arr.shape, arr.fill_value, dtype=object if name == "error" else arr.dtype)
-        for i, sl in enumerate(blocks):
-            sl = (slice(i, i + 1),) if name == "checksum" else sl
-            try:
-                out[sl] = arr[sl]
-            except Exception as exc:
-                bad.setdefault(i, f"{name} does not decode ({type(exc).__name__}: {exc})")
-        data[name] = out
-    return data, blocks, bad
-
-
 def chunk_status(group: zarr.Group) -> tuple[np.ndarray, dict[int, str], dict[str, np.ndarray]]:
     """The chunks stored whole (bool, shape (chunks,)), the damaged ones (chunk -> why)
     and every array as read (fill values where damaged)."""
-    data, blocks, damaged = _read(group)
+    metrics = cast("list[str]", group.attrs["metrics"])
+    first = _array(group, metrics[0])
+    blocks = _blocks(first.shape, first.chunks)
+    data: dict[str, np.ndarray] = {}
+    damaged: dict[int, str] = {}
+    for name in [*metrics, "error", "done", "checksum"]:
+        arr = _array(group, name)
+        try:
+            data[name] = np.asarray(arr[...])
+        except Exception:  # any failure to decode is damage: found chunk by chunk
+            dtype = object if name == "error" else arr.dtype
+            out = np.full(arr.shape, arr.fill_value, dtype=dtype)
+            for i, sl in enumerate(blocks):
+                sl = (slice(i, i + 1),) if name == "checksum" else sl
+                try:
+                    out[sl] = arr[sl]
+                except Exception as exc:
+                    why = f"{name} does not decode ({type(exc).__name__}: {exc})"
+                    damaged.setdefault(i, why)
+            data[name] = out
     complete = bool(group.attrs.get("complete"))
     done = np.zeros(len(blocks), dtype=bool)
-    metrics = cast("list[str]", group.attrs["metrics"])
     for i, sl in enumerate(blocks):
         flags = data["done"][sl]
         if i in damaged:
