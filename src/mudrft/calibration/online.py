@@ -250,13 +250,8 @@ class OnlineEstimator:
         self.rebase(prior.replace(n=self.n) if n is not None else prior)
 
     def rebase(self, prior: MudParameters) -> None:
-        """Start again around another prior, memory cleared.
-
-        Parameters
-        ----------
-        prior : MudParameters
-            A single set [SI], e.g. a :class:`StreamClassifier`'s best after the mud changed.
-        """
+        """Start again around another single ``prior`` [SI], memory cleared (e.g. a
+        :class:`StreamClassifier`'s best after the mud changed)."""
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.prior, self.n = prior, float(prior.n)
@@ -288,13 +283,8 @@ class OnlineEstimator:
             self._state = initial_state((G * 5,))
 
     def update(self, time: float, depth: float, stress: float) -> OnlineEstimate:
-        """Add one sample and return the current estimates.
-
-        Parameters
-        ----------
-        time, depth, stress : float
-            Sample time [s] (increasing), intrusion displacement [m], measured stress [Pa].
-        """
+        """Add one sample, its ``time`` [s] (increasing), intrusion displacement ``depth`` [m]
+        and measured ``stress`` [Pa]; return the current estimates."""
         x = self._stream.push(time, depth, stress)
         if x.step is None:  # the first sample: a starting point only
             self._phase = "out" if x.gamma <= 0 else "hold"
@@ -356,13 +346,8 @@ class OnlineEstimator:
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
     ) -> list[OnlineEstimate]:
-        """Feed arrays of samples in order; return the estimate after each.
-
-        Parameters
-        ----------
-        time, depth, stress : array_like, shape (n,)
-            Sample times [s] (increasing), displacements [m], measured stresses [Pa].
-        """
+        """:meth:`update` with each sample of the arrays ``time`` [s], ``depth`` [m] and
+        ``stress`` [Pa], shape (n,), in order; return the estimate after each."""
         t = check_shape("time", time, (None,))
         q = check_shape("depth", depth, (None,))
         s = check_shape("stress", stress, (None,))
@@ -409,14 +394,8 @@ class OnlineEstimator:
         )
 
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
-        """``base`` (default the prior) with the estimated fields replaced; an estimate
-        not yet available, or not positive, keeps the base value (the latter warns).
-
-        Parameters
-        ----------
-        base : MudParameters, optional
-            The set whose fields are replaced [SI].
-        """
+        """The set ``base`` [SI] (default the prior) with the estimated fields replaced; an
+        estimate not yet available, or not positive, keeps the base value (the latter warns)."""
         b = base if base is not None else self.prior
         if not isinstance(b, MudParameters):
             raise MudrftError(f"base must be a MudParameters, got {type(b).__name__}")
@@ -441,12 +420,6 @@ class OnlineEstimator:
 
     def __repr__(self) -> str:
         e = self.estimate
-
-        def f(v: float | None) -> str:
-            return "None" if v is None else f"{v:.4g}"
-
-        return (
-            f"OnlineEstimator(model={self.model!r}, alpha={f(e.alpha)}, "
-            f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
-            f"tau_build={f(e.tau_build)}, updates={e.updates})"
-        )
+        shown = {k: getattr(e, k) for k in ("alpha", "eta_inf", "sigma_y", "tau_build")}
+        values = ", ".join(f"{k}={'None' if v is None else f'{v:.4g}'}" for k, v in shown.items())
+        return f"OnlineEstimator(model={self.model!r}, {values}, updates={e.updates})"
