@@ -26,12 +26,10 @@ from ..constitutive.contact import in_contact
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import basis, free_k_a, values_of
+from ._problem import LINEAR_PARAMETERS, basis, free_k_a, values_of
 from .classification import SampleStream
 
 __all__ = ["OnlineEstimate", "OnlineEstimator"]
-
-_EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 
 
 class OnlineEstimate(NamedTuple):
@@ -245,7 +243,7 @@ class OnlineEstimator:
         skip = 3.0 * float(prior.epsilon) if retraction_skip is None else retraction_skip
         self.retraction_skip = number_in_range("retraction_skip", skip, 0.0, 10.0)
         self.initial_scale = positive_number("initial_scale", initial_scale)
-        self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
+        self._names = LINEAR_PARAMETERS if self.model == "exact" else ("sigma_y", "eta_inf")
         self._stream = SampleStream(self.L)
         self.rebase(prior.replace(n=self.n) if n is not None else prior)
 
@@ -258,7 +256,7 @@ class OnlineEstimator:
         if self.model == "exact":
             vals = values_of(prior, batch=self.tau_grid.size)
             vals["tau_build"] = self.tau_grid
-            p = MudParameters(**basis(vals, _EXACT), nu=float(prior.nu), k_a=free_k_a(prior))
+            p = MudParameters(**basis(vals, self._names), nu=float(prior.nu), k_a=free_k_a(prior))
             self._consts = channel_constants(p)
         self.reset()
 
@@ -361,7 +359,7 @@ class OnlineEstimator:
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
-        est: dict[str, float | None] = dict.fromkeys((*_EXACT, "tau_build"))
+        est: dict[str, float | None] = dict.fromkeys((*LINEAR_PARAMETERS, "tau_build"))
         se: dict[str, float] = {}
         b = self._bank
         if np.any(b.cost > 0):
@@ -402,7 +400,7 @@ class OnlineEstimator:
         est = self.estimate
         changes: dict[str, float] = {"n": self.n}
         kept = []
-        for k in (*_EXACT, "tau_build"):
+        for k in (*LINEAR_PARAMETERS, "tau_build"):
             v = getattr(est, k)
             if v is not None and v > 0:
                 changes[k] = v

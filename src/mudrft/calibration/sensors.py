@@ -91,8 +91,7 @@ def stress_offset(trial: Trial) -> Offset:
     m = int(np.count_nonzero(out))
     if m == 0:
         return Offset(math.nan, 0, math.nan, False, math.nan)
-    inside = ~out
-    span = float(np.ptp(s[inside])) if inside.any() else 0.0
+    span = float(np.ptp(s[~out])) if m < s.size else 0.0
     value = float(np.median(s[out]))
     spread = 1.4826 * float(np.median(np.abs(s[out] - value)))
     fraction = abs(value) / span if span > 0 else math.inf

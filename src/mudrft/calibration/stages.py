@@ -121,7 +121,7 @@ class Engine:
         if not scored:
             return [(math.inf, {})]
         scored.sort(key=lambda t: t[0])
-        return scored[: max(1, starts)]
+        return scored[:starts]
 
     def fit(
         self,
@@ -221,12 +221,11 @@ class Engine:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Residuals and Jacobian in log-parameters at the current values: central
         differences, shifted inside the bounds for a parameter that sits on one."""
-        names = list(free)
-        k = len(names)
+        k = len(free)
         h = 1e-4
         over = {}
         lo_s, hi_s = np.zeros(k), np.zeros(k)
-        for i, name in enumerate(names):
+        for i, name in enumerate(free):
             x = math.log(self.values[name])
             lo_b, hi_b = (math.log(b) for b in self.bounds[name])
             a, b = x - h, x + h
