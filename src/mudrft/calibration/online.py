@@ -43,10 +43,9 @@ class OnlineEstimate(NamedTuple):
         Viscosity :math:`\\eta_\\infty` [Pa s].
     eta_m : float or None
         Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
-    sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample.
-    tau_build : float or None
-        Suction build-up time [s]; ``None`` until a retraction sample.
+    sigma_y, tau_build : float or None
+        Yield stress :math:`\\sigma_Y` [Pa] and suction build-up time [s]; ``None`` until a
+        retraction sample.
     n : float
         Exponent used (fixed) [-].
     updates : int

@@ -140,8 +140,12 @@ class Engine:
         base = {**self.values, **(start or {})}
         lin = [k for k in project if k in LINEAR_PARAMETERS]
         names = [k for k in free if k not in lin]
-        if not names:
-            return self._solve_linear(stage, mask, lin, base), None
+        if not names:  # only linear parameters free: one projection solves them
+            self.values.update(base)
+            r, c = self.project(self.packed.residuals(basis(self.batch({}, 1), lin), mask), lin)
+            self.values.update(zip(lin, c, strict=True))
+            self.record(stage, 0.5 * float(r @ r), self.values)
+            return 0.5 * float(r @ r), None
         lo = np.log([self.bounds[k][0] for k in names])
         hi = np.log([self.bounds[k][1] for k in names])
         x0 = np.clip(np.log([base[k] for k in names]), lo + 1e-12, hi - 1e-12)
@@ -199,17 +203,6 @@ class Engine:
                 evaluate(sol.x)
             self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
         return float(sol.cost), sol
-
-    def _solve_linear(
-        self, stage: str, mask: NDArray[np.bool_], lin: list[str], base: dict[str, float]
-    ) -> float:
-        """Only linear parameters free: one projection solves them; returns the cost."""
-        self.values.update(base)
-        R = self.packed.residuals(basis(self.batch({}, 1), lin), mask)
-        r, c = self.project(R, lin)
-        self.values.update(zip(lin, c, strict=True))
-        self.record(stage, 0.5 * float(r @ r), self.values)
-        return 0.5 * float(r @ r)
 
     def cost(self, mask: NDArray[np.bool_]) -> float:
         """Half the sum of squared weighted residuals at the current values [-]."""
