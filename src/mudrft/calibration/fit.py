@@ -320,8 +320,7 @@ class Reporter:
 
     @staticmethod
     def warn(message: str) -> None:
-        """Something the user must see, whatever ``progress`` is: a
-        :class:`~mudrft._validation.CalibrationWarning`."""
+        """Warn (:class:`~mudrft._validation.CalibrationWarning`), whatever ``progress`` is."""
         warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
 
     def step(self) -> None:

@@ -259,18 +259,16 @@ def smooth_dataset(
     :data:`BIAS_WARNING`)."""
     window = check_window(window)
     hint = "; rate='auto' reads the depth for a rate that survives it" if window == "raw" else ""
-    trials, done, warnings_ = [], [], []
-    for tr in ds.trials:
-        new, how = smooth_trial(tr, window=window)
-        trials.append(new)
-        done.append(how)
-        if how.bias > BIAS_WARNING:
-            warnings_.append(
-                f"trial {tr.name!r}: the depth's noise ({1e3 * how.depth_noise:.3g} mm) leaves "
-                f"a rate noise of {1e3 * how.rate_noise:.3g} mm/s, "
-                f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
-                f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
-                "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
-                f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
-            )
-    return replace(ds, trials=tuple(trials)), done, warnings_
+    read = [smooth_trial(tr, window=window) for tr in ds.trials]
+    done = [how for _, how in read]
+    warned = [
+        f"trial {how.name!r}: the depth's noise ({1e3 * how.depth_noise:.3g} mm) leaves "
+        f"a rate noise of {1e3 * how.rate_noise:.3g} mm/s, "
+        f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
+        f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
+        "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
+        f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
+        for how in done
+        if how.bias > BIAS_WARNING
+    ]
+    return replace(ds, trials=tuple(tr for tr, _ in read)), done, warned
