@@ -182,23 +182,12 @@ def _segments(
 
 
 def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Smoothing]:
-    """A trial with its depth read for a rate that survives the sensor's noise.
-
-    Parameters
-    ----------
-    trial : Trial
-        One trial (depth [m]).
-    window : "auto", "raw" or int, keyword-only
-        ``"auto"``: constant-speed segments when they describe the depth, else the kernel
-        over the fewest samples whose rate noise is :data:`RATE_NOISE` of the trial's speed
-        (at most a tenth of its samples in the mud), and the depth as logged when it has no
-        noise to speak of; ``"raw"``: the depth as logged; an odd int: the kernel over that
-        many samples.
-
-    Returns
-    -------
-    Trial, Smoothing
-        The trial with the depth the model reads, and what was done.
+    """The ``trial`` with the depth [m] the model reads, for a rate that survives the
+    sensor's noise, and what was done (:class:`Smoothing`). ``window``: ``"auto"``
+    constant-speed segments when they describe the depth, else the kernel over the fewest
+    samples whose rate noise is :data:`RATE_NOISE` of the trial's speed (at most a tenth of
+    its samples in the mud), and the depth as logged when it has no noise to speak of;
+    ``"raw"`` the depth as logged; an odd int the kernel over that many samples.
 
     Examples
     --------

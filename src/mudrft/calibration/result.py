@@ -247,19 +247,8 @@ class FitResult:
         )
 
     def predict(self, dataset: IntrusionDataset | None = None) -> list[NDArray[np.float64]]:
-        """Model stress [Pa] at the samples of each trial.
-
-        Parameters
-        ----------
-        dataset : IntrusionDataset, optional
-            Trials to predict (SI), their depth read with the fit's ``rate`` option; default
-            the fitted data.
-
-        Returns
-        -------
-        list of ndarray
-            One array of stresses [Pa] per trial, at its samples.
-        """
+        """Model stress [Pa] at the samples of each trial of ``dataset`` (SI; default the
+        fitted data), its depth read with the fit's ``rate`` option: one array per trial."""
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
@@ -283,15 +272,9 @@ class FitResult:
         *,
         axes: Sequence[Axes] | NDArray[np.object_] | None = None,
     ) -> Figure:
-        """Stress [kPa] against time [s], data and fit, one panel per trial (needs matplotlib).
-
-        Parameters
-        ----------
-        dataset : IntrusionDataset, optional
-            Data to plot (SI); default the fitted data.
-        axes : array of matplotlib Axes, optional, keyword-only
-            One per trial; default a new figure.
-        """
+        """Stress [kPa] against time [s], data and fit, one panel per trial of ``dataset``
+        (SI; default the fitted data), on ``axes`` (one per trial; default a new figure);
+        needs matplotlib."""
         from ..plotting import require_matplotlib
 
         ds = self.dataset if dataset is None else as_dataset(dataset)
