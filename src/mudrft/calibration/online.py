@@ -154,22 +154,15 @@ def bank_errors(
 
 
 class OnlineEstimator:
-    r"""Recursive least squares with forgetting of the linear constants and tau_build.
+    r"""Recursive least squares with forgetting of the linear constants and tau_build (D46).
 
-    Feed samples with :meth:`update` and read :attr:`estimate`. Two regressor models:
-
-    ``model="exact"`` (default)
-        The full model, stepped alongside the stream, gives the regressors of
-        :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior``;
-        unbiased when the prior's nonlinear constants are right.
-    ``model="paper"``
-        The supplementary's approximations (Sec. III-A): intrusion
-        :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`, retraction
-        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`;
-        needs only ``n`` but gives apparent values.
-
-    In both, one filter runs per :math:`\tau_{build}` of a grid; the one with the smallest
-    discounted prediction error is read, refined by a parabola in :math:`\ln\tau_{build}`.
+    Feed samples with :meth:`update` and read :attr:`estimate`. ``model="exact"`` (default)
+    steps the full model alongside the stream for the regressors of
+    :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior`` (unbiased
+    when those are right); ``model="paper"`` uses the supplementary's approximations (Sec.
+    III-A), which need only ``n`` but give apparent values. One filter runs per
+    :math:`\tau_{build}` of a grid; the one with the smallest discounted prediction error is
+    read, refined by a parabola in :math:`\ln\tau_{build}`.
 
     Parameters
     ----------

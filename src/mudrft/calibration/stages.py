@@ -146,8 +146,7 @@ class Engine:
             self.values.update(zip(lin, c, strict=True))
             self.record(stage, 0.5 * float(r @ r), self.values)
             return 0.5 * float(r @ r), None
-        lo = np.log([self.bounds[k][0] for k in names])
-        hi = np.log([self.bounds[k][1] for k in names])
+        lo, hi = np.log([self.bounds[k] for k in names]).T
         x0 = np.clip(np.log([base[k] for k in names]), lo + 1e-12, hi - 1e-12)
         k = len(names)
         last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
