@@ -41,11 +41,10 @@ def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray
     band around the surface; later samples are "out" (decision D42).
     """
     q = np.asarray(trial.depth, dtype=float)
-    i_peak = int(np.argmax(q))
-    qmax = float(q[i_peak])
-    phase = np.full(q.size, 2, dtype=np.int8)
+    qmax = float(np.max(q))
     if qmax <= 0:
         return np.zeros(q.size, dtype=np.int8)
+    phase = np.full(q.size, 2, dtype=np.int8)
     band = tolerance * qmax
     at_bottom = q >= qmax - band
     i_reach = int(np.argmax(at_bottom))

@@ -71,10 +71,9 @@ class SampleStream:
                     f"update: {what} must be at most {limit:g} {unit} in magnitude (no mud "
                     f"test reaches it: a unit mistake?), got {given!r}"
                 )
-        if not self.warned and (
-            abs(q) > PLAUSIBLE_DEPTH[1] or abs(s) > PLAUSIBLE_PEAK_STRESS[1]
-        ):  # a depth in mm or a stress in a wrong unit, as the log loader warns
-            big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
+        big_depth = abs(q) > PLAUSIBLE_DEPTH[1]
+        if not self.warned and (big_depth or abs(s) > PLAUSIBLE_PEAK_STRESS[1]):
+            # a depth in mm or a stress in a wrong unit, as the log loader warns
             self.warned = warn_implausible(
                 f"update: {'depth' if big_depth else 'stress'} of",
                 abs(q) if big_depth else abs(s),
@@ -304,13 +303,8 @@ class StreamClassifier:
         self._inside = False
 
     def update(self, time: float, depth: float, stress: float) -> Any:
-        """Add one sample; return the label of the most likely candidate.
-
-        Parameters
-        ----------
-        time, depth, stress : float
-            The sample: time [s] (increasing), depth [m], stress [Pa].
-        """
+        """Add one sample, its ``time`` [s] (increasing), ``depth`` [m] and ``stress`` [Pa];
+        return the label of the most likely candidate."""
         x = self._stream.push(time, depth, stress)
         K = len(self.candidates)
         if x.step is None:  # the first sample: a starting point only

@@ -304,15 +304,10 @@ class Reporter:
     def __init__(
         self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
     ) -> None:
-        if progress is True:
-            self._lines: Callable[[str], object] | None = None
-            self._fraction = make_progress(True, label)
-        elif progress is None or progress is False:
-            self._lines, self._fraction = None, None
-        elif callable(progress):
-            self._lines, self._fraction = progress, None
-        else:
+        if not (progress is None or isinstance(progress, bool) or callable(progress)):
             raise MudrftError(f"progress must be True, False, None or a callable, got {progress!r}")
+        self._lines = progress if callable(progress) else None
+        self._fraction = make_progress(True, label) if progress is True else None
         self._steps = max(int(steps), 1)
         self._done = 0
 
@@ -325,8 +320,7 @@ class Reporter:
 
     @staticmethod
     def warn(message: str) -> None:
-        """Something the user must see, whatever ``progress`` is: a
-        :class:`~mudrft._validation.CalibrationWarning`."""
+        """Warn (:class:`~mudrft._validation.CalibrationWarning`), whatever ``progress`` is."""
         warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
 
     def step(self) -> None:

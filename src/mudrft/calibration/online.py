@@ -26,12 +26,10 @@ from ..constitutive.contact import in_contact
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
 from ..plate import DEFAULT_PLATE_LENGTH
-from ._problem import basis, free_k_a, values_of
+from ._problem import LINEAR_PARAMETERS, basis, free_k_a, values_of
 from .classification import SampleStream
 
 __all__ = ["OnlineEstimate", "OnlineEstimator"]
-
-_EXACT = ("alpha", "eta_inf", "eta_m", "sigma_y")
 
 
 class OnlineEstimate(NamedTuple):
@@ -45,10 +43,9 @@ class OnlineEstimate(NamedTuple):
         Viscosity :math:`\\eta_\\infty` [Pa s].
     eta_m : float or None
         Structural viscosity :math:`\\eta_m` [Pa s] (``model="exact"`` only).
-    sigma_y : float or None
-        Yield stress :math:`\\sigma_Y` [Pa]; ``None`` until a retraction sample.
-    tau_build : float or None
-        Suction build-up time [s]; ``None`` until a retraction sample.
+    sigma_y, tau_build : float or None
+        Yield stress :math:`\\sigma_Y` [Pa] and suction build-up time [s]; ``None`` until a
+        retraction sample.
     n : float
         Exponent used (fixed) [-].
     updates : int
@@ -157,22 +154,15 @@ def bank_errors(
 
 
 class OnlineEstimator:
-    r"""Recursive least squares with forgetting of the linear constants and tau_build.
+    r"""Recursive least squares with forgetting of the linear constants and tau_build (D46).
 
-    Feed samples with :meth:`update` and read :attr:`estimate`. Two regressor models:
-
-    ``model="exact"`` (default)
-        The full model, stepped alongside the stream, gives the regressors of
-        :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior``;
-        unbiased when the prior's nonlinear constants are right.
-    ``model="paper"``
-        The supplementary's approximations (Sec. III-A): intrusion
-        :math:`\sigma\approx\alpha\gamma^n+\eta_\infty\dot\gamma`, retraction
-        :math:`\sigma\approx-(1-e^{-\Delta t/\tau_{build}})\sigma_Y+\eta_\infty\dot\gamma`;
-        needs only ``n`` but gives apparent values.
-
-    In both, one filter runs per :math:`\tau_{build}` of a grid; the one with the smallest
-    discounted prediction error is read, refined by a parabola in :math:`\ln\tau_{build}`.
+    Feed samples with :meth:`update` and read :attr:`estimate`. ``model="exact"`` (default)
+    steps the full model alongside the stream for the regressors of
+    :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior`` (unbiased
+    when those are right); ``model="paper"`` uses the supplementary's approximations (Sec.
+    III-A), which need only ``n`` but give apparent values. One filter runs per
+    :math:`\tau_{build}` of a grid; the one with the smallest discounted prediction error is
+    read, refined by a parabola in :math:`\ln\tau_{build}`.
 
     Parameters
     ----------
@@ -245,25 +235,20 @@ class OnlineEstimator:
         skip = 3.0 * float(prior.epsilon) if retraction_skip is None else retraction_skip
         self.retraction_skip = number_in_range("retraction_skip", skip, 0.0, 10.0)
         self.initial_scale = positive_number("initial_scale", initial_scale)
-        self._names = _EXACT if self.model == "exact" else ("sigma_y", "eta_inf")
+        self._names = LINEAR_PARAMETERS if self.model == "exact" else ("sigma_y", "eta_inf")
         self._stream = SampleStream(self.L)
         self.rebase(prior.replace(n=self.n) if n is not None else prior)
 
     def rebase(self, prior: MudParameters) -> None:
-        """Start again around another prior, memory cleared.
-
-        Parameters
-        ----------
-        prior : MudParameters
-            A single set [SI], e.g. a :class:`StreamClassifier`'s best after the mud changed.
-        """
+        """Start again around another single ``prior`` [SI], memory cleared (e.g. a
+        :class:`StreamClassifier`'s best after the mud changed)."""
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.prior, self.n = prior, float(prior.n)
         if self.model == "exact":
             vals = values_of(prior, batch=self.tau_grid.size)
             vals["tau_build"] = self.tau_grid
-            p = MudParameters(**basis(vals, _EXACT), nu=float(prior.nu), k_a=free_k_a(prior))
+            p = MudParameters(**basis(vals, self._names), nu=float(prior.nu), k_a=free_k_a(prior))
             self._consts = channel_constants(p)
         self.reset()
 
@@ -288,13 +273,8 @@ class OnlineEstimator:
             self._state = initial_state((G * 5,))
 
     def update(self, time: float, depth: float, stress: float) -> OnlineEstimate:
-        """Add one sample and return the current estimates.
-
-        Parameters
-        ----------
-        time, depth, stress : float
-            Sample time [s] (increasing), intrusion displacement [m], measured stress [Pa].
-        """
+        """Add one sample, its ``time`` [s] (increasing), intrusion displacement ``depth`` [m]
+        and measured ``stress`` [Pa]; return the current estimates."""
         x = self._stream.push(time, depth, stress)
         if x.step is None:  # the first sample: a starting point only
             self._phase = "out" if x.gamma <= 0 else "hold"
@@ -356,13 +336,8 @@ class OnlineEstimator:
     def update_many(
         self, time: ArrayLike, depth: ArrayLike, stress: ArrayLike
     ) -> list[OnlineEstimate]:
-        """Feed arrays of samples in order; return the estimate after each.
-
-        Parameters
-        ----------
-        time, depth, stress : array_like, shape (n,)
-            Sample times [s] (increasing), displacements [m], measured stresses [Pa].
-        """
+        """:meth:`update` with each sample of the arrays ``time`` [s], ``depth`` [m] and
+        ``stress`` [Pa], shape (n,), in order; return the estimate after each."""
         t = check_shape("time", time, (None,))
         q = check_shape("depth", depth, (None,))
         s = check_shape("stress", stress, (None,))
@@ -376,7 +351,7 @@ class OnlineEstimator:
     @property
     def estimate(self) -> OnlineEstimate:
         """The current estimates (``None`` for what no sample has informed yet)."""
-        est: dict[str, float | None] = dict.fromkeys((*_EXACT, "tau_build"))
+        est: dict[str, float | None] = dict.fromkeys((*LINEAR_PARAMETERS, "tau_build"))
         se: dict[str, float] = {}
         b = self._bank
         if np.any(b.cost > 0):
@@ -409,21 +384,15 @@ class OnlineEstimator:
         )
 
     def to_parameters(self, base: MudParameters | None = None) -> MudParameters:
-        """``base`` (default the prior) with the estimated fields replaced; an estimate
-        not yet available, or not positive, keeps the base value (the latter warns).
-
-        Parameters
-        ----------
-        base : MudParameters, optional
-            The set whose fields are replaced [SI].
-        """
+        """The set ``base`` [SI] (default the prior) with the estimated fields replaced; an
+        estimate not yet available, or not positive, keeps the base value (the latter warns)."""
         b = base if base is not None else self.prior
         if not isinstance(b, MudParameters):
             raise MudrftError(f"base must be a MudParameters, got {type(b).__name__}")
         est = self.estimate
         changes: dict[str, float] = {"n": self.n}
         kept = []
-        for k in (*_EXACT, "tau_build"):
+        for k in (*LINEAR_PARAMETERS, "tau_build"):
             v = getattr(est, k)
             if v is not None and v > 0:
                 changes[k] = v
@@ -441,12 +410,6 @@ class OnlineEstimator:
 
     def __repr__(self) -> str:
         e = self.estimate
-
-        def f(v: float | None) -> str:
-            return "None" if v is None else f"{v:.4g}"
-
-        return (
-            f"OnlineEstimator(model={self.model!r}, alpha={f(e.alpha)}, "
-            f"eta_inf={f(e.eta_inf)}, sigma_y={f(e.sigma_y)}, "
-            f"tau_build={f(e.tau_build)}, updates={e.updates})"
-        )
+        shown = {k: getattr(e, k) for k in ("alpha", "eta_inf", "sigma_y", "tau_build")}
+        values = ", ".join(f"{k}={'None' if v is None else f'{v:.4g}'}" for k, v in shown.items())
+        return f"OnlineEstimator(model={self.model!r}, {values}, updates={e.updates})"

@@ -96,15 +96,8 @@ def parameters_from_json(data: dict[str, Any], *, where: str) -> MudParameters:
 
 
 def load_parameters(path: str | os.PathLike[str]) -> MudParameters:
-    """Read a parameter set from a fit JSON (:meth:`FitResult.to_json`) or a plain JSON object.
-
-    A plain object holds the SI fields of :class:`~mudrft.MudParameters`
-    (``alpha``, ``n``, ``lam``, ...; ``nu`` and ``k_a`` optional).
-
-    Parameters
-    ----------
-    path : str or path-like
-        The JSON file.
-    """
+    """Read a parameter set from the JSON file ``path``: a fit (:meth:`FitResult.to_json`)
+    or a plain object of the SI fields of :class:`~mudrft.MudParameters` (``alpha``, ``n``,
+    ``lam``, ...; ``nu`` and ``k_a`` optional)."""
     p = Path(os.fspath(path))
     return parameters_from_json(read_json(p), where=str(p))

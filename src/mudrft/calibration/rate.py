@@ -182,23 +182,12 @@ def _segments(
 
 
 def smooth_trial(trial: Trial, *, window: int | str = "auto") -> tuple[Trial, Smoothing]:
-    """A trial with its depth read for a rate that survives the sensor's noise.
-
-    Parameters
-    ----------
-    trial : Trial
-        One trial (depth [m]).
-    window : "auto", "raw" or int, keyword-only
-        ``"auto"``: constant-speed segments when they describe the depth, else the kernel
-        over the fewest samples whose rate noise is :data:`RATE_NOISE` of the trial's speed
-        (at most a tenth of its samples in the mud), and the depth as logged when it has no
-        noise to speak of; ``"raw"``: the depth as logged; an odd int: the kernel over that
-        many samples.
-
-    Returns
-    -------
-    Trial, Smoothing
-        The trial with the depth the model reads, and what was done.
+    """The ``trial`` with the depth [m] the model reads, for a rate that survives the
+    sensor's noise, and what was done (:class:`Smoothing`). ``window``: ``"auto"``
+    constant-speed segments when they describe the depth, else the kernel over the fewest
+    samples whose rate noise is :data:`RATE_NOISE` of the trial's speed (at most a tenth of
+    its samples in the mud), and the depth as logged when it has no noise to speak of;
+    ``"raw"`` the depth as logged; an odd int the kernel over that many samples.
 
     Examples
     --------
@@ -259,18 +248,16 @@ def smooth_dataset(
     :data:`BIAS_WARNING`)."""
     window = check_window(window)
     hint = "; rate='auto' reads the depth for a rate that survives it" if window == "raw" else ""
-    trials, done, warnings_ = [], [], []
-    for tr in ds.trials:
-        new, how = smooth_trial(tr, window=window)
-        trials.append(new)
-        done.append(how)
-        if how.bias > BIAS_WARNING:
-            warnings_.append(
-                f"trial {tr.name!r}: the depth's noise ({1e3 * how.depth_noise:.3g} mm) leaves "
-                f"a rate noise of {1e3 * how.rate_noise:.3g} mm/s, "
-                f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
-                f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
-                "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
-                f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
-            )
-    return replace(ds, trials=tuple(trials)), done, warnings_
+    read = [smooth_trial(tr, window=window) for tr in ds.trials]
+    done = [how for _, how in read]
+    warned = [
+        f"trial {how.name!r}: the depth's noise ({1e3 * how.depth_noise:.3g} mm) leaves "
+        f"a rate noise of {1e3 * how.rate_noise:.3g} mm/s, "
+        f"{100 * how.rate_noise / how.speed:.3g} % of the speed "
+        f"({1e3 * how.speed:.3g} mm/s), the depth read {how.method}: the "
+        "rate-dependent constants (eta_inf, eta_m, lam, gamma_dot_c, tau_build, "
+        f"tau_leak) come out about {100 * how.bias:.2g} % too small{hint}"
+        for how in done
+        if how.bias > BIAS_WARNING
+    ]
+    return replace(ds, trials=tuple(tr for tr, _ in read)), done, warned

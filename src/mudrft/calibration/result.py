@@ -222,14 +222,12 @@ class FitResult:
             "(correlated in time, a model slightly off), holds for all free parameters at "
             "once, and its errors decide the verdict"
         )
-        lines.append(
-            f"{'parameter':<12}{'value':>11}{'unit':>5} {'rel. SE':>8} {'robust':>7} "
-            f"{'noise interval':>22} {'robust interval':>22}  verdict"
-        )
+        row = "{:<12}{:>11}{:>5} {:>8} {:>7} {:>22} {:>22}  {}".format
+        head = ("parameter", "value", "unit", "rel. SE", "robust", "noise interval")
+        lines.append(row(*head, "robust interval", "verdict"))
         robust_e = self.robust_standard_error or self.relative_standard_error
         robust_i = self.robust_interval or self.confidence_interval
         for k in FIT_PARAMETERS:
-            v = float(getattr(self.parameters, k))
             cells = ["-", "-", "-", "-"]
             if k in self.free:
                 cells = [
@@ -238,10 +236,8 @@ class FitResult:
                 ] + [
                     f"[{lo:.4g}, {hi:.4g}]" for lo, hi in (self.confidence_interval[k], robust_i[k])
                 ]
-            lines.append(
-                f"{k:<12}{v:>11.4g}{PARAMETER_UNITS[k]:>5} {cells[0]:>8} {cells[1]:>7} "
-                f"{cells[2]:>22} {cells[3]:>22}  {self.identifiability[k]}"
-            )
+            value = f"{float(getattr(self.parameters, k)):.4g}"
+            lines.append(row(k, value, PARAMETER_UNITS[k], *cells, self.identifiability[k]))
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -251,19 +247,8 @@ class FitResult:
         )
 
     def predict(self, dataset: IntrusionDataset | None = None) -> list[NDArray[np.float64]]:
-        """Model stress [Pa] at the samples of each trial.
-
-        Parameters
-        ----------
-        dataset : IntrusionDataset, optional
-            Trials to predict (SI), their depth read with the fit's ``rate`` option; default
-            the fitted data.
-
-        Returns
-        -------
-        list of ndarray
-            One array of stresses [Pa] per trial, at its samples.
-        """
+        """Model stress [Pa] at the samples of each trial of ``dataset`` (SI; default the
+        fitted data), its depth read with the fit's ``rate`` option: one array per trial."""
         ds = self.dataset if dataset is None else as_dataset(dataset)
         if ds is None:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
@@ -287,15 +272,9 @@ class FitResult:
         *,
         axes: Sequence[Axes] | NDArray[np.object_] | None = None,
     ) -> Figure:
-        """Stress [kPa] against time [s], data and fit, one panel per trial (needs matplotlib).
-
-        Parameters
-        ----------
-        dataset : IntrusionDataset, optional
-            Data to plot (SI); default the fitted data.
-        axes : array of matplotlib Axes, optional, keyword-only
-            One per trial; default a new figure.
-        """
+        """Stress [kPa] against time [s], data and fit, one panel per trial of ``dataset``
+        (SI; default the fitted data), on ``axes`` (one per trial; default a new figure);
+        needs matplotlib."""
         from ..plotting import require_matplotlib
 
         ds = self.dataset if dataset is None else as_dataset(dataset)
@@ -364,20 +343,8 @@ class FitResult:
         )
 
     def to_json(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Save to JSON atomically; an existing file is replaced only with ``overwrite=True``.
-
-        Parameters
-        ----------
-        path : str or path-like
-            Output file.
-        overwrite : bool, keyword-only
-            Replace an existing file.
-
-        Returns
-        -------
-        Path
-            The file written.
-        """
+        """Save to the JSON file ``path`` atomically and return its Path; an existing file is
+        replaced only with ``overwrite=True``."""
         text = json_text(self.to_dict(), indent=1)
         return atomic_write(path, text, overwrite=overwrite, option=OVERWRITE_OPTION)
 

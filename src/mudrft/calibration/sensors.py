@@ -29,19 +29,9 @@ _OFFSET_SIGNIFICANCE = 4.0
 
 
 def clipped_samples(trial: Trial) -> NDArray[np.bool_]:
-    """Samples of a trial at a saturated sensor's limit (decision D153): at least
-    :data:`CLIPPED_SAMPLES` samples in the mud exactly at its largest, positive stress, or
-    at its smallest, negative one.
-
-    Parameters
-    ----------
-    trial : Trial
-        One trial (stress [Pa]).
-
-    Returns
-    -------
-    ndarray of bool, shape (n,)
-        True at the samples at a limit; all False for a trial that is not clipped.
+    """The samples (bool, shape (n,)) of a ``trial`` at a saturated sensor's limit (decision
+    D153): at least :data:`CLIPPED_SAMPLES` samples in the mud exactly at its largest,
+    positive stress [Pa], or at its smallest, negative one; none for a trial not clipped.
 
     Examples
     --------
@@ -81,19 +71,10 @@ class Offset(NamedTuple):
 
 
 def stress_offset(trial: Trial) -> Offset:
-    r"""The stress a trial logs while the plate is out of the mud (depth <= 0 [m]), and
-    whether it is an offset; its standard error is :math:`1.25\,\hat s/\sqrt{m}`,
-    :math:`\hat s` the scaled median absolute deviation of the ``m`` samples.
-
-    Parameters
-    ----------
-    trial : Trial
-        One trial (depth [m], stress [Pa]).
-
-    Returns
-    -------
-    Offset
-        ``value`` nan and ``samples`` 0 for a trial that never leaves the mud.
+    r"""The :class:`Offset`: the stress [Pa] a ``trial`` logs while the plate is out of the
+    mud (depth <= 0 [m]), and whether it is an offset; its standard error is
+    :math:`1.25\,\hat s/\sqrt{m}`, :math:`\hat s` the scaled median absolute deviation of the
+    ``m`` samples (``value`` nan and ``samples`` 0 for a trial that never leaves the mud).
 
     Examples
     --------
@@ -110,8 +91,7 @@ def stress_offset(trial: Trial) -> Offset:
     m = int(np.count_nonzero(out))
     if m == 0:
         return Offset(math.nan, 0, math.nan, False, math.nan)
-    inside = ~out
-    span = float(np.ptp(s[inside])) if inside.any() else 0.0
+    span = float(np.ptp(s[~out])) if m < s.size else 0.0
     value = float(np.median(s[out]))
     spread = 1.4826 * float(np.median(np.abs(s[out] - value)))
     fraction = abs(value) / span if span > 0 else math.inf
@@ -129,13 +109,8 @@ def check_zero(
 ) -> tuple[IntrusionDataset, list[Offset] | None, list[str], list[str]]:
     """The sensor's zero of a fit's data (decision D154): warn about an unzeroed sensor
     (``zero="check"``) or subtract each trial's stress out of the mud (``"subtract"``), in a
-    vertical test only (a horizontal plate at zero travel is still in the mud).
-
-    Returns
-    -------
-    IntrusionDataset, list of Offset or None, list of str, list of str
-        The data; the offsets subtracted (None when none were); the warnings; the notes.
-    """
+    vertical test only (a horizontal plate at zero travel is still in the mud). Returns the
+    data, the offsets subtracted (None when none were), the warnings and the notes."""
     offsets = [stress_offset(tr) for tr in ds.trials]
     if zero == "check":
         warned = [

@@ -121,7 +121,7 @@ class Engine:
         if not scored:
             return [(math.inf, {})]
         scored.sort(key=lambda t: t[0])
-        return scored[: max(1, starts)]
+        return scored[:starts]
 
     def fit(
         self,
@@ -140,10 +140,13 @@ class Engine:
         base = {**self.values, **(start or {})}
         lin = [k for k in project if k in LINEAR_PARAMETERS]
         names = [k for k in free if k not in lin]
-        if not names:
-            return self._solve_linear(stage, mask, lin, base), None
-        lo = np.log([self.bounds[k][0] for k in names])
-        hi = np.log([self.bounds[k][1] for k in names])
+        if not names:  # only linear parameters free: one projection solves them
+            self.values.update(base)
+            r, c = self.project(self.packed.residuals(basis(self.batch({}, 1), lin), mask), lin)
+            self.values.update(zip(lin, c, strict=True))
+            self.record(stage, 0.5 * float(r @ r), self.values)
+            return 0.5 * float(r @ r), None
+        lo, hi = np.log([self.bounds[k] for k in names]).T
         x0 = np.clip(np.log([base[k] for k in names]), lo + 1e-12, hi - 1e-12)
         k = len(names)
         last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
@@ -200,17 +203,6 @@ class Engine:
             self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
         return float(sol.cost), sol
 
-    def _solve_linear(
-        self, stage: str, mask: NDArray[np.bool_], lin: list[str], base: dict[str, float]
-    ) -> float:
-        """Only linear parameters free: one projection solves them; returns the cost."""
-        self.values.update(base)
-        R = self.packed.residuals(basis(self.batch({}, 1), lin), mask)
-        r, c = self.project(R, lin)
-        self.values.update(zip(lin, c, strict=True))
-        self.record(stage, 0.5 * float(r @ r), self.values)
-        return 0.5 * float(r @ r)
-
     def cost(self, mask: NDArray[np.bool_]) -> float:
         """Half the sum of squared weighted residuals at the current values [-]."""
         r = self.packed.residuals(self.batch({}, 1), mask)[:, 0]
@@ -221,12 +213,11 @@ class Engine:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Residuals and Jacobian in log-parameters at the current values: central
         differences, shifted inside the bounds for a parameter that sits on one."""
-        names = list(free)
-        k = len(names)
+        k = len(free)
         h = 1e-4
         over = {}
         lo_s, hi_s = np.zeros(k), np.zeros(k)
-        for i, name in enumerate(names):
+        for i, name in enumerate(free):
             x = math.log(self.values[name])
             lo_b, hi_b = (math.log(b) for b in self.bounds[name])
             a, b = x - h, x + h

@@ -79,14 +79,9 @@ def synthetic_dataset(
         Relative noise level [-] (0.01 = 1 % of the stress range).
     seed : int or None
         Seed of the noise generator.
-    depth : float, keyword-only
-        Intrusion displacement [m].
-    hold : float, keyword-only
-        Hold time at the deepest point [s].
-    dt : float, keyword-only
-        Sample spacing [s] (the model is stepped exactly between samples).
-    rest : float, keyword-only
-        Time logged after the retraction [s].
+    depth, hold, dt, rest : float, keyword-only
+        Intrusion displacement [m], hold time at the deepest point [s], sample spacing [s]
+        (the model is stepped exactly between samples), time logged after the retraction [s].
     characteristic_length : float, keyword-only
         Plate characteristic length [m] (decision D1).
     direction : {"vertical", "horizontal"}, optional, keyword-only
@@ -95,14 +90,12 @@ def synthetic_dataset(
         Keep the acceleration term (decision D6); None keeps it in the ODE.
     thixotropy, clock : str, keyword-only
         Evaluation of the model (decision D15), as :class:`mudrft.MudTerrain`.
-    approach : float, keyword-only
-        Height above the surface the plate starts from and retracts to [m].
-    tare : float, keyword-only
-        Time at rest above the surface before the approach [s].
-    stress_noise : float, keyword-only
-        Standard deviation of the force sensor's noise, as a stress [Pa].
-    depth_noise : float, keyword-only
-        Standard deviation of the depth sensor's noise [m].
+    approach, tare : float, keyword-only
+        Height above the surface the plate starts from and retracts to [m], and time at rest
+        there before the approach [s].
+    stress_noise, depth_noise : float, keyword-only
+        Standard deviations of the force sensor's noise, as a stress [Pa], and of the depth
+        sensor's [m].
     offset : float, keyword-only
         The force sensor's reading at zero force, as a stress [Pa] (an untared sensor).
 
@@ -223,14 +216,9 @@ def example_dataset(
     direction: str = "vertical", *, water_content: float = 0.25
 ) -> IntrusionDataset:
     """A small synthetic example log shipped with mudrft (three speeds, 1 % noise), made
-    by :func:`synthetic_dataset` from the paper's parameters with :data:`EXAMPLE_SETTINGS`.
-
-    Parameters
-    ----------
-    direction : {"vertical", "horizontal"}
-        Test direction.
-    water_content : float, keyword-only
-        0.25 (both directions) or 0.35 (vertical only) [-].
+    by :func:`synthetic_dataset` from the paper's parameters with :data:`EXAMPLE_SETTINGS`,
+    for a test ``direction`` ("vertical" or "horizontal") and ``water_content`` 0.25 (both
+    directions) or 0.35 (vertical only) [-].
 
     Examples
     --------
