@@ -111,11 +111,14 @@ def biped_model(
     mj = _mujoco()
     check_positive("bottom", bottom, unit="m")
     check_positive("timestep", timestep, unit="s")
+    rigid = field if field is not None and field.has_rigid else None  # boxes under its cells
     spec = mj.MjSpec.from_file(str(biped_path()))
     spec.option.timestep = float(timestep)
     for g in spec.geoms:
         if g.name == "bottom":
             g.pos = [0.0, 0.0, float(surface) - float(bottom)]
+            if rigid is not None:
+                g.conaffinity = 0  # the coupling's bottom= is the bed
         elif g.name == "mud_surface":
             g.pos = [0.0, 0.0, float(surface)]
     mesh = _foot_mesh(foot)
@@ -130,17 +133,14 @@ def biped_model(
                 g.type = mj.mjtGeom.mjGEOM_MESH
                 g.meshname = "foot_mesh"
                 g.pos = [0.0, 0.0, -ANKLE]
-    if field is not None and field.has_rigid:
+    if rigid is not None:
         from .mujoco.rigid import add_rigid_cells, set_rigid_cells
 
-        add_rigid_cells(spec, field, surface=float(surface))
-        for g in spec.geoms:
-            if g.name == "bottom":
-                g.conaffinity = 0  # the coupling's bottom= is the bed
-        model = spec.compile()
-        set_rigid_cells(model, field)
-        return model
-    return spec.compile()
+        add_rigid_cells(spec, rigid, surface=float(surface))
+    model = spec.compile()
+    if rigid is not None:
+        set_rigid_cells(model, rigid)
+    return model
 
 
 def _foot_mesh(foot: Foot | None) -> tuple[np.ndarray, np.ndarray] | None:
@@ -213,12 +213,11 @@ class GaitController:
             raise MudrftError(
                 f"hip_height must be < {THIGH + SHANK} m (leg length), got {self.hip_height!r}"
             )
-        mj = _mujoco()
         m = self.model
-        ids = [mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, n) for n in _JOINTS]
+        ids = [m.joint(n).id for n in _JOINTS]
         self._qadr = np.array([m.jnt_qposadr[i] for i in ids])
         self._dadr = np.array([m.jnt_dofadr[i] for i in ids])
-        self._pitch = int(m.jnt_qposadr[mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, "rooty")])
+        self._pitch = int(m.jnt_qposadr[m.joint("rooty").id])
         self._hip_body = int(m.body("left_thigh").id)
         self._foot_bodies = (int(m.body("left_foot").id), int(m.body("right_foot").id))
         self._lo, self._hi = m.actuator_ctrlrange[:, 0].copy(), m.actuator_ctrlrange[:, 1].copy()
@@ -294,7 +293,6 @@ class GaitController:
         self, data: mujoco.MjData, *, surface: float = 0.0, clearance: float = 0.001
     ) -> None:
         """Set a standing pose with both soles ``clearance`` above the mud surface [m]."""
-        mj = _mujoco()
         q1, q2 = _leg_ik(0.0, -self.hip_height)
         data.qpos[:] = 0.0
         data.qvel[:] = 0.0
@@ -303,7 +301,7 @@ class GaitController:
         data.qpos[int(self.model.jnt_qposadr[self.model.joint("rootz").id])] = (
             surface + clearance + self.hip_height + ANKLE - z0
         )
-        mj.mj_forward(self.model, data)
+        _mujoco().mj_forward(self.model, data)
 
 
 def walk(
