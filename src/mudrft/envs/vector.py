@@ -38,7 +38,6 @@ from .walker import (
 
 if TYPE_CHECKING:
     import jax
-    import jax.stages
     import mujoco.mjx
 
     from ..integrations.mjx.coupling import Constants
@@ -101,7 +100,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             lay.model, list(lay.bodies), self.base_field or cfg.mud, feet=cfg.foot_object,
             bottom=cfg.bottom,
         )  # fmt: skip
-        self._fns = _compiled(self)  # checks the memory of num_envs robots first
+        reset_one, step_one, merge = robot_functions(self)  # checks the memory first
+        vmap = _jax().vmap  # the jit-compiled reset and step of all robots
+        self._fns = {
+            "reset": jit(vmap(reset_one)),
+            "step": jit(vmap(step_one)),
+            "merge": jit(merge),
+        }
         self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
         which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
         per_value = [MudTerrain(self.configs[float(v)].mud).constants for v in values]
@@ -194,14 +199,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         out = {k: np.asarray(v) for k, v in info.items()}
         return (np.asarray(obs, dtype=np.float32), np.asarray(rew, dtype=np.float64), term,
                 trunc, out)  # fmt: skip
-
-
-def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
-    """The jit-compiled reset and step of all robots."""
-    import jax
-
-    reset_one, step_one, merge = robot_functions(env)
-    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}
 
 
 def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
