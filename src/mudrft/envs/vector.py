@@ -246,9 +246,7 @@ def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
 
-        def body(
-            carry: tuple[mujoco.mjx.Data, MjxMudState], _: None
-        ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], tuple[jax.Array, jax.Array, jax.Array]]:
+        def body(carry: tuple[mujoco.mjx.Data, MjxMudState], _: None) -> tuple[Any, Any]:
             dd, ss = carry
             dd, ss, out = cpl.step(dd, ss, consts, field=fld)
             return (dd, ss), (out.depth, out.force, ~out.unstable)

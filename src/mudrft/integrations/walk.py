@@ -281,11 +281,8 @@ class GaitController:
         """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
         pitch = float(data.qpos[self._pitch])
         hip_z = float(data.xpos[self._hip_body, 2])
-        ankle = (
-            float(data.xpos[self._foot_bodies[0], 2]),
-            float(data.xpos[self._foot_bodies[1], 2]),
-        )
-        q_des, k, stance = self.targets(float(data.time), pitch, hip_z, ankle)
+        left, right = (float(data.xpos[b, 2]) for b in self._foot_bodies)
+        q_des, k, stance = self.targets(float(data.time), pitch, hip_z, (left, right))
         data.ctrl[:] = np.clip(q_des, self._lo, self._hi)
         return k, stance
 
