@@ -60,15 +60,13 @@ class MudWalkerEnv(_CpuEnv):
                 f"render_mode must be None or 'rgb_array' ('human' through gymnasium.make), "
                 f"got {render_mode!r}"
             )
-        self.config = walker_config(options, own=("backend", "render_mode"))
-        self.layout = walker_layout(self.config)
+        self.config = cfg = walker_config(options, own=("backend", "render_mode"))
+        self.layout = walker_layout(cfg)
         self.render_mode = render_mode
-        fps = round(1.0 / (self.config.dt * self.config.frame_skip))
-        self.metadata = {**self.metadata, "render_fps": fps}
+        self.metadata = {**self.metadata, "render_fps": round(1.0 / (cfg.dt * cfg.frame_skip))}
         self._mj = _mujoco()
         m = self.layout.model
         self.data = self._mj.MjData(m)
-        cfg = self.config
         foot = cfg.foot_object
         fielded = cfg.field is not None or cfg.randomize is not None
         self.field = self.base_field = cfg.mud_field if fielded else None
@@ -78,8 +76,7 @@ class MudWalkerEnv(_CpuEnv):
         )  # fmt: skip
         box = gymnasium.spaces.Box
         self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
-        size = OBS_SIZES[cfg.observe]
-        self.observation_space = box(-np.inf, np.inf, (size,), dtype=np.float32)
+        self.observation_space = box(-np.inf, np.inf, (OBS_SIZES[cfg.observe],), dtype=np.float32)
         self._renderer: mujoco.Renderer | None = None
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
 

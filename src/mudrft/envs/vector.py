@@ -78,8 +78,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         # one mud per value, not per robot; nothing of size num_envs before the memory check
         values, which = np.unique(w, return_inverse=True) if w.ndim else (w.reshape(1), None)
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
-        self.config = self.configs[float(w.flat[0])]
-        cfg = self.config
+        self.config = cfg = self.configs[float(w.flat[0])]
         fielded = cfg.field is not None or cfg.randomize is not None
         if cfg.ground != "mud" or (fielded and w.ndim):
             raise MudrftError(

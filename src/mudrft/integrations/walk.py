@@ -28,6 +28,7 @@ from .._validation import MudrftError, check_nonnegative, check_positive, check_
 from ..trajectories import BuriedFootWarning, check_unburied
 from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
+    ANKLE_HEIGHT,
     STEP_COLUMNS,
     WALK_COLUMNS,
     WalkResult,
@@ -62,7 +63,7 @@ __all__ = [
 #: Names of the biped's foot bodies (and of their geoms).
 BIPED_FEET = ("left_foot", "right_foot")
 #: Leg segment lengths of the biped: thigh, shank [m]; ankle height above the sole [m].
-THIGH, SHANK, ANKLE = 0.2, 0.2, 0.04
+THIGH, SHANK, ANKLE = 0.2, 0.2, ANKLE_HEIGHT
 #: The largest physics time step the biped walks stably at [s].
 MAX_DT = 0.01
 #: The fewest physics steps a walking step may span (``step_time / dt``): the servos
