@@ -6,10 +6,6 @@ with hip, knee and ankle pitch joints driven by torque-limited PD servos;
 :class:`GaitController` (D69) tracks a periodic gait: each ankle follows a stance line or a
 swing arc relative to the hip, the foot kept level. The biped falls only if its legs fold
 (torso below half its start height) or the torso pitches past 1 rad.
-
-``mudrft walk --foot F --water-content W --seconds T --out DIR`` writes ``DIR/walk.csv``,
-``DIR/steps.csv``, ``DIR/summary.json``, ``DIR/walk.png`` and, where offscreen rendering
-works, ``DIR/frames.png``.
 """
 
 from __future__ import annotations
