@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 
@@ -29,7 +30,6 @@ import mudrft
 
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
-from ._gym import gymnasium
 from .walker import WalkerConfig, _CpuEnv, check_action
 
 __all__ = ["MudGo1Env"]

@@ -6,12 +6,12 @@ from __future__ import annotations
 import importlib.util
 from typing import TYPE_CHECKING, Any
 
+import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 
 from .._typing import ArrayLike
 from .._validation import MudrftError
-from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     OBS_SIZES,

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, TypeAlias
 
+import gymnasium
 import numpy as np
 
 from .._typing import ArrayLike, BoolArray, NDArray
@@ -21,7 +22,6 @@ from ..integrations.mjx import attach, jit
 from ..integrations.mjx._lazy import _jax, x64_context
 from ..integrations.mujoco import _mujoco
 from ..terrains import MudTerrain
-from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     NOT_RUNNING,

@@ -34,6 +34,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
+import gymnasium
 import numpy as np
 
 import mudrft
@@ -49,7 +50,6 @@ from .._validation import (
     positive_number,
     set_number,
 )
-from ._gym import gymnasium
 
 if TYPE_CHECKING:
     import mujoco
