@@ -16,7 +16,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ._gym import gymnasium
+try:
+    import gymnasium
+except ImportError as exc:  # pragma: no cover - depends on the environment
+    raise ImportError("the mudrft environments need gymnasium: pip install 'mudrft[rl]'") from exc
+
 from .go1 import MudGo1Env
 from .mud_walker import MudWalkerEnv
 from .with_mud import WithMud, with_mud

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 
@@ -29,8 +30,7 @@ import mudrft
 
 from .._typing import ArrayLike
 from .._validation import MudrftError, check_choice, positive_int, positive_number
-from ._gym import gymnasium
-from .walker import NOT_RUNNING, WalkerConfig, check_action, check_reset, next_field
+from .walker import WalkerConfig, _CpuEnv, check_action
 
 __all__ = ["MudGo1Env"]
 
@@ -38,7 +38,7 @@ __all__ = ["MudGo1Env"]
 GO1_OBS = {"proprioceptive": 35, "privileged": 51}
 
 
-class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
+class MudGo1Env(_CpuEnv):
     """Unitree Go1 in mud (Gymnasium ``Env``; id ``mudrft/MudGo1-v0``).
 
     Parameters
@@ -96,12 +96,12 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         self.weights = tuple(float(w) for w in (forward_reward_weight, ctrl_cost_weight, healthy_reward))  # fmt: skip
         self._mj = mj = _mujoco()
         self.base_field = cfg.mud_field
-        self._rigid = self.base_field.has_rigid
+        rigid = self.base_field.has_rigid
         spec = mj.MjSpec.from_file(str(menagerie_scene("unitree_go1")))
-        if self._rigid:  # a box under each cell: MuJoCo's contact on the rigid ones
+        if rigid:  # a box under each cell: MuJoCo's contact on the rigid ones
             add_rigid_cells(spec, self.base_field)
         self.model = m = spec.compile()
-        if self._rigid:
+        if rigid:
             set_rigid_cells(m, self.base_field)
         self.field: mudrft.MudField = self.base_field
         self.coupling = attach(m, "auto", self.field, floor="below")
@@ -114,7 +114,6 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         self.action_space = box(-1.0, 1.0, (m.nu,), dtype=np.float32)
         self.observation_space = box(-np.inf, np.inf, (GO1_OBS[observe],), dtype=np.float32)
         self._depth, self._force = np.zeros(4), np.zeros((4, 3))
-        self._phase = "new"
 
     def _obs(self) -> NDArray[np.float32]:
         d = self.data
@@ -137,18 +136,8 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
     ) -> tuple[NDArray[np.float32], dict[str, Any]]:
         """Stand Go1 in its ``home`` pose with its feet at the surface; the field is
         ``options={"field": f}``, else drawn with ``randomize`` from ``seed``."""
-        given, options = next_field(options)  # a curriculum's next field
-        seed = check_reset(seed, options)
-        if self._phase == "closed":
-            raise MudrftError(NOT_RUNNING["closed"])
-        super().reset(seed=seed)
-        if given is not None or self.randomize is not None:
-            self.field = given or self.base_field.randomized(self.np_random, **self.randomize)
-            self.coupling.use_field(self.field)
-            if self._rigid:
-                from ..integrations.mujoco import set_rigid_cells
-
-                set_rigid_cells(self.model, self.field)
+        given = self._begin_reset(seed, options)
+        self._draw_field(given, self.base_field, self.randomize, self.model)
         m, d, mj = self.model, self.data, self._mj
         mj.mj_resetDataKeyframe(m, d, 0)
         d.ctrl[:] = self._home_ctrl
@@ -162,8 +151,7 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
         self, action: ArrayLike
     ) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
         """One control step: ``frame_skip`` physics steps with the mud."""
-        if self._phase != "running":
-            raise MudrftError(NOT_RUNNING[self._phase])
+        self._check_running()
         a = check_action(action, (self.model.nu,))
         d = self.data
         x0 = float(d.qpos[0])
@@ -177,17 +165,7 @@ class MudGo1Env(gymnasium.Env):  # type: ignore[misc]
             d.qpos[:], d.qvel[:] = np.nan_to_num(d.qpos), 0.0
         ok = not unstable and self._healthy()
         self._phase = "running" if ok else "ended"
-        speed = (float(d.qpos[0]) - x0) / (self.model.opt.timestep * self.frame_skip)
+        info = self._info(x0, float(d.qpos[0]), self.model.opt.timestep * self.frame_skip, unstable)
         fw, cw, hw = self.weights
-        r = fw * speed - cw * float(np.sum(np.clip(a, -1, 1) ** 2)) + hw * float(ok)
-        info = {
-            "x_position": float(d.qpos[0]), "x_velocity": speed,
-            "sinking [m]": self._depth.copy(), "mud_force [N]": self._force.copy(),
-            "unstable": unstable,
-        }  # fmt: skip
+        r = fw * info["x_velocity"] - cw * float(np.sum(np.clip(a, -1, 1) ** 2)) + hw * float(ok)
         return self._obs(), r, not ok, False, info
-
-    def close(self) -> None:
-        """Release the coupling's hold on MuJoCo's step; the environment steps no more."""
-        self._phase = "closed"
-        self.coupling.detach()

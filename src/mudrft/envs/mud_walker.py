@@ -6,21 +6,19 @@ from __future__ import annotations
 import importlib.util
 from typing import TYPE_CHECKING, Any
 
+import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 
 from .._typing import ArrayLike
 from .._validation import MudrftError
-from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
-    NOT_RUNNING,
     OBS_SIZES,
+    _CpuEnv,
     check_action,
-    check_reset,
     controls,
     healthy,
-    next_field,
     observation,
     reward,
     walker_config,
@@ -33,7 +31,7 @@ if TYPE_CHECKING:
 __all__ = ["MudWalkerEnv", "make_walker"]
 
 
-class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
+class MudWalkerEnv(_CpuEnv):
     """The planar biped walking in mud (Gymnasium ``Env``; id ``mudrft/MudWalker-v0``).
 
     ``backend`` is the CPU coupling's (``"auto"`` or ``"numba"``: the compiled one);
@@ -61,30 +59,25 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
                 f"render_mode must be None or 'rgb_array' ('human' through gymnasium.make), "
                 f"got {render_mode!r}"
             )
-        self.config = walker_config(options, own=("backend", "render_mode"))
-        self.layout = walker_layout(self.config)
+        self.config = cfg = walker_config(options, own=("backend", "render_mode"))
+        self.layout = walker_layout(cfg)
         self.render_mode = render_mode
-        fps = round(1.0 / (self.config.dt * self.config.frame_skip))
-        self.metadata = {**self.metadata, "render_fps": fps}
+        self.metadata = {**self.metadata, "render_fps": round(1.0 / (cfg.dt * cfg.frame_skip))}
         self._mj = _mujoco()
         m = self.layout.model
         self.data = self._mj.MjData(m)
-        cfg = self.config
         foot = cfg.foot_object
         fielded = cfg.field is not None or cfg.randomize is not None
-        mud = cfg.mud_field if fielded else cfg.mud
-        self.field = mud if fielded else None
+        self.field = self.base_field = cfg.mud_field if fielded else None
         self.coupling = None if cfg.ground == "rigid" else attach(
-            m, list(self.layout.bodies), mud, feet=foot, bottom=cfg.bottom,
+            m, list(self.layout.bodies), self.base_field or cfg.mud, feet=foot, bottom=cfg.bottom,
             backend=backend,
         )  # fmt: skip
         box = gymnasium.spaces.Box
         self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)
-        size = OBS_SIZES[cfg.observe]
-        self.observation_space = box(-np.inf, np.inf, (size,), dtype=np.float32)
+        self.observation_space = box(-np.inf, np.inf, (OBS_SIZES[cfg.observe],), dtype=np.float32)
         self._renderer: mujoco.Renderer | None = None
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
-        self._phase = "new"  # then "running", "ended" (terminated) or "closed"
 
     def _obs(self) -> NDArray[np.float32]:
         d = self.data
@@ -99,15 +92,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         """Stand the biped 1 mm above the mud, with uniform noise on joints and velocities;
         the field is ``options={"field": f}`` (a curriculum's next, of the shape of the
         environment's), else drawn anew with ``randomize`` from ``seed``."""
-        given, options = next_field(options)  # a curriculum's next field
-        if given is not None and self.field is None:
-            raise MudrftError(
-                "options={'field': ...} needs an environment made with field= or randomize="
-            )
-        seed = check_reset(seed, options)
-        if self._phase == "closed":
-            raise MudrftError(NOT_RUNNING["closed"])
-        super().reset(seed=seed)
+        given = self._begin_reset(seed, options)
         lay, d, mj = self.layout, self.data, self._mj
         mj.mj_resetData(lay.model, d)
         noise = self.config.reset_noise_scale
@@ -116,15 +101,8 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         d.qvel[:] = self.np_random.uniform(-noise, noise, lay.model.nv)
         d.ctrl[:] = lay.ctrl0
         mj.mj_forward(lay.model, d)
-        cfg = self.config
-        if self.coupling is not None and (given is not None or cfg.randomize is not None):
-            field = given or cfg.mud_field.randomized(self.np_random, **cfg.randomize)
-            self.coupling.use_field(field)
-            self.field = field
-            if cfg.mud_field.has_rigid:  # the rigid cells' boxes follow the draw
-                from ..integrations.mujoco import set_rigid_cells
-
-                set_rigid_cells(lay.model, field)
+        if self.base_field is not None:
+            self._draw_field(given, self.base_field, self.config.randomize, lay.model)
         if self.coupling is not None:
             self.coupling.reset(d)
         self._depth, self._force = np.zeros(2), np.zeros((2, 3))
@@ -137,8 +115,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         """One control step: ``frame_skip`` physics steps with the mud; an unstable step
         terminates the episode with ``info["unstable"] = True``."""
         lay, cfg, d, mj = self.layout, self.config, self.data, self._mj
-        if self._phase != "running":  # before reset the robot lay at the origin, the mud unset
-            raise MudrftError(NOT_RUNNING[self._phase])
+        self._check_running()
         a = check_action(action, (ACTION_SIZE,))
         x0 = float(d.qpos[lay.rootx])
         d.ctrl[:] = controls(lay, a, cfg.action_scale)
@@ -163,14 +140,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
         self._phase = "running" if ok else "ended"
         x1 = float(d.qpos[lay.rootx])
         r = float(reward(cfg, x0, x1, a, float(ok)))
-        info = {
-            "x_position": x1,
-            "x_velocity": (x1 - x0) / (cfg.dt * cfg.frame_skip),
-            "sinking [m]": self._depth.copy(),
-            "mud_force [N]": self._force.copy(),
-            "unstable": unstable,
-        }
-        return self._obs(), r, not ok, False, info
+        return self._obs(), r, not ok, False, self._info(x0, x1, cfg.dt * cfg.frame_skip, unstable)
 
     def render(self) -> np.ndarray | None:
         """An RGB image of the side camera (``render_mode="rgb_array"``), else None."""
@@ -191,9 +161,7 @@ class MudWalkerEnv(gymnasium.Env):  # type: ignore[misc]
     def close(self) -> None:
         """Release the offscreen renderer, if one was made, and the mud coupling's hold on
         MuJoCo's step; the environment steps no more."""
-        self._phase = "closed"
-        if self.coupling is not None:
-            self.coupling.detach()
+        super().close()
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, TypeAlias
 
+import gymnasium
 import numpy as np
 
 from .._typing import ArrayLike, BoolArray, NDArray
@@ -21,7 +22,6 @@ from ..integrations.mjx import attach, jit
 from ..integrations.mjx._lazy import _jax, x64_context
 from ..integrations.mujoco import _mujoco
 from ..terrains import MudTerrain
-from ._gym import gymnasium
 from .walker import (
     ACTION_SIZE,
     NOT_RUNNING,
@@ -38,7 +38,6 @@ from .walker import (
 
 if TYPE_CHECKING:
     import jax
-    import jax.stages
     import mujoco.mjx
 
     from ..integrations.mjx.coupling import Constants
@@ -79,8 +78,7 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
         # one mud per value, not per robot; nothing of size num_envs before the memory check
         values, which = np.unique(w, return_inverse=True) if w.ndim else (w.reshape(1), None)
         self.configs = {float(v): walker_config({**options, "water_content": float(v)}, own=own) for v in values}  # fmt: skip
-        self.config = self.configs[float(w.flat[0])]
-        cfg = self.config
+        self.config = cfg = self.configs[float(w.flat[0])]
         fielded = cfg.field is not None or cfg.randomize is not None
         if cfg.ground != "mud" or (fielded and w.ndim):
             raise MudrftError(
@@ -101,7 +99,13 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
             lay.model, list(lay.bodies), self.base_field or cfg.mud, feet=cfg.foot_object,
             bottom=cfg.bottom,
         )  # fmt: skip
-        self._fns = _compiled(self)  # checks the memory of num_envs robots first
+        reset_one, step_one, merge = robot_functions(self)  # checks the memory first
+        vmap = _jax().vmap  # the jit-compiled reset and step of all robots
+        self._fns = {
+            "reset": jit(vmap(reset_one)),
+            "step": jit(vmap(step_one)),
+            "merge": jit(merge),
+        }
         self.water_content = np.broadcast_to(w, (self.num_envs,)).copy()
         which = np.zeros(self.num_envs, dtype=np.intp) if which is None else which
         per_value = [MudTerrain(self.configs[float(v)].mud).constants for v in values]
@@ -196,14 +200,6 @@ class MudWalkerVectorEnv(gymnasium.vector.VectorEnv):  # type: ignore[misc]
                 trunc, out)  # fmt: skip
 
 
-def _compiled(env: MudWalkerVectorEnv) -> dict[str, jax.stages.Wrapped]:
-    """The jit-compiled reset and step of all robots."""
-    import jax
-
-    reset_one, step_one, merge = robot_functions(env)
-    return {"reset": jit(jax.vmap(reset_one)), "step": jit(jax.vmap(step_one)), "merge": jit(merge)}
-
-
 def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
     """One robot's pure JAX functions, to vmap and jit (as the environment does) or to wrap
     for another training library (``examples/train_mud_walker_brax.py``):
@@ -249,9 +245,7 @@ def robot_functions(env: MudWalkerVectorEnv) -> tuple[Any, Any, Any]:
         x0 = d.qpos[lay.rootx]
         d = d.replace(ctrl=controls(lay, a.astype(d.qpos.dtype), cfg.action_scale, xp=jnp))
 
-        def body(
-            carry: tuple[mujoco.mjx.Data, MjxMudState], _: None
-        ) -> tuple[tuple[mujoco.mjx.Data, MjxMudState], tuple[jax.Array, jax.Array, jax.Array]]:
+        def body(carry: tuple[mujoco.mjx.Data, MjxMudState], _: None) -> tuple[Any, Any]:
             dd, ss = carry
             dd, ss, out = cpl.step(dd, ss, consts, field=fld)
             return (dd, ss), (out.depth, out.force, ~out.unstable)

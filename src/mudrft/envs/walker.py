@@ -34,6 +34,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
+import gymnasium
 import numpy as np
 
 import mudrft
@@ -70,7 +71,6 @@ OBS_SIZES = {"privileged": OBS_SIZE, "proprioceptive": 17}
 #: Longest time one action may be held, ``frame_skip * dt`` [s]: the walker falls sooner.
 MAX_CONTROL_PERIOD = 1.0
 ACTION_SIZE = 6
-_JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
 
 
 @dataclass(frozen=True)
@@ -210,28 +210,19 @@ def walker_layout(cfg: WalkerConfig) -> WalkerLayout:
     elif not rigid:  # rigid cells: the feet's contact with their boxes (add_rigid_cells)
         model.opt.disableflags |= int(mj.mjtDisableBit.mjDSBL_CONTACT)
     data = mj.MjData(model)
-    GaitController(model).initial_pose(data)
-    jq = np.array([model.jnt_qposadr[model.joint(n).id] for n in _JOINTS])
-    jd = np.array([model.jnt_dofadr[model.joint(n).id] for n in _JOINTS])
-    torso = int(model.body("torso").id)
-    qadr = {n: int(model.jnt_qposadr[model.joint(n).id]) for n in ("rootx", "rootz", "rooty")}
+    gait = GaitController(model)
+    gait.initial_pose(data)
+    jq, torso = gait._qadr, int(model.body("torso").id)
+    qadr = {n: int(model.jnt_qposadr[model.joint(n).id]) for n in ("rootx", "rootz")}
     return WalkerLayout(
         model=model, qpos0=np.array(data.qpos), ctrl0=np.array(data.qpos[jq]),
         ctrl_low=np.array(model.actuator_ctrlrange[:, 0]),
-        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]), joint_qadr=jq, joint_dadr=jd,
-        rootx=qadr["rootx"], rootz=qadr["rootz"], pitch=qadr["rooty"], torso=torso,
+        ctrl_high=np.array(model.actuator_ctrlrange[:, 1]), joint_qadr=jq, joint_dadr=gait._dadr,
+        rootx=qadr["rootx"], rootz=qadr["rootz"], pitch=gait._pitch, torso=torso,
         torso_z0=float(data.xpos[torso, 2]),
         weight=float(np.sum(model.body_mass) * -model.opt.gravity[2]),
         bodies=tuple(BIPED_FEET),  # type: ignore[arg-type]
     )  # fmt: skip
-
-
-def next_field(options: dict[str, Any] | None) -> tuple[Any, dict[str, Any] | None]:
-    """``reset(options={"field": f})``: a curriculum's next field ``f``, and the options
-    left for :func:`check_reset` (``(None, options)`` for anything else)."""
-    if isinstance(options, dict) and set(options) == {"field"}:
-        return options["field"], None
-    return None, options
 
 
 def check_reset(seed: object, options: object) -> int | None:
@@ -255,6 +246,66 @@ NOT_RUNNING = {
     "ended": "the episode has terminated: call reset() before step()",
     "closed": "the environment is closed: make a new one",
 }
+
+
+class _CpuEnv(gymnasium.Env):  # type: ignore[misc]
+    """What the CPU environments share: the phase (``"new"``, then ``"running"``,
+    ``"ended"`` when terminated, or ``"closed"``) and a field drawn anew at each reset."""
+
+    coupling: Any
+    field: mudrft.MudField | None
+    _depth: np.ndarray  # each foot's sinking [m] in the last step
+    _force: np.ndarray  # each foot's mud force [N] in the last step
+    _phase = "new"
+
+    def _begin_reset(self, seed: object, options: dict[str, Any] | None) -> Any:
+        """Check ``reset``'s arguments, refuse a closed environment and seed
+        ``np_random``; a curriculum's next field, ``options={"field": f}``, else None."""
+        given = None
+        if isinstance(options, dict) and set(options) == {"field"}:
+            given, options = options["field"], None
+            if given is not None and self.field is None:
+                raise MudrftError(
+                    "options={'field': ...} needs an environment made with field= or randomize="
+                )
+        seed = check_reset(seed, options)
+        if self._phase == "closed":
+            raise MudrftError(NOT_RUNNING["closed"])
+        gymnasium.Env.reset(self, seed=seed)
+        return given
+
+    def _draw_field(self, given: Any, base: mudrft.MudField, randomize: Any, model: Any) -> None:
+        """Step the mud on ``given``, else on a draw of ``base`` with ``randomize``'s
+        keywords (where given), its rigid cells' boxes in ``model`` following it."""
+        if given is None and randomize is None:
+            return
+        self.field = given or base.randomized(self.np_random, **randomize)
+        self.coupling.use_field(self.field)
+        if base.has_rigid:
+            from ..integrations.mujoco import set_rigid_cells
+
+            set_rigid_cells(model, self.field)
+
+    def _check_running(self) -> None:
+        if self._phase != "running":  # before reset the robot lay at the origin, the mud unset
+            raise MudrftError(NOT_RUNNING[self._phase])
+
+    def _info(self, x0: float, x1: float, seconds: float, unstable: bool) -> dict[str, Any]:
+        """A step's ``info``: the robot's move from ``x0`` to ``x1`` [m] in ``seconds``
+        [s], and each foot's sinking and mud force."""
+        return {
+            "x_position": x1,
+            "x_velocity": (x1 - x0) / seconds,
+            "sinking [m]": self._depth.copy(),
+            "mud_force [N]": self._force.copy(),
+            "unstable": unstable,
+        }
+
+    def close(self) -> None:
+        """Release the mud coupling's hold on MuJoCo's step; the environment steps no more."""
+        self._phase = "closed"
+        if self.coupling is not None:
+            self.coupling.detach()
 
 
 def check_action(action: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:

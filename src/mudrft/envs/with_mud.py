@@ -12,11 +12,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, SupportsFloat
 
+import gymnasium
 import numpy as np
 
 from .._progress import logger
 from .._validation import MudrftError
-from ._gym import gymnasium
 
 if TYPE_CHECKING:
     from ..integrations.mujoco import MudCoupling

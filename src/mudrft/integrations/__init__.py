@@ -15,23 +15,14 @@ __all__ = [
     "mjx", "mujoco", "stability_limits", "walk",
 ]  # fmt: skip
 
-_ATTRS = {
-    "MudBatch": "mudrft.integrations.mujoco",
-    "MudContact": "mudrft.integrations.mujoco",
-    "MudCoupling": "mudrft.integrations.mujoco",
-    "attach": "mudrft.integrations.mujoco",
-    "attach_batch": "mudrft.integrations.mujoco",
-    "body_foot": "mudrft.integrations.mujoco",
-    "stability_limits": "mudrft.integrations.mujoco",
-    "biped_model": "mudrft.integrations.walk",
-}
-
 
 def __getattr__(name: str) -> Any:
-    if name in _ATTRS:
-        return getattr(importlib.import_module(_ATTRS[name]), name)
     if name in ("mjx", "mujoco", "walk"):
         return importlib.import_module(f"{__name__}.{name}")
+    if name == "biped_model":
+        return importlib.import_module(f"{__name__}.walk").biped_model
+    if name in __all__:  # the other names are the MuJoCo coupling's
+        return getattr(importlib.import_module(f"{__name__}.mujoco"), name)
     raise AttributeError(f"module 'mudrft.integrations' has no attribute {name!r}")
 
 

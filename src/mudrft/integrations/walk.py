@@ -6,10 +6,6 @@ with hip, knee and ankle pitch joints driven by torque-limited PD servos;
 :class:`GaitController` (D69) tracks a periodic gait: each ankle follows a stance line or a
 swing arc relative to the hip, the foot kept level. The biped falls only if its legs fold
 (torso below half its start height) or the torso pitches past 1 rad.
-
-``mudrft walk --foot F --water-content W --seconds T --out DIR`` writes ``DIR/walk.csv``,
-``DIR/steps.csv``, ``DIR/summary.json``, ``DIR/walk.png`` and, where offscreen rendering
-works, ``DIR/frames.png``.
 """
 
 from __future__ import annotations
@@ -28,6 +24,7 @@ from .._validation import MudrftError, check_nonnegative, check_positive, check_
 from ..trajectories import BuriedFootWarning, check_unburied
 from .mujoco import _mujoco  # imports MuJoCo on first call
 from .walk_output import (
+    ANKLE_HEIGHT,
     STEP_COLUMNS,
     WALK_COLUMNS,
     WalkResult,
@@ -62,7 +59,7 @@ __all__ = [
 #: Names of the biped's foot bodies (and of their geoms).
 BIPED_FEET = ("left_foot", "right_foot")
 #: Leg segment lengths of the biped: thigh, shank [m]; ankle height above the sole [m].
-THIGH, SHANK, ANKLE = 0.2, 0.2, 0.04
+THIGH, SHANK, ANKLE = 0.2, 0.2, ANKLE_HEIGHT
 #: The largest physics time step the biped walks stably at [s].
 MAX_DT = 0.01
 #: The fewest physics steps a walking step may span (``step_time / dt``): the servos
@@ -111,11 +108,14 @@ def biped_model(
     mj = _mujoco()
     check_positive("bottom", bottom, unit="m")
     check_positive("timestep", timestep, unit="s")
+    rigid = field if field is not None and field.has_rigid else None  # boxes under its cells
     spec = mj.MjSpec.from_file(str(biped_path()))
     spec.option.timestep = float(timestep)
     for g in spec.geoms:
         if g.name == "bottom":
             g.pos = [0.0, 0.0, float(surface) - float(bottom)]
+            if rigid is not None:
+                g.conaffinity = 0  # the coupling's bottom= is the bed
         elif g.name == "mud_surface":
             g.pos = [0.0, 0.0, float(surface)]
     mesh = _foot_mesh(foot)
@@ -130,17 +130,14 @@ def biped_model(
                 g.type = mj.mjtGeom.mjGEOM_MESH
                 g.meshname = "foot_mesh"
                 g.pos = [0.0, 0.0, -ANKLE]
-    if field is not None and field.has_rigid:
+    if rigid is not None:
         from .mujoco.rigid import add_rigid_cells, set_rigid_cells
 
-        add_rigid_cells(spec, field, surface=float(surface))
-        for g in spec.geoms:
-            if g.name == "bottom":
-                g.conaffinity = 0  # the coupling's bottom= is the bed
-        model = spec.compile()
-        set_rigid_cells(model, field)
-        return model
-    return spec.compile()
+        add_rigid_cells(spec, rigid, surface=float(surface))
+    model = spec.compile()
+    if rigid is not None:
+        set_rigid_cells(model, rigid)
+    return model
 
 
 def _foot_mesh(foot: Foot | None) -> tuple[np.ndarray, np.ndarray] | None:
@@ -213,12 +210,11 @@ class GaitController:
             raise MudrftError(
                 f"hip_height must be < {THIGH + SHANK} m (leg length), got {self.hip_height!r}"
             )
-        mj = _mujoco()
         m = self.model
-        ids = [mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, n) for n in _JOINTS]
+        ids = [m.joint(n).id for n in _JOINTS]
         self._qadr = np.array([m.jnt_qposadr[i] for i in ids])
         self._dadr = np.array([m.jnt_dofadr[i] for i in ids])
-        self._pitch = int(m.jnt_qposadr[mj.mj_name2id(m, mj.mjtObj.mjOBJ_JOINT, "rooty")])
+        self._pitch = int(m.jnt_qposadr[m.joint("rooty").id])
         self._hip_body = int(m.body("left_thigh").id)
         self._foot_bodies = (int(m.body("left_foot").id), int(m.body("right_foot").id))
         self._lo, self._hi = m.actuator_ctrlrange[:, 0].copy(), m.actuator_ctrlrange[:, 1].copy()
@@ -282,11 +278,8 @@ class GaitController:
         """Write joint targets into ``data.ctrl`` (the servos); returns (step index, stance leg)."""
         pitch = float(data.qpos[self._pitch])
         hip_z = float(data.xpos[self._hip_body, 2])
-        ankle = (
-            float(data.xpos[self._foot_bodies[0], 2]),
-            float(data.xpos[self._foot_bodies[1], 2]),
-        )
-        q_des, k, stance = self.targets(float(data.time), pitch, hip_z, ankle)
+        left, right = (float(data.xpos[b, 2]) for b in self._foot_bodies)
+        q_des, k, stance = self.targets(float(data.time), pitch, hip_z, (left, right))
         data.ctrl[:] = np.clip(q_des, self._lo, self._hi)
         return k, stance
 
@@ -294,7 +287,6 @@ class GaitController:
         self, data: mujoco.MjData, *, surface: float = 0.0, clearance: float = 0.001
     ) -> None:
         """Set a standing pose with both soles ``clearance`` above the mud surface [m]."""
-        mj = _mujoco()
         q1, q2 = _leg_ik(0.0, -self.hip_height)
         data.qpos[:] = 0.0
         data.qvel[:] = 0.0
@@ -303,7 +295,7 @@ class GaitController:
         data.qpos[int(self.model.jnt_qposadr[self.model.joint("rootz").id])] = (
             surface + clearance + self.hip_height + ANKLE - z0
         )
-        mj.mj_forward(self.model, data)
+        _mujoco().mj_forward(self.model, data)
 
 
 def walk(

@@ -99,6 +99,10 @@ def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]
     ``differs``, or ``undetermined`` (a walk too short for one complete gait step).
     """
     rows: list[dict[str, str]] = []
+
+    def add(claim: str, paper: str, mudrft: str, verdict: str) -> None:
+        rows.append({"claim": claim, "paper": paper, "mudrft": mudrft, "verdict": verdict})
+
     if "morphing" in summaries:
         m = summaries["morphing"]
         for ref, ps, pe in _FIG13:
@@ -110,39 +114,29 @@ def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]
             close = abs(ds - ps) <= 15 and abs(de - pe) <= 15
             same = ds > 0 and de > 0
             verdict = "agrees" if close else ("same direction" if same else "differs")
-            rows.append(
-                {
-                    "claim": f"morphing foot: less suction and energy than the {ref} foot (Fig. 13)",
-                    "paper": f"suction {ps:.0f} % lower, energy {pe:.0f} % lower",
-                    "mudrft": f"suction {ds:.0f} % lower, energy {de:.0f} % lower",
-                    "verdict": verdict if _finite(ds, de) else UNDETERMINED,
-                }
+            add(
+                f"morphing foot: less suction and energy than the {ref} foot (Fig. 13)",
+                f"suction {ps:.0f} % lower, energy {pe:.0f} % lower",
+                f"suction {ds:.0f} % lower, energy {de:.0f} % lower",
+                verdict if _finite(ds, de) else UNDETERMINED,
             )
         sink = {f: s["mean_sinking [m]"] for f, s in summaries.items()}
-        least = min(sink, key=lambda f: sink[f])
-        rows.append(
-            {
-                "claim": "the morphing foot sinks least (Fig. 12)",
-                "paper": "morphing sinks least",
-                "mudrft": ", ".join(f"{f} {1e3 * v:.1f} mm" for f, v in sink.items()),
-                "verdict": ("agrees" if least == "morphing" else "differs")
-                if _finite(*sink.values())
-                else UNDETERMINED,
-            }
+        verdict = "agrees" if min(sink, key=lambda f: sink[f]) == "morphing" else "differs"
+        add(
+            "the morphing foot sinks least (Fig. 12)",
+            "morphing sinks least",
+            ", ".join(f"{f} {1e3 * v:.1f} mm" for f, v in sink.items()),
+            verdict if _finite(*sink.values()) else UNDETERMINED,
         )
     fixed = [f for f in ("flat", "semi-cylinder", "semi-sphere") if f in summaries]
     if len(fixed) == 3:
         suc = {f: summaries[f]["max_suction [N]"] for f in fixed}
         order = sorted(fixed, key=lambda f: -suc[f])
-        rows.append(
-            {
-                "claim": "flat foot: largest suction, semi-sphere: least (Sec. IV-B)",
-                "paper": "flat > semi-cylinder > semi-sphere",
-                "mudrft": " > ".join(f"{f} {suc[f]:.0f} N" for f in order),
-                "verdict": "agrees"
-                if order[0] == "flat" and order[-1] == "semi-sphere"
-                else "differs",
-            }
+        add(
+            "flat foot: largest suction, semi-sphere: least (Sec. IV-B)",
+            "flat > semi-cylinder > semi-sphere",
+            " > ".join(f"{f} {suc[f]:.0f} N" for f in order),
+            "agrees" if order[0] == "flat" and order[-1] == "semi-sphere" else "differs",
         )
     return rows
 
