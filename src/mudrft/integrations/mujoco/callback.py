@@ -19,11 +19,6 @@ from ...terrains.rows import N_STATE
 from .compiled import OFFSETS, _f1, _f2, _f3, _i1, _i2, _i3, _kernel
 from .linalg import REGISTRY, _chain, _iptr, _ptr, _registry, carray
 
-__all__ = [
-    "N_REGISTRY", "callback", "clock_size", "install", "register", "robot_step", "unregister",
-]  # fmt: skip
-
-
 #: The state a robot's step changes, kept in ``clock[k]`` to step again from it.
 KEPT = ("mud", "fst", "odo", "tw_prev", "wv_prev")
 

@@ -18,11 +18,6 @@ from ..._typing import FloatArray
 from ..._xp import pyfloat
 from .implicit import passivity_scale
 
-__all__ = [
-    "REGISTRY", "_about", "_back", "_borrow", "_chain", "_cut", "_mj_jac", "_mj_solve_m", "_registry", "_robot_step",
-    "mujoco_functions",
-]  # fmt: skip
-
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
     """In place b <- A^-1 b (n x n, Gaussian elimination with partial pivoting; A destroyed)."""

@@ -8,12 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..._validation import (
-    MudrftError,
-    plain,
-    positive_number,
-    warn_plausibility,
-)
+from ..._validation import MudrftError, plain, positive_number, warn_plausibility
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
@@ -24,14 +19,6 @@ if TYPE_CHECKING:
     from .contact import MudContact
     from .placement import BodyFoot
 
-__all__ = [
-    "LARGEST_TIMESTEP",
-    "SEARCHED_TIMESTEPS",
-    "check_spring_step",
-    "check_timestep",
-    "diverged_error",
-    "stability_limits",
-]
 
 #: The time steps the passivity searches of the couplings covered [s].
 SEARCHED_TIMESTEPS = (5e-4, 5e-3)
