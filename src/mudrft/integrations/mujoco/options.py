@@ -17,7 +17,7 @@ from ..._validation import (
     warn_plausibility,
 )
 from ._lazy import _mujoco
-from .geoms import _collides
+from .geoms import _collides, geom_label
 from .placement import _reference_pose, auto_feet, resolve_body
 from .rigid import RIGID_CELL
 
@@ -201,8 +201,7 @@ def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
     for g, top in floor_geoms(model, d):
         if top < surface - 1e-9:
             continue
-        name = model.geom(g).name
-        label = f"geom {name!r}" if name else f"geom {g}"
+        label = geom_label(model, g, body=False)
         if floor == "below":  # lowered along -z, in its (static) body's frame
             b = int(model.geom_bodyid[g])
             R = np.asarray(d.xmat[b]).reshape(3, 3)
