@@ -16,6 +16,7 @@ from numba.extending import intrinsic
 
 from ..._typing import FloatArray
 from ..._xp import pyfloat
+from ._lazy import _mujoco
 from .implicit import passivity_scale
 
 
@@ -185,8 +186,6 @@ carray = numba.carray
 def mujoco_functions() -> tuple[int, int]:
     """Addresses of ``mj_jac`` and ``mj_solveM`` in the MuJoCo library the ``mujoco``
     package ships (``libmujoco.so.*``, ``mujoco.dll`` or ``libmujoco.*.dylib`` next to it)."""
-    from ._lazy import _mujoco
-
     here = Path(str(_mujoco().__file__)).parent
     found = [p for p in here.iterdir() if p.name.startswith(("libmujoco.", "mujoco.dll"))]
     if not found:

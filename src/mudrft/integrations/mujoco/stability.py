@@ -12,6 +12,7 @@ from ..._validation import MudrftError, plain, positive_number, warn_plausibilit
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
+from ._lazy import _mujoco
 
 if TYPE_CHECKING:
     import mujoco
@@ -102,8 +103,6 @@ def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None
     :math:`\omega^2\Delta t^2<1+2\gamma\Delta t` must hold, :math:`\omega^2=k/m`,
     :math:`\gamma=c/m`, :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
     """
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     k, c = np.zeros(model.nv), np.array(model.dof_damping, dtype=float)
     for j in range(model.njnt):
