@@ -151,16 +151,12 @@ def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None
         )
 
 
-#: The state MuJoCo checks in each step, in the order of the coupling's counters.
-_CHECKED = ("qpos", "qvel", "qacc")
-
-
 def diverged_error(
     i: int, kind: int, index: int, time: float, last: MudContact | None
 ) -> MudrftError:
     """The error for robot ``i`` whose ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2)
     MuJoCo found bad at degree of freedom ``index`` and reset, ``time`` [s] after reset."""
-    field = _CHECKED[kind]
+    field = ("qpos", "qvel", "qacc")[kind]
     force = None
     if last is not None:
         f = last.force
