@@ -116,8 +116,7 @@ def callback() -> Any:
             "machine, then loaded from numba's cache on disk in about a second)"
         )
         start = time.perf_counter()
-        cb = jit_callback(passive)
-        _CALLBACK[0] = cb.ctypes
+        _CALLBACK[0] = jit_callback(passive).ctypes
         logger.info("compiled the MuJoCo coupling in %.1f s", time.perf_counter() - start)
     return _CALLBACK[0]
 
