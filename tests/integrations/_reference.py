@@ -19,7 +19,7 @@ from mudrft._validation import MudrftError
 from mudrft.integrations import mujoco as coupling_module
 from mudrft.integrations.mujoco.backend import NON_FINITE
 from mudrft.integrations.mujoco.batch import MudBatch
-from mudrft.integrations.mujoco.contact import MudContact, _central_point
+from mudrft.integrations.mujoco.contact import MudContact
 from mudrft.integrations.mujoco.implicit import (
     applied_wrench,
     channel_motion,
@@ -33,6 +33,16 @@ from mudrft.integrations.mujoco.stability import check_timestep
 
 #: Smallest secant step in velocity [m/s] (D63), the compiled coupling's.
 DV_MIN = 1e-4
+
+
+def _central_point(force, torque, com, near):
+    """Point of the wrench's central axis nearest to ``near`` [m] (``near`` without force)."""
+    f2 = np.einsum("...i,...i->...", force, force)
+    has = f2 > 1e-300
+    safe = np.where(has, f2, 1.0)[..., None]
+    r0 = com + np.cross(force, torque) / safe
+    t = np.einsum("...i,...i->...", near - r0, force)[..., None] / safe
+    return np.where(has[..., None], r0 + t * force, near)
 
 
 def _tree_map(fn, tree):

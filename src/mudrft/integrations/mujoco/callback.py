@@ -19,19 +19,11 @@ from ...terrains.rows import N_STATE
 from .compiled import OFFSETS, _f1, _f2, _f3, _i1, _i2, _i3, _kernel
 from .linalg import REGISTRY, _chain, _iptr, _ptr, _registry, carray
 
-__all__ = [
-    "N_REGISTRY", "callback", "clock_size", "install", "register", "robot_step", "unregister",
-]  # fmt: skip
-
-
-#: The state a robot's step changes, kept in ``clock[k]`` to step again from it.
-KEPT = ("mud", "fst", "odo", "tw_prev", "wv_prev")
-
 
 def clock_size(nb: int) -> int:
     """Length of a robot's ``clock`` row for ``nb`` feet: has a last step, the time of the
     last call [s], the kept has-a-last-step and tank [J], each foot's pose and velocity
-    (18), and the kept state (:data:`KEPT`)."""
+    (18), and the state a step changes (``mud``, ``fst``, ``odo``, ``tw_prev``, ``wv_prev``)."""
     return 4 + nb * 18 + nb * (N_STATE + 3 + 5 + 6 + 6)
 
 
@@ -124,8 +116,7 @@ def callback() -> Any:
             "machine, then loaded from numba's cache on disk in about a second)"
         )
         start = time.perf_counter()
-        cb = jit_callback(passive)
-        _CALLBACK[0] = cb.ctypes
+        _CALLBACK[0] = jit_callback(passive).ctypes
         logger.info("compiled the MuJoCo coupling in %.1f s", time.perf_counter() - start)
     return _CALLBACK[0]
 

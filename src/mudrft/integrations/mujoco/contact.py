@@ -7,8 +7,6 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ..._typing import FloatArray
-
 __all__ = ["MudContact"]
 
 
@@ -47,15 +45,3 @@ class MudContact(NamedTuple):
     velocity: NDArray[np.float64]
     depth: NDArray[np.float64]
     stress: NDArray[np.float64]
-
-
-def _central_point(
-    force: FloatArray, torque: FloatArray, com: FloatArray, near: FloatArray
-) -> FloatArray:
-    """Point of the wrench's central axis nearest to ``near`` [m] (``near`` without force)."""
-    f2 = np.einsum("...i,...i->...", force, force)
-    has = f2 > 1e-300
-    safe = np.where(has, f2, 1.0)[..., None]
-    r0 = com + np.cross(force, torque) / safe
-    t = np.einsum("...i,...i->...", near - r0, force)[..., None] / safe
-    return np.where(has[..., None], r0 + t * force, near)

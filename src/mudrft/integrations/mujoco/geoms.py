@@ -13,7 +13,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ... import feet
-from ..._validation import MudrftError
 from ._lazy import _mujoco
 
 if TYPE_CHECKING:
@@ -79,13 +78,8 @@ def _support(model: mujoco.MjModel, d: mujoco.MjData, g: int) -> NDArray[np.floa
         perp = np.array([0.0, 0.0, 1.0]) - a[2] * a
         nrm = np.linalg.norm(perp)
         return end - (s[0] * perp / nrm if nrm > 1e-9 else 0.0)
-    if kind == "mesh":
-        v = _mesh(model, g)[0]
-        return _lowest_center(c + v @ R.T, max(float(model.geom_rbound[g]), 1e-9))
-    raise MudrftError(
-        f"{geom_label(model, g)} has type {kind}, which mudrft cannot turn into a foot; "
-        "use a box, sphere, capsule, cylinder or mesh, or pass the foot explicitly"
-    )
+    v = _mesh(model, g)[0]  # a mesh (the types were checked where g was chosen)
+    return _lowest_center(c + v @ R.T, max(float(model.geom_rbound[g]), 1e-9))
 
 
 #: The corners of the cube [-1, 1]^3 [-].

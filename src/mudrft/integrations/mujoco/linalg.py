@@ -16,12 +16,8 @@ from numba.extending import intrinsic
 
 from ..._typing import FloatArray
 from ..._xp import pyfloat
+from ._lazy import _mujoco
 from .implicit import passivity_scale
-
-__all__ = [
-    "REGISTRY", "_about", "_back", "_borrow", "_chain", "_cut", "_mj_jac", "_mj_solve_m", "_registry", "_robot_step",
-    "mujoco_functions",
-]  # fmt: skip
 
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:
@@ -190,8 +186,6 @@ carray = numba.carray
 def mujoco_functions() -> tuple[int, int]:
     """Addresses of ``mj_jac`` and ``mj_solveM`` in the MuJoCo library the ``mujoco``
     package ships (``libmujoco.so.*``, ``mujoco.dll`` or ``libmujoco.*.dylib`` next to it)."""
-    from ._lazy import _mujoco
-
     here = Path(str(_mujoco().__file__)).parent
     found = [p for p in here.iterdir() if p.name.startswith(("libmujoco.", "mujoco.dll"))]
     if not found:

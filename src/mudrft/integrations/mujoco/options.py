@@ -12,21 +12,18 @@ from ..._validation import (
     MudrftError,
     check_number,
     nonnegative_number,
+    positive_int,
     positive_number,
     warn_plausibility,
 )
+from ._lazy import _mujoco
+from .geoms import _collides, geom_label
+from .placement import _reference_pose, auto_feet, resolve_body
+from .rigid import RIGID_CELL
 
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = [
-    "AttachOptions",
-    "check_attach_options",
-    "check_count",
-    "check_data",
-    "check_integrator",
-    "check_removed",
-]
 
 #: Defaults of the hard bottom's penalty (D67): stiffness [N/m], damping [N s/m].
 BOTTOM_STIFFNESS, BOTTOM_DAMPING = 1e5, 2e3
@@ -51,9 +48,7 @@ def check_count(name: str, value: object) -> int:
     """An integer >= 1 (not a bool, not 2.5), or an error naming ``name``."""
     if type(value) is int and value >= 1:  # the common case, cheaply (a loop's nstep)
         return value
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise MudrftError(f"{name} must be an integer >= 1, got {value!r}")
-    return int(value)
+    return positive_int(name, value)
 
 
 def check_attach_options(
@@ -71,15 +66,11 @@ def check_attach_options(
 ) -> AttachOptions:
     """Check ``attach``'s arguments (see :class:`~mudrft.integrations.mujoco.MudBatch`),
     the model (a ``mujoco.MjModel``) first."""
-    from ._lazy import _mujoco
-
     if not isinstance(model, _mujoco().MjModel):
         raise MudrftError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
     check_gravity(model)
     if floor not in FLOOR_CHOICES:
         raise MudrftError(f"floor must be one of {FLOOR_CHOICES}, got {floor!r}")
-    from .placement import auto_feet, resolve_body
-
     auto = isinstance(bodies, str) and bodies == "auto"
     items = auto_feet(model) if auto else [bodies] if isinstance(bodies, (str, int)) else bodies
     if not isinstance(items, Sequence) or isinstance(items, str):
@@ -150,8 +141,6 @@ def check_removed(coupling: str, kw: Mapping[str, object]) -> None:
 def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling") -> None:
     """Refuse MuJoCo's RK4 integrator: holding the mud's wrench over its four stages does
     not keep a light spinning foot passive."""
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     it = mj.mjtIntegrator(int(model.opt.integrator))
     if it == mj.mjtIntegrator.mjINT_RK4:
@@ -185,15 +174,10 @@ FLOOR_WIDTH = 1.0
 def floor_geoms(model: mujoco.MjModel, d: mujoco.MjData) -> list[tuple[int, float]]:
     """The floors of a model in pose ``d`` and the height of their tops [m]: colliding geoms
     welded to the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     out = []
-    from .rigid import RIGID_CELL
-
     for g in range(model.ngeom):
-        collides = int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
-        if not collides or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
+        if not _collides(model, g) or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
             continue
         if model.geom(g).name.startswith(RIGID_CELL):  # a field's rigid cell, not a floor
             continue
@@ -213,14 +197,11 @@ def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
     leaves it."""
     if floor == "keep":
         return
-    from .placement import _reference_pose
-
     d = _reference_pose(model)
     for g, top in floor_geoms(model, d):
         if top < surface - 1e-9:
             continue
-        name = model.geom(g).name
-        label = f"geom {name!r}" if name else f"geom {g}"
+        label = geom_label(model, g, body=False)
         if floor == "below":  # lowered along -z, in its (static) body's frame
             b = int(model.geom_bodyid[g])
             R = np.asarray(d.xmat[b]).reshape(3, 3)
@@ -250,8 +231,6 @@ def _foot_geoms(
             "foot_geoms must be a mapping {body: geom name}, e.g. "
             f"foot_geoms={{{first!r}: 'foot_geom'}}, got {foot_geoms!r}"
         )
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     for body, geom in foot_geoms.items():
         bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else body
@@ -273,8 +252,6 @@ def _foot_geoms(
 
 def check_data(model: mujoco.MjModel, data: object) -> None:
     """Refuse ``data`` unless it is a ``mujoco.MjData`` of ``model``."""
-    from ._lazy import _mujoco
-
     if not isinstance(data, _mujoco().MjData):
         raise MudrftError(f"data must be a mujoco.MjData, got {type(data).__name__}")
     got = (data.qpos.size, data.qvel.size, data.xpos.shape[0], data.ctrl.size)

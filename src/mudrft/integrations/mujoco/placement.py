@@ -39,18 +39,6 @@ if TYPE_CHECKING:
 
     from ...feet.base import Foot
 
-__all__ = [
-    "BodyFoot",
-    "attached_foot",
-    "auto_feet",
-    "body_foot",
-    "coupled_tip",
-    "coupled_triangles",
-    "describe",
-    "group_triangles",
-    "resolve_body",
-]
-
 
 @dataclass(frozen=True, eq=False)
 class BodyFoot:

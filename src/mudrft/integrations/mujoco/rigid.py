@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..._validation import MudrftError, positive_number
+from ._lazy import _mujoco
 
 if TYPE_CHECKING:
     import mujoco
@@ -35,7 +36,6 @@ def add_rigid_cells(
     default); :func:`set_rigid_cells` on the compiled model makes only the rigid ones do.
     """
     from ...terrains.field import surface_at
-    from ._lazy import _mujoco
 
     box = _mujoco().mjtGeom.mjGEOM_BOX
     t = positive_number("thickness", thickness, unit="m")
@@ -64,8 +64,6 @@ def set_rigid_cells(model: mujoco.MjModel, field: MudField) -> int:
     """Make ``model``'s cell boxes (:func:`add_rigid_cells`) collide and show where
     ``field``'s cell is rigid, and neither where it is mud; the number of rigid cells.
     ``field`` has the shape of the one the boxes were added for (a draw of it)."""
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     ny, nx = field.cells.shape
     rigid = np.array([t is None for t in field.terrains])[field.cells]

@@ -8,15 +8,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..._validation import (
-    MudrftError,
-    plain,
-    positive_number,
-    warn_plausibility,
-)
+from ..._validation import MudrftError, plain, positive_number, warn_plausibility
 from ...feet.base import Foot
 from ...parameters.base import Mud
 from ...terrains.mud import MudTerrain, vertical_viscosity
+from ._lazy import _mujoco
 
 if TYPE_CHECKING:
     import mujoco
@@ -24,14 +20,6 @@ if TYPE_CHECKING:
     from .contact import MudContact
     from .placement import BodyFoot
 
-__all__ = [
-    "LARGEST_TIMESTEP",
-    "SEARCHED_TIMESTEPS",
-    "check_spring_step",
-    "check_timestep",
-    "diverged_error",
-    "stability_limits",
-]
 
 #: The time steps the passivity searches of the couplings covered [s].
 SEARCHED_TIMESTEPS = (5e-4, 5e-3)
@@ -115,8 +103,6 @@ def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None
     :math:`\omega^2\Delta t^2<1+2\gamma\Delta t` must hold, :math:`\omega^2=k/m`,
     :math:`\gamma=c/m`, :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
     """
-    from ._lazy import _mujoco
-
     mj = _mujoco()
     k, c = np.zeros(model.nv), np.array(model.dof_damping, dtype=float)
     for j in range(model.njnt):
@@ -165,16 +151,12 @@ def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None
         )
 
 
-#: The state MuJoCo checks in each step, in the order of the coupling's counters.
-_CHECKED = ("qpos", "qvel", "qacc")
-
-
 def diverged_error(
     i: int, kind: int, index: int, time: float, last: MudContact | None
 ) -> MudrftError:
     """The error for robot ``i`` whose ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2)
     MuJoCo found bad at degree of freedom ``index`` and reset, ``time`` [s] after reset."""
-    field = _CHECKED[kind]
+    field = ("qpos", "qvel", "qacc")[kind]
     force = None
     if last is not None:
         f = last.force
