@@ -4,6 +4,7 @@ r"""A foot of any shape, given as a triangle mesh: the element rule of
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import warnings
@@ -373,10 +374,7 @@ class MeshFoot(Foot):
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
         """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
-
-        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray) -> np.ndarray:
-            return np.asarray(integrate_prepared(self._prep, dd, ss, hh, trailing=self.trailing))
-
+        block = functools.partial(integrate_prepared, self._prep, trailing=self.trailing)
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
         if math.prod(shape) <= max(1, CHUNK // len(self)):
             return block(d, s, h)

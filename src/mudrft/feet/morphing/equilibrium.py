@@ -98,9 +98,8 @@ def linkage_row(
     """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1,
     pad-curl delay [s]); cached, for :func:`balanced_deflection` on floats."""
-    g = linkage.geometry
     # every field of the geometry (a field the row lacks fails below, instead of vanishing)
-    values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
+    values = dataclasses.asdict(linkage.geometry)
     values.update({k: getattr(linkage, k) for k in ("pole_top", "stroke", "branch")})
     knees = ("series_stiffness", "hard_stiffness", "knee_deflection", "knee_force")
     values.update({k: getattr(spring, k) for k in knees})
