@@ -193,10 +193,8 @@ def semicylinder_forces(
     >>> round(float(f[2]) / (2 * 0.045 * 0.065), 6)  # half-cylinder: 2WR[1 - 1/3 + 2/3]
     1.333333
     """
-    co = semicylinder_coefficients(
-        xp.asarray(depth), xp.asarray(heading), radius, width, height, xp=xp
-    )
-    return _magnitudes(co, stress, xp)
+    d, h = xp.asarray(depth), xp.asarray(heading)
+    return _magnitudes(semicylinder_coefficients(d, h, radius, width, height, xp=xp), stress, xp)
 
 
 def semisphere_forces(
