@@ -290,23 +290,17 @@ def positive_int(name: str, value: object, *, what: str = "") -> int:
 
 def positive_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number > 0 as a float (``unit`` for the messages)."""
-    v = check_number(name, value, unit=unit)
-    check_positive(name, v, unit=unit)
-    return v
+    return float(check_positive(name, check_number(name, value, unit=unit), unit=unit))
 
 
 def nonnegative_number(name: str, value: object, *, unit: str = "") -> float:
     """One finite number >= 0 as a float."""
-    v = check_number(name, value, unit=unit)
-    check_nonnegative(name, v, unit=unit)
-    return v
+    return float(check_nonnegative(name, check_number(name, value, unit=unit), unit=unit))
 
 
 def number_in_range(name: str, value: object, low: float, high: float, *, unit: str = "") -> float:
     """One finite number in ``[low, high]`` as a float."""
-    v = check_number(name, value, unit=unit)
-    check_in_range(name, v, low, high, unit=unit)
-    return v
+    return float(check_in_range(name, check_number(name, value, unit=unit), low, high, unit=unit))
 
 
 def set_number(obj: object, name: str, value: object) -> None:

@@ -100,9 +100,8 @@ class LoadControl:
             if value is not None or name not in ("mass", "leg_stiffness"):
                 _set(self, name, check(name, value, unit=unit))
         what = f"LoadControl: duration {self.duration:g} s at dt = {self.dt:g} s"
-        check_samples(
-            what, self.duration / self.dt + 1, hint="use a larger dt or a shorter duration"
-        )
+        hint = "use a larger dt or a shorter duration"
+        check_samples(what, self.duration / self.dt + 1, hint=hint)
 
     @property
     def body_mass(self) -> float:
@@ -356,7 +355,7 @@ def _simulate_load(
     n = int(np.ceil(load.duration / dt)) + 1
     t = dt * np.arange(n)
     m = load.body_mass
-    zf, vf = np.zeros(n), np.zeros(n)  # foot tip height and velocity
+    pos, vel = np.zeros((n, 3)), np.zeros((n, 3))  # the foot tip's, along z only
     force, stress = np.zeros((n, 3)), np.zeros((n, 3))
     spring = load.leg_stiffness is not None
     zb = vb = z = v = 0.0  # body (from its rest over an unloaded leg) and foot
@@ -377,12 +376,10 @@ def _simulate_load(
         state, out = terrain.step(foot, state, np.array([0.0, 0.0, z]), np.array([0.0, 0.0, v]), dt)
         f_prev = float(out.force[2])
         force[k], stress[k] = out.force, out.stress
-        zf[k], vf[k] = z, v
+        pos[k, 2], vel[k, 2] = z, v
         if report is not None and k % every == 0:
             report(k / (n - 1))
-    pos, vel = np.zeros((n, 3)), np.zeros((n, 3))
-    pos[:, 2], vel[:, 2] = zf, vf
-    depth = np.maximum(-zf, 0.0)
+    depth = np.maximum(-pos[:, 2], 0.0)
     hint = "; a lighter load or a larger foot stays within it" + (
         ". Is the weight in N (m kg weigh 9.81 m N)?" if depth.max() > BURIED_SEARCH * foot.height else ""
     )  # fmt: skip
@@ -437,11 +434,9 @@ def static_sinking(
     if not isinstance(mud, Mud):
         raise MudrftError(f"mud must be a Mud, got {type(mud).__name__}")
     W = positive_number("weight", weight, unit="N")
-    lc = (
-        float(foot.characteristic_length)
-        if characteristic_length is None
-        else check_length("characteristic_length", characteristic_length)
-    )
+    lc = float(foot.characteristic_length)
+    if characteristic_length is not None:
+        lc = check_length("characteristic_length", characteristic_length)
     force = _static_support(foot, mud, lc)
 
     def support(d: float) -> float:

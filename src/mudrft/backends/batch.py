@@ -360,9 +360,8 @@ class BatchedMud:
 
             self._st, self._out = state_rows(ch), np.zeros((1, self.n, N_OUT))
             self._fst = np.tile(self._fst0, (self.n, 1))
-            if foot_state is not None:
-                fields = (foot_state.deflection, foot_state.pad_angle, foot_state.most_spread)
-                for k, v in enumerate(fields):
+            if foot_state is not None:  # a MorphingState: deflection, pad_angle, most_spread
+                for k, v in enumerate(foot_state):
                     self._fst[:, k] = np.broadcast_to(np.asarray(v, dtype=float), n)
         elif self.backend == "jax":
             self._jst = self._jax_ravel(ch)

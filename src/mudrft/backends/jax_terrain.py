@@ -217,9 +217,5 @@ def simulate(
         )  # fmt: skip
 
     _, (f, s, d) = jax.lax.scan(body, st0, (pos[1:], vel[1:], t[1:] - t[:-1]))
-    zf = jnp.zeros((1, *f.shape[1:]))
-    return (
-        jnp.concatenate([zf, f]),
-        jnp.concatenate([zf, s]),
-        jnp.concatenate([jnp.maximum(-pos[:1, ..., 2], 0.0), d]),
-    )
+    zf, d0 = jnp.zeros((1, *f.shape[1:])), jnp.maximum(-pos[:1, ..., 2], 0.0)
+    return jnp.concatenate([zf, f]), jnp.concatenate([zf, s]), jnp.concatenate([d0, d])

@@ -36,7 +36,7 @@ CHUNK = 1 << 16
 
 def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
     """``fn(*rows)`` over the leading axis of ``rows``, about :data:`CHUNK` facet evaluations
-    (``n_facets`` a row) at a time; ``fn`` returns an array, or a (named) tuple of arrays.
+    (``n_facets`` a row) at a time; ``fn`` returns an array, or a named tuple of arrays.
 
     >>> in_chunks(lambda d: d[:, None] * np.ones(3), 1 << 15, np.arange(5.0)).shape
     (5, 3)
@@ -46,8 +46,7 @@ def in_chunks(fn: Callable[..., Any], n_facets: int, *rows: np.ndarray) -> Any:
         return fn(*rows)
     parts = [fn(*(r[i : i + step] for r in rows)) for i in range(0, n, step)]
     if isinstance(parts[0], tuple):
-        joined = [np.concatenate(p, axis=0) for p in zip(*parts, strict=True)]
-        return type(parts[0])(*joined) if hasattr(parts[0], "_fields") else tuple(joined)
+        return type(parts[0])(*(np.concatenate(p, axis=0) for p in zip(*parts, strict=True)))
     return np.concatenate(parts, axis=0)
 
 

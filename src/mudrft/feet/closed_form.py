@@ -1,12 +1,11 @@
 r"""The paper's three feet in closed form: flat, semi-cylindrical, semi-spherical (Sec. III-A).
 
 Each is the integral of eqs. (6)-(7) over the foot (supplementary Sec. II), corrected where
-the printed final differs (errata E20-E23; ``printed_*``). With :math:`z` the tip depth capped at the height,
-:math:`\varphi` the folded heading, :math:`\varphi_c=\pi/2-\varphi`,
-:math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`, :math:`c=\cos\theta_c`:
-:math:`F_x=a_x\sigma_x+b_x\sigma_y`, :math:`F_y=b_y\sigma_x+a_y\sigma_y`,
-:math:`F_z=a_z\sigma_z`, coefficients [m^2] from ``*_coefficients``; those and
-``*_forces`` take the array namespace ``xp`` (numpy by default).
+the printed final differs (errata E20-E23; ``printed_*``), as the coefficients [m^2] of its
+linear form (:func:`~mudrft.feet.base.world_force`), on the array namespace ``xp``. With
+:math:`z` the tip depth capped at the height, :math:`\varphi` the folded heading,
+:math:`\varphi_c=\pi/2-\varphi`, :math:`\theta_c=\cos^{-1}(1-z/R)`, :math:`s=\sin\theta_c`,
+:math:`c=\cos\theta_c`.
 """
 
 from __future__ import annotations
@@ -194,10 +193,8 @@ def semicylinder_forces(
     >>> round(float(f[2]) / (2 * 0.045 * 0.065), 6)  # half-cylinder: 2WR[1 - 1/3 + 2/3]
     1.333333
     """
-    co = semicylinder_coefficients(
-        xp.asarray(depth), xp.asarray(heading), radius, width, height, xp=xp
-    )
-    return _magnitudes(co, stress, xp)
+    d, h = xp.asarray(depth), xp.asarray(heading)
+    return _magnitudes(semicylinder_coefficients(d, h, radius, width, height, xp=xp), stress, xp)
 
 
 def semisphere_forces(

@@ -1,19 +1,7 @@
 r"""One triangle of a foot, element-wise over ``xp``: its frame for eq. (6) and its clip by the
-mud surface (:mod:`mudrft.feet.surface` applies it to every facet).
-
-For a facet with outward unit normal :math:`\mathbf n`, submerged area :math:`dS`, unit
-horizontal normal :math:`\hat{\mathbf n}_h`, :math:`\hat{\mathbf t}=\mathbf e_z\times
-\hat{\mathbf n}_h` and motion direction :math:`\hat{\mathbf u}=(\cos h,\sin h)`, with
-:math:`\cos\psi_2=\hat{\mathbf n}_h\cdot\hat{\mathbf u}` and
-:math:`\sin\psi_2=\hat{\mathbf t}\cdot\hat{\mathbf u}` (decisions D21-D23, erratum E24):
-
-* vertical, on facets facing down: :math:`dF_z=(\cos^3\psi_1+\sin^3\psi_1)\,\sigma_z\,dS`,
-  eq. (6) with :math:`f_n=\cos^2`, :math:`f_t=\sin^2`;
-* horizontal: :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h+\tilde f_t
-  \hat{\mathbf t}]\,|\mathbf n_h|\,dS` with :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y
-  \hat n_y^2`, :math:`\tilde f_n=\cos\psi_2|\cos\psi_2|`, :math:`\tilde f_t=\sin\psi_2
-  |\sin\psi_2|` (the supplementary's full-range factors), on leading facets only unless
-  ``trailing``.
+mud surface (:mod:`mudrft.feet.surface` applies it to every facet). The element rule, its
+angles :math:`\psi_1, \psi_2` and the factors :math:`\tilde f_n, \tilde f_t` are derived in
+docs/model.md, Sec. 6 (decisions D21-D23, erratum E24).
 """
 
 from __future__ import annotations
@@ -184,7 +172,10 @@ def facet_force(
     area: XpArray, nh: XpArray, hx: XpArray, hy: XpArray, wz: XpArray, sqx: XpArray,
     sqy: XpArray, sz: XpArray, fn: XpArray, ft: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
-    """Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet of area :math:`dS` [m^2],
-    weights of :func:`facet_frame` and :func:`facet_factors`, stresses [Pa]."""
+    r"""Force ``(Fx, Fy, Fz)`` [N] of the mud on one submerged facet of area :math:`dS` [m^2],
+    weights of :func:`facet_frame` and :func:`facet_factors`, stresses [Pa]:
+    :math:`dF_z=w_z\sigma_zdS`, :math:`d\mathbf F_h=-\sigma_e[\tilde f_n\hat{\mathbf n}_h
+    +\tilde f_t\hat{\mathbf t}]|\mathbf n_h|dS`, :math:`\sigma_e=\sigma_x\hat n_x^2+\sigma_y
+    \hat n_y^2`."""
     se = -nh * area * (sqx * hx * hx + sqy * hy * hy)  # -sigma_e |n_h| dS
     return se * (fn * hx - ft * hy), se * (fn * hy + ft * hx), wz * sz * area

@@ -4,6 +4,7 @@ r"""A foot of any shape, given as a triangle mesh: the element rule of
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import warnings
@@ -180,17 +181,17 @@ class MeshFoot(Foot):
         if not isinstance(trailing, bool | np.bool_):
             raise MudrftError(f"trailing must be True or False, got {trailing!r}")
         self.name, self.trailing = str(name), bool(trailing)
-        used = np.unique(f)
-        vu = v[used]
-        diag = float(np.linalg.norm(vu.max(0) - vu.min(0)))
+        vu = v[np.unique(f)]
+        extent = vu.max(0) - vu.min(0)
+        diag = float(np.linalg.norm(extent))
         if diag == 0.0:
             raise MudrftError("vertices must not all coincide: the mesh is degenerate (zero size)")
         hint = (
             "if its coordinates are not in metres, state their unit: MeshFoot.from_file(path, "
             "unit='mm') (CLI: --unit {m,mm,cm,in}), or scale the vertices to metres"
         )
-        what, size = f"MeshFoot {self.name!r}: the mesh is", float(np.ptp(vu, axis=0).max())
-        warn_implausible(what, size, PLAUSIBLE_FOOT_SIZE, unit="m across", hint=hint)
+        what = f"MeshFoot {self.name!r}: the mesh is"
+        warn_implausible(what, float(extent.max()), PLAUSIBLE_FOOT_SIZE, unit="m across", hint=hint)
         closed, wrong, weld = _topology(v, f)
         if wrong:
             raise MudrftError(
@@ -209,12 +210,11 @@ class MeshFoot(Foot):
             )
             f = f[~zero]
         self.closed, self.flipped = closed, False
-        if closed:
+        if closed:  # wound inward when the signed volume is negative
             tri = v[f]
-            volume = float(np.sum(tri[:, 0] * np.cross(tri[:, 1], tri[:, 2]))) / 6.0
-            if volume < 0:
+            self.flipped = bool(np.sum(tri[:, 0] * np.cross(tri[:, 1], tri[:, 2])) < 0)
+            if self.flipped:
                 f = f[:, ::-1].copy()
-                self.flipped = True
             hit = overlapping_parts(v, f, weld=weld)
             if hit is not None:
                 warnings.warn(
@@ -374,10 +374,7 @@ class MeshFoot(Foot):
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
         """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
-
-        def block(dd: np.ndarray, ss: np.ndarray, hh: np.ndarray) -> np.ndarray:
-            return np.asarray(integrate_prepared(self._prep, dd, ss, hh, trailing=self.trailing))
-
+        block = functools.partial(integrate_prepared, self._prep, trailing=self.trailing)
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
         if math.prod(shape) <= max(1, CHUNK // len(self)):
             return block(d, s, h)

@@ -12,8 +12,7 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray, Namespace, RotationLike, XpArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
-from .base import Foot, SurfaceElements
-from .base import check_resultant_inputs as _check_inputs
+from .base import Foot, SurfaceElements, check_resultant_inputs
 from .closed_form import (
     DEFAULT_RESOLUTION,
     _magnitudes,
@@ -74,7 +73,7 @@ class _ClosedFormFoot(Foot):
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
-        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
+        d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         return _magnitudes(self.coefficients(d, h), s, np)
 
     def force_components(

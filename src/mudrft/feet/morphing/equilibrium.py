@@ -98,9 +98,8 @@ def linkage_row(
     """The :class:`~.linkage.MorphingRow` of a :class:`~.linkage.Linkage` and a
     :class:`~.springs.TwoStageSpring` (seal length [m], locked deflection [m] or -1,
     pad-curl delay [s]); cached, for :func:`balanced_deflection` on floats."""
-    g = linkage.geometry
     # every field of the geometry (a field the row lacks fails below, instead of vanishing)
-    values = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
+    values = dataclasses.asdict(linkage.geometry)
     values.update({k: getattr(linkage, k) for k in ("pole_top", "stroke", "branch")})
     knees = ("series_stiffness", "hard_stiffness", "knee_deflection", "knee_force")
     values.update({k: getattr(spring, k) for k in knees})
@@ -184,9 +183,9 @@ def _move(
     r_p: NDArray[np.float64], linkage: Linkage, spring: TwoStageSpring,
 ) -> NDArray[np.float64]:  # fmt: skip
     """The moving elements of a batch: the scan on arrays, then ``find_root`` in one call."""
-    stroke = linkage.stroke
+    stroke, f = linkage.stroke, functools.partial(residual, linkage=linkage, spring=spring)
     nodes = np.linspace(0.0, stroke, _GRID)
-    r_n = residual(nodes[None, :], d[:, None], s[:, None], linkage=linkage, spring=spring)
+    r_n = f(nodes[None, :], d[:, None], s[:, None])
     up = r_p < 0.0
     r_n = np.where(up[:, None], r_n, r_n[:, ::-1])  # in the direction of motion
     lo, flo, hi, fhi, found = p, r_p, p, r_p, np.zeros(d.size, dtype=bool)
@@ -198,11 +197,6 @@ def _move(
     out, open_ = _settle(up, found, lo, flo, hi, fhi, stroke)
     if not np.any(open_):
         return np.asarray(out)
-
-    def f(
-        xx: NDArray[np.float64], dd: NDArray[np.float64], ss: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        return residual(xx, dd, ss, linkage=linkage, spring=spring)
 
     a, b, dd, ss = lo[open_], hi[open_], d[open_], s[open_]
     tol = {"xatol": _XTOL, "xrtol": 0.0, "fatol": _FTOL, "frtol": 0.0}

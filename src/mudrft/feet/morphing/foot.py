@@ -20,8 +20,7 @@ from ..._validation import (
     check_nonnegative,
     positive_number,
 )
-from ..base import Foot, SurfaceElements
-from ..base import check_resultant_inputs as _check_inputs
+from ..base import Foot, SurfaceElements, check_resultant_inputs
 from . import pads
 from .equilibrium import (
     MorphingState,
@@ -284,7 +283,7 @@ class MorphingFoot(Foot):
     ) -> NDArray[np.float64]:
         """First-quadrant magnitudes (Fx, Fy, Fz) [N] at a given deflection [m]; the other
         arguments as :meth:`resultant`."""
-        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
+        d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         return pads.magnitudes(self.geometry, d, s, h, self.pad_angle(deflection))
 
     def resultant(
@@ -292,7 +291,7 @@ class MorphingFoot(Foot):
     ) -> NDArray[np.float64]:
         """Magnitudes (Fx, Fy, Fz) [N] at the first equilibrium met loading from rest (D34);
         arguments as :meth:`Foot.resultant`."""
-        d, s, h = _check_inputs(depth, stress, heading, height=self.height)
+        d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
         return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
 
@@ -313,9 +312,8 @@ class MorphingFoot(Foot):
         return MorphingState(np.asarray(delta), np.asarray(th), np.asarray(th))
 
     def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
-        r"""Seal factor :math:`1-\tanh(g/g_s)` [-], :math:`g=\ell(\sin\theta-\sin\theta_m)` the
-        lift of the pad rims since their most spread position in this contact (D35); 1.0
-        for ``None``."""
+        """Seal factor [-] of :func:`~.equilibrium.seal_factor` at the state's pad angles
+        (D35); 1.0 for ``None``."""
         if foot_state is None:
             return 1.0
         g_s, length = self.seal_length, self.geometry.pad_length
@@ -349,7 +347,7 @@ class MorphingFoot(Foot):
     ) -> NDArray[np.float64]:
         """Center of the vertical pressure in the foot frame [m], shape (..., 3): on the axis,
         at the height of the area-weighted centroid of the submerged base and pad parts."""
-        d, s, _ = _check_inputs(depth, stress, heading, height=self.height)
+        d, s, _ = check_resultant_inputs(depth, stress, heading, height=self.height)
         th = self._linkage.angle(self._deflection(d, s[..., 2], 0.0))
         z = pads.center_height(self.geometry, d, th)
         return np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=-1)

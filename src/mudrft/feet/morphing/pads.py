@@ -108,9 +108,8 @@ def coefficients(
     g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, phi: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
-    r"""Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33) at the
-    first-quadrant heading ``phi`` [rad]: :math:`F_x=A_h\cos\varphi\,\sigma_x`,
-    :math:`F_y=A_h\sin\varphi\,\sigma_y`, :math:`F_z=A_z\sigma_z`."""
+    """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33, module
+    docstring) at tip ``depth`` [m], pad angle ``theta`` [rad] and folded heading ``phi`` [rad]."""
     ah = horizontal_area(g, depth, theta, phi, xp=xp)
     zero = 0.0 * ah
     return (ah * xp.cos(phi), zero, zero, ah * xp.sin(phi), vertical_area(g, depth, theta, xp=xp))
