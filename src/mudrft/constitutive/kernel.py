@@ -1,6 +1,6 @@
 r"""The constitutive step, :func:`channel_step`: the one definition of how a stress channel
 advances in time (eqs. 1-5, or the closed forms 9-11, decision D15), in the element-wise
-subset of :mod:`mudrft._xp`."""
+subset of :mod:`mudrft._xp`, the namespace every ``xp`` argument here names."""
 
 from __future__ import annotations
 
@@ -84,8 +84,6 @@ def relaxation_convolution(
         The two relaxation times [s], > 0.
     e_lam, e_tau : array_like
         :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-].
-    xp : module
-        Element-wise namespace (:mod:`mudrft._xp`).
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
@@ -104,27 +102,9 @@ def channel_update(
     suction (eq. 5) with the sealing state at mid-step (D4); total (eq. 1)
     :math:`\sigma_b(1-\phi_{end})+\sigma_{th}+H_\nu\sigma_s`.
 
-    Parameters
-    ----------
-    c : ChannelConstants
-        Model constants (SI), from :func:`channel_constants`.
-    state : ChannelState
-        State at the start of the step.
-    gamma, gamma_dot : array_like
-        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
-    dt : float or array_like
-        Step length [s], > 0.
-    seal : array_like
-        Factor in [0, 1] multiplying the sealing state [-].
-    kappa : float
-        1.0 keeps the acceleration term of :math:`f_\xi`, 0.0 drops it [-].
-    xp : module
-        Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    tuple of ChannelState, ChannelStress
-        State and stresses [Pa] at the end of the step.
+    Parameters and returns as :func:`~mudrft.constitutive.dynamics.step`, with ``c`` the
+    constants (SI) of :func:`channel_constants` and ``kappa`` [-]: 1.0 keeps the acceleration
+    term of :math:`f_\xi`, 0.0 drops it.
     """
     gw_new, direction, r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
