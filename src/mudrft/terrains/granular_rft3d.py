@@ -7,15 +7,12 @@ depth :math:`|z|` carries :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
 
     \boldsymbol\alpha = \xi_n\big[\boldsymbol\alpha^{gen}_n
         + \min\big(\mu_{surf}\,|\boldsymbol\alpha^{gen}_n| / |\boldsymbol\alpha^{gen}_t|,\,1\big)
-        \,\boldsymbol\alpha^{gen}_t\big],\qquad
-    \xi_n = \rho_c\,g\,(894\mu_{int}^3 - 386\mu_{int}^2 + 89\mu_{int}),
+        \,\boldsymbol\alpha^{gen}_t\big],
 
-:math:`\boldsymbol\alpha^{gen}` the generic response of the paper's cubic fit
-(:func:`agarwal_generic_alpha`) with its parts normal and tangent to the element,
-:math:`\mu_{surf}` the intruder-surface friction, :math:`\rho_c` [kg/m^3] and
-:math:`\mu_{int}` [-] the medium's density and internal friction. Submerged leading elements
-carry force, weighted as in granular RFT (:func:`~mudrft.terrains.granular_rft.leading_weight`;
-decisions D90-D95).
+:math:`\boldsymbol\alpha^{gen}` (:func:`rft3d_alpha`) split into its parts normal and tangent
+to the element, :math:`\xi_n` from :func:`agarwal_xi` and :math:`\mu_{surf}` [-] the
+intruder-surface friction; leading elements only, as in granular RFT (docs/model.md,
+section 8, decisions D90-D95).
 """
 
 from __future__ import annotations
