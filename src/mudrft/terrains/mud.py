@@ -100,17 +100,12 @@ def mud_step(
         Tip velocity over the step [m/s].
     dt, lc : float
         Step [s] and characteristic length :math:`L_c` [m].
-    kappa, xi0 : float
-        1.0 keeps the acceleration term (D6) [-]; structure of undisturbed mud [-].
-    reset : bool
-        Reset the channels on re-entry (decision D11).
-    heading_speed : float
-        Below this horizontal speed the heading is kept [m/s].
+    kappa, xi0, reset, heading_speed, quasi_static, restart
+        :class:`MudTerrain`'s ``kappa`` [-], ``xi0`` [-], ``reset_on_exit``,
+        ``heading_speed`` [m/s], ``quasi_static`` and ``restart`` (decisions D6, D11, D15).
     seal : array_like
         Sealing factor of the vertical channel in [0, 1] [-].
-    quasi_static, restart : bool
-        Static choice of the evaluation (decision D15).
-    xp : module, keyword-only
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
 
     Returns
@@ -292,9 +287,8 @@ class MudTerrain:
         if self.characteristic_length is not None:
             lc = check_characteristic_length("MudTerrain", self.characteristic_length)
             object.__setattr__(self, "characteristic_length", lc)
-        qs, restart, kappa = evaluation(self.thixotropy, self.clock, self.acceleration)
+        kappa = evaluation(self.thixotropy, self.clock, self.acceleration)[2]
         object.__setattr__(self, "acceleration", kappa == 1.0)
-        object.__setattr__(self, "_flags", (qs, restart))
         if not isinstance(self.reset_on_exit, bool | np.bool_):
             raise MudrftError(f"reset_on_exit must be True or False, got {self.reset_on_exit!r}")
         object.__setattr__(self, "reset_on_exit", bool(self.reset_on_exit))
@@ -325,12 +319,12 @@ class MudTerrain:
     @property
     def quasi_static(self) -> bool:
         """True for the paper's quasi-static evaluation, eqs. (9)-(11) (decision D15)."""
-        return bool(self._flags[0])  # type: ignore[attr-defined]
+        return self.thixotropy == "quasi-static"
 
     @property
     def restart(self) -> bool:
         """True when the clock of eq. (9) restarts at the retraction (decision D15)."""
-        return bool(self._flags[1])  # type: ignore[attr-defined]
+        return self.clock == "retraction"
 
     def length(self, foot: Foot) -> float:
         """:math:`L_c` [m]: the terrain's own, else the foot's."""
