@@ -1,18 +1,12 @@
-r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
+r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction (D55).
 
-A reconstruction from what Chen et al. 2026 say of it (decision D55):
-
-* a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n`;
-* a Maxwell element (spring :math:`G`, dashpot :math:`\eta_M=G\lambda_M` in series),
-  :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`;
-* suction from a second-order low-pass filter,
-  :math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
-  :math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`)
-  and 0 otherwise;
-* 1D: :math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)`, :math:`\gamma=d/L_c`.
-
-:math:`\alpha` and :math:`n` are Table S1's (W = 25 %, vertical); the rest were fitted
-(:func:`fit_maxwell`) to the mudrft W = 25 % vertical plate test.
+:math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)` at :math:`\gamma=d/L_c`: a nonlinear spring
+:math:`\sigma_e=\alpha\gamma^n`, a Maxwell element (spring :math:`G`, dashpot
+:math:`\eta_M=G\lambda_M`) :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`, and suction
+from the low-pass filter
+:math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
+:math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`), else 0.
+docs/model.md (D55) says what is reconstructed, and what fitted (:func:`fit_maxwell`).
 """
 
 from __future__ import annotations
