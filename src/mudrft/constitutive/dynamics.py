@@ -84,6 +84,17 @@ def step(
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""Advance one stress channel by ``dt`` at a rate held constant over the step.
 
+    .. math::
+       :label: chen2026-eq-3a
+
+       \dot\sigma_{th}=\frac1\lambda f_\xi-\frac1\lambda\sigma_{th},\quad
+       f_\xi=(\eta_\infty+\xi\eta_m)\dot\gamma+\lambda\eta_\infty\ddot\gamma \tag{3a}
+
+    .. math::
+       :label: chen2026-eq-5
+
+       \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
+
     Parameters
     ----------
     params : MudParameters
@@ -107,19 +118,6 @@ def step(
     -------
     tuple of ChannelState, ChannelStress
         State and stresses [Pa] at the end of the step.
-
-    Notes
-    -----
-    .. math::
-       :label: chen2026-eq-3a
-
-       \dot\sigma_{th}=\frac1\lambda f_\xi-\frac1\lambda\sigma_{th},\quad
-       f_\xi=(\eta_\infty+\xi\eta_m)\dot\gamma+\lambda\eta_\infty\ddot\gamma \tag{3a}
-
-    .. math::
-       :label: chen2026-eq-5
-
-       \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
 
     Examples
     --------
@@ -237,15 +235,14 @@ def run(
     check_parameter_shapes({k: np.shape(getattr(params, k)) for k in PARAMETER_UNITS}, g.shape[1:])
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     consts = kernel.channel_constants(params)
-    seal_arr = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
+    seals = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
     st = state if state is not None else initial_state(g.shape[1:], xi0=xi0, gamma=g[0])
     out = {k: np.zeros(g.shape) for k in (*ChannelStress._fields, "xi")}
     out["xi"][0] = st.xi
-    s_const = float(seal) if seal_arr is None else None
     for k in range(1, t.size):
         dt = t[k] - t[k - 1]
         rate = (g[k] - g[k - 1]) / dt
-        sk = s_const if seal_arr is None else seal_arr[k]
+        sk = float(seal) if seals is None else seals[k]
         st, s = kernel.channel_step(consts, st, g[k], rate, dt, sk, kappa, qs, restart)
         for name, value in zip(ChannelStress._fields, s, strict=True):
             out[name][k] = value
