@@ -140,15 +140,8 @@ def channel_update_quasi_static(
     seal: XpArray = 1.0, restart: bool = False, xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15):
-
-    .. math::
-        \sigma_{th} = (1-e^{-t/\lambda})\,(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma,\qquad
-        \sigma_s = (1-e^{-a\Delta t})\,\sigma_{s,ss},\quad
-        \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
-        a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
-
-    with :math:`\phi` at the current retraction (times ``seal``) and :math:`\Delta t=t-t_w`;
-    the clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``.
+    eq. (9) with the clock :math:`t` from first contact, or from :math:`t_w` with ``restart``,
+    and eqs. (10)-(11) with :math:`\phi` at the current retraction (times ``seal``).
 
     Parameters and returns as :func:`channel_update`, with ``restart`` (bool) in place of
     ``kappa``; ``gamma_dot`` [1/s] is the rate at the end of the step.

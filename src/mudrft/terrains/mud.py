@@ -120,9 +120,8 @@ def mud_step(
         st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
     hor, ver = ch
-    qs, rs = quasi_static, restart
-    chh, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
-    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    chh, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, quasi_static, restart, xp)
+    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, quasi_static, restart, xp)
     s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
     inside = xp.where(in_mud, 1.0, 0.0)
     new = MudChannels(chh, cz, ex, ey, line, heading, inside)
@@ -187,13 +186,12 @@ def mud_channel_stress(
         st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
     hor, ver = ch
-    qs, rs = quasi_static, restart
     inside = xp.where(in_mud, 1.0, 0.0)
     if c < 2:
-        _, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
+        _, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, quasi_static, restart, xp)
         s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
         return s * inside, heading
-    _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, quasi_static, restart, xp)
     return s.total * inside, line
 
 
