@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import tomllib
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
@@ -23,7 +24,8 @@ import numpy as np
 from .._typing import ArrayLike, FloatArray, IndexArray, Namespace, XpArray
 from .._validation import MudrftError, plain, positive_number
 from .._xp import pyfloat
-from ..parameters.base import Mud
+from ..parameters.base import Mud, MudParameters
+from ..parameters.registry import paper_mud
 from .mud import MudTerrain
 from .rows import N_CONST, constant_row
 
@@ -173,8 +175,6 @@ def _terrain(name: str, value: object) -> MudTerrain | None:
     if isinstance(value, Mud):
         return MudTerrain(value)
     if isinstance(value, int | float) and not isinstance(value, bool):
-        from ..parameters.registry import paper_mud
-
         return MudTerrain(paper_mud(float(value)))
     raise MudrftError(
         f"region {name!r} must be a water content [-], a Mud, a MudTerrain or {RIGID!r}, "
@@ -288,8 +288,7 @@ class MudField:
         if extra or "regions" not in spec or "cells" not in spec:
             raise MudrftError(
                 f"{path}: a field spec has regions and cells (and cell_size, origin, border, "
-                "heights); "
-                f"got keys {sorted(spec)}"
+                f"heights); got keys {sorted(spec)}"
             )
         return cls(**spec)
 
@@ -424,11 +423,6 @@ class MudField:
         layout : bool, keyword-only
             Each cell draws its region uniformly from the field's regions.
         """
-        import warnings
-
-        from ..parameters.base import MudParameters
-        from ..parameters.registry import paper_mud
-
         rng = np.random.default_rng(seed)
         regions: dict[str, object] = {}
         for name, t in zip(self.names, self.terrains, strict=True):
