@@ -38,12 +38,8 @@ class ChannelConstants(NamedTuple):
 
 
 def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxParams
-    """The constants of :func:`channel_update` from a parameter set.
-
-    Parameters
-    ----------
-    params : MudParameters or JaxParams
-        Fields of :class:`~mudrft.parameters.base.MudParameters` (floats or arrays).
+    """The constants of :func:`channel_update` from ``params``, a
+    :class:`~mudrft.parameters.base.MudParameters` or JaxParams (SI fields, floats or arrays).
 
     Examples
     --------
@@ -74,16 +70,9 @@ def relaxation_convolution(
         x = t\Big(\frac1\lambda-\frac1\tau\Big),
 
     the right-hand form for :math:`x\le1` (exact at :math:`\tau=\lambda`, erratum E5), the
-    left-hand one beyond (the right overflows past :math:`x=709`).
-
-    Parameters
-    ----------
-    t : array_like
-        Elapsed time [s], >= 0.
-    lam, tau : array_like
-        The two relaxation times [s], > 0.
-    e_lam, e_tau : array_like
-        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-].
+    left-hand one beyond (the right overflows past :math:`x=709`). ``t`` [s] >= 0 is the
+    elapsed time, ``lam`` and ``tau`` [s] > 0 the two relaxation times, ``e_lam`` and ``e_tau``
+    [-] their :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}`.
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)

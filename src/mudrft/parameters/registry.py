@@ -145,9 +145,7 @@ def paper_mud(
     ----------
     water_content : float
         Volumetric water content as a fraction [-], in [0.25, 0.45].
-    extrapolate : bool, keyword-only
-        Allow [0.15, 0.50] with a warning.
-    labels : {"table", "text"}, keyword-only
+    extrapolate, labels : keyword-only
         As :func:`paper_parameters`.
 
     Examples

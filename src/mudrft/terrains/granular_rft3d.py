@@ -238,16 +238,10 @@ def rft3d_alpha(
 
     Parameters
     ----------
-    normals : array_like, shape (m, 3)
-        Outward normals of the elements [-].
-    direction : array_like, shape (..., 3)
-        Direction of motion [-].
+    normals, direction, coefficients, wall_width
+        As :func:`rft3d_forces`.
     mu_surf : float or None, keyword-only
         Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
-    coefficients : PolynomialCoefficients, keyword-only
-        The fit.
-    wall_width : float, keyword-only
-        Blend width across vertical walls in :math:`n_z` [-] (D93).
 
     Returns
     -------

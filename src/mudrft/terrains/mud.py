@@ -246,11 +246,8 @@ class MudTerrain:
         Vertical and horizontal parameter sets.
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's own.
-    acceleration : bool or None
-        Keep the acceleration term of the ODE (decision D6); None: True for the ODE.
-    thixotropy, clock : {"ode", "quasi-static"}, {"contact", "retraction"}
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (D15), their clock
-        (eq. 9) running from first contact or from the retraction.
+    acceleration, thixotropy, clock
+        The evaluation (:func:`~mudrft.constitutive.dynamics.evaluation`; decisions D6, D15).
     reset_on_exit : bool
         Land in undisturbed mud after the tip left it (decision D11).
     xi0 : float
