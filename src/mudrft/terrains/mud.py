@@ -79,14 +79,9 @@ def mud_step(
 ) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
 
-    Two channels (Sec. II-C). Horizontal: :math:`\gamma_h=\pm|\mathbf r|/L_c` with
-    :math:`\mathbf r` the tip's offset from the entry point, along the line
-    :math:`\hat{\mathbf l}` through it (oriented once, so :math:`\gamma_h` is odd), at rate
-    :math:`\hat{\mathbf l}\cdot\mathbf u_h/L_c`; the motion :math:`u_t` across the line meets
-    :math:`\eta_\infty u_t/L_c` (D9a), and the stress vector's magnitude goes to ``sx`` and
-    ``sy`` alike, its direction to the heading (D9). Vertical: :math:`\gamma_z=d/L_c`,
-    :math:`d=\max(-z,0)`, rate :math:`-\dot z/L_c` (0 out of the mud). A tip that was out of
-    the mud starts from undisturbed mud when ``reset`` (D11, D52).
+    Two channels (Sec. II-C): the horizontal one at :math:`\gamma_h=\pm|\mathbf r|/L_c`, the
+    tip's offset from the entry point along its line, the vertical one at :math:`\gamma_z=d/L_c`,
+    :math:`d=\max(-z,0)`; docs/model.md, section 5, defines them (decisions D9, D9a, D11, D52).
 
     Parameters
     ----------
