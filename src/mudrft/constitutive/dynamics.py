@@ -61,8 +61,7 @@ def evaluation(
     check_choice("clock", clock, CLOCKS)
     if acceleration is not None and not isinstance(acceleration, bool | np.bool_):
         raise MudrftError(f"acceleration must be True, False or None, got {acceleration!r}")
-    quasi_static = thixotropy == "quasi-static"
-    if quasi_static:
+    if thixotropy == "quasi-static":
         if acceleration:
             raise MudrftError(
                 "acceleration=True cannot be combined with thixotropy='quasi-static': eq. (9) "
@@ -82,7 +81,8 @@ def step(
     seal: XpArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
     clock: str = "contact", xp: Namespace = np, validate: bool = True,
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
-    r"""Advance one stress channel by ``dt`` at a rate held constant over the step.
+    r"""Advance one stress channel by ``dt`` at a rate held constant over the step; return its
+    :class:`ChannelState` and :class:`ChannelStress` [Pa] at the end of the step.
 
     .. math::
        :label: chen2026-eq-3a
@@ -113,11 +113,6 @@ def step(
         Array namespace (``numpy`` or ``jax.numpy``); no validation under JAX.
     validate : bool, keyword-only
         Check the inputs (default).
-
-    Returns
-    -------
-    tuple of ChannelState, ChannelStress
-        State and stresses [Pa] at the end of the step.
 
     Examples
     --------
@@ -200,7 +195,9 @@ def run(
     seal: FloatOrArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
     clock: str = "contact", xi0: float = 0.0,
 ) -> ChannelHistory:  # fmt: skip
-    """Run one channel along a displacement history, piecewise linear between samples.
+    """Run one channel along a displacement history, piecewise linear between samples: the
+    :class:`ChannelHistory` of stresses [Pa] and structure at every sample (the first sample is
+    the initial state).
 
     Parameters
     ----------
@@ -218,11 +215,6 @@ def run(
         The evaluation (:func:`evaluation`; decisions D6, D15).
     xi0 : float, keyword-only
         Initial structure when ``state`` is not given [-].
-
-    Returns
-    -------
-    ChannelHistory
-        Stresses [Pa] and structure at every sample (the first sample is the initial state).
     """
     t, g = check_increasing("time", time), check_finite("gamma", gamma)
     if g.shape[:1] != t.shape:

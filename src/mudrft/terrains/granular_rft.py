@@ -181,7 +181,8 @@ def rft_forces(
     zeta: float = DEFAULT_ZETA, coefficients: FourierCoefficients = LI2013_GENERIC,
     extension: str = "treers2021", per_element: bool = False, leading_width: float = LEADING_WIDTH,
 ) -> np.ndarray:  # fmt: skip
-    r"""Granular RFT force on surface elements moving in one direction.
+    r"""Granular RFT force [N] of the medium on surface elements moving in one direction, world
+    frame: shape (..., 3), or (..., m, 3) with ``per_element``.
 
     Parameters
     ----------
@@ -203,11 +204,6 @@ def rft_forces(
         Return the force of every element (..., m, 3) instead of the sum.
     leading_width : float, keyword-only
         Width of the leading-facet ramp [-] (:func:`leading_weight`, D53).
-
-    Returns
-    -------
-    ndarray, shape (..., 3) or (..., m, 3)
-        Force of the medium on the elements, world frame [N].
 
     Examples
     --------

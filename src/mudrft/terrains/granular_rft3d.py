@@ -226,7 +226,8 @@ def rft3d_alpha(
     normals: ArrayLike, direction: ArrayLike, *, mu_surf: float | None = None,
     coefficients: PolynomialCoefficients = AGARWAL2023, wall_width: float = WALL_WIDTH,
 ) -> NDArray[np.float64]:  # fmt: skip
-    r"""Generic 3D-RFT response of elements, world frame, optionally friction-capped [-].
+    r"""Generic 3D-RFT response of elements (..., m, 3), optionally friction-capped: the force per
+    unit :math:`\xi_n`, depth and area, world frame [-].
 
     .. math::
 
@@ -242,11 +243,6 @@ def rft3d_alpha(
         As :func:`rft3d_forces`.
     mu_surf : float or None, keyword-only
         Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
-
-    Returns
-    -------
-    ndarray, shape (..., m, 3)
-        Force per unit :math:`\xi_n`, depth and area, world frame [-].
 
     Examples
     --------

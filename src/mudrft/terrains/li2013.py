@@ -93,7 +93,8 @@ PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
 def li2013_alpha(
     beta: ArrayLike, gamma: ArrayLike, *, coefficients: FourierCoefficients = LI2013_GENERIC
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
+    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)` in the
+    fit's units: :math:`\alpha_x` > 0 resists the motion, :math:`\alpha_z` > 0 lifts.
 
     Parameters
     ----------
@@ -103,11 +104,6 @@ def li2013_alpha(
         Angle of the velocity below the horizontal [rad], in :math:`[-\pi/2, \pi/2]`.
     coefficients : FourierCoefficients, keyword-only
         The fit (default: the generic one, dimensionless).
-
-    Returns
-    -------
-    (ndarray, ndarray)
-        :math:`\alpha_x` (> 0 resists the motion), :math:`\alpha_z` (> 0 lifts), fit units.
 
     Examples
     --------

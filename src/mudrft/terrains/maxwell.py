@@ -177,7 +177,8 @@ class MaxwellMud:
     def response(
         self, trajectory: Trajectory, *, characteristic_length: float = 0.05
     ) -> np.ndarray:
-        r"""Vertical stress [Pa] on a plate along a vertical trajectory (no foot needed).
+        r"""Vertical stress :math:`\sigma_e+\sigma_M+\sigma_s` [Pa] on a plate at the samples of a
+        vertical trajectory, 0 out of the mud (no foot needed).
 
         Parameters
         ----------
@@ -185,11 +186,6 @@ class MaxwellMud:
             Tip motion; its depth [m] and vertical velocity [m/s] are used.
         characteristic_length : float, keyword-only
             Plate :math:`L_c` [m].
-
-        Returns
-        -------
-        ndarray, shape (n,)
-            :math:`\sigma_e+\sigma_M+\sigma_s` at the samples [Pa] (0 out of the mud).
 
         Examples
         --------
