@@ -34,7 +34,7 @@ from .._validation import set_number as _set
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
+from .base import TerrainOutput, kinematics, projected, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -172,7 +172,7 @@ class MaxwellMud:
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)
-        return new, vertical_output(sz * area_z(foot, depth), sz, depth)
+        return new, vertical_output(sz * projected(foot, depth)[..., 2], sz, depth)
 
     def response(
         self, trajectory: Trajectory, *, characteristic_length: float = 0.05
