@@ -5,6 +5,7 @@ how the mud under a foot advances (element-wise over any ``xp``), and its option
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -287,8 +288,6 @@ class MudTerrain:
         object.__setattr__(self, "heading_speed", hs)
         if not isinstance(self.name, str):
             raise MudrftError(f"name must be a string, got {self.name!r}")
-        pair = (channel_constants(self.mud.horizontal), channel_constants(self.mud.vertical))
-        object.__setattr__(self, "_constants", pair)
         register("chen2026mud")
 
     @property
@@ -296,10 +295,10 @@ class MudTerrain:
         """The stacked (x, y, z) channel parameters (trailing axis of 3)."""
         return channel_parameters(self.mud)
 
-    @property
+    @cached_property
     def constants(self) -> ConstantsPair:
         """``(horizontal, vertical)`` channel constants of :func:`mud_step`."""
-        return self._constants  # type: ignore[attr-defined,no-any-return]
+        return channel_constants(self.mud.horizontal), channel_constants(self.mud.vertical)
 
     @property
     def kappa(self) -> float:
