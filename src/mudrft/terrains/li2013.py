@@ -1,8 +1,5 @@
-r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media.
-
-The stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)`:
-the generic fit :data:`LI2013_GENERIC`, normalised to :math:`\alpha_z(0,\pi/2)=1`, times the
-medium's scale :math:`\zeta` [N/m^3] (:data:`GRANULAR_MEDIA`; Li et al. print N/cm^3, D50).
+r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media; the
+stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)` (D50).
 """
 
 from __future__ import annotations
