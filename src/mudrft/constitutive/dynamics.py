@@ -157,14 +157,12 @@ def _check(gamma: object, gamma_dot: object, dt: object) -> None:
 
 def _one_channel(*values: object) -> bool:
     """Whether every value (numbers, or named tuples of numbers) is one real number."""
-    for v in values:
-        for x in v if isinstance(v, tuple) else (v,):
-            if not (
-                isinstance(x, (float, int, np.floating, np.integer))
-                or (isinstance(x, np.ndarray) and x.ndim == 0 and x.dtype.kind in "fiu")
-            ):
-                return False
-    return True
+    flat = [x for v in values for x in (v if isinstance(v, tuple) else (v,))]
+    return all(
+        isinstance(x, (float, int, np.floating, np.integer))
+        or (isinstance(x, np.ndarray) and x.ndim == 0 and x.dtype.kind in "fiu")
+        for x in flat
+    )
 
 
 class ChannelHistory(NamedTuple):
