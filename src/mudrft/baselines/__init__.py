@@ -1,12 +1,5 @@
-"""Baseline terrain models to compare the mud model with (supplementary Sec. III-D).
-
-Every model is a :class:`mudrft.terrains.Terrain`:
-
-* :class:`GranularRFT` -- granular RFT (Li et al. 2013) in 3D (Treers et al. 2021);
-* :class:`~mudrft.terrains.GranularRFT3D` -- the 3D-RFT of Agarwal et al. (2023);
-* :class:`LinearStiffness` -- linear mud stiffness (Godon et al. 2022, Liu et al. 2023);
-* :class:`MaxwellMud` -- a *reconstruction* of the Maxwell-type mud of Chen et al. (AIM 2024);
-* :class:`RigidGround` -- penalty contact with regularised Coulomb friction.
+"""Baseline terrain models to compare the mud model with (supplementary Sec. III-D), each a
+:class:`mudrft.terrains.Terrain` (docs/model.md, section 8, tabulates them and their sources).
 
 >>> import mudrft
 >>> from mudrft.baselines import compare

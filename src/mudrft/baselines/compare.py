@@ -136,7 +136,8 @@ def compare(
     water_content: float = 0.25, extrapolate: bool = False,
     progress: bool | Callable[[float], None] = False, strict: bool = False,
 ) -> dict[str, History]:  # fmt: skip
-    """Run several terrains on the same foot and trajectory.
+    """Run several terrains on the same foot and trajectory: ``{name: History}``, in the order
+    given.
 
     Parameters
     ----------
@@ -156,11 +157,6 @@ def compare(
     strict : bool, keyword-only
         Refuse a trajectory that takes the foot deeper than its height, instead of warning
         (:class:`~mudrft.trajectories.BuriedFootWarning`), as :func:`mudrft.simulate`.
-
-    Returns
-    -------
-    dict
-        Terrain name -> :class:`History`, in the order given.
 
     Examples
     --------

@@ -61,8 +61,7 @@ def evaluation(
     check_choice("clock", clock, CLOCKS)
     if acceleration is not None and not isinstance(acceleration, bool | np.bool_):
         raise MudrftError(f"acceleration must be True, False or None, got {acceleration!r}")
-    quasi_static = thixotropy == "quasi-static"
-    if quasi_static:
+    if thixotropy == "quasi-static":
         if acceleration:
             raise MudrftError(
                 "acceleration=True cannot be combined with thixotropy='quasi-static': eq. (9) "
@@ -82,7 +81,19 @@ def step(
     seal: XpArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
     clock: str = "contact", xp: Namespace = np, validate: bool = True,
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
-    r"""Advance one stress channel by ``dt`` at a rate held constant over the step.
+    r"""Advance one stress channel by ``dt`` at a rate held constant over the step; return its
+    :class:`ChannelState` and :class:`ChannelStress` [Pa] at the end of the step.
+
+    .. math::
+       :label: chen2026-eq-3a
+
+       \dot\sigma_{th}=\frac1\lambda f_\xi-\frac1\lambda\sigma_{th},\quad
+       f_\xi=(\eta_\infty+\xi\eta_m)\dot\gamma+\lambda\eta_\infty\ddot\gamma \tag{3a}
+
+    .. math::
+       :label: chen2026-eq-5
+
+       \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
 
     Parameters
     ----------
@@ -102,24 +113,6 @@ def step(
         Array namespace (``numpy`` or ``jax.numpy``); no validation under JAX.
     validate : bool, keyword-only
         Check the inputs (default).
-
-    Returns
-    -------
-    tuple of ChannelState, ChannelStress
-        State and stresses [Pa] at the end of the step.
-
-    Notes
-    -----
-    .. math::
-       :label: chen2026-eq-3a
-
-       \dot\sigma_{th}=\frac1\lambda f_\xi-\frac1\lambda\sigma_{th},\quad
-       f_\xi=(\eta_\infty+\xi\eta_m)\dot\gamma+\lambda\eta_\infty\ddot\gamma \tag{3a}
-
-    .. math::
-       :label: chen2026-eq-5
-
-       \dot\sigma_s=-\frac{\phi}{\tau_{build}}(\sigma_s+\sigma_Y)-\frac{1-\phi}{\tau_{leak}}\sigma_s \tag{5}
 
     Examples
     --------
@@ -164,14 +157,12 @@ def _check(gamma: object, gamma_dot: object, dt: object) -> None:
 
 def _one_channel(*values: object) -> bool:
     """Whether every value (numbers, or named tuples of numbers) is one real number."""
-    for v in values:
-        for x in v if isinstance(v, tuple) else (v,):
-            if not (
-                isinstance(x, (float, int, np.floating, np.integer))
-                or (isinstance(x, np.ndarray) and x.ndim == 0 and x.dtype.kind in "fiu")
-            ):
-                return False
-    return True
+    flat = [x for v in values for x in (v if isinstance(v, tuple) else (v,))]
+    return all(
+        isinstance(x, (float, int, np.floating, np.integer))
+        or (isinstance(x, np.ndarray) and x.ndim == 0 and x.dtype.kind in "fiu")
+        for x in flat
+    )
 
 
 class ChannelHistory(NamedTuple):
@@ -202,7 +193,9 @@ def run(
     seal: FloatOrArray = 1.0, acceleration: bool | None = None, thixotropy: str = "ode",
     clock: str = "contact", xi0: float = 0.0,
 ) -> ChannelHistory:  # fmt: skip
-    """Run one channel along a displacement history, piecewise linear between samples.
+    """Run one channel along a displacement history, piecewise linear between samples: the
+    :class:`ChannelHistory` of stresses [Pa] and structure at every sample (the first sample is
+    the initial state).
 
     Parameters
     ----------
@@ -220,11 +213,6 @@ def run(
         The evaluation (:func:`evaluation`; decisions D6, D15).
     xi0 : float, keyword-only
         Initial structure when ``state`` is not given [-].
-
-    Returns
-    -------
-    ChannelHistory
-        Stresses [Pa] and structure at every sample (the first sample is the initial state).
     """
     t, g = check_increasing("time", time), check_finite("gamma", gamma)
     if g.shape[:1] != t.shape:
@@ -237,15 +225,14 @@ def run(
     check_parameter_shapes({k: np.shape(getattr(params, k)) for k in PARAMETER_UNITS}, g.shape[1:])
     qs, restart, kappa = evaluation(thixotropy, clock, acceleration)
     consts = kernel.channel_constants(params)
-    seal_arr = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
+    seals = np.broadcast_to(np.asarray(seal, dtype=float), g.shape) if np.ndim(seal) else None
     st = state if state is not None else initial_state(g.shape[1:], xi0=xi0, gamma=g[0])
     out = {k: np.zeros(g.shape) for k in (*ChannelStress._fields, "xi")}
     out["xi"][0] = st.xi
-    s_const = float(seal) if seal_arr is None else None
     for k in range(1, t.size):
         dt = t[k] - t[k - 1]
         rate = (g[k] - g[k - 1]) / dt
-        sk = s_const if seal_arr is None else seal_arr[k]
+        sk = float(seal) if seals is None else seals[k]
         st, s = kernel.channel_step(consts, st, g[k], rate, dt, sk, kappa, qs, restart)
         for name, value in zip(ChannelStress._fields, s, strict=True):
             out[name][k] = value

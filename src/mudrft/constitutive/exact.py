@@ -1,4 +1,8 @@
-"""The paper's closed-form solutions of eqs. (3) and (5): eqs. (9)-(11), supplementary Sec. I."""
+"""The paper's closed-form solutions of eqs. (3) and (5): eqs. (9)-(11), supplementary Sec. I.
+
+Each takes ``params``, the model constants (:class:`~mudrft.parameters.base.MudParameters`);
+``t`` [s] is the time since the start of a motion at the constant rate ``gamma_dot`` [1/s].
+"""
 
 from __future__ import annotations
 
@@ -18,15 +22,7 @@ def xi_exact(
     r"""Structure parameter at constant rate, :math:`\xi_{ss}+(\xi_0-\xi_{ss})e^{-t/\tau_\xi}` [-].
 
     The supplementary's :math:`(1-e^{t/\tau_\xi})\xi_{ss}` has a sign slip (erratum E3).
-
-    Parameters
-    ----------
-    t, gamma_dot : array_like
-        Time since the start of the constant-rate motion [s], and the rate [1/s].
-    params : MudParameters
-        Model constants.
-    xi0 : float, keyword-only
-        Structure at t = 0 [-].
+    ``xi0`` [-] is the structure at t = 0.
     """
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
     xi_ss = params.k_a * tau
@@ -37,7 +33,7 @@ def thixotropic_exact(
     t: ArrayLike, gamma_dot: FloatOrArray, params: MudParameters, *, xi0: float = 0.0,
     acceleration: bool = False,
 ) -> FloatOrArray:  # fmt: skip
-    r"""Thixotropic stress at constant rate from rest, supplementary eq. (S2), exact.
+    r"""Thixotropic stress [Pa] at constant rate from rest, supplementary eq. (S2), exact.
 
     For :math:`\xi(0)=0` and :math:`\ddot\gamma=0`:
 
@@ -46,18 +42,8 @@ def thixotropic_exact(
 
     The second term does not vanish for :math:`\tau_\xi\approx\lambda` (erratum E5). Here for
     any :math:`\xi_0` and :math:`\tau_\xi`, and with ``acceleration=True`` for a rate that
-    jumps from 0 at t = 0 (adding :math:`\eta_\infty\dot\gamma` at once).
-
-    Parameters
-    ----------
-    t, gamma_dot : array_like
-        Time since the start of motion [s], and the constant rate [1/s].
-    params : MudParameters
-        Model constants.
-    xi0 : float, keyword-only
-        Initial structure [-].
-    acceleration : bool, keyword-only
-        Include the acceleration term.
+    jumps from 0 at t = 0 (adding :math:`\eta_\infty\dot\gamma` at once), from the initial
+    structure ``xi0`` [-].
     """
     t = np.asarray(t, dtype=float)
     tau = laws.tau_xi(gamma_dot, params.k_a, params.k_r)
@@ -79,15 +65,6 @@ def thixotropic_approx(
 ) -> FloatOrArray:
     r"""The paper's approximation, eq. (9) [Pa]; exact only when :math:`\xi` starts steady (E5).
 
-    Parameters
-    ----------
-    t, gamma_dot : array_like
-        Time since the start of motion [s], and the constant rate [1/s].
-    params : MudParameters
-        Model constants.
-
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-9
 
@@ -101,23 +78,15 @@ def thixotropic_approx(
 def suction_closed_form(
     dt: ArrayLike, phi: FloatOrArray, params: MudParameters, *, sigma_s0: float = 0.0
 ) -> FloatOrArray:
-    r"""Suction at constant sealing state, eqs. (10)-(11).
+    r"""Suction [Pa] at constant sealing state, eqs. (10)-(11).
 
     .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t},\quad
               \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
               a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}}
 
-    Parameters
-    ----------
-    dt, phi : array_like
-        Time since the retraction began, :math:`t-t_w` [s], and the sealing state [-].
-    params : MudParameters
-        Model constants.
-    sigma_s0 : float, keyword-only
-        Suction at :math:`t_w` [Pa]; the paper uses 0.
+    ``dt`` is the time :math:`\Delta t=t-t_w` [s] since the retraction began, ``phi`` the
+    sealing state [-], ``sigma_s0`` the suction at :math:`t_w` [Pa], which the paper takes 0:
 
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-10
 

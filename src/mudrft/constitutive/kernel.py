@@ -1,6 +1,6 @@
 r"""The constitutive step, :func:`channel_step`: the one definition of how a stress channel
 advances in time (eqs. 1-5, or the closed forms 9-11, decision D15), in the element-wise
-subset of :mod:`mudrft._xp`."""
+subset of :mod:`mudrft._xp`, the namespace every ``xp`` argument here names."""
 
 from __future__ import annotations
 
@@ -38,12 +38,8 @@ class ChannelConstants(NamedTuple):
 
 
 def channel_constants(params: Any) -> ChannelConstants:  # MudParameters or JaxParams
-    """The constants of :func:`channel_update` from a parameter set.
-
-    Parameters
-    ----------
-    params : MudParameters or JaxParams
-        Fields of :class:`~mudrft.parameters.base.MudParameters` (floats or arrays).
+    """The constants of :func:`channel_update` from ``params``, a
+    :class:`~mudrft.parameters.base.MudParameters` or JaxParams (SI fields, floats or arrays).
 
     Examples
     --------
@@ -74,18 +70,9 @@ def relaxation_convolution(
         x = t\Big(\frac1\lambda-\frac1\tau\Big),
 
     the right-hand form for :math:`x\le1` (exact at :math:`\tau=\lambda`, erratum E5), the
-    left-hand one beyond (the right overflows past :math:`x=709`).
-
-    Parameters
-    ----------
-    t : array_like
-        Elapsed time [s], >= 0.
-    lam, tau : array_like
-        The two relaxation times [s], > 0.
-    e_lam, e_tau : array_like
-        :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}` [-].
-    xp : module
-        Element-wise namespace (:mod:`mudrft._xp`).
+    left-hand one beyond (the right overflows past :math:`x=709`). ``t`` [s] >= 0 is the
+    elapsed time, ``lam`` and ``tau`` [s] > 0 the two relaxation times, ``e_lam`` and ``e_tau``
+    [-] their :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}`.
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
@@ -104,27 +91,9 @@ def channel_update(
     suction (eq. 5) with the sealing state at mid-step (D4); total (eq. 1)
     :math:`\sigma_b(1-\phi_{end})+\sigma_{th}+H_\nu\sigma_s`.
 
-    Parameters
-    ----------
-    c : ChannelConstants
-        Model constants (SI), from :func:`channel_constants`.
-    state : ChannelState
-        State at the start of the step.
-    gamma, gamma_dot : array_like
-        Dimensionless displacement at the end of the step [-], and rate over it [1/s].
-    dt : float or array_like
-        Step length [s], > 0.
-    seal : array_like
-        Factor in [0, 1] multiplying the sealing state [-].
-    kappa : float
-        1.0 keeps the acceleration term of :math:`f_\xi`, 0.0 drops it [-].
-    xp : module
-        Element-wise namespace (:mod:`mudrft._xp`).
-
-    Returns
-    -------
-    tuple of ChannelState, ChannelStress
-        State and stresses [Pa] at the end of the step.
+    Parameters and returns as :func:`~mudrft.constitutive.dynamics.step`, with ``c`` the
+    constants (SI) of :func:`channel_constants` and ``kappa`` [-]: 1.0 keeps the acceleration
+    term of :math:`f_\xi`, 0.0 drops it.
     """
     gw_new, direction, r_start, r_end = _retraction(state, gamma, gamma_dot, xp=xp)
     clock, clock_w = _clocks(state, r_end, dt, xp=xp)
@@ -160,15 +129,8 @@ def channel_update_quasi_static(
     seal: XpArray = 1.0, restart: bool = False, xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
     r"""The paper's quasi-static evaluation of a channel, eqs. (1), (2), (9)-(11) (decision D15):
-
-    .. math::
-        \sigma_{th} = (1-e^{-t/\lambda})\,(\eta_\infty+\xi_{ss}\eta_m)\dot\gamma,\qquad
-        \sigma_s = (1-e^{-a\Delta t})\,\sigma_{s,ss},\quad
-        \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
-        a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}},
-
-    with :math:`\phi` at the current retraction (times ``seal``) and :math:`\Delta t=t-t_w`;
-    the clock :math:`t` runs from first contact, or from :math:`t_w` with ``restart``.
+    eq. (9) with the clock :math:`t` from first contact, or from :math:`t_w` with ``restart``,
+    and eqs. (10)-(11) with :math:`\phi` at the current retraction (times ``seal``).
 
     Parameters and returns as :func:`channel_update`, with ``restart`` (bool) in place of
     ``kappa``; ``gamma_dot`` [1/s] is the rate at the end of the step.

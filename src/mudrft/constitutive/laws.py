@@ -20,15 +20,10 @@ __all__ = [
 
 
 def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Immediate (nonlinear elastic) resistance, eq. (2), odd in :math:`\gamma` [Pa].
+    r"""Immediate (nonlinear elastic) resistance, eq. (2), odd in :math:`\gamma` [Pa], of the
+    dimensionless displacement ``gamma`` [-], stiffness ``alpha`` [Pa] and exponent ``n`` in
+    (0, 1] [-].
 
-    Parameters
-    ----------
-    gamma, alpha, n : array_like
-        Dimensionless displacement [-], stiffness [Pa], exponent in (0, 1] [-].
-
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-2
 
@@ -48,15 +43,10 @@ def elastic_stress(gamma: XpArray, alpha: XpArray, n: XpArray, xp: Namespace = n
 
 
 def switch(gamma_dot: XpArray, nu: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Intrusion/retraction index :math:`H_\nu` of eq. (1) [-]: about 0 intruding, 1 retracting.
+    r"""Intrusion/retraction index :math:`H_\nu` of eq. (1) [-]: about 0 intruding, 1 retracting,
+    of the dimensionless rate ``gamma_dot`` along the intrusion direction and the switch width
+    ``nu`` [1/s].
 
-    Parameters
-    ----------
-    gamma_dot, nu : array_like
-        Dimensionless rate along the intrusion direction, and switch width [1/s].
-
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-1
 
@@ -75,13 +65,9 @@ def sealing_printed(
     gamma: XpArray, gamma0: XpArray, epsilon: XpArray, xp: Namespace = np
 ) -> XpArray:
     r"""The sealing function as printed below eq. (5), for reference (the model uses
-    :func:`sealing`, decision D4): :math:`\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))` [-].
-
-    Parameters
-    ----------
-    gamma, gamma0, epsilon : array_like
-        Displacement, its value at the start of retraction, and width [-].
-    """
+    :func:`sealing`, decision D4): :math:`\tfrac12(1-\tanh((\gamma-\gamma_0)/\varepsilon))` [-]
+    of the displacement ``gamma``, its value ``gamma0`` at the start of retraction and the
+    width ``epsilon`` [-]."""
     return 0.5 * (1.0 - xp.tanh((gamma - gamma0) / epsilon))
 
 
@@ -91,11 +77,8 @@ def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArra
     0 while the foot intrudes or rests on the bed (pure leak), 1 within a few
     :math:`\varepsilon` of retraction (sealed: suction builds toward :math:`-\sigma_Y`).
     Equals :math:`2\phi_\varepsilon-1` of the printed form with :math:`\gamma_0=\gamma_w`.
-
-    Parameters
-    ----------
-    retraction, epsilon : array_like
-        Retraction :math:`r=|\gamma_w|-|\gamma|` since the deepest point, and width [-].
+    ``retraction`` is :math:`r=|\gamma_w|-|\gamma|` since the deepest point, ``epsilon`` the
+    width [-].
 
     Examples
     --------
@@ -106,26 +89,15 @@ def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArra
 
 
 def bed_contact(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Fraction :math:`1-\phi` of :math:`\sigma_b` kept during retraction [-] (decision D2).
-
-    Parameters
-    ----------
-    retraction, epsilon : array_like
-        Retraction :math:`r` and width [-].
-    """
+    r"""Fraction :math:`1-\phi` of :math:`\sigma_b` kept during retraction [-] (decision D2),
+    of the ``retraction`` :math:`r` and the width ``epsilon`` [-] (:func:`sealing`)."""
     return 1.0 - sealing(retraction, epsilon, xp=xp)
 
 
 def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Steady structure parameter :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` [-].
+    r"""Steady structure parameter :math:`\xi_{ss}=\dot\gamma_c/(\dot\gamma_c+|\dot\gamma|)` [-]
+    of the rate ``gamma_dot`` and the critical rate ``gamma_dot_c`` [1/s].
 
-    Parameters
-    ----------
-    gamma_dot, gamma_dot_c : array_like
-        Rate and critical rate [1/s].
-
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-3b
 
@@ -141,28 +113,17 @@ def xi_steady(gamma_dot: XpArray, gamma_dot_c: XpArray, xp: Namespace = np) -> X
 
 
 def tau_xi(gamma_dot: XpArray, k_a: XpArray, k_r: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Time constant of eq. (3b), :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s].
-
-    Parameters
-    ----------
-    gamma_dot, k_a, k_r : array_like
-        Rate [1/s], aging rate [1/s], rejuvenation coefficient [-].
-    """
+    r"""Time constant of eq. (3b), :math:`\tau_\xi=1/(k_a+k_r|\dot\gamma|)` [s], of the rate
+    ``gamma_dot`` [1/s], aging rate ``k_a`` [1/s] and rejuvenation coefficient ``k_r`` [-]."""
     return 1.0 / (k_a + k_r * xp.abs(gamma_dot))
 
 
 def thixotropic_steady(
     gamma_dot: XpArray, eta_inf: XpArray, eta_m: XpArray, gamma_dot_c: XpArray, xp: Namespace = np
 ) -> XpArray:
-    r"""Steady thixotropic stress, eq. (4) [Pa].
+    r"""Steady thixotropic stress, eq. (4) [Pa], of the rate ``gamma_dot`` [1/s], viscosities
+    ``eta_inf``, ``eta_m`` [Pa s] and critical rate ``gamma_dot_c`` [1/s].
 
-    Parameters
-    ----------
-    gamma_dot, eta_inf, eta_m, gamma_dot_c : array_like
-        Rate [1/s], viscosities [Pa s], critical rate [1/s].
-
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-4
 
@@ -192,10 +153,9 @@ def suction_rate(phi: XpArray, tau_build: XpArray, tau_leak: XpArray) -> XpArray
 def suction_steady(
     phi: XpArray, tau_build: XpArray, tau_leak: XpArray, sigma_y: XpArray
 ) -> XpArray:
-    r"""Steady suction, eq. (11) [Pa].
+    r"""Steady suction, eq. (11) [Pa], at the sealing state ``phi`` [-], build-up and leak
+    times ``tau_build``, ``tau_leak`` [s] and yield stress ``sigma_y`` [Pa].
 
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-11
 
@@ -215,12 +175,8 @@ def suction_steady(
 def suction_steady_at_rate(
     phi: XpArray, rate: XpArray, tau_build: XpArray, sigma_y: XpArray
 ) -> XpArray:
-    r"""Eq. (11) at a given rate :math:`a`: :math:`-\phi\sigma_Y/(a\tau_{build})` [Pa].
-
-    Parameters
-    ----------
-    phi, rate, tau_build, sigma_y : array_like
-        Sealing state [-], :math:`a` [1/s], build-up time [s], yield stress [Pa].
+    r"""Eq. (11) at a given ``rate`` :math:`a` [1/s]: :math:`-\phi\sigma_Y/(a\tau_{build})` [Pa]
+    (the other arguments as :func:`suction_steady`).
 
     Examples
     --------
@@ -231,10 +187,9 @@ def suction_steady_at_rate(
 
 
 def f_n(psi: XpArray, xp: Namespace = np) -> XpArray:
-    r"""Normal scaling factor of eq. (7), :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-].
+    r"""Normal scaling factor of eq. (7), :math:`f_n(\psi)=\tfrac12(1+\cos2\psi)` [-], of the
+    angle ``psi`` [rad].
 
-    Notes
-    -----
     .. math::
        :label: chen2026-eq-7
 

@@ -106,8 +106,7 @@ class MudParameters:
             arr = check_positive(name, getattr(self, name), unit=PARAMETER_UNITS[name])
             object.__setattr__(self, name, float(arr) if arr.ndim == 0 else arr)
         if self.k_a is None:
-            lam = self.lam
-            object.__setattr__(self, "k_a", 1.0 / lam if np.ndim(lam) else 1.0 / float(lam))
+            object.__setattr__(self, "k_a", 1.0 / self.lam)  # lam is a float or an array here
         # a batch: fields of one broadcastable shape with at least one set
         shapes = {k: np.shape(getattr(self, k)) for k in PARAMETER_UNITS}
         shape = check_broadcast(**shapes)

@@ -1,9 +1,6 @@
-"""Parameter tables of Chen et al. (2026), supplementary Tables S1 and S2.
-
-Transcribed as printed, in the printed units (converted to SI when a parameter set is
-built): alpha, eta_m, eta_inf and sigma_Y in MPa (the viscosities' printed "MPa/s" read as
-MPa s, erratum E1), lambda without a unit (read as s), gamma_dot_c in 1/s, tau_build and
-tau_leak in s.
+"""Parameter tables of Chen et al. (2026), supplementary Tables S1 and S2, transcribed as
+printed, in the units of :data:`PRINTED_UNITS` (converted to SI when a parameter set is built;
+the viscosities' "MPa/s" read as MPa s, erratum E1).
 """
 
 from __future__ import annotations
@@ -38,8 +35,7 @@ TABLE_NAME: Final = {
     "horizontal": "supplementary Table S2 (horizontal intrusion)",
 }
 
-# water content -> row, as printed (alpha, n, lambda, eta_m, eta_inf, gamma_dot_c,
-# tau_build, tau_leak, epsilon, sigma_Y)
+# water content -> row, as printed, in the order of COLUMNS
 VERTICAL: Final[dict[float, tuple[float, ...]]] = {
     0.25: (0.024, 0.53, 1.9, 0.067, 0.014, 0.14, 0.32, 0.17, 0.016, 0.0071),
     0.35: (0.013, 0.20, 3.2, 0.27, 0.0031, 0.042, 0.49, 0.089, 0.054, 0.011),

@@ -95,7 +95,8 @@ def paper_parameters(
     water_content: float = 0.25, direction: str = "vertical", *, extrapolate: bool = False,
     labels: str = "table",
 ) -> MudParameters:  # fmt: skip
-    """One parameter set of Chen et al. (2026), converted to SI.
+    """One parameter set of Chen et al. (2026), frozen and in SI units; its ``source`` names
+    table and row.
 
     Parameters
     ----------
@@ -107,11 +108,6 @@ def paper_parameters(
         Allow water contents in [0.15, 0.50] outside the tabulated rows (warns).
     labels : {"table", "text"}, keyword-only
         Name the rows as the tables print them, or as the text does (errata E6/E7).
-
-    Returns
-    -------
-    MudParameters
-        Frozen set in SI units; ``source`` names table and row.
 
     Examples
     --------
@@ -145,9 +141,7 @@ def paper_mud(
     ----------
     water_content : float
         Volumetric water content as a fraction [-], in [0.25, 0.45].
-    extrapolate : bool, keyword-only
-        Allow [0.15, 0.50] with a warning.
-    labels : {"table", "text"}, keyword-only
+    extrapolate, labels : keyword-only
         As :func:`paper_parameters`.
 
     Examples

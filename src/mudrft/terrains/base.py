@@ -96,11 +96,6 @@ def projected(foot: Foot, depth: FloatArray) -> FloatArray:
     return np.asarray(foot.projected_areas(depth), dtype=float).reshape((*np.shape(depth), 3))
 
 
-def area_z(foot: Foot, depth: FloatArray) -> FloatArray:
-    """Horizontal (z-projected) area of the submerged foot [m^2]."""
-    return projected(foot, depth)[..., 2]
-
-
 def vertical_output(fz: np.ndarray, sz: np.ndarray, depth: np.ndarray) -> TerrainOutput:
     """The output of a vertical-only terrain: force ``fz`` [N] and stress ``sz`` [Pa] on z."""
     zeros = np.zeros_like(fz)

@@ -1,18 +1,11 @@
 r"""A field of mud: patches of different mud, and rigid ground, on the plane of the surface.
 
-The plane is cut into a grid of cells, each holding one region; a region is a mud (its
-constants) or rigid ground, where the mud gives no force and MuJoCo's own contact acts.
-A foot whose tip is at :math:`(x, y)` feels the average of the regions over the square
-of side :math:`b` (the border width) centered there: weight :math:`w_r` of region
-:math:`r` is the share of the square it covers. The constants are the mud regions'
-weighted mean, and the force is scaled by the mud's share :math:`m=\sum_{mud}w_r`.
-Both are continuous in position, so a foot crossing a border feels no jump; its mud state
-(structure, suction) goes on across the border, as the mud under it would.
-
-The surface may be uneven: heights sampled on a regular grid of nodes over the cells'
-rectangle, two planar triangles a cell as in a MuJoCo heightfield (:func:`surface_at`;
-outside the rectangle the edge's height holds). Under each foot the coupling steps the mud in the frame of the surface's
-tangent plane at the tip, so depth is measured along the surface normal.
+The plane is cut into a grid of cells, each holding one region: a mud, or rigid ground (no
+mud force; MuJoCo's own contact acts). A tip at :math:`(x, y)` feels the regions over the
+square of side :math:`b` (the border width) centered there, each weighted by the share
+:math:`w_r` of the square it covers: the constants are the mud regions' weighted mean, the
+force is scaled by the mud's share :math:`m=\sum_{mud}w_r` (decision D174, continuous across
+borders). The surface may be uneven (:func:`surface_at`, decision D175).
 """
 
 from __future__ import annotations
@@ -20,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import tomllib
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
@@ -30,7 +24,8 @@ import numpy as np
 from .._typing import ArrayLike, FloatArray, IndexArray, Namespace, XpArray
 from .._validation import MudrftError, plain, positive_number
 from .._xp import pyfloat
-from ..parameters.base import Mud
+from ..parameters.base import Mud, MudParameters
+from ..parameters.registry import paper_mud
 from .mud import MudTerrain
 from .rows import N_CONST, constant_row
 
@@ -180,8 +175,6 @@ def _terrain(name: str, value: object) -> MudTerrain | None:
     if isinstance(value, Mud):
         return MudTerrain(value)
     if isinstance(value, int | float) and not isinstance(value, bool):
-        from ..parameters.registry import paper_mud
-
         return MudTerrain(paper_mud(float(value)))
     raise MudrftError(
         f"region {name!r} must be a water content [-], a Mud, a MudTerrain or {RIGID!r}, "
@@ -295,8 +288,7 @@ class MudField:
         if extra or "regions" not in spec or "cells" not in spec:
             raise MudrftError(
                 f"{path}: a field spec has regions and cells (and cell_size, origin, border, "
-                "heights); "
-                f"got keys {sorted(spec)}"
+                f"heights); got keys {sorted(spec)}"
             )
         return cls(**spec)
 
@@ -431,11 +423,6 @@ class MudField:
         layout : bool, keyword-only
             Each cell draws its region uniformly from the field's regions.
         """
-        import warnings
-
-        from ..parameters.base import MudParameters
-        from ..parameters.registry import paper_mud
-
         rng = np.random.default_rng(seed)
         regions: dict[str, object] = {}
         for name, t in zip(self.names, self.terrains, strict=True):

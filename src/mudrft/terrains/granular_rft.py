@@ -6,16 +6,12 @@ with :math:`\hat n\cdot\hat v>0`) at depth :math:`|z|` carries the force
 .. math::
 
     d\mathbf F = \zeta\,|z|\,dA\,\big[-f_1\,\alpha_y\,\operatorname{sgn}(v_1)\,\hat e_1
-    - f_{23}\,\alpha_x(\beta,\gamma)\,\hat e_2 + f_{23}\,\alpha_z(\beta,\gamma)\,\hat z\big],
+    - f_{23}\,\alpha_x(\beta,\gamma)\,\hat e_2 + f_{23}\,\alpha_z(\beta,\gamma)\,\hat z\big]
 
-where :math:`\alpha_{x,z}` is Li et al.'s generic first-order Fourier fit over the attack
-angle :math:`\beta` and the intrusion angle :math:`\gamma` (:func:`li2013_alpha`),
-:math:`\zeta` [N/m^3] the medium's scale, and the 3D decomposition (unit vectors
-:math:`\hat e_2` along the normal's horizontal direction, :math:`\hat e_1=\hat e_2\times\hat z`,
-the velocity split into :math:`v_1` along :math:`\hat e_1` and :math:`v_{23}` in the
-:math:`(\hat e_2,\hat z)` plane, the sigmoid weights :math:`f_1(|v_1|)`, :math:`f_{23}(|v_{23}|)`
-and :math:`\alpha_y=\alpha_x(0,0)`) is that of Treers, Cao & Stuart (RA-L 2021).
-Trailing elements carry nothing: no suction (decisions D50-D53).
+with Li et al.'s Fourier fit :math:`\alpha_{x,z}` (:func:`li2013_alpha`), the medium's scale
+:math:`\zeta` [N/m^3] and the 3D frame and weights of Treers, Cao & Stuart (RA-L 2021,
+:func:`treers_weights`); trailing elements carry nothing. docs/model.md, section 8, defines
+the symbols (decisions D50-D53).
 """
 
 from __future__ import annotations
@@ -185,7 +181,8 @@ def rft_forces(
     zeta: float = DEFAULT_ZETA, coefficients: FourierCoefficients = LI2013_GENERIC,
     extension: str = "treers2021", per_element: bool = False, leading_width: float = LEADING_WIDTH,
 ) -> np.ndarray:  # fmt: skip
-    r"""Granular RFT force on surface elements moving in one direction.
+    r"""Granular RFT force [N] of the medium on surface elements moving in one direction, world
+    frame: shape (..., 3), or (..., m, 3) with ``per_element``.
 
     Parameters
     ----------
@@ -207,11 +204,6 @@ def rft_forces(
         Return the force of every element (..., m, 3) instead of the sum.
     leading_width : float, keyword-only
         Width of the leading-facet ramp [-] (:func:`leading_weight`, D53).
-
-    Returns
-    -------
-    ndarray, shape (..., 3) or (..., m, 3)
-        Force of the medium on the elements, world frame [N].
 
     Examples
     --------

@@ -7,15 +7,12 @@ depth :math:`|z|` carries :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
 
     \boldsymbol\alpha = \xi_n\big[\boldsymbol\alpha^{gen}_n
         + \min\big(\mu_{surf}\,|\boldsymbol\alpha^{gen}_n| / |\boldsymbol\alpha^{gen}_t|,\,1\big)
-        \,\boldsymbol\alpha^{gen}_t\big],\qquad
-    \xi_n = \rho_c\,g\,(894\mu_{int}^3 - 386\mu_{int}^2 + 89\mu_{int}),
+        \,\boldsymbol\alpha^{gen}_t\big],
 
-:math:`\boldsymbol\alpha^{gen}` the generic response of the paper's cubic fit
-(:func:`agarwal_generic_alpha`) with its parts normal and tangent to the element,
-:math:`\mu_{surf}` the intruder-surface friction, :math:`\rho_c` [kg/m^3] and
-:math:`\mu_{int}` [-] the medium's density and internal friction. Submerged leading elements
-carry force, weighted as in granular RFT (:func:`~mudrft.terrains.granular_rft.leading_weight`;
-decisions D90-D95).
+:math:`\boldsymbol\alpha^{gen}` (:func:`rft3d_alpha`) split into its parts normal and tangent
+to the element, :math:`\xi_n` from :func:`agarwal_xi` and :math:`\mu_{surf}` [-] the
+intruder-surface friction; leading elements only, as in granular RFT (docs/model.md,
+section 8, decisions D90-D95).
 """
 
 from __future__ import annotations
@@ -229,7 +226,8 @@ def rft3d_alpha(
     normals: ArrayLike, direction: ArrayLike, *, mu_surf: float | None = None,
     coefficients: PolynomialCoefficients = AGARWAL2023, wall_width: float = WALL_WIDTH,
 ) -> NDArray[np.float64]:  # fmt: skip
-    r"""Generic 3D-RFT response of elements, world frame, optionally friction-capped [-].
+    r"""Generic 3D-RFT response of elements (..., m, 3), optionally friction-capped: the force per
+    unit :math:`\xi_n`, depth and area, world frame [-].
 
     .. math::
 
@@ -241,21 +239,10 @@ def rft3d_alpha(
 
     Parameters
     ----------
-    normals : array_like, shape (m, 3)
-        Outward normals of the elements [-].
-    direction : array_like, shape (..., 3)
-        Direction of motion [-].
+    normals, direction, coefficients, wall_width
+        As :func:`rft3d_forces`.
     mu_surf : float or None, keyword-only
         Intruder-surface friction coefficient [-] of the cap; ``None``: no cap.
-    coefficients : PolynomialCoefficients, keyword-only
-        The fit.
-    wall_width : float, keyword-only
-        Blend width across vertical walls in :math:`n_z` [-] (D93).
-
-    Returns
-    -------
-    ndarray, shape (..., m, 3)
-        Force per unit :math:`\xi_n`, depth and area, world frame [-].
 
     Examples
     --------

@@ -1,8 +1,5 @@
-r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media.
-
-The stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)`:
-the generic fit :data:`LI2013_GENERIC`, normalised to :math:`\alpha_z(0,\pi/2)=1`, times the
-medium's scale :math:`\zeta` [N/m^3] (:data:`GRANULAR_MEDIA`; Li et al. print N/cm^3, D50).
+r"""Li, Zhang & Goldman (Science 2013): the Fourier fit of granular RFT and its media; the
+stress per unit depth on a plate element is :math:`\zeta\,\alpha^{fit}(\beta,\gamma)` (D50).
 """
 
 from __future__ import annotations
@@ -93,7 +90,8 @@ PLAUSIBLE_ZETA = (1.0e3, 1.0e8)
 def li2013_alpha(
     beta: ArrayLike, gamma: ArrayLike, *, coefficients: FourierCoefficients = LI2013_GENERIC
 ) -> tuple[np.ndarray, np.ndarray]:
-    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)`.
+    r"""Generic RFT stress per unit depth of Li et al. (2013), :math:`(\alpha_x, \alpha_z)` in the
+    fit's units: :math:`\alpha_x` > 0 resists the motion, :math:`\alpha_z` > 0 lifts.
 
     Parameters
     ----------
@@ -103,11 +101,6 @@ def li2013_alpha(
         Angle of the velocity below the horizontal [rad], in :math:`[-\pi/2, \pi/2]`.
     coefficients : FourierCoefficients, keyword-only
         The fit (default: the generic one, dimensionless).
-
-    Returns
-    -------
-    (ndarray, ndarray)
-        :math:`\alpha_x` (> 0 resists the motion), :math:`\alpha_z` (> 0 lifts), fit units.
 
     Examples
     --------

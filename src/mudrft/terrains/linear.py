@@ -25,7 +25,7 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
+from .base import TerrainOutput, kinematics, projected, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -112,7 +112,8 @@ class LinearStiffness:
         sz = self.stress(depth)
         if self.unloading == "zero":
             sz = np.where(vel[..., 2] > 0, 0.0, sz)
-        out = vertical_output(sz * area_z(foot, depth), np.where(depth > 0, sz, 0.0), depth)
+        fz = sz * projected(foot, depth)[..., 2]
+        out = vertical_output(fz, np.where(depth > 0, sz, 0.0), depth)
         return LinearState(in_mud=depth > 0), out
 
 

@@ -1,18 +1,12 @@
-r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction.
+r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction (D55).
 
-A reconstruction from what Chen et al. 2026 say of it (decision D55):
-
-* a nonlinear elastic spring :math:`\sigma_e=\alpha\gamma^n`;
-* a Maxwell element (spring :math:`G`, dashpot :math:`\eta_M=G\lambda_M` in series),
-  :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`;
-* suction from a second-order low-pass filter,
-  :math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
-  :math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`)
-  and 0 otherwise;
-* 1D: :math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)`, :math:`\gamma=d/L_c`.
-
-:math:`\alpha` and :math:`n` are Table S1's (W = 25 %, vertical); the rest were fitted
-(:func:`fit_maxwell`) to the mudrft W = 25 % vertical plate test.
+:math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)` at :math:`\gamma=d/L_c`: a nonlinear spring
+:math:`\sigma_e=\alpha\gamma^n`, a Maxwell element (spring :math:`G`, dashpot
+:math:`\eta_M=G\lambda_M`) :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`, and suction
+from the low-pass filter
+:math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
+:math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`), else 0.
+docs/model.md (D55) says what is reconstructed, and what fitted (:func:`fit_maxwell`).
 """
 
 from __future__ import annotations
@@ -40,7 +34,7 @@ from .._validation import set_number as _set
 from .._xp import pyfloat
 from ..citations import register
 from ..trajectories import Trajectory
-from .base import TerrainOutput, area_z, kinematics, tip_depth, tip_position, vertical_output
+from .base import TerrainOutput, kinematics, projected, tip_depth, tip_position, vertical_output
 
 if TYPE_CHECKING:
     from ..feet.base import Foot
@@ -178,12 +172,13 @@ class MaxwellMud:
         in_mud = depth > 0
         gd = np.where(in_mud | state.in_mud, -vel[..., 2], 0.0) / lc
         new, sz = self.advance(state, depth / lc, gd, dt)
-        return new, vertical_output(sz * area_z(foot, depth), sz, depth)
+        return new, vertical_output(sz * projected(foot, depth)[..., 2], sz, depth)
 
     def response(
         self, trajectory: Trajectory, *, characteristic_length: float = 0.05
     ) -> np.ndarray:
-        r"""Vertical stress [Pa] on a plate along a vertical trajectory (no foot needed).
+        r"""Vertical stress :math:`\sigma_e+\sigma_M+\sigma_s` [Pa] on a plate at the samples of a
+        vertical trajectory, 0 out of the mud (no foot needed).
 
         Parameters
         ----------
@@ -191,11 +186,6 @@ class MaxwellMud:
             Tip motion; its depth [m] and vertical velocity [m/s] are used.
         characteristic_length : float, keyword-only
             Plate :math:`L_c` [m].
-
-        Returns
-        -------
-        ndarray, shape (n,)
-            :math:`\sigma_e+\sigma_M+\sigma_s` at the samples [Pa] (0 out of the mud).
 
         Examples
         --------

@@ -5,6 +5,7 @@ how the mud under a foot advances (element-wise over any ``xp``), and its option
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -79,14 +80,9 @@ def mud_step(
 ) -> tuple[MudChannels, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
     r"""Advance the mud under a foot tip by ``dt``: the one terrain step (no validation).
 
-    Two channels (Sec. II-C). Horizontal: :math:`\gamma_h=\pm|\mathbf r|/L_c` with
-    :math:`\mathbf r` the tip's offset from the entry point, along the line
-    :math:`\hat{\mathbf l}` through it (oriented once, so :math:`\gamma_h` is odd), at rate
-    :math:`\hat{\mathbf l}\cdot\mathbf u_h/L_c`; the motion :math:`u_t` across the line meets
-    :math:`\eta_\infty u_t/L_c` (D9a), and the stress vector's magnitude goes to ``sx`` and
-    ``sy`` alike, its direction to the heading (D9). Vertical: :math:`\gamma_z=d/L_c`,
-    :math:`d=\max(-z,0)`, rate :math:`-\dot z/L_c` (0 out of the mud). A tip that was out of
-    the mud starts from undisturbed mud when ``reset`` (D11, D52).
+    Two channels (Sec. II-C): the horizontal one at :math:`\gamma_h=\pm|\mathbf r|/L_c`, the
+    tip's offset from the entry point along its line, the vertical one at :math:`\gamma_z=d/L_c`,
+    :math:`d=\max(-z,0)`; docs/model.md, section 5, defines them (decisions D9, D9a, D11, D52).
 
     Parameters
     ----------
@@ -100,17 +96,12 @@ def mud_step(
         Tip velocity over the step [m/s].
     dt, lc : float
         Step [s] and characteristic length :math:`L_c` [m].
-    kappa, xi0 : float
-        1.0 keeps the acceleration term (D6) [-]; structure of undisturbed mud [-].
-    reset : bool
-        Reset the channels on re-entry (decision D11).
-    heading_speed : float
-        Below this horizontal speed the heading is kept [m/s].
+    kappa, xi0, reset, heading_speed, quasi_static, restart
+        :class:`MudTerrain`'s ``kappa`` [-], ``xi0`` [-], ``reset_on_exit``,
+        ``heading_speed`` [m/s], ``quasi_static`` and ``restart`` (decisions D6, D11, D15).
     seal : array_like
         Sealing factor of the vertical channel in [0, 1] [-].
-    quasi_static, restart : bool
-        Static choice of the evaluation (decision D15).
-    xp : module, keyword-only
+    xp : module
         Element-wise namespace (:mod:`mudrft._xp`).
 
     Returns
@@ -125,9 +116,8 @@ def mud_step(
         st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
     hor, ver = ch
-    qs, rs = quasi_static, restart
-    chh, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
-    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    chh, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, quasi_static, restart, xp)
+    cz, sz = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, quasi_static, restart, xp)
     s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
     inside = xp.where(in_mud, 1.0, 0.0)
     new = MudChannels(chh, cz, ex, ey, line, heading, inside)
@@ -192,13 +182,12 @@ def mud_channel_stress(
         st, px, py, pz, vx, vy, vz, dt, lc, xi0, reset, heading_speed, xp
     )
     hor, ver = ch
-    qs, rs = quasi_static, restart
     inside = xp.where(in_mud, 1.0, 0.0)
     if c < 2:
-        _, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, qs, rs, xp)
+        _, sh = kernel.channel_step(hor, chh, gh, rh, dt, 1.0, kappa, quasi_static, restart, xp)
         s, heading = horizontal_stress(sh.total, hor.eta_inf * ut / lc, line, xp)
         return s * inside, heading
-    _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, qs, rs, xp)
+    _, s = kernel.channel_step(ver, cz, gz, rz, dt, seal, kappa, quasi_static, restart, xp)
     return s.total * inside, line
 
 
@@ -253,11 +242,8 @@ class MudTerrain:
         Vertical and horizontal parameter sets.
     characteristic_length : float or None
         :math:`L_c` [m]; ``None`` uses the foot's own.
-    acceleration : bool or None
-        Keep the acceleration term of the ODE (decision D6); None: True for the ODE.
-    thixotropy, clock : {"ode", "quasi-static"}, {"contact", "retraction"}
-        Step eqs. (3) and (5), or evaluate the closed forms (9)-(11) (D15), their clock
-        (eq. 9) running from first contact or from the retraction.
+    acceleration, thixotropy, clock
+        The evaluation (:func:`~mudrft.constitutive.dynamics.evaluation`; decisions D6, D15).
     reset_on_exit : bool
         Land in undisturbed mud after the tip left it (decision D11).
     xi0 : float
@@ -292,9 +278,8 @@ class MudTerrain:
         if self.characteristic_length is not None:
             lc = check_characteristic_length("MudTerrain", self.characteristic_length)
             object.__setattr__(self, "characteristic_length", lc)
-        qs, restart, kappa = evaluation(self.thixotropy, self.clock, self.acceleration)
+        kappa = evaluation(self.thixotropy, self.clock, self.acceleration)[2]
         object.__setattr__(self, "acceleration", kappa == 1.0)
-        object.__setattr__(self, "_flags", (qs, restart))
         if not isinstance(self.reset_on_exit, bool | np.bool_):
             raise MudrftError(f"reset_on_exit must be True or False, got {self.reset_on_exit!r}")
         object.__setattr__(self, "reset_on_exit", bool(self.reset_on_exit))
@@ -303,8 +288,6 @@ class MudTerrain:
         object.__setattr__(self, "heading_speed", hs)
         if not isinstance(self.name, str):
             raise MudrftError(f"name must be a string, got {self.name!r}")
-        pair = (channel_constants(self.mud.horizontal), channel_constants(self.mud.vertical))
-        object.__setattr__(self, "_constants", pair)
         register("chen2026mud")
 
     @property
@@ -312,10 +295,10 @@ class MudTerrain:
         """The stacked (x, y, z) channel parameters (trailing axis of 3)."""
         return channel_parameters(self.mud)
 
-    @property
+    @cached_property
     def constants(self) -> ConstantsPair:
         """``(horizontal, vertical)`` channel constants of :func:`mud_step`."""
-        return self._constants  # type: ignore[attr-defined,no-any-return]
+        return channel_constants(self.mud.horizontal), channel_constants(self.mud.vertical)
 
     @property
     def kappa(self) -> float:
@@ -325,12 +308,12 @@ class MudTerrain:
     @property
     def quasi_static(self) -> bool:
         """True for the paper's quasi-static evaluation, eqs. (9)-(11) (decision D15)."""
-        return bool(self._flags[0])  # type: ignore[attr-defined]
+        return self.thixotropy == "quasi-static"
 
     @property
     def restart(self) -> bool:
         """True when the clock of eq. (9) restarts at the retraction (decision D15)."""
-        return bool(self._flags[1])  # type: ignore[attr-defined]
+        return self.clock == "retraction"
 
     def length(self, foot: Foot) -> float:
         """:math:`L_c` [m]: the terrain's own, else the foot's."""

@@ -7,8 +7,7 @@ At the tip's penetration :math:`d=\max(-z,0)`, rate :math:`\dot d=-v_z`, slip sp
 
 .. math:: \mathbf F_t = -\mu F_z \tanh(|\mathbf v_t|/v_s)\,\mathbf v_t/|\mathbf v_t|.
 
-Defaults (decision D56): :math:`k=10^5` N/m, :math:`c=2\sqrt{k\cdot1\,\mathrm{kg}}=632.5`
-N s/m (a 1 ms explicit step is stable from 0.5 kg), :math:`\mu=0.6`, :math:`v_s=0.01` m/s.
+The defaults are decision D56 (docs/model.md).
 """
 
 from __future__ import annotations

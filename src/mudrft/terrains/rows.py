@@ -26,8 +26,11 @@ from ..constitutive.kernel import ChannelConstants
 from ..constitutive.state import ChannelState
 from ..feet.closed_form import closed_form_force
 from ..feet.facet import facet_factors, facet_force, submerged_area
+from ..feet.mesh import MeshFoot
+from ..feet.morphing import MorphingFoot
 from ..feet.morphing.equilibrium import contact_on_floats, seal_factor
 from ..feet.morphing.row import MorphingRow, row_array
+from ..feet.shapes import Flat, SemiCylinder, SemiSphere
 from ..feet.surface import PreparedTriangles
 from .mud import MudChannels, mud_step
 
@@ -82,19 +85,12 @@ def channels_of_rows(rows: FloatArray) -> MudChannels:
 
 def compilable(foot: Foot) -> bool:
     """Whether :func:`foot_rows` describes ``foot`` (a closed form, mesh or morphing foot)."""
-    from ..feet.mesh import MeshFoot
-    from ..feet.morphing import MorphingFoot
-    from ..feet.shapes import Flat, SemiCylinder, SemiSphere
-
     return type(foot) in (Flat, SemiCylinder, SemiSphere, MeshFoot, MorphingFoot)
 
 
 def foot_rows(foot: Foot) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """``(geometry (4,), facets (m, 10), morphing row, foot state (N_FOOT,))`` of a foot;
     zeros (or no facets) where the foot has none."""
-    from ..feet.mesh import MeshFoot
-    from ..feet.morphing import MorphingFoot
-
     facets = np.zeros((0, 10))
     mrow = np.zeros(len(MorphingRow._fields))
     fst = np.zeros(N_FOOT)
