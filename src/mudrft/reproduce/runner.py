@@ -310,34 +310,19 @@ def _suction_ratios(
 ) -> dict[str, tuple[float, float | None]]:
     """Reading -> the semi-cylinder's suction over the flat foot's [-] in the gait and with
     the load-carrying stance (None where not run), for the readings that ran both feet."""
+
+    def ratio(curved: dict[str, float] | None, flat: dict[str, float] | None) -> float | None:
+        if curved is None or flat is None:
+            return None
+        return curved["max_suction"] / flat["max_suction"]
+
+    feet = ("semi-cylinder", "flat")
     out: dict[str, tuple[float, float | None]] = {}
     for rd in readings:
-        gait = [runs.metrics(rd, f, speed, rd.row(0.25)) for f in ("semi-cylinder", "flat")]
-        held = [runs.loaded(rd, f, speed) for f in ("semi-cylinder", "flat")]
-        if gait[0] is None or gait[1] is None:
-            continue
-        ratio = gait[0]["max_suction"] / gait[1]["max_suction"]
-        loaded = (
-            held[0]["max_suction"] / held[1]["max_suction"]
-            if held[0] is not None and held[1] is not None
-            else None
-        )
-        out[rd.key] = (ratio, loaded)
+        gait = ratio(*(runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet))
+        if gait is not None:
+            out[rd.key] = (gait, ratio(*(runs.loaded(rd, f, speed) for f in feet)))
     return out
-
-
-#: ``summary.csv``'s columns read from a run's metrics, and the metric each holds.
-_FROM_METRICS = {
-    "peak_support [N]": "peak_support",
-    "max_suction [N]": "max_suction",
-    "impulse_x [N s]": "impulse_x",
-    "impulse_y [N s]": "impulse_y",
-    "impulse_z [N s]": "impulse_z",
-    "energy [J]": "energy",
-    "suction_ratio": "suction_ratio",
-    "peak_normalized_sz [Pa]": "peak_ns",
-    "min_normalized_sz [Pa]": "min_ns",
-}
 
 
 def _summary_rows(
@@ -353,10 +338,12 @@ def _summary_rows(
             sinking = runs.sinking(head, f, w)
             for v in speeds:
                 m = runs.numbers[runs.key(head, f, v, w)]  # every headline run was made
-                row = {"foot": f, "speed [m/s]": float(v), "water_content": head.label(w)}
-                row |= {col: m[key] for col, key in _FROM_METRICS.items()}
                 ratio = -m["min_ns"] / m["peak_ns"] if m["peak_ns"] > 0 else 0.0
-                out.append(row | {"sinking [m]": sinking, "normalized_suction_ratio": ratio})
+                # each column's number by the column's name up to its unit
+                numbers = m | {"peak_normalized_sz": m["peak_ns"], "min_normalized_sz": m["min_ns"]}
+                numbers |= {"sinking": sinking, "normalized_suction_ratio": ratio}
+                row = {"foot": f, "speed [m/s]": float(v), "water_content": head.label(w)}
+                out.append(row | {c: numbers[c.split(" ")[0]] for c in SUMMARY_COLUMNS[3:]})
     return out
 
 
