@@ -161,11 +161,9 @@ def write_report(
         "|---|---|" + "---|" * len(readings),
     ]
     for i, claim in enumerate(CLAIMS):
-        row = [f"{claim.key}", _esc(claim.paper)]
-        for rd in readings:
-            c = cells[rd.key][i]
-            row.append(f"{_esc(c.short)}: **{c.verdict}**")
-        lines.append("| " + " | ".join(row) + " |")
+        row = (cells[rd.key][i] for rd in readings)
+        marks = " | ".join(f"{_esc(c.short)}: **{c.verdict}**" for c in row)
+        lines.append(f"| {claim.key} | {_esc(claim.paper)} | {marks} |")
     lines.append(
         "| **reproduced** | | "
         + " | ".join(f"**{count(cells[rd.key])['agrees']} of 9**" for rd in readings)

@@ -89,13 +89,11 @@ class _Runs:
         self._feet: dict[tuple[str, float], Foot] = {}
 
     def foot(self, name: str, curl_delay: float = 0.0) -> Foot:
-        """The foot ``name``; the morphing foot with its pad-curl delay [s]."""
-        if (name, curl_delay) not in self._feet:
-            held = curl_delay and name == "morphing"
-            self._feet[name, curl_delay] = (
-                MorphingFoot(curl_delay=curl_delay) if held else by_name(name)
-            )
-        return self._feet[name, curl_delay]
+        """The foot ``name``; the morphing foot with its pad-curl delay [s] (others: 0)."""
+        key = (name, curl_delay)
+        if key not in self._feet:
+            self._feet[key] = MorphingFoot(curl_delay=curl_delay) if curl_delay else by_name(name)
+        return self._feet[key]
 
     @staticmethod
     def key(rd: Reading, foot: str, speed: float, row: float, depth: float | None = None) -> RunKey:
@@ -359,7 +357,6 @@ def write_rows(path: Path, rows: list[dict[str, Any]], columns: Sequence[str]) -
 def read_summary(path: str | Path) -> list[dict[str, Any]]:
     """Read a ``summary.csv`` written by :func:`reproduce` (numbers as floats)."""
     with open(path, newline="") as fh:
-        out = []
-        for r in csv.DictReader(fh):
-            out.append({k: (v if k == "foot" else float(v)) for k, v in r.items()})
-    return out
+        return [
+            {k: (v if k == "foot" else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)
+        ]
