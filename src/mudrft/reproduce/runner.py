@@ -143,22 +143,6 @@ class _Runs:
 LOADED = ("flat", "semi-cylinder", "morphing")
 
 
-def _plan(
-    reading: Reading, feet: Sequence[str], speeds: Sequence[float], rows: Sequence[float]
-) -> list[tuple[str, float, float]]:
-    """The (foot, speed, row) runs the nine claims need under ``reading`` (but the
-    load-carrying stance)."""
-    v = medium_speed(speeds)
-    w = reading.row(0.25)
-    if not any(abs(w - r) < 1e-9 for r in rows):
-        return []
-    fixed = [f for f in feet if f in FIXED]
-    out = [(f, v, w) for f in feet]
-    out += [(f, s, w) for f in fixed for s in speeds]
-    out += [(f, v, r) for f in fixed for r in rows]
-    return list(dict.fromkeys(out))
-
-
 def reproduce(
     out: str | Path,
     *,
@@ -221,12 +205,17 @@ def reproduce(
     head = readings[0]
     at_depth = {float(d): head.at_depth(float(d)) for d in depths}
     delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
-    v = medium_speed(speeds) if speeds else 0.0
+    v = medium_speed(speeds)
+    fixed = [f for f in feet if f in FIXED]
+    loads = set(LOADED) <= set(feet)  # the load-carrying stance is run
     tasks: list[Task] = [(head, f, float(s), w, None) for w in rows_w for f in feet for s in speeds]
-    for rd in (*readings, *at_depth.values()):
-        tasks += [(rd, *t, None) for t in _plan(rd, feet, speeds, rows_w)]
-        if rd.row(0.25) in rows_w and set(LOADED) <= set(feet):
-            w = rd.row(0.25)
+    for rd in (*readings, *at_depth.values()):  # the runs the nine claims need
+        w = rd.row(0.25)
+        if any(abs(w - r) < 1e-9 for r in rows_w):
+            tasks += [(rd, f, v, w, None) for f in feet]
+            tasks += [(rd, f, s, w, None) for f in fixed for s in speeds]
+            tasks += [(rd, f, v, r, None) for f in fixed for r in rows_w]
+        if w in rows_w and loads:
             tasks += [(rd, f, v, w, runs.sinking(rd, f, w)) for f in LOADED]
     if "morphing" in feet and head.row(0.25) in rows_w:
         tasks += [(rd, "morphing", v, head.row(0.25), None) for rd in delayed.values()]
@@ -253,9 +242,7 @@ def reproduce(
             feet=list(feet),
             speeds=[float(s) for s in speeds],
             rows=rows_w,
-            loaded=functools.partial(runs.loaded, rd, speed=v)
-            if set(LOADED) <= set(feet)
-            else None,
+            loaded=functools.partial(runs.loaded, rd, speed=v) if loads else None,
         )
 
     cells = {rd.key: cells_of(rd) for rd in readings}
@@ -288,7 +275,7 @@ def reproduce(
 
     _say(f"wrote {write_claims_csv(outp / 'claims.csv', cells)}", quiet)
     _say(f"wrote {write_depths_csv(outp / 'depths.csv', head, by_depth)}", quiet)
-    sinking = {f: runs.sinking(head, f, head.row(0.25)) for f in feet if f in FIXED}
+    sinking = {f: runs.sinking(head, f, head.row(0.25)) for f in fixed}
     report = write_report(
         outp / "report.md",
         cells,
