@@ -134,6 +134,15 @@ def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str
     return names
 
 
+def terrains_from_options(args: argparse.Namespace, mud: Mud) -> dict[str, Terrain]:
+    """The terrains of ``--terrains`` by name: ``mud`` as the mud model, the baselines as
+    :func:`baseline_from_options` makes them."""
+    from ..terrains import MudTerrain
+
+    names = terrain_names(args, args.terrains, "--terrains")
+    return {n: MudTerrain(mud) if n == "mud" else baseline_from_options(args, n) for n in names}
+
+
 def baseline_from_options(args: argparse.Namespace, name: str) -> Terrain:
     """The baseline terrain ``name`` with the media options given for it as its keywords,
     its defaults otherwise (D59)."""

@@ -11,13 +11,7 @@ from typing import TYPE_CHECKING
 from .._validation import MudrftError
 from ._common import Outputs, check_positive_option, require_extra, save_figure
 from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
-from ._terrain import (
-    add_mud_options,
-    add_terrain_options,
-    baseline_from_options,
-    mud_from_options,
-    terrain_names,
-)
+from ._terrain import add_mud_options, add_terrain_options, mud_from_options, terrains_from_options
 
 if TYPE_CHECKING:
     from ..feet import Foot
@@ -148,7 +142,6 @@ def write_comparison(
 def run(args: argparse.Namespace) -> int:
     """Run ``mudrft compare`` with parsed arguments."""
     from ..feet import by_name
-    from ..terrains import MudTerrain
 
     speed = check_positive_option("--speed", args.speed, unit="m/s")
     depth = check_positive_option("--depth", args.depth, unit="m")
@@ -164,10 +157,7 @@ def run(args: argparse.Namespace) -> int:
         require_extra(
             "matplotlib", needed_for="the figures of mudrft compare", unless="--no-figures"
         )
-    terrains = {
-        name: MudTerrain(mud) if name == "mud" else baseline_from_options(args, name)
-        for name in terrain_names(args, args.terrains, "--terrains")
-    }
+    terrains = terrains_from_options(args, mud)
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     paths = write_comparison(
         foot,
