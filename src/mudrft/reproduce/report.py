@@ -255,6 +255,7 @@ def _morphing_section(
         lines[-1] += text + f" over the readings, never {REQUIRED_RATIO:.2f}"
     lines[-1] += ". Each cell gives the two experiments' numbers."
     if curl_ratios:
+        ratios = " | ".join(f"{r * 100:.0f}" for r in curl_ratios.values())
         lines += [
             "",
             "*The 40 % (Fig. 11).* It rests on when the pads curl, which the paper does not "
@@ -266,9 +267,7 @@ def _morphing_section(
             "",
             "| pad-curl delay [ms] | " + " | ".join(f"{x * 1e3:g}" for x in curl_ratios) + " |",
             "|---|" + "---|" * len(curl_ratios),
-            "| suction / support [%] | "
-            + " | ".join(f"{r * 100:.0f}" for r in curl_ratios.values())
-            + " |",
+            f"| suction / support [%] | {ratios} |",
         ]
     return lines
 
