@@ -47,14 +47,13 @@ def add_subcommand(
 def add_run_options(
     parser: argparse.ArgumentParser,
     *,
-    force: str | None = None,
+    force: str,
     strict: str | None = None,
     refuses: str = "",
 ) -> None:
     """Add ``--force`` (overwrites ``force``), ``--quiet`` and ``--strict``: a warning
     (``strict`` says which) makes the exit status 1, and ``refuses`` is refused outright."""
-    if force is not None:
-        parser.add_argument("--force", action="store_true", help=f"overwrite {force}")
+    parser.add_argument("--force", action="store_true", help=f"overwrite {force}")
     parser.add_argument("--quiet", action="store_true", help="no progress output")
     if strict is not None:
         text = (
@@ -90,8 +89,7 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
     )
     parser.add_argument(
         "--trailing",
-        action="store_const",
-        const=True,
+        action="store_true",
         default=None,
         help="a mesh foot's trailing facets resist too (as in the semi-sphere's closed form, "
         "D23; default: leading facets only)",

@@ -128,31 +128,26 @@ def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str
         if v is None:
             continue
         owner, unit = MEDIUM_OPTIONS[opt]
-        if opt == "--mu-surf":  # 0: a frictionless foot
-            check_positive_option(opt, v, ge=True)
-        else:
-            check_positive_option(opt, v, unit=unit)
+        check_positive_option(opt, v, unit=unit, ge=opt == "--mu-surf")  # 0: frictionless
         if owner not in names:
             raise MudrftError(f"{opt} describes {owner}, which {option} leaves out")
     return names
 
 
-def terrains_from_options(
-    args: argparse.Namespace, value: str, option: str, *, water_content: float, mud: Mud | None
-) -> dict[str, Terrain]:
-    """The terrains named in ``value`` by name, with the media options; the other
-    baselines with their defaults (D59)."""
-    from ..parameters import paper_mud
-    from ..terrains import (
-        GranularRFT,
-        GranularRFT3D,
-        LinearStiffness,
-        MaxwellMud,
-        MudTerrain,
-        RigidGround,
-    )
+def terrains_from_options(args: argparse.Namespace, mud: Mud) -> dict[str, Terrain]:
+    """The terrains of ``--terrains`` by name: ``mud`` as the mud model, the baselines as
+    :func:`baseline_from_options` makes them."""
+    from ..terrains import MudTerrain
 
-    extrapolate = bool(getattr(args, "extrapolate", False))
+    names = terrain_names(args, args.terrains, "--terrains")
+    return {n: MudTerrain(mud) if n == "mud" else baseline_from_options(args, n) for n in names}
+
+
+def baseline_from_options(args: argparse.Namespace, name: str) -> Terrain:
+    """The baseline terrain ``name`` with the media options given for it as its keywords,
+    its defaults otherwise (D59)."""
+    from ..terrains import GranularRFT, GranularRFT3D, LinearStiffness, MaxwellMud, RigidGround
+
     baselines = {
         "granular-rft": GranularRFT,
         "granular-rft3d": GranularRFT3D,
@@ -160,20 +155,12 @@ def terrains_from_options(
         "maxwell": MaxwellMud,
         "rigid": RigidGround,
     }
-    out: dict[str, Terrain] = {}
-    for name in terrain_names(args, value, option):
-        if name == "mud":
-            out[name] = MudTerrain(
-                mud if mud is not None else paper_mud(water_content, extrapolate=extrapolate)
-            )
-        else:  # the media options given for this terrain, as its keywords
-            kw = {
-                o[2:].replace("-", "_"): float(v)
-                for o, v in _media(args).items()
-                if v is not None and MEDIUM_OPTIONS[o][0] == name
-            }
-            out[name] = baselines[name](**kw)
-    return out
+    kw = {
+        o[2:].replace("-", "_"): float(v)
+        for o, v in _media(args).items()
+        if v is not None and MEDIUM_OPTIONS[o][0] == name
+    }
+    return baselines[name](**kw)
 
 
 def _media(args: argparse.Namespace) -> dict[str, float | None]:

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .._validation import MudrftError
-from ._common import Outputs, check_finite_option, check_positive_option, require_extra, save_figure
+from ._common import Outputs, check_positive_option, require_extra, save_figure
 from ._parser import GAIT_SPEED, STANCE_DEPTH, add_foot_options, add_run_options, add_subcommand
 from ._terrain import add_mud_options, add_terrain_options, mud_from_options, terrains_from_options
 
@@ -150,7 +150,6 @@ def run(args: argparse.Namespace) -> int:
             f"--depth must be at most 1 m (it is in metres: 30 mm is 0.03), got {depth:g} m"
         )
     hold = check_positive_option("--hold", args.hold, unit="s", ge=True)
-    water_content = check_finite_option("--water-content", args.water_content)
     with warnings.catch_warnings():  # refuse before any work; the run itself warns
         warnings.simplefilter("ignore")
         mud = mud_from_options(args)
@@ -158,22 +157,17 @@ def run(args: argparse.Namespace) -> int:
         require_extra(
             "matplotlib", needed_for="the figures of mudrft compare", unless="--no-figures"
         )
-    terrains = terrains_from_options(
-        args, args.terrains, "--terrains", water_content=water_content, mud=mud
-    )
+    terrains = terrains_from_options(args, mud)
     foot = by_name(args.foot, unit=args.unit, trailing=args.trailing, up=args.up)
     paths = write_comparison(
         foot,
         args.out,
-        water_content=water_content,
         speed=speed,
         depth=depth,
         hold=hold,
         figures=not args.no_figures,
         force=args.force,
         quiet=args.quiet,
-        extrapolate=args.extrapolate,
-        mud=mud,
         terrains=terrains,
         strict=args.strict,
     )

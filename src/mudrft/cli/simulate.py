@@ -25,9 +25,9 @@ from ._parser import (
 from ._terrain import (
     add_mud_options,
     add_terrain_options,
+    baseline_from_options,
     mud_from_options,
     terrain_names,
-    terrains_from_options,
 )
 
 if TYPE_CHECKING:
@@ -154,9 +154,7 @@ def run(args: argparse.Namespace) -> int:
             if getattr(args, dest) != default:
                 option = "--" + dest.replace("_", "-")
                 raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
-        (terrain,) = terrains_from_options(
-            args, args.terrain, "--terrain", water_content=0.25, mud=None
-        ).values()
+        terrain = baseline_from_options(args, chosen)
     motion, what = _motion(args, dt)  # checked before anything is written
     static: float | str | None = None
     if isinstance(motion, LoadControl) and isinstance(terrain, MudTerrain):

@@ -193,19 +193,17 @@ def _shape_argument(fixed: dict[str, dict[str, float]]) -> str:
         return ""
     feet, cross = _paper_feet()
     at = {f: fixed[f]["peak_ns_depth"] for f in FIXED}
-    k = {f: shape_factor(feet[f], at[f]) for f in FIXED}
+    depths = ", ".join(f"{at[f] * 1e3:.1f}" for f in FIXED)
+    factors = "/".join(f"{shape_factor(feet[f], at[f]):.3f}" for f in FIXED)
     text = (
-        "; at the peaks ("
-        + ", ".join(f"{at[f] * 1e3:.1f}" for f in FIXED)
-        + " mm deep) a uniform stress gives F_z/A_z = "
-        + "/".join(f"{k[f]:.3f}" for f in FIXED)
-        + " of it (eqs. 12, 13c, 14b; E20-E21)"
+        f"; at the peaks ({depths} mm deep) a uniform stress gives F_z/A_z = {factors} of it "
+        "(eqs. 12, 13c, 14b; E20-E21)"
     )
     if cross:
+        crossings = ", ".join(f"{z * 1e3:.1f}" for z in cross)
         text += (
-            ", and the semi-sphere's factor passes the semi-cylinder's at "
-            + ", ".join(f"{z * 1e3:.1f}" for z in cross)
-            + " mm: at equal stress the paper's order needs the peaks shallower"
+            f", and the semi-sphere's factor passes the semi-cylinder's at {crossings} mm: at "
+            "equal stress the paper's order needs the peaks shallower"
         )
     return text
 
@@ -275,11 +273,10 @@ def evaluate(
         # the sentence stands in the paragraph on Fig. 10a, which plots F_z/A_z: the same
         # order by stress, for the reader to judge (the verdict is on the force, as printed)
         ss = {f: -fixed[f]["min_ns"] for f in FIXED}
+        stresses = ", ".join(f"{f} {ss[f] / 1e3:.2f} kPa" for f in FIXED)
         text += (
-            "; by suction stress |min F_z/A_z| (Fig. 10a): "
-            + ", ".join(f"{f} {ss[f] / 1e3:.2f} kPa" for f in FIXED)
-            + f", the {max(ss, key=ss.__getitem__)} largest, the "
-            + f"{min(ss, key=ss.__getitem__)} least"
+            f"; by suction stress |min F_z/A_z| (Fig. 10a): {stresses}, the "
+            f"{max(ss, key=ss.__getitem__)} largest, the {min(ss, key=ss.__getitem__)} least"
         )
         cell("suction-order", text, _ok(ok), "/".join(f"{su[f]:.0f}" for f in FIXED) + " N")
     else:
@@ -326,11 +323,8 @@ def evaluate(
             # the same ratio by force (over a constant area): the curved feet's submerged
             # area shrinks as they leave the mud, so the verdict rests on the stress
             by_force = [fixed[f]["max_suction"] / fixed[f]["peak_support"] * 100 for f in FIXED]
-            text += (
-                " of the peak stress; by force "
-                + "/".join(f"{r:.0f}" for r in by_force)
-                + " % (docs/model.md Sec. 12)"
-            )
+            forces = "/".join(f"{r:.0f}" for r in by_force)
+            text += f" of the peak stress; by force {forces} % (docs/model.md Sec. 12)"
         short = "/".join(f"{r:.0f}" for r in ratios.values()) + " %"
         cell("fixed-suction-ratio", text, _ok(ok), short)
     else:

@@ -148,6 +148,7 @@ def write_report(
     if by_depth:
         lines += ["", *_depth_section(by_depth)]
     lines += ["", *_morphing_section(head, suction_ratios or {}, curl_ratios or {})]
+    titles = " | ".join(rd.key + (" (headline)" if rd is head else "") for rd in readings)
     lines += [
         "",
         "## Matrix: readings x claims",
@@ -155,22 +156,15 @@ def write_report(
         "Each cell: mudrft's number, then the verdict (feet in the order flat / semi-cylinder /",
         "semi-sphere). Numbers and full texts are in `claims.csv`.",
         "",
-        "| claim | the paper says | "
-        + " | ".join(rd.key + (" (headline)" if rd is head else "") for rd in readings)
-        + " |",
+        f"| claim | the paper says | {titles} |",
         "|---|---|" + "---|" * len(readings),
     ]
     for i, claim in enumerate(CLAIMS):
-        row = [f"{claim.key}", _esc(claim.paper)]
-        for rd in readings:
-            c = cells[rd.key][i]
-            row.append(f"{_esc(c.short)}: **{c.verdict}**")
-        lines.append("| " + " | ".join(row) + " |")
-    lines.append(
-        "| **reproduced** | | "
-        + " | ".join(f"**{count(cells[rd.key])['agrees']} of 9**" for rd in readings)
-        + " |"
-    )
+        row = (cells[rd.key][i] for rd in readings)
+        marks = " | ".join(f"{_esc(c.short)}: **{c.verdict}**" for c in row)
+        lines.append(f"| {claim.key} | {_esc(claim.paper)} | {marks} |")
+    counts = " | ".join(f"**{count(cells[rd.key])['agrees']} of 9**" for rd in readings)
+    lines.append(f"| **reproduced** | | {counts} |")
     lines += ["", "## The readings and where the paper supports them", ""]
     for rd in readings:
         lines.append(f"* **{rd.key}** ({headline_count(cells[rd.key])}): {rd.title}. ")
@@ -225,9 +219,8 @@ def _depth_section(by_depth: dict[float, list[Cell]]) -> list[str]:
     for i, claim in enumerate(CLAIMS):
         marks = " | ".join(MARKS.get(by_depth[d][i].verdict, "?") for d in depths)
         lines.append(f"| {claim.key} | {marks} |")
-    lines.append(
-        "| **reproduced** | " + " | ".join(str(count(by_depth[d])["agrees"]) for d in depths) + " |"
-    )
+    counts = " | ".join(str(count(by_depth[d])["agrees"]) for d in depths)
+    lines.append(f"| **reproduced** | {counts} |")
     return lines
 
 
@@ -262,6 +255,7 @@ def _morphing_section(
         lines[-1] += text + f" over the readings, never {REQUIRED_RATIO:.2f}"
     lines[-1] += ". Each cell gives the two experiments' numbers."
     if curl_ratios:
+        ratios = " | ".join(f"{r * 100:.0f}" for r in curl_ratios.values())
         lines += [
             "",
             "*The 40 % (Fig. 11).* It rests on when the pads curl, which the paper does not "
@@ -273,9 +267,7 @@ def _morphing_section(
             "",
             "| pad-curl delay [ms] | " + " | ".join(f"{x * 1e3:g}" for x in curl_ratios) + " |",
             "|---|" + "---|" * len(curl_ratios),
-            "| suction / support [%] | "
-            + " | ".join(f"{r * 100:.0f}" for r in curl_ratios.values())
-            + " |",
+            f"| suction / support [%] | {ratios} |",
         ]
     return lines
 

@@ -89,13 +89,11 @@ class _Runs:
         self._feet: dict[tuple[str, float], Foot] = {}
 
     def foot(self, name: str, curl_delay: float = 0.0) -> Foot:
-        """The foot ``name``; the morphing foot with its pad-curl delay [s]."""
-        if (name, curl_delay) not in self._feet:
-            held = curl_delay and name == "morphing"
-            self._feet[name, curl_delay] = (
-                MorphingFoot(curl_delay=curl_delay) if held else by_name(name)
-            )
-        return self._feet[name, curl_delay]
+        """The foot ``name``; the morphing foot with its pad-curl delay [s] (others: 0)."""
+        key = (name, curl_delay)
+        if key not in self._feet:
+            self._feet[key] = MorphingFoot(curl_delay=curl_delay) if curl_delay else by_name(name)
+        return self._feet[key]
 
     @staticmethod
     def key(rd: Reading, foot: str, speed: float, row: float, depth: float | None = None) -> RunKey:
@@ -143,22 +141,6 @@ class _Runs:
 
 #: The feet of the load-carrying stance (claims morphing-vs-*).
 LOADED = ("flat", "semi-cylinder", "morphing")
-
-
-def _plan(
-    reading: Reading, feet: Sequence[str], speeds: Sequence[float], rows: Sequence[float]
-) -> list[tuple[str, float, float]]:
-    """The (foot, speed, row) runs the nine claims need under ``reading`` (but the
-    load-carrying stance)."""
-    v = medium_speed(speeds)
-    w = reading.row(0.25)
-    if not any(abs(w - r) < 1e-9 for r in rows):
-        return []
-    fixed = [f for f in feet if f in FIXED]
-    out = [(f, v, w) for f in feet]
-    out += [(f, s, w) for f in fixed for s in speeds]
-    out += [(f, v, r) for f in fixed for r in rows]
-    return list(dict.fromkeys(out))
 
 
 def reproduce(
@@ -223,12 +205,17 @@ def reproduce(
     head = readings[0]
     at_depth = {float(d): head.at_depth(float(d)) for d in depths}
     delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
-    v = medium_speed(speeds) if speeds else 0.0
+    v = medium_speed(speeds)
+    fixed = [f for f in feet if f in FIXED]
+    loads = set(LOADED) <= set(feet)  # the load-carrying stance is run
     tasks: list[Task] = [(head, f, float(s), w, None) for w in rows_w for f in feet for s in speeds]
-    for rd in (*readings, *at_depth.values()):
-        tasks += [(rd, *t, None) for t in _plan(rd, feet, speeds, rows_w)]
-        if rd.row(0.25) in rows_w and set(LOADED) <= set(feet):
-            w = rd.row(0.25)
+    for rd in (*readings, *at_depth.values()):  # the runs the nine claims need
+        w = rd.row(0.25)
+        if any(abs(w - r) < 1e-9 for r in rows_w):
+            tasks += [(rd, f, v, w, None) for f in feet]
+            tasks += [(rd, f, s, w, None) for f in fixed for s in speeds]
+            tasks += [(rd, f, v, r, None) for f in fixed for r in rows_w]
+        if w in rows_w and loads:
             tasks += [(rd, f, v, w, runs.sinking(rd, f, w)) for f in LOADED]
     if "morphing" in feet and head.row(0.25) in rows_w:
         tasks += [(rd, "morphing", v, head.row(0.25), None) for rd in delayed.values()]
@@ -255,9 +242,7 @@ def reproduce(
             feet=list(feet),
             speeds=[float(s) for s in speeds],
             rows=rows_w,
-            loaded=functools.partial(runs.loaded, rd, speed=v)
-            if set(LOADED) <= set(feet)
-            else None,
+            loaded=functools.partial(runs.loaded, rd, speed=v) if loads else None,
         )
 
     cells = {rd.key: cells_of(rd) for rd in readings}
@@ -290,7 +275,7 @@ def reproduce(
 
     _say(f"wrote {write_claims_csv(outp / 'claims.csv', cells)}", quiet)
     _say(f"wrote {write_depths_csv(outp / 'depths.csv', head, by_depth)}", quiet)
-    sinking = {f: runs.sinking(head, f, head.row(0.25)) for f in feet if f in FIXED}
+    sinking = {f: runs.sinking(head, f, head.row(0.25)) for f in fixed}
     report = write_report(
         outp / "report.md",
         cells,
@@ -310,34 +295,19 @@ def _suction_ratios(
 ) -> dict[str, tuple[float, float | None]]:
     """Reading -> the semi-cylinder's suction over the flat foot's [-] in the gait and with
     the load-carrying stance (None where not run), for the readings that ran both feet."""
+
+    def ratio(curved: dict[str, float] | None, flat: dict[str, float] | None) -> float | None:
+        if curved is None or flat is None:
+            return None
+        return curved["max_suction"] / flat["max_suction"]
+
+    feet = ("semi-cylinder", "flat")
     out: dict[str, tuple[float, float | None]] = {}
     for rd in readings:
-        gait = [runs.metrics(rd, f, speed, rd.row(0.25)) for f in ("semi-cylinder", "flat")]
-        held = [runs.loaded(rd, f, speed) for f in ("semi-cylinder", "flat")]
-        if gait[0] is None or gait[1] is None:
-            continue
-        ratio = gait[0]["max_suction"] / gait[1]["max_suction"]
-        loaded = (
-            held[0]["max_suction"] / held[1]["max_suction"]
-            if held[0] is not None and held[1] is not None
-            else None
-        )
-        out[rd.key] = (ratio, loaded)
+        gait = ratio(*(runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet))
+        if gait is not None:
+            out[rd.key] = (gait, ratio(*(runs.loaded(rd, f, speed) for f in feet)))
     return out
-
-
-#: ``summary.csv``'s columns read from a run's metrics, and the metric each holds.
-_FROM_METRICS = {
-    "peak_support [N]": "peak_support",
-    "max_suction [N]": "max_suction",
-    "impulse_x [N s]": "impulse_x",
-    "impulse_y [N s]": "impulse_y",
-    "impulse_z [N s]": "impulse_z",
-    "energy [J]": "energy",
-    "suction_ratio": "suction_ratio",
-    "peak_normalized_sz [Pa]": "peak_ns",
-    "min_normalized_sz [Pa]": "min_ns",
-}
 
 
 def _summary_rows(
@@ -353,10 +323,12 @@ def _summary_rows(
             sinking = runs.sinking(head, f, w)
             for v in speeds:
                 m = runs.numbers[runs.key(head, f, v, w)]  # every headline run was made
-                row = {"foot": f, "speed [m/s]": float(v), "water_content": head.label(w)}
-                row |= {col: m[key] for col, key in _FROM_METRICS.items()}
                 ratio = -m["min_ns"] / m["peak_ns"] if m["peak_ns"] > 0 else 0.0
-                out.append(row | {"sinking [m]": sinking, "normalized_suction_ratio": ratio})
+                # each column's number by the column's name up to its unit
+                numbers = m | {"peak_normalized_sz": m["peak_ns"], "min_normalized_sz": m["min_ns"]}
+                numbers |= {"sinking": sinking, "normalized_suction_ratio": ratio}
+                row = {"foot": f, "speed [m/s]": float(v), "water_content": head.label(w)}
+                out.append(row | {c: numbers[c.split(" ")[0]] for c in SUMMARY_COLUMNS[3:]})
     return out
 
 
@@ -372,7 +344,6 @@ def write_rows(path: Path, rows: list[dict[str, Any]], columns: Sequence[str]) -
 def read_summary(path: str | Path) -> list[dict[str, Any]]:
     """Read a ``summary.csv`` written by :func:`reproduce` (numbers as floats)."""
     with open(path, newline="") as fh:
-        out = []
-        for r in csv.DictReader(fh):
-            out.append({k: (v if k == "foot" else float(v)) for k, v in r.items()})
-    return out
+        return [
+            {k: (v if k == "foot" else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)
+        ]
