@@ -5,6 +5,7 @@ MudrftError naming the file and the dataset, link or attribute."""
 from __future__ import annotations
 
 import re
+import sys
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -330,3 +331,18 @@ def test_fuzzed_hdf5_structure_never_tracebacks(tmp_path_factory, members, area)
             for tr in ds:
                 assert tr.time.ndim == 1 and np.all(np.diff(tr.time) > 0)
                 assert np.all(np.isfinite(tr.stress)) and tr.stress.shape == tr.time.shape
+
+
+def test_without_h5py_both_ends_name_the_extra(monkeypatch, tmp_path):
+    """Without h5py, loading and saving an HDF5 log say which extra to install, as every
+    optional package does (it was an ImportError of the loader's own wording)."""
+    from mudrft.calibration import example_dataset
+    from mudrft.io import save_intrusion_hdf5
+
+    path = _h5(tmp_path, lambda fh: fh.create_dataset("depth", data=DEPTH))
+    monkeypatch.setitem(sys.modules, "h5py", None)  # import h5py -> ImportError
+    with pytest.raises(MudrftError, match=r"load_intrusion_hdf5 needs .*h5py.*mudrft\[hdf5\]"):
+        load_intrusion_hdf5(path)
+    with pytest.raises(MudrftError, match=r"save_intrusion_hdf5 needs .*h5py.*mudrft\[hdf5\]"):
+        save_intrusion_hdf5(example_dataset(), tmp_path / "out.h5")
+    assert not (tmp_path / "out.h5").exists()

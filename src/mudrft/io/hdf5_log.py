@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import MudrftError, plain
+from .._validation import MudrftError, plain, require_extra
 from ..units import parse_unit
 from ._build import Columns, Locate, assemble, check_roles, file_bytes, resolve_direction
 from .atomic import atomic_write
@@ -37,14 +37,6 @@ Table = tuple[str, Columns, dict[str, str], Locate]
 _ROOT_ONLY = ("direction", "characteristic_length", "area", "synthetic")
 #: dtype kinds of a column: signed and unsigned integers, floats.
 _REAL_KINDS = "iuf"
-
-
-def _require_h5py() -> ModuleType:
-    try:
-        import h5py
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError("HDF5 logs need h5py: pip install 'mudrft[hdf5]'") from exc
-    return h5py
 
 
 def _text(value: Any) -> str | None:
@@ -285,7 +277,7 @@ def load_intrusion_hdf5(
         Naming the file and the place, for a missing or unreadable file or any content
         the layout does not allow.
     """
-    h5py = _require_h5py()
+    h5py = require_extra("h5py", needed_for="load_intrusion_hdf5")
     p = Path(os.fspath(path))
     where = str(p)
     file_bytes(p, "an HDF5 file", max_bytes=0)
@@ -343,7 +335,7 @@ def save_intrusion_hdf5(
     Path
         The file written.
     """
-    h5py = _require_h5py()
+    h5py = require_extra("h5py", needed_for="save_intrusion_hdf5")
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     length = dataset._one_length("HDF5")
