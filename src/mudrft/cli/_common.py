@@ -61,7 +61,8 @@ def check_positive_option(option: str, value: float, *, unit: str = "", ge: bool
     (``ge``: >= 0)."""
     v = check_finite_option(option, value, unit=unit)
     if not (v >= 0 if ge else v > 0):
-        raise MudrftError(f"{option} must be {'>=' if ge else '>'} 0{' ' + unit if unit else ''}, got {v:g}")  # fmt: skip
+        bound = f"{'>=' if ge else '>'} 0{' ' + unit if unit else ''}"
+        raise MudrftError(f"{option} must be {bound}, got {v:g}")
     return v
 
 
