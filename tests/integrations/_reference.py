@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import mujoco
 import numpy as np
 
 from mudrft._validation import MudrftError
@@ -30,6 +29,8 @@ from mudrft.integrations.mujoco.kinematics import body_frames, com_twist
 from mudrft.integrations.mujoco.options import check_count, check_integrator
 from mudrft.integrations.mujoco.pose import matvec
 from mudrft.integrations.mujoco.stability import check_timestep
+
+from .conftest import mujoco  # None without MuJoCo: the test modules skip before using it
 
 #: Smallest secant step in velocity [m/s] (D63), the compiled coupling's.
 DV_MIN = 1e-4
