@@ -139,7 +139,7 @@ class NumpyCoupling(MudBatch):
         fw = matvec(Rp, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)
-        geo, ratio = self._posed(datas, Xp, Rp, Cp, tp, cs)
+        geo, ratio = self._posed(Xp, Rp, Cp, tp, cs)
         W = chain_mobility(self.model, datas, self._ids, C)
         return {"com": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C), "W": W, "geo": geo, "ratio": ratio}  # fmt: skip
 

@@ -24,7 +24,6 @@ from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, not_compilable
 from .contact import MudContact
-from .geoms import _support
 from .implicit import foot_odometry
 from .kinematics import body_frames
 from .options import (
@@ -230,7 +229,7 @@ class MudBatch:
         fw = matvec(Rp, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
         cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
-        geo = self._posed(datas, Xp, Rp, Cp, tp, cs)[0]
+        geo = self._posed(Xp, Rp, Cp, tp, cs)[0]
         return tip, np.concatenate([foot_odometry(cs, tip[..., :2]), geo.low[..., 2:]], axis=-1)
 
     def _on_planes(
@@ -249,23 +248,14 @@ class MudBatch:
         return X, R, C, tip
 
     def _posed(
-        self, datas: Sequence[mujoco.MjData], X: FloatArray, R: FloatArray, C: FloatArray,
-        tip: FloatArray, cs: FloatArray,
-    ) -> tuple[ChannelGeometry, FloatArray]:  # fmt: skip
+        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
+    ) -> tuple[ChannelGeometry, FloatArray]:
         groups = [
             (tri, up, idx, bool(self._ball[idx[0]]))
             for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
         ]
-        bare = [i for (tri, _, idx, _) in groups if tri is None for i in idx]
-        low = None
-        if bare:  # feet without a surface act at the lowest point of their geoms
-            low = tip.copy()
-            for i in (i for i in bare if self.bodies[i].geoms):
-                for k, d in enumerate(datas):
-                    pts = [_support(self.model, d, g) for g in self.bodies[i].geoms]
-                    low[k, i] = min(pts, key=lambda p: float(p[2]))
         X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
-        return posed_channels(groups, X, R, C, cs, self.surface, low)
+        return posed_channels(groups, X, R, C, cs, self.surface)
 
     # -- public API -------------------------------------------------------------------
     def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:

@@ -311,11 +311,10 @@ def coupled_triangles(b: BodyFoot) -> FloatArray | None:
 
 def group_triangles(
     bodies: Sequence[BodyFoot], idx: IndexArray
-) -> tuple[FloatArray | None, PreparedTriangles | None]:
-    """Posed triangles (nb_g, m, 3, 3) and the prepared upright ones of a foot type."""
+) -> tuple[FloatArray, PreparedTriangles]:
+    """Posed triangles (nb_g, m, 3, 3) and the prepared upright ones of a foot type (every
+    coupled foot has a surface: :func:`.backend.not_compilable`)."""
     tri = [coupled_triangles(bodies[i]) for i in idx]
-    if any(t is None for t in tri):
-        return None, None
     return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
 
 

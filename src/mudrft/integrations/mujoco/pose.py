@@ -158,24 +158,22 @@ def upright_area(prepared: PreparedTriangles, depth: XpArray, xp: Namespace = np
 
 
 def posed_channels(
-    groups: Sequence[tuple[FloatArray | None, PreparedTriangles | None, NDArray[np.int_], bool]],
+    groups: Sequence[tuple[FloatArray, PreparedTriangles, NDArray[np.int_], bool]],
     X: XpArray,
     R: XpArray,
     C: XpArray,
     cs: XpArray,
     surface: float,
-    low: FloatArray | None = None,
     xp: Namespace = np,
 ) -> tuple[ChannelGeometry, XpArray]:
     """Channel geometry of every posed foot, and its ratio :math:`A_c/A_c^{up}` to the
     upright foot at the same depth (D60a; 0 where the upright foot has none).
 
     Lengths in the foot's yaw frame, origin at the center of mass horizontally and at the
-    mud surface vertically. ``groups``: per foot type, the triangles in the body frames (or
-    None: no surface), the prepared upright ones, the bodies' indices and whether they are
+    mud surface vertically. ``groups``: per foot type, the triangles in the body frames,
+    the prepared upright ones, the bodies' indices and whether they are
     balls; ``X``, ``R``, ``C`` (N, nb, ...): body origins [m], orientations, centers of
-    mass [m]; ``cs``: yaw cosine and sine; ``surface`` [m]; ``low``: lowest points [m] of
-    the feet without a surface.
+    mass [m]; ``cs``: yaw cosine and sine; ``surface`` [m].
     """
     N, nb = X.shape[:2]
     origin = xp.concatenate([C[..., :2], xp.full((N, nb, 1), float(surface))], axis=-1)
@@ -190,13 +188,6 @@ def posed_channels(
     parts = []
     for tri_b, upright, idx, ball in groups:
         ci, si = c[:, idx], s[:, idx]
-        if tri_b is None or upright is None:
-            assert low is not None
-            rel = yaw(low[:, idx] - origin[:, idx], ci, si)
-            ones = np.ones(rel.shape)
-            pts = np.broadcast_to(rel[..., None, :], (*rel.shape, 3))
-            parts.append((ones, pts, np.zeros((*rel.shape, 3, 3)), rel, ones))
-            continue
         shift = yaw(X[:, idx] - origin[:, idx], ci, si)
         if ball:  # the same from every angle: integrated exactly, ratio 1
             parts.append(_ball_parts(-np.min(np.asarray(tri_b)[..., 2], axis=(-1, -2)), shift, xp))
