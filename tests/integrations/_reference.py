@@ -2,7 +2,7 @@
 
 Until 0.3 this was the coupling's ``backend="numpy"``. It steps the same equations as the
 compiled kernel (``integrations/mujoco/compiled.py``) from their array form, the one the
-MJX coupling runs (``pose.py``, ``implicit.py``), between ``mj_step1`` and ``mj_step2``,
+MJX coupling runs (``integrations/mjx/pose.py``, ``wrench.py``), between ``mj_step1`` and ``mj_step2``,
 and calls the terrain's own ``step`` with each velocity raised by the secant step for the
 derivative (D61, D63). :func:`attach` and :func:`attach_batch` take ``backend="numpy"``
 for it and pass anything else to mudrft's own.
@@ -16,16 +16,12 @@ import numpy as np
 
 from mudrft._validation import MudrftError
 from mudrft.integrations import mujoco as coupling_module
+from mudrft.integrations.mjx.pose import posed_channels
+from mudrft.integrations.mjx.wrench import applied_wrench, channel_motion, com_twist, foot_odometry
 from mudrft.integrations.mujoco.backend import NON_FINITE
 from mudrft.integrations.mujoco.batch import MudBatch
 from mudrft.integrations.mujoco.contact import MudContact
-from mudrft.integrations.mujoco.implicit import (
-    applied_wrench,
-    channel_motion,
-    foot_odometry,
-    secant_steps,
-)
-from mudrft.integrations.mujoco.kinematics import body_frames, com_twist
+from mudrft.integrations.mujoco.implicit import secant_steps
 from mudrft.integrations.mujoco.options import check_count, check_integrator
 from mudrft.integrations.mujoco.pose import matvec
 from mudrft.integrations.mujoco.stability import check_timestep
@@ -129,7 +125,9 @@ class NumpyCoupling(MudBatch):
         return self._ref_last
 
     def _reading(self, datas):
-        X, R, C = body_frames(datas, self._ids)
+        X = np.stack([d.xpos for d in datas])[:, self._ids]
+        R = np.stack([d.xmat for d in datas])[:, self._ids].reshape(len(datas), -1, 3, 3)
+        C = np.stack([d.xipos for d in datas])[:, self._ids]
         V = np.stack([d.cvel for d in datas])[:, self._ids]
         S = np.stack([d.subtree_com for d in datas])[:, self._roots]
         tip = X + matvec(R, self._tip)
@@ -142,6 +140,14 @@ class NumpyCoupling(MudBatch):
         geo, ratio = self._posed(Xp, Rp, Cp, tp, cs)
         W = chain_mobility(self.model, datas, self._ids, C)
         return {"com": C, "tip": tip, "cs": cs, "tw": com_twist(V, S, C), "W": W, "geo": geo, "ratio": ratio}  # fmt: skip
+
+    def _posed(self, X, R, C, tip, cs):
+        groups = [
+            (tri, up, idx, bool(self._ball[idx[0]]))
+            for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
+        ]
+        X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
+        return posed_channels(groups, X, R, C, cs, self.surface)
 
     def _foot_position(self, k, *, fresh):
         was_in = None

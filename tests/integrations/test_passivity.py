@@ -320,12 +320,12 @@ def test_without_the_bound_the_tumbling_foot_gains_energy(monkeypatch):
     release no longer gains energy unbounded since the horizontal stress is one stress
     (erratum M1; it gained 0.81 J before), so that evaluation shows nothing here."""
     evaluation = {"acceleration": False}
-    from mudrft.integrations.mujoco import implicit
+    from mudrft.integrations.mjx import wrench
 
     def unbounded(w, tw, W, a, tank, dt, xp=np):
         return w, tank, np.einsum("...ijab,...jb->...ia", W, w)
 
-    monkeypatch.setattr(implicit, "passive_wrench", unbounded)
+    monkeypatch.setattr(wrench, "passive_wrench", unbounded)
     terrain = mudrft.MudTerrain(mudrft.paper_mud(0.35), **evaluation)
     model, data, coupling = _tumbling_release(terrain)
     rise, _plain, e0 = _shadow_rise(model, data, coupling, 0.2)
@@ -440,7 +440,7 @@ def test_passivity_scale_compiled_equals_numpy():
 def test_passive_wrench_accounts_the_work_and_empties_out_of_the_mud():
     """The tank gives up the work the scaled wrench does at the mean twist; a foot with no
     wrench empties it; a wrench that takes energy fills it and is not scaled."""
-    from mudrft.integrations.mujoco.implicit import passive_wrench
+    from mudrft.integrations.mjx.wrench import passive_wrench
 
     dt, m = 1e-3, 0.5
     W = np.diag([1 / m] * 3 + [100.0] * 3)[None, None, None]  # one robot, one foot
@@ -468,7 +468,7 @@ def test_passive_wrench_counts_what_one_foot_does_to_another():
     """D62d: the work of a robot's feet at the mean twist includes the cross blocks of the
     mobility: two feet on one 1 kg body (each foot's W is the body's) pushing up together
     move it twice as much as each alone, and the bound scales both feet by one factor."""
-    from mudrft.integrations.mujoco.implicit import passive_wrench
+    from mudrft.integrations.mjx.wrench import passive_wrench
 
     dt = 1e-3
     block = np.diag([1.0] * 3 + [10.0] * 3)

@@ -244,7 +244,8 @@ def test_a_balls_channels_are_the_integrals_of_its_weights(height):
     # converges to it at second order (its flats)
     from scipy import integrate
 
-    from mudrft.integrations.mujoco.pose import ball_channels, channel_geometry
+    from mudrft.integrations.mjx.pose import channel_geometry
+    from mudrft.integrations.mujoco.pose import ball_channels
 
     r = 0.02
     low = height - r

@@ -18,10 +18,11 @@ import numpy as np
 from ...feet.surface import PreparedTriangles
 from ...terrains.field import field_blend, surface_blend
 from ...terrains.mud import MudChannels, MudTerrain, initial_channels, mud_step
-from ..mujoco.implicit import applied_wrench, channel_motion, foot_odometry, secant_steps
-from ..mujoco.kinematics import com_twist
-from ..mujoco.pose import ChannelGeometry, matvec, on_planes, posed_channels
+from ..mujoco.implicit import secant_steps
+from ..mujoco.pose import matvec, on_planes
 from ._lazy import _jax, _mjx, _xp
+from .pose import ChannelGeometry, posed_channels
+from .wrench import applied_wrench, channel_motion, com_twist, foot_odometry
 
 if TYPE_CHECKING:
     import jax
@@ -215,9 +216,8 @@ def _force_and_derivative(
     step: jax.Array,
     dt: float | jax.Array,
 ) -> tuple[MudChannels, jax.Array, jax.Array, jax.Array]:
-    """The mud step of four copies of the motion (D61, D63), as
-    :func:`~mudrft.integrations.mujoco.implicit.force_and_derivative`.
-    """
+    """The mud step of four copies of the motion (D61, D63): as it is, and with each
+    channel's velocity nudged by ``step`` [m/s] (the secant derivative toward rest)."""
     xp = _xp()
     nudge = xp.asarray(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
     vk = vel[None] + nudge[:, None, :] * step[None]

@@ -3,8 +3,8 @@ r"""The coupling of mud with many robots of one MuJoCo model: :class:`MudBatch`.
 Each physics step, MuJoCo's passive callback (:mod:`.callback`) runs the compiled kernel
 (:mod:`.compiled`) for every robot: it reads the feet's pose and twist, steps their mud,
 takes the implicit step of the wrench with the passivity bound and writes ``xfrc_applied``.
-:class:`MudBatch` places the feet, starts the mud (:meth:`MudBatch.reset`, with the array
-form of the pose in :mod:`.pose`) and checks each step that MuJoCo did not diverge.
+:class:`MudBatch` places the feet, starts the mud (:meth:`MudBatch.reset`) and checks each
+step that MuJoCo did not diverge.
 """
 
 from __future__ import annotations
@@ -24,8 +24,6 @@ from ...trajectories import check_unburied
 from ._lazy import _mujoco
 from .backend import CompiledCoupling, not_compilable
 from .contact import MudContact
-from .implicit import foot_odometry
-from .kinematics import body_frames
 from .options import (
     check_attach_options,
     check_count,
@@ -40,7 +38,7 @@ from .placement import (
     describe,
     group_triangles,
 )
-from .pose import POSE_RESOLUTION, ChannelGeometry, matvec, on_planes, posed_channels
+from .pose import POSE_RESOLUTION, matvec, on_planes
 from .stability import check_spring_step, check_timestep, diverged_error
 
 if TYPE_CHECKING:
@@ -220,17 +218,28 @@ class MudBatch:
 
     # -- reading MuJoCo ---------------------------------------------------------------
     def _read(self, datas: Sequence[mujoco.MjData]) -> tuple[FloatArray, FloatArray]:
-        """Each foot's tip [m] in the world and in the foot's frame (odometry), (N, nb, 3)."""
-        X, R, C = body_frames(datas, self._ids)
+        """Each foot's tip [m] in the world, and in the foot's yaw frame with the height of
+        its lowest point above the surface [m], (N, nb, 3): what the kernel starts from."""
+        X = np.stack([d.xpos for d in datas])[:, self._ids]
+        R = np.stack([d.xmat for d in datas])[:, self._ids].reshape(len(datas), -1, 3, 3)
         tip = X + matvec(R, self._tip)
-        Xp, Rp, Cp, tp = X, R, C, tip
+        Xp, Rp, tp = X, R, tip
         if any(f is not None and f.heights.any() for f in self._fields):  # uneven (compiled)
-            Xp, Rp, Cp, tp = self._on_planes(X, R, C, tip)
+            C = np.stack([d.xipos for d in datas])[:, self._ids]
+            Xp, Rp, _, tp = self._on_planes(X, R, C, tip)
         fw = matvec(Rp, self._fwd)
         h = np.maximum(np.hypot(fw[..., 0], fw[..., 1]), 1e-12)
-        cs = np.stack([fw[..., 0] / h, fw[..., 1] / h], axis=-1)  # the foot's heading (yaw)
-        geo = self._posed(Xp, Rp, Cp, tp, cs)[0]
-        return tip, np.concatenate([foot_odometry(cs, tip[..., :2]), geo.low[..., 2:]], axis=-1)
+        c, s = fw[..., 0] / h, fw[..., 1] / h  # the foot's heading (yaw)
+        x, y = tip[..., 0], tip[..., 1]
+        low = np.empty(tip.shape[:2])  # the lowest vertex, as the kernel poses the foot
+        for (tri, _), (_, idx) in zip(self._pose, self._groups, strict=True):
+            if self._ball[idx[0]]:  # a ball centered at the tip
+                low[:, idx] = (tp[:, idx, 2] - self.surface) + np.min(tri[..., 2], axis=(-1, -2))
+                continue
+            r = Rp[:, idx, 2, None, None, :]
+            z = (r[..., 0] * tri[..., 0] + r[..., 1] * tri[..., 1]) + r[..., 2] * tri[..., 2]
+            low[:, idx] = np.min(z, axis=(-1, -2)) + (Xp[:, idx, 2] - self.surface)
+        return tip, np.stack([c * x + s * y, c * y - s * x, low], axis=-1)
 
     def _on_planes(
         self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray
@@ -246,16 +255,6 @@ class MudBatch:
         hs, gx, gy = slope
         X, R, C, tip = on_planes(X, R, C, tip, hs, gx, gy, self.surface)[:4]
         return X, R, C, tip
-
-    def _posed(
-        self, X: FloatArray, R: FloatArray, C: FloatArray, tip: FloatArray, cs: FloatArray
-    ) -> tuple[ChannelGeometry, FloatArray]:
-        groups = [
-            (tri, up, idx, bool(self._ball[idx[0]]))
-            for (tri, up), (_, idx) in zip(self._pose, self._groups, strict=True)
-        ]
-        X = np.where(self._ball[:, None], tip, X) if self._ball.any() else X  # balls: centers
-        return posed_channels(groups, X, R, C, cs, self.surface)
 
     # -- public API -------------------------------------------------------------------
     def reset(self, datas: mujoco.MjData | Sequence[mujoco.MjData]) -> None:

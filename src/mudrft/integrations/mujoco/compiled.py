@@ -68,9 +68,9 @@ def _geometry(
     scratch: FloatArray,
     out: FloatArray,
 ) -> None:
-    """Channel weights of posed triangles ``M x + sh`` (:func:`.pose.channel_geometry`)
-    into ``out``: A (3), p (3 x 3), J (3 x 3 x 3), lowest vertex (3); ``v`` (9) and
-    ``scratch`` (m, 6) are work arrays.
+    """Channel weights of posed triangles ``M x + sh`` into ``out``: A (3), p (3 x 3),
+    J (3 x 3 x 3), lowest vertex (3) (:func:`mudrft.integrations.mjx.pose.channel_geometry`);
+    ``v`` (9) and ``scratch`` (m, 6) are work arrays.
     """
     m = tri.shape[0]
     for q in range(12):
@@ -149,8 +149,9 @@ def _ball_geometry(radius: float, sh: FloatArray, out: FloatArray) -> None:
 
 
 def _upright_area(up: FloatArray, depth: float, a: FloatArray) -> None:
-    """Channel weights of the upright foot at ``depth`` (:func:`.pose.upright_area`)
-    from its facet rows ``up`` (:func:`~mudrft.terrains.rows.upright_rows`) into ``a``.
+    """Channel weights of the upright foot at ``depth`` from its facet rows ``up``
+    (:func:`~mudrft.terrains.rows.upright_rows`) into ``a``
+    (:func:`mudrft.integrations.mjx.pose.upright_area`).
     """
     a[0], a[1], a[2] = 0.0, 0.0, 0.0
     for f in range(up.shape[0]):

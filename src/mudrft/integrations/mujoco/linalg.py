@@ -83,7 +83,7 @@ def _robot_step(
     WF: FloatArray, AJ: FloatArray, RJ: FloatArray, FWR: FloatArray, FWV: FloatArray,
     tank: float,
 ) -> float:  # fmt: skip
-    """:func:`.implicit.implicit_wrench` and :func:`.implicit.passive_wrench` (D62-D62d)
+    """:func:`mudrft.integrations.mjx.wrench.implicit_wrench` and ``passive_wrench`` (D62-D62d)
     of the feet with ``FPOS[j] >= 0``, the mobility ``WF`` from ``FJ`` and ``FM`` = M^-1 J^T:
     wrenches into ``FWR``, ``W w`` into ``FWV``. Returns the robot's tank after the step [J].
     """
