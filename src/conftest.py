@@ -43,7 +43,6 @@ EXTRAS = frozenset(
 MODULE_EXTRAS: dict[str, tuple[str, ...]] = {
     "mudrft.backends.jax": ("jax",),
     "mudrft.backends._jax_base": ("jax",),
-    "mudrft.backends.jax_terrain": ("jax",),
     "mudrft.integrations.mujoco": ("mujoco",),
     "mudrft.integrations.walk": ("mujoco",),
     "mudrft.integrations.mjx": ("mujoco", "jax", "mujoco.mjx"),

@@ -354,10 +354,8 @@ def warn_implausible(
     if low <= v <= high:
         return False
     side = f"more than {high:g}" if v > high else f"less than {low:g}"
-    warnings.warn(
-        plain_text(f"{what} {v:.3g} {unit}, {side} {unit} (implausible; a unit mistake?): {hint}"),
-        PlausibilityWarning,
-        stacklevel=_caller_level(),
+    warn_plausibility(
+        f"{what} {v:.3g} {unit}, {side} {unit} (implausible; a unit mistake?): {hint}"
     )
     return True
 

@@ -312,7 +312,7 @@ def _check_explicit_stability(foot: Foot, terrain: Terrain, load: LoadControl) -
         _check_leg_stability(load, c)
     try:  # alpha (d/L)^n is infinitely stiff at d = 0: a light load chatters at the surface
         d_eq = static_sinking(foot, mud, load.weight, characteristic_length=lc)
-        stiffness = (_static_support(foot, mud, lc)(1.01 * d_eq) - load.weight) / (0.01 * d_eq)
+        stiffness = (_static_support(foot, mud, lc, 1.01 * d_eq) - load.weight) / (0.01 * d_eq)
     except (MudrftError, ZeroDivisionError, FloatingPointError):
         return
     if not stiffness > 0:
@@ -392,15 +392,11 @@ def _simulate_load(
     )  # fmt: skip
 
 
-def _static_support(foot: Foot, mud: Mud, lc: float) -> Callable[[float], float]:
+def _static_support(foot: Foot, mud: Mud, lc: float, d: float) -> float:
     """The static support ``F_z(d)`` [N] at tip depth ``d`` [m], :math:`\\alpha (d/L_c)^n`."""
     p = mud.vertical
-
-    def force(d: float) -> float:
-        s = float(laws.elastic_stress(d / lc, p.alpha, p.n))
-        return float(foot.resultant(d, np.array([0.0, 0.0, s]), 0.0)[2])
-
-    return force
+    s = float(laws.elastic_stress(d / lc, p.alpha, p.n))
+    return float(foot.resultant(d, np.array([0.0, 0.0, s]), 0.0)[2])
 
 
 #: How deep :func:`static_sinking` looks for a balance, in heights of the foot.
@@ -437,16 +433,16 @@ def static_sinking(
     lc = float(foot.characteristic_length)
     if characteristic_length is not None:
         lc = check_length("characteristic_length", characteristic_length)
-    force = _static_support(foot, mud, lc)
 
     def support(d: float) -> float:
-        return force(d) - W
+        return _static_support(foot, mud, lc, d) - W
 
     hi = foot.height * BURIED_SEARCH
-    if support(hi) < 0:
+    top = _static_support(foot, mud, lc, hi)
+    if top < W:
         raise MudrftError(
             f"weight={plain(W)} N exceeds the static support of the {foot.name} foot "
-            f"buried {BURIED_SEARCH:g} times its height ({force(hi):.4g} N at a tip depth of "
+            f"buried {BURIED_SEARCH:g} times its height ({top:.4g} N at a tip depth of "
             f"{hi:.3g} m): the balance lies deeper still, where the mud on the leg, which "
             "the model does not count (decision D26), would carry part of the load. Is the "
             "weight in newtons (a mass of m kg weighs 9.81 m N)?"

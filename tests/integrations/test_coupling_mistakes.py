@@ -135,7 +135,7 @@ def test_stability_limits_takes_the_mud_as_attach_does_and_names_mistakes():
 def test_the_jax_backend_names_raw_parameters_and_a_missing_batch_axis():
     pytest.importorskip("jax")
     from mudrft.backends import jax as mjax
-    from mudrft.backends.jax_terrain import terrain_step
+    from mudrft.backends.jax import terrain_step
 
     p = mudrft.paper_parameters(0.25, "vertical")
     st = mjax.initial_state(())

@@ -36,9 +36,8 @@ class MudWalkerEnv(_CpuEnv):
 
     ``backend`` is the CPU coupling's (``"auto"`` or ``"numba"``: the compiled one);
     ``render_mode="rgb_array"`` renders the side camera offscreen (OpenGL needed); the
-    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s: a ``field`` of
-    patches of mud, drawn anew at each reset with ``randomize``, proprioceptive
-    observations, rigid ground. ``info`` holds each foot's sinking and mud force.
+    other ``options`` are :class:`~mudrft.envs.walker.WalkerConfig`'s (field, observation,
+    ground). ``info`` holds each foot's sinking and mud force.
 
     >>> import gymnasium, mudrft.envs
     >>> env = gymnasium.make("mudrft/MudWalker-v0", foot="semi-sphere", water_content=0.35)

@@ -100,10 +100,6 @@ def biped_model(
         (:func:`~mudrft.integrations.mujoco.add_rigid_cells`), the rigid ones colliding
         with the feet, and the bed no longer a MuJoCo contact (the coupling's ``bottom=``
         carries the feet there).
-
-    Returns
-    -------
-    mujoco.MjModel
     """
     mj = _mujoco()
     check_positive("bottom", bottom, unit="m")
@@ -313,7 +309,7 @@ def walk(
     strict: bool = False,
     **removed: object,
 ) -> WalkResult:
-    """Walk the biped in mud for ``seconds`` and measure energy, sinking and suction.
+    """Walk the biped in mud for ``seconds``; its energy, sinking and suction (:class:`WalkResult`).
 
     Parameters
     ----------
@@ -342,10 +338,6 @@ def walk(
         Raise a :class:`~mudrft.MudrftError` instead of warning
         (:class:`~mudrft.trajectories.BuriedFootWarning`, once a run) when a foot sinks
         deeper than it is tall.
-
-    Returns
-    -------
-    WalkResult
     """
     from .mujoco import attach
     from .mujoco.options import check_removed
@@ -379,8 +371,7 @@ def walk(
     coupling = attach(model, list(BIPED_FEET), mud, feet=foot, backend=backend)
     coupling.reset(data)
     torso = model.body("torso").id
-    z_start = float(data.xpos[torso, 2])
-    x_start = float(data.xpos[torso, 0])
+    x_start, z_start = data.xpos[torso, (0, 2)].tolist()
     rows = np.zeros((n, len(WALK_COLUMNS)))
     renderer = _renderer(model) if frames > 0 else None
     marks = set(np.linspace(0, n - 1, frames).astype(int).tolist())  # the frames' steps

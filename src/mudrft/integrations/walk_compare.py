@@ -1,11 +1,5 @@
-"""Every foot on the same mud: the biped's walk metrics side by side, with the paper's claims.
-
-:func:`compare_feet` walks the biped with each foot on the same mud; :func:`compare_claims`
-sets the results beside the paper's claims on the feet (Sec. IV-B, Figs. 12-13: plate and
-gait experiments, so the verdict is about direction and size); :func:`write_compare` writes
-``compare.csv``, ``claims.csv``, ``compare.json`` and ``compare.png`` (``mudrft walk
---compare``, D69a).
-"""
+"""Every foot on the same mud: the biped's walk metrics side by side, with the paper's claims
+(``mudrft walk --compare``, D69a)."""
 
 from __future__ import annotations
 
@@ -48,7 +42,7 @@ def compare_feet(
     progress: Callable[[str], None] | None = None,
     **walk_options: Any,
 ) -> dict[str, dict[str, Any]]:
-    """Walk the biped with each foot on the same mud; the summaries by foot name.
+    """Walk the biped with each foot on the same mud; ``{foot: WalkResult.summary}``.
 
     Parameters
     ----------
@@ -62,11 +56,6 @@ def compare_feet(
         Called with each foot's name before its walk.
     **walk_options
         Passed to :func:`~mudrft.integrations.walk.walk`.
-
-    Returns
-    -------
-    dict
-        ``{foot: summary}`` (see :func:`~mudrft.integrations.walk.walk`).
     """
     from .walk import walk
 
@@ -92,7 +81,8 @@ def _finite(*values: float) -> bool:
 
 
 def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]:
-    """The paper's claims on the feet beside the walking results.
+    """The paper's claims on the feet beside the walking results (the paper's are plate and
+    gait experiments, Sec. IV-B, Figs. 12-13: the verdict is about direction and size).
 
     One dict per claim with ``claim``, ``paper``, ``mudrft`` and ``verdict``: ``agrees``
     (same ordering, or a reduction within 15 points of the paper's), ``same direction``,
@@ -144,7 +134,8 @@ def compare_claims(summaries: dict[str, dict[str, Any]]) -> list[dict[str, str]]
 def write_compare(
     directory: Path, summaries: dict[str, dict[str, Any]], *, mud_name: str = ""
 ) -> list[Path]:
-    """Write ``compare.csv``, ``claims.csv``, ``compare.json`` and ``compare.png`` in a directory.
+    """Write ``compare.csv``, ``claims.csv``, ``compare.json`` and ``compare.png`` in a
+    directory; their paths.
 
     Parameters
     ----------
@@ -154,11 +145,6 @@ def write_compare(
         From :func:`compare_feet`.
     mud_name : str, keyword-only
         Shown in the figure's title.
-
-    Returns
-    -------
-    list of Path
-        The files written.
     """
     d = Path(directory)
     claims = compare_claims(summaries)
