@@ -1,17 +1,9 @@
 r"""Granular resistive force theory (RFT): Li, Zhang & Goldman (Science 2013), in 3D.
 
-Each submerged *leading* surface element of the foot (outward normal :math:`\hat n`
-with :math:`\hat n\cdot\hat v>0`) at depth :math:`|z|` carries the force
-
-.. math::
-
-    d\mathbf F = \zeta\,|z|\,dA\,\big[-f_1\,\alpha_y\,\operatorname{sgn}(v_1)\,\hat e_1
-    - f_{23}\,\alpha_x(\beta,\gamma)\,\hat e_2 + f_{23}\,\alpha_z(\beta,\gamma)\,\hat z\big]
-
-with Li et al.'s Fourier fit :math:`\alpha_{x,z}` (:func:`li2013_alpha`), the medium's scale
-:math:`\zeta` [N/m^3] and the 3D frame and weights of Treers, Cao & Stuart (RA-L 2021,
-:func:`treers_weights`); trailing elements carry nothing. docs/model.md, section 8, defines
-the symbols (decisions D50-D53).
+Each submerged *leading* surface element of the foot carries Li et al.'s Fourier fit
+(:func:`li2013_alpha`) times the medium's scale :math:`\zeta` [N/m^3] and its depth, in the
+3D frame and with the weights of Treers, Cao & Stuart (RA-L 2021, :func:`treers_weights`);
+trailing elements carry nothing. docs/model.md, section 8, gives the equations (D50-D53).
 """
 
 from __future__ import annotations
@@ -57,11 +49,9 @@ _HORIZONTAL_TOL = 1e-3  # Treers et al.'s tolerance on |n_z| (horizontal_share)
 
 
 def treers_weights(v1: ArrayLike, v23: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    r"""Treers et al.'s (2021) weights [-]: :math:`f_1(u)=\frac{\tanh(a u-b)+\tanh b}{\tanh(a-b)+\tanh b}`,
-    :math:`f_{23}(u)=\frac{\operatorname{atanh}(c u-d)+\operatorname{atanh} d}
-    {\operatorname{atanh}(c-d)+\operatorname{atanh} d}` of the unit velocity's components
-    along the plate's horizontal edge (:math:`v_1`) and in its normal plane (:math:`v_{23}`),
-    normalised to 0 at 0 and 1 at 1 (D51).
+    r"""Treers et al.'s (2021) sigmoid weights :math:`f_1` (tanh) and :math:`f_{23}` (atanh)
+    [-] of the unit velocity's components along the plate's horizontal edge (:math:`v_1`) and
+    in its normal plane (:math:`v_{23}`), normalised to 0 at 0 and 1 at 1 (D51).
 
     Examples
     --------

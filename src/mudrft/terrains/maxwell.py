@@ -1,12 +1,8 @@
 r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction (D55).
 
-:math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)` at :math:`\gamma=d/L_c`: a nonlinear spring
-:math:`\sigma_e=\alpha\gamma^n`, a Maxwell element (spring :math:`G`, dashpot
-:math:`\eta_M=G\lambda_M`) :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`, and suction
-from the low-pass filter
-:math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
-:math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`), else 0.
-docs/model.md (D55) says what is reconstructed, and what fitted (:func:`fit_maxwell`).
+The vertical stress at :math:`\gamma=d/L_c` is a nonlinear spring, a Maxwell element and
+suction through a second-order filter, times the footprint :math:`A_z(d)`; docs/model.md (D55)
+gives the equations, and says what is reconstructed and what fitted (:func:`fit_maxwell`).
 """
 
 from __future__ import annotations
