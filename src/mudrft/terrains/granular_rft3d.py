@@ -26,8 +26,14 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from ._rft_groups import FacetRFT, _element_forces, check_facets, unit_vectors
-from .granular_rft import LEADING_WIDTH, leading_weight
+from .granular_rft import (
+    LEADING_WIDTH,
+    FacetRFT,
+    _element_forces,
+    check_facets,
+    leading_weight,
+    unit_vectors,
+)
 
 __all__ = [
     "AGARWAL2023", "GRAVITY", "PLAUSIBLE_RHO_C", "WALL_WIDTH", "GranularRFT3D",
