@@ -17,8 +17,7 @@ from mudrft._validation import PlausibilityWarning
 from mudrft.baselines import GranularRFT, li2013_alpha, rft_forces, run_terrain, treers_weights
 from mudrft.feet.meshgen import semisphere_mesh
 from mudrft.terrains import GranularRFT3D
-from mudrft.terrains._rft_groups import _group_weights, _prepare
-from mudrft.terrains.granular_rft import GRANULAR_MEDIA, horizontal_share
+from mudrft.terrains.granular_rft import GRANULAR_MEDIA, _group_weights, _prepare, horizontal_share
 
 # Li, Zhang & Goldman (Science 2013), generic first-order Fourier coefficients, typed
 # here from the publication (not imported from mudrft) so the hand computation below

@@ -386,9 +386,10 @@ def test_an_internal_friction_angle_in_degrees_is_told_it_is_a_coefficient():
 
 
 def test_both_rfts_weight_each_element_by_depth_and_area_in_one_place(monkeypatch):
-    """dF = k max(z, 0) A alpha is written once (_rft_groups._element_forces): 2D RFT and
+    """dF = k max(z, 0) A alpha is written once (granular_rft._element_forces): 2D RFT and
     3D-RFT both scale their unit responses by it; replacing it changes both."""
-    from mudrft.terrains import _rft_groups, granular_rft, granular_rft3d
+    from mudrft.terrains import granular_rft, granular_rft3d
+    from mudrft.terrains.granular_rft import _element_forces
 
     n = np.array([[0.0, 0.0, -1.0], [0.6, 0.0, -0.8], [0.0, 1.0, 0.0]])
     a = np.array([1e-4, 2e-4, 3e-4])
@@ -405,7 +406,7 @@ def test_both_rfts_weight_each_element_by_depth_and_area_in_one_place(monkeypatc
 
     def spy(*args, **kwargs):
         calls.append(args[0])
-        return _rft_groups._element_forces(*args, **kwargs)
+        return _element_forces(*args, **kwargs)
 
     monkeypatch.setattr(granular_rft, "_element_forces", spy)
     monkeypatch.setattr(granular_rft3d, "_element_forces", spy)

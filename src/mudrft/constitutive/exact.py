@@ -80,12 +80,11 @@ def suction_closed_form(
 ) -> FloatOrArray:
     r"""Suction [Pa] at constant sealing state, eqs. (10)-(11).
 
-    .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t},\quad
-              \sigma_{s,ss}=-\frac{\phi\sigma_Y}{a\tau_{build}},\quad
-              a=\frac{\phi}{\tau_{build}}+\frac{1-\phi}{\tau_{leak}}
+    .. math:: \sigma_s(t)=\sigma_{s,ss}+(\sigma_s(t_w)-\sigma_{s,ss})e^{-a\Delta t}
 
-    ``dt`` is the time :math:`\Delta t=t-t_w` [s] since the retraction began, ``phi`` the
-    sealing state [-], ``sigma_s0`` the suction at :math:`t_w` [Pa], which the paper takes 0:
+    with :math:`\sigma_{s,ss}` and :math:`a` of eq. (11). ``dt`` is the time :math:`\Delta t=t-t_w`
+    [s] since the retraction began, ``phi`` the sealing state [-], ``sigma_s0`` the suction at
+    :math:`t_w` [Pa], which the paper takes 0:
 
     .. math::
        :label: chen2026-eq-10

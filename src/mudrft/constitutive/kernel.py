@@ -61,18 +61,10 @@ def expm1_over_x(x: XpArray, xp: Namespace = np) -> XpArray:
 def relaxation_convolution(
     t: XpArray, lam: XpArray, tau: XpArray, e_lam: XpArray, e_tau: XpArray, xp: Namespace = np
 ) -> XpArray:
-    r"""The factor of :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2) [-]: how much of a
-    drive relaxing with :math:`\tau` a stress relaxing with :math:`\lambda` took up after ``t``.
-
-    .. math::
-        \frac{t}{\lambda}\,\frac{e^{-t/\tau}-e^{-t/\lambda}}{x}
-        = \frac{t}{\lambda}\,e^{-t/\lambda}\,\frac{e^{x}-1}{x},\qquad
-        x = t\Big(\frac1\lambda-\frac1\tau\Big),
-
-    the right-hand form for :math:`x\le1` (exact at :math:`\tau=\lambda`, erratum E5), the
-    left-hand one beyond (the right overflows past :math:`x=709`). ``t`` [s] >= 0 is the
-    elapsed time, ``lam`` and ``tau`` [s] > 0 the two relaxation times, ``e_lam`` and ``e_tau``
-    [-] their :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}`.
+    r"""The factor of :math:`B(\xi(0)-\xi_{ss})` in supplementary eq. (S2) [-], in the two forms
+    docs/model.md, section 4, gives (exact at :math:`\tau=\lambda`, erratum E5). ``t`` [s] >= 0
+    is the elapsed time, ``lam`` and ``tau`` [s] > 0 the two relaxation times, ``e_lam`` and
+    ``e_tau`` [-] their :math:`e^{-t/\lambda}` and :math:`e^{-t/\tau}`.
     """
     x = t * (1.0 / lam - 1.0 / tau)
     near = e_lam * (t / lam) * expm1_over_x(xp.minimum(x, 1.0), xp=xp)
@@ -83,13 +75,8 @@ def channel_update(
     c: ChannelConstants, state: ChannelState, gamma: XpArray, gamma_dot: XpArray, dt: XpArray,
     seal: XpArray = 1.0, kappa: XpArray = 1.0, xp: Namespace = np,
 ) -> tuple[ChannelState, ChannelStress]:  # fmt: skip
-    r"""Advance one stress channel by ``dt``, exactly at a constant rate; no validation.
-
-    Structure (eq. 3b): :math:`\xi\leftarrow\xi_{ss}+(\xi-\xi_{ss})e^{-\Delta t/\tau_\xi}`;
-    lagged thixotropic stress (eq. 3a, supplementary eq. S2), with
-    :math:`\sigma_{th}=\eta_\infty\dot\gamma+s_{th}` when ``kappa = 1`` (decision D6);
-    suction (eq. 5) with the sealing state at mid-step (D4); total (eq. 1)
-    :math:`\sigma_b(1-\phi_{end})+\sigma_{th}+H_\nu\sigma_s`.
+    r"""Advance one stress channel by ``dt``, exactly at a constant rate (docs/model.md,
+    section 4); no validation.
 
     Parameters and returns as :func:`~mudrft.constitutive.dynamics.step`, with ``c`` the
     constants (SI) of :func:`channel_constants` and ``kappa`` [-]: 1.0 keeps the acceleration

@@ -74,11 +74,9 @@ def sealing_printed(
 def sealing(retraction: XpArray, epsilon: XpArray, xp: Namespace = np) -> XpArray:
     r"""Sealing state of the cavity, :math:`\phi=\tanh(\max(r,0)/\varepsilon)` [-] (decision D4).
 
-    0 while the foot intrudes or rests on the bed (pure leak), 1 within a few
-    :math:`\varepsilon` of retraction (sealed: suction builds toward :math:`-\sigma_Y`).
-    Equals :math:`2\phi_\varepsilon-1` of the printed form with :math:`\gamma_0=\gamma_w`.
-    ``retraction`` is :math:`r=|\gamma_w|-|\gamma|` since the deepest point, ``epsilon`` the
-    width [-].
+    0 while the foot intrudes or rests (pure leak), 1 within a few :math:`\varepsilon` of
+    retraction (sealed). ``retraction`` is :math:`r=|\gamma_w|-|\gamma|` since the deepest
+    point, ``epsilon`` the width [-].
 
     Examples
     --------

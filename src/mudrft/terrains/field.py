@@ -451,13 +451,9 @@ class MudField:
         if layout:
             cells = rng.integers(0, len(self.names), size=cells.shape)
             if not any(self.terrains[i] is not None for i in np.unique(cells)):
-                cells.flat[0] = self.names.index(next(n for n, t in zip(self.names, self.terrains, strict=True) if t is not None))  # fmt: skip
-        grid = self.grid
-        return MudField(
-            regions, [[self.names[i] for i in row] for row in cells],
-            (float(grid[2]), float(grid[3])), (float(grid[0]), float(grid[1])), float(grid[4]),
-            self.heights,
-        )  # fmt: skip
+                cells.flat[0] = self.terrains.index(self.terrain)  # the first mud
+        names = [[self.names[i] for i in row] for row in cells]
+        return dataclasses.replace(self, regions=regions, cells=names)
 
     def blend(self, x: float, y: float) -> tuple[float, FloatArray]:
         """The mud's share [-] and the constants (N_CONST,) a tip at ``(x, y)`` [m] feels."""

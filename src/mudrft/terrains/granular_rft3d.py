@@ -1,18 +1,9 @@
 r"""3D resistive force theory of Agarwal, Goldman & Kamrin (PNAS 2023) as a terrain.
 
-A submerged element of outward unit normal :math:`\hat n` moving along :math:`\hat v` at
-depth :math:`|z|` carries :math:`d\mathbf F = \boldsymbol\alpha\,|z|\,dA` with
-
-.. math::
-
-    \boldsymbol\alpha = \xi_n\big[\boldsymbol\alpha^{gen}_n
-        + \min\big(\mu_{surf}\,|\boldsymbol\alpha^{gen}_n| / |\boldsymbol\alpha^{gen}_t|,\,1\big)
-        \,\boldsymbol\alpha^{gen}_t\big],
-
-:math:`\boldsymbol\alpha^{gen}` (:func:`rft3d_alpha`) split into its parts normal and tangent
-to the element, :math:`\xi_n` from :func:`agarwal_xi` and :math:`\mu_{surf}` [-] the
-intruder-surface friction; leading elements only, as in granular RFT (docs/model.md,
-section 8, decisions D90-D95).
+A submerged leading element carries :math:`d\mathbf F=\boldsymbol\alpha\,|z|\,dA`: the generic
+response (:func:`rft3d_alpha`) times the material constant :math:`\xi_n` (:func:`agarwal_xi`),
+its tangential part capped by the intruder-surface friction :math:`\mu_{surf}` [-];
+docs/model.md, section 8, gives the equations (decisions D90-D95).
 """
 
 from __future__ import annotations
@@ -35,8 +26,14 @@ from .._validation import (
 )
 from .._validation import set_number as _set
 from ..citations import register
-from ._rft_groups import FacetRFT, _element_forces, check_facets, unit_vectors
-from .granular_rft import LEADING_WIDTH, leading_weight
+from .granular_rft import (
+    LEADING_WIDTH,
+    FacetRFT,
+    _element_forces,
+    check_facets,
+    leading_weight,
+    unit_vectors,
+)
 
 __all__ = [
     "AGARWAL2023", "GRAVITY", "PLAUSIBLE_RHO_C", "WALL_WIDTH", "GranularRFT3D",
@@ -140,16 +137,10 @@ def agarwal_generic_alpha(
     beta: ArrayLike, gamma: ArrayLike, psi: ArrayLike, *,
     coefficients: PolynomialCoefficients = AGARWAL2023,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
-    r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-].
-
-    .. math::
-
-        \alpha_r^{gen} &= f_1\sin\beta\cos\psi + f_2\cos\gamma,\qquad
-        \alpha_\theta^{gen} = f_1\sin\beta\sin\psi,\\
-        \alpha_z^{gen} &= -f_1\cos\beta - f_2\sin\gamma - f_3,
-
-    in the frame :math:`\hat r` (horizontal direction of motion), :math:`\hat\theta=\hat z\times
-    \hat r`, :math:`\hat z` (up); positive components push the element along them.
+    r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-]
+    (docs/model.md, section 8): :math:`\hat r` the horizontal direction of motion,
+    :math:`\hat\theta=\hat z\times\hat r`, :math:`\hat z` up; positive components push the
+    element along them.
 
     Parameters
     ----------
@@ -227,15 +218,8 @@ def rft3d_alpha(
     coefficients: PolynomialCoefficients = AGARWAL2023, wall_width: float = WALL_WIDTH,
 ) -> NDArray[np.float64]:  # fmt: skip
     r"""Generic 3D-RFT response of elements (..., m, 3), optionally friction-capped: the force per
-    unit :math:`\xi_n`, depth and area, world frame [-].
-
-    .. math::
-
-        \boldsymbol\alpha^{gen} = f_1\,\hat n_d + f_2\,\hat v - f_3\,\hat z,\qquad
-        x_1 = -v_z,\ x_2 = |n_z|,\ x_3 = \hat n_d\cdot\hat v,
-
-    with :math:`\hat n_d` the element's downward normal: :func:`agarwal_generic_alpha` in
-    the world frame (D90), leading or not.
+    unit :math:`\xi_n`, depth and area, world frame [-]; :func:`agarwal_generic_alpha` in the
+    world frame, :math:`f_1\hat n_d+f_2\hat v-f_3\hat z` (D90), leading or not.
 
     Parameters
     ----------

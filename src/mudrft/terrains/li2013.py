@@ -19,18 +19,10 @@ __all__ = [
 
 @dataclass(frozen=True)
 class FourierCoefficients:
-    r"""Coefficients of Li et al.'s (2013) first-order Fourier fit of :math:`\alpha_{z,x}`.
-
-    .. math::
-
-        \alpha_z &= A_{00} + A_{10}\cos 2\beta + B_{01}\sin\gamma + B_{11}\sin(2\beta+\gamma)
-                    + B_{-11}\sin(-2\beta+\gamma),\\
-        \alpha_x &= C_{01}\cos\gamma + C_{11}\cos(2\beta+\gamma) + C_{-11}\cos(-2\beta+\gamma)
-                    + D_{10}\sin 2\beta,
-
-    with :math:`\beta\in[-\pi/2,\pi/2]` the attack angle (0: horizontal) and
-    :math:`\gamma\in[-\pi/2,\pi/2]` the velocity's angle below the horizontal.
-    """
+    r"""Coefficients of Li et al.'s (2013) first-order Fourier fit of :math:`\alpha_{z,x}`
+    (:meth:`alpha`; docs/model.md, section 8), with :math:`\beta\in[-\pi/2,\pi/2]` the attack
+    angle (0: horizontal) and :math:`\gamma\in[-\pi/2,\pi/2]` the velocity's angle below the
+    horizontal."""
 
     A00: float
     A10: float

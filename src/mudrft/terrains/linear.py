@@ -1,9 +1,7 @@
 r"""Linear-stiffness mud: the "conventional linear model" of Godon et al. 2022, Liu et al. 2023.
 
-.. math:: \sigma_z = k\,d, \qquad F_z = \sigma_z\,A_z(d),
-
-with :math:`d` the tip depth, :math:`A_z(d)` the horizontal projected area of the submerged
-foot and :math:`k` [N/m^3] a stiffness per unit area (decision D54): vertical only.
+:math:`F_z=k\,d\,A_z(d)`, vertical only, with :math:`k` [N/m^3] a stiffness per unit area and
+:math:`A_z(d)` the submerged footprint at tip depth :math:`d` (decision D54).
 """
 
 from __future__ import annotations

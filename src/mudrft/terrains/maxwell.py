@@ -1,12 +1,8 @@
 r"""Maxwell-type mud (after Chen et al., AIM 2024): a 1D vertical reconstruction (D55).
 
-:math:`F_z=(\sigma_e+\sigma_M+\sigma_s)A_z(d)` at :math:`\gamma=d/L_c`: a nonlinear spring
-:math:`\sigma_e=\alpha\gamma^n`, a Maxwell element (spring :math:`G`, dashpot
-:math:`\eta_M=G\lambda_M`) :math:`\dot\sigma_M=G\dot\gamma-\sigma_M/\lambda_M`, and suction
-from the low-pass filter
-:math:`\ddot\sigma_s+2\zeta_s\omega_s\dot\sigma_s+\omega_s^2\sigma_s=\omega_s^2u`, fed
-:math:`u=-\sigma_Y e^{-r/r_b}` while the foot retracts (:math:`r=\gamma_{max}-\gamma`), else 0.
-docs/model.md (D55) says what is reconstructed, and what fitted (:func:`fit_maxwell`).
+The vertical stress at :math:`\gamma=d/L_c` is a nonlinear spring, a Maxwell element and
+suction through a second-order filter, times the footprint :math:`A_z(d)`; docs/model.md (D55)
+gives the equations, and says what is reconstructed and what fitted (:func:`fit_maxwell`).
 """
 
 from __future__ import annotations
@@ -154,10 +150,7 @@ class MaxwellMud:
         g, gd = np.asarray(gamma, dtype=float), np.asarray(gamma_dot, dtype=float)
         in_mud = g > 0
         hold = (np.exp(-dt / self.relaxation), *_zoh(float(dt), self.omega, self.damping))
-        sigma_m, s, sd, gmax, inside = _update(
-            _constants(self), state.sigma_m, state.suction, state.suction_rate,
-            state.gamma_max, g, gd, hold, np,
-        )  # fmt: skip
+        sigma_m, s, sd, gmax, inside = _update(self, *state[:4], g, gd, hold, np)
         stress = np.where(in_mud, inside, 0.0)
         zero = np.zeros(np.shape(stress))
         sigma_m, s, sd, gmax = (np.where(in_mud, v, zero) for v in (sigma_m, s, sd, gmax))
@@ -204,30 +197,24 @@ def _gammas(trajectory: Trajectory, characteristic_length: float) -> tuple[np.nd
     return trajectory.depth / lc, -trajectory.velocity[:, 2] / lc
 
 
-def _constants(m: MaxwellMud) -> tuple[float, ...]:
-    return (m.alpha, m.n, m.modulus, m.relaxation, m.sigma_y, m.release)
-
-
 def _update(
-    m: tuple[float, ...], sm: XpArray, s: XpArray, sd: XpArray, gmax: XpArray, g: XpArray,
+    m: MaxwellMud, sm: XpArray, s: XpArray, sd: XpArray, gmax: XpArray, g: XpArray,
     gd: XpArray, hold: tuple[XpArray, ...], xp: Namespace,
 ) -> tuple[XpArray, ...]:  # fmt: skip
     """One step at constant rate, element-wise: the new ``(sigma_m, suction, suction_rate,
     gamma_max)`` and the stress in the mud [Pa]; ``hold`` is ``(exp(-dt/lambda_M), *_zoh)``."""
-    alpha, n, modulus, relaxation, sigma_y, release = m
     decay, p00, p01, p10, p11, g0, g1 = hold
-    sm = sm * decay + modulus * relaxation * gd * (1.0 - decay)
+    sm = sm * decay + m.modulus * m.relaxation * gd * (1.0 - decay)
     gmax = xp.maximum(gmax, g)
-    u = xp.where(gd < 0, -sigma_y * xp.exp(-(gmax - g) / release), 0.0)
+    u = xp.where(gd < 0, -m.sigma_y * xp.exp(-(gmax - g) / m.release), 0.0)
     s, sd = p00 * s + p01 * sd + g0 * u, p10 * s + p11 * sd + g1 * u
-    return sm, s, sd, gmax, alpha * xp.maximum(g, 0.0) ** n + sm + s
+    return sm, s, sd, gmax, m.alpha * xp.maximum(g, 0.0) ** m.n + sm + s
 
 
 def _stress_history(
     model: MaxwellMud, time: np.ndarray, gamma: np.ndarray, gamma_dot: np.ndarray
 ) -> np.ndarray:
     """:meth:`MaxwellMud.advance` along a history, on Python floats (fast)."""
-    m = _constants(model)
     lam, om, zt = model.relaxation, model.omega, model.damping
     t, gam, gdot = (np.asarray(a, dtype=float).tolist() for a in (time, gamma, gamma_dot))
     out = np.zeros(len(t))
@@ -242,7 +229,7 @@ def _stress_history(
             hold = cache[key] = (math.exp(-dt / lam), *_zoh(dt, om, zt))
         g = gam[i]
         gd = gdot[i] if (g > 0 or was_in) else 0.0
-        sm, s, sd, gmax, stress = _update(m, sm, s, sd, gmax, g, gd, hold, pyfloat)
+        sm, s, sd, gmax, stress = _update(model, sm, s, sd, gmax, g, gd, hold, pyfloat)
         was_in = g > 0
         if was_in:
             out[i] = stress

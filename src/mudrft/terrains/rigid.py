@@ -1,13 +1,5 @@
-r"""Rigid ground: penalty contact with regularised Coulomb friction.
-
-At the tip's penetration :math:`d=\max(-z,0)`, rate :math:`\dot d=-v_z`, slip speed
-:math:`v_s`:
-
-.. math:: F_z = \max(k\,d + c\,\dot d,\ 0) \quad (d>0), \qquad F_z = 0 \quad (d = 0),
-
-.. math:: \mathbf F_t = -\mu F_z \tanh(|\mathbf v_t|/v_s)\,\mathbf v_t/|\mathbf v_t|.
-
-The defaults are decision D56 (docs/model.md).
+"""Rigid ground: penalty contact with regularised Coulomb friction at the tip; docs/model.md
+(D56) gives the equations and the defaults.
 """
 
 from __future__ import annotations
