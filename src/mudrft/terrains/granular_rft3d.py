@@ -137,10 +137,10 @@ def agarwal_generic_alpha(
     beta: ArrayLike, gamma: ArrayLike, psi: ArrayLike, *,
     coefficients: PolynomialCoefficients = AGARWAL2023,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
-    r"""The paper's generic response in its local frame, :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-]
-    (docs/model.md, section 8): :math:`\hat r` the horizontal direction of motion,
-    :math:`\hat\theta=\hat z\times\hat r`, :math:`\hat z` up; positive components push the
-    element along them.
+    r"""The paper's generic response in its local frame,
+    :math:`(\alpha_r, \alpha_\theta, \alpha_z)` [-] (docs/model.md, section 8): :math:`\hat r`
+    the horizontal direction of motion, :math:`\hat\theta=\hat z\times\hat r`, :math:`\hat z`
+    up; positive components push the element along them.
 
     Parameters
     ----------
