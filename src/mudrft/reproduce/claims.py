@@ -404,11 +404,3 @@ def _change(reduction: float) -> str:
     """A reduction [%] as the signed change the paper prints: 71 -> '-71 %', -5 -> '+5 %'."""
     pct = round(-reduction)
     return f"{pct:+d} %" if pct else "0 %"
-
-
-def count(cells: Sequence[Cell]) -> dict[str, int]:
-    """``{"agrees": n, "failed": n, "not evaluated": n, "total": 9}``."""
-    verdicts = [c.verdict for c in cells]
-    agrees, skipped = verdicts.count(AGREES), verdicts.count(NOT_EVALUATED)
-    failed = len(cells) - agrees - skipped
-    return {"agrees": agrees, "failed": failed, "not evaluated": skipped, "total": len(cells)}

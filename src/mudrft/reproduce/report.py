@@ -19,7 +19,6 @@ from .claims import (
     SPEED_AGREE,
     SPEED_PARTLY,
     Cell,
-    count,
 )
 from .readings import Reading
 
@@ -31,12 +30,18 @@ DEPTHS_COLUMNS = ("claim", "reading", "stance_depth [m]", "mudrft", "verdict", "
 MARKS = {AGREES: "+", "partly": "~", "differs": "-", NOT_EVALUATED: "."}
 
 
+def count(cells: Sequence[Cell], verdict: str = AGREES) -> int:
+    """How many of ``cells`` have the ``verdict``."""
+    return sum(c.verdict == verdict for c in cells)
+
+
 def headline_count(cells: Sequence[Cell]) -> str:
     """The headline sentence: "N of 9 claims" with the failed ones."""
-    n = count(cells)
-    text = f"{n['agrees']} of {n['total']} claims reproduced; {n['failed']} not reproduced"
-    if n["not evaluated"]:
-        text += f"; {n['not evaluated']} not evaluated (runs not asked for)"
+    agrees, skipped = count(cells), count(cells, NOT_EVALUATED)
+    failed = len(cells) - agrees - skipped
+    text = f"{agrees} of {len(cells)} claims reproduced; {failed} not reproduced"
+    if skipped:
+        text += f"; {skipped} not evaluated (runs not asked for)"
     return text
 
 
@@ -67,7 +72,7 @@ def write_depths_csv(path: Path, reading: Reading, by_depth: dict[float, list[Ce
 
 def depth_ranges(by_depth: dict[float, list[Cell]]) -> str:
     """The counts over the stance depths as ranges: "6 of 9 at 10-17 mm, 5 of 9 at 18-26 mm"."""
-    counts = [(count(by_depth[d])["agrees"], d) for d in sorted(by_depth)]
+    counts = [(count(by_depth[d]), d) for d in sorted(by_depth)]
     groups = [(n, [d for _, d in g]) for n, g in itertools.groupby(counts, key=lambda t: t[0])]
     total = len(CLAIMS)
     return ", ".join(
@@ -163,7 +168,7 @@ def write_report(
         row = (cells[rd.key][i] for rd in readings)
         marks = " | ".join(f"{_esc(c.short)}: **{c.verdict}**" for c in row)
         lines.append(f"| {claim.key} | {_esc(claim.paper)} | {marks} |")
-    counts = " | ".join(f"**{count(cells[rd.key])['agrees']} of 9**" for rd in readings)
+    counts = " | ".join(f"**{count(cells[rd.key])} of 9**" for rd in readings)
     lines.append(f"| **reproduced** | | {counts} |")
     lines += ["", "## The readings and where the paper supports them", ""]
     for rd in readings:
@@ -219,7 +224,7 @@ def _depth_section(by_depth: dict[float, list[Cell]]) -> list[str]:
     for i, claim in enumerate(CLAIMS):
         marks = " | ".join(MARKS.get(by_depth[d][i].verdict, "?") for d in depths)
         lines.append(f"| {claim.key} | {marks} |")
-    counts = " | ".join(str(count(by_depth[d])["agrees"]) for d in depths)
+    counts = " | ".join(str(count(by_depth[d])) for d in depths)
     lines.append(f"| **reproduced** | {counts} |")
     return lines
 

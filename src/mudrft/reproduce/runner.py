@@ -203,7 +203,7 @@ def reproduce(
     runs = _Runs(dt)
     rows_w = [float(w) for w in water_contents]
     head = readings[0]
-    at_depth = {float(d): head.at_depth(float(d)) for d in depths}
+    at_depth = {float(d): replace(head, depth=float(d)) for d in depths}
     delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
     v = medium_speed(speeds)
     fixed = [f for f in feet if f in FIXED]
@@ -255,15 +255,9 @@ def reproduce(
     if figures:
         from .figures import make_figures
 
-        head_runs = {
-            (f, float(s), w): runs.results[runs.key(head, f, s, w)]
-            for w in rows_w
-            for f in feet
-            for s in speeds
-        }
         for path in make_figures(
             outp,
-            head_runs,
+            lambda f, s, w: runs.results[runs.key(head, f, s, w)],
             rows,
             feet=list(feet),
             speeds=list(speeds),
