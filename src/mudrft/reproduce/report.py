@@ -96,7 +96,7 @@ def write_report(
     readings: list[Reading],
     by_depth: dict[float, list[Cell]] | None = None,
     curl_ratios: dict[float, float] | None = None,
-    suction_ratios: dict[str, tuple[float, float | None]] | None = None,
+    suction_ratios: list[tuple[float, float | None]] | None = None,
     sinking: dict[str, float] | None = None,
 ) -> Path:
     """Write ``report.md`` and return its path.
@@ -113,8 +113,8 @@ def write_report(
         Stance depth [m] -> the headline's cells at that depth.
     curl_ratios : dict, optional, keyword-only
         Pad-curl delay [s] -> the morphing foot's suction / support [-] (headline).
-    suction_ratios : dict, optional, keyword-only
-        Reading key -> the semi-cylinder's suction over the flat foot's [-] in the gait and
+    suction_ratios : list, optional, keyword-only
+        Per reading, the semi-cylinder's suction over the flat foot's [-] in the gait and
         with the load-carrying stance (None if not run).
     sinking : dict, optional, keyword-only
         Fixed foot -> static sinking under :data:`~.claims.LOAD` [m] (headline).
@@ -152,7 +152,7 @@ def write_report(
         )
     if by_depth:
         lines += ["", *_depth_section(by_depth)]
-    lines += ["", *_morphing_section(head, suction_ratios or {}, curl_ratios or {})]
+    lines += ["", *_morphing_section(head, suction_ratios or [], curl_ratios or {})]
     titles = " | ".join(rd.key + (" (headline)" if rd is head else "") for rd in readings)
     lines += [
         "",
@@ -231,7 +231,7 @@ def _depth_section(by_depth: dict[float, list[Cell]]) -> list[str]:
 
 def _morphing_section(
     head: Reading,
-    suction_ratios: dict[str, tuple[float, float | None]],
+    suction_ratios: list[tuple[float, float | None]],
     curl_ratios: dict[float, float],
 ) -> list[str]:
     """The morphing foot's claims and what they rest on."""
@@ -248,8 +248,8 @@ def _morphing_section(
         "of Fig. 10a; so they are not a contradiction within the paper, but the model does "
         "not reproduce them",
     ]
-    gait = [g for g, _ in suction_ratios.values()]
-    held = [x for _, x in suction_ratios.values() if x is not None]
+    gait = [g for g, _ in suction_ratios]
+    held = [x for _, x in suction_ratios if x is not None]
     if gait:
         text = f": its s_c / s_f is {min(gait):.2f}-{max(gait):.2f} in the gait"
         if held:

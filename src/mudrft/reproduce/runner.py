@@ -286,21 +286,19 @@ def reproduce(
 
 def _suction_ratios(
     runs: _Runs, readings: Sequence[Reading], speed: float
-) -> dict[str, tuple[float, float | None]]:
-    """Reading -> the semi-cylinder's suction over the flat foot's [-] in the gait and with
-    the load-carrying stance (None where not run), for the readings that ran both feet."""
-
-    def ratio(curved: dict[str, float] | None, flat: dict[str, float] | None) -> float | None:
-        if curved is None or flat is None:
-            return None
-        return curved["max_suction"] / flat["max_suction"]
-
+) -> list[tuple[float, float | None]]:
+    """The semi-cylinder's suction over the flat foot's [-] in the gait and with the
+    load-carrying stance (None where not run), for each reading that ran both feet."""
     feet = ("semi-cylinder", "flat")
-    out: dict[str, tuple[float, float | None]] = {}
+    out = []
     for rd in readings:
-        gait = ratio(*(runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet))
-        if gait is not None:
-            out[rd.key] = (gait, ratio(*(runs.loaded(rd, f, speed) for f in feet)))
+        curved, flat = (runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet)
+        if curved is not None and flat is not None:
+            held_curved, held_flat = (runs.loaded(rd, f, speed) for f in feet)
+            held = None
+            if held_curved is not None and held_flat is not None:
+                held = held_curved["max_suction"] / held_flat["max_suction"]
+            out.append((curved["max_suction"] / flat["max_suction"], held))
     return out
 
 
