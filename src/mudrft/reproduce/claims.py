@@ -141,9 +141,6 @@ CLAIMS: tuple[Claim, ...] = (
     ),
 )
 
-#: A gait run's numbers: foot, speed [m/s], printed table row [-] -> metrics (or None).
-Metrics = Callable[[str, float, float], dict[str, float] | None]
-
 
 def shape_factor(foot: Foot, depth: float) -> float:
     """Normalized vertical force of ``foot`` under a uniform unit stress [-].
@@ -215,7 +212,7 @@ def medium_speed(speeds: Sequence[float]) -> float:
 
 def evaluate(
     reading: Reading,
-    metrics: Metrics,
+    metrics: Callable[[str, float, float], dict[str, float] | None],
     sinking: Callable[[str, float], float | None],
     *,
     feet: Sequence[str],
