@@ -1,10 +1,6 @@
-"""Readings of the paper: the choices it leaves open, each justified by its own text.
-
-A :class:`Reading` fixes how eqs. (3) and (5) are evaluated, the clock of eq. (9), the
-gait's stance depth, the water-content labels of the table rows and when the morphing
-foot's pads curl. :data:`HEADLINE` is the paper's own evaluation, fixed from the text
-before any verdict was computed; every other reading changes one choice of it.
-"""
+"""Readings of the paper: the choices it leaves open (:class:`Reading`), each justified by
+its own text. :data:`HEADLINE` is the paper's own evaluation, fixed from the text before any
+verdict was computed; every other reading changes one choice of it."""
 
 from __future__ import annotations
 

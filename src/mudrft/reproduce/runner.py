@@ -11,7 +11,7 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -22,9 +22,6 @@ from ..simulation import Result, simulate, static_sinking
 from ..trajectories import GAIT_SPEEDS, BuriedFootWarning, gait
 from .claims import FIXED, LOAD, Cell, evaluate, medium_speed
 from .readings import CURL_DELAYS, READINGS, STANCE_DEPTHS, Reading
-
-if TYPE_CHECKING:
-    from ..feet.base import Foot
 
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
@@ -86,14 +83,6 @@ class _Runs:
         self.results: dict[RunKey, Result] = {}
         self.numbers: dict[RunKey, dict[str, float]] = {}
         self._sinking: dict[tuple[str, float], float] = {}
-        self._feet: dict[tuple[str, float], Foot] = {}
-
-    def foot(self, name: str, curl_delay: float = 0.0) -> Foot:
-        """The foot ``name``; the morphing foot with its pad-curl delay [s] (others: 0)."""
-        key = (name, curl_delay)
-        if key not in self._feet:
-            self._feet[key] = MorphingFoot(curl_delay=curl_delay) if curl_delay else by_name(name)
-        return self._feet[key]
 
     @staticmethod
     def key(rd: Reading, foot: str, speed: float, row: float, depth: float | None = None) -> RunKey:
@@ -104,11 +93,10 @@ class _Runs:
     ) -> None:
         stance = depth or reading.depth
         delay = reading.curl_delay if foot == "morphing" else 0.0
+        shape = MorphingFoot(curl_delay=delay) if delay else by_name(foot)
         with warnings.catch_warnings():  # the buried readings say so in the report
             warnings.simplefilter("ignore", BuriedFootWarning)
-            res = simulate(
-                self.foot(foot, delay), reading.terrain(row), gait(speed, depth=stance, dt=self.dt)
-            )
+            res = simulate(shape, reading.terrain(row), gait(speed, depth=stance, dt=self.dt))
         m = res.metrics()
         ns = res.normalized_stress()[:, 2] if res.areas is not None else np.zeros(len(res))
         m.update(
@@ -129,7 +117,7 @@ class _Runs:
         """Sinking under :data:`LOAD` on the row's relaxed mud [m] (D13)."""
         key = (foot, float(row))
         if key not in self._sinking:
-            self._sinking[key] = static_sinking(self.foot(foot), reading.mud(row), LOAD)
+            self._sinking[key] = static_sinking(by_name(foot), reading.mud(row), LOAD)
         return self._sinking[key]
 
     def loaded(self, reading: Reading, foot: str, speed: float) -> dict[str, float] | None:
