@@ -81,12 +81,11 @@ def _command_logging(quiet: bool, prog: str) -> Iterator[list[str]]:
     level, propagate = logger.level, logger.propagate
     logger.propagate = False
     handler = enable_stderr_logging(logging.WARNING if quiet else logging.INFO)
+    assert isinstance(handler, logging.StreamHandler)  # the only kind it attaches
     old_format = handler.formatter
     lines = _CommandLines(prog)
     handler.setFormatter(lines)
-    old_stream = None
-    if isinstance(handler, logging.StreamHandler):
-        old_stream = handler.setStream(sys.stderr)  # None if it already writes there
+    old_stream = handler.setStream(sys.stderr)  # None if it already writes there
 
     def show(message: Warning | str, *args: object, **kwargs: object) -> None:
         logger.warning("%s: warning: %s", prog, _plain(str(message)))
@@ -100,7 +99,7 @@ def _command_logging(quiet: bool, prog: str) -> Iterator[list[str]]:
         handler.setFormatter(old_format)
         if not had:
             logger.removeHandler(handler)
-        elif old_stream is not None and isinstance(handler, logging.StreamHandler):
+        elif old_stream is not None:
             handler.setStream(old_stream)
         logger.setLevel(level)
         logger.propagate = propagate

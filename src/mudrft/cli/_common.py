@@ -88,9 +88,7 @@ class _Signals:
 
     held = 0
     pending: type[BaseException] | None = None
-    #: The first signal delivered during the command: Python ignores an exception a
-    #: handler raises inside a weakref callback or ``__del__``, so the end of the
-    #: command (:func:`raise_swallowed`) raises it again rather than finish as if none came.
+    #: The first signal delivered during the command (:func:`raise_swallowed`).
     received: type[BaseException] | None = None
     #: Per running command (innermost last), its outputs not yet moved or removed.
     commands: ClassVar[list[list[Outputs]]] = []
@@ -120,8 +118,7 @@ def signals_as_exceptions() -> Iterator[None]:
             raise exc_type
 
     def unraisable(u: Any) -> None:
-        """Python's "Exception ignored" report, quiet for our own signal's exception
-        (:func:`raise_swallowed` raises it again)."""
+        """Python's "Exception ignored" report, quiet for our signal's (raised again later)."""
         if not (isinstance(u.exc_value, Terminated | KeyboardInterrupt) and _Signals.received):
             hook(u)
 

@@ -41,8 +41,7 @@ def load_harness() -> ModuleType:
     spec = importlib.util.spec_from_file_location(
         HARNESS_MODULE, init, submodule_search_locations=[str(where)]
     )
-    if spec is None or spec.loader is None:  # pragma: no cover - a readable __init__.py loads
-        raise MudrftError(f"mudrft bench could not load the benchmark harness from {init}")
+    assert spec is not None and spec.loader is not None  # a readable __init__.py loads
     module = importlib.util.module_from_spec(spec)
     sys.modules[HARNESS_MODULE] = module  # the harness's relative imports look it up here
     try:

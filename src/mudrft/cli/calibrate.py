@@ -1,6 +1,5 @@
 """``mudrft calibrate``: fit the model to intrusion logs; the table to stdout, the fit to JSON
-(:meth:`mudrft.calibration.FitResult.to_json`). Exit status 1 for a fit that did not
-converge and, with ``--strict``, for any warning."""
+(:meth:`mudrft.calibration.FitResult.to_json`)."""
 
 from __future__ import annotations
 

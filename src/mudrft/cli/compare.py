@@ -15,7 +15,6 @@ from ._terrain import add_mud_options, add_terrain_options, mud_from_options, te
 
 if TYPE_CHECKING:
     from ..feet import Foot
-    from ..parameters import Mud
     from ..terrains import Terrain
 
 #: The files ``mudrft compare`` writes in its directory: key -> (name, is a figure).
@@ -70,15 +69,12 @@ def write_comparison(
     foot: Foot,
     out: str | Path,
     *,
-    water_content: float = 0.25,
     speed: float = GAIT_SPEED,
     depth: float = STANCE_DEPTH,
     hold: float = 1.0,
     figures: bool = True,
     force: bool = False,
     quiet: bool = False,
-    extrapolate: bool = False,
-    mud: Mud | None = None,
     terrains: Mapping[str, Terrain] | None = None,
     strict: bool = False,
 ) -> dict[str, Path]:
@@ -90,13 +86,11 @@ def write_comparison(
         The foot.
     out : str or Path
         Output directory (created, with its parents, if missing).
-    water_content, speed, depth, hold : float, keyword-only
-        Mud water content [-], gait speed [m/s], plate and gait depth [m], plate hold [s].
-    figures, force, quiet, extrapolate, strict : bool, keyword-only
-        Write the PNG figures; overwrite existing files; no progress lines; allow a water
-        content outside the tables (warns); refuse a depth deeper than the foot is tall.
-    mud : Mud, optional, keyword-only
-        The mud model's parameters in place of the paper's (the baselines keep theirs, D59).
+    speed, depth, hold : float, keyword-only
+        Gait speed [m/s], plate and gait depth [m], plate hold [s].
+    figures, force, quiet, strict : bool, keyword-only
+        Write the PNG figures; overwrite existing files; no progress lines; refuse a depth
+        deeper than the foot is tall.
     terrains : mapping of str to Terrain, optional, keyword-only
         The terrains by name (default: :func:`~mudrft.baselines.default_terrains`).
 
@@ -107,13 +101,9 @@ def write_comparison(
     """
     from ..baselines.compare import compare, default_terrains, summarize, write_csv
     from ..reproduce.runner import write_rows
-    from ..terrains import MudTerrain
     from ..trajectories import gait, plate_intrusion
 
-    if terrains is None:
-        terrains = default_terrains(water_content, extrapolate=extrapolate)
-        if mud is not None:
-            terrains["mud"] = MudTerrain(mud)
+    terrains = default_terrains() if terrains is None else terrains
     keys = [k for k, (_, is_figure) in FILES.items() if figures or not is_figure]
     with Outputs(force=force) as outputs:
         stage = outputs.directory("--out", out, [FILES[k][0] for k in keys])

@@ -156,12 +156,13 @@ def run(args: argparse.Namespace) -> int:
                 raise MudrftError(f"{option} describes the mud, but --terrain is {args.terrain!r}")
         terrain = baseline_from_options(args, chosen)
     motion, what = _motion(args, dt)  # checked before anything is written
-    static: float | str | None = None
+    static = None  # the line on the static sinking depth, for a load on the mud
     if isinstance(motion, LoadControl) and isinstance(terrain, MudTerrain):
         try:
-            static = static_sinking(foot, terrain.mud, motion.weight)
+            depth = static_sinking(foot, terrain.mud, motion.weight)
+            static = f"  {'static sinking':14s} {depth: .6g} m (relaxed mud, no suction; D13)"
         except MudrftError as exc:  # too heavy to balance: say why, run anyway
-            static = str(exc)
+            static = f"  static sinking: {exc}"
     with Outputs(force=args.force) as outputs:
         csv_tmp = outputs.file("--out", args.out)
         plot_tmp = outputs.file("--plot", args.plot) if args.plot else None
@@ -186,10 +187,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {k:14s} {v: .6g} {METRICS[kind][k].unit}")
     if isinstance(motion, Trajectory):
         _print_against_measured(res, motion)
-    if isinstance(static, float):
-        print(f"  {'static sinking':14s} {static: .6g} m (relaxed mud, no suction; D13)")
-    elif static is not None:
-        print(f"  static sinking: {static}")
+    if static is not None:
+        print(static)
     if args.plot:
         print(f"wrote {args.plot}")
     return 0

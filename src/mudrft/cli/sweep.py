@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             workers=args.workers,
             resume=args.resume,
-            overwrite=args.force and not args.resume,
+            overwrite=restarts,
             progress=not args.quiet,
         )
         _write_table(ds, stage / TABLE)

@@ -17,7 +17,6 @@ from ._terrain import add_mud_options, mud_from_options
 
 if TYPE_CHECKING:
     from ..parameters import Mud
-    from ..terrains import MudTerrain
 
 #: The files ``mudrft walk`` may write in its directory.
 FILES = ("walk.csv", "steps.csv", "summary.json", "walk.png", "frames.png")
@@ -132,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _compare(args: argparse.Namespace, mud: Mud | MudTerrain, **options: Any) -> int:
+def _compare(args: argparse.Namespace, mud: Mud, **options: Any) -> int:
     """``mudrft walk --compare``: every foot on the same mud, a table and a figure."""
     from ..integrations.walk_compare import compare_feet, write_compare
 

@@ -141,9 +141,6 @@ CLAIMS: tuple[Claim, ...] = (
     ),
 )
 
-#: A gait run's numbers: foot, speed [m/s], printed table row [-] -> metrics (or None).
-Metrics = Callable[[str, float, float], dict[str, float] | None]
-
 
 def shape_factor(foot: Foot, depth: float) -> float:
     """Normalized vertical force of ``foot`` under a uniform unit stress [-].
@@ -215,7 +212,7 @@ def medium_speed(speeds: Sequence[float]) -> float:
 
 def evaluate(
     reading: Reading,
-    metrics: Metrics,
+    metrics: Callable[[str, float, float], dict[str, float] | None],
     sinking: Callable[[str, float], float | None],
     *,
     feet: Sequence[str],
@@ -404,11 +401,3 @@ def _change(reduction: float) -> str:
     """A reduction [%] as the signed change the paper prints: 71 -> '-71 %', -5 -> '+5 %'."""
     pct = round(-reduction)
     return f"{pct:+d} %" if pct else "0 %"
-
-
-def count(cells: Sequence[Cell]) -> dict[str, int]:
-    """``{"agrees": n, "failed": n, "not evaluated": n, "total": 9}``."""
-    verdicts = [c.verdict for c in cells]
-    agrees, skipped = verdicts.count(AGREES), verdicts.count(NOT_EVALUATED)
-    failed = len(cells) - agrees - skipped
-    return {"agrees": agrees, "failed": failed, "not evaluated": skipped, "total": len(cells)}

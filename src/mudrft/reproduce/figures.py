@@ -3,16 +3,17 @@ against the stance depth."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..plotting import require_matplotlib
+from .claims import Cell, medium_speed
 
 if TYPE_CHECKING:
     from ..simulation import Result
-    from .claims import Cell
 
 COLORS = {
     "flat": "tab:blue",
@@ -20,10 +21,6 @@ COLORS = {
     "semi-sphere": "tab:green",
     "morphing": "tab:red",
 }
-
-
-def _near(values: list[float], target: float) -> float:
-    return min(values, key=lambda v: abs(v - target))
 
 
 def _save(plt: Any, fig: Any, path: Path) -> Path:
@@ -34,7 +31,7 @@ def _save(plt: Any, fig: Any, path: Path) -> Path:
 
 def make_figures(
     out: Path,
-    runs: dict[tuple[str, float, float], Result],
+    runs: Callable[[str, float, float], Result],
     rows: list[dict[str, Any]],
     *,
     feet: list[str],
@@ -42,10 +39,10 @@ def make_figures(
     water_contents: list[float],
     by_depth: dict[float, list[Cell]] | None = None,
 ) -> list[Path]:
-    """Write the PNG figures to ``out``; return their paths (the depth figure where
-    ``by_depth``, stance depth [m] -> the headline's cells, is given)."""
+    """Write the PNG figures of the headline's ``runs(foot, speed, row)`` to ``out``; their
+    paths (the depth figure where ``by_depth``, depth [m] -> the headline's cells, is given)."""
     plt = require_matplotlib()
-    v, w = _near(speeds, 0.2), _near(water_contents, 0.25)
+    v, w = medium_speed(speeds), min(water_contents, key=lambda x: abs(x - 0.25))
     paths = []
 
     # Fig. 9: forces against time for the fixed feet at medium speed, W = 25 %
@@ -53,7 +50,7 @@ def make_figures(
     n = max(len(fixed), 1)
     fig, axes = plt.subplots(n, 3, figsize=(10, 2.4 * n), squeeze=False, constrained_layout=True)
     for i, f in enumerate(fixed):
-        r = runs[(f, v, w)]
+        r = runs(f, v, w)
         for j, lab in enumerate(("$F_x$", "$F_y$", "$F_z$")):
             ax = axes[i, j]
             ax.plot(r.time, r.force[:, j], color=COLORS.get(f, "k"))
@@ -82,7 +79,7 @@ def make_figures(
     }
     for ax, (title, lines) in zip(axes, panels.items(), strict=True):
         for key, label, color in lines:
-            r = runs[key]
+            r = runs(*key)
             ax.plot(
                 r.time / r.time[-1], r.normalized_stress()[:, 2] / 1e3, color=color, label=label
             )
@@ -101,7 +98,7 @@ def make_figures(
     # Fig. 12: vertical stress against depth (hysteresis) for every foot
     fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
     for f in feet:
-        r = runs[(f, v, w)]
+        r = runs(f, v, w)
         ax.plot(r.depth * 1e3, r.normalized_stress()[:, 2] / 1e3, color=COLORS.get(f, "k"), label=f)
     ax.axhline(0, color="0.75", lw=0.6)
     ax.set_xlabel("tip depth [mm]")

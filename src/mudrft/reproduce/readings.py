@@ -1,14 +1,10 @@
-"""Readings of the paper: the choices it leaves open, each justified by its own text.
-
-A :class:`Reading` fixes how eqs. (3) and (5) are evaluated, the clock of eq. (9), the
-gait's stance depth, the water-content labels of the table rows and when the morphing
-foot's pads curl. :data:`HEADLINE` is the paper's own evaluation, fixed from the text
-before any verdict was computed; every other reading changes one choice of it.
-"""
+"""Readings of the paper: the choices it leaves open (:class:`Reading`), each justified by
+its own text. :data:`HEADLINE` is the paper's own evaluation, fixed from the text before any
+verdict was computed; every other reading changes one choice of it."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from ..constitutive.dynamics import evaluation
 from ..parameters import LABELLINGS, Mud, paper_mud
@@ -49,10 +45,6 @@ class Reading:
         at stance ``depth`` [m] (default the reading's): equal keys share their runs."""
         delay = self.curl_delay if foot == "morphing" else 0.0
         return (self.thixotropy, self.clock, self.acceleration, depth or self.depth, delay)
-
-    def at_depth(self, depth: float) -> Reading:
-        """This reading at another stance ``depth`` [m] (the depth dimension)."""
-        return replace(self, depth=depth)
 
     def label(self, row: float) -> float:
         """The water content [-] this reading gives the table row printed as ``row``."""

@@ -19,7 +19,6 @@ from .claims import (
     SPEED_AGREE,
     SPEED_PARTLY,
     Cell,
-    count,
 )
 from .readings import Reading
 
@@ -31,12 +30,18 @@ DEPTHS_COLUMNS = ("claim", "reading", "stance_depth [m]", "mudrft", "verdict", "
 MARKS = {AGREES: "+", "partly": "~", "differs": "-", NOT_EVALUATED: "."}
 
 
+def count(cells: Sequence[Cell], verdict: str = AGREES) -> int:
+    """How many of ``cells`` have the ``verdict``."""
+    return sum(c.verdict == verdict for c in cells)
+
+
 def headline_count(cells: Sequence[Cell]) -> str:
     """The headline sentence: "N of 9 claims" with the failed ones."""
-    n = count(cells)
-    text = f"{n['agrees']} of {n['total']} claims reproduced; {n['failed']} not reproduced"
-    if n["not evaluated"]:
-        text += f"; {n['not evaluated']} not evaluated (runs not asked for)"
+    agrees, skipped = count(cells), count(cells, NOT_EVALUATED)
+    failed = len(cells) - agrees - skipped
+    text = f"{agrees} of {len(cells)} claims reproduced; {failed} not reproduced"
+    if skipped:
+        text += f"; {skipped} not evaluated (runs not asked for)"
     return text
 
 
@@ -67,7 +72,7 @@ def write_depths_csv(path: Path, reading: Reading, by_depth: dict[float, list[Ce
 
 def depth_ranges(by_depth: dict[float, list[Cell]]) -> str:
     """The counts over the stance depths as ranges: "6 of 9 at 10-17 mm, 5 of 9 at 18-26 mm"."""
-    counts = [(count(by_depth[d])["agrees"], d) for d in sorted(by_depth)]
+    counts = [(count(by_depth[d]), d) for d in sorted(by_depth)]
     groups = [(n, [d for _, d in g]) for n, g in itertools.groupby(counts, key=lambda t: t[0])]
     total = len(CLAIMS)
     return ", ".join(
@@ -91,7 +96,7 @@ def write_report(
     readings: list[Reading],
     by_depth: dict[float, list[Cell]] | None = None,
     curl_ratios: dict[float, float] | None = None,
-    suction_ratios: dict[str, tuple[float, float | None]] | None = None,
+    suction_ratios: list[tuple[float, float | None]] | None = None,
     sinking: dict[str, float] | None = None,
 ) -> Path:
     """Write ``report.md`` and return its path.
@@ -108,8 +113,8 @@ def write_report(
         Stance depth [m] -> the headline's cells at that depth.
     curl_ratios : dict, optional, keyword-only
         Pad-curl delay [s] -> the morphing foot's suction / support [-] (headline).
-    suction_ratios : dict, optional, keyword-only
-        Reading key -> the semi-cylinder's suction over the flat foot's [-] in the gait and
+    suction_ratios : list, optional, keyword-only
+        Per reading, the semi-cylinder's suction over the flat foot's [-] in the gait and
         with the load-carrying stance (None if not run).
     sinking : dict, optional, keyword-only
         Fixed foot -> static sinking under :data:`~.claims.LOAD` [m] (headline).
@@ -147,7 +152,7 @@ def write_report(
         )
     if by_depth:
         lines += ["", *_depth_section(by_depth)]
-    lines += ["", *_morphing_section(head, suction_ratios or {}, curl_ratios or {})]
+    lines += ["", *_morphing_section(head, suction_ratios or [], curl_ratios or {})]
     titles = " | ".join(rd.key + (" (headline)" if rd is head else "") for rd in readings)
     lines += [
         "",
@@ -163,7 +168,7 @@ def write_report(
         row = (cells[rd.key][i] for rd in readings)
         marks = " | ".join(f"{_esc(c.short)}: **{c.verdict}**" for c in row)
         lines.append(f"| {claim.key} | {_esc(claim.paper)} | {marks} |")
-    counts = " | ".join(f"**{count(cells[rd.key])['agrees']} of 9**" for rd in readings)
+    counts = " | ".join(f"**{count(cells[rd.key])} of 9**" for rd in readings)
     lines.append(f"| **reproduced** | | {counts} |")
     lines += ["", "## The readings and where the paper supports them", ""]
     for rd in readings:
@@ -219,14 +224,14 @@ def _depth_section(by_depth: dict[float, list[Cell]]) -> list[str]:
     for i, claim in enumerate(CLAIMS):
         marks = " | ".join(MARKS.get(by_depth[d][i].verdict, "?") for d in depths)
         lines.append(f"| {claim.key} | {marks} |")
-    counts = " | ".join(str(count(by_depth[d])["agrees"]) for d in depths)
+    counts = " | ".join(str(count(by_depth[d])) for d in depths)
     lines.append(f"| **reproduced** | {counts} |")
     return lines
 
 
 def _morphing_section(
     head: Reading,
-    suction_ratios: dict[str, tuple[float, float | None]],
+    suction_ratios: list[tuple[float, float | None]],
     curl_ratios: dict[float, float],
 ) -> list[str]:
     """The morphing foot's claims and what they rest on."""
@@ -243,8 +248,8 @@ def _morphing_section(
         "of Fig. 10a; so they are not a contradiction within the paper, but the model does "
         "not reproduce them",
     ]
-    gait = [g for g, _ in suction_ratios.values()]
-    held = [x for _, x in suction_ratios.values() if x is not None]
+    gait = [g for g, _ in suction_ratios]
+    held = [x for _, x in suction_ratios if x is not None]
     if gait:
         text = f": its s_c / s_f is {min(gait):.2f}-{max(gait):.2f} in the gait"
         if held:

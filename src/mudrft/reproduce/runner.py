@@ -11,7 +11,7 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -22,9 +22,6 @@ from ..simulation import Result, simulate, static_sinking
 from ..trajectories import GAIT_SPEEDS, BuriedFootWarning, gait
 from .claims import FIXED, LOAD, Cell, evaluate, medium_speed
 from .readings import CURL_DELAYS, READINGS, STANCE_DEPTHS, Reading
-
-if TYPE_CHECKING:
-    from ..feet.base import Foot
 
 FEET = ("flat", "semi-cylinder", "semi-sphere", "morphing")
 WATER_CONTENTS = (0.25, 0.35, 0.45)
@@ -86,14 +83,6 @@ class _Runs:
         self.results: dict[RunKey, Result] = {}
         self.numbers: dict[RunKey, dict[str, float]] = {}
         self._sinking: dict[tuple[str, float], float] = {}
-        self._feet: dict[tuple[str, float], Foot] = {}
-
-    def foot(self, name: str, curl_delay: float = 0.0) -> Foot:
-        """The foot ``name``; the morphing foot with its pad-curl delay [s] (others: 0)."""
-        key = (name, curl_delay)
-        if key not in self._feet:
-            self._feet[key] = MorphingFoot(curl_delay=curl_delay) if curl_delay else by_name(name)
-        return self._feet[key]
 
     @staticmethod
     def key(rd: Reading, foot: str, speed: float, row: float, depth: float | None = None) -> RunKey:
@@ -104,11 +93,10 @@ class _Runs:
     ) -> None:
         stance = depth or reading.depth
         delay = reading.curl_delay if foot == "morphing" else 0.0
+        shape = MorphingFoot(curl_delay=delay) if delay else by_name(foot)
         with warnings.catch_warnings():  # the buried readings say so in the report
             warnings.simplefilter("ignore", BuriedFootWarning)
-            res = simulate(
-                self.foot(foot, delay), reading.terrain(row), gait(speed, depth=stance, dt=self.dt)
-            )
+            res = simulate(shape, reading.terrain(row), gait(speed, depth=stance, dt=self.dt))
         m = res.metrics()
         ns = res.normalized_stress()[:, 2] if res.areas is not None else np.zeros(len(res))
         m.update(
@@ -129,7 +117,7 @@ class _Runs:
         """Sinking under :data:`LOAD` on the row's relaxed mud [m] (D13)."""
         key = (foot, float(row))
         if key not in self._sinking:
-            self._sinking[key] = static_sinking(self.foot(foot), reading.mud(row), LOAD)
+            self._sinking[key] = static_sinking(by_name(foot), reading.mud(row), LOAD)
         return self._sinking[key]
 
     def loaded(self, reading: Reading, foot: str, speed: float) -> dict[str, float] | None:
@@ -203,7 +191,7 @@ def reproduce(
     runs = _Runs(dt)
     rows_w = [float(w) for w in water_contents]
     head = readings[0]
-    at_depth = {float(d): head.at_depth(float(d)) for d in depths}
+    at_depth = {float(d): replace(head, depth=float(d)) for d in depths}
     delayed = {float(x): replace(head, curl_delay=float(x)) for x in curl_delays}
     v = medium_speed(speeds)
     fixed = [f for f in feet if f in FIXED]
@@ -255,15 +243,9 @@ def reproduce(
     if figures:
         from .figures import make_figures
 
-        head_runs = {
-            (f, float(s), w): runs.results[runs.key(head, f, s, w)]
-            for w in rows_w
-            for f in feet
-            for s in speeds
-        }
         for path in make_figures(
             outp,
-            head_runs,
+            lambda f, s, w: runs.results[runs.key(head, f, s, w)],
             rows,
             feet=list(feet),
             speeds=list(speeds),
@@ -292,21 +274,19 @@ def reproduce(
 
 def _suction_ratios(
     runs: _Runs, readings: Sequence[Reading], speed: float
-) -> dict[str, tuple[float, float | None]]:
-    """Reading -> the semi-cylinder's suction over the flat foot's [-] in the gait and with
-    the load-carrying stance (None where not run), for the readings that ran both feet."""
-
-    def ratio(curved: dict[str, float] | None, flat: dict[str, float] | None) -> float | None:
-        if curved is None or flat is None:
-            return None
-        return curved["max_suction"] / flat["max_suction"]
-
+) -> list[tuple[float, float | None]]:
+    """The semi-cylinder's suction over the flat foot's [-] in the gait and with the
+    load-carrying stance (None where not run), for each reading that ran both feet."""
     feet = ("semi-cylinder", "flat")
-    out: dict[str, tuple[float, float | None]] = {}
+    out = []
     for rd in readings:
-        gait = ratio(*(runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet))
-        if gait is not None:
-            out[rd.key] = (gait, ratio(*(runs.loaded(rd, f, speed) for f in feet)))
+        curved, flat = (runs.metrics(rd, f, speed, rd.row(0.25)) for f in feet)
+        if curved is not None and flat is not None:
+            held_curved, held_flat = (runs.loaded(rd, f, speed) for f in feet)
+            held = None
+            if held_curved is not None and held_flat is not None:
+                held = held_curved["max_suction"] / held_flat["max_suction"]
+            out.append((curved["max_suction"] / flat["max_suction"], held))
     return out
 
 
