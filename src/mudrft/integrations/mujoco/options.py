@@ -17,8 +17,7 @@ from ..._validation import (
     warn_plausibility,
 )
 from ._lazy import _mujoco
-from .geoms import _collides, geom_label
-from .placement import _reference_pose, auto_feet, resolve_body
+from .placement import _collides, _reference_pose, auto_feet, geom_label, resolve_body
 from .rigid import RIGID_CELL
 
 if TYPE_CHECKING:
