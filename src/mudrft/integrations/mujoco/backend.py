@@ -27,7 +27,6 @@ from .placement import coupled_tip, coupled_triangles
 if TYPE_CHECKING:
     import mujoco
 
-    from ...feet.base import Foot
     from ...feet.shapes import _ClosedFormFoot
     from ...terrains import Terrain
     from ...terrains.mud import MudState
@@ -37,15 +36,11 @@ if TYPE_CHECKING:
 #: The feet the kernel steps (:func:`not_compilable`).
 _KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
-__all__ = ["NON_FINITE", "NO_LIBRARY", "CompiledCoupling", "not_compilable"]
-
 #: Why a step raised: a wrench that is not finite.
 NON_FINITE = (
     "the mud coupling produced a non-finite force; the simulation diverged "
     "(check the model, the time step and the mud parameters)"
 )
-#: The start of :func:`not_compilable`'s answer where MuJoCo's C library is missing.
-NO_LIBRARY = "the MuJoCo coupling calls MuJoCo's own library"
 
 
 def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
@@ -58,20 +53,16 @@ def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     try:
         mujoco_functions()
     except ImportError as exc:
-        return f"{NO_LIBRARY}, which was not found ({exc})"
+        return f"the MuJoCo coupling calls MuJoCo's own library, which was not found ({exc})"
     for b in bodies:
-        if not _compilable_foot(b.foot) or b.triangles is None:
+        elementwise = bool(getattr(b.foot, "elementwise", False))
+        if not (elementwise or isinstance(b.foot, MeshFoot | MorphingFoot)) or b.triangles is None:
             return (
                 f"the MuJoCo coupling takes closed-form feet (Flat, SemiCylinder, SemiSphere), "
                 f"mesh feet (MeshFoot) and the MorphingFoot; body {b.body!r} has a "
                 f"{type(b.foot).__name__}: give its surface as a MeshFoot"
             )
     return ""
-
-
-def _compilable_foot(foot: Foot | None) -> bool:
-    elementwise = bool(getattr(foot, "elementwise", False))
-    return elementwise or isinstance(foot, MeshFoot | MorphingFoot)
 
 
 def _geometry_row(foot: _KernelFoot) -> list[float]:
