@@ -88,8 +88,7 @@ class CompiledCoupling:
         self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id]), int(b.ball)] for b in bodies])  # fmt: skip
         self.tip = np.ascontiguousarray([coupled_tip(b) for b in bodies], dtype=float)
         self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
-        sizes = [len(tri) for tri in tris]
-        self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        self.tri_adr = np.concatenate([[0], np.cumsum([len(tri) for tri in tris])]).astype(np.int64)
         self.tri_b = np.ascontiguousarray(np.concatenate(tris))
         ups = [upright_rows(prepare_triangles(b.upright)) for b in bodies]
         self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
@@ -97,7 +96,7 @@ class CompiledCoupling:
         t = cast(MudTerrain, batch.terrain)
         grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
         heights = np.zeros((1, 1)) if batch.field is None else batch.field.heights
-        n = batch.n
+        n, nb = batch.n, len(bodies)
         # one copy a robot, C-contiguous and written in place by use_field
         self.grids, self.cells, self.rows, self.hts = (
             np.repeat(a[None], n, axis=0) for a in (grid, cells, rows, heights)
@@ -109,7 +108,6 @@ class CompiledCoupling:
             row_array(b.foot) if isinstance(b.foot, MorphingFoot) else no_morph for b in bodies
         ]
         self.morph = np.ascontiguousarray(morph, dtype=float)
-        n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
         self.fst = np.zeros((n, nb, 3))  # morphing feet: deflection, pad angle, seal memory
         self.odo = np.zeros((n, nb, 5))  # foot-frame x, y [m], world tip x, y, z [m]
@@ -144,11 +142,8 @@ class CompiledCoupling:
                     self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))
         self.odo[..., :2] = pos[..., :2]
         self.odo[..., 2:] = tips
-        self.tw_prev[:] = 0.0
-        self.wv_prev[:] = 0.0
-        self.tank[:] = 0.0
-        self.out[:] = 0.0
-        self.clock[:] = 0.0
+        for a in (self.tw_prev, self.wv_prev, self.tank, self.out, self.clock):
+            a[:] = 0.0
         self.clock[:, 1] = np.nan  # no step yet
         fields = ("xpos", "xmat", "xipos", "cvel", "subtree_com", "xfrc_applied")
         self.datas = list(datas)  # keep them alive: the kernel reads their memory
