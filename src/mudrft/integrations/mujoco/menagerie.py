@@ -26,20 +26,19 @@ def menagerie_scene(robot: str) -> Path:
     """
     if not isinstance(robot, str) or not robot:
         raise MudrftError(f"robot must be a Menagerie folder name such as 'unitree_go1', got {robot!r}")  # fmt: skip
-    held: list[str] = []
-    installed = False
-    for module, _ in PACKAGES:
-        spec = importlib.util.find_spec(module)
-        if spec is None or spec.origin is None:
-            continue
-        installed = True
-        root = Path(spec.origin).parent / "mujoco" / "playground" / "assets" / "mujoco_menagerie"
-        if (root / robot / "scene.xml").is_file():
-            return root / robot / "scene.xml"
-        held += [p.name for p in sorted(root.glob("*")) if (p / "scene.xml").is_file()]
-    if not installed:
+    specs = [importlib.util.find_spec(module) for module, _ in PACKAGES]
+    roots = [
+        Path(spec.origin).parent / "mujoco" / "playground" / "assets" / "mujoco_menagerie"
+        for spec in specs
+        if spec is not None and spec.origin is not None
+    ]
+    if not roots:
         raise MudrftError(
             "Menagerie's robots ship offline in the 'robots' extra: pip install 'mudrft[robots]' "
             f"(the packages {', '.join(d for _, d in PACKAGES)})"
         )
+    for root in roots:
+        if (root / robot / "scene.xml").is_file():
+            return root / robot / "scene.xml"
+    held = [p.name for root in roots for p in sorted(root.glob("*")) if (p / "scene.xml").is_file()]
     raise MudrftError(f"robot must be one of the installed Menagerie scenes {held}, got {robot!r}")
