@@ -39,7 +39,6 @@ class AttachOptions(NamedTuple):
     bottom_damping: float  # [N s/m]
     resolution: int
     geoms: list[Any]  # the foot's geom(s) of each body, None: derived (D124)
-    floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
     auto: bool = False  # the bodies were found by feet="auto"
 
 
@@ -105,10 +104,9 @@ def check_attach_options(
         bottom_stiffness=nonnegative_number("bottom_stiffness", bottom_stiffness, unit="N/m"),
         bottom_damping=nonnegative_number("bottom_damping", bottom_damping, unit="N s/m"),
         resolution=check_count("resolution", resolution),
-        floor=str(floor),
         auto=auto,
     )
-    check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
+    check_floor(model, opts.surface, str(floor))  # last: "below" changes the model
     return opts
 
 
