@@ -406,10 +406,9 @@ def body_foot(
     if tip is not None:
         low_w = xb + Rb @ check_finite("tip", tip)
         ball = False
-    uncut = None
+    whole = foot
     if derived and not ball:
-        whole, foot = foot, cut_foot(foot, cut_height)
-        uncut = float(whole.height) if foot is not whole else None
+        foot = cut_foot(foot, cut_height)
     if not hasattr(foot, "contact_force") or not hasattr(foot, "characteristic_length"):
         raise MudrftError(
             f"foot for body {name!r} must be a mudrft foot (mudrft.feet), got {type(foot).__name__}"
@@ -436,7 +435,7 @@ def body_foot(
         geom=int(geoms[0]) if geoms else -1,
         geoms=tuple(int(g) for g in geoms),
         ball=ball,
-        uncut=uncut,
+        uncut=None if foot is whole else float(whole.height),
     )
 
 
@@ -487,8 +486,8 @@ def group_triangles(
 ) -> tuple[FloatArray, PreparedTriangles]:
     """Posed triangles (nb_g, m, 3, 3) and the prepared upright ones of a foot type (every
     coupled foot has a surface: :func:`.backend.not_compilable`)."""
-    tri = [coupled_triangles(bodies[i]) for i in idx]
-    return np.stack([np.asarray(t) for t in tri]), prepare_triangles(bodies[idx[0]].upright)
+    tri = np.stack([np.asarray(coupled_triangles(bodies[i])) for i in idx])
+    return tri, prepare_triangles(bodies[idx[0]].upright)
 
 
 def attached_foot(
@@ -509,8 +508,7 @@ def attached_foot(
     return placed
 
 
-#: ``feet="auto"`` keeps the limbs whose lowest point lies within this fraction of the
-#: model's height above the lowest limb's, in the reference pose: the feet, not the hands.
+#: How far above the lowest limb ``feet="auto"`` reaches, a fraction of the model's height.
 AUTO_REACH = 0.25
 
 

@@ -157,10 +157,8 @@ def diverged_error(
     """The error for robot ``i`` whose ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2)
     MuJoCo found bad at degree of freedom ``index`` and reset, ``time`` [s] after reset."""
     field = ("qpos", "qvel", "qacc")[kind]
-    force = None
-    if last is not None:
-        f = last.force
-        force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
+    f = None if last is None else last.force
+    force = None if f is None else np.round(f[i] if f.ndim == 3 else f, 3).tolist()
     what = (
         f"the state of robot {i} is not finite: MuJoCo found NaN, inf or a huge value in "
         f"{field}[{index}] at time {time:.6g} s"
