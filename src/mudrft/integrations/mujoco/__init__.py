@@ -20,7 +20,7 @@ from __future__ import annotations
 import importlib.util
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from ..._validation import MudrftError
 from ._lazy import _mujoco as _mujoco  # for mudrft.integrations.walk
@@ -36,6 +36,10 @@ if TYPE_CHECKING:
     from ...parameters import Mud
     from ...terrains import MudTerrain
     from ...terrains.field import MudField
+
+    #: What names the coupled bodies (:func:`attach`), and the mud under them.
+    Bodies: TypeAlias = str | int | Sequence[str | int]
+    MudLike: TypeAlias = Mud | MudTerrain | MudField
 
 __all__ = [
     "MudBatch",
@@ -55,25 +59,14 @@ class MudCoupling(MudBatch):
     """:class:`MudBatch` of one MjData; its methods take the MjData, and outputs in
     :attr:`last` have shape ``(nbody, ...)``."""
 
-    def __init__(
-        self,
-        model: mujoco.MjModel,
-        bodies: str | int | Sequence[str | int],
-        mud: Mud | MudTerrain | MudField,
-        **kw: Any,
-    ) -> None:
+    def __init__(self, model: mujoco.MjModel, bodies: Bodies, mud: MudLike, **kw: Any) -> None:
         if "n" in kw:
             raise MudrftError("MudCoupling couples one MjData; use MudBatch(n=...) for many")
         super().__init__(model, bodies, mud, n=1, **kw)
         self._single = True
 
 
-def attach(
-    model: mujoco.MjModel,
-    bodies: str | int | Sequence[str | int],
-    mud: Mud | MudTerrain | MudField,
-    **kw: Any,
-) -> MudCoupling:
+def attach(model: mujoco.MjModel, bodies: Bodies, mud: MudLike, **kw: Any) -> MudCoupling:
     """Attach mud to named bodies of a MuJoCo model; see :class:`MudBatch` for options.
 
     Examples
@@ -94,12 +87,7 @@ def attach(
 
 
 def attach_batch(
-    model: mujoco.MjModel,
-    bodies: str | int | Sequence[str | int],
-    mud: Mud | MudTerrain | MudField,
-    *,
-    n: int,
-    **kw: Any,
+    model: mujoco.MjModel, bodies: Bodies, mud: MudLike, *, n: int, **kw: Any
 ) -> MudBatch:
     """Attach mud to named bodies of ``n`` robots of one model; see :class:`MudBatch`."""
     return MudBatch(model, bodies, mud, n=n, **kw)
