@@ -190,8 +190,7 @@ def hull_foot(points: NDArray[np.float64]) -> tuple[feet.MeshFoot, NDArray[np.fl
 
 
 #: A derived foot taller than this keeps only its part this high above its tip [m] (a
-#: lower leg that is one geom is not all foot). A legged robot's foot settles 20-30 mm deep
-#: in the paper's mud; one sunk past 0.1 m is stuck, whatever is above.
+#: lower leg that is one geom is not all foot; docs/guide/mujoco.md says why 0.1 m).
 CUT_HEIGHT = 0.1
 
 
@@ -199,9 +198,8 @@ def cut_foot(foot: feet.Foot, height: float | None) -> feet.Foot:
     """``foot``, a derived ``Flat`` or ``MeshFoot`` with its tip at the origin, cut ``height``
     [m] above its tip; the same object when it is not taller or ``height`` is None.
 
-    A box stays a box, ``height`` tall. A mesh is clipped by the plane z = ``height``
-    (trimesh) and closed as the convex hull of its part below: the convex shape MuJoCo's own
-    contact gives a mesh geom, exact for a hull foot of several geoms.
+    A box stays a box; a mesh is clipped by the plane z = ``height`` and closed as the
+    convex hull of its part below (the convex shape MuJoCo's own contact gives a mesh).
     """
     if height is None or foot.height <= height:
         return foot
