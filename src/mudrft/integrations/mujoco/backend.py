@@ -135,8 +135,7 @@ class CompiledCoupling:
         frames and ``tips`` in the world [m], and register ``datas`` with the callback."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
-            rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
-            self.mud[:, idx] = rows
+            self.mud[:, idx] = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
             if st.foot is not None:  # a morphing foot's MorphingState
                 for i, v in enumerate(st.foot):
                     self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))

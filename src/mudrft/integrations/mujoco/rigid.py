@@ -16,8 +16,6 @@ if TYPE_CHECKING:
 
     from ...terrains.field import MudField
 
-__all__ = ["RIGID_CELL", "add_rigid_cells", "set_rigid_cells"]
-
 #: Names of the cell boxes: ``f"{RIGID_CELL}_{j}_{i}"`` for cell ``cells[j][i]``.
 RIGID_CELL = "mudrft_rigid_cell"
 #: How far an edge cell's box reaches beyond the grid [m].
