@@ -131,15 +131,15 @@ def check_removed(coupling: str, kw: Mapping[str, object]) -> None:
         raise MudrftError(f"{coupling} got an unexpected keyword argument {name!r}")
 
 
-def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling") -> None:
+def check_integrator(model: mujoco.MjModel) -> None:
     """Refuse MuJoCo's RK4 integrator: holding the mud's wrench over its four stages does
     not keep a light spinning foot passive."""
     mj = _mujoco()
     it = mj.mjtIntegrator(int(model.opt.integrator))
     if it == mj.mjtIntegrator.mjINT_RK4:
         raise MudrftError(
-            f"{coupling} steps with the 'Euler', 'implicitfast' or 'implicit' integrator, got "
-            f"{it.name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
+            "the MuJoCo coupling steps with the 'Euler', 'implicitfast' or 'implicit' integrator, "
+            f"got {it.name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
         )
 
 
