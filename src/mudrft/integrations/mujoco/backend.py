@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, TypeAlias, cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -27,14 +27,12 @@ from .placement import coupled_tip, coupled_triangles
 if TYPE_CHECKING:
     import mujoco
 
+    from ...feet.base import Foot
     from ...feet.shapes import _ClosedFormFoot
     from ...terrains import Terrain
     from ...terrains.mud import MudState
     from .batch import MudBatch
     from .placement import BodyFoot
-
-#: The feet the kernel steps (:func:`not_compilable`).
-_KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
 
 #: Why a step raised: a wrench that is not finite.
 NON_FINITE = (
@@ -65,7 +63,7 @@ def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     return ""
 
 
-def _geometry_row(foot: _KernelFoot) -> list[float]:
+def _geometry_row(foot: Foot) -> list[float]:
     """``(kind, g0, g1, g2)`` of a foot: a closed form's, (3, trailing, 0, 0) for a
     mesh foot, (4, 0, 0, 0) for the morphing foot.
     """
@@ -73,7 +71,7 @@ def _geometry_row(foot: _KernelFoot) -> list[float]:
         return [3.0, float(foot.trailing), 0.0, 0.0]
     if isinstance(foot, MorphingFoot):
         return [4.0, 0.0, 0.0, 0.0]
-    return [float(v) for v in foot.kernel_geometry]
+    return [float(v) for v in cast("_ClosedFormFoot", foot).kernel_geometry]
 
 
 class CompiledCoupling:
@@ -102,7 +100,7 @@ class CompiledCoupling:
             np.repeat(a[None], n, axis=0) for a in (grid, cells, rows, heights)
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
-        self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
+        self.geom = np.array([_geometry_row(b.foot) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))
         morph = [
             row_array(b.foot) if isinstance(b.foot, MorphingFoot) else no_morph for b in bodies
