@@ -326,7 +326,7 @@ def test_compiled_balls_equal_the_numpy_coupling():
 
 
 def test_menagerie_scene_names_the_robots_it_holds_or_the_extra_to_install(monkeypatch):
-    from mudrft.integrations.mujoco import menagerie
+    import mudrft.integrations.mujoco as package
 
     with pytest.raises(MudrftError, match="must be a Menagerie folder name"):
         menagerie_scene("")
@@ -340,7 +340,7 @@ def test_menagerie_scene_names_the_robots_it_holds_or_the_extra_to_install(monke
             MudrftError, match=r"one of the installed Menagerie scenes \[.*'unitree_go1'"
         ):
             menagerie_scene("unitree_go7")
-    monkeypatch.setattr(menagerie, "PACKAGES", (("no_such_module_here", "no-such"),))
+    monkeypatch.setattr(package, "PACKAGES", (("no_such_module_here", "no-such"),))
     with pytest.raises(
         MudrftError, match=r"pip install 'mudrft\[robots\]' \(the packages no-such\)"
     ):

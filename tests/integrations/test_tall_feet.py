@@ -17,7 +17,7 @@ from mudrft._validation import MudrftError
 
 pytest.importorskip("mujoco")
 from mudrft.integrations.mujoco import attach, body_foot
-from mudrft.integrations.mujoco.geoms import CUT_HEIGHT
+from mudrft.integrations.mujoco.placement import CUT_HEIGHT
 from mudrft.integrations.walk import BIPED_FEET, biped_model
 
 from .conftest import mujoco

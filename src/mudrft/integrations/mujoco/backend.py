@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, TypeAlias, cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -34,18 +34,11 @@ if TYPE_CHECKING:
     from .batch import MudBatch
     from .placement import BodyFoot
 
-#: The feet the kernel steps (:func:`not_compilable`).
-_KernelFoot: TypeAlias = "MeshFoot | MorphingFoot | _ClosedFormFoot"
-
-__all__ = ["NON_FINITE", "NO_LIBRARY", "CompiledCoupling", "not_compilable"]
-
 #: Why a step raised: a wrench that is not finite.
 NON_FINITE = (
     "the mud coupling produced a non-finite force; the simulation diverged "
     "(check the model, the time step and the mud parameters)"
 )
-#: The start of :func:`not_compilable`'s answer where MuJoCo's C library is missing.
-NO_LIBRARY = "the MuJoCo coupling calls MuJoCo's own library"
 
 
 def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
@@ -58,9 +51,10 @@ def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     try:
         mujoco_functions()
     except ImportError as exc:
-        return f"{NO_LIBRARY}, which was not found ({exc})"
+        return f"the MuJoCo coupling calls MuJoCo's own library, which was not found ({exc})"
     for b in bodies:
-        if not _compilable_foot(b.foot) or b.triangles is None:
+        elementwise = bool(getattr(b.foot, "elementwise", False))
+        if not (elementwise or isinstance(b.foot, MeshFoot | MorphingFoot)) or b.triangles is None:
             return (
                 f"the MuJoCo coupling takes closed-form feet (Flat, SemiCylinder, SemiSphere), "
                 f"mesh feet (MeshFoot) and the MorphingFoot; body {b.body!r} has a "
@@ -69,12 +63,7 @@ def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:
     return ""
 
 
-def _compilable_foot(foot: Foot | None) -> bool:
-    elementwise = bool(getattr(foot, "elementwise", False))
-    return elementwise or isinstance(foot, MeshFoot | MorphingFoot)
-
-
-def _geometry_row(foot: _KernelFoot) -> list[float]:
+def _geometry_row(foot: Foot) -> list[float]:
     """``(kind, g0, g1, g2)`` of a foot: a closed form's, (3, trailing, 0, 0) for a
     mesh foot, (4, 0, 0, 0) for the morphing foot.
     """
@@ -82,7 +71,7 @@ def _geometry_row(foot: _KernelFoot) -> list[float]:
         return [3.0, float(foot.trailing), 0.0, 0.0]
     if isinstance(foot, MorphingFoot):
         return [4.0, 0.0, 0.0, 0.0]
-    return [float(v) for v in foot.kernel_geometry]
+    return [float(v) for v in cast("_ClosedFormFoot", foot).kernel_geometry]
 
 
 class CompiledCoupling:
@@ -97,8 +86,7 @@ class CompiledCoupling:
         self.ids = np.array([[b.body_id, int(m.body_rootid[b.body_id]), int(b.ball)] for b in bodies])  # fmt: skip
         self.tip = np.ascontiguousarray([coupled_tip(b) for b in bodies], dtype=float)
         self.fwd = np.ascontiguousarray([b.forward for b in bodies], dtype=float)
-        sizes = [len(tri) for tri in tris]
-        self.tri_adr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        self.tri_adr = np.concatenate([[0], np.cumsum([len(tri) for tri in tris])]).astype(np.int64)
         self.tri_b = np.ascontiguousarray(np.concatenate(tris))
         ups = [upright_rows(prepare_triangles(b.upright)) for b in bodies]
         self.up_adr = np.concatenate([[0], np.cumsum([len(u) for u in ups])]).astype(np.int64)
@@ -106,19 +94,18 @@ class CompiledCoupling:
         t = cast(MudTerrain, batch.terrain)
         grid, cells, rows = uniform(t) if batch.field is None else batch.field.arrays()
         heights = np.zeros((1, 1)) if batch.field is None else batch.field.heights
-        n = batch.n
+        n, nb = batch.n, len(bodies)
         # one copy a robot, C-contiguous and written in place by use_field
         self.grids, self.cells, self.rows, self.hts = (
             np.repeat(a[None], n, axis=0) for a in (grid, cells, rows, heights)
         )
         self.cfg = np.array([config_row(t, b.foot) for b in bodies])
-        self.geom = np.array([_geometry_row(cast("_KernelFoot", b.foot)) for b in bodies])
+        self.geom = np.array([_geometry_row(b.foot) for b in bodies])
         no_morph = np.zeros(len(MorphingRow._fields))
         morph = [
             row_array(b.foot) if isinstance(b.foot, MorphingFoot) else no_morph for b in bodies
         ]
         self.morph = np.ascontiguousarray(morph, dtype=float)
-        n, nb = batch.n, len(bodies)
         self.mud = np.zeros((n, nb, N_STATE))
         self.fst = np.zeros((n, nb, 3))  # morphing feet: deflection, pad angle, seal memory
         self.odo = np.zeros((n, nb, 5))  # foot-frame x, y [m], world tip x, y, z [m]
@@ -146,18 +133,14 @@ class CompiledCoupling:
         frames and ``tips`` in the world [m], and register ``datas`` with the callback."""
         b = self.batch
         for (_, idx), st in zip(b._groups, states, strict=True):
-            rows = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
-            self.mud[:, idx] = rows
+            self.mud[:, idx] = state_rows(st.channels).reshape(b.n, len(idx), N_STATE)
             if st.foot is not None:  # a morphing foot's MorphingState
                 for i, v in enumerate(st.foot):
                     self.fst[:, idx, i] = np.broadcast_to(v, (b.n, len(idx)))
         self.odo[..., :2] = pos[..., :2]
         self.odo[..., 2:] = tips
-        self.tw_prev[:] = 0.0
-        self.wv_prev[:] = 0.0
-        self.tank[:] = 0.0
-        self.out[:] = 0.0
-        self.clock[:] = 0.0
+        for a in (self.tw_prev, self.wv_prev, self.tank, self.out, self.clock):
+            a[:] = 0.0
         self.clock[:, 1] = np.nan  # no step yet
         fields = ("xpos", "xmat", "xipos", "cvel", "subtree_com", "xfrc_applied")
         self.datas = list(datas)  # keep them alive: the kernel reads their memory

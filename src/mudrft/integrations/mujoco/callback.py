@@ -143,18 +143,16 @@ def install(mj: Any) -> None:
 def _publish() -> None:
     """Give the compiled callback a new registry of :data:`_ROWS`."""
     chained = _CHAINED[0]
-    head = [
-        len(_ROWS),
-        0 if chained is None else int(ctypes.cast(chained, ctypes.c_void_p).value or 0),
-    ]
-    reg = np.array(head + [v for row in _ROWS.values() for v in row], dtype=np.int64)
+    address = 0 if chained is None else int(ctypes.cast(chained, ctypes.c_void_p).value or 0)
+    reg = np.array(
+        [len(_ROWS), address, *(v for row in _ROWS.values() for v in row)], dtype=np.int64
+    )
     _PUBLISHED[:] = [*_PUBLISHED[-7:], reg]
     REGISTRY.value = int(reg.ctypes.data)
 
 
 def register(rows: Sequence[tuple[int, ...]], mine: list[tuple[int, ...]], owner: Any) -> None:
-    """Replace the rows ``mine`` of ``owner`` (a coupling) with ``rows``; publish if they
-    changed."""
+    """Replace the rows ``mine`` of ``owner`` (a coupling) with ``rows``; publish if changed."""
     if list(rows) == mine and all(_ROWS.get(r[0]) == r for r in rows):
         return
     unregister(mine, publish=False)

@@ -7,8 +7,6 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["MudContact"]
-
 
 class MudContact(NamedTuple):
     """What the mud did in the last step, per robot and body (world frame).

@@ -17,8 +17,7 @@ from ..._validation import (
     warn_plausibility,
 )
 from ._lazy import _mujoco
-from .geoms import _collides, geom_label
-from .placement import _reference_pose, auto_feet, resolve_body
+from .placement import _collides, _reference_pose, auto_feet, geom_label, resolve_body
 from .rigid import RIGID_CELL
 
 if TYPE_CHECKING:
@@ -40,7 +39,6 @@ class AttachOptions(NamedTuple):
     bottom_damping: float  # [N s/m]
     resolution: int
     geoms: list[Any]  # the foot's geom(s) of each body, None: derived (D124)
-    floor: str = "warn"  # what to do with a floor at the mud's surface (check_floor)
     auto: bool = False  # the bodies were found by feet="auto"
 
 
@@ -85,17 +83,13 @@ def check_attach_options(
     if len(set(names)) != len(names):
         raise MudrftError(f"bodies must be distinct bodies, got {list(items)}")
     if feet is None or hasattr(feet, "contact_force"):
-        feet_list = [feet] * len(names)
-    else:
-        if isinstance(feet, str) or not isinstance(feet, Sequence):
-            raise MudrftError(
-                f"feet must be a foot (mudrft.feet), one per body, or None (the geoms), got {feet!r}"
-            )
-        feet_list = list(feet)
-        if len(feet_list) != len(names):
-            raise MudrftError(
-                f"feet must be one foot or one per body ({len(names)}), got {len(feet_list)}"
-            )
+        feet = [feet] * len(names)
+    elif isinstance(feet, str) or not isinstance(feet, Sequence):
+        raise MudrftError(
+            f"feet must be a foot (mudrft.feet), one per body, or None (the geoms), got {feet!r}"
+        )
+    elif len(feet) != len(names):
+        raise MudrftError(f"feet must be one foot or one per body ({len(names)}), got {len(feet)}")
     if bottom is None and (bottom_stiffness != BOTTOM_STIFFNESS or bottom_damping != BOTTOM_DAMPING):  # fmt: skip
         raise MudrftError(
             "bottom_stiffness and bottom_damping shape the hard bottom; give its depth with "
@@ -104,16 +98,15 @@ def check_attach_options(
     opts = AttachOptions(
         geoms=_foot_geoms(model, foot_geoms, resolved),
         bodies=names,
-        feet=feet_list,
+        feet=list(feet),
         surface=check_number("surface", surface, unit="m"),
         bottom=None if bottom is None else positive_number("bottom", bottom, unit="m"),
         bottom_stiffness=nonnegative_number("bottom_stiffness", bottom_stiffness, unit="N/m"),
         bottom_damping=nonnegative_number("bottom_damping", bottom_damping, unit="N s/m"),
         resolution=check_count("resolution", resolution),
-        floor=str(floor),
         auto=auto,
     )
-    check_floor(model, opts.surface, opts.floor)  # last: "below" changes the model
+    check_floor(model, opts.surface, str(floor))  # last: "below" changes the model
     return opts
 
 
@@ -138,15 +131,15 @@ def check_removed(coupling: str, kw: Mapping[str, object]) -> None:
         raise MudrftError(f"{coupling} got an unexpected keyword argument {name!r}")
 
 
-def check_integrator(model: mujoco.MjModel, coupling: str = "the MuJoCo coupling") -> None:
+def check_integrator(model: mujoco.MjModel) -> None:
     """Refuse MuJoCo's RK4 integrator: holding the mud's wrench over its four stages does
     not keep a light spinning foot passive."""
     mj = _mujoco()
     it = mj.mjtIntegrator(int(model.opt.integrator))
     if it == mj.mjtIntegrator.mjINT_RK4:
         raise MudrftError(
-            f"{coupling} steps with the 'Euler', 'implicitfast' or 'implicit' integrator, got "
-            f"{it.name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
+            "the MuJoCo coupling steps with the 'Euler', 'implicitfast' or 'implicit' integrator, "
+            f"got {it.name!r}; set model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST"
         )
 
 
@@ -171,37 +164,30 @@ BED_DEPTH = 0.5
 FLOOR_WIDTH = 1.0
 
 
-def floor_geoms(model: mujoco.MjModel, d: mujoco.MjData) -> list[tuple[int, float]]:
-    """The floors of a model in pose ``d`` and the height of their tops [m]: colliding geoms
-    welded to the world that are upward planes, or boxes at least :data:`FLOOR_WIDTH` wide."""
+def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
+    """Handle a floor at or above the mud's surface ``surface`` [m] (a colliding geom welded
+    to the world that is an upward plane, or a box at least :data:`FLOOR_WIDTH` wide):
+    ``floor="warn"`` warns, ``"below"`` lowers it to :data:`BED_DEPTH` under the surface (in
+    place), ``"keep"`` leaves it."""
+    if floor == "keep":
+        return
     mj = _mujoco()
-    out = []
+    d = _reference_pose(model)
     for g in range(model.ngeom):
         if not _collides(model, g) or int(model.body_weldid[model.geom_bodyid[g]]) != 0:
             continue
         if model.geom(g).name.startswith(RIGID_CELL):  # a field's rigid cell, not a floor
             continue
         t, R = int(model.geom_type[g]), np.asarray(d.geom_xmat[g]).reshape(3, 3)
+        half = np.abs(R) @ np.asarray(model.geom_size[g], dtype=float)  # world half-extents
         if t == int(mj.mjtGeom.mjGEOM_PLANE) and R[2, 2] > 1.0 - 1e-9:
-            out.append((g, float(d.geom_xpos[g, 2])))
-        elif t == int(mj.mjtGeom.mjGEOM_BOX):
-            half = np.abs(R) @ np.asarray(model.geom_size[g], dtype=float)  # world half-extents
-            if min(half[0], half[1]) >= FLOOR_WIDTH / 2:
-                out.append((g, float(d.geom_xpos[g, 2] + half[2])))
-    return out
-
-
-def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
-    """Handle a floor at or above the mud's surface ``surface`` [m]: ``floor="warn"`` warns,
-    ``"below"`` lowers it to :data:`BED_DEPTH` under the surface (in place), ``"keep"``
-    leaves it."""
-    if floor == "keep":
-        return
-    d = _reference_pose(model)
-    for g, top in floor_geoms(model, d):
+            top = float(d.geom_xpos[g, 2])
+        elif t == int(mj.mjtGeom.mjGEOM_BOX) and min(half[0], half[1]) >= FLOOR_WIDTH / 2:
+            top = float(d.geom_xpos[g, 2] + half[2])
+        else:
+            continue
         if top < surface - 1e-9:
             continue
-        label = geom_label(model, g, body=False)
         if floor == "below":  # lowered along -z, in its (static) body's frame
             b = int(model.geom_bodyid[g])
             R = np.asarray(d.xmat[b]).reshape(3, 3)
@@ -209,10 +195,10 @@ def check_floor(model: mujoco.MjModel, surface: float, floor: str) -> None:
             model.geom_sameframe[g] = 0  # MuJoCo would place it at its body's frame still
             continue
         warn_plausibility(
-            f"{label} is a floor at z = {top:.4g} m, at or above the mud's surface (z = "
-            f"{surface:.4g} m): MuJoCo's contact with it carries the feet the mud should "
-            f"carry; pass floor='below' to move it {BED_DEPTH:g} m under the surface (a rigid "
-            "bed), remove it from the model, or pass floor='keep' to keep it"
+            f"{geom_label(model, g, body=False)} is a floor at z = {top:.4g} m, at or above "
+            f"the mud's surface (z = {surface:.4g} m): MuJoCo's contact with it carries the "
+            f"feet the mud should carry; pass floor='below' to move it {BED_DEPTH:g} m under "
+            "the surface (a rigid bed), remove it from the model, or pass floor='keep' to keep it"
         )
 
 

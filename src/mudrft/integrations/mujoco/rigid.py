@@ -16,8 +16,6 @@ if TYPE_CHECKING:
 
     from ...terrains.field import MudField
 
-__all__ = ["RIGID_CELL", "add_rigid_cells", "set_rigid_cells"]
-
 #: Names of the cell boxes: ``f"{RIGID_CELL}_{j}_{i}"`` for cell ``cells[j][i]``.
 RIGID_CELL = "mudrft_rigid_cell"
 #: How far an edge cell's box reaches beyond the grid [m].
@@ -42,22 +40,21 @@ def add_rigid_cells(
     x0, y0, hx, hy, _ = (float(v) for v in field.grid)
     ny, nx = field.cells.shape
 
-    def span(k: int, n: int, t0: float, h: float) -> tuple[float, float]:
-        # an edge cell reaches FAR beyond the grid, as the field's nearest-cell rule does
-        return (t0 + k * h if k > 0 else t0 - FAR, t0 + (k + 1) * h if k < n - 1 else t0 + n * h + FAR)  # fmt: skip
-
-    for j in range(ny):
-        for i in range(nx):
-            (xa, xb), (ya, yb) = span(i, nx, x0, hx), span(j, ny, y0, hy)
-            cx, cy = x0 + (i + 0.5) * hx, y0 + (j + 0.5) * hy
-            top = float(surface) + float(surface_at(cx, cy, field.grid, ny, nx, field.heights)[0])  # fmt: skip
-            g = spec.worldbody.add_geom()
-            g.name = f"{RIGID_CELL}_{j}_{i}"
-            g.type = box
-            g.size = [(xb - xa) / 2, (yb - ya) / 2, t / 2]
-            g.pos = [(xa + xb) / 2, (ya + yb) / 2, top - t / 2]
-            # colliding as compiled: MuJoCo keeps a body's contact bits from its geoms then
-            g.contype, g.conaffinity = 1, 1
+    # the cells' edges: an edge cell reaches FAR beyond the grid, as the field's nearest cell
+    xs, ys = x0 + np.arange(nx + 1) * hx, y0 + np.arange(ny + 1) * hy
+    xs[[0, -1]] += (-FAR, FAR)
+    ys[[0, -1]] += (-FAR, FAR)
+    for j, i in np.ndindex(ny, nx):
+        (xa, xb), (ya, yb) = xs[i : i + 2], ys[j : j + 2]
+        cx, cy = x0 + (i + 0.5) * hx, y0 + (j + 0.5) * hy
+        top = float(surface) + float(surface_at(cx, cy, field.grid, ny, nx, field.heights)[0])
+        g = spec.worldbody.add_geom()
+        g.name = f"{RIGID_CELL}_{j}_{i}"
+        g.type = box
+        g.size = [(xb - xa) / 2, (yb - ya) / 2, t / 2]
+        g.pos = [(xa + xb) / 2, (ya + yb) / 2, top - t / 2]
+        # colliding as compiled: MuJoCo keeps a body's contact bits from its geoms then
+        g.contype, g.conaffinity = 1, 1
 
 
 def set_rigid_cells(model: mujoco.MjModel, field: MudField) -> int:
@@ -67,15 +64,14 @@ def set_rigid_cells(model: mujoco.MjModel, field: MudField) -> int:
     mj = _mujoco()
     ny, nx = field.cells.shape
     rigid = np.array([t is None for t in field.terrains])[field.cells]
-    for j in range(ny):
-        for i in range(nx):
-            g = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, f"{RIGID_CELL}_{j}_{i}")
-            if g < 0:
-                raise MudrftError(
-                    f"the model has no box for cell ({j}, {i}) of the field: add them with "
-                    f"add_rigid_cells for a field of this shape ({ny} x {nx} cells)"
-                )
-            on = bool(rigid[j, i])
-            model.geom_contype[g], model.geom_conaffinity[g] = int(on), int(on)
-            model.geom_rgba[g] = ROCK if on else (0.0, 0.0, 0.0, 0.0)
+    for j, i in np.ndindex(ny, nx):
+        g = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, f"{RIGID_CELL}_{j}_{i}")
+        if g < 0:
+            raise MudrftError(
+                f"the model has no box for cell ({j}, {i}) of the field: add them with "
+                f"add_rigid_cells for a field of this shape ({ny} x {nx} cells)"
+            )
+        on = bool(rigid[j, i])
+        model.geom_contype[g], model.geom_conaffinity[g] = int(on), int(on)
+        model.geom_rgba[g] = ROCK if on else (0.0, 0.0, 0.0, 0.0)
     return int(rigid.sum())

@@ -104,11 +104,9 @@ def check_spring_step(model: mujoco.MjModel, bodies: Sequence[BodyFoot]) -> None
     :math:`\gamma=c/m`, :math:`1/m=(M^{-1})_{jj}` at ``qpos0``.
     """
     mj = _mujoco()
-    k, c = np.zeros(model.nv), np.array(model.dof_damping, dtype=float)
-    for j in range(model.njnt):
-        n = {int(mj.mjtJoint.mjJNT_FREE): 0, int(mj.mjtJoint.mjJNT_BALL): 3}.get(int(model.jnt_type[j]), 1)  # fmt: skip
-        adr = int(model.jnt_dofadr[j])
-        k[adr : adr + n] += float(model.jnt_stiffness[j])
+    dof_joint, c = np.asarray(model.dof_jntid), np.array(model.dof_damping, dtype=float)
+    free = np.asarray(model.jnt_type)[dof_joint] == int(mj.mjtJoint.mjJNT_FREE)  # no spring
+    k = np.where(free, 0.0, np.asarray(model.jnt_stiffness, dtype=float)[dof_joint])
     implicit = int(model.opt.integrator) in (
         int(mj.mjtIntegrator.mjINT_IMPLICIT), int(mj.mjtIntegrator.mjINT_IMPLICITFAST)
     )  # fmt: skip
@@ -157,10 +155,8 @@ def diverged_error(
     """The error for robot ``i`` whose ``qpos``, ``qvel`` or ``qacc`` (``kind`` 0, 1, 2)
     MuJoCo found bad at degree of freedom ``index`` and reset, ``time`` [s] after reset."""
     field = ("qpos", "qvel", "qacc")[kind]
-    force = None
-    if last is not None:
-        f = last.force
-        force = np.round(f[i] if f.ndim == 3 else f, 3).tolist()
+    f = None if last is None else last.force
+    force = None if f is None else np.round(f[i] if f.ndim == 3 else f, 3).tolist()
     what = (
         f"the state of robot {i} is not finite: MuJoCo found NaN, inf or a huge value in "
         f"{field}[{index}] at time {time:.6g} s"
