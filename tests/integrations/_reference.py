@@ -18,9 +18,8 @@ from mudrft._validation import MudrftError
 from mudrft.integrations import mujoco as coupling_module
 from mudrft.integrations.mjx.pose import posed_channels
 from mudrft.integrations.mjx.wrench import applied_wrench, channel_motion, com_twist, foot_odometry
-from mudrft.integrations.mujoco.backend import NON_FINITE
+from mudrft.integrations.mujoco.backend import NON_FINITE, MudContact
 from mudrft.integrations.mujoco.batch import MudBatch
-from mudrft.integrations.mujoco.contact import MudContact
 from mudrft.integrations.mujoco.implicit import secant_steps
 from mudrft.integrations.mujoco.options import check_count, check_integrator
 from mudrft.integrations.mujoco.pose import matvec

@@ -1,12 +1,14 @@
-"""The compiled coupling's arrays (D68a): what the kernel reads and writes each step."""
+"""The compiled coupling's arrays (D68a): what the kernel reads and writes each step, and
+what the mud did in the last step (:class:`MudContact`)."""
 
 from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..._progress import logger
 from ..._typing import FloatArray, IndexArray
@@ -20,7 +22,6 @@ from ...terrains.mud import MudTerrain
 from ...terrains.rows import N_STATE, config_row, state_rows, upright_rows
 from .callback import callback, clock_size, install, register, unregister
 from .compiled import ARGS, N_OUT, pack, work_size
-from .contact import MudContact
 from .linalg import mujoco_functions
 from .placement import coupled_tip, coupled_triangles
 
@@ -39,6 +40,43 @@ NON_FINITE = (
     "the mud coupling produced a non-finite force; the simulation diverged "
     "(check the model, the time step and the mud parameters)"
 )
+
+
+class MudContact(NamedTuple):
+    """What the mud did in the last step, per robot and body (world frame).
+
+    Shapes are ``(nbody, ...)`` for :class:`~mudrft.integrations.mujoco.MudCoupling` and
+    ``(nrobot, nbody, ...)`` for :class:`MudBatch`.
+
+    Attributes
+    ----------
+    force : ndarray (..., 3)
+        Force written to ``xfrc_applied`` (stabilised, D62; bounded, D62c) [N].
+    explicit_force : ndarray (..., 3)
+        Force of the mud model at the start of the step (what :class:`mudrft.MudTerrain`
+        returns for the same motion) plus the rigid bottom [N].
+    torque : ndarray (..., 3)
+        Moment about the body's center of mass written to ``xfrc_applied`` [N m].
+    point : ndarray (..., 3)
+        Point of application (center of pressure) [m].
+    tip : ndarray (..., 3)
+        Tip position; its z is that of the lowest point of the foot [m].
+    velocity : ndarray (..., 3)
+        Tip velocity [m/s].
+    depth : ndarray (...)
+        Depth of the lowest point below the mud surface [m].
+    stress : ndarray (..., 3)
+        Channel stresses in the foot frame [Pa].
+    """
+
+    force: NDArray[np.float64]
+    explicit_force: NDArray[np.float64]
+    torque: NDArray[np.float64]
+    point: NDArray[np.float64]
+    tip: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    depth: NDArray[np.float64]
+    stress: NDArray[np.float64]
 
 
 def not_compilable(terrain: Terrain, bodies: Sequence[BodyFoot]) -> str:

@@ -22,8 +22,7 @@ from ...terrains import as_terrain
 from ...terrains.field import MudField, same_options, surface_at
 from ...trajectories import check_unburied
 from ._lazy import _mujoco
-from .backend import CompiledCoupling, not_compilable
-from .contact import MudContact
+from .backend import CompiledCoupling, MudContact, not_compilable
 from .options import (
     check_attach_options,
     check_count,

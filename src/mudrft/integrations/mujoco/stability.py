@@ -17,7 +17,7 @@ from ._lazy import _mujoco
 if TYPE_CHECKING:
     import mujoco
 
-    from .contact import MudContact
+    from .backend import MudContact
     from .placement import BodyFoot
 
 
