@@ -317,10 +317,8 @@ def save_intrusion_csv(
     ----------
     dataset : IntrusionDataset
         The data.
-    path : str or path-like
-        Output file.
-    overwrite : bool, keyword-only
-        Replace an existing file (default: refuse).
+    path, overwrite
+        As :meth:`IntrusionDataset.to_csv`: the output file; replace an existing one.
     """
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")

@@ -322,10 +322,8 @@ def save_intrusion_hdf5(
     ----------
     dataset : IntrusionDataset
         The data.
-    path : str or path-like
-        Output file.
-    overwrite : bool, keyword-only
-        Replace an existing file (default: refuse).
+    path, overwrite
+        As :meth:`IntrusionDataset.to_csv`: the output file; replace an existing one.
 
     Returns
     -------
