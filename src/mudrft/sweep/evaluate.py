@@ -52,11 +52,7 @@ class ChunkResult:
 
 
 def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
-    return {
-        k: v
-        for k, v in values.items()
-        if k in PARAMETERS and PARAMETERS[k].section == section and k != "foot"
-    }
+    return {k: v for k, v in values.items() if k in PARAMETERS and PARAMETERS[k].section == section}
 
 
 def build_foot(
