@@ -15,7 +15,8 @@ from hypothesis import strategies as st
 
 from mudrft._validation import MudrftError
 from mudrft.sweep import load_spec
-from mudrft.sweep.design import Axis, Design
+from mudrft.sweep.spec import Axis
+from mudrft.sweep.spec import SweepSpec as Design
 
 REPO = Path(__file__).resolve().parents[2]
 

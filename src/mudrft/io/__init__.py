@@ -13,17 +13,15 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .atomic import atomic_write, json_text
-    from .csv_log import load_dataset, load_intrusion_csv, save_intrusion_csv
+    from .csv_log import load_dataset, load_intrusion_csv, load_path_csv, save_intrusion_csv
     from .dataset import IntrusionDataset, Trial
     from .hdf5_log import load_intrusion_hdf5, save_intrusion_hdf5
-    from .path_csv import load_path_csv
 
 _FROM = {
     "atomic": ("atomic_write", "json_text"),
-    "csv_log": ("load_dataset", "load_intrusion_csv", "save_intrusion_csv"),
+    "csv_log": ("load_dataset", "load_intrusion_csv", "load_path_csv", "save_intrusion_csv"),
     "dataset": ("IntrusionDataset", "Trial"),
     "hdf5_log": ("load_intrusion_hdf5", "save_intrusion_hdf5"),
-    "path_csv": ("load_path_csv",),
 }
 _MODULE = {name: module for module, names in _FROM.items() for name in names}
 

@@ -20,9 +20,7 @@ from .._validation import MudrftError
 
 Content = bytes | bytearray | memoryview | str | Callable[[Path], object]
 
-#: How the staging directories of mudrft begin: ``.mudrft-PID-XXXXXXXX.tmp``.
-STAGING_PREFIX = ".mudrft-"
-#: Staging names: this version's (with the process id), and those of mudrft 0.1.
+#: Staging names: this version's (``.mudrft-PID-XXXXXXXX.tmp``), and those of mudrft 0.1.
 _STAGED = re.compile(r"\.mudrft-(?P<pid>\d+)-[a-z0-9_]+\.tmp")
 _LEGACY = re.compile(r"\.mudrft-[a-z0-9_]{8}\.tmp|\..+\.[0-9a-f]{12}\.tmp(\.[A-Za-z0-9]+)?")
 #: When this process started [s since the epoch]: newer staging may belong to a live run.
@@ -97,7 +95,7 @@ def staging_directory(directory: str | os.PathLike[str]) -> Path:
     """A new private directory in ``directory`` to stage outputs in (stale ones of killed
     runs removed first); :class:`OSError` if ``directory`` is not writable."""
     remove_stale_staging(directory)
-    prefix = f"{STAGING_PREFIX}{os.getpid()}-"
+    prefix = f".mudrft-{os.getpid()}-"
     return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=directory))
 
 
@@ -199,7 +197,7 @@ def finite_or_none(obj: Any) -> Any:
         return {k: finite_or_none(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [finite_or_none(v) for v in obj]
-    if isinstance(obj, bool) or obj is None or isinstance(obj, (int, str)):
+    if obj is None or isinstance(obj, (int, str)):  # bool is an int
         return obj
     try:
         value = float(obj)  # also numpy numbers

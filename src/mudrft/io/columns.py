@@ -22,12 +22,6 @@ LOG_COLUMNS = {
     **dict.fromkeys(("fz", "force", "f"), "force"),
     "trial": "trial",
 }
-#: A foot path's column names (lower case) -> role (:func:`mudrft.io.load_path_csv`).
-PATH_COLUMNS = {
-    **dict.fromkeys(("time", "t"), "time"),
-    **{k: k for k in ("x", "y", "z", "depth")},
-    **{f"f{a}": f"F{a}" for a in "xyz"},
-}
 #: Role -> the quantity of its unit (a key of :data:`mudrft.units.SCALE`); None: no unit.
 QUANTITY: dict[str, str | None] = {
     **dict(time="time", depth="length", stress="stress", force="force", trial=None),

@@ -1,5 +1,6 @@
-"""Logs as text tables: :func:`read_table` (the one CSV reader), :func:`load_intrusion_csv`,
-:func:`save_intrusion_csv` and :func:`load_dataset` (CSV or HDF5, by suffix).
+"""Logs and foot paths as text tables: :func:`read_table` (the one CSV reader),
+:func:`load_intrusion_csv`, :func:`save_intrusion_csv`, :func:`load_dataset` (CSV or HDF5, by
+suffix) and :func:`load_path_csv` (a foot tip's path, as a :class:`~mudrft.Trajectory`).
 
 ``#`` lines are notes, ``# key: value`` notes metadata; the header's fields are separated
 by commas, tabs or semicolons, whichever it holds most of."""
@@ -9,6 +10,7 @@ from __future__ import annotations
 import csv
 import os
 import re
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,7 +19,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import MudrftError
+from .._typing import PathLike
+from .._validation import MudrftError, PlausibilityWarning, plain
+from ..trajectories import Trajectory
 from ..units import parse_unit
 from ._build import assemble, check_roles, file_bytes, resolve_direction
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, resolve_columns, split_label, to_si
@@ -26,6 +30,12 @@ from .hdf5_log import load_intrusion_hdf5
 
 #: File suffixes read as HDF5 by :func:`load_dataset`; every other file is read as CSV.
 HDF5_SUFFIXES = (".h5", ".hdf5", ".hdf")
+#: A foot path's column names (lower case) -> role (:func:`load_path_csv`).
+PATH_COLUMNS = {
+    **dict.fromkeys(("time", "t"), "time"),
+    **{k: k for k in ("x", "y", "z", "depth")},
+    **{f"f{a}": f"F{a}" for a in "xyz"},
+}
 _MAX_BYTES = 200 * 1024 * 1024
 _DELIMITERS = {",": "comma", "\t": "tab", ";": "semicolon"}
 #: Metadata keys that hold for the whole file: given twice, they must agree.
@@ -307,11 +317,103 @@ def save_intrusion_csv(
     ----------
     dataset : IntrusionDataset
         The data.
-    path : str or path-like
-        Output file.
-    overwrite : bool, keyword-only
-        Replace an existing file (default: refuse).
+    path, overwrite
+        As :meth:`IntrusionDataset.to_csv`: the output file; replace an existing one.
     """
     if not isinstance(dataset, IntrusionDataset):
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     return dataset.to_csv(path, overwrite=overwrite)
+
+
+def load_path_csv(path: PathLike, *, columns: Mapping[str, str] | None = None) -> Trajectory:
+    """Read a foot tip's path from a CSV file, as a trajectory to simulate.
+
+    ``time`` and ``z`` (the tip's height, negative below the mud surface; or ``depth``,
+    positive below it) are required, ``x`` and ``y`` are 0 when absent, forces ``Fx``,
+    ``Fy``, ``Fz`` [N] are kept; each column is named with its unit (``x [mm]``; SI when
+    none), as docs/guide/forces.md shows. Other columns are ignored; ``#`` lines are notes.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file.
+    columns : mapping, optional, keyword-only
+        Role (``time``, ``x``, ``y``, ``z``, ``depth``, ``Fx``, ``Fy``, ``Fz``) -> the
+        column's name as written, for names mudrft does not know.
+
+    Returns
+    -------
+    Trajectory
+        Times [s] and tip positions [m] in the world frame (z < 0 below the mud
+        surface) as in the file, the velocity [m/s] the rate of each step
+        (:meth:`Trajectory.from_positions`), named after the file; the file's force
+        columns [N] by name in ``meta["measured_force"]`` (``{"Fz": array}``), if any.
+
+    Raises
+    ------
+    MudrftError
+        Naming the file, line and column of any problem.
+
+    Warns
+    -----
+    PlausibilityWarning
+        When the path never goes below the mud surface (z >= 0 throughout).
+    """
+    table = read_table(path)
+    where, head = table.path, f"line {table.header_line}"
+    found = resolve_columns(
+        where,
+        table.header,
+        aliases=PATH_COLUMNS,
+        locate=lambda j: f"{head}, column {j + 1}",
+        columns=columns,
+        require_units=False,
+    )
+    missing = [] if "time" in found else ["time"]
+    if "z" not in found and "depth" not in found:
+        missing.append("z (or depth)")
+    if missing:
+        raise fail(
+            where,
+            head,
+            f"the header {', '.join(table.header)!r} has no {' and no '.join(missing)} column; "
+            "a path needs 'time [s]' and 'z [m]' (the tip's height, negative below the "
+            "surface), optionally 'x [m]' and 'y [m]'",
+        )
+    if "z" in found and "depth" in found:
+        raise fail(
+            where,
+            head,
+            f"found {found['z'].label!r} and {found['depth'].label!r} both give the "
+            "tip's height (z = -depth); keep one",
+        )
+    if len(table.rows) < 2:
+        raise fail(where, "", f"has {len(table.rows)} data row(s); a path needs at least 2")
+    values = {role: table.column(col) for role, col in found.items()}
+    time = values["time"]
+    steps = np.diff(time)
+    if not np.all(steps > 0):
+        k = int(np.argmax(steps <= 0)) + 1
+        raise fail(
+            where,
+            f"line {table.lines[k]}",
+            f"time {plain(time[k])} s does not exceed the previous row's {plain(time[k - 1])} s; "
+            "the times of a path must increase",
+        )
+    position = np.zeros((time.size, 3))
+    for axis, role in enumerate(("x", "y", "z")):
+        if role in values:
+            position[:, axis] = values[role]
+    if "depth" in values:
+        position[:, 2] = -values["depth"]
+    if not np.any(position[:, 2] < 0.0):
+        warnings.warn(
+            f"{where}: the path never goes below the mud surface (z >= 0 throughout, "
+            f"lowest {plain(position[:, 2].min())} m): z is the tip's height, negative in "
+            "the mud; name a column 'depth' if it is positive downward",
+            PlausibilityWarning,
+            stacklevel=2,
+        )
+    measured = {r: values[r] for r in ("Fx", "Fy", "Fz") if r in values}
+    meta = {"measured_force": measured} if measured else {}
+    return Trajectory.from_positions(time, position, name=Path(path).name, meta=meta)

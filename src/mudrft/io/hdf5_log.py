@@ -114,10 +114,6 @@ def _members(
     return out
 
 
-def _is_log_column(name: str) -> bool:
-    return _key_name(name) in LOG_COLUMNS
-
-
 def _unit_attr(path: str, loc: str, attrs: h5py.AttributeManager) -> str | None:
     """A dataset's ``unit`` (or ``units``) attribute; both present must agree."""
     found = {k: str(_text(attrs[k])).strip() for k in ("unit", "units") if k in attrs}
@@ -137,8 +133,9 @@ def _read_file(
     """The tables of the file: its groups, or its root when it has no group."""
     root = _members(h5py, path, fh, "")
     groups = sorted(k for k, v in root.items() if isinstance(v, h5py.Group))
+    datasets = [k for k, v in root.items() if isinstance(v, h5py.Dataset)]
     if not groups:
-        if not any(isinstance(v, h5py.Dataset) for v in root.values()):
+        if not datasets:
             raise fail(
                 path,
                 "",
@@ -146,7 +143,7 @@ def _read_file(
                 "such as 'time [s]', 'depth [m]' and 'stress [Pa]' in the root",
             )
         return [("trial", *_read_group(h5py, path, None, root, direction, columns))]
-    stray = [k for k, v in root.items() if isinstance(v, h5py.Dataset) and _is_log_column(k)]
+    stray = [k for k in datasets if _key_name(k) in LOG_COLUMNS]
     if stray:
         raise fail(
             path,
@@ -187,7 +184,7 @@ def _read_group(
                 "it to separate files",
             )
     for key, obj in members.items():
-        if isinstance(obj, h5py.Group) and any(_is_log_column(k) for k in obj):
+        if isinstance(obj, h5py.Group) and any(_key_name(k) in LOG_COLUMNS for k in obj):
             raise fail(
                 path,
                 f"group '{prefix}{key}'",
@@ -325,10 +322,8 @@ def save_intrusion_hdf5(
     ----------
     dataset : IntrusionDataset
         The data.
-    path : str or path-like
-        Output file.
-    overwrite : bool, keyword-only
-        Replace an existing file (default: refuse).
+    path, overwrite
+        As :meth:`IntrusionDataset.to_csv`: the output file; replace an existing one.
 
     Returns
     -------

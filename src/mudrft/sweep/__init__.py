@@ -20,10 +20,9 @@ import types
 from typing import TYPE_CHECKING, Any
 
 from .catalog import FOOT_KINDS, METRICS, MOTION_KINDS, PARAMETERS
-from .design import Axis
 from .plot import plot_maps, sensitivity
 from .run import SweepWarning, run_sweep
-from .spec import DESIGNS, SweepSpec, load_spec
+from .spec import DESIGNS, Axis, SweepSpec, load_spec
 from .store import load_result
 
 if TYPE_CHECKING:

@@ -29,9 +29,8 @@ from .catalog import FOOT_KINDS, METRICS, MOTIONS, PARAMETERS
 
 
 class SweepContext(TypedDict):
-    """What a task needs besides its points (:meth:`~.spec.SweepSpec.context`): the
-    ``fixed`` parameters (SI; ``foot`` is the kind), the ``motion`` kind, the ``metrics``,
-    the calibrated ``mud_sets`` and the ``mesh`` foot of a mesh file."""
+    """What a task needs besides its points: these fields of its
+    :class:`~.spec.SweepSpec` (:meth:`~.spec.SweepSpec.context`), described there."""
 
     fixed: dict[str, Any]
     motion: str
@@ -53,11 +52,7 @@ class ChunkResult:
 
 
 def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
-    return {
-        k: v
-        for k, v in values.items()
-        if k in PARAMETERS and PARAMETERS[k].section == section and k != "foot"
-    }
+    return {k: v for k, v in values.items() if k in PARAMETERS and PARAMETERS[k].section == section}
 
 
 def build_foot(

@@ -15,13 +15,6 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def _swept(ds: xr.Dataset) -> list[str]:
-    """The grid's dimensions, or the sample's coordinates along ``point``."""
-    if "point" in ds.dims:
-        return [str(c) for c in ds.coords if ds[c].dims == ("point",) and c != "point"]
-    return [str(d) for d in ds.dims]
-
-
 def check_names(names: dict[str, str | None], swept: list[str], where: str = "") -> None:
     """Refuse map parameters (``x``, ``y``, ``panels``) not swept, or one given twice."""
     given = [(k, v) for k, v in names.items() if v is not None]
@@ -37,7 +30,10 @@ def _check(ds: xr.Dataset, metric: str, names: dict[str, str | None]) -> list[st
     if metric not in ds.data_vars or metric in ("error", "done"):
         known = [str(v) for v in ds.data_vars if v not in ("error", "done")]
         raise MudrftError(f"metric must be one of {', '.join(known)}, got {metric!r}")
-    swept = _swept(ds)
+    if "point" in ds.dims:  # a sample's parameters are its coordinates along ``point``
+        swept = [str(c) for c in ds.coords if ds[c].dims == ("point",) and c != "point"]
+    else:
+        swept = [str(d) for d in ds.dims]
     check_names(names, swept)
     return swept
 

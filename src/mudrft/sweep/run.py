@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import shutil
 import warnings
+from collections import Counter
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
@@ -231,7 +232,7 @@ def run_sweep(
     group, pending, created = _prepare(store, spec, resume=resume, overwrite=overwrite)
     report = make_progress(progress, "sweep")
     n_done = spec.n_points - sum(math.prod(spec.chunk_shape(i)) for i in pending)
-    seen: dict[str, int] = {}
+    seen: Counter[str] = Counter()
     written = 0
 
     def finished(i: int, result: ChunkResult) -> None:
@@ -239,8 +240,7 @@ def run_sweep(
         write_chunk(group, spec, i, result)
         written += 1
         n_done += len(result.errors)
-        for w in result.warnings:
-            seen[w] = seen.get(w, 0) + 1
+        seen.update(result.warnings)
         if report is not None:
             report(n_done / spec.n_points)
 

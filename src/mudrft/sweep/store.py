@@ -17,9 +17,8 @@ import numpy as np
 from .. import __version__
 from .._validation import MudrftError
 from .catalog import METRICS
-from .design import block
 from .evaluate import ChunkResult
-from .spec import SweepSpec
+from .spec import SweepSpec, block
 
 if TYPE_CHECKING:
     import xarray as xr
