@@ -20,10 +20,8 @@ from mudrft.integrations.mjx.pose import posed_channels
 from mudrft.integrations.mjx.wrench import applied_wrench, channel_motion, com_twist, foot_odometry
 from mudrft.integrations.mujoco.backend import NON_FINITE, MudContact
 from mudrft.integrations.mujoco.batch import MudBatch
-from mudrft.integrations.mujoco.implicit import secant_steps
-from mudrft.integrations.mujoco.options import check_count, check_integrator
-from mudrft.integrations.mujoco.pose import matvec
-from mudrft.integrations.mujoco.stability import check_timestep
+from mudrft.integrations.mujoco.options import check_count, check_integrator, check_timestep
+from mudrft.integrations.mujoco.pose import matvec, secant_steps
 
 from .conftest import mujoco  # None without MuJoCo: the test modules skip before using it
 

@@ -131,7 +131,7 @@ def test_a_timestep_far_above_the_checked_range_warns_once_at_attach_and_reset()
 
     from mudrft._validation import PlausibilityWarning
     from mudrft.integrations import walk
-    from mudrft.integrations.mujoco.stability import LARGEST_TIMESTEP
+    from mudrft.integrations.mujoco.options import LARGEST_TIMESTEP
 
     from .conftest import box_foot_model
 

@@ -410,7 +410,7 @@ _WORK = st.one_of(st.just(0.0), st.floats(1e-12, 10.0))
 @given(lin=_WORK, negative=st.booleans(), quad=_WORK, tank=_WORK)
 def test_passivity_scale_is_the_largest_scale_within_the_tank(lin, negative, quad, tank):
     """s in [0, 1], s l + s^2 q <= T, and s is the largest such scale: 1, or a root."""
-    from mudrft.integrations.mujoco.implicit import passivity_scale
+    from mudrft.integrations.mujoco.pose import passivity_scale
 
     lin = -lin if negative else lin
     s = float(passivity_scale(np.float64(lin), np.float64(quad), np.float64(tank)))
@@ -424,7 +424,7 @@ def test_passivity_scale_is_the_largest_scale_within_the_tank(lin, negative, qua
 def test_passivity_scale_compiled_equals_numpy():
     """The compiled coupling runs the same function on floats (mudrft._jit)."""
     from mudrft._jit import jit
-    from mudrft.integrations.mujoco.implicit import passivity_scale
+    from mudrft.integrations.mujoco.pose import passivity_scale
 
     rng = np.random.default_rng(3)
     lin, quad, tank = rng.normal(0, 2, 500), rng.exponential(1, 500), rng.exponential(1, 500)

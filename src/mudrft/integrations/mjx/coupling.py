@@ -25,10 +25,15 @@ from ...terrains import as_terrain
 from ...terrains.field import MudField, same_options
 from ...terrains.mud import MudTerrain
 from ..mujoco._lazy import _mujoco
-from ..mujoco.options import check_attach_options, check_count, check_data, check_removed
+from ..mujoco.options import (
+    check_attach_options,
+    check_count,
+    check_data,
+    check_removed,
+    check_timestep,
+)
 from ..mujoco.placement import attached_foot, coupled_tip, coupled_triangles
 from ..mujoco.pose import POSE_RESOLUTION
-from ..mujoco.stability import check_timestep
 from ._lazy import _jax, _mjx, _xp, jit
 from .physics import Group, MjxContact, MjxMudState, Static, initial_state, mud_wrench
 

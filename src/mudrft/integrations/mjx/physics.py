@@ -18,8 +18,7 @@ import numpy as np
 from ...feet.surface import PreparedTriangles
 from ...terrains.field import field_blend, surface_blend
 from ...terrains.mud import MudChannels, MudTerrain, initial_channels, mud_step
-from ..mujoco.implicit import secant_steps
-from ..mujoco.pose import matvec, on_planes
+from ..mujoco.pose import matvec, on_planes, secant_steps
 from ._lazy import _jax, _mjx, _xp
 from .pose import ChannelGeometry, posed_channels
 from .wrench import applied_wrench, channel_motion, com_twist, foot_odometry

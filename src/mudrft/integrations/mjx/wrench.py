@@ -14,7 +14,7 @@ from typing import cast
 import numpy as np
 
 from ..._typing import FloatArray, Namespace, XpArray
-from ..mujoco.implicit import passivity_scale
+from ..mujoco.pose import passivity_scale
 from .pose import ChannelGeometry, rowdot
 
 __all__ = [

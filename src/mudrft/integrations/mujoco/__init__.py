@@ -25,10 +25,10 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 from ..._validation import MudrftError
 from ._lazy import _mujoco as _mujoco  # for mudrft.integrations.walk
 from .batch import MudBatch, MudContact
+from .options import stability_limits
 from .placement import BodyFoot as BodyFoot
 from .placement import body_foot
 from .rigid import add_rigid_cells, set_rigid_cells
-from .stability import stability_limits
 
 if TYPE_CHECKING:
     import mujoco

@@ -29,6 +29,9 @@ from .options import (
     check_data,
     check_integrator,
     check_removed,
+    check_spring_step,
+    check_timestep,
+    diverged_error,
 )
 from .placement import (
     BodyFoot,
@@ -38,7 +41,6 @@ from .placement import (
     group_triangles,
 )
 from .pose import POSE_RESOLUTION, matvec, on_planes
-from .stability import check_spring_step, check_timestep, diverged_error
 
 if TYPE_CHECKING:
     import mujoco

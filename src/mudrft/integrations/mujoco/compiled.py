@@ -36,7 +36,6 @@ from ...terrains.rows import (
     mesh_force,
     morphing_at,
 )
-from .implicit import secant_steps
 from .linalg import (
     _about,
     _back,
@@ -49,7 +48,7 @@ from .linalg import (
     _robot_step,
     carray,
 )
-from .pose import ball_channels, channel_weights
+from .pose import ball_channels, channel_weights, secant_steps
 
 __all__ = ["ARGS", "N_OUT", "OFFSETS", "WORK_FIXED", "pack", "work_size"]
 

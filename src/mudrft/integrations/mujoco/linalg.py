@@ -17,7 +17,7 @@ from numba.extending import intrinsic
 from ..._typing import FloatArray
 from ..._xp import pyfloat
 from ._lazy import _mujoco
-from .implicit import passivity_scale
+from .pose import passivity_scale
 
 
 def _solve_n(A: FloatArray, b: FloatArray, n: int) -> None:

@@ -1,9 +1,11 @@
-r"""The posed foot's pieces shared by the compiled kernel and MJX's array form (D60a):
-the channel weights of a facet, a ball's channels integrated exactly, a foot's triangles,
-and its pose on a tangent plane of uneven ground (D175).
+r"""What the compiled kernel and MJX's array form of the coupling share: the channel
+weights of a facet and a ball's channels integrated exactly (D60a), a foot's triangles, its
+pose on a tangent plane of uneven ground (D175), and two steps of the implicit update (D62c,
+D63).
 
-The compiled kernel (:mod:`.compiled`) sums these weights over the submerged facets on
-floats; :mod:`mudrft.integrations.mjx.pose` does so on arrays.
+The compiled kernel (:mod:`.compiled`, :mod:`.linalg`) sums the weights over the submerged
+facets and takes the implicit step on floats; :mod:`mudrft.integrations.mjx.pose` and
+:mod:`~mudrft.integrations.mjx.wrench` do so on arrays.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ball_channels", "channel_weights", "foot_triangles", "matvec", "morphing_triangles",
-    "on_planes",
+    "on_planes", "passivity_scale", "secant_steps",
 ]  # fmt: skip
 
 
@@ -157,3 +159,30 @@ def morphing_triangles(foot: MorphingFoot, *, segments: int = _SEGMENTS) -> Floa
             t1, t2 = [p0l, p1r, p0r], [p0l, p1l, p1r]
         tris += [t1, t2, [t1[0], t1[2], t1[1]], [t2[0], t2[2], t2[1]]]
     return np.asarray(tris, dtype=float)
+
+
+def secant_steps(vel: XpArray, dv_min: float, xp: Namespace = np) -> XpArray:
+    r"""Velocity steps [m/s] of the secant derivative toward rest (D63, D119), element-wise:
+    :math:`-u` for channel velocities ``vel`` [m/s], ``dv_min`` [m/s] across rest near it.
+    """
+    across = xp.where(vel > 0.0, -dv_min, dv_min)
+    return xp.where(xp.abs(vel) > dv_min, -vel, across)
+
+
+def passivity_scale(
+    work_lin: XpArray, work_quad: XpArray, tank: XpArray, xp: Namespace = np
+) -> XpArray:
+    r"""Largest :math:`s\in[0,1]` with :math:`s\,l+s^2q\le T` (the passivity bound, D62c).
+
+    ``work_lin`` :math:`l` and ``work_quad`` :math:`q\ge0` [J]: the linear and quadratic
+    parts of the wrench's work over the step; ``tank`` :math:`T\ge0` [J]: the energy the mud
+    has taken and may give back. Element-wise in ``xp``.
+    """
+    full = work_lin + work_quad <= tank
+    disc = xp.sqrt(xp.maximum(work_lin * work_lin + 4.0 * work_quad * tank, 0.0))
+    # the positive root of q s^2 + l s - T = 0, in the form without cancellation
+    taking = (disc - work_lin) / (2.0 * xp.where(work_quad > 0.0, work_quad, 1.0))
+    den = work_lin + disc  # > 0 unless l = 0 and q T = 0, where the root is 0
+    giving = 2.0 * tank / xp.where(den > 0.0, den, 1.0)
+    root = xp.where(work_lin < 0.0, taking, giving)
+    return xp.where(full, 1.0, xp.minimum(xp.maximum(root, 0.0), 1.0))
