@@ -69,7 +69,6 @@ class Packed:
     valid: np.ndarray
     phase: np.ndarray
     weight: np.ndarray
-    lengths: np.ndarray
     nu: float
     k_a: float | None
     acceleration: bool
@@ -138,7 +137,7 @@ def pack(
     time, gamma, data = np.zeros((n_max, T)), np.zeros((n_max, T)), np.zeros((n_max, T))
     valid = np.zeros((n_max, T), dtype=bool)
     phase = np.full((n_max, T), -1, dtype=np.int8)
-    weight, lengths = np.zeros(T), np.zeros(T, dtype=int)
+    weight = np.zeros(T)
     for j, tr in enumerate(trials):
         n = len(tr)
         ph = segment(tr)
@@ -169,7 +168,6 @@ def pack(
                 "nothing to fit: is this the stress column of an intrusion log?"
             )
         weight[j] = 1.0 / span
-        lengths[j] = n
     dt = np.diff(time, axis=0)
     return Packed(
         gamma=gamma,
@@ -179,7 +177,6 @@ def pack(
         valid=valid,
         phase=phase,
         weight=weight,
-        lengths=lengths,
         nu=float(p.nu),
         k_a=free_k_a(p),
         acceleration=acceleration,

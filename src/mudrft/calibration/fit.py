@@ -8,6 +8,7 @@ import os
 import time
 import warnings
 from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -45,8 +46,8 @@ from .stages import (
     phase_stage,
     stage_note,
     start_engine,
-    uncertainty_at_optimum,
 )
+from .uncertainty import uncertainty
 
 __all__ = ["calibrate"]
 
@@ -214,17 +215,12 @@ def calibrate(
     for line in depth_notes:
         reporter.note(f"calibrate: depth of {line}")
     base = initial if initial is not None else paper_parameters(0.25, d)
+    # how the model is evaluated, as pack and FitResult take it
+    model: dict[str, Any] = dict(
+        acceleration=acceleration, xi0=xi0, thixotropy=thixotropy, clock=clock
+    )
     try:
-        packed = pack(
-            ds,
-            base,
-            acceleration=acceleration,
-            xi0=xi0,
-            thixotropy=thixotropy,
-            clock=clock,
-            exclude=exclude,
-            direction=d,
-        )
+        packed = pack(ds, base, exclude=exclude, direction=d, **model)
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
     engine, start = start_engine(
@@ -251,7 +247,7 @@ def calibrate(
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
     tare_se = None if tare is None else tuple(off.error for off in tare)
-    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare_se)
+    unc = uncertainty(engine, free, confidence_level, tare=tare_se)
     params = MudParameters(
         **{k: engine.values[k] for k in FIT_PARAMETERS},
         nu=packed.nu,
@@ -275,11 +271,8 @@ def calibrate(
         trace=tuple(engine.trace),
         direction=d,
         bounds={k: bnds[k] for k in free},
-        acceleration=bool(acceleration),
-        xi0=float(xi0),
+        **model,
         dataset=ds,
-        thixotropy=packed.thixotropy,
-        clock=packed.clock,
         data_warnings=tuple(warned),
         rate=rate,
         depth_notes=depth_notes,

@@ -254,17 +254,10 @@ class FitResult:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
         if dataset is not None:  # its depth read as the fitted data's were
             ds = smooth_dataset(ds, self.rate)[0]
-        packed = pack(
-            ds,
-            self.parameters,
-            acceleration=self.acceleration,
-            xi0=self.xi0,
-            thixotropy=self.thixotropy,
-            clock=self.clock,
-            direction=self.direction,
-        )
+        model = {k: getattr(self, k) for k in ("acceleration", "xi0", "thixotropy", "clock")}
+        packed = pack(ds, self.parameters, direction=self.direction, **model)
         sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
-        return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
+        return [sim[: len(tr), j].copy() for j, tr in enumerate(ds.trials)]
 
     def plot(
         self,
@@ -311,11 +304,8 @@ class FitResult:
         ds = self.dataset
         data = None
         if ds is not None:
-            data = {
-                "source": ds.source,
-                "trials": [t.name for t in ds.trials],
-                "synthetic": ds.synthetic,
-            }
+            trials = [t.name for t in ds.trials]
+            data = {"source": ds.source, "trials": trials, "synthetic": ds.synthetic}
         return finite_or_none(
             {
                 "format": FIT_FORMAT,

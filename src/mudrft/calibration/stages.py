@@ -1,5 +1,5 @@
 r"""The solver of a calibration (internal) and its stages: start, one stage per phase
-group, joint, and the uncertainty at the optimum (decisions D41, D43). Bounded least
+group and joint (decisions D41, D43). Bounded least
 squares in log-parameters, the parameters the model is linear in
 (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved exactly by non-negative least squares
 (variable projection)."""
@@ -21,7 +21,6 @@ from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
 from ._problem import ALL_PHASES, FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
-from .uncertainty import at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
@@ -385,19 +384,3 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     if sol is None or sol.status > 0:
         return report, "converged"
     return report, "max_evaluations" if sol.status == 0 else "failed"
-
-
-def uncertainty_at_optimum(
-    engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
-) -> dict[str, Any]:
-    """Standard errors, intervals and verdicts at the engine's values, at ``level`` [-];
-    ``tare`` is the standard error [Pa] of each trial's subtracted sensor zero."""
-    mask = engine.packed.mask(ALL_PHASES)
-    r, J = engine.jacobian(mask, free)
-    bound = at_bound(engine.values, free, engine.bounds)
-    _, trial = np.nonzero(mask)  # the residuals' order: time, then trial
-    order = np.argsort(trial, kind="stable")  # each trial's residuals together, in time order
-    shift = None if tare is None else np.asarray(tare) * engine.packed.weight
-    return uncertainty(
-        r[order], J[order], free, bound, level, engine.values, engine.bounds, trial[order], shift
-    )
