@@ -19,7 +19,7 @@ from ..io import (
     save_intrusion_csv,
     save_intrusion_hdf5,
 )
-from ._options import DEFAULT_BOUNDS, GROUPS
+from ._problem import DEFAULT_BOUNDS, GROUPS
 from .classification import Classification, StreamClassifier, classify
 from .fit import calibrate
 from .online import OnlineEstimate, OnlineEstimator

@@ -28,25 +28,21 @@ from ..io._build import DIRECTIONS
 from ..metrics import relative_rmse
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
-from ._options import (
+from ._problem import (
+    FIT_PARAMETERS,
     as_dataset,
     auto_decimate,
+    pack,
     resolve_bounds,
     resolve_fixed,
     resolve_groups,
     thin_trials,
+    values_of,
 )
-from ._problem import FIT_PARAMETERS, pack, values_of
 from .rate import check_window, smooth_dataset
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
-from .stages import (
-    STAGES,
-    joint_stage,
-    phase_stage,
-    stage_note,
-    start_engine,
-)
+from .stages import STAGES, joint_stage, phase_stage, stage_note, start_engine
 from .uncertainty import uncertainty
 
 __all__ = ["calibrate"]

@@ -17,8 +17,7 @@ from ..io import IntrusionDataset, atomic_write, json_text
 from ..io.atomic import finite_or_none
 from ..io.dataset import OVERWRITE_OPTION
 from ..parameters.base import PARAMETER_UNITS, MudParameters
-from ._options import as_dataset
-from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
+from ._problem import FIT_PARAMETERS, PHASES, as_dataset, pack, segment, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .rate import check_window, smooth_dataset
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, PER_PARAMETER, outlying_trials
