@@ -42,7 +42,7 @@ from ._problem import (
 from .rate import check_window, smooth_dataset
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
-from .stages import STAGES, joint_stage, phase_stage, stage_note, start_engine
+from .stages import STAGES, Engine, joint_stage, phase_stage, stage_note, start_stage
 from .uncertainty import uncertainty
 
 __all__ = ["calibrate"]
@@ -219,17 +219,9 @@ def calibrate(
         packed = pack(ds, base, exclude=exclude, direction=d, **model)
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
-    engine, start = start_engine(
-        packed,
-        base,
-        from_paper=initial is None,
-        direction=d,
-        free=free,
-        fixed=held,
-        bounds=bnds,
-        trace_limit=trace_limit,
-        note=reporter.note,
-    )
+    engine = Engine(packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bnds, trace_limit)
+    paper = d if initial is None else None
+    start = start_stage(engine, free, held, paper=paper, note=reporter.note)
     reporter.step()
     stages = [start]
     for stage in STAGES:

@@ -17,7 +17,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
 from ._problem import ALL_PHASES, FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
 from .result import StageReport
@@ -279,21 +278,17 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
     )
 
 
-def start_engine(
-    packed: Packed,
-    base: MudParameters,
-    *,
-    from_paper: bool,
-    direction: str,
+def start_stage(
+    engine: Engine,
     free: tuple[str, ...],
     fixed: dict[str, float],
-    bounds: dict[str, tuple[float, float]],
-    trace_limit: int,
+    *,
+    paper: str | None,
     note: Callable[[str], object],
-) -> tuple[Engine, StageReport]:
-    """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
-    row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
-    t0 = time.perf_counter()
+) -> StageReport:
+    """The "start" stage: the ``engine`` moved from its values [SI] to the best rescaled
+    paper row of direction ``paper`` (unless None), the ``fixed`` values applied."""
+    t0, packed = time.perf_counter(), engine.packed
     samples = int(np.count_nonzero(packed.valid))
     if samples <= len(free):
         raise MudrftError(
@@ -302,11 +297,8 @@ def start_engine(
             "(samples after the plate is back at the surface do not count): give a longer "
             "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
         )
-    engine = Engine(
-        packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
-    )
-    if from_paper:  # the paper row that fits best, its free linear parameters rescaled (D43)
-        rows = table_rows(direction)
+    if paper is not None:  # the paper row that fits best, its free linear parameters rescaled (D43)
+        rows = table_rows(paper)
         ws = sorted(rows)
         cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
         lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
@@ -316,7 +308,7 @@ def start_engine(
             w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear)
         )
         note(
-            f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
+            f"calibrate: start from the paper's {paper} row W = {100 * w:g} % "
             f"(free linear parameters rescaled), cost {cost:.4g}"
         )
         engine.values.update(point)
@@ -329,8 +321,8 @@ def start_engine(
         raise MudrftError(f"invalid starting or fixed parameter values: {exc}") from None
     sims = packed.simulations  # those of the start point; the cost below is not counted
     cost = engine.cost(packed.mask(ALL_PHASES))
-    message = "paper row" if from_paper else "initial"
-    return engine, StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
+    message = "initial" if paper is None else "paper row"
+    return StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
 
 
 def _message(sol: OptimizeResult | None) -> str:
