@@ -6,7 +6,6 @@ from __future__ import annotations
 import logging
 import os
 import time
-import warnings
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
@@ -16,11 +15,11 @@ from .._progress import make_progress
 from .._validation import (
     CalibrationWarning,
     MudrftError,
-    _caller_level,
     check_choice,
     check_in_range,
     number_in_range,
     positive_int,
+    warn_plausibility,
 )
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
@@ -186,10 +185,11 @@ def calibrate(
         k = auto_decimate(ds)
         if k > 1:
             longest = max(len(t) for t in ds.trials)
-            reporter.warn(
+            warn_plausibility(
                 f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
                 f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
-                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
+                "pass decimate=1 (CLI: --decimate 1) to fit every sample",
+                CalibrationWarning,
             )
     if k > 1:
         ds = thin_trials(ds, k)
@@ -198,7 +198,7 @@ def calibrate(
     for line in notes:
         reporter.note(line)
     for line in warned:
-        reporter.warn(line)
+        warn_plausibility(line, CalibrationWarning)
     # samples whose step spans a change of speed are not fitted (module rate)
     exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
     if clip is not None:
@@ -266,10 +266,10 @@ def calibrate(
         depth_notes=depth_notes,
     )
     if fit.relative_rmse > POOR_FIT_RMSE:
-        reporter.warn(POOR_FIT_HINT.removeprefix("warning: "))
+        warn_plausibility(POOR_FIT_HINT.removeprefix("warning: "), CalibrationWarning)
     outliers = fit.outlying_trials()
     if outliers is not None:
-        reporter.warn(outliers)
+        warn_plausibility(outliers, CalibrationWarning)
     reporter.note(
         f"calibrate: done in {time.perf_counter() - t_start:.2f} s, relative RMSE "
         f"{100 * fit.relative_rmse:.2f} %, identified {list(fit.identified())}"
@@ -298,11 +298,6 @@ class Reporter:
             self._lines(message)
         else:
             logger.info("%s", message)
-
-    @staticmethod
-    def warn(message: str) -> None:
-        """Warn (:class:`~mudrft._validation.CalibrationWarning`), whatever ``progress`` is."""
-        warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
 
     def step(self) -> None:
         """One more step of the job is done."""

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import NamedTuple
@@ -20,6 +19,7 @@ from .._validation import (
     check_shape,
     number_in_range,
     positive_number,
+    warn_plausibility,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
@@ -399,12 +399,11 @@ class OnlineEstimator:
             elif v is not None:
                 kept.append(f"{k} = {v:.4g}")
         if kept:
-            warnings.warn(
+            warn_plausibility(
                 f"online estimate not positive ({', '.join(kept)}): the base value is kept; "
                 "the prior's fixed constants may not describe this mud (calibrate offline, "
                 "then rebase() the estimator on the fit)",
                 CalibrationWarning,
-                stacklevel=2,
             )
         return b.replace(**changes, source=f"online estimate ({self.model})")
 
