@@ -193,12 +193,8 @@ SEGMENT_TOLERANCE = 0.01
 
 
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
-    """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud.
-
-    Intrusion runs until the depth first comes within ``tolerance`` of its deepest, the
-    hold until it last leaves that band, the retraction until the depth is back within the
-    band around the surface; later samples are "out" (decision D42).
-    """
+    """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud,
+    cut at ``tolerance`` of its deepest displacement [-] (decision D42)."""
     q = np.asarray(trial.depth, dtype=float)
     qmax = float(np.max(q))
     if qmax <= 0:

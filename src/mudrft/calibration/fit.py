@@ -133,11 +133,8 @@ def calibrate(
 
     Notes
     -----
-    Residuals of each trial are divided by the trial's peak-to-peak stress (decision D45);
-    samples above the surface or after the plate is back at it are not fitted (D42). A free
-    parameter is *identified* if its robust relative standard error
-    :math:`\mathrm{se}(\ln p)\le 0.05` and it is not at a bound, *weak* up to 0.5, *not
-    identified* beyond, or at a bound (D44).
+    Each trial's residuals are divided by its peak-to-peak stress (decision D45); samples
+    out of the mud are not fitted (D42); the verdicts follow rule D44 (docs/model.md).
 
     Examples
     --------
@@ -234,8 +231,7 @@ def calibrate(
     stages.append(joint)
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
-    tare_se = None if tare is None else tuple(off.error for off in tare)
-    unc = uncertainty(engine, free, confidence_level, tare=tare_se)
+    unc = uncertainty(engine, free, confidence_level, tare=tare)
     params = MudParameters(
         **{k: engine.values[k] for k in FIT_PARAMETERS},
         nu=packed.nu,

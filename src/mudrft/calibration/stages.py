@@ -116,10 +116,7 @@ class Engine:
             cost = 0.5 * float(r @ r)
             scored.append((cost, point))
             self.record(stage + " grid", cost, {**self.values, **point})
-        if not scored:
-            return [(math.inf, {})]
-        scored.sort(key=lambda t: t[0])
-        return scored[:starts]
+        return sorted(scored, key=lambda t: t[0])[:starts] or [(math.inf, {})]
 
     def fit(
         self,
@@ -200,11 +197,6 @@ class Engine:
                 evaluate(sol.x)
             self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
         return float(sol.cost), sol
-
-    def cost(self, mask: NDArray[np.bool_]) -> float:
-        """Half the sum of squared weighted residuals at the current values [-]."""
-        r = self.packed.residuals(self.batch({}, 1), mask)[:, 0]
-        return 0.5 * float(r @ r)
 
     def jacobian(
         self, mask: NDArray[np.bool_], free: tuple[str, ...]
@@ -320,9 +312,9 @@ def start_stage(
     except MudrftError as exc:
         raise MudrftError(f"invalid starting or fixed parameter values: {exc}") from None
     sims = packed.simulations  # those of the start point; the cost below is not counted
-    cost = engine.cost(packed.mask(ALL_PHASES))
+    r = packed.residuals(engine.batch({}, 1), packed.mask(ALL_PHASES))[:, 0]
     message = "initial" if paper is None else "paper row"
-    return StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
+    return StageReport("start", (), sims, 0.5 * float(r @ r), time.perf_counter() - t0, message)
 
 
 def _message(sol: OptimizeResult | None) -> str:
@@ -368,9 +360,8 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     with all of them solver variables; returns the report and the solver status."""
     t0, n0 = time.perf_counter(), engine.packed.simulations
     mask = engine.packed.mask(ALL_PHASES)
-    cost, sol = engine.fit("joint", mask, free, max_nfev, project=free)
-    cost, sol_full = engine.fit("joint", mask, free, max_nfev)
-    sol = sol_full if sol_full is not None else sol
+    engine.fit("joint", mask, free, max_nfev, project=free)
+    cost, sol = engine.fit("joint", mask, free, max_nfev)  # the polish always runs the solver
     sims = engine.packed.simulations - n0
     report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, _message(sol))
     if sol is None or sol.status > 0:

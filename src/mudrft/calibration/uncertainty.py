@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from ._problem import ALL_PHASES, FIT_PARAMETERS
 
 if TYPE_CHECKING:
+    from .sensors import Offset
     from .stages import Engine
 
 #: The per-parameter entries of a fit (:class:`~mudrft.calibration.FitResult` fields).
@@ -127,13 +128,13 @@ def at_bound(
 
 
 def uncertainty(
-    engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
+    engine: Engine, free: tuple[str, ...], level: float, *, tare: Sequence[Offset] | None = None
 ) -> dict[str, Any]:
     """The :class:`~mudrft.calibration.FitResult` fields of the uncertainty (errors,
     intervals at ``level`` [-], verdicts, correlation, noise, condition number) at the
     ``engine``'s values, from the weighted residuals and their Jacobian in the log of the
-    ``free`` parameters; ``tare`` is the standard error [Pa] of each trial's subtracted
-    sensor zero."""
+    ``free`` parameters; ``tare`` holds each trial's subtracted sensor zero, with its
+    standard error [Pa]."""
     from scipy.stats import t as student_t
 
     mask = engine.packed.mask(ALL_PHASES)
@@ -143,7 +144,7 @@ def uncertainty(
     _, trial = np.nonzero(mask)  # the residuals' order: time, then trial
     order = np.argsort(trial, kind="stable")  # each trial's residuals together, in time order
     r, J, trial = r[order], J[order], trial[order]
-    shift = None if tare is None else np.asarray(tare) * engine.packed.weight
+    shift = None if tare is None else np.array([t.error for t in tare]) * engine.packed.weight
     m, k = J.shape
     dof = max(m - k, 1)
     s2 = float(r @ r) / dof
@@ -189,10 +190,8 @@ OUTLYING_TRIAL_FLOOR = 0.002
 def outlying_trials(
     rmse: Sequence[float], ranges: Sequence[float], names: Sequence[str]
 ) -> str | None:
-    """The warning naming the trials that fit much worse than the others, or None (D139):
-    with three trials or more, those whose relative RMSE [-] and RMSE in pascals (times
-    their stress ``ranges`` [Pa]) both exceed :data:`OUTLYING_TRIAL_RATIO` times the median
-    of the others', unless below :data:`OUTLYING_TRIAL_FLOOR`."""
+    """The warning naming the trials whose relative ``rmse`` [-] and RMSE in pascals (times
+    their stress ``ranges`` [Pa]) are both outliers (decision D139), or None."""
     if len(rmse) < 3:
         return None
     absolute = [r * g for r, g in zip(rmse, ranges, strict=True)]
