@@ -3,6 +3,7 @@ log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import time
@@ -172,7 +173,7 @@ def calibrate(
     free = tuple(k for k in selected if k not in held)
     if not free:
         raise MudrftError("every parameter is fixed: nothing to fit")
-    reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
+    reporter = Reporter(progress)
 
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
     d = check_choice("direction", ds.direction if direction is None else direction, DIRECTIONS)
@@ -274,32 +275,27 @@ def calibrate(
     return fit
 
 
-class Reporter:
-    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s); the
-    job is called ``label`` and made of ``steps`` calls of :meth:`step`."""
+#: Steps of a fit's progress: the start, each phase stage, the joint stage, the result.
+STEPS = len(STAGES) + 3
 
-    def __init__(
-        self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
-    ) -> None:
+
+class Reporter:
+    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s): each
+    line to :attr:`note`, and the fraction done after each of the :data:`STEPS`."""
+
+    def __init__(self, progress: bool | Callable[[str], object] | None) -> None:
         if not (progress is None or isinstance(progress, bool) or callable(progress)):
             raise MudrftError(f"progress must be True, False, None or a callable, got {progress!r}")
-        self._lines = progress if callable(progress) else None
-        self._fraction = make_progress(True, label) if progress is True else None
-        self._steps = max(int(steps), 1)
+        #: The line callable, or the log when there is none (never both).
+        self.note = progress if callable(progress) else functools.partial(logger.info, "%s")
+        self._fraction = make_progress(True, "calibrate") if progress is True else None
         self._done = 0
 
-    def note(self, message: str) -> None:
-        """Pass one line to the line callable, or log it when there is none (never both)."""
-        if self._lines is not None:
-            self._lines(message)
-        else:
-            logger.info("%s", message)
-
     def step(self) -> None:
-        """One more step of the job is done."""
-        self._done = min(self._done + 1, self._steps)
+        """One more step of the fit is done."""
+        self._done = min(self._done + 1, STEPS)
         if self._fraction is not None:
-            self._fraction(self._done / self._steps)
+            self._fraction(self._done / STEPS)
 
 
 def ordinal(k: int) -> str:
