@@ -93,12 +93,9 @@ def _group_members(name: object) -> tuple[str, ...]:
 def resolve_groups(groups: str | Iterable[str] | None) -> tuple[str, ...]:
     """The parameters named by ``groups`` (``"all"``/None, group names, aliases or parameter
     names, as a sequence or a space- or comma-separated string), in fitting order."""
-    if groups is None or groups == "all":
-        names: Iterable[object] = ("b", "th", "s")
-    elif isinstance(groups, str):
-        names = [g for g in groups.replace(",", " ").split() if g]
-    else:
-        names = list(groups)
+    if groups is None:
+        groups = "all"
+    names = groups.replace(",", " ").split() if isinstance(groups, str) else list(groups)
     free = {k for g in names for k in _group_members(g)}
     if not free:
         raise MudrftError("groups selects no parameter to fit")

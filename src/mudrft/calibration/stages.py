@@ -132,11 +132,11 @@ class Engine:
         (None when only linear parameters were free)."""
         from scipy.optimize import least_squares
 
-        base = {**self.values, **(start or {})}
+        self.values.update(start or {})
+        base = dict(self.values)
         lin = [k for k in project if k in LINEAR_PARAMETERS]
         names = [k for k in free if k not in lin]
         if not names:  # only linear parameters free: one projection solves them
-            self.values.update(base)
             r, c = self.project(self.packed.residuals(basis(self.batch({}, 1), lin), mask), lin)
             self.values.update(zip(lin, c, strict=True))
             self.record(stage, 0.5 * float(r @ r), self.values)
@@ -147,12 +147,6 @@ class Engine:
         last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
         linear_at: dict[bytes, list[float]] = {}
 
-        def values_at(X: NDArray[np.float64]) -> Values:
-            """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
-            out = {p: np.full(X.shape[0], base[p]) for p in FIT_PARAMETERS}
-            out.update({p: np.exp(X[:, i]) for i, p in enumerate(names)})
-            return out
-
         def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
             """Residuals (m,) and forward-difference Jacobian (m, k) at the log-point ``x``,
             from one batched simulation of it and its neighbours (the last one cached)."""
@@ -162,7 +156,8 @@ class Engine:
             X = np.repeat(x[None, :], 1 + k, axis=0)
             h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
             X[1 + np.arange(k), np.arange(k)] += h
-            R = self.packed.residuals(basis(values_at(X), lin), mask)
+            over = {p: np.exp(X[:, i]) for i, p in enumerate(names)}
+            R = self.packed.residuals(basis(self.batch(over, 1 + k), lin), mask)
             R = R.reshape(-1, 1 + k, 1 + len(lin))
             cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
             r = cols[0][0]
@@ -173,7 +168,7 @@ class Engine:
             J[~np.isfinite(J)] = 0.0
             last[:] = [(key, r, J)]
             linear_at[key] = cols[0][1]
-            point = {p: float(v[0]) for p, v in values_at(x[None, :]).items()}
+            point = {**base, **{p: float(v[0]) for p, v in over.items()}}
             point.update(zip(lin, cols[0][1], strict=True))
             self.record(stage, 0.5 * float(r @ r), point)
             return r, J
@@ -190,7 +185,6 @@ class Engine:
             ftol=1e-10,
             gtol=1e-10,
         )
-        self.values.update(base)
         self.values.update({p: float(np.exp(sol.x[i])) for i, p in enumerate(names)})
         if lin:
             if sol.x.tobytes() not in linear_at:
