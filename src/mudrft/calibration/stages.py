@@ -99,19 +99,18 @@ class Engine:
         """The ``starts`` best ``(cost, point)`` of the candidate points, the linear free
         parameters of each solved exactly; all in one batched simulation."""
         lin = [k for k in free if k in LINEAR_PARAMETERS]
-        cands = candidates or [{}]
-        G, nl = len(cands), len(lin)
+        G, nl = len(candidates), len(lin)
         over = {
-            k: np.array([c.get(k, self.values[k]) for c in cands])
-            for k in {k for c in cands for k in c}
+            k: np.array([c.get(k, self.values[k]) for c in candidates])
+            for k in {k for c in candidates for k in c}
         }
         res = self.packed.residuals(basis(self.batch(over, G), lin), mask).reshape(-1, G, 1 + nl)
         scored = []
         for g in range(G):
             if not np.all(np.isfinite(res[:, g, :])):
                 continue
-            point = {k: float(v) for k, v in cands[g].items()}
-            r, coef = self.project(res[:, g, :], lin, {**self.values, **cands[g]})
+            point = {k: float(v) for k, v in candidates[g].items()}
+            r, coef = self.project(res[:, g, :], lin, {**self.values, **candidates[g]})
             point.update(zip(lin, coef, strict=True))
             cost = 0.5 * float(r @ r)
             scored.append((cost, point))
