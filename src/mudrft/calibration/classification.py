@@ -237,8 +237,6 @@ def classify(
 class StreamClassifier:
     """Which known parameter set a stream of samples most resembles, updated per sample.
 
-    The squared residuals of each candidate's model are discounted by ``1 - 1/window``.
-
     Parameters
     ----------
     candidates, labels, water_contents : optional
@@ -248,7 +246,8 @@ class StreamClassifier:
     characteristic_length : float, keyword-only
         Plate length [m].
     window : float, keyword-only
-        Effective window length [samples] (> 1).
+        Effective window length [samples] (> 1): each candidate's squared residuals are
+        discounted by ``1 - 1/window`` per sample.
     noise : float, optional, keyword-only
         Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
 

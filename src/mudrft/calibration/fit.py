@@ -148,8 +148,10 @@ def calibrate(
     True
     """
     t_start = time.perf_counter()
-    acceleration = evaluation(thixotropy, clock, acceleration)[2] == 1.0
-    xi0 = number_in_range("xi0", xi0, 0.0, 1.0)
+    # how the model is evaluated, checked, as pack and FitResult take it
+    model: dict[str, Any] = {"thixotropy": thixotropy, "clock": clock}
+    model["acceleration"] = evaluation(thixotropy, clock, acceleration)[2] == 1.0
+    model["xi0"] = number_in_range("xi0", xi0, 0.0, 1.0)
     if not isinstance(phases, (bool, np.bool_)):
         raise MudrftError(f"phases must be True or False, got {phases!r}")
     if (
@@ -209,10 +211,6 @@ def calibrate(
     for line in depth_notes:
         reporter.note(f"calibrate: depth of {line}")
     base = initial if initial is not None else paper_parameters(0.25, d)
-    # how the model is evaluated, as pack and FitResult take it
-    model: dict[str, Any] = dict(
-        acceleration=acceleration, xi0=xi0, thixotropy=thixotropy, clock=clock
-    )
     try:
         packed = pack(ds, base, exclude=exclude, direction=d, **model)
     except MudrftError as exc:
@@ -275,13 +273,12 @@ def calibrate(
     return fit
 
 
-#: Steps of a fit's progress: the start, each phase stage, the joint stage, the result.
-STEPS = len(STAGES) + 3
-
-
 class Reporter:
     """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s): each
-    line to :attr:`note`, and the fraction done after each of the :data:`STEPS`."""
+    line to :attr:`note`, and the fraction done after each of the :attr:`STEPS`."""
+
+    #: Steps of a fit's progress: the start, each phase stage, the joint stage, the result.
+    STEPS = len(STAGES) + 3
 
     def __init__(self, progress: bool | Callable[[str], object] | None) -> None:
         if not (progress is None or isinstance(progress, bool) or callable(progress)):
@@ -293,9 +290,9 @@ class Reporter:
 
     def step(self) -> None:
         """One more step of the fit is done."""
-        self._done = min(self._done + 1, STEPS)
+        self._done = min(self._done + 1, self.STEPS)
         if self._fraction is not None:
-            self._fraction(self._done / STEPS)
+            self._fraction(self._done / self.STEPS)
 
 
 def ordinal(k: int) -> str:

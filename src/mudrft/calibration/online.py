@@ -156,13 +156,8 @@ def bank_errors(
 class OnlineEstimator:
     r"""Recursive least squares with forgetting of the linear constants and tau_build (D46).
 
-    Feed samples with :meth:`update` and read :attr:`estimate`. ``model="exact"`` (default)
-    steps the full model alongside the stream for the regressors of
-    :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior`` (unbiased
-    when those are right); ``model="paper"`` uses the supplementary's approximations (Sec.
-    III-A), which need only ``n`` but give apparent values. One filter runs per
-    :math:`\tau_{build}` of a grid; the one with the smallest discounted prediction error is
-    read, refined by a parabola in :math:`\ln\tau_{build}`.
+    Feed samples with :meth:`update` and read :attr:`estimate`; one filter runs per
+    :math:`\tau_{build}` of a grid, and the one that predicts best is read.
 
     Parameters
     ----------
@@ -170,7 +165,9 @@ class OnlineEstimator:
         Starting values and fixed constants; default the paper's row W = 35 % of
         ``direction``.
     model : {"exact", "paper"}, keyword-only
-        Regressor model (see above).
+        Regressors of the full model stepped alongside the stream, the other constants from
+        ``prior`` (unbiased when those are right), or the supplementary's approximations
+        (Sec. III-A), which need only ``n`` but give apparent values.
     direction : {"vertical", "horizontal"}, keyword-only
         Direction of the default prior.
     characteristic_length : float, keyword-only

@@ -319,14 +319,12 @@ def phase_stage(
 ) -> StageReport | None:
     """Fit one group on the samples of its phase from the ``starts`` best points of its
     grid; None if the stage has nothing to do."""
-    if not any(k in free for k in stage.own):
-        return None  # none of the stage's own group is fitted
+    mask = engine.packed.mask(stage.phases)
+    if not mask.any() or not any(k in free for k in stage.own):
+        return None  # no sample of the stage's phases, or none of its own group is fitted
     stage_free = tuple(
         k for k in FIT_PARAMETERS if k in free and (k in stage.own or k in stage.linear)
     )
-    mask = engine.packed.mask(stage.phases)
-    if not mask.any():
-        return None
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
     axes = {  # the stage's grid of starting points, in bounds, with the current values
