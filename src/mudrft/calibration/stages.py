@@ -1,8 +1,7 @@
 r"""The solver of a calibration (internal) and its stages: start, one stage per phase
-group and joint (decisions D41, D43). Bounded least
-squares in log-parameters, the parameters the model is linear in
-(:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved exactly by non-negative least squares
-(variable projection)."""
+group and joint (decisions D41, D43). Bounded least squares in log-parameters, the
+parameters the model is linear in (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved
+exactly by non-negative least squares (variable projection)."""
 
 from __future__ import annotations
 
