@@ -24,7 +24,8 @@ from .classification import Classification, StreamClassifier, classify
 from .fit import calibrate
 from .online import OnlineEstimate, OnlineEstimator
 from .persistence import load_parameters
-from .result import FitResult, StageReport
+from .result import FitResult
+from .stages import StageReport
 from .synthetic import EXAMPLE_FILES, example_dataset, synthetic_dataset
 
 RecursiveEstimator = OnlineEstimator

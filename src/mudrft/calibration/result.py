@@ -20,13 +20,14 @@ from ..parameters.base import PARAMETER_UNITS, MudParameters
 from ._problem import FIT_PARAMETERS, PHASES, as_dataset, pack, segment, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .rate import check_window, smooth_dataset
+from .stages import StageReport
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, PER_PARAMETER, outlying_trials
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult", "StageReport"]
+__all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult"]
 
 #: Relative RMSE above which a fit is flagged as not describing the data [-].
 POOR_FIT_RMSE = 0.25
@@ -46,34 +47,6 @@ _PLAIN_FIELDS = tuple(
     "relative_rmse trial_relative_rmse noise status message condition_number acceleration "
     "thixotropy clock xi0 data_warnings rate depth_notes bounds".split()
 )
-
-
-@dataclass(frozen=True)
-class StageReport:
-    """Summary of one stage of a fit.
-
-    Attributes
-    ----------
-    name : str
-        ``"start"``, ``"intrusion"``, ``"relaxation"``, ``"retraction"`` or ``"joint"``.
-    free : tuple of str
-        Parameters freed in the stage.
-    simulations : int
-        Batched simulations of all trials run in the stage.
-    cost : float
-        Half the sum of squared weighted residuals of the stage's samples [-].
-    seconds : float
-        Wall time of the stage [s].
-    message : str
-        Outcome of the solver.
-    """
-
-    name: str
-    free: tuple[str, ...]
-    simulations: int
-    cost: float
-    seconds: float
-    message: str = ""
 
 
 @dataclass(frozen=True, eq=False)

@@ -18,7 +18,6 @@ from numpy.typing import NDArray
 from .._validation import MudrftError
 from ..parameters.registry import table_rows
 from ._problem import ALL_PHASES, FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
-from .result import StageReport
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
@@ -26,6 +25,34 @@ if TYPE_CHECKING:
 _FD_STEP = 1e-6  # forward-difference step in log-parameters
 
 Values = dict[str, NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class StageReport:
+    """Summary of one stage of a fit.
+
+    Attributes
+    ----------
+    name : str
+        ``"start"``, ``"intrusion"``, ``"relaxation"``, ``"retraction"`` or ``"joint"``.
+    free : tuple of str
+        Parameters freed in the stage.
+    simulations : int
+        Batched simulations of all trials run in the stage.
+    cost : float
+        Half the sum of squared weighted residuals of the stage's samples [-].
+    seconds : float
+        Wall time of the stage [s].
+    message : str
+        Outcome of the solver.
+    """
+
+    name: str
+    free: tuple[str, ...]
+    simulations: int
+    cost: float
+    seconds: float
+    message: str = ""
 
 
 @dataclass
