@@ -146,7 +146,7 @@ def test_cli_calibration_warnings_are_one_line_each_and_survive_quiet(
 ):
     """With --quiet the thinning warning read 'mudrft calibrate: warning: calibrate:
     warning: ...'; without it, it came as a plain progress note."""
-    import mudrft.calibration._options as options
+    import mudrft.calibration._problem as options
 
     longest = max(len(t) for t in example_dataset("vertical").trials)
     monkeypatch.setattr(options, "FIT_SAMPLES", longest // 2 + 1)  # thinned by 2

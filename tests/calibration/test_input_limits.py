@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 import pytest
 
-import mudrft.calibration._options as options
+import mudrft.calibration._problem as options
 from mudrft._validation import MudrftError, PlausibilityWarning
 from mudrft.calibration import CalibrationWarning, calibrate, synthetic_dataset
 from mudrft.io import IntrusionDataset, Trial, load_dataset

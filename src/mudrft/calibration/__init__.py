@@ -19,12 +19,13 @@ from ..io import (
     save_intrusion_csv,
     save_intrusion_hdf5,
 )
-from ._options import DEFAULT_BOUNDS, GROUPS
+from ._problem import DEFAULT_BOUNDS, GROUPS
 from .classification import Classification, StreamClassifier, classify
 from .fit import calibrate
 from .online import OnlineEstimate, OnlineEstimator
 from .persistence import load_parameters
-from .result import FitResult, StageReport
+from .result import FitResult
+from .stages import StageReport
 from .synthetic import EXAMPLE_FILES, example_dataset, synthetic_dataset
 
 RecursiveEstimator = OnlineEstimator

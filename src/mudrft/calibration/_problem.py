@@ -1,19 +1,23 @@
-"""The trials of a dataset packed for batched simulation (internal): arrays ``(n_max, T)``
-padded at the end, run for a batch of ``B`` parameter sets in one pass."""
+"""The fitting problem of a calibration (internal): what a fit may free, within which
+bounds, on which data (the checks of :func:`~mudrft.calibration.calibrate`'s options), and
+the trials packed for batched simulation, arrays ``(n_max, T)`` padded at the end, run for
+a batch of ``B`` parameter sets in one pass."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import Any
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import MudrftError
+from .._validation import MudrftError, check_finite, check_number
 from ..constitutive import channel_constants
 from ..constitutive.contact import in_contact
-from ..io import IntrusionDataset, Trial
+from ..io import IntrusionDataset, Trial, load_dataset
 from ..parameters.base import MudParameters
 from ..plate import plate_history
 
@@ -23,6 +27,158 @@ FIT_PARAMETERS = tuple(
 )
 #: Parameters the model is exactly linear in (each term of eq. 1 is proportional to one).
 LINEAR_PARAMETERS = ("alpha", "eta_inf", "eta_m", "sigma_y")
+#: Parameter groups of the supplementary Sec. III-A; sigma_Y is fitted with the suction
+#: group (decision D41).
+GROUPS: dict[str, tuple[str, ...]] = {
+    "b": ("alpha", "n"),
+    "th": ("lam", "eta_m", "eta_inf", "gamma_dot_c"),
+    "s": ("tau_build", "tau_leak", "epsilon", "sigma_y"),
+}
+_GROUP_ALIASES = {
+    **dict.fromkeys(("b", "pi_b", "intrusion", "elastic"), "b"),
+    **dict.fromkeys(("th", "pi_th", "relaxation", "thixotropic"), "th"),
+    **dict.fromkeys(("s", "pi_s", "retraction", "suction"), "s"),
+}
+
+#: Default bounds of the fitted parameters, SI (wide: two to four decades around the
+#: paper's tables); ``n`` is bounded by the model's (0, 1].
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "alpha": (1.0, 1.0e8),
+    "n": (0.02, 1.0),
+    "lam": (0.01, 1.0e3),
+    "eta_m": (1.0, 1.0e9),
+    "eta_inf": (1.0e-2, 1.0e9),
+    "gamma_dot_c": (1.0e-4, 1.0e2),
+    "tau_build": (1.0e-3, 1.0e2),
+    "tau_leak": (1.0e-3, 1.0e2),
+    "epsilon": (1.0e-4, 1.0),
+    "sigma_y": (1.0e-2, 1.0e8),
+}
+
+
+#: Samples per trial a fit thins longer logs to unless ``decimate`` is given (D104) [-].
+FIT_SAMPLES = 2000
+
+
+def auto_decimate(ds: IntrusionDataset) -> int:
+    """The thinning factor that brings the longest trial to about :data:`FIT_SAMPLES` [-].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 1.0, 10_001)
+    >>> auto_decimate(IntrusionDataset((Trial(t, 0.01 * t, 100.0 * t),)))
+    6
+    """
+    longest = max(len(t) for t in ds.trials)
+    return max(1, math.ceil(longest / FIT_SAMPLES))
+
+
+def _group_members(name: object) -> tuple[str, ...]:
+    if not isinstance(name, str):
+        raise MudrftError(f"groups must be names, got {name!r}")
+    key = name.strip().lower()
+    if key == "all":
+        return FIT_PARAMETERS
+    if key in _GROUP_ALIASES:
+        return GROUPS[_GROUP_ALIASES[key]]
+    if key in FIT_PARAMETERS:
+        return (key,)
+    raise MudrftError(
+        f"groups must name parameter groups ('b', 'th', 's', 'all') or parameters "
+        f"{list(FIT_PARAMETERS)}, got {name!r}"
+    )
+
+
+def resolve_groups(groups: str | Iterable[str] | None) -> tuple[str, ...]:
+    """The parameters named by ``groups`` (``"all"``/None, group names, aliases or parameter
+    names, as a sequence or a space- or comma-separated string), in fitting order."""
+    if groups is None:
+        groups = "all"
+    names = groups.replace(",", " ").split() if isinstance(groups, str) else list(groups)
+    free = {k for g in names for k in _group_members(g)}
+    if not free:
+        raise MudrftError("groups selects no parameter to fit")
+    return tuple(k for k in FIT_PARAMETERS if k in free)
+
+
+def _check_name(option: str, name: str) -> None:
+    if name not in FIT_PARAMETERS:
+        raise MudrftError(
+            f"{option} has an unknown parameter {name!r}; expected {list(FIT_PARAMETERS)}"
+        )
+
+
+def resolve_bounds(bounds: dict[str, tuple[float, float]] | None) -> dict[str, tuple[float, float]]:
+    """:data:`DEFAULT_BOUNDS` with the user's ``{name: (low, high)}`` [SI] applied."""
+    out = dict(DEFAULT_BOUNDS)
+    for k, v in (bounds or {}).items():
+        _check_name("bounds", k)
+        try:
+            lo, hi = (float(v[0]), float(v[1]))
+        except (TypeError, ValueError, IndexError):
+            raise MudrftError(f"bounds[{k!r}] must be a pair (low, high), got {v!r}") from None
+        if not (0 < lo < hi < math.inf):
+            raise MudrftError(f"bounds[{k!r}] must satisfy 0 < low < high < inf, got {v!r}")
+        if k == "n" and hi > 1.0:
+            raise MudrftError(f"bounds['n'] must not exceed 1 (the model needs n <= 1), got {v!r}")
+        out[k] = (lo, hi)
+    return out
+
+
+def resolve_fixed(fixed: dict[str, float] | None) -> dict[str, float]:
+    """The user's ``{name: value}`` [SI] of parameters held fixed, names checked."""
+    out = dict(fixed or {})
+    for k in out:
+        _check_name("fixed", k)
+        out[k] = check_number(f"fixed[{k!r}]", check_finite(f"fixed[{k!r}]", out[k]))
+    return out
+
+
+def as_dataset(
+    data: IntrusionDataset | Trial | str | os.PathLike[str] | Sequence[object], **load_options: Any
+) -> IntrusionDataset:
+    """The data of a fit as one dataset: datasets merged, trials joined, paths loaded with
+    :func:`mudrft.io.load_dataset` and ``load_options`` (``area`` [m^2], ...)."""
+    kinds: tuple[type | tuple[type, ...], ...] = (IntrusionDataset, Trial, (str, os.PathLike))
+    one = isinstance(data, kinds) or not isinstance(data, Sequence)
+    items = [data] if one else list(data)  # type: ignore[arg-type]
+    found = {next((i for i, c in enumerate(kinds) if isinstance(x, c)), None) for x in items}
+    if not items or len(found) != 1 or None in found:
+        raise MudrftError(
+            "dataset must be an IntrusionDataset, a Trial, a path or a list of them, "
+            f"got {type(data).__name__}"
+        )
+    given = sorted(k for k, v in load_options.items() if v is not None)
+    if given and found != {2}:  # they describe how to read a file; a dataset has them
+        raise MudrftError(
+            f"{' and '.join(given)} apply to a log read from a path; this dataset is already "
+            "loaded (its trials carry their characteristic_length, and stress, not force): "
+            "leave them out, or pass the file's path"
+        )
+    if isinstance(data, IntrusionDataset):
+        return data
+    if found == {2}:
+        return load_dataset(data if one else items, **load_options)  # type: ignore[arg-type]
+    if found == {1}:
+        return IntrusionDataset(tuple(items))  # type: ignore[arg-type]
+    datasets = cast(list[IntrusionDataset], items)
+    return datasets[0].merge(*datasets[1:])
+
+
+def thin_trials(ds: IntrusionDataset, k: int) -> IntrusionDataset:
+    """Every ``k``-th sample of each trial, plus its deepest and last samples."""
+    trials = []
+    for tr in ds.trials:
+        n = len(tr)
+        keep = np.unique(np.r_[np.arange(0, n, k), int(np.argmax(tr.depth)), n - 1])
+        meta = {**tr.meta, "decimated": k}
+        trials.append(
+            replace(tr, time=tr.time[keep], depth=tr.depth[keep], stress=tr.stress[keep], meta=meta)
+        )
+    return replace(ds, trials=tuple(trials))
+
+
 #: Phase codes of :func:`segment`.
 PHASES = {"intrusion": 0, "hold": 1, "retraction": 2, "out": 3}
 #: Phases whose samples a fit reads (all but "out").
@@ -34,12 +190,8 @@ SEGMENT_TOLERANCE = 0.01
 
 
 def segment(trial: Trial, *, tolerance: float = SEGMENT_TOLERANCE) -> np.ndarray:
-    """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud.
-
-    Intrusion runs until the depth first comes within ``tolerance`` of its deepest, the
-    hold until it last leaves that band, the retraction until the depth is back within the
-    band around the surface; later samples are "out" (decision D42).
-    """
+    """Phase of every sample of a trial: 0 intrusion, 1 hold, 2 retraction, 3 out of the mud,
+    cut at ``tolerance`` of its deepest displacement [-] (decision D42)."""
     q = np.asarray(trial.depth, dtype=float)
     qmax = float(np.max(q))
     if qmax <= 0:
@@ -69,7 +221,6 @@ class Packed:
     valid: np.ndarray
     phase: np.ndarray
     weight: np.ndarray
-    lengths: np.ndarray
     nu: float
     k_a: float | None
     acceleration: bool
@@ -138,7 +289,7 @@ def pack(
     time, gamma, data = np.zeros((n_max, T)), np.zeros((n_max, T)), np.zeros((n_max, T))
     valid = np.zeros((n_max, T), dtype=bool)
     phase = np.full((n_max, T), -1, dtype=np.int8)
-    weight, lengths = np.zeros(T), np.zeros(T, dtype=int)
+    weight = np.zeros(T)
     for j, tr in enumerate(trials):
         n = len(tr)
         ph = segment(tr)
@@ -169,7 +320,6 @@ def pack(
                 "nothing to fit: is this the stress column of an intrusion log?"
             )
         weight[j] = 1.0 / span
-        lengths[j] = n
     dt = np.diff(time, axis=0)
     return Packed(
         gamma=gamma,
@@ -179,7 +329,6 @@ def pack(
         valid=valid,
         phase=phase,
         weight=weight,
-        lengths=lengths,
         nu=float(p.nu),
         k_a=free_k_a(p),
         acceleration=acceleration,

@@ -214,19 +214,14 @@ def classify(
         raise MudrftError(f"dataset must be an IntrusionDataset, got {type(dataset).__name__}")
     d = check_choice("direction", dataset.direction if direction is None else direction, DIRECTIONS)
     cands, labs = _candidates(candidates, labels, water_contents, d)
-    mask = pack(dataset, cands[0], acceleration=True, xi0=0.0).mask(ALL_PHASES)
     # residuals (m, K) relative to each trial's range, from one batched simulation, or one
     # per candidate when they differ in nu or k_a
     same = all(free_k_a(c) is None for c in cands) and len({float(c.nu) for c in cands}) == 1
-    R = np.concatenate(
-        [
-            pack(dataset, g[0], acceleration=True, xi0=0.0).residuals(
-                {k: np.array([getattr(c, k) for c in g]) for k in FIT_PARAMETERS}, mask
-            )
-            for g in ([cands] if same else [[c] for c in cands])
-        ],
-        axis=1,
-    )
+    groups = [cands] if same else [[c] for c in cands]
+    packs = [pack(dataset, g[0], acceleration=True, xi0=0.0) for g in groups]
+    mask = packs[0].mask(ALL_PHASES)
+    values = [{k: np.array([getattr(c, k) for c in g]) for k in FIT_PARAMETERS} for g in groups]
+    R = np.concatenate([p.residuals(v, mask) for p, v in zip(packs, values, strict=True)], axis=1)
     sse = np.sum(R**2, axis=0)
     m = R.shape[0]
     ll, prob = _softmax_loglik(sse, m, None if noise is None else positive_number("noise", noise))
@@ -242,8 +237,6 @@ def classify(
 class StreamClassifier:
     """Which known parameter set a stream of samples most resembles, updated per sample.
 
-    The squared residuals of each candidate's model are discounted by ``1 - 1/window``.
-
     Parameters
     ----------
     candidates, labels, water_contents : optional
@@ -253,7 +246,8 @@ class StreamClassifier:
     characteristic_length : float, keyword-only
         Plate length [m].
     window : float, keyword-only
-        Effective window length [samples] (> 1).
+        Effective window length [samples] (> 1): each candidate's squared residuals are
+        discounted by ``1 - 1/window`` per sample.
     noise : float, optional, keyword-only
         Stress noise standard deviation [Pa]; default the best candidate's windowed RMS.
 

@@ -3,11 +3,12 @@ log-parameters, phase by phase then jointly (decisions D40-D48 in docs/model.md)
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import time
-import warnings
 from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -15,11 +16,11 @@ from .._progress import make_progress
 from .._validation import (
     CalibrationWarning,
     MudrftError,
-    _caller_level,
     check_choice,
     check_in_range,
     number_in_range,
     positive_int,
+    warn_plausibility,
 )
 from ..constitutive.dynamics import evaluation
 from ..io import IntrusionDataset, Trial
@@ -27,26 +28,22 @@ from ..io._build import DIRECTIONS
 from ..metrics import relative_rmse
 from ..parameters.base import MudParameters
 from ..parameters.registry import paper_parameters
-from ._options import (
+from ._problem import (
+    FIT_PARAMETERS,
     as_dataset,
     auto_decimate,
+    pack,
     resolve_bounds,
     resolve_fixed,
     resolve_groups,
     thin_trials,
+    values_of,
 )
-from ._problem import FIT_PARAMETERS, pack, values_of
 from .rate import check_window, smooth_dataset
 from .result import POOR_FIT_HINT, POOR_FIT_RMSE, FitResult
 from .sensors import check_clipped, check_zero
-from .stages import (
-    STAGES,
-    joint_stage,
-    phase_stage,
-    stage_note,
-    start_engine,
-    uncertainty_at_optimum,
-)
+from .stages import STAGES, Engine, joint_stage, phase_stage, stage_note, start_stage
+from .uncertainty import uncertainty
 
 __all__ = ["calibrate"]
 
@@ -137,11 +134,8 @@ def calibrate(
 
     Notes
     -----
-    Residuals of each trial are divided by the trial's peak-to-peak stress (decision D45);
-    samples above the surface or after the plate is back at it are not fitted (D42). A free
-    parameter is *identified* if its robust relative standard error
-    :math:`\mathrm{se}(\ln p)\le 0.05` and it is not at a bound, *weak* up to 0.5, *not
-    identified* beyond, or at a bound (D44).
+    Each trial's residuals are divided by its peak-to-peak stress (decision D45); samples
+    out of the mud are not fitted (D42); the verdicts follow rule D44 (docs/model.md).
 
     Examples
     --------
@@ -154,8 +148,10 @@ def calibrate(
     True
     """
     t_start = time.perf_counter()
-    acceleration = evaluation(thixotropy, clock, acceleration)[2] == 1.0
-    xi0 = number_in_range("xi0", xi0, 0.0, 1.0)
+    # how the model is evaluated, checked, as pack and FitResult take it
+    model: dict[str, Any] = {"thixotropy": thixotropy, "clock": clock}
+    model["acceleration"] = evaluation(thixotropy, clock, acceleration)[2] == 1.0
+    model["xi0"] = number_in_range("xi0", xi0, 0.0, 1.0)
     if not isinstance(phases, (bool, np.bool_)):
         raise MudrftError(f"phases must be True or False, got {phases!r}")
     if (
@@ -179,7 +175,7 @@ def calibrate(
     free = tuple(k for k in selected if k not in held)
     if not free:
         raise MudrftError("every parameter is fixed: nothing to fit")
-    reporter = Reporter(progress, label="calibrate", steps=len(STAGES) + 3)
+    reporter = Reporter(progress)
 
     ds = as_dataset(dataset, area=area, characteristic_length=characteristic_length)
     d = check_choice("direction", ds.direction if direction is None else direction, DIRECTIONS)
@@ -189,10 +185,11 @@ def calibrate(
         k = auto_decimate(ds)
         if k > 1:
             longest = max(len(t) for t in ds.trials)
-            reporter.warn(
+            warn_plausibility(
                 f"the longest trial has {longest} samples; fitting every {ordinal(k)} sample "
                 f"(about {longest // k} per trial, decision D104) to keep the fit to minutes; "
-                "pass decimate=1 (CLI: --decimate 1) to fit every sample"
+                "pass decimate=1 (CLI: --decimate 1) to fit every sample",
+                CalibrationWarning,
             )
     if k > 1:
         ds = thin_trials(ds, k)
@@ -201,7 +198,7 @@ def calibrate(
     for line in notes:
         reporter.note(line)
     for line in warned:
-        reporter.warn(line)
+        warn_plausibility(line, CalibrationWarning)
     # samples whose step spans a change of speed are not fitted (module rate)
     exclude = [how.excluded(tr.time) for how, tr in zip(smoothing, ds.trials, strict=True)]
     if clip is not None:
@@ -215,29 +212,12 @@ def calibrate(
         reporter.note(f"calibrate: depth of {line}")
     base = initial if initial is not None else paper_parameters(0.25, d)
     try:
-        packed = pack(
-            ds,
-            base,
-            acceleration=acceleration,
-            xi0=xi0,
-            thixotropy=thixotropy,
-            clock=clock,
-            exclude=exclude,
-            direction=d,
-        )
+        packed = pack(ds, base, exclude=exclude, direction=d, **model)
     except MudrftError as exc:
         raise MudrftError(f"{ds.source}: {exc}" if ds.source else str(exc)) from None
-    engine, start = start_engine(
-        packed,
-        base,
-        from_paper=initial is None,
-        direction=d,
-        free=free,
-        fixed=held,
-        bounds=bnds,
-        trace_limit=trace_limit,
-        note=reporter.note,
-    )
+    engine = Engine(packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bnds, trace_limit)
+    paper = d if initial is None else None
+    start = start_stage(engine, free, held, paper=paper, note=reporter.note)
     reporter.step()
     stages = [start]
     for stage in STAGES:
@@ -250,8 +230,7 @@ def calibrate(
     stages.append(joint)
     reporter.note(stage_note(joint, f" ({status})"))
     reporter.step()
-    tare_se = None if tare is None else tuple(off.error for off in tare)
-    unc = uncertainty_at_optimum(engine, free, confidence_level, tare=tare_se)
+    unc = uncertainty(engine, free, confidence_level, tare=tare)
     params = MudParameters(
         **{k: engine.values[k] for k in FIT_PARAMETERS},
         nu=packed.nu,
@@ -275,20 +254,17 @@ def calibrate(
         trace=tuple(engine.trace),
         direction=d,
         bounds={k: bnds[k] for k in free},
-        acceleration=bool(acceleration),
-        xi0=float(xi0),
+        **model,
         dataset=ds,
-        thixotropy=packed.thixotropy,
-        clock=packed.clock,
         data_warnings=tuple(warned),
         rate=rate,
         depth_notes=depth_notes,
     )
     if fit.relative_rmse > POOR_FIT_RMSE:
-        reporter.warn(POOR_FIT_HINT.removeprefix("warning: "))
+        warn_plausibility(POOR_FIT_HINT.removeprefix("warning: "), CalibrationWarning)
     outliers = fit.outlying_trials()
     if outliers is not None:
-        reporter.warn(outliers)
+        warn_plausibility(outliers, CalibrationWarning)
     reporter.note(
         f"calibrate: done in {time.perf_counter() - t_start:.2f} s, relative RMSE "
         f"{100 * fit.relative_rmse:.2f} %, identified {list(fit.identified())}"
@@ -298,36 +274,25 @@ def calibrate(
 
 
 class Reporter:
-    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s); the
-    job is called ``label`` and made of ``steps`` calls of :meth:`step`."""
+    """Where a fit reports (``progress`` as :func:`~mudrft.calibration.calibrate`'s): each
+    line to :attr:`note`, and the fraction done after each of the :attr:`STEPS`."""
 
-    def __init__(
-        self, progress: bool | Callable[[str], object] | None, *, label: str, steps: int
-    ) -> None:
+    #: Steps of a fit's progress: the start, each phase stage, the joint stage, the result.
+    STEPS = len(STAGES) + 3
+
+    def __init__(self, progress: bool | Callable[[str], object] | None) -> None:
         if not (progress is None or isinstance(progress, bool) or callable(progress)):
             raise MudrftError(f"progress must be True, False, None or a callable, got {progress!r}")
-        self._lines = progress if callable(progress) else None
-        self._fraction = make_progress(True, label) if progress is True else None
-        self._steps = max(int(steps), 1)
+        #: The line callable, or the log when there is none (never both).
+        self.note = progress if callable(progress) else functools.partial(logger.info, "%s")
+        self._fraction = make_progress(True, "calibrate") if progress is True else None
         self._done = 0
 
-    def note(self, message: str) -> None:
-        """Pass one line to the line callable, or log it when there is none (never both)."""
-        if self._lines is not None:
-            self._lines(message)
-        else:
-            logger.info("%s", message)
-
-    @staticmethod
-    def warn(message: str) -> None:
-        """Warn (:class:`~mudrft._validation.CalibrationWarning`), whatever ``progress`` is."""
-        warnings.warn(message, CalibrationWarning, stacklevel=_caller_level())
-
     def step(self) -> None:
-        """One more step of the job is done."""
-        self._done = min(self._done + 1, self._steps)
+        """One more step of the fit is done."""
+        self._done = min(self._done + 1, self.STEPS)
         if self._fraction is not None:
-            self._fraction(self._done / self._steps)
+            self._fraction(self._done / self.STEPS)
 
 
 def ordinal(k: int) -> str:

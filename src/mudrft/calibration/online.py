@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import NamedTuple
@@ -20,6 +19,7 @@ from .._validation import (
     check_shape,
     number_in_range,
     positive_number,
+    warn_plausibility,
 )
 from ..constitutive import channel_constants, channel_update, initial_state
 from ..constitutive.contact import in_contact
@@ -156,13 +156,8 @@ def bank_errors(
 class OnlineEstimator:
     r"""Recursive least squares with forgetting of the linear constants and tau_build (D46).
 
-    Feed samples with :meth:`update` and read :attr:`estimate`. ``model="exact"`` (default)
-    steps the full model alongside the stream for the regressors of
-    :math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`, the other constants from ``prior`` (unbiased
-    when those are right); ``model="paper"`` uses the supplementary's approximations (Sec.
-    III-A), which need only ``n`` but give apparent values. One filter runs per
-    :math:`\tau_{build}` of a grid; the one with the smallest discounted prediction error is
-    read, refined by a parabola in :math:`\ln\tau_{build}`.
+    Feed samples with :meth:`update` and read :attr:`estimate`; one filter runs per
+    :math:`\tau_{build}` of a grid, and the one that predicts best is read.
 
     Parameters
     ----------
@@ -170,7 +165,9 @@ class OnlineEstimator:
         Starting values and fixed constants; default the paper's row W = 35 % of
         ``direction``.
     model : {"exact", "paper"}, keyword-only
-        Regressor model (see above).
+        Regressors of the full model stepped alongside the stream, the other constants from
+        ``prior`` (unbiased when those are right), or the supplementary's approximations
+        (Sec. III-A), which need only ``n`` but give apparent values.
     direction : {"vertical", "horizontal"}, keyword-only
         Direction of the default prior.
     characteristic_length : float, keyword-only
@@ -399,12 +396,11 @@ class OnlineEstimator:
             elif v is not None:
                 kept.append(f"{k} = {v:.4g}")
         if kept:
-            warnings.warn(
+            warn_plausibility(
                 f"online estimate not positive ({', '.join(kept)}): the base value is kept; "
                 "the prior's fixed constants may not describe this mud (calibrate offline, "
                 "then rebase() the estimator on the fit)",
                 CalibrationWarning,
-                stacklevel=2,
             )
         return b.replace(**changes, source=f"online estimate ({self.model})")
 

@@ -17,17 +17,17 @@ from ..io import IntrusionDataset, atomic_write, json_text
 from ..io.atomic import finite_or_none
 from ..io.dataset import OVERWRITE_OPTION
 from ..parameters.base import PARAMETER_UNITS, MudParameters
-from ._options import as_dataset
-from ._problem import FIT_PARAMETERS, PHASES, pack, segment, values_of
+from ._problem import FIT_PARAMETERS, PHASES, as_dataset, pack, segment, values_of
 from .persistence import FIT_FORMAT, FIT_VERSION, parameters_from_json, read_json
 from .rate import check_window, smooth_dataset
+from .stages import StageReport
 from .uncertainty import IDENTIFIED_SE, NOT_IDENTIFIED_SE, PER_PARAMETER, outlying_trials
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult", "StageReport"]
+__all__ = ["POOR_FIT_HINT", "POOR_FIT_RMSE", "FitResult"]
 
 #: Relative RMSE above which a fit is flagged as not describing the data [-].
 POOR_FIT_RMSE = 0.25
@@ -47,34 +47,6 @@ _PLAIN_FIELDS = tuple(
     "relative_rmse trial_relative_rmse noise status message condition_number acceleration "
     "thixotropy clock xi0 data_warnings rate depth_notes bounds".split()
 )
-
-
-@dataclass(frozen=True)
-class StageReport:
-    """Summary of one stage of a fit.
-
-    Attributes
-    ----------
-    name : str
-        ``"start"``, ``"intrusion"``, ``"relaxation"``, ``"retraction"`` or ``"joint"``.
-    free : tuple of str
-        Parameters freed in the stage.
-    simulations : int
-        Batched simulations of all trials run in the stage.
-    cost : float
-        Half the sum of squared weighted residuals of the stage's samples [-].
-    seconds : float
-        Wall time of the stage [s].
-    message : str
-        Outcome of the solver.
-    """
-
-    name: str
-    free: tuple[str, ...]
-    simulations: int
-    cost: float
-    seconds: float
-    message: str = ""
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,17 +226,10 @@ class FitResult:
             raise MudrftError("predict needs a dataset: this FitResult was loaded without data")
         if dataset is not None:  # its depth read as the fitted data's were
             ds = smooth_dataset(ds, self.rate)[0]
-        packed = pack(
-            ds,
-            self.parameters,
-            acceleration=self.acceleration,
-            xi0=self.xi0,
-            thixotropy=self.thixotropy,
-            clock=self.clock,
-            direction=self.direction,
-        )
+        model = {k: getattr(self, k) for k in ("acceleration", "xi0", "thixotropy", "clock")}
+        packed = pack(ds, self.parameters, direction=self.direction, **model)
         sim = packed.simulate(values_of(self.parameters, batch=1))[:, 0, :]
-        return [sim[:n, j].copy() for j, n in enumerate(packed.lengths)]
+        return [sim[: len(tr), j].copy() for j, tr in enumerate(ds.trials)]
 
     def plot(
         self,
@@ -311,11 +276,8 @@ class FitResult:
         ds = self.dataset
         data = None
         if ds is not None:
-            data = {
-                "source": ds.source,
-                "trials": [t.name for t in ds.trials],
-                "synthetic": ds.synthetic,
-            }
+            trials = [t.name for t in ds.trials]
+            data = {"source": ds.source, "trials": trials, "synthetic": ds.synthetic}
         return finite_or_none(
             {
                 "format": FIT_FORMAT,

@@ -153,16 +153,13 @@ def check_clipped(
     """A saturated sensor in a fit's data (decision D153): the samples to leave out of each
     trial (None with ``clipped="keep"`` or when there are none) and the warnings."""
     masks = [clipped_samples(tr) for tr in ds.trials]
-    if clipped == "keep":
-        done = (
-            "they are fitted as they are (clipped='keep', CLI --clipped keep), which biases "
-            "the constants; leave them out with clipped='exclude'"
-        )
-    else:
-        done = (
-            "they are left out of the fit (a clipped sample only says the stress was at "
-            "least the limit); clipped='keep' (CLI --clipped keep) fits them"
-        )
+    done = (
+        "they are fitted as they are (clipped='keep', CLI --clipped keep), which biases "
+        "the constants; leave them out with clipped='exclude'"
+        if clipped == "keep"
+        else "they are left out of the fit (a clipped sample only says the stress was at "
+        "least the limit); clipped='keep' (CLI --clipped keep) fits them"
+    )
     warned = []
     for tr, mask in zip(ds.trials, masks, strict=True):
         if mask.any():

@@ -1,8 +1,7 @@
 r"""The solver of a calibration (internal) and its stages: start, one stage per phase
-group, joint, and the uncertainty at the optimum (decisions D41, D43). Bounded least
-squares in log-parameters, the parameters the model is linear in
-(:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved exactly by non-negative least squares
-(variable projection)."""
+group and joint (decisions D41, D43). Bounded least squares in log-parameters, the
+parameters the model is linear in (:math:`\alpha,\eta_\infty,\eta_m,\sigma_Y`) solved
+exactly by non-negative least squares (variable projection)."""
 
 from __future__ import annotations
 
@@ -17,11 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._validation import MudrftError
-from ..parameters.base import MudParameters
 from ..parameters.registry import table_rows
 from ._problem import ALL_PHASES, FIT_PARAMETERS, LINEAR_PARAMETERS, PHASES, Packed, basis
-from .result import StageReport
-from .uncertainty import at_bound, uncertainty
 
 if TYPE_CHECKING:
     from scipy.optimize import OptimizeResult
@@ -29,6 +25,34 @@ if TYPE_CHECKING:
 _FD_STEP = 1e-6  # forward-difference step in log-parameters
 
 Values = dict[str, NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class StageReport:
+    """Summary of one stage of a fit.
+
+    Attributes
+    ----------
+    name : str
+        ``"start"``, ``"intrusion"``, ``"relaxation"``, ``"retraction"`` or ``"joint"``.
+    free : tuple of str
+        Parameters freed in the stage.
+    simulations : int
+        Batched simulations of all trials run in the stage.
+    cost : float
+        Half the sum of squared weighted residuals of the stage's samples [-].
+    seconds : float
+        Wall time of the stage [s].
+    message : str
+        Outcome of the solver.
+    """
+
+    name: str
+    free: tuple[str, ...]
+    simulations: int
+    cost: float
+    seconds: float
+    message: str = ""
 
 
 @dataclass
@@ -101,27 +125,23 @@ class Engine:
         """The ``starts`` best ``(cost, point)`` of the candidate points, the linear free
         parameters of each solved exactly; all in one batched simulation."""
         lin = [k for k in free if k in LINEAR_PARAMETERS]
-        cands = candidates or [{}]
-        G, nl = len(cands), len(lin)
+        G, nl = len(candidates), len(lin)
         over = {
-            k: np.array([c.get(k, self.values[k]) for c in cands])
-            for k in {k for c in cands for k in c}
+            k: np.array([c.get(k, self.values[k]) for c in candidates])
+            for k in {k for c in candidates for k in c}
         }
         res = self.packed.residuals(basis(self.batch(over, G), lin), mask).reshape(-1, G, 1 + nl)
         scored = []
         for g in range(G):
             if not np.all(np.isfinite(res[:, g, :])):
                 continue
-            point = {k: float(v) for k, v in cands[g].items()}
-            r, coef = self.project(res[:, g, :], lin, {**self.values, **cands[g]})
+            point = {k: float(v) for k, v in candidates[g].items()}
+            r, coef = self.project(res[:, g, :], lin, {**self.values, **candidates[g]})
             point.update(zip(lin, coef, strict=True))
             cost = 0.5 * float(r @ r)
             scored.append((cost, point))
             self.record(stage + " grid", cost, {**self.values, **point})
-        if not scored:
-            return [(math.inf, {})]
-        scored.sort(key=lambda t: t[0])
-        return scored[:starts]
+        return sorted(scored, key=lambda t: t[0])[:starts] or [(math.inf, {})]
 
     def fit(
         self,
@@ -137,11 +157,11 @@ class Engine:
         (None when only linear parameters were free)."""
         from scipy.optimize import least_squares
 
-        base = {**self.values, **(start or {})}
+        self.values.update(start or {})
+        base = dict(self.values)
         lin = [k for k in project if k in LINEAR_PARAMETERS]
         names = [k for k in free if k not in lin]
         if not names:  # only linear parameters free: one projection solves them
-            self.values.update(base)
             r, c = self.project(self.packed.residuals(basis(self.batch({}, 1), lin), mask), lin)
             self.values.update(zip(lin, c, strict=True))
             self.record(stage, 0.5 * float(r @ r), self.values)
@@ -152,12 +172,6 @@ class Engine:
         last: list[tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = []
         linear_at: dict[bytes, list[float]] = {}
 
-        def values_at(X: NDArray[np.float64]) -> Values:
-            """Parameter batch of the log-points ``X`` (B, k), the others at ``base``."""
-            out = {p: np.full(X.shape[0], base[p]) for p in FIT_PARAMETERS}
-            out.update({p: np.exp(X[:, i]) for i, p in enumerate(names)})
-            return out
-
         def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
             """Residuals (m,) and forward-difference Jacobian (m, k) at the log-point ``x``,
             from one batched simulation of it and its neighbours (the last one cached)."""
@@ -167,7 +181,8 @@ class Engine:
             X = np.repeat(x[None, :], 1 + k, axis=0)
             h = np.where(x + _FD_STEP > hi, -_FD_STEP, _FD_STEP)  # step inward at a bound
             X[1 + np.arange(k), np.arange(k)] += h
-            R = self.packed.residuals(basis(values_at(X), lin), mask)
+            over = {p: np.exp(X[:, i]) for i, p in enumerate(names)}
+            R = self.packed.residuals(basis(self.batch(over, 1 + k), lin), mask)
             R = R.reshape(-1, 1 + k, 1 + len(lin))
             cols = [self.project(R[:, i, :], lin, base) for i in range(1 + k)]
             r = cols[0][0]
@@ -178,7 +193,7 @@ class Engine:
             J[~np.isfinite(J)] = 0.0
             last[:] = [(key, r, J)]
             linear_at[key] = cols[0][1]
-            point = {p: float(v[0]) for p, v in values_at(x[None, :]).items()}
+            point = {**base, **{p: float(v[0]) for p, v in over.items()}}
             point.update(zip(lin, cols[0][1], strict=True))
             self.record(stage, 0.5 * float(r @ r), point)
             return r, J
@@ -195,18 +210,12 @@ class Engine:
             ftol=1e-10,
             gtol=1e-10,
         )
-        self.values.update(base)
         self.values.update({p: float(np.exp(sol.x[i])) for i, p in enumerate(names)})
         if lin:
             if sol.x.tobytes() not in linear_at:
                 evaluate(sol.x)
             self.values.update(zip(lin, linear_at[sol.x.tobytes()], strict=True))
         return float(sol.cost), sol
-
-    def cost(self, mask: NDArray[np.bool_]) -> float:
-        """Half the sum of squared weighted residuals at the current values [-]."""
-        r = self.packed.residuals(self.batch({}, 1), mask)[:, 0]
-        return 0.5 * float(r @ r)
 
     def jacobian(
         self, mask: NDArray[np.bool_], free: tuple[str, ...]
@@ -280,21 +289,17 @@ def stage_note(report: StageReport, suffix: str = "") -> str:
     )
 
 
-def start_engine(
-    packed: Packed,
-    base: MudParameters,
-    *,
-    from_paper: bool,
-    direction: str,
+def start_stage(
+    engine: Engine,
     free: tuple[str, ...],
     fixed: dict[str, float],
-    bounds: dict[str, tuple[float, float]],
-    trace_limit: int,
+    *,
+    paper: str | None,
     note: Callable[[str], object],
-) -> tuple[Engine, StageReport]:
-    """The "start" stage: an engine at ``base``'s values [SI] (or the best rescaled paper
-    row of ``direction`` with ``from_paper``), the ``fixed`` values applied."""
-    t0 = time.perf_counter()
+) -> StageReport:
+    """The "start" stage: the ``engine`` moved from its values [SI] to the best rescaled
+    paper row of direction ``paper`` (unless None), the ``fixed`` values applied."""
+    t0, packed = time.perf_counter(), engine.packed
     samples = int(np.count_nonzero(packed.valid))
     if samples <= len(free):
         raise MudrftError(
@@ -303,11 +308,8 @@ def start_engine(
             "(samples after the plate is back at the surface do not count): give a longer "
             "log (or a smaller decimate) or fit fewer parameters (groups=..., CLI --groups)"
         )
-    engine = Engine(
-        packed, {k: float(getattr(base, k)) for k in FIT_PARAMETERS}, bounds, trace_limit
-    )
-    if from_paper:  # the paper row that fits best, its free linear parameters rescaled (D43)
-        rows = table_rows(direction)
+    if paper is not None:  # the paper row that fits best, its free linear parameters rescaled (D43)
+        rows = table_rows(paper)
         ws = sorted(rows)
         cands = [{k: float(rows[w][k]) for k in FIT_PARAMETERS} for w in ws]
         lin = tuple(k for k in LINEAR_PARAMETERS if k in free)
@@ -317,7 +319,7 @@ def start_engine(
             w for w, c in zip(ws, cands, strict=True) if all(c[k] == point[k] for k in nonlinear)
         )
         note(
-            f"calibrate: start from the paper's {direction} row W = {100 * w:g} % "
+            f"calibrate: start from the paper's {paper} row W = {100 * w:g} % "
             f"(free linear parameters rescaled), cost {cost:.4g}"
         )
         engine.values.update(point)
@@ -329,9 +331,9 @@ def start_engine(
     except MudrftError as exc:
         raise MudrftError(f"invalid starting or fixed parameter values: {exc}") from None
     sims = packed.simulations  # those of the start point; the cost below is not counted
-    cost = engine.cost(packed.mask(ALL_PHASES))
-    message = "paper row" if from_paper else "initial"
-    return engine, StageReport("start", (), sims, cost, time.perf_counter() - t0, message)
+    r = packed.residuals(engine.batch({}, 1), packed.mask(ALL_PHASES))[:, 0]
+    message = "initial" if paper is None else "paper row"
+    return StageReport("start", (), sims, 0.5 * float(r @ r), time.perf_counter() - t0, message)
 
 
 def _message(sol: OptimizeResult | None) -> str:
@@ -343,14 +345,12 @@ def phase_stage(
 ) -> StageReport | None:
     """Fit one group on the samples of its phase from the ``starts`` best points of its
     grid; None if the stage has nothing to do."""
-    if not any(k in free for k in stage.own):
-        return None  # none of the stage's own group is fitted
+    mask = engine.packed.mask(stage.phases)
+    if not mask.any() or not any(k in free for k in stage.own):
+        return None  # no sample of the stage's phases, or none of its own group is fitted
     stage_free = tuple(
         k for k in FIT_PARAMETERS if k in free and (k in stage.own or k in stage.linear)
     )
-    mask = engine.packed.mask(stage.phases)
-    if not mask.any():
-        return None
     t0, n0 = time.perf_counter(), engine.packed.simulations
     saved = dict(engine.values)
     axes = {  # the stage's grid of starting points, in bounds, with the current values
@@ -377,27 +377,10 @@ def joint_stage(engine: Engine, free: tuple[str, ...], *, max_nfev: int) -> tupl
     with all of them solver variables; returns the report and the solver status."""
     t0, n0 = time.perf_counter(), engine.packed.simulations
     mask = engine.packed.mask(ALL_PHASES)
-    cost, sol = engine.fit("joint", mask, free, max_nfev, project=free)
-    cost, sol_full = engine.fit("joint", mask, free, max_nfev)
-    sol = sol_full if sol_full is not None else sol
+    engine.fit("joint", mask, free, max_nfev, project=free)
+    cost, sol = engine.fit("joint", mask, free, max_nfev)  # the polish always runs the solver
     sims = engine.packed.simulations - n0
     report = StageReport("joint", free, sims, cost, time.perf_counter() - t0, _message(sol))
     if sol is None or sol.status > 0:
         return report, "converged"
     return report, "max_evaluations" if sol.status == 0 else "failed"
-
-
-def uncertainty_at_optimum(
-    engine: Engine, free: tuple[str, ...], level: float, *, tare: tuple[float, ...] | None = None
-) -> dict[str, Any]:
-    """Standard errors, intervals and verdicts at the engine's values, at ``level`` [-];
-    ``tare`` is the standard error [Pa] of each trial's subtracted sensor zero."""
-    mask = engine.packed.mask(ALL_PHASES)
-    r, J = engine.jacobian(mask, free)
-    bound = at_bound(engine.values, free, engine.bounds)
-    _, trial = np.nonzero(mask)  # the residuals' order: time, then trial
-    order = np.argsort(trial, kind="stable")  # each trial's residuals together, in time order
-    shift = None if tare is None else np.asarray(tare) * engine.packed.weight
-    return uncertainty(
-        r[order], J[order], free, bound, level, engine.values, engine.bounds, trial[order], shift
-    )

@@ -13,12 +13,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._problem import FIT_PARAMETERS
+from ._problem import ALL_PHASES, FIT_PARAMETERS
+
+if TYPE_CHECKING:
+    from .sensors import Offset
+    from .stages import Engine
 
 #: The per-parameter entries of a fit (:class:`~mudrft.calibration.FitResult` fields).
 PER_PARAMETER = tuple(
@@ -124,23 +128,23 @@ def at_bound(
 
 
 def uncertainty(
-    r: NDArray[np.float64],
-    J: NDArray[np.float64],
-    free: tuple[str, ...],
-    bound: dict[str, bool],
-    level: float,
-    values: dict[str, float],
-    bounds: dict[str, tuple[float, float]],
-    trial: NDArray[np.intp],
-    shift: NDArray[np.float64] | None,
+    engine: Engine, free: tuple[str, ...], level: float, *, tare: Sequence[Offset] | None = None
 ) -> dict[str, Any]:
     """The :class:`~mudrft.calibration.FitResult` fields of the uncertainty (errors,
-    intervals at ``level`` [-], verdicts, correlation, noise, condition number) at an
-    optimum, from the weighted residuals ``r`` (m,) and their Jacobian ``J`` (m, k) in the
-    log of the ``free`` parameters; ``bound`` (:func:`at_bound`), ``values`` [SI] and
-    ``bounds`` [SI] by name; ``trial`` and ``shift`` as :func:`robust_log_covariance`."""
+    intervals at ``level`` [-], verdicts, correlation, noise, condition number) at the
+    ``engine``'s values, from the weighted residuals and their Jacobian in the log of the
+    ``free`` parameters; ``tare`` holds each trial's subtracted sensor zero, with its
+    standard error [Pa]."""
     from scipy.stats import t as student_t
 
+    mask = engine.packed.mask(ALL_PHASES)
+    r, J = engine.jacobian(mask, free)
+    values, bounds = engine.values, engine.bounds
+    bound = at_bound(values, free, bounds)
+    _, trial = np.nonzero(mask)  # the residuals' order: time, then trial
+    order = np.argsort(trial, kind="stable")  # each trial's residuals together, in time order
+    r, J, trial = r[order], J[order], trial[order]
+    shift = None if tare is None else np.array([t.error for t in tare]) * engine.packed.weight
     m, k = J.shape
     dof = max(m - k, 1)
     s2 = float(r @ r) / dof
@@ -186,10 +190,8 @@ OUTLYING_TRIAL_FLOOR = 0.002
 def outlying_trials(
     rmse: Sequence[float], ranges: Sequence[float], names: Sequence[str]
 ) -> str | None:
-    """The warning naming the trials that fit much worse than the others, or None (D139):
-    with three trials or more, those whose relative RMSE [-] and RMSE in pascals (times
-    their stress ``ranges`` [Pa]) both exceed :data:`OUTLYING_TRIAL_RATIO` times the median
-    of the others', unless below :data:`OUTLYING_TRIAL_FLOOR`."""
+    """The warning naming the trials whose relative ``rmse`` [-] and RMSE in pascals (times
+    their stress ``ranges`` [Pa]) are both outliers (decision D139), or None."""
     if len(rmse) < 3:
         return None
     absolute = [r * g for r, g in zip(rmse, ranges, strict=True)]
