@@ -146,7 +146,7 @@ class MudWalkerEnv(_CpuEnv):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            from ..integrations.walk_output import _renderer
+            from ..integrations.walk import _renderer
 
             self._renderer = _renderer(self.layout.model)
             if self._renderer is None:
