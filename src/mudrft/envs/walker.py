@@ -401,12 +401,11 @@ class MudWalkerEnv(_CpuEnv):
         self._mj = _mujoco()
         m = self.layout.model
         self.data = self._mj.MjData(m)
-        foot = cfg.foot_object
         fielded = cfg.field is not None or cfg.randomize is not None
         self.field = self.base_field = cfg.mud_field if fielded else None
         self.coupling = None if cfg.ground == "rigid" else attach(
-            m, list(self.layout.bodies), self.base_field or cfg.mud, feet=foot, bottom=cfg.bottom,
-            backend=backend,
+            m, list(self.layout.bodies), self.base_field or cfg.mud, feet=cfg.foot_object,
+            bottom=cfg.bottom, backend=backend,
         )  # fmt: skip
         box = gymnasium.spaces.Box
         self.action_space = box(-1.0, 1.0, (ACTION_SIZE,), dtype=np.float32)

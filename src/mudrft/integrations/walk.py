@@ -117,8 +117,7 @@ def _per_step(table: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.flo
     t = table["time [s]"]
     step = table["step"].astype(int)
     out: dict[str, list[float]] = {c: [] for c in STEP_COLUMNS}
-    last = int(step[-1])
-    for k in range(0, last):  # the last step may be cut short
+    for k in range(int(step[-1])):  # the last step may be cut short
         sel = step == k
         if not np.any(sel):
             continue
@@ -375,15 +374,14 @@ class GaitController:
             self._z0 = list(ankle_z)
             self._step = k
         half = 0.5 * self.step_length(k)
-        top = self.surface + ANKLE_HEIGHT + self.lift
         land = self.surface + ANKLE_HEIGHT
+        top = land + self.lift
         q = np.empty(6)
         for leg in (0, 1):
             x0 = self._start[leg]
             if leg == stance:
                 x = x0 + (-half - x0) * s
-                hip_world = self.surface + ANKLE_HEIGHT + self.hip_height
-                z = ankle_z[leg] - hip_world
+                z = ankle_z[leg] - (land + self.hip_height)  # the hip over a standing foot
             else:
                 # weight shift, slow pull-out, forward swing, set-down (fractions of the step)
                 p = self.phases
