@@ -17,7 +17,7 @@ from numpy.typing import DTypeLike
 
 #: Most samples one run may hold: a trajectory, a load-controlled run, a walk.
 MAX_SAMPLES = 5_000_000
-#: Default of :func:`memory_limit` [bytes]; ``MUDRFT_MEMORY_LIMIT`` overrides it.
+#: Largest allocation mudrft makes [bytes], unless ``MUDRFT_MEMORY_LIMIT`` sets another.
 MEMORY_LIMIT = 4 * 1024**3
 #: Sizes a foot dimension may have at all [m]; outside, an error.
 LENGTH_LIMITS = (1e-6, 100.0)
@@ -221,26 +221,21 @@ def format_bytes(nbytes: float) -> str:
     return f"{n:.3g} PiB"
 
 
-def memory_limit() -> float:
-    """Largest allocation mudrft makes [bytes]: ``MUDRFT_MEMORY_LIMIT``, else the default."""
-    text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
-    if not text:
-        return float(MEMORY_LIMIT)
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise MudrftError(
-            f"the environment variable MUDRFT_MEMORY_LIMIT must be a number of bytes > 0 "
-            f"(e.g. 16e9), got {text!r}"
-        )
-    return value
-
-
 def check_memory(what: str, nbytes: float, *, hint: str) -> None:
-    """Refuse ``what`` if it needs ``nbytes`` [bytes], more than :func:`memory_limit`."""
-    limit = memory_limit()
+    """Refuse ``what`` if it needs ``nbytes`` [bytes], more than ``MUDRFT_MEMORY_LIMIT``
+    [bytes], else :data:`MEMORY_LIMIT`."""
+    text = os.environ.get("MUDRFT_MEMORY_LIMIT", "").strip()
+    limit = float(MEMORY_LIMIT)
+    if text:
+        try:
+            limit = float(text)
+        except ValueError:
+            limit = math.nan
+        if not (math.isfinite(limit) and limit > 0):
+            raise MudrftError(
+                f"the environment variable MUDRFT_MEMORY_LIMIT must be a number of bytes > 0 "
+                f"(e.g. 16e9), got {text!r}"
+            )
     if not nbytes <= limit:  # also catches NaN
         raise MudrftError(
             f"{what} would need about {format_bytes(nbytes)} of memory, more than the limit of "

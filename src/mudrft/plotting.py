@@ -37,11 +37,9 @@ def require_matplotlib() -> ModuleType:
 def _two_panels(axes: AxesArg) -> tuple[Figure, Axes, Axes]:
     """``(figure, left, right)``: a new figure, or the first two of the caller's ``axes``."""
     if axes is None:
-        fig, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
-    else:
-        fig = np.asarray(axes, dtype=object).ravel()[0].figure
+        _, axes = require_matplotlib().subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     a0, a1 = np.asarray(axes, dtype=object).ravel()[:2]
-    return fig, a0, a1
+    return a0.figure, a0, a1
 
 
 def plot_plate(result: Any, ax: AxesArg = None) -> Figure:

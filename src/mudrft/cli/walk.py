@@ -86,7 +86,6 @@ def run(args: argparse.Namespace) -> int:
     require_extra("matplotlib", needed_for="mudrft walk (walk.png)")
     from ..feet import by_name
     from ..integrations import walk as W
-    from ..integrations import walk_output as WO
 
     if dt > W.MAX_DT:
         raise MudrftError(f"--dt must be <= {W.MAX_DT} s for the biped, got {dt:g}")
@@ -113,10 +112,10 @@ def run(args: argparse.Namespace) -> int:
         s["water_content"] = float(args.water_content)
         s["mud"] = mud.name
         s["wall_time [s]"] = round(time.perf_counter() - t0, 3)
-        WO._write_csv(stage / "walk.csv", res.table, WO.WALK_COLUMNS)
-        WO._write_csv(stage / "steps.csv", res.steps, WO.STEP_COLUMNS)
-        WO.plot_walk(res, stage / "walk.png")
-        strip = WO.save_strip(res.frames, stage / "frames.png")
+        W._write_csv(stage / "walk.csv", res.table, W.WALK_COLUMNS)
+        W._write_csv(stage / "steps.csv", res.steps, W.STEP_COLUMNS)
+        W.plot_walk(res, stage / "walk.png")
+        strip = W.save_strip(res.frames, stage / "frames.png")
         s["frames"] = strip.name if strip is not None else None
         (stage / "summary.json").write_text(json_text(s))
     _warn_if_no_step({foot.name: s}, seconds, step_time)

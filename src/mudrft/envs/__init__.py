@@ -22,7 +22,7 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     raise ImportError("the mudrft environments need gymnasium: pip install 'mudrft[rl]'") from exc
 
 from .go1 import MudGo1Env
-from .mud_walker import MudWalkerEnv
+from .walker import MudWalkerEnv
 from .with_mud import WithMud, with_mud
 
 if TYPE_CHECKING:  # imported by __getattr__ on first use (the MJX coupling)
@@ -51,7 +51,7 @@ def register_envs() -> None:
         return
     gymnasium.register(
         id="mudrft/MudWalker-v0",
-        entry_point="mudrft.envs.mud_walker:make_walker",
+        entry_point="mudrft.envs.walker:make_walker",
         vector_entry_point="mudrft.envs.vector:MudWalkerVectorEnv",
         max_episode_steps=1000,
     )

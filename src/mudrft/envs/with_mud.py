@@ -27,8 +27,15 @@ __all__ = ["WithMud", "with_mud"]
 
 
 class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type: ignore[misc]
-    """A gymnasium MuJoCo environment stepped in mud (:func:`with_mud`); ``coupling`` is
-    the mud under its model."""
+    """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
+
+    The physics steps go through :func:`mudrft.integrations.mujoco.attach`, which takes
+    ``feet`` (``"auto"``, or bodies by name, geom name or id), ``mud`` (default the paper's
+    at 25 % water content), ``floor`` (``"below"`` lowers the model's floor to a bed under
+    the surface, in place) and ``attach_options``. An RK4 model (Ant's) is switched to
+    ``implicitfast``. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world
+    frame) and ``"mud_depth"`` (nfeet,) [m]. ``coupling`` is the mud coupling.
+    """
 
     def __init__(
         self, env: Any, feet: str | int | Sequence[str | int] = "auto",
@@ -92,18 +99,5 @@ class WithMud(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):  # type
         return obs, reward, terminated, truncated, self._info(info)
 
 
-def with_mud(
-    env: Any, feet: str | int | Sequence[str | int] = "auto", mud: Mud | MudTerrain | None = None,
-    *, floor: str = "below", **attach_options: Any,
-) -> WithMud:  # fmt: skip
-    """Put mud under a gymnasium MuJoCo environment's model (Ant, Humanoid, Walker2d, ...).
-
-    The physics steps go through :func:`mudrft.integrations.mujoco.attach`, which takes
-    ``feet`` (``"auto"``, or bodies by name, geom name or id), ``mud`` (default the paper's
-    at 25 % water content), ``floor`` (``"below"`` lowers the model's floor to a bed under
-    the surface, in place) and ``attach_options``. An RK4 model (Ant's) is switched to
-    ``implicitfast``. Each step's ``info`` gains ``"mud_force"`` (nfeet, 3) [N] (world
-    frame) and ``"mud_depth"`` (nfeet,) [m]. Returns the wrapped environment, whose
-    ``.coupling`` is the mud coupling.
-    """
-    return WithMud(env, feet, mud, floor=floor, **attach_options)
+#: :class:`WithMud` by its function-style name.
+with_mud = WithMud

@@ -1,4 +1,5 @@
-r"""A small planar biped walking in mud, and the ``mudrft walk`` command.
+r"""A small planar biped walking in mud, the ``mudrft walk`` command, and what a walk returns
+and writes: its tables, the CSV files, the plot, the images.
 
 The biped (``assets/biped.xml``, 10 kg) has a torso on a planarizing boom and two legs
 with hip, knee and ankle pitch joints driven by torque-limited PD servos;
@@ -13,26 +14,18 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .._validation import MudrftError, check_nonnegative, check_positive, check_samples, plain
+from ..plotting import require_matplotlib
 from ..trajectories import BuriedFootWarning, check_unburied
 from .mujoco import _mujoco  # imports MuJoCo on first call
-from .walk_output import (
-    ANKLE_HEIGHT,
-    STEP_COLUMNS,
-    WALK_COLUMNS,
-    WalkResult,
-    _per_step,
-    _renderer,
-    plot_walk,
-    save_strip,
-)
 
 if TYPE_CHECKING:
     import mujoco
@@ -43,6 +36,7 @@ if TYPE_CHECKING:
     from ..terrains.field import MudField
 
 __all__ = [
+    "ANKLE_HEIGHT",
     "BIPED_FEET",
     "MAX_DT",
     "STEP_COLUMNS",
@@ -58,14 +52,148 @@ __all__ = [
 
 #: Names of the biped's foot bodies (and of their geoms).
 BIPED_FEET = ("left_foot", "right_foot")
-#: Leg segment lengths of the biped: thigh, shank [m]; ankle height above the sole [m].
-THIGH, SHANK, ANKLE = 0.2, 0.2, ANKLE_HEIGHT
+#: Columns of the per-physics-step table (``walk.csv``), with units.
+WALK_COLUMNS = (
+    "time [s]", "x [m]", "z [m]", "pitch [rad]", "left_depth [m]", "right_depth [m]",
+    "left_Fx [N]", "left_Fz [N]", "right_Fx [N]", "right_Fz [N]", "joint_power [W]",
+    "joint_energy [J]", "joint_abs_energy [J]", "left_x [m]", "right_x [m]", "step",
+)  # fmt: skip
+#: Columns of the per-gait-step table (``steps.csv``), with units.
+STEP_COLUMNS = (
+    "step", "t_start [s]", "stance", "energy [J]", "absolute_work [J]", "sinking [m]",
+    "max_suction [N]", "slip [m]", "shank_in_mud", "advance [m]",
+)  # fmt: skip
+#: Height of the shank's lower end (the ankle) above the sole [m]: deeper than this the
+#: shank is in the mud, whose force on it the coupling does not model.
+ANKLE_HEIGHT = 0.04
+#: Leg segment lengths of the biped: thigh, shank [m].
+THIGH, SHANK = 0.2, 0.2
 #: The largest physics time step the biped walks stably at [s].
 MAX_DT = 0.01
 #: The fewest physics steps a walking step may span (``step_time / dt``): the servos
 #: track the gait's joint targets, which a step of a handful of samples does not describe.
 MIN_STEP_SAMPLES = 20
 _JOINTS = ("left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle")
+
+
+@dataclass(frozen=True, eq=False)
+class WalkResult:
+    """Outcome of :func:`mudrft.integrations.walk.walk`.
+
+    Attributes
+    ----------
+    table : dict of str -> ndarray
+        Per physics step, keys :data:`WALK_COLUMNS`.
+    steps : dict of str -> ndarray
+        Per gait step, keys :data:`STEP_COLUMNS` (complete steps only).
+    summary : dict
+        ``fell`` (bool), ``distance [m]``, ``energy_per_step [J]``, ``mean_sinking [m]``,
+        ``max_suction [N]`` and the run settings.
+    frames : list of ndarray
+        Offscreen-rendered RGB images (empty unless asked for and rendering works).
+    """
+
+    table: dict[str, np.ndarray]
+    steps: dict[str, np.ndarray]
+    summary: dict[str, Any]
+    frames: list = field(default_factory=list)
+
+
+def _renderer(model: mujoco.MjModel) -> mujoco.Renderer | None:
+    """An offscreen renderer, or None where OpenGL is not available."""
+    try:
+        return _mujoco().Renderer(model, 240, 320)
+    except Exception:  # any GL failure only means "no images"
+        return None
+
+
+def _per_step(table: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.float64]]:
+    r"""Per complete gait step (``step`` column; even steps stand on the left foot),
+    :data:`STEP_COLUMNS`: ``energy [J]`` the servos' positive work
+    (:math:`\sum_j\max(\tau_j\dot q_j,0)\,\Delta t`), ``absolute_work [J]``, ``sinking [m]``
+    deepest stance-foot depth, ``max_suction [N]``, ``slip [m]`` of the stance foot in the mud,
+    ``shank_in_mud`` (deeper than :data:`ANKLE_HEIGHT`) and ``advance [m]`` of the torso.
+    """
+    t = table["time [s]"]
+    step = table["step"].astype(int)
+    out: dict[str, list[float]] = {c: [] for c in STEP_COLUMNS}
+    for k in range(int(step[-1])):  # the last step may be cut short
+        sel = step == k
+        if not np.any(sel):
+            continue
+        stance = k % 2
+        side = "left" if stance == 0 else "right"
+        first = int(np.argmax(sel))
+        e, a = table["joint_energy [J]"], table["joint_abs_energy [J]"]
+        depth = table[f"{side}_depth [m]"][sel]
+        x_in = table[f"{side}_x [m]"][sel][depth > 0]
+        fz = np.minimum(table["left_Fz [N]"][sel], table["right_Fz [N]"][sel])
+        out["step"].append(k)
+        out["t_start [s]"].append(float(t[sel][0]))
+        out["stance"].append(stance)
+        out["energy [J]"].append(float(e[sel][-1] - (e[first - 1] if first > 0 else 0.0)))
+        out["absolute_work [J]"].append(float(a[sel][-1] - (a[first - 1] if first > 0 else 0.0)))
+        out["sinking [m]"].append(float(depth.max()))
+        out["max_suction [N]"].append(float(max(0.0, -fz.min())))
+        out["slip [m]"].append(float(x_in.max() - x_in.min()) if len(x_in) else 0.0)
+        out["shank_in_mud"].append(float(depth.max() > ANKLE_HEIGHT))
+        out["advance [m]"].append(float(table["x [m]"][sel][-1] - table["x [m]"][sel][0]))
+    return {c: np.asarray(v, dtype=float) for c, v in out.items()}
+
+
+def _write_csv(path: Path, table: dict[str, NDArray[np.float64]], columns: tuple[str, ...]) -> None:
+    """Write ``table`` as CSV: a header of ``columns`` (units in brackets), one row each."""
+    data = np.column_stack([table[c] for c in columns])  # (0, len(columns)) when empty
+    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.9g")
+
+
+def plot_walk(result: WalkResult, path: Path) -> Path:
+    """Plot a walk against time (PNG at ``path``, returned): torso x and z [m], foot
+    sinking [mm], vertical mud force per foot [N] (< 0: suction), joint work [J]. Needs matplotlib.
+    """
+    plt = require_matplotlib()
+
+    tb = result.table
+    t = tb["time [s]"]
+    fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    ax[0].plot(t, tb["x [m]"], label="torso x")
+    ax[0].plot(t, tb["z [m]"], label="torso z")
+    ax[0].set_ylabel("[m]")
+    ax[0].legend(loc="upper left")
+    for side, c in (("left", "C0"), ("right", "C1")):
+        ax[1].plot(t, 1e3 * tb[f"{side}_depth [m]"], c, label=f"{side} foot")
+        ax[2].plot(t, tb[f"{side}_Fz [N]"], c, label=f"{side} foot")
+    ax[1].set_ylabel("sinking [mm]")
+    ax[1].invert_yaxis()
+    ax[1].legend(loc="lower left")
+    ax[2].axhline(0.0, color="k", lw=0.5)
+    ax[2].set_ylabel("mud $F_z$ [N]\n(< 0: suction)")
+    ax[3].plot(t, tb["joint_energy [J]"], "k", label="positive")
+    ax[3].plot(t, tb["joint_abs_energy [J]"], "k--", label="absolute")
+    ax[3].legend(loc="upper left")
+    ax[3].set_ylabel("joint work [J]")
+    ax[3].set_xlabel("time [s]")
+    s = result.summary
+    fig.suptitle(
+        f"biped in mud, {s['foot']} feet: {s['distance [m]']:.2f} m, "
+        f"{s['energy_per_step [J]']:.2f} J/step, sinking {1e3 * s['mean_sinking [m]']:.1f} mm, "
+        f"max suction {s['max_suction [N]']:.1f} N" + (" (fell)" if s["fell"] else ""),
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def save_strip(frames: list[NDArray[np.uint8]], path: Path) -> Path | None:
+    """Save RGB frames side by side as one PNG; the path, or None without frames."""
+    if not frames:
+        return None
+    plt = require_matplotlib()
+
+    plt.imsave(path, np.concatenate(frames, axis=1))
+    return path
 
 
 def biped_path() -> Path:
@@ -125,7 +253,7 @@ def biped_model(
             if g.name in BIPED_FEET:
                 g.type = mj.mjtGeom.mjGEOM_MESH
                 g.meshname = "foot_mesh"
-                g.pos = [0.0, 0.0, -ANKLE]
+                g.pos = [0.0, 0.0, -ANKLE_HEIGHT]
     if rigid is not None:
         from .mujoco.rigid import add_rigid_cells, set_rigid_cells
 
@@ -246,15 +374,14 @@ class GaitController:
             self._z0 = list(ankle_z)
             self._step = k
         half = 0.5 * self.step_length(k)
-        top = self.surface + ANKLE + self.lift
-        land = self.surface + ANKLE
+        land = self.surface + ANKLE_HEIGHT
+        top = land + self.lift
         q = np.empty(6)
         for leg in (0, 1):
             x0 = self._start[leg]
             if leg == stance:
                 x = x0 + (-half - x0) * s
-                hip_world = self.surface + ANKLE + self.hip_height
-                z = ankle_z[leg] - hip_world
+                z = ankle_z[leg] - (land + self.hip_height)  # the hip over a standing foot
             else:
                 # weight shift, slow pull-out, forward swing, set-down (fractions of the step)
                 p = self.phases
@@ -289,7 +416,7 @@ class GaitController:
         data.qpos[self._qadr] = [q1, q2, -(q1 + q2)] * 2
         z0 = float(self.model.body("torso").pos[2])
         data.qpos[int(self.model.jnt_qposadr[self.model.joint("rootz").id])] = (
-            surface + clearance + self.hip_height + ANKLE - z0
+            surface + clearance + self.hip_height + ANKLE_HEIGHT - z0
         )
         _mujoco().mj_forward(self.model, data)
 
