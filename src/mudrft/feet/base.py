@@ -26,7 +26,7 @@ from .._validation import (
 
 __all__ = [
     "CHUNK", "Foot", "SurfaceElements", "check_depth_stress", "check_resultant_inputs",
-    "first_quadrant", "fold_heading", "in_chunks", "unfold_forces", "world_force"
+    "first_quadrant", "fold_heading", "in_chunks", "magnitudes", "unfold_forces", "world_force"
 ]  # fmt: skip
 
 
@@ -160,6 +160,15 @@ def world_force(
     ax, bx, by, ay, az = coefficients
     cx, cy = xp.where(xp.cos(heading) < 0.0, -1.0, 1.0), xp.where(xp.sin(heading) < 0.0, -1.0, 1.0)
     return -cx * (ax * sx + bx * sy), -cy * (ay * sy + by * sx), az * sz
+
+
+def magnitudes(coefficients: tuple[XpArray, ...], stress: XpArray, xp: Namespace = np) -> XpArray:
+    """First-quadrant magnitudes (Fx, Fy, Fz) [N] (..., 3) from the coefficients
+    ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of a linear form and stresses (..., 3) [Pa]."""
+    ax, bx, by, ay, az = coefficients
+    s = xp.asarray(stress)
+    sx, sy, sz = s[..., 0], s[..., 1], s[..., 2]
+    return xp.stack(xp.broadcast_arrays(ax * sx + bx * sy, by * sx + ay * sy, az * sz), axis=-1)
 
 
 def unfold_forces(

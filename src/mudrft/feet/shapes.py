@@ -12,14 +12,8 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray, Namespace, RotationLike, XpArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
-from .base import Foot, SurfaceElements, check_resultant_inputs
-from .closed_form import (
-    DEFAULT_RESOLUTION,
-    _magnitudes,
-    _theta,
-    closed_form_coefficients,
-    closed_form_force,
-)
+from .base import Foot, SurfaceElements, check_resultant_inputs, magnitudes
+from .closed_form import DEFAULT_RESOLUTION, _theta, closed_form_coefficients, closed_form_force
 from .mesh import MeshFoot
 from .meshgen import box_mesh, rim_angle, semicylinder_mesh, semisphere_mesh
 
@@ -74,7 +68,7 @@ class _ClosedFormFoot(Foot):
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
-        return _magnitudes(self.coefficients(d, h), s, np)
+        return magnitudes(self.coefficients(d, h), s)
 
     def force_components(
         self, depth: XpArray, sx: XpArray, sy: XpArray, sz: XpArray, heading: XpArray,
