@@ -25,8 +25,8 @@ from . import pads
 from .equilibrium import (
     MorphingState,
     balanced_deflection,
+    column_residual,
     held_deflection,
-    residual,
     seal_factor,
     track_most_spread,
 )
@@ -177,8 +177,11 @@ class MorphingFoot(Foot):
         """Balance residual :math:`R=F_s(\\delta)-\\sigma_zA_z(d,\\theta(\\delta))` [N] (D32) at
         a deflection [m] in [0, stroke], tip depth [m] >= 0 and vertical stress [Pa]."""
         dd = self._check_deflection(deflection)
-        d = check_nonnegative("depth", depth, unit="m")
-        return residual(dd, d, check_finite("sz", sz), linkage=self.linkage, spring=self.spring)
+        d, s = check_nonnegative("depth", depth, unit="m"), check_finite("sz", sz)
+        link = self.linkage
+        return np.asarray(
+            column_residual(self.geometry, link.pole_top, link.branch, self.spring, dd, d, s)
+        )
 
     def equilibrium(
         self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
