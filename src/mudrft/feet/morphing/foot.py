@@ -111,7 +111,7 @@ class MorphingFoot(Foot):
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
         lc = characteristic_length
         self._lc = None if lc is None else check_length("characteristic_length", lc)
-        self._lc_spread: float | None = None
+        self._lc_spread = math.sqrt(float(self.footprint_area(self.stroke)))  # D36
 
     @property
     def stroke(self) -> float:
@@ -223,11 +223,7 @@ class MorphingFoot(Foot):
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
-        if self._lc is not None:
-            return self._lc
-        if self._lc_spread is None:  # the terrain asks every step; the geometry is fixed
-            self._lc_spread = math.sqrt(float(self.footprint_area(self.stroke)))
-        return self._lc_spread
+        return self._lc_spread if self._lc is None else self._lc
 
     @property
     def height(self) -> float:
