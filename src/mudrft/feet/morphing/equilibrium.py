@@ -163,9 +163,8 @@ def _settle(
     up: XpArray, found: XpArray, lo: XpArray, flo: XpArray, hi: XpArray, fhi: XpArray,
     stroke: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray]:  # fmt: skip
-    """The deflection [m] a finished scan gives without refinement (the stop it runs onto
-    when no root was found, an end of the bracket that balances already), and whether the
-    bracket is open, to be refined (R(lo) < 0 < R(hi))."""
+    """The deflection [m] of a finished scan (a stop if no root was found, else a bracket end
+    that balances), and whether the bracket is open, to be refined (R(lo) < 0 < R(hi))."""
     x = xp.where(found, xp.where(fhi == 0.0, hi, lo), xp.where(up, stroke, 0.0))
     return x, found & (flo != 0.0) & (fhi != 0.0)
 
