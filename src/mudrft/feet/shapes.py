@@ -70,8 +70,7 @@ class _ClosedFormFoot(Foot):
     def coefficients(self, depth: XpArray, phi: XpArray, xp: Namespace = np) -> tuple[XpArray, ...]:
         """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
         [m] and first-quadrant heading [rad]."""
-        kind, g0, g1, g2 = self.kernel_geometry
-        return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
+        return closed_form_coefficients(*self.kernel_geometry, depth, phi, xp=xp)
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
@@ -83,8 +82,7 @@ class _ClosedFormFoot(Foot):
         xp: Namespace = np,
     ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
-        kind, g0, g1, g2 = self.kernel_geometry
-        return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
+        return closed_form_force(*self.kernel_geometry, depth, sx, sy, sz, heading, xp=xp)
 
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
