@@ -144,8 +144,9 @@ class MeshFoot(Foot):
 
     Attributes
     ----------
-    vertices, faces : ndarray
-        Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
+    vertices, faces, triangles : ndarray
+        Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping;
+        their triangles, shape (m, 3, 3) [m].
     shift : ndarray (3,)
         Translation added to the given vertices [m].
     closed, flipped, dropped : bool, bool, int
@@ -260,8 +261,8 @@ class MeshFoot(Foot):
         self.shift = -tip
         self.vertices = v + self.shift
         self.faces = f
-        self._triangles = self.vertices[f]
-        self._prep: PreparedTriangles = prepare_triangles(self._triangles)
+        self.triangles = self.vertices[f]
+        self._prep: PreparedTriangles = prepare_triangles(self.triangles)
         self._height = float(self.vertices[used, 2].max())
         n, a = self._prep.normal, self._prep.area
         self._plan_area = float(np.sum(a * np.clip(-n[:, 2], 0.0, None)))
@@ -359,17 +360,12 @@ class MeshFoot(Foot):
         """:math:`L_c=\\sqrt{A_z}` [m], :math:`A_z` the downward-facing plan area (D27)."""
         return math.sqrt(self._plan_area)
 
-    @property
-    def triangles(self) -> np.ndarray:
-        """Triangles in the foot frame, shape (m, 3, 3) [m]."""
-        return self._triangles
-
     def __len__(self) -> int:
         return int(self.faces.shape[0])
 
     def elements(self) -> SurfaceElements:
         """Centroid, outward unit normal and area of every facet in the foot frame."""
-        t = self._triangles
+        t = self.triangles
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
     def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:

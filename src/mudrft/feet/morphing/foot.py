@@ -209,8 +209,7 @@ class MorphingFoot(Foot):
         return pads.pad_corners(self.geometry, th)
 
     def linkage_points(self, deflection: float) -> dict[str, NDArray[np.float64]]:
-        """Joints ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
-        rim) of one linkage in its (r, z) plane [m] at a deflection [m], for drawings."""
+        """The joints of one linkage (:meth:`Linkage.points`) at a deflection [m], for drawings."""
         return self.linkage.points(float(self._check_deflection(deflection)))
 
     def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
