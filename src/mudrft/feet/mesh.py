@@ -29,6 +29,7 @@ from .base import (  # fmt: skip
     check_depth_stress,
     check_resultant_inputs,
     in_chunks,
+    projection_weights,
 )
 from .meshfile import FORMATS, SIMPLIFY, read_mesh, weld
 from .meshparts import overlapping_parts
@@ -423,15 +424,9 @@ class MeshFoot(Foot):
         r"""Submerged areas projected along x, y and z [m^2] (..., 3): :math:`\tfrac12\sum|n_x|dS`,
         :math:`\tfrac12\sum|n_y|dS` and :math:`\sum\max(-n_z,0)dS` over the clipped facets."""
         d = check_nonnegative("depth", depth, unit="m")
-        n = self._prep.normal
-        weights = np.stack(
-            [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0.0, None)], axis=-1
-        )
-
-        def block(dd: np.ndarray) -> np.ndarray:
-            return np.asarray(submerged_area(self._prep, dd) @ weights)
-
-        return np.asarray(in_chunks(block, len(self), d.reshape(-1))).reshape((*d.shape, 3))
+        p, weights = self._prep, projection_weights(self._prep.normal)
+        wetted = in_chunks(lambda dd: submerged_area(p, dd) @ weights, len(self), d.reshape(-1))
+        return np.asarray(wetted).reshape((*d.shape, 3))
 
     def __repr__(self) -> str:
         return (
