@@ -369,25 +369,23 @@ class MeshFoot(Foot):
         t = self.triangles
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
-    def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
-        """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
+    def force_unchecked(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
+        """:meth:`Foot.force` without validation [N]; any heading, no folding; in chunks of
+        about :data:`CHUNK` facet evaluations."""
+        d, s, h = np.asarray(depth), np.asarray(stress), np.asarray(heading)
         block = functools.partial(integrate_prepared, self._prep, trailing=self.trailing)
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
         if math.prod(shape) <= max(1, CHUNK // len(self)):
             return block(d, s, h)
         return in_chunks(block, len(self), *_flat_rows(shape, d, s, h)).reshape((*shape, 3))
 
-    def force_unchecked(
-        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
-    ) -> FloatArray:
-        """:meth:`Foot.force` without validation [N]; any heading, no folding."""
-        return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
-
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Paper-style magnitudes ``(-Fx, -Fy, Fz)`` [N] of the integrated force, heading in
         [0, pi/2] (an asymmetric foot may give a negative one)."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
-        f = self._integrate(d, s, h)
+        f = self.force_unchecked(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
     def wrench(
