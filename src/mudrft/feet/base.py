@@ -26,7 +26,8 @@ from .._validation import (
 
 __all__ = [
     "CHUNK", "Foot", "SurfaceElements", "check_depth_stress", "check_resultant_inputs",
-    "first_quadrant", "fold_heading", "in_chunks", "unfold_forces", "world_force"
+    "first_quadrant", "fold_heading", "in_chunks", "magnitudes", "projection_weights",
+    "unfold_forces", "world_force"
 ]  # fmt: skip
 
 
@@ -162,6 +163,24 @@ def world_force(
     return -cx * (ax * sx + bx * sy), -cy * (ay * sy + by * sx), az * sz
 
 
+def projection_weights(normals: np.ndarray) -> np.ndarray:
+    r"""Area projected along x, y and z per unit area [-] (m, 3) of elements of unit ``normals``
+    (m, 3): half of :math:`|n_x|` and :math:`|n_y|` (seen from one side), :math:`\max(-n_z,0)`."""
+    n = normals
+    return np.stack(
+        [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0.0, None)], axis=-1
+    )
+
+
+def magnitudes(coefficients: tuple[XpArray, ...], stress: XpArray, xp: Namespace = np) -> XpArray:
+    """First-quadrant magnitudes (Fx, Fy, Fz) [N] (..., 3) from the coefficients
+    ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of a linear form and stresses (..., 3) [Pa]."""
+    ax, bx, by, ay, az = coefficients
+    s = xp.asarray(stress)
+    sx, sy, sz = s[..., 0], s[..., 1], s[..., 2]
+    return xp.stack(xp.broadcast_arrays(ax * sx + bx * sy, by * sx + ay * sy, az * sz), axis=-1)
+
+
 def unfold_forces(
     magnitudes: Callable[[FloatArray, FloatArray], FloatArray],
     stress: ArrayLike,
@@ -220,15 +239,9 @@ class Foot(ABC):
         tip ``depth`` [m], to normalise forces into stresses (paper Figs. 10-12)."""
         d = check_nonnegative("depth", depth, unit="m")
         el = self.elements()
-        z, n = el.centroids[:, 2], el.normals
-        weights = el.areas[:, None] * np.stack(
-            [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0, None)], axis=-1
-        )
-
-        def block(dd: np.ndarray) -> np.ndarray:
-            return (z[None, :] <= dd[:, None]) @ weights
-
-        return in_chunks(block, len(z), d.reshape(-1)).reshape((*np.shape(d), 3))
+        z, weights = el.centroids[:, 2], el.areas[:, None] * projection_weights(el.normals)
+        wetted = in_chunks(lambda dd: (z[None, :] <= dd[:, None]) @ weights, len(z), d.reshape(-1))
+        return wetted.reshape((*d.shape, 3))
 
     def elements(self) -> SurfaceElements:
         """Surface elements of the whole foot in its own frame (tip at the origin)."""

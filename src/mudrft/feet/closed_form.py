@@ -16,7 +16,7 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray, FloatOrArray, Namespace, XpArray
 from ..constitutive.laws import f_n, f_t
-from .base import fold_heading, world_force
+from .base import fold_heading, magnitudes, world_force
 
 __all__ = [
     "closed_form_coefficients", "closed_form_force", "flat_coefficients", "flat_forces",
@@ -158,14 +158,6 @@ def closed_form_force(
     return world_force(co, sx, sy, sz, heading, xp=xp)
 
 
-def _magnitudes(coeffs: tuple[XpArray, ...], stress: XpArray, xp: Namespace) -> XpArray:
-    """First-quadrant magnitudes (Fx, Fy, Fz) [N] from coefficients [m^2] and stresses [Pa]."""
-    ax, bx, by, ay, az = coeffs
-    s = xp.asarray(stress)
-    sx, sy, sz = s[..., 0], s[..., 1], s[..., 2]
-    return xp.stack(xp.broadcast_arrays(ax * sx + bx * sy, by * sx + ay * sy, az * sz), axis=-1)
-
-
 def flat_forces(
     depth: XpArray, stress: XpArray, heading: XpArray, *, length: float, width: float,
     height: float, xp: Namespace = np,
@@ -178,7 +170,7 @@ def flat_forces(
     [0.8, 0.0, 5.2]
     """
     co = flat_coefficients(xp.asarray(depth), xp.asarray(heading), length, width, height, xp=xp)
-    return _magnitudes(co, stress, xp)
+    return magnitudes(co, stress, xp)
 
 
 def semicylinder_forces(
@@ -194,7 +186,7 @@ def semicylinder_forces(
     1.333333
     """
     d, h = xp.asarray(depth), xp.asarray(heading)
-    return _magnitudes(semicylinder_coefficients(d, h, radius, width, height, xp=xp), stress, xp)
+    return magnitudes(semicylinder_coefficients(d, h, radius, width, height, xp=xp), stress, xp)
 
 
 def semisphere_forces(
@@ -209,7 +201,7 @@ def semisphere_forces(
     (4.18879, 1.678097)
     """
     co = semisphere_coefficients(xp.asarray(depth), xp.asarray(heading), radius, height, xp=xp)
-    return _magnitudes(co, stress, xp)
+    return magnitudes(co, stress, xp)
 
 
 # -- the printed finals, kept to show the errata (E20-E23) ---------------------------------

@@ -29,6 +29,7 @@ from .base import (  # fmt: skip
     check_depth_stress,
     check_resultant_inputs,
     in_chunks,
+    projection_weights,
 )
 from .meshfile import FORMATS, SIMPLIFY, read_mesh, weld
 from .meshparts import overlapping_parts
@@ -144,8 +145,9 @@ class MeshFoot(Foot):
 
     Attributes
     ----------
-    vertices, faces : ndarray
-        Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping.
+    vertices, faces, triangles : ndarray
+        Vertices in the foot frame [m]; faces after dropping zero-area facets and flipping;
+        their triangles, shape (m, 3, 3) [m].
     shift : ndarray (3,)
         Translation added to the given vertices [m].
     closed, flipped, dropped : bool, bool, int
@@ -260,8 +262,8 @@ class MeshFoot(Foot):
         self.shift = -tip
         self.vertices = v + self.shift
         self.faces = f
-        self._triangles = self.vertices[f]
-        self._prep: PreparedTriangles = prepare_triangles(self._triangles)
+        self.triangles = self.vertices[f]
+        self._prep: PreparedTriangles = prepare_triangles(self.triangles)
         self._height = float(self.vertices[used, 2].max())
         n, a = self._prep.normal, self._prep.area
         self._plan_area = float(np.sum(a * np.clip(-n[:, 2], 0.0, None)))
@@ -359,38 +361,31 @@ class MeshFoot(Foot):
         """:math:`L_c=\\sqrt{A_z}` [m], :math:`A_z` the downward-facing plan area (D27)."""
         return math.sqrt(self._plan_area)
 
-    @property
-    def triangles(self) -> np.ndarray:
-        """Triangles in the foot frame, shape (m, 3, 3) [m]."""
-        return self._triangles
-
     def __len__(self) -> int:
         return int(self.faces.shape[0])
 
     def elements(self) -> SurfaceElements:
         """Centroid, outward unit normal and area of every facet in the foot frame."""
-        t = self._triangles
+        t = self.triangles
         return SurfaceElements(t.mean(axis=1), self._prep.normal.copy(), self._prep.area.copy())
 
-    def _integrate(self, d: np.ndarray, s: np.ndarray, h: np.ndarray) -> np.ndarray:
-        """The world force [N], in chunks of about :data:`CHUNK` facet evaluations."""
+    def force_unchecked(
+        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
+    ) -> FloatArray:
+        """:meth:`Foot.force` without validation [N]; any heading, no folding; in chunks of
+        about :data:`CHUNK` facet evaluations."""
+        d, s, h = np.asarray(depth), np.asarray(stress), np.asarray(heading)
         block = functools.partial(integrate_prepared, self._prep, trailing=self.trailing)
         shape = np.broadcast_shapes(d.shape, s.shape[:-1], h.shape)
         if math.prod(shape) <= max(1, CHUNK // len(self)):
             return block(d, s, h)
         return in_chunks(block, len(self), *_flat_rows(shape, d, s, h)).reshape((*shape, 3))
 
-    def force_unchecked(
-        self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
-    ) -> FloatArray:
-        """:meth:`Foot.force` without validation [N]; any heading, no folding."""
-        return self._integrate(np.asarray(depth), np.asarray(stress), np.asarray(heading))
-
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Paper-style magnitudes ``(-Fx, -Fy, Fz)`` [N] of the integrated force, heading in
         [0, pi/2] (an asymmetric foot may give a negative one)."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
-        f = self._integrate(d, s, h)
+        f = self.force_unchecked(d, s, h)
         return f * np.array([-1.0, -1.0, 1.0]) + 0.0  # + 0.0 turns -0.0 into 0.0
 
     def wrench(
@@ -427,15 +422,9 @@ class MeshFoot(Foot):
         r"""Submerged areas projected along x, y and z [m^2] (..., 3): :math:`\tfrac12\sum|n_x|dS`,
         :math:`\tfrac12\sum|n_y|dS` and :math:`\sum\max(-n_z,0)dS` over the clipped facets."""
         d = check_nonnegative("depth", depth, unit="m")
-        n = self._prep.normal
-        weights = np.stack(
-            [0.5 * np.abs(n[:, 0]), 0.5 * np.abs(n[:, 1]), np.clip(-n[:, 2], 0.0, None)], axis=-1
-        )
-
-        def block(dd: np.ndarray) -> np.ndarray:
-            return np.asarray(submerged_area(self._prep, dd) @ weights)
-
-        return np.asarray(in_chunks(block, len(self), d.reshape(-1))).reshape((*d.shape, 3))
+        p, weights = self._prep, projection_weights(self._prep.normal)
+        wetted = in_chunks(lambda dd: submerged_area(p, dd) @ weights, len(self), d.reshape(-1))
+        return np.asarray(wetted).reshape((*d.shape, 3))
 
     def __repr__(self) -> str:
         return (

@@ -91,19 +91,16 @@ def overlapping_parts(
     if count < 2 or count > MAX_PARTS:
         return None
     part_of_face = label[f[:, 0]]
-    # number the parts by their first facet, as a user reading the file would
-    order = np.unique(part_of_face, return_index=True)[1]
-    number = {int(part_of_face[i]): k + 1 for k, i in enumerate(np.sort(order))}
-    parts = sorted(number, key=number.__getitem__)
-    tris = {p: vertices[faces[part_of_face == p]] for p in parts}
-    lows = {p: tris[p].reshape(-1, 3).min(axis=0) for p in parts}
-    highs = {p: tris[p].reshape(-1, 3).max(axis=0) for p in parts}
-    for inner in parts:
-        pts = np.unique(tris[inner].reshape(-1, 3), axis=0)
-        for outer in parts:
+    # the parts in the order of their first facet, as a user reading the file numbers them
+    first = np.sort(np.unique(part_of_face, return_index=True)[1])
+    tris = [vertices[faces[part_of_face == part_of_face[i]]] for i in first]
+    boxes = [(t.reshape(-1, 3).min(axis=0), t.reshape(-1, 3).max(axis=0)) for t in tris]
+    for inner, inner_tris in enumerate(tris):
+        pts = np.unique(inner_tris.reshape(-1, 3), axis=0)
+        for outer, (low, high) in enumerate(boxes):
             if outer == inner:
                 continue
-            cand = pts[np.all((pts >= lows[outer]) & (pts <= highs[outer]), axis=1)]
+            cand = pts[np.all((pts >= low) & (pts <= high), axis=1)]
             if cand.size == 0:
                 continue
             if len(cand) > MAX_POINTS:
@@ -113,5 +110,5 @@ def overlapping_parts(
                 hit = np.flatnonzero(np.abs(w) > 0.25)
                 if hit.size:
                     point = cand[s + int(hit[0])]
-                    return PartOverlap(count, number[inner], number[outer], point)
+                    return PartOverlap(count, inner + 1, outer + 1, point)
     return None

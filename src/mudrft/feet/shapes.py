@@ -12,14 +12,8 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray, Namespace, RotationLike, XpArray
 from .._validation import MudrftError, check_dimensions, check_nonnegative
-from .base import Foot, SurfaceElements, check_resultant_inputs
-from .closed_form import (
-    DEFAULT_RESOLUTION,
-    _magnitudes,
-    _theta,
-    closed_form_coefficients,
-    closed_form_force,
-)
+from .base import Foot, SurfaceElements, check_resultant_inputs, magnitudes
+from .closed_form import DEFAULT_RESOLUTION, _theta, closed_form_coefficients, closed_form_force
 from .mesh import MeshFoot
 from .meshgen import box_mesh, rim_angle, semicylinder_mesh, semisphere_mesh
 
@@ -34,6 +28,7 @@ class _ClosedFormFoot(Foot):
 
     trailing: ClassVar[bool] = False
     elementwise: ClassVar[bool] = True
+    _KIND: ClassVar[int]  # of closed_form_coefficients
 
     def __post_init__(self) -> None:
         """Check the dimensions [m] and keep them as floats."""
@@ -60,29 +55,34 @@ class _ClosedFormFoot(Foot):
         th = _theta(z, self.radius)  # type: ignore[attr-defined]
         return z, th, self.radius**2 * (th - np.sin(th) * np.cos(th))  # type: ignore[attr-defined]
 
-    @property
+    @cached_property
     def kernel_geometry(self) -> tuple[int, float, float, float]:
-        """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths [m]."""
-        raise NotImplementedError
+        """``(kind, g0, g1, g2)`` of :func:`closed_form_coefficients` for compiled paths: the
+        kind (0 flat, 1 semi-cylinder, 2 semi-sphere) and the dimensions in the order of the
+        fields, then 0 [m]."""
+        g = (*self._sizes, 0.0)  # the semi-sphere has two sizes
+        return self._KIND, g[0], g[1], g[2]
+
+    @property
+    def _sizes(self) -> tuple[float, ...]:
+        return tuple(getattr(self, f.name) for f in fields(self))  # type: ignore[arg-type]
 
     def coefficients(self, depth: XpArray, phi: XpArray, xp: Namespace = np) -> tuple[XpArray, ...]:
         """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the closed form at tip depth
         [m] and first-quadrant heading [rad]."""
-        kind, g0, g1, g2 = self.kernel_geometry
-        return closed_form_coefficients(kind, g0, g1, g2, depth, phi, xp=xp)
+        return closed_form_coefficients(*self.kernel_geometry, depth, phi, xp=xp)
 
     def resultant(self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike) -> FloatArray:
         """Closed-form magnitudes (Fx, Fy, Fz) [N]; see :meth:`Foot.resultant`."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
-        return _magnitudes(self.coefficients(d, h), s, np)
+        return magnitudes(self.coefficients(d, h), s)
 
     def force_components(
         self, depth: XpArray, sx: XpArray, sy: XpArray, sz: XpArray, heading: XpArray,
         xp: Namespace = np,
     ) -> tuple[XpArray, XpArray, XpArray]:  # fmt: skip
         """World force ``(F_x, F_y, F_z)`` [N], element-wise (the heading rule, D9)."""
-        kind, g0, g1, g2 = self.kernel_geometry
-        return closed_form_force(kind, g0, g1, g2, depth, sx, sy, sz, heading, xp=xp)
+        return closed_form_force(*self.kernel_geometry, depth, sx, sy, sz, heading, xp=xp)
 
     def force_unchecked(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
@@ -93,9 +93,8 @@ class _ClosedFormFoot(Foot):
     def to_mesh(self, *, resolution: int = DEFAULT_RESOLUTION) -> MeshFoot:
         """This foot as a closed :class:`MeshFoot`; ``resolution``: segments from tip to rim,
         or divisions per edge (flat) [-]."""
-        kind, g0, g1, g2 = self.kernel_geometry  # sizes as closed_form_coefficients takes them
-        sizes = (g0, g1) if kind == 2 else (g0, g1, g2)
-        v, f = (box_mesh, semicylinder_mesh, semisphere_mesh)[kind](*sizes, resolution=resolution)
+        mesher = (box_mesh, semicylinder_mesh, semisphere_mesh)[self._KIND]
+        v, f = mesher(*self._sizes, resolution=resolution)
         return MeshFoot(v, f, trailing=self.trailing, name=self.name)
 
     @cached_property
@@ -142,16 +141,12 @@ class Flat(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "flat"  # type: ignore[misc]
+    _KIND: ClassVar[int] = 0
 
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{LW}` [m] (decision D27)."""
         return math.sqrt(self.length * self.width)
-
-    @property
-    def kernel_geometry(self) -> tuple[int, float, float, float]:
-        """``(0, L, W, H)`` [m], see :func:`closed_form_coefficients`."""
-        return 0, self.length, self.width, self.height
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (L z, W z, L W), shape (..., 3)."""
@@ -183,17 +178,13 @@ class SemiCylinder(_ClosedFormFoot):
     width: float = 0.065
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-cylinder"  # type: ignore[misc]
+    _KIND: ClassVar[int] = 1
 
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{2R\\sin\\theta_H\\,W}` [m], the top cross-section (D27)."""
         th = rim_angle(self.radius, self.height)
         return math.sqrt(2 * self.radius * math.sin(th) * self.width)
-
-    @property
-    def kernel_geometry(self) -> tuple[int, float, float, float]:
-        """``(1, R, W, H)`` [m], see :func:`closed_form_coefficients`."""
-        return 1, self.radius, self.width, self.height
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, W z, 2 R W sin(theta_c))."""
@@ -222,6 +213,7 @@ class SemiSphere(_ClosedFormFoot):
     radius: float = 0.045
     height: float = field(default=PAPER_HEIGHT, kw_only=True)  # type: ignore[assignment]
     name: ClassVar[str] = "semi-sphere"  # type: ignore[misc]
+    _KIND: ClassVar[int] = 2
     trailing: ClassVar[bool] = True
 
     @property
@@ -229,11 +221,6 @@ class SemiSphere(_ClosedFormFoot):
         """:math:`L_c=\\sqrt{\\pi}R\\sin\\theta_H`, the top cross-section (D27) [m]."""
         th = rim_angle(self.radius, self.height)
         return math.sqrt(math.pi) * self.radius * math.sin(th)
-
-    @property
-    def kernel_geometry(self) -> tuple[int, float, float, float]:
-        """``(2, R, H, 0)`` [m], see :func:`closed_form_coefficients`."""
-        return 2, self.radius, self.height, 0.0
 
     def projected_areas(self, depth: ArrayLike) -> FloatArray:
         """Submerged areas projected along x, y, z [m^2]: (segment, segment, pi R^2 sin^2)."""

@@ -200,9 +200,8 @@ def integrate_wrench(
 ) -> Wrench:  # fmt: skip
     r"""Force, moment about ``point`` and center of pressure of the mud on a triangulated foot.
 
-    Each facet's force acts at its submerged centroid; the center of pressure (D24) is the
-    point of the central axis :math:`\mathbf p+\mathbf F\times\mathbf M_p/|\mathbf F|^2+t\mathbf F`
-    nearest to the :math:`|d\mathbf F|`-weighted centroid of the submerged surface.
+    Each facet's force acts at its submerged centroid; the center of pressure is the point of
+    the wrench's central axis nearest to their :math:`|d\mathbf F|`-weighted centroid (D24).
 
     Parameters
     ----------

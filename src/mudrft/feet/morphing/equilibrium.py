@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -46,8 +47,7 @@ def __getattr__(name: str) -> Any:
 
 __all__ = [
     "MorphingState", "balanced_deflection", "balanced_deflection_on_floats", "column_residual",
-    "contact_on_floats", "held_deflection", "linkage_row", "residual", "seal_factor",
-    "track_most_spread"
+    "contact_on_floats", "held_deflection", "linkage_row", "seal_factor", "track_most_spread"
 ]  # fmt: skip
 
 _GRID = 33  # nodes of the coarse bracketing grid over the stroke (D34)
@@ -77,17 +77,6 @@ def column_residual(
     linkage; deflection [m], depth [m], vertical stress [Pa]."""
     theta = pad_angle(g, pole_top, branch, deflection, xp=xp)
     return spring_force(spring, deflection, xp=xp) - sz * vertical_area(g, depth, theta, xp=xp)
-
-
-def residual(
-    deflection: ArrayLike, depth: ArrayLike, sz: ArrayLike, *, linkage: Linkage,
-    spring: TwoStageSpring,
-) -> NDArray[np.float64]:  # fmt: skip
-    r"""Balance residual :math:`R` [N] (> 0: the springs push the column open), unchecked, at
-    a deflection [m], tip depth [m] and vertical stress [Pa]."""
-    x, d, s = (np.asarray(a, dtype=float) for a in (deflection, depth, sz))
-    g = linkage.geometry
-    return np.asarray(column_residual(g, linkage.pole_top, linkage.branch, spring, x, d, s))
 
 
 @functools.lru_cache(maxsize=64)
@@ -121,11 +110,14 @@ def balanced_deflection(
     stroke = linkage.stroke
     p = np.clip(p.ravel(), 0.0, stroke)
     out = p.copy()
-    r_p = residual(p, d, s, linkage=linkage, spring=spring)
+    f = functools.partial(
+        column_residual, linkage.geometry, linkage.pole_top, linkage.branch, spring
+    )
+    r_p = f(p, d, s)
     moving = _moving(r_p, p, stroke)
     count = int(np.count_nonzero(moving))
     if count > _FEW and _find_root() is not None:
-        out[moving] = _move(d[moving], s[moving], p[moving], r_p[moving], linkage, spring)
+        out[moving] = _move(f, d[moving], s[moving], p[moving], r_p[moving], stroke)
     elif count:
         row = linkage_row(linkage, spring)
         seen: dict[tuple[float, float, float], float] = {}  # the coupling's nudged copies
@@ -171,19 +163,18 @@ def _settle(
     up: XpArray, found: XpArray, lo: XpArray, flo: XpArray, hi: XpArray, fhi: XpArray,
     stroke: XpArray, xp: Namespace = np,
 ) -> tuple[XpArray, XpArray]:  # fmt: skip
-    """The deflection [m] a finished scan gives without refinement (the stop it runs onto
-    when no root was found, an end of the bracket that balances already), and whether the
-    bracket is open, to be refined (R(lo) < 0 < R(hi))."""
+    """The deflection [m] of a finished scan (a stop if no root was found, else a bracket end
+    that balances), and whether the bracket is open, to be refined (R(lo) < 0 < R(hi))."""
     x = xp.where(found, xp.where(fhi == 0.0, hi, lo), xp.where(up, stroke, 0.0))
     return x, found & (flo != 0.0) & (fhi != 0.0)
 
 
 def _move(
-    d: NDArray[np.float64], s: NDArray[np.float64], p: NDArray[np.float64],
-    r_p: NDArray[np.float64], linkage: Linkage, spring: TwoStageSpring,
+    f: Callable[..., NDArray[np.float64]], d: NDArray[np.float64], s: NDArray[np.float64],
+    p: NDArray[np.float64], r_p: NDArray[np.float64], stroke: float,
 ) -> NDArray[np.float64]:  # fmt: skip
-    """The moving elements of a batch: the scan on arrays, then ``find_root`` in one call."""
-    stroke, f = linkage.stroke, functools.partial(residual, linkage=linkage, spring=spring)
+    """The moving elements of a batch, ``f`` the residual [N] of (deflection, depth, sz): the
+    scan on arrays, then ``find_root`` in one call."""
     nodes = np.linspace(0.0, stroke, _GRID)
     r_n = f(nodes[None, :], d[:, None], s[:, None])
     up = r_p < 0.0

@@ -20,13 +20,13 @@ from ..._validation import (
     check_nonnegative,
     positive_number,
 )
-from ..base import Foot, SurfaceElements, check_resultant_inputs
+from ..base import Foot, SurfaceElements, check_resultant_inputs, magnitudes
 from . import pads
 from .equilibrium import (
     MorphingState,
     balanced_deflection,
+    column_residual,
     held_deflection,
-    residual,
     seal_factor,
     track_most_spread,
 )
@@ -99,7 +99,7 @@ class MorphingFoot(Foot):
         self.geometry = replace(g, **{k: v for k, v in overrides.items() if k in _GEOMETRY_FIELDS})
         self.spring = replace(s, **{k: v for k, v in overrides.items() if k in _SPRING_FIELDS})
         self.mode = check_choice("mode", mode, MODES)
-        self._linkage = Linkage.from_geometry(self.geometry)
+        self.linkage = Linkage.from_geometry(self.geometry)  # resolved (D30)
         if self.spring.knee_deflection >= self.stroke:
             raise MudrftError(
                 f"the soft stage must bottom out within the stroke {self.stroke!r} m: "
@@ -111,17 +111,12 @@ class MorphingFoot(Foot):
         self.name = "morphing" if self.mode == "morphing" else f"morphing-{self.mode}"
         lc = characteristic_length
         self._lc = None if lc is None else check_length("characteristic_length", lc)
-        self._lc_spread: float | None = None
-
-    @property
-    def linkage(self) -> Linkage:
-        """The resolved pad linkage (D30)."""
-        return self._linkage
+        self._lc_spread = math.sqrt(float(self.footprint_area(self.stroke)))  # D36
 
     @property
     def stroke(self) -> float:
         """Column deflection from curled up to fully spread [m] (set by the linkage)."""
-        return self._linkage.stroke
+        return self.linkage.stroke
 
     def _check_deflection(self, deflection: ArrayLike) -> NDArray[np.float64]:
         return check_in_range("deflection", deflection, 0.0, self.stroke * _STROKE_SLACK, unit="m")
@@ -129,14 +124,14 @@ class MorphingFoot(Foot):
     def pad_angle(self, deflection: ArrayLike) -> NDArray[np.float64]:
         """Pad angle :math:`\\theta(\\delta)` from the horizontal [rad] at a column deflection
         [m] in [0, stroke]: from ``retracted_angle`` down to ``expanded_angle`` (D30)."""
-        return self._linkage.angle(self._check_deflection(deflection))
+        return self.linkage.angle(self._check_deflection(deflection))
 
     def deflection_at(self, pad_angle: ArrayLike) -> NDArray[np.float64]:
         """Inverse kinematics: column deflection [m] giving a pad angle [rad] in
         [expanded_angle, retracted_angle]."""
         g = self.geometry
         th = check_in_range("pad_angle", pad_angle, g.expanded_angle, g.retracted_angle, unit="rad")
-        return self._linkage.deflection_at(th)
+        return self.linkage.deflection_at(th)
 
     def spring_force(self, deflection: ArrayLike) -> NDArray[np.float64]:
         """Column spring force [N] at a deflection [m] in [0, stroke] (D31)."""
@@ -146,19 +141,20 @@ class MorphingFoot(Foot):
         """Force, pad angle and stiffness against deflection [m] on rigid ground, where only
         the tip touches and the load is the column spring's (paper Fig. S3a, b)."""
         d = self._check_deflection(deflection)
-        force, angle = np.asarray(self.spring.force(d)), self._linkage.angle(d)
+        force, angle = np.asarray(self.spring.force(d)), self.linkage.angle(d)
         return RigidGroundResponse(d, force, angle, self.spring.stiffness(d))
 
     def locked_deflection(self) -> float | None:
         """Deflection the mode locks (stroke for expanded, 0 for retracted), None if free [m]."""
         return {"morphing": None, "expanded": self.stroke, "retracted": 0.0}[self.mode]
 
-    def _shown_deflection(self, deflection: float | None) -> float:
-        """Deflection to draw [m]: the given one, else the locked one, else the stroke."""
-        if deflection is not None:
-            return float(deflection)
-        lock = self.locked_deflection()
-        return self.stroke if lock is None else lock
+    def _shown_angle(self, deflection: ArrayLike | None) -> NDArray[np.float64]:
+        """Pad angle [rad] to draw: at the given deflection [m], else the locked one, else
+        the stroke."""
+        if deflection is None:
+            lock = self.locked_deflection()
+            deflection = self.stroke if lock is None else lock
+        return self.pad_angle(deflection)
 
     def effective_area(self, depth: ArrayLike, deflection: ArrayLike) -> NDArray[np.float64]:
         """Effective vertical area :math:`A_z` [m^2], :math:`F_z=\\sigma_zA_z` (D33), at tip
@@ -181,8 +177,11 @@ class MorphingFoot(Foot):
         """Balance residual :math:`R=F_s(\\delta)-\\sigma_zA_z(d,\\theta(\\delta))` [N] (D32) at
         a deflection [m] in [0, stroke], tip depth [m] >= 0 and vertical stress [Pa]."""
         dd = self._check_deflection(deflection)
-        d = check_nonnegative("depth", depth, unit="m")
-        return residual(dd, d, check_finite("sz", sz), linkage=self._linkage, spring=self.spring)
+        d, s = check_nonnegative("depth", depth, unit="m"), check_finite("sz", sz)
+        link = self.linkage
+        return np.asarray(
+            column_residual(self.geometry, link.pole_top, link.branch, self.spring, dd, d, s)
+        )
 
     def equilibrium(
         self, depth: ArrayLike, sz: ArrayLike, *, previous: ArrayLike = 0.0
@@ -191,7 +190,7 @@ class MorphingFoot(Foot):
         and vertical stress ``sz`` [Pa], reached from the ``previous`` deflection [m]."""
         d, s = check_nonnegative("depth", depth, unit="m"), check_finite("sz", sz)
         p = check_in_range("previous", previous, 0.0, self.stroke * _STROKE_SLACK, unit="m")
-        return balanced_deflection(d, s, previous=p, linkage=self._linkage, spring=self.spring)
+        return balanced_deflection(d, s, previous=p, linkage=self.linkage, spring=self.spring)
 
     def _deflection(
         self, depth: ArrayLike, sz: ArrayLike, previous: ArrayLike
@@ -199,36 +198,31 @@ class MorphingFoot(Foot):
         lock = self.locked_deflection()
         if lock is None:
             return balanced_deflection(
-                depth, sz, previous=previous, linkage=self._linkage, spring=self.spring
+                depth, sz, previous=previous, linkage=self.linkage, spring=self.spring
             )
         return np.full(np.broadcast_shapes(np.shape(depth), np.shape(sz)), lock)
 
     def pad_corners(self, deflection: float | None = None) -> NDArray[np.float64]:
         """Pad corners (pivot-left, pivot-right, rim-right, rim-left) in the foot frame [m],
         (n_pads, 4, 3), at a deflection [m] (default the locked one, or spread)."""
-        th = float(self.pad_angle(self._shown_deflection(deflection)))
+        th = float(self._shown_angle(deflection))
         return pads.pad_corners(self.geometry, th)
 
     def linkage_points(self, deflection: float) -> dict[str, NDArray[np.float64]]:
-        """Joints ``A`` (pad pivot), ``C`` (coupler joint), ``B`` (upper pole) and ``P`` (pad
-        rim) of one linkage in its (r, z) plane [m] at a deflection [m], for drawings."""
-        return self._linkage.points(float(self._check_deflection(deflection)))
+        """The joints of one linkage (:meth:`Linkage.points`) at a deflection [m], for drawings."""
+        return self.linkage.points(float(self._check_deflection(deflection)))
 
     def elements(self, deflection: float | None = None, *, strips: int = 8) -> SurfaceElements:
         """Surface elements of the base, the column and both faces of every pad [m] (D159), at
         ``deflection`` [m] (default as :meth:`pad_corners`; the foot does not morph on an
         element terrain); ``strips``: elements along each pad face and up each wall [-]."""
-        th = float(self.pad_angle(self._shown_deflection(deflection)))
+        th = float(self._shown_angle(deflection))
         return pads.surface_elements(self.geometry, th, strips=strips)
 
     @property
     def characteristic_length(self) -> float:
         """:math:`L_c=\\sqrt{A_{spread}}` [m], square root of the spread footprint (D36)."""
-        if self._lc is not None:
-            return self._lc
-        if self._lc_spread is None:  # the terrain asks every step; the geometry is fixed
-            self._lc_spread = math.sqrt(float(self.footprint_area(self.stroke)))
-        return self._lc_spread
+        return self._lc_spread if self._lc is None else self._lc
 
     @property
     def height(self) -> float:
@@ -271,9 +265,7 @@ class MorphingFoot(Foot):
         [m] and deflection [m] (default the locked one, or the spread foot when free)."""
         g = self.geometry
         d = check_nonnegative("depth", depth, unit="m")
-        if deflection is None:
-            deflection = self._shown_deflection(None)
-        d, th = np.broadcast_arrays(d, self.pad_angle(deflection))
+        d, th = np.broadcast_arrays(d, self._shown_angle(deflection))
         ax = pads.horizontal_area(g, d, th, np.zeros_like(d))
         ay = pads.horizontal_area(g, d, th, np.full_like(d, 0.5 * math.pi))
         return np.stack([ax, ay, pads.footprint_area(g, d, th)], axis=-1)
@@ -284,7 +276,7 @@ class MorphingFoot(Foot):
         """First-quadrant magnitudes (Fx, Fy, Fz) [N] at a given deflection [m]; the other
         arguments as :meth:`resultant`."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
-        return pads.magnitudes(self.geometry, d, s, h, self.pad_angle(deflection))
+        return magnitudes(pads.coefficients(self.geometry, d, self.pad_angle(deflection), h), s)
 
     def resultant(
         self, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike
@@ -293,7 +285,7 @@ class MorphingFoot(Foot):
         arguments as :meth:`Foot.resultant`."""
         d, s, h = check_resultant_inputs(depth, stress, heading, height=self.height)
         delta = self._deflection(d, s[..., 2], 0.0)
-        return pads.magnitudes(self.geometry, d, s, h, self._linkage.angle(delta))
+        return magnitudes(pads.coefficients(self.geometry, d, self.linkage.angle(delta), h), s)
 
     def posed(self, rotation: RotationLike) -> NoReturn:
         """Not available (the pads move with the load): raises :class:`~mudrft.MudrftError`."""
@@ -308,7 +300,7 @@ class MorphingFoot(Foot):
     def initial_foot_state(self) -> MorphingState:
         """Column unloaded, or locked (D37); the seal memory at the current pad angle."""
         delta = self.locked_deflection() or 0.0
-        th = float(self._linkage.angle(delta))
+        th = float(self.linkage.angle(delta))
         return MorphingState(np.asarray(delta), np.asarray(th), np.asarray(th))
 
     def seal_factor(self, foot_state: MorphingState | None) -> FloatOrArray:
@@ -334,7 +326,7 @@ class MorphingFoot(Foot):
         delta = self._deflection(d, s[..., 2], foot_state.deflection)
         if self.curl_delay > 0.0 and self.mode == "morphing":
             delta = held_deflection(delta, foot_state.deflection, retraction, self.curl_delay)
-        th = self._linkage.angle(delta)
+        th = self.linkage.angle(delta)
         h = np.asarray(heading, dtype=float)
         f = pads.morphing_force(self.geometry, d, th, s[..., 0], s[..., 1], s[..., 2], h)
         force = np.stack(np.broadcast_arrays(*f), axis=-1)
@@ -348,6 +340,6 @@ class MorphingFoot(Foot):
         """Center of the vertical pressure in the foot frame [m], shape (..., 3): on the axis,
         at the height of the area-weighted centroid of the submerged base and pad parts."""
         d, s, _ = check_resultant_inputs(depth, stress, heading, height=self.height)
-        th = self._linkage.angle(self._deflection(d, s[..., 2], 0.0))
+        th = self.linkage.angle(self._deflection(d, s[..., 2], 0.0))
         z = pads.center_height(self.geometry, d, th)
         return np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=-1)

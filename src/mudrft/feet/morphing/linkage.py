@@ -1,17 +1,6 @@
-r"""Dimensions and kinematics of the morphing foot's pad linkages (D30).
-
-Each pad is the lower link of a slider-crank: it pivots at :math:`A=(r_A, h_A)` on the rim
-of the base; its crank arm of length :math:`a`, at :math:`\theta+\beta` from the
-horizontal, carries the coupler joint :math:`C`; the coupler of length :math:`b` joins
-:math:`C` to the upper pole :math:`B=(r_B, z_{B0}-\delta)`, carried down by the column
-deflection :math:`\delta`. The pad angle is a circle intersection,
-
-.. math:: \theta(\delta) = \operatorname{atan2}(\Delta z, \Delta r)
-          \pm \arccos\frac{a^2 + |AB|^2 - b^2}{2a|AB|} - \beta,
-          \qquad \Delta r = r_B - r_A,\ \Delta z = z_{B0} - \delta - h_A,
-
-with the branch that gives the design angles at both ends of the stroke; it is nearly
-linear in :math:`\delta` (paper Fig. S3a). Lengths in metres, angles in radians.
+r"""Dimensions and kinematics of the morphing foot's pad linkages (D30): each pad is the lower
+link of a slider-crank whose upper pole the column deflection carries down; the pad angle is a
+circle intersection (docs/model.md, D30). Lengths in metres, angles in radians.
 """
 
 from __future__ import annotations

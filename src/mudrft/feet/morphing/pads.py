@@ -1,20 +1,9 @@
 r"""The morphing foot's base and pads in the mud: submerged areas and forces (D33, D38).
 
-Given the pad angle :math:`\theta` (from :mod:`.linkage`) and the tip depth :math:`d`, each
-trapezoidal pad (widths :math:`w_i` at its pivot, :math:`w_o` at its rim, length
-:math:`\ell`) is submerged from its pivot up to the length
-:math:`s(d,\theta)=\operatorname{clip}((d-h_A)/\sin\theta, 0, \ell)`, of area
-:math:`a_p(s)=w_is+\tfrac12\kappa s^2`, :math:`\kappa=(w_o-w_i)/\ell`. With uniform channel
-stresses the plate rule of the paper's eq. (6)-(7), pad tilt :math:`\psi_1=\theta`, gives
-
-.. math:: F_z = \sigma_zA_z,\qquad A_z = \pi r_A^2 + N a_p(s)\,
-          \bigl(f_n(\theta)\cos\theta + f_t(\theta)\sin\theta\bigr),
-
-.. math:: F_x = \sigma_xA_h(\varphi)\cos\varphi,\quad F_y = \sigma_yA_h(\varphi)\sin\varphi,
-          \qquad A_h = A_{column}(d) + a_p(s)\sin\theta\sum_k|\cos(2\pi k/N-\varphi)|,
-
-first-quadrant magnitudes. Unchecked (:mod:`.foot` validates), dimensions ``g`` [m, rad]
-by attribute; the force's functions are element-wise over ``xp``.
+Each trapezoidal pad is a thin plate at tilt :math:`\psi_1=\theta` under the plate rule of
+eqs. (6)-(7), its areas and forces derived in docs/model.md (D33). Unchecked (:mod:`.foot`
+validates), dimensions ``g`` [m, rad] by attribute; the force's functions are element-wise
+over ``xp``.
 """
 
 from __future__ import annotations
@@ -34,9 +23,8 @@ if TYPE_CHECKING:
     from .linkage import MorphingRow
 
 __all__ = [
-    "center_height", "coefficients", "footprint_area", "horizontal_area", "magnitudes",
-    "morphing_force", "pad_area", "pad_corners", "submerged_length", "surface_elements",
-    "vertical_area"
+    "center_height", "coefficients", "footprint_area", "horizontal_area", "morphing_force",
+    "pad_area", "pad_corners", "submerged_length", "surface_elements", "vertical_area"
 ]  # fmt: skip
 
 _FLAT = 1e-12  # sin(theta) below which a pad counts as lying flat at the pivot height [-]
@@ -108,8 +96,8 @@ def coefficients(
     g: MorphingFootGeometry | MorphingRow, depth: XpArray, theta: XpArray, phi: XpArray,
     xp: Namespace = np,
 ) -> tuple[XpArray, XpArray, XpArray, XpArray, XpArray]:  # fmt: skip
-    """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33, module
-    docstring) at tip ``depth`` [m], pad angle ``theta`` [rad] and folded heading ``phi`` [rad]."""
+    """Coefficients ``(a_x, b_x, b_y, a_y, a_z)`` [m^2] of the linear force (D33) at tip
+    ``depth`` [m], pad angle ``theta`` [rad] and folded heading ``phi`` [rad]."""
     ah = horizontal_area(g, depth, theta, phi, xp=xp)
     zero = 0.0 * ah
     return (ah * xp.cos(phi), zero, zero, ah * xp.sin(phi), vertical_area(g, depth, theta, xp=xp))
@@ -124,18 +112,6 @@ def morphing_force(
     stresses [Pa], world heading [rad]."""
     co = coefficients(g, depth, theta, fold_heading(heading, xp=xp), xp=xp)
     return world_force(co, sx, sy, sz, heading, xp=xp)
-
-
-def magnitudes(
-    g: MorphingFootGeometry, depth: ArrayLike, stress: ArrayLike, heading: ArrayLike,
-    theta: ArrayLike,
-) -> NDArray[np.float64]:  # fmt: skip
-    """First-quadrant magnitudes (Fx, Fy, Fz) [N] (D33) at tip ``depth`` [m], stresses
-    (..., 3) [Pa], ``heading`` in [0, pi/2] [rad] and pad angle ``theta`` [rad]."""
-    s, d = np.asarray(stress, dtype=float), np.asarray(depth, dtype=float)
-    ax, _, _, ay, az = coefficients(g, d, np.asarray(theta, float), np.asarray(heading, float))
-    fx, fy, fz = ax * s[..., 0], ay * s[..., 1], az * s[..., 2]
-    return np.stack(np.broadcast_arrays(fx, fy, fz), axis=-1)
 
 
 def center_height(

@@ -1,12 +1,6 @@
-r"""The morphing foot's two-stage spring column (decision D31, paper Fig. S3b).
-
-A soft spring :math:`k_s` and a hard spring :math:`k_h` in series; the soft stage bottoms
-out at the *knee*, after a compression :math:`s_s` of the soft spring:
-
-.. math:: F_s(\delta) = \begin{cases}
-          \dfrac{k_sk_h}{k_s+k_h}\,\delta, & \delta \le \delta_1 = s_s(1 + k_s/k_h),\\[1ex]
-          k_ss_s + k_h(\delta - \delta_1), & \delta > \delta_1.
-          \end{cases}
+r"""The morphing foot's two-stage spring column (decision D31, paper Fig. S3b): a soft spring
+:math:`k_s` and a hard one :math:`k_h` in series, the soft stage bottoming out at the *knee*
+after a compression :math:`s_s` of the soft spring (the force law: :func:`spring_force`).
 """
 
 from __future__ import annotations
@@ -29,9 +23,10 @@ __all__ = ["RigidGroundResponse", "TwoStageSpring", "spring_force"]
 def spring_force(
     s: TwoStageSpring | MorphingRow, deflection: XpArray, xp: Namespace = np
 ) -> XpArray:
-    """Column spring force :math:`F_s(\\delta)` [N] at a deflection [m] (D31), element-wise;
-    ``s`` holds ``knee_deflection`` [m], ``knee_force`` [N], ``series_stiffness`` and
-    ``hard_stiffness`` [N/m] by attribute."""
+    r"""Column spring force [N] at a deflection :math:`\delta` [m] (D31), element-wise:
+    :math:`F_s=\frac{k_sk_h}{k_s+k_h}\delta` up to the knee :math:`\delta_1=s_s(1+k_s/k_h)`,
+    :math:`k_ss_s+k_h(\delta-\delta_1)` beyond; ``s`` holds ``knee_deflection`` [m],
+    ``knee_force`` [N], ``series_stiffness`` and ``hard_stiffness`` [N/m] by attribute."""
     d1 = s.knee_deflection
     return xp.where(
         deflection <= d1,
@@ -42,7 +37,7 @@ def spring_force(
 
 @dataclass(frozen=True)
 class TwoStageSpring:
-    """Two springs in series in a two-stage telescoping column (D31; module docstring).
+    """Two springs in series in a two-stage telescoping column (D31).
 
     Attributes: ``soft_stiffness`` :math:`k_s` [N/m]; ``hard_stiffness`` :math:`k_h` [N/m],
     >= ``soft_stiffness``; ``soft_travel`` :math:`s_s`, the soft spring's compression when its
