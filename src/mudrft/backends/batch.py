@@ -311,14 +311,12 @@ class BatchedMud:
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
-        elif self._one is not None:
-            self._state, out = self._one.step_unchecked(self.foot, self._state, pos[0], vel[0], dt)
-            self.force = np.asarray(out.force, dtype=float).reshape(1, 3)
-            self.stress = np.asarray(out.stress, dtype=float).reshape(1, 3)
-            self.depth = np.asarray(out.depth, dtype=float).reshape(1)
-        else:
-            self._state, out = self.terrain.step_unchecked(self.foot, self._state, pos, vel, dt)
-            self.force, self.stress, self.depth = out.force, out.stress, out.depth
+        else:  # numpy: the batch's arrays, or one foot on Python floats (_one)
+            terrain, p, v = (self._one, pos[0], vel[0]) if self._one else (self.terrain, pos, vel)
+            self._state, out = terrain.step_unchecked(self.foot, self._state, p, v, dt)
+            self.force = np.asarray(out.force, dtype=float).reshape(self.n, 3)
+            self.stress = np.asarray(out.stress, dtype=float).reshape(self.n, 3)
+            self.depth = np.asarray(out.depth, dtype=float).reshape(self.n)
         if not np.all(np.isfinite(self.force)):
             raise MudrftError(
                 "the batched step produced non-finite forces; check the parameters and dt"
