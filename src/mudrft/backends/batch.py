@@ -11,7 +11,6 @@ import copy
 import dataclasses
 import math
 from collections.abc import Sequence
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, NamedTuple, Self
 
 import numpy as np
@@ -201,14 +200,14 @@ class BatchedMud:
             base = mud
         else:
             base = MudTerrain(mud, **options)
-        self.terrain = replace(base, mud=batched_mud(base.mud, self.n))
+        self.terrain = dataclasses.replace(base, mud=batched_mud(base.mud, self.n))
         self.params = channel_parameters(self.terrain.mud)
         self._one: MudTerrain | None = None  # one foot on numpy: the step on Python floats
         if self.backend == "numpy" and self.n == 1:
             given = self._args[0]
             one = given[0] if isinstance(given, Sequence) and len(given) == 1 else base.mud
             if isinstance(one, Mud) and one.vertical.shape == one.horizontal.shape == ():
-                self._one = replace(base, mud=one)
+                self._one = dataclasses.replace(base, mud=one)
         self.characteristic_length = self.terrain.length(foot)
         self._setup_backend()
         self.reset(np.zeros(3) if position is None else position)
@@ -245,8 +244,7 @@ class BatchedMud:
             names = ("acceleration", "thixotropy", "clock", "reset_on_exit", "xi0", "heading_speed")
             opts = {k: getattr(t, k) for k in names}
             # the state crosses the jit boundary as one flat array (dispatch costs per leaf)
-            st0 = mjax.initial_terrain_state(np.zeros((self.n, 3)), lc, xi0=t.xi0)
-            unravel = ravel_pytree(st0)[1]
+            unravel = ravel_pytree(t.initial_state(self.foot, np.zeros((self.n, 3))).channels)[1]
 
             def one(
                 flat: Array, pos: Array, vel: Array, dt: float
@@ -259,7 +257,6 @@ class BatchedMud:
             self._jax_step = jax.jit(one)
             self._jax_ravel = lambda st: ravel_pytree(st)[0]
             self._jax_unravel = unravel
-            self._mjax = mjax
 
     def _inputs(self, name: str, value: ArrayLike) -> NDArray[np.float64]:
         if (  # the usual case, checked in a few microseconds (per-step coupling)
@@ -284,15 +281,13 @@ class BatchedMud:
         n = self.n
         self.force, self.stress = np.zeros((n, 3)), np.zeros((n, 3))
         self.depth = np.maximum(-pos[:, 2], 0.0)
-        if self.backend == "jax":
-            lc, xi0 = self.characteristic_length, self.terrain.xi0
-            self._jst = self._jax_ravel(self._mjax.initial_terrain_state(pos, lc, xi0=xi0))
-            return
         if self._one is not None:
             self._state = self._one.initial_state(self.foot, pos[0])
             return
         self._state = self.terrain.initial_state(self.foot, pos)
-        if self.backend == "numba":
+        if self.backend == "jax":
+            self._jst = self._jax_ravel(self._state.channels)
+        elif self.backend == "numba":
             from ..terrains.rows import N_OUT, state_rows
 
             self._st = state_rows(self._state.channels)
@@ -316,14 +311,12 @@ class BatchedMud:
         elif self.backend == "jax":
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
-        elif self._one is not None:
-            self._state, out = self._one.step_unchecked(self.foot, self._state, pos[0], vel[0], dt)
-            self.force = np.asarray(out.force, dtype=float).reshape(1, 3)
-            self.stress = np.asarray(out.stress, dtype=float).reshape(1, 3)
-            self.depth = np.asarray(out.depth, dtype=float).reshape(1)
-        else:
-            self._state, out = self.terrain.step_unchecked(self.foot, self._state, pos, vel, dt)
-            self.force, self.stress, self.depth = out.force, out.stress, out.depth
+        else:  # numpy: the batch's arrays, or one foot on Python floats (_one)
+            terrain, p, v = (self._one, pos[0], vel[0]) if self._one else (self.terrain, pos, vel)
+            self._state, out = terrain.step_unchecked(self.foot, self._state, p, v, dt)
+            self.force = np.asarray(out.force, dtype=float).reshape(self.n, 3)
+            self.stress = np.asarray(out.stress, dtype=float).reshape(self.n, 3)
+            self.depth = np.asarray(out.depth, dtype=float).reshape(self.n)
         if not np.all(np.isfinite(self.force)):
             raise MudrftError(
                 "the batched step produced non-finite forces; check the parameters and dt"

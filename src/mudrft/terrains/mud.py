@@ -207,30 +207,6 @@ def initial_channels(
     return MudChannels(fresh(zero), fresh(depth / lc), px + zero, py + zero, zero, zero, inside)
 
 
-def _motion_for_state(
-    state: Any, pos: np.ndarray, vel: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Tips broadcast to the shape of ``state``'s mud; tips that do not broadcast are refused."""
-    if not isinstance(state, MudState):
-        raise MudrftError(
-            "state must be the MudState of MudTerrain.initial_state or of the previous step, "
-            f"got {type(state).__name__}"
-        )
-    batch = getattr(state.channels.in_mud, "shape", ())  # a bool for one foot on floats
-    if batch == pos.shape[:-1]:  # the usual case, without numpy's broadcasting rules
-        return pos, vel
-    try:
-        shape = np.broadcast_shapes(batch, pos.shape[:-1])
-    except ValueError:
-        raise MudrftError(
-            f"state is the mud under tips of shape {batch} (initial_state), but position has "
-            f"shape {pos.shape}: one (x, y, z) per tip"
-        ) from None
-    if shape != pos.shape[:-1]:
-        pos, vel = np.broadcast_to(pos, (*shape, 3)), np.broadcast_to(vel, (*shape, 3))
-    return pos, vel
-
-
 @dataclass(frozen=True, eq=False)
 class MudTerrain:
     r"""The mud model of Chen et al. (2026) as a terrain (:func:`mud_step`): x and y channels
@@ -341,7 +317,21 @@ class MudTerrain:
                 f"foot must be a mudrft foot (mudrft.feet.Flat(), ...), got {type(foot).__name__}"
             )
         pos, vel, step = check_motion(position, velocity, dt)
-        pos, vel = _motion_for_state(state, pos, vel)
+        if not isinstance(state, MudState):
+            raise MudrftError(
+                "state must be the MudState of MudTerrain.initial_state or of the previous step, "
+                f"got {type(state).__name__}"
+            )
+        batch = getattr(state.channels.in_mud, "shape", ())  # a bool for one foot on floats
+        if batch != pos.shape[:-1]:  # tips that do not broadcast to the mud's are refused
+            try:
+                shape = np.broadcast_shapes(batch, pos.shape[:-1])
+            except ValueError:
+                raise MudrftError(
+                    f"state is the mud under tips of shape {batch} (initial_state), but position "
+                    f"has shape {pos.shape}: one (x, y, z) per tip"
+                ) from None
+            pos, vel = np.broadcast_to(pos, (*shape, 3)), np.broadcast_to(vel, (*shape, 3))
         return self.step_unchecked(foot, state, pos, vel, step)
 
     def step_unchecked(
