@@ -107,7 +107,7 @@ def add_terrain_options(parser: argparse.ArgumentParser, *, several: bool) -> No
         "(default: 0.4)",
     }
     for option, text in media.items():
-        parser.add_argument(option, type=float, default=None, help=text)
+        parser.add_argument(option, type=float, help=text)
 
 
 def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str]:
