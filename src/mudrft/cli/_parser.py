@@ -77,14 +77,12 @@ def add_foot_options(parser: argparse.ArgumentParser, *, default: str | None = N
     parser.add_argument(
         "--unit",
         choices=["m", "mm", "cm", "in"],
-        default=None,
         help="length unit of a mesh file's coordinates (default: m; a mesh more than 1 m or "
         "less than 1 mm across warns)",
     )
     parser.add_argument(
         "--up",
         choices=["z", "y", "x", "-z", "-y", "-x"],
-        default=None,
         help="the mesh file's up axis, turned to z (a Y-up export: y; default: z)",
     )
     parser.add_argument(

@@ -5,7 +5,7 @@ with its medium (``--zeta``; ``--rho-c``, ``--mu-int``, ``--mu-surf``)."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .._validation import MudrftError
 from ._common import check_finite_option, check_positive_option
@@ -107,7 +107,7 @@ def add_terrain_options(parser: argparse.ArgumentParser, *, several: bool) -> No
         "(default: 0.4)",
     }
     for option, text in media.items():
-        parser.add_argument(option, type=float, default=None, help=text)
+        parser.add_argument(option, type=float, help=text)
 
 
 def terrain_names(args: argparse.Namespace, value: str, option: str) -> list[str]:
@@ -148,19 +148,13 @@ def baseline_from_options(args: argparse.Namespace, name: str) -> Terrain:
     its defaults otherwise (D59)."""
     from ..terrains import GranularRFT, GranularRFT3D, LinearStiffness, MaxwellMud, RigidGround
 
-    baselines = {
-        "granular-rft": GranularRFT,
-        "granular-rft3d": GranularRFT3D,
-        "linear": LinearStiffness,
-        "maxwell": MaxwellMud,
-        "rigid": RigidGround,
-    }
-    kw = {
+    kw: dict[str, Any] = {
         o[2:].replace("-", "_"): float(v)
         for o, v in _media(args).items()
         if v is not None and MEDIUM_OPTIONS[o][0] == name
     }
-    return baselines[name](**kw)
+    baselines = (GranularRFT, GranularRFT3D, LinearStiffness, MaxwellMud, RigidGround)
+    return next(b for b in baselines if b.name == name)(**kw)
 
 
 def _media(args: argparse.Namespace) -> dict[str, float | None]:

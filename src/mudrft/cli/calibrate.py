@@ -42,25 +42,21 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--direction",
         choices=["vertical", "horizontal"],
-        default=None,
         help="loading direction of the tests (default: the file's, else vertical)",
     )
     p.add_argument(
         "--columns",
         metavar="ROLE=NAME,...",
-        default=None,
         help="the log's names of its columns, for names mudrft does not read: e.g. "
         'time="Time (s)",depth="Position (mm)",force="Load (N)"; roles: ' + ", ".join(ROLES),
     )
     p.add_argument(
         "--area",
-        default=None,
         help="plate area, with a unit (1600mm^2, 16cm^2) or in m^2; needed when the log has "
         "a force column",
     )
     p.add_argument(
         "--length",
-        default=None,
         help="plate characteristic length L_c, with a unit (40mm) or in m (default: the "
         "file's, else 0.05)",
     )
@@ -76,7 +72,6 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--decimate",
         type=int,
-        default=None,
         metavar="K",
         help="keep every K-th sample of each trial; 1 fits every sample (default: trials "
         "longer than 2000 samples are thinned to about 2000, with a warning naming K)",
@@ -104,11 +99,9 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="the stress while the plate is out of the mud (depth <= 0, vertical tests) is "
         "the sensor's zero: warn when it is clearly off 0, or subtract it from each trial (D154)",
     )
-    p.add_argument("--out", default=None, help="write the fit to this JSON file")
+    p.add_argument("--out", help="write the fit to this JSON file")
     p.add_argument("--overwrite", action="store_true", help=argparse.SUPPRESS)  # old --force
-    p.add_argument(
-        "--plot", default=None, help="save a PNG of the fit against the data (needs mudrft[plot])"
-    )
+    p.add_argument("--plot", help="save a PNG of the fit against the data (needs mudrft[plot])")
     add_run_options(
         p,
         force="--out and --plot if they exist",

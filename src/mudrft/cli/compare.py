@@ -78,27 +78,13 @@ def write_comparison(
     terrains: Mapping[str, Terrain] | None = None,
     strict: bool = False,
 ) -> dict[str, Path]:
-    """Run and write what ``mudrft compare`` writes in ``out``; all files or none.
-
-    Parameters
-    ----------
-    foot : Foot
-        The foot.
-    out : str or Path
-        Output directory (created, with its parents, if missing).
-    speed, depth, hold : float, keyword-only
-        Gait speed [m/s], plate and gait depth [m], plate hold [s].
-    figures, force, quiet, strict : bool, keyword-only
-        Write the PNG figures; overwrite existing files; no progress lines; refuse a depth
-        deeper than the foot is tall.
-    terrains : mapping of str to Terrain, optional, keyword-only
-        The terrains by name (default: :func:`~mudrft.baselines.default_terrains`).
-
-    Returns
-    -------
-    dict of str to Path
-        The paths written, by key of :data:`FILES`.
-    """
+    """Run and write what ``mudrft compare`` writes in ``out`` (created with its parents if
+    missing), all files or none: the plate test to ``depth`` [m] held ``hold`` [s] and one
+    gait cycle at ``speed`` [m/s] to the same ``depth``, of ``foot`` through ``terrains`` by
+    name (default: :func:`~mudrft.baselines.default_terrains`). ``figures``: also the PNG
+    figures; ``force``: overwrite existing files; ``quiet``: no progress lines; ``strict``:
+    refuse a depth deeper than the foot is tall. Returns the paths written, by key of
+    :data:`FILES`."""
     from ..baselines.compare import compare, default_terrains, summarize, write_csv
     from ..reproduce.runner import write_rows
     from ..trajectories import gait, plate_intrusion

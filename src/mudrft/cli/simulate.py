@@ -40,20 +40,6 @@ if TYPE_CHECKING:
 LOAD_RAMP = 1.0
 LOAD_DURATION = 30.0
 
-DESCRIPTION = (
-    "Run one stepping cycle (intrusion, stance, retraction; mudrft.gait), or a path of the "
-    "foot's tip read from a CSV file (--path), of a foot through "
-    "the paper's mud at the given water content (or a mud calibrated by mudrft calibrate: "
-    "--vertical, --horizontal) and speed, and write the tip position and "
-    "the force of the mud on the foot to a CSV file with the columns "
-    "time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints the cycle's metrics (peak "
-    "support, suction, impulses, energy). --terrain runs a baseline instead of the mud "
-    "(granular RFT with --zeta, 3D-RFT with --rho-c, --mu-int, --mu-surf, ...). "
-    "Which evaluation to use: the ODEs (the default) to design a foot or step a robot, "
-    "--thixotropy quasi-static to reproduce the paper's numbers (mudrft reproduce); why, "
-    "and what each gives: the user guide, docs/guide/evaluations.md."
-)
-
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = add_subcommand(
@@ -61,7 +47,16 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "simulate",
         run,
         help="one stepping cycle of a foot in mud -> run.csv",
-        description=DESCRIPTION,
+        description="Run one stepping cycle (intrusion, stance, retraction; mudrft.gait), or a "
+        "path of the foot's tip read from a CSV file (--path), of a foot through the paper's mud "
+        "at the given water content (or a mud calibrated by mudrft calibrate: --vertical, "
+        "--horizontal) and speed, and write the tip position and the force of the mud on the foot "
+        "to a CSV file with the columns time [s],x [m],y [m],z [m],Fx [N],Fy [N],Fz [N]. Prints "
+        "the cycle's metrics (peak support, suction, impulses, energy). --terrain runs a baseline "
+        "instead of the mud (granular RFT with --zeta, 3D-RFT with --rho-c, --mu-int, --mu-surf, "
+        "...). Which evaluation to use: the ODEs (the default) to design a foot or step a robot, "
+        "--thixotropy quasi-static to reproduce the paper's numbers (mudrft reproduce); why, and "
+        "what each gives: the user guide, docs/guide/evaluations.md.",
     )
     add_foot_options(p)
     add_mud_options(p)

@@ -11,12 +11,11 @@ from numpy.typing import NDArray
 
 from .._progress import logger
 from .._validation import MudrftError, check_choice, plain, positive_number, warn_implausible
+from ..parameters import DIRECTIONS
 from ..units import SCALE
 from .columns import LOG_COLUMNS, SI_UNIT, Column, fail, split_label
 from .dataset import DEFAULT_PLATE_LENGTH, IntrusionDataset, Trial
 
-#: Loading directions of a test.
-DIRECTIONS = ("vertical", "horizontal")
 #: Plausible deepest intrusion [m], peak stress [Pa], plate area [m^2] and speed [m/s] (a
 #: slow speed warns only in a log sampled at most every SLOW_SAMPLING [s]).
 PLAUSIBLE_DEPTH = (1e-3, 1.0)

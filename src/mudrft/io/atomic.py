@@ -107,10 +107,8 @@ def move_into_place(staged: Path, target: Path, *, overwrite: bool, option: str)
         return
     try:
         os.link(staged, target)
-    except FileExistsError:
-        raise MudrftError(f"{target}: file exists; pass {option} to replace it") from None
-    except OSError:  # no hard links on this file system: check, then move
-        if os.path.lexists(target):
+    except OSError as exc:  # FileExistsError, or no hard links here: check, then move
+        if isinstance(exc, FileExistsError) or os.path.lexists(target):
             raise MudrftError(f"{target}: file exists; pass {option} to replace it") from None
         os.replace(staged, target)
 

@@ -99,26 +99,12 @@ def write_report(
     suction_ratios: list[tuple[float, float | None]] | None = None,
     sinking: dict[str, float] | None = None,
 ) -> Path:
-    """Write ``report.md`` and return its path.
-
-    Parameters
-    ----------
-    path : Path
-        The file.
-    cells : dict
-        Reading key -> its cells; the first reading of ``readings`` is the headline.
-    readings : list of Reading, keyword-only
-        The readings of the matrix.
-    by_depth : dict, optional, keyword-only
-        Stance depth [m] -> the headline's cells at that depth.
-    curl_ratios : dict, optional, keyword-only
-        Pad-curl delay [s] -> the morphing foot's suction / support [-] (headline).
-    suction_ratios : list, optional, keyword-only
-        Per reading, the semi-cylinder's suction over the flat foot's [-] in the gait and
-        with the load-carrying stance (None if not run).
-    sinking : dict, optional, keyword-only
-        Fixed foot -> static sinking under :data:`~.claims.LOAD` [m] (headline).
-    """
+    """Write ``report.md`` and return its path: ``cells`` by reading key (the first of
+    ``readings`` is the headline); ``by_depth``: stance depth [m] -> the headline's cells;
+    ``curl_ratios``: pad-curl delay [s] -> the headline's morphing foot's suction / support
+    [-]; ``suction_ratios``: per reading, the semi-cylinder's suction over the flat foot's [-]
+    in the gait and with the load-carrying stance (None if not run); ``sinking``: fixed foot
+    -> static sinking under :data:`~.claims.LOAD` [m] (headline)."""
     head = readings[0]
     hc = cells[head.key]
     claims = {c.key: c for c in CLAIMS}
