@@ -93,8 +93,7 @@ def _group_members(name: object) -> tuple[str, ...]:
 def resolve_groups(groups: str | Iterable[str] | None) -> tuple[str, ...]:
     """The parameters named by ``groups`` (``"all"``/None, group names, aliases or parameter
     names, as a sequence or a space- or comma-separated string), in fitting order."""
-    if groups is None:
-        groups = "all"
+    groups = "all" if groups is None else groups
     names = groups.replace(",", " ").split() if isinstance(groups, str) else list(groups)
     free = {k for g in names for k in _group_members(g)}
     if not free:

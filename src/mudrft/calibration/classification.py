@@ -82,21 +82,19 @@ class SampleStream:
                 hint="stream SI values (depth in m, stress in Pa, time in s); "
                 "this warning is shown once a stream",
             )
-        g = q / self.L
-        if self.last is None:
-            self.last = (t, g)
-            return Sample(t, g, s, None)
-        t0, g0 = self.last
-        if not t > t0:
+        previous, g = self.last, q / self.L
+        if previous is not None and not t > previous[0]:
             raise MudrftError(
-                f"update: time must increase between updates, got {t!r} [s] after {t0!r} [s]; "
-                "a trial whose clock starts again: add the previous trial's last time to its "
-                "times (the estimates carry on), or call reset() first (they start again from "
-                "the prior)"
+                f"update: time must increase between updates, got {t!r} [s] after "
+                f"{previous[0]!r} [s]; a trial whose clock starts again: add the previous "
+                "trial's last time to its times (the estimates carry on), or call reset() "
+                "first (they start again from the prior)"
             )
-        dt = t - t0
         self.last = (t, g)
-        return Sample(t, g, s, (dt, (g - g0) / dt, t0))
+        if previous is None:
+            return Sample(t, g, s, None)
+        t0, g0 = previous
+        return Sample(t, g, s, (t - t0, (g - g0) / (t - t0), t0))
 
 
 def _number(name: str, value: Any) -> float:

@@ -154,11 +154,8 @@ def calibrate(
     model["xi0"] = number_in_range("xi0", xi0, 0.0, 1.0)
     if not isinstance(phases, (bool, np.bool_)):
         raise MudrftError(f"phases must be True or False, got {phases!r}")
-    if (
-        isinstance(trace_limit, (bool, np.bool_))
-        or not isinstance(trace_limit, (int, np.integer))
-        or trace_limit < 0
-    ):
+    whole = isinstance(trace_limit, int | np.integer) and not isinstance(trace_limit, bool)
+    if not whole or trace_limit < 0:
         raise MudrftError(f"trace_limit must be an integer >= 0, got {trace_limit!r}")
     clipped = check_choice("clipped", clipped, ("exclude", "keep"))
     zero = check_choice("zero", zero, ("check", "subtract"))

@@ -216,8 +216,7 @@ class OnlineEstimator:
     ) -> None:
         self.model = check_choice("model", model, ("exact", "paper"))
         check_choice("direction", direction, ("vertical", "horizontal"))
-        if prior is None:
-            prior = paper_parameters(0.35, direction)
+        prior = paper_parameters(0.35, direction) if prior is None else prior
         if not isinstance(prior, MudParameters) or prior.shape != ():
             raise MudrftError(f"prior must be a single MudParameters, got {prior!r}")
         self.L = check_characteristic_length("OnlineEstimator", characteristic_length)

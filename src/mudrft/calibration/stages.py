@@ -235,10 +235,8 @@ class Engine:
             elif a < lo_b:
                 a, b = lo_b, lo_b + 2 * h
             lo_s[i], hi_s[i] = a, b
-            col = np.full(1 + 2 * k, self.values[name])
-            col[1 + 2 * i] = math.exp(b)
-            col[2 + 2 * i] = math.exp(a)
-            over[name] = col
+            over[name] = np.full(1 + 2 * k, self.values[name])
+            over[name][1 + 2 * i : 3 + 2 * i] = math.exp(b), math.exp(a)
         R = self.packed.residuals(self.batch(over, 1 + 2 * k), mask)
         J = (R[:, 1::2] - R[:, 2::2]) / (hi_s - lo_s)[None, :]
         return R[:, 0], J

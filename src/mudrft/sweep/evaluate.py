@@ -55,37 +55,23 @@ def _section(values: dict[str, Any], section: str) -> dict[str, Any]:
     return {k: v for k, v in values.items() if k in PARAMETERS and PARAMETERS[k].section == section}
 
 
-def build_foot(
-    values: dict[str, Any], *, mesh: feet.Foot | None = None, cache: dict | None = None
-) -> feet.Foot:
+def build_foot(values: dict[str, Any], *, mesh: feet.Foot | None = None) -> feet.Foot:
     """The foot of a point: ``values["foot"]`` (a kind) with its foot parameters."""
     kind = values["foot"]
     params = _section(values, "foot")
     if mesh is not None:
         return mesh
-    cache = {} if cache is None else cache
-    key = (kind, tuple(sorted(params.items())))
-    if key in cache:
-        return cache[key]
     allowed = FOOT_KINDS[kind]
     extra = [k for k in params if k not in allowed]
     if extra:
         raise MudrftError(f"the {kind} foot has no parameter {extra[0]!r}; its parameters are {', '.join(allowed)}")  # fmt: skip
     cls = {"flat": feet.Flat, "semi-cylinder": feet.SemiCylinder, "semi-sphere": feet.SemiSphere}
-    foot = feet.MorphingFoot(**params) if kind == "morphing" else cls[kind](**params)
-    cache[key] = foot
-    return foot
+    return feet.MorphingFoot(**params) if kind == "morphing" else cls[kind](**params)
 
 
-def build_mud(
-    values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None, cache: dict | None = None
-) -> MudTerrain:
+def build_mud(values: dict[str, Any], *, mud_sets: dict[str, Any] | None = None) -> MudTerrain:
     """The mud of a point, as a :class:`mudrft.MudTerrain` with the point's options."""
     params = _section(values, "mud")
-    cache = {} if cache is None else cache
-    key = tuple(sorted(params.items()))
-    if key in cache:
-        return cache[key]
     if "mud_set" in params:
         entry = (mud_sets or {})[params["mud_set"]]
         mud = Mud(
@@ -107,8 +93,7 @@ def build_mud(
 
         mud = Mud(scaled(mud.vertical), scaled(mud.horizontal), mud.water_content, mud.name)
     options = {k: params[k] for k in ("thixotropy", "clock", "xi0") if k in params}
-    cache[key] = terrain = MudTerrain(mud, **options)
-    return terrain
+    return MudTerrain(mud, **options)
 
 
 def evaluate_point(
@@ -119,8 +104,13 @@ def evaluate_point(
     values = {**context["fixed"], **point}
     motion = context["motion"]
     cache = {} if cache is None else cache
-    foot = build_foot(values, mesh=context.get("mesh"), cache=cache.setdefault("feet", {}))
-    mud = build_mud(values, mud_sets=context.get("mud_sets"), cache=cache.setdefault("muds", {}))
+    foot_key = ("foot", values["foot"], *sorted(_section(values, "foot").items()))
+    mud_key = ("mud", *sorted(_section(values, "mud").items()))
+    if foot_key not in cache:
+        cache[foot_key] = build_foot(values, mesh=context.get("mesh"))
+    if mud_key not in cache:
+        cache[mud_key] = build_mud(values, mud_sets=context.get("mud_sets"))
+    foot, mud = cache[foot_key], cache[mud_key]
     kw = {k: values[k] for k in MOTIONS[motion] if k in values}
     if motion == "walk":
         from ..integrations.walk import walk

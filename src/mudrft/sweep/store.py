@@ -60,11 +60,10 @@ def _template(spec: SweepSpec) -> xr.Dataset:
 
     dims, shape, chunks = spec.dims, spec.shape, spec.chunks
     coords: dict[str, xr.Variable] = {}
-    for name, (d, v) in spec.coords().items():
+    for a, (name, (d, v)) in zip(spec.axes, spec.coords().items(), strict=True):
         coords[name] = xr.Variable(d, v, attrs=_param_attrs(name, spec))
-        for a in spec.axes:
-            if a.name == name and a.low is not None:
-                coords[name].attrs.update(range=[a.low, a.high], log=int(a.log))
+        if a.low is not None:
+            coords[name].attrs.update(range=[a.low, a.high], log=int(a.log))
     if spec.design != "grid":
         coords["point"] = xr.Variable("point", np.arange(spec.n_points), {"long_name": "sample point"})  # fmt: skip
     for name, v in spec.fixed.items():
