@@ -7,9 +7,14 @@ Hypothesis profiles
     runs explore new inputs and replay the failures they found.
 ``ci``
     Derandomized (the examples depend only on the test, not on the run), no example
-    database and no deadline (shared CI machines have noisy timing), at most 50 examples
-    a test, so a CI run is reproducible; a failure prints its ``@reproduce_failure``
-    blob. Tests that set ``max_examples`` themselves keep their own count.
+    database, at most 50 examples a test, so a CI run is reproducible; a failure prints
+    its ``@reproduce_failure`` blob. Tests that set ``max_examples`` themselves keep their
+    own count.
+
+Neither profile has a deadline: speed is measured by the benchmarks, not asserted in
+tests, and a deadline fails a correct test on a loaded machine (a reference quadrature's
+first call in a process took 0.26 s, over hypothesis' default 0.2 s, in the README's test
+command on a fresh clone).
 
 ``HYPOTHESIS_PROFILE=<name>`` picks a profile explicitly; otherwise ``ci`` is loaded
 when the environment variable ``CI`` is set (as CI services do, e.g. ``CI=true``;
@@ -42,7 +47,7 @@ else:
 
 # hypothesis' built-in profiles: "default" (random) and "ci", which hypothesis itself loads
 # whenever CI is set; both are extended here so that the choice below is explicit.
-settings.register_profile("dev", parent=settings.get_profile("default"))
+settings.register_profile("dev", parent=settings.get_profile("default"), deadline=None)
 settings.register_profile(
     "ci",
     parent=settings.get_profile("ci"),
