@@ -312,7 +312,9 @@ class BatchedMud:
             self._jst, (f, s, d) = self._jax_step(self._jst, pos, vel, dt)
             self.force, self.stress, self.depth = np.asarray(f), np.asarray(s), np.asarray(d)
         else:  # numpy: the batch's arrays, or one foot on Python floats (_one)
-            terrain, p, v = (self._one, pos[0], vel[0]) if self._one else (self.terrain, pos, vel)
+            terrain, p, v = self.terrain, pos, vel
+            if self._one is not None:
+                terrain, p, v = self._one, pos[0], vel[0]
             self._state, out = terrain.step_unchecked(self.foot, self._state, p, v, dt)
             self.force = np.asarray(out.force, dtype=float).reshape(self.n, 3)
             self.stress = np.asarray(out.stress, dtype=float).reshape(self.n, 3)
